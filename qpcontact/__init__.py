@@ -1,0 +1,33 @@
+"""qpcontact: mechanics with contact and unilateral constraints, written as
+LCPs and QPs, solved by interchangeable backends and certified from the data.
+
+Quick start::
+
+    import qpcontact
+    lcp = qpcontact.LCP([[2, 1], [1, 2]], [-5, -6])
+    sol = qpcontact.solve(lcp, method="clarabel", accuracy="high")
+    sol.z, sol.ok, sol.certificate.error
+"""
+
+from .accuracy import LEVELS
+from .certify import LCPCertificate, QPCertificate, certify
+from .conversions import DualLCP, qp_to_lcp
+from .errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
+                     NoSolutionError, NotConvexError, NotSymmetricError, QpcontactError,
+                     SolverFailedError, UnknownMethodError)
+from .methods import Method, all_methods, get_method, methods, register
+from .problems import LCP, ParametricLCP
+from .solution import LCPSolution, MethodResult, QPSolution, Solution
+from .solve import solve
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "LCP", "ParametricLCP", "qp_to_lcp", "DualLCP",
+    "solve", "certify", "methods", "all_methods", "get_method", "register", "Method",
+    "Solution", "LCPSolution", "QPSolution", "MethodResult", "LCPCertificate", "QPCertificate",
+    "LEVELS",
+    "QpcontactError", "InvalidProblemError", "NotSymmetricError", "NotConvexError",
+    "InvalidOptionError", "UnknownMethodError", "BackendUnavailableError",
+    "NoSolutionError", "SolverFailedError",
+]

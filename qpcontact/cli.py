@@ -1,0 +1,90 @@
+"""Command-line interface: ``qpcontact methods | solve | demo``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from .errors import QpcontactError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True,
+                  help="Contact and unilateral-constraint problems as certified LCPs and QPs.")
+console = Console()
+if not console.is_terminal:
+    console.width = max(console.width, 120)  # tables stay readable in logs and pipes
+
+
+def _accuracy(value: str):
+    try:
+        return float(value)
+    except ValueError:
+        return value
+
+
+@app.command("methods")
+def methods_cmd(all_: bool = typer.Option(False, "--all", help="Also list known methods that are not installed.")):
+    """List the methods usable here and their capabilities."""
+    from .methods import all_methods
+
+    table = Table(title="qpcontact methods")
+    for col in ("name", "family", "algorithm", "exact", "LCP's M must be", "sparse", "duals", "installed"):
+        table.add_column(col)
+    requires = {"monotone": "M+M' PSD", "spd": "symmetric PD", "any": "anything"}
+    for name, m in sorted(all_methods().items()):
+        if not (m.available or all_):
+            continue
+        yes = lambda b: "yes" if b else "no"  # noqa: E731
+        table.add_row(name, m.family, m.algorithm, yes(m.exact), requires[m.requires], yes(m.accepts_sparse),
+                      yes(m.returns_duals), "yes" if m.available else escape(f"no: {m.install}"))
+    console.print(table)
+
+
+@app.command("solve")
+def solve_cmd(
+    file: Path = typer.Argument(..., exists=True, dir_okay=False, help="Siconos LCP .dat file."),
+    method: str = typer.Option("auto", "--method", "-m", help="Method name (see `qpcontact methods`)."),
+    accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number."),
+):
+    """Solve an LCP file; print z, w and the certificate. Exit code 1 if not certified."""
+    from .io import read_siconos_lcp
+    from .solve import solve
+
+    try:
+        lcp = read_siconos_lcp(file)
+        sol = solve(lcp, method=method, accuracy=_accuracy(accuracy))
+    except QpcontactError as exc:
+        console.print(f"[red]error:[/red] {exc}")
+        raise typer.Exit(2)
+    console.print(f"{file.name}: {lcp!r}")
+    console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {sol.message}")
+    console.print(f"backend status {sol.backend_status!r}; wall time {sol.wall_time:.4f} s; "
+                  f"iterations {sol.iterations}")
+    with np.printoptions(precision=10, linewidth=120):
+        console.print(f"z = {sol.z}")
+        console.print(f"w = {sol.w}")
+    if sol.certificate is not None:
+        for key, val in sol.certificate.as_dict().items():
+            console.print(f"  {key:14s} {val: .3e}")
+    raise typer.Exit(0 if sol.ok else 1)
+
+
+@app.command("demo")
+def demo_cmd(accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number.")):
+    """Solve the decomposition paper's examples with every installed method."""
+    from .demo import run_demo
+
+    wrong = run_demo(_accuracy(accuracy), console)
+    raise typer.Exit(1 if wrong else 0)
+
+
+def main():  # pragma: no cover - console script
+    app()
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,126 @@
+"""Every QP solver that qpsolvers finds installed, as a registered method.
+
+One generic wrapper around ``qpsolvers.solve_problem``; the table below only
+declares what each backend is and how to install it.  Solvers qpsolvers knows
+but that are missing here are registered as unavailable, so that asking for
+one names the pip command.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..accuracy import backend_settings
+from ..errors import InvalidOptionError
+from ..solution import MethodResult
+from . import Method, register
+
+# name: (pip package, algorithm, exact)
+_KNOWN = {
+    "osqp": ("osqp", "ADMM", False),
+    "clarabel": ("clarabel", "interior-point", False),
+    "proxqp": ("proxsuite", "augmented-Lagrangian", False),
+    "daqp": ("daqp", "active-set (dual)", True),
+    "piqp": ("piqp", "interior-point (proximal)", False),
+    "highs": ("highspy", "active-set", True),
+    "quadprog": ("quadprog", "active-set (Goldfarb-Idnani)", True),
+    "scs": ("scs", "ADMM (conic)", False),
+    "cvxopt": ("cvxopt", "interior-point", False),
+    "ecos": ("ecos", "interior-point (conic)", False),
+    "qpalm": ("qpalm", "augmented-Lagrangian", False),
+    "qpoases": ('"qpsolvers[qpoases]"', "active-set", True),
+    "hpipm": ('"qpsolvers[hpipm]"', "interior-point", False),
+    "qpswift": ('"qpsolvers[qpswift]"', "interior-point", False),
+}
+
+
+def _report(sol) -> tuple[str, int | None]:
+    """The backend's own status and iteration count, from qpsolvers' extras."""
+    extras = sol.extras or {}
+    info = extras.get("info", extras)
+    status = getattr(info, "status", None)
+    if status is None and isinstance(info, dict):
+        status = info.get("status")
+    if status is None:
+        status = extras.get("status")
+    iters = getattr(info, "iter", None)
+    if iters is None and isinstance(info, dict):
+        iters = info.get("iter")
+    if iters is None:
+        iters = extras.get("iterations")
+    if iters is not None and not np.isscalar(iters):
+        iters = int(np.sum(iters))  # quadprog reports [iterations, constraint drops]
+    text = str(status) if status is not None else ("found" if sol.found else "not found")
+    return text, (int(iters) if iters is not None else None)
+
+
+def _reject_options(solver: str, options: dict, exc: Exception) -> None:
+    """Raise InvalidOptionError when ``exc`` is the backend refusing one of the
+    user's own options (backends say so in many ways: ValueError, TypeError,
+    AttributeError, their own exception classes)."""
+    bad = [key for key in options if key in str(exc)]
+    if bad or (options and isinstance(exc, TypeError) and "argument" in str(exc)):
+        raise InvalidOptionError(
+            f"{solver} rejected the option(s) {bad or sorted(options)}: {type(exc).__name__}: {exc}. "
+            "See the backend's documentation for its setting names."
+        ) from None
+
+
+def _make_run(name: str):
+    def run(problem, tol, options) -> MethodResult:
+        import qpsolvers
+        from qpsolvers.warnings import SparseConversionWarning
+
+        settings = {**backend_settings("qpsolvers", name, tol), **options}
+        stats = {}
+        if name not in qpsolvers.sparse_solvers and problem.has_sparse:
+            P, q, G, h, A, b, lb, ub = problem.unpack_as_dense()
+            problem = qpsolvers.Problem(P, q, G, h, A, b, lb, ub)
+            stats["densified"] = True
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                sol = qpsolvers.solve_problem(problem, solver=name, **settings)
+            except Exception as exc:
+                _reject_options(name, options, exc)
+                # otherwise a backend failure is a numerical outcome, not misuse
+                return MethodResult(x=None, backend_status="exception",
+                                    backend_message=f"{type(exc).__name__}: {exc}", stats=stats)
+        status, iters = _report(sol)
+        stats["found"] = bool(sol.found)
+        message = "; ".join(str(w.message) for w in caught
+                            if not issubclass(w.category, SparseConversionWarning))
+        return MethodResult(
+            x=sol.x,
+            y=sol.y, z=sol.z, z_box=sol.z_box,
+            backend_status=status,
+            backend_message=message,
+            iterations=iters,
+            stats=stats,
+        )
+
+    return run
+
+
+def register_all() -> None:
+    import qpsolvers
+
+    names = list(dict.fromkeys(list(_KNOWN) + list(qpsolvers.available_solvers)))
+    for name in names:
+        pip, algorithm, exact = _KNOWN.get(name, (f'"qpsolvers[{name}]"', "unknown", False))
+        available = name in qpsolvers.available_solvers
+        register(Method(
+            name=name,
+            run=_make_run(name) if available else None,
+            takes="qp",
+            requires="monotone",
+            accepts_sparse=name in qpsolvers.sparse_solvers,
+            returns_duals=True,
+            algorithm=algorithm,
+            exact=exact,
+            family="qpsolvers",
+            install=f"pip install {pip}",
+            available=available,
+        ), replace=True)

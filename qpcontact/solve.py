@@ -1,0 +1,200 @@
+"""``solve``: one entry point for every problem kind and every method."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from qpsolvers import Problem
+
+from .accuracy import resolve_accuracy
+from .certify import certify
+from .conversions import qp_to_lcp, validate_qp
+from .errors import (InvalidProblemError, NoSolutionError, NotConvexError,
+                     NotSymmetricError, SolverFailedError)
+from .methods import Method, get_method, methods
+from .problems import LCP, ParametricLCP
+from .solution import LCPSolution, MethodResult, QPSolution
+
+__all__ = ["solve", "AUTO_ORDER"]
+
+#: Preference of ``method="auto"``: exact pivoting first where it applies (as
+#: DESIGN.md asks), then the QP backends in the order that reached "high"
+#: fastest in benchmarks/backends.py on this machine class (docs/backends.md).
+#: "auto" tries them in turn until one is certified.
+AUTO_ORDER = ("energy", "bpp", "lemke", "osqp", "piqp", "clarabel", "proxqp",
+              "daqp", "highs", "quadprog", "cvxpy:CLARABEL", "scs")
+
+# Dense-only backends densify sparse input; beyond this size that costs more
+# than it is worth for "auto" (an explicit method name is always honoured).
+_AUTO_DENSE_LIMIT = 3000
+
+
+def _check_applicable(lcp: LCP, m: Method) -> None:
+    if m.requires == "spd":
+        if not lcp.is_symmetric:
+            raise NotSymmetricError(
+                f"method {m.name!r} needs a symmetric positive definite M and M is not symmetric; "
+                "use 'lemke', which accepts any M."
+            )
+        if not lcp.is_positive_definite:
+            raise NotConvexError(
+                f"method {m.name!r} needs a positive definite M and M is not; use 'lemke'."
+            )
+    elif m.requires == "monotone" and not lcp.is_psd:
+        if lcp.is_symmetric:
+            raise NotConvexError(
+                f"M is symmetric but not positive semidefinite, so the QP min ½z'Mz + q'z, z >= 0 "
+                f"is nonconvex and {m.name!r} (a QP backend) may return a local minimum. "
+                "Use a pivoting method such as 'lemke'."
+            )
+        raise NotSymmetricError(
+            f"M is not symmetric and M + M' is not positive semidefinite, so no convex QP has "
+            f"this LCP's solutions as minimisers and {m.name!r} (a QP backend) cannot solve it. "
+            "Use a pivoting method such as 'lemke'."
+        )
+
+
+def _applicable(problem, m: Method) -> bool:
+    if isinstance(problem, LCP):
+        try:
+            _check_applicable(problem, m)
+        except (NotSymmetricError, NotConvexError):
+            return False
+        n, sparse = problem.n, problem.is_sparse
+    else:
+        if m.takes == "lcp":
+            return False  # QP -> dual LCP is dense; "auto" keeps QPs on QP backends
+        n, sparse = problem.P.shape[0], problem.has_sparse
+    return m.accepts_sparse or not sparse or n <= _AUTO_DENSE_LIMIT
+
+
+def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
+    """Convert, run, time, certify.  Returns an LCPSolution or QPSolution."""
+    route = "direct"
+    start = time.perf_counter()
+    if isinstance(problem, LCP):
+        _check_applicable(problem, m)
+        target = problem
+        if m.takes == "qp":
+            route = "qp" if problem.is_symmetric else "monotone-qp"
+            target = problem.to_qp() if route == "qp" else problem.to_monotone_qp()
+    else:
+        target, dual = problem, None
+        if m.takes == "lcp":
+            dual = qp_to_lcp(problem)
+            target, route = dual.lcp, "dual-lcp"
+    res: MethodResult = m.run(target, tol_backend, dict(options))
+    wall = time.perf_counter() - start
+
+    x = None if res.x is None else np.asarray(res.x, dtype=float).ravel()
+    usable = x is not None and x.size == (problem.n if isinstance(problem, LCP) else problem.q.size) \
+        and bool(np.all(np.isfinite(x)))
+    stats = {"route": route, **res.stats}
+    common = dict(method=m.name, accuracy=accuracy, tol=tol_cert,
+                  backend_status=res.backend_status, backend_message=res.backend_message,
+                  wall_time=wall, iterations=res.iterations, stats=stats)
+    if isinstance(problem, LCP):
+        cert = certify(problem, x) if usable else None
+        fields = dict(z=x if usable else None, w=problem.w(x) if usable else None)
+        cls = LCPSolution
+    else:
+        y, zi, zb = res.y, res.z, res.z_box
+        if usable and m.takes == "lcp":
+            x, y, zi, zb = dual.primal_dual(x)
+        cert = certify(problem, x, y=y, z=zi, z_box=zb) if usable else None
+        fields = dict(x=x if usable else None, y=y, z=zi, z_box=zb)
+        cls = QPSolution
+
+    if res.status in ("ray", "max_pivots"):
+        status = res.status
+    elif cert is None:
+        status = "failed"
+    else:
+        status = "solved" if cert.ok(tol_cert) else "inaccurate"
+    ok = status == "solved"
+    if ok:
+        message = f"certified: error {cert.error:.2e} <= {tol_cert:.0e}"
+    elif status == "inaccurate":
+        message = (f"not certified: error {cert.error:.2e} > {tol_cert:.0e} although the backend "
+                   f"said {res.backend_status!r}; ask for a tighter accuracy or use an exact method")
+    elif status == "failed":
+        message = (f"no usable point came back (backend status {res.backend_status!r}"
+                   + (f": {res.backend_message}" if res.backend_message else "") + ")")
+    else:
+        message = res.backend_message or status
+    return cls(status=status, ok=ok, message=message, certificate=cert, **common, **fields)
+
+
+def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: bool = False,
+          **options):
+    """Solve an LCP or a QP with a registered method and certify the answer.
+
+    Parameters
+    ----------
+    problem : LCP or qpsolvers.Problem
+        A ``ParametricLCP`` must be fixed first with ``problem.at(p)``.
+    method : str
+        A name from :func:`qpcontact.methods` (``"osqp"``, ``"clarabel"``,
+        ``"cvxpy:CLARABEL"``, ...) or ``"auto"``, which tries the methods of
+        :data:`AUTO_ORDER` that apply to the problem until one is certified.
+    accuracy : {"low", "default", "high"} or float
+        See :mod:`qpcontact.accuracy`.
+    raise_on_failure : bool
+        Raise instead of returning a solution that is not ``ok``:
+        :class:`NoSolutionError` for a ray, :class:`SolverFailedError` otherwise.
+    **options
+        Passed through to the backend as its own settings (they override the
+        accuracy table's).
+
+    Returns
+    -------
+    LCPSolution or QPSolution
+        Always certified from the problem data; ``ok`` is True only when the
+        certificate meets the requested accuracy.
+
+    Raises
+    ------
+    InvalidProblemError, NotSymmetricError, NotConvexError, InvalidOptionError,
+    UnknownMethodError, BackendUnavailableError
+        On misuse (see :mod:`qpcontact.errors`).
+    """
+    if isinstance(problem, ParametricLCP):
+        raise InvalidProblemError(
+            "a ParametricLCP is a family of LCPs; fix the load parameter with problem.at(p) "
+            "(or trace it with a load-tracing method)"
+        )
+    if isinstance(problem, Problem):
+        problem = validate_qp(problem)
+    elif not isinstance(problem, LCP):
+        raise InvalidProblemError(
+            f"solve() takes an LCP or a qpsolvers.Problem; got {type(problem).__name__}"
+        )
+    tol_backend, tol_cert = resolve_accuracy(accuracy)
+
+    if method != "auto":
+        sol = _run(problem, get_method(method), tol_backend, tol_cert, accuracy, options)
+    else:
+        available = methods()
+        candidates = [available[name] for name in AUTO_ORDER
+                      if name in available and _applicable(problem, available[name])]
+        if not candidates:
+            raise NotSymmetricError(
+                "no installed method applies to this problem; `qpcontact methods` lists what is "
+                "installed and what each one requires"
+            )
+        tried, sol = [], None
+        for m in candidates:
+            attempt = _run(problem, m, tol_backend, tol_cert, accuracy, options)
+            tried.append((m.name, attempt.status, attempt.error))
+            if sol is None or attempt.error < sol.error:
+                sol = attempt
+            if attempt.ok:
+                sol = attempt
+                break
+        sol.stats["auto_tried"] = tried
+    if raise_on_failure and not sol.ok:
+        if sol.status == "ray":
+            raise NoSolutionError(f"{sol.method}: {sol.message}")
+        raise SolverFailedError(f"{sol.method} returned no certified solution: {sol.message}")
+    return sol
