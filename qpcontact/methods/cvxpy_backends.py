@@ -26,6 +26,7 @@ _ALGORITHMS = {
     "MOSEK": "interior-point", "GUROBI": "barrier/simplex", "CVXOPT": "interior-point",
 }
 _EXACT = {"DAQP", "HIGHS"}
+_DENSE_ONLY = {"DAQP"}  # cvxpy hands them a dense copy: n x n doubles
 
 
 def _qp_capable(installed: list[str]) -> list[str]:
@@ -116,7 +117,7 @@ def register_all() -> None:
             run=_make_run(solver),
             takes="qp",
             requires="monotone",
-            accepts_sparse=True,
+            accepts_sparse=solver not in _DENSE_ONLY,
             returns_duals=True,
             algorithm=_ALGORITHMS.get(solver, "unknown"),
             exact=solver in _EXACT,
