@@ -70,6 +70,13 @@ def _ratio(num: float, den: float) -> float:
     return num / den if den > 0.0 else np.inf
 
 
+def _scaled(v: np.ndarray, sigma: float) -> np.ndarray:
+    """v / sigma elementwise, with the same 0/0 = 0, x/0 = ±inf rule as _ratio."""
+    if sigma > 0.0:
+        return v / sigma
+    return np.where(v == 0, 0.0, np.sign(v) * np.inf)
+
+
 def _inf_norm(v) -> float:
     return float(np.max(np.abs(v))) if np.size(v) else 0.0
 
@@ -128,9 +135,7 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     scale_M = lcp.matrix_scale
     sigma_z = max(_inf_norm(z), _inf_norm(lcp.q) / scale_M if scale_M > 0 else 0.0)
     sigma_w = max(_inf_norm(Mz), _inf_norm(lcp.q))
-    zs = z / sigma_z if sigma_z > 0 else np.zeros_like(z)
-    ws = w / sigma_w if sigma_w > 0 else np.where(w == 0, 0.0, np.sign(w) * np.inf)
-    error = _inf_norm(np.minimum(zs, ws))
+    error = _inf_norm(np.minimum(_scaled(z, sigma_z), _scaled(w, sigma_w)))
     qn = float(np.linalg.norm(lcp.q))
     rn = float(np.linalg.norm(r))
     return LCPCertificate(
@@ -223,10 +228,8 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
     for mult, slack, row_norm in comp_pairs:
         if mult.size:
             comp_abs = max(comp_abs, _inf_norm(np.minimum(mult, slack)))
-            mult_scaled = mult * row_norm
-            ms = mult_scaled / sigma_d if sigma_d > 0 else np.where(mult_scaled == 0, 0.0, np.inf)
-            ss = slack / sigma_p if sigma_p > 0 else np.where(slack == 0, 0.0, np.sign(slack) * np.inf)
-            comp_rel = max(comp_rel, _inf_norm(np.minimum(ms, ss)))
+            comp_rel = max(comp_rel, _inf_norm(np.minimum(_scaled(mult * row_norm, sigma_d),
+                                                          _scaled(slack, sigma_p))))
     error = max(_ratio(r_p, sigma_p), _ratio(r_d, sigma_d), _ratio(r_g, sigma_g), comp_rel,
                 _ratio(-min_mult, sigma_d))
     return QPCertificate(

@@ -35,10 +35,12 @@ def methods_cmd(all_: bool = typer.Option(False, "--all", help="Also list known 
     for col in ("name", "family", "algorithm", "exact", "LCP's M must be", "sparse", "duals", "installed"):
         table.add_column(col)
     requires = {"monotone": "M+M' PSD", "spd": "symmetric PD", "any": "anything"}
+    def yes(flag: bool) -> str:
+        return "yes" if flag else "no"
+
     for name, m in sorted(all_methods().items()):
         if not (m.available or all_):
             continue
-        yes = lambda b: "yes" if b else "no"  # noqa: E731
         table.add_row(name, m.family, m.algorithm, yes(m.exact), requires[m.requires], yes(m.accepts_sparse),
                       yes(m.returns_duals), "yes" if m.available else escape(f"no: {m.install}"))
     console.print(table)
