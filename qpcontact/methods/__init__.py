@@ -88,8 +88,9 @@ def _ensure_loaded() -> None:
     if _loaded:
         return
     _loaded = True
-    from . import cvxpy_backends, qpsolvers_backends
+    from . import cvxpy_backends, pivoting, qpsolvers_backends
 
+    pivoting.register_all()
     qpsolvers_backends.register_all()
     cvxpy_backends.register_all()
 

@@ -1,0 +1,138 @@
+"""What the pivoting methods share: scaling, sign tolerances, and the exact
+solve of an active block with iterative refinement.
+
+A pivoting method decides *which* variables are basic; the values are then
+recomputed here from the original data (never read off a long chain of
+Gauss–Jordan updates).  For a basis F (the z's that are basic, so w_F = 0):
+
+    z_F = -M_FF^{-1} q_F,   z_N = 0,   w = M z + q.
+
+M_FF is factorized once (dense Cholesky, sparse LDL' by QDLDL, or LU when M is
+not symmetric) and the solution is refined against the unfactorized block
+until the residual stops shrinking.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+__all__ = ["sign_tolerances", "ActiveBlock", "symmetric_scaling", "dense_matrix",
+           "DENSE_TABLEAU_LIMIT"]
+
+_EPS = np.finfo(float).eps
+
+#: Largest n for which the tableau methods ("energy", "lemke", "trace") build their
+#: dense n x n (or n x 2n) tableau: 8 n^2 bytes is 200 MB at n = 5000.
+DENSE_TABLEAU_LIMIT = 5000
+
+#: Relative size below which a value counts as zero when deciding signs.
+SIGN_RTOL = 1e3 * _EPS
+
+
+def dense_matrix(M) -> np.ndarray:
+    return M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
+
+
+def sign_tolerances(M, q, scale_M: float) -> tuple[float, float]:
+    """(tau_z, tau_w): magnitudes below which a z or a w counts as zero.
+
+    Measured against the data's own scale, in the units of each side (the
+    certificate's σ_z and σ_w floors), so scaling M or q does not change which
+    entries are called negative.
+    """
+    qn = float(np.max(np.abs(q))) if q.size else 0.0
+    sigma_w = qn if qn > 0 else 1.0
+    sigma_z = qn / scale_M if qn > 0 and scale_M > 0 else 1.0
+    return SIGN_RTOL * sigma_z, SIGN_RTOL * sigma_w
+
+
+def symmetric_scaling(M) -> np.ndarray:
+    """d with d_i = 1/sqrt(M_ii): D M D has a unit diagonal.
+
+    LCP(M, q) and LCP(DMD, Dq) have the same bases (z = D z', w' = D w), and the
+    energy criterion q_i^2 / M_ii is invariant under it, so the pivot sequence is
+    unchanged while badly scaled stiffness entries (1e7 next to 1) stop costing
+    digits in the tableau.
+    """
+    diag = M.diagonal() if sp.issparse(M) else np.diag(M)
+    diag = np.asarray(diag, dtype=float)
+    d = np.ones_like(diag)
+    pos = diag > 0
+    d[pos] = 1.0 / np.sqrt(diag[pos])
+    return d
+
+
+class ActiveBlock:
+    """Factorization of M_FF for one basis F, with refined solves.
+
+    ``symmetric`` selects Cholesky / LDL' (SPD blocks) over LU.
+    Raises ``np.linalg.LinAlgError`` when the block is numerically singular
+    (or, for ``symmetric=True``, not positive definite).
+    """
+
+    def __init__(self, M, F: np.ndarray, *, symmetric: bool):
+        self.F = np.flatnonzero(F) if F.dtype == bool else np.asarray(F, dtype=np.intp)
+        self.symmetric = symmetric
+        k = self.F.size
+        if sp.issparse(M):
+            B = M[self.F][:, self.F].tocsc()
+            self.B = B
+            if k == 0:
+                self._solve = lambda r: r
+            elif symmetric:
+                import qdldl
+
+                try:
+                    fac = qdldl.Solver(sp.triu(B, format="csc"))
+                except ValueError as exc:  # QDLDL reports a zero pivot this way
+                    raise np.linalg.LinAlgError(str(exc)) from None
+                self._solve = fac.solve
+            else:
+                try:
+                    lu = spla.splu(B)
+                except RuntimeError as exc:
+                    raise np.linalg.LinAlgError(str(exc)) from None
+                self._solve = lu.solve
+        else:
+            B = M[np.ix_(self.F, self.F)]
+            self.B = B
+            if k == 0:
+                self._solve = lambda r: r
+            elif symmetric:
+                c = scipy.linalg.cho_factor(B, lower=True, check_finite=False)
+                self._solve = lambda r: scipy.linalg.cho_solve(c, r, check_finite=False)
+            else:
+                lu = scipy.linalg.lu_factor(B, check_finite=False)
+                if np.min(np.abs(np.diag(lu[0]))) <= _EPS * max(np.max(np.abs(B)), _EPS) * k:
+                    raise np.linalg.LinAlgError("singular active block")
+                self._solve = lambda r: scipy.linalg.lu_solve(lu, r, check_finite=False)
+
+    def solve(self, rhs: np.ndarray, refine: int = 3) -> np.ndarray:
+        """B^{-1} rhs, refined until the residual stops shrinking (at most ``refine`` times)."""
+        x = np.asarray(self._solve(rhs), dtype=float)
+        if not np.all(np.isfinite(x)):
+            raise np.linalg.LinAlgError("the active block is numerically singular")
+        r = rhs - self.B @ x
+        rn = np.max(np.abs(r)) if r.size else 0.0
+        for _ in range(refine):
+            if rn == 0.0:
+                break
+            x_new = x + self._solve(r)
+            r_new = rhs - self.B @ x_new
+            rn_new = np.max(np.abs(r_new))
+            if not rn_new < rn:
+                break
+            x, r, rn = x_new, r_new, rn_new
+        return x
+
+    def basic_solution(self, M, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(z, w) with z_F = -M_FF^{-1} q_F, z elsewhere 0, w = Mz + q."""
+        z = np.zeros(q.size)
+        if self.F.size:
+            z[self.F] = self.solve(-q[self.F])
+        w = np.asarray(M @ z).ravel() + q
+        w[self.F] = 0.0  # exactly zero by definition of the basis; keeps signs clean
+        return z, w
