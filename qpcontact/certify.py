@@ -74,7 +74,8 @@ def _scaled(v: np.ndarray, sigma: float) -> np.ndarray:
     """v / sigma elementwise, with the same 0/0 = 0, x/0 = ±inf rule as _ratio."""
     if sigma > 0.0:
         return v / sigma
-    return np.where(v == 0, 0.0, np.sign(v) * np.inf)
+    with np.errstate(invalid="ignore"):  # 0 * inf in the branch np.where discards
+        return np.where(v == 0, 0.0, np.sign(v) * np.inf)
 
 
 def _inf_norm(v) -> float:

@@ -134,8 +134,11 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
 
     Parameters
     ----------
-    problem : LCP or qpsolvers.Problem
-        A ``ParametricLCP`` must be fixed first with ``problem.at(p)``.
+    problem : LCP, qpsolvers.Problem or ParametricLCP
+        A ``ParametricLCP`` is traced in its load parameter (method ``"trace"``
+        or ``"auto"``; options ``p_max``, ``max_pivots``) and a
+        :class:`~qpcontact.trace.LoadTrace` comes back; fix it first with
+        ``problem.at(p)`` to solve one LCP.
     method : str
         A name from :func:`qpcontact.methods` (``"osqp"``, ``"clarabel"``,
         ``"cvxpy:CLARABEL"``, ...) or ``"auto"``, which tries the methods of
@@ -162,10 +165,9 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
         On misuse (see :mod:`qpcontact.errors`).
     """
     if isinstance(problem, ParametricLCP):
-        raise InvalidProblemError(
-            "a ParametricLCP is a family of LCPs; fix the load parameter with problem.at(p) "
-            "(or trace it with a load-tracing method)"
-        )
+        from .trace import solve_parametric
+
+        return solve_parametric(problem, method, accuracy, raise_on_failure, options)
     if isinstance(problem, Problem):
         problem = validate_qp(problem)
     elif not isinstance(problem, LCP):

@@ -105,7 +105,7 @@ def test_misuse_raises_documented_exceptions(monkeypatch):
     with pytest.raises(InvalidOptionError, match="osqp rejected the option"):
         qpcontact.solve(EX1.lcp, method="osqp", not_an_option=1)
     with pytest.raises(InvalidProblemError, match="problem.at"):
-        qpcontact.solve(ParametricLCP(np.eye(2), [1, 1], [1, 1]))
+        qpcontact.solve(ParametricLCP(np.eye(2), [1, 1], [1, 1]), method="osqp")
     with pytest.raises(InvalidProblemError, match="got list"):
         qpcontact.solve([[1.0]])
     nonmonotone = LCP([[1.0, 3.0], [0.0, 1.0]], [-1.0, -1.0])  # M + M' indefinite

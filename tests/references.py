@@ -1,0 +1,90 @@
+"""Independent references for the pivoting tests: textbook algorithms in exact
+rational arithmetic and brute-force enumeration.  Deliberately slow and
+simple; they share no code with qpcontact."""
+
+from __future__ import annotations
+
+import itertools
+from fractions import Fraction
+
+import numpy as np
+
+
+def exact_lemke_pivots(M, q) -> tuple[str, int]:
+    """Lemke's method (covering vector e, lexicographic ratio test, z0 preferred
+    on ties) in exact rationals; returns (status, pivots), counting the pivot
+    that brings z0 in."""
+    M = [[Fraction(x) for x in row] for row in np.asarray(M).tolist()]
+    q = [Fraction(x) for x in np.asarray(q).tolist()]
+    n = len(q)
+    if min(q) >= 0:
+        return "solved", 0
+    T = [[Fraction(int(i == j)) for j in range(n)] + [-M[i][j] for j in range(n)]
+         + [Fraction(-1), q[i]] for i in range(n)]
+    basis, Z0 = list(range(n)), 2 * n
+
+    def pivot(r, c):
+        p = T[r][c]
+        T[r] = [x / p for x in T[r]]
+        for i in range(n):
+            if i != r and T[i][c] != 0:
+                f = T[i][c]
+                T[i] = [a - f * b for a, b in zip(T[i], T[r])]
+
+    m = min(q)
+    r = max(i for i in range(n) if q[i] == m)
+    pivot(r, Z0)
+    leaving, basis[r], count = basis[r], Z0, 1
+    while True:
+        e = leaving + n if leaving < n else leaving - n
+        cand = [i for i in range(n) if T[i][e] > 0]
+        if not cand:
+            return "ray", count
+        theta = min(T[i][-1] / T[i][e] for i in cand)
+        ties = [i for i in cand if T[i][-1] / T[i][e] == theta]
+        z0 = [i for i in ties if basis[i] == Z0]
+        if z0:
+            r = z0[0]
+        else:
+            for col in range(n):
+                v = min(T[i][col] / T[i][e] for i in ties)
+                ties = [i for i in ties if T[i][col] / T[i][e] == v]
+                if len(ties) == 1:
+                    break
+            r = ties[0]
+        pivot(r, e)
+        leaving, basis[r], count = basis[r], e, count + 1
+        if leaving == Z0:
+            return "solved", count
+
+
+def enumerate_lcp(M, q, tol=1e-9) -> list[np.ndarray]:
+    """Every complementary basic solution of a small LCP (2^n bases)."""
+    M, q = np.asarray(M, float), np.asarray(q, float)
+    n = q.size
+    out = []
+    for k in range(n + 1):
+        for F in itertools.combinations(range(n), k):
+            F = list(F)
+            z = np.zeros(n)
+            if F:
+                try:
+                    z[F] = np.linalg.solve(M[np.ix_(F, F)], -q[F])
+                except np.linalg.LinAlgError:
+                    continue
+            w = M @ z + q
+            scale = max(1.0, np.abs(q).max())
+            if z.min() >= -tol * scale and w.min() >= -tol * scale:
+                out.append(z)
+    return out
+
+
+def murty_family(n: int):
+    """Murty (1988, ch. 6): upper triangular, 1 on the diagonal, 2 above; q = -e."""
+    return np.eye(n) + 2 * np.triu(np.ones((n, n)), 1), -np.ones(n)
+
+
+def fathi_family(n: int):
+    """Fathi (1979): M = L L', L lower triangular, 1 on the diagonal, 2 below; q = -e."""
+    L = np.eye(n) + 2 * np.tril(np.ones((n, n)), -1)
+    return L @ L.T, -np.ones(n)
