@@ -210,7 +210,7 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
         rate = 1.0 if entering == P else -float(col[p_row[0]])
         if abs(rate) <= PIVOT_RTOL * max(float(np.max(np.abs(col))), 1.0):
             rate = 0.0
-        r = lex_ratio_test(T, col, T[:, RHS], slice(0, n))
+        r = lex_ratio_test(col, T[:, RHS], T[:, :n])
         t_block = T[r, RHS] / col[r] if r is not None else np.inf
         t_block = max(t_block, 0.0)
         stop_at_pmax = rate > 0 and np.isfinite(p_max) and p_now + rate * t_block >= p_max

@@ -68,40 +68,42 @@ def symmetric_scaling(M) -> np.ndarray:
 class ActiveBlock:
     """Factorization of M_FF for one basis F, with refined solves.
 
-    ``symmetric`` selects Cholesky / LDL' (SPD blocks) over LU.
+    ``symmetric`` selects Cholesky / LDL' (SPD blocks) over LU.  For sparse
+    symmetric M, pass ``triu = sp.triu(M, format="csc")`` computed once: the
+    upper triangle of M_FF is then sliced from it directly (what QDLDL takes).
     Raises ``np.linalg.LinAlgError`` when the block is numerically singular
     (or, for ``symmetric=True``, not positive definite).
     """
 
-    def __init__(self, M, F: np.ndarray, *, symmetric: bool):
+    def __init__(self, M, F: np.ndarray, *, symmetric: bool, triu=None):
         self.F = np.flatnonzero(F) if F.dtype == bool else np.asarray(F, dtype=np.intp)
+        self.M = M
         self.symmetric = symmetric
+        self._B = None
         k = self.F.size
-        if sp.issparse(M):
-            B = M[self.F][:, self.F].tocsc()
-            self.B = B
-            if k == 0:
-                self._solve = lambda r: r
-            elif symmetric:
+        if k == 0:
+            self._solve = lambda r: r
+        elif sp.issparse(M):
+            if symmetric:
                 import qdldl
 
+                if triu is None:
+                    triu = sp.triu(M, format="csc")
+                upper = triu[:, self.F][self.F, :].tocsc()
                 try:
-                    fac = qdldl.Solver(sp.triu(B, format="csc"))
+                    fac = qdldl.Solver(upper, upper=True)
                 except ValueError as exc:  # QDLDL reports a zero pivot this way
                     raise np.linalg.LinAlgError(str(exc)) from None
                 self._solve = fac.solve
             else:
                 try:
-                    lu = spla.splu(B)
+                    lu = spla.splu(self.B)
                 except RuntimeError as exc:
                     raise np.linalg.LinAlgError(str(exc)) from None
                 self._solve = lu.solve
         else:
-            B = M[np.ix_(self.F, self.F)]
-            self.B = B
-            if k == 0:
-                self._solve = lambda r: r
-            elif symmetric:
+            B = self.B
+            if symmetric:
                 c = scipy.linalg.cho_factor(B, lower=True, check_finite=False)
                 self._solve = lambda r: scipy.linalg.cho_solve(c, r, check_finite=False)
             else:
@@ -110,11 +112,23 @@ class ActiveBlock:
                     raise np.linalg.LinAlgError("singular active block")
                 self._solve = lambda r: scipy.linalg.lu_solve(lu, r, check_finite=False)
 
-    def solve(self, rhs: np.ndarray, refine: int = 3) -> np.ndarray:
-        """B^{-1} rhs, refined until the residual stops shrinking (at most ``refine`` times)."""
-        x = np.asarray(self._solve(rhs), dtype=float)
+    @property
+    def B(self):
+        """M_FF itself (built on first use)."""
+        if self._B is None:
+            M, F = self.M, self.F
+            self._B = M[F][:, F].tocsc() if sp.issparse(M) else M[np.ix_(F, F)]
+        return self._B
+
+    def _checked(self, x) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
         if not np.all(np.isfinite(x)):
             raise np.linalg.LinAlgError("the active block is numerically singular")
+        return x
+
+    def solve(self, rhs: np.ndarray, refine: int = 3) -> np.ndarray:
+        """B^{-1} rhs, refined until the residual stops shrinking (at most ``refine`` times)."""
+        x = self._checked(self._solve(rhs))
         r = rhs - self.B @ x
         rn = np.max(np.abs(r)) if r.size else 0.0
         for _ in range(refine):
@@ -128,11 +142,29 @@ class ActiveBlock:
             x, r, rn = x_new, r_new, rn_new
         return x
 
-    def basic_solution(self, M, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(z, w) with z_F = -M_FF^{-1} q_F, z elsewhere 0, w = Mz + q."""
-        z = np.zeros(q.size)
-        if self.F.size:
-            z[self.F] = self.solve(-q[self.F])
+    def basic_solution(self, M, q: np.ndarray, refine: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """(z, w) with z_F = -M_FF^{-1} q_F, z elsewhere 0, w = Mz + q.
+
+        Refined against the full product M z (w_F is the residual), which the
+        caller needs anyway: no copy of M_FF is formed.
+        """
+        n = q.size
+        z = np.zeros(n)
+        F = self.F
+        if F.size == 0:
+            return z, q.copy()
+        z[F] = self._checked(self._solve(-q[F]))
         w = np.asarray(M @ z).ravel() + q
-        w[self.F] = 0.0  # exactly zero by definition of the basis; keeps signs clean
+        rn = np.max(np.abs(w[F]))
+        for _ in range(refine):
+            if rn == 0.0:
+                break
+            z_new = z.copy()
+            z_new[F] -= self._solve(w[F])
+            w_new = np.asarray(M @ z_new).ravel() + q
+            rn_new = np.max(np.abs(w_new[F]))
+            if not rn_new < rn:
+                break
+            z, w, rn = z_new, w_new, rn_new
+        w[F] = 0.0  # exactly zero by definition of the basis; keeps signs clean
         return z, w

@@ -23,6 +23,7 @@ step's.
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..errors import InvalidOptionError, NotConvexError
 from ..solution import MethodResult
@@ -52,12 +53,13 @@ def block_pivoting(M, q: np.ndarray, F: np.ndarray, max_iter: int, patience: int
                    scale_M: float):
     """Iterate from the basis F; returns (z, F, stats, status)."""
     tau_z, tau_w = sign_tolerances(M, q, scale_M)
+    triu = sp.triu(M, format="csc") if sp.issparse(M) else None
     best = q.size + 1
     left = patience
     stats = {"iterations": 0, "factorizations": 0, "block_exchanges": 0, "single_pivots": 0,
              "exchanged": 0, "initial_active": int(F.sum())}
     while True:
-        z, w = ActiveBlock(M, F, symmetric=True).basic_solution(M, q)
+        z, w = ActiveBlock(M, F, symmetric=True, triu=triu).basic_solution(M, q)
         stats["factorizations"] += 1
         infeasible = np.flatnonzero(np.where(F, z < -tau_z, w < -tau_w))
         k = infeasible.size
