@@ -18,6 +18,7 @@ from functools import cached_property
 
 import numpy as np
 import scipy.linalg
+import scipy.linalg.lapack
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -167,8 +168,39 @@ class _MatrixStructure:
         return bool(np.all(np.diag(L) ** 2 > floor))
 
     @cached_property
+    def upper(self):
+        """Upper triangle of a sparse M (CSC), what sparse LDL' codes take."""
+        return sp.triu(self.M, format="csc") if sp.issparse(self.M) else None
+
+    @cached_property
+    def bandwidth(self) -> int:
+        """max |i - j| over the nonzeros of M."""
+        C = sp.coo_matrix(self.M)
+        return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
+
+    def upper_bands(self, max_bandwidth: int):
+        """LAPACK upper band storage of the symmetric part, ab[b + i - j, j] = S_ij
+        (i <= j), when the bandwidth b is at most ``max_bandwidth``; else None."""
+        b = self.bandwidth
+        if b > max_bandwidth:
+            return None
+        if self._bands is None:
+            S = sp.coo_matrix(sp.triu(self.symmetric_part))
+            ab = np.zeros((b + 1, S.shape[0]))
+            ab[b + S.row - S.col, S.col] = S.data
+            self._bands = ab
+        return self._bands
+
+    _bands = None
+
+    @cached_property
     def is_positive_definite(self) -> bool:
         # z'Mz > 0 for all z != 0 depends on the symmetric part only.
+        if sp.issparse(self.M) and self.M.shape[0] > 64:
+            ab = self.upper_bands(16)
+            if ab is not None:  # banded: LAPACK's banded Cholesky, O(n b²)
+                _, info = scipy.linalg.lapack.dpbtrf(ab, lower=0)
+                return info == 0
         return self._cholesky_ok(0.0)
 
     @cached_property

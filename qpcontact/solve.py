@@ -10,9 +10,9 @@ from qpsolvers import Problem
 from .accuracy import resolve_accuracy
 from .certify import certify
 from .conversions import qp_to_lcp, validate_qp
-from .errors import (InvalidProblemError, NoSolutionError, NotConvexError,
-                     NotSymmetricError, SolverFailedError)
-from .methods import Method, get_method, methods
+from .errors import (BackendUnavailableError, InvalidProblemError, NoSolutionError,
+                     NotConvexError, NotSymmetricError, SolverFailedError, UnknownMethodError)
+from .methods import Method, get_method
 from .problems import LCP, ParametricLCP
 from .solution import LCPSolution, MethodResult, QPSolution
 
@@ -179,16 +179,17 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
     if method != "auto":
         sol = _run(problem, get_method(method), tol_backend, tol_cert, accuracy, options)
     else:
-        available = methods()
-        candidates = [available[name] for name in AUTO_ORDER
-                      if name in available and _applicable(problem, available[name])]
-        if not candidates:
-            raise NotSymmetricError(
-                "no installed method applies to this problem; `qpcontact methods` lists what is "
-                "installed and what each one requires"
-            )
+        def candidates():  # lazily: a late entry (cvxpy) is imported only if reached
+            for name in AUTO_ORDER:
+                try:
+                    m = get_method(name)
+                except (BackendUnavailableError, UnknownMethodError):
+                    continue
+                if _applicable(problem, m):
+                    yield m
+
         tried, sol = [], None
-        for m in candidates:
+        for m in candidates():
             attempt = _run(problem, m, tol_backend, tol_cert, accuracy, options)
             tried.append((m.name, attempt.status, attempt.error))
             if sol is None or attempt.error < sol.error:
@@ -196,6 +197,11 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
             if attempt.ok:
                 sol = attempt
                 break
+        if sol is None:
+            raise NotSymmetricError(
+                "no installed method applies to this problem; `qpcontact methods` lists what is "
+                "installed and what each one requires"
+            )
         sol.stats["auto_tried"] = tried
     if raise_on_failure and not sol.ok:
         if sol.status == "ray":

@@ -83,16 +83,24 @@ def register(method: Method, *, replace: bool = False) -> None:
     _REGISTRY[method.name] = method
 
 
-def _ensure_loaded() -> None:
-    global _loaded
-    if _loaded:
-        return
-    _loaded = True
-    from . import cvxpy_backends, pivoting, qpsolvers_backends
+_loaded_cvxpy = False
 
-    pivoting.register_all()
-    qpsolvers_backends.register_all()
-    cvxpy_backends.register_all()
+
+def _ensure_loaded(cvxpy: bool = True) -> None:
+    """Register the backends on first use.  cvxpy costs a second to import, so
+    it is loaded only when a listing or a ``cvxpy:`` name needs it."""
+    global _loaded, _loaded_cvxpy
+    if not _loaded:
+        _loaded = True
+        from . import pivoting, qpsolvers_backends
+
+        pivoting.register_all()
+        qpsolvers_backends.register_all()
+    if cvxpy and not _loaded_cvxpy:
+        _loaded_cvxpy = True
+        from . import cvxpy_backends
+
+        cvxpy_backends.register_all()
 
 
 def all_methods() -> dict[str, Method]:
@@ -117,7 +125,10 @@ def get_method(name: str) -> Method:
     UnknownMethodError
         No method of that name exists (the message suggests close names).
     """
-    known = all_methods()
+    _ensure_loaded(cvxpy=False)
+    known = _REGISTRY
+    if name not in known:
+        known = all_methods()
     m = known.get(name)
     if m is None and ":" in name:  # cvxpy solver names are upper case
         family, solver = name.split(":", 1)

@@ -6,8 +6,10 @@ set F of basic z's (w_F = 0, z_N = 0) the point is
 
     z_F = -M_FF^{-1} q_F,   w_N = M_NF z_F + q_N,
 
-computed by one factorization of M_FF (dense Cholesky, or sparse LDL' by QDLDL
-with AMD ordering) and iterative refinement.  The infeasible set
+computed by one factorization of M_FF (dense Cholesky; for sparse M, LAPACK's
+banded Cholesky when M's bandwidth is at most 16 — contact stacks — and QDLDL's
+LDL' with AMD ordering otherwise).  Intermediate bases only need signs; the
+basis that looks final is refined iteratively before it is accepted.  The infeasible set
 I = {i in F: z_i < 0} ∪ {i in N: w_i < 0} is exchanged as a whole while |I|
 keeps decreasing; after ``patience`` exchanges (default 3) without a new smallest
 |I|, single pivots by Murty's least-index rule take over until |I| drops again.
@@ -27,7 +29,7 @@ import scipy.sparse as sp
 
 from ..errors import InvalidOptionError, NotConvexError
 from ..solution import MethodResult
-from .active_set import ActiveBlock, sign_tolerances
+from .active_set import BANDED_MAX, ActiveBlock, sign_tolerances
 
 __all__ = ["run_bpp", "block_pivoting"]
 
@@ -49,19 +51,27 @@ def _as_mask(active, n: int) -> np.ndarray:
     return mask
 
 
-def block_pivoting(M, q: np.ndarray, F: np.ndarray, max_iter: int, patience: int,
-                   scale_M: float):
+def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
     """Iterate from the basis F; returns (z, F, stats, status)."""
-    tau_z, tau_w = sign_tolerances(M, q, scale_M)
-    triu = sp.triu(M, format="csc") if sp.issparse(M) else None
+    M, q = problem.M, problem.q
+    tau_z, tau_w = sign_tolerances(M, q, problem.matrix_scale)
+    # Per-matrix analysis, cached on the problem (a time stepper reuses it).
+    structure = problem._structure
+    bands = structure.upper_bands(BANDED_MAX) if sp.issparse(M) else None
+    triu = structure.upper if bands is None else None
     best = q.size + 1
     left = patience
     stats = {"iterations": 0, "factorizations": 0, "block_exchanges": 0, "single_pivots": 0,
              "exchanged": 0, "initial_active": int(F.sum())}
     while True:
-        z, w = ActiveBlock(M, F, symmetric=True, triu=triu).basic_solution(M, q)
+        block = ActiveBlock(M, F, symmetric=True, triu=triu, bands=bands)
         stats["factorizations"] += 1
+        # Intermediate bases only need signs: refine once the signs look final.
+        z, w = block.basic_solution(M, q, refine=0)
         infeasible = np.flatnonzero(np.where(F, z < -tau_z, w < -tau_w))
+        if infeasible.size == 0:
+            z, w = block.basic_solution(M, q, refine=3)
+            infeasible = np.flatnonzero(np.where(F, z < -tau_z, w < -tau_w))
         k = infeasible.size
         if k == 0:
             z[F] = np.maximum(z[F], 0.0)
@@ -98,8 +108,7 @@ def run_bpp(problem, tol, options) -> MethodResult:
     if patience < 0:
         raise InvalidOptionError("'bpp': patience must be >= 0")
     try:
-        z, F, stats, status = block_pivoting(problem.M, problem.q, F, max_iter, patience,
-                                             problem.matrix_scale)
+        z, F, stats, status = block_pivoting(problem, F, max_iter, patience)
     except np.linalg.LinAlgError as exc:
         raise NotConvexError(
             f"'bpp' met an active block that is not numerically positive definite ({exc}); "
