@@ -26,7 +26,9 @@ test-all: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2 -m ""
 
 bench: $(STAMP)
+	$(BIN)/python -m pip install --quiet -e ".[benchmark]"
 	$(BIN)/python benchmarks/backends.py
+	$(BIN)/python benchmarks/pivoting.py --plot docs/pivoting.png
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache

@@ -142,26 +142,34 @@ def plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for key, style in (("energy", "o-"), ("bpp", "s-"), ("lemke", "^-"), ("quantecon", "v--")):
-        pts = [(r["n"], r[key][0]) for r in rows if r.get(key)]
+    kinds = [k for k in ("dense", "sparse") if any(r["kind"] == k for r in rows)]
+    fig, axes = plt.subplots(1, len(kinds), figsize=(6 * len(kinds), 4.5), squeeze=False)
+    for ax, kind in zip(axes[0], kinds):
+        sel = [r for r in rows if r["kind"] == kind]
+        for key, style, label in (("energy", "o-", "energy"), ("bpp", "s-", "bpp"),
+                                  ("lemke", "^-", "lemke"),
+                                  ("quantecon", "v--", "quantecon lcp_lemke")):
+            pts = [(r["n"], r[key][0]) for r in sel if r.get(key) and r[key][0] > 0]
+            if pts:
+                ax.loglog(*zip(*pts), style, label=label)
+        pts = [(r["n"], r["qp"][1]) for r in sel if r.get("qp")]
         if pts:
-            ax.loglog(*zip(*pts), style, label=key if key != "quantecon" else "quantecon lcp_lemke")
-    pts = [(r["n"], r["qp"][1]) for r in rows if r.get("qp")]
-    if pts:
-        ax.loglog(*zip(*pts), "k:", marker="x", label="fastest QP backend at 'high'")
-    pts = [(r["n"], r["factor"]) for r in rows if r.get("factor")]
-    if pts:
-        ax.loglog(*zip(*pts), "c-.", marker="d", label="one QDLDL factorization (final block)")
-    ax.set_xlabel("n (dense up to 2000, sparse banded above)")
-    ax.set_ylabel("median wall time [s]")
-    ax.set_title("Pivoting methods vs QP backends (1 BLAS thread)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+            ax.loglog(*zip(*pts), "k:", marker="x", label="fastest QP backend at 'high'")
+        for key, style, label in (("factor", "c-.", "one QDLDL factorization (final block)"),
+                                  ("factor_banded", "m-.", "one banded Cholesky (final block)")):
+            pts = [(r["n"], r[key]) for r in sel if r.get(key)]
+            if pts:
+                ax.loglog(*zip(*pts), style, marker="d", label=label)
+        ax.set_xlabel("n")
+        ax.set_ylabel("median wall time [s]")
+        ax.set_title(f"{kind} SPD LCPs" + (" (banded contact chain)" if kind == "sparse" else ""))
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Pivoting methods vs QP backends, certified answers only (1 BLAS thread)")
     fig.tight_layout()
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
     tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=120)
+    fig.savefig(tmp, dpi=110)
     os.replace(tmp, path)
     print(f"plot written to {path}")
 
