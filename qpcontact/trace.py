@@ -108,6 +108,51 @@ class LoadTrace(LCPSolution):
     def w_at(self, p: float) -> np.ndarray:
         return self.piece_at(p).w(p)
 
+    def plot(self, path, indices=None, labels=None, p_max: float | None = None) -> str:
+        """Save a load-displacement plot: z_i against p for the chosen indices
+        (default: every z that is ever positive, at most 12), breakpoints marked.
+        The plot ends at ``p_max``, by default where the trace ended (a final
+        ray: 1.5 x the last breakpoint).
+        Written atomically (temporary file, then rename); returns the path."""
+        import os
+
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        last = self.breakpoints[-1] if self.breakpoints.size else 1.0
+        if p_max is not None:
+            top = p_max
+        elif self.pieces and np.isfinite(self.pieces[-1].p_end):
+            top = self.pieces[-1].p_end
+        else:
+            top = max(1.5 * last, 1.0)
+        ps = [0.0]
+        for pc in self.pieces:
+            end = pc.p_end if np.isfinite(pc.p_end) else top
+            ps += list(np.linspace(pc.p_start, end, 3)[1:])
+        zs = np.array([self.z_at(min(p, top)) if self.pieces else self.z for p in ps])
+        if indices is None:
+            indices = np.flatnonzero(zs.max(axis=0) > 0)[:12]
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        for k, i in enumerate(indices):
+            ax.plot(ps, zs[:, i], label=labels[k] if labels else f"z[{i}]")
+        for pk in self.breakpoints:
+            ax.axvline(pk, color="0.7", lw=0.8, ls="--")
+        ax.set_xlabel("load parameter p")
+        ax.set_ylabel("z (contact forces or gaps, the LCP's units)")
+        ax.set_title(f"load trace: {len(self.breakpoints)} breakpoint(s), end: {self.end}")
+        ax.grid(True, alpha=0.3)
+        if len(indices):
+            ax.legend(fontsize=8)
+        fig.tight_layout()
+        path = os.fspath(path)
+        tmp = path + ".tmp.png"
+        fig.savefig(tmp, dpi=110)
+        plt.close(fig)
+        os.replace(tmp, path)
+        return path
+
 
 _OPTIONS = ("p_max", "max_pivots")
 
