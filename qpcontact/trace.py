@@ -42,7 +42,7 @@ import scipy.linalg
 from .accuracy import resolve_accuracy
 from .certify import certify_lcp
 from .errors import InvalidOptionError, InvalidProblemError, NoSolutionError, SolverFailedError
-from .methods.active_set import DENSE_TABLEAU_LIMIT, ActiveBlock, dense_matrix
+from .methods.active_set import ActiveBlock, check_dense_size, check_options, dense_matrix
 from .methods.lemke import lemke, lex_ratio_test, ruiz_scaling, tableau_pivot, PIVOT_RTOL
 from .problems import ParametricLCP
 from .solution import LCPSolution
@@ -214,10 +214,7 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
     if not p_max > 0:
         raise InvalidOptionError(f"'trace': p_max must be > 0, got {p_max}")
     n = plcp.n
-    if n > DENSE_TABLEAU_LIMIT:
-        raise InvalidProblemError(
-            f"'trace' keeps a dense {n} x {2 * n + 3} tableau; n = {n} exceeds {DENSE_TABLEAU_LIMIT}"
-        )
+    check_dense_size("trace", n, f"{n} x {2 * n + 2} tableau", "fixed loads with problem.at(p)")
     max_pivots = int(max_pivots if max_pivots is not None else max(10_000, 50 * n))
     _, tol_cert = resolve_accuracy(accuracy)
     start = time.perf_counter()
@@ -337,13 +334,6 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
     )
 
 
-def _run_options(options: dict) -> dict:
-    unknown = sorted(set(options) - set(_OPTIONS))
-    if unknown:
-        raise InvalidOptionError(f"'trace' has no option(s) {unknown}; it takes {list(_OPTIONS)}")
-    return options
-
-
 def solve_parametric(plcp: ParametricLCP, method: str, accuracy, raise_on_failure: bool,
                      options: dict) -> LoadTrace:
     """What :func:`qpcontact.solve` does with a ParametricLCP."""
@@ -352,7 +342,8 @@ def solve_parametric(plcp: ParametricLCP, method: str, accuracy, raise_on_failur
             f"a ParametricLCP is a family of LCPs; method {method!r} solves one LCP — use "
             "method='trace' to follow the load, or fix it with problem.at(p)"
         )
-    tr = trace_load(plcp, accuracy=accuracy, **_run_options(options))
+    check_options("trace", options, _OPTIONS)
+    tr = trace_load(plcp, accuracy=accuracy, **options)
     if raise_on_failure and not tr.ok:
         raise SolverFailedError(f"trace: {tr.message}")
     return tr

@@ -282,3 +282,20 @@ def test_auto_prefers_pivoting_for_spd():
     assert sol.method == "energy" and sol.ok
     nonsym = LCP([[2.0, 1.0], [0.0, 2.0]], [-1.0, -1.0])
     assert qpcontact.solve(nonsym).method == "lemke"
+
+
+def test_tableau_rebuilt_from_data_matches_pivoting_to_it():
+    """The energy method's refresh rebuilds the principal pivotal transform from
+    the data; it must equal the tableau reached by Gauss–Jordan pivots."""
+    from qpcontact.methods.energy import ppt_tableau, principal_pivot
+
+    from .conftest import random_spd
+    M = random_spd(9, 50.0, 4)
+    q = np.random.default_rng(4).standard_normal(9)
+    basic = np.array([1, 0, 1, 1, 0, 0, 1, 0, 1], bool)
+    T, qbar = ppt_tableau(M, q, basic)
+    T2, q2 = np.asfortranarray(M.copy()), q.copy()
+    for r in np.flatnonzero(basic):
+        principal_pivot(T2, q2, r)
+    np.testing.assert_allclose(T, T2, atol=1e-12)
+    np.testing.assert_allclose(qbar, q2, atol=1e-12)

@@ -21,6 +21,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 __all__ = ["sign_tolerances", "ActiveBlock", "symmetric_scaling", "dense_matrix",
+           "check_options", "check_dense_size", "not_positive_definite",
            "bandwidth", "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
 
 _EPS = np.finfo(float).eps
@@ -31,6 +32,35 @@ DENSE_TABLEAU_LIMIT = 5000
 
 #: Relative size below which a value counts as zero when deciding signs.
 SIGN_RTOL = 1e3 * _EPS
+
+
+def check_options(method: str, options: dict, allowed: tuple) -> None:
+    """InvalidOptionError naming the options ``method`` does not take."""
+    from ..errors import InvalidOptionError
+
+    unknown = sorted(set(options) - set(allowed))
+    if unknown:
+        raise InvalidOptionError(f"{method!r} has no option(s) {unknown}; it takes {list(allowed)}")
+
+
+def check_dense_size(method: str, n: int, what: str, instead: str) -> None:
+    """InvalidProblemError when a dense-tableau method meets n > DENSE_TABLEAU_LIMIT."""
+    from ..errors import InvalidProblemError
+
+    if n > DENSE_TABLEAU_LIMIT:
+        raise InvalidProblemError(
+            f"{method!r} keeps a dense {what}; above n = {DENSE_TABLEAU_LIMIT} use {instead}."
+        )
+
+
+def not_positive_definite(method: str, exc: Exception):
+    """The NotConvexError an SPD method raises when a block fails to factorize."""
+    from ..errors import NotConvexError
+
+    return NotConvexError(
+        f"{method!r} met an active block that is not numerically positive definite ({exc}); "
+        "M is too close to singular for it — use 'lemke'."
+    )
 
 
 def dense_matrix(M) -> np.ndarray:

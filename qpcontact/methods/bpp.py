@@ -27,9 +27,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InvalidOptionError, NotConvexError
+from ..errors import InvalidOptionError
 from ..solution import MethodResult
-from .active_set import BANDED_MAX, ActiveBlock, sign_tolerances
+from .active_set import (BANDED_MAX, ActiveBlock, check_options, not_positive_definite,
+                         sign_tolerances)
 
 __all__ = ["run_bpp", "block_pivoting"]
 
@@ -97,9 +98,7 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
 
 
 def run_bpp(problem, tol, options) -> MethodResult:
-    unknown = sorted(set(options) - set(_OPTIONS))
-    if unknown:
-        raise InvalidOptionError(f"'bpp' has no option(s) {unknown}; it takes {list(_OPTIONS)}")
+    check_options("bpp", options, _OPTIONS)
     n = problem.n
     F = (_as_mask(options["initial_active"], n) if options.get("initial_active") is not None
          else np.zeros(n, dtype=bool))
@@ -110,10 +109,7 @@ def run_bpp(problem, tol, options) -> MethodResult:
     try:
         z, F, stats, status = block_pivoting(problem, F, max_iter, patience)
     except np.linalg.LinAlgError as exc:
-        raise NotConvexError(
-            f"'bpp' met an active block that is not numerically positive definite ({exc}); "
-            "M is too close to singular for it — use 'lemke'."
-        ) from None
+        raise not_positive_definite("bpp", exc) from None
     stats["active"] = int(F.sum())
     return MethodResult(
         x=z, backend_status=status, iterations=stats["iterations"],

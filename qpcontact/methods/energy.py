@@ -33,13 +33,12 @@ Cost: a dense n x n tableau, O(n²) per pivot.  For large sparse problems use
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 from scipy.linalg.blas import dger
 
-from ..errors import InvalidOptionError, InvalidProblemError, NotConvexError
+from ..errors import InvalidOptionError, NotConvexError
 from ..solution import MethodResult
-from .active_set import (DENSE_TABLEAU_LIMIT, ActiveBlock, dense_matrix, sign_tolerances,
-                         symmetric_scaling)
+from .active_set import (ActiveBlock, check_dense_size, check_options, dense_matrix,
+                         not_positive_definite, sign_tolerances, symmetric_scaling)
 
 __all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau"]
 
@@ -86,9 +85,8 @@ def ppt_tableau(M: np.ndarray, q: np.ndarray, basic: np.ndarray):
         T[:] = M
         return T, q.copy()
     block = ActiveBlock(M, B, symmetric=True)
-    c = scipy.linalg.cho_factor(M[np.ix_(B, B)], lower=True, check_finite=False)
-    inv = scipy.linalg.cho_solve(c, np.eye(B.size), check_finite=False)
-    X = scipy.linalg.cho_solve(c, M[np.ix_(B, N)], check_finite=False)  # M_BB^-1 M_BN
+    inv = block.solve(np.eye(B.size), refine=0)
+    X = block.solve(M[np.ix_(B, N)], refine=0)  # M_BB^-1 M_BN
     T[np.ix_(B, B)] = inv
     T[np.ix_(B, N)] = -X
     T[np.ix_(N, B)] = X.T
@@ -161,15 +159,10 @@ def _energy(M: np.ndarray, q: np.ndarray, max_pivots: int, rule: str):
 
 
 def run_energy(problem, tol, options) -> MethodResult:
-    unknown = sorted(set(options) - set(_OPTIONS))
-    if unknown:
-        raise InvalidOptionError(f"'energy' has no option(s) {unknown}; it takes {list(_OPTIONS)}")
+    check_options("energy", options, _OPTIONS)
     n = problem.n
-    if n > DENSE_TABLEAU_LIMIT:
-        raise InvalidProblemError(
-            f"'energy' keeps a dense {n} x {n} tableau; above n = {DENSE_TABLEAU_LIMIT} use 'bpp' "
-            "(block pivoting with sparse factorizations)."
-        )
+    check_dense_size("energy", n, f"{n} x {n} tableau",
+                     "'bpp' (block pivoting with sparse factorizations)")
     max_pivots = int(options.get("max_pivots", 100 * n + 1000))
     rule = options.get("rule", "energy")
     if rule not in ("energy", "murty"):
@@ -181,10 +174,7 @@ def run_energy(problem, tol, options) -> MethodResult:
     try:
         zs, basic, stats, status = _energy(Ms, qs, max_pivots, rule)
     except np.linalg.LinAlgError as exc:
-        raise NotConvexError(
-            f"'energy' met an active block that is not numerically positive definite ({exc}); "
-            "M is too close to singular for it — use 'lemke'."
-        ) from None
+        raise not_positive_definite("energy", exc) from None
     z = zs * d
     stats["active"] = int(basic.sum())
     return MethodResult(

@@ -31,9 +31,10 @@ import numpy as np
 import scipy.linalg
 from scipy.linalg.blas import dger
 
-from ..errors import InvalidOptionError, InvalidProblemError
+from ..errors import InvalidOptionError
 from ..solution import MethodResult
-from .active_set import DENSE_TABLEAU_LIMIT, ActiveBlock, dense_matrix, sign_tolerances
+from .active_set import (ActiveBlock, check_dense_size, check_options, dense_matrix,
+                         sign_tolerances)
 
 __all__ = ["LemkeOutcome", "lemke", "run_lemke", "ruiz_scaling", "lex_ratio_test",
            "tableau_pivot"]
@@ -269,15 +270,10 @@ def _lp_feasible(M, q) -> bool | None:
 
 
 def run_lemke(problem, tol, options) -> MethodResult:
-    unknown = sorted(set(options) - set(_OPTIONS))
-    if unknown:
-        raise InvalidOptionError(f"'lemke' has no option(s) {unknown}; it takes {list(_OPTIONS)}")
+    check_options("lemke", options, _OPTIONS)
     n = problem.n
-    if n > DENSE_TABLEAU_LIMIT:
-        raise InvalidProblemError(
-            f"'lemke' keeps a dense {n} x {n} basis inverse; above n = {DENSE_TABLEAU_LIMIT} "
-            "use 'bpp' (symmetric positive definite M) or a QP backend (monotone M)."
-        )
+    check_dense_size("lemke", n, f"{n} x {n} basis inverse",
+                     "'bpp' (symmetric positive definite M) or a QP backend (monotone M)")
     M = dense_matrix(problem.M)
     q = problem.q
     d_user = options.get("covering")
