@@ -299,3 +299,28 @@ def test_tableau_rebuilt_from_data_matches_pivoting_to_it():
         principal_pivot(T2, q2, r)
     np.testing.assert_allclose(T, T2, atol=1e-12)
     np.testing.assert_allclose(qbar, q2, atol=1e-12)
+
+
+def test_bpp_general_sparse_pattern_uses_ldl_and_agrees():
+    """A 2-D grid Laplacian (bandwidth 30 > BANDED_MAX: the QDLDL path)."""
+    from qpcontact.methods.active_set import BANDED_MAX
+
+    k = 30
+    T = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(k, k))
+    L = (sp.kron(T, sp.identity(k)) + sp.kron(sp.identity(k), T) + 0.01 * sp.identity(k * k)).tocsc()
+    assert k > BANDED_MAX
+    lcp = LCP(L, np.random.default_rng(0).standard_normal(k * k))
+    bpp = qpcontact.solve(lcp, method="bpp")
+    ref = qpcontact.solve(LCP(L.toarray(), lcp.q), method="energy")
+    assert bpp.ok and ref.ok
+    np.testing.assert_allclose(bpp.z, ref.z, atol=1e-12 * np.abs(ref.z).max())
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_exact_methods_on_very_ill_conditioned_spd(seed):
+    """cond 1e12: certified, and forward error within cond * eps of the planted z."""
+    lcp, z_star = random_spd_lcp(60, 1e12, seed)
+    for method in PIVOTING:
+        sol = qpcontact.solve(lcp, method=method)
+        assert sol.ok, (method, sol.message)
+        assert np.max(np.abs(sol.z - z_star)) <= 1e12 * 1e-16 * 100 * np.max(z_star), method
