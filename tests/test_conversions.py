@@ -34,7 +34,7 @@ def test_monotone_route_solves_nonsymmetric_psd(method):
     # M + M' = 2I; by hand: both z positive, z1 + z2 = 2, -z1 + z2 = 1 -> z = (1/2, 3/2), w = 0
     lcp = LCP([[1.0, 1.0], [-1.0, 1.0]], [-2.0, -1.0])
     sol = qpcontact.solve(lcp, method=method, accuracy="high")
-    assert sol.stats["route"] == "monotone-qp"
+    assert sol.stats["route"].startswith("monotone-qp")
     assert sol.ok, sol.message
     np.testing.assert_allclose(sol.z, [0.5, 1.5], atol=1e-8)
 
