@@ -28,7 +28,8 @@ test-all: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e ".[benchmark]"
 	$(BIN)/python benchmarks/backends.py
-	$(BIN)/python benchmarks/pivoting.py --plot docs/pivoting.png
+	$(BIN)/python benchmarks/pivoting.py --plot docs/figures/pivoting.png
+	$(BIN)/python benchmarks/drum.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache

@@ -62,7 +62,19 @@ def run_demo(accuracy="high", console=None) -> int:
                   f"{wrong} certified answers disagree with the paper.")
     console.print("error = scale-free certificate (qpcontact.certify); 'inaccurate' means the backend "
                   "returned a point the certificate rejects — see docs/backends.md.")
-    return wrong + _pivot_table(console)
+    return wrong + _pivot_table(console) + _formulation_demos(console)
+
+
+def _formulation_demos(console) -> int:
+    """Each installed formulation's demo (entry-point group ``qpcontact.formulations``)."""
+    from importlib.metadata import entry_points
+
+    failed = 0
+    for ep in sorted(entry_points(group="qpcontact.formulations"), key=lambda e: e.name):
+        module = ep.load()
+        if hasattr(module, "demo"):
+            failed += int(module.demo(console))
+    return failed
 
 
 def _pivot_table(console) -> int:

@@ -167,6 +167,13 @@ class _MatrixStructure:
             return False
         return bool(np.all(np.diag(L) ** 2 > floor))
 
+    def declare_spd(self) -> None:
+        """Record that M is symmetric positive definite *by construction* (a
+        formulation that proves it, e.g. the drum's A = C + G'H⁻¹G), so the
+        checks are not recomputed for every assembled matrix."""
+        self.__dict__.update(is_symmetric=True, is_positive_definite=True, is_psd=True,
+                             asymmetry=0.0)
+
     @cached_property
     def upper(self):
         """Upper triangle of a sparse M (CSC), what sparse LDL' codes take."""
@@ -185,9 +192,10 @@ class _MatrixStructure:
         if b > max_bandwidth:
             return None
         if self._bands is None:
-            S = sp.coo_matrix(sp.triu(self.symmetric_part))
+            S = sp.coo_matrix(self.M if self.is_symmetric else self.symmetric_part)
+            up = S.row <= S.col
             ab = np.zeros((b + 1, S.shape[0]))
-            ab[b + S.row - S.col, S.col] = S.data
+            ab[b + S.row[up] - S.col[up], S.col[up]] = S.data[up]
             self._bands = ab
         return self._bands
 
