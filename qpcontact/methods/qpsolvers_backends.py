@@ -8,6 +8,9 @@ one names the pip command.
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
 import warnings
 
 import numpy as np
@@ -34,6 +37,32 @@ _KNOWN = {
     "hpipm": ('"qpsolvers[hpipm]"', "interior-point", False),
     "qpswift": ('"qpsolvers[qpswift]"', "interior-point", False),
 }
+
+
+# OSQP 1.x prints "Polishing not needed - no active set detected at optimal
+# point" from C even with verbose=False; in a time stepper that is one line per
+# step.  Its C-level stdout is silenced during the call.
+_PRINTS_WHEN_QUIET = {"osqp"}
+
+
+@contextlib.contextmanager
+def _quiet_c_stdout(enabled: bool):
+    if not enabled:
+        yield
+        return
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # captured stdout (pytest, notebooks)
+        fd = 1
+    sys.stdout.flush()
+    saved = os.dup(fd)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), fd)
+            yield
+    finally:
+        os.dup2(saved, fd)
+        os.close(saved)
 
 
 def _report(sol) -> tuple[str, int | None]:
@@ -82,7 +111,8 @@ def _make_run(name: str):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                sol = qpsolvers.solve_problem(problem, solver=name, **settings)
+                with _quiet_c_stdout(name in _PRINTS_WHEN_QUIET):
+                    sol = qpsolvers.solve_problem(problem, solver=name, **settings)
             except Exception as exc:
                 _reject_options(name, options, exc)
                 # otherwise a backend failure is a numerical outcome, not misuse
