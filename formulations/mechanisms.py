@@ -49,6 +49,7 @@ from qpcontact.solve import solve
 from .penalty import PenaltyStep, exact_lcp, solve_penalty
 
 __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pellet_scene",
+           "ramming_impact_step",
            "EFFECTS", "GRAVITY"]
 
 GRAVITY = 9.81
@@ -459,3 +460,15 @@ def pellet_scene(n_pellets: int = 8, effects=(), restitution: float = 0.5,
         x += 2 * r + 0.5e-3
     h = 5e-6
     return m, h, 800, lookahead_for(h, restitution)
+
+
+def ramming_impact_step():
+    """The ramming scene's step at which the bolt first touches the cartridge,
+    as a PenaltyStep (rigid contacts): a small real step for demos and studies."""
+    mech, h, steps, dt = ramming_scene()
+    res = mech.simulate(h, 600, lookahead=dt, route="lcp")
+    i = int(np.flatnonzero(res.reactions[:, 0] > 0)[0])
+    q, v = res.q[i - 1], res.v[i - 1]
+    Phi, J, D = mech.constraints(q, v)
+    B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
+    return PenaltyStep(mech.inertia(), mech.generalized_forces(res.t[i - 1], q, v), J, B, D)

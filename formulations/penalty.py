@@ -313,3 +313,42 @@ def solve_penalty(step: PenaltyStep, mu="auto", *, method: str = "auto", accurac
         res.flags.append(f"no mu in [{tried[0]:.3g}, {tried[-1]:.3g}] gave a certified answer")
         res.message = "; ".join(res.flags)
     return res
+
+
+def demo(console) -> int:
+    """The penalty part of ``qpcontact demo``: the ramming scene's impact step
+    solved as P2's penalty QP by every installed QP backend and checked against
+    the exact LCP (Lemke).  Returns the number of certified answers that are
+    wrong (0 when all is well)."""
+    import time
+
+    from rich.table import Table
+
+    from qpcontact.methods import methods
+
+    from .mechanisms import ramming_impact_step
+
+    step = ramming_impact_step()
+    exact = solve(exact_lcp(step), method="lemke")
+    auto = solve_penalty(step, mu="auto", method="clarabel")
+    mu = auto.mu
+    scale = max(np.abs(exact.z).max(), np.abs(step.b).max() / np.abs(step.A).max())
+    table = Table(title=f"Penalty QP (P2): ramming impact step, mu = {mu:.3g} s^2 (auto; KKT "
+                        f"threshold {mu_threshold(step, exact.z):.3g}); exact reaction "
+                        f"{exact.z.round(2)} N by Lemke")
+    for col in ("method", "status", "lambda [N]", "rel. error vs exact", "time [ms]"):
+        table.add_column(col, justify="left" if col in ("method", "status") else "right")
+    wrong = 0
+    for name, m in methods().items():
+        if m.takes != "qp":
+            continue
+        t0 = time.perf_counter()
+        res = solve_penalty(step, mu=mu, method=name)
+        dt = time.perf_counter() - t0
+        err = np.abs(res.lam - exact.z).max() / scale if res.lam is not None else np.inf
+        wrong += int(res.ok and err > 1e-6)
+        style = "green" if res.ok else "yellow"
+        table.add_row(name, f"[{style}]{res.status}[/{style}]",
+                      "-" if res.lam is None else str(res.lam.round(3)), f"{err:.1e}", f"{1e3 * dt:.2f}")
+    console.print(table)
+    return wrong
