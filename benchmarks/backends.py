@@ -32,6 +32,7 @@ import scipy.sparse as sp  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 
 import qpcontact  # noqa: E402
+from qpcontact.plotting import save_figure  # noqa: E402
 from qpcontact import LCP  # noqa: E402
 
 
@@ -141,11 +142,7 @@ def plot(rows, path: str) -> None:
         ax.set_ylabel("certified error (scale-free)")
         ax.set_title(f"n = {n}: green = certified, circle = high, square = default")
     fig.tight_layout()
-    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, path)  # atomic: no half-written plot
-    print(f"\nplot written to {path}")
+    print(f"\nplot written to {save_figure(fig, path)}")
 
 
 if __name__ == "__main__":

@@ -32,6 +32,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import qpcontact  # noqa: E402
+from qpcontact.plotting import save_figure  # noqa: E402
 from formulations.mechanisms import ramming_impact_step  # noqa: E402
 from formulations.penalty import PenaltyStep, exact_lcp, mu_threshold, solve_penalty  # noqa: E402
 
@@ -156,11 +157,7 @@ def plot(rows, backends, path):
         ax.legend(fontsize=7, loc="lower left")
     fig.suptitle("P2 penalty QP: what mu costs (error clipped at 10; red line: 'high' = 1e-9)")
     fig.tight_layout()
-    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=100)
-    os.replace(tmp, path)
-    print("plot written to", path)
+    print("plot written to", save_figure(fig, path, dpi=100))
 
 
 def main(argv=None):

@@ -37,6 +37,7 @@ import scipy.sparse as sp  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import qpcontact  # noqa: E402
+from qpcontact.plotting import save_figure  # noqa: E402
 from backends import banded_spd_lcp, dense_spd_lcp  # noqa: E402
 from qpcontact.methods.active_set import bandwidth  # noqa: E402
 
@@ -167,11 +168,7 @@ def plot(rows, path):
         ax.legend(fontsize=8)
     fig.suptitle("Pivoting methods vs QP backends, certified answers only (1 BLAS thread)")
     fig.tight_layout()
-    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, path)
-    print(f"plot written to {path}")
+    print(f"plot written to {save_figure(fig, path)}")
 
 
 def main(argv=None):

@@ -20,6 +20,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from formulations.drum import Drum, Log  # noqa: E402
+from qpcontact.plotting import save_figure  # noqa: E402
 
 
 def build(seed: int = 1, shell_stiffness: float | None = None) -> Drum:
@@ -34,10 +35,7 @@ def build(seed: int = 1, shell_stiffness: float | None = None) -> Drum:
 
 
 def save_atomic(fig, path):
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, path)
-    print(f"wrote {path}")
+    print("wrote", save_figure(fig, path))
 
 
 def plots(result, out):
@@ -58,7 +56,6 @@ def plots(result, out):
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
     save_atomic(fig, os.path.join(out, "drum_forces.png"))
-    plt.close(fig)
 
     s = result.summary()
     fig, ax = plt.subplots(figsize=(8, 4.2))
@@ -74,7 +71,6 @@ def plots(result, out):
     ax.grid(True, axis="y", alpha=0.3)
     fig.tight_layout()
     save_atomic(fig, os.path.join(out, "drum_peaks.png"))
-    plt.close(fig)
 
 
 def main(argv=None):

@@ -266,7 +266,7 @@ class Drum:
         """Period 2π√(μ/k) [s] of each contact: μ the reduced mass of the two
         bodies (the log alone against the shell), k the series stiffness of the
         contact path (the two log halves, or the lowest half and the shell)."""
-        m, s = self.mass, self.half_stiffness
+        m = self.mass
         mu = m.copy()
         mu[1:] = m[1:] * m[:-1] / (m[1:] + m[:-1])
         k = 1.0 / self.compliance

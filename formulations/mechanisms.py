@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from qpcontact.errors import InvalidOptionError, InvalidProblemError
+from qpcontact.plotting import save_figure
 from qpcontact.solve import solve
 
 from .penalty import PenaltyStep, exact_lcp, solve_penalty
@@ -383,8 +384,6 @@ class MechanismResult:
 
     def plot(self, path, title: str = "") -> str:
         """Positions, velocities and reactions against time in one PNG (atomic write)."""
-        import os
-
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
@@ -407,12 +406,7 @@ class MechanismResult:
                 ax.legend(fontsize=7, ncol=2)
         axes[0].set_title(title)
         fig.tight_layout()
-        path = os.fspath(path)
-        tmp = path + ".tmp.png"
-        fig.savefig(tmp, dpi=110)
-        plt.close(fig)
-        os.replace(tmp, path)
-        return path
+        return save_figure(fig, path)
 
 
 def ramming_scene(effects=("springs",), restitution: float = 0.3, compliance: float = 1e-7):

@@ -69,7 +69,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from qpsolvers import Problem
 
-from qpcontact.certify import certify, certify_lcp
+from qpcontact.certify import certify_lcp
 from qpcontact.errors import InvalidOptionError, InvalidProblemError, NotConvexError
 from qpcontact.problems import LCP, as_matrix, as_vector
 from qpcontact.solve import solve

@@ -44,6 +44,7 @@ from .certify import certify_lcp
 from .errors import InvalidOptionError, InvalidProblemError, NoSolutionError, SolverFailedError
 from .methods.active_set import ActiveBlock, check_dense_size, check_options, dense_matrix
 from .methods.lemke import lemke, lex_ratio_test, ruiz_scaling, tableau_pivot, PIVOT_RTOL
+from .plotting import save_figure
 from .problems import ParametricLCP
 from .solution import LCPSolution
 
@@ -114,8 +115,6 @@ class LoadTrace(LCPSolution):
         The plot ends at ``p_max``, by default where the trace ended (a final
         ray: 1.5 x the last breakpoint).
         Written atomically (temporary file, then rename); returns the path."""
-        import os
-
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
@@ -146,12 +145,7 @@ class LoadTrace(LCPSolution):
         if len(indices):
             ax.legend(fontsize=8)
         fig.tight_layout()
-        path = os.fspath(path)
-        tmp = path + ".tmp.png"
-        fig.savefig(tmp, dpi=110)
-        plt.close(fig)
-        os.replace(tmp, path)
-        return path
+        return save_figure(fig, path)
 
 
 _OPTIONS = ("p_max", "max_pivots")
