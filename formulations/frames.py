@@ -747,3 +747,48 @@ class Frame:
         ax.grid(True, alpha=0.3)
         fig.tight_layout()
         return save_figure(fig, path)
+
+
+def demo(console) -> int:
+    """The frame part of ``qpcontact demo``: a beam pinned at one end on a
+    frictional support (limit f P/2 by hand) solved below and above the limit
+    by Lemke and by the Tresca fixed point, then a lateral load traced.
+    Returns the number of failed checks."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    def beam(H):
+        fr = Frame()
+        for nm, x in (("A", 0.0), ("C", 2.0), ("B", 4.0)):
+            fr.add_node(nm, x, 0.0)
+        fr.add_beam("A", "C", E=2e8, A=0.01, I=1e-4)
+        fr.add_beam("C", "B", E=2e8, A=0.01, I=1e-4)
+        fr.add_support("A", fix=("ux", "uy"))
+        fr.add_contact("B", normal=(0.0, 1.0), friction=0.3)
+        fr.add_load("C", fy=-100.0)
+        fr.add_load("B", fx=H)
+        return fr
+
+    table = Table(title="Frame (P3): beam pinned at A, resting on a support at B with f = 0.3, "
+                        "100 kN at midspan, H at B; by hand: stick iff H <= f*50 = 15 kN")
+    for col in ("H [kN]", "route", "state at B", "X_n [kN]", "X_t [kN]", "LCP error", "equilibrium"):
+        table.add_column(escape(col), justify="left" if col in ("route", "state at B") else "right")
+    failed = 0
+    for H in (10.0, 20.0):
+        for method in ("lemke", "tresca"):
+            r = beam(H).solve(method=method)
+            s = r.supports["B"]
+            expect = "stick" if H <= 15 else "slip+"
+            failed += int(not r.ok or s.state != expect)
+            table.add_row(f"{H:g}", r.route, s.state, f"{s.normal:.3f}", f"{s.tangential:.3f}",
+                          f"{r.lcp_error:.0e}", f"{r.equilibrium_residual:.0e}")
+    console.print(table)
+    fr = beam(0.0)
+    fr.add_load("B", fx=10.0, kind="variable")
+    tr = fr.trace(p_max=3.0)
+    console.print(f"Trace of H = 10 p kN: {tr.message}; breakpoints p = "
+                  + ", ".join(f"{p:.4g}" for p in tr.breakpoints)
+                  + " (by hand 1.5); states " + " -> ".join(s.supports["B"].state for s in tr.states)
+                  + ".  examples/frame_on_supports.py traces a two-span portal.")
+    failed += int(not (tr.breakpoints.size == 1 and abs(tr.breakpoints[0] - 1.5) < 1e-9))
+    return failed

@@ -270,3 +270,33 @@ def test_checks_flag_and_errors_name_the_problem(tmp_path):
     lone.add_contact("B", normal=(0, 1))
     with pytest.raises(InvalidProblemError, match="mechanism"):
         lone.solve()
+
+
+def test_elastic_contact_and_hinge_against_hand_formulas():
+    # cantilever (L = 3, EI) with tip load P resting on a spring k at the tip:
+    # spring force = P * (L^3/3EI) / (L^3/3EI + 1/k)
+    E, I, L, P, k = 2e8, 1e-4, 3.0, 10.0, 5e3
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", L, 0.0)
+    fr.add_beam("A", "B", E=E, A=0.01, I=I)
+    fr.add_support("A", fix=("ux", "uy", "rz"))
+    fr.add_contact("B", normal=(0.0, 1.0), stiffness=k)
+    fr.add_load("B", fy=-P)
+    r = fr.solve()
+    flex = L ** 3 / (3 * E * I)
+    np.testing.assert_allclose(r.supports["B"].normal, P * flex / (flex + 1 / k), rtol=1e-9)
+    # a hinge at the end of a member carries no moment
+    fr2 = Frame()
+    for nm, x in (("A", 0.0), ("B", 2.0), ("C", 4.0)):
+        fr2.add_node(nm, x, 0.0)
+    m1 = fr2.add_beam("A", "B", E=E, A=0.01, I=I, hinge_j=True)
+    fr2.add_beam("B", "C", E=E, A=0.01, I=I)
+    fr2.add_support("A", fix=("ux", "uy", "rz"))
+    fr2.add_contact("C", normal=(0.0, 1.0))
+    fr2.add_distributed_load(m1, wy=-4.0)
+    r2 = fr2.solve()
+    x, N, V, M = r2.diagram(m1)
+    assert abs(M[-1]) <= 1e-9 * np.abs(M).max()
+    # with the hinge, the B-C part is a beam pinned at B on a roller at C, unloaded: C carries nothing
+    np.testing.assert_allclose(r2.supports["C"].normal, 0.0, atol=1e-9)
