@@ -18,6 +18,7 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/qpcontact demo
+	$(BIN)/qpcontact compare --quick --out out/compare
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2

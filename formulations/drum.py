@@ -590,3 +590,28 @@ def demo(console) -> int:
                   f"{s.energy_final['numerical']:.1f}).  examples/drum_stack.py plots it.")
     failed += int(s.max_certificate_error > 1e-9)
     return failed
+
+
+def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
+    """Step problems of falling stacks for ``qpcontact compare``: stacks of 10,
+    100 or 1000 logs (size small/medium/large); "hard" mixes 0.05-0.30 m logs
+    on an elastic shell with damping.  Names say what they are:
+    ``drum/stack-100-hard/step-30``; the contact forces are z."""
+    from qpcontact.compare import Instance
+
+    L = {"small": 10, "medium": 100, "large": 1000}[size]
+    rng = np.random.default_rng(seed)
+    if hardness == "hard":
+        logs = [Log.from_wood(d, 1.2, damping_ratio=0.1) for d in rng.uniform(0.05, 0.30, L)]
+        drum = Drum(logs, rng.uniform(0, 0.002, L), -rng.uniform(0, 2.0, L), shell_stiffness=5e8,
+                    effects=("gravity", "damping", "shell_elasticity"))
+    else:
+        logs = [Log.from_wood(d, 1.2) for d in rng.uniform(0.10, 0.20, L)]
+        drum = Drum(logs, rng.uniform(0, 0.002, L), -rng.uniform(0, 1.0, L))
+    keep = {}
+    wanted = (15, 30)
+    drum.simulate(drum.contact_periods().min() / 20, max(wanted),
+                  on_step=lambda n, lcp, sol: keep.__setitem__(n, lcp) if n in wanted else None)
+    tag = f"stack-{L}" + ("-hard" if hardness == "hard" else "")
+    return [Instance(f"drum/{tag}/step-{n}", "drum", f"stack-{L}", LCP(keep[n].M, keep[n].q))
+            for n in wanted]

@@ -792,3 +792,32 @@ def demo(console) -> int:
                   + ".  examples/frame_on_supports.py traces a two-span portal.")
     failed += int(not (tr.breakpoints.size == 1 and abs(tr.breakpoints[0] - 1.5) < 1e-9))
     return failed
+
+
+def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
+    """Frame LCPs for ``qpcontact compare``: a continuous beam on 3, 10 or 30
+    unilateral supports (size small/medium/large) under gravity and uplifting
+    point loads; "easy" without friction (symmetric), "hard" with friction
+    f = 0.3 and a lateral load (nonsymmetric: QP backends are not applicable).
+    Named ``frames/10-supports-friction``; the contact forces are w's first
+    entries (X_n)."""
+    from qpcontact.compare import Instance
+
+    spans = {"small": 3, "medium": 10, "large": 30}[size]
+    rng = np.random.default_rng(seed + spans)
+    fr = Frame()
+    xs = np.cumsum(np.r_[0.0, rng.uniform(2.0, 4.0, spans)])
+    for k, x in enumerate(xs):
+        fr.add_node(f"N{k}", float(x), 0.0)
+    for k in range(spans):
+        m = fr.add_beam(f"N{k}", f"N{k + 1}", E=2.1e8, A=5.4e-3, I=5.7e-5)
+        fr.add_distributed_load(m, wy=-20.0)
+    friction = 0.3 if hardness == "hard" else 0.0
+    fr.add_support("N0", fix=("ux", "uy", "rz"))
+    for k in range(1, spans + 1):
+        fr.add_contact(f"N{k}", normal=(0.0, 1.0), friction=friction, gap=float(rng.uniform(0, 2e-3)))
+    for k in rng.choice(np.arange(1, spans + 1), size=max(1, spans // 3), replace=False):
+        fr.add_load(f"N{k}", fy=float(rng.uniform(20, 60)), fx=40.0 if friction else 0.0)
+    M, qc, qv, P, g, fric = fr.lcp()
+    name = f"frames/{spans}-supports" + ("-friction" if friction else "")
+    return [Instance(name, "frames", f"{spans}-supports", LCP(M, qc + qv), forces=("w", spans))]

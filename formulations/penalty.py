@@ -352,3 +352,36 @@ def demo(console) -> int:
                       "-" if res.lam is None else str(res.lam.round(3)), f"{err:.1e}", f"{1e3 * dt:.2f}")
     console.print(table)
     return wrong
+
+
+def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
+    """Penalty QPs for ``qpcontact compare`` (the reactions are x): the ramming
+    impact step (small) and random mechanism steps with n = 7, 30, 100 degrees
+    of freedom and 4, 20, 60 contacts; "easy" at mu = 10 x the KKT threshold
+    (at least 1), "hard" at mu = 1e6 (the ill-conditioned end of the window).
+    Named ``penalty/ramming/mu=1e+06``."""
+    from qpcontact.compare import Instance
+
+    from .mechanisms import ramming_impact_step
+
+    n, nu = {"small": (7, 4), "medium": (30, 20), "large": (100, 60)}[size]
+    rng = np.random.default_rng(seed + 1000 * n)
+    R = rng.standard_normal((n, n))
+    J = rng.standard_normal((nu, n))
+    step = PenaltyStep(R @ R.T + n * np.eye(n), 10 * rng.standard_normal(n), J,
+                       rng.standard_normal(nu), C=np.diag(rng.uniform(1e-3, 1e-2, nu)))
+    steps = [(f"random-{n}x{nu}", step)]
+    if size == "small":
+        steps.append(("ramming", ramming_impact_step()))
+    out = []
+    for label, st in steps:
+        if hardness == "hard":
+            mu = 1e6
+        else:
+            lam = solve(exact_lcp(st), method="lemke").z
+            mu = max(10 * mu_threshold(st, lam), 1.0) if lam is not None else 1.0
+            if not np.isfinite(mu):
+                mu = 1e3
+        out.append(Instance(f"penalty/{label}/mu={mu:.0e}", "penalty", f"{n}-dof" if label != "ramming"
+                            else "ramming", _penalty_problem(st, mu)))
+    return out

@@ -84,6 +84,33 @@ def demo_cmd(accuracy: str = typer.Option("high", "--accuracy", "-a", help="low,
     raise typer.Exit(1 if wrong else 0)
 
 
+@app.command("compare")
+def compare_cmd(
+    out: str = typer.Option("out/compare", "--out", "-o", help="Output folder: results.csv, report.md, wp_*.png."),
+    quick: bool = typer.Option(False, "--quick", help="Demo-sized sweep: small instances, 1 repeat, "
+                               "6 tolerances, no cvxpy (a few minutes on 2 cores)."),
+    resume: bool = typer.Option(False, "--resume", help="Keep the rows already in results.csv and skip those runs."),
+    workers: int = typer.Option(0, "--workers", help="Run on a local Dask cluster with N worker processes."),
+    scheduler: str = typer.Option(None, "--scheduler", help="Run on an existing Dask cluster, e.g. tcp://host:8786."),
+    methods: str = typer.Option(None, "--methods", help="Comma-separated method names (default: every installed one)."),
+    formulations: str = typer.Option(None, "--formulations",
+                                     help="Comma-separated: drum, frames, penalty, siconos (default: all)."),
+    siconos: str = typer.Option(None, "--siconos", help="Folder of Siconos LCP files (default ../shared/data/siconos-lcp)."),
+    repeats: int = typer.Option(None, "--repeats", help="Timed repeats per run (default 1 with --quick, else 3)."),
+    time_limit: float = typer.Option(10.0, "--time-limit", help="Seconds: a run without a point counts at this "
+                                     "time in the aggregates; repeats stop once a run exceeds it."),
+):
+    """Sweep instances x methods x accuracies; write a CSV, a Markdown report and work-precision plots."""
+    from .compare import report, sweep
+
+    csv_path = sweep(out, quick=quick, methods=methods.split(",") if methods else None,
+                     formulations=formulations.split(",") if formulations else None,
+                     siconos_dir=siconos, repeats=repeats, resume=resume, workers=workers,
+                     scheduler=scheduler, time_limit=time_limit)
+    md = report(csv_path, time_limit=time_limit)
+    console.print(f"results: {csv_path}\nreport:  {md}\nplots:   {md.parent}/wp_*.png")
+
+
 def main():  # pragma: no cover - console script
     app()
 

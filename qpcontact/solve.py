@@ -123,8 +123,8 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
     if isinstance(problem, LCP) and m.takes == "qp" and unscale is not None and x is not None \
             and x.size == unscale.size:
         x = x * unscale
-    usable = x is not None and x.size == (problem.n if isinstance(problem, LCP) else problem.q.size) \
-        and bool(np.all(np.isfinite(x)))
+    expected = target.n if isinstance(target, LCP) else problem.q.size  # the dual LCP's size on "dual-lcp"
+    usable = x is not None and x.size == expected and bool(np.all(np.isfinite(x)))
     stats = {"route": route, **res.stats}
     common = dict(method=m.name, accuracy=accuracy, tol=tol_cert,
                   backend_status=res.backend_status, backend_message=res.backend_message,

@@ -123,3 +123,17 @@ def test_methods_lists_the_required_backends():
     assert any(n.startswith("cvxpy:") for n in names)
     m = qpcontact.methods()["daqp"]
     assert m.exact and not m.accepts_sparse and m.returns_duals and not m.needs_symmetric
+
+
+def test_pivoting_method_on_a_qp_with_more_constraints_than_variables():
+    """The dual-LCP route: its z has one entry per constraint, not per variable
+    (a size check once rejected every such answer as 'no usable point')."""
+    from qpsolvers import Problem
+
+    P = np.array([[2.0, 0.5], [0.5, 1.0]])
+    G = np.array([[1.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
+    prob = Problem(P, np.array([-3.0, -2.0]), G, np.array([1.0, 0.0, 0.0]))
+    sol = qpcontact.solve(prob, method="lemke")
+    ref = qpcontact.solve(prob, method="quadprog" if "quadprog" in qpcontact.methods() else "clarabel")
+    assert sol.ok and sol.stats["route"] == "dual-lcp", sol.message
+    np.testing.assert_allclose(sol.x, ref.x, atol=1e-8)
