@@ -298,24 +298,14 @@ def sweep(out_dir, *, quick: bool = True, methods=None, formulations=None, sicon
     done = {(r["instance"], r["method"], r["level"]) for r in rows}
     todo = [t for t in tasks if _key(t[0].name, t[1], t[2]) not in done]
     bar = _Progress(len(todo), progress)
-    pending = 0
+    results = (_dask_map(todo, repeats, time_limit, workers, scheduler) if workers or scheduler
+               else (run_task(task, repeats, time_limit) for task in todo))
     try:
-        if workers or scheduler:
-            for row in _dask_map(todo, repeats, time_limit, workers, scheduler):
-                rows.append(row)
-                pending += 1
-                bar.advance()
-                if pending >= flush_every:
-                    _write_rows(path, rows)
-                    pending = 0
-        else:
-            for task in todo:
-                rows.append(run_task(task, repeats, time_limit))
-                pending += 1
-                bar.advance()
-                if pending >= flush_every:
-                    _write_rows(path, rows)
-                    pending = 0
+        for k, row in enumerate(results, 1):
+            rows.append(row)
+            bar.advance()
+            if k % flush_every == 0:
+                _write_rows(path, rows)
     finally:
         _write_rows(path, rows)
         bar.close()
