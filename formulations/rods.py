@@ -1,0 +1,84 @@
+"""Thin rods with large deflections (P1) — first part: the planar inextensible
+elastica under a dead load, solved by qpcontact.bvp.
+
+Nondimensional: arc length s in [0, 1] (s = S/L), load parameter α = P L²/EI,
+positions x, y in units of L.  Unknowns y = (θ, κ, x, y): the tangent angle,
+the curvature θ' (= M L/EI), and the centreline.  Clamped at s = 0
+(θ = x = y = 0), free at s = 1 (κ = 0).
+
+- Cantilever, transverse dead tip load P downward: EI θ'' = P cos θ
+  (the moment of the tip load about a section), so θ' = κ, κ' = α cos θ.
+- Column, axial dead load P along -x at the free end: θ'' = -α sin θ; the
+  straight state is a solution for every α, the buckled branch leaves it at
+  α_cr = π²/4.
+
+Still to come (issue 9): extensible rods, follower loads, pinned ends, the
+spatial rod of P1 and its dynamics.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact import bvp
+
+__all__ = ["cantilever", "column", "cantilever_curve", "tip_deflection"]
+
+
+def _cantilever_f(s, Y, alpha):
+    th, ka, x, y = Y
+    return np.array([ka, alpha * np.cos(th), np.cos(th), np.sin(th)])
+
+
+def _column_f(s, Y, alpha):
+    th, ka, x, y = Y
+    return np.array([ka, -alpha * np.sin(th), np.cos(th), np.sin(th)])
+
+
+def _bc(ya, yb, *_):
+    return np.array([ya[0], ya[2], ya[3], yb[1]])
+
+
+def tip_deflection(res) -> float:
+    """δ_v / L: the downward deflection of the free end."""
+    return float(-res.y[3, -1])
+
+
+def cantilever(alpha: float, *, nodes: int = 81, tol: float = 1e-8, continuation: bool = True):
+    """Cantilever under a transverse dead tip load α = PL²/EI, from a straight
+    initial guess.  Newton alone converges up to α ≈ 10; beyond, the load is
+    reached by pseudo-arclength continuation in log10 α from α = 0.01 (on the
+    same mesh) and the last point is refined to ``tol``.  Returns a BVPResult."""
+    mesh = np.linspace(0.0, 1.0, nodes)
+    f = lambda s, Y: _cantilever_f(s, Y, alpha)  # noqa: E731
+    res = bvp.solve(f, _bc, mesh, np.zeros(4), tol=tol)
+    if res.ok or not continuation:
+        return res
+    path = bvp.continuation(lambda s, Y, g: _cantilever_f(s, Y, 10.0 ** g), _bc, mesh, np.zeros(4),
+                            (-2.0, np.log10(alpha)), ds=0.2, ds_max=1.0)
+    if path.status != "solved":
+        return bvp.BVPResult(mesh, path.ys[-1], path.status, False, path.message, np.inf, np.inf,
+                             2, 0)
+    return bvp.solve(f, _bc, mesh, path.ys[-1], tol=tol)
+
+
+def cantilever_curve(alpha_max: float, nodes: int = 81):
+    """The load-deflection path α -> δ_v/L from 0.01 to ``alpha_max`` by continuation."""
+    mesh = np.linspace(0.0, 1.0, nodes)
+    path = bvp.continuation(lambda s, Y, g: _cantilever_f(s, Y, 10.0 ** g), _bc, mesh, np.zeros(4),
+                            (-2.0, np.log10(alpha_max)), ds=0.2, ds_max=1.0)
+    return 10.0 ** path.gammas, np.array([-Y[3, -1] for Y in path.ys]), path
+
+
+def column(alpha: float, *, nodes: int = 81, tol: float = 1e-8):
+    """The buckled branch of the column at α = PL²/EI > π²/4: started just above
+    the critical load from the buckling mode θ = θ₀ sin(πs/2) and continued in α.
+    Returns (BVPResult at α, the continuation path)."""
+    mesh = np.linspace(0.0, 1.0, nodes)
+    a0 = 2.6                       # just above α_cr = π²/4 = 2.467
+    guess = np.array([0.8 * np.sin(np.pi * mesh / 2), 0.4 * np.pi * np.cos(np.pi * mesh / 2),
+                      mesh, 0.5 * (1 - np.cos(np.pi * mesh / 2))])
+    start = bvp.solve(lambda s, Y: _column_f(s, Y, a0), _bc, mesh, guess, tol=tol)
+    path = bvp.continuation(_column_f, _bc, start.mesh, start.y, (a0, alpha), ds=0.1, ds_max=0.5)
+    end = bvp.solve(lambda s, Y: _column_f(s, Y, alpha), _bc, path.mesh, path.ys[-1], tol=tol)
+    return end, path

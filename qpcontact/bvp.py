@@ -1,0 +1,407 @@
+"""Nonlinear two-point boundary-value problems (P1, Pustovoy, Levin &
+Krasnorutskiy 2014: the KLPALG solver) — first part: trapezoidal finite
+differences, damped Newton, deferred correction, pseudo-arclength continuation.
+
+Problem: y'(s) = f(s, y) on [a, b] (y in R^m), boundary conditions
+g(y(a), y(b)) = 0 (m equations; separated or coupled).
+
+Discretisation on a mesh s_0 < ... < s_N (trapezoidal rule, O(h²)):
+
+    y_{j+1} - y_j - h_j/2 (f_j + f_{j+1}) = 0,   j = 0..N-1,   g(y_0, y_N) = 0.
+
+Newton's method on these m(N+1) equations; the step length λ is the largest
+of 1, ½, ¼, ... with ‖R(Y + λΔ)‖² <= (1 - 2cλ)‖R(Y)‖², c = 0.11 (P1); the
+Jacobian is reused while the residual falls by at least half per step.  The
+Jacobian is block bidiagonal (m x m blocks) plus the boundary rows; it is
+factorised by SuperLU on its sparse form, whose column ordering keeps the
+fill inside the blocks for separated conditions and handles coupled ones.
+(P1's block LU with pivoting inside blocks is the special case; a dedicated
+block solver is left for later — see docs/bvp.md.)
+
+Deferred correction (one level, O(h²) -> O(h⁴)): the trapezoid's local error
+is -h_j³/12 f''(s_{j+½}) + O(h⁵); f'' is estimated from the nodal values of f
+by finite-difference weights on the (nonuniform) mesh (Vandermonde systems,
+four nearest nodes), and the system is solved again with that correction on
+the right-hand side.  The difference between the two solutions estimates the
+global error of the first; the mesh is halved until the estimate of the
+corrected solution (difference of the corrected solutions on the two meshes)
+meets the tolerance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .errors import InvalidProblemError
+
+__all__ = ["BVPResult", "solve", "continuation", "ContinuationResult"]
+
+ARMIJO_C = 0.11
+
+
+@dataclass
+class BVPResult:
+    """Solution on ``mesh`` (``y`` has shape (m, N+1)), with what proves it:
+    ``status`` "solved" / "no convergence" / "singular Jacobian";
+    ``residual`` the max-norm of the discrete equations; ``error_estimate`` the
+    estimated max global error; ``order`` 2 or 4 (with deferred correction);
+    ``history`` the residual per Newton step."""
+
+    mesh: np.ndarray
+    y: np.ndarray
+    status: str
+    ok: bool
+    message: str
+    residual: float
+    error_estimate: float
+    order: int
+    newton_steps: int
+    history: list = field(default_factory=list)
+
+    def __call__(self, s):
+        """Piecewise-linear interpolation of y at s."""
+        s = np.atleast_1d(s)
+        return np.array([np.interp(s, self.mesh, yi) for yi in self.y])
+
+
+def _fd_jac(fun, s, Y, F):
+    """∂f/∂y at every node by forward differences, shape (m, m, N)."""
+    m, N = Y.shape
+    J = np.empty((m, m, N))
+    for k in range(m):
+        h = 1e-7 * np.maximum(1.0, np.abs(Y[k]))
+        Yp = Y.copy()
+        Yp[k] += h
+        J[:, k, :] = (fun(s, Yp) - F) / h
+    return J
+
+
+def _fd_bc_jac(bc, ya, yb, g):
+    m = ya.size
+    Ja, Jb = np.empty((g.size, m)), np.empty((g.size, m))
+    for k in range(m):
+        h = 1e-7 * max(1.0, abs(ya[k]))
+        e = np.zeros(m)
+        e[k] = h
+        Ja[:, k] = (bc(ya + e, yb) - g) / h
+        h = 1e-7 * max(1.0, abs(yb[k]))
+        e = np.zeros(m)
+        e[k] = h
+        Jb[:, k] = (bc(ya, yb + e) - g) / h
+    return Ja, Jb
+
+
+def _residual(fun, bc, s, Y, corr):
+    F = fun(s, Y)
+    h = np.diff(s)
+    R = Y[:, 1:] - Y[:, :-1] - 0.5 * h * (F[:, :-1] + F[:, 1:])
+    if corr is not None:
+        R = R - corr
+    g = np.asarray(bc(Y[:, 0], Y[:, -1]), float)
+    return np.concatenate([R.T.ravel(), g]), F
+
+
+def _jacobian(fun, bc, s, Y, F, jac):
+    m, N1 = Y.shape
+    h = np.diff(s)
+    Jf = jac(s, Y) if jac is not None else _fd_jac(fun, s, Y, F)
+    eye = np.eye(m)[:, :, None]
+    A = -eye - 0.5 * h[None, None, :] * Jf[:, :, :-1]        # (m, m, N): ∂R_j/∂y_j
+    B = eye - 0.5 * h[None, None, :] * Jf[:, :, 1:]          # ∂R_j/∂y_{j+1}
+    j = np.arange(N1 - 1)
+    i_idx, k_idx = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
+    rows = (j[None, None, :] * m + i_idx[:, :, None])
+    colsA = (j[None, None, :] * m + k_idx[:, :, None])
+    colsB = colsA + m
+    g = np.asarray(bc(Y[:, 0], Y[:, -1]), float)
+    Ja, Jb = _fd_bc_jac(bc, Y[:, 0], Y[:, -1], g)
+    r0 = (N1 - 1) * m
+    rb = np.repeat(r0 + np.arange(m), m)
+    cb = np.tile(np.arange(m), m)
+    rows_all = np.concatenate([rows.ravel(), rows.ravel(), rb, rb])
+    cols_all = np.concatenate([colsA.ravel(), colsB.ravel(), cb, cb + (N1 - 1) * m])
+    vals = np.concatenate([A.ravel(), B.ravel(), Ja.ravel(), Jb.ravel()])
+    n = m * N1
+    J = sp.csc_matrix((vals, (rows_all, cols_all)), shape=(n, n))
+    J.eliminate_zeros()  # structural zeros would only add fill to the LU
+    return J
+
+
+def _newton(fun, bc, s, Y, jac, tol, max_steps, corr=None):
+    """Damped Newton with Jacobian reuse; returns (Y, status, residual, steps, history)."""
+    m, N1 = Y.shape
+    R, F = _residual(fun, bc, s, Y, corr)
+    rn = float(np.max(np.abs(R)))
+    history = [rn]
+    lu = None
+    steps = 0
+    scale = max(1.0, float(np.max(np.abs(Y))))
+    while steps < max_steps:
+        if rn <= tol * scale:
+            return Y, "solved", rn, steps, history
+        if lu is None:
+            try:
+                lu = spla.splu(_jacobian(fun, bc, s, Y, F, jac))
+            except RuntimeError:
+                return Y, "singular Jacobian", rn, steps, history
+        d = lu.solve(-R)
+        if not np.all(np.isfinite(d)):
+            return Y, "singular Jacobian", rn, steps, history
+        D = d.reshape(N1, m).T
+        lam, accepted = 1.0, False
+        r2 = float(R @ R)
+        while lam >= 1.0 / 1024:
+            Yn = Y + lam * D
+            Rn, Fn = _residual(fun, bc, s, Yn, corr)
+            if np.all(np.isfinite(Rn)) and float(Rn @ Rn) <= (1 - 2 * ARMIJO_C * lam) * r2:
+                accepted = True
+                break
+            lam /= 2
+        steps += 1
+        if not accepted:
+            if lu is not None and steps > 1:
+                lu = None  # stale Jacobian: refactor and try again
+                continue
+            return Y, "no convergence", rn, steps, history
+        rn_new = float(np.max(np.abs(Rn)))
+        if rn_new > 0.5 * rn:
+            lu = None
+        Y, R, F, rn = Yn, Rn, Fn, rn_new
+        history.append(rn)
+    return Y, ("solved" if rn <= tol * scale else "no convergence"), rn, steps, history
+
+
+def _dc_correction(s, F):
+    """-h³/12 f''(midpoint) per interval from four nodal values (Vandermonde weights)."""
+    m, N1 = F.shape
+    h = np.diff(s)
+    corr = np.zeros((m, N1 - 1))
+    if N1 < 4:
+        return corr
+    for j in range(N1 - 1):
+        lo = min(max(j - 1, 0), N1 - 4)
+        idx = np.arange(lo, lo + 4)
+        mid = 0.5 * (s[j] + s[j + 1])
+        x = s[idx] - mid
+        V = np.vander(x, 4, increasing=True).T     # rows: powers 0..3
+        rhs = np.array([0.0, 0.0, 2.0, 0.0])        # second derivative at 0
+        w = np.linalg.solve(V, rhs)
+        corr[:, j] = -(h[j] ** 3) / 12.0 * (F[:, idx] @ w)
+    return corr
+
+
+def _validate(fun, bc, mesh, y0):
+    s = np.asarray(mesh, float)
+    if s.ndim != 1 or s.size < 3 or not np.all(np.diff(s) > 0):
+        raise InvalidProblemError("mesh must be an increasing 1-D array of at least 3 points")
+    Y = np.asarray(y0, float)
+    if Y.ndim == 1:
+        Y = np.repeat(Y[:, None], s.size, axis=1)
+    if Y.ndim != 2 or Y.shape[1] != s.size:
+        raise InvalidProblemError(f"y0 must have shape (m, {s.size}) or (m,); got {np.shape(y0)}")
+    F = np.asarray(fun(s, Y), float)
+    if F.shape != Y.shape:
+        raise InvalidProblemError(f"fun(s, y) must return shape {Y.shape}; got {F.shape}")
+    g = np.asarray(bc(Y[:, 0], Y[:, -1]), float)
+    if g.shape != (Y.shape[0],):
+        raise InvalidProblemError(f"bc(ya, yb) must return {Y.shape[0]} residuals; got {g.shape}")
+    return s, Y.copy()
+
+
+def _refine(s, Y):
+    mid = 0.5 * (s[:-1] + s[1:])
+    s2 = np.sort(np.concatenate([s, mid]))
+    Y2 = np.array([np.interp(s2, s, y) for y in Y])
+    return s2, Y2
+
+
+def solve(fun, bc, mesh, y0, *, jac=None, tol: float = 1e-8, max_newton: int = 50,
+          deferred_correction: bool = True, max_refinements: int = 6) -> BVPResult:
+    """Solve y' = fun(s, y), bc(y(a), y(b)) = 0 (module docstring).
+
+    ``fun(s, Y)`` is vectorised over the nodes (Y of shape (m, N+1)), as in
+    scipy.integrate.solve_bvp; ``jac(s, Y)`` optional, shape (m, m, N+1).
+    ``tol`` bounds the estimated global error (max norm, relative to max(1, |y|)).
+    """
+    s, Y = _validate(fun, bc, mesh, y0)
+    history_all = []
+    prev = None
+    for level in range(max_refinements + 1):
+        ntol = max(1e-3 * tol, 1e-13)  # Newton to well below the discretisation error
+        Y, status, res, steps, hist = _newton(fun, bc, s, Y, jac, ntol, max_newton)
+        history_all += hist
+        if status != "solved":
+            return BVPResult(s, Y, status, False, f"{status} after {steps} Newton steps on "
+                             f"{s.size} nodes (residual {res:.2e})", res, np.inf, 2,
+                             len(history_all), history_all)
+        order, Ysol = 2, Y
+        if deferred_correction:
+            F = fun(s, Y)
+            corr = _dc_correction(s, F)
+            Yc, status_c, res_c, _, hist_c = _newton(fun, bc, s, Y, jac, ntol, max_newton, corr)
+            history_all += hist_c
+            if status_c == "solved":
+                Ysol, order = Yc, 4
+        scale = max(1.0, float(np.max(np.abs(Ysol))))
+        if prev is not None:
+            ps, pY = prev
+            est = float(np.max(np.abs(Ysol[:, ::2] - pY))) / scale
+            if order == 4:
+                est /= 15.0   # Richardson: e(h) ~ C h^4, difference = 15 e(h)
+            else:
+                est /= 3.0
+        else:
+            est = (float(np.max(np.abs(Ysol - Y))) / scale) if order == 4 else np.inf
+        if est <= tol and prev is not None or (level == max_refinements):
+            ok = est <= tol
+            msg = (f"solved on {s.size} nodes, order {order}, estimated error {est:.1e}"
+                   + ("" if ok else f" > tol {tol:.0e} after {level} refinements"))
+            return BVPResult(s, Ysol, "solved" if ok else "no convergence", ok, msg, res, est,
+                             order, len(history_all), history_all)
+        prev = (s, Ysol)
+        s, Y = _refine(s, Ysol)
+    raise AssertionError("unreachable")
+
+
+def _bordered_solve(J, column, row, rhs):
+    """Solve [[J, column], [row']] x = rhs (row has n + 1 entries).
+
+    Block elimination with the sparse LU of J (cheap: J is block bidiagonal);
+    when J is singular or nearly so (at a fold, where the bordered matrix is
+    not), the whole bordered matrix is factorised instead (its dense border
+    costs fill, so only there)."""
+    n = J.shape[0]
+    try:
+        lu = spla.splu(J)
+        a = lu.solve(rhs[:n])
+        b = lu.solve(column)
+        denom = row[n] - row[:n] @ b
+        if np.all(np.isfinite(a)) and np.all(np.isfinite(b)) and \
+                abs(denom) > 1e-10 * (abs(row[n]) + np.abs(row[:n]) @ np.abs(b)):
+            xi = (rhs[n] - row[:n] @ a) / denom
+            return np.concatenate([a - xi * b, [xi]])
+    except RuntimeError:
+        pass
+    A = sp.bmat([[J, sp.csc_matrix(column[:, None])],
+                 [sp.csc_matrix(row[None, :n]), sp.csc_matrix([[row[n]]])]], format="csc")
+    return spla.splu(A).solve(rhs)
+
+
+@dataclass
+class ContinuationResult:
+    """The branch: parameter values ``gammas``, solutions ``ys`` (each (m, N+1)
+    on ``mesh``), the turning points (indices where γ changed direction), and
+    how it ended."""
+
+    mesh: np.ndarray
+    gammas: np.ndarray
+    ys: list
+    folds: list
+    status: str
+    message: str
+
+
+def continuation(fun, bc, mesh, y0, gamma_span, *, jac=None, ds: float = 0.05,
+                 ds_max: float = 0.5, ds_min: float = 1e-6, max_steps: int = 500,
+                 tol: float = 1e-10) -> ContinuationResult:
+    """Pseudo-arclength continuation of y' = fun(s, y, γ), bc(ya, yb, γ) = 0 in γ
+    from gamma_span[0] (where y0 is a good guess) until γ reaches gamma_span[1].
+
+    Unknowns (Y, γ); the extra equation t'[(Y, γ) - (Y_k, γ_k)] = ds with t the
+    unit tangent (oriented by the previous one), so the branch is followed
+    through folds, which are reported where γ changes direction.  The step
+    grows after easy corrector steps and halves after failures.
+    """
+    g0, g1 = float(gamma_span[0]), float(gamma_span[1])
+    direction = np.sign(g1 - g0) or 1.0
+    f0 = lambda s, Y: fun(s, Y, g0)  # noqa: E731
+    b0 = lambda ya, yb: bc(ya, yb, g0)  # noqa: E731
+    s, Y = _validate(f0, b0, mesh, y0)
+    Y, status, res, _, _ = _newton(f0, b0, s, Y, None if jac is None else (lambda s_, Y_: jac(s_, Y_, g0)),
+                                   tol, 100)
+    if status != "solved":
+        return ContinuationResult(s, np.array([g0]), [Y], [], status,
+                                  f"no solution at the start gamma = {g0}: {status}")
+    m, N1 = Y.shape
+    n = m * N1
+
+    def R_of(Yv, gam):
+        return _residual(lambda s_, Y_: fun(s_, Y_, gam), lambda a, b: bc(a, b, gam), s, Yv, None)
+
+    def J_of(Yv, gam, F):
+        return _jacobian(lambda s_, Y_: fun(s_, Y_, gam), lambda a, b: bc(a, b, gam), s, Yv, F,
+                         None if jac is None else (lambda s_, Y_: jac(s_, Y_, gam)))
+
+    def dR_dgamma(Yv, gam, R0):
+        dg = 1e-7 * max(1.0, abs(gam))
+        R1, _ = R_of(Yv, gam + dg)
+        return (R1 - R0) / dg
+
+    def tangent(Yv, gam, prev_t):
+        R0, F = R_of(Yv, gam)
+        J = J_of(Yv, gam, F)
+        Rg = dR_dgamma(Yv, gam, R0)
+        # solve [J Rg; prev_t'] t = [0; 1]
+        rhs = np.zeros(n + 1)
+        rhs[-1] = 1.0
+        t = _bordered_solve(J, Rg, prev_t, rhs)
+        return t / np.linalg.norm(t)
+
+    # initial tangent: differentiate along gamma
+    R0, F0 = R_of(Y, g0)
+    J0 = J_of(Y, g0, F0)
+    dY = spla.splu(J0).solve(-dR_dgamma(Y, g0, R0))
+    t = np.concatenate([dY, [1.0]]) * direction
+    t /= np.linalg.norm(t)
+    x = np.concatenate([Y.T.ravel(), [g0]])
+    gammas, ys, folds = [g0], [Y.copy()], []
+    step = ds
+    for _ in range(max_steps):
+        pred = x + step * t
+        z = pred.copy()
+        ok = False
+        for _it in range(30):
+            Yz = z[:n].reshape(N1, m).T
+            R, F = R_of(Yz, z[-1])
+            arc = t @ (z - x) - step
+            full = np.concatenate([R, [arc]])
+            if np.max(np.abs(full)) <= tol * max(1.0, np.max(np.abs(z))):
+                ok = True
+                break
+            J = J_of(Yz, z[-1], F)
+            Rg = dR_dgamma(Yz, z[-1], R)
+            try:
+                dz = _bordered_solve(J, Rg, t, -full)
+            except RuntimeError:
+                break
+            z = z + dz
+        if not ok:
+            step /= 2
+            if step < ds_min:
+                return ContinuationResult(s, np.array(gammas), ys, folds, "no convergence",
+                                          f"corrector failed at gamma = {x[-1]:.6g} (step < {ds_min})")
+            continue
+        Yz = z[:n].reshape(N1, m).T
+        t_new = tangent(Yz, z[-1], t)
+        if t_new @ t < 0:
+            t_new = -t_new
+        if np.sign(t_new[-1]) != np.sign(t[-1]) and t[-1] != 0:
+            folds.append(len(gammas))
+        x, t = z, t_new
+        gammas.append(z[-1])
+        ys.append(Yz)
+        if (z[-1] - g1) * direction >= 0:
+            # land exactly on g1 with a natural-parameter Newton solve
+            Yend, st, *_ = _newton(lambda s_, Y_: fun(s_, Y_, g1), lambda a, b: bc(a, b, g1), s, Yz,
+                                   None, tol, 50)
+            gammas[-1], ys[-1] = g1, Yend
+            return ContinuationResult(s, np.array(gammas), ys, folds, "solved",
+                                      f"reached gamma = {g1} in {len(gammas) - 1} steps, "
+                                      f"{len(folds)} fold(s)")
+        step = min(step * (1.5 if _it < 4 else 1.0), ds_max)
+    return ContinuationResult(s, np.array(gammas), ys, folds, "max_steps",
+                              f"stopped at gamma = {x[-1]:.6g} after {max_steps} steps")

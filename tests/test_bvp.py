@@ -1,0 +1,95 @@
+"""The BVP solver (P1) against exact elliptic-integral solutions of the
+elastica, observed orders on a problem with a known solution, and SciPy."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_bvp
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
+
+from formulations import rods
+from qpcontact import bvp
+
+
+def _analytic_cantilever(alpha):
+    """δ_v/L for the tip-loaded cantilever (the issue's closed form)."""
+    def phi1(m):
+        return np.arcsin(1.0 / np.sqrt(2.0 * m))
+
+    def gap(theta):
+        m = (1 + np.sin(theta)) / 2            # k² (scipy's parameter)
+        return ellipk(m) - ellipkinc(phi1(m), m) - np.sqrt(alpha)
+
+    theta = brentq(gap, 1e-12, np.pi / 2 - 1e-14)
+    m = (1 + np.sin(theta)) / 2
+    return 1 - 2 / np.sqrt(alpha) * (ellipe(m) - ellipeinc(phi1(m), m))
+
+
+@pytest.mark.parametrize("alpha,printed", [(1, 0.301721), (2, 0.493457), (5, 0.713792),
+                                           (10, 0.810609), (100, 0.941421)])
+def test_cantilever_matches_elliptic_integrals(alpha, printed):
+    exact = _analytic_cantilever(alpha)
+    assert exact == pytest.approx(printed, abs=5e-7)  # our closed form = the issue's table
+    res = rods.cantilever(alpha, tol=1e-8)
+    assert res.ok, res.message
+    assert rods.tip_deflection(res) == pytest.approx(exact, abs=1e-6)
+
+
+def test_cantilever_alpha_1e4_from_a_straight_guess_by_continuation():
+    direct = bvp.solve(lambda s, Y: rods._cantilever_f(s, Y, 1e4), rods._bc,
+                       np.linspace(0, 1, 81), np.zeros(4))
+    assert not direct.ok          # Newton alone does not get there ...
+    res = rods.cantilever(1e4, tol=1e-8)
+    assert res.ok, res.message    # ... continuation does, and says so only when it did
+    assert rods.tip_deflection(res) == pytest.approx(_analytic_cantilever(1e4), abs=1e-6)
+
+
+def test_column_buckled_branch_past_alpha_10():
+    res, path = rods.column(10.0, tol=1e-9)
+    assert res.ok, res.message
+    theta_L = res.y[0, -1]
+    assert abs(theta_L) == pytest.approx(2.795729, abs=1e-5)
+    # every point of the path is on the analytic branch alpha = K(k)^2, k = sin(theta_L / 2)
+    for g, Y in zip(path.gammas[::10], path.ys[::10]):
+        k = np.sin(abs(Y[0, -1]) / 2)
+        assert ellipk(k * k) ** 2 == pytest.approx(g, rel=2e-3)
+
+
+def test_observed_orders_two_and_four():
+    # y'' = -y on [0, 1], y(0) = 0, y'(1) = cos 1: y = sin s
+    f = lambda s, Y: np.array([Y[1], -Y[0]])  # noqa: E731
+    bc = lambda a, b: np.array([a[0], b[1] - np.cos(1.0)])  # noqa: E731
+    errs = {False: [], True: []}
+    for N in (10, 20, 40):
+        mesh = np.linspace(0, 1, N + 1)
+        for dc in (False, True):
+            r = bvp.solve(f, bc, mesh, np.zeros(2), deferred_correction=dc, max_refinements=0,
+                          tol=1e-14)
+            errs[dc].append(np.max(np.abs(r.y[0] - np.sin(mesh))))
+    o2 = np.log2(np.array(errs[False][:-1]) / np.array(errs[False][1:]))
+    o4 = np.log2(np.array(errs[True][:-1]) / np.array(errs[True][1:]))
+    assert np.all(np.abs(o2 - 2) < 0.1), o2
+    assert np.all(np.abs(o4 - 4) < 0.3), o4
+
+
+def test_same_answer_as_scipy_solve_bvp():
+    alpha = 3.0
+    mesh = np.linspace(0, 1, 41)
+    f = lambda s, Y: rods._cantilever_f(s, Y, alpha)  # noqa: E731
+    ref = solve_bvp(f, rods._bc, mesh, np.zeros((4, mesh.size)), tol=1e-10, max_nodes=10000)
+    assert ref.success
+    ours = bvp.solve(f, rods._bc, mesh, np.zeros(4), tol=1e-9)
+    assert ours.ok
+    # compare at our nodes with SciPy's own (cubic) interpolant
+    np.testing.assert_allclose(ours.y, ref.sol(ours.mesh), atol=1e-7)
+
+
+def test_bad_input_is_explained():
+    from qpcontact import InvalidProblemError
+
+    with pytest.raises(InvalidProblemError, match="mesh"):
+        bvp.solve(lambda s, Y: Y, lambda a, b: a, [0, 1], np.zeros(1))
+    with pytest.raises(InvalidProblemError, match="residuals"):
+        bvp.solve(lambda s, Y: Y, lambda a, b: np.r_[a, b], np.linspace(0, 1, 5), np.zeros(1))
