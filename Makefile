@@ -32,6 +32,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/pivoting.py --plot docs/figures/pivoting.png
 	$(BIN)/python benchmarks/drum.py
 	$(BIN)/python benchmarks/penalty_mu.py --plot docs/figures/penalty_mu.png
+	$(BIN)/python benchmarks/bvp.py --plot docs/figures/elastica.png
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache
