@@ -12,8 +12,8 @@ the curvature θ' (= M L/EI), and the centreline.  Clamped at s = 0
   straight state is a solution for every α, the buckled branch leaves it at
   α_cr = π²/4.
 
-Still to come (issue 9): extensible rods, follower loads, pinned ends, the
-spatial rod of P1 and its dynamics.
+Columns: clamped-free or pinned-pinned.  Still to come (issue 9): extensible
+rods, follower loads, the spatial rod of P1 and its dynamics.
 """
 
 from __future__ import annotations
@@ -70,15 +70,43 @@ def cantilever_curve(alpha_max: float, nodes: int = 81):
     return 10.0 ** path.gammas, np.array([-Y[3, -1] for Y in path.ys]), path
 
 
-def column(alpha: float, *, nodes: int = 81, tol: float = 1e-8):
-    """The buckled branch of the column at α = PL²/EI > π²/4: started just above
-    the critical load from the buckling mode θ = θ₀ sin(πs/2) and continued in α.
-    Returns (BVPResult at α, the continuation path)."""
+def _pinned_bc(ya, yb, *_):
+    # pins at both ends on the x axis: no moment at either end, the first end fixed
+    # (y(1) = 0 follows from EI θ' = -P y with κ(1) = 0)
+    return np.array([ya[1], ya[2], ya[3], yb[1]])
+
+
+_ENDS = {
+    # name: (boundary conditions, critical load, start load, buckling-mode guess)
+    "clamped-free": (_bc, np.pi ** 2 / 4, 2.6,
+                     lambda s: np.array([0.8 * np.sin(np.pi * s / 2), 0.4 * np.pi * np.cos(np.pi * s / 2),
+                                         s, 0.5 * (1 - np.cos(np.pi * s / 2))])),
+    "pinned-pinned": (_pinned_bc, np.pi ** 2, 10.5,
+                      lambda s: np.array([0.6 * np.cos(np.pi * s), -0.6 * np.pi * np.sin(np.pi * s),
+                                          s, 0.6 / np.pi * np.sin(np.pi * s)])),
+}
+
+
+def column(alpha: float, *, ends: str = "clamped-free", nodes: int = 81, tol: float = 1e-8):
+    """The buckled branch of a column under an axial dead load α = PL²/EI above
+    its Euler load (π²/4 clamped-free, π² pinned-pinned): started just above the
+    critical load from the buckling mode and continued in α.  Returns
+    (BVPResult at α, the continuation path)."""
+    if ends not in _ENDS:
+        from qpcontact.errors import InvalidOptionError
+
+        raise InvalidOptionError(f"ends must be one of {list(_ENDS)}, not {ends!r}")
+    bc, a_cr, a0, mode = _ENDS[ends]
+    if not alpha > a_cr:
+        from qpcontact.errors import InvalidOptionError
+
+        raise InvalidOptionError(f"alpha = {alpha} is below the Euler load {a_cr:.6g}: the straight "
+                                 "column is the only equilibrium")
     mesh = np.linspace(0.0, 1.0, nodes)
-    a0 = 2.6                       # just above α_cr = π²/4 = 2.467
-    guess = np.array([0.8 * np.sin(np.pi * mesh / 2), 0.4 * np.pi * np.cos(np.pi * mesh / 2),
-                      mesh, 0.5 * (1 - np.cos(np.pi * mesh / 2))])
-    start = bvp.solve(lambda s, Y: _column_f(s, Y, a0), _bc, mesh, guess, tol=tol)
-    path = bvp.continuation(_column_f, _bc, start.mesh, start.y, (a0, alpha), ds=0.1, ds_max=0.5)
-    end = bvp.solve(lambda s, Y: _column_f(s, Y, alpha), _bc, path.mesh, path.ys[-1], tol=tol)
+    start = bvp.solve(lambda s, Y: _column_f(s, Y, a0), bc, mesh, mode(mesh), tol=tol)
+    if alpha <= a0:
+        end = bvp.solve(lambda s, Y: _column_f(s, Y, alpha), bc, start.mesh, start.y, tol=tol)
+        return end, None
+    path = bvp.continuation(_column_f, bc, start.mesh, start.y, (a0, alpha), ds=0.1, ds_max=0.5)
+    end = bvp.solve(lambda s, Y: _column_f(s, Y, alpha), bc, path.mesh, path.ys[-1], tol=tol)
     return end, path

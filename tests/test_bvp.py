@@ -93,3 +93,14 @@ def test_bad_input_is_explained():
         bvp.solve(lambda s, Y: Y, lambda a, b: a, [0, 1], np.zeros(1))
     with pytest.raises(InvalidProblemError, match="residuals"):
         bvp.solve(lambda s, Y: Y, lambda a, b: np.r_[a, b], np.linspace(0, 1, 5), np.zeros(1))
+
+
+def test_pinned_column_branch_against_the_exact_elastica():
+    # pinned-pinned: alpha = 4 K(k)^2, k = sin(theta_0 / 2), Euler load pi^2
+    res, _ = rods.column(20.0, ends="pinned-pinned", tol=1e-9)
+    assert res.ok, res.message
+    k = np.sin(abs(res.y[0, 0]) / 2)
+    assert 4 * ellipk(k * k) ** 2 == pytest.approx(20.0, rel=1e-7)
+    np.testing.assert_allclose(res.y[3, -1], 0.0, atol=1e-9)   # the far pin stays on the axis
+    with pytest.raises(Exception, match="Euler load"):
+        rods.column(5.0, ends="pinned-pinned")
