@@ -12,8 +12,9 @@ the curvature θ' (= M L/EI), and the centreline.  Clamped at s = 0
   straight state is a solution for every α, the buckled branch leaves it at
   α_cr = π²/4.
 
-Columns: clamped-free or pinned-pinned.  Still to come (issue 9): extensible
-rods, follower loads, the spatial rod of P1 and its dynamics.
+Columns: clamped-free or pinned-pinned.  :func:`cantilever_general` adds
+follower loads and extensibility.  Still to come (issue 9): the spatial rod of
+P1 and its dynamics.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import numpy as np
 
 from qpcontact import bvp
 
-__all__ = ["cantilever", "column", "cantilever_curve", "tip_deflection"]
+__all__ = ["cantilever", "cantilever_general", "column", "cantilever_curve", "tip_deflection"]
 
 
 def _cantilever_f(s, Y, alpha):
@@ -110,3 +111,42 @@ def column(alpha: float, *, ends: str = "clamped-free", nodes: int = 81, tol: fl
     path = bvp.continuation(_column_f, bc, start.mesh, start.y, (a0, alpha), ds=0.1, ds_max=0.5)
     end = bvp.solve(lambda s, Y: _column_f(s, Y, alpha), bc, path.mesh, path.ys[-1], tol=tol)
     return end, path
+
+
+def cantilever_general(alpha: float, *, follower: bool = False, extensibility: float = 0.0,
+                       nodes: int = 81, tol: float = 1e-8):
+    """Cantilever with a transverse tip load α = PL²/EI that is dead (fixed
+    direction, downward) or a *follower* (stays perpendicular to the tip
+    tangent), and an extensible rod with β = EI/(EA L²) (0: inextensible).
+
+    Extensible: the axial strain is ε = α β F_t (F_t the load's component along
+    the tangent, in units of P), x' = (1 + ε) cos θ, y' = (1 + ε) sin θ and the
+    moment equation picks up the stretched lever arm, κ' = -α (1 + ε)(r̂' × f̂).
+    A follower load depends on the unknown tip angle θ_L, carried as a fifth
+    unknown with θ_L' = 0 and θ_L = θ(1).  Continuation in log10 α from 0.01
+    when Newton alone does not converge.  Returns a BVPResult (rows θ, κ, x,
+    y, θ_L)."""
+    beta = float(extensibility)
+
+    def f(s, Y, g):
+        a = 10.0 ** g
+        th, ka, x, y, thL = Y
+        fx, fy = (np.sin(thL), -np.cos(thL)) if follower else (0.0 * th, -1.0 + 0.0 * th)
+        ft = fx * np.cos(th) + fy * np.sin(th)         # along the tangent
+        cross = np.cos(th) * fy - np.sin(th) * fx       # (t x f)_z
+        stretch = 1.0 + a * beta * ft
+        return np.array([ka, -a * stretch * cross, stretch * np.cos(th), stretch * np.sin(th),
+                         0.0 * th])
+
+    def bc(ya, yb, *_):
+        return np.array([ya[0], ya[2], ya[3], yb[1], yb[4] - yb[0]])
+
+    mesh = np.linspace(0.0, 1.0, nodes)
+    g = np.log10(alpha)
+    res = bvp.solve(lambda s, Y: f(s, Y, g), bc, mesh, np.zeros(5), tol=tol)
+    if res.ok:
+        return res
+    path = bvp.continuation(f, bc, mesh, np.zeros(5), (-2.0, g), ds=0.2, ds_max=1.0)
+    if path.status != "solved":
+        return bvp.BVPResult(mesh, path.ys[-1], path.status, False, path.message, np.inf, np.inf, 2, 0)
+    return bvp.solve(lambda s, Y: f(s, Y, g), bc, mesh, path.ys[-1], tol=tol)

@@ -104,3 +104,40 @@ def test_pinned_column_branch_against_the_exact_elastica():
     np.testing.assert_allclose(res.y[3, -1], 0.0, atol=1e-9)   # the far pin stays on the axis
     with pytest.raises(Exception, match="Euler load"):
         rods.column(5.0, ends="pinned-pinned")
+
+
+def _shoot(alpha, follower, beta):
+    """Independent route: shooting with solve_ivp on the unknown root curvature
+    (and, for a follower load, the tip angle), solved by fsolve."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import fsolve
+
+    def rhs(s, y, thL):
+        th, ka, x, yy = y
+        fx, fy = (np.sin(thL), -np.cos(thL)) if follower else (0.0, -1.0)
+        ft = fx * np.cos(th) + fy * np.sin(th)
+        cross = np.cos(th) * fy - np.sin(th) * fx
+        st = 1 + alpha * beta * ft
+        return [ka, -alpha * st * cross, st * np.cos(th), st * np.sin(th)]
+
+    def miss(u):
+        ka0, thL = u
+        sol = solve_ivp(rhs, (0, 1), [0, ka0, 0, 0], args=(thL,), rtol=1e-12, atol=1e-12)
+        th1, ka1 = sol.y[0, -1], sol.y[1, -1]
+        return [ka1, (thL - th1) if follower else 0.0]
+
+    u = fsolve(miss, [-alpha / 2, -0.5], xtol=1e-13)
+    sol = solve_ivp(rhs, (0, 1), [0, u[0], 0, 0], args=(u[1],), rtol=1e-12, atol=1e-12)
+    return -sol.y[3, -1], sol.y[2, -1]
+
+
+@pytest.mark.parametrize("follower,beta", [(False, 0.0), (True, 0.0), (False, 0.01), (True, 0.01)])
+def test_follower_and_extensible_cantilever_against_shooting(follower, beta):
+    alpha = 2.0
+    res = rods.cantilever_general(alpha, follower=follower, extensibility=beta, tol=1e-9)
+    assert res.ok, res.message
+    dv, xt = _shoot(alpha, follower, beta)
+    assert -res.y[3, -1] == pytest.approx(dv, abs=1e-7)
+    assert res.y[2, -1] == pytest.approx(xt, abs=1e-7)
+    if not follower and beta == 0.0:   # the dead-load case is the elastica above
+        assert -res.y[3, -1] == pytest.approx(0.493457, abs=1e-6)
