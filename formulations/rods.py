@@ -13,8 +13,8 @@ the curvature θ' (= M L/EI), and the centreline.  Clamped at s = 0
   α_cr = π²/4.
 
 Columns: clamped-free or pinned-pinned.  :func:`cantilever_general` adds
-follower loads and extensibility.  Still to come (issue 9): the spatial rod of
-P1 and its dynamics.
+follower loads and extensibility; :func:`spatial_cantilever` is the spatial
+Kirchhoff rod (statics).  Still to come (issue 9): rod dynamics as in P1.
 """
 
 from __future__ import annotations
@@ -23,7 +23,8 @@ import numpy as np
 
 from qpcontact import bvp
 
-__all__ = ["cantilever", "cantilever_general", "column", "cantilever_curve", "tip_deflection"]
+__all__ = ["cantilever", "cantilever_general", "column", "cantilever_curve", "tip_deflection",
+           "spatial_cantilever"]
 
 
 def _cantilever_f(s, Y, alpha):
@@ -150,3 +151,82 @@ def cantilever_general(alpha: float, *, follower: bool = False, extensibility: f
     if path.status != "solved":
         return bvp.BVPResult(mesh, path.ys[-1], path.status, False, path.message, np.inf, np.inf, 2, 0)
     return bvp.solve(lambda s, Y: f(s, Y, g), bc, mesh, path.ys[-1], tol=tol)
+
+
+# -- the spatial rod (statics) ----------------------------------------------------------
+
+def _qmul(p, q):
+    """Quaternion product, arrays (4, N): (w, x, y, z)."""
+    pw, px, py, pz = p
+    qw, qx, qy, qz = q
+    return np.array([pw * qw - px * qx - py * qy - pz * qz,
+                     pw * qx + px * qw + py * qz - pz * qy,
+                     pw * qy - px * qz + py * qw + pz * qx,
+                     pw * qz + px * qy - py * qx + pz * qw])
+
+
+def _rotate(q, v):
+    """R(q) v for quaternions q (4, N) and vectors v (3, N)."""
+    w, x, y, z = q
+    R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                  [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                  [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    return np.einsum("ijn,jn->in", R, v)
+
+
+def _rotate_T(q, v):
+    """R(q)' v."""
+    conj = q * np.array([1.0, -1.0, -1.0, -1.0])[:, None]
+    return _rotate(conj, v)
+
+
+def spatial_cantilever(force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0), *, torsion_ratio: float = 1.0,
+                       nodes: int = 81, tol: float = 1e-8, steps: int = 20):
+    """A spatial, inextensible and unshearable Kirchhoff rod clamped at s = 0
+    along x, loaded at its free end by a dead ``force`` and ``moment`` (units:
+    force x L²/EI, moment x L/EI, i.e. nondimensional), ``torsion_ratio`` =
+    GJ/EI.  Unknowns (13): position r, orientation quaternion q (body axis 1 =
+    the tangent), internal force n and moment m (global frame):
+
+        r' = R(q) e1,   q' = ½ q ⊗ (0, κ),   κ = B⁻¹ R(q)' m,   n' = 0,   m' = -r' × n,
+
+    B = diag(GJ/EI, 1, 1).  P1 uses 12 unknowns with three finite-rotation
+    parameters; the quaternion (norm kept by the equations) avoids their
+    singularity and keeps the right-hand side polynomial.  The load is applied
+    in ``steps`` increments (natural-parameter continuation).  Returns a
+    BVPResult with rows (r, q, n, m)."""
+    F = np.asarray(force, float)
+    Mo = np.asarray(moment, float)
+    Binv = np.array([1.0 / torsion_ratio, 1.0, 1.0])[:, None]
+    e1 = np.array([1.0, 0.0, 0.0])
+
+    def fun_for(lam):
+        def f(s, Y):
+            N = Y.shape[1]
+            q, n, m = Y[3:7], Y[7:10], Y[10:13]
+            t = _rotate(q, np.repeat(e1[:, None], N, axis=1))
+            kappa = Binv * _rotate_T(q, m)
+            dq = 0.5 * _qmul(q, np.vstack([np.zeros(N), kappa]))
+            dm = -np.cross(t.T, n.T).T
+            return np.vstack([t, dq, np.zeros((3, N)), dm])
+
+        def bc(ya, yb):
+            return np.concatenate([ya[0:3], ya[3:7] - np.array([1.0, 0, 0, 0]),
+                                   yb[7:10] - lam * F, yb[10:13] - lam * Mo])
+        return f, bc
+
+    mesh = np.linspace(0.0, 1.0, nodes)
+    Y = np.zeros((13, nodes))
+    Y[0] = mesh
+    Y[3] = 1.0
+    # intermediate load steps on the base mesh (no refinement: they only feed the
+    # next step's initial guess); the full load is solved to ``tol``
+    for lam in np.linspace(0.0, 1.0, steps + 1)[1:-1]:
+        f, bc = fun_for(lam)
+        res = bvp.solve(f, bc, mesh, Y, tol=1e-6, deferred_correction=False, max_refinements=0)
+        if not res.residual <= 1e-8 * max(1.0, float(np.max(np.abs(res.y)))):  # Newton failed
+            res.message = f"load step {lam:.3g}: {res.message}"
+            return res
+        Y = res.y
+    f, bc = fun_for(1.0)
+    return bvp.solve(f, bc, mesh, Y, tol=tol)

@@ -141,3 +141,50 @@ def test_follower_and_extensible_cantilever_against_shooting(follower, beta):
     assert res.y[2, -1] == pytest.approx(xt, abs=1e-7)
     if not follower and beta == 0.0:   # the dead-load case is the elastica above
         assert -res.y[3, -1] == pytest.approx(0.493457, abs=1e-6)
+
+
+def test_spatial_rod_reduces_to_the_planar_elastica():
+    res = rods.spatial_cantilever(force=(0.0, -2.0, 0.0), tol=1e-9)   # alpha = 2 in the x-y plane
+    assert res.ok, res.message
+    assert -res.y[1, -1] == pytest.approx(0.493457, abs=1e-6)
+    np.testing.assert_allclose(res.y[2], 0.0, atol=1e-12)               # stays in its plane
+    np.testing.assert_allclose(np.sum(res.y[3:7] ** 2, axis=0), 1.0, atol=1e-9)  # unit quaternion
+
+
+def test_spatial_rod_pure_bending_and_torsion_exactly():
+    mu = 1.2   # end moment about z: a circular arc of curvature mu
+    res = rods.spatial_cantilever(moment=(0.0, 0.0, mu), tol=1e-10)
+    assert res.ok, res.message
+    np.testing.assert_allclose(res.y[0:3, -1], [np.sin(mu) / mu, (1 - np.cos(mu)) / mu, 0.0], atol=1e-8)
+    tau, ratio = 0.7, 0.8   # end moment about the tangent: twist angle tau L / GJ, tip unmoved
+    res = rods.spatial_cantilever(moment=(tau, 0.0, 0.0), torsion_ratio=ratio, tol=1e-10)
+    assert res.ok, res.message
+    np.testing.assert_allclose(res.y[0:3, -1], [1.0, 0.0, 0.0], atol=1e-10)
+    angle = 2 * np.arctan2(np.linalg.norm(res.y[4:7, -1]), res.y[3, -1])
+    assert angle == pytest.approx(tau / ratio, abs=1e-8)
+
+
+def test_spatial_rod_out_of_plane_against_shooting():
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import fsolve
+
+    F, M, ratio = np.array([0.0, -1.5, 0.8]), np.array([0.3, 0.0, 0.0]), 0.7
+    res = rods.spatial_cantilever(force=F, moment=M, torsion_ratio=ratio, tol=1e-10)
+    assert res.ok, res.message
+
+    def rhs(s, y):
+        Y = y[:, None]
+        q, n, m = Y[3:7], Y[7:10], Y[10:13]
+        t = rods._rotate(q, np.array([[1.0], [0.0], [0.0]]))
+        kappa = np.array([[1 / ratio], [1.0], [1.0]]) * rods._rotate_T(q, m)
+        dq = 0.5 * rods._qmul(q, np.vstack([np.zeros(1), kappa]))
+        return np.vstack([t, dq, np.zeros((3, 1)), -np.cross(t.T, n.T).T]).ravel()
+
+    def miss(m0):   # shoot on the root moment; n is constant = F
+        y0 = np.r_[0, 0, 0, 1, 0, 0, 0, F, m0]
+        sol = solve_ivp(rhs, (0, 1), y0, rtol=1e-12, atol=1e-12)
+        return sol.y[10:13, -1] - M
+
+    m0 = fsolve(miss, res.y[10:13, 0], xtol=1e-13)
+    sol = solve_ivp(rhs, (0, 1), np.r_[0, 0, 0, 1, 0, 0, 0, F, m0], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(res.y[0:3, -1], sol.y[0:3, -1], atol=1e-7)
