@@ -369,10 +369,7 @@ class Frame:
             lu = None
         piv = np.abs(np.diag(lu[0])) if lu is not None else np.zeros(1)
         if lu is None or piv.min() <= 1e-13 * piv.max():
-            raise InvalidProblemError(
-                "the basic system (every contact link fixed) is a mechanism or has redundant "
-                "links: check supports, hinges and that no two contacts constrain the same "
-                "displacement")
+            raise InvalidProblemError(self._mechanism_message(S, free, names, Kf.shape[0]))
         nf = free.size
         rhs = np.zeros((nf + nl, nl + 2))
         rhs[nf:, :nl] = kappa * np.eye(nl)
@@ -391,6 +388,26 @@ class Frame:
             RFc, RFv = np.linalg.solve(E, RFc), np.linalg.solve(E, RFv)
         return dict(names=names, idx=idx, K=K, Fc=Fc, Fv=Fv, fixed=fixed, free=free, H=H,
                     info=info, lu=lu, R=R, RFc=RFc, RFv=RFv, flex=flex, nf=nf, kappa=kappa)
+
+    @staticmethod
+    def _mechanism_message(S, free, names, nf) -> str:
+        """Name the free motion of a singular basic system (its null vector)."""
+        try:
+            null = scipy.linalg.null_space(S, rcond=1e-12)
+        except (ValueError, np.linalg.LinAlgError):
+            null = np.zeros((S.shape[0], 0))
+        if null.shape[1] == 0:
+            return ("the basic system (every contact link fixed) is singular: check supports, "
+                    "hinges and that no two contacts constrain the same displacement")
+        v = null[:nf, 0]
+        if np.max(np.abs(v)) <= 1e-9 * np.max(np.abs(null[:, 0])):
+            return ("two or more contact links constrain the same displacement (redundant links): "
+                    "remove one of them")
+        order = np.argsort(-np.abs(v))[:3]
+        moves = ", ".join(f"{names[free[i] // 3]} {DOFS[free[i] % 3]}" for i in order
+                          if abs(v[i]) > 0.1 * abs(v[order[0]]))
+        return (f"the frame is a mechanism even with every contact closed: it can move freely "
+                f"({moves} move together); add supports, contacts or friction that prevent it")
 
     # -- the LCP --------------------------------------------------------------
     def _layout(self, b):
