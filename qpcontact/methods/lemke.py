@@ -180,7 +180,6 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
     basis[r] = Z0
     z0_row = r
     pivots = 1
-    thr = PIVOT_RTOL
     while True:
         entering = leaving + n if leaving < n else leaving - n
         if entering < n:
@@ -188,18 +187,7 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
         else:
             col = Binv @ Mf[:, entering - n]
             np.negative(col, out=col)
-        # Common case inline (one clear winner); ties go to the lexicographic test.
-        cand = (col > thr * np.abs(col).max()).nonzero()[0]
-        r = None
-        if cand.size:
-            ratios = x[cand] / col[cand]
-            k = ratios.argmin()
-            theta = ratios[k]
-            tied = ratios <= theta + (1e-12 * abs(theta) + 1e-15 * np.abs(x).max())
-            if np.count_nonzero(tied) == 1:
-                r = int(cand[k])
-            else:
-                r = lex_ratio_test(col, x, Binv, prefer_row=z0_row)
+        r = lex_ratio_test(col, x, Binv, prefer_row=z0_row)
         if r is None:
             v = np.zeros(2 * n + 1)
             v[basis] = x
