@@ -90,6 +90,7 @@ import scipy.sparse as sp
 
 from qpcontact.errors import InvalidOptionError, InvalidProblemError
 from qpcontact.problems import LCP, as_vector
+from qpcontact.progress import ProgressBar
 from qpcontact.solve import solve
 
 __all__ = ["Log", "Drum", "DrumResult", "DrumSummary", "StepSizeWarning", "EFFECTS",
@@ -358,7 +359,7 @@ class Drum:
         fallbacks = 0
         viscous = np.zeros(steps + 1)
         active = np.zeros(L, bool)
-        bar = _progress(progress, steps)
+        bar = ProgressBar(steps, "drum steps", progress, transient=True)
         start = time.perf_counter()
         for n in range(1, steps + 1):
             U1 = U[n - 1]
@@ -388,10 +389,9 @@ class Drum:
                 viscous[n] = viscous[n - 1] + tau * float(np.sum(np.where(damped, self.damping, 0.0) * v * v))
             if on_step is not None:
                 on_step(n, lcp, sol)
-            if bar is not None and n % max(1, steps // 100) == 0:
+            if n % max(1, steps // 100) == 0:
                 bar.update(n)
-        if bar is not None:
-            bar.close()
+        bar.close()
         wall = time.perf_counter() - start
         V = np.empty_like(U)
         V[0] = self.velocities
@@ -432,25 +432,6 @@ def _step_failed(n, sol):
     return SolverFailedError(
         f"drum step {n}: no method returned a certified contact force ({sol.message}); "
         "the step matrix may be too ill-conditioned for this tau")
-
-
-def _progress(enabled: bool, total: int):
-    if not enabled:
-        return None
-    from rich.progress import Progress
-
-    class _Bar:
-        def __init__(self):
-            self.p = Progress(transient=True)
-            self.p.start()
-            self.task = self.p.add_task("drum steps", total=total)
-
-        def update(self, n):
-            self.p.update(self.task, completed=n)
-
-        def close(self):
-            self.p.stop()
-    return _Bar()
 
 
 @dataclass

@@ -31,6 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .progress import ProgressBar
+
 __all__ = ["Instance", "collect_instances", "plan", "run_task", "sweep", "summarize", "report",
            "shgeom", "FIELDS", "LADDER", "TOLERANCES"]
 
@@ -297,7 +299,7 @@ def sweep(out_dir, *, quick: bool = True, methods=None, formulations=None, sicon
     rows = _read_rows(path) if resume else []
     done = {(r["instance"], r["method"], r["level"]) for r in rows}
     todo = [t for t in tasks if _key(t[0].name, t[1], t[2]) not in done]
-    bar = _Progress(len(todo), progress)
+    bar = ProgressBar(len(todo), "compare runs", progress)
     results = (_dask_map(todo, repeats, time_limit, workers, scheduler) if workers or scheduler
                else (run_task(task, repeats, time_limit) for task in todo))
     try:
@@ -335,25 +337,6 @@ def _dask_map(tasks, repeats, time_limit, workers, scheduler):
         client.close()
         if cluster is not None:
             cluster.close()
-
-
-class _Progress:
-    def __init__(self, total, enabled):
-        self.p = None
-        if enabled and total:
-            from rich.progress import Progress
-
-            self.p = Progress()
-            self.p.start()
-            self.task = self.p.add_task("compare runs", total=total)
-
-    def advance(self):
-        if self.p is not None:
-            self.p.advance(self.task)
-
-    def close(self):
-        if self.p is not None:
-            self.p.stop()
 
 
 # -- aggregation and report ------------------------------------------------------------
