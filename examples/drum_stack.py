@@ -16,22 +16,10 @@ import argparse
 import os
 import sys
 
-import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from formulations.drum import Drum, Log  # noqa: E402
+from formulations.drum import ten_log_scene  # noqa: E402
 from qpcontact.plotting import save_figure  # noqa: E402
-
-
-def build(seed: int = 1, shell_stiffness: float | None = None) -> Drum:
-    rng = np.random.default_rng(seed)
-    diameters = np.linspace(0.10, 0.20, 10)
-    rng.shuffle(diameters)
-    logs = [Log.from_wood(d, 1.2, damping_ratio=0.05) for d in diameters]
-    gaps = rng.uniform(0.005, 0.05, 10)           # m, below each log
-    velocities = -rng.uniform(0.5, 2.0, 10)       # m/s, downward
-    effects = ("gravity", "damping") + (("shell_elasticity",) if shell_stiffness else ())
-    return Drum(logs, gaps, velocities, shell_stiffness=shell_stiffness, effects=effects)
 
 
 def save_atomic(fig, path):
@@ -83,7 +71,7 @@ def main(argv=None):
     ap.add_argument("--out", default="out/drum")
     args = ap.parse_args(argv)
 
-    drum = build(shell_stiffness=args.shell_stiffness)
+    drum = ten_log_scene(shell_stiffness=args.shell_stiffness)
     T = drum.contact_periods().min()
     tau = T / args.steps_per_period
     steps = int(round(args.duration / tau))

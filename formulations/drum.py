@@ -523,6 +523,20 @@ class DrumResult:
         return path
 
 
+def ten_log_scene(seed: int = 1, shell_stiffness: float | None = None) -> Drum:
+    """Ten green-spruce logs (diameters 0.10-0.20 m shuffled, 1.2 m, 5 % damping)
+    5-50 mm apart, thrown down at 0.5-2 m/s into the shell (rigid unless
+    ``shell_stiffness`` [N/m] is given): the demo's and examples/drum_stack.py's scene."""
+    rng = np.random.default_rng(seed)
+    diameters = np.linspace(0.10, 0.20, 10)
+    rng.shuffle(diameters)
+    logs = [Log.from_wood(d, 1.2, damping_ratio=0.05) for d in diameters]
+    gaps = rng.uniform(0.005, 0.05, 10)           # m, below each log
+    velocities = -rng.uniform(0.5, 2.0, 10)       # m/s, downward
+    effects = ("gravity", "damping") + (("shell_elasticity",) if shell_stiffness else ())
+    return Drum(logs, gaps, velocities, shell_stiffness=shell_stiffness, effects=effects)
+
+
 def demo(console) -> int:
     """The drum part of ``qpcontact demo`` (found through the
     ``qpcontact.formulations`` entry point): one log dropped on the shell
@@ -552,12 +566,7 @@ def demo(console) -> int:
     console.print(table)
     failed = int(not (errors[-1] < errors[0] and np.log2(errors[-2] / errors[-1]) > 0.8))
 
-    rng = np.random.default_rng(1)
-    diameters = np.linspace(0.10, 0.20, 10)
-    rng.shuffle(diameters)
-    logs = [Log.from_wood(d, 1.2, damping_ratio=0.05) for d in diameters]
-    drum = Drum(logs, rng.uniform(0.005, 0.05, 10), -rng.uniform(0.5, 2.0, 10),
-                effects=("gravity", "damping"))
+    drum = ten_log_scene()
     tau = drum.contact_periods().min() / 40
     res = drum.simulate(tau, int(0.12 / tau))
     s = res.summary()
