@@ -157,9 +157,10 @@ class FrameTrace:
     message: str
     trace: object = field(repr=False, default=None)
     frame: "Frame" = field(repr=False, default=None)
+    _built: dict = field(repr=False, default=None)   # the frame's assembly, reused by result_at
 
     def result_at(self, p: float) -> FrameResult:
-        return self.frame._result_from_z(self.trace.z_at(p), p, "trace")
+        return self.frame._result_from_z(self.trace.z_at(p), p, "trace", b=self._built)
 
     def plot(self, path, node: str, dof: str = "ux", p_max: float | None = None) -> str:
         """Load parameter against a displacement of ``node`` with the breakpoints (PNG)."""
@@ -677,9 +678,8 @@ class Frame:
             intervals.append((piece.p_start, piece.p_end))
             pm = 0.5 * (piece.p_start + hi)
             states.append(self._result_from_z(piece.z(pm), pm, "trace", b=b))
-        ft = FrameTrace(breakpoints=tr.breakpoints, states=states, intervals=intervals, ended=tr.end,
-                        message=tr.message, trace=tr, frame=self)
-        return ft
+        return FrameTrace(breakpoints=tr.breakpoints, states=states, intervals=intervals,
+                          ended=tr.end, message=tr.message, trace=tr, frame=self, _built=b)
 
     # -- plots ---------------------------------------------------------------------------
     def _plot_result(self, res: FrameResult, path, scale, title):
