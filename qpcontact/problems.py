@@ -24,7 +24,7 @@ import scipy.sparse.linalg as spla
 
 from .errors import InvalidProblemError
 
-__all__ = ["LCP", "ParametricLCP", "SYMMETRY_RTOL", "as_matrix", "as_vector"]
+__all__ = ["LCP", "ParametricLCP", "SYMMETRY_RTOL", "as_matrix", "as_vector", "bandwidth"]
 
 #: Relative tolerance of :attr:`LCP.is_symmetric`: max|M - M'| <= SYMMETRY_RTOL * max|M|.
 #: Assembly in floating point (A = J G^-1 J') leaves asymmetry of order n * 1e-16;
@@ -111,6 +111,12 @@ def as_vector(v, n: int | None, name: str, allow_inf: int = 0) -> np.ndarray:
     return arr
 
 
+def bandwidth(M) -> int:
+    """max |i - j| over the stored nonzeros of a matrix (dense or sparse)."""
+    C = sp.coo_matrix(M)
+    return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
+
+
 def _max_abs(M) -> float:
     if sp.issparse(M):
         return float(abs(M).max()) if M.nnz else 0.0
@@ -181,9 +187,7 @@ class _MatrixStructure:
 
     @cached_property
     def bandwidth(self) -> int:
-        """max |i - j| over the nonzeros of M."""
-        C = sp.coo_matrix(self.M)
-        return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
+        return bandwidth(self.M)
 
     def upper_bands(self, max_bandwidth: int):
         """LAPACK upper band storage of the symmetric part, ab[b + i - j, j] = S_ij

@@ -22,7 +22,7 @@ import scipy.sparse.linalg as spla
 
 __all__ = ["sign_tolerances", "ActiveBlock", "symmetric_scaling", "dense_matrix",
            "check_options", "check_dense_size", "not_positive_definite",
-           "bandwidth", "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
+           "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
 
 _EPS = np.finfo(float).eps
 
@@ -100,12 +100,6 @@ def symmetric_scaling(M) -> np.ndarray:
 #: sparse SPD blocks instead of QDLDL.  Measured on a tridiagonal 5e4 block:
 #: 4.2 ms against 12.5 ms (docs/pivoting.md); at b = 32 the two are comparable.
 BANDED_MAX = 16
-
-
-def bandwidth(M) -> int:
-    """max |i - j| over the stored entries of a sparse matrix."""
-    C = M.tocoo()
-    return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
 
 
 def sub_bands(ab: np.ndarray, F: np.ndarray) -> np.ndarray:
