@@ -62,6 +62,7 @@ import scipy.linalg
 
 from qpcontact.certify import certify_lcp
 from qpcontact.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
+from qpcontact.methods.active_set import check_options
 from qpcontact.problems import LCP, ParametricLCP
 from qpcontact.solve import solve
 
@@ -531,9 +532,7 @@ class Frame:
         the LCP with the bounds frozen); stopped when z solves the full LCP."""
         from qpsolvers import Problem
 
-        unknown = sorted(set(options) - {"qp_method", "max_iter"})
-        if unknown:
-            raise InvalidOptionError(f"'tresca' takes qp_method= and max_iter=, not {unknown}")
+        check_options("tresca", options, ("qp_method", "max_iter"))
         qp_method = options.get("qp_method", "auto")
         max_iter = int(options.get("max_iter", 50))
         R = b["R"]
