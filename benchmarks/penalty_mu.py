@@ -34,20 +34,11 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import qpcontact  # noqa: E402
 from qpcontact.plotting import save_figure  # noqa: E402
 from formulations.mechanisms import ramming_impact_step  # noqa: E402
-from formulations.penalty import PenaltyStep, exact_lcp, mu_threshold, solve_penalty  # noqa: E402
+from formulations.penalty import exact_lcp, mu_threshold, random_step, solve_penalty  # noqa: E402
 
 MUS = 10.0 ** np.arange(-4, 17)
 LEVELS = ("low", "default", "high")
 TOL = {"low": 1e-4, "default": 1e-6, "high": 1e-9}
-
-
-def random_step(seed, n, nu):
-    rng = np.random.default_rng(seed)
-    R = rng.standard_normal((n, n))
-    G = R @ R.T + n * np.eye(n)
-    J = rng.standard_normal((nu, n))
-    C = np.diag(rng.uniform(1e-3, 1e-2, nu))
-    return PenaltyStep(G, 10 * rng.standard_normal(n), J, rng.standard_normal(nu), C=C)
 
 
 def family(seeds):

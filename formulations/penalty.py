@@ -75,7 +75,7 @@ from qpcontact.problems import LCP, as_matrix, as_vector
 from qpcontact.solve import solve
 
 __all__ = ["PenaltyStep", "PenaltyResult", "penalty_qp", "exact_lcp", "gauss_qp",
-           "mu_threshold", "solve_penalty", "REGULARIZATION", "MU_SINGULAR_COND"]
+           "mu_threshold", "solve_penalty", "random_step", "REGULARIZATION", "MU_SINGULAR_COND"]
 
 #: Rigid contacts: C = REGULARIZATION * max|A| * I keeps W positive definite
 #: while changing the objective by a relative 1e-9.
@@ -354,6 +354,17 @@ def demo(console) -> int:
     return wrong
 
 
+def random_step(seed: int, n: int, nu: int) -> PenaltyStep:
+    """A seeded random mechanism step: G = RR' + nI (n x n), J (nu x n) Gaussian,
+    Q ~ 10 N(0, 1), B ~ N(0, 1), compliance C diagonal in [1e-3, 1e-2] m/N."""
+    rng = np.random.default_rng(seed)
+    R = rng.standard_normal((n, n))
+    G = R @ R.T + n * np.eye(n)
+    J = rng.standard_normal((nu, n))
+    C = np.diag(rng.uniform(1e-3, 1e-2, nu))
+    return PenaltyStep(G, 10 * rng.standard_normal(n), J, rng.standard_normal(nu), C=C)
+
+
 def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     """Penalty QPs for ``qpcontact compare`` (the reactions are x): the ramming
     impact step (small) and random mechanism steps with n = 7, 30, 100 degrees
@@ -365,12 +376,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     from .mechanisms import ramming_impact_step
 
     n, nu = {"small": (7, 4), "medium": (30, 20), "large": (100, 60)}[size]
-    rng = np.random.default_rng(seed + 1000 * n)
-    R = rng.standard_normal((n, n))
-    J = rng.standard_normal((nu, n))
-    step = PenaltyStep(R @ R.T + n * np.eye(n), 10 * rng.standard_normal(n), J,
-                       rng.standard_normal(nu), C=np.diag(rng.uniform(1e-3, 1e-2, nu)))
-    steps = [(f"random-{n}x{nu}", step)]
+    steps = [(f"random-{n}x{nu}", random_step(seed + 1000 * n, n, nu))]
     if size == "small":
         steps.append(("ramming", ramming_impact_step()))
     out = []
