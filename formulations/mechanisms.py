@@ -5,10 +5,14 @@ torques N·m, stiffness N/m, compliance m/N, time s.
 
 Model
 -----
-Rigid bodies in the plane, each with a subset of the coordinates (x, y, θ) as
-generalized coordinates (a bolt sliding on a guide has only x).  The inertia
-matrix G = diag(m, m, I) restricted to those coordinates is constant.
-Generalized forces Q collect the *effects* the model names:
+Rigid bodies in the plane, each hanging from the ground (or another body) by
+a planar joint whose free axes, a subset of (x, y, θ), are its generalized
+coordinates (a bolt sliding on a guide has only x).  The bodies form a tree in
+one :mod:`formulations.multibody` model: G(q) is applied and inverted by its
+O(N) momentum-form recursion (never formed, let alone inverted, in a step),
+the bias forces come from its Newton-Euler recursion, the contact Jacobians
+from its point Jacobians.  Generalized forces Q collect the *effects* the
+model names:
 
 - ``gravity``: -m g along y;
 - ``springs``: linear springs between body points (or a body point and a ground
@@ -20,14 +24,14 @@ Generalized forces Q collect the *effects* the model names:
 A unilateral contact between point s_a of body a and point s_b of body b (or a
 ground anchor) along a fixed unit normal n is
 
-    Φ = n·(p_b - p_a) - offset >= 0,   p = r + R(θ) s,
-    J = ∂Φ/∂q (n, and n·R'(θ)s for rotations),   D = q̇'∇²Φ q̇ = n·(-R_b s_b θ̇_b² + R_a s_a θ̇_a²).
+    Φ = n·(p_b - p_a) - offset >= 0,   p = a body point in the world,
+    J = n·(J_b - J_a) (point Jacobians),   D = n·(J̇_b - J̇_a)ν  (so Φ̈ = Jν̇ + D).
 
 Integration step (size h, look-ahead Δt)
 ----------------------------------------
 1. Φ, Φ̇ = J v, D, Q at (t, q, v); B = (2/Δt²)(Φ + Δt Φ̇) (P2);
 2. λ from the penalty QP (formulations.penalty; or the exact LCP);
-3. a = G⁻¹(J'λ + Q);  q ← q + h v + ½h² a;  v ← v + h a.
+3. a = G⁻¹(J'λ + Q);  q ← q ⊕ (h v + ½h² a);  v ← v + h a.
 
 With this update, an active contact satisfies Φ(t + h) ≈ Φ + hΦ̇ + ½h²Φ̈ = 0 when
 Δt = h, to second order.  The look-ahead acts as a restitution: a contact
@@ -39,7 +43,7 @@ documented tolerance of the scenes' no-penetration test.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -47,6 +51,7 @@ from qpcontact.errors import InvalidOptionError, InvalidProblemError
 from qpcontact.plotting import save_figure
 from qpcontact.solve import solve
 
+from . import multibody as mb
 from .penalty import PenaltyStep, exact_lcp, solve_penalty
 
 __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pellet_scene",
@@ -55,7 +60,7 @@ __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pe
 
 GRAVITY = 9.81
 EFFECTS = ("gravity", "springs", "compliance")
-_AXES = {"x": 0, "y": 1, "theta": 2}
+_AXES = ("x", "y", "theta")
 
 
 def lookahead_for(h: float, restitution: float) -> float:
@@ -63,22 +68,6 @@ def lookahead_for(h: float, restitution: float) -> float:
     if not 0.0 <= restitution <= 1.0:
         raise InvalidOptionError(f"restitution must lie in [0, 1]; got {restitution}")
     return 2.0 * h / (1.0 + restitution)
-
-
-def _rot(theta):
-    c, s = np.cos(theta), np.sin(theta)
-    return np.array([[c, -s], [s, c]])
-
-
-@dataclass
-class _Body:
-    name: str
-    mass: float
-    inertia: float
-    dofs: tuple
-    pose: np.ndarray      # x, y, theta (all three, fixed ones stay)
-    velocity: np.ndarray  # vx, vy, omega
-    index: np.ndarray = field(default=None)  # generalized-coordinate index per axis, -1 if fixed
 
 
 @dataclass
@@ -103,11 +92,18 @@ class _Contact:
     compliance: float
 
 
+def _p3(xy):
+    return np.array([xy[0], xy[1], 0.0])
+
+
 class Mechanism:
     """A planar mechanism with unilateral contacts (SI units; see the module docstring).
 
     ``effects`` names what is assembled: "gravity", "springs", "compliance".
-    Data for an effect not named raises InvalidProblemError.
+    Data for an effect not named raises InvalidProblemError.  The bodies form
+    a tree in a :class:`formulations.multibody.Model` (``self.model``), whose
+    recursions give G(q) (as an O(N) factorized operator), the bias forces
+    and the contact Jacobians.
     """
 
     def __init__(self, effects=("springs",), gravity: float = GRAVITY):
@@ -119,37 +115,44 @@ class Mechanism:
             raise InvalidProblemError(f"unknown effect(s) {unknown}; mechanisms know {list(EFFECTS)}")
         self.effects = effects
         self.gravity = gravity if "gravity" in effects else 0.0
-        self.bodies: list[_Body] = []
+        self.model = mb.Model(gravity=(0.0, -self.gravity, 0.0))
+        self._data = mb.Data(self.model)
+        self._q0, self._v0 = [], []
         self.springs: list[_Spring] = []
         self.forces: list = []
         self.contacts: list[_Contact] = []
-        self._names = {}
+
+    @property
+    def bodies(self) -> list[str]:
+        return self.model.names[1:]
 
     # -- building -------------------------------------------------------------
     def add_body(self, name: str, mass: float, inertia: float = 0.0, dofs=("x",),
-                 position=(0.0, 0.0, 0.0), velocity=(0.0, 0.0, 0.0)) -> str:
-        """A rigid body [kg, kg·m²] with generalized coordinates ``dofs`` ⊂ {x, y, theta}
-        at ``position`` (x, y [m], θ [rad]) moving with ``velocity``."""
-        if name in self._names:
-            raise InvalidProblemError(f"a body named {name!r} exists already")
-        dofs = tuple(dofs)
+                 position=(0.0, 0.0, 0.0), velocity=(0.0, 0.0, 0.0), parent=None) -> str:
+        """A rigid body [kg, kg·m² about its centre] with generalized
+        coordinates ``dofs`` ⊂ {x, y, theta} (a planar joint; the others stay
+        at ``position``) at ``position`` (x, y [m], θ [rad], relative to
+        ``parent``'s frame, default the ground) moving with ``velocity``
+        (the rates of the ``dofs``, in the order x, y, theta)."""
+        dofs = (dofs,) if isinstance(dofs, str) else tuple(dofs)
         bad = [d for d in dofs if d not in _AXES]
-        if bad or len(set(dofs)) != len(dofs):
+        if bad or not dofs or len(set(dofs)) != len(dofs):
             raise InvalidProblemError(f"dofs must be distinct names among {list(_AXES)}; got {dofs}")
         if not mass > 0 or ("theta" in dofs and not inertia > 0):
             raise InvalidProblemError(f"body {name!r}: mass (and inertia if it rotates) must be > 0")
         pose = np.array(position, float).reshape(3)
         vel = np.array(velocity, float).reshape(3)
-        self._names[name] = len(self.bodies)
-        self.bodies.append(_Body(name, float(mass), float(inertia), dofs, pose, vel))
+        joint = mb.Planar(free=dofs, fixed=pose)
+        # a planar body: tiny out-of-plane inertias keep G definite for no motion that exists
+        self.model.add_body(name, parent=0 if parent is None else parent, joint=joint, mass=mass,
+                            inertia=np.diag([inertia, inertia, inertia]))
+        free = [a for a in _AXES if a in dofs]
+        self._q0 += [pose[_AXES.index(a)] for a in free]
+        self._v0 += [vel[_AXES.index(a)] for a in free]
         return name
 
     def _body(self, name):
-        if name is None:
-            return None
-        if name not in self._names:
-            raise InvalidProblemError(f"no body named {name!r}; bodies: {list(self._names)}")
-        return self._names[name]
+        return None if name is None else self.model.body_id(name)
 
     def add_spring(self, a: str, b: str | None, stiffness: float, rest_length: float,
                    point_a=(0.0, 0.0), point_b=(0.0, 0.0)) -> None:
@@ -158,13 +161,13 @@ class Mechanism:
         if "springs" not in self.effects:
             raise InvalidProblemError("add_spring needs the effect 'springs'")
         self.springs.append(_Spring(self._body(a), self._body(b), float(stiffness),
-                                    float(rest_length), np.array(point_a, float),
-                                    np.array(point_b, float)))
+                                    float(rest_length), _p3(point_a), _p3(point_b)))
 
     def add_force(self, body: str, fx: float = 0.0, fy: float = 0.0, torque: float = 0.0,
                   fn=None) -> None:
-        """Applied force [N] and torque [N·m] on a body: constant, or
-        ``fn(t, body_pose, body_velocity) -> (fx, fy, torque)``."""
+        """Applied force [N] (world axes, at the body origin) and torque [N·m]
+        on a body: constant, or ``fn(t, body_pose, body_velocity) -> (fx, fy,
+        torque)`` with pose (x, y, θ) and velocity (ẋ, ẏ, θ̇) in the world."""
         self.forces.append((self._body(body), np.array([fx, fy, torque], float), fn))
 
     def add_contact(self, name: str, a: str | None, b: str | None, normal=(1.0, 0.0),
@@ -180,108 +183,75 @@ class Mechanism:
         n = np.array(normal, float)
         if n.shape != (2,) or not np.isclose(np.linalg.norm(n), 1.0):
             raise InvalidProblemError(f"contact {name!r}: normal must be a unit 2-vector")
-        self.contacts.append(_Contact(name, self._body(a), self._body(b), n,
-                                      np.array(point_a, float), np.array(point_b, float),
+        self.contacts.append(_Contact(name, self._body(a), self._body(b), _p3(n),
+                                      _p3(point_a), _p3(point_b),
                                       float(offset), float(compliance or 0.0)))
 
     # -- assembly -------------------------------------------------------------
-    def _index(self):
-        k = 0
-        for bd in self.bodies:
-            bd.index = -np.ones(3, int)
-            for d in bd.dofs:
-                bd.index[_AXES[d]] = k
-                k += 1
-        return k
-
     def initial_state(self):
-        n = self._index()
-        q, v = np.zeros(n), np.zeros(n)
-        for bd in self.bodies:
-            for ax in range(3):
-                if bd.index[ax] >= 0:
-                    q[bd.index[ax]] = bd.pose[ax]
-                    v[bd.index[ax]] = bd.velocity[ax]
-        return q, v
+        return np.array(self._q0, float), np.array(self._v0, float)
 
-    def inertia(self) -> np.ndarray:
-        n = self._index()
-        G = np.zeros(n)
-        for bd in self.bodies:
-            for ax in range(3):
-                if bd.index[ax] >= 0:
-                    G[bd.index[ax]] = bd.inertia if ax == 2 else bd.mass
-        return np.diag(G)
+    def inertia(self, q=None) -> np.ndarray:
+        """G(q) as a dense matrix (CRBA); the stepper uses :meth:`mass_operator`."""
+        return mb.mass_matrix(self.model, self._data, self.initial_state()[0] if q is None else q)
 
-    def _pose(self, bd, q, v):
-        pose, vel = bd.pose.copy(), bd.velocity.copy()
-        for ax in range(3):
-            if bd.index[ax] >= 0:
-                pose[ax] = q[bd.index[ax]]
-                vel[ax] = v[bd.index[ax]]
-            else:
-                vel[ax] = 0.0
-        return pose, vel
+    def mass_operator(self, q) -> mb.MassOperator:
+        """G(q) factorized by the O(N) momentum-form recursion (G⁻¹ never formed)."""
+        return mb.MassOperator(self.model, q)
 
-    def _point(self, i, s, q, v):
-        """World position, velocity and the 3 partial derivatives of a body point."""
-        if i is None:
-            return s, np.zeros(2), None, None, 0.0
-        bd = self.bodies[i]
-        (x, y, th), (vx, vy, om) = self._pose(bd, q, v)
-        R = _rot(th)
-        Rs = R @ s
-        dRs = np.array([-Rs[1], Rs[0]])  # d(R s)/dθ
-        p = np.array([x, y]) + Rs
-        pv = np.array([vx, vy]) + om * dRs
-        return p, pv, dRs, Rs, om
+    def _world_point(self, i, s):
+        """World position of point s (body frame) of body i, or the anchor s for the ground."""
+        return s if i is None else mb.point_position(self.model, self._data, i, s)
 
-    def _add(self, vec, bd_index, f3):
-        bd = self.bodies[bd_index]
-        for ax in range(3):
-            if bd.index[ax] >= 0:
-                vec[bd.index[ax]] += f3[ax]
+    def _body_forces(self, t):
+        """Springs and applied forces as spatial forces on the bodies (body
+        frames, moments about their origins), after forward kinematics."""
+        d = self._data
+        f = np.zeros((self.model.nbodies + 1, 6))
 
-    def generalized_forces(self, t, q, v) -> np.ndarray:
-        Q = np.zeros(q.size)
-        for i, bd in enumerate(self.bodies):
-            if self.gravity:
-                self._add(Q, i, np.array([0.0, -bd.mass * self.gravity, 0.0]))
+        def push(i, x, F, torque=0.0):
+            if i is None:
+                return
+            Rt = d.Ra[i].T
+            f[i, :3] += Rt @ F
+            f[i, 3:] += Rt @ (np.cross(x - d.ra[i], F) + np.array([0.0, 0.0, torque]))
+
         for sp_ in self.springs:
-            pa, _, dRa, _, _ = self._point(sp_.a, sp_.point_a, q, v)
-            pb, _, dRb, _, _ = self._point(sp_.b, sp_.point_b, q, v)
-            d = pb - pa
-            ell = np.linalg.norm(d)
+            xa, xb = self._world_point(sp_.a, sp_.point_a), self._world_point(sp_.b, sp_.point_b)
+            dvec = xb - xa
+            ell = np.linalg.norm(dvec)
             if ell == 0:
                 continue
-            u = d / ell
-            f = sp_.stiffness * (ell - sp_.rest_length)   # tension > 0 pulls a toward b
-            self._add(Q, sp_.a, np.array([f * u[0], f * u[1], f * (u @ dRa)]))
-            if sp_.b is not None:
-                self._add(Q, sp_.b, np.array([-f * u[0], -f * u[1], -f * (u @ dRb)]))
+            F = sp_.stiffness * (ell - sp_.rest_length) * dvec / ell   # tension pulls a toward b
+            push(sp_.a, xa, F)
+            push(sp_.b, xb, -F)
         for i, f3, fn in self.forces:
             if fn is not None:
-                pose, vel = self._pose(self.bodies[i], q, v)
-                f3 = np.asarray(fn(t, pose, vel), float)
-            self._add(Q, i, f3)
-        return Q
+                R, r, V = d.Ra[i], d.ra[i], d.V[i]
+                pose = np.array([r[0], r[1], np.arctan2(R[1, 0], R[0, 0])])
+                vw = R @ V[:3]
+                f3 = np.asarray(fn(t, pose, np.array([vw[0], vw[1], (R @ V[3:])[2]])), float)
+            push(i, d.ra[i], np.array([f3[0], f3[1], 0.0]), f3[2])
+        return f
+
+    def generalized_forces(self, t, q, v) -> np.ndarray:
+        """Q(t, q, ν) = applied generalized forces - bias (gravity, Coriolis) [N, N·m]."""
+        mb.forward_kinematics(self.model, self._data, q, v, t)
+        return -mb.nonlinear_effects(self.model, self._data, q, v, self._body_forces(t), t)
 
     def constraints(self, q, v):
-        """Φ [m], J (ν x n), D [m/s²] at (q, v)."""
-        nu, n = len(self.contacts), q.size
+        """Φ [m], J (ν x n), D = J̇ν [m/s²] at (q, v)."""
+        mb.forward_kinematics(self.model, self._data, q, v)
+        nu, n = len(self.contacts), self.model.nv
         Phi, J, D = np.zeros(nu), np.zeros((nu, n)), np.zeros(nu)
         for k, c in enumerate(self.contacts):
-            pa, _, dRa, Rsa, oma = self._point(c.a, c.point_a, q, v)
-            pb, _, dRb, Rsb, omb = self._point(c.b, c.point_b, q, v)
-            Phi[k] = c.normal @ (pb - pa) - c.offset
-            row = np.zeros(n)
-            if c.b is not None:
-                self._add(row, c.b, np.array([c.normal[0], c.normal[1], c.normal @ dRb]))
-                D[k] += c.normal @ (-Rsb) * omb ** 2
-            if c.a is not None:
-                self._add(row, c.a, -np.array([c.normal[0], c.normal[1], c.normal @ dRa]))
-                D[k] -= c.normal @ (-Rsa) * oma ** 2
-            J[k] = row
+            xa, xb = self._world_point(c.a, c.point_a), self._world_point(c.b, c.point_b)
+            Phi[k] = c.normal @ (xb - xa) - c.offset
+            for sign, i, s in ((1.0, c.b, c.point_b), (-1.0, c.a, c.point_a)):
+                if i is not None:
+                    Jp, Jd = mb.point_jacobian(self.model, self._data, i, s)
+                    J[k] += sign * (c.normal @ Jp)
+                    D[k] += sign * (c.normal @ (Jd @ v))
         return Phi, J, D
 
     def compliance(self):
@@ -309,7 +279,6 @@ class Mechanism:
             raise InvalidOptionError("h must be > 0 and steps >= 1")
         dt = h if lookahead is None else float(lookahead)
         q, v = self.initial_state()
-        G = self.inertia()
         C = self.compliance()
         nu = len(self.contacts)
         T = np.arange(int(steps) + 1) * h
@@ -325,7 +294,7 @@ class Mechanism:
             t = T[i - 1]
             Phi, J, D = self.constraints(q, v)
             B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
-            step = PenaltyStep(G, self.generalized_forces(t, q, v), J, B, D, C)
+            step = PenaltyStep(self.mass_operator(q), self.generalized_forces(t, q, v), J, B, D, C)
             if route == "lcp":
                 sol = solve(exact_lcp(step), method="lemke" if method == "auto" else method,
                             accuracy=accuracy)
@@ -343,17 +312,16 @@ class Mechanism:
                 mus[i] = res.mu
                 lam = res.lam
             a = step.accelerations(lam)
-            q = q + h * v + 0.5 * h * h * a
+            q = mb.integrate(self.model, q, h * v + 0.5 * h * h * a)
             v = v + h * a
             Qs[i], Vs[i], Lam[i] = q, v, lam
             Phis[i] = self.constraints(q, v)[0]
         return MechanismResult(self, T, Qs, Vs, Lam, Phis, mus, h, dt)
 
     def coordinate_names(self) -> list[str]:
-        self._index()
         names = []
-        for bd in self.bodies:
-            names += [f"{bd.name}.{d}" for d in bd.dofs]
+        for name, j in zip(self.model.names[1:], self.model.joints[1:]):
+            names += [f"{name}.{a}" for a, on in zip(_AXES, j.mask) if on]
         return names
 
 
@@ -465,4 +433,4 @@ def ramming_impact_step():
     q, v = res.q[i - 1], res.v[i - 1]
     Phi, J, D = mech.constraints(q, v)
     B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
-    return PenaltyStep(mech.inertia(), mech.generalized_forces(res.t[i - 1], q, v), J, B, D)
+    return PenaltyStep(mech.inertia(q), mech.generalized_forces(res.t[i - 1], q, v), J, B, D)

@@ -106,13 +106,16 @@ def _spd(M, name: str):
 class PenaltyStep:
     """The data of one integration step, validated, with G factorized once.
 
-    Parameters (SI, see the module docstring): G (n x n SPD, dense or sparse),
+    Parameters (SI, see the module docstring): G (n x n SPD, dense or sparse,
+    or a factorized operator with ``shape``, ``solve(r)`` = G⁻¹r and
+    ``toarray()``, such as multibody.MassOperator: G⁻¹ is then never formed),
     Q (n), J (ν x n), B (ν), D (ν), C (ν x ν SPD, or None for rigid contacts),
     P_y (ν, default 0).
     """
 
     def __init__(self, G, Q, J, B, D=None, C=None, P_y=None):
-        self.G = _spd(G, "G")
+        operator = hasattr(G, "solve") and hasattr(G, "shape") and hasattr(G, "toarray")
+        self.G = G if operator else _spd(G, "G")
         n = self.G.shape[0]
         self.Q = as_vector(Q, n, "Q")
         J = as_matrix(J, "J")
@@ -124,7 +127,9 @@ class PenaltyStep:
         self.D = np.zeros(nu) if D is None else as_vector(D, nu, "D")
         self.rigid = C is None
         self.P_y = np.zeros(nu) if P_y is None else as_vector(P_y, nu, "P_y")
-        if sp.issparse(self.G):
+        if operator:
+            self._solve = self.G.solve   # the operator's factorization checks definiteness
+        elif sp.issparse(self.G):
             lu = spla.splu(sp.csc_matrix(self.G))
             self._solve = lu.solve
         else:
@@ -181,7 +186,7 @@ def exact_lcp(step: PenaltyStep) -> LCP:
 def gauss_qp(step: PenaltyStep) -> Problem:
     """Gauss' principle (rigid case): min ½(a - a_free)'G(a - a_free) s.t.
     J a + D + B >= 0, in the accelerations a; its multipliers are λ."""
-    G = step.G.toarray() if sp.issparse(step.G) else step.G
+    G = step.G.toarray() if hasattr(step.G, "toarray") else step.G
     return Problem(G, -(G @ step.q_free), -step.J, step.B + step.D)
 
 
