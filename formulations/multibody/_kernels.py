@@ -44,25 +44,6 @@ def _cross(a, b):
 
 
 @njit(cache=_CACHE)
-def _axis_rotation(a, angle):
-    """Rodrigues: rotation by ``angle`` about the unit axis a."""
-    c, s = np.cos(angle), np.sin(angle)
-    t = 1.0 - c
-    R = np.empty((3, 3))
-    x, y, z = a[0], a[1], a[2]
-    R[0, 0] = c + x * x * t
-    R[0, 1] = x * y * t - z * s
-    R[0, 2] = x * z * t + y * s
-    R[1, 0] = y * x * t + z * s
-    R[1, 1] = c + y * y * t
-    R[1, 2] = y * z * t - x * s
-    R[2, 0] = z * x * t - y * s
-    R[2, 1] = z * y * t + x * s
-    R[2, 2] = c + z * z * t
-    return R
-
-
-@njit(cache=_CACHE)
 def _quat_rotation(qx, qy, qz, qw):
     """Rotation matrix of a quaternion (x, y, z, w), normalised here so that a
     drifting integrated quaternion still gives an orthogonal matrix."""
@@ -103,28 +84,6 @@ def _ct_apply(R, rho, f):
 
 
 @njit(cache=_CACHE)
-def _congruence(R, rho, A, sym):
-    """C' A C for a 6 x 6 A.  ``sym``: A is symmetric, compute the upper
-    triangle and mirror it (the LDL' variant); otherwise the full product (the
-    sweep, which as an LU elimination does not use symmetry)."""
-    # B = C'A column by column, then B C row by row (C' applied twice via _ct_apply).
-    B = np.empty((6, 6))
-    for j in range(6):
-        B[:, j] = _ct_apply(R, rho, A[:, j])
-    out = np.empty((6, 6))
-    if sym:
-        for i in range(6):
-            row = _ct_apply(R, rho, B[i, :])
-            for j in range(i, 6):
-                out[i, j] = row[j]
-                out[j, i] = row[j]
-    else:
-        for i in range(6):
-            out[i, :] = _ct_apply(R, rho, B[i, :])
-    return out
-
-
-@njit(cache=_CACHE)
 def _cross_force(V, f):
     """V x* f = (ω x F, v x F + ω x N)."""
     out = np.empty(6)
@@ -143,144 +102,108 @@ def _cross_motion(V, U):
 
 
 @njit(cache=_CACHE)
-def _chol_small(D, n):
-    L = np.zeros((n, n))
-    for j in range(n):
-        s = D[j, j]
-        for k in range(j):
-            s -= L[j, k] * L[j, k]
-        if not s > 0.0:
-            return L, False
-        L[j, j] = np.sqrt(s)
-        for i in range(j + 1, n):
-            t = D[i, j]
-            for k in range(j):
-                t -= L[i, k] * L[j, k]
-            L[i, j] = t / L[j, j]
-    return L, True
+def _axis_rotation_to(a, angle, R):
+    c, s = np.cos(angle), np.sin(angle)
+    t = 1.0 - c
+    x, y, z = a[0], a[1], a[2]
+    R[0, 0] = c + x * x * t
+    R[0, 1] = x * y * t - z * s
+    R[0, 2] = x * z * t + y * s
+    R[1, 0] = y * x * t + z * s
+    R[1, 1] = c + y * y * t
+    R[1, 2] = y * z * t - x * s
+    R[2, 0] = z * x * t - y * s
+    R[2, 1] = z * y * t + x * s
+    R[2, 2] = c + z * z * t
 
 
 @njit(cache=_CACHE)
-def _inv_small(D, n):
-    """Gauss-Jordan inverse with partial pivoting (the sweep's explicit D⁻¹)."""
-    A = D[:n, :n].copy()
-    X = np.eye(n)
-    for c in range(n):
-        p = c
-        for r in range(c + 1, n):
-            if abs(A[r, c]) > abs(A[p, c]):
-                p = r
-        if A[p, c] == 0.0:
-            return X, False
-        if p != c:
-            for k in range(n):
-                A[c, k], A[p, k] = A[p, k], A[c, k]
-                X[c, k], X[p, k] = X[p, k], X[c, k]
-        piv = A[c, c]
-        for k in range(n):
-            A[c, k] /= piv
-            X[c, k] /= piv
-        for r in range(n):
-            if r != c and A[r, c] != 0.0:
-                f = A[r, c]
-                for k in range(n):
-                    A[r, k] -= f * A[c, k]
-                    X[r, k] -= f * X[c, k]
-    return X, True
+def _matmul3_to(A, B, out):
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+
+
+_EZ = np.array([0.0, 0.0, 1.0])
 
 
 @njit(cache=_CACHE)
-def _forward_sub(L, b, n):
-    x = np.empty(n)
-    for i in range(n):
-        s = b[i]
-        for k in range(i):
-            s -= L[i, k] * x[k]
-        x[i] = s / L[i, i]
-    return x
-
-
-@njit(cache=_CACHE)
-def _backward_sub_t(L, b, n):
-    """Solve L' x = b."""
-    x = np.empty(n)
-    for i in range(n - 1, -1, -1):
-        s = b[i]
-        for k in range(i + 1, n):
-            s -= L[k, i] * x[k]
-        x[i] = s / L[i, i]
-    return x
-
-
-# -- joints ----------------------------------------------------------------------------------
-
-@njit(cache=_CACHE)
-def _joint(jt, ax, fixed, mask, q, iq, nu, iv, want_hdot):
+def _joint_to(jt, ax, fixed, mask, q, iq, nu, iv, want_hdot, R, p, H, Hd, T1, T2):
     """Joint transform R_J, p_J (child frame in the joint frame), motion
-    subspace H (child frame, padded 6 x 6), its time derivative Ḣ along ν
-    (only when ``want_hdot``) and the number of velocity columns."""
-    R = np.eye(3)
-    p = np.zeros(3)
-    H = np.zeros((6, 6))
-    Hd = np.zeros((6, 6))
-    n = 0
+    subspace H (child frame, padded 6 x 6; zero on entry) and its time
+    derivative Ḣ along ν (only when ``want_hdot``; zero on entry), written in
+    place; T1, T2 are 3 x 3 work arrays.  Returns the number of columns."""
+    for a in range(3):
+        p[a] = 0.0
+        for b in range(3):
+            R[a, b] = 1.0 if a == b else 0.0
     if jt == REVOLUTE:
-        R = _axis_rotation(ax[0], q[iq])
-        H[3:, 0] = ax[0]
-        n = 1
-    elif jt == PRISMATIC:
-        p = ax[0] * q[iq]
-        H[:3, 0] = ax[0]
-        n = 1
-    elif jt == CARDAN:
-        R1 = _axis_rotation(ax[0], q[iq])
-        R2 = _axis_rotation(ax[1], q[iq + 1])
-        R = R1 @ R2
-        e1 = R2.T @ ax[0]
-        H[3:, 0] = e1
-        H[3:, 1] = ax[1]
-        if want_hdot:
-            Hd[3:, 0] = -nu[iv + 1] * _cross(ax[1], e1)
-        n = 2
-    elif jt == SPHERICAL:
-        R = _quat_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3])
+        _axis_rotation_to(ax[0], q[iq], R)
+        for a in range(3):
+            H[3 + a, 0] = ax[0, a]
+        return 1
+    if jt == PRISMATIC:
+        for a in range(3):
+            p[a] = ax[0, a] * q[iq]
+            H[a, 0] = ax[0, a]
+        return 1
+    if jt == CARDAN:
+        _axis_rotation_to(ax[0], q[iq], T1)
+        _axis_rotation_to(ax[1], q[iq + 1], T2)
+        _matmul3_to(T1, T2, R)
+        for a in range(3):       # e1 = R2' a1
+            H[3 + a, 0] = T2[0, a] * ax[0, 0] + T2[1, a] * ax[0, 1] + T2[2, a] * ax[0, 2]
+            H[3 + a, 1] = ax[1, a]
+        if want_hdot:            # d/dt(R2'a1) = -q̇2 a2 x (R2'a1)
+            w = nu[iv + 1]
+            e0, e1_, e2 = H[3, 0], H[4, 0], H[5, 0]
+            Hd[3, 0] = -w * (ax[1, 1] * e2 - ax[1, 2] * e1_)
+            Hd[4, 0] = -w * (ax[1, 2] * e0 - ax[1, 0] * e2)
+            Hd[5, 0] = -w * (ax[1, 0] * e1_ - ax[1, 1] * e0)
+        return 2
+    if jt == SPHERICAL:
+        T1[:, :] = _quat_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3])
+        R[:, :] = T1
         for k in range(3):
             H[3 + k, k] = 1.0
-        n = 3
-    elif jt == FREE:
-        p = q[iq:iq + 3].copy()
-        R = _quat_rotation(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6])
+        return 3
+    if jt == FREE:
+        for a in range(3):
+            p[a] = q[iq + a]
+        R[:, :] = _quat_rotation(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6])
         for k in range(6):
             H[k, k] = 1.0
-        n = 6
-    elif jt == PLANAR:
-        # translation (x, y) in the joint frame, then rotation θ about z; the
-        # axes not in ``mask`` stay at their ``fixed`` values
-        xyt = fixed.copy()
-        k = 0
-        for a in range(3):
-            if mask[a]:
-                xyt[a] = q[iq + k]
-                k += 1
-        R = _axis_rotation(np.array([0.0, 0.0, 1.0]), xyt[2])
-        p[0] = xyt[0]
-        p[1] = xyt[1]
-        thd = 0.0
-        if mask[2] and want_hdot:
-            thd = nu[iv + k - 1]
-        col = 0
-        for a in range(3):
-            if mask[a]:
-                if a < 2:
-                    e = R[a, :].copy()   # R' e_a
-                    H[:3, col] = e
-                    if want_hdot:
-                        Hd[:3, col] = -thd * _cross(np.array([0.0, 0.0, 1.0]), e)
-                else:
-                    H[5, col] = 1.0
-                col += 1
-        n = col
-    return R, p, H, Hd, n
+        return 6
+    # PLANAR: translation (x, y) in the joint frame, then rotation θ about z;
+    # the axes not in ``mask`` stay at their ``fixed`` values
+    xyt0, xyt1, xyt2 = fixed[0], fixed[1], fixed[2]
+    k = 0
+    if mask[0]:
+        xyt0 = q[iq + k]
+        k += 1
+    if mask[1]:
+        xyt1 = q[iq + k]
+        k += 1
+    if mask[2]:
+        xyt2 = q[iq + k]
+        k += 1
+    _axis_rotation_to(_EZ, xyt2, R)
+    p[0] = xyt0
+    p[1] = xyt1
+    thd = nu[iv + k - 1] if (mask[2] and want_hdot) else 0.0
+    col = 0
+    for a in range(3):
+        if mask[a]:
+            if a < 2:
+                for b in range(3):
+                    H[b, col] = R[a, b]          # R' e_a
+                if want_hdot:                    # -θ̇ e_z x (R' e_a)
+                    Hd[0, col] = thd * R[a, 1]
+                    Hd[1, col] = -thd * R[a, 0]
+            else:
+                H[5, col] = 1.0
+            col += 1
+    return col
 
 
 @njit(cache=_CACHE)
@@ -291,14 +214,17 @@ def relative(parent, jtype, axes, fixed, mask, R0, r0, iq, iv, q, nu, want_hdot)
     rho = np.zeros((nb, 3))
     H = np.zeros((nb, 6, 6))
     Hd = np.zeros((nb, 6, 6))
+    RJ = np.empty((3, 3))
+    pJ = np.empty(3)
+    T1 = np.empty((3, 3))
+    T2 = np.empty((3, 3))
     Rrel[0] = np.eye(3)
     for i in range(1, nb):
-        RJ, pJ, Hi, Hdi, _ = _joint(jtype[i], axes[i], fixed[i], mask[i], q, iq[i], nu, iv[i],
-                                    want_hdot)
-        Rrel[i] = R0[i] @ RJ
-        rho[i] = r0[i] + R0[i] @ pJ
-        H[i] = Hi
-        Hd[i] = Hdi
+        _joint_to(jtype[i], axes[i], fixed[i], mask[i], q, iq[i], nu, iv[i], want_hdot,
+                  RJ, pJ, H[i], Hd[i], T1, T2)
+        _matmul3_to(R0[i], RJ, Rrel[i])
+        for a in range(3):
+            rho[i, a] = r0[i, a] + R0[i, a, 0] * pJ[0] + R0[i, a, 1] * pJ[1] + R0[i, a, 2] * pJ[2]
     return Rrel, rho, H, Hd
 
 
@@ -312,8 +238,9 @@ def absolute(parent, Rrel, rho, Rbase, rbase):
     ra[0] = rbase
     for i in range(1, nb):
         p = parent[i]
-        Ra[i] = Ra[p] @ Rrel[i]
-        ra[i] = ra[p] + Ra[p] @ rho[i]
+        _matmul3_to(Ra[p], Rrel[i], Ra[i])
+        for a in range(3):
+            ra[i, a] = ra[p, a] + Ra[p, a, 0] * rho[i, 0] + Ra[p, a, 1] * rho[i, 1] + Ra[p, a, 2] * rho[i, 2]
     return Ra, ra
 
 
@@ -323,10 +250,10 @@ def velocities(parent, Rrel, rho, H, nvj, iv, nu, V0):
     V = np.zeros((nb, 6))
     V[0] = V0
     for i in range(1, nb):
-        Vi = _c_apply(Rrel[i], rho[i], V[parent[i]])
+        _c_to(Rrel[i], rho[i], V[parent[i]], V[i])
         for k in range(nvj[i]):
-            Vi += H[i][:, k] * nu[iv[i] + k]
-        V[i] = Vi
+            for c in range(6):
+                V[i, c] += H[i, c, k] * nu[iv[i] + k]
     return V
 
 
@@ -371,10 +298,13 @@ def crba(parent, Rrel, rho, H, nvj, iv, M, nv):
     """Composite-rigid-body mass matrix G(q) (dense, nv x nv)."""
     nb = parent.size
     Ic = M.copy()
+    B = np.empty((6, 6))
+    col = np.empty(6)
+    row = np.empty(6)
     for i in range(nb - 1, 0, -1):
         p = parent[i]
         if p > 0:
-            Ic[p] += _congruence(Rrel[i], rho[i], Ic[i], True)
+            _congruence_add(Rrel[i], rho[i], Ic[i], True, B, col, row, Ic[p])
     G = np.zeros((nv, nv))
     for i in range(1, nb):
         n = nvj[i]
@@ -397,6 +327,57 @@ def crba(parent, Rrel, rho, H, nvj, iv, M, nv):
 # -- dynamics, momentum form (P4) -------------------------------------------------------------
 
 @njit(cache=_CACHE)
+def _c_to(R, rho, V, out):
+    """out = C V without allocating (the hot loops' version of _c_apply)."""
+    wx, wy, wz = V[3], V[4], V[5]
+    vx = V[0] + wy * rho[2] - wz * rho[1]
+    vy = V[1] + wz * rho[0] - wx * rho[2]
+    vz = V[2] + wx * rho[1] - wy * rho[0]
+    for r in range(3):
+        out[r] = R[0, r] * vx + R[1, r] * vy + R[2, r] * vz
+        out[3 + r] = R[0, r] * wx + R[1, r] * wy + R[2, r] * wz
+
+
+@njit(cache=_CACHE)
+def _ct_add(R, rho, f, out):
+    """out += C' f without allocating."""
+    F0 = R[0, 0] * f[0] + R[0, 1] * f[1] + R[0, 2] * f[2]
+    F1 = R[1, 0] * f[0] + R[1, 1] * f[1] + R[1, 2] * f[2]
+    F2 = R[2, 0] * f[0] + R[2, 1] * f[1] + R[2, 2] * f[2]
+    out[0] += F0
+    out[1] += F1
+    out[2] += F2
+    out[3] += R[0, 0] * f[3] + R[0, 1] * f[4] + R[0, 2] * f[5] + rho[1] * F2 - rho[2] * F1
+    out[4] += R[1, 0] * f[3] + R[1, 1] * f[4] + R[1, 2] * f[5] + rho[2] * F0 - rho[0] * F2
+    out[5] += R[2, 0] * f[3] + R[2, 1] * f[4] + R[2, 2] * f[5] + rho[0] * F1 - rho[1] * F0
+
+
+@njit(cache=_CACHE)
+def _congruence_add(R, rho, A, sym, B, col, row, out):
+    """out += C'AC using the work arrays B (6 x 6), col, row (6).  ``sym``:
+    A symmetric, only the upper triangle of the result is computed (LDL');
+    otherwise the full product (the sweep)."""
+    for j in range(6):
+        for k in range(6):
+            col[k] = 0.0
+        _ct_add(R, rho, A[:, j], col)
+        for k in range(6):
+            B[k, j] = col[k]
+    for i in range(6):
+        for k in range(6):
+            row[k] = 0.0
+        _ct_add(R, rho, B[i, :], row)
+        if sym:
+            for j in range(i, 6):
+                out[i, j] += row[j]
+                if j != i:
+                    out[j, i] += row[j]
+        else:
+            for j in range(6):
+                out[i, j] += row[j]
+
+
+@njit(cache=_CACHE)
 def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
     """Solve the block-tridiagonal system (6) of P4 for the joint velocities ν,
     body velocities V and subtree momenta μ, given generalized momenta p:
@@ -407,73 +388,169 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
     to leaves: ν_i, V_i, μ_i.  ``ldlt`` False: the sweep (explicit D_i⁻¹, full
     6 x 6 updates); True: the LDL' variant (Cholesky factor of each joint block
     D_i = H_i'Ī_iH_i, triangular solves, symmetric updates).  Returns ok=False
-    when a joint block is not positive definite."""
+    when a joint block is not positive definite.  No allocation inside the
+    loops: the work arrays are made once per call."""
     nb = parent.size
     Ibar = M.copy()
     cbar = np.zeros((nb, 6))
-    # per joint: what the root-to-leaves pass needs
     Kmat = np.zeros((nb, 6, 6))    # sweep: D⁻¹U' (n x 6)   | ldlt: W = L⁻¹U' (n x 6)
     Lfac = np.zeros((nb, 6, 6))    # ldlt: Cholesky factor of D
-    rhs = np.zeros((nb, 6))        # sweep: D⁻¹(p - H'ĉ)  | ldlt: L⁻¹(p - H'ĉ)
+    rhs = np.zeros((nb, 6))        # sweep: D⁻¹(p - H'c̄)  | ldlt: L⁻¹(p - H'c̄)
+    U = np.empty((6, 6))
+    D = np.empty((6, 6))
+    Dinv = np.empty((6, 6))
+    Wk = np.empty((6, 6))
+    B = np.empty((6, 6))
+    col = np.empty(6)
+    row = np.empty(6)
+    r = np.empty(6)
+    beta = np.empty(6)
     for i in range(nb - 1, 0, -1):
         n = nvj[i]
-        Hi = H[i][:, :n]
-        U = Ibar[i] @ Hi                    # 6 x n
-        D = Hi.T @ U
-        r = np.empty(n)
-        for k in range(n):
-            r[k] = p[iv[i] + k] - Hi[:, k] @ cbar[i]
+        Hi = H[i]
+        Ii = Ibar[i]
+        for a in range(6):                       # U = Ī H
+            for k in range(n):
+                s = 0.0
+                for b in range(6):
+                    s += Ii[a, b] * Hi[b, k]
+                U[a, k] = s
+        for k in range(n):                       # D = H'U, r = p - H'c̄
+            for l in range(n):
+                s = 0.0
+                for b in range(6):
+                    s += Hi[b, k] * U[b, l]
+                D[k, l] = s
+            s = p[iv[i] + k]
+            for b in range(6):
+                s -= Hi[b, k] * cbar[i, b]
+            r[k] = s
+        Ah = Wk   # reuse as the 6 x 6 Â below (Wk is not needed after K is stored)
         if ldlt:
-            L, ok = _chol_small(D, n)
-            if not ok:
-                return np.zeros(p.size), np.zeros((nb, 6)), np.zeros((nb, 6)), False
-            W = np.empty((n, 6))
-            for c in range(6):
-                W[:, c] = _forward_sub(L, U[c, :], n)
-            y = _forward_sub(L, r, n)
-            Ahat = Ibar[i].copy()
-            for a in range(6):
+            L = Lfac[i]
+            for j in range(n):                   # Cholesky D = L L'
+                s = D[j, j]
+                for k in range(j):
+                    s -= L[j, k] * L[j, k]
+                if not s > 0.0:
+                    return np.zeros(p.size), np.zeros((nb, 6)), np.zeros((nb, 6)), False
+                L[j, j] = np.sqrt(s)
+                for a in range(j + 1, n):
+                    t = D[a, j]
+                    for k in range(j):
+                        t -= L[a, k] * L[j, k]
+                    L[a, j] = t / L[j, j]
+            W = Kmat[i]
+            for c in range(6):                   # W = L⁻¹U'
+                for a in range(n):
+                    s = U[c, a]
+                    for k in range(a):
+                        s -= L[a, k] * W[k, c]
+                    W[a, c] = s / L[a, a]
+            y = rhs[i]
+            for a in range(n):                   # y = L⁻¹r
+                s = r[a]
+                for k in range(a):
+                    s -= L[a, k] * y[k]
+                y[a] = s / L[a, a]
+            for a in range(6):                   # Â = Ī - W'W (upper triangle), β = c̄ + W'y
                 for b in range(a, 6):
+                    s = Ii[a, b]
+                    for k in range(n):
+                        s -= W[k, a] * W[k, b]
+                    Ah[a, b] = s
+                    Ah[b, a] = s
+                s = cbar[i, a]
+                for k in range(n):
+                    s += W[k, a] * y[k]
+                beta[a] = s
+        else:
+            for a in range(n):                   # explicit inverse (Gauss-Jordan, partial pivoting)
+                for b in range(n):
+                    B[a, b] = D[a, b]
+                    Dinv[a, b] = 1.0 if a == b else 0.0
+            for c in range(n):
+                piv = c
+                for a in range(c + 1, n):
+                    if abs(B[a, c]) > abs(B[piv, c]):
+                        piv = a
+                if B[piv, c] == 0.0:
+                    return np.zeros(p.size), np.zeros((nb, 6)), np.zeros((nb, 6)), False
+                if piv != c:
+                    for k in range(n):
+                        B[c, k], B[piv, k] = B[piv, k], B[c, k]
+                        Dinv[c, k], Dinv[piv, k] = Dinv[piv, k], Dinv[c, k]
+                d = B[c, c]
+                for k in range(n):
+                    B[c, k] /= d
+                    Dinv[c, k] /= d
+                for a in range(n):
+                    if a != c and B[a, c] != 0.0:
+                        f = B[a, c]
+                        for k in range(n):
+                            B[a, k] -= f * B[c, k]
+                            Dinv[a, k] -= f * Dinv[c, k]
+            # K = D⁻¹H'Ī (the row factor of the elimination; D⁻¹U' would be
+            # the same in exact arithmetic, but mixing Ī and Ī' lets the
+            # rounding asymmetry of Ī grow along a chain), y = D⁻¹r
+            for k in range(n):
+                for c in range(6):
+                    s = 0.0
+                    for b in range(6):
+                        s += Hi[b, k] * Ii[b, c]
+                    B[k, c] = s
+            Km = Kmat[i]
+            for a in range(n):
+                for c in range(6):
                     s = 0.0
                     for k in range(n):
-                        s += W[k, a] * W[k, b]
-                    Ahat[a, b] -= s
-                    Ahat[b, a] = Ahat[a, b]
-            beta = cbar[i] + W.T @ y
-            Kmat[i][:n, :] = W
-            Lfac[i][:n, :n] = L
-            rhs[i][:n] = y
-        else:
-            Dinv, ok = _inv_small(D, n)
-            if not ok:
-                return np.zeros(p.size), np.zeros((nb, 6)), np.zeros((nb, 6)), False
-            K = Dinv @ U.T                  # n x 6
-            Ahat = Ibar[i] - U @ K
-            y = Dinv @ r
-            beta = cbar[i] + U @ y
-            Kmat[i][:n, :] = K
-            rhs[i][:n] = y
+                        s += Dinv[a, k] * B[k, c]
+                    Km[a, c] = s
+                s = 0.0
+                for k in range(n):
+                    s += Dinv[a, k] * r[k]
+                rhs[i, a] = s
+            for a in range(6):                   # Â = Ī - U K (full), β = c̄ + U y
+                for b in range(6):
+                    s = Ii[a, b]
+                    for k in range(n):
+                        s -= U[a, k] * Km[k, b]
+                    Ah[a, b] = s
+                s = cbar[i, a]
+                for k in range(n):
+                    s += U[a, k] * rhs[i, k]
+                beta[a] = s
         par = parent[i]
         if par > 0:
-            Ibar[par] += _congruence(Rrel[i], rho[i], Ahat, ldlt)
-            cbar[par] += _ct_apply(Rrel[i], rho[i], beta)
+            _congruence_add(Rrel[i], rho[i], Ah, ldlt, B, col, row, Ibar[par])
+            _ct_add(Rrel[i], rho[i], beta, cbar[par])
     nu = np.zeros(p.size)
     V = np.zeros((nb, 6))
     V[0] = V0
+    Vp = np.empty(6)
+    x = np.empty(6)
     for i in range(1, nb):
         n = nvj[i]
-        Vp = _c_apply(Rrel[i], rho[i], V[parent[i]])
-        if ldlt:
-            # ν = L⁻ᵀ(y - W Vp)
-            t = rhs[i][:n] - Kmat[i][:n, :] @ Vp
-            x = _backward_sub_t(Lfac[i], t, n)
-        else:
-            x = rhs[i][:n] - Kmat[i][:n, :] @ Vp
-        Vi = Vp.copy()
+        _c_to(Rrel[i], rho[i], V[parent[i]], Vp)
+        Km = Kmat[i]
+        for a in range(n):
+            s = rhs[i, a]
+            for c in range(6):
+                s -= Km[a, c] * Vp[c]
+            x[a] = s
+        if ldlt:                                 # ν = L⁻ᵀ(y - W Vp)
+            L = Lfac[i]
+            for a in range(n - 1, -1, -1):
+                s = x[a]
+                for k in range(a + 1, n):
+                    s -= L[k, a] * x[k]
+                x[a] = s / L[a, a]
+        for c in range(6):
+            V[i, c] = Vp[c]
         for k in range(n):
             nu[iv[i] + k] = x[k]
-            Vi += H[i][:, k] * x[k]
-        V[i] = Vi
+            for c in range(6):
+                V[i, c] += H[i, c, k] * x[k]
     return nu, V, subtree(parent, Rrel, rho, M, V), True
 
 
@@ -483,10 +560,14 @@ def subtree(parent, Rrel, rho, M, V):
     nb = parent.size
     mu = np.zeros((nb, 6))
     for i in range(nb - 1, 0, -1):
-        mu[i] += M[i] @ V[i]
+        for a in range(6):
+            s = 0.0
+            for b in range(6):
+                s += M[i, a, b] * V[i, b]
+            mu[i, a] += s
         par = parent[i]
         if par > 0:
-            mu[par] += _ct_apply(Rrel[i], rho[i], mu[i])
+            _ct_add(Rrel[i], rho[i], mu[i], mu[par])
     return mu
 
 

@@ -28,14 +28,16 @@ __all__ = ["forward_kinematics", "mass_matrix", "rnea", "nonlinear_effects", "fo
 METHODS = ("ldlt", "sweep")
 
 
-def _fill(model: Model, data: Data, q, v=None, t: float = 0.0):
+def _fill(model: Model, data: Data, q, v=None, t: float = 0.0, world: bool = True):
+    """Joint data (and, if ``world``, world placements) of (q, ν) into data."""
     a = model.arrays
     nu = np.zeros(model.nv) if v is None else v
     data.Rrel, data.rho, data.H, data.Hd = K.relative(
         a["parent"], a["jtype"], a["axes"], a["fixed"], a["mask"], a["R0"], a["r0"],
         a["iq"], a["iv"], q, nu, v is not None)
     Rb, rb, V0, A0 = model.base_state(t)
-    data.Ra, data.ra = K.absolute(a["parent"], data.Rrel, data.rho, Rb, rb)
+    if world:
+        data.Ra, data.ra = K.absolute(a["parent"], data.Rrel, data.rho, Rb, rb)
     data.t = t
     return a, V0, A0
 
@@ -181,7 +183,7 @@ def velocities_from_momenta(model: Model, data: Data, q, p, t: float = 0.0,
     p = np.asarray(p, float)
     if p.shape != (model.nv,):
         raise InvalidProblemError(f"p must have shape ({model.nv},); got {p.shape}")
-    a, V0, _ = _fill(model, data, q, None, t)
+    a, V0, _ = _fill(model, data, q, None, t, world=False)
     return _solve_momentum(model, data, a, p, V0, method)
 
 
@@ -193,18 +195,16 @@ def momentum_rhs(model: Model, data: Data, t: float, q, p, tau=None, fext=None,
     derived in the package docstring) with F_i the gravity and body forces on
     the subtree of i; q̇ = K(q)ν.  O(N).  ``tau`` and ``fext`` may be arrays or
     callables (t, q, ν) -> array."""
-    a, V0, _ = _fill(model, data, q, None, t)
+    a, V0, _ = _fill(model, data, q, None, t, world=False)
     nu = _solve_momentum(model, data, a, p, V0, method)
     return configuration_rate(model, q, nu), momentum_rate(model, data, t, q, nu, tau, fext), nu
 
 
 def momentum_rate(model: Model, data: Data, t: float, q, nu, tau=None, fext=None):
     """ṗ at (t, q, ν) from data.V and data.mu of that motion (as left by the
-    momentum solve): eq. (7).  Recomputes Ḣ with ν (local, cheap)."""
-    a = model.arrays
-    data.Rrel, data.rho, data.H, data.Hd = K.relative(
-        a["parent"], a["jtype"], a["axes"], a["fixed"], a["mask"], a["R0"], a["r0"],
-        a["iq"], a["iv"], q, nu, True)
+    momentum solve): eq. (7).  Recomputes the joint data with ν (for Ḣ) and
+    the world orientations (for gravity)."""
+    a, _, _ = _fill(model, data, q, nu, t)
     tau = tau(t, q, nu) if callable(tau) else tau
     fext = fext(t, q, nu) if callable(fext) else fext
     f = gravity_forces(model, data) + _fext(model, fext)
@@ -298,7 +298,7 @@ class MassOperator:
         self.q = model.check_state(q).copy()
         self.method = method
         self._data = Data(model)
-        self._a, _, _ = _fill(model, self._data, self.q)
+        self._a, _, _ = _fill(model, self._data, self.q, world=False)
         self.shape = (model.nv, model.nv)
 
     def solve(self, r) -> np.ndarray:
