@@ -33,6 +33,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/drum.py
 	$(BIN)/python benchmarks/penalty_mu.py --plot docs/figures/penalty_mu.png
 	$(BIN)/python benchmarks/bvp.py --plot docs/figures/elastica.png
+	$(BIN)/python benchmarks/multibody.py --plot docs/figures/multibody.png
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache

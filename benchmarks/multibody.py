@@ -39,6 +39,7 @@ import numpy as np  # noqa: E402
 CANDIDATES = ("ldlt", "sweep", "momentum-rhs", "lagrange-dense", "pinocchio-aba",
               "pinocchio-chol", "mujoco-forward", "mujoco-step")
 DENSE_MAX = 1000          # lagrange-dense beyond: G alone is 8 (2N)² bytes, O(N³) flops
+MUJOCO_MAX = 3000         # mujoco beyond: its dense LDL on a chain is cubic (~1 min per step at 5000)
 MEMORY_LIMIT = 6 << 30    # address-space cap per case (Pinocchio's createData allocates nv³)
 LINK, MASS, INERTIA = 0.1, 1.0, (1e-3, 1e-3, 1e-4)
 
@@ -189,18 +190,21 @@ def main(argv=None):
         print(f"[skip] {c}: not installed (pip install -e '.[benchmark]')", file=sys.stderr)
     cands = [c for c in cands if c not in missing]
     results = []
-    total = sum(1 for N in sizes for c in cands if not (c == "lagrange-dense" and N > DENSE_MAX))
+    def skipped(c, N):
+        return (c == "lagrange-dense" and N > DENSE_MAX) or (c.startswith("mujoco") and N > MUJOCO_MAX)
+
+    total = sum(1 for N in sizes for c in cands if not skipped(c, N))
     k = 0
     for N in sizes:
         for c in cands:
-            if c == "lagrange-dense" and N > DENSE_MAX:
+            if skipped(c, N):
                 continue
             k += 1
             r = run_case(c, N)
             results.append(r)
             msg = r.get("error") or f"{r['time'] * 1e3:9.3f} ms  peak +{r['peak_mb']:.0f} MB"
             print(f"[{k}/{total}] N={N:5d} {c:15s} {msg}", file=sys.stderr, flush=True)
-    print(f"\nTime per evaluation [ms], Cardan chains (nv = 2N); peak RSS growth [MB] in ()")
+    print("\nTime per evaluation [ms], Cardan chains (nv = 2N); peak RSS growth [MB] in ()")
     print(f"{'N':>6} " + " ".join(f"{c:>18}" for c in cands))
     for N in sizes:
         row = []
