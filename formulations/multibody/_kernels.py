@@ -378,6 +378,67 @@ def _congruence_add(R, rho, A, sym, B, col, row, out):
 
 
 @njit(cache=_CACHE)
+def _congruence_sym_add(R, rho, A, T, B11, B12, B22, X, out):
+    """out += C'AC for a symmetric 6 x 6 A, by 3 x 3 blocks: B = diag(R) A
+    diag(R') (the diagonal blocks as symmetric products), then the shift
+    P B P' with P = [[I, 0], [ρ̃, I]], upper triangles only (the LDL' variant's
+    use of symmetry; T, B11, B12, B22, X are 3 x 3 work arrays)."""
+    # B11 = R A11 R', B22 = R A22 R' (upper triangles), B12 = R A12 R'
+    for blk in range(2):
+        o = 3 * blk
+        for i in range(3):
+            for j in range(3):
+                T[i, j] = A[o + i, o] * R[j, 0] + A[o + i, o + 1] * R[j, 1] + A[o + i, o + 2] * R[j, 2]
+        Bd = B11 if blk == 0 else B22
+        for i in range(3):
+            for j in range(i, 3):
+                Bd[i, j] = R[i, 0] * T[0, j] + R[i, 1] * T[1, j] + R[i, 2] * T[2, j]
+                Bd[j, i] = Bd[i, j]
+    for i in range(3):
+        for j in range(3):
+            T[i, j] = A[i, 3] * R[j, 0] + A[i, 4] * R[j, 1] + A[i, 5] * R[j, 2]
+    for i in range(3):
+        for j in range(3):
+            B12[i, j] = R[i, 0] * T[0, j] + R[i, 1] * T[1, j] + R[i, 2] * T[2, j]
+    r0, r1, r2 = rho[0], rho[1], rho[2]
+    # top blocks: B11 and B12 - B11 ρ̃  (column j of B11 ρ̃ = B11 (ρ x e_j)... via ρ̃'s entries)
+    for i in range(3):
+        for j in range(i, 3):
+            out[i, j] += B11[i, j]
+            if j != i:
+                out[j, i] += B11[i, j]
+        b0, b1, b2 = B11[i, 0], B11[i, 1], B11[i, 2]
+        # row i of B11 ρ̃: (b1 r2 - b2 r1, b2 r0 - b0 r2, b0 r1 - b1 r0)
+        X[i, 0] = B12[i, 0] - (b1 * r2 - b2 * r1)
+        X[i, 1] = B12[i, 1] - (b2 * r0 - b0 * r2)
+        X[i, 2] = B12[i, 2] - (b0 * r1 - b1 * r0)
+        for j in range(3):
+            out[i, 3 + j] += X[i, j]
+            out[3 + j, i] += X[i, j]
+    # bottom-right: ρ̃B11ρ̃' + ρ̃B12 + B21ρ̃' + B22 = B22 + X + X' - ρ̃B11ρ̃ with
+    # X = ρ̃B12 (ρ̃' = -ρ̃; B21ρ̃' = X'); ρ̃B11ρ̃ from T = ρ̃B11
+    for j in range(3):              # T = ρ̃ B11 (rows: ρ x column), reuse T
+        c0, c1, c2 = B11[0, j], B11[1, j], B11[2, j]
+        T[0, j] = r1 * c2 - r2 * c1
+        T[1, j] = r2 * c0 - r0 * c2
+        T[2, j] = r0 * c1 - r1 * c0
+    for j in range(3):              # X = ρ̃ B12
+        c0, c1, c2 = B12[0, j], B12[1, j], B12[2, j]
+        X[0, j] = r1 * c2 - r2 * c1
+        X[1, j] = r2 * c0 - r0 * c2
+        X[2, j] = r0 * c1 - r1 * c0
+    for i in range(3):
+        t0, t1, t2 = T[i, 0], T[i, 1], T[i, 2]
+        # row i of (ρ̃B11) ρ̃ : (t1 r2 - t2 r1, t2 r0 - t0 r2, t0 r1 - t1 r0)
+        z = (t1 * r2 - t2 * r1, t2 * r0 - t0 * r2, t0 * r1 - t1 * r0)
+        for j in range(i, 3):
+            v = B22[i, j] + X[i, j] + X[j, i] - z[j]
+            out[3 + i, 3 + j] += v
+            if j != i:
+                out[3 + j, 3 + i] += v
+
+
+@njit(cache=_CACHE)
 def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
     """Solve the block-tridiagonal system (6) of P4 for the joint velocities ν,
     body velocities V and subtree momenta μ, given generalized momenta p:
@@ -405,6 +466,11 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
     row = np.empty(6)
     r = np.empty(6)
     beta = np.empty(6)
+    T3 = np.empty((3, 3))
+    B11 = np.empty((3, 3))
+    B12 = np.empty((3, 3))
+    B22 = np.empty((3, 3))
+    X3 = np.empty((3, 3))
     for i in range(nb - 1, 0, -1):
         n = nvj[i]
         Hi = H[i]
@@ -522,7 +588,10 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
                 beta[a] = s
         par = parent[i]
         if par > 0:
-            _congruence_add(Rrel[i], rho[i], Ah, ldlt, B, col, row, Ibar[par])
+            if ldlt:
+                _congruence_sym_add(Rrel[i], rho[i], Ah, T3, B11, B12, B22, X3, Ibar[par])
+            else:
+                _congruence_add(Rrel[i], rho[i], Ah, False, B, col, row, Ibar[par])
             _ct_add(Rrel[i], rho[i], beta, cbar[par])
     nu = np.zeros(p.size)
     V = np.zeros((nb, 6))
