@@ -106,29 +106,111 @@ def _residual(fun, bc, s, Y, corr):
 
 
 def _jacobian(fun, bc, s, Y, F, jac):
-    m, N1 = Y.shape
+    """The Newton matrix ∂R/∂Y in factorised form (:class:`BlockLU`)."""
     h = np.diff(s)
+    m = Y.shape[0]
     Jf = jac(s, Y) if jac is not None else _fd_jac(fun, s, Y, F)
     eye = np.eye(m)[:, :, None]
     A = -eye - 0.5 * h[None, None, :] * Jf[:, :, :-1]        # (m, m, N): ∂R_j/∂y_j
     B = eye - 0.5 * h[None, None, :] * Jf[:, :, 1:]          # ∂R_j/∂y_{j+1}
-    j = np.arange(N1 - 1)
-    i_idx, k_idx = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
-    rows = (j[None, None, :] * m + i_idx[:, :, None])
-    colsA = (j[None, None, :] * m + k_idx[:, :, None])
-    colsB = colsA + m
     g = np.asarray(bc(Y[:, 0], Y[:, -1]), float)
     Ja, Jb = _fd_bc_jac(bc, Y[:, 0], Y[:, -1], g)
-    r0 = (N1 - 1) * m
-    rb = np.repeat(r0 + np.arange(m), m)
-    cb = np.tile(np.arange(m), m)
-    rows_all = np.concatenate([rows.ravel(), rows.ravel(), rb, rb])
-    cols_all = np.concatenate([colsA.ravel(), colsB.ravel(), cb, cb + (N1 - 1) * m])
-    vals = np.concatenate([A.ravel(), B.ravel(), Ja.ravel(), Jb.ravel()])
-    n = m * N1
-    J = sp.csc_matrix((vals, (rows_all, cols_all)), shape=(n, n))
-    J.eliminate_zeros()  # structural zeros would only add fill to the LU
-    return J
+    return BlockLU(A, B, Ja, Jb)
+
+
+class BlockLU:
+    """LU factorisation of the trapezoid's Newton matrix
+
+        rows j = 0..N-1:  A_j y_j + B_j y_{j+1}   (m x m blocks),
+        boundary rows:    J_a y_0 + J_b y_N.
+
+    With separated conditions (each boundary row touches one end) the rows
+    are put in the order [left conditions; intervals 0..N-1; right
+    conditions], which makes the matrix banded with kl = p + m - 1 and
+    ku = 2m - 1 - p (p left conditions): LAPACK's banded LU with partial
+    pivoting (dgbtrf) then is P1's block elimination with pivoting inside the
+    blocks, in O(N m³).  Coupled conditions (a row touching both ends) break
+    the band; those go to SuperLU on the sparse matrix.  Either way
+    ``det_sign`` gives the sign of det(∂R/∂Y) (fixed row order), whose changes
+    along a continuation path mark turning points and bifurcations."""
+
+    def __init__(self, A, B, Ja, Jb):
+        m, _, N = A.shape
+        self.m, self.N1, self.n = m, N + 1, m * (N + 1)
+        left = ~np.any(Jb != 0, axis=1)
+        right = ~left & ~np.any(Ja != 0, axis=1)
+        self.separated = bool(np.all(left | right))
+        j = np.arange(N)
+        ii, kk = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
+        rows = (j[None, None, :] * m + ii[:, :, None]).ravel()
+        colsA = (j[None, None, :] * m + kk[:, :, None]).ravel()
+        r0 = N * m
+        rb = np.repeat(r0 + np.arange(m), m)
+        cb = np.tile(np.arange(m), m)
+        R = np.concatenate([rows, rows, rb, rb])
+        C = np.concatenate([colsA, colsA + m, cb, cb + N * m])
+        V = np.concatenate([A.ravel(), B.ravel(), Ja.ravel(), Jb.ravel()])
+        self.matrix = sp.csc_matrix((V, (R, C)), shape=(self.n, self.n))   # for bordered systems
+        self.matrix.eliminate_zeros()
+        if self.separated:
+            p = int(left.sum())
+            # original row -> banded row: left conditions first, then intervals, then right
+            new = np.empty(self.n, int)
+            new[:r0] = p + np.arange(r0)
+            bc_rows = r0 + np.arange(m)
+            new[bc_rows[left]] = np.arange(p)
+            new[bc_rows[~left]] = p + r0 + np.arange(m - p)
+            self._order = new
+            kl, ku = p + m - 1, max(2 * m - 1 - p, m - 1)
+            Rn = new[R]
+            keep = V != 0
+            ab = np.zeros((2 * kl + ku + 1, self.n))
+            ab[kl + ku + Rn[keep] - C[keep], C[keep]] = V[keep]
+            from scipy.linalg.lapack import dgbtrf
+            self._lu, self._piv, info = dgbtrf(ab, kl, ku)
+            self.kl, self.ku = kl, ku
+            self.singular = info > 0       # an exactly zero pivot
+            diag = self._lu[kl + ku]
+            swaps = int(np.count_nonzero(self._piv != np.arange(self.n)))
+            self.det_sign = int(np.prod(np.sign(diag))) * (-1) ** swaps * _perm_sign(new)
+        else:
+            try:
+                self._splu = spla.splu(self.matrix)
+                self.singular = False
+                self.det_sign = (int(np.prod(np.sign(self._splu.U.diagonal())))
+                                 * _perm_sign(self._splu.perm_r) * _perm_sign(self._splu.perm_c))
+            except RuntimeError:      # SuperLU: exactly singular
+                self.singular, self.det_sign = True, 0
+
+    def solve(self, rhs):
+        """J⁻¹ rhs (NaN when J is exactly singular: callers test finiteness)."""
+        rhs = np.asarray(rhs, float)
+        if self.singular:
+            return np.full(rhs.shape, np.nan)
+        if not self.separated:
+            return self._splu.solve(rhs)
+        b = np.empty_like(rhs)
+        b[self._order] = rhs
+        from scipy.linalg.lapack import dgbtrs
+        x, info = dgbtrs(self._lu, self.kl, self.ku, b, self._piv)
+        return x
+
+
+def _perm_sign(perm) -> int:
+    """Sign (+1/-1) of a permutation given as an index array (cycle count)."""
+    perm = np.asarray(perm)
+    seen = np.zeros(perm.size, bool)
+    sign = 1
+    for i in range(perm.size):
+        if not seen[i]:
+            k, length = i, 0
+            while not seen[k]:
+                seen[k] = True
+                k = perm[k]
+                length += 1
+            if length % 2 == 0:
+                sign = -sign
+    return sign
 
 
 def _newton(fun, bc, s, Y, jac, tol, max_steps, corr=None):
@@ -144,9 +226,8 @@ def _newton(fun, bc, s, Y, jac, tol, max_steps, corr=None):
         if rn <= tol * scale:
             return Y, "solved", rn, steps, history
         if lu is None:
-            try:
-                lu = spla.splu(_jacobian(fun, bc, s, Y, F, jac))
-            except RuntimeError:
+            lu = _jacobian(fun, bc, s, Y, F, jac)
+            if lu.singular:
                 return Y, "singular Jacobian", rn, steps, history
         d = lu.solve(-R)
         if not np.all(np.isfinite(d)):
@@ -267,26 +348,22 @@ def solve(fun, bc, mesh, y0, *, jac=None, tol: float = 1e-8, max_newton: int = 5
     raise AssertionError("unreachable")
 
 
-def _bordered_solve(J, column, row, rhs):
+def _bordered_solve(J: BlockLU, column, row, rhs):
     """Solve [[J, column], [row']] x = rhs (row has n + 1 entries).
 
-    Block elimination with the sparse LU of J (cheap: J is block bidiagonal);
-    when J is singular or nearly so (at a fold, where the bordered matrix is
-    not), the whole bordered matrix is factorised instead (its dense border
-    costs fill, so only there)."""
-    n = J.shape[0]
-    try:
-        lu = spla.splu(J)
-        a = lu.solve(rhs[:n])
-        b = lu.solve(column)
-        denom = row[n] - row[:n] @ b
-        if np.all(np.isfinite(a)) and np.all(np.isfinite(b)) and \
-                abs(denom) > 1e-10 * (abs(row[n]) + np.abs(row[:n]) @ np.abs(b)):
-            xi = (rhs[n] - row[:n] @ a) / denom
-            return np.concatenate([a - xi * b, [xi]])
-    except RuntimeError:
-        pass
-    A = sp.bmat([[J, sp.csc_matrix(column[:, None])],
+    Block elimination with J's block LU (cheap); when J is singular or nearly
+    so (at a fold, where the bordered matrix is not), the whole bordered
+    matrix is factorised by SuperLU instead (its dense border costs fill, so
+    only there)."""
+    n = J.n
+    a = J.solve(rhs[:n])
+    b = J.solve(column)
+    denom = row[n] - row[:n] @ b
+    if np.all(np.isfinite(a)) and np.all(np.isfinite(b)) and \
+            abs(denom) > 1e-10 * (abs(row[n]) + np.abs(row[:n]) @ np.abs(b)):
+        xi = (rhs[n] - row[:n] @ a) / denom
+        return np.concatenate([a - xi * b, [xi]])
+    A = sp.bmat([[J.matrix, sp.csc_matrix(column[:, None])],
                  [sp.csc_matrix(row[None, :n]), sp.csc_matrix([[row[n]]])]], format="csc")
     return spla.splu(A).solve(rhs)
 
@@ -294,8 +371,12 @@ def _bordered_solve(J, column, row, rhs):
 @dataclass
 class ContinuationResult:
     """The branch: parameter values ``gammas``, solutions ``ys`` (each (m, N+1)
-    on ``mesh``), the turning points (indices where γ changed direction), and
-    how it ended."""
+    on ``mesh``), and how it ended.  ``det_signs``: the sign of det(∂R/∂Y) at
+    each point.  A sign change between two points marks a singular Jacobian
+    on the way: a turning point (``folds``: index of the point after it) when
+    γ changed direction there too, a bifurcation point (``bifurcations``)
+    when it did not — a branch crossing this one, which continuation steps
+    over."""
 
     mesh: np.ndarray
     gammas: np.ndarray
@@ -303,6 +384,8 @@ class ContinuationResult:
     folds: list
     status: str
     message: str
+    det_signs: list = field(default_factory=list)
+    bifurcations: list = field(default_factory=list)
 
 
 def continuation(fun, bc, mesh, y0, gamma_span, *, jac=None, ds: float = 0.05,
@@ -349,16 +432,16 @@ def continuation(fun, bc, mesh, y0, gamma_span, *, jac=None, ds: float = 0.05,
         rhs = np.zeros(n + 1)
         rhs[-1] = 1.0
         t = _bordered_solve(J, Rg, prev_t, rhs)
-        return t / np.linalg.norm(t)
+        return t / np.linalg.norm(t), J.det_sign
 
     # initial tangent: differentiate along gamma
     R0, F0 = R_of(Y, g0)
     J0 = J_of(Y, g0, F0)
-    dY = spla.splu(J0).solve(-dR_dgamma(Y, g0, R0))
+    dY = J0.solve(-dR_dgamma(Y, g0, R0))
     t = np.concatenate([dY, [1.0]]) * direction
     t /= np.linalg.norm(t)
     x = np.concatenate([Y.T.ravel(), [g0]])
-    gammas, ys, folds = [g0], [Y.copy()], []
+    gammas, ys, folds, bifs, dets = [g0], [Y.copy()], [], [], [J0.det_sign]
     step = ds
     for _ in range(max_steps):
         pred = x + step * t
@@ -383,14 +466,19 @@ def continuation(fun, bc, mesh, y0, gamma_span, *, jac=None, ds: float = 0.05,
             step /= 2
             if step < ds_min:
                 return ContinuationResult(s, np.array(gammas), ys, folds, "no convergence",
-                                          f"corrector failed at gamma = {x[-1]:.6g} (step < {ds_min})")
+                                          f"corrector failed at gamma = {x[-1]:.6g} (step < {ds_min})",
+                                          dets, bifs)
             continue
         Yz = z[:n].reshape(N1, m).T
-        t_new = tangent(Yz, z[-1], t)
+        t_new, det = tangent(Yz, z[-1], t)
         if t_new @ t < 0:
             t_new = -t_new
-        if np.sign(t_new[-1]) != np.sign(t[-1]) and t[-1] != 0:
+        turned = np.sign(t_new[-1]) != np.sign(t[-1]) and t[-1] != 0
+        if turned:
             folds.append(len(gammas))
+        elif det * dets[-1] < 0:
+            bifs.append(len(gammas))
+        dets.append(det)
         x, t = z, t_new
         gammas.append(z[-1])
         ys.append(Yz)
@@ -401,7 +489,8 @@ def continuation(fun, bc, mesh, y0, gamma_span, *, jac=None, ds: float = 0.05,
             gammas[-1], ys[-1] = g1, Yend
             return ContinuationResult(s, np.array(gammas), ys, folds, "solved",
                                       f"reached gamma = {g1} in {len(gammas) - 1} steps, "
-                                      f"{len(folds)} fold(s)")
+                                      f"{len(folds)} fold(s), {len(bifs)} bifurcation(s)",
+                                      dets, bifs)
         step = min(step * (1.5 if _it < 4 else 1.0), ds_max)
     return ContinuationResult(s, np.array(gammas), ys, folds, "max_steps",
-                              f"stopped at gamma = {x[-1]:.6g} after {max_steps} steps")
+                              f"stopped at gamma = {x[-1]:.6g} after {max_steps} steps", dets, bifs)

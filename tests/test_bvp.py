@@ -188,3 +188,59 @@ def test_spatial_rod_out_of_plane_against_shooting():
     m0 = fsolve(miss, res.y[10:13, 0], xtol=1e-13)
     sol = solve_ivp(rhs, (0, 1), np.r_[0, 0, 0, 1, 0, 0, 0, F, m0], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(res.y[0:3, -1], sol.y[0:3, -1], atol=1e-7)
+
+
+@pytest.mark.parametrize("coupled", [False, True])
+def test_block_lu_solves_and_signs_the_determinant_like_a_dense_lu(coupled):
+    rng = np.random.default_rng(5 + coupled)
+    m, N = 4, 12
+    A = rng.standard_normal((m, m, N))
+    B = rng.standard_normal((m, m, N))
+    Ja, Jb = rng.standard_normal((m, m)), rng.standard_normal((m, m))
+    if not coupled:               # two conditions at each end
+        Ja[2:] = 0.0
+        Jb[:2] = 0.0
+    lu = bvp.BlockLU(A, B, Ja, Jb)
+    assert lu.separated == (not coupled)
+    dense = lu.matrix.toarray()
+    sign, _ = np.linalg.slogdet(dense)
+    assert lu.det_sign == int(sign)
+    r = rng.standard_normal(dense.shape[0])
+    np.testing.assert_allclose(lu.solve(r), np.linalg.solve(dense, r), rtol=1e-9, atol=1e-9)
+
+
+def test_bratu_fold_found_by_the_determinant_sign():
+    """y'' + λ e^y = 0, y(0) = y(1) = 0: the branch turns at λ* = 3.513830719
+    (the classical value); continuation must report it as a fold."""
+    lam_star = 3.513830719125162
+
+    def f(s, Y, lam):
+        return np.array([Y[1], -lam * np.exp(Y[0])])
+
+    def bc(ya, yb, lam):
+        return np.array([ya[0], yb[0]])
+
+    mesh = np.linspace(0, 1, 201)
+    # aim past λ*: the path turns at the fold and comes back down the upper branch
+    path = bvp.continuation(f, bc, mesh, np.zeros(2), (0.0, 5.0), ds=0.5, ds_max=4.0,
+                            max_steps=40)
+    assert len(path.folds) == 1 and not path.bifurcations
+    k = path.folds[0]
+    assert path.det_signs[k] != path.det_signs[k - 1]
+    assert abs(path.gammas.max() - lam_star) < 2e-3 * lam_star     # trapezoid, h = 1/200
+    assert path.status == "max_steps" and path.gammas[-1] < 2.0    # back down ...
+    assert path.ys[-1][0].max() > 2.0                               # ... on the large solutions
+
+
+def test_straight_column_branch_reports_the_buckling_bifurcation():
+    """Following the straight (unbuckled) column in α crosses α_cr = π²/4,
+    where the buckled branch leaves: a determinant sign change without a turn."""
+    def f(s, Y, a):
+        return rods._column_f(s, Y, a)
+
+    path = bvp.continuation(f, rods._bc, np.linspace(0, 1, 81), np.zeros(4), (1.0, 4.0),
+                            ds=0.3, ds_max=0.3)
+    assert path.status == "solved" and not path.folds
+    assert len(path.bifurcations) == 1
+    k = path.bifurcations[0]
+    assert path.gammas[k - 1] < np.pi ** 2 / 4 < path.gammas[k]
