@@ -223,7 +223,7 @@ def spatial_cantilever(force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0), *, torsion
     # next step's initial guess); the full load is solved to ``tol``
     for lam in np.linspace(0.0, 1.0, steps + 1)[1:-1]:
         f, bc = fun_for(lam)
-        res = bvp.solve(f, bc, mesh, Y, tol=1e-6, deferred_correction=False, max_refinements=0)
+        res = bvp.solve(f, bc, mesh, Y, tol=1e-6, corrections=0, max_refinements=0)
         if not res.residual <= 1e-8 * max(1.0, float(np.max(np.abs(res.y)))):  # Newton failed
             res.message = f"load step {lam:.3g}: {res.message}"
             return res

@@ -12,20 +12,21 @@ Discretisation on a mesh s_0 < ... < s_N (trapezoidal rule, O(h²)):
 Newton's method on these m(N+1) equations; the step length λ is the largest
 of 1, ½, ¼, ... with ‖R(Y + λΔ)‖² <= (1 - 2cλ)‖R(Y)‖², c = 0.11 (P1); the
 Jacobian is reused while the residual falls by at least half per step.  The
-Jacobian is block bidiagonal (m x m blocks) plus the boundary rows; it is
-factorised by SuperLU on its sparse form, whose column ordering keeps the
-fill inside the blocks for separated conditions and handles coupled ones.
-(P1's block LU with pivoting inside blocks is the special case; a dedicated
-block solver is left for later — see docs/bvp.md.)
+Jacobian is block bidiagonal (m x m blocks) plus the boundary rows: with
+separated conditions, ordered [left conditions; intervals; right
+conditions], it is banded and factorised by LAPACK's banded LU with partial
+pivoting — P1's block LU with pivoting inside the blocks (:class:`BlockLU`);
+coupled conditions go to SuperLU.  Both give the sign of the determinant,
+which continuation watches for turning points and bifurcations.
 
-Deferred correction (one level, O(h²) -> O(h⁴)): the trapezoid's local error
-is -h_j³/12 f''(s_{j+½}) + O(h⁵); f'' is estimated from the nodal values of f
-by finite-difference weights on the (nonuniform) mesh (Vandermonde systems,
-four nearest nodes), and the system is solved again with that correction on
-the right-hand side.  The difference between the two solutions estimates the
-global error of the first; the mesh is halved until the estimate of the
-corrected solution (difference of the corrected solutions on the two meshes)
-meets the tolerance.
+Deferred correction (Pereyra): the trapezoid's local error is
+-h³/12 f⁽²⁾(s_{j+½}) - h⁵/480 f⁽⁴⁾(s_{j+½}) + O(h⁷); the derivatives of f are
+estimated from nodal values by finite-difference weights on the
+(nonuniform) mesh, and the system is solved again with that correction on
+the right-hand side: one level (4 nodes, f⁽²⁾) gives O(h⁴), two levels (6
+nodes, both terms) O(h⁶).  The change made by the last level estimates the
+global error per node; intervals where it exceeds the tolerance are bisected
+(mesh refinement where the estimate says so) until it meets the tolerance.
 """
 
 from __future__ import annotations
@@ -256,22 +257,36 @@ def _newton(fun, bc, s, Y, jac, tol, max_steps, corr=None):
     return Y, ("solved" if rn <= tol * scale else "no convergence"), rn, steps, history
 
 
-def _dc_correction(s, F):
-    """-h³/12 f''(midpoint) per interval from four nodal values (Vandermonde weights)."""
+#: Midpoint expansion of the trapezoid's local error per interval:
+#: ∫f - h/2 (f_j + f_{j+1}) = -h³/12 f⁽²⁾(m) - h⁵/480 f⁽⁴⁾(m) + O(h⁷).
+_DC_TERMS = ((2, -1.0 / 12.0, 3), (4, -1.0 / 480.0, 5))
+
+
+def _dc_correction(s, F, level):
+    """The trapezoid's local error per interval from nodal values of f:
+    level 1 (-> order 4): -h³/12 f⁽²⁾ from 4 nodes; level 2 (-> order 6): adds
+    -h⁵/480 f⁽⁴⁾ and takes both derivatives from 6 nodes.  Finite-difference
+    weights at each midpoint from batched Vandermonde systems (nonuniform
+    meshes); stencils are centred and shifted inwards at the ends."""
     m, N1 = F.shape
-    h = np.diff(s)
+    k = 2 * level + 2
     corr = np.zeros((m, N1 - 1))
-    if N1 < 4:
+    if N1 < k:
         return corr
-    for j in range(N1 - 1):
-        lo = min(max(j - 1, 0), N1 - 4)
-        idx = np.arange(lo, lo + 4)
-        mid = 0.5 * (s[j] + s[j + 1])
-        x = s[idx] - mid
-        V = np.vander(x, 4, increasing=True).T     # rows: powers 0..3
-        rhs = np.array([0.0, 0.0, 2.0, 0.0])        # second derivative at 0
-        w = np.linalg.solve(V, rhs)
-        corr[:, j] = -(h[j] ** 3) / 12.0 * (F[:, idx] @ w)
+    h = np.diff(s)
+    j = np.arange(N1 - 1)
+    lo = np.clip(j - (k // 2 - 1), 0, N1 - k)
+    idx = lo[:, None] + np.arange(k)[None, :]                    # (N, k)
+    x = s[idx] - 0.5 * (s[:-1] + s[1:])[:, None]
+    V = x[:, None, :] ** np.arange(k)[None, :, None]             # (N, k powers, k nodes)
+    terms = _DC_TERMS[:level]
+    rhs = np.zeros((N1 - 1, k, len(terms)))
+    for c, (d, _, _) in enumerate(terms):
+        rhs[:, d, c] = float(np.prod(np.arange(1, d + 1)))      # d-th derivative at 0
+    W = np.linalg.solve(V, rhs)                                 # (N, k, terms)
+    Fi = F[:, idx]                                              # (m, N, k)
+    for c, (_, coef, p) in enumerate(terms):
+        corr += coef * h ** p * np.einsum("mnk,nk->mn", Fi, W[:, :, c])
     return corr
 
 
@@ -293,21 +308,29 @@ def _validate(fun, bc, mesh, y0):
     return s, Y.copy()
 
 
-def _refine(s, Y):
-    mid = 0.5 * (s[:-1] + s[1:])
+def _refine(s, Y, flags):
+    """Bisect the flagged intervals; Y interpolated linearly onto the new nodes."""
+    mid = 0.5 * (s[:-1] + s[1:])[flags]
     s2 = np.sort(np.concatenate([s, mid]))
     Y2 = np.array([np.interp(s2, s, y) for y in Y])
     return s2, Y2
 
 
 def solve(fun, bc, mesh, y0, *, jac=None, tol: float = 1e-8, max_newton: int = 50,
-          deferred_correction: bool = True, max_refinements: int = 6) -> BVPResult:
+          corrections: int = 2, max_refinements: int = 8) -> BVPResult:
     """Solve y' = fun(s, y), bc(y(a), y(b)) = 0 (module docstring).
 
     ``fun(s, Y)`` is vectorised over the nodes (Y of shape (m, N+1)), as in
     scipy.integrate.solve_bvp; ``jac(s, Y)`` optional, shape (m, m, N+1).
-    ``tol`` bounds the estimated global error (max norm, relative to max(1, |y|)).
+    ``corrections``: deferred-correction levels (0, 1, 2 -> order 2, 4, 6).
+    ``tol`` bounds the estimated global error (max norm, relative to
+    max(1, |y|)).  The estimate is the change made by the last correction
+    level (with ``corrections=0``, a Richardson estimate from a halved mesh);
+    the intervals where it exceeds the tolerance are bisected and the problem
+    is solved again, until the estimate meets the tolerance.
     """
+    if corrections not in (0, 1, 2):
+        raise InvalidProblemError(f"corrections must be 0, 1 or 2 (orders 2, 4, 6); got {corrections}")
     s, Y = _validate(fun, bc, mesh, y0)
     history_all = []
     prev = None
@@ -319,32 +342,33 @@ def solve(fun, bc, mesh, y0, *, jac=None, tol: float = 1e-8, max_newton: int = 5
             return BVPResult(s, Y, status, False, f"{status} after {steps} Newton steps on "
                              f"{s.size} nodes (residual {res:.2e})", res, np.inf, 2,
                              len(history_all), history_all)
-        order, Ysol = 2, Y
-        if deferred_correction:
-            F = fun(s, Y)
-            corr = _dc_correction(s, F)
-            Yc, status_c, res_c, _, hist_c = _newton(fun, bc, s, Y, jac, ntol, max_newton, corr)
+        order, Ysol, Yprev = 2, Y, None
+        for c in range(1, corrections + 1):
+            corr = _dc_correction(s, fun(s, Ysol), c)
+            Yc, status_c, res_c, _, hist_c = _newton(fun, bc, s, Ysol, jac, ntol, max_newton, corr)
             history_all += hist_c
-            if status_c == "solved":
-                Ysol, order = Yc, 4
+            if status_c != "solved":
+                break
+            Yprev, Ysol, order = Ysol, Yc, 2 + 2 * c
         scale = max(1.0, float(np.max(np.abs(Ysol))))
-        if prev is not None:
-            ps, pY = prev
-            est = float(np.max(np.abs(Ysol[:, ::2] - pY))) / scale
-            if order == 4:
-                est /= 15.0   # Richardson: e(h) ~ C h^4, difference = 15 e(h)
-            else:
-                est /= 3.0
-        else:
-            est = (float(np.max(np.abs(Ysol - Y))) / scale) if order == 4 else np.inf
-        if est <= tol and prev is not None or (level == max_refinements):
+        if Yprev is not None:
+            node_err = np.max(np.abs(Ysol - Yprev), axis=0) / scale
+            est = float(node_err.max())
+            flags = np.maximum(node_err[:-1], node_err[1:]) > tol
+            if flags.sum() > 0.5 * flags.size:
+                flags[:] = True        # most intervals: refine uniformly
+        else:   # order 2 only: Richardson against the previous mesh (halved)
+            est = np.inf if prev is None else \
+                float(np.max(np.abs(Ysol[:, ::2] - prev[1]))) / scale / 3.0
+            flags = np.ones(s.size - 1, bool)
+        if est <= tol or level == max_refinements:
             ok = est <= tol
             msg = (f"solved on {s.size} nodes, order {order}, estimated error {est:.1e}"
                    + ("" if ok else f" > tol {tol:.0e} after {level} refinements"))
             return BVPResult(s, Ysol, "solved" if ok else "no convergence", ok, msg, res, est,
                              order, len(history_all), history_all)
         prev = (s, Ysol)
-        s, Y = _refine(s, Ysol)
+        s, Y = _refine(s, Ysol, flags)
     raise AssertionError("unreachable")
 
 

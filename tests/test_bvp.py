@@ -57,21 +57,38 @@ def test_column_buckled_branch_past_alpha_10():
         assert ellipk(k * k) ** 2 == pytest.approx(g, rel=2e-3)
 
 
-def test_observed_orders_two_and_four():
+def test_observed_orders_two_four_and_six():
     # y'' = -y on [0, 1], y(0) = 0, y'(1) = cos 1: y = sin s
     f = lambda s, Y: np.array([Y[1], -Y[0]])  # noqa: E731
     bc = lambda a, b: np.array([a[0], b[1] - np.cos(1.0)])  # noqa: E731
-    errs = {False: [], True: []}
+    errs = {0: [], 1: [], 2: []}
     for N in (10, 20, 40):
         mesh = np.linspace(0, 1, N + 1)
-        for dc in (False, True):
-            r = bvp.solve(f, bc, mesh, np.zeros(2), deferred_correction=dc, max_refinements=0,
-                          tol=1e-14)
-            errs[dc].append(np.max(np.abs(r.y[0] - np.sin(mesh))))
-    o2 = np.log2(np.array(errs[False][:-1]) / np.array(errs[False][1:]))
-    o4 = np.log2(np.array(errs[True][:-1]) / np.array(errs[True][1:]))
-    assert np.all(np.abs(o2 - 2) < 0.1), o2
-    assert np.all(np.abs(o4 - 4) < 0.3), o4
+        for c in errs:
+            r = bvp.solve(f, bc, mesh, np.zeros(2), corrections=c, max_refinements=0, tol=1e-15)
+            assert r.order == 2 + 2 * c
+            errs[c].append(np.max(np.abs(r.y[0] - np.sin(mesh))))
+    orders = {c: np.log2(np.array(e[:-1]) / np.array(e[1:])) for c, e in errs.items()}
+    assert np.all(np.abs(orders[0] - 2) < 0.1), orders
+    assert np.all(np.abs(orders[1] - 4) < 0.3), orders
+    assert np.all(np.abs(orders[2] - 6) < 0.5), orders
+
+
+def test_error_estimate_is_honest_and_refinement_is_local():
+    """A boundary layer: ε y'' = y, y(0) = 1, y(1) = 0 (ε = 1e-3), exact
+    y = sinh((1 - s)/√ε)/sinh(1/√ε).  The estimate must bound the true error
+    and the added nodes must crowd into the layer at s = 0."""
+    eps = 1e-3
+    f = lambda s, Y: np.array([Y[1], Y[0] / eps])  # noqa: E731
+    bc = lambda a, b: np.array([a[0] - 1.0, b[0]])  # noqa: E731
+    r = bvp.solve(f, bc, np.linspace(0, 1, 11), np.zeros(2), tol=1e-7)
+    assert r.ok, r.message
+    k = 1 / np.sqrt(eps)
+    exact = np.sinh(k * (1 - r.mesh)) / np.sinh(k)
+    scale = max(1.0, np.abs(r.y).max())
+    assert np.abs(r.y[0] - exact).max() / scale <= r.error_estimate <= 1e-7
+    h = np.diff(r.mesh)
+    assert h[0] < h[-1] / 4              # refined where the layer is, not everywhere
 
 
 def test_same_answer_as_scipy_solve_bvp():
