@@ -24,6 +24,7 @@ import numpy as np
 from qpcontact import bvp
 
 __all__ = ["cantilever", "cantilever_general", "column", "cantilever_curve", "tip_deflection",
+           "cantilever_dynamics", "RodMotion",
            "spatial_cantilever"]
 
 
@@ -230,3 +231,112 @@ def spatial_cantilever(force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0), *, torsion
         Y = res.y
     f, bc = fun_for(1.0)
     return bvp.solve(f, bc, mesh, Y, tol=tol)
+
+
+# -- rod dynamics: one BVP per time step (P1) ---------------------------------------------
+
+#: Backward-difference velocity formulas ẋ_{n+1} = (Σ_i a_i x_{n+1-i}) / h:
+#: BDF1, BDF2 and Park's stiffly stable three-step formula (P1's choice).
+_PARK = {1: (1.0, -1.0), 2: (1.5, -2.0, 0.5), 3: (10 / 6, -15 / 6, 6 / 6, -1 / 6)}
+
+
+class RodMotion:
+    """A planar rod's motion: times ``t``, tip positions ``tip`` (x, y), the
+    states ``y`` per step (rows θ, κ, x, y, F_x, F_y on ``mesh``), Newton
+    steps per time step, and how it ended (``status``, ``message``)."""
+
+    def __init__(self, mesh, t, states, newton, status, message):
+        self.mesh, self.t, self.y = mesh, np.array(t), states
+        self.tip = np.array([[Y[2, -1], Y[3, -1]] for Y in states])
+        self.newton = newton
+        self.status, self.message = status, message
+        self.ok = status == "solved"
+
+
+def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
+                        distributed=(0.0, 0.0), nodes: int = 41, tol: float = 1e-9,
+                        order: int = 3) -> RodMotion:
+    """Large planar motion of an inextensible cantilever (rotary inertia
+    neglected), released at t = 0 from its static equilibrium under a
+    transverse tip load α0 = PL²/EI.
+
+    Nondimensional: s = S/L, time in units of L²√(ρA/EI), forces × L²/EI.
+    Unknowns along s: θ, κ = θ' (= ML/EI), x, y and the internal force F (on
+    the part [0, s] from the part beyond s):
+
+        θ' = κ,  κ' = F_x sin θ - F_y cos θ,  x' = cos θ,  y' = sin θ,
+        F' = r̈ - q            (the element's momentum balance),
+
+    clamped at s = 0 (θ = x = y = 0), free at s = 1 (κ = 0, F = tip load).
+    Time: r̈_{n+1} by Park's three-step formula applied twice (ẋ from x, ẍ
+    from ẋ; ``order`` 1 or 2 for BDF1/BDF2), so each step is one nonlinear BVP
+    in s with F' = (a₀/h)² r_{n+1} + history — solved by qpcontact.bvp on a
+    fixed mesh.  The rod was at rest before t = 0 (constant history).
+    ``tip_load(t) -> (P_x, P_y)`` for t > 0 (default none: free vibration);
+    ``distributed`` (q_x, q_y) per unit length (gravity: (0, -ρAgL³/EI)).
+    """
+    if order not in _PARK:
+        from qpcontact.errors import InvalidOptionError
+
+        raise InvalidOptionError(f"order must be 1, 2 or 3 (BDF1, BDF2, Park); got {order}")
+    a = np.array(_PARK[order])
+    c = a[0] / h
+    mesh = np.linspace(0.0, 1.0, nodes)
+    start = cantilever(alpha0, nodes=nodes, tol=tol) if alpha0 else None
+    Y0 = np.zeros((6, nodes))
+    Y0[2] = mesh
+    if start is not None:
+        if not start.ok:
+            return RodMotion(mesh, [0.0], [Y0], [], start.status, f"initial state: {start.message}")
+        Y0[:4] = start(mesh)
+        Y0[5] = -alpha0
+    qx, qy = (float(v) for v in distributed)
+    k = len(a) - 1
+    X = [Y0[2:4].copy() for _ in range(k)]          # r_n, r_{n-1}, ... (at rest before t = 0)
+    V = [np.zeros((2, nodes)) for _ in range(k)]
+    states, times, newton = [Y0], [0.0], []
+    Y = Y0.copy()
+    n_steps = int(round(t_end / h))
+    for step in range(1, n_steps + 1):
+        t = step * h
+        Xh = sum(a[i + 1] * X[i] for i in range(k)) / h    # ẋ = c x + Xh
+        Vh = sum(a[i + 1] * V[i] for i in range(k)) / h    # ẍ = c ẋ + Vh = c² x + c Xh + Vh
+        hist = c * Xh + Vh
+        P = (0.0, 0.0) if tip_load is None else tuple(float(v) for v in tip_load(t))
+
+        def f(s, Yv, hist=hist):
+            th, ka, x, y, Fx, Fy = Yv
+            return np.array([ka, Fx * np.sin(th) - Fy * np.cos(th), np.cos(th), np.sin(th),
+                             c * c * x + hist[0] - qx, c * c * y + hist[1] - qy])
+
+        def jac(s, Yv):
+            th, ka, x, y, Fx, Fy = Yv
+            J = np.zeros((6, 6, th.size))
+            J[0, 1] = 1.0
+            J[1, 0] = Fx * np.cos(th) + Fy * np.sin(th)
+            J[1, 4] = np.sin(th)
+            J[1, 5] = -np.cos(th)
+            J[2, 0] = -np.sin(th)
+            J[3, 0] = np.cos(th)
+            J[4, 2] = c * c
+            J[5, 3] = c * c
+            return J
+
+        def bc(ya, yb, P=P):
+            return np.array([ya[0], ya[2], ya[3], yb[1], yb[4] - P[0], yb[5] - P[1]])
+
+        res = bvp.solve(f, bc, mesh, Y, jac=jac, tol=tol, corrections=1, max_refinements=0)
+        if not res.residual <= 1e-8 * max(1.0, float(np.max(np.abs(res.y)))):
+            return RodMotion(mesh, times, states, newton, res.status,
+                             f"time step {step} (t = {t:.4g}): {res.message}")
+        Y = res.y
+        r = Y[2:4]
+        v = c * r + Xh
+        X = [r.copy()] + X[:-1]
+        V = [v] + V[:-1]
+        states.append(Y.copy())
+        times.append(t)
+        newton.append(res.newton_steps)
+    return RodMotion(mesh, times, states, newton, "solved",
+                     f"{n_steps} steps of h = {h:g} (order {order}), "
+                     f"{np.mean(newton) if newton else 0:.1f} Newton steps per step")

@@ -1,5 +1,5 @@
 """Nonlinear two-point boundary-value problems (P1, Pustovoy, Levin &
-Krasnorutskiy 2014: the KLPALG solver) — first part: trapezoidal finite
+Krasnorutskiy 2014: the KLPALG solver): trapezoidal finite
 differences, damped Newton, deferred correction, pseudo-arclength continuation.
 
 Problem: y'(s) = f(s, y) on [a, b] (y in R^m), boundary conditions
@@ -39,7 +39,7 @@ import scipy.sparse.linalg as spla
 
 from .errors import InvalidProblemError
 
-__all__ = ["BVPResult", "solve", "continuation", "ContinuationResult"]
+__all__ = ["BVPResult", "BlockLU", "solve", "continuation", "ContinuationResult"]
 
 ARMIJO_C = 0.11
 

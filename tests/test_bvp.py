@@ -261,3 +261,46 @@ def test_straight_column_branch_reports_the_buckling_bifurcation():
     assert len(path.bifurcations) == 1
     k = path.bifurcations[0]
     assert path.gammas[k - 1] < np.pi ** 2 / 4 < path.gammas[k]
+
+
+BETA1 = 1.8751040687119611            # first root of 1 + cos β cosh β = 0 (cantilever)
+T1 = 2 * np.pi / BETA1 ** 2           # first period, units L²√(ρA/EI)
+
+
+def _period(m):
+    y, t = m.tip[:, 1], m.t
+    i = np.flatnonzero((y[:-1] < 0) & (y[1:] >= 0))
+    crossings = t[i] - y[i] * (t[i + 1] - t[i]) / (y[i + 1] - y[i])
+    return float(np.diff(crossings).mean())
+
+
+def test_rod_dynamics_small_vibration_has_the_euler_bernoulli_period_at_order_two():
+    """Released from a small static tip deflection, the tip vibrates at the
+    Euler-Bernoulli fundamental period 2π/β₁²; Park's method converges to it
+    at second order."""
+    errs = []
+    for per_period in (20, 40, 80):
+        m = rods.cantilever_dynamics(0.01, 3 * T1, T1 / per_period)
+        assert m.ok, m.message
+        errs.append(abs(_period(m) / T1 - 1))
+    assert errs[-1] < 3e-3
+    orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    assert np.all((orders > 1.6) & (orders < 2.4)), (errs, orders)
+
+
+def test_rod_dynamics_suddenly_applied_load_doubles_the_static_deflection():
+    """A tip load P applied suddenly to the straight rod at rest: the tip swings
+    to about twice the static deflection PL³/3EI (linear theory, first mode)."""
+    m = rods.cantilever_dynamics(0.0, 1.2 * T1, T1 / 160, tip_load=lambda t: (0.0, -0.01))
+    assert m.ok, m.message
+    ratio = m.tip[:, 1].min() / (-0.01 / 3)
+    assert 1.95 < ratio < 2.02, ratio
+
+
+def test_rod_dynamics_large_swing_keeps_the_length_and_the_amplitude():
+    m = rods.cantilever_dynamics(5.0, 1.0 * T1, T1 / 80)
+    assert m.ok, m.message
+    assert np.hypot(*m.tip.T).max() <= 1.0 + 1e-6          # inextensible
+    lo, hi = m.tip[:, 1].min(), m.tip[:, 1].max()
+    assert abs(hi + lo) < 0.02 * abs(lo)                    # swings to the mirror position
+    np.testing.assert_allclose(lo, -rods.tip_deflection(rods.cantilever(5.0)), rtol=1e-6)
