@@ -24,7 +24,7 @@ import numpy as np
 from qpcontact import bvp
 
 __all__ = ["cantilever", "cantilever_general", "column", "cantilever_curve", "tip_deflection",
-           "cantilever_dynamics", "RodMotion",
+           "cantilever_dynamics", "spatial_cantilever_dynamics", "RodMotion",
            "spatial_cantilever"]
 
 
@@ -181,6 +181,17 @@ def _rotate_T(q, v):
     return _rotate(conj, v)
 
 
+def _spatial_f(Y, Binv):
+    """Right-hand side of the spatial rod's statics (rows r, q, n, m), n' = 0."""
+    N = Y.shape[1]
+    q, n, m = Y[3:7], Y[7:10], Y[10:13]
+    t = _rotate(q, np.repeat(np.array([[1.0], [0.0], [0.0]]), N, axis=1))
+    kappa = Binv * _rotate_T(q, m)
+    dq = 0.5 * _qmul(q, np.vstack([np.zeros(N), kappa]))
+    dm = -np.cross(t.T, n.T).T
+    return np.vstack([t, dq, np.zeros((3, N)), dm])
+
+
 def spatial_cantilever(force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0), *, torsion_ratio: float = 1.0,
                        nodes: int = 81, tol: float = 1e-8, steps: int = 20):
     """A spatial, inextensible and unshearable Kirchhoff rod clamped at s = 0
@@ -199,17 +210,10 @@ def spatial_cantilever(force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0), *, torsion
     F = np.asarray(force, float)
     Mo = np.asarray(moment, float)
     Binv = np.array([1.0 / torsion_ratio, 1.0, 1.0])[:, None]
-    e1 = np.array([1.0, 0.0, 0.0])
 
     def fun_for(lam):
         def f(s, Y):
-            N = Y.shape[1]
-            q, n, m = Y[3:7], Y[7:10], Y[10:13]
-            t = _rotate(q, np.repeat(e1[:, None], N, axis=1))
-            kappa = Binv * _rotate_T(q, m)
-            dq = 0.5 * _qmul(q, np.vstack([np.zeros(N), kappa]))
-            dm = -np.cross(t.T, n.T).T
-            return np.vstack([t, dq, np.zeros((3, N)), dm])
+            return _spatial_f(Y, Binv)
 
         def bc(ya, yb):
             return np.concatenate([ya[0:3], ya[3:7] - np.array([1.0, 0, 0, 0]),
@@ -340,3 +344,65 @@ def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
     return RodMotion(mesh, times, states, newton, "solved",
                      f"{n_steps} steps of h = {h:g} (order {order}), "
                      f"{np.mean(newton) if newton else 0:.1f} Newton steps per step")
+
+
+def spatial_cantilever_dynamics(force0=(0.0, 0.0, 0.0), t_end: float = 1.0, h: float = 0.05, *,
+                                tip_force=None, moment0=(0.0, 0.0, 0.0), torsion_ratio: float = 1.0,
+                                nodes: int = 41, tol: float = 1e-8, order: int = 3) -> RodMotion:
+    """Spatial motion of the Kirchhoff cantilever of :func:`spatial_cantilever`
+    (rotary inertia neglected), released at t = 0 from its static equilibrium
+    under ``force0``/``moment0``; ``tip_force(t) -> (3,)`` for t > 0 (default
+    none).  The statics' n' = 0 becomes the momentum balance n' = r̈ with r̈ by
+    Park's formula (see :func:`cantilever_dynamics`; units likewise): one
+    13-unknown BVP per step.  ``RodMotion.y`` rows: r, q, n, m; ``tip`` holds
+    (x, y, z)."""
+    if order not in _PARK:
+        from qpcontact.errors import InvalidOptionError
+
+        raise InvalidOptionError(f"order must be 1, 2 or 3 (BDF1, BDF2, Park); got {order}")
+    a = np.array(_PARK[order])
+    c = a[0] / h
+    Binv = np.array([1.0 / torsion_ratio, 1.0, 1.0])[:, None]
+    start = spatial_cantilever(force0, moment0, torsion_ratio=torsion_ratio, nodes=nodes, tol=tol)
+    mesh = np.linspace(0.0, 1.0, nodes)
+    if not start.ok:
+        return RodMotion(mesh, [0.0], [np.zeros((13, nodes))], [], start.status,
+                         f"initial state: {start.message}")
+    Y = start(mesh)
+    k = len(a) - 1
+    X = [Y[0:3].copy() for _ in range(k)]
+    V = [np.zeros((3, nodes)) for _ in range(k)]
+    states, times, newton = [Y.copy()], [0.0], []
+    n_steps = int(round(t_end / h))
+    for step in range(1, n_steps + 1):
+        t = step * h
+        Xh = sum(a[i + 1] * X[i] for i in range(k)) / h
+        Vh = sum(a[i + 1] * V[i] for i in range(k)) / h
+        hist = c * Xh + Vh
+        F = np.zeros(3) if tip_force is None else np.asarray(tip_force(t), float)
+
+        def f(s, Yv, hist=hist):
+            out = _spatial_f(Yv, Binv)
+            out[7:10] = c * c * Yv[0:3] + hist
+            return out
+
+        def bc(ya, yb, F=F):
+            return np.concatenate([ya[0:3], ya[3:7] - np.array([1.0, 0, 0, 0]), yb[7:10] - F,
+                                   yb[10:13]])
+
+        res = bvp.solve(f, bc, mesh, Y, tol=tol, corrections=1, max_refinements=0)
+        if not res.residual <= 1e-8 * max(1.0, float(np.max(np.abs(res.y)))):
+            return RodMotion(mesh, times, states, newton, res.status,
+                             f"time step {step} (t = {t:.4g}): {res.message}")
+        Y = res.y
+        r = Y[0:3]
+        X = [r.copy()] + X[:-1]
+        V = [c * r + Xh] + V[:-1]
+        states.append(Y.copy())
+        times.append(t)
+        newton.append(res.newton_steps)
+    motion = RodMotion(mesh, times, states, newton, "solved",
+                       f"{n_steps} steps of h = {h:g} (order {order}), "
+                       f"{np.mean(newton) if newton else 0:.1f} Newton steps per step")
+    motion.tip = np.array([Yk[0:3, -1] for Yk in states])
+    return motion

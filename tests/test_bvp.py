@@ -304,3 +304,25 @@ def test_rod_dynamics_large_swing_keeps_the_length_and_the_amplitude():
     lo, hi = m.tip[:, 1].min(), m.tip[:, 1].max()
     assert abs(hi + lo) < 0.02 * abs(lo)                    # swings to the mirror position
     np.testing.assert_allclose(lo, -rods.tip_deflection(rods.cantilever(5.0)), rtol=1e-6)
+
+
+@pytest.mark.parametrize("plane", ["y", "z"])
+def test_spatial_rod_dynamics_in_a_plane_is_the_planar_rod_dynamics(plane):
+    """Large in-plane motion (released from α = 2) of the 13-unknown spatial
+    rod against the 6-unknown planar one, in either bending plane."""
+    force = (0.0, -2.0, 0.0) if plane == "y" else (0.0, 0.0, -2.0)
+    spatial = rods.spatial_cantilever_dynamics(force, 0.6 * T1, T1 / 30, torsion_ratio=0.6)
+    planar = rods.cantilever_dynamics(2.0, 0.6 * T1, T1 / 30)
+    assert spatial.ok and planar.ok
+    cols = [0, 1] if plane == "y" else [0, 2]
+    np.testing.assert_allclose(spatial.tip[:, cols], planar.tip, atol=2e-6)
+
+
+def test_spatial_rod_dynamics_oblique_small_vibration_period():
+    m = rods.spatial_cantilever_dynamics((0.0, 0.006, -0.008), 2.2 * T1, T1 / 80, torsion_ratio=0.7)
+    assert m.ok, m.message
+    d = (0.006 * m.tip[:, 1] - 0.008 * m.tip[:, 2]) / 0.01      # along the initial deflection
+    motion = type("M", (), {"tip": np.column_stack([m.tip[:, 0], d]), "t": m.t})
+    assert abs(_period(motion) / T1 - 1) < 3e-3
+    # the motion stays in the plane of the initial deflection (isotropic section)
+    np.testing.assert_allclose(m.tip[:, 1] * 0.008, -m.tip[:, 2] * 0.006, atol=1e-9)
