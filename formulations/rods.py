@@ -1,5 +1,5 @@
-"""Thin rods with large deflections (P1) — first part: the planar inextensible
-elastica under a dead load, solved by qpcontact.bvp.
+"""Thin rods with large deflections (P1): the planar inextensible elastica
+under a dead load, solved by qpcontact.bvp, and what builds on it.
 
 Nondimensional: arc length s in [0, 1] (s = S/L), load parameter α = P L²/EI,
 positions x, y in units of L.  Unknowns y = (θ, κ, x, y): the tangent angle,
@@ -14,7 +14,9 @@ the curvature θ' (= M L/EI), and the centreline.  Clamped at s = 0
 
 Columns: clamped-free or pinned-pinned.  :func:`cantilever_general` adds
 follower loads and extensibility; :func:`spatial_cantilever` is the spatial
-Kirchhoff rod (statics).  Still to come (issue 9): rod dynamics as in P1.
+Kirchhoff rod (statics); :func:`cantilever_dynamics` and
+:func:`spatial_cantilever_dynamics` their motion, one BVP per time step with
+Park's implicit multistep method (P1).
 """
 
 from __future__ import annotations
