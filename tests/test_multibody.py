@@ -299,9 +299,11 @@ def _pinocchio_twin(spec):
     return pm
 
 
+# Pinocchio's Data holds nv³-sized tensors (8 nv³ bytes each: 0.5 GB at nv = 400),
+# so the 200-body case is a 1-DOF chain and the trees stay near nv = 200.
 @pytest.mark.parametrize("N,kinds,tree", [(10, ("rev",), False), (200, ("rev",), False),
                                           (60, ("rev", "pri", "sph", "free"), True),
-                                          (200, ("rev", "sph"), True)])
+                                          (100, ("rev", "sph"), True)])
 def test_mass_matrix_and_forward_dynamics_match_pinocchio(N, kinds, tree):
     rng = np.random.default_rng(N)
     m, spec = random_tree(N, rng, kinds, tree)
