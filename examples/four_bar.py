@@ -19,28 +19,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from formulations import multibody as mb  # noqa: E402
-from formulations.multibody.constraints import PointLoop, assemble_loop_state  # noqa: E402
-
-CRANK, COUPLER, ROCKER, GROUND = 0.2, 0.5, 0.4, 0.45   # link lengths [m]
-
-
-def four_bar():
-    """Crank (1 kg), coupler (2 kg), rocker (1.5 kg) as uniform rods on
-    revolute joints, rocker tip pinned to the ground at (GROUND, 0); gravity -y.
-    Returns (model, loops, q0, v0) with the crank at 1.2 rad turning at 3 rad/s."""
-    m = mb.Model(gravity=(0.0, -9.81, 0.0))
-
-    def rod(L, mass):
-        return dict(mass=mass, com=(L / 2, 0, 0),
-                    inertia=np.diag([1e-6, mass * L ** 2 / 12, mass * L ** 2 / 12]))
-
-    m.add_body("crank", 0, mb.Revolute("z"), **rod(CRANK, 1.0))
-    m.add_body("coupler", 1, mb.Revolute("z"), placement=(CRANK, 0, 0), **rod(COUPLER, 2.0))
-    m.add_body("rocker", 2, mb.Revolute("z"), placement=(COUPLER, 0, 0), **rod(ROCKER, 1.5))
-    loops = [PointLoop("rocker", (ROCKER, 0, 0), 0, (GROUND, 0, 0), axes=(0, 1))]
-    q, v = assemble_loop_state(m, [1.2, -1.0, -1.5], [3.0, 0.0, 0.0], loops, fixed=[0])
-    return m, loops, q, v
-
+from formulations.multibody.demo import four_bar  # noqa: E402
 
 CASES = {
     "momentum, alpha=0": dict(form="momentum"),

@@ -6,7 +6,7 @@ import pytest
 from scipy.special import ellipk
 
 from formulations import multibody as mb
-from formulations.multibody.constraints import PointLoop, assemble_loop_state
+from formulations.multibody.demo import four_bar
 from qpcontact.errors import InvalidOptionError, InvalidProblemError
 
 G0 = 9.81
@@ -205,21 +205,6 @@ def test_rk4_energy_error_has_order_four():
         errs.append(np.abs(tr.energy - tr.energy[0]).max())
     order = np.log2(errs[0] / errs[1])
     assert 3.5 < order < 4.5, (errs, order)
-
-
-def four_bar():
-    a_, b_, c_, d_ = 0.2, 0.5, 0.4, 0.45
-    m = mb.Model(gravity=(0.0, -G0, 0.0))
-
-    def rod(L, mass):
-        return dict(mass=mass, com=(L / 2, 0, 0), inertia=np.diag([1e-6, mass * L ** 2 / 12, mass * L ** 2 / 12]))
-
-    m.add_body("crank", 0, mb.Revolute("z"), **rod(a_, 1.0))
-    m.add_body("coupler", 1, mb.Revolute("z"), placement=(a_, 0, 0), **rod(b_, 2.0))
-    m.add_body("rocker", 2, mb.Revolute("z"), placement=(b_, 0, 0), **rod(c_, 1.5))
-    loops = [PointLoop("rocker", (c_, 0, 0), 0, (d_, 0, 0), axes=(0, 1))]
-    q, v = assemble_loop_state(m, [1.2, -1.0, -1.5], [3.0, 0.0, 0.0], loops, fixed=[0])
-    return m, loops, q, v
 
 
 def test_four_bar_drift_stays_bounded_with_stabilisation():

@@ -1,5 +1,6 @@
-"""The multibody part of ``qpcontact demo``: a Cardan chain's velocities from
-momenta by P4's O(N) solvers against a dense solve of G, with timings."""
+"""Scenes for the multibody model (P4's Cardan chains, a closed four-bar
+linkage) and the multibody part of ``qpcontact demo``: a Cardan chain's
+velocities from momenta by P4's O(N) solvers against a dense solve of G."""
 
 from __future__ import annotations
 
@@ -9,7 +10,11 @@ import numpy as np
 import scipy.linalg
 
 from . import algorithms as alg
-from .model import Cardan, Data, Model
+from .constraints import PointLoop, assemble_loop_state
+from .model import Cardan, Data, Model, Revolute
+
+#: four-bar link lengths [m]: crank, coupler, rocker, ground
+FOUR_BAR = (0.2, 0.5, 0.4, 0.45)
 
 
 def cardan_chain(N: int, link: float = 0.1) -> Model:
@@ -19,6 +24,26 @@ def cardan_chain(N: int, link: float = 0.1) -> Model:
         m.add_body(f"b{i}", i - 1, Cardan("x", "y"), placement=(0, 0, -link if i > 1 else 0.0),
                    mass=1.0, com=(0, 0, -link / 2), inertia=(1e-3, 1e-3, 1e-4))
     return m
+
+
+def four_bar():
+    """Crank (1 kg), coupler (2 kg), rocker (1.5 kg) as uniform rods on
+    revolute joints in the xy plane, the rocker's tip pinned to the ground at
+    (0.45 m, 0); gravity -y.  Returns (model, loops, q0, v0) with the crank at
+    1.2 rad turning at 3 rad/s, closed consistently (positions and velocities)."""
+    crank, coupler, rocker, ground = FOUR_BAR
+    m = Model(gravity=(0.0, -9.81, 0.0))
+
+    def rod(L, mass):
+        return dict(mass=mass, com=(L / 2, 0, 0),
+                    inertia=np.diag([1e-6, mass * L ** 2 / 12, mass * L ** 2 / 12]))
+
+    m.add_body("crank", 0, Revolute("z"), **rod(crank, 1.0))
+    m.add_body("coupler", 1, Revolute("z"), placement=(crank, 0, 0), **rod(coupler, 2.0))
+    m.add_body("rocker", 2, Revolute("z"), placement=(coupler, 0, 0), **rod(rocker, 1.5))
+    loops = [PointLoop("rocker", (rocker, 0, 0), 0, (ground, 0, 0), axes=(0, 1))]
+    q, v = assemble_loop_state(m, [1.2, -1.0, -1.5], [3.0, 0.0, 0.0], loops, fixed=[0])
+    return m, loops, q, v
 
 
 def _best(fn, reps=5):
