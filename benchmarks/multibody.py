@@ -39,7 +39,8 @@ import numpy as np  # noqa: E402
 CANDIDATES = ("ldlt", "sweep", "momentum-rhs", "lagrange-dense", "pinocchio-aba",
               "pinocchio-chol", "mujoco-forward", "mujoco-step")
 DENSE_MAX = 1000          # lagrange-dense beyond: G alone is 8 (2N)² bytes, O(N³) flops
-MUJOCO_MAX = 3000         # mujoco beyond: its dense LDL on a chain is cubic (~1 min per step at 5000)
+MUJOCO_MAX = 1000         # mujoco beyond: MjSpec.compile failed at N = 3000 ("Element name '', id
+                          # 1024", after ~6 min; a nesting limit) and its dense LDL is cubic anyway
 MEMORY_LIMIT = 6 << 30    # address-space cap per case (Pinocchio's createData allocates nv³)
 LINK, MASS, INERTIA = 0.1, 1.0, (1e-3, 1e-3, 1e-4)
 
@@ -66,11 +67,8 @@ def _time(fn, budget=0.3) -> float:
 
 def ours(N):
     from formulations import multibody as mb
-    m = mb.Model(gravity=(0.0, 0.0, -9.81))
-    for i in range(1, N + 1):
-        m.add_body(f"b{i}", i - 1, mb.Cardan("x", "y"), placement=(0, 0, -LINK if i > 1 else 0.0),
-                   mass=MASS, com=(0, 0, -LINK / 2), inertia=INERTIA)
-    return mb, m
+    from formulations.multibody.demo import cardan_chain
+    return mb, cardan_chain(N, LINK)
 
 
 def make(name: str, N: int):
