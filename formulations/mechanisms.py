@@ -254,6 +254,13 @@ class Mechanism:
                     D[k] += sign * (c.normal @ (Jd @ v))
         return Phi, J, D
 
+    def step_data(self, t, q, v):
+        """What one contact step needs at (t, q, ν): (G as an O(N) factorized
+        operator, Q, J, D, Φ) — the penalty QP and the exact LCP of
+        formulations.penalty are built from these, without forming G⁻¹."""
+        Phi, J, D = self.constraints(q, v)
+        return self.mass_operator(q), self.generalized_forces(t, q, v), J, D, Phi
+
     def compliance(self):
         if "compliance" not in self.effects:
             return None
@@ -292,9 +299,9 @@ class Mechanism:
         mu_now = mu
         for i in range(1, T.size):
             t = T[i - 1]
-            Phi, J, D = self.constraints(q, v)
+            Gop, Q, J, D, Phi = self.step_data(t, q, v)
             B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
-            step = PenaltyStep(self.mass_operator(q), self.generalized_forces(t, q, v), J, B, D, C)
+            step = PenaltyStep(Gop, Q, J, B, D, C)
             if route == "lcp":
                 sol = solve(exact_lcp(step), method="lemke" if method == "auto" else method,
                             accuracy=accuracy)
