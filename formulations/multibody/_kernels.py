@@ -661,17 +661,32 @@ def momenta(parent, Rrel, rho, H, nvj, iv, M, nu, V0):
 def momentum_rate(parent, Rrel, rho, H, Hd, nvj, iv, V, mu, fapp, tau):
     """ṗ_i = Ḣ_i'μ_i + H_i'(F_i - V_i x* μ_i) + τ_i, F_i the applied forces on
     the subtree of i about O_i (the rate of the subtree momentum is the
-    external force; the joint reaction's H_i' projection is the joint force τ_i)."""
+    external force; the joint reaction's H_i' projection is the joint force τ_i).
+    No allocation inside the loop."""
     nb = parent.size
     F = fapp.copy()
     pd = tau.copy()
+    g = np.empty(6)
     for i in range(nb - 1, 0, -1):
-        g = F[i] - _cross_force(V[i], mu[i])
+        w0, w1, w2 = V[i, 3], V[i, 4], V[i, 5]
+        v0, v1, v2 = V[i, 0], V[i, 1], V[i, 2]
+        L0, L1, L2 = mu[i, 0], mu[i, 1], mu[i, 2]
+        N0, N1, N2 = mu[i, 3], mu[i, 4], mu[i, 5]
+        # g = F - V x* μ,  V x* μ = (ω x L, v x L + ω x N)
+        g[0] = F[i, 0] - (w1 * L2 - w2 * L1)
+        g[1] = F[i, 1] - (w2 * L0 - w0 * L2)
+        g[2] = F[i, 2] - (w0 * L1 - w1 * L0)
+        g[3] = F[i, 3] - (v1 * L2 - v2 * L1 + w1 * N2 - w2 * N1)
+        g[4] = F[i, 4] - (v2 * L0 - v0 * L2 + w2 * N0 - w0 * N2)
+        g[5] = F[i, 5] - (v0 * L1 - v1 * L0 + w0 * N1 - w1 * N0)
         for k in range(nvj[i]):
-            pd[iv[i] + k] += Hd[i][:, k] @ mu[i] + H[i][:, k] @ g
+            s = 0.0
+            for c in range(6):
+                s += Hd[i, c, k] * mu[i, c] + H[i, c, k] * g[c]
+            pd[iv[i] + k] += s
         par = parent[i]
         if par > 0:
-            F[par] += _ct_apply(Rrel[i], rho[i], F[i])
+            _ct_add(Rrel[i], rho[i], F[i], F[par])
     return pd
 
 
