@@ -56,14 +56,14 @@ from .algorithms import (METHODS, MassOperator, configuration_rate, forward_dyna
                          forward_kinematics, gravity_forces, integrate, kinetic_energy,
                          mass_matrix, momenta, momentum_rate, momentum_rhs, nonlinear_effects,
                          point_jacobian, point_position, potential_energy, rnea,
-                         subtree_momenta, velocities_from_momenta)
+                         velocities_from_momenta)
 from .simulation import FORMS, INTEGRATORS, Trajectory, simulate
 from .model import Cardan, Data, Free, Joint, Model, Planar, Prismatic, Revolute, Spherical
 
 __all__ = ["METHODS", "MassOperator", "configuration_rate", "forward_dynamics",
            "forward_kinematics", "gravity_forces", "integrate", "kinetic_energy", "mass_matrix",
            "momenta", "momentum_rate", "momentum_rhs", "nonlinear_effects", "point_jacobian",
-           "point_position", "potential_energy", "rnea", "subtree_momenta",
+           "point_position", "potential_energy", "rnea",
            "velocities_from_momenta", "FORMS", "INTEGRATORS", "Trajectory", "simulate",
            "Cardan", "Data", "Free", "Joint", "Model", "Planar", "Prismatic", "Revolute",
            "Spherical"]

@@ -439,33 +439,29 @@ def _congruence_sym_add(R, rho, A, T, B11, B12, B22, X, out):
 
 
 @njit(cache=_CACHE)
-def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
-    """Solve the block-tridiagonal system (6) of P4 for the joint velocities ν,
-    body velocities V and subtree momenta μ, given generalized momenta p:
-
-        M V - S'μ = 0,   S V - H ν = (C_i V0 for the base's children),   H'μ = p.
-
-    Leaves to root: μ_i = Â_i C_i V_parent + β_i (articulated momenta); root
-    to leaves: ν_i, V_i, μ_i.  ``ldlt`` False: the sweep (explicit D_i⁻¹, full
-    6 x 6 updates); True: the LDL' variant (Cholesky factor of each joint block
-    D_i = H_i'Ī_iH_i, triangular solves, symmetric updates).  Returns ok=False
-    when a joint block is not positive definite.  No allocation inside the
-    loops: the work arrays are made once per call."""
+def momentum_factor(parent, Rrel, rho, H, nvj, M, ldlt):
+    """Factor P4's system (6), leaves to root, independently of p: the
+    articulated inertias Ī_i = M_i + Σ_c C_c'Â_cC_c, the joint blocks
+    D_i = H_i'Ī_iH_i and what the solve needs of them.  ``ldlt`` False: the
+    sweep (explicit D_i⁻¹, full 6 x 6 updates); True: the LDL' variant
+    (Cholesky factor of D_i, triangular solves, symmetric updates).  Returns
+    (Kmat, Lfac, Dinv, U, ok): per joint, Kmat = D⁻¹H'Ī (sweep) or W = L⁻¹U'
+    (ldlt), Lfac = L (ldlt), Dinv = D⁻¹ and U = Ī H (sweep; each array has
+    one dummy block for the variant that does not use it); ok=False when a
+    joint block is not positive definite.  No allocation inside the loop."""
     nb = parent.size
     Ibar = M.copy()
-    cbar = np.zeros((nb, 6))
-    Kmat = np.zeros((nb, 6, 6))    # sweep: D⁻¹U' (n x 6)   | ldlt: W = L⁻¹U' (n x 6)
-    Lfac = np.zeros((nb, 6, 6))    # ldlt: Cholesky factor of D
-    rhs = np.zeros((nb, 6))        # sweep: D⁻¹(p - H'c̄)  | ldlt: L⁻¹(p - H'c̄)
-    U = np.empty((6, 6))
+    Kmat = np.zeros((nb, 6, 6))
+    # each variant keeps only what its solve reads (the other's arrays are stubs)
+    Lfac = np.zeros((nb if ldlt else 1, 6, 6))
+    Dinv = np.zeros((1 if ldlt else nb, 6, 6))
+    Us = np.zeros((1 if ldlt else nb, 6, 6))
+    Ubuf = np.empty((6, 6))
     D = np.empty((6, 6))
-    Dinv = np.empty((6, 6))
-    Wk = np.empty((6, 6))
+    Ah = np.empty((6, 6))
     B = np.empty((6, 6))
     col = np.empty(6)
     row = np.empty(6)
-    r = np.empty(6)
-    beta = np.empty(6)
     T3 = np.empty((3, 3))
     B11 = np.empty((3, 3))
     B12 = np.empty((3, 3))
@@ -475,23 +471,19 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
         n = nvj[i]
         Hi = H[i]
         Ii = Ibar[i]
+        U = Ubuf if ldlt else Us[i]
         for a in range(6):                       # U = Ī H
             for k in range(n):
                 s = 0.0
                 for b in range(6):
                     s += Ii[a, b] * Hi[b, k]
                 U[a, k] = s
-        for k in range(n):                       # D = H'U, r = p - H'c̄
+        for k in range(n):                       # D = H'U
             for l in range(n):
                 s = 0.0
                 for b in range(6):
                     s += Hi[b, k] * U[b, l]
                 D[k, l] = s
-            s = p[iv[i] + k]
-            for b in range(6):
-                s -= Hi[b, k] * cbar[i, b]
-            r[k] = s
-        Ah = Wk   # reuse as the 6 x 6 Â below (Wk is not needed after K is stored)
         if ldlt:
             L = Lfac[i]
             for j in range(n):                   # Cholesky D = L L'
@@ -499,7 +491,7 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
                 for k in range(j):
                     s -= L[j, k] * L[j, k]
                 if not s > 0.0:
-                    return np.zeros(p.size), np.zeros((nb, 6)), np.zeros((nb, 6)), False
+                    return Kmat, Lfac, Dinv, Us, False
                 L[j, j] = np.sqrt(s)
                 for a in range(j + 1, n):
                     t = D[a, j]
@@ -513,52 +505,43 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
                     for k in range(a):
                         s -= L[a, k] * W[k, c]
                     W[a, c] = s / L[a, a]
-            y = rhs[i]
-            for a in range(n):                   # y = L⁻¹r
-                s = r[a]
-                for k in range(a):
-                    s -= L[a, k] * y[k]
-                y[a] = s / L[a, a]
-            for a in range(6):                   # Â = Ī - W'W (upper triangle), β = c̄ + W'y
+            for a in range(6):                   # Â = Ī - W'W (upper triangle)
                 for b in range(a, 6):
                     s = Ii[a, b]
                     for k in range(n):
                         s -= W[k, a] * W[k, b]
                     Ah[a, b] = s
                     Ah[b, a] = s
-                s = cbar[i, a]
-                for k in range(n):
-                    s += W[k, a] * y[k]
-                beta[a] = s
         else:
+            Di = Dinv[i]
             for a in range(n):                   # explicit inverse (Gauss-Jordan, partial pivoting)
                 for b in range(n):
                     B[a, b] = D[a, b]
-                    Dinv[a, b] = 1.0 if a == b else 0.0
+                    Di[a, b] = 1.0 if a == b else 0.0
             for c in range(n):
                 piv = c
                 for a in range(c + 1, n):
                     if abs(B[a, c]) > abs(B[piv, c]):
                         piv = a
                 if B[piv, c] == 0.0:
-                    return np.zeros(p.size), np.zeros((nb, 6)), np.zeros((nb, 6)), False
+                    return Kmat, Lfac, Dinv, Us, False
                 if piv != c:
                     for k in range(n):
                         B[c, k], B[piv, k] = B[piv, k], B[c, k]
-                        Dinv[c, k], Dinv[piv, k] = Dinv[piv, k], Dinv[c, k]
+                        Di[c, k], Di[piv, k] = Di[piv, k], Di[c, k]
                 d = B[c, c]
                 for k in range(n):
                     B[c, k] /= d
-                    Dinv[c, k] /= d
+                    Di[c, k] /= d
                 for a in range(n):
                     if a != c and B[a, c] != 0.0:
                         f = B[a, c]
                         for k in range(n):
                             B[a, k] -= f * B[c, k]
-                            Dinv[a, k] -= f * Dinv[c, k]
+                            Di[a, k] -= f * Di[c, k]
             # K = D⁻¹H'Ī (the row factor of the elimination; D⁻¹U' would be
             # the same in exact arithmetic, but mixing Ī and Ī' lets the
-            # rounding asymmetry of Ī grow along a chain), y = D⁻¹r
+            # rounding asymmetry of Ī grow along a chain)
             for k in range(n):
                 for c in range(6):
                     s = 0.0
@@ -570,28 +553,76 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
                 for c in range(6):
                     s = 0.0
                     for k in range(n):
-                        s += Dinv[a, k] * B[k, c]
+                        s += Di[a, k] * B[k, c]
                     Km[a, c] = s
-                s = 0.0
-                for k in range(n):
-                    s += Dinv[a, k] * r[k]
-                rhs[i, a] = s
-            for a in range(6):                   # Â = Ī - U K (full), β = c̄ + U y
+            for a in range(6):                   # Â = Ī - U K (full)
                 for b in range(6):
                     s = Ii[a, b]
                     for k in range(n):
                         s -= U[a, k] * Km[k, b]
                     Ah[a, b] = s
-                s = cbar[i, a]
-                for k in range(n):
-                    s += U[a, k] * rhs[i, k]
-                beta[a] = s
         par = parent[i]
         if par > 0:
             if ldlt:
                 _congruence_sym_add(Rrel[i], rho[i], Ah, T3, B11, B12, B22, X3, Ibar[par])
             else:
                 _congruence_add(Rrel[i], rho[i], Ah, False, B, col, row, Ibar[par])
+    return Kmat, Lfac, Dinv, Us, True
+
+
+@njit(cache=_CACHE)
+def momentum_apply(parent, Rrel, rho, H, nvj, iv, M, Kmat, Lfac, Dinv, Us, p, V0, ldlt):
+    """Solve (6) for ν, V and the subtree momenta μ with the factors of
+    :func:`momentum_factor`, given generalized momenta p:
+
+        M V - S'μ = 0,   S V - H ν = (C_i V0 for the base's children),   H'μ = p.
+
+    Leaves to root, μ_i = Â_i C_i V_parent + β_i with β_i = c̄_i + Ī_iH_iD_i⁻¹
+    (p_i - H_i'c̄_i), c̄ the transported β of the children; root to leaves,
+    ν_i = D_i⁻¹(p_i - H_i'c̄_i - H_i'Ī_iC_iV_parent) and V_i by (1).  O(N) per
+    right-hand side."""
+    nb = parent.size
+    cbar = np.zeros((nb, 6))
+    rhs = np.zeros((nb, 6))        # sweep: D⁻¹(p - H'c̄)  | ldlt: L⁻¹(p - H'c̄)
+    r = np.empty(6)
+    beta = np.empty(6)
+    for i in range(nb - 1, 0, -1):
+        n = nvj[i]
+        Hi = H[i]
+        for k in range(n):                       # r = p - H'c̄
+            s = p[iv[i] + k]
+            for b in range(6):
+                s -= Hi[b, k] * cbar[i, b]
+            r[k] = s
+        y = rhs[i]
+        if ldlt:
+            L = Lfac[i]
+            W = Kmat[i]
+            for a in range(n):                   # y = L⁻¹r
+                s = r[a]
+                for k in range(a):
+                    s -= L[a, k] * y[k]
+                y[a] = s / L[a, a]
+            for a in range(6):                   # β = c̄ + W'y
+                s = cbar[i, a]
+                for k in range(n):
+                    s += W[k, a] * y[k]
+                beta[a] = s
+        else:
+            Di = Dinv[i]
+            U = Us[i]
+            for a in range(n):                   # y = D⁻¹r
+                s = 0.0
+                for k in range(n):
+                    s += Di[a, k] * r[k]
+                y[a] = s
+            for a in range(6):                   # β = c̄ + U y
+                s = cbar[i, a]
+                for k in range(n):
+                    s += U[a, k] * y[k]
+                beta[a] = s
+        par = parent[i]
+        if par > 0:
             _ct_add(Rrel[i], rho[i], beta, cbar[par])
     nu = np.zeros(p.size)
     V = np.zeros((nb, 6))
@@ -620,7 +651,7 @@ def momentum_solve(parent, Rrel, rho, H, nvj, iv, M, p, V0, ldlt):
             nu[iv[i] + k] = x[k]
             for c in range(6):
                 V[i, c] += H[i, c, k] * x[k]
-    return nu, V, subtree(parent, Rrel, rho, M, V), True
+    return nu, V, subtree(parent, Rrel, rho, M, V)
 
 
 @njit(cache=_CACHE)
@@ -691,7 +722,7 @@ def momentum_rate(parent, Rrel, rho, H, Hd, nvj, iv, V, mu, fapp, tau):
 
 
 @njit(cache=_CACHE)
-def qdot(jtype, iq, iv, nqj, q, nu, Rrel_J):
+def qdot(jtype, iq, iv, nqj, q, nu):
     """Configuration rates q̇ = K(q) ν (quaternions: q̇ = ½ q ⊗ (ω, 0))."""
     nb = jtype.size
     out = np.zeros(q.size)
@@ -700,8 +731,8 @@ def qdot(jtype, iq, iv, nqj, q, nu, Rrel_J):
         jt = jtype[i]
         if jt == SPHERICAL or jt == FREE:
             o = 0
-            if jt == FREE:
-                out[a:a + 3] = Rrel_J[i] @ nu[b:b + 3]
+            if jt == FREE:      # position rate: R_J ν_lin
+                out[a:a + 3] = _quat_rotation(q[a + 3], q[a + 4], q[a + 5], q[a + 6]) @ nu[b:b + 3]
                 o = 3
             x, y, z, w = q[a + o], q[a + o + 1], q[a + o + 2], q[a + o + 3]
             wx, wy, wz = nu[b + o], nu[b + o + 1], nu[b + o + 2]

@@ -19,7 +19,7 @@ from .model import Data, Model
 
 __all__ = ["forward_kinematics", "mass_matrix", "rnea", "nonlinear_effects", "forward_dynamics",
            "momenta", "velocities_from_momenta", "momentum_rhs", "momentum_rate",
-           "configuration_rate", "subtree_momenta", "gravity_forces",
+           "configuration_rate", "gravity_forces",
            "kinetic_energy", "potential_energy", "point_jacobian", "point_position",
            "integrate", "MassOperator", "METHODS"]
 
@@ -147,32 +147,36 @@ def forward_dynamics(model: Model, data: Data, q, v, tau=None, fext=None, t: flo
 
 
 def momenta(model: Model, data: Data, q, v, t: float = 0.0) -> np.ndarray:
-    """Generalized momenta p = ∂T/∂ν = H_i'μ_i (μ_i the subtree momenta)."""
-    q, v = model.check_state(q, v)
-    a, V0, _ = _fill(model, data, q, v, t)
-    return K.momenta(a["parent"], data.Rrel, data.rho, data.H, a["nvj"], a["iv"], a["M"], v, V0)
-
-
-def subtree_momenta(model: Model, data: Data, q, v, t: float = 0.0):
-    """Fill data.V and data.mu (subtree momenta) for the motion (q, ν); returns p."""
-    q, v = model.check_state(q, v)
-    a, V0, _ = _fill(model, data, q, v, t)
-    data.V = K.velocities(a["parent"], data.Rrel, data.rho, data.H, a["nvj"], a["iv"], v, V0)
+    """Generalized momenta p = ∂T/∂ν = H_i'μ_i; also fills data.V and data.mu
+    (the subtree momenta) for the motion (q, ν).  O(N)."""
+    forward_kinematics(model, data, q, v, t)
+    a = model.arrays
     data.mu = K.subtree(a["parent"], data.Rrel, data.rho, a["M"], data.V)
     return K.project(data.H, a["nvj"], a["iv"], data.mu, model.nv)
 
 
-def _solve_momentum(model, data, a, p, V0, method):
+def _factor_momentum(model, data, a, method):
+    """Factors of P4's system (6) at the joint data in ``data`` (p-independent)."""
     if method not in METHODS:
         raise InvalidOptionError(f"method must be one of {METHODS}; got {method!r}")
-    nu, V, mu, ok = K.momentum_solve(a["parent"], data.Rrel, data.rho, data.H, a["nvj"], a["iv"],
-                                     a["M"], p, V0, method == "ldlt")
+    *factors, ok = K.momentum_factor(a["parent"], data.Rrel, data.rho, data.H, a["nvj"], a["M"],
+                                     method == "ldlt")
     if not ok:
         raise SolverFailedError("a joint block H_i'Ī_iH_i is not positive definite: some joint "
                                 "moves a subtree without inertia (give the bodies mass/inertia "
                                 "along every joint motion)")
-    data.V, data.mu = V, mu
+    return factors
+
+
+def _apply_momentum(model, data, a, factors, p, V0, method):
+    nu, data.V, data.mu = K.momentum_apply(a["parent"], data.Rrel, data.rho, data.H, a["nvj"],
+                                           a["iv"], a["M"], *factors, p, V0, method == "ldlt")
     return nu
+
+
+def _solve_momentum(model, data, a, p, V0, method):
+    factors = _factor_momentum(model, data, a, method)
+    return _apply_momentum(model, data, a, factors, p, V0, method)
 
 
 def velocities_from_momenta(model: Model, data: Data, q, p, t: float = 0.0,
@@ -215,12 +219,7 @@ def momentum_rate(model: Model, data: Data, t: float, q, nu, tau=None, fext=None
 def configuration_rate(model: Model, q, v) -> np.ndarray:
     """q̇ = K(q)ν (identity except for quaternion joints)."""
     a = model.arrays
-    RJ = np.zeros((model.nbodies + 1, 3, 3))
-    free = np.flatnonzero(a["jtype"] == K.FREE)
-    for i in free:                     # position rate of a free joint: R_J ν_lin
-        s = a["iq"][i]
-        RJ[i] = K._quat_rotation(q[s + 3], q[s + 4], q[s + 5], q[s + 6])
-    return K.qdot(a["jtype"], a["iq"], a["iv"], a["nqj"], q, v, RJ)
+    return K.qdot(a["jtype"], a["iq"], a["iv"], a["nqj"], q, v)
 
 
 def kinetic_energy(model: Model, data: Data, q, v, t: float = 0.0) -> float:
@@ -288,8 +287,9 @@ def _se3_left_jacobian(w):
 
 
 class MassOperator:
-    """G(q) as a factorized operator without forming G⁻¹: ``solve(r)`` applies
-    G⁻¹ by the O(N) momentum-form solve (system (6) with the base at rest),
+    """G(q) as a factorized operator without forming G⁻¹: the momentum-form
+    factors of system (6) are computed once; ``solve(r)`` applies G⁻¹ by one
+    O(N) pass per right-hand side (the base at rest),
     ``matvec(x)`` applies G by the O(N) momenta recursion, ``toarray()`` forms G
     (CRBA) for those who need it.  Valid for the configuration it was built at."""
 
@@ -299,14 +299,19 @@ class MassOperator:
         self.method = method
         self._data = Data(model)
         self._a, _, _ = _fill(model, self._data, self.q, world=False)
+        self._factors = _factor_momentum(model, self._data, self._a, method)   # once
         self.shape = (model.nv, model.nv)
 
     def solve(self, r) -> np.ndarray:
+        """G⁻¹r for a vector or for each column of a matrix (one O(N) pass each)."""
         r = np.asarray(r, float)
         if r.ndim == 2:
-            return np.column_stack([self.solve(c) for c in r.T]) if r.shape[1] else \
-                np.zeros((self.model.nv, 0))
-        return _solve_momentum(self.model, self._data, self._a, r, np.zeros(6), self.method)
+            out = np.zeros((self.model.nv, r.shape[1]))
+            for k in range(r.shape[1]):
+                out[:, k] = self.solve(r[:, k])
+            return out
+        return _apply_momentum(self.model, self._data, self._a, self._factors, r, np.zeros(6),
+                               self.method)
 
     def matvec(self, x) -> np.ndarray:
         a, d = self._a, self._data

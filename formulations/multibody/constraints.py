@@ -101,8 +101,8 @@ def assemble_loop_state(model: Model, q_guess, v_guess, loops, fixed=(), tol: fl
 
 
 def loop_velocities(model: Model, data: Data, t, q, pbar, loops, alpha, method="ldlt"):
-    """(ν, σ, Φ, J_c, J̇_c) from the momentum-form state (q, p̄): the system of
-    the module docstring by the Schur complement, every G⁻¹ an O(N) solve."""
+    """(ν, σ) from the momentum-form state (q, p̄): the system of the module
+    docstring by the Schur complement, G⁻¹ by the O(N) momentum-form factors."""
     Phi, J, _ = loop_jacobian(model, data, q, np.zeros(model.nv), loops, t)
     X = alg.MassOperator(model, q, method).solve(J.T)          # G⁻¹J_c'
     x0 = alg.velocities_from_momenta(model, data, q, pbar, t, method)   # base law included

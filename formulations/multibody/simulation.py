@@ -14,7 +14,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 from scipy.integrate import solve_ivp
 
 from qpcontact.errors import InvalidOptionError, SolverFailedError
@@ -106,8 +105,8 @@ def simulate(model: Model, q0, v0, t_end: float, *, form: str = "momentum", meth
         def rhs(t, y):
             counter[0] += 1
             q, nu, sigma = unpack(t, y)
-            if loops:
-                alg.subtree_momenta(model, data, q, nu, t)
+            if loops:       # V, μ of the constrained motion ν (loop_velocities left x0's)
+                alg.momenta(model, data, q, nu, t)
             pd = alg.momentum_rate(model, data, t, q, nu, tau, fext)
             if loops:
                 _, _, Jd = con.loop_jacobian(model, data, q, nu, loops, t)
@@ -125,12 +124,12 @@ def simulate(model: Model, q0, v0, t_end: float, *, form: str = "momentum", meth
             q, v = y[:nq], y[nq:]
             tq = tau(t, q, v) if callable(tau) else tau
             fq = fext(t, q, v) if callable(fext) else fext
-            c = alg.nonlinear_effects(model, data, q, v, fq, t)
-            G = alg.mass_matrix(model, data, q)
-            r = (np.zeros(model.nv) if tq is None else np.asarray(tq, float)) - c
             if not loops:
-                a = scipy.linalg.cho_solve(scipy.linalg.cho_factor(G), r)
+                a = alg.forward_dynamics(model, data, q, v, tq, fq, t)
             else:
+                c = alg.nonlinear_effects(model, data, q, v, fq, t)
+                G = alg.mass_matrix(model, data, q)
+                r = (np.zeros(model.nv) if tq is None else np.asarray(tq, float)) - c
                 Phi, J, Jd = con.loop_jacobian(model, data, q, v, loops, t)
                 m = Phi.size
                 KKT = np.block([[G, J.T], [J, np.zeros((m, m))]])
