@@ -63,24 +63,30 @@ def _quat_rotation(qx, qy, qz, qw):
 
 
 @njit(cache=_CACHE)
-def _c_apply(R, rho, V):
-    """C V: parent-frame velocity -> child frame."""
-    w = V[3:]
-    v = V[:3] + _cross(w, rho)
-    out = np.empty(6)
-    out[:3] = R.T @ v
-    out[3:] = R.T @ w
-    return out
+def _c_to(R, rho, V, out):
+    """out = C V: parent-frame velocity -> child frame (no allocation)."""
+    wx, wy, wz = V[3], V[4], V[5]
+    vx = V[0] + wy * rho[2] - wz * rho[1]
+    vy = V[1] + wz * rho[0] - wx * rho[2]
+    vz = V[2] + wx * rho[1] - wy * rho[0]
+    for r in range(3):
+        out[r] = R[0, r] * vx + R[1, r] * vy + R[2, r] * vz
+        out[3 + r] = R[0, r] * wx + R[1, r] * wy + R[2, r] * wz
 
 
 @njit(cache=_CACHE)
-def _ct_apply(R, rho, f):
-    """C' f: child-frame force -> parent frame (moment moved to the parent origin)."""
-    F = R @ f[:3]
-    out = np.empty(6)
-    out[:3] = F
-    out[3:] = R @ f[3:] + _cross(rho, F)
-    return out
+def _ct_add(R, rho, f, out):
+    """out += C' f: child-frame force -> parent frame, moment moved to the parent
+    origin (no allocation)."""
+    F0 = R[0, 0] * f[0] + R[0, 1] * f[1] + R[0, 2] * f[2]
+    F1 = R[1, 0] * f[0] + R[1, 1] * f[1] + R[1, 2] * f[2]
+    F2 = R[2, 0] * f[0] + R[2, 1] * f[1] + R[2, 2] * f[2]
+    out[0] += F0
+    out[1] += F1
+    out[2] += F2
+    out[3] += R[0, 0] * f[3] + R[0, 1] * f[4] + R[0, 2] * f[5] + rho[1] * F2 - rho[2] * F1
+    out[4] += R[1, 0] * f[3] + R[1, 1] * f[4] + R[1, 2] * f[5] + rho[2] * F0 - rho[0] * F2
+    out[5] += R[2, 0] * f[3] + R[2, 1] * f[4] + R[2, 2] * f[5] + rho[0] * F1 - rho[1] * F0
 
 
 @njit(cache=_CACHE)
@@ -126,6 +132,8 @@ def _matmul3_to(A, B, out):
 
 _EZ = np.array([0.0, 0.0, 1.0])
 
+
+# -- joints ----------------------------------------------------------------------------------
 
 @njit(cache=_CACHE)
 def _joint_to(jt, ax, fixed, mask, q, iq, nu, iv, want_hdot, R, p, H, Hd, T1, T2):
@@ -269,27 +277,26 @@ def rnea(parent, Rrel, rho, H, Hd, nvj, iv, M, nu, nud, V0, A0, fext):
     f = np.zeros((nb, 6))
     V[0] = V0
     A[0] = A0
+    rel = np.empty(6)
     for i in range(1, nb):
         p = parent[i]
-        Vi = _c_apply(Rrel[i], rho[i], V[p])
-        Ai = _c_apply(Rrel[i], rho[i], A[p])
-        rel = np.zeros(6)
+        _c_to(Rrel[i], rho[i], V[p], V[i])
+        _c_to(Rrel[i], rho[i], A[p], A[i])
+        rel[:] = 0.0
         for k in range(nvj[i]):
             rel += H[i][:, k] * nu[iv[i] + k]
-            Ai += H[i][:, k] * nud[iv[i] + k] + Hd[i][:, k] * nu[iv[i] + k]
-        Vi += rel
-        Ai += _cross_motion(Vi, rel)
-        V[i] = Vi
-        A[i] = Ai
-        h = M[i] @ Vi
-        f[i] = M[i] @ Ai + _cross_force(Vi, h) - fext[i]
+            A[i] += H[i][:, k] * nud[iv[i] + k] + Hd[i][:, k] * nu[iv[i] + k]
+        V[i] += rel
+        A[i] += _cross_motion(V[i], rel)
+        h = M[i] @ V[i]
+        f[i] = M[i] @ A[i] + _cross_force(V[i], h) - fext[i]
     tau = np.zeros(nu.size)
     for i in range(nb - 1, 0, -1):
         for k in range(nvj[i]):
             tau[iv[i] + k] = H[i][:, k] @ f[i]
         p = parent[i]
         if p > 0:
-            f[p] += _ct_apply(Rrel[i], rho[i], f[i])
+            _ct_add(Rrel[i], rho[i], f[i], f[p])
     return tau
 
 
@@ -312,9 +319,9 @@ def crba(parent, Rrel, rho, H, nvj, iv, M, nv):
         G[iv[i]:iv[i] + n, iv[i]:iv[i] + n] = H[i][:, :n].T @ F
         j = i
         while parent[j] > 0:
-            Fn = np.empty((6, n))
+            Fn = np.zeros((6, n))
             for k in range(n):
-                Fn[:, k] = _ct_apply(Rrel[j], rho[j], F[:, k])
+                _ct_add(Rrel[j], rho[j], F[:, k], Fn[:, k])
             F = Fn
             j = parent[j]
             m = nvj[j]
@@ -325,32 +332,6 @@ def crba(parent, Rrel, rho, H, nvj, iv, M, nv):
 
 
 # -- dynamics, momentum form (P4) -------------------------------------------------------------
-
-@njit(cache=_CACHE)
-def _c_to(R, rho, V, out):
-    """out = C V without allocating (the hot loops' version of _c_apply)."""
-    wx, wy, wz = V[3], V[4], V[5]
-    vx = V[0] + wy * rho[2] - wz * rho[1]
-    vy = V[1] + wz * rho[0] - wx * rho[2]
-    vz = V[2] + wx * rho[1] - wy * rho[0]
-    for r in range(3):
-        out[r] = R[0, r] * vx + R[1, r] * vy + R[2, r] * vz
-        out[3 + r] = R[0, r] * wx + R[1, r] * wy + R[2, r] * wz
-
-
-@njit(cache=_CACHE)
-def _ct_add(R, rho, f, out):
-    """out += C' f without allocating."""
-    F0 = R[0, 0] * f[0] + R[0, 1] * f[1] + R[0, 2] * f[2]
-    F1 = R[1, 0] * f[0] + R[1, 1] * f[1] + R[1, 2] * f[2]
-    F2 = R[2, 0] * f[0] + R[2, 1] * f[1] + R[2, 2] * f[2]
-    out[0] += F0
-    out[1] += F1
-    out[2] += F2
-    out[3] += R[0, 0] * f[3] + R[0, 1] * f[4] + R[0, 2] * f[5] + rho[1] * F2 - rho[2] * F1
-    out[4] += R[1, 0] * f[3] + R[1, 1] * f[4] + R[1, 2] * f[5] + rho[2] * F0 - rho[0] * F2
-    out[5] += R[2, 0] * f[3] + R[2, 1] * f[4] + R[2, 2] * f[5] + rho[0] * F1 - rho[1] * F0
-
 
 @njit(cache=_CACHE)
 def _congruence_add(R, rho, A, sym, B, col, row, out):
