@@ -134,21 +134,17 @@ class Mechanism:
         at ``position``) at ``position`` (x, y [m], θ [rad], relative to
         ``parent``'s frame, default the ground) moving with ``velocity``
         (the rates of the ``dofs``, in the order x, y, theta)."""
-        dofs = (dofs,) if isinstance(dofs, str) else tuple(dofs)
-        bad = [d for d in dofs if d not in _AXES]
-        if bad or not dofs or len(set(dofs)) != len(dofs):
-            raise InvalidProblemError(f"dofs must be distinct names among {list(_AXES)}; got {dofs}")
-        if not mass > 0 or ("theta" in dofs and not inertia > 0):
-            raise InvalidProblemError(f"body {name!r}: mass (and inertia if it rotates) must be > 0")
         pose = np.array(position, float).reshape(3)
         vel = np.array(velocity, float).reshape(3)
-        joint = mb.Planar(free=dofs, fixed=pose)
-        # a planar body: tiny out-of-plane inertias keep G definite for no motion that exists
+        joint = mb.Planar(free=dofs, fixed=pose)      # validates the dofs
+        if not mass > 0 or (joint.mask[2] and not inertia > 0):
+            raise InvalidProblemError(f"body {name!r}: mass (and inertia if it rotates) must be > 0")
+        # planar motion only meets I_zz; the same value on the other axes never enters
         self.model.add_body(name, parent=0 if parent is None else parent, joint=joint, mass=mass,
                             inertia=np.diag([inertia, inertia, inertia]))
-        free = [a for a in _AXES if a in dofs]
-        self._q0 += [pose[_AXES.index(a)] for a in free]
-        self._v0 += [vel[_AXES.index(a)] for a in free]
+        on = joint.mask.astype(bool)
+        self._q0 += list(pose[on])
+        self._v0 += list(vel[on])
         return name
 
     def _body(self, name):
