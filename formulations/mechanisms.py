@@ -290,12 +290,12 @@ class Mechanism:
         Lam = np.zeros((T.size, nu))
         Phis = np.zeros((T.size, nu))
         Qs[0], Vs[0] = q, v
-        Phis[0] = self.constraints(q, v)[0]
         mus = np.full(T.size, np.nan)
         mu_now = mu
         for i in range(1, T.size):
             t = T[i - 1]
             Gop, Q, J, D, Phi = self.step_data(t, q, v)
+            Phis[i - 1] = Phi
             B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
             step = PenaltyStep(Gop, Q, J, B, D, C)
             if route == "lcp":
@@ -318,7 +318,7 @@ class Mechanism:
             q = mb.integrate(self.model, q, h * v + 0.5 * h * h * a)
             v = v + h * a
             Qs[i], Vs[i], Lam[i] = q, v, lam
-            Phis[i] = self.constraints(q, v)[0]
+        Phis[-1] = self.constraints(q, v)[0]
         return MechanismResult(self, T, Qs, Vs, Lam, Phis, mus, h, dt)
 
     def coordinate_names(self) -> list[str]:
