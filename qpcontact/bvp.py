@@ -151,8 +151,8 @@ class BlockLU:
         R = np.concatenate([rows, rows, rb, rb])
         C = np.concatenate([colsA, colsA + m, cb, cb + N * m])
         V = np.concatenate([A.ravel(), B.ravel(), Ja.ravel(), Jb.ravel()])
-        self.matrix = sp.csc_matrix((V, (R, C)), shape=(self.n, self.n))   # for bordered systems
-        self.matrix.eliminate_zeros()
+        self._triplets = (R, C, V)
+        self._matrix = None
         if self.separated:
             p = int(left.sum())
             # original row -> banded row: left conditions first, then intervals, then right
@@ -171,17 +171,35 @@ class BlockLU:
             self._lu, self._piv, info = dgbtrf(ab, kl, ku)
             self.kl, self.ku = kl, ku
             self.singular = info > 0       # an exactly zero pivot
-            diag = self._lu[kl + ku]
-            swaps = int(np.count_nonzero(self._piv != np.arange(self.n)))
-            self.det_sign = int(np.prod(np.sign(diag))) * (-1) ** swaps * _perm_sign(new)
         else:
             try:
                 self._splu = spla.splu(self.matrix)
                 self.singular = False
-                self.det_sign = (int(np.prod(np.sign(self._splu.U.diagonal())))
-                                 * _perm_sign(self._splu.perm_r) * _perm_sign(self._splu.perm_c))
             except RuntimeError:      # SuperLU: exactly singular
-                self.singular, self.det_sign = True, 0
+                self.singular = True
+
+    @property
+    def matrix(self):
+        """The Newton matrix as a sparse CSC (original row order), built on
+        demand: SuperLU's input, and the bordered systems' at a fold."""
+        if self._matrix is None:
+            R, C, V = self._triplets
+            self._matrix = sp.csc_matrix((V, (R, C)), shape=(self.n, self.n))
+            self._matrix.eliminate_zeros()  # structural zeros would only add fill
+        return self._matrix
+
+    @property
+    def det_sign(self) -> int:
+        """Sign of det(∂R/∂Y) in the original row order (0 when exactly
+        singular); computed on demand — only continuation asks for it."""
+        if self.singular:
+            return 0
+        if self.separated:
+            diag = self._lu[self.kl + self.ku]
+            swaps = int(np.count_nonzero(self._piv != np.arange(self.n)))
+            return int(np.prod(np.sign(diag))) * (-1) ** swaps * _perm_sign(self._order)
+        return (int(np.prod(np.sign(self._splu.U.diagonal())))
+                * _perm_sign(self._splu.perm_r) * _perm_sign(self._splu.perm_c))
 
     def solve(self, rhs):
         """J⁻¹ rhs (NaN when J is exactly singular: callers test finiteness)."""
