@@ -247,16 +247,56 @@ _PARK = {1: (1.0, -1.0), 2: (1.5, -2.0, 0.5), 3: (10 / 6, -15 / 6, 6 / 6, -1 / 6
 
 
 class RodMotion:
-    """A planar rod's motion: times ``t``, tip positions ``tip`` (x, y), the
-    states ``y`` per step (rows θ, κ, x, y, F_x, F_y on ``mesh``), Newton
-    steps per time step, and how it ended (``status``, ``message``)."""
+    """A rod's motion: times ``t``, the states ``y`` per step (on ``mesh``; rows
+    as the calling function says), the tip positions ``tip`` (the rows
+    ``position`` at s = 1), Newton steps per time step, and how it ended
+    (``status``, ``message``)."""
 
-    def __init__(self, mesh, t, states, newton, status, message):
+    def __init__(self, mesh, t, states, newton, status, message, position):
         self.mesh, self.t, self.y = mesh, np.array(t), states
-        self.tip = np.array([[Y[2, -1], Y[3, -1]] for Y in states])
+        self.tip = np.array([Y[position, -1] for Y in states])
         self.newton = newton
         self.status, self.message = status, message
         self.ok = status == "solved"
+
+
+def _park_march(mesh, Y0, position, t_end, h, order, tol, step_problem) -> RodMotion:
+    """March a rod in time, one BVP per step: r̈_{n+1} = c² r_{n+1} + history
+    (c = a₀/h) by the backward-difference formula of ``order`` applied twice
+    (ẋ from x, ẍ from ẋ).  ``position``: the rows of r in the state;
+    ``step_problem(t, c, hist) -> (f, bc, jac)`` the step's BVP given the
+    history term (rows as r).  The rod rests before t = 0 (constant history)."""
+    if order not in _PARK:
+        from qpcontact.errors import InvalidOptionError
+
+        raise InvalidOptionError(f"order must be 1, 2 or 3 (BDF1, BDF2, Park); got {order}")
+    a = np.array(_PARK[order])
+    c = a[0] / h
+    k = len(a) - 1
+    X = [Y0[position].copy() for _ in range(k)]      # r_n, r_{n-1}, ...
+    V = [np.zeros_like(X[0]) for _ in range(k)]
+    Y = Y0.copy()
+    states, times, newton = [Y0], [0.0], []
+    n_steps = int(round(t_end / h))
+    for step in range(1, n_steps + 1):
+        t = step * h
+        Xh = sum(a[i + 1] * X[i] for i in range(k)) / h    # ẋ = c x + Xh
+        Vh = sum(a[i + 1] * V[i] for i in range(k)) / h    # ẍ = c ẋ + Vh = c² x + c Xh + Vh
+        f, bc, jac = step_problem(t, c, c * Xh + Vh)
+        res = bvp.solve(f, bc, mesh, Y, jac=jac, tol=tol, corrections=1, max_refinements=0)
+        if not res.residual <= 1e-8 * max(1.0, float(np.max(np.abs(res.y)))):
+            return RodMotion(mesh, times, states, newton, res.status,
+                             f"time step {step} (t = {t:.4g}): {res.message}", position)
+        Y = res.y
+        r = Y[position]
+        X = [r.copy()] + X[:-1]
+        V = [c * r + Xh] + V[:-1]
+        states.append(Y.copy())
+        times.append(t)
+        newton.append(res.newton_steps)
+    return RodMotion(mesh, times, states, newton, "solved",
+                     f"{n_steps} steps of h = {h:g} (order {order}), "
+                     f"{np.mean(newton) if newton else 0:.1f} Newton steps per step", position)
 
 
 def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
@@ -280,37 +320,24 @@ def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
     fixed mesh.  The rod was at rest before t = 0 (constant history).
     ``tip_load(t) -> (P_x, P_y)`` for t > 0 (default none: free vibration);
     ``distributed`` (q_x, q_y) per unit length (gravity: (0, -ρAgL³/EI)).
+    ``RodMotion.y`` rows: θ, κ, x, y, F_x, F_y; ``tip`` holds (x, y).
     """
-    if order not in _PARK:
-        from qpcontact.errors import InvalidOptionError
-
-        raise InvalidOptionError(f"order must be 1, 2 or 3 (BDF1, BDF2, Park); got {order}")
-    a = np.array(_PARK[order])
-    c = a[0] / h
     mesh = np.linspace(0.0, 1.0, nodes)
-    start = cantilever(alpha0, nodes=nodes, tol=tol) if alpha0 else None
     Y0 = np.zeros((6, nodes))
     Y0[2] = mesh
-    if start is not None:
+    if alpha0:
+        start = cantilever(alpha0, nodes=nodes, tol=tol)
         if not start.ok:
-            return RodMotion(mesh, [0.0], [Y0], [], start.status, f"initial state: {start.message}")
+            return RodMotion(mesh, [0.0], [Y0], [], start.status, f"initial state: {start.message}",
+                             slice(2, 4))
         Y0[:4] = start(mesh)
         Y0[5] = -alpha0
     qx, qy = (float(v) for v in distributed)
-    k = len(a) - 1
-    X = [Y0[2:4].copy() for _ in range(k)]          # r_n, r_{n-1}, ... (at rest before t = 0)
-    V = [np.zeros((2, nodes)) for _ in range(k)]
-    states, times, newton = [Y0], [0.0], []
-    Y = Y0.copy()
-    n_steps = int(round(t_end / h))
-    for step in range(1, n_steps + 1):
-        t = step * h
-        Xh = sum(a[i + 1] * X[i] for i in range(k)) / h    # ẋ = c x + Xh
-        Vh = sum(a[i + 1] * V[i] for i in range(k)) / h    # ẍ = c ẋ + Vh = c² x + c Xh + Vh
-        hist = c * Xh + Vh
+
+    def step_problem(t, c, hist):
         P = (0.0, 0.0) if tip_load is None else tuple(float(v) for v in tip_load(t))
 
-        def f(s, Yv, hist=hist):
+        def f(s, Yv):
             th, ka, x, y, Fx, Fy = Yv
             return np.array([ka, Fx * np.sin(th) - Fy * np.cos(th), np.cos(th), np.sin(th),
                              c * c * x + hist[0] - qx, c * c * y + hist[1] - qy])
@@ -328,24 +355,12 @@ def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
             J[5, 3] = c * c
             return J
 
-        def bc(ya, yb, P=P):
+        def bc(ya, yb):
             return np.array([ya[0], ya[2], ya[3], yb[1], yb[4] - P[0], yb[5] - P[1]])
 
-        res = bvp.solve(f, bc, mesh, Y, jac=jac, tol=tol, corrections=1, max_refinements=0)
-        if not res.residual <= 1e-8 * max(1.0, float(np.max(np.abs(res.y)))):
-            return RodMotion(mesh, times, states, newton, res.status,
-                             f"time step {step} (t = {t:.4g}): {res.message}")
-        Y = res.y
-        r = Y[2:4]
-        v = c * r + Xh
-        X = [r.copy()] + X[:-1]
-        V = [v] + V[:-1]
-        states.append(Y.copy())
-        times.append(t)
-        newton.append(res.newton_steps)
-    return RodMotion(mesh, times, states, newton, "solved",
-                     f"{n_steps} steps of h = {h:g} (order {order}), "
-                     f"{np.mean(newton) if newton else 0:.1f} Newton steps per step")
+        return f, bc, jac
+
+    return _park_march(mesh, Y0, slice(2, 4), t_end, h, order, tol, step_problem)
 
 
 def spatial_cantilever_dynamics(force0=(0.0, 0.0, 0.0), t_end: float = 1.0, h: float = 0.05, *,
@@ -358,53 +373,25 @@ def spatial_cantilever_dynamics(force0=(0.0, 0.0, 0.0), t_end: float = 1.0, h: f
     Park's formula (see :func:`cantilever_dynamics`; units likewise): one
     13-unknown BVP per step.  ``RodMotion.y`` rows: r, q, n, m; ``tip`` holds
     (x, y, z)."""
-    if order not in _PARK:
-        from qpcontact.errors import InvalidOptionError
-
-        raise InvalidOptionError(f"order must be 1, 2 or 3 (BDF1, BDF2, Park); got {order}")
-    a = np.array(_PARK[order])
-    c = a[0] / h
     Binv = np.array([1.0 / torsion_ratio, 1.0, 1.0])[:, None]
     start = spatial_cantilever(force0, moment0, torsion_ratio=torsion_ratio, nodes=nodes, tol=tol)
     mesh = np.linspace(0.0, 1.0, nodes)
     if not start.ok:
         return RodMotion(mesh, [0.0], [np.zeros((13, nodes))], [], start.status,
-                         f"initial state: {start.message}")
-    Y = start(mesh)
-    k = len(a) - 1
-    X = [Y[0:3].copy() for _ in range(k)]
-    V = [np.zeros((3, nodes)) for _ in range(k)]
-    states, times, newton = [Y.copy()], [0.0], []
-    n_steps = int(round(t_end / h))
-    for step in range(1, n_steps + 1):
-        t = step * h
-        Xh = sum(a[i + 1] * X[i] for i in range(k)) / h
-        Vh = sum(a[i + 1] * V[i] for i in range(k)) / h
-        hist = c * Xh + Vh
+                         f"initial state: {start.message}", slice(0, 3))
+
+    def step_problem(t, c, hist):
         F = np.zeros(3) if tip_force is None else np.asarray(tip_force(t), float)
 
-        def f(s, Yv, hist=hist):
+        def f(s, Yv):
             out = _spatial_f(Yv, Binv)
             out[7:10] = c * c * Yv[0:3] + hist
             return out
 
-        def bc(ya, yb, F=F):
+        def bc(ya, yb):
             return np.concatenate([ya[0:3], ya[3:7] - np.array([1.0, 0, 0, 0]), yb[7:10] - F,
                                    yb[10:13]])
 
-        res = bvp.solve(f, bc, mesh, Y, tol=tol, corrections=1, max_refinements=0)
-        if not res.residual <= 1e-8 * max(1.0, float(np.max(np.abs(res.y)))):
-            return RodMotion(mesh, times, states, newton, res.status,
-                             f"time step {step} (t = {t:.4g}): {res.message}")
-        Y = res.y
-        r = Y[0:3]
-        X = [r.copy()] + X[:-1]
-        V = [c * r + Xh] + V[:-1]
-        states.append(Y.copy())
-        times.append(t)
-        newton.append(res.newton_steps)
-    motion = RodMotion(mesh, times, states, newton, "solved",
-                       f"{n_steps} steps of h = {h:g} (order {order}), "
-                       f"{np.mean(newton) if newton else 0:.1f} Newton steps per step")
-    motion.tip = np.array([Yk[0:3, -1] for Yk in states])
-    return motion
+        return f, bc, None
+
+    return _park_march(mesh, start(mesh), slice(0, 3), t_end, h, order, tol, step_problem)
