@@ -7,7 +7,7 @@ from scipy.special import ellipk
 
 from formulations import multibody as mb
 from formulations.multibody.demo import four_bar
-from qpcontact.errors import InvalidOptionError, InvalidProblemError
+from qpcontact.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
 G0 = 9.81
 
@@ -264,7 +264,7 @@ def test_bad_input_is_named():
     # a joint moving nothing with inertia: named, not a NaN
     m2 = mb.Model()
     m2.add_body("ghost", 0, mb.Revolute("z"), mass=1.0, inertia=np.zeros(3))
-    with pytest.raises(Exception, match="not positive definite"):
+    with pytest.raises(SolverFailedError, match="not positive definite"):
         mb.velocities_from_momenta(m2, mb.Data(m2), [0.0], [1.0])
 
 
