@@ -71,7 +71,7 @@ from qpsolvers import Problem
 
 from qpcontact.certify import certify_lcp
 from qpcontact.errors import InvalidOptionError, InvalidProblemError, NotConvexError
-from qpcontact.problems import LCP, as_matrix, as_vector
+from qpcontact.problems import LCP, _MatrixStructure, as_matrix, as_vector
 from qpcontact.solve import solve
 
 __all__ = ["PenaltyStep", "PenaltyResult", "penalty_qp", "exact_lcp", "gauss_qp",
@@ -86,20 +86,18 @@ MU_SINGULAR_COND = 1.0 / (100 * np.finfo(float).eps)
 
 
 def _spd(M, name: str):
-    """Validate a symmetric positive definite matrix; errors name it."""
+    """Validate a symmetric positive definite matrix with the engine's shared
+    structure checks (symmetry to SYMMETRY_RTOL, Cholesky pivots above the
+    rounding floor; sparse matrices stay sparse); errors name it."""
     M = as_matrix(M, name)
     if M.shape[0] != M.shape[1]:
         raise InvalidProblemError(f"{name} must be square; got shape {M.shape}")
-    dense = M.toarray() if sp.issparse(M) else M
-    scale = float(np.max(np.abs(dense))) if dense.size else 0.0
-    if np.max(np.abs(dense - dense.T), initial=0.0) > 1e-10 * max(scale, 1e-300):
-        raise NotConvexError(f"{name} must be symmetric (max|{name} - {name}'| = "
-                             f"{np.max(np.abs(dense - dense.T)):.3g})")
-    try:
-        np.linalg.cholesky(0.5 * (dense + dense.T))
-    except np.linalg.LinAlgError:
+    st = _MatrixStructure(M)
+    if not st.is_symmetric:
+        raise NotConvexError(f"{name} must be symmetric (max|{name} - {name}'| = {st.asymmetry:.3g})")
+    if not st.is_positive_definite:
         raise NotConvexError(f"{name} must be positive definite; its Cholesky factorization "
-                             "failed") from None
+                             "failed or has pivots at rounding level")
     return M
 
 
