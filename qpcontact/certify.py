@@ -3,47 +3,47 @@
 Nothing a backend reports about its own answer is used here.  Every method's
 answer goes through :func:`certify`, the shared error measure (in the spirit of
 Siconos' ``lcp_compute_error``), so numbers mean the same for every method.
+docs/certificates.md gives the definitions with their reasons and the
+far-contact example that made them componentwise.
 
-LCP (z, w = Mz + q)
--------------------
-The natural residual r = min(z, w) (componentwise) is zero exactly at a
-solution: a negative z_i or w_i, or a pair with both positive, all show in it.
-Reported:
+LCP (z, w = Mz + q): the componentwise error
+---------------------------------------------
+Each row is judged against its own data, in the sense of Oettli and Prager:
 
-- ``comp_abs = ‖min(z, w)‖∞`` — absolute, in the units of z and w mixed;
-- ``siconos_error = ‖min(z, w)‖₂ / ‖q‖₂`` (not normalised when ‖q‖₂ <= DBL_EPSILON),
-  Siconos' relative form, to compare with its solvers' published figures;
-- ``min_z``, ``min_w`` — the most negative entries (0 when none is negative);
-- ``zw = z'w``;
-- ``error`` — the **scale-free** measure that decides ``ok``:
+    σ_i = |q_i| + (|M| |z|)_i          the size of the terms w_i is made of
+    c_i = max_j |M_ji| / σ_j           how strongly z_i moves any w_j, relative
+                                       to that w_j's own size
+    ζ_i = min(1 / c_i, ζ)              z_i's own scale, capped by the normwise
+                                       ζ = max(‖z‖∞, ‖q‖∞ / max|M_ij|)
+    error = max_i |min(z_i / ζ_i, w_i / σ_i)|
 
-      error = max_i | min(z_i / σ_z, w_i / σ_w) |,
-      σ_z = max(‖z‖∞, ‖q‖∞ / max|M_ij|),  σ_w = max(‖Mz‖∞, ‖q‖∞)
+``error <= ε`` says: moving each z_i by at most ε ζ_i and each entry of M and q
+by at most ε of its own size (to first order, up to a factor of the row's
+nonzero count) makes z an exact solution.  A gap of 5e11 at a far contact
+cannot hide an error at a contact whose gap is 0.1, because no row borrows
+another row's size.  The error is invariant under row and column scaling of
+the data (D_r M D_c, D_r q; z -> D_c⁻¹ z) except through the cap, and lies
+in [0, 1]: 1 means a component is wrong by all of its own size.
 
-  Each side is measured against its own magnitude, so multiplying M by 1e8
-  (stiff contacts) or q by 1e-8 (tiny loads) leaves ``error`` unchanged: z and
-  w have different units and a mixed absolute norm would favour one of them.
-  The floor ‖q‖/max|M| (the size z would need to move w by ‖q‖) keeps a
-  solution z = 0 from being judged against the noise in its own entries.
-  This is the relative complementarity residual of the QP form below with the
-  same scalings, so an LCP solved as a QP is judged identically either way.
+Reported beside it: ``normwise_error`` (the former scale-free measure,
+max_i |min(z_i/‖·‖, w_i/max(‖Mz‖∞, ‖q‖∞))|), ``comp_abs = ‖min(z, w)‖∞``,
+``siconos_error = ‖min(z, w)‖₂ / ‖q‖₂`` (Siconos' relative form),
+``min_z``, ``min_w``, ``zw = z'w``, the ``worst_index`` and ``overflow``
+(a product |M_ij z_j| beyond double precision: nothing can be certified).
 
 QP (qpsolvers.Problem: min ½x'Px + q'x, Gx <= h, Ax = b, lb <= x <= ub)
 -------------------------------------------------------------------------
-``primal_residual``, ``dual_residual`` and ``duality_gap`` are exactly
-qpsolvers' definitions (computed by ``qpsolvers.Solution`` from our copy of the
-point).  They are not enough: the gap is a sum over constraints, so every
-single pair can be off by √gap while the sum looks tiny, and qpsolvers never
-checks the sign of inequality multipliers.  So the certificate adds the
-per-constraint complementarity ``|min(multiplier_i, slack_i)|`` (a negative
-multiplier shows in it) and ``error`` is
-
-    max( r_p / σ_p,  r_d / σ_d,  r_g / σ_g,
-         max_i |min(μ_i ‖row_i‖∞ / σ_d,  s_i / σ_p)| )
-
-with σ_p the largest of ‖Gx‖, ‖h‖, ‖Ax‖, ‖b‖ and the finite bound and x
-magnitudes; σ_d the largest of ‖Px‖, ‖q‖, ‖A'y‖, ‖G'z‖, ‖z_box‖; σ_g the largest
-term of the gap — OSQP's relative residuals, applied per constraint.
+The same construction for every KKT condition, each row against its own terms:
+stationarity row k against S_k = (|P||x|)_k + |q_k| + (|G'||z|)_k + (|A'||y|)_k;
+inequality row i's slack against T_i = |h_i| + (|G||x|)_i; equality row i
+against |b_i| + (|A||x|)_i; a bound's slack against |bound_k| + ξ_k, with
+ξ_k x_k's own scale (as ζ_i above, from the rows x_k enters); each
+multiplier against the stationarity rows it enters.  Complementarity is
+judged pair by pair (|min(multiplier/scale, slack/scale)|, negative values
+included) and a bound multiplier claiming a bound that does not exist counts
+in full.  For the QP of a symmetric LCP with z_box = -w the two certificates
+coincide.  ``primal_residual``, ``dual_residual`` and ``duality_gap`` are
+qpsolvers' own definitions, kept for comparison with published figures.
 """
 
 from __future__ import annotations
@@ -51,6 +51,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 from qpsolvers import Problem
 from qpsolvers import Solution as _QPSolution
@@ -58,9 +59,11 @@ from qpsolvers import Solution as _QPSolution
 from .errors import InvalidProblemError
 from .problems import LCP
 
-__all__ = ["certify", "LCPCertificate", "QPCertificate"]
+__all__ = ["certify", "LCPCertificate", "QPCertificate", "ComponentScales", "row_scales",
+           "column_influence"]
 
 _EPS = np.finfo(float).eps
+_DENSE_CHUNK = 1 << 22  # entries of |M| / σ formed at a time for dense matrices
 
 
 def _ratio(num: float, den: float) -> float:
@@ -70,28 +73,165 @@ def _ratio(num: float, den: float) -> float:
     return num / den if den > 0.0 else np.inf
 
 
-def _scaled(v: np.ndarray, sigma: float) -> np.ndarray:
-    """v / sigma elementwise, with the same 0/0 = 0, x/0 = ±inf rule as _ratio."""
-    if sigma > 0.0:
-        return v / sigma
-    with np.errstate(invalid="ignore"):  # 0 * inf in the branch np.where discards
-        return np.where(v == 0, 0.0, np.sign(v) * np.inf)
+def _divide(v: np.ndarray, scale) -> np.ndarray:
+    """v / scale elementwise (scale a number or an array), with 0/0 = 0 and
+    x/0 = ±inf: a component whose scale is zero must itself be exactly zero."""
+    v = np.asarray(v, dtype=float)
+    scale = np.broadcast_to(np.asarray(scale, dtype=float), v.shape)
+    out = np.zeros_like(v)
+    pos = scale > 0
+    np.divide(v, scale, out=out, where=pos)
+    bad = ~pos & (v != 0)
+    out[bad] = np.sign(v[bad]) * np.inf
+    return out
 
 
 def _inf_norm(v) -> float:
     return float(np.max(np.abs(v))) if np.size(v) else 0.0
 
 
+def _max_abs(M) -> float:
+    if sp.issparse(M):
+        return float(abs(M).max()) if M.nnz else 0.0
+    return float(np.max(np.abs(M))) if M.size else 0.0
+
+
+def _abs_matvec(M, v) -> np.ndarray:
+    """|M| |v| (overflow gives inf, never a warning)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        if sp.issparse(M):
+            return np.asarray(abs(M) @ np.abs(v)).ravel()
+        return np.abs(M) @ np.abs(v)
+
+
+def row_scales(M, z, q=None) -> np.ndarray:
+    """σ_i = |q_i| + (|M| |z|)_i: the size of the terms row i of Mz + q is made of
+    (Oettli–Prager's componentwise scale; its rounding error is O(eps σ_i))."""
+    s = _abs_matvec(M, z)
+    return s if q is None else s + np.abs(q)
+
+
+def _column_max_ratio(absM, sigma: np.ndarray) -> np.ndarray:
+    """max_i absM_ij / σ_i per column j (0/0 = 0, x/0 = inf); absM holds |M|."""
+    n_rows, n_cols = absM.shape
+    out = np.zeros(n_cols)
+    if n_rows == 0 or n_cols == 0:
+        return out
+    if sp.issparse(absM):
+        C = absM.tocsc()
+        ratio = _divide(C.data, sigma[C.indices])
+        nonempty = np.flatnonzero(np.diff(C.indptr))
+        if nonempty.size:
+            out[nonempty] = np.maximum.reduceat(ratio, C.indptr[nonempty])
+        return out
+    step = max(1, _DENSE_CHUNK // n_rows)
+    for start in range(0, n_cols, step):
+        out[start:start + step] = _divide(absM[:, start:start + step], sigma[:, None]).max(axis=0)
+    return out
+
+
+def column_influence(M, sigma: np.ndarray) -> np.ndarray:
+    """c_j = max_i |M_ij| / σ_i (0/0 = 0, x/0 = inf): the largest relative change
+    a unit of unknown j makes to any row, each row measured by its own σ_i."""
+    return _column_max_ratio(abs(M) if sp.issparse(M) else np.abs(M), sigma)
+
+
+def _forward_scale(influence: np.ndarray, cap: float) -> np.ndarray:
+    """min(1 / influence, cap) elementwise (1/0 = inf, 1/inf = 0)."""
+    with np.errstate(divide="ignore"):
+        inv = np.where(influence > 0, 1.0 / np.where(influence > 0, influence, 1.0), np.inf)
+    return np.minimum(inv, cap)
+
+
+@dataclass
+class _Rows:
+    """One block of equations for the componentwise scales: ``terms`` are the
+    Oettli–Prager scales at the point (|data| + Σ |A||v|), ``data`` the
+    magnitudes of the block's own data (zero marks a homogeneous row), and
+    ``blocks`` the |coefficient| matrices of the unknowns that enter it."""
+
+    terms: np.ndarray
+    data: np.ndarray
+    blocks: dict
+
+
+def _scales(rows: list[_Rows], caps: dict) -> tuple[dict, list]:
+    """Forward scales of the unknowns and the row scales, in two passes.
+
+    An unknown's scale is min(cap, 1 / max_i |A_ij| / scale_i): the change that
+    moves some row by all of that row's own size.  A *homogeneous* row (its own
+    data exactly zero, e.g. q_i = 0 at an idle contact) whose unknowns are zero
+    at the solution has no size of its own — any rounding noise would be all of
+    it.  So the unknowns' scales are first taken from the rows with data only,
+    a homogeneous row's scale gets the change those allowances can make to it
+    (Σ_j |A_ij| scale_j), and the scales are taken again from every row.
+    """
+    def unknown_scales(row_scales):
+        infl = {}
+        for R, sc in zip(rows, row_scales):
+            for name, absA in R.blocks.items():
+                c = _column_max_ratio(absA, sc)
+                infl[name] = c if name not in infl else np.maximum(infl[name], c)
+        return {name: _forward_scale(c, caps[name]) for name, c in infl.items()}
+
+    homogeneous = [R.data == 0 for R in rows]
+    if not any(h.any() for h in homogeneous):
+        return unknown_scales([R.terms for R in rows]), [R.terms for R in rows]
+    first = unknown_scales([np.where(h, np.inf, R.terms) for R, h in zip(rows, homogeneous)])
+    sig = []
+    for R, h in zip(rows, homogeneous):
+        extra = sum(_abs_matvec(absA, first[name]) for name, absA in R.blocks.items())
+        sig.append(R.terms + np.where(h, extra, 0.0))
+    return unknown_scales(sig), sig
+
+
+class ComponentScales:
+    """The componentwise scales of LCP(M, q) at any point z: σ (rows, w's
+    units) and ζ (columns, z's units), as the certificate defines them.
+
+    Keeps |M| so that a pivoting method can ask for them at every iterate; the
+    sign tests of "energy", "bpp", "lemke" and "trace" are ρ σ_i and ρ ζ_i,
+    so no component's decision depends on another component's size.
+    """
+
+    def __init__(self, M, q_terms: np.ndarray, scale_M: float | None = None):
+        self.absM = abs(M).tocsc() if sp.issparse(M) else np.abs(M)
+        self.q_terms = np.abs(np.asarray(q_terms, dtype=float))
+        self.scale_M = _max_abs(M) if scale_M is None else scale_M
+
+    def at(self, z: np.ndarray, q_terms: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(ζ, σ) at z; ``q_terms`` are the magnitudes of q's terms (|q|, or
+        LCP.q_terms; default the ones given at construction)."""
+        q = self.q_terms if q_terms is None else q_terms
+        with np.errstate(over="ignore", invalid="ignore"):
+            sigma = np.asarray(self.absM @ np.abs(z)).ravel() + q
+        cap = max(_inf_norm(z), _inf_norm(q) / self.scale_M if self.scale_M > 0 else 0.0)
+        zeta, (sigma,) = _scales([_Rows(sigma, q, {"z": self.absM})], {"z": cap})
+        return zeta["z"], sigma
+
+
+def _safe_norm2(v: np.ndarray) -> float:
+    """‖v‖₂ without overflow (BLAS nrm2 scales)."""
+    return float(scipy.linalg.norm(v)) if v.size else 0.0
+
+
 @dataclass(frozen=True)
 class LCPCertificate:
-    """Residuals of a candidate z for LCP(M, q); see the module docstring."""
+    """Residuals of a candidate z for LCP(M, q); see the module docstring.
+
+    ``error`` (componentwise, in [0, 1]) decides ``ok``; ``worst_index`` is
+    the component where it is reached.
+    """
 
     error: float
+    normwise_error: float
+    worst_index: int
     comp_abs: float
     siconos_error: float
     min_z: float
     min_w: float
     zw: float
+    overflow: bool = False
 
     def ok(self, tol: float) -> bool:
         return bool(self.error <= tol)
@@ -102,14 +242,21 @@ class LCPCertificate:
 
 @dataclass(frozen=True)
 class QPCertificate:
-    """Residuals of a candidate (x, y, z, z_box) for a QP; see the module docstring."""
+    """Residuals of a candidate (x, y, z, z_box) for a QP; see the module docstring.
+
+    ``error`` (componentwise) decides ``ok``; ``worst`` names the condition
+    where it is reached (e.g. ``"stationarity[3]"``, ``"bound complementarity[0]"``).
+    """
 
     error: float
+    normwise_error: float
+    worst: str
     primal_residual: float
     dual_residual: float
     duality_gap: float
     comp_abs: float
     min_multiplier: float
+    overflow: bool = False
 
     def ok(self, tol: float) -> bool:
         return bool(self.error <= tol)
@@ -118,9 +265,16 @@ class QPCertificate:
         return asdict(self)
 
 
-def _bad_lcp_certificate() -> LCPCertificate:
+def _bad_lcp_certificate(overflow: bool = False) -> LCPCertificate:
     inf = np.inf
-    return LCPCertificate(inf, inf, inf, -inf, -inf, inf)
+    return LCPCertificate(inf, inf, -1, inf, inf, -inf, -inf, inf, overflow)
+
+
+def _lcp_normwise(lcp: LCP, z, Mz, w) -> float:
+    scale_M = lcp.matrix_scale
+    sigma_z = max(_inf_norm(z), _inf_norm(lcp.q) / scale_M if scale_M > 0 else 0.0)
+    sigma_w = max(_inf_norm(Mz), _inf_norm(lcp.q))
+    return _inf_norm(np.minimum(_divide(z, sigma_z), _divide(w, sigma_w)))
 
 
 def certify_lcp(lcp: LCP, z) -> LCPCertificate:
@@ -130,22 +284,28 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
         raise InvalidProblemError(f"z has shape {z.shape}; the LCP has n = {lcp.n} unknowns")
     if not np.all(np.isfinite(z)):
         return _bad_lcp_certificate()
-    Mz = np.asarray(lcp.M @ z).ravel()
-    w = Mz + lcp.q
+    with np.errstate(over="ignore", invalid="ignore"):
+        Mz = np.asarray(lcp.M @ z).ravel()
+        w = Mz + lcp.q
+    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(row_scales(lcp.M, z, lcp.q_terms)))):
+        return _bad_lcp_certificate(overflow=True)
+    zeta, sigma = ComponentScales(lcp.M, lcp.q_terms, lcp.matrix_scale).at(z)
+    e = np.abs(np.minimum(_divide(z, zeta), _divide(w, sigma)))
+    worst = int(np.argmax(e))
     r = np.minimum(z, w)
-    scale_M = lcp.matrix_scale
-    sigma_z = max(_inf_norm(z), _inf_norm(lcp.q) / scale_M if scale_M > 0 else 0.0)
-    sigma_w = max(_inf_norm(Mz), _inf_norm(lcp.q))
-    error = _inf_norm(np.minimum(_scaled(z, sigma_z), _scaled(w, sigma_w)))
-    qn = float(np.linalg.norm(lcp.q))
-    rn = float(np.linalg.norm(r))
+    qn = _safe_norm2(lcp.q)
+    rn = _safe_norm2(r)
+    with np.errstate(over="ignore", invalid="ignore"):
+        zw = float(z @ w)
     return LCPCertificate(
-        error=float(error),
+        error=float(e[worst]),
+        normwise_error=float(_lcp_normwise(lcp, z, Mz, w)),
+        worst_index=worst,
         comp_abs=_inf_norm(r),
         siconos_error=rn / qn if qn > _EPS else rn,
         min_z=float(min(z.min(), 0.0)),
         min_w=float(min(w.min(), 0.0)),
-        zw=float(z @ w),
+        zw=zw,
     )
 
 
@@ -155,40 +315,18 @@ def _row_inf_norms(G) -> np.ndarray:
     return np.max(np.abs(G), axis=1) if G.shape[1] else np.zeros(G.shape[0])
 
 
-def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate:
-    """Certificate of the primal-dual point (x, y, z, z_box) in qpsolvers'
-    conventions: ``Px + q + A'y + G'z + z_box = 0``, z >= 0 for ``Gx <= h``,
-    z_box < 0 at an active lower bound and > 0 at an active upper bound.
-
-    A missing multiplier for constraints the problem has makes the dual
-    residual infinite (the point cannot be certified without it).
-    """
+def _qp_normwise(problem, x, sol, has_bounds) -> float:
+    """The former scale-free QP measure (OSQP-style relative residuals with a
+    per-constraint complementarity), kept beside the componentwise one."""
     P, q, G, h, A, b, lb, ub = problem.unpack()
     n = q.shape[0]
-    x = np.asarray(x, dtype=float).ravel()
-    if x.shape != (n,):
-        raise InvalidProblemError(f"x has shape {x.shape}; the QP has n = {n} variables")
-    vecs = [x] + [np.asarray(v, float).ravel() for v in (y, z, z_box) if v is not None]
-    if not all(np.all(np.isfinite(v)) for v in vecs):
-        inf = np.inf
-        return QPCertificate(inf, inf, inf, inf, inf, -inf)
-
-    sol = _QPSolution(problem)
-    sol.found = True
-    sol.x = x
-    sol.y = None if y is None else np.asarray(y, float).ravel()
-    sol.z = None if z is None else np.asarray(z, float).ravel()
-    sol.z_box = None if z_box is None else np.asarray(z_box, float).ravel()
-    # qpsolvers' dual residual silently treats a missing z_box as zero.
-    has_bounds = lb is not None or ub is not None
     r_p = sol.primal_residual()
-    r_d = sol.dual_residual() if (z_box is not None or not has_bounds) else np.inf
-    r_g = sol.duality_gap() if (z_box is not None or not has_bounds) else np.inf
-
+    r_d = sol.dual_residual() if (sol.z_box is not None or not has_bounds) else np.inf
+    r_g = sol.duality_gap() if (sol.z_box is not None or not has_bounds) else np.inf
     Px = np.asarray(P @ x).ravel()
     p_terms, d_terms = [0.0], [_inf_norm(Px), _inf_norm(q)]
     g_terms = [abs(float(x @ Px)), abs(float(q @ x))]
-    comp_pairs = []  # (multipliers, slacks, row norms) per constraint block
+    comp_pairs = []
     min_mult = 0.0
     if G is not None:
         Gx = np.asarray(G @ x).ravel()
@@ -214,27 +352,166 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
             fin = np.isfinite(bound)
             p_terms.append(_inf_norm(bound[fin]))
             mult = np.maximum(sign * zb[fin], 0.0)
-            slack = sign * (bound[fin] - x[fin])
             g_terms.append(abs(float(bound[fin] @ (sign * mult))))
-            comp_pairs.append((mult, slack, 1.0))
-        # z_box_i < 0 claims an active lower bound, > 0 an active upper one: a
-        # claim on a bound that does not exist is a multiplier of the wrong sign.
-        lb_fin = np.isfinite(lb) if lb is not None else np.zeros(n, bool)
-        ub_fin = np.isfinite(ub) if ub is not None else np.zeros(n, bool)
-        illegal = np.where((zb < 0) & ~lb_fin, zb, 0.0) - np.where((zb > 0) & ~ub_fin, zb, 0.0)
-        min_mult = min(min_mult, float(illegal.min(initial=0.0)))
-
+            comp_pairs.append((mult, sign * (bound[fin] - x[fin]), 1.0))
     sigma_p, sigma_d, sigma_g = max(p_terms), max(d_terms), max(g_terms)
-    comp_abs, comp_rel = 0.0, 0.0
+    comp_rel = 0.0
     for mult, slack, row_norm in comp_pairs:
         if mult.size:
-            comp_abs = max(comp_abs, _inf_norm(np.minimum(mult, slack)))
-            comp_rel = max(comp_rel, _inf_norm(np.minimum(_scaled(mult * row_norm, sigma_d),
-                                                          _scaled(slack, sigma_p))))
-    error = max(_ratio(r_p, sigma_p), _ratio(r_d, sigma_d), _ratio(r_g, sigma_g), comp_rel,
-                _ratio(-min_mult, sigma_d))
+            comp_rel = max(comp_rel, _inf_norm(np.minimum(_divide(mult * row_norm, sigma_d),
+                                                          _divide(slack, sigma_p))))
+    return max(_ratio(r_p, sigma_p), _ratio(r_d, sigma_d), _ratio(r_g, sigma_g), comp_rel,
+               _ratio(-min_mult, sigma_d))
+
+
+def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate:
+    """Certificate of the primal-dual point (x, y, z, z_box) in qpsolvers'
+    conventions: ``Px + q + A'y + G'z + z_box = 0``, z >= 0 for ``Gx <= h``,
+    z_box < 0 at an active lower bound and > 0 at an active upper bound.
+
+    A missing multiplier for constraints the problem has makes the error
+    infinite (the point cannot be certified without it).
+    """
+    P, q, G, h, A, b, lb, ub = problem.unpack()
+    n = q.shape[0]
+    x = np.asarray(x, dtype=float).ravel()
+    if x.shape != (n,):
+        raise InvalidProblemError(f"x has shape {x.shape}; the QP has n = {n} variables")
+    def vector(v, size):
+        # Backends hand back empty arrays for constraints the problem lacks.
+        if v is None:
+            return None
+        v = np.asarray(v, float).ravel()
+        if size == 0 and not np.any(v):
+            return None
+        if v.size != size:
+            raise InvalidProblemError(f"a multiplier has {v.size} entries where the QP has {size} "
+                                      "matching constraints")
+        return v
+
+    has_bounds = lb is not None or ub is not None
+    y = vector(y, A.shape[0] if A is not None else 0)
+    z = vector(z, G.shape[0] if G is not None else 0)
+    z_box = vector(z_box, n if has_bounds else 0)
+    inf = np.inf
+    bad = QPCertificate(inf, inf, "non-finite point", inf, inf, inf, inf, -inf)
+    if not all(np.all(np.isfinite(v)) for v in (x, y, z, z_box) if v is not None):
+        return bad
+    missing = [name for name, mat, v in (("z (for G x <= h)", G, z), ("y (for A x = b)", A, y),
+                                         ("z_box (for the bounds)", lb if lb is not None else ub,
+                                          z_box))
+               if mat is not None and v is None]
+
+    sol = _QPSolution(problem)
+    sol.found = True
+    sol.x, sol.y, sol.z, sol.z_box = x, y, z, z_box
+    with np.errstate(over="ignore", invalid="ignore"):
+        r_p = sol.primal_residual()
+        r_d = sol.dual_residual() if (z_box is not None or not has_bounds) else inf
+        r_g = sol.duality_gap() if (z_box is not None or not has_bounds) else inf
+        normwise = _qp_normwise(problem, x, sol, has_bounds)
+
+        # Stationarity, row by row against its own terms (bounds' multipliers
+        # excluded from the scale: they must be balanced by the rest).
+        grad = np.asarray(P @ x).ravel() + q
+        S = row_scales(P, x, q)
+        if G is not None and z is not None:
+            grad += np.asarray(G.T @ z).ravel()
+            S += _abs_matvec(G.T, z)
+        if A is not None and y is not None:
+            grad += np.asarray(A.T @ y).ravel()
+            S += _abs_matvec(A.T, y)
+        if z_box is not None:
+            grad += z_box
+        overflow = not (np.all(np.isfinite(grad)) and np.all(np.isfinite(S)))
+        if overflow:
+            return QPCertificate(inf, normwise, "overflow", r_p, r_d, r_g, inf, -inf, True)
+
+        def absolute(mat):
+            return abs(mat) if sp.issparse(mat) else np.abs(mat)
+
+        # Each block of KKT rows with the unknowns that enter it; _scales gives
+        # every unknown its own scale and floors homogeneous rows.
+        absG = absolute(G) if G is not None else None
+        absA = absolute(A) if A is not None else None
+        stat_blocks = {"x": absolute(P)}
+        if absG is not None and z is not None:
+            stat_blocks["z"] = absG.T
+        if absA is not None and y is not None:
+            stat_blocks["y"] = absA.T
+        rows = [_Rows(S, np.abs(q), stat_blocks)]
+        slack = None
+        if G is not None:
+            slack = h - np.asarray(G @ x).ravel()
+            rows.append(_Rows(row_scales(G, x, h), np.abs(h), {"x": absG}))
+        if A is not None:
+            rows.append(_Rows(row_scales(A, x, b), np.abs(b), {"x": absA}))
+        # x's own scale is capped by the normwise data floors (all in x's
+        # units), each multiplier's by the normwise floor of its own block.
+        cap_x = [_inf_norm(x)]
+        for vec, mat in ((q, P), (h, G), (b, A)):
+            if mat is not None and _max_abs(mat) > 0:
+                cap_x.append(_inf_norm(vec) / _max_abs(mat))
+        for bound in (lb, ub):
+            if bound is not None:
+                cap_x.append(_inf_norm(bound[np.isfinite(bound)]))
+        caps = {"x": max(cap_x)}
+        for name, v, mat in (("z", z, G), ("y", y, A)):
+            if v is not None and mat is not None:
+                scale = _max_abs(mat)
+                caps[name] = max(_inf_norm(v), _inf_norm(q) / scale if scale > 0 else 0.0)
+        unknown, sig = _scales(rows, caps)
+        S = sig[0]
+        T = sig[1] if G is not None else None
+        E = sig[-1] if A is not None else None
+        xi = unknown["x"]
+
+        checks: list[tuple[str, np.ndarray]] = [("stationarity", _divide(np.abs(grad), S))]
+        if A is not None:
+            checks.append(("equality", _divide(np.abs(b - np.asarray(A @ x).ravel()), E)))
+
+        comp_abs, min_mult = 0.0, 0.0
+        if G is not None:
+            if z is not None:
+                checks.append(("inequality complementarity",
+                               np.abs(np.minimum(_divide(z, unknown["z"]), _divide(slack, T)))))
+                comp_abs = max(comp_abs, _inf_norm(np.minimum(z, slack)))
+                min_mult = min(min_mult, float(z.min(initial=0.0)))
+            else:
+                checks.append(("inequality", _divide(np.maximum(-slack, 0.0), T)))
+        if has_bounds:
+            zb = z_box if z_box is not None else np.zeros(n)
+            lb_fin = np.isfinite(lb) if lb is not None else np.zeros(n, bool)
+            ub_fin = np.isfinite(ub) if ub is not None else np.zeros(n, bool)
+            for bound, fin, sign, name in ((lb, lb_fin, -1.0, "lower"), (ub, ub_fin, 1.0, "upper")):
+                if not fin.any():
+                    continue
+                k = np.flatnonzero(fin)
+                mult = np.maximum(sign * zb[k], 0.0)
+                bslack = sign * (bound[k] - x[k])
+                e = np.zeros(n)
+                e[k] = np.abs(np.minimum(_divide(mult, S[k]),
+                                         _divide(bslack, np.abs(bound[k]) + xi[k])))
+                checks.append((f"{name} bound complementarity", e))
+                comp_abs = max(comp_abs, _inf_norm(np.minimum(mult, bslack)))
+            # z_box_i < 0 claims an active lower bound, > 0 an active upper one: a
+            # claim on a bound that does not exist is a multiplier of the wrong sign.
+            illegal = np.where((zb < 0) & ~lb_fin, zb, 0.0) - np.where((zb > 0) & ~ub_fin, zb, 0.0)
+            min_mult = min(min_mult, float(illegal.min(initial=0.0)))
+            checks.append(("bound multiplier sign", _divide(np.abs(illegal), S)))
+
+    worst_name, worst_val = "", 0.0
+    for name, vals in checks:
+        if vals.size:
+            i = int(np.argmax(vals))
+            if vals[i] > worst_val or not worst_name:
+                worst_name, worst_val = f"{name}[{i}]", float(vals[i])
+    if missing:
+        worst_name, worst_val = "missing multiplier " + ", ".join(missing), inf
     return QPCertificate(
-        error=float(error),
+        error=float(worst_val),
+        normwise_error=float(normwise),
+        worst=worst_name,
         primal_residual=float(r_p),
         dual_residual=float(r_d),
         duality_gap=float(r_g),
@@ -258,7 +535,7 @@ def certify(problem, x, *, y=None, z=None, z_box=None):
     Returns
     -------
     LCPCertificate or QPCertificate
-        ``cert.error`` is the scale-free measure compared with the requested
+        ``cert.error`` is the componentwise measure compared with the requested
         tolerance (``cert.ok(tol)``); see the module docstring for every field.
     """
     if isinstance(problem, LCP):

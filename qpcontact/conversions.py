@@ -42,7 +42,7 @@ from qpsolvers import Problem
 from .errors import InvalidProblemError, NotConvexError, NotSymmetricError
 from .problems import LCP, as_matrix, as_vector
 
-__all__ = ["lcp_to_qp", "monotone_lcp_to_qp", "qp_to_lcp", "DualLCP", "validate_qp"]
+__all__ = ["lcp_to_qp", "monotone_lcp_to_qp", "qp_to_lcp", "DualLCP", "validate_qp", "check_convex"]
 
 
 def _dense(M) -> np.ndarray:
@@ -114,6 +114,50 @@ def validate_qp(problem: Problem) -> Problem:
         i = int(np.argmax(lb > ub))
         raise InvalidProblemError(f"lb[{i}] = {lb[i]} exceeds ub[{i}] = {ub[i]}: the QP is infeasible as posed")
     return Problem(P, q, parts["G"], parts["h"], parts["A"], parts["b"], lb, ub)
+
+
+def check_convex(problem: Problem) -> None:
+    """Refuse a QP whose objective is not convex, before any backend is trusted.
+
+    P must be symmetric (pair by pair against its own entries, as
+    :attr:`LCP.is_symmetric`) and positive semidefinite, decided on its Jacobi
+    scaling by a Cholesky factorization with a rounding-level shift: dense
+    LAPACK, LAPACK's banded Cholesky for sparse P of bandwidth <= 16, and SuperLU
+    in symmetric mode (an LDL' whose pivots must all be positive) for other
+    sparse P — one factorization, the cost of one backend iteration.
+
+    Raises
+    ------
+    NotSymmetricError
+        P is not symmetric.
+    NotConvexError
+        P is symmetric but indefinite: a backend would return a KKT point, which
+        need not be the minimiser (Clarabel, ProxQP, PIQP and HiGHS all said
+        "solved" at such points).
+    """
+    from .problems import _MatrixStructure
+
+    st = _MatrixStructure(problem.P)
+    if not st.is_symmetric:
+        raise NotSymmetricError(
+            f"P is not symmetric (max|P - P'| = {st.asymmetry:.3g}); the objective ½x'Px only "
+            "sees its symmetric part, and backends read different triangles. Pass 0.5 * (P + P.T)."
+        )
+    if not st.is_psd:
+        n = problem.P.shape[0]
+        detail = ""
+        if n <= 2000:
+            P = _dense(problem.P)
+            d = np.sqrt(np.abs(np.diag(P)))
+            d[d == 0] = 1.0
+            lam = float(np.linalg.eigvalsh(P / d[:, None] / d[None, :])[0])
+            detail = f" (its Jacobi scaling has the eigenvalue {lam:.3g})"
+        raise NotConvexError(
+            f"P is not positive semidefinite{detail}, so the QP is nonconvex: a backend would "
+            "return a point satisfying the KKT conditions that need not be the minimiser. "
+            "qpcontact solves convex QPs only (a nonconvex QP's global minimum is NP-hard in "
+            "general); check the sign of P — a maximisation written as a minimisation?"
+        )
 
 
 @dataclass

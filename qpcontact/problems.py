@@ -26,7 +26,8 @@ from .errors import InvalidProblemError
 
 __all__ = ["LCP", "ParametricLCP", "SYMMETRY_RTOL", "as_matrix", "as_vector", "bandwidth"]
 
-#: Relative tolerance of :attr:`LCP.is_symmetric`: max|M - M'| <= SYMMETRY_RTOL * max|M|.
+#: Relative tolerance of :attr:`LCP.is_symmetric`: |M_ij - M_ji| <= SYMMETRY_RTOL *
+#: max(sqrt|M_ii M_jj|, |M_ij|, |M_ji|) for every pair (each against its own size).
 #: Assembly in floating point (A = J G^-1 J') leaves asymmetry of order n * 1e-16;
 #: anything above 1e-10 is a modelling fact, not rounding.
 SYMMETRY_RTOL = 1e-10
@@ -117,6 +118,15 @@ def bandwidth(M) -> int:
     return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
 
 
+def _ratio_or_inf(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+    """num / den elementwise with 0/0 = 0 and x/0 = inf."""
+    out = np.zeros(np.shape(num))
+    pos = den > 0
+    np.divide(num, den, out=out, where=pos)
+    out[~pos & (num != 0)] = np.inf
+    return out
+
+
 def _max_abs(M) -> float:
     if sp.issparse(M):
         return float(abs(M).max()) if M.nnz else 0.0
@@ -136,29 +146,106 @@ class _MatrixStructure:
 
     @cached_property
     def asymmetry(self) -> float:
-        """max|M - M'| (absolute)."""
+        """max|M - M'| (absolute; for messages)."""
         return _max_abs(self.M - self.M.T)
 
     @cached_property
+    def relative_asymmetry(self) -> float:
+        """max over pairs of |M_ij - M_ji| / max(sqrt|M_ii M_jj|, |M_ij|, |M_ji|).
+
+        Each pair is judged against its own size, never against max|M|: a
+        coupling of 1e-8 in a row whose only other entry is 0 is not rounding
+        beside a 1e300 elsewhere.  The scale sqrt|M_ii M_jj| (what bounds an
+        entry of a PSD matrix) keeps assembly noise at a true zero (1e-17
+        against -1e-17) symmetric.  Invariant under symmetric scaling D M D.
+        """
+        M = self.M
+        n = M.shape[0]
+        d = np.sqrt(np.abs(np.asarray(M.diagonal(), dtype=float)))
+        if sp.issparse(M):
+            A = sp.coo_matrix(M - M.T)
+            A.eliminate_zeros()
+            if A.nnz == 0:
+                return 0.0
+            r, c = A.row, A.col
+            absM = abs(M).tocsr()
+            mij = np.asarray(absM[r, c]).ravel()
+            mji = np.asarray(absM[c, r]).ravel()
+            scale = np.maximum(d[r] * d[c], np.maximum(mij, mji))
+            return float(np.max(_ratio_or_inf(np.abs(A.data), scale)))
+        worst = 0.0
+        step = max(1, (1 << 22) // max(n, 1))
+        for start in range(0, n, step):
+            rows = slice(start, start + step)
+            A, B = M[rows, :], M[:, rows].T
+            scale = np.maximum(np.outer(d[rows], d), np.maximum(np.abs(A), np.abs(B)))
+            worst = max(worst, float(np.max(_ratio_or_inf(np.abs(A - B), scale))))
+        return worst
+
+    @cached_property
     def is_symmetric(self) -> bool:
-        return self.asymmetry <= SYMMETRY_RTOL * self.scale
+        return self.relative_asymmetry <= SYMMETRY_RTOL
 
     @cached_property
     def symmetric_part(self):
-        S = 0.5 * (self.M + self.M.T)
+        S = 0.5 * self.M + 0.5 * self.M.T  # halves first: no overflow near 1e308
         return sp.csc_matrix(S) if sp.issparse(S) else S
 
-    def _cholesky_ok(self, shift: float) -> bool:
-        """Whether the symmetric part plus ``shift`` I has a Cholesky factor whose
-        squared pivots all exceed a rounding floor (n eps max|S|)."""
+    def _definite(self, semi: bool) -> bool:
+        """Whether the symmetric part S is positive definite (semi=False) or
+        semidefinite (semi=True), decided on its Jacobi scaling D S D
+        (D = diag(S)^-1/2) so that no row's size decides for another's.
+
+        Rows with S_ii = 0 must be zero for S to be PSD (|S_ij|² <= S_ii S_jj),
+        up to the cancellation noise of forming S; they are then dropped.  The
+        remaining unit-diagonal block passes when its Cholesky factor (of the
+        block plus 10 n eps I for semi=True) has squared pivots above n eps.
+        """
         S = self.symmetric_part
         n = S.shape[0]
-        floor = n * np.finfo(float).eps * max(self.scale, np.finfo(float).tiny)
+        eps = np.finfo(float).eps
+        diag = np.asarray(S.diagonal(), dtype=float)
+        if np.any(diag < 0):
+            return False
+        pos = diag > 0
+        if not pos.all():
+            if not semi:
+                return False
+            zero = np.flatnonzero(~pos)
+            if sp.issparse(S):
+                Z = abs(S[zero]).toarray() if zero.size else np.zeros((0, n))
+                noise = 1e3 * eps * abs(self.M[zero]).maximum(abs(self.M.T[zero])).toarray()
+            else:
+                Z = np.abs(S[zero])
+                noise = 1e3 * eps * np.maximum(np.abs(self.M[zero]), np.abs(self.M.T[zero]))
+            if np.any(Z > noise):
+                return False
+            keep = np.flatnonzero(pos)
+            if keep.size == 0:
+                return True
+            S = S[keep][:, keep] if sp.issparse(S) else S[np.ix_(keep, keep)]
+            diag = diag[keep]
+        m = S.shape[0]
+        dsc = 1.0 / np.sqrt(diag)
+        floor = m * eps
+        shift = 10.0 * m * eps if semi else 0.0
         if sp.issparse(S):
+            D = sp.diags(dsc)
+            with np.errstate(over="ignore", invalid="ignore"):
+                A = (D @ S @ D + shift * sp.identity(m)).tocsc()
+            if not np.all(np.isfinite(A.data)):
+                return False
+            if m > 64 and bandwidth(A) <= 16:  # banded: LAPACK's banded Cholesky, O(n b²)
+                b = bandwidth(A)
+                C = sp.coo_matrix(A)
+                up = C.row <= C.col
+                ab = np.zeros((b + 1, m))
+                ab[b + C.row[up] - C.col[up], C.col[up]] = C.data[up]
+                c, info = scipy.linalg.lapack.dpbtrf(ab, lower=0)
+                return info == 0 and bool(np.all(c[b] ** 2 > floor))
             # SuperLU in symmetric mode with no threshold pivoting picks the
             # diagonal: an LDL' in disguise.  All pivots positive and no row
             # exchange <=> positive definite (Sylvester on the permuted matrix).
-            A = (S + shift * sp.identity(n, format="csc")).tocsc()
             try:
                 lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                                options={"SymmetricMode": True})
@@ -167,8 +254,12 @@ class _MatrixStructure:
             if not np.array_equal(lu.perm_r, lu.perm_c):
                 return False
             return bool(np.all(lu.U.diagonal() > floor))
+        with np.errstate(over="ignore", invalid="ignore"):
+            A = (S * dsc[:, None]) * dsc[None, :] + shift * np.eye(m)
+        if not np.all(np.isfinite(A)):  # a scaled entry beyond 1e308: |S_ij|² > S_ii S_jj
+            return False
         try:
-            L = scipy.linalg.cholesky(S + shift * np.eye(n), lower=True, check_finite=False)
+            L = scipy.linalg.cholesky(A, lower=True, check_finite=False)
         except np.linalg.LinAlgError:
             return False
         return bool(np.all(np.diag(L) ** 2 > floor))
@@ -178,7 +269,7 @@ class _MatrixStructure:
         formulation that proves it, e.g. the drum's A = C + G'H⁻¹G), so the
         checks are not recomputed for every assembled matrix."""
         self.__dict__.update(is_symmetric=True, is_positive_definite=True, is_psd=True,
-                             asymmetry=0.0)
+                             asymmetry=0.0, relative_asymmetry=0.0)
 
     @cached_property
     def upper(self):
@@ -208,22 +299,11 @@ class _MatrixStructure:
     @cached_property
     def is_positive_definite(self) -> bool:
         # z'Mz > 0 for all z != 0 depends on the symmetric part only.
-        if sp.issparse(self.M) and self.M.shape[0] > 64:
-            ab = self.upper_bands(16)
-            if ab is not None:  # banded: LAPACK's banded Cholesky, O(n b²)
-                _, info = scipy.linalg.lapack.dpbtrf(ab, lower=0)
-                return info == 0
-        return self._cholesky_ok(0.0)
+        return self._definite(semi=False)
 
     @cached_property
     def is_psd(self) -> bool:
-        if self.is_positive_definite:
-            return True
-        if self.scale == 0.0:
-            return True
-        # A PSD matrix shifted by a little more than Cholesky's rounding error is PD.
-        n = self.M.shape[0]
-        return self._cholesky_ok(10.0 * n * np.finfo(float).eps * self.scale)
+        return self.scale == 0.0 or self.is_positive_definite or self._definite(semi=True)
 
 
 class _LCPBase:
@@ -290,6 +370,11 @@ class LCP(_LCPBase):
         Real, finite.  Kept sparse (CSC) when given sparse.
     q : (n,) array_like
         Real, finite.
+    q_terms : (n,) array_like, optional
+        When q was computed as a sum (q = q0 + p q1, gaps plus velocity terms),
+        the sum of the magnitudes of its terms, >= |q|.  The certificate judges
+        row i against |q_terms_i| + (|M||z|)_i, so a q_i that cancelled to
+        rounding noise is not judged against the noise.  Default |q|.
 
     Raises
     ------
@@ -303,15 +388,18 @@ class LCP(_LCPBase):
     computed on first use and cached.  The object holds plain arrays and pickles.
     """
 
-    def __init__(self, M, q):
+    def __init__(self, M, q, *, q_terms=None):
         n = self._init_matrix(M)
         self.q = as_vector(q, n, "q")
+        self.q_terms = np.abs(self.q) if q_terms is None else np.abs(as_vector(q_terms, n, "q_terms"))
 
     @classmethod
-    def _with_structure(cls, structure: _MatrixStructure, q: np.ndarray) -> "LCP":
+    def _with_structure(cls, structure: _MatrixStructure, q: np.ndarray,
+                        q_terms: np.ndarray | None = None) -> "LCP":
         obj = cls.__new__(cls)
         obj._structure = structure
         obj.q = q
+        obj.q_terms = np.abs(q) if q_terms is None else q_terms
         return obj
 
     def w(self, z) -> np.ndarray:
@@ -349,11 +437,12 @@ class LCP(_LCPBase):
         return f"LCP({self._kind()})"
 
     def __getstate__(self):
-        return {"M": self.M, "q": self.q}
+        return {"M": self.M, "q": self.q, "q_terms": self.q_terms}
 
     def __setstate__(self, state):
         self._structure = _MatrixStructure(state["M"])
         self.q = state["q"]
+        self.q_terms = state.get("q_terms", np.abs(self.q))
 
 
 class ParametricLCP(_LCPBase):
@@ -383,11 +472,13 @@ class ParametricLCP(_LCPBase):
         return self.q0 + float(p) * self.q1
 
     def at(self, p: float) -> LCP:
-        """The LCP at load parameter p (shares M and its cached structure)."""
+        """The LCP at load parameter p (shares M and its cached structure; its
+        ``q_terms`` are |q0| + |p q1|, the parametric data's own sizes)."""
         p = float(p)
         if not np.isfinite(p):
             raise InvalidProblemError(f"load parameter p must be finite; got {p}")
-        return LCP._with_structure(self._structure, self.q(p))
+        return LCP._with_structure(self._structure, self.q(p),
+                                   np.abs(self.q0) + abs(p) * np.abs(self.q1))
 
     def __repr__(self) -> str:
         return f"ParametricLCP({self._kind()})"

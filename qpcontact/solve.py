@@ -10,7 +10,7 @@ from qpsolvers import Problem
 
 from .accuracy import resolve_accuracy
 from .certify import certify
-from .conversions import qp_to_lcp, validate_qp
+from .conversions import check_convex, qp_to_lcp, validate_qp
 from .errors import (BackendUnavailableError, InvalidProblemError, NoSolutionError,
                      NotConvexError, NotSymmetricError, SolverFailedError, UnknownMethodError)
 from .methods import Method, get_method
@@ -34,8 +34,9 @@ _AUTO_DENSE_LIMIT = 3000
 
 
 def _jacobi_scaled(lcp: LCP):
-    """(LCP(DMD, Dq), d) with D = diag(M)^-1/2, or (lcp, None) when M's
-    diagonal is not positive or already all ones.
+    """(LCP(DMD, Dq), d) with D = diag(M)^-1/2 (1 where M_ii = 0: such rows
+    of a monotone M carry no quadratic term), or (lcp, None) when a diagonal
+    entry is negative or the diagonal is already all ones.
 
     The QP handed to a backend is the LCP's scaled form, z = D y.  Backends
     stop on *absolute* residuals; in physical units (a compliance of 1e-9 m/N
@@ -46,17 +47,26 @@ def _jacobi_scaled(lcp: LCP):
     """
     M = lcp.M
     diag = np.asarray(M.diagonal(), dtype=float)
-    if not np.all(diag > 0) or np.all(diag == 1.0):
+    if np.any(diag < 0):
         return lcp, None
-    d = 1.0 / np.sqrt(diag)
-    if sp.issparse(M):
-        D = sp.diags(d)
-        Ms = (D @ M @ D).tocsc()
-    else:
-        Ms = M * d[:, None] * d[None, :]
+    d = np.ones_like(diag)
+    d[diag > 0] = 1.0 / np.sqrt(diag[diag > 0])
+    if np.all(d == 1.0):
+        return lcp, None
+    with np.errstate(over="ignore", invalid="ignore"):
+        if sp.issparse(M):
+            D = sp.diags(d)
+            Ms = (D @ M @ D).tocsc()
+            finite = np.all(np.isfinite(Ms.data))
+        else:
+            Ms = (M * d[:, None]) * d[None, :]
+            finite = np.all(np.isfinite(Ms))
+        qs = lcp.q * d
+    if not (finite and np.all(np.isfinite(qs))):
+        return lcp, None
     if lcp.is_symmetric:
         Ms = 0.5 * (Ms + Ms.T)  # keep exact symmetry for the QP route
-    return LCP(Ms, lcp.q * d), d
+    return LCP(Ms, qs), d
 
 
 def _check_applicable(lcp: LCP, m: Method) -> None:
@@ -203,6 +213,7 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
         return solve_parametric(problem, method, accuracy, raise_on_failure, options)
     if isinstance(problem, Problem):
         problem = validate_qp(problem)
+        check_convex(problem)
     elif not isinstance(problem, LCP):
         raise InvalidProblemError(
             f"solve() takes an LCP or a qpsolvers.Problem; got {type(problem).__name__}"

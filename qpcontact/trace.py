@@ -43,7 +43,7 @@ from .accuracy import resolve_accuracy
 from .certify import certify_lcp
 from .errors import InvalidOptionError, InvalidProblemError, NoSolutionError, SolverFailedError
 from .methods.active_set import ActiveBlock, check_dense_size, check_options, dense_matrix
-from .methods.lemke import lemke, lex_ratio_test, ruiz_scaling, tableau_pivot, PIVOT_RTOL
+from .methods.lemke import PIVOT_RTOL, RowScales, lemke, lex_ratio_test, ruiz_scaling, tableau_pivot
 from .plotting import save_figure
 from .problems import ParametricLCP
 from .solution import LCPSolution
@@ -229,6 +229,13 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
     basis = np.where(basic_z, np.arange(n) + n, np.arange(n))
     B = A[:, basis]
     T = np.asfortranarray(scipy.linalg.solve(B, A) if basic_z.any() else A.copy())
+    # Per-row rounding scales of the tableau (T[:, :n] is the basis inverse):
+    # every sign and ratio test is made on its own row's size.
+    scales = RowScales(np.abs(q0s))
+    if basic_z.any():
+        scales.anchor(T[:, :n])
+    col_norms = np.concatenate([np.ones(n), np.max(np.abs(Ms), axis=0),
+                                [float(np.max(np.abs(q1s)))]])
 
     def values(t, col, entering):
         """All 2n + 1 variables at step t along the current edge."""
@@ -244,9 +251,9 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
         col = T[:, entering].copy()
         p_row = np.flatnonzero(basis == P)
         rate = 1.0 if entering == P else -float(col[p_row[0]])
-        if abs(rate) <= PIVOT_RTOL * max(float(np.max(np.abs(col))), 1.0):
+        if entering != P and abs(rate) <= PIVOT_RTOL * scales.inv[p_row[0]] * col_norms[entering]:
             rate = 0.0
-        r = lex_ratio_test(col, T[:, RHS], T[:, :n])
+        r = lex_ratio_test(col, T[:, RHS], T[:, :n], scales, col_norms[entering])
         t_block = T[r, RHS] / col[r] if r is not None else np.inf
         t_block = max(t_block, 0.0)
         stop_at_pmax = rate > 0 and np.isfinite(p_max) and p_now + rate * t_block >= p_max
@@ -276,7 +283,9 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
             end = "max_pivots"
             break
         p_now = p_now + rate * t_block
+        scales.pivot(col, r)
         tableau_pivot(T, r, entering)
+        scales.reanchor_if_grown(T[:, :n])
         leaving = int(basis[r])
         basis[r] = entering
         pivots += 1

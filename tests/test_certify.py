@@ -20,8 +20,13 @@ def test_exact_solution_certifies():
 def test_error_tracks_perturbation():
     for d in (1e-3, 1e-6, 1e-9):
         c = certify(MURTY, Z_MURTY + np.array([d, 0.0]))
-        # w1 moves by 2d against max(|Mz|, |q|) = 6
-        assert c.error == pytest.approx(2 * d / 6.0, rel=1e-3)
+        # By hand: w = (2d, d).  Row 1 is made of |q1| + 2 z1 + z2 = 5 + 2(4/3 + d)
+        # + 7/3 = 10 + 2d, so w1 is off by 2d / (10 + 2d); row 2 by d / (12 + d).
+        # Both z's are basic and far from zero, so the pair's error is w's.
+        assert c.error == pytest.approx(2 * d / (10 + 2 * d), rel=1e-9)
+        assert c.worst_index == 0
+        # the former normwise figure: w1 = 2d against max(|Mz|, |q|) = 6
+        assert c.normwise_error == pytest.approx(2 * d / 6.0, rel=1e-3)
 
 
 def test_negative_entries_are_caught():

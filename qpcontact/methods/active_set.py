@@ -20,7 +20,9 @@ from scipy.linalg import lapack
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["sign_tolerances", "ActiveBlock", "symmetric_scaling", "dense_matrix",
+from ..certify import ComponentScales
+
+__all__ = ["sign_tolerances", "ComponentScales", "ActiveBlock", "symmetric_scaling", "dense_matrix",
            "check_options", "check_dense_size", "not_positive_definite",
            "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
 
@@ -67,17 +69,17 @@ def dense_matrix(M) -> np.ndarray:
     return M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
 
 
-def sign_tolerances(M, q, scale_M: float) -> tuple[float, float]:
-    """(tau_z, tau_w): magnitudes below which a z or a w counts as zero.
+def sign_tolerances(scales: ComponentScales, z: np.ndarray, q_terms: np.ndarray | None = None
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """(tau_z, tau_w): per-component magnitudes below which z_i or w_i counts as zero.
 
-    Measured against the data's own scale, in the units of each side (the
-    certificate's σ_z and σ_w floors), so scaling M or q does not change which
-    entries are called negative.
+    SIGN_RTOL times the certificate's own scales at z (ζ_i for z_i, σ_i =
+    |q_i| + (|M||z|)_i for w_i): each decision is made on the component's own
+    size, so a gap of 5e11 at one contact does not make -0.09 look like zero at
+    another (issue 14), and scaling M or q does not change any decision.
     """
-    qn = float(np.max(np.abs(q))) if q.size else 0.0
-    sigma_w = qn if qn > 0 else 1.0
-    sigma_z = qn / scale_M if qn > 0 and scale_M > 0 else 1.0
-    return SIGN_RTOL * sigma_z, SIGN_RTOL * sigma_w
+    zeta, sigma = scales.at(z, q_terms)
+    return SIGN_RTOL * zeta, SIGN_RTOL * sigma
 
 
 def symmetric_scaling(M) -> np.ndarray:

@@ -29,8 +29,8 @@ import scipy.sparse as sp
 
 from ..errors import InvalidOptionError
 from ..solution import MethodResult
-from .active_set import (BANDED_MAX, ActiveBlock, check_options, not_positive_definite,
-                         sign_tolerances)
+from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, check_options,
+                         not_positive_definite, sign_tolerances)
 
 __all__ = ["run_bpp", "block_pivoting"]
 
@@ -55,7 +55,7 @@ def _as_mask(active, n: int) -> np.ndarray:
 def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
     """Iterate from the basis F; returns (z, F, stats, status)."""
     M, q = problem.M, problem.q
-    tau_z, tau_w = sign_tolerances(M, q, problem.matrix_scale)
+    scales = ComponentScales(M, problem.q_terms, problem.matrix_scale)
     # Per-matrix analysis, cached on the problem (a time stepper reuses it).
     structure = problem._structure
     bands = structure.upper_bands(BANDED_MAX) if sp.issparse(M) else None
@@ -69,9 +69,11 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
         stats["factorizations"] += 1
         # Intermediate bases only need signs: refine once the signs look final.
         z, w = block.basic_solution(M, q, refine=0)
+        tau_z, tau_w = sign_tolerances(scales, z)
         infeasible = np.flatnonzero(np.where(F, z < -tau_z, w < -tau_w))
         if infeasible.size == 0:
             z, w = block.basic_solution(M, q, refine=3)
+            tau_z, tau_w = sign_tolerances(scales, z)
             infeasible = np.flatnonzero(np.where(F, z < -tau_z, w < -tau_w))
         k = infeasible.size
         if k == 0:

@@ -17,7 +17,7 @@ import numpy as np
 from ..accuracy import backend_settings
 from ..solution import MethodResult
 from . import Method, register
-from .qpsolvers_backends import _reject_options
+from .qpsolvers_backends import _reject_options, refuse_extreme_data
 
 _ALGORITHMS = {
     "CLARABEL": "interior-point", "SCS": "ADMM (conic)", "ECOS": "interior-point (conic)",
@@ -52,6 +52,9 @@ def _make_run(solver: str):
     def run(problem, tol, options) -> MethodResult:
         import cvxpy as cp
 
+        refused = refuse_extreme_data(f"cvxpy:{solver}", problem)
+        if refused is not None:
+            return refused
         P, q, G, h, A, b, lb, ub = problem.unpack()
         n = q.shape[0]
         x = cp.Variable(n)

@@ -37,8 +37,8 @@ from scipy.linalg.blas import dger
 
 from ..errors import InvalidOptionError, NotConvexError
 from ..solution import MethodResult
-from .active_set import (ActiveBlock, check_dense_size, check_options, dense_matrix,
-                         not_positive_definite, sign_tolerances, symmetric_scaling)
+from .active_set import (ActiveBlock, ComponentScales, check_dense_size, check_options,
+                         dense_matrix, not_positive_definite, sign_tolerances, symmetric_scaling)
 
 __all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau"]
 
@@ -97,10 +97,10 @@ def ppt_tableau(M: np.ndarray, q: np.ndarray, basic: np.ndarray):
     return T, qbar
 
 
-def _energy(M: np.ndarray, q: np.ndarray, max_pivots: int, rule: str):
+def _energy(M: np.ndarray, q: np.ndarray, q_terms: np.ndarray, max_pivots: int, rule: str):
     n = q.size
     scale = float(np.max(np.abs(M))) if M.size else 0.0
-    tau_z, tau_w = sign_tolerances(M, q, scale)
+    scales = ComponentScales(M, q_terms, scale)
     basic = np.zeros(n, dtype=bool)
     T = np.asfortranarray(M.copy())
     qbar = q.copy()
@@ -112,12 +112,16 @@ def _energy(M: np.ndarray, q: np.ndarray, max_pivots: int, rule: str):
     if current == "murty":
         stats["fallback_reason"] = "requested"
     while True:
+        # Each value is judged on its own scale at the current point (the
+        # basic z's are qbar's basic entries).
+        tau_z, tau_w = sign_tolerances(scales, np.where(basic, qbar, 0.0))
         tau = np.where(basic, tau_z, tau_w)
         neg = np.flatnonzero(qbar < -tau)
         if neg.size == 0:
             # The tableau says done: recompute from the data before believing it.
             z, w = ActiveBlock(M, basic, symmetric=True).basic_solution(M, q)
-            if np.all(z[basic] >= -tau_z) and np.all(w[~basic] >= -tau_w):
+            tau_z, tau_w = sign_tolerances(scales, z)
+            if np.all(z[basic] >= -tau_z[basic]) and np.all(w[~basic] >= -tau_w[~basic]):
                 z[basic] = np.maximum(z[basic], 0.0)
                 return z, basic, stats, "solved"
             stats["refreshes"] += 1
@@ -172,7 +176,7 @@ def run_energy(problem, tol, options) -> MethodResult:
     Ms = M * d[:, None] * d[None, :]
     qs = problem.q * d
     try:
-        zs, basic, stats, status = _energy(Ms, qs, max_pivots, rule)
+        zs, basic, stats, status = _energy(Ms, qs, problem.q_terms * d, max_pivots, rule)
     except np.linalg.LinAlgError as exc:
         raise not_positive_definite("energy", exc) from None
     z = zs * d

@@ -10,11 +10,11 @@ favour of z0 leaving.  The method ends
   are then recomputed from the active block M_FF (LU with iterative refinement)
   and the better-certified of the two points is returned;
 - ``ray``: the entering column has no positive entry (a secondary ray).  When M
-  is copositive-plus (e.g. positive semidefinite) this proves the LCP has no
-  solution (Cottle, Pang & Stone 1992, Thm 4.4.13).  For other M it proves
-  nothing, so the method restarts with other covering vectors (``restarts``,
-  seeded) before reporting the ray, and an LP tells whether {z >= 0,
-  Mz + q >= 0} is empty (then no solution exists);
+  is copositive-plus (e.g. positive semidefinite) this means the LCP has no
+  solution (Cottle, Pang & Stone 1992, Thm 4.4.13) — in exact arithmetic.  For
+  other M it means nothing, so the method restarts with other covering vectors
+  (``restarts``, seeded) before reporting the ray.  "No solution" is claimed
+  only with a Farkas vector checked from the data (:func:`feasibility`);
 - ``max_pivots``: the pivot limit was reached.
 
 The LCP is solved after row/column equilibration (w' = D_r w, z = D_c z'), which
@@ -32,12 +32,13 @@ import scipy.linalg
 from scipy.linalg.blas import dger
 
 from ..errors import InvalidOptionError
+from ._pivot_kernels import ratio_ties, scales_pivot
 from ..solution import MethodResult
-from .active_set import (ActiveBlock, check_dense_size, check_options, dense_matrix,
-                         sign_tolerances)
+from .active_set import (ActiveBlock, ComponentScales, check_dense_size, check_options,
+                         dense_matrix, sign_tolerances)
 
 __all__ = ["LemkeOutcome", "lemke", "run_lemke", "ruiz_scaling", "lex_ratio_test",
-           "tableau_pivot"]
+           "tableau_pivot", "RowScales"]
 
 _OPTIONS = ("covering", "max_pivots", "restarts", "seed")
 #: Entries of an entering column below this fraction of its largest entry are
@@ -88,35 +89,84 @@ def tableau_pivot(T: np.ndarray, r: int, c: int) -> None:
     dger(-1.0, col, T[r, :].copy(), a=T, overwrite_a=True)
 
 
-def lex_ratio_test(col: np.ndarray, rhs: np.ndarray, lex: np.ndarray,
-                   prefer_row: int | None = None, rhs_scale: float | None = None) -> int | None:
+#: Growth of the tracked row scales (see RowScales) after which they are
+#: recomputed exactly from the basis inverse (O(n²), a few pivots' worth).
+_REANCHOR_GROWTH = 1e3
+
+
+class RowScales:
+    """Per-row rounding scales of a pivoting tableau, for its sign and ratio tests.
+
+    ``rhs[i]`` bounds (|B⁻¹| |q|)_i, the size of the terms basic value i is
+    made of, and ``inv[i]`` bounds the row sum of |B⁻¹|, so an entering column
+    B⁻¹a has row scales ``inv * max|a|``.  A pivot updates both in O(n) by the
+    triangle inequality (row i gains |col_i / col_r| times row r); when that
+    bound has grown by more than _REANCHOR_GROWTH since the last exact values,
+    and at every refactorization, they are recomputed exactly.  Each row is
+    thus tested against its own size: a gap of 5e11 in one row no longer sets
+    the tolerance of every other row (issue 14).
+    """
+
+    def __init__(self, q_abs: np.ndarray):
+        self.q_abs = q_abs
+        self._v = np.vstack([q_abs, np.ones_like(q_abs)])  # rows: rhs, inv
+        self.growth = 1.0
+        self.anchors = 0
+
+    @property
+    def rhs(self) -> np.ndarray:
+        return self._v[0]
+
+    @property
+    def inv(self) -> np.ndarray:
+        return self._v[1]
+
+    def anchor(self, Binv: np.ndarray) -> None:
+        A = np.abs(Binv)
+        self._v[0] = A @ self.q_abs
+        self._v[1] = A.sum(axis=1)
+        self.growth = 1.0
+        self.anchors += 1
+
+    def pivot(self, col: np.ndarray, r: int) -> None:
+        """Update for a pivot on row r of the entering column ``col`` (taken
+        before the pivot); then call :meth:`reanchor_if_grown` with the new
+        basis inverse.
+
+        Row i becomes row i - (col_i / col_r) row r.  Its scale is updated to
+        max(scale_i, |col_i / col_r| scale_r), an estimate of the rounding size
+        rather than the triangle inequality's sum: an overestimate is not safe
+        here (false ties in the ratio test pick a wrong row, a too large
+        threshold hides the only candidate), so growth is bounded instead by
+        recomputing the scales exactly once it exceeds _REANCHOR_GROWTH.
+        """
+        self.growth *= scales_pivot(self._v, col, r)
+
+    def reanchor_if_grown(self, Binv: np.ndarray) -> None:
+        if self.growth > _REANCHOR_GROWTH:
+            self.anchor(Binv)
+
+
+def lex_ratio_test(col: np.ndarray, rhs: np.ndarray, lex: np.ndarray, scales: RowScales,
+                   col_norm: float, prefer_row: int | None = None) -> int | None:
     """Leaving row of a lexicographic minimum-ratio test, or None (a ray).
 
-    Rows with col_i > PIVOT_RTOL max|col| compete on rhs_i / col_i; ties (equal
-    up to rounding) go to ``prefer_row`` if it is among them, else to the
-    lexicographically smallest row of lex[i, :] / col_i (lex is the basis
-    inverse, or any matrix whose rows make the tableau lexico-positive).
+    Rows with col_i > PIVOT_RTOL times the row's own scale (``scales.inv[i] *
+    col_norm``, col_norm = max|a| of the entering column before B⁻¹) compete on
+    rhs_i / col_i; ratios equal up to the rounding of their own rows
+    (``scales.rhs``) are ties, which go to ``prefer_row`` if it is among them,
+    else to the lexicographically smallest row of lex[i, :] / col_i (lex is the
+    basis inverse, or any matrix whose rows make the tableau lexico-positive).
     """
-    cmax = np.abs(col).max() if col.size else 0.0
-    if not cmax > 0:
-        return None
-    cand = (col > PIVOT_RTOL * cmax).nonzero()[0]
-    if cand.size == 0:
-        return None
-    ratios = rhs[cand] / col[cand]
-    k = ratios.argmin()
-    theta = ratios[k]
-    if rhs_scale is None:
-        rhs_scale = np.abs(rhs).max()
-    tied = ratios <= theta + (1e-12 * abs(theta) + 1e-15 * rhs_scale)
-    if np.count_nonzero(tied) == 1:
-        return int(cand[k])
-    ties = cand[tied]
+    ties = ratio_ties(col, rhs, scales.rhs, scales.inv, float(col_norm), PIVOT_RTOL)
+    if ties.size <= 1:
+        return int(ties[0]) if ties.size else None
     if prefer_row is not None and prefer_row in ties:
         return int(prefer_row)
     V = lex[ties] / col[ties, None]
-    # Rounding noise is relative to the whole block, not to one column's entries
-    # (an exact 0 computed as 1e-18 must still tie with another 0).
+    # A tie-break, not a sign test: rounding noise is relative to the whole
+    # block of tied rows (an exact 0 computed as 1e-18 must still tie with
+    # another 0).  Any tied row is a correct minimum ratio.
     floor = 1e-10 * max(float(np.max(np.abs(V))), 1e-300)
     alive = np.arange(ties.size)
     for j in range(V.shape[1]):
@@ -139,12 +189,14 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
     if np.all(q >= 0):
         return LemkeOutcome("solved", np.zeros(n), np.zeros(n, bool), 0)
     Mf = np.asfortranarray(M)
+    col_norms = np.max(np.abs(Mf), axis=0)
     T = np.zeros((n, n + 1), order="F")
     T[:, :n] = np.eye(n)
     T[:, n] = q
     Binv, x = T[:, :n], T[:, n]  # views
     basis = np.arange(n)  # variable ids: w 0..n-1, z n..2n-1, z0 2n
     Z0 = 2 * n
+    scales = RowScales(np.abs(q))
 
     def refactor():
         # Product-form updates drift: on Fathi's family (2^n pivots) a column
@@ -158,18 +210,21 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
         B[:, basis == Z0] = -d[:, None]
         Binv[:] = scipy.linalg.inv(B, check_finite=False)
         x[:] = scipy.linalg.solve(B, q, check_finite=False)
+        scales.anchor(Binv)
         # Basic values of a feasible basis are >= 0; rounding leaves exact
-        # (degenerate) zeros at +-1e-17, which would win or lose ratio tests
-        # that the lexicographic rule must decide.
-        x[x < 1e-13 * max(float(np.max(np.abs(x))), 1e-300)] = 0.0
+        # (degenerate) zeros at +-1e-17 of their row's size, which would win or
+        # lose ratio tests that the lexicographic rule must decide.
+        x[x < 1e-13 * scales.rhs] = 0.0
 
     refactor_every = max(REFACTOR_EVERY, n)
 
     def pivot(col, r):
         row = T[r] / col[r]
+        scales.pivot(col, r)
         col[r] = 0.0
         dger(-1.0, col, row, a=T, overwrite_a=True)
         T[r] = row
+        scales.reanchor_if_grown(Binv)
 
     ratios = q / d
     theta = ratios.min()
@@ -184,10 +239,12 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
         entering = leaving + n if leaving < n else leaving - n
         if entering < n:
             col = Binv[:, entering].copy()
+            col_norm = 1.0
         else:
             col = Binv @ Mf[:, entering - n]
             np.negative(col, out=col)
-        r = lex_ratio_test(col, x, Binv, prefer_row=z0_row)
+            col_norm = col_norms[entering - n]
+        r = lex_ratio_test(col, x, Binv, scales, col_norm, prefer_row=z0_row)
         if r is None:
             v = np.zeros(2 * n + 1)
             v[basis] = x
@@ -196,7 +253,7 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
             dv[entering] = 1.0
             return LemkeOutcome("ray", None, (basis >= n) & (basis < Z0), pivots,
                                 ray={"z": v[n:Z0], "dz": dv[n:Z0], "z0": v[Z0], "dz0": dv[Z0],
-                                     "entering": entering})
+                                     "entering": entering, "anchors": scales.anchors})
         if pivots >= max_pivots:
             return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
         pivot(col, r)
@@ -225,36 +282,73 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
 
 def _sign_errors(lcp, M, z, basic_z) -> bool:
     """Whether z (nonbasic entries 0) leaves a nonbasic w negative or a basic
-    w nonzero beyond the sign tolerances."""
-    tau_z, tau_w = sign_tolerances(M, lcp.q, lcp.matrix_scale)
+    w nonzero beyond the sign tolerances (each on its own row's scale)."""
+    _, tau_w = sign_tolerances(ComponentScales(M, lcp.q_terms, lcp.matrix_scale), z)
     w = M @ z + lcp.q
-    return bool(np.any(w[~basic_z] < -tau_w) or np.any(np.abs(w[basic_z]) > tau_w))
+    return bool(np.any(w[~basic_z] < -tau_w[~basic_z])
+                or np.any(np.abs(w[basic_z]) > tau_w[basic_z]))
 
 
 def _refined(lcp, M: np.ndarray, z_tab: np.ndarray, basic_z: np.ndarray) -> np.ndarray:
     """z recomputed from the active block M_FF (LU, refined) when its signs are
     right; the tableau's z otherwise (a singular or degenerate block)."""
     q = lcp.q
-    tau_z, tau_w = sign_tolerances(M, q, lcp.matrix_scale)
     try:
         z, w = ActiveBlock(M, basic_z, symmetric=False).basic_solution(M, q, refine=2)
     except np.linalg.LinAlgError:
         return z_tab
-    if np.all(z[basic_z] >= -tau_z) and np.all(w[~basic_z] >= -tau_w):
+    tau_z, tau_w = sign_tolerances(ComponentScales(M, lcp.q_terms, lcp.matrix_scale), z)
+    if np.all(z[basic_z] >= -tau_z[basic_z]) and np.all(w[~basic_z] >= -tau_w[~basic_z]):
         return np.maximum(z, 0.0)
     return z_tab
 
 
-def _lp_feasible(M, q) -> bool | None:
-    """Whether {z >= 0, Mz + q >= 0} is nonempty (None if the LP solver cannot say)."""
+#: Relative residual (each column against its own terms) below which a Farkas
+#: vector or a feasible point from an LP is accepted as checked from the data.
+FARKAS_RTOL = 1e-12
+
+
+def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) -> tuple[bool | None, dict]:
+    """Whether {z >= 0, Mz + q >= 0} is nonempty, with evidence checked from the data.
+
+    Returns (False, {"farkas": y}) when y >= 0 with M'y <= 0 and q'y < 0 was
+    found (Farkas: then no z >= 0 has Mz + q >= 0, since y'(Mz + q) < 0);
+    (True, {"point": z}) for a feasible z; (None, {...}) when neither could be
+    checked.  The LPs run on the Ruiz-scaled data (R M C, R q; y = R y',
+    z = C z'), and their answers are accepted only when every component holds
+    on its own scale to FARKAS_RTOL: (M'y)_j <= FARKAS_RTOL (|M|'y)_j and
+    q'y < -FARKAS_RTOL |q|'y; (Mz + q)_i >= -FARKAS_RTOL (|M||z| + |q|)_i.
+    An LP's word alone is never a proof: on data spanning 1e-300..1e300 HiGHS
+    called a solvable problem infeasible (issue 14).
+    """
     from scipy.optimize import linprog
 
-    res = linprog(np.zeros(q.size), A_ub=-M, b_ub=q, bounds=(0, None), method="highs")
+    from .qpsolvers_backends import DATA_LIMIT
+
+    n = q.size
+    Ms = M * rs[:, None] * cs[None, :]
+    qs = q * rs
+    if max(float(np.max(np.abs(Ms))), float(np.max(np.abs(qs)))) > DATA_LIMIT["highs"]:
+        return None, {"reason": "the scaled data exceed what the LP solver (HiGHS) survives"}
+    # Farkas: y' >= 0, Ms'y' <= 0, qs'y' <= -1.
+    A = np.vstack([Ms.T, qs[None, :]])
+    b = np.concatenate([np.zeros(n), [-1.0]])
+    res = linprog(np.zeros(n), A_ub=A, b_ub=b, bounds=(0, None), method="highs")
     if res.status == 0:
-        return True
-    if res.status == 2:
-        return False
-    return None
+        y = np.maximum(res.x * rs, 0.0)
+        My, scale = M.T @ y, np.abs(M).T @ y
+        qy, qscale = float(q @ y), float(np.abs(q) @ y)
+        bad = np.maximum(My, 0.0) > FARKAS_RTOL * scale
+        if not bad.any() and qy < -FARKAS_RTOL * qscale:
+            return False, {"farkas": y}
+    # A feasible point: z' >= 0 with Ms z' + qs >= 0.
+    res = linprog(np.zeros(n), A_ub=-Ms, b_ub=qs, bounds=(0, None), method="highs")
+    if res.status == 0:
+        z = np.maximum(res.x * cs, 0.0)
+        w = M @ z + q
+        if np.all(w >= -FARKAS_RTOL * (np.abs(M) @ z + np.abs(q))):
+            return True, {"point": z}
+    return None, {"reason": "the LPs gave no answer that checks against the data"}
 
 
 def run_lemke(problem, tol, options) -> MethodResult:
@@ -303,19 +397,26 @@ def run_lemke(problem, tol, options) -> MethodResult:
                             stats=stats)
     ray = out.ray
     stats["ray"] = {"z": ray["z"] * cs, "dz": ray["dz"] * cs, "z0": ray["z0"], "dz0": ray["dz0"]}
-    feasible = _lp_feasible(M, q)
+    feasible, evidence = feasibility(M, q, rs, cs)
     stats["feasible"] = feasible
+    stats.update(evidence)
     monotone = problem.is_psd
-    if monotone:
-        why = ("M is positive semidefinite (copositive-plus), so Lemke's secondary ray proves "
-               "the LCP has no solution")
-    elif feasible is False:
-        why = "no z >= 0 has Mz + q >= 0 (an LP proves the feasible set empty): no solution exists"
+    if feasible is False:
+        why = ("no solution exists: no z >= 0 has Mz + q >= 0 (a Farkas vector y >= 0 with "
+               "M'y <= 0 and q'y < 0, stats['farkas'], was checked from the data)")
+    elif monotone and feasible:
+        why = ("Lemke's method ended on a secondary ray although M is positive semidefinite and "
+               "a feasible z exists (stats['point']), so a solution exists: a numerical failure "
+               "(the data may be too badly scaled); try a QP backend or rescale the data")
+    elif monotone:
+        why = ("M is positive semidefinite (copositive-plus), so in exact arithmetic Lemke's "
+               "secondary ray means no solution exists; no Farkas vector could be checked from "
+               "the data, so this is not proved")
     else:
         why = (f"Lemke's method ended on a secondary ray with {len(tried)} covering vector(s); "
                "for this M that does not prove there is no solution (the feasible set is "
                f"{'nonempty' if feasible else 'of unknown emptiness'}); try other covering vectors "
                "(option covering=) or an enumeration method")
-    stats["proved_infeasible"] = bool(monotone or feasible is False)
+    stats["proved_infeasible"] = feasible is False
     return MethodResult(x=None, status="ray", backend_status="ray", backend_message=why,
                         iterations=total, stats=stats)

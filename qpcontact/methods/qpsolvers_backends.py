@@ -14,6 +14,7 @@ import sys
 import warnings
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..accuracy import backend_settings
 from ..errors import InvalidOptionError
@@ -85,6 +86,46 @@ def _report(sol) -> tuple[str, int | None]:
     return text, (int(iters) if iters is not None else None)
 
 
+#: Largest data magnitude handed to an external backend (after qpcontact's own
+#: scaling), measured by benchmarks/backend_limits.py (docs/backends.md): HiGHS
+#: 1.15 dies with a segmentation fault on a singular Hessian holding an entry of
+#: 1e15 (its large_matrix_value); ProxQP 0.8 does not return on a linear term
+#: of 1e200.  The others returned at every magnitude up to 1e300, but nothing
+#: beyond 1e100 leaves room for the products an iteration forms.
+DATA_LIMIT = {"highs": 1e14}
+DEFAULT_DATA_LIMIT = 1e100
+
+
+def data_magnitude(problem) -> float:
+    """Largest |entry| of a QP's data (infinite bounds excluded)."""
+    out = 0.0
+    for part in problem.unpack():
+        if part is None:
+            continue
+        if sp.issparse(part):
+            vals = part.data
+        else:
+            vals = np.asarray(part, dtype=float).ravel()
+        vals = np.abs(vals[np.isfinite(vals)])
+        if vals.size:
+            out = max(out, float(vals.max()))
+    return out
+
+
+def refuse_extreme_data(solver: str, problem) -> MethodResult | None:
+    """A ``failed`` result, without calling the backend, when the data exceed
+    what ``solver`` is known to survive; None otherwise."""
+    limit = DATA_LIMIT.get(solver.split(":")[-1].lower(), DEFAULT_DATA_LIMIT)
+    mag = data_magnitude(problem)
+    if mag <= limit:
+        return None
+    return MethodResult(
+        x=None, backend_status="refused",
+        backend_message=(f"not called: the data hold an entry of magnitude {mag:.1e}, above the "
+                         f"{limit:.0e} that {solver} is known to survive (docs/backends.md); "
+                         "rescale the units, or use an exact method ('lemke', 'bpp')"))
+
+
 def _reject_options(solver: str, options: dict, exc: Exception) -> None:
     """Raise InvalidOptionError when ``exc`` is the backend refusing one of the
     user's own options (backends say so in many ways: ValueError, TypeError,
@@ -102,6 +143,9 @@ def _make_run(name: str):
         import qpsolvers
         from qpsolvers.warnings import SparseConversionWarning
 
+        refused = refuse_extreme_data(name, problem)
+        if refused is not None:
+            return refused
         settings = {**backend_settings("qpsolvers", name, tol), **options}
         stats = {}
         if name not in qpsolvers.sparse_solvers and problem.has_sparse:
