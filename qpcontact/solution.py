@@ -94,7 +94,7 @@ class Solution:
 
     @property
     def error(self) -> float:
-        """The certificate's scale-free error (inf when no point came back)."""
+        """The certificate's componentwise (backward) error; inf when no point came back."""
         return self.certificate.error if self.certificate is not None else float("inf")
 
 
@@ -105,6 +105,14 @@ class LCPSolution(Solution):
 
     z: np.ndarray | None
     w: np.ndarray | None
+
+    @property
+    def forward_error(self) -> float:
+        """Estimated largest distance of a component of (z, w) from the exact
+        solution of the data as stored, relative to its own size (the
+        certificate's condition times its error); inf when no point came back
+        or the solution is not isolated."""
+        return self.certificate.forward_error if self.certificate is not None else float("inf")
 
 
 @dataclass(kw_only=True)

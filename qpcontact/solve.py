@@ -160,9 +160,22 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
     ok = status == "solved"
     if ok:
         message = f"certified: error {cert.error:.2e} <= {tol_cert:.0e}"
+        ferr = getattr(cert, "forward_error", 0.0)
+        if ferr > tol_cert:
+            message += (f"; ill-conditioned (condition {cert.condition:.1e}): components may differ "
+                        f"from the exact solution of these data by up to {ferr:.1e} of their own size"
+                        if np.isfinite(ferr) else
+                        "; the solution is not isolated (singular active block): other solutions "
+                        "may exist")
     elif status == "inaccurate":
-        message = (f"not certified: error {cert.error:.2e} > {tol_cert:.0e} although the backend "
-                   f"said {res.backend_status!r}; ask for a tighter accuracy or use an exact method")
+        where = (f" at component {cert.worst_index}" if hasattr(cert, "worst_index")
+                 else f" at {cert.worst}")
+        message = (f"not certified: error {cert.error:.2e}{where} > {tol_cert:.0e} although the "
+                   f"backend said {res.backend_status!r}; ask for a tighter accuracy or use an "
+                   "exact method")
+        if cert.overflow:
+            message = ("not certified: the answer's products overflow double precision (beyond "
+                       "1e308); rescale the data's units")
     elif status == "failed":
         message = (f"no usable point came back (backend status {res.backend_status!r}"
                    + (f": {res.backend_message}" if res.backend_message else "") + ")")
