@@ -323,28 +323,28 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
     """
     from scipy.optimize import linprog
 
-    from .qpsolvers_backends import DATA_LIMIT
-
     n = q.size
     Ms = M * rs[:, None] * cs[None, :]
     qs = q * rs
-    if max(float(np.max(np.abs(Ms))), float(np.max(np.abs(qs)))) > DATA_LIMIT["highs"]:
-        return None, {"reason": "the scaled data exceed what the LP solver (HiGHS) survives"}
-    # Farkas: y' >= 0, Ms'y' <= 0, qs'y' <= -1.
-    A = np.vstack([Ms.T, qs[None, :]])
-    b = np.concatenate([np.zeros(n), [-1.0]])
-    res = linprog(np.zeros(n), A_ub=A, b_ub=b, bounds=(0, None), method="highs")
-    if res.status == 0:
+    # Positive scalars change no sign: the LPs see max|M| = max|q| = 1, and
+    # z = C (b/a) z'' maps their point back.
+    a = float(np.max(np.abs(Ms))) or 1.0
+    b = float(np.max(np.abs(qs))) or 1.0
+    Ms, qs = Ms / a, qs / b
+    # Farkas: min qs'y' over y' >= 0, Ms'y' <= 0, sum(y') = 1.
+    res = linprog(qs, A_ub=Ms.T, b_ub=np.zeros(n), A_eq=np.ones((1, n)), b_eq=[1.0],
+                  bounds=(0, None), method="highs")
+    if res.status == 0 and res.fun < 0:
         y = np.maximum(res.x * rs, 0.0)
         My, scale = M.T @ y, np.abs(M).T @ y
         qy, qscale = float(q @ y), float(np.abs(q) @ y)
         bad = np.maximum(My, 0.0) > FARKAS_RTOL * scale
         if not bad.any() and qy < -FARKAS_RTOL * qscale:
             return False, {"farkas": y}
-    # A feasible point: z' >= 0 with Ms z' + qs >= 0.
+    # A feasible point: z'' >= 0 with Ms z'' + qs >= 0.
     res = linprog(np.zeros(n), A_ub=-Ms, b_ub=qs, bounds=(0, None), method="highs")
     if res.status == 0:
-        z = np.maximum(res.x * cs, 0.0)
+        z = np.maximum(res.x * cs * (b / a), 0.0)
         w = M @ z + q
         if np.all(w >= -FARKAS_RTOL * (np.abs(M) @ z + np.abs(q))):
             return True, {"point": z}
