@@ -44,12 +44,13 @@ def main(argv=None) -> int:
     print(f"{args.problems} far-contact problems (n = 21, cond 297, 3 gaps of 5e11), "
           f"accuracy {args.accuracy!r}")
     silent_total = 0
-    bar = ProgressBar(len(names) * len(problems), "far-contact problems", transient=True)
-    rows = []
-    try:
-        for name in names:
-            right = silent = not_ok = 0
-            t0 = time.perf_counter()
+    print(f"{'method':16s} {'right':>7s} {'silent wrong':>13s} {'not ok':>7s} {'time [ms]':>10s}",
+          flush=True)
+    for name in names:
+        right = silent = not_ok = 0
+        t0 = time.perf_counter()
+        bar = ProgressBar(len(problems), name, enabled=sys.stdout.isatty(), transient=True)
+        try:
             for lcp, z_star, w_star in problems:
                 try:
                     sol = qpcontact.solve(lcp, method=name, accuracy=args.accuracy)
@@ -64,13 +65,11 @@ def main(argv=None) -> int:
                 else:
                     not_ok += 1
                 bar.advance()
-            ms = 1e3 * (time.perf_counter() - t0) / len(problems)
-            silent_total += silent
-            rows.append(f"{name:16s} {right:7d} {silent:13d} {not_ok:7d} {ms:10.2f}")
-    finally:
-        bar.close()
-    print(f"{'method':16s} {'right':>7s} {'silent wrong':>13s} {'not ok':>7s} {'time [ms]':>10s}")
-    print("\n".join(rows))
+        finally:
+            bar.close()
+        ms = 1e3 * (time.perf_counter() - t0) / len(problems)
+        silent_total += silent
+        print(f"{name:16s} {right:7d} {silent:13d} {not_ok:7d} {ms:10.2f}", flush=True)
     print(f"silent wrong answers, all methods: {silent_total}")
     return 1 if silent_total else 0
 

@@ -285,10 +285,8 @@ def _lcp_normwise(lcp: LCP, z, Mz, w) -> float:
     return _inf_norm(np.minimum(_divide(z, sigma_z), _divide(w, sigma_w)))
 
 
-#: Rounding level of evaluating one row, in units of eps: a component below
-#: (row nonzeros + 1) eps of its own scale is indistinguishable from zero, and
-#: its forward error is measured against that scale instead of its value.
 def _rounding_level(M) -> float:
+    """(row nonzeros + 1) eps: the rounding of evaluating one row of Mz + q."""
     row_nnz = (int(np.diff(M.tocsr().indptr).max()) if sp.issparse(M) and M.nnz else M.shape[1])
     return (row_nnz + 1) * _EPS
 
@@ -309,8 +307,12 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float) -> tuple[float, float, fl
     v)_j) / |w_j| (N), and their maximum as the condition number; the forward
     error is ε times them.  For active blocks above _EXACT_CONDITION_SIZE, v is
     bounded through a 1-norm estimate of ‖Z⁻¹|M_FF⁻¹|σ_F‖∞ (so |M_NF| v <=
-    κ_z σ_N, a cruder bound).  inf when M_FF is singular: the solution is not
-    isolated.
+    κ_z σ_N, a cruder bound).  Every value is judged against itself — a
+    component near zero may have no correct digit, and that is what a user
+    reading it must be told — except values below ``level`` (the rounding of
+    evaluating their row) times their scale, which carry no information and are
+    judged against the scale (ζ_i, σ_j).  inf when M_FF is singular: the
+    solution is not isolated.
     """
     Z, W = _divide(z, zeta), _divide(w, sigma)
     on = Z > W
@@ -341,7 +343,7 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float) -> tuple[float, float, fl
                     if not np.all(np.isfinite(inv)):
                         return np.inf, np.inf, np.inf
                     v = np.abs(inv) @ g + zeta[F]
-                    kappa_z = float(np.max(v / den))
+                    kappa_z = float(np.max(_divide(v, den)))
                 else:
                     from scipy.sparse.linalg import LinearOperator, onenormest
 
@@ -357,12 +359,12 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float) -> tuple[float, float, fl
             return np.inf, np.inf, np.inf
     kappa_w = 0.0
     if N.size:
-        wd = np.where(np.abs(w[N]) > level * sigma[N], np.abs(w[N]), sigma[N])
         if F.size and v is not None:
             MNF = M[N][:, F] if sp.issparse(M) else M[np.ix_(N, F)]
             spread = sigma[N] + _abs_matvec(MNF, v)
         else:
             spread = (1.0 + kappa_z) * sigma[N]
+        wd = np.where(np.abs(w[N]) > level * sigma[N], np.abs(w[N]), sigma[N])
         kappa_w = float(np.max(_divide(spread, wd)))
     return max(kappa_z, kappa_w), kappa_z, kappa_w
 
@@ -387,6 +389,8 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     rn = _safe_norm2(r)
     with np.errstate(over="ignore", invalid="ignore"):
         zw = float(z @ w)
+    # Below the rounding of evaluating a row (LAPACK's FERR convention) no
+    # backward error can be seen.
     # Below the rounding of evaluating a row (LAPACK's FERR convention) no
     # backward error can be seen.
     level = _rounding_level(lcp.M)

@@ -162,8 +162,9 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
         message = f"certified: error {cert.error:.2e} <= {tol_cert:.0e}"
         ferr = getattr(cert, "forward_error", 0.0)
         if ferr > tol_cert:
-            message += (f"; ill-conditioned (condition {cert.condition:.1e}): components may differ "
-                        f"from the exact solution of these data by up to {ferr:.1e} of their own size"
+            message += (f"; forward error up to {ferr:.1e} (condition {cert.condition:.1e}): "
+                        "components may differ from the exact solution of these data by that "
+                        "much of their own size (a component near zero may have no correct digit)"
                         if np.isfinite(ferr) else
                         "; the solution is not isolated (singular active block): other solutions "
                         "may exist")

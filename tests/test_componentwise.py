@@ -163,14 +163,14 @@ def test_forward_error_bounds_the_distance_to_the_exact_solution(method):
         assert actual <= sol.forward_error, (seed, actual, sol.forward_error)
         if sol.forward_error > sol.tol:
             flagged += 1
-            assert "ill-conditioned" in sol.message
+            assert "forward error up to" in sol.message
     assert flagged > 0  # these data are ill-conditioned: some answers must say so
 
 
 def test_well_conditioned_answers_carry_a_small_forward_error():
     lcp, z_star, _ = far_contact_lcp(3)
     sol = qpcontact.solve(lcp, method="bpp")
-    assert sol.forward_error < 1e-11 and "ill-conditioned" not in sol.message
+    assert sol.forward_error < 1e-11 and "forward error" not in sol.message
     assert np.max(np.abs(sol.z - z_star)) <= sol.forward_error * np.max(z_star)
 
 
