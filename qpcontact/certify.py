@@ -200,6 +200,22 @@ class ComponentScales:
         self.q_terms = np.abs(np.asarray(q_terms, dtype=float))
         self.scale_M = _max_abs(M) if scale_M is None else scale_M
 
+    def bound_data(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """(‖M_i‖₁ per row, 1/|M_ii| (inf where 0), ‖q‖∞ / max|M|): what cheap
+        upper bounds of the scales need — σ_i <= |q_i| + ‖M_i‖₁ (‖z‖∞ + cap)
+        (the idle-row floor adds at most ‖M_i‖₁ cap), ζ_i <= min(σ_i / |M_ii|,
+        cap), cap = max(‖z‖∞, ‖q‖∞ / max|M|)."""
+        if self._bounds is None:
+            A = self.absM
+            diag = np.asarray(A.diagonal()).ravel()
+            with np.errstate(divide="ignore"):
+                inv_diag = np.where(diag > 0, 1.0 / np.where(diag > 0, diag, 1.0), np.inf)
+            floor = _inf_norm(self.q_terms) / self.scale_M if self.scale_M > 0 else 0.0
+            self._bounds = (np.asarray(A.sum(axis=1)).ravel(), inv_diag, floor)
+        return self._bounds
+
+    _bounds = None
+
     def at(self, z: np.ndarray, q_terms: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(ζ, σ) at z; ``q_terms`` are the magnitudes of q's terms (|q|, or
         LCP.q_terms; default the ones given at construction)."""

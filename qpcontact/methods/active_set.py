@@ -21,8 +21,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..certify import ComponentScales
+from ._pivot_kernels import sure_negatives
 
-__all__ = ["sign_tolerances", "ComponentScales", "ActiveBlock", "symmetric_scaling", "dense_matrix",
+__all__ = ["sign_tolerances", "negative_components", "ComponentScales", "ActiveBlock", "symmetric_scaling", "dense_matrix",
            "check_options", "check_dense_size", "not_positive_definite",
            "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
 
@@ -80,6 +81,27 @@ def sign_tolerances(scales: ComponentScales, z: np.ndarray, q_terms: np.ndarray 
     """
     zeta, sigma = scales.at(z, q_terms)
     return SIGN_RTOL * zeta, SIGN_RTOL * sigma
+
+
+def negative_components(scales: ComponentScales, values: np.ndarray, is_z: np.ndarray,
+                        z: np.ndarray) -> np.ndarray:
+    """Indices i with values_i < -tau_i, tau the per-component sign tolerances
+    at the point z (ρ ζ_i where is_z, ρ σ_i elsewhere; see sign_tolerances).
+
+    The exact scales cost a pass over |M| (O(n²) dense), which would double the
+    cost of a dense pivot.  Cheap bounds decide almost every component:
+    σ_i <= |q_i| + ‖M_i‖₁ (‖z‖∞ + cap) (the idle-row floor included) and
+    ζ_i <= σ_i / |M_ii|, with 0 as the lower bound of both; the exact
+    tolerances are computed only when some value falls between the two.
+    """
+    row_l1, inv_diag, cap_floor = scales.bound_data()
+    surely, unsure = sure_negatives(np.asarray(values, dtype=float), np.asarray(is_z, dtype=bool),
+                                    np.asarray(z, dtype=float), scales.q_terms, row_l1, inv_diag,
+                                    cap_floor, SIGN_RTOL)
+    if not unsure:
+        return surely
+    tau_z, tau_w = sign_tolerances(scales, z)
+    return np.flatnonzero(values < -np.where(is_z, tau_z, tau_w))
 
 
 def symmetric_scaling(M) -> np.ndarray:

@@ -30,7 +30,7 @@ import scipy.sparse as sp
 from ..errors import InvalidOptionError
 from ..solution import MethodResult
 from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, check_options,
-                         not_positive_definite, sign_tolerances)
+                         negative_components, not_positive_definite)
 
 __all__ = ["run_bpp", "block_pivoting"]
 
@@ -69,12 +69,10 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
         stats["factorizations"] += 1
         # Intermediate bases only need signs: refine once the signs look final.
         z, w = block.basic_solution(M, q, refine=0)
-        tau_z, tau_w = sign_tolerances(scales, z)
-        infeasible = np.flatnonzero(np.where(F, z < -tau_z, w < -tau_w))
+        infeasible = negative_components(scales, np.where(F, z, w), F, z)
         if infeasible.size == 0:
             z, w = block.basic_solution(M, q, refine=3)
-            tau_z, tau_w = sign_tolerances(scales, z)
-            infeasible = np.flatnonzero(np.where(F, z < -tau_z, w < -tau_w))
+            infeasible = negative_components(scales, np.where(F, z, w), F, z)
         k = infeasible.size
         if k == 0:
             z[F] = np.maximum(z[F], 0.0)

@@ -38,7 +38,8 @@ from scipy.linalg.blas import dger
 from ..errors import InvalidOptionError, NotConvexError
 from ..solution import MethodResult
 from .active_set import (ActiveBlock, ComponentScales, check_dense_size, check_options,
-                         dense_matrix, not_positive_definite, sign_tolerances, symmetric_scaling)
+                         dense_matrix, negative_components, not_positive_definite,
+                         sign_tolerances, symmetric_scaling)
 
 __all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau"]
 
@@ -114,9 +115,7 @@ def _energy(M: np.ndarray, q: np.ndarray, q_terms: np.ndarray, max_pivots: int, 
     while True:
         # Each value is judged on its own scale at the current point (the
         # basic z's are qbar's basic entries).
-        tau_z, tau_w = sign_tolerances(scales, np.where(basic, qbar, 0.0))
-        tau = np.where(basic, tau_z, tau_w)
-        neg = np.flatnonzero(qbar < -tau)
+        neg = negative_components(scales, qbar, basic, np.where(basic, qbar, 0.0))
         if neg.size == 0:
             # The tableau says done: recompute from the data before believing it.
             z, w = ActiveBlock(M, basic, symmetric=True).basic_solution(M, q)
