@@ -34,6 +34,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/penalty_mu.py --plot docs/figures/penalty_mu.png
 	$(BIN)/python benchmarks/bvp.py --plot docs/figures/elastica.png
 	$(BIN)/python benchmarks/multibody.py --plot docs/figures/multibody.png
+	$(BIN)/python benchmarks/far_contact.py --problems 200
+	$(BIN)/python benchmarks/backend_limits.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache
