@@ -10,8 +10,8 @@ certificate.  All are seeded and deterministic.
   5e11 beside gaps of 0.1 (a log far away in a drum, a support with a large
   clearance).  A tolerance scaled by the largest entry of q lets the near
   contacts be wrong by most of their own size (docs/certificates.md);
-- :func:`spread_lcp` — planted gaps and forces spread over many orders of
-  magnitude, with degenerate pairs (z_i = w_i = 0).
+- :func:`spread_lcp` — planted gaps spread over many orders of magnitude,
+  with degenerate pairs (z_i = w_i = 0), dense or sparse.
 
 :func:`planted_ok` judges an answer against the planted solution, component by
 component against each component's own size.
@@ -75,17 +75,29 @@ def far_contact_lcp(seed: int, n: int = 21, cond: float = 297.0, n_far: int = 3,
 
 
 def spread_lcp(seed: int, n: int = 24, cond: float = 100.0, decades: float = 12.0,
-               degenerate_fraction: float = 0.2):
-    """(LCP, z*, w*): planted z* and w* whose nonzero entries are spread
-    log-uniformly over 10^0 .. 10^decades, with a fraction of degenerate pairs
-    (z*_i = w*_i = 0).  Dense SPD M with condition number ``cond``."""
+               degenerate_fraction: float = 0.2, sparse: bool = False):
+    """(LCP, z*, w*): planted gaps w* spread log-uniformly over 10^0 .. 10^decades,
+    forces z* in [0.1, 2], and a fraction of degenerate pairs (z*_i = w*_i = 0).
+
+    Gaps far apart are the far-contact situation generalised; degenerate pairs
+    are contacts that touch without load.  Both leave the solution well
+    determined by the data (the rounding of a large q_i only moves its own
+    w_i), so an answer can be held to the planted solution.  M is dense SPD
+    with condition number ``cond``, or (``sparse=True``) a tridiagonal contact
+    chain as a SciPy CSC matrix.
+    """
+    import scipy.sparse as sp
+
     rng = np.random.default_rng(seed)
-    M = random_spd(n, cond, rng)
+    if sparse:
+        k = rng.uniform(0.5, 1.5, n + 1)
+        M = sp.diags([-k[1:-1], k[:-1] + k[1:] + 0.01, -k[1:-1]], [-1, 0, 1], format="csc")
+    else:
+        M = random_spd(n, cond, rng)
     kind = rng.choice(3, size=n, p=[(1 - degenerate_fraction) / 2] * 2 + [degenerate_fraction])
-    mag = 10.0 ** rng.uniform(0.0, decades, n)
-    z = np.where(kind == 0, mag, 0.0)
-    w = np.where(kind == 1, mag, 0.0)
-    return LCP(M, w - M @ z), z, w
+    z = np.where(kind == 0, rng.uniform(0.1, 2.0, n), 0.0)
+    w = np.where(kind == 1, 10.0 ** rng.uniform(0.0, decades, n), 0.0)
+    return LCP(M, w - np.asarray(M @ z).ravel()), z, w
 
 
 def planted_ok(z, w, z_star, w_star, rtol: float = 1e-6) -> bool:

@@ -90,6 +90,53 @@ def fathi_family(n: int):
     return L @ L.T, -np.ones(n)
 
 
+def _exact_basic(M, q, F):
+    """(z, w) as Fractions on the basis F (z_F = -M_FF^-1 q_F), None if M_FF is singular."""
+    n = len(q)
+    A = [[M[i][j] for j in F] for i in F]
+    b = [-q[i] for i in F]
+    m = len(F)
+    for k in range(m):
+        p = max(range(k, m), key=lambda r: abs(A[r][k]))
+        if A[p][k] == 0:
+            return None
+        A[k], A[p], b[k], b[p] = A[p], A[k], b[p], b[k]
+        for r in range(k + 1, m):
+            f = A[r][k] / A[k][k]
+            if f:
+                for c in range(k, m):
+                    A[r][c] -= f * A[k][c]
+                b[r] -= f * b[k]
+    x = [Fraction(0)] * m
+    for k in reversed(range(m)):
+        x[k] = (b[k] - sum(A[k][c] * x[c] for c in range(k + 1, m))) / A[k][k]
+    z = [Fraction(0)] * n
+    for k, i in enumerate(F):
+        z[i] = x[k]
+    w = [sum(M[i][j] * z[j] for j in F) + q[i] for i in range(n)]
+    return z, w
+
+
+def exact_lcp_solution(M, q, guess) -> tuple[np.ndarray, np.ndarray]:
+    """The exact solution of the data *as stored* (every float taken as the
+    rational it is), found by Murty's least-index principal pivoting in exact
+    rational arithmetic from the basis ``guess`` (bool mask of positive z's) —
+    finite for P-matrices.  Near a planted solution only the degenerate pairs,
+    which the rounding of q decides, move.  Returned rounded to floats."""
+    M = [[Fraction(float(x)) for x in row] for row in np.asarray(M, float).tolist()]
+    q = [Fraction(float(x)) for x in np.asarray(q, float).tolist()]
+    F = set(int(i) for i in np.flatnonzero(guess))
+    for _ in range(10 * len(q) + 100):
+        zw = _exact_basic(M, q, sorted(F))
+        assert zw is not None, "singular principal block: not a P-matrix"
+        z, w = zw
+        bad = [i for i in range(len(q)) if (i in F and z[i] < 0) or (i not in F and w[i] < 0)]
+        if not bad:
+            return np.array([float(v) for v in z]), np.array([float(v) for v in w])
+        F ^= {bad[0]}
+    raise AssertionError("exact pivoting did not finish")
+
+
 def exact_basic_solution(M, q, active) -> tuple[np.ndarray, np.ndarray]:
     """The exact solution of the data *as stored* (every float taken as the
     rational it is) on the basis ``active``: z_F = -M_FF^-1 q_F by Gaussian

@@ -331,3 +331,33 @@ def test_exact_methods_on_very_ill_conditioned_spd(seed):
         sol = qpcontact.solve(lcp, method=method)
         assert sol.ok, (method, sol.message)
         assert np.max(np.abs(sol.z - z_star)) <= 1e12 * 1e-16 * 100 * np.max(z_star), method
+
+
+# --- gaps far apart, touching contacts (issue 14) ---------------------------------
+
+@pytest.mark.parametrize("sparse", [False, True])
+@pytest.mark.parametrize("seed", range(8))
+def test_exact_methods_on_spread_gaps_and_degenerate_pairs(seed, sparse):
+    """Planted gaps over 1e0..1e12 and touching unloaded contacts (z = w = 0):
+    every exact method equals the planted solution component by component."""
+    from qpcontact.testing import planted_ok, spread_lcp
+
+    lcp, z, w = spread_lcp(seed, sparse=sparse)
+    for method in ("bpp",) if sparse else PIVOTING:
+        sol = qpcontact.solve(lcp, method=method)
+        assert sol.ok and planted_ok(sol.z, sol.w, z, w, rtol=1e-9), (method, sol.message)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_lemke_on_nonsymmetric_p_matrices_with_spread_gaps(seed):
+    """M = SPD + skew (a P-matrix: z'Mz > 0), gaps over 1e0..1e12 and touching
+    pairs, solution planted: Lemke equals it componentwise."""
+    from qpcontact.testing import planted_ok, spread_lcp
+
+    lcp, z, w = spread_lcp(seed, n=20)
+    rng = np.random.default_rng(seed)
+    K = rng.standard_normal((20, 20))
+    M = lcp.M + 0.3 * (K - K.T)
+    q = w - M @ z
+    sol = qpcontact.solve(LCP(M, q), method="lemke")
+    assert sol.ok and planted_ok(sol.z, sol.w, z, w, rtol=1e-9), sol.message

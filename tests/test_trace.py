@@ -158,3 +158,27 @@ def test_trace_plot_is_written(tmp_path):
     assert (tmp_path / "trace.png").stat().st_size > 1000
     assert not list(tmp_path.glob("*.tmp.png"))
     assert out.endswith("trace.png")
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_trace_with_far_and_touching_gaps_agrees_componentwise(seed):
+    """Issue 14's family in the trace: gaps spread over 1e0..1e12 (far contacts)
+    and gaps of exactly zero (touching, unloaded).  Each piece must match an
+    independent solve ("bpp", no shared pivoting code) component by component,
+    w_i against its own size — a normwise check would let near contacts be
+    wrong by the far gaps' 1e12 * 1e-6."""
+    M, q1, rng = _family(seed + 30)
+    n = M.shape[0]
+    q0 = np.where(rng.random(n) < 0.5, 10.0 ** rng.uniform(0, 12, n), 0.0)
+    plcp = ParametricLCP(M, q0, q1)
+    tr = qpcontact.solve(plcp, method="trace", p_max=3.0)
+    assert tr.ok, tr.message
+    for piece in tr.pieces:
+        hi = piece.p_end if np.isfinite(piece.p_end) else piece.p_start + 1.0
+        for frac in (0.25, 0.5, 0.75):
+            p = piece.p_start + frac * (hi - piece.p_start)
+            ref = qpcontact.solve(plcp.at(p), method="bpp")
+            assert ref.ok
+            z, w = tr.z_at(p), tr.w_at(p)
+            np.testing.assert_allclose(z, ref.z, rtol=1e-9, atol=1e-12 * np.abs(ref.z).max())
+            np.testing.assert_allclose(w, ref.w, rtol=1e-9, atol=1e-12 * np.abs(q1).max() * (1 + p))
