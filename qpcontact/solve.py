@@ -108,6 +108,22 @@ def _applicable(problem, m: Method) -> bool:
     return m.accepts_sparse or not sparse or n <= _AUTO_DENSE_LIMIT
 
 
+def _data_range(problem) -> tuple[float, float]:
+    """(smallest nonzero, largest) |entry| of an LCP's or a QP's data."""
+    parts = [problem.M, problem.q] if isinstance(problem, LCP) else list(problem.unpack())
+    vals = []
+    for part in parts:
+        if part is None:
+            continue
+        v = part.data if sp.issparse(part) else np.asarray(part, dtype=float).ravel()
+        v = np.abs(v[np.isfinite(v) & (v != 0)])
+        if v.size:
+            vals.append((v.min(), v.max()))
+    if not vals:
+        return 0.0, 0.0
+    return min(a for a, _ in vals), max(b for _, b in vals)
+
+
 def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
     """Convert, run, time, certify.  Returns an LCPSolution or QPSolution."""
     route = "direct"
@@ -126,7 +142,10 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
         if m.takes == "lcp":
             dual = qp_to_lcp(problem)
             target, route = dual.lcp, "dual-lcp"
-    res: MethodResult = m.run(target, tol_backend, dict(options))
+    # Overflow on extreme data is an outcome the certificate reports, not a
+    # warning to print from deep inside a method.
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        res: MethodResult = m.run(target, tol_backend, dict(options))
     wall = time.perf_counter() - start
 
     x = None if res.x is None else np.asarray(res.x, dtype=float).ravel()
@@ -180,6 +199,11 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
     elif status == "failed":
         message = (f"no usable point came back (backend status {res.backend_status!r}"
                    + (f": {res.backend_message}" if res.backend_message else "") + ")")
+        if res.backend_status == "overflow" or (x is not None and not np.all(np.isfinite(x))):
+            lo, hi = _data_range(problem)
+            message += (f"; the solution does not fit in double precision: the data's magnitudes "
+                        f"span {lo:.1e} .. {hi:.1e}. Rescale the units (e.g. of q, or of the "
+                        "unknowns) so that the solution's entries stay below 1e300")
     else:
         message = res.backend_message or status
     return cls(status=status, ok=ok, message=message, certificate=cert, **common, **fields)

@@ -234,6 +234,17 @@ def test_extreme_data_solved_right_or_refused_never_a_false_proof():
     sol = qpcontact.solve(LCP([[1e-8, -1.0], [1e8, -1.0]], [1e300, -1.0]))
     assert np.all(np.isfinite(sol.z)) and sol.ok
     np.testing.assert_allclose(sol.z, [1e300 / (1e8 - 1e-8), 1e300], rtol=1e-15)
+    # (3) a solution that does not fit: z1 = 1e200 / 1e-200 = 1e400.  Every method
+    # says so — no NaN, no "solved", no warning from deep inside.
+    import warnings
+
+    lcp = LCP([[1e-200, 0.0], [0.0, 1.0]], [-1e200, -1.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for method in ("auto", "energy", "bpp", "lemke"):
+            sol = qpcontact.solve(lcp, method=method)
+            assert sol.status == "failed" and sol.z is None, (method, sol.status)
+            assert "does not fit in double precision" in sol.message
 
 
 def test_lemke_claims_infeasibility_only_with_a_checked_farkas_vector():

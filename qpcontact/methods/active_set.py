@@ -23,7 +23,8 @@ import scipy.sparse.linalg as spla
 from ..certify import ComponentScales
 from ._pivot_kernels import sure_negatives
 
-__all__ = ["sign_tolerances", "negative_components", "ComponentScales", "ActiveBlock", "symmetric_scaling", "dense_matrix",
+__all__ = ["sign_tolerances", "negative_components", "ComponentScales", "SolutionOverflow",
+           "overflow_result", "ActiveBlock", "symmetric_scaling", "dense_matrix",
            "check_options", "check_dense_size", "not_positive_definite",
            "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
 
@@ -35,6 +36,20 @@ DENSE_TABLEAU_LIMIT = 5000
 
 #: Relative size below which a value counts as zero when deciding signs.
 SIGN_RTOL = 1e3 * _EPS
+
+
+class SolutionOverflow(ArithmeticError):
+    """An active block was factorized but its solution does not fit in double
+    precision (the data span too many orders of magnitude)."""
+
+
+def overflow_result(method: str, exc: Exception):
+    """The MethodResult of a method whose solution overflowed: no point, and a
+    message that :func:`qpcontact.solve` completes with the data's range."""
+    from ..solution import MethodResult
+
+    return MethodResult(x=None, backend_status="overflow",
+                        backend_message=f"{method}: {exc}")
 
 
 def check_options(method: str, options: dict, allowed: tuple) -> None:
@@ -219,9 +234,11 @@ class ActiveBlock:
         return self._B
 
     def _checked(self, x) -> np.ndarray:
+        # The factorization succeeded (positive pivots, or an LU that passed its
+        # singularity test), so an infinite entry is the solution overflowing.
         x = np.asarray(x, dtype=float)
         if not np.all(np.isfinite(x)):
-            raise np.linalg.LinAlgError("the active block is numerically singular")
+            raise SolutionOverflow("the active block's solution has entries beyond 1.8e308")
         return x
 
     def solve(self, rhs: np.ndarray, refine: int = 3) -> np.ndarray:

@@ -29,8 +29,9 @@ import scipy.sparse as sp
 
 from ..errors import InvalidOptionError
 from ..solution import MethodResult
-from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, check_options,
-                         negative_components, not_positive_definite)
+from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, SolutionOverflow,
+                         check_options, negative_components, not_positive_definite,
+                         overflow_result)
 
 __all__ = ["run_bpp", "block_pivoting"]
 
@@ -110,6 +111,8 @@ def run_bpp(problem, tol, options) -> MethodResult:
         z, F, stats, status = block_pivoting(problem, F, max_iter, patience)
     except np.linalg.LinAlgError as exc:
         raise not_positive_definite("bpp", exc) from None
+    except SolutionOverflow as exc:
+        return overflow_result("bpp", exc)
     stats["active"] = int(F.sum())
     return MethodResult(
         x=z, backend_status=status, iterations=stats["iterations"],

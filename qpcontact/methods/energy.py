@@ -37,9 +37,9 @@ from scipy.linalg.blas import dger
 
 from ..errors import InvalidOptionError, NotConvexError
 from ..solution import MethodResult
-from .active_set import (ActiveBlock, ComponentScales, check_dense_size, check_options,
-                         dense_matrix, negative_components, not_positive_definite,
-                         sign_tolerances, symmetric_scaling)
+from .active_set import (ActiveBlock, ComponentScales, SolutionOverflow, check_dense_size,
+                         check_options, dense_matrix, negative_components, not_positive_definite,
+                         overflow_result, sign_tolerances, symmetric_scaling)
 
 __all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau"]
 
@@ -174,11 +174,17 @@ def run_energy(problem, tol, options) -> MethodResult:
     d = symmetric_scaling(M)
     Ms = M * d[:, None] * d[None, :]
     qs = problem.q * d
+    if not (np.all(np.isfinite(Ms)) and np.all(np.isfinite(qs))):
+        return overflow_result("energy", "the Jacobi-scaled data overflow")
     try:
         zs, basic, stats, status = _energy(Ms, qs, problem.q_terms * d, max_pivots, rule)
     except np.linalg.LinAlgError as exc:
         raise not_positive_definite("energy", exc) from None
+    except SolutionOverflow as exc:
+        return overflow_result("energy", exc)
     z = zs * d
+    if not np.all(np.isfinite(z)):
+        return overflow_result("energy", "the solution has entries beyond 1.8e308")
     stats["active"] = int(basic.sum())
     return MethodResult(
         x=z, backend_status=status, iterations=stats["pivots"],

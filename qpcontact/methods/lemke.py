@@ -34,8 +34,8 @@ from scipy.linalg.blas import dger
 from ..errors import InvalidOptionError
 from ._pivot_kernels import ratio_ties, scales_pivot
 from ..solution import MethodResult
-from .active_set import (ActiveBlock, ComponentScales, check_dense_size, check_options,
-                         dense_matrix, sign_tolerances)
+from .active_set import (ActiveBlock, ComponentScales, SolutionOverflow, check_dense_size,
+                         check_options, dense_matrix, overflow_result, sign_tolerances)
 
 __all__ = ["LemkeOutcome", "lemke", "run_lemke", "ruiz_scaling", "lex_ratio_test",
            "tableau_pivot", "RowScales"]
@@ -295,7 +295,7 @@ def _refined(lcp, M: np.ndarray, z_tab: np.ndarray, basic_z: np.ndarray) -> np.n
     q = lcp.q
     try:
         z, w = ActiveBlock(M, basic_z, symmetric=False).basic_solution(M, q, refine=2)
-    except np.linalg.LinAlgError:
+    except (np.linalg.LinAlgError, SolutionOverflow):
         return z_tab
     tau_z, tau_w = sign_tolerances(ComponentScales(M, lcp.q_terms, lcp.matrix_scale), z)
     if np.all(z[basic_z] >= -tau_z[basic_z]) and np.all(w[~basic_z] >= -tau_w[~basic_z]):
@@ -346,7 +346,7 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
     if res.status == 0:
         z = np.maximum(res.x * cs * (b / a), 0.0)
         w = M @ z + q
-        if np.all(w >= -FARKAS_RTOL * (np.abs(M) @ z + np.abs(q))):
+        if np.all(np.isfinite(w)) and np.all(w >= -FARKAS_RTOL * (np.abs(M) @ z + np.abs(q))):
             return True, {"point": z}
     return None, {"reason": "the LPs gave no answer that checks against the data"}
 
@@ -372,6 +372,8 @@ def run_lemke(problem, tol, options) -> MethodResult:
     rs, cs = ruiz_scaling(M)
     Ms = M if (rs == 1).all() and (cs == 1).all() else M * rs[:, None] * cs[None, :]
     qs = q * rs
+    if not (np.all(np.isfinite(Ms)) and np.all(np.isfinite(qs))):
+        return overflow_result("lemke", "the equilibrated data overflow")
     d = np.ones(n) if d_user is None else d_user
     total = 0
     tried = []
@@ -388,6 +390,8 @@ def run_lemke(problem, tol, options) -> MethodResult:
     stats = {"pivots": total, "last_run_pivots": out.pivots, "covering_vectors_tried": len(tried)}
     if out.status == "solved":
         z = out.z * cs
+        if not np.all(np.isfinite(z)):
+            return overflow_result("lemke", "the solution has entries beyond 1.8e308")
         if _sign_errors(problem, M, z, out.basic_z):
             z = _refined(problem, M, z, out.basic_z)
         return MethodResult(x=z, backend_status="solved", iterations=total, stats=stats)
