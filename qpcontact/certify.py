@@ -202,9 +202,9 @@ class ComponentScales:
 
     def bound_data(self) -> tuple[np.ndarray, np.ndarray, float]:
         """(‖M_i‖₁ per row, 1/|M_ii| (inf where 0), ‖q‖∞ / max|M|): what cheap
-        upper bounds of the scales need — σ_i <= |q_i| + ‖M_i‖₁ (‖z‖∞ + cap)
-        (the idle-row floor adds at most ‖M_i‖₁ cap), ζ_i <= min(σ_i / |M_ii|,
-        cap), cap = max(‖z‖∞, ‖q‖∞ / max|M|)."""
+        upper bounds of the scales need — σ_i <= |q_i| + ‖M_i‖₁ ‖z‖∞, plus
+        ‖M_i‖₁ cap on an idle row (q_i = 0: the floor _scales adds),
+        ζ_i <= min(σ_i / |M_ii|, cap), cap = max(‖z‖∞, ‖q‖∞ / max|M|)."""
         if self._bounds is None:
             A = self.absM
             diag = np.asarray(A.diagonal()).ravel()
@@ -339,29 +339,32 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float) -> tuple[float, float, fl
         g = sigma[F]
         k = F.size
         try:
-            if sp.issparse(M):
-                import scipy.sparse.linalg as spla
-
-                lu = spla.splu(M[F][:, F].tocsc())
-
-                def solve(r, trans=False):
-                    return lu.solve(r, trans="T" if trans else "N")
-            else:
-                with warnings.catch_warnings():  # a singular block is an outcome: inf below
-                    warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-                    lu = scipy.linalg.lu_factor(M[np.ix_(F, F)], check_finite=False)
-
-                def solve(r, trans=False):
-                    return scipy.linalg.lu_solve(lu, r, trans=1 if trans else 0, check_finite=False)
             with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
                 if k <= _EXACT_CONDITION_SIZE:
-                    inv = solve(np.eye(k))
+                    B = M[F][:, F].toarray() if sp.issparse(M) else M[np.ix_(F, F)]
+                    inv = np.linalg.inv(B)  # LinAlgError when exactly singular
                     if not np.all(np.isfinite(inv)):
                         return np.inf, np.inf, np.inf
                     v = np.abs(inv) @ g + zeta[F]
                     kappa_z = float(np.max(_divide(v, den)))
                 else:
                     from scipy.sparse.linalg import LinearOperator, onenormest
+
+                    if sp.issparse(M):
+                        import scipy.sparse.linalg as spla
+
+                        lu = spla.splu(M[F][:, F].tocsc())
+
+                        def solve(r, trans=False):
+                            return lu.solve(r, trans="T" if trans else "N")
+                    else:
+                        with warnings.catch_warnings():  # a singular block: inf below
+                            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+                            lu = scipy.linalg.lu_factor(M[np.ix_(F, F)], check_finite=False)
+
+                        def solve(r, trans=False):
+                            return scipy.linalg.lu_solve(lu, r, trans=1 if trans else 0,
+                                                         check_finite=False)
 
                     # ‖Z⁻¹ |B⁻¹| g‖∞ = ‖Z⁻¹ B⁻¹ G‖∞ = ‖G B⁻ᵀ Z⁻¹‖₁
                     op = LinearOperator((k, k), dtype=float,

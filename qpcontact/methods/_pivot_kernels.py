@@ -103,7 +103,8 @@ def sure_negatives(values: np.ndarray, is_z: np.ndarray, z: np.ndarray, q_terms:
         v = values[i]
         if v >= 0.0:
             continue
-        sigma_hi = q_terms[i] + row_l1[i] * (zmax + cap)
+        # the idle-row floor (at most ‖M_i‖₁ cap) exists only where q_i = 0
+        sigma_hi = q_terms[i] + row_l1[i] * (zmax + (cap if q_terms[i] == 0.0 else 0.0))
         if is_z[i]:
             hi = rho * min(sigma_hi * inv_diag[i], cap)
             lo = 0.0

@@ -105,7 +105,7 @@ def negative_components(scales: ComponentScales, values: np.ndarray, is_z: np.nd
 
     The exact scales cost a pass over |M| (O(n²) dense), which would double the
     cost of a dense pivot.  Cheap bounds decide almost every component:
-    σ_i <= |q_i| + ‖M_i‖₁ (‖z‖∞ + cap) (the idle-row floor included) and
+    σ_i <= |q_i| + ‖M_i‖₁ ‖z‖∞ (+ ‖M_i‖₁ cap on idle rows, the floor) and
     ζ_i <= σ_i / |M_ii|, with 0 as the lower bound of both; the exact
     tolerances are computed only when some value falls between the two.
     """
