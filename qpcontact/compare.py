@@ -471,7 +471,7 @@ def _plots(rows, out: Path, form: str):
                               label=m if lv == "high" else None)
         ax.axhline(1e-9, color="0.5", ls="--", lw=0.8)
         ax.set_xlabel("median wall time over the instances [s]")
-        ax.set_ylabel("median certified error (scale-free)")
+        ax.set_ylabel("median certified error (componentwise)")
         ax.set_title(f"{form} / {size}: work-precision. Markers: low (v), default (square), "
                      "high (o); lines: tolerance sweep 1e-2..1e-12; dashed: 1e-9", fontsize=8)
         ax.grid(True, which="major", alpha=0.3)

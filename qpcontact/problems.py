@@ -2,9 +2,9 @@
 
 An LCP(M, q) asks for z >= 0 with w = M z + q >= 0 and z'w = 0.  In contact
 mechanics z is a vector of contact forces (N) and w the matching gaps (m), or
-the reverse; the library does not care about units, but its error measures are
-scale-free (see :mod:`qpcontact.certify`) so that badly scaled data are judged
-fairly.
+the reverse; the library does not care about units, but its error measures
+judge every component against its own data (see :mod:`qpcontact.certify`), so
+badly scaled data and contacts far apart are judged fairly.
 
 The quadratic program type is :class:`qpsolvers.Problem`; this module does not
 define another.  Conversions between the two live in
