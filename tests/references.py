@@ -139,30 +139,11 @@ def exact_lcp_solution(M, q, guess) -> tuple[np.ndarray, np.ndarray]:
 
 def exact_basic_solution(M, q, active) -> tuple[np.ndarray, np.ndarray]:
     """The exact solution of the data *as stored* (every float taken as the
-    rational it is) on the basis ``active``: z_F = -M_FF^-1 q_F by Gaussian
-    elimination in rationals, w = M z + q; returned rounded to floats, with a
-    check that it solves the LCP (z >= 0, w >= 0) exactly."""
-    M, q = np.asarray(M, float), np.asarray(q, float)
-    n = q.size
-    F = [int(i) for i in np.flatnonzero(active)]
-    A = [[Fraction(float(M[i, j])) for j in F] for i in F]
-    b = [-Fraction(float(q[i])) for i in F]
-    m = len(F)
-    for k in range(m):
-        p = max(range(k, m), key=lambda r: abs(A[r][k]))
-        A[k], A[p], b[k], b[p] = A[p], A[k], b[p], b[k]
-        for r in range(k + 1, m):
-            f = A[r][k] / A[k][k]
-            if f:
-                for c in range(k, m):
-                    A[r][c] -= f * A[k][c]
-                b[r] -= f * b[k]
-    x = [Fraction(0)] * m
-    for k in reversed(range(m)):
-        x[k] = (b[k] - sum(A[k][c] * x[c] for c in range(k + 1, m))) / A[k][k]
-    z = [Fraction(0)] * n
-    for k, i in enumerate(F):
-        z[i] = x[k]
-    w = [sum(Fraction(float(M[i, j])) * z[j] for j in F) + Fraction(float(q[i])) for i in range(n)]
+    rational it is) on the basis ``active``: z_F = -M_FF^-1 q_F in rationals,
+    w = M z + q; returned rounded to floats, with a check that it solves the
+    LCP (z >= 0, w >= 0) exactly."""
+    Mf = [[Fraction(float(x)) for x in row] for row in np.asarray(M, float).tolist()]
+    qf = [Fraction(float(x)) for x in np.asarray(q, float).tolist()]
+    z, w = _exact_basic(Mf, qf, [int(i) for i in np.flatnonzero(active)])
     assert all(v >= 0 for v in z) and all(v >= 0 for v in w), "not a solution on this basis"
     return np.array([float(v) for v in z]), np.array([float(v) for v in w])

@@ -21,28 +21,20 @@ def scales_pivot(V: np.ndarray, col: np.ndarray, r: int) -> float:
     """
     n = col.shape[0]
     cr = abs(col[r])
-    vr0 = V[0, r]
-    vr1 = V[1, r]
     grow = 1.0
     tiny = 2.2250738585072014e-308
-    for i in range(n):
-        if i == r:
-            continue
-        f = abs(col[i]) / cr
-        a = f * vr0
-        if a > V[0, i]:
-            g = a / max(V[0, i], tiny)
-            if g > grow:
-                grow = g
-            V[0, i] = a
-        b = f * vr1
-        if b > V[1, i]:
-            g = b / max(V[1, i], tiny)
-            if g > grow:
-                grow = g
-            V[1, i] = b
-    V[0, r] = vr0 / cr
-    V[1, r] = vr1 / cr
+    for k in range(2):
+        vr = V[k, r]
+        for i in range(n):
+            if i == r:
+                continue
+            a = abs(col[i]) / cr * vr
+            if a > V[k, i]:
+                g = a / max(V[k, i], tiny)
+                if g > grow:
+                    grow = g
+                V[k, i] = a
+        V[k, r] = vr / cr
     return grow
 
 
