@@ -66,13 +66,16 @@ from qpcontact.methods.active_set import check_options
 from qpcontact.problems import LCP, ParametricLCP
 from qpcontact.solve import solve
 
-__all__ = ["Frame", "FrameResult", "FrameTrace", "SupportResult", "STATES",
+__all__ = ["Frame", "FrameResult", "FrameTrace", "FrameEvent", "SupportResult", "STATES",
            "EQUILIBRIUM_RTOL"]
 
 STATES = ("separated", "stick", "slip+", "slip-")
 DOFS = ("ux", "uy", "rz")
 #: Global equilibrium residual (relative to the loads) above which a result is flagged.
 EQUILIBRIUM_RTOL = 1e-8
+#: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
+#: term) are rounding noise of the basic-system solve and are set to zero.
+R_ROUNDING = 256 * np.finfo(float).eps
 
 
 @dataclass
@@ -145,26 +148,57 @@ class FrameResult:
 
 
 @dataclass
+class FrameEvent:
+    """A breakpoint of the trace: at load parameter ``p`` the supports in
+    ``changes`` go from one state to another ({support: (before, after)})."""
+
+    p: float
+    changes: dict
+
+    def __str__(self) -> str:
+        return "; ".join(f"{k}: {a} \u2192 {b}" for k, (a, b) in self.changes.items())
+
+
+@dataclass
 class FrameTrace:
-    """The increasing-load analysis: ``breakpoints`` (values of p where the
-    working scheme changes), ``states`` (a FrameResult at the middle of each
-    interval), ``intervals`` [(p_start, p_end)], how it ``ended`` ("p_max",
-    "ray", "mechanism", "returned", "max_pivots"), and ``result_at(p)``."""
+    """The increasing-load analysis (P3).
+
+    ``breakpoints``: the values of p where some support changes state, with
+    ``events`` saying which and how ("S3: stick → slip-"); ``intervals``
+    [(p_start, p_end)] between them and ``states`` (a FrameResult at the
+    middle of each); ``ended``: why the trace stopped — "p_max" (reached),
+    "unbounded" (no support changes state again, p_max = inf), "collapse"
+    (no equilibrium exists beyond the end: proved, and ``message`` says how
+    the frame fails), "fold" (equilibria may exist beyond but none continues
+    this path), "breakdown", "max_pieces" (see docs/frames.md); ``ok`` is True
+    when every traced piece passed the LCP certificate and the equilibrium
+    check at its start, middle and end, and the ending is proved.
+    ``result_at(p)`` analyses any p inside the traced range.
+    """
 
     breakpoints: np.ndarray
     states: list
     intervals: list
+    events: list
     ended: str
     message: str
+    ok: bool
     trace: object = field(repr=False, default=None)
     frame: "Frame" = field(repr=False, default=None)
     _built: dict = field(repr=False, default=None)   # the frame's assembly, reused by result_at
+
+    @property
+    def p_end(self) -> float:
+        """Where the traced range ends (inf on an unbounded last interval)."""
+        return self.intervals[-1][1] if self.intervals else 0.0
 
     def result_at(self, p: float) -> FrameResult:
         return self.frame._result_from_z(self.trace.z_at(p), p, "trace", b=self._built)
 
     def plot(self, path, node: str, dof: str = "ux", p_max: float | None = None) -> str:
-        """Load parameter against a displacement of ``node`` with the breakpoints (PNG)."""
+        """Load parameter against a displacement of ``node``, breakpoints
+        labelled with their events (PNG).  Default range: the traced one (an
+        unbounded last interval: 1.5 x the last breakpoint)."""
         return self.frame._plot_trace(self, path, node, dof, p_max)
 
 
@@ -380,6 +414,14 @@ class Frame:
         sol = scipy.linalg.lu_solve(lu, rhs, check_finite=False)
         R = -kappa * sol[nf:, :nl]
         R = 0.5 * (R + R.T)
+        # R's entries are sums of terms of size kappa (the stiffness), so each
+        # carries a rounding error of a few eps * kappa.  An entry that small is
+        # zero: a dislocation that a rigid motion of the frame absorbs (a portal
+        # on two pins lifted at one base) costs no force, and noise in its place
+        # would turn "this link has no effect" into a random sign — which the
+        # trace's collapse proof (a Farkas vector, M'y <= 0 column by column)
+        # and the support states would read as data.
+        R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
         RFc, RFv = -kappa * sol[nf:, nl], -kappa * sol[nf:, nl + 1]
         flex = np.array([0.0 if self.contacts[ci].stiffness is None else 1.0 / self.contacts[ci].stiffness
                          for ci, _ in info])
@@ -469,7 +511,9 @@ class Frame:
         """
         b = self.build()
         M, qc, qv, P, g, fric = self.lcp(b)
-        lcp = LCP(M, qc + p * qv)
+        # q's terms are the constant and the variable load's sizes: a force that is
+        # their difference is judged against them, not against its own rounding
+        lcp = ParametricLCP(M, qc, qv).at(p)
         from qpcontact.accuracy import resolve_accuracy
 
         _, tol = resolve_accuracy(accuracy)
@@ -565,7 +609,7 @@ class Frame:
     def _result_from_z(self, z, p, route, b=None, lcp=None, tol=1e-9) -> FrameResult:
         b = b or self.build()
         M, qc, qv, P, g, fric = self.lcp(b)
-        lcp = lcp or LCP(M, qc + p * qv)
+        lcp = lcp or ParametricLCP(M, qc, qv).at(p)
         z = np.maximum(np.asarray(z, float), 0.0)
         R = b["R"]
         RF = b["RFc"] + p * b["RFv"]
@@ -663,22 +707,113 @@ class Frame:
         return x, N, V, M
 
     # -- trace -----------------------------------------------------------------------
+    def _support_keys(self) -> list:
+        """The key of each contact in FrameResult.supports, in contact order."""
+        keys = []
+        for c in self.contacts:
+            key = c.node if c.other is None else f"{c.node}-{c.other}"
+            keys.append(f"{key}#{len(keys)}" if key in keys else key)
+        return keys
+
     def trace(self, p_max: float | None = None, accuracy="high") -> FrameTrace:
-        """P3's increasing-load analysis (method "trace"): constant loads, then the
-        variable loads scaled by p from 0 to ``p_max`` (None: until the scheme stops
-        changing, a ray, or a mechanism)."""
+        """P3's increasing-load analysis: the constant loads, then the variable
+        loads scaled by p from 0 to ``p_max`` (None: until no support changes
+        state again, or no equilibrium continues the path).
+
+        Every piece of the path is checked like a single solve (LCP certificate
+        and global equilibrium, at its start, middle and end); a piece that
+        fails is not returned and the trace ends "breakdown".  Breakpoints where
+        only the LCP's bookkeeping changes (a separated contact's slip changing
+        sign) are merged: ``breakpoints`` are where a support changes state.
+        """
+        from qpcontact.accuracy import resolve_accuracy
+
+        _, tol = resolve_accuracy(accuracy)
         b = self.build()
         M, qc, qv, P, g, fric = self.lcp(b)
         tr = solve(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
                    p_max=np.inf if p_max is None else p_max)
-        intervals, states = [], []
+        runs = []        # [p_start, p_end, states]
+        ended, failed = tr.end, None
         for piece in tr.pieces:
-            hi = piece.p_end if np.isfinite(piece.p_end) else max(2 * piece.p_start, piece.p_start + 1)
-            intervals.append((piece.p_start, piece.p_end))
-            pm = 0.5 * (piece.p_start + hi)
-            states.append(self._result_from_z(piece.z(pm), pm, "trace", b=b))
-        return FrameTrace(breakpoints=tr.breakpoints, states=states, intervals=intervals,
-                          ended=tr.end, message=tr.message, trace=tr, frame=self, _built=b)
+            hi = piece.p_end if np.isfinite(piece.p_end) else piece.p_start + max(1.0, piece.p_start)
+            checks = [self._result_from_z(piece.z(pp), pp, "trace", b=b, tol=tol)
+                      for pp in (piece.p_start, 0.5 * (piece.p_start + hi), hi)]
+            bad = [r for r in checks if not r.ok]
+            if bad:
+                ended, failed = "breakdown", bad[0]
+                break
+            key = {k: v.state for k, v in checks[1].supports.items()}
+            if runs and runs[-1][2] == key:
+                runs[-1][1] = piece.p_end
+            else:
+                runs.append([piece.p_start, piece.p_end, key])
+        intervals = [(r[0], r[1]) for r in runs]
+        events = [FrameEvent(r1[0], {k: (r0[2][k], r1[2][k]) for k in r1[2] if r0[2][k] != r1[2][k]})
+                  for r0, r1 in zip(runs[:-1], runs[1:])]
+        ft = FrameTrace(breakpoints=np.array([ev.p for ev in events]), states=[], intervals=intervals,
+                        events=events, ended=ended, message="", ok=False, trace=tr, frame=self,
+                        _built=b)
+        for lo, hi in intervals:
+            top = hi if np.isfinite(hi) else lo + max(1.0, lo)
+            ft.states.append(ft.result_at(0.5 * (lo + top)))
+        if failed is not None:
+            ft.message = (f"the piece from p = {failed.p:g} failed the frame's checks "
+                          f"({failed.message}); the trace stops there")
+        elif ended == "collapse":
+            ft.message = (f"no equilibrium exists for p > {tr.proof['p_limit']:.10g}: "
+                          f"{self._collapse_words(tr.proof, fric, ft)} (proved by a Farkas "
+                          "certificate checked from the data)")
+        elif ended == "unbounded":
+            ft.message = (f"no support changes state for p >= {tr.proof['from']:g}: the frame "
+                          "carries any larger load in its last working scheme")
+        else:
+            ft.message = tr.message
+        ft.ok = bool(tr.ok and failed is None)
+        ft.message += f"; {len(events)} change(s) of the working scheme"
+        return ft
+
+    def _collapse_words(self, proof, fric, ft) -> str:
+        """How the frame fails, read off the Farkas vector y.
+
+        y'w = Σ_c (A_c X_n + T_c X_t) with A_c = y_n + f (y+ + y-) and T_c =
+        y+ - y-, and y'M = 0 makes this combination independent of the
+        displacements: it is the virtual work of the contact forces in a rigid
+        motion of the frame with normal motion A_c >= f |T_c| and tangential
+        motion T_c at each contact.  A contact lifts off in it when A_c >
+        f |T_c|, slides (along ±t) when T_c != 0 and A_c = f |T_c| (Coulomb's
+        cone), and stays (a pivot) when both are zero.
+        """
+        y = proof["farkas"]
+        keys = self._support_keys()
+        nc = len(self.contacts)
+        A = y[:nc].copy()
+        T = np.zeros(nc)
+        for k, ci in enumerate(fric):
+            yp, ym = y[nc + 2 * k], y[nc + 2 * k + 1]
+            A[ci] += self.contacts[ci].friction * (yp + ym)
+            T[ci] = yp - ym
+        big = max(A.max(initial=0.0), np.abs(T).max(initial=0.0))
+        lift, slide, stay = [], [], []
+        for ci in range(nc):
+            f = self.contacts[ci].friction
+            if A[ci] <= 1e-9 * big and abs(T[ci]) <= 1e-9 * big:
+                stay.append(keys[ci])
+            elif A[ci] > f * abs(T[ci]) * (1 + 1e-6) + 1e-9 * big:
+                lift.append(keys[ci])
+            else:
+                slide.append(f"{keys[ci]} ({'+t' if T[ci] > 0 else '-t'})")
+        carrying = [k for k, v in ft.states[-1].supports.items()
+                    if v.state != "separated"] if ft.states else []
+        if slide and not lift:
+            whole = all(any(s.startswith(k + " ") for s in slide) for k in carrying)
+            return (("the frame slides away as a rigid body: " if whole else "it slides: ")
+                    + "friction exhausted at " + ", ".join(slide))
+        if lift and not slide:
+            if stay:
+                return f"it tips over about {', '.join(stay)}: {', '.join(lift)} lift off"
+            return "it lifts off: " + ", ".join(lift) + " would have to pull"
+        return ("it lifts off at " + ", ".join(lift) + " and slides at " + ", ".join(slide))
 
     # -- plots ---------------------------------------------------------------------------
     def _plot_result(self, res: FrameResult, path, scale, title):
@@ -742,20 +877,23 @@ class Frame:
         from qpcontact.plotting import save_figure
 
         k = DOFS.index(dof)
-        ends = [pe for _, pe in ft.intervals if np.isfinite(pe)]
-        top = p_max or (max(ends) if ends and ft.ended == "p_max" else
-                        1.5 * (ft.breakpoints[-1] if ft.breakpoints.size else 1.0))
-        ps = np.unique(np.r_[0.0, ft.breakpoints, np.linspace(0, top, 60)])
-        ps = ps[ps <= top]
+        top = ft.trace.plot_range()
+        if p_max is not None:
+            top = min(float(p_max), ft.p_end)
+        ps = np.unique(np.r_[0.0, ft.breakpoints[ft.breakpoints <= top], np.linspace(0, top, 60)])
         disp = [ft.result_at(p).displacements[node][k] for p in ps]
         fig, ax = plt.subplots(figsize=(7, 4.5))
         ax.plot(disp, ps, "k-")
-        for pk in ft.breakpoints:
-            if pk <= top:
-                d = ft.result_at(pk).displacements[node][k]
-                ax.plot(d, pk, "o", color="tab:red")
-                ax.annotate(f"p = {pk:.4g}", (d, pk), textcoords="offset points", xytext=(6, -4),
-                            fontsize=8)
+        for ev in ft.events:
+            if ev.p <= top:
+                d = ft.result_at(ev.p).displacements[node][k]
+                ax.plot(d, ev.p, "o", color="tab:red")
+                ax.annotate(f"p = {ev.p:.4g}: {ev}", (d, ev.p), textcoords="offset points",
+                            xytext=(6, -4), fontsize=7)
+        if ft.ended in ("collapse", "fold", "breakdown") and ft.p_end <= top:
+            ax.axhline(ft.p_end, color="tab:red", ls="--", lw=0.8)
+            ax.annotate(ft.ended, (ax.get_xlim()[0], ft.p_end), textcoords="offset points",
+                        xytext=(4, 4), fontsize=8, color="tab:red")
         ax.set_xlabel(f"{dof} at {node}")
         ax.set_ylabel("load parameter p")
         ax.set_title(f"increasing load: {len(ft.breakpoints)} change(s) of the working scheme; "
@@ -836,4 +974,5 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
         fr.add_load(f"N{k}", fy=float(rng.uniform(20, 60)), fx=40.0 if friction else 0.0)
     M, qc, qv, P, g, fric = fr.lcp()
     name = f"frames/{spans}-supports" + ("-friction" if friction else "")
-    return [Instance(name, "frames", f"{spans}-supports", LCP(M, qc + qv), forces=("w", spans))]
+    return [Instance(name, "frames", f"{spans}-supports", ParametricLCP(M, qc, qv).at(1.0),
+                     forces=("w", spans))]

@@ -78,12 +78,12 @@ def _divide(v: np.ndarray, scale) -> np.ndarray:
     """v / scale elementwise (scale a number or an array), with 0/0 = 0 and
     x/0 = ±inf: a component whose scale is zero must itself be exactly zero."""
     v = np.asarray(v, dtype=float)
-    scale = np.broadcast_to(np.asarray(scale, dtype=float), v.shape)
-    out = np.zeros_like(v)
-    pos = scale > 0
-    np.divide(v, scale, out=out, where=pos)
-    bad = ~pos & (v != 0)
-    out[bad] = np.sign(v[bad]) * np.inf
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        out = v / scale
+    nan = np.isnan(out)
+    if nan.any():
+        # 0/0 is a component that is exactly zero at a zero scale: no error
+        out[nan & np.broadcast_to(v == 0, out.shape)] = 0.0
     return out
 
 

@@ -104,7 +104,7 @@ def test_trace_case_a_variable_load_only_has_no_pre_force():
     M, q1, _ = _family(3)
     plcp = ParametricLCP(M, np.zeros(M.shape[0]), q1)
     tr = qpcontact.solve(plcp, method="trace", p_max=np.inf)
-    assert tr.end == "ray" and tr.breakpoints.size == 0
+    assert tr.end == "unbounded" and tr.breakpoints.size == 0
     z1 = _independent(plcp.at(1.0), True)
     for p in (1e-8, 0.3, 1.0, 250.0):
         np.testing.assert_allclose(tr.z_at(p), p * z1, rtol=0, atol=1e-9 * p * np.abs(z1).max())
@@ -130,11 +130,11 @@ def test_trace_mechanism_and_ray_ends():
     # cannot hold for p > 0 — the pair becomes a mechanism at p = 0.
     M = np.array([[1.0, -1.0], [-1.0, 1.0]])
     tr = qpcontact.solve(ParametricLCP(M, [0.0, 0.0], [-1.0, 0.5]), method="trace", p_max=np.inf)
-    assert tr.end == "mechanism"
+    assert tr.end == "collapse"
     assert not enumerate_lcp(M, np.array([-1.0, 0.5]))  # no solution at p = 1
     # A single support under a growing load: one breakpoint when the gap closes, then a ray.
     tr = qpcontact.solve(ParametricLCP([[2.0]], [1.0], [-1.0]), method="trace", p_max=np.inf)
-    assert tr.end == "ray"
+    assert tr.end == "unbounded"
     np.testing.assert_allclose(tr.breakpoints, [1.0])
     np.testing.assert_allclose(tr.z_at(3.0), [1.0])
 
