@@ -42,8 +42,10 @@ Unknowns per contact: z = (Z_n, Z⁺, Z⁻) with Δ_n = Z_n - g, Δ_t = Z⁺ - Z
 w = (X_n, f X_n + X_t, f X_n - X_t): the normal pair (force / opening) and the
 two tangential reserves against the two slip parts — the holonomic
 (path-independent) Coulomb law of P3: total slip against total force, with
-no history.  States: separated (Z_n > 0), stick (Z± = 0, |X_t| <= f X_n),
-slip+ (Z⁺ > 0, X_t = -f X_n), slip- (Z⁻ > 0, X_t = f X_n).  w = M z + q with M
+no history.  States: separated (X_n = 0), closed (a frictionless contact
+carrying load: it slides freely), stick (Z± = 0, |X_t| <= f X_n), slip+
+(Z⁺ > 0, X_t = -f X_n), slip- (Z⁻ > 0, X_t = f X_n); each decided on the
+component's own scale (STATE_RTOL).  w = M z + q with M
 nonsymmetric: Lemke.  Loads are F = F_c + p F_v (constant and variable), so
 q = q_c + p q_v: a ParametricLCP for P3's increasing-load algorithm.
 
@@ -60,7 +62,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
-from qpcontact.certify import certify_lcp
+from qpcontact.certify import ComponentScales, certify_lcp
 from qpcontact.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 from qpcontact.methods.active_set import check_options
 from qpcontact.problems import LCP, ParametricLCP
@@ -69,7 +71,10 @@ from qpcontact.solve import solve
 __all__ = ["Frame", "FrameResult", "FrameTrace", "FrameEvent", "SupportResult", "STATES",
            "EQUILIBRIUM_RTOL"]
 
-STATES = ("separated", "stick", "slip+", "slip-")
+STATES = ("separated", "closed", "stick", "slip+", "slip-")
+#: A normal force or slip below STATE_RTOL of its own componentwise scale is zero
+#: when the support's state is named.
+STATE_RTOL = 1e-9
 DOFS = ("ux", "uy", "rz")
 #: Global equilibrium residual (relative to the loads) above which a result is flagged.
 EQUILIBRIUM_RTOL = 1e-8
@@ -634,8 +639,11 @@ class Frame:
         eq = self._equilibrium(b, F, X, r_all)
         cert = certify_lcp(lcp, z)
         pos = self._layout(b)
-        force_scale = max(np.abs(X).max(initial=0.0), np.abs(F).max(initial=0.0), 1e-300)
-        disp_scale = max(np.abs(u).max(initial=0.0), np.abs(delta).max(initial=0.0), 1e-300)
+        # each state decided on the component's own scale (the certificate's):
+        # X_n against the terms it is made of, a slip part against its own size
+        zeta, sigma = ComponentScales(M, lcp.q_terms).at(z)
+        nc = len(self.contacts)
+        slot = {ci: nc + 2 * k for k, ci in enumerate(fric)}
         supports = {}
         for ci, c in enumerate(self.contacts):
             xn = float(X[pos[ci]["n"]])
@@ -649,9 +657,11 @@ class Frame:
                 slip = float(delta[pos[ci]["t"]])
             else:  # frictionless: no tangential link, the node slides freely
                 xt, slip = 0.0, float(t @ rel)
-            if xn <= 1e-9 * force_scale:
+            if xn <= STATE_RTOL * sigma[ci]:
                 state = "separated"
-            elif abs(slip) <= 1e-9 * disp_scale:
+            elif ci not in slot:
+                state = "closed"
+            elif max(z[slot[ci]], z[slot[ci] + 1]) <= STATE_RTOL * max(zeta[slot[ci]], zeta[slot[ci] + 1]):
                 state = "stick"
             else:
                 state = "slip+" if slip > 0 else "slip-"
@@ -761,9 +771,14 @@ class Frame:
             ft.message = (f"the piece from p = {failed.p:g} failed the frame's checks "
                           f"({failed.message}); the trace stops there")
         elif ended == "collapse":
-            ft.message = (f"no equilibrium exists for p > {tr.proof['p_limit']:.10g}: "
-                          f"{self._collapse_words(tr.proof, fric, ft)} (proved by a Farkas "
-                          "certificate checked from the data)")
+            words = (self._collapse_words(tr.proof, fric, ft) if tr.proof["farkas"] is not None
+                     else "no combination of support states carries the load")
+            how = ("a Farkas certificate" if tr.proof["patterns"] == 1 else
+                   f"Farkas certificates for all {tr.proof['patterns']} combinations of support "
+                   "states left after branching")
+            ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
+                          f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
+                          "the data)")
         elif ended == "unbounded":
             ft.message = (f"no support changes state for p >= {tr.proof['from']:g}: the frame "
                           "carries any larger load in its last working scheme")
@@ -828,7 +843,7 @@ class Frame:
         umax = max(max(abs(d[0]), abs(d[1])) for d in res.displacements.values())
         scale = scale or (0.1 * span / umax if umax > 0 else 1.0)
         fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5))
-        colors = {"separated": "tab:red", "stick": "tab:green", "slip+": "tab:orange",
+        colors = {"separated": "tab:red", "closed": "tab:blue", "stick": "tab:green", "slip+": "tab:orange",
                   "slip-": "tab:purple"}
         diagrams = {m.name: res.diagram(m.name) for m in self.members.values()}
         m_max = max(max(np.abs(d[3]).max() for d in diagrams.values()), 1e-300)
@@ -860,7 +875,7 @@ class Frame:
         for node in self.fixed:
             ax1.plot(*self.nodes[node], "s", ms=9, color="tab:blue")
         ax1.set_title(f"deformed shape (x{scale:.3g}); supports: red separated, green stick, "
-                      "orange/purple slip", fontsize=9)
+                      "blue closed (frictionless), orange/purple slip", fontsize=9)
         ax2.set_title("bending moment diagram (drawn on the tension side)", fontsize=9)
         for ax in (ax1, ax2):
             ax.set_aspect("equal", adjustable="datalim")

@@ -91,9 +91,15 @@ DIRECTION_RTOL = 1e-9
 #: Reciprocal condition number (1-norm, equilibrated block) below which a
 #: working scheme's block counts as singular (a mechanism, or two links
 #: describing the same motion, like the two slip parts of one contact).
-SINGULAR_RCOND = 1e-13
+SINGULAR_RCOND = 1e-11
 #: Most degenerate pairs at one vertex decided by checking every scheme.
 ENUM_MAX = 10
+#: Most branch-and-bound nodes spent proving that no equilibrium exists
+#: beyond the end of the path (each one LP or two).
+COLLAPSE_NODES = 400
+# HiGHS' default feasibility tolerances (1e-7) leave Farkas vectors that fail
+# a componentwise check on frames whose stiffnesses span 1e5.
+_LP_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 
 
 @dataclass
@@ -130,13 +136,16 @@ class TracePiece:
 class TraceEvent:
     """A breakpoint: at ``p`` the z's in ``entered`` become basic (may grow
     from zero) and those in ``left`` leave the basis (stay zero; their w's may
-    grow).  ``continuations`` is how many working schemes could continue the
-    path there (1 unless M is not a P-matrix)."""
+    grow).  ``continuations`` is how many working schemes (distinct in w)
+    could continue the path there (1 unless M is not a P-matrix);
+    ``resolved`` marks a scheme found by a fresh solve just beyond p (the
+    vertex's own schemes did not certify), continuations then 0."""
 
     p: float
     entered: np.ndarray
     left: np.ndarray
     continuations: int = 1
+    resolved: bool = False
 
     def describe(self, names=None) -> str:
         name = (lambda i: names[i]) if names is not None else (lambda i: f"z[{i}]")
@@ -283,7 +292,7 @@ class _Path:
         self.Ms = self.M * self.rs[:, None] * self.cs[None, :]
         self.values = ComponentScales(self.M, np.abs(self.q0))
         self.slopes = ComponentScales(self.M, np.abs(self.q1))
-        self.twin = _twins(self.M)
+        self.twins, self.unique = _null_structure(self.M)
 
     def q_terms(self, p: float) -> np.ndarray:
         return np.abs(self.q0) + abs(p) * np.abs(self.q1)
@@ -348,16 +357,14 @@ class _Path:
         return F
 
     def continuation(self, p, z, w, F_prev, max_pivots):
-        """The scheme that continues the path from (p, z, w): (F, block, dz, dw,
-        count) or None; and whether every scheme was checked (exhaustive)."""
+        """The schemes that continue the path from (p, z, w), closest to the
+        previous scheme first: [(F, block, dz, dw)]; and whether every scheme
+        holding the current positive z's was checked (exhaustive)."""
         alpha, beta, gamma, clash = self.classify(p, z, w)
         if clash:
-            return None, True
-        # A degenerate z whose twin (a column that is its exact negative: the two
-        # slip parts of one contact) is positive cannot be basic — the block
-        # would be singular — so it is decided without enumeration.
-        forced = np.array([i for i in np.flatnonzero(beta)
-                           if self.twin[i] >= 0 and alpha[self.twin[i]]], dtype=int)
+            return [], False
+        # A degenerate z with a positive twin cannot be basic (singular block).
+        forced = [i for i in np.flatnonzero(beta) if any(alpha[k] for k in self.twins[i])]
         free_beta = beta.copy()
         free_beta[forced] = False
         B = np.flatnonzero(free_beta)
@@ -378,12 +385,10 @@ class _Path:
                 block, dz, dw = self.direction(F)
                 if dz is not None and self.valid(dz, dw, F, beta):
                     found.append((F, block, dz, dw))
-        if not found:
-            return None, exhaustive
-        F, block, dz, dw = min(found, key=lambda c: int(np.sum(c[0] != F_prev)))
-        return (F, block, dz, dw, self._distinct(found)), exhaustive
+        found.sort(key=lambda c: int(np.sum(c[0] != F_prev)))
+        return found, exhaustive
 
-    def _distinct(self, found) -> int:
+    def distinct(self, found) -> int:
         """How many of the continuations differ in w (the forces): schemes that
         differ only along a null vector of M (the two slip parts of a separated
         contact) are one continuation."""
@@ -410,90 +415,281 @@ class _Path:
         i = int(np.argmin(t))
         return float(t[i]), i, bool(F[i])
 
-    def collapse_proof(self, tol: float):
-        """A Farkas vector proving that no solution exists for p > p_limit:
-        (p_limit, y, backward) or None.
+    def certified_piece(self, block, F, p, dz, dw, p_max, tol):
+        """The piece of scheme F from p, ended at its breakpoint or p_max and
+        certified from the data at its start, middle and end: (piece, t,
+        crossing row, crossing is a z) or None when it fails."""
+        piece = self.piece(block, F, p, dz, dw)
+        t, i, is_z = self.next_break(piece)
+        stop = np.isfinite(p_max) and p + t >= p_max
+        piece.p_end = p_max if stop else p + t
+        hi = piece.p_end if np.isfinite(piece.p_end) else p + max(1.0, abs(p))
+        err = 0.0
+        for pp in (p, 0.5 * (p + hi), hi):
+            err = max(err, certify_lcp(self.plcp.at(pp), piece.z(pp)).error)
+            if not err <= tol:
+                return None
+        piece.error = err
+        return piece, t, i, is_z
 
-        LP (equilibrated): min q0'y over y >= 0, M'y <= 0, q1'y = -1; its answer
-        is polished on its support (least squares on the tight columns) and
-        accepted when each component of M'y is <= ``backward`` times its own
-        terms (|M|'y)_j with backward <= tol: then y'(Mz + q(p)) < 0 for every
-        z >= 0 and p > p_limit, for data within ``backward`` (componentwise) of
-        yours — the same reading as a solution's certificate.  Where M'y = 0 is
-        an identity (a frame's equilibrium equations), rounding of the assembly
-        is all that is left of it.
+    def resolved_piece(self, p, p_max, tol, accuracy):
+        """A scheme found by Lemke's method at p + δ (δ tiny on the scale of p)
+        that also holds at p, certified like any piece; or None."""
+        from .solve import solve
+
+        q0, q1 = np.abs(self.q0).max(initial=0.0), np.abs(self.q1).max(initial=0.0)
+        unit = max(abs(p), q0 / q1 if q1 > 0 else 1.0, 1e-300)
+        for rel in (1e-7, 1e-10):
+            pp = p + rel * unit
+            if np.isfinite(p_max) and pp >= p_max:
+                pp = 0.5 * (p + p_max)
+            sol = solve(self.plcp.at(pp), method="lemke", accuracy=accuracy)
+            if sol.ok:
+                got = self.piece_through(p, sol.z, pp, p_max, tol)
+                if got is not None:
+                    return got
+        return None
+
+    def piece_through(self, p, z_beyond, p_beyond, p_max, tol):
+        """The piece from p of the scheme of a solution z_beyond at p_beyond > p,
+        if it is certified from p on; or None."""
+        zeta, _ = self.values.at(z_beyond, self.q_terms(p_beyond))
+        F = z_beyond > TIE_RTOL * zeta
+        block, dz, dw = self.direction(F)
+        if dz is None:
+            return None
+        got = self.certified_piece(block, F, p, dz, dw, p_max, tol)
+        # any certified piece of positive length continues the path
+        return got if got is not None and got[0].p_end > p else None
+
+    def collapse_proof(self, p: float, tol: float, max_nodes: int = COLLAPSE_NODES):
+        """Prove that no solution exists for any load p' >= p_limit, p_limit a
+        hair above p (1e-9, else 1e-6, on the scale of p): a dict with
+        ``p_limit`` and the Farkas vectors; {"solution": (z, p')} when an
+        equilibrium beyond p was found instead; None when neither.
+
+        LCP(M, q(p')) has a solution only if one of its complementary patterns
+        (z_i = 0 or w_i = 0 for each i) has a feasible point.  Branch and bound
+        over the patterns, with p' as one more unknown >= p_limit: a node fixes
+        some z_i = 0 and some w_i = 0 and
+
+        - a Farkas vector y (y_i >= 0 on the inequalities, free on the fixed
+          w's) with (M'y)_j <= 0 on the free z's, q1'y <= 0 and
+          y'q(p_limit) < 0 proves it empty for every p' >= p_limit, since then
+          y'w(p') = y'M z + y'q(p_limit) + (p' - p_limit) q1'y < 0 (:meth:`_farkas`);
+        - otherwise an LP point (z, p') of it that is complementary is a
+          solution beyond p (nothing to prove), and one that is not is split on
+          its most violated pair.
+
+        The root alone is the classical Farkas alternative; the branches are
+        needed when only complementarity rules the loads out (a frame whose
+        separated contacts could carry load only if they touched).
+        """
+        q0, q1 = np.abs(self.q0).max(initial=0.0), np.abs(self.q1).max(initial=0.0)
+        unit = max(abs(p), q0 / q1 if q1 > 0 else 1.0, 1e-300)
+        # Just beyond p every LP point is within ~(p' - p) of the last
+        # equilibrium, which an LP's tolerances cannot tell from feasible: if the
+        # proof does not go through a hair above p it is tried a little further.
+        for rel in (1e-9, 1e-6):
+            out = self._branch_and_bound(p + rel * unit, unit, tol, max_nodes)
+            if out is not None:
+                return out
+        return None
+
+    def _branch_and_bound(self, p_lo, unit, tol, max_nodes):
+        n = self.q0.size
+        stack = [(np.zeros(n, bool), np.zeros(n, bool))]
+        leaves, nodes = [], 0
+        while stack:
+            nodes += 1
+            if nodes > max_nodes:
+                return None
+            Z0, W0 = stack.pop()
+            cert = self._farkas(Z0, W0, p_lo, tol)
+            if cert is not None:
+                leaves.append((np.flatnonzero(Z0), np.flatnonzero(W0)) + cert)
+                continue
+            found = self._pattern_point(Z0, W0, p_lo, unit)
+            if found is None:
+                return None   # empty by the LP, but without a certificate that checks
+            z, pp = found
+            w = self.M @ z + self.q0 + pp * self.q1
+            zeta, sigma = self.values.at(z, self.q_terms(pp))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                zr = np.where(zeta > 0, z / zeta, np.inf * (z > 0))
+                wr = np.where(sigma > 0, w / sigma, np.sign(w) * np.inf)
+            # The point only guides the branching.  A row it violates on its own
+            # scale (the LP's tolerance) is split first; a complementary point
+            # that holds is a solution beyond p: nothing to prove.
+            open_ = ~(Z0 | W0)
+            viol = np.where(open_, np.minimum(zr, np.maximum(wr, 0.0)), 0.0)
+            bad = np.where(open_, -wr, 0.0)
+            if bad.max() > TIE_RTOL:
+                i = int(np.argmax(bad))
+            elif viol.max() > TIE_RTOL:
+                i = int(np.argmax(viol))
+            elif np.all(wr[~W0] >= -TIE_RTOL) and np.all(np.abs(wr[W0]) <= TIE_RTOL):
+                return {"solution": (z, pp)}
+            else:
+                return None
+            Zc = Z0.copy()
+            Zc[i] = True
+            Wc = W0.copy()
+            Wc[i] = True
+            stack += [(Zc, W0), (Z0, Wc)]
+        root = leaves[0] if len(leaves) == 1 and not leaves[0][0].size and not leaves[0][1].size else None
+        return {"p_limit": p_lo, "patterns": len(leaves), "nodes": nodes,
+                "backward_error": max(leaf[3] for leaf in leaves),
+                "farkas": root[2] if root is not None else None,
+                "leaves": [{"z_zero": lf[0], "w_zero": lf[1], "y": lf[2]} for lf in leaves]}
+
+    def _pattern_point(self, Z0, W0, p_lo, unit):
+        """(z, p') with p' >= p_lo, z >= 0, w(p') >= 0, z_Z0 = 0, w_W0 = 0 and p'
+        as small as the LP finds; None when the LP finds none (equilibrated)."""
+        from scipy.optimize import linprog
+
+        J, I, W = np.flatnonzero(~Z0), np.flatnonzero(~W0), np.flatnonzero(W0)
+        n = self.q0.size
+        Ms = self.Ms
+        q_lo, q1 = self.rs * (self.q0 + p_lo * self.q1), self.rs * self.q1 * unit
+        a = float(np.max(np.abs(Ms))) or 1.0
+        # unknowns (z'_J, s): z = C z', p' = p_lo + unit * s; minimize s
+        A = np.column_stack([Ms[:, J], q1]) / a
+        c = np.zeros(J.size + 1)
+        c[-1] = 1.0
+        res = linprog(c, A_ub=-A[I] if I.size else None, b_ub=q_lo[I] / a if I.size else None,
+                      A_eq=A[W] if W.size else None, b_eq=-q_lo[W] / a if W.size else None,
+                      bounds=(0, None), method="highs", options=_LP_OPTIONS)
+        if res.status != 0:
+            return None
+        z = np.zeros(n)
+        z[J] = np.maximum(res.x[:-1], 0.0) * self.cs[J]
+        pp = p_lo + unit * max(float(res.x[-1]), 0.0)
+        # Polish the vertex on the original data: the rows the LP holds at zero
+        # (and the fixed w's) with its positive z's (and p' when it moved off p_lo)
+        # solved exactly — HiGHS's tolerances are absolute, the checks are not.
+        w = self.M @ z + self.q0 + pp * self.q1
+        _, sigma = self.values.at(z, self.q_terms(pp))
+        tight = W0 | (np.abs(w) <= 1e-7 * np.maximum(sigma, 1e-300))
+        S = np.flatnonzero(z > 0)
+        free_p = pp > p_lo
+        A = self.M[np.ix_(np.flatnonzero(tight), S)]
+        if free_p:
+            A = np.column_stack([A, self.q1[tight]])
+        if A.size:
+            x = np.linalg.lstsq(A, -(self.q0 + (0.0 if free_p else pp) * self.q1)[tight],
+                                rcond=None)[0]
+            cand = np.zeros(n)
+            cand[S] = x[:S.size]
+            p_c = float(x[-1]) if free_p else pp
+            if np.all(cand >= 0) and p_c >= p_lo:
+                z, pp = cand, p_c
+        return z, pp
+
+    def _farkas(self, Z0, W0, p_lo, tol):
+        """(y, backward) proving {z >= 0, w(p') >= 0, z_Z0 = 0, w_W0 = 0} empty for
+        every p' >= p_lo, checked from the data; or None.
+
+        LP: min y'q(p_lo) over y_i in [0, 1] (i not in W0), y_i in [-1, 1]
+        (i in W0), (M'y)_j <= 0 for the free z's, q1'y <= 0; a negative optimum
+        is a Farkas vector.  It is polished on its support and accepted when
+        (M'y)_j and q1'y are <= ``backward`` (<= tol) times their own terms
+        (|M|'|y|, |q1|'|y|) and y'q(p_lo) < -backward (|q0| + p_lo |q1|)'|y|:
+        no equilibrium for data within ``backward`` (componentwise) of yours —
+        the same reading as a solution's certificate.  Where M'y = 0 is an
+        identity (a frame's equilibrium), rounding is all that is left of it.
         """
         from scipy.optimize import linprog
 
         n = self.q0.size
-        Ms, q0s, q1s = self.Ms, self.rs * self.q0, self.rs * self.q1
+        J = np.flatnonzero(~Z0)
+        Ms, qs, q1s = self.Ms, self.rs * (self.q0 + p_lo * self.q1), self.rs * self.q1
         a = float(np.max(np.abs(Ms))) or 1.0
         b = float(np.max(np.abs(q1s))) or 1.0
-        c = float(np.max(np.abs(q0s))) or 1.0
-        A_ub = (Ms.T - 0.5 * FARKAS_RTOL * np.abs(Ms).T) / a
-        res = linprog(q0s / c, A_ub=A_ub, b_ub=np.zeros(n), A_eq=(q1s / b)[None, :],
-                      b_eq=[-1.0], bounds=(0, None), method="highs")
-        if res.status != 0:
+        c = float(np.max(np.abs(qs))) or 1.0
+        rows = [(Ms[:, J].T - 0.5 * FARKAS_RTOL * np.abs(Ms[:, J]).T) / a] if J.size else []
+        rows.append((q1s - 0.5 * FARKAS_RTOL * np.abs(q1s))[None, :] / b)
+        bounds = [(-1, 1) if W0[i] else (0, 1) for i in range(n)]
+        res = linprog(qs / c, A_ub=np.vstack(rows), b_ub=np.zeros(J.size + 1), bounds=bounds,
+                      method="highs", options=_LP_OPTIONS)
+        if res.status != 0 or not res.fun < 0:
             return None
-        best = None
-        for y in (np.maximum(res.x * self.rs, 0.0), None):
-            if y is None:  # polish: M'y = 0 on the tight columns, q1'y = -1, on y's support
-                y0 = best[1] if best is not None else np.maximum(res.x * self.rs, 0.0)
-                R = np.flatnonzero(y0 > 1e-12 * y0.max()) if y0.max() > 0 else np.empty(0, int)
-                if R.size == 0:
-                    break
-                My, scale = self.M.T @ y0, np.abs(self.M).T @ y0
-                J = np.flatnonzero(My >= -1e-8 * scale)
-                A = np.vstack([self.M[np.ix_(R, J)].T, self.q1[R][None, :]])
-                rhs = np.r_[np.zeros(J.size), float(self.q1 @ y0)]
-                yR = np.linalg.lstsq(A, rhs, rcond=None)[0]
-                if np.any(yR < 0):
-                    break
-                y = np.zeros(n)
-                y[R] = yR
-            checked = self._farkas_check(y)
-            if checked is not None and (best is None or checked[2] < best[2]):
-                best = checked
-        if best is None or not best[2] <= tol:
+        y0 = res.x * self.rs
+        best = self._farkas_check(y0, J, W0, p_lo)
+        R = np.flatnonzero(np.abs(y0) > 1e-12 * np.abs(y0).max())
+        if R.size:  # polish: M'y = 0 on the tight columns, y'q(p_lo) as found, on y's support
+            My, scale = self.M[:, J].T @ y0, np.abs(self.M[:, J]).T @ np.abs(y0)
+            T = J[My >= -1e-8 * scale]
+            q_lo = self.q0 + p_lo * self.q1
+            rows = [self.M[np.ix_(R, T)].T, q_lo[R][None, :]]
+            rhs = [np.zeros(T.size), [float(q_lo @ y0)]]
+            if float(self.q1 @ y0) >= -1e-8 * float(np.abs(self.q1) @ np.abs(y0)):
+                rows.append(self.q1[R][None, :])
+                rhs.append([0.0])
+            yR = np.linalg.lstsq(np.vstack(rows), np.concatenate(rhs), rcond=None)[0]
+            y = np.zeros(n)
+            y[R] = yR
+            polished = self._farkas_check(y, J, W0, p_lo)
+            if polished is not None and (best is None or polished[1] < best[1]):
+                best = polished
+        if best is None or not best[1] <= tol:
             return None
         return best
 
-    def _farkas_check(self, y):
-        """(p_limit, y, backward) for a candidate y, or None when it proves nothing."""
-        My, scale = self.M.T @ y, np.abs(self.M).T @ y
+    def _farkas_check(self, y, J, W0, p_lo):
+        """(y, backward) for a candidate y, or None when it proves nothing."""
+        if np.any(y[~W0] < 0):
+            return None
+        ay = np.abs(y)
+        My, scale = self.M[:, J].T @ y, np.abs(self.M[:, J]).T @ ay
+        q1y, q1s = float(self.q1 @ y), float(np.abs(self.q1) @ ay)
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.where(My > 0, My / scale, 0.0)
-        backward = max(FARKAS_RTOL, float(np.max(ratio, initial=0.0)))
+        backward = max(FARKAS_RTOL, float(np.max(ratio, initial=0.0)),
+                       q1y / q1s if q1y > 0 else 0.0)
         if not np.isfinite(backward):
             return None
-        a0 = float(self.q0 @ y) + backward * float(np.abs(self.q0) @ y)
-        b1 = -float(self.q1 @ y) - backward * float(np.abs(self.q1) @ y)
-        if not b1 > 0:
+        margin = backward * float((np.abs(self.q0) + p_lo * np.abs(self.q1)) @ ay)
+        if not float((self.q0 + p_lo * self.q1) @ y) < -margin:
             return None
-        return a0 / b1, y, backward
+        return y, backward
 
 
-def _twins(M: np.ndarray) -> np.ndarray:
-    """twin[j] = k when column k of M is column j negated (to rounding), else -1.
+def _null_structure(M: np.ndarray):
+    """(twins, unique): twins[j] = the columns that are column j negated (to
+    rounding); unique = whether those pairs span M's whole null space.
 
-    Such a pair is a null vector e_j + e_k of M: z_j and z_k describe one
+    A twin pair is a null vector e_j + e_k >= 0: z_j and z_k describe one
     motion in opposite directions (the slip parts Z+ and Z- of a frictional
-    contact), and a scheme with both basic is singular.
+    contact; for a frame that only its contacts hold, also two contacts'
+    slips in one rigid motion), and a scheme with both basic is singular.
+    Adding such a vector never changes which z's are positive at a vertex.
+    Any other null vector (a zero column: an opening that no force resists;
+    two equal columns) lets the same w be written with other positive z's,
+    so the schemes containing the current positive z's are then not all the
+    schemes there are: "fold" is not claimed.
     """
     n = M.shape[1]
-    twin = np.full(n, -1)
+    twins = [[] for _ in range(n)]
     norms = np.linalg.norm(M, axis=0)
     nz = np.flatnonzero(norms > 0)
-    if nz.size < 2:
-        return twin
-    A = M[:, nz] / norms[nz]
-    G = A.T @ A
-    absM = np.abs(M)
-    for a, b in zip(*np.nonzero(np.triu(G < -1 + 1e-12, 1))):
-        j, k = nz[a], nz[b]
-        if np.all(np.abs(M[:, j] + M[:, k]) <= 1e3 * np.finfo(float).eps * (absM[:, j] + absM[:, k])):
-            twin[j], twin[k] = k, j
-    return twin
+    vectors = []
+    if nz.size >= 2:
+        A = M[:, nz] / norms[nz]
+        G = A.T @ A
+        absM = np.abs(M)
+        for a, b in zip(*np.nonzero(np.triu(G < -1 + 1e-12, 1))):
+            j, k = nz[a], nz[b]
+            if np.all(np.abs(M[:, j] + M[:, k]) <= 1e3 * np.finfo(float).eps * (absM[:, j] + absM[:, k])):
+                twins[j].append(k)
+                twins[k].append(j)
+                v = np.zeros(n)
+                v[[j, k]] = 1.0
+                vectors.append(v)
+    s = np.linalg.svd(M, compute_uv=False)
+    null_dim = int(np.sum(s <= 1e3 * np.finfo(float).eps * max(s.max(initial=0.0), 1e-300))) if n else 0
+    twin_rank = int(np.linalg.matrix_rank(np.array(vectors))) if vectors else 0
+    return twins, null_dim <= twin_rank
 
 
 def _start(plcp: ParametricLCP, accuracy):
@@ -562,61 +758,67 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
     worst = 0.0
     checked = 0
     while True:
-        cont, exhaustive = path.continuation(p, z, w, F_prev, 50 * n + 1000)
-        if cont is None:
-            found = path.collapse_proof(tol)
-            scale_p = max(abs(p), 1e-300)
-            if found is not None and found[0] <= p + 1e-8 * max(scale_p, _p_unit(plcp, found[1])):
+        found, exhaustive = path.continuation(p, z, w, F_prev, 50 * n + 1000)
+        resolved = False
+        accepted = None
+        for F, block, dz, dw in found:
+            accepted = path.certified_piece(block, F, p, dz, dw, p_max, tol)
+            if accepted is not None:
+                break
+        if accepted is None:
+            # Nothing from the vertex's own schemes: a solve just beyond p, kept
+            # only if its scheme certifies back at p (the path is then continuous).
+            accepted = path.resolved_piece(p, p_max, tol, accuracy)
+            resolved = accepted is not None
+        beyond = None
+        if accepted is None:
+            found_y = path.collapse_proof(p, tol)
+            if found_y is not None and "solution" in found_y:
+                # an equilibrium just beyond p that the vertex's schemes did not
+                # reach (M's null vectors): continue from its scheme if it holds at p
+                beyond = found_y["solution"][1]
+                accepted = path.piece_through(p, *found_y["solution"], p_max, tol)
+                resolved = accepted is not None
+                found_y = None
+        if accepted is None:
+            if found_y is not None:
                 end = "collapse"
-                proof = {"p_limit": found[0], "farkas": found[1], "backward_error": found[2],
-                         "rows": np.flatnonzero(found[1] > 1e-9 * found[1].max())}
-            elif exhaustive:
+                proof = found_y
+            elif exhaustive and path.unique:
                 end = "fold"
                 proof = {"p": p, "schemes_checked": "all"}
-                if found is not None:
-                    proof["no_equilibrium_beyond"] = found[0]
             else:
                 end = "breakdown"
-                why = (f"at p = {p:g} more than {ENUM_MAX} pairs are degenerate and Lemke's method "
-                       "found no working scheme that continues the path")
+                why = (f"at p = {p:g} no working scheme that continues the path could be found "
+                       "and certified" + ("" if path.unique else
+                                          " (M has null vectors: the same forces can be written "
+                                          "with other unknowns, so not every scheme was tried)")
+                       + (f"; an equilibrium exists at p = {beyond:.10g}, on another branch"
+                          if beyond is not None else
+                          ", and no equilibrium could be proved impossible beyond it"))
             break
-        F, block, dz, dw, count = cont
-        piece = path.piece(block, F, p, dz, dw)
-        t, i_cross, cross_z = path.next_break(piece)
-        p_next = p + t
-        stop = np.isfinite(p_max) and p_next >= p_max
-        piece.p_end = p_max if stop else p_next
-        # certify from the data at the start, the middle and the end
-        hi = piece.p_end if np.isfinite(piece.p_end) else p + max(1.0, abs(p))
-        err = 0.0
-        for pp in (p, 0.5 * (p + hi), hi):
-            err = max(err, certify_lcp(plcp.at(pp), piece.z(pp)).error)
+        piece, t, i_cross, cross_z = accepted
+        F = piece.active
+        worst = max(worst, piece.error)
         checked += 3
-        if not err <= tol:
-            end = "breakdown"
-            why = (f"the working scheme from p = {p:g} could not be certified "
-                   f"(error {err:.1e} > {tol:.0e}); the trace stops there")
-            break
-        piece.error = err
-        worst = max(worst, err)
         if pieces:
             events.append(TraceEvent(p, np.flatnonzero(F & ~F_prev), np.flatnonzero(F_prev & ~F),
-                                     count))
+                                     0 if resolved else path.distinct(found), resolved))
         pieces.append(piece)
-        if stop:
+        if np.isfinite(p_max) and piece.p_end == p_max:
             end = "p_max"
             break
-        if not np.isfinite(p_next):
+        if not np.isfinite(piece.p_end):
             end = "unbounded"
-            proof = {"from": p, "dz": dz, "dw": dw}
+            proof = {"from": p, "dz": piece.dz, "dw": piece.dw}
             break
         if len(pieces) >= max_pieces:
             end = "max_pieces"
             break
-        p = p_next
+        p = piece.p_end
         z = piece.z_start + t * piece.dz
         w = piece.w_start + t * piece.dw
-        # the rows that reached zero are zero (not a rounding error's worth off)
+        # the row that reached zero is zero (not a rounding error's worth off)
         if cross_z:
             z[i_cross] = 0.0
         else:
@@ -651,12 +853,6 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
     )
 
 
-def _p_unit(plcp: ParametricLCP, y: np.ndarray) -> float:
-    """The change of p that moves y'q by the size of its constant terms."""
-    den = float(np.abs(plcp.q1) @ y)
-    return float(np.abs(plcp.q0) @ y) / den if den > 0 else 0.0
-
-
 def _message(end, p, p_max, p_final, proof, why, max_pieces) -> str:
     if end == "p_max":
         return f"traced to p = {p_max:g}"
@@ -664,16 +860,16 @@ def _message(end, p, p_max, p_final, proof, why, max_pieces) -> str:
         return (f"the working scheme no longer changes for p >= {proof['from']:g}: the solution "
                 "grows along proof['dz'] without bound")
     if end == "collapse":
-        return (f"no equilibrium exists for p > {proof['p_limit']:.10g} (proved by a Farkas "
-                f"vector checked from the data to {proof['backward_error']:.0e} componentwise, "
-                f"rows {[int(i) for i in proof['rows']]}); the last equilibrium is at "
-                f"p = {p_final:.10g}")
+        how = ("by a Farkas vector" if proof["patterns"] == 1 else
+               f"over {proof['patterns']} patterns of which z's and w's are zero, each by a Farkas "
+               "vector")
+        return (f"no equilibrium exists for p >= {proof['p_limit']:.10g} (proved {how}, "
+                f"checked from the data to {proof['backward_error']:.0e} componentwise); the last "
+                f"equilibrium is at p = {p_final:.10g}")
     if end == "fold":
-        extra = (f"; no equilibrium at all beyond p = {proof['no_equilibrium_beyond']:.6g}"
-                 if "no_equilibrium_beyond" in proof else "")
         return (f"the path turns back at p = {p:.10g}: no working scheme continues it with the load "
                 "increasing (every scheme of the degenerate pairs checked; M is not a P-matrix, "
-                f"so other equilibria may exist beyond — solve problem.at(p) for them){extra}")
+                "so other equilibria may exist beyond — solve problem.at(p) for them)")
     if end == "max_pieces":
         return f"piece limit {max_pieces} reached at p = {p:g}"
     return why
