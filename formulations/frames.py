@@ -921,7 +921,8 @@ class Frame:
 def demo(console) -> int:
     """The frame part of ``qpcontact demo``: a beam pinned at one end on a
     frictional support (limit f P/2 by hand) solved below and above the limit
-    by Lemke and by the Tresca fixed point, then a lateral load traced.
+    by Lemke and by the Tresca fixed point; then the portal of
+    :func:`portal_example` traced to its collapse, against the hand values.
     Returns the number of failed checks."""
     from rich.markup import escape
     from rich.table import Table
@@ -952,15 +953,41 @@ def demo(console) -> int:
             table.add_row(f"{H:g}", r.route, s.state, f"{s.normal:.3f}", f"{s.tangential:.3f}",
                           f"{r.lcp_error:.0e}", f"{r.equilibrium_residual:.0e}")
     console.print(table)
-    fr = beam(0.0)
-    fr.add_load("B", fx=10.0, kind="variable")
-    tr = fr.trace(p_max=3.0)
-    console.print(f"Trace of H = 10 p kN: {tr.message}; breakpoints p = "
-                  + ", ".join(f"{p:.4g}" for p in tr.breakpoints)
-                  + " (by hand 1.5); states " + " -> ".join(s.supports["B"].state for s in tr.states)
-                  + ".  examples/frame_on_supports.py traces a two-span portal.")
-    failed += int(not (tr.breakpoints.size == 1 and abs(tr.breakpoints[0] - 1.5) < 1e-9))
+    tr = portal_example().trace(p_max=40.0)
+    table = Table(title="Increasing load (P3's trace): pinned-base portal 6 m x 4 m on two frictional "
+                        "bases (f = 0.3), 20 kN/m on the beam, P = p kN lateral at B")
+    for col in ("p", "by hand", "event"):
+        table.add_column(col, justify="left" if col == "event" else "right")
+    hand = (25.4363, 0.3 * 20.0 * 6.0)   # force method; f w L
+    rows = [(ev.p, str(ev)) for ev in tr.events] + [(tr.p_end, f"{tr.ended}: {tr.message}")]
+    for (p, what), ref in zip(rows, hand):
+        table.add_row(f"{p:.6g}", f"{ref:.6g}", escape(what))
+    console.print(table)
+    got = [p for p, _ in rows]
+    failed += int(not (tr.ok and tr.ended == "collapse" and len(got) == 2
+                       and abs(got[0] - hand[0]) < 5e-5 and abs(got[1] - hand[1]) < 1e-8 * hand[1]))
     return failed
+
+
+def portal_example() -> Frame:
+    """The portal of issue 15: columns A(0,0)-B(0,4) and D(6,0)-C(6,4), beam B-C,
+    IPE 300 (E = 210e6 kN/m², A = 5.381e-3 m², I = 8.356e-5 m⁴), both bases rigid
+    frictional contacts (normal (0, 1), f = 0.3, free rotation), 20 kN/m down on
+    the beam (constant), P = p kN at B along +x (variable).  By hand: base D
+    starts slipping at P = 25.4363 kN (force method) and the frame slides away
+    at P = f w L = 36 kN."""
+    fr = Frame()
+    for name, x, y in (("A", 0.0, 0.0), ("B", 0.0, 4.0), ("C", 6.0, 4.0), ("D", 6.0, 0.0)):
+        fr.add_node(name, x, y)
+    E, A, I = 210e6, 5.381e-3, 8.356e-5
+    fr.add_beam("A", "B", E, A, I)
+    beam = fr.add_beam("B", "C", E, A, I)
+    fr.add_beam("D", "C", E, A, I)
+    fr.add_contact("A", normal=(0.0, 1.0), friction=0.3)
+    fr.add_contact("D", normal=(0.0, 1.0), friction=0.3)
+    fr.add_distributed_load(beam, wy=-20.0)
+    fr.add_load("B", fx=1.0, kind="variable")
+    return fr
 
 
 def instances(size: str = "small", hardness: str = "easy", seed: int = 0):

@@ -179,7 +179,9 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
     ok = status == "solved"
     if ok:
         message = f"certified: error {cert.error:.2e} <= {tol_cert:.0e}"
-        ferr = getattr(cert, "forward_error", 0.0)
+        # The forward error is in the message when it came for free (active
+        # blocks up to 400); above that, sol.forward_error computes it on request.
+        ferr = cert.forward_error if getattr(cert, "forward_error_known", False) else 0.0
         if ferr > tol_cert:
             message += (f"; forward error up to {ferr:.1e} (condition {cert.condition:.1e}): "
                         "components may differ from the exact solution of these data by that "
@@ -217,7 +219,7 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
     ----------
     problem : LCP, qpsolvers.Problem or ParametricLCP
         A ``ParametricLCP`` is traced in its load parameter (method ``"trace"``
-        or ``"auto"``; options ``p_max``, ``max_pivots``) and a
+        or ``"auto"``; options ``p_max``, ``max_pieces``) and a
         :class:`~qpcontact.trace.LoadTrace` comes back; fix it first with
         ``problem.at(p)`` to solve one LCP.
     method : str

@@ -29,29 +29,34 @@ How the path is followed here
    method.  When several schemes continue the path (possible only when M is
    not a P-matrix) the one closest to the previous scheme is taken and the
    event records how many there were.
-3. Each piece is computed from its own block (LU of the equilibrated M_FF,
-   iteratively refined), certified from the data at its start, middle and end
-   (:func:`qpcontact.certify.certify_lcp`), and only then kept.
+3. Candidates are tried closest first; a piece is computed from its own block
+   (LU of the equilibrated M_FF, iteratively refined), certified from the
+   data at its start, middle and end (:func:`qpcontact.certify.certify_lcp`),
+   and only then kept.  When no candidate certifies (M with null vectors
+   other than slip pairs: the same w written with other positive z's), a
+   solve just beyond the vertex is tried and kept only if its scheme
+   certifies back at the vertex.
 
 Endings (``LoadTrace.end``), each with what proves it
 -----------------------------------------------------
 ``"p_max"``      the requested load was reached.
 ``"unbounded"``  (p_max = inf) the last scheme never changes again: no z_i or
                  w_i decreases along its direction, which is in ``proof``.
-``"collapse"``   no equilibrium exists beyond the end point: a Farkas vector
-                 y >= 0 with M'y <= 0 and y'q(p) < 0 for every p > p_limit,
-                 found by an LP and checked component by component from the
-                 data (``proof["farkas"]``): y'w = y'Mz + y'q(p) < 0 for any
-                 z >= 0, so w >= 0 is impossible.
+``"collapse"``   no equilibrium exists for p >= p_limit, a hair above the end
+                 point: a Farkas vector y (y >= 0, M'y <= 0, q1'y <= 0,
+                 y'q(p_limit) < 0), found by an LP and checked component by
+                 component from the data, makes y'w < 0 for every z >= 0; when
+                 complementarity is what rules the loads out, branch and bound
+                 over the complementary patterns gives one such vector per
+                 remaining pattern (``proof["leaves"]``).
 ``"fold"``       equilibria may exist beyond the end point, but none continues
-                 this path: all 2^|β| schemes at the vertex were checked and
-                 none goes on with p increasing (a non-P matrix, e.g. friction:
-                 the load-displacement path turns back).  Solve at a fixed load
-                 with ``problem.at(p)`` to find other branches.
-``"breakdown"``  the path could not be continued or certified (a degenerate
-                 vertex too large to enumerate that Lemke's method could not
-                 decide, or a piece whose certificate failed): the pieces before
-                 it are returned, the failing one is not.
+                 this path: all 2^|β| schemes at the vertex were checked, none
+                 goes on with p increasing, and M's only null vectors are slip
+                 pairs (a non-P matrix whose load-displacement path turns
+                 back).  Solve at a fixed load with ``problem.at(p)`` for other
+                 branches.
+``"breakdown"``  none of the above could be established: the pieces before
+                 are returned (certified), the message says what is known.
 ``"max_pieces"`` the piece limit was reached.
 
 Nothing is added to the data: degenerate starts (q0 = 0, case a, or zero gaps)
@@ -177,7 +182,7 @@ class LoadTrace(LCPSolution):
                 return piece
         lo = self.pieces[0].p_start if self.pieces else 0.0
         hi = self.pieces[-1].p_end if self.pieces else 0.0
-        raise ValueError(f"p = {p} is outside the traced range [{lo:g}, {hi:g}] "
+        raise InvalidOptionError(f"p = {p} is outside the traced range [{lo:g}, {hi:g}] "
                          f"(the trace ended: {self.end}; {self.message})")
 
     def z_at(self, p: float) -> np.ndarray:
@@ -423,6 +428,8 @@ class _Path:
         t, i, is_z = self.next_break(piece)
         stop = np.isfinite(p_max) and p + t >= p_max
         piece.p_end = p_max if stop else p + t
+        if not piece.p_end > p:
+            return None   # a scheme that ends where it starts continues nothing
         hi = piece.p_end if np.isfinite(piece.p_end) else p + max(1.0, abs(p))
         err = 0.0
         for pp in (p, 0.5 * (p + hi), hi):
@@ -432,7 +439,7 @@ class _Path:
         piece.error = err
         return piece, t, i, is_z
 
-    def resolved_piece(self, p, p_max, tol, accuracy):
+    def resolved_piece(self, p, F_prev, p_max, tol, accuracy):
         """A scheme found by Lemke's method at p + δ (δ tiny on the scale of p)
         that also holds at p, certified like any piece; or None."""
         from .solve import solve
@@ -445,22 +452,23 @@ class _Path:
                 pp = 0.5 * (p + p_max)
             sol = solve(self.plcp.at(pp), method="lemke", accuracy=accuracy)
             if sol.ok:
-                got = self.piece_through(p, sol.z, pp, p_max, tol)
+                got = self.piece_through(p, F_prev, sol.z, pp, p_max, tol)
                 if got is not None:
                     return got
         return None
 
-    def piece_through(self, p, z_beyond, p_beyond, p_max, tol):
+    def piece_through(self, p, F_prev, z_beyond, p_beyond, p_max, tol):
         """The piece from p of the scheme of a solution z_beyond at p_beyond > p,
-        if it is certified from p on; or None."""
+        if it is certified from p on; or None.  The scheme that just ended is
+        not taken again: its crossing row would be back within rounding."""
         zeta, _ = self.values.at(z_beyond, self.q_terms(p_beyond))
         F = z_beyond > TIE_RTOL * zeta
+        if F_prev is not None and np.array_equal(F, F_prev):
+            return None
         block, dz, dw = self.direction(F)
         if dz is None:
             return None
-        got = self.certified_piece(block, F, p, dz, dw, p_max, tol)
-        # any certified piece of positive length continues the path
-        return got if got is not None and got[0].p_end > p else None
+        return self.certified_piece(block, F, p, dz, dw, p_max, tol)
 
     def collapse_proof(self, p: float, tol: float, max_nodes: int = COLLAPSE_NODES):
         """Prove that no solution exists for any load p' >= p_limit, p_limit a
@@ -768,7 +776,7 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
         if accepted is None:
             # Nothing from the vertex's own schemes: a solve just beyond p, kept
             # only if its scheme certifies back at p (the path is then continuous).
-            accepted = path.resolved_piece(p, p_max, tol, accuracy)
+            accepted = path.resolved_piece(p, F_prev if pieces else None, p_max, tol, accuracy)
             resolved = accepted is not None
         beyond = None
         if accepted is None:
@@ -777,7 +785,8 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
                 # an equilibrium just beyond p that the vertex's schemes did not
                 # reach (M's null vectors): continue from its scheme if it holds at p
                 beyond = found_y["solution"][1]
-                accepted = path.piece_through(p, *found_y["solution"], p_max, tol)
+                accepted = path.piece_through(p, F_prev if pieces else None, *found_y["solution"],
+                                              p_max, tol)
                 resolved = accepted is not None
                 found_y = None
         if accepted is None:

@@ -182,3 +182,62 @@ def test_trace_with_far_and_touching_gaps_agrees_componentwise(seed):
             z, w = tr.z_at(p), tr.w_at(p)
             np.testing.assert_allclose(z, ref.z, rtol=1e-9, atol=1e-12 * np.abs(ref.z).max())
             np.testing.assert_allclose(w, ref.w, rtol=1e-9, atol=1e-12 * np.abs(q1).max() * (1 + p))
+
+
+def _strict_solutions(M, q):
+    """Every complementary basic solution that the certificate accepts at 1e-12
+    (the reference enumeration's absolute tolerance lets -5e-12 pass)."""
+    return [z for z in enumerate_lcp(M, q) if qpcontact.certify(qpcontact.LCP(M, q), z).error <= 1e-12]
+
+
+def test_nonP_traces_end_as_proved():
+    """Random non-P matrices (n = 2, 3): every ending checked by enumerating all
+    complementary bases — a collapse has no solution beyond it; a fold has none
+    near the end point just beyond it (the path does not continue), though
+    other equilibria may exist; an unbounded end holds its scheme at any load."""
+    seen = {}
+    for seed in range(400):
+        rng = np.random.default_rng(seed)
+        n = int(rng.integers(2, 4))
+        M = rng.standard_normal((n, n))
+        q0, q1 = rng.uniform(0.1, 1, n), rng.standard_normal(n)
+        plcp = ParametricLCP(M, q0, q1)
+        tr = qpcontact.solve(plcp, method="trace", p_max=np.inf)
+        seen[tr.end] = seen.get(tr.end, 0) + 1
+        assert tr.ok and tr.end in ("unbounded", "collapse", "fold"), (seed, tr.message)
+        for piece in tr.pieces:
+            hi = piece.p_end if np.isfinite(piece.p_end) else piece.p_start + 1.0
+            for p in (piece.p_start, 0.5 * (piece.p_start + hi), hi):
+                assert qpcontact.certify(plcp.at(p), piece.z(p)).error <= 1e-9
+        p_end, z_end = tr.p_end, tr.z
+        scale = max(1.0, abs(p_end))
+        if tr.end == "collapse":
+            for p in (tr.proof["p_limit"] + 1e-6 * scale, 2 * p_end + 1.0, p_end + 100.0):
+                assert not _strict_solutions(M, plcp.at(p).q), (seed, p)
+        elif tr.end == "fold":
+            near = [z for z in _strict_solutions(M, plcp.at(p_end + 1e-7 * scale).q)
+                    if np.abs(z - z_end).max() <= 1e-4 * max(1.0, np.abs(z_end).max())]
+            assert not near, (seed, near)
+        else:
+            for p in (p_end + 1.0, 10 * p_end + 10):
+                z = tr.z_at(p)
+                assert any(np.allclose(z, s, rtol=1e-8, atol=1e-10 * max(1, np.abs(s).max()))
+                           for s in enumerate_lcp(M, plcp.at(p).q)), (seed, p)
+    assert seen.get("fold", 0) >= 3 and seen.get("collapse", 0) >= 3 and seen.get("unbounded", 0) >= 3, seen
+
+
+def test_collapse_proof_checks_from_the_data():
+    """The spring pair pushed apart has no equilibrium for any p > 0; the
+    proof's y is checked here from M and q, independently of the trace."""
+    M = np.array([[1.0, -1.0], [-1.0, 1.0]])
+    q0, q1 = np.zeros(2), np.array([-1.0, 0.5])
+    tr = qpcontact.solve(ParametricLCP(M, q0, q1), method="trace", p_max=np.inf)
+    assert tr.ok and tr.end == "collapse"
+    for leaf in tr.proof["leaves"]:
+        y = leaf["y"]
+        free_z = np.setdiff1d(np.arange(2), leaf["z_zero"])
+        assert np.all(y[np.setdiff1d(np.arange(2), leaf["w_zero"])] >= 0)
+        assert np.all((M.T @ y)[free_z] <= 1e-12 * (np.abs(M).T @ np.abs(y))[free_z])
+        assert q1 @ y <= 1e-12 * np.abs(q1) @ np.abs(y)
+        assert (q0 + tr.proof["p_limit"] * q1) @ y < 0
+    assert tr.proof["p_limit"] <= 1e-6
