@@ -78,7 +78,7 @@ from scipy.linalg import lapack
 from .accuracy import resolve_accuracy
 from .certify import ComponentScales, certify_lcp
 from .errors import InvalidOptionError, InvalidProblemError, NoSolutionError, SolverFailedError
-from .methods.active_set import check_dense_size, check_options, dense_matrix
+from .methods.active_set import check_dense_size, check_options, dense_matrix, refined
 from .methods.lemke import FARKAS_RTOL, lemke, ruiz_scaling
 from .plotting import save_figure
 from .problems import ParametricLCP
@@ -271,19 +271,10 @@ class _Block:
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """B^{-1} rhs, refined while the residual shrinks."""
-        x = scipy.linalg.lu_solve(self.lu, rhs, check_finite=False)
-        r = rhs - self.B @ x
-        rn = np.max(np.abs(r))
-        for _ in range(3):
-            if rn == 0.0:
-                break
-            x_new = x + scipy.linalg.lu_solve(self.lu, r, check_finite=False)
-            r_new = rhs - self.B @ x_new
-            rn_new = np.max(np.abs(r_new))
-            if not rn_new < rn:
-                break
-            x, r, rn = x_new, r_new, rn_new
-        return x
+        def lu(r):
+            return scipy.linalg.lu_solve(self.lu, r, check_finite=False)
+
+        return refined(lu, self.B, rhs, lu(rhs))
 
 
 class _Path:

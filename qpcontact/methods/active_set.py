@@ -25,7 +25,7 @@ from ._pivot_kernels import sure_negatives
 
 __all__ = ["sign_tolerances", "negative_components", "ComponentScales", "SolutionOverflow",
            "overflow_result", "ActiveBlock", "symmetric_scaling", "dense_matrix",
-           "check_options", "check_dense_size", "not_positive_definite",
+           "check_options", "check_dense_size", "not_positive_definite", "refined",
            "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
 
 _EPS = np.finfo(float).eps
@@ -50,6 +50,23 @@ def overflow_result(method: str, exc: Exception):
 
     return MethodResult(x=None, backend_status="overflow",
                         backend_message=f"{method}: {exc}")
+
+
+def refined(solve, B, rhs: np.ndarray, x: np.ndarray, steps: int = 3) -> np.ndarray:
+    """x (an approximate B^{-1} rhs from the factorization ``solve``) refined
+    against B itself while the residual shrinks, at most ``steps`` times."""
+    r = rhs - B @ x
+    rn = np.max(np.abs(r)) if r.size else 0.0
+    for _ in range(steps):
+        if rn == 0.0:
+            break
+        x_new = x + solve(r)
+        r_new = rhs - B @ x_new
+        rn_new = np.max(np.abs(r_new))
+        if not rn_new < rn:
+            break
+        x, r, rn = x_new, r_new, rn_new
+    return x
 
 
 def check_options(method: str, options: dict, allowed: tuple) -> None:
@@ -243,19 +260,7 @@ class ActiveBlock:
 
     def solve(self, rhs: np.ndarray, refine: int = 3) -> np.ndarray:
         """B^{-1} rhs, refined until the residual stops shrinking (at most ``refine`` times)."""
-        x = self._checked(self._solve(rhs))
-        r = rhs - self.B @ x
-        rn = np.max(np.abs(r)) if r.size else 0.0
-        for _ in range(refine):
-            if rn == 0.0:
-                break
-            x_new = x + self._solve(r)
-            r_new = rhs - self.B @ x_new
-            rn_new = np.max(np.abs(r_new))
-            if not rn_new < rn:
-                break
-            x, r, rn = x_new, r_new, rn_new
-        return x
+        return refined(self._solve, self.B, rhs, self._checked(self._solve(rhs)), refine)
 
     def basic_solution(self, M, q: np.ndarray, refine: int = 3) -> tuple[np.ndarray, np.ndarray]:
         """(z, w) with z_F = -M_FF^{-1} q_F, z elsewhere 0, w = Mz + q.
