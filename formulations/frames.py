@@ -776,9 +776,11 @@ class Frame:
             how = ("a Farkas certificate" if tr.proof["patterns"] == 1 else
                    f"Farkas certificates for all {tr.proof['patterns']} combinations of support "
                    "states left after branching")
+            bound = ("" if not np.isfinite(tr.proof["z_bound"]) else
+                     f" for openings and slips summing below {tr.proof['z_bound']:.1e}")
             ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
                           f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
-                          "the data)")
+                          f"the data{bound})")
         elif ended == "unbounded":
             ft.message = (f"no support changes state for p >= {tr.proof['from']:g}: the frame "
                           "carries any larger load in its last working scheme")

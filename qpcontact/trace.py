@@ -105,6 +105,11 @@ COLLAPSE_NODES = 400
 # HiGHS' default feasibility tolerances (1e-7) leave Farkas vectors that fail
 # a componentwise check on frames whose stiffnesses span 1e5.
 _LP_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+#: A Farkas vector whose rounding leaves M'y slightly positive proves "no
+#: equilibrium" only for z below a bound; it is accepted when the bound is at
+#: least Z_BOUND times the size of the solution at the end of the path (far
+#: beyond what a small-displacement model describes).
+Z_BOUND = 1e3
 
 
 @dataclass
@@ -461,9 +466,10 @@ class _Path:
             return None
         return self.certified_piece(block, F, p, dz, dw, p_max, tol)
 
-    def collapse_proof(self, p: float, tol: float, max_nodes: int = COLLAPSE_NODES):
+    def collapse_proof(self, p: float, z_scale: float, tol: float,
+                       max_nodes: int = COLLAPSE_NODES):
         """Prove that no solution exists for any load p' >= p_limit, p_limit a
-        hair above p (1e-9, else 1e-6, on the scale of p): a dict with
+        hair above p (1e-9, else 1e-6, else 1e-4 of the load scale): a dict with
         ``p_limit`` and the Farkas vectors; {"solution": (z, p')} when an
         equilibrium beyond p was found instead; None when neither.
 
@@ -483,19 +489,39 @@ class _Path:
         The root alone is the classical Farkas alternative; the branches are
         needed when only complementarity rules the loads out (a frame whose
         separated contacts could carry load only if they touched).
+
+        Where M'y = 0 is an identity (a frame's equilibrium) rounding leaves
+        (M'y)_j = δ_j > 0 of a few eps; then y'w <= δ'z + y'q(p') < 0 for
+        every z with Σ z_j <= ``z_bound`` = -y'q(p_limit) / Σ δ_j, and a vector
+        is accepted only when that bound exceeds Z_BOUND times ``z_scale`` (the
+        solution's own size at p): "no equilibrium with openings and slips
+        below 1000 times those at the last one".  A bound that small relative
+        to the solution (seed 17 of the random frames: 4e-4 against slips of
+        0.25, and Lemke found an equilibrium just beyond) proves nothing.
         """
         q0, q1 = np.abs(self.q0).max(initial=0.0), np.abs(self.q1).max(initial=0.0)
-        unit = max(abs(p), q0 / q1 if q1 > 0 else 1.0, 1e-300)
+        # the load scale: p itself, or the p at which the variable load reaches
+        # the constant one (1 when either is absent: the problem is homogeneous)
+        unit = max(abs(p), q0 / q1 if q0 > 0 and q1 > 0 else 1.0)
+        # At p = 0 with no constant load the solution is 0: the displacement
+        # scale is then that of the load a unit further, |q| / max|M|.
+        scale_M = float(np.abs(self.M).max(initial=0.0))
+        if scale_M > 0:
+            z_scale = max(z_scale, float(self.q_terms(p + unit).max(initial=0.0)) / scale_M)
         # Just beyond p every LP point is within ~(p' - p) of the last
         # equilibrium, which an LP's tolerances cannot tell from feasible: if the
         # proof does not go through a hair above p it is tried a little further.
-        for rel in (1e-9, 1e-6):
-            out = self._branch_and_bound(p + rel * unit, unit, tol, max_nodes)
-            if out is not None:
+        # A "solution" a hair above p may be the last equilibrium itself, within
+        # the tolerances; it is believed only if the proof fails further out too.
+        found = None
+        for rel in (1e-9, 1e-6, 1e-4):
+            out = self._branch_and_bound(p + rel * unit, unit, z_scale, tol, max_nodes)
+            if out is not None and "solution" not in out:
                 return out
-        return None
+            found = out or found
+        return found
 
-    def _branch_and_bound(self, p_lo, unit, tol, max_nodes):
+    def _branch_and_bound(self, p_lo, unit, z_scale, tol, max_nodes):
         n = self.q0.size
         stack = [(np.zeros(n, bool), np.zeros(n, bool))]
         leaves, nodes = [], 0
@@ -504,7 +530,7 @@ class _Path:
             if nodes > max_nodes:
                 return None
             Z0, W0 = stack.pop()
-            cert = self._farkas(Z0, W0, p_lo, tol)
+            cert = self._farkas(Z0, W0, p_lo, z_scale, tol)
             if cert is not None:
                 leaves.append((np.flatnonzero(Z0), np.flatnonzero(W0)) + cert)
                 continue
@@ -539,6 +565,7 @@ class _Path:
         root = leaves[0] if len(leaves) == 1 and not leaves[0][0].size and not leaves[0][1].size else None
         return {"p_limit": p_lo, "patterns": len(leaves), "nodes": nodes,
                 "backward_error": max(leaf[3] for leaf in leaves),
+                "z_bound": min(leaf[4] for leaf in leaves),
                 "farkas": root[2] if root is not None else None,
                 "leaves": [{"z_zero": lf[0], "w_zero": lf[1], "y": lf[2]} for lf in leaves]}
 
@@ -585,20 +612,17 @@ class _Path:
                 z, pp = cand, p_c
         return z, pp
 
-    def _farkas(self, Z0, W0, p_lo, tol):
-        """(y, backward) proving {z >= 0, w(p') >= 0, z_Z0 = 0, w_W0 = 0} empty for
-        every p' >= p_lo, checked from the data; or None.
+    def _farkas(self, Z0, W0, p_lo, z_scale, tol):
+        """(y, backward, z_bound) proving {z >= 0, w(p') >= 0, z_Z0 = 0, w_W0 = 0}
+        empty for every p' >= p_lo and every z below z_bound, checked from the
+        data; or None.
 
         LP: min y'q(p_lo) over y_i in [0, 1] (i not in W0), y_i in [-1, 1]
-        (i in W0), (M'y)_j <= 0 for the free z's, q1'y <= 0; a negative optimum
-        is a Farkas vector.  It is polished on its support and accepted when
-        (M'y)_j and q1'y are <= ``backward`` (<= tol) times their own terms
-        (|M|'|y|, |q1|'|y|) and y'q(p_lo) < -backward (|q0| + p_lo |q1|)'|y|:
-        no equilibrium for data within ``backward`` (componentwise) of yours —
-        the same reading as a solution's certificate.  Where M'y = 0 is an
-        identity (a frame's equilibrium), rounding is all that is left of it.
+        (i in W0), (M'y)_j <= 0 for the free z's (to a slack of 1e-10 of their
+        terms), q1'y <= 0; a negative optimum is a Farkas vector.  It is polished
+        on its support and checked by :meth:`_farkas_check`.
         """
-        from scipy.optimize import linprog
+        from scipy.optimize import linprog, lsq_linear
 
         n = self.q0.size
         J = np.flatnonzero(~Z0)
@@ -606,15 +630,20 @@ class _Path:
         a = float(np.max(np.abs(Ms))) or 1.0
         b = float(np.max(np.abs(q1s))) or 1.0
         c = float(np.max(np.abs(qs))) or 1.0
-        rows = [(Ms[:, J].T - 0.5 * FARKAS_RTOL * np.abs(Ms[:, J]).T) / a] if J.size else []
-        rows.append((q1s - 0.5 * FARKAS_RTOL * np.abs(q1s))[None, :] / b)
+        # Where M'y = 0 is an identity its rounding decides the sign, so the LP
+        # gets a little slack: with none it was infeasible or not depending on
+        # the number of BLAS threads.  What the slack lets through is bounded
+        # in _farkas_check.
+        slack = min(0.5 * tol, 1e-10)
+        rows = [(Ms[:, J].T - slack * np.abs(Ms[:, J]).T) / a] if J.size else []
+        rows.append((q1s - slack * np.abs(q1s))[None, :] / b)
         bounds = [(-1, 1) if W0[i] else (0, 1) for i in range(n)]
         res = linprog(qs / c, A_ub=np.vstack(rows), b_ub=np.zeros(J.size + 1), bounds=bounds,
                       method="highs", options=_LP_OPTIONS)
         if res.status != 0 or not res.fun < 0:
             return None
         y0 = res.x * self.rs
-        best = self._farkas_check(y0, J, W0, p_lo)
+        best = self._farkas_check(y0, J, W0, p_lo, z_scale)
         R = np.flatnonzero(np.abs(y0) > 1e-12 * np.abs(y0).max())
         if R.size:  # polish: M'y = 0 on the tight columns, y'q(p_lo) as found, on y's support
             My, scale = self.M[:, J].T @ y0, np.abs(self.M[:, J]).T @ np.abs(y0)
@@ -625,33 +654,48 @@ class _Path:
             if float(self.q1 @ y0) >= -1e-8 * float(np.abs(self.q1) @ np.abs(y0)):
                 rows.append(self.q1[R][None, :])
                 rhs.append([0.0])
-            yR = np.linalg.lstsq(np.vstack(rows), np.concatenate(rhs), rcond=None)[0]
+            # bounded least squares: y stays >= 0 on the inequality rows
+            lower = np.where(W0[R], -np.inf, 0.0)
+            yR = lsq_linear(np.vstack(rows), np.concatenate(rhs), bounds=(lower, np.inf),
+                            method="bvls", tol=1e-15).x
             y = np.zeros(n)
             y[R] = yR
-            polished = self._farkas_check(y, J, W0, p_lo)
-            if polished is not None and (best is None or polished[1] < best[1]):
+            polished = self._farkas_check(y, J, W0, p_lo, z_scale)
+            if polished is not None and (best is None or polished[2] > best[2]):
                 best = polished
         if best is None or not best[1] <= tol:
             return None
         return best
 
-    def _farkas_check(self, y, J, W0, p_lo):
-        """(y, backward) for a candidate y, or None when it proves nothing."""
+    def _farkas_check(self, y, J, W0, p_lo, z_scale):
+        """(y, backward, z_bound) for a candidate y, or None when it proves nothing.
+
+        With δ = max(M_J'y, 0) and g = -y'q(p_lo) (less the rounding of q's
+        terms): y'w(p') <= δ'z - g < 0 for every z >= 0 with Σ z_j < z_bound =
+        g / Σ δ_j (inf when δ = 0), and for every p' >= p_lo when q1'y <= 0 (to
+        FARKAS_RTOL of its terms).  Accepted when z_bound >= Z_BOUND * z_scale.
+        ``backward`` = max δ_j / (|M|'|y|)_j is reported beside it.
+        """
         if np.any(y[~W0] < 0):
             return None
         ay = np.abs(y)
         My, scale = self.M[:, J].T @ y, np.abs(self.M[:, J]).T @ ay
         q1y, q1s = float(self.q1 @ y), float(np.abs(self.q1) @ ay)
+        if q1y > FARKAS_RTOL * q1s:
+            return None
+        delta = np.maximum(My, 0.0)
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(My > 0, My / scale, 0.0)
-        backward = max(FARKAS_RTOL, float(np.max(ratio, initial=0.0)),
-                       q1y / q1s if q1y > 0 else 0.0)
-        if not np.isfinite(backward):
+            ratio = np.where(delta > 0, delta / scale, 0.0)
+        backward = max(FARKAS_RTOL, float(np.max(ratio, initial=0.0)))
+        gap = -float((self.q0 + p_lo * self.q1) @ y) \
+            - FARKAS_RTOL * float((np.abs(self.q0) + p_lo * np.abs(self.q1)) @ ay)
+        if not (np.isfinite(backward) and gap > 0):
             return None
-        margin = backward * float((np.abs(self.q0) + p_lo * np.abs(self.q1)) @ ay)
-        if not float((self.q0 + p_lo * self.q1) @ y) < -margin:
+        total = float(delta.sum())
+        z_bound = gap / total if total > 0 else np.inf
+        if not z_bound >= Z_BOUND * z_scale:
             return None
-        return y, backward
+        return y, backward, z_bound
 
 
 def _null_structure(M: np.ndarray):
@@ -771,7 +815,9 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
             resolved = accepted is not None
         beyond = None
         if accepted is None:
-            found_y = path.collapse_proof(p, tol)
+            zeta_end, _ = path.values.at(z, path.q_terms(p))
+            found_y = path.collapse_proof(p, max(float(np.abs(z).max(initial=0.0)),
+                                                 float(zeta_end.max(initial=0.0)), 1e-300), tol)
             if found_y is not None and "solution" in found_y:
                 # an equilibrium just beyond p that the vertex's schemes did not
                 # reach (M's null vectors): continue from its scheme if it holds at p
@@ -863,9 +909,10 @@ def _message(end, p, p_max, p_final, proof, why, max_pieces) -> str:
         how = ("by a Farkas vector" if proof["patterns"] == 1 else
                f"over {proof['patterns']} patterns of which z's and w's are zero, each by a Farkas "
                "vector")
+        bound = ("" if not np.isfinite(proof["z_bound"]) else
+                 f", for every z with sum below {proof['z_bound']:.1e}")
         return (f"no equilibrium exists for p >= {proof['p_limit']:.10g} (proved {how}, "
-                f"checked from the data to {proof['backward_error']:.0e} componentwise); the last "
-                f"equilibrium is at p = {p_final:.10g}")
+                f"checked from the data{bound}); the last equilibrium is at p = {p_final:.10g}")
     if end == "fold":
         return (f"the path turns back at p = {p:.10g}: no working scheme continues it with the load "
                 "increasing (every scheme of the degenerate pairs checked; M is not a P-matrix, "
