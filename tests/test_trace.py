@@ -243,3 +243,36 @@ def test_collapse_proof_checks_from_the_data():
         gap = -(q0 + tr.proof["p_limit"] * q1) @ y
         assert gap > 0 and delta.sum() * tr.proof["z_bound"] <= gap * (1 + 1e-12)
     assert tr.proof["p_limit"] <= 1e-6 and tr.proof["z_bound"] >= 1e3 * 0.5
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_trace_psd_singular_matrix_w_matches_independent_solves(seed):
+    """Symmetric PSD but singular M (a frictionless frame resting on its
+    contacts): z need not be unique, w = Mz + q is.  Every piece's w is
+    compared with an independent QP backend's inside it, and every piece is
+    certified from the data."""
+    rng = np.random.default_rng(seed + 50)
+    n, k = 8, 5
+    A = rng.standard_normal((n, k))
+    M = A @ A.T
+    q0 = rng.uniform(0.0, 1.0, n)
+    q1 = -rng.uniform(0.1, 1.0, n) * np.sign(rng.standard_normal(n) + 0.5)
+    plcp = ParametricLCP(M, q0, q1)
+    tr = qpcontact.solve(plcp, method="trace", p_max=5.0)
+    assert tr.ok and tr.end == "p_max" and tr.breakpoints.size >= 3, tr.message
+    for piece in tr.pieces:
+        hi = min(piece.p_end, 5.0)
+        for frac in (0.25, 0.75):
+            p = piece.p_start + frac * (hi - piece.p_start)
+            lcp = plcp.at(p)
+            assert qpcontact.certify(lcp, tr.z_at(p)).error <= 1e-9
+            ref = None
+            for name in ("clarabel", "piqp", "osqp"):
+                if name in qpcontact.methods():
+                    sol = qpcontact.solve(lcp, method=name, accuracy="high")
+                    if sol.ok:
+                        ref = sol
+                        break
+            assert ref is not None
+            w = lcp.w(tr.z_at(p))
+            np.testing.assert_allclose(w, ref.w, rtol=1e-6, atol=1e-6 * np.abs(lcp.q).max())
