@@ -901,12 +901,15 @@ class Frame:
         disp = [ft.result_at(p).displacements[node][k] for p in ps]
         fig, ax = plt.subplots(figsize=(7, 4.5))
         ax.plot(disp, ps, "k-")
+        lo, hi = min(disp), max(disp)
         for ev in ft.events:
             if ev.p <= top:
                 d = ft.result_at(ev.p).displacements[node][k]
                 ax.plot(d, ev.p, "o", color="tab:red")
+                right = d > lo + 0.5 * (hi - lo)   # label on the side with room
                 ax.annotate(f"p = {ev.p:.4g}: {ev}", (d, ev.p), textcoords="offset points",
-                            xytext=(6, -4), fontsize=7)
+                            xytext=(-6 if right else 6, 5), ha="right" if right else "left",
+                            fontsize=7)
         if ft.ended in ("collapse", "fold", "breakdown") and ft.p_end <= top:
             ax.axhline(ft.p_end, color="tab:red", ls="--", lw=0.8)
             ax.annotate(ft.ended, (ax.get_xlim()[0], ft.p_end), textcoords="offset points",
