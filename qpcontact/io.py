@@ -32,7 +32,15 @@ __all__ = ["read_siconos_lcp"]
 class _Tokens:
     def __init__(self, path: Path):
         self.path = path
-        self.tokens = path.read_text(errors="replace").split()
+        if path.is_dir():
+            raise InvalidProblemError(f"{path} is a directory; give the path of a Siconos .dat file")
+        if not path.exists():
+            raise InvalidProblemError(f"{path}: no such file; check the path (relative paths start "
+                                      f"at {Path.cwd()})")
+        try:
+            self.tokens = path.read_text(errors="replace").split()
+        except OSError as exc:
+            raise InvalidProblemError(f"{path}: cannot be read ({exc.strerror or exc})") from None
         self.pos = 0
 
     def _fail(self, what: str, got: str | None = None) -> InvalidProblemError:
@@ -60,6 +68,11 @@ class _Tokens:
         return np.array([self.int(what) for _ in range(count)], dtype=int)
 
     def floats(self, count: int, what: str) -> np.ndarray:
+        left = len(self.tokens) - self.pos
+        if count > left:   # before allocating: a header may announce 1e10 values
+            raise InvalidProblemError(
+                f"{self.path.name}: token {self.pos + left + 1}: expected {what}, the file ended "
+                f"(the header announces {count} values here, the file holds {left} more)")
         out = np.empty(count)
         for i in range(count):
             tok = self._next(what)
@@ -126,10 +139,10 @@ def read_siconos_lcp(path: str | os.PathLike) -> LCP:
     Raises
     ------
     InvalidProblemError
-        The file does not follow the format; the message gives the file name
-        and the 1-based position of the offending token.
-    FileNotFoundError
-        No such file.
+        The file does not follow the format (the message gives the file name
+        and the 1-based position of the offending token, or the size its
+        header announces against what it holds), is missing, or is a
+        directory.
     """
     path = Path(path)
     t = _Tokens(path)

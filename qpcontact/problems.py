@@ -37,6 +37,17 @@ def _first_bad_index(mask: np.ndarray) -> tuple[int, ...]:
     return tuple(int(i) for i in np.argwhere(mask)[0])
 
 
+def _as_array(x, name: str, what: str) -> np.ndarray:
+    """np.asarray, with NumPy's complaint about ragged nesting turned into ours."""
+    try:
+        return np.asarray(x)
+    except (ValueError, TypeError) as exc:
+        raise InvalidProblemError(
+            f"{name} cannot be read as a {what}: {exc.__class__.__name__} from NumPy "
+            "(rows of different lengths?); give a rectangular array of numbers"
+        ) from None
+
+
 def as_matrix(M, name: str = "M") -> np.ndarray | sp.csc_matrix:
     """Validate a matrix argument and return it as a float array or CSC matrix.
 
@@ -63,7 +74,7 @@ def as_matrix(M, name: str = "M") -> np.ndarray | sp.csc_matrix:
                 "replace it with a finite number"
             )
         return out
-    arr = np.asarray(M)
+    arr = _as_array(M, name, "matrix")
     if np.iscomplexobj(arr):
         raise InvalidProblemError(f"{name} has complex entries; LCP and QP data must be real")
     if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
@@ -89,7 +100,7 @@ def as_vector(v, n: int | None, name: str, allow_inf: int = 0) -> np.ndarray:
     """
     if sp.issparse(v):
         v = v.toarray()
-    arr = np.asarray(v)
+    arr = _as_array(v, name, "vector")
     if np.iscomplexobj(arr):
         raise InvalidProblemError(f"{name} has complex entries; problem data must be real")
     if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):

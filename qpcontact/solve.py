@@ -11,7 +11,8 @@ from qpsolvers import Problem
 from .accuracy import resolve_accuracy
 from .certify import certify
 from .conversions import check_convex, qp_to_lcp, validate_qp
-from .errors import (BackendUnavailableError, InvalidProblemError, NoSolutionError,
+from .errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
+                     NoSolutionError,
                      NotConvexError, NotSymmetricError, SolverFailedError, UnknownMethodError)
 from .methods import Method, get_method
 from .problems import LCP, ParametricLCP
@@ -247,6 +248,10 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
     UnknownMethodError, BackendUnavailableError
         On misuse (see :mod:`qpcontact.errors`).
     """
+    if not isinstance(method, str):
+        raise InvalidOptionError(
+            f"method must be a string: 'auto' or a name from qpcontact.methods(); got {method!r}"
+        )
     if isinstance(problem, ParametricLCP):
         from .trace import solve_parametric
 
@@ -274,11 +279,21 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
 
         tried, sol = [], None
         for m in candidates():
-            attempt = _run(problem, m, tol_backend, tol_cert, accuracy, options)
+            try:
+                attempt = _run(problem, m, tol_backend, tol_cert, accuracy, options)
+            except (NotConvexError, NotSymmetricError, InvalidProblemError) as exc:
+                # what the up-front checks could not foresee (a block that is not
+                # numerically PD, a dense size limit): the next method is tried
+                tried.append((m.name, f"skipped: {exc}", np.inf))
+                continue
             tried.append((m.name, attempt.status, attempt.error))
             if sol is None or attempt.error < sol.error:
                 sol = attempt
             if attempt.ok:
+                sol = attempt
+                break
+            if attempt.stats.get("proved_infeasible"):
+                # a Farkas vector checked from the data: no method can do better
                 sol = attempt
                 break
         if sol is None:
@@ -288,7 +303,7 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
             )
         sol.stats["auto_tried"] = tried
     if raise_on_failure and not sol.ok:
-        if sol.status == "ray":
+        if sol.status == "ray" and sol.stats.get("proved_infeasible", True):
             raise NoSolutionError(f"{sol.method}: {sol.message}")
         raise SolverFailedError(f"{sol.method} returned no certified solution: {sol.message}")
     return sol

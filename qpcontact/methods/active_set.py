@@ -25,7 +25,7 @@ from ._pivot_kernels import sure_negatives
 
 __all__ = ["sign_tolerances", "negative_components", "ComponentScales", "SolutionOverflow",
            "overflow_result", "ActiveBlock", "symmetric_scaling", "dense_matrix",
-           "check_options", "check_dense_size", "not_positive_definite", "refined",
+           "check_options", "check_dense_size", "not_positive_definite", "refined", "int_option",
            "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
 
 _EPS = np.finfo(float).eps
@@ -76,6 +76,21 @@ def check_options(method: str, options: dict, allowed: tuple) -> None:
     unknown = sorted(set(options) - set(allowed))
     if unknown:
         raise InvalidOptionError(f"{method!r} has no option(s) {unknown}; it takes {list(allowed)}")
+
+
+def int_option(method: str, options: dict, name: str, default: int, minimum: int = 0) -> int:
+    """options[name] as an int >= minimum (default when absent), or
+    InvalidOptionError saying what was given and what is expected."""
+    from ..errors import InvalidOptionError
+
+    value = options.get(name, default)
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer, float, np.floating)) \
+            or not float(value).is_integer() or value < minimum:
+        raise InvalidOptionError(
+            f"{method!r}: option {name} must be an integer >= {minimum}; got {value!r}"
+            + (" (leave it out for the default)" if value is None else "")
+        )
+    return int(value)
 
 
 def check_dense_size(method: str, n: int, what: str, instead: str) -> None:

@@ -30,8 +30,8 @@ import scipy.sparse as sp
 from ..errors import InvalidOptionError
 from ..solution import MethodResult
 from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, SolutionOverflow,
-                         check_options, negative_components, not_positive_definite,
-                         overflow_result)
+                         check_options, int_option, negative_components,
+                         not_positive_definite, overflow_result)
 
 __all__ = ["run_bpp", "block_pivoting"]
 
@@ -103,8 +103,8 @@ def run_bpp(problem, tol, options) -> MethodResult:
     n = problem.n
     F = (_as_mask(options["initial_active"], n) if options.get("initial_active") is not None
          else np.zeros(n, dtype=bool))
-    max_iter = int(options.get("max_iter", 10 * n + 100))
-    patience = int(options.get("patience", 3))
+    max_iter = int_option("bpp", options, "max_iter", 10 * n + 100)
+    patience = int_option("bpp", options, "patience", 3)
     if patience < 0:
         raise InvalidOptionError("'bpp': patience must be >= 0")
     try:

@@ -38,8 +38,9 @@ from scipy.linalg.blas import dger
 from ..errors import InvalidOptionError, NotConvexError
 from ..solution import MethodResult
 from .active_set import (ActiveBlock, ComponentScales, SolutionOverflow, check_dense_size,
-                         check_options, dense_matrix, negative_components, not_positive_definite,
-                         overflow_result, sign_tolerances, symmetric_scaling)
+                         check_options, dense_matrix, int_option, negative_components,
+                         not_positive_definite, overflow_result, sign_tolerances,
+                         symmetric_scaling)
 
 __all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau"]
 
@@ -166,7 +167,7 @@ def run_energy(problem, tol, options) -> MethodResult:
     n = problem.n
     check_dense_size("energy", n, f"{n} x {n} tableau",
                      "'bpp' (block pivoting with sparse factorizations)")
-    max_pivots = int(options.get("max_pivots", 100 * n + 1000))
+    max_pivots = int_option("energy", options, "max_pivots", 100 * n + 1000)
     rule = options.get("rule", "energy")
     if rule not in ("energy", "murty"):
         raise InvalidOptionError(f"'energy': rule must be 'energy' or 'murty', not {rule!r}")

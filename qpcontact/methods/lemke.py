@@ -35,7 +35,8 @@ from ..errors import InvalidOptionError
 from ._pivot_kernels import ratio_ties, scales_pivot
 from ..solution import MethodResult
 from .active_set import (ActiveBlock, ComponentScales, SolutionOverflow, check_dense_size,
-                         check_options, dense_matrix, overflow_result, sign_tolerances)
+                         check_options, dense_matrix, int_option, overflow_result,
+                         sign_tolerances)
 
 __all__ = ["LemkeOutcome", "lemke", "run_lemke", "ruiz_scaling", "lex_ratio_test",
            "tableau_pivot", "RowScales"]
@@ -365,8 +366,11 @@ def run_lemke(problem, tol, options) -> MethodResult:
             raise InvalidOptionError(
                 f"'lemke': covering must be a vector of {n} finite positive numbers"
             )
-    max_pivots = int(options.get("max_pivots", max(10_000, 50 * n)))
-    restarts = int(options.get("restarts", 3))
+    max_pivots = int_option("lemke", options, "max_pivots", max(10_000, 50 * n))
+    restarts = int_option("lemke", options, "restarts", 3)
+    seed = options.get("seed", 0)
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer))):
+        raise InvalidOptionError(f"'lemke': option seed must be an integer (or None); got {seed!r}")
     rng = None
 
     rs, cs = ruiz_scaling(M)
@@ -385,7 +389,7 @@ def run_lemke(problem, tol, options) -> MethodResult:
         # covering vector may well find a solution (CPS Example 4.4.23).
         if out.status != "ray" or problem.is_psd or len(tried) > restarts:
             break
-        rng = rng or np.random.default_rng(options.get("seed", 0))
+        rng = rng or np.random.default_rng(seed)
         d = 0.5 + rng.random(n)
     stats = {"pivots": total, "last_run_pivots": out.pivots, "covering_vectors_tried": len(tried)}
     if out.status == "solved":
