@@ -65,7 +65,7 @@ import scipy.linalg
 from qpcontact.certify import ComponentScales, certify_lcp
 from qpcontact.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 from qpcontact.methods.active_set import check_options
-from qpcontact.problems import LCP, ParametricLCP
+from qpcontact.problems import ParametricLCP
 from qpcontact.solve import solve
 
 __all__ = ["Frame", "FrameResult", "FrameTrace", "FrameEvent", "SupportResult", "STATES",
@@ -644,6 +644,7 @@ class Frame:
         zeta, sigma = ComponentScales(M, lcp.q_terms).at(z)
         nc = len(self.contacts)
         slot = {ci: nc + 2 * k for k, ci in enumerate(fric)}
+        keys = self._support_keys()
         supports = {}
         for ci, c in enumerate(self.contacts):
             xn = float(X[pos[ci]["n"]])
@@ -665,10 +666,7 @@ class Frame:
                 state = "stick"
             else:
                 state = "slip+" if slip > 0 else "slip-"
-            key = c.node if c.other is None else f"{c.node}-{c.other}"
-            if key in supports:
-                key = f"{key}#{ci}"
-            supports[key] = SupportResult(state, xn, xt, zn, slip)
+            supports[keys[ci]] = SupportResult(state, xn, xt, zn, slip)
         displacements = {nd: tuple(float(u[b["idx"][nd] + k]) for k in range(3)) for nd in b["names"]}
         member_forces = {}
         for m in self.members.values():

@@ -333,14 +333,16 @@ def _lcp_normwise(lcp: LCP, z, Mz, w) -> float:
 
 def _rounding_level(M) -> float:
     """(row nonzeros + 1) eps: the rounding of evaluating one row of Mz + q."""
-    if sp.issparse(M):
-        # count per row without converting the matrix (a CSC -> CSR copy costs a solve's worth)
-        row_nnz = int(np.bincount(M.tocoo(copy=False).row if M.format not in ("csc", "csr") else
-                                  (M.indices if M.format == "csc" else
-                                   np.repeat(np.arange(M.shape[0]), np.diff(M.indptr))),
-                                  minlength=M.shape[0]).max()) if M.nnz else 0
-    else:
+    if not sp.issparse(M):
         row_nnz = M.shape[1]
+    elif M.nnz == 0:
+        row_nnz = 0
+    elif M.format == "csr":
+        row_nnz = int(np.diff(M.indptr).max())
+    else:
+        # counted from the row indices: a CSC -> CSR copy costs a solve's worth
+        rows = M.indices if M.format == "csc" else M.tocoo().row
+        row_nnz = int(np.bincount(rows, minlength=M.shape[0]).max())
     return (row_nnz + 1) * _EPS
 
 
@@ -455,7 +457,8 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     if not (np.all(np.isfinite(w)) and np.all(np.isfinite(row_scales(lcp.M, z, lcp.q_terms)))):
         return _bad_lcp_certificate(overflow=True)
     zeta, sigma = ComponentScales(lcp.M, lcp.q_terms, lcp.matrix_scale).at(z)
-    e = np.abs(np.minimum(_divide(z, zeta), _divide(w, sigma)))
+    Z, W = _divide(z, zeta), _divide(w, sigma)
+    e = np.abs(np.minimum(Z, W))
     worst = int(np.argmax(e))
     r = np.minimum(z, w)
     qn = _safe_norm2(lcp.q)
@@ -472,7 +475,7 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
         forward = max(error, level) * max(kappa_z, kappa_w)
         return float(condition), (float(forward) if np.isfinite(forward) else np.inf)
 
-    active = np.count_nonzero(_divide(z, zeta) > _divide(w, sigma))
+    active = np.count_nonzero(Z > W)   # the basis _lcp_condition factorizes
     return LCPCertificate(
         error=error,
         _forward=forward_pair() if active <= _EXACT_CONDITION_SIZE else forward_pair,

@@ -78,7 +78,8 @@ from scipy.linalg import lapack
 from .accuracy import resolve_accuracy
 from .certify import ComponentScales, certify_lcp
 from .errors import InvalidOptionError, InvalidProblemError, NoSolutionError, SolverFailedError
-from .methods.active_set import check_dense_size, check_options, dense_matrix, refined
+from .methods.active_set import (check_dense_size, check_options, dense_matrix, int_option,
+                                 refined)
 from .methods.lemke import FARKAS_RTOL, lemke, ruiz_scaling
 from .plotting import save_figure
 from .problems import ParametricLCP
@@ -188,7 +189,7 @@ class LoadTrace(LCPSolution):
         lo = self.pieces[0].p_start if self.pieces else 0.0
         hi = self.pieces[-1].p_end if self.pieces else 0.0
         raise InvalidOptionError(f"p = {p} is outside the traced range [{lo:g}, {hi:g}] "
-                         f"(the trace ended: {self.end}; {self.message})")
+                                 f"(the trace ended: {self.end}; {self.message})")
 
     def z_at(self, p: float) -> np.ndarray:
         return self.piece_at(p).z(p)
@@ -294,9 +295,17 @@ class _Path:
         self.values = ComponentScales(self.M, np.abs(self.q0))
         self.slopes = ComponentScales(self.M, np.abs(self.q1))
         self.twins, self.unique = _null_structure(self.M)
+        self.Ms_max = float(np.max(np.abs(self.Ms), initial=0.0)) or 1.0
 
     def q_terms(self, p: float) -> np.ndarray:
         return np.abs(self.q0) + abs(p) * np.abs(self.q1)
+
+    def load_unit(self, p: float) -> float:
+        """The load scale at p: p itself, or the p at which the variable load
+        reaches the constant one (1 when either is absent: the problem is then
+        homogeneous in p)."""
+        q0, q1 = np.abs(self.q0).max(initial=0.0), np.abs(self.q1).max(initial=0.0)
+        return max(abs(p), q0 / q1 if q0 > 0 and q1 > 0 else 1.0)
 
     def classify(self, p: float, z: np.ndarray, w: np.ndarray):
         """(α, β, γ) masks: z_i > 0, both zero, w_i > 0 (each on its own scale)."""
@@ -440,8 +449,7 @@ class _Path:
         that also holds at p, certified like any piece; or None."""
         from .solve import solve
 
-        q0, q1 = np.abs(self.q0).max(initial=0.0), np.abs(self.q1).max(initial=0.0)
-        unit = max(abs(p), q0 / q1 if q1 > 0 else 1.0, 1e-300)
+        unit = self.load_unit(p)
         for rel in (1e-7, 1e-10):
             pp = p + rel * unit
             if np.isfinite(p_max) and pp >= p_max:
@@ -499,10 +507,7 @@ class _Path:
         to the solution (seed 17 of the random frames: 4e-4 against slips of
         0.25, and Lemke found an equilibrium just beyond) proves nothing.
         """
-        q0, q1 = np.abs(self.q0).max(initial=0.0), np.abs(self.q1).max(initial=0.0)
-        # the load scale: p itself, or the p at which the variable load reaches
-        # the constant one (1 when either is absent: the problem is homogeneous)
-        unit = max(abs(p), q0 / q1 if q0 > 0 and q1 > 0 else 1.0)
+        unit = self.load_unit(p)
         # At p = 0 with no constant load the solution is 0: the displacement
         # scale is then that of the load a unit further, |q| / max|M|.
         scale_M = float(np.abs(self.M).max(initial=0.0))
@@ -578,7 +583,7 @@ class _Path:
         n = self.q0.size
         Ms = self.Ms
         q_lo, q1 = self.rs * (self.q0 + p_lo * self.q1), self.rs * self.q1 * unit
-        a = float(np.max(np.abs(Ms))) or 1.0
+        a = self.Ms_max
         # unknowns (z'_J, s): z = C z', p' = p_lo + unit * s; minimize s
         A = np.column_stack([Ms[:, J], q1]) / a
         c = np.zeros(J.size + 1)
@@ -627,7 +632,7 @@ class _Path:
         n = self.q0.size
         J = np.flatnonzero(~Z0)
         Ms, qs, q1s = self.Ms, self.rs * (self.q0 + p_lo * self.q1), self.rs * self.q1
-        a = float(np.max(np.abs(Ms))) or 1.0
+        a = self.Ms_max
         b = float(np.max(np.abs(q1s))) or 1.0
         c = float(np.max(np.abs(qs))) or 1.0
         # Where M'y = 0 is an identity its rounding decides the sign, so the LP
@@ -783,10 +788,8 @@ def trace_load(plcp: ParametricLCP, *, accuracy="high", p_max: float = 1.0,
         raise InvalidOptionError(f"'trace': p_max must be > 0, got {p_max}")
     n = plcp.n
     check_dense_size("trace", n, f"{n} x {n} block", "fixed loads with problem.at(p)")
-    if max_pieces is None:
-        max_pieces = max(1000, 20 * n)
-    if not isinstance(max_pieces, (int, np.integer)) or max_pieces < 1:
-        raise InvalidOptionError(f"'trace': max_pieces must be a positive integer, got {max_pieces!r}")
+    max_pieces = int_option("trace", {} if max_pieces is None else {"max_pieces": max_pieces},
+                            "max_pieces", max(1000, 20 * n), minimum=1)
     _, tol = resolve_accuracy(accuracy)
     start = time.perf_counter()
     path = _Path(plcp)

@@ -105,8 +105,6 @@ def run_bpp(problem, tol, options) -> MethodResult:
          else np.zeros(n, dtype=bool))
     max_iter = int_option("bpp", options, "max_iter", 10 * n + 100)
     patience = int_option("bpp", options, "patience", 3)
-    if patience < 0:
-        raise InvalidOptionError("'bpp': patience must be >= 0")
     try:
         z, F, stats, status = block_pivoting(problem, F, max_iter, patience)
     except np.linalg.LinAlgError as exc:
