@@ -311,6 +311,8 @@ class QPCertificate:
     comp_abs: float
     min_multiplier: float
     overflow: bool = False
+    #: the worst condition in numbers: raw residual and the scale it was judged on
+    detail: str = ""
 
     def ok(self, tol: float) -> bool:
         return bool(self.error <= tol)
@@ -646,19 +648,31 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
         E = sig[-1] if A is not None else None
         xi = unknown["x"]
 
-        checks: list[tuple[str, np.ndarray]] = [("stationarity", _divide(np.abs(grad), S))]
+        # (name, componentwise errors, words for component i: raw values and scales)
+        checks: list[tuple[str, np.ndarray, object]] = [
+            ("stationarity", _divide(np.abs(grad), S),
+             lambda i: f"(Px + q + G'z + A'y + z_box)_{i} = {grad[i]:.3e} against its row's "
+                       f"scale {S[i]:.3e} (|P||x| + |q| + |G'||z| + |A'||y|, floored)")]
         if A is not None:
-            checks.append(("equality", _divide(np.abs(b - np.asarray(A @ x).ravel()), E)))
+            r_eq = b - np.asarray(A @ x).ravel()
+            checks.append(("equality", _divide(np.abs(r_eq), E),
+                           lambda i: f"b_{i} - (Ax)_{i} = {r_eq[i]:.3e} against its row's scale "
+                                     f"{E[i]:.3e} (|A||x| + |b|, floored)"))
 
         comp_abs, min_mult = 0.0, 0.0
         if G is not None:
             if z is not None:
+                zs = unknown["z"]
                 checks.append(("inequality complementarity",
-                               np.abs(np.minimum(_divide(z, unknown["z"]), _divide(slack, T)))))
+                               np.abs(np.minimum(_divide(z, zs), _divide(slack, T))),
+                               lambda i: f"z_{i} = {z[i]:.3e} (scale {zs[i]:.3e}) and slack "
+                                         f"h_{i} - (Gx)_{i} = {slack[i]:.3e} (scale {T[i]:.3e}): "
+                                         "one must be >= 0 and the other 0"))
                 comp_abs = max(comp_abs, _inf_norm(np.minimum(z, slack)))
                 min_mult = min(min_mult, float(z.min(initial=0.0)))
             else:
-                checks.append(("inequality", _divide(np.maximum(-slack, 0.0), T)))
+                checks.append(("inequality", _divide(np.maximum(-slack, 0.0), T),
+                               lambda i: f"h_{i} - (Gx)_{i} = {slack[i]:.3e} < 0 (scale {T[i]:.3e})"))
         if has_bounds:
             zb = z_box if z_box is not None else np.zeros(n)
             lb_fin = np.isfinite(lb) if lb is not None else np.zeros(n, bool)
@@ -672,22 +686,30 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
                 e = np.zeros(n)
                 e[k] = np.abs(np.minimum(_divide(mult, S[k]),
                                          _divide(bslack, np.abs(bound[k]) + xi[k])))
-                checks.append((f"{name} bound complementarity", e))
+                full_slack = np.zeros(n)
+                full_slack[k] = bslack
+                checks.append((f"{name} bound complementarity", e,
+                               lambda i, zb=zb, sl=full_slack, nm=name:
+                               f"z_box_{i} = {zb[i]:.3e} (scale {S[i]:.3e}) and the distance to "
+                               f"the {nm} bound {sl[i]:.3e}: one must be >= 0 and the other 0"))
                 comp_abs = max(comp_abs, _inf_norm(np.minimum(mult, bslack)))
             # z_box_i < 0 claims an active lower bound, > 0 an active upper one: a
             # claim on a bound that does not exist is a multiplier of the wrong sign.
             illegal = np.where((zb < 0) & ~lb_fin, zb, 0.0) - np.where((zb > 0) & ~ub_fin, zb, 0.0)
             min_mult = min(min_mult, float(illegal.min(initial=0.0)))
-            checks.append(("bound multiplier sign", _divide(np.abs(illegal), S)))
+            checks.append(("bound multiplier sign", _divide(np.abs(illegal), S),
+                           lambda i: f"z_box_{i} = {zb[i]:.3e} claims a bound x_{i} does not have "
+                                     f"(scale {S[i]:.3e})"))
 
-    worst_name, worst_val = "", 0.0
-    for name, vals in checks:
+    worst_name, worst_val, detail = "", 0.0, ""
+    for name, vals, words in checks:
         if vals.size:
             i = int(np.argmax(vals))
             if vals[i] > worst_val or not worst_name:
-                worst_name, worst_val = f"{name}[{i}]", float(vals[i])
+                worst_name, worst_val, detail = f"{name}[{i}]", float(vals[i]), words(i)
     if missing:
         worst_name, worst_val = "missing multiplier " + ", ".join(missing), inf
+        detail = "the QP has these constraints; certify needs their multipliers"
     return QPCertificate(
         error=float(worst_val),
         normwise_error=float(normwise),
@@ -697,6 +719,7 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
         duality_gap=float(r_g),
         comp_abs=float(comp_abs),
         min_multiplier=float(min_mult),
+        detail=detail,
     )
 
 

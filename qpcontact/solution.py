@@ -11,8 +11,16 @@ Statuses
                   whatever the backend said about it
 ``"failed"``      no point came back (the backend gave up, raised, or said the
                   problem is infeasible — its claim is kept in ``backend_status``)
+``"time_limit"``  the backend call was stopped by ``solve(..., time_limit=)``
+                  (by the backend's own setting, or killed in its child
+                  process) and no certified point came back
+``"infeasible"``, ``"unbounded"``
+                  QPs: no minimiser exists, proved by a Farkas vector or a ray
+                  checked from the data (``stats["proof"]``, qpcontact.proofs)
 ``"ray"``, ``"max_pivots"``
-                  reserved for pivoting methods (a secondary ray; the pivot cap)
+                  reserved for pivoting methods (a secondary ray, or with
+                  ``stats["proved_infeasible"]`` a checked Farkas vector; the
+                  pivot cap)
 """
 
 from __future__ import annotations
@@ -25,7 +33,8 @@ from .certify import LCPCertificate, QPCertificate
 
 __all__ = ["Solution", "LCPSolution", "QPSolution", "MethodResult", "STATUSES"]
 
-STATUSES = ("solved", "inaccurate", "failed", "ray", "max_pivots")
+STATUSES = ("solved", "inaccurate", "failed", "time_limit", "infeasible", "unbounded", "ray",
+            "max_pivots")
 
 
 @dataclass(kw_only=True)

@@ -29,6 +29,15 @@ __all__ = ["solve", "AUTO_ORDER"]
 AUTO_ORDER = ("energy", "bpp", "lemke", "piqp", "osqp", "clarabel", "daqp", "proxqp",
               "highs", "quadprog", "scs", "cvxpy:CLARABEL")
 
+#: Seconds a backend call may take (``solve(..., time_limit=)``), enforced by
+#: the backend's own setting where it has one and by a killable child process
+#: for ProxQP (qpcontact.isolation).  The slowest certified backend call in the
+#: benchmarks (PIQP, n = 1e5 membrane) took 9 s; the hangs it cuts took 59 s
+#: to more than 120 s on problems of n <= 8.
+DEFAULT_TIME_LIMIT = 60.0
+
+_BACKEND_FAMILIES = ("qpsolvers", "cvxpy")
+
 # Dense-only backends densify sparse input; beyond this size that costs more
 # than it is worth for "auto" (an explicit method name is always honoured).
 _AUTO_DENSE_LIMIT = 3000
@@ -125,7 +134,49 @@ def _data_range(problem) -> tuple[float, float]:
     return min(a for a, _ in vals), max(b for _, b in vals)
 
 
-def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
+def _needs_isolation(m: Method) -> bool:
+    from .methods import cvxpy_backends, qpsolvers_backends
+
+    if m.family == "qpsolvers":
+        return m.name in qpsolvers_backends.NEEDS_ISOLATION
+    return m.name.split(":", 1)[-1] in cvxpy_backends.NEEDS_ISOLATION
+
+
+def _isolated_run(name, target, tol, options, time_limit):
+    # in the child: looked up by name so that spawn-started children work too
+    return get_method(name).run(target, tol, options, time_limit=time_limit)
+
+
+def _call(m: Method, target, tol_backend, options, time_limit, isolate) -> MethodResult:
+    """The method's call, with the time limit and isolation of :func:`solve`."""
+    if m.family not in _BACKEND_FAMILIES:
+        return m.run(target, tol_backend, options)
+    if isolate is True or (isolate == "auto" and time_limit is not None and _needs_isolation(m)):
+        from .isolation import call_isolated
+
+        # the backend's own limit first; the kill a moment later
+        hard = None if time_limit is None else 1.25 * time_limit + 2.0
+        out = call_isolated(_isolated_run, (m.name, target, tol_backend, options, time_limit), hard)
+        if out is not None:
+            if out.kind == "ok":
+                # timed in the child: the fork is not the backend's cost
+                out.value.stats.update(isolated=True, backend_seconds=out.seconds)
+                return out.value
+            if out.kind == "error":
+                raise out.value
+            words = (f"stopped: no answer within the time limit of {time_limit:g} s "
+                     f"({out.detail}); raise time_limit= or try another method"
+                     if out.kind == "time_limit" else
+                     f"{out.detail}; the backend crashed on these data (the caller survived "
+                     "because it ran isolated); try another method or rescale the data")
+            return MethodResult(x=None, backend_status=out.kind, backend_message=words,
+                                status="time_limit" if out.kind == "time_limit" else None,
+                                stats={"isolated": True})
+    return m.run(target, tol_backend, options, time_limit=time_limit)
+
+
+def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options, time_limit=None,
+         isolate="auto"):
     """Convert, run, time, certify.  Returns an LCPSolution or QPSolution."""
     route = "direct"
     start = time.perf_counter()
@@ -145,9 +196,12 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
             target, route = dual.lcp, "dual-lcp"
     # Overflow on extreme data is an outcome the certificate reports, not a
     # warning to print from deep inside a method.
+    called = time.perf_counter()
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        res: MethodResult = m.run(target, tol_backend, dict(options))
+        res: MethodResult = _call(m, target, tol_backend, dict(options), time_limit, isolate)
     wall = time.perf_counter() - start
+    if "backend_seconds" in res.stats:
+        wall = (called - start) + res.stats.pop("backend_seconds")
 
     x = None if res.x is None else np.asarray(res.x, dtype=float).ravel()
     if isinstance(problem, LCP) and m.takes == "qp" and unscale is not None and x is not None \
@@ -173,10 +227,14 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
 
     if res.status in ("ray", "max_pivots"):
         status = res.status
+    elif cert is not None and cert.ok(tol_cert):
+        status = "solved"
+    elif res.status == "time_limit" or res.stats.get("time_limit_reached"):
+        status = "time_limit"
     elif cert is None:
         status = "failed"
     else:
-        status = "solved" if cert.ok(tol_cert) else "inaccurate"
+        status = "inaccurate"
     ok = status == "solved"
     if ok:
         message = f"certified: error {cert.error:.2e} <= {tol_cert:.0e}"
@@ -207,13 +265,47 @@ def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options):
             message += (f"; the solution does not fit in double precision: the data's magnitudes "
                         f"span {lo:.1e} .. {hi:.1e}. Rescale the units (e.g. of q, or of the "
                         "unknowns) so that the solution's entries stay below 1e300")
+    elif status == "time_limit":
+        message = res.backend_message if res.status == "time_limit" else (
+            f"stopped at the time limit of {time_limit:g} s (backend status "
+            f"{res.backend_status!r})" + (f"; the point it had reached has certificate error "
+                                          f"{cert.error:.2e} > {tol_cert:.0e}" if cert else "")
+            + "; raise time_limit= or try another method")
     else:
         message = res.backend_message or status
     return cls(status=status, ok=ok, message=message, certificate=cert, **common, **fields)
 
 
+def _check_time_limit(time_limit):
+    if time_limit is None:
+        return None
+    try:
+        value = float(time_limit)
+    except (TypeError, ValueError):
+        value = float("nan")
+    if isinstance(time_limit, bool) or not value > 0:
+        raise InvalidOptionError(
+            f"time_limit must be a positive number of seconds or None; got {time_limit!r}")
+    return value
+
+
+def _prove_no_minimiser(problem, sol):
+    """Turn a QP answer that is not ok into "infeasible" or "unbounded" when a
+    Farkas vector or a ray is found and checked from the data (qpcontact.proofs)."""
+    from .proofs import prove_no_minimiser
+
+    proof = prove_no_minimiser(problem)
+    if proof is None:
+        return sol
+    sol.stats.update({"proof": proof, "proved_infeasible": proof.kind == "infeasible",
+                      "proved_unbounded": proof.kind == "unbounded"})
+    sol.status, sol.ok = proof.kind, False
+    sol.message = f"{proof.message} (found after {sol.method} returned {sol.backend_status!r})"
+    return sol
+
+
 def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: bool = False,
-          **options):
+          time_limit: float | None = DEFAULT_TIME_LIMIT, isolate="auto", **options):
     """Solve an LCP or a QP with a registered method and certify the answer.
 
     Parameters
@@ -231,7 +323,18 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
         See :mod:`qpcontact.accuracy`.
     raise_on_failure : bool
         Raise instead of returning a solution that is not ``ok``:
-        :class:`NoSolutionError` for a ray, :class:`SolverFailedError` otherwise.
+        :class:`NoSolutionError` when no solution exists (a checked Farkas
+        vector or ray), :class:`SolverFailedError` otherwise.
+    time_limit : float or None
+        Seconds each backend call may take (default :data:`DEFAULT_TIME_LIMIT`);
+        a call stopped by it has status ``"time_limit"``.  Passed to the
+        backends that have a time limit of their own; ProxQP, which has none,
+        runs in a child process killed at the limit.  The pivoting methods are
+        bounded by their pivot caps instead.  None: no limit.
+    isolate : "auto", True or False
+        True runs every backend call in a child process (a crash or a hang
+        costs that call, not the caller); "auto" only the backends that cannot
+        honour the time limit themselves; False none.
     **options
         Passed through to the backend as its own settings (they override the
         accuracy table's).
@@ -264,9 +367,16 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
             f"solve() takes an LCP or a qpsolvers.Problem; got {type(problem).__name__}"
         )
     tol_backend, tol_cert = resolve_accuracy(accuracy)
+    time_limit = _check_time_limit(time_limit)
+    if isolate not in ("auto", True, False):
+        raise InvalidOptionError(f"isolate must be 'auto', True or False; got {isolate!r}")
+    run = dict(time_limit=time_limit, isolate=isolate)
+    is_qp = not isinstance(problem, LCP)
 
     if method != "auto":
-        sol = _run(problem, get_method(method), tol_backend, tol_cert, accuracy, options)
+        sol = _run(problem, get_method(method), tol_backend, tol_cert, accuracy, options, **run)
+        if is_qp and not sol.ok:
+            sol = _prove_no_minimiser(problem, sol)
     else:
         def candidates():  # lazily: a late entry (cvxpy) is imported only if reached
             for name in AUTO_ORDER:
@@ -277,10 +387,10 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
                 if _applicable(problem, m):
                     yield m
 
-        tried, sol = [], None
+        tried, sol, proof_tried = [], None, False
         for m in candidates():
             try:
-                attempt = _run(problem, m, tol_backend, tol_cert, accuracy, options)
+                attempt = _run(problem, m, tol_backend, tol_cert, accuracy, options, **run)
             except (NotConvexError, NotSymmetricError, InvalidProblemError) as exc:
                 # what the up-front checks could not foresee (a block that is not
                 # numerically PD, a dense size limit): the next method is tried
@@ -292,8 +402,14 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
             if attempt.ok:
                 sol = attempt
                 break
-            if attempt.stats.get("proved_infeasible"):
-                # a Farkas vector checked from the data: no method can do better
+            if is_qp and not proof_tried:
+                # after the first failure, not before: a proof costs two LPs,
+                # and every backend looped on the unbounded QP of the audit
+                proof_tried = True
+                attempt = _prove_no_minimiser(problem, attempt)
+                tried[-1] = (m.name, attempt.status, attempt.error)
+            if attempt.stats.get("proved_infeasible") or attempt.stats.get("proved_unbounded"):
+                # a Farkas vector or a ray checked from the data: no method can do better
                 sol = attempt
                 break
         if sol is None:
@@ -303,7 +419,8 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
             )
         sol.stats["auto_tried"] = tried
     if raise_on_failure and not sol.ok:
-        if sol.status == "ray" and sol.stats.get("proved_infeasible", True):
+        if sol.status in ("infeasible", "unbounded") or (
+                sol.status == "ray" and sol.stats.get("proved_infeasible", True)):
             raise NoSolutionError(f"{sol.method}: {sol.message}")
         raise SolverFailedError(f"{sol.method} returned no certified solution: {sol.message}")
     return sol

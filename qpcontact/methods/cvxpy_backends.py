@@ -17,7 +17,7 @@ import numpy as np
 from ..accuracy import backend_settings
 from ..solution import MethodResult
 from . import Method, register
-from .qpsolvers_backends import _reject_options, refuse_extreme_data
+from .qpsolvers_backends import _reject_options, check_option_names, refuse_extreme_data
 
 _ALGORITHMS = {
     "CLARABEL": "interior-point", "SCS": "ADMM (conic)", "ECOS": "interior-point (conic)",
@@ -27,6 +27,31 @@ _ALGORITHMS = {
 }
 _EXACT = {"DAQP", "HIGHS"}
 _DENSE_ONLY = {"DAQP"}  # cvxpy hands them a dense copy: n x n doubles
+#: Each solver's own time-limit setting under cvxpy (seconds).
+TIME_LIMIT_KEY = {"OSQP": "time_limit", "CLARABEL": "time_limit", "HIGHS": "time_limit",
+                  "SCS": "time_limit_secs"}
+NEEDS_ISOLATION = {"PROXQP"}
+_CVXPY_KEYWORDS = {"verbose", "warm_start"}
+
+
+def _known_options(solver: str):
+    """Option names cvxpy's interface passes on, for the interfaces that drop
+    the others silently (DAQP filters by ALLOWED_SOLVER_OPTS; ProxQP reads six
+    names); None where the solver itself rejects unknown names."""
+    if solver == "PROXQP":  # cvxpy 1.4-1.7 proxqp_qpif.solve_via_data
+        return _CVXPY_KEYWORDS | {"backend", "eps_abs", "eps_rel", "max_iter", "rho", "mu_eq", "mu_in"}
+    if solver == "DAQP":
+        from cvxpy.reductions.solvers.qp_solvers.daqp_qpif import DAQP
+
+        return _CVXPY_KEYWORDS | set(DAQP.ALLOWED_SOLVER_OPTS)
+    if solver in ("HIGHS", "PIQP"):
+        from .qpsolvers_backends import _known_options as qpsolvers_known
+
+        known = qpsolvers_known(solver.lower())
+        if callable(known):
+            return lambda key: key in _CVXPY_KEYWORDS or known(key)
+        return _CVXPY_KEYWORDS | (known - {"initvals", "backend"})
+    return None
 
 
 def _qp_capable(installed: list[str]) -> list[str]:
@@ -49,9 +74,10 @@ def _qp_capable(installed: list[str]) -> list[str]:
 
 
 def _make_run(solver: str):
-    def run(problem, tol, options) -> MethodResult:
+    def run(problem, tol, options, time_limit=None) -> MethodResult:
         import cvxpy as cp
 
+        check_option_names(f"cvxpy:{solver}", options, _known_options(solver))
         refused = refuse_extreme_data(f"cvxpy:{solver}", problem)
         if refused is not None:
             return refused
@@ -76,6 +102,8 @@ def _make_run(solver: str):
             names.append("ub")
         prob = cp.Problem(objective, cons)
         settings = {**backend_settings("cvxpy", solver, tol), **options}
+        if time_limit is not None and solver in TIME_LIMIT_KEY:
+            settings.setdefault(TIME_LIMIT_KEY[solver], float(time_limit))
         try:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
@@ -94,12 +122,14 @@ def _make_run(solver: str):
                 z_box[lower] -= np.asarray(duals["lb"]).ravel()
             if duals.get("ub") is not None:
                 z_box[upper] += np.asarray(duals["ub"]).ravel()
+        extra = {"time_limit_reached": True} if "time" in str(prob.status).lower() else {}
         return MethodResult(
             x=None if x.value is None else np.asarray(x.value).ravel(),
             y=y, z=z, z_box=z_box,
             backend_status=str(prob.status),
             backend_message="; ".join(str(w.message) for w in caught),
             iterations=getattr(stats, "num_iters", None),
+            stats=extra,
         )
 
     return run

@@ -132,21 +132,96 @@ def _reject_options(solver: str, options: dict, exc: Exception) -> None:
     AttributeError, their own exception classes)."""
     bad = [key for key in options if key in str(exc)]
     if bad or (options and isinstance(exc, TypeError) and "argument" in str(exc)):
+        text = str(exc)
+        if len(text) > 300:  # pybind11 prints every overload's full signature
+            text = text[:300] + " ..."
         raise InvalidOptionError(
-            f"{solver} rejected the option(s) {bad or sorted(options)}: {type(exc).__name__}: {exc}. "
+            f"{solver} rejected the option(s) {bad or sorted(options)}: {type(exc).__name__}: {text}. "
             "See the backend's documentation for its setting names."
         ) from None
 
 
+#: Each backend's own time-limit setting, in seconds.  The others have none.
+TIME_LIMIT_KEY = {"osqp": "time_limit", "clarabel": "time_limit", "highs": "time_limit",
+                  "scs": "time_limit_secs"}
+#: No time limit of their own, and an iteration cap that does not bound the
+#: work (ProxQP counts outer iterations; 77 s and 3e5 inner iterations on an
+#: SPD problem of n = 300 at max_iter = 10 000): run in a killable child
+#: process whenever a time limit is in force (qpcontact.isolation).  PIQP,
+#: DAQP, quadprog, CVXOPT and ECOS stop after a bounded number of
+#: factorizations.
+NEEDS_ISOLATION = {"proxqp"}
+
+
+def check_option_names(label: str, options: dict, known) -> None:
+    """InvalidOptionError for option names ``label`` does not know, before the
+    backend is called: HiGHS, PIQP and cvxpy's DAQP and ProxQP interfaces
+    accept unknown names silently (a misspelt tolerance is then ignored).
+    ``known`` is a set of names, or a predicate for backends that can only be
+    asked name by name (HiGHS), or None (the backend rejects names itself)."""
+    if known is None or not options:
+        return
+    accepts = known if callable(known) else known.__contains__
+    unknown = sorted(key for key in options if not accepts(key))
+    if not unknown:
+        return
+    if callable(known):
+        raise InvalidOptionError(
+            f"{label} has no setting {', '.join(map(repr, unknown))}; see its documentation "
+            "for the setting names")
+    import difflib
+
+    hints = [f"{key!r} (did you mean {', '.join(map(repr, close))}?)"
+             if (close := difflib.get_close_matches(key, sorted(known), n=2)) else repr(key)
+             for key in unknown]
+    raise InvalidOptionError(
+        f"{label} has no setting {', '.join(hints)}; its settings are: {', '.join(sorted(known))}")
+
+
+_PROXQP_SOLVE_KEYWORDS = {  # proxsuite.proxqp.dense.solve's keyword arguments (0.6-0.8)
+    "eps_abs", "eps_rel", "rho", "mu_eq", "mu_in", "verbose", "compute_preconditioner",
+    "compute_timings", "max_iter", "initial_guess", "check_duality_gap", "eps_duality_gap_abs",
+    "eps_duality_gap_rel", "primal_infeasibility_solving", "default_H_eigenvalue_estimate"}
+_QPSOLVERS_KEYWORDS = {"initvals", "verbose"}
+
+
+def _highs_accepts(key) -> bool:
+    import highspy
+
+    if key in _QPSOLVERS_KEYWORDS:
+        return True
+    with _quiet_c_stdout(True):  # HiGHS prints a line for an unknown name
+        status, _ = highspy.Highs().getOptionValue(str(key))
+    return status == highspy.HighsStatus.kOk
+
+
+def _known_options(name: str):
+    """What ``check_option_names`` needs for ``name`` (None: the backend
+    rejects unknown names itself)."""
+    if name == "highs":
+        return _highs_accepts
+    if name == "piqp":
+        import piqp
+
+        return _QPSOLVERS_KEYWORDS | {"backend"} | {
+            a for a in dir(piqp.DenseSolver().settings) if not a.startswith("_")}
+    if name == "proxqp":
+        return _QPSOLVERS_KEYWORDS | {"backend"} | _PROXQP_SOLVE_KEYWORDS
+    return None
+
+
 def _make_run(name: str):
-    def run(problem, tol, options) -> MethodResult:
+    def run(problem, tol, options, time_limit=None) -> MethodResult:
         import qpsolvers
         from qpsolvers.warnings import SparseConversionWarning
 
+        check_option_names(name, options, _known_options(name))
         refused = refuse_extreme_data(name, problem)
         if refused is not None:
             return refused
         settings = {**backend_settings("qpsolvers", name, tol), **options}
+        if time_limit is not None and name in TIME_LIMIT_KEY:
+            settings.setdefault(TIME_LIMIT_KEY[name], float(time_limit))
         stats = {}
         if name not in qpsolvers.sparse_solvers and problem.has_sparse:
             P, q, G, h, A, b, lb, ub = problem.unpack_as_dense()
@@ -164,6 +239,8 @@ def _make_run(name: str):
                                     backend_message=f"{type(exc).__name__}: {exc}", stats=stats)
         status, iters = _report(sol)
         stats["found"] = bool(sol.found)
+        if "time" in status.lower():  # OSQP "time limit reached", Clarabel MaxTime, HiGHS kTimeLimit
+            stats["time_limit_reached"] = True
         message = "; ".join(str(w.message) for w in caught
                             if not issubclass(w.category, SparseConversionWarning))
         return MethodResult(

@@ -1,4 +1,4 @@
-"""Problem families with a known solution, for test suites (qpcontact's and yours).
+"""Problem families with a planted solution (qpcontact.testing.problems): seeded, deterministic.
 
 Each generator plants a solution (z*, w*) and builds the data around it, so a
 method's answer can be judged without trusting any solver — or qpcontact's own
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .problems import LCP
+from ..problems import LCP
 
 __all__ = ["random_spd", "random_spd_lcp", "far_contact_lcp", "spread_lcp", "planted_ok"]
 

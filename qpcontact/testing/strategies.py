@@ -1,0 +1,86 @@
+"""Hypothesis strategies for hard LCPs and QPs, each with its answer built in.
+
+Every strategy draws a :class:`Case`: the problem, the status a correct
+solver must reach (``"solved"``, ``"infeasible"``, ``"unbounded"``) and,
+where the data determine it, the planted answer — so a test can check more
+than a residual::
+
+    from hypothesis import given
+    from qpcontact.testing import assert_lcp_solution
+    from qpcontact.testing.strategies import lcps
+
+    @given(lcps(kinds=("spd", "badly_scaled")))
+    def test_my_solver(case):
+        z = my_solver(case.problem.M, case.problem.q)
+        assert_lcp_solution(case.problem, z)
+        assert case.agrees(z)          # and it is the planted solution
+
+The data are built with NumPy from a drawn seed and drawn sizes, scales and
+conditioning; hypothesis shrinks towards small n, mild conditioning and
+seed 0.  Needs hypothesis (``pip install "qpcontact[test]"``).
+
+LCP kinds (:func:`lcps`)
+    ``spd`` (unique solution, condition up to 1e8), ``psd_singular`` (w
+    unique, z not), ``degenerate`` (pairs with z_i = w_i = 0), ``badly_scaled``
+    (D M D with D over ``decades`` decades: units of N beside kN and mm beside
+    m), ``p_matrix`` (nonsymmetric, M + M' PD: unique), ``friction``
+    (Stewart–Trinkle 2-D Coulomb friction: nonsymmetric, copositive, not a
+    P-matrix; solvable by construction), ``infeasible`` (PSD with a Farkas
+    vector: no solution).
+QP kinds (:func:`qps`)
+    ``convex`` (P PD, unique x), ``degenerate`` (active constraints with zero
+    multipliers, P singular on part of the space), ``infeasible``,
+    ``unbounded``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+try:
+    from hypothesis import strategies as st
+except ImportError as exc:  # pragma: no cover - exercised only without the extra
+    raise ImportError("qpcontact.testing.strategies needs hypothesis: "
+                      'pip install "qpcontact[test]" (or pip install hypothesis)') from exc
+
+from .cases import LCP_KINDS, QP_KINDS, Case, build_lcp, build_qp
+
+__all__ = ["Case", "lcps", "qps", "LCP_KINDS", "QP_KINDS", "build_lcp", "build_qp"]
+
+
+def lcps(kinds=LCP_KINDS, min_n: int = 2, max_n: int = 30, max_cond: float = 1e8,
+         max_decades: float = 12.0):
+    """Strategy drawing :class:`Case` objects holding LCPs of the given kinds."""
+    kinds = tuple(kinds)
+    for k in kinds:
+        if k not in LCP_KINDS:
+            raise ValueError(f"unknown LCP kind {k!r}; choose from {LCP_KINDS}")
+
+    @st.composite
+    def draw(data):
+        kind = data(st.sampled_from(kinds))
+        n = data(st.integers(min_n, max_n))
+        seed = data(st.integers(0, 2**32 - 1))
+        cond = 10.0 ** data(st.floats(0.0, np.log10(max_cond)))
+        decades = data(st.floats(0.0, max_decades))
+        return build_lcp(kind, n, seed, cond=cond, decades=decades)
+
+    return draw()
+
+
+def qps(kinds=QP_KINDS, min_n: int = 2, max_n: int = 30, max_cond: float = 1e6):
+    """Strategy drawing :class:`Case` objects holding QPs of the given kinds."""
+    kinds = tuple(kinds)
+    for k in kinds:
+        if k not in QP_KINDS:
+            raise ValueError(f"unknown QP kind {k!r}; choose from {QP_KINDS}")
+
+    @st.composite
+    def draw(data):
+        kind = data(st.sampled_from(kinds))
+        n = data(st.integers(max(min_n, 3), max_n))
+        seed = data(st.integers(0, 2**32 - 1))
+        cond = 10.0 ** data(st.floats(0.0, np.log10(max_cond)))
+        return build_qp(kind, n, seed, cond=cond)
+
+    return draw()
