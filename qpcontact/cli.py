@@ -1,4 +1,4 @@
-"""Command-line interface: ``qpcontact methods | solve | demo``."""
+"""Command-line interface: ``qpcontact methods | solve | demo | compare | stress``."""
 
 from __future__ import annotations
 
@@ -109,6 +109,56 @@ def compare_cmd(
                      scheduler=scheduler, time_limit=time_limit)
     md = report(csv_path, time_limit=time_limit)
     console.print(f"results: {csv_path}\nreport:  {md}\nplots:   {md.parent}/wp_*.png")
+
+
+@app.command("stress")
+def stress_cmd(
+    out: str = typer.Option("out/stress", "--out", "-o", help="Output folder: stress.csv, stress.md, stress.png."),
+    quick: bool = typer.Option(False, "--quick", help="Small seeded slice: sizes 6 and 24, 2 seeds, accuracy "
+                               "high, no cvxpy (about a minute on 2 cores)."),
+    methods: str = typer.Option(None, "--methods", help="Comma-separated method names (default: every installed one)."),
+    families: str = typer.Option(None, "--families", help="Comma-separated families (default: all)."),
+    sizes: str = typer.Option(None, "--sizes", help="Comma-separated sizes n (default 8,30,100; --quick 6,24)."),
+    seeds: int = typer.Option(None, "--seeds", help="Seeds per family and size (default 200; --quick 2)."),
+    time_limit: float = typer.Option(None, "--time-limit", help="Seconds per solve (default 2; --quick 10)."),
+    workers: int = typer.Option(2, "--workers", help="Worker processes (each solve runs in one; a crash "
+                                "or a hang costs one row)."),
+    siconos: str = typer.Option(None, "--siconos", help="Folder of Siconos LCP files (default ../shared/data/siconos-lcp)."),
+):
+    """Hard cases x methods x accuracies, judged against built-in answers: silent wrong must be 0."""
+    import dataclasses
+
+    from .stress import FAMILIES, FULL, QUICK, plot_heatmap, run_stress, write_markdown
+
+    config = QUICK if quick else FULL
+    changes = {}
+    if methods:
+        changes["methods"] = tuple(methods.split(","))
+    if families:
+        bad = [f for f in families.split(",") if f not in FAMILIES]
+        if bad:
+            console.print(f"[red]error:[/red] unknown families {bad}; choose from {', '.join(FAMILIES)}")
+            raise typer.Exit(2)
+        changes["families"] = tuple(families.split(","))
+    if sizes:
+        changes["sizes"] = tuple(int(v) for v in sizes.split(","))
+    if seeds is not None:
+        changes["seeds"] = seeds
+    if time_limit is not None:
+        changes["time_limit"] = time_limit
+    if siconos:
+        changes["siconos_dir"] = siconos
+    config = dataclasses.replace(config, **changes)
+    try:
+        csv_path = run_stress(out, config, workers=workers)
+    except QpcontactError as exc:
+        console.print(f"[red]error:[/red] {exc}")
+        raise typer.Exit(2)
+    md, totals = write_markdown(csv_path)
+    png = plot_heatmap(csv_path)
+    console.print(md.read_text().split("## Per method and family")[0])
+    console.print(f"results: {csv_path}\nreport:  {md}\nheat map: {png}")
+    raise typer.Exit(1 if totals["silent_wrong"] or totals["bugs"] or (quick and totals["hung"]) else 0)
 
 
 def main():  # pragma: no cover - console script

@@ -8,13 +8,21 @@ alone, without trusting whoever found them:
 
 * **infeasible** — multipliers z >= 0, y, μl >= 0, μu >= 0 with
   r = G'z + A'y − μl + μu = 0 and c = h'z + b'y − lb'μl + ub'μu < 0: summing
-  the constraints with these weights gives x'r <= c < 0, impossible for r = 0.
-  With a rounded r ≠ 0 it still proves that no feasible x has
-  max|x_i| < |c| / ‖r‖₁ (the bound is reported);
+  the constraints with these weights gives x'r <= c < 0, impossible;
 * **unbounded** — a feasible x0 and a direction d with Pd = 0, Gd <= 0,
   Ad = 0, d_i >= 0 where lb_i is finite, d_i <= 0 where ub_i is finite, and
-  q'd < 0: the objective along x0 + t d falls linearly for ever.  With a
-  rounded Pd ≠ 0 it falls by at least (q'd + x0'Pd)² / (2 d'Pd) (reported).
+  q'd < 0: the objective along x0 + t d falls linearly for ever.
+
+Both are checked in **exact rational arithmetic** (the data's doubles are
+rationals; :class:`fractions.Fraction`), on the LP's vector and on the same
+vector snapped to small denominators (which recovers the exact weights of
+integer data).  A check in floating point is not a proof: with a rounded
+r ≈ 1e-16 a Farkas vector only rules out feasible points up to |c| / ‖r‖₁,
+and on a badly scaled but solvable LCP the solution lay beyond that (a false
+"infeasible", caught by ``qpcontact stress``).  The price: on data whose
+exact Farkas vector or ray has no short rational form nothing is proved and
+the answer stays "failed"/"inaccurate" — never a claim that is not true.
+The exact check is skipped above _EXACT_WORK products.
 
 Backends say "infeasible" in their own words and on their own absolute
 tolerances; QP backends also loop for a long time on such problems (an
@@ -22,25 +30,26 @@ unbounded QP took every backend of "auto" in turn).  Here each certificate is
 found by one linear program (HiGHS through :func:`scipy.optimize.linprog`,
 with every constraint row scaled to unit size so that the LP's absolute
 tolerances mean the same on every row) and accepted only after the checks
-above are computed from the data, each residual on its own row's scale.
+above are computed from the data.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from fractions import Fraction
+
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["QPProof", "prove_no_minimiser"]
+__all__ = ["QPProof", "prove_no_minimiser", "prove_lcp_infeasible", "x_size"]
 
 _EPS = np.finfo(float).eps
-#: a Farkas vector must rule out every feasible point up to this many times
-#: the size the data give x (bounds, h_i / |G_i|, b_i / |A_i|)
-_REACH = 1e6
-#: relative residual |(Pd)_i| / (|P||d|)_i accepted for a ray (and the same
-#: for G d <= 0, A d = 0): rounding of a direction computed in double precision
-_RAY_RES = 1e-12
+#: nonzero products an exact (rational) check may take; beyond it no proof
+#: is claimed (a rounded check is not a proof: with r = G'z + ... ≈ 1e-16 it
+#: only rules out feasible points up to |c| / ‖r‖₁, and a scaled problem's
+#: solution was found beyond that)
+_EXACT_WORK = 200_000
 
 
 @dataclass
@@ -70,11 +79,15 @@ def _row_scale(M: sp.csr_matrix) -> np.ndarray:
     return np.where(big > 0, 1.0 / np.where(big > 0, big, 1.0), 0.0)
 
 
-def _linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None):
+#: seconds each LP may take (solve's time_limit when smaller)
+LP_TIME_LIMIT = 30.0
+
+
+def _linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None, time_limit=LP_TIME_LIMIT):
     from scipy.optimize import linprog
 
     options = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10,
-               "time_limit": 30.0}
+               "time_limit": time_limit}
     with np.errstate(all="ignore"):
         try:
             return linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds,
@@ -83,7 +96,7 @@ def _linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None):
             return None
 
 
-def _farkas(P, q, G, h, A, b, lb, ub) -> QPProof | None:
+def _farkas(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     n = q.size
     G, A = _rows(G, n), _rows(A, n)
     h = np.zeros(0) if h is None else np.asarray(h, float)
@@ -101,45 +114,119 @@ def _farkas(P, q, G, h, A, b, lb, ub) -> QPProof | None:
     A_eq = sp.hstack([Gs.T, As.T, -El, Eu]).tocsc()
     cost = np.concatenate([sg * h, sa * b, -lbf, ubf])
     bounds = ([(0, 1)] * G.shape[0] + [(-1, 1)] * A.shape[0] + [(0, 1)] * (il.size + iu.size))
-    res = _linprog(cost, A_eq=A_eq, b_eq=np.zeros(n), bounds=bounds)
+    res = _linprog(cost, A_eq=A_eq, b_eq=np.zeros(n), bounds=bounds, time_limit=tl)
     if res is None or res.status != 0 or res.x is None or not res.fun < 0:
         return None
     v = res.x
     k = np.cumsum([0, G.shape[0], A.shape[0], il.size, iu.size])
-    z, y = sg * np.maximum(v[k[0]:k[1]], 0.0), sa * v[k[1]:k[2]]
-    ml, mu = np.maximum(v[k[2]:k[3]], 0.0), np.maximum(v[k[3]:k[4]], 0.0)
-    r = G.T @ z + A.T @ y - El @ ml + Eu @ mu
-    c = h @ z + b @ y - lbf @ ml + ubf @ mu
-    c_round = 4 * (n + 1) * _EPS * (np.abs(h) @ z + np.abs(b) @ np.abs(y)
-                                     + np.abs(lbf) @ ml + np.abs(ubf) @ mu)
-    if not (np.all(np.isfinite(r)) and np.isfinite(c)) or not c < -c_round:
+    lo = lb if lb is not None else np.full(n, -np.inf)
+    hi = ub if ub is not None else np.full(n, np.inf)
+    for snap in (True, False):
+        proof = _exact_farkas(G, h, A, b, lo, hi, np.maximum(v[k[0]:k[1]], 0.0), v[k[1]:k[2]],
+                              sg, sa, snap)
+        if proof is not None:
+            return proof
+    return None
+
+
+def _snap(values: np.ndarray, snap: bool) -> list:
+    """Exact rationals near an LP's floating-point solution (small denominators
+    recover the exact weights of integer data: 1/3 rather than 0.3333...)."""
+    if not snap:
+        return [Fraction(float(v)) for v in values]
+    return [Fraction(float(v)).limit_denominator(1 << 20) for v in values]
+
+
+def _exact_farkas(G, h, A, b, lo, hi, vz, vy, sg, sa, snap) -> QPProof | None:
+    """Check a Farkas vector in exact rational arithmetic: the data's doubles
+    are rationals, so G'z + A'y, the bound multipliers that cancel it, and
+    c = h'z + b'y - lb'μl + ub'μu are computed without rounding.  Sound: a
+    vector that passes proves infeasibility of the data as stored."""
+    n = lo.size
+    weights = np.concatenate([sg * vz, sa * vy])
+    top = float(np.max(np.abs(weights), initial=0.0))
+    if not top > 0:
         return None
+    exact = _snap(weights / top, snap)   # the ratios are what matters: 1 : 2 : 3
+    z, y = exact[:vz.size], exact[vz.size:]
+    Gc, Ac = G.tocsr(), A.tocsr()
+    work = sum(Gc.indptr[i + 1] - Gc.indptr[i] for i in range(Gc.shape[0]) if z[i]) + \
+        sum(Ac.indptr[i + 1] - Ac.indptr[i] for i in range(Ac.shape[0]) if y[i])
+    if work > _EXACT_WORK:
+        return None
+    r = [Fraction(0)] * n
+    c = Fraction(0)
+    for M, rhs, w in ((Gc, h, z), (Ac, b, y)):
+        for i in range(M.shape[0]):
+            if not w[i]:
+                continue
+            c += Fraction(float(rhs[i])) * w[i]
+            for p in range(M.indptr[i], M.indptr[i + 1]):
+                r[M.indices[p]] += Fraction(float(M.data[p])) * w[i]
+    used = {"lower": 0, "upper": 0}
+    for j in range(n):
+        if r[j] > 0:      # cancelled by μl_j = r_j >= 0 on a finite lower bound
+            if not np.isfinite(lo[j]):
+                return None
+            c -= Fraction(float(lo[j])) * r[j]
+            used["lower"] += 1
+        elif r[j] < 0:    # cancelled by μu_j = -r_j >= 0 on a finite upper bound
+            if not np.isfinite(hi[j]):
+                return None
+            c -= Fraction(float(hi[j])) * r[j]
+            used["upper"] += 1
+    if not c < 0:
+        return None
+    zf = np.array([float(v) for v in z])
+    yf = np.array([float(v) for v in y])
+    rf = np.array([float(v) for v in r])
+    parts = [f"{name}: {count}" for name, count in
+             (("inequality rows", int(np.count_nonzero(zf))), ("equality rows", int(np.count_nonzero(yf))),
+              ("lower bounds", used["lower"]), ("upper bounds", used["upper"])) if count]
+    return QPProof(
+        kind="infeasible",
+        message=("no x satisfies the constraints: the weighted sum of " + ", ".join(parts)
+                 + f" reads 0 <= {float(c):.3e} (a Farkas vector, checked from the data in exact "
+                 "rational arithmetic)"),
+        vector={"z": zf, "y": yf, "lower": np.maximum(rf, 0.0), "upper": np.maximum(-rf, 0.0)},
+    )
+
+
+def _x_size(G, h, A, b, lbf, ubf) -> float:
+    """The size the data give x: finite bounds, h_i / max|G_i|, b_i / max|A_i|."""
     size = [np.abs(lbf), np.abs(ubf)]
     for M, rhs in ((G, h), (A, b)):
         if M.shape[0]:
             big = np.asarray(abs(M).max(axis=1).toarray()).ravel()
             size.append(np.abs(rhs[big > 0]) / big[big > 0])
-    x_size = max([float(s.max()) for s in size if s.size] + [np.finfo(float).tiny])
-    r1 = float(np.abs(r).sum())
-    reach = np.inf if r1 == 0.0 else abs(c) / r1
-    if reach < _REACH * x_size:
-        return None
-    where = ("" if reach == np.inf else
-             f" (the rounded multipliers leave ‖G'z + A'y − μl + μu‖₁ = {r1:.1e}: no feasible x "
-             f"has max|x_i| < {reach:.1e}, {reach / x_size:.0e} times the size the data give x)")
-    parts = [f"{name}: {int(np.count_nonzero(vec))}" for name, vec in
-             (("inequality rows", z), ("equality rows", y), ("lower bounds", ml),
-              ("upper bounds", mu)) if np.count_nonzero(vec)]
-    return QPProof(
-        kind="infeasible",
-        message=("no x satisfies the constraints: the weighted sum of "
-                 + ", ".join(parts)
-                 + f" reads 0 <= {c:.3e} (a Farkas vector, checked from the data){where}"),
-        vector={"z": z, "y": y, "lower": ml, "upper": mu},
-    )
+    return max([float(s.max()) for s in size if s.size] + [np.finfo(float).tiny])
 
 
-def _feasible_point(q, G, h, A, b, lb, ub) -> np.ndarray | None:
+def x_size(problem) -> float:
+    """The size a QP's data give x (bounds, h_i / max|G_i|, b_i / max|A_i|,
+    q_i / max|P_i|): an answer far beyond it is suspect (it may be a point
+    of nearby data whose problem has no minimiser)."""
+    P, q, G, h, A, b, lb, ub = problem.unpack()
+    n = q.size
+    lbf = lb[np.isfinite(lb)] if lb is not None else np.zeros(0)
+    ubf = ub[np.isfinite(ub)] if ub is not None else np.zeros(0)
+    return max(_x_size(_rows(G, n), h, _rows(A, n), b, lbf, ubf),
+               _x_size(_rows(P, n), np.asarray(q, float), _rows(None, n), None, lbf[:0], ubf[:0]))
+
+
+def prove_lcp_infeasible(lcp, time_limit: float | None = None) -> QPProof | None:
+    """A checked Farkas vector proving that no z >= 0 has Mz + q >= 0 (so
+    LCP(M, q) has no solution), or None."""
+    import scipy.sparse as sp_
+
+    n = lcp.n
+    M = sp_.csr_matrix(lcp.M)
+    tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
+    return _farkas(None, np.zeros(n), -M, np.asarray(lcp.q, float), None, None,
+                   np.zeros(n), None, tl)
+
+
+def _feasible_point(q, G, h, A, b, lb, ub, tl) -> np.ndarray | None:
     n = q.size
     G, A = _rows(G, n), _rows(A, n)
     sg, sa = _row_scale(G), _row_scale(A)
@@ -149,7 +236,7 @@ def _feasible_point(q, G, h, A, b, lb, ub) -> np.ndarray | None:
     res = _linprog(np.zeros(n), A_ub=(sp.diags(sg) @ G).tocsc() if G.shape[0] else None,
                    b_ub=sg * h if G.shape[0] else None,
                    A_eq=(sp.diags(sa) @ A).tocsc() if A.shape[0] else None,
-                   b_eq=sa * b if A.shape[0] else None, bounds=bounds)
+                   b_eq=sa * b if A.shape[0] else None, bounds=bounds, time_limit=tl)
     if res is None or res.status != 0 or res.x is None:
         return None
     x = np.clip(res.x, lo, hi)
@@ -165,7 +252,7 @@ def _feasible_point(q, G, h, A, b, lb, ub) -> np.ndarray | None:
     return x
 
 
-def _ray(P, q, G, h, A, b, lb, ub) -> QPProof | None:
+def _ray(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     n = q.size
     P = sp.csr_matrix(P)
     G, A = _rows(G, n), _rows(A, n)
@@ -179,51 +266,74 @@ def _ray(P, q, G, h, A, b, lb, ub) -> QPProof | None:
     hi = np.where(np.isfinite(ub), 0.0, 1.0) if ub is not None else np.ones(n)
     res = _linprog(q, A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]) if A_ub is not None else None,
                    A_eq=A_eq, b_eq=np.zeros(A_eq.shape[0]) if A_eq is not None else None,
-                   bounds=list(zip(lo, hi)))
+                   bounds=list(zip(lo, hi)), time_limit=tl)
     if res is None or res.status != 0 or res.x is None:
         return None
-    d = np.clip(res.x, lo, hi)
-    slope = float(q @ d)
-    if not slope < -4 * n * _EPS * float(np.abs(q) @ np.abs(d)):
+    d0 = np.clip(res.x, lo, hi)
+    top = float(np.max(np.abs(d0), initial=0.0))
+    if not top > 0:
         return None
-    absd = np.abs(d)
-    Pd = P @ d
-    checks = [(np.abs(Pd), abs(P) @ absd)]
-    if G.shape[0]:
-        checks.append((np.maximum(G @ d, 0.0), abs(G) @ absd))
-    if A.shape[0]:
-        checks.append((np.abs(A @ d), abs(A) @ absd))
-    for res_, scale in checks:
-        if np.any(res_ > _RAY_RES * scale):
-            return None
-    x0 = _feasible_point(q, G, h, A, b, lb, ub)
+    d0 = d0 / top
+    for snap in (True, False):
+        dF = _snap(d0, snap)
+        if _exact_ray(P, q, G, A, dF, lo, hi):
+            break
+    else:
+        return None
+    d = np.array([float(v) for v in dF])
+    x0 = _feasible_point(q, G, h, A, b, lb, ub, tl)
     if x0 is None:
         return None
-    curv = float(d @ Pd)
-    rate = slope + float(x0 @ Pd)
-    if not rate < 0:
-        return None
-    fall = np.inf if curv <= 0 else rate * rate / (2.0 * curv)
+    slope = float(q @ d)
     f0 = 0.5 * float(x0 @ (P @ x0)) + float(q @ x0)
-    how = ("for ever (Pd = 0 exactly)" if fall == np.inf
-           else f"by at least {fall:.1e} (Pd is zero up to rounding: d'Pd = {curv:.1e})")
     return QPProof(
         kind="unbounded",
         message=(f"the objective is unbounded below: from the feasible point x0 (objective "
-                 f"{f0:.3e}) along the direction d (q'd = {slope:.3e}, Pd = 0, Gd <= 0, Ad = 0 and "
-                 f"the bounds' signs, checked from the data) it falls {how}"),
+                 f"{f0:.3e}, feasibility checked to rounding) along the direction d it falls for "
+                 f"ever (q'd = {slope:.3e} < 0, Pd = 0, Gd <= 0, Ad = 0 and the bounds' signs, "
+                 "checked in exact rational arithmetic)"),
         vector={"d": d},
         point=x0,
     )
 
 
-def prove_no_minimiser(problem) -> QPProof | None:
+def _exact_ray(P, q, G, A, dF, lo, hi) -> bool:
+    """Pd = 0, Gd <= 0, Ad = 0, q'd < 0 and d's signs, in exact arithmetic."""
+    support = [j for j, v in enumerate(dF) if v]
+    if not support:
+        return False
+    for j in support:
+        if (dF[j] > 0 and hi[j] == 0.0) or (dF[j] < 0 and lo[j] == 0.0):
+            return False
+    if sum(Fraction(float(q[j])) * dF[j] for j in support) >= 0:
+        return False
+    for M, sign in ((P, 0), (G, -1), (A, 0)):
+        if not M.shape[0]:
+            continue
+        Mc = sp.csc_matrix(M)
+        if sum(Mc.indptr[j + 1] - Mc.indptr[j] for j in support) > _EXACT_WORK:
+            return False
+        acc: dict[int, Fraction] = {}
+        for j in support:
+            for p in range(Mc.indptr[j], Mc.indptr[j + 1]):
+                i = Mc.indices[p]
+                acc[i] = acc.get(i, Fraction(0)) + Fraction(float(Mc.data[p])) * dF[j]
+        if sign == 0 and any(v != 0 for v in acc.values()):
+            return False
+        if sign < 0 and any(v > 0 for v in acc.values()):
+            return False
+    return True
+
+
+def prove_no_minimiser(problem, time_limit: float | None = None) -> QPProof | None:
     """A checked Farkas vector or ray for a convex ``qpsolvers.Problem``, or
     None when neither is found (the QP may still have no minimiser; nothing
-    is claimed then)."""
+    is claimed then).  Each LP gets at most ``time_limit`` seconds (default
+    and cap :data:`LP_TIME_LIMIT`)."""
     P, q, G, h, A, b, lb, ub = problem.unpack()
     q = np.asarray(q, dtype=float)
-    proof = _farkas(P, q, G, h, A, b, lb, ub)
+    tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
+    proof = _farkas(P, q, G, h, A, b, lb, ub, tl)
     if proof is None:
-        proof = _ray(P, q, G, h, A, b, lb, ub)
+        proof = _ray(P, q, G, h, A, b, lb, ub, tl)
     return proof

@@ -15,8 +15,11 @@ Statuses
                   (by the backend's own setting, or killed in its child
                   process) and no certified point came back
 ``"infeasible"``, ``"unbounded"``
-                  QPs: no minimiser exists, proved by a Farkas vector or a ray
-                  checked from the data (``stats["proof"]``, qpcontact.proofs)
+                  no solution exists (an LCP: infeasible; a QP: infeasible or
+                  unbounded), proved by a Farkas vector or a ray checked from
+                  the data (``stats["proof"]``, qpcontact.proofs).  Also
+                  replaces a certified answer that only nearby data have (a
+                  point at 1e8 on an unbounded QP)
 ``"ray"``, ``"max_pivots"``
                   reserved for pivoting methods (a secondary ray, or with
                   ``stats["proved_infeasible"]`` a checked Farkas vector; the

@@ -142,9 +142,24 @@ def _needs_isolation(m: Method) -> bool:
     return m.name.split(":", 1)[-1] in cvxpy_backends.NEEDS_ISOLATION
 
 
+def _takes_time_limit(run) -> bool:
+    import inspect
+
+    try:
+        return "time_limit" in inspect.signature(run).parameters
+    except (TypeError, ValueError):
+        return False
+
+
+def _run_with_limit(m: Method, target, tol, options, time_limit):
+    if _takes_time_limit(m.run):
+        return m.run(target, tol, options, time_limit=time_limit)
+    return m.run(target, tol, options)
+
+
 def _isolated_run(name, target, tol, options, time_limit):
     # in the child: looked up by name so that spawn-started children work too
-    return get_method(name).run(target, tol, options, time_limit=time_limit)
+    return _run_with_limit(get_method(name), target, tol, options, time_limit)
 
 
 def _call(m: Method, target, tol_backend, options, time_limit, isolate) -> MethodResult:
@@ -172,7 +187,7 @@ def _call(m: Method, target, tol_backend, options, time_limit, isolate) -> Metho
             return MethodResult(x=None, backend_status=out.kind, backend_message=words,
                                 status="time_limit" if out.kind == "time_limit" else None,
                                 stats={"isolated": True})
-    return m.run(target, tol_backend, options, time_limit=time_limit)
+    return _run_with_limit(m, target, tol_backend, options, time_limit)
 
 
 def _run(problem, m: Method, tol_backend, tol_cert, accuracy, options, time_limit=None,
@@ -289,18 +304,53 @@ def _check_time_limit(time_limit):
     return value
 
 
-def _prove_no_minimiser(problem, sol):
-    """Turn a QP answer that is not ok into "infeasible" or "unbounded" when a
-    Farkas vector or a ray is found and checked from the data (qpcontact.proofs)."""
-    from .proofs import prove_no_minimiser
+#: A certified QP answer larger than this many times the size the data give x
+#: (qpcontact.proofs.x_size) is checked for a proof that no minimiser exists:
+#: backends on an unbounded QP return points of 1e8 and more whose residuals
+#: pass on their own rows' scales (|P||x| grows with x) — exact answers of
+#: nearby data whose problem has no minimiser either.
+DOUBT_FACTOR = 1e3
 
-    proof = prove_no_minimiser(problem)
+
+def _doubtful(problem, sol) -> bool:
+    """Whether a result should be checked for a proof that no solution exists:
+    every result that is not ok (a proved ray aside), and a certified answer
+    that may be the solution of nearby data only (an LCP answer whose forward
+    error reaches its own size — an infeasible PSD LCP got z ~ 3e8 with
+    condition 2e17 from HiGHS, quadprog and ProxQP — or that is far beyond
+    |q| / max|M|; a QP answer far beyond the data's size)."""
+    if sol.stats.get("proved_infeasible") or sol.stats.get("proved_unbounded"):
+        return False
+    if not sol.ok:
+        return True
+    if isinstance(problem, LCP):
+        cert = sol.certificate
+        if cert.forward_error_known and not cert.forward_error < 1.0:
+            return True  # no correct digit guaranteed (singular or nearly singular active block)
+        big = float(np.max(np.abs(sol.z), initial=0.0))
+        scale_M = problem.matrix_scale
+        return scale_M > 0 and big > DOUBT_FACTOR * float(np.max(np.abs(problem.q))) / scale_M
+    from .proofs import x_size
+
+    return float(np.max(np.abs(sol.x), initial=0.0)) > DOUBT_FACTOR * x_size(problem)
+
+
+def _prove_no_solution(problem, sol, time_limit=None):
+    """Turn a result into "infeasible" or "unbounded" when a Farkas vector or a
+    ray is found and checked from the data (qpcontact.proofs): a proof about
+    the data as stored outranks a certificate, which speaks of nearby data."""
+    from .proofs import prove_lcp_infeasible, prove_no_minimiser
+
+    proof = (prove_lcp_infeasible(problem, time_limit) if isinstance(problem, LCP)
+             else prove_no_minimiser(problem, time_limit))
     if proof is None:
         return sol
+    before = (f"{sol.method} certified a point of nearby data (error {sol.error:.1e})" if sol.ok
+              else f"{sol.method} returned {sol.backend_status!r}")
     sol.stats.update({"proof": proof, "proved_infeasible": proof.kind == "infeasible",
                       "proved_unbounded": proof.kind == "unbounded"})
     sol.status, sol.ok = proof.kind, False
-    sol.message = f"{proof.message} (found after {sol.method} returned {sol.backend_status!r})"
+    sol.message = f"{proof.message} (found after {before})"
     return sol
 
 
@@ -371,12 +421,11 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
     if isolate not in ("auto", True, False):
         raise InvalidOptionError(f"isolate must be 'auto', True or False; got {isolate!r}")
     run = dict(time_limit=time_limit, isolate=isolate)
-    is_qp = not isinstance(problem, LCP)
 
     if method != "auto":
         sol = _run(problem, get_method(method), tol_backend, tol_cert, accuracy, options, **run)
-        if is_qp and not sol.ok:
-            sol = _prove_no_minimiser(problem, sol)
+        if _doubtful(problem, sol):
+            sol = _prove_no_solution(problem, sol, time_limit)
     else:
         def candidates():  # lazily: a late entry (cvxpy) is imported only if reached
             for name in AUTO_ORDER:
@@ -396,18 +445,18 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
                 # numerically PD, a dense size limit): the next method is tried
                 tried.append((m.name, f"skipped: {exc}", np.inf))
                 continue
+            if not proof_tried and _doubtful(problem, attempt):
+                # after the first failure (or doubtful success), not before: a
+                # proof costs one or two LPs, and every backend looped on the
+                # unbounded QP of the audit
+                proof_tried = True
+                attempt = _prove_no_solution(problem, attempt, time_limit)
             tried.append((m.name, attempt.status, attempt.error))
             if sol is None or attempt.error < sol.error:
                 sol = attempt
             if attempt.ok:
                 sol = attempt
                 break
-            if is_qp and not proof_tried:
-                # after the first failure, not before: a proof costs two LPs,
-                # and every backend looped on the unbounded QP of the audit
-                proof_tried = True
-                attempt = _prove_no_minimiser(problem, attempt)
-                tried[-1] = (m.name, attempt.status, attempt.error)
             if attempt.stats.get("proved_infeasible") or attempt.stats.get("proved_unbounded"):
                 # a Farkas vector or a ray checked from the data: no method can do better
                 sol = attempt

@@ -19,6 +19,11 @@ The bound grows with the condition number L/μ: a backend may be far from
 another on an ill-conditioned problem while both have tiny residuals — and the
 test accepts exactly that much and no more.  A small allowance of 64 eps ‖z‖
 covers rounding in the comparison itself.
+
+The KKT checks and the pairwise agreement go through qpcontact.testing
+(``assert_lcp_solution``, ``cross_validate``, the plugin's ``qp_method``
+fixture), the API other projects' test suites use; the error bound above is
+the independent reference that holds those answers to the planted solution.
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ import scipy.sparse as sp
 import qpcontact
 from qpcontact.io import read_siconos_lcp
 from qpcontact.paper_examples import p0_examples
+from qpcontact.testing import assert_lcp_solution, cross_validate
 
 from .conftest import random_spd_lcp
 
@@ -57,8 +63,9 @@ def _nat_res(lcp, z) -> float:
     return float(np.linalg.norm(np.minimum(z, lcp.w(z)))) + rounding
 
 
-@pytest.mark.parametrize("method", QP_BACKENDS)
-def test_paper_examples_high(method):
+@pytest.mark.qp_methods("backends")
+def test_paper_examples_high(qp_method):
+    method = qp_method
     for ex in p0_examples():
         sol = qpcontact.solve(ex.lcp, method=method, accuracy="high")
         assert sol.certificate is not None, f"{method} returned nothing on {ex.name}: {sol.message}"
@@ -69,6 +76,7 @@ def test_paper_examples_high(method):
         else:
             assert sol.status == "solved", f"{method} on {ex.name}: {sol.message}"
         if sol.ok:
+            assert_lcp_solution(ex.lcp, sol.z, tol=1e-9)
             K = _bound_constant(ex.lcp)
             dist = np.linalg.norm(sol.z - ex.z)
             assert dist <= K * (_nat_res(ex.lcp, sol.z) + _nat_res(ex.lcp, ex.z)) + 64 * np.finfo(float).eps * np.linalg.norm(ex.z)
@@ -93,30 +101,30 @@ def test_random_spd_agreement(case):
     lcp, z_ref = random_spd_lcp(n, cond, seed, sparse)
     K = _bound_constant(lcp)
     r_ref = _nat_res(lcp, z_ref)
-    sols = {m: qpcontact.solve(lcp, method=m, accuracy="high") for m in QP_BACKENDS}
+    # pairwise agreement of the certified answers, within their forward errors
+    # (the slowest backend here, ProxQP at cond 1e8, is cut at 10 s)
+    report = cross_validate(lcp, methods=QP_BACKENDS, accuracy="high", time_limit=10.0,
+                            min_certified=3)
     eps_allow = 64 * np.finfo(float).eps * np.linalg.norm(z_ref)
-    certified = 0
-    for m, sol in sols.items():
+    for m, sol in report.solutions.items():
         if sol.z is None:
-            assert sol.status == "failed" and not sol.ok
+            assert sol.status in ("failed", "time_limit") and not sol.ok
             continue
         # whatever the status, a returned point obeys the error bound
         r = _nat_res(lcp, sol.z)
         assert np.linalg.norm(sol.z - z_ref) <= K * (r + r_ref) + eps_allow, m
         if sol.ok:
-            certified += 1
-            assert sol.certificate.error <= 1e-9
-    # pairwise agreement among certified answers
-    ok = [s for s in sols.values() if s.ok]
+            assert_lcp_solution(lcp, sol.z, tol=1e-9)
+    # pairwise agreement also under the normwise bound
+    ok = [s for s in report.solutions.values() if s.ok]
     for a in ok:
         for b in ok:
             bound = K * (_nat_res(lcp, a.z) + _nat_res(lcp, b.z)) + eps_allow
             assert np.linalg.norm(a.z - b.z) <= bound, (a.method, b.method)
     # the exact active-set backends must certify every one of these problems
     for m in ("daqp", "quadprog"):
-        if m in sols and cond <= 1e6:
-            assert sols[m].ok, f"{m}: {sols[m].message}"
-    assert certified >= 3, {m: (s.status, s.error) for m, s in sols.items()}
+        if m in report.solutions and cond <= 1e6:
+            assert report.solutions[m].ok, f"{m}: {report.solutions[m].message}"
 
 
 def test_siconos_symmetric_psd(siconos_dir):
@@ -132,7 +140,8 @@ def test_siconos_symmetric_psd(siconos_dir):
         lcp = read_siconos_lcp(siconos_dir / name)
         assert lcp.is_symmetric and lcp.is_positive_definite, name
         K = _bound_constant(lcp)
-        sols = [qpcontact.solve(lcp, method=m, accuracy="high") for m in QP_BACKENDS]
+        report = cross_validate(lcp, methods=QP_BACKENDS, accuracy="high")
+        sols = list(report.solutions.values())
         ok = [s for s in sols if s.ok]
         assert len(ok) >= len(sols) - 4, [(s.method, s.status, s.error) for s in sols]
         ref = ok[0].z if z_expected is None else z_expected

@@ -125,7 +125,7 @@ def test_strategy_qps_reach_their_built_in_status(case):
     assert sol.status == case.status, (case.kind, sol.message)
     if case.status == "solved":
         assert case.agrees(sol.x), case.kind
-        assert_qp_kkt(case.problem, sol.x, z=sol.z)
+        assert_qp_kkt(case.problem, sol.x, y=sol.y, z=sol.z, z_box=sol.z_box)
 
 
 @pytest.mark.parametrize("kind", ["spd", "badly_scaled", "p_matrix", "friction"])

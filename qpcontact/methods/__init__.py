@@ -3,7 +3,8 @@
 A method is a function ``run(problem, tol, options) -> MethodResult`` registered
 under a name with declared capabilities.  ``tol`` is the tolerance to ask of the
 backend, or None for its own defaults; ``options`` are passed through to the
-backend as keyword arguments.  :func:`qpcontact.solve` converts the problem to
+backend as keyword arguments.  A backend's ``run`` may also take
+``time_limit=`` (seconds or None), which :func:`qpcontact.solve` then passes.  :func:`qpcontact.solve` converts the problem to
 the kind the method takes ("qp" or "lcp"), times the call, and certifies the
 answer: methods never certify themselves.
 

@@ -20,7 +20,7 @@ __all__ = ["Case", "build_lcp", "build_qp", "LCP_KINDS", "QP_KINDS"]
 
 LCP_KINDS = ("spd", "psd_singular", "degenerate", "badly_scaled", "p_matrix", "friction",
              "infeasible")
-QP_KINDS = ("convex", "degenerate", "infeasible", "unbounded")
+QP_KINDS = ("convex", "degenerate", "infeasible", "unbounded", "penalty")
 
 
 @dataclass
@@ -42,6 +42,20 @@ class Case:
     unique_z: bool = False
     unique_w: bool = True
     seed: int = 0
+    #: each component's natural size where the data were scaled (a planted
+    #: zero is judged on it); None: the smallest planted nonzero magnitude
+    z_scale: np.ndarray | None = None
+    w_scale: np.ndarray | None = None
+
+    def scales(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per-component scales of z and w that an answer's error is judged on:
+        max(|planted value|, the component's natural size)."""
+        if self.z_scale is not None:
+            return (np.maximum(np.abs(self.z), self.z_scale),
+                    np.maximum(np.abs(self.w), self.w_scale))
+        nz = np.concatenate([np.abs(self.z[self.z != 0]), np.abs(self.w[self.w != 0])])
+        floor = float(nz.min()) if nz.size else 1.0
+        return np.maximum(np.abs(self.z), floor), np.maximum(np.abs(self.w), floor)
 
     def agrees(self, answer, rtol: float = 1e-6) -> bool:
         """Whether an answer (LCP z, or QP x) matches the planted one, each
@@ -53,8 +67,8 @@ class Case:
         a = np.asarray(answer, float)
         if isinstance(self.problem, LCP):
             w = self.problem.w(a)
-            nz = np.concatenate([np.abs(self.z[self.z != 0]), np.abs(self.w[self.w != 0])])
-            floor = float(nz.min()) if nz.size else 1.0
+            zs, ws = self.scales()
+            floor = float(min(zs.min(), ws.min()))
             if not self.unique_w:
                 # nothing planted is determined: z >= 0, w >= 0, z_i w_i = 0
                 # checked here, independently of qpcontact.certify, each pair
@@ -65,10 +79,10 @@ class Case:
                 return bool(np.all(np.minimum(a / zs, w / np.maximum(sig, 1e-300)) >= -rtol)
                             and np.all(np.minimum(np.abs(a) / zs, np.abs(w) / np.maximum(sig, 1e-300))
                                        <= rtol))
-            ok_w = np.all(np.abs(w - self.w) <= rtol * np.maximum(np.abs(self.w), floor))
+            ok_w = np.all(np.abs(w - self.w) <= rtol * ws)
             if not self.unique_z:
-                return bool(ok_w and np.all(a >= -rtol * floor))
-            return bool(ok_w and np.all(np.abs(a - self.z) <= rtol * np.maximum(np.abs(self.z), floor)))
+                return bool(ok_w and np.all(a >= -rtol * zs))
+            return bool(ok_w and np.all(np.abs(a - self.z) <= rtol * zs))
         if self.unique_z:
             floor = max(float(np.abs(self.x).max()), 1e-300) * 1e-3
             return bool(np.all(np.abs(a - self.x) <= rtol * np.maximum(np.abs(self.x), floor)))
@@ -122,6 +136,8 @@ def build_lcp(kind: str, n: int, seed: int, *, cond: float = 1e4, decades: float
             M = (M * d[:, None]) * d[None, :]
             M = 0.5 * (M + M.T)
             z, w = z / d, w * d
+            return Case(kind, LCP(M, w - M @ z), "solved", z=z, w=w, unique_z=True, seed=seed,
+                        z_scale=0.1 / d, w_scale=0.1 * d)
         return Case(kind, LCP(M, w - M @ z), "solved", z=z, w=w, unique_z=True, seed=seed)
     if kind == "psd_singular":
         r = max(1, n // 2)
@@ -199,4 +215,42 @@ def build_qp(kind: str, n: int, seed: int, *, cond: float = 1e4) -> Case:
         q = rng.integers(-5, 6, n).astype(float)
         q[-1] -= (q @ d) + rng.integers(1, 4)
         return Case(kind, Problem(B @ B.T, q, Gi, h), "unbounded", seed=seed)
+    if kind == "penalty":
+        return _penalty_qp(n, rng, seed)
     raise ValueError(f"unknown QP kind {kind!r}; choose from {QP_KINDS}")
+
+
+def _penalty_qp(n: int, rng, seed: int) -> Case:
+    """P2's penalty QP of one integration step (formulations/penalty.py):
+    min ½λ'(C + 2μA)λ + (C P_y + μb)'λ  s.t.  Aλ >= -b, λ >= 0, with A =
+    J G⁻¹ J' singular (more contacts than degrees of freedom) and μ up to
+    1e12 times the exactness threshold μ*.  For μ > μ* its minimiser is the
+    LCP solution λ* (P2's exact-penalty result, reconstructed in
+    ../shared/PAPERS.md), which is planted here; μ* is computed from the
+    planted λ*, so the known answer holds by that theorem, not by a solver."""
+    dof, nu = max(2, n // 2), n
+    J = rng.standard_normal((nu, dof))
+    Ginv = random_spd(dof, 10.0, rng)
+    A = J @ Ginv @ J.T
+    A = 0.5 * (A + A.T)
+    C = 1e-3 * float(np.abs(A).max()) * random_spd(nu, 10.0, rng)
+    P_y = rng.uniform(0.0, 1.0, nu)
+    # λ*: at most dof positive (A_BB nonsingular), strictly complementary
+    support = rng.choice(nu, size=max(1, dof // 2), replace=False)
+    lam = np.zeros(nu)
+    lam[support] = rng.uniform(0.5, 2.0, support.size)
+    w = rng.uniform(0.5, 2.0, nu)
+    w[support] = 0.0
+    b = w - A @ lam
+    free = np.setdiff1d(np.arange(nu), support)
+    rhs = C @ (lam + P_y)
+    nu_b = np.linalg.solve(A[np.ix_(support, support)], rhs[support])
+    mu_star = max(float(np.max(-nu_b / lam[support])),
+                  float(np.max(((A[np.ix_(free, support)] @ nu_b - rhs[free]) / w[free]),
+                               initial=-np.inf)), 1e-12)
+    mu = mu_star * 10.0 ** rng.uniform(1.0, 12.0)
+    W = C + 2.0 * mu * A
+    W = 0.5 * (W + W.T)
+    c = C @ P_y + mu * b
+    return Case("penalty", Problem(W, c, -A, b, lb=np.zeros(nu)), "solved", x=lam,
+                objective=float(0.5 * lam @ W @ lam + c @ lam), unique_z=True, seed=seed)

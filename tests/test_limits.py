@@ -1,0 +1,165 @@
+"""Hard cases of issue 16: time limits, isolation, proofs of infeasibility and
+unboundedness for QPs, option names, and the definiteness test's scale."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from qpsolvers import Problem
+
+import qpcontact
+from qpcontact import LCP
+from qpcontact.errors import InvalidOptionError, NoSolutionError
+from qpcontact.isolation import call_isolated
+from qpcontact.testing import far_contact_lcp, random_spd
+from qpcontact.testing.cases import build_qp
+
+
+def _segfault():
+    os.kill(os.getpid(), signal.SIGSEGV)
+
+
+def _sleep(seconds):
+    time.sleep(seconds)
+    return seconds
+
+
+def _raise():
+    raise ValueError("from the child")
+
+
+def test_isolation_survives_a_crash_and_a_hang_and_passes_results_and_errors():
+    crashed = call_isolated(_segfault, (), 10.0)
+    assert crashed.kind == "crashed" and "SIGSEGV" in crashed.detail
+    start = time.perf_counter()
+    hung = call_isolated(_sleep, (30.0,), 0.5)
+    assert hung.kind == "time_limit" and time.perf_counter() - start < 5.0
+    assert call_isolated(_sleep, (0.01,), 10.0).value == 0.01
+    err = call_isolated(_raise, (), 10.0)
+    assert err.kind == "error" and isinstance(err.value, ValueError)
+
+
+def test_proxqp_is_killed_at_the_time_limit():
+    """ProxQP has no time limit of its own: with an iteration cap it ignores
+    (its inner iterations are not counted), it is run in a child and killed."""
+    lcp, _, _ = far_contact_lcp(7)
+    start = time.perf_counter()
+    sol = qpcontact.solve(lcp, "proxqp", max_iter=10**9, eps_abs=1e-300, time_limit=1.0)
+    assert time.perf_counter() - start < 10.0
+    assert sol.status in ("time_limit", "solved"), sol.message
+    if sol.status == "time_limit":
+        assert "time limit of 1 s" in sol.message and not sol.ok and sol.z is None
+
+
+def test_native_time_limit_is_reported_as_such():
+    rng = np.random.default_rng(0)
+    n = 800
+    P = sp.random(n, n, density=3e-3, random_state=1)
+    P = (P @ P.T + 1e-6 * sp.identity(n)).tocsc()
+    prob = Problem(P, rng.standard_normal(n), sp.csc_matrix(rng.standard_normal((50, n))),
+                   np.zeros(50), lb=-np.ones(n), ub=np.ones(n))
+    sol = qpcontact.solve(prob, "osqp", accuracy=1e-12, time_limit=1e-3)
+    assert sol.status == "time_limit" and not sol.ok, sol.message
+    assert "time limit" in sol.message
+
+
+def test_isolate_true_gives_the_in_process_answer():
+    lcp, z_star, _ = far_contact_lcp(3)
+    a = qpcontact.solve(lcp, "clarabel", isolate=True)
+    b = qpcontact.solve(lcp, "clarabel", isolate=False)
+    assert a.stats.get("isolated") and not b.stats.get("isolated")
+    assert a.status == b.status and np.array_equal(a.z, b.z)
+
+
+@pytest.mark.parametrize("value", [0, -1, "x", True, float("nan")])
+def test_time_limit_must_be_positive_seconds(value):
+    with pytest.raises(InvalidOptionError, match="time_limit"):
+        qpcontact.solve(LCP([[1.0]], [-1.0]), "lemke", time_limit=value)
+
+
+def test_isolate_must_be_auto_or_bool():
+    with pytest.raises(InvalidOptionError, match="isolate"):
+        qpcontact.solve(LCP([[1.0]], [-1.0]), "osqp", isolate="yes")
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_unbounded_qp_is_proved_fast_with_a_ray_that_checks(seed):
+    case = build_qp("unbounded", 8, seed)
+    start = time.perf_counter()
+    sol = qpcontact.solve(case.problem, "auto")
+    assert time.perf_counter() - start < 5.0
+    assert sol.status == "unbounded" and not sol.ok, sol.message
+    # the proof, checked here from the data (not by qpcontact.proofs)
+    proof = sol.stats["proof"]
+    P, q, G, h = case.problem.P, case.problem.q, case.problem.G, case.problem.h
+    d, x0 = proof.vector["d"], proof.point
+    assert q @ d < 0 and np.max(np.abs(P @ d)) <= 1e-12 * np.max(np.abs(P)) * np.max(np.abs(d))
+    assert np.all(G @ d <= 1e-12 * np.abs(G) @ np.abs(d)) and np.all(G @ x0 <= h + 1e-9)
+    with pytest.raises(NoSolutionError, match="unbounded"):
+        qpcontact.solve(case.problem, "auto", raise_on_failure=True)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_infeasible_qp_is_proved_with_a_farkas_vector_that_checks(seed):
+    case = build_qp("infeasible", 8, seed)
+    sol = qpcontact.solve(case.problem, "auto")
+    assert sol.status == "infeasible", sol.message
+    v = sol.stats["proof"].vector
+    G, h = case.problem.G, case.problem.h
+    assert np.all(v["z"] >= 0)
+    r = G.T @ v["z"]
+    assert h @ v["z"] < 0 and np.max(np.abs(r)) <= 1e-9 * abs(h @ v["z"])
+    assert sol.stats["auto_tried"][-1][1] == "infeasible" and len(sol.stats["auto_tried"]) == 1
+
+
+def test_explicit_backend_on_an_infeasible_qp_gets_the_proof():
+    prob = Problem(np.eye(2), np.zeros(2), np.array([[1.0, 0.0], [-1.0, 0.0]]),
+                   np.array([-1.0, -1.0]))
+    sol = qpcontact.solve(prob, "osqp")
+    assert sol.status == "infeasible" and "Farkas" in sol.message
+
+
+def test_a_bounded_qp_is_not_called_unbounded():
+    """P nearly singular but PD (smallest eigenvalue 1e-10): the minimiser is
+    far away but exists; no ray may be claimed."""
+    rng = np.random.default_rng(3)
+    P = random_spd(6, 1e10, rng)
+    sol = qpcontact.solve(Problem(P, rng.standard_normal(6)), "auto")
+    assert sol.status in ("solved", "inaccurate"), sol.message
+
+
+@pytest.mark.parametrize("method, bad, hint", [
+    ("highs", {"dual_feasibility_tolerence": 1e-9}, "no setting"),
+    ("piqp", {"eps_ab": 1e-9}, "eps_abs"),
+    ("cvxpy:DAQP", {"primal_tl": 1e-9}, "primal_tol"),
+    ("cvxpy:PROXQP", {"eps_ab": 1e-9}, "eps_abs"),
+    ("proxqp", {"max_iter_in": 10}, "max_iter"),
+])
+def test_unknown_option_names_are_refused_before_the_backend_runs(method, bad, hint):
+    if method not in qpcontact.methods():
+        pytest.skip(f"{method} is not installed")
+    prob = Problem(np.eye(2), np.ones(2))
+    with pytest.raises(InvalidOptionError, match=hint) as info:
+        qpcontact.solve(prob, method, **bad)
+    assert len(str(info.value)) < 1500
+
+
+def test_known_option_names_still_pass():
+    prob = Problem(np.eye(2), np.ones(2))
+    assert qpcontact.solve(prob, "highs", dual_feasibility_tolerance=1e-10).ok
+    assert qpcontact.solve(prob, "piqp", eps_abs=1e-10).ok
+
+
+def test_definiteness_does_not_depend_on_scaling_nor_overflow():
+    rng = np.random.default_rng(0)
+    A = rng.standard_normal((5, 5))
+    S = A @ A.T + np.eye(5)
+    D = np.diag(10.0 ** np.arange(-6, 9, 3))
+    assert LCP(D @ S @ D, np.ones(5)).is_positive_definite
+    assert not LCP([[1e308, -1e308], [-1e308, 1e308]], [1.0, 1.0]).is_positive_definite
+    assert LCP([[1e308, -1e308], [-1e308, 1e308]], [1.0, 1.0]).is_psd
