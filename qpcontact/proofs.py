@@ -37,6 +37,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
 from fractions import Fraction
 
 import numpy as np
@@ -121,34 +122,58 @@ def _farkas(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     k = np.cumsum([0, G.shape[0], A.shape[0], il.size, iu.size])
     lo = lb if lb is not None else np.full(n, -np.inf)
     hi = ub if ub is not None else np.full(n, np.inf)
-    for snap in (True, False):
-        proof = _exact_farkas(G, h, A, b, lo, hi, np.maximum(v[k[0]:k[1]], 0.0), v[k[1]:k[2]],
-                              sg, sa, snap)
+    weights = np.concatenate([sg * np.maximum(v[k[0]:k[1]], 0.0), sa * v[k[1]:k[2]]])
+    top = float(np.max(np.abs(weights), initial=0.0))
+    if not top > 0:
+        return None
+    for exact in _candidates(weights / top):   # the ratios are what matters: 1 : 2 : 3
+        proof = _exact_farkas(G, h, A, b, lo, hi, exact, G.shape[0])
         if proof is not None:
             return proof
     return None
 
 
-def _snap(values: np.ndarray, snap: bool) -> list:
+#: denominators tried when snapping an LP's vector to exact rationals
+#: (None: the doubles themselves); small first, since an LP solution is only
+#: accurate to its tolerance and a large denominator fits the error instead
+_SNAPS = (1 << 4, 1 << 8, 1 << 12, 1 << 16, 1 << 20, None)
+
+
+#: components below this fraction of the largest are tried as exact zeros
+#: (an LP leaves 1e-11 where the exact ray has 0)
+_ZEROS = (0.0, 1e-12, 1e-9, 1e-6)
+
+
+def _candidates(values: np.ndarray):
+    """Exact rational vectors near ``values``, simplest first."""
+    top = float(np.max(np.abs(values), initial=0.0))
+    for tiny in _ZEROS:
+        cut = np.where(np.abs(values) <= tiny * top, 0.0, values)
+        for limit in _SNAPS:
+            yield _snap(cut, limit)
+
+
+def _snap(values: np.ndarray, limit) -> list:
     """Exact rationals near an LP's floating-point solution (small denominators
     recover the exact weights of integer data: 1/3 rather than 0.3333...)."""
-    if not snap:
+    if limit is None:
         return [Fraction(float(v)) for v in values]
-    return [Fraction(float(v)).limit_denominator(1 << 20) for v in values]
+    out = []
+    for v in values:
+        # each component's mantissa on its own: scaled data put the exact
+        # weights at different powers of two (2^-23 beside 1)
+        m, e = math.frexp(float(v))
+        out.append(Fraction(m).limit_denominator(limit) * Fraction(2) ** e)
+    return out
 
 
-def _exact_farkas(G, h, A, b, lo, hi, vz, vy, sg, sa, snap) -> QPProof | None:
+def _exact_farkas(G, h, A, b, lo, hi, exact, m_G) -> QPProof | None:
     """Check a Farkas vector in exact rational arithmetic: the data's doubles
     are rationals, so G'z + A'y, the bound multipliers that cancel it, and
     c = h'z + b'y - lb'μl + ub'μu are computed without rounding.  Sound: a
     vector that passes proves infeasibility of the data as stored."""
     n = lo.size
-    weights = np.concatenate([sg * vz, sa * vy])
-    top = float(np.max(np.abs(weights), initial=0.0))
-    if not top > 0:
-        return None
-    exact = _snap(weights / top, snap)   # the ratios are what matters: 1 : 2 : 3
-    z, y = exact[:vz.size], exact[vz.size:]
+    z, y = exact[:m_G], exact[m_G:]
     Gc, Ac = G.tocsr(), A.tocsr()
     work = sum(Gc.indptr[i + 1] - Gc.indptr[i] for i in range(Gc.shape[0]) if z[i]) + \
         sum(Ac.indptr[i + 1] - Ac.indptr[i] for i in range(Ac.shape[0]) if y[i])
@@ -264,18 +289,27 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     A_ub = (sp.diags(sg) @ G).tocsc() if G.shape[0] else None
     lo = np.where(np.isfinite(lb), 0.0, -1.0) if lb is not None else -np.ones(n)
     hi = np.where(np.isfinite(ub), 0.0, 1.0) if ub is not None else np.ones(n)
-    res = _linprog(q, A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]) if A_ub is not None else None,
-                   A_eq=A_eq, b_eq=np.zeros(A_eq.shape[0]) if A_eq is not None else None,
+    # d = c * d~ with c_j a power of two near 1 / max|column j|: data scaled
+    # over decades make the ray's components span them too, and the LP's
+    # absolute tolerance would leave the small ones without a correct digit
+    stacked = [m for m in (A_eq, A_ub) if m is not None]
+    colmax = (np.asarray(abs(sp.vstack(stacked)).max(axis=0).toarray()).ravel() if stacked
+              else np.ones(n))
+    c = np.where(colmax > 0, 2.0 ** -np.round(np.log2(np.where(colmax > 0, colmax, 1.0))), 1.0)
+    Cd = sp.diags(c)
+    res = _linprog(q * c, A_ub=(A_ub @ Cd).tocsc() if A_ub is not None else None,
+                   b_ub=np.zeros(A_ub.shape[0]) if A_ub is not None else None,
+                   A_eq=(A_eq @ Cd).tocsc() if A_eq is not None else None,
+                   b_eq=np.zeros(A_eq.shape[0]) if A_eq is not None else None,
                    bounds=list(zip(lo, hi)), time_limit=tl)
     if res is None or res.status != 0 or res.x is None:
         return None
-    d0 = np.clip(res.x, lo, hi)
+    d0 = np.clip(res.x, lo, hi) * c
     top = float(np.max(np.abs(d0), initial=0.0))
     if not top > 0:
         return None
     d0 = d0 / top
-    for snap in (True, False):
-        dF = _snap(d0, snap)
+    for dF in _candidates(d0):
         if _exact_ray(P, q, G, A, dF, lo, hi):
             break
     else:
