@@ -323,6 +323,11 @@ def _doubtful(problem, sol) -> bool:
         return False
     if not sol.ok:
         return True
+    if sol.certificate.normwise_error > max(10.0 * sol.certificate.error, sol.tol):
+        # residuals small on their own rows' scales but not on the data's
+        # norms: the rows' scales grew with the point (|P||x| at x ~ 1e2..1e17
+        # on unbounded QPs), a sign of a point running off to infinity
+        return True
     if isinstance(problem, LCP):
         cert = sol.certificate
         if cert.forward_error_known and not cert.forward_error < 1.0:
