@@ -114,6 +114,8 @@ def _farkas(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     ubf = ub[iu] if iu.size else np.zeros(0)
     A_eq = sp.hstack([Gs.T, As.T, -El, Eu]).tocsc()
     cost = np.concatenate([sg * h, sa * b, -lbf, ubf])
+    if not np.all(np.isfinite(cost)):
+        return None  # data beyond double precision's range once scaled: nothing to prove here
     bounds = ([(0, 1)] * G.shape[0] + [(-1, 1)] * A.shape[0] + [(0, 1)] * (il.size + iu.size))
     res = _linprog(cost, A_eq=A_eq, b_eq=np.zeros(n), bounds=bounds, time_limit=tl)
     if res is None or res.status != 0 or res.x is None or not res.fun < 0:
@@ -247,8 +249,9 @@ def prove_lcp_infeasible(lcp, time_limit: float | None = None) -> QPProof | None
     n = lcp.n
     M = sp_.csr_matrix(lcp.M)
     tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
-    return _farkas(None, np.zeros(n), -M, np.asarray(lcp.q, float), None, None,
-                   np.zeros(n), None, tl)
+    with np.errstate(all="ignore"):
+        return _farkas(None, np.zeros(n), -M, np.asarray(lcp.q, float), None, None,
+                       np.zeros(n), None, tl)
 
 
 def _feasible_point(q, G, h, A, b, lb, ub, tl) -> np.ndarray | None:
@@ -367,7 +370,8 @@ def prove_no_minimiser(problem, time_limit: float | None = None) -> QPProof | No
     P, q, G, h, A, b, lb, ub = problem.unpack()
     q = np.asarray(q, dtype=float)
     tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
-    proof = _farkas(P, q, G, h, A, b, lb, ub, tl)
-    if proof is None:
-        proof = _ray(P, q, G, h, A, b, lb, ub, tl)
+    with np.errstate(all="ignore"):
+        proof = _farkas(P, q, G, h, A, b, lb, ub, tl)
+        if proof is None:
+            proof = _ray(P, q, G, h, A, b, lb, ub, tl)
     return proof
