@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export OMP_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 
-.PHONY: demo test test-all bench clean
+.PHONY: demo test test-all stress bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,6 +25,10 @@ test: $(STAMP)
 
 test-all: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2 -m ""
+
+# The full hard-case suite (docs/testing.md): about 10 000 problems, ~1 h on 2 cores.
+stress: $(STAMP)
+	$(BIN)/qpcontact stress --out out/stress
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e ".[benchmark]"

@@ -265,16 +265,10 @@ def _read_rows(path: Path) -> list[dict]:
 
 def _write_rows(path: Path, rows: list[dict]) -> None:
     """Atomic: a temporary file, then a rename (an interrupted sweep keeps its CSV)."""
+    from ._files import write_csv_atomic
+
     rows = sorted(rows, key=lambda r: (r["instance"], r["method"], _level_order(r["level"])))
-    tmp = path.with_suffix(".csv.tmp")
-    with open(tmp, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=FIELDS)
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: r.get(k, "") for k in FIELDS})
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    write_csv_atomic(path, rows, FIELDS)
 
 
 def _level_order(level: str):

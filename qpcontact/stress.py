@@ -427,6 +427,8 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
     from multiprocessing.connection import wait
 
     pending = list(reversed(tasks))
+    path = out / "stress.csv"
+    saved = 0
     try:
         while pending or any(w.task is not None for w in pool):
             for w in pool:
@@ -458,19 +460,21 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
                                  "seconds": hard})
                     w.restart()
                     bar.advance()
+            if len(rows) - saved >= 2000:  # a long run killed midway keeps what it did
+                _write_csv(path, rows)
+                saved = len(rows)
     finally:
         for w in pool:
             w.close()
         bar.close()
-    path = out / "stress.csv"
-    tmp = path.with_suffix(".csv.tmp")
-    with open(tmp, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=FIELDS)
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: row.get(k, "") for k in FIELDS})
-    os.replace(tmp, path)
+    _write_csv(path, rows)
     return path
+
+
+def _write_csv(path: Path, rows: list[dict]) -> None:
+    from ._files import write_csv_atomic
+
+    write_csv_atomic(path, rows, FIELDS)
 
 
 # --------------------------------------------------------------------------- reports

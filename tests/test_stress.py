@@ -6,7 +6,6 @@ import csv
 import dataclasses
 
 import numpy as np
-import pytest
 
 import qpcontact
 from qpcontact.stress import FAMILIES, QUICK, build_case, judge, plot_heatmap, run_stress, write_markdown

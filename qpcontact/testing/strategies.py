@@ -48,13 +48,18 @@ from .cases import LCP_KINDS, QP_KINDS, Case, build_lcp, build_qp
 __all__ = ["Case", "lcps", "qps", "LCP_KINDS", "QP_KINDS", "build_lcp", "build_qp"]
 
 
+def _checked(kinds, known, what: str) -> tuple:
+    kinds = tuple(kinds)
+    for k in kinds:
+        if k not in known:
+            raise ValueError(f"unknown {what} kind {k!r}; choose from {known}")
+    return kinds
+
+
 def lcps(kinds=LCP_KINDS, min_n: int = 2, max_n: int = 30, max_cond: float = 1e8,
          max_decades: float = 12.0):
     """Strategy drawing :class:`Case` objects holding LCPs of the given kinds."""
-    kinds = tuple(kinds)
-    for k in kinds:
-        if k not in LCP_KINDS:
-            raise ValueError(f"unknown LCP kind {k!r}; choose from {LCP_KINDS}")
+    kinds = _checked(kinds, LCP_KINDS, "LCP")
 
     @st.composite
     def draw(data):
@@ -70,10 +75,7 @@ def lcps(kinds=LCP_KINDS, min_n: int = 2, max_n: int = 30, max_cond: float = 1e8
 
 def qps(kinds=QP_KINDS, min_n: int = 2, max_n: int = 30, max_cond: float = 1e6):
     """Strategy drawing :class:`Case` objects holding QPs of the given kinds."""
-    kinds = tuple(kinds)
-    for k in kinds:
-        if k not in QP_KINDS:
-            raise ValueError(f"unknown QP kind {k!r}; choose from {QP_KINDS}")
+    kinds = _checked(kinds, QP_KINDS, "QP")
 
     @st.composite
     def draw(data):
