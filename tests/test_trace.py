@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import qpcontact
+from qpcontact.testing import assert_lcp_solution
 from qpcontact import InvalidProblemError, NoSolutionError, ParametricLCP
 
 from .conftest import random_spd
@@ -208,7 +209,7 @@ def test_nonP_traces_end_as_proved():
         for piece in tr.pieces:
             hi = piece.p_end if np.isfinite(piece.p_end) else piece.p_start + 1.0
             for p in (piece.p_start, 0.5 * (piece.p_start + hi), hi):
-                assert qpcontact.certify(plcp.at(p), piece.z(p)).error <= 1e-9
+                assert_lcp_solution(plcp.at(p), piece.z(p), tol=1e-9)
         p_end, z_end = tr.p_end, tr.z
         scale = max(1.0, abs(p_end))
         if tr.end == "collapse":
@@ -265,7 +266,7 @@ def test_trace_psd_singular_matrix_w_matches_independent_solves(seed):
         for frac in (0.25, 0.75):
             p = piece.p_start + frac * (hi - piece.p_start)
             lcp = plcp.at(p)
-            assert qpcontact.certify(lcp, tr.z_at(p)).error <= 1e-9
+            assert_lcp_solution(lcp, tr.z_at(p), tol=1e-9)
             ref = None
             for name in ("clarabel", "piqp", "osqp"):
                 if name in qpcontact.methods():
