@@ -163,3 +163,21 @@ def test_definiteness_does_not_depend_on_scaling_nor_overflow():
     assert LCP(D @ S @ D, np.ones(5)).is_positive_definite
     assert not LCP([[1e308, -1e308], [-1e308, 1e308]], [1.0, 1.0]).is_positive_definite
     assert LCP([[1e308, -1e308], [-1e308, 1e308]], [1.0, 1.0]).is_psd
+
+
+@pytest.mark.parametrize("method, key", [("highs", "time_limit"), ("osqp", "time_limit"),
+                                         ("clarabel", "time_limit"), ("scs", "time_limit_secs")])
+def test_every_backend_with_a_time_setting_gets_the_limit(monkeypatch, method, key):
+    """HiGHS ran > 120 s on a small PD QP (the audit): the limit must reach it."""
+    import qpsolvers
+
+    seen = {}
+    real = qpsolvers.solve_problem
+
+    def spy(problem, solver, **kwargs):
+        seen.update(kwargs)
+        return real(problem, solver=solver, **kwargs)
+
+    monkeypatch.setattr(qpsolvers, "solve_problem", spy)
+    qpcontact.solve(Problem(np.eye(3), np.ones(3)), method, time_limit=7.5)
+    assert seen.get(key) == 7.5
