@@ -87,7 +87,9 @@ _QPSOLVERS_TABLE: dict[str, Callable[[float], dict]] = {
     # notes it too).  It regularises the Hessian by 1e-7 by default, which moved
     # the P0 solutions by 2.5e-8 whatever the tolerances; shrinking the
     # regularisation with tol made them exact.
-    "highs": lambda t: {"dual_feasibility_tolerance": t, "primal_feasibility_tolerance": t,
+    # HiGHS refuses feasibility tolerances below 1e-10 (kError; cvxpy raises).
+    "highs": lambda t: {"dual_feasibility_tolerance": max(t, 1e-10),
+                        "primal_feasibility_tolerance": max(t, 1e-10),
                         "qp_regularization_value": min(1e-7, 1e-2 * t)},
     "hpipm": lambda t: {"tol_dual_gap": t, "tol_eq": t, "tol_ineq": t, "tol_stat": t},
     "kvxopt": lambda t: {"feastol": t},

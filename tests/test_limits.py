@@ -56,14 +56,15 @@ def test_proxqp_is_killed_at_the_time_limit():
         assert "time limit of 1 s" in sol.message and not sol.ok and sol.z is None
 
 
-def test_native_time_limit_is_reported_as_such():
+@pytest.mark.parametrize("method", ["osqp", "highs", "clarabel", "cvxpy:HIGHS"])
+def test_native_time_limit_is_reported_as_such(method):
     rng = np.random.default_rng(0)
     n = 800
     P = sp.random(n, n, density=3e-3, random_state=1)
     P = (P @ P.T + 1e-6 * sp.identity(n)).tocsc()
     prob = Problem(P, rng.standard_normal(n), sp.csc_matrix(rng.standard_normal((50, n))),
                    np.zeros(50), lb=-np.ones(n), ub=np.ones(n))
-    sol = qpcontact.solve(prob, "osqp", accuracy=1e-12, time_limit=1e-3)
+    sol = qpcontact.solve(prob, method, accuracy=1e-12, time_limit=1e-3)
     assert sol.status == "time_limit" and not sol.ok, sol.message
     assert "time limit" in sol.message
 
