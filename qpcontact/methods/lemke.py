@@ -26,6 +26,7 @@ per pivot; up to a few thousand unknowns (DENSE_TABLEAU_LIMIT).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import warnings
 
 import numpy as np
 import scipy.linalg
@@ -295,8 +296,11 @@ def _refined(lcp, M: np.ndarray, z_tab: np.ndarray, basic_z: np.ndarray) -> np.n
     right; the tableau's z otherwise (a singular or degenerate block)."""
     q = lcp.q
     try:
-        z, w = ActiveBlock(M, basic_z, symmetric=False).basic_solution(M, q, refine=2)
-    except (np.linalg.LinAlgError, SolutionOverflow):
+        with warnings.catch_warnings():
+            # a singular basis (degenerate, or M_FF singular) keeps the tableau's z
+            warnings.simplefilter("error", scipy.linalg.LinAlgWarning)
+            z, w = ActiveBlock(M, basic_z, symmetric=False).basic_solution(M, q, refine=2)
+    except (np.linalg.LinAlgError, scipy.linalg.LinAlgWarning, SolutionOverflow):
         return z_tab
     tau_z, tau_w = sign_tolerances(ComponentScales(M, lcp.q_terms, lcp.matrix_scale), z)
     if np.all(z[basic_z] >= -tau_z[basic_z]) and np.all(w[~basic_z] >= -tau_w[~basic_z]):
