@@ -18,7 +18,8 @@ import numpy as np
 from ..accuracy import backend_settings
 from ..solution import MethodResult
 from . import Method, register
-from .qpsolvers_backends import _reject_options, check_option_names, refuse_extreme_data
+from .qpsolvers_backends import (_PRINTS_WHEN_QUIET, _quiet_c_stdout, _reject_options,
+                                 check_option_names, refuse_extreme_data)
 
 _ALGORITHMS = {
     "CLARABEL": "interior-point", "SCS": "ADMM (conic)", "ECOS": "interior-point (conic)",
@@ -109,7 +110,8 @@ def _make_run(solver: str):
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 started = time.perf_counter()
-                prob.solve(solver=solver, **settings)
+                with _quiet_c_stdout(solver.lower() in _PRINTS_WHEN_QUIET):
+                    prob.solve(solver=solver, **settings)
                 elapsed = time.perf_counter() - started
         except Exception as exc:
             _reject_options(f"cvxpy:{solver}", options, exc)

@@ -43,8 +43,10 @@ _KNOWN = {
 
 # OSQP 1.x prints "Polishing not needed - no active set detected at optimal
 # point" from C even with verbose=False; in a time stepper that is one line per
-# step.  Its C-level stdout is silenced during the call.
-_PRINTS_WHEN_QUIET = {"osqp"}
+# step.  highspy 1.16 prints its banner ("Running HiGHS 1.16.0 ...") when a
+# solver object is made, before qpsolvers can turn its output off.  Their
+# C-level stdout is silenced during the call.
+_PRINTS_WHEN_QUIET = {"osqp", "highs"}
 
 
 @contextlib.contextmanager
