@@ -36,6 +36,7 @@ import csv
 import math
 import os
 import statistics
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -463,6 +464,11 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
             if len(rows) - saved >= 2000:  # a long run killed midway keeps what it did
                 _write_csv(path, rows)
                 saved = len(rows)
+                if progress and not sys.stderr.isatty():  # logs get a line, not a bar
+                    wrong = sum(r["category"] == "silent_wrong" for r in rows)
+                    hung = sum(r["category"] == "hung" for r in rows)
+                    print(f"stress: {len(rows)}/{len(tasks)} solves, {wrong} silent wrong, "
+                          f"{hung} hung", file=sys.stderr, flush=True)
     finally:
         for w in pool:
             w.close()
