@@ -19,7 +19,7 @@ from ..accuracy import backend_settings
 from ..solution import MethodResult
 from . import Method, register
 from .qpsolvers_backends import (_PRINTS_WHEN_QUIET, _quiet_c_stdout, _reject_options,
-                                 check_option_names, refuse_extreme_data)
+                                 check_option_names, ran_out, refuse_extreme_data)
 
 _ALGORITHMS = {
     "CLARABEL": "interior-point", "SCS": "ADMM (conic)", "ECOS": "interior-point (conic)",
@@ -129,8 +129,8 @@ def _make_run(solver: str):
                 z_box[upper] += np.asarray(duals["ub"]).ravel()
         # cvxpy reports a solver's time limit as "user_limit", as it does an
         # iteration cap: the clock decides
-        out_of_time = time_limit is not None and solver in TIME_LIMIT_KEY and elapsed >= 0.95 * time_limit
-        extra = {"time_limit_reached": True} if out_of_time else {}
+        extra = ({"time_limit_reached": True}
+                 if ran_out(elapsed, time_limit, solver in TIME_LIMIT_KEY) else {})
         return MethodResult(
             x=None if x.value is None else np.asarray(x.value).ravel(),
             y=y, z=z, z_box=z_box,
