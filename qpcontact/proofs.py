@@ -84,11 +84,13 @@ def _row_scale(M: sp.csr_matrix) -> np.ndarray:
 LP_TIME_LIMIT = 30.0
 
 
-def _linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None, time_limit=LP_TIME_LIMIT):
+def _linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None, time_limit=LP_TIME_LIMIT,
+             tight=True):
     from scipy.optimize import linprog
 
-    options = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10,
-               "time_limit": time_limit}
+    options = {"time_limit": time_limit}
+    if tight:
+        options.update(primal_feasibility_tolerance=1e-10, dual_feasibility_tolerance=1e-10)
     with np.errstate(all="ignore"):
         try:
             return linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds,
@@ -112,7 +114,10 @@ def _farkas(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     Eu = sp.csr_matrix((np.ones(iu.size), (iu, np.arange(iu.size))), shape=(n, iu.size))
     lbf = lb[il] if il.size else np.zeros(0)
     ubf = ub[iu] if iu.size else np.zeros(0)
-    A_eq = sp.hstack([Gs.T, As.T, -El, Eu]).tocsc()
+    A_eq = sp.hstack([Gs.T, As.T, -El, Eu]).tocsr()
+    # each equation (one per variable) at unit size as well: a variable
+    # scaled by 1e-6 otherwise leaves its equation under HiGHS's tolerance
+    A_eq = (sp.diags(_row_scale(A_eq)) @ A_eq).tocsc()
     cost = np.concatenate([sg * h, sa * b, -lbf, ubf])
     if not np.all(np.isfinite(cost)):
         return None  # data beyond double precision's range once scaled: nothing to prove here
@@ -254,21 +259,23 @@ def prove_lcp_infeasible(lcp, time_limit: float | None = None) -> QPProof | None
                        np.zeros(n), None, tl)
 
 
-def _feasible_point(q, G, h, A, b, lb, ub, tl) -> np.ndarray | None:
-    n = q.size
-    G, A = _rows(G, n), _rows(A, n)
-    sg, sa = _row_scale(G), _row_scale(A)
-    lo = lb if lb is not None else np.full(n, -np.inf)
-    hi = ub if ub is not None else np.full(n, np.inf)
-    bounds = list(zip(np.where(np.isfinite(lo), lo, None), np.where(np.isfinite(hi), hi, None)))
-    res = _linprog(np.zeros(n), A_ub=(sp.diags(sg) @ G).tocsc() if G.shape[0] else None,
-                   b_ub=sg * h if G.shape[0] else None,
-                   A_eq=(sp.diags(sa) @ A).tocsc() if A.shape[0] else None,
-                   b_eq=sa * b if A.shape[0] else None, bounds=bounds, time_limit=tl)
-    if res is None or res.status != 0 or res.x is None:
-        return None
-    x = np.clip(res.x, lo, hi)
-    # checked, not believed: each row's violation against its own scale
+def _column_scale(blocks, n) -> np.ndarray:
+    """Powers of two near 1 / max|column j| of the stacked blocks: x = c * x~.
+    Data scaled over decades make the LP's answer span them too, and HiGHS's
+    absolute tolerances would leave the small components without a correct
+    digit (a feasible point whose rows were violated by 27 % of their size
+    came back "optimal" on a QP scaled over 12 decades)."""
+    stacked = [m for m in blocks if m is not None and m.shape[0]]
+    if not stacked:
+        return np.ones(n)
+    colmax = np.asarray(abs(sp.vstack(stacked)).max(axis=0).toarray()).ravel()
+    return np.where(colmax > 0, 2.0 ** -np.round(np.log2(np.where(colmax > 0, colmax, 1.0))), 1.0)
+
+
+def _is_feasible(x, G, h, A, b, lo, hi) -> bool:
+    """Each row's violation against its own scale (checked, not believed)."""
+    if not (np.all(np.isfinite(x)) and np.all(x >= lo) and np.all(x <= hi)):
+        return False
     for M, rhs, eq in ((G, h, False), (A, b, True)):
         if not M.shape[0]:
             continue
@@ -276,46 +283,90 @@ def _feasible_point(q, G, h, A, b, lb, ub, tl) -> np.ndarray | None:
         scale = abs(M) @ np.abs(x) + np.abs(rhs)
         bad = np.abs(r) if eq else np.maximum(r, 0.0)
         if np.any(bad > 1e-9 * scale + np.finfo(float).tiny):
-            return None
-    return x
+            return False
+    return True
+
+
+def _feasible_point(q, G, h, A, b, lb, ub, tl) -> np.ndarray | None:
+    n = q.size
+    G, A = _rows(G, n), _rows(A, n)
+    lo = lb if lb is not None else np.full(n, -np.inf)
+    hi = ub if ub is not None else np.full(n, np.inf)
+    x = np.clip(np.zeros(n), lo, hi)
+    if _is_feasible(x, G, h, A, b, lo, hi):
+        return x
+    c = _column_scale((G, A), n)
+    Cd = sp.diags(c)
+    Gc, Ac = G @ Cd, A @ Cd
+    sg, sa = _row_scale(Gc), _row_scale(Ac)
+    lo_c, hi_c = lo / c, hi / c
+    bounds = list(zip(np.where(np.isfinite(lo_c), lo_c, None),
+                      np.where(np.isfinite(hi_c), hi_c, None)))
+    res = _linprog(np.zeros(n), A_ub=(sp.diags(sg) @ Gc).tocsc() if G.shape[0] else None,
+                   b_ub=sg * h if G.shape[0] else None,
+                   A_eq=(sp.diags(sa) @ Ac).tocsc() if A.shape[0] else None,
+                   b_eq=sa * b if A.shape[0] else None, bounds=bounds, time_limit=tl)
+    if res is None or res.status != 0 or res.x is None:
+        return None
+    x = np.clip(res.x * c, lo, hi)
+    return x if _is_feasible(x, G, h, A, b, lo, hi) else None
 
 
 def _ray(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     n = q.size
     P = sp.csr_matrix(P)
     G, A = _rows(G, n), _rows(A, n)
-    sp_, sg, sa = _row_scale(P), _row_scale(G), _row_scale(A)
-    keep = sp_ > 0
-    Ps = (sp.diags(sp_) @ P)[np.flatnonzero(keep)]
-    blocks_eq = [m for m in (Ps, sp.diags(sa) @ A) if m.shape[0]]
-    A_eq = sp.vstack(blocks_eq).tocsc() if blocks_eq else None
-    A_ub = (sp.diags(sg) @ G).tocsc() if G.shape[0] else None
     lo = np.where(np.isfinite(lb), 0.0, -1.0) if lb is not None else -np.ones(n)
     hi = np.where(np.isfinite(ub), 0.0, 1.0) if ub is not None else np.ones(n)
-    # d = c * d~ with c_j a power of two near 1 / max|column j|: data scaled
-    # over decades make the ray's components span them too, and the LP's
-    # absolute tolerance would leave the small ones without a correct digit
-    stacked = [m for m in (A_eq, A_ub) if m is not None]
-    colmax = (np.asarray(abs(sp.vstack(stacked)).max(axis=0).toarray()).ravel() if stacked
-              else np.ones(n))
-    c = np.where(colmax > 0, 2.0 ** -np.round(np.log2(np.where(colmax > 0, colmax, 1.0))), 1.0)
+    # d = c * d~, then every row of the column-scaled matrices at unit size.
+    # Where P_jj > 0, c_j = P_jj^-1/2 (to a power of two): the ray lies in P's
+    # null space, and Jacobi scaling undoes any diagonal scaling x = D x' of
+    # the variables, where column maxima mix the other columns' scales.  With
+    # rows scaled before columns, entries of 1e-9..1e-6 fell under HiGHS's
+    # absolute tolerances: on QPs scaled over 12 decades the LP then found no
+    # ray, or one whose small components had no correct digit.
+    c = _column_scale((P, G, A), n)
+    pdiag = np.asarray(P.diagonal(), dtype=float)
+    pos = pdiag > 0
+    c[pos] = 2.0 ** -np.round(0.5 * np.log2(pdiag[pos]))
     Cd = sp.diags(c)
-    res = _linprog(q * c, A_ub=(A_ub @ Cd).tocsc() if A_ub is not None else None,
-                   b_ub=np.zeros(A_ub.shape[0]) if A_ub is not None else None,
-                   A_eq=(A_eq @ Cd).tocsc() if A_eq is not None else None,
-                   b_eq=np.zeros(A_eq.shape[0]) if A_eq is not None else None,
-                   bounds=list(zip(lo, hi)), time_limit=tl)
-    if res is None or res.status != 0 or res.x is None:
-        return None
-    d0 = np.clip(res.x, lo, hi) * c
-    top = float(np.max(np.abs(d0), initial=0.0))
-    if not top > 0:
-        return None
-    d0 = d0 / top
-    for dF in _candidates(d0):
-        if _exact_ray(P, q, G, A, dF, lo, hi):
+    Pc, Gc, Ac = P @ Cd, G @ Cd, A @ Cd
+    sp_, sg, sa = _row_scale(Pc), _row_scale(Gc), _row_scale(Ac)
+    Ps = (sp.diags(sp_) @ Pc)[np.flatnonzero(sp_ > 0)]
+    blocks_eq = [m for m in (Ps, sp.diags(sa) @ Ac) if m.shape[0]]
+    A_eq = sp.vstack(blocks_eq).tocsc() if blocks_eq else None
+    A_ub = (sp.diags(sg) @ Gc).tocsc() if G.shape[0] else None
+    cost = q * c
+    top_cost = float(np.max(np.abs(cost), initial=0.0))
+    if not np.isfinite(top_cost) or not top_cost > 0:
+        return None  # q'd = 0 for every d: no descent direction
+    dF = None
+    # The cost at unit size too (HiGHS's dual tolerance is absolute: a cost
+    # of 1e-9 entries was declared optimal at d = 0).  HiGHS's own
+    # tolerances first, then 1e-10: each missed rays the other found (at
+    # 1e-10 it called d = 0 optimal beside a rank-deficient P block where the
+    # default found q'd = -0.1); the exact check decides.
+    for tight in (False, True):
+        res = _linprog(cost / top_cost, A_ub=A_ub,
+                       b_ub=np.zeros(A_ub.shape[0]) if A_ub is not None else None,
+                       A_eq=A_eq, b_eq=np.zeros(A_eq.shape[0]) if A_eq is not None else None,
+                       bounds=list(zip(lo, hi)), time_limit=tl, tight=tight)
+        if res is None or res.status != 0 or res.x is None or not res.fun < 0:
+            continue
+        # snapped in the LP's balanced coordinates, where a component that is
+        # exactly 0 reads 1e-8 beside 1, not beside 1e-12 (components of d
+        # itself span the data's decades), and mapped back exactly (c_j are
+        # powers of two)
+        dt = np.clip(res.x, lo, hi)
+        top = float(np.max(np.abs(dt), initial=0.0))
+        if not top > 0:
+            continue
+        cF = [Fraction(float(v)) for v in c]
+        dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)] for vt in _candidates(dt / top))
+                   if _exact_ray(P, q, G, A, d, lo, hi)), None)
+        if dF is not None:
             break
-    else:
+    if dF is None:
         return None
     d = np.array([float(v) for v in dF])
     x0 = _feasible_point(q, G, h, A, b, lb, ub, tl)
@@ -375,3 +426,4 @@ def prove_no_minimiser(problem, time_limit: float | None = None) -> QPProof | No
         if proof is None:
             proof = _ray(P, q, G, h, A, b, lb, ub, tl)
     return proof
+

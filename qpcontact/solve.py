@@ -349,6 +349,14 @@ def _prove_no_solution(problem, sol, time_limit=None):
     proof = (prove_lcp_infeasible(problem, time_limit) if isinstance(problem, LCP)
              else prove_no_minimiser(problem, time_limit))
     if proof is None:
+        cert = sol.certificate
+        if (sol.ok and isinstance(problem, LCP) and cert.forward_error_known
+                and np.isfinite(cert.forward_error) and cert.forward_error >= 1.0):
+            # an exactly singular M within rounding of a solvable one: what
+            # the residuals certify is a solution of nearby data
+            sol.message += ("; with no digit guaranteed the data as stored may have no solution "
+                            "at all (a Farkas vector was sought and none could be checked "
+                            "exactly)")
         return sol
     before = (f"{sol.method} certified a point of nearby data (error {sol.error:.1e})" if sol.ok
               else f"{sol.method} returned {sol.backend_status!r}")

@@ -118,6 +118,39 @@ def test_infeasible_qp_is_proved_with_a_farkas_vector_that_checks(seed):
     assert sol.stats["auto_tried"][-1][1] == "infeasible" and len(sol.stats["auto_tried"]) == 1
 
 
+# (family, n, seed, method, accuracy) of the full stress run where a backend
+# certified a point of an unbounded QP whose variables were scaled over 8-12
+# decades, and the proof's LPs (scaled by rows only) found no ray that checked,
+# or no feasible point (HiGHS called a point violating rows by 27 % optimal)
+_SCALED_UNBOUNDED = [("qp_unbounded", 8, 10, "osqp", "default"),
+                     ("qp_unbounded", 8, 19, "clarabel", "default"),
+                     ("qp_unbounded", 30, 19, "proxqp", "default"),
+                     ("qp_unbounded", 30, 21, "clarabel", "low"),
+                     ("qp_unbounded", 100, 7, "osqp", "default"),
+                     ("qp_unbounded", 100, 23, "quadprog", "high")]
+
+
+@pytest.mark.parametrize("family, n, seed, method, accuracy", _SCALED_UNBOUNDED)
+def test_a_certified_point_of_a_scaled_unbounded_qp_is_replaced_by_the_ray(
+        family, n, seed, method, accuracy):
+    from fractions import Fraction
+
+    from qpcontact.stress import build_case
+
+    case = build_case(family, n, seed)
+    assert case.status == "unbounded"
+    sol = qpcontact.solve(case.problem, method, accuracy)
+    assert sol.status == "unbounded" and not sol.ok, sol.message
+    # checked here in exact arithmetic, independently of qpcontact.proofs
+    P, q, G, h = case.problem.P, case.problem.q, case.problem.G, case.problem.h
+    d = [Fraction(float(v)) for v in sol.stats["proof"].vector["d"]]
+    F = np.vectorize(lambda v: Fraction(float(v)), otypes=[object])
+    assert all(v == 0 for v in F(P) @ d) and all(v <= 0 for v in F(G) @ d)
+    assert sum(Fraction(float(a)) * b for a, b in zip(q, d)) < 0
+    x0 = sol.stats["proof"].point
+    assert np.all(G @ x0 - h <= 1e-9 * (np.abs(G) @ np.abs(x0) + np.abs(h)))
+
+
 def test_explicit_backend_on_an_infeasible_qp_gets_the_proof():
     prob = Problem(np.eye(2), np.zeros(2), np.array([[1.0, 0.0], [-1.0, 0.0]]),
                    np.array([-1.0, -1.0]))
