@@ -29,12 +29,12 @@ def two_span_portal() -> Frame:
         fr.add_beam(i, j, E=E, A=A, I=I, name=f"col {i}{j}")
     for i, j in (("D", "E"), ("E", "F")):
         m = fr.add_beam(i, j, E=E, A=A, I=I, name=f"beam {i}{j}")
-        fr.add_distributed_load(m, wy=-20.0, kind="constant")      # kN/m
+        fr.add_distributed_load(m, wy=-20.0, case="constant")      # kN/m
     for base in ("A", "B", "C"):                                     # column bases on the ground
         fr.add_contact(base, normal=(0.0, 1.0), friction=0.4)
     fr.add_contact("F", normal=(-1.0, 0.0), friction=0.2, gap=0.005)  # wall 5 mm right of F
     fr.add_contact("D", normal=(1.0, 0.0), friction=0.2, gap=0.0)     # wall touching D on the left
-    fr.add_load("D", fx=10.0, kind="variable")                       # lateral load, kN per unit p
+    fr.add_load("D", fx=10.0, case="variable")                       # lateral load, kN per unit p
     return fr
 
 

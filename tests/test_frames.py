@@ -170,7 +170,7 @@ def _trace_frame():
     fr.add_node("E", 4.0, 2.0)
     fr.add_beam("B", "E", E=2e8, A=0.01, I=1e-4)
     fr.add_contact("E", normal=(-1.0, 0.0), friction=0.2, gap=1e-5)   # a wall to the right
-    fr.add_load("E", fx=10.0, kind="variable")
+    fr.add_load("E", fx=10.0, case="variable")
     return fr
 
 
@@ -204,7 +204,7 @@ def test_trace_case_without_constant_load_has_no_pre_force():
     fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4)
     fr.add_support("A", fix=("ux", "uy", "rz"))
     fr.add_contact("B", normal=(0.0, 1.0), friction=0.3)
-    fr.add_load("B", fy=-10.0, fx=2.0, kind="variable")   # only variable loads: case (a)
+    fr.add_load("B", fy=-10.0, fx=2.0, case="variable")   # only variable loads: case (a)
     tr = fr.trace(p_max=5.0)
     r1 = fr.solve(p=1.0)
     for p in (1e-6, 0.5, 3.0):
@@ -240,7 +240,7 @@ def test_frictionless_same_answer_through_every_route():
 
 def test_combinations_each_get_their_own_contact_state():
     fr = _pinned_beam_on_friction_support(0.0)
-    fr.add_load("B", fx=20.0, kind="variable")
+    fr.add_load("B", fx=20.0, case="variable")
     res = fr.solve_combinations({"gravity": 0.0, "wind": 1.0})
     assert res["gravity"].supports["B"].state == "stick"
     assert res["wind"].supports["B"].state == "slip+"     # 20 > f P/2 = 15

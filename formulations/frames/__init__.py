@@ -1,0 +1,48 @@
+r"""Plane frames on unilateral supports with Coulomb friction (P3, Osipova,
+Popov & Lovtsov): the displacement-method LCP, solved by Lemke, by the exact SPD
+methods when there is no friction, or by a Tresca fixed point on QP backends;
+P3's increasing-load algorithm (``"trace"``); load cases and combinations,
+each combination solved as its own nonlinear problem.
+
+Units: the user's, consistent (e.g. kN, m, kN·m, kN/m²); ``Frame(units=...)``
+names them on drawings and tables.  Nothing is converted.
+
+Sign conventions
+----------------
+Global axes x (right), y (up), rotations counterclockwise.  Nodal loads
+(fx, fy, mz) and member loads in global axes are positive along the axes;
+member loads in member axes along x from node i to node j and y turned
+counterclockwise from it.  A contact at a node has a unit normal n pointing
+from the support into the structure (the direction the support pushes) and
+the tangent t = (n_y, -n_x).  X_n >= 0 is the normal force the support exerts
+on the node (compression), X_t the tangential (friction) force on the node
+along t (under a beam, n = (0, 1) and t = (1, 0)).  The gap opening is
+Z_n = g + n·(u_node - u_other) (+ X_n/k for an elastic contact), >= 0; the
+slip is Δ_t = t·(u_node - u_other) (+ X_t/k).  For a pair (``other=``) the
+forces act on ``other`` with the opposite sign.  ``member_forces`` are end
+actions in member axes; diagrams and ``end_forces``: axial N tension
+positive, bending moment M positive when it compresses the member's +y fibre
+(sagging for a beam drawn left to right), shear V = dM/dx (see
+:mod:`.results`).
+
+Layout: :mod:`.model` (the Frame), :mod:`.loads` (cases, member loads,
+combinations), :mod:`.assembly` (stiffness, links, the contact LCP),
+:mod:`.results` (results, envelopes, tables), :mod:`.drawing`,
+:mod:`.examples`.
+
+Only the effects the model calls for: contacts with f = 0 build no tangential
+link at all, and a frame without friction builds the normal-only LCP
+(M = R_nn, symmetric), solved by the exact SPD method when it is positive
+definite.
+"""
+
+from .assembly import DOFS
+from .examples import demo, instances, portal_example
+from .loads import CONSTANT, VARIABLE, MemberLoad
+from .model import EQUILIBRIUM_RTOL, STATE_RTOL, Frame
+from .results import (STATES, CombinationResults, FrameEvent, FrameResult, FrameTrace,
+                      SupportResult)
+
+__all__ = ["Frame", "FrameResult", "FrameTrace", "FrameEvent", "SupportResult",
+           "CombinationResults", "MemberLoad", "STATES", "EQUILIBRIUM_RTOL", "STATE_RTOL",
+           "CONSTANT", "VARIABLE", "DOFS", "demo", "instances", "portal_example"]

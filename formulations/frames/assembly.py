@@ -1,0 +1,305 @@
+"""Assembly of a plane frame and its contact LCP (P3's displacement method).
+
+K u = F + H X: the frame's stiffness on its free degrees of freedom, the
+loads, and the contact links' forces X mapped by H (columns n and t at the
+contact's node, minus at ``other``).  The links' relative displacements are
+Δ = H'u.  The contact stiffness R and load vectors R_F of P3's *basic system*
+(every link fixed) are read from the saddle-point system
+
+    [K  H] [u]   [F]
+    [H' 0] [y] = [Δ],     X = -y = R Δ + R_F,
+
+for unit dislocations Δ = e_j (columns of R) and for each load case with
+Δ = 0 (one column R_F per case).  Unit dislocations through this system
+rather than condensing K onto the links: K alone is singular whenever the
+frame relies on its contacts for stability (a beam resting on unilateral
+supports only), while the basic system is not.  R is symmetric positive
+definite.  Elastic contacts add their flexibility: R <- (I + R D)⁻¹ R,
+R_F <- (I + R D)⁻¹ R_F, D = diag(1/k).
+
+Unknowns per contact: z = (Z_n, Z⁺, Z⁻) with Δ_n = Z_n - g, Δ_t = Z⁺ - Z⁻,
+and w = (X_n, f X_n + X_t, f X_n - X_t) (P3's holonomic Coulomb law: total
+slip against total force).  Contacts with f = 0 build no tangential link at
+all, and a frame without friction builds the normal-only LCP (M = R_nn,
+symmetric positive semidefinite).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import scipy.linalg
+
+from qpcontact.errors import InvalidProblemError
+from qpcontact.problems import LCP
+
+from .loads import CONSTANT, VARIABLE, equivalent_nodal
+
+DOFS = ("ux", "uy", "rz")
+#: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
+#: term) are rounding noise of the basic-system solve and are set to zero.
+R_ROUNDING = 256 * np.finfo(float).eps
+
+
+def beam_k(E, A, I, L):
+    """Local 6x6 stiffness of a 2-D Euler-Bernoulli frame element."""
+    a, b, c, d = E * A / L, 12 * E * I / L ** 3, 6 * E * I / L ** 2, 4 * E * I / L
+    return np.array([[a, 0, 0, -a, 0, 0],
+                     [0, b, c, 0, -b, c],
+                     [0, c, d, 0, -c, d / 2],
+                     [-a, 0, 0, a, 0, 0],
+                     [0, -b, -c, 0, b, -c],
+                     [0, c, d / 2, 0, -c, d]])
+
+
+def geometry(frame, m):
+    d = frame.nodes[m.j] - frame.nodes[m.i]
+    L = float(np.hypot(*d))
+    if L == 0:
+        raise InvalidProblemError(f"member {m.name}: nodes {m.i} and {m.j} coincide")
+    c, s = d / L
+    T3 = np.array([[c, s, 0], [-s, c, 0], [0, 0, 1.0]])
+    T = scipy.linalg.block_diag(T3, T3)
+    return L, c, s, T
+
+
+def member_local(frame, m, case=None):
+    """Local stiffness and equivalent nodal loads of one case (None: no
+    loads), with hinges condensed.  Returns (k, fe, T, L)."""
+    L, c, s, T = geometry(frame, m)
+    k = beam_k(m.E, m.A, m.I, L)
+    fe = np.zeros(6)
+    if case is not None:
+        for load in m.loads:
+            if load.case == case:
+                fe += equivalent_nodal(load, L, c, s)
+    for r, hinged in ((2, m.hinge_i), (5, m.hinge_j)):
+        if hinged:
+            kr = k[:, r].copy()
+            fe = fe - kr * fe[r] / k[r, r]
+            k = k - np.outer(kr, kr) / k[r, r]
+            k[r, :] = 0.0
+            k[:, r] = 0.0
+    return k, fe, T, L
+
+
+def cases(frame) -> list:
+    """Every load case with a load, plus the P3 pair (constant, variable)."""
+    names = {CONSTANT, VARIABLE}
+    names.update(ld[4] for ld in frame.nodal_loads)
+    for m in frame.members.values():
+        names.update(ld.case for ld in m.loads)
+    return sorted(names)
+
+
+def assemble(frame):
+    names = list(frame.nodes)
+    idx = {nm: 3 * i for i, nm in enumerate(names)}
+    N = 3 * len(names)
+    K = np.zeros((N, N))
+    case_list = cases(frame)
+    col = {c: k for k, c in enumerate(case_list)}
+    F = np.zeros((N, len(case_list)))
+    for m in frame.members.values():
+        k, _, T, _ = member_local(frame, m)
+        dofs = np.r_[idx[m.i]:idx[m.i] + 3, idx[m.j]:idx[m.j] + 3]
+        K[np.ix_(dofs, dofs)] += T.T @ k @ T
+        for case in {ld.case for ld in m.loads}:
+            _, fe, _, _ = member_local(frame, m, case)
+            F[dofs, col[case]] += T.T @ fe
+    for node, fx, fy, mz, case in frame.nodal_loads:
+        F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
+    for node, ks in frame.springs.items():
+        for d, kval in ks.items():
+            K[idx[node] + DOFS.index(d), idx[node] + DOFS.index(d)] += kval
+    fixed = np.zeros(N, bool)
+    for node, dofs in frame.fixed.items():
+        for d in dofs:
+            fixed[idx[node] + DOFS.index(d)] = True
+    # a rotation no member resists (only hinged ends, or no member) is not a dof
+    fixed |= np.isclose(np.diag(K), 0.0) & (np.arange(N) % 3 == 2)
+    return names, idx, K, F, case_list, fixed
+
+
+def links(frame, idx, N):
+    """H (N x links) and, per link: contact index, kind 'n'/'t'."""
+    cols, info = [], []
+    for ci, c in enumerate(frame.contacts):
+        t = np.array([c.normal[1], -c.normal[0]])
+        for kind, vec in (("n", c.normal), ("t", t)):
+            if kind == "t" and c.friction == 0:
+                continue  # no tangential link without friction
+            h = np.zeros(N)
+            h[idx[c.node]:idx[c.node] + 2] += vec
+            if c.other is not None:
+                h[idx[c.other]:idx[c.other] + 2] -= vec
+            cols.append(h)
+            info.append((ci, kind))
+    return (np.array(cols).T if cols else np.zeros((N, 0))), info
+
+
+def check_conflicts(frame):
+    """A contact whose normal (or tangent, with friction) displacement the
+    bilateral supports already fix would make the basic system singular:
+    name the node and the dofs instead."""
+    for c in frame.contacts:
+        if c.other is not None:
+            continue
+        fixed = frame.fixed.get(c.node, set())
+        dirs = [("normal", c.normal)]
+        if c.friction > 0:
+            dirs.append(("tangential", np.array([c.normal[1], -c.normal[0]])))
+        for what, vec in dirs:
+            free_axes = [d for d, comp in zip(("ux", "uy"), vec) if abs(comp) > 0 and d not in fixed]
+            if not free_axes:
+                held = sorted(d for d, comp in zip(("ux", "uy"), vec) if abs(comp) > 0)
+                raise InvalidProblemError(
+                    f"node {c.node!r}: the contact's {what} direction {tuple(np.round(vec, 6))} is "
+                    f"already fixed by its bilateral support ({', '.join(held)}); a contact and a "
+                    "support may share a node only where they constrain different directions — "
+                    "remove one of them")
+
+
+def build(frame):
+    """Assemble K, the links, and R, R_F per load case.  Returns a dict with
+    everything the LCP and the results need."""
+    if not frame.contacts:
+        raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
+                                  "add_contact() defines the unilateral supports")
+    check_conflicts(frame)
+    names, idx, K, F, case_list, fixed = assemble(frame)
+    N = K.shape[0]
+    H, info = links(frame, idx, N)
+    free = np.flatnonzero(~fixed)
+    Kf = K[np.ix_(free, free)]
+    # The links enter scaled by a typical stiffness kappa, so that the saddle
+    # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
+    # the singularity test below is meaningful: X = -kappa y.
+    kappa = float(np.max(np.abs(np.diag(Kf)))) if free.size else 1.0
+    Hf = kappa * H[free]
+    nl = Hf.shape[1]
+    S = np.block([[Kf, Hf], [Hf.T, np.zeros((nl, nl))]])
+    try:
+        with warnings.catch_warnings():  # singularity is diagnosed below, with advice
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            lu = scipy.linalg.lu_factor(S, check_finite=False)
+    except (np.linalg.LinAlgError, ValueError):
+        lu = None
+    piv = np.abs(np.diag(lu[0])) if lu is not None else np.zeros(1)
+    if lu is None or piv.min() <= 1e-13 * piv.max():
+        raise InvalidProblemError(mechanism_message(S, free, names, Kf.shape[0]))
+    nf = free.size
+    nc = len(case_list)
+    rhs = np.zeros((nf + nl, nl + nc))
+    rhs[nf:, :nl] = kappa * np.eye(nl)
+    rhs[:nf, nl:] = F[free]
+    sol = scipy.linalg.lu_solve(lu, rhs, check_finite=False)
+    R = -kappa * sol[nf:, :nl]
+    R = 0.5 * (R + R.T)
+    # R's entries are sums of terms of size kappa (the stiffness), so each
+    # carries a rounding error of a few eps * kappa.  An entry that small is
+    # zero: a dislocation that a rigid motion of the frame absorbs (a portal
+    # on two pins lifted at one base) costs no force, and noise in its place
+    # would turn "this link has no effect" into a random sign — which the
+    # trace's collapse proof (a Farkas vector, M'y <= 0 column by column)
+    # and the support states would read as data.
+    R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
+    RF = -kappa * sol[nf:, nl:]
+    flex = np.array([0.0 if frame.contacts[ci].stiffness is None
+                     else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
+    if np.any(flex > 0):
+        E = np.eye(nl) + R * flex[None, :]
+        R = np.linalg.solve(E, R)
+        R = 0.5 * (R + R.T)
+        RF = np.linalg.solve(E, RF)
+    return dict(names=names, idx=idx, K=K, F=F, cases=case_list, fixed=fixed, free=free, H=H,
+                info=info, lu=lu, R=R, RF=RF, flex=flex, nf=nf, kappa=kappa)
+
+
+def combine(b, combo: dict):
+    """(F, R_F) of a combination {case: factor}."""
+    col = {c: k for k, c in enumerate(b["cases"])}
+    f = np.zeros(len(b["cases"]))
+    for case, factor in combo.items():
+        f[col[case]] = factor
+    return b["F"] @ f, b["RF"] @ f
+
+
+def mechanism_message(S, free, names, nf) -> str:
+    """Name the free motion of a singular basic system (its null vector)."""
+    try:
+        null = scipy.linalg.null_space(S, rcond=1e-12)
+    except (ValueError, np.linalg.LinAlgError):
+        null = np.zeros((S.shape[0], 0))
+    if null.shape[1] == 0:
+        return ("the basic system (every contact link fixed) is singular: check supports, "
+                "hinges and that no two contacts constrain the same displacement")
+    v = null[:nf, 0]
+    if np.max(np.abs(v)) <= 1e-9 * np.max(np.abs(null[:, 0])):
+        return ("two or more contact links constrain the same displacement (redundant links): "
+                "remove one of them")
+    order = np.argsort(-np.abs(v))[:3]
+    moves = ", ".join(f"{names[free[i] // 3]} {DOFS[free[i] % 3]}" for i in order
+                      if abs(v[i]) > 0.1 * abs(v[order[0]]))
+    return (f"the frame is a mechanism even with every contact closed: it can move freely "
+            f"({moves} move together); add supports, contacts or friction that prevent it")
+
+
+def layout(b):
+    """Per contact: the link positions of n and t."""
+    pos = {}
+    for li, (ci, kind) in enumerate(b["info"]):
+        pos.setdefault(ci, {})[kind] = li
+    return pos
+
+
+def lcp_matrices(frame, b):
+    """(M, Q, q_gap, P, g, fric): w = M z + Q f + q_gap for the case factors
+    f (Q has one column per case of b["cases"]); Δ = P z - g."""
+    pos = layout(b)
+    nc = len(frame.contacts)
+    fric = [ci for ci in range(nc) if "t" in pos[ci]]
+    nl = len(b["info"])
+    nz = nc + 2 * len(fric)
+    P = np.zeros((nl, nz))
+    g = np.zeros(nl)
+    for ci in range(nc):
+        P[pos[ci]["n"], ci] = 1.0
+        g[pos[ci]["n"]] = frame.contacts[ci].gap
+    for k, ci in enumerate(fric):
+        P[pos[ci]["t"], nc + 2 * k] = 1.0
+        P[pos[ci]["t"], nc + 2 * k + 1] = -1.0
+    # rows of w as combinations of the link forces X: X_n; f X_n + X_t; f X_n - X_t
+    W = np.zeros((nz, nl))
+    for ci in range(nc):
+        W[ci, pos[ci]["n"]] = 1.0
+    for k, ci in enumerate(fric):
+        f = frame.contacts[ci].friction
+        W[nc + 2 * k, pos[ci]["n"]] = f
+        W[nc + 2 * k, pos[ci]["t"]] = 1.0
+        W[nc + 2 * k + 1, pos[ci]["n"]] = f
+        W[nc + 2 * k + 1, pos[ci]["t"]] = -1.0
+    R = b["R"]
+    M = W @ R @ P
+    if not fric:
+        M = 0.5 * (M + M.T)  # = R_nn exactly; remove rounding asymmetry
+    return M, W @ b["RF"], -(W @ R @ g), P, g, fric
+
+
+def combination_q(Q, q_gap, b, combo):
+    """q and its terms' sizes (each case's share and the gaps': what a force
+    that is their difference is judged against)."""
+    col = {c: k for k, c in enumerate(b["cases"])}
+    q = q_gap.copy()
+    terms = np.abs(q_gap)
+    for case, factor in combo.items():
+        share = factor * Q[:, col[case]]
+        q = q + share
+        terms = terms + np.abs(share)
+    return q, terms
+
+
+def combination_lcp(M, Q, q_gap, b, combo) -> LCP:
+    q, terms = combination_q(Q, q_gap, b, combo)
+    return LCP(M, q, q_terms=terms)

@@ -1,0 +1,288 @@
+"""Results of a frame analysis: one object per load combination, the trace's
+objects, envelopes over combinations, and tables (CSV always, written
+atomically; pandas DataFrames when pandas is installed).
+
+Sign conventions (docs/frames.md): global x right, y up, moments
+counterclockwise.  ``member_forces`` are **end actions** in member axes (x
+from node i to j): the forces and moments the nodes exert on the member,
+(N_i, V_i, M_i, N_j, V_j, M_j) along the member's axes — the element's
+K u - f.  The **diagrams** and ``end_forces`` use the engineering convention
+instead: N tension positive, M positive when it compresses the member's +y
+fibre (sagging for a beam drawn left to right), V = dM/dx.  At node i the
+two agree up to sign: N(0) = -N_i, V(0) = V_i, M(0) = -M_i.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from qpcontact._files import write_csv_atomic
+
+STATES = ("separated", "closed", "stick", "slip+", "slip-")
+
+
+@dataclass
+class SupportResult:
+    """A contact's outcome: ``state`` in STATES, normal force X_n (>= 0,
+    compression), tangential force X_t (along t = (n_y, -n_x)), gap opening
+    Z_n and slip Δ_t (user's units)."""
+
+    state: str
+    normal: float
+    tangential: float
+    opening: float
+    slip: float
+
+
+@dataclass
+class FrameResult:
+    """One analysed load combination: support states and forces, nodal
+    displacements (ux, uy, rz), member end actions, reactions, and the checks.
+
+    ``combination`` is {case: factor} (``p`` the factor of "variable" for the
+    P3 split).  ``ok`` is True only when the LCP certificate meets the
+    tolerance and the global equilibrium residual is below EQUILIBRIUM_RTOL;
+    a result that is not ok is never drawn (``plot`` raises) and its numbers
+    are not an equilibrium.  ``route`` says which method produced the contact
+    forces.
+    """
+
+    p: float
+    supports: dict
+    displacements: dict
+    member_forces: dict
+    reactions: dict
+    equilibrium_residual: float
+    lcp_error: float
+    route: str
+    ok: bool
+    message: str
+    frame: "object" = field(repr=False, default=None)
+    _u: np.ndarray = field(repr=False, default=None)
+    combination: dict = field(default_factory=dict)
+    name: str = ""
+
+    def diagram(self, member: str, points: int = 21):
+        """(x, N, V, M) along a member, x from node i (member axes); the load
+        positions are added to the sample points (both sides of a jump)."""
+        return self.frame._diagram(self, member, points)
+
+    def extremes(self, member: str) -> dict:
+        """{"N"|"V"|"M": {"max": (value, x), "min": (value, x)}} along a member."""
+        x, N, V, M = self.diagram(member, 201)
+        out = {}
+        for key, arr in (("N", N), ("V", V), ("M", M)):
+            out[key] = {"max": (float(arr.max()), float(x[arr.argmax()])),
+                        "min": (float(arr.min()), float(x[arr.argmin()]))}
+        return out
+
+    def end_forces(self, member: str) -> dict:
+        """Internal forces at the member's ends in the diagrams' convention:
+        {"i": (N, V, M), "j": (N, V, M)}."""
+        x, N, V, M = self.diagram(member, 2)
+        return {"i": (float(N[0]), float(V[0]), float(M[0])),
+                "j": (float(N[-1]), float(V[-1]), float(M[-1]))}
+
+    @property
+    def support_reactions(self) -> dict:
+        """Every support's force on the structure in global axes (Fx, Fy, Mz):
+        bilateral supports, springs (-k u) and contacts (X_n n + X_t t; for a
+        pair, the force on ``node``)."""
+        return self.frame._support_reactions(self)
+
+    def rows(self, table: str) -> list:
+        """Table rows (dicts) of "supports", "reactions", "members" or
+        "displacements"."""
+        return self.frame._rows(self, table)
+
+    def to_csv(self, folder) -> list:
+        """supports.csv, reactions.csv, members.csv, displacements.csv in
+        ``folder`` (each written atomically); returns the paths."""
+        from pathlib import Path
+
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        paths = []
+        for table in TABLES:
+            rows = self.rows(table)
+            path = folder / f"{table}.csv"
+            write_csv_atomic(path, rows, list(rows[0]) if rows else ["empty"])
+            paths.append(str(path))
+        return paths
+
+    def to_dataframe(self, table: str = "members"):
+        """The table as a pandas DataFrame (pandas must be installed)."""
+        return _dataframe(self.rows(table))
+
+    def plot(self, path, scale: float | None = None, title: str = "") -> str:
+        """Deformed shape (member curvature from the element's shape
+        functions) with support states, and the bending-moment diagram (PNG).
+        Raises for a result that is not ok: it is not an equilibrium."""
+        from .drawing import plot_result
+
+        return plot_result(self.frame, self, path, scale, title)
+
+
+TABLES = ("supports", "reactions", "members", "displacements")
+
+
+def _dataframe(rows):
+    try:
+        import pandas as pd
+    except ImportError:
+        from qpcontact.errors import BackendUnavailableError
+
+        raise BackendUnavailableError(
+            "to_dataframe needs pandas (pip install pandas); to_csv writes the same tables "
+            "without it") from None
+    return pd.DataFrame(rows)
+
+
+class CombinationResults(dict):
+    """{combination name: FrameResult}, each solved on its own.  A
+    combination the frame cannot carry has ``ok`` False and a message saying
+    what happens; it does not discard the others.  ``failed`` lists them."""
+
+    @property
+    def failed(self) -> list:
+        return [name for name, r in self.items() if not r.ok]
+
+    def envelope(self) -> dict:
+        """Max/min over the combinations that are ok: per member
+        {"N"|"V"|"M": {"max": (value, x, combination), "min": ...}}, and per
+        support {"Fx"|"Fy"|"Mz": {...}} under the key "supports"."""
+        good = {name: r for name, r in self.items() if r.ok}
+        env: dict = {}
+        if not good:
+            return env
+        first = next(iter(good.values()))
+        for member in first.member_forces:
+            env[member] = {}
+            for name, r in good.items():
+                for key, ext in r.extremes(member).items():
+                    slot = env[member].setdefault(key, {"max": (-np.inf, 0.0, ""),
+                                                        "min": (np.inf, 0.0, "")})
+                    if ext["max"][0] > slot["max"][0]:
+                        slot["max"] = (*ext["max"], name)
+                    if ext["min"][0] < slot["min"][0]:
+                        slot["min"] = (*ext["min"], name)
+        sup: dict = {}
+        for name, r in good.items():
+            for key, forces in r.support_reactions.items():
+                for comp, v in zip(("Fx", "Fy", "Mz"), forces):
+                    slot = sup.setdefault(key, {}).setdefault(
+                        comp, {"max": (-np.inf, name), "min": (np.inf, name)})
+                    if v > slot["max"][0]:
+                        slot["max"] = (v, name)
+                    if v < slot["min"][0]:
+                        slot["min"] = (v, name)
+        env["supports"] = sup
+        return env
+
+    def rows(self, table: str) -> list:
+        """One table over all combinations (a "combination" column first)."""
+        out = []
+        for name, r in self.items():
+            for row in r.rows(table):
+                out.append({"combination": name, "ok": r.ok, **row})
+        return out
+
+    def envelope_rows(self) -> list:
+        rows = []
+        for member, per in self.envelope().items():
+            if member == "supports":
+                continue
+            for key, slot in per.items():
+                rows.append({"member": member, "quantity": key,
+                             "max": slot["max"][0], "x_max": slot["max"][1],
+                             "combination_max": slot["max"][2],
+                             "min": slot["min"][0], "x_min": slot["min"][1],
+                             "combination_min": slot["min"][2]})
+        return rows
+
+    def to_csv(self, folder) -> list:
+        from pathlib import Path
+
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        paths = []
+        tables = {t: self.rows(t) for t in TABLES}
+        tables["envelope"] = self.envelope_rows()
+        tables["combinations"] = [{"combination": n, "ok": r.ok, "route": r.route,
+                                   "message": r.message} for n, r in self.items()]
+        for table, rows in tables.items():
+            path = folder / f"{table}.csv"
+            write_csv_atomic(path, rows, list(rows[0]) if rows else ["empty"])
+            paths.append(str(path))
+        return paths
+
+    def to_dataframe(self, table: str = "members"):
+        return _dataframe(self.envelope_rows() if table == "envelope" else self.rows(table))
+
+
+@dataclass
+class FrameEvent:
+    """A breakpoint of the trace: at load parameter ``p`` the supports in
+    ``changes`` go from one state to another ({support: (before, after)})."""
+
+    p: float
+    changes: dict
+
+    def __str__(self) -> str:
+        return "; ".join(f"{k}: {a} \u2192 {b}" for k, (a, b) in self.changes.items())
+
+
+@dataclass
+class FrameTrace:
+    """The increasing-load analysis (P3).
+
+    ``breakpoints``: the values of p where some support changes state, with
+    ``events`` saying which and how ("S3: stick → slip-"); ``intervals``
+    [(p_start, p_end)] between them and ``states`` (a FrameResult at the
+    middle of each); ``ended``: why the trace stopped — "p_max" (reached),
+    "unbounded" (no support changes state again, p_max = inf), "collapse"
+    (no equilibrium exists beyond the end: proved, and ``message`` says how
+    the frame fails), "fold" (equilibria may exist beyond but none continues
+    this path), "breakdown", "max_pieces" (see docs/frames.md); ``ok`` is True
+    when every traced piece passed the LCP certificate and the equilibrium
+    check at its start, middle and end, and the ending is proved.
+    ``result_at(p)`` analyses any p inside the traced range.
+    """
+
+    breakpoints: np.ndarray
+    states: list
+    intervals: list
+    events: list
+    ended: str
+    message: str
+    ok: bool
+    trace: object = field(repr=False, default=None)
+    frame: "object" = field(repr=False, default=None)
+    _built: dict = field(repr=False, default=None)   # the frame's assembly, reused by result_at
+    constant: dict = field(default_factory=dict)
+    variable: dict = field(default_factory=dict)
+
+    @property
+    def p_end(self) -> float:
+        """Where the traced range ends (inf on an unbounded last interval)."""
+        return self.intervals[-1][1] if self.intervals else 0.0
+
+    def result_at(self, p: float) -> FrameResult:
+        return self.frame._result_from_z(self.trace.z_at(p), self._combo(p), "trace",
+                                         b=self._built)
+
+    def _combo(self, p):
+        combo = dict(self.constant)
+        for case, f in self.variable.items():
+            combo[case] = combo.get(case, 0.0) + p * f
+        return combo
+
+    def plot(self, path, node: str, dof: str = "ux", p_max: float | None = None) -> str:
+        """Load parameter against a displacement of ``node``, breakpoints
+        labelled with their events (PNG).  Default range: the traced one (an
+        unbounded last interval: 1.5 x the last breakpoint)."""
+        from .drawing import plot_trace
+
+        return plot_trace(self.frame, self, path, node, dof, p_max)
