@@ -94,7 +94,13 @@ class FrameResult:
 
     def rows(self, table: str) -> list:
         """Table rows (dicts) of "supports", "reactions", "members" or
-        "displacements"."""
+        "displacements" (none for a combination that has no equilibrium)."""
+        if not self.supports:
+            from qpcontact.errors import InvalidOptionError
+
+            if table not in TABLES:
+                raise InvalidOptionError(f"unknown table {table!r}; tables: {', '.join(TABLES)}")
+            return []
         return self.frame._rows(self, table)
 
     def to_csv(self, folder) -> list:
