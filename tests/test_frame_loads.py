@@ -298,3 +298,25 @@ def test_tables_and_diagram_names(tmp_path):
     paths = r.to_csv(tmp_path)
     assert all((tmp_path / p.split("/")[-1]).exists() for p in paths)
     assert not list(tmp_path.glob("*.tmp"))
+
+
+def test_a_load_that_lifts_a_frame_off_elastic_supports_is_proved_by_a_rigid_motion():
+    """Net uplift on a beam held horizontally and by a rotational spring only:
+    the contact matrix is singular exactly (a uniform lift costs no force) but
+    only nearly so in floating point, where "bpp" finds an LCP answer of huge
+    openings that fails the statics check; the rigid motion proves it."""
+    fr = Frame()
+    for k, x in enumerate([0, 1.5, 3, 4.5, 6]):
+        fr.add_node(f"S{k}", x, 0.0)
+    for k in range(4):
+        fr.add_beam(f"S{k}", f"S{k + 1}", E=30e6, A=0.32, I=0.017)
+    fr.add_support("S0", fix=("ux",))
+    fr.add_spring("S4", rz=5e3)
+    for k in range(5):
+        fr.add_contact(f"S{k}", normal=(0, 1), stiffness=6e4)
+    fr.add_load("S2", fy=-180, case="D")
+    fr.add_load("S4", fy=150, mz=-40, case="W")
+    assert fr.solve(combination={"D": 0.9, "W": 0.5}).ok
+    # 0.9 x 180 = 162 down against 1.6 x 150 = 240 up: every support would have to pull
+    with pytest.raises(NoSolutionError, match="S0, S1, S2, S3, S4 would have to pull"):
+        fr.solve(combination={"D": 0.9, "W": 1.6})

@@ -316,6 +316,12 @@ class Frame:
             if not sol.ok:
                 self._no_equilibrium(sol, fric, b, combo)
         res = self._result_from_z(z, combo, route, b=b, lcp=lcp, tol=tol)
+        if not res.ok and res.lcp_error <= tol:
+            # the LCP's answer is no equilibrium of the frame: a contact matrix
+            # singular to rounding (the frame is a mechanism once its contacts
+            # open) solved at a point of huge openings
+            self._raise_rigid_motion(b, combo, fric, f"{route}'s answer failed the statics check "
+                                                     f"({res.message})")
         if raise_on_failure and not res.ok:
             raise SolverFailedError(f"frame: {res.message}")
         return res
@@ -351,9 +357,80 @@ class Frame:
             raise NoSolutionError(
                 f"frame under {what}: no equilibrium exists — {words} (proved by a Farkas "
                 f"vector checked from the data: y >= 0, M'y <= 0, q'y < 0)")
+        self._raise_rigid_motion(b, combo, fric, f"{sol.method}: {sol.message}")
         raise SolverFailedError(
             f"frame under {what}: {sol.method} found no contact state ({sol.message}); nothing "
             "was proved either way")
+
+    def _rigid_motion(self, b, combo):
+        """A rigid motion φ of the frame with every contact released (a null
+        vector of the free stiffness, springs and bilateral supports
+        included) that only opens or slides the contacts within Coulomb's
+        cone (a_c >= f |s_c|) and in which the loads do positive work: then
+        no equilibrium exists (virtual work: F'φ = -Σ X·(H'φ) <= 0 for any
+        admissible contact forces).  Found by one LP over the null space and
+        checked in floating point to rounding; returns (a, s) or None.
+
+        This is what proves "no equilibrium" when the contact matrix is
+        singular only up to rounding (R has the rigid motion in its null
+        space exactly, its computed copy only nearly), where the LCP's exact
+        Farkas check cannot pass."""
+        from scipy.optimize import linprog
+
+        free = b["free"]
+        if free.size > 3000:
+            return None
+        Kf = b["K"][np.ix_(free, free)]
+        d = np.sqrt(np.abs(np.diag(Kf)))
+        d[d == 0] = 1.0
+        lam, V = np.linalg.eigh(Kf / d[:, None] / d[None, :])
+        null = V[:, lam <= 1e-10 * max(lam.max(initial=0.0), 1e-300)] / d[:, None]
+        if null.shape[1] == 0:
+            return None
+        F, _ = assembly.combine(b, combo)
+        Ff = F[free]
+        idx = b["idx"]
+        rows_a, rows_s = [], []
+        for c in self.contacts:
+            t = np.array([c.normal[1], -c.normal[0]])
+            for vec, rows in ((c.normal, rows_a), (t, rows_s)):
+                h = np.zeros(b["K"].shape[0])
+                h[idx[c.node]:idx[c.node] + 2] += vec
+                if c.other is not None:
+                    h[idx[c.other]:idx[c.other] + 2] -= vec
+                rows.append(h[free] @ null)
+        Ha, Hs = np.array(rows_a), np.array(rows_s)
+        f = np.array([c.friction for c in self.contacts])
+        work = Ff @ null
+        if not np.any(work):
+            return None
+        A_ub = np.vstack([-(Ha - f[:, None] * Hs), -(Ha + f[:, None] * Hs)])
+        res = linprog(np.zeros(null.shape[1]), A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]),
+                      A_eq=work[None, :], b_eq=[1.0], bounds=[(None, None)] * null.shape[1],
+                      method="highs")
+        if res.status != 0:
+            return None
+        phi = null @ res.x
+        a, sl = Ha @ res.x, Hs @ res.x
+        size = np.abs(phi).max()
+        w_scale = np.abs(Ff) @ np.abs(phi)
+        tol = 1e-9 * size
+        if not (Ff @ phi > 1e-6 * w_scale and np.all(a - f * np.abs(sl) >= -tol)):
+            return None
+        a = np.where(np.abs(a) <= tol, 0.0, a)
+        sl = np.where(np.abs(sl) <= tol, 0.0, sl)
+        return a, sl
+
+    def _raise_rigid_motion(self, b, combo, fric, before: str):
+        motion = self._rigid_motion(b, combo)
+        if motion is None:
+            return
+        what = ", ".join(f"{f:g}·{c}" for c, f in combo.items() if f) or "no load"
+        raise NoSolutionError(
+            f"frame under {what}: no equilibrium exists — {self._motion_words(*motion, None)} "
+            f"(a rigid motion of the frame with its contacts released, in which the loads do "
+            f"positive work while every contact opens or slides within its friction cone; "
+            f"found by LP, checked to rounding; {before})")
 
     def solve_combinations(self, combinations: dict, **kw) -> CombinationResults:
         """Each named combination solved on its own — its own contact states,
@@ -692,7 +769,6 @@ class Frame:
         cone), and stays (a pivot) when both are zero.
         """
         y = proof["farkas"]
-        keys = self._support_keys()
         nc = len(self.contacts)
         A = y[:nc].copy()
         T = np.zeros(nc)
@@ -700,6 +776,13 @@ class Frame:
             yp, ym = y[nc + 2 * k], y[nc + 2 * k + 1]
             A[ci] += self.contacts[ci].friction * (yp + ym)
             T[ci] = yp - ym
+        return self._motion_words(A, T, carrying)
+
+    def _motion_words(self, A, T, carrying) -> str:
+        """Words for a rigid motion with normal opening A_c >= f |T_c| and
+        tangential motion T_c at each contact (see _collapse_words)."""
+        keys = self._support_keys()
+        nc = len(self.contacts)
         big = max(A.max(initial=0.0), np.abs(T).max(initial=0.0))
         lift, slide, stay = [], [], []
         for ci in range(nc):
