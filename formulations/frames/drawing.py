@@ -87,7 +87,9 @@ def plot_result(frame, res, path, scale=None, title=""):
     umax = max(max(abs(d[0]), abs(d[1])) for d in res.displacements.values())
     scale = scale or (0.1 * span / umax if umax > 0 else 1.0)
     size = 0.02 * span
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(13, 9))
+    tall = np.ptp(xy[:, 1]) > np.ptp(xy[:, 0])   # a tower: side by side
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 9)) if tall else plt.subplots(
+        2, 1, figsize=(13, 9))
     diagrams = {m.name: res.diagram(m.name, 41) for m in frame.members.values()}
     m_max = max(max(np.abs(d[3]).max() for d in diagrams.values()), 1e-300)
     mscale = 0.15 * span / m_max
@@ -95,7 +97,7 @@ def plot_result(frame, res, path, scale=None, title=""):
     label_members = set(frame.members)
     if dense:   # the largest moments only
         peak = sorted(frame.members, key=lambda k: -np.abs(diagrams[k][3]).max())
-        label_members = set(peak[:_DENSE // 2])
+        label_members = set(peak[:6])
     joint_labels: dict = {}
     for m in frame.members.values():
         a, bnode = frame.nodes[m.i], frame.nodes[m.j]
@@ -124,25 +126,28 @@ def plot_result(frame, res, path, scale=None, title=""):
         # the span's extremes where they are not at an end (sagging between supports)
         for k in {int(np.argmax(Mo)), int(np.argmin(Mo))}:
             if 0 < k < len(x) - 1 and abs(Mo[k]) > 0.05 * m_max:
-                ax2.annotate(f"{_fmt(Mo[k], m_max)} (x={x[k]:.3g})",
+                ax2.annotate(_fmt(Mo[k], m_max) if dense else f"{_fmt(Mo[k], m_max)} (x={x[k]:.3g})",
                              (px[k] - ox[k], py[k] - oy[k]), fontsize=7, color="tab:blue")
     for node, (val, lx, ly) in joint_labels.items():
         ax2.annotate(_fmt(val, m_max), (lx, ly), fontsize=7)
     nmax = max([abs(s.normal) for s in res.supports.values()] + [1e-300])
-    for key, sres in res.supports.items():
+    top_key = max(res.supports, key=lambda k: res.supports[k].normal) if res.supports else None
+    for n_sup, (key, sres) in enumerate(res.supports.items()):
         node = key.split("-")[0].split("#")[0]
         p0 = frame.nodes[node] + scale * np.array(res.displacements[node][:2])
-        ax1.plot(*p0, "^", ms=10, color=_COLORS[sres.state])
-        if not dense or sres.state != "separated":
+        ax1.plot(*p0, "^", ms=10 if len(res.supports) <= _DENSE else 6, color=_COLORS[sres.state])
+        # many supports: only the most loaded one is labelled (the title lists those lifted)
+        if len(res.supports) <= 12 or key == top_key:
             text = f"{key}: {sres.state}"
             if sres.state != "separated":
                 text += f"\nN={_fmt(sres.normal, nmax)}"
                 if frame.contacts[0].friction or sres.tangential:
                     text += f" T={_fmt(sres.tangential, nmax)}"
-            ax1.annotate(text, p0, textcoords="offset points", xytext=(5, -22), fontsize=7)
+            ax1.annotate(text, p0, textcoords="offset points", xytext=(5, -22 - 20 * (n_sup % 2)),
+                         fontsize=7)   # staggered: neighbours' labels do not overprint
     for node in set(frame.fixed) | set(frame.springs):
         _symbol(ax1, frame, node, frame.nodes[node], size)
-    ax1.set_title(f"deformed shape (displacements x{scale:.3g}); supports: red separated, green "
+    ax1.set_title(f"deformed shape (displacements x{scale:.3g});\nsupports: red separated, green "
                   "stick, blue closed (frictionless), orange/purple slip", fontsize=9)
     ax2.set_title(f"bending moment [{force}·{length}], drawn on the tension side", fontsize=9)
     for ax in (ax1, ax2):
