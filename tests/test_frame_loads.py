@@ -320,3 +320,31 @@ def test_a_load_that_lifts_a_frame_off_elastic_supports_is_proved_by_a_rigid_mot
     # 0.9 x 180 = 162 down against 1.6 x 150 = 240 up: every support would have to pull
     with pytest.raises(NoSolutionError, match="S0, S1, S2, S3, S4 would have to pull"):
         fr.solve(combination={"D": 0.9, "W": 1.6})
+
+
+def test_settlement_of_a_middle_support_matches_the_force_method():
+    """Two-span beam (spans L) on end supports, resting on a contact at
+    mid-span; the right end settles by δ < 0.  Force method: the rigid tilt
+    presses the mid-point |δ|/2 into its support, whose reaction (5/8 w 2L
+    under the uniform load) grows by (|δ|/2) · 48 EI / (2L)³."""
+    L, w, delta = 4.0, -10.0, -0.002
+    EI = E * I
+    fr = Frame()
+    for k, x in enumerate((0.0, L, 2 * L)):
+        fr.add_node(f"N{k}", x, 0.0)
+    for k in range(2):
+        fr.add_distributed_load(fr.add_beam(f"N{k}", f"N{k + 1}", E, A, I), wy=w)
+    fr.add_support("N0", fix=("ux", "uy"))
+    fr.add_support("N2", fix=("uy",))
+    fr.add_contact("N1", normal=(0.0, 1.0))
+    fr.add_settlement("N2", "S", uy=delta)
+    base = fr.solve(combination={"constant": 1.0})
+    settled = fr.solve(combination={"constant": 1.0, "S": 1.0})
+    assert base.ok and settled.ok, settled.message
+    assert base.supports["N1"].normal == pytest.approx(-5 * w * 2 * L / 8, rel=1e-9)
+    change = (-delta / 2) * 48 * EI / (2 * L) ** 3
+    assert settled.supports["N1"].normal == pytest.approx(base.supports["N1"].normal + change,
+                                                          rel=1e-9)
+    assert settled.displacements["N2"][1] == pytest.approx(delta)
+    with pytest.raises(InvalidProblemError, match="not fixed by a bilateral support"):
+        fr.add_settlement("N1", "S", uy=-0.001)

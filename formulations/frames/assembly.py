@@ -88,6 +88,7 @@ def cases(frame) -> list:
     """Every load case with a load, plus the P3 pair (constant, variable)."""
     names = {CONSTANT, VARIABLE}
     names.update(ld[4] for ld in frame.nodal_loads)
+    names.update(st[2] for st in frame.settlements)
     for m in frame.members.values():
         names.update(ld.case for ld in m.loads)
     return sorted(names)
@@ -110,6 +111,9 @@ def assemble(frame):
             F[dofs, col[case]] += T.T @ fe
     for node, fx, fy, mz, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
+    U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
+    for node, dof, case, value in frame.settlements:
+        U[idx[node] + DOFS.index(dof), col[case]] += value
     for node, ks in frame.springs.items():
         for d, kval in ks.items():
             K[idx[node] + DOFS.index(d), idx[node] + DOFS.index(d)] += kval
@@ -119,7 +123,7 @@ def assemble(frame):
             fixed[idx[node] + DOFS.index(d)] = True
     # a rotation no member resists (only hinged ends, or no member) is not a dof
     fixed |= np.isclose(np.diag(K), 0.0) & (np.arange(N) % 3 == 2)
-    return names, idx, K, F, case_list, fixed
+    return names, idx, K, F, U, case_list, fixed
 
 
 def links(frame, idx, N):
@@ -168,7 +172,7 @@ def build(frame):
         raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
                                   "add_contact() defines the unilateral supports")
     check_conflicts(frame)
-    names, idx, K, F, case_list, fixed = assemble(frame)
+    names, idx, K, F, U, case_list, fixed = assemble(frame)
     N = K.shape[0]
     H, info = links(frame, idx, N)
     free = np.flatnonzero(~fixed)
@@ -193,7 +197,10 @@ def build(frame):
     nc = len(case_list)
     rhs = np.zeros((nf + nl, nl + nc))
     rhs[nf:, :nl] = kappa * np.eye(nl)
-    rhs[:nf, nl:] = F[free]
+    # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
+    fixed_idx = np.flatnonzero(fixed)
+    rhs[:nf, nl:] = F[free] - K[np.ix_(free, fixed_idx)] @ U[fixed_idx]
+    rhs[nf:, nl:] = -kappa * (H[fixed_idx].T @ U[fixed_idx])
     sol = scipy.linalg.lu_solve(lu, rhs, check_finite=False)
     R = -kappa * sol[nf:, :nl]
     R = 0.5 * (R + R.T)
@@ -213,16 +220,21 @@ def build(frame):
         R = np.linalg.solve(E, R)
         R = 0.5 * (R + R.T)
         RF = np.linalg.solve(E, RF)
-    return dict(names=names, idx=idx, K=K, F=F, cases=case_list, fixed=fixed, free=free, H=H,
+    return dict(names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free, H=H,
                 info=info, lu=lu, R=R, RF=RF, flex=flex, nf=nf, kappa=kappa)
 
 
-def combine(b, combo: dict):
-    """(F, R_F) of a combination {case: factor}."""
+def factors(b, combo: dict) -> np.ndarray:
     col = {c: k for k, c in enumerate(b["cases"])}
     f = np.zeros(len(b["cases"]))
     for case, factor in combo.items():
         f[col[case]] = factor
+    return f
+
+
+def combine(b, combo: dict):
+    """(F, R_F) of a combination {case: factor}."""
+    f = factors(b, combo)
     return b["F"] @ f, b["RF"] @ f
 
 

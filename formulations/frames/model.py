@@ -75,6 +75,7 @@ class Frame:
         self.springs: dict[str, dict] = {}
         self.contacts: list[_Contact] = []
         self.nodal_loads: list = []   # (node, fx, fy, mz, case)
+        self.settlements: list = []   # (node, dof, case, value)
 
     # -- model ------------------------------------------------------------
     def add_node(self, name: str, x: float, y: float) -> str:
@@ -121,6 +122,23 @@ class Frame:
         if bad:
             raise InvalidProblemError(f"fix must name dofs among {DOFS}; got {bad}")
         self.fixed.setdefault(node, set()).update(fix)
+
+    def add_settlement(self, node: str, case: str = CONSTANT, *, ux: float | None = None,
+                       uy: float | None = None, rz: float | None = None) -> None:
+        """Prescribed displacement of bilateral supports (a settlement, in
+        load case ``case``): each dof given must be fixed by add_support."""
+        self._node(node)
+        given = {d: v for d, v in (("ux", ux), ("uy", uy), ("rz", rz)) if v is not None}
+        if not given:
+            raise InvalidProblemError(f"settlement at {node!r}: give ux=, uy= and/or rz=")
+        for d, v in given.items():
+            if d not in self.fixed.get(node, set()):
+                raise InvalidProblemError(
+                    f"settlement at {node!r}: {d} is not fixed by a bilateral support there "
+                    f"(fixed: {sorted(self.fixed.get(node, set())) or 'none'}); add_support("
+                    f"{node!r}, fix=(..., {d!r})) first — a settlement moves a support")
+            self.settlements.append((node, d, case_name(case),
+                                     number(v, f"settlement at {node!r}: {d}")))
 
     def add_spring(self, node: str, ux: float = 0.0, uy: float = 0.0, rz: float = 0.0) -> None:
         """Bilateral elastic support to the ground: stiffnesses (force/length,
@@ -508,9 +526,12 @@ class Frame:
         X = R @ delta + RF
         delta_struct = delta - b["flex"] * X   # what the structure itself displaces
         nf, free = b["nf"], b["free"]
-        rhs = np.r_[F[free], b["kappa"] * delta_struct]
+        ua = b["U"] @ assembly.factors(b, combo)     # settlements (zero at free dofs)
+        fixed_idx = np.flatnonzero(b["fixed"])
+        rhs = np.r_[F[free] - b["K"][np.ix_(free, fixed_idx)] @ ua[fixed_idx],
+                    b["kappa"] * (delta_struct - b["H"][fixed_idx].T @ ua[fixed_idx])]
         sol = scipy.linalg.lu_solve(b["lu"], rhs, check_finite=False)
-        u = np.zeros(b["K"].shape[0])
+        u = ua.copy()
         u[free] = sol[:nf]
         # reactions at the fixed dofs: K u - F - H X on them (member loads included)
         r_all = b["K"] @ u - F - b["H"] @ X
