@@ -8,7 +8,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 
 from qpcontact.certify import ComponentScales, certify_lcp
 from qpcontact.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
@@ -398,7 +397,7 @@ class Frame:
         free = b["free"]
         if free.size > 3000:
             return None
-        Kf = b["K"][np.ix_(free, free)]
+        Kf = b["K"][free][:, free].toarray()
         d = np.sqrt(np.abs(np.diag(Kf)))
         d[d == 0] = 1.0
         lam, V = np.linalg.eigh(Kf / d[:, None] / d[None, :])
@@ -528,9 +527,9 @@ class Frame:
         nf, free = b["nf"], b["free"]
         ua = b["U"] @ assembly.factors(b, combo)     # settlements (zero at free dofs)
         fixed_idx = np.flatnonzero(b["fixed"])
-        rhs = np.r_[F[free] - b["K"][np.ix_(free, fixed_idx)] @ ua[fixed_idx],
+        rhs = np.r_[F[free] - b["K"][free][:, fixed_idx] @ ua[fixed_idx],
                     b["kappa"] * (delta_struct - b["H"][fixed_idx].T @ ua[fixed_idx])]
-        sol = scipy.linalg.lu_solve(b["lu"], rhs, check_finite=False)
+        sol = b["lu"].solve(rhs)
         u = ua.copy()
         u[free] = sol[:nf]
         # reactions at the fixed dofs: K u - F - H X on them (member loads included)
