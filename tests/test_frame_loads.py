@@ -348,3 +348,16 @@ def test_settlement_of_a_middle_support_matches_the_force_method():
     assert settled.displacements["N2"][1] == pytest.approx(delta)
     with pytest.raises(InvalidProblemError, match="not fixed by a bilateral support"):
         fr.add_settlement("N1", "S", uy=-0.001)
+
+
+def test_trace_plot_names_the_valid_dofs_and_nodes(tmp_path):
+    from formulations.frames import portal_example
+
+    tr = portal_example().trace(p_max=10.0)
+    with pytest.raises(InvalidOptionError, match=r"\('ux', 'uy', 'rz'\)"):
+        tr.plot(tmp_path / "t.png", node="B", dof="uz")
+    with pytest.raises(InvalidProblemError, match="nodes"):
+        tr.plot(tmp_path / "t.png", node="Q", dof="ux")
+    # the constant/variable split as named combinations: the same trace
+    tr2 = portal_example().trace(p_max=10.0, constant={"constant": 1.0}, variable="variable")
+    assert tr2.ok and np.allclose(tr2.breakpoints, tr.breakpoints)
