@@ -220,7 +220,9 @@ def _exact_farkas(G, h, A, b, lo, hi, exact, m_G) -> QPProof | None:
         message=("no x satisfies the constraints: the weighted sum of " + ", ".join(parts)
                  + f" reads 0 <= {float(c):.3e} (a Farkas vector, checked from the data in exact "
                  "rational arithmetic)"),
-        vector={"z": zf, "y": yf, "lower": np.maximum(rf, 0.0), "upper": np.maximum(-rf, 0.0)},
+        vector={"z": zf, "y": yf, "lower": np.maximum(rf, 0.0), "upper": np.maximum(-rf, 0.0),
+                # the weights as checked (rationals; the floats above may round them)
+                "exact": {"z": list(z), "y": list(y)}},
     )
 
 
@@ -254,9 +256,105 @@ def prove_lcp_infeasible(lcp, time_limit: float | None = None) -> QPProof | None
     n = lcp.n
     M = sp_.csr_matrix(lcp.M)
     tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
+    q = np.asarray(lcp.q, float)
     with np.errstate(all="ignore"):
-        return _farkas(None, np.zeros(n), -M, np.asarray(lcp.q, float), None, None,
-                       np.zeros(n), None, tl)
+        proof = _farkas(None, np.zeros(n), -M, q, None, None, np.zeros(n), None, tl)
+    if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric:
+        proof = _null_vector_farkas(M, q)
+    return proof
+
+
+#: largest n for the modular null-vector route (O(n³) integer work mod p)
+_MODULAR_MAX_N = 400
+_PRIME = 2_147_483_629   # < 2^31: products of residues fit in int64
+
+
+def _null_vector_farkas(M, q) -> QPProof | None:
+    """For symmetric M a Farkas vector y (y >= 0, M y <= 0, q'y < 0) of a
+    PSD M lies in M's null space.  When M is exactly singular but its
+    computed null space is wider (a second direction with singular value
+    1e-14 of the largest: an LP returns a mix that no snapping makes exact),
+    the exact null vector is found modulo a prime — M's doubles are integers
+    times a power of two — and read back as small rationals; the exact check
+    (_exact_farkas) decides.  Only a one-dimensional null space mod p is
+    tried."""
+    n = M.shape[0]
+    A = M.toarray()
+    if not np.all(np.isfinite(A)) or not np.any(A):
+        return None
+    nz = A[A != 0]
+    emin = min(math.frexp(float(v))[1] for v in nz) - 53
+    # residues of the integers A / 2^emin, entry by entry (exact)
+    R = np.zeros((n, n), dtype=np.int64)
+    for i, j in zip(*np.nonzero(A)):
+        m, e = math.frexp(float(A[i, j]))
+        mant = int(m * (1 << 53))
+        R[i, j] = (mant % _PRIME) * pow(2, e - 53 - emin, _PRIME) % _PRIME
+    y = _null_mod_p(R)
+    if y is None:
+        return None
+    k = int(np.flatnonzero(y)[0])
+    inv = pow(int(y[k]), _PRIME - 2, _PRIME)
+    cand = []
+    for v in y:
+        r = _rational(int(v) * inv % _PRIME)
+        if r is None:
+            return None
+        cand.append(r)
+    if all(c <= 0 for c in cand):
+        cand = [-c for c in cand]
+    if any(c < 0 for c in cand):
+        return None
+    top = max(cand)
+    cand = [c / top for c in cand]
+    empty = sp.csr_matrix((0, n))
+    return _exact_farkas(sp.csr_matrix(-M), q, empty, np.zeros(0), np.zeros(n),
+                         np.full(n, np.inf), cand, n)
+
+
+def _null_mod_p(R) -> np.ndarray | None:
+    """A basis vector of the null space of R mod p when it is one-dimensional."""
+    A = R.copy() % _PRIME
+    n = A.shape[0]
+    pivots, row = [], 0
+    for col in range(n):
+        nzr = np.flatnonzero(A[row:, col]) if row < n else np.zeros(0, int)
+        if nzr.size == 0:
+            continue
+        r = row + int(nzr[0])
+        A[[row, r]] = A[[r, row]]
+        inv = pow(int(A[row, col]), _PRIME - 2, _PRIME)
+        A[row] = A[row] * inv % _PRIME
+        others = np.flatnonzero(A[:, col])
+        others = others[others != row]
+        if others.size:
+            f = A[others, col][:, None]
+            A[others] = (A[others] - (f * A[row]) % _PRIME) % _PRIME
+        pivots.append(col)
+        row += 1
+        if row == n:
+            break
+    free = [c for c in range(n) if c not in set(pivots)]
+    if len(free) != 1:
+        return None
+    y = np.zeros(n, dtype=np.int64)
+    y[free[0]] = 1
+    for r, c in enumerate(pivots):
+        y[c] = (-A[r, free[0]]) % _PRIME
+    return y
+
+
+def _rational(a: int) -> Fraction | None:
+    """The fraction u/v with |u|, v <= sqrt(p/2) congruent to a mod p, if any."""
+    bound = math.isqrt(_PRIME // 2)
+    r0, r1, s0, s1 = _PRIME, a, 0, 1
+    while r1 > bound:
+        qt = r0 // r1
+        r0, r1 = r1, r0 - qt * r1
+        s0, s1 = s1, s0 - qt * s1
+    if s1 == 0 or abs(s1) > bound:
+        return None
+    return Fraction(r1, s1)
 
 
 def _column_scale(blocks, n) -> np.ndarray:

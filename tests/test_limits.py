@@ -215,3 +215,27 @@ def test_every_backend_with_a_time_setting_gets_the_limit(monkeypatch, method, k
     monkeypatch.setattr(qpsolvers, "solve_problem", spy)
     qpcontact.solve(Problem(np.eye(3), np.ones(3)), method, time_limit=7.5)
     assert seen.get(key) == 7.5
+
+
+@pytest.mark.parametrize("seed, method", [(175, "piqp"), (49, "highs")])
+def test_infeasible_lcp_with_a_wider_computed_null_space_is_proved(seed, method):
+    """M = c B B' exactly singular, its computed null space two-dimensional
+    (singular values 2.8e-14 and 2.5e-16 of the largest): the LP's Farkas
+    vector mixes both and no snapping makes it exact; the null vector found
+    modulo a prime does (full stress run: these two instances were certified
+    as "solved" by four backends)."""
+    from fractions import Fraction
+
+    from qpcontact.stress import build_case
+
+    case = build_case("infeasible", 100, seed)
+    sol = qpcontact.solve(case.problem, method)
+    assert sol.status == "infeasible", sol.message
+    y = sol.stats["proof"].vector["exact"]["z"]
+    assert all(isinstance(v, Fraction) for v in y)
+    M, q = case.problem.M, case.problem.q
+    assert all(v >= 0 for v in y)
+    # independently: M'y <= 0 and q'y < 0 in exact arithmetic
+    for j in range(M.shape[0]):
+        assert sum(Fraction(float(M[i, j])) * y[i] for i in range(M.shape[0]) if y[i]) <= 0
+    assert sum(Fraction(float(a)) * b for a, b in zip(q, y)) < 0
