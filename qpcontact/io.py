@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from .errors import InvalidProblemError
 from .problems import LCP
 
-__all__ = ["read_siconos_lcp"]
+__all__ = ["read_siconos_lcp", "read_siconos_fc", "read_fclib"]
 
 
 class _Tokens:
@@ -131,6 +131,88 @@ def _read_sbm(t: _Tokens, n0: int, n1: int):
     return sp.csc_matrix((cat(vals, float), (cat(rows, int), cat(cols, int))), shape=(n0, n1))
 
 
+def _read_cs_print(t: _Tokens, n0: int, n1: int):
+    """A CSparse ``cs_print`` listing (NumericsMatrix storage 2): its kind
+    (1 triplet, 2 compressed columns), a text header, then the entries
+    ("row col : value" or per column "col j : locations a to b" and
+    "row : value").  Values are printed with 6 significant digits: the
+    matrix read is the one the file holds, not the one that was written."""
+    kind = t.int("the sparse kind (1 triplet, 2 compressed columns)")
+    if kind not in (1, 2):
+        t.pos -= 1
+        raise t._fail("sparse kind 1 (triplet) or 2 (compressed columns)", str(kind))
+    # skip the banner and the size line up to "nnz: K"
+    while t._next("the 'nnz:' of the CSparse header") != "nnz:":
+        t.pos += 1
+    t.pos += 1
+    nnz = int(t._next("the number of nonzeros").rstrip(","))
+    t.pos += 1
+    if kind == 2 and t.pos < len(t.tokens) and t.tokens[t.pos] == "1-norm:":
+        t.pos += 2
+    rows, cols = np.zeros(nnz, int), np.zeros(nnz, int)
+    vals = np.zeros(nnz)
+
+    def number(tok, what):
+        try:
+            return float(tok)
+        except ValueError:
+            raise t._fail(what, tok) from None
+
+    k = 0
+    if kind == 1:
+        for k in range(nnz):
+            r, c = t.int("a row index"), t.int("a column index")
+            if t._next("':'") != ":":
+                raise t._fail("':'", t.tokens[t.pos])
+            t.pos += 1
+            rows[k], cols[k] = r, c
+            vals[k] = number(t._next("a value"), "a value")
+            t.pos += 1
+    else:
+        while k < nnz:
+            if t._next("'col'") != "col":
+                raise t._fail("'col'", t.tokens[t.pos])
+            t.pos += 1
+            c = t.int("a column index")
+            t.pos += 2                      # ':' 'locations'
+            a = t.int("the first location")
+            t.pos += 1                      # 'to'
+            b = int(t._next("the last location"))
+            t.pos += 1
+            for _ in range(b - a + 1):
+                rows[k] = t.int("a row index")
+                t.pos += 1                  # ':'
+                vals[k] = number(t._next("a value"), "a value")
+                t.pos += 1
+                cols[k] = c
+                k += 1
+    if np.any(rows >= n0) or np.any(cols >= n1):
+        raise InvalidProblemError(f"{t.path.name}: a sparse entry lies outside the {n0} x {n1} matrix")
+    return sp.csc_matrix((vals, (rows, cols)), shape=(n0, n1))
+
+
+def _read_matrix(t: _Tokens, what: str, check=None):
+    """A NumericsMatrix: storage (0 dense, 1 sparse block, 2 sparse), sizes,
+    body.  ``check(n0, n1)`` may refuse the sizes before anything is read."""
+    storage = t.int(f"the storage type of {what} (0 dense, 1 sparse block, 2 sparse)")
+    n0 = t.int(f"the number of rows of {what}")
+    n1 = t.int(f"the number of columns of {what}")
+    if check is not None:
+        check(n0, n1)
+    if storage == 0:
+        r, c = t.int("the number of rows (repeated)"), t.int("the number of columns (repeated)")
+        if (r, c) != (n0, n1):
+            t.pos -= 2
+            raise t._fail(f"the repeated size {n0} {n1}", f"{r} {c}")
+        return t.floats(n0 * n1, f"a value of {what}").reshape(n0, n1, order="F")
+    if storage == 1:
+        return _read_sbm(t, n0, n1)
+    if storage == 2:
+        return _read_cs_print(t, n0, n1)
+    t.pos -= 3
+    raise t._fail("storage type 0 (dense), 1 (sparse block) or 2 (sparse)", str(storage))
+
+
 def read_siconos_lcp(path: str | os.PathLike) -> LCP:
     """Read an LCP from a Siconos ``.dat`` file (dense or sparse-block storage).
 
@@ -147,21 +229,91 @@ def read_siconos_lcp(path: str | os.PathLike) -> LCP:
     path = Path(path)
     t = _Tokens(path)
     n = t.int("the LCP size n", 1)
-    storage = t.int("the storage type (0 dense, 1 sparse block)")
-    n0 = t.int("the number of rows of M", 1)
-    n1 = t.int("the number of columns of M", 1)
-    if n0 != n or n1 != n:
-        raise InvalidProblemError(f"{path.name}: M is {n0} x {n1} but the LCP size is {n}")
-    if storage == 0:
-        r, c = t.int("the number of rows (repeated)"), t.int("the number of columns (repeated)")
-        if (r, c) != (n0, n1):
-            t.pos -= 2
-            raise t._fail(f"the repeated size {n0} {n1}", f"{r} {c}")
-        M = t.floats(n0 * n1, "a value of M").reshape(n0, n1, order="F")
-    elif storage == 1:
-        M = _read_sbm(t, n0, n1)
-    else:
-        t.pos -= 3
-        raise t._fail("storage type 0 (dense) or 1 (sparse block)", str(storage))
+
+    def check(n0, n1):
+        if (n0, n1) != (n, n):
+            raise InvalidProblemError(f"{path.name}: M is {n0} x {n1} but the LCP size is {n}")
+
+    M = _read_matrix(t, "M", check)
     q = t.floats(n, "a value of q")
     return LCP(M, q)
+
+
+def read_siconos_fc(path: str | os.PathLike):
+    """Read a frictional-contact problem from a Siconos ``.dat`` file:
+    ``d nc W q mu`` (local) or ``d nc M H f w mu`` (global: the first
+    matrix is not d·nc square).  Returns a
+    :class:`~qpcontact.friction.FrictionProblem`."""
+    from .friction import FrictionProblem
+
+    path = Path(path)
+    t = _Tokens(path)
+    d = t.int("the dimension d (2 or 3)", 2)
+    nc = t.int("the number of contacts")
+    first = _read_matrix(t, "W (or M)")
+    m = d * nc
+    if first.shape == (m, m) and m > 0:
+        q = t.floats(m, "a value of q")
+        mu = t.floats(nc, "a friction coefficient")
+        return FrictionProblem(first, q, mu, d, name=path.stem)
+    H = _read_matrix(t, "H")
+    n = first.shape[0]
+    if first.shape != (n, n) or H.shape != (n, m):
+        raise InvalidProblemError(
+            f"{path.name}: a global problem needs M square and H of {n} x {m}; got "
+            f"{first.shape} and {H.shape}")
+    f = t.floats(n, "a value of f")
+    w = t.floats(m, "a value of w")
+    mu = t.floats(nc, "a friction coefficient")
+    return FrictionProblem.global_problem(first, H, f, w, mu, d, name=path.stem)
+
+
+def _cs_from_fclib(g, name: str):
+    """A CSparse matrix as FCLIB stores it (nz = -1 columns, -2 rows, >= 0 triplets)."""
+    m, n, nz = int(g["m"][0]), int(g["n"][0]), int(g["nz"][0])
+    p, i, x = np.asarray(g["p"]), np.asarray(g["i"]), np.asarray(g["x"], float)
+    if nz == -1:
+        return sp.csc_matrix((x[:p[-1]], i[:p[-1]], p), shape=(m, n))
+    if nz == -2:
+        return sp.csr_matrix((x[:p[-1]], i[:p[-1]], p), shape=(m, n)).tocsc()
+    if nz >= 0:
+        return sp.csc_matrix((x[:nz], (i[:nz], p[:nz])), shape=(m, n))
+    raise InvalidProblemError(f"FCLIB matrix {name}: unknown storage nz = {nz}")
+
+
+def read_fclib(path: str | os.PathLike):
+    """Read an FCLIB HDF5 file (local or global problem; the stored
+    ``solution`` and ``guesses`` when present).  Returns a
+    :class:`~qpcontact.friction.FrictionProblem`."""
+    import h5py
+
+    from .friction import FrictionProblem
+
+    path = Path(path)
+    if not path.is_file():
+        raise InvalidProblemError(f"{path}: no such file")
+    try:
+        h = h5py.File(path, "r")
+    except OSError as exc:
+        raise InvalidProblemError(f"{path.name}: not an HDF5 file ({exc})") from None
+    with h:
+        sol = {k: np.asarray(v) for k, v in h["solution"].items()} if "solution" in h else None
+        guesses = []
+        if "guesses" in h:
+            for key in sorted(k for k in h["guesses"] if k != "number_of_guesses"):
+                guesses.append({k: np.asarray(v) for k, v in h["guesses"][key].items()})
+        if "fclib_local" in h:
+            g = h["fclib_local"]
+            prob = FrictionProblem(_cs_from_fclib(g["W"], "W"), np.asarray(g["vectors/q"]),
+                                   np.asarray(g["vectors/mu"]), int(g["spacedim"][0]),
+                                   name=path.stem)
+        elif "fclib_global" in h:
+            g = h["fclib_global"]
+            prob = FrictionProblem.global_problem(
+                _cs_from_fclib(g["M"], "M"), _cs_from_fclib(g["H"], "H"),
+                np.asarray(g["vectors/f"]), np.asarray(g["vectors/w"]),
+                np.asarray(g["vectors/mu"]), int(g["spacedim"][0]), name=path.stem)
+        else:
+            raise InvalidProblemError(f"{path.name}: neither fclib_local nor fclib_global inside")
+    prob.solution, prob.guesses = sol, guesses
+    return prob
