@@ -1,5 +1,6 @@
 """A two-span portal frame on five frictional supports (P3): gravity on the
-beams, then a lateral load that grows until the working scheme stops changing.
+beams (case G), then a lateral load (case W) that grows until the working
+scheme stops changing; then three design combinations, each solved on its own.
 
 Units: kN, m (E in kN/m², loads in kN and kN/m).  Prints the load levels where
 the scheme changes and the support states between them; saves the deformed
@@ -29,12 +30,12 @@ def two_span_portal() -> Frame:
         fr.add_beam(i, j, E=E, A=A, I=I, name=f"col {i}{j}")
     for i, j in (("D", "E"), ("E", "F")):
         m = fr.add_beam(i, j, E=E, A=A, I=I, name=f"beam {i}{j}")
-        fr.add_distributed_load(m, wy=-20.0, case="constant")      # kN/m
+        fr.add_distributed_load(m, wy=-20.0, case="G")             # dead load, kN/m
     for base in ("A", "B", "C"):                                     # column bases on the ground
         fr.add_contact(base, normal=(0.0, 1.0), friction=0.4)
     fr.add_contact("F", normal=(-1.0, 0.0), friction=0.2, gap=0.005)  # wall 5 mm right of F
     fr.add_contact("D", normal=(1.0, 0.0), friction=0.2, gap=0.0)     # wall touching D on the left
-    fr.add_load("D", fx=10.0, case="variable")                       # lateral load, kN per unit p
+    fr.add_load("D", fx=10.0, case="W")                              # wind, kN
     return fr
 
 
@@ -47,7 +48,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     fr = two_span_portal()
-    tr = fr.trace(p_max=args.p_max)
+    tr = fr.trace(p_max=args.p_max, constant={"G": 1.0}, variable="W")   # G, then p x W
     print(f"trace: {tr.message}")
     print(f"{'interval of p':>24}  supports (A, B, C bases; F right wall; D left wall)")
     for (lo, hi), st in zip(tr.intervals, tr.states):
@@ -63,6 +64,14 @@ def main(argv=None):
                            title=f"p = {args.show:g}: deformed shape with support states, bending moments [kN m]"))
     print("wrote", tr.plot(os.path.join(args.out, "frame_trace.png"), node="D", dof="ux",
                            p_max=args.plot_p_max))
+    # design combinations, each its own contact problem (never superposed)
+    res = fr.solve_combinations({"1.35G": {"G": 1.35}, "1.0G+1.5W": {"G": 1.0, "W": 1.5},
+                                 "1.0G+4.5W": {"G": 1.0, "W": 4.5}})
+    for name, r in res.items():
+        states = ", ".join(f"{k}: {v.state}" for k, v in r.supports.items()) or r.message
+        print(f"{name:>10}: ok={r.ok}  {states}")
+    for path in res.to_csv(os.path.join(args.out, "combinations")):
+        print("wrote", path)
 
 
 if __name__ == "__main__":

@@ -361,3 +361,20 @@ def test_trace_plot_names_the_valid_dofs_and_nodes(tmp_path):
     # the constant/variable split as named combinations: the same trace
     tr2 = portal_example().trace(p_max=10.0, constant={"constant": 1.0}, variable="variable")
     assert tr2.ok and np.allclose(tr2.breakpoints, tr.breakpoints)
+
+
+def test_a_combination_solved_directly_agrees_with_the_trace_at_the_same_load():
+    """Two routes: the parametric trace (pieces of the path) and a direct
+    solve of the combination G + p·W."""
+    from formulations.frames import portal_example
+
+    fr = portal_example()
+    tr = fr.trace(p_max=35.0)
+    for p in (5.0, 20.0, 30.0):
+        direct = fr.solve(combination={"constant": 1.0, "variable": p})
+        traced = tr.result_at(p)
+        assert direct.ok and traced.ok
+        for key in direct.supports:
+            assert direct.supports[key].state == traced.supports[key].state
+            assert direct.supports[key].normal == pytest.approx(traced.supports[key].normal,
+                                                                rel=1e-9, abs=1e-9)
