@@ -334,7 +334,8 @@ def _null_mod_p(R) -> np.ndarray | None:
         row += 1
         if row == n:
             break
-    free = [c for c in range(n) if c not in set(pivots)]
+    pivot_set = set(pivots)
+    free = [c for c in range(n) if c not in pivot_set]
     if len(free) != 1:
         return None
     y = np.zeros(n, dtype=np.int64)
@@ -439,6 +440,7 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
     if not np.isfinite(top_cost) or not top_cost > 0:
         return None  # q'd = 0 for every d: no descent direction
     dF = None
+    cF = [Fraction(float(v)) for v in c]
     # The cost at unit size too (HiGHS's dual tolerance is absolute: a cost
     # of 1e-9 entries was declared optimal at d = 0).  HiGHS's own
     # tolerances first, then 1e-10: each missed rays the other found (at
@@ -459,7 +461,6 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> QPProof | None:
         top = float(np.max(np.abs(dt), initial=0.0))
         if not top > 0:
             continue
-        cF = [Fraction(float(v)) for v in c]
         dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)] for vt in _candidates(dt / top))
                    if _exact_ray(P, q, G, A, d, lo, hi)), None)
         if dF is not None:
@@ -524,4 +525,3 @@ def prove_no_minimiser(problem, time_limit: float | None = None) -> QPProof | No
         if proof is None:
             proof = _ray(P, q, G, h, A, b, lb, ub, tl)
     return proof
-

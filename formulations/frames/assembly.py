@@ -134,6 +134,16 @@ def assemble(frame):
     return names, idx, K, F, U, case_list, fixed
 
 
+def contact_column(idx, N, c, vec) -> np.ndarray:
+    """The column of H mapping a force along ``vec`` at contact c to the
+    nodal forces (minus at ``other`` for a pair)."""
+    h = np.zeros(N)
+    h[idx[c.node]:idx[c.node] + 2] += vec
+    if c.other is not None:
+        h[idx[c.other]:idx[c.other] + 2] -= vec
+    return h
+
+
 def links(frame, idx, N):
     """H (N x links) and, per link: contact index, kind 'n'/'t'."""
     cols, info = [], []
@@ -142,11 +152,7 @@ def links(frame, idx, N):
         for kind, vec in (("n", c.normal), ("t", t)):
             if kind == "t" and c.friction == 0:
                 continue  # no tangential link without friction
-            h = np.zeros(N)
-            h[idx[c.node]:idx[c.node] + 2] += vec
-            if c.other is not None:
-                h[idx[c.other]:idx[c.other] + 2] -= vec
-            cols.append(h)
+            cols.append(contact_column(idx, N, c, vec))
             info.append((ci, kind))
     return (np.array(cols).T if cols else np.zeros((N, 0))), info
 

@@ -10,7 +10,7 @@ import numpy as np
 from qpcontact.errors import SolverFailedError
 
 from .assembly import DOFS, geometry
-from .loads import _shape
+from .loads import _shape, describe
 
 _COLORS = {"separated": "tab:red", "closed": "tab:blue", "stick": "tab:green",
            "slip+": "tab:orange", "slip-": "tab:purple"}
@@ -23,13 +23,12 @@ def _fmt(v: float, ref: float) -> str:
     return "0" if abs(v) <= 1e-9 * max(ref, 1e-300) else f"{v:.3g}"
 
 
-def _curve(frame, res, m, scale, points=21):
+def _curve(frame, res, m, scale, idx, points=21):
     """The member's deformed axis: x(s), y(s) from its end displacements and
     the cubic Hermite shape functions (the end rotation of a hinged end is
     the member's own, recovered from its uncondensed stiffness)."""
     L, c, s, T = geometry(frame, m)
     u = res._u
-    idx = {nm: 3 * k for k, nm in enumerate(frame.nodes)}
     d = T @ np.r_[u[idx[m.i]:idx[m.i] + 3], u[idx[m.j]:idx[m.j] + 3]]
     if m.hinge_i or m.hinge_j:
         from .assembly import beam_k
@@ -99,10 +98,11 @@ def plot_result(frame, res, path, scale=None, title=""):
         peak = sorted(frame.members, key=lambda k: -np.abs(diagrams[k][3]).max())
         label_members = set(peak[:6])
     joint_labels: dict = {}
+    idx = {nm: 3 * k for k, nm in enumerate(frame.nodes)}   # the assembly's dof numbering
     for m in frame.members.values():
         a, bnode = frame.nodes[m.i], frame.nodes[m.j]
         ax1.plot([a[0], bnode[0]], [a[1], bnode[1]], color="0.8", lw=1)
-        cx, cy = _curve(frame, res, m, scale)
+        cx, cy = _curve(frame, res, m, scale, idx)
         ax1.plot(cx, cy, color="k", lw=1.6)
         if m.hinge_i or m.hinge_j:
             for end, hinged in ((0, m.hinge_i), (-1, m.hinge_j)):
@@ -156,8 +156,8 @@ def plot_result(frame, res, path, scale=None, title=""):
         ax.set_xlabel(f"x [{length}]")
         ax.set_ylabel(f"y [{length}]")
     lifted = [k for k, s in res.supports.items() if s.state == "separated"]
-    what = res.name or (", ".join(f"{f:g}·{c}" for c, f in res.combination.items() if f)
-                        or f"p = {res.p:g}")
+    what = res.name or (describe(res.combination) if any(res.combination.values())
+                        else f"p = {res.p:g}")
     fig.suptitle(title or (f"{what}: {len(lifted)} of {len(res.supports)} contacts lift off"
                            + (f" ({', '.join(lifted[:6])}{'…' if len(lifted) > 6 else ''})"
                               if lifted else "")), fontsize=10)

@@ -92,6 +92,11 @@ def combination(combo, cases) -> dict:
     return out
 
 
+def describe(combo: dict) -> str:
+    """A combination in words: "1.2·D, 1.6·L" ("no load" when every factor is 0)."""
+    return ", ".join(f"{f:g}·{c}" for c, f in combo.items() if f) or "no load"
+
+
 def _local(axes, c, s, fx, fy):
     """Components in member axes of a vector given in ``axes``."""
     if axes == "member":

@@ -19,7 +19,7 @@ from qpcontact.solve import solve
 from . import assembly
 from .assembly import DOFS, geometry, member_local
 from .loads import (CONSTANT, VARIABLE, MemberLoad, case_name, check_axes, combination,
-                    load_points, number, section_sums)
+                    describe, load_points, number, section_sums)
 from .results import (CombinationResults, FrameEvent, FrameResult, FrameTrace, SupportResult)
 
 #: A normal force or slip below STATE_RTOL of its own componentwise scale is zero
@@ -337,8 +337,8 @@ class Frame:
             # the LCP's answer is no equilibrium of the frame: a contact matrix
             # singular to rounding (the frame is a mechanism once its contacts
             # open) solved at a point of huge openings
-            self._raise_rigid_motion(b, combo, fric, f"{route}'s answer failed the statics check "
-                                                     f"({res.message})")
+            self._raise_rigid_motion(b, combo, f"{route}'s answer failed the statics check "
+                                               f"({res.message})")
         if raise_on_failure and not res.ok:
             raise SolverFailedError(f"frame: {res.message}")
         return res
@@ -368,13 +368,13 @@ class Frame:
         proof = sol.stats.get("proof")
         if y is None and proof is not None and proof.kind == "infeasible":
             y = proof.vector["z"]
-        what = ", ".join(f"{f:g}·{c}" for c, f in combo.items() if f) or "no load"
+        what = describe(combo)
         if y is not None:
             words = self._collapse_words({"farkas": np.asarray(y, float)}, fric, carrying=None)
             raise NoSolutionError(
                 f"frame under {what}: no equilibrium exists — {words} (proved by a Farkas "
                 f"vector checked from the data: y >= 0, M'y <= 0, q'y < 0)")
-        self._raise_rigid_motion(b, combo, fric, f"{sol.method}: {sol.message}")
+        self._raise_rigid_motion(b, combo, f"{sol.method}: {sol.message}")
         raise SolverFailedError(
             f"frame under {what}: {sol.method} found no contact state ({sol.message}); nothing "
             "was proved either way")
@@ -406,16 +406,12 @@ class Frame:
             return None
         F, _ = assembly.combine(b, combo)
         Ff = F[free]
-        idx = b["idx"]
+        N = b["K"].shape[0]
         rows_a, rows_s = [], []
         for c in self.contacts:
             t = np.array([c.normal[1], -c.normal[0]])
             for vec, rows in ((c.normal, rows_a), (t, rows_s)):
-                h = np.zeros(b["K"].shape[0])
-                h[idx[c.node]:idx[c.node] + 2] += vec
-                if c.other is not None:
-                    h[idx[c.other]:idx[c.other] + 2] -= vec
-                rows.append(h[free] @ null)
+                rows.append(assembly.contact_column(b["idx"], N, c, vec)[free] @ null)
         Ha, Hs = np.array(rows_a), np.array(rows_s)
         f = np.array([c.friction for c in self.contacts])
         work = Ff @ null
@@ -438,13 +434,12 @@ class Frame:
         sl = np.where(np.abs(sl) <= tol, 0.0, sl)
         return a, sl
 
-    def _raise_rigid_motion(self, b, combo, fric, before: str):
+    def _raise_rigid_motion(self, b, combo, before: str):
         motion = self._rigid_motion(b, combo)
         if motion is None:
             return
-        what = ", ".join(f"{f:g}·{c}" for c, f in combo.items() if f) or "no load"
         raise NoSolutionError(
-            f"frame under {what}: no equilibrium exists — {self._motion_words(*motion, None)} "
+            f"frame under {describe(combo)}: no equilibrium exists — {self._motion_words(*motion, None)} "
             f"(a rigid motion of the frame with its contacts released, in which the loads do "
             f"positive work while every contact opens or slides within its friction cone; "
             f"found by LP, checked to rounding; {before})")
