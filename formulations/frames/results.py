@@ -106,17 +106,7 @@ class FrameResult:
     def to_csv(self, folder) -> list:
         """supports.csv, reactions.csv, members.csv, displacements.csv in
         ``folder`` (each written atomically); returns the paths."""
-        from pathlib import Path
-
-        folder = Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        paths = []
-        for table in TABLES:
-            rows = self.rows(table)
-            path = folder / f"{table}.csv"
-            write_csv_atomic(path, rows, list(rows[0]) if rows else ["empty"])
-            paths.append(str(path))
-        return paths
+        return _write_tables(folder, {t: self.rows(t) for t in TABLES})
 
     def to_dataframe(self, table: str = "members"):
         """The table as a pandas DataFrame (pandas must be installed)."""
@@ -132,6 +122,20 @@ class FrameResult:
 
 
 TABLES = ("supports", "reactions", "members", "displacements")
+
+
+def _write_tables(folder, tables: dict) -> list:
+    """{name: rows} as folder/name.csv, each written atomically; the paths."""
+    from pathlib import Path
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for table, rows in tables.items():
+        path = folder / f"{table}.csv"
+        write_csv_atomic(path, rows, list(rows[0]) if rows else ["empty"])
+        paths.append(str(path))
+    return paths
 
 
 def _dataframe(rows):
@@ -209,20 +213,11 @@ class CombinationResults(dict):
         return rows
 
     def to_csv(self, folder) -> list:
-        from pathlib import Path
-
-        folder = Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        paths = []
         tables = {t: self.rows(t) for t in TABLES}
         tables["envelope"] = self.envelope_rows()
         tables["combinations"] = [{"combination": n, "ok": r.ok, "route": r.route,
                                    "message": r.message} for n, r in self.items()]
-        for table, rows in tables.items():
-            path = folder / f"{table}.csv"
-            write_csv_atomic(path, rows, list(rows[0]) if rows else ["empty"])
-            paths.append(str(path))
-        return paths
+        return _write_tables(folder, tables)
 
     def to_dataframe(self, table: str = "members"):
         return _dataframe(self.envelope_rows() if table == "envelope" else self.rows(table))
