@@ -14,8 +14,8 @@ for unit dislocations Δ = e_j (columns of R) and for each load case with
 rather than condensing K onto the links: K alone is singular whenever the
 frame relies on its contacts for stability (a beam resting on unilateral
 supports only), while the basic system is not.  R is symmetric positive
-definite.  Elastic contacts add their flexibility: R <- (I + R D)⁻¹ R,
-R_F <- (I + R D)⁻¹ R_F, D = diag(1/k).
+definite.  Elastic contacts add their flexibility D = diag(1/k) to the
+link rows, H'u + D X = Δ, which gives R = (I + R₀ D)⁻¹ R₀ directly.
 
 Unknowns per contact: z = (Z_n, Z⁺, Z⁻) with Δ_n = Z_n - g, Δ_t = Z⁺ - Z⁻,
 and w = (X_n, f X_n + X_t, f X_n - X_t) (P3's holonomic Coulomb law: total
@@ -25,6 +25,8 @@ symmetric positive semidefinite).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import scipy.linalg
@@ -54,34 +56,38 @@ def beam_k(E, A, I, L):
 
 
 def geometry(frame, m):
+    """(L, cos, sin) of a member's axis."""
     d = frame.nodes[m.j] - frame.nodes[m.i]
-    L = float(np.hypot(*d))
+    L = math.hypot(d[0], d[1])
     if L == 0:
         raise InvalidProblemError(f"member {m.name}: nodes {m.i} and {m.j} coincide")
-    c, s = d / L
+    return L, float(d[0]) / L, float(d[1]) / L
+
+
+def rotation(c, s) -> np.ndarray:
+    """T (6x6): global end displacements to member axes."""
     T = np.zeros((6, 6))
     T[:3, :3] = T[3:, 3:] = ((c, s, 0.0), (-s, c, 0.0), (0.0, 0.0, 1.0))
-    return L, c, s, T
+    return T
 
 
-def member_local(frame, m, case=None):
-    """Local stiffness and equivalent nodal loads of one case (None: no
-    loads), with hinges condensed.  Returns (k, fe, T, L)."""
-    L, c, s, T = geometry(frame, m)
+def member_local(frame, m):
+    """Local stiffness and equivalent nodal loads of every case that loads
+    the member, with hinges condensed.  Returns (k, {case: fe}, T, L)."""
+    L, c, s = geometry(frame, m)
+    T = rotation(c, s)
     k = beam_k(m.E, m.A, m.I, L)
-    fe = np.zeros(6)
-    if case is not None:
-        for load in m.loads:
-            if load.case == case:
-                fe += equivalent_nodal(load, L, c, s)
+    fes = {}
+    for load in m.loads:
+        fes[load.case] = fes.get(load.case, 0.0) + equivalent_nodal(load, L, c, s)
     for r, hinged in ((2, m.hinge_i), (5, m.hinge_j)):
         if hinged:
             kr = k[:, r].copy()
-            fe = fe - kr * fe[r] / k[r, r]
+            fes = {case: fe - kr * fe[r] / k[r, r] for case, fe in fes.items()}
             k = k - np.outer(kr, kr) / k[r, r]
             k[r, :] = 0.0
             k[:, r] = 0.0
-    return k, fe, T, L
+    return k, fes, T, L
 
 
 def cases(frame) -> list:
@@ -102,14 +108,15 @@ def assemble(frame):
     case_list = cases(frame)
     col = {c: k for k, c in enumerate(case_list)}
     F = np.zeros((N, len(case_list)))
+    local = {}   # per member: (k, {case: fe}, T, dofs), reused by the results
     for m in frame.members.values():
-        k, _, T, _ = member_local(frame, m)
+        k, fes, T, _ = member_local(frame, m)
         dofs = np.r_[idx[m.i]:idx[m.i] + 3, idx[m.j]:idx[m.j] + 3]
+        local[m.name] = (k, fes, T, dofs)
         rows.append(np.repeat(dofs, 6))
         cols.append(np.tile(dofs, 6))
         vals.append((T.T @ k @ T).ravel())
-        for case in {ld.case for ld in m.loads}:
-            _, fe, _, _ = member_local(frame, m, case)
+        for case, fe in fes.items():
             F[dofs, col[case]] += T.T @ fe
     for node, fx, fy, mz, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
@@ -131,7 +138,7 @@ def assemble(frame):
             fixed[idx[node] + DOFS.index(d)] = True
     # a rotation no member resists (only hinged ends, or no member) is not a dof
     fixed |= np.isclose(K.diagonal(), 0.0) & (np.arange(N) % 3 == 2)
-    return names, idx, K, F, U, case_list, fixed
+    return names, idx, K, F, U, case_list, fixed, local
 
 
 def contact_column(idx, N, c, vec) -> np.ndarray:
@@ -186,7 +193,7 @@ def build(frame):
         raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
                                   "add_contact() defines the unilateral supports")
     check_conflicts(frame)
-    names, idx, K, F, U, case_list, fixed = assemble(frame)
+    names, idx, K, F, U, case_list, fixed, local = assemble(frame)
     N = K.shape[0]
     H, info = links(frame, idx, N)
     free = np.flatnonzero(~fixed)
@@ -199,7 +206,13 @@ def build(frame):
     nl = Hf.shape[1]
     # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
     # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
-    S = sp.bmat([[Kf, Hf], [Hf.T, None]], format="csc")
+    # Elastic contacts: the link's displacement is the structure's plus the
+    # spring's, H'u + D X = Δ (D = diag 1/k), so D enters the saddle matrix
+    # (scaled like the links) and R, R_F come out elastic — no dense
+    # (I + R D)⁻¹ on nl x nl.
+    flex = np.array([0.0 if frame.contacts[ci].stiffness is None
+                     else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
+    S = sp.bmat([[Kf, Hf], [Hf.T, sp.diags(-kappa ** 2 * flex)]], format="csc")
     try:
         lu = spla.splu(S)
         piv = np.abs(lu.U.diagonal())
@@ -227,15 +240,8 @@ def build(frame):
     # and the support states would read as data.
     R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
     RF = -kappa * sol[nf:, nl:]
-    flex = np.array([0.0 if frame.contacts[ci].stiffness is None
-                     else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
-    if np.any(flex > 0):
-        E = np.eye(nl) + R * flex[None, :]
-        R = np.linalg.solve(E, R)
-        R = 0.5 * (R + R.T)
-        RF = np.linalg.solve(E, RF)
     return dict(names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free, H=H,
-                info=info, lu=lu, R=R, RF=RF, flex=flex, nf=nf, kappa=kappa)
+                info=info, lu=lu, R=R, RF=RF, flex=flex, nf=nf, kappa=kappa, local=local)
 
 
 def factors(b, combo: dict) -> np.ndarray:

@@ -9,7 +9,7 @@ import numpy as np
 
 from qpcontact.errors import SolverFailedError
 
-from .assembly import DOFS, geometry
+from .assembly import DOFS, geometry, rotation
 from .loads import _shape, describe
 
 _COLORS = {"separated": "tab:red", "closed": "tab:blue", "stick": "tab:green",
@@ -27,7 +27,8 @@ def _curve(frame, res, m, scale, idx, points=21):
     """The member's deformed axis: x(s), y(s) from its end displacements and
     the cubic Hermite shape functions (the end rotation of a hinged end is
     the member's own, recovered from its uncondensed stiffness)."""
-    L, c, s, T = geometry(frame, m)
+    L, c, s = geometry(frame, m)
+    T = rotation(c, s)
     u = res._u
     d = T @ np.r_[u[idx[m.i]:idx[m.i] + 3], u[idx[m.j]:idx[m.j] + 3]]
     if m.hinge_i or m.hinge_j:
@@ -109,7 +110,7 @@ def plot_result(frame, res, path, scale=None, title=""):
                 if hinged:
                     ax1.plot(cx[end], cy[end], "o", mfc="w", mec="k", ms=5)
         x, N, V, Mo = diagrams[m.name]
-        L, c, sn, _ = geometry(frame, m)
+        L, c, sn = geometry(frame, m)
         px, py = a[0] + c * x, a[1] + sn * x
         # sagging moment compresses the +y fibre: drawn on the tension side (-y, member axes)
         ox, oy = -sn * Mo * mscale, c * Mo * mscale

@@ -104,13 +104,21 @@ def _local(axes, c, s, fx, fy):
     return c * fx + s * fy, -s * fx + c * fy
 
 
+# Hermite/linear shape functions as polynomials in xi = x/L (columns: 1, xi,
+# xi², xi³); the rotation rows (2, 5) carry a factor L.
+_N_POLY = np.array([[1, -1, 0, 0], [1, 0, -3, 2], [0, 1, -2, 1],
+                    [0, 1, 0, 0], [0, 0, 3, -2], [0, 0, -1, 1]], float)
+_DN_POLY = np.c_[_N_POLY[:, 1:] * (1, 2, 3), np.zeros(6)]
+
+
 def _shape(x, L):
-    """Shape functions (6,) and their x-derivatives at x (member axes)."""
-    xi = x / L
-    N = np.array([1 - xi, 1 - 3 * xi ** 2 + 2 * xi ** 3, L * (xi - 2 * xi ** 2 + xi ** 3),
-                  xi, 3 * xi ** 2 - 2 * xi ** 3, L * (-xi ** 2 + xi ** 3)])
-    dN = np.array([-1 / L, (-6 * xi + 6 * xi ** 2) / L, 1 - 4 * xi + 3 * xi ** 2,
-                   1 / L, (6 * xi - 6 * xi ** 2) / L, -2 * xi + 3 * xi ** 2])
+    """Shape functions and their x-derivatives at x (member axes): (6,) for
+    a number, (6, len(x)) for an array."""
+    xi = np.asarray(x, float) / L
+    powers = xi[..., None] ** np.arange(4)      # (..., 4)
+    scale = np.array([1, 1, L, 1, 1, L])
+    N = scale[:, None] * (_N_POLY @ powers.T) if xi.ndim else scale * (_N_POLY @ powers)
+    dN = (scale[:, None] * (_DN_POLY @ powers.T) if xi.ndim else scale * (_DN_POLY @ powers)) / L
     return N, dN
 
 
@@ -139,13 +147,10 @@ def equivalent_nodal(load: MemberLoad, L: float, c: float, s: float) -> np.ndarr
     if load.b <= load.a:
         return np.zeros(6)
     xs, ws = _gauss(load.a, load.b)
-    fe = np.zeros(6)
-    for x, w in zip(xs, ws):
-        t = (x - load.a) / (load.b - load.a)
-        qx, qy = wx1 + t * (wx2 - wx1), wy1 + t * (wy2 - wy1)
-        N, _ = _shape(x, L)
-        fe += w * N * np.array([qx, qy, qy, qx, qy, qy])
-    return fe
+    t = (xs - load.a) / (load.b - load.a)
+    qx, qy = wx1 + t * (wx2 - wx1), wy1 + t * (wy2 - wy1)
+    N, _ = _shape(xs, L)                       # (6, Gauss points)
+    return (N * np.array([qx, qy, qy, qx, qy, qy])) @ ws
 
 
 def section_sums(loads, x: np.ndarray, c: float, s: float):

@@ -17,7 +17,7 @@ from qpcontact.problems import ParametricLCP
 from qpcontact.solve import solve
 
 from . import assembly
-from .assembly import DOFS, geometry, member_local
+from .assembly import DOFS, geometry
 from .loads import (CONSTANT, VARIABLE, MemberLoad, case_name, check_axes, combination,
                     describe, load_points, number, section_sums)
 from .results import (CombinationResults, FrameEvent, FrameResult, FrameTrace, SupportResult)
@@ -518,12 +518,11 @@ class Frame:
         F, RF = assembly.combine(b, combo)
         delta = P @ z - g                      # link displacements incl. contact flexibility
         X = R @ delta + RF
-        delta_struct = delta - b["flex"] * X   # what the structure itself displaces
         nf, free = b["nf"], b["free"]
         ua = b["U"] @ assembly.factors(b, combo)     # settlements (zero at free dofs)
         fixed_idx = np.flatnonzero(b["fixed"])
         rhs = np.r_[F[free] - b["K"][free][:, fixed_idx] @ ua[fixed_idx],
-                    b["kappa"] * (delta_struct - b["H"][fixed_idx].T @ ua[fixed_idx])]
+                    b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])]
         sol = b["lu"].solve(rhs)
         u = ua.copy()
         u[free] = sol[:nf]
@@ -573,10 +572,9 @@ class Frame:
         displacements = {nd: tuple(float(u[b["idx"][nd] + k]) for k in range(3))
                          for nd in b["names"]}
         member_forces = {}
-        for m in self.members.values():
-            k, _, T, _ = member_local(self, m)
-            dofs = np.r_[b["idx"][m.i]:b["idx"][m.i] + 3, b["idx"][m.j]:b["idx"][m.j] + 3]
-            member_forces[m.name] = k @ (T @ u[dofs]) - self._member_fe(m, combo)
+        for name, (k, fes, T, dofs) in b["local"].items():
+            member_forces[name] = k @ (T @ u[dofs]) - sum(
+                (combo[case] * fe for case, fe in fes.items() if combo.get(case)), np.zeros(6))
         ok = cert.ok(tol) and eq <= EQUILIBRIUM_RTOL
         msg = (f"{route}: LCP certificate {cert.error:.1e}, equilibrium residual {eq:.1e}"
                + ("" if ok else " — CHECK FAILED"))
@@ -585,13 +583,6 @@ class Frame:
                            reactions=reactions, equilibrium_residual=eq, lcp_error=cert.error,
                            route=route, ok=ok, message=msg, frame=self, _u=u,
                            combination=dict(combo))
-
-    def _member_fe(self, m, combo):
-        fe = np.zeros(6)
-        for case in {ld.case for ld in m.loads}:
-            if combo.get(case):
-                fe += combo[case] * member_local(self, m, case)[1]
-        return fe
 
     def _equilibrium(self, b, F, X, r_all, u):
         """|Σ forces| and |Σ moments about the origin| of loads, contact forces,
@@ -615,7 +606,7 @@ class Frame:
         m = self._member(member)
         if not res.member_forces:
             raise SolverFailedError(f"no diagram: this result is not an equilibrium ({res.message})")
-        L, c, s, _ = geometry(self, m)
+        L, c, s = geometry(self, m)
         f = res.member_forces[member]
         loads = [ld for ld in m.loads if res.combination.get(ld.case)]
         factor = {ld.case: res.combination[ld.case] for ld in loads}
