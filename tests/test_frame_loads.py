@@ -378,3 +378,39 @@ def test_a_combination_solved_directly_agrees_with_the_trace_at_the_same_load():
             assert direct.supports[key].state == traced.supports[key].state
             assert direct.supports[key].normal == pytest.approx(traced.supports[key].normal,
                                                                 rel=1e-9, abs=1e-9)
+
+
+def test_moment_labels_do_not_overprint(monkeypatch):
+    """A long beam with lift-off: end moments and span extremes crowd near the
+    joints; the drawing keeps the larger label and drops the one that would
+    print on top of it (checked on the rendered boxes)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import qpcontact.plotting
+
+    fr = Frame(units=("kN", "m"))
+    n = 40
+    for k in range(n + 1):
+        fr.add_node(f"N{k}", 6.0 * k, 0.0)
+    for k in range(n):
+        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017, name=f"M{k}")
+        fr.add_distributed_load(f"M{k}", wy=-18.0, case="D")
+    fr.add_support("N0", fix=("ux",))
+    for k in range(n + 1):
+        fr.add_contact(f"N{k}", normal=(0.0, 1.0), stiffness=6e4)
+    for k in (31, 33, 35):
+        fr.add_load(f"N{k}", fy=250.0, case="D")
+    res = fr.solve(combination={"D": 1.0})
+    assert res.ok and any(s.state == "separated" for s in res.supports.values())
+    figs = []
+    monkeypatch.setattr(qpcontact.plotting, "save_figure", lambda fig, path: figs.append(fig))
+    res.plot("unused.png")
+    fig = figs[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    moment_ax = fig.axes[1]
+    boxes = [t.get_window_extent(renderer) for t in moment_ax.texts]
+    assert len(boxes) >= 4
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b), "two moment labels print on top of each other"

@@ -99,6 +99,7 @@ def plot_result(frame, res, path, scale=None, title=""):
         peak = sorted(frame.members, key=lambda k: -np.abs(diagrams[k][3]).max())
         label_members = set(peak[:6])
     joint_labels: dict = {}
+    span_labels: list = []
     idx = {nm: 3 * k for k, nm in enumerate(frame.nodes)}   # the assembly's dof numbering
     for m in frame.members.values():
         a, bnode = frame.nodes[m.i], frame.nodes[m.j]
@@ -127,10 +128,11 @@ def plot_result(frame, res, path, scale=None, title=""):
         # the span's extremes where they are not at an end (sagging between supports)
         for k in {int(np.argmax(Mo)), int(np.argmin(Mo))}:
             if 0 < k < len(x) - 1 and abs(Mo[k]) > 0.05 * m_max:
-                ax2.annotate(_fmt(Mo[k], m_max) if dense else f"{_fmt(Mo[k], m_max)} (x={x[k]:.3g})",
-                             (px[k] - ox[k], py[k] - oy[k]), fontsize=7, color="tab:blue")
-    for node, (val, lx, ly) in joint_labels.items():
-        ax2.annotate(_fmt(val, m_max), (lx, ly), fontsize=7)
+                text = _fmt(Mo[k], m_max) if dense else f"{_fmt(Mo[k], m_max)} (x={x[k]:.3g})"
+                span_labels.append((abs(Mo[k]), text, px[k] - ox[k], py[k] - oy[k], "tab:blue"))
+    labels = span_labels + [(abs(val), _fmt(val, m_max), lx, ly, "k")
+                            for val, lx, ly in joint_labels.values()]
+    _place_labels(ax2, labels)
     nmax = max([abs(s.normal) for s in res.supports.values()] + [1e-300])
     top_key = max(res.supports, key=lambda k: res.supports[k].normal) if res.supports else None
     for n_sup, (key, sres) in enumerate(res.supports.items()):
@@ -164,6 +166,25 @@ def plot_result(frame, res, path, scale=None, title=""):
                               if lifted else "")), fontsize=10)
     fig.tight_layout()
     return save_figure(fig, path)
+
+
+def _place_labels(ax, labels):
+    """Annotate (size, text, x, y, colour) labels, largest first, skipping
+    any that would overprint one already placed (a span extreme next to a
+    joint's end moment): the box is judged in data units against the
+    drawing's extent, which the equal aspect makes a fixed fraction of the
+    axes."""
+    if not labels:
+        return
+    xy = np.array([(lx, ly) for _, _, lx, ly, _ in labels])
+    extent = max(np.ptp(xy[:, 0]), np.ptp(xy[:, 1]), 1e-300)
+    placed = []   # (left, right, y) of each label's box; a 7-pt character ~ 0.005 extent
+    for _, text, lx, ly, colour in sorted(labels, key=lambda t: -t[0]):
+        right = lx + 0.005 * extent * (len(text) + 1)
+        if any(lx < r and l < right and abs(ly - y) < 0.025 * extent for l, r, y in placed):
+            continue
+        placed.append((lx, right, ly))
+        ax.annotate(text, (lx, ly), fontsize=7, color=colour)
 
 
 def plot_trace(frame, ft, path, node, dof, p_max):
