@@ -343,7 +343,7 @@ def demo(console) -> int:
         table.add_column(col, justify="left" if col in ("method", "status") else "right")
     wrong = 0
     for name, m in methods().items():
-        if m.takes != "qp":
+        if m.takes != "qp" or m.constraints != "any":
             continue
         t0 = time.perf_counter()
         res = solve_penalty(step, mu=mu, method=name)

@@ -15,6 +15,7 @@ from .errors import (BackendUnavailableError, InvalidOptionError, InvalidProblem
                      NoSolutionError,
                      NotConvexError, NotSymmetricError, SolverFailedError, UnknownMethodError)
 from .methods import Method, get_method
+from .methods.active_set import BANDED_MAX
 from .problems import LCP, ParametricLCP
 from .solution import LCPSolution, MethodResult, QPSolution
 
@@ -28,6 +29,30 @@ __all__ = ["solve", "AUTO_ORDER"]
 #: 20 000 but stops at ~2e-7 on degenerate problems, where polished OSQP is exact.
 AUTO_ORDER = ("energy", "bpp", "lemke", "piqp", "osqp", "clarabel", "daqp", "proxqp",
               "highs", "quadprog", "scs", "cvxpy:CLARABEL")
+
+#: "auto" puts "ip-bpp" first for sparse SPD LCPs from this size on whose
+#: matrix is not banded (meshes: bpp's active-set front moves one grid line
+#: per exchange, 25 exchanges at n = 1e4 and 81 at 1e5 on the membrane), and
+#: for QPs whose only constraints are lower bounds (the mixed problem of
+#: finite-element contact).  Banded matrices (contact chains, bandwidth <= 16)
+#: keep "bpp", which needs 3-4 exchanges there (docs/pivoting.md).
+AUTO_IP_BPP_MIN = 5000
+
+
+def _auto_order(problem) -> tuple:
+    if isinstance(problem, LCP):
+        mesh_like = (problem.is_sparse and problem.n >= AUTO_IP_BPP_MIN
+                     and problem._structure.bandwidth > BANDED_MAX)
+        return ("ip-bpp",) + AUTO_ORDER if mesh_like else AUTO_ORDER
+    if isinstance(problem, Problem) and _lower_bounds_only(problem):
+        return ("ip-bpp",) + AUTO_ORDER
+    return AUTO_ORDER
+
+
+def _lower_bounds_only(problem: Problem) -> bool:
+    return (problem.G is None and problem.A is None and problem.lb is not None
+            and (problem.ub is None or not np.isfinite(problem.ub).any()))
+
 
 #: Seconds a backend call may take (``solve(..., time_limit=)``), enforced by
 #: the backend's own setting where it has one and by a killable child process
@@ -76,7 +101,10 @@ def _jacobi_scaled(lcp: LCP):
         return lcp, None
     if lcp.is_symmetric:
         Ms = 0.5 * (Ms + Ms.T)  # keep exact symmetry for the QP route
-    return LCP(Ms, qs), d
+    scaled = LCP(Ms, qs)
+    if lcp._structure.__dict__.get("is_positive_definite"):
+        scaled._structure.declare_spd()   # D M D is congruent to M: no second factorization
+    return scaled, d
 
 
 def _check_applicable(lcp: LCP, m: Method) -> None:
@@ -114,6 +142,8 @@ def _applicable(problem, m: Method) -> bool:
     else:
         if m.takes == "lcp":
             return False  # QP -> dual LCP is dense; "auto" keeps QPs on QP backends
+        if m.constraints == "lower-bounds" and not _lower_bounds_only(problem):
+            return False
         n, sparse = problem.P.shape[0], problem.has_sparse
     return m.accepts_sparse or not sparse or n <= _AUTO_DENSE_LIMIT
 
@@ -441,7 +471,7 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
             sol = _prove_no_solution(problem, sol, time_limit)
     else:
         def candidates():  # lazily: a late entry (cvxpy) is imported only if reached
-            for name in AUTO_ORDER:
+            for name in _auto_order(problem):
                 try:
                     m = get_method(name)
                 except (BackendUnavailableError, UnknownMethodError):

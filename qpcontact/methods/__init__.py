@@ -54,6 +54,9 @@ class Method:
         The command that installs what the method needs.
     available : bool
         Installed on this machine.
+    constraints : {"any", "lower-bounds"}
+        The QPs it takes: any, or only those whose sole constraints are lower
+        bounds x_i >= l_i (an LCP's QP form, the mixed contact problem).
     """
 
     name: str
@@ -67,6 +70,7 @@ class Method:
     family: str
     install: str
     available: bool = True
+    constraints: str = "any"
 
     @property
     def needs_symmetric(self) -> bool:

@@ -26,7 +26,7 @@ from ._pivot_kernels import sure_negatives
 __all__ = ["sign_tolerances", "negative_components", "ComponentScales", "SolutionOverflow",
            "overflow_result", "ActiveBlock", "symmetric_scaling", "dense_matrix",
            "check_options", "check_dense_size", "not_positive_definite", "refined", "int_option",
-           "DENSE_TABLEAU_LIMIT", "BANDED_MAX"]
+           "DENSE_TABLEAU_LIMIT", "BANDED_MAX", "ExchangeRule"]
 
 _EPS = np.finfo(float).eps
 
@@ -67,6 +67,41 @@ def refined(solve, B, rhs: np.ndarray, x: np.ndarray, steps: int = 3) -> np.ndar
             break
         x, r, rn = x_new, r_new, rn_new
     return x
+
+
+class ExchangeRule:
+    """Kostreva's block exchange with the Júdice & Pires (1994) safeguard.
+
+    Given the basis F (bool mask, changed in place) and the indices of its
+    infeasible components, the whole infeasible set is exchanged while its
+    size keeps reaching a new minimum; after ``patience`` exchanges without
+    one, single pivots by Murty's least-index rule (finite for P-matrices)
+    take over until the size drops again — so the iteration terminates for
+    every SPD matrix, whatever basis it starts from.  ``stats`` counts the
+    exchanges for the method's report.
+    """
+
+    def __init__(self, n: int, patience: int, stats: dict):
+        self.best, self.patience, self.left = n + 1, patience, patience
+        self.stats = stats
+        for key in ("block_exchanges", "single_pivots", "exchanged"):
+            stats.setdefault(key, 0)
+
+    def step(self, F: np.ndarray, infeasible: np.ndarray) -> None:
+        k = infeasible.size
+        if k < self.best or self.left > 0:
+            if k < self.best:
+                self.best, self.left = k, self.patience
+            else:
+                self.left -= 1
+            F[infeasible] = ~F[infeasible]
+            self.stats["block_exchanges"] += 1
+            self.stats["exchanged"] += k
+        else:
+            r = infeasible[0]
+            F[r] = not F[r]
+            self.stats["single_pivots"] += 1
+            self.stats["exchanged"] += 1
 
 
 def check_options(method: str, options: dict, allowed: tuple) -> None:

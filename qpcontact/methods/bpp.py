@@ -29,8 +29,8 @@ import scipy.sparse as sp
 
 from ..errors import InvalidOptionError
 from ..solution import MethodResult
-from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, SolutionOverflow,
-                         check_options, int_option, negative_components,
+from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, ExchangeRule,
+                         SolutionOverflow, check_options, int_option, negative_components,
                          not_positive_definite, overflow_result)
 
 __all__ = ["run_bpp", "block_pivoting"]
@@ -61,10 +61,8 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
     structure = problem._structure
     bands = structure.upper_bands(BANDED_MAX) if sp.issparse(M) else None
     triu = structure.upper if bands is None else None
-    best = q.size + 1
-    left = patience
-    stats = {"iterations": 0, "factorizations": 0, "block_exchanges": 0, "single_pivots": 0,
-             "exchanged": 0, "initial_active": int(F.sum())}
+    stats = {"iterations": 0, "factorizations": 0, "initial_active": int(F.sum())}
+    rule = ExchangeRule(q.size, patience, stats)
     while True:
         block = ActiveBlock(M, F, symmetric=True, triu=triu, bands=bands)
         stats["factorizations"] += 1
@@ -74,28 +72,13 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
         if infeasible.size == 0:
             z, w = block.basic_solution(M, q, refine=3)
             infeasible = negative_components(scales, np.where(F, z, w), F, z)
-        k = infeasible.size
-        if k == 0:
+        if infeasible.size == 0:
             z[F] = np.maximum(z[F], 0.0)
             return z, F, stats, "solved"
         if stats["iterations"] >= max_iter:
             return z, F, stats, "max_pivots"
         stats["iterations"] += 1
-        if k < best:
-            best, left = k, patience
-            F[infeasible] = ~F[infeasible]
-            stats["block_exchanges"] += 1
-            stats["exchanged"] += k
-        elif left > 0:
-            left -= 1
-            F[infeasible] = ~F[infeasible]
-            stats["block_exchanges"] += 1
-            stats["exchanged"] += k
-        else:
-            r = infeasible[0]
-            F[r] = not F[r]
-            stats["single_pivots"] += 1
-            stats["exchanged"] += 1
+        rule.step(F, infeasible)
 
 
 def run_bpp(problem, tol, options) -> MethodResult:

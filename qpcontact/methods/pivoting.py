@@ -6,6 +6,7 @@ from __future__ import annotations
 from . import Method, register
 from .bpp import run_bpp
 from .energy import run_energy
+from .ip_bpp import run_ip_bpp
 from .lemke import run_lemke
 
 _INSTALL = "pip install qpcontact"
@@ -18,6 +19,11 @@ def register_all() -> None:
     register(Method("bpp", run_bpp, takes="lcp", requires="spd", accepts_sparse=True,
                     returns_duals=False, algorithm="block principal pivoting (Kostreva, Judice-Pires)",
                     exact=True, family="pivoting", install=_INSTALL), replace=True)
+    register(Method("ip-bpp", run_ip_bpp, takes="qp", requires="spd", accepts_sparse=True,
+                    returns_duals=True,
+                    algorithm="interior-point warm start, block principal pivoting finish",
+                    exact=True, family="pivoting", install=_INSTALL,
+                    constraints="lower-bounds"), replace=True)
     register(Method("lemke", run_lemke, takes="lcp", requires="any", accepts_sparse=False,
                     returns_duals=False, algorithm="complementary pivoting (Lemke)",
                     exact=True, family="pivoting", install=_INSTALL), replace=True)

@@ -1,0 +1,210 @@
+"""The exact oracle at mesh scale (issue 18): membrane and plate obstacle
+problems and a 3-D elastic block on a rigid foundation (the mixed problem),
+n = 1e4 .. 1e5, every method in its own process (time, peak memory, killed
+at the time limit), measured side by side in one run.
+
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 .venv/bin/python benchmarks/scale.py
+    .venv/bin/python benchmarks/scale.py --quick          # n ~ 1e3 .. 1e4, a minute
+    .venv/bin/python benchmarks/scale.py --membrane 1000 --methods ip-bpp   # n = 1e6
+
+Per family and n: each method's wall time (solve() included: conversion,
+certificate), iterations, certificate error, the ratio to **one sparse LDLᵀ
+of the final free block** (the faster of QDLDL with AMD and SuperLU's
+supernodal LDLᵀ with MMD, ordering included — the cheapest exact solve of
+the answer's own linear system), the ratio to the fastest QP backend that
+certified its answer at "high", and the process's peak memory.  Prints a
+Markdown table and saves a log-log plot of time against n
+(out/scale/scale.png) and the rows (out/scale/scale.csv).
+"""
+
+from __future__ import annotations
+
+import argparse
+import multiprocessing as mp
+import os
+import sys
+import time
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+BACKENDS = ("piqp", "clarabel", "proxqp", "osqp")
+
+
+def build(family: str, size: int):
+    from formulations import meshes
+
+    if family == "membrane":
+        return meshes.membrane(size)
+    if family == "plate":
+        return meshes.plate(size)
+    return meshes.signorini(size)[0]
+
+
+def _final_block_ldlt(problem, x) -> float:
+    """Seconds for one LDLᵀ (the faster of QDLDL+AMD and SuperLU+MMD) of the
+    final free block: the bounded components strictly inside their bounds
+    and every free component."""
+    import numpy as np
+    import qdldl
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from qpcontact import LCP
+
+    if isinstance(problem, LCP):
+        P, free = problem.M, x > 0
+    else:
+        P = problem.P
+        lb = problem.lb
+        free = ~np.isfinite(lb) | (x > lb + 1e-12 * np.maximum(np.abs(lb), 1.0))
+    idx = np.flatnonzero(free)
+    B = sp.csc_matrix(P)[idx][:, idx].tocsc()
+    if idx.size == 0:
+        return 0.0
+    t = time.perf_counter()
+    qdldl.Solver(sp.triu(B, format="csc"), upper=True)
+    t_q = time.perf_counter() - t
+    t = time.perf_counter()
+    spla.splu(B, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+              options={"SymmetricMode": True})
+    t_s = time.perf_counter() - t
+    return min(t_q, t_s)
+
+
+def job(family, size, method, progress, queue):
+    import resource
+
+    from qpcontact import solve
+
+    # warm-up on a tiny instance: imports, compiled kernels, the registry —
+    # costs paid once per process, not per problem
+    solve(build(family, 4 if family != "signorini" else 2), method=method)
+    problem = build(family, size)
+    opts = {"progress": lambda line: print(f"    {line}", flush=True)} \
+        if progress and method == "ip-bpp" else {}
+    t = time.perf_counter()
+    sol = solve(problem, method=method, accuracy="high", **opts)
+    wall = time.perf_counter() - t
+    x = getattr(sol, "z", None) if hasattr(sol, "z") else None
+    if x is None:
+        x = getattr(sol, "x", None)
+    block = _final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp") else None
+    n = problem.n if hasattr(problem, "n") else problem.P.shape[0]
+    queue.put(dict(family=family, n=n, method=method, time=wall, ok=sol.ok, status=sol.status,
+                   iterations=sol.iterations,
+                   error=None if sol.certificate is None else sol.certificate.error,
+                   ldlt=block,
+                   peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024))
+
+
+def run_one(family, size, method, limit, progress):
+    ctx = mp.get_context("spawn")
+    queue = ctx.Queue()
+    p = ctx.Process(target=job, args=(family, size, method, progress, queue))
+    t = time.perf_counter()
+    p.start()
+    p.join(limit)
+    if p.is_alive():
+        p.kill()
+        p.join()
+        return dict(family=family, n=None, method=method, time=time.perf_counter() - t, ok=False,
+                    status=f"killed at {limit:.0f} s", iterations=None, error=None, ldlt=None,
+                    peak_mb=None)
+    try:
+        return queue.get(timeout=5)
+    except Exception:   # the child died (out of memory)
+        return dict(family=family, n=None, method=method, time=time.perf_counter() - t, ok=False,
+                    status=f"died (exit code {p.exitcode})", iterations=None, error=None,
+                    ldlt=None, peak_mb=None)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="small sizes (n ~ 1e3 .. 1e4)")
+    ap.add_argument("--membrane", default=None, help="grid sides, e.g. 100,316")
+    ap.add_argument("--plate", default=None)
+    ap.add_argument("--block", default=None, help="3-D block: elements per side, e.g. 16,20")
+    ap.add_argument("--methods", default="bpp,ip-bpp," + ",".join(BACKENDS))
+    ap.add_argument("--limit", type=float, default=120.0, help="seconds per run (killed after)")
+    ap.add_argument("--out", default="out/scale")
+    args = ap.parse_args(argv)
+    quick = args.quick
+    sizes = {"membrane": args.membrane or ("30,100" if quick else "100,316"),
+             "plate": args.plate or ("30,100" if quick else "100,316"),
+             "signorini": args.block or ("8,16" if quick else "16,20")}
+    if any(v is not None for v in (args.membrane, args.plate, args.block)):
+        sizes = {k: v for k, v, given in (("membrane", sizes["membrane"], args.membrane),
+                                          ("plate", sizes["plate"], args.plate),
+                                          ("signorini", sizes["signorini"], args.block)) if given}
+    methods = [m for m in args.methods.split(",") if m]
+    rows = []
+    for family, spec in sizes.items():
+        for size in (int(s) for s in spec.split(",") if s):
+            group = []
+            for method in methods:
+                if method == "bpp" and family == "signorini":
+                    continue   # bpp takes LCPs: the block's LCP would be its dense Schur complement
+                print(f"{family} {size}: {method} ...", flush=True)
+                r = run_one(family, size, method, args.limit, progress=size >= 500)
+                r["size"] = size
+                group.append(r)
+            n = next((r["n"] for r in group if r["n"]), None)
+            certified = [r["time"] for r in group if r["method"] in BACKENDS and r["ok"]]
+            best_backend = min(certified) if certified else None
+            for r in group:
+                r["n"] = n
+                r["vs_ldlt"] = r["time"] / r["ldlt"] if r.get("ldlt") else None
+                r["vs_backend"] = (r["time"] / best_backend if best_backend and r["ok"]
+                                   and r["method"] not in BACKENDS else None)
+            rows += group
+    fmt = (lambda v, f: "" if v is None else format(v, f))
+    print("\n| family | n | method | time s | status | iterations | certificate | "
+          "time / one LDLᵀ of final block | time / fastest certified backend | peak MB |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['family']} | {r['n'] or ''} | {r['method']} | {r['time']:.3f} | {r['status']} | "
+              f"{fmt(r['iterations'], 'd')} | {fmt(r['error'], '.1e')} | {fmt(r['vs_ldlt'], '.1f')} | "
+              f"{fmt(r['vs_backend'], '.2f')} | {fmt(r['peak_mb'], '.0f')} |")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    from qpcontact._files import write_csv_atomic
+
+    write_csv_atomic(out / "scale.csv", rows,
+                     ["family", "size", "n", "method", "time", "ok", "status", "iterations",
+                      "error", "ldlt", "vs_ldlt", "vs_backend", "peak_mb"])
+    _plot(rows, out / "scale.png")
+    print(f"\nwrote {out / 'scale.csv'} and {out / 'scale.png'}")
+    return 0
+
+
+def _plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from qpcontact.plotting import save_figure
+
+    families = sorted({r["family"] for r in rows})
+    fig, axes = plt.subplots(1, len(families), figsize=(5 * len(families), 4.2), squeeze=False)
+    for ax, fam in zip(axes[0], families):
+        for method in sorted({r["method"] for r in rows if r["family"] == fam}):
+            pts = sorted((r["n"], r["time"]) for r in rows
+                         if r["family"] == fam and r["method"] == method and r["ok"] and r["n"])
+            if pts:
+                ax.loglog(*zip(*pts), "o-", label=method)
+        ax.set_title(fam)
+        ax.set_xlabel("unknowns n")
+        ax.set_ylabel("time to a certified answer [s]")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
