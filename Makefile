@@ -39,6 +39,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bvp.py --plot docs/figures/elastica.png
 	$(BIN)/python benchmarks/multibody.py --plot docs/figures/multibody.png
 	$(BIN)/python benchmarks/far_contact.py --problems 200
+	$(BIN)/python benchmarks/frames.py
+	$(BIN)/python benchmarks/scale.py --quick
 	$(BIN)/python benchmarks/backend_limits.py
 
 clean:
