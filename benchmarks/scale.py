@@ -61,7 +61,9 @@ def _final_block_ldlt(problem, x) -> float:
     else:
         P = problem.P
         lb = problem.lb
-        free = ~np.isfinite(lb) | (x > lb + 1e-12 * np.maximum(np.abs(lb), 1.0))
+        bounded = np.isfinite(lb)
+        lb0 = np.where(bounded, lb, 0.0)
+        free = ~bounded | (x > lb0 + 1e-12 * np.maximum(np.abs(lb0), 1.0))
     idx = np.flatnonzero(free)
     B = sp.csc_matrix(P)[idx][:, idx].tocsc()
     if idx.size == 0:

@@ -24,7 +24,7 @@ So:
    active-set guess {i : λ_i > P_ii s_i} (force against stiffness times gap)
    has changed and then held for two steps (the first guesses, from the
    shifted start, mean little), once μ has dropped ``ip_drop`` times (default
-   1e12: a guess that never moves), or after ``max_ip`` steps.
+   1e16: a guess that never moves), or after ``max_ip`` steps.
 2. **Block pivoting from that guess** on the mixed problem: basis F (the free
    components and the inactive bounded ones), x_F from
    P_FF x_F = −(c_F + P_FA l_A), x_A = l_A, λ_A = (Px + c)_A.  Kostreva's
@@ -41,7 +41,7 @@ data) and, like every answer, certified by :func:`qpcontact.solve`.  Signs are
 decided componentwise: x_i − l_i against ρ(|l_i| + ((|P||x|)_i + |c_i|)/P_ii),
 λ_i against ρ((|P||x|)_i + |c_i|), ρ = 1e3 eps.
 
-Options: ``max_ip`` (default 60), ``ip_drop`` (1e12), ``max_iter`` (pivoting
+Options: ``max_ip`` (default 60), ``ip_drop`` (1e16), ``max_iter`` (pivoting
 steps, default 10 n + 100), ``patience`` (3), ``progress`` (a callable taking
 one line per step, for long solves).
 """
@@ -311,7 +311,7 @@ def run_ip_bpp(problem, tol, options) -> MethodResult:
     max_ip = int_option("ip-bpp", options, "max_ip", 60)
     max_iter = int_option("ip-bpp", options, "max_iter", 10 * n + 100)
     patience = int_option("ip-bpp", options, "patience", 3)
-    drop = options.get("ip_drop", 1e12)
+    drop = options.get("ip_drop", 1e16)
     if isinstance(drop, bool) or not isinstance(drop, (int, float)) or not drop >= 1:
         raise InvalidOptionError(f"'ip-bpp': ip_drop must be a number >= 1; got {drop!r}")
     progress = options.get("progress")
