@@ -192,13 +192,14 @@ def _plot(rows, path):
     from qpcontact.plotting import save_figure
 
     families = sorted({r["family"] for r in rows})
+    colour = {m: f"C{k}" for k, m in enumerate(sorted({r["method"] for r in rows}))}
     fig, axes = plt.subplots(1, len(families), figsize=(5 * len(families), 4.2), squeeze=False)
     for ax, fam in zip(axes[0], families):
         for method in sorted({r["method"] for r in rows if r["family"] == fam}):
             pts = sorted((r["n"], r["time"]) for r in rows
                          if r["family"] == fam and r["method"] == method and r["ok"] and r["n"])
             if pts:
-                ax.loglog(*zip(*pts), "o-", label=method)
+                ax.loglog(*zip(*pts), "o-", label=method, color=colour[method])
         ax.set_title(fam)
         ax.set_xlabel("unknowns n")
         ax.set_ylabel("time to a certified answer [s]")
