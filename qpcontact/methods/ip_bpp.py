@@ -257,7 +257,8 @@ def _interior_point(P, c, lb, bounded, fac, max_ip, drop, stats, progress):
 
 
 def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progress):
-    """Phase 2: block pivoting from the active set ``active``; returns (x, λ, status)."""
+    """Phase 2: block pivoting from the active set ``active``; returns (x, λ,
+    status) and counts the final active set in ``stats["active"]``."""
     absP = abs(P)
     F = ~active
     rule = ExchangeRule(int(bounded.sum()), patience, stats)
@@ -296,6 +297,7 @@ def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progres
                      f"{int((~F).sum())} active")
         if bad.size == 0:
             x[bounded] = np.maximum(x[bounded], lb[bounded])
+            stats["active"] = int(np.count_nonzero(~F))
             return x, lam, "solved"
         if stats["iterations"] >= max_iter:
             return x, lam, "max_pivots"
@@ -329,7 +331,6 @@ def run_ip_bpp(problem, tol, options) -> MethodResult:
         from .active_set import not_positive_definite
 
         raise not_positive_definite("ip-bpp", exc) from None
-    stats["active"] = int(np.count_nonzero(lam))
     return MethodResult(
         x=x, z_box=np.where(bounded, -lam, 0.0), backend_status=status,
         iterations=stats["iterations"] + stats["ip_steps"],
