@@ -125,6 +125,11 @@ def as_vector(v, n: int | None, name: str, allow_inf: int = 0) -> np.ndarray:
 
 def bandwidth(M) -> int:
     """max |i - j| over the stored nonzeros of a matrix (dense or sparse)."""
+    if sp.issparse(M) and M.format in ("csr", "csc"):
+        # read off the compressed index arrays: no COO copy (a time stepper
+        # meets a new matrix every step)
+        major = np.repeat(np.arange(len(M.indptr) - 1), np.diff(M.indptr))
+        return int(np.max(np.abs(M.indices - major))) if M.nnz else 0
     C = sp.coo_matrix(M)
     return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
 
@@ -298,10 +303,10 @@ class _MatrixStructure:
         if b > max_bandwidth:
             return None
         if self._bands is None:
-            S = sp.coo_matrix(self.M if self.is_symmetric else self.symmetric_part)
-            up = S.row <= S.col
+            S = sp.csc_matrix(self.M if self.is_symmetric else self.symmetric_part)
             ab = np.zeros((b + 1, S.shape[0]))
-            ab[b + S.row[up] - S.col[up], S.col[up]] = S.data[up]
+            for k in range(b + 1):   # superdiagonal k: ab[b - k, j] = S[j - k, j]
+                ab[b - k, k:] = S.diagonal(k)
             self._bands = ab
         return self._bands
 
