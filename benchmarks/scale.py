@@ -65,9 +65,9 @@ def _final_block_ldlt(problem, x) -> float:
         lb0 = np.where(bounded, lb, 0.0)
         free = ~bounded | (x > lb0 + 1e-12 * np.maximum(np.abs(lb0), 1.0))
     idx = np.flatnonzero(free)
-    B = sp.csc_matrix(P)[idx][:, idx].tocsc()
     if idx.size == 0:
         return 0.0
+    B = sp.csc_matrix(P)[idx][:, idx].tocsc()
     t = time.perf_counter()
     qdldl.Solver(sp.triu(B, format="csc"), upper=True)
     t_q = time.perf_counter() - t
@@ -92,11 +92,10 @@ def job(family, size, method, progress, queue):
     t = time.perf_counter()
     sol = solve(problem, method=method, accuracy="high", **opts)
     wall = time.perf_counter() - t
-    x = getattr(sol, "z", None) if hasattr(sol, "z") else None
-    if x is None:
-        x = getattr(sol, "x", None)
+    is_lcp = hasattr(problem, "n")
+    x = sol.z if is_lcp else sol.x
     block = _final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp") else None
-    n = problem.n if hasattr(problem, "n") else problem.P.shape[0]
+    n = problem.n if is_lcp else problem.P.shape[0]
     queue.put(dict(family=family, n=n, method=method, time=wall, ok=sol.ok, status=sol.status,
                    iterations=sol.iterations,
                    error=None if sol.certificate is None else sol.certificate.error,
@@ -111,18 +110,18 @@ def run_one(family, size, method, limit, progress):
     t = time.perf_counter()
     p.start()
     p.join(limit)
+    def no_answer(status):
+        return dict(family=family, n=None, method=method, time=time.perf_counter() - t, ok=False,
+                    status=status, iterations=None, error=None, ldlt=None, peak_mb=None)
+
     if p.is_alive():
         p.kill()
         p.join()
-        return dict(family=family, n=None, method=method, time=time.perf_counter() - t, ok=False,
-                    status=f"killed at {limit:.0f} s", iterations=None, error=None, ldlt=None,
-                    peak_mb=None)
+        return no_answer(f"killed at {limit:.0f} s")
     try:
         return queue.get(timeout=5)
     except Exception:   # the child died (out of memory)
-        return dict(family=family, n=None, method=method, time=time.perf_counter() - t, ok=False,
-                    status=f"died (exit code {p.exitcode})", iterations=None, error=None,
-                    ldlt=None, peak_mb=None)
+        return no_answer(f"died (exit code {p.exitcode})")
 
 
 def main(argv=None) -> int:

@@ -74,7 +74,7 @@ def _grid(N):
     return h, X.ravel(), Y.ravel()
 
 
-def _manufactured(K, rng, n, frac_contact=0.4, frac_degenerate=0.1):
+def _manufactured(rng, n, frac_contact=0.4, frac_degenerate=0.1):
     """(z, w) complementary, with a fraction of indices where both are 0."""
     z = rng.uniform(0.5, 1.5, n)
     w = np.zeros(n)
@@ -115,7 +115,7 @@ def plate(N: int, *, rigidity: float = 1.0, load: float = -1000.0, degenerate: b
 def _obstacle_lcp(K, x, y, load, degenerate, seed):
     n = x.size
     if degenerate:
-        z, w = _manufactured(K, np.random.default_rng(seed), n)
+        z, w = _manufactured(np.random.default_rng(seed), n)
         # a load that makes this (z, w) the solution: q = w − K z
         lcp = LCP(K, w - K @ z)
     else:
@@ -193,8 +193,8 @@ def signorini(nx: int, ny: int | None = None, nz: int | None = None, *, E: float
     u_top = np.zeros(ndof)
     u_top[3 * top + 2] = -press
     free = np.flatnonzero(~prescribed)
-    Kf = K[free][:, free].tocsc()
-    f = -(K[free][:, np.flatnonzero(prescribed)] @ u_top[prescribed])
+    K_free_rows = K[free]
+    f = -(K_free_rows[:, np.flatnonzero(prescribed)] @ u_top[prescribed])
     bottom = node[:, :, 0].ravel()
     xb = dx * (bottom // ((ny + 1) * (nz + 1)))
     yb = dy * ((bottom // (nz + 1)) % (ny + 1))
@@ -204,8 +204,7 @@ def signorini(nx: int, ny: int | None = None, nz: int | None = None, *, E: float
     contact = position[3 * bottom + 2]
     lb = np.full(free.size, -np.inf)
     lb[contact] = -gap
-    P = Kf
-    problem = Problem(P, -f, lb=lb)
+    problem = Problem(K_free_rows[:, free].tocsc(), -f, lb=lb)
     return problem, {"contact": contact, "gap": gap, "shape": (nx, ny, nz), "K": K,
                      "free": free}
 

@@ -54,7 +54,8 @@ import scipy.sparse as sp
 
 from ..errors import InvalidOptionError, InvalidProblemError
 from ..solution import MethodResult
-from .active_set import SIGN_RTOL, ExchangeRule, check_options, int_option
+from .active_set import (SIGN_RTOL, ExchangeRule, check_options, int_option,
+                         not_positive_definite)
 
 __all__ = ["run_ip_bpp"]
 
@@ -140,30 +141,24 @@ class _Factor:
 
     def basis(self, F: np.ndarray):
         """Solver y = P_FF^{-1} r_F on F (zero elsewhere) for a bool mask F."""
-        if self.superlu:
-            idx = np.flatnonzero(F)
-            solve_FF = self._superlu(self.P[idx][:, idx]) if idx.size else None
-
-            def solve(r):
-                y = np.zeros_like(r)
-                if solve_FF is not None:
-                    y[idx] = solve_FF(r[idx])
-                return y
-            return solve
-        if self.sparse:
+        if self.sparse and not self.superlu:
             keep = F[self.indices] & F[self.col]
             data = np.where(keep, self.base, 0.0)
             data[self.diag_pos] = self.diag        # rows outside F: their diagonal alone
-            solve = self._qdldl(data)
-            return lambda r: np.where(F, solve(np.where(F, r, 0.0)), 0.0)
+            solve_all = self._qdldl(data)
+            return lambda r: np.where(F, solve_all(np.where(F, r, 0.0)), 0.0)
         idx = np.flatnonzero(F)
         if idx.size == 0:
-            return lambda r: np.zeros_like(r)
-        c = scipy.linalg.cho_factor(self.P[np.ix_(idx, idx)], lower=True, check_finite=False)
+            return np.zeros_like
+        if self.superlu:
+            solve_FF = self._superlu(self.P[idx][:, idx])
+        else:
+            c = scipy.linalg.cho_factor(self.P[np.ix_(idx, idx)], lower=True, check_finite=False)
+            solve_FF = lambda r: scipy.linalg.cho_solve(c, r, check_finite=False)  # noqa: E731
 
         def solve(r):
             y = np.zeros_like(r)
-            y[idx] = scipy.linalg.cho_solve(c, r[idx], check_finite=False)
+            y[idx] = solve_FF(r[idx])
             return y
         return solve
 
@@ -187,6 +182,12 @@ def _problem_data(problem):
         raise InvalidProblemError(f"'ip-bpp' needs P symmetric positive definite; P[{i},{i}] = "
                                   f"{diag[i]:g} is not positive — use a QP backend or 'lemke'")
     return P, np.asarray(c, dtype=float), lb
+
+
+def _step_to_boundary(v, dv) -> float:
+    """Largest α <= 1 with v + α dv >= 0 (v > 0)."""
+    neg = dv < 0
+    return min(1.0, float(np.min(-v[neg] / dv[neg]))) if np.any(neg) else 1.0
 
 
 def _interior_point(P, c, lb, bounded, fac, max_ip, drop, stats, progress):
@@ -222,18 +223,14 @@ def _interior_point(P, c, lb, bounded, fac, max_ip, drop, stats, progress):
             ds = dx[B]
             return dx, ds, (-r_c - lam * ds) / s
 
-        def step_to_boundary(v, dv):
-            neg = dv < 0
-            return min(1.0, float(np.min(-v[neg] / dv[neg]))) if np.any(neg) else 1.0
-
         dx, ds, dl = direction(s * lam)
-        a_p, a_d = step_to_boundary(s, ds), step_to_boundary(lam, dl)
+        a_p, a_d = _step_to_boundary(s, ds), _step_to_boundary(lam, dl)
         mu = (s @ lam) / B.size
         mu_aff = ((s + a_p * ds) @ (lam + a_d * dl)) / B.size
         sigma = (mu_aff / mu) ** 3
         dx, ds, dl = direction(s * lam + ds * dl - sigma * mu)
-        a_p = 0.99 * step_to_boundary(s, ds)
-        a_d = 0.99 * step_to_boundary(lam, dl)
+        a_p = 0.99 * _step_to_boundary(s, ds)
+        a_d = 0.99 * _step_to_boundary(lam, dl)
         x = x + a_p * dx
         s = np.maximum(s + a_p * ds, 1e-300)
         x[B] = lB + s
@@ -263,6 +260,7 @@ def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progres
     F = ~active
     rule = ExchangeRule(int(bounded.sum()), patience, stats)
     lb0 = np.where(bounded, lb, 0.0)
+
     def evaluate(solve, refine):
         A = ~F
         x = np.where(A, lb0, 0.0)
@@ -328,8 +326,6 @@ def run_ip_bpp(problem, tol, options) -> MethodResult:
         x, lam, status = _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats,
                                    progress)
     except np.linalg.LinAlgError as exc:
-        from .active_set import not_positive_definite
-
         raise not_positive_definite("ip-bpp", exc) from None
     return MethodResult(
         x=x, z_box=np.where(bounded, -lam, 0.0), backend_status=status,
