@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from qpsolvers import Problem
 
 import qpcontact
@@ -108,10 +108,17 @@ def test_cross_validate_requires_certified_answers():
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(lcps(max_n=16))
+# infeasible as stored, feasible within rounding: "energy" certifies a point of
+# the nearby data, then the exact Farkas check turns it into "infeasible"
+@example(build_lcp("infeasible", 3, 890))
 def test_strategy_lcps_reach_their_built_in_status(case):
     sol = qpcontact.solve(case.problem, "auto")
     if case.status == "infeasible":
-        assert sol.status == "ray" and sol.stats.get("proved_infeasible"), sol.message
+        # either documented status of a proof checked from the data: Lemke's
+        # "ray" with its Farkas vector, or "infeasible" replacing a certified
+        # answer that only nearby data have (qpcontact.solution)
+        assert sol.status in ("ray", "infeasible") and sol.stats.get("proved_infeasible"), \
+            sol.message
     else:
         assert sol.ok, (case.kind, sol.message)
         assert case.agrees(sol.z), case.kind
