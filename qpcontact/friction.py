@@ -17,14 +17,20 @@ u_T/‖u_T‖).  The error of a candidate is Siconos's natural-map residual
 ‖r − proj_K(r − û)‖ / (1 + ‖q‖) (:func:`natural_map_error`), computed from the
 data for every answer, whatever a method reports.
 
-In 2-D the cone is polyhedral and the problem *is* an LCP (:func:`fc2d_lcp`):
-per contact z = (r_N, β⁺, β⁻, λ) with r_T = β⁺ − β⁻ and
+In 2-D the cone is polyhedral and the problem *is* an LCP (:func:`faceted_lcp`
+with k = 2): per contact z = (r_N, β⁺, β⁻, λ) with r_T = β⁺ − β⁻ and
 
     w = (u_N,  λ + u_T,  λ − u_T,  μ r_N − β⁺ − β⁻) >= 0,  z >= 0,  z'w = 0:
 
 λ is the slip speed, β± the friction parts; sliding with u_T < 0 forces
 λ = −u_T, β⁻ = 0 and β⁺ = μ r_N (friction opposes the slip).  Lemke solves it
-exactly; it is the oracle for every other 2-D method.
+exactly; it is the oracle for every other 2-D method.  In 3-D the same LCP
+with k tangent directions d_j = (cos 2πj/k, sin 2πj/k) (Stewart–Trinkle,
+Anitescu–Potra: r_T = Σ β_j d_j, w_β = D'u_T + λ, w_λ = μ r_N − Σ β_j) is
+Coulomb's law on the inscribed k-gon: exact for open contacts, approximate
+(to about 1 − cos(π/k) in the friction force's size and π/k in its
+direction) on sticking and sliding ones.  The 3-D methods on the true cone
+are in :mod:`qpcontact.friction_cones`.
 """
 
 from __future__ import annotations
@@ -38,7 +44,7 @@ from .errors import InvalidOptionError, InvalidProblemError
 from .problems import LCP, as_matrix, as_vector
 
 __all__ = ["FrictionProblem", "FrictionSolution", "natural_map_error", "project_cone",
-           "fc2d_lcp", "solve_friction", "FRICTION_METHODS"]
+           "faceted_lcp", "fc2d_lcp", "solve_friction", "FRICTION_METHODS"]
 
 #: the largest local problem whose W = Hᵀ M⁻¹ H is formed densely from a global one
 DENSE_W_LIMIT = 6000
@@ -161,31 +167,45 @@ def natural_map_error(problem: FrictionProblem, r, u=None) -> float:
     return float(np.linalg.norm(res) / (1.0 + np.linalg.norm(problem.q)))
 
 
-def fc2d_lcp(problem: FrictionProblem) -> LCP:
-    """The exact LCP of a 2-D problem (module docstring); z = (r_N, β⁺, β⁻, λ)
-    stacked by kind, each of length n_contacts."""
-    if problem.dim != 2:
-        raise InvalidOptionError("fc2d_lcp is for 2-D problems; 3-D cones are not polyhedral")
-    nc = problem.n_contacts
+def faceted_lcp(problem: FrictionProblem, facets: int = 2):
+    """The LCP of the module docstring: z = (r_N, β, λ) stacked by kind
+    (n_contacts, k · n_contacts, n_contacts).  Exact in 2-D (k = 2, d = ±1);
+    in 3-D the cone faceted by k >= 3 directions.  Returns (LCP, D) with D
+    the (dim · nc) x (k · nc) map β -> r (tangent rows)."""
+    nc, dim = problem.n_contacts, problem.dim
+    if isinstance(facets, bool) or not isinstance(facets, (int, np.integer)):
+        raise InvalidOptionError(f"facets must be an integer; got {facets!r}")
+    k = int(facets)
+    if dim == 2 and k != 2:
+        raise InvalidOptionError("a 2-D cone has exactly two facets (±t); facets must be 2")
+    if dim == 3 and k < 3:
+        raise InvalidOptionError(f"a faceted 3-D cone needs facets >= 3; got {facets!r}")
     W = sp.csr_matrix(problem.W)
-    N, T = np.arange(nc) * 2, np.arange(nc) * 2 + 1
-    Wnn, Wnt = W[N][:, N], W[N][:, T]
-    Wtn, Wtt = W[T][:, N], W[T][:, T]
-    I = sp.identity(nc, format="csr")
-    Mu = sp.diags(problem.mu)
-    M = sp.bmat([[Wnn, Wnt, -Wnt, None],
-                 [Wtn, Wtt, -Wtt, I],
-                 [-Wtn, -Wtt, Wtt, I],
-                 [Mu, -I, -I, None]], format="csc")
-    q = np.concatenate([problem.q[N], problem.q[T], -problem.q[T], np.zeros(nc)])
-    return LCP(M, q)
+    angles = 2 * np.pi * np.arange(k) / k
+    dirs = np.array([[1.0], [-1.0]]) if dim == 2 else np.stack([np.cos(angles), np.sin(angles)], 1)
+    # column (i, j) of D puts d_j into contact i's tangent rows
+    shape = (nc, k, dim - 1)
+    rows = np.broadcast_to(dim * np.arange(nc)[:, None, None] + 1 + np.arange(dim - 1), shape)
+    cols = np.broadcast_to(k * np.arange(nc)[:, None, None] + np.arange(k)[None, :, None], shape)
+    vals = np.broadcast_to(dirs[None, :, :], shape)
+    D = sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(dim * nc, k * nc))
+    En = sp.csr_matrix((np.ones(nc), (np.arange(nc) * dim, np.arange(nc))), shape=(dim * nc, nc))
+    E = sp.csr_matrix((np.ones(k * nc), (np.arange(k * nc), np.repeat(np.arange(nc), k))),
+                      shape=(k * nc, nc))
+    B = sp.hstack([En, D], format="csr")            # (r_N, β) -> r
+    M = sp.bmat([[B.T @ W @ B, sp.vstack([sp.csr_matrix((nc, nc)), E])],
+                 [sp.hstack([sp.diags(problem.mu), -E.T]), None]], format="csc")
+    q = np.concatenate([B.T @ problem.q, np.zeros(nc)])
+    return LCP(M, q), D
 
 
-def _r_from_z(z, nc):
-    r = np.zeros(2 * nc)
-    r[0::2] = z[:nc]
-    r[1::2] = z[nc:2 * nc] - z[2 * nc:3 * nc]
-    return r
+def fc2d_lcp(problem: FrictionProblem) -> LCP:
+    """The exact LCP of a 2-D problem (module docstring); z = (r_N, β, λ)
+    stacked by kind, β = (β⁺, β⁻) per contact."""
+    if problem.dim != 2:
+        raise InvalidOptionError("fc2d_lcp is for 2-D problems; 3-D cones are not polyhedral "
+                                 "(faceted_lcp(problem, k) approximates them)")
+    return faceted_lcp(problem, 2)[0]
 
 
 @dataclass
@@ -204,46 +224,114 @@ class FrictionSolution:
     stats: dict = field(default_factory=dict)
 
 
-def _solve_lemke_2d(problem, tol, options):
+def _solve_lemke(problem, tol, options):
+    """Lemke on the faceted LCP: exact in 2-D; option ``facets`` (3-D, default 8)."""
     from .solve import solve
 
+    options = dict(options)
+    facets = options.pop("facets", 2 if problem.dim == 2 else 8)
+    lcp, D = faceted_lcp(problem, facets)
     nc = problem.n_contacts
-    sol = solve(fc2d_lcp(problem), "lemke", accuracy=min(tol, 1e-9), **options)
+    sol = solve(lcp, "lemke", accuracy=min(tol, 1e-9), **options)
+    stats = {"facets": int(facets), "lcp_size": lcp.n, "iterations": sol.iterations}
     if sol.z is None:
-        return None, sol.status, sol.message
-    return _r_from_z(sol.z, nc), sol.status, sol.message
+        return None, sol.status, sol.message, stats
+    r = np.asarray(D @ sol.z[nc:-nc]).ravel()
+    r[0::problem.dim] = sol.z[:nc]
+    cone = "exact 2-D LCP" if problem.dim == 2 else f"{facets}-faceted cone"
+    return r, sol.status, f"{cone}, Lemke {sol.status}", stats
 
 
-FRICTION_METHODS = {"lemke": _solve_lemke_2d}
+def _cones(name):
+    def run(problem, tol, options):
+        from . import friction_cones
+
+        return getattr(friction_cones, name)(problem, tol, options)
+    return run
+
+
+#: methods by name: (problem, tol, options) -> (r or None, status, message, stats)
+FRICTION_METHODS = {
+    "lemke": _solve_lemke,
+    "anitescu": _cones("solve_anitescu"),
+    "desaxce-fp": _cones("solve_desaxce_fp"),
+    "tresca-fp": _cones("solve_tresca_fp"),
+    "newton": _cones("solve_natural_newton"),
+}
+
+#: what "auto" tries, in order, per dimension: each answer is certified before
+#: the next is tried, and the first certified one is returned
+AUTO_CHAIN = {2: ("lemke", "desaxce-fp", "newton"), 3: ("desaxce-fp", "newton", "tresca-fp")}
+
+#: above this many contacts "auto" leaves Lemke out in 2-D: its pivots grow
+#: with the contacts (the 667-contact granular file: 44 000 pivots, 529 s,
+#: ending on a secondary ray) while the cone methods take under a second
+LEMKE_AUTO_MAX_CONTACTS = 200
 
 
 def solve_friction(problem: FrictionProblem, method: str = "auto", tol: float = 1e-8,
                    **options) -> FrictionSolution:
     """Solve a frictional contact problem and certify the answer by the
-    natural-map error computed from the data.  Methods: "lemke" (2-D: the
-    exact LCP); "auto" picks it for 2-D.  3-D methods are not implemented
-    yet (issue 20)."""
+    natural-map error computed from the data (:func:`natural_map_error`).
+
+    Methods (:data:`FRICTION_METHODS`): ``"lemke"`` (2-D: the exact LCP; 3-D:
+    the LCP of the cone faceted by ``facets`` directions, default 8 — an
+    approximation whose error against the true cone is reported),
+    ``"anitescu"`` (the convex relaxation, one SOCP), ``"desaxce-fp"`` and
+    ``"tresca-fp"`` (fixed points of SOCPs; options ``backend`` "clarabel" or
+    "scs", ``backend_options``, ``inner_tol``, ``max_outer``, ``progress``).
+    ``"newton"`` (semismooth Newton on the natural map, option ``r0``).
+    ``"auto"``: in 2-D Lemke (up to ``LEMKE_AUTO_MAX_CONTACTS`` contacts),
+    then De Saxcé's fixed point and Newton from its best point; in 3-D De
+    Saxcé's fixed point, Newton, then Tresca's fixed point — each tried only
+    if the one before is not certified.  An answer above ``tol`` comes back with
+    status "inaccurate", never as solved."""
     if not isinstance(problem, FrictionProblem):
         raise InvalidProblemError(f"solve_friction takes a FrictionProblem; got "
                                   f"{type(problem).__name__}")
-    if method == "auto":
-        if problem.dim != 2:
-            raise InvalidOptionError(
-                "no 3-D friction method yet: faceted-cone LCPs and the cone-programming fixed "
-                "points are issue 20's next part")
-        method = "lemke"
-    if method not in FRICTION_METHODS:
-        raise InvalidOptionError(f"unknown friction method {method!r}; methods: "
-                                 f"{', '.join(FRICTION_METHODS)}, auto")
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol > 0:
+        raise InvalidOptionError(f"tol must be a positive number; got {tol!r}")
+    chain = AUTO_CHAIN[problem.dim] if method == "auto" else (method,)
+    if method == "auto" and problem.n_contacts > LEMKE_AUTO_MAX_CONTACTS:
+        chain = tuple(m for m in chain if m != "lemke")
+    for name in chain:
+        if name not in FRICTION_METHODS:
+            raise InvalidOptionError(f"unknown friction method {name!r}; methods: "
+                                     f"{', '.join(FRICTION_METHODS)}, auto")
+    runs, best = [], None
+    for name in chain:
+        opts = dict(options)
+        if name == "newton" and best is not None and best.r is not None:
+            opts.setdefault("r0", best.r)   # polish the best point so far
+        sol = _solve_one(problem, name, tol, opts)
+        runs.append(sol)
+        if best is None or sol.error < best.error:
+            best = sol
+        if sol.ok:
+            break
+    chosen = runs[-1] if runs[-1].ok else best   # none certified: the smallest error
+    others = [r for r in runs if r is not chosen]
+    if others:
+        chosen.message += " — also tried " + "; ".join(f"{r.method}: {r.message}" for r in others)
+        chosen.stats["tried"] = [r.method for r in others]
+    return chosen
+
+
+def _solve_one(problem, method, tol, options) -> FrictionSolution:
+    import time
+
     if problem.n_contacts == 0:
         r = np.zeros(0)
         return FrictionSolution(r, r, 0.0, True, "solved", "no contacts", method, tol)
-    r, status, message = FRICTION_METHODS[method](problem, tol, options)
-    if r is None:
-        return FrictionSolution(None, None, np.inf, False, status, message, method, tol)
+    start = time.perf_counter()
+    r, status, message, stats = FRICTION_METHODS[method](problem, tol, options)
+    stats["time"] = time.perf_counter() - start
+    if r is None or not np.all(np.isfinite(r)):
+        return FrictionSolution(None, None, np.inf, False, "failed",
+                                f"{method}: no usable point ({message})", method, tol, stats)
     u = problem.velocities(r)
     err = natural_map_error(problem, r, u)
     ok = bool(err <= tol)
     return FrictionSolution(r, u, err, ok, "solved" if ok else "inaccurate",
                             f"natural-map error {err:.1e} {'<=' if ok else '>'} {tol:.0e} "
-                            f"({method}: {message})", method, tol)
+                            f"({method}: {message})", method, tol, stats)

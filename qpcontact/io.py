@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from .errors import InvalidProblemError
 from .problems import LCP
 
-__all__ = ["read_siconos_lcp", "read_siconos_fc", "read_fclib"]
+__all__ = ["read_siconos_lcp", "read_siconos_fc", "read_fclib", "write_fclib"]
 
 
 class _Tokens:
@@ -317,3 +317,67 @@ def read_fclib(path: str | os.PathLike):
             raise InvalidProblemError(f"{path.name}: neither fclib_local nor fclib_global inside")
     prob.solution, prob.guesses = sol, guesses
     return prob
+
+
+def _cs_to_fclib(group, A) -> None:
+    """Store A in compressed columns (nz = -1), as FCLIB's writer does."""
+    A = sp.csc_matrix(A)
+    A.sort_indices()
+    for key, value in (("m", A.shape[0]), ("n", A.shape[1]), ("nz", -1), ("nzmax", A.nnz)):
+        group.create_dataset(key, data=np.array([value], dtype=np.int32))
+    group.create_dataset("p", data=A.indptr.astype(np.int32))
+    group.create_dataset("i", data=A.indices.astype(np.int32))
+    group.create_dataset("x", data=A.data.astype(float))
+
+
+def write_fclib(problem, path: str | os.PathLike, *, title: str = "", description: str = "",
+                solution: dict | None = None, guesses: list | None = None) -> Path:
+    """Write a :class:`~qpcontact.friction.FrictionProblem` as an FCLIB HDF5
+    file that FCLIB's reader (and :func:`read_fclib`) takes: ``fclib_global``
+    (M, H, f, w, mu) when the problem came from a global one, else
+    ``fclib_local`` (W, q, mu); ``solution`` and ``guesses`` as dicts of
+    ``r``, ``u`` (and ``v``), defaulting to the problem's own.  Written to a
+    temporary file and renamed, so an interrupted write never leaves a broken
+    file.  Returns the path."""
+    import h5py
+
+    path = Path(path)
+    solution = problem.solution if solution is None else solution
+    guesses = problem.guesses if guesses is None else guesses
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with h5py.File(tmp, "w") as h:
+            g = problem.global_data
+            top = h.create_group("fclib_global" if g is not None else "fclib_local")
+            if g is not None:
+                _cs_to_fclib(top.create_group("M"), g["M"])
+                _cs_to_fclib(top.create_group("H"), g["H"])
+                vectors = {"f": g["f"], "w": g["w"], "mu": problem.mu}
+            else:
+                _cs_to_fclib(top.create_group("W"), problem.W)
+                vectors = {"q": problem.q, "mu": problem.mu}
+            vg = top.create_group("vectors")
+            for key, value in vectors.items():
+                vg.create_dataset(key, data=np.asarray(value, dtype=float))
+            top.create_dataset("spacedim", data=np.array([problem.dim], dtype=np.int32))
+            info = top.create_group("info")
+            for key, value in (("title", title or problem.name), ("description", description),
+                               ("math_info", "")):
+                info.create_dataset(key, data=np.bytes_(value.encode()))
+            if solution is not None:
+                sg = h.create_group("solution")
+                for key, value in solution.items():
+                    sg.create_dataset(key, data=np.asarray(value, dtype=float))
+            if guesses:
+                gg = h.create_group("guesses")
+                gg.create_dataset("number_of_guesses", data=np.array([len(guesses)], np.int32))
+                for k, guess in enumerate(guesses, 1):
+                    sub = gg.create_group(str(k))
+                    for key, value in guess.items():
+                        sub.create_dataset(key, data=np.asarray(value, dtype=float))
+            h.flush()
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path

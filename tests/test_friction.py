@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from qpcontact.errors import InvalidProblemError
+from qpcontact.errors import InvalidOptionError, InvalidProblemError
 from qpcontact.friction import FrictionProblem, natural_map_error, project_cone, solve_friction
-from qpcontact.io import read_fclib, read_siconos_fc
+from qpcontact.io import read_fclib, read_siconos_fc, write_fclib
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "siconos-fc"
 FILES = sorted(p.name for p in DATA.glob("*") if p.suffix in (".dat", ".hdf5")) if DATA.is_dir() \
@@ -106,3 +106,169 @@ def test_bad_friction_data_is_named():
         FrictionProblem(np.eye(4), np.zeros(4), [0.3, 0.1], 3)
     with pytest.raises(InvalidProblemError, match="dim must be 2 or 3"):
         FrictionProblem(np.eye(4), np.zeros(4), [0.3], 4)
+
+
+# -- 3-D and the cone methods (issue 20, second part) --------------------------------
+
+THREE_D = [n for n in FILES if n not in SMALL_2D and not n.startswith(("fc2d", "gfc2d"))]
+
+
+def _one_contact(dim, a, mu=0.5):
+    """W = I, q = (-1, a, 0...): the contact closes with r_N = 1; it sticks
+    (r_T = -a, u = 0) when |a| <= mu and slides (r_T = -mu sign(a), u_T =
+    a - mu sign(a)) when |a| > mu — solved by hand."""
+    q = np.zeros(dim)
+    q[0], q[1] = -1.0, a
+    r = np.zeros(dim)
+    r[0] = 1.0
+    r[1] = -a if abs(a) <= mu else -mu * np.sign(a)
+    return FrictionProblem(np.eye(dim), q, [mu], dim), r
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("a", [0.3, -0.3, 2.0, -2.0])
+def test_one_contact_sticking_and_sliding_by_hand(dim, a):
+    p, r_hand = _one_contact(dim, a)
+    methods = ["lemke", "desaxce-fp", "tresca-fp", "newton", "auto"]
+    for method in methods:
+        s = solve_friction(p, method, tol=1e-9)
+        assert s.ok, (method, s.message)
+        np.testing.assert_allclose(s.r, r_hand, atol=1e-7, err_msg=method)
+        assert _error_here(np.eye(dim), p.q, p.mu, s.r) <= 1e-9
+
+
+def test_anitescu_relaxation_is_exact_when_sticking_and_lifts_off_when_sliding():
+    """The relaxation's sliding contact separates with u_N = mu (|a| - mu) /
+    (1 + mu²) (projection of (1, -a) onto the cone): reported inaccurate,
+    never solved."""
+    stick, r_stick = _one_contact(3, 0.3)
+    s = solve_friction(stick, "anitescu", tol=1e-8)
+    assert s.ok and np.allclose(s.r, r_stick, atol=1e-7)
+    slide, _ = _one_contact(3, 2.0)
+    s = solve_friction(slide, "anitescu", tol=1e-8)
+    assert s.status == "inaccurate" and not s.ok
+    assert s.u[0] == pytest.approx(0.5 * (2.0 - 0.5) / 1.25, rel=1e-6)
+
+
+def test_faceted_cone_error_shrinks_as_facets_grow():
+    """Slip at 1 rad, off the facet directions: the faceted LCP's friction
+    force lies in the true cone but points along the nearest facet direction,
+    so its natural-map error falls with k, within 1 - cos(pi/k) (the k-gon's
+    gap to the circle); slip along a facet direction is exact."""
+    mu = 0.5
+    d = np.array([np.cos(1.0), np.sin(1.0)])
+    p = FrictionProblem(np.eye(3), np.r_[-1.0, 2.0 * d], [mu], 3)
+    errors = []
+    for k in (4, 8, 16, 32):
+        s = solve_friction(p, "lemke", tol=1e-8, facets=k)
+        errors.append(_error_here(np.eye(3), p.q, p.mu, s.r))
+        assert np.linalg.norm(s.r[1:]) <= mu * s.r[0] + 1e-12          # inside the true cone
+        assert 1e-4 < errors[-1] <= 1 - np.cos(np.pi / k)
+        assert s.status == "inaccurate"
+    assert all(b < a for a, b in zip(errors, errors[1:])), errors
+    along, _ = _one_contact(3, 2.0)
+    assert solve_friction(along, "lemke", tol=1e-9, facets=8).ok
+
+
+@needs_data
+@pytest.mark.parametrize("name", THREE_D)
+def test_every_3d_shared_problem_is_solved_to_siconos_tolerance(name):
+    p = _read(name)
+    s = solve_friction(p, "auto", tol=1e-8)
+    assert s.ok, s.message
+    W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
+    assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+    if p.solution is not None and np.any(p.solution["r"]):
+        # solutions need not be unique: agreement is in the error measure
+        stored = natural_map_error(p, p.solution["r"], p.solution["u"])
+        assert s.error <= max(1e-8, stored)
+
+
+@needs_data
+@pytest.mark.parametrize("name", ["FrictionContactProblem00071.dat"])
+def test_2d_cone_methods_agree_with_the_exact_lcp(name):
+    """89 contacts in 2-D: Lemke's exact answer is the oracle; the cone
+    methods' answers satisfy the same law to their tolerance."""
+    p = _read(name)
+    exact = solve_friction(p, "lemke", tol=1e-8)
+    assert exact.ok, exact.message
+    W = p.W.toarray()
+    fp = solve_friction(p, "desaxce-fp", tol=1e-8)
+    # the fixed point stalls above 1e-8 here and says so
+    assert fp.ok or fp.status == "inaccurate"
+    assert fp.error == pytest.approx(_error_here(W, p.q, p.mu, fp.r), rel=1e-9)
+    polished = solve_friction(p, "newton", tol=1e-8, r0=fp.r)
+    assert polished.ok, polished.message
+    assert _error_here(W, p.q, p.mu, polished.r) <= 1e-8
+    assert np.linalg.norm(polished.r - exact.r) <= 1e-5 * np.linalg.norm(exact.r)
+
+
+def test_cone_backends_and_options_are_checked():
+    p, r_hand = _one_contact(3, 0.3)
+    s = solve_friction(p, "desaxce-fp", tol=1e-6, backend="scs")
+    assert s.ok, s.message
+    np.testing.assert_allclose(s.r, r_hand, atol=1e-5)
+    with pytest.raises(InvalidOptionError, match="unknown cone backend 'mosek'"):
+        solve_friction(p, "desaxce-fp", backend="mosek")
+    with pytest.raises(InvalidOptionError, match="does not take bogus"):
+        solve_friction(p, "tresca-fp", bogus=1)
+    with pytest.raises(InvalidOptionError, match="facets"):
+        solve_friction(p, "lemke", facets=2)
+    with pytest.raises(InvalidOptionError, match="unknown friction method"):
+        solve_friction(p, "nsgs")
+
+
+def test_auto_reports_what_it_tried_when_the_first_method_stalls():
+    lines = []
+    p = _read("Capsules-i101-404.dat") if FILES else None
+    if p is None:
+        pytest.skip(f"Siconos friction data not found at {DATA}")
+    s = solve_friction(p, "auto", tol=1e-8, progress=lines.append)
+    assert s.ok
+    assert s.stats.get("tried") == ["desaxce-fp"] and s.method == "newton"
+    assert "also tried desaxce-fp" in s.message
+    assert any(ln.startswith("desaxce-fp: iteration") for ln in lines)
+
+
+# -- FCLIB writer ---------------------------------------------------------------------
+
+@needs_data
+@pytest.mark.parametrize("name", ["Capsules-i125-1213.hdf5", "Box_Stacks-i0122-82-5.hdf5",
+                                  "FC3D_Example1_SBM.dat", "FrictionContactProblem00071.dat"])
+def test_fclib_round_trip(name, tmp_path):
+    p = _read(name)
+    out = write_fclib(p, tmp_path / "out.hdf5", description="round trip")
+    back = read_fclib(out)
+    assert back.dim == p.dim and np.array_equal(back.mu, p.mu)
+    W0 = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
+    W1 = back.W.toarray() if hasattr(back.W, "toarray") else np.asarray(back.W)
+    if p.global_data is None:
+        assert np.array_equal(W0, W1) and np.array_equal(back.q, p.q)
+    else:
+        for key in ("M", "H"):
+            assert (abs(back.global_data[key] - p.global_data[key]) > 0).nnz == 0
+        np.testing.assert_allclose(W1, W0, rtol=1e-12, atol=1e-12 * np.abs(W0).max())
+    if p.solution is not None:
+        for key, value in p.solution.items():
+            assert np.array_equal(back.solution[key], value)
+    assert len(back.guesses) == len(p.guesses)
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+def test_fclib_writer_leaves_no_broken_file(tmp_path, monkeypatch):
+    """A write that fails half-way leaves the previous file intact."""
+    import h5py
+
+    p, _ = _one_contact(3, 0.3)
+    path = write_fclib(p, tmp_path / "p.hdf5", title="first")
+    real = h5py.Group.create_dataset
+
+    def broken(self, name, *a, **k):
+        if name == "spacedim":
+            raise OSError("disk full")
+        return real(self, name, *a, **k)
+    monkeypatch.setattr(h5py.Group, "create_dataset", broken)
+    with pytest.raises(OSError, match="disk full"):
+        write_fclib(p, path, title="second")
+    monkeypatch.undo()
+    assert read_fclib(path).dim == 3 and not list(tmp_path.glob("*.tmp"))

@@ -12,7 +12,7 @@ from qpsolvers import Problem
 
 import qpcontact
 from formulations import meshes
-from qpcontact import InvalidOptionError, InvalidProblemError
+from qpcontact import InvalidOptionError, InvalidProblemError, NotConvexError
 
 
 def _lcp_reference(lcp):
@@ -83,6 +83,33 @@ def test_elastic_block_mixed_problem_agrees_with_its_condensed_lcp(nx):
     # the bounds' multipliers are the foundation's reactions: compressive where closed
     zb = sol.z_box[info["contact"]]
     assert np.all(zb <= 0) and np.all(zb[gap > 1e-9 * info["gap"].max()] == 0)
+
+
+@pytest.mark.parametrize("route", ["condensed", "full"])
+def test_both_routes_of_the_mixed_problem_agree_with_the_condensed_lcp(route):
+    """Few bounded dofs: ip-bpp condenses onto them (the Schur complement is
+    read off one LDLᵀ).  Many: it works on P itself.  Bounds far below the
+    answer on half the free dofs force the second route without changing the
+    answer."""
+    problem, _ = meshes.signorini(5)
+    x_ref = _schur_reference(problem)
+    if route == "full":
+        lb = problem.lb.copy()
+        spare = np.flatnonzero(~np.isfinite(lb))[::2]
+        lb[spare] = x_ref[spare] - 1e3 * np.abs(x_ref).max()
+        problem = Problem(problem.P, problem.q, lb=lb)
+    sol = qpcontact.solve(problem, method="ip-bpp")
+    assert sol.ok, sol.message
+    assert ("condensed" in sol.stats) == (route == "condensed")
+    np.testing.assert_allclose(sol.x, x_ref, rtol=0, atol=1e-9 * np.abs(x_ref).max())
+
+
+def test_condensed_route_refuses_a_singular_free_block():
+    P = sp.block_diag([np.ones((2, 2))] + [np.eye(1)] * 6, format="csc")
+    lb = np.full(8, -np.inf)
+    lb[7] = 0.0
+    with pytest.raises(NotConvexError, match="not numerically positive definite"):
+        qpcontact.solve(Problem(P, -np.ones(8), lb=lb), method="ip-bpp")
 
 
 def test_elastic_block_agrees_with_clarabel():

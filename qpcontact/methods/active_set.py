@@ -144,7 +144,8 @@ def not_positive_definite(method: str, exc: Exception):
 
     return NotConvexError(
         f"{method!r} met an active block that is not numerically positive definite ({exc}); "
-        "M is too close to singular for it — use 'lemke'."
+        "the matrix (M of an LCP, P of a QP) is too close to singular for it — use 'lemke' "
+        "for an LCP, a QP backend ('clarabel', 'piqp') for a QP."
     )
 
 
