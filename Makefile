@@ -41,6 +41,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/far_contact.py --problems 200
 	$(BIN)/python benchmarks/frames.py
 	$(BIN)/python benchmarks/scale.py --quick
+	$(BIN)/python benchmarks/friction.py --skip-large
 	$(BIN)/python benchmarks/backend_limits.py
 
 clean:

@@ -48,21 +48,38 @@ def methods_cmd(all_: bool = typer.Option(False, "--all", help="Also list known 
 
 @app.command("solve")
 def solve_cmd(
-    file: Path = typer.Argument(..., exists=True, dir_okay=False, help="Siconos LCP .dat file."),
-    method: str = typer.Option("auto", "--method", "-m", help="Method name (see `qpcontact methods`)."),
+    file: Path = typer.Argument(..., exists=True, dir_okay=False,
+                                help="Siconos .dat file (LCP or frictional contact) or FCLIB .hdf5."),
+    method: str = typer.Option("auto", "--method", "-m",
+                               help="Method name (see `qpcontact methods`; friction: lemke, anitescu, "
+                                    "desaxce-fp, tresca-fp, newton, auto)."),
     accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number."),
 ):
-    """Solve an LCP file; print z, w and the certificate. Exit code 1 if not certified."""
-    from .io import read_siconos_lcp
+    """Solve a problem file; print the answer and its certificate. Exit code 1 if not certified."""
+    from .accuracy import resolve_accuracy
+    from .friction import FrictionProblem, solve_friction
+    from .io import read_problem
     from .solve import solve
 
     try:
-        lcp = read_siconos_lcp(file)
-        sol = solve(lcp, method=method, accuracy=_accuracy(accuracy))
+        problem = read_problem(file)
+        if isinstance(problem, FrictionProblem):
+            sol = solve_friction(problem, method, tol=resolve_accuracy(_accuracy(accuracy))[1])
+        else:
+            sol = solve(problem, method=method, accuracy=_accuracy(accuracy))
     except QpcontactError as exc:
-        console.print(f"[red]error:[/red] {exc}")
+        console.print(f"[red]error:[/red] {escape(str(exc))}")
         raise typer.Exit(2)
-    console.print(f"{file.name}: {lcp!r}")
+    console.print(f"{file.name}: {escape(repr(problem))}")
+    if isinstance(problem, FrictionProblem):
+        console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {escape(sol.message)}")
+        console.print(f"time {sol.stats.get('total_time', 0.0):.4f} s (every method tried); "
+                      f"iterations {sol.stats.get('iterations')}")
+        with np.printoptions(precision=10, linewidth=120, threshold=60):
+            console.print(f"r = {sol.r}")
+            console.print(f"u = {sol.u}")
+        console.print(f"  natural-map error {sol.error: .3e} (Siconos's measure, from the data)")
+        raise typer.Exit(0 if sol.ok else 1)
     console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {sol.message}")
     console.print(f"backend status {sol.backend_status!r}; wall time {sol.wall_time:.4f} s; "
                   f"iterations {sol.iterations}")

@@ -76,9 +76,35 @@ def _siconos_instances(directory):
             for p in sorted(d.glob("*.dat"))]
 
 
-def collect_instances(quick: bool = True, formulations=None, siconos_dir=None, seed: int = 0):
+#: the quick sweep leaves out friction problems with more contacts than this
+QUICK_FRICTION_CONTACTS = 300
+
+
+def _friction_instances(directory, quick: bool):
+    """The Siconos/FCLIB friction collection: FrictionProblem instances."""
+    from .io import read_fclib, read_siconos_fc
+
+    d = Path(directory)
+    if not d.is_dir():
+        return []
+    out = []
+    for p in sorted(d.glob("*")):
+        if p.suffix not in (".dat", ".hdf5"):
+            continue
+        prob = read_fclib(p) if p.suffix == ".hdf5" else read_siconos_fc(p)
+        if prob.n_contacts == 0 or (quick and prob.n_contacts > QUICK_FRICTION_CONTACTS):
+            continue
+        out.append(Instance(f"friction/{p.stem}", "friction", f"{prob.dim}D", prob))
+    return out
+
+
+def collect_instances(quick: bool = True, formulations=None, siconos_dir=None, seed: int = 0,
+                      friction_dir=None):
     """Instances of every installed formulation (sizes small, or small to large),
-    plus the Siconos set from ``siconos_dir`` (default ../shared/data/siconos-lcp)."""
+    plus the Siconos LCP set from ``siconos_dir`` (default
+    ../shared/data/siconos-lcp) and the friction collection from
+    ``friction_dir`` (default ../shared/data/siconos-fc; formulation
+    "friction", solved by the friction methods)."""
     from importlib.metadata import entry_points
 
     sizes = ("small",) if quick else ("small", "medium", "large")
@@ -94,7 +120,28 @@ def collect_instances(quick: bool = True, formulations=None, siconos_dir=None, s
                 out.extend(module.instances(size, hardness, seed))
     if formulations is None or "siconos" in formulations:
         out.extend(_siconos_instances(siconos_dir or Path("..") / "shared" / "data" / "siconos-lcp"))
+    if formulations is None or "friction" in formulations:
+        out.extend(_friction_instances(friction_dir or Path("..") / "shared" / "data" / "siconos-fc",
+                                       quick))
     return out
+
+
+def _is_friction(inst) -> bool:
+    from .friction import FrictionProblem
+
+    return isinstance(inst.problem, FrictionProblem)
+
+
+def _friction_methods(inst, names):
+    """Every friction method, or those of ``names`` that are friction methods;
+    Lemke on faceted 3-D cones only up to 100 contacts (its LCP's pivots grow
+    with the facets: 11 828 pivots, 183 s, on 286 contacts)."""
+    from .friction import FRICTION_METHODS
+
+    pool = list(FRICTION_METHODS) + ["auto"]
+    chosen = [m for m in names if m in pool] if names else pool
+    p = inst.problem
+    return [m for m in chosen if not (m == "lemke" and p.dim == 3 and p.n_contacts > 100)]
 
 
 def plan(instances, methods=None, quick: bool = True):
@@ -107,6 +154,10 @@ def plan(instances, methods=None, quick: bool = True):
     tols = QUICK_TOLERANCES if quick else TOLERANCES
     tasks = []
     for inst in instances:
+        if _is_friction(inst):
+            tasks += [(inst, name, level) for name in _friction_methods(inst, methods)
+                      for level in LADDER]
+            continue
         for name in names:
             spec = avail.get(name)
             if spec is None:
@@ -199,6 +250,8 @@ def run_task(task, repeats: int = 3, time_limit: float = 10.0) -> dict:
     inst, name, level = task
     acc = level
     _, tol = resolve_accuracy(acc)
+    if _is_friction(inst):
+        return _run_friction_task(inst, name, level, tol, repeats, time_limit)
     spec = get_method(name)
     p = inst.problem
     n = p.n if hasattr(p, "n") else p.q.size
@@ -244,6 +297,68 @@ def run_task(task, repeats: int = 3, time_limit: float = 10.0) -> dict:
         row["active_set_agree"] = bool(np.array_equal(f > thr, f_ex > thr))
     elif x_exact is None:
         row["reason"] = (row["reason"] + "; " if row["reason"] else "") + "no exact reference"
+    return row
+
+
+_FRICTION_EXACT: dict = {}
+
+
+def _friction_exact(inst):
+    """Lemke on the exact 2-D LCP (up to 200 contacts), cached; 3-D has no
+    exact route (cones are not polyhedral)."""
+    from .friction import LEMKE_AUTO_MAX_CONTACTS, solve_friction
+
+    if inst.name not in _FRICTION_EXACT:
+        p = inst.problem
+        hit = (None, "", np.nan)
+        if p.dim == 2 and p.n_contacts <= LEMKE_AUTO_MAX_CONTACTS:
+            t0 = time.perf_counter()
+            sol = solve_friction(p, "lemke", tol=1e-10)
+            if sol.ok:
+                hit = (sol.r, "lemke (exact 2-D LCP)", time.perf_counter() - t0)
+        _FRICTION_EXACT[inst.name] = hit
+    return _FRICTION_EXACT[inst.name]
+
+
+def _run_friction_task(inst, name, level, tol, repeats, time_limit) -> dict:
+    """A friction run: solve_friction at the level's tolerance, certified by
+    the natural-map error; distances to Lemke's exact answer in 2-D."""
+    from .errors import QpcontactError
+    from .friction import solve_friction
+
+    p = inst.problem
+    row = dict(instance=inst.name, formulation=inst.formulation, size=inst.size,
+               n=p.dim * p.n_contacts, method=name, family="friction", level=_level_str(level),
+               tol=tol, applicable=True, success=False, status="", reason="",
+               time_median=np.nan, repeats=0, cert_error=np.nan, dist_solution=np.nan,
+               dist_forces=np.nan, active_set_agree="", exact_method="", exact_time=np.nan,
+               timed_on=_where(), machine=f"{platform.node()} {platform.machine()} "
+               f"{os.cpu_count()} cpu", versions=_versions(name))
+    r_exact, exact_method, exact_time = _friction_exact(inst)
+    row.update(exact_method=exact_method, exact_time=exact_time)
+    times, sol = [], None
+    try:
+        for _ in range(max(1, repeats)):
+            t0 = time.perf_counter()
+            sol = solve_friction(p, name, tol=tol)
+            times.append(time.perf_counter() - t0)
+            if times[-1] > time_limit:
+                break
+    except QpcontactError as exc:
+        row.update(applicable=False, status="not applicable", reason=f"{type(exc).__name__}: {exc}")
+        return row
+    except Exception as exc:  # a backend crash is a result, not the end of the sweep
+        row.update(status="exception", reason=f"{type(exc).__name__}: {exc}"[:300])
+        return row
+    row.update(time_median=statistics.median(times), repeats=len(times), status=sol.status,
+               cert_error=sol.error, success=bool(sol.ok))
+    if not sol.ok:
+        row["reason"] = sol.message[:300]
+    if sol.r is not None and r_exact is not None:
+        scale = max(float(np.max(np.abs(r_exact))), 1e-300)
+        row["dist_solution"] = row["dist_forces"] = float(np.max(np.abs(sol.r - r_exact)) / scale)
+        rn, rn_ex = sol.r[0::p.dim], r_exact[0::p.dim]
+        row["active_set_agree"] = bool(np.array_equal(rn > 1e-6 * scale, rn_ex > 1e-6 * scale))
     return row
 
 
@@ -380,9 +495,10 @@ def summarize(rows: list[dict], time_limit: float = 10.0) -> dict:
             out[form][level] = per
         ex = {}
         for r in fr:
-            ex[r["instance"]] = _f(r["exact_time"])
+            if np.isfinite(_f(r["exact_time"])):
+                ex[r["instance"]] = _f(r["exact_time"])
         out[form]["_exact_time"] = shgeom(list(ex.values())) if ex else np.nan
-        out[form]["_instances"] = len(ex)
+        out[form]["_instances"] = len({r["instance"] for r in fr})
         out[form]["_not_applicable"] = sorted({r["method"] for r in fr if not _b(r["applicable"])})
     return out
 
@@ -406,8 +522,11 @@ def report(csv_path, out_dir=None, time_limit: float = 10.0) -> Path:
               ""]
     for form, levels in summ.items():
         lines += [f"## {form}", "",
-                  f"{levels['_instances']} instances; exact pivoting oracle: shifted geometric mean "
-                  f"time {levels['_exact_time'] * 1e3:.3f} ms."
+                  f"{levels['_instances']} instances; "
+                  + ("exact pivoting oracle: none timed (friction: Lemke's exact LCP exists in "
+                     "2-D only)." if np.isnan(levels["_exact_time"]) else
+                     f"exact pivoting oracle: shifted geometric mean time "
+                     f"{levels['_exact_time'] * 1e3:.3f} ms.")
                   + (f"  Not applicable somewhere: {', '.join(levels['_not_applicable'])}."
                      if levels["_not_applicable"] else ""), ""]
         for level in LADDER:

@@ -142,7 +142,7 @@ def _fixed_point(method, problem, tol, options, update):
     """Iterate r ← SOCP(update(r)) until the natural-map error is <= tol, or
     stops improving (no new best in ``patience`` = 5 iterations), or
     ``max_outer`` (default 100) iterations."""
-    from .friction import natural_map_error
+    from .friction import certified_error
 
     options = dict(options)
     sub = _Subproblem(problem, options)
@@ -158,7 +158,7 @@ def _fixed_point(method, problem, tol, options, update):
         if r_new is None:
             break
         r = r_new
-        err = natural_map_error(problem, r)
+        err = certified_error(problem, r)
         errors.append(err)
         if progress is not None:
             progress(f"{method}: iteration {k}: natural-map error {err:.2e}")
@@ -221,15 +221,21 @@ def _projection_jacobian(x, mu, dim):
     return J
 
 
+#: a Newton step shorter than this also tries Levenberg–Marquardt's
+LM_BELOW = 1e-3
+
+
 def solve_natural_newton(problem, tol, options):
     """Semismooth Newton on the natural map F(r) = r − proj_K(r − ρ û(r))
     (Siconos's NSN family), globalized by an Armijo line search on ½‖F‖²;
-    ρ_i = 1 / (W_i's normal diagonal entry) per contact, so that each
-    contact is judged on its own scale.  Starts from ``r0`` (default:
+    ρ_i = 1 / (W_i's normal diagonal entry) per contact
+    (:func:`~qpcontact.friction.contact_scales`), so that F is a force, and
+    the merit ½‖DF‖² weighs each contact by 1 / its size (D from
+    :func:`~qpcontact.friction.contact_sizes`, frozen per iteration).  Starts from ``r0`` (default:
     Anitescu's relaxation by Clarabel).  Local quadratic convergence near a
     nondegenerate solution; no global guarantee — it stops and says so when
     the line search fails.  Options: ``r0``, ``max_iter`` (100), ``progress``."""
-    from .friction import natural_map_error, project_cone
+    from .friction import certified_error, contact_scales, contact_sizes, project_cone
 
     options = dict(options)
     r0 = options.pop("r0", None)
@@ -248,8 +254,7 @@ def solve_natural_newton(problem, tol, options):
             return None, status, "the starting SOCP gave no point", stats
     r = np.asarray(r0, float).copy()
     W = p.W.toarray() if sp.issparse(p.W) else np.asarray(p.W, float)
-    wn = np.abs(np.diag(W)[0::d])
-    rho = np.repeat(1.0 / np.where(wn > 0, wn, 1.0), d)
+    rho = np.repeat(contact_scales(p), d)
 
     def F(r):
         u = W @ r + p.q
@@ -260,9 +265,24 @@ def solve_natural_newton(problem, tol, options):
         x = r - rho * uh.ravel()
         return r - project_cone(x, mu, d), x, U, tn
 
+    weighted = [False]
+
+    def weights(r):
+        """Unweighted first (½‖F‖² globalizes best from a far start); once
+        its line search fails, 1 / each contact's size, frozen for one
+        iteration: the merit ½‖DF‖² then weighs a small contact's residual
+        on its own scale, as the certificate does — the unweighted merit
+        reaches rounding level on the large contacts and stalls while a
+        small one is still 1e-6 off."""
+        if not weighted[0]:
+            return np.ones(r.size)
+        s = contact_sizes(p, r, rho[0::d])
+        return np.repeat(1.0 / np.where(s > 0, s, 1.0), d)
+
     Fr, x, U, tn = F(r)
-    phi = 0.5 * Fr @ Fr
-    best_err, best_r = natural_map_error(p, r), r.copy()
+    D = weights(r)
+    phi = 0.5 * np.sum((D * Fr) ** 2)
+    best_err, best_r = certified_error(p, r), r.copy()
     k, why = 0, f"stopped at {max_iter} iterations"
     for k in range(1, max_iter + 1):
         if best_err <= tol:
@@ -280,33 +300,60 @@ def solve_natural_newton(problem, tol, options):
         for i in range(nc):
             s = slice(d * i, d * i + d)
             J[s] -= JP[i] @ A[s]
-        found = None
-        # LU first (fast); where the generalized Jacobian is near singular its
-        # step is huge and fails the line search: then the least-squares step
-        for solver in ("lu", "lstsq"):
-            try:
-                step = (np.linalg.solve(J, -Fr) if solver == "lu"
-                        else np.linalg.lstsq(J, -Fr, rcond=None)[0])
-            except np.linalg.LinAlgError:
-                continue
+        # The Newton step first (LU, fast).  Where the generalized Jacobian
+        # is near singular (a rank-deficient W: BoxesStack1's is 78 of 156)
+        # that step is huge and the line search creeps: then also
+        # Levenberg–Marquardt's, (J'J + λI) d = −J'F with λ = ‖F‖
+        # (Yamashita–Fukushima), well posed and fast near a solution; the
+        # one whose point has the smaller certified error is taken.  Where
+        # both fail, the least-squares (minimum-norm) step: on Capsules-i101
+        # only that one leaves the point where the others stall.
+        def search(step):
             t = 1.0
             while t > 1e-10:
-                F_new, x_new, U_new, tn_new = F(r + t * step)
-                if 0.5 * F_new @ F_new <= (1 - 1e-4 * t) * phi:
-                    found = t
-                    break
+                trial = F(r + t * step)
+                if 0.5 * np.sum((D * trial[0]) ** 2) <= (1 - 1e-4 * t) * phi:
+                    return t, step, trial
                 t *= 0.5
-            if found is not None:
-                break
-        if found is None:
-            why = "the line search failed (a stationary point of ½‖F‖² that is not a solution)"
+            return None
+
+        def lm_step():
+            JD = D[:, None] * J
+            JtJ = JD.T @ JD
+            JtJ[np.diag_indices_from(JtJ)] += np.sqrt(2 * phi)
+            return np.linalg.solve(JtJ, -(JD.T @ (D * Fr)))
+
+        try:
+            chosen = search(np.linalg.solve(J, -Fr))
+        except np.linalg.LinAlgError:
+            chosen = None
+        if chosen is None or chosen[0] < LM_BELOW:
+            try:
+                lm = search(lm_step())
+            except np.linalg.LinAlgError:
+                lm = None
+            if lm is not None and (chosen is None or certified_error(p, r + lm[0] * lm[1])
+                                   < certified_error(p, r + chosen[0] * chosen[1])):
+                chosen = lm
+        if chosen is None:   # the minimum-norm step of a singular J
+            chosen = search(np.linalg.lstsq(J, -Fr, rcond=None)[0])
+        if chosen is None and not weighted[0]:
+            weighted[0] = True
+            D = weights(r)
+            phi = 0.5 * np.sum((D * Fr) ** 2)
+            continue
+        if chosen is None:
+            why = "the line search failed (a stationary point of ½‖DF‖² that is not a solution)"
             break
+        t, step, (F_new, x_new, U_new, tn_new) = chosen
         r = r + t * step
         Fr, x, U, tn = F_new, x_new, U_new, tn_new
-        phi = 0.5 * Fr @ Fr
-        err = natural_map_error(p, r)
+        D = weights(r)
+        phi = 0.5 * np.sum((D * Fr) ** 2)
+        err = certified_error(p, r)
         if progress is not None:
-            progress(f"newton: iteration {k}: natural-map error {err:.2e}, step {t:g}")
+            progress(f"newton: iteration {k}: error {err:.2e} (natural map and componentwise), "
+                     f"step {t:g}, ½‖DF‖² = {phi:.2e}")
         if err < best_err:
             best_err, best_r = err, r.copy()
     stats["iterations"] = k

@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from .errors import InvalidProblemError
 from .problems import LCP
 
-__all__ = ["read_siconos_lcp", "read_siconos_fc", "read_fclib", "write_fclib"]
+__all__ = ["read_siconos_lcp", "read_siconos_fc", "read_fclib", "write_fclib", "read_problem"]
 
 
 class _Tokens:
@@ -226,8 +226,11 @@ def read_siconos_lcp(path: str | os.PathLike) -> LCP:
         header announces against what it holds), is missing, or is a
         directory.
     """
-    path = Path(path)
-    t = _Tokens(path)
+    return _lcp_from(_Tokens(Path(path)))
+
+
+def _lcp_from(t: _Tokens) -> LCP:
+    path = t.path
     n = t.int("the LCP size n", 1)
 
     def check(n0, n1):
@@ -244,10 +247,13 @@ def read_siconos_fc(path: str | os.PathLike):
     ``d nc W q mu`` (local) or ``d nc M H f w mu`` (global: the first
     matrix is not d·nc square).  Returns a
     :class:`~qpcontact.friction.FrictionProblem`."""
+    return _fc_from(_Tokens(Path(path)))
+
+
+def _fc_from(t: _Tokens):
     from .friction import FrictionProblem
 
-    path = Path(path)
-    t = _Tokens(path)
+    path = t.path
     d = t.int("the dimension d (2 or 3)", 2)
     nc = t.int("the number of contacts")
     first = _read_matrix(t, "W (or M)")
@@ -266,6 +272,34 @@ def read_siconos_fc(path: str | os.PathLike):
     w = t.floats(m, "a value of w")
     mu = t.floats(nc, "a friction coefficient")
     return FrictionProblem.global_problem(first, H, f, w, mu, d, name=path.stem)
+
+
+def read_problem(path: str | os.PathLike):
+    """Read any problem file qpcontact knows: FCLIB HDF5 (``.hdf5``/``.h5``:
+    a FrictionProblem) or a Siconos ``.dat`` file, LCP or frictional contact.
+    The two layouts are told apart by which one reads the file; Siconos files
+    may carry trailing data (a stored solution), so when both read, the one
+    that leaves fewer tokens unread wins."""
+    path = Path(path)
+    if path.suffix in (".hdf5", ".h5"):
+        return read_fclib(path)
+    errors, found = [], []
+    for kind, reader in (("an LCP", _lcp_from), ("a frictional contact problem", _fc_from)):
+        t = _Tokens(path)
+        try:
+            problem = reader(t)
+        except InvalidProblemError as exc:
+            errors.append(f"as {kind}: {exc}")
+            continue
+        found.append((len(t.tokens) - t.pos, kind, problem))
+    found.sort(key=lambda f: f[0])
+    if len(found) == 2 and found[0][0] == found[1][0]:
+        raise InvalidProblemError(f"{path.name} reads both as an LCP and as a frictional contact "
+                                  "problem; use read_siconos_lcp or read_siconos_fc")
+    if found:
+        return found[0][2]
+    raise InvalidProblemError(f"{path.name} is neither a Siconos LCP nor a frictional contact "
+                              "file: " + "; ".join(errors))
 
 
 def _cs_from_fclib(g, name: str):

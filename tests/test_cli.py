@@ -33,3 +33,40 @@ def test_demo_runs_clean():
     res = runner.invoke(app, ["demo"])
     assert res.exit_code == 0, res.output
     assert "0 certified answers disagree with the paper" in " ".join(res.output.split())
+
+
+def test_solve_friction_files(tmp_path):
+    """A friction problem written with write_fclib (no shared data needed),
+    then the same through a Siconos .dat file when the collection is here."""
+    import numpy as np
+
+    from qpcontact.friction import FrictionProblem
+    from qpcontact.io import write_fclib
+
+    # one contact, W = I, q = (-1, 2, 0), mu = 0.5: it slides with r = (1, -0.5, 0)
+    path = write_fclib(FrictionProblem(np.eye(3), [-1.0, 2.0, 0.0], [0.5], 3), tmp_path / "one.hdf5")
+    res = runner.invoke(app, ["solve", str(path)])
+    assert res.exit_code == 0, res.output
+    out = " ".join(res.output.split())
+    assert "natural-map error" in out and "status solved" in out
+    import re
+    r = [float(v) for v in re.search(r"r = \[([^\]]*)\]", out).group(1).split()]
+    np.testing.assert_allclose(r, [1.0, -0.5, 0.0], atol=1e-8)
+    res = runner.invoke(app, ["solve", str(path), "--method", "anitescu"])
+    assert res.exit_code == 1 and "inaccurate" in res.output       # the relaxation lifts off
+    res = runner.invoke(app, ["solve", str(path), "--method", "pgs"])
+    assert res.exit_code == 2 and "unknown friction method" in res.output
+    assert "Traceback" not in res.output
+
+
+def test_solve_siconos_friction_dat():
+    from pathlib import Path
+
+    import pytest
+
+    f = Path(__file__).resolve().parents[2] / "shared/data/siconos-fc/FC2D_SliderCrankLagrangian00000.dat"
+    if not f.exists():
+        pytest.skip(f"Siconos friction data not found at {f.parent}")
+    res = runner.invoke(app, ["solve", str(f)])
+    assert res.exit_code == 0, res.output
+    assert "dim 2" in res.output and "exact 2-D LCP" in res.output

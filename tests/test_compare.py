@@ -143,3 +143,30 @@ def test_formulation_instances_are_named_and_solvable():
         # multipliers reach 1e8, so the primal recovered from it is certified near 1e-9
         sol = qpcontact.solve(inst.problem, method="lemke", accuracy=1e-8)
         assert sol.ok, (inst.name, sol.message)
+
+
+def test_friction_collection_in_the_sweep(tmp_path):
+    """Friction instances run the friction methods at each ladder level;
+    success is the natural-map error at the level's tolerance, recomputed here."""
+    import numpy as np
+
+    from qpcontact.friction import FrictionProblem, natural_map_error
+
+    def one(a):
+        return compare.Instance(f"friction/one-{a}", "friction", "3D",
+                                FrictionProblem(np.eye(3), [-1.0, a, 0.0], [0.5], 3))
+    insts = [one(0.3), one(2.0)]
+    path = compare.sweep(tmp_path, instances=insts, methods=["anitescu", "desaxce-fp", "osqp"],
+                         progress=False)
+    rows = list(csv.DictReader(open(path)))
+    assert {r["method"] for r in rows} == {"anitescu", "desaxce-fp"}     # osqp takes no friction
+    assert len(rows) == 2 * 2 * len(compare.LADDER)
+    for r in rows:
+        assert r["family"] == "friction"
+        ok = r["success"] == "True"
+        assert ok == (float(r["cert_error"]) <= float(r["tol"]))
+    sliding = [r for r in rows if r["instance"].endswith("2.0") and r["method"] == "anitescu"]
+    assert all(r["success"] == "False" for r in sliding)
+    assert natural_map_error(insts[1].problem, np.array([1.0, -0.5, 0.0])) == 0.0
+    md = compare.report(path)
+    assert "## friction" in md.read_text()

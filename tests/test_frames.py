@@ -300,3 +300,46 @@ def test_elastic_contact_and_hinge_against_hand_formulas():
     assert abs(M[-1]) <= 1e-9 * np.abs(M).max()
     # with the hinge, the B-C part is a beam pinned at B on a roller at C, unloaded: C carries nothing
     np.testing.assert_allclose(r2.supports["C"].normal, 0.0, atol=1e-9)
+
+
+@pytest.mark.parametrize("H, stiffness", [(0.0, None), (5.0, None), (50.0, None), (50.0, 2e4)])
+def test_friction_problem_export_reproduces_the_frame_solution(H, stiffness, tmp_path):
+    """The exported 2-D problem (global K v = H r + f, u = Hᵀ v + w), written
+    to FCLIB and read back, solved by solve_friction (Lemke's exact LCP and
+    the cone methods): the same contact forces as Frame.solve, sticking and
+    sliding, rigid and elastic contacts."""
+    from qpcontact.friction import solve_friction
+    from qpcontact.io import read_fclib, write_fclib
+
+    fr = Frame()
+    for k, x in enumerate((0.0, 3.0, 6.0)):
+        fr.add_node(f"N{k}", x, 0.0)
+    m1 = fr.add_beam("N0", "N1", E=2e8, A=0.01, I=1e-4)
+    m2 = fr.add_beam("N1", "N2", E=2e8, A=0.01, I=1e-4)
+    fr.add_support("N0", fix=("ux", "uy", "rz"))
+    fr.add_contact("N1", normal=(0.0, 1.0), friction=0.3, gap=1e-4, stiffness=stiffness)
+    fr.add_contact("N2", normal=(0.0, 1.0), friction=0.3)
+    for m in (m1, m2):
+        fr.add_distributed_load(m, wy=-10.0)
+    fr.add_load("N2", fx=H)
+    res = fr.solve()
+    assert res.ok, res.message
+    expected = np.array([[s.normal, s.tangential] for s in res.supports.values()]).ravel()
+    prob = read_fclib(write_fclib(fr.friction_problem(), tmp_path / "frame.hdf5"))
+    for method, tol in (("lemke", 1e-9), ("auto", 1e-9), ("newton", 1e-9)):
+        sol = solve_friction(prob, method, tol=tol)
+        assert sol.ok, sol.message
+        np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-6 * np.abs(expected).max())
+
+
+def test_friction_problem_export_refuses_a_frame_that_is_a_mechanism_without_contacts():
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 4.0, 0.0)
+    fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4)
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_contact("B", normal=(0.0, 1.0), friction=0.3)
+    fr.add_load("B", fy=-10.0)
+    assert fr.solve().ok
+    with pytest.raises(InvalidProblemError, match="mechanism"):
+        fr.friction_problem()

@@ -272,3 +272,21 @@ def test_fclib_writer_leaves_no_broken_file(tmp_path, monkeypatch):
         write_fclib(p, path, title="second")
     monkeypatch.undo()
     assert read_fclib(path).dim == 3 and not list(tmp_path.glob("*.tmp"))
+
+
+def test_componentwise_error_sees_what_the_siconos_measure_hides():
+    """A stiff contact (W = 1e-5 I: displacements in m, forces in kN) whose
+    exact reaction is r = (1, 0, 0).  A 1 % force error moves u by 1e-7 only:
+    Siconos's measure (divided by 1 + ‖q‖ ~ 1) is 1e-7, the componentwise one
+    0.01 / (1.01 + 1e5 (1e-5 + 1.01e-5)) = 3.31e-3 (by hand)."""
+    from qpcontact.friction import componentwise_error
+
+    p = FrictionProblem(1e-5 * np.eye(3), [-1e-5, 0.0, 0.0], [0.3], 3)
+    wrong = np.array([1.01, 0.0, 0.0])
+    assert natural_map_error(p, wrong) == pytest.approx(1e-7 / (1 + 1e-5), rel=1e-6)
+    assert _error_here(np.asarray(p.W), p.q, p.mu, wrong) < 1e-6
+    assert componentwise_error(p, wrong) == pytest.approx(0.01 / 3.02, rel=1e-6)
+    assert componentwise_error(p, np.array([1.0, 0.0, 0.0])) == 0.0
+    s = solve_friction(p, "auto", tol=1e-8)
+    assert s.ok and s.componentwise_error <= 1e-8
+    np.testing.assert_allclose(s.r, [1.0, 0.0, 0.0], atol=1e-7)

@@ -277,6 +277,53 @@ class Frame:
         qv, _ = assembly.combination_q(Q, np.zeros_like(q_gap), b, {VARIABLE: 1.0})
         return M, qc, qv, P, g, fric
 
+    def friction_problem(self, p: float = 1.0, *, combination: dict | None = None):
+        """The frame's contact problem for one load combination as a 2-D
+        :class:`~qpcontact.friction.FrictionProblem` — the form FCLIB and
+        Siconos's solvers take (``qpcontact.io.write_fclib`` writes it).
+
+        Global form: K v = H r + f (K the stiffness on the free dofs, v the
+        displacements, f the combination's loads, settlements moved to the
+        right-hand side), u = Hᵀ v + w with u = (opening, slip) per contact
+        (w: the gaps, and what settlements do to the contacts), r = (X_n,
+        X_t) the contact force on the structure along the normal and
+        t = (n_y, −n_x), μ = the contact's friction (0: a frictionless
+        contact, whose cone is its normal ray).  Quasi-static: "velocities"
+        are displacements, units the frame's.  Elastic contacts add their
+        flexibility 1/k to W's diagonal, so their problem is exported in local
+        form.  Raises InvalidProblemError when the frame without its contacts
+        is a mechanism: W = Hᵀ K⁻¹ H does not exist then."""
+        import scipy.sparse as sp
+
+        from qpcontact.friction import FrictionProblem
+
+        b = self.build()
+        combo = self._combo(p, combination, b)
+        K, F, U, fixed, free = b["K"], b["F"], b["U"], b["fixed"], b["free"]
+        N = K.shape[0]
+        cols = []
+        for c in self.contacts:
+            t = np.array([c.normal[1], -c.normal[0]])
+            cols += [assembly.contact_column(b["idx"], N, c, c.normal),
+                     assembly.contact_column(b["idx"], N, c, t)]
+        H = np.array(cols).T
+        factors = np.array([combo.get(case, 0.0) for case in b["cases"]])
+        f_all, u_set = F @ factors, U @ factors
+        fixed_idx = np.flatnonzero(fixed)
+        f = f_all[free] - K[free][:, fixed_idx] @ u_set[fixed_idx]
+        w = H[fixed_idx].T @ u_set[fixed_idx]
+        w[0::2] += [c.gap for c in self.contacts]
+        mu = np.array([c.friction for c in self.contacts])
+        name = f"frame ({', '.join(f'{k}: {v:g}' for k, v in combo.items())})"
+        prob = FrictionProblem.global_problem(sp.csc_matrix(K[free][:, free]),
+                                              sp.csc_matrix(H[free]), f, w, mu, 2, name=name)
+        flex = np.repeat([0.0 if c.stiffness is None else 1.0 / c.stiffness
+                          for c in self.contacts], 2)
+        if np.any(flex > 0):
+            W = np.asarray(prob.W) + np.diag(flex)
+            prob = FrictionProblem(W, prob.q, mu, 2, name=name + ", elastic contacts")
+        return prob
+
     # -- solving ------------------------------------------------------------------
     def _combo(self, p, combo, b) -> dict:
         if combo is None:
