@@ -210,8 +210,12 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
         is_z = (basis >= n) & (basis < Z0)
         B[:, is_z] = -Mf[:, basis[is_z] - n]
         B[:, basis == Z0] = -d[:, None]
-        Binv[:] = scipy.linalg.inv(B, check_finite=False)
-        x[:] = scipy.linalg.solve(B, q, check_finite=False)
+        # An ill-conditioned basis is a numerical outcome the certificate
+        # judges, not a warning to print from inside the pivoting.
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            Binv[:] = scipy.linalg.inv(B, check_finite=False)
+            x[:] = scipy.linalg.solve(B, q, check_finite=False)
         scales.anchor(Binv)
         # Basic values of a feasible basis are >= 0; rounding leaves exact
         # (degenerate) zeros at +-1e-17 of their row's size, which would win or
