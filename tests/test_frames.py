@@ -78,14 +78,14 @@ def test_continuous_beam_matches_enumeration_of_all_contact_states(case):
     np.testing.assert_allclose(normals, matches[0], atol=1e-8 * np.abs(matches[0]).max())
 
 
-def _cantilever_with_two_contacts(upper_second: bool, f=0.3):
+def _cantilever_with_two_contacts(upper_second: bool, f=0.3, gap=0.0, stiffness=None):
     fr = Frame()
     for k, x in enumerate((0.0, 3.0, 6.0)):
         fr.add_node(f"N{k}", x, 0.0)
     m1 = fr.add_beam("N0", "N1", E=2e8, A=0.01, I=1e-4)
     m2 = fr.add_beam("N1", "N2", E=2e8, A=0.01, I=1e-4)
     fr.add_support("N0", fix=("ux", "uy", "rz"))
-    fr.add_contact("N1", normal=(0.0, 1.0), friction=f)
+    fr.add_contact("N1", normal=(0.0, 1.0), friction=f, gap=gap, stiffness=stiffness)
     fr.add_contact("N2", normal=(0.0, -1.0) if upper_second else (0.0, 1.0), friction=f)
     for m in (m1, m2):
         fr.add_distributed_load(m, wy=-10.0)
@@ -311,16 +311,7 @@ def test_friction_problem_export_reproduces_the_frame_solution(H, stiffness, tmp
     from qpcontact.friction import solve_friction
     from qpcontact.io import read_fclib, write_fclib
 
-    fr = Frame()
-    for k, x in enumerate((0.0, 3.0, 6.0)):
-        fr.add_node(f"N{k}", x, 0.0)
-    m1 = fr.add_beam("N0", "N1", E=2e8, A=0.01, I=1e-4)
-    m2 = fr.add_beam("N1", "N2", E=2e8, A=0.01, I=1e-4)
-    fr.add_support("N0", fix=("ux", "uy", "rz"))
-    fr.add_contact("N1", normal=(0.0, 1.0), friction=0.3, gap=1e-4, stiffness=stiffness)
-    fr.add_contact("N2", normal=(0.0, 1.0), friction=0.3)
-    for m in (m1, m2):
-        fr.add_distributed_load(m, wy=-10.0)
+    fr = _cantilever_with_two_contacts(False, gap=1e-4, stiffness=stiffness)
     fr.add_load("N2", fx=H)
     res = fr.solve()
     assert res.ok, res.message

@@ -65,12 +65,20 @@ def test_every_shared_file_reads_into_a_consistent_problem(name):
 @needs_data
 @pytest.mark.parametrize("name", SMALL_2D)
 def test_2d_problems_are_solved_exactly_by_lemke(name):
+    p, s, W = _solved_by_auto(name)
+    assert s.method == "lemke"
+    assert natural_map_error(p, s.r) == pytest.approx(_error_here(W, p.q, p.mu, s.r), abs=1e-14)
+
+
+def _solved_by_auto(name):
+    """The shared problem, "auto"'s answer checked to 1e-8 by the error
+    function written here, and W dense."""
     p = _read(name)
     s = solve_friction(p, "auto", tol=1e-8)
     assert s.ok, s.message
     W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
     assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
-    assert natural_map_error(p, s.r) == pytest.approx(_error_here(W, p.q, p.mu, s.r), abs=1e-14)
+    return p, s, W
 
 
 @needs_data
@@ -173,11 +181,7 @@ def test_faceted_cone_error_shrinks_as_facets_grow():
 @needs_data
 @pytest.mark.parametrize("name", THREE_D)
 def test_every_3d_shared_problem_is_solved_to_siconos_tolerance(name):
-    p = _read(name)
-    s = solve_friction(p, "auto", tol=1e-8)
-    assert s.ok, s.message
-    W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
-    assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+    p, s, _ = _solved_by_auto(name)
     if p.solution is not None and np.any(p.solution["r"]):
         # solutions need not be unique: agreement is in the error measure
         stored = natural_map_error(p, p.solution["r"], p.solution["u"])
