@@ -294,3 +294,34 @@ def test_componentwise_error_sees_what_the_siconos_measure_hides():
     s = solve_friction(p, "auto", tol=1e-8)
     assert s.ok and s.componentwise_error <= 1e-8
     np.testing.assert_allclose(s.r, [1.0, 0.0, 0.0], atol=1e-7)
+
+
+def test_sparse_newton_on_many_independent_contacts():
+    """700 independent 2-D contacts (W block diagonal and sparse: Newton's
+    sparse linear algebra above 1000 unknowns), sticking and sliding mixed,
+    each against its hand solution; forces on scales 1e-6 .. 1e3."""
+    import scipy.sparse as sp
+
+    rng = np.random.default_rng(3)
+    nc = 700
+    a = rng.uniform(-2.0, 2.0, nc)
+    scale = 10.0 ** rng.uniform(-6, 3, nc)
+    q = np.zeros(2 * nc)
+    q[0::2], q[1::2] = -scale, a * scale
+    W = sp.identity(2 * nc, format="csr")
+    p = FrictionProblem(W, q, np.full(nc, 0.5), 2)
+    s = solve_friction(p, "newton", tol=1e-10)
+    assert s.ok, s.message
+    expected = np.zeros(2 * nc)
+    expected[0::2] = scale
+    expected[1::2] = np.where(np.abs(a) <= 0.5, -a, -0.5 * np.sign(a)) * scale
+    np.testing.assert_allclose(s.r, expected, rtol=1e-8, atol=0)
+    assert _error_here(W.toarray(), q, p.mu, s.r) <= 1e-10
+
+
+@needs_data
+def test_the_667_contact_granular_file_is_solved_by_auto():
+    """Lemke is left out above 200 contacts; De Saxcé then sparse Newton.
+    Every reaction here is ~1e-22: only the componentwise measure judges it."""
+    p, s, _ = _solved_by_auto("fc2d_granularflowonwall_00667_00000.dat")
+    assert s.componentwise_error <= 1e-8 and "lemke" not in s.stats.get("tried", [])
