@@ -18,6 +18,8 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/qpcontact demo
+	$(BIN)/qpcontact simulate examples/scenes/drum.toml --out out/scenes/drum.h5
+	$(BIN)/qpcontact plot out/scenes/drum.h5 --out out/scenes/drum
 	$(BIN)/qpcontact compare --quick --out out/compare
 
 test: $(STAMP)

@@ -19,3 +19,17 @@ def write_csv_atomic(path: Path, rows: list[dict], fields) -> None:
         fh.flush()
         os.fsync(fh.fileno())
     os.replace(tmp, path)
+
+
+def open_hdf5(path, error, what: str):
+    """``h5py.File(path, "r")``, or ``error`` naming the path and saying
+    whether the file is missing or not HDF5 (``what``: "an FCLIB file")."""
+    import h5py
+
+    path = Path(path)
+    if not path.is_file():
+        raise error(f"{path}: no such file (expected {what})")
+    try:
+        return h5py.File(path, "r")
+    except OSError as exc:
+        raise error(f"{path}: not {what} ({exc})") from None

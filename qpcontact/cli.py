@@ -1,4 +1,4 @@
-"""Command-line interface: ``qpcontact methods | solve | demo | compare | stress``."""
+"""Command-line interface: ``qpcontact methods | solve | simulate | plot | demo | compare | stress``."""
 
 from __future__ import annotations
 
@@ -90,6 +90,46 @@ def solve_cmd(
         for key, val in sol.certificate.as_dict().items():
             console.print(f"  {key:14s} {val: .3e}")
     raise typer.Exit(0 if sol.ok else 1)
+
+
+@app.command("simulate")
+def simulate_cmd(
+    scene: Path = typer.Argument(..., help="Scene file (TOML); see docs/scenes.md."),
+    out: Path = typer.Option(None, "--out", "-o", help="HDF5 results file (default: out/SCENE.h5)."),
+):
+    """Run a scene with a progress bar; write its results to an HDF5 file."""
+    from .scenes import load_scene, write_results
+
+    try:
+        sc = load_scene(scene)
+        _, run = sc.schema.build(sc)
+        result = run(progress=True)
+    except QpcontactError as exc:
+        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        raise typer.Exit(2)
+    path = write_results(sc, result, out or Path("out") / (scene.stem + ".h5"))
+    summary = getattr(result, "summary", None)
+    if summary is not None:
+        console.print(escape(str(summary().table() if hasattr(summary(), "table") else summary())))
+    console.print(f"{sc.schema.formulation} scene {scene.name}: effects "
+                  f"{', '.join(sc.effects) or '(none)'}; results in {path}")
+
+
+@app.command("plot")
+def plot_cmd(
+    results: Path = typer.Argument(..., help="HDF5 results file written by `qpcontact simulate`."),
+    out: Path = typer.Option(None, "--out", "-o", help="Folder for the figures (default: next to the file)."),
+):
+    """Draw a results file's standard figures (forces, peaks, energy) without re-running."""
+    from .scenes import plot_results
+
+    try:
+        paths = plot_results(results, out)
+    except QpcontactError as exc:
+        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        raise typer.Exit(2)
+    for p in paths:
+        console.print(f"wrote {p}")
 
 
 @app.command("demo")

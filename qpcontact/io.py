@@ -319,18 +319,11 @@ def read_fclib(path: str | os.PathLike):
     """Read an FCLIB HDF5 file (local or global problem; the stored
     ``solution`` and ``guesses`` when present).  Returns a
     :class:`~qpcontact.friction.FrictionProblem`."""
-    import h5py
-
+    from ._files import open_hdf5
     from .friction import FrictionProblem
 
     path = Path(path)
-    if not path.is_file():
-        raise InvalidProblemError(f"{path}: no such file")
-    try:
-        h = h5py.File(path, "r")
-    except OSError as exc:
-        raise InvalidProblemError(f"{path.name}: not an HDF5 file ({exc})") from None
-    with h:
+    with open_hdf5(path, InvalidProblemError, "an FCLIB HDF5 file") as h:
         sol = {k: np.asarray(v) for k, v in h["solution"].items()} if "solution" in h else None
         guesses = []
         if "guesses" in h:

@@ -1,0 +1,181 @@
+"""Scene files (issue 19, first part): the engine's loader, the drum's schema,
+`qpcontact simulate` and its HDF5 results.  Line numbers in the expected
+messages are found in the test's own text, not taken from the loader."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from formulations.drum import Drum, Log
+from qpcontact.scenes import SceneError, load_scene, write_results
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "scenes" / "drum.toml"
+
+BASE = """formulation = "drum"
+effects = ["gravity", "damping"]
+
+[effect.damping]
+ratio = 0.05
+
+[[logs]]
+diameter = 0.12
+length = 1.2
+
+[[logs]]
+diameter = 0.18
+length = 1.2
+
+[initial]
+gaps = [0.01, 0.005]
+velocities = [-1.0, -1.5]
+
+[time]
+steps = 300
+"""
+
+
+def _write(tmp_path, text, name="scene.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _line_of(text, needle, nth=0):
+    hits = [no for no, line in enumerate(text.splitlines(), 1) if needle in line]
+    return hits[nth]
+
+
+def test_example_scene_equals_the_python_api(tmp_path):
+    """The example scene and the same drum written in Python: the same
+    forces, gaps and displacements, bit for bit."""
+    scene = load_scene(EXAMPLE)
+    drum, run = scene.schema.build(scene)
+    logs = [Log.from_wood(0.12, 1.2, damping_ratio=0.05), Log.from_wood(0.18, 1.2, damping_ratio=0.05),
+            Log.from_wood(0.15, 1.2, 450.0, damping_ratio=0.05)]
+    same = Drum(logs, [0.01, 0.005, 0.02], [-1.0, -1.5, -0.5], effects=("gravity", "damping"))
+    tau = same.contact_periods().min() / 40
+    a = run()
+    b = same.simulate(tau, 5000)
+    for key in ("forces", "gaps", "displacements", "velocities"):
+        assert np.array_equal(getattr(a, key), getattr(b, key)), key
+    path = write_results(scene, a, tmp_path / "run.h5")
+    import h5py
+
+    with h5py.File(path) as h:
+        assert np.array_equal(h["forces"][()], a.forces)
+        assert h["scene"][()].decode() == EXAMPLE.read_text()
+        assert h.attrs["formulation"] == "drum" and h.attrs["effects"] == "gravity,damping"
+        assert "version_qpcontact" in h.attrs
+        assert np.allclose(h["energy/viscous"][()], a.energy()["viscous"])
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+@pytest.mark.parametrize("effects, damped, shell, g", [
+    ('["gravity", "damping"]', True, False, 9.81),
+    ('["damping"]', True, False, 0.0),
+    ('["gravity"]', False, False, 9.81),
+    ('[]', False, False, 0.0),
+    ('["gravity", "shell_elasticity"]', False, True, 9.81),
+])
+def test_only_named_effects_are_assembled(tmp_path, effects, damped, shell, g):
+    """What is built, not final numbers: no damping arrays and a step matrix
+    without damping terms unless "damping" is named; no shell compliance
+    without "shell_elasticity"; g = 0 without "gravity"."""
+    text = BASE.replace('effects = ["gravity", "damping"]', f"effects = {effects}")
+    if not damped:
+        text = text.replace("[effect.damping]\nratio = 0.05\n", "")
+    if shell:
+        text += "\n[effect.shell_elasticity]\nstiffness = 5e6\n"
+    drum, _ = load_scene(_write(tmp_path, text)).schema.build(load_scene(tmp_path / "scene.toml"))
+    assert (drum.damping is not None) == damped
+    assert drum.gravity == g
+    assert (drum.shell_stiffness is not None) == shell
+    c = 1.0 / drum.half_stiffness
+    assert drum.compliance[0] == pytest.approx(c[0] + (1 / 5e6 if shell else 0.0), rel=1e-15)
+    tau = drum.contact_periods().min() / 40
+    undamped_h = drum.mass / tau ** 2
+    h = drum._h(tau, np.ones(drum.n_logs, bool))
+    assert np.array_equal(h, undamped_h) != damped      # damping terms exist only if named
+    M = drum.step_matrix(tau, np.ones(drum.n_logs, bool) if damped else None)
+    assert M.shape == (2, 2) and abs(M - M.T).max() == 0
+
+
+@pytest.mark.parametrize("edit, needle, nth, message", [
+    (lambda t: t.replace("length = 1.2\n\n[[logs]]", "lenght = 1.2\n\n[[logs]]", 1),
+     "lenght", 0, r"logs.lenght: unknown key; valid keys in \[logs\]: diameter, length, density"),
+    (lambda t: t.replace("steps = 300", "steps = 300\ndt = 1e-5"), "dt =", 0,
+     r"time.dt: unknown key; valid keys in \[time\]: steps, tau, steps_per_period"),
+    (lambda t: t.replace('"damping"]', '"damping", "friction"]'), "effects =", 0,
+     r"unknown effect 'friction' for 'drum'; it knows gravity, damping, shell_elasticity"),
+    (lambda t: t + "\n[effect.shell_elasticity]\nstiffness = 5e6\n", "[effect.shell_elasticity]",
+     0, r"parameters given for effect 'shell_elasticity', which is not named"),
+    (lambda t: t.replace("diameter = 0.18", 'diameter = "18 cm"'), "18 cm", 0,
+     r"logs.diameter: expected a number \[m\], got '18 cm'"),
+    (lambda t: t.replace("steps = 300", "steps = 300.5"), "steps =", 0,
+     r"time.steps: expected an integer, got 300.5"),
+    (lambda t: t.replace("ratio = 0.05\n", ""), "[effect.damping]", 0,
+     r"effect.damping.ratio: missing required value: a number \[-\]"),
+    (lambda t: t.replace("[time]\nsteps = 300\n", "[time]\n"), "[time]", 0,
+     r"time.steps: missing required value: an integer"),
+    (lambda t: t.replace("diameter = 0.12", "diameter = -0.12"), "diameter = -0.12", 0,
+     r"logs.diameter: must be > 0 \[m\]"),
+    (lambda t: t.replace('formulation = "drum"', 'formulation = "drums"'), "formulation", 0,
+     r"'drums' is not a registered formulation; choose one of drum"),
+    (lambda t: t + "\n[output]\nevery = 2\n", "[output]", 0,
+     r"output: unknown key for 'drum'; valid top-level keys and tables: formulation, effects, "
+     r"effect, logs, initial, time, solver"),
+])
+def test_scene_errors_name_file_line_key_and_choices(tmp_path, edit, needle, nth, message):
+    text = edit(BASE)
+    path = _write(tmp_path, text)
+    with pytest.raises(SceneError, match=message) as info:
+        load_scene(path)
+    assert str(info.value).startswith(f"{path}:{_line_of(text, needle, nth)}: ")
+
+
+def test_not_toml_and_missing_file(tmp_path):
+    with pytest.raises(SceneError, match="not valid TOML"):
+        load_scene(_write(tmp_path, "formulation = drum\n"))
+    with pytest.raises(SceneError, match="no such scene file"):
+        load_scene(tmp_path / "absent.toml")
+
+
+def test_simulate_command_writes_a_readable_results_file(tmp_path):
+    import h5py
+    from typer.testing import CliRunner
+
+    from qpcontact.cli import app
+
+    path = _write(tmp_path, BASE)
+    out = tmp_path / "run.h5"
+    res = CliRunner().invoke(app, ["simulate", str(path), "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "results in" in res.output
+    with h5py.File(out) as h:
+        assert h["forces"].shape == (301, 2) and h["method"].shape == (301,)
+        assert np.max(h["certificate_error"][()]) <= 1e-9
+    bad = _write(tmp_path, BASE.replace("steps = 300", "steps = -3"), "bad.toml")
+    res = CliRunner().invoke(app, ["simulate", str(bad)])
+    assert res.exit_code == 2 and "time.steps: must be > 0" in res.output
+    assert "Traceback" not in res.output
+
+
+def test_plot_command_draws_from_the_file_alone(tmp_path):
+    """The figures come from the HDF5 file: the scene file is deleted first."""
+    from typer.testing import CliRunner
+
+    from qpcontact.cli import app
+
+    scene = _write(tmp_path, BASE)
+    out = tmp_path / "run.h5"
+    assert CliRunner().invoke(app, ["simulate", str(scene), "--out", str(out)]).exit_code == 0
+    scene.unlink()
+    res = CliRunner().invoke(app, ["plot", str(out), "--out", str(tmp_path / "fig")])
+    assert res.exit_code == 0, res.output
+    for name in ("forces.png", "peaks.png", "energy.png"):
+        assert (tmp_path / "fig" / name).stat().st_size > 10_000
+    res = CliRunner().invoke(app, ["plot", str(tmp_path / "nothing.h5")])
+    assert res.exit_code == 2 and "no such file" in res.output
