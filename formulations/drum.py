@@ -333,7 +333,9 @@ class Drum:
     # -- simulation ----------------------------------------------------------------
 
     def simulate(self, tau: float, steps: int, *, method: str = "bpp", accuracy="high",
-                 on_step=None, progress: bool = False, **options) -> "DrumResult":
+                 on_step=None, progress: bool = False, resume: dict | None = None,
+                 checkpoint=None, checkpoint_seconds: float = 5.0,
+                 **options) -> "DrumResult":
         """Run ``steps`` steps of size ``tau`` [s] from the initial state.
 
         The state before the first step is the exact free flight at t = -τ
@@ -342,6 +344,14 @@ class Drum:
         the previous step's contact set); an answer that fails its certificate
         is re-solved with ``method="auto"`` (counted in ``fallbacks``).
         ``on_step(n, lcp, solution)`` is called after every step.
+
+        ``checkpoint(result)`` is called every ``checkpoint_seconds`` and at
+        the end with the run so far (a :class:`DrumResult` of steps 0..n);
+        ``resume`` = {"completed": n, and the arrays of :func:`_scene_arrays`
+        for steps 0..n} continues such a run: the state of step n (the last
+        two displacements, the contact forces that decide the damped set and
+        the warm start, the cumulative dissipation) is all the stepper
+        carries, so the continued run equals the uninterrupted one bit for bit.
         Returns a :class:`DrumResult` (SI units).
         """
         steps = int(steps)
@@ -360,9 +370,37 @@ class Drum:
         solve_time = 0.0   # the certified solves' share of the wall time
         viscous = np.zeros(steps + 1)
         active = np.zeros(L, bool)
+        first = 1
+        if resume is not None:
+            n0 = int(resume["completed"])
+            if not 0 <= n0 <= steps or resume["forces"].shape[1] != L:
+                raise InvalidOptionError(f"cannot resume: {n0} completed steps of {steps}, "
+                                         f"{resume['forces'].shape[1]} contacts against {L}")
+            U[:n0 + 1] = resume["displacements"][:n0 + 1]
+            N[:n0 + 1] = resume["forces"][:n0 + 1]
+            D[:n0 + 1] = resume["gaps"][:n0 + 1]
+            errors[:n0 + 1] = resume["certificate_error"][:n0 + 1]
+            viscous[:n0 + 1] = resume["energy/viscous"][:n0 + 1]
+            methods_used = [m.decode() if isinstance(m, bytes) else str(m)
+                            for m in resume["method"][1:n0 + 1]]
+            fallbacks = int(resume.get("fallbacks", 0))
+            active = N[n0] > 0
+            first = n0 + 1
         bar = ProgressBar(steps, "drum steps", progress, transient=True)
         start = time.perf_counter()
-        for n in range(1, steps + 1):
+        last_checkpoint = start
+
+        def partial(n):
+            V = np.empty((n + 1, L))
+            V[0] = self.velocities
+            V[1:] = (U[1:n + 1] - U[:n]) / tau
+            return DrumResult(drum=self, tau=tau, t=tau * np.arange(n + 1), forces=N[:n + 1],
+                              gaps=D[:n + 1], displacements=U[:n + 1], velocities=V,
+                              viscous_dissipation=viscous[:n + 1],
+                              certificate_errors=errors[:n + 1], methods=list(methods_used),
+                              fallbacks=fallbacks, wall_time=time.perf_counter() - start,
+                              solve_time=solve_time)
+        for n in range(first, steps + 1):
             U1 = U[n - 1]
             U2 = U_prev if n == 1 else U[n - 2]
             damped = self._in_contact(N[n - 1]) if self.damping is not None else None
@@ -394,15 +432,14 @@ class Drum:
                 on_step(n, lcp, sol)
             if n % max(1, steps // 100) == 0:
                 bar.update(n)
+            if checkpoint is not None and time.perf_counter() - last_checkpoint >= checkpoint_seconds:
+                checkpoint(partial(n))
+                last_checkpoint = time.perf_counter()
         bar.close()
-        wall = time.perf_counter() - start
-        V = np.empty_like(U)
-        V[0] = self.velocities
-        V[1:] = (U[1:] - U[:-1]) / tau
-        return DrumResult(drum=self, tau=tau, t=tau * np.arange(steps + 1), forces=N, gaps=D,
-                          displacements=U, velocities=V, viscous_dissipation=viscous,
-                          certificate_errors=errors, methods=methods_used, fallbacks=fallbacks,
-                          wall_time=wall, solve_time=solve_time)
+        result = partial(steps)
+        if checkpoint is not None:
+            checkpoint(result)
+        return result
 
     def _in_contact(self, forces) -> np.ndarray:
         """Logs touching something: the contact below or above carried force."""
@@ -631,16 +668,21 @@ def _scene_build(scene):
     tau = time_["tau"] or float(drum.contact_periods().min() / time_["steps_per_period"])
     solver = data["solver"]
 
-    def run(progress: bool = False, on_step=None):
+    def run(progress: bool = False, on_step=None, resume=None, checkpoint=None,
+            checkpoint_seconds: float = 5.0):
         return drum.simulate(tau, time_["steps"], method=solver["method"],
-                             accuracy=solver["accuracy"], progress=progress, on_step=on_step)
+                             accuracy=solver["accuracy"], progress=progress, on_step=on_step,
+                             resume=resume, checkpoint=checkpoint,
+                             checkpoint_seconds=checkpoint_seconds)
+    run.total_steps = time_["steps"]
     return drum, run
 
 
 def _scene_arrays(result) -> dict:
     """What a drum run's results file holds (SI units), per step."""
     e = result.energy()
-    return {"t": result.t, "forces": result.forces, "gaps": result.gaps,
+    return {"fallbacks": np.array(result.fallbacks), "t": result.t, "forces": result.forces,
+            "gaps": result.gaps,
             "displacements": result.displacements, "velocities": result.velocities,
             "certificate_error": result.certificate_errors,
             "method": np.array([""] + result.methods, dtype="S"),

@@ -96,23 +96,39 @@ def solve_cmd(
 def simulate_cmd(
     scene: Path = typer.Argument(..., help="Scene file (TOML); see docs/scenes.md."),
     out: Path = typer.Option(None, "--out", "-o", help="HDF5 results file (default: out/SCENE.h5)."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the run whose last checkpoint "
+                                "is in --out (after a kill): the result equals an uninterrupted run."),
+    checkpoint_seconds: float = typer.Option(5.0, "--checkpoint-seconds",
+                                             help="Write the results so far this often."),
 ):
-    """Run a scene with a progress bar; write its results to an HDF5 file."""
-    from .scenes import load_scene, write_results
+    """Run a scene with a progress bar; write its results to an HDF5 file,
+    checkpointed as it goes."""
+    from .scenes import load_scene, read_state, write_results
 
+    out = out or Path("out") / (scene.stem + ".h5")
     try:
         sc = load_scene(scene)
         _, run = sc.schema.build(sc)
-        result = run(progress=True)
+        total = getattr(run, "total_steps", None)
+        state = read_state(out, sc) if resume and out.exists() else None
+        if state is not None and state["completed"] == total:
+            console.print(f"{out}: already complete ({total} steps); nothing to resume")
+            raise typer.Exit(0)
+        if state is not None:
+            console.print(f"resuming {out} after step {state['completed']} of {total}")
+
+        def checkpoint(result):
+            write_results(sc, result, out, completed=len(result.t) - 1, total=total)
+        result = run(progress=True, resume=state, checkpoint=checkpoint,
+                     checkpoint_seconds=checkpoint_seconds)
     except QpcontactError as exc:
         console.print(f"[red]error:[/red] {escape(str(exc))}")
         raise typer.Exit(2)
-    path = write_results(sc, result, out or Path("out") / (scene.stem + ".h5"))
     summary = getattr(result, "summary", None)
     if summary is not None:
         console.print(escape(str(summary().table() if hasattr(summary(), "table") else summary())))
     console.print(f"{sc.schema.formulation} scene {scene.name}: effects "
-                  f"{', '.join(sc.effects) or '(none)'}; results in {path}")
+                  f"{', '.join(sc.effects) or '(none)'}; results in {out}")
 
 
 @app.command("plot")

@@ -28,7 +28,7 @@ from pathlib import Path
 from .errors import InvalidProblemError
 
 __all__ = ["Field", "SceneSchema", "Scene", "SceneError", "load_scene", "schemas",
-           "write_results", "plot_results"]
+           "write_results", "read_state", "plot_results"]
 
 _TYPES = {"float": (int, float), "int": (int,), "str": (str,), "bool": (bool,),
           "floats": (list,), "tables": (list,)}
@@ -259,11 +259,13 @@ def _versions() -> dict:
     return out
 
 
-def write_results(scene: Scene, result, path) -> Path:
+def write_results(scene: Scene, result, path, completed: int | None = None,
+                  total: int | None = None) -> Path:
     """An HDF5 results file (h5py): the schema's per-step arrays (chunked,
     gzip), the scene's text and file name, the package versions, and the
-    formulation and effects as attributes.  Written to a temporary name and
-    renamed: a killed run never leaves a half-written file under ``path``."""
+    formulation, effects and ``completed_steps`` / ``total_steps`` as
+    attributes.  Written to a temporary name and renamed: a killed run never
+    leaves a half-written file under ``path`` — the last checkpoint stays."""
     import os
 
     import h5py
@@ -280,9 +282,16 @@ def write_results(scene: Scene, result, path) -> Path:
             h.create_dataset("scene", data=np.bytes_(scene.text.encode()))
             for pkg, ver in _versions().items():
                 h.attrs[f"version_{pkg}"] = ver
+            if completed is not None:
+                h.attrs["completed_steps"] = int(completed)
+            if total is not None:
+                h.attrs["total_steps"] = int(total)
             for name, values in scene.schema.arrays(result).items():
                 values = np.asarray(values)
-                chunks = (min(len(values), 4096),) + values.shape[1:] if values.ndim else None
+                if values.ndim == 0:
+                    h.create_dataset(name, data=values)
+                    continue
+                chunks = (min(len(values), 4096),) + values.shape[1:]
                 h.create_dataset(name, data=values, chunks=chunks,
                                  compression="gzip" if values.dtype.kind == "f" else None)
         os.replace(tmp, path)
@@ -306,3 +315,30 @@ def plot_results(path, out=None) -> list:
                              f"here; formulations with plots: "
                              f"{', '.join(n for n, s in known.items() if s.plot) or '(none)'}")
         return known[name].plot(h, str(out or path.with_suffix("")))
+
+
+def read_state(path, scene: Scene) -> dict:
+    """What ``run(resume=...)`` continues from: the arrays of a results file
+    written by an interrupted run of the same scene, with ``completed``.
+    Refuses a file written for another scene text (a changed scene would
+    continue a different run)."""
+    from ._files import open_hdf5
+
+    with open_hdf5(path, SceneError, "an HDF5 results file to resume") as h:
+        text = h["scene"][()].decode() if "scene" in h else None
+        if text != scene.text:
+            raise SceneError(f"{path}: written for a different scene text than {scene.path}; "
+                             "resume only with the scene file the run started from, or start "
+                             "afresh without --resume")
+        if "completed_steps" not in h.attrs:
+            raise SceneError(f"{path}: holds no completed-steps count; it cannot be resumed")
+        state = {"completed": int(h.attrs["completed_steps"]),
+                 "total": int(h.attrs.get("total_steps", -1))}
+
+        def grab(name, obj):
+            import h5py
+
+            if isinstance(obj, h5py.Dataset) and name != "scene":
+                state[name] = obj[()]
+        h.visititems(grab)
+    return state
