@@ -732,6 +732,14 @@ def _scene_plot(h, out) -> list:
     return paths
 
 
+def _scene_summary(result) -> dict:
+    """A sweep's columns for one drum run: peak force per contact [N], the
+    largest certificate error, the fallbacks."""
+    s = result.summary()
+    cols = {f"peak_force_{k} [N]": float(v) for k, v in enumerate(s.peak_force)}
+    return {**cols, "max_certificate_error": s.max_certificate_error, "fallbacks": s.fallbacks}
+
+
 def _scene_schema():
     from qpcontact.scenes import Field, SceneSchema
 
@@ -777,6 +785,7 @@ def _scene_schema():
         build=_scene_build,
         arrays=_scene_arrays,
         plot=_scene_plot,
+        summary=_scene_summary,
     )
 
 

@@ -1,4 +1,4 @@
-"""Command-line interface: ``qpcontact methods | solve | simulate | plot | demo | compare | stress``."""
+"""Command-line interface: ``qpcontact methods | solve | simulate | sweep | plot | demo | compare | stress``."""
 
 from __future__ import annotations
 
@@ -129,6 +129,44 @@ def simulate_cmd(
         console.print(escape(str(summary().table() if hasattr(summary(), "table") else summary())))
     console.print(f"{sc.schema.formulation} scene {scene.name}: effects "
                   f"{', '.join(sc.effects) or '(none)'}; results in {out}")
+
+
+@app.command("sweep")
+def sweep_cmd(
+    scene: Path = typer.Argument(..., help="Scene file (TOML)."),
+    vary: list[str] = typer.Option(..., "--vary", help="KEY=v1,v2,... (TOML values; repeat for "
+                                   "several keys), e.g. effect.damping.ratio=0.02,0.05"),
+    grid: bool = typer.Option(False, "--grid", help="Every combination of the --vary lists "
+                              "(default: zip them)."),
+    out: Path = typer.Option(None, "--out", "-o", help="Folder (default: out/sweep-SCENE)."),
+    workers: int = typer.Option(0, "--workers", help="Run on a local Dask cluster with N processes."),
+    scheduler: str = typer.Option(None, "--scheduler", help="Run on an existing Dask cluster."),
+):
+    """Run variants of a scene (serially or on Dask); one HDF5 file per variant
+    and summary.csv."""
+    from .scenes import sweep
+
+    variations = {}
+    for item in vary:
+        key, sep, values = item.partition("=")
+        if not sep or not values:
+            console.print(f"[red]error:[/red] --vary {escape(item)}: expected KEY=v1,v2,...")
+            raise typer.Exit(2)
+        variations[key.strip()] = [v.strip() for v in values.split(",")]
+    out = out or Path("out") / f"sweep-{scene.stem}"
+    try:
+        rows = sweep(scene, variations, out, grid=grid, workers=workers, scheduler=scheduler)
+    except QpcontactError as exc:
+        console.print(f"[red]error:[/red] {escape(str(exc))}")
+        raise typer.Exit(2)
+    table = Table(title=f"sweep of {scene.name} ({len(rows)} variants) — files in {out}")
+    cols = list(dict.fromkeys(k for r in rows for k in r))
+    for c in cols:
+        table.add_column(escape(c))
+    for r in rows:
+        table.add_row(*[f"{r.get(c, ''):.4g}" if isinstance(r.get(c), float) else str(r.get(c, ""))
+                        for c in cols])
+    console.print(table)
 
 
 @app.command("plot")

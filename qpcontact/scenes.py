@@ -28,7 +28,8 @@ from pathlib import Path
 from .errors import InvalidProblemError
 
 __all__ = ["Field", "SceneSchema", "Scene", "SceneError", "load_scene", "schemas",
-           "write_results", "read_state", "plot_results"]
+           "write_results", "read_state", "plot_results", "parse_scene", "vary_scene",
+           "sweep"]
 
 _TYPES = {"float": (int, float), "int": (int,), "str": (str,), "bool": (bool,),
           "floats": (list,), "tables": (list,)}
@@ -70,6 +71,7 @@ class SceneSchema:
     build: object
     arrays: object = None   # result -> {name: array per step} for the results file
     plot: object = None     # (open h5py.File, out folder) -> [paths of the figures]
+    summary: object = None  # result -> {column: scalar} for a sweep's summary table
 
 
 @dataclass
@@ -188,7 +190,12 @@ def load_scene(path) -> Scene:
     path = Path(path)
     if not path.is_file():
         raise SceneError(f"{path}: no such scene file")
-    text = path.read_text()
+    return parse_scene(path.read_text(), path)
+
+
+def parse_scene(text: str, path="<scene>") -> Scene:
+    """:func:`load_scene` on a scene's text (``path`` names it in messages)."""
+    path = Path(path)
     try:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -342,3 +349,128 @@ def read_state(path, scene: Scene) -> dict:
                 state[name] = obj[()]
         h.visititems(grab)
     return state
+
+
+# -- sweeps ----------------------------------------------------------------------
+
+def vary_scene(text: str, key: str, value: str) -> str:
+    """The scene text with ``key`` (dotted: ``time.steps_per_period``,
+    ``effect.damping.ratio``, ``logs.1.diameter`` for the second [[logs]])
+    set to ``value`` (TOML: ``0.05``, ``"bpp"``), edited in place so the
+    variant's text is a scene file of its own."""
+    parts = key.split(".")
+    index = None
+    if len(parts) >= 3 and parts[-2].isdigit():
+        index = int(parts[-2])
+        table, name = tuple(parts[:-2]), parts[-1]
+    else:
+        table, name = tuple(parts[:-1]), parts[-1]
+    lines = text.splitlines()
+    where = _Lines(text)
+    no = None
+    for ln, t, i, k in where.entries:
+        if t == table and k == name and (index is None or i == index):
+            no = ln
+            break
+    if no is not None:
+        m = re.match(r"^(\s*[^=]+=\s*)(.*?)(\s+#.*)?$", lines[no - 1])
+        lines[no - 1] = m.group(1) + value + (m.group(3) or "")
+        return "\n".join(lines) + "\n"
+    header = where.line(table, None, index) if table else None
+    if table and header is None:
+        if index is not None:
+            raise SceneError(f"--vary {key}: the scene has no [[{'.'.join(table)}]] number {index}")
+        return text.rstrip("\n") + f"\n\n[{'.'.join(table)}]\n{name} = {value}\n"
+    insert_at = header if table else 0   # right after the table's header (or at the top)
+    lines.insert(insert_at, f"{name} = {value}")
+    return "\n".join(lines) + "\n"
+
+
+def _run_text(text: str, label: str):
+    scene = parse_scene(text, label)
+    _, run = scene.schema.build(scene)
+    return run()
+
+
+def sweep(path, variations: dict, out_dir, *, grid: bool = False, workers: int = 0,
+          scheduler: str | None = None, progress: bool = True):
+    """Run variants of a scene: ``variations`` {key: [values as TOML text]},
+    zipped (all lists the same length) or, with ``grid``, every combination.
+    Serial, or on Dask (``workers`` local processes or a ``scheduler``
+    address) — the same code per variant either way, so the results are the
+    same.  Writes one HDF5 file per variant and summary.csv (the varied
+    values and the schema's summary of each run); returns the summary rows."""
+    import itertools
+
+    from ._files import write_csv_atomic
+    from .progress import ProgressBar
+
+    path = Path(path)
+    base = load_scene(path)
+    keys = list(variations)
+    if not keys:
+        raise SceneError("sweep: give at least one --vary KEY=v1,v2,...")
+    if grid:
+        combos = list(itertools.product(*(variations[k] for k in keys)))
+    else:
+        sizes = {len(v) for v in variations.values()}
+        if len(sizes) != 1:
+            raise SceneError("sweep: the --vary lists differ in length "
+                             f"({', '.join(f'{k}: {len(v)}' for k, v in variations.items())}); "
+                             "give lists of one length, or --grid for every combination")
+        combos = list(zip(*(variations[k] for k in keys)))
+    texts, labels = [], []
+    for n, combo in enumerate(combos):
+        text = base.text
+        for k, v in zip(keys, combo):
+            text = vary_scene(text, k, v)
+        label = f"{path.stem}-{n:03d}"
+        parse_scene(text, f"{path} with {dict(zip(keys, combo))}")   # every variant checked first
+        texts.append(text)
+        labels.append(label)
+    if workers or scheduler:
+        results = _dask_runs(texts, labels, workers, scheduler)
+    else:
+        results = (_run_text(t, lb) for t, lb in zip(texts, labels))
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    bar = ProgressBar(len(texts), "sweep variants", progress)
+    rows = []
+    for n, (text, label, result) in enumerate(zip(texts, labels, results), 1):
+        scene = parse_scene(text, label)
+        write_results(scene, result, out / f"{label}.h5", completed=len(result.t) - 1,
+                      total=len(result.t) - 1)
+        row = {"variant": label, **dict(zip(keys, combos[n - 1]))}
+        if scene.schema.summary is not None:
+            row.update(scene.schema.summary(result))
+        rows.append(row)
+        bar.update(n)
+    bar.close()
+    fields = list(dict.fromkeys(k for r in rows for k in r))
+    write_csv_atomic(out / "summary.csv", rows, fields)
+    return rows
+
+
+def _dask_runs(texts, labels, workers, scheduler):
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        from .errors import BackendUnavailableError
+
+        raise BackendUnavailableError(
+            "--workers/--scheduler need Dask: pip install 'qpcontact[dask]'") from None
+    cluster = None
+    if scheduler:
+        client = Client(scheduler)
+    else:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+    try:
+        futures = [client.submit(_run_text, t, lb, pure=False) for t, lb in zip(texts, labels)]
+        for fut in futures:   # in order: files and rows follow the variants
+            yield fut.result()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()

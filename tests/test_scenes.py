@@ -236,3 +236,55 @@ def test_resume_refuses_a_changed_scene(tmp_path):
     scene.write_text(BASE.replace("ratio = 0.05", "ratio = 0.06"))
     res = CliRunner().invoke(app, ["simulate", str(scene), "--out", str(out), "--resume"])
     assert res.exit_code == 2 and "different scene text" in res.output
+
+
+def test_vary_scene_edits_the_text_in_place():
+    from qpcontact.scenes import parse_scene, vary_scene
+
+    t = vary_scene(BASE, "effect.damping.ratio", "0.08")
+    assert "ratio = 0.08" in t and "ratio = 0.05" not in t
+    t = vary_scene(t, "logs.1.diameter", "0.2")                   # the second [[logs]]
+    t = vary_scene(t, "time.steps_per_period", "30")              # absent key, existing table
+    t = vary_scene(t, "solver.method", '"lemke"')                 # absent table
+    sc = parse_scene(t)
+    assert sc.effect_params["damping"]["ratio"] == 0.08
+    assert [lg["diameter"] for lg in sc.data["logs"]] == [0.12, 0.2]
+    assert sc.data["time"]["steps_per_period"] == 30.0 and sc.data["solver"]["method"] == "lemke"
+    with pytest.raises(SceneError, match="number 5"):
+        vary_scene(BASE, "logs.5.diameter", "0.2")
+
+
+def test_sweep_on_dask_equals_the_serial_sweep(tmp_path):
+    """Three variants of a short scene, serially and on a local Dask cluster
+    of two processes: the same files, array for array, and the same summary."""
+    import csv
+
+    import h5py
+
+    from qpcontact.scenes import sweep
+
+    scene = _write(tmp_path, BASE.replace("steps = 300", "steps = 1500"))   # contacts happen
+    vary = {"effect.damping.ratio": ["0.02", "0.05", "0.1"], "time.steps_per_period": ["30", "40", "50"]}
+    serial = sweep(scene, vary, tmp_path / "serial", progress=False)
+    dask = sweep(scene, vary, tmp_path / "dask", workers=2, progress=False)
+    assert serial == dask and len(serial) == 3
+    assert serial[1]["effect.damping.ratio"] == "0.05"
+    peaks = [r["peak_force_0 [N]"] for r in serial]
+    assert len(set(peaks)) == 3 and min(peaks) > 0              # the variants differ
+    for r in serial:
+        with h5py.File(tmp_path / "serial" / f"{r['variant']}.h5") as a, \
+                h5py.File(tmp_path / "dask" / f"{r['variant']}.h5") as b:
+            for name in ("forces", "gaps", "displacements", "energy/numerical"):
+                assert np.array_equal(a[name][()], b[name][()]), name
+            assert "ratio = " + r["effect.damping.ratio"] in a["scene"][()].decode()
+    rows = list(csv.DictReader(open(tmp_path / "serial" / "summary.csv")))
+    assert [float(x["peak_force_0 [N]"]) for x in rows] == peaks
+    grid = sweep(scene, {"effect.damping.ratio": ["0.02", "0.05"],
+                         "time.steps_per_period": ["30", "40"]}, tmp_path / "grid", grid=True,
+                 progress=False)
+    assert len(grid) == 4
+    with pytest.raises(SceneError, match="differ in length"):
+        sweep(scene, {"effect.damping.ratio": ["0.02"], "time.steps": ["10", "20"]},
+              tmp_path / "bad", progress=False)
+    with pytest.raises(SceneError, match="ratio: expected a number"):
+        sweep(scene, {"effect.damping.ratio": ['"high"']}, tmp_path / "bad", progress=False)
