@@ -424,28 +424,14 @@ def sweep(out_dir, *, quick: bool = True, methods=None, formulations=None, sicon
 
 
 def _dask_map(tasks, repeats, time_limit, workers, scheduler):
-    try:
-        from distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        from .errors import BackendUnavailableError
+    from ._dask import dask_client
 
-        raise BackendUnavailableError(
-            "--workers/--scheduler need Dask: pip install 'qpcontact[dask]'") from None
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
-        client = Client(cluster)
-    try:
+    with dask_client(workers, scheduler) as client:
+        from distributed import as_completed
+
         futures = [client.submit(run_task, t, repeats, time_limit, pure=False) for t in tasks]
         for fut in as_completed(futures):
             yield fut.result()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 # -- aggregation and report ------------------------------------------------------------

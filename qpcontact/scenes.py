@@ -452,25 +452,9 @@ def sweep(path, variations: dict, out_dir, *, grid: bool = False, workers: int =
 
 
 def _dask_runs(texts, labels, workers, scheduler):
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError:
-        from .errors import BackendUnavailableError
+    from ._dask import dask_client
 
-        raise BackendUnavailableError(
-            "--workers/--scheduler need Dask: pip install 'qpcontact[dask]'") from None
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
-        client = Client(cluster)
-    try:
+    with dask_client(workers, scheduler) as client:
         futures = [client.submit(_run_text, t, lb, pure=False) for t, lb in zip(texts, labels)]
         for fut in futures:   # in order: files and rows follow the variants
             yield fut.result()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
