@@ -53,9 +53,9 @@ def test_solve_friction_files(tmp_path):
     r = [float(v) for v in re.search(r"r = \[([^\]]*)\]", out).group(1).split()]
     np.testing.assert_allclose(r, [1.0, -0.5, 0.0], atol=1e-8)
     res = runner.invoke(app, ["solve", str(path), "--method", "anitescu"])
-    assert res.exit_code == 1 and "inaccurate" in res.output       # the relaxation lifts off
+    assert res.exit_code == 1 and "inaccurate" in " ".join(res.output.split())   # it lifts off
     res = runner.invoke(app, ["solve", str(path), "--method", "pgs"])
-    assert res.exit_code == 2 and "unknown friction method" in res.output
+    assert res.exit_code == 2 and "unknown friction method" in " ".join(res.output.split())
     assert "Traceback" not in res.output
 
 
@@ -69,4 +69,4 @@ def test_solve_siconos_friction_dat():
         pytest.skip(f"Siconos friction data not found at {f.parent}")
     res = runner.invoke(app, ["solve", str(f)])
     assert res.exit_code == 0, res.output
-    assert "dim 2" in res.output and "exact 2-D LCP" in res.output
+    assert "dim 2" in res.output and "exact 2-D LCP" in " ".join(res.output.split())
