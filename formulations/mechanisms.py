@@ -437,3 +437,145 @@ def ramming_impact_step():
     Phi, J, D = mech.constraints(q, v)
     B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
     return PenaltyStep(mech.inertia(q), mech.generalized_forces(res.t[i - 1], q, v), J, B, D)
+
+
+# -- scene files (qpcontact.scenes): a user-defined planar mechanism ----------------
+
+def _scene_build(scene):
+    """(Mechanism, run) from a checked scene: bodies, springs (only with the
+    effect "springs"), constant forces, contacts (compliant only with
+    "compliance"), gravity only with "gravity"."""
+    d, eff = scene.data, scene.effect_params
+    if d["springs"] and "springs" not in eff:
+        scene.fail("springs are given but 'springs' is not among the effects; add it to "
+                   "effects or remove the [[springs]] tables", ("springs",), None, 0)
+    m = Mechanism(effects=scene.effects,
+                  gravity=eff["gravity"]["g"] if "gravity" in eff else GRAVITY)
+    for b in d["bodies"]:
+        m.add_body(b["name"], b["mass"], b["inertia"], dofs=tuple(b["dofs"]),
+                   position=tuple(b["position"]), velocity=tuple(b["velocity"]),
+                   parent=b["parent"])
+    for sp_ in d["springs"]:
+        m.add_spring(sp_["a"], sp_["b"], sp_["stiffness"], sp_["rest_length"],
+                     point_a=tuple(sp_["point_a"]), point_b=tuple(sp_["point_b"]))
+    for f in d["forces"]:
+        m.add_force(f["body"], f["fx"], f["fy"], f["torque"])
+    compliance = eff["compliance"]["compliance"] if "compliance" in eff else None
+    for c in d["contacts"]:
+        m.add_contact(c["name"], c["a"], c["b"], normal=tuple(c["normal"]),
+                      point_a=tuple(c["point_a"]), point_b=tuple(c["point_b"]),
+                      offset=c["offset"], compliance=compliance)
+    t, solver = d["time"], d["solver"]
+
+    def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
+        if resume is not None:
+            scene.fail("--resume is not supported for mechanism scenes yet (the drum's is); "
+                       "run it afresh", ("time",))
+        result = m.simulate(t["h"], t["steps"], lookahead=lookahead_for(t["h"], t["restitution"]),
+                            route=solver["route"], method=solver["method"],
+                            accuracy=solver["accuracy"])
+        if checkpoint is not None:
+            checkpoint(result)
+        return result
+    run.total_steps = t["steps"]
+    return m, run
+
+
+def _scene_arrays(result) -> dict:
+    return {"t": result.t, "q": result.q, "v": result.v, "reactions": result.reactions,
+            "gaps": result.gaps, "mu": result.mu,
+            "coordinates": np.array(result.mechanism.coordinate_names(), dtype="S"),
+            "contacts": np.array([c.name for c in result.mechanism.contacts], dtype="S")}
+
+
+def _scene_plot(h, out) -> list:
+    """Positions, velocities and reactions against time, from the file."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t_ms = 1e3 * h["t"][()]
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8.5), sharex=True)
+    for j, nm in enumerate(h["coordinates"][()]):
+        axes[0].plot(t_ms, 1e3 * h["q"][:, j], label=nm.decode())
+        axes[1].plot(t_ms, h["v"][:, j], label=nm.decode())
+    for k, nm in enumerate(h["contacts"][()]):
+        axes[2].plot(t_ms, h["reactions"][:, k], label=nm.decode())
+    for ax, lab in zip(axes, ("position [mm]", "velocity [m/s]", "contact reaction [N]")):
+        ax.set_ylabel(lab)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, ncol=2)
+    axes[2].set_xlabel("time [ms]")
+    return [save_figure(fig, f"{out}/motion.png")]
+
+
+def _scene_summary(result) -> dict:
+    return {f"peak_reaction_{c.name} [N]": float(result.reactions[:, k].max())
+            for k, c in enumerate(result.mechanism.contacts)}
+
+
+def _scene_schema():
+    from qpcontact.scenes import Field, SceneSchema
+
+    xy = "m (x, y in the body's frame, or the world's for the ground)"
+    return SceneSchema(
+        formulation="mechanism",
+        doc="a planar mechanism from bodies, springs, forces and unilateral contacts (P2)",
+        sections={
+            "bodies": Field("tables", doc="one [[bodies]] table per body", required=True, fields={
+                "name": Field("str", "", "body name", required=True),
+                "mass": Field("float", "kg", "mass", required=True, positive=True),
+                "inertia": Field("float", "kg·m²", "moment of inertia about the centre",
+                                 default=0.0),
+                "dofs": Field("strs", "", "generalized coordinates among x, y, theta",
+                              default=["x"]),
+                "position": Field("floats", "m, m, rad", "x, y, θ (relative to parent)",
+                                  default=[0.0, 0.0, 0.0]),
+                "velocity": Field("floats", "m/s, rad/s", "rates of the dofs",
+                                  default=[0.0, 0.0, 0.0]),
+                "parent": Field("str", "", "parent body (default: the ground)")}),
+            "springs": Field("tables", doc="linear springs (effect 'springs')", default=[],
+                             fields={
+                "a": Field("str", "", "body a", required=True),
+                "b": Field("str", "", "body b (default: a ground anchor at point_b)"),
+                "stiffness": Field("float", "N/m", "stiffness", required=True, positive=True),
+                "rest_length": Field("float", "m", "rest length", required=True),
+                "point_a": Field("floats", xy, "attachment on a", default=[0.0, 0.0]),
+                "point_b": Field("floats", xy, "attachment on b", default=[0.0, 0.0])}),
+            "forces": Field("tables", doc="constant applied forces", default=[], fields={
+                "body": Field("str", "", "body", required=True),
+                "fx": Field("float", "N", "force x (world)", default=0.0),
+                "fy": Field("float", "N", "force y (world)", default=0.0),
+                "torque": Field("float", "N·m", "torque", default=0.0)}),
+            "contacts": Field("tables", doc="unilateral contacts Φ = n·(p_b − p_a) − offset ≥ 0",
+                              default=[], fields={
+                "name": Field("str", "", "contact name", required=True),
+                "a": Field("str", "", "body a (default: ground)"),
+                "b": Field("str", "", "body b (default: ground)"),
+                "normal": Field("floats", "-", "unit normal n (world)", default=[1.0, 0.0]),
+                "point_a": Field("floats", xy, "point on a", default=[0.0, 0.0]),
+                "point_b": Field("floats", xy, "point on b", default=[0.0, 0.0]),
+                "offset": Field("float", "m", "offset", default=0.0)}),
+            "time": {
+                "h": Field("float", "s", "step size", required=True, positive=True),
+                "steps": Field("int", "", "number of steps", required=True, positive=True),
+                "restitution": Field("float", "-", "restitution e (sets the lookahead)",
+                                     default=0.0),
+            },
+            "solver": {
+                "route": Field("str", "", "penalty (P2's QP) or lcp (exact)", default="penalty"),
+                "method": Field("str", "", "QP method of the penalty route", default="auto"),
+                "accuracy": Field("str", "", "low, default or high", default="high"),
+            },
+        },
+        effects={
+            "gravity": {"g": Field("float", "m/s²", "gravitational acceleration (−y)",
+                                   default=GRAVITY, positive=True)},
+            "springs": {},
+            "compliance": {"compliance": Field("float", "m/N", "contact compliance of every "
+                                               "contact", required=True, positive=True)},
+        },
+        build=_scene_build, arrays=_scene_arrays, plot=_scene_plot, summary=_scene_summary)
+
+
+SCENE = _scene_schema()

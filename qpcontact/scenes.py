@@ -32,7 +32,7 @@ __all__ = ["Field", "SceneSchema", "Scene", "SceneError", "load_scene", "schemas
            "sweep"]
 
 _TYPES = {"float": (int, float), "int": (int,), "str": (str,), "bool": (bool,),
-          "floats": (list,), "tables": (list,)}
+          "floats": (list,), "strs": (list,), "tables": (list,)}
 
 
 class SceneError(InvalidProblemError):
@@ -86,6 +86,13 @@ class Scene:
     effect_params: dict
     path: Path
     text: str
+
+    def fail(self, message: str, table=(), key=None, index=None):
+        """Raise a SceneError at the line of ``table``/``key`` (a build-time
+        check the schema's types cannot express, e.g. data for an effect
+        that is not named)."""
+        where = ".".join(tuple(table) + ((key,) if key else ()))
+        _fail(self.path, _Lines(self.text), where, message, tuple(table), key, index)
 
 
 def schemas() -> dict:
@@ -146,6 +153,8 @@ def _check_value(path, lines, where, f: Field, value, table, key, index=None):
             _fail(path, lines, where, f"expected a list of numbers [{f.unit}], got {bad[0]!r} "
                   "in it", table, key, index)
         value = [float(v) for v in value]
+    if f.kind == "strs" and not all(isinstance(v, str) for v in value):
+        _fail(path, lines, where, f"expected a list of strings, got {value!r}", table, key, index)
     if f.kind == "float":
         value = float(value)
     if f.positive and (value <= 0 if f.kind in ("float", "int") else False):
@@ -155,7 +164,8 @@ def _check_value(path, lines, where, f: Field, value, table, key, index=None):
 
 def _describe(f: Field) -> str:
     return {"float": "a number", "int": "an integer", "str": "a string", "bool": "true or false",
-            "floats": "a list of numbers", "tables": "an array of tables [[...]]"}[f.kind]
+            "floats": "a list of numbers", "strs": "a list of strings",
+            "tables": "an array of tables [[...]]"}[f.kind]
 
 
 def _check_table(path, lines, name, spec: dict, given: dict, table, index=None) -> dict:

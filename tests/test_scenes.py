@@ -288,3 +288,34 @@ def test_sweep_on_dask_equals_the_serial_sweep(tmp_path):
               tmp_path / "bad", progress=False)
     with pytest.raises(SceneError, match="ratio: expected a number"):
         sweep(scene, {"effect.damping.ratio": ['"high"']}, tmp_path / "bad", progress=False)
+
+
+def test_ramming_scene_file_equals_the_python_scene():
+    """examples/scenes/ramming.toml is P2's ramming scene written as a
+    user-defined mechanism: the same motion and reactions as ramming_scene()."""
+    from formulations.mechanisms import ramming_scene
+    from qpcontact.scenes import parse_scene, vary_scene
+
+    # 700 of the 2500 steps: past the bolt/cartridge impact (~9 ms / 20 µs = 450 steps)
+    text = vary_scene(EXAMPLE.with_name("ramming.toml").read_text(), "time.steps", "700")
+    scene = parse_scene(text)
+    mech, run = scene.schema.build(scene)
+    ours = run()
+    m, h, steps, lookahead = ramming_scene(effects=("springs",), restitution=0.3)
+    ref = m.simulate(h, 700, lookahead=lookahead)
+    assert ref.reactions[:, 0].max() > 0                       # the impact is inside
+    assert mech.coordinate_names() == m.coordinate_names()
+    np.testing.assert_allclose(ours.q, ref.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(ours.reactions, ref.reactions, rtol=1e-9,
+                               atol=1e-9 * np.abs(ref.reactions).max())
+    assert mech.gravity == 0.0 and not any(c.compliance for c in mech.contacts)
+
+
+def test_mechanism_springs_without_the_effect_point_at_their_table(tmp_path):
+    text = EXAMPLE.with_name("ramming.toml").read_text().replace(
+        'effects = ["springs"]', "effects = []")
+    path = _write(tmp_path, text)
+    scene = load_scene(path)
+    with pytest.raises(SceneError, match="'springs' is not among the effects") as info:
+        scene.schema.build(scene)
+    assert str(info.value).startswith(f"{path}:{_line_of(text, '[[springs]]')}: ")
