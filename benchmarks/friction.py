@@ -19,7 +19,6 @@ Markdown table; saves out/friction/friction.csv and profile.png.
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import os
 import sys
 import time
@@ -47,47 +46,39 @@ LEVELS = (1e-4, 1e-6, 1e-8)
 LARGE = ("fc2d_granularflowonwall_00667_00000.dat", "fc2d_granularflowonwall_02020_00213.dat")
 
 
-def _read(path):
-    from qpcontact.io import read_fclib, read_siconos_fc
-
-    return read_fclib(path) if path.suffix == ".hdf5" else read_siconos_fc(path)
-
-
-def job(path, method, options, queue):
-    from qpcontact.friction import solve_friction
-
+def job(path, method, options):
     from qpcontact.errors import QpcontactError
+    from qpcontact.friction import solve_friction
+    from qpcontact.io import read_problem
 
-    p = _read(path)
+    p = read_problem(path)
     t = time.perf_counter()
     try:
         s = solve_friction(p, method, tol=1e-8, **options)
     except QpcontactError as exc:   # e.g. Lemke's dense basis refused above n = 5000
-        queue.put(dict(time=time.perf_counter() - t, error=float("inf"),
-                       status=f"refused: {str(exc)[:80]}", iterations=None, by=""))
-        return
-    queue.put(dict(time=time.perf_counter() - t, siconos_error=s.error,
-                   error=max(s.error, s.componentwise_error), status=s.status,
-                   iterations=s.stats.get("iterations"), by=s.method))
+        return dict(time=time.perf_counter() - t, error=float("inf"),
+                    status=f"refused: {str(exc)[:80]}", iterations=None, by="")
+    return dict(time=time.perf_counter() - t, siconos_error=s.error,
+                error=max(s.error, s.componentwise_error), status=s.status,
+                iterations=s.stats.get("iterations"), by=s.method)
 
 
 def run_one(path, method, options, limit):
-    ctx = mp.get_context("fork")
-    queue = ctx.Queue()
-    proc = ctx.Process(target=job, args=(path, method, options, queue))
+    """``job`` in a child process killed at ``limit`` seconds (qpcontact's
+    own isolation, which also survives a crashing backend)."""
+    from qpcontact.isolation import call_isolated
+
     t = time.perf_counter()
-    proc.start()
-    proc.join(limit)
-    if proc.is_alive():
-        proc.kill()
-        proc.join()
-        return dict(time=time.perf_counter() - t, error=float("inf"),
-                    status=f"killed at {limit:.0f} s", iterations=None, by="")
-    try:
-        return queue.get(timeout=5)
-    except Exception:
-        return dict(time=time.perf_counter() - t, error=float("inf"),
-                    status=f"died (exit code {proc.exitcode})", iterations=None, by="")
+    out = call_isolated(job, (path, method, options), limit)
+    if out is None:   # no child process possible here: run in-process
+        return job(path, method, options)
+    if out.kind == "ok":
+        return out.value
+    if out.kind == "error":
+        raise out.value
+    status = f"killed at {limit:.0f} s" if out.kind == "time_limit" else f"died ({out.detail})"
+    return dict(time=time.perf_counter() - t, error=float("inf"), status=status,
+                iterations=None, by="")
 
 
 def profile(rows, labels, path):
@@ -128,6 +119,8 @@ def main(argv=None) -> int:
     ap.add_argument("--skip-large", action="store_true", help="leave the granular files out")
     ap.add_argument("--out", default="out/friction")
     args = ap.parse_args(argv)
+    from qpcontact.io import read_problem
+
     if not DATA.is_dir():
         print(f"no friction data at {DATA}: nothing to measure")
         return 0
@@ -136,7 +129,7 @@ def main(argv=None) -> int:
     for path in files:
         if args.skip_large and path.name in LARGE:
             continue
-        p = _read(path)
+        p = read_problem(path)
         if p.n_contacts == 0:
             continue   # the global granular file holds no contact
         print(f"{path.name} (dim {p.dim}, {p.n_contacts} contacts)", flush=True)

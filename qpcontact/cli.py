@@ -124,9 +124,8 @@ def simulate_cmd(
     except QpcontactError as exc:
         console.print(f"[red]error:[/red] {escape(str(exc))}")
         raise typer.Exit(2)
-    summary = getattr(result, "summary", None)
-    if summary is not None:
-        console.print(escape(str(summary().table() if hasattr(summary(), "table") else summary())))
+    if hasattr(result, "summary"):   # the drum's table; a mechanism's result has none
+        console.print(escape(result.summary().table()))
     console.print(f"{sc.schema.formulation} scene {scene.name}: effects "
                   f"{', '.join(sc.effects) or '(none)'}; results in {out}")
 

@@ -82,7 +82,7 @@ QUICK_FRICTION_CONTACTS = 300
 
 def _friction_instances(directory, quick: bool):
     """The Siconos/FCLIB friction collection: FrictionProblem instances."""
-    from .io import read_fclib, read_siconos_fc
+    from .io import read_problem
 
     d = Path(directory)
     if not d.is_dir():
@@ -91,7 +91,7 @@ def _friction_instances(directory, quick: bool):
     for p in sorted(d.glob("*")):
         if p.suffix not in (".dat", ".hdf5"):
             continue
-        prob = read_fclib(p) if p.suffix == ".hdf5" else read_siconos_fc(p)
+        prob = read_problem(p)
         if prob.n_contacts == 0 or (quick and prob.n_contacts > QUICK_FRICTION_CONTACTS):
             continue
         out.append(Instance(f"friction/{p.stem}", "friction", f"{prob.dim}D", prob))
@@ -254,24 +254,12 @@ def run_task(task, repeats: int = 3, time_limit: float = 10.0) -> dict:
         return _run_friction_task(inst, name, level, tol, repeats, time_limit)
     spec = get_method(name)
     p = inst.problem
-    n = p.n if hasattr(p, "n") else p.q.size
-    row = dict(instance=inst.name, formulation=inst.formulation, size=inst.size, n=n, method=name,
-               family=spec.family, level=_level_str(level), tol=tol, applicable=True,
-               success=False, status="", reason="", time_median=np.nan, repeats=0,
-               cert_error=np.nan, dist_solution=np.nan, dist_forces=np.nan,
-               active_set_agree="", exact_method="", exact_time=np.nan, timed_on=_where(),
-               machine=f"{platform.node()} {platform.machine()} {os.cpu_count()} cpu",
-               versions=_versions(name))
+    row = _row(inst, name, spec.family, level, tol, p.n if hasattr(p, "n") else p.q.size)
     x_exact, exact_method, exact_time, _ = _exact(inst)
     row.update(exact_method=exact_method, exact_time=exact_time)
-    times, sol = [], None
+    times = []
     try:
-        for _ in range(max(1, repeats)):
-            t0 = time.perf_counter()
-            sol = solve(p, method=name, accuracy=acc)
-            times.append(time.perf_counter() - t0)
-            if times[-1] > time_limit:
-                break
+        sol = _timed(lambda: solve(p, method=name, accuracy=acc), times, repeats, time_limit)
     except (NotSymmetricError, NotConvexError) as exc:
         row.update(applicable=False, status="not applicable", reason=str(exc).split(";")[0])
         return row
@@ -327,23 +315,12 @@ def _run_friction_task(inst, name, level, tol, repeats, time_limit) -> dict:
     from .friction import solve_friction
 
     p = inst.problem
-    row = dict(instance=inst.name, formulation=inst.formulation, size=inst.size,
-               n=p.dim * p.n_contacts, method=name, family="friction", level=_level_str(level),
-               tol=tol, applicable=True, success=False, status="", reason="",
-               time_median=np.nan, repeats=0, cert_error=np.nan, dist_solution=np.nan,
-               dist_forces=np.nan, active_set_agree="", exact_method="", exact_time=np.nan,
-               timed_on=_where(), machine=f"{platform.node()} {platform.machine()} "
-               f"{os.cpu_count()} cpu", versions=_versions(name))
+    row = _row(inst, name, "friction", level, tol, p.dim * p.n_contacts)
     r_exact, exact_method, exact_time = _friction_exact(inst)
     row.update(exact_method=exact_method, exact_time=exact_time)
-    times, sol = [], None
+    times = []
     try:
-        for _ in range(max(1, repeats)):
-            t0 = time.perf_counter()
-            sol = solve_friction(p, name, tol=tol)
-            times.append(time.perf_counter() - t0)
-            if times[-1] > time_limit:
-                break
+        sol = _timed(lambda: solve_friction(p, name, tol=tol), times, repeats, time_limit)
     except QpcontactError as exc:
         row.update(applicable=False, status="not applicable", reason=f"{type(exc).__name__}: {exc}")
         return row
@@ -360,6 +337,30 @@ def _run_friction_task(inst, name, level, tol, repeats, time_limit) -> dict:
         rn, rn_ex = sol.r[0::p.dim], r_exact[0::p.dim]
         row["active_set_agree"] = bool(np.array_equal(rn > 1e-6 * scale, rn_ex > 1e-6 * scale))
     return row
+
+
+def _row(inst, name, family, level, tol, n) -> dict:
+    """A run's row before it runs: what it is, and every result field empty."""
+    return dict(instance=inst.name, formulation=inst.formulation, size=inst.size, n=n,
+                method=name, family=family, level=_level_str(level), tol=tol, applicable=True,
+                success=False, status="", reason="", time_median=np.nan, repeats=0,
+                cert_error=np.nan, dist_solution=np.nan, dist_forces=np.nan,
+                active_set_agree="", exact_method="", exact_time=np.nan, timed_on=_where(),
+                machine=f"{platform.node()} {platform.machine()} {os.cpu_count()} cpu",
+                versions=_versions(name))
+
+
+def _timed(call, times: list, repeats: int, time_limit: float):
+    """``call()`` up to ``repeats`` times, each wall time appended to
+    ``times`` (stopping once one exceeds ``time_limit``); the last answer."""
+    sol = None
+    for _ in range(max(1, repeats)):
+        t0 = time.perf_counter()
+        sol = call()
+        times.append(time.perf_counter() - t0)
+        if times[-1] > time_limit:
+            break
+    return sol
 
 
 def _where() -> str:

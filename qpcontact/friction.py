@@ -45,7 +45,8 @@ from .errors import InvalidOptionError, InvalidProblemError
 from .problems import LCP, as_matrix, as_vector
 
 __all__ = ["FrictionProblem", "FrictionSolution", "natural_map_error", "componentwise_error",
-           "certified_error", "contact_scales", "contact_sizes", "project_cone",
+           "certified_error", "contact_scales", "contact_sizes", "modified_velocity",
+           "project_cone",
            "faceted_lcp", "fc2d_lcp", "solve_friction", "FRICTION_METHODS"]
 
 #: the largest local problem whose W = Hᵀ M⁻¹ H is formed densely from a global one
@@ -171,12 +172,17 @@ def natural_map_error(problem: FrictionProblem, r, u=None) -> float:
     None)."""
     r = np.asarray(r, float)
     u = problem.velocities(r) if u is None else np.asarray(u, float)
-    d = problem.dim
-    U = u.reshape(-1, d)
-    uhat = U.copy()
-    uhat[:, 0] += problem.mu * np.linalg.norm(U[:, 1:], axis=1)
-    res = r - project_cone(r - uhat.ravel(), problem.mu, d)
+    uhat = modified_velocity(u, problem.mu, problem.dim)
+    res = r - project_cone(r - uhat, problem.mu, problem.dim)
     return float(np.linalg.norm(res) / (1.0 + np.linalg.norm(problem.q)))
+
+
+def modified_velocity(u, mu, dim) -> np.ndarray:
+    """De Saxcé's û = u + μ‖u_T‖ e_N per contact (flat, like u)."""
+    U = np.reshape(u, (-1, dim))
+    uhat = U.copy()
+    uhat[:, 0] += mu * np.linalg.norm(U[:, 1:], axis=1)
+    return uhat.ravel()
 
 
 def contact_scales(problem: FrictionProblem) -> np.ndarray:
@@ -203,11 +209,8 @@ def componentwise_error(problem: FrictionProblem, r, u=None) -> float:
     if r.size == 0:
         return 0.0
     u = problem.velocities(r) if u is None else np.asarray(u, float)
-    U = u.reshape(-1, d)
-    uhat = U.copy()
-    uhat[:, 0] += problem.mu * np.linalg.norm(U[:, 1:], axis=1)
     rho = contact_scales(problem)
-    x = r - np.repeat(rho, d) * uhat.ravel()
+    x = r - np.repeat(rho, d) * modified_velocity(u, problem.mu, d)
     res = np.linalg.norm((r - project_cone(x, problem.mu, d)).reshape(-1, d), axis=1)
     size = contact_sizes(problem, r, rho)
     if not size.max() > 0:
@@ -230,6 +233,7 @@ def contact_sizes(problem: FrictionProblem, r, rho=None) -> np.ndarray:
 def certified_error(problem: FrictionProblem, r, u=None) -> float:
     """What an answer is held to: the larger of Siconos's natural-map error
     and the componentwise one."""
+    u = problem.velocities(r) if u is None else u   # once for both measures
     return max(natural_map_error(problem, r, u), componentwise_error(problem, r, u))
 
 

@@ -245,7 +245,8 @@ def solve_natural_newton(problem, tol, options):
     Anitescu's relaxation by Clarabel).  Local quadratic convergence near a
     nondegenerate solution; no global guarantee — it stops and says so when
     the line search fails.  Options: ``r0``, ``max_iter`` (100), ``progress``."""
-    from .friction import certified_error, contact_scales, contact_sizes, project_cone
+    from .friction import (certified_error, contact_scales, contact_sizes, modified_velocity,
+                           project_cone)
 
     options = dict(options)
     r0 = options.pop("r0", None)
@@ -281,11 +282,8 @@ def solve_natural_newton(problem, tol, options):
     def F(r):
         u = W @ r + p.q
         U = u.reshape(-1, d)
-        tn = np.linalg.norm(U[:, 1:], axis=1)
-        uh = U.copy()
-        uh[:, 0] += mu * tn
-        x = r - rho * uh.ravel()
-        return r - project_cone(x, mu, d), x, U, tn
+        x = r - rho * modified_velocity(u, mu, d)
+        return r - project_cone(x, mu, d), x, U, np.linalg.norm(U[:, 1:], axis=1)
 
     weighted = [False]
 

@@ -157,7 +157,7 @@ def _check_value(path, lines, where, f: Field, value, table, key, index=None):
         _fail(path, lines, where, f"expected a list of strings, got {value!r}", table, key, index)
     if f.kind == "float":
         value = float(value)
-    if f.positive and (value <= 0 if f.kind in ("float", "int") else False):
+    if f.positive and f.kind in ("float", "int") and value <= 0:
         _fail(path, lines, where, f"must be > 0 [{f.unit}], got {value!r}", table, key, index)
     return value
 
@@ -168,7 +168,7 @@ def _describe(f: Field) -> str:
             "tables": "an array of tables [[...]]"}[f.kind]
 
 
-def _check_table(path, lines, name, spec: dict, given: dict, table, index=None) -> dict:
+def _check_table(path, lines, spec: dict, given: dict, table, index=None) -> dict:
     out = {}
     for key, value in given.items():
         where = ".".join(table + (key,))
@@ -179,7 +179,7 @@ def _check_table(path, lines, name, spec: dict, given: dict, table, index=None) 
         if f.kind == "tables":
             if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
                 _fail(path, lines, where, f"expected {_describe(f)}", table, key, index)
-            out[key] = [_check_table(path, lines, name, f.fields, item, table + (key,), i)
+            out[key] = [_check_table(path, lines, f.fields, item, table + (key,), i)
                         for i, item in enumerate(value)]
         else:
             out[key] = _check_value(path, lines, where, f, value, table, key, index)
@@ -238,7 +238,7 @@ def parse_scene(text: str, path="<scene>") -> Scene:
     # TOML cannot make ``effects`` both the list and a table: parameters
     # live under [effect.NAME]
     params = raw.get("effect", {})
-    if params and not isinstance(params, dict):
+    if not isinstance(params, dict):
         _fail(path, lines, "effect", "expected tables [effect.NAME] of parameters", (), "effect")
     for e, given in params.items():
         if e not in schema.effects:
@@ -249,18 +249,18 @@ def parse_scene(text: str, path="<scene>") -> Scene:
                   f"not named in effects = {effects}; add it there or remove [effect.{e}]",
                   ("effect", e))
     for e in effects:
-        effect_params[e] = _check_table(path, lines, name, schema.effects[e], params.get(e, {}),
+        effect_params[e] = _check_table(path, lines, schema.effects[e], params.get(e, {}),
                                         ("effect", e))
     for section, spec in schema.sections.items():
         if isinstance(spec, Field):   # a top-level array of tables, [[section]]
-            data[section] = _check_table(path, lines, name, {section: spec},
+            data[section] = _check_table(path, lines, {section: spec},
                                          {section: raw[section]} if section in raw else {},
                                          ())[section]
             continue
         given = raw.get(section, {})
         if not isinstance(given, dict):
             _fail(path, lines, section, f"expected a table [{section}]", (), section)
-        data[section] = _check_table(path, lines, name, spec, given, (section,))
+        data[section] = _check_table(path, lines, spec, given, (section,))
     return Scene(schema, data, tuple(effects), effect_params, path, text)
 
 
@@ -429,15 +429,15 @@ def sweep(path, variations: dict, out_dir, *, grid: bool = False, workers: int =
                              f"({', '.join(f'{k}: {len(v)}' for k, v in variations.items())}); "
                              "give lists of one length, or --grid for every combination")
         combos = list(zip(*(variations[k] for k in keys)))
-    texts, labels = [], []
+    texts, labels, scenes = [], [], []
     for n, combo in enumerate(combos):
         text = base.text
         for k, v in zip(keys, combo):
             text = vary_scene(text, k, v)
-        label = f"{path.stem}-{n:03d}"
-        parse_scene(text, f"{path} with {dict(zip(keys, combo))}")   # every variant checked first
+        # every variant checked before any runs
+        scenes.append(parse_scene(text, f"{path} with {dict(zip(keys, combo))}"))
         texts.append(text)
-        labels.append(label)
+        labels.append(f"{path.stem}-{n:03d}")
     if workers or scheduler:
         results = _dask_runs(texts, labels, workers, scheduler)
     else:
@@ -446,8 +446,7 @@ def sweep(path, variations: dict, out_dir, *, grid: bool = False, workers: int =
     out.mkdir(parents=True, exist_ok=True)
     bar = ProgressBar(len(texts), "sweep variants", progress)
     rows = []
-    for n, (text, label, result) in enumerate(zip(texts, labels, results), 1):
-        scene = parse_scene(text, label)
+    for n, (scene, label, result) in enumerate(zip(scenes, labels, results), 1):
         write_results(scene, result, out / f"{label}.h5", completed=len(result.t) - 1,
                       total=len(result.t) - 1)
         row = {"variant": label, **dict(zip(keys, combos[n - 1]))}
