@@ -386,7 +386,7 @@ class Drum:
             fallbacks = int(resume.get("fallbacks", 0))
             active = N[n0] > 0
             first = n0 + 1
-        bar = ProgressBar(steps, "drum steps", progress, transient=True)
+        bar = ProgressBar(steps, "drum steps", progress, transient=True, unit="steps")
         start = time.perf_counter()
         last_checkpoint = start
 
@@ -431,7 +431,7 @@ class Drum:
             if on_step is not None:
                 on_step(n, lcp, sol)
             if n % max(1, steps // 100) == 0:
-                bar.update(n)
+                bar.update(n, f"worst certificate {np.max(errors[1:n + 1]):.1e}")
             if checkpoint is not None and time.perf_counter() - last_checkpoint >= checkpoint_seconds:
                 checkpoint(partial(n))
                 last_checkpoint = time.perf_counter()

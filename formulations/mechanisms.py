@@ -17,6 +17,9 @@ model names:
 - ``gravity``: -m g along y;
 - ``springs``: linear springs between body points (or a body point and a ground
   anchor), force k (ℓ - ℓ₀) along the line between the points;
+- ``damping``: linear viscous dampers between body points (or a point and a
+  ground anchor), force c ℓ̇ [N] along the line (c in N·s/m), evaluated at the
+  step's start like every force (explicit: stable while h c / m stays small);
 - applied forces (always): constant or f(t, q, v) -> (F_x, F_y, torque);
 - ``compliance``: a contact compliance c_k [m/N] per contact, C = diag(c);
   without it the contacts are rigid (P2's regularized C, or the exact LCP).
@@ -49,17 +52,17 @@ import numpy as np
 
 from qpcontact.errors import InvalidOptionError, InvalidProblemError
 from qpcontact.plotting import save_figure
-from qpcontact.solve import solve
 
 from . import multibody as mb
-from .penalty import PenaltyStep, exact_lcp, solve_penalty
+from .penalty import PenaltyStep
+from .stepping import ContactSystem, MechanismResult, motion_figure
 
 __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pellet_scene",
            "ramming_impact_step",
            "EFFECTS", "GRAVITY"]
 
 GRAVITY = 9.81
-EFFECTS = ("gravity", "springs", "compliance")
+EFFECTS = ("gravity", "springs", "damping", "compliance")
 _AXES = ("x", "y", "theta")
 
 
@@ -81,6 +84,15 @@ class _Spring:
 
 
 @dataclass
+class _Damper:
+    a: int
+    b: int | None
+    coefficient: float
+    point_a: np.ndarray
+    point_b: np.ndarray
+
+
+@dataclass
 class _Contact:
     name: str
     a: int | None
@@ -96,7 +108,7 @@ def _p3(xy):
     return np.array([xy[0], xy[1], 0.0])
 
 
-class Mechanism:
+class Mechanism(ContactSystem):
     """A planar mechanism with unilateral contacts (SI units; see the module docstring).
 
     ``effects`` names what is assembled: "gravity", "springs", "compliance".
@@ -119,6 +131,7 @@ class Mechanism:
         self._data = mb.Data(self.model)
         self._q0, self._v0 = [], []
         self.springs: list[_Spring] = []
+        self.dampers: list[_Damper] = []
         self.forces: list = []
         self.contacts: list[_Contact] = []
 
@@ -158,6 +171,17 @@ class Mechanism:
             raise InvalidProblemError("add_spring needs the effect 'springs'")
         self.springs.append(_Spring(self._body(a), self._body(b), float(stiffness),
                                     float(rest_length), _p3(point_a), _p3(point_b)))
+
+    def add_damper(self, a: str, b: str | None, coefficient: float, point_a=(0.0, 0.0),
+                   point_b=(0.0, 0.0)) -> None:
+        """Linear viscous damper [N·s/m] between point_a of body a and point_b
+        of body b, or the ground anchor point_b (world) when b is None."""
+        if "damping" not in self.effects:
+            raise InvalidProblemError("add_damper needs the effect 'damping'")
+        if not coefficient > 0:
+            raise InvalidProblemError(f"a damper's coefficient must be > 0 N·s/m; got {coefficient}")
+        self.dampers.append(_Damper(self._body(a), self._body(b), float(coefficient),
+                                    _p3(point_a), _p3(point_b)))
 
     def add_force(self, body: str, fx: float = 0.0, fy: float = 0.0, torque: float = 0.0,
                   fn=None) -> None:
@@ -199,6 +223,13 @@ class Mechanism:
         """World position of point s (body frame) of body i, or the anchor s for the ground."""
         return s if i is None else mb.point_position(self.model, self._data, i, s)
 
+    def _world_velocity(self, i, s):
+        """World velocity of point s of body i (zero for a ground anchor)."""
+        if i is None:
+            return np.zeros(3)
+        V = self._data.V[i]
+        return self._data.Ra[i] @ (V[:3] + np.cross(V[3:], s))
+
     def _body_forces(self, t):
         """Springs and applied forces as spatial forces on the bodies (body
         frames, moments about their origins), after forward kinematics."""
@@ -221,6 +252,17 @@ class Mechanism:
             F = sp_.stiffness * (ell - sp_.rest_length) * dvec / ell   # tension pulls a toward b
             push(sp_.a, xa, F)
             push(sp_.b, xb, -F)
+        for dp in self.dampers:
+            xa, xb = self._world_point(dp.a, dp.point_a), self._world_point(dp.b, dp.point_b)
+            dvec = xb - xa
+            ell = np.linalg.norm(dvec)
+            if ell == 0:
+                continue
+            e = dvec / ell
+            rate = e @ (self._world_velocity(dp.b, dp.point_b) - self._world_velocity(dp.a, dp.point_a))
+            F = dp.coefficient * rate * e     # opposes the points' separation rate
+            push(dp.a, xa, F)
+            push(dp.b, xb, -F)
         for i, f3, fn in self.forces:
             if fn is not None:
                 R, r, V = d.Ra[i], d.ra[i], d.V[i]
@@ -262,122 +304,27 @@ class Mechanism:
             return None
         return np.diag([c.compliance for c in self.contacts])
 
-    # -- simulation -----------------------------------------------------------
-    def simulate(self, h: float, steps: int, *, lookahead: float | None = None,
-                 route: str = "penalty", mu="auto", method: str = "auto", accuracy="high",
-                 **options) -> "MechanismResult":
-        """Integrate ``steps`` steps of size ``h`` [s] (module docstring).
+    # -- the step (formulations.stepping) ----------------------------------------
+    def step_problem(self, t, q, v, dt):
+        """(PenaltyStep, Φ, a₀ = 0) at (t, q, ν) with look-ahead Δt."""
+        Gop, Q, J, D, Phi = self.step_data(t, q, v)
+        B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
+        return PenaltyStep(Gop, Q, J, B, D, self.compliance()), Phi, 0.0
 
-        ``route="penalty"`` solves P2's penalty QP with ``method`` (μ chosen
-        automatically at the first step that needs it, re-chosen whenever a
-        step's λ fails its certificate against the exact LCP); ``route="lcp"``
-        solves the exact LCP (pivoting).  Every step's λ is certified against
-        the exact LCP; a step that cannot be certified raises SolverFailedError.
-        """
-        from qpcontact.errors import SolverFailedError
+    def gaps(self, q, v) -> np.ndarray:
+        return self.constraints(q, v)[0]
 
-        if route not in ("penalty", "lcp"):
-            raise InvalidOptionError(f"route must be 'penalty' or 'lcp', not {route!r}")
-        if not h > 0 or int(steps) < 1:
-            raise InvalidOptionError("h must be > 0 and steps >= 1")
-        dt = h if lookahead is None else float(lookahead)
-        q, v = self.initial_state()
-        C = self.compliance()
-        nu = len(self.contacts)
-        T = np.arange(int(steps) + 1) * h
-        Qs = np.zeros((T.size, q.size))
-        Vs = np.zeros((T.size, q.size))
-        Lam = np.zeros((T.size, nu))
-        Phis = np.zeros((T.size, nu))
-        Qs[0], Vs[0] = q, v
-        mus = np.full(T.size, np.nan)
-        mu_now = mu
-        for i in range(1, T.size):
-            t = T[i - 1]
-            Gop, Q, J, D, Phi = self.step_data(t, q, v)
-            Phis[i - 1] = Phi
-            B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
-            step = PenaltyStep(Gop, Q, J, B, D, C)
-            if route == "lcp":
-                sol = solve(exact_lcp(step), method="lemke" if method == "auto" else method,
-                            accuracy=accuracy)
-                if not sol.ok:
-                    raise SolverFailedError(f"step {i}: exact LCP not solved ({sol.message})")
-                lam = sol.z
-            else:
-                res = solve_penalty(step, mu_now, method=method, accuracy=accuracy, **options)
-                if not res.ok and mu_now != "auto":
-                    res = solve_penalty(step, "auto", method=method, accuracy=accuracy, **options)
-                if not res.ok:
-                    raise SolverFailedError(f"step {i} (t = {t:.6g} s): {res.message}")
-                if mu == "auto" and res.mu:
-                    mu_now = res.mu  # keep the chosen mu while it keeps being certified
-                mus[i] = res.mu
-                lam = res.lam
-            a = step.accelerations(lam)
-            q = mb.integrate(self.model, q, h * v + 0.5 * h * h * a)
-            v = v + h * a
-            Qs[i], Vs[i], Lam[i] = q, v, lam
-        Phis[-1] = self.constraints(q, v)[0]
-        return MechanismResult(self, T, Qs, Vs, Lam, Phis, mus, h, dt)
+    def integrate(self, q, dq) -> np.ndarray:
+        return mb.integrate(self.model, q, dq)
+
+    def contact_names(self) -> list[str]:
+        return [c.name for c in self.contacts]
 
     def coordinate_names(self) -> list[str]:
         names = []
         for name, j in zip(self.model.names[1:], self.model.joints[1:]):
             names += [f"{name}.{a}" for a, on in zip(_AXES, j.mask) if on]
         return names
-
-
-@dataclass
-class MechanismResult:
-    """Time histories (SI): generalized coordinates ``q`` and velocities ``v``
-    (rows = steps), contact reactions ``reactions`` [N] and gaps ``gaps`` [m]
-    (Φ) per contact, and the penalty μ used at each step (NaN on the LCP route)."""
-
-    mechanism: Mechanism
-    t: np.ndarray
-    q: np.ndarray
-    v: np.ndarray
-    reactions: np.ndarray
-    gaps: np.ndarray
-    mu: np.ndarray
-    h: float
-    lookahead: float
-
-    def coordinate(self, name: str) -> np.ndarray:
-        names = self.mechanism.coordinate_names()
-        if name not in names:
-            raise KeyError(f"{name!r}; coordinates: {names}")
-        return self.q[:, names.index(name)]
-
-    def velocity(self, name: str) -> np.ndarray:
-        return self.v[:, self.mechanism.coordinate_names().index(name)]
-
-    def plot(self, path, title: str = "") -> str:
-        """Positions, velocities and reactions against time in one PNG (atomic write)."""
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        names = self.mechanism.coordinate_names()
-        fig, axes = plt.subplots(3, 1, figsize=(8, 8.5), sharex=True)
-        t_ms = 1e3 * self.t
-        for j, nm in enumerate(names):
-            axes[0].plot(t_ms, 1e3 * self.q[:, j], label=nm)
-            axes[1].plot(t_ms, self.v[:, j], label=nm)
-        for k, c in enumerate(self.mechanism.contacts):
-            axes[2].plot(t_ms, self.reactions[:, k], label=c.name)
-        axes[0].set_ylabel("position [mm]")
-        axes[1].set_ylabel("velocity [m/s]")
-        axes[2].set_ylabel("contact reaction [N]")
-        axes[2].set_xlabel("time [ms]")
-        for ax in axes:
-            ax.grid(True, alpha=0.3)
-            if len(ax.get_lines()) <= 12:
-                ax.legend(fontsize=7, ncol=2)
-        axes[0].set_title(title)
-        fig.tight_layout()
-        return save_figure(fig, path)
 
 
 def ramming_scene(effects=("springs",), restitution: float = 0.3, compliance: float = 1e-7):
@@ -442,13 +389,15 @@ def ramming_impact_step():
 # -- scene files (qpcontact.scenes): a user-defined planar mechanism ----------------
 
 def _scene_build(scene):
-    """(Mechanism, run) from a checked scene: bodies, springs (only with the
-    effect "springs"), constant forces, contacts (compliant only with
+    """(Mechanism, run) from a checked scene: bodies, springs and dampers (only
+    with the effects "springs" and "damping"), applied forces (constant, or a
+    pulse that ends at ``until``), contacts (compliant only with
     "compliance"), gravity only with "gravity"."""
     d, eff = scene.data, scene.effect_params
-    if d["springs"] and "springs" not in eff:
-        scene.fail("springs are given but 'springs' is not among the effects; add it to "
-                   "effects or remove the [[springs]] tables", ("springs",), None, 0)
+    for table, effect in (("springs", "springs"), ("dampers", "damping")):
+        if d[table] and effect not in eff:
+            scene.fail(f"{table} are given but '{effect}' is not among the effects; add it to "
+                       f"effects or remove the [[{table}]] tables", (table,), None, 0)
     m = Mechanism(effects=scene.effects,
                   gravity=eff["gravity"]["g"] if "gravity" in eff else GRAVITY)
     for b in d["bodies"]:
@@ -458,60 +407,56 @@ def _scene_build(scene):
     for sp_ in d["springs"]:
         m.add_spring(sp_["a"], sp_["b"], sp_["stiffness"], sp_["rest_length"],
                      point_a=tuple(sp_["point_a"]), point_b=tuple(sp_["point_b"]))
+    for dp in d["dampers"]:
+        m.add_damper(dp["a"], dp["b"], dp["coefficient"], point_a=tuple(dp["point_a"]),
+                     point_b=tuple(dp["point_b"]))
     for f in d["forces"]:
-        m.add_force(f["body"], f["fx"], f["fy"], f["torque"])
+        if f["until"] is None:
+            m.add_force(f["body"], f["fx"], f["fy"], f["torque"])
+        else:
+            on, until = (f["fx"], f["fy"], f["torque"]), f["until"]
+            m.add_force(f["body"], fn=lambda t, pose, vel, on=on, until=until:
+                        on if t < until else (0.0, 0.0, 0.0))
     compliance = eff["compliance"]["compliance"] if "compliance" in eff else None
     for c in d["contacts"]:
         m.add_contact(c["name"], c["a"], c["b"], normal=tuple(c["normal"]),
                       point_a=tuple(c["point_a"]), point_b=tuple(c["point_b"]),
                       offset=c["offset"], compliance=compliance)
-    t, solver = d["time"], d["solver"]
+    return m, _stepper_run(m, d["time"], d["solver"])
 
+
+def _stepper_run(system, time_, solver):
+    """The scene's ``run``: the shared contact stepper with the scene's time
+    stepping and solver (formulations.stepping)."""
     def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
-        if resume is not None:
-            scene.fail("--resume is not supported for mechanism scenes yet (the drum's is); "
-                       "run it afresh", ("time",))
-        result = m.simulate(t["h"], t["steps"], lookahead=lookahead_for(t["h"], t["restitution"]),
-                            route=solver["route"], method=solver["method"],
-                            accuracy=solver["accuracy"])
-        if checkpoint is not None:
-            checkpoint(result)
-        return result
-    run.total_steps = t["steps"]
-    return m, run
+        return system.simulate(time_["h"], time_["steps"],
+                               lookahead=lookahead_for(time_["h"], time_["restitution"]),
+                               route=solver["route"], method=solver["method"],
+                               accuracy=solver["accuracy"], progress=progress, resume=resume,
+                               checkpoint=checkpoint, checkpoint_seconds=checkpoint_seconds)
+    run.total_steps = time_["steps"]
+    return run
 
 
 def _scene_arrays(result) -> dict:
     return {"t": result.t, "q": result.q, "v": result.v, "reactions": result.reactions,
-            "gaps": result.gaps, "mu": result.mu,
+            "gaps": result.gaps, "mu": result.mu, "certificate_error": result.certificate_error,
+            "iterations": result.iterations, "method": np.array(result.methods, dtype="S"),
             "coordinates": np.array(result.mechanism.coordinate_names(), dtype="S"),
-            "contacts": np.array([c.name for c in result.mechanism.contacts], dtype="S")}
+            "contacts": np.array(result.mechanism.contact_names(), dtype="S")}
 
 
 def _scene_plot(h, out) -> list:
     """Positions, velocities and reactions against time, from the file."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    t_ms = 1e3 * h["t"][()]
-    fig, axes = plt.subplots(3, 1, figsize=(8, 8.5), sharex=True)
-    for j, nm in enumerate(h["coordinates"][()]):
-        axes[0].plot(t_ms, 1e3 * h["q"][:, j], label=nm.decode())
-        axes[1].plot(t_ms, h["v"][:, j], label=nm.decode())
-    for k, nm in enumerate(h["contacts"][()]):
-        axes[2].plot(t_ms, h["reactions"][:, k], label=nm.decode())
-    for ax, lab in zip(axes, ("position [mm]", "velocity [m/s]", "contact reaction [N]")):
-        ax.set_ylabel(lab)
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, ncol=2)
-    axes[2].set_xlabel("time [ms]")
+    names = [[nm.decode() for nm in h[k][()]] for k in ("coordinates", "contacts")]
+    fig = motion_figure(h["t"][()], h["q"][()], h["v"][()], h["reactions"][()], *names,
+                        title=f"{h.attrs.get('scene_file', '')}")
     return [save_figure(fig, f"{out}/motion.png")]
 
 
 def _scene_summary(result) -> dict:
-    return {f"peak_reaction_{c.name} [N]": float(result.reactions[:, k].max())
-            for k, c in enumerate(result.mechanism.contacts)}
+    return {f"peak_reaction_{c} [N]": float(result.reactions[:, k].max())
+            for k, c in enumerate(result.mechanism.contact_names())}
 
 
 def _scene_schema():
@@ -542,11 +487,22 @@ def _scene_schema():
                 "rest_length": Field("float", "m", "rest length", required=True),
                 "point_a": Field("floats", xy, "attachment on a", default=[0.0, 0.0]),
                 "point_b": Field("floats", xy, "attachment on b", default=[0.0, 0.0])}),
-            "forces": Field("tables", doc="constant applied forces", default=[], fields={
+            "dampers": Field("tables", doc="linear viscous dampers (effect 'damping')",
+                             default=[], fields={
+                "a": Field("str", "", "body a", required=True),
+                "b": Field("str", "", "body b (default: a ground anchor at point_b)"),
+                "coefficient": Field("float", "N·s/m", "damping coefficient", required=True,
+                                     positive=True),
+                "point_a": Field("floats", xy, "attachment on a", default=[0.0, 0.0]),
+                "point_b": Field("floats", xy, "attachment on b", default=[0.0, 0.0])}),
+            "forces": Field("tables", doc="applied forces at the body origin", default=[],
+                            fields={
                 "body": Field("str", "", "body", required=True),
                 "fx": Field("float", "N", "force x (world)", default=0.0),
                 "fy": Field("float", "N", "force y (world)", default=0.0),
-                "torque": Field("float", "N·m", "torque", default=0.0)}),
+                "torque": Field("float", "N·m", "torque", default=0.0),
+                "until": Field("float", "s", "the force acts while t < until (a pulse; "
+                               "default: always)")}),
             "contacts": Field("tables", doc="unilateral contacts Φ = n·(p_b − p_a) − offset ≥ 0",
                               default=[], fields={
                 "name": Field("str", "", "contact name", required=True),
@@ -572,6 +528,7 @@ def _scene_schema():
             "gravity": {"g": Field("float", "m/s²", "gravitational acceleration (−y)",
                                    default=GRAVITY, positive=True)},
             "springs": {},
+            "damping": {},
             "compliance": {"compliance": Field("float", "m/N", "contact compliance of every "
                                                "contact", required=True, positive=True)},
         },

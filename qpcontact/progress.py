@@ -4,21 +4,38 @@ from __future__ import annotations
 
 
 class ProgressBar:
-    """``ProgressBar(total, label, enabled, transient)``: ``update(done)``,
-    ``advance()``, ``close()``; nothing is drawn when disabled or total is 0."""
+    """``ProgressBar(total, label, enabled, transient, unit)``: ``update(done,
+    status)``, ``advance()``, ``close()``; nothing is drawn when disabled or
+    total is 0.  With ``unit`` ("steps") the bar shows the rate in units per
+    second; ``status`` is a short text shown after it (a time stepper's
+    largest certificate error so far)."""
 
-    def __init__(self, total: int, label: str, enabled: bool = True, transient: bool = False):
+    def __init__(self, total: int, label: str, enabled: bool = True, transient: bool = False,
+                 unit: str | None = None):
         self._p = None
         if enabled and total:
-            from rich.progress import Progress
+            from rich.progress import (BarColumn, MofNCompleteColumn, Progress, ProgressColumn,
+                                       TextColumn, TimeRemainingColumn)
+            from rich.text import Text
 
-            self._p = Progress(transient=transient)
+            class _Rate(ProgressColumn):
+                def render(self, task):
+                    return Text(f"{task.speed:,.0f} {unit}/s" if task.speed else "")
+
+            columns = [TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn()]
+            if unit:
+                columns.append(_Rate())
+            columns += [TimeRemainingColumn(), TextColumn("{task.fields[status]}")]
+            self._p = Progress(*columns, transient=transient)
             self._p.start()
-            self._task = self._p.add_task(label, total=total)
+            self._task = self._p.add_task(label, total=total, status="")
 
-    def update(self, done: int) -> None:
+    def update(self, done: int, status: str | None = None) -> None:
         if self._p is not None:
-            self._p.update(self._task, completed=done)
+            if status is None:
+                self._p.update(self._task, completed=done)
+            else:
+                self._p.update(self._task, completed=done, status=status)
 
     def advance(self) -> None:
         if self._p is not None:

@@ -181,7 +181,14 @@ def test_plot_command_draws_from_the_file_alone(tmp_path):
     assert res.exit_code == 2 and "no such file" in " ".join(res.output.split())
 
 
-def test_kill_and_resume_is_bit_identical(tmp_path):
+@pytest.mark.parametrize("example, edit, steps, must_hold", [
+    # the drum: its state is two displacement vectors, the forces (damped set,
+    # bpp's warm start), the dissipation, the methods, the fallbacks
+    ("drum.toml", ("steps = 5000", "steps = 8000"), 8000, ("forces", "energy/viscous")),
+    # a mechanism on the shared contact stepper: (q, v) and the penalty mu in use
+    ("pellets.toml", ("steps = 800", "steps = 500"), 500, ("reactions", "mu")),
+], ids=["drum", "mechanism"])
+def test_kill_and_resume_is_bit_identical(tmp_path, example, edit, steps, must_hold):
     """`qpcontact simulate` killed (SIGKILL) at random moments, three times,
     then resumed to the end: every array in the file equals an
     uninterrupted run's, bit for bit; after each kill the file is readable
@@ -194,8 +201,9 @@ def test_kill_and_resume_is_bit_identical(tmp_path):
 
     import h5py
 
-    text = (EXAMPLE.read_text().replace("steps = 5000", "steps = 8000"))
-    scene = _write(tmp_path, text)
+    text = EXAMPLE.with_name(example).read_text()
+    assert edit[0] in text
+    scene = _write(tmp_path, text.replace(*edit))
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
     cmd = [sys.executable, "-m", "qpcontact", "simulate", str(scene), "--checkpoint-seconds", "0.05"]
     whole, parts = tmp_path / "whole.h5", tmp_path / "parts.h5"
@@ -211,17 +219,18 @@ def test_kill_and_resume_is_bit_identical(tmp_path):
         if parts.exists():
             with h5py.File(parts) as h:           # readable after every kill
                 done = int(h.attrs["completed_steps"])
-            killed_mid_run += done < 8000
+            killed_mid_run += done < steps
     assert killed_mid_run >= 1, "no kill landed mid-run: the test proved nothing"
     subprocess.run(cmd + ["--out", str(parts), "--resume"], check=True, env=env,
                    capture_output=True)
     with h5py.File(whole) as a, h5py.File(parts) as b:
-        assert a.attrs["completed_steps"] == b.attrs["completed_steps"] == 8000
+        assert a.attrs["completed_steps"] == b.attrs["completed_steps"] == steps
         names = []
         a.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
-        assert "forces" in names and "energy/viscous" in names
+        assert set(must_hold) <= set(names)
         for name in names:
-            assert np.array_equal(a[name][()], b[name][()]), name
+            x, y = a[name][()], b[name][()]
+            assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), name
     assert not list(tmp_path.glob("*.tmp"))
 
 
@@ -319,3 +328,80 @@ def test_mechanism_springs_without_the_effect_point_at_their_table(tmp_path):
     with pytest.raises(SceneError, match="'springs' is not among the effects") as info:
         scene.schema.build(scene)
     assert str(info.value).startswith(f"{path}:{_line_of(text, '[[springs]]')}: ")
+
+
+def test_pellet_scene_file_equals_the_python_scene():
+    """examples/scenes/pellets.toml (a force pulse given by `until`) is P2's
+    pellet scene: the same motion and reactions as pellet_scene() through the
+    first impacts."""
+    from formulations.mechanisms import pellet_scene
+    from qpcontact.scenes import parse_scene, vary_scene
+
+    text = vary_scene(EXAMPLE.with_name("pellets.toml").read_text(), "time.steps", "120")
+    scene = parse_scene(text)
+    mech, run = scene.schema.build(scene)
+    ours = run()
+    m, h, steps, lookahead = pellet_scene()
+    ref = m.simulate(h, 120, lookahead=lookahead)
+    assert (ref.reactions.max(axis=0) > 0).sum() >= 3              # several impacts inside
+    assert mech.coordinate_names() == m.coordinate_names()
+    np.testing.assert_allclose(ours.q, ref.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(ours.reactions, ref.reactions, rtol=1e-9,
+                               atol=1e-9 * np.abs(ref.reactions).max())
+
+
+def test_a_pulse_ends_at_until():
+    """A 2 N pulse on a free 1 kg body for t < 0.01 s: v = 2 t up to the pulse's
+    end, then constant (the step's update is exact for piecewise-constant force)."""
+    from qpcontact.scenes import parse_scene
+
+    scene = parse_scene('formulation = "mechanism"\n[[bodies]]\nname = "b"\nmass = 1.0\n'
+                        '[[forces]]\nbody = "b"\nfx = 2.0\nuntil = 0.01\n'
+                        '[time]\nh = 0.001\nsteps = 20\n')
+    _, run = scene.schema.build(scene)
+    res = run()
+    t_on = np.minimum(res.t, 0.01)
+    np.testing.assert_allclose(res.v[:, 0], 2.0 * t_on, rtol=1e-12, atol=1e-15)
+
+
+MASS_ON_DAMPER = """formulation = "mechanism"
+effects = ["damping"]
+
+[[bodies]]
+name = "block"
+mass = 2.0
+velocity = [1.5, 0.0, 0.0]
+
+[[dampers]]
+a = "block"
+coefficient = 40.0
+point_b = [-1.0, 0.0]
+
+[time]
+h = 1e-3
+steps = 50
+"""
+
+
+def test_damping_effect_is_what_decays_the_motion():
+    """A 2 kg block on a 40 N·s/m damper to the ground: the stepper's update
+    (force at the step's start) gives v_n = v_0 (1 - h c/m)^n exactly; without
+    the effect no damper is built and the block keeps its speed; dampers given
+    without the effect are an error at their table's line."""
+    from qpcontact.scenes import parse_scene
+
+    scene = parse_scene(MASS_ON_DAMPER)
+    mech, run = scene.schema.build(scene)
+    res = run()
+    n = np.arange(51)
+    np.testing.assert_allclose(res.v[:, 0], 1.5 * (1 - 1e-3 * 40.0 / 2.0) ** n, rtol=1e-12)
+    assert len(mech.dampers) == 1
+
+    undamped = MASS_ON_DAMPER.replace('effects = ["damping"]', "effects = []")
+    bad = parse_scene(undamped, "bad.toml")
+    with pytest.raises(SceneError, match="'damping' is not among the effects") as info:
+        bad.schema.build(bad)
+    assert str(info.value).startswith(f"bad.toml:{_line_of(undamped, '[[dampers]]')}: ")
+    free = parse_scene(undamped.split("[[dampers]]")[0] + "[time]\nh = 1e-3\nsteps = 50\n")
+    mech, run = free.schema.build(free)
+    assert mech.dampers == [] and np.all(run().v[:, 0] == 1.5)
