@@ -50,12 +50,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from qpcontact.errors import InvalidOptionError, InvalidProblemError
-from qpcontact.plotting import save_figure
+from qpcontact.errors import InvalidProblemError
 
 from . import multibody as mb
+from .multibody.contacts import Contact, contact_rows, world_point
 from .penalty import PenaltyStep
-from .stepping import ContactSystem, MechanismResult, motion_figure
+from .stepping import (ContactSystem, MechanismResult, lookahead_for, scene_arrays, scene_plot,
+                       scene_run, scene_summary, solver_section, time_section)
 
 __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pellet_scene",
            "ramming_impact_step",
@@ -64,13 +65,6 @@ __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pe
 GRAVITY = 9.81
 EFFECTS = ("gravity", "springs", "damping", "compliance")
 _AXES = ("x", "y", "theta")
-
-
-def lookahead_for(h: float, restitution: float) -> float:
-    """The look-ahead Δt [s] that gives restitution e ∈ [0, 1] at step h: 2h/(1 + e)."""
-    if not 0.0 <= restitution <= 1.0:
-        raise InvalidOptionError(f"restitution must lie in [0, 1]; got {restitution}")
-    return 2.0 * h / (1.0 + restitution)
 
 
 @dataclass
@@ -90,18 +84,6 @@ class _Damper:
     coefficient: float
     point_a: np.ndarray
     point_b: np.ndarray
-
-
-@dataclass
-class _Contact:
-    name: str
-    a: int | None
-    b: int | None
-    normal: np.ndarray
-    point_a: np.ndarray
-    point_b: np.ndarray
-    offset: float
-    compliance: float
 
 
 def _p3(xy):
@@ -133,7 +115,7 @@ class Mechanism(ContactSystem):
         self.springs: list[_Spring] = []
         self.dampers: list[_Damper] = []
         self.forces: list = []
-        self.contacts: list[_Contact] = []
+        self.contacts: list[Contact] = []
 
     @property
     def bodies(self) -> list[str]:
@@ -203,7 +185,7 @@ class Mechanism(ContactSystem):
         n = np.array(normal, float)
         if n.shape != (2,) or not np.isclose(np.linalg.norm(n), 1.0):
             raise InvalidProblemError(f"contact {name!r}: normal must be a unit 2-vector")
-        self.contacts.append(_Contact(name, self._body(a), self._body(b), _p3(n),
+        self.contacts.append(Contact(name, self._body(a), self._body(b), _p3(n),
                                       _p3(point_a), _p3(point_b),
                                       float(offset), float(compliance or 0.0)))
 
@@ -219,10 +201,6 @@ class Mechanism(ContactSystem):
         """G(q) factorized by the O(N) momentum-form recursion (G⁻¹ never formed)."""
         return mb.MassOperator(self.model, q)
 
-    def _world_point(self, i, s):
-        """World position of point s (body frame) of body i, or the anchor s for the ground."""
-        return s if i is None else mb.point_position(self.model, self._data, i, s)
-
     def _world_velocity(self, i, s):
         """World velocity of point s of body i (zero for a ground anchor)."""
         if i is None:
@@ -236,6 +214,9 @@ class Mechanism(ContactSystem):
         d = self._data
         f = np.zeros((self.model.nbodies + 1, 6))
 
+        def at(i, s):
+            return world_point(self.model, d, i, s)
+
         def push(i, x, F, torque=0.0):
             if i is None:
                 return
@@ -244,7 +225,7 @@ class Mechanism(ContactSystem):
             f[i, 3:] += Rt @ (np.cross(x - d.ra[i], F) + np.array([0.0, 0.0, torque]))
 
         for sp_ in self.springs:
-            xa, xb = self._world_point(sp_.a, sp_.point_a), self._world_point(sp_.b, sp_.point_b)
+            xa, xb = at(sp_.a, sp_.point_a), at(sp_.b, sp_.point_b)
             dvec = xb - xa
             ell = np.linalg.norm(dvec)
             if ell == 0:
@@ -253,7 +234,7 @@ class Mechanism(ContactSystem):
             push(sp_.a, xa, F)
             push(sp_.b, xb, -F)
         for dp in self.dampers:
-            xa, xb = self._world_point(dp.a, dp.point_a), self._world_point(dp.b, dp.point_b)
+            xa, xb = at(dp.a, dp.point_a), at(dp.b, dp.point_b)
             dvec = xb - xa
             ell = np.linalg.norm(dvec)
             if ell == 0:
@@ -279,18 +260,7 @@ class Mechanism(ContactSystem):
 
     def constraints(self, q, v):
         """Φ [m], J (ν x n), D = J̇ν [m/s²] at (q, v)."""
-        mb.forward_kinematics(self.model, self._data, q, v)
-        nu, n = len(self.contacts), self.model.nv
-        Phi, J, D = np.zeros(nu), np.zeros((nu, n)), np.zeros(nu)
-        for k, c in enumerate(self.contacts):
-            xa, xb = self._world_point(c.a, c.point_a), self._world_point(c.b, c.point_b)
-            Phi[k] = c.normal @ (xb - xa) - c.offset
-            for sign, i, s in ((1.0, c.b, c.point_b), (-1.0, c.a, c.point_a)):
-                if i is not None:
-                    Jp, Jd = mb.point_jacobian(self.model, self._data, i, s)
-                    J[k] += sign * (c.normal @ Jp)
-                    D[k] += sign * (c.normal @ (Jd @ v))
-        return Phi, J, D
+        return contact_rows(self.model, self._data, self.contacts, q, v)
 
     def step_data(self, t, q, v):
         """What one contact step needs at (t, q, ν): (G as an O(N) factorized
@@ -422,41 +392,7 @@ def _scene_build(scene):
         m.add_contact(c["name"], c["a"], c["b"], normal=tuple(c["normal"]),
                       point_a=tuple(c["point_a"]), point_b=tuple(c["point_b"]),
                       offset=c["offset"], compliance=compliance)
-    return m, _stepper_run(m, d["time"], d["solver"])
-
-
-def _stepper_run(system, time_, solver):
-    """The scene's ``run``: the shared contact stepper with the scene's time
-    stepping and solver (formulations.stepping)."""
-    def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
-        return system.simulate(time_["h"], time_["steps"],
-                               lookahead=lookahead_for(time_["h"], time_["restitution"]),
-                               route=solver["route"], method=solver["method"],
-                               accuracy=solver["accuracy"], progress=progress, resume=resume,
-                               checkpoint=checkpoint, checkpoint_seconds=checkpoint_seconds)
-    run.total_steps = time_["steps"]
-    return run
-
-
-def _scene_arrays(result) -> dict:
-    return {"t": result.t, "q": result.q, "v": result.v, "reactions": result.reactions,
-            "gaps": result.gaps, "mu": result.mu, "certificate_error": result.certificate_error,
-            "iterations": result.iterations, "method": np.array(result.methods, dtype="S"),
-            "coordinates": np.array(result.mechanism.coordinate_names(), dtype="S"),
-            "contacts": np.array(result.mechanism.contact_names(), dtype="S")}
-
-
-def _scene_plot(h, out) -> list:
-    """Positions, velocities and reactions against time, from the file."""
-    names = [[nm.decode() for nm in h[k][()]] for k in ("coordinates", "contacts")]
-    fig = motion_figure(h["t"][()], h["q"][()], h["v"][()], h["reactions"][()], *names,
-                        title=f"{h.attrs.get('scene_file', '')}")
-    return [save_figure(fig, f"{out}/motion.png")]
-
-
-def _scene_summary(result) -> dict:
-    return {f"peak_reaction_{c} [N]": float(result.reactions[:, k].max())
-            for k, c in enumerate(result.mechanism.contact_names())}
+    return m, scene_run(m, d["time"], d["solver"])
 
 
 def _scene_schema():
@@ -512,17 +448,8 @@ def _scene_schema():
                 "point_a": Field("floats", xy, "point on a", default=[0.0, 0.0]),
                 "point_b": Field("floats", xy, "point on b", default=[0.0, 0.0]),
                 "offset": Field("float", "m", "offset", default=0.0)}),
-            "time": {
-                "h": Field("float", "s", "step size", required=True, positive=True),
-                "steps": Field("int", "", "number of steps", required=True, positive=True),
-                "restitution": Field("float", "-", "restitution e (sets the lookahead)",
-                                     default=0.0),
-            },
-            "solver": {
-                "route": Field("str", "", "penalty (P2's QP) or lcp (exact)", default="penalty"),
-                "method": Field("str", "", "QP method of the penalty route", default="auto"),
-                "accuracy": Field("str", "", "low, default or high", default="high"),
-            },
+            "time": time_section(),
+            "solver": solver_section(),
         },
         effects={
             "gravity": {"g": Field("float", "m/s²", "gravitational acceleration (−y)",
@@ -532,7 +459,7 @@ def _scene_schema():
             "compliance": {"compliance": Field("float", "m/N", "contact compliance of every "
                                                "contact", required=True, positive=True)},
         },
-        build=_scene_build, arrays=_scene_arrays, plot=_scene_plot, summary=_scene_summary)
+        build=_scene_build, arrays=scene_arrays, plot=scene_plot, summary=scene_summary)
 
 
 SCENE = _scene_schema()

@@ -34,7 +34,7 @@ from qpcontact.solve import solve
 
 from .penalty import exact_lcp, solve_penalty
 
-__all__ = ["ContactSystem", "MechanismResult", "ROUTES"]
+__all__ = ["ContactSystem", "MechanismResult", "ROUTES", "lookahead_for"]
 
 ROUTES = ("penalty", "lcp")
 
@@ -202,7 +202,8 @@ def motion_figure(t, q, v, reactions, coordinates, contacts, title=""):
     t_ms = 1e3 * np.asarray(t)
     for j, nm in enumerate(coordinates):
         axes[0].plot(t_ms, 1e3 * q[:, j], label=nm)
-        axes[1].plot(t_ms, v[:, j], label=nm)
+    for j in range(v.shape[1]):     # quaternion joints have fewer velocities than coordinates
+        axes[1].plot(t_ms, v[:, j], label=coordinates[j] if v.shape == q.shape else f"v{j}")
     for k, nm in enumerate(contacts):
         axes[2].plot(t_ms, reactions[:, k], label=nm)
     for ax, lab in zip(axes, ("position [mm, mrad]", "velocity [m/s, rad/s]",
@@ -215,3 +216,63 @@ def motion_figure(t, q, v, reactions, coordinates, contacts, title=""):
     axes[0].set_title(title)
     fig.tight_layout()
     return fig
+
+
+def lookahead_for(h: float, restitution: float) -> float:
+    """The look-ahead Δt [s] that gives restitution e ∈ [0, 1] at step h: 2h/(1 + e)."""
+    if not 0.0 <= restitution <= 1.0:
+        raise InvalidOptionError(f"restitution must lie in [0, 1]; got {restitution}")
+    return 2.0 * h / (1.0 + restitution)
+
+
+# -- what the contact systems' scene schemas share (qpcontact.scenes) ---------------
+
+def time_section() -> dict:
+    from qpcontact.scenes import Field
+
+    return {"h": Field("float", "s", "step size", required=True, positive=True),
+            "steps": Field("int", "", "number of steps", required=True, positive=True),
+            "restitution": Field("float", "-", "restitution e (sets the lookahead)", default=0.0)}
+
+
+def solver_section() -> dict:
+    from qpcontact.scenes import Field
+
+    return {"route": Field("str", "", "penalty (P2's QP) or lcp (exact)", default="penalty"),
+            "method": Field("str", "", "QP method of the penalty route", default="auto"),
+            "accuracy": Field("str", "", "low, default or high", default="high")}
+
+
+def scene_run(system, time_, solver):
+    """The scene's ``run``: the shared contact stepper with the scene's time
+    stepping and solver (formulations.stepping)."""
+    def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
+        return system.simulate(time_["h"], time_["steps"],
+                               lookahead=lookahead_for(time_["h"], time_["restitution"]),
+                               route=solver["route"], method=solver["method"],
+                               accuracy=solver["accuracy"], progress=progress, resume=resume,
+                               checkpoint=checkpoint, checkpoint_seconds=checkpoint_seconds)
+    run.total_steps = time_["steps"]
+    return run
+
+
+def scene_arrays(result) -> dict:
+    """What a contact system's results file holds, per step."""
+    return {"t": result.t, "q": result.q, "v": result.v, "reactions": result.reactions,
+            "gaps": result.gaps, "mu": result.mu, "certificate_error": result.certificate_error,
+            "iterations": result.iterations, "method": np.array(result.methods, dtype="S"),
+            "coordinates": np.array(result.mechanism.coordinate_names(), dtype="S"),
+            "contacts": np.array(result.mechanism.contact_names(), dtype="S")}
+
+
+def scene_plot(h, out) -> list:
+    """Positions, velocities and reactions against time, from the file."""
+    names = [[nm.decode() for nm in h[k][()]] for k in ("coordinates", "contacts")]
+    fig = motion_figure(h["t"][()], h["q"][()], h["v"][()], h["reactions"][()], *names,
+                        title=f"{h.attrs.get('scene_file', '')}")
+    return [save_figure(fig, f"{out}/motion.png")]
+
+
+def scene_summary(result) -> dict:
+    return {f"peak_reaction_{c} [N]": float(result.reactions[:, k].max())
+            for k, c in enumerate(result.mechanism.contact_names())}

@@ -62,12 +62,13 @@ def point_position(model: Model, data: Data, body, point=(0.0, 0.0, 0.0)) -> np.
 
 
 def point_jacobian(model: Model, data: Data, body, point=(0.0, 0.0, 0.0)):
-    """(J, J̇ν) of a body point in world coordinates after forward_kinematics
+    """(J, J̇) of a body point in world coordinates after forward_kinematics
     with v: its velocity is J ν [m/s] and its acceleration J ν̇ + J̇ν [m/s²].
-    J is 3 x nv (nonzero on the joints between the base and the body)."""
+    Both are 3 x nv (nonzero on the joints between the base and the body;
+    zero for a point of the ground, body 0)."""
     i = model.body_id(body)
     if i == 0:
-        return np.zeros((3, model.nv)), np.zeros(3)
+        return np.zeros((3, model.nv)), np.zeros((3, model.nv))
     a = model.arrays
     x = point_position(model, data, i, point)
     J, Jd = K.point_jacobians(a["parent"], data.Ra, data.ra, data.H, data.Hd, a["nvj"], a["iv"],
