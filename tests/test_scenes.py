@@ -163,6 +163,33 @@ def test_simulate_command_writes_a_readable_results_file(tmp_path):
     assert "Traceback" not in res.output
 
 
+def test_h5dump_reads_the_results_file(tmp_path):
+    """HDF5's own tool reads a results file (its gzip-compressed, chunked
+    datasets included) and prints the values h5py reads; skipped without
+    h5dump (Debian: hdf5-tools)."""
+    import shutil
+    import subprocess
+
+    import h5py
+
+    from qpcontact.scenes import parse_scene
+
+    if shutil.which("h5dump") is None:
+        pytest.skip("h5dump not installed (Debian package hdf5-tools)")
+    scene = parse_scene(EXAMPLE.read_text())
+    _, run = scene.schema.build(scene)
+    path = write_results(scene, run(), tmp_path / "run.h5")
+    with h5py.File(path) as h:
+        k = int(np.argmax(h["forces"][()].max(axis=1)))      # a step with a contact force
+        last = h["forces"][k, :2]
+        assert h["forces"].compression == "gzip" and last.max() > 0
+    out = subprocess.run(["h5dump", "-d", "/forces", "-s", f"{k},0", "-c", "1,2", str(path)],
+                         capture_output=True, text=True, check=True).stdout
+    data = out.split("DATA {")[1].split("}")[0].split(":")[1]
+    np.testing.assert_allclose([float(v) for v in data.split(",") if v.strip()], last,
+                               rtol=1e-5)
+
+
 def test_plot_command_draws_from_the_file_alone(tmp_path):
     """The figures come from the HDF5 file: the scene file is deleted first."""
     from typer.testing import CliRunner
