@@ -134,7 +134,8 @@ def simulate_cmd(
 def sweep_cmd(
     scene: Path = typer.Argument(..., help="Scene file (TOML)."),
     vary: list[str] = typer.Option(..., "--vary", help="KEY=v1,v2,... (TOML values; repeat for "
-                                   "several keys), e.g. effect.damping.ratio=0.02,0.05"),
+                                   "several keys), e.g. effect.damping.ratio=0.02,0.05 or "
+                                   "initial.gaps=[0.01,0.02],[0.02,0.01]"),
     grid: bool = typer.Option(False, "--grid", help="Every combination of the --vary lists "
                               "(default: zip them)."),
     out: Path = typer.Option(None, "--out", "-o", help="Folder (default: out/sweep-SCENE)."),
@@ -143,7 +144,7 @@ def sweep_cmd(
 ):
     """Run variants of a scene (serially or on Dask); one HDF5 file per variant
     and summary.csv."""
-    from .scenes import sweep
+    from .scenes import split_values, sweep
 
     variations = {}
     for item in vary:
@@ -151,7 +152,11 @@ def sweep_cmd(
         if not sep or not values:
             console.print(f"[red]error:[/red] --vary {escape(item)}: expected KEY=v1,v2,...")
             raise typer.Exit(2)
-        variations[key.strip()] = [v.strip() for v in values.split(",")]
+        try:
+            variations[key.strip()] = split_values(values)
+        except QpcontactError as exc:
+            console.print(f"[red]error:[/red] --vary {escape(item)}: {escape(str(exc))}")
+            raise typer.Exit(2)
     out = out or Path("out") / f"sweep-{scene.stem}"
     try:
         rows = sweep(scene, variations, out, grid=grid, workers=workers, scheduler=scheduler)

@@ -29,7 +29,7 @@ from .errors import InvalidProblemError
 
 __all__ = ["Field", "SceneSchema", "Scene", "SceneError", "load_scene", "schemas",
            "write_results", "read_state", "plot_results", "parse_scene", "vary_scene",
-           "sweep"]
+           "split_values", "sweep"]
 
 _TYPES = {"float": (int, float), "int": (int,), "str": (str,), "bool": (bool,),
           "floats": (list,), "strs": (list,), "tables": (list,)}
@@ -394,6 +394,33 @@ def vary_scene(text: str, key: str, value: str) -> str:
     insert_at = header if table else 0   # right after the table's header (or at the top)
     lines.insert(insert_at, f"{name} = {value}")
     return "\n".join(lines) + "\n"
+
+
+def split_values(values: str) -> list[str]:
+    """A ``--vary`` list: TOML values separated by commas, where commas
+    inside brackets or quotes belong to the value (``[0.01,0.02],[0.02,0.01]``
+    is two lists)."""
+    out, depth, quote, start = [], 0, None, 0
+    for i, ch in enumerate(values):
+        if quote:
+            quote = None if ch == quote else quote
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+        elif ch in "]}":
+            depth -= 1
+            if depth < 0:
+                raise SceneError(f"unbalanced '{ch}' at character {i + 1} of {values!r}")
+        elif ch == "," and depth == 0:
+            out.append(values[start:i].strip())
+            start = i + 1
+    if depth or quote:
+        raise SceneError(f"unclosed {'quote' if quote else 'bracket'} in {values!r}")
+    out.append(values[start:].strip())
+    if not all(out):
+        raise SceneError(f"an empty value in {values!r}")
+    return out
 
 
 def _run_text(text: str, label: str):

@@ -290,6 +290,30 @@ def test_vary_scene_edits_the_text_in_place():
         vary_scene(BASE, "logs.5.diameter", "0.2")
 
 
+def test_sweep_command_takes_list_values(tmp_path):
+    """`--vary initial.gaps=[..],[..]`: commas inside brackets belong to the
+    value; each variant's file holds the gaps it was given."""
+    import h5py
+    from typer.testing import CliRunner
+
+    from qpcontact.cli import app
+
+    scene = _write(tmp_path, BASE.replace("steps = 300", "steps = 20"))
+    res = CliRunner().invoke(app, ["sweep", str(scene), "--vary",
+                                   "initial.gaps=[0.02, 0.01],[0.03,0.004]",
+                                   "--out", str(tmp_path / "sw")])
+    assert res.exit_code == 0, res.output
+    files = sorted((tmp_path / "sw").glob("*.h5"))
+    assert len(files) == 2
+    first_gaps = set()
+    for f in files:
+        with h5py.File(f) as h:
+            first_gaps.add(tuple(np.round(h["gaps"][0], 6)))
+    assert first_gaps == {(0.02, 0.01), (0.03, 0.004)}
+    res = CliRunner().invoke(app, ["sweep", str(scene), "--vary", "initial.gaps=[0.02,0.01"])
+    assert res.exit_code == 2 and "unclosed bracket" in " ".join(res.output.split())
+
+
 def test_sweep_on_dask_equals_the_serial_sweep(tmp_path):
     """Three variants of a short scene, serially and on a local Dask cluster
     of two processes: the same files, array for array, and the same summary."""
