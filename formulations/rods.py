@@ -304,8 +304,9 @@ def _park_march(mesh, Y0, position, t_end, h, order, tol, step_problem,
 
 
 def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
-                        follower=None, distributed=(0.0, 0.0), nodes: int = 41,
-                        tol: float = 1e-9, order: int = 3, on_step=None) -> RodMotion:
+                        follower=None, distributed=(0.0, 0.0), extensibility: float = 0.0,
+                        nodes: int = 41, tol: float = 1e-9, order: int = 3,
+                        on_step=None) -> RodMotion:
     """Large planar motion of an inextensible cantilever (rotary inertia
     neglected), released at t = 0 from its static equilibrium under a
     transverse tip load α0 = PL²/EI.
@@ -326,18 +327,25 @@ def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
     ``follower(t) -> P`` a tip load of magnitude P that stays perpendicular
     to the tip's tangent, (P sin θ(1), -P cos θ(1)) (downward when straight);
     ``distributed`` (q_x, q_y) per unit length (gravity: (0, -ρAgL³/EI));
+    ``extensibility`` β = EI/(EA L²): the axial strain ε = β F_t (F_t the
+    internal force along the tangent) stretches the centreline, x' = (1 + ε)
+    cos θ, y' = (1 + ε) sin θ, and the moment's lever arm, κ' = (1 + ε)(F_x
+    sin θ - F_y cos θ); the released static state is then the extensible
+    one (:func:`cantilever_general`).  s and ρA stay per unstretched length.
     ``on_step(step, n_steps, Y)`` after each step (progress).
     ``RodMotion.y`` rows: θ, κ, x, y, F_x, F_y; ``tip`` holds (x, y).
     """
     mesh = np.linspace(0.0, 1.0, nodes)
     Y0 = np.zeros((6, nodes))
     Y0[2] = mesh
+    beta = float(extensibility)
     if alpha0:
-        start = cantilever(alpha0, nodes=nodes, tol=tol)
+        start = (cantilever_general(alpha0, extensibility=beta, nodes=nodes, tol=tol) if beta
+                 else cantilever(alpha0, nodes=nodes, tol=tol))
         if not start.ok:
             return RodMotion(mesh, [0.0], [Y0], [], start.status, f"initial state: {start.message}",
                              slice(2, 4))
-        Y0[:4] = start(mesh)
+        Y0[:4] = start(mesh)[:4]
         Y0[5] = -alpha0
     qx, qy = (float(v) for v in distributed)
 
@@ -347,18 +355,25 @@ def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
 
         def f(s, Yv):
             th, ka, x, y, Fx, Fy = Yv
-            return np.array([ka, Fx * np.sin(th) - Fy * np.cos(th), np.cos(th), np.sin(th),
+            cs, sn = np.cos(th), np.sin(th)
+            e = 1.0 + beta * (Fx * cs + Fy * sn)          # stretch 1 + ε
+            return np.array([ka, e * (Fx * sn - Fy * cs), e * cs, e * sn,
                              c * c * x + hist[0] - qx, c * c * y + hist[1] - qy])
 
         def jac(s, Yv):
             th, ka, x, y, Fx, Fy = Yv
+            cs, sn = np.cos(th), np.sin(th)
+            m, Ft = Fx * sn - Fy * cs, Fx * cs + Fy * sn
+            e = 1.0 + beta * Ft
             J = np.zeros((6, 6, th.size))
             J[0, 1] = 1.0
-            J[1, 0] = Fx * np.cos(th) + Fy * np.sin(th)
-            J[1, 4] = np.sin(th)
-            J[1, 5] = -np.cos(th)
-            J[2, 0] = -np.sin(th)
-            J[3, 0] = np.cos(th)
+            J[1, 0] = e * Ft - beta * m * m
+            J[1, 4] = e * sn + beta * m * cs
+            J[1, 5] = -e * cs + beta * m * sn
+            J[2, 0] = -e * sn - beta * m * cs
+            J[3, 0] = e * cs - beta * m * sn
+            J[2, 4], J[2, 5] = beta * cs * cs, beta * cs * sn
+            J[3, 4], J[3, 5] = beta * sn * cs, beta * sn * sn
             J[4, 2] = c * c
             J[5, 3] = c * c
             return J
@@ -443,9 +458,11 @@ def _rod_build(scene):
     follower = None if fol is None else _pulse(fol["force"], fol["until"], force, T0)
     g = eff["gravity"]["g"] if "gravity" in eff else 0.0
     distributed = (0.0, -rhoA * g * L ** 3 / EI)
+    beta = EI / (eff["extensibility"]["EA"] * L * L) if "extensibility" in eff else 0.0
     # what the step's BVP is built from: only the named effects' loads
     model = {"L": L, "EI": EI, "rhoA": rhoA, "T0": T0, "g": g, "effects": scene.effects,
-             "distributed": distributed, "dead_load": tip, "follower_load": follower}
+             "distributed": distributed, "dead_load": tip, "follower_load": follower,
+             "extensibility": beta}
 
     def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
         from qpcontact.progress import ProgressBar
@@ -456,7 +473,8 @@ def _rod_build(scene):
         bar = ProgressBar(steps, "rod steps", progress, transient=True, unit="steps")
         motion = cantilever_dynamics(init["preload"] / force, steps * time_["h"] / T0,
                                      time_["h"] / T0, tip_load=tip, follower=follower,
-                                     distributed=distributed, nodes=rod["nodes"],
+                                     distributed=distributed, extensibility=beta,
+                                     nodes=rod["nodes"],
                                      order=time_["order"],
                                      on_step=lambda k, n, Y: bar.update(k, f"{k} of {n}"))
         bar.close()
@@ -551,7 +569,7 @@ def _rod_schema():
     until = Field("float", "s", "the load acts while t < until (default: always)")
     return SceneSchema(
         formulation="rod",
-        doc="a planar inextensible cantilever's large motion (P1): one BVP per time step",
+        doc="a planar cantilever's large motion (P1): one BVP per time step",
         sections={
             "rod": {
                 "length": Field("float", "m", "length L", required=True, positive=True),
@@ -576,6 +594,8 @@ def _rod_schema():
             "dead_load": {"fx": Field("float", "N", "tip force x (fixed direction)", default=0.0),
                           "fy": Field("float", "N", "tip force y (fixed direction)", default=0.0),
                           "until": until},
+            "extensibility": {"EA": Field("float", "N", "axial stiffness (inextensible "
+                                          "without the effect)", required=True, positive=True)},
             "follower_load": {"force": Field("float", "N", "tip force perpendicular to the "
                                              "tip's tangent (downward when straight)",
                                              required=True),
