@@ -90,7 +90,7 @@ import scipy.sparse as sp
 
 from qpcontact.errors import InvalidOptionError, InvalidProblemError
 from qpcontact.problems import LCP, as_vector
-from qpcontact.progress import ProgressBar
+from qpcontact.progress import StepReporter
 from qpcontact.solve import solve
 
 __all__ = ["Log", "Drum", "DrumResult", "DrumSummary", "StepSizeWarning", "EFFECTS",
@@ -386,9 +386,8 @@ class Drum:
             fallbacks = int(resume.get("fallbacks", 0))
             active = N[n0] > 0
             first = n0 + 1
-        bar = ProgressBar(steps, "drum steps", progress, transient=True, unit="steps")
+        report = StepReporter(steps, "drum steps", progress, checkpoint, checkpoint_seconds)
         start = time.perf_counter()
-        last_checkpoint = start
 
         def partial(n):
             V = np.empty((n + 1, L))
@@ -430,16 +429,8 @@ class Drum:
                 viscous[n] = viscous[n - 1] + tau * float(np.sum(np.where(damped, self.damping, 0.0) * v * v))
             if on_step is not None:
                 on_step(n, lcp, sol)
-            if n % max(1, steps // 100) == 0:
-                bar.update(n, f"worst certificate {np.max(errors[1:n + 1]):.1e}")
-            if checkpoint is not None and time.perf_counter() - last_checkpoint >= checkpoint_seconds:
-                checkpoint(partial(n))
-                last_checkpoint = time.perf_counter()
-        bar.close()
-        result = partial(steps)
-        if checkpoint is not None:
-            checkpoint(result)
-        return result
+            report.after(n, errors, partial)
+        return report.finish(partial(steps))
 
     def _in_contact(self, forces) -> np.ndarray:
         """Logs touching something: the contact below or above carried force."""

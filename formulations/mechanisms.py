@@ -53,10 +53,11 @@ import numpy as np
 from qpcontact.errors import InvalidProblemError
 
 from . import multibody as mb
-from .multibody.contacts import Contact, contact_rows, world_point
+from .multibody.contacts import Contact, ModelContacts, world_point
 from .penalty import PenaltyStep
-from .stepping import (ContactSystem, MechanismResult, lookahead_for, scene_arrays, scene_plot,
-                       scene_run, scene_summary, solver_section, time_section)
+from .stepping import (MechanismResult, lookahead_for, scene_arrays, scene_plot,
+                       scene_run, scene_summary, solver_section, time_section,
+                       contacts_section)
 
 __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pellet_scene",
            "ramming_impact_step",
@@ -76,6 +77,9 @@ class _Spring:
     point_a: np.ndarray
     point_b: np.ndarray   # on body b, or the ground anchor
 
+    def tension(self, length, rate):
+        return self.stiffness * (length - self.rest_length)
+
 
 @dataclass
 class _Damper:
@@ -85,12 +89,15 @@ class _Damper:
     point_a: np.ndarray
     point_b: np.ndarray
 
+    def tension(self, length, rate):
+        return self.coefficient * rate
+
 
 def _p3(xy):
     return np.array([xy[0], xy[1], 0.0])
 
 
-class Mechanism(ContactSystem):
+class Mechanism(ModelContacts):
     """A planar mechanism with unilateral contacts (SI units; see the module docstring).
 
     ``effects`` names what is assembled: "gravity", "springs", "compliance".
@@ -224,26 +231,16 @@ class Mechanism(ContactSystem):
             f[i, :3] += Rt @ F
             f[i, 3:] += Rt @ (np.cross(x - d.ra[i], F) + np.array([0.0, 0.0, torque]))
 
-        for sp_ in self.springs:
-            xa, xb = at(sp_.a, sp_.point_a), at(sp_.b, sp_.point_b)
-            dvec = xb - xa
-            ell = np.linalg.norm(dvec)
+        for el in self.springs + self.dampers:   # forces along the line between two points
+            xa, xb = at(el.a, el.point_a), at(el.b, el.point_b)
+            ell = np.linalg.norm(xb - xa)
             if ell == 0:
                 continue
-            F = sp_.stiffness * (ell - sp_.rest_length) * dvec / ell   # tension pulls a toward b
-            push(sp_.a, xa, F)
-            push(sp_.b, xb, -F)
-        for dp in self.dampers:
-            xa, xb = at(dp.a, dp.point_a), at(dp.b, dp.point_b)
-            dvec = xb - xa
-            ell = np.linalg.norm(dvec)
-            if ell == 0:
-                continue
-            e = dvec / ell
-            rate = e @ (self._world_velocity(dp.b, dp.point_b) - self._world_velocity(dp.a, dp.point_a))
-            F = dp.coefficient * rate * e     # opposes the points' separation rate
-            push(dp.a, xa, F)
-            push(dp.b, xb, -F)
+            e = (xb - xa) / ell
+            rate = e @ (self._world_velocity(el.b, el.point_b) - self._world_velocity(el.a, el.point_a))
+            F = el.tension(ell, rate) * e      # a tension pulls a toward b
+            push(el.a, xa, F)
+            push(el.b, xb, -F)
         for i, f3, fn in self.forces:
             if fn is not None:
                 R, r, V = d.Ra[i], d.ra[i], d.V[i]
@@ -257,10 +254,6 @@ class Mechanism(ContactSystem):
         """Q(t, q, ν) = applied generalized forces - bias (gravity, Coriolis) [N, N·m]."""
         mb.forward_kinematics(self.model, self._data, q, v, t)
         return -mb.nonlinear_effects(self.model, self._data, q, v, self._body_forces(t), t)
-
-    def constraints(self, q, v):
-        """Φ [m], J (ν x n), D = J̇ν [m/s²] at (q, v)."""
-        return contact_rows(self.model, self._data, self.contacts, q, v)
 
     def step_data(self, t, q, v):
         """What one contact step needs at (t, q, ν): (G as an O(N) factorized
@@ -280,15 +273,6 @@ class Mechanism(ContactSystem):
         Gop, Q, J, D, Phi = self.step_data(t, q, v)
         B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
         return PenaltyStep(Gop, Q, J, B, D, self.compliance()), Phi, 0.0
-
-    def gaps(self, q, v) -> np.ndarray:
-        return self.constraints(q, v)[0]
-
-    def integrate(self, q, dq) -> np.ndarray:
-        return mb.integrate(self.model, q, dq)
-
-    def contact_names(self) -> list[str]:
-        return [c.name for c in self.contacts]
 
     def coordinate_names(self) -> list[str]:
         names = []
@@ -439,15 +423,7 @@ def _scene_schema():
                 "torque": Field("float", "N·m", "torque", default=0.0),
                 "until": Field("float", "s", "the force acts while t < until (a pulse; "
                                "default: always)")}),
-            "contacts": Field("tables", doc="unilateral contacts Φ = n·(p_b − p_a) − offset ≥ 0",
-                              default=[], fields={
-                "name": Field("str", "", "contact name", required=True),
-                "a": Field("str", "", "body a (default: ground)"),
-                "b": Field("str", "", "body b (default: ground)"),
-                "normal": Field("floats", "-", "unit normal n (world)", default=[1.0, 0.0]),
-                "point_a": Field("floats", xy, "point on a", default=[0.0, 0.0]),
-                "point_b": Field("floats", xy, "point on b", default=[0.0, 0.0]),
-                "offset": Field("float", "m", "offset", default=0.0)}),
+            "contacts": contacts_section((1.0, 0.0)),
             "time": time_section(),
             "solver": solver_section(),
         },

@@ -22,14 +22,13 @@ recovered from the per-step record (the last μ the automatic choice kept).
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from qpcontact.errors import InvalidOptionError, SolverFailedError
 from qpcontact.plotting import save_figure
-from qpcontact.progress import ProgressBar
+from qpcontact.progress import StepReporter
 from qpcontact.solve import solve
 
 from .penalty import exact_lcp, solve_penalty
@@ -104,8 +103,7 @@ class ContactSystem:
                 mu_now = kept[-1] if kept else mu
             q, v, first = Qs[n0].copy(), Vs[n0].copy(), n0 + 1
         lcp_method = "lemke" if method == "auto" else method
-        bar = ProgressBar(steps, "contact steps", progress, transient=True, unit="steps")
-        last_checkpoint = time.perf_counter()
+        report = StepReporter(steps, "contact steps", progress, checkpoint, checkpoint_seconds)
 
         def partial(n):
             Phis[n] = self.gaps(Qs[n], Vs[n])    # what step n + 1 computes first, bit for bit
@@ -143,16 +141,8 @@ class ContactSystem:
             q = self.integrate(q, h * v + 0.5 * h * h * a)
             v = v + h * a
             Qs[i], Vs[i], Lam[i] = q, v, lam
-            if i % max(1, steps // 100) == 0:
-                bar.update(i, f"worst certificate {np.max(errors[1:i + 1]):.1e}")
-            if checkpoint is not None and time.perf_counter() - last_checkpoint >= checkpoint_seconds:
-                checkpoint(partial(i))
-                last_checkpoint = time.perf_counter()
-        bar.close()
-        result = partial(steps)
-        if checkpoint is not None:
-            checkpoint(result)
-        return result
+            report.after(i, errors, partial)
+        return report.finish(partial(steps))
 
 
 @dataclass
@@ -241,6 +231,24 @@ def solver_section() -> dict:
     return {"route": Field("str", "", "penalty (P2's QP) or lcp (exact)", default="penalty"),
             "method": Field("str", "", "QP method of the penalty route", default="auto"),
             "accuracy": Field("str", "", "low, default or high", default="high")}
+
+
+def contacts_section(normal):
+    """The ``[[contacts]]`` tables, in the plane (2-vectors) or in space
+    (3-vectors, by the default ``normal``'s length)."""
+    from qpcontact.scenes import Field
+
+    origin = [0.0] * len(normal)
+    pt = "m (the body's frame, or the world's for the ground)"
+    return Field("tables", doc="unilateral contacts Φ = n·(p_b − p_a) − offset ≥ 0", default=[],
+                 fields={"name": Field("str", "", "contact name", required=True),
+                         "a": Field("str", "", "body a (default: the ground)"),
+                         "b": Field("str", "", "body b (default: the ground)"),
+                         "normal": Field("floats", "-", "unit normal n (world)",
+                                         default=list(normal)),
+                         "point_a": Field("floats", pt, "point on a", default=origin),
+                         "point_b": Field("floats", pt, "point on b", default=origin),
+                         "offset": Field("float", "m", "offset", default=0.0)})
 
 
 def scene_run(system, time_, solver):

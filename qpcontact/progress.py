@@ -44,3 +44,37 @@ class ProgressBar:
     def close(self) -> None:
         if self._p is not None:
             self._p.stop()
+
+
+class StepReporter:
+    """What a time stepper does after each step and at its end: the progress
+    bar (every 1 % of the steps, with the largest certificate error so far)
+    and the checkpoints (``checkpoint(partial(n))`` every
+    ``checkpoint_seconds``, and the final result)."""
+
+    def __init__(self, steps: int, label: str, progress: bool, checkpoint=None,
+                 checkpoint_seconds: float = 5.0):
+        import time
+
+        self._clock = time.perf_counter
+        self.steps = steps
+        self.bar = ProgressBar(steps, label, progress, transient=True, unit="steps")
+        self.checkpoint, self.every = checkpoint, checkpoint_seconds
+        self._last = self._clock()
+
+    def after(self, n: int, errors, partial) -> None:
+        """After step n: ``errors`` the per-step certificate errors (index 1..n
+        filled), ``partial(n)`` the result so far (called only to checkpoint)."""
+        if n % max(1, self.steps // 100) == 0:
+            import numpy as np
+
+            self.bar.update(n, f"worst certificate {np.max(errors[1:n + 1], initial=0.0):.1e}")
+        if self.checkpoint is not None and self._clock() - self._last >= self.every:
+            self.checkpoint(partial(n))
+            self._last = self._clock()
+
+    def finish(self, result):
+        self.bar.close()
+        if self.checkpoint is not None:
+            self.checkpoint(result)
+        return result

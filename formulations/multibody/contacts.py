@@ -39,12 +39,12 @@ from qpcontact.errors import InvalidOptionError, InvalidProblemError
 
 from ..penalty import PenaltyStep
 from ..stepping import (ContactSystem, scene_arrays, scene_plot, scene_run, scene_summary,
-                        solver_section, time_section)
+                        solver_section, time_section, contacts_section)
 from . import algorithms as alg
 from . import constraints as con
 from .model import Cardan, Data, Free, Model, Prismatic, Revolute, Spherical
 
-__all__ = ["ContactTree", "Contact", "contact_rows", "world_point", "TREE_EFFECTS", "JOINTS"]
+__all__ = ["ContactTree", "ModelContacts", "Contact", "contact_rows", "world_point", "TREE_EFFECTS", "JOINTS"]
 
 TREE_EFFECTS = ("gravity", "joint_damping", "compliance", "loops")
 
@@ -131,7 +131,26 @@ class _LoopOperator:
                                  "the exact LCP")
 
 
-class ContactTree(ContactSystem):
+class ModelContacts(ContactSystem):
+    """A contact system built on a multibody Model (``self.model``,
+    ``self._data``) with ``self.contacts``: the gaps, the configuration update
+    and the names the stepper needs."""
+
+    def constraints(self, q, v):
+        """Φ [m], J (ν x nv), D = J̇ν [m/s²] at (q, ν)."""
+        return contact_rows(self.model, self._data, self.contacts, q, v)
+
+    def gaps(self, q, v) -> np.ndarray:
+        return self.constraints(q, v)[0]
+
+    def integrate(self, q, dq) -> np.ndarray:
+        return alg.integrate(self.model, q, dq)
+
+    def contact_names(self) -> list[str]:
+        return [c.name for c in self.contacts]
+
+
+class ContactTree(ModelContacts):
     """A spatial tree of rigid bodies with unilateral contacts (module
     docstring).  ``effects`` ⊂ TREE_EFFECTS names what is assembled; data for
     an effect not named raises InvalidProblemError."""
@@ -224,7 +243,7 @@ class ContactTree(ContactSystem):
         return np.diag([c.compliance for c in self.contacts])
 
     def step_problem(self, t, q, v, dt):
-        Phi, J, D = contact_rows(self.model, self._data, self.contacts, q, v)
+        Phi, J, D = self.constraints(q, v)
         Q = self.generalized_forces(t, q, v)
         G = alg.MassOperator(self.model, q)
         a0 = 0.0
@@ -235,15 +254,6 @@ class ContactTree(ContactSystem):
             D = D + J @ a0
         B = 2.0 / dt ** 2 * (Phi + dt * (J @ v))
         return PenaltyStep(G, Q, J, B, D, self.compliance()), Phi, a0
-
-    def gaps(self, q, v) -> np.ndarray:
-        return contact_rows(self.model, self._data, self.contacts, q, v)[0]
-
-    def integrate(self, q, dq) -> np.ndarray:
-        return alg.integrate(self.model, q, dq)
-
-    def contact_names(self) -> list[str]:
-        return [c.name for c in self.contacts]
 
     def coordinate_names(self) -> list[str]:
         """One name per generalized coordinate q (quaternions as qx..qw)."""
@@ -384,15 +394,7 @@ def _scene_schema():
                 "v": Field("floats", "m/s, rad/s", "the joint's initial velocities (default 0)"),
                 "damping": Field("float", "N·s/m, N·m·s/rad", "joint damping coefficient "
                                  "(effect 'joint_damping')")}),
-            "contacts": Field("tables", doc="unilateral contacts Φ = n·(p_b − p_a) − offset ≥ 0",
-                              default=[], fields={
-                "name": Field("str", "", "contact name", required=True),
-                "a": Field("str", "", "body a (default: the ground)"),
-                "b": Field("str", "", "body b (default: the ground)"),
-                "normal": Field("floats", "-", "unit normal n (world)", default=[0.0, 0.0, 1.0]),
-                "point_a": Field("floats", pt, "point on a", default=[0.0, 0.0, 0.0]),
-                "point_b": Field("floats", pt, "point on b", default=[0.0, 0.0, 0.0]),
-                "offset": Field("float", "m", "offset", default=0.0)}),
+            "contacts": contacts_section((0.0, 0.0, 1.0)),
             "loops": Field("tables", doc="closed loops (effect 'loops'): point_a of a coincides "
                            "with point_b of b along axes", default=[], fields={
                 "a": Field("str", "", "body a (default: the ground)"),
