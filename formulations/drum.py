@@ -365,6 +365,7 @@ class Drum:
         D[0] = self.gaps
         U_prev = -tau * self.velocities - 0.5 * self.gravity * tau ** 2
         errors = np.zeros(steps + 1)
+        iterations = np.zeros(steps + 1, np.int64)
         methods_used = []
         fallbacks = 0
         solve_time = 0.0   # the certified solves' share of the wall time
@@ -380,6 +381,8 @@ class Drum:
             N[:n0 + 1] = resume["forces"][:n0 + 1]
             D[:n0 + 1] = resume["gaps"][:n0 + 1]
             errors[:n0 + 1] = resume["certificate_error"][:n0 + 1]
+            if "iterations" in resume:
+                iterations[:n0 + 1] = resume["iterations"][:n0 + 1]
             viscous[:n0 + 1] = resume["energy/viscous"][:n0 + 1]
             methods_used = [m.decode() if isinstance(m, bytes) else str(m)
                             for m in resume["method"][1:n0 + 1]]
@@ -396,7 +399,8 @@ class Drum:
             return DrumResult(drum=self, tau=tau, t=tau * np.arange(n + 1), forces=N[:n + 1],
                               gaps=D[:n + 1], displacements=U[:n + 1], velocities=V,
                               viscous_dissipation=viscous[:n + 1],
-                              certificate_errors=errors[:n + 1], methods=list(methods_used),
+                              certificate_errors=errors[:n + 1], iterations=iterations[:n + 1],
+                              methods=list(methods_used),
                               fallbacks=fallbacks, wall_time=time.perf_counter() - start,
                               solve_time=solve_time)
         for n in range(first, steps + 1):
@@ -423,6 +427,7 @@ class Drum:
             x = (R + _g_times(z)) / self._h(tau, damped)
             U[n] = x
             errors[n] = sol.error
+            iterations[n] = sol.iterations or 0
             methods_used.append(sol.method)
             if self.damping is not None:
                 v = (U[n] - U1) / tau
@@ -510,6 +515,7 @@ class DrumResult:
     velocities: np.ndarray
     viscous_dissipation: np.ndarray
     certificate_errors: np.ndarray
+    iterations: np.ndarray = None     # per step: the method's iterations (pivots for bpp)
     methods: list = field(default_factory=list)
     fallbacks: int = 0
     wall_time: float = 0.0
@@ -675,7 +681,7 @@ def _scene_arrays(result) -> dict:
     return {"fallbacks": np.array(result.fallbacks), "t": result.t, "forces": result.forces,
             "gaps": result.gaps,
             "displacements": result.displacements, "velocities": result.velocities,
-            "certificate_error": result.certificate_errors,
+            "certificate_error": result.certificate_errors, "iterations": result.iterations,
             "method": np.array([""] + result.methods, dtype="S"),
             **{f"energy/{k}": v for k, v in e.items()}}
 
