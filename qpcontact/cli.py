@@ -52,7 +52,7 @@ def solve_cmd(
                                 help="Siconos .dat file (LCP or frictional contact) or FCLIB .hdf5."),
     method: str = typer.Option("auto", "--method", "-m",
                                help="Method name (see `qpcontact methods`; friction: lemke, anitescu, "
-                                    "desaxce-fp, tresca-fp, newton, auto)."),
+                                    "desaxce-fp, tresca-fp, newton, desaxce-global, auto)."),
     accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number."),
 ):
     """Solve a problem file; print the answer and its certificate. Exit code 1 if not certified."""
@@ -75,9 +75,13 @@ def solve_cmd(
         console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {escape(sol.message)}")
         console.print(f"time {sol.stats.get('total_time', 0.0):.4f} s (every method tried); "
                       f"iterations {sol.stats.get('iterations')}")
+        if sol.r is None:
+            raise typer.Exit(1)
         with np.printoptions(precision=10, linewidth=120, threshold=60):
             console.print(f"r = {sol.r}")
             console.print(f"u = {sol.u}")
+            if sol.v is not None:
+                console.print(f"v = {sol.v}")
         console.print(f"  natural-map error {sol.error: .3e} (Siconos's measure, from the data)")
         raise typer.Exit(0 if sol.ok else 1)
     console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {sol.message}")

@@ -133,14 +133,15 @@ def _is_friction(inst) -> bool:
 
 
 def _friction_methods(inst, names):
-    """Every friction method, or those of ``names`` that are friction methods;
-    Lemke on faceted 3-D cones only up to 100 contacts (its LCP's pivots grow
-    with the facets: 11 828 pivots, 183 s, on 286 contacts)."""
-    from .friction import FRICTION_METHODS
+    """Every friction method that takes the instance's form (local, or global
+    kept without W), or those of ``names``; Lemke on faceted 3-D cones only
+    up to 100 contacts (its LCP's pivots grow with the facets: 11 828 pivots,
+    183 s, on 286 contacts)."""
+    from .friction import FRICTION_METHODS, GLOBAL_METHODS
 
-    pool = list(FRICTION_METHODS) + ["auto"]
-    chosen = [m for m in names if m in pool] if names else pool
     p = inst.problem
+    pool = [m for m in FRICTION_METHODS if (m in GLOBAL_METHODS) != p.is_reduced] + ["auto"]
+    chosen = [m for m in names if m in pool] if names else pool
     return [m for m in chosen if not (m == "lemke" and p.dim == 3 and p.n_contacts > 100)]
 
 

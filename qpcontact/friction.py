@@ -45,9 +45,9 @@ from .errors import InvalidOptionError, InvalidProblemError
 from .problems import LCP, as_matrix, as_vector
 
 __all__ = ["FrictionProblem", "FrictionSolution", "natural_map_error", "componentwise_error",
-           "certified_error", "contact_scales", "contact_sizes", "modified_velocity",
+           "certified_error", "global_errors", "contact_scales", "contact_sizes", "modified_velocity",
            "project_cone",
-           "faceted_lcp", "fc2d_lcp", "solve_friction", "FRICTION_METHODS"]
+           "faceted_lcp", "fc2d_lcp", "solve_friction", "FRICTION_METHODS", "GLOBAL_METHODS"]
 
 #: the largest local problem whose W = Hᵀ M⁻¹ H is formed densely from a global one
 DENSE_W_LIMIT = 6000
@@ -90,9 +90,15 @@ class FrictionProblem:
                 "a Delassus operator Hᵀ M⁻¹ H, whose diagonal blocks are positive semidefinite")
 
     @classmethod
-    def global_problem(cls, M, H, f, w, mu, dim, *, name: str = ""):
-        """M v = H r + f, u = Hᵀ v + w, reduced to local (W = Hᵀ M⁻¹ H,
-        q = Hᵀ M⁻¹ f + w) by one sparse factorization of M."""
+    def global_problem(cls, M, H, f, w, mu, dim, *, name: str = "", reduce=None):
+        """M v = H r + f, u = Hᵀ v + w.
+
+        ``reduce`` None (default): reduced to local form (W = Hᵀ M⁻¹ H, q =
+        Hᵀ M⁻¹ f + w, one sparse factorization of M) when W is affordable —
+        at most DENSE_W_LIMIT local unknowns — and M is nonsingular; kept
+        global otherwise (``W`` is then None and the methods that keep v,
+        :data:`GLOBAL_METHODS`, solve it).  True: reduce or raise saying why
+        not; False: keep it global."""
         import scipy.sparse.linalg as spla
 
         M = as_matrix(M, "M")
@@ -105,21 +111,42 @@ class FrictionProblem:
                                       f"{M.shape} and {H.shape}")
         f = as_vector(f, n, "f")
         w = as_vector(w, m, "w") if m else np.zeros(0)
+        if reduce not in (None, True, False):
+            raise InvalidOptionError(f"reduce must be None (auto), True or False; got {reduce!r}")
+        Ms = sp.csc_matrix(M)
+        big = abs(Ms).max() if Ms.nnz else 0.0
+        if (Ms.nnz and abs(Ms - Ms.T).max() > 1e-12 * big) or np.any(Ms.diagonal() < 0):
+            raise InvalidProblemError("global problem: M must be symmetric with a nonnegative "
+                                      "diagonal (a mass or stiffness matrix)")
+        why_not = None
         if m > DENSE_W_LIMIT:
-            raise InvalidProblemError(
-                f"global problem with {m} local unknowns: W = Hᵀ M⁻¹ H would be dense "
-                f"{m} x {m}; the reduction stops at {DENSE_W_LIMIT}")
-        try:
-            lu = spla.splu(sp.csc_matrix(M))
-            piv = np.abs(lu.U.diagonal())
-            singular = n > 0 and not piv.min() > 1e-13 * piv.max()
-        except RuntimeError:   # exactly singular
-            singular = True
-        if singular:
-            raise InvalidProblemError(
-                "global problem: M is singular (the system without its contacts can move as a "
-                "mechanism), so W = Hᵀ M⁻¹ H does not exist; fix the free motion (a support) "
-                "or pose the problem for a solver that keeps the global form")
+            why_not = (f"W = Hᵀ M⁻¹ H would be dense {m} x {m} (above DENSE_W_LIMIT = "
+                       f"{DENSE_W_LIMIT} local unknowns)")
+        lu = None
+        if why_not is None and reduce is not False:
+            try:
+                lu = spla.splu(Ms)
+                piv = np.abs(lu.U.diagonal())
+                if n > 0 and not piv.min() > 1e-13 * piv.max():
+                    lu = None
+            except RuntimeError:   # exactly singular
+                lu = None
+            if lu is None:
+                why_not = ("M is singular (the system without its contacts can move as a "
+                           "mechanism), so W = Hᵀ M⁻¹ H does not exist")
+        if reduce is True and why_not is not None:
+            raise InvalidProblemError(f"global problem: cannot reduce to local form: {why_not}; "
+                                      "keep it global (reduce=None or False)")
+        if reduce is False or why_not is not None:
+            prob = cls.__new__(cls)
+            prob.dim, prob.mu, prob.name = int(dim), mu, name
+            if not np.all(np.isfinite(mu)) or np.any(mu < 0):
+                raise InvalidProblemError("friction coefficients must be finite and >= 0")
+            prob.W = prob.q = None
+            prob.solution, prob.guesses = None, []
+            prob.global_data = {"M": Ms, "H": sp.csc_matrix(H), "f": f, "w": w, "lu": None,
+                                "unreduced_because": why_not or "reduce=False"}
+            return prob
         Minv_H = lu.solve(np.asarray(sp.csc_matrix(H).toarray())) if m else np.zeros((n, 0))
         W = np.asarray(H.T @ Minv_H) if m else np.zeros((0, 0))
         W = 0.5 * (W + W.T)
@@ -129,21 +156,32 @@ class FrictionProblem:
         return prob
 
     @property
+    def is_reduced(self) -> bool:
+        """False for a global problem kept without W (see global_problem)."""
+        return self.W is not None
+
+    @property
     def n_contacts(self) -> int:
         return self.mu.size
 
     def velocities(self, r) -> np.ndarray:
+        if self.W is None:
+            raise InvalidOptionError("this global problem is kept without W "
+                                     f"({self.global_data['unreduced_because']}): its velocities "
+                                     "are u = Hᵀ v + w, from the global velocity v a method "
+                                     "returns")
         return np.asarray(self.W @ r).ravel() + self.q
 
     def global_velocity(self, r) -> np.ndarray | None:
         """v = M⁻¹ (H r + f) of a global problem."""
         g = self.global_data
-        if g is None:
+        if g is None or g["lu"] is None:
             return None
         return g["lu"].solve(np.asarray(g["H"] @ r).ravel() + g["f"])
 
     def __repr__(self) -> str:
-        kind = "global" if self.global_data is not None else "local"
+        kind = ("local" if self.global_data is None else "global" if self.is_reduced
+                else "global, unreduced")
         return (f"FrictionProblem({self.name or 'unnamed'}: {kind}, dim {self.dim}, "
                 f"{self.n_contacts} contacts)")
 
@@ -205,14 +243,17 @@ def componentwise_error(problem: FrictionProblem, r, u=None) -> float:
     displacements in m (‖q‖ << 1) it is absolute, and a stiff structure's
     W ~ 1e-5 hides a force error of 1e-2 kN below 1e-7.  This one does not."""
     r = np.asarray(r, float)
-    d = problem.dim
     if r.size == 0:
         return 0.0
     u = problem.velocities(r) if u is None else np.asarray(u, float)
     rho = contact_scales(problem)
-    x = r - np.repeat(rho, d) * modified_velocity(u, problem.mu, d)
-    res = np.linalg.norm((r - project_cone(x, problem.mu, d)).reshape(-1, d), axis=1)
-    size = contact_sizes(problem, r, rho)
+    return _worst_contact(r, u, problem.mu, problem.dim, rho, contact_sizes(problem, r, rho))
+
+
+def _worst_contact(r, u, mu, d, rho, size) -> float:
+    """max_i ‖r_i − proj_K(r_i − ρ_i û_i)‖ / size_i (componentwise_error's core)."""
+    x = r - np.repeat(rho, d) * modified_velocity(u, mu, d)
+    res = np.linalg.norm((r - project_cone(x, mu, d)).reshape(-1, d), axis=1)
     if not size.max() > 0:
         return float(res.max()) if res.max() > 0 else 0.0
     return float(np.max(res / size))
@@ -228,6 +269,41 @@ def contact_sizes(problem: FrictionProblem, r, rho=None) -> np.ndarray:
             + rho * (np.linalg.norm(problem.q.reshape(-1, d), axis=1)
                      + np.linalg.norm(Wr.reshape(-1, d), axis=1)))
     return np.maximum(size, np.finfo(float).eps * size.max(initial=0.0))
+
+
+def global_errors(problem: FrictionProblem, r, v) -> tuple[float, float, float]:
+    """The errors of (r, v) for a global problem, from M, H, f, w alone (no
+    W): Siconos's natural-map error of (r, u = Hᵀv + w) over 1 + ‖f‖; the
+    componentwise one (:func:`componentwise_error` with W's diagonal
+    estimated by Hᵀ diag(M)⁻¹ H, a scale only); and the equilibrium's
+    componentwise residual max_k |Mv − Hr − f|_k / (|M||v| + |H||r| + |f|)_k
+    (each equation on its own scale, floored at eps times the largest)."""
+    g, d = problem.global_data, problem.dim
+    M, H, f, w = g["M"], g["H"], g["f"], g["w"]
+    r, v = np.asarray(r, float), np.asarray(v, float)
+    u = np.asarray(H.T @ v).ravel() + w
+    uhat = modified_velocity(u, problem.mu, d)
+    nat = float(np.linalg.norm(r - project_cone(r - uhat, problem.mu, d))
+                / (1.0 + np.linalg.norm(f)))
+    eq = np.asarray(M @ v).ravel() - np.asarray(H @ r).ravel() - f
+    eq_size = (np.asarray(abs(M) @ np.abs(v)).ravel() + np.asarray(abs(H) @ np.abs(r)).ravel()
+               + np.abs(f))
+    eq_size = np.maximum(eq_size, np.finfo(float).eps * eq_size.max(initial=0.0))
+    equilibrium = float(np.max(np.where(eq == 0, 0.0, np.abs(eq) / np.where(eq_size > 0, eq_size,
+                                                                            1.0)), initial=0.0))
+    if r.size == 0:
+        return nat, 0.0, equilibrium
+    dm = np.asarray(M.diagonal(), float)
+    inv = np.where(dm > 0, 1.0 / np.where(dm > 0, dm, 1.0), 0.0)
+    wn = np.asarray((H.multiply(H)).T @ inv).ravel()[0::d]
+    rho = np.where(wn > 0, 1.0 / np.where(wn > 0, wn, 1.0),
+                   1.0 / wn.max() if wn.size and wn.max() > 0 else 1.0)
+    Hv = np.asarray(abs(H).T @ np.abs(v)).ravel()
+    size = (np.linalg.norm(r.reshape(-1, d), axis=1)
+            + rho * (np.linalg.norm(w.reshape(-1, d), axis=1)
+                     + np.linalg.norm(Hv.reshape(-1, d), axis=1)))
+    size = np.maximum(size, np.finfo(float).eps * size.max(initial=0.0))
+    return nat, _worst_contact(r, u, problem.mu, d, rho, size), equilibrium
 
 
 def certified_error(problem: FrictionProblem, r, u=None) -> float:
@@ -282,7 +358,10 @@ def fc2d_lcp(problem: FrictionProblem) -> LCP:
 class FrictionSolution:
     """``r``, ``u`` (= W r + q from the data), ``error`` (Siconos's natural
     map), ``componentwise_error`` (each contact on its own scale), ``ok``
-    (both <= tol), ``status``, ``message``, ``method``, ``stats``."""
+    (both <= tol), ``status``, ``message``, ``method``, ``stats``.  For a
+    global problem kept without W: ``v`` (its global velocity), u = Hᵀv + w,
+    and ``equilibrium_error`` (Mv = Hr + f, each equation on its own scale),
+    also held to tol."""
 
     r: np.ndarray | None
     u: np.ndarray | None
@@ -294,6 +373,8 @@ class FrictionSolution:
     tol: float
     stats: dict = field(default_factory=dict)
     componentwise_error: float = float("nan")
+    v: np.ndarray | None = None
+    equilibrium_error: float = float("nan")
 
 
 def _solve_lemke(problem, tol, options):
@@ -329,7 +410,11 @@ FRICTION_METHODS = {
     "desaxce-fp": _cones("solve_desaxce_fp"),
     "tresca-fp": _cones("solve_tresca_fp"),
     "newton": _cones("solve_natural_newton"),
+    "desaxce-global": _cones("solve_desaxce_global"),
 }
+
+#: the methods that solve a global problem kept without W (they return v too)
+GLOBAL_METHODS = ("desaxce-global",)
 
 #: what "auto" tries, in order, per dimension: each answer is certified before
 #: the next is tried, and the first certified one is returned
@@ -364,6 +449,17 @@ def solve_friction(problem: FrictionProblem, method: str = "auto", tol: float = 
     if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol > 0:
         raise InvalidOptionError(f"tol must be a positive number; got {tol!r}")
     chain = AUTO_CHAIN[problem.dim] if method == "auto" else (method,)
+    if not problem.is_reduced:
+        if method == "auto":
+            chain = GLOBAL_METHODS
+        elif method not in GLOBAL_METHODS and method in FRICTION_METHODS:
+            raise InvalidOptionError(
+                f"{method!r} needs the local form, and this global problem is kept without W "
+                f"({problem.global_data['unreduced_because']}); use {', '.join(GLOBAL_METHODS)} "
+                "or 'auto'")
+    elif method in GLOBAL_METHODS:
+        raise InvalidOptionError(f"{method!r} solves global problems kept without W; this one is "
+                                 "in local form (global_problem(..., reduce=False) keeps M, H)")
     if method == "auto" and problem.n_contacts > LEMKE_AUTO_MAX_CONTACTS:
         chain = tuple(m for m in chain if m != "lemke")
     for name in chain:
@@ -392,19 +488,39 @@ def solve_friction(problem: FrictionProblem, method: str = "auto", tol: float = 
 
 
 def _worst(sol: FrictionSolution) -> float:
-    return max(sol.error, sol.componentwise_error) if sol.r is not None else np.inf
+    if sol.r is None:
+        return np.inf
+    return max(sol.error, sol.componentwise_error, np.nan_to_num(sol.equilibrium_error))
+
+
+def _certified_global(problem, method, x, tol, message, stats) -> FrictionSolution:
+    """A global method's x = (r, v), certified from M, H, f, w (global_errors)."""
+    g, m = problem.global_data, problem.dim * problem.n_contacts
+    r, v = x[:m], x[m:]
+    nat, cw, eq = global_errors(problem, r, v)
+    ok = bool(max(nat, cw, eq) <= tol)
+    u = np.asarray(g["H"].T @ v).ravel() + g["w"]
+    return FrictionSolution(r, u, nat, ok, "solved" if ok else "inaccurate",
+                            f"natural-map error {nat:.1e}, componentwise {cw:.1e}, equilibrium "
+                            f"{eq:.1e} {'<=' if ok else '>'} {tol:.0e} ({method}: {message})",
+                            method, tol, stats, cw, v, eq)
 
 
 def _solve_one(problem, method, tol, options) -> FrictionSolution:
-    if problem.n_contacts == 0:
+    if problem.n_contacts == 0 and problem.is_reduced:
         r = np.zeros(0)
         return FrictionSolution(r, r, 0.0, True, "solved", "no contacts", method, tol, {}, 0.0)
     start = time.perf_counter()
     r, status, message, stats = FRICTION_METHODS[method](problem, tol, options)
     stats["time"] = time.perf_counter() - start
+    if r is None and "ray" in stats:     # a checked proof that no solution exists
+        return FrictionSolution(None, None, np.inf, False, "no_solution",
+                                f"{method}: {message}", method, tol, stats)
     if r is None or not np.all(np.isfinite(r)):
         return FrictionSolution(None, None, np.inf, False, "failed",
                                 f"{method}: no usable point ({message})", method, tol, stats)
+    if not problem.is_reduced:
+        return _certified_global(problem, method, r, tol, message, stats)
     u = problem.velocities(r)
     err = natural_map_error(problem, r, u)
     cw = componentwise_error(problem, r, u)

@@ -36,7 +36,8 @@ import scipy.sparse.linalg as spla
 
 from .errors import InvalidOptionError
 
-__all__ = ["CONE_BACKENDS", "solve_anitescu", "solve_desaxce_fp", "solve_tresca_fp"]
+__all__ = ["CONE_BACKENDS", "solve_anitescu", "solve_desaxce_fp", "solve_tresca_fp",
+           "solve_desaxce_global", "no_equilibrium"]
 
 
 def _cone_rows(dim: int, mu: np.ndarray, tresca: np.ndarray | None):
@@ -61,7 +62,7 @@ def _cone_rows(dim: int, mu: np.ndarray, tresca: np.ndarray | None):
     return A, b
 
 
-def _clarabel(P, c, A, b, nc, dim, tol, options):
+def _clarabel(P, c, A, b, nc, dim, tol, options, nonneg=None):
     import clarabel
 
     settings = clarabel.DefaultSettings()
@@ -72,29 +73,43 @@ def _clarabel(P, c, A, b, nc, dim, tol, options):
         if not hasattr(settings, key):
             raise InvalidOptionError(f"clarabel has no setting {key!r}")
         setattr(settings, key, value)
-    cones = [clarabel.NonnegativeConeT(nc)] + [clarabel.SecondOrderConeT(dim)] * nc
+    nonneg = nc if nonneg is None else nonneg
+    cones = ([clarabel.NonnegativeConeT(nonneg)] if nonneg else []) + \
+        [clarabel.SecondOrderConeT(dim)] * nc
     sol = clarabel.DefaultSolver(sp.triu(P, format="csc"), c, A, b, cones, settings).solve()
     status = str(sol.status)
     usable = status in ("Solved", "AlmostSolved", "MaxIterations", "InsufficientProgress")
-    return (np.asarray(sol.x) if usable else None), status, int(sol.iterations)
+    if status in ("DualInfeasible", "AlmostDualInfeasible"):   # x is then a ray: unbounded
+        return np.asarray(sol.x), None, "unbounded", int(sol.iterations)
+    if not usable:
+        return None, None, status, int(sol.iterations)
+    return np.asarray(sol.x), np.asarray(sol.z), status, int(sol.iterations)
 
 
-def _scs(P, c, A, b, nc, dim, tol, options):
+def _scs(P, c, A, b, nc, dim, tol, options, nonneg=None):
     import scs
 
     settings = {"verbose": False, "eps_abs": tol, "eps_rel": tol, "max_iters": 100_000}
     settings.update(options)
     data = {"P": sp.triu(P, format="csc"), "A": A, "b": b, "c": c}
     try:
-        sol = scs.SCS(data, {"l": nc, "q": [dim] * nc}, **settings).solve()
+        sol = scs.SCS(data, {"l": nc if nonneg is None else nonneg, "q": [dim] * nc},
+                      **settings).solve()
     except (TypeError, ValueError) as exc:   # an unknown setting
         raise InvalidOptionError(f"scs refused its settings: {exc}") from None
     status = str(sol["info"]["status"])
     usable = status in ("solved", "solved_inaccurate")
-    return (np.asarray(sol["x"]) if usable else None), status, int(sol["info"]["iter"])
+    if status in ("unbounded", "unbounded_inaccurate"):   # x is then a ray
+        return np.asarray(sol["x"]), None, "unbounded", int(sol["info"]["iter"])
+    if not usable:
+        return None, None, status, int(sol["info"]["iter"])
+    return np.asarray(sol["x"]), np.asarray(sol["y"]), status, int(sol["info"]["iter"])
 
 
-#: SOCP backends by name: (P, c, A, b, n_contacts, dim, tol, options) -> (r, status, iterations)
+#: SOCP backends by name: (P, c, A, b, n_contacts, dim, tol, options, nonneg=n_contacts) ->
+#: (x, the cone constraints' multipliers, status, iterations); ``nonneg`` nonnegative rows
+#: come before the n_contacts second-order cones of size dim.  Status "unbounded": x is the
+#: backend's ray (the objective decreases without bound along it), no multipliers.
 CONE_BACKENDS = {"clarabel": _clarabel, "scs": _scs}
 
 
@@ -102,6 +117,13 @@ class _Subproblem:
     """min ½ r'Wr + c'r over the cones of one method, solved by a named backend."""
 
     def __init__(self, problem, options):
+        self._backend(options)
+        self.problem = problem
+        self.P = sp.csc_matrix(problem.W)
+        self.P = 0.5 * (self.P + self.P.T)
+        self.size = problem.W.shape[0]
+
+    def _backend(self, options):
         backend = options.pop("backend", "clarabel")
         if backend not in CONE_BACKENDS:
             raise InvalidOptionError(f"unknown cone backend {backend!r}; choose from "
@@ -109,18 +131,15 @@ class _Subproblem:
         self.backend = backend
         self.backend_options = dict(options.pop("backend_options", {}) or {})
         self.inner_tol = float(options.pop("inner_tol", 1e-10))
-        self.problem = problem
-        self.P = sp.csc_matrix(problem.W)
-        self.P = 0.5 * (self.P + self.P.T)
         self.inner_iterations = 0
 
     def solve(self, c, tresca=None):
         p = self.problem
         A, b = _cone_rows(p.dim, p.mu, tresca)
-        r, status, its = CONE_BACKENDS[self.backend](
+        r, z, status, its = CONE_BACKENDS[self.backend](
             self.P, c, A, b, p.n_contacts, p.dim, self.inner_tol, self.backend_options)
         self.inner_iterations += its
-        return r, status
+        return (None if status == "unbounded" else r), status
 
 
 def _no_options_left(method, options):
@@ -139,7 +158,7 @@ def solve_anitescu(problem, tol, options):
         "inner_iterations": sub.inner_iterations, "backend": sub.backend}
 
 
-def _fixed_point(method, problem, tol, options, update):
+def _fixed_point(method, problem, tol, options, update, subproblem=None, measure=None):
     """Iterate r ← SOCP(update(r)) until both error measures are <= tol, or
     neither has improved for 5 iterations, or ``max_outer`` (default 100)
     iterations.  Returns the iterate with the smallest certified error (the
@@ -149,11 +168,13 @@ def _fixed_point(method, problem, tol, options, update):
     from .friction import componentwise_error, natural_map_error
 
     options = dict(options)
-    sub = _Subproblem(problem, options)
+    sub = (subproblem or _Subproblem)(problem, options)
+    measure = measure or (lambda r: (natural_map_error(problem, r),
+                                     componentwise_error(problem, r)))
     max_outer = int(options.pop("max_outer", 100))
     progress = options.pop("progress", None)
     _no_options_left(method, options)
-    r = np.zeros(problem.W.shape[0])
+    r = np.zeros(sub.size)
     best_key, best_r, lowest, since, errors = (np.inf, np.inf), None, [np.inf, np.inf], 0, []
     status = "not started"
     for k in range(1, max_outer + 1):
@@ -162,7 +183,7 @@ def _fixed_point(method, problem, tol, options, update):
         if r_new is None:
             break
         r = r_new
-        nat, cw = natural_map_error(problem, r), componentwise_error(problem, r)
+        nat, cw = measure(r)
         errors.append(max(nat, cw))
         if progress is not None:
             progress(f"{method}: iteration {k}: natural-map error {nat:.2e}, "
@@ -208,6 +229,157 @@ def solve_tresca_fp(problem, tol, options):
             return problem.q.copy(), None
         return problem.q.copy(), problem.mu * np.maximum(r[0::d], 0.0)
     return _fixed_point("tresca-fp", problem, tol, options, update)
+
+
+class _GlobalSubproblem(_Subproblem):
+    """De Saxcé's subproblem of a global problem, in the velocities v:
+
+        min ½ v'Mv − f'v   s.t.   D_i (H_i'v + w_i + s_i e_N) ∈ SOC(dim),
+
+    D_i = diag(1, μ_i, …) (so the constraint reads û_i ∈ K_i*).  Its
+    multipliers z_i give r_i = D_i z_i ∈ K_i and stationarity Mv = Hr + f, and
+    complementarity is û'r = 0: for s = μ‖u_T‖ its solution is Coulomb's.  M
+    may be singular (a mechanism without its contacts) wherever the contacts
+    bound the motion; W is never formed.  The iterate is x = (r, v)."""
+
+    def __init__(self, problem, options):
+        self._backend(options)
+        self.problem = problem
+        g, d = problem.global_data, problem.dim
+        self.P = 0.5 * (g["M"] + g["M"].T)
+        scale = np.ones(d * problem.n_contacts)
+        for t in range(1, d):
+            scale[t::d] = problem.mu
+        self.D = scale
+        self.A = -(sp.diags(scale) @ g["H"].T).tocsc()
+        self.m = d * problem.n_contacts
+        self.size = self.m + g["M"].shape[0]
+
+    def solve(self, shift, tresca=None):
+        p, g = self.problem, self.problem.global_data
+        b = self.D * (g["w"] + shift)
+        v, z, status, its = CONE_BACKENDS[self.backend](
+            self.P, -g["f"], self.A, b, p.n_contacts, p.dim, self.inner_tol,
+            self.backend_options, nonneg=0)
+        self.inner_iterations += its
+        if status == "unbounded":
+            self.ray = v
+        if v is None or z is None:
+            return None, status
+        return np.concatenate([self.D * z, v]), status
+
+
+def solve_desaxce_global(problem, tol, options):
+    """De Saxcé's fixed point on a global problem kept without W: each
+    iterate one SOCP in v (:class:`_GlobalSubproblem`), s = μ‖u_T‖ from the
+    last u = H'v + w.  Returns x = (r, v)."""
+    from .friction import global_errors
+
+    g, d = problem.global_data, problem.dim
+    m = d * problem.n_contacts
+
+    def update(x):
+        U = (np.asarray(g["H"].T @ x[m:]).ravel() + g["w"]).reshape(-1, d)
+        shift = np.zeros(m)
+        shift[0::d] = problem.mu * np.linalg.norm(U[:, 1:], axis=1)
+        return shift, None
+
+    def measure(x):
+        nat, cw, eq = global_errors(problem, x[:m], x[m:])
+        return nat, max(cw, eq)
+
+    made = []
+
+    def subproblem(problem, options):
+        made.append(_GlobalSubproblem(problem, options))
+        return made[-1]
+    x, status, message, stats = _fixed_point("desaxce-global", problem, tol, options, update,
+                                             subproblem, measure)
+    if x is not None and max(measure(x)) > tol:
+        polished = _polish_global(problem, x)
+        if polished is not None and max(measure(polished)) < max(measure(x)):
+            x = polished
+            message += "; polished by one linear solve on its contact states"
+    ray = getattr(made[0], "ray", None) if made else None
+    if x is None and ray is not None:
+        proof = no_equilibrium(problem, ray)
+        if proof is not None:
+            stats["ray"] = ray
+            message = proof
+    return x, status, message, stats
+
+
+def _polish_global(problem, x):
+    """An interior-point answer is accurate to the backend's tolerance (5e-7
+    in the equilibrium of a frame whose K spans 1e6…1e8); its contact states
+    are usually right.  Fix them and solve the square linear system exactly:
+    Mv − Hr = f; an open contact r_i = 0; a sticking one H_iᵀv + w_i = 0; a
+    sliding one H_Nᵀv + w_N = 0 and r_T = μ r_N t̂ (t̂ its current friction
+    direction).  None when that system is singular; the caller keeps
+    whichever point has the smaller error."""
+    g, d = problem.global_data, problem.dim
+    M, H, f, w, mu = g["M"], g["H"], g["f"], g["w"], problem.mu
+    n, m = M.shape[0], d * problem.n_contacts
+    r, v = x[:m].reshape(-1, d), x[m:]
+    U = (np.asarray(H.T @ v).ravel() + w).reshape(-1, d)
+    size = np.linalg.norm(r, axis=1)
+    big = size.max(initial=0.0)
+    t = np.linalg.norm(r[:, 1:], axis=1)
+    Ht = sp.csr_matrix(H.T)
+    rows = [sp.hstack([sp.csr_matrix(M), -sp.csr_matrix(H)])]
+    rhs = [f]
+    for i in range(problem.n_contacts):
+        block = slice(d * i, d * i + d)
+        if size[i] <= 1e-9 * big and U[i, 0] >= 0:            # open
+            rows.append(sp.hstack([sp.csr_matrix((d, n)), sp.eye(d, m, d * i)]))
+            rhs.append(np.zeros(d))
+        elif mu[i] > 0 and t[i] >= (1 - 1e-6) * mu[i] * r[i, 0] and t[i] > 0:   # sliding
+            rows.append(sp.hstack([Ht[d * i:d * i + 1], sp.csr_matrix((1, m))]))
+            rhs.append(-w[d * i:d * i + 1])
+            tangent = sp.lil_matrix((d - 1, m))
+            for k in range(1, d):
+                tangent[k - 1, d * i + k] = 1.0
+                tangent[k - 1, d * i] = -mu[i] * r[i, k] / t[i]
+            rows.append(sp.hstack([sp.csr_matrix((d - 1, n)), tangent]))
+            rhs.append(np.zeros(d - 1))
+        else:                                                   # sticking
+            rows.append(sp.hstack([Ht[block], sp.csr_matrix((d, m))]))
+            rhs.append(-w[block])
+    K = sp.vstack(rows).tocsc()
+    try:
+        lu = spla.splu(K)
+    except RuntimeError:
+        return None
+    y = lu.solve(np.concatenate(rhs))
+    y = y + lu.solve(np.concatenate(rhs) - K @ y)          # one step of refinement
+    if not np.all(np.isfinite(y)):
+        return None
+    return np.concatenate([y[n:], y[:n]])
+
+
+def no_equilibrium(problem, d) -> str | None:
+    """Check a ray d of De Saxcé's subproblem from the data: Md = 0, Hᵀd in
+    every contact's dual cone K_i* and fᵀd > 0 (each to rounding).  Then no
+    r in the cones balances the loads — for any v, Mv = Hr + f would give
+    0 = dᵀMv = (Hᵀd)·r + fᵀd > 0 — and the returned sentence says so; None
+    when d does not prove it."""
+    g, dim = problem.global_data, problem.dim
+    d = np.asarray(d, float)
+    if not np.all(np.isfinite(d)) or not np.abs(d).max(initial=0.0) > 0:
+        return None
+    d = d / np.abs(d).max()
+    Md, size = np.asarray(g["M"] @ d).ravel(), np.asarray(abs(g["M"]) @ np.abs(d)).ravel()
+    U = np.asarray(g["H"].T @ d).ravel().reshape(-1, dim)
+    slack = U[:, 0] - problem.mu * np.linalg.norm(U[:, 1:], axis=1)
+    work, work_size = float(g["f"] @ d), float(np.abs(g["f"]) @ np.abs(d))
+    rounding = 1e-9 * max(np.abs(U).max(initial=0.0), 1e-300)
+    if np.any(np.abs(Md) > 1e-9 * np.maximum(size, 1e-300)) or np.any(slack < -rounding) \
+            or not work > 1e-9 * work_size:
+        return None
+    return (f"no equilibrium exists: no contact forces within the friction cones balance the "
+            f"loads — the motion d (stats['ray']) has Md = 0, every contact admits it (Hᵀd in "
+            f"its dual cone: it opens or slides within the cone), and the loads do positive "
+            f"work fᵀd = {work:.3g} on it (checked from the data)")
 
 
 def _projection_jacobian(x, mu, dim):

@@ -323,14 +323,33 @@ def test_friction_problem_export_reproduces_the_frame_solution(H, stiffness, tmp
         np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-6 * np.abs(expected).max())
 
 
-def test_friction_problem_export_refuses_a_frame_that_is_a_mechanism_without_contacts():
-    fr = Frame()
-    fr.add_node("A", 0.0, 0.0)
-    fr.add_node("B", 4.0, 0.0)
-    fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4)
-    fr.add_support("A", fix=("ux", "uy"))
-    fr.add_contact("B", normal=(0.0, 1.0), friction=0.3)
-    fr.add_load("B", fy=-10.0)
-    assert fr.solve().ok
+def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_path):
+    """A beam pinned at A and resting on a frictional contact at B: K is
+    singular, so W does not exist.  The problem is kept global, survives
+    FCLIB, and the global method reproduces Frame.solve's contact forces;
+    with an elastic contact it cannot be exported (W would be needed)."""
+    from qpcontact.friction import solve_friction
+    from qpcontact.io import read_fclib, write_fclib
+
+    def frame(stiffness=None):
+        fr = Frame()
+        fr.add_node("A", 0.0, 0.0)
+        fr.add_node("B", 4.0, 0.0)
+        fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4)
+        fr.add_support("A", fix=("ux", "uy"))
+        fr.add_contact("B", normal=(0.0, 1.0), friction=0.3, stiffness=stiffness)
+        fr.add_load("B", fx=2.0, fy=-10.0)
+        return fr
+    fr = frame()
+    res = fr.solve()
+    assert res.ok, res.message
+    expected = np.array([[s.normal, s.tangential] for s in res.supports.values()]).ravel()
+    prob = fr.friction_problem()
+    assert not prob.is_reduced and "singular" in prob.global_data["unreduced_because"]
+    back = read_fclib(write_fclib(prob, tmp_path / "mechanism.hdf5"))
+    assert not back.is_reduced
+    sol = solve_friction(back, tol=1e-9)
+    assert sol.ok and sol.method == "desaxce-global", sol.message
+    np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-7 * np.abs(expected).max())
     with pytest.raises(InvalidProblemError, match="mechanism"):
-        fr.friction_problem()
+        frame(stiffness=1e6).friction_problem()

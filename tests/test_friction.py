@@ -325,3 +325,84 @@ def test_the_667_contact_granular_file_is_solved_by_auto():
     Every reaction here is ~1e-22: only the componentwise measure judges it."""
     p, s, _ = _solved_by_auto("fc2d_granularflowonwall_00667_00000.dat")
     assert s.componentwise_error <= 1e-8 and "lemke" not in s.stats.get("tried", [])
+
+
+# -- global problems kept without W ----------------------------------------------------
+
+A_HALF, H_LOW, WEIGHT, MU_BLOCK = 0.5, 0.2, 10.0, 0.5
+
+
+def _block(push, M=None, reduce=None):
+    """A rigid block (x, y, θ about its centre) on two frictional point
+    supports at (±0.5, −0.2), weight 10 N, pushed by ``push`` [N] along x.
+    Quasi-static with M = 0 by default: singular, W does not exist."""
+    import scipy.sparse as sp
+
+    cols = []
+    for px in (-A_HALF, A_HALF):
+        cols += [[0.0, 1.0, px], [1.0, 0.0, H_LOW]]   # normal (0, 1), tangent (1, 0) at (px, −h)
+    H = np.array(cols).T
+    M = np.zeros((3, 3)) if M is None else M
+    return FrictionProblem.global_problem(sp.csc_matrix(M), sp.csc_matrix(H),
+                                          [push, -WEIGHT, 0.0], np.zeros(4), [MU_BLOCK] * 2, 2,
+                                          reduce=reduce)
+
+
+def test_rigid_block_statics_by_the_global_method():
+    """M = 0: kept global.  Normal reactions from the moment balance by hand,
+    a(N₂ − N₁) = h P, N₁ + N₂ = W; the tangential split is not unique (only
+    its sum, −P, is): checked as equilibrium and each |T| <= μN."""
+    prob = _block(2.0)
+    assert not prob.is_reduced and prob.W is None
+    sol = solve_friction(prob, tol=1e-9)
+    assert sol.ok and sol.method == "desaxce-global", sol.message
+    N = np.array([WEIGHT / 2 - H_LOW * 2.0 / (2 * A_HALF), WEIGHT / 2 + H_LOW * 2.0 / (2 * A_HALF)])
+    np.testing.assert_allclose(sol.r[0::2], N, rtol=1e-9)
+    np.testing.assert_allclose(sol.r[1::2].sum(), -2.0, rtol=1e-9)
+    assert np.all(np.abs(sol.r[1::2]) <= MU_BLOCK * sol.r[0::2] * (1 + 1e-9))
+    assert sol.equilibrium_error <= 1e-9 and sol.v is not None
+
+
+def test_a_push_beyond_friction_is_proved_to_have_no_equilibrium():
+    """P = 6 N > μW = 5 N: no reactions in the cones balance the loads.  The
+    answer is "no_solution" with a ray d checked here: Md = 0, Hᵀd in each
+    contact's dual cone, fᵀd > 0."""
+    prob = _block(6.0)
+    sol = solve_friction(prob)
+    assert sol.status == "no_solution" and not sol.ok and sol.r is None
+    assert "no equilibrium exists" in sol.message
+    d = sol.stats["ray"]
+    g = prob.global_data
+    U = (g["H"].T @ d).reshape(-1, 2)
+    assert np.all(U[:, 0] >= MU_BLOCK * np.abs(U[:, 1]) - 1e-9 * np.abs(U).max())
+    assert g["f"] @ d > 0
+
+
+def test_reduced_and_unreduced_forms_agree_when_m_is_regular():
+    """M = 1e3 I: reduced by default, kept global with reduce=False; both
+    certified, with the same (unique) normal reactions, tangential sum and
+    motion v."""
+    M = 1e3 * np.eye(3)
+    local, kept = _block(2.0, M), _block(2.0, M, reduce=False)
+    assert local.is_reduced and not kept.is_reduced
+    a, b = solve_friction(local, tol=1e-9), solve_friction(kept, tol=1e-9)
+    assert a.ok and b.ok, (a.message, b.message)
+    np.testing.assert_allclose(b.r[0::2], a.r[0::2], rtol=1e-8)
+    np.testing.assert_allclose(b.r[1::2].sum(), a.r[1::2].sum(), rtol=1e-8)
+    v_local = local.global_velocity(a.r)     # 0 here: both contacts stick
+    free_scale = WEIGHT / 1e3                 # the motion the loads would cause unsupported
+    np.testing.assert_allclose(b.v, v_local, atol=1e-8 * free_scale)
+
+
+def test_unreduced_problems_name_what_solves_them():
+    prob = _block(2.0)
+    with pytest.raises(InvalidOptionError, match="kept without W.*desaxce-global"):
+        solve_friction(prob, "newton")
+    with pytest.raises(InvalidOptionError, match="without W"):
+        prob.velocities(np.zeros(4))
+    with pytest.raises(InvalidProblemError, match="cannot reduce.*singular"):
+        _block(2.0, reduce=True)
+    with pytest.raises(InvalidOptionError, match="local form"):
+        solve_friction(_block(2.0, 1e3 * np.eye(3)), "desaxce-global")
+    with pytest.raises(InvalidProblemError, match="symmetric"):
+        _block(2.0, np.triu(np.ones((3, 3))))

@@ -291,8 +291,10 @@ class Frame:
         contact, whose cone is its normal ray).  Quasi-static: "velocities"
         are displacements, units the frame's.  Elastic contacts add their
         flexibility 1/k to W's diagonal, so their problem is exported in local
-        form.  Raises InvalidProblemError when the frame without its contacts
-        is a mechanism: W = Hᵀ K⁻¹ H does not exist then."""
+        form.  A frame that is a mechanism without its contacts (K singular:
+        W = Hᵀ K⁻¹ H does not exist) is exported in global form, unreduced,
+        which solve_friction solves without W ("desaxce-global"); with elastic
+        contacts too it raises InvalidProblemError."""
         import scipy.sparse as sp
 
         from qpcontact.friction import FrictionProblem
@@ -319,6 +321,11 @@ class Frame:
                                               sp.csc_matrix(H[free]), f, w, mu, 2, name=name)
         flex = np.repeat([0.0 if c.stiffness is None else 1.0 / c.stiffness
                           for c in self.contacts], 2)
+        if np.any(flex > 0) and not prob.is_reduced:
+            raise InvalidProblemError(
+                "this frame is a mechanism without its contacts and has elastic contacts: their "
+                "flexibility enters W = Hᵀ K⁻¹ H, which does not exist; make the contacts rigid "
+                "or support the free motion to export it")
         if np.any(flex > 0):
             W = np.asarray(prob.W) + np.diag(flex)
             prob = FrictionProblem(W, prob.q, mu, 2, name=name + ", elastic contacts")
