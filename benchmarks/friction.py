@@ -40,6 +40,7 @@ METHODS = [
     ("desaxce-fp (scs)", "desaxce-fp", {"backend": "scs"}),
     ("tresca-fp", "tresca-fp", {}),
     ("newton", "newton", {}),
+    ("nsgs", "nsgs", {}),
     ("auto", "auto", {}),
 ]
 LEVELS = (1e-4, 1e-6, 1e-8)

@@ -395,6 +395,55 @@ def _solve_lemke(problem, tol, options):
     return r, sol.status, f"{cone}, Lemke {sol.status}", stats
 
 
+def _solve_nsgs(problem, tol, options):
+    """Nonsmooth Gauss–Seidel (Siconos's NSGS; :mod:`qpcontact._nsgs_kernels`):
+    sweeps over the contacts, each solving its local problem with the
+    others frozen — exactly in 2-D, by a local projected fixed point in 3-D.
+    Options: ``max_sweeps`` (10 000), ``check_every`` (10 sweeps between
+    error checks), ``r0``, ``local_rtol`` (1e-14), ``max_local`` (200
+    local iterations).  Stops when both error measures are <= tol, or
+    when the best error has not improved for 100 checks; returns the best
+    iterate.  No convergence guarantee (Coulomb friction is not a
+    minimisation): the certificate decides."""
+    from ._nsgs_kernels import sweeps
+
+    options = dict(options)
+    max_sweeps = int(options.pop("max_sweeps", 10_000))
+    every = max(1, int(options.pop("check_every", 10)))
+    local_rtol = float(options.pop("local_rtol", 1e-14))
+    max_local = int(options.pop("max_local", 200))
+    r0 = options.pop("r0", None)
+    if options:
+        raise InvalidOptionError(f"'nsgs' does not take {', '.join(sorted(options))}; its options "
+                                 "are max_sweeps, check_every, r0, local_rtol, max_local")
+    d, nc = problem.dim, problem.n_contacts
+    W = sp.csr_matrix(problem.W)
+    W.sort_indices()
+    blocks = np.empty((nc, d, d))
+    for i in range(nc):
+        blocks[i] = W[d * i:d * i + d, d * i:d * i + d].toarray()
+    r = np.zeros(d * nc) if r0 is None else np.array(r0, float).ravel()
+    if r.shape != (d * nc,):
+        raise InvalidOptionError(f"'nsgs': r0 must have {d * nc} entries; got {r.size}")
+    best, best_r, since, done = np.inf, r.copy(), 0, 0
+    while done < max_sweeps:
+        sweeps(W.indptr, W.indices.astype(np.int64), W.data, problem.q, problem.mu, d, r,
+               blocks, every, local_rtol, max_local)
+        done += every
+        err = certified_error(problem, r)
+        if err < best:
+            best, best_r, since = err, r.copy(), 0
+        else:
+            since += 1
+        if best <= tol or since >= 100 or not np.all(np.isfinite(r)):
+            break
+    why = ("reached the tolerance" if best <= tol else
+           "stalled (no better iterate in 100 checks)" if since >= 100 else
+           f"stopped at {max_sweeps} sweeps")
+    return best_r, "solved" if best <= tol else "stopped", \
+        f"NSGS {why} after {done} sweeps", {"iterations": done}
+
+
 def _cones(name):
     def run(problem, tol, options):
         from . import friction_cones
@@ -406,6 +455,7 @@ def _cones(name):
 #: methods by name: (problem, tol, options) -> (r or None, status, message, stats)
 FRICTION_METHODS = {
     "lemke": _solve_lemke,
+    "nsgs": _solve_nsgs,
     "anitescu": _cones("solve_anitescu"),
     "desaxce-fp": _cones("solve_desaxce_fp"),
     "tresca-fp": _cones("solve_tresca_fp"),
@@ -418,7 +468,8 @@ GLOBAL_METHODS = ("desaxce-global",)
 
 #: what "auto" tries, in order, per dimension: each answer is certified before
 #: the next is tried, and the first certified one is returned
-AUTO_CHAIN = {2: ("lemke", "desaxce-fp", "newton"), 3: ("desaxce-fp", "newton", "tresca-fp")}
+AUTO_CHAIN = {2: ("lemke", "nsgs", "desaxce-fp", "newton"),
+              3: ("desaxce-fp", "newton", "tresca-fp", "nsgs")}
 
 #: above this many contacts "auto" leaves Lemke out in 2-D: its pivots grow
 #: with the contacts (the 667-contact granular file: 44 000 pivots, 529 s,
@@ -438,10 +489,12 @@ def solve_friction(problem: FrictionProblem, method: str = "auto", tol: float = 
     ``"tresca-fp"`` (fixed points of SOCPs; options ``backend`` "clarabel" or
     "scs", ``backend_options``, ``inner_tol``, ``max_outer``, ``progress``).
     ``"newton"`` (semismooth Newton on the natural map, option ``r0``).
+    ``"nsgs"`` (nonsmooth Gauss–Seidel, Siconos's workhorse).
+    ``"desaxce-global"`` (global problems kept without W).
     ``"auto"``: in 2-D Lemke (up to ``LEMKE_AUTO_MAX_CONTACTS`` contacts),
-    then De Saxcé's fixed point and Newton from its best point; in 3-D De
-    Saxcé's fixed point, Newton, then Tresca's fixed point — each tried only
-    if the one before is not certified.  An answer above ``tol`` comes back with
+    NSGS, De Saxcé's fixed point, then Newton from the best point so far; in
+    3-D De Saxcé's fixed point, Newton, Tresca's fixed point, then NSGS —
+    each tried only if the one before is not certified.  An answer above ``tol`` comes back with
     status "inaccurate", never as solved."""
     if not isinstance(problem, FrictionProblem):
         raise InvalidProblemError(f"solve_friction takes a FrictionProblem; got "

@@ -137,7 +137,7 @@ def _one_contact(dim, a, mu=0.5):
 @pytest.mark.parametrize("a", [0.3, -0.3, 2.0, -2.0])
 def test_one_contact_sticking_and_sliding_by_hand(dim, a):
     p, r_hand = _one_contact(dim, a)
-    methods = ["lemke", "desaxce-fp", "tresca-fp", "newton", "auto"]
+    methods = ["lemke", "nsgs", "desaxce-fp", "tresca-fp", "newton", "auto"]
     for method in methods:
         s = solve_friction(p, method, tol=1e-9)
         assert s.ok, (method, s.message)
@@ -219,7 +219,9 @@ def test_cone_backends_and_options_are_checked():
     with pytest.raises(InvalidOptionError, match="facets"):
         solve_friction(p, "lemke", facets=2)
     with pytest.raises(InvalidOptionError, match="unknown friction method"):
-        solve_friction(p, "nsgs")
+        solve_friction(p, "pgs")
+    with pytest.raises(InvalidOptionError, match="'nsgs' does not take sweeps"):
+        solve_friction(p, "nsgs", sweeps=3)
 
 
 def test_auto_reports_what_it_tried_when_the_first_method_stalls():
@@ -406,3 +408,36 @@ def test_unreduced_problems_name_what_solves_them():
         solve_friction(_block(2.0, 1e3 * np.eye(3)), "desaxce-global")
     with pytest.raises(InvalidProblemError, match="symmetric"):
         _block(2.0, np.triu(np.ones((3, 3))))
+
+
+def test_too_many_contacts_keep_a_global_problem_unreduced(monkeypatch):
+    """Above DENSE_W_LIMIT local unknowns W would be dense and too large: the
+    problem stays global (the reason says so) and is solved without W to the
+    reduced form's normal reactions."""
+    import qpcontact.friction as friction
+
+    M = 1e3 * np.eye(3)
+    reference = solve_friction(_block(2.0, M), tol=1e-9)
+    monkeypatch.setattr(friction, "DENSE_W_LIMIT", 2)
+    prob = _block(2.0, M)
+    assert not prob.is_reduced and "dense" in prob.global_data["unreduced_because"]
+    sol = solve_friction(prob, tol=1e-9)
+    assert sol.ok, sol.message
+    np.testing.assert_allclose(sol.r[0::2], reference.r[0::2], rtol=1e-8)
+
+
+NSGS_SOLVES = ["FC2D_SliderCrankLagrangian00000.dat", "FrictionContactProblem00071.dat",
+               "fc2d_granularflowonwall_00667_00000.dat", "Capsules-i125-1213.hdf5",
+               "Box_Stacks-i0122-82-5.hdf5", "NESpheres_10_1.dat", "Rover1040.dat"]
+
+
+@needs_data
+@pytest.mark.parametrize("name", NSGS_SOLVES)
+def test_nsgs_solves_shared_problems_to_siconos_tolerance(name):
+    """Nonsmooth Gauss–Seidel (Siconos's workhorse) on 2-D and 3-D files:
+    certified at 1e-8, the answer checked by this file's own error function."""
+    p = _read(name)
+    s = solve_friction(p, "nsgs", tol=1e-8)
+    assert s.ok and s.method == "nsgs", s.message
+    W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
+    assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
