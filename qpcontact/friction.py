@@ -155,6 +155,27 @@ class FrictionProblem:
         prob.global_data = {"M": M, "H": H, "f": f, "w": w, "lu": lu}
         return prob
 
+    @classmethod
+    def frictionless(cls, lcp, dim: int = 2, *, name: str = ""):
+        """A normal-contact LCP (w = M z + q, M the symmetric Delassus
+        operator of the contacts: a drum step, a mechanism step's exact LCP)
+        as a frictional contact problem with μ = 0, for FCLIB export: W's
+        normal rows and columns are M, each tangent gets a unit diagonal
+        (any positive value: with μ = 0 the cone is the normal ray, so
+        r_T = 0 and u_T = 0), q's normal entries are the LCP's q."""
+        M = sp.csr_matrix(lcp.M.toarray() if hasattr(lcp.M, "toarray") else lcp.M)
+        nc = M.shape[0]
+        if nc and abs(M - M.T).max() > 1e-12 * abs(M).max():
+            raise InvalidProblemError("only a symmetric contact LCP (a Delassus operator) is a "
+                                      "frictionless contact problem; this M is not symmetric")
+        m = int(dim) * nc
+        normal = sp.csr_matrix((np.ones(nc), (np.arange(nc) * dim, np.arange(nc))),
+                               shape=(m, nc))
+        tangent = sp.diags(np.tile(np.r_[0.0, np.ones(dim - 1)], nc))
+        q = np.zeros(m)
+        q[0::dim] = lcp.q
+        return cls((normal @ M @ normal.T + tangent).tocsc(), q, np.zeros(nc), dim, name=name)
+
     @property
     def is_reduced(self) -> bool:
         """False for a global problem kept without W (see global_problem)."""

@@ -441,3 +441,29 @@ def test_nsgs_solves_shared_problems_to_siconos_tolerance(name):
     assert s.ok and s.method == "nsgs", s.message
     W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
     assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+
+
+def test_drum_and_mechanism_steps_export_as_frictionless_fclib_problems(tmp_path):
+    """A drum step's LCP and a mechanism step's exact LCP, exported through
+    FrictionProblem.frictionless and FCLIB, solved by solve_friction: the
+    same contact forces as the step's own certified solve, no friction."""
+    from formulations.drum import Drum, Log
+    from formulations.mechanisms import ramming_impact_step
+    from formulations.penalty import exact_lcp
+    from qpcontact.solve import solve
+
+    logs = [Log.from_wood(0.12, 1.2), Log.from_wood(0.18, 1.2)]
+    drum = Drum(logs, [0.002, 0.001], [-1.0, -1.5], effects=("gravity",))
+    kept = {}
+    drum.simulate(drum.contact_periods().min() / 40, 300,
+                  on_step=lambda n, lcp, sol: kept.setdefault("step", (lcp, sol))
+                  if sol.z.max() > 0 else None)
+    lcp_m = exact_lcp(ramming_impact_step())
+    cases = [kept["step"], (lcp_m, solve(lcp_m, "lemke"))]
+    for k, (lcp, sol) in enumerate(cases):
+        assert sol.ok and sol.z.max() > 0
+        prob = read_fclib(write_fclib(FrictionProblem.frictionless(lcp, 2), tmp_path / f"{k}.h5"))
+        fs = solve_friction(prob, tol=1e-10)
+        assert fs.ok, fs.message
+        np.testing.assert_allclose(fs.r[0::2], sol.z, rtol=1e-8, atol=1e-10 * sol.z.max())
+        assert np.all(fs.r[1::2] == 0) or np.abs(fs.r[1::2]).max() <= 1e-12 * sol.z.max()
