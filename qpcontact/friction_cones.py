@@ -304,8 +304,7 @@ def solve_desaxce_global(problem, tol, options):
     if x is None and ray is not None:
         proof = no_equilibrium(problem, ray)
         if proof is not None:
-            stats["ray"] = ray
-            message = proof
+            message, stats["ray"] = proof
     return x, status, message, stats
 
 
@@ -357,17 +356,19 @@ def _polish_global(problem, x):
     return np.concatenate([y[n:], y[:n]])
 
 
-def no_equilibrium(problem, d) -> str | None:
+def no_equilibrium(problem, d):
     """Check a ray d of De Saxcé's subproblem from the data: Md = 0, Hᵀd in
     every contact's dual cone K_i* and fᵀd > 0 (each to rounding).  Then no
     r in the cones balances the loads — for any v, Mv = Hr + f would give
-    0 = dᵀMv = (Hᵀd)·r + fᵀd > 0 — and the returned sentence says so; None
-    when d does not prove it."""
+    0 = dᵀMv = (Hᵀd)·r + fᵀd > 0.  Returns (the sentence that says so, the
+    checked d — scaled to max|d| = 1, entries below 1e-9 set to zero), or
+    None when d does not prove it."""
     g, dim = problem.global_data, problem.dim
     d = np.asarray(d, float)
     if not np.all(np.isfinite(d)) or not np.abs(d).max(initial=0.0) > 0:
         return None
     d = d / np.abs(d).max()
+    d[np.abs(d) < 1e-9] = 0.0     # an interior-point ray's noise; the checks below are on this d
     Md, size = np.asarray(g["M"] @ d).ravel(), np.asarray(abs(g["M"]) @ np.abs(d)).ravel()
     U = np.asarray(g["H"].T @ d).ravel().reshape(-1, dim)
     slack = U[:, 0] - problem.mu * np.linalg.norm(U[:, 1:], axis=1)
@@ -379,7 +380,7 @@ def no_equilibrium(problem, d) -> str | None:
     return (f"no equilibrium exists: no contact forces within the friction cones balance the "
             f"loads — the motion d (stats['ray']) has Md = 0, every contact admits it (Hᵀd in "
             f"its dual cone: it opens or slides within the cone), and the loads do positive "
-            f"work fᵀd = {work:.3g} on it (checked from the data)")
+            f"work fᵀd = {work:.3g} on it (checked from the data)"), d
 
 
 def _projection_jacobian(x, mu, dim):

@@ -467,3 +467,20 @@ def test_drum_and_mechanism_steps_export_as_frictionless_fclib_problems(tmp_path
         assert fs.ok, fs.message
         np.testing.assert_allclose(fs.r[0::2], sol.z, rtol=1e-8, atol=1e-10 * sol.z.max())
         assert np.all(fs.r[1::2] == 0) or np.abs(fs.r[1::2]).max() <= 1e-12 * sol.z.max()
+
+
+def test_a_load_on_a_free_motion_without_contacts_has_no_equilibrium():
+    """M = diag(1, 0), no contacts, f = (1, 1): the second coordinate is free
+    and loaded.  The ray, cleaned of the interior point's noise, is exactly
+    d = (0, 1) (Md = 0, fᵀd = 1)."""
+    import scipy.sparse as sp
+
+    prob = FrictionProblem.global_problem(sp.csc_matrix(np.diag([1.0, 0.0])),
+                                          sp.csc_matrix((2, 0)), [1.0, 1.0], np.zeros(0), [], 2)
+    sol = solve_friction(prob)
+    assert sol.status == "no_solution", sol.message
+    np.testing.assert_array_equal(sol.stats["ray"], [0.0, 1.0])
+    held = FrictionProblem.global_problem(sp.csc_matrix(np.diag([1.0, 0.0])),
+                                          sp.csc_matrix((2, 0)), [1.0, 0.0], np.zeros(0), [], 2)
+    sol = solve_friction(held, tol=1e-10)
+    assert sol.ok and abs(sol.v[0] - 1.0) < 1e-10, sol.message
