@@ -486,6 +486,7 @@ def summarize(rows: list[dict], time_limit: float = 10.0) -> dict:
             if np.isfinite(_f(r["exact_time"])):
                 ex[r["instance"]] = _f(r["exact_time"])
         out[form]["_exact_time"] = shgeom(list(ex.values())) if ex else np.nan
+        out[form]["_exact_count"] = len(ex)
         out[form]["_instances"] = len({r["instance"] for r in fr})
         out[form]["_not_applicable"] = sorted({r["method"] for r in fr if not _b(r["applicable"])})
     return out
@@ -514,7 +515,8 @@ def report(csv_path, out_dir=None, time_limit: float = 10.0) -> Path:
                   + ("exact pivoting oracle: none timed (friction: Lemke's exact LCP exists in "
                      "2-D only)." if np.isnan(levels["_exact_time"]) else
                      f"exact pivoting oracle: shifted geometric mean time "
-                     f"{levels['_exact_time'] * 1e3:.3f} ms.")
+                     f"{levels['_exact_time'] * 1e3:.3f} ms over the {levels['_exact_count']} "
+                     f"instance(s) that have one.")
                   + (f"  Not applicable somewhere: {', '.join(levels['_not_applicable'])}."
                      if levels["_not_applicable"] else ""), ""]
         for level in LADDER:
