@@ -25,9 +25,11 @@ __all__ = ["solve", "AUTO_ORDER"]
 #: DESIGN.md asks), then the QP backends in the order that reached "high"
 #: fastest in benchmarks/backends.py on this machine class (docs/backends.md).
 #: "auto" tries them in turn until one is certified.
+#: "enumeration" (n <= 16) follows Lemke: a general M's secondary ray proves
+#: nothing, and all 2^n bases of a small LCP cost at most about a second.
 #: Measured (docs/backends.md): PIQP reached "high" fastest at n = 100, 1000 and
 #: 20 000 but stops at ~2e-7 on degenerate problems, where polished OSQP is exact.
-AUTO_ORDER = ("energy", "bpp", "lemke", "piqp", "osqp", "clarabel", "daqp", "proxqp",
+AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel", "daqp", "proxqp",
               "highs", "quadprog", "scs", "cvxpy:CLARABEL")
 
 #: "auto" puts "ip-bpp" first for sparse SPD LCPs from this size on whose

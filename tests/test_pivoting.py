@@ -361,3 +361,36 @@ def test_lemke_on_nonsymmetric_p_matrices_with_spread_gaps(seed):
     q = w - M @ z
     sol = qpcontact.solve(LCP(M, q), method="lemke")
     assert sol.ok and planted_ok(sol.z, sol.w, z, w, rtol=1e-9), sol.message
+
+
+def test_enumeration_finds_what_lemke_misses_and_refuses_large_n():
+    """A solvable 12 x 12 LCP (the testing module's friction kind, seed 1604)
+    on which Lemke ends on a secondary ray with 31 covering vectors:
+    "enumeration" returns a certified basic solution, one of those the tests'
+    own enumeration lists; "auto" reaches it after Lemke.  Random small LCPs
+    with a P-matrix (unique solution) agree with the reference; n = 17 is
+    refused with the alternative named; an LCP without any solution is
+    proved infeasible."""
+    from qpcontact.testing.strategies import build_lcp
+
+    p = build_lcp("friction", 12, 1604).problem
+    assert qpcontact.solve(p, "lemke").status == "ray"
+    sol = qpcontact.solve(p, "enumeration")
+    assert sol.ok, sol.message
+    assert any(np.allclose(sol.z, z, atol=1e-9) for z in enumerate_lcp(p.M, p.q))
+    auto = qpcontact.solve(p, "auto")
+    assert auto.ok and auto.method == "enumeration", auto.message
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        A = rng.standard_normal((6, 6))
+        M = A @ A.T + 6 * np.eye(6) + 0.5 * rng.standard_normal((6, 6))   # P-matrix-ish: PD sym part
+        q = rng.standard_normal(6)
+        ref = enumerate_lcp(M, q)
+        assert len(ref) == 1
+        np.testing.assert_allclose(qpcontact.solve(LCP(M, q), "enumeration").z, ref[0], atol=1e-10)
+    with pytest.raises(qpcontact.InvalidProblemError, match="2\\^n.*lemke"):
+        qpcontact.solve(LCP(np.eye(17), -np.ones(17)), "enumeration")
+    # w = -z - 1 >= 0 has no z >= 0: enumeration exhausts its bases, and solve's
+    # proof step turns that into a Farkas certificate checked from the data
+    none = qpcontact.solve(LCP(np.array([[-1.0]]), np.array([-1.0])), "enumeration")
+    assert not none.ok and none.status == "infeasible" and "exhausted" in none.message

@@ -111,6 +111,9 @@ def test_cross_validate_requires_certified_answers():
 # infeasible as stored, feasible within rounding: "energy" certifies a point of
 # the nearby data, then the exact Farkas check turns it into "infeasible"
 @example(build_lcp("infeasible", 3, 890))
+# solvable, but Lemke ends on a secondary ray with 31 covering vectors: "auto"
+# must go on to "enumeration" (hypothesis found it on 2026-11-23)
+@example(build_lcp("friction", 12, 1604))
 def test_strategy_lcps_reach_their_built_in_status(case):
     sol = qpcontact.solve(case.problem, "auto")
     if case.status == "infeasible":

@@ -456,7 +456,7 @@ def run_lemke(problem, tol, options) -> MethodResult:
         why = (f"Lemke's method ended on a secondary ray with {len(tried)} covering vector(s); "
                "for this M that does not prove there is no solution (the feasible set is "
                f"{'nonempty' if feasible else 'of unknown emptiness'}); try other covering vectors "
-               "(option covering=) or an enumeration method")
+               "(option covering=) or 'enumeration' (n <= 16)")
     stats["proved_infeasible"] = feasible is False
     return MethodResult(x=None, status="ray", backend_status="ray", backend_message=why,
                         iterations=total, stats=stats)

@@ -6,6 +6,7 @@ from __future__ import annotations
 from . import Method, register
 from .bpp import run_bpp
 from .energy import run_energy
+from .enumeration import run_enumeration
 from .ip_bpp import run_ip_bpp
 from .lemke import run_lemke
 
@@ -27,3 +28,7 @@ def register_all() -> None:
     register(Method("lemke", run_lemke, takes="lcp", requires="any", accepts_sparse=False,
                     returns_duals=False, algorithm="complementary pivoting (Lemke)",
                     exact=True, family="pivoting", install=_INSTALL), replace=True)
+    register(Method("enumeration", run_enumeration, takes="lcp", requires="any",
+                    accepts_sparse=False, returns_duals=False,
+                    algorithm="complementary basis enumeration (n <= 16)", exact=True,
+                    family="pivoting", install=_INSTALL), replace=True)
