@@ -135,6 +135,9 @@ def _check_applicable(lcp: LCP, m: Method) -> None:
 
 
 def _applicable(problem, m: Method) -> bool:
+    if m.max_n is not None and (problem.n if isinstance(problem, LCP) else
+                                problem.P.shape[0]) > m.max_n:
+        return False
     if isinstance(problem, LCP):
         try:
             _check_applicable(problem, m)

@@ -57,6 +57,8 @@ class Method:
     constraints : {"any", "lower-bounds"}
         The QPs it takes: any, or only those whose sole constraints are lower
         bounds x_i >= l_i (an LCP's QP form, the mixed contact problem).
+    max_n : int or None
+        The largest problem it takes ("enumeration": 16), or None.
     """
 
     name: str
@@ -71,6 +73,7 @@ class Method:
     install: str
     available: bool = True
     constraints: str = "any"
+    max_n: int | None = None
 
     @property
     def needs_symmetric(self) -> bool:

@@ -6,7 +6,7 @@ from __future__ import annotations
 from . import Method, register
 from .bpp import run_bpp
 from .energy import run_energy
-from .enumeration import run_enumeration
+from .enumeration import ENUMERATION_MAX, run_enumeration
 from .ip_bpp import run_ip_bpp
 from .lemke import run_lemke
 
@@ -31,4 +31,4 @@ def register_all() -> None:
     register(Method("enumeration", run_enumeration, takes="lcp", requires="any",
                     accepts_sparse=False, returns_duals=False,
                     algorithm="complementary basis enumeration (n <= 16)", exact=True,
-                    family="pivoting", install=_INSTALL), replace=True)
+                    family="pivoting", install=_INSTALL, max_n=ENUMERATION_MAX), replace=True)
