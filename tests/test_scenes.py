@@ -216,7 +216,8 @@ def test_plot_command_draws_from_the_file_alone(tmp_path):
     ("pellets.toml", ("steps = 800", "steps = 500"), 500, ("reactions", "mu")),
 ], ids=["drum", "mechanism"])
 def test_kill_and_resume_is_bit_identical(tmp_path, example, edit, steps, must_hold):
-    """`qpcontact simulate` killed (SIGKILL) at random moments, three times,
+    """`qpcontact simulate` killed (SIGKILL) at random moments, three times
+    (each once its checkpoints pass a random step, then after a random delay),
     then resumed to the end: every array in the file equals an
     uninterrupted run's, bit for bit; after each kill the file is readable
     and holds a checkpoint."""
@@ -237,16 +238,24 @@ def test_kill_and_resume_is_bit_identical(tmp_path, example, edit, steps, must_h
     subprocess.run(cmd + ["--out", str(whole)], check=True, env=env, capture_output=True)
     rng = np.random.default_rng(7)
     killed_mid_run = 0
+
+    def completed():
+        with h5py.File(parts) as h:           # readable at every moment (atomic renames)
+            return int(h.attrs["completed_steps"])
     for attempt in range(3):
+        # killed once its checkpoints pass a random step of this attempt's third of
+        # the run: mid-run whatever the machine's speed or load (fixed sleeps landed
+        # after the end on a fast machine, before any checkpoint on a loaded one)
+        target = int(steps * (attempt + rng.uniform(0.2, 0.8)) / 3)
         proc = subprocess.Popen(cmd + ["--out", str(parts), "--resume"], env=env,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(rng.uniform(2.0, 4.5))
+        while proc.poll() is None and not (parts.exists() and completed() >= target):
+            time.sleep(0.01)
+        time.sleep(rng.uniform(0.0, 0.05))       # a random moment between checkpoints
         proc.send_signal(signal.SIGKILL)
         proc.wait()
         if parts.exists():
-            with h5py.File(parts) as h:           # readable after every kill
-                done = int(h.attrs["completed_steps"])
-            killed_mid_run += done < steps
+            killed_mid_run += completed() < steps
     assert killed_mid_run >= 1, "no kill landed mid-run: the test proved nothing"
     subprocess.run(cmd + ["--out", str(parts), "--resume"], check=True, env=env,
                    capture_output=True)
