@@ -214,7 +214,13 @@ def test_plot_command_draws_from_the_file_alone(tmp_path):
     ("drum.toml", ("steps = 5000", "steps = 8000"), 8000, ("forces", "energy/viscous")),
     # a mechanism on the shared contact stepper: (q, v) and the penalty mu in use
     ("pellets.toml", ("steps = 800", "steps = 500"), 500, ("reactions", "mu")),
-], ids=["drum", "mechanism"])
+    # a tree with compliant contacts: the automatic mu (c / 2 max|A|, A changing with
+    # the configuration) must be restored, not re-chosen, for the bits to agree
+    ("chain.toml", ('effects = ["gravity", "joint_damping"]',
+                    'effects = ["gravity", "joint_damping", "compliance"]\n'
+                    '[effect.compliance]\ncompliance = 1e-6\n#'), 1200,
+     ("reactions", "mu", "energy/kinetic")),
+], ids=["drum", "mechanism", "tree"])
 def test_kill_and_resume_is_bit_identical(tmp_path, example, edit, steps, must_hold):
     """`qpcontact simulate` killed (SIGKILL) at random moments, three times
     (each once its checkpoints pass a random step, then after a random delay),
