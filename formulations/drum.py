@@ -384,8 +384,7 @@ class Drum:
             if "iterations" in resume:
                 iterations[:n0 + 1] = resume["iterations"][:n0 + 1]
             viscous[:n0 + 1] = resume["energy/viscous"][:n0 + 1]
-            methods_used = [m.decode() if isinstance(m, bytes) else str(m)
-                            for m in resume["method"][1:n0 + 1]]
+            methods_used = list(resume["method"][1:n0 + 1])
             fallbacks = int(resume.get("fallbacks", 0))
             active = N[n0] > 0
             first = n0 + 1

@@ -96,8 +96,7 @@ class ContactSystem:
             Qs[k], Vs[k], Lam[k], Phis[k] = (resume[a][k] for a in ("q", "v", "reactions", "gaps"))
             mus[k], errors[k], iterations[k] = (resume[a][k] for a in
                                                 ("mu", "certificate_error", "iterations"))
-            methods[k] = [m.decode() if isinstance(m, bytes) else str(m)
-                          for m in resume["method"][k]]
+            methods[k] = resume["method"][k]
             if mu == "auto":
                 kept = [m for m in mus[1:n0 + 1] if np.isfinite(m) and m]
                 mu_now = kept[-1] if kept else mu

@@ -231,9 +231,14 @@ def natural_map_error(problem: FrictionProblem, r, u=None) -> float:
     None)."""
     r = np.asarray(r, float)
     u = problem.velocities(r) if u is None else np.asarray(u, float)
-    uhat = modified_velocity(u, problem.mu, problem.dim)
-    res = r - project_cone(r - uhat, problem.mu, problem.dim)
-    return float(np.linalg.norm(res) / (1.0 + np.linalg.norm(problem.q)))
+    return _natural_map(r, u, problem.mu, problem.dim, problem.q)
+
+
+def _natural_map(r, u, mu, d, offset) -> float:
+    """‖r − proj_K(r − û)‖ / (1 + ‖offset‖): q for a local problem, f for a
+    global one (Siconos's two normalizations)."""
+    res = r - project_cone(r - modified_velocity(u, mu, d), mu, d)
+    return float(np.linalg.norm(res) / (1.0 + np.linalg.norm(offset)))
 
 
 def modified_velocity(u, mu, dim) -> np.ndarray:
@@ -248,8 +253,11 @@ def contact_scales(problem: FrictionProblem) -> np.ndarray:
     """ρ_i = 1 / W_nn,i per contact (force per velocity): what turns a
     contact's velocity into a force on its own scale (a contact W says
     nothing about: 1 / the largest normal entry)."""
-    d = problem.dim
-    wn = np.abs(np.asarray(problem.W.diagonal(), dtype=float)[0::d])
+    return _scales(np.abs(np.asarray(problem.W.diagonal(), dtype=float)[0::problem.dim]))
+
+
+def _scales(wn) -> np.ndarray:
+    """1 / wn per contact, 1 / max(wn) where wn is 0 (1 if all are)."""
     fallback = 1.0 / wn.max() if wn.size and wn.max() > 0 else 1.0
     return np.where(wn > 0, 1.0 / np.where(wn > 0, wn, 1.0), fallback)
 
@@ -283,12 +291,16 @@ def _worst_contact(r, u, mu, d, rho, size) -> float:
 def contact_sizes(problem: FrictionProblem, r, rho=None) -> np.ndarray:
     """s_i = ‖r_i‖ + ρ_i(‖q_i‖ + ‖(|W||r|)_i‖), floored at eps · max_j s_j:
     the force scale each contact's residual is judged against."""
-    d = problem.dim
     rho = contact_scales(problem) if rho is None else rho
-    Wr = np.asarray(abs(problem.W) @ np.abs(r)).ravel()
-    size = (np.linalg.norm(np.reshape(r, (-1, d)), axis=1)
-            + rho * (np.linalg.norm(problem.q.reshape(-1, d), axis=1)
-                     + np.linalg.norm(Wr.reshape(-1, d), axis=1)))
+    return _sizes(r, rho, problem.q, np.asarray(abs(problem.W) @ np.abs(r)).ravel(),
+                  problem.dim)
+
+
+def _sizes(r, rho, offset, terms, d) -> np.ndarray:
+    """‖r_i‖ + ρ_i(‖offset_i‖ + ‖terms_i‖), floored at eps · the largest."""
+    def norms(x):
+        return np.linalg.norm(np.reshape(x, (-1, d)), axis=1)
+    size = norms(r) + rho * (norms(offset) + norms(terms))
     return np.maximum(size, np.finfo(float).eps * size.max(initial=0.0))
 
 
@@ -303,9 +315,7 @@ def global_errors(problem: FrictionProblem, r, v) -> tuple[float, float, float]:
     M, H, f, w = g["M"], g["H"], g["f"], g["w"]
     r, v = np.asarray(r, float), np.asarray(v, float)
     u = np.asarray(H.T @ v).ravel() + w
-    uhat = modified_velocity(u, problem.mu, d)
-    nat = float(np.linalg.norm(r - project_cone(r - uhat, problem.mu, d))
-                / (1.0 + np.linalg.norm(f)))
+    nat = _natural_map(r, u, problem.mu, d, f)
     eq = np.asarray(M @ v).ravel() - np.asarray(H @ r).ravel() - f
     eq_size = (np.asarray(abs(M) @ np.abs(v)).ravel() + np.asarray(abs(H) @ np.abs(r)).ravel()
                + np.abs(f))
@@ -316,14 +326,8 @@ def global_errors(problem: FrictionProblem, r, v) -> tuple[float, float, float]:
         return nat, 0.0, equilibrium
     dm = np.asarray(M.diagonal(), float)
     inv = np.where(dm > 0, 1.0 / np.where(dm > 0, dm, 1.0), 0.0)
-    wn = np.asarray((H.multiply(H)).T @ inv).ravel()[0::d]
-    rho = np.where(wn > 0, 1.0 / np.where(wn > 0, wn, 1.0),
-                   1.0 / wn.max() if wn.size and wn.max() > 0 else 1.0)
-    Hv = np.asarray(abs(H).T @ np.abs(v)).ravel()
-    size = (np.linalg.norm(r.reshape(-1, d), axis=1)
-            + rho * (np.linalg.norm(w.reshape(-1, d), axis=1)
-                     + np.linalg.norm(Hv.reshape(-1, d), axis=1)))
-    size = np.maximum(size, np.finfo(float).eps * size.max(initial=0.0))
+    rho = _scales(np.asarray((H.multiply(H)).T @ inv).ravel()[0::d])
+    size = _sizes(r, rho, w, np.asarray(abs(H).T @ np.abs(v)).ravel(), d)
     return nat, _worst_contact(r, u, problem.mu, d, rho, size), equilibrium
 
 
@@ -473,10 +477,11 @@ def _solve_nsgs(problem, tol, options):
     r = np.zeros(d * nc) if r0 is None else np.array(r0, float).ravel()
     if r.shape != (d * nc,):
         raise InvalidOptionError(f"'nsgs': r0 must have {d * nc} entries; got {r.size}")
+    indices = W.indices.astype(np.int64)
     best, best_r, since, done = np.inf, r.copy(), 0, 0
     while done < max_sweeps:
-        sweeps(W.indptr, W.indices.astype(np.int64), W.data, problem.q, problem.mu, d, r,
-               blocks, every, local_rtol, max_local)
+        sweeps(W.indptr, indices, W.data, problem.q, problem.mu, d, r, blocks, every,
+               local_rtol, max_local)
         done += every
         err = certified_error(problem, r)
         if err < best:

@@ -208,14 +208,17 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
         stats
 
 
-def solve_desaxce_fp(problem, tol, options):
-    d = problem.dim
+def _desaxce_shift(u, mu, d) -> np.ndarray:
+    """s with s_N,i = μ_i‖u_T,i‖ and zero tangents: De Saxcé's û − u."""
+    U = np.reshape(u, (-1, d))
+    shift = np.zeros(U.size)
+    shift[0::d] = mu * np.linalg.norm(U[:, 1:], axis=1)
+    return shift
 
+
+def solve_desaxce_fp(problem, tol, options):
     def update(r):
-        U = problem.velocities(r).reshape(-1, d)
-        c = problem.q.copy()
-        c[0::d] += problem.mu * np.linalg.norm(U[:, 1:], axis=1)
-        return c, None
+        return problem.q + _desaxce_shift(problem.velocities(r), problem.mu, problem.dim), None
     return _fixed_point("desaxce-fp", problem, tol, options, update)
 
 
@@ -279,10 +282,7 @@ def solve_desaxce_global(problem, tol, options):
     m = d * problem.n_contacts
 
     def update(x):
-        U = (np.asarray(g["H"].T @ x[m:]).ravel() + g["w"]).reshape(-1, d)
-        shift = np.zeros(m)
-        shift[0::d] = problem.mu * np.linalg.norm(U[:, 1:], axis=1)
-        return shift, None
+        return _desaxce_shift(np.asarray(g["H"].T @ x[m:]).ravel() + g["w"], problem.mu, d), None
 
     def measure(x):
         nat, cw, eq = global_errors(problem, x[:m], x[m:])

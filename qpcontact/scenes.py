@@ -336,7 +336,8 @@ def plot_results(path, out=None) -> list:
 
 def read_state(path, scene: Scene) -> dict:
     """What ``run(resume=...)`` continues from: the arrays of a results file
-    written by an interrupted run of the same scene, with ``completed``.
+    written by an interrupted run of the same scene (byte-string datasets as
+    lists of str), with ``completed``.
     Refuses a file written for another scene text (a changed scene would
     continue a different run)."""
     from ._files import open_hdf5
@@ -356,7 +357,10 @@ def read_state(path, scene: Scene) -> dict:
             import h5py
 
             if isinstance(obj, h5py.Dataset) and name != "scene":
-                state[name] = obj[()]
+                value = obj[()]
+                # byte strings (method names) come back as str, for every stepper
+                state[name] = ([b.decode() for b in value] if getattr(value, "dtype", None)
+                               is not None and value.dtype.kind == "S" else value)
         h.visititems(grab)
     return state
 

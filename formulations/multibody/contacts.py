@@ -193,7 +193,6 @@ class ContactTree(ModelContacts):
         self._q0 += list(q0)
         self._v0 += list(v0)
         self._damping += [0.0 if damping is None else float(damping)] * joint.nv
-        self._data = Data(self.model)
         return i
 
     def _body(self, name):
