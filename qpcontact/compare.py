@@ -293,14 +293,14 @@ _FRICTION_EXACT: dict = {}
 
 
 def _friction_exact(inst):
-    """Lemke on the exact 2-D LCP (up to 200 contacts), cached; 3-D has no
-    exact route (cones are not polyhedral)."""
-    from .friction import LEMKE_AUTO_MAX_CONTACTS, solve_friction
+    """Lemke on the exact 2-D LCP, cached; 3-D has no exact route (cones are
+    not polyhedral)."""
+    from .friction import solve_friction
 
     if inst.name not in _FRICTION_EXACT:
         p = inst.problem
         hit = (None, "", np.nan)
-        if p.dim == 2 and p.n_contacts <= LEMKE_AUTO_MAX_CONTACTS:
+        if p.dim == 2:
             t0 = time.perf_counter()
             sol = solve_friction(p, "lemke", tol=1e-10)
             if sol.ok:

@@ -1,0 +1,115 @@
+"""Lemke's sparse revised form (qpcontact.methods.lemke_sparse): the same
+pivots and answers as the dense form on the families the dense form is
+tested on, and LCPs beyond the dense limit.
+
+References from outside the code under test: solutions planted in the
+random problems, the literature's pivot counts (Murty, Fathi), exact-rational
+Lemke (tests/references.py), Siconos's LCP files, and "bpp"."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import qpcontact
+from qpcontact import LCP
+from qpcontact.io import read_siconos_lcp
+from qpcontact.testing import planted_ok, spread_lcp
+
+from .conftest import random_spd, random_spd_lcp, siconos_files
+from .references import exact_lemke_pivots, fathi_family, murty_family
+
+
+@pytest.fixture
+def sparse_form(monkeypatch):
+    """Every sparse LCP goes to the sparse form, however small."""
+    import importlib
+
+    monkeypatch.setattr(importlib.import_module("qpcontact.methods.lemke"), "SPARSE_FROM", 0)
+
+
+def _lemke(M, q):
+    return qpcontact.solve(LCP(sp.csc_matrix(M), q), method="lemke")
+
+
+@pytest.mark.parametrize("n", range(4, 11))
+def test_murty_and_fathi_pivot_counts(n, sparse_form):
+    """The sparse form follows the same path: Murty's family in exact
+    Lemke's pivot count, Fathi's in 2^n up to n = 7.  Beyond, Fathi's path
+    has ties that only the dense form's exact per-row scales see (module
+    docstring): a shorter path, the same solution e_1."""
+    M, q = murty_family(n)
+    sol = _lemke(M, q)
+    assert sol.ok and sol.iterations == exact_lemke_pivots(M, q)[1], sol.message
+    np.testing.assert_allclose(sol.z, np.eye(n)[-1], atol=1e-12)
+    M, q = fathi_family(n)
+    sol = _lemke(M, q)
+    assert sol.ok, sol.message
+    np.testing.assert_allclose(sol.z, np.eye(n)[0], atol=1e-10)
+    if n <= 7:
+        assert sol.iterations == 2 ** n
+
+
+@pytest.mark.parametrize("n,cond,seed", [(n, c, s) for n, c in ((20, 10.0), (60, 1e4), (40, 1e8))
+                                         for s in range(3)])
+def test_random_spd_planted_solutions(n, cond, seed, sparse_form):
+    lcp, z_star = random_spd_lcp(n, cond, seed, sparse=True)
+    sol = qpcontact.solve(lcp, method="lemke")
+    assert sol.ok, sol.message
+    np.testing.assert_allclose(sol.z, z_star, atol=1e-8 * max(1.0, cond * 1e-8))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_degenerate_and_nonsymmetric_problems(seed, sparse_form):
+    """z_i = w_i = 0 for a third of the indices with ties in q (no cycling),
+    then the same solution planted in M + a skew part (nonsymmetric)."""
+    rng = np.random.default_rng(seed)
+    n = 24
+    M = random_spd(n, 100.0, seed)
+    kind = rng.integers(0, 3, n)
+    z = np.where(kind == 0, 1.0, 0.0)
+    w = np.where(kind == 1, 1.0, 0.0)
+    sol = _lemke(M, w - M @ z)
+    assert sol.ok, sol.message
+    np.testing.assert_allclose(sol.z, z, atol=1e-10)
+    K = rng.standard_normal((n, n))
+    A = M + 0.3 * (K - K.T)
+    sol = _lemke(A, w - A @ z)
+    assert sol.ok, sol.message
+    np.testing.assert_allclose(sol.z, z, atol=1e-10)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_spread_gaps_and_touching_pairs(seed, sparse_form):
+    """Gaps over 1e0..1e12 and touching unloaded pairs, planted: equal
+    component by component (issue 14's family)."""
+    lcp, z, w = spread_lcp(seed, sparse=True)
+    sol = qpcontact.solve(lcp, method="lemke")
+    assert sol.ok and planted_ok(sol.z, sol.w, z, w, rtol=1e-9), sol.message
+
+
+@pytest.mark.parametrize("path", siconos_files(), ids=lambda p: p.name)
+def test_siconos_lcps_end_as_in_the_dense_form(path, siconos_dir, sparse_form, monkeypatch):
+    lcp = read_siconos_lcp(path)
+    sparse = qpcontact.solve(LCP(sp.csc_matrix(lcp.M), lcp.q), method="lemke")
+    monkeypatch.undo()
+    dense = qpcontact.solve(LCP(np.asarray(lcp.M.toarray() if sp.issparse(lcp.M) else lcp.M),
+                                lcp.q), method="lemke")
+    assert sparse.status == dense.status, (sparse.message, dense.message)
+    if dense.ok:
+        assert sparse.ok and sparse.certificate.siconos_error < 1e-10, sparse.message
+
+
+def test_beyond_the_dense_limit():
+    """An obstacle problem of 6000 unknowns (a sparse SPD stiffness): the
+    dense tableau would need 290 MB; the sparse form solves it, equal to
+    "bpp"'s answer."""
+    n = 6000
+    rng = np.random.default_rng(0)
+    M = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csc")
+    q = rng.standard_normal(n)
+    sol = qpcontact.solve(LCP(M, q), method="lemke")
+    ref = qpcontact.solve(LCP(M, q), method="bpp")
+    assert sol.ok and ref.ok, sol.message
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * np.abs(ref.z).max())
