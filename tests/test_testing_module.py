@@ -162,9 +162,14 @@ def test_plugin_parametrises_qp_method(pytester):
         def test_only_pivoting(qp_method):
             assert qpcontact.methods()[qp_method].family == "pivoting"
     """)
-    result = pytester.runpytest("-p", "no:xdist", "--qp-methods=lemke,osqp,bpp", "-v")
+    # In a subprocess: an in-process run restores sys.modules afterwards, and
+    # numba modules first imported inside it (numba.np.polynomial, loaded
+    # with a cached kernel) are then imported a second time by later tests in
+    # this worker, which numba refuses ("duplicate registration for
+    # PolynomialType": 29 failures under pytest -n 2 with some test orders).
+    result = pytester.runpytest_subprocess("-p", "no:xdist", "--qp-methods=lemke,osqp,bpp", "-v")
     result.assert_outcomes(passed=5)
     result.stdout.fnmatch_lines(["*test_solves?osqp?*PASSED*"])
-    bad = pytester.runpytest("-p", "no:xdist", "--qp-methods=lemkee")
+    bad = pytester.runpytest_subprocess("-p", "no:xdist", "--qp-methods=lemkee")
     assert bad.ret == pytest.ExitCode.USAGE_ERROR
     assert "Did you mean 'lemke'" in str(bad.stderr) + str(bad.stdout)
