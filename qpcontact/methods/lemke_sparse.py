@@ -7,7 +7,7 @@ B (columns of [I, -M, -d]) is never inverted: it is factorized by SuperLU and
 each pivot appends one eta column (product form, B_k = B_0 E_1 ... E_k), with
 a fresh factorization every REFACTOR_EVERY pivots.  Memory O(nnz(LU) + n k)
 instead of the dense tableau's n², so the 8080-unknown LCP of a 2020-contact
-granular file is solved in 5451 pivots (10 s) where the dense inverse
+granular file is solved in 5490 pivots (3 s) where the dense inverse
 (520 MB, 65 M flops a pivot) did not finish in 20 minutes.  The
 lexicographic tie-break needs rows of B⁻¹ only for tied rows: one transposed
 solve each.
@@ -22,19 +22,23 @@ basic values of -1e-5 to -2e-4).
 Tolerances: a ratio-test candidate needs a_i > PIVOT_RTOL max|a| (relative
 to the whole column: the dense form's per-row scales of B⁻¹ need the explicit
 inverse).  Ratios tie within 1e-12 of the minimum plus each row's own
-rounding, 1e-15 times its value's scale: that scale starts at |q_i|, grows by
-the pivots' max rule and is reset to |x_i| at every refactorization (values
-below 1e-13 of the scale are then exact zeros).  Measured on the 2020-contact
-file: a scale relative to max|x| made values of 1e-17 (q entries that are
-rounding residues, beside values of 0.1) tie with exact zeros, and pivots on
-them left w = -1e-17 on rows whose every term is zero; never resetting the
-max rule overestimated the scales, picked wrong rows among false ties, and
-ended after 2064 pivots on a point with LCP certificate 1.0.  The reset
-underestimates the rounding of values made by cancellation, so where the
-dense form breaks a tie lexicographically this form may take the smaller
-computed ratio: on Fathi's family it leaves the 2^n path from n = 8 on
-(ties the dense form breaks lexicographically are strict minima here) — to
-the same, certified, solution.
+rounding, 1e-15 times its value's scale, an estimate of (|B⁻¹||q|)_i: it
+starts at |q_i|, grows by the pivots' max rule, and is re-estimated at every
+refactorization from |x_i| and two solves with random signs
+(_rounding_scales); values below 1e-13 of it are then exact zeros.  What
+was measured on the way:
+
+- a tie window relative to max|x|: on the 2020-contact file, values of 1e-17
+  (q entries that are rounding residues, beside values of 0.1) tied with
+  exact zeros, and pivots on them left w = -1e-17 on rows whose every term
+  is zero;
+- never re-estimating (the max rule alone): overestimates, false ties, and
+  2064 pivots to a point with LCP certificate 1.0 on that file;
+- re-estimating as |x_i| alone: underestimates values made by cancellation,
+  so ties became strict minima — Fathi's family left its 2^n path from
+  n = 8 (to the same solution).  With the random-sign solves it follows
+  2^n up to n = 12 (as the dense form and exact arithmetic do).
+
 """
 
 from __future__ import annotations
@@ -127,6 +131,7 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutco
     # refactorization; row 1 is the kernel's basis-inverse scale, unused here
     scales = np.vstack([np.abs(x), np.ones(n)])
     ones = np.ones(n)
+    rng = np.random.default_rng(0)
 
     def pivot(a, r, entering):
         nonlocal x
@@ -174,7 +179,18 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutco
             F = _ProductFormBasis(columns, basis)
             x = F.solve(q)
             x[x < 1e-13 * scales[0]] = 0.0
-            scales[0] = x
+            scales[0] = _rounding_scales(F, x, q, rng)
+
+
+def _rounding_scales(F: _ProductFormBasis, x: np.ndarray, q: np.ndarray, rng) -> np.ndarray:
+    """Estimates of (|B⁻¹||q|)_i, the size of the terms basic value i is made
+    of: |x_i| and |B⁻¹(s ∘ |q|)|_i for two random sign vectors s — each the
+    sum of the same terms with random signs, so of the size of their ℓ2 norm
+    whatever cancels in x_i itself (two extra solves per refactorization)."""
+    est = np.abs(x)
+    for _ in range(2):
+        est = np.maximum(est, np.abs(F.solve(np.abs(q) * rng.choice([-1.0, 1.0], q.size))))
+    return est
 
 
 def _finish(columns, basis, q, n, pivots) -> LemkeOutcome:
