@@ -177,18 +177,40 @@ def lex_ratio_test(col: np.ndarray, rhs: np.ndarray, lex: np.ndarray, scales: Ro
         return int(ties[0]) if ties.size else None
     if prefer_row is not None and prefer_row in ties:
         return int(prefer_row)
-    V = lex[ties] / col[ties, None]
-    # A tie-break, not a sign test: rounding noise is relative to the whole
-    # block of tied rows (an exact 0 computed as 1e-18 must still tie with
-    # another 0).  Any tied row is a correct minimum ratio.
+    return int(ties[lex_smallest(lex[ties] / col[ties, None])])
+
+
+def ray_outcome(basis: np.ndarray, x: np.ndarray, col: np.ndarray, entering: int, pivots: int,
+                **extra) -> LemkeOutcome:
+    """A secondary ray: the point (z, z0) and the direction (dz, dz0) along
+    which raising the entering variable keeps every basic value >= 0
+    (x - t col, col = B⁻¹ times the entering column)."""
+    n = x.size
+    Z0 = 2 * n
+    v = np.zeros(2 * n + 1)
+    v[basis] = x
+    dv = np.zeros(2 * n + 1)
+    dv[basis] = -col
+    dv[entering] = 1.0
+    return LemkeOutcome("ray", None, (basis >= n) & (basis < Z0), pivots,
+                        ray={"z": v[n:Z0], "dz": dv[n:Z0], "z0": v[Z0], "dz0": dv[Z0],
+                             "entering": entering, **extra})
+
+
+def lex_smallest(V: np.ndarray) -> int:
+    """Index of the lexicographically smallest row of V, entries within
+    1e-10 of the block's largest magnitude counting as equal.  A tie-break,
+    not a sign test: rounding noise is relative to the whole block of tied
+    rows (an exact 0 computed as 1e-18 must still tie with another 0), and
+    any tied row is a correct minimum ratio."""
     floor = 1e-10 * max(float(np.max(np.abs(V))), 1e-300)
-    alive = np.arange(ties.size)
+    alive = np.arange(V.shape[0])
     for j in range(V.shape[1]):
         vals = V[alive, j]
         alive = alive[vals <= vals.min() + floor]
         if alive.size == 1:
             break
-    return int(ties[alive[0]])
+    return int(alive[0])
 
 
 def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutcome:
@@ -264,14 +286,7 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
             col_norm = col_norms[entering - n]
         r = lex_ratio_test(col, x, Binv, scales, col_norm, prefer_row=z0_row)
         if r is None:
-            v = np.zeros(2 * n + 1)
-            v[basis] = x
-            dv = np.zeros(2 * n + 1)
-            dv[basis] = -col
-            dv[entering] = 1.0
-            return LemkeOutcome("ray", None, (basis >= n) & (basis < Z0), pivots,
-                                ray={"z": v[n:Z0], "dz": dv[n:Z0], "z0": v[Z0], "dz0": dv[Z0],
-                                     "entering": entering, "anchors": scales.anchors})
+            return ray_outcome(basis, x, col, entering, pivots, anchors=scales.anchors)
         if pivots >= max_pivots:
             return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
         pivot(col, r)

@@ -50,7 +50,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ._pivot_kernels import ratio_ties, scales_pivot
-from .lemke import PIVOT_RTOL, REFACTOR_EVERY, LemkeOutcome
+from .lemke import PIVOT_RTOL, REFACTOR_EVERY, LemkeOutcome, lex_smallest, ray_outcome
 
 __all__ = ["sparse_lemke", "SingularBasis"]
 
@@ -103,14 +103,7 @@ def _lex_leaving(ties: np.ndarray, a: np.ndarray, F: _ProductFormBasis, prefer: 
         e = np.zeros(n)
         e[i] = 1.0
         V[k] = F.solve_t(e) / a[i]
-    floor = 1e-10 * max(float(np.max(np.abs(V))), 1e-300)
-    alive = np.arange(ties.size)
-    for j in range(n):
-        vals = V[alive, j]
-        alive = alive[vals <= vals.min() + floor]
-        if alive.size == 1:
-            break
-    return int(ties[alive[0]])
+    return int(ties[lex_smallest(V)])
 
 
 def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutcome:
@@ -158,14 +151,7 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutco
         # candidates a_i > PIVOT_RTOL max|a|; ratios tie within their rows' rounding
         ties = ratio_ties(a, x, scales[0], ones, float(np.max(np.abs(a))), PIVOT_RTOL)
         if ties.size == 0:
-            v = np.zeros(2 * n + 1)
-            v[basis] = x
-            dv = np.zeros(2 * n + 1)
-            dv[basis] = -a
-            dv[entering] = 1.0
-            return LemkeOutcome("ray", None, (basis >= n) & (basis < Z0), pivots,
-                                ray={"z": v[n:Z0], "dz": dv[n:Z0], "z0": v[Z0], "dz0": dv[Z0],
-                                     "entering": entering})
+            return ray_outcome(basis, x, a, entering, pivots)
         if pivots >= max_pivots:
             return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
         r = int(ties[0]) if ties.size == 1 else _lex_leaving(ties, a, F, z0_row)
