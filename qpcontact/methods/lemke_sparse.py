@@ -54,6 +54,9 @@ from .lemke import PIVOT_RTOL, REFACTOR_EVERY, LemkeOutcome, lex_smallest, ray_o
 
 __all__ = ["sparse_lemke", "SingularBasis"]
 
+#: Tied rows of B⁻¹ held at once by the lexicographic tie-break.
+LEX_BLOCK = 128
+
 
 class SingularBasis(Exception):
     """SuperLU found a basis singular (in exact arithmetic every basis Lemke
@@ -98,12 +101,23 @@ def _lex_leaving(ties: np.ndarray, a: np.ndarray, F: _ProductFormBasis, prefer: 
     if prefer is not None and prefer in ties:
         return int(prefer)
     n = a.size
-    V = np.empty((ties.size, n))
-    for k, i in enumerate(ties):
-        e = np.zeros(n)
-        e[i] = 1.0
-        V[k] = F.solve_t(e) / a[i]
-    return int(ties[lex_smallest(V)])
+    # in blocks, carrying the smallest row so far: memory LEX_BLOCK x n however
+    # many rows tie (up to 381 of 2668 on the 667-contact granular LCP)
+    best, best_row = None, None
+    for start in range(0, ties.size, LEX_BLOCK):
+        block = ties[start:start + LEX_BLOCK]
+        V = np.empty((block.size + (best is not None), n))
+        for k, i in enumerate(block):
+            e = np.zeros(n)
+            e[i] = 1.0
+            V[k] = F.solve_t(e) / a[i]
+        candidates = block
+        if best is not None:
+            V[-1] = best_row
+            candidates = np.append(block, best)
+        k = lex_smallest(V)
+        best, best_row = int(candidates[k]), V[k].copy()
+    return best
 
 
 def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutcome:
