@@ -417,7 +417,7 @@ def _solve_lemke(problem, tol, options):
     *polished*: entries below 1e-13 of the largest — the computed values of
     degenerate basic variables, zero in exact arithmetic — are set to zero,
     r_T is clipped to |r_T| <= μ r_N, and semismooth Newton starts there (on
-    that file: 2 iterations to 1e-16 in both measures).  The polished point
+    that file: one iteration to 2e-16 in both measures).  The polished point
     is kept only when its certificate is better; the message says so."""
     from .solve import solve
 
