@@ -536,7 +536,7 @@ AUTO_CHAIN = {2: ("lemke", "nsgs", "desaxce-fp", "newton"),
               3: ("desaxce-fp", "newton", "tresca-fp", "nsgs")}
 
 #: above this many contacts "auto" tries NSGS before Lemke in 2-D: Lemke's
-#: pivots grow with the contacts (the 2020-contact granular file: 5490
+#: pivots grow with the contacts (the 2020-contact granular file: 5461
 #: pivots, 4 s) while NSGS takes under a second where it converges
 LEMKE_FIRST_MAX_CONTACTS = 200
 

@@ -396,7 +396,7 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
 #: From this many unknowns a sparse M goes to the sparse revised form
 #: (:mod:`.lemke_sparse`); above DENSE_TABLEAU_LIMIT every M does.  Measured
 #: (benchmarks/lemke_sparse.py, membranes on k x k meshes): sparse / dense
-#: time 1.6 at n = 400, 0.57 at 900, 0.06 at 2500.
+#: time 1.8 at n = 400, 0.59 at 900, 0.07 at 2500.
 SPARSE_FROM = 700
 
 
