@@ -39,6 +39,8 @@ METHODS = [
     ("desaxce-fp", "desaxce-fp", {}),
     ("desaxce-fp (scs)", "desaxce-fp", {"backend": "scs"}),
     ("tresca-fp", "tresca-fp", {}),
+    ("desaxce-fp (osqp, 2-D)", "desaxce-fp", {"backend": "osqp"}),
+    ("tresca-fp (highs, 2-D)", "tresca-fp", {"backend": "highs"}),
     ("newton", "newton", {}),
     ("nsgs", "nsgs", {}),
     ("auto", "auto", {}),
@@ -137,6 +139,8 @@ def main(argv=None) -> int:
         for label, method, options in METHODS:
             if method == "lemke" and options.get("facets") and p.dim == 2:
                 continue   # a 2-D cone has two facets: the first row
+            if options.get("backend") not in (None, "clarabel", "scs") and p.dim != 2:
+                continue   # a QP backend takes only 2-D subproblems
             r = run_one(path, method, options, args.limit)
             r.update(problem=path.name, dim=p.dim, contacts=p.n_contacts, label=label)
             rows.append(r)

@@ -551,7 +551,8 @@ def solve_friction(problem: FrictionProblem, method: str = "auto", tol: float = 
     approximation whose error against the true cone is reported),
     ``"anitescu"`` (the convex relaxation, one SOCP), ``"desaxce-fp"`` and
     ``"tresca-fp"`` (fixed points of SOCPs; options ``backend`` "clarabel" or
-    "scs", ``backend_options``, ``inner_tol``, ``max_outer``, ``progress``).
+    "scs" — in 2-D, where the subproblems are QPs, any QP method such as
+    "osqp" —, ``backend_options``, ``inner_tol``, ``max_outer``, ``progress``).
     ``"newton"`` (semismooth Newton on the natural map, option ``r0``).
     ``"nsgs"`` (nonsmooth Gauss–Seidel, Siconos's workhorse).
     ``"desaxce-global"`` (global problems kept without W).

@@ -24,8 +24,11 @@ second-order-cone program (SOCP) that Clarabel and SCS accept directly:
 Units are the caller's: W in velocity per force (m/s/N or per impulse), q in
 velocity, r in force.  Each subproblem goes to a cone backend by name
 (:data:`CONE_BACKENDS`: ``"clarabel"`` (default) or ``"scs"``), one small
-function each, settings through ``backend_options``.  Nothing a backend
-reports is believed: the caller certifies r by the natural-map error.
+function each, settings through ``backend_options``.  In 2-D the cones are
+polyhedral and every subproblem is a QP: any QP method of
+:func:`qpcontact.solve` takes it (``backend="osqp"``, ``"daqp"``, ...).
+Nothing a backend reports is believed: the caller certifies r by the
+natural-map error.
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import InvalidOptionError
+from .errors import InvalidOptionError, NotConvexError
 
 __all__ = ["CONE_BACKENDS", "solve_anitescu", "solve_desaxce_fp", "solve_tresca_fp",
            "solve_desaxce_global", "no_equilibrium"]
@@ -113,21 +116,49 @@ def _scs(P, c, A, b, nc, dim, tol, options, nonneg=None):
 CONE_BACKENDS = {"clarabel": _clarabel, "scs": _scs}
 
 
-class _Subproblem:
-    """min ½ r'Wr + c'r over the cones of one method, solved by a named backend."""
+def _qp_method(name: str):
+    """The registered QP method called ``name`` (any constraints), or None."""
+    from .errors import UnknownMethodError
+    from .methods import get_method
 
-    def __init__(self, problem, options):
-        self._backend(options)
+    try:
+        m = get_method(name)    # BackendUnavailableError (with its pip command) goes up
+    except UnknownMethodError:
+        return None
+    return m.name if m.takes == "qp" and m.constraints == "any" else None
+
+
+class _Subproblem:
+    """min ½ r'Wr + c'r over the cones of one method, solved by a named backend.
+
+    In 2-D every cone is polyhedral — K = {|r_T| <= μ r_N}, Tresca's disc the
+    interval |r_T| <= g — so the subproblem is a QP, and any QP method of
+    :func:`qpcontact.solve` takes it (``backend="osqp"``, ``"proxqp"``,
+    ``"daqp"``, ``"cvxpy:OSQP"``, ...), each answer certified there as a QP
+    before the friction measures judge the iterate."""
+
+    def __init__(self, problem, options, qp_allowed: bool = True):
         self.problem = problem
+        self._backend(options, qp_allowed)
         self.P = sp.csc_matrix(problem.W)
         self.P = 0.5 * (self.P + self.P.T)
         self.size = problem.W.shape[0]
 
-    def _backend(self, options):
+    def _backend(self, options, qp_allowed: bool = True):
         backend = options.pop("backend", "clarabel")
+        self.qp = None
         if backend not in CONE_BACKENDS:
-            raise InvalidOptionError(f"unknown cone backend {backend!r}; choose from "
-                                     f"{', '.join(CONE_BACKENDS)}")
+            self.qp = _qp_method(backend) if isinstance(backend, str) else None
+            if self.qp is None:
+                raise InvalidOptionError(
+                    f"unknown cone backend {backend!r}; choose from {', '.join(CONE_BACKENDS)}"
+                    + (", or in 2-D any QP method of qpcontact.methods() (osqp, proxqp, daqp, "
+                       "...)" if qp_allowed else ""))
+            if not qp_allowed or self.problem.dim != 2:
+                raise InvalidOptionError(
+                    f"{backend!r} is a QP method: it takes the subproblems of local 2-D "
+                    "problems, whose cones are polyhedral; here they have second-order cones — "
+                    f"use {' or '.join(CONE_BACKENDS)}")
         self.backend = backend
         self.backend_options = dict(options.pop("backend_options", {}) or {})
         self.inner_tol = float(options.pop("inner_tol", 1e-10))
@@ -135,11 +166,46 @@ class _Subproblem:
 
     def solve(self, c, tresca=None):
         p = self.problem
+        if self.qp is not None:
+            return self._solve_qp(c, tresca)
         A, b = _cone_rows(p.dim, p.mu, tresca)
         r, z, status, its = CONE_BACKENDS[self.backend](
             self.P, c, A, b, p.n_contacts, p.dim, self.inner_tol, self.backend_options)
         self.inner_iterations += its
         return (None if status == "unbounded" else r), status
+
+    def _solve_qp(self, c, tresca):
+        """The 2-D subproblem as a qpsolvers.Problem: r_N >= 0 and either the
+        cone's two rows ∓r_T − μ r_N <= 0 or Tresca's bounds |r_T| <= g."""
+        import qpsolvers
+
+        from .solve import solve
+
+        p = self.problem
+        nc, m = p.n_contacts, self.size
+        normal, tangent = 2 * np.arange(nc), 2 * np.arange(nc) + 1
+        lb, ub = np.full(m, -np.inf), np.full(m, np.inf)
+        lb[normal] = 0.0
+        G = h = None
+        if tresca is None:
+            rows = np.repeat(np.arange(2 * nc), 2)
+            cols = np.stack([normal, tangent, normal, tangent], 1).ravel()
+            vals = np.stack([-p.mu, np.ones(nc), -p.mu, -np.ones(nc)], 1).ravel()
+            G = sp.csc_matrix((vals, (rows, cols)), shape=(2 * nc, m))
+            h = np.zeros(2 * nc)
+        else:
+            lb[tangent], ub[tangent] = -tresca, tresca
+        try:
+            sol = solve(qpsolvers.Problem(self.P, c, G, h, lb=lb, ub=ub), self.qp,
+                        accuracy=self.inner_tol, **self.backend_options)
+        except NotConvexError:
+            raise NotConvexError(
+                f"W is not positive semidefinite, so the subproblems are nonconvex QPs, which "
+                f"{self.backend!r} is not given (a file storing a singular W rounded to a few "
+                "digits is indefinite at that level); use a cone backend (clarabel, scs), "
+                "'nsgs' or 'lemke'") from None
+        self.inner_iterations += sol.iterations or 0
+        return (sol.x if sol.status != "unbounded" else None), sol.status
 
 
 def _no_options_left(method, options):
@@ -246,8 +312,8 @@ class _GlobalSubproblem(_Subproblem):
     bound the motion; W is never formed.  The iterate is x = (r, v)."""
 
     def __init__(self, problem, options):
-        self._backend(options)
         self.problem = problem
+        self._backend(options, qp_allowed=False)
         g, d = problem.global_data, problem.dim
         self.P = 0.5 * (g["M"] + g["M"].T)
         scale = np.ones(d * problem.n_contacts)

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from qpcontact.errors import InvalidOptionError, InvalidProblemError
+from qpcontact.errors import InvalidOptionError, InvalidProblemError, NotConvexError
 from qpcontact.friction import FrictionProblem, natural_map_error, project_cone, solve_friction
 from qpcontact.io import read_fclib, read_siconos_fc, write_fclib
 
@@ -145,6 +145,51 @@ def test_one_contact_sticking_and_sliding_by_hand(dim, a):
         assert s.ok, (method, s.message)
         np.testing.assert_allclose(s.r, r_hand, atol=1e-7, err_msg=method)
         assert _error_here(np.eye(dim), p.q, p.mu, s.r) <= 1e-9
+
+
+@pytest.mark.parametrize("backend", ["osqp", "proxqp", "daqp", "highs", "cvxpy:OSQP"])
+@pytest.mark.parametrize("a", [0.3, -2.0])
+def test_2d_fixed_points_on_any_qp_backend_by_hand(backend, a):
+    """In 2-D the subproblems are QPs (polyhedral cones, Tresca's interval):
+    De Saxcé's and Tresca's fixed points on QP backends, sticking and
+    sliding, against the hand solution."""
+    p, r_hand = _one_contact(2, a)
+    for method in ("desaxce-fp", "tresca-fp"):
+        s = solve_friction(p, method, tol=1e-8, backend=backend)
+        assert s.ok, (method, s.message)
+        np.testing.assert_allclose(s.r, r_hand, atol=1e-7, err_msg=method)
+        assert _error_here(np.eye(2), p.q, p.mu, s.r) <= 1e-8
+
+
+@needs_data
+@pytest.mark.parametrize("backend", ["osqp", "highs"])
+def test_2d_shared_problem_by_fixed_points_on_qp_backends(backend):
+    """89 contacts: De Saxcé's and Tresca's fixed points with each iteration
+    a QP (OSQP, HiGHS) certified at 1e-8 by this file's error function, and
+    near Lemke's exact answer."""
+    p = _read("FrictionContactProblem00071.dat")
+    exact = solve_friction(p, "lemke", tol=1e-10)
+    W = p.W.toarray()
+    for method in ("desaxce-fp", "tresca-fp"):
+        s = solve_friction(p, method, tol=1e-8, backend=backend)
+        assert s.ok, (method, s.message)
+        assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+        assert np.linalg.norm(s.r - exact.r) <= 1e-5 * np.linalg.norm(exact.r)
+
+
+def test_qp_backends_are_refused_where_the_cones_are_not_polyhedral():
+    p3, _ = _one_contact(3, 0.3)
+    with pytest.raises(InvalidOptionError, match="'osqp' is a QP method.*clarabel or scs"):
+        solve_friction(p3, "tresca-fp", backend="osqp")
+    with pytest.raises(InvalidOptionError, match="unknown cone backend 'lemke'"):
+        solve_friction(p3, "desaxce-fp", backend="lemke")     # an LCP method, not a QP one
+    block = FrictionProblem.global_problem(np.eye(2), np.eye(2), [0.0, -1.0], np.zeros(2),
+                                           [0.5], 2, reduce=False)
+    with pytest.raises(InvalidOptionError, match="QP method"):
+        solve_friction(block, "desaxce-global", backend="osqp")
+    indefinite = FrictionProblem(np.diag([1.0, -1e-9]), [-1.0, 0.1], [0.5], 2)
+    with pytest.raises(NotConvexError, match="W is not positive semidefinite.*nsgs"):
+        solve_friction(indefinite, "tresca-fp", backend="osqp")
 
 
 def test_anitescu_relaxation_is_exact_when_sticking_and_lifts_off_when_sliding():

@@ -398,17 +398,23 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
 #: (benchmarks/lemke_sparse.py, membranes on k x k meshes): sparse / dense
 #: time 1.8 at n = 400, 0.59 at 900, 0.07 at 2500.
 SPARSE_FROM = 700
+#: Up to this many unknowns an uncertified sparse-form answer is retried by
+#: the dense form (run_lemke).  Its cost bounds it: on the 4050-unknown LCP
+#: of Capsules-i101 faceted by 16 directions the sparse form ends in 1.2 s,
+#: the dense form in 31 s (then on a ray) — and with its 30 restarts it had
+#: run past 10 minutes; on n <= 100 it costs milliseconds.
+DENSE_FALLBACK_MAX = 2000
 
 
 def run_lemke(problem, tol, options) -> MethodResult:
     """The "lemke" method: the sparse form for a sparse M from SPARSE_FROM
     unknowns and any M above DENSE_TABLEAU_LIMIT, the dense form otherwise.
-    Where the sparse form's answer misses tol and the dense form can run
-    (n <= DENSE_TABLEAU_LIMIT), the dense form runs too and the better
-    certified answer is returned: its exact per-row scales decide ties that
-    the sparse form's estimates miss on badly scaled data (qpcontact stress's
-    LCP families, n <= 100, forced sparse: 2 of 390 certified by the dense
-    form only, both with gaps over 1e0..1e12)."""
+    Where the sparse form's answer misses tol and n <= DENSE_FALLBACK_MAX,
+    the dense form runs too (one covering vector) and the better certified
+    answer is returned: its exact per-row scales decide ties that the sparse
+    form's estimates miss on badly scaled data (qpcontact stress's LCP
+    families, n <= 100, forced sparse: 2 of 390 certified by the dense form
+    only, both with gaps over 1e0..1e12)."""
     from ..accuracy import DEFAULT_CERTIFY_TOL
     from ..certify import certify_lcp
 
@@ -418,9 +424,9 @@ def run_lemke(problem, tol, options) -> MethodResult:
         return _run_lemke(problem, options, sparse=False)
     res = _run_lemke(problem, options, sparse=True)
     tol = DEFAULT_CERTIFY_TOL if tol is None else tol
-    if n > DENSE_TABLEAU_LIMIT or (res.x is not None and certify_lcp(problem, res.x).error <= tol):
+    if n > DENSE_FALLBACK_MAX or (res.x is not None and certify_lcp(problem, res.x).error <= tol):
         return res
-    dense = _run_lemke(problem, options, sparse=False)
+    dense = _run_lemke(problem, dict(options, restarts=0), sparse=False)
     dense.iterations = (dense.iterations or 0) + (res.iterations or 0)
     dense.stats["sparse_form"] = {"status": res.status or res.backend_status,
                                   "pivots": res.iterations}
