@@ -433,14 +433,17 @@ def _solve_lemke(problem, tol, options):
     r[0::problem.dim] = sol.z[:nc]
     cone = "exact 2-D LCP" if problem.dim == 2 else f"{facets}-faceted cone"
     message = f"{cone}, Lemke: {sol.iterations} pivots, LCP certificate {sol.certificate.error:.1e}"
-    if problem.dim == 2 and certified_error(problem, r) > tol:
-        r, message = _polished(problem, r, tol, message, stats)
+    if problem.dim == 2:
+        before = certified_error(problem, r)
+        if before > tol:
+            r, message = _polished(problem, r, before, tol, message, stats)
     return r, "solved", message, stats
 
 
-def _polished(problem, r, tol, message, stats):
-    """A 2-D basic solution polished by Newton from its purified point
-    (see _solve_lemke); the better-certified of the two."""
+def _polished(problem, r, before, tol, message, stats):
+    """A 2-D basic solution (certified error ``before``) polished by Newton
+    from its purified point (see _solve_lemke); the better-certified of the
+    two."""
     from .friction_cones import solve_natural_newton
 
     start = r.copy()
@@ -448,7 +451,6 @@ def _polished(problem, r, tol, message, stats):
     bound = problem.mu * start[0::2]
     start[1::2] = np.clip(start[1::2], -bound, bound)
     rn, _, _, nstats = solve_natural_newton(problem, tol, {"r0": start})
-    before = certified_error(problem, r)
     after = certified_error(problem, rn) if rn is not None else np.inf
     stats["polish_iterations"] = nstats.get("iterations")
     if after < before:

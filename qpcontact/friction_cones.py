@@ -33,6 +33,8 @@ natural-map error.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -174,6 +176,17 @@ class _Subproblem:
         self.inner_iterations += its
         return (None if status == "unbounded" else r), status
 
+    @cached_property
+    def _cone_rows_2d(self) -> sp.csc_matrix:
+        """G with G r <= 0 the 2-D cones: ∓r_T − μ r_N <= 0, two rows a contact."""
+        p = self.problem
+        nc = p.n_contacts
+        normal, tangent = 2 * np.arange(nc), 2 * np.arange(nc) + 1
+        rows = np.repeat(np.arange(2 * nc), 2)
+        cols = np.stack([normal, tangent, normal, tangent], 1).ravel()
+        vals = np.stack([-p.mu, np.ones(nc), -p.mu, -np.ones(nc)], 1).ravel()
+        return sp.csc_matrix((vals, (rows, cols)), shape=(2 * nc, self.size))
+
     def _solve_qp(self, c, tresca):
         """The 2-D subproblem as a qpsolvers.Problem: r_N >= 0 and either the
         cone's two rows ∓r_T − μ r_N <= 0 or Tresca's bounds |r_T| <= g."""
@@ -188,11 +201,7 @@ class _Subproblem:
         lb[normal] = 0.0
         G = h = None
         if tresca is None:
-            rows = np.repeat(np.arange(2 * nc), 2)
-            cols = np.stack([normal, tangent, normal, tangent], 1).ravel()
-            vals = np.stack([-p.mu, np.ones(nc), -p.mu, -np.ones(nc)], 1).ravel()
-            G = sp.csc_matrix((vals, (rows, cols)), shape=(2 * nc, m))
-            h = np.zeros(2 * nc)
+            G, h = self._cone_rows_2d, np.zeros(2 * nc)
         else:
             lb[tangent], ub[tangent] = -tresca, tresca
         try:

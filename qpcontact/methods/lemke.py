@@ -423,15 +423,17 @@ def run_lemke(problem, tol, options) -> MethodResult:
     if not (n > DENSE_TABLEAU_LIMIT or (problem.is_sparse and n >= SPARSE_FROM)):
         return _run_lemke(problem, options, sparse=False)
     res = _run_lemke(problem, options, sparse=True)
+    if n > DENSE_FALLBACK_MAX:
+        return res
     tol = DEFAULT_CERTIFY_TOL if tol is None else tol
-    if n > DENSE_FALLBACK_MAX or (res.x is not None and certify_lcp(problem, res.x).error <= tol):
+    error = certify_lcp(problem, res.x).error if res.x is not None else np.inf
+    if error <= tol:
         return res
     dense = _run_lemke(problem, dict(options, restarts=0), sparse=False)
     dense.iterations = (dense.iterations or 0) + (res.iterations or 0)
     dense.stats["sparse_form"] = {"status": res.status or res.backend_status,
                                   "pivots": res.iterations}
-    if dense.x is None or (res.x is not None and certify_lcp(problem, res.x).error
-                           <= certify_lcp(problem, dense.x).error):
+    if dense.x is None or error <= certify_lcp(problem, dense.x).error:
         res.stats["dense_form_tried"] = True
         return res
     return dense

@@ -23,10 +23,10 @@ Tolerances: a ratio-test candidate needs a_i > PIVOT_RTOL max|a| (relative
 to the whole column: the dense form's per-row scales of B⁻¹ need the explicit
 inverse).  Ratios tie within 1e-12 of the minimum plus each row's own
 rounding, 1e-15 times its value's scale, an estimate of (|B⁻¹||q|)_i: it
-starts at |q_i|, grows by the pivots' max rule, and is re-estimated at every
-refactorization from |x_i| and two solves with random signs
-(_rounding_scales); values below 1e-13 of it are then exact zeros.  What
-was measured on the way:
+starts at |q_i| and grows by the pivots' max rule; at every
+refactorization the fresh values below 1e-13 of it become exact zeros, and
+it is then re-estimated from |x_i| and two solves with random signs
+(_rounding_scales).  What was measured on the way:
 
 - a tie window relative to max|x|: on the 2020-contact file, values of 1e-17
   (q entries that are rounding residues, beside values of 0.1) tied with
@@ -140,7 +140,7 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutco
     F = _ProductFormBasis(columns, basis)
     x = np.array(q, dtype=float)
     # row 0: each basic value's rounding scale, (|B⁻¹||q|)_i for B = I, then
-    # grown by the pivots' max rule (RowScales) and reset to |x| at every
+    # grown by the pivots' max rule (RowScales) and re-estimated at every
     # refactorization; row 1 is the kernel's basis-inverse scale, unused here
     scales = np.vstack([np.abs(x), np.ones(n)])
     ones = np.ones(n)
