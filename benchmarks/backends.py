@@ -32,7 +32,7 @@ import scipy.sparse as sp  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 
 import qpcontact  # noqa: E402
-from qpcontact.plotting import save_figure  # noqa: E402
+from qpcontact.plots.figures import save_figure  # noqa: E402
 from qpcontact import LCP  # noqa: E402
 
 

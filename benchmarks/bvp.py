@@ -25,7 +25,7 @@ from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from formulations import rods  # noqa: E402
-from qpcontact.plotting import save_figure  # noqa: E402
+from qpcontact.plots.figures import save_figure  # noqa: E402
 
 ALPHAS = (1.0, 10.0, 100.0, 1e3, 1e4)
 

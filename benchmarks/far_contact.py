@@ -28,8 +28,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import qpcontact  # noqa: E402
-from qpcontact.errors import QpcontactError  # noqa: E402
-from qpcontact.progress import ProgressBar  # noqa: E402
+from qpcontact.core.errors import QpcontactError  # noqa: E402
+from qpcontact.core.progress import ProgressBar  # noqa: E402
 from qpcontact.testing import far_contact_lcp, planted_ok  # noqa: E402
 
 

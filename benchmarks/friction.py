@@ -50,8 +50,8 @@ LARGE = ("fc2d_granularflowonwall_00667_00000.dat", "fc2d_granularflowonwall_020
 
 
 def job(path, method, options):
-    from qpcontact.errors import QpcontactError
-    from qpcontact.friction import solve_friction
+    from qpcontact.core.errors import QpcontactError
+    from qpcontact.friction.problem import solve_friction
     from qpcontact.io import read_problem
 
     p = read_problem(path)
@@ -69,7 +69,7 @@ def job(path, method, options):
 def run_one(path, method, options, limit):
     """``job`` in a child process killed at ``limit`` seconds (qpcontact's
     own isolation, which also survives a crashing backend)."""
-    from qpcontact.isolation import call_isolated
+    from qpcontact.dispatch.isolation import call_isolated
 
     t = time.perf_counter()
     out = call_isolated(job, (path, method, options), limit)
@@ -92,7 +92,7 @@ def profile(rows, labels, path):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from qpcontact.plotting import save_figure
+    from qpcontact.plots.figures import save_figure
 
     problems = sorted({r["problem"] for r in rows})
     T = np.full((len(problems), len(labels)), np.inf)
@@ -165,7 +165,7 @@ def main(argv=None) -> int:
               f" | {np.median(its) if its else float('nan'):.0f} |")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    from qpcontact._files import write_csv_atomic
+    from qpcontact.core.files import write_csv_atomic
 
     write_csv_atomic(out / "friction.csv", rows, ["problem", "dim", "contacts", "label", "time",
                                                   "error", "siconos_error", "status",

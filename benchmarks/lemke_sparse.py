@@ -39,7 +39,7 @@ from qpcontact import LCP  # noqa: E402
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "siconos-fc"
 FRICTION = ["FrictionContactProblem00071.dat", "fc2d_granularflowonwall_00667_00000.dat",
             "fc2d_granularflowonwall_02020_00213.dat"]
-LEMKE = importlib.import_module("qpcontact.methods.lemke")
+LEMKE = importlib.import_module("qpcontact.solvers.pivoting.lemke")
 
 
 def membrane(k: int, seed: int = 0) -> LCP:
@@ -72,7 +72,7 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     cases = [(f"membrane {k}x{k}", membrane(int(k))) for k in args.mesh.split(",")]
     if args.friction and DATA.is_dir():
-        from qpcontact.friction import fc2d_lcp
+        from qpcontact.friction.problem import fc2d_lcp
         from qpcontact.io import read_problem
 
         cases += [(name.split(".")[0], fc2d_lcp(read_problem(DATA / name))) for name in FRICTION]

@@ -246,7 +246,7 @@ def main(argv=None):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from qpcontact.plotting import save_figure
+        from qpcontact.plots.figures import save_figure
         fig, ax = plt.subplots(figsize=(7.5, 5))
         for c in cands:
             pts = sorted((r["N"], r["time"]) for r in results if r["name"] == c and np.isfinite(r["time"]))

@@ -37,9 +37,9 @@ import scipy.sparse as sp  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import qpcontact  # noqa: E402
-from qpcontact.plotting import save_figure  # noqa: E402
+from qpcontact.plots.figures import save_figure  # noqa: E402
 from backends import banded_spd_lcp, dense_spd_lcp  # noqa: E402
-from qpcontact.problems import bandwidth  # noqa: E402
+from qpcontact.core.problems import bandwidth  # noqa: E402
 
 
 def timed(fn, repeats):

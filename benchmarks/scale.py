@@ -179,7 +179,7 @@ def main(argv=None) -> int:
               f"{fmt(r['method_vs_ldlt'], '.1f')} | {fmt(r['vs_backend'], '.2f')} | {fmt(r['peak_mb'], '.0f')} |")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    from qpcontact._files import write_csv_atomic
+    from qpcontact.core.files import write_csv_atomic
 
     write_csv_atomic(out / "scale.csv", rows,
                      ["family", "size", "n", "method", "time", "ok", "status", "iterations",
@@ -195,7 +195,7 @@ def _plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from qpcontact.plotting import save_figure
+    from qpcontact.plots.figures import save_figure
 
     families = sorted({r["family"] for r in rows})
     colour = {m: f"C{k}" for k, m in enumerate(sorted({r["method"] for r in rows}))}

@@ -19,7 +19,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from formulations.drum import ten_log_scene  # noqa: E402
-from qpcontact.plotting import save_figure  # noqa: E402
+from qpcontact.plots.figures import save_figure  # noqa: E402
 
 
 def save_atomic(fig, path):

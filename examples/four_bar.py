@@ -61,7 +61,7 @@ def main(argv=None):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from qpcontact.plotting import save_figure
+        from qpcontact.plots.figures import save_figure
         fig, ax = plt.subplots(figsize=(7.5, 4.5))
         for name, tr in runs.items():
             ax.semilogy(tr.t, np.maximum(tr.constraint, 1e-16), label=name)

@@ -88,10 +88,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from qpcontact.errors import InvalidOptionError, InvalidProblemError
-from qpcontact.problems import LCP, as_vector
-from qpcontact.progress import StepReporter
-from qpcontact.solve import solve
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
+from qpcontact.core.problems import LCP, as_vector
+from qpcontact.core.progress import StepReporter
+from qpcontact.dispatch.driver import solve
 
 __all__ = ["Log", "Drum", "DrumResult", "DrumSummary", "StepSizeWarning", "EFFECTS",
            "log_mass", "log_half_stiffness", "damping_from_ratio",
@@ -462,7 +462,7 @@ def _g_times(N: np.ndarray) -> np.ndarray:
 
 
 def _step_failed(n, sol):
-    from qpcontact.errors import SolverFailedError
+    from qpcontact.core.errors import SolverFailedError
 
     return SolverFailedError(
         f"drum step {n}: no method returned a certified contact force ({sol.message}); "
@@ -624,7 +624,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     100 or 1000 logs (size small/medium/large); "hard" mixes 0.05-0.30 m logs
     on an elastic shell with damping.  Names say what they are:
     ``drum/stack-100-hard/step-30``; the contact forces are z."""
-    from qpcontact.compare import Instance
+    from qpcontact.commands.compare import Instance
 
     L = {"small": 10, "medium": 100, "large": 1000}[size]
     rng = np.random.default_rng(seed)
@@ -693,7 +693,7 @@ def _scene_plot(h, out) -> list:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from qpcontact.plotting import save_figure
+    from qpcontact.plots.figures import save_figure
 
     t_ms = 1e3 * h["t"][()]
     N = h["forces"][()]
@@ -737,7 +737,7 @@ def _scene_summary(result) -> dict:
 
 
 def _scene_schema():
-    from qpcontact.scenes import Field, SceneSchema
+    from qpcontact.scenes.schema import Field, SceneSchema
 
     return SceneSchema(
         formulation="drum",

@@ -50,7 +50,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from qpcontact.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError
 
 from . import multibody as mb
 from .multibody.contacts import Contact, ModelContacts, world_point
@@ -380,7 +380,7 @@ def _scene_build(scene):
 
 
 def _scene_schema():
-    from qpcontact.scenes import Field, SceneSchema
+    from qpcontact.scenes.schema import Field, SceneSchema
 
     xy = "m (x, y in the body's frame, or the world's for the ground)"
     return SceneSchema(

@@ -47,8 +47,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from qpcontact.errors import InvalidProblemError
-from qpcontact.problems import LCP
+from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.problems import LCP
 
 __all__ = ["laplacian", "membrane", "plate", "signorini", "instances"]
 
@@ -216,7 +216,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     """``qpcontact compare`` instances: membrane, plate and the 3-D block at
     three sizes ("hard": degenerate obstacle problems, stiffness scaled by
     1e9 against loads of order 1)."""
-    from qpcontact.compare import Instance
+    from qpcontact.commands.compare import Instance
 
     nm, npl, nb = _SIZES[size]
     if hardness == "hard":

@@ -69,10 +69,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from qpsolvers import Problem
 
-from qpcontact.certify import certify_lcp
-from qpcontact.errors import InvalidOptionError, InvalidProblemError, NotConvexError
-from qpcontact.problems import LCP, _MatrixStructure, as_matrix, as_vector
-from qpcontact.solve import solve
+from qpcontact.judge.certify import certify_lcp
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, NotConvexError
+from qpcontact.core.problems import LCP, _MatrixStructure, as_matrix, as_vector
+from qpcontact.dispatch.driver import solve
 
 __all__ = ["PenaltyStep", "PenaltyResult", "penalty_qp", "exact_lcp", "gauss_qp",
            "mu_threshold", "solve_penalty", "random_step", "REGULARIZATION", "MU_SINGULAR_COND"]
@@ -285,7 +285,7 @@ def solve_penalty(step: PenaltyStep, mu="auto", *, method: str = "auto", accurac
     works (W numerically singular first, or a backend that cannot reach the
     accuracy) the result is flagged, never silently wrong.
     """
-    from qpcontact.accuracy import resolve_accuracy
+    from qpcontact.core.accuracy import resolve_accuracy
 
     _, tol = resolve_accuracy(accuracy)
     if step.nu == 0:
@@ -327,7 +327,7 @@ def demo(console) -> int:
 
     from rich.table import Table
 
-    from qpcontact.methods import methods
+    from qpcontact.solvers.registry import methods
 
     from .mechanisms import ramming_impact_step
 
@@ -374,7 +374,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     of freedom and 4, 20, 60 contacts; "easy" at mu = 10 x the KKT threshold
     (at least 1), "hard" at mu = 1e6 (the ill-conditioned end of the window).
     Named ``penalty/ramming/mu=1e+06``."""
-    from qpcontact.compare import Instance
+    from qpcontact.commands.compare import Instance
 
     from .mechanisms import ramming_impact_step
 

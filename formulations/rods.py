@@ -98,12 +98,12 @@ def column(alpha: float, *, ends: str = "clamped-free", nodes: int = 81, tol: fl
     critical load from the buckling mode and continued in α.  Returns
     (BVPResult at α, the continuation path)."""
     if ends not in _ENDS:
-        from qpcontact.errors import InvalidOptionError
+        from qpcontact.core.errors import InvalidOptionError
 
         raise InvalidOptionError(f"ends must be one of {list(_ENDS)}, not {ends!r}")
     bc, a_cr, a0, mode = _ENDS[ends]
     if not alpha > a_cr:
-        from qpcontact.errors import InvalidOptionError
+        from qpcontact.core.errors import InvalidOptionError
 
         raise InvalidOptionError(f"alpha = {alpha} is below the Euler load {a_cr:.6g}: the straight "
                                  "column is the only equilibrium")
@@ -269,7 +269,7 @@ def _park_march(mesh, Y0, position, t_end, h, order, tol, step_problem,
     history term (rows as r); ``on_step(step, n_steps, Y)`` after each step.
     The rod rests before t = 0 (constant history)."""
     if order not in _PARK:
-        from qpcontact.errors import InvalidOptionError
+        from qpcontact.core.errors import InvalidOptionError
 
         raise InvalidOptionError(f"order must be 1, 2 or 3 (BDF1, BDF2, Park); got {order}")
     a = np.array(_PARK[order])
@@ -439,7 +439,7 @@ def _pulse(value, until, scale, T0):
 
 
 def _rod_build(scene):
-    from qpcontact.errors import SolverFailedError
+    from qpcontact.core.errors import SolverFailedError
 
     d, eff = scene.data, scene.effect_params
     rod, init, time_ = d["rod"], d["initial"], d["time"]
@@ -465,7 +465,7 @@ def _rod_build(scene):
              "extensibility": beta}
 
     def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
-        from qpcontact.progress import ProgressBar
+        from qpcontact.core.progress import ProgressBar
 
         if resume is not None:
             scene.fail("--resume is not supported for rod scenes (the march's state is its "
@@ -532,7 +532,7 @@ def _rod_plot(h, out) -> list:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from qpcontact.plotting import save_figure
+    from qpcontact.plots.figures import save_figure
 
     t = h["t"][()]
     x, y, tip = h["x"][()], h["y"][()], h["tip"][()]
@@ -564,7 +564,7 @@ def _rod_plot(h, out) -> list:
 
 
 def _rod_schema():
-    from qpcontact.scenes import Field, SceneSchema
+    from qpcontact.scenes.schema import Field, SceneSchema
 
     until = Field("float", "s", "the load acts while t < until (default: always)")
     return SceneSchema(

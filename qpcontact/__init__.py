@@ -9,16 +9,16 @@ Quick start::
     sol.z, sol.ok, sol.certificate.error
 """
 
-from .accuracy import LEVELS
-from .certify import LCPCertificate, QPCertificate, certify
-from .conversions import DualLCP, qp_to_lcp
-from .errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
-                     NoSolutionError, NotConvexError, NotSymmetricError, QpcontactError,
-                     SolverFailedError, UnknownMethodError)
-from .methods import Method, all_methods, get_method, methods, register
-from .problems import LCP, ParametricLCP
-from .solution import LCPSolution, MethodResult, QPSolution, Solution
-from .solve import solve
+from .core.accuracy import LEVELS
+from .judge.certify import LCPCertificate, QPCertificate, certify
+from .core.conversions import DualLCP, qp_to_lcp
+from .core.errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
+                          NoSolutionError, NotConvexError, NotSymmetricError, QpcontactError,
+                          SolverFailedError, UnknownMethodError)
+from .solvers.registry import Method, all_methods, get_method, methods, register
+from .core.problems import LCP, ParametricLCP
+from .core.results import LCPSolution, MethodResult, QPSolution, Solution
+from .dispatch.driver import solve
 
 __version__ = "0.1.0"
 

@@ -11,9 +11,9 @@ import pytest
 
 import qpcontact
 from qpcontact import LCP, InvalidOptionError, InvalidProblemError, NoSolutionError
-from qpcontact.errors import NotConvexError
+from qpcontact.core.errors import NotConvexError
 from qpcontact.io import read_siconos_lcp
-from qpcontact.methods import _REGISTRY, get_method
+from qpcontact.solvers.registry import _REGISTRY, get_method
 
 
 def test_ragged_matrix_is_an_invalid_problem():

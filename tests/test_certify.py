@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from qpcontact import LCP, InvalidProblemError, certify
+from qpcontact import LCP, InvalidProblemError
+from qpcontact import certify
 
 # Murty (1988) p. 2: M = [[2, 1], [1, 2]], q = (-5, -6), z = (4/3, 7/3), w = 0.
 MURTY = LCP([[2.0, 1.0], [1.0, 2.0]], [-5.0, -6.0])

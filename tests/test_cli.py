@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typer.testing import CliRunner
 
-from qpcontact.cli import app
+from qpcontact.commands.cli import app
 
 runner = CliRunner()
 
@@ -40,7 +40,7 @@ def test_solve_friction_files(tmp_path):
     then the same through a Siconos .dat file when the collection is here."""
     import numpy as np
 
-    from qpcontact.friction import FrictionProblem
+    from qpcontact.friction.problem import FrictionProblem
     from qpcontact.io import write_fclib
 
     # one contact, W = I, q = (-1, 2, 0), mu = 0.5: it slides with r = (1, -0.5, 0)

@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 
 import qpcontact
-from qpcontact import LCP, compare
-from qpcontact.methods import _REGISTRY
-from qpcontact.paper_examples import p0_examples
+from qpcontact import LCP
+from qpcontact.commands import compare
+from qpcontact.solvers.registry import _REGISTRY
+from qpcontact.cases.paper import p0_examples
 
 from .conftest import random_spd_lcp
 
@@ -150,7 +151,7 @@ def test_friction_collection_in_the_sweep(tmp_path):
     success is the natural-map error at the level's tolerance, recomputed here."""
     import numpy as np
 
-    from qpcontact.friction import FrictionProblem, natural_map_error
+    from qpcontact.friction.problem import FrictionProblem, natural_map_error
 
     def one(a):
         return compare.Instance(f"friction/one-{a}", "friction", "3D",

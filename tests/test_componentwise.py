@@ -15,7 +15,8 @@ import pytest
 from qpsolvers import Problem
 
 import qpcontact
-from qpcontact import LCP, NotConvexError, NotSymmetricError, certify
+from qpcontact import LCP, NotConvexError, NotSymmetricError
+from qpcontact import certify
 from qpcontact.testing import far_contact_lcp, planted_ok, random_spd
 
 from .references import exact_basic_solution
@@ -117,7 +118,7 @@ def test_qp_far_constraint_does_not_hide_a_violated_near_one():
 def test_idle_row_noise_is_not_an_error_but_a_violation_is():
     """P0 example 3 has an idle row (q_4 = 0, z_3 = z_4 = 0 at the solution): a
     point correct to 1e-24 there is certified; a gap violated by 1e-3 is not."""
-    from qpcontact.paper_examples import p0_examples
+    from qpcontact.cases.paper import p0_examples
 
     ex = p0_examples()[2]
     assert ex.lcp.q[3] == 0 and ex.z[2] == ex.z[3] == 0

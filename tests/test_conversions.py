@@ -8,8 +8,8 @@ from qpsolvers import Problem
 
 import qpcontact
 from qpcontact.testing import assert_qp_kkt
-from qpcontact import (LCP, InvalidProblemError, NotConvexError, NotSymmetricError,
-                       certify, qp_to_lcp)
+from qpcontact import LCP, InvalidProblemError, NotConvexError, NotSymmetricError, qp_to_lcp
+from qpcontact import certify
 
 
 def test_to_qp_refuses_nonsymmetric_and_names_lemke():

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from formulations.frames import Frame
-from qpcontact.errors import InvalidOptionError, InvalidProblemError, NoSolutionError, \
-    SolverFailedError
+from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
+                                   SolverFailedError)
 from tests.test_frames import _beam_solve
 
 E, A, I = 2e8, 0.01, 1e-4   # kN/m², m², m⁴
@@ -386,7 +386,7 @@ def test_moment_labels_do_not_overprint(monkeypatch):
     print on top of it (checked on the rendered boxes)."""
     import matplotlib
     matplotlib.use("Agg")
-    import qpcontact.plotting
+    import qpcontact.plots.figures
 
     fr = Frame(units=("kN", "m"))
     n = 40
@@ -403,7 +403,7 @@ def test_moment_labels_do_not_overprint(monkeypatch):
     res = fr.solve(combination={"D": 1.0})
     assert res.ok and any(s.state == "separated" for s in res.supports.values())
     figs = []
-    monkeypatch.setattr(qpcontact.plotting, "save_figure", lambda fig, path: figs.append(fig))
+    monkeypatch.setattr(qpcontact.plots.figures, "save_figure", lambda fig, path: figs.append(fig))
     res.plot("unused.png")
     fig = figs[0]
     fig.canvas.draw()

@@ -17,8 +17,8 @@ import pytest
 
 from formulations.frames import Frame, portal_example as _portal
 from qpcontact import ParametricLCP
-from qpcontact.certify import certify_lcp
-from qpcontact.errors import InvalidProblemError, NoSolutionError, QpcontactError
+from qpcontact.judge.certify import certify_lcp
+from qpcontact.core.errors import InvalidProblemError, NoSolutionError, QpcontactError
 
 
 def _cantilever():

@@ -308,7 +308,7 @@ def test_friction_problem_export_reproduces_the_frame_solution(H, stiffness, tmp
     to FCLIB and read back, solved by solve_friction (Lemke's exact LCP and
     the cone methods): the same contact forces as Frame.solve, sticking and
     sliding, rigid and elastic contacts."""
-    from qpcontact.friction import solve_friction
+    from qpcontact.friction.problem import solve_friction
     from qpcontact.io import read_fclib, write_fclib
 
     fr = _cantilever_with_two_contacts(False, gap=1e-4, stiffness=stiffness)
@@ -328,7 +328,7 @@ def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_
     singular, so W does not exist.  The problem is kept global, survives
     FCLIB, and the global method reproduces Frame.solve's contact forces;
     with an elastic contact it cannot be exported (W would be needed)."""
-    from qpcontact.friction import solve_friction
+    from qpcontact.friction.problem import solve_friction
     from qpcontact.io import read_fclib, write_fclib
 
     def frame(stiffness=None):

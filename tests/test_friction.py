@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from qpcontact.errors import InvalidOptionError, InvalidProblemError, NotConvexError
-from qpcontact.friction import FrictionProblem, natural_map_error, project_cone, solve_friction
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, NotConvexError
+from qpcontact.friction.problem import (FrictionProblem, natural_map_error, project_cone,
+                                        solve_friction)
 from qpcontact.io import read_fclib, read_siconos_fc, write_fclib
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "siconos-fc"
@@ -332,7 +333,7 @@ def test_componentwise_error_sees_what_the_siconos_measure_hides():
     exact reaction is r = (1, 0, 0).  A 1 % force error moves u by 1e-7 only:
     Siconos's measure (divided by 1 + ‖q‖ ~ 1) is 1e-7, the componentwise one
     0.01 / (1.01 + 1e5 (1e-5 + 1.01e-5)) = 3.31e-3 (by hand)."""
-    from qpcontact.friction import componentwise_error
+    from qpcontact.friction.problem import componentwise_error
 
     p = FrictionProblem(1e-5 * np.eye(3), [-1e-5, 0.0, 0.0], [0.3], 3)
     wrong = np.array([1.01, 0.0, 0.0])
@@ -461,7 +462,7 @@ def test_too_many_contacts_keep_a_global_problem_unreduced(monkeypatch):
     """Above DENSE_W_LIMIT local unknowns W would be dense and too large: the
     problem stays global (the reason says so) and is solved without W to the
     reduced form's normal reactions."""
-    import qpcontact.friction as friction
+    import qpcontact.friction.problem as friction
 
     M = 1e3 * np.eye(3)
     reference = solve_friction(_block(2.0, M), tol=1e-9)
@@ -497,7 +498,7 @@ def test_drum_and_mechanism_steps_export_as_frictionless_fclib_problems(tmp_path
     from formulations.drum import Drum, Log
     from formulations.mechanisms import ramming_impact_step
     from formulations.penalty import exact_lcp
-    from qpcontact.solve import solve
+    from qpcontact.dispatch.driver import solve
 
     logs = [Log.from_wood(0.12, 1.2), Log.from_wood(0.18, 1.2)]
     drum = Drum(logs, [0.002, 0.001], [-1.0, -1.5], effects=("gravity",))
@@ -559,7 +560,7 @@ def test_a_basic_solution_at_rounding_level_contacts_is_polished():
     misses the componentwise one at those contacts, and the message says it
     was polished.  Without the polish (its Newton stubbed out) the answer is
     reported inaccurate, not passed."""
-    import qpcontact.friction_cones as cones
+    import qpcontact.friction.cones as cones
 
     p = _read("fc2d_granularflowonwall_02020_00213.dat")
     s = solve_friction(p, "lemke", tol=1e-8)

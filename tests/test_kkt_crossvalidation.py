@@ -34,7 +34,7 @@ import scipy.sparse as sp
 
 import qpcontact
 from qpcontact.io import read_siconos_lcp
-from qpcontact.paper_examples import p0_examples
+from qpcontact.cases.paper import p0_examples
 from qpcontact.testing import assert_lcp_solution, cross_validate
 
 from .conftest import random_spd_lcp

@@ -26,7 +26,7 @@ def sparse_form(monkeypatch):
     """Every sparse LCP goes to the sparse form, however small."""
     import importlib
 
-    monkeypatch.setattr(importlib.import_module("qpcontact.methods.lemke"), "SPARSE_FROM", 0)
+    monkeypatch.setattr(importlib.import_module("qpcontact.solvers.pivoting.lemke"), "SPARSE_FROM", 0)
 
 
 def _lemke(M, q):
@@ -121,7 +121,7 @@ def test_blocked_tie_break_picks_as_the_whole_block(block, monkeypatch):
     against the explicit inverse (rows of B⁻¹ / a_i compared by hand)."""
     import importlib
 
-    mod = importlib.import_module("qpcontact.methods.lemke_sparse")
+    mod = importlib.import_module("qpcontact.solvers.pivoting.lemke_sparse")
     rng = np.random.default_rng(block)
     n = 12
     M = sp.csc_matrix(random_spd(n, 10.0, block))
@@ -144,9 +144,9 @@ def test_an_uncertified_sparse_answer_falls_back_to_the_dense_form(sparse_form, 
     runs too; the certified answer is returned, and the stats say so."""
     import importlib
 
-    from qpcontact.methods.lemke import LemkeOutcome
+    from qpcontact.solvers.pivoting.lemke import LemkeOutcome
 
-    mod = importlib.import_module("qpcontact.methods.lemke_sparse")
+    mod = importlib.import_module("qpcontact.solvers.pivoting.lemke_sparse")
     lcp, z_star = random_spd_lcp(30, 100.0, 0, sparse=True)
     monkeypatch.setattr(mod, "sparse_lemke", lambda M, q, d, k: LemkeOutcome(
         "solved", np.ones(q.size), np.ones(q.size, bool), 7))
@@ -162,7 +162,7 @@ def test_hard_families_forced_sparse_stay_certified(family, sparse_form):
     and the sparse form forced: every answer certified against the family's
     built-in solution (where the sparse form alone missed, the dense form
     decides)."""
-    from qpcontact.stress import build_case, judge
+    from qpcontact.commands.stress import build_case, judge
 
     for seed in range(10):
         case = build_case(family, 100, seed)

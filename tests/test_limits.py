@@ -14,10 +14,10 @@ from qpsolvers import Problem
 
 import qpcontact
 from qpcontact import LCP
-from qpcontact.errors import InvalidOptionError, NoSolutionError
-from qpcontact.isolation import call_isolated
+from qpcontact.core.errors import InvalidOptionError, NoSolutionError
+from qpcontact.dispatch.isolation import call_isolated
 from qpcontact.testing import far_contact_lcp, random_spd
-from qpcontact.testing.cases import build_qp
+from qpcontact.cases.planted import build_qp
 
 
 def _segfault():
@@ -135,7 +135,7 @@ def test_a_certified_point_of_a_scaled_unbounded_qp_is_replaced_by_the_ray(
         family, n, seed, method, accuracy):
     from fractions import Fraction
 
-    from qpcontact.stress import build_case
+    from qpcontact.commands.stress import build_case
 
     case = build_case(family, n, seed)
     assert case.status == "unbounded"
@@ -226,7 +226,7 @@ def test_infeasible_lcp_with_a_wider_computed_null_space_is_proved(seed, method)
     as "solved" by four backends)."""
     from fractions import Fraction
 
-    from qpcontact.stress import build_case
+    from qpcontact.commands.stress import build_case
 
     case = build_case("infeasible", 100, seed)
     sol = qpcontact.solve(case.problem, method)

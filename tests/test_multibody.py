@@ -7,7 +7,7 @@ from scipy.special import ellipk
 
 from formulations import multibody as mb
 from formulations.multibody.demo import four_bar
-from qpcontact.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
 G0 = 9.81
 

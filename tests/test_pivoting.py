@@ -15,7 +15,7 @@ import qpcontact
 from qpcontact import (LCP, InvalidOptionError, NoSolutionError, NotConvexError,
                        NotSymmetricError, SolverFailedError)
 from qpcontact.io import read_siconos_lcp
-from qpcontact.paper_examples import p0_examples
+from qpcontact.cases.paper import p0_examples
 
 from .conftest import random_spd_lcp, siconos_files
 from .references import enumerate_lcp, exact_lemke_pivots, fathi_family, murty_family
@@ -175,7 +175,7 @@ def test_energy_rule_fallback_frequency_on_random_spd(record_property):
 
 
 def test_fallback_runs_and_is_recorded(monkeypatch):
-    from qpcontact.methods import energy
+    from qpcontact.solvers.pivoting import energy
 
     monkeypatch.setattr(energy, "energy_pivot_cap", lambda n: 1)
     lcp, z_star = random_spd_lcp(30, 100.0, 7)
@@ -294,7 +294,7 @@ def test_auto_prefers_pivoting_for_spd():
 def test_tableau_rebuilt_from_data_matches_pivoting_to_it():
     """The energy method's refresh rebuilds the principal pivotal transform from
     the data; it must equal the tableau reached by Gauss–Jordan pivots."""
-    from qpcontact.methods.energy import ppt_tableau, principal_pivot
+    from qpcontact.solvers.pivoting.energy import ppt_tableau, principal_pivot
 
     from .conftest import random_spd
     M = random_spd(9, 50.0, 4)
@@ -310,7 +310,7 @@ def test_tableau_rebuilt_from_data_matches_pivoting_to_it():
 
 def test_bpp_general_sparse_pattern_uses_ldl_and_agrees():
     """A 2-D grid Laplacian (bandwidth 30 > BANDED_MAX: the QDLDL path)."""
-    from qpcontact.methods.active_set import BANDED_MAX
+    from qpcontact.solvers.pivoting.active_set import BANDED_MAX
 
     k = 30
     T = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(k, k))

@@ -12,8 +12,8 @@ import qpcontact
 from qpcontact import (LCP, BackendUnavailableError, InvalidOptionError, InvalidProblemError,
                        MethodResult, NoSolutionError, NotConvexError, NotSymmetricError,
                        ParametricLCP, SolverFailedError, UnknownMethodError)
-from qpcontact.methods import _REGISTRY, get_method
-from qpcontact.paper_examples import p0_examples
+from qpcontact.solvers.registry import _REGISTRY, get_method
+from qpcontact.cases.paper import p0_examples
 
 EX1 = p0_examples()[0]
 

@@ -8,7 +8,8 @@ import dataclasses
 import numpy as np
 
 import qpcontact
-from qpcontact.stress import FAMILIES, QUICK, build_case, judge, plot_heatmap, run_stress, write_markdown
+from qpcontact.commands.stress import (FAMILIES, QUICK, build_case, judge, plot_heatmap,
+                                       run_stress, write_markdown)
 
 
 def test_seeded_slice_has_no_silent_wrong_and_no_hang(tmp_path):
@@ -65,7 +66,7 @@ def test_judge_catches_false_proofs_and_false_successes():
 def test_siconos_files_are_judged(siconos_dir):
     config = dataclasses.replace(QUICK, families=("siconos",), methods=("lemke",),
                                  siconos_dir=str(siconos_dir))
-    from qpcontact.stress import _tasks
+    from qpcontact.commands.stress import _tasks
 
     tasks = _tasks(config)
     assert len(tasks) == len(list(siconos_dir.glob("*.dat")))

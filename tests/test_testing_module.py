@@ -12,7 +12,7 @@ from qpsolvers import Problem
 import qpcontact
 from qpcontact.testing import (CrossValidationError, assert_lcp_solution, assert_qp_kkt,
                                cross_validate, random_spd_lcp)
-from qpcontact.testing.cases import build_lcp, build_qp
+from qpcontact.cases.planted import build_lcp, build_qp
 from qpcontact.testing.strategies import lcps, qps
 
 pytest_plugins = ["pytester"]
@@ -95,7 +95,7 @@ def test_cross_validate_raises_when_certified_answers_disagree(monkeypatch):
             sol.w = problem.w(sol.z)
         return sol
 
-    monkeypatch.setattr(sys.modules["qpcontact.solve"], "solve", faulty)
+    monkeypatch.setattr(sys.modules["qpcontact.dispatch.driver"], "solve", faulty)
     with pytest.raises(CrossValidationError, match="osqp"):
         cross_validate(lcp, methods=["lemke", "osqp"])
 

@@ -33,8 +33,8 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from qpcontact.errors import InvalidProblemError
-from qpcontact.problems import LCP
+from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.problems import LCP
 
 from .loads import CONSTANT, VARIABLE, equivalent_nodal
 

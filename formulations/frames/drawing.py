@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from qpcontact.errors import SolverFailedError
+from qpcontact.core.errors import SolverFailedError
 
 from .assembly import DOFS, geometry, rotation
 from .loads import _shape, describe
@@ -79,7 +79,7 @@ def plot_result(frame, res, path, scale=None, title=""):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from qpcontact.plotting import save_figure
+    from qpcontact.plots.figures import save_figure
 
     force, length = frame.units
     xy = np.array(list(frame.nodes.values()))
@@ -192,10 +192,10 @@ def plot_trace(frame, ft, path, node, dof, p_max):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from qpcontact.plotting import save_figure
+    from qpcontact.plots.figures import save_figure
 
     if dof not in DOFS:
-        from qpcontact.errors import InvalidOptionError
+        from qpcontact.core.errors import InvalidOptionError
 
         raise InvalidOptionError(f"dof must be one of {DOFS}; got {dof!r}")
     frame._node(node)

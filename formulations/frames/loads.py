@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from qpcontact.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError
 
 #: the two cases of the P3 split (constant + p x variable)
 CONSTANT, VARIABLE = "constant", "variable"

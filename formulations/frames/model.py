@@ -9,12 +9,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact.certify import ComponentScales, certify_lcp
-from qpcontact.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
-                              QpcontactError, SolverFailedError)
-from qpcontact.methods.active_set import check_options
-from qpcontact.problems import ParametricLCP
-from qpcontact.solve import solve
+from qpcontact.judge.certify import ComponentScales, certify_lcp
+from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
+                                   QpcontactError, SolverFailedError)
+from qpcontact.solvers.pivoting.active_set import check_options
+from qpcontact.core.problems import ParametricLCP
+from qpcontact.dispatch.driver import solve
 
 from . import assembly
 from .assembly import DOFS, geometry
@@ -297,7 +297,7 @@ class Frame:
         contacts too it raises InvalidProblemError."""
         import scipy.sparse as sp
 
-        from qpcontact.friction import FrictionProblem
+        from qpcontact.friction.problem import FrictionProblem
 
         b = self.build()
         combo = self._combo(p, combination, b)
@@ -362,8 +362,8 @@ class Frame:
         combo = self._combo(p, combination, b)
         M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
         lcp = assembly.combination_lcp(M, Q, q_gap, b, combo)
-        from qpcontact.accuracy import resolve_accuracy
-        from qpcontact.methods import methods as registry
+        from qpcontact.core.accuracy import resolve_accuracy
+        from qpcontact.solvers.registry import methods as registry
 
         _, tol = resolve_accuracy(accuracy)
         if method not in ("auto", "tresca", "lemke") and method not in registry():
@@ -751,7 +751,7 @@ class Frame:
         only the LCP's bookkeeping changes (a separated contact's slip changing
         sign) are merged: ``breakpoints`` are where a support changes state.
         """
-        from qpcontact.accuracy import resolve_accuracy
+        from qpcontact.core.accuracy import resolve_accuracy
 
         _, tol = resolve_accuracy(accuracy)
         b = self.build()

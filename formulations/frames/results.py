@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact._files import write_csv_atomic
+from qpcontact.core.files import write_csv_atomic
 
 STATES = ("separated", "closed", "stick", "slip+", "slip-")
 
@@ -96,7 +96,7 @@ class FrameResult:
         """Table rows (dicts) of "supports", "reactions", "members" or
         "displacements" (none for a combination that has no equilibrium)."""
         if not self.supports:
-            from qpcontact.errors import InvalidOptionError
+            from qpcontact.core.errors import InvalidOptionError
 
             if table not in TABLES:
                 raise InvalidOptionError(f"unknown table {table!r}; tables: {', '.join(TABLES)}")
@@ -142,7 +142,7 @@ def _dataframe(rows):
     try:
         import pandas as pd
     except ImportError:
-        from qpcontact.errors import BackendUnavailableError
+        from qpcontact.core.errors import BackendUnavailableError
 
         raise BackendUnavailableError(
             "to_dataframe needs pandas (pip install pandas); to_csv writes the same tables "

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from qpcontact.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
 from . import _kernels as K
 from .model import Data, Model

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from qpcontact.errors import InvalidProblemError, SolverFailedError
+from qpcontact.core.errors import InvalidProblemError, SolverFailedError
 
 from . import algorithms as alg
 from .model import Data, Model

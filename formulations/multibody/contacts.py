@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from qpcontact.errors import InvalidOptionError, InvalidProblemError
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
 
 from ..penalty import PenaltyStep
 from ..stepping import (ContactSystem, scene_arrays, scene_plot, scene_run, scene_summary,
@@ -341,7 +341,7 @@ def _scene_plot(h, out) -> list:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from qpcontact.plotting import save_figure
+    from qpcontact.plots.figures import save_figure
 
     paths = scene_plot(h, out)
     t_ms = 1e3 * h["t"][()]
@@ -365,7 +365,7 @@ def _scene_plot(h, out) -> list:
 
 
 def _scene_schema():
-    from qpcontact.scenes import Field, SceneSchema
+    from qpcontact.scenes.schema import Field, SceneSchema
 
     pt = "m (the body's frame, or the world's for the ground)"
     return SceneSchema(

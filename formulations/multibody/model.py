@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError
 
 from . import _kernels as K
 

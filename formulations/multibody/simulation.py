@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from qpcontact.errors import InvalidOptionError, SolverFailedError
+from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
 from . import algorithms as alg
 from . import constraints as con

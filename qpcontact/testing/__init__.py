@@ -45,10 +45,10 @@ import numpy as np
 import scipy.sparse as sp
 from qpsolvers import Problem
 
-from ..certify import ComponentScales, certify_lcp, certify_qp
-from ..errors import InvalidProblemError
-from ..problems import LCP
-from .problems import far_contact_lcp, planted_ok, random_spd, random_spd_lcp, spread_lcp
+from ..judge.certify import ComponentScales, certify_lcp, certify_qp
+from ..core.errors import InvalidProblemError
+from ..core.problems import LCP
+from ..cases.families import far_contact_lcp, planted_ok, random_spd, random_spd_lcp, spread_lcp
 
 __all__ = ["assert_lcp_solution", "assert_qp_kkt", "cross_validate", "CrossValidation",
            "CrossValidationError", "random_spd", "random_spd_lcp", "far_contact_lcp",
@@ -153,8 +153,8 @@ class CrossValidation:
 
 
 def _default_methods(problem) -> list[str]:
-    from ..methods import methods
-    from ..solve import _applicable
+    from ..solvers.registry import methods
+    from ..dispatch.driver import _applicable
 
     return [name for name, m in methods().items() if _applicable(problem, m)]
 
@@ -171,7 +171,7 @@ def _lcp_uniqueness(lcp: LCP) -> tuple[bool, str]:
 
 
 def _qp_uniqueness(problem: Problem) -> tuple[bool, str]:
-    from ..problems import LCP as _L
+    from ..core.problems import LCP as _L
 
     P = problem.P
     structure = _L(P, np.zeros(P.shape[0]))
@@ -203,7 +203,7 @@ def cross_validate(problem, methods=None, accuracy="high", *, time_limit: float 
     Where the solution is not unique, w (LCP) or the optimal value (QP) is
     compared instead, at (e_a + e_b + 64 eps) times its scale.
     """
-    from ..solve import solve
+    from ..dispatch.driver import solve
 
     is_lcp = isinstance(problem, LCP)
     if not is_lcp and not isinstance(problem, Problem):

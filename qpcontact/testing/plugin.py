@@ -39,8 +39,8 @@ def pytest_configure(config):
 
 def select_methods(spec: str) -> list[str]:
     """Installed method names matching SPEC (see the module docstring)."""
-    from ..errors import QpcontactError
-    from ..methods import get_method, methods
+    from ..core.errors import QpcontactError
+    from ..solvers.registry import get_method, methods
 
     installed = methods()
     spec = (spec or "all").strip()

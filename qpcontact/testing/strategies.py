@@ -43,7 +43,7 @@ except ImportError as exc:  # pragma: no cover - exercised only without the extr
     raise ImportError("qpcontact.testing.strategies needs hypothesis: "
                       'pip install "qpcontact[test]" (or pip install hypothesis)') from exc
 
-from .cases import LCP_KINDS, QP_KINDS, Case, build_lcp, build_qp
+from ..cases.planted import LCP_KINDS, QP_KINDS, Case, build_lcp, build_qp
 
 __all__ = ["Case", "lcps", "qps", "LCP_KINDS", "QP_KINDS", "build_lcp", "build_qp"]
 

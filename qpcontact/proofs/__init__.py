@@ -1,0 +1,1 @@
+"""(wing docstring: see docs/architecture.md)"""
