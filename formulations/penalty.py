@@ -69,7 +69,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from qpsolvers import Problem
 
-from qpcontact.judge.certify import certify_lcp
+from qpcontact.judge.lcp import certify_lcp
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, NotConvexError
 from qpcontact.core.problems import LCP, _MatrixStructure, as_matrix, as_vector
 from qpcontact.dispatch.driver import solve

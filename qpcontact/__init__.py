@@ -10,7 +10,9 @@ Quick start::
 """
 
 from .core.accuracy import LEVELS
-from .judge.certify import LCPCertificate, QPCertificate, certify
+from .judge.lcp import LCPCertificate
+from .judge.qp import QPCertificate
+from .judge.certify import certify
 from .core.conversions import DualLCP, qp_to_lcp
 from .core.errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
                           NoSolutionError, NotConvexError, NotSymmetricError, QpcontactError,

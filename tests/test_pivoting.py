@@ -310,7 +310,7 @@ def test_tableau_rebuilt_from_data_matches_pivoting_to_it():
 
 def test_bpp_general_sparse_pattern_uses_ldl_and_agrees():
     """A 2-D grid Laplacian (bandwidth 30 > BANDED_MAX: the QDLDL path)."""
-    from qpcontact.solvers.pivoting.active_set import BANDED_MAX
+    from qpcontact.core.linalg import BANDED_MAX
 
     k = 30
     T = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(k, k))

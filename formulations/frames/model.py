@@ -9,10 +9,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact.judge.certify import ComponentScales, certify_lcp
+from qpcontact.judge.scales import ComponentScales
+from qpcontact.judge.lcp import certify_lcp
 from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
                                    QpcontactError, SolverFailedError)
-from qpcontact.solvers.pivoting.active_set import check_options
+from qpcontact.core.options import check_options
 from qpcontact.core.problems import ParametricLCP
 from qpcontact.dispatch.driver import solve
 

@@ -32,7 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..judge.certify import LCPCertificate, QPCertificate
+from ..judge.lcp import LCPCertificate
+from ..judge.qp import QPCertificate
 
 __all__ = ["Solution", "LCPSolution", "QPSolution", "MethodResult", "STATUSES"]
 

@@ -15,7 +15,7 @@ from ..core.errors import (BackendUnavailableError, InvalidOptionError, InvalidP
                            NoSolutionError, NotConvexError, NotSymmetricError, SolverFailedError,
                            UnknownMethodError)
 from ..solvers.registry import Method, get_method
-from ..solvers.pivoting.active_set import BANDED_MAX
+from ..core.linalg import BANDED_MAX
 from ..core.problems import LCP, ParametricLCP
 from ..core.results import LCPSolution, MethodResult, QPSolution
 

@@ -76,11 +76,15 @@ import scipy.linalg
 from scipy.linalg import lapack
 
 from ..core.accuracy import resolve_accuracy
-from ..judge.certify import ComponentScales, certify_lcp
+from ..judge.scales import ComponentScales
+from ..judge.lcp import certify_lcp
 from ..core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
                            SolverFailedError)
-from .pivoting.active_set import check_dense_size, check_options, dense_matrix, int_option, refined
-from .pivoting.lemke import FARKAS_RTOL, lemke, ruiz_scaling
+from .pivoting.active_set import check_dense_size
+from ..core.options import check_options, int_option
+from ..core.linalg import dense_matrix, refined
+from .pivoting.lemke import FARKAS_RTOL, lemke
+from ..core.linalg import ruiz_scaling
 from ..plots.figures import save_figure
 from ..core.problems import ParametricLCP
 from ..core.results import LCPSolution

@@ -45,7 +45,9 @@ import numpy as np
 import scipy.sparse as sp
 from qpsolvers import Problem
 
-from ..judge.certify import ComponentScales, certify_lcp, certify_qp
+from ..judge.scales import ComponentScales
+from ..judge.lcp import certify_lcp
+from ..judge.qp import certify_qp
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
 from ..cases.families import far_contact_lcp, planted_ok, random_spd, random_spd_lcp, spread_lcp

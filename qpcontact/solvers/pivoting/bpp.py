@@ -29,9 +29,10 @@ import scipy.sparse as sp
 
 from ...core.errors import InvalidOptionError
 from ...core.results import MethodResult
-from .active_set import (BANDED_MAX, ActiveBlock, ComponentScales, ExchangeRule, SolutionOverflow,
-                         check_options, int_option, negative_components, not_positive_definite,
-                         overflow_result)
+from ...core.linalg import BANDED_MAX, ActiveBlock, SolutionOverflow
+from ...judge.scales import ComponentScales
+from .active_set import ExchangeRule, negative_components, not_positive_definite, overflow_result
+from ...core.options import check_options, int_option
 
 __all__ = ["run_bpp", "block_pivoting"]
 

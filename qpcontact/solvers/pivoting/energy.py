@@ -37,10 +37,11 @@ from scipy.linalg.blas import dger
 
 from ...core.errors import InvalidOptionError, NotConvexError
 from ...core.results import MethodResult
-from .active_set import (ActiveBlock, ComponentScales, SolutionOverflow, check_dense_size,
-                         check_options, dense_matrix, int_option, negative_components,
-                         not_positive_definite, overflow_result, sign_tolerances,
-                         symmetric_scaling)
+from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, symmetric_scaling
+from ...judge.scales import ComponentScales
+from .active_set import (check_dense_size, negative_components, not_positive_definite,
+                         overflow_result, sign_tolerances)
+from ...core.options import check_options, int_option
 
 __all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau"]
 

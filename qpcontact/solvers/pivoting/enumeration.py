@@ -21,7 +21,7 @@ import scipy.linalg
 
 from ...core.errors import InvalidProblemError
 from ...core.results import MethodResult
-from .active_set import dense_matrix
+from ...core.linalg import dense_matrix
 
 #: 2^16 = 65 536 sets of at most 16 x 16: about a second in the worst case.
 ENUMERATION_MAX = 16

@@ -67,7 +67,8 @@ import scipy.sparse as sp
 
 from ...core.errors import InvalidOptionError, InvalidProblemError
 from ...core.results import MethodResult
-from .active_set import SIGN_RTOL, ExchangeRule, check_options, int_option, not_positive_definite
+from .active_set import SIGN_RTOL, ExchangeRule, not_positive_definite
+from ...core.options import check_options, int_option
 
 __all__ = ["run_ip_bpp"]
 

@@ -40,10 +40,12 @@ from scipy.linalg.blas import dger
 from ...core.errors import InvalidOptionError
 from ._pivot_kernels import ratio_ties, scales_pivot
 from ...core.results import MethodResult
-from .active_set import (DENSE_TABLEAU_LIMIT, ActiveBlock, ComponentScales, SolutionOverflow,
-                         check_options, dense_matrix, int_option, overflow_result, sign_tolerances)
+from .active_set import DENSE_TABLEAU_LIMIT, overflow_result, sign_tolerances
+from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, ruiz_scaling
+from ...judge.scales import ComponentScales
+from ...core.options import check_options, int_option
 
-__all__ = ["LemkeOutcome", "lemke", "run_lemke", "ruiz_scaling", "lex_ratio_test",
+__all__ = ["LemkeOutcome", "lemke", "run_lemke", "lex_ratio_test",
            "tableau_pivot", "RowScales"]
 
 _OPTIONS = ("covering", "max_pivots", "restarts", "seed")
@@ -62,36 +64,6 @@ class LemkeOutcome:
     basic_z: np.ndarray            # bool mask: z_i basic
     pivots: int
     ray: dict = field(default_factory=dict)
-
-
-def ruiz_scaling(M, iters: int = 5) -> tuple[np.ndarray, np.ndarray]:
-    """Row and column factors r, c with r_i |M_ij| c_j near 1 in every row and column
-    (M dense or SciPy sparse).
-
-    Ones when every row and column maximum is already within a factor 4 of the
-    largest (scaling would only cost time).
-    """
-    n = M.shape[0]
-    r = np.ones(n)
-    c = np.ones(n)
-    A = abs(sp.csr_matrix(M)) if sp.issparse(M) else np.abs(M)
-
-    def maxima(r, c):
-        if sp.issparse(A):
-            S = sp.diags(r) @ A @ sp.diags(c)
-            return (S.max(axis=1).toarray().ravel(), S.max(axis=0).toarray().ravel())
-        S = A * r[:, None] * c[None, :]
-        return S.max(axis=1), S.max(axis=0)
-
-    rm, cm = maxima(r, c)
-    top = max(rm.max(), cm.max()) if n else 0.0
-    if top > 0 and min(rm.min(), cm.min()) >= top / 4:
-        return r, c
-    for _ in range(iters):
-        rm, cm = maxima(r, c)
-        r /= np.sqrt(np.where(rm > 0, rm, 1.0))
-        c /= np.sqrt(np.where(cm > 0, cm, 1.0))
-    return r, c
 
 
 def tableau_pivot(T: np.ndarray, r: int, c: int) -> None:
@@ -415,7 +387,7 @@ def run_lemke(problem, tol, options) -> MethodResult:
     families, n <= 100, forced sparse: 2 of 390 certified by the dense form
     only, both with gaps over 1e0..1e12)."""
     from ...core.accuracy import DEFAULT_CERTIFY_TOL
-    from ...judge.certify import certify_lcp
+    from ...judge.lcp import certify_lcp
 
     check_options("lemke", options, _OPTIONS)
     n = problem.n

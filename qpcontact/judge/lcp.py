@@ -1,0 +1,277 @@
+"""Certificates of LCP answers, computed from the data alone.
+
+LCP (z, w = Mz + q): the componentwise error
+---------------------------------------------
+Each row is judged against its own data, in the sense of Oettli and Prager:
+
+    σ_i = |q_i| + (|M| |z|)_i          the size of the terms w_i is made of
+    c_i = max_j |M_ji| / σ_j           how strongly z_i moves any w_j, relative
+                                       to that w_j's own size
+    ζ_i = min(1 / c_i, ζ)              z_i's own scale, capped by the normwise
+                                       ζ = max(‖z‖∞, ‖q‖∞ / max|M_ij|)
+    error = max_i |min(z_i / ζ_i, w_i / σ_i)|
+
+``error <= ε`` says: moving each z_i by at most ε ζ_i and each entry of M and q
+by at most ε of its own size (to first order, up to a factor of the row's
+nonzero count) makes z an exact solution.  A gap of 5e11 at a far contact
+cannot hide an error at a contact whose gap is 0.1, because no row borrows
+another row's size.  The error is invariant under row and column scaling of
+the data (D_r M D_c, D_r q; z -> D_c⁻¹ z) except through the cap, and lies
+in [0, 1]: 1 means a component is wrong by all of its own size.
+
+Reported beside it: ``normwise_error`` (the former scale-free measure,
+max_i |min(z_i/‖·‖, w_i/max(‖Mz‖∞, ‖q‖∞))|), ``comp_abs = ‖min(z, w)‖∞``,
+``siconos_error = ‖min(z, w)‖₂ / ‖q‖₂`` (Siconos' relative form),
+``min_z``, ``min_w``, ``zw = z'w``, the ``worst_index`` and ``overflow``
+(a product |M_ij z_j| beyond double precision: nothing can be certified).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse as sp
+
+from ..core.errors import InvalidProblemError
+from ..core.problems import LCP
+from .scales import ComponentScales, abs_matvec, divide, inf_norm, row_scales, safe_norm2
+
+__all__ = ["LCPCertificate", "certify_lcp"]
+
+_EPS = np.finfo(float).eps
+
+
+@dataclass(frozen=True)
+class LCPCertificate:
+    """Residuals of a candidate z for LCP(M, q); see the module docstring.
+
+    ``error`` (componentwise backward error, in [0, 1]) decides ``ok``;
+    ``worst_index`` is the component where it is reached.  ``forward_error``
+    estimates how far, relative to its own size, a component may be from the
+    exact solution of the data as stored (``condition`` times the backward
+    error, at least rounding): an answer can be exact for data within 1e-16 of
+    yours and still differ from the exact solution of yours in the 7th digit,
+    when the problem is ill-conditioned.
+    """
+
+    error: float
+    normwise_error: float
+    worst_index: int
+    comp_abs: float
+    siconos_error: float
+    min_z: float
+    min_w: float
+    zw: float
+    overflow: bool = False
+    # (condition, forward_error), or a function computing them on first use:
+    # for an active block above _EXACT_CONDITION_SIZE the estimate costs one
+    # more factorization of it, which a solve should not pay unasked.
+    _forward: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def condition(self) -> float:
+        return self._forward_pair()[0]
+
+    @property
+    def forward_error(self) -> float:
+        return self._forward_pair()[1]
+
+    @property
+    def forward_error_known(self) -> bool:
+        """Whether the forward error is already computed (small active blocks:
+        always; large ones: once asked for)."""
+        return not callable(self._forward)
+
+    def _forward_pair(self) -> tuple[float, float]:
+        if callable(self._forward):
+            object.__setattr__(self, "_forward", self._forward())
+        return self._forward
+
+    def __getstate__(self):
+        self._forward_pair()
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def __setstate__(self, state):
+        for k, v in state.items():
+            object.__setattr__(self, k, v)
+
+    def ok(self, tol: float) -> bool:
+        return bool(self.error <= tol)
+
+    def as_dict(self) -> dict:
+        d = {f.name: getattr(self, f.name) for f in fields(self) if not f.name.startswith("_")}
+        d["condition"], d["forward_error"] = self._forward_pair()
+        return d
+
+
+def _bad_lcp_certificate(overflow: bool = False) -> LCPCertificate:
+    inf = np.inf
+    return LCPCertificate(inf, inf, -1, inf, inf, -inf, -inf, inf, overflow, (inf, inf))
+
+
+def _lcp_normwise(lcp: LCP, z, Mz, w) -> float:
+    scale_M = lcp.matrix_scale
+    sigma_z = max(inf_norm(z), inf_norm(lcp.q) / scale_M if scale_M > 0 else 0.0)
+    sigma_w = max(inf_norm(Mz), inf_norm(lcp.q))
+    return inf_norm(np.minimum(divide(z, sigma_z), divide(w, sigma_w)))
+
+
+def _rounding_level(M) -> float:
+    """(row nonzeros + 1) eps: the rounding of evaluating one row of Mz + q."""
+    if not sp.issparse(M):
+        row_nnz = M.shape[1]
+    elif M.nnz == 0:
+        row_nnz = 0
+    elif M.format == "csr":
+        row_nnz = int(np.diff(M.indptr).max())
+    else:
+        # counted from the row indices: a CSC -> CSR copy costs a solve's worth
+        rows = M.indices if M.format == "csc" else M.tocoo().row
+        row_nnz = int(np.bincount(rows, minlength=M.shape[0]).max())
+    return (row_nnz + 1) * _EPS
+
+
+#: Active blocks up to this size get |M_FF⁻¹| formed exactly; larger ones a
+#: 1-norm estimate (Higham & Tisseur, scipy's onenormest) from a few solves.
+_EXACT_CONDITION_SIZE = 400
+
+
+def _block_solver(M, F: np.ndarray, structure):
+    """solve(r, trans=False) with M_FF (or its transpose) for the condition
+    estimate.  A symmetric M's block is tried with the factorizations the
+    exact methods use (banded or sparse LDLᵀ, dense Cholesky: one factorization
+    of a contact chain's block costs 1 ms where SuperLU took 27 ms); LU when it
+    is not symmetric or not positive definite."""
+    if structure is not None and structure.is_symmetric:
+        from ..core.linalg import BANDED_MAX, ActiveBlock
+
+        try:
+            if sp.issparse(M):
+                bands = structure.upper_bands(BANDED_MAX)
+                block = ActiveBlock(M, F, symmetric=True,
+                                    triu=structure.upper if bands is None else None, bands=bands)
+            else:
+                block = ActiveBlock(M, F, symmetric=True)
+            return lambda r, trans=False: block.factor_solve(r)
+        except (np.linalg.LinAlgError, ValueError):
+            pass
+    if sp.issparse(M):
+        import scipy.sparse.linalg as spla
+
+        lu = spla.splu(M[F][:, F].tocsc())
+        return lambda r, trans=False: lu.solve(r, trans="T" if trans else "N")
+    with warnings.catch_warnings():  # a singular block: inf below
+        warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+        lu = scipy.linalg.lu_factor(M[np.ix_(F, F)], check_finite=False)
+    return lambda r, trans=False: scipy.linalg.lu_solve(lu, r, trans=1 if trans else 0,
+                                                        check_finite=False)
+
+
+def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
+                   ) -> tuple[float, float, float]:
+    """(condition, forward z factor, forward w factor) of a solution at its basis.
+
+    F = {i: z_i / ζ_i > w_i / σ_i} (the z's that are "on"), N the rest.  On F,
+    z_F = -M_FF⁻¹ q_F; data perturbed by ε of each entry's own size, with the
+    forward allowance ε ζ_F, move z_F by at most ε v, v = |M_FF⁻¹| σ_F + ζ_F
+    (first order), and w_N by at most ε (σ_N + |M_NF| v).  Returned: the
+    largest relative factors max_i v_i / |z_i| (F) and max_j (σ_j + (|M_NF|
+    v)_j) / |w_j| (N), and their maximum as the condition number; the forward
+    error is ε times them.  For active blocks above _EXACT_CONDITION_SIZE, v is
+    bounded through a 1-norm estimate of ‖Z⁻¹|M_FF⁻¹|σ_F‖∞ (so |M_NF| v <=
+    κ_z σ_N, a cruder bound).  Every value is judged against itself — a
+    component near zero may have no correct digit, and that is what a user
+    reading it must be told — except values below ``level`` (the rounding of
+    evaluating their row) times their scale, which carry no information and are
+    judged against the scale (ζ_i, σ_j).  inf when M_FF is singular: the
+    solution is not isolated.
+    """
+    Z, W = divide(z, zeta), divide(w, sigma)
+    on = Z > W
+    F, N = np.flatnonzero(on), np.flatnonzero(~on)
+    kappa_z, v = 0.0, np.zeros(0)
+    if F.size:
+        den = np.where(np.abs(z[F]) > level * zeta[F], np.abs(z[F]), zeta[F])
+        g = sigma[F]
+        k = F.size
+        try:
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                if k <= _EXACT_CONDITION_SIZE:
+                    B = M[F][:, F].toarray() if sp.issparse(M) else M[np.ix_(F, F)]
+                    inv = np.linalg.inv(B)  # LinAlgError when exactly singular
+                    if not np.all(np.isfinite(inv)):
+                        return np.inf, np.inf, np.inf
+                    v = np.abs(inv) @ g + zeta[F]
+                    kappa_z = float(np.max(divide(v, den)))
+                else:
+                    from scipy.sparse.linalg import LinearOperator, onenormest
+
+                    solve = _block_solver(M, F, structure)
+                    # ‖Z⁻¹ |B⁻¹| g‖∞ = ‖Z⁻¹ B⁻¹ G‖∞ = ‖G B⁻ᵀ Z⁻¹‖₁
+                    op = LinearOperator((k, k), dtype=float,
+                                        matvec=lambda x: g * solve(np.ravel(x) / den, trans=True),
+                                        rmatvec=lambda y: solve(g * np.ravel(y)) / den)
+                    kappa_z = float(onenormest(op, t=1)) + float(np.max(zeta[F] / den))
+                    v = None
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            return np.inf, np.inf, np.inf
+        if not np.isfinite(kappa_z):
+            return np.inf, np.inf, np.inf
+    kappa_w = 0.0
+    if N.size:
+        if F.size and v is not None:
+            MNF = M[N][:, F] if sp.issparse(M) else M[np.ix_(N, F)]
+            spread = sigma[N] + abs_matvec(MNF, v)
+        else:
+            spread = (1.0 + kappa_z) * sigma[N]
+        wd = np.where(np.abs(w[N]) > level * sigma[N], np.abs(w[N]), sigma[N])
+        kappa_w = float(np.max(divide(spread, wd)))
+    return max(kappa_z, kappa_w), kappa_z, kappa_w
+
+
+def certify_lcp(lcp: LCP, z) -> LCPCertificate:
+    """Certificate of z for ``lcp`` (see the module docstring)."""
+    z = np.asarray(z, dtype=float).ravel()
+    if z.shape != (lcp.n,):
+        raise InvalidProblemError(f"z has shape {z.shape}; the LCP has n = {lcp.n} unknowns")
+    if not np.all(np.isfinite(z)):
+        return _bad_lcp_certificate()
+    with np.errstate(over="ignore", invalid="ignore"):
+        Mz = np.asarray(lcp.M @ z).ravel()
+        w = Mz + lcp.q
+    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(row_scales(lcp.M, z, lcp.q_terms)))):
+        return _bad_lcp_certificate(overflow=True)
+    zeta, sigma = ComponentScales(lcp.M, lcp.q_terms, lcp.matrix_scale).at(z)
+    Z, W = divide(z, zeta), divide(w, sigma)
+    e = np.abs(np.minimum(Z, W))
+    worst = int(np.argmax(e))
+    r = np.minimum(z, w)
+    qn = safe_norm2(lcp.q)
+    rn = safe_norm2(r)
+    with np.errstate(over="ignore", invalid="ignore"):
+        zw = float(z @ w)
+    # Below the rounding of evaluating a row (LAPACK's FERR convention) no
+    # backward error can be seen.
+    level = _rounding_level(lcp.M)
+    error = float(e[worst])
+
+    def forward_pair(M=lcp.M, structure=lcp._structure):
+        condition, kappa_z, kappa_w = _lcp_condition(M, z, w, zeta, sigma, level, structure)
+        forward = max(error, level) * max(kappa_z, kappa_w)
+        return float(condition), (float(forward) if np.isfinite(forward) else np.inf)
+
+    active = np.count_nonzero(Z > W)   # the basis _lcp_condition factorizes
+    return LCPCertificate(
+        error=error,
+        _forward=forward_pair() if active <= _EXACT_CONDITION_SIZE else forward_pair,
+        normwise_error=float(_lcp_normwise(lcp, z, Mz, w)),
+        worst_index=worst,
+        comp_abs=inf_norm(r),
+        siconos_error=rn / qn if qn > _EPS else rn,
+        min_z=float(min(z.min(), 0.0)),
+        min_w=float(min(w.min(), 0.0)),
+        zw=zw,
+    )
