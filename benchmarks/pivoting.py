@@ -39,7 +39,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import qpcontact  # noqa: E402
 from qpcontact.plots.figures import save_figure  # noqa: E402
 from backends import banded_spd_lcp, dense_spd_lcp  # noqa: E402
-from qpcontact.core.problems import bandwidth  # noqa: E402
+from qpcontact.core.matrices import bandwidth  # noqa: E402
 
 
 def timed(fn, repeats):

@@ -89,7 +89,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
-from qpcontact.core.problems import LCP, as_vector
+from qpcontact.core.problems import LCP
+from qpcontact.core.matrices import as_vector
 from qpcontact.core.progress import StepReporter
 from qpcontact.dispatch.driver import solve
 
@@ -309,7 +310,7 @@ class Drum:
         if st is None:
             if len(self._structures) > 64:
                 self._structures.clear()
-            st = LCP(self.step_matrix(tau, damped), np.zeros(self.n_contacts))._structure
+            st = LCP(self.step_matrix(tau, damped), np.zeros(self.n_contacts)).structure
             st.declare_spd()  # proven in the module docstring (step 6); tested
             self._structures[key] = st
         return st
@@ -318,7 +319,7 @@ class Drum:
         """The LCP D = A N + B_c of the step after displacements U1 = U_{n-1},
         U2 = U_{n-2} [m]; z = N [N], w = D [m]."""
         _, B = self._rhs(tau, np.asarray(U1, float), np.asarray(U2, float), damped)
-        return LCP._with_structure(self._structure(tau, damped), B)
+        return LCP.with_structure(self._structure(tau, damped), B)
 
     def _rhs(self, tau, U1, U2, damped):
         h = self._h(tau, damped)
@@ -407,7 +408,7 @@ class Drum:
             U2 = U_prev if n == 1 else U[n - 2]
             damped = self._in_contact(N[n - 1]) if self.damping is not None else None
             R, B = self._rhs(tau, U1, U2, damped)
-            lcp = LCP._with_structure(self._structure(tau, damped), B)
+            lcp = LCP.with_structure(self._structure(tau, damped), B)
             opts = dict(options)
             if method == "bpp":
                 opts.setdefault("initial_active", active)

@@ -123,7 +123,7 @@ def _obstacle_lcp(K, x, y, load, degenerate, seed):
         f = np.full(n, float(load))
         # each q_i is a difference of K ψ and f: the certificate judges it on that scale
         lcp = LCP(K, K @ psi - f, q_terms=np.abs(K) @ np.abs(psi) + np.abs(f))
-    lcp._structure.declare_spd()   # a Dirichlet Laplacian and its square: SPD by construction
+    lcp.structure.declare_spd()   # a Dirichlet Laplacian and its square: SPD by construction
     return lcp
 
 

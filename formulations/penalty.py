@@ -71,7 +71,8 @@ from qpsolvers import Problem
 
 from qpcontact.judge.lcp import certify_lcp
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, NotConvexError
-from qpcontact.core.problems import LCP, _MatrixStructure, as_matrix, as_vector
+from qpcontact.core.problems import LCP
+from qpcontact.core.matrices import MatrixStructure, as_matrix, as_vector
 from qpcontact.dispatch.driver import solve
 
 __all__ = ["PenaltyStep", "PenaltyResult", "penalty_qp", "exact_lcp", "gauss_qp",
@@ -92,7 +93,7 @@ def _spd(M, name: str):
     M = as_matrix(M, name)
     if M.shape[0] != M.shape[1]:
         raise InvalidProblemError(f"{name} must be square; got shape {M.shape}")
-    st = _MatrixStructure(M)
+    st = MatrixStructure(M)
     if not st.is_symmetric:
         raise NotConvexError(f"{name} must be symmetric (max|{name} - {name}'| = {st.asymmetry:.3g})")
     if not st.is_positive_definite:

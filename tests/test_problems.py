@@ -79,7 +79,7 @@ def test_parametric_at_shares_structure_and_pickles():
     fam = ParametricLCP(np.array([[2.0, 1.0], [1.0, 2.0]]), [1.0, -1.0], [-1.0, 0.5])
     lcp = fam.at(2.0)
     np.testing.assert_allclose(lcp.q, [1 - 2, -1 + 1.0])
-    assert lcp._structure is fam._structure
+    assert lcp.structure is fam.structure
     with pytest.raises(InvalidProblemError, match="finite"):
         fam.at(np.inf)
     again = pickle.loads(pickle.dumps(lcp))

@@ -2,12 +2,13 @@
 
 Three routes, each exact (the solution sets correspond one to one):
 
-1. **Symmetric PSD LCP -> QP** (:func:`lcp_to_qp`).  The KKT conditions of
+1. **Symmetric PSD LCP -> QP** (:meth:`LCP.to_qp`, defined with the LCP in
+   :mod:`qpcontact.core.problems`).  The KKT conditions of
    ``min ½ z'Mz + q'z  s.t.  z >= 0`` are ``Mz + q - μ = 0, μ >= 0, z >= 0,
    μ'z = 0``: with w = μ they are the LCP.  In qpsolvers' sign convention the
    bound multipliers come back as ``z_box = -w``.
 
-2. **Monotone LCP -> QP** (:func:`monotone_lcp_to_qp`), for nonsymmetric M with
+2. **Monotone LCP -> QP** (:meth:`LCP.to_monotone_qp`, likewise), for nonsymmetric M with
    M + M' PSD: ``min z'(Mz + q)  s.t.  Mz + q >= 0, z >= 0``.  The objective
    is ½ z'(M + M')z + q'z, convex; it is >= 0 on the feasible set and equals 0
    exactly at the LCP's solutions (a feasible monotone LCP is solvable, so the
@@ -40,44 +41,14 @@ import scipy.sparse as sp
 from qpsolvers import Problem
 
 from .errors import InvalidProblemError, NotConvexError, NotSymmetricError
-from .problems import LCP, as_matrix, as_vector
+from .matrices import MatrixStructure, as_matrix, as_vector
+from .problems import LCP
 
-__all__ = ["lcp_to_qp", "monotone_lcp_to_qp", "qp_to_lcp", "DualLCP", "validate_qp", "check_convex"]
+__all__ = ["qp_to_lcp", "DualLCP", "validate_qp", "check_convex"]
 
 
 def _dense(M) -> np.ndarray:
     return M.toarray() if sp.issparse(M) else np.asarray(M)
-
-
-def lcp_to_qp(lcp: LCP) -> Problem:
-    """``min ½ z'Mz + q'z, z >= 0`` for a symmetric PSD LCP (see the module docstring)."""
-    if not lcp.is_symmetric:
-        raise NotSymmetricError(
-            f"M is not symmetric (max|M - M'| = {lcp._structure.asymmetry:.3g}, "
-            f"max|M| = {lcp.matrix_scale:.3g}), so the LCP is not the optimality "
-            "condition of a QP. Use a pivoting method such as 'lemke' for any M, or "
-            "LCP.to_monotone_qp() when M + M' is positive semidefinite."
-        )
-    if not lcp.is_psd:
-        raise NotConvexError(
-            "M is symmetric but not positive semidefinite, so the QP min ½z'Mz + q'z, z >= 0 "
-            "is nonconvex and QP backends may return local minima. Use a pivoting method "
-            "such as 'lemke'."
-        )
-    P = lcp._structure.symmetric_part  # drops rounding-level asymmetry
-    return Problem(P, lcp.q.copy(), lb=np.zeros(lcp.n))
-
-
-def monotone_lcp_to_qp(lcp: LCP) -> Problem:
-    """``min z'(Mz + q), Mz + q >= 0, z >= 0`` for M + M' PSD (see the module docstring)."""
-    if not lcp.is_psd:
-        raise NotConvexError(
-            "M + M' is not positive semidefinite, so the LCP is not monotone and no convex "
-            "QP has its solutions as minimisers. Use a pivoting method such as 'lemke'."
-        )
-    M = lcp.M
-    P = 2.0 * lcp._structure.symmetric_part
-    return Problem(P, lcp.q.copy(), G=-M, h=lcp.q.copy(), lb=np.zeros(lcp.n))
 
 
 def validate_qp(problem: Problem) -> Problem:
@@ -135,9 +106,7 @@ def check_convex(problem: Problem) -> None:
         need not be the minimiser (Clarabel, ProxQP, PIQP and HiGHS all said
         "solved" at such points).
     """
-    from .problems import _MatrixStructure
-
-    st = _MatrixStructure(problem.P)
+    st = MatrixStructure(problem.P)
     if not st.is_symmetric:
         raise NotSymmetricError(
             f"P is not symmetric (max|P - P'| = {st.asymmetry:.3g}); the objective ½x'Px only "

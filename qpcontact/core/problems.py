@@ -14,318 +14,20 @@ define another.  Conversions between the two live in
 
 from __future__ import annotations
 
-from functools import cached_property
-
 import numpy as np
-import scipy.linalg
-import scipy.linalg.lapack
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
+from qpsolvers import Problem
 
-from .errors import InvalidProblemError
+from .errors import InvalidProblemError, NotConvexError, NotSymmetricError
+from .matrices import MatrixStructure, as_matrix, as_vector
 
-__all__ = ["LCP", "ParametricLCP", "SYMMETRY_RTOL", "as_matrix", "as_vector", "bandwidth"]
-
-#: Relative tolerance of :attr:`LCP.is_symmetric`: |M_ij - M_ji| <= SYMMETRY_RTOL *
-#: max(sqrt|M_ii M_jj|, |M_ij|, |M_ji|) for every pair (each against its own size).
-#: Assembly in floating point (A = J G^-1 J') leaves asymmetry of order n * 1e-16;
-#: anything above 1e-10 is a modelling fact, not rounding.
-SYMMETRY_RTOL = 1e-10
-
-
-def _first_bad_index(mask: np.ndarray) -> tuple[int, ...]:
-    return tuple(int(i) for i in np.argwhere(mask)[0])
-
-
-def _as_array(x, name: str, what: str) -> np.ndarray:
-    """np.asarray, with NumPy's complaint about ragged nesting turned into ours."""
-    try:
-        return np.asarray(x)
-    except (ValueError, TypeError) as exc:
-        raise InvalidProblemError(
-            f"{name} cannot be read as a {what}: {exc.__class__.__name__} from NumPy "
-            "(rows of different lengths?); give a rectangular array of numbers"
-        ) from None
-
-
-def as_matrix(M, name: str = "M") -> np.ndarray | sp.csc_matrix:
-    """Validate a matrix argument and return it as a float array or CSC matrix.
-
-    Raises :class:`InvalidProblemError` naming ``name`` when the matrix is not
-    2-D, not real, or holds a NaN or an infinity (the message gives the first bad
-    index).
-    """
-    if sp.issparse(M):
-        if M.ndim != 2:
-            raise InvalidProblemError(f"{name} must be 2-D; got a sparse array of shape {M.shape}")
-        if np.iscomplexobj(M.data):
-            raise InvalidProblemError(f"{name} has complex entries; LCP and QP data must be real")
-        try:
-            out = sp.csc_matrix(M, dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise InvalidProblemError(f"{name} cannot be read as a real sparse matrix: {exc}") from None
-        out.sum_duplicates()
-        bad = ~np.isfinite(out.data)
-        if bad.any():
-            coo = out.tocoo()
-            k = int(np.argmax(~np.isfinite(coo.data)))
-            raise InvalidProblemError(
-                f"{name} has a non-finite entry {coo.data[k]} at index ({coo.row[k]}, {coo.col[k]}); "
-                "replace it with a finite number"
-            )
-        return out
-    arr = _as_array(M, name, "matrix")
-    if np.iscomplexobj(arr):
-        raise InvalidProblemError(f"{name} has complex entries; LCP and QP data must be real")
-    if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
-        raise InvalidProblemError(f"{name} must hold real numbers; got dtype {arr.dtype}")
-    if arr.ndim != 2:
-        raise InvalidProblemError(f"{name} must be a 2-D matrix; got shape {arr.shape}")
-    arr = np.array(arr, dtype=float)
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        idx = _first_bad_index(bad)
-        raise InvalidProblemError(
-            f"{name} has a non-finite entry {arr[idx]} at index {idx}; replace it with a finite number"
-        )
-    return arr
-
-
-def as_vector(v, n: int | None, name: str, allow_inf: int = 0) -> np.ndarray:
-    """Validate a vector argument of length ``n`` (any length if ``n`` is None).
-
-    A column or row matrix of the right size is flattened.  ``allow_inf`` is
-    -1 to accept -inf (lower bounds), +1 to accept +inf (upper bounds), 0 for
-    neither.
-    """
-    if sp.issparse(v):
-        v = v.toarray()
-    arr = _as_array(v, name, "vector")
-    if np.iscomplexobj(arr):
-        raise InvalidProblemError(f"{name} has complex entries; problem data must be real")
-    if arr.dtype == object or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
-        raise InvalidProblemError(f"{name} must hold real numbers; got dtype {arr.dtype}")
-    if arr.ndim == 2 and 1 in arr.shape:
-        arr = arr.ravel()
-    if arr.ndim != 1:
-        raise InvalidProblemError(f"{name} must be a vector; got shape {arr.shape}")
-    if n is not None and arr.shape[0] != n:
-        raise InvalidProblemError(f"{name} has length {arr.shape[0]} but the matrix has {n} rows; they must match")
-    arr = np.array(arr, dtype=float)
-    bad = np.isnan(arr)
-    if allow_inf >= 0:
-        bad |= arr == -np.inf
-    if allow_inf <= 0:
-        bad |= arr == np.inf
-    if bad.any():
-        i = int(np.argmax(bad))
-        raise InvalidProblemError(f"{name} has a non-finite entry {arr[i]} at index {i}; replace it with a finite number")
-    return arr
-
-
-def bandwidth(M) -> int:
-    """max |i - j| over the stored nonzeros of a matrix (dense or sparse)."""
-    if sp.issparse(M) and M.format in ("csr", "csc"):
-        # read off the compressed index arrays: no COO copy (a time stepper
-        # meets a new matrix every step)
-        major = np.repeat(np.arange(len(M.indptr) - 1), np.diff(M.indptr))
-        return int(np.max(np.abs(M.indices - major))) if M.nnz else 0
-    C = sp.coo_matrix(M)
-    return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
-
-
-def _ratio_or_inf(num: np.ndarray, den: np.ndarray) -> np.ndarray:
-    """num / den elementwise with 0/0 = 0 and x/0 = inf."""
-    out = np.zeros(np.shape(num))
-    pos = den > 0
-    np.divide(num, den, out=out, where=pos)
-    out[~pos & (num != 0)] = np.inf
-    return out
-
-
-def _max_abs(M) -> float:
-    if sp.issparse(M):
-        return float(abs(M).max()) if M.nnz else 0.0
-    return float(np.max(np.abs(M))) if M.size else 0.0
-
-
-class _MatrixStructure:
-    """Lazily computed, cached structure of a square matrix (shared by the LCPs
-    of a parametric family, which all have the same M)."""
-
-    def __init__(self, M):
-        self.M = M
-
-    @cached_property
-    def scale(self) -> float:
-        return _max_abs(self.M)
-
-    @cached_property
-    def asymmetry(self) -> float:
-        """max|M - M'| (absolute; for messages)."""
-        return _max_abs(self.M - self.M.T)
-
-    @cached_property
-    def relative_asymmetry(self) -> float:
-        """max over pairs of |M_ij - M_ji| / max(sqrt|M_ii M_jj|, |M_ij|, |M_ji|).
-
-        Each pair is judged against its own size, never against max|M|: a
-        coupling of 1e-8 in a row whose only other entry is 0 is not rounding
-        beside a 1e300 elsewhere.  The scale sqrt|M_ii M_jj| (what bounds an
-        entry of a PSD matrix) keeps assembly noise at a true zero (1e-17
-        against -1e-17) symmetric.  Invariant under symmetric scaling D M D.
-        """
-        M = self.M
-        n = M.shape[0]
-        d = np.sqrt(np.abs(np.asarray(M.diagonal(), dtype=float)))
-        if sp.issparse(M):
-            A = sp.coo_matrix(M - M.T)
-            A.eliminate_zeros()
-            if A.nnz == 0:
-                return 0.0
-            r, c = A.row, A.col
-            absM = abs(M).tocsr()
-            mij = np.asarray(absM[r, c]).ravel()
-            mji = np.asarray(absM[c, r]).ravel()
-            scale = np.maximum(d[r] * d[c], np.maximum(mij, mji))
-            return float(np.max(_ratio_or_inf(np.abs(A.data), scale)))
-        worst = 0.0
-        step = max(1, (1 << 22) // max(n, 1))
-        for start in range(0, n, step):
-            rows = slice(start, start + step)
-            A, B = M[rows, :], M[:, rows].T
-            scale = np.maximum(np.outer(d[rows], d), np.maximum(np.abs(A), np.abs(B)))
-            worst = max(worst, float(np.max(_ratio_or_inf(np.abs(A - B), scale))))
-        return worst
-
-    @cached_property
-    def is_symmetric(self) -> bool:
-        return self.relative_asymmetry <= SYMMETRY_RTOL
-
-    @cached_property
-    def symmetric_part(self):
-        S = 0.5 * self.M + 0.5 * self.M.T  # halves first: no overflow near 1e308
-        return sp.csc_matrix(S) if sp.issparse(S) else S
-
-    def _definite(self, semi: bool) -> bool:
-        """Whether the symmetric part S is positive definite (semi=False) or
-        semidefinite (semi=True), decided on its Jacobi scaling D S D
-        (D = diag(S)^-1/2) so that no row's size decides for another's.
-
-        Rows with S_ii = 0 must be zero for S to be PSD (|S_ij|² <= S_ii S_jj),
-        up to the cancellation noise of forming S; they are then dropped.  The
-        remaining unit-diagonal block passes when its Cholesky factor (of the
-        block plus 10 n eps I for semi=True) has squared pivots above n eps.
-        """
-        S = self.symmetric_part
-        n = S.shape[0]
-        eps = np.finfo(float).eps
-        diag = np.asarray(S.diagonal(), dtype=float)
-        if np.any(diag < 0):
-            return False
-        pos = diag > 0
-        if not pos.all():
-            if not semi:
-                return False
-            zero = np.flatnonzero(~pos)
-            if sp.issparse(S):
-                Z = abs(S[zero]).toarray() if zero.size else np.zeros((0, n))
-                noise = 1e3 * eps * abs(self.M[zero]).maximum(abs(self.M.T[zero])).toarray()
-            else:
-                Z = np.abs(S[zero])
-                noise = 1e3 * eps * np.maximum(np.abs(self.M[zero]), np.abs(self.M.T[zero]))
-            if np.any(Z > noise):
-                return False
-            keep = np.flatnonzero(pos)
-            if keep.size == 0:
-                return True
-            S = S[keep][:, keep] if sp.issparse(S) else S[np.ix_(keep, keep)]
-            diag = diag[keep]
-        m = S.shape[0]
-        dsc = 1.0 / np.sqrt(diag)
-        floor = m * eps
-        shift = 10.0 * m * eps if semi else 0.0
-        if sp.issparse(S):
-            D = sp.diags(dsc)
-            with np.errstate(over="ignore", invalid="ignore"):
-                A = (D @ S @ D + shift * sp.identity(m)).tocsc()
-            if not np.all(np.isfinite(A.data)):
-                return False
-            if m > 64 and bandwidth(A) <= 16:  # banded: LAPACK's banded Cholesky, O(n b²)
-                b = bandwidth(A)
-                C = sp.coo_matrix(A)
-                up = C.row <= C.col
-                ab = np.zeros((b + 1, m))
-                ab[b + C.row[up] - C.col[up], C.col[up]] = C.data[up]
-                c, info = scipy.linalg.lapack.dpbtrf(ab, lower=0)
-                return info == 0 and bool(np.all(c[b] ** 2 > floor))
-            # SuperLU in symmetric mode with no threshold pivoting picks the
-            # diagonal: an LDL' in disguise.  All pivots positive and no row
-            # exchange <=> positive definite (Sylvester on the permuted matrix).
-            try:
-                lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                               options={"SymmetricMode": True})
-            except RuntimeError:  # exactly singular
-                return False
-            if not np.array_equal(lu.perm_r, lu.perm_c):
-                return False
-            return bool(np.all(lu.U.diagonal() > floor))
-        with np.errstate(over="ignore", invalid="ignore"):
-            A = (S * dsc[:, None]) * dsc[None, :] + shift * np.eye(m)
-        if not np.all(np.isfinite(A)):  # a scaled entry beyond 1e308: |S_ij|² > S_ii S_jj
-            return False
-        try:
-            L = scipy.linalg.cholesky(A, lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
-            return False
-        return bool(np.all(np.diag(L) ** 2 > floor))
-
-    def declare_spd(self) -> None:
-        """Record that M is symmetric positive definite *by construction* (a
-        formulation that proves it, e.g. the drum's A = C + G'H⁻¹G), so the
-        checks are not recomputed for every assembled matrix."""
-        self.__dict__.update(is_symmetric=True, is_positive_definite=True, is_psd=True,
-                             asymmetry=0.0, relative_asymmetry=0.0)
-
-    @cached_property
-    def upper(self):
-        """Upper triangle of a sparse M (CSC), what sparse LDL' codes take."""
-        return sp.triu(self.M, format="csc") if sp.issparse(self.M) else None
-
-    @cached_property
-    def bandwidth(self) -> int:
-        return bandwidth(self.M)
-
-    def upper_bands(self, max_bandwidth: int):
-        """LAPACK upper band storage of the symmetric part, ab[b + i - j, j] = S_ij
-        (i <= j), when the bandwidth b is at most ``max_bandwidth``; else None."""
-        b = self.bandwidth
-        if b > max_bandwidth:
-            return None
-        if self._bands is None:
-            S = sp.csc_matrix(self.M if self.is_symmetric else self.symmetric_part)
-            ab = np.zeros((b + 1, S.shape[0]))
-            for k in range(b + 1):   # superdiagonal k: ab[b - k, j] = S[j - k, j]
-                ab[b - k, k:] = S.diagonal(k)
-            self._bands = ab
-        return self._bands
-
-    _bands = None
-
-    @cached_property
-    def is_positive_definite(self) -> bool:
-        # z'Mz > 0 for all z != 0 depends on the symmetric part only.
-        return self._definite(semi=False)
-
-    @cached_property
-    def is_psd(self) -> bool:
-        return self.scale == 0.0 or self.is_positive_definite or self._definite(semi=True)
+__all__ = ["LCP", "ParametricLCP", "lcp_to_qp", "monotone_lcp_to_qp"]
 
 
 class _LCPBase:
     """Shared validation and structure of LCP and ParametricLCP."""
 
-    _structure: _MatrixStructure
+    _structure: MatrixStructure
 
     def _init_matrix(self, M) -> int:
         M = as_matrix(M, "M")
@@ -334,8 +36,14 @@ class _LCPBase:
             raise InvalidProblemError(f"M must be square; got shape {M.shape}")
         if n0 == 0:
             raise InvalidProblemError("M has no rows; an LCP needs at least one unknown")
-        self._structure = _MatrixStructure(M)
+        self._structure = MatrixStructure(M)
         return n0
+
+    @property
+    def structure(self) -> MatrixStructure:
+        """M's structure, computed on first use and cached (shared by the LCPs
+        of a parametric family, which all have the same M)."""
+        return self._structure
 
     @property
     def M(self):
@@ -410,8 +118,11 @@ class LCP(_LCPBase):
         self.q_terms = np.abs(self.q) if q_terms is None else np.abs(as_vector(q_terms, n, "q_terms"))
 
     @classmethod
-    def _with_structure(cls, structure: _MatrixStructure, q: np.ndarray,
-                        q_terms: np.ndarray | None = None) -> "LCP":
+    def with_structure(cls, structure: MatrixStructure, q: np.ndarray,
+                       q_terms: np.ndarray | None = None) -> "LCP":
+        """An LCP on the matrix of ``structure`` (an ``LCP.structure``) and an
+        already validated float vector q, sharing the cached structure: a time
+        stepper meets the same M with a new q every step."""
         obj = cls.__new__(cls)
         obj._structure = structure
         obj.q = q
@@ -436,8 +147,6 @@ class LCP(_LCPBase):
         NotConvexError
             M is symmetric but indefinite: the QP would be nonconvex.
         """
-        from .conversions import lcp_to_qp
-
         return lcp_to_qp(self)
 
     def to_monotone_qp(self):
@@ -445,8 +154,6 @@ class LCP(_LCPBase):
 
         For a monotone LCP its optimal value is 0 exactly at the LCP's solutions.
         """
-        from .conversions import monotone_lcp_to_qp
-
         return monotone_lcp_to_qp(self)
 
     def __repr__(self) -> str:
@@ -456,7 +163,7 @@ class LCP(_LCPBase):
         return {"M": self.M, "q": self.q, "q_terms": self.q_terms}
 
     def __setstate__(self, state):
-        self._structure = _MatrixStructure(state["M"])
+        self._structure = MatrixStructure(state["M"])
         self.q = state["q"]
         self.q_terms = state.get("q_terms", np.abs(self.q))
 
@@ -493,7 +200,7 @@ class ParametricLCP(_LCPBase):
         p = float(p)
         if not np.isfinite(p):
             raise InvalidProblemError(f"load parameter p must be finite; got {p}")
-        return LCP._with_structure(self._structure, self.q(p),
+        return LCP.with_structure(self._structure, self.q(p),
                                    np.abs(self.q0) + abs(p) * np.abs(self.q1))
 
     def __repr__(self) -> str:
@@ -503,5 +210,36 @@ class ParametricLCP(_LCPBase):
         return {"M": self.M, "q0": self.q0, "q1": self.q1}
 
     def __setstate__(self, state):
-        self._structure = _MatrixStructure(state["M"])
+        self._structure = MatrixStructure(state["M"])
         self.q0, self.q1 = state["q0"], state["q1"]
+
+
+def lcp_to_qp(lcp: LCP) -> Problem:
+    """``min ½ z'Mz + q'z, z >= 0`` for a symmetric PSD LCP (see the module docstring)."""
+    if not lcp.is_symmetric:
+        raise NotSymmetricError(
+            f"M is not symmetric (max|M - M'| = {lcp.structure.asymmetry:.3g}, "
+            f"max|M| = {lcp.matrix_scale:.3g}), so the LCP is not the optimality "
+            "condition of a QP. Use a pivoting method such as 'lemke' for any M, or "
+            "LCP.to_monotone_qp() when M + M' is positive semidefinite."
+        )
+    if not lcp.is_psd:
+        raise NotConvexError(
+            "M is symmetric but not positive semidefinite, so the QP min ½z'Mz + q'z, z >= 0 "
+            "is nonconvex and QP backends may return local minima. Use a pivoting method "
+            "such as 'lemke'."
+        )
+    P = lcp.structure.symmetric_part  # drops rounding-level asymmetry
+    return Problem(P, lcp.q.copy(), lb=np.zeros(lcp.n))
+
+
+def monotone_lcp_to_qp(lcp: LCP) -> Problem:
+    """``min z'(Mz + q), Mz + q >= 0, z >= 0`` for M + M' PSD (see the module docstring)."""
+    if not lcp.is_psd:
+        raise NotConvexError(
+            "M + M' is not positive semidefinite, so the LCP is not monotone and no convex "
+            "QP has its solutions as minimisers. Use a pivoting method such as 'lemke'."
+        )
+    M = lcp.M
+    P = 2.0 * lcp.structure.symmetric_part
+    return Problem(P, lcp.q.copy(), G=-M, h=lcp.q.copy(), lb=np.zeros(lcp.n))

@@ -44,7 +44,7 @@ AUTO_IP_BPP_MIN = 5000
 def _auto_order(problem) -> tuple:
     if isinstance(problem, LCP):
         mesh_like = (problem.is_sparse and problem.n >= AUTO_IP_BPP_MIN
-                     and problem._structure.bandwidth > BANDED_MAX)
+                     and problem.structure.bandwidth > BANDED_MAX)
         return ("ip-bpp",) + AUTO_ORDER if mesh_like else AUTO_ORDER
     if isinstance(problem, Problem) and _lower_bounds_only(problem):
         return ("ip-bpp",) + AUTO_ORDER
@@ -104,8 +104,8 @@ def _jacobi_scaled(lcp: LCP):
     if lcp.is_symmetric:
         Ms = 0.5 * (Ms + Ms.T)  # keep exact symmetry for the QP route
     scaled = LCP(Ms, qs)
-    if lcp._structure.__dict__.get("is_positive_definite"):
-        scaled._structure.declare_spd()   # D M D is congruent to M: no second factorization
+    if lcp.structure.__dict__.get("is_positive_definite"):
+        scaled.structure.declare_spd()   # D M D is congruent to M: no second factorization
     return scaled, d
 
 

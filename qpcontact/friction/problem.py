@@ -42,7 +42,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.errors import InvalidOptionError, InvalidProblemError
-from ..core.problems import LCP, as_matrix, as_vector
+from ..core.problems import LCP
+from ..core.matrices import as_matrix, as_vector
 
 __all__ = ["FrictionProblem", "FrictionSolution", "natural_map_error", "componentwise_error",
            "certified_error", "global_errors", "contact_scales", "contact_sizes", "modified_velocity",

@@ -258,7 +258,7 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     level = _rounding_level(lcp.M)
     error = float(e[worst])
 
-    def forward_pair(M=lcp.M, structure=lcp._structure):
+    def forward_pair(M=lcp.M, structure=lcp.structure):
         condition, kappa_z, kappa_w = _lcp_condition(M, z, w, zeta, sigma, level, structure)
         forward = max(error, level) * max(kappa_z, kappa_w)
         return float(condition), (float(forward) if np.isfinite(forward) else np.inf)

@@ -59,7 +59,7 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
     M, q = problem.M, problem.q
     scales = ComponentScales(M, problem.q_terms, problem.matrix_scale)
     # Per-matrix analysis, cached on the problem (a time stepper reuses it).
-    structure = problem._structure
+    structure = problem.structure
     bands = structure.upper_bands(BANDED_MAX) if sp.issparse(M) else None
     triu = structure.upper if bands is None else None
     stats = {"iterations": 0, "factorizations": 0, "initial_active": int(F.sum())}
