@@ -625,7 +625,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     100 or 1000 logs (size small/medium/large); "hard" mixes 0.05-0.30 m logs
     on an elastic shell with damping.  Names say what they are:
     ``drum/stack-100-hard/step-30``; the contact forces are z."""
-    from qpcontact.commands.compare import Instance
+    from qpcontact.cases.instance import Instance
 
     L = {"small": 10, "medium": 100, "large": 1000}[size]
     rng = np.random.default_rng(seed)

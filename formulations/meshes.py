@@ -216,7 +216,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     """``qpcontact compare`` instances: membrane, plate and the 3-D block at
     three sizes ("hard": degenerate obstacle problems, stiffness scaled by
     1e9 against loads of order 1)."""
-    from qpcontact.commands.compare import Instance
+    from qpcontact.cases.instance import Instance
 
     nm, npl, nb = _SIZES[size]
     if hardness == "hard":

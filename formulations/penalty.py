@@ -375,7 +375,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     of freedom and 4, 20, 60 contacts; "easy" at mu = 10 x the KKT threshold
     (at least 1), "hard" at mu = 1e6 (the ill-conditioned end of the window).
     Named ``penalty/ramming/mu=1e+06``."""
-    from qpcontact.commands.compare import Instance
+    from qpcontact.cases.instance import Instance
 
     from .mechanisms import ramming_impact_step
 

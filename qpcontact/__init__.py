@@ -19,13 +19,14 @@ from .core.errors import (BackendUnavailableError, InvalidOptionError, InvalidPr
                           SolverFailedError, UnknownMethodError)
 from .solvers.registry import Method, all_methods, get_method, methods, register
 from .core.problems import LCP, ParametricLCP
+from .friction.problem import FrictionProblem
 from .core.results import LCPSolution, MethodResult, QPSolution, Solution
 from .dispatch.driver import solve
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "LCP", "ParametricLCP", "qp_to_lcp", "DualLCP",
+    "LCP", "ParametricLCP", "FrictionProblem", "qp_to_lcp", "DualLCP",
     "solve", "certify", "methods", "all_methods", "get_method", "register", "Method",
     "Solution", "LCPSolution", "QPSolution", "MethodResult", "LCPCertificate", "QPCertificate",
     "LEVELS",

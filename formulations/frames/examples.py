@@ -89,7 +89,7 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     f = 0.3 and a lateral load (nonsymmetric: QP backends are not applicable).
     Named ``frames/10-supports-friction``; the contact forces are w's first
     entries (X_n)."""
-    from qpcontact.commands.compare import Instance
+    from qpcontact.cases.instance import Instance
 
     spans = {"small": 3, "medium": 10, "large": 30}[size]
     rng = np.random.default_rng(seed + spans)

@@ -26,11 +26,11 @@ import os
 import platform
 import statistics
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..cases.instance import Instance
 from ..core.progress import ProgressBar
 
 __all__ = ["Instance", "collect_instances", "plan", "run_task", "sweep", "summarize", "report",
@@ -46,18 +46,6 @@ FIELDS = ("instance", "formulation", "size", "n", "method", "family", "level", "
           "dist_solution", "dist_forces", "active_set_agree", "exact_method", "exact_time",
           "timed_on", "machine", "versions")
 TIMING_FIELDS = ("time_median", "exact_time", "timed_on", "machine")
-
-
-@dataclass(frozen=True)
-class Instance:
-    """A named problem.  ``forces``: where the physical contact forces are —
-    ("z", None) the LCP's z (or the QP's x), ("w", k) the first k entries of w."""
-
-    name: str
-    formulation: str
-    size: str
-    problem: object
-    forces: tuple = ("z", None)
 
 
 def shgeom(values, shift: float = SHIFT) -> float:
