@@ -144,9 +144,9 @@ def test_an_uncertified_sparse_answer_falls_back_to_the_dense_form(sparse_form, 
     runs too; the certified answer is returned, and the stats say so."""
     import importlib
 
-    from qpcontact.solvers.pivoting.lemke import LemkeOutcome
+    from qpcontact.solvers.pivoting.lemke_tableau import LemkeOutcome
 
-    mod = importlib.import_module("qpcontact.solvers.pivoting.lemke_sparse")
+    mod = importlib.import_module("qpcontact.solvers.pivoting.lemke")   # the driver's binding
     lcp, z_star = random_spd_lcp(30, 100.0, 0, sparse=True)
     monkeypatch.setattr(mod, "sparse_lemke", lambda M, q, d, k: LemkeOutcome(
         "solved", np.ones(q.size), np.ones(q.size, bool), 7))

@@ -379,7 +379,8 @@ def _prove_no_solution(problem, sol, time_limit=None):
     """Turn a result into "infeasible" or "unbounded" when a Farkas vector or a
     ray is found and checked from the data (qpcontact.proofs): a proof about
     the data as stored outranks a certificate, which speaks of nearby data."""
-    from ..proofs.qp import prove_lcp_infeasible, prove_no_minimiser
+    from ..proofs.lcp import prove_lcp_infeasible
+    from ..proofs.qp import prove_no_minimiser
 
     proof = (prove_lcp_infeasible(problem, time_limit) if isinstance(problem, LCP)
              else prove_no_minimiser(problem, time_limit))

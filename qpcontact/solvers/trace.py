@@ -83,7 +83,8 @@ from ..core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionEr
 from .pivoting.active_set import check_dense_size
 from ..core.options import check_options, int_option
 from ..core.linalg import dense_matrix, refined
-from .pivoting.lemke import FARKAS_RTOL, lemke
+from ..proofs.lcp import FARKAS_RTOL
+from .pivoting.lemke_tableau import lemke
 from ..core.linalg import ruiz_scaling
 from ..plots.figures import save_figure
 from ..core.problems import ParametricLCP

@@ -14,7 +14,8 @@ favour of z0 leaving.  The method ends
   solution (Cottle, Pang & Stone 1992, Thm 4.4.13) — in exact arithmetic.  For
   other M it means nothing, so the method restarts with other covering vectors
   (``restarts``, seeded) before reporting the ray.  "No solution" is claimed
-  only with a Farkas vector checked from the data (:func:`feasibility`);
+  only with a Farkas vector checked from the data
+  (:func:`qpcontact.proofs.lcp.feasibility`);
 - ``max_pivots``: the pivot limit was reached.
 
 The LCP is solved after row/column equilibration (w' = D_r w, z = D_c z'), which
@@ -29,259 +30,25 @@ form took 44 000 pivots (529 s) to a secondary ray.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import warnings
 
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
-from scipy.linalg.blas import dger
 
 from ...core.errors import InvalidOptionError
-from ._pivot_kernels import ratio_ties, scales_pivot
-from ...core.results import MethodResult
-from .active_set import DENSE_TABLEAU_LIMIT, overflow_result, sign_tolerances
 from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, ruiz_scaling
-from ...judge.scales import ComponentScales
 from ...core.options import check_options, int_option
+from ...core.results import MethodResult
+from ...judge.scales import ComponentScales
+from ...proofs.lcp import feasibility
+from .active_set import DENSE_TABLEAU_LIMIT, overflow_result, sign_tolerances
+from .lemke_sparse import SingularBasis, sparse_lemke
+from .lemke_tableau import lemke
 
-__all__ = ["LemkeOutcome", "lemke", "run_lemke", "lex_ratio_test",
-           "tableau_pivot", "RowScales"]
+__all__ = ["run_lemke", "SPARSE_FROM", "DENSE_FALLBACK_MAX"]
 
 _OPTIONS = ("covering", "max_pivots", "restarts", "seed")
-#: Entries of an entering column below this fraction of its largest entry are
-#: treated as zero in the ratio test.
-PIVOT_RTOL = 1e-11
-#: Pivots between recomputations of the basis inverse from the basis columns
-#: (at least n, so refactoring costs O(n²) per pivot on average).
-REFACTOR_EVERY = 50
-
-
-@dataclass
-class LemkeOutcome:
-    status: str                    # "solved", "ray", "max_pivots"
-    z: np.ndarray | None           # the solution (unscaled) when solved
-    basic_z: np.ndarray            # bool mask: z_i basic
-    pivots: int
-    ray: dict = field(default_factory=dict)
-
-
-def tableau_pivot(T: np.ndarray, r: int, c: int) -> None:
-    """Gauss–Jordan pivot of the (Fortran-ordered) tableau T on (r, c), in place."""
-    col = T[:, c].copy()
-    T[r, :] /= col[r]
-    col[r] = 0.0
-    dger(-1.0, col, T[r, :].copy(), a=T, overwrite_a=True)
-
-
-#: Growth of the tracked row scales (see RowScales) after which they are
-#: recomputed exactly from the basis inverse (O(n²), a few pivots' worth).
-_REANCHOR_GROWTH = 1e3
-
-
-class RowScales:
-    """Per-row rounding scales of a pivoting tableau, for its sign and ratio tests.
-
-    ``rhs[i]`` bounds (|B⁻¹| |q|)_i, the size of the terms basic value i is
-    made of, and ``inv[i]`` bounds the row sum of |B⁻¹|, so an entering column
-    B⁻¹a has row scales ``inv * max|a|``.  A pivot updates both in O(n) by the
-    triangle inequality (row i gains |col_i / col_r| times row r); when that
-    bound has grown by more than _REANCHOR_GROWTH since the last exact values,
-    and at every refactorization, they are recomputed exactly.  Each row is
-    thus tested against its own size: a gap of 5e11 in one row no longer sets
-    the tolerance of every other row (issue 14).
-    """
-
-    def __init__(self, q_abs: np.ndarray):
-        self.q_abs = q_abs
-        self._v = np.vstack([q_abs, np.ones_like(q_abs)])  # rows: rhs, inv
-        self.growth = 1.0
-        self.anchors = 0
-
-    @property
-    def rhs(self) -> np.ndarray:
-        return self._v[0]
-
-    @property
-    def inv(self) -> np.ndarray:
-        return self._v[1]
-
-    def anchor(self, Binv: np.ndarray) -> None:
-        A = np.abs(Binv)
-        self._v[0] = A @ self.q_abs
-        self._v[1] = A.sum(axis=1)
-        self.growth = 1.0
-        self.anchors += 1
-
-    def pivot(self, col: np.ndarray, r: int) -> None:
-        """Update for a pivot on row r of the entering column ``col`` (taken
-        before the pivot); then call :meth:`reanchor_if_grown` with the new
-        basis inverse.
-
-        Row i becomes row i - (col_i / col_r) row r.  Its scale is updated to
-        max(scale_i, |col_i / col_r| scale_r), an estimate of the rounding size
-        rather than the triangle inequality's sum: an overestimate is not safe
-        here (false ties in the ratio test pick a wrong row, a too large
-        threshold hides the only candidate), so growth is bounded instead by
-        recomputing the scales exactly once it exceeds _REANCHOR_GROWTH.
-        """
-        self.growth *= scales_pivot(self._v, col, r)
-
-    def reanchor_if_grown(self, Binv: np.ndarray) -> None:
-        if self.growth > _REANCHOR_GROWTH:
-            self.anchor(Binv)
-
-
-def lex_ratio_test(col: np.ndarray, rhs: np.ndarray, lex: np.ndarray, scales: RowScales,
-                   col_norm: float, prefer_row: int | None = None) -> int | None:
-    """Leaving row of a lexicographic minimum-ratio test, or None (a ray).
-
-    Rows with col_i > PIVOT_RTOL times the row's own scale (``scales.inv[i] *
-    col_norm``, col_norm = max|a| of the entering column before B⁻¹) compete on
-    rhs_i / col_i; ratios equal up to the rounding of their own rows
-    (``scales.rhs``) are ties, which go to ``prefer_row`` if it is among them,
-    else to the lexicographically smallest row of lex[i, :] / col_i (lex is the
-    basis inverse, or any matrix whose rows make the tableau lexico-positive).
-    """
-    ties = ratio_ties(col, rhs, scales.rhs, scales.inv, float(col_norm), PIVOT_RTOL)
-    if ties.size <= 1:
-        return int(ties[0]) if ties.size else None
-    if prefer_row is not None and prefer_row in ties:
-        return int(prefer_row)
-    return int(ties[lex_smallest(lex[ties] / col[ties, None])])
-
-
-def ray_outcome(basis: np.ndarray, x: np.ndarray, col: np.ndarray, entering: int, pivots: int,
-                **extra) -> LemkeOutcome:
-    """A secondary ray: the point (z, z0) and the direction (dz, dz0) along
-    which raising the entering variable keeps every basic value >= 0
-    (x - t col, col = B⁻¹ times the entering column)."""
-    n = x.size
-    Z0 = 2 * n
-    v = np.zeros(2 * n + 1)
-    v[basis] = x
-    dv = np.zeros(2 * n + 1)
-    dv[basis] = -col
-    dv[entering] = 1.0
-    return LemkeOutcome("ray", None, (basis >= n) & (basis < Z0), pivots,
-                        ray={"z": v[n:Z0], "dz": dv[n:Z0], "z0": v[Z0], "dz0": dv[Z0],
-                             "entering": entering, **extra})
-
-
-def lex_smallest(V: np.ndarray) -> int:
-    """Index of the lexicographically smallest row of V, entries within
-    1e-10 of the block's largest magnitude counting as equal.  A tie-break,
-    not a sign test: rounding noise is relative to the whole block of tied
-    rows (an exact 0 computed as 1e-18 must still tie with another 0), and
-    any tied row is a correct minimum ratio."""
-    floor = 1e-10 * max(float(np.max(np.abs(V))), 1e-300)
-    alive = np.arange(V.shape[0])
-    for j in range(V.shape[1]):
-        vals = V[alive, j]
-        alive = alive[vals <= vals.min() + floor]
-        if alive.size == 1:
-            break
-    return int(alive[0])
-
-
-def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutcome:
-    """Lemke's method on dense (already scaled) data; see the module docstring.
-
-    Revised form: T = [B^-1 | x] (n x (n + 1)) holds the basis inverse and the
-    basic values; each entering column is B^-1 times a column of [I, -M, -d],
-    and a pivot is one rank-one update of T — half the work of the full
-    n x (2n + 2) tableau.
-    """
-    n = q.size
-    if np.all(q >= 0):
-        return LemkeOutcome("solved", np.zeros(n), np.zeros(n, bool), 0)
-    Mf = np.asfortranarray(M)
-    col_norms = np.max(np.abs(Mf), axis=0)
-    T = np.zeros((n, n + 1), order="F")
-    T[:, :n] = np.eye(n)
-    T[:, n] = q
-    Binv, x = T[:, :n], T[:, n]  # views
-    basis = np.arange(n)  # variable ids: w 0..n-1, z n..2n-1, z0 2n
-    Z0 = 2 * n
-    scales = RowScales(np.abs(q))
-
-    def refactor():
-        # Product-form updates drift: on Fathi's family (2^n pivots) a column
-        # computed from the updated inverse was off by O(100) after ~1000
-        # pivots.  Recompute the inverse from the basis columns periodically.
-        B = np.zeros((n, n), order="F")
-        is_w = basis < n
-        B[basis[is_w], np.flatnonzero(is_w)] = 1.0
-        is_z = (basis >= n) & (basis < Z0)
-        B[:, is_z] = -Mf[:, basis[is_z] - n]
-        B[:, basis == Z0] = -d[:, None]
-        # An ill-conditioned basis is a numerical outcome the certificate
-        # judges, not a warning to print from inside the pivoting.
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            Binv[:] = scipy.linalg.inv(B, check_finite=False)
-            x[:] = scipy.linalg.solve(B, q, check_finite=False)
-        scales.anchor(Binv)
-        # Basic values of a feasible basis are >= 0; rounding leaves exact
-        # (degenerate) zeros at +-1e-17 of their row's size, which would win or
-        # lose ratio tests that the lexicographic rule must decide.
-        x[x < 1e-13 * scales.rhs] = 0.0
-
-    refactor_every = max(REFACTOR_EVERY, n)
-
-    def pivot(col, r):
-        row = T[r] / col[r]
-        scales.pivot(col, r)
-        col[r] = 0.0
-        dger(-1.0, col, row, a=T, overwrite_a=True)
-        T[r] = row
-        scales.reanchor_if_grown(Binv)
-
-    ratios = q / d
-    theta = ratios.min()
-    ties = np.flatnonzero(ratios <= theta + 1e-12 * abs(theta))
-    r = int(ties[-1])  # lexicographic minimum of (q_i, e_i')/d_i: the largest tied index
-    pivot(-(Binv @ d), r)
-    leaving = int(basis[r])
-    basis[r] = Z0
-    z0_row = r
-    pivots = 1
-    while True:
-        entering = leaving + n if leaving < n else leaving - n
-        if entering < n:
-            col = Binv[:, entering].copy()
-            col_norm = 1.0
-        else:
-            col = Binv @ Mf[:, entering - n]
-            np.negative(col, out=col)
-            col_norm = col_norms[entering - n]
-        r = lex_ratio_test(col, x, Binv, scales, col_norm, prefer_row=z0_row)
-        if r is None:
-            return ray_outcome(basis, x, col, entering, pivots, anchors=scales.anchors)
-        if pivots >= max_pivots:
-            return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
-        pivot(col, r)
-        leaving = int(basis[r])
-        basis[r] = entering
-        pivots += 1
-        if pivots % refactor_every == 0:
-            refactor()
-        if leaving == Z0:
-            is_z = basis >= n  # z0 has left: every basic variable is a w or a z
-            zi, wi = basis[is_z] - n, basis[~is_z]
-            for _ in range(2):
-                # Iterative refinement against the data: w - M z = q on the basis.
-                z = np.zeros(n)
-                z[zi] = x[is_z]
-                w = np.zeros(n)
-                w[wi] = x[~is_z]
-                r = q - w + Mf @ z
-                x += Binv @ r
-            z = np.zeros(n)
-            z[zi] = np.maximum(x[is_z], 0.0)
-            basic_z = np.zeros(n, bool)
-            basic_z[zi] = True
-            return LemkeOutcome("solved", z, basic_z, pivots)
 
 
 def _sign_errors(lcp, M, z, basic_z) -> bool:
@@ -310,65 +77,13 @@ def _refined(lcp, M: np.ndarray, z_tab: np.ndarray, basic_z: np.ndarray) -> np.n
     return z_tab
 
 
-#: Relative residual (each column against its own terms) below which a Farkas
-#: vector or a feasible point from an LP is accepted as checked from the data.
-FARKAS_RTOL = 1e-12
-
-
-def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) -> tuple[bool | None, dict]:
-    """Whether {z >= 0, Mz + q >= 0} is nonempty, with evidence checked from the data.
-
-    Returns (False, {"farkas": y}) when y >= 0 with M'y <= 0 and q'y < 0 was
-    found (Farkas: then no z >= 0 has Mz + q >= 0, since y'(Mz + q) < 0);
-    (True, {"point": z}) for a feasible z; (None, {...}) when neither could be
-    checked.  The LPs run on the Ruiz-scaled data (R M C, R q; y = R y',
-    z = C z'), and their answers are accepted only when every component holds
-    on its own scale to FARKAS_RTOL: (M'y)_j <= FARKAS_RTOL (|M|'y)_j and
-    q'y < -FARKAS_RTOL |q|'y; (Mz + q)_i >= -FARKAS_RTOL (|M||z| + |q|)_i.
-    An LP's word alone is never a proof: on data spanning 1e-300..1e300 HiGHS
-    called a solvable problem infeasible (issue 14).
-    """
-    from scipy.optimize import linprog
-
-    n = q.size
-    if sp.issparse(M):
-        M = sp.csr_matrix(M)
-        Ms = sp.csr_matrix(sp.diags(rs) @ M @ sp.diags(cs))
-        absM = abs(M)
-    else:
-        Ms = M * rs[:, None] * cs[None, :]
-        absM = np.abs(M)
-    qs = q * rs
-    # Positive scalars change no sign: the LPs see max|M| = max|q| = 1, and
-    # z = C (b/a) z'' maps their point back.
-    a = float(abs(Ms).max()) or 1.0
-    b = float(np.max(np.abs(qs))) or 1.0
-    Ms, qs = Ms / a, qs / b
-    # Farkas: min qs'y' over y' >= 0, Ms'y' <= 0, sum(y') = 1.
-    res = linprog(qs, A_ub=Ms.T, b_ub=np.zeros(n), A_eq=np.ones((1, n)), b_eq=[1.0],
-                  bounds=(0, None), method="highs")
-    if res.status == 0 and res.fun < 0:
-        y = np.maximum(res.x * rs, 0.0)
-        My, scale = M.T @ y, absM.T @ y
-        qy, qscale = float(q @ y), float(np.abs(q) @ y)
-        bad = np.maximum(My, 0.0) > FARKAS_RTOL * scale
-        if not bad.any() and qy < -FARKAS_RTOL * qscale:
-            return False, {"farkas": y}
-    # A feasible point: z'' >= 0 with Ms z'' + qs >= 0.
-    res = linprog(np.zeros(n), A_ub=-Ms, b_ub=qs, bounds=(0, None), method="highs")
-    if res.status == 0:
-        z = np.maximum(res.x * cs * (b / a), 0.0)
-        w = M @ z + q
-        if np.all(np.isfinite(w)) and np.all(w >= -FARKAS_RTOL * (absM @ z + np.abs(q))):
-            return True, {"point": z}
-    return None, {"reason": "the LPs gave no answer that checks against the data"}
-
-
 #: From this many unknowns a sparse M goes to the sparse revised form
 #: (:mod:`.lemke_sparse`); above DENSE_TABLEAU_LIMIT every M does.  Measured
 #: (benchmarks/lemke_sparse.py, membranes on k x k meshes): sparse / dense
 #: time 1.8 at n = 400, 0.59 at 900, 0.07 at 2500.
 SPARSE_FROM = 700
+
+
 #: Up to this many unknowns an uncertified sparse-form answer is retried by
 #: the dense form (run_lemke).  Its cost bounds it: on the 4050-unknown LCP
 #: of Capsules-i101 faceted by 16 directions the sparse form ends in 1.2 s,
@@ -411,8 +126,6 @@ def run_lemke(problem, tol, options) -> MethodResult:
 
 
 def _run_lemke(problem, options, sparse: bool) -> MethodResult:
-    from .lemke_sparse import SingularBasis, sparse_lemke
-
     n = problem.n
     M = sp.csc_matrix(problem.M) if sparse else dense_matrix(problem.M)
     q = problem.q

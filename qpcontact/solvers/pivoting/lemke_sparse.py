@@ -50,7 +50,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ._pivot_kernels import ratio_ties, scales_pivot
-from .lemke import PIVOT_RTOL, LemkeOutcome, lex_smallest, ray_outcome
+from .lemke_tableau import PIVOT_RTOL, LemkeOutcome, lex_smallest, ray_outcome
 
 __all__ = ["sparse_lemke", "SingularBasis"]
 
