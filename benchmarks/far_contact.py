@@ -39,7 +39,7 @@ def main(argv=None) -> int:
     ap.add_argument("--methods", default=None, help="default: every installed method and 'auto'")
     ap.add_argument("--accuracy", default="high")
     args = ap.parse_args(argv)
-    names = args.methods.split(",") if args.methods else ["auto", *qpcontact.methods()]
+    names = args.methods.split(",") if args.methods else ["auto", *(n for n, m in qpcontact.methods().items() if m.solves("lcp"))]
     problems = [far_contact_lcp(seed) for seed in range(args.problems)]
     print(f"{args.problems} far-contact problems (n = 21, cond 297, 3 gaps of 5e11), "
           f"accuracy {args.accuracy!r}")

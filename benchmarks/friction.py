@@ -50,19 +50,19 @@ LARGE = ("fc2d_granularflowonwall_00667_00000.dat", "fc2d_granularflowonwall_020
 
 
 def job(path, method, options):
+    import qpcontact
     from qpcontact.core.errors import QpcontactError
-    from qpcontact.friction.problem import solve_friction
     from qpcontact.io import read_problem
 
     p = read_problem(path)
     t = time.perf_counter()
     try:
-        s = solve_friction(p, method, tol=1e-8, **options)
+        s = qpcontact.solve(p, method, accuracy=1e-8, **options)
     except QpcontactError as exc:   # e.g. Lemke's dense basis refused above n = 5000
         return dict(time=time.perf_counter() - t, error=float("inf"),
                     status=f"refused: {str(exc)[:80]}", iterations=None, by="")
-    return dict(time=time.perf_counter() - t, siconos_error=s.error,
-                error=max(s.error, s.componentwise_error), status=s.status,
+    return dict(time=time.perf_counter() - t, siconos_error=s.natural_map_error,
+                error=s.error, status=s.status,
                 iterations=s.stats.get("iterations"), by=s.method)
 
 

@@ -151,7 +151,8 @@ def test_friction_collection_in_the_sweep(tmp_path):
     success is the natural-map error at the level's tolerance, recomputed here."""
     import numpy as np
 
-    from qpcontact.friction.problem import FrictionProblem, natural_map_error
+    from qpcontact.friction.problem import FrictionProblem
+    from qpcontact.friction.measures import natural_map_error
 
     def one(a):
         return compare.Instance(f"friction/one-{a}", "friction", "3D",

@@ -305,10 +305,9 @@ def test_elastic_contact_and_hinge_against_hand_formulas():
 @pytest.mark.parametrize("H, stiffness", [(0.0, None), (5.0, None), (50.0, None), (50.0, 2e4)])
 def test_friction_problem_export_reproduces_the_frame_solution(H, stiffness, tmp_path):
     """The exported 2-D problem (global K v = H r + f, u = Hᵀ v + w), written
-    to FCLIB and read back, solved by solve_friction (Lemke's exact LCP and
+    to FCLIB and read back, solved by qpcontact.solve (Lemke's exact LCP and
     the cone methods): the same contact forces as Frame.solve, sticking and
     sliding, rigid and elastic contacts."""
-    from qpcontact.friction.problem import solve_friction
     from qpcontact.io import read_fclib, write_fclib
 
     fr = _cantilever_with_two_contacts(False, gap=1e-4, stiffness=stiffness)
@@ -318,7 +317,7 @@ def test_friction_problem_export_reproduces_the_frame_solution(H, stiffness, tmp
     expected = np.array([[s.normal, s.tangential] for s in res.supports.values()]).ravel()
     prob = read_fclib(write_fclib(fr.friction_problem(), tmp_path / "frame.hdf5"))
     for method, tol in (("lemke", 1e-9), ("auto", 1e-9), ("newton", 1e-9)):
-        sol = solve_friction(prob, method, tol=tol)
+        sol = qpcontact.solve(prob, method, accuracy=tol)
         assert sol.ok, sol.message
         np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-6 * np.abs(expected).max())
 
@@ -328,7 +327,6 @@ def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_
     singular, so W does not exist.  The problem is kept global, survives
     FCLIB, and the global method reproduces Frame.solve's contact forces;
     with an elastic contact it cannot be exported (W would be needed)."""
-    from qpcontact.friction.problem import solve_friction
     from qpcontact.io import read_fclib, write_fclib
 
     def frame(stiffness=None):
@@ -348,7 +346,7 @@ def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_
     assert not prob.is_reduced and "singular" in prob.global_data["unreduced_because"]
     back = read_fclib(write_fclib(prob, tmp_path / "mechanism.hdf5"))
     assert not back.is_reduced
-    sol = solve_friction(back, tol=1e-9)
+    sol = qpcontact.solve(back, accuracy=1e-9)
     assert sol.ok and sol.method == "desaxce-global", sol.message
     np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-7 * np.abs(expected).max())
     with pytest.raises(InvalidProblemError, match="mechanism"):

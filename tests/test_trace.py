@@ -155,7 +155,9 @@ def test_trace_plot_is_written(tmp_path):
     M, q1, rng = _family(1)
     tr = qpcontact.solve(ParametricLCP(M, rng.uniform(0, 0.5, M.shape[0]), q1), method="trace",
                          p_max=2.0)
-    out = tr.plot(tmp_path / "trace.png")
+    from qpcontact.plots.trace import plot_trace
+
+    out = plot_trace(tr, tmp_path / "trace.png")
     assert (tmp_path / "trace.png").stat().st_size > 1000
     assert not list(tmp_path.glob("*.tmp.png"))
     assert out.endswith("trace.png")

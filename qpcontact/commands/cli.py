@@ -28,22 +28,37 @@ def _accuracy(value: str):
 
 @app.command("methods")
 def methods_cmd(all_: bool = typer.Option(False, "--all", help="Also list known methods that are not installed.")):
-    """List the methods usable here and their capabilities."""
+    """List the methods usable here: what each one solves, where it is exact, what it needs."""
+    from ..solvers.method import PROBLEM_KINDS
     from ..solvers.registry import all_methods
 
-    table = Table(title="qpcontact methods")
-    for col in ("name", "family", "algorithm", "exact", "LCP's M must be", "sparse", "duals", "installed"):
+    table = Table(title="qpcontact methods: one registry for every kind (* exact: finite "
+                        "termination at an exact answer, up to rounding)")
+    for col in ("name", "family", "solves", "LCP's M", "sparse", "algorithm", "notes"):
         table.add_column(col)
-    requires = {"monotone": "M+M' PSD", "spd": "symmetric PD", "any": "anything"}
-    def yes(flag: bool) -> str:
-        return "yes" if flag else "no"
-
-    for name, m in sorted(all_methods().items()):
+    requires = {"monotone": "M+M' PSD", "spd": "sym. PD", "any": "any"}
+    order = sorted(all_methods().items(),
+                   key=lambda kv: (_FAMILY_ORDER.get(kv[1].family, 9), kv[0]))
+    for name, m in order:
         if not (m.available or all_):
             continue
-        table.add_row(name, m.family, m.algorithm, yes(m.exact), requires[m.requires], yes(m.accepts_sparse),
-                      yes(m.returns_duals), "yes" if m.available else escape(f"no: {m.install}"))
+        solves = ", ".join(PROBLEM_KINDS[k] + ("*" if m.exact_on(k) else "") for k in m.problems)
+        notes = []
+        if m.max_n is not None:
+            notes.append(f"n <= {m.max_n}")
+        if m.constraints == "lower-bounds":
+            notes.append("QPs with lower bounds only")
+        if m.needs_isolation:
+            notes.append("time limit by a child process")
+        if not m.available:
+            notes.append(f"not installed: {m.install}")
+        table.add_row(name, m.family, solves, requires[m.requires] if m.solves("lcp") else "",
+                      "yes" if m.accepts_sparse else "no", m.algorithm,
+                      escape("; ".join(notes)))
     console.print(table)
+
+
+_FAMILY_ORDER = {"pivoting": 0, "friction": 1, "qpsolvers": 2, "cvxpy": 3}
 
 
 @app.command("solve")
@@ -51,48 +66,35 @@ def solve_cmd(
     file: Path = typer.Argument(..., exists=True, dir_okay=False,
                                 help="Siconos .dat file (LCP or frictional contact) or FCLIB .hdf5."),
     method: str = typer.Option("auto", "--method", "-m",
-                               help="Method name (see `qpcontact methods`; friction: lemke, anitescu, "
-                                    "desaxce-fp, tresca-fp, newton, desaxce-global, auto)."),
+                               help="Method name (see `qpcontact methods`: what each one solves)."),
     accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number."),
 ):
     """Solve a problem file; print the answer and its certificate. Exit code 1 if not certified."""
-    from ..core.accuracy import resolve_accuracy
-    from ..friction.problem import FrictionProblem, solve_friction
-    from ..io.formats import read_problem
     from ..dispatch.driver import solve
+    from ..friction.problem import FrictionProblem
+    from ..io.formats import read_problem
 
     try:
         problem = read_problem(file)
-        if isinstance(problem, FrictionProblem):
-            sol = solve_friction(problem, method, tol=resolve_accuracy(_accuracy(accuracy))[1])
-        else:
-            sol = solve(problem, method=method, accuracy=_accuracy(accuracy))
+        sol = solve(problem, method=method, accuracy=_accuracy(accuracy))
     except QpcontactError as exc:
         console.print(f"[red]error:[/red] {escape(str(exc))}")
         raise typer.Exit(2)
     console.print(f"{file.name}: {escape(repr(problem))}")
-    if isinstance(problem, FrictionProblem):
-        console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {escape(sol.message)}")
-        console.print(f"time {sol.stats.get('total_time', 0.0):.4f} s (every method tried); "
-                      f"iterations {sol.stats.get('iterations')}")
-        if sol.r is None:
-            raise typer.Exit(1)
-        with np.printoptions(precision=10, linewidth=120, threshold=60):
-            console.print(f"r = {sol.r}")
-            console.print(f"u = {sol.u}")
-            if sol.v is not None:
-                console.print(f"v = {sol.v}")
-        console.print(f"  natural-map error {sol.error: .3e} (Siconos's measure, from the data)")
-        raise typer.Exit(0 if sol.ok else 1)
-    console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {sol.message}")
-    console.print(f"backend status {sol.backend_status!r}; wall time {sol.wall_time:.4f} s; "
-                  f"iterations {sol.iterations}")
-    with np.printoptions(precision=10, linewidth=120):
-        console.print(f"z = {sol.z}")
-        console.print(f"w = {sol.w}")
+    console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {escape(sol.message)}")
+    console.print(f"backend status {escape(repr(sol.backend_status))}; wall time "
+                  f"{sol.stats.get('total_time', sol.wall_time):.4f} s; iterations {sol.iterations}")
+    variables = ("r", "u", "v") if isinstance(problem, FrictionProblem) else ("z", "w")
+    if getattr(sol, variables[0]) is None:
+        raise typer.Exit(1)
+    with np.printoptions(precision=10, linewidth=120, threshold=60):
+        for name in variables:
+            if getattr(sol, name) is not None:
+                console.print(f"{name} = {getattr(sol, name)}")
     if sol.certificate is not None:
         for key, val in sol.certificate.as_dict().items():
-            console.print(f"  {key:14s} {val: .3e}")
+            if isinstance(val, (int, float, np.floating)) and not isinstance(val, bool):
+                console.print(f"  {key:18s} {val: .3e}")
     raise typer.Exit(0 if sol.ok else 1)
 
 

@@ -121,21 +121,25 @@ def _is_friction(inst) -> bool:
 
 
 def _friction_methods(inst, names):
-    """Every friction method that takes the instance's form (local, or global
-    kept without W), or those of ``names``; Lemke on faceted 3-D cones only
-    up to 100 contacts (its LCP's pivots grow with the facets: 11 828 pivots,
-    183 s, on 286 contacts)."""
-    from ..friction.problem import FRICTION_METHODS, GLOBAL_METHODS
+    """Every installed method that takes the instance's form (local 2-D or
+    3-D, or global kept without W), or those of ``names``; Lemke on faceted
+    3-D cones only up to 100 contacts (its LCP's pivots grow with the facets:
+    11 828 pivots, 183 s, on 286 contacts)."""
+    from ..dispatch.routes import applicable
+    from ..solvers.registry import methods as installed
 
     p = inst.problem
-    pool = [m for m in FRICTION_METHODS if (m in GLOBAL_METHODS) != p.is_reduced] + ["auto"]
+    pool = [name for name, m in installed().items() if applicable(p, m)] + ["auto"]
     chosen = [m for m in names if m in pool] if names else pool
     return [m for m in chosen if not (m == "lemke" and p.dim == 3 and p.n_contacts > 100)]
 
 
 def plan(instances, methods=None, quick: bool = True):
     """The list of tasks (instance, method name, level); level is a ladder name
-    or a tolerance (iterative backends only)."""
+    or a tolerance (iterative backends only).  Each instance gets the methods
+    that take its kind (an LCP method that refuses its M is "not applicable"
+    in the report)."""
+    from ..dispatch.routes import kind_of
     from ..solvers.registry import methods as installed
 
     avail = installed()
@@ -147,9 +151,10 @@ def plan(instances, methods=None, quick: bool = True):
             tasks += [(inst, name, level) for name in _friction_methods(inst, methods)
                       for level in LADDER]
             continue
+        kind = kind_of(inst.problem)
         for name in names:
             spec = avail.get(name)
-            if spec is None:
+            if spec is None or not spec.solves(kind):
                 continue
             levels = list(LADDER) + ([] if spec.exact else [float(t) for t in tols])
             for level in levels:
@@ -168,14 +173,12 @@ def _level_str(level) -> str:
 def _versions(method_name: str) -> str:
     from importlib.metadata import PackageNotFoundError, version
 
-    pkgs = ["qpcontact", "numpy", "scipy", "qpsolvers"]
-    if method_name.startswith("cvxpy:"):
-        pkgs.append("cvxpy")
-    else:
-        from ..solvers.backends.qpsolvers_backends import _KNOWN
+    from ..solvers.registry import all_methods
 
-        if method_name in _KNOWN:
-            pkgs.append(_KNOWN[method_name][0].strip('"').split("[")[0])
+    pkgs = ["qpcontact", "numpy", "scipy", "qpsolvers"]
+    m = all_methods().get(method_name)
+    if m is not None:
+        pkgs.append(m.package)
     out = []
     for p in dict.fromkeys(pkgs):
         try:
@@ -283,14 +286,14 @@ _FRICTION_EXACT: dict = {}
 def _friction_exact(inst):
     """Lemke on the exact 2-D LCP, cached; 3-D has no exact route (cones are
     not polyhedral)."""
-    from ..friction.problem import solve_friction
+    from ..dispatch.driver import solve
 
     if inst.name not in _FRICTION_EXACT:
         p = inst.problem
         hit = (None, "", np.nan)
         if p.dim == 2:
             t0 = time.perf_counter()
-            sol = solve_friction(p, "lemke", tol=1e-10)
+            sol = solve(p, "lemke", accuracy=1e-10)
             if sol.ok:
                 hit = (sol.r, "lemke (exact 2-D LCP)", time.perf_counter() - t0)
         _FRICTION_EXACT[inst.name] = hit
@@ -298,10 +301,11 @@ def _friction_exact(inst):
 
 
 def _run_friction_task(inst, name, level, tol, repeats, time_limit) -> dict:
-    """A friction run: solve_friction at the level's tolerance, certified by
-    the natural-map error; distances to Lemke's exact answer in 2-D."""
+    """A friction run at the level's tolerance, certified by the friction
+    measures (natural map and componentwise); distances to Lemke's exact
+    answer in 2-D."""
     from ..core.errors import QpcontactError
-    from ..friction.problem import solve_friction
+    from ..dispatch.driver import solve
 
     p = inst.problem
     row = _row(inst, name, "friction", level, tol, p.dim * p.n_contacts)
@@ -309,7 +313,7 @@ def _run_friction_task(inst, name, level, tol, repeats, time_limit) -> dict:
     row.update(exact_method=exact_method, exact_time=exact_time)
     times = []
     try:
-        sol = _timed(lambda: solve_friction(p, name, tol=tol), times, repeats, time_limit)
+        sol = _timed(lambda: solve(p, name, accuracy=tol), times, repeats, time_limit)
     except QpcontactError as exc:
         row.update(applicable=False, status="not applicable", reason=f"{type(exc).__name__}: {exc}")
         return row

@@ -18,12 +18,18 @@ from ..dispatch.driver import solve
 __all__ = ["run_demo"]
 
 
+def _lcp_methods() -> list[str]:
+    """The installed methods that solve an LCP (the registry also holds the
+    friction methods and the load trace)."""
+    return [name for name, m in methods().items() if m.solves("lcp")]
+
+
 def demo_rows(accuracy="high") -> list[dict]:
     """One row per (method, example): status, certificate error, time, and the
     largest difference from the paper's solution relative to max|z|."""
     rows = []
     examples = p0_examples()
-    for name in methods():
+    for name in _lcp_methods():
         for ex in examples:
             sol = solve(ex.lcp, method=name, accuracy=accuracy)
             dz = np.inf if sol.z is None else float(np.max(np.abs(sol.z - ex.z)) / np.max(np.abs(ex.z)))
@@ -78,7 +84,7 @@ def _far_contact_table(console) -> int:
     wrong (must be 0)."""
     from rich.table import Table
 
-    from ..testing import far_contact_lcp, planted_ok
+    from ..cases.families import far_contact_lcp, planted_ok
 
     lcp, z_star, w_star = far_contact_lcp(0)
     table = Table(title="Far contacts (n = 21, three gaps of 5e11 beside gaps of 0.1): what each "
@@ -86,7 +92,7 @@ def _far_contact_table(console) -> int:
     for col in ("method", "status", "error", "normwise", "max|z - z*|", "right"):
         table.add_column(col, justify="left" if col in ("method", "status") else "right")
     silent = 0
-    for name in methods():
+    for name in _lcp_methods():
         try:
             sol = solve(lcp, method=name)
         except InvalidProblemError as exc:      # a size limit ('enumeration': n <= 16)

@@ -351,10 +351,10 @@ def _worker_loop(conn, siconos_dir, time_limit):
 
 class _Worker:
     def __init__(self, siconos_dir, time_limit):
-        from ..dispatch.isolation import _context
+        from ..dispatch.isolation import context
 
         self.args = (siconos_dir, time_limit)
-        self.ctx = _context()
+        self.ctx = context()
         self._start()
 
     def _start(self):
@@ -387,7 +387,7 @@ class _Worker:
 
 def _tasks(config: StressConfig) -> list[tuple]:
     from ..solvers.registry import methods as installed
-    from ..dispatch.driver import _applicable
+    from ..dispatch.routes import applicable
 
     names = list(config.methods) if config.methods else [
         name for name, m in installed().items() if not (config.no_cvxpy and m.family == "cvxpy")]
@@ -408,7 +408,7 @@ def _tasks(config: StressConfig) -> list[tuple]:
             k += 1
             for name in names:
                 m = registry.get(name)
-                if m is None or not _applicable(case.problem, m):
+                if m is None or not applicable(case.problem, m):
                     continue
                 for level in levels:
                     tasks.append((family_, n, seed, name, level))

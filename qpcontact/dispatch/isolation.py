@@ -56,9 +56,10 @@ def _child(conn, fn, args):
         conn.close()
 
 
-def _context():
-    # fork: the child inherits the imported backends and the problem without
-    # pickling them; elsewhere spawn (fn and args must then pickle)
+def context():
+    """The multiprocessing context of isolated calls: fork, so that the child
+    inherits the imported backends and the problem without pickling them;
+    elsewhere spawn (fn and args must then pickle)."""
     return mp.get_context("fork" if sys.platform.startswith("linux") else "spawn")
 
 
@@ -67,7 +68,7 @@ def call_isolated(fn, args: tuple, time_limit: float | None) -> IsolatedOutcome 
     (None: no limit).  Returns None when no child can be started here (a
     daemonic process, e.g. some pool workers, may not have children): the
     caller then runs the call in-process."""
-    ctx = _context()
+    ctx = context()
     recv, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child, args=(send, fn, args), daemon=True)
     try:

@@ -1,3 +1,1 @@
-"""Frictional contact (Coulomb), local and global, 2-D and 3-D."""
-
-from .problem import *  # noqa: F401,F403  (temporary during the move)
+"""Frictional contact (Coulomb), local and global, 2-D and 3-D: the problem, its error measures, its methods."""

@@ -18,32 +18,42 @@ from qpsolvers import Problem
 
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
+from ..friction.measures import FrictionCertificate, certify_friction
+from ..friction.problem import FrictionProblem
 from .lcp import LCPCertificate, certify_lcp
 from .qp import QPCertificate, certify_qp
 
-__all__ = ["certify", "LCPCertificate", "QPCertificate"]
+__all__ = ["certify", "LCPCertificate", "QPCertificate", "FrictionCertificate"]
 
 
-def certify(problem, x, *, y=None, z=None, z_box=None):
+def certify(problem, x, *, y=None, z=None, z_box=None, v=None):
     """Certify a candidate solution from the problem data alone.
 
     Parameters
     ----------
-    problem : LCP or qpsolvers.Problem
+    problem : LCP, qpsolvers.Problem or FrictionProblem
     x : array_like
-        For an LCP, the candidate z; for a QP, the candidate primal x.
+        For an LCP, the candidate z; for a QP, the candidate primal x; for a
+        frictional problem, the reactions r.
     y, z, z_box : array_like, optional
         QP multipliers in qpsolvers' conventions (equalities, inequalities,
         bounds).  Required for the QP constraints the problem has.
+    v : array_like, optional
+        The global velocity of a frictional problem kept without W (required
+        there).
 
     Returns
     -------
-    LCPCertificate or QPCertificate
+    LCPCertificate, QPCertificate or FrictionCertificate
         ``cert.error`` is the componentwise measure compared with the requested
-        tolerance (``cert.ok(tol)``); see the module docstring for every field.
+        tolerance (``cert.ok(tol)``), ``cert.forward_error`` where defined; see
+        each type for its fields.
     """
     if isinstance(problem, LCP):
         return certify_lcp(problem, x)
     if isinstance(problem, Problem):
         return certify_qp(problem, x, y, z, z_box)
-    raise InvalidProblemError(f"cannot certify a {type(problem).__name__}; expected an LCP or a qpsolvers.Problem")
+    if isinstance(problem, FrictionProblem):
+        return certify_friction(problem, x, v)
+    raise InvalidProblemError(f"cannot certify a {type(problem).__name__}; expected an LCP, a "
+                              "qpsolvers.Problem or a FrictionProblem")

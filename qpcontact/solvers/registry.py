@@ -1,83 +1,21 @@
-"""Registry of interchangeable methods.
+"""The one registry of interchangeable methods, every problem kind together.
 
-A method is a function ``run(problem, tol, options) -> MethodResult`` registered
-under a name with declared capabilities.  ``tol`` is the tolerance to ask of the
-backend, or None for its own defaults; ``options`` are passed through to the
-backend as keyword arguments.  A backend's ``run`` may also take
-``time_limit=`` (seconds or None), which :func:`qpcontact.solve` then passes.  :func:`qpcontact.solve` converts the problem to
-the kind the method takes ("qp" or "lcp"), times the call, and certifies the
-answer: methods never certify themselves.
-
-Backends live one small module each (``qpsolvers_backends``, ``cvxpy_backends``)
-and register on first use of the registry, so ``import qpcontact`` stays cheap.
+A method (:class:`~qpcontact.solvers.method.Method`) is registered under a
+name with its capabilities.  The providers — the pivoting methods, the QP
+backends qpsolvers finds, cvxpy's solvers, the friction methods, the load
+trace — each declare their methods in one small module (a ``specs()``
+function) and are loaded on first use of the registry, so ``import
+qpcontact`` stays cheap; they never import the registry.
 """
 
 from __future__ import annotations
 
 import difflib
-from dataclasses import dataclass
-from typing import Callable
 
 from ..core.errors import BackendUnavailableError, UnknownMethodError
+from .method import Method
 
 __all__ = ["Method", "register", "methods", "get_method", "all_methods"]
-
-
-@dataclass(frozen=True)
-class Method:
-    """A registered method and what it can do.
-
-    Attributes
-    ----------
-    name : str
-        Registry key, e.g. ``"osqp"`` or ``"cvxpy:CLARABEL"``.
-    run : callable
-        ``run(problem, tol, options) -> MethodResult``.
-    takes : {"qp", "lcp"}
-        The problem kind the function accepts; :func:`qpcontact.solve` converts.
-    requires : {"monotone", "spd", "any"}
-        What an LCP's M must be: M + M' PSD (any convex QP route), symmetric
-        positive definite, or anything.
-    accepts_sparse : bool
-        Works on sparse matrices without densifying them.
-    returns_duals : bool
-        Gives the QP multipliers (for LCPs, w is recomputed anyway).
-    algorithm : str
-        "active-set", "interior-point", "ADMM", "augmented-Lagrangian",
-        "pivoting", ...
-    exact : bool
-        Finite termination at an exact answer up to rounding (active-set and
-        pivoting methods) rather than convergence to a tolerance.
-    family : str
-        "qpsolvers", "cvxpy" or "pivoting".
-    install : str
-        The command that installs what the method needs.
-    available : bool
-        Installed on this machine.
-    constraints : {"any", "lower-bounds"}
-        The QPs it takes: any, or only those whose sole constraints are lower
-        bounds x_i >= l_i (an LCP's QP form, the mixed contact problem).
-    max_n : int or None
-        The largest problem it takes ("enumeration": 16), or None.
-    """
-
-    name: str
-    run: Callable | None
-    takes: str
-    requires: str
-    accepts_sparse: bool
-    returns_duals: bool
-    algorithm: str
-    exact: bool
-    family: str
-    install: str
-    available: bool = True
-    constraints: str = "any"
-    max_n: int | None = None
-
-    @property
-    def needs_symmetric(self) -> bool:
-        return self.requires == "spd"
 
 
 _REGISTRY: dict[str, Method] = {}
@@ -100,16 +38,20 @@ def _ensure_loaded(cvxpy: bool = True) -> None:
     global _loaded, _loaded_cvxpy
     if not _loaded:
         _loaded = True
-        from .pivoting import specs as pivoting
+        from ..friction import specs as friction
         from .backends import qpsolvers_backends
+        from .pivoting import specs as pivoting
+        from .trace import specs as trace
 
-        pivoting.register_all()
-        qpsolvers_backends.register_all()
+        for provider in (pivoting, trace, friction, qpsolvers_backends):
+            for m in provider.specs():
+                register(m, replace=True)
     if cvxpy and not _loaded_cvxpy:
         _loaded_cvxpy = True
         from .backends import cvxpy_backends
 
-        cvxpy_backends.register_all()
+        for m in cvxpy_backends.specs():
+            register(m, replace=True)
 
 
 def all_methods() -> dict[str, Method]:

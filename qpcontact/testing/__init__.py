@@ -156,9 +156,9 @@ class CrossValidation:
 
 def _default_methods(problem) -> list[str]:
     from ..solvers.registry import methods
-    from ..dispatch.driver import _applicable
+    from ..dispatch.routes import applicable
 
-    return [name for name, m in methods().items() if _applicable(problem, m)]
+    return [name for name, m in methods().items() if applicable(problem, m)]
 
 
 def _lcp_uniqueness(lcp: LCP) -> tuple[bool, str]:

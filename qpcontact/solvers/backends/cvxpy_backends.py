@@ -15,11 +15,11 @@ import warnings
 
 import numpy as np
 
-from ...core.accuracy import backend_settings
 from ...core.results import MethodResult
-from ..registry import Method, register
-from .qpsolvers_backends import (_PRINTS_WHEN_QUIET, _quiet_c_stdout, _reject_options,
-                                 check_option_names, ran_out, refuse_extreme_data)
+from ..method import Method
+from .common import (PRINTS_WHEN_QUIET, check_option_names, qpsolvers_known_options,
+                     quiet_c_stdout, ran_out, refuse_extreme_data, reject_options)
+from .settings import backend_settings
 
 _ALGORITHMS = {
     "CLARABEL": "interior-point", "SCS": "ADMM (conic)", "ECOS": "interior-point (conic)",
@@ -47,9 +47,7 @@ def _known_options(solver: str):
 
         return _CVXPY_KEYWORDS | set(DAQP.ALLOWED_SOLVER_OPTS)
     if solver in ("HIGHS", "PIQP"):
-        from .qpsolvers_backends import _known_options as qpsolvers_known
-
-        known = qpsolvers_known(solver.lower())
+        known = qpsolvers_known_options(solver.lower())
         if callable(known):
             return lambda key: key in _CVXPY_KEYWORDS or known(key)
         return _CVXPY_KEYWORDS | (known - {"initvals", "backend"})
@@ -110,11 +108,11 @@ def _make_run(solver: str):
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 started = time.perf_counter()
-                with _quiet_c_stdout(solver.lower() in _PRINTS_WHEN_QUIET):
+                with quiet_c_stdout(solver.lower() in PRINTS_WHEN_QUIET):
                     prob.solve(solver=solver, **settings)
                 elapsed = time.perf_counter() - started
         except Exception as exc:
-            _reject_options(f"cvxpy:{solver}", options, exc)
+            reject_options(f"cvxpy:{solver}", options, exc)
             return MethodResult(x=None, backend_status="exception", backend_message=f"{type(exc).__name__}: {exc}")
         stats = prob.solver_stats
         duals = dict(zip(names, (c.dual_value for c in cons)))
@@ -143,26 +141,29 @@ def _make_run(solver: str):
     return run
 
 
-def register_all() -> None:
+def specs() -> list[Method]:
+    """``cvxpy:NAME`` for each QP-capable solver cvxpy has installed; without
+    cvxpy, ``cvxpy:CLARABEL`` as unavailable (so asking for it names the
+    pip command)."""
     if importlib.util.find_spec("cvxpy") is None:
-        register(Method(name="cvxpy:CLARABEL", run=None, takes="qp", requires="monotone",
-                        accepts_sparse=True, returns_duals=True, algorithm="interior-point",
-                        exact=False, family="cvxpy", install="pip install cvxpy", available=False),
-                 replace=True)
-        return
+        return [Method(name="cvxpy:CLARABEL", run=None, takes="qp", requires="monotone",
+                       accepts_sparse=True, returns_duals=True, algorithm="interior-point",
+                       exact=False, family="cvxpy", install="pip install cvxpy", available=False,
+                       package="cvxpy")]
     import cvxpy as cp
 
-    for solver in _qp_capable(cp.installed_solvers()):
-        register(Method(
-            name=f"cvxpy:{solver}",
-            run=_make_run(solver),
-            takes="qp",
-            requires="monotone",
-            accepts_sparse=solver not in _DENSE_ONLY,
-            returns_duals=True,
-            algorithm=_ALGORITHMS.get(solver, "unknown"),
-            exact=solver in _EXACT,
-            family="cvxpy",
-            install=f"pip install cvxpy  # and the {solver} solver package",
-            available=True,
-        ), replace=True)
+    return [Method(
+        name=f"cvxpy:{solver}",
+        run=_make_run(solver),
+        takes="qp",
+        requires="monotone",
+        accepts_sparse=solver not in _DENSE_ONLY,
+        returns_duals=True,
+        algorithm=_ALGORITHMS.get(solver, "unknown"),
+        exact=solver in _EXACT,
+        family="cvxpy",
+        install=f"pip install cvxpy  # and the {solver} solver package",
+        available=True,
+        needs_isolation=solver in NEEDS_ISOLATION,
+        package="cvxpy",
+    ) for solver in _qp_capable(cp.installed_solvers())]

@@ -1,0 +1,189 @@
+"""Which method applies to which problem, and the conversions on the way.
+
+An LCP goes to a QP backend as its QP (symmetric M) or its monotone QP
+(M + M' PSD), Jacobi-scaled; a QP goes to a pivoting method as its dual LCP;
+a frictional problem goes to an LCP method as its faceted LCP.  What "auto"
+tries, in order, per kind is here too.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from qpsolvers import Problem
+
+from ..core.errors import NotConvexError, NotSymmetricError
+from ..core.linalg import BANDED_MAX
+from ..core.problems import LCP, ParametricLCP
+from ..friction.problem import FrictionProblem
+from ..solvers.method import Method
+
+__all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "auto_order", "kind_of",
+           "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
+
+#: Preference of ``method="auto"``: exact pivoting first where it applies (as
+#: DESIGN.md asks), then the QP backends in the order that reached "high"
+#: fastest in benchmarks/backends.py on this machine class (docs/backends.md).
+#: "auto" tries them in turn until one is certified.
+#: "enumeration" (n <= 16) follows Lemke: a general M's secondary ray proves
+#: nothing, and all 2^n bases of a small LCP cost at most about a second.
+#: Measured (docs/backends.md): PIQP reached "high" fastest at n = 100, 1000 and
+#: 20 000 but stops at ~2e-7 on degenerate problems, where polished OSQP is exact.
+AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel", "daqp", "proxqp",
+              "highs", "quadprog", "scs", "cvxpy:CLARABEL")
+
+
+#: "auto" puts "ip-bpp" first for sparse SPD LCPs from this size on whose
+#: matrix is not banded (meshes: bpp's active-set front moves one grid line
+#: per exchange, 25 exchanges at n = 1e4 and 81 at 1e5 on the membrane), and
+#: for QPs whose only constraints are lower bounds (the mixed problem of
+#: finite-element contact).  Banded matrices (contact chains, bandwidth <= 16)
+#: keep "bpp", which needs 3-4 exchanges there (docs/pivoting.md).
+AUTO_IP_BPP_MIN = 5000
+
+
+# Dense-only backends densify sparse input; beyond this size that costs more
+# than it is worth for "auto" (an explicit method name is always honoured).
+AUTO_DENSE_LIMIT = 3000
+
+
+def kind_of(problem) -> str:
+    """The problem's kind, as :attr:`Method.problems` names it."""
+    if isinstance(problem, LCP):
+        return "lcp"
+    if isinstance(problem, Problem):
+        return "qp"
+    if isinstance(problem, ParametricLCP):
+        return "parametric-lcp"
+    if isinstance(problem, FrictionProblem):
+        if not problem.is_reduced:
+            return "friction-global"
+        return f"friction-{problem.dim}d"
+    raise TypeError(f"not a problem qpcontact solves: {type(problem).__name__}")
+
+
+def auto_order(problem) -> tuple:
+    if isinstance(problem, LCP):
+        mesh_like = (problem.is_sparse and problem.n >= AUTO_IP_BPP_MIN
+                     and problem.structure.bandwidth > BANDED_MAX)
+        return ("ip-bpp",) + AUTO_ORDER if mesh_like else AUTO_ORDER
+    if isinstance(problem, Problem) and lower_bounds_only(problem):
+        return ("ip-bpp",) + AUTO_ORDER
+    return AUTO_ORDER
+
+
+def lower_bounds_only(problem: Problem) -> bool:
+    return (problem.G is None and problem.A is None and problem.lb is not None
+            and (problem.ub is None or not np.isfinite(problem.ub).any()))
+
+
+def jacobi_scaled(lcp: LCP):
+    """(LCP(DMD, Dq), d) with D = diag(M)^-1/2 (1 where M_ii = 0: such rows
+    of a monotone M carry no quadratic term), or (lcp, None) when a diagonal
+    entry is negative or the diagonal is already all ones.
+
+    The QP handed to a backend is the LCP's scaled form, z = D y.  Backends
+    stop on *absolute* residuals; in physical units (a compliance of 1e-9 m/N
+    against forces of 1e4 N) their tolerances mean nothing.  Measured on the
+    drum's step problems: OSQP at "high" certified 15 of 80 steps unscaled and
+    80 of 80 scaled (docs/drum.md).  The certificate is always computed on the
+    original problem.
+    """
+    M = lcp.M
+    diag = np.asarray(M.diagonal(), dtype=float)
+    if np.any(diag < 0):
+        return lcp, None
+    d = np.ones_like(diag)
+    d[diag > 0] = 1.0 / np.sqrt(diag[diag > 0])
+    if np.all(d == 1.0):
+        return lcp, None
+    with np.errstate(over="ignore", invalid="ignore"):
+        if sp.issparse(M):
+            D = sp.diags(d)
+            Ms = (D @ M @ D).tocsc()
+            finite = np.all(np.isfinite(Ms.data))
+        else:
+            Ms = (M * d[:, None]) * d[None, :]
+            finite = np.all(np.isfinite(Ms))
+        qs = lcp.q * d
+    if not (finite and np.all(np.isfinite(qs))):
+        return lcp, None
+    if lcp.is_symmetric:
+        Ms = 0.5 * (Ms + Ms.T)  # keep exact symmetry for the QP route
+    scaled = LCP(Ms, qs)
+    if lcp.structure.__dict__.get("is_positive_definite"):
+        scaled.structure.declare_spd()   # D M D is congruent to M: no second factorization
+    return scaled, d
+
+
+def check_applicable(lcp: LCP, m: Method) -> None:
+    if m.requires == "spd":
+        if not lcp.is_symmetric:
+            raise NotSymmetricError(
+                f"method {m.name!r} needs a symmetric positive definite M and M is not symmetric; "
+                "use 'lemke', which accepts any M."
+            )
+        if not lcp.is_positive_definite:
+            raise NotConvexError(
+                f"method {m.name!r} needs a positive definite M and M is not; use 'lemke'."
+            )
+    elif m.requires == "monotone" and not lcp.is_psd:
+        if lcp.is_symmetric:
+            raise NotConvexError(
+                f"M is symmetric but not positive semidefinite, so the QP min ½z'Mz + q'z, z >= 0 "
+                f"is nonconvex and {m.name!r} (a QP backend) may return a local minimum. "
+                "Use a pivoting method such as 'lemke'."
+            )
+        raise NotSymmetricError(
+            f"M is not symmetric and M + M' is not positive semidefinite, so no convex QP has "
+            f"this LCP's solutions as minimisers and {m.name!r} (a QP backend) cannot solve it. "
+            "Use a pivoting method such as 'lemke'."
+        )
+
+
+def applicable(problem, m: Method) -> bool:
+    """Whether "auto" (and cross-validation) should try ``m`` on ``problem``:
+    it solves the problem's kind, within its size limit, without a refusal
+    the data already decide (an M its route needs definite, a dense copy of a
+    large sparse problem)."""
+    kind = kind_of(problem)
+    if not m.solves(kind):
+        return False
+    if kind not in ("lcp", "qp"):
+        if m.takes != "lcp":
+            return True
+        # the faceted LCP: normal, facet and slip unknowns per contact
+        facets = 2 if problem.dim == 2 else 8
+        return m.max_n is None or (2 + facets) * problem.n_contacts <= m.max_n
+    if m.max_n is not None and (problem.n if isinstance(problem, LCP) else
+                                problem.P.shape[0]) > m.max_n:
+        return False
+    if isinstance(problem, LCP):
+        try:
+            check_applicable(problem, m)
+        except (NotSymmetricError, NotConvexError):
+            return False
+        n, sparse = problem.n, problem.is_sparse
+    else:
+        if m.takes == "lcp":
+            return False  # QP -> dual LCP is dense; "auto" keeps QPs on QP backends
+        if m.constraints == "lower-bounds" and not lower_bounds_only(problem):
+            return False
+        n, sparse = problem.P.shape[0], problem.has_sparse
+    return m.accepts_sparse or not sparse or n <= AUTO_DENSE_LIMIT
+
+
+def data_range(problem) -> tuple[float, float]:
+    """(smallest nonzero, largest) |entry| of an LCP's or a QP's data."""
+    parts = [problem.M, problem.q] if isinstance(problem, LCP) else list(problem.unpack())
+    vals = []
+    for part in parts:
+        if part is None:
+            continue
+        v = part.data if sp.issparse(part) else np.asarray(part, dtype=float).ravel()
+        v = np.abs(v[np.isfinite(v) & (v != 0)])
+        if v.size:
+            vals.append((v.min(), v.max()))
+    if not vals:
+        return 0.0, 0.0
+    return min(a for a, _ in vals), max(b for _, b in vals)

@@ -1,0 +1,79 @@
+"""The friction methods as registered methods, and the order "auto" tries them.
+
+Each method's function returns (r or (r, v), its own status, a message,
+stats); the run functions below hand that to the engine as a MethodResult,
+which the engine certifies by :mod:`qpcontact.friction.measures`.  "lemke"
+and "enumeration" (registered with the pivoting methods) reach frictional
+problems through their LCP (:mod:`qpcontact.friction.lcp_route`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.results import MethodResult
+from ..solvers.method import Method
+from .fixed_points import solve_anitescu, solve_desaxce_fp, solve_desaxce_global, solve_tresca_fp
+from .newton import solve_natural_newton
+from .nsgs import solve_nsgs
+
+__all__ = ["specs", "AUTO_CHAIN", "GLOBAL_CHAIN", "LEMKE_FIRST_MAX_CONTACTS", "auto_chain"]
+
+#: what "auto" tries, in order, per dimension: each answer is certified before
+#: the next is tried, and the first certified one is returned
+AUTO_CHAIN = {2: ("lemke", "nsgs", "desaxce-fp", "newton"),
+              3: ("desaxce-fp", "newton", "tresca-fp", "nsgs")}
+#: "auto" on a global problem kept without W
+GLOBAL_CHAIN = ("desaxce-global",)
+
+#: above this many contacts "auto" tries NSGS before Lemke in 2-D: Lemke's
+#: pivots grow with the contacts (the 2020-contact granular file: 5461
+#: pivots, 4 s) while NSGS takes under a second where it converges
+LEMKE_FIRST_MAX_CONTACTS = 200
+
+
+def auto_chain(problem) -> tuple:
+    """The methods "auto" tries on ``problem``, in order."""
+    if not problem.is_reduced:
+        return GLOBAL_CHAIN
+    chain = AUTO_CHAIN[problem.dim]
+    if problem.n_contacts > LEMKE_FIRST_MAX_CONTACTS and "lemke" in chain:
+        chain = ("nsgs", "lemke") + tuple(m for m in chain if m not in ("nsgs", "lemke"))
+    return chain
+
+
+def _run(function, takes_engine: bool = False):
+    def run(problem, tol, options, engine=None) -> MethodResult:
+        options = dict(options)
+        if takes_engine and engine is not None:
+            options["engine"] = engine
+        x, status, message, stats = function(problem, tol, options)
+        if x is not None:
+            x = np.asarray(x, float)
+        return MethodResult(x=x, backend_status=str(status), backend_message=message,
+                            iterations=stats.get("iterations"), stats=stats)
+    run.__doc__ = function.__doc__
+    return run
+
+
+_INSTALL = "pip install qpcontact"
+_LOCAL = ("friction-2d", "friction-3d")
+
+
+def specs() -> list[Method]:
+    common = dict(requires="any", accepts_sparse=True, returns_duals=False, exact=False,
+                  family="friction", install=_INSTALL)
+    return [
+        Method("nsgs", _run(solve_nsgs), takes="friction",
+               algorithm="nonsmooth Gauss-Seidel (Siconos NSGS)", **common),
+        Method("anitescu", _run(solve_anitescu, True), takes="friction",
+               algorithm="convex relaxation: one SOCP (Anitescu)", **common),
+        Method("desaxce-fp", _run(solve_desaxce_fp, True), takes="friction",
+               algorithm="fixed point of SOCPs (De Saxce)", **common),
+        Method("tresca-fp", _run(solve_tresca_fp, True), takes="friction",
+               algorithm="fixed point of Tresca SOCPs", **common),
+        Method("newton", _run(solve_natural_newton), takes="friction",
+               algorithm="semismooth Newton on the natural map", **common),
+        Method("desaxce-global", _run(solve_desaxce_global, True), takes="friction-global",
+               algorithm="fixed point of SOCPs in the velocities (De Saxce)", **common),
+    ]
