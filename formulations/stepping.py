@@ -6,7 +6,7 @@ SI units: coordinates m or rad, velocities m/s or rad/s, reactions N, gaps m,
 time s.
 
 A system (:class:`ContactSystem`) supplies, at (t, q, ν) and look-ahead Δt,
-one :class:`formulations.penalty.PenaltyStep` (G as an operator, Q, J,
+one :class:`formulations.penalty_step.PenaltyStep` (G as an operator, Q, J,
 B = (2/Δt²)(Φ + ΔtΦ̇), D = J̇ν, C) and an acceleration offset a₀ that does
 not depend on the reactions (zero unless bilateral constraints are closed
 inside the step); the step is then
@@ -31,7 +31,7 @@ from qpcontact.plots.figures import save_figure
 from qpcontact.core.progress import StepReporter
 from qpcontact.dispatch.driver import solve
 
-from .penalty import exact_lcp, solve_penalty
+from .penalty_step import exact_lcp, solve_penalty
 
 __all__ = ["ContactSystem", "MechanismResult", "ROUTES", "lookahead_for"]
 

@@ -37,7 +37,7 @@ import scipy.linalg
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
 
-from ..penalty import PenaltyStep
+from ..penalty_step import PenaltyStep
 from ..stepping import (ContactSystem, scene_arrays, scene_plot, scene_run, scene_summary,
                         solver_section, time_section, contacts_section)
 from . import algorithms as alg
