@@ -380,7 +380,7 @@ def _scene_build(scene):
 
 
 def _scene_schema():
-    from qpcontact.scenes.schema import Field, SceneSchema
+    from qpcontact.scenes import Field, SceneSchema
 
     xy = "m (x, y in the body's frame, or the world's for the ground)"
     return SceneSchema(

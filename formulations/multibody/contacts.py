@@ -365,7 +365,7 @@ def _scene_plot(h, out) -> list:
 
 
 def _scene_schema():
-    from qpcontact.scenes.schema import Field, SceneSchema
+    from qpcontact.scenes import Field, SceneSchema
 
     pt = "m (the body's frame, or the world's for the ground)"
     return SceneSchema(
