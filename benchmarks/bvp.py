@@ -2,7 +2,7 @@
 
 For the tip-loaded cantilever (α = PL²/EI = 1 ... 1e4) and the axially loaded
 column (buckled branch, α up to 10): time and error against tolerance for
-qpcontact.bvp and for solve_bvp (cold start from the straight rod, and with
+formulations.rods.bvp and for solve_bvp (cold start from the straight rod, and with
 manual load stepping: each α started from the previous solution), and the
 load range each reaches from a cold start.  Saves the load-deflection curve
 with the analytic one (PNG).  Errors are against the exact elliptic-integral
@@ -44,8 +44,8 @@ def exact_cantilever(alpha):
 def scipy_cantilever(alpha, tol, guess=None, mesh=None):
     mesh = np.linspace(0, 1, 41) if mesh is None else mesh
     y0 = np.zeros((4, mesh.size)) if guess is None else guess
-    res = solve_bvp(lambda s, Y: rods._cantilever_f(s, Y, alpha), rods._bc, mesh, y0, tol=tol,
-                    max_nodes=200000)
+    res = solve_bvp(lambda s, Y: rods.cantilever_f(s, Y, alpha), rods.clamped_free_bc, mesh, y0,
+                    tol=tol, max_nodes=200000)
     return res
 
 
@@ -91,7 +91,7 @@ def main(argv=None):
         if ok_scipy and reach["scipy"] == alpha_prev(alpha):
             reach["scipy"] = alpha
     print(f"\nlargest alpha reached from a straight initial guess (and right to 1e-3): "
-          f"qpcontact.bvp {reach['ours']:g}, scipy solve_bvp {reach['scipy']:g}")
+          f"formulations.rods.bvp {reach['ours']:g}, scipy solve_bvp {reach['scipy']:g}")
     res, path = rods.column(10.0)
     print(f"column: buckled branch followed to alpha = 10, theta_L = {abs(res.y[0, -1]):.6f} "
           "(exact 2.795729)")
@@ -102,7 +102,8 @@ def main(argv=None):
 
         alphas, defl, _ = rods.cantilever_curve(1e4)
         fig, ax = plt.subplots(figsize=(7, 4.5))
-        ax.semilogx(alphas, defl, "-", lw=2, label="qpcontact.bvp, pseudo-arclength continuation")
+        ax.semilogx(alphas, defl, "-", lw=2,
+                    label="formulations.rods.bvp, pseudo-arclength continuation")
         grid = np.logspace(-2, 4, 40)
         ax.semilogx(grid, [exact_cantilever(a) for a in grid], "o", ms=4, mfc="none",
                     label="exact (elliptic integrals)")

@@ -33,7 +33,7 @@ ground anchor) along a fixed unit normal n is
 Integration step (size h, look-ahead Δt)
 ----------------------------------------
 1. Φ, Φ̇ = J v, D, Q at (t, q, v); B = (2/Δt²)(Φ + Δt Φ̇) (P2);
-2. λ from the penalty QP (formulations.penalty; or the exact LCP);
+2. λ from the penalty QP (formulations.penalty_step; or the exact LCP);
 3. a = G⁻¹(J'λ + Q);  q ← q ⊕ (h v + ½h² a);  v ← v + h a.
 
 With this update, an active contact satisfies Φ(t + h) ≈ Φ + hΦ̇ + ½h²Φ̈ = 0 when
@@ -54,7 +54,7 @@ from qpcontact.core.errors import InvalidProblemError
 
 from . import multibody as mb
 from .multibody.contacts import Contact, ModelContacts, world_point
-from .penalty import PenaltyStep
+from .penalty_step import PenaltyStep
 from .stepping import (MechanismResult, lookahead_for, scene_arrays, scene_plot,
                        scene_run, scene_summary, solver_section, time_section,
                        contacts_section)
@@ -258,7 +258,7 @@ class Mechanism(ModelContacts):
     def step_data(self, t, q, v):
         """What one contact step needs at (t, q, ν): (G as an O(N) factorized
         operator, Q, J, D, Φ) — the penalty QP and the exact LCP of
-        formulations.penalty are built from these, without forming G⁻¹."""
+        formulations.penalty_step are built from these, without forming G⁻¹."""
         Phi, J, D = self.constraints(q, v)
         return self.mass_operator(q), self.generalized_forces(t, q, v), J, D, Phi
 
@@ -380,7 +380,7 @@ def _scene_build(scene):
 
 
 def _scene_schema():
-    from qpcontact.scenes.schema import Field, SceneSchema
+    from qpcontact.scenes import Field, SceneSchema
 
     xy = "m (x, y in the body's frame, or the world's for the ground)"
     return SceneSchema(

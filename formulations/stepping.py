@@ -6,7 +6,7 @@ SI units: coordinates m or rad, velocities m/s or rad/s, reactions N, gaps m,
 time s.
 
 A system (:class:`ContactSystem`) supplies, at (t, q, ν) and look-ahead Δt,
-one :class:`formulations.penalty.PenaltyStep` (G as an operator, Q, J,
+one :class:`formulations.penalty_step.PenaltyStep` (G as an operator, Q, J,
 B = (2/Δt²)(Φ + ΔtΦ̇), D = J̇ν, C) and an acceleration offset a₀ that does
 not depend on the reactions (zero unless bilateral constraints are closed
 inside the step); the step is then
@@ -26,12 +26,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from qpcontact import solve
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
-from qpcontact.plots.figures import save_figure
 from qpcontact.core.progress import StepReporter
-from qpcontact.dispatch.driver import solve
+from qpcontact.plots.figures import save_figure
 
-from .penalty import exact_lcp, solve_penalty
+from .penalty_step import exact_lcp, solve_penalty
 
 __all__ = ["ContactSystem", "MechanismResult", "ROUTES", "lookahead_for"]
 
@@ -217,7 +217,7 @@ def lookahead_for(h: float, restitution: float) -> float:
 # -- what the contact systems' scene schemas share (qpcontact.scenes) ---------------
 
 def time_section() -> dict:
-    from qpcontact.scenes.schema import Field
+    from qpcontact.scenes import Field
 
     return {"h": Field("float", "s", "step size", required=True, positive=True),
             "steps": Field("int", "", "number of steps", required=True, positive=True),
@@ -225,7 +225,7 @@ def time_section() -> dict:
 
 
 def solver_section() -> dict:
-    from qpcontact.scenes.schema import Field
+    from qpcontact.scenes import Field
 
     return {"route": Field("str", "", "penalty (P2's QP) or lcp (exact)", default="penalty"),
             "method": Field("str", "", "QP method of the penalty route", default="auto"),
@@ -235,7 +235,7 @@ def solver_section() -> dict:
 def contacts_section(normal):
     """The ``[[contacts]]`` tables, in the plane (2-vectors) or in space
     (3-vectors, by the default ``normal``'s length)."""
-    from qpcontact.scenes.schema import Field
+    from qpcontact.scenes import Field
 
     origin = [0.0] * len(normal)
     pt = "m (the body's frame, or the world's for the ground)"

@@ -10,7 +10,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
 
 from formulations import rods
-from qpcontact import bvp
+from formulations.rods import bvp
 
 
 def _analytic_cantilever(alpha):
@@ -38,7 +38,7 @@ def test_cantilever_matches_elliptic_integrals(alpha, printed):
 
 
 def test_cantilever_alpha_1e4_from_a_straight_guess_by_continuation():
-    direct = bvp.solve(lambda s, Y: rods._cantilever_f(s, Y, 1e4), rods._bc,
+    direct = bvp.solve(lambda s, Y: rods.cantilever_f(s, Y, 1e4), rods.clamped_free_bc,
                        np.linspace(0, 1, 81), np.zeros(4))
     assert not direct.ok          # Newton alone does not get there ...
     res = rods.cantilever(1e4, tol=1e-8)
@@ -94,10 +94,11 @@ def test_error_estimate_is_honest_and_refinement_is_local():
 def test_same_answer_as_scipy_solve_bvp():
     alpha = 3.0
     mesh = np.linspace(0, 1, 41)
-    f = lambda s, Y: rods._cantilever_f(s, Y, alpha)  # noqa: E731
-    ref = solve_bvp(f, rods._bc, mesh, np.zeros((4, mesh.size)), tol=1e-10, max_nodes=10000)
+    f = lambda s, Y: rods.cantilever_f(s, Y, alpha)  # noqa: E731
+    ref = solve_bvp(f, rods.clamped_free_bc, mesh, np.zeros((4, mesh.size)), tol=1e-10,
+                    max_nodes=10000)
     assert ref.success
-    ours = bvp.solve(f, rods._bc, mesh, np.zeros(4), tol=1e-9)
+    ours = bvp.solve(f, rods.clamped_free_bc, mesh, np.zeros(4), tol=1e-9)
     assert ours.ok
     # compare at our nodes with SciPy's own (cubic) interpolant
     np.testing.assert_allclose(ours.y, ref.sol(ours.mesh), atol=1e-7)
@@ -192,9 +193,9 @@ def test_spatial_rod_out_of_plane_against_shooting():
     def rhs(s, y):
         Y = y[:, None]
         q, n, m = Y[3:7], Y[7:10], Y[10:13]
-        t = rods._rotate(q, np.array([[1.0], [0.0], [0.0]]))
-        kappa = np.array([[1 / ratio], [1.0], [1.0]]) * rods._rotate_T(q, m)
-        dq = 0.5 * rods._qmul(q, np.vstack([np.zeros(1), kappa]))
+        t = rods.rotate(q, np.array([[1.0], [0.0], [0.0]]))
+        kappa = np.array([[1 / ratio], [1.0], [1.0]]) * rods.rotate_T(q, m)
+        dq = 0.5 * rods.qmul(q, np.vstack([np.zeros(1), kappa]))
         return np.vstack([t, dq, np.zeros((3, 1)), -np.cross(t.T, n.T).T]).ravel()
 
     def miss(m0):   # shoot on the root moment; n is constant = F
@@ -253,9 +254,9 @@ def test_straight_column_branch_reports_the_buckling_bifurcation():
     """Following the straight (unbuckled) column in α crosses α_cr = π²/4,
     where the buckled branch leaves: a determinant sign change without a turn."""
     def f(s, Y, a):
-        return rods._column_f(s, Y, a)
+        return rods.column_f(s, Y, a)
 
-    path = bvp.continuation(f, rods._bc, np.linspace(0, 1, 81), np.zeros(4), (1.0, 4.0),
+    path = bvp.continuation(f, rods.clamped_free_bc, np.linspace(0, 1, 81), np.zeros(4), (1.0, 4.0),
                             ds=0.3, ds_max=0.3)
     assert path.status == "solved" and not path.folds
     assert len(path.bifurcations) == 1

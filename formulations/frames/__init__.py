@@ -25,10 +25,11 @@ positive, bending moment M positive when it compresses the member's +y fibre
 (sagging for a beam drawn left to right), shear V = dM/dx (see
 :mod:`.results`).
 
-Layout: :mod:`.model` (the Frame), :mod:`.loads` (cases, member loads,
-combinations), :mod:`.assembly` (stiffness, links, the contact LCP),
-:mod:`.results` (results, envelopes, tables), :mod:`.drawing`,
-:mod:`.examples`.
+Layout: :mod:`.model` (the Frame: model building; its solving in
+:mod:`.solving`, results construction in :mod:`.recovery`, the trace in
+:mod:`.tracing`), :mod:`.loads` (cases, member loads, combinations),
+:mod:`.assembly` (stiffness, links, the contact LCP), :mod:`.results`
+(results, envelopes, tables), :mod:`.drawing`, :mod:`.examples`.
 
 Only the effects the model calls for: contacts with f = 0 build no tangential
 link at all, and a frame without friction builds the normal-only LCP
@@ -39,7 +40,8 @@ definite.
 from .assembly import DOFS
 from .examples import demo, instances, portal_example
 from .loads import CONSTANT, VARIABLE, MemberLoad
-from .model import EQUILIBRIUM_RTOL, STATE_RTOL, Frame
+from .model import Frame
+from .recovery import EQUILIBRIUM_RTOL, STATE_RTOL
 from .results import (STATES, CombinationResults, FrameEvent, FrameResult, FrameTrace,
                       SupportResult)
 

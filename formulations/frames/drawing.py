@@ -10,7 +10,7 @@ import numpy as np
 from qpcontact.core.errors import SolverFailedError
 
 from .assembly import DOFS, geometry, rotation
-from .loads import _shape, describe
+from .loads import describe, shape_functions
 
 _COLORS = {"separated": "tab:red", "closed": "tab:blue", "stick": "tab:green",
            "slip+": "tab:orange", "slip-": "tab:purple"}
@@ -42,7 +42,7 @@ def _curve(frame, res, m, scale, idx, points=21):
     xs = np.linspace(0.0, L, points)
     out = []
     for x in xs:
-        N, _ = _shape(x, L)
+        N, _ = shape_functions(x, L)
         ua = N[0] * d[0] + N[3] * d[3]
         v = N[1] * d[1] + N[2] * d[2] + N[4] * d[4] + N[5] * d[5]
         out.append((x + scale * ua, scale * v))

@@ -111,7 +111,7 @@ _N_POLY = np.array([[1, -1, 0, 0], [1, 0, -3, 2], [0, 1, -2, 1],
 _DN_POLY = np.c_[_N_POLY[:, 1:] * (1, 2, 3), np.zeros(6)]
 
 
-def _shape(x, L):
+def shape_functions(x, L):
     """Shape functions and their x-derivatives at x (member axes): (6,) for
     a number, (6, len(x)) for an array."""
     xi = np.asarray(x, float) / L
@@ -139,7 +139,7 @@ def equivalent_nodal(load: MemberLoad, L: float, c: float, s: float) -> np.ndarr
     """Consistent nodal loads (member axes, order ux, uy, rz at i then j)."""
     if load.kind == "point":
         px, py = _local(load.axes, c, s, *load.values[:2])
-        N, dN = _shape(load.a, L)
+        N, dN = shape_functions(load.a, L)
         axial = np.array([1.0, 0, 0, 1.0, 0, 0])
         trans = 1.0 - axial
         return N * (px * axial + py * trans) + load.values[2] * dN * trans
@@ -149,7 +149,7 @@ def equivalent_nodal(load: MemberLoad, L: float, c: float, s: float) -> np.ndarr
     xs, ws = _gauss(load.a, load.b)
     t = (xs - load.a) / (load.b - load.a)
     qx, qy = wx1 + t * (wx2 - wx1), wy1 + t * (wy2 - wy1)
-    N, _ = _shape(xs, L)                       # (6, Gauss points)
+    N, _ = shape_functions(xs, L)              # (6, Gauss points)
     return (N * np.array([qx, qy, qy, qx, qy, qy])) @ ws
 
 

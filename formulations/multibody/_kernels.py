@@ -44,7 +44,7 @@ def _cross(a, b):
 
 
 @njit(cache=_CACHE)
-def _quat_rotation(qx, qy, qz, qw):
+def quat_rotation(qx, qy, qz, qw):
     """Rotation matrix of a quaternion (x, y, z, w), normalised here so that a
     drifting integrated quaternion still gives an orthogonal matrix."""
     n = np.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
@@ -170,7 +170,7 @@ def _joint_to(jt, ax, fixed, mask, q, iq, nu, iv, want_hdot, R, p, H, Hd, T1, T2
             Hd[5, 0] = -w * (ax[1, 0] * e1_ - ax[1, 1] * e0)
         return 2
     if jt == SPHERICAL:
-        T1[:, :] = _quat_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3])
+        T1[:, :] = quat_rotation(q[iq], q[iq + 1], q[iq + 2], q[iq + 3])
         R[:, :] = T1
         for k in range(3):
             H[3 + k, k] = 1.0
@@ -178,7 +178,7 @@ def _joint_to(jt, ax, fixed, mask, q, iq, nu, iv, want_hdot, R, p, H, Hd, T1, T2
     if jt == FREE:
         for a in range(3):
             p[a] = q[iq + a]
-        R[:, :] = _quat_rotation(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6])
+        R[:, :] = quat_rotation(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6])
         for k in range(6):
             H[k, k] = 1.0
         return 6
@@ -713,7 +713,7 @@ def qdot(jtype, iq, iv, nqj, q, nu):
         if jt == SPHERICAL or jt == FREE:
             o = 0
             if jt == FREE:      # position rate: R_J ν_lin
-                out[a:a + 3] = _quat_rotation(q[a + 3], q[a + 4], q[a + 5], q[a + 6]) @ nu[b:b + 3]
+                out[a:a + 3] = quat_rotation(q[a + 3], q[a + 4], q[a + 5], q[a + 6]) @ nu[b:b + 3]
                 o = 3
             x, y, z, w = q[a + o], q[a + o + 1], q[a + o + 2], q[a + o + 3]
             wx, wy, wz = nu[b + o], nu[b + o + 1], nu[b + o + 2]

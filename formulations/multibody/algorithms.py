@@ -253,7 +253,7 @@ def integrate(model: Model, q, dv) -> np.ndarray:
             w = dv[b + o:b + o + 3]
             if jt == K.FREE:
                 # constant body twist: translate along the rotating frame exactly
-                out[s:s + 3] = q[s:s + 3] + K._quat_rotation(*quat) @ _se3_left_jacobian(w) @ dv[b:b + 3]
+                out[s:s + 3] = q[s:s + 3] + K.quat_rotation(*quat) @ _se3_left_jacobian(w) @ dv[b:b + 3]
             out[s + o:s + o + 4] = _quat_mul(quat, _quat_exp(w))
         else:
             n = int(a["nqj"][i])

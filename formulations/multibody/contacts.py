@@ -37,7 +37,7 @@ import scipy.linalg
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
 
-from ..penalty import PenaltyStep
+from ..penalty_step import PenaltyStep
 from ..stepping import (ContactSystem, scene_arrays, scene_plot, scene_run, scene_summary,
                         solver_section, time_section, contacts_section)
 from . import algorithms as alg
@@ -365,7 +365,7 @@ def _scene_plot(h, out) -> list:
 
 
 def _scene_schema():
-    from qpcontact.scenes.schema import Field, SceneSchema
+    from qpcontact.scenes import Field, SceneSchema
 
     pt = "m (the body's frame, or the world's for the ground)"
     return SceneSchema(

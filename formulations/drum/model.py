@@ -80,24 +80,25 @@ spruce ρ ≈ 860 kg/m³ and seasoned ≈ 450 kg/m³.
 
 from __future__ import annotations
 
-import os
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
+from qpcontact import solve
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
-from qpcontact.core.problems import LCP
 from qpcontact.core.matrices import as_vector
+from qpcontact.core.problems import LCP
 from qpcontact.core.progress import StepReporter
-from qpcontact.dispatch.driver import solve
 
-__all__ = ["Log", "Drum", "DrumResult", "DrumSummary", "StepSizeWarning", "EFFECTS",
+from .results import DrumResult
+
+__all__ = ["Log", "Drum", "StepSizeWarning", "EFFECTS",
            "log_mass", "log_half_stiffness", "damping_from_ratio",
            "GREEN_SPRUCE_DENSITY", "SEASONED_SPRUCE_DENSITY", "SPRUCE_E_RADIAL",
-           "SPRUCE_E_TANGENTIAL", "GRAVITY"]
+           "SPRUCE_E_TANGENTIAL", "GRAVITY", "STEPS_PER_PERIOD"]
 
 GRAVITY = 9.81                   # m/s²
 GREEN_SPRUCE_DENSITY = 860.0     # kg/m³
@@ -336,7 +337,7 @@ class Drum:
     def simulate(self, tau: float, steps: int, *, method: str = "bpp", accuracy="high",
                  on_step=None, progress: bool = False, resume: dict | None = None,
                  checkpoint=None, checkpoint_seconds: float = 5.0,
-                 **options) -> "DrumResult":
+                 **options) -> DrumResult:
         """Run ``steps`` steps of size ``tau`` [s] from the initial state.
 
         The state before the first step is the exact free flight at t = -τ
@@ -348,8 +349,8 @@ class Drum:
 
         ``checkpoint(result)`` is called every ``checkpoint_seconds`` and at
         the end with the run so far (a :class:`DrumResult` of steps 0..n);
-        ``resume`` = {"completed": n, and the arrays of :func:`_scene_arrays`
-        for steps 0..n} continues such a run: the state of step n (the last
+        ``resume`` = {"completed": n, and the arrays of a results file
+        (:mod:`.scene`) for steps 0..n} continues such a run: the state of step n (the last
         two displacements, the contact forces that decide the damped set and
         the warm start, the cumulative dissipation) is all the stepper
         carries, so the continued run equals the uninterrupted one bit for bit.
@@ -468,322 +469,3 @@ def _step_failed(n, sol):
     return SolverFailedError(
         f"drum step {n}: no method returned a certified contact force ({sol.message}); "
         "the step matrix may be too ill-conditioned for this tau")
-
-
-@dataclass
-class DrumSummary:
-    """What an engineer reads off a run (SI units)."""
-
-    peak_force: np.ndarray        # N, per contact (0: shell-log 0; k: log k-1 / log k)
-    peak_time: np.ndarray         # s
-    collisions_per_log: np.ndarray  # contact onsets touching each log
-    energy_initial: float         # J: kinetic + elastic + gravitational (0 reference)
-    energy_final: dict            # J: kinetic, elastic, potential, viscous, numerical
-    max_certificate_error: float
-    fallbacks: int
-
-    def table(self) -> str:
-        lines = ["contact  peak force [N]  at t [s]"]
-        for k, (f, t) in enumerate(zip(self.peak_force, self.peak_time)):
-            who = "shell/log 0" if k == 0 else f"log {k - 1}/log {k}"
-            lines.append(f"{k:7d}  {f:14.4g}  {t:9.5f}   {who}")
-        lines.append("collisions per log: " + ", ".join(str(int(c)) for c in self.collisions_per_log))
-        e = self.energy_final
-        lines.append(
-            f"energy [J]: initial {self.energy_initial:.6g}; final kinetic {e['kinetic']:.6g}, "
-            f"elastic {e['elastic']:.6g}, potential {e['potential']:.6g}, viscous dissipated "
-            f"{e['viscous']:.6g}, numerical dissipation {e['numerical']:.6g}")
-        lines.append(f"largest certificate error {self.max_certificate_error:.2e}; "
-                     f"fallbacks {self.fallbacks}")
-        return "\n".join(lines)
-
-    __str__ = table
-
-
-@dataclass
-class DrumResult:
-    """Per-step arrays of a drum run, rows = steps 0..n (SI units):
-    ``forces`` N [N] and ``gaps`` D [m] per contact, ``displacements`` U [m] and
-    ``velocities`` [m/s] per log centre (upward positive), time ``t`` [s]."""
-
-    drum: Drum
-    tau: float
-    t: np.ndarray
-    forces: np.ndarray
-    gaps: np.ndarray
-    displacements: np.ndarray
-    velocities: np.ndarray
-    viscous_dissipation: np.ndarray
-    certificate_errors: np.ndarray
-    iterations: np.ndarray = None     # per step: the method's iterations (pivots for bpp)
-    methods: list = field(default_factory=list)
-    fallbacks: int = 0
-    wall_time: float = 0.0
-    solve_time: float = 0.0
-
-    def energy(self) -> dict:
-        """Energy [J] per step: kinetic ½mv², elastic ½N'CN (log halves and shell),
-        gravitational potential m g U (0 at the start), cumulative viscous
-        dissipation, and numerical dissipation = the balance's residual."""
-        d = self.drum
-        kinetic = 0.5 * np.sum(d.mass * self.velocities ** 2, axis=1)
-        elastic = 0.5 * np.sum(d.compliance * self.forces ** 2, axis=1)
-        potential = d.gravity * np.sum(d.mass * self.displacements, axis=1)
-        viscous = self.viscous_dissipation
-        total0 = kinetic[0] + elastic[0] + potential[0]
-        numerical = total0 - (kinetic + elastic + potential + viscous)
-        return dict(kinetic=kinetic, elastic=elastic, potential=potential, viscous=viscous,
-                    numerical=numerical, mechanical=kinetic + elastic + potential)
-
-    def summary(self) -> DrumSummary:
-        N = self.forces
-        k_peak = np.argmax(N, axis=0)
-        onsets = (N[1:] > 0) & ~(N[:-1] > 0)
-        per_contact = onsets.sum(axis=0)
-        per_log = per_contact.copy()          # contact k touches log k (from below)
-        per_log[:-1] += per_contact[1:]       # and log k-1 (from above)
-        e = self.energy()
-        return DrumSummary(
-            peak_force=N[k_peak, np.arange(N.shape[1])], peak_time=self.t[k_peak],
-            collisions_per_log=per_log, energy_initial=float(e["mechanical"][0]),
-            energy_final={k: float(v[-1]) for k, v in e.items() if k != "mechanical"},
-            max_certificate_error=float(self.certificate_errors.max()), fallbacks=self.fallbacks)
-
-    def save(self, path) -> str:
-        """Write the arrays to a .npz file atomically (temporary file, then rename)."""
-        path = os.fspath(path)
-        tmp = path + ".tmp.npz"
-        np.savez_compressed(tmp, t=self.t, forces=self.forces, gaps=self.gaps,
-                            displacements=self.displacements, velocities=self.velocities,
-                            viscous_dissipation=self.viscous_dissipation,
-                            certificate_errors=self.certificate_errors, tau=self.tau)
-        os.replace(tmp, path)
-        return path
-
-
-def ten_log_scene(seed: int = 1, shell_stiffness: float | None = None) -> Drum:
-    """Ten green-spruce logs (diameters 0.10-0.20 m shuffled, 1.2 m, 5 % damping)
-    5-50 mm apart, thrown down at 0.5-2 m/s into the shell (rigid unless
-    ``shell_stiffness`` [N/m] is given): the demo's and examples/drum_stack.py's scene."""
-    rng = np.random.default_rng(seed)
-    diameters = np.linspace(0.10, 0.20, 10)
-    rng.shuffle(diameters)
-    logs = [Log.from_wood(d, 1.2, damping_ratio=0.05) for d in diameters]
-    gaps = rng.uniform(0.005, 0.05, 10)           # m, below each log
-    velocities = -rng.uniform(0.5, 2.0, 10)       # m/s, downward
-    effects = ("gravity", "damping") + (("shell_elasticity",) if shell_stiffness else ())
-    return Drum(logs, gaps, velocities, shell_stiffness=shell_stiffness, effects=effects)
-
-
-def demo(console) -> int:
-    """The drum part of ``qpcontact demo`` (found through the
-    ``qpcontact.formulations`` entry point): one log dropped on the shell
-    against the analytic peak force, then ten logs falling into the shell.
-    Returns the number of checks that failed."""
-    from rich.markup import escape
-    from rich.table import Table
-
-    log = Log.from_wood(0.15, 1.2)
-    h = 0.02
-    v = np.sqrt(2 * GRAVITY * h)
-    exact = log.mass * GRAVITY + np.sqrt((log.mass * GRAVITY) ** 2 + log.stiffness * log.mass * v * v)
-    table = Table(title="Drum (P0): one 0.15 m x 1.2 m spruce log dropped 2 cm on a rigid shell")
-    for col in ("steps per contact period", "peak force [kN]", "analytic [kN]", "rel. error",
-                "observed order"):
-        table.add_column(escape(col), justify="right")
-    errors = []
-    for per_period in (20, 40, 80):
-        drum = Drum([log], [h])
-        T = drum.contact_periods()[0]
-        res = drum.simulate(T / per_period, int((np.sqrt(2 * h / GRAVITY) + 0.75 * T) / (T / per_period)))
-        peak = res.forces[:, 0].max()
-        errors.append(abs(peak / exact - 1))
-        order = f"{np.log2(errors[-2] / errors[-1]):.2f}" if len(errors) > 1 else ""
-        table.add_row(str(per_period), f"{peak / 1e3:.2f}", f"{exact / 1e3:.2f}",
-                      f"{errors[-1]:.1%}", order)
-    console.print(table)
-    failed = int(not (errors[-1] < errors[0] and np.log2(errors[-2] / errors[-1]) > 0.8))
-
-    drum = ten_log_scene()
-    tau = drum.contact_periods().min() / 40
-    res = drum.simulate(tau, int(0.12 / tau))
-    s = res.summary()
-    console.print(f"Ten logs (0.10-0.20 m) thrown into the shell, 0.12 s, {len(res.t) - 1} steps in "
-                  f"{res.wall_time:.2f} s with 'bpp': peak contact forces "
-                  + ", ".join(f"{f / 1e3:.0f}" for f in s.peak_force) + " kN (shell/log 0 first); "
-                  f"{int(s.collisions_per_log.sum())} contact onsets; largest certificate error "
-                  f"{s.max_certificate_error:.1e}; energy {s.energy_initial:.1f} J at the start = "
-                  f"{sum(s.energy_final.values()):.1f} J at the end (kinetic + elastic + potential "
-                  f"+ viscous {s.energy_final['viscous']:.1f} + numerical "
-                  f"{s.energy_final['numerical']:.1f}).  examples/drum_stack.py plots it.")
-    failed += int(s.max_certificate_error > 1e-9)
-    return failed
-
-
-def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
-    """Step problems of falling stacks for ``qpcontact compare``: stacks of 10,
-    100 or 1000 logs (size small/medium/large); "hard" mixes 0.05-0.30 m logs
-    on an elastic shell with damping.  Names say what they are:
-    ``drum/stack-100-hard/step-30``; the contact forces are z."""
-    from qpcontact.cases.instance import Instance
-
-    L = {"small": 10, "medium": 100, "large": 1000}[size]
-    rng = np.random.default_rng(seed)
-    if hardness == "hard":
-        logs = [Log.from_wood(d, 1.2, damping_ratio=0.1) for d in rng.uniform(0.05, 0.30, L)]
-        drum = Drum(logs, rng.uniform(0, 0.002, L), -rng.uniform(0, 2.0, L), shell_stiffness=5e8,
-                    effects=("gravity", "damping", "shell_elasticity"))
-    else:
-        logs = [Log.from_wood(d, 1.2) for d in rng.uniform(0.10, 0.20, L)]
-        drum = Drum(logs, rng.uniform(0, 0.002, L), -rng.uniform(0, 1.0, L))
-    keep = {}
-    wanted = (15, 30)
-    drum.simulate(drum.contact_periods().min() / 20, max(wanted),
-                  on_step=lambda n, lcp, sol: keep.__setitem__(n, lcp) if n in wanted else None)
-    tag = f"stack-{L}" + ("-hard" if hardness == "hard" else "")
-    return [Instance(f"drum/{tag}/step-{n}", "drum", f"stack-{L}", LCP(keep[n].M, keep[n].q))
-            for n in wanted]
-
-
-# -- scene files (qpcontact.scenes) ------------------------------------------------
-
-def _scene_build(scene):
-    """(Drum, run) from a checked scene: logs from wood data, the effects
-    named and nothing else (a damping ratio only with "damping", a shell
-    stiffness only with "shell_elasticity", g only with "gravity")."""
-    eff, data = scene.effect_params, scene.data
-    ratio = eff["damping"]["ratio"] if "damping" in eff else 0.0
-    logs = [Log.from_wood(lg["diameter"], lg["length"], lg["density"], lg["modulus"],
-                          damping_ratio=ratio) for lg in data["logs"]]
-    init = data["initial"]
-    drum = Drum(logs, init["gaps"], init["velocities"],
-                shell_stiffness=eff["shell_elasticity"]["stiffness"]
-                if "shell_elasticity" in eff else None,
-                effects=scene.effects,
-                gravity=eff["gravity"]["g"] if "gravity" in eff else GRAVITY)
-    time_ = data["time"]
-    tau = time_["tau"] or float(drum.contact_periods().min() / time_["steps_per_period"])
-    solver = data["solver"]
-
-    def run(progress: bool = False, on_step=None, resume=None, checkpoint=None,
-            checkpoint_seconds: float = 5.0):
-        return drum.simulate(tau, time_["steps"], method=solver["method"],
-                             accuracy=solver["accuracy"], progress=progress, on_step=on_step,
-                             resume=resume, checkpoint=checkpoint,
-                             checkpoint_seconds=checkpoint_seconds)
-    run.total_steps = time_["steps"]
-    return drum, run
-
-
-def _scene_arrays(result) -> dict:
-    """What a drum run's results file holds (SI units), per step."""
-    e = result.energy()
-    return {"fallbacks": np.array(result.fallbacks), "t": result.t, "forces": result.forces,
-            "gaps": result.gaps,
-            "displacements": result.displacements, "velocities": result.velocities,
-            "certificate_error": result.certificate_errors, "iterations": result.iterations,
-            "method": np.array([""] + result.methods, dtype="S"),
-            **{f"energy/{k}": v for k, v in e.items()}}
-
-
-def _scene_plot(h, out) -> list:
-    """The drum's standard figures from a results file (an open h5py.File),
-    without re-running: forces against time, peak force per contact, energy
-    balance."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from qpcontact.plots.figures import save_figure
-
-    t_ms = 1e3 * h["t"][()]
-    N = h["forces"][()]
-    names = ["shell/0"] + [f"{k - 1}/{k}" for k in range(1, N.shape[1])]
-    paths = []
-    fig, ax = plt.subplots(figsize=(9, 4.8))
-    for k in range(N.shape[1]):
-        ax.plot(t_ms, N[:, k] / 1e3, lw=0.9, label=names[k])
-    ax.set(xlabel="time [ms]", ylabel="contact force [kN]", title="Contact forces")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
-    paths.append(save_figure(fig, f"{out}/forces.png"))
-    fig, ax = plt.subplots(figsize=(8, 4.2))
-    k_peak = np.argmax(N, axis=0)
-    bars = ax.bar(names, N.max(axis=0) / 1e3, color="tab:brown")
-    for b, k in zip(bars, k_peak):
-        if b.get_height() > 0:
-            ax.annotate(f"{t_ms[k]:.0f} ms", (b.get_x() + b.get_width() / 2, b.get_height()),
-                        ha="center", va="bottom", fontsize=7)
-    ax.set(xlabel="contact (shell / log, or lower log / upper log)", ylabel="peak force [kN]",
-           title="Peak force per contact (label: when)")
-    ax.grid(True, axis="y", alpha=0.3)
-    paths.append(save_figure(fig, f"{out}/peaks.png"))
-    fig, ax = plt.subplots(figsize=(9, 4.8))
-    for key in ("kinetic", "elastic", "potential", "viscous", "numerical"):
-        ax.plot(t_ms, h[f"energy/{key}"][()], lw=1.0, label=key)
-    ax.set(xlabel="time [ms]", ylabel="energy [J]",
-           title="Energy balance (numerical = the balance's residual)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    paths.append(save_figure(fig, f"{out}/energy.png"))
-    return paths
-
-
-def _scene_summary(result) -> dict:
-    """A sweep's columns for one drum run: peak force per contact [N], the
-    largest certificate error, the fallbacks."""
-    s = result.summary()
-    cols = {f"peak_force_{k} [N]": float(v) for k, v in enumerate(s.peak_force)}
-    return {**cols, "max_certificate_error": s.max_certificate_error, "fallbacks": s.fallbacks}
-
-
-def _scene_schema():
-    from qpcontact.scenes.schema import Field, SceneSchema
-
-    return SceneSchema(
-        formulation="drum",
-        doc="logs stacked above the drum shell, one LCP per time step (P0)",
-        sections={
-            "logs": Field("tables", doc="one [[logs]] table per log, bottom to top", required=True,
-                          fields={
-                              "diameter": Field("float", "m", "log diameter", required=True,
-                                                positive=True),
-                              "length": Field("float", "m", "log length", required=True,
-                                              positive=True),
-                              "density": Field("float", "kg/m³", "wood density",
-                                               default=GREEN_SPRUCE_DENSITY, positive=True),
-                              "modulus": Field("float", "Pa", "transverse Young's modulus",
-                                               default=SPRUCE_E_TANGENTIAL, positive=True)}),
-            "initial": {
-                "gaps": Field("floats", "m", "gap below each log (0: shell to log 0)",
-                              required=True),
-                "velocities": Field("floats", "m/s", "log velocities, upward positive"),
-            },
-            "time": {
-                "steps": Field("int", "", "number of time steps", required=True, positive=True),
-                "tau": Field("float", "s", "step size (default: the shortest contact period / "
-                             "steps_per_period)", positive=True),
-                "steps_per_period": Field("float", "", "steps per shortest contact period",
-                                          default=40.0, positive=True),
-            },
-            "solver": {
-                "method": Field("str", "", "LCP method per step", default="bpp"),
-                "accuracy": Field("str", "", "low, default or high", default="high"),
-            },
-        },
-        effects={
-            "gravity": {"g": Field("float", "m/s²", "gravitational acceleration",
-                                   default=GRAVITY, positive=True)},
-            "damping": {"ratio": Field("float", "-", "damping ratio ζ of each log's half "
-                                       "elements (λ = 2ζ√(s m))", required=True)},
-            "shell_elasticity": {"stiffness": Field("float", "N/m", "shell stiffness at the "
-                                                    "contact", required=True, positive=True)},
-        },
-        build=_scene_build,
-        arrays=_scene_arrays,
-        plot=_scene_plot,
-        summary=_scene_summary,
-    )
-
-
-SCENE = _scene_schema()

@@ -37,7 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError
 
 __all__ = ["BVPResult", "BlockLU", "solve", "continuation", "ContinuationResult"]
 

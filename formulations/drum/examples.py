@@ -1,0 +1,96 @@
+"""The drum's instances for ``qpcontact compare``, its part of ``qpcontact
+demo`` and the ten-log scene of the demo and examples/drum_stack.py."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.problems import LCP
+
+from .model import GRAVITY, Drum, Log
+
+__all__ = ["ten_log_scene", "demo", "instances"]
+
+
+def ten_log_scene(seed: int = 1, shell_stiffness: float | None = None) -> Drum:
+    """Ten green-spruce logs (diameters 0.10-0.20 m shuffled, 1.2 m, 5 % damping)
+    5-50 mm apart, thrown down at 0.5-2 m/s into the shell (rigid unless
+    ``shell_stiffness`` [N/m] is given): the demo's and examples/drum_stack.py's scene."""
+    rng = np.random.default_rng(seed)
+    diameters = np.linspace(0.10, 0.20, 10)
+    rng.shuffle(diameters)
+    logs = [Log.from_wood(d, 1.2, damping_ratio=0.05) for d in diameters]
+    gaps = rng.uniform(0.005, 0.05, 10)           # m, below each log
+    velocities = -rng.uniform(0.5, 2.0, 10)       # m/s, downward
+    effects = ("gravity", "damping") + (("shell_elasticity",) if shell_stiffness else ())
+    return Drum(logs, gaps, velocities, shell_stiffness=shell_stiffness, effects=effects)
+
+
+def demo(console) -> int:
+    """The drum part of ``qpcontact demo`` (found through the
+    ``qpcontact.formulations`` entry point): one log dropped on the shell
+    against the analytic peak force, then ten logs falling into the shell.
+    Returns the number of checks that failed."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    log = Log.from_wood(0.15, 1.2)
+    h = 0.02
+    v = np.sqrt(2 * GRAVITY * h)
+    exact = log.mass * GRAVITY + np.sqrt((log.mass * GRAVITY) ** 2 + log.stiffness * log.mass * v * v)
+    table = Table(title="Drum (P0): one 0.15 m x 1.2 m spruce log dropped 2 cm on a rigid shell")
+    for col in ("steps per contact period", "peak force [kN]", "analytic [kN]", "rel. error",
+                "observed order"):
+        table.add_column(escape(col), justify="right")
+    errors = []
+    for per_period in (20, 40, 80):
+        drum = Drum([log], [h])
+        T = drum.contact_periods()[0]
+        res = drum.simulate(T / per_period, int((np.sqrt(2 * h / GRAVITY) + 0.75 * T) / (T / per_period)))
+        peak = res.forces[:, 0].max()
+        errors.append(abs(peak / exact - 1))
+        order = f"{np.log2(errors[-2] / errors[-1]):.2f}" if len(errors) > 1 else ""
+        table.add_row(str(per_period), f"{peak / 1e3:.2f}", f"{exact / 1e3:.2f}",
+                      f"{errors[-1]:.1%}", order)
+    console.print(table)
+    failed = int(not (errors[-1] < errors[0] and np.log2(errors[-2] / errors[-1]) > 0.8))
+
+    drum = ten_log_scene()
+    tau = drum.contact_periods().min() / 40
+    res = drum.simulate(tau, int(0.12 / tau))
+    s = res.summary()
+    console.print(f"Ten logs (0.10-0.20 m) thrown into the shell, 0.12 s, {len(res.t) - 1} steps in "
+                  f"{res.wall_time:.2f} s with 'bpp': peak contact forces "
+                  + ", ".join(f"{f / 1e3:.0f}" for f in s.peak_force) + " kN (shell/log 0 first); "
+                  f"{int(s.collisions_per_log.sum())} contact onsets; largest certificate error "
+                  f"{s.max_certificate_error:.1e}; energy {s.energy_initial:.1f} J at the start = "
+                  f"{sum(s.energy_final.values()):.1f} J at the end (kinetic + elastic + potential "
+                  f"+ viscous {s.energy_final['viscous']:.1f} + numerical "
+                  f"{s.energy_final['numerical']:.1f}).  examples/drum_stack.py plots it.")
+    failed += int(s.max_certificate_error > 1e-9)
+    return failed
+
+
+def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
+    """Step problems of falling stacks for ``qpcontact compare``: stacks of 10,
+    100 or 1000 logs (size small/medium/large); "hard" mixes 0.05-0.30 m logs
+    on an elastic shell with damping.  Names say what they are:
+    ``drum/stack-100-hard/step-30``; the contact forces are z."""
+    from qpcontact.cases.instance import Instance
+
+    L = {"small": 10, "medium": 100, "large": 1000}[size]
+    rng = np.random.default_rng(seed)
+    if hardness == "hard":
+        logs = [Log.from_wood(d, 1.2, damping_ratio=0.1) for d in rng.uniform(0.05, 0.30, L)]
+        drum = Drum(logs, rng.uniform(0, 0.002, L), -rng.uniform(0, 2.0, L), shell_stiffness=5e8,
+                    effects=("gravity", "damping", "shell_elasticity"))
+    else:
+        logs = [Log.from_wood(d, 1.2) for d in rng.uniform(0.10, 0.20, L)]
+        drum = Drum(logs, rng.uniform(0, 0.002, L), -rng.uniform(0, 1.0, L))
+    keep = {}
+    wanted = (15, 30)
+    drum.simulate(drum.contact_periods().min() / 20, max(wanted),
+                  on_step=lambda n, lcp, sol: keep.__setitem__(n, lcp) if n in wanted else None)
+    tag = f"stack-{L}" + ("-hard" if hardness == "hard" else "")
+    return [Instance(f"drum/{tag}/step-{n}", "drum", f"stack-{L}", LCP(keep[n].M, keep[n].q))
+            for n in wanted]

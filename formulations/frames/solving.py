@@ -1,0 +1,298 @@
+"""Solving a frame's contact problem: one combination (``Frame.solve``: the
+"auto" route, a named method, or the Tresca fixed point), many
+(``solve_combinations``), and when no equilibrium exists, the proof and the
+words for how the frame fails.  Mixed into :class:`~.model.Frame`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact import solve
+from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
+                                   QpcontactError, SolverFailedError)
+from qpcontact.core.options import check_options
+from qpcontact.judge.lcp import certify_lcp
+
+from . import assembly
+from .loads import describe
+from .results import CombinationResults, FrameResult
+
+#: seconds each QP backend may take inside a frame's "auto" route (Lemke's
+#: proof comes first; a backend loop on a load the frame cannot carry took
+#: 40 s in ProxQP before)
+BACKEND_TIME_LIMIT = 10.0
+
+
+class FrameSolving:
+    """The Frame's solving methods (the model, its results and the trace are
+    the other parts of :class:`~.model.Frame`)."""
+
+    def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
+              raise_on_failure: bool = False, *, combination: dict | None = None,
+              **options) -> FrameResult:
+        """Analyse one load combination: ``combination`` = {case: factor}, or
+        by default the P3 split constant + p·variable.
+
+        ``method``: "auto" (frictionless and positive definite: the exact SPD
+        method "bpp"; otherwise Lemke, whose ray on a load the frame cannot
+        carry comes with a Farkas vector checked from the data, then the QP
+        backends with a time limit each), any registered LCP method or QP
+        backend name (frictionless), "lemke", or "tresca" (with friction: a
+        fixed point of convex QPs with Tresca bounds, stopped on the full LCP
+        certificate; falls back to Lemke).
+
+        Raises NoSolutionError when no equilibrium exists (proved), saying
+        how the frame fails; SolverFailedError when no method found one and
+        nothing was proved; with ``raise_on_failure`` also for a result whose
+        checks fail.
+        """
+        if not isinstance(method, str):
+            raise InvalidOptionError(f"method must be a string; got {method!r}")
+        b = self.build()
+        combo = self._combo(p, combination, b)
+        M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
+        lcp = assembly.combination_lcp(M, Q, q_gap, b, combo)
+        from qpcontact import methods as registry
+        from qpcontact.core.accuracy import resolve_accuracy
+
+        _, tol = resolve_accuracy(accuracy)
+        if method not in ("auto", "tresca", "lemke") and method not in registry():
+            raise InvalidOptionError(
+                f"unknown method {method!r}: 'auto', 'lemke', 'tresca' (with friction) or a name "
+                f"from qpcontact.methods(): {', '.join(registry())}")
+        if method == "tresca":
+            if not fric:
+                raise InvalidOptionError("'tresca' is for frictional frames; this one has no friction")
+            z, route = self._tresca(b, lcp, P, g, fric, combo, tol, accuracy, options)
+        else:
+            if fric and method not in ("auto", "lemke"):
+                raise InvalidOptionError(
+                    f"with friction the LCP is not symmetric; use method='lemke' or 'tresca', "
+                    f"not {method!r}")
+            if method == "auto":
+                sol = self._auto(lcp, fric, accuracy, options)
+            else:
+                sol = solve(lcp, method=method, accuracy=accuracy, **options)
+            z, route = sol.z, sol.method
+            if not sol.ok:
+                self._no_equilibrium(sol, fric, b, combo)
+        res = self._result_from_z(z, combo, route, b=b, lcp=lcp, tol=tol)
+        if not res.ok and res.lcp_error <= tol:
+            # the LCP's answer is no equilibrium of the frame: a contact matrix
+            # singular to rounding (the frame is a mechanism once its contacts
+            # open) solved at a point of huge openings
+            self._raise_rigid_motion(b, combo, f"{route}'s answer failed the statics check "
+                                               f"({res.message})")
+        if raise_on_failure and not res.ok:
+            raise SolverFailedError(f"frame: {res.message}")
+        return res
+
+    def _auto(self, lcp, fric, accuracy, options):
+        if not fric and lcp.is_positive_definite:
+            return solve(lcp, method="bpp", accuracy=accuracy)
+        sol = solve(lcp, method="lemke", accuracy=accuracy, **options)
+        if sol.ok or fric or sol.stats.get("farkas") is not None:
+            return sol
+        best = sol
+        for name in ("clarabel", "piqp", "osqp", "highs"):
+            try:
+                s = solve(lcp, method=name, accuracy=accuracy, time_limit=BACKEND_TIME_LIMIT)
+            except QpcontactError:
+                continue
+            if s.ok or s.stats.get("proof") is not None:
+                return s
+            if s.error < best.error:
+                best = s
+        return best
+
+    def _no_equilibrium(self, sol, fric, b, combo):
+        """Raise with what was proved (a Farkas vector: how the frame fails) or
+        with what was tried."""
+        y = sol.stats.get("farkas")
+        proof = sol.stats.get("proof")
+        if y is None and proof is not None and proof.kind == "infeasible":
+            y = proof.vector["z"]
+        what = describe(combo)
+        if y is not None:
+            words = self._collapse_words({"farkas": np.asarray(y, float)}, fric, carrying=None)
+            raise NoSolutionError(
+                f"frame under {what}: no equilibrium exists — {words} (proved by a Farkas "
+                f"vector checked from the data: y >= 0, M'y <= 0, q'y < 0)")
+        self._raise_rigid_motion(b, combo, f"{sol.method}: {sol.message}")
+        raise SolverFailedError(
+            f"frame under {what}: {sol.method} found no contact state ({sol.message}); nothing "
+            "was proved either way")
+
+    def _rigid_motion(self, b, combo):
+        """A rigid motion φ of the frame with every contact released (a null
+        vector of the free stiffness, springs and bilateral supports
+        included) that only opens or slides the contacts within Coulomb's
+        cone (a_c >= f |s_c|) and in which the loads do positive work: then
+        no equilibrium exists (virtual work: F'φ = -Σ X·(H'φ) <= 0 for any
+        admissible contact forces).  Found by one LP over the null space and
+        checked in floating point to rounding; returns (a, s) or None.
+
+        This is what proves "no equilibrium" when the contact matrix is
+        singular only up to rounding (R has the rigid motion in its null
+        space exactly, its computed copy only nearly), where the LCP's exact
+        Farkas check cannot pass."""
+        from scipy.optimize import linprog
+
+        free = b["free"]
+        if free.size > 3000:
+            return None
+        Kf = b["K"][free][:, free].toarray()
+        d = np.sqrt(np.abs(np.diag(Kf)))
+        d[d == 0] = 1.0
+        lam, V = np.linalg.eigh(Kf / d[:, None] / d[None, :])
+        null = V[:, lam <= 1e-10 * max(lam.max(initial=0.0), 1e-300)] / d[:, None]
+        if null.shape[1] == 0:
+            return None
+        F, _ = assembly.combine(b, combo)
+        Ff = F[free]
+        N = b["K"].shape[0]
+        rows_a, rows_s = [], []
+        for c in self.contacts:
+            t = np.array([c.normal[1], -c.normal[0]])
+            for vec, rows in ((c.normal, rows_a), (t, rows_s)):
+                rows.append(assembly.contact_column(b["idx"], N, c, vec)[free] @ null)
+        Ha, Hs = np.array(rows_a), np.array(rows_s)
+        f = np.array([c.friction for c in self.contacts])
+        work = Ff @ null
+        if not np.any(work):
+            return None
+        A_ub = np.vstack([-(Ha - f[:, None] * Hs), -(Ha + f[:, None] * Hs)])
+        res = linprog(np.zeros(null.shape[1]), A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]),
+                      A_eq=work[None, :], b_eq=[1.0], bounds=[(None, None)] * null.shape[1],
+                      method="highs")
+        if res.status != 0:
+            return None
+        phi = null @ res.x
+        a, sl = Ha @ res.x, Hs @ res.x
+        size = np.abs(phi).max()
+        w_scale = np.abs(Ff) @ np.abs(phi)
+        tol = 1e-9 * size
+        if not (Ff @ phi > 1e-6 * w_scale and np.all(a - f * np.abs(sl) >= -tol)):
+            return None
+        a = np.where(np.abs(a) <= tol, 0.0, a)
+        sl = np.where(np.abs(sl) <= tol, 0.0, sl)
+        return a, sl
+
+    def _raise_rigid_motion(self, b, combo, before: str):
+        motion = self._rigid_motion(b, combo)
+        if motion is None:
+            return
+        raise NoSolutionError(
+            f"frame under {describe(combo)}: no equilibrium exists — {self._motion_words(*motion, None)} "
+            f"(a rigid motion of the frame with its contacts released, in which the loads do "
+            f"positive work while every contact opens or slides within its friction cone; "
+            f"found by LP, checked to rounding; {before})")
+
+    def solve_combinations(self, combinations: dict, **kw) -> CombinationResults:
+        """Each named combination solved on its own — its own contact states,
+        reactions and checks (no state carried over, never superposed).
+        Values are {case: factor} dicts (or a number p for the P3 split).  A
+        combination that cannot be carried gives a result with ok False and
+        the reason; the others are kept.  Returns a CombinationResults."""
+        if not isinstance(combinations, dict) or not combinations:
+            raise InvalidProblemError("combinations: a non-empty dict {name: {case: factor}}")
+        out = CombinationResults()
+        for name, combo in combinations.items():
+            args = dict(kw)
+            if isinstance(combo, dict):
+                args["combination"] = combo
+            else:
+                args["p"] = combo
+            try:
+                res = self.solve(**args)
+            except (NoSolutionError, SolverFailedError) as exc:
+                res = FrameResult(p=float("nan"), supports={}, displacements={},
+                                  member_forces={}, reactions={},
+                                  equilibrium_residual=float("nan"), lcp_error=float("nan"),
+                                  route="", ok=False, message=str(exc), frame=self,
+                                  combination=combo if isinstance(combo, dict) else {})
+            res.name = str(name)
+            out[name] = res
+        return out
+
+    def _tresca(self, b, lcp, P, g, fric, combo, tol, accuracy, options):
+        """Fixed point on Tresca bounds s = f X_n: each iteration the convex QP
+        min ½(Pz-g)'R(Pz-g) + R_F'(Pz-g) + s'(Z⁺ + Z⁻), z >= 0 (its KKT system is
+        the LCP with the bounds frozen); stopped when z solves the full LCP."""
+        from qpsolvers import Problem
+
+        check_options("tresca", options, ("qp_method", "max_iter"))
+        qp_method = options.get("qp_method", "auto")
+        max_iter = int(options.get("max_iter", 50))
+        R = b["R"]
+        _, RF = assembly.combine(b, combo)
+        nc = len(self.contacts)
+        pos = assembly.layout(b)
+        H = P.T @ R @ P
+        H = 0.5 * (H + H.T)
+        base = P.T @ (RF - R @ g)
+        xn = np.zeros(nc)
+        for it in range(max_iter):
+            s = np.zeros(P.shape[1])
+            for k, ci in enumerate(fric):
+                s[nc + 2 * k] = s[nc + 2 * k + 1] = self.contacts[ci].friction * max(xn[ci], 0.0)
+            sol = solve(Problem(H, base + s, lb=np.zeros(H.shape[0])), method=qp_method,
+                        accuracy=accuracy)
+            if sol.x is None:
+                break
+            z = np.maximum(sol.x, 0.0)
+            if certify_lcp(lcp, z).ok(tol):
+                return z, f"tresca fixed point ({sol.method}, {it + 1} iterations)"
+            X = R @ (P @ z - g) + RF
+            xn = np.array([X[pos[ci]["n"]] for ci in range(nc)])
+        sol = solve(lcp, method="lemke", accuracy=accuracy)
+        if not sol.ok:
+            self._no_equilibrium(sol, fric, b, combo)
+        return sol.z, f"lemke (Tresca fixed point did not converge in {max_iter} iterations)"
+
+    def _collapse_words(self, proof, fric, carrying) -> str:
+        """How the frame fails, read off the Farkas vector y.
+
+        y'w = Σ_c (A_c X_n + T_c X_t) with A_c = y_n + f (y+ + y-) and T_c =
+        y+ - y-, and y'M = 0 makes this combination independent of the
+        displacements: it is the virtual work of the contact forces in a rigid
+        motion of the frame with normal motion A_c >= f |T_c| and tangential
+        motion T_c at each contact.  A contact lifts off in it when A_c >
+        f |T_c|, slides (along ±t) when T_c != 0 and A_c = f |T_c| (Coulomb's
+        cone), and stays (a pivot) when both are zero.
+        """
+        y = proof["farkas"]
+        nc = len(self.contacts)
+        A = y[:nc].copy()
+        T = np.zeros(nc)
+        for k, ci in enumerate(fric):
+            yp, ym = y[nc + 2 * k], y[nc + 2 * k + 1]
+            A[ci] += self.contacts[ci].friction * (yp + ym)
+            T[ci] = yp - ym
+        return self._motion_words(A, T, carrying)
+
+    def _motion_words(self, A, T, carrying) -> str:
+        """Words for a rigid motion with normal opening A_c >= f |T_c| and
+        tangential motion T_c at each contact (see _collapse_words)."""
+        keys = self._support_keys()
+        nc = len(self.contacts)
+        big = max(A.max(initial=0.0), np.abs(T).max(initial=0.0))
+        lift, slide, stay = [], [], []
+        for ci in range(nc):
+            f = self.contacts[ci].friction
+            if A[ci] <= 1e-9 * big and abs(T[ci]) <= 1e-9 * big:
+                stay.append(keys[ci])
+            elif A[ci] > f * abs(T[ci]) * (1 + 1e-6) + 1e-9 * big:
+                lift.append(keys[ci])
+            else:
+                slide.append(f"{keys[ci]} ({'+t' if T[ci] > 0 else '-t'})")
+        if slide and not lift:
+            whole = carrying is None or all(any(s.startswith(k + " ") for s in slide)
+                                            for k in carrying)
+            return (("the frame slides away as a rigid body: " if whole else "it slides: ")
+                    + "friction exhausted at " + ", ".join(slide))
+        if lift and not slide:
+            if stay:
+                return f"it tips over about {', '.join(stay)}: {', '.join(lift)} lift off"
+            return "it lifts off: " + ", ".join(lift) + " would have to pull"
+        return ("it lifts off at " + ", ".join(lift) + " and slides at " + ", ".join(slide))

@@ -1,0 +1,98 @@
+"""P3's increasing-load analysis of a frame (``Frame.trace``): the engine's
+parametric LCP trace, each piece checked like a single solve, merged into the
+frame's working schemes.  Mixed into :class:`~.model.Frame`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact import solve
+from qpcontact.core.problems import ParametricLCP
+
+from . import assembly
+from .loads import CONSTANT, VARIABLE, combination
+from .results import FrameEvent, FrameTrace
+
+
+class FrameTracing:
+    """The Frame's trace (see the module docstring)."""
+
+    def trace(self, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
+              variable=None) -> FrameTrace:
+        """P3's increasing-load analysis: the ``constant`` combination (default
+        the case "constant"), then the ``variable`` loads (a case name or a
+        combination; default the case "variable") scaled by p from 0 to
+        ``p_max`` (None: until no support changes state again, or no
+        equilibrium continues the path).
+
+        Every piece of the path is checked like a single solve (LCP certificate
+        and global equilibrium, at its start, middle and end); a piece that
+        fails is not returned and the trace ends "breakdown".  Breakpoints where
+        only the LCP's bookkeeping changes (a separated contact's slip changing
+        sign) are merged: ``breakpoints`` are where a support changes state.
+        """
+        from qpcontact.core.accuracy import resolve_accuracy
+
+        _, tol = resolve_accuracy(accuracy)
+        b = self.build()
+        known = set(b["cases"])
+        const = combination(constant or {CONSTANT: 1.0}, known)
+        var = combination({variable: 1.0} if isinstance(variable, str)
+                          else (variable or {VARIABLE: 1.0}), known)
+        M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
+        qc, _ = assembly.combination_q(Q, q_gap, b, const)
+        qv, _ = assembly.combination_q(Q, np.zeros_like(q_gap), b, var)
+        tr = solve(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
+                   p_max=np.inf if p_max is None else p_max)
+        ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
+                        ended=tr.end, message="", ok=False, trace=tr, frame=self, _built=b,
+                        constant=const, variable=var)
+        runs = []        # [p_start, p_end, states]
+        ended, failed = tr.end, None
+        for piece in tr.pieces:
+            hi = piece.p_end if np.isfinite(piece.p_end) else piece.p_start + max(1.0, piece.p_start)
+            checks = [self._result_from_z(piece.z(pp), ft._combo(pp), "trace", b=b, tol=tol)
+                      for pp in (piece.p_start, 0.5 * (piece.p_start + hi), hi)]
+            bad = [r for r in checks if not r.ok]
+            if bad:
+                ended, failed = "breakdown", bad[0]
+                break
+            key = {k: v.state for k, v in checks[1].supports.items()}
+            if runs and runs[-1][2] == key:
+                runs[-1][1] = piece.p_end
+            else:
+                runs.append([piece.p_start, piece.p_end, key])
+        ft.ended = ended
+        ft.intervals = [(r[0], r[1]) for r in runs]
+        ft.events = [FrameEvent(r1[0], {k: (r0[2][k], r1[2][k]) for k in r1[2]
+                                        if r0[2][k] != r1[2][k]})
+                     for r0, r1 in zip(runs[:-1], runs[1:])]
+        ft.breakpoints = np.array([ev.p for ev in ft.events])
+        for lo, hi in ft.intervals:
+            top = hi if np.isfinite(hi) else lo + max(1.0, lo)
+            ft.states.append(ft.result_at(0.5 * (lo + top)))
+        if failed is not None:
+            ft.message = (f"the piece from p = {failed.p:g} failed the frame's checks "
+                          f"({failed.message}); the trace stops there")
+        elif ended == "collapse":
+            carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
+                        if ft.states else None)
+            words = (self._collapse_words(tr.proof, fric, carrying)
+                     if tr.proof["farkas"] is not None
+                     else "no combination of support states carries the load")
+            how = ("a Farkas certificate" if tr.proof["patterns"] == 1 else
+                   f"Farkas certificates for all {tr.proof['patterns']} combinations of support "
+                   "states left after branching")
+            bound = ("" if not np.isfinite(tr.proof["z_bound"]) else
+                     f" for openings and slips summing below {tr.proof['z_bound']:.1e}")
+            ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
+                          f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
+                          f"the data{bound})")
+        elif ended == "unbounded":
+            ft.message = (f"no support changes state for p >= {tr.proof['from']:g}: the frame "
+                          "carries any larger load in its last working scheme")
+        else:
+            ft.message = tr.message
+        ft.ok = bool(tr.ok and failed is None)
+        ft.message += f"; {len(ft.events)} change(s) of the working scheme"
+        return ft
