@@ -66,11 +66,11 @@ def test_judge_catches_false_proofs_and_false_successes():
 def test_siconos_files_are_judged(siconos_dir):
     config = dataclasses.replace(QUICK, families=("siconos",), methods=("lemke",),
                                  siconos_dir=str(siconos_dir))
-    from qpcontact.commands.stress import _tasks
+    from qpcontact.commands.stress import tasks
 
-    tasks = _tasks(config)
-    assert len(tasks) == len(list(siconos_dir.glob("*.dat")))
-    for family, n, seed, method, accuracy in tasks:
+    todo = tasks(config)
+    assert len(todo) == len(list(siconos_dir.glob("*.dat")))
+    for family, n, seed, method, accuracy in todo:
         case = build_case(family, n, seed, str(siconos_dir))
         sol = qpcontact.solve(case.problem, method, accuracy)
         category, reason = judge(case, sol)

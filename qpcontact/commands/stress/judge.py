@@ -1,0 +1,101 @@
+"""The stress suite's judge: each answer against the case's built-in one, by code
+written here — never by :func:`qpcontact.certify`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["judge"]
+
+
+def _promised_scales(M, q, z_star) -> tuple[np.ndarray, np.ndarray]:
+    """The scales on which qpcontact promises each component (docs/
+    certificates.md), recomputed here from the planted answer by their
+    definition, not by qpcontact.certify: ζ_j = min(cap, min_i σ_i / |M_ij|)
+    over rows with data (σ = |q| + |M||z*|; cap = max(|z*|∞, |q|∞ / max|M|)),
+    the change of z_j that moves some row by its own size; a row whose data
+    are zero gets σ_i = Σ_j |M_ij| ζ_j.  A force of 1e-8 at an unloaded
+    contact beside a gap of 4e10 is right on these scales."""
+    A = np.abs(M.toarray() if hasattr(M, "toarray") else M)
+    sig = np.abs(q) + A @ np.abs(z_star)
+    idle = np.abs(q) == 0
+    cap = max(float(np.abs(z_star).max()), float(np.abs(q).max()) / max(float(A.max()), 1e-300))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where((A > 0) & ~idle[:, None], sig[:, None] / A, np.inf)
+    zeta = np.minimum(ratio.min(axis=0), cap)
+    sig_idle = A @ np.where(np.isfinite(zeta), zeta, 0.0)
+    return zeta, np.where(idle, np.maximum(sig, sig_idle), sig)
+
+
+def _lcp_agrees(case, z, rtol: float) -> bool:
+    M, q = case.problem.M, case.problem.q
+    z = np.asarray(z, float)
+    w = np.asarray(M @ z).ravel() + q
+    if case.z is not None and case.unique_z:
+        zs, ws = case.scales()
+        zeta, sigma = _promised_scales(M, q, case.z)
+        zs, ws = np.maximum(zs, zeta), np.maximum(ws, sigma)
+        return bool(np.all(np.abs(z - case.z) <= rtol * zs) and np.all(np.abs(w - case.w) <= rtol * ws))
+    if case.w is not None and case.unique_w:
+        zs, ws = case.scales()
+        return bool(np.all(np.abs(w - case.w) <= rtol * ws) and np.all(z >= -rtol * zs))
+    # nothing determined: z >= 0, w >= 0, min(z_i, w_i) = 0, each pair on its
+    # own scale (|q_i| + (|M||z|)_i for w_i; z's own magnitude for z_i)
+    absM = abs(M) if hasattr(M, "tocsc") else np.abs(M)
+    sig = np.abs(q) + np.asarray(absM @ np.abs(z)).ravel()
+    # a row whose data are all (nearly) zero is judged on the others' scale
+    sig = np.maximum(sig, 64 * np.finfo(float).eps * max(float(sig.max()), 1e-300))
+    zs = max(float(np.abs(z).max()), 1e-300)
+    zn, wn = z / zs, w / sig
+    return bool(np.all(zn >= -rtol) and np.all(wn >= -rtol)
+                and np.all(np.minimum(np.abs(zn), np.abs(wn)) <= rtol))
+
+
+def _qp_agrees(case, x, rtol: float) -> bool:
+    P, q, G, h, A, b, lb, ub = case.problem.unpack()
+    x = np.asarray(x, float)
+    f = 0.5 * x @ (P @ x) + q @ x
+    scale = 0.5 * np.abs(x) @ (np.abs(P) @ np.abs(x)) + np.abs(q) @ np.abs(x)
+    xs = case.x
+    fscale = max(scale, 0.5 * np.abs(xs) @ (np.abs(P) @ np.abs(xs)) + np.abs(q) @ np.abs(xs), 1e-300)
+    if abs(f - case.objective) > rtol * fscale:
+        return False
+    if G is not None and np.any(G @ x - h > rtol * (np.abs(G) @ np.abs(x) + np.abs(h))):
+        return False
+    if lb is not None:
+        nz = np.abs(xs[xs != 0])
+        floor = float(nz.min()) if nz.size else 1.0
+        if np.any(lb - x > rtol * np.maximum(np.maximum(np.abs(lb), np.abs(xs)), floor)):
+            return False
+    return True
+
+
+def judge(case, sol) -> tuple[str, str]:
+    """(category, reason): ``sol`` judged against what ``case`` has built in."""
+    from ...core.problems import LCP
+
+    is_lcp = isinstance(case.problem, LCP)
+    proved = sol.status in ("infeasible", "unbounded") or (
+        sol.status == "ray" and bool(sol.stats.get("proved_infeasible")))
+    claimed = "solved" if sol.ok else (sol.status if sol.status in ("infeasible", "unbounded")
+                                       else ("infeasible" if proved else None))
+    if sol.status == "time_limit":
+        return "hung", sol.message[:120]
+    if case.status in ("infeasible", "unbounded"):
+        if claimed == case.status:
+            return "proved", ""
+        if claimed is not None:
+            return "silent_wrong", f"claimed {claimed} on a {case.status} instance"
+    elif case.status == "solved" and claimed in ("infeasible", "unbounded"):
+        return "silent_wrong", f"claimed {claimed} on a solvable instance: {sol.message[:100]}"
+    if sol.ok:
+        if is_lcp:
+            ferr = sol.forward_error
+            good = _lcp_agrees(case, sol.z, max(100 * sol.tol, 10 * ferr if np.isfinite(ferr) else 0.0))
+        else:
+            good = _qp_agrees(case, sol.x, 1000 * sol.tol)
+        return ("certified", "") if good else (
+            "silent_wrong", f"certified (error {sol.error:.1e}) but disagrees with the known answer")
+    if sol.status in ("inaccurate", "max_pivots", "ray"):
+        return "inaccurate", sol.status
+    return "failed", sol.status

@@ -1,0 +1,192 @@
+"""Running the stress suite: each solve in one of several long-lived child
+processes, so that a crash or a hang costs one row."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+from ...core.progress import ProgressBar
+from .cases import QUICK, StressConfig, build_case, default_siconos
+from .judge import judge
+
+__all__ = ["FIELDS", "tasks", "run_stress"]
+
+FIELDS = ("family", "n", "seed", "instance", "method", "accuracy", "expected", "status",
+          "category", "reason", "error", "seconds")
+
+
+def _solve_row(task, siconos_dir, time_limit, cache={}):  # noqa: B006 - per-process cache
+    from ...core.errors import QpcontactError
+    from ...dispatch.driver import solve
+
+    family, n, seed, method, accuracy = task
+    key = (family, n, seed)
+    if key not in cache:
+        cache.clear()
+        cache[key] = build_case(family, n, seed, siconos_dir)
+    case = cache[key]
+    row = dict(family=family, n=n, seed=seed, instance=getattr(case, "kind", family),
+               method=method, accuracy=accuracy, expected=case.status)
+    start = time.perf_counter()
+    try:
+        sol = solve(case.problem, method, accuracy, time_limit=time_limit, isolate=False)
+    except QpcontactError as exc:
+        row.update(status=type(exc).__name__, category="failed", reason=str(exc)[:160],
+                   error=math.inf, seconds=time.perf_counter() - start)
+        return row
+    except Exception as exc:  # noqa: BLE001 - an undocumented exception is a bug: recorded as one
+        row.update(status="bug", category="failed", reason=f"BUG {type(exc).__name__}: {exc}"[:160],
+                   error=math.inf, seconds=time.perf_counter() - start)
+        return row
+    category, reason = judge(case, sol)
+    row.update(status=sol.status, category=category, reason=reason, error=sol.error,
+               seconds=sol.wall_time)
+    return row
+
+
+def _worker_loop(conn, siconos_dir, time_limit):
+    import faulthandler
+
+    faulthandler.disable()
+    while True:
+        task = conn.recv()
+        if task is None:
+            return
+        conn.send(_solve_row(task, siconos_dir, time_limit))
+
+
+class _Worker:
+    def __init__(self, siconos_dir, time_limit):
+        from ...dispatch.isolation import context
+
+        self.args = (siconos_dir, time_limit)
+        self.ctx = context()
+        self._start()
+
+    def _start(self):
+        self.conn, child = self.ctx.Pipe()
+        self.proc = self.ctx.Process(target=_worker_loop, args=(child, *self.args), daemon=True)
+        self.proc.start()
+        child.close()
+        self.task, self.deadline = None, None
+
+    def submit(self, task, hard_limit):
+        self.task, self.deadline = task, time.monotonic() + hard_limit
+        self.conn.send(task)
+
+    def restart(self):
+        if self.proc.is_alive():
+            self.proc.kill()
+        self.proc.join()
+        self.conn.close()
+        self._start()
+
+    def close(self):
+        try:
+            self.conn.send(None)
+        except OSError:
+            pass
+        self.proc.join(timeout=5)
+        if self.proc.is_alive():
+            self.proc.kill()
+
+
+def tasks(config: StressConfig) -> list[tuple]:
+    from ...solvers.registry import methods as installed
+    from ...dispatch.routes import applicable
+
+    names = list(config.methods) if config.methods else [
+        name for name, m in installed().items() if not (config.no_cvxpy and m.family == "cvxpy")]
+    registry = installed()
+    tasks = []
+    k = 0
+    for family in config.families:
+        if family == "siconos":
+            d = Path(config.siconos_dir or default_siconos())
+            count = len(list(d.glob("*.dat"))) if d.is_dir() else 0
+            instances = [(family, 0, i) for i in range(count)]
+        else:
+            instances = [(family, n, s) for n in config.sizes for s in range(config.seeds)]
+        for family_, n, seed in instances:
+            case = build_case(family_, n, seed, config.siconos_dir)
+            levels = ([config.accuracies[k % len(config.accuracies)]] if config.rotate_accuracy
+                      else list(config.accuracies))
+            k += 1
+            for name in names:
+                m = registry.get(name)
+                if m is None or not applicable(case.problem, m):
+                    continue
+                for level in levels:
+                    tasks.append((family_, n, seed, name, level))
+    return tasks
+
+
+def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
+               progress: bool = True) -> Path:
+    """Run the suite; write ``stress.csv`` and return its path."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    todo = tasks(config)
+    hard = 1.5 * config.time_limit + 3.0
+    rows: list[dict] = []
+    bar = ProgressBar(len(todo), f"stress: {len(todo)} solves", enabled=progress)
+    pool = [_Worker(config.siconos_dir, config.time_limit) for _ in range(max(1, workers))]
+    from multiprocessing.connection import wait
+
+    pending = list(reversed(todo))
+    path = out / "stress.csv"
+    saved = 0
+    try:
+        while pending or any(w.task is not None for w in pool):
+            for w in pool:
+                if w.task is None and pending:
+                    w.submit(pending.pop(), hard)
+            busy = [w for w in pool if w.task is not None]
+            timeout = max(0.0, min(w.deadline for w in busy) - time.monotonic())
+            ready = wait([w.conn for w in busy], timeout=timeout)
+            for w in busy:
+                family, n, seed, method, accuracy = w.task
+                base = dict(family=family, n=n, seed=seed, instance=family, method=method,
+                            accuracy=accuracy, expected="", error=math.inf)
+                if w.conn in ready:
+                    try:
+                        rows.append(w.conn.recv())
+                    except (EOFError, OSError):
+                        w.proc.join()
+                        rows.append({**base, "status": "crashed", "category": "failed",
+                                     "reason": f"worker died (exit {w.proc.exitcode})",
+                                     "seconds": math.nan})
+                        w.restart()
+                        bar.advance()
+                        continue
+                    w.task = None
+                    bar.advance()
+                elif time.monotonic() >= w.deadline:
+                    rows.append({**base, "status": "killed", "category": "hung",
+                                 "reason": f"no answer in {hard:g} s: worker killed",
+                                 "seconds": hard})
+                    w.restart()
+                    bar.advance()
+            if len(rows) - saved >= 2000:  # a long run killed midway keeps what it did
+                _write_csv(path, rows)
+                saved = len(rows)
+                if progress and not sys.stderr.isatty():  # logs get a line, not a bar
+                    wrong = sum(r["category"] == "silent_wrong" for r in rows)
+                    hung = sum(r["category"] == "hung" for r in rows)
+                    print(f"stress: {len(rows)}/{len(todo)} solves, {wrong} silent wrong, "
+                          f"{hung} hung", file=sys.stderr, flush=True)
+    finally:
+        for w in pool:
+            w.close()
+        bar.close()
+    _write_csv(path, rows)
+    return path
+
+
+def _write_csv(path: Path, rows: list[dict]) -> None:
+    from ...core.files import write_csv_atomic
+
+    write_csv_atomic(path, rows, FIELDS)
