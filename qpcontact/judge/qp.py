@@ -113,19 +113,47 @@ def _qp_normwise(problem, x, sol, has_bounds) -> float:
                ratio(-min_mult, sigma_d))
 
 
-def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate:
-    """Certificate of the primal-dual point (x, y, z, z_box) in qpsolvers'
-    conventions: ``Px + q + A'y + G'z + z_box = 0``, z >= 0 for ``Gx <= h``,
-    z_box < 0 at an active lower bound and > 0 at an active upper bound.
+@dataclass
+class _KKTPoint:
+    """A QP's data and a candidate primal-dual point, multipliers validated."""
 
-    A missing multiplier for constraints the problem has makes the error
-    infinite (the point cannot be certified without it).
-    """
+    P: object
+    q: np.ndarray
+    G: object
+    h: np.ndarray
+    A: object
+    b: np.ndarray
+    lb: np.ndarray | None
+    ub: np.ndarray | None
+    x: np.ndarray
+    y: np.ndarray | None
+    z: np.ndarray | None
+    z_box: np.ndarray | None
+
+    @property
+    def n(self) -> int:
+        return self.q.shape[0]
+
+    @property
+    def has_bounds(self) -> bool:
+        return self.lb is not None or self.ub is not None
+
+    def missing(self) -> list:
+        """The multipliers of constraints the problem has that were not given."""
+        bounds = self.lb if self.lb is not None else self.ub
+        return [name for name, mat, v in (("z (for G x <= h)", self.G, self.z),
+                                          ("y (for A x = b)", self.A, self.y),
+                                          ("z_box (for the bounds)", bounds, self.z_box))
+                if mat is not None and v is None]
+
+
+def _kkt_point(problem: Problem, x, y, z, z_box) -> _KKTPoint:
     P, q, G, h, A, b, lb, ub = problem.unpack()
     n = q.shape[0]
     x = np.asarray(x, dtype=float).ravel()
     if x.shape != (n,):
         raise InvalidProblemError(f"x has shape {x.shape}; the QP has n = {n} variables")
+
     def vector(v, size):
         # Backends hand back empty arrays for constraints the problem lacks.
         if v is None:
@@ -139,141 +167,177 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
         return v
 
     has_bounds = lb is not None or ub is not None
-    y = vector(y, A.shape[0] if A is not None else 0)
-    z = vector(z, G.shape[0] if G is not None else 0)
-    z_box = vector(z_box, n if has_bounds else 0)
-    inf = np.inf
-    bad = QPCertificate(inf, inf, "non-finite point", inf, inf, inf, inf, -inf)
-    if not all(np.all(np.isfinite(v)) for v in (x, y, z, z_box) if v is not None):
-        return bad
-    missing = [name for name, mat, v in (("z (for G x <= h)", G, z), ("y (for A x = b)", A, y),
-                                         ("z_box (for the bounds)", lb if lb is not None else ub,
-                                          z_box))
-               if mat is not None and v is None]
+    return _KKTPoint(P, q, G, h, A, b, lb, ub, x, vector(y, A.shape[0] if A is not None else 0),
+                     vector(z, G.shape[0] if G is not None else 0),
+                     vector(z_box, n if has_bounds else 0))
 
-    sol = _QPSolution(problem)
-    sol.found = True
-    sol.x, sol.y, sol.z, sol.z_box = x, y, z, z_box
-    with np.errstate(over="ignore", invalid="ignore"):
-        r_p = sol.primal_residual()
-        r_d = sol.dual_residual() if (z_box is not None or not has_bounds) else inf
-        r_g = sol.duality_gap() if (z_box is not None or not has_bounds) else inf
-        normwise = _qp_normwise(problem, x, sol, has_bounds)
 
-        # Stationarity, row by row against its own terms (bounds' multipliers
-        # excluded from the scale: they must be balanced by the rest).
-        grad = np.asarray(P @ x).ravel() + q
-        S = row_scales(P, x, q)
-        if G is not None and z is not None:
-            grad += np.asarray(G.T @ z).ravel()
-            S += abs_matvec(G.T, z)
-        if A is not None and y is not None:
-            grad += np.asarray(A.T @ y).ravel()
-            S += abs_matvec(A.T, y)
-        if z_box is not None:
-            grad += z_box
-        overflow = not (np.all(np.isfinite(grad)) and np.all(np.isfinite(S)))
-        if overflow:
-            return QPCertificate(inf, normwise, "overflow", r_p, r_d, r_g, inf, -inf, True)
+def _absolute(mat):
+    return abs(mat) if sp.issparse(mat) else np.abs(mat)
 
-        def absolute(mat):
-            return abs(mat) if sp.issparse(mat) else np.abs(mat)
 
-        # Each block of KKT rows with the unknowns that enter it; componentwise_scales gives
-        # every unknown its own scale and floors homogeneous rows.
-        absG = absolute(G) if G is not None else None
-        absA = absolute(A) if A is not None else None
-        stat_blocks = {"x": absolute(P)}
-        if absG is not None and z is not None:
-            stat_blocks["z"] = absG.T
-        if absA is not None and y is not None:
-            stat_blocks["y"] = absA.T
-        rows = [Rows(S, np.abs(q), stat_blocks)]
-        slack = None
-        if G is not None:
-            slack = h - np.asarray(G @ x).ravel()
-            rows.append(Rows(row_scales(G, x, h), np.abs(h), {"x": absG}))
-        if A is not None:
-            rows.append(Rows(row_scales(A, x, b), np.abs(b), {"x": absA}))
-        # x's own scale is capped by the normwise data floors (all in x's
-        # units), each multiplier's by the normwise floor of its own block.
-        cap_x = [inf_norm(x)]
-        for vec, mat in ((q, P), (h, G), (b, A)):
-            if mat is not None and max_abs(mat) > 0:
-                cap_x.append(inf_norm(vec) / max_abs(mat))
-        for bound in (lb, ub):
-            if bound is not None:
-                cap_x.append(inf_norm(bound[np.isfinite(bound)]))
-        caps = {"x": max(cap_x)}
-        for name, v, mat in (("z", z, G), ("y", y, A)):
-            if v is not None and mat is not None:
-                scale = max_abs(mat)
-                caps[name] = max(inf_norm(v), inf_norm(q) / scale if scale > 0 else 0.0)
-        unknown, sig = componentwise_scales(rows, caps)
-        S = sig[0]
-        T = sig[1] if G is not None else None
-        E = sig[-1] if A is not None else None
-        xi = unknown["x"]
+def _stationarity(k: _KKTPoint):
+    """(Px + q + G'z + A'y + z_box, its rows' terms), each row against its own
+    terms (the bounds' multipliers excluded from the scale: they must be
+    balanced by the rest)."""
+    grad = np.asarray(k.P @ k.x).ravel() + k.q
+    S = row_scales(k.P, k.x, k.q)
+    if k.G is not None and k.z is not None:
+        grad += np.asarray(k.G.T @ k.z).ravel()
+        S += abs_matvec(k.G.T, k.z)
+    if k.A is not None and k.y is not None:
+        grad += np.asarray(k.A.T @ k.y).ravel()
+        S += abs_matvec(k.A.T, k.y)
+    if k.z_box is not None:
+        grad += k.z_box
+    return grad, S
 
-        # (name, componentwise errors, words for component i: raw values and scales)
-        checks: list[tuple[str, np.ndarray, object]] = [
-            ("stationarity", divide(np.abs(grad), S),
-             lambda i: f"(Px + q + G'z + A'y + z_box)_{i} = {grad[i]:.3e} against its row's "
-                       f"scale {S[i]:.3e} (|P||x| + |q| + |G'||z| + |A'||y|, floored)")]
-        if A is not None:
-            r_eq = b - np.asarray(A @ x).ravel()
-            checks.append(("equality", divide(np.abs(r_eq), E),
-                           lambda i: f"b_{i} - (Ax)_{i} = {r_eq[i]:.3e} against its row's scale "
-                                     f"{E[i]:.3e} (|A||x| + |b|, floored)"))
 
-        comp_abs, min_mult = 0.0, 0.0
-        if G is not None:
-            if z is not None:
-                zs = unknown["z"]
-                checks.append(("inequality complementarity",
-                               np.abs(np.minimum(divide(z, zs), divide(slack, T))),
-                               lambda i: f"z_{i} = {z[i]:.3e} (scale {zs[i]:.3e}) and slack "
-                                         f"h_{i} - (Gx)_{i} = {slack[i]:.3e} (scale {T[i]:.3e}): "
-                                         "one must be >= 0 and the other 0"))
-                comp_abs = max(comp_abs, inf_norm(np.minimum(z, slack)))
-                min_mult = min(min_mult, float(z.min(initial=0.0)))
-            else:
-                checks.append(("inequality", divide(np.maximum(-slack, 0.0), T),
-                               lambda i: f"h_{i} - (Gx)_{i} = {slack[i]:.3e} < 0 (scale {T[i]:.3e})"))
-        if has_bounds:
-            zb = z_box if z_box is not None else np.zeros(n)
-            lb_fin = np.isfinite(lb) if lb is not None else np.zeros(n, bool)
-            ub_fin = np.isfinite(ub) if ub is not None else np.zeros(n, bool)
-            for bound, fin, sign, name in ((lb, lb_fin, -1.0, "lower"), (ub, ub_fin, 1.0, "upper")):
-                if not fin.any():
-                    continue
-                k = np.flatnonzero(fin)
-                mult = np.maximum(sign * zb[k], 0.0)
-                bslack = sign * (bound[k] - x[k])
-                e = np.zeros(n)
-                e[k] = np.abs(np.minimum(divide(mult, S[k]),
-                                         divide(bslack, np.abs(bound[k]) + xi[k])))
-                full_slack = np.zeros(n)
-                full_slack[k] = bslack
-                checks.append((f"{name} bound complementarity", e,
-                               lambda i, zb=zb, sl=full_slack, nm=name:
-                               f"z_box_{i} = {zb[i]:.3e} (scale {S[i]:.3e}) and the distance to "
-                               f"the {nm} bound {sl[i]:.3e}: one must be >= 0 and the other 0"))
-                comp_abs = max(comp_abs, inf_norm(np.minimum(mult, bslack)))
-            # z_box_i < 0 claims an active lower bound, > 0 an active upper one: a
-            # claim on a bound that does not exist is a multiplier of the wrong sign.
-            illegal = np.where((zb < 0) & ~lb_fin, zb, 0.0) - np.where((zb > 0) & ~ub_fin, zb, 0.0)
-            min_mult = min(min_mult, float(illegal.min(initial=0.0)))
-            checks.append(("bound multiplier sign", divide(np.abs(illegal), S),
-                           lambda i: f"z_box_{i} = {zb[i]:.3e} claims a bound x_{i} does not have "
-                                     f"(scale {S[i]:.3e})"))
+def _kkt_scales(k: _KKTPoint, S):
+    """Each block of KKT rows with the unknowns that enter it;
+    componentwise_scales gives every unknown its own scale and floors
+    homogeneous rows.  Returns (the unknowns' scales, the rows' scales:
+    stationarity, inequalities or None, equalities or None)."""
+    x, q, G, h, A, b = k.x, k.q, k.G, k.h, k.A, k.b
+    absG = _absolute(G) if G is not None else None
+    absA = _absolute(A) if A is not None else None
+    stat_blocks = {"x": _absolute(k.P)}
+    if absG is not None and k.z is not None:
+        stat_blocks["z"] = absG.T
+    if absA is not None and k.y is not None:
+        stat_blocks["y"] = absA.T
+    rows = [Rows(S, np.abs(q), stat_blocks)]
+    if G is not None:
+        rows.append(Rows(row_scales(G, x, h), np.abs(h), {"x": absG}))
+    if A is not None:
+        rows.append(Rows(row_scales(A, x, b), np.abs(b), {"x": absA}))
+    # x's own scale is capped by the normwise data floors (all in x's
+    # units), each multiplier's by the normwise floor of its own block.
+    cap_x = [inf_norm(x)]
+    for vec, mat in ((q, k.P), (h, G), (b, A)):
+        if mat is not None and max_abs(mat) > 0:
+            cap_x.append(inf_norm(vec) / max_abs(mat))
+    for bound in (k.lb, k.ub):
+        if bound is not None:
+            cap_x.append(inf_norm(bound[np.isfinite(bound)]))
+    caps = {"x": max(cap_x)}
+    for name, v, mat in (("z", k.z, G), ("y", k.y, A)):
+        if v is not None and mat is not None:
+            scale = max_abs(mat)
+            caps[name] = max(inf_norm(v), inf_norm(q) / scale if scale > 0 else 0.0)
+    unknown, sig = componentwise_scales(rows, caps)
+    return unknown, sig[0], (sig[1] if G is not None else None), (sig[-1] if A is not None else None)
 
+
+def _row_checks(k: _KKTPoint, grad, S, T, E, unknown):
+    """Stationarity, the equalities, the inequalities and their
+    complementarity: [(name, componentwise errors, words for component i:
+    raw values and scales)], and (|min(z, slack)|∞, the most negative z)."""
+    x, z, G, A = k.x, k.z, k.G, k.A
+    checks: list[tuple[str, np.ndarray, object]] = [
+        ("stationarity", divide(np.abs(grad), S),
+         lambda i: f"(Px + q + G'z + A'y + z_box)_{i} = {grad[i]:.3e} against its row's "
+                   f"scale {S[i]:.3e} (|P||x| + |q| + |G'||z| + |A'||y|, floored)")]
+    if A is not None:
+        r_eq = k.b - np.asarray(A @ x).ravel()
+        checks.append(("equality", divide(np.abs(r_eq), E),
+                       lambda i: f"b_{i} - (Ax)_{i} = {r_eq[i]:.3e} against its row's scale "
+                                 f"{E[i]:.3e} (|A||x| + |b|, floored)"))
+    comp_abs, min_mult = 0.0, 0.0
+    if G is not None:
+        slack = k.h - np.asarray(G @ x).ravel()
+        if z is not None:
+            zs = unknown["z"]
+            checks.append(("inequality complementarity",
+                           np.abs(np.minimum(divide(z, zs), divide(slack, T))),
+                           lambda i: f"z_{i} = {z[i]:.3e} (scale {zs[i]:.3e}) and slack "
+                                     f"h_{i} - (Gx)_{i} = {slack[i]:.3e} (scale {T[i]:.3e}): "
+                                     "one must be >= 0 and the other 0"))
+            comp_abs = max(comp_abs, inf_norm(np.minimum(z, slack)))
+            min_mult = min(min_mult, float(z.min(initial=0.0)))
+        else:
+            checks.append(("inequality", divide(np.maximum(-slack, 0.0), T),
+                           lambda i: f"h_{i} - (Gx)_{i} = {slack[i]:.3e} < 0 (scale {T[i]:.3e})"))
+    return checks, comp_abs, min_mult
+
+
+def _bound_checks(k: _KKTPoint, S, xi):
+    """The bounds' complementarity and the multipliers' signs, as
+    :func:`_row_checks` returns them."""
+    n, x, lb, ub = k.n, k.x, k.lb, k.ub
+    checks, comp_abs = [], 0.0
+    zb = k.z_box if k.z_box is not None else np.zeros(n)
+    lb_fin = np.isfinite(lb) if lb is not None else np.zeros(n, bool)
+    ub_fin = np.isfinite(ub) if ub is not None else np.zeros(n, bool)
+    for bound, fin, sign, name in ((lb, lb_fin, -1.0, "lower"), (ub, ub_fin, 1.0, "upper")):
+        if not fin.any():
+            continue
+        idx = np.flatnonzero(fin)
+        mult = np.maximum(sign * zb[idx], 0.0)
+        bslack = sign * (bound[idx] - x[idx])
+        e = np.zeros(n)
+        e[idx] = np.abs(np.minimum(divide(mult, S[idx]),
+                                   divide(bslack, np.abs(bound[idx]) + xi[idx])))
+        full_slack = np.zeros(n)
+        full_slack[idx] = bslack
+        checks.append((f"{name} bound complementarity", e,
+                       lambda i, sl=full_slack, nm=name:
+                       f"z_box_{i} = {zb[i]:.3e} (scale {S[i]:.3e}) and the distance to "
+                       f"the {nm} bound {sl[i]:.3e}: one must be >= 0 and the other 0"))
+        comp_abs = max(comp_abs, inf_norm(np.minimum(mult, bslack)))
+    # z_box_i < 0 claims an active lower bound, > 0 an active upper one: a
+    # claim on a bound that does not exist is a multiplier of the wrong sign.
+    illegal = np.where((zb < 0) & ~lb_fin, zb, 0.0) - np.where((zb > 0) & ~ub_fin, zb, 0.0)
+    checks.append(("bound multiplier sign", divide(np.abs(illegal), S),
+                   lambda i: f"z_box_{i} = {zb[i]:.3e} claims a bound x_{i} does not have "
+                             f"(scale {S[i]:.3e})"))
+    return checks, comp_abs, float(illegal.min(initial=0.0))
+
+
+def _worst(checks):
+    """(the condition and index, its error, its words) of the largest error."""
     worst_name, worst_val, detail = "", 0.0, ""
     for name, vals, words in checks:
         if vals.size:
             i = int(np.argmax(vals))
             if vals[i] > worst_val or not worst_name:
                 worst_name, worst_val, detail = f"{name}[{i}]", float(vals[i]), words(i)
+    return worst_name, worst_val, detail
+
+
+def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate:
+    """Certificate of the primal-dual point (x, y, z, z_box) in qpsolvers'
+    conventions: ``Px + q + A'y + G'z + z_box = 0``, z >= 0 for ``Gx <= h``,
+    z_box < 0 at an active lower bound and > 0 at an active upper bound.
+
+    A missing multiplier for constraints the problem has makes the error
+    infinite (the point cannot be certified without it).
+    """
+    k = _kkt_point(problem, x, y, z, z_box)
+    inf = np.inf
+    if not all(np.all(np.isfinite(v)) for v in (k.x, k.y, k.z, k.z_box) if v is not None):
+        return QPCertificate(inf, inf, "non-finite point", inf, inf, inf, inf, -inf)
+    sol = _QPSolution(problem)
+    sol.found = True
+    sol.x, sol.y, sol.z, sol.z_box = k.x, k.y, k.z, k.z_box
+    duals = k.z_box is not None or not k.has_bounds
+    with np.errstate(over="ignore", invalid="ignore"):
+        r_p = sol.primal_residual()
+        r_d = sol.dual_residual() if duals else inf
+        r_g = sol.duality_gap() if duals else inf
+        normwise = _qp_normwise(problem, k.x, sol, k.has_bounds)
+        grad, S = _stationarity(k)
+        if not (np.all(np.isfinite(grad)) and np.all(np.isfinite(S))):
+            return QPCertificate(inf, normwise, "overflow", r_p, r_d, r_g, inf, -inf, True)
+        unknown, S, T, E = _kkt_scales(k, S)
+        checks, comp_abs, min_mult = _row_checks(k, grad, S, T, E, unknown)
+        if k.has_bounds:
+            more, bound_comp, bound_sign = _bound_checks(k, S, unknown["x"])
+            checks += more
+            comp_abs = max(comp_abs, bound_comp)
+            min_mult = min(min_mult, bound_sign)
+    worst_name, worst_val, detail = _worst(checks)
+    missing = k.missing()
     if missing:
         worst_name, worst_val = "missing multiplier " + ", ".join(missing), inf
         detail = "the QP has these constraints; certify needs their multipliers"
