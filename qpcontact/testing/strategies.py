@@ -1,4 +1,5 @@
-"""Hypothesis strategies for hard LCPs and QPs, each with its answer built in.
+"""Hypothesis strategies for hard LCPs, QPs and frictional contact problems,
+each with its answer built in.
 
 Every strategy draws a :class:`Case`: the problem, the status a correct
 solver must reach (``"solved"``, ``"infeasible"``, ``"unbounded"``) and,
@@ -31,6 +32,18 @@ QP kinds (:func:`qps`)
     ``convex`` (P PD, unique x), ``degenerate`` (active constraints with zero
     multipliers, P singular on part of the space), ``infeasible``,
     ``unbounded``.
+Frictional kinds (:func:`frictions`, 2-D and 3-D; :mod:`qpcontact.cases.friction`)
+    ``sticking``, ``sliding``, ``separated``, ``mixed`` (contacts in those
+    states, planted exactly), ``badly_scaled`` (each contact in its own
+    units over ``max_decades`` decades), ``decoupled`` (isotropic contacts:
+    the unique solution is planted).  ``case.agrees(r)`` checks an answer
+    against the planted one, or by Coulomb's law written out independently::
+
+        @given(frictions(dims=(2, 3)))
+        def test_my_friction_solver(case):
+            r = my_solver(case.problem)
+            assert_friction_solution(case.problem, r, tol=1e-8)
+            assert case.agrees(r)
 """
 
 from __future__ import annotations
@@ -43,9 +56,11 @@ except ImportError as exc:  # pragma: no cover - exercised only without the extr
     raise ImportError("qpcontact.testing.strategies needs hypothesis: "
                       'pip install "qpcontact[test]" (or pip install hypothesis)') from exc
 
+from ..cases.friction import FRICTION_KINDS, build_friction
 from ..cases.planted import LCP_KINDS, QP_KINDS, Case, build_lcp, build_qp
 
-__all__ = ["Case", "lcps", "qps", "LCP_KINDS", "QP_KINDS", "build_lcp", "build_qp"]
+__all__ = ["Case", "lcps", "qps", "frictions", "LCP_KINDS", "QP_KINDS", "FRICTION_KINDS",
+           "build_lcp", "build_qp", "build_friction"]
 
 
 def _checked(kinds, known, what: str) -> tuple:
@@ -84,5 +99,30 @@ def qps(kinds=QP_KINDS, min_n: int = 2, max_n: int = 30, max_cond: float = 1e6):
         seed = data(st.integers(0, 2**32 - 1))
         cond = 10.0 ** data(st.floats(0.0, np.log10(max_cond)))
         return build_qp(kind, n, seed, cond=cond)
+
+    return draw()
+
+
+def frictions(kinds=FRICTION_KINDS, dims=(2, 3), min_contacts: int = 1, max_contacts: int = 8,
+              max_cond: float = 1e4, max_decades: float = 8.0, max_mu: float = 1.0):
+    """Strategy drawing :class:`~qpcontact.cases.friction.FrictionCase` objects:
+    frictional contact problems of the given kinds and dimensions with their
+    planted solution."""
+    kinds = _checked(kinds, FRICTION_KINDS, "friction")
+    dims = tuple(dims)
+    if not dims or any(d not in (2, 3) for d in dims):
+        raise ValueError(f"dims must be a non-empty subset of (2, 3); got {dims}")
+
+    @st.composite
+    def draw(data):
+        kind = data(st.sampled_from(kinds))
+        dim = data(st.sampled_from(dims))
+        contacts = data(st.integers(min_contacts, max_contacts))
+        seed = data(st.integers(0, 2**32 - 1))
+        cond = 10.0 ** data(st.floats(0.0, np.log10(max_cond)))
+        decades = data(st.floats(0.0, max_decades))
+        mu_max = data(st.floats(0.1, max_mu))
+        return build_friction(kind, contacts, seed, dim=dim, cond=cond, decades=decades,
+                              mu_max=mu_max)
 
     return draw()
