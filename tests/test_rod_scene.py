@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from qpcontact.scenes.schema import parse_scene
+from qpcontact.scenes import parse_scene
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "scenes" / "rod.toml"
 BETA1 = 1.8751040687119611            # first root of 1 + cos β cosh β = 0 (cantilever)
@@ -106,7 +106,7 @@ def test_rod_assembles_only_the_named_loads(effects, built):
 
 
 def test_rod_example_runs_and_plots(tmp_path):
-    from qpcontact.scenes.schema import plot_results, vary_scene, write_results
+    from qpcontact.scenes import plot_results, vary_scene, write_results
 
     text = vary_scene(EXAMPLE.read_text(), "time.steps", "40")
     scene = parse_scene(text, "rod.toml")

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from formulations.drum import Drum, Log
-from qpcontact.scenes.schema import SceneError, load_scene, write_results
+from qpcontact.scenes import SceneError, load_scene, write_results
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "scenes" / "drum.toml"
 
@@ -172,7 +172,7 @@ def test_h5dump_reads_the_results_file(tmp_path):
 
     import h5py
 
-    from qpcontact.scenes.schema import parse_scene
+    from qpcontact.scenes import parse_scene
 
     if shutil.which("h5dump") is None:
         pytest.skip("h5dump not installed (Debian package hdf5-tools)")
@@ -290,7 +290,7 @@ def test_resume_refuses_a_changed_scene(tmp_path):
 
 
 def test_vary_scene_edits_the_text_in_place():
-    from qpcontact.scenes.schema import parse_scene, vary_scene
+    from qpcontact.scenes import parse_scene, vary_scene
 
     t = vary_scene(BASE, "effect.damping.ratio", "0.08")
     assert "ratio = 0.08" in t and "ratio = 0.05" not in t
@@ -336,7 +336,7 @@ def test_sweep_on_dask_equals_the_serial_sweep(tmp_path):
 
     import h5py
 
-    from qpcontact.scenes.schema import sweep
+    from qpcontact.scenes import sweep
 
     scene = _write(tmp_path, BASE.replace("steps = 300", "steps = 1500"))   # contacts happen
     vary = {"effect.damping.ratio": ["0.02", "0.05", "0.1"], "time.steps_per_period": ["30", "40", "50"]}
@@ -369,7 +369,7 @@ def test_ramming_scene_file_equals_the_python_scene():
     """examples/scenes/ramming.toml is P2's ramming scene written as a
     user-defined mechanism: the same motion and reactions as ramming_scene()."""
     from formulations.mechanisms import ramming_scene
-    from qpcontact.scenes.schema import parse_scene, vary_scene
+    from qpcontact.scenes import parse_scene, vary_scene
 
     # 700 of the 2500 steps: past the bolt/cartridge impact (~9 ms / 20 µs = 450 steps)
     text = vary_scene(EXAMPLE.with_name("ramming.toml").read_text(), "time.steps", "700")
@@ -401,7 +401,7 @@ def test_pellet_scene_file_equals_the_python_scene():
     pellet scene: the same motion and reactions as pellet_scene() through the
     first impacts."""
     from formulations.mechanisms import pellet_scene
-    from qpcontact.scenes.schema import parse_scene, vary_scene
+    from qpcontact.scenes import parse_scene, vary_scene
 
     text = vary_scene(EXAMPLE.with_name("pellets.toml").read_text(), "time.steps", "120")
     scene = parse_scene(text)
@@ -419,7 +419,7 @@ def test_pellet_scene_file_equals_the_python_scene():
 def test_a_pulse_ends_at_until():
     """A 2 N pulse on a free 1 kg body for t < 0.01 s: v = 2 t up to the pulse's
     end, then constant (the step's update is exact for piecewise-constant force)."""
-    from qpcontact.scenes.schema import parse_scene
+    from qpcontact.scenes import parse_scene
 
     scene = parse_scene('formulation = "mechanism"\n[[bodies]]\nname = "b"\nmass = 1.0\n'
                         '[[forces]]\nbody = "b"\nfx = 2.0\nuntil = 0.01\n'
@@ -454,7 +454,7 @@ def test_damping_effect_is_what_decays_the_motion():
     (force at the step's start) gives v_n = v_0 (1 - h c/m)^n exactly; without
     the effect no damper is built and the block keeps its speed; dampers given
     without the effect are an error at their table's line."""
-    from qpcontact.scenes.schema import parse_scene
+    from qpcontact.scenes import parse_scene
 
     scene = parse_scene(MASS_ON_DAMPER)
     mech, run = scene.schema.build(scene)

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from qpcontact.scenes.schema import SceneError, parse_scene
+from qpcontact.scenes import SceneError, parse_scene
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 G = 9.81
@@ -191,7 +191,7 @@ def test_chain_example_runs_writes_and_plots(tmp_path):
     energy, the per-step certificate and the reactions; plot draws from it."""
     import h5py
 
-    from qpcontact.scenes.schema import plot_results, vary_scene, write_results
+    from qpcontact.scenes import plot_results, vary_scene, write_results
 
     text = vary_scene((EXAMPLES / "chain.toml").read_text(), "time.steps", "80")
     scene = parse_scene(text, "chain.toml")

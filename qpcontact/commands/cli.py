@@ -72,7 +72,7 @@ def solve_cmd(
     """Solve a problem file; print the answer and its certificate. Exit code 1 if not certified."""
     from ..dispatch.driver import solve
     from ..friction.problem import FrictionProblem
-    from ..io.formats import read_problem
+    from ..io import read_problem
 
     try:
         problem = read_problem(file)
@@ -109,7 +109,7 @@ def simulate_cmd(
 ):
     """Run a scene with a progress bar; write its results to an HDF5 file,
     checkpointed as it goes."""
-    from ..scenes.schema import load_scene, read_state, write_results
+    from ..scenes import load_scene, read_state, write_results
 
     out = out or Path("out") / (scene.stem + ".h5")
     try:
@@ -150,7 +150,7 @@ def sweep_cmd(
 ):
     """Run variants of a scene (serially or on Dask); one HDF5 file per variant
     and summary.csv."""
-    from ..scenes.schema import split_values, sweep
+    from ..scenes import split_values, sweep
 
     variations = {}
     for item in vary:
@@ -185,7 +185,7 @@ def plot_cmd(
     out: Path = typer.Option(None, "--out", "-o", help="Folder for the figures (default: next to the file)."),
 ):
     """Draw a results file's standard figures (forces, peaks, energy) without re-running."""
-    from ..scenes.schema import plot_results
+    from ..scenes import plot_results
 
     try:
         paths = plot_results(results, out)

@@ -55,7 +55,7 @@ def shgeom(values, shift: float = SHIFT) -> float:
 
 
 def _siconos_instances(directory):
-    from ..io.formats import read_siconos_lcp
+    from ..io import read_siconos_lcp
 
     d = Path(directory)
     if not d.is_dir():
@@ -70,7 +70,7 @@ QUICK_FRICTION_CONTACTS = 300
 
 def _friction_instances(directory, quick: bool):
     """The Siconos/FCLIB friction collection: FrictionProblem instances."""
-    from ..io.formats import read_problem
+    from ..io import read_problem
 
     d = Path(directory)
     if not d.is_dir():

@@ -1,5 +1,25 @@
-"""Problem files: Siconos .dat (LCP, frictional contact) and FCLIB HDF5."""
+"""Problem files: Siconos's .dat (LCP, frictional contact: :mod:`.siconos`) and
+FCLIB's HDF5 (:mod:`.fclib`); :func:`read_problem` reads any of them."""
 
-from .formats import read_fclib, read_problem, read_siconos_fc, read_siconos_lcp, write_fclib
+from __future__ import annotations
 
-__all__ = ["read_problem", "read_siconos_lcp", "read_siconos_fc", "read_fclib", "write_fclib"]
+import os
+from pathlib import Path
+
+from .fclib import read_fclib, write_fclib
+from .siconos import read_siconos, read_siconos_fc, read_siconos_lcp
+
+__all__ = ["read_problem", "read_siconos", "read_siconos_lcp", "read_siconos_fc", "read_fclib",
+           "write_fclib"]
+
+
+def read_problem(path: str | os.PathLike):
+    """Read any problem file qpcontact knows: FCLIB HDF5 (``.hdf5``/``.h5``:
+    a FrictionProblem) or a Siconos ``.dat`` file, LCP or frictional contact.
+    The two layouts are told apart by which one reads the file; Siconos files
+    may carry trailing data (a stored solution), so when both read, the one
+    that leaves fewer tokens unread wins."""
+    path = Path(path)
+    if path.suffix in (".hdf5", ".h5"):
+        return read_fclib(path)
+    return read_siconos(path)

@@ -1,3 +1,12 @@
-"""Scene files (TOML), their results files (HDF5) and figures."""
+"""Scene files (TOML) — a formulation, its data with units, the time stepping
+and the effects to simulate —, their results files (HDF5) and their figures,
+and sweeps of variants.  Formulations register their schemas under the
+entry-point group ``qpcontact.scenes``; see docs/scenes.md."""
 
-from .schema import *  # noqa: F401,F403  (temporary during the move)
+from .results import plot_results, read_state, write_results
+from .schema import Field, Scene, SceneError, SceneSchema, load_scene, parse_scene, schemas
+from .sweep import split_values, sweep, vary_scene
+
+__all__ = ["Field", "SceneSchema", "Scene", "SceneError", "load_scene", "schemas",
+           "write_results", "read_state", "plot_results", "parse_scene", "vary_scene",
+           "split_values", "sweep"]

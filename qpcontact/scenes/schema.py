@@ -27,9 +27,8 @@ from pathlib import Path
 
 from ..core.errors import InvalidProblemError
 
-__all__ = ["Field", "SceneSchema", "Scene", "SceneError", "load_scene", "schemas",
-           "write_results", "read_state", "plot_results", "parse_scene", "vary_scene",
-           "split_values", "sweep"]
+__all__ = ["Field", "SceneSchema", "Scene", "SceneError", "SourceLines", "load_scene", "schemas",
+           "parse_scene"]
 
 _TYPES = {"float": (int, float), "int": (int,), "str": (str,), "bool": (bool,),
           "floats": (list,), "strs": (list,), "tables": (list,)}
@@ -92,7 +91,7 @@ class Scene:
         check the schema's types cannot express, e.g. data for an effect
         that is not named)."""
         where = ".".join(tuple(table) + ((key,) if key else ()))
-        _fail(self.path, _Lines(self.text), where, message, tuple(table), key, index)
+        _fail(self.path, SourceLines(self.text), where, message, tuple(table), key, index)
 
 
 def schemas() -> dict:
@@ -103,7 +102,7 @@ def schemas() -> dict:
     return {ep.name: ep.load() for ep in entry_points(group="qpcontact.scenes")}
 
 
-class _Lines:
+class SourceLines:
     """Where a key sits in the file: tomllib gives values, not lines, so the
     text is scanned for table headers and ``key =`` lines."""
 
@@ -210,7 +209,7 @@ def parse_scene(text: str, path="<scene>") -> Scene:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML: {exc}") from None
-    lines = _Lines(text)
+    lines = SourceLines(text)
     known = schemas()
     name = raw.get("formulation")
     if name not in known:
@@ -262,239 +261,3 @@ def parse_scene(text: str, path="<scene>") -> Scene:
             _fail(path, lines, section, f"expected a table [{section}]", (), section)
         data[section] = _check_table(path, lines, spec, given, (section,))
     return Scene(schema, data, tuple(effects), effect_params, path, text)
-
-
-def _versions() -> dict:
-    from importlib.metadata import PackageNotFoundError, version
-
-    out = {}
-    for pkg in ("qpcontact", "numpy", "scipy", "qpsolvers", "h5py"):
-        try:
-            out[pkg] = version(pkg)
-        except PackageNotFoundError:
-            pass
-    return out
-
-
-def write_results(scene: Scene, result, path, completed: int | None = None,
-                  total: int | None = None) -> Path:
-    """An HDF5 results file (h5py): the schema's per-step arrays (chunked,
-    gzip), the scene's text and file name, the package versions, and the
-    formulation, effects and ``completed_steps`` / ``total_steps`` as
-    attributes.  Written to a temporary name and renamed: a killed run never
-    leaves a half-written file under ``path`` — the last checkpoint stays."""
-    import os
-
-    import h5py
-    import numpy as np
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        with h5py.File(tmp, "w") as h:
-            h.attrs["formulation"] = scene.schema.formulation
-            h.attrs["effects"] = ",".join(scene.effects)
-            h.attrs["scene_file"] = str(scene.path)
-            h.create_dataset("scene", data=np.bytes_(scene.text.encode()))
-            for pkg, ver in _versions().items():
-                h.attrs[f"version_{pkg}"] = ver
-            if completed is not None:
-                h.attrs["completed_steps"] = int(completed)
-            if total is not None:
-                h.attrs["total_steps"] = int(total)
-            for name, values in scene.schema.arrays(result).items():
-                values = np.asarray(values)
-                if values.ndim == 0:
-                    h.create_dataset(name, data=values)
-                    continue
-                chunks = (min(len(values), 4096),) + values.shape[1:]
-                h.create_dataset(name, data=values, chunks=chunks,
-                                 compression="gzip" if values.dtype.kind == "f" else None)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
-
-
-def plot_results(path, out=None) -> list:
-    """The formulation's standard figures from a results file (no re-run),
-    saved in ``out`` (default: a folder next to the file, named after it)."""
-    from ..core.files import open_hdf5
-
-    path = Path(path)
-    with open_hdf5(path, SceneError, "an HDF5 results file") as h:
-        name = h.attrs.get("formulation")
-        known = schemas()
-        if name not in known or known[name].plot is None:
-            raise SceneError(f"{path}: written for formulation {name!r}, which has no plots "
-                             f"here; formulations with plots: "
-                             f"{', '.join(n for n, s in known.items() if s.plot) or '(none)'}")
-        return known[name].plot(h, str(out or path.with_suffix("")))
-
-
-def read_state(path, scene: Scene) -> dict:
-    """What ``run(resume=...)`` continues from: the arrays of a results file
-    written by an interrupted run of the same scene (byte-string datasets as
-    lists of str), with ``completed``.
-    Refuses a file written for another scene text (a changed scene would
-    continue a different run)."""
-    from ..core.files import open_hdf5
-
-    with open_hdf5(path, SceneError, "an HDF5 results file to resume") as h:
-        text = h["scene"][()].decode() if "scene" in h else None
-        if text != scene.text:
-            raise SceneError(f"{path}: written for a different scene text than {scene.path}; "
-                             "resume only with the scene file the run started from, or start "
-                             "afresh without --resume")
-        if "completed_steps" not in h.attrs:
-            raise SceneError(f"{path}: holds no completed-steps count; it cannot be resumed")
-        state = {"completed": int(h.attrs["completed_steps"]),
-                 "total": int(h.attrs.get("total_steps", -1))}
-
-        def grab(name, obj):
-            import h5py
-
-            if isinstance(obj, h5py.Dataset) and name != "scene":
-                value = obj[()]
-                # byte strings (method names) come back as str, for every stepper
-                state[name] = ([b.decode() for b in value] if getattr(value, "dtype", None)
-                               is not None and value.dtype.kind == "S" else value)
-        h.visititems(grab)
-    return state
-
-
-# -- sweeps ----------------------------------------------------------------------
-
-def vary_scene(text: str, key: str, value: str) -> str:
-    """The scene text with ``key`` (dotted: ``time.steps_per_period``,
-    ``effect.damping.ratio``, ``logs.1.diameter`` for the second [[logs]])
-    set to ``value`` (TOML: ``0.05``, ``"bpp"``), edited in place so the
-    variant's text is a scene file of its own."""
-    parts = key.split(".")
-    index = None
-    if len(parts) >= 3 and parts[-2].isdigit():
-        index = int(parts[-2])
-        table, name = tuple(parts[:-2]), parts[-1]
-    else:
-        table, name = tuple(parts[:-1]), parts[-1]
-    lines = text.splitlines()
-    where = _Lines(text)
-    no = None
-    for ln, t, i, k in where.entries:
-        if t == table and k == name and (index is None or i == index):
-            no = ln
-            break
-    if no is not None:
-        m = re.match(r"^(\s*[^=]+=\s*)(.*?)(\s+#.*)?$", lines[no - 1])
-        lines[no - 1] = m.group(1) + value + (m.group(3) or "")
-        return "\n".join(lines) + "\n"
-    header = where.line(table, None, index) if table else None
-    if table and header is None:
-        if index is not None:
-            raise SceneError(f"--vary {key}: the scene has no [[{'.'.join(table)}]] number {index}")
-        return text.rstrip("\n") + f"\n\n[{'.'.join(table)}]\n{name} = {value}\n"
-    insert_at = header if table else 0   # right after the table's header (or at the top)
-    lines.insert(insert_at, f"{name} = {value}")
-    return "\n".join(lines) + "\n"
-
-
-def split_values(values: str) -> list[str]:
-    """A ``--vary`` list: TOML values separated by commas, where commas
-    inside brackets or quotes belong to the value (``[0.01,0.02],[0.02,0.01]``
-    is two lists)."""
-    out, depth, quote, start = [], 0, None, 0
-    for i, ch in enumerate(values):
-        if quote:
-            quote = None if ch == quote else quote
-        elif ch in "\"'":
-            quote = ch
-        elif ch in "[{":
-            depth += 1
-        elif ch in "]}":
-            depth -= 1
-            if depth < 0:
-                raise SceneError(f"unbalanced '{ch}' at character {i + 1} of {values!r}")
-        elif ch == "," and depth == 0:
-            out.append(values[start:i].strip())
-            start = i + 1
-    if depth or quote:
-        raise SceneError(f"unclosed {'quote' if quote else 'bracket'} in {values!r}")
-    out.append(values[start:].strip())
-    if not all(out):
-        raise SceneError(f"an empty value in {values!r}")
-    return out
-
-
-def _run_text(text: str, label: str):
-    scene = parse_scene(text, label)
-    _, run = scene.schema.build(scene)
-    return run()
-
-
-def sweep(path, variations: dict, out_dir, *, grid: bool = False, workers: int = 0,
-          scheduler: str | None = None, progress: bool = True):
-    """Run variants of a scene: ``variations`` {key: [values as TOML text]},
-    zipped (all lists the same length) or, with ``grid``, every combination.
-    Serial, or on Dask (``workers`` local processes or a ``scheduler``
-    address) — the same code per variant either way, so the results are the
-    same.  Writes one HDF5 file per variant and summary.csv (the varied
-    values and the schema's summary of each run); returns the summary rows."""
-    import itertools
-
-    from ..core.files import write_csv_atomic
-    from ..core.progress import ProgressBar
-
-    path = Path(path)
-    base = load_scene(path)
-    keys = list(variations)
-    if not keys:
-        raise SceneError("sweep: give at least one --vary KEY=v1,v2,...")
-    if grid:
-        combos = list(itertools.product(*(variations[k] for k in keys)))
-    else:
-        sizes = {len(v) for v in variations.values()}
-        if len(sizes) != 1:
-            raise SceneError("sweep: the --vary lists differ in length "
-                             f"({', '.join(f'{k}: {len(v)}' for k, v in variations.items())}); "
-                             "give lists of one length, or --grid for every combination")
-        combos = list(zip(*(variations[k] for k in keys)))
-    texts, labels, scenes = [], [], []
-    for n, combo in enumerate(combos):
-        text = base.text
-        for k, v in zip(keys, combo):
-            text = vary_scene(text, k, v)
-        # every variant checked before any runs
-        scenes.append(parse_scene(text, f"{path} with {dict(zip(keys, combo))}"))
-        texts.append(text)
-        labels.append(f"{path.stem}-{n:03d}")
-    if workers or scheduler:
-        results = _dask_runs(texts, labels, workers, scheduler)
-    else:
-        results = (_run_text(t, lb) for t, lb in zip(texts, labels))
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    bar = ProgressBar(len(texts), "sweep variants", progress)
-    rows = []
-    for n, (scene, label, result) in enumerate(zip(scenes, labels, results), 1):
-        write_results(scene, result, out / f"{label}.h5", completed=len(result.t) - 1,
-                      total=len(result.t) - 1)
-        row = {"variant": label, **dict(zip(keys, combos[n - 1]))}
-        if scene.schema.summary is not None:
-            row.update(scene.schema.summary(result))
-        rows.append(row)
-        bar.update(n)
-    bar.close()
-    fields = list(dict.fromkeys(k for r in rows for k in r))
-    write_csv_atomic(out / "summary.csv", rows, fields)
-    return rows
-
-
-def _dask_runs(texts, labels, workers, scheduler):
-    from ..core.cluster import dask_client
-
-    with dask_client(workers, scheduler) as client:
-        futures = [client.submit(_run_text, t, lb, pure=False) for t, lb in zip(texts, labels)]
-        for fut in futures:   # in order: files and rows follow the variants
-            yield fut.result()

@@ -140,7 +140,7 @@ def build_case(family: str, n: int, seed: int, siconos_dir: str | None = None):
     decades = float(rng.choice([0.0, 4.0, 8.0, 12.0]))
     cond = 10.0 ** rng.uniform(0.0, 8.0)
     if family == "siconos":
-        from ...io.formats import read_siconos_lcp
+        from ...io import read_siconos_lcp
 
         path = Path(siconos_dir or default_siconos())
         files = sorted(path.glob("*.dat"))
