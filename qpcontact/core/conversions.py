@@ -154,6 +154,12 @@ class DualLCP:
     _lower: np.ndarray
     _upper: np.ndarray
 
+    def __repr__(self) -> str:
+        n, m = self._G.shape[1], self.lcp.n
+        eq = self._A.shape[0] if self._A is not None else 0
+        return (f"DualLCP({m} multipliers of a QP with {n} variables and {eq} equalities "
+                f"eliminated; lcp={self.lcp!r})")
+
     def primal_dual(self, lam) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
         """(x, y, z, z_box) in qpsolvers' conventions from the LCP unknowns λ."""
         lam = np.asarray(lam, dtype=float)

@@ -66,7 +66,7 @@ class TraceEvent:
         return " ".join(parts) or "(no change)"
 
 
-@dataclass(kw_only=True)
+@dataclass(kw_only=True, repr=False)
 class LoadTrace(LCPSolution):
     """The solution path of a ParametricLCP: an ``LCPSolution`` for the final
     state (z, w at ``p_end``, certified) plus the pieces, breakpoints and events.
@@ -83,6 +83,8 @@ class LoadTrace(LCPSolution):
     end: str = ""
     p_end: float = 0.0
     proof: dict = field(default_factory=dict)
+
+    _variables = ("end", "p_end", "breakpoints", "z", "w")
 
     def piece_at(self, p: float) -> TracePiece:
         for piece in self.pieces:
