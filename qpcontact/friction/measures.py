@@ -11,12 +11,13 @@ Mv = Hr + f, each equation on its own scale): :func:`certify_friction`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
+from ..judge.forward import ForwardErrorMixin
 from .problem import FrictionProblem, modified_velocity, project_cone
 
 __all__ = ["FrictionCertificate", "certify_friction", "natural_map_error", "componentwise_error",
@@ -248,7 +249,7 @@ def _friction_condition(problem: FrictionProblem, r) -> float:
 
 
 @dataclass(frozen=True)
-class FrictionCertificate:
+class FrictionCertificate(ForwardErrorMixin):
     """The errors of a frictional contact answer, from the data.
 
     ``error`` — the one held to ``tol`` — is the largest of Siconos's
@@ -271,39 +272,6 @@ class FrictionCertificate:
     worst_contact: int
     overflow: bool = False
     _forward: object = field(default=None, repr=False, compare=False)
-
-    def _forward_pair(self) -> tuple[float, float]:
-        if callable(self._forward):
-            object.__setattr__(self, "_forward", self._forward())
-        return self._forward if self._forward is not None else (np.inf, np.inf)
-
-    @property
-    def condition(self) -> float:
-        return self._forward_pair()[0]
-
-    @property
-    def forward_error(self) -> float:
-        return self._forward_pair()[1]
-
-    @property
-    def forward_error_known(self) -> bool:
-        return not callable(self._forward)
-
-    def ok(self, tol: float) -> bool:
-        return bool(self.error <= tol)
-
-    def __getstate__(self):
-        self._forward_pair()
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-    def __setstate__(self, state):
-        for k, v in state.items():
-            object.__setattr__(self, k, v)
-
-    def as_dict(self) -> dict:
-        d = {f.name: getattr(self, f.name) for f in fields(self) if not f.name.startswith("_")}
-        d["condition"], d["forward_error"] = self._forward_pair()
-        return d
 
 
 def certify_friction(problem: FrictionProblem, r, v=None) -> FrictionCertificate:

@@ -29,7 +29,7 @@ max_i |min(z_i/‖·‖, w_i/max(‖Mz‖∞, ‖q‖∞))|), ``comp_abs = ‖mi
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg
@@ -37,6 +37,7 @@ import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
+from .forward import ForwardErrorMixin
 from .scales import ComponentScales, abs_matvec, divide, inf_norm, row_scales, safe_norm2
 
 __all__ = ["LCPCertificate", "certify_lcp"]
@@ -45,7 +46,7 @@ _EPS = np.finfo(float).eps
 
 
 @dataclass(frozen=True)
-class LCPCertificate:
+class LCPCertificate(ForwardErrorMixin):
     """Residuals of a candidate z for LCP(M, q); see the module docstring.
 
     ``error`` (componentwise backward error, in [0, 1]) decides ``ok``;
@@ -70,41 +71,6 @@ class LCPCertificate:
     # for an active block above _EXACT_CONDITION_SIZE the estimate costs one
     # more factorization of it, which a solve should not pay unasked.
     _forward: object = field(default=None, repr=False, compare=False)
-
-    @property
-    def condition(self) -> float:
-        return self._forward_pair()[0]
-
-    @property
-    def forward_error(self) -> float:
-        return self._forward_pair()[1]
-
-    @property
-    def forward_error_known(self) -> bool:
-        """Whether the forward error is already computed (small active blocks:
-        always; large ones: once asked for)."""
-        return not callable(self._forward)
-
-    def _forward_pair(self) -> tuple[float, float]:
-        if callable(self._forward):
-            object.__setattr__(self, "_forward", self._forward())
-        return self._forward
-
-    def __getstate__(self):
-        self._forward_pair()
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-    def __setstate__(self, state):
-        for k, v in state.items():
-            object.__setattr__(self, k, v)
-
-    def ok(self, tol: float) -> bool:
-        return bool(self.error <= tol)
-
-    def as_dict(self) -> dict:
-        d = {f.name: getattr(self, f.name) for f in fields(self) if not f.name.startswith("_")}
-        d["condition"], d["forward_error"] = self._forward_pair()
-        return d
 
 
 def _bad_lcp_certificate(overflow: bool = False) -> LCPCertificate:
