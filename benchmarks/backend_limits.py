@@ -1,7 +1,7 @@
 """Which data magnitudes each QP backend survives: every backend on tiny QPs
 whose data hold one entry of growing magnitude, each call in its own
 subprocess, so a segmentation fault or a hang is recorded instead of ending
-the run.  The results set qpcontact.methods.qpsolvers_backends.DATA_LIMIT
+the run.  The results set qpcontact.solvers.backends.common.DATA_LIMIT
 (docs/backends.md).
 
 Patterns (x >= 0 in every one):

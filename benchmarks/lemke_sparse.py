@@ -9,7 +9,7 @@ qpcontact.methods.lemke_sparse), on the shapes that reach them:
 
 Printed per problem: pivots and time of each form, and the ratio
 sparse / dense of the times measured in the same run.  What it decides:
-``SPARSE_FROM`` in qpcontact.methods.lemke (a sparse M from that many
+``SPARSE_FROM`` in qpcontact.solvers.pivoting.lemke (a sparse M from that many
 unknowns goes to the sparse form).
 
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 .venv/bin/python benchmarks/lemke_sparse.py

@@ -500,7 +500,7 @@ def test_nsgs_solves_shared_problems_to_siconos_tolerance(name):
 
 def test_drum_and_mechanism_steps_export_as_frictionless_fclib_problems(tmp_path):
     """A drum step's LCP and a mechanism step's exact LCP, exported through
-    FrictionProblem.frictionless and FCLIB, solved by solve_friction: the
+    FrictionProblem.frictionless and FCLIB, solved by qpcontact.solve: the
     same contact forces as the step's own certified solve, no friction."""
     from formulations.drum import Drum, Log
     from formulations.mechanisms import ramming_impact_step

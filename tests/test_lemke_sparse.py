@@ -1,4 +1,4 @@
-"""Lemke's sparse revised form (qpcontact.methods.lemke_sparse): the same
+"""Lemke's sparse revised form (qpcontact.solvers.pivoting.lemke_sparse): the same
 pivots and answers as the dense form on the families the dense form is
 tested on, and LCPs beyond the dense limit.
 

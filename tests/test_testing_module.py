@@ -119,7 +119,7 @@ def test_strategy_lcps_reach_their_built_in_status(case):
     if case.status == "infeasible":
         # either documented status of a proof checked from the data: Lemke's
         # "ray" with its Farkas vector, or "infeasible" replacing a certified
-        # answer that only nearby data have (qpcontact.solution)
+        # answer that only nearby data have (qpcontact.core.results)
         assert sol.status in ("ray", "infeasible") and sol.stats.get("proved_infeasible"), \
             sol.message
     else:

@@ -282,7 +282,7 @@ class Frame(FrameSolving, FrameTracing, FrameRecovery):
         flexibility 1/k to W's diagonal, so their problem is exported in local
         form.  A frame that is a mechanism without its contacts (K singular:
         W = Hᵀ K⁻¹ H does not exist) is exported in global form, unreduced,
-        which solve_friction solves without W ("desaxce-global"); with elastic
+        which qpcontact.solve solves without W ("desaxce-global"); with elastic
         contacts too it raises InvalidProblemError."""
         import scipy.sparse as sp
 

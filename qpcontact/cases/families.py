@@ -1,4 +1,4 @@
-"""Problem families with a planted solution (qpcontact.testing.problems): seeded, deterministic.
+"""Problem families with a planted solution (re-exported by qpcontact.testing): seeded, deterministic.
 
 Each generator plants a solution (z*, w*) and builds the data around it, so a
 method's answer can be judged without trusting any solver — or qpcontact's own

@@ -8,8 +8,8 @@ badly scaled data and contacts far apart are judged fairly.
 
 The quadratic program type is :class:`qpsolvers.Problem`; this module does not
 define another.  Conversions between the two live in
-:mod:`qpcontact.conversions` and are reachable as :meth:`LCP.to_qp` and
-:meth:`LCP.to_monotone_qp`.
+:mod:`qpcontact.core.conversions`; the two LCP -> QP routes are here, as
+:meth:`LCP.to_qp` and :meth:`LCP.to_monotone_qp`.
 """
 
 from __future__ import annotations

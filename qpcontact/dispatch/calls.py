@@ -14,7 +14,7 @@ __all__ = ["DEFAULT_TIME_LIMIT", "BACKEND_FAMILIES", "call", "check_time_limit",
 
 #: Seconds a backend call may take (``solve(..., time_limit=)``), enforced by
 #: the backend's own setting where it has one and by a killable child process
-#: for ProxQP (qpcontact.isolation).  The slowest certified backend call in the
+#: for ProxQP (qpcontact.dispatch.isolation).  The slowest certified backend call in the
 #: benchmarks (PIQP, n = 1e5 membrane) took 9 s; the hangs it cuts took 59 s
 #: to more than 120 s on problems of n <= 8.
 DEFAULT_TIME_LIMIT = 60.0

@@ -123,7 +123,7 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
 
 
 #: A certified QP answer larger than this many times the size the data give x
-#: (qpcontact.proofs.x_size) is checked for a proof that no minimiser exists:
+#: (qpcontact.proofs.qp.x_size) is checked for a proof that no minimiser exists:
 #: backends on an unbounded QP return points of 1e8 and more whose residuals
 #: pass on their own rows' scales (|P||x| grows with x) — exact answers of
 #: nearby data whose problem has no minimiser either.

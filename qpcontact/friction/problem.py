@@ -94,7 +94,7 @@ class FrictionProblem:
         Hᵀ M⁻¹ f + w, one sparse factorization of M) when W is affordable —
         at most DENSE_W_LIMIT local unknowns — and M is nonsingular; kept
         global otherwise (``W`` is then None and the methods that keep v,
-        :data:`GLOBAL_METHODS`, solve it).  True: reduce or raise saying why
+        the methods registered for "friction-global", solve it).  True: reduce or raise saying why
         not; False: keep it global."""
         import scipy.sparse.linalg as spla
 

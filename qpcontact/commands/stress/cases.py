@@ -132,7 +132,7 @@ def _ties(n: int, rng):
 
 
 def build_case(family: str, n: int, seed: int, siconos_dir: str | None = None):
-    """The instance ``(family, n, seed)``: a qpcontact.testing.cases.Case."""
+    """The instance ``(family, n, seed)``: a qpcontact.cases.planted.Case."""
     from ...cases.planted import Case, build_lcp, build_qp
     from ...cases.families import far_contact_lcp, spread_lcp
 

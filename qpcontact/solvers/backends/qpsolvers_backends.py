@@ -64,7 +64,7 @@ TIME_LIMIT_KEY = {"osqp": "time_limit", "clarabel": "time_limit", "highs": "time
 #: No time limit of their own, and an iteration cap that does not bound the
 #: work (ProxQP counts outer iterations; 77 s and 3e5 inner iterations on an
 #: SPD problem of n = 300 at max_iter = 10 000): run in a killable child
-#: process whenever a time limit is in force (qpcontact.isolation).  PIQP,
+#: process whenever a time limit is in force (qpcontact.dispatch.isolation).  PIQP,
 #: DAQP, quadprog, CVXOPT and ECOS stop after a bounded number of
 #: factorizations.
 NEEDS_ISOLATION = {"proxqp"}

@@ -31,7 +31,7 @@ How the path is followed here
    event records how many there were.
 3. Candidates are tried closest first; a piece is computed from its own block
    (LU of the equilibrated M_FF, iteratively refined), certified from the
-   data at its start, middle and end (:func:`qpcontact.certify.certify_lcp`),
+   data at its start, middle and end (:func:`qpcontact.judge.lcp.certify_lcp`),
    and only then kept.  When no candidate certifies (M with null vectors
    other than slip pairs: the same w written with other positive z's), a
    solve just beyond the vertex is tried and kept only if its scheme
