@@ -1,1 +1,3 @@
-"""(wing docstring: see docs/architecture.md)"""
+"""Problems with their answer built in: seeded families, planted LCPs, QPs and
+frictional problems, the decomposition paper's examples, and named instances
+for the comparison sweep."""

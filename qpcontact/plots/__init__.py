@@ -1,1 +1,2 @@
-"""(wing docstring: see docs/architecture.md)"""
+"""Figures, outside the engine: atomic saving (``figures``) and the load trace's
+plot (``trace``)."""

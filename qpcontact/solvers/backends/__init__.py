@@ -1,1 +1,2 @@
-"""(wing docstring: see docs/architecture.md)"""
+"""The QP backends: every solver qpsolvers finds, cvxpy's solvers, what their
+wrappers share, and the accuracy ladder in each backend's own settings."""
