@@ -137,3 +137,17 @@ def test_pivoting_method_on_a_qp_with_more_constraints_than_variables():
     ref = qpcontact.solve(prob, method="quadprog" if "quadprog" in qpcontact.methods() else "clarabel")
     assert sol.ok and sol.stats["route"] == "dual-lcp", sol.message
     np.testing.assert_allclose(sol.x, ref.x, atol=1e-8)
+
+
+def test_the_registry_knows_its_in_house_names_before_loading_them():
+    """get_method loads only the provider that has the name; the names it
+    knows in advance are exactly what the providers declare."""
+    from qpcontact.friction import specs as friction
+    from qpcontact.solvers import registry
+    from qpcontact.solvers.pivoting import specs as pivoting
+    from qpcontact.solvers.trace import specs as trace
+
+    for provider, module in (("pivoting", pivoting), ("trace", trace), ("friction", friction)):
+        assert registry.IN_HOUSE[provider] == tuple(m.name for m in module.specs())
+    every = qpcontact.all_methods()
+    assert set(every) >= {name for names in registry.IN_HOUSE.values() for name in names}

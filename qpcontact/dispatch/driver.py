@@ -25,13 +25,12 @@ from ..core.errors import (BackendUnavailableError, InvalidOptionError, InvalidP
 from ..core.problems import LCP, ParametricLCP
 from ..core.results import PROVED
 from ..friction.problem import FrictionProblem
-from ..friction.specs import auto_chain
 from ..solvers.method import PROBLEM_KINDS
 from ..solvers.registry import get_method
 from .calls import DEFAULT_TIME_LIMIT, check_time_limit
 from .friction import check_friction_method, run_friction
 from .lcp_qp import doubtful, prove_no_solution, run_lcp_qp
-from .routes import applicable, auto_order, kind_of
+from .routes import applicable, auto_chain, auto_order, kind_of
 
 __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]
 
@@ -196,7 +195,7 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
         A name from :func:`qpcontact.methods` (``"osqp"``, ``"lemke"``,
         ``"nsgs"``, ``"cvxpy:CLARABEL"``, ...) or ``"auto"``, which tries the
         kind's methods in order (:data:`~qpcontact.dispatch.routes.AUTO_ORDER`;
-        friction: :func:`~qpcontact.friction.specs.auto_chain`) until one is
+        friction: :func:`~qpcontact.dispatch.routes.auto_chain`) until one is
         certified or no solution is proved.
     accuracy : {"low", "default", "high"} or float
         The tolerance the certificate must meet, the same for every kind

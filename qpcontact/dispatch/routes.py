@@ -18,7 +18,8 @@ from ..core.problems import LCP, ParametricLCP
 from ..friction.problem import FrictionProblem
 from ..solvers.method import Method
 
-__all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "auto_order", "kind_of",
+__all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
+           "LEMKE_FIRST_MAX_CONTACTS", "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
 #: Preference of ``method="auto"``: exact pivoting first where it applies (as
@@ -45,6 +46,29 @@ AUTO_IP_BPP_MIN = 5000
 # Dense-only backends densify sparse input; beyond this size that costs more
 # than it is worth for "auto" (an explicit method name is always honoured).
 AUTO_DENSE_LIMIT = 3000
+
+
+#: what "auto" tries, in order, per dimension: each answer is certified before
+#: the next is tried, and the first certified one is returned
+AUTO_CHAIN = {2: ("lemke", "nsgs", "desaxce-fp", "newton"),
+              3: ("desaxce-fp", "newton", "tresca-fp", "nsgs")}
+#: "auto" on a global problem kept without W
+GLOBAL_CHAIN = ("desaxce-global",)
+
+#: above this many contacts "auto" tries NSGS before Lemke in 2-D: Lemke's
+#: pivots grow with the contacts (the 2020-contact granular file: 5461
+#: pivots, 4 s) while NSGS takes under a second where it converges
+LEMKE_FIRST_MAX_CONTACTS = 200
+
+
+def auto_chain(problem) -> tuple:
+    """The methods "auto" tries on ``problem``, in order."""
+    if not problem.is_reduced:
+        return GLOBAL_CHAIN
+    chain = AUTO_CHAIN[problem.dim]
+    if problem.n_contacts > LEMKE_FIRST_MAX_CONTACTS and "lemke" in chain:
+        chain = ("nsgs", "lemke") + tuple(m for m in chain if m not in ("nsgs", "lemke"))
+    return chain
 
 
 def kind_of(problem) -> str:

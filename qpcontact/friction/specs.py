@@ -1,4 +1,5 @@
-"""The friction methods as registered methods, and the order "auto" tries them.
+"""The friction methods as registered methods (the order "auto" tries them in
+is the dispatcher's: :func:`qpcontact.dispatch.routes.auto_chain`).
 
 Each method's function returns (r or (r, v), its own status, a message,
 stats); the run functions below hand that to the engine as a MethodResult,
@@ -17,30 +18,7 @@ from .fixed_points import solve_anitescu, solve_desaxce_fp, solve_desaxce_global
 from .newton import solve_natural_newton
 from .nsgs import solve_nsgs
 
-__all__ = ["specs", "AUTO_CHAIN", "GLOBAL_CHAIN", "LEMKE_FIRST_MAX_CONTACTS", "auto_chain"]
-
-#: what "auto" tries, in order, per dimension: each answer is certified before
-#: the next is tried, and the first certified one is returned
-AUTO_CHAIN = {2: ("lemke", "nsgs", "desaxce-fp", "newton"),
-              3: ("desaxce-fp", "newton", "tresca-fp", "nsgs")}
-#: "auto" on a global problem kept without W
-GLOBAL_CHAIN = ("desaxce-global",)
-
-#: above this many contacts "auto" tries NSGS before Lemke in 2-D: Lemke's
-#: pivots grow with the contacts (the 2020-contact granular file: 5461
-#: pivots, 4 s) while NSGS takes under a second where it converges
-LEMKE_FIRST_MAX_CONTACTS = 200
-
-
-def auto_chain(problem) -> tuple:
-    """The methods "auto" tries on ``problem``, in order."""
-    if not problem.is_reduced:
-        return GLOBAL_CHAIN
-    chain = AUTO_CHAIN[problem.dim]
-    if problem.n_contacts > LEMKE_FIRST_MAX_CONTACTS and "lemke" in chain:
-        chain = ("nsgs", "lemke") + tuple(m for m in chain if m not in ("nsgs", "lemke"))
-    return chain
-
+__all__ = ["specs"]
 
 def _run(function, takes_engine: bool = False):
     def run(problem, tol, options, engine=None) -> MethodResult:

@@ -19,7 +19,18 @@ __all__ = ["Method", "register", "methods", "get_method", "all_methods"]
 
 
 _REGISTRY: dict[str, Method] = {}
-_loaded = False
+
+#: The providers, in the order a listing shows them.
+PROVIDERS = ("pivoting", "trace", "friction", "qpsolvers", "cvxpy")
+#: The in-house providers' method names, known without importing them, so that
+#: asking for one method loads its provider only (tests/test_solve.py holds
+#: them to the providers' specs()).
+IN_HOUSE = {
+    "pivoting": ("energy", "bpp", "ip-bpp", "lemke", "enumeration"),
+    "trace": ("trace",),
+    "friction": ("nsgs", "anitescu", "desaxce-fp", "tresca-fp", "newton", "desaxce-global"),
+}
+_loaded: set = set()
 
 
 def register(method: Method, *, replace: bool = False) -> None:
@@ -29,29 +40,38 @@ def register(method: Method, *, replace: bool = False) -> None:
     _REGISTRY[method.name] = method
 
 
-_loaded_cvxpy = False
+def _load(provider: str) -> None:
+    """Register one provider's methods (once)."""
+    if provider in _loaded:
+        return
+    _loaded.add(provider)
+    if provider == "pivoting":
+        from .pivoting import specs as module
+    elif provider == "trace":
+        from .trace import specs as module
+    elif provider == "friction":
+        from ..friction import specs as module
+    elif provider == "qpsolvers":
+        from .backends import qpsolvers_backends as module
+    else:
+        from .backends import cvxpy_backends as module
+    for m in module.specs():
+        register(m, replace=True)
 
 
 def _ensure_loaded(cvxpy: bool = True) -> None:
-    """Register the backends on first use.  cvxpy costs a second to import, so
-    it is loaded only when a listing or a ``cvxpy:`` name needs it."""
-    global _loaded, _loaded_cvxpy
-    if not _loaded:
-        _loaded = True
-        from ..friction import specs as friction
-        from .backends import qpsolvers_backends
-        from .pivoting import specs as pivoting
-        from .trace import specs as trace
+    """Register every provider.  cvxpy costs a second to import, so it is
+    loaded only when a listing or a ``cvxpy:`` name needs it."""
+    for provider in PROVIDERS:
+        if provider != "cvxpy" or cvxpy:
+            _load(provider)
 
-        for provider in (pivoting, trace, friction, qpsolvers_backends):
-            for m in provider.specs():
-                register(m, replace=True)
-    if cvxpy and not _loaded_cvxpy:
-        _loaded_cvxpy = True
-        from .backends import cvxpy_backends
 
-        for m in cvxpy_backends.specs():
-            register(m, replace=True)
+def _provider_of(name: str) -> str:
+    for provider, names in IN_HOUSE.items():
+        if name.lower() in names:
+            return provider
+    return "cvxpy" if name.lower().startswith("cvxpy:") else "qpsolvers"
 
 
 def all_methods() -> dict[str, Method]:
@@ -76,7 +96,8 @@ def get_method(name: str) -> Method:
     UnknownMethodError
         No method of that name exists (the message suggests close names).
     """
-    _ensure_loaded(cvxpy=False)
+    if name not in _REGISTRY:
+        _load(_provider_of(name))
     known = _REGISTRY
     if name not in known:
         known = all_methods()
