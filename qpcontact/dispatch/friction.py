@@ -12,7 +12,7 @@ from ..core.results import PROVED, FrictionSolution, MethodResult
 from ..friction.lcp_route import LCP_ACCURACY, from_lcp, lcp_of
 from ..friction.measures import certify_friction
 from ..proofs.exact import Proof
-from ..solvers.method import Method
+from ..solvers.method import PROBLEM_KINDS, Method
 from .calls import call
 from .routes import kind_of
 
@@ -32,9 +32,10 @@ def check_friction_method(problem, m: Method) -> None:
         raise InvalidOptionError(f"{m.name!r} solves global problems kept without W; this one is "
                                  "in local form (global_problem(..., reduce=False) keeps M, H)")
     raise InvalidOptionError(
-        f"{m.name!r} does not solve frictional contact problems ({', '.join(m.problems)}); "
-        "`qpcontact methods` lists what each method takes (friction: nsgs, lemke, anitescu, "
-        "desaxce-fp, tresca-fp, newton, desaxce-global, auto)")
+        f"{m.name!r} does not solve frictional contact problems (it takes "
+        f"{', '.join(PROBLEM_KINDS[k] for k in m.problems)}); `qpcontact methods` lists what "
+        "each method takes (friction: nsgs, lemke, enumeration, anitescu, desaxce-fp, tresca-fp, "
+        "newton, desaxce-global, auto)")
 
 
 def _call(problem, m: Method, tol: float, options: dict, time_limit, isolate, engine
@@ -65,7 +66,7 @@ def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_l
     message = res.backend_message
     if res.x is None and "ray" in stats:     # a checked proof that no equilibrium exists
         stats["proof"] = Proof(kind="infeasible", message=message, vector={"d": stats["ray"]})
-        return FrictionSolution(status=PROVED[0], ok=False, message=f"{m.name}: {message}",
+        return FrictionSolution(status=PROVED[0], ok=False, message=message,
                                 certificate=None, r=None, u=None, **common)
     x = None if res.x is None else np.asarray(res.x, float).ravel()
     if x is None or not np.all(np.isfinite(x)):
