@@ -82,7 +82,7 @@ def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_l
         g = problem.global_data
         r, v = x[:size], x[size:]
         u = np.asarray(g["H"].T @ v).ravel() + g["w"]
-    cert = certify_friction(problem, r, v)
+    cert = certify_friction(problem, r, v, u=u if problem.is_reduced else None)
     ok = cert.ok(tol)
     measures = (f"natural-map error {cert.natural_map_error:.1e}, componentwise "
                 f"{cert.componentwise_error:.1e}")

@@ -274,9 +274,11 @@ class FrictionCertificate(ForwardErrorMixin):
     _forward: object = field(default=None, repr=False, compare=False)
 
 
-def certify_friction(problem: FrictionProblem, r, v=None) -> FrictionCertificate:
+def certify_friction(problem: FrictionProblem, r, v=None, *, u=None) -> FrictionCertificate:
     """The certificate of reactions ``r`` (and, for a global problem kept
-    without W, its global velocity ``v``), computed from the data alone."""
+    without W, its global velocity ``v``), computed from the data alone;
+    ``u`` = W r + q when the caller has formed it already (as the measures
+    above take it)."""
     inf, nan = np.inf, np.nan
     m = problem.dim * problem.n_contacts
     r = np.asarray(r, float).ravel()
@@ -296,8 +298,9 @@ def certify_friction(problem: FrictionProblem, r, v=None) -> FrictionCertificate
         return FrictionCertificate(inf, inf, inf, nan, -1, False, (inf, inf))
     if m == 0:
         return FrictionCertificate(0.0, 0.0, 0.0, nan, -1, False, (0.0, 0.0))
-    with np.errstate(over="ignore", invalid="ignore"):
-        u = problem.velocities(r)
+    if u is None:
+        with np.errstate(over="ignore", invalid="ignore"):
+            u = problem.velocities(r)
     if not np.all(np.isfinite(u)):
         return FrictionCertificate(inf, inf, inf, nan, -1, True, (inf, inf))
     nat = natural_map_error(problem, r, u)
