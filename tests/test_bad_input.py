@@ -14,6 +14,7 @@ from qpcontact import LCP, InvalidOptionError, InvalidProblemError, NoSolutionEr
 from qpcontact.core.errors import NotConvexError
 from qpcontact.io import read_siconos_lcp
 from qpcontact.solvers.registry import _REGISTRY, get_method
+from qpcontact.dispatch import lcp_qp
 
 
 def test_ragged_matrix_is_an_invalid_problem():
@@ -77,8 +78,26 @@ def test_unproved_ray_is_not_called_no_solution(monkeypatch):
         return res
 
     monkeypatch.setitem(_REGISTRY, "lemke", dataclasses.replace(original, run=run))
+    # and no proof found afterwards either (on these data one exists: the
+    # engine's own search finds it from Lemke's vector, tested below)
+    monkeypatch.setattr(lcp_qp, "prove_lcp_infeasible", lambda *a, **k: None)
     with pytest.raises(qpcontact.SolverFailedError):
         qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), method="lemke", raise_on_failure=True)
+
+
+def test_a_ray_with_a_farkas_vector_is_proved_by_the_engine_exactly(monkeypatch):
+    """Lemke's own word dropped, the engine checks the vector it found in
+    exact arithmetic and proves it."""
+    original = get_method("lemke")
+
+    def run(problem, tol, options):
+        res = original.run(problem, tol, options)
+        res.stats["proved_infeasible"] = False
+        return res
+
+    monkeypatch.setitem(_REGISTRY, "lemke", dataclasses.replace(original, run=run))
+    sol = qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), method="lemke")
+    assert sol.status == "infeasible" and "exact rational" in sol.message
 
 
 def test_auto_goes_on_when_a_method_finds_the_matrix_unfit_mid_run(monkeypatch):

@@ -29,7 +29,7 @@ from ..solvers.method import PROBLEM_KINDS
 from ..solvers.registry import get_method
 from .calls import DEFAULT_TIME_LIMIT, check_time_limit
 from .friction import check_friction_method, run_friction
-from .lcp_qp import doubtful, prove_no_solution, run_lcp_qp
+from .lcp_qp import doubtful, hints, prove_no_solution, run_lcp_qp
 from .routes import applicable, auto_chain, auto_order, kind_of
 
 __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]
@@ -116,32 +116,80 @@ def _check_kind(problem, m) -> None:
             "each method takes)")
 
 
+#: how many times one "auto" call looks for a proof that no solution exists
+#: (each time with what the methods so far learned); each search is one to
+#: three LPs plus exact checks
+AUTO_PROOFS = 3
+
+#: "auto" ends its chain once this many results point to no solution — an
+#: answer in doubt (status "ill_posed"), Lemke's Farkas vector holding to
+#: rounding only, a backend's own "infeasible"/"unbounded" — and the proofs
+#: they led to failed: further methods only repeat it (the audit of issue 31:
+#: over 12 s on ill-posed LCPs, over 5 s on unbounded QPs)
+AUTO_EVIDENCE = 2
+
+
+def _points_to_no_solution(sol) -> bool:
+    return (sol.status == "ill_posed" or bool(sol.stats.get("backend_verdict"))
+            or (sol.status == "ray" and sol.stats.get("farkas") is not None))
+
+
 def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run):
     if method != "auto":
         m = get_method(method)
         _check_kind(problem, m)
         sol = run_lcp_qp(problem, m, tol_backend, tol_cert, accuracy, options, **run)
         return prove_no_solution(problem, sol, run["time_limit"]) if doubtful(problem, sol) else sol
-    proof_tried = [False]
+    start, limit = time.perf_counter(), run["time_limit"]
+    learned, seen = [], {"proofs": 0, "evidence": 0}
+
+    def left():
+        return None if limit is None else limit - (time.perf_counter() - start)
 
     def attempt(m, best):
-        sol = run_lcp_qp(problem, m, tol_backend, tol_cert, accuracy, options, **run)
-        if not proof_tried[0] and doubtful(problem, sol):
-            # after the first failure (or doubtful success), not before: a
-            # proof costs one or two LPs, and every backend looped on the
-            # unbounded QP of the audit
-            proof_tried[0] = True
-            sol = prove_no_solution(problem, sol, run["time_limit"])
+        # each link gets half of what is left, so the chain fits in the limit
+        # and a backend looping at its iteration cap cannot take it all
+        share = None if limit is None else left() / 2
+        sol = run_lcp_qp(problem, m, tol_backend, tol_cert, accuracy, options,
+                         time_limit=share, isolate=run["isolate"])
+        if share is not None:
+            sol.stats["time_share"] = share
+        if doubtful(problem, sol):
+            new = hints(sol)
+            # a proof is sought at the first doubt, and again whenever a later
+            # method brings something new: its own verdict, a point far out
+            if seen["proofs"] < AUTO_PROOFS and (seen["proofs"] == 0 or new
+                                                 or sol.stats.get("backend_verdict")):
+                seen["proofs"] += 1
+                sol = prove_no_solution(problem, sol, _proof_time(left()), learned)
+            learned.extend(new)
+        if _points_to_no_solution(sol):
+            seen["evidence"] += 1
         return sol
 
-    sol, tried = _auto(_installed(auto_order(problem), problem), attempt,
-                       stop_early=lambda s: s.status == "ray" and s.stats.get("proved_infeasible"))
+    def stop(sol):
+        if sol.status == "ray" and sol.stats.get("proved_infeasible"):
+            return True
+        return seen["evidence"] >= AUTO_EVIDENCE or (limit is not None and left() < 0.01 * limit)
+
+    sol, tried = _auto(_installed(auto_order(problem), problem), attempt, stop_early=stop)
     if sol is None:
         raise NotSymmetricError(
             "no installed method applies to this problem; `qpcontact methods` lists what is "
             "installed and what each one requires")
+    if not sol.ok and sol.status not in PROVED and seen["evidence"] >= AUTO_EVIDENCE:
+        sol.message += (f" — 'auto' stopped after {len(tried)} method(s): {seen['evidence']} of "
+                        "them point to data with no solution (an answer in doubt, a Farkas vector "
+                        "holding to rounding, a backend's own verdict) and no proof could be "
+                        "checked exactly")
     sol.stats["auto_tried"] = tried
     return sol
+
+
+def _proof_time(left):
+    """Seconds each proof LP may take: what is left of the call's limit, but
+    never nothing (a proof is worth its second)."""
+    return None if left is None else max(left, 1.0)
 
 
 def _solve_friction(problem, method, tol, accuracy, options, run, engine):

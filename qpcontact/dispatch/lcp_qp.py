@@ -10,6 +10,7 @@ import numpy as np
 from ..core.conversions import qp_to_lcp
 from ..core.problems import LCP
 from ..core.results import LCPSolution, MethodResult, QPSolution
+from ..judge.doubt import doubt
 from ..judge.lcp import certify_lcp
 from ..judge.qp import certify_qp
 from ..proofs.lcp import prove_lcp_infeasible
@@ -18,7 +19,7 @@ from ..solvers.method import Method
 from .calls import call
 from .routes import check_applicable, data_range, jacobi_scaled
 
-__all__ = ["run_lcp_qp", "doubtful", "prove_no_solution", "DOUBT_FACTOR"]
+__all__ = ["run_lcp_qp", "doubtful", "prove_no_solution", "verdict", "hints", "DOUBT_FACTOR"]
 
 
 def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, time_limit=None,
@@ -48,6 +49,9 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
     wall = time.perf_counter() - start
     if "backend_seconds" in res.stats:
         wall = (called - start) + res.stats.pop("backend_seconds")
+    said = verdict(res.backend_status)
+    if said:
+        res.stats["backend_verdict"] = said
 
     x = None if res.x is None else np.asarray(res.x, dtype=float).ravel()
     if isinstance(problem, LCP) and m.takes == "qp" and unscale is not None and x is not None \
@@ -73,8 +77,8 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
 
     if res.status in ("ray", "max_pivots"):
         status = res.status
-    elif cert is not None and cert.ok(tol_cert):
-        status = "solved"
+    elif cert is not None and cert.error <= tol_cert:
+        status = "solved" if cert.ok(tol_cert) else "ill_posed"
     elif res.status == "time_limit" or res.stats.get("time_limit_reached"):
         status = "time_limit"
     elif cert is None:
@@ -94,6 +98,8 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
                         if np.isfinite(ferr) else
                         "; the solution is not isolated (singular active block): other solutions "
                         "may exist")
+    elif status == "ill_posed":
+        message = f"not certified: {doubt(cert, tol_cert)}"
     elif status == "inaccurate":
         where = (f" at component {cert.worst_index}" if hasattr(cert, "worst_index")
                  else f" at {cert.worst}")
@@ -122,29 +128,37 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
     return cls(status=status, ok=ok, message=message, certificate=cert, **common, **fields)
 
 
-#: A certified QP answer larger than this many times the size the data give x
-#: (qpcontact.proofs.qp.x_size) is checked for a proof that no minimiser exists:
-#: backends on an unbounded QP return points of 1e8 and more whose residuals
-#: pass on their own rows' scales (|P||x| grows with x) — exact answers of
-#: nearby data whose problem has no minimiser either.
+#: A certified answer larger than this many times the size the data give it
+#: (|q| / max|M| for an LCP, qpcontact.proofs.qp.x_size for a QP) is checked
+#: for a proof that no solution exists: backends on an unbounded QP return
+#: points of 1e8 and more whose residuals pass on their own rows' scales.
+#: Size alone does not take "solved" away (an SPD LCP of condition 1e8 has
+#: answers that large, digits and all); the doubt rule does.
 DOUBT_FACTOR = 1e3
+
+
+def verdict(backend_status) -> str | None:
+    """"infeasible" or "unbounded" when a backend's own status says so, in
+    its own words (OSQP "primal infeasible", Clarabel "DualInfeasible",
+    PIQP "PIQP_DUAL_INFEASIBLE", HiGHS "Unbounded", ...), else None.  Never
+    believed: it only sends the search for a proof at once."""
+    words = "".join(ch for ch in str(backend_status).lower() if ch.isalpha())
+    if "dualinfeasible" in words or "unbounded" in words:
+        return "unbounded"
+    if "infeasible" in words:
+        return "infeasible"
+    return None
 
 
 def doubtful(problem, sol) -> bool:
     """Whether a result should be checked for a proof that no solution exists:
-    every result that is not ok (a proved ray aside), and a certified answer
-    that may be the solution of nearby data only (an LCP answer whose forward
-    error reaches its own size — an infeasible PSD LCP got z ~ 3e8 with
-    condition 2e17 from HiGHS, quadprog and ProxQP — or that is far beyond
-    |q| / max|M|; a QP answer far beyond the data's size)."""
+    every result that is not ok (a proved ray aside) — among them the
+    "ill_posed" answers (qpcontact.judge.doubt) — and a certified answer that
+    may be the solution of nearby data only (an LCP answer whose forward
+    error reaches its own size, or any answer far beyond the data's size)."""
     if sol.stats.get("proved_infeasible") or sol.stats.get("proved_unbounded"):
         return False
     if not sol.ok:
-        return True
-    if sol.certificate.normwise_error > max(10.0 * sol.certificate.error, sol.tol):
-        # residuals small on their own rows' scales but not on the data's
-        # norms: the rows' scales grew with the point (|P||x| at x ~ 1e2..1e17
-        # on unbounded QPs), a sign of a point running off to infinity
         return True
     if isinstance(problem, LCP):
         cert = sol.certificate
@@ -156,13 +170,26 @@ def doubtful(problem, sol) -> bool:
     return float(np.max(np.abs(sol.x), initial=0.0)) > DOUBT_FACTOR * x_size(problem)
 
 
-def prove_no_solution(problem, sol, time_limit=None):
-    """Turn a result into "infeasible" or "unbounded" when a Farkas vector or a
-    ray is found and checked from the data (qpcontact.proofs): a proof about
-    the data as stored outranks a certificate, which speaks of nearby data."""
+def hints(sol) -> list:
+    """What a result teaches the proofs: Lemke's Farkas vector checked in
+    floating point, and the answer itself (its direction, when it ran far
+    out along a ray or a near-null vector)."""
+    out = [sol.stats["farkas"]] if sol.stats.get("farkas") is not None else []
+    point = sol.z if isinstance(sol, LCPSolution) else sol.x
+    if point is not None and np.all(np.isfinite(point)):
+        out.append(point)
+    return out
 
-    proof = (prove_lcp_infeasible(problem, time_limit) if isinstance(problem, LCP)
-             else prove_no_minimiser(problem, time_limit))
+
+def prove_no_solution(problem, sol, time_limit=None, extra_hints=()):
+    """Turn a result into "infeasible" or "unbounded" when a Farkas vector or a
+    ray is found and checked in exact arithmetic (qpcontact.proofs): a proof
+    about the data as stored outranks a certificate, which speaks of nearby
+    data.  ``extra_hints``: what earlier methods of the same call learned."""
+
+    tried = hints(sol) + list(extra_hints)
+    proof = (prove_lcp_infeasible(problem, time_limit, tried) if isinstance(problem, LCP)
+             else prove_no_minimiser(problem, time_limit, tried))
     if proof is None:
         cert = sol.certificate
         if (sol.ok and isinstance(problem, LCP) and cert.forward_error_known
@@ -172,6 +199,9 @@ def prove_no_solution(problem, sol, time_limit=None):
             sol.message += ("; with no digit guaranteed the data as stored may have no solution "
                             "at all (a Farkas vector was sought and none could be checked "
                             "exactly)")
+        elif sol.status == "ill_posed":
+            sol.message += ("; no Farkas vector or ray could be checked exactly, so nothing is "
+                            "proved either way")
         return sol
     before = (f"{sol.method} certified a point of nearby data (error {sol.error:.1e})" if sol.ok
               else f"{sol.method} returned {sol.backend_status!r}")

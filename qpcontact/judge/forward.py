@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import fields
 
+from .doubt import doubt
+
 __all__ = ["ForwardErrorMixin"]
 
 
@@ -42,7 +44,9 @@ class ForwardErrorMixin:
             object.__setattr__(self, k, v)
 
     def ok(self, tol: float) -> bool:
-        return bool(self.error <= tol)
+        """The backward error meets ``tol`` and nothing casts doubt on it
+        (:func:`qpcontact.judge.doubt.doubt`)."""
+        return bool(self.error <= tol) and doubt(self, tol) is None
 
     def as_dict(self) -> dict:
         d = {f.name: getattr(self, f.name) for f in fields(self) if not f.name.startswith("_")}

@@ -25,6 +25,7 @@ from qpsolvers import Problem
 from qpsolvers import Solution as _QPSolution
 
 from ..core.errors import InvalidProblemError
+from .doubt import doubt
 from .scales import (Rows, abs_matvec, componentwise_scales, divide, inf_norm, max_abs, ratio,
                      row_scales)
 
@@ -52,7 +53,9 @@ class QPCertificate:
     detail: str = ""
 
     def ok(self, tol: float) -> bool:
-        return bool(self.error <= tol)
+        """The backward error meets ``tol`` and nothing casts doubt on it
+        (:func:`qpcontact.judge.doubt.doubt`)."""
+        return bool(self.error <= tol) and doubt(self, tol) is None
 
     def as_dict(self) -> dict:
         return asdict(self)

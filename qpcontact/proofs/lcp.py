@@ -17,27 +17,54 @@ from fractions import Fraction
 import numpy as np
 import scipy.sparse as sp
 
-from .exact import Proof, exact_farkas
+from .exact import Proof, candidates, exact_farkas
 from .lp import LP_TIME_LIMIT
 from .qp import find_farkas
 
-__all__ = ["prove_lcp_infeasible", "feasibility", "FARKAS_RTOL"]
+__all__ = ["prove_lcp_infeasible", "check_farkas_hint", "feasibility", "FARKAS_RTOL"]
 
 
-def prove_lcp_infeasible(lcp, time_limit: float | None = None) -> Proof | None:
-    """A checked Farkas vector proving that no z >= 0 has Mz + q >= 0 (so
-    LCP(M, q) has no solution), or None."""
-    import scipy.sparse as sp_
+def prove_lcp_infeasible(lcp, time_limit: float | None = None, hints=()) -> Proof | None:
+    """A Farkas vector proving that no z >= 0 has Mz + q >= 0 (so LCP(M, q)
+    has no solution), checked in exact arithmetic, or None.
 
+    ``hints`` are vectors a method learned on the way — Lemke's Farkas vector
+    checked in floating point, or the direction of a huge answer (for a
+    symmetric PSD M the answer of nearly infeasible data runs along M's
+    near-null vector, which is the Farkas vector when the data are exactly
+    singular) — tried exactly first, before the LPs."""
     n = lcp.n
-    M = sp_.csr_matrix(lcp.M)
-    tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
+    M = sp.csr_matrix(lcp.M)
     q = np.asarray(lcp.q, float)
+    for y in hints:
+        proof = check_farkas_hint(M, q, y)
+        if proof is not None:
+            return proof
+    tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
     with np.errstate(all="ignore"):
         proof = find_farkas(None, np.zeros(n), -M, q, None, None, np.zeros(n), None, tl)
     if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric:
         proof = _null_vector_farkas(M, q)
     return proof
+
+
+def check_farkas_hint(M, q, y) -> Proof | None:
+    """``y`` (its nonnegative part, and the same snapped to short rationals)
+    checked exactly as a Farkas vector of {z >= 0, Mz + q >= 0}, or None."""
+    y = np.maximum(np.nan_to_num(np.asarray(y, float).ravel(), nan=0.0, posinf=0.0, neginf=0.0),
+                   0.0)
+    top = float(y.max(initial=0.0))
+    if y.size != q.size or not top > 0:
+        return None
+    n = q.size
+    Mc = sp.csr_matrix(M)
+    empty = sp.csr_matrix((0, n))
+    for cand in candidates(y / top):
+        proof = exact_farkas(-Mc, q, empty, np.zeros(0), np.zeros(n), np.full(n, np.inf),
+                             cand, n)
+        if proof is not None:
+            return proof
+    return None
 
 
 #: largest n for the modular null-vector route (O(n³) integer work mod p)

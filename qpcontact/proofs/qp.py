@@ -40,7 +40,7 @@ from fractions import Fraction
 import numpy as np
 import scipy.sparse as sp
 
-from .exact import Proof, candidates, exact_farkas, exact_ray
+from .exact import EXACT_WORK, Proof, candidates, exact_farkas, exact_ray
 from .lp import LP_TIME_LIMIT, column_scale, csr_rows, linprog, row_scale
 
 __all__ = ["prove_no_minimiser", "find_farkas", "x_size"]
@@ -205,33 +205,87 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
             break
     if dF is None:
         return None
+    return _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
+
+
+def _unbounded(P, q, G, h, A, b, lb, ub, dF, tl) -> Proof | None:
+    """The proof for an exactly checked ray ``dF``, with a feasible point."""
     d = np.array([float(v) for v in dF])
     x0 = _feasible_point(q, G, h, A, b, lb, ub, tl)
     if x0 is None:
         return None
     slope = float(q @ d)
     f0 = 0.5 * float(x0 @ (P @ x0)) + float(q @ x0)
+    # The ray alone proves that no minimiser exists (feasible: x0 + t d falls
+    # for ever; infeasible: nothing to minimise); "unbounded below" also needs
+    # x0 feasible, which is said as checked.
+    exact = _exactly_feasible(x0, G, h, A, b, lb, ub)
+    where = ("feasibility checked in exact rational arithmetic" if exact else
+             "feasible to rounding only: if the constraints admit no point at all the QP is "
+             "infeasible instead — no minimiser exists either way")
     return Proof(
         kind="unbounded",
-        message=(f"the objective is unbounded below: from the feasible point x0 (objective "
-                 f"{f0:.3e}, feasibility checked to rounding) along the direction d it falls for "
-                 f"ever (q'd = {slope:.3e} < 0, Pd = 0, Gd <= 0, Ad = 0 and the bounds' signs, "
-                 "checked in exact rational arithmetic)"),
+        message=(f"the objective is unbounded below: from the point x0 (objective {f0:.3e}, "
+                 f"{where}) along the direction d it falls for ever (q'd = {slope:.3e} < 0, "
+                 "Pd = 0, Gd <= 0, Ad = 0 and the bounds' signs, checked in exact rational "
+                 "arithmetic)"),
         vector={"d": d},
         point=x0,
     )
 
 
-def prove_no_minimiser(problem, time_limit: float | None = None) -> Proof | None:
+def _exactly_feasible(x, G, h, A, b, lb, ub) -> bool:
+    """Gx <= h, Ax = b and the bounds, in rational arithmetic (False above
+    EXACT_WORK products: not checked)."""
+    n = x.size
+    xF = [Fraction(float(v)) for v in x]
+    for M, rhs, eq in ((csr_rows(G, n), h, False), (csr_rows(A, n), b, True)):
+        if not M.shape[0]:
+            continue
+        if M.nnz > EXACT_WORK:
+            return False
+        for i in range(M.shape[0]):
+            acc = sum((Fraction(float(M.data[p])) * xF[M.indices[p]]
+                       for p in range(M.indptr[i], M.indptr[i + 1])), Fraction(0))
+            r = Fraction(float(rhs[i]))
+            if (acc != r) if eq else (acc > r):
+                return False
+    lo = lb if lb is not None else np.full(n, -np.inf)
+    hi = ub if ub is not None else np.full(n, np.inf)
+    return bool(np.all(x >= lo) and np.all(x <= hi))   # comparisons of doubles are exact
+
+
+def prove_no_minimiser(problem, time_limit: float | None = None, hints=()) -> Proof | None:
     """A checked Farkas vector or ray for a convex ``qpsolvers.Problem``, or
     None when neither is found (the QP may still have no minimiser; nothing
     is claimed then).  Each LP gets at most ``time_limit`` seconds (default
-    and cap :data:`LP_TIME_LIMIT`)."""
+    and cap :data:`LP_TIME_LIMIT`).  ``hints`` are points a method returned
+    far out: their direction is tried exactly as a ray first (a backend on an
+    unbounded QP stops at x ~ 1e8..1e11 along it)."""
     P, q, G, h, A, b, lb, ub = problem.unpack()
     q = np.asarray(q, dtype=float)
     tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
     with np.errstate(all="ignore"):
+        for x in hints:
+            proof = _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl)
+            if proof is not None:
+                return proof
         proof = find_farkas(P, q, G, h, A, b, lb, ub, tl)
         if proof is None:
             proof = _ray(P, q, G, h, A, b, lb, ub, tl)
     return proof
+
+
+def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
+    n = q.size
+    x = np.asarray(x, float).ravel()
+    top = float(np.max(np.abs(x), initial=0.0)) if x.size == n else 0.0
+    if not (np.isfinite(top) and top > 0):
+        return None
+    P = sp.csr_matrix(P)
+    Gr, Ar = csr_rows(G, n), csr_rows(A, n)
+    lo = np.where(np.isfinite(lb), 0.0, -1.0) if lb is not None else -np.ones(n)
+    hi = np.where(np.isfinite(ub), 0.0, 1.0) if ub is not None else np.ones(n)
+    dF = next((d for d in candidates(np.clip(x / top, lo, hi))
+               if exact_ray(P, q, Gr, Ar, d, lo, hi)), None)
+    return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)

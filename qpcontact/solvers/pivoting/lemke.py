@@ -14,8 +14,10 @@ favour of z0 leaving.  The method ends
   solution (Cottle, Pang & Stone 1992, Thm 4.4.13) — in exact arithmetic.  For
   other M it means nothing, so the method restarts with other covering vectors
   (``restarts``, seeded) before reporting the ray.  "No solution" is claimed
-  only with a Farkas vector checked from the data
-  (:func:`qpcontact.proofs.lcp.feasibility`);
+  only with a Farkas vector checked from the data in exact rational
+  arithmetic (found by :func:`qpcontact.proofs.lcp.feasibility`'s LP, checked
+  by :func:`qpcontact.proofs.lcp.check_farkas_hint`); one that holds only to
+  rounding is reported as such, with nothing proved;
 - ``max_pivots``: the pivot limit was reached.
 
 The LCP is solved after row/column equilibration (w' = D_r w, z = D_c z'), which
@@ -41,7 +43,7 @@ from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, ruiz_sca
 from ...core.options import check_options, int_option
 from ...core.results import MethodResult
 from ...judge.scales import ComponentScales
-from ...proofs.lcp import feasibility
+from ...proofs.lcp import check_farkas_hint, feasibility
 from .active_set import DENSE_TABLEAU_LIMIT, overflow_result, sign_tolerances
 from .lemke_sparse import SingularBasis, sparse_lemke
 from .lemke_tableau import lemke
@@ -217,9 +219,22 @@ def _run_lemke(problem, options, sparse: bool) -> MethodResult:
     stats["feasible"] = feasible
     stats.update(evidence)
     monotone = problem.is_psd
+    exact = None
     if feasible is False:
+        # the LP's vector holds to 1e-12 of each component's terms; only the
+        # rational check makes it a proof (on an exactly positive definite M
+        # within rounding of a singular one it held to 1e-12 and failed exactly)
+        exact = check_farkas_hint(M, q, evidence["farkas"])
+    if exact is not None:
+        stats["proof"] = exact
         why = ("no solution exists: no z >= 0 has Mz + q >= 0 (a Farkas vector y >= 0 with "
-               "M'y <= 0 and q'y < 0, stats['farkas'], was checked from the data)")
+               "M'y <= 0 and q'y < 0, stats['farkas'], checked from the data in exact rational "
+               "arithmetic)")
+    elif feasible is False:
+        why = ("Lemke's method ended on a secondary ray, and a Farkas vector (stats['farkas']) "
+               "holds to rounding — each component to 1e-12 of its own terms — but not in exact "
+               "arithmetic: the data are within rounding of a problem with no solution, and "
+               "whether these data have one is not proved")
     elif monotone and feasible:
         why = ("Lemke's method ended on a secondary ray although M is positive semidefinite and "
                "a feasible z exists (stats['point']), so a solution exists: a numerical failure "
@@ -233,6 +248,6 @@ def _run_lemke(problem, options, sparse: bool) -> MethodResult:
                "for this M that does not prove there is no solution (the feasible set is "
                f"{'nonempty' if feasible else 'of unknown emptiness'}); try other covering vectors "
                "(option covering=) or 'enumeration' (n <= 16)")
-    stats["proved_infeasible"] = feasible is False
+    stats["proved_infeasible"] = exact is not None
     return MethodResult(x=None, status="ray", backend_status="ray", backend_message=why,
                         iterations=total, stats=stats)

@@ -1,0 +1,44 @@
+"""When a backward error within tolerance is not enough: the doubt rule.
+
+A componentwise backward error says the answer solves data within ``error``
+of each entry's own size.  Its row scales σ_i = |q_i| + (|M||z|)_i grow with
+the answer, so a point running off along a direction the data barely resist
+(a mechanism loaded along itself, a QP's objective falling for ever to
+rounding) is "exact for nearby data" at any size: residuals of 1e-16 against
+|M||z| ~ 1e17 while |Mz| and |q| are 1.  The normwise error, which divides
+every row by the data's norms (max(‖Mz‖∞, ‖q‖∞)), then exceeds the
+componentwise one by the factor of cancellation σ_i / σ_w.
+
+Where the componentwise error holds and the normwise one does not —
+``normwise_error > max(DOUBT_RATIO × error, tol)`` — the answer is the
+solution of nearby data only: no digit of it is guaranteed, and the data
+may have no solution at all.  Measured (issue 31, docs/certificates.md): on
+200 near-singular PSD LCPs with a nonnegative null vector d and q'd < 0 the
+rule caught every accepted answer (normwise >= 0.13, componentwise 1e-16);
+on 144 valid answers of 8 solvable families it fired on none (largest valid
+normwise 6.5e-11).  A forward-error estimate is not the rule: it is infinite
+wherever the solution is not isolated, which is common and harmless.
+"""
+
+from __future__ import annotations
+
+__all__ = ["DOUBT_RATIO", "doubt"]
+
+#: how far the normwise error may exceed the componentwise one before the
+#: answer is in doubt (rounding makes them differ by small factors on every
+#: well-posed problem)
+DOUBT_RATIO = 10.0
+
+
+def doubt(cert, tol: float) -> str | None:
+    """Why ``cert``'s answer is in doubt although its backward error may meet
+    ``tol``, or None.  Certificates without a normwise measure (a frictional
+    problem's error already includes Siconos' normwise natural-map error)
+    are never in doubt here."""
+    normwise = getattr(cert, "normwise_error", None)
+    if normwise is None or not normwise > max(DOUBT_RATIO * cert.error, tol):
+        return None
+    return (f"ill-posed: the residuals are small only on scales that grew with the answer "
+            f"(componentwise error {cert.error:.1e}, normwise {normwise:.1e}): it solves data "
+            "within rounding of yours, which may have no solution at all, and no digit of it is "
+            "guaranteed")
