@@ -23,6 +23,13 @@ from .results import CombinationResults, FrameResult
 BACKEND_TIME_LIMIT = 10.0
 
 
+def _proved(sol) -> bool:
+    """Whether a failed solve came with a proof that no equilibrium exists."""
+    proof = sol.stats.get("proof")
+    return (sol.stats.get("farkas") is not None
+            or (proof is not None and getattr(proof, "kind", None) == "infeasible"))
+
+
 class FrameSolving:
     """The Frame's solving methods (the model, its results and the trace are
     the other parts of :class:`~.model.Frame`)."""
@@ -75,7 +82,11 @@ class FrameSolving:
                 sol = solve(lcp, method=method, accuracy=accuracy, **options)
             z, route = sol.z, sol.method
             if not sol.ok:
-                self._no_equilibrium(sol, fric, b, combo)
+                found = (self._trace_to(b, combo, lcp, accuracy, tol)
+                         if method == "auto" and not _proved(sol) else None)
+                if found is None:
+                    self._no_equilibrium(sol, fric, b, combo, hint=method != "auto")
+                z, route = found
         res = self._result_from_z(z, combo, route, b=b, lcp=lcp, tol=tol)
         if not res.ok and res.lcp_error <= tol:
             # the LCP's answer is no equilibrium of the frame: a contact matrix
@@ -105,9 +116,10 @@ class FrameSolving:
                 best = s
         return best
 
-    def _no_equilibrium(self, sol, fric, b, combo):
+    def _no_equilibrium(self, sol, fric, b, combo, hint=False):
         """Raise with what was proved (a Farkas vector: how the frame fails) or
-        with what was tried."""
+        with what was tried (``hint``: say that "auto" also follows the load
+        path)."""
         y = sol.stats.get("farkas")
         proof = sol.stats.get("proof")
         if y is None and proof is not None and proof.kind == "infeasible":
@@ -121,7 +133,10 @@ class FrameSolving:
         self._raise_rigid_motion(b, combo, f"{sol.method}: {sol.message}")
         raise SolverFailedError(
             f"frame under {what}: {sol.method} found no contact state ({sol.message}); nothing "
-            "was proved either way")
+            "was proved either way" + ("; method='auto' also follows the load path to this "
+                                       "load (the trace's route)" if hint else
+                                       "; following the load path to it (the trace) found no "
+                                       "certified equilibrium either"))
 
     def _rigid_motion(self, b, combo):
         """A rigid motion φ of the frame with every contact released (a null
@@ -246,9 +261,12 @@ class FrameSolving:
             X = R @ (P @ z - g) + RF
             xn = np.array([X[pos[ci]["n"]] for ci in range(nc)])
         sol = solve(lcp, method="lemke", accuracy=accuracy)
-        if not sol.ok:
+        if sol.ok:
+            return sol.z, f"lemke (Tresca fixed point did not converge in {max_iter} iterations)"
+        found = None if _proved(sol) else self._trace_to(b, combo, lcp, accuracy, tol)
+        if found is None:
             self._no_equilibrium(sol, fric, b, combo)
-        return sol.z, f"lemke (Tresca fixed point did not converge in {max_iter} iterations)"
+        return found[0], f"{found[1]} (Tresca fixed point did not converge in {max_iter} iterations)"
 
     def _collapse_words(self, proof, fric, carrying) -> str:
         """How the frame fails, read off the Farkas vector y.
