@@ -26,6 +26,21 @@ STATE_RTOL = 1e-9
 EQUILIBRIUM_FLOOR = 4096 * np.finfo(float).eps
 
 
+def _beyond_rounding(res, scale, largest=None) -> float:
+    """max |res| / scale, not counting what rounding of the largest term of the
+    same kind leaves (R_ROUNDING of it): a force that is zero in exact
+    arithmetic comes out of the solve as a few eps times the largest force
+    (a friction force of 1.6e-15 beside a reaction of 50), and judged against
+    its own terms — all of them zero — it would be wrong by all of its size."""
+    if res.size == 0:
+        return 0.0
+    floor = assembly.R_ROUNDING * (scale.max() if largest is None else largest)
+    excess = np.maximum(res - floor, 0.0)
+    ratio = np.divide(excess, scale, out=np.zeros_like(excess), where=scale > 0)
+    ratio[(scale <= 0) & (excess > 0)] = np.inf
+    return float(ratio.max())
+
+
 class FrameRecovery:
     """The Frame's results construction (see the module docstring)."""
 
@@ -36,10 +51,8 @@ class FrameRecovery:
         M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
         lcp = lcp or assembly.combination_lcp(M, Q, q_gap, b, combo)
         z = np.maximum(np.asarray(z, float), 0.0)
-        R = b["R"]
-        F, RF = assembly.combine(b, combo)
+        F, _ = assembly.combine(b, combo)
         delta = P @ z - g                      # link displacements incl. contact flexibility
-        X = R @ delta + RF
         nf, free = b["nf"], b["free"]
         ua = b["U"] @ assembly.factors(b, combo)     # settlements (zero at free dofs)
         fixed_idx = np.flatnonzero(b["fixed"])
@@ -48,6 +61,12 @@ class FrameRecovery:
         sol = b["lu"].solve(rhs)
         u = ua.copy()
         u[free] = sol[:nf]
+        # The contact forces from the same solve as u, not R Δ + R_F: R has its
+        # rounding-level entries dropped (assembly.build), which times the large
+        # openings of a long lifted stretch left forces 1e-9 off and out of
+        # equilibrium with u (issue 31, a 200-span beam); the solve's own
+        # multipliers satisfy K u = F + H X to rounding.
+        X = -b["kappa"] * sol[nf:]
         # reactions at the fixed dofs: K u - F - H X on them (member loads included)
         r_all = b["K"] @ u - F - b["H"] @ X
         reactions = {}
@@ -56,7 +75,6 @@ class FrameRecovery:
             if node in self.fixed:
                 reactions[node] = tuple(float(r_all[i0 + k]) if b["fixed"][i0 + k] else 0.0
                                         for k in range(3))
-        eq = self._equilibrium(b, combo, F, X, u, delta)
         cert = certify_lcp(lcp, z)
         pos = assembly.layout(b)
         # each state decided on the component's own scale (the certificate's):
@@ -91,6 +109,7 @@ class FrameRecovery:
             if state == "separated":
                 xn, xt = 0.0, 0.0   # rounding noise of a force that is zero
             supports[keys[ci]] = SupportResult(state, xn, xt, zn, slip)
+        eq = max(self._equilibrium(b, F, X, u), self._resultant(b, F, X, r_all, u))
         displacements = {nd: tuple(float(u[b["idx"][nd] + k]) for k in range(3))
                          for nd in b["names"]}
         member_forces = {}
@@ -106,39 +125,60 @@ class FrameRecovery:
                            route=route, ok=ok, message=msg, frame=self, _u=u,
                            combination=dict(combo))
 
-    def _equilibrium(self, b, combo, F, X, u, delta):
+    def _equilibrium(self, b, F, X, u):
         """Equilibrium judged dof by dof, each on its own scale: the residual of
         K u = F + H X at every free dof against the sum of the absolute values
-        of the terms that make it — |K||u|, |F| and, since X = R Δ + R_F is
-        itself a sum, |H| (|R||Δ| + |R_F|).  Returns the largest ratio (a
-        componentwise backward error, like the LCP certificate's; the reactions
-        at fixed dofs are those rows' remainders, so they hold by definition
-        and the global resultant follows from the free rows).
-
-        R and R_F come from one LU solve each, accurate to rounding of their
-        largest entries, not of each entry: R is known to R_ROUNDING x kappa
-        (assembly.build drops entries that small) and R_F to R_ROUNDING of
-        its case's largest entry, so that much of each X is not counted as a
-        residual.  On a 200-span beam with long lifted stretches the dropped
-        entries of R times the large openings there were the whole 1e-9; a
-        zero friction force computed as 1.6e-15 out of loads of 200 is the
-        other case.  The old check (the resultant against the largest load,
-        fixed limit 1e-8) failed right answers that independent statics
-        confirmed."""
+        of the terms that make it, |K||u| + |F| + |H||X| (a componentwise
+        backward error, like the LCP certificate's; the reactions at fixed
+        dofs are those rows' remainders, so they hold by definition).  The old
+        check — the resultant against the largest load, limit 1e-8 — failed
+        right answers on long beams (200 spans: 1.1-2.5e-8 where independent
+        statics agree to 1e-9)."""
         free = b["free"]
         K = b["K"]
-        res = (K @ u - F - b["H"] @ X)[free]
-        fac = np.abs(assembly.factors(b, combo))
-        absH = np.abs(b["H"])
-        x_terms = np.abs(b["R"]) @ np.abs(delta) + np.abs(b["RF"]) @ fac
-        scale = (abs(K) @ np.abs(u) + np.abs(b["F"]) @ fac + absH @ x_terms)[free]
-        rf_big = np.abs(b["RF"]).max(axis=0, initial=0.0) @ fac
-        known = (absH @ np.full(X.shape, assembly.R_ROUNDING * (b["kappa"] * np.abs(delta).sum()
-                                                                + rf_big)))[free]
-        excess = np.maximum(np.abs(res) - known, 0.0)
-        ratio = np.divide(excess, scale, out=np.zeros_like(excess), where=scale > 0)
-        ratio[(scale <= 0) & (excess > 0)] = np.inf
-        return float(ratio.max(initial=0.0))
+        res = np.abs(K @ u - F - b["H"] @ X)[free]
+        scale = (abs(K) @ np.abs(u) + np.abs(F) + np.abs(b["H"]) @ np.abs(X))[free]
+        moment = (free % 3) == 2
+        return max(_beyond_rounding(res[~moment], scale[~moment]),
+                   _beyond_rounding(res[moment], scale[moment]))
+
+    def _resultant(self, b, F, X, r_all, u):
+        """The frame's global statics: Σ forces and Σ moments (about the nodes'
+        centroid) of the loads, contact forces, bilateral reactions and
+        springs, each equation against the sum of the absolute values of its
+        terms (a 200-span beam's resultant is the rounding of 200 reactions,
+        judged against all of them).
+
+        The per-dof check cannot replace it: its scale holds |K||u|, which a
+        rigid motion makes huge while K u stays zero — a Tresca iterate that
+        lifted a frame resting on its contacts by 2e9 m passed it and the LCP
+        certificate, and fails here by the weight its "separated" supports
+        do not carry."""
+        xy = np.array([self.nodes[nd] for nd in b["names"]])
+        xy = xy - xy.mean(axis=0)
+        spring = np.zeros_like(F)
+        for node, ks in self.springs.items():
+            for d, kval in ks.items():
+                i = b["idx"][node] + DOFS.index(d)
+                spring[i] -= kval * u[i]
+        absHX = np.abs(b["H"]) @ np.abs(X)
+        terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0), spring]
+        # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
+        # H X at its dof) by |K||u| + |F| + |H||X|
+        size = (np.abs(F) + absHX + np.abs(spring)
+                + np.where(b["fixed"], abs(b["K"]) @ np.abs(u) + np.abs(F) + absHX, 0.0))
+        total = sum(terms)
+        fx, fy, mz = total[0::3], total[1::3], total[2::3]
+        ax, ay, am = size[0::3], size[1::3], size[2::3]
+        lx, ly = np.abs(xy[:, 0]), np.abs(xy[:, 1])
+        res = np.abs([fx.sum(), fy.sum(), (mz + xy[:, 0] * fy - xy[:, 1] * fx).sum()])
+        scale = np.array([ax.sum(), ay.sum(), (am + lx * ay + ly * ax).sum()])
+        big_f = max(ax.max(initial=0.0), ay.max(initial=0.0))
+        big_m = (am + lx * ay + ly * ax).max(initial=0.0)
+        # every term of a sum carries its own rounding (R_ROUNDING of the largest)
+        n_f, n_m = max(np.count_nonzero(ax), np.count_nonzero(ay)), np.count_nonzero(size)
+        return max(_beyond_rounding(res[:2], scale[:2], n_f * big_f),
+                   _beyond_rounding(res[2:], scale[2:], n_m * big_m))
 
     def _diagram(self, res: FrameResult, member: str, points: int):
         m = self._member(member)
