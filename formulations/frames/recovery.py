@@ -181,14 +181,25 @@ class FrameRecovery:
                    _beyond_rounding(res[2:], scale[2:], n_m * big_m))
 
     def _diagram(self, res: FrameResult, member: str, points: int):
+        if not isinstance(member, str):
+            raise InvalidOptionError(f"member: a member's name, one of {list(self.members)}; "
+                                     f"got {member!r}")
         m = self._member(member)
+        if isinstance(points, str) and points in ("N", "V", "M"):
+            raise InvalidOptionError(
+                f"points: the number of sample points, not the quantity {points!r}; diagram "
+                f"returns all of them, x, N, V, M = result.diagram({member!r}), or give "
+                f"points=, e.g. result.diagram({member!r}, 41)")
+        if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 2:
+            raise InvalidOptionError(f"points: the number of sample points along the member, an "
+                                     f"integer >= 2 (default 21); got {points!r}")
         if not res.member_forces:
             raise SolverFailedError(f"no diagram: this result is not an equilibrium ({res.message})")
         L, c, s = geometry(self, m)
         f = res.member_forces[member]
         loads = [ld for ld in m.loads if res.combination.get(ld.case)]
         factor = {ld.case: res.combination[ld.case] for ld in loads}
-        x = np.linspace(0.0, L, max(int(points), 2))
+        x = np.linspace(0.0, L, int(points))
         pts = [p for p in load_points(loads) if 0.0 < p < L]
         # both sides of every load position: jumps of V (point loads) and M (moments)
         x = np.unique(np.r_[x, pts, np.nextafter(np.array(pts, float), -np.inf)])
