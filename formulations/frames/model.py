@@ -328,7 +328,9 @@ class Frame(FrameSolving, FrameTracing, FrameRecovery):
     def _require_loads(self, combo, b, what, part, only_if_named=False) -> None:
         """Refuse a combination that puts no load on the frame where one is
         meant: solve(p) or trace() on a frame whose loads are all in named
-        cases returned ok=True at zero load, silently (issue 31)."""
+        cases returned ok=True at zero load, silently (issue 31).  With
+        ``only_if_named`` only when such cases exist (a frame with constant
+        loads alone still solves, and traces trivially)."""
         factors = assembly.factors(b, combo)
         if np.any(b["F"] @ factors) or np.any(b["U"] @ factors):
             return

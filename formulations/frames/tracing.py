@@ -41,7 +41,7 @@ class FrameTracing:
         const = combination(constant or {CONSTANT: 1.0}, known)
         var = combination({variable: 1.0} if isinstance(variable, str)
                           else (variable or {VARIABLE: 1.0}), known)
-        self._require_loads(var, b, "trace", "the variable part")
+        self._require_loads(var, b, "trace", "the variable part", only_if_named=True)
         M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
         qc, _ = assembly.combination_q(Q, q_gap, b, const)
         qv, _ = assembly.combination_q(Q, np.zeros_like(q_gap), b, var)
