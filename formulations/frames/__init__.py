@@ -41,10 +41,10 @@ from .assembly import DOFS
 from .examples import demo, instances, portal_example
 from .loads import CONSTANT, VARIABLE, MemberLoad
 from .model import Frame
-from .recovery import EQUILIBRIUM_RTOL, STATE_RTOL
+from .recovery import EQUILIBRIUM_FLOOR, STATE_RTOL
 from .results import (STATES, CombinationResults, FrameEvent, FrameResult, FrameTrace,
                       SupportResult)
 
 __all__ = ["Frame", "FrameResult", "FrameTrace", "FrameEvent", "SupportResult",
-           "CombinationResults", "MemberLoad", "STATES", "EQUILIBRIUM_RTOL", "STATE_RTOL",
+           "CombinationResults", "MemberLoad", "STATES", "EQUILIBRIUM_FLOOR", "STATE_RTOL",
            "CONSTANT", "VARIABLE", "DOFS", "demo", "instances", "portal_example"]

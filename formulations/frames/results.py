@@ -43,7 +43,8 @@ class FrameResult:
 
     ``combination`` is {case: factor} (``p`` the factor of "variable" for the
     P3 split).  ``ok`` is True only when the LCP certificate meets the
-    tolerance and the global equilibrium residual is below EQUILIBRIUM_RTOL;
+    tolerance and equilibrium holds at every dof to the same tolerance, each
+    dof's residual against its own terms (``equilibrium_residual``);
     a result that is not ok is never drawn (``plot`` raises) and its numbers
     are not an equilibrium.  ``route`` says which method produced the contact
     forces.

@@ -9,7 +9,7 @@ import numpy as np
 
 from qpcontact import solve
 from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
-                                   QpcontactError, SolverFailedError)
+                                   NotConvexError, QpcontactError, SolverFailedError)
 from qpcontact.core.options import check_options
 from qpcontact.judge.lcp import certify_lcp
 
@@ -21,6 +21,13 @@ from .results import CombinationResults, FrameResult
 #: proof comes first; a backend loop on a load the frame cannot carry took
 #: 40 s in ProxQP before)
 BACKEND_TIME_LIMIT = 10.0
+
+
+def _proved(sol) -> bool:
+    """Whether a failed solve came with a proof that no equilibrium exists."""
+    proof = sol.stats.get("proof")
+    return (sol.stats.get("farkas") is not None
+            or (proof is not None and getattr(proof, "kind", None) == "infeasible"))
 
 
 class FrameSolving:
@@ -75,7 +82,11 @@ class FrameSolving:
                 sol = solve(lcp, method=method, accuracy=accuracy, **options)
             z, route = sol.z, sol.method
             if not sol.ok:
-                self._no_equilibrium(sol, fric, b, combo)
+                found = (self._trace_to(b, combo, lcp, accuracy, tol)
+                         if method == "auto" and not _proved(sol) else None)
+                if found is None:
+                    self._no_equilibrium(sol, fric, b, combo, hint=method != "auto")
+                z, route = found
         res = self._result_from_z(z, combo, route, b=b, lcp=lcp, tol=tol)
         if not res.ok and res.lcp_error <= tol:
             # the LCP's answer is no equilibrium of the frame: a contact matrix
@@ -105,9 +116,10 @@ class FrameSolving:
                 best = s
         return best
 
-    def _no_equilibrium(self, sol, fric, b, combo):
+    def _no_equilibrium(self, sol, fric, b, combo, hint=False):
         """Raise with what was proved (a Farkas vector: how the frame fails) or
-        with what was tried."""
+        with what was tried (``hint``: say that "auto" also follows the load
+        path)."""
         y = sol.stats.get("farkas")
         proof = sol.stats.get("proof")
         if y is None and proof is not None and proof.kind == "infeasible":
@@ -121,7 +133,10 @@ class FrameSolving:
         self._raise_rigid_motion(b, combo, f"{sol.method}: {sol.message}")
         raise SolverFailedError(
             f"frame under {what}: {sol.method} found no contact state ({sol.message}); nothing "
-            "was proved either way")
+            "was proved either way" + ("; method='auto' also follows the load path to this "
+                                       "load (the trace's route)" if hint else
+                                       "; following the load path to it (the trace) found no "
+                                       "certified equilibrium either"))
 
     def _rigid_motion(self, b, combo):
         """A rigid motion φ of the frame with every contact released (a null
@@ -228,27 +243,71 @@ class FrameSolving:
         _, RF = assembly.combine(b, combo)
         nc = len(self.contacts)
         pos = assembly.layout(b)
-        H = P.T @ R @ P
-        H = 0.5 * (H + H.T)
+        H = self._tresca_matrix(P.T @ R @ P, b)
         base = P.T @ (RF - R @ g)
         xn = np.zeros(nc)
         for it in range(max_iter):
             s = np.zeros(P.shape[1])
             for k, ci in enumerate(fric):
                 s[nc + 2 * k] = s[nc + 2 * k + 1] = self.contacts[ci].friction * max(xn[ci], 0.0)
-            sol = solve(Problem(H, base + s, lb=np.zeros(H.shape[0])), method=qp_method,
-                        accuracy=accuracy)
+            try:
+                sol = solve(Problem(H, base + s, lb=np.zeros(H.shape[0])), method=qp_method,
+                            accuracy=accuracy)
+            except NotConvexError as exc:
+                raise InvalidProblemError(
+                    f"frame: the Tresca fixed point needs the contact stiffness matrix to be "
+                    f"positive semidefinite, and {qp_method!r} refused it ({exc}); "
+                    "method='lemke' or 'auto' does not need it") from exc
             if sol.x is None:
                 break
             z = np.maximum(sol.x, 0.0)
-            if certify_lcp(lcp, z).ok(tol):
+            # judged by the frame's checks, not the LCP certificate alone: with the
+            # frame resting on its contacts a QP can answer with a rigid lift of
+            # 2e9 m that the certificate (relative to |M||z|) passes
+            if certify_lcp(lcp, z).ok(tol) and self._result_from_z(z, combo, "", b=b, lcp=lcp,
+                                                                    tol=tol).ok:
                 return z, f"tresca fixed point ({sol.method}, {it + 1} iterations)"
             X = R @ (P @ z - g) + RF
             xn = np.array([X[pos[ci]["n"]] for ci in range(nc)])
         sol = solve(lcp, method="lemke", accuracy=accuracy)
-        if not sol.ok:
+        if sol.ok:
+            return sol.z, f"lemke (Tresca fixed point did not converge in {max_iter} iterations)"
+        found = None if _proved(sol) else self._trace_to(b, combo, lcp, accuracy, tol)
+        if found is None:
             self._no_equilibrium(sol, fric, b, combo)
-        return sol.z, f"lemke (Tresca fixed point did not converge in {max_iter} iterations)"
+        return found[0], f"{found[1]} (Tresca fixed point did not converge in {max_iter} iterations)"
+
+    def _tresca_matrix(self, H, b):
+        """The Tresca QP's Hessian P'RP, symmetric and convex to rounding.
+
+        R is a stiffness, so P'RP is positive semidefinite in exact arithmetic;
+        its computed copy is known only to R_ROUNDING x kappa per entry
+        (assembly.build), and on a ground beam resting on 31 elastic frictional
+        contacts its Jacobi scaling had the eigenvalue -4.4e-12, which the QP
+        layer refused as a nonconvex objective ("a maximisation written as a
+        minimisation?").  A negative eigenvalue within that rounding is lifted
+        by a diagonal shift of the same size (the fixed point is stopped on
+        the unshifted LCP's certificate, so the shift cannot change the
+        answer); one beyond it is reported in the frame's terms."""
+        H = 0.5 * (H + H.T)
+        n = H.shape[0]
+        d2 = np.abs(np.diag(H)).copy()
+        if n == 0 or n > 3000 or not np.all(d2 > 0):
+            return H
+        d = np.sqrt(d2)
+        lam = float(np.linalg.eigvalsh(H / d[:, None] / d[None, :])[0])
+        if lam >= 0:
+            return H
+        rounding = 4.0 * n * assembly.R_ROUNDING * b["kappa"] / d2.min()
+        if -lam > rounding:
+            raise InvalidProblemError(
+                f"frame: the contact stiffness matrix seen by the Tresca fixed point is not "
+                f"positive semidefinite (eigenvalue {lam:.2g} of its diagonal scaling, beyond its "
+                f"rounding {rounding:.1g}): a stiffness cannot do that, so the model is "
+                "ill-conditioned to the point of nonsense — check the units and the stiffness "
+                "ratios (very stiff members on very soft supports); method='lemke' or 'auto' "
+                "does not need a convex QP")
+        return H + (-lam + 20.0 * n * np.finfo(float).eps) * np.diag(d2)
 
     def _collapse_words(self, proof, fric, carrying) -> str:
         """How the frame fails, read off the Farkas vector y.

@@ -7,10 +7,12 @@ from __future__ import annotations
 import numpy as np
 
 from qpcontact import solve
+from qpcontact.core.errors import NoSolutionError, QpcontactError
 from qpcontact.core.problems import ParametricLCP
+from qpcontact.judge.lcp import certify_lcp
 
 from . import assembly
-from .loads import CONSTANT, VARIABLE, combination
+from .loads import CONSTANT, VARIABLE, combination, describe
 from .results import FrameEvent, FrameTrace
 
 
@@ -39,6 +41,7 @@ class FrameTracing:
         const = combination(constant or {CONSTANT: 1.0}, known)
         var = combination({variable: 1.0} if isinstance(variable, str)
                           else (variable or {VARIABLE: 1.0}), known)
+        self._require_loads(var, b, "trace", "the variable part", only_if_named=True)
         M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
         qc, _ = assembly.combination_q(Q, q_gap, b, const)
         qv, _ = assembly.combination_q(Q, np.zeros_like(q_gap), b, var)
@@ -55,7 +58,8 @@ class FrameTracing:
                       for pp in (piece.p_start, 0.5 * (piece.p_start + hi), hi)]
             bad = [r for r in checks if not r.ok]
             if bad:
-                ended, failed = "breakdown", bad[0]
+                # the message names the piece, not the check point that failed
+                ended, failed = "breakdown", (piece, bad[0])
                 break
             key = {k: v.state for k, v in checks[1].supports.items()}
             if runs and runs[-1][2] == key:
@@ -72,8 +76,10 @@ class FrameTracing:
             top = hi if np.isfinite(hi) else lo + max(1.0, lo)
             ft.states.append(ft.result_at(0.5 * (lo + top)))
         if failed is not None:
-            ft.message = (f"the piece from p = {failed.p:g} failed the frame's checks "
-                          f"({failed.message}); the trace stops there")
+            piece, bad = failed
+            ft.message = (f"the piece from p = {piece.p_start:.10g} to {piece.p_end:.10g} failed "
+                          f"the frame's checks at p = {bad.p:.10g} ({bad.message}); the trace "
+                          f"stops at p = {piece.p_start:.10g}")
         elif ended == "collapse":
             carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                         if ft.states else None)
@@ -96,3 +102,49 @@ class FrameTracing:
         ft.ok = bool(tr.ok and failed is None)
         ft.message += f"; {len(ft.events)} change(s) of the working scheme"
         return ft
+
+    def _trace_to(self, b, combo, lcp, accuracy, tol):
+        """The equilibrium at ``combo`` found by following the load path to it
+        — the route ``trace`` takes, which Lemke's method at a fixed load does
+        not: near a collapse Lemke can end on a secondary ray (which proves
+        nothing for a nonsymmetric M) where the trace still certifies an
+        equilibrium (issue 31: a 20-storey frame, 12 of 61 loads below its
+        tipping load).  Paths tried: the P3 split (constant, then p x
+        variable up to the requested p) when ``combo`` is one, then every
+        load growing in proportion from the unloaded frame.  Returns (z,
+        route words) certified on ``lcp`` itself, or None; raises
+        NoSolutionError with the trace's proof when the path collapses
+        before the requested load."""
+        M, Q, q_gap, *_ = assembly.lcp_matrices(self, b)
+        paths = []
+        if set(combo) <= {CONSTANT, VARIABLE} and combo.get(VARIABLE, 0.0) > 0:
+            paths.append(({CONSTANT: combo.get(CONSTANT, 0.0)}, {VARIABLE: 1.0},
+                          combo[VARIABLE], "constant, then p x variable"))
+        paths.append(({}, dict(combo), 1.0, "every load in proportion from zero"))
+        for const, var, target, words in paths:
+            qc, _ = assembly.combination_q(Q, q_gap, b, const)
+            qv, _ = assembly.combination_q(Q, np.zeros_like(q_gap), b, var)
+            try:
+                tr = solve(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
+                           p_max=target)
+            except NoSolutionError:
+                continue        # no equilibrium to start this path from
+            except QpcontactError:
+                continue
+            if tr.end == "collapse" and tr.proof["p_limit"] <= target:
+                how = (self._collapse_words(tr.proof, assembly.lcp_matrices(self, b)[5], None)
+                       if tr.proof["farkas"] is not None
+                       else "no combination of support states carries the load")
+                at = (f"p = {tr.proof['p_limit']:.10g}" if VARIABLE in var else
+                      f"{tr.proof['p_limit']:.10g} x the combination")
+                raise NoSolutionError(
+                    f"frame under {describe(combo)}: no equilibrium exists — {how} (along the "
+                    f"load path, {words}, none exists from {at} on: proved by Farkas "
+                    "certificates checked from the data)")
+            if tr.end != "p_max":
+                continue
+            z = tr.z_at(target)
+            if certify_lcp(lcp, z).ok(tol):
+                return z, (f"trace ({words}; Lemke at the fixed load proved nothing, "
+                           f"{len(tr.pieces)} pieces)")
+        return None
