@@ -102,7 +102,7 @@ def illposed_psd(n: int, seed: int) -> Case:
     q = q0 - (q0 @ d + c) * d / (d @ d)             # q'd < 0: the load pushes along the mechanism
     kind = "illposed_psd"
     if lcp_farkas_holds(M, q, d):
-        return Case(kind, LCP(M, q), "infeasible", seed=seed,
+        return Case(kind, LCP(M, q), "infeasible", seed=seed, witness=d,
                     reference="exact Farkas vector y = d (M d <= 0, q'd < 0 in rationals)")
     if ExactLCP(M, q).farkas_by_solve() is not None:
         return Case(kind, LCP(M, q), "infeasible", seed=seed,
@@ -152,7 +152,7 @@ def infeasible_rounded(n: int, seed: int) -> Case:
     q = q0 - (q0 @ y + c) * y / (y @ y)
     if not lcp_farkas_holds(M, q, y):   # never seen; an exact check, so say it if it happens
         raise AssertionError(f"infeasible_rounded n={n} seed={seed}: Farkas vector fails")
-    return Case("infeasible_rounded", LCP(M, q), "infeasible", seed=seed,
+    return Case("infeasible_rounded", LCP(M, q), "infeasible", seed=seed, witness=y,
                 reference="exact Farkas vector y (M y <= 0, q'y < 0 in rationals)")
 
 
@@ -203,7 +203,7 @@ def qp_unbounded_rounded(n: int, seed: int) -> Case:
         qv[i] += 1.0 / t[i]
     if not qp_ray_holds(P, qv, G, h, d):
         raise AssertionError(f"qp_unbounded_rounded n={n} seed={seed}: the ray fails")
-    return Case("qp_unbounded_rounded", Problem(P, qv, G, h), "unbounded", seed=seed,
+    return Case("qp_unbounded_rounded", Problem(P, qv, G, h), "unbounded", seed=seed, witness=d,
                 reference="exact ray d: P d = 0, G d <= 0, q'd < 0 in rationals")
 
 
@@ -227,7 +227,7 @@ def qp_infeasible_rounded(n: int, seed: int) -> Case:
     if not qp_box_farkas_holds(G, h, lb, ub, y):
         raise AssertionError(f"qp_infeasible_rounded n={n} seed={seed}: Farkas fails")
     return Case("qp_infeasible_rounded", Problem(P, rng.standard_normal(n), G, h, lb=lb, ub=ub),
-                "infeasible", seed=seed,
+                "infeasible", seed=seed, witness=y,
                 reference="exact Farkas inequality over the box with y = 1 on three rows")
 
 
