@@ -70,3 +70,15 @@ def test_solve_siconos_friction_dat():
     res = runner.invoke(app, ["solve", str(f)])
     assert res.exit_code == 0, res.output
     assert "dim 2" in res.output and "exact 2-D LCP" in " ".join(res.output.split())
+
+
+def test_solve_refuses_a_file_with_trailing_garbage(tmp_path):
+    """Issue 31: the CLI solved such a file and said nothing."""
+    for tail, fragment in ((" 7\n", "more number"), ("\nleft over text\n", "text 'left'"),
+                           ("\n\x00\x01", "binary data")):
+        path = tmp_path / "deudeu_tail.dat"
+        path.write_text("2\n0 2 2\n2 2\n2 1\n1 2\n-5 -6" + tail)
+        res = runner.invoke(app, ["solve", str(path), "--method", "lemke"])
+        out = " ".join(res.output.split())
+        assert res.exit_code == 2, out
+        assert "deudeu_tail.dat" in out and "line" in out and fragment in out, out

@@ -75,3 +75,165 @@ def test_siconos_files_are_judged(siconos_dir):
         sol = qpcontact.solve(case.problem, method, accuracy)
         category, reason = judge(case, sol)
         assert category != "silent_wrong", (case.kind, reason)
+
+
+# --- issue 31: rounded families, exact references, the judge's own tolerance ---------------
+# The references of qpcontact/cases/rounded.py come from its Bareiss code; here they are
+# re-checked by plain Fraction elimination written in this file (a second route).
+
+from fractions import Fraction  # noqa: E402
+from types import SimpleNamespace  # noqa: E402
+
+import pytest  # noqa: E402
+
+from qpcontact.commands.stress import tasks  # noqa: E402
+from qpcontact.commands.stress.judge import DIGIT_CAP, judge_condition  # noqa: E402
+from qpcontact.commands.stress.run import OVER_FACTOR, time_share  # noqa: E402
+
+
+def _fr(A):
+    return [[Fraction(float(v)) for v in row] for row in np.atleast_2d(A)]
+
+
+def _ldl_pivots(M):
+    A = _fr(M)
+    n = len(A)
+    pivots = []
+    for k in range(n):
+        p = A[k][k]
+        pivots.append(p)
+        if p == 0:
+            break
+        for i in range(k + 1, n):
+            f = A[i][k] / p
+            for j in range(k, n):
+                A[i][j] -= f * A[k][j]
+    return pivots
+
+
+def _fraction_solve(A, b):
+    n = len(A)
+    R = [list(A[i]) + [b[i]] for i in range(n)]
+    for k in range(n):
+        r = next(i for i in range(k, n) if R[i][k] != 0)
+        R[k], R[r] = R[r], R[k]
+        for i in range(n):
+            if i != k and R[i][k] != 0:
+                f = R[i][k] / R[k][k]
+                R[i] = [a - f * c for a, c in zip(R[i], R[k])]
+    return [R[i][n] / R[i][i] for i in range(n)]
+
+
+def _dot(a, b):
+    return sum((Fraction(float(x)) * Fraction(float(y)) for x, y in zip(a, b)), Fraction(0))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_rounded_lcp_references_hold_exactly(seed):
+    for family in ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded"):
+        case = build_case(family, 8, seed)
+        M, q = case.problem.M, case.problem.q
+        n = q.size
+        if case.status == "infeasible" and case.witness is not None:
+            y = case.witness
+            assert np.all(y >= 0)
+            assert all(_dot(M[:, j], y) <= 0 for j in range(n)) and _dot(q, y) < 0, family
+        elif case.status == "infeasible":       # y = -M⁻¹1: re-solved here
+            y = _fraction_solve(_fr(M), [Fraction(-1)] * n)
+            assert all(v >= 0 for v in y)
+            assert sum((Fraction(float(a)) * b for a, b in zip(q, y)), Fraction(0)) < 0
+        elif case.status == "solved" and case.unique_z:
+            assert all(p > 0 for p in _ldl_pivots(M)), family   # exactly PD: z* is unique
+            F = [i for i in range(n) if case.z[i] > 0]
+            zF = _fraction_solve([[Fraction(float(M[i, j])) for j in F] for i in F],
+                                 [-Fraction(float(q[i])) for i in F])
+            assert all(v > 0 for v in zF)
+            assert [float(v) for v in zF] == case.z[F].tolist()       # the rounded exact answer
+            for i in set(range(n)) - set(F):
+                assert Fraction(float(q[i])) + sum(Fraction(float(M[i, j])) * v
+                                                  for j, v in zip(F, zF)) >= 0
+        else:
+            assert case.status in ("solved", "unknown")
+
+
+def test_illposed_family_has_every_verdict_and_huge_exact_solutions():
+    cases = [build_case("illposed_psd", 8, s) for s in range(10)]
+    statuses = {c.status for c in cases}
+    assert {"solved", "infeasible"} <= statuses
+    assert max(float(np.abs(c.z).max()) for c in cases if c.status == "solved") > 1e12
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_rounded_qp_witnesses_hold_exactly(seed):
+    case = build_case("qp_unbounded_rounded", 8, seed)
+    P, q, G, h = case.problem.P, case.problem.q, case.problem.G, case.problem.h
+    d = case.witness
+    assert all(_dot(row, d) == 0 for row in P) and all(_dot(row, d) <= 0 for row in G)
+    assert _dot(q, d) < 0 and np.all(h >= 0)
+    assert np.any(P != np.round(P))                      # real-valued, not integers
+    case = build_case("qp_infeasible_rounded", 8, seed)
+    pr, y = case.problem, case.witness
+    c = [_dot(pr.G[:, j], y) for j in range(pr.G.shape[1])]
+    box_min = sum(min(cj * Fraction(float(lo)), cj * Fraction(float(hi)))
+                  for cj, lo, hi in zip(c, pr.lb, pr.ub))
+    assert _dot(pr.h, y) < box_min
+    assert any(cj != 0 for cj in c)                      # Gᵀy is only rounding-small
+
+
+def _ok_solution(case, z, forward_error=1e6):
+    """A Solution that says ok with the given z and a huge self-estimated
+    forward error (which the old judge accepted it within)."""
+    sol = qpcontact.solve(build_case("spd", 6, 0).problem, "lemke")
+    sol.z, sol.status, sol.ok, sol.tol = np.asarray(z, float), "solved", True, 1e-9
+    sol.certificate = SimpleNamespace(error=1e-16, forward_error=forward_error)
+    return sol
+
+
+def test_judge_calls_an_ok_answer_without_a_correct_digit_silent_wrong():
+    case = next(c for c in (build_case("illposed_psd", 8, s) for s in range(10))
+                if c.status == "solved" and c.unique_z)
+    assert judge_condition(case) > 1e12                  # the judge's own: no digit promised
+    assert judge(case, _ok_solution(case, case.z))[0] == "certified"
+    assert judge(case, _ok_solution(case, case.z * 1.66))[0] == "silent_wrong"
+    assert judge(case, _ok_solution(case, case.z * (1 + DIGIT_CAP / 2)))[0] == "certified"
+    honest = _ok_solution(case, case.z * 1.66)
+    honest.ok, honest.status = False, "ill_posed"
+    assert judge(case, honest)[0] == "inaccurate"
+
+
+def test_judge_tolerance_follows_the_case_not_the_answer():
+    case = build_case("ill_conditioned_spd", 8, 0)
+    kappa = judge_condition(case)
+    assert 1e8 < kappa < 1e16
+    off = case.z + 1e-3 * np.maximum(case.z, 0.1)        # three digits right, ok at 1e-9
+    assert judge(case, _ok_solution(case, off, forward_error=0.0))[0] == "certified"
+    far = case.z * 1.5
+    assert judge(case, _ok_solution(case, far, forward_error=1e9))[0] == "silent_wrong"
+
+
+def test_auto_runs_by_default_and_time_shares():
+    config = dataclasses.replace(QUICK, families=("spd", "qp_convex"), sizes=(6,), seeds=1)
+    todo = tasks(config)
+    assert {t[3] for t in todo if t[3] == "auto"} == {"auto"}
+    assert {t[0] for t in todo if t[3] == "auto"} == {"spd", "qp_convex"}
+    lcp = build_case("spd", 6, 0).problem
+    assert time_share(lcp, "lemke", 2.0) == OVER_FACTOR * 2.0
+    assert time_share(lcp, "auto", 2.0) >= 3 * OVER_FACTOR * 2.0   # several methods in turn
+
+
+def test_report_counts_solves_over_their_time_share(tmp_path):
+    path = tmp_path / "stress.csv"
+    fields = ("family", "n", "seed", "instance", "method", "accuracy", "expected", "status",
+              "category", "reason", "error", "seconds", "wall", "limit_s", "over_limit")
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=fields)
+        w.writeheader()
+        for i, (wall, over) in enumerate(((0.1, 0), (5.0, 1), (0.2, 0))):
+            w.writerow(dict(family="spd", n=6, seed=i, instance="spd", method="osqp",
+                            accuracy="high", expected="solved", status="solved",
+                            category="certified", reason="", error=0, seconds=wall, wall=wall,
+                            limit_s=3.0, over_limit=over))
+    md, totals = write_markdown(path)
+    text = md.read_text()
+    assert totals["over"] == 1 and "over their time share: **1**" in text
+    assert "| osqp | 3 | 3 | 0 | 0 | 0 | 0 | 0 | 0.2 | 5 | 1 |" in text

@@ -46,6 +46,12 @@ class Case:
     #: zero is judged on it); None: the smallest planted nonzero magnitude
     z_scale: np.ndarray | None = None
     w_scale: np.ndarray | None = None
+    #: how the answer (or status) was established, for the families whose
+    #: reference is computed exactly (qpcontact.cases.rounded)
+    reference: str = ""
+    #: the exact Farkas vector or ray the status rests on, where it is a
+    #: vector of doubles (tests re-check it in their own rational code)
+    witness: np.ndarray | None = None
 
     def scales(self) -> tuple[np.ndarray, np.ndarray]:
         """Per-component scales of z and w that an answer's error is judged on:

@@ -237,7 +237,7 @@ def stress_cmd(
     out: str = typer.Option("out/stress", "--out", "-o", help="Output folder: stress.csv, stress.md, stress.png."),
     quick: bool = typer.Option(False, "--quick", help="Small seeded slice: sizes 6 and 24, 2 seeds, accuracy "
                                "high, no cvxpy (about 25 s on 2 cores)."),
-    methods: str = typer.Option(None, "--methods", help="Comma-separated method names (default: every installed one)."),
+    methods: str = typer.Option(None, "--methods", help="Comma-separated method names (default: \"auto\" and every installed one)."),
     families: str = typer.Option(None, "--families", help="Comma-separated families (default: all)."),
     sizes: str = typer.Option(None, "--sizes", help="Comma-separated sizes n (default 8,30,100; --quick 6,24)."),
     seeds: int = typer.Option(None, "--seeds", help="Seeds per family and size (default 200; --quick 2)."),

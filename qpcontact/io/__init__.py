@@ -16,9 +16,10 @@ __all__ = ["read_problem", "read_siconos", "read_siconos_lcp", "read_siconos_fc"
 def read_problem(path: str | os.PathLike):
     """Read any problem file qpcontact knows: FCLIB HDF5 (``.hdf5``/``.h5``:
     a FrictionProblem) or a Siconos ``.dat`` file, LCP or frictional contact.
-    The two layouts are told apart by which one reads the file; Siconos files
-    may carry trailing data (a stored solution), so when both read, the one
-    that leaves fewer tokens unread wins."""
+    The two layouts are told apart by which one reads the file; after the data
+    only a comment (and frictional contact's isComplete flag) is allowed, and
+    anything else raises InvalidProblemError naming the file and the line
+    (:mod:`qpcontact.io.siconos`)."""
     path = Path(path)
     if path.suffix in (".hdf5", ".h5"):
         return read_fclib(path)

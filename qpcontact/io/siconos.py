@@ -12,12 +12,24 @@ whitespace-separated tokens, read in order::
         filled1 (= nbrows + 1)  filled2 (= nbblocks)
         block-row pointers (filled1 ints)  block-column indices (filled2 ints)
         for each block, in block-row order: its number, then its values COLUMN-major
-    q: size0 values; anything after them is a comment and is ignored.
+    q: size0 values.
+
+After the data (q for an LCP; mu, or w and mu, for frictional contact) a file
+may hold only: whitespace; for frictional contact, the 0/1 ``isComplete`` flag
+older Siconos writers put on its own line; and a comment that starts with
+``#`` or follows a blank line and does not start with a number (the Siconos
+LCP files end with notes such as "Example 4.4.7 CPS 2009").  Anything else —
+text glued to the data, more numbers than the header announces, binary bytes —
+raises InvalidProblemError naming the file, the line and what was found:
+Siconos's fscanf reader ignores it, but a file with more values than its
+header announces was most likely written with a different size, and solving
+what was read would answer another problem.
 """
 
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +42,14 @@ from ..friction.problem import FrictionProblem
 __all__ = ["read_siconos", "read_siconos_lcp", "read_siconos_fc"]
 
 
+def _is_number(tok: str) -> bool:
+    try:
+        float(tok)
+    except ValueError:
+        return False
+    return True
+
+
 class _Tokens:
     def __init__(self, path: Path):
         self.path = path
@@ -39,14 +59,73 @@ class _Tokens:
             raise InvalidProblemError(f"{path}: no such file; check the path (relative paths start "
                                       f"at {Path.cwd()})")
         try:
-            self.tokens = path.read_text(errors="replace").split()
+            # undecodable bytes become U+FFFD: a token holding one fails to
+            # parse, and after the data they are reported as binary
+            self.text = path.read_bytes().decode("utf-8", errors="replace")
         except OSError as exc:
             raise InvalidProblemError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+        self.tokens = self.text.split()
         self.pos = 0
+
+    def finish(self, after: str, flag_allowed: bool = False) -> None:
+        """Refuse what follows the data unless it is a comment (or the
+        isComplete flag where ``flag_allowed``); see the module docstring."""
+        left = len(self.tokens) - self.pos
+        if left == 0:
+            return
+        head = self._head(self.pos)   # ends with the last token read
+        rest = self.text[len(head):]
+        data_line = head.count("\n") + 1
+        first = re.search(r"\S", rest).start()
+        line = data_line + rest[:first].count("\n")
+        binary = re.search(r"[\x00-\x08\x0e-\x1f\x7f\ufffd]", rest)
+        if binary:
+            at = data_line + rest[:binary.start()].count("\n")
+            raise self._trailing(f"line {at}: binary data after {after} (which end on line "
+                                 f"{data_line}): {rest[binary.start():binary.start() + 12]!r}")
+        tok = self.tokens[self.pos]
+        if flag_allowed and tok in ("0", "1") and "\n" in rest[:first]:
+            # older writers end frictional-contact files with isComplete (0/1)
+            self.pos += 1
+            if self.pos == len(self.tokens):
+                return
+            return self.finish("the isComplete flag", False)
+        blank_before = rest[:first].count("\n") >= 2
+        if (tok.startswith("#") or blank_before) and not _is_number(tok):
+            return
+        if _is_number(tok):
+            what = (f"{left} more number{'s' if left > 1 else ''} than the header announces "
+                    f"(first: {tok!r})")
+        else:
+            what = (f"text {tok!r} (a comment after the data must start with '#' or follow a "
+                    "blank line)")
+        raise self._trailing(f"line {line}: {what} after {after}, which end on line {data_line}")
+
+    def _trailing(self, text: str) -> InvalidProblemError:
+        exc = InvalidProblemError(f"{self.path.name}: {text}")
+        exc.trailing = True   # the data read; read_siconos reports this error alone
+        return exc
+
+    def _head(self, index: int) -> str:
+        """The text up to the end of token ``index - 1`` (tokens 0-based)."""
+        left = len(self.tokens) - index
+        if index == 0:
+            return ""
+        return self.text.rsplit(None, left)[0] if left > 0 else self.text.rstrip()
+
+    def _line(self, index: int) -> int:
+        """The 1-based line of token ``index`` (past the end: the last line)."""
+        head = self._head(index)
+        rest = self.text[len(head):]
+        if index >= len(self.tokens):
+            return head.count("\n") + 1
+        gap = len(rest) - len(rest.lstrip())
+        return head.count("\n") + 1 + rest[:gap].count("\n")
 
     def _fail(self, what: str, got: str | None = None) -> InvalidProblemError:
         found = f"found {got!r}" if got is not None else "the file ended"
-        return InvalidProblemError(f"{self.path.name}: token {self.pos + 1}: expected {what}, {found}")
+        return InvalidProblemError(f"{self.path.name}: line {self._line(self.pos)}, token "
+                                   f"{self.pos + 1}: expected {what}, {found}")
 
     def _next(self, what: str) -> str:
         if self.pos >= len(self.tokens):
@@ -240,6 +319,7 @@ def _lcp_from(t: _Tokens) -> LCP:
 
     M = _read_matrix(t, "M", check)
     q = t.floats(n, "a value of q")
+    t.finish(f"the {n} values of q")
     return LCP(M, q)
 
 
@@ -260,6 +340,7 @@ def _fc_from(t: _Tokens):
     if first.shape == (m, m) and m > 0:
         q = t.floats(m, "a value of q")
         mu = t.floats(nc, "a friction coefficient")
+        t.finish(f"the {nc} friction coefficients", flag_allowed=True)
         return FrictionProblem(first, q, mu, d, name=path.stem)
     H = _read_matrix(t, "H")
     n = first.shape[0]
@@ -270,24 +351,31 @@ def _fc_from(t: _Tokens):
     f = t.floats(n, "a value of f")
     w = t.floats(m, "a value of w")
     mu = t.floats(nc, "a friction coefficient")
+    t.finish(f"the {nc} friction coefficients", flag_allowed=True)
     return FrictionProblem.global_problem(first, H, f, w, mu, d, name=path.stem)
 
 
 def read_siconos(path: str | os.PathLike):
     """A Siconos ``.dat`` file, LCP or frictional contact.  The two layouts are
-    told apart by which one reads the file; Siconos files may carry trailing
-    data (a stored solution), so when both read, the one that leaves fewer
-    tokens unread wins."""
+    told apart by which one reads the file (a comment after the data is
+    allowed, anything else refused: the module docstring); when both read, the
+    one that leaves fewer tokens unread wins."""
     path = Path(path)
-    errors, found = [], []
+    errors, found, trailing = [], [], []
     for kind, reader in (("an LCP", _lcp_from), ("a frictional contact problem", _fc_from)):
         t = _Tokens(path)
         try:
             problem = reader(t)
         except InvalidProblemError as exc:
             errors.append(f"as {kind}: {exc}")
+            if getattr(exc, "trailing", False):
+                trailing.append(exc)
             continue
         found.append((len(t.tokens) - t.pos, kind, problem))
+    if not found and len(trailing) == 1:
+        # one layout read all the data and stopped only at what follows it:
+        # that is the file's layout, and what follows is the error
+        raise trailing[0]
     found.sort(key=lambda f: f[0])
     if len(found) == 2 and found[0][0] == found[1][0]:
         raise InvalidProblemError(f"{path.name} reads both as an LCP and as a frictional contact "

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CATEGORIES", "LCP_FAMILIES", "QP_FAMILIES", "FAMILIES", "StressConfig", "QUICK",
+__all__ = ["CATEGORIES", "LCP_FAMILIES", "QP_FAMILIES", "ROUNDED_FAMILIES", "FAMILIES", "StressConfig", "QUICK",
            "FULL", "build_case", "default_siconos"]
 
 CATEGORIES = ("certified", "proved", "inaccurate", "failed", "silent_wrong", "hung")
@@ -22,8 +22,14 @@ LCP_FAMILIES = ("spd", "psd_singular", "degenerate", "badly_scaled", "p_matrix",
 
 QP_FAMILIES = ("qp_convex", "qp_degenerate", "qp_infeasible", "qp_unbounded", "qp_penalty")
 
+#: real-valued data whose status or solution is decided exactly, in rationals
+#: (qpcontact.cases.rounded; issue 31).  Appended after "siconos" so that the
+#: older families keep their index in FAMILIES, which seeds their instances.
+ROUNDED_LCP_FAMILIES = ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded")
+ROUNDED_QP_FAMILIES = ("qp_infeasible_rounded", "qp_unbounded_rounded")
+ROUNDED_FAMILIES = ROUNDED_LCP_FAMILIES + ROUNDED_QP_FAMILIES
 
-FAMILIES = LCP_FAMILIES + QP_FAMILIES + ("siconos",)
+FAMILIES = LCP_FAMILIES + QP_FAMILIES + ("siconos",) + ROUNDED_FAMILIES
 
 # Siconos files whose answer SOURCE.md documents independently (by hand or by
 # enumeration): status, and z where unique.  The others are judged by the
@@ -139,6 +145,10 @@ def build_case(family: str, n: int, seed: int, siconos_dir: str | None = None):
     rng = np.random.default_rng([seed, n, FAMILIES.index(family)])
     decades = float(rng.choice([0.0, 4.0, 8.0, 12.0]))
     cond = 10.0 ** rng.uniform(0.0, 8.0)
+    if family in ROUNDED_FAMILIES:
+        from ...cases.rounded import build_rounded
+
+        return build_rounded(family, n, seed)
     if family == "siconos":
         from ...io import read_siconos_lcp
 

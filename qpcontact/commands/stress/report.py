@@ -21,21 +21,41 @@ def _read(path) -> list[dict]:
         return list(csv.DictReader(fh))
 
 
+def _wall(r) -> float:
+    """The solve's whole wall time (older CSVs have only the method's)."""
+    for key in ("wall", "seconds"):
+        try:
+            s = float(r.get(key, ""))
+        except (TypeError, ValueError):
+            continue
+        if math.isfinite(s):
+            return s
+    return math.nan
+
+
+def _over(r) -> int:
+    try:
+        return int(float(r.get("over_limit") or 0))
+    except (TypeError, ValueError):
+        return 0
+
+
 def summarize(rows: list[dict]) -> dict:
-    """{(method, family): {category: count, ..., "median_s": seconds}}."""
+    """{(method, family): {category: count, ..., "median_s", "max_s": seconds
+    (whole wall time), "over": solves past their time share}}."""
     table: dict = {}
     for r in rows:
-        cell = table.setdefault((r["method"], r["family"]), {c: 0 for c in CATEGORIES} | {"_t": []})
+        cell = table.setdefault((r["method"], r["family"]),
+                                {c: 0 for c in CATEGORIES} | {"_t": [], "over": 0})
         cell[r["category"]] += 1
-        try:
-            s = float(r["seconds"])
-            if math.isfinite(s):
-                cell["_t"].append(s)
-        except (TypeError, ValueError):
-            pass
+        cell["over"] += _over(r)
+        s = _wall(r)
+        if math.isfinite(s):
+            cell["_t"].append(s)
     for cell in table.values():
         t = cell.pop("_t")
         cell["median_s"] = statistics.median(t) if t else math.nan
+        cell["max_s"] = max(t) if t else math.nan
     return table
 
 
@@ -46,12 +66,14 @@ def write_markdown(csv_path, md_path=None) -> tuple[Path, dict]:
     table = summarize(rows)
     md = Path(md_path) if md_path else Path(csv_path).with_suffix(".md")
     totals = {c: sum(cell[c] for cell in table.values()) for c in CATEGORIES}
+    totals["over"] = sum(cell["over"] for cell in table.values())
     problems = len({(r["family"], r["n"], r["seed"]) for r in rows})
     lines = [
         "# qpcontact stress",
         "",
         f"{len(rows)} solves of {problems} problems; silent wrong: **{totals['silent_wrong']}**, "
-        f"hung (time-limited): **{totals['hung']}**.",
+        f"hung (time-limited): **{totals['hung']}**; over their time share: **{totals['over']}** "
+        "(whole wall time past 1.5 x time_limit, times the methods \"auto\" may call for auto).",
         "",
         "Categories (judged against each instance's built-in answer, not by qpcontact.certify): "
         "certified · proved (no solution, proof checked) · inaccurate · failed · "
@@ -59,21 +81,24 @@ def write_markdown(csv_path, md_path=None) -> tuple[Path, dict]:
         "",
         "## Per method",
         "",
-        "| method | solves | certified | proved | inaccurate | failed | silent wrong | hung | median s |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| method | solves | certified | proved | inaccurate | failed | silent wrong | hung | median s "
+        "| max s | over limit |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     methods = sorted({m for m, _ in table})
     families = [f for f in FAMILIES if any(f == fam for _, fam in table)]
     for m in methods:
         cells = [table[(m, f)] for f in families if (m, f) in table]
         counts = {c: sum(cell[c] for cell in cells) for c in CATEGORIES}
-        times = [float(r["seconds"]) for r in rows if r["method"] == m
-                 and r["seconds"] not in ("", "nan")]
+        times = [t for t in (_wall(r) for r in rows if r["method"] == m) if math.isfinite(t)]
         med = statistics.median(times) if times else math.nan
+        top = max(times) if times else math.nan
+        over = sum(cell["over"] for cell in cells)
         lines.append(f"| {m} | {sum(counts.values())} | " + " | ".join(
-            str(counts[c]) for c in CATEGORIES) + f" | {med:.2g} |")
+            str(counts[c]) for c in CATEGORIES) + f" | {med:.2g} | {top:.2g} | {over} |")
     lines += ["", "## Per method and family", "",
-              "Each cell: certified+proved / solves (silent wrong, hung when nonzero); median seconds.", "",
+              "Each cell: certified+proved / solves (silent wrong, hung when nonzero); median and max "
+              "seconds of the whole solve, and how many passed their time share.", "",
               "| method | " + " | ".join(families) + " |",
               "|---|" + "---|" * len(families)]
     for m in methods:
@@ -89,9 +114,16 @@ def write_markdown(csv_path, md_path=None) -> tuple[Path, dict]:
                 text += f" **{cell['silent_wrong']} wrong**"
             if cell["hung"]:
                 text += f" ({cell['hung']} hung)"
-            text += f"; {cell['median_s']:.1g} s"
+            text += f"; {cell['median_s']:.1g} s (max {cell['max_s']:.1g}"
+            text += f", {cell['over']} over)" if cell["over"] else ")"
             cells.append(text)
         lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    slow = sorted((r for r in rows if _over(r)), key=_wall, reverse=True)
+    if slow:
+        lines += ["", "## Over their time share", ""]
+        lines += [f"- {r['method']} on {r['family']} n={r['n']} seed={r['seed']} "
+                  f"({r['accuracy']}): {_wall(r):.3g} s > {float(r.get('limit_s') or 0):.3g} s"
+                  for r in slow[:30]]
     wrong = [r for r in rows if r["category"] == "silent_wrong"]
     if wrong:
         lines += ["", "## Silent wrong answers", ""]

@@ -12,10 +12,32 @@ from ...core.progress import ProgressBar
 from .cases import QUICK, StressConfig, build_case, default_siconos
 from .judge import judge
 
-__all__ = ["FIELDS", "tasks", "run_stress"]
+__all__ = ["FIELDS", "tasks", "run_stress", "time_share", "OVER_FACTOR"]
 
 FIELDS = ("family", "n", "seed", "instance", "method", "accuracy", "expected", "status",
-          "category", "reason", "error", "seconds")
+          "category", "reason", "error", "seconds", "wall", "limit_s", "over_limit")
+
+#: a solve is "over the limit" when its whole wall time (method, certificate,
+#: proof) passes OVER_FACTOR x time_limit for one method, or that times the
+#: number of methods "auto" may call on the problem: the backends stop at
+#: time_limit each, and the rest is conversion, certification and proofs
+OVER_FACTOR = 1.5
+
+
+def _auto_methods(problem) -> list[str]:
+    """The installed methods "auto" would try on ``problem``, in order."""
+    from ...dispatch.routes import applicable, auto_order
+    from ...solvers.registry import methods as installed
+
+    registry = installed()
+    return [name for name in auto_order(problem)
+            if name in registry and applicable(problem, registry[name])]
+
+
+def time_share(problem, method: str, time_limit: float) -> float:
+    """Seconds one solve may take before the report flags it (OVER_FACTOR)."""
+    calls = max(1, len(_auto_methods(problem))) if method == "auto" else 1
+    return OVER_FACTOR * time_limit * calls
 
 
 def _solve_row(task, siconos_dir, time_limit, cache={}):  # noqa: B006 - per-process cache
@@ -30,20 +52,25 @@ def _solve_row(task, siconos_dir, time_limit, cache={}):  # noqa: B006 - per-pro
     case = cache[key]
     row = dict(family=family, n=n, seed=seed, instance=getattr(case, "kind", family),
                method=method, accuracy=accuracy, expected=case.status)
+    limit = time_share(case.problem, method, time_limit)
+    row["limit_s"] = limit
     start = time.perf_counter()
     try:
         sol = solve(case.problem, method, accuracy, time_limit=time_limit, isolate=False)
     except QpcontactError as exc:
+        wall = time.perf_counter() - start
         row.update(status=type(exc).__name__, category="failed", reason=str(exc)[:160],
-                   error=math.inf, seconds=time.perf_counter() - start)
+                   error=math.inf, seconds=wall, wall=wall, over_limit=int(wall > limit))
         return row
     except Exception as exc:  # noqa: BLE001 - an undocumented exception is a bug: recorded as one
+        wall = time.perf_counter() - start
         row.update(status="bug", category="failed", reason=f"BUG {type(exc).__name__}: {exc}"[:160],
-                   error=math.inf, seconds=time.perf_counter() - start)
+                   error=math.inf, seconds=wall, wall=wall, over_limit=int(wall > limit))
         return row
+    wall = time.perf_counter() - start
     category, reason = judge(case, sol)
     row.update(status=sol.status, category=category, reason=reason, error=sol.error,
-               seconds=sol.wall_time)
+               seconds=sol.wall_time, wall=wall, over_limit=int(wall > limit))
     return row
 
 
@@ -98,7 +125,8 @@ def tasks(config: StressConfig) -> list[tuple]:
     from ...solvers.registry import methods as installed
     from ...dispatch.routes import applicable
 
-    names = list(config.methods) if config.methods else [
+    # "auto" is what users call: it runs in every default run (issue 31)
+    names = list(config.methods) if config.methods else ["auto"] + [
         name for name, m in installed().items() if not (config.no_cvxpy and m.family == "cvxpy")]
     registry = installed()
     tasks = []
@@ -117,7 +145,10 @@ def tasks(config: StressConfig) -> list[tuple]:
             k += 1
             for name in names:
                 m = registry.get(name)
-                if m is None or not applicable(case.problem, m):
+                if name == "auto":
+                    if not _auto_methods(case.problem):
+                        continue
+                elif m is None or not applicable(case.problem, m):
                     continue
                 for level in levels:
                     tasks.append((family_, n, seed, name, level))
@@ -130,7 +161,11 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     todo = tasks(config)
-    hard = 1.5 * config.time_limit + 3.0
+    hard = OVER_FACTOR * config.time_limit + 3.0
+    from ...dispatch.routes import AUTO_ORDER
+
+    # "auto" may call every method in turn, each with the time limit
+    hard_auto = OVER_FACTOR * config.time_limit * len(AUTO_ORDER) + 3.0
     rows: list[dict] = []
     bar = ProgressBar(len(todo), f"stress: {len(todo)} solves", enabled=progress)
     pool = [_Worker(config.siconos_dir, config.time_limit) for _ in range(max(1, workers))]
@@ -143,7 +178,8 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
         while pending or any(w.task is not None for w in pool):
             for w in pool:
                 if w.task is None and pending:
-                    w.submit(pending.pop(), hard)
+                    task = pending.pop()
+                    w.submit(task, hard_auto if task[3] == "auto" else hard)
             busy = [w for w in pool if w.task is not None]
             timeout = max(0.0, min(w.deadline for w in busy) - time.monotonic())
             ready = wait([w.conn for w in busy], timeout=timeout)
@@ -165,9 +201,10 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
                     w.task = None
                     bar.advance()
                 elif time.monotonic() >= w.deadline:
+                    limit = hard_auto if method == "auto" else hard
                     rows.append({**base, "status": "killed", "category": "hung",
-                                 "reason": f"no answer in {hard:g} s: worker killed",
-                                 "seconds": hard})
+                                 "reason": f"no answer in {limit:g} s: worker killed",
+                                 "seconds": limit, "wall": limit, "over_limit": 1})
                     w.restart()
                     bar.advance()
             if len(rows) - saved >= 2000:  # a long run killed midway keeps what it did
