@@ -54,8 +54,10 @@ def call(m: Method, target, tol_backend, options, time_limit, isolate, engine=No
     if isolate is True or (isolate == "auto" and time_limit is not None and m.needs_isolation):
         from .isolation import call_isolated
 
-        # the backend's own limit first; the kill a moment later
-        hard = None if time_limit is None else 1.25 * time_limit + 2.0
+        # the backend's own limit first; the kill a moment later — but within
+        # half the limit again, so that a call stays inside 1.5 x its limit
+        # (qpcontact stress flags solves beyond that)
+        hard = None if time_limit is None else 1.2 * time_limit + min(2.0, 0.1 * time_limit)
         out = call_isolated(_isolated_run, (m.name, target, tol_backend, options, time_limit), hard)
         if out is not None:
             if out.kind == "ok":

@@ -161,7 +161,7 @@ def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run
             if seen["proofs"] < AUTO_PROOFS and (seen["proofs"] == 0 or new
                                                  or sol.stats.get("backend_verdict")):
                 seen["proofs"] += 1
-                sol = prove_no_solution(problem, sol, _proof_time(left()), learned)
+                sol = prove_no_solution(problem, sol, _proof_time(left(), limit), learned)
             learned.extend(new)
         if _points_to_no_solution(sol):
             seen["evidence"] += 1
@@ -186,10 +186,10 @@ def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run
     return sol
 
 
-def _proof_time(left):
+def _proof_time(left, limit):
     """Seconds each proof LP may take: what is left of the call's limit, but
-    never nothing (a proof is worth its second)."""
-    return None if left is None else max(left, 1.0)
+    never nothing (a proof is worth a tenth of the limit beyond it)."""
+    return None if left is None else max(left, 0.1 * limit)
 
 
 def _solve_friction(problem, method, tol, accuracy, options, run, engine):

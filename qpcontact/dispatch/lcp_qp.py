@@ -10,7 +10,7 @@ import numpy as np
 from ..core.conversions import qp_to_lcp
 from ..core.problems import LCP
 from ..core.results import LCPSolution, MethodResult, QPSolution
-from ..judge.doubt import doubt
+from ..judge.doubt import doubt, no_digit, singular_block
 from ..judge.lcp import certify_lcp
 from ..judge.qp import certify_qp
 from ..proofs.lcp import prove_lcp_infeasible
@@ -78,7 +78,8 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
     if res.status in ("ray", "max_pivots"):
         status = res.status
     elif cert is not None and cert.error <= tol_cert:
-        status = "solved" if cert.ok(tol_cert) else "ill_posed"
+        status = ("solved" if cert.ok(tol_cert) else
+                  "ill_posed" if doubt(cert, tol_cert) else "inaccurate")
     elif res.status == "time_limit" or res.stats.get("time_limit_reached"):
         status = "time_limit"
     elif cert is None:
@@ -92,14 +93,15 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
         # blocks up to 400); above that, sol.forward_error computes it on request.
         ferr = cert.forward_error if getattr(cert, "forward_error_known", False) else 0.0
         if ferr > tol_cert:
-            message += (f"; forward error up to {ferr:.1e} (condition {cert.condition:.1e}): "
+            message += ("; the solution is not isolated (its active block is singular to "
+                        "working precision): other solutions may exist" if singular_block(cert)
+                        else f"; forward error up to {ferr:.1e} (condition {cert.condition:.1e}): "
                         "components may differ from the exact solution of these data by that "
-                        "much of their own size (a component near zero may have no correct digit)"
-                        if np.isfinite(ferr) else
-                        "; the solution is not isolated (singular active block): other solutions "
-                        "may exist")
+                        "much of their own size (a component near zero may have no correct digit)")
     elif status == "ill_posed":
         message = f"not certified: {doubt(cert, tol_cert)}"
+    elif status == "inaccurate" and cert.error <= tol_cert:
+        message = f"not certified: error {cert.error:.2e} <= {tol_cert:.0e}, but {no_digit(cert)}"
     elif status == "inaccurate":
         where = (f" at component {cert.worst_index}" if hasattr(cert, "worst_index")
                  else f" at {cert.worst}")

@@ -22,7 +22,12 @@ wherever the solution is not isolated, which is common and harmless.
 
 from __future__ import annotations
 
-__all__ = ["DOUBT_RATIO", "doubt"]
+import numpy as np
+
+__all__ = ["DOUBT_RATIO", "FORWARD_LIMIT", "doubt", "no_digit", "singular_block"]
+
+#: a known, finite forward error from this on leaves no digit guaranteed
+FORWARD_LIMIT = 0.1
 
 #: how far the normwise error may exceed the componentwise one before the
 #: answer is in doubt (rounding makes them differ by small factors on every
@@ -42,3 +47,28 @@ def doubt(cert, tol: float) -> str | None:
             f"(componentwise error {cert.error:.1e}, normwise {normwise:.1e}): it solves data "
             "within rounding of yours, which may have no solution at all, and no digit of it is "
             "guaranteed")
+
+
+def no_digit(cert) -> str | None:
+    """Why ``cert``'s answer has no guaranteed digit although its backward
+    error may be small — a known, finite forward error of at least
+    FORWARD_LIMIT — or None.  Unknown estimates say nothing, and neither do
+    infinite ones or those of an active block singular to working precision
+    (condition >= 1/eps): the solution is then not isolated, as at every
+    Stewart-Trinkle friction LCP whose answer Lemke gets exactly (condition
+    1e18..1e34, backward error 1e-16), and other solutions may be as right."""
+    if not getattr(cert, "forward_error_known", False):
+        return None
+    ferr = getattr(cert, "scale_forward_error", cert.forward_error)
+    if not (np.isfinite(ferr) and ferr >= FORWARD_LIMIT) or singular_block(cert):
+        return None
+    return (f"no digit guaranteed: the forward error may reach {ferr:.1e} of a component's scale "
+            f"(the size its data give it; condition {cert.condition:.1e}, backward error "
+            f"{cert.error:.1e}); ask for a tighter accuracy or use an exact method")
+
+
+def singular_block(cert) -> bool:
+    """Whether the certificate's active block is singular to working
+    precision (condition >= 1/eps, or infinite): its solution is then not
+    isolated as far as double precision can tell."""
+    return not cert.condition * np.finfo(float).eps < 1.0

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from .doubt import doubt
+from .doubt import doubt, no_digit
 
 __all__ = ["ForwardErrorMixin"]
 
@@ -44,11 +44,11 @@ class ForwardErrorMixin:
             object.__setattr__(self, k, v)
 
     def ok(self, tol: float) -> bool:
-        """The backward error meets ``tol`` and nothing casts doubt on it
-        (:func:`qpcontact.judge.doubt.doubt`)."""
-        return bool(self.error <= tol) and doubt(self, tol) is None
+        """The backward error meets ``tol``, nothing casts doubt on it and a
+        digit is guaranteed (:mod:`qpcontact.judge.doubt`)."""
+        return bool(self.error <= tol) and doubt(self, tol) is None and no_digit(self) is None
 
     def as_dict(self) -> dict:
         d = {f.name: getattr(self, f.name) for f in fields(self) if not f.name.startswith("_")}
-        d["condition"], d["forward_error"] = self._forward_pair()
+        d["condition"], d["forward_error"] = self._forward_pair()[:2]
         return d

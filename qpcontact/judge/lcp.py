@@ -73,9 +73,18 @@ class LCPCertificate(ForwardErrorMixin):
     _forward: object = field(default=None, repr=False, compare=False)
 
 
+    @property
+    def scale_forward_error(self) -> float:
+        """The forward error with each component judged against its scale
+        (ζ_j for z_j, σ_i for w_i) rather than its own value: at least
+        FORWARD_LIMIT means no digit even on that scale
+        (:func:`qpcontact.judge.doubt.no_digit`)."""
+        return self._forward_pair()[2]
+
+
 def _bad_lcp_certificate(overflow: bool = False) -> LCPCertificate:
     inf = np.inf
-    return LCPCertificate(inf, inf, -1, inf, inf, -inf, -inf, inf, overflow, (inf, inf))
+    return LCPCertificate(inf, inf, -1, inf, inf, -inf, -inf, inf, overflow, (inf, inf, inf))
 
 
 def _lcp_normwise(lcp: LCP, z, Mz, w) -> float:
@@ -137,8 +146,9 @@ def _block_solver(M, F: np.ndarray, structure):
 
 
 def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
-                   ) -> tuple[float, float, float]:
-    """(condition, forward z factor, forward w factor) of a solution at its basis.
+                   ) -> tuple[float, float, float, float]:
+    """(condition, forward z factor, forward w factor, scale factor) of a
+    solution at its basis.
 
     F = {i: z_i / ζ_i > w_i / σ_i} (the z's that are "on"), N the rest.  On F,
     z_F = -M_FF⁻¹ q_F; data perturbed by ε of each entry's own size, with the
@@ -153,12 +163,16 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
     reading it must be told — except values below ``level`` (the rounding of
     evaluating their row) times their scale, which carry no information and are
     judged against the scale (ζ_i, σ_j).  inf when M_FF is singular: the
-    solution is not isolated.
+    solution is not isolated.  The scale factor judges every value against
+    its scale instead (max v_i / ζ_i, max (σ_j + (|M_NF| v)_j) / σ_j): how
+    many digits a component has relative to the size its data give it —
+    the measure of "no digit at all" (qpcontact.judge.doubt.no_digit), where
+    a w of 5e-9 beside forces of 1 may well have none of its own.
     """
     Z, W = divide(z, zeta), divide(w, sigma)
     on = Z > W
     F, N = np.flatnonzero(on), np.flatnonzero(~on)
-    kappa_z, v = 0.0, np.zeros(0)
+    kappa_z, scaled_z, v = 0.0, 0.0, np.zeros(0)
     if F.size:
         den = np.where(np.abs(z[F]) > level * zeta[F], np.abs(z[F]), zeta[F])
         g = sigma[F]
@@ -169,9 +183,10 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
                     B = M[F][:, F].toarray() if sp.issparse(M) else M[np.ix_(F, F)]
                     inv = np.linalg.inv(B)  # LinAlgError when exactly singular
                     if not np.all(np.isfinite(inv)):
-                        return np.inf, np.inf, np.inf
+                        return np.inf, np.inf, np.inf, np.inf
                     v = np.abs(inv) @ g + zeta[F]
                     kappa_z = float(np.max(divide(v, den)))
+                    scaled_z = float(np.max(divide(v, zeta[F])))
                 else:
                     from scipy.sparse.linalg import LinearOperator, onenormest
 
@@ -181,12 +196,17 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
                                         matvec=lambda x: g * solve(np.ravel(x) / den, trans=True),
                                         rmatvec=lambda y: solve(g * np.ravel(y)) / den)
                     kappa_z = float(onenormest(op, t=1)) + float(np.max(zeta[F] / den))
+                    by_scale = LinearOperator(
+                        (k, k), dtype=float,
+                        matvec=lambda x: g * solve(np.ravel(x) / zeta[F], trans=True),
+                        rmatvec=lambda y: solve(g * np.ravel(y)) / zeta[F])
+                    scaled_z = float(onenormest(by_scale, t=1)) + 1.0
                     v = None
         except (RuntimeError, ValueError, np.linalg.LinAlgError):
-            return np.inf, np.inf, np.inf
+            return np.inf, np.inf, np.inf, np.inf
         if not np.isfinite(kappa_z):
-            return np.inf, np.inf, np.inf
-    kappa_w = 0.0
+            return np.inf, np.inf, np.inf, np.inf
+    kappa_w = scaled_w = 0.0
     if N.size:
         if F.size and v is not None:
             MNF = M[N][:, F] if sp.issparse(M) else M[np.ix_(N, F)]
@@ -195,7 +215,8 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
             spread = (1.0 + kappa_z) * sigma[N]
         wd = np.where(np.abs(w[N]) > level * sigma[N], np.abs(w[N]), sigma[N])
         kappa_w = float(np.max(divide(spread, wd)))
-    return max(kappa_z, kappa_w), kappa_z, kappa_w
+        scaled_w = float(np.max(divide(spread, sigma[N])))
+    return max(kappa_z, kappa_w), kappa_z, kappa_w, max(scaled_z, scaled_w)
 
 
 def certify_lcp(lcp: LCP, z) -> LCPCertificate:
@@ -225,9 +246,12 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     error = float(e[worst])
 
     def forward_pair(M=lcp.M, structure=lcp.structure):
-        condition, kappa_z, kappa_w = _lcp_condition(M, z, w, zeta, sigma, level, structure)
-        forward = max(error, level) * max(kappa_z, kappa_w)
-        return float(condition), (float(forward) if np.isfinite(forward) else np.inf)
+        condition, kappa_z, kappa_w, scaled = _lcp_condition(M, z, w, zeta, sigma, level,
+                                                             structure)
+        eps = max(error, level)
+        forward, by_scale = eps * max(kappa_z, kappa_w), eps * scaled
+        return (float(condition), (float(forward) if np.isfinite(forward) else np.inf),
+                float(by_scale) if np.isfinite(by_scale) else np.inf)
 
     active = np.count_nonzero(Z > W)   # the basis _lcp_condition factorizes
     return LCPCertificate(

@@ -48,6 +48,11 @@ def prove_lcp_infeasible(lcp, time_limit: float | None = None, hints=()) -> Proo
     return proof
 
 
+#: how far (relative to each column's terms) a hint may miss M'y <= 0 in
+#: floating point and still be checked exactly
+_HINT_RTOL = 1e-6
+
+
 def check_farkas_hint(M, q, y) -> Proof | None:
     """``y`` (its nonnegative part, and the same snapped to short rationals)
     checked exactly as a Farkas vector of {z >= 0, Mz + q >= 0}, or None."""
@@ -58,8 +63,14 @@ def check_farkas_hint(M, q, y) -> Proof | None:
         return None
     n = q.size
     Mc = sp.csr_matrix(M)
+    y = y / top
+    # the exact checks cost O(nnz) rationals per candidate: only a vector
+    # that holds in floating point, to a loose tolerance, is worth them
+    Mty, scale = Mc.T @ y, abs(Mc).T @ y
+    if not (q @ y < 0 and np.all(Mty <= _HINT_RTOL * scale + np.abs(q @ y))):
+        return None
     empty = sp.csr_matrix((0, n))
-    for cand in candidates(y / top):
+    for cand in candidates(y):
         proof = exact_farkas(-Mc, q, empty, np.zeros(0), np.zeros(n), np.full(n, np.inf),
                              cand, n)
         if proof is not None:

@@ -192,8 +192,15 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
         # judges, not a warning to print from inside the pivoting.
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            Binv[:] = scipy.linalg.inv(B, check_finite=False)
-            x[:] = scipy.linalg.solve(B, q, check_finite=False)
+            try:
+                fresh = scipy.linalg.inv(B, check_finite=False)
+                values = scipy.linalg.solve(B, q, check_finite=False)
+            except np.linalg.LinAlgError:
+                # singular to working precision (a Stewart-Trinkle LCP scaled
+                # over 12 decades, n = 100): the updated inverse goes on, and
+                # the certificate judges where it ends
+                return
+            Binv[:], x[:] = fresh, values
         scales.anchor(Binv)
         # Basic values of a feasible basis are >= 0; rounding leaves exact
         # (degenerate) zeros at +-1e-17 of their row's size, which would win or
