@@ -74,6 +74,7 @@ from ...core.accuracy import resolve_accuracy
 from ...core.errors import InvalidOptionError, InvalidProblemError, NoSolutionError
 from ...core.options import check_options, int_option
 from ...core.problems import ParametricLCP
+from ...judge.doubt import doubt, no_digit
 from ...judge.lcp import certify_lcp
 from ..pivoting.active_set import check_dense_size
 from .path import Path
@@ -229,9 +230,18 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
     cert = certify_lcp(lcp_final, z_fin)
     breakpoints = np.array([pc.p_end for pc in pieces[:-1]])
     status = {"breakdown": "failed", "max_pieces": "max_pivots"}.get(end, "solved")
-    if status == "solved" and not cert.ok(tol):
+    # At a collapse the last point is the limit itself, where the active block
+    # turns singular: no digit of it is guaranteed by nature (the portal's
+    # sliding load: condition 6e14), and the collapse is what the proof says.
+    # There the backward statement is what is held to tol.
+    at_limit = end == "collapse"
+    if status == "solved" and not (cert.error <= tol and doubt(cert, tol) is None if at_limit
+                                   else cert.ok(tol)):
         status = "inaccurate"
     message = _message(end, p, p_max, p_final, proof, why, max_pieces)
+    if at_limit and no_digit(cert):
+        message += ("; the state at the collapse load itself is singular (no digit of it is "
+                    "guaranteed), as a limit state is")
     message += f"; {len(breakpoints)} breakpoint(s)"
     ambiguous = sum(ev.continuations > 1 for ev in events)
     if ambiguous:
