@@ -129,6 +129,16 @@ AUTO_PROOFS = 3
 AUTO_EVIDENCE = 2
 
 
+def _far_out(problem, sol) -> bool:
+    """A certified or failed answer the doubt rules leave alone, but whose size
+    or forward error still asks for a proof (qpcontact.dispatch.lcp_qp.doubtful
+    for an ok answer)."""
+    if sol.ok:
+        return True          # doubtful() said so for an ok answer: size or forward error
+    point = getattr(sol, "z", None) if hasattr(sol, "w") else getattr(sol, "x", None)
+    return point is None and sol.status == "failed"
+
+
 def _points_to_no_solution(sol) -> bool:
     return (sol.status == "ill_posed" or bool(sol.stats.get("backend_verdict"))
             or (sol.status == "ray" and sol.stats.get("farkas") is not None))
@@ -156,10 +166,13 @@ def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run
             sol.stats["time_share"] = share
         if doubtful(problem, sol):
             new = hints(sol)
-            # a proof is sought at the first doubt, and again whenever a later
-            # method brings something new: its own verdict, a point far out
-            if seen["proofs"] < AUTO_PROOFS and (seen["proofs"] == 0 or new
-                                                 or sol.stats.get("backend_verdict")):
+            # a proof is sought where a result points to no solution (its
+            # own verdict, an answer in doubt, a ray, a point far out), again
+            # whenever a later one brings something new; a plain miss of the
+            # tolerance waits for the end of the chain (most are certified by
+            # the next method: a penalty step's QP took 1.5 proofs per step)
+            if seen["proofs"] < AUTO_PROOFS and (_points_to_no_solution(sol)
+                                                 or _far_out(problem, sol)):
                 seen["proofs"] += 1
                 sol = prove_no_solution(problem, sol, _proof_time(left(), limit), learned)
             learned.extend(new)
@@ -177,6 +190,8 @@ def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run
         raise NotSymmetricError(
             "no installed method applies to this problem; `qpcontact methods` lists what is "
             "installed and what each one requires")
+    if not sol.ok and sol.status not in PROVED and seen["proofs"] == 0 and doubtful(problem, sol):
+        sol = prove_no_solution(problem, sol, _proof_time(left(), limit), learned)
     if not sol.ok and sol.status not in PROVED and seen["evidence"] >= AUTO_EVIDENCE:
         sol.message += (f" — 'auto' stopped after {len(tried)} method(s): {seen['evidence']} of "
                         "them point to data with no solution (an answer in doubt, a Farkas vector "

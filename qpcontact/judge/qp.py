@@ -51,6 +51,12 @@ class QPCertificate:
     overflow: bool = False
     #: the worst condition in numbers: raw residual and the scale it was judged on
     detail: str = ""
+    #: ‖Px + q + G'z + A'y + z_box‖∞ against the largest of those terms' own
+    #: norms (not |P||x|): the measure the doubt rule holds against the
+    #: componentwise error (qpcontact.judge.doubt).  The OSQP-style
+    #: normwise_error is no such measure: at x = 0 on zero bounds its primal
+    #: part divides rounding by rounding and reads 1.0.
+    stationarity_normwise: float = 0.0
 
     def ok(self, tol: float) -> bool:
         """The backward error meets ``tol`` and nothing casts doubt on it
@@ -196,6 +202,18 @@ def _stationarity(k: _KKTPoint):
     return grad, S
 
 
+def _stationarity_normwise(k: _KKTPoint, grad) -> float:
+    terms = [inf_norm(np.asarray(k.P @ k.x).ravel()), inf_norm(k.q)]
+    if k.G is not None and k.z is not None:
+        terms.append(inf_norm(np.asarray(k.G.T @ k.z).ravel()))
+    if k.A is not None and k.y is not None:
+        terms.append(inf_norm(np.asarray(k.A.T @ k.y).ravel()))
+    if k.z_box is not None:
+        terms.append(inf_norm(k.z_box))
+    top = max(terms)
+    return inf_norm(grad) / top if top > 0 else 0.0
+
+
 def _kkt_scales(k: _KKTPoint, S):
     """Each block of KKT rows with the unknowns that enter it;
     componentwise_scales gives every unknown its own scale and floors
@@ -330,6 +348,7 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
         r_g = sol.duality_gap() if duals else inf
         normwise = _qp_normwise(problem, k.x, sol, k.has_bounds)
         grad, S = _stationarity(k)
+        stat_nw = _stationarity_normwise(k, grad)
         if not (np.all(np.isfinite(grad)) and np.all(np.isfinite(S))):
             return QPCertificate(inf, normwise, "overflow", r_p, r_d, r_g, inf, -inf, True)
         unknown, S, T, E = _kkt_scales(k, S)
@@ -354,4 +373,5 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
         comp_abs=float(comp_abs),
         min_multiplier=float(min_mult),
         detail=detail,
+        stationarity_normwise=float(stat_nw),
     )

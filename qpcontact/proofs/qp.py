@@ -184,7 +184,10 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
     # tolerances first, then 1e-10: each missed rays the other found (at
     # 1e-10 it called d = 0 optimal beside a rank-deficient P block where the
     # default found q'd = -0.1); the exact check decides.
+    descent = False     # whether an LP found q'd < 0 at all: else no sparse search
     for attempt in ("default", "tight", "sparse", "sparse-unscaled"):
+        if attempt.startswith("sparse") and not descent:
+            break
         if attempt == "sparse-unscaled":
             # the data's own columns: the sparse vertex differs, and each
             # scaling proved rays the other missed (3 of the 14 above)
@@ -208,6 +211,7 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
                           bounds=list(zip(lo, hi)), time_limit=tl, tight=attempt == "tight")
             if res is None or res.status != 0 or res.x is None or not res.fun < 0:
                 continue
+            descent = True
             dt = np.clip(res.x, lo, hi)
         # snapped in the LP's balanced coordinates, where a component that is
         # exactly 0 reads 1e-8 beside 1, not beside 1e-12 (components of d
@@ -331,7 +335,7 @@ def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
     d = np.clip(x / top, lo, hi)
     # worth the exact checks only if it is a descent direction in P's near
     # null space in floating point
-    if not (q @ d < 0 and np.all(np.abs(P @ d) <= 1e-6 * (abs(P) @ np.abs(d)) + 1e-6 * abs(q @ d))):
+    if not (q @ d < 0 and np.all(np.abs(P @ d) <= 1e-6 * (abs(P) @ np.abs(d)))):
         return None
     dF = next((c for c in candidates(d) if exact_ray(P, q, Gr, Ar, c, lo, hi)), None)
     return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
