@@ -57,7 +57,7 @@ def no_digit(cert) -> str | None:
     error may be small — a known, finite forward error of at least
     FORWARD_LIMIT — or None.  Unknown estimates say nothing, and neither do
     infinite ones or those of an active block singular to working precision
-    (condition >= 1/eps): the solution is then not isolated, as at every
+    (:func:`singular_block`): the solution is then not isolated, as at every
     Stewart-Trinkle friction LCP whose answer Lemke gets exactly (condition
     1e18..1e34, backward error 1e-16), and other solutions may be as right."""
     if not getattr(cert, "forward_error_known", False):
@@ -72,6 +72,9 @@ def no_digit(cert) -> str | None:
 
 def singular_block(cert) -> bool:
     """Whether the certificate's active block is singular to working
-    precision (condition >= 1/eps, or infinite): its solution is then not
-    isolated as far as double precision can tell."""
-    return not cert.condition * np.finfo(float).eps < 1.0
+    precision (its condition against the components' scales >= 1/eps, or
+    infinite): the solution is then not isolated as far as double precision
+    can tell.  Against the scales, not the components' own values, whose
+    condition a tiny component inflates (an SPD LCP of condition 1e11 read
+    1e17..1e22 there)."""
+    return not getattr(cert, "scale_condition", cert.condition) * np.finfo(float).eps < 1.0

@@ -81,10 +81,18 @@ class LCPCertificate(ForwardErrorMixin):
         (:func:`qpcontact.judge.doubt.no_digit`)."""
         return self._forward_pair()[2]
 
+    @property
+    def scale_condition(self) -> float:
+        """The condition factor of :attr:`scale_forward_error` (components
+        against their scales): 1/eps or more means the active block is
+        singular to working precision — the solution is not isolated as far
+        as double precision can tell."""
+        return self._forward_pair()[3]
+
 
 def _bad_lcp_certificate(overflow: bool = False) -> LCPCertificate:
     inf = np.inf
-    return LCPCertificate(inf, inf, -1, inf, inf, -inf, -inf, inf, overflow, (inf, inf, inf))
+    return LCPCertificate(inf, inf, -1, inf, inf, -inf, -inf, inf, overflow, (inf, inf, inf, inf))
 
 
 def _lcp_normwise(lcp: LCP, z, Mz, w) -> float:
@@ -251,7 +259,7 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
         eps = max(error, level)
         forward, by_scale = eps * max(kappa_z, kappa_w), eps * scaled
         return (float(condition), (float(forward) if np.isfinite(forward) else np.inf),
-                float(by_scale) if np.isfinite(by_scale) else np.inf)
+                float(by_scale) if np.isfinite(by_scale) else np.inf, float(scaled))
 
     active = np.count_nonzero(Z > W)   # the basis _lcp_condition factorizes
     return LCPCertificate(

@@ -81,7 +81,10 @@ def _worker_loop(conn, siconos_dir, time_limit):
 
     faulthandler.disable()
     while True:
-        task = conn.recv()
+        try:
+            task = conn.recv()
+        except (EOFError, OSError):
+            return
         if task is None:
             return
         conn.send(_solve_row(task, siconos_dir, time_limit))
@@ -97,7 +100,10 @@ class _Worker:
 
     def _start(self):
         self.conn, child = self.ctx.Pipe()
-        self.proc = self.ctx.Process(target=_worker_loop, args=(child, *self.args), daemon=True)
+        # not a daemon: a daemonic process may not start children, and ProxQP
+        # (no time limit of its own) runs in a child killed at the limit;
+        # a worker whose parent is gone ends on the closed pipe instead
+        self.proc = self.ctx.Process(target=_worker_loop, args=(child, *self.args), daemon=False)
         self.proc.start()
         child.close()
         self.task, self.deadline = None, None
