@@ -237,3 +237,17 @@ def test_report_counts_solves_over_their_time_share(tmp_path):
     text = md.read_text()
     assert totals["over"] == 1 and "over their time share: **1**" in text
     assert "| osqp | 3 | 3 | 0 | 0 | 0 | 0 | 0 | 0.2 | 5 | 1 |" in text
+
+
+def test_judge_holds_w_of_a_singular_psd_lcp_to_its_own_condition():
+    """Where only w is determined (PSD M singular on the active set), the
+    judge's bound comes from its own pseudo-inverse condition of w, capped
+    at one digit: a w off by 20 % is wrong, the reference itself is right."""
+    case = build_case("psd_singular", 30, 3)
+    assert case.unique_w and not case.unique_z
+    assert judge(case, _ok_solution(case, case.z))[0] == "certified"
+    M = case.problem.M
+    # move z so that w = Mz + q changes by 20 % of its largest entry
+    dz = np.linalg.lstsq(M, 0.2 * np.abs(case.w).max() * np.ones(case.z.size), rcond=None)[0]
+    z = np.maximum(case.z + dz, 0.0)
+    assert judge(case, _ok_solution(case, z))[0] == "silent_wrong"
