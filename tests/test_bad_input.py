@@ -69,7 +69,8 @@ def test_auto_stops_at_a_proof_of_infeasibility():
     assert [t[0] for t in sol.stats["auto_tried"]] == ["lemke"]
 
 
-def test_unproved_ray_is_not_called_no_solution(monkeypatch):
+def _lemke_without_its_own_proof(monkeypatch):
+    """Register a "lemke" whose rays never claim a proof themselves."""
     original = get_method("lemke")
 
     def run(problem, tol, options):
@@ -78,6 +79,10 @@ def test_unproved_ray_is_not_called_no_solution(monkeypatch):
         return res
 
     monkeypatch.setitem(_REGISTRY, "lemke", dataclasses.replace(original, run=run))
+
+
+def test_unproved_ray_is_not_called_no_solution(monkeypatch):
+    _lemke_without_its_own_proof(monkeypatch)
     # and no proof found afterwards either (on these data one exists: the
     # engine's own search finds it from Lemke's vector, tested below)
     monkeypatch.setattr(lcp_qp, "prove_lcp_infeasible", lambda *a, **k: None)
@@ -88,14 +93,7 @@ def test_unproved_ray_is_not_called_no_solution(monkeypatch):
 def test_a_ray_with_a_farkas_vector_is_proved_by_the_engine_exactly(monkeypatch):
     """Lemke's own word dropped, the engine checks the vector it found in
     exact arithmetic and proves it."""
-    original = get_method("lemke")
-
-    def run(problem, tol, options):
-        res = original.run(problem, tol, options)
-        res.stats["proved_infeasible"] = False
-        return res
-
-    monkeypatch.setitem(_REGISTRY, "lemke", dataclasses.replace(original, run=run))
+    _lemke_without_its_own_proof(monkeypatch)
     sol = qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), method="lemke")
     assert sol.status == "infeasible" and "exact rational" in sol.message
 

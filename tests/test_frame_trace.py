@@ -51,27 +51,27 @@ def _peer_beam():
     return fr
 
 
-def _tower(storeys):
-    """Three columns 6 m apart, `storeys` x 3.5 m, 30 kN/m on every beam, a
-    foundation beam from x = -3 to 15 on elastic frictional contacts (f = 0.5)
-    every 1.5 m, 10 kN x p at every floor of the left column."""
+def _tower(storeys, bays=2):
+    """bays + 1 columns 6 m apart, `storeys` x 3.5 m, 30 kN/m on every beam, a
+    foundation beam from x = -3 to 6 bays + 3 on elastic frictional contacts
+    (f = 0.5, k = 5e5) every 1.5 m, 10 kN x p at every floor of the left
+    column.  (tests/test_frames_limits.py builds its 3-bay tower here too.)"""
     fr = Frame()
     col, beam = (210e6, 1.5e-2, 5e-4), (210e6, 8e-3, 2e-4)
-    xs = (0.0, 6.0, 12.0)
+    xs = tuple(6.0 * j for j in range(bays + 1))
     for s in range(storeys + 1):
         for j, x in enumerate(xs):
             fr.add_node(f"N{s}_{j}", x, 3.5 * s)
     for s in range(storeys):
-        for j in range(3):
+        for j in range(bays + 1):
             fr.add_beam(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
     for s in range(1, storeys + 1):
-        for j in range(2):
+        for j in range(bays):
             fr.add_distributed_load(fr.add_beam(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
     base = []
-    for k, x in enumerate(np.arange(-3.0, 15.01, 1.5)):
+    for k, x in enumerate(np.arange(-3.0, xs[-1] + 3.01, 1.5)):
         hit = [j for j, xx in enumerate(xs) if abs(x - xx) < 1e-9]
-        name = f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0)
-        base.append(name)
+        base.append(f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0))
     for a, b in zip(base[:-1], base[1:]):
         fr.add_beam(a, b, 30e6, 1.2, 0.36)
     for name in base:

@@ -23,34 +23,14 @@ import pytest
 from formulations.frames import Frame
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, NoSolutionError
 
+from .test_frame_trace import _tower as tower
+
 
 def _tower(storeys=20):
     """Four columns 6 m apart (3 bays), storeys x 3.5 m, 30 kN/m on every beam;
     a foundation beam x = -3 .. 21 on elastic frictional contacts (f = 0.5,
     k = 5e5) every 1.5 m; 10 kN x p at every floor of the left column."""
-    fr = Frame()
-    col, beam = (210e6, 1.5e-2, 5e-4), (210e6, 8e-3, 2e-4)
-    xs = (0.0, 6.0, 12.0, 18.0)
-    for s in range(storeys + 1):
-        for j, x in enumerate(xs):
-            fr.add_node(f"N{s}_{j}", x, 3.5 * s)
-    for s in range(storeys):
-        for j in range(4):
-            fr.add_beam(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
-    for s in range(1, storeys + 1):
-        for j in range(3):
-            fr.add_distributed_load(fr.add_beam(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
-    base = []
-    for k, x in enumerate(np.arange(-3.0, 21.01, 1.5)):
-        hit = [j for j, xx in enumerate(xs) if abs(x - xx) < 1e-9]
-        base.append(f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0))
-    for a, b in zip(base[:-1], base[1:]):
-        fr.add_beam(a, b, 30e6, 1.2, 0.36)
-    for name in base:
-        fr.add_contact(name, normal=(0.0, 1.0), friction=0.5, stiffness=5e5)
-    for s in range(1, storeys + 1):
-        fr.add_load(f"N{s}_0", fx=10.0, case="variable")
-    return fr, base
+    return tower(storeys, bays=3)
 
 
 # moments about the toe (x = 21): the weight 20 x 3 x 6 m x 30 kN/m acts at
