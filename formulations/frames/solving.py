@@ -83,13 +83,6 @@ class FrameSolving:
             else:
                 sol = solve(lcp, method=method, accuracy=accuracy, **options)
             z, route = sol.z, sol.method
-            if sol.ok and sol.stats.get("regularised") and method == "auto":
-                # Lemke's regularised ladder answers data within ε of these
-                # (2e-11 on the tower, statics off by 4e-9): the load path
-                # gives this frame's own equilibrium, exact to rounding
-                found = self._trace_to(b, combo, lcp, accuracy, tol)
-                if found is not None:
-                    z, route = found
             if not sol.ok:
                 found = (self._trace_to(b, combo, lcp, accuracy, tol)
                          if method == "auto" and not _proved(sol) else None)
@@ -111,10 +104,8 @@ class FrameSolving:
         if not fric and lcp.is_positive_definite:
             return solve(lcp, method="bpp", accuracy=accuracy)
         sol = solve(lcp, method="lemke", accuracy=accuracy, **options)
-        if (sol.ok and not sol.stats.get("regularised")) or _proved(sol):
-            return sol
-        if fric:
-            return sol     # the frame's solve follows the load path where this is not ok
+        if sol.ok or fric or _proved(sol):
+            return sol     # with friction, solve follows the load path where this is not ok
         best = sol
         for name in ("clarabel", "piqp", "osqp", "highs"):
             try:
