@@ -37,13 +37,12 @@ DOUBT_RATIO = 10.0
 
 def doubt(cert, tol: float) -> str | None:
     """Why ``cert``'s answer is in doubt although its backward error may meet
-    ``tol``, or None.  An LCP's normwise error; a QP's stationarity row
-    against the norms of its terms (``stationarity_normwise``: where a point
-    runs off along P's near-null space, Px + q + G'z stays small while
-    |P||x| grows).  Certificates without a normwise measure (a frictional
+    ``tol``, or None.  LCPs and QPs: their ``normwise_error`` (a QP's is
+    OSQP's relative residuals, with x's natural size |q| / max|P| as a floor).
+    Certificates without a normwise measure (a frictional
     problem's error already includes Siconos' normwise natural-map error)
     are never in doubt here."""
-    normwise = getattr(cert, "stationarity_normwise", getattr(cert, "normwise_error", None))
+    normwise = getattr(cert, "normwise_error", None)
     if normwise is None or not normwise > max(DOUBT_RATIO * cert.error, tol):
         return None
     return (f"ill-posed: the residuals are small only on scales that grew with the answer "
