@@ -149,7 +149,12 @@ def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run
         m = get_method(method)
         _check_kind(problem, m)
         sol = run_lcp_qp(problem, m, tol_backend, tol_cert, accuracy, options, **run)
-        return prove_no_solution(problem, sol, run["time_limit"]) if doubtful(problem, sol) else sol
+        if not doubtful(problem, sol):
+            return sol
+        limit = run["time_limit"]
+        # the proof gets what the method left of the limit, at least a quarter
+        return prove_no_solution(problem, sol, None if limit is None else
+                                 max(limit - sol.wall_time, 0.25 * limit))
     start, limit = time.perf_counter(), run["time_limit"]
     learned, seen = [], {"proofs": 0, "evidence": 0}
 

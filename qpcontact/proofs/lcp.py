@@ -18,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .exact import Proof, candidates, exact_farkas
-from .lp import LP_TIME_LIMIT
+from .lp import LP_TIME_LIMIT, Deadline
 from .qp import find_farkas
 
 __all__ = ["prove_lcp_infeasible", "check_farkas_hint", "feasibility", "FARKAS_RTOL"]
@@ -40,7 +40,7 @@ def prove_lcp_infeasible(lcp, time_limit: float | None = None, hints=()) -> Proo
         proof = check_farkas_hint(M, q, y)
         if proof is not None:
             return proof
-    tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
+    tl = Deadline(min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT))
     with np.errstate(all="ignore"):
         proof = find_farkas(None, np.zeros(n), -M, q, None, None, np.zeros(n), None, tl)
     if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric:

@@ -41,7 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .exact import EXACT_WORK, Proof, candidates, exact_farkas, exact_ray
-from .lp import LP_TIME_LIMIT, column_scale, csr_rows, linprog, row_scale
+from .lp import LP_TIME_LIMIT, Deadline, column_scale, csr_rows, linprog, row_scale
 
 __all__ = ["prove_no_minimiser", "find_farkas", "x_size"]
 
@@ -304,13 +304,13 @@ def _exactly_feasible(x, G, h, A, b, lb, ub) -> bool:
 def prove_no_minimiser(problem, time_limit: float | None = None, hints=()) -> Proof | None:
     """A checked Farkas vector or ray for a convex ``qpsolvers.Problem``, or
     None when neither is found (the QP may still have no minimiser; nothing
-    is claimed then).  Each LP gets at most ``time_limit`` seconds (default
+    is claimed then).  Its LPs get ``time_limit`` seconds together (default
     and cap :data:`LP_TIME_LIMIT`).  ``hints`` are points a method returned
     far out: their direction is tried exactly as a ray first (a backend on an
     unbounded QP stops at x ~ 1e8..1e11 along it)."""
     P, q, G, h, A, b, lb, ub = problem.unpack()
     q = np.asarray(q, dtype=float)
-    tl = min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT)
+    tl = Deadline(min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT))
     with np.errstate(all="ignore"):
         for x in hints:
             proof = _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl)

@@ -73,7 +73,7 @@ def write_markdown(csv_path, md_path=None) -> tuple[Path, dict]:
         "",
         f"{len(rows)} solves of {problems} problems; silent wrong: **{totals['silent_wrong']}**, "
         f"hung (time-limited): **{totals['hung']}**; over their time share: **{totals['over']}** "
-        "(whole wall time past 1.5 x time_limit, times the methods \"auto\" may call for auto).",
+        "(whole wall time past 1.5 x time_limit, \"auto\" included).",
         "",
         "Categories (judged against each instance's built-in answer, not by qpcontact.certify): "
         "certified · proved (no solution, proof checked) · inaccurate · failed · "
