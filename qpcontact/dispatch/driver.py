@@ -117,8 +117,8 @@ def _check_kind(problem, m) -> None:
 
 
 #: how many times one "auto" call looks for a proof that no solution exists
-#: (each time with what the methods so far learned); each search is one to
-#: three LPs plus exact checks
+#: (each time with what the methods so far learned); each search is a few
+#: LPs on one time budget, plus exact checks
 AUTO_PROOFS = 3
 
 #: "auto" ends its chain once this many results point to no solution — an
@@ -129,14 +129,11 @@ AUTO_PROOFS = 3
 AUTO_EVIDENCE = 2
 
 
-def _far_out(problem, sol) -> bool:
-    """A certified or failed answer the doubt rules leave alone, but whose size
-    or forward error still asks for a proof (qpcontact.dispatch.lcp_qp.doubtful
-    for an ok answer)."""
-    if sol.ok:
-        return True          # doubtful() said so for an ok answer: size or forward error
-    point = getattr(sol, "z", None) if hasattr(sol, "w") else getattr(sol, "x", None)
-    return point is None and sol.status == "failed"
+def _asks_for_proof(sol) -> bool:
+    """Besides the results that point to no solution: an ok answer that
+    doubtful() still questions (its size, its forward error), and a method
+    that returned no point at all."""
+    return sol.ok or (sol.status == "failed" and sol.certificate is None)
 
 
 def _points_to_no_solution(sol) -> bool:
@@ -177,7 +174,7 @@ def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run
             # tolerance waits for the end of the chain (most are certified by
             # the next method: a penalty step's QP took 1.5 proofs per step)
             if seen["proofs"] < AUTO_PROOFS and (_points_to_no_solution(sol)
-                                                 or _far_out(problem, sol)):
+                                                 or _asks_for_proof(sol)):
                 seen["proofs"] += 1
                 sol = prove_no_solution(problem, sol, _proof_time(left(), limit), learned)
             learned.extend(new)
