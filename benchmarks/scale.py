@@ -1,11 +1,13 @@
-"""The exact oracle at mesh scale (issue 18): membrane and plate obstacle
-problems and a 3-D elastic block on a rigid foundation (the mixed problem),
-n = 1e4 .. 1e5, every method in its own process (time, peak memory, killed
-at the time limit), measured side by side in one run.
+"""The exact oracle at mesh scale (issues 18, 32): membrane and plate obstacle
+problems (obstacle shapes "dome", "ridge", "bumps") and a 3-D elastic block on
+a rigid foundation (the mixed problem), n = 1e4 .. 1e6, every method in its
+own process (time, peak memory, killed at the time limit), measured side by
+side in one run.
 
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 .venv/bin/python benchmarks/scale.py
     .venv/bin/python benchmarks/scale.py --quick          # n ~ 1e3 .. 1e4, a minute
-    .venv/bin/python benchmarks/scale.py --membrane 1000 --methods ip-bpp   # n = 1e6
+    .venv/bin/python benchmarks/scale.py --membrane 1000 --methods mg-bpp   # n = 1e6
+    .venv/bin/python benchmarks/scale.py --membrane 100,316 --shapes dome,bumps,ridge
 
 Per family and n: each method's wall time (solve() included: conversion,
 certificate), iterations, certificate error, the ratio to **one sparse LDLᵀ
@@ -15,8 +17,11 @@ the answer's own linear system) for the whole solve() and for the method's
 own call (``wall_time``: without solve()'s convexity check and certificate,
 which every route pays), the ratio to the fastest QP backend that
 certified its answer at "high", and the process's peak memory.  Prints a
-Markdown table and saves a log-log plot of time against n
-(out/scale/scale.png) and the rows (out/scale/scale.csv).
+Markdown table and each method's fitted slope (time ∝ n^slope per family),
+and saves a log-log plot of time against n with the LDLᵀ floor drawn
+(out/scale/scale.png) and the rows (out/scale/scale.csv).  The QP backends
+run up to ``--backends-max`` unknowns (default 2e5: at 1e6 none finishes in
+any limit worth waiting for).
 """
 
 from __future__ import annotations
@@ -38,12 +43,13 @@ BACKENDS = ("piqp", "clarabel", "proxqp", "osqp")
 
 
 def build(family: str, size: int):
+    """``family`` is "membrane", "plate" (optionally "-<shape>", a key of
+    meshes.OBSTACLES) or "signorini"."""
     from formulations import meshes
 
-    if family == "membrane":
-        return meshes.membrane(size)
-    if family == "plate":
-        return meshes.plate(size)
+    kind, _, shape = family.partition("-")
+    if kind in ("membrane", "plate"):
+        return getattr(meshes, kind)(size, obstacle=shape or "dome")
     return meshes.signorini(size)[0]
 
 
@@ -87,16 +93,17 @@ def job(family, size, method, progress, queue):
 
     # warm-up on a tiny instance: imports, compiled kernels, the registry —
     # costs paid once per process, not per problem
-    solve(build(family, 4 if family != "signorini" else 2), method=method)
+    solve(build(family, 9 if family != "signorini" else 2), method=method)
     problem = build(family, size)
     opts = {"progress": lambda line: print(f"    {line}", flush=True)} \
-        if progress and method == "ip-bpp" else {}
+        if progress and method in ("ip-bpp", "mg-bpp") else {}
     t = time.perf_counter()
     sol = solve(problem, method=method, accuracy="high", **opts)
     wall = time.perf_counter() - t
     is_lcp = hasattr(problem, "n")
     x = sol.z if is_lcp else sol.x
-    block = _final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp") else None
+    block = (_final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp", "mg-bpp")
+             else None)
     n = problem.n if is_lcp else problem.P.shape[0]
     queue.put(dict(family=family, n=n, method=method, time=wall, method_time=sol.wall_time,
                    ok=sol.ok, status=sol.status,
@@ -134,7 +141,11 @@ def main(argv=None) -> int:
     ap.add_argument("--membrane", default=None, help="grid sides, e.g. 100,316")
     ap.add_argument("--plate", default=None)
     ap.add_argument("--block", default=None, help="3-D block: elements per side, e.g. 16,20")
-    ap.add_argument("--methods", default="bpp,ip-bpp," + ",".join(BACKENDS))
+    ap.add_argument("--methods", default="bpp,ip-bpp,mg-bpp," + ",".join(BACKENDS))
+    ap.add_argument("--shapes", default="dome",
+                    help="obstacle shapes for membrane and plate, e.g. dome,bumps,ridge")
+    ap.add_argument("--backends-max", type=float, default=2e5,
+                    help="run the QP backends up to this many unknowns")
     ap.add_argument("--limit", type=float, default=120.0, help="seconds per run (killed after)")
     ap.add_argument("--out", default="out/scale")
     args = ap.parse_args(argv)
@@ -147,13 +158,22 @@ def main(argv=None) -> int:
                                           ("plate", sizes["plate"], args.plate),
                                           ("signorini", sizes["signorini"], args.block)) if given}
     methods = [m for m in args.methods.split(",") if m]
-    rows = []
+    shapes = [s for s in args.shapes.split(",") if s]
+    families = []
     for family, spec in sizes.items():
+        for shape in (shapes if family != "signorini" else [""]):
+            name = family if shape in ("", "dome") else f"{family}-{shape}"
+            families.append((name, spec))
+    rows = []
+    for family, spec in families:
         for size in (int(s) for s in spec.split(",") if s):
             group = []
+            unknowns = size ** 2 if family != "signorini" else 3 * size ** 3
             for method in methods:
-                if method == "bpp" and family == "signorini":
-                    continue   # bpp takes LCPs: the block's LCP would be its dense Schur complement
+                if method in ("bpp", "mg-bpp") and family == "signorini":
+                    continue   # they take LCPs: the block's LCP would be its dense Schur complement
+                if method in BACKENDS and unknowns > args.backends_max:
+                    continue
                 print(f"{family} {size}: {method} ...", flush=True)
                 r = run_one(family, size, method, args.limit, progress=size >= 500)
                 r["size"] = size
@@ -186,8 +206,38 @@ def main(argv=None) -> int:
                       "error", "ldlt", "vs_ldlt", "method_time", "method_vs_ldlt", "vs_backend",
                       "peak_mb"])
     _plot(rows, out / "scale.png")
+    print("\nFitted slopes (time ∝ n^slope, least squares on the certified rows):")
+    for (family, method), slope in _slopes(rows).items():
+        print(f"  {family:18s} {method:10s} {slope:.2f}")
     print(f"\nwrote {out / 'scale.csv'} and {out / 'scale.png'}")
     return 0
+
+
+def _slopes(rows) -> dict:
+    """(family, method) -> the slope of log time against log n, where the
+    method certified at two sizes or more; "LDLᵀ floor" for the floor."""
+    import numpy as np
+
+    out = {}
+    for family in dict.fromkeys(r["family"] for r in rows):
+        series = {m: sorted((r["n"], r["time"]) for r in rows
+                            if r["family"] == family and r["method"] == m and r["ok"] and r["n"])
+                  for m in dict.fromkeys(r["method"] for r in rows)}
+        series["LDLᵀ floor"] = _floor(rows, family)
+        for method, pts in series.items():
+            if len({n for n, _ in pts}) >= 2:
+                n, t = np.log(np.array(pts, dtype=float)).T
+                out[(family, method)] = float(np.polyfit(n, t, 1)[0])
+    return out
+
+
+def _floor(rows, family) -> list:
+    """(n, seconds) of one LDLᵀ of the final free block, per size."""
+    best = {}
+    for r in rows:
+        if r["family"] == family and r.get("ldlt") and r["n"]:
+            best[r["n"]] = min(best.get(r["n"], float("inf")), r["ldlt"])
+    return sorted(best.items())
 
 
 def _plot(rows, path):
@@ -197,15 +247,28 @@ def _plot(rows, path):
 
     from qpcontact.plots.figures import save_figure
 
-    families = sorted({r["family"] for r in rows})
+    families = list(dict.fromkeys(r["family"] for r in rows))
     colour = {m: f"C{k}" for k, m in enumerate(sorted({r["method"] for r in rows}))}
-    fig, axes = plt.subplots(1, len(families), figsize=(5 * len(families), 4.2), squeeze=False)
-    for ax, fam in zip(axes[0], families):
+    slopes = _slopes(rows)
+    cols = min(3, len(families))
+    nrows = -(-len(families) // cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(5 * cols, 4.2 * nrows), squeeze=False)
+    for ax in axes.ravel()[len(families):]:
+        ax.set_visible(False)
+    for ax, fam in zip(axes.ravel(), families):
         for method in sorted({r["method"] for r in rows if r["family"] == fam}):
             pts = sorted((r["n"], r["time"]) for r in rows
                          if r["family"] == fam and r["method"] == method and r["ok"] and r["n"])
             if pts:
-                ax.loglog(*zip(*pts), "o-", label=method, color=colour[method])
+                slope = slopes.get((fam, method))
+                label = method + ("" if slope is None else f" (slope {slope:.2f})")
+                ax.loglog(*zip(*pts), "o-", label=label, color=colour[method])
+        floor = _floor(rows, fam)
+        if floor:
+            slope = slopes.get((fam, "LDLᵀ floor"))
+            ax.loglog(*zip(*floor), "k--", lw=1.2,
+                      label="one LDLᵀ of the final block"
+                      + ("" if slope is None else f" (slope {slope:.2f})"))
         ax.set_title(fam)
         ax.set_xlabel("unknowns n")
         ax.set_ylabel("time to a certified answer [s]")

@@ -35,6 +35,10 @@ free variables plus complementarity pairs — returned as a
 elsewhere).  Nothing is condensed onto the contact nodes: the Schur complement
 there would be dense.
 
+The membrane and plate LCPs carry their grid's coarse levels
+(:func:`grid_hierarchy`, bilinear interpolation from every other node): the
+multilevel method ``"mg-bpp"`` starts from them.
+
 Each builder can also return a *degenerate* instance (``degenerate=True``):
 the load is chosen so that the solution touches the obstacle exactly at
 grid points with a zero reaction there (z_i = w_i = 0: no strict
@@ -50,7 +54,7 @@ import scipy.sparse as sp
 from qpcontact.core.errors import InvalidProblemError
 from qpcontact.core.problems import LCP
 
-__all__ = ["laplacian", "membrane", "plate", "signorini", "instances"]
+__all__ = ["laplacian", "grid_hierarchy", "membrane", "plate", "signorini", "instances"]
 
 
 def _grid_size(N) -> int:
@@ -65,6 +69,43 @@ def laplacian(N: int) -> sp.csr_matrix:
     T = sp.diags([-np.ones(N - 1), 2 * np.ones(N), -np.ones(N - 1)], [-1, 0, 1])
     E = sp.identity(N)
     return (sp.kron(E, T) + sp.kron(T, E)).tocsr()
+
+
+def _interpolation_1d(N: int) -> sp.csr_matrix:
+    """Linear interpolation onto an N-node interior grid from the coarse grid
+    of its odd-numbered nodes (0-based 1, 3, ...; N // 2 of them), with zero
+    Dirichlet values beyond both ends: a coarse node keeps its value (weight
+    1), a fine node between two coarse ones takes their mean, one between a
+    coarse node and the boundary half of it.  Nested for every N (for even N
+    the last coarse cell is one fine cell wide)."""
+    i = np.arange(N)
+    odd = i % 2 == 1
+    rows = [i[odd]]
+    cols = [i[odd] // 2]
+    vals = [np.ones(odd.sum())]
+    for side in (-1, 1):
+        j = i[~odd] + side
+        ok = (j >= 0) & (j <= N - 1)
+        rows.append(i[~odd][ok])
+        cols.append(j[ok] // 2)
+        vals.append(np.full(ok.sum(), 0.5))
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(N, N // 2))
+
+
+def grid_hierarchy(N: int, coarsest: int = 7) -> list:
+    """Prolongations of the N x N interior grid's hierarchy, finest first:
+    bilinear interpolation (the tensor product of :func:`_interpolation_1d`),
+    each level on the odd-numbered nodes of the one above, down to a grid of
+    fewer than ``coarsest`` nodes a side.  What ``LCP(..., hierarchy=...)``
+    takes: the multilevel method's coarse grids."""
+    N = _grid_size(N)
+    out = []
+    while N >= coarsest:
+        p = _interpolation_1d(N)
+        out.append(sp.kron(p, p, format="csr"))
+        N //= 2
+    return out
 
 
 def _grid(N):
@@ -89,40 +130,61 @@ def _manufactured(rng, n, frac_contact=0.4, frac_degenerate=0.1):
     return z, w
 
 
-def membrane(N: int, *, tension: float = 1.0, load: float = -8.0, degenerate: bool = False,
-             scale: float = 1.0, seed: int = 0) -> LCP:
+#: The obstacle shapes ψ(x, y) [m] on the unit square.
+OBSTACLES = {
+    # a dome: contact on one disc
+    "dome": lambda x, y: 0.3 - 2.0 * ((x - 0.5) ** 2 + (y - 0.5) ** 2),
+    # a roof ridge along the diagonal: contact on a band with a kink in ψ
+    "ridge": lambda x, y: 0.2 - np.abs(x - y),
+    # three bumps of different heights: several contact regions, some that
+    # merge or vanish as the load changes
+    "bumps": lambda x, y: np.maximum.reduce([
+        np.full_like(x, -0.5),
+        0.15 - 8.0 * ((x - 0.3) ** 2 + (y - 0.3) ** 2),
+        0.20 - 8.0 * ((x - 0.7) ** 2 + (y - 0.4) ** 2),
+        0.10 - 8.0 * ((x - 0.5) ** 2 + (y - 0.75) ** 2)]),
+}
+
+
+def membrane(N: int, *, tension: float = 1.0, load: float = -8.0, obstacle: str = "dome",
+             degenerate: bool = False, scale: float = 1.0, seed: int = 0) -> LCP:
     """Membrane obstacle problem on an N x N grid (n = N² unknowns z = u − ψ).
 
     Default data: tension 1 N/m, pressure −8 N/m² (downwards), obstacle the
     dome ψ = 0.3 − 2((x − ½)² + (y − ½)²) [m]: the membrane drapes over it
-    and rests on a disc of about 38 % of the nodes."""
+    and rests on a disc of about 38 % of the nodes.  ``obstacle`` picks
+    another shape of :data:`OBSTACLES` ("ridge", "bumps")."""
     N = _grid_size(N)
     h, x, y = _grid(N)
     K = (scale * tension / h ** 2) * laplacian(N)
-    return _obstacle_lcp(K.tocsc(), x, y, scale * load, degenerate, seed)
+    return _obstacle_lcp(K.tocsc(), x, y, scale * load, obstacle, degenerate, seed, N)
 
 
-def plate(N: int, *, rigidity: float = 1.0, load: float = -1000.0, degenerate: bool = False,
-          scale: float = 1.0, seed: int = 0) -> LCP:
+def plate(N: int, *, rigidity: float = 1.0, load: float = -1000.0, obstacle: str = "dome",
+          degenerate: bool = False, scale: float = 1.0, seed: int = 0) -> LCP:
     """Plate obstacle problem (13-point biharmonic) on an N x N grid."""
     N = _grid_size(N)
     h, x, y = _grid(N)
     L = laplacian(N) / h ** 2
     K = (scale * rigidity) * (L @ L)
-    return _obstacle_lcp(sp.csc_matrix(K), x, y, scale * load, degenerate, seed)
+    return _obstacle_lcp(sp.csc_matrix(K), x, y, scale * load, obstacle, degenerate, seed, N)
 
 
-def _obstacle_lcp(K, x, y, load, degenerate, seed):
+def _obstacle_lcp(K, x, y, load, obstacle, degenerate, seed, N):
+    if obstacle not in OBSTACLES:
+        raise InvalidProblemError(f"unknown obstacle {obstacle!r}; the shapes are "
+                                  + ", ".join(OBSTACLES))
     n = x.size
     if degenerate:
         z, w = _manufactured(np.random.default_rng(seed), n)
         # a load that makes this (z, w) the solution: q = w − K z
-        lcp = LCP(K, w - K @ z)
+        lcp = LCP(K, w - K @ z, hierarchy=grid_hierarchy(N) or None)
     else:
-        psi = 0.3 - 2.0 * ((x - 0.5) ** 2 + (y - 0.5) ** 2)
+        psi = OBSTACLES[obstacle](x, y)
         f = np.full(n, float(load))
         # each q_i is a difference of K ψ and f: the certificate judges it on that scale
-        lcp = LCP(K, K @ psi - f, q_terms=np.abs(K) @ np.abs(psi) + np.abs(f))
+        lcp = LCP(K, K @ psi - f, q_terms=np.abs(K) @ np.abs(psi) + np.abs(f),
+                  hierarchy=grid_hierarchy(N) or None)
     lcp.structure.declare_spd()   # a Dirichlet Laplacian and its square: SPD by construction
     return lcp
 

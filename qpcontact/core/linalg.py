@@ -170,7 +170,7 @@ class ActiveBlock:
                     upper = triu[:, self.F][self.F, :]
                     try:
                         fac = qdldl.Solver(upper.tocsc(), upper=True)
-                    except ValueError as exc:  # QDLDL reports a zero pivot this way
+                    except (ValueError, RuntimeError) as exc:  # QDLDL's zero pivot
                         raise np.linalg.LinAlgError(str(exc)) from None
                     self._solve = fac.solve
             else:
@@ -215,18 +215,23 @@ class ActiveBlock:
         """B^{-1} rhs, refined until the residual stops shrinking (at most ``refine`` times)."""
         return refined(self._solve, self.B, rhs, self._checked(self._solve(rhs)), refine)
 
-    def basic_solution(self, M, q: np.ndarray, refine: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    def basic_solution(self, M, q: np.ndarray, refine: int = 3,
+                       start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(z, w) with z_F = -M_FF^{-1} q_F, z elsewhere 0, w = Mz + q.
 
         Refined against the full product M z (w_F is the residual), which the
-        caller needs anyway: no copy of M_FF is formed.
+        caller needs anyway: no copy of M_FF is formed.  ``start``: an earlier
+        unrefined solution for this block, refined instead of solving again.
         """
         n = q.size
-        z = np.zeros(n)
         F = self.F
         if F.size == 0:
-            return z, q.copy()
-        z[F] = self._checked(self._solve(-q[F]))
+            return np.zeros(n), q.copy()
+        if start is None:
+            z = np.zeros(n)
+            z[F] = self._checked(self._solve(-q[F]))
+        else:
+            z = start.copy()
         w = np.asarray(M @ z).ravel() + q
         rn = np.max(np.abs(w[F]))
         for _ in range(refine):

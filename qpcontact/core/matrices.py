@@ -284,6 +284,32 @@ class MatrixStructure:
         self.__dict__.update(is_symmetric=True, is_positive_definite=True, is_psd=True,
                              asymmetry=0.0, relative_asymmetry=0.0)
 
+    #: Prolongations of the mesh hierarchy M comes from (finest first), or None.
+    hierarchy = None
+    #: The hierarchy "mg-bpp" built by aggregation when none was given, kept
+    #: for the next LCP on this M (a time stepper's).
+    aggregated_hierarchy = None
+
+    def declare_hierarchy(self, prolongations) -> None:
+        """Record the coarse levels of the mesh M comes from (validated by
+        :func:`qpcontact.core.hierarchy.as_hierarchy`; the LCPs sharing this
+        structure — a time stepper's — share them)."""
+        from .hierarchy import as_hierarchy
+
+        self.hierarchy = as_hierarchy(prolongations, self.M.shape[0])
+
+    @cached_property
+    def is_z_matrix(self) -> bool:
+        """Every off-diagonal entry <= 0 (a Z-matrix; symmetric positive
+        definite ones are Stieltjes matrices, the M-matrices of meshes: a
+        membrane's stiffness, not a plate's)."""
+        M = self.M
+        if sp.issparse(M):
+            C = sp.coo_matrix(M)
+            return bool(np.all(C.data[C.row != C.col] <= 0))
+        off = M - np.diag(np.diag(M))
+        return bool(np.all(off <= 0))
+
     @cached_property
     def upper(self):
         """Upper triangle of a sparse M (CSC), what sparse LDL' codes take."""

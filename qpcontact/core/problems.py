@@ -99,12 +99,18 @@ class LCP(_LCPBase):
         the sum of the magnitudes of its terms, >= |q|.  The certificate judges
         row i against |q_terms_i| + (|M||z|)_i, so a q_i that cancelled to
         rounding noise is not judged against the noise.  Default |q|.
+    hierarchy : sequence of (n_l, n_(l+1)) matrices, optional
+        Coarse levels of the mesh M comes from, as prolongations finest first
+        (:func:`qpcontact.core.hierarchy.as_hierarchy`): the multilevel method
+        ``"mg-bpp"`` uses them instead of building its own by aggregation.
+        They only decide how fast the contact set is found, never the answer.
 
     Raises
     ------
     InvalidProblemError
         When M is not square, q does not match M, a value is complex or not
-        finite (the message gives the first bad index), or n = 0.
+        finite (the message gives the first bad index), n = 0, or a hierarchy
+        does not match M (the message names the level).
 
     Notes
     -----
@@ -112,10 +118,12 @@ class LCP(_LCPBase):
     computed on first use and cached.  The object holds plain arrays and pickles.
     """
 
-    def __init__(self, M, q, *, q_terms=None):
+    def __init__(self, M, q, *, q_terms=None, hierarchy=None):
         n = self._init_matrix(M)
         self.q = as_vector(q, n, "q")
         self.q_terms = np.abs(self.q) if q_terms is None else np.abs(as_vector(q_terms, n, "q_terms"))
+        if hierarchy is not None:
+            self._structure.declare_hierarchy(hierarchy)
 
     @classmethod
     def with_structure(cls, structure: MatrixStructure, q: np.ndarray,
@@ -160,12 +168,15 @@ class LCP(_LCPBase):
         return f"LCP({self._kind()})"
 
     def __getstate__(self):
-        return {"M": self.M, "q": self.q, "q_terms": self.q_terms}
+        return {"M": self.M, "q": self.q, "q_terms": self.q_terms,
+                "hierarchy": self._structure.hierarchy}
 
     def __setstate__(self, state):
         self._structure = MatrixStructure(state["M"])
         self.q = state["q"]
         self.q_terms = state.get("q_terms", np.abs(self.q))
+        if state.get("hierarchy") is not None:
+            self._structure.declare_hierarchy(state["hierarchy"])
 
 
 class ParametricLCP(_LCPBase):

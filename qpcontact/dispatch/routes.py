@@ -34,13 +34,24 @@ AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel
               "highs", "quadprog", "scs", "cvxpy:CLARABEL")
 
 
-#: "auto" puts "ip-bpp" first for sparse SPD LCPs from this size on whose
-#: matrix is not banded (meshes: bpp's active-set front moves one grid line
-#: per exchange, 25 exchanges at n = 1e4 and 81 at 1e5 on the membrane), and
-#: for QPs whose only constraints are lower bounds (the mixed problem of
-#: finite-element contact).  Banded matrices (contact chains, bandwidth <= 16)
-#: keep "bpp", which needs 3-4 exchanges there (docs/pivoting.md).
-AUTO_IP_BPP_MIN = 5000
+#: "auto" on a sparse SPD LCP (checked by the driver: a method whose
+#: requirement fails is skipped) goes by structure, measured on this 2-core
+#: machine (docs/pivoting.md, "Routing"):
+#:
+#: * banded (bandwidth <= 16: contact chains, stacks): "bpp" first — 3-4
+#:   exchanges, each a banded Cholesky (n = 3000: 2 ms, where "energy", first
+#:   in AUTO_ORDER, densified the matrix and took 13 s);
+#: * otherwise (meshes), from AUTO_MG_MIN unknowns: "mg-bpp" first where M is
+#:   a Z-matrix (off-diagonal entries <= 0: a membrane, any M-matrix
+#:   stiffness; n = 1e5: 2.6 x one LDLᵀ of the final block, ip-bpp 39 x) or
+#:   below AUTO_IP_BPP_MIN unknowns; "ip-bpp" first above it where M has
+#:   off-diagonal entries of both signs (the plate: there the multilevel
+#:   search's projected corrections stall and its guess costs exchanges —
+#:   n = 4e4: 20 s against ip-bpp's 5.9 s);
+#: * a QP whose only constraints are lower bounds (the mixed problem of
+#:   finite-element contact): "ip-bpp" first.
+AUTO_MG_MIN = 1000
+AUTO_IP_BPP_MIN = 10_000
 
 
 # Dense-only backends densify sparse input; beyond this size that costs more
@@ -88,12 +99,24 @@ def kind_of(problem) -> str:
 
 def auto_order(problem) -> tuple:
     if isinstance(problem, LCP):
-        mesh_like = (problem.is_sparse and problem.n >= AUTO_IP_BPP_MIN
-                     and problem.structure.bandwidth > BANDED_MAX)
-        return ("ip-bpp",) + AUTO_ORDER if mesh_like else AUTO_ORDER
+        first = _lcp_first(problem)
+        return first + tuple(m for m in AUTO_ORDER if m not in first)
     if isinstance(problem, Problem) and lower_bounds_only(problem):
         return ("ip-bpp",) + AUTO_ORDER
     return AUTO_ORDER
+
+
+def _lcp_first(problem: LCP) -> tuple:
+    """The exact methods "auto" puts first for this LCP's structure (see
+    AUTO_MG_MIN)."""
+    if not problem.is_sparse or problem.n < 100:
+        return ()
+    structure = problem.structure
+    if structure.bandwidth <= BANDED_MAX or problem.n < AUTO_MG_MIN:
+        return ("bpp",)
+    if structure.is_z_matrix or problem.n < AUTO_IP_BPP_MIN:
+        return ("mg-bpp",)
+    return ("ip-bpp",)
 
 
 def lower_bounds_only(problem: Problem) -> bool:

@@ -26,7 +26,7 @@ PROVIDERS = ("pivoting", "trace", "friction", "qpsolvers", "cvxpy")
 #: asking for one method loads its provider only (tests/test_solve.py holds
 #: them to the providers' specs()).
 IN_HOUSE = {
-    "pivoting": ("energy", "bpp", "ip-bpp", "lemke", "enumeration"),
+    "pivoting": ("energy", "bpp", "ip-bpp", "mg-bpp", "lemke", "enumeration"),
     "trace": ("trace",),
     "friction": ("nsgs", "anitescu", "desaxce-fp", "tresca-fp", "newton", "desaxce-global"),
 }

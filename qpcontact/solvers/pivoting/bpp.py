@@ -29,9 +29,10 @@ import scipy.sparse as sp
 
 from ...core.errors import InvalidOptionError
 from ...core.results import MethodResult
-from ...core.linalg import BANDED_MAX, ActiveBlock, SolutionOverflow
+from ...core.linalg import BANDED_MAX, SolutionOverflow
 from ...judge.scales import ComponentScales
 from .active_set import ExchangeRule, negative_components, not_positive_definite, overflow_result
+from .finish import NearbyBases
 from ...core.options import check_options, int_option
 
 __all__ = ["run_bpp", "block_pivoting"]
@@ -54,24 +55,26 @@ def _as_mask(active, n: int) -> np.ndarray:
     return mask
 
 
-def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int):
-    """Iterate from the basis F; returns (z, F, stats, status)."""
+def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=None):
+    """Iterate from the basis F; returns (z, F, stats, status).  ``stats``
+    (a dict, updated in place) lets a caller count its own work beside."""
     M, q = problem.M, problem.q
     scales = ComponentScales(M, problem.q_terms, problem.matrix_scale)
     # Per-matrix analysis, cached on the problem (a time stepper reuses it).
     structure = problem.structure
     bands = structure.upper_bands(BANDED_MAX) if sp.issparse(M) else None
     triu = structure.upper if bands is None else None
-    stats = {"iterations": 0, "factorizations": 0, "initial_active": int(F.sum())}
+    stats = {} if stats is None else stats
+    stats.update(iterations=0, initial_active=int(F.sum()))
+    # A banded Cholesky costs a few products with M: nothing to reuse.
+    bases = NearbyBases(M, q, stats, triu=triu, bands=bands, reuse=bands is None)
     rule = ExchangeRule(q.size, patience, stats)
     while True:
-        block = ActiveBlock(M, F, symmetric=True, triu=triu, bands=bands)
-        stats["factorizations"] += 1
         # Intermediate bases only need signs: refine once the signs look final.
-        z, w = block.basic_solution(M, q, refine=0)
+        z, w = bases.basic_solution(F, refine=0)
         infeasible = negative_components(scales, np.where(F, z, w), F, z)
         if infeasible.size == 0:
-            z, w = block.basic_solution(M, q, refine=3)
+            z, w = bases.basic_solution(F, refine=3)
             infeasible = negative_components(scales, np.where(F, z, w), F, z)
         if infeasible.size == 0:
             z[F] = np.maximum(z[F], 0.0)

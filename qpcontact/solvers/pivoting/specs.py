@@ -14,6 +14,7 @@ from .energy import run_energy
 from .enumeration import ENUMERATION_MAX, run_enumeration
 from .ip_bpp import run_ip_bpp
 from .lemke import run_lemke
+from .mg_bpp import run_mg_bpp
 
 _INSTALL = "pip install qpcontact"
 _ANY_M = ("lcp", "qp", "friction-2d", "friction-3d")
@@ -31,6 +32,10 @@ def specs() -> list[Method]:
                returns_duals=True,
                algorithm="interior-point warm start, block principal pivoting finish",
                exact=True, family="pivoting", install=_INSTALL, constraints="lower-bounds"),
+        Method("mg-bpp", run_mg_bpp, takes="lcp", requires="spd", accepts_sparse=True,
+               returns_duals=False,
+               algorithm="nested truncated nonsmooth Newton multigrid, block pivoting finish",
+               exact=True, family="pivoting", install=_INSTALL),
         Method("lemke", run_lemke, takes="lcp", requires="any", accepts_sparse=False,
                returns_duals=False, algorithm="complementary pivoting (Lemke)",
                exact=True, family="pivoting", install=_INSTALL, problems=_ANY_M,

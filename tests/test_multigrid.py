@@ -1,0 +1,196 @@
+"""The multilevel route "mg-bpp" (issue 32): its answers equal the exact
+oracle's — the energy method's, a manufactured solution's, or a closed form —
+on several meshes, with the problem's own grid hierarchy and with the one it
+builds by aggregation; a hierarchy that does not match is refused; a poor
+hierarchy costs time, never the answer; the exact finish reuses its
+factorization; and "auto" routes by structure."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import qpcontact
+from formulations import meshes
+from qpcontact import LCP, InvalidProblemError
+from qpcontact.dispatch.routes import auto_order
+from qpcontact.solvers.pivoting.multigrid import COARSEST_MAX
+
+
+def _without_hierarchy(lcp):
+    bare = LCP(lcp.M, lcp.q, q_terms=lcp.q_terms)
+    bare.structure.declare_spd()
+    return bare
+
+
+def _energy(lcp):
+    ref = qpcontact.solve(lcp, method="energy")
+    assert ref.ok, ref.message
+    return ref.z
+
+
+@pytest.mark.parametrize("family,N", [("membrane", 15), ("membrane", 24), ("membrane", 31),
+                                      ("plate", 12), ("plate", 19)])
+@pytest.mark.parametrize("hierarchy", ["grid", "aggregation"])
+def test_equals_the_energy_method_on_meshes(family, N, hierarchy):
+    lcp = getattr(meshes, family)(N)
+    assert lcp.structure.hierarchy is not None
+    z_ref = _energy(lcp)
+    assert 0 < np.count_nonzero(z_ref == 0) < z_ref.size
+    problem = lcp if hierarchy == "grid" else _without_hierarchy(lcp)
+    sol = qpcontact.solve(problem, method="mg-bpp")
+    assert sol.ok, sol.message
+    assert sol.stats["hierarchy"] == ("given" if hierarchy == "grid" else "aggregation")
+    if hierarchy == "grid" or N * N > COARSEST_MAX:   # else solved at once, densely
+        assert sol.stats["mg_levels"] >= 2
+    np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-10 * np.abs(z_ref).max())
+    np.testing.assert_array_equal(sol.z == 0, z_ref == 0)
+
+
+@pytest.mark.parametrize("family", ["membrane", "plate"])
+@pytest.mark.parametrize("scale", [1.0, 1e9])
+def test_degenerate_pairs_recover_the_manufactured_solution(family, scale):
+    """10 % of the pairs have z_i = w_i = 0: no strict complementarity."""
+    N = 20
+    lcp = getattr(meshes, family)(N, degenerate=True, scale=scale, seed=5)
+    z_true, w_true = meshes._manufactured(np.random.default_rng(5), N * N)
+    assert np.count_nonzero((z_true == 0) & (w_true == 0)) >= 0.09 * N * N
+    for problem in (lcp, _without_hierarchy(lcp)):
+        sol = qpcontact.solve(problem, method="mg-bpp")
+        assert sol.ok, sol.message
+        np.testing.assert_allclose(sol.z, z_true, rtol=0, atol=1e-10 * z_true.max())
+
+
+def test_obstacle_nowhere_active_gives_the_unconstrained_solution():
+    """q = -M z* with z* > 0: the membrane never touches, z = z*."""
+    N = 33
+    M = meshes.membrane(N).M
+    z_star = 1.0 + np.random.default_rng(0).uniform(size=N * N)
+    lcp = LCP(M, -(M @ z_star), hierarchy=meshes.grid_hierarchy(N))
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok, sol.message
+    assert np.all(sol.z > 0)
+    np.testing.assert_allclose(sol.z, z_star, rtol=1e-11)
+
+
+def test_obstacle_above_the_membrane_everywhere_holds_it_on_the_obstacle():
+    """A load pushing the membrane into an obstacle it touches everywhere
+    (q > 0): z = 0 and w = q."""
+    N = 33
+    lcp = LCP(meshes.membrane(N).M, np.linspace(1.0, 2.0, N * N),
+              hierarchy=meshes.grid_hierarchy(N))
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok, sol.message
+    np.testing.assert_array_equal(sol.z, 0.0)
+    np.testing.assert_array_equal(sol.w, lcp.q)
+
+
+def test_a_poor_hierarchy_costs_cycles_not_the_answer():
+    """Random nonnegative prolongations of the right shapes: the coarse
+    corrections are useless, the answer is still the exact one."""
+    N = 24
+    lcp = meshes.membrane(N)
+    rng = np.random.default_rng(1)
+    shapes = [N * N, 150, 40]
+    junk = [sp.random(a, b, density=0.05, random_state=rng, format="csr")
+            + sp.eye(a, b, format="csr") for a, b in zip(shapes, shapes[1:])]
+    bad = LCP(lcp.M, lcp.q, q_terms=lcp.q_terms, hierarchy=junk)
+    bad.structure.declare_spd()
+    sol = qpcontact.solve(bad, method="mg-bpp")
+    assert sol.ok, sol.message
+    z_ref = _energy(lcp)
+    np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-10 * np.abs(z_ref).max())
+
+
+@pytest.mark.parametrize("make,needle", [
+    (lambda n: [sp.random(n + 1, 30, density=0.3, format="csr")], "level 0: the prolongation has"),
+    (lambda n: [sp.eye(n, 50, format="csr"), sp.eye(40, 10, format="csr")],
+     "level 1: the prolongation has 40 rows but level 1's 50"),
+    (lambda n: [sp.eye(n, n, format="csr")], "fewer unknowns"),
+    (lambda n: [sp.csr_matrix(np.hstack([np.eye(n, 5), np.zeros((n, 1))]))],
+     "coarse unknown 5 (of 6) has no fine support"),
+    (lambda n: sp.eye(n, 10, format="csr"), "wrap it in a list"),
+    (lambda n: [], "empty"),
+    (lambda n: [np.full((n, 3), np.nan)], "not finite"),
+])
+def test_a_hierarchy_that_does_not_match_is_refused(make, needle):
+    M = meshes.membrane(10).M
+    with pytest.raises(InvalidProblemError, match="hierarchy") as info:
+        LCP(M, np.ones(100), hierarchy=make(100))
+    assert needle in str(info.value)
+
+
+def test_hierarchy_survives_pickling_and_is_shared_by_a_structure():
+    lcp = meshes.membrane(15)
+    back = pickle.loads(pickle.dumps(lcp))
+    assert len(back.structure.hierarchy) == len(lcp.structure.hierarchy)
+    for a, b in zip(back.structure.hierarchy, lcp.structure.hierarchy):
+        assert (a != b).nnz == 0
+    other = LCP.with_structure(lcp.structure, -lcp.q)
+    assert other.structure.hierarchy is lcp.structure.hierarchy
+
+
+def test_the_aggregated_hierarchy_is_kept_for_the_next_lcp_on_the_same_matrix():
+    bare = _without_hierarchy(meshes.membrane(40))
+    first = qpcontact.solve(bare, method="mg-bpp")
+    assert "setup_time" in first.stats
+    again = qpcontact.solve(LCP.with_structure(bare.structure, bare.q * 2), method="mg-bpp")
+    assert again.ok and "setup_time" not in again.stats
+
+
+def test_the_finish_solves_nearby_bases_by_cg_on_one_factorization():
+    """bpp started a few components away from the answer: one factorization,
+    the rest by CG preconditioned with it — same answer as from nothing."""
+    lcp = meshes.membrane(40)
+    z_ref = qpcontact.solve(lcp, method="bpp").z
+    guess = z_ref > 0
+    flip = np.flatnonzero(np.diff(guess.astype(int)))[:6]   # on the free boundary
+    guess[flip] = ~guess[flip]
+    sol = qpcontact.solve(lcp, method="bpp", initial_active=guess)
+    assert sol.ok, sol.message
+    assert sol.stats["factorizations"] == 1
+    assert sol.stats["krylov_solves"] >= 1
+    np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-12 * z_ref.max())
+
+
+def test_progress_reports_cycles_and_the_finish():
+    lines = []
+    qpcontact.solve(meshes.membrane(31), method="mg-bpp", progress=lines.append)
+    assert any("level 0 cycle 1" in line for line in lines)
+    assert "exact finish" in lines[-1]
+
+
+def test_mg_bpp_refuses_what_it_cannot_solve():
+    with pytest.raises(qpcontact.NotSymmetricError):
+        qpcontact.solve(LCP(np.array([[2.0, 1.0], [0.0, 2.0]]), [-1.0, -1.0]), method="mg-bpp")
+    with pytest.raises(qpcontact.InvalidOptionError, match="progress"):
+        qpcontact.solve(meshes.membrane(9), method="mg-bpp", progress=3)
+
+
+def test_auto_routes_by_structure():
+    """Mesh-like Z-matrices (the membrane) to "mg-bpp" at every size from
+    AUTO_MG_MIN; other mesh-like SPD matrices (the plate: off-diagonal
+    entries of both signs) to "mg-bpp" below AUTO_IP_BPP_MIN and "ip-bpp"
+    above; banded chains and small sparse meshes to "bpp"; dense and tiny
+    problems to the plain order ("energy" first)."""
+    from qpcontact.dispatch.routes import AUTO_IP_BPP_MIN, AUTO_MG_MIN
+
+    small = int(np.ceil(np.sqrt(AUTO_MG_MIN)))
+    large = int(np.ceil(np.sqrt(AUTO_IP_BPP_MIN)))
+    assert auto_order(meshes.membrane(small))[0] == "mg-bpp"
+    assert auto_order(meshes.membrane(large))[0] == "mg-bpp"
+    assert auto_order(meshes.plate(small))[0] == "mg-bpp"
+    assert auto_order(meshes.plate(large))[0] == "ip-bpp"
+    assert auto_order(meshes.membrane(small - 2))[0] == "bpp"
+    n = 3000
+    chain = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1],
+                     format="csc")
+    order = auto_order(LCP(chain, -np.ones(n)))
+    assert order[0] == "bpp" and order.count("bpp") == 1
+    assert auto_order(meshes.membrane(8))[0] == "energy"
+    assert auto_order(LCP(chain.toarray(), -np.ones(n)))[0] == "energy"
+    sol = qpcontact.solve(meshes.membrane(small), method="auto")
+    assert sol.ok and sol.method == "mg-bpp"
