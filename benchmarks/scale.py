@@ -135,6 +135,25 @@ def run_one(family, size, method, limit, progress):
         return no_answer(f"died (exit code {p.exitcode})")
 
 
+def _read_csv(path) -> list:
+    """Rows of an earlier run's scale.csv, typed as main() makes them."""
+    import csv
+
+    def value(key, text):
+        if text in ("", "None"):
+            return None
+        if key in ("family", "method", "status"):
+            return text
+        if key == "ok":
+            return text == "True"
+        if key in ("size", "n", "iterations"):
+            return int(float(text))
+        return float(text)
+
+    with open(path, newline="") as f:
+        return [{k: value(k, v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="small sizes (n ~ 1e3 .. 1e4)")
@@ -148,7 +167,16 @@ def main(argv=None) -> int:
                     help="run the QP backends up to this many unknowns")
     ap.add_argument("--limit", type=float, default=120.0, help="seconds per run (killed after)")
     ap.add_argument("--out", default="out/scale")
+    ap.add_argument("--replot", nargs="+", metavar="CSV",
+                    help="draw the plot (into --out) from earlier runs' scale.csv files; run nothing")
     args = ap.parse_args(argv)
+    if args.replot:
+        rows = [r for path in args.replot for r in _read_csv(path)]
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        _plot(rows, out / "scale.png")
+        print(f"wrote {out / 'scale.png'}")
+        return 0
     quick = args.quick
     sizes = {"membrane": args.membrane or ("30,100" if quick else "100,316"),
              "plate": args.plate or ("30,100" if quick else "100,316"),
@@ -252,7 +280,7 @@ def _plot(rows, path):
     slopes = _slopes(rows)
     cols = min(3, len(families))
     nrows = -(-len(families) // cols)
-    fig, axes = plt.subplots(nrows, cols, figsize=(5 * cols, 4.2 * nrows), squeeze=False)
+    fig, axes = plt.subplots(nrows, cols, figsize=(5.2 * cols, 5.8 * nrows), squeeze=False)
     for ax in axes.ravel()[len(families):]:
         ax.set_visible(False)
     for ax, fam in zip(axes.ravel(), families):
@@ -273,7 +301,9 @@ def _plot(rows, path):
         ax.set_xlabel("unknowns n")
         ax.set_ylabel("time to a certified answer [s]")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        # below the axes: inside, it hid the lowest lines (the floor, mg-bpp)
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2,
+                  frameon=False)
     fig.tight_layout()
     save_figure(fig, path)
 

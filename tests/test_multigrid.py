@@ -156,6 +156,18 @@ def test_the_finish_solves_nearby_bases_by_cg_on_one_factorization():
     np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-12 * z_ref.max())
 
 
+def test_ip_bpp_pivoting_reuses_its_factorization_for_nearby_bases():
+    """ip-bpp's pivoting phase from nothing (max_ip=0) on a plate: the late
+    exchanges move few components and are solved by CG on the last factor."""
+    lcp = meshes.plate(30)
+    sol = qpcontact.solve(lcp, method="ip-bpp", max_ip=0)
+    assert sol.ok, sol.message
+    assert sol.stats["krylov_solves"] >= 1
+    assert sol.stats["factorizations"] < sol.stats["iterations"]
+    z_ref = _energy(lcp)
+    np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-10 * z_ref.max())
+
+
 def test_progress_reports_cycles_and_the_finish():
     lines = []
     qpcontact.solve(meshes.membrane(31), method="mg-bpp", progress=lines.append)
@@ -194,3 +206,48 @@ def test_auto_routes_by_structure():
     assert auto_order(LCP(chain.toarray(), -np.ones(n)))[0] == "energy"
     sol = qpcontact.solve(meshes.membrane(small), method="auto")
     assert sol.ok and sol.method == "mg-bpp"
+
+
+@pytest.mark.parametrize("N", [15, 16, 31, 40])
+def test_grid_hierarchy_interpolates_linear_functions_exactly(N):
+    """Each level lives on the odd-numbered nodes of the one above, and its
+    prolongation is bilinear interpolation: a linear function sampled on the
+    coarse nodes comes back exactly on every fine node whose neighbours are
+    coarse nodes (all but the boundary rows, where the zero boundary value
+    enters)."""
+    P = meshes.grid_hierarchy(N)[0]
+    idx = np.arange(N)
+    coarse = idx[idx % 2 == 1]
+    assert P.shape == (N * N, coarse.size ** 2)
+    f = lambda i, j: 0.3 * i - 1.7 * j + 2.0   # noqa: E731
+    I, J = np.meshgrid(coarse, coarse, indexing="ij")
+    fine = P @ f(I, J).ravel()
+    Fi, Fj = np.meshgrid(idx, idx, indexing="ij")
+    inner = ((Fi >= 1) & (Fi <= coarse[-1]) & (Fj >= 1) & (Fj <= coarse[-1])).ravel()
+    np.testing.assert_allclose(fine[inner], f(Fi, Fj).ravel()[inner], rtol=0, atol=1e-12)
+    assert np.all(P.data > 0)   # nonnegative: coarse feasible points are fine feasible points
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("hierarchy", ["grid", "aggregation"])
+def test_a_hundred_thousand_unknowns_equal_bpp(hierarchy):
+    """n = 99 856 (the issue's membrane row): the same certified answer as
+    plain block pivoting, with no exchange after the multilevel search."""
+    lcp = meshes.membrane(316, obstacle="bumps")
+    ref = qpcontact.solve(lcp, method="bpp")
+    assert ref.ok, ref.message
+    problem = lcp if hierarchy == "grid" else _without_hierarchy(lcp)
+    sol = qpcontact.solve(problem, method="mg-bpp")
+    assert sol.ok, sol.message
+    assert sol.stats["factorizations"] <= 2
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * ref.z.max())
+    np.testing.assert_array_equal(sol.z == 0, ref.z == 0)
+
+
+def test_obstacle_shapes_are_named_and_checked():
+    for shape in meshes.OBSTACLES:
+        lcp = meshes.membrane(20, obstacle=shape)
+        z = qpcontact.solve(lcp, method="mg-bpp").z
+        assert 0 < np.count_nonzero(z == 0) < z.size, shape   # some contact, some free
+    with pytest.raises(InvalidProblemError, match="unknown obstacle 'volcano'.*dome"):
+        meshes.plate(10, obstacle="volcano")

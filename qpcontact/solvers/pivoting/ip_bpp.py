@@ -68,6 +68,7 @@ import scipy.sparse as sp
 from ...core.errors import InvalidOptionError, InvalidProblemError
 from ...core.results import MethodResult
 from .active_set import SIGN_RTOL, ExchangeRule, not_positive_definite
+from .finish import preconditioned_cg, restricted_preconditioner, reusable
 from ...core.options import check_options, int_option
 
 __all__ = ["run_ip_bpp"]
@@ -266,6 +267,30 @@ def _interior_point(P, c, lb, bounded, fac, max_ip, drop, stats, progress):
     return guess_prev if guess_prev is not None else np.zeros(n, bool)
 
 
+class _NotConverged(Exception):
+    """CG on a nearby basis did not reach rounding level: factorize it."""
+
+
+def _nearby_solver(P, absP, F, factored, diag, max_steps, stats):
+    """r ↦ P_FF⁻¹ r_F (zero off F) by CG preconditioned with the factorized
+    basis ``factored`` = (F₀, its solve) — :mod:`.finish`'s reuse for the
+    mixed problem; raises _NotConverged where CG does not get to rounding
+    level, so the caller factorizes."""
+    F0, solve0 = factored
+    precondition = restricted_preconditioner(solve0, np.arange(F.size), F0, F, diag)
+    stats.setdefault("krylov_solves", 0)
+    stats.setdefault("krylov_steps", 0)
+
+    def solve(r):
+        x, steps = preconditioned_cg(P, absP, F, np.where(F, r, 0.0), precondition, max_steps)
+        stats["krylov_solves"] += 1
+        stats["krylov_steps"] += steps
+        if x is None:
+            raise _NotConverged
+        return x
+    return solve
+
+
 def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progress):
     """Phase 2: block pivoting from the active set ``active``; returns (x, λ,
     status) and counts the final active set in ``stats["active"]``."""
@@ -296,13 +321,27 @@ def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progres
         bad = np.flatnonzero((F & bounded & (x - lb0 < -tau_x)) | (A & (lam < -SIGN_RTOL * size)))
         return x, lam, bad
 
+    factored = None   # (F, solve) of the last factorized basis
     while True:
-        solve = fac.basis(F)
-        stats["factorizations"] += 1
-        # intermediate bases only need signs: refine once they look final
-        x, lam, bad = evaluate(solve, 0)
-        if bad.size == 0:
-            x, lam, bad = evaluate(solve, 3)
+        solve = None
+        if factored is not None:
+            k = int(np.count_nonzero(F != factored[0]))
+            if reusable(k, F.size):
+                solve = _nearby_solver(P, absP, F.copy(), factored, fac.diag, 3 * k + 20, stats)
+        try:
+            if solve is None:
+                raise _NotConverged
+            # intermediate bases only need signs: refine once they look final
+            x, lam, bad = evaluate(solve, 0)
+            if bad.size == 0:
+                x, lam, bad = evaluate(solve, 3)
+        except _NotConverged:
+            solve = fac.basis(F)
+            stats["factorizations"] += 1
+            factored = (F.copy(), solve)
+            x, lam, bad = evaluate(solve, 0)
+            if bad.size == 0:
+                x, lam, bad = evaluate(solve, 3)
         if progress is not None:
             progress(f"ip-bpp: pivoting step {stats['iterations'] + 1}: {bad.size} infeasible, "
                      f"{int((~F).sum())} active")
