@@ -46,7 +46,9 @@ So:
    starting basis (eliminating the free components leaves an LCP whose matrix,
    a Schur complement of P, is SPD, and this is bpp on it).  The block solves
    reuse phase 1's symbolic analysis: rows and columns outside F are replaced
-   by their diagonal entries, which keeps the pattern.  The accepted basis is
+   by their diagonal entries, which keeps the pattern; a basis a few
+   components from the last factorized one is solved by CG preconditioned
+   with that factorization (:mod:`.finish`).  The accepted basis is
    refined iteratively against P itself.
 
 The answer is exact up to rounding (a basic solution recomputed from the
