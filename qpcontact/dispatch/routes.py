@@ -43,15 +43,15 @@ AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel
 #:   in AUTO_ORDER, densified the matrix and took 13 s);
 #: * otherwise (meshes), from AUTO_MG_MIN unknowns: "mg-bpp" first where M is
 #:   a Z-matrix (off-diagonal entries <= 0: a membrane, any M-matrix
-#:   stiffness; n = 1e5: 2.6 x one LDLᵀ of the final block, ip-bpp 39 x) or
-#:   below AUTO_IP_BPP_MIN unknowns; "ip-bpp" first above it where M has
-#:   off-diagonal entries of both signs (the plate: there the multilevel
-#:   search's projected corrections stall and its guess costs exchanges —
-#:   n = 4e4: 20 s against ip-bpp's 5.9 s);
+#:   stiffness; n = 1e5: 2.1-2.7 x one LDLᵀ of the final block, ip-bpp
+#:   22-42 x) or below AUTO_IP_BPP_MIN unknowns; "ip-bpp" first above it
+#:   where M has off-diagonal entries of both signs (the plate: mg-bpp 3.6 s
+#:   against ip-bpp's 6.4 s at n = 4e4, but not done in 150 s at 1e5, where
+#:   ip-bpp takes 29 s: its search needs hundreds of cycles there);
 #: * a QP whose only constraints are lower bounds (the mixed problem of
 #:   finite-element contact): "ip-bpp" first.
 AUTO_MG_MIN = 1000
-AUTO_IP_BPP_MIN = 10_000
+AUTO_IP_BPP_MIN = 50_000
 
 
 # Dense-only backends densify sparse input; beyond this size that costs more
