@@ -31,6 +31,8 @@ from ...core.linalg import ActiveBlock
 
 __all__ = ["NearbyBases", "reusable", "preconditioned_cg", "restricted_preconditioner"]
 
+_EPS = np.finfo(float).eps
+
 #: A basis that differs from the factorized one by more than this many
 #: components, or by more than n / REUSE_SHARE, is factorized afresh: CG's
 #: steps grow with the change (about 2k + 1), a factorization does not, and on
@@ -44,8 +46,6 @@ def reusable(changed: int, n: int) -> bool:
     """Whether a basis ``changed`` components from the factorized one (of
     n unknowns) is solved by CG on the old factor rather than refactorized."""
     return 0 < changed <= min(REUSE_MAX, n // REUSE_SHARE)
-
-_EPS = np.finfo(float).eps
 
 
 class NearbyBases:

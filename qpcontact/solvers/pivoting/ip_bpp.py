@@ -328,7 +328,9 @@ def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progres
         solve = None
         if factored is not None:
             k = int(np.count_nonzero(F != factored[0]))
-            if reusable(k, F.size):
+            if k == 0:
+                solve = factored[1]
+            elif reusable(k, F.size):
                 solve = _nearby_solver(P, absP, F.copy(), factored, fac.diag, 3 * k + 20, stats)
         try:
             if solve is None:

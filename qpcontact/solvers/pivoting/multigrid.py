@@ -43,7 +43,9 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from ...core.linalg import ActiveBlock
+from ...core.problems import LCP
 from ._mg_kernels import aggregate, galerkin, gauss_seidel, projected_gauss_seidel
+from .bpp import block_pivoting
 
 __all__ = ["aggregation_hierarchy", "multilevel_guess", "COARSEST_MAX"]
 
@@ -186,7 +188,8 @@ def _residual(z, w, diag, q_scale) -> float:
 
 
 def _tnnmg(A, q, prolongations, restrictions, z, cycles, tol, stats, progress, label):
-    """TNNMG cycles on LCP(A, q) from z (in place) until the contact set
+    """TNNMG cycles on LCP(A, q) (with at least one coarser level) from z
+    (in place) until the contact set
     has held for two cycles with the natural-map residual at ``tol``, or
     ``cycles`` cycles."""
     d = A.diagonal()
@@ -198,19 +201,13 @@ def _tnnmg(A, q, prolongations, restrictions, z, cycles, tol, stats, progress, l
         projected_gauss_seidel(A.indptr, A.indices, A.data, d, q, z, 1)
         free = z > 0.0
         r = -(A @ z + q)
-        if prolongations:
-            if built is None or np.count_nonzero(free != built) > REBUILD_FRACTION * n:
-                correction = _Correction(A, d, prolongations, restrictions, free)
-                built = free
-                stats["mg_rebuilds"] += 1
-            else:
-                correction.free = free
-            c = correction.vcycle(np.where(free, r, 0.0))
+        if built is None or np.count_nonzero(free != built) > REBUILD_FRACTION * n:
+            correction = _Correction(A, d, prolongations, restrictions, free)
+            built = free
+            stats["mg_rebuilds"] += 1
         else:
-            c = np.zeros(n)
-            idx = np.flatnonzero(free)
-            if idx.size:
-                c[idx] = _Coarsest(A[idx][:, idx]).solve(r[idx])
+            correction.free = free
+        c = correction.vcycle(np.where(free, r, 0.0))
         c = np.maximum(c, -z)
         den = c @ (A @ c)
         alpha = (r @ c) / den if den > 0 else 0.0
@@ -241,9 +238,6 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, coarse_cycles: int = 3
     ``prolongations`` (finest first; may be empty): coarsest level solved
     exactly by block pivoting, then ``coarse_cycles`` cycles on each
     intermediate level and up to ``cycles`` on the finest."""
-    from ...core.problems import LCP
-    from .bpp import block_pivoting
-
     stats.setdefault("mg_cycles", 0)
     stats.setdefault("mg_rebuilds", 0)
     As, qs = [_csr(M)], [np.asarray(q, dtype=float)]
