@@ -87,3 +87,28 @@ def test_parametric_at_shares_structure_and_pickles():
     assert again.is_symmetric
     fam2 = pickle.loads(pickle.dumps(fam))
     np.testing.assert_array_equal(fam2.q1, fam.q1)
+
+
+def test_definiteness_by_diagonal_dominance_and_its_limits():
+    """Gershgorin decides irreducibly diagonally dominant matrices without a
+    factorization (issue 32); singular weakly dominant ones are not passed.
+    References: the Dirichlet Laplacian is PD, the periodic ring Laplacian
+    is PSD and singular (eigenvalue 0 for the constant vector)."""
+    import scipy.sparse as sp
+
+    from formulations import meshes
+    from qpcontact.core.matrices import MatrixStructure
+
+    assert MatrixStructure(meshes.laplacian(30).tocsc()).is_positive_definite
+    n = 50
+    ring = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1]).tolil()
+    ring[0, n - 1] = ring[n - 1, 0] = -1.0
+    ring = ring.tocsc()
+    assert np.allclose(ring @ np.ones(n), 0.0)
+    assert not MatrixStructure(ring).is_positive_definite
+    assert MatrixStructure(ring).is_psd
+    both = sp.block_diag([meshes.laplacian(10), ring]).tocsc()   # one component has no strict row
+    assert not MatrixStructure(both).is_positive_definite
+    assert MatrixStructure(meshes.plate(12).M).is_positive_definite   # not dominant: factorized
+    swapped = sp.csc_matrix(np.array([[1.0, 2.0], [2.0, 1.0]]))
+    assert not MatrixStructure(swapped).is_psd

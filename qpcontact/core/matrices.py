@@ -146,6 +146,34 @@ def _max_abs(M) -> float:
     return float(np.max(np.abs(M))) if M.size else 0.0
 
 
+def _diagonally_dominant(A, strict: bool) -> bool:
+    """Whether Gershgorin proves the symmetric, unit-diagonal sparse A
+    positive semidefinite (every row's off-diagonal |a_ij| summing to at
+    most 1) or, with ``strict``, definite: also, in every connected
+    component of A's graph, a row whose sum is below 1 — an irreducibly
+    diagonally dominant block is nonsingular (Taussky 1949), and a
+    nonsingular PSD matrix is PD.  A membrane's stiffness (rows 4, −1 x 4;
+    the boundary rows strictly dominant) passes in O(nnz): the factorization
+    it saves cost more than the solve (n = 1e5).  The sums are compared as
+    computed, to rounding like the factorization's pivot test."""
+    C = sp.coo_matrix(A)
+    off = C.row != C.col
+    sums = np.bincount(C.row[off], weights=np.abs(C.data[off]), minlength=A.shape[0])
+    if not np.all(sums <= 1.0):
+        return False
+    if not strict:
+        return True
+    below = sums < 1.0 - 64 * np.finfo(float).eps
+    if below.all():
+        return True
+    from scipy.sparse.csgraph import connected_components
+
+    count, label = connected_components(sp.csr_matrix((np.ones(int(off.sum())),
+                                                       (C.row[off], C.col[off])),
+                                                      shape=A.shape), directed=False)
+    return bool(np.all(np.bincount(label[below], minlength=count) > 0))
+
+
 class MatrixStructure:
     """Lazily computed, cached structure of a square matrix (shared by the LCPs
     of a parametric family, which all have the same M)."""
@@ -248,6 +276,8 @@ class MatrixStructure:
                 A = (D @ S @ D + shift * sp.identity(m)).tocsc()
             if not np.all(np.isfinite(A.data)):
                 return False
+            if _diagonally_dominant(A, strict=not semi):
+                return True
             if m > 64 and bandwidth(A) <= 16:  # banded: LAPACK's banded Cholesky, O(n b²)
                 b = bandwidth(A)
                 C = sp.coo_matrix(A)
