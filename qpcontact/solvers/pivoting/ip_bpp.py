@@ -126,7 +126,7 @@ class _Factor:
                 self.solver = qdldl.Solver(A, upper=True)
             else:
                 self.solver.update(A, upper=True)
-        except ValueError as exc:   # QDLDL's zero pivot
+        except (ValueError, RuntimeError) as exc:   # QDLDL's zero pivot, or "not quasi-definite"
             raise np.linalg.LinAlgError(str(exc)) from None
         return self.solver.solve
 
@@ -323,29 +323,30 @@ def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progres
         bad = np.flatnonzero((F & bounded & (x - lb0 < -tau_x)) | (A & (lam < -SIGN_RTOL * size)))
         return x, lam, bad
 
+    def evaluated(solve):
+        # intermediate bases only need signs: refine once they look final
+        x, lam, bad = evaluate(solve, 0)
+        return evaluate(solve, 3) if bad.size == 0 else (x, lam, bad)
+
     factored = None   # (F, solve) of the last factorized basis
     while True:
-        solve = None
+        result = None
         if factored is not None:
             k = int(np.count_nonzero(F != factored[0]))
             if k == 0:
-                solve = factored[1]
+                result = evaluated(factored[1])
             elif reusable(k, F.size):
-                solve = _nearby_solver(P, absP, F.copy(), factored, fac.diag, 3 * k + 20, stats)
-        try:
-            if solve is None:
-                raise _NotConverged
-            # intermediate bases only need signs: refine once they look final
-            x, lam, bad = evaluate(solve, 0)
-            if bad.size == 0:
-                x, lam, bad = evaluate(solve, 3)
-        except _NotConverged:
+                try:
+                    result = evaluated(_nearby_solver(P, absP, F.copy(), factored, fac.diag,
+                                                      3 * k + 20, stats))
+                except _NotConverged:
+                    pass
+        if result is None:
             solve = fac.basis(F)
             stats["factorizations"] += 1
             factored = (F.copy(), solve)
-            x, lam, bad = evaluate(solve, 0)
-            if bad.size == 0:
-                x, lam, bad = evaluate(solve, 3)
+            result = evaluated(solve)
+        x, lam, bad = result
         if progress is not None:
             progress(f"ip-bpp: pivoting step {stats['iterations'] + 1}: {bad.size} infeasible, "
                      f"{int((~F).sum())} active")

@@ -49,7 +49,8 @@ from .bpp import block_pivoting
 
 __all__ = ["aggregation_hierarchy", "multilevel_guess", "COARSEST_MAX"]
 
-#: Aggregation stops at this many unknowns; the coarsest level is solved densely.
+#: Aggregation stops at this many unknowns (the coarsest level is solved
+#: directly: densely up to DENSE_COARSEST, sparse above).
 COARSEST_MAX = 400
 
 #: Above this many unknowns the coarsest level is factorized sparse.
@@ -97,6 +98,12 @@ def aggregation_hierarchy(M) -> tuple:
     return tuple(out)
 
 
+def _nonzero_rows(d: np.ndarray) -> np.ndarray:
+    """The rows of a truncated Galerkin operator (PSD: a zero diagonal entry
+    means a zero row) that some unfrozen fine unknown still reaches."""
+    return d > 1e-13 * max(d.max(initial=0.0), 1e-300)
+
+
 def _product(R, A, P, keep) -> sp.csr_matrix:
     """R diag(keep) A diag(keep) P (keep None: no truncation)."""
     if keep is None:
@@ -112,9 +119,8 @@ class _Coarsest:
     stops early on strongly diagonally dominant matrices, which have no
     strong connections to aggregate)."""
 
-    def __init__(self, A):
+    def __init__(self, A, keep):
         d = A.diagonal()
-        keep = d > 1e-13 * max(d.max(initial=0.0), 1e-300)
         self.keep = np.flatnonzero(keep)
         self.c = self.pinv = self.block = None
         if self.keep.size > DENSE_COARSEST:
@@ -154,23 +160,20 @@ class _Correction:
         self.ops = []           # (A_k, diag_k, free_k) of the coarse levels
         keep = free
         B = A
-        for k, (P, R) in enumerate(zip(prolongations, restrictions)):
+        for P, R in zip(prolongations, restrictions):
             B = _product(R, B, P, keep)
             d = B.diagonal()
-            keep = d > 1e-13 * max(d.max(initial=0.0), 1e-300)
+            keep = _nonzero_rows(d)
             self.ops.append((B, np.where(keep, d, 1.0), keep))
-        self.coarsest = _Coarsest(B)
+        self.coarsest = _Coarsest(B, keep)
 
     def vcycle(self, b):
         return self._cycle(0, b)
 
     def _cycle(self, k, b):
-        if k == 0:
-            A, d, free = self.fine, self.diag, self.free
-        else:
-            A, d, free = self.ops[k - 1]
         if k == len(self.P):
             return self.coarsest.solve(b)
+        A, d, free = (self.fine, self.diag, self.free) if k == 0 else self.ops[k - 1]
         x = np.zeros_like(b)
         gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, True)
         r = b - A @ x
