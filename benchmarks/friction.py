@@ -1,5 +1,6 @@
-"""Frictional contact on the peers' collection (issue 20): every friction
-method on every problem of ``../shared/data/siconos-fc`` — success at the
+"""Frictional contact on the peers' collection (issue 20) and on generated
+piles (issue 33): every friction method on every problem of
+``../shared/data/siconos-fc`` — success at the
 tolerances 1e-4, 1e-6, 1e-8 of the natural-map error (computed from the data,
 whatever a method says, and the componentwise error of
 ``qpcontact.friction.componentwise_error``: a run succeeds at ε when both are
@@ -14,6 +15,19 @@ own process, killed at ``--limit`` seconds.  The profile plots, for each method,
 fraction of problems it solves to 1e-8 within τ times the fastest method's
 time on that problem (Dolan & Moré, Math. Program. 91, 2002).  Prints a
 Markdown table; saves out/friction/friction.csv and profile.png.
+
+Generated piles (:mod:`qpcontact.cases.piles`, ``--seeds``, default 0): 2-D disc piles of
+1 000–20 000 contacts ("granular", the generator's defaults, and "compact",
+agitation 0.1 and polydispersity 0.005: nearly closed, statically
+indeterminate) and 3-D sphere piles of 500–2 000 contacts, solved by "auto",
+"nsgs-newton" and plain "nsgs" (the link "auto" began with before issue 33),
+each in its own process with its time and peak memory (the child's peak
+resident set above its size once the problem is built and the methods
+loaded).  Saves piles.csv,
+piles_time.png (time against contacts) and success.png (the fraction of all
+problems certified at 1e-8 within t seconds, per method).
+
+    .venv/bin/python benchmarks/friction.py --only-piles --piles 1000,10000
 """
 
 from __future__ import annotations
@@ -43,30 +57,54 @@ METHODS = [
     ("tresca-fp (highs, 2-D)", "tresca-fp", {"backend": "highs"}),
     ("newton", "newton", {}),
     ("nsgs", "nsgs", {}),
+    ("nsgs-newton", "nsgs-newton", {}),
     ("auto", "auto", {}),
 ]
 LEVELS = (1e-4, 1e-6, 1e-8)
 LARGE = ("fc2d_granularflowonwall_00667_00000.dat", "fc2d_granularflowonwall_02020_00213.dat")
 
 
+PILE_METHODS = [("auto", "auto", {}), ("nsgs-newton", "nsgs-newton", {}), ("nsgs", "nsgs", {})]
+#: (family, dimension, generator parameters, largest size run): the compact
+#: piles stall every method beyond these sizes (docs/friction.md)
+COMPACT = {"agitation": 0.1, "polydispersity": 0.005}
+FAMILIES = [("2-D granular", 2, {}, 10**9), ("2-D compact", 2, COMPACT, 5000),
+            ("3-D spheres", 3, {}, 10**9), ("3-D compact", 3, COMPACT, 1000)]
+
+
+def pile(dim, n, params, seed=0):
+    from qpcontact.cases.piles import disc_pile, sphere_pile
+
+    return (disc_pile if dim == 2 else sphere_pile)(n, seed=seed, **params).problem
+
+
+def rss_mb():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
 def job(path, method, options):
+    import resource
+
     import qpcontact
     from qpcontact.core.errors import QpcontactError
     from qpcontact.io import read_problem
 
-    p = read_problem(path)
+    p = read_problem(path) if not isinstance(path, tuple) else pile(*path)
     # the registry's providers (their modules, numba) loaded before the clock
     # starts, as `import qpcontact` loaded them before they became lazy: the
     # time is the solve's, with its one-off compiled-kernel loads, not imports
     qpcontact.get_method(method) if method != "auto" else qpcontact.methods()
+    before = rss_mb()
     t = time.perf_counter()
     try:
         s = qpcontact.solve(p, method, accuracy=1e-8, **options)
     except QpcontactError as exc:   # e.g. Lemke's dense basis refused above n = 5000
         return dict(time=time.perf_counter() - t, error=float("inf"),
                     status=f"refused: {str(exc)[:80]}", iterations=None, by="")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return dict(time=time.perf_counter() - t, siconos_error=s.natural_map_error,
-                error=s.error, status=s.status,
+                error=s.error, status=s.status, memory_mb=max(peak - before, 0.0),
                 iterations=s.stats.get("iterations"), by=s.method)
 
 
@@ -120,12 +158,132 @@ def profile(rows, labels, path):
     save_figure(fig, path)
 
 
+def success_plot(rows, labels, path):
+    """The fraction of all problems certified at 1e-8 within t seconds."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from qpcontact.plots.figures import save_figure
+
+    problems = sorted({r["problem"] for r in rows})
+    ts = np.logspace(-3, 2.5, 400)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for j, label in enumerate(labels):
+        times = [r["time"] for r in rows if r["label"] == label and r["error"] <= 1e-8]
+        if any(r["label"] == label for r in rows):
+            ax.step(ts, [sum(t <= x for t in times) / len(problems) for x in ts], where="post",
+                    label=label, color=f"C{j % 10}", ls=("-", "--", ":")[j // 10 % 3],
+                    lw=2.2 if label == "auto" else 1.2)
+    ax.set_xscale("log")
+    ax.set_xlabel("time limit t [s]")
+    ax.set_ylabel("fraction certified at 1e-8 within t")
+    ax.set_ylim(0, 1.02)
+    ax.set_title(f"Success against time, {len(problems)} problems")
+    ax.legend(fontsize=7, loc="upper left")
+    save_figure(fig, path)
+
+
+def pile_time_plot(rows, path):
+    """Time against contacts on the generated piles: colour the method,
+    marker the family, filled where certified at 1e-8."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib.lines import Line2D
+
+    from qpcontact.plots.figures import save_figure
+
+    fig, ax = plt.subplots(figsize=(7.5, 6))
+    fig.subplots_adjust(bottom=0.28)
+    markers = dict(zip([f[0] for f in FAMILIES], "osD^"))
+    colors = {"auto": "C0", "nsgs": "C3"}
+    for family, _, _, _ in FAMILIES:
+        for label, color in colors.items():
+            mine = sorted((r for r in rows if r["family"] == family and r["label"] == label),
+                          key=lambda r: r["contacts"])
+            if not mine:
+                continue
+            x = np.array([r["contacts"] for r in mine])
+            y = np.array([r["time"] for r in mine])
+            ok = np.array([r["error"] <= 1e-8 for r in mine])
+            ax.plot(x, y, color=color, lw=0.8, alpha=0.5)
+            ax.scatter(x[ok], y[ok], marker=markers[family], color=color, zorder=3)
+            ax.scatter(x[~ok], y[~ok], marker=markers[family], facecolors="white",
+                       edgecolors=color, zorder=3)
+    ax.axhline(20, color="gray", ls=":", lw=1)
+    ax.text(0.01, 21, "20 s: the target at 10 000 contacts", color="gray", fontsize=8,
+            transform=ax.get_yaxis_transform())
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("contacts")
+    ax.set_ylabel("time [s]")
+    seeds = sorted({r.get("seed", 0) for r in rows})
+    ax.set_title(f"Generated piles, seed{'s' if len(seeds) > 1 else ''} "
+                 f"{', '.join(map(str, seeds))}: time to certify at 1e-8\n"
+                 "(hollow: not certified; 2-core machine, one BLAS thread)", fontsize=10)
+    handles = [Line2D([], [], color=c, marker="o", lw=0.8, label=f'"{m}"')
+               for m, c in colors.items()]
+    handles += [Line2D([], [], color="gray", marker=mk, ls="", label=fam)
+                for fam, mk in markers.items()]
+    ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12),
+              ncol=3, frameon=False)
+    save_figure(fig, path)
+
+
+def run_piles(args):
+    rows = []
+    sizes = {2: [int(x) for x in args.piles.split(",") if x],
+             3: [int(x) for x in args.piles_3d.split(",") if x]}
+    seeds = [int(x) for x in args.seeds.split(",")]
+    for family, dim, params, largest in FAMILIES:
+        for n, seed in ((n, sd) for n in sizes[dim] if n <= largest for sd in seeds):
+            p = pile(dim, n, params, seed)
+            print(f"{family} pile, {p.n_contacts} contacts, seed {seed}", flush=True)
+            for label, method, options in PILE_METHODS:
+                r = run_one((dim, n, params, seed), method, options, args.limit)
+                r.update(problem=f"{family} {n} seed {seed}", family=family, dim=dim,
+                         contacts=p.n_contacts, label=label, seed=seed)
+                rows.append(r)
+                print(f"    {label:14s} {r['time']:8.2f} s  error {r['error']:.1e}  "
+                      f"{r.get('memory_mb', float('nan')):7.0f} MB  {r['status']}"
+                      f"{'  (' + r['by'] + ')' if method == 'auto' else ''}", flush=True)
+    print("\n| pile | contacts | seed | method | time s | error | peak memory MB | status |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['family']} | {r['contacts']} | {r['seed']} | {r['label']} | {r['time']:.2f} | "
+              f"{r['error']:.1e} | {r.get('memory_mb', float('nan')):.0f} | {r['status']}"
+              f"{' (' + r['by'] + ')' if r.get('by') and r['label'] == 'auto' else ''} |")
+    return rows
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--limit", type=float, default=60.0, help="seconds per run (killed after)")
+    ap.add_argument("--limit", type=float, default=90.0,
+                    help="seconds per run (killed after; 'auto' stops itself at 60)")
     ap.add_argument("--skip-large", action="store_true", help="leave the granular files out")
     ap.add_argument("--out", default="out/friction")
+    ap.add_argument("--piles", default="1000,2000,5000,10000,20000",
+                    help="2-D pile sizes in contacts ('' for none)")
+    ap.add_argument("--piles-3d", default="500,1000,2000", help="3-D pile sizes in contacts")
+    ap.add_argument("--seeds", default="0", help="pile seeds, comma-separated")
+    ap.add_argument("--only-piles", action="store_true", help="leave the shared collection out")
     args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    from qpcontact.core.files import write_csv_atomic
+
+    pile_rows = run_piles(args) if (args.piles or args.piles_3d) else []
+    if pile_rows:
+        write_csv_atomic(out / "piles.csv", pile_rows,
+                         ["problem", "family", "dim", "contacts", "seed", "label", "time", "error",
+                          "siconos_error", "memory_mb", "status", "iterations", "by"])
+        pile_time_plot(pile_rows, out / "piles_time.png")
+        print(f"wrote {out / 'piles.csv'} and {out / 'piles_time.png'}")
+    if args.only_piles:
+        return 0
     from qpcontact.io import read_problem
 
     if not DATA.is_dir():
@@ -167,15 +325,15 @@ def main(argv=None) -> int:
               + f" | {np.median([r['time'] for r in ok]) if ok else float('nan'):.3f}"
               f" | {sum(r['time'] for r in mine):.1f}"
               f" | {np.median(its) if its else float('nan'):.0f} |")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    from qpcontact.core.files import write_csv_atomic
-
     write_csv_atomic(out / "friction.csv", rows, ["problem", "dim", "contacts", "label", "time",
-                                                  "error", "siconos_error", "status",
-                                                  "iterations", "by"])
+                                                  "error", "siconos_error", "memory_mb",
+                                                  "status", "iterations", "by"])
     profile(rows, labels, out / "profile.png")
-    print(f"\nwrote {out / 'friction.csv'} and {out / 'profile.png'}")
+    both = rows + [r for r in pile_rows if r["label"] != "auto"] + \
+        [dict(r, label="auto") for r in pile_rows if r["label"] == "auto"]
+    success_plot(both, labels + [m[0] for m in PILE_METHODS if m[0] not in labels],
+                 out / "success.png")
+    print(f"\nwrote {out / 'friction.csv'}, {out / 'profile.png'} and {out / 'success.png'}")
     return 0
 
 

@@ -378,10 +378,11 @@ def test_sparse_newton_on_many_independent_contacts():
 
 @needs_data
 def test_the_667_contact_granular_file_is_solved_by_auto():
-    """Above 200 contacts NSGS goes first, and solves it.  Every reaction
-    here is ~1e-22: only the componentwise measure judges it."""
+    """Above 200 contacts NSGS + Newton goes first, and solves it.  Every
+    reaction here is ~1e-22: only the componentwise measure judges it."""
     p, s, _ = _solved_by_auto("fc2d_granularflowonwall_00667_00000.dat")
-    assert s.componentwise_error <= 1e-8 and s.method == "nsgs" and _tried(s) == ["nsgs"]
+    assert s.componentwise_error <= 1e-8 and s.method == "nsgs-newton"
+    assert _tried(s) == ["nsgs-newton"]
 
 
 # -- global problems kept without W ----------------------------------------------------
@@ -582,7 +583,9 @@ def test_a_basic_solution_at_rounding_level_contacts_is_polished():
 
 @needs_data
 def test_auto_goes_on_to_lemke_where_nsgs_stalls():
-    """2020 contacts: NSGS first (above 200 contacts), which stalls near 3e-7
-    on this file; then the exact route certifies."""
+    """2020 contacts: NSGS + Newton first (above 200 contacts), which stalls
+    near 4e-7 on this file; then the exact route certifies, and the message
+    names both links with their times."""
     p, s, _ = _solved_by_auto("fc2d_granularflowonwall_02020_00213.dat")
-    assert s.method == "lemke" and _tried(s) == ["nsgs", "lemke"], s.message
+    assert s.method == "lemke" and _tried(s) == ["nsgs-newton", "lemke"], s.message
+    assert "links: nsgs-newton: error" in s.message and "lemke: error" in s.message

@@ -148,7 +148,7 @@ def test_an_uncertified_sparse_answer_falls_back_to_the_dense_form(sparse_form, 
 
     mod = importlib.import_module("qpcontact.solvers.pivoting.lemke")   # the driver's binding
     lcp, z_star = random_spd_lcp(30, 100.0, 0, sparse=True)
-    monkeypatch.setattr(mod, "sparse_lemke", lambda M, q, d, k: LemkeOutcome(
+    monkeypatch.setattr(mod, "sparse_lemke", lambda M, q, d, k, deadline=None: LemkeOutcome(
         "solved", np.ones(q.size), np.ones(q.size, bool), 7))
     sol = qpcontact.solve(lcp, method="lemke")
     assert sol.ok, sol.message

@@ -48,9 +48,12 @@ def call(m: Method, target, tol_backend, options, time_limit, isolate, engine=No
     """The method's call, with the time limit and isolation of :func:`solve`;
     ``engine`` is passed to the methods that solve sub-problems through it."""
     if m.family not in BACKEND_FAMILIES:
+        kw = {}
         if engine is not None and takes_keyword(m.run, "engine"):
-            return m.run(target, tol_backend, options, engine=engine)
-        return m.run(target, tol_backend, options)
+            kw["engine"] = engine
+        if time_limit is not None and takes_keyword(m.run, "time_limit"):
+            kw["time_limit"] = time_limit      # an in-house method that watches the clock
+        return m.run(target, tol_backend, options, **kw)
     if isolate is True or (isolate == "auto" and time_limit is not None and m.needs_isolation):
         from .isolation import call_isolated
 

@@ -28,9 +28,9 @@ from ..friction.problem import FrictionProblem
 from ..solvers.method import PROBLEM_KINDS
 from ..solvers.registry import get_method
 from .calls import DEFAULT_TIME_LIMIT, check_time_limit
-from .friction import check_friction_method, run_friction
+from .friction import check_friction_method, run_friction, run_friction_auto
 from .lcp_qp import doubtful, hints, prove_no_solution, run_lcp_qp
-from .routes import applicable, auto_chain, auto_order, kind_of
+from .routes import applicable, auto_order, kind_of
 
 __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]
 
@@ -214,23 +214,7 @@ def _solve_friction(problem, method, tol, accuracy, options, run, engine):
         m = get_method(method)
         check_friction_method(problem, m)
         return run_friction(problem, m, tol, accuracy, options, engine=engine, **run)
-    start = time.perf_counter()
-    runs = []
-
-    def attempt(m, best):
-        opts = dict(options)
-        if m.name == "newton" and best is not None and best.r is not None:
-            opts.setdefault("r0", best.r)   # polish the best point so far
-        runs.append(run_friction(problem, m, tol, accuracy, opts, engine=engine, **run))
-        return runs[-1]
-
-    chain = [get_method(name) for name in auto_chain(problem)]
-    sol, tried = _auto(chain, attempt)
-    others = [r for r in runs if r is not sol]
-    if others:
-        sol.message += " — also tried " + "; ".join(f"{r.method}: {r.message}" for r in others)
-    sol.stats.update(auto_tried=tried, total_time=time.perf_counter() - start)
-    return sol
+    return run_friction_auto(problem, tol, accuracy, options, engine=engine, **run)
 
 
 def _solve_parametric(problem, method, tol, accuracy, options, engine):
@@ -274,9 +258,11 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
         Seconds each backend call may take (default :data:`DEFAULT_TIME_LIMIT`);
         a call stopped by it has status ``"time_limit"``.  Passed to the
         backends that have a time limit of their own; ProxQP, which has none,
-        runs in a child process killed at the limit.  The pivoting and
-        friction methods are bounded by their pivot and iteration caps
-        instead.  None: no limit.
+        runs in a child process killed at the limit.  Lemke's sparse form
+        checks it at each pivot, the iterative friction methods between
+        iterations, and a frictional "auto" gives each link half of what is
+        left; the other pivoting methods are bounded by their pivot caps.
+        None: no limit.
     isolate : "auto", True or False
         True runs every backend call in a child process (a crash or a hang
         costs that call, not the caller); "auto" only the backends that cannot

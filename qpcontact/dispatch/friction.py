@@ -1,5 +1,16 @@
 """One frictional-contact method run: call it (or, for an LCP method, solve the
-problem's faceted LCP), certify the reactions from the data, name the outcome."""
+problem's faceted LCP), certify the reactions from the data, name the outcome;
+and "auto"'s chain of such runs on one time budget.
+
+"auto" (:func:`run_friction_auto`) tries :func:`~.routes.auto_chain`'s links in
+order.  Each link gets half of the time left (the last one all of it) as
+its ``time_limit``: the iterative links check it between iterations, Lemke's
+sparse form at each pivot.  Every link's answer is
+certified; the first certified one is returned, else the best-certified
+point of all, never a later, worse one.  ``progress`` (a callable taking a
+line) hears each link start and end and, from the iterative links, each
+check; the message names every link that ran, its time and where it
+stopped."""
 
 from __future__ import annotations
 
@@ -13,10 +24,11 @@ from ..friction.lcp_route import LCP_ACCURACY, from_lcp, lcp_of
 from ..friction.measures import certify_friction
 from ..proofs.exact import Proof
 from ..solvers.method import PROBLEM_KINDS, Method
+from ..solvers.registry import get_method
 from .calls import call
-from .routes import kind_of
+from .routes import PROGRESS_LINKS, TIMED_LINKS, auto_chain, kind_of
 
-__all__ = ["run_friction", "check_friction_method"]
+__all__ = ["run_friction", "run_friction_auto", "check_friction_method"]
 
 
 def check_friction_method(problem, m: Method) -> None:
@@ -41,8 +53,11 @@ def check_friction_method(problem, m: Method) -> None:
 def _call(problem, m: Method, tol: float, options: dict, time_limit, isolate, engine
           ) -> MethodResult:
     if m.takes == "lcp":          # through the faceted LCP, certified there as an LCP
+        options = dict(options)
+        limit = options.pop("time_limit", time_limit)
         lcp, D, facets, lcp_options = lcp_of(problem, options)
-        sol = engine.solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY), **lcp_options)
+        sol = engine.solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY), time_limit=limit,
+                           **lcp_options)
         return from_lcp(problem, m.name, sol, D, facets, tol)
     return call(m, problem, tol, options, time_limit, isolate, engine)
 
@@ -58,7 +73,10 @@ def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_l
         return FrictionSolution(status="solved", ok=True, message="no contacts",
                                 certificate=certify_friction(problem, r), r=r, u=r, **common)
     start = time.perf_counter()
-    res = _call(problem, m, tol, dict(options), time_limit, isolate, engine)
+    options = dict(options)
+    if time_limit is not None and m.name in TIMED_LINKS:
+        options.setdefault("time_limit", time_limit)
+    res = _call(problem, m, tol, options, time_limit, isolate, engine)
     wall = time.perf_counter() - start
     stats = {**res.stats, "time": wall}
     common.update(backend_status=res.backend_status, backend_message=res.backend_message,
@@ -92,3 +110,51 @@ def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_l
                             message=(f"{measures} {'<=' if ok else '>'} {tol:.0e} "
                                      f"({m.name}: {message})"),
                             certificate=cert, r=r, u=u, v=v, **common)
+
+
+def _link(problem, m: Method, tol, accuracy, opts, share, isolate, engine) -> FrictionSolution:
+    """One link of the chain within ``share`` seconds (None: no limit); every
+    link watches the clock (Lemke's sparse form at each pivot)."""
+    if share is not None:
+        opts.setdefault("time_limit", share)
+    return run_friction(problem, m, tol, accuracy, opts, engine=engine, isolate=isolate)
+
+
+def run_friction_auto(problem, tol: float, accuracy, options: dict, time_limit=None,
+                      isolate="auto", engine=None) -> FrictionSolution:
+    """"auto" on a frictional problem (module docstring)."""
+    start = time.perf_counter()
+    options = dict(options)
+    progress = options.pop("progress", None)
+    chain = [get_method(name) for name in auto_chain(problem)]
+    runs, best, lines = [], None, []
+    for k, m in enumerate(chain):
+        left = None if time_limit is None else time_limit - (time.perf_counter() - start)
+        if left is not None and left <= 0:
+            lines.append(f"{m.name}: not run (the time limit of {time_limit:g} s was spent)")
+            continue
+        share = None if left is None else (left if k == len(chain) - 1 else left / 2)
+        opts = dict(options)
+        if m.name == "newton" and best is not None and best.r is not None:
+            opts.setdefault("r0", best.r)   # polish the best point so far
+        if progress is not None:
+            if m.name in PROGRESS_LINKS:
+                opts.setdefault("progress", progress)
+            progress(f"auto: {m.name}" + ("" if share is None else f" (up to {share:.3g} s)"))
+        sol = _link(problem, m, tol, accuracy, opts, share, isolate, engine)
+        runs.append(sol)
+        where = f"error {sol.error:.1e}" if sol.certificate is not None else sol.status
+        lines.append(f"{m.name}: {where} in {sol.wall_time or 0:.2f} s")
+        if progress is not None:
+            progress(f"auto: {m.name}: {sol.status}, {where} in {sol.wall_time or 0:.2f} s")
+        if best is None or sol.error < best.error:
+            best = sol
+        if sol.ok or sol.status in PROVED:
+            break
+    others = [r for r in runs if r is not best]
+    if others:
+        best.message += " — also tried " + "; ".join(f"{r.method}: {r.message}" for r in others)
+    best.message += " — links: " + "; ".join(lines)
+    best.stats.update(auto_tried=[(r.method, r.status, r.error) for r in runs],
+                      total_time=time.perf_counter() - start)
+    return best

@@ -19,7 +19,8 @@ from ..friction.problem import FrictionProblem
 from ..solvers.method import Method
 
 __all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
-           "LEMKE_FIRST_MAX_CONTACTS", "auto_order", "auto_chain", "kind_of",
+           "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "TIMED_LINKS", "PROGRESS_LINKS",
+           "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
 #: Preference of ``method="auto"``: exact pivoting first where it applies (as
@@ -61,15 +62,29 @@ AUTO_DENSE_LIMIT = 3000
 
 #: what "auto" tries, in order, per dimension: each answer is certified before
 #: the next is tried, and the first certified one is returned
-AUTO_CHAIN = {2: ("lemke", "nsgs", "desaxce-fp", "newton"),
-              3: ("desaxce-fp", "newton", "tresca-fp", "nsgs")}
+AUTO_CHAIN = {2: ("lemke", "nsgs-newton", "desaxce-fp", "newton"),
+              3: ("desaxce-fp", "newton", "nsgs-newton", "tresca-fp")}
 #: "auto" on a global problem kept without W
 GLOBAL_CHAIN = ("desaxce-global",)
 
-#: above this many contacts "auto" tries NSGS before Lemke in 2-D: Lemke's
+#: above this many contacts "auto" tries NSGS + Newton first in 2-D: Lemke's
 #: pivots grow with the contacts (the 2020-contact granular file: 5461
-#: pivots, 4 s) while NSGS takes under a second where it converges
+#: pivots, 4 s; a 10 000-contact pile: not done in 15 minutes) while NSGS +
+#: Newton takes seconds where it converges
 LEMKE_FIRST_MAX_CONTACTS = 200
+
+#: in 3-D from this many contacts: De Saxcé's SOCPs grow with the pile (a
+#: 540-contact sphere pile: 28 SOCPs, stalled at 9.5e-4), while below it
+#: De Saxcé then Newton is the faster route on the shared files (the
+#: 225-contact Capsules-i101: NSGS + Newton stalls at 7.8e-7 there)
+NSGS_FIRST_3D = 500
+
+#: the links that watch the clock themselves (option ``time_limit``); the
+#: others (Lemke) run in a child process killed at their share of the time
+TIMED_LINKS = ("nsgs-newton", "newton", "desaxce-fp", "tresca-fp", "desaxce-global")
+
+#: the links that report each iteration to ``progress``
+PROGRESS_LINKS = TIMED_LINKS
 
 
 def auto_chain(problem) -> tuple:
@@ -77,8 +92,13 @@ def auto_chain(problem) -> tuple:
     if not problem.is_reduced:
         return GLOBAL_CHAIN
     chain = AUTO_CHAIN[problem.dim]
-    if problem.n_contacts > LEMKE_FIRST_MAX_CONTACTS and "lemke" in chain:
-        chain = ("nsgs", "lemke") + tuple(m for m in chain if m not in ("nsgs", "lemke"))
+    first = LEMKE_FIRST_MAX_CONTACTS + 1 if problem.dim == 2 else NSGS_FIRST_3D
+    if problem.n_contacts >= first:
+        # in 3-D Newton from NSGS's best point next: it certified the
+        # 540-contact compact sphere pile where NSGS + Newton stopped at 2e-5,
+        # and De Saxcé's SOCPs stall on piles (9.5e-4 at 540 contacts)
+        head = ("nsgs-newton",) if problem.dim == 2 else ("nsgs-newton", "newton")
+        chain = head + tuple(m for m in chain if m not in head)
     return chain
 
 

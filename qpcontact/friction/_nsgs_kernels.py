@@ -95,9 +95,10 @@ def _local_fixed_point(A, b, mu, r, d, rtol, max_local):
 
 
 @njit(cache=True)
-def sweeps(indptr, indices, data, q, mu, d, r, blocks, n_sweeps, local_rtol, max_local):
+def sweeps(indptr, indices, data, q, mu, d, r, blocks, n_sweeps, local_rtol, max_local, omega):
     """``n_sweeps`` Gauss–Seidel sweeps on W (CSR: indptr, indices, data),
-    updating r in place; ``blocks`` the diagonal blocks W_ii (nc x d x d).
+    updating r in place; ``blocks`` the diagonal blocks W_ii (nc x d x d);
+    ``omega`` over-relaxes each local solution (1: plain Gauss–Seidel).
     Returns the largest change of a contact's r in the last sweep."""
     nc = mu.shape[0]
     b = np.empty(d)
@@ -121,6 +122,10 @@ def sweeps(indptr, indices, data, q, mu, d, r, blocks, n_sweeps, local_rtol, max
                 pass
             else:
                 _local_fixed_point(A, b, mu[i], ri, d, local_rtol, max_local)
+            if omega != 1.0:         # over-relaxed, then back into the cone
+                for k in range(d):
+                    ri[k] = r[lo + k] + omega * (ri[k] - r[lo + k])
+                _project(ri, mu[i], d)
             delta = 0.0
             for k in range(d):
                 delta += (ri[k] - r[lo + k]) ** 2

@@ -192,7 +192,7 @@ def no_options_left(method, options):
     if options:
         raise InvalidOptionError(f"{method!r} does not take {', '.join(sorted(options))}; its "
                                  "options are backend, backend_options, inner_tol"
-                                 + ("" if method == "anitescu" else ", max_outer, progress"))
+                                 + ("" if method == "anitescu" else ", max_outer, progress, time_limit"))
 
 
 class GlobalSubproblem(Subproblem):

@@ -28,6 +28,8 @@ measures of :mod:`qpcontact.friction.measures`.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -61,7 +63,9 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
                                      componentwise_error(problem, r)))
     max_outer = int(options.pop("max_outer", 100))
     progress = options.pop("progress", None)
+    time_limit = options.pop("time_limit", None)
     no_options_left(method, options)
+    start = time.perf_counter()
     r = np.zeros(sub.size)
     best_key, best_r, lowest, since, errors = (np.inf, np.inf), None, [np.inf, np.inf], 0, []
     status = "not started"
@@ -84,6 +88,9 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
         since = 0 if improved else since + 1
         if key[0] <= tol or since >= 5:
             break
+        if time_limit is not None and time.perf_counter() - start > time_limit:
+            status = f"its time limit of {time_limit:g} s"
+            break
     stats = {"iterations": len(errors), "inner_iterations": sub.inner_iterations,
              "backend": sub.backend, "errors": errors}
     if best_r is None:
@@ -91,6 +98,7 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
     why = ("reached the tolerance" if best_key[0] <= tol else
            "stalled (neither error improved in 5 iterations)" if since >= 5 else
            f"stopped at {max_outer} iterations" if len(errors) >= max_outer else
+           f"stopped at {status}" if status.startswith("its time limit") else
            f"{sub.backend} failed on a subproblem ({status})")
     return best_r, status, f"fixed point {why}, best of {len(errors)} SOCPs by {sub.backend}", \
         stats

@@ -52,6 +52,7 @@ def from_lcp(problem, method: str, sol, D, facets: int, tol: float) -> MethodRes
     name = method.capitalize() if method == "lemke" else method
     if sol.z is None:
         return MethodResult(x=None, backend_status=sol.status,
+                            status="time_limit" if sol.status == "time_limit" else None,
                             backend_message=f"{name} {sol.status}: {sol.message}",
                             iterations=sol.iterations, stats=stats)
     r = np.asarray(D @ sol.z[nc:-nc]).ravel()

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -31,14 +33,17 @@ def solve_natural_newton(problem, tol, options):
     :func:`~qpcontact.friction.measures.contact_sizes`, frozen per iteration).  Starts from
     ``r0`` (default: Anitescu's relaxation by Clarabel).  Local quadratic convergence near a
     nondegenerate solution; no global guarantee — it stops and says so when
-    the line search fails.  Options: ``r0``, ``max_iter`` (100), ``progress``."""
+    the line search fails.  Options: ``r0``, ``max_iter`` (100), ``progress``,
+    ``time_limit`` (s)."""
     options = dict(options)
     r0 = options.pop("r0", None)
     max_iter = int(options.pop("max_iter", 100))
     progress = options.pop("progress", None)
+    time_limit = options.pop("time_limit", None)
     if options:
         raise InvalidOptionError(f"'newton' does not take {', '.join(sorted(options))}; its "
-                                 "options are r0, max_iter, progress")
+                                 "options are r0, max_iter, progress, time_limit")
+    start = time.perf_counter()
     p, d = problem, problem.dim
     nc, mu = p.n_contacts, p.mu
     stats = {"inner_iterations": 0}
@@ -91,6 +96,9 @@ def solve_natural_newton(problem, tol, options):
     for k in range(1, max_iter + 1):
         if best_err <= tol:
             why = "reached the tolerance"
+            break
+        if time_limit is not None and time.perf_counter() - start > time_limit:
+            why = f"stopped at its time limit of {time_limit:g} s"
             break
         # Jacobian of û: (I + Σ_slip μ_i e_N,i g_i') W, g_i = u_T,i/‖u_T,i‖ placed
         # in contact i's tangent columns (zero where u_T = 0)

@@ -9,7 +9,42 @@ from ..core.errors import InvalidOptionError
 from ._nsgs_kernels import sweeps
 from .measures import certified_error
 
-__all__ = ["solve_nsgs"]
+__all__ = ["solve_nsgs", "NSGS"]
+
+
+class NSGS:
+    """The sweeps' state on one problem: W in CSR, its diagonal blocks, the
+    iterate ``r`` and the sweeps ``done``; ``omega`` over-relaxes each local
+    solution (then projected back onto the cone)."""
+
+    def __init__(self, problem, r0=None, *, omega=1.0, local_rtol=1e-14, max_local=200):
+        d, nc = problem.dim, problem.n_contacts
+        if not 0.0 < omega < 2.0:
+            raise InvalidOptionError(f"'nsgs': omega must be in (0, 2); got {omega}")
+        W = sp.csr_matrix(problem.W)
+        W.sort_indices()
+        self.blocks = np.empty((nc, d, d))
+        for i in range(nc):
+            self.blocks[i] = W[d * i:d * i + d, d * i:d * i + d].toarray()
+        self.W, self.indices = W, W.indices.astype(np.int64)
+        self.problem, self.omega = problem, float(omega)
+        self.local = (float(local_rtol), int(max_local))
+        self.done = 0
+        self.restart(np.zeros(d * nc) if r0 is None else r0)
+
+    def restart(self, r):
+        r = np.array(r, float).ravel()
+        size = self.problem.dim * self.problem.n_contacts
+        if r.shape != (size,):
+            raise InvalidOptionError(f"'nsgs': r0 must have {size} entries; got {r.size}")
+        self.r = r
+
+    def sweep(self, n: int) -> np.ndarray:
+        p = self.problem
+        sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r, self.blocks,
+               int(n), *self.local, self.omega)
+        self.done += int(n)
+        return self.r
 
 
 def solve_nsgs(problem, tol, options):
@@ -17,35 +52,25 @@ def solve_nsgs(problem, tol, options):
     sweeps over the contacts, each solving its local problem with the
     others frozen — exactly in 2-D, by a local projected fixed point in 3-D.
     Options: ``max_sweeps`` (10 000), ``check_every`` (10 sweeps between
-    error checks), ``r0``, ``local_rtol`` (1e-14), ``max_local`` (200
-    local iterations).  Stops when both error measures are <= tol, or
-    when the best error has not improved for 100 checks; returns the best
-    iterate.  No convergence guarantee (Coulomb friction is not a
-    minimisation): the certificate decides."""
+    error checks), ``r0``, ``omega`` (over-relaxation, 1), ``local_rtol``
+    (1e-14), ``max_local`` (200 local iterations).  Stops when both error
+    measures are <= tol, or when the best error has not improved for 100
+    checks; returns the best iterate.  No convergence guarantee (Coulomb
+    friction is not a minimisation): the certificate decides."""
     options = dict(options)
     max_sweeps = int(options.pop("max_sweeps", 10_000))
     every = max(1, int(options.pop("check_every", 10)))
-    local_rtol = float(options.pop("local_rtol", 1e-14))
-    max_local = int(options.pop("max_local", 200))
+    local = dict(local_rtol=float(options.pop("local_rtol", 1e-14)),
+                 max_local=int(options.pop("max_local", 200)),
+                 omega=float(options.pop("omega", 1.0)))
     r0 = options.pop("r0", None)
     if options:
         raise InvalidOptionError(f"'nsgs' does not take {', '.join(sorted(options))}; its options "
-                                 "are max_sweeps, check_every, r0, local_rtol, max_local")
-    d, nc = problem.dim, problem.n_contacts
-    W = sp.csr_matrix(problem.W)
-    W.sort_indices()
-    blocks = np.empty((nc, d, d))
-    for i in range(nc):
-        blocks[i] = W[d * i:d * i + d, d * i:d * i + d].toarray()
-    r = np.zeros(d * nc) if r0 is None else np.array(r0, float).ravel()
-    if r.shape != (d * nc,):
-        raise InvalidOptionError(f"'nsgs': r0 must have {d * nc} entries; got {r.size}")
-    indices = W.indices.astype(np.int64)
-    best, best_r, since, done = np.inf, r.copy(), 0, 0
-    while done < max_sweeps:
-        sweeps(W.indptr, indices, W.data, problem.q, problem.mu, d, r, blocks, every,
-               local_rtol, max_local)
-        done += every
+                                 "are max_sweeps, check_every, r0, omega, local_rtol, max_local")
+    gs = NSGS(problem, r0, **local)
+    best, best_r, since = np.inf, gs.r.copy(), 0
+    while gs.done < max_sweeps:
+        r = gs.sweep(every)
         err = certified_error(problem, r)
         if err < best:
             best, best_r, since = err, r.copy(), 0
@@ -53,6 +78,7 @@ def solve_nsgs(problem, tol, options):
             since += 1
         if best <= tol or since >= 100 or not np.all(np.isfinite(r)):
             break
+    done = gs.done
     why = ("reached the tolerance" if best <= tol else
            "stalled (no better iterate in 100 checks)" if since >= 100 else
            f"stopped at {max_sweeps} sweeps")

@@ -16,6 +16,7 @@ from ..core.results import MethodResult
 from ..solvers.method import Method
 from .fixed_points import solve_anitescu, solve_desaxce_fp, solve_desaxce_global, solve_tresca_fp
 from .newton import solve_natural_newton
+from .hybrid import solve_nsgs_newton
 from .nsgs import solve_nsgs
 
 __all__ = ["specs"]
@@ -44,6 +45,8 @@ def specs() -> list[Method]:
     return [
         Method("nsgs", _run(solve_nsgs), takes="friction",
                algorithm="nonsmooth Gauss-Seidel (Siconos NSGS)", **common),
+        Method("nsgs-newton", _run(solve_nsgs_newton), takes="friction",
+               algorithm="NSGS, then minimum-norm semismooth Newton steps", **common),
         Method("anitescu", _run(solve_anitescu, True), takes="friction",
                algorithm="convex relaxation: one SOCP (Anitescu)", **common),
         Method("desaxce-fp", _run(solve_desaxce_fp, True), takes="friction",

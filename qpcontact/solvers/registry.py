@@ -28,7 +28,7 @@ PROVIDERS = ("pivoting", "trace", "friction", "qpsolvers", "cvxpy")
 IN_HOUSE = {
     "pivoting": ("energy", "bpp", "ip-bpp", "mg-bpp", "lemke", "enumeration"),
     "trace": ("trace",),
-    "friction": ("nsgs", "anitescu", "desaxce-fp", "tresca-fp", "newton", "desaxce-global"),
+    "friction": ("nsgs", "nsgs-newton", "anitescu", "desaxce-fp", "tresca-fp", "newton", "desaxce-global"),
 }
 _loaded: set = set()
 

@@ -32,6 +32,7 @@ form took 44 000 pivots (529 s) to a secondary ray.
 
 from __future__ import annotations
 
+import time
 import warnings
 
 import numpy as np
@@ -133,7 +134,7 @@ SPARSE_FROM = 700
 DENSE_FALLBACK_MAX = 2000
 
 
-def run_lemke(problem, tol, options) -> MethodResult:
+def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     """The "lemke" method: the sparse form for a sparse M from SPARSE_FROM
     unknowns and any M above DENSE_TABLEAU_LIMIT, the dense form otherwise.
     Where the sparse form's answer misses tol and n <= DENSE_FALLBACK_MAX,
@@ -141,7 +142,10 @@ def run_lemke(problem, tol, options) -> MethodResult:
     answer is returned: its exact per-row scales decide ties that the sparse
     form's estimates miss on badly scaled data (qpcontact stress's LCP
     families, n <= 100, forced sparse: 2 of 390 certified by the dense form
-    only, both with gaps over 1e0..1e12)."""
+    only, both with gaps over 1e0..1e12).  ``time_limit`` (s, from
+    :func:`qpcontact.solve`) bounds the sparse form, checked at each pivot
+    (the dense form, at most DENSE_TABLEAU_LIMIT unknowns, is bounded by its
+    pivot cap)."""
     from ...core.accuracy import DEFAULT_CERTIFY_TOL
     from ...judge.lcp import certify_lcp
 
@@ -149,8 +153,9 @@ def run_lemke(problem, tol, options) -> MethodResult:
     n = problem.n
     if not (n > DENSE_TABLEAU_LIMIT or (problem.is_sparse and n >= SPARSE_FROM)):
         return _run_lemke(problem, options, sparse=False)
-    res = _run_lemke(problem, options, sparse=True)
-    if n > DENSE_FALLBACK_MAX:
+    deadline = None if time_limit is None else time.perf_counter() + time_limit
+    res = _run_lemke(problem, options, sparse=True, deadline=deadline)
+    if n > DENSE_FALLBACK_MAX or res.status == "time_limit":
         return res
     tol = DEFAULT_CERTIFY_TOL if tol is None else tol
     error = certify_lcp(problem, res.x).error if res.x is not None else np.inf
@@ -166,7 +171,7 @@ def run_lemke(problem, tol, options) -> MethodResult:
     return dense
 
 
-def _run_lemke(problem, options, sparse: bool) -> MethodResult:
+def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
     n = problem.n
     M = sp.csc_matrix(problem.M) if sparse else dense_matrix(problem.M)
     q = problem.q
@@ -213,7 +218,7 @@ def _run_lemke(problem, options, sparse: bool) -> MethodResult:
     while True:
         if sparse:
             try:
-                out = sparse_lemke(Ms, qs, d * rs, max_pivots)
+                out = sparse_lemke(Ms, qs, d * rs, max_pivots, deadline)
             except SingularBasis as exc:
                 return MethodResult(x=None, backend_status="singular_basis",
                                     backend_message=f"SuperLU found a basis singular ({exc})",
@@ -255,6 +260,10 @@ def _run_lemke(problem, options, sparse: bool) -> MethodResult:
         if not sparse:   # the sparse form already refactors and refines at the end
             z = _refined(problem, M, z, out.basic_z)
         return MethodResult(x=z, backend_status="solved", iterations=total, stats=stats)
+    if out.status == "time_limit":
+        return MethodResult(x=None, status="time_limit", backend_status="time_limit",
+                            backend_message=f"stopped at the time limit after {total} pivots",
+                            iterations=total, stats=stats)
     if out.status == "max_pivots":
         return MethodResult(x=None, status="max_pivots", backend_status="max_pivots",
                             backend_message=f"pivot limit {max_pivots} reached", iterations=total,

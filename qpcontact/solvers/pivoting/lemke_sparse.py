@@ -43,6 +43,7 @@ it is then re-estimated from |x_i| and two solves with random signs
 
 from __future__ import annotations
 
+import time
 import warnings
 
 import numpy as np
@@ -126,10 +127,12 @@ def _lex_leaving(ties: np.ndarray, a: np.ndarray, F: _ProductFormBasis, prefer: 
     return best
 
 
-def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutcome:
+def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int, deadline=None
+                 ) -> LemkeOutcome:
     """Lemke's method on (already scaled) sparse data with covering vector
-    d > 0; see the module docstring.  Raises SingularBasis when SuperLU finds
-    a basis singular."""
+    d > 0; see the module docstring.  Stops with status "time_limit" once
+    time.perf_counter() passes ``deadline`` (None: never).  Raises
+    SingularBasis when SuperLU finds a basis singular."""
     n = q.size
     if np.all(q >= 0):
         return LemkeOutcome("solved", np.zeros(n), np.zeros(n, bool), 0)
@@ -174,6 +177,8 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutco
             return ray_outcome(basis, x, a, entering, pivots)
         if pivots >= max_pivots:
             return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
+        if deadline is not None and time.perf_counter() > deadline:
+            return LemkeOutcome("time_limit", None, np.zeros(n, bool), pivots)
         r = int(ties[0]) if ties.size == 1 else _lex_leaving(ties, a, F, z0_row)
         leaving = pivot(a, r, entering)
         pivots += 1
