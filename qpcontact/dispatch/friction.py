@@ -26,7 +26,7 @@ from ..proofs.exact import Proof
 from ..solvers.method import PROBLEM_KINDS, Method
 from ..solvers.registry import get_method
 from .calls import call
-from .routes import PROGRESS_LINKS, TIMED_LINKS, auto_chain, kind_of
+from .routes import PROGRESS_LINKS, auto_chain, kind_of
 
 __all__ = ["run_friction", "run_friction_auto", "check_friction_method"]
 
@@ -53,10 +53,8 @@ def check_friction_method(problem, m: Method) -> None:
 def _call(problem, m: Method, tol: float, options: dict, time_limit, isolate, engine
           ) -> MethodResult:
     if m.takes == "lcp":          # through the faceted LCP, certified there as an LCP
-        options = dict(options)
-        limit = options.pop("time_limit", time_limit)
         lcp, D, facets, lcp_options = lcp_of(problem, options)
-        sol = engine.solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY), time_limit=limit,
+        sol = engine.solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY), time_limit=time_limit,
                            **lcp_options)
         return from_lcp(problem, m.name, sol, D, facets, tol)
     return call(m, problem, tol, options, time_limit, isolate, engine)
@@ -73,10 +71,7 @@ def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_l
         return FrictionSolution(status="solved", ok=True, message="no contacts",
                                 certificate=certify_friction(problem, r), r=r, u=r, **common)
     start = time.perf_counter()
-    options = dict(options)
-    if time_limit is not None and m.name in TIMED_LINKS:
-        options.setdefault("time_limit", time_limit)
-    res = _call(problem, m, tol, options, time_limit, isolate, engine)
+    res = _call(problem, m, tol, dict(options), time_limit, isolate, engine)
     wall = time.perf_counter() - start
     stats = {**res.stats, "time": wall}
     common.update(backend_status=res.backend_status, backend_message=res.backend_message,
@@ -112,14 +107,6 @@ def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_l
                             certificate=cert, r=r, u=u, v=v, **common)
 
 
-def _link(problem, m: Method, tol, accuracy, opts, share, isolate, engine) -> FrictionSolution:
-    """One link of the chain within ``share`` seconds (None: no limit); every
-    link watches the clock (Lemke's sparse form at each pivot)."""
-    if share is not None:
-        opts.setdefault("time_limit", share)
-    return run_friction(problem, m, tol, accuracy, opts, engine=engine, isolate=isolate)
-
-
 def run_friction_auto(problem, tol: float, accuracy, options: dict, time_limit=None,
                       isolate="auto", engine=None) -> FrictionSolution:
     """"auto" on a frictional problem (module docstring)."""
@@ -141,7 +128,8 @@ def run_friction_auto(problem, tol: float, accuracy, options: dict, time_limit=N
             if m.name in PROGRESS_LINKS:
                 opts.setdefault("progress", progress)
             progress(f"auto: {m.name}" + ("" if share is None else f" (up to {share:.3g} s)"))
-        sol = _link(problem, m, tol, accuracy, opts, share, isolate, engine)
+        sol = run_friction(problem, m, tol, accuracy, opts, time_limit=share, isolate=isolate,
+                           engine=engine)
         runs.append(sol)
         where = f"error {sol.error:.1e}" if sol.certificate is not None else sol.status
         lines.append(f"{m.name}: {where} in {sol.wall_time or 0:.2f} s")

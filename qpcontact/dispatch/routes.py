@@ -19,7 +19,7 @@ from ..friction.problem import FrictionProblem
 from ..solvers.method import Method
 
 __all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
-           "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "TIMED_LINKS", "PROGRESS_LINKS",
+           "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS",
            "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
@@ -79,12 +79,8 @@ LEMKE_FIRST_MAX_CONTACTS = 200
 #: 225-contact Capsules-i101: NSGS + Newton stalls at 7.8e-7 there)
 NSGS_FIRST_3D = 500
 
-#: the links that watch the clock themselves (option ``time_limit``); the
-#: others (Lemke) run in a child process killed at their share of the time
-TIMED_LINKS = ("nsgs-newton", "newton", "desaxce-fp", "tresca-fp", "desaxce-global")
-
-#: the links that report each iteration to ``progress``
-PROGRESS_LINKS = TIMED_LINKS
+#: the friction methods that report each iteration to ``progress``
+PROGRESS_LINKS = ("nsgs-newton", "newton", "desaxce-fp", "tresca-fp", "desaxce-global")
 
 
 def auto_chain(problem) -> tuple:

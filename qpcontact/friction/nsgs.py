@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -53,7 +55,7 @@ def solve_nsgs(problem, tol, options):
     others frozen — exactly in 2-D, by a local projected fixed point in 3-D.
     Options: ``max_sweeps`` (10 000), ``check_every`` (10 sweeps between
     error checks), ``r0``, ``omega`` (over-relaxation, 1), ``local_rtol``
-    (1e-14), ``max_local`` (200 local iterations).  Stops when both error
+    (1e-14), ``max_local`` (200 local iterations), ``time_limit`` (s).  Stops when both error
     measures are <= tol, or when the best error has not improved for 100
     checks; returns the best iterate.  No convergence guarantee (Coulomb
     friction is not a minimisation): the certificate decides."""
@@ -64,9 +66,12 @@ def solve_nsgs(problem, tol, options):
                  max_local=int(options.pop("max_local", 200)),
                  omega=float(options.pop("omega", 1.0)))
     r0 = options.pop("r0", None)
+    time_limit = options.pop("time_limit", None)
     if options:
         raise InvalidOptionError(f"'nsgs' does not take {', '.join(sorted(options))}; its options "
-                                 "are max_sweeps, check_every, r0, omega, local_rtol, max_local")
+                                 "are max_sweeps, check_every, r0, omega, local_rtol, max_local, "
+                                 "time_limit")
+    start = time.perf_counter()
     gs = NSGS(problem, r0, **local)
     best, best_r, since = np.inf, gs.r.copy(), 0
     while gs.done < max_sweeps:
@@ -78,9 +83,12 @@ def solve_nsgs(problem, tol, options):
             since += 1
         if best <= tol or since >= 100 or not np.all(np.isfinite(r)):
             break
+        if time_limit is not None and time.perf_counter() - start > time_limit:
+            break
     done = gs.done
     why = ("reached the tolerance" if best <= tol else
            "stalled (no better iterate in 100 checks)" if since >= 100 else
-           f"stopped at {max_sweeps} sweeps")
+           f"stopped at {max_sweeps} sweeps" if done >= max_sweeps else
+           f"stopped at its time limit of {time_limit:g} s")
     return best_r, "solved" if best <= tol else "stopped", \
         f"NSGS {why} after {done} sweeps", {"iterations": done}

@@ -21,11 +21,16 @@ from .nsgs import solve_nsgs
 
 __all__ = ["specs"]
 
-def _run(function, takes_engine: bool = False):
-    def run(problem, tol, options, engine=None) -> MethodResult:
+def _run(function, takes_engine: bool = False, timed: bool = True):
+    """The registry's run for ``function``: ``engine`` for the methods that
+    solve subproblems through it, and ``solve``'s ``time_limit`` as the
+    iterative methods' own option (they check it between iterations)."""
+    def run(problem, tol, options, engine=None, time_limit=None) -> MethodResult:
         options = dict(options)
         if takes_engine and engine is not None:
             options["engine"] = engine
+        if timed and time_limit is not None:
+            options.setdefault("time_limit", time_limit)
         x, status, message, stats = function(problem, tol, options)
         if x is not None:
             x = np.asarray(x, float)
@@ -47,7 +52,7 @@ def specs() -> list[Method]:
                algorithm="nonsmooth Gauss-Seidel (Siconos NSGS)", **common),
         Method("nsgs-newton", _run(solve_nsgs_newton), takes="friction",
                algorithm="NSGS, then minimum-norm semismooth Newton steps", **common),
-        Method("anitescu", _run(solve_anitescu, True), takes="friction",
+        Method("anitescu", _run(solve_anitescu, True, timed=False), takes="friction",
                algorithm="convex relaxation: one SOCP (Anitescu)", **common),
         Method("desaxce-fp", _run(solve_desaxce_fp, True), takes="friction",
                algorithm="fixed point of SOCPs (De Saxce)", **common),
