@@ -343,9 +343,7 @@ def main(argv=None) -> int:
                                                   "error", "siconos_error", "memory_mb",
                                                   "status", "iterations", "by"])
     profile(rows, labels, out / "profile.png")
-    both = rows + [r for r in pile_rows if r["label"] != "auto"] + \
-        [dict(r, label="auto") for r in pile_rows if r["label"] == "auto"]
-    success_plot(both, labels + [m[0] for m in PILE_METHODS if m[0] not in labels],
+    success_plot(rows + pile_rows, labels + [m[0] for m in PILE_METHODS if m[0] not in labels],
                  out / "success.png")
     print(f"\nwrote {out / 'friction.csv'}, {out / 'profile.png'} and {out / 'success.png'}")
     return 0

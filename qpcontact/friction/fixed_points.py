@@ -65,7 +65,7 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
     progress = options.pop("progress", None)
     time_limit = options.pop("time_limit", None)
     no_options_left(method, options)
-    start = time.perf_counter()
+    start, timed_out = time.perf_counter(), False
     r = np.zeros(sub.size)
     best_key, best_r, lowest, since, errors = (np.inf, np.inf), None, [np.inf, np.inf], 0, []
     status = "not started"
@@ -89,7 +89,7 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
         if key[0] <= tol or since >= 5:
             break
         if time_limit is not None and time.perf_counter() - start > time_limit:
-            status = f"its time limit of {time_limit:g} s"
+            timed_out = True
             break
     stats = {"iterations": len(errors), "inner_iterations": sub.inner_iterations,
              "backend": sub.backend, "errors": errors}
@@ -98,7 +98,7 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
     why = ("reached the tolerance" if best_key[0] <= tol else
            "stalled (neither error improved in 5 iterations)" if since >= 5 else
            f"stopped at {max_outer} iterations" if len(errors) >= max_outer else
-           f"stopped at {status}" if status.startswith("its time limit") else
+           f"stopped at its time limit of {time_limit:g} s" if timed_out else
            f"{sub.backend} failed on a subproblem ({status})")
     return best_r, status, f"fixed point {why}, best of {len(errors)} SOCPs by {sub.backend}", \
         stats

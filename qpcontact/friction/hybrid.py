@@ -128,7 +128,7 @@ def solve_nsgs_newton(problem, tol, options):
             break
         # the 3-D local problems solved only as tightly as the whole is
         # solved so far: their projected fixed point contracts slowly
-        gs.local = (max(1e-14, 1e-2 * min(best, 1.0)), gs.local[1])
+        gs.local_rtol = max(1e-14, 1e-2 * min(best, 1.0))
         r = gs.sweep(min(chunk, max_sweeps - gs.done))
         chunk = min(2 * chunk, 100)
         err = certified_error(problem, r)

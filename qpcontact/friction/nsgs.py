@@ -30,7 +30,7 @@ class NSGS:
             self.blocks[i] = W[d * i:d * i + d, d * i:d * i + d].toarray()
         self.W, self.indices = W, W.indices.astype(np.int64)
         self.problem, self.omega = problem, float(omega)
-        self.local = (float(local_rtol), int(max_local))
+        self.local_rtol, self.max_local = float(local_rtol), int(max_local)
         self.done = 0
         self.restart(np.zeros(d * nc) if r0 is None else r0)
 
@@ -44,7 +44,7 @@ class NSGS:
     def sweep(self, n: int) -> np.ndarray:
         p = self.problem
         sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r, self.blocks,
-               int(n), *self.local, self.omega)
+               int(n), self.local_rtol, self.max_local, self.omega)
         self.done += int(n)
         return self.r
 
@@ -74,6 +74,7 @@ def solve_nsgs(problem, tol, options):
     start = time.perf_counter()
     gs = NSGS(problem, r0, **local)
     best, best_r, since = np.inf, gs.r.copy(), 0
+    why = f"stopped at {max_sweeps} sweeps"
     while gs.done < max_sweeps:
         r = gs.sweep(every)
         err = certified_error(problem, r)
@@ -81,14 +82,16 @@ def solve_nsgs(problem, tol, options):
             best, best_r, since = err, r.copy(), 0
         else:
             since += 1
-        if best <= tol or since >= 100 or not np.all(np.isfinite(r)):
-            break
-        if time_limit is not None and time.perf_counter() - start > time_limit:
-            break
-    done = gs.done
-    why = ("reached the tolerance" if best <= tol else
-           "stalled (no better iterate in 100 checks)" if since >= 100 else
-           f"stopped at {max_sweeps} sweeps" if done >= max_sweeps else
-           f"stopped at its time limit of {time_limit:g} s")
+        if best <= tol:
+            why = "reached the tolerance"
+        elif since >= 100:
+            why = "stalled (no better iterate in 100 checks)"
+        elif not np.all(np.isfinite(r)):
+            why = "stopped: the iterate is no longer finite"
+        elif time_limit is not None and time.perf_counter() - start > time_limit:
+            why = f"stopped at its time limit of {time_limit:g} s"
+        else:
+            continue
+        break
     return best_r, "solved" if best <= tol else "stopped", \
-        f"NSGS {why} after {done} sweeps", {"iterations": done}
+        f"NSGS {why} after {gs.done} sweeps", {"iterations": gs.done}
