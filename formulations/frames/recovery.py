@@ -181,6 +181,15 @@ class FrameRecovery:
                    _beyond_rounding(res[2:], scale[2:], n_m * big_m))
 
     def _diagram(self, res: FrameResult, member: str, points: int):
+        m = self._diagram_member(res, member, points)
+        L = geometry(self, m)[0]
+        x = np.linspace(0.0, L, int(points))
+        pts = [p for p in load_points(self._loads_of(res, m)) if 0.0 < p < L]
+        # both sides of every load position: jumps of V (point loads) and M (moments)
+        x = np.unique(np.r_[x, pts, np.nextafter(np.array(pts, float), -np.inf)])
+        return (x, *self._sections(res, m, x))
+
+    def _diagram_member(self, res, member, points):
         if not isinstance(member, str):
             raise InvalidOptionError(f"member: a member's name, one of {list(self.members)}; "
                                      f"got {member!r}")
@@ -195,26 +204,61 @@ class FrameRecovery:
                                      f"integer >= 2 (default 21); got {points!r}")
         if not res.member_forces:
             raise SolverFailedError(f"no diagram: this result is not an equilibrium ({res.message})")
+        return m
+
+    def _direction(self, member):
+        """(cos, sin) of a member's axis."""
+        return geometry(self, self._member(member))[1:]
+
+    @staticmethod
+    def _loads_of(res, m):
+        return [ld for ld in m.loads if res.combination.get(ld.case)]
+
+    def _sections(self, res, m, x):
+        """(N, V, M) at the sections x (member axes, engineering convention):
+        the end actions at node i plus the member loads on [0, x)."""
         L, c, s = geometry(self, m)
-        f = res.member_forces[member]
-        loads = [ld for ld in m.loads if res.combination.get(ld.case)]
-        factor = {ld.case: res.combination[ld.case] for ld in loads}
-        x = np.linspace(0.0, L, int(points))
-        pts = [p for p in load_points(loads) if 0.0 < p < L]
-        # both sides of every load position: jumps of V (point loads) and M (moments)
-        x = np.unique(np.r_[x, pts, np.nextafter(np.array(pts, float), -np.inf)])
-        fx = np.zeros_like(x)
-        fy = np.zeros_like(x)
-        mo = np.zeros_like(x)
-        for case in set(factor):
+        f = res.member_forces[m.name]
+        loads = self._loads_of(res, m)
+        fx, fy, mo = np.zeros_like(x), np.zeros_like(x), np.zeros_like(x)
+        for case in {ld.case for ld in loads}:
             ax_, ay_, am_ = section_sums([ld for ld in loads if ld.case == case], x, c, s)
-            fx += factor[case] * ax_
-            fy += factor[case] * ay_
-            mo += factor[case] * am_
-        N = -f[0] - fx
-        V = f[1] + fy
-        M = -f[2] + f[1] * x + mo
-        return x, N, V, M
+            factor = res.combination[case]
+            fx += factor * ax_
+            fy += factor * ay_
+            mo += factor * am_
+        return -f[0] - fx, f[1] + fy, -f[2] + f[1] * x + mo
+
+    def _deflection(self, res: FrameResult, member: str, points: int):
+        """(x, u, v): the displacement of the member's axis along (u) and
+        across (v) it, member axes, at ``points`` sections plus the load
+        positions.  Integrated from the internal forces, not interpolated
+        from the nodes: u' = N/EA, v'' = M/EI (sagging M bends the axis
+        towards +y), with u(0), v(0), v(L) the end nodes' displacements —
+        which fixes the slope constant without the end rotations, so a
+        hinged end needs nothing special.  Each integral is a sum of
+        4-point Gauss rules between consecutive sections, and the sections
+        include every load position, so the integrand is one polynomial of
+        degree <= 4 on each piece and the result is exact to rounding (the
+        repeated integral by Cauchy's formula, v(x) = ∫₀ˣ (x - s) M/EI ds)."""
+        m = self._diagram_member(res, member, points)
+        L, c, s = geometry(self, m)
+        pts = [p for p in load_points(self._loads_of(res, m)) if 0.0 < p < L]
+        x = np.unique(np.r_[np.linspace(0.0, L, int(points)), pts])
+        t, w = np.polynomial.legendre.leggauss(4)
+        a, b = x[:-1, None], x[1:, None]
+        gs = (0.5 * (b - a) * t + 0.5 * (a + b)).ravel()
+        gw = (0.5 * (b - a) * w).ravel()
+        N, _, M = self._sections(res, m, gs)
+        idx = {nm: 3 * k for k, nm in enumerate(self.nodes)}
+        T = assembly.rotation(c, s)[:3, :3]
+        di = T @ res._u[idx[m.i]:idx[m.i] + 3]
+        dj = T @ res._u[idx[m.j]:idx[m.j] + 3]
+        before = gs[None, :] < x[:, None]
+        u = di[0] + (before * (gw * N / (m.E * m.A))) @ np.ones_like(gs)
+        v = (before * (x[:, None] - gs[None, :]) * (gw * M / (m.E * m.I))) @ np.ones_like(gs)
+        v = di[1] + v + (dj[1] - di[1] - v[-1]) * x / L
+        return x, u, v
 
     def _support_reactions(self, res: FrameResult) -> dict:
         out = {}

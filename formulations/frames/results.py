@@ -70,6 +70,22 @@ class FrameResult:
         positions are added to the sample points (both sides of a jump)."""
         return self.frame._diagram(self, member, points)
 
+    def deflection(self, member: str, points: int = 21, axes: str = "member"):
+        """(x, dx, dy): the displacement of the member's axis at ``points``
+        sections (plus the load positions), x from node i.  ``axes="member"``:
+        along and across the member (u, v); ``"global"``: (ux, uy).  Exact
+        for the element's loads (integrated from N/EA and M/EI, not
+        interpolated between the nodes)."""
+        x, u, v = self.frame._deflection(self, member, points)
+        if axes == "member":
+            return x, u, v
+        if axes != "global":
+            from qpcontact.core.errors import InvalidOptionError
+
+            raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
+        c, s = self.frame._direction(member)
+        return x, c * u - s * v, s * u + c * v
+
     def extremes(self, member: str) -> dict:
         """{"N"|"V"|"M": {"max": (value, x), "min": (value, x)}} along a member."""
         x, N, V, M = self.diagram(member, 201)
