@@ -36,7 +36,7 @@ import scipy.sparse.linalg as spla
 from qpcontact.core.errors import InvalidProblemError
 from qpcontact.core.problems import LCP
 
-from .loads import CONSTANT, VARIABLE, equivalent_nodal
+from .loads import CONSTANT, VARIABLE, equivalent_nodal_many, member_nodal
 
 DOFS = ("ux", "uy", "rz")
 #: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
@@ -44,15 +44,24 @@ DOFS = ("ux", "uy", "rz")
 R_ROUNDING = 256 * np.finfo(float).eps
 
 
-def beam_k(E, A, I, L):
-    """Local 6x6 stiffness of a 2-D Euler-Bernoulli frame element."""
-    a, b, c, d = E * A / L, 12 * E * I / L ** 3, 6 * E * I / L ** 2, 4 * E * I / L
-    return np.array([[a, 0, 0, -a, 0, 0],
-                     [0, b, c, 0, -b, c],
-                     [0, c, d, 0, -c, d / 2],
-                     [-a, 0, 0, a, 0, 0],
-                     [0, -b, -c, 0, b, -c],
-                     [0, c, d / 2, 0, -c, d]])
+def beam_k(E, A, I, L, phi=0.0) -> np.ndarray:
+    """Local stiffness of 2-D frame elements, (6, 6) or (m, 6, 6) for arrays:
+    Euler-Bernoulli for φ = 0, Timoshenko (shear deformation, φ =
+    12EI/(G A_s L²)) otherwise."""
+    E, A, I, L, phi = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, phi)))
+    a = E * A / L
+    f = E * I / (L * (1.0 + phi))
+    b, c, d, e = 12 * f / L ** 2, 6 * f / L, (4 + phi) * f, (2 - phi) * f
+    k = np.zeros(E.shape + (6, 6))
+    k[..., 0, 0] = k[..., 3, 3] = a
+    k[..., 0, 3] = k[..., 3, 0] = -a
+    k[..., 1, 1] = k[..., 4, 4] = b
+    k[..., 1, 4] = k[..., 4, 1] = -b
+    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = c
+    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -c
+    k[..., 2, 2] = k[..., 5, 5] = d
+    k[..., 2, 5] = k[..., 5, 2] = e
+    return k
 
 
 def geometry(frame, m):
@@ -65,29 +74,92 @@ def geometry(frame, m):
 
 
 def rotation(c, s) -> np.ndarray:
-    """T (6x6): global end displacements to member axes."""
-    T = np.zeros((6, 6))
-    T[:3, :3] = T[3:, 3:] = ((c, s, 0.0), (-s, c, 0.0), (0.0, 0.0, 1.0))
+    """T (6x6, or (m, 6, 6) for arrays): global end displacements to member axes."""
+    c, s = np.broadcast_arrays(np.asarray(c, float), np.asarray(s, float))
+    T = np.zeros(c.shape + (6, 6))
+    for o in (0, 3):
+        T[..., o, o] = T[..., o + 1, o + 1] = c
+        T[..., o, o + 1] = s
+        T[..., o + 1, o] = -s
+        T[..., o + 2, o + 2] = 1.0
     return T
 
 
-def member_local(frame, m):
-    """Local stiffness and equivalent nodal loads of every case that loads
-    the member, with hinges condensed.  Returns (k, {case: fe}, T, L)."""
-    L, c, s = geometry(frame, m)
+def flexible_phi(m, L):
+    """(flexible length, φ) of a member: its length less the rigid end zones,
+    and the Timoshenko shear parameter 12EI/(G A_s L²) (0: Euler-Bernoulli)."""
+    Lf = L - m.offset_i - m.offset_j
+    return Lf, (0.0 if m.GAs is None else 12.0 * m.E * m.I / (m.GAs * Lf ** 2))
+
+
+def _offset_map(oi, oj) -> np.ndarray:
+    """Node displacements (member axes) to the flexible ends': the rigid arm
+    of length oi moves the end across the axis by oi·θ_i, at j by -oj·θ_j."""
+    A = np.eye(6)
+    A[1, 2], A[4, 5] = oi, -oj
+    return A
+
+
+def _release(k, fes, r, spring):
+    """Condense the member end's own rotation (dof r) behind a rotational
+    spring to the node (0: a hinge): row/column r then belong to the node's
+    rotation.  The member's loads at the end are condensed alike."""
+    k7 = np.zeros((7, 7))
+    k7[:6, :6] = k
+    k7[r, r] += spring
+    k7[r, 6] = k7[6, r] = -spring
+    k7[6, 6] = spring
+    col = k7[:, r].copy()
+    kc = k7 - np.outer(col, col) / k7[r, r]
+    keep = [6 if d == r else d for d in range(6)]
+    out = {}
+    for case, fe in fes.items():
+        f7 = np.r_[fe, 0.0]
+        out[case] = (f7 - col * f7[r] / k7[r, r])[keep]
+    return kc[np.ix_(keep, keep)], out
+
+
+def member_locals(frame, names, idx):
+    """Every member's local stiffness (node dofs, member axes), rotation,
+    dofs and equivalent nodal loads per case, computed for all members at
+    once: (k (m,6,6), T (m,6,6), dofs (m,6), [{case: fe} per member])."""
+    ms = list(frame.members.values())
+    nm = len(ms)
+    xy = np.array([frame.nodes[n] for n in names]).reshape(-1, 2)
+    ii = np.array([idx[m.i] // 3 for m in ms], int)
+    jj = np.array([idx[m.j] // 3 for m in ms], int)
+    d = xy[jj] - xy[ii]
+    L = np.hypot(d[:, 0], d[:, 1])
+    c, s = d[:, 0] / L, d[:, 1] / L
+    E, A, I = (np.array([getattr(m, a) for m in ms], float) for a in ("E", "A", "I"))
+    flex = [flexible_phi(m, L[k]) for k, m in enumerate(ms)]
+    Lf = np.array([f[0] for f in flex]).reshape(nm)
+    phi = np.array([f[1] for f in flex]).reshape(nm)
+    k_all = beam_k(E, A, I, Lf, phi)
     T = rotation(c, s)
-    k = beam_k(m.E, m.A, m.I, L)
-    fes = {}
-    for load in m.loads:
-        fes[load.case] = fes.get(load.case, 0.0) + equivalent_nodal(load, L, c, s)
-    for r, hinged in ((2, m.hinge_i), (5, m.hinge_j)):
-        if hinged:
-            kr = k[:, r].copy()
-            fes = {case: fe - kr * fe[r] / k[r, r] for case, fe in fes.items()}
-            k = k - np.outer(kr, kr) / k[r, r]
-            k[r, :] = 0.0
-            k[:, r] = 0.0
-    return k, fes, T, L
+    dofs = np.c_[3 * ii[:, None] + np.arange(3), 3 * jj[:, None] + np.arange(3)]
+    offset = [k for k, m in enumerate(ms) if m.offset_i or m.offset_j]
+    for k in offset:
+        Aoff = _offset_map(ms[k].offset_i, ms[k].offset_j)
+        k_all[k] = Aoff.T @ k_all[k] @ Aoff
+    fes = [dict() for _ in ms]
+    plain = [(k, ld) for k, m in enumerate(ms) if not (m.offset_i or m.offset_j)
+             for ld in m.loads]
+    if plain:
+        rows = np.array([k for k, _ in plain])
+        loads = equivalent_nodal_many([ld for _, ld in plain], L[rows], c[rows], s[rows],
+                                      phi[rows])
+        for (k, ld), fe in zip(plain, loads):
+            fes[k][ld.case] = fes[k].get(ld.case, 0.0) + fe
+    for k in offset:
+        for ld in ms[k].loads:
+            fe = member_nodal(ld, L[k], c[k], s[k], phi[k], (ms[k].offset_i, ms[k].offset_j))
+            fes[k][ld.case] = fes[k].get(ld.case, 0.0) + fe
+    for k, m in enumerate(ms):
+        for r, spring in zip((2, 5), m.end_springs):
+            if spring is not None:
+                k_all[k], fes[k] = _release(k_all[k], fes[k], r, spring)
+    return k_all, T, dofs, fes
 
 
 def cases(frame) -> list:
@@ -101,23 +173,27 @@ def cases(frame) -> list:
 
 
 def assemble(frame):
+    """K (CSR), loads F and settlements U (one column per case), the fixed
+    dofs, and the members' local data for the results: all members at once
+    (K from one COO array, F by one scatter per case)."""
     names = list(frame.nodes)
     idx = {nm: 3 * i for i, nm in enumerate(names)}
     N = 3 * len(names)
-    rows, cols, vals = [], [], []   # K in triplets: frames are sparse (a beam is banded)
     case_list = cases(frame)
     col = {c: k for k, c in enumerate(case_list)}
     F = np.zeros((N, len(case_list)))
-    local = {}   # per member: (k, {case: fe}, T, dofs), reused by the results
-    for m in frame.members.values():
-        k, fes, T, _ = member_local(frame, m)
-        dofs = np.r_[idx[m.i]:idx[m.i] + 3, idx[m.j]:idx[m.j] + 3]
-        local[m.name] = (k, fes, T, dofs)
-        rows.append(np.repeat(dofs, 6))
-        cols.append(np.tile(dofs, 6))
-        vals.append((T.T @ k @ T).ravel())
-        for case, fe in fes.items():
-            F[dofs, col[case]] += T.T @ fe
+    if frame.members:
+        k_all, T, dofs, fes = member_locals(frame, names, idx)
+        kg = np.einsum("mji,mjk,mkl->mil", T, k_all, T)
+        rows = [np.repeat(dofs, 6, axis=1).ravel()]
+        cols = [np.tile(dofs, (1, 6)).ravel()]
+        vals = [kg.ravel()]
+        for k, per in enumerate(fes):
+            for case, fe in per.items():
+                F[dofs[k], col[case]] += T[k].T @ fe
+    else:
+        k_all, T, dofs, fes = np.zeros((0, 6, 6)), np.zeros((0, 6, 6)), np.zeros((0, 6), int), []
+        rows, cols, vals = [], [], []
     for node, fx, fy, mz, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
     U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
@@ -125,19 +201,20 @@ def assemble(frame):
         U[idx[node] + DOFS.index(dof), col[case]] += value
     for node, ks in frame.springs.items():
         for d, kval in ks.items():
-            i = idx[node] + DOFS.index(d)
-            rows.append([i])
-            cols.append([i])
+            rows.append([idx[node] + DOFS.index(d)])
+            cols.append([idx[node] + DOFS.index(d)])
             vals.append([kval])
-    K = sp.csr_matrix((np.concatenate(vals) if vals else np.zeros(0),
+    K = sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
                        (np.concatenate(rows) if rows else np.zeros(0, int),
-                        np.concatenate(cols) if cols else np.zeros(0, int))), shape=(N, N))
+                        np.concatenate(cols) if cols else np.zeros(0, int))),
+                      shape=(N, N)).tocsr()
     fixed = np.zeros(N, bool)
-    for node, dofs in frame.fixed.items():
-        for d in dofs:
+    for node, dofs_fixed in frame.fixed.items():
+        for d in dofs_fixed:
             fixed[idx[node] + DOFS.index(d)] = True
     # a rotation no member resists (only hinged ends, or no member) is not a dof
     fixed |= np.isclose(K.diagonal(), 0.0) & (np.arange(N) % 3 == 2)
+    local = {m: (k_all[k], fes[k], T[k], dofs[k]) for k, m in enumerate(frame.members)}
     return names, idx, K, F, U, case_list, fixed, local
 
 
@@ -152,16 +229,23 @@ def contact_column(idx, N, c, vec) -> np.ndarray:
 
 
 def links(frame, idx, N):
-    """H (N x links) and, per link: contact index, kind 'n'/'t'."""
-    cols, info = [], []
+    """H (N x links, sparse CSR) and, per link: contact index, kind 'n'/'t'."""
+    rows, cols, vals, info = [], [], [], []
     for ci, c in enumerate(frame.contacts):
-        t = np.array([c.normal[1], -c.normal[0]])
+        t = (c.normal[1], -c.normal[0])
         for kind, vec in (("n", c.normal), ("t", t)):
             if kind == "t" and c.friction == 0:
                 continue  # no tangential link without friction
-            cols.append(contact_column(idx, N, c, vec))
+            li = len(info)
+            for node, sign in ((c.node, 1.0), (c.other, -1.0)):
+                if node is not None:
+                    rows += [idx[node], idx[node] + 1]
+                    cols += [li, li]
+                    vals += [sign * vec[0], sign * vec[1]]
             info.append((ci, kind))
-    return (np.array(cols).T if cols else np.zeros((N, 0))), info
+    H = sp.csr_matrix((vals, (rows, cols)), shape=(N, len(info)))
+    H.eliminate_zeros()
+    return H, info
 
 
 def check_conflicts(frame):
@@ -180,15 +264,30 @@ def check_conflicts(frame):
             if not free_axes:
                 held = sorted(d for d, comp in zip(("ux", "uy"), vec) if abs(comp) > 0)
                 raise InvalidProblemError(
-                    f"node {c.node!r}: the contact's {what} direction {tuple(np.round(vec, 6))} is "
+                    f"node {c.node!r}: the contact's {what} direction {tuple(float(v) + 0.0 for v in np.round(vec, 6))} is "
                     f"already fixed by its bilateral support ({', '.join(held)}); a contact and a "
                     "support may share a node only where they constrain different directions — "
                     "remove one of them")
 
 
+class Built(dict):
+    """A frame's assembly: K, loads, links, the saddle matrix's LU, ... (see
+    :func:`build`).  The contact stiffness R and the load columns R_F — dense,
+    links x links, the cost of a long beam's LCP (1000 spans: 2 000 links, one
+    solve per link) — are computed on first use, so a route that never needs
+    the LCP's matrix (the sparse active set) never pays for them."""
+
+    def __missing__(self, key):
+        if key not in ("R", "RF"):
+            raise KeyError(key)
+        self.update(contact_stiffness(self))
+        return self[key]
+
+
 def build(frame):
-    """Assemble K, the links, and R, R_F per load case.  Returns a dict with
-    everything the LCP and the results need."""
+    """Assemble K, the links, and the LU of the basic system (every link
+    fixed).  Returns a :class:`Built` with everything the routes and the
+    results need; R and R_F come on first use."""
     if not frame.contacts:
         raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
                                   "add_contact() defines the unilateral supports")
@@ -202,10 +301,7 @@ def build(frame):
     # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
     # the singularity test below is meaningful: X = -kappa y.
     kappa = float(np.max(np.abs(Kf.diagonal()))) if free.size else 1.0
-    Hf = sp.csr_matrix(kappa * H[free])
-    nl = Hf.shape[1]
-    # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
-    # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
+    Hf = (kappa * H[free]).tocsr()
     # Elastic contacts: the link's displacement is the structure's plus the
     # spring's, H'u + D X = Δ (D = diag 1/k), so D enters the saddle matrix
     # (scaled like the links) and R, R_F come out elastic — no dense
@@ -213,6 +309,8 @@ def build(frame):
     flex = np.array([0.0 if frame.contacts[ci].stiffness is None
                      else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
     S = sp.bmat([[Kf, Hf], [Hf.T, sp.diags(-kappa ** 2 * flex)]], format="csc")
+    # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
+    # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
     try:
         lu = spla.splu(S)
         piv = np.abs(lu.U.diagonal())
@@ -220,15 +318,25 @@ def build(frame):
         lu, piv = None, np.zeros(1)
     if lu is None or not piv.min() > 1e-13 * piv.max():
         raise InvalidProblemError(mechanism_message(S, free, names, Kf.shape[0]))
-    nf = free.size
-    nc = len(case_list)
+    fixed_idx = np.flatnonzero(fixed)
+    return Built(names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free,
+                 H=H, Hf=Hf, info=info, lu=lu, flex=flex, nf=free.size, kappa=kappa,
+                 local=local, fixed_idx=fixed_idx, K_fa=K[free][:, fixed_idx])
+
+
+def contact_stiffness(b) -> dict:
+    """R (links x links) and R_F (one column per case) from unit
+    dislocations through the basic system's LU (the module docstring)."""
+    nf, kappa, fixed_idx = b["nf"], b["kappa"], b["fixed_idx"]
+    nl = len(b["info"])
+    nc = len(b["cases"])
     rhs = np.zeros((nf + nl, nl + nc))
     rhs[nf:, :nl] = kappa * np.eye(nl)
     # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
-    fixed_idx = np.flatnonzero(fixed)
-    rhs[:nf, nl:] = F[free] - K[free][:, fixed_idx] @ U[fixed_idx]
+    U, H = b["U"], b["H"]
+    rhs[:nf, nl:] = b["F"][b["free"]] - b["K_fa"] @ U[fixed_idx]
     rhs[nf:, nl:] = -kappa * (H[fixed_idx].T @ U[fixed_idx])
-    sol = lu.solve(rhs)
+    sol = b["lu"].solve(rhs)
     R = -kappa * sol[nf:, :nl]
     R = 0.5 * (R + R.T)
     # R's entries are sums of terms of size kappa (the stiffness), so each
@@ -239,9 +347,7 @@ def build(frame):
     # trace's collapse proof (a Farkas vector, M'y <= 0 column by column)
     # and the support states would read as data.
     R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
-    RF = -kappa * sol[nf:, nl:]
-    return dict(names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free, H=H,
-                info=info, lu=lu, R=R, RF=RF, flex=flex, nf=nf, kappa=kappa, local=local)
+    return {"R": R, "RF": -kappa * sol[nf:, nl:]}
 
 
 def factors(b, combo: dict) -> np.ndarray:
@@ -256,6 +362,12 @@ def combine(b, combo: dict):
     """(F, R_F) of a combination {case: factor}."""
     f = factors(b, combo)
     return b["F"] @ f, b["RF"] @ f
+
+
+def load_vector(b, combo: dict):
+    """(F, u_a): the combination's nodal loads and settlements."""
+    f = factors(b, combo)
+    return b["F"] @ f, b["U"] @ f
 
 
 def mechanism_message(S, free, names, nf) -> str:
@@ -291,19 +403,18 @@ def layout(b):
     return pos
 
 
-def lcp_matrices(frame, b):
-    """(M, Q, q_gap, P, g, fric): w = M z + Q f + q_gap for the case factors
-    f (Q has one column per case of b["cases"]); Δ = P z - g.  Computed once
-    per assembly (cached in b)."""
-    if "lcp" in b:
-        return b["lcp"]
+def link_maps(frame, b):
+    """(P, W, g, fric): the link displacements Δ = P z - g and the LCP's w =
+    W X as sparse selections with the friction coefficients (z = Z_n per
+    contact, then Z⁺, Z⁻ per frictional contact; ``fric`` the frictional
+    contacts' indices).  Cheap: no R.  Cached in b."""
+    if "maps" in b:
+        return b["maps"]
     pos = layout(b)
     nc = len(frame.contacts)
     fric = [ci for ci in range(nc) if "t" in pos[ci]]
     nl = len(b["info"])
     nz = nc + 2 * len(fric)
-    # P (links x z) and W (w rows x links) are selections with friction
-    # coefficients: sparse, so that M = W R P costs what R costs
     pr, pc, pv = [], [], []
     g = np.zeros(nl)
     for ci in range(nc):
@@ -325,8 +436,19 @@ def lcp_matrices(frame, b):
         wc += [n_, t_, n_, t_]
         wv += [f, 1.0, f, -1.0]
     W = sp.csr_matrix((wv, (wr, wc)), shape=(nz, nl))
+    b["maps"] = (P, W, g, fric)
+    return b["maps"]
+
+
+def lcp_matrices(frame, b):
+    """(M, Q, q_gap, P, g, fric): w = M z + Q f + q_gap for the case factors
+    f (Q has one column per case of b["cases"]); Δ = P z - g (P dense).
+    Computed once per assembly (cached in b); forms R."""
+    if "lcp" in b:
+        return b["lcp"]
+    P, W, g, fric = link_maps(frame, b)
     R = b["R"]
-    M = np.asarray((P.T @ (W @ R).T).T) if nz else np.zeros((0, 0))
+    M = np.asarray((P.T @ (W @ R).T).T) if P.shape[1] else np.zeros((0, 0))
     if not fric:
         M = 0.5 * (M + M.T)  # = R_nn exactly; remove rounding asymmetry
     b["lcp"] = (M, np.asarray(W @ b["RF"]), -np.asarray(W @ (R @ g)), P.toarray(), g, fric)

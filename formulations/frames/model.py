@@ -33,6 +33,19 @@ class _Member:
     hinge_i: bool
     hinge_j: bool
     loads: list = field(default_factory=list)   # MemberLoad
+    # rotational springs between the member's ends and their nodes (None:
+    # rigid joint; a hinge is a spring of 0), shear deformation (G A_s,
+    # None: Euler-Bernoulli), rigid end zones (lengths from the nodes)
+    spring_i: float | None = None
+    spring_j: float | None = None
+    GAs: float | None = None
+    offset_i: float = 0.0
+    offset_j: float = 0.0
+
+    @property
+    def end_springs(self):
+        """The rotational spring at each end: None (rigid joint) or k >= 0."""
+        return (0.0 if self.hinge_i else self.spring_i, 0.0 if self.hinge_j else self.spring_j)
 
 
 @dataclass
@@ -84,22 +97,66 @@ class Frame(FrameSolving, FrameTracing, FrameRecovery):
         return self.members[name]
 
     def add_beam(self, i: str, j: str, E: float, A: float, I: float, *, name: str | None = None,
-                 hinge_i: bool = False, hinge_j: bool = False) -> str:
-        """A frame member from node i to node j (E, A, I in consistent units);
-        ``hinge_i``/``hinge_j`` release the end moment.  Returns its name."""
+                 hinge_i: bool = False, hinge_j: bool = False, spring_i: float | None = None,
+                 spring_j: float | None = None, G: float | None = None,
+                 shear_area: float | None = None, offset_i: float = 0.0,
+                 offset_j: float = 0.0) -> str:
+        """A frame member from node i to node j (E, A, I in consistent units).
+        Returns its name.
+
+        End releases: ``hinge_i``/``hinge_j`` release the end moment;
+        ``spring_i``/``spring_j`` make the joint semi-rigid, a rotational
+        spring (moment per radian) between the member's end and its node.
+        Shear deformation: ``G`` (shear modulus) with ``shear_area`` (A_s,
+        e.g. 5/6 A for a rectangle) makes it a Timoshenko member; without
+        them it is Euler-Bernoulli.  Rigid end zones: ``offset_i``/
+        ``offset_j`` (lengths along the member from each node, e.g. half
+        the depth of the column it frames into) are rigid; member loads are
+        still positioned from node i along the whole member."""
         self._node(i), self._node(j)
         if i == j:
             raise InvalidProblemError("a member needs two different nodes")
+        what = f"member {i}-{j}" if name is None else f"member {name!r}"
         vals = {}
         for v, nm in ((E, "E"), (A, "A"), (I, "I")):
-            vals[nm] = number(v, f"member {i}-{j}: {nm}")
+            vals[nm] = number(v, f"{what}: {nm}")
             if not vals[nm] > 0:
-                raise InvalidProblemError(f"member {i}-{j}: {nm} must be positive; got {v}")
+                raise InvalidProblemError(f"{what}: {nm} must be positive; got {v}")
+        springs = []
+        for v, hinged, end in ((spring_i, hinge_i, "i"), (spring_j, hinge_j, "j")):
+            if v is not None:
+                v = number(v, f"{what}: spring_{end}")
+                if v < 0:
+                    raise InvalidProblemError(f"{what}: spring_{end} must be >= 0 (moment per "
+                                              f"radian); got {v}")
+                if hinged:
+                    raise InvalidProblemError(f"{what}: give hinge_{end}=True or spring_{end}=, "
+                                              "not both (a hinge is a spring of 0)")
+            springs.append(v)
+        if (G is None) != (shear_area is None):
+            raise InvalidProblemError(f"{what}: shear deformation needs both G (shear modulus) "
+                                      "and shear_area (A_s); give both or neither")
+        GAs = None
+        if G is not None:
+            g, a_s = number(G, f"{what}: G"), number(shear_area, f"{what}: shear_area")
+            if not (g > 0 and a_s > 0):
+                raise InvalidProblemError(f"{what}: G and shear_area must be positive; "
+                                          f"got {G}, {shear_area}")
+            GAs = g * a_s
+        L = float(np.hypot(*(self.nodes[j] - self.nodes[i])))
+        if L == 0:
+            raise InvalidProblemError(f"{what}: nodes {i} and {j} coincide")
+        offs = [number(offset_i, f"{what}: offset_i"), number(offset_j, f"{what}: offset_j")]
+        if min(offs) < 0 or not sum(offs) < L:
+            raise InvalidProblemError(
+                f"{what}: rigid end offsets must be >= 0 and leave a flexible length "
+                f"(offset_i + offset_j < L = {L:g}); got {offs[0]:g} and {offs[1]:g}")
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
             raise InvalidProblemError(f"member {name!r} exists already")
         self.members[name] = _Member(name, i, j, vals["E"], vals["A"], vals["I"], bool(hinge_i),
-                                     bool(hinge_j))
+                                     bool(hinge_j), spring_i=springs[0], spring_j=springs[1],
+                                     GAs=GAs, offset_i=offs[0], offset_j=offs[1])
         return name
 
     def add_support(self, node: str, fix=("ux", "uy", "rz")) -> None:

@@ -45,18 +45,19 @@ class FrameRecovery:
     """The Frame's results construction (see the module docstring)."""
 
     def _result_from_z(self, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameResult:
+        """The frame's result for the LCP point z, checked: the contact
+        certificate (the LCP's when its matrix is at hand, else the same
+        componentwise measure on the contact quantities' mechanical scales:
+        :meth:`_contact_certificate`) and equilibrium."""
         b = b or self.build()
         if not isinstance(combo, dict):   # a number p: the P3 split
             combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
-        M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
-        lcp = lcp or assembly.combination_lcp(M, Q, q_gap, b, combo)
+        P, W, g, fric = assembly.link_maps(self, b)
         z = np.maximum(np.asarray(z, float), 0.0)
-        F, _ = assembly.combine(b, combo)
+        F, ua = assembly.load_vector(b, combo)  # ua: settlements (zero at free dofs)
         delta = P @ z - g                      # link displacements incl. contact flexibility
-        nf, free = b["nf"], b["free"]
-        ua = b["U"] @ assembly.factors(b, combo)     # settlements (zero at free dofs)
-        fixed_idx = np.flatnonzero(b["fixed"])
-        rhs = np.r_[F[free] - b["K"][free][:, fixed_idx] @ ua[fixed_idx],
+        nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
+        rhs = np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
                     b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])]
         sol = b["lu"].solve(rhs)
         u = ua.copy()
@@ -75,11 +76,17 @@ class FrameRecovery:
             if node in self.fixed:
                 reactions[node] = tuple(float(r_all[i0 + k]) if b["fixed"][i0 + k] else 0.0
                                         for k in range(3))
-        cert = certify_lcp(lcp, z)
+        if lcp is None and "R" not in b:
+            cert_error, zeta, sigma = self._contact_certificate(b, z, X, u, F, W, P, g)
+        else:
+            if lcp is None:
+                M, Q, q_gap, *_ = assembly.lcp_matrices(self, b)
+                lcp = assembly.combination_lcp(M, Q, q_gap, b, combo)
+            cert_error = certify_lcp(lcp, z).error
+            # each state decided on the component's own scale (the certificate's):
+            # X_n against the terms it is made of, a slip part against its own size
+            zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
         pos = assembly.layout(b)
-        # each state decided on the component's own scale (the certificate's):
-        # X_n against the terms it is made of, a slip part against its own size
-        zeta, sigma = ComponentScales(M, lcp.q_terms).at(z)
         nc = len(self.contacts)
         slot = {ci: nc + 2 * k for k, ci in enumerate(fric)}
         keys = self._support_keys()
@@ -116,14 +123,36 @@ class FrameRecovery:
         for name, (k, fes, T, dofs) in b["local"].items():
             member_forces[name] = k @ (T @ u[dofs]) - sum(
                 (combo[case] * fe for case, fe in fes.items() if combo.get(case)), np.zeros(6))
-        ok = cert.ok(tol) and eq <= max(tol, EQUILIBRIUM_FLOOR)
-        msg = (f"{route}: LCP certificate {cert.error:.1e}, equilibrium residual {eq:.1e}"
+        ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
+        msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
                + ("" if ok else " — CHECK FAILED"))
         return FrameResult(p=float(combo.get(VARIABLE, 0.0)), supports=supports,
                            displacements=displacements, member_forces=member_forces,
-                           reactions=reactions, equilibrium_residual=eq, lcp_error=cert.error,
+                           reactions=reactions, equilibrium_residual=eq, lcp_error=cert_error,
                            route=route, ok=ok, message=msg, frame=self, _u=u,
                            combination=dict(combo))
+
+    def _contact_certificate(self, b, z, X, u, F, W, P, g):
+        """(error, ζ, σ): the LCP certificate's componentwise measure,
+        max_i |min(z_i/ζ_i, w_i/σ_i)| with w = W X, where the LCP's matrix is
+        not formed (the sparse active set never forms the dense R).  The
+        scales are what each quantity is made of, as the certificate's
+        |M||z| + |q| are, read off the mechanics instead of M: a link force
+        against the nodal forces it balances, |h|ᵀ(|K||u| + |F|), and a link
+        displacement (an opening, a slip part) against |h|ᵀ|u| + |D X| + g.
+        Equilibrium is checked on its own (_equilibrium, _resultant)."""
+        absH = abs(b["H"])
+        forces = absH.T @ (abs(b["K"]) @ np.abs(u) + np.abs(F))
+        lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
+        sigma = abs(W) @ forces
+        zeta = abs(P).T @ lengths
+        w = W @ X
+        with np.errstate(divide="ignore", invalid="ignore"):
+            Z = np.where(zeta > 0, z / np.where(zeta > 0, zeta, 1.0), np.where(z > 0, np.inf, 0.0))
+            Wr = np.where(sigma > 0, w / np.where(sigma > 0, sigma, 1.0),
+                          np.where(w != 0, np.sign(w) * np.inf, 0.0))
+        e = np.abs(np.minimum(Z, Wr))
+        return (float(e.max(initial=0.0)), zeta, sigma)
 
     def _equilibrium(self, b, F, X, u):
         """Equilibrium judged dof by dof, each on its own scale: the residual of
@@ -137,7 +166,7 @@ class FrameRecovery:
         free = b["free"]
         K = b["K"]
         res = np.abs(K @ u - F - b["H"] @ X)[free]
-        scale = (abs(K) @ np.abs(u) + np.abs(F) + np.abs(b["H"]) @ np.abs(X))[free]
+        scale = (abs(K) @ np.abs(u) + np.abs(F) + abs(b["H"]) @ np.abs(X))[free]
         moment = (free % 3) == 2
         return max(_beyond_rounding(res[~moment], scale[~moment]),
                    _beyond_rounding(res[moment], scale[moment]))
@@ -161,7 +190,7 @@ class FrameRecovery:
             for d, kval in ks.items():
                 i = b["idx"][node] + DOFS.index(d)
                 spring[i] -= kval * u[i]
-        absHX = np.abs(b["H"]) @ np.abs(X)
+        absHX = abs(b["H"]) @ np.abs(X)
         terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0), spring]
         # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
         # H X at its dof) by |K||u| + |F| + |H||X|

@@ -14,9 +14,12 @@ from qpcontact.core.options import check_options
 from qpcontact.judge.lcp import certify_lcp
 
 from . import assembly
+from .active_set import solve_active_set
 from .loads import describe
 from .results import CombinationResults, FrameResult
 
+#: the frame's own routes besides the registry's methods
+ROUTES = ("auto", "active-set", "lemke", "tresca")
 #: seconds each QP backend may take inside a frame's "auto" route (Lemke's
 #: proof comes first; a backend loop on a load the frame cannot carry took
 #: 40 s in ProxQP before)
@@ -38,17 +41,20 @@ class FrameSolving:
 
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
               raise_on_failure: bool = False, *, combination: dict | None = None,
-              **options) -> FrameResult:
+              _built=None, **options) -> FrameResult:
         """Analyse one load combination: ``combination`` = {case: factor}, or
         by default the P3 split constant + p·variable.
 
-        ``method``: "auto" (frictionless and positive definite: the exact SPD
-        method "bpp"; otherwise Lemke, whose ray on a load the frame cannot
-        carry comes with a Farkas vector checked from the data, then the QP
-        backends with a time limit each), any registered LCP method or QP
-        backend name (frictionless), "lemke", or "tresca" (with friction: a
-        fixed point of convex QPs with Tresca bounds, stopped on the full LCP
-        certificate; falls back to Lemke).
+        ``method``: "auto" (first the sparse active set, :mod:`.active_set`,
+        which never forms the dense contact LCP; where it finds no
+        consistent states or its answer fails the checks, the LCP:
+        frictionless and positive definite, the exact SPD method "bpp";
+        otherwise Lemke, whose ray on a load the frame cannot carry comes
+        with a Farkas vector checked from the data, then the QP backends
+        with a time limit each), "active-set" alone, any registered LCP
+        method or QP backend name (frictionless), "lemke", or "tresca" (with
+        friction: a fixed point of convex QPs with Tresca bounds, stopped on
+        the full LCP certificate; falls back to Lemke).
 
         Raises NoSolutionError when no equilibrium exists (proved), saying
         how the frame fails; SolverFailedError when no method found one and
@@ -57,18 +63,30 @@ class FrameSolving:
         """
         if not isinstance(method, str):
             raise InvalidOptionError(f"method must be a string; got {method!r}")
-        b = self.build()
-        combo = self._combo(p, combination, b)
-        M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
-        lcp = assembly.combination_lcp(M, Q, q_gap, b, combo)
         from qpcontact import methods as registry
         from qpcontact.core.accuracy import resolve_accuracy
 
         _, tol = resolve_accuracy(accuracy)
-        if method not in ("auto", "tresca", "lemke") and method not in registry():
+        if method not in ROUTES and method not in registry():
             raise InvalidOptionError(
-                f"unknown method {method!r}: 'auto', 'lemke', 'tresca' (with friction) or a name "
-                f"from qpcontact.methods(): {', '.join(registry())}")
+                f"unknown method {method!r}: 'auto', 'active-set', 'lemke', 'tresca' (with "
+                f"friction) or a name from qpcontact.methods(): {', '.join(registry())}")
+        b = _built if _built is not None else self.build()
+        combo = self._combo(p, combination, b)
+        if method in ("auto", "active-set"):
+            found = solve_active_set(self, b, combo)
+            if found is not None:
+                res = self._result_from_z(found[0], combo, f"active set ({found[1]} "
+                                          "iterations)", b=b, tol=tol)
+                if res.ok:
+                    return res
+            if method == "active-set":
+                raise SolverFailedError(
+                    "frame: the active set found no consistent contact states (a cycle or a "
+                    "singular state set); method='auto' goes on with the LCP (Lemke, the load "
+                    "path)")
+        M, Q, q_gap, P, g, fric = assembly.lcp_matrices(self, b)
+        lcp = assembly.combination_lcp(M, Q, q_gap, b, combo)
         if method == "tresca":
             if not fric:
                 raise InvalidOptionError("'tresca' is for frictional frames; this one has no friction")
@@ -165,7 +183,7 @@ class FrameSolving:
         null = V[:, lam <= 1e-10 * max(lam.max(initial=0.0), 1e-300)] / d[:, None]
         if null.shape[1] == 0:
             return None
-        F, _ = assembly.combine(b, combo)
+        F, _ = assembly.load_vector(b, combo)
         Ff = F[free]
         N = b["K"].shape[0]
         rows_a, rows_s = [], []
@@ -214,6 +232,9 @@ class FrameSolving:
         if not isinstance(combinations, dict) or not combinations:
             raise InvalidProblemError("combinations: a non-empty dict {name: {case: factor}}")
         out = CombinationResults()
+        # one assembly and one factorization of the basic system for all
+        # combinations (and R, formed once if a combination needs the LCP)
+        kw["_built"] = self.build()
         for name, combo in combinations.items():
             args = dict(kw)
             if isinstance(combo, dict):
