@@ -87,14 +87,16 @@ def solve_active_set(frame, b, combo):
             rows.append(t_link[ci])
             cols.append(nf + n_link[ci])
             vals.append(kappa * mu[ci] * slip[ci])
-        bottom = sp.diags(kin.astype(float)) @ kin_block + sp.csr_matrix(
-            (vals, (rows, cols)), shape=(nl, nf + nl))
-        S = sp.vstack([top_block, bottom]).tocsc()
         rhs = np.r_[top, np.where(kin, kappa * (required + shift), 0.0)]
-        try:
-            sol = spla.splu(S).solve(rhs)
-        except RuntimeError:      # singular: a mechanism in this state set
-            return None
+        if kin.all():             # every link holds: the basic system, factorized by build
+            sol = b["lu"].solve(rhs)
+        else:
+            bottom = sp.diags(kin.astype(float)) @ kin_block + sp.csr_matrix(
+                (vals, (rows, cols)), shape=(nl, nf + nl))
+            try:
+                sol = spla.splu(sp.vstack([top_block, bottom]).tocsc()).solve(rhs)
+            except RuntimeError:  # singular: a mechanism in this state set
+                return None
         if not np.all(np.isfinite(sol)):
             return None
         u = ua.copy()

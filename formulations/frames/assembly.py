@@ -174,8 +174,8 @@ def cases(frame) -> list:
 
 def assemble(frame):
     """K (CSR), loads F and settlements U (one column per case), the fixed
-    dofs, and the members' local data for the results: all members at once
-    (K from one COO array, F by one scatter per case)."""
+    dofs, and the members' local data for the results (k, T, dofs, Fe):
+    all members at once (K from one COO array)."""
     names = list(frame.nodes)
     idx = {nm: 3 * i for i, nm in enumerate(names)}
     N = 3 * len(names)
@@ -214,8 +214,13 @@ def assemble(frame):
             fixed[idx[node] + DOFS.index(d)] = True
     # a rotation no member resists (only hinged ends, or no member) is not a dof
     fixed |= np.isclose(K.diagonal(), 0.0) & (np.arange(N) % 3 == 2)
-    local = {m: (k_all[k], fes[k], T[k], dofs[k]) for k, m in enumerate(frame.members)}
-    return names, idx, K, F, U, case_list, fixed, local
+    # per member, for the results: stiffness, rotation, dofs, and the
+    # equivalent nodal loads of every case (member axes), (m, 6, cases)
+    Fe = np.zeros((len(fes), 6, len(case_list)))
+    for k, per in enumerate(fes):
+        for case, fe in per.items():
+            Fe[k, :, col[case]] = fe
+    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe)
 
 
 def contact_column(idx, N, c, vec) -> np.ndarray:

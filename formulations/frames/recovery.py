@@ -119,10 +119,10 @@ class FrameRecovery:
         eq = max(self._equilibrium(b, F, X, u), self._resultant(b, F, X, r_all, u))
         displacements = {nd: tuple(float(u[b["idx"][nd] + k]) for k in range(3))
                          for nd in b["names"]}
-        member_forces = {}
-        for name, (k, fes, T, dofs) in b["local"].items():
-            member_forces[name] = k @ (T @ u[dofs]) - sum(
-                (combo[case] * fe for case, fe in fes.items() if combo.get(case)), np.zeros(6))
+        k, T, dofs, Fe = b["local"]
+        ends = (np.einsum("mij,mj->mi", k, np.einsum("mij,mj->mi", T, u[dofs]))
+                - Fe @ assembly.factors(b, combo))
+        member_forces = dict(zip(self.members, ends))
         ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
         msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
                + ("" if ok else " — CHECK FAILED"))
