@@ -54,15 +54,17 @@ def main(out="out/grade_beam") -> int:
         print(f"{name:>10}: ok={r.ok}  lift off: {', '.join(lifted) or 'none'}  ({r.message})")
         if r.ok:
             print(f"            drawing: {r.plot(out / f'{name}.png')}")
-    print("\nsupport reactions [kN] (Fy) per combination:")
+    # the tables are rounded for reading already (docs/frames.md, "Tables")
+    print("\nsupport reactions [kN] (Fy, one row per node) per combination:")
     for row in res.rows("reactions"):
-        print(f"  {row['combination']:>10} {row['support']:>4} {row['Fy [kN]']:10.2f}")
+        print(f"  {row['combination']:>10} {row['node']:>4} {row['Fy [kN]']:>9}  "
+              f"({row['kinds']})")
     print("\nbending moment envelope [kN·m]:")
-    for row in res.envelope_rows():
-        if row["quantity"] == "M":
-            print(f"  {row['member']:>3}  max {row['max']:9.2f} at x = {row['x_max']:.2f} "
-                  f"({row['combination_max']})   min {row['min']:9.2f} at x = {row['x_min']:.2f} "
-                  f"({row['combination_min']})")
+    for row in res.rows("envelope"):
+        print(f"  {row['member']:>3}  max {row['M_max [kN·m]']:>9} at x = "
+              f"{row['x(M_max) [m]']} ({row['combination(M_max)']})   "
+              f"min {row['M_min [kN·m]']:>9} at x = {row['x(M_min) [m]']} "
+              f"({row['combination(M_min)']})")
     for path in res.to_csv(out):
         print("wrote", path)
     return 0 if not res.failed else 1

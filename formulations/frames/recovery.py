@@ -1,7 +1,7 @@
 """From the contact LCP's answer z to the frame's result: displacements,
 member end actions, reactions, each support's state (decided on the
 component's own scale), the global statics check; and what results read back
-from the frame (diagrams, support reactions, table rows).  Mixed into
+from the frame (diagrams, deflections; the tables are in :mod:`.tables`).  Mixed into
 :class:`~.model.Frame`."""
 
 from __future__ import annotations
@@ -288,53 +288,6 @@ class FrameRecovery:
         v = (before * (x[:, None] - gs[None, :]) * (gw * M / (m.E * m.I))) @ np.ones_like(gs)
         v = di[1] + v + (dj[1] - di[1] - v[-1]) * x / L
         return x, u, v
-
-    def _support_reactions(self, res: FrameResult) -> dict:
-        out = {}
-        for node, r in res.reactions.items():
-            out[node] = tuple(float(v) for v in r)
-        for node, ks in self.springs.items():
-            u = res.displacements[node]
-            r = tuple(-ks.get(d, 0.0) * u[k] for k, d in enumerate(DOFS))
-            key = f"{node} (spring)" if node in out else node
-            out[key] = r
-        for key, c in zip(self._support_keys(), self.contacts):
-            s = res.supports[key]
-            t = np.array([c.normal[1], -c.normal[0]])
-            fxy = s.normal * c.normal + s.tangential * t
-            out[f"{key} (contact)" if key in out else key] = (float(fxy[0]), float(fxy[1]), 0.0)
-        return out
-
-    def _rows(self, res: FrameResult, table: str) -> list:
-        force, length = self.units
-        if table == "supports":
-            return [{"support": k, "state": s.state, f"X_n [{force}]": s.normal,
-                     f"X_t [{force}]": s.tangential, f"opening [{length}]": s.opening,
-                     f"slip [{length}]": s.slip} for k, s in res.supports.items()]
-        if table == "reactions":
-            return [{"support": k, f"Fx [{force}]": r[0], f"Fy [{force}]": r[1],
-                     f"Mz [{force}·{length}]": r[2]}
-                    for k, r in res.support_reactions.items()]
-        if table == "members":
-            rows = []
-            for name in self.members:
-                ends = res.end_forces(name)
-                ext = res.extremes(name)
-                rows.append({"member": name,
-                             f"N_i [{force}]": ends["i"][0], f"V_i [{force}]": ends["i"][1],
-                             f"M_i [{force}·{length}]": ends["i"][2],
-                             f"N_j [{force}]": ends["j"][0], f"V_j [{force}]": ends["j"][1],
-                             f"M_j [{force}·{length}]": ends["j"][2],
-                             f"M_max [{force}·{length}]": ext["M"]["max"][0],
-                             f"x(M_max) [{length}]": ext["M"]["max"][1],
-                             f"M_min [{force}·{length}]": ext["M"]["min"][0],
-                             f"x(M_min) [{length}]": ext["M"]["min"][1]})
-            return rows
-        if table == "displacements":
-            return [{"node": nd, f"ux [{length}]": d[0], f"uy [{length}]": d[1], "rz [rad]": d[2]}
-                    for nd, d in res.displacements.items()]
-        raise InvalidOptionError(f"unknown table {table!r}; tables: supports, reactions, "
-                                 "members, displacements")
 
     def _support_keys(self) -> list:
         """The key of each contact in FrameResult.supports, in contact order."""

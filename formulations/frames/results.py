@@ -1,6 +1,7 @@
 """Results of a frame analysis: one object per load combination, the trace's
-objects, envelopes over combinations, and tables (CSV always, written
-atomically; pandas DataFrames when pandas is installed).
+objects, envelopes over combinations, and their tables (built and rounded in
+:mod:`.tables`; CSV always, written atomically; pandas DataFrames with the
+``tables`` extra).
 
 Sign conventions (docs/frames.md): global x right, y up, moments
 counterclockwise.  ``member_forces`` are **end actions** in member axes (x
@@ -18,7 +19,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact.core.files import write_csv_atomic
+from . import tables
+from .notation import DIGITS
+from .tables import TABLES
 
 STATES = ("separated", "closed", "stick", "slip+", "slip-")
 
@@ -104,30 +107,35 @@ class FrameResult:
 
     @property
     def support_reactions(self) -> dict:
-        """Every support's force on the structure in global axes (Fx, Fy, Mz):
-        bilateral supports, springs (-k u) and contacts (X_n n + X_t t; for a
-        pair, the force on ``node``)."""
-        return self.frame._support_reactions(self)
+        """Every support's force on the structure in global axes (Fx, Fy, Mz),
+        one entry per support: bilateral supports, springs (-k u) and
+        contacts (X_n n + X_t t; for a pair, the force on ``node``).  Full
+        precision; ``reactions_by_node`` sums them per node."""
+        return tables.support_reactions(self.frame, self)
 
-    def rows(self, table: str) -> list:
-        """Table rows (dicts) of "supports", "reactions", "members" or
-        "displacements" (none for a combination that has no equilibrium)."""
-        if not self.supports:
-            from qpcontact.core.errors import InvalidOptionError
+    @property
+    def reactions_by_node(self) -> dict:
+        """{node: {"total": (Fx, Fy, Mz), "support"|"spring"|"contact": ...}}:
+        what the ground exerts on each node it holds, summed over the kinds
+        there and each kind's part (global axes, full precision; contact
+        pairs between two nodes are not reactions)."""
+        return tables.reactions_by_node(self.frame, self)
 
-            if table not in TABLES:
-                raise InvalidOptionError(f"unknown table {table!r}; tables: {', '.join(TABLES)}")
-            return []
-        return self.frame._rows(self, table)
+    def rows(self, table: str, digits: int | None = DIGITS) -> list:
+        """Rows (dicts) of the table "supports", "reactions", "members" or
+        "displacements", units in the headers, rounded for reading
+        (``digits`` significant digits per column, noise as 0; ``None``: full
+        precision); none for a result that is no equilibrium."""
+        return tables.engineering(tables.rows(self.frame, self, table), self.frame, digits)
 
-    def to_csv(self, folder) -> list:
+    def to_csv(self, folder, digits: int | None = DIGITS) -> list:
         """supports.csv, reactions.csv, members.csv, displacements.csv in
         ``folder`` (each written atomically); returns the paths."""
-        return _write_tables(folder, {t: self.rows(t) for t in TABLES})
+        return tables.write_tables(folder, {t: self.rows(t, digits) for t in TABLES}, digits)
 
-    def to_dataframe(self, table: str = "members"):
-        """The table as a pandas DataFrame (pandas must be installed)."""
-        return _dataframe(self.rows(table))
+    def to_dataframe(self, table: str = "members", digits: int | None = DIGITS):
+        """The table as a pandas DataFrame (the ``tables`` extra)."""
+        return tables.dataframe(self.rows(table, digits))
 
     def plot(self, path, scale: float | None = None, title: str = "") -> str:
         """Deformed shape (member curvature from the element's shape
@@ -136,35 +144,6 @@ class FrameResult:
         from .drawing import plot_result
 
         return plot_result(self.frame, self, path, scale, title)
-
-
-TABLES = ("supports", "reactions", "members", "displacements")
-
-
-def _write_tables(folder, tables: dict) -> list:
-    """{name: rows} as folder/name.csv, each written atomically; the paths."""
-    from pathlib import Path
-
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for table, rows in tables.items():
-        path = folder / f"{table}.csv"
-        write_csv_atomic(path, rows, list(rows[0]) if rows else ["empty"])
-        paths.append(str(path))
-    return paths
-
-
-def _dataframe(rows):
-    try:
-        import pandas as pd
-    except ImportError:
-        from qpcontact.core.errors import BackendUnavailableError
-
-        raise BackendUnavailableError(
-            "to_dataframe needs pandas (pip install pandas); to_csv writes the same tables "
-            "without it") from None
-    return pd.DataFrame(rows)
 
 
 class CombinationResults(dict):
@@ -177,67 +156,47 @@ class CombinationResults(dict):
         return [name for name, r in self.items() if not r.ok]
 
     def envelope(self) -> dict:
-        """Max/min over the combinations that are ok: per member
-        {"N"|"V"|"M": {"max": (value, x, combination), "min": ...}}, and per
-        support {"Fx"|"Fy"|"Mz": {...}} under the key "supports"."""
-        good = {name: r for name, r in self.items() if r.ok}
-        env: dict = {}
-        if not good:
-            return env
-        first = next(iter(good.values()))
-        for member in first.member_forces:
-            env[member] = {}
-            for name, r in good.items():
-                for key, ext in r.extremes(member).items():
-                    slot = env[member].setdefault(key, {"max": (-np.inf, 0.0, ""),
-                                                        "min": (np.inf, 0.0, "")})
-                    if ext["max"][0] > slot["max"][0]:
-                        slot["max"] = (*ext["max"], name)
-                    if ext["min"][0] < slot["min"][0]:
-                        slot["min"] = (*ext["min"], name)
-        sup: dict = {}
-        for name, r in good.items():
-            for key, forces in r.support_reactions.items():
-                for comp, v in zip(("Fx", "Fy", "Mz"), forces):
-                    slot = sup.setdefault(key, {}).setdefault(
-                        comp, {"max": (-np.inf, name), "min": (np.inf, name)})
-                    if v > slot["max"][0]:
-                        slot["max"] = (v, name)
-                    if v < slot["min"][0]:
-                        slot["min"] = (v, name)
-        env["supports"] = sup
-        return env
+        """Max/min over the combinations that are ok (full precision): per
+        member {"N"|"V"|"M": {"max": (value, x, combination), "min": ...}}
+        (the diagrams' extremes, ends included), and per node the ground
+        holds {"Fx"|"Fy"|"Mz": {"max": (value, combination), ...}} of its
+        total reaction under the key "supports"."""
+        return tables.envelope(self)
 
-    def rows(self, table: str) -> list:
-        """One table over all combinations (a "combination" column first)."""
-        out = []
-        for name, r in self.items():
-            for row in r.rows(table):
-                out.append({"combination": name, "ok": r.ok, **row})
-        return out
+    def rows(self, table: str, digits: int | None = DIGITS) -> list:
+        """One table over all combinations, rounded per column over all of
+        them (``digits=None``: full precision): a result table with a
+        "combination" column first, "envelope" (members),
+        "envelope_reactions" (nodes) or "combinations" (each one's status)."""
+        tables.check_table(table, TABLES + tables.COMBINED)
+        if table == "combinations":
+            return [{"combination": n, "ok": r.ok, "route": r.route, "message": r.message}
+                    for n, r in self.items()]
+        frame = self._frame()
+        if frame is None:
+            return []
+        if table in tables.COMBINED:
+            raw = tables.envelope_rows(frame, self.envelope(), table)
+        else:
+            raw = [{"combination": name, "ok": r.ok, **row} for name, r in self.items()
+                   for row in tables.rows(frame, r, table)]
+        return tables.engineering(raw, frame, digits)
 
-    def envelope_rows(self) -> list:
-        rows = []
-        for member, per in self.envelope().items():
-            if member == "supports":
-                continue
-            for key, slot in per.items():
-                rows.append({"member": member, "quantity": key,
-                             "max": slot["max"][0], "x_max": slot["max"][1],
-                             "combination_max": slot["max"][2],
-                             "min": slot["min"][0], "x_min": slot["min"][1],
-                             "combination_min": slot["min"][2]})
-        return rows
+    def envelope_rows(self, digits: int | None = DIGITS) -> list:
+        """The members' envelope table: rows("envelope")."""
+        return self.rows("envelope", digits)
 
-    def to_csv(self, folder) -> list:
-        tables = {t: self.rows(t) for t in TABLES}
-        tables["envelope"] = self.envelope_rows()
-        tables["combinations"] = [{"combination": n, "ok": r.ok, "route": r.route,
-                                   "message": r.message} for n, r in self.items()]
-        return _write_tables(folder, tables)
+    def to_csv(self, folder, digits: int | None = DIGITS) -> list:
+        """Every table of ``rows`` as folder/<table>.csv (atomic writes)."""
+        return tables.write_tables(
+            folder, {t: self.rows(t, digits) for t in TABLES + tables.COMBINED}, digits)
 
-    def to_dataframe(self, table: str = "members"):
-        return _dataframe(self.envelope_rows() if table == "envelope" else self.rows(table))
+    def to_dataframe(self, table: str = "members", digits: int | None = DIGITS):
+        """A table of ``rows`` as a pandas DataFrame (the ``tables`` extra)."""
+        return tables.dataframe(self.rows(table, digits))
+
+    def _frame(self):
+        return next((r.frame for r in self.values() if r.frame is not None), None)
 
 
 @dataclass
