@@ -64,7 +64,7 @@ def solve_active_set(frame, b, combo):
     H, Hf, flex = b["H"], b["Hf"], b["flex"]
     top_block = sp.hstack([b["K"][free][:, free], Hf]).tocsr()
     kin_block = sp.hstack([Hf.T, sp.diags(-kappa ** 2 * flex)]).tocsr()
-    absK = abs(b["K"])
+    factors = assembly.factors(b, combo)
     absH = abs(H)
     closed = np.ones(nc, bool)
     slip = np.zeros(nc, int)          # 0 stick, +1 slip+, -1 slip-
@@ -104,7 +104,7 @@ def solve_active_set(frame, b, combo):
         X = -kappa * sol[nf:]
         delta = H.T @ u + flex * X
         # each violation judged on the scale of what makes the quantity
-        force_scale = absH.T @ (absK @ np.abs(u) + np.abs(F))
+        force_scale = absH.T @ assembly.force_terms(b, u, F, factors)
         length_scale = absH.T @ np.abs(u) + np.abs(flex * X) + np.r_[np.abs(required)]
         Xn, Zn = X[n_link], delta[n_link] + gap
         fn, ln = force_scale[n_link], length_scale[n_link]

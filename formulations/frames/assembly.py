@@ -36,7 +36,7 @@ import scipy.sparse.linalg as spla
 from qpcontact.core.errors import InvalidProblemError
 from qpcontact.core.problems import LCP
 
-from .loads import CONSTANT, VARIABLE, equivalent_nodal_many, member_nodal
+from .loads import CONSTANT, VARIABLE, equivalent_nodal_many, offset_parts
 
 DOFS = ("ux", "uy", "rz")
 #: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
@@ -139,9 +139,6 @@ def member_locals(frame, names, idx):
     T = rotation(c, s)
     dofs = np.c_[3 * ii[:, None] + np.arange(3), 3 * jj[:, None] + np.arange(3)]
     offset = [k for k, m in enumerate(ms) if m.offset_i or m.offset_j]
-    for k in offset:
-        Aoff = _offset_map(ms[k].offset_i, ms[k].offset_j)
-        k_all[k] = Aoff.T @ k_all[k] @ Aoff
     fes = [dict() for _ in ms]
     plain = [(k, ld) for k, m in enumerate(ms) if not (m.offset_i or m.offset_j)
              for ld in m.loads]
@@ -151,14 +148,24 @@ def member_locals(frame, names, idx):
                                       phi[rows])
         for (k, ld), fe in zip(plain, loads):
             fes[k][ld.case] = fes[k].get(ld.case, 0.0) + fe
+    rigid = {k: {} for k in offset}
     for k in offset:
         for ld in ms[k].loads:
-            fe = member_nodal(ld, L[k], c[k], s[k], phi[k], (ms[k].offset_i, ms[k].offset_j))
+            fe, at_nodes = offset_parts(ld, L[k], c[k], s[k], phi[k],
+                                        (ms[k].offset_i, ms[k].offset_j))
             fes[k][ld.case] = fes[k].get(ld.case, 0.0) + fe
+            rigid[k][ld.case] = rigid[k].get(ld.case, 0.0) + at_nodes
+    # releases act at the flexible ends (the face of the rigid zone), so
+    # they come before the rigid arms carry the end to the node
     for k, m in enumerate(ms):
         for r, spring in zip((2, 5), m.end_springs):
             if spring is not None:
                 k_all[k], fes[k] = _release(k_all[k], fes[k], r, spring)
+    for k in offset:
+        Aoff = _offset_map(ms[k].offset_i, ms[k].offset_j)
+        k_all[k] = Aoff.T @ k_all[k] @ Aoff
+        fes[k] = {case: Aoff.T @ fes[k].get(case, np.zeros(6)) + rigid[k].get(case, 0.0)
+                  for case in set(fes[k]) | set(rigid[k])}
     return k_all, T, dofs, fes
 
 
@@ -208,6 +215,10 @@ def assemble(frame):
                        (np.concatenate(rows) if rows else np.zeros(0, int),
                         np.concatenate(cols) if cols else np.zeros(0, int))),
                       shape=(N, N)).tocsr()
+    Tn = node_axes(frame, idx, N)
+    if Tn is not None:     # turned node axes: the system is written in them
+        K = (Tn @ K @ Tn.T).tocsr()
+        F = Tn @ F
     fixed = np.zeros(N, bool)
     for node, dofs_fixed in frame.fixed.items():
         for d in dofs_fixed:
@@ -220,7 +231,44 @@ def assemble(frame):
     for k, per in enumerate(fes):
         for case, fe in per.items():
             Fe[k, :, col[case]] = fe
-    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe)
+    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn
+
+
+def node_axes(frame, idx, N):
+    """Tn (sparse, orthogonal) turning global dofs into the nodes' own axes
+    (u' = Tn u), or None where no node's axes are turned."""
+    if not frame.node_angles:
+        return None
+    Tn = sp.lil_matrix((N, N))
+    Tn.setdiag(1.0)
+    for node, a in frame.node_angles.items():
+        i = idx[node]
+        c, s = math.cos(a), math.sin(a)
+        Tn[i, i], Tn[i, i + 1], Tn[i + 1, i], Tn[i + 1, i + 1] = c, s, -s, c
+    return Tn.tocsr()
+
+
+def force_terms(b, u, F, combo_factors):
+    """Per dof (the system's axes): the sizes of the forces that meet there —
+    every member's end force, the springs', the load: what a contact force
+    at that node is made of by equilibrium, and so its scale.  Member end
+    forces, not |K||u|: a stiff member moving rigidly has K u ~ 0 from
+    terms of 1e10 (a rigid zone as a 1e7-times-stiffer member), which as a
+    scale would call a 16 kN contact force zero."""
+    ug = to_global(b, u)
+    k, T, dofs, Fe = b["local"]
+    ends = np.einsum("mij,mj->mi", k, np.einsum("mij,mj->mi", T, ug[dofs])) - Fe @ combo_factors
+    terms = np.zeros(ug.size)
+    np.add.at(terms, dofs.ravel(), np.abs(np.einsum("mji,mj->mi", T, ends)).ravel())
+    terms += np.abs(b["springs"] * ug)
+    if b["Tn"] is not None:
+        terms = abs(b["Tn"]) @ terms
+    return terms + np.abs(F)
+
+
+def to_global(b, v):
+    """A vector (or the columns of a matrix) of dofs from the nodes' axes to global."""
+    return v if b["Tn"] is None else b["Tn"].T @ v
 
 
 def contact_column(idx, N, c, vec) -> np.ndarray:
@@ -264,12 +312,16 @@ def check_conflicts(frame):
         dirs = [("normal", c.normal)]
         if c.friction > 0:
             dirs.append(("tangential", np.array([c.normal[1], -c.normal[0]])))
+        angle = frame.node_angles.get(c.node, 0.0)
+        turn = np.array([[math.cos(angle), math.sin(angle)], [-math.sin(angle), math.cos(angle)]])
         for what, vec in dirs:
+            vec = np.where(np.abs(turn @ vec) <= 1e-12, 0.0, turn @ vec)
             free_axes = [d for d, comp in zip(("ux", "uy"), vec) if abs(comp) > 0 and d not in fixed]
             if not free_axes:
                 held = sorted(d for d, comp in zip(("ux", "uy"), vec) if abs(comp) > 0)
+                shown = tuple(float(v) + 0.0 for v in np.round(vec, 6))
                 raise InvalidProblemError(
-                    f"node {c.node!r}: the contact's {what} direction {tuple(float(v) + 0.0 for v in np.round(vec, 6))} is "
+                    f"node {c.node!r}: the contact's {what} direction {shown} is "
                     f"already fixed by its bilateral support ({', '.join(held)}); a contact and a "
                     "support may share a node only where they constrain different directions — "
                     "remove one of them")
@@ -297,9 +349,11 @@ def build(frame):
         raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
                                   "add_contact() defines the unilateral supports")
     check_conflicts(frame)
-    names, idx, K, F, U, case_list, fixed, local = assemble(frame)
+    names, idx, K, F, U, case_list, fixed, local, Tn = assemble(frame)
     N = K.shape[0]
     H, info = links(frame, idx, N)
+    if Tn is not None:
+        H = (Tn @ H).tocsr()
     free = np.flatnonzero(~fixed)
     Kf = K[free][:, free]
     # The links enter scaled by a typical stiffness kappa, so that the saddle
@@ -324,9 +378,13 @@ def build(frame):
     if lu is None or not piv.min() > 1e-13 * piv.max():
         raise InvalidProblemError(mechanism_message(S, free, names, Kf.shape[0]))
     fixed_idx = np.flatnonzero(fixed)
-    return Built(names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free,
+    springs = np.zeros(N)
+    for node, ks in frame.springs.items():
+        for d, kval in ks.items():
+            springs[idx[node] + DOFS.index(d)] += kval
+    return Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free,
                  H=H, Hf=Hf, info=info, lu=lu, flex=flex, nf=free.size, kappa=kappa,
-                 local=local, fixed_idx=fixed_idx, K_fa=K[free][:, fixed_idx])
+                 local=local, fixed_idx=fixed_idx, K_fa=K[free][:, fixed_idx], Tn=Tn)
 
 
 def contact_stiffness(b) -> dict:

@@ -258,28 +258,23 @@ def _rigid_transfer(load: MemberLoad, c: float, s: float, about: float) -> np.nd
     return np.array([qx @ ws, qy @ ws, (qy * (xs - about)) @ ws])
 
 
-def member_nodal(load: MemberLoad, L: float, c: float, s: float, phi: float = 0.0,
-                 offsets=(0.0, 0.0)) -> np.ndarray:
-    """Equivalent nodal loads at the member's nodes (member axes) of a load
-    given along the whole member (positions from node i): with rigid end
-    zones of lengths ``offsets``, the part on the flexible length is the
-    element's consistent load carried to the nodes through the rigid arms
-    (a shear V at the flexible end gives a moment ±V·offset at the node),
-    and the parts on the rigid zones are moved to their node statically."""
+def offset_parts(load: MemberLoad, L: float, c: float, s: float, phi: float, offsets):
+    """A load on a member with rigid end zones of lengths ``offsets``, split:
+    (the consistent loads of the part on the flexible length, on the flexible
+    element's own end dofs; the parts on the rigid zones moved statically to
+    their nodes, member axes).  The first reaches the nodes through the
+    rigid arms (assembly: a shear V at the flexible end is a moment ±V·offset
+    at the node)."""
     oi, oj = offsets
-    if not (oi or oj):
-        return equivalent_nodal(load, L, c, s, phi)
-    out = np.zeros(6)
+    rigid = np.zeros(6)
     flex = _clip(load, oi, L - oj, shift=oi)
-    if flex is not None:
-        fe = equivalent_nodal(flex, L - oi - oj, c, s, phi)
-        out += fe + np.array([0.0, 0.0, oi * fe[1], 0.0, 0.0, -oj * fe[4]])
+    fe = np.zeros(6) if flex is None else equivalent_nodal(flex, L - oi - oj, c, s, phi)
     for lo, hi, node, about in ((0.0, oi, 0, 0.0), (L - oj, L, 3, L)):
         part = _clip(load, lo, hi) if hi > lo else None
         # a point load exactly at the face is the flexible element's
         if part is not None and not (part.kind == "point" and flex is not None):
-            out[node:node + 3] += _rigid_transfer(part, c, s, about)
-    return out
+            rigid[node:node + 3] += _rigid_transfer(part, c, s, about)
+    return fe, rigid
 
 
 def section_sums(loads, x: np.ndarray, c: float, s: float):

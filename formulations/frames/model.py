@@ -73,6 +73,7 @@ class Frame(FrameSolving, FrameTracing, FrameRecovery):
         self.nodes: dict[str, np.ndarray] = {}
         self.members: dict[str, _Member] = {}
         self.fixed: dict[str, set] = {}
+        self.node_angles: dict[str, float] = {}   # turned node axes (radians)
         self.springs: dict[str, dict] = {}
         self.contacts: list[_Contact] = []
         self.nodal_loads: list = []   # (node, fx, fy, mz, case)
@@ -159,13 +160,34 @@ class Frame(FrameSolving, FrameTracing, FrameRecovery):
                                      GAs=GAs, offset_i=offs[0], offset_j=offs[1])
         return name
 
-    def add_support(self, node: str, fix=("ux", "uy", "rz")) -> None:
-        """Bilateral support: the listed degrees of freedom are fixed."""
+    def add_support(self, node: str, fix=("ux", "uy", "rz"), *, angle: float | None = None) -> None:
+        """Bilateral support: the listed degrees of freedom are fixed.
+
+        ``angle`` (degrees, counterclockwise from global x) turns the node's
+        axes: ux and uy then run along and across the turned x axis, so an
+        inclined roller on a slope of 30° is ``fix=("uy",), angle=30``.  The
+        node's settlements are given in those axes; its displacements and
+        reactions are reported in global axes."""
         self._node(node)
         fix = (fix,) if isinstance(fix, str) else tuple(fix)
         bad = [d for d in fix if d not in DOFS]
         if bad:
             raise InvalidProblemError(f"fix must name dofs among {DOFS}; got {bad}")
+        if angle is not None:
+            angle = number(angle, f"support at {node!r}: angle")
+            before = self.node_angles.get(node, 0.0 if node in self.fixed else None)
+            if before is not None and not np.isclose(np.radians(angle), before, atol=1e-15):
+                raise InvalidProblemError(
+                    f"support at {node!r}: the node's axes are already turned by "
+                    f"{np.degrees(before):g}°; a node has one set of axes — give all its fixed "
+                    "dofs in one add_support")
+            if angle % 360.0:
+                self.node_angles[node] = float(np.radians(angle))
+        elif node in self.node_angles:
+            raise InvalidProblemError(
+                f"support at {node!r}: the node's axes are turned by "
+                f"{np.degrees(self.node_angles[node]):g}°; pass angle= again (a node has one "
+                "set of axes)")
         self.fixed.setdefault(node, set()).update(fix)
 
     def add_settlement(self, node: str, case: str = CONSTANT, *, ux: float | None = None,
@@ -353,6 +375,8 @@ class Frame(FrameSolving, FrameTracing, FrameRecovery):
             cols += [assembly.contact_column(b["idx"], N, c, c.normal),
                      assembly.contact_column(b["idx"], N, c, t)]
         H = np.array(cols).T
+        if b["Tn"] is not None:      # the system is written in the nodes' axes
+            H = b["Tn"] @ H
         factors = np.array([combo.get(case, 0.0) for case in b["cases"]])
         f_all, u_set = F @ factors, U @ factors
         fixed_idx = np.flatnonzero(fixed)

@@ -68,16 +68,15 @@ class FrameRecovery:
         # equilibrium with u (issue 31, a 200-span beam); the solve's own
         # multipliers satisfy K u = F + H X to rounding.
         X = -b["kappa"] * sol[nf:]
-        # reactions at the fixed dofs: K u - F - H X on them (member loads included)
+        # reactions at the fixed dofs: K u - F - H X on them (member loads
+        # included), reported in global axes (a node's axes may be turned)
         r_all = b["K"] @ u - F - b["H"] @ X
-        reactions = {}
-        for node in b["names"]:
-            i0 = b["idx"][node]
-            if node in self.fixed:
-                reactions[node] = tuple(float(r_all[i0 + k]) if b["fixed"][i0 + k] else 0.0
-                                        for k in range(3))
+        r_glob = assembly.to_global(b, np.where(b["fixed"], r_all, 0.0))
+        reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
+                     for node in b["names"] if node in self.fixed}
         if lcp is None and "R" not in b:
-            cert_error, zeta, sigma = self._contact_certificate(b, z, X, u, F, W, P, g)
+            cert_error, zeta, sigma = self._contact_certificate(
+                b, z, X, u, assembly.force_terms(b, u, F, assembly.factors(b, combo)), W, P, g)
         else:
             if lcp is None:
                 M, Q, q_gap, *_ = assembly.lcp_matrices(self, b)
@@ -87,6 +86,7 @@ class FrameRecovery:
             # X_n against the terms it is made of, a slip part against its own size
             zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
         pos = assembly.layout(b)
+        u_axes, u = u, assembly.to_global(b, u)
         nc = len(self.contacts)
         slot = {ci: nc + 2 * k for k, ci in enumerate(fric)}
         keys = self._support_keys()
@@ -116,7 +116,7 @@ class FrameRecovery:
             if state == "separated":
                 xn, xt = 0.0, 0.0   # rounding noise of a force that is zero
             supports[keys[ci]] = SupportResult(state, xn, xt, zn, slip)
-        eq = max(self._equilibrium(b, F, X, u), self._resultant(b, F, X, r_all, u))
+        eq = max(self._equilibrium(b, F, X, u_axes), self._resultant(b, F, X, r_all, u_axes))
         displacements = {nd: tuple(float(u[b["idx"][nd] + k]) for k in range(3))
                          for nd in b["names"]}
         k, T, dofs, Fe = b["local"]
@@ -132,17 +132,18 @@ class FrameRecovery:
                            route=route, ok=ok, message=msg, frame=self, _u=u,
                            combination=dict(combo))
 
-    def _contact_certificate(self, b, z, X, u, F, W, P, g):
+    def _contact_certificate(self, b, z, X, u, force_terms, W, P, g):
         """(error, ζ, σ): the LCP certificate's componentwise measure,
         max_i |min(z_i/ζ_i, w_i/σ_i)| with w = W X, where the LCP's matrix is
         not formed (the sparse active set never forms the dense R).  The
         scales are what each quantity is made of, as the certificate's
         |M||z| + |q| are, read off the mechanics instead of M: a link force
-        against the nodal forces it balances, |h|ᵀ(|K||u| + |F|), and a link
+        against the forces that meet at its node (assembly.force_terms: the
+        members' end forces, the springs', the loads), and a link
         displacement (an opening, a slip part) against |h|ᵀ|u| + |D X| + g.
         Equilibrium is checked on its own (_equilibrium, _resultant)."""
         absH = abs(b["H"])
-        forces = absH.T @ (abs(b["K"]) @ np.abs(u) + np.abs(F))
+        forces = absH.T @ force_terms
         lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
         sigma = abs(W) @ forces
         zeta = abs(P).T @ lengths
@@ -185,17 +186,23 @@ class FrameRecovery:
         do not carry."""
         xy = np.array([self.nodes[nd] for nd in b["names"]])
         xy = xy - xy.mean(axis=0)
+        absHX = abs(b["H"]) @ np.abs(X)
+        terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0)]
+        # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
+        # H X at its dof) by |K||u| + |F| + |H||X|
+        size = (np.abs(F) + absHX
+                + np.where(b["fixed"], abs(b["K"]) @ np.abs(u) + np.abs(F) + absHX, 0.0))
+        if b["Tn"] is not None:   # sums of forces are taken in global axes
+            terms = [b["Tn"].T @ t for t in terms]
+            size = abs(b["Tn"]).T @ size
+            u = b["Tn"].T @ u
         spring = np.zeros_like(F)
         for node, ks in self.springs.items():
             for d, kval in ks.items():
                 i = b["idx"][node] + DOFS.index(d)
                 spring[i] -= kval * u[i]
-        absHX = abs(b["H"]) @ np.abs(X)
-        terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0), spring]
-        # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
-        # H X at its dof) by |K||u| + |F| + |H||X|
-        size = (np.abs(F) + absHX + np.abs(spring)
-                + np.where(b["fixed"], abs(b["K"]) @ np.abs(u) + np.abs(F) + absHX, 0.0))
+        terms.append(spring)
+        size = size + np.abs(spring)
         total = sum(terms)
         fx, fy, mz = total[0::3], total[1::3], total[2::3]
         ax, ay, am = size[0::3], size[1::3], size[2::3]
@@ -261,34 +268,44 @@ class FrameRecovery:
     def _deflection(self, res: FrameResult, member: str, points: int):
         """(x, u, v): the displacement of the member's axis along (u) and
         across (v) it, member axes, at ``points`` sections plus the load
-        positions.  Integrated from the internal forces, not interpolated
-        from the nodes: u' = N/EA, v'' = M/EI (sagging M bends the axis
-        towards +y), with u(0), v(0), v(L) the end nodes' displacements —
-        which fixes the slope constant without the end rotations, so a
-        hinged end needs nothing special.  Each integral is a sum of
-        4-point Gauss rules between consecutive sections, and the sections
-        include every load position, so the integrand is one polynomial of
-        degree <= 4 on each piece and the result is exact to rounding (the
-        repeated integral by Cauchy's formula, v(x) = ∫₀ˣ (x - s) M/EI ds)."""
+        positions and the faces of rigid end zones.  Integrated from the
+        internal forces, not interpolated from the nodes: on the flexible
+        length u' = N/EA and v'' = M/EI (sagging M bends the axis towards
+        +y), plus the shear strain V/(G A_s) in v' for a Timoshenko member,
+        with v at both flexible ends given by the nodes through the rigid
+        arms — which fixes the slope constant without the end rotations, so
+        a released end needs nothing special; a rigid zone moves with its
+        node.  Each integral is a sum of 4-point Gauss rules between
+        consecutive sections, which include every load position, so the
+        integrand is one polynomial of degree <= 4 on each piece and the
+        result is exact to rounding (the repeated integral by Cauchy's
+        formula, v(x) = ∫ (x - s) M/EI ds)."""
         m = self._diagram_member(res, member, points)
         L, c, s = geometry(self, m)
-        pts = [p for p in load_points(self._loads_of(res, m)) if 0.0 < p < L]
+        a, e = m.offset_i, L - m.offset_j          # the flexible length [a, e]
+        pts = [p for p in load_points(self._loads_of(res, m)) + [a, e] if 0.0 < p < L]
         x = np.unique(np.r_[np.linspace(0.0, L, int(points)), pts])
         t, w = np.polynomial.legendre.leggauss(4)
-        a, b = x[:-1, None], x[1:, None]
-        gs = (0.5 * (b - a) * t + 0.5 * (a + b)).ravel()
-        gw = (0.5 * (b - a) * w).ravel()
-        N, _, M = self._sections(res, m, gs)
+        lo, hi = np.maximum(x[:-1, None], a), np.minimum(x[1:, None], e)
+        gs = (0.5 * (hi - lo) * t + 0.5 * (lo + hi)).ravel()
+        gw = (0.5 * np.maximum(hi - lo, 0.0) * w).ravel()
+        N, V, M = self._sections(res, m, gs)
         idx = {nm: 3 * k for k, nm in enumerate(self.nodes)}
         T = assembly.rotation(c, s)[:3, :3]
         di = T @ res._u[idx[m.i]:idx[m.i] + 3]
         dj = T @ res._u[idx[m.j]:idx[m.j] + 3]
-        before = gs[None, :] < x[:, None]
+        va, ve = di[1] + a * di[2], dj[1] - m.offset_j * dj[2]   # through the rigid arms
+        xf = np.clip(x, a, e)
+        before = gs[None, :] < xf[:, None]
         u = di[0] + (before * (gw * N / (m.E * m.A))) @ np.ones_like(gs)
-        v = (before * (x[:, None] - gs[None, :]) * (gw * M / (m.E * m.I))) @ np.ones_like(gs)
-        v = di[1] + v + (dj[1] - di[1] - v[-1]) * x / L
+        bend = gw * M / (m.E * m.I)
+        v = (before * (xf[:, None] - gs[None, :]) * bend) @ np.ones_like(gs)
+        if m.GAs is not None:
+            v = v + (before * (gw * V / m.GAs)) @ np.ones_like(gs)
+        v_e = v[np.searchsorted(x, e)]
+        v = va + v + (ve - va - v_e) * (xf - a) / (e - a)
+        v = np.where(x < a, di[1] + x * di[2], np.where(x > e, dj[1] - (L - x) * dj[2], v))
         return x, u, v
-
     def _support_keys(self) -> list:
         """The key of each contact in FrameResult.supports, in contact order."""
         keys = []

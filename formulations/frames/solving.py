@@ -190,7 +190,9 @@ class FrameSolving:
         for c in self.contacts:
             t = np.array([c.normal[1], -c.normal[0]])
             for vec, rows in ((c.normal, rows_a), (t, rows_s)):
-                rows.append(assembly.contact_column(b["idx"], N, c, vec)[free] @ null)
+                col = assembly.contact_column(b["idx"], N, c, vec)
+                col = col if b["Tn"] is None else b["Tn"] @ col    # the nodes' axes
+                rows.append(col[free] @ null)
         Ha, Hs = np.array(rows_a), np.array(rows_s)
         f = np.array([c.friction for c in self.contacts])
         work = Ff @ null
