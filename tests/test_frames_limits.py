@@ -44,6 +44,8 @@ def test_tower_solves_every_load_below_its_tipping_load():
     assert tr.ok and tr.ended == "collapse", tr.message
     np.testing.assert_allclose(tr.p_end, P_TIP, rtol=1e-9)
     assert f"tips over about {base[-1]}" in tr.message
+    # and how far it has swayed by then, against small-displacement theory
+    assert "N20_0 has moved" in tr.message and "beyond small-displacement theory" in tr.message
     loads = np.linspace(0.5 * P_TIP, P_TIP * (1 - 1e-6), 61)
     for p in loads:
         r = fr.solve(p)

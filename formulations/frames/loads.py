@@ -93,8 +93,13 @@ def combination(combo, cases) -> dict:
 
 
 def describe(combo: dict) -> str:
-    """A combination in words: "1.2·D, 1.6·L" ("no load" when every factor is 0)."""
-    return ", ".join(f"{f:g}·{c}" for c, f in combo.items() if f) or "no load"
+    """A combination in words: "1.2·D + 1.6·L" ("no load" when every factor
+    is 0); the P3 split as "p = 2" (constant + 2 × variable)."""
+    if set(combo) <= {CONSTANT, VARIABLE} and combo.get(CONSTANT, 1.0) in (0.0, 1.0) \
+            and VARIABLE in combo:
+        p = combo[VARIABLE]
+        return f"p = {p:g}" + ("" if combo.get(CONSTANT, 0.0) else " (no constant load)")
+    return " + ".join(f"{f:g}·{c}" for c, f in combo.items() if f) or "no load"
 
 
 def _local(axes, c, s, fx, fy):

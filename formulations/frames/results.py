@@ -67,6 +67,13 @@ class FrameResult:
     _u: np.ndarray = field(repr=False, default=None)
     combination: dict = field(default_factory=dict)
     name: str = ""
+    #: the largest nodal translation over the frame's size (the diagonal of
+    #: its nodes' bounding box), and the largest rotation [rad]: beyond
+    #: recovery.SMALL_DISPLACEMENT / SMALL_ROTATION the analysis (small
+    #: displacements, equilibrium on the undeformed frame) no longer
+    #: describes the structure, and solve warns
+    displacement_ratio: float = 0.0
+    max_rotation: float = 0.0
 
     def diagram(self, member: str, points: int = 21):
         """(x, N, V, M) along a member, x from node i (member axes); the load

@@ -5,6 +5,8 @@ words for how the frame fails.  Mixed into :class:`~.model.Frame`."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from qpcontact import solve
@@ -15,6 +17,7 @@ from qpcontact.judge.lcp import certify_lcp
 
 from . import assembly
 from .active_set import solve_active_set
+from .recovery import SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning
 from .loads import describe
 from .results import CombinationResults, FrameResult
 
@@ -59,8 +62,19 @@ class FrameSolving:
         Raises NoSolutionError when no equilibrium exists (proved), saying
         how the frame fails; SolverFailedError when no method found one and
         nothing was proved; with ``raise_on_failure`` also for a result whose
-        checks fail.
+        checks fail.  Warns (LargeDisplacementWarning) when the displacements
+        leave small-displacement theory (``displacement_ratio``,
+        ``max_rotation`` of the result).
         """
+        res = self._solve(p, method, accuracy, raise_on_failure, combination, _built, options)
+        if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
+                       or res.max_rotation > SMALL_ROTATION):
+            warnings.warn(f"frame under {describe(res.combination)}: {self._how_far(res._u)[2]}",
+                          LargeDisplacementWarning, stacklevel=2)
+        return res
+
+    def _solve(self, p, method, accuracy, raise_on_failure, combination, _built,
+               options) -> FrameResult:
         if not isinstance(method, str):
             raise InvalidOptionError(f"method must be a string; got {method!r}")
         from qpcontact import methods as registry

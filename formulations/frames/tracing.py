@@ -100,6 +100,13 @@ class FrameTracing:
             ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
                           f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
                           f"the data{bound})")
+            if ft.intervals:
+                # how far the frame has gone by then: a collapse load read off a
+                # frame that sways metres is a small-displacement idealisation
+                lo, hi = ft.intervals[-1]
+                near = lo + (1.0 - 1e-3) * (hi - lo)
+                far = self._how_far(ft.result_at(near)._u, always=True)[2]
+                ft.message += f"; just before it (p = {near:.6g}) {far}"
         elif ended == "unbounded":
             ft.message = (f"no support changes state for p >= {tr.proof['from']:g}: the frame "
                           "carries any larger load in its last working scheme")
