@@ -144,13 +144,21 @@ class FrameResult:
         """The table as a pandas DataFrame (the ``tables`` extra)."""
         return tables.dataframe(self.rows(table, digits))
 
-    def plot(self, path, scale: float | None = None, title: str = "") -> str:
-        """Deformed shape (member curvature from the element's shape
-        functions) with support states, and the bending-moment diagram (PNG).
-        Raises for a result that is not ok: it is not an equilibrium."""
+    def plot(self, path, diagrams=("deflection", "M"), *, scale: float | None = None,
+             title: str = "", loads: bool = True, reactions: bool = True) -> str:
+        """Draw the result (PNG): one panel per name in ``diagrams``, among
+        "deflection" (the deformed shape, exact along each member, with the
+        support states, ``loads`` and ``reactions`` as arrows with values),
+        "M", "V" and "N" (the internal-force diagrams, each with a scale
+        bar; a straight beam is drawn as functions of x instead, its
+        ordinate in the quantity's units).  ``scale``: the displacement
+        magnification (default: the largest displacement drawn as 8 % of the
+        structure); ``title``: replaces the combination's name.  Raises
+        SolverFailedError for a result that is not ok (it is not an
+        equilibrium) and InvalidOptionError for an unknown diagram."""
         from .drawing import plot_result
 
-        return plot_result(self.frame, self, path, scale, title)
+        return plot_result(self.frame, self, path, diagrams, scale, title, loads, reactions)
 
 
 class CombinationResults(dict):
@@ -264,9 +272,10 @@ class FrameTrace:
         return combo
 
     def plot(self, path, node: str, dof: str = "ux", p_max: float | None = None) -> str:
-        """Load parameter against a displacement of ``node``, breakpoints
-        labelled with their events (PNG).  Default range: the traced one (an
-        unbounded last interval: 1.5 x the last breakpoint)."""
-        from .drawing import plot_trace
+        """Load parameter against a displacement of ``node`` (PNG), each
+        breakpoint numbered on the curve and listed with its events in a key
+        beside it.  Default range: the traced one (an unbounded last
+        interval: 1.5 x the last breakpoint)."""
+        from .trace_plot import plot_trace
 
         return plot_trace(self.frame, self, path, node, dof, p_max)
