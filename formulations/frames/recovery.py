@@ -179,6 +179,20 @@ class FrameRecovery:
         absH = abs(b["H"])
         forces = absH.T @ force_terms
         lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
+        # the LCP's scale of a link force holds the force its own link
+        # displacement makes, R_ll |Δ_l|, which the rounding of the solve
+        # follows; here R_ll is bounded by the node's stiffness along the link,
+        # h'|K|h, and by an elastic contact's own spring (a lifted stretch of
+        # a foundation beam: X_n = -4e-10 against node forces of 1e-9, with
+        # R_ll |Δ| = 2e4 as in the LCP's |R||Δ|)
+        delta = np.abs(P @ z - g)
+        k_node = np.asarray(absH.multiply(abs(b["K"]) @ absH).sum(axis=0)).ravel()
+        flex = b["flex"]
+        k_link = np.where(flex > 0, np.minimum(k_node, 1.0 / np.where(flex > 0, flex, 1.0)),
+                          k_node)
+        forces = forces + k_link * delta
+        forces = forces + assembly.R_ROUNDING * forces.max(initial=0.0)
+        lengths = lengths + assembly.R_ROUNDING * lengths.max(initial=0.0)
         sigma = abs(W) @ forces
         zeta = abs(P).T @ lengths
         w = W @ X
