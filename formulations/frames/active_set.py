@@ -47,14 +47,12 @@ MAX_ITERATIONS = 100
 def solve_active_set(frame, b, combo):
     """(z, iterations) of an equilibrium with consistent contact states, or
     None (a cycle, the iteration limit, a singular system)."""
-    pos = assembly.layout(b)
+    ca = assembly.contact_arrays(frame, b)
     nc = len(frame.contacts)
     nl = len(b["info"])
-    n_link = np.array([pos[ci]["n"] for ci in range(nc)])
-    t_link = np.array([pos[ci].get("t", -1) for ci in range(nc)])
+    n_link, t_link, mu, gap = ca["n_link"], ca["t_link"], ca["mu"], ca["gap"]
     has_t = t_link >= 0
-    mu = np.array([c.friction for c in frame.contacts])
-    gap = np.array([c.gap for c in frame.contacts])
+    tl = np.where(has_t, t_link, 0)
     kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
     F, ua = assembly.load_vector(b, combo)
     top = F[free] - b["K_fa"] @ ua[fixed_idx]
@@ -83,10 +81,10 @@ def solve_active_set(frame, b, combo):
         rows += static.tolist()
         cols += (nf + static).tolist()
         vals += [kappa] * static.size
-        for ci in np.flatnonzero(closed & has_t & (slip != 0)):
-            rows.append(t_link[ci])
-            cols.append(nf + n_link[ci])
-            vals.append(kappa * mu[ci] * slip[ci])
+        sliding = np.flatnonzero(closed & has_t & (slip != 0))
+        rows += t_link[sliding].tolist()
+        cols += (nf + n_link[sliding]).tolist()
+        vals += (kappa * mu[sliding] * slip[sliding]).tolist()
         rhs = np.r_[top, np.where(kin, kappa * (required + shift), 0.0)]
         if kin.all():             # every link holds: the basic system, factorized by build
             sol = b["lu"].solve(rhs)
@@ -109,20 +107,17 @@ def solve_active_set(frame, b, combo):
         Xn, Zn = X[n_link], delta[n_link] + gap
         fn, ln = force_scale[n_link], length_scale[n_link]
         new_closed = np.where(closed, Xn >= -VIOLATION * fn, Zn < -VIOLATION * ln)
-        new_slip = np.zeros(nc, int)
-        for ci in np.flatnonzero(new_closed & has_t):
-            if not closed[ci]:
-                continue          # newly closed: starts sticking
-            xt, dt = X[t_link[ci]], delta[t_link[ci]]
-            bound = mu[ci] * max(Xn[ci], 0.0)
-            ft, lt = force_scale[t_link[ci]], length_scale[t_link[ci]]
-            if slip[ci] == 0:
-                if xt < -bound - VIOLATION * ft:
-                    new_slip[ci] = 1
-                elif xt > bound + VIOLATION * ft:
-                    new_slip[ci] = -1
-            elif slip[ci] * dt >= -VIOLATION * lt:
-                new_slip[ci] = slip[ci]
+        # friction where the contact was and stays closed (a newly closed one
+        # starts sticking): a sticking one slips beyond f X_n, a slipping one
+        # sticks again when it moves backwards
+        xt, dt = X[tl], delta[tl]
+        bound = mu * np.maximum(Xn, 0.0)
+        ft, lt = force_scale[tl], length_scale[tl]
+        starts = np.where(xt < -bound - VIOLATION * ft, 1,
+                          np.where(xt > bound + VIOLATION * ft, -1, 0))
+        goes_on = np.where(slip * dt >= -VIOLATION * lt, slip, 0)
+        new_slip = np.where(new_closed & closed & has_t,
+                            np.where(slip == 0, starts, goes_on), 0)
         if np.array_equal(new_closed, closed) and np.array_equal(new_slip, slip):
             return _point(frame, b, closed, slip, Zn, delta, t_link, has_t), it
         closed, slip = new_closed, new_slip
@@ -133,12 +128,10 @@ def _point(frame, b, closed, slip, Zn, delta, t_link, has_t):
     """The LCP's z of a converged state set: openings of the open contacts,
     slip parts of the slipping (and the open) frictional ones."""
     nc = len(frame.contacts)
-    fric = [ci for ci in range(nc) if has_t[ci]]
-    z = np.zeros(nc + 2 * len(fric))
+    dt = delta[t_link[has_t]]
+    moving = ~closed[has_t] | (slip[has_t] != 0)
+    z = np.zeros(nc + 2 * dt.size)
     z[:nc] = np.where(closed, 0.0, np.maximum(Zn, 0.0))
-    for k, ci in enumerate(fric):
-        dt = delta[t_link[ci]]
-        moving = not closed[ci] or slip[ci] != 0
-        z[nc + 2 * k] = max(dt, 0.0) if moving else 0.0
-        z[nc + 2 * k + 1] = max(-dt, 0.0) if moving else 0.0
+    z[nc::2] = np.where(moving, np.maximum(dt, 0.0), 0.0)
+    z[nc + 1::2] = np.where(moving, np.maximum(-dt, 0.0), 0.0)
     return z

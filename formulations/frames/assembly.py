@@ -100,10 +100,10 @@ def _offset_map(oi, oj) -> np.ndarray:
     return A
 
 
-def _release(k, fes, r, spring):
+def _release(k, fe, r, spring):
     """Condense the member end's own rotation (dof r) behind a rotational
     spring to the node (0: a hinge): row/column r then belong to the node's
-    rotation.  The member's loads at the end are condensed alike."""
+    rotation.  The member's loads fe (6, cases) are condensed alike."""
     k7 = np.zeros((7, 7))
     k7[:6, :6] = k
     k7[r, r] += spring
@@ -112,17 +112,16 @@ def _release(k, fes, r, spring):
     col = k7[:, r].copy()
     kc = k7 - np.outer(col, col) / k7[r, r]
     keep = [6 if d == r else d for d in range(6)]
-    out = {}
-    for case, fe in fes.items():
-        f7 = np.r_[fe, 0.0]
-        out[case] = (f7 - col * f7[r] / k7[r, r])[keep]
-    return kc[np.ix_(keep, keep)], out
+    f7 = np.vstack([fe, np.zeros((1, fe.shape[1]))])
+    fc = f7 - np.outer(col, f7[r]) / k7[r, r]
+    return kc[np.ix_(keep, keep)], fc[keep]
 
 
-def member_locals(frame, names, idx):
+def member_locals(frame, names, idx, col):
     """Every member's local stiffness (node dofs, member axes), rotation,
     dofs and equivalent nodal loads per case, computed for all members at
-    once: (k (m,6,6), T (m,6,6), dofs (m,6), [{case: fe} per member])."""
+    once: (k (m,6,6), T (m,6,6), dofs (m,6), Fe (m,6,cases)); ``col`` maps
+    a case to its column."""
     ms = list(frame.members.values())
     nm = len(ms)
     xy = np.array([frame.nodes[n] for n in names]).reshape(-1, 2)
@@ -139,34 +138,33 @@ def member_locals(frame, names, idx):
     T = rotation(c, s)
     dofs = np.c_[3 * ii[:, None] + np.arange(3), 3 * jj[:, None] + np.arange(3)]
     offset = [k for k, m in enumerate(ms) if m.offset_i or m.offset_j]
-    fes = [dict() for _ in ms]
+    Fe = np.zeros((nm, 6, len(col)))
     plain = [(k, ld) for k, m in enumerate(ms) if not (m.offset_i or m.offset_j)
              for ld in m.loads]
     if plain:
         rows = np.array([k for k, _ in plain])
+        cases_ = np.array([col[ld.case] for _, ld in plain])
         loads = equivalent_nodal_many([ld for _, ld in plain], L[rows], c[rows], s[rows],
                                       phi[rows])
-        for (k, ld), fe in zip(plain, loads):
-            fes[k][ld.case] = fes[k].get(ld.case, 0.0) + fe
-    rigid = {k: {} for k in offset}
+        np.add.at(Fe, (rows[:, None], np.arange(6)[None, :], cases_[:, None]), loads)
+    rigid = {k: np.zeros((6, len(col))) for k in offset}
     for k in offset:
         for ld in ms[k].loads:
             fe, at_nodes = offset_parts(ld, L[k], c[k], s[k], phi[k],
                                         (ms[k].offset_i, ms[k].offset_j))
-            fes[k][ld.case] = fes[k].get(ld.case, 0.0) + fe
-            rigid[k][ld.case] = rigid[k].get(ld.case, 0.0) + at_nodes
+            Fe[k, :, col[ld.case]] += fe
+            rigid[k][:, col[ld.case]] += at_nodes
     # releases act at the flexible ends (the face of the rigid zone), so
     # they come before the rigid arms carry the end to the node
     for k, m in enumerate(ms):
         for r, spring in zip((2, 5), m.end_springs):
             if spring is not None:
-                k_all[k], fes[k] = _release(k_all[k], fes[k], r, spring)
+                k_all[k], Fe[k] = _release(k_all[k], Fe[k], r, spring)
     for k in offset:
         Aoff = _offset_map(ms[k].offset_i, ms[k].offset_j)
         k_all[k] = Aoff.T @ k_all[k] @ Aoff
-        fes[k] = {case: Aoff.T @ fes[k].get(case, np.zeros(6)) + rigid[k].get(case, 0.0)
-                  for case in set(fes[k]) | set(rigid[k])}
-    return k_all, T, dofs, fes
+        Fe[k] = Aoff.T @ Fe[k] + rigid[k]
+    return k_all, T, dofs, Fe
 
 
 def cases(frame) -> list:
@@ -190,16 +188,15 @@ def assemble(frame):
     col = {c: k for k, c in enumerate(case_list)}
     F = np.zeros((N, len(case_list)))
     if frame.members:
-        k_all, T, dofs, fes = member_locals(frame, names, idx)
+        k_all, T, dofs, Fe = member_locals(frame, names, idx, col)
         kg = np.einsum("mji,mjk,mkl->mil", T, k_all, T)
         rows = [np.repeat(dofs, 6, axis=1).ravel()]
         cols = [np.tile(dofs, (1, 6)).ravel()]
         vals = [kg.ravel()]
-        for k, per in enumerate(fes):
-            for case, fe in per.items():
-                F[dofs[k], col[case]] += T[k].T @ fe
+        np.add.at(F, dofs.ravel(), np.einsum("mji,mjc->mic", T, Fe).reshape(-1, len(col)))
     else:
-        k_all, T, dofs, fes = np.zeros((0, 6, 6)), np.zeros((0, 6, 6)), np.zeros((0, 6), int), []
+        k_all, T = np.zeros((0, 6, 6)), np.zeros((0, 6, 6))
+        dofs, Fe = np.zeros((0, 6), int), np.zeros((0, 6, len(col)))
         rows, cols, vals = [], [], []
     for node, fx, fy, mz, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
@@ -227,10 +224,6 @@ def assemble(frame):
     fixed |= np.isclose(K.diagonal(), 0.0) & (np.arange(N) % 3 == 2)
     # per member, for the results: stiffness, rotation, dofs, and the
     # equivalent nodal loads of every case (member axes), (m, 6, cases)
-    Fe = np.zeros((len(fes), 6, len(case_list)))
-    for k, per in enumerate(fes):
-        for case, fe in per.items():
-            Fe[k, :, col[case]] = fe
     return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn
 
 
@@ -283,20 +276,31 @@ def contact_column(idx, N, c, vec) -> np.ndarray:
 
 def links(frame, idx, N):
     """H (N x links, sparse CSR) and, per link: contact index, kind 'n'/'t'."""
-    rows, cols, vals, info = [], [], [], []
-    for ci, c in enumerate(frame.contacts):
-        t = (c.normal[1], -c.normal[0])
-        for kind, vec in (("n", c.normal), ("t", t)):
-            if kind == "t" and c.friction == 0:
-                continue  # no tangential link without friction
-            li = len(info)
-            for node, sign in ((c.node, 1.0), (c.other, -1.0)):
-                if node is not None:
-                    rows += [idx[node], idx[node] + 1]
-                    cols += [li, li]
-                    vals += [sign * vec[0], sign * vec[1]]
-            info.append((ci, kind))
-    H = sp.csr_matrix((vals, (rows, cols)), shape=(N, len(info)))
+    cs = frame.contacts
+    nc = len(cs)
+    normal = np.array([c.normal for c in cs]).reshape(nc, 2)
+    fric = np.array([c.friction > 0 for c in cs], bool)
+    node = np.array([idx[c.node] for c in cs], int)
+    other = np.array([-1 if c.other is None else idx[c.other] for c in cs], int)
+    # links in contact order: n, then t where there is friction
+    n_link = np.arange(nc) + np.r_[0, np.cumsum(fric)[:-1]]
+    t_link = n_link + 1
+    info = []
+    for ci in range(nc):
+        info.append((ci, "n"))
+        if fric[ci]:
+            info.append((ci, "t"))
+    tangent = np.c_[normal[:, 1], -normal[:, 0]]
+    rows, cols, vals = [], [], []
+    for links_, vecs, keep in ((n_link, normal, np.ones(nc, bool)), (t_link, tangent, fric)):
+        for at, sign in ((node, 1.0), (other, -1.0)):
+            k = keep & (at >= 0)
+            for d in (0, 1):
+                rows.append(at[k] + d)
+                cols.append(links_[k])
+                vals.append(sign * vecs[k, d])
+    H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(N, len(info)))
     H.eliminate_zeros()
     return H, info
 
@@ -306,9 +310,9 @@ def check_conflicts(frame):
     bilateral supports already fix would make the basic system singular:
     name the node and the dofs instead."""
     for c in frame.contacts:
-        if c.other is not None:
+        if c.other is not None or c.node not in frame.fixed:
             continue
-        fixed = frame.fixed.get(c.node, set())
+        fixed = frame.fixed[c.node]
         dirs = [("normal", c.normal)]
         if c.friction > 0:
             dirs.append(("tangential", np.array([c.normal[1], -c.normal[0]])))
@@ -459,11 +463,30 @@ def mechanism_message(S, free, names, nf) -> str:
 
 
 def layout(b):
-    """Per contact: the link positions of n and t."""
-    pos = {}
-    for li, (ci, kind) in enumerate(b["info"]):
-        pos.setdefault(ci, {})[kind] = li
-    return pos
+    """Per contact: the link positions of n and t (cached in b)."""
+    if "layout" not in b:
+        pos = {}
+        for li, (ci, kind) in enumerate(b["info"]):
+            pos.setdefault(ci, {})[kind] = li
+        b["layout"] = pos
+    return b["layout"]
+
+
+def contact_arrays(frame, b) -> dict:
+    """The contacts as arrays (cached in b): link of n and of t (-1 without
+    friction), friction, gap, unit normal, node and other node (-1)."""
+    if "contact_arrays" not in b:
+        pos = layout(b)
+        cs = frame.contacts
+        idx = b["idx"]
+        b["contact_arrays"] = dict(
+            n_link=np.array([pos[ci]["n"] for ci in range(len(cs))], int),
+            t_link=np.array([pos[ci].get("t", -1) for ci in range(len(cs))], int),
+            mu=np.array([c.friction for c in cs]), gap=np.array([c.gap for c in cs]),
+            normal=np.array([c.normal for c in cs]).reshape(len(cs), 2),
+            node=np.array([idx[c.node] // 3 for c in cs], int),
+            other=np.array([-1 if c.other is None else idx[c.other] // 3 for c in cs], int))
+    return b["contact_arrays"]
 
 
 def link_maps(frame, b):

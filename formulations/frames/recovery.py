@@ -95,40 +95,33 @@ class FrameRecovery:
             # each state decided on the component's own scale (the certificate's):
             # X_n against the terms it is made of, a slip part against its own size
             zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
-        pos = assembly.layout(b)
         u_axes, u = u, assembly.to_global(b, u)
+        ca = assembly.contact_arrays(self, b)
         nc = len(self.contacts)
-        slot = {ci: nc + 2 * k for k, ci in enumerate(fric)}
-        keys = self._support_keys()
-        supports = {}
-        for ci, c in enumerate(self.contacts):
-            xn = float(X[pos[ci]["n"]])
-            zn = float(z[ci])
-            t = np.array([c.normal[1], -c.normal[0]])
-            rel = np.array(u[b["idx"][c.node]:b["idx"][c.node] + 2])
-            if c.other is not None:
-                rel = rel - u[b["idx"][c.other]:b["idx"][c.other] + 2]
-            if "t" in pos[ci]:
-                xt = float(X[pos[ci]["t"]])
-                slip = float(delta[pos[ci]["t"]])
-            else:  # frictionless: no tangential link, the node slides freely
-                xt, slip = 0.0, float(t @ rel)
-            if xn <= STATE_RTOL * sigma[ci]:
-                state = "separated"
-                xn = 0.0 if ci not in slot else xn
-            elif ci not in slot:
-                state = "closed"
-            elif max(z[slot[ci]], z[slot[ci] + 1]) <= STATE_RTOL * max(zeta[slot[ci]],
-                                                                       zeta[slot[ci] + 1]):
-                state = "stick"
-            else:
-                state = "slip+" if slip > 0 else "slip-"
-            if state == "separated":
-                xn, xt = 0.0, 0.0   # rounding noise of a force that is zero
-            supports[keys[ci]] = SupportResult(state, xn, xt, zn, slip)
+        has_t = ca["t_link"] >= 0
+        xn = X[ca["n_link"]]
+        xt = np.where(has_t, X[ca["t_link"]], 0.0)
+        # frictionless: no tangential link, the node slides freely (t·relative motion)
+        u2 = u.reshape(-1, 3)[:, :2]
+        rel = u2[ca["node"]] - np.where(ca["other"][:, None] >= 0, u2[ca["other"]], 0.0)
+        tangent = np.c_[ca["normal"][:, 1], -ca["normal"][:, 0]]
+        slip = np.where(has_t, delta[ca["t_link"]], np.einsum("ij,ij->i", tangent, rel))
+        # each state decided on the component's own scale (the certificate's):
+        # X_n against the terms it is made of, a slip part against its own size
+        sl = nc + 2 * np.arange(int(has_t.sum()))      # Z⁺ of each frictional contact
+        moving = np.zeros(nc, bool)
+        moving[has_t] = (np.maximum(z[sl], z[sl + 1])
+                         > STATE_RTOL * np.maximum(zeta[sl], zeta[sl + 1]))
+        separated = xn <= STATE_RTOL * sigma[:nc]
+        states = np.where(separated, "separated", np.where(
+            ~has_t, "closed", np.where(~moving, "stick", np.where(slip > 0, "slip+", "slip-"))))
+        xn = np.where(separated, 0.0, xn)   # rounding noise of a force that is zero
+        xt = np.where(separated, 0.0, xt)
+        supports = {key: SupportResult(str(st), float(a), float(t_), float(o), float(sp_))
+                    for key, st, a, t_, o, sp_ in zip(self._support_keys(), states, xn, xt,
+                                                      z[:nc], slip)}
         eq = max(self._equilibrium(b, F, X, u_axes), self._resultant(b, F, X, r_all, u_axes))
-        displacements = {nd: tuple(float(u[b["idx"][nd] + k]) for k in range(3))
-                         for nd in b["names"]}
+        displacements = dict(zip(b["names"], map(tuple, u.reshape(-1, 3).tolist())))
         k, T, dofs, Fe = b["local"]
         ends = (np.einsum("mij,mj->mi", k, np.einsum("mij,mj->mi", T, u[dofs]))
                 - Fe @ assembly.factors(b, combo))
