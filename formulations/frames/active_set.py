@@ -55,13 +55,17 @@ def solve_active_set(frame, b, combo):
     tl = np.where(has_t, t_link, 0)
     kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
     F, ua = assembly.load_vector(b, combo)
-    top = F[free] - b["K_fa"] @ ua[fixed_idx]
+    rhs_top = F[free] - b["K_fa"] @ ua[fixed_idx]
     shift = -(b["H"][fixed_idx].T @ ua[fixed_idx])   # what settlements do to the links
     required = np.zeros(nl)
     required[n_link] = -gap                           # a closed link: Δ_n = -g
-    H, Hf, flex = b["H"], b["Hf"], b["flex"]
-    top_block = sp.hstack([b["K"][free][:, free], Hf]).tocsr()
-    kin_block = sp.hstack([Hf.T, sp.diags(-kappa ** 2 * flex)]).tocsr()
+    H, flex = b["H"], b["flex"]
+    # the saddle matrix as triplets: the top rows, and the link rows that are
+    # kept where a link holds (each state set's matrix is one COO -> CSC)
+    S = b["S"].tocoo()
+    top = S.row < nf
+    top_r, top_c, top_v = S.row[top], S.col[top], S.data[top]
+    link_r, link_c, link_v = S.row[~top] - nf, S.col[~top], S.data[~top]
     factors = assembly.factors(b, combo)
     absH = abs(H)
     closed = np.ones(nc, bool)
@@ -75,24 +79,21 @@ def solve_active_set(frame, b, combo):
         kin = np.zeros(nl, bool)
         kin[n_link[closed]] = True
         kin[t_link[closed & has_t & (slip == 0)]] = True
-        # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
-        rows, cols, vals = [], [], []
-        static = np.flatnonzero(~kin)
-        rows += static.tolist()
-        cols += (nf + static).tolist()
-        vals += [kappa] * static.size
-        sliding = np.flatnonzero(closed & has_t & (slip != 0))
-        rows += t_link[sliding].tolist()
-        cols += (nf + n_link[sliding]).tolist()
-        vals += (kappa * mu[sliding] * slip[sliding]).tolist()
-        rhs = np.r_[top, np.where(kin, kappa * (required + shift), 0.0)]
+        rhs = np.r_[rhs_top, np.where(kin, kappa * (required + shift), 0.0)]
         if kin.all():             # every link holds: the basic system, factorized by build
             sol = b["lu"].solve(rhs)
         else:
-            bottom = sp.diags(kin.astype(float)) @ kin_block + sp.csr_matrix(
-                (vals, (rows, cols)), shape=(nl, nf + nl))
+            # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
+            static = np.flatnonzero(~kin)
+            sliding = np.flatnonzero(closed & has_t & (slip != 0))
+            keep = kin[link_r]
+            rows = np.concatenate([top_r, nf + link_r[keep], nf + static, nf + t_link[sliding]])
+            cols = np.concatenate([top_c, link_c[keep], nf + static, nf + n_link[sliding]])
+            vals = np.concatenate([top_v, link_v[keep], np.full(static.size, kappa),
+                                   kappa * mu[sliding] * slip[sliding]])
             try:
-                sol = spla.splu(sp.vstack([top_block, bottom]).tocsc()).solve(rhs)
+                sol = spla.splu(sp.csc_matrix((vals, (rows, cols)),
+                                              shape=(nf + nl, nf + nl))).solve(rhs)
             except RuntimeError:  # singular: a mechanism in this state set
                 return None
         if not np.all(np.isfinite(sol)):

@@ -386,7 +386,7 @@ def build(frame):
     for node, ks in frame.springs.items():
         for d, kval in ks.items():
             springs[idx[node] + DOFS.index(d)] += kval
-    return Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free,
+    return Built(springs=springs, S=S, names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free,
                  H=H, Hf=Hf, info=info, lu=lu, flex=flex, nf=free.size, kappa=kappa,
                  local=local, fixed_idx=fixed_idx, K_fa=K[free][:, fixed_idx], Tn=Tn)
 
@@ -496,32 +496,23 @@ def link_maps(frame, b):
     contacts' indices).  Cheap: no R.  Cached in b."""
     if "maps" in b:
         return b["maps"]
-    pos = layout(b)
+    ca = contact_arrays(frame, b)
     nc = len(frame.contacts)
-    fric = [ci for ci in range(nc) if "t" in pos[ci]]
+    has_t = ca["t_link"] >= 0
+    fric = np.flatnonzero(has_t).tolist()
     nl = len(b["info"])
     nz = nc + 2 * len(fric)
-    pr, pc, pv = [], [], []
+    tl, n_of_t, mu = ca["t_link"][has_t], ca["n_link"][has_t], ca["mu"][has_t]
+    plus = nc + 2 * np.arange(len(fric))
+    P = sp.csr_matrix((np.r_[np.ones(nc), np.ones(len(fric)), -np.ones(len(fric))],
+                       (np.r_[ca["n_link"], tl, tl], np.r_[np.arange(nc), plus, plus + 1])),
+                      shape=(nl, nz))
     g = np.zeros(nl)
-    for ci in range(nc):
-        pr.append(pos[ci]["n"]), pc.append(ci), pv.append(1.0)
-        g[pos[ci]["n"]] = frame.contacts[ci].gap
-    for k, ci in enumerate(fric):
-        pr += [pos[ci]["t"], pos[ci]["t"]]
-        pc += [nc + 2 * k, nc + 2 * k + 1]
-        pv += [1.0, -1.0]
-    P = sp.csr_matrix((pv, (pr, pc)), shape=(nl, nz))
+    g[ca["n_link"]] = ca["gap"]
     # rows of w as combinations of the link forces X: X_n; f X_n + X_t; f X_n - X_t
-    wr, wc, wv = [], [], []
-    for ci in range(nc):
-        wr.append(ci), wc.append(pos[ci]["n"]), wv.append(1.0)
-    for k, ci in enumerate(fric):
-        f = frame.contacts[ci].friction
-        n_, t_ = pos[ci]["n"], pos[ci]["t"]
-        wr += [nc + 2 * k, nc + 2 * k, nc + 2 * k + 1, nc + 2 * k + 1]
-        wc += [n_, t_, n_, t_]
-        wv += [f, 1.0, f, -1.0]
-    W = sp.csr_matrix((wv, (wr, wc)), shape=(nz, nl))
+    W = sp.csr_matrix((np.r_[np.ones(nc), mu, np.ones(len(fric)), mu, -np.ones(len(fric))],
+                       (np.r_[np.arange(nc), plus, plus, plus + 1, plus + 1],
+                        np.r_[ca["n_link"], n_of_t, tl, n_of_t, tl])), shape=(nz, nl))
     b["maps"] = (P, W, g, fric)
     return b["maps"]
 
