@@ -42,32 +42,25 @@ from . import assembly
 VIOLATION = 1e-12
 #: state changes tried before the LCP route takes over
 MAX_ITERATIONS = 100
+#: up to this many links the states are solved on the dense contact
+#: stiffness R (its nl solves cost less than the sparse factorizations)
+LINK_SPACE_MAX = 100
 
 
 def solve_active_set(frame, b, combo):
     """(z, iterations) of an equilibrium with consistent contact states, or
-    None (a cycle, the iteration limit, a singular system)."""
+    None (a cycle, the iteration limit, a singular system).  Few links
+    (at most LINK_SPACE_MAX): the states are solved in the links' own space
+    on the contact stiffness R (:func:`_link_space`); many: on the sparse
+    saddle system (:func:`_sparse`)."""
     ca = assembly.contact_arrays(frame, b)
     nc = len(frame.contacts)
-    nl = len(b["info"])
     n_link, t_link, mu, gap = ca["n_link"], ca["t_link"], ca["mu"], ca["gap"]
     has_t = t_link >= 0
     tl = np.where(has_t, t_link, 0)
-    kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
-    F, ua = assembly.load_vector(b, combo)
-    rhs_top = F[free] - b["K_fa"] @ ua[fixed_idx]
-    shift = -(b["H"][fixed_idx].T @ ua[fixed_idx])   # what settlements do to the links
-    required = np.zeros(nl)
+    required = np.zeros(len(b["info"]))
     required[n_link] = -gap                           # a closed link: Δ_n = -g
-    H, flex = b["H"], b["flex"]
-    # the saddle matrix as triplets: the top rows, and the link rows that are
-    # kept where a link holds (each state set's matrix is one COO -> CSC)
-    S = b["S"].tocoo()
-    top = S.row < nf
-    top_r, top_c, top_v = S.row[top], S.col[top], S.data[top]
-    link_r, link_c, link_v = S.row[~top] - nf, S.col[~top], S.data[~top]
-    factors = assembly.factors(b, combo)
-    absH = abs(H)
+    states = (_link_space if len(b["info"]) <= LINK_SPACE_MAX else _sparse)(b, combo, required)
     closed = np.ones(nc, bool)
     slip = np.zeros(nc, int)          # 0 stick, +1 slip+, -1 slip-
     seen = set()
@@ -76,35 +69,15 @@ def solve_active_set(frame, b, combo):
         if key in seen:
             return None
         seen.add(key)
-        kin = np.zeros(nl, bool)
+        kin = np.zeros(len(required), bool)
         kin[n_link[closed]] = True
         kin[t_link[closed & has_t & (slip == 0)]] = True
-        rhs = np.r_[rhs_top, np.where(kin, kappa * (required + shift), 0.0)]
-        if kin.all():             # every link holds: the basic system, factorized by build
-            sol = b["lu"].solve(rhs)
-        else:
-            # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
-            static = np.flatnonzero(~kin)
-            sliding = np.flatnonzero(closed & has_t & (slip != 0))
-            keep = kin[link_r]
-            rows = np.concatenate([top_r, nf + link_r[keep], nf + static, nf + t_link[sliding]])
-            cols = np.concatenate([top_c, link_c[keep], nf + static, nf + n_link[sliding]])
-            vals = np.concatenate([top_v, link_v[keep], np.full(static.size, kappa),
-                                   kappa * mu[sliding] * slip[sliding]])
-            try:
-                sol = spla.splu(sp.csc_matrix((vals, (rows, cols)),
-                                              shape=(nf + nl, nf + nl))).solve(rhs)
-            except RuntimeError:  # singular: a mechanism in this state set
-                return None
-        if not np.all(np.isfinite(sol)):
+        sliding = np.flatnonzero(closed & has_t & (slip != 0))
+        found = states(kin, sliding, n_link, t_link, mu * slip)
+        if found is None:
             return None
-        u = ua.copy()
-        u[free] = sol[:nf]
-        X = -kappa * sol[nf:]
-        delta = H.T @ u + flex * X
+        X, delta, force_scale, length_scale = found
         # each violation judged on the scale of what makes the quantity
-        force_scale = absH.T @ assembly.force_terms(b, u, F, factors)
-        length_scale = absH.T @ np.abs(u) + np.abs(flex * X) + np.r_[np.abs(required)]
         Xn, Zn = X[n_link], delta[n_link] + gap
         fn, ln = force_scale[n_link], length_scale[n_link]
         new_closed = np.where(closed, Xn >= -VIOLATION * fn, Zn < -VIOLATION * ln)
@@ -123,6 +96,88 @@ def solve_active_set(frame, b, combo):
             return _point(frame, b, closed, slip, Zn, delta, t_link, has_t), it
         closed, slip = new_closed, new_slip
     return None
+
+
+def _sparse(b, combo, required):
+    """The states' solver on the sparse saddle system: one SuperLU per state
+    set (the first, every link holding, is the basic system's, already
+    factorized).  Returns solve(kin, sliding, n_link, t_link, f·slip) ->
+    (X, Δ, force scales, length scales) or None (singular)."""
+    kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
+    nl = len(required)
+    F, ua = assembly.load_vector(b, combo)
+    rhs_top = F[free] - b["K_fa"] @ ua[fixed_idx]
+    shift = -(b["H"][fixed_idx].T @ ua[fixed_idx])   # what settlements do to the links
+    H, flex = b["H"], b["flex"]
+    # the saddle matrix as triplets: the top rows, and the link rows that are
+    # kept where a link holds (each state set's matrix is one COO -> CSC)
+    S = b["S"].tocoo()
+    top = S.row < nf
+    top_r, top_c, top_v = S.row[top], S.col[top], S.data[top]
+    link_r, link_c, link_v = S.row[~top] - nf, S.col[~top], S.data[~top]
+    factors = assembly.factors(b, combo)
+    absH = abs(H)
+
+    def solve(kin, sliding, n_link, t_link, f_slip):
+        rhs = np.r_[rhs_top, np.where(kin, kappa * (required + shift), 0.0)]
+        if kin.all():             # every link holds: the basic system, factorized by build
+            sol = b["lu"].solve(rhs)
+        else:
+            # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
+            static = np.flatnonzero(~kin)
+            keep = kin[link_r]
+            rows = np.concatenate([top_r, nf + link_r[keep], nf + static, nf + t_link[sliding]])
+            cols = np.concatenate([top_c, link_c[keep], nf + static, nf + n_link[sliding]])
+            vals = np.concatenate([top_v, link_v[keep], np.full(static.size, kappa),
+                                   kappa * f_slip[sliding]])
+            try:
+                sol = spla.splu(sp.csc_matrix((vals, (rows, cols)),
+                                              shape=(nf + nl, nf + nl))).solve(rhs)
+            except RuntimeError:  # singular: a mechanism in this state set
+                return None
+        if not np.all(np.isfinite(sol)):
+            return None
+        u = ua.copy()
+        u[free] = sol[:nf]
+        X = -kappa * sol[nf:]
+        return (X, H.T @ u + flex * X, absH.T @ assembly.force_terms(b, u, F, factors),
+                absH.T @ np.abs(u) + np.abs(flex * X) + np.abs(required))
+
+    return solve
+
+
+def _link_space(b, combo, required):
+    """The states' solver in the links' space, for few links on many dofs
+    (a tower on 17 contacts: 34 links, 291 dofs): the contact stiffness R
+    (one solve of the basic system per link, from its LU) condenses the
+    frame onto its links, X = R Δ + R_F; each state set is then a dense
+    system in the displacements of the links that do not hold, C R_SS Δ_S =
+    -C (R_SK Δ_K + R_F) with C the static rows (X = 0, X_t ± f X_n = 0).
+    R stays in b: the result is then certified on the LCP itself."""
+    R = b["R"]
+    RF = b["RF"] @ assembly.factors(b, combo)
+    absR = np.abs(R)
+
+    def solve(kin, sliding, n_link, t_link, f_slip):
+        delta = np.where(kin, required, 0.0)
+        S = np.flatnonzero(~kin)
+        if S.size:
+            C = np.zeros((S.size, R.shape[0]))
+            C[np.arange(S.size), S] = 1.0
+            row = {l: k for k, l in enumerate(S)}
+            for l in sliding:
+                C[row[t_link[l]], n_link[l]] = f_slip[l]
+            A = C @ R[:, S]
+            try:
+                delta[S] = np.linalg.solve(A, -C @ (R @ delta + RF))
+            except np.linalg.LinAlgError:
+                return None
+        X = R @ delta + RF
+        if not (np.all(np.isfinite(X)) and np.all(np.isfinite(delta))):
+            return None
+        return X, delta, absR @ np.abs(delta) + np.abs(RF), np.abs(delta) + np.abs(required)
+
+    return solve
 
 
 def _point(frame, b, closed, slip, Zn, delta, t_link, has_t):
