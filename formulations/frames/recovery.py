@@ -122,9 +122,7 @@ class FrameRecovery:
                                                       z[:nc], slip)}
         eq = max(self._equilibrium(b, F, X, u_axes), self._resultant(b, F, X, r_all, u_axes))
         displacements = dict(zip(b["names"], map(tuple, u.reshape(-1, 3).tolist())))
-        k, T, dofs, Fe = b["local"]
-        ends = (np.einsum("mij,mj->mi", k, np.einsum("mij,mj->mi", T, u[dofs]))
-                - Fe @ assembly.factors(b, combo))
+        ends = assembly.member_end_actions(b, u, assembly.factors(b, combo))
         member_forces = dict(zip(self.members, ends))
         ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
         msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
