@@ -339,13 +339,14 @@ def check_conflicts(frame):
 
 class Built(dict):
     """A frame's assembly: K, loads, links, the saddle matrix's LU, ... (see
-    :func:`build`).  The contact stiffness R and the load columns R_F — dense,
+    :func:`build`).  The contact stiffness R (and R_solve, the same before its
+    rounding-level entries are dropped) and the load columns R_F — dense,
     links x links, the cost of a long beam's LCP (1000 spans: 2 000 links, one
     solve per link) — are computed on first use, so a route that never needs
     the LCP's matrix (the sparse active set) never pays for them."""
 
     def __missing__(self, key):
-        if key not in ("R", "RF"):
+        if key not in ("R", "RF", "R_solve"):
             raise KeyError(key)
         self.update(contact_stiffness(self))
         return self[key]
@@ -382,8 +383,15 @@ def build(frame):
                          shape=(nf, fixed_idx.size))
     # The links enter scaled by a typical stiffness kappa, so that the saddle
     # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
-    # the singularity test below is meaningful: X = -kappa y.
-    kappa = float(np.max(np.abs(Kf.diagonal()))) if free.size else 1.0
+    # the singularity test below is meaningful: X = -kappa y.  Links push
+    # nodes along, so kappa is the largest *translational* stiffness: the
+    # largest of all is a rotation's (moment per radian), which in N and mm
+    # is 1e5 times a translation's, and kappa² / k on an elastic contact's
+    # diagonal then made a sound beam look like a mechanism (pivots 3e-14
+    # apart).
+    diag = np.abs(Kf.diagonal())
+    moves = (free % 3) != 2
+    kappa = float(np.max(diag[moves] if moves.any() else diag)) if free.size else 1.0
     Hc = H.tocoo()
     hk = at[Hc.row] >= 0
     Hf = sp.csr_matrix((kappa * Hc.data[hk], (at[Hc.row[hk]], Hc.col[hk])), shape=(nf, H.shape[1]))
@@ -440,8 +448,9 @@ def contact_stiffness(b) -> dict:
     # would turn "this link has no effect" into a random sign — which the
     # trace's collapse proof (a Farkas vector, M'y <= 0 column by column)
     # and the support states would read as data.
+    exact = R.copy()
     R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
-    return {"R": R, "RF": -kappa * sol[nf:, nl:]}
+    return {"R": R, "RF": -kappa * sol[nf:, nl:], "R_solve": exact}
 
 
 def factors(b, combo: dict) -> np.ndarray:

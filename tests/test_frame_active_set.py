@@ -1,0 +1,125 @@
+"""The frames' sparse active set (issue 34): the same equilibrium as the
+exact LCP route (Lemke) on frictional beams and towers, in both of its
+spaces (the links' own on the condensed R, the sparse saddle system); its
+mechanical contact certificate against the LCP's on the same points; and
+the hand-over to the LCP when it finds no consistent states."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from formulations.frames import Frame, active_set
+from qpcontact.core.errors import SolverFailedError
+
+from .test_frames_limits import _tower
+
+
+def _beam(spans, seed, friction=0.3):
+    """Two elements per 6 m span on elastic frictional supports, weight,
+    uplift at a few nodes and a push at the right end."""
+    rng = np.random.default_rng(seed)
+    fr = Frame()
+    n = 2 * spans + 1
+    for k in range(n):
+        fr.add_node(f"N{k}", 3.0 * k, 0.0)
+    for k in range(n - 1):
+        fr.add_distributed_load(fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017), wy=-18.0)
+    fr.add_support("N0", fix=("ux",))
+    for k in range(0, n, 2):
+        fr.add_contact(f"N{k}", normal=(0.0, 1.0), friction=friction if k else 0.0,
+                       stiffness=6e4)
+    for k in rng.choice(np.arange(1, n - 1), size=max(1, spans // 5), replace=False):
+        fr.add_load(f"N{k}", fy=float(rng.uniform(150.0, 300.0)))
+    fr.add_load(f"N{n - 1}", fx=-100.0)
+    return fr
+
+
+def _same(a, b, rtol=1e-9):
+    assert {k: s.state for k, s in a.supports.items()} == \
+        {k: s.state for k, s in b.supports.items()}
+    big = max(abs(s.normal) for s in b.supports.values())
+    for k, s in b.supports.items():
+        assert abs(a.supports[k].normal - s.normal) <= rtol * big, k
+        assert abs(a.supports[k].tangential - s.tangential) <= rtol * big, k
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_both_spaces_agree_with_lemke(seed, monkeypatch):
+    fr = _beam(12, seed)
+    ref = fr.solve(method="lemke")
+    assert ref.ok, ref.message
+    for limit in (0, 10_000):            # the sparse saddle system, the links' space
+        monkeypatch.setattr(active_set, "LINK_SPACE_MAX", limit)
+        r = fr.solve(method="active-set")
+        assert r.ok and r.route.startswith("active set"), r.message
+        _same(r, ref)
+
+
+def test_tower_states_and_forces_agree_with_lemke_below_tipping():
+    fr, _ = _tower()
+    for p in (4.0, 10.0, 14.0):
+        r, ref = fr.solve(p, method="active-set"), fr.solve(p, method="lemke")
+        assert r.ok and ref.ok
+        _same(r, ref)
+
+
+def test_mechanical_certificate_tracks_the_lcp_one(monkeypatch):
+    """The same points judged by the LCP's certificate (R formed) and by the
+    mechanical one (R not formed): both at rounding level, and a point made
+    wrong by moving one contact's opening is refused by both."""
+    monkeypatch.setattr(active_set, "LINK_SPACE_MAX", 0)
+    fr = _beam(20, 7)
+    b = fr.build()
+    combo = fr._combo(1.0, None, b)
+    z, _ = active_set.solve_active_set(fr, b, combo)
+    mech = fr._result_from_z(z, combo, "", b=b)
+    fr.lcp(b)                                      # forms R: the LCP's certificate from now on
+    lcp = fr._result_from_z(z, combo, "", b=b)
+    assert mech.ok and lcp.ok
+    assert mech.lcp_error < 1e-12 and lcp.lcp_error < 1e-12
+    bad = z.copy()
+    k = int(np.argmax(z[:len(fr.contacts)]))       # an open contact, closed by force
+    bad[k] = 0.0
+    b2 = fr.build()
+    wrong_mech = fr._result_from_z(bad, combo, "", b=b2)
+    fr.lcp(b2)
+    wrong_lcp = fr._result_from_z(bad, combo, "", b=b2)
+    assert not wrong_mech.ok and not wrong_lcp.ok
+    assert wrong_mech.lcp_error > 1e-3 and wrong_lcp.lcp_error > 1e-3
+
+
+def test_no_consistent_states_hands_over_to_the_lcp(monkeypatch):
+    fr = _beam(6, 3)
+    ref = fr.solve(method="lemke")
+    monkeypatch.setattr(active_set, "MAX_ITERATIONS", 1)    # stops before it settles
+    r = fr.solve()
+    assert r.ok and not r.route.startswith("active set"), r.route
+    _same(r, ref)
+    with pytest.raises(SolverFailedError, match="active set found no consistent"):
+        fr.solve(method="active-set")
+
+
+def test_badly_scaled_units_give_the_same_states():
+    """The same beam in N and mm as in kN and m: states equal, forces x1000."""
+    def beam(force, length):
+        fr = Frame(units=("N", "mm") if force == 1e3 else ("kN", "m"))
+        for k in range(9):
+            fr.add_node(f"N{k}", 3.0 * k * length, 0.0)
+        for k in range(8):
+            m = fr.add_beam(f"N{k}", f"N{k + 1}", 30e6 * force / length ** 2, 0.32 * length ** 2,
+                            0.017 * length ** 4)
+            fr.add_distributed_load(m, wy=-18.0 * force / length)
+        fr.add_support("N0", fix=("ux",))
+        for k in range(0, 9, 2):
+            fr.add_contact(f"N{k}", friction=0.3 if k else 0.0, stiffness=6e4 * force / length)
+        fr.add_load("N3", fy=260.0 * force)
+        fr.add_load("N8", fx=-30.0 * force)
+        return fr.solve(method="active-set")
+
+    a, b = beam(1.0, 1.0), beam(1e3, 1e3)
+    assert a.ok and b.ok, (a.message, b.message)
+    assert {k: s.state for k, s in a.supports.items()} == \
+        {k: s.state for k, s in b.supports.items()}
+    for k, s in a.supports.items():
+        assert abs(b.supports[k].normal - 1e3 * s.normal) <= 1e-9 * 1e3 * 300
