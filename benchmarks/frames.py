@@ -490,6 +490,8 @@ def main(argv=None) -> int:
     ap.add_argument("--no-opensees", action="store_true")
     ap.add_argument("--no-cold", action="store_true", help="skip the fresh-interpreter start")
     args = ap.parse_args(argv)
+    # each row as soon as it is measured: a slow model shows where it is
+    sys.stdout.reconfigure(line_buffering=True)
     peers = {}
     for name, module, flag in (("OpenSees", "openseespy.opensees", args.no_opensees),
                                ("PyNite", "Pynite", args.no_pynite)):
