@@ -7,6 +7,8 @@ into the random problems, and the QP backends."""
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -397,3 +399,14 @@ def test_enumeration_finds_what_lemke_misses_and_refuses_large_n():
     # proof step turns that into a Farkas certificate checked from the data
     none = qpcontact.solve(LCP(np.array([[-1.0]]), np.array([-1.0])), "enumeration")
     assert not none.ok and none.status == "infeasible" and "exhausted" in none.message
+
+
+def test_dense_lemke_stops_at_the_time_limit():
+    """Fathi's family takes 2^n pivots; with the pivot cap lifted, the dense
+    form stops at solve()'s time_limit (a frame's 3003-unknown LCP ran for
+    12 minutes under its pivot cap alone)."""
+    M, q = fathi_family(30)
+    t = time.perf_counter()
+    s = qpcontact.solve(LCP(M, q), "lemke", time_limit=0.5, max_pivots=10 ** 9)
+    assert time.perf_counter() - t < 3.0
+    assert s.status == "time_limit" and not s.ok, s.message

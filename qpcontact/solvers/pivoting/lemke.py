@@ -143,17 +143,17 @@ def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     form's estimates miss on badly scaled data (qpcontact stress's LCP
     families, n <= 100, forced sparse: 2 of 390 certified by the dense form
     only, both with gaps over 1e0..1e12).  ``time_limit`` (s, from
-    :func:`qpcontact.solve`) bounds the sparse form, checked at each pivot
-    (the dense form, at most DENSE_TABLEAU_LIMIT unknowns, is bounded by its
-    pivot cap)."""
+    :func:`qpcontact.solve`) bounds both forms, checked at each pivot (the
+    dense form's pivot cap alone let a 1000-span frame's 3003-unknown LCP,
+    restarting on secondary rays, run for over 12 minutes)."""
     from ...core.accuracy import DEFAULT_CERTIFY_TOL
     from ...judge.lcp import certify_lcp
 
     check_options("lemke", options, _OPTIONS)
     n = problem.n
-    if not (n > DENSE_TABLEAU_LIMIT or (problem.is_sparse and n >= SPARSE_FROM)):
-        return _run_lemke(problem, options, sparse=False)
     deadline = None if time_limit is None else time.perf_counter() + time_limit
+    if not (n > DENSE_TABLEAU_LIMIT or (problem.is_sparse and n >= SPARSE_FROM)):
+        return _run_lemke(problem, options, sparse=False, deadline=deadline)
     res = _run_lemke(problem, options, sparse=True, deadline=deadline)
     if n > DENSE_FALLBACK_MAX or res.status == "time_limit":
         return res
@@ -161,7 +161,7 @@ def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     error = certify_lcp(problem, res.x).error if res.x is not None else np.inf
     if error <= tol:
         return res
-    dense = _run_lemke(problem, dict(options, restarts=0), sparse=False)
+    dense = _run_lemke(problem, dict(options, restarts=0), sparse=False, deadline=deadline)
     dense.iterations = (dense.iterations or 0) + (res.iterations or 0)
     dense.stats["sparse_form"] = {"status": res.status or res.backend_status,
                                   "pivots": res.iterations}
@@ -224,7 +224,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
                                     backend_message=f"SuperLU found a basis singular ({exc})",
                                     iterations=total, stats={"pivots": total})
         else:
-            out = lemke(Ms, qs, d * rs, max_pivots)
+            out = lemke(Ms, qs, d * rs, max_pivots, deadline)
         total += out.pivots
         tried.append(d)
         # A ray proves infeasibility for copositive-plus M in exact arithmetic;

@@ -8,6 +8,7 @@ The driver, with the method's outcomes and guarantees, is :mod:`.lemke`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import time
 import warnings
 
 import numpy as np
@@ -157,8 +158,10 @@ def lex_smallest(V: np.ndarray) -> int:
     return int(alive[0])
 
 
-def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> LemkeOutcome:
+def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int,
+          deadline=None) -> LemkeOutcome:
     """Lemke's method on dense (already scaled) data; see the module docstring.
+    Stops with "time_limit" once time.perf_counter() passes ``deadline``.
 
     Revised form: T = [B^-1 | x] (n x (n + 1)) holds the basis inverse and the
     basic values; each entering column is B^-1 times a column of [I, -M, -d],
@@ -240,6 +243,8 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int) -> Lemke
             return ray_outcome(basis, x, col, entering, pivots, anchors=scales.anchors)
         if pivots >= max_pivots:
             return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
+        if deadline is not None and time.perf_counter() > deadline:
+            return LemkeOutcome("time_limit", None, np.zeros(n, bool), pivots)
         pivot(col, r)
         leaving = int(basis[r])
         basis[r] = entering
