@@ -28,8 +28,11 @@ positive, bending moment M positive when it compresses the member's +y fibre
 Layout: :mod:`.model` (the Frame: model building; its solving in
 :mod:`.solving`, results construction in :mod:`.recovery`, the trace in
 :mod:`.tracing`), :mod:`.loads` (cases, member loads, combinations),
-:mod:`.assembly` (stiffness, links, the contact LCP), :mod:`.results`
-(results, envelopes, tables), :mod:`.drawing`, :mod:`.examples`.
+:mod:`.assembly` (stiffness, links, the contact LCP), :mod:`.active_set`
+(the contact problem on the sparse system, "auto"'s first route),
+:mod:`.results` (results, envelopes), :mod:`.tables`, :mod:`.notation`
+(numbers as engineers read them), :mod:`.drawing` (with :mod:`.labels`,
+:mod:`.load_arrows`, :mod:`.trace_plot`), :mod:`.examples`.
 
 Only the effects the model calls for: contacts with f = 0 build no tangential
 link at all, and a frame without friction builds the normal-only LCP
@@ -41,10 +44,12 @@ from .assembly import DOFS
 from .examples import demo, instances, portal_example
 from .loads import CONSTANT, VARIABLE, MemberLoad
 from .model import Frame
-from .recovery import EQUILIBRIUM_FLOOR, STATE_RTOL
+from .recovery import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION, STATE_RTOL,
+                       LargeDisplacementWarning)
 from .results import (STATES, CombinationResults, FrameEvent, FrameResult, FrameTrace,
                       SupportResult)
 
 __all__ = ["Frame", "FrameResult", "FrameTrace", "FrameEvent", "SupportResult",
            "CombinationResults", "MemberLoad", "STATES", "EQUILIBRIUM_FLOOR", "STATE_RTOL",
+           "SMALL_DISPLACEMENT", "SMALL_ROTATION", "LargeDisplacementWarning",
            "CONSTANT", "VARIABLE", "DOFS", "demo", "instances", "portal_example"]
