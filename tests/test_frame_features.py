@@ -327,3 +327,23 @@ def test_displacements_beyond_small_displacement_theory_are_reported():
         r = _cantilever(L, 1.5 * P_limit)
     _close(r.displacement_ratio, 1.5 * SMALL_DISPLACEMENT, rtol=1e-6)
     assert "beyond small-displacement theory" in r.message
+
+
+def test_deflection_extremes_of_a_simple_beam():
+    """On two contacts under a uniform load: the largest deflection is
+    5wL⁴/(384EI), at midspan, in extremes() and in the members table."""
+    L, w = 7.0, 11.0
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", L, 0.0)
+    fr.add_beam("A", "B", E, A, I, name="AB")
+    fr.add_support("A", fix=("ux",))
+    fr.add_contact("A")
+    fr.add_contact("B")
+    fr.add_distributed_load("AB", wy=-w)
+    r = fr.solve()
+    value, x = r.extremes("AB")["v"]["min"]
+    _close(value, -5 * w * L ** 4 / (384 * EI))
+    _close(x, L / 2, scale=L)
+    row = r.rows("members", digits=None)[0]
+    assert row["v_min [m]"] == value and row["x(v_min) [m]"] == x

@@ -302,16 +302,16 @@ def section_sums(loads, x: np.ndarray, c: float, s: float):
         span = load.b - load.a
         if span <= 0:
             continue
-        for k, xk in enumerate(x):
-            top = min(xk, load.b)
-            if top <= load.a:
-                continue
-            xs, ws = _gauss(load.a, top)
-            t = (xs - load.a) / span
-            qx, qy = wx1 + t * (wx2 - wx1), wy1 + t * (wy2 - wy1)
-            fx[k] += ws @ qx
-            fy[k] += ws @ qy
-            mo[k] += ws @ (qy * (xk - xs))
+        # every section at once: the load on [a, min(x, b)] by one Gauss rule each
+        top = np.clip(x, load.a, load.b)[:, None]
+        t_, w_ = _GAUSS
+        xs = 0.5 * (top - load.a) * t_ + 0.5 * (top + load.a)
+        ws = 0.5 * (top - load.a) * w_
+        t = (xs - load.a) / span
+        qx, qy = wx1 + t * (wx2 - wx1), wy1 + t * (wy2 - wy1)
+        fx += (ws * qx).sum(axis=1)
+        fy += (ws * qy).sum(axis=1)
+        mo += (ws * qy * (x[:, None] - xs)).sum(axis=1)
     return fx, fy, mo
 
 

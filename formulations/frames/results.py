@@ -97,12 +97,15 @@ class FrameResult:
         return x, c * u - s * v, s * u + c * v
 
     def extremes(self, member: str) -> dict:
-        """{"N"|"V"|"M": {"max": (value, x), "min": (value, x)}} along a member."""
+        """{"N"|"V"|"M"|"v": {"max": (value, x), "min": (value, x)}} along a
+        member; "v" is the deflection across its axis (member axes,
+        :meth:`deflection`)."""
         x, N, V, M = self.diagram(member, 201)
+        xv, _, v = self.deflection(member, 201)
         out = {}
-        for key, arr in (("N", N), ("V", V), ("M", M)):
-            out[key] = {"max": (float(arr.max()), float(x[arr.argmax()])),
-                        "min": (float(arr.min()), float(x[arr.argmin()]))}
+        for key, at, arr in (("N", x, N), ("V", x, V), ("M", x, M), ("v", xv, v)):
+            out[key] = {"max": (float(arr.max()), float(at[arr.argmax()])),
+                        "min": (float(arr.min()), float(at[arr.argmin()]))}
         return out
 
     def end_forces(self, member: str) -> dict:

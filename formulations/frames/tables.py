@@ -10,7 +10,8 @@ every numeric column names its unit in its header ("Fy [kN]", "M_i [kN·m]",
   bilateral support, spring and contacts on the structure (global axes),
   with each kind's part when the frame has more than one kind;
 * ``members``: end forces N, V, M at i and j and the extremes of N, V, M
-  along the member with where they occur (the diagrams' convention);
+  and of the deflection v across the member, with where they occur (the
+  diagrams' convention);
 * ``displacements``: ux, uy, rz per node.
 
 Over combinations: the same tables with a "combination" column, the
@@ -49,6 +50,9 @@ TABLES = ("supports", "reactions", "members", "displacements")
 COMBINED = ("envelope", "envelope_reactions", "combinations")
 KINDS = ("support", "spring", "contact")
 QUANTITIES = ("N", "V", "M")
+#: what the members' tables give extremes of: the internal forces and the
+#: deflection across the member (v, a length)
+EXTREMES = QUANTITIES + ("v",)
 FORCES = ("Fx", "Fy", "Mz")
 
 _UNIT = re.compile(r"\[([^\]]+)\]$")
@@ -119,7 +123,7 @@ def rows(frame, result, table: str) -> list:
         return []
     force, length = frame.units
     unit = {"F": f"[{force}]", "M": f"[{force}·{length}]", "L": f"[{length}]",
-            "N": f"[{force}]", "V": f"[{force}]"}
+            "N": f"[{force}]", "V": f"[{force}]", "v": f"[{length}]"}
     if table == "supports":
         return [{"support": k, "state": s.state, f"X_n {unit['F']}": s.normal,
                  f"X_t {unit['F']}": s.tangential, f"opening {unit['L']}": s.opening,
@@ -134,7 +138,7 @@ def rows(frame, result, table: str) -> list:
             for end in ("i", "j"):
                 for q, v in zip(QUANTITIES, ends[end]):
                     row[f"{q}_{end} {unit[q]}"] = v
-            for q in QUANTITIES:
+            for q in EXTREMES:
                 for side in ("max", "min"):
                     row[f"{q}_{side} {unit[q]}"] = ext[q][side][0]
                     row[f"x({q}_{side}) {unit['L']}"] = ext[q][side][1]
@@ -202,15 +206,15 @@ def envelope(results: dict) -> dict:
 def envelope_rows(frame, env: dict, table: str) -> list:
     """Raw rows of ``envelope`` (members) or ``envelope_reactions`` (nodes)."""
     force, length = frame.units
-    unit = {"N": force, "V": force, "M": f"{force}·{length}", "Fx": force, "Fy": force,
-            "Mz": f"{force}·{length}"}
+    unit = {"N": force, "V": force, "M": f"{force}·{length}", "v": length, "Fx": force,
+            "Fy": force, "Mz": f"{force}·{length}"}
     out = []
     if table == "envelope":
         for member, per in env.items():
             if member == "supports":
                 continue
             row = {"member": member}
-            for q in QUANTITIES:
+            for q in EXTREMES:
                 for side in ("max", "min"):
                     value, x, name = per[q][side]
                     row[f"{q}_{side} [{unit[q]}]"] = value
