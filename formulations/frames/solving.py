@@ -90,8 +90,8 @@ class FrameSolving:
         if method in ("auto", "active-set"):
             found = solve_active_set(self, b, combo)
             if found is not None:
-                res = self._result_from_z(found[0], combo, f"active set ({found[1]} "
-                                          "iterations)", b=b, tol=tol)
+                sets = f"{found[1]} state set" + ("s" if found[1] > 1 else "")
+                res = self._result_from_z(found[0], combo, f"active set ({sets})", b=b, tol=tol)
                 if res.ok:
                     return res
             if method == "active-set":
