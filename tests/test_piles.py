@@ -171,9 +171,10 @@ def test_the_stall_detector_ends_a_run_that_cannot_converge():
 
 def test_nsgs_newton_and_auto_keep_the_time_limit():
     """On a compact pile where every method stalls: "nsgs-newton" stops at
-    time_limit, and "auto" shares its limit between its links — Lemke, which
-    does not watch the clock, is killed at its share — and names each link
-    with where it stopped."""
+    time_limit, and "auto" shares its limit between its links — Lemke stops
+    at its share, the fixed points pass what is left of theirs to each
+    subproblem's backend (a 5000-contact SOCP took 1.7 s of a 0.5 s share)
+    — and names each link with where it stopped."""
     p = disc_pile(5000, seed=0, agitation=0.1, polydispersity=0.005).problem
     t = time.perf_counter()
     s = qpcontact.solve(p, "nsgs-newton", accuracy=1e-12, time_limit=1.0)
@@ -186,7 +187,7 @@ def test_nsgs_newton_and_auto_keep_the_time_limit():
     assert took < 4.0 * 1.5 + 1.0, took
     assert not s.ok and s.r is not None, s.message
     assert "links: nsgs-newton: error" in s.message
-    assert "lemke: time_limit" in s.message and "not run" in s.message, s.message
+    assert "lemke: time_limit" in s.message, s.message
     assert any(ln.startswith("auto: lemke (up to") for ln in lines)
     assert any(ln.startswith("nsgs-newton: ") for ln in lines)
 

@@ -61,7 +61,8 @@ def _clarabel(P, c, A, b, nc, dim, tol, options, nonneg=None):
         [clarabel.SecondOrderConeT(dim)] * nc
     sol = clarabel.DefaultSolver(sp.triu(P, format="csc"), c, A, b, cones, settings).solve()
     status = str(sol.status)
-    usable = status in ("Solved", "AlmostSolved", "MaxIterations", "InsufficientProgress")
+    usable = status in ("Solved", "AlmostSolved", "MaxIterations", "MaxTime",
+                        "InsufficientProgress")
     if status in ("DualInfeasible", "AlmostDualInfeasible"):   # x is then a ray: unbounded
         return np.asarray(sol.x), None, "unbounded", int(sol.iterations)
     if not usable:
@@ -94,6 +95,8 @@ def _scs(P, c, A, b, nc, dim, tol, options, nonneg=None):
 #: come before the n_contacts second-order cones of size dim.  Status "unbounded": x is the
 #: backend's ray (the objective decreases without bound along it), no multipliers.
 CONE_BACKENDS = {"clarabel": _clarabel, "scs": _scs}
+#: each cone backend's own time-limit setting (seconds)
+_TIME_SETTING = {"clarabel": "time_limit", "scs": "time_limit_secs"}
 
 
 class Subproblem:
@@ -139,13 +142,16 @@ class Subproblem:
         self.inner_tol = float(options.pop("inner_tol", 1e-10))
         self.inner_iterations = 0
 
-    def solve(self, c, tresca=None):
+    def solve(self, c, tresca=None, time_left=None):
+        """(r, status) of one subproblem; ``time_left`` (s) bounds the
+        backend's own run (a 5000-contact SOCP takes 1.7 s, so a fixed point
+        checking its limit between subproblems overran "auto"'s share 3x)."""
         p = self.problem
         if self.qp is not None:
-            return self._solve_qp(c, tresca)
+            return self._solve_qp(c, tresca, time_left)
         A, b = _cone_rows(p.dim, p.mu, tresca)
         r, z, status, its = CONE_BACKENDS[self.backend](
-            self.P, c, A, b, p.n_contacts, p.dim, self.inner_tol, self.backend_options)
+            self.P, c, A, b, p.n_contacts, p.dim, self.inner_tol, self._timed(time_left))
         self.inner_iterations += its
         return (None if status == "unbounded" else r), status
 
@@ -160,7 +166,14 @@ class Subproblem:
         vals = np.stack([-p.mu, np.ones(nc), -p.mu, -np.ones(nc)], 1).ravel()
         return sp.csc_matrix((vals, (rows, cols)), shape=(2 * nc, self.size))
 
-    def _solve_qp(self, c, tresca):
+    def _timed(self, time_left):
+        """The backend's settings, with its own time limit where one is given."""
+        options = dict(self.backend_options)
+        if time_left is not None:
+            options[_TIME_SETTING[self.backend]] = max(float(time_left), 0.01)
+        return options
+
+    def _solve_qp(self, c, tresca, time_left=None):
         """The 2-D subproblem as a qpsolvers.Problem: r_N >= 0 and either the
         cone's two rows ∓r_T − μ r_N <= 0 or Tresca's bounds |r_T| <= g."""
         import qpsolvers
@@ -176,8 +189,9 @@ class Subproblem:
         else:
             lb[tangent], ub[tangent] = -tresca, tresca
         try:
+            limit = {} if time_left is None else {"time_limit": max(float(time_left), 0.01)}
             sol = self.engine.solve(qpsolvers.Problem(self.P, c, G, h, lb=lb, ub=ub), self.qp,
-                                    accuracy=self.inner_tol, **self.backend_options)
+                                    accuracy=self.inner_tol, **self.backend_options, **limit)
         except NotConvexError:
             raise NotConvexError(
                 f"W is not positive semidefinite, so the subproblems are nonconvex QPs, which "
@@ -219,12 +233,12 @@ class GlobalSubproblem(Subproblem):
         self.m = d * problem.n_contacts
         self.size = self.m + g["M"].shape[0]
 
-    def solve(self, shift, tresca=None):
+    def solve(self, shift, tresca=None, time_left=None):
         p, g = self.problem, self.problem.global_data
         b = self.D * (g["w"] + shift)
         v, z, status, its = CONE_BACKENDS[self.backend](
             self.P, -g["f"], self.A, b, p.n_contacts, p.dim, self.inner_tol,
-            self.backend_options, nonneg=0)
+            self._timed(time_left), nonneg=0)
         self.inner_iterations += its
         if status == "unbounded":
             self.ray = v

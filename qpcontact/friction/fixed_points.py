@@ -71,7 +71,8 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
     status = "not started"
     for k in range(1, max_outer + 1):
         c, tresca = update(r)
-        r_new, status = sub.solve(c, tresca)
+        r_new, status = sub.solve(c, tresca, None if time_limit is None else
+                                  time_limit - (time.perf_counter() - start))
         if r_new is None:
             break
         r = r_new
