@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from formulations.frames import Frame, active_set
-from qpcontact.core.errors import SolverFailedError
+from qpcontact.core.errors import NoSolutionError, SolverFailedError
 
 from .test_frames_limits import _tower
 
@@ -123,3 +123,60 @@ def test_badly_scaled_units_give_the_same_states():
         {k: s.state for k, s in b.supports.items()}
     for k, s in a.supports.items():
         assert abs(b.supports[k].normal - 1e3 * s.normal) <= 1e-9 * 1e3 * 300
+
+
+def _lever(slope):
+    """A lever pinned at N0 on turned axes, resting on three contacts with
+    gaps, lifted at its tip harder than its load at N1 holds it down: no
+    equilibrium exists (it tips over about N2)."""
+    fr = Frame()
+    for k in range(5):
+        fr.add_node(f"N{k}", 2.0 * k * np.cos(slope), 2.0 * k * np.sin(slope))
+    for k in range(4):
+        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02, hinge_i=(k == 1))
+    fr.add_support("N0", fix=("ux", "uy"), angle=25.0)
+    fr.add_contact("N2", normal=(0.22, 1), gap=1e-3, stiffness=1e5)
+    fr.add_contact("N3", normal=(-0.04, 1), gap=1e-3, stiffness=1e5)
+    fr.add_contact("N4", normal=(0.28, 1), friction=0.3, gap=1e-3)
+    fr.add_load("N4", fy=32.4, fx=2.05)
+    fr.add_load("N1", fy=-10.0)
+    return fr
+
+
+@pytest.mark.parametrize("slope", [0.0, 0.0113, 0.3])
+def test_a_mechanism_is_no_answer(slope, monkeypatch):
+    """A state set that leaves a mechanism is singular only to rounding when
+    the frame is not square to the axes; solved anyway it gave a rigid
+    motion of 2.7e11 m with ok=True (review of issue 34).  Both spaces must
+    refuse it, and "auto" must end in Lemke's proof."""
+    for limit in (0, 10_000):
+        monkeypatch.setattr(active_set, "LINK_SPACE_MAX", limit)
+        fr = _lever(slope)
+        with pytest.raises(SolverFailedError, match="active set found no consistent"):
+            fr.solve(method="active-set")
+        with pytest.raises(NoSolutionError, match="tips over"):
+            fr.solve()
+
+
+def test_mechanical_certificate_refuses_a_lifted_tip_beside_a_stub():
+    """A cantilever ending in a 1 cm stub on a rigid contact, given a point
+    with the tip lifted 1 m: the LCP's certificate says 1.0; the mechanical
+    one, with a link stiffness bounded by the node's h'|K|h (1e9 times the
+    true R_ll beside the stub), said 2.5e-10.  With R_ll it refuses it."""
+    fr = Frame()
+    for k in range(11):
+        fr.add_node(f"N{k}", float(k), 0.0)
+    fr.add_node("T", 10.01, 0.0)
+    for k in range(10):
+        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02)
+    fr.add_beam("N10", "T", 30e6, 0.3, 0.02)
+    fr.add_support("N0")
+    fr.add_contact("T")
+    fr.add_load("T", fy=-10.0)
+    right = fr.solve()
+    assert right.ok and right.supports["T"].state == "closed"
+    b = fr.build()
+    combo = fr._combo(1.0, None, b)
+    for lift in (0.01, 1.0):
+        r = fr._result_from_z(np.array([lift]), combo, "wrong", b=b, tol=1e-6)
+        assert "R" not in b and not r.ok and r.lcp_error > 0.1, r.message

@@ -218,8 +218,20 @@ def assemble(frame):
     for node, dofs_fixed in frame.fixed.items():
         for d in dofs_fixed:
             fixed[idx[node] + DOFS.index(d)] = True
-    # a rotation no member resists (only hinged ends, or no member) is not a dof
-    fixed |= np.isclose(K.diagonal(), 0.0) & (np.arange(N) % 3 == 2)
+    # a rotation no member resists (only hinged ends, or no member) is not a
+    # dof — exactly zero: a hinge condenses to exact zeros, and a tiny
+    # rotational spring is a spring.  A moment applied there has nothing to
+    # act on; it is refused rather than lost
+    free_spin = (K.diagonal() == 0.0) & (np.arange(N) % 3 == 2) & ~fixed
+    lost = np.flatnonzero(free_spin & np.any(F != 0.0, axis=1))
+    if lost.size:
+        node = names[lost[0] // 3]
+        raise InvalidProblemError(
+            f"node {node!r}: a moment is applied where no member and no support resists "
+            "rotation (only released ends meet there), so it would act on nothing; put it "
+            "on a member end that is not released (add_point_load(member, a, mz=...)) or "
+            "release one end fewer")
+    fixed |= free_spin
     # per member, for the results: stiffness, rotation, dofs, and the
     # equivalent nodal loads of every case (member axes), (m, 6, cases)
     return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn
@@ -337,6 +349,23 @@ def check_conflicts(frame):
                     "remove one of them")
 
 
+#: a saddle matrix whose LU pivots span more than this is singular: a
+#: mechanism, which rounding would otherwise answer with a rigid motion of
+#: 1e11 m that every scaled check passes
+SINGULAR_PIVOTS = 1e-13
+
+
+def regular_lu(S):
+    """SuperLU of S, or None where S is singular (exactly, or its pivots
+    spanning more than 1/SINGULAR_PIVOTS)."""
+    try:
+        lu = spla.splu(S)
+    except RuntimeError:   # exactly singular
+        return None
+    piv = np.abs(lu.U.diagonal())
+    return lu if piv.size and piv.min() > SINGULAR_PIVOTS * piv.max() else None
+
+
 class Built(dict):
     """A frame's assembly: K, loads, links, the saddle matrix's LU, ... (see
     :func:`build`).  The contact stiffness R (and R_solve, the same before its
@@ -410,12 +439,8 @@ def build(frame):
                       shape=(nf + nl, nf + nl))
     # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
     # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
-    try:
-        lu = spla.splu(S)
-        piv = np.abs(lu.U.diagonal())
-    except RuntimeError:   # exactly singular
-        lu, piv = None, np.zeros(1)
-    if lu is None or not piv.min() > 1e-13 * piv.max():
+    lu = regular_lu(S)
+    if lu is None:
         raise InvalidProblemError(mechanism_message(S, free, names, nf))
     springs = np.zeros(N)
     for node, ks in frame.springs.items():

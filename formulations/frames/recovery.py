@@ -84,9 +84,10 @@ class FrameRecovery:
         r_glob = assembly.to_global(b, np.where(b["fixed"], r_all, 0.0))
         reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
                      for node in b["names"] if node in self.fixed}
+        # what meets at each dof: the members' end forces, springs, loads
+        ft = assembly.force_terms(b, u, F, assembly.factors(b, combo))
         if lcp is None and "R" not in b:
-            cert_error, zeta, sigma = self._contact_certificate(
-                b, z, X, u, assembly.force_terms(b, u, F, assembly.factors(b, combo)), W, P, g)
+            cert_error, zeta, sigma = self._contact_certificate(b, z, X, u, ft, W, P, g)
         else:
             if lcp is None:
                 M, Q, q_gap, *_ = assembly.lcp_matrices(self, b)
@@ -120,7 +121,7 @@ class FrameRecovery:
         supports = {key: SupportResult(str(st), float(a), float(t_), float(o), float(sp_))
                     for key, st, a, t_, o, sp_ in zip(self._support_keys(), states, xn, xt,
                                                       z[:nc], slip)}
-        eq = max(self._equilibrium(b, F, X, u_axes), self._resultant(b, F, X, r_all, u_axes))
+        eq = max(self._equilibrium(b, F, X, u_axes), self._resultant(b, F, X, r_all, u_axes, ft))
         displacements = dict(zip(b["names"], map(tuple, u.reshape(-1, 3).tolist())))
         ends = assembly.member_end_actions(b, u, assembly.factors(b, combo))
         member_forces = dict(zip(self.members, ends))
@@ -172,16 +173,19 @@ class FrameRecovery:
         lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
         # the LCP's scale of a link force holds the force its own link
         # displacement makes, R_ll |Δ_l|, which the rounding of the solve
-        # follows; here R_ll is bounded by the node's stiffness along the link,
-        # h'|K|h, and by an elastic contact's own spring (a lifted stretch of
-        # a foundation beam: X_n = -4e-10 against node forces of 1e-9, with
-        # R_ll |Δ| = 2e4 as in the LCP's |R||Δ|)
-        delta = np.abs(P @ z - g)
-        k_node = np.asarray(absH.multiply(abs(b["K"]) @ absH).sum(axis=0)).ravel()
-        flex = b["flex"]
-        k_link = np.where(flex > 0, np.minimum(k_node, 1.0 / np.where(flex > 0, flex, 1.0)),
-                          k_node)
-        forces = forces + k_link * delta
+        # follows: a lifted stretch of a foundation beam had X_n = -4e-10
+        # from rounding against node forces of 1e-9, and R_ll |Δ| = 2e4 as in
+        # the LCP's |R||Δ|.  R_ll is read off the basic system's LU, one solve
+        # per link that moves (a bound such as the node's stiffness h'|K|h was
+        # 1e9 times too large beside a 1 cm stub, and passed a tip lifted 1 m)
+        delta = P @ z - g
+        moving = np.flatnonzero(delta)
+        if moving.size:
+            nf, kappa = b["nf"], b["kappa"]
+            unit = np.zeros((nf + len(delta), moving.size))
+            unit[nf + moving, np.arange(moving.size)] = kappa
+            R_ll = np.abs(kappa * b["lu"].solve(unit)[nf + moving, np.arange(moving.size)])
+            forces[moving] += R_ll * np.abs(delta[moving])
         forces = forces + assembly.R_ROUNDING * forces.max(initial=0.0)
         lengths = lengths + assembly.R_ROUNDING * lengths.max(initial=0.0)
         sigma = abs(W) @ forces
@@ -211,7 +215,7 @@ class FrameRecovery:
         return max(_beyond_rounding(res[~moment], scale[~moment]),
                    _beyond_rounding(res[moment], scale[moment]))
 
-    def _resultant(self, b, F, X, r_all, u):
+    def _resultant(self, b, F, X, r_all, u, force_terms):
         """The frame's global statics: Σ forces and Σ moments (about the nodes'
         centroid) of the loads, contact forces, bilateral reactions and
         springs, each equation against the sum of the absolute values of its
@@ -222,15 +226,17 @@ class FrameRecovery:
         rigid motion makes huge while K u stays zero — a Tresca iterate that
         lifted a frame resting on its contacts by 2e9 m passed it and the LCP
         certificate, and fails here by the weight its "separated" supports
-        do not carry."""
+        do not carry.  For the same reason a reaction is sized by the forces
+        that meet at its dof (``force_terms``: members' end forces, springs,
+        loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
+        of 1e11 m had its wrong pin reaction pass."""
         xy = np.array([self.nodes[nd] for nd in b["names"]])
         xy = xy - xy.mean(axis=0)
         absHX = abs(b["H"]) @ np.abs(X)
         terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0)]
         # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
-        # H X at its dof) by |K||u| + |F| + |H||X|
-        size = (np.abs(F) + absHX
-                + np.where(b["fixed"], abs(b["K"]) @ np.abs(u) + np.abs(F) + absHX, 0.0))
+        # H X at its dof) by the forces meeting there and |H||X|
+        size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
         if b["Tn"] is not None:   # sums of forces are taken in global axes
             terms = [b["Tn"].T @ t for t in terms]
             size = abs(b["Tn"]).T @ size
@@ -248,10 +254,14 @@ class FrameRecovery:
         lx, ly = np.abs(xy[:, 0]), np.abs(xy[:, 1])
         res = np.abs([fx.sum(), fy.sum(), (mz + xy[:, 0] * fy - xy[:, 1] * fx).sum()])
         scale = np.array([ax.sum(), ay.sum(), (am + lx * ay + ly * ax).sum()])
-        big_f = max(ax.max(initial=0.0), ay.max(initial=0.0))
         big_m = (am + lx * ay + ly * ax).max(initial=0.0)
+        # forces carry the rounding of the moments they balance too (a frame
+        # loaded by a moment alone has shears that are zero but for it)
+        size_xy = max(float(np.hypot(*np.ptp(xy, axis=0))), 1e-300)
+        big_f = max(ax.max(initial=0.0), ay.max(initial=0.0), am.max(initial=0.0) / size_xy)
         # every term of a sum carries its own rounding (R_ROUNDING of the largest)
-        n_f, n_m = max(np.count_nonzero(ax), np.count_nonzero(ay)), np.count_nonzero(size)
+        n_f = max(np.count_nonzero(ax), np.count_nonzero(ay), 1)
+        n_m = np.count_nonzero(size)
         return max(_beyond_rounding(res[:2], scale[:2], n_f * big_f),
                    _beyond_rounding(res[2:], scale[2:], n_m * big_m))
 
