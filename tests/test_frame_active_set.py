@@ -1,8 +1,10 @@
 """The frames' sparse active set (issue 34): the same equilibrium as the
-exact LCP route (Lemke) on frictional beams and towers, in both of its
-spaces (the links' own on the condensed R, the sparse saddle system); its
-mechanical contact certificate against the LCP's on the same points; and
-the hand-over to the LCP when it finds no consistent states."""
+exact LCP route (Lemke) on frictional beams and towers where it is unique
+(with friction it need not be: docs/frames.md), in both of its spaces (the
+links' own on the condensed R, the sparse saddle system); its mechanical
+contact certificate against the LCP's on the same points, and on wrong
+points; no answer where a state set leaves a mechanism; and the hand-over
+to the LCP when it finds no consistent states."""
 
 from __future__ import annotations
 

@@ -93,8 +93,6 @@ class FrameRecovery:
                 M, Q, q_gap, *_ = assembly.lcp_matrices(self, b)
                 lcp = assembly.combination_lcp(M, Q, q_gap, b, combo)
             cert_error = certify_lcp(lcp, z).error
-            # each state decided on the component's own scale (the certificate's):
-            # X_n against the terms it is made of, a slip part against its own size
             zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
         u_axes, u = u, assembly.to_global(b, u)
         ca = assembly.contact_arrays(self, b)

@@ -84,7 +84,7 @@ def _refined(lcp, M: np.ndarray, z_tab: np.ndarray, basic_z: np.ndarray) -> np.n
 REGULARISED_SHIFTS = tuple(10.0 ** -k for k in range(1, 13))
 
 
-def _regularised(problem, M, Ms, qs, cs, max_pivots):
+def _regularised(problem, M, Ms, qs, cs, max_pivots, deadline=None):
     """After every covering vector ended on a secondary ray: Lemke on M + εI
     for ε = 1e-1 ... 1e-12, each final basis tried on M itself (z_F from
     M_FF, refined); the first that solves M itself to rounding is kept.
@@ -100,7 +100,7 @@ def _regularised(problem, M, Ms, qs, cs, max_pivots):
     n, pivots = problem.n, 0
     eye = np.eye(n)
     for eps in REGULARISED_SHIFTS:
-        out = lemke(Ms + eps * eye, qs, np.ones(n), max_pivots)
+        out = lemke(Ms + eps * eye, qs, np.ones(n), max_pivots, deadline)
         pivots += out.pivots
         if out.status != "solved":
             continue
@@ -243,7 +243,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
         d = 0.5 + rng.random(n)
     stats = {"pivots": total, "last_run_pivots": out.pivots, "covering_vectors_tried": len(tried)}
     if out.status == "ray" and not sparse and not problem.is_psd:
-        found = _regularised(problem, M, Ms, qs, cs, max_pivots)
+        found = _regularised(problem, M, Ms, qs, cs, max_pivots, deadline)
         if found is not None:
             z, pivots, eps = found
             stats.update(pivots=total + pivots, regularised=eps)
