@@ -68,11 +68,16 @@ def solve_active_set(frame, b, combo):
     states = (_link_space if len(b["info"]) <= LINK_SPACE_MAX else _sparse)(b, combo, required)
     closed = np.ones(nc, bool)
     slip = np.zeros(nc, int)          # 0 stick, +1 slip+, -1 slip-
-    seen = set()
+    seen, one_at_a_time, last = set(), False, None
     for it in range(1, MAX_ITERATIONS + 1):
         key = closed.tobytes() + slip.tobytes()
         if key in seen:
-            return None
+            if one_at_a_time:
+                return None
+            # a cycle of whole state sets (a gap contact flipping closed and
+            # open as its neighbours change with it): go on from here changing
+            # only the most violated contact each time
+            one_at_a_time, seen = True, set()
         seen.add(key)
         kin = np.zeros(len(required), bool)
         kin[n_link[closed]] = True
@@ -80,27 +85,52 @@ def solve_active_set(frame, b, combo):
         sliding = np.flatnonzero(closed & has_t & (slip != 0))
         found = states(kin, sliding, n_link, t_link, mu * slip)
         if found is None:
-            return None
-        X, delta, force_scale, length_scale = found
-        # each violation judged on the scale of what makes the quantity
-        Xn, Zn = X[n_link], delta[n_link] + gap
-        fn, ln = force_scale[n_link], length_scale[n_link]
-        new_closed = np.where(closed, Xn >= -VIOLATION * fn, Zn < -VIOLATION * ln)
-        # friction where the contact was and stays closed (a newly closed one
-        # starts sticking): a sticking one slips beyond f X_n, a slipping one
-        # sticks again when it moves backwards
-        xt, dt = X[tl], delta[tl]
-        bound = mu * np.maximum(Xn, 0.0)
-        ft, lt = force_scale[tl], length_scale[tl]
-        starts = np.where(xt < -bound - VIOLATION * ft, 1,
-                          np.where(xt > bound + VIOLATION * ft, -1, 0))
-        goes_on = np.where(slip * dt >= -VIOLATION * lt, slip, 0)
-        new_slip = np.where(new_closed & closed & has_t,
-                            np.where(slip == 0, starts, goes_on), 0)
-        if np.array_equal(new_closed, closed) and np.array_equal(new_slip, slip):
-            return _point(frame, b, closed, slip, Zn, delta, t_link, has_t), it
+            if last is None or one_at_a_time:
+                return None
+            # the whole step left a mechanism (every contact of a frame that
+            # rests on them opened at once): back to the last state set, and
+            # from there one contact at a time
+            one_at_a_time = True
+            closed, slip, proposal, how_much = last
+        else:
+            proposal, how_much = _proposal(found, closed, slip, n_link, tl, has_t, mu, gap)
+            if not ((proposal[0] != closed) | (proposal[1] != slip)).any():
+                X, delta = found[:2]
+                return _point(frame, b, closed, slip, delta[n_link] + gap, delta, t_link,
+                              has_t), it
+            last = (closed, slip, proposal, how_much)
+        new_closed, new_slip = proposal
+        if one_at_a_time:
+            changed = (new_closed != closed) | (new_slip != slip)
+            worst = int(np.argmax(np.where(changed, how_much, -np.inf)))
+            new_closed, new_slip = closed.copy(), slip.copy()
+            new_closed[worst], new_slip[worst] = proposal[0][worst], proposal[1][worst]
         closed, slip = new_closed, new_slip
     return None
+
+
+def _proposal(found, closed, slip, n_link, tl, has_t, mu, gap):
+    """The states the solution of a state set calls for, and how far each
+    contact is from its present state (a pull, an overlap, a friction force
+    beyond f X_n, a slip running backwards — each against its own scale)."""
+    X, delta, force_scale, length_scale = found
+    Xn, Zn = X[n_link], delta[n_link] + gap
+    fn, ln = force_scale[n_link], length_scale[n_link]
+    new_closed = np.where(closed, Xn >= -VIOLATION * fn, Zn < -VIOLATION * ln)
+    # friction where the contact was and stays closed (a newly closed one
+    # starts sticking): a sticking one slips beyond f X_n, a slipping one
+    # sticks again when it moves backwards
+    xt, dt = X[tl], delta[tl]
+    bound = mu * np.maximum(Xn, 0.0)
+    ft, lt = force_scale[tl], length_scale[tl]
+    starts = np.where(xt < -bound - VIOLATION * ft, 1,
+                      np.where(xt > bound + VIOLATION * ft, -1, 0))
+    goes_on = np.where(slip * dt >= -VIOLATION * lt, slip, 0)
+    new_slip = np.where(new_closed & closed & has_t, np.where(slip == 0, starts, goes_on), 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        how_much = np.where(new_closed != closed, np.where(closed, -Xn / fn, -Zn / ln),
+                            np.where(slip == 0, (np.abs(xt) - bound) / ft, -slip * dt / lt))
+    return (new_closed, new_slip), np.nan_to_num(how_much, nan=0.0, posinf=1e300)
 
 
 def _sparse(b, combo, required):

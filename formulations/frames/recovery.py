@@ -169,32 +169,41 @@ class FrameRecovery:
         absH = abs(b["H"])
         forces = absH.T @ force_terms
         lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
-        # the LCP's scale of a link force holds the force its own link
+        forces = forces + assembly.R_ROUNDING * forces.max(initial=0.0)
+        lengths = lengths + assembly.R_ROUNDING * lengths.max(initial=0.0)
+        zeta = abs(P).T @ lengths
+        w = W @ X
+        e, sigma = self._complementarity(z, w, zeta, abs(W) @ forces)
+        # the LCP's scale of a link force also holds the force its own link
         # displacement makes, R_ll |Δ_l|, which the rounding of the solve
         # follows: a lifted stretch of a foundation beam had X_n = -4e-10
-        # from rounding against node forces of 1e-9, and R_ll |Δ| = 2e4 as in
-        # the LCP's |R||Δ|.  R_ll is read off the basic system's LU, one solve
-        # per link that moves (a bound such as the node's stiffness h'|K|h was
-        # 1e9 times too large beside a 1 cm stub, and passed a tip lifted 1 m)
+        # from rounding against node forces of 1e-9, where R_ll |Δ| = 2e4 as
+        # in the LCP's |R||Δ|.  R_ll is read off the basic system's LU, one
+        # solve per moving link whose component is above rounding without it
+        # (a bound such as the node's stiffness h'|K|h was 1e9 times too
+        # large beside a 1 cm stub, and passed a tip lifted 1 m); leaving it
+        # out elsewhere can only overstate the error
         delta = P @ z - g
-        moving = np.flatnonzero(delta)
+        rows = np.flatnonzero(e > 64 * np.finfo(float).eps)
+        touched = np.asarray(abs(W)[rows].sum(axis=0)).ravel() > 0
+        moving = np.flatnonzero(touched & (delta != 0))
         if moving.size:
             nf, kappa = b["nf"], b["kappa"]
             unit = np.zeros((nf + len(delta), moving.size))
             unit[nf + moving, np.arange(moving.size)] = kappa
             R_ll = np.abs(kappa * b["lu"].solve(unit)[nf + moving, np.arange(moving.size)])
             forces[moving] += R_ll * np.abs(delta[moving])
-        forces = forces + assembly.R_ROUNDING * forces.max(initial=0.0)
-        lengths = lengths + assembly.R_ROUNDING * lengths.max(initial=0.0)
-        sigma = abs(W) @ forces
-        zeta = abs(P).T @ lengths
-        w = W @ X
+            e, sigma = self._complementarity(z, w, zeta, abs(W) @ forces)
+        return (float(e.max(initial=0.0)), zeta, sigma)
+
+    @staticmethod
+    def _complementarity(z, w, zeta, sigma):
+        """(|min(z/ζ, w/σ)| per component, σ)."""
         with np.errstate(divide="ignore", invalid="ignore"):
             Z = np.where(zeta > 0, z / np.where(zeta > 0, zeta, 1.0), np.where(z > 0, np.inf, 0.0))
             Wr = np.where(sigma > 0, w / np.where(sigma > 0, sigma, 1.0),
                           np.where(w != 0, np.sign(w) * np.inf, 0.0))
-        e = np.abs(np.minimum(Z, Wr))
-        return (float(e.max(initial=0.0)), zeta, sigma)
+        return np.abs(np.minimum(Z, Wr)), sigma
 
     def _equilibrium(self, b, F, X, u):
         """Equilibrium judged dof by dof, each on its own scale: the residual of
