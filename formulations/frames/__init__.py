@@ -28,7 +28,8 @@ positive, bending moment M positive when it compresses the member's +y fibre
 Layout: :mod:`.model` (the Frame: model building; its solving in
 :mod:`.solving`, results construction in :mod:`.recovery`, the trace in
 :mod:`.tracing`), :mod:`.loads` (cases, member loads, combinations),
-:mod:`.assembly` (stiffness, links, the contact LCP), :mod:`.active_set`
+:mod:`.elements` (the members: stiffness, releases, rigid zones, their
+loads), :mod:`.assembly` (the frame: K, links, the contact LCP), :mod:`.active_set`
 (the contact problem on the sparse system, "auto"'s first route),
 :mod:`.results` (results, envelopes), :mod:`.tables`, :mod:`.notation`
 (numbers as engineers read them), :mod:`.drawing` (with :mod:`.labels`,

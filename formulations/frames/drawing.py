@@ -23,7 +23,7 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
-from .assembly import geometry
+from .elements import geometry
 from .labels import Placer, around, nice, value_text
 from .load_arrows import LOAD_COLOR, REACTION_COLOR, draw_loads, support_nodes
 

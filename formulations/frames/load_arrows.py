@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .assembly import geometry
+from .elements import geometry
 from .labels import around, value_text
 
 LOAD_COLOR, REACTION_COLOR = "crimson", "teal"

@@ -15,7 +15,8 @@ from qpcontact import FrictionProblem
 from qpcontact.core.errors import InvalidProblemError
 
 from . import assembly
-from .assembly import DOFS, geometry
+from .assembly import DOFS
+from .elements import geometry
 from .loads import CONSTANT, VARIABLE, MemberLoad, case_name, check_axes, combination, number
 from .recovery import FrameRecovery
 from .solving import FrameSolving

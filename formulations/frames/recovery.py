@@ -13,7 +13,8 @@ from qpcontact.judge.lcp import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
 from . import assembly
-from .assembly import DOFS, geometry
+from .assembly import DOFS
+from .elements import geometry, rotation
 from .loads import CONSTANT, VARIABLE, load_points, section_sums
 from .results import FrameResult, SupportResult
 
@@ -347,7 +348,7 @@ class FrameRecovery:
         gw = (0.5 * np.maximum(hi - lo, 0.0) * w).ravel()
         N, V, M = self._sections(res, m, gs)
         idx = {nm: 3 * k for k, nm in enumerate(self.nodes)}
-        T = assembly.rotation(c, s)[:3, :3]
+        T = rotation(c, s)[:3, :3]
         di = T @ res._u[idx[m.i]:idx[m.i] + 3]
         dj = T @ res._u[idx[m.j]:idx[m.j] + 3]
         va, ve = di[1] + a * di[2], dj[1] - m.offset_j * dj[2]   # through the rigid arms
