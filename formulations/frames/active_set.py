@@ -92,10 +92,11 @@ def solve_active_set(frame, b, combo):
             # from there one contact at a time
             one_at_a_time = True
             closed, slip, proposal, how_much = last
+            seen = {closed.tobytes() + slip.tobytes()}
         else:
             proposal, how_much = _proposal(found, closed, slip, n_link, tl, has_t, mu, gap)
             if not ((proposal[0] != closed) | (proposal[1] != slip)).any():
-                X, delta = found[:2]
+                delta = found[1]
                 return _point(frame, b, closed, slip, delta[n_link] + gap, delta, t_link,
                               has_t), it
             last = (closed, slip, proposal, how_much)
