@@ -245,6 +245,7 @@ def _support_markers(ax, view):
 
 #: bilateral supports and springs: marker and face colour (the legend shows them)
 _SYMBOLS = {"fixed": ("s", "k"), "pin": ("^", "w"), "roller": ("o", "w"),
+            "inclined roller": ("o", "0.6"), "guided": ("P", "w"), "rotation held": ("X", "w"),
             "spring": ("D", "tab:brown")}
 
 

@@ -21,16 +21,23 @@ _BOX = dict(boxstyle="square,pad=0.05", fc="white", ec="none", alpha=0.75)
 
 
 def support_nodes(frame) -> dict:
-    """{node: "fixed" | "pin" | "roller" | "spring"} for the bilateral
-    supports and springs (contacts are drawn by their state)."""
+    """{node: kind} for the bilateral supports and springs (contacts are
+    drawn by their state): "fixed", "pin", "guided" (one translation and the
+    rotation), "roller" (one translation; "inclined roller" on turned axes),
+    "rotation held" (rz only), "spring"."""
     out = {}
     for node, dofs in frame.fixed.items():
+        moves = dofs & {"ux", "uy"}
         if {"ux", "uy", "rz"} <= dofs:
             out[node] = "fixed"
-        elif {"ux", "uy"} <= dofs:
+        elif len(moves) == 2:
             out[node] = "pin"
+        elif moves and "rz" in dofs:
+            out[node] = "guided"
+        elif moves:
+            out[node] = "inclined roller" if node in frame.node_angles else "roller"
         elif dofs:
-            out[node] = "roller"
+            out[node] = "rotation held"
     for node in frame.springs:
         out.setdefault(node, "spring")
     return out
