@@ -110,3 +110,71 @@ def test_l_frame_against_pynite():
         theirs = [nd.DX["C"], nd.DY["C"], nd.DZ["C"], nd.RX["C"], nd.RY["C"], nd.RZ["C"]]
         ours = u[6 * names.index(n) + np.arange(6)]
         np.testing.assert_allclose(ours, theirs, rtol=1e-9, atol=1e-12 * np.abs(u).max())
+
+
+def test_space_cantilever_under_uniform_loads_in_member_axes():
+    """A cantilever along a skew direction under q_y and q_z (member axes) and
+    its own axial q_x: tip v = q_y L⁴/8EIz, w = q_z L⁴/8EIy, u = q_x L²/2EA,
+    θz = q_y L³/6EIz, θy = -q_z L³/6EIy (the beam formulas)."""
+    from formulations.frames.space import SpaceFrame
+
+    fr = SpaceFrame()
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", 2.0, 1.0, 2.0)
+    m = fr.add_member("A", "B", E, G, A, Iy, Iz, J, roll=0.4)
+    fr.add_support("A")
+    qx, qy, qz = 3.0, -5.0, 2.0
+    fr.add_distributed_load(m, qx, qy, qz, axes="member")
+    d = np.array(fr.solve_linear()["B"])
+    R = axes([0, 0, 0], [2.0, 1.0, 2.0], None, 0.4)[0]
+    t, r = R @ d[:3], R @ d[3:]
+    L = 3.0
+    np.testing.assert_allclose(
+        np.r_[t, r], [qx * L ** 2 / (2 * E * A), qy * L ** 4 / (8 * E * Iz),
+                      qz * L ** 4 / (8 * E * Iy), 0.0, -qz * L ** 3 / (6 * E * Iy),
+                      qy * L ** 3 / (6 * E * Iz)], rtol=1e-10, atol=1e-15)
+
+
+def test_space_frame_with_member_loads_against_pynite():
+    """A two-storey space frame (four columns, beams both ways) on clamped
+    feet under member and nodal loads: displacements against PyNite 3-D."""
+    pytest.importorskip("Pynite", reason="PyNite is in the test extra (PyNiteFEA)")
+    from Pynite import FEModel3D
+
+    from formulations.frames.space import SpaceFrame
+
+    I = 6e-5
+    fr, m = SpaceFrame(), FEModel3D()
+    m.add_material("s", E, G, 0.3, 0.0)
+    m.add_section("x", A, I, I, J)
+    corners = [(0.0, 0.0), (5.0, 0.0), (5.0, 4.0), (0.0, 4.0)]
+    for lvl in range(3):
+        for k, (x, y) in enumerate(corners):
+            nm = f"N{lvl}{k}"
+            fr.add_node(nm, x, y, 3.2 * lvl)
+            m.add_node(nm, x, y, 3.2 * lvl)
+    for k in range(4):
+        fr.add_support(f"N0{k}")
+        m.def_support(f"N0{k}", True, True, True, True, True, True)
+    members = [(f"N{lvl}{k}", f"N{lvl + 1}{k}") for lvl in range(2) for k in range(4)]
+    members += [(f"N{lvl}{k}", f"N{lvl}{(k + 1) % 4}") for lvl in (1, 2) for k in range(4)]
+    for n, (i, j) in enumerate(members):
+        fr.add_member(i, j, E, G, A, I, I, J, name=f"M{n}")
+        m.add_member(f"M{n}", i, j, "s", "x")
+    for n in range(8, len(members)):                     # the floor beams carry 12 kN/m
+        fr.add_distributed_load(f"M{n}", wz=-12.0, case="D")
+        m.add_member_dist_load(f"M{n}", "FZ", -12.0, -12.0, case="D")
+    fr.add_distributed_load("M8", wy=4.0, case="D")      # a horizontal load along one beam
+    m.add_member_dist_load("M8", "FY", 4.0, 4.0, case="D")
+    fr.add_load("N22", fx=15.0, fy=-6.0, mz=4.0, case="D")
+    m.add_node_load("N22", "FX", 15.0, case="D")
+    m.add_node_load("N22", "FY", -6.0, case="D")
+    m.add_node_load("N22", "MZ", 4.0, case="D")
+    m.add_load_combo("C", {"D": 1.0})
+    m.analyze(check_statics=False)
+    ours = fr.solve_linear({"D": 1.0})
+    big = max(np.abs(v).max() for v in ours.values())
+    for nm, d in ours.items():
+        nd = m.nodes[nm]
+        theirs = [nd.DX["C"], nd.DY["C"], nd.DZ["C"], nd.RX["C"], nd.RY["C"], nd.RZ["C"]]
+        np.testing.assert_allclose(d, theirs, rtol=1e-8, atol=1e-10 * big)
