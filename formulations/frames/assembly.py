@@ -275,6 +275,32 @@ def build(frame):
     H, info = links(frame, idx, N)
     if Tn is not None:
         H = (Tn @ H).tocsr()
+    # Elastic contacts: the link's displacement is the structure's plus the
+    # spring's, H'u + D X = Δ (D = diag 1/k), so D enters the saddle matrix
+    # (scaled like the links) and R, R_F come out elastic — no dense
+    # (I + R D)⁻¹ on nl x nl.
+    flex = np.array([0.0 if frame.contacts[ci].stiffness is None
+                     else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
+    basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2)
+    if basic["lu"] is None:
+        raise InvalidProblemError(mechanism_message(basic["S"], basic["free"], names,
+                                                    basic["nf"]))
+    springs = np.zeros(N)
+    for node, ks in frame.springs.items():
+        for d, kval in ks.items():
+            springs[idx[node] + DOFS.index(d)] += kval
+    return Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
+                 fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn, **basic)
+
+
+def basic_system(K, H, fixed, flex, translational) -> dict:
+    """The basic system (every link fixed) of a structure with stiffness K
+    (all dofs), links H and contact flexibilities ``flex``, any number of
+    dofs per node: the free/fixed blocks of K, the scaled saddle matrix
+    S = [K_ff kappa H_f; kappa H_f' -kappa² D] and its LU (None where S is
+    singular: a mechanism).  ``translational`` marks the dofs that links
+    push along, which set kappa."""
+    N = K.shape[0]
     free = np.flatnonzero(~fixed)
     nf = free.size
     # the blocks on the free dofs from triplets, not by fancy indexing (a
@@ -293,24 +319,17 @@ def build(frame):
                          shape=(nf, fixed_idx.size))
     # The links enter scaled by a typical stiffness kappa, so that the saddle
     # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
-    # the singularity test below is meaningful: X = -kappa y.  Links push
-    # nodes along, so kappa is the largest *translational* stiffness: the
-    # largest of all is a rotation's (moment per radian), which in N and mm
-    # is 1e5 times a translation's, and kappa² / k on an elastic contact's
-    # diagonal then made a sound beam look like a mechanism (pivots 3e-14
-    # apart).
+    # the singularity test is meaningful: X = -kappa y.  Links push nodes
+    # along, so kappa is the largest *translational* stiffness: the largest
+    # of all is a rotation's (moment per radian), which in N and mm is 1e5
+    # times a translation's, and kappa² / k on an elastic contact's diagonal
+    # then made a sound beam look like a mechanism (pivots 3e-14 apart).
     diag = np.abs(Kf.diagonal())
-    moves = (free % 3) != 2
+    moves = translational[free]
     kappa = float(np.max(diag[moves] if moves.any() else diag)) if free.size else 1.0
     Hc = H.tocoo()
     hk = at[Hc.row] >= 0
     Hf = sp.csr_matrix((kappa * Hc.data[hk], (at[Hc.row[hk]], Hc.col[hk])), shape=(nf, H.shape[1]))
-    # Elastic contacts: the link's displacement is the structure's plus the
-    # spring's, H'u + D X = Δ (D = diag 1/k), so D enters the saddle matrix
-    # (scaled like the links) and R, R_F come out elastic — no dense
-    # (I + R D)⁻¹ on nl x nl.
-    flex = np.array([0.0 if frame.contacts[ci].stiffness is None
-                     else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
     nl = H.shape[1]
     Hfc = Hf.tocoo()
     links_ = np.arange(nl)
@@ -320,16 +339,8 @@ def build(frame):
                       shape=(nf + nl, nf + nl))
     # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
     # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
-    lu = regular_lu(S)
-    if lu is None:
-        raise InvalidProblemError(mechanism_message(S, free, names, nf))
-    springs = np.zeros(N)
-    for node, ks in frame.springs.items():
-        for d, kval in ks.items():
-            springs[idx[node] + DOFS.index(d)] += kval
-    return Built(springs=springs, S=S, names=names, idx=idx, K=K, F=F, U=U, cases=case_list, fixed=fixed, free=free,
-                 H=H, Hf=Hf, info=info, lu=lu, flex=flex, nf=free.size, kappa=kappa,
-                 local=local, fixed_idx=fixed_idx, K_fa=K_fa, Tn=Tn)
+    return dict(free=free, nf=nf, fixed_idx=fixed_idx, K_fa=K_fa, kappa=kappa, Hf=Hf, S=S,
+                lu=regular_lu(S))
 
 
 def contact_stiffness(b) -> dict:
