@@ -6,13 +6,24 @@ beam-column elements of :mod:`.elements3d`; bilateral supports fix any
 subset of the six dofs; springs resist -k·u on any dof; loads belong to
 named cases as in 2-D (:mod:`.loads`).  Units the user's, consistent.
 
-What is here: the model, K and the load columns, and the linear solution of
-a frame held by bilateral supports and springs (``solve_linear``), which the
-tests hold against PyNite 3-D and the beam formulas.  Still to come (see
-docs/dev-notes.md, "Issue 35"): contacts with the faceted and the circular
-Coulomb cone, ``solve``/``solve_combinations``/``trace`` through the
-machinery of :mod:`.assembly` and :mod:`.active_set`, results, tables and
-drawings.
+What is here: the model, K and the load columns, the linear solution of a
+frame held by bilateral supports and springs (``solve_linear``), and
+unilateral contacts with Coulomb's cone in facets solved as an LCP by
+Lemke's method (``solve``).  Still to come (docs/dev-notes.md, "Issue 35"):
+the circular cone through the friction solvers, ``solve_combinations`` and
+``trace``, the active set, results, tables and drawings as in 2-D.
+
+Contacts (P3 in 3-D): at a node, a contact plane with unit normal n from the
+support into the structure, tangents t1, t2 (t1 = n x e normalised for the
+global axis e least aligned with n, t2 = n x t1).  Links: the opening Z_n =
+g + n·u (+X_n/k), and with friction f > 0 the tangential displacement
+(t1·u, t2·u) (+X_t/k).  The cone |X_t| <= f X_n is replaced by the m-gon
+circumscribing it: w_k = f X_n + d_k·X_t >= 0 for the facet directions d_k =
+cos(2πk/m) t1 + sin(2πk/m) t2, k = 0..m-1, each complementary to a slip
+magnitude Z_k >= 0 along d_k (the slip is Σ Z_k d_k; slipping along d_k
+takes the friction force to -f X_n along it).  With m = 2 in a plane this
+is P3's 2-D LCP; along the directions d_k the faceted and circular cones
+agree, between them the facets allow up to 1/cos(π/m) more friction.
 
 Member loads: a uniform load per unit length over the whole member, in
 global or member axes.  Its equivalent nodal loads are the fixed-end forces,
@@ -28,8 +39,13 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError, NoSolutionError, SolverFailedError
 
+from qpcontact import solve as qp_solve
+from qpcontact.core.problems import LCP
+from qpcontact.judge.lcp import certify_lcp
+
+from . import assembly
 from .elements3d import axes, rotation, stiffness
 from .loads import CONSTANT, case_name, check_axes, combination, number
 
@@ -48,6 +64,7 @@ class SpaceFrame:
         self.springs: dict[str, dict] = {}
         self.nodal_loads: list = []   # (node, 6 values, case)
         self.member_loads: list = []  # (member, (wx, wy, wz), axes, case)
+        self.contacts: list = []      # dicts: node, n, t1, t2, friction, gap, stiffness, facets
 
     def _node(self, name):
         if name not in self.nodes:
@@ -123,6 +140,32 @@ class SpaceFrame:
         w = tuple(number(v, f"distributed load on {member}: {c}")
                   for v, c in zip((wx, wy, wz), ("wx", "wy", "wz")))
         self.member_loads.append((member, w, check_axes(axes), case_name(case)))
+
+    def add_contact(self, node: str, normal=(0.0, 0.0, 1.0), friction: float = 0.0,
+                    gap: float = 0.0, stiffness: float | None = None, facets: int = 8) -> int:
+        """A unilateral support at ``node`` (the module docstring): its
+        normal, Coulomb coefficient, initial gap, spring (None: rigid) and
+        the number of facets of its friction cone (even, >= 4)."""
+        self._node(node)
+        n = np.asarray(normal, float)
+        if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.linalg.norm(n) > 0:
+            raise InvalidProblemError(f"contact at {node!r}: normal must be a nonzero 3-vector")
+        n = n / np.linalg.norm(n)
+        friction, gap = number(friction, "friction"), number(gap, "gap")
+        if friction < 0 or gap < 0:
+            raise InvalidProblemError(f"contact at {node!r}: friction and gap must be >= 0")
+        if stiffness is not None and not number(stiffness, "stiffness") > 0:
+            raise InvalidProblemError(f"contact at {node!r}: stiffness must be > 0 or None")
+        if isinstance(facets, bool) or not isinstance(facets, int) or facets < 4 or facets % 2:
+            raise InvalidProblemError(f"contact at {node!r}: facets must be an even integer "
+                                      f">= 4 (opposite directions both facets); got {facets!r}")
+        e = np.eye(3)[int(np.argmin(np.abs(n)))]
+        t1 = np.cross(n, e)
+        t1 /= np.linalg.norm(t1)
+        self.contacts.append(dict(node=node, n=n, t1=t1, t2=np.cross(n, t1), friction=friction,
+                                  gap=gap, stiffness=None if stiffness is None else
+                                  float(stiffness), facets=facets))
+        return len(self.contacts) - 1
 
     @property
     def load_cases(self) -> list:
@@ -201,6 +244,157 @@ class SpaceFrame:
         return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
 
 
+    def _links(self, idx, N):
+        """H (N x links) and per link (contact, kind "n" | "t1" | "t2")."""
+        rows, cols, vals, info = [], [], [], []
+        for ci, c in enumerate(self.contacts):
+            kinds = ("n", "t1", "t2") if c["friction"] > 0 else ("n",)
+            for kind in kinds:
+                for d in range(3):
+                    rows.append(idx[c["node"]] + d)
+                    cols.append(len(info))
+                    vals.append(c[kind][d])
+                info.append((ci, kind))
+        H = sp.csr_matrix((vals, (rows, cols)), shape=(N, len(info)))
+        H.eliminate_zeros()
+        return H, info
+
+    def _lcp_maps(self, info):
+        """P (links x z) and W (z x links) of the faceted cones, the gaps g."""
+        nl = len(info)
+        pos = {}
+        for li, (ci, kind) in enumerate(info):
+            pos.setdefault(ci, {})[kind] = li
+        nc = len(self.contacts)
+        pr, pc, pv, wr, wc, wv = [], [], [], [], [], []
+        g = np.zeros(nl)
+        nz = nc
+        for ci, c in enumerate(self.contacts):
+            pr.append(pos[ci]["n"]), pc.append(ci), pv.append(1.0)
+            wr.append(ci), wc.append(pos[ci]["n"]), wv.append(1.0)
+            g[pos[ci]["n"]] = c["gap"]
+            if c["friction"] == 0:
+                continue
+            for k in range(c["facets"]):
+                a = 2 * np.pi * k / c["facets"]
+                for kind, comp in (("t1", np.cos(a)), ("t2", np.sin(a))):
+                    pr.append(pos[ci][kind]), pc.append(nz), pv.append(comp)
+                    wr.append(nz), wc.append(pos[ci][kind]), wv.append(comp)
+                wr.append(nz), wc.append(pos[ci]["n"]), wv.append(c["friction"])
+                nz += 1
+        P = sp.csr_matrix((pv, (pr, pc)), shape=(nl, nz))
+        W = sp.csr_matrix((wv, (wr, wc)), shape=(nz, nl))
+        return P, W, g
+
+    def _resultant(self, idx, f, hx, reactions, size_hx, size_k):
+        """Σ forces and Σ moments (about the nodes' centroid) of the loads,
+        contact forces and reactions, each against the sum of its terms'
+        sizes (as the plane frame's resultant check; a reaction by |K||u| at
+        its dof only where it is one).  Refuses what a per-dof check passes
+        when a rigid motion inflates |K||u|: Lemke's answer for a table on
+        rigid frictional pads held a free sliding of 3.5e9 m, its normal
+        forces summing to 40.26 under a 40 kN weight."""
+        names = list(self.nodes)
+        xyz = np.array([self.nodes[n] for n in names])
+        xyz = xyz - xyz.mean(axis=0)
+        rows = np.array([idx[n] for n in names])
+        total = (f + hx + reactions).reshape(-1, 6)[np.argsort(rows)]
+        size = (np.abs(f) + size_hx + np.where(reactions != 0, size_k, 0.0)).reshape(-1, 6)
+        size = size[np.argsort(rows)]
+        force, moment = total[:, :3], total[:, 3:] + np.cross(xyz, total[:, :3])
+        fs, ms = size[:, :3], size[:, 3:] + np.abs(xyz).sum(axis=1)[:, None] * size[:, :3].sum(
+            axis=1)[:, None]
+        out = 0.0
+        for res, sc in ((np.abs(force.sum(axis=0)), fs.sum(axis=0)),
+                        (np.abs(moment.sum(axis=0)), ms.sum(axis=0))):
+            floor = assembly.R_ROUNDING * len(names) * sc.max(initial=0.0)
+            excess = np.maximum(res - floor, 0.0)
+            out = max(out, float(np.max(excess / np.where(sc > 0, sc, 1.0), initial=0.0)))
+        return out
+
+    def solve(self, combination_: dict | None = None, accuracy="high") -> dict:
+        """The frame under ``combination_`` {case: factor} (default the case
+        "constant") on its contacts: Lemke on the faceted-cone LCP, the answer
+        rebuilt from the data and checked (the LCP certificate and
+        equilibrium at every free dof on its own scale).  Returns a dict:
+        ``supports`` {contact: (state, X_n, X_t (t1, t2), opening, slip
+        (t1, t2))}, ``displacements``, ``reactions`` (global, at fixed dofs),
+        ``lcp_error``, ``equilibrium_residual``, ``ok``, ``message``."""
+        from qpcontact.core.accuracy import resolve_accuracy
+
+        _, tol = resolve_accuracy(accuracy)
+        if not self.contacts:
+            raise InvalidProblemError("the space frame has no contacts: use solve_linear")
+        K, F, fixed, cases, idx = self.assemble()
+        N = K.shape[0]
+        H, info = self._links(idx, N)
+        flex = np.array([0.0 if self.contacts[ci]["stiffness"] is None
+                         else 1.0 / self.contacts[ci]["stiffness"] for ci, _ in info])
+        b = dict(assembly.basic_system(K, H, fixed, flex, np.arange(N) % 6 < 3), info=info,
+                 cases=cases, F=F, U=np.zeros_like(F), H=H)
+        if b["lu"] is None:
+            raise InvalidProblemError("the space frame is a mechanism even with every contact "
+                                      "closed: add supports, contacts or friction")
+        b.update(assembly.contact_stiffness(b))
+        combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
+        factors = np.array([combo.get(c, 0.0) for c in cases])
+        P, W, g = self._lcp_maps(info)
+        R, RF = b["R"], b["RF"] @ factors
+        M = np.asarray((P.T @ (W @ R).T).T)
+        q = np.asarray(W @ RF) - np.asarray(W @ (R @ g))
+        lcp = LCP(M, q, q_terms=np.abs(W) @ np.abs(RF) + np.abs(W @ (R @ g)))
+        sol = qp_solve(lcp, method="lemke", accuracy=accuracy)
+        if sol.z is None:
+            err = NoSolutionError if sol.stats.get("proved_infeasible") else SolverFailedError
+            raise err(f"space frame: Lemke found no contact state ({sol.message})")
+        z = np.maximum(sol.z, 0.0)
+        delta = P @ z - g
+        nf, kappa = b["nf"], b["kappa"]
+        f = F @ factors
+        out = b["lu"].solve(np.r_[f[b["free"]], kappa * delta])
+        u = np.zeros(N)
+        u[b["free"]] = out[:nf]
+        X = -kappa * out[nf:]
+        r_all = K @ u - f - H @ X
+        res = np.abs(r_all)[b["free"]]
+        scale = (abs(K) @ np.abs(u) + np.abs(f) + abs(H) @ np.abs(X))[b["free"]]
+        floor = assembly.R_ROUNDING * scale.max(initial=0.0)
+        eq = float(np.max(np.maximum(res - floor, 0.0) / np.where(scale > 0, scale, 1.0),
+                          initial=0.0))
+        eq = max(eq, self._resultant(idx, f, H @ X, np.where(fixed, r_all, 0.0), abs(H) @ np.abs(X),
+                                     abs(K) @ np.abs(u)))
+        cert = certify_lcp(lcp, z).error
+        supports = {}
+        pos = {}
+        for li, (ci, kind) in enumerate(info):
+            pos.setdefault(ci, {})[kind] = li
+        big = np.abs(X).max(initial=0.0)
+        for ci, c in enumerate(self.contacts):
+            xn = X[pos[ci]["n"]]
+            xt = np.array([X[pos[ci][k]] if k in pos[ci] else 0.0 for k in ("t1", "t2")])
+            d = u[idx[c["node"]]:idx[c["node"]] + 3]
+            slip = np.array([delta[pos[ci][k]] if k in pos[ci] else c[k] @ d
+                             for k in ("t1", "t2")])
+            if xn <= 1e-9 * big:
+                state = "separated"
+            elif c["friction"] == 0:
+                state = "closed"
+            elif np.linalg.norm(slip) <= 1e-9 * max(np.abs(delta).max(initial=0.0), 1e-300):
+                state = "stick"
+            else:
+                state = "slip"
+            supports[f"{c['node']}#{ci}" if any(o["node"] == c["node"] for o in
+                                                 self.contacts[:ci]) else c["node"]] = (
+                state, float(xn), xt, float(z[ci]), slip)
+        ok = cert <= tol and eq <= max(tol, assembly.R_ROUNDING)
+        return dict(supports=supports, ok=ok, lcp_error=cert, equilibrium_residual=eq,
+                    displacements={nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes},
+                    reactions={nd: tuple(np.where(fixed, r_all, 0.0)[idx[nd]:idx[nd] + 6])
+                               for nd in self.fixed},
+                    message=f"lemke: LCP certificate {cert:.1e}, equilibrium residual {eq:.1e}"
+                            + ("" if ok else " — CHECK FAILED"))
+
+
 def _fixed_end(q, L) -> np.ndarray:
     """Equivalent nodal loads (member axes, 12) of a uniform load q = (qx,
     qy, qz) per unit length over a member of length L."""
@@ -208,3 +402,4 @@ def _fixed_end(q, L) -> np.ndarray:
     m_y, m_z = qz * L * L / 12.0, qy * L * L / 12.0
     return np.array([qx * L / 2, qy * L / 2, qz * L / 2, 0.0, -m_y, m_z,
                      qx * L / 2, qy * L / 2, qz * L / 2, 0.0, m_y, -m_z])
+
