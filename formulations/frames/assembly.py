@@ -82,15 +82,7 @@ def assemble(frame):
     U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
     for node, dof, case, value in frame.settlements:
         U[idx[node] + DOFS.index(dof), col[case]] += value
-    for node, ks in frame.springs.items():
-        for d, kval in ks.items():
-            rows.append([idx[node] + DOFS.index(d)])
-            cols.append([idx[node] + DOFS.index(d)])
-            vals.append([kval])
-    K = sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
-                       (np.concatenate(rows) if rows else np.zeros(0, int),
-                        np.concatenate(cols) if cols else np.zeros(0, int))),
-                      shape=(N, N)).tocsr()
+    K = stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
     Tn = node_axes(frame, idx, N)
     if Tn is not None:     # turned node axes: the system is written in them
         K = (Tn @ K @ Tn.T).tocsr()
@@ -116,6 +108,21 @@ def assemble(frame):
     # per member, for the results: stiffness, rotation, dofs, and the
     # equivalent nodal loads of every case (member axes), (m, 6, cases)
     return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn
+
+
+def stiffness_matrix(rows, cols, vals, springs, idx, dofs, N):
+    """K (CSR, N x N) from the members' triplets (lists of arrays) and the
+    springs to the ground {node: {dof: k}} (``dofs``: the dof names of a
+    node, in order; ``idx``: each node's first dof)."""
+    for node, ks in springs.items():
+        for d, kval in ks.items():
+            rows.append([idx[node] + dofs.index(d)])
+            cols.append([idx[node] + dofs.index(d)])
+            vals.append([kval])
+    return sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
+                          (np.concatenate(rows) if rows else np.zeros(0, int),
+                           np.concatenate(cols) if cols else np.zeros(0, int))),
+                         shape=(N, N)).tocsr()
 
 
 def node_axes(frame, idx, N):

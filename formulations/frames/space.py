@@ -206,15 +206,7 @@ class SpaceFrame:
                 F[dofs[k], col[case]] += T[k].T @ fe
         for node, v, case in self.nodal_loads:
             F[idx[node]:idx[node] + 6, col[case]] += v
-        for node, ks in self.springs.items():
-            for d, kval in ks.items():
-                rows.append([idx[node] + DOFS.index(d)])
-                cols.append([idx[node] + DOFS.index(d)])
-                vals.append([kval])
-        K = sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
-                           (np.concatenate(rows) if rows else np.zeros(0, int),
-                            np.concatenate(cols) if cols else np.zeros(0, int))),
-                          shape=(N, N)).tocsr()
+        K = assembly.stiffness_matrix(rows, cols, vals, self.springs, idx, DOFS, N)
         fixed = np.zeros(N, bool)
         for node, fx in self.fixed.items():
             for d in fx:
