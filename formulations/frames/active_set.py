@@ -179,7 +179,8 @@ def _sparse(b, combo, required):
         u = ua.copy()
         u[free] = sol[:nf]
         X = -kappa * sol[nf:]
-        return (X, H.T @ u + flex * X, absH.T @ assembly.force_terms(b, u, F, factors),
+        return (X, H.T @ u + flex * X, absH.T @ assembly.force_terms(
+            b, u, F, assembly.member_end_actions(b, assembly.to_global(b, u), factors)),
                 absH.T @ np.abs(u) + np.abs(flex * X) + np.abs(required))
 
     return solve

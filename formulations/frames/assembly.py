@@ -139,16 +139,16 @@ def node_axes(frame, idx, N):
     return Tn.tocsr()
 
 
-def force_terms(b, u, F, combo_factors):
+def force_terms(b, u, F, ends):
     """Per dof (the system's axes): the sizes of the forces that meet there —
     every member's end force, the springs', the load: what a contact force
     at that node is made of by equilibrium, and so its scale.  Member end
     forces, not |K||u|: a stiff member moving rigidly has K u ~ 0 from
     terms of 1e10 (a rigid zone as a 1e7-times-stiffer member), which as a
-    scale would call a 16 kN contact force zero."""
+    scale would call a 16 kN contact force zero.  ``ends``: the members'
+    end actions (:func:`member_end_actions`), which the results need too."""
     ug = to_global(b, u)
     k, T, dofs, Fe = b["local"]
-    ends = member_end_actions(b, ug, combo_factors)
     terms = np.zeros(ug.size)
     np.add.at(terms, dofs.ravel(),
               np.abs((T.transpose(0, 2, 1) @ ends[..., None])[..., 0]).ravel())

@@ -86,7 +86,8 @@ class FrameRecovery:
         reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
                      for node in b["names"] if node in self.fixed}
         # what meets at each dof: the members' end forces, springs, loads
-        ft = assembly.force_terms(b, u, F, assembly.factors(b, combo))
+        ends = assembly.member_end_actions(b, assembly.to_global(b, u), assembly.factors(b, combo))
+        ft = assembly.force_terms(b, u, F, ends)
         if lcp is None and "R" not in b:
             cert_error, zeta, sigma = self._contact_certificate(b, z, X, u, ft, W, P, g)
         else:
@@ -122,7 +123,6 @@ class FrameRecovery:
                                                       z[:nc], slip)}
         eq = max(self._equilibrium(b, F, X, u_axes), self._resultant(b, F, X, r_all, u_axes, ft))
         displacements = dict(zip(b["names"], map(tuple, u.reshape(-1, 3).tolist())))
-        ends = assembly.member_end_actions(b, u, assembly.factors(b, combo))
         member_forces = dict(zip(self.members, ends))
         ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
         msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
