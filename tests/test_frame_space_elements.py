@@ -214,28 +214,21 @@ def test_a_planar_frame_built_in_space_gives_the_plane_frame_answers():
     plane.add_load("N4", fx=-25.0)
     space.add_load("N4", fx=-25.0)
     a, b = plane.solve(), space.solve()
-    assert a.ok and b["ok"], (a.message, b["message"])
+    assert a.ok and b.ok, (a.message, b.message)
     big = max(abs(s.normal) for s in a.supports.values())
     for n in range(len(xs)):
-        s2 = a.supports[f"N{n}"]
-        state, xn, xt, opening, slip = b["supports"][f"N{n}"]
-        t = np.array([0.0, 1.0, 0.0]), np.array([-1.0, 0.0, 0.0])   # t1, t2 for n = +Z
-        xt_x = xt[0] * t[0][0] + xt[1] * t[1][0]
-        assert state == ("slip" if s2.state.startswith("slip") else s2.state), n
-        assert abs(xn - s2.normal) <= 1e-9 * big and abs(xt_x - s2.tangential) <= 1e-9 * big
-        assert abs(xt[0]) <= 1e-9 * big                  # nothing out of the plane
+        s2, s3 = a.supports[f"N{n}"], b.supports[f"N{n}"]
+        force = s3.tangential_global
+        assert s3.state == ("slip" if s2.state.startswith("slip") else s2.state), n
+        assert abs(s3.normal - s2.normal) <= 1e-9 * big
+        assert abs(force[0] - s2.tangential) <= 1e-9 * big
+        assert abs(force[1]) <= 1e-9 * big                  # nothing out of the plane
 
 
-def test_a_table_on_rigid_frictional_pads_is_never_wrongly_ok():
-    """Four legs on rigid frictional pads, pushed sideways below f W: Lemke's
-    faceted-cone answer can hold a free rigid sliding of 3.5e9 m whose
-    rounding spoils the forces (normal forces summing to 40.26 under 40 kN).
-    Whatever the route returns, ok must mean statics holds (issue 35: the
-    active set and the load path, which find the right answer in 2-D, are
-    still to come in 3-D)."""
+def _table(f, push_at, ratio=0.9):
     from formulations.frames.space import SpaceFrame
 
-    W, f = 40.0, 0.3
+    W = 40.0
     fr = SpaceFrame()
     for k, (x, y) in enumerate([(0, 0), (2, 0), (2, 2), (0, 2)]):
         fr.add_node(f"P{k}", x, y, 0.0)
@@ -245,9 +238,35 @@ def test_a_table_on_rigid_frictional_pads_is_never_wrongly_ok():
         fr.add_load(f"T{k}", fz=-W / 4)
     for k in range(4):
         fr.add_member(f"T{k}", f"T{(k + 1) % 4}", 2e8, 8e7, 0.01, 1e-4, 1e-4, 2e-4)
-    fr.add_load("T0", fx=0.9 * f * W)
+    for node, share in push_at.items():
+        fr.add_load(node, fx=share * ratio * f * W)
+    return fr, W
+
+
+def test_a_table_on_rigid_frictional_pads_sticks_below_its_friction():
+    """Four legs on rigid frictional pads, pushed sideways through its
+    centre (a quarter P/4 at each top corner, so by symmetry each pad's
+    friction is P/4) at P = 0.5 f W: the back pads' normal force drops to
+    W/4 - P h / 4 (h = 0.5 m over the pads' 2 m), whose friction f (W/4 -
+    P/8) exceeds P/4 below P = f W / (1 + f/2) = 0.87 f W — so every pad
+    sticks, and the pads carry W and the push.  (Lemke's faceted-cone answer to
+    the corner push below held a free rigid rotation of 3.5e9 m whose
+    rounding spoiled the forces; ok must never be said of such an answer.)"""
+    from qpcontact.core.errors import NoSolutionError
+
+    f = 0.3
+    fr, W = _table(f, {f"T{k}": 0.25 for k in range(4)}, 0.5)
     r = fr.solve()
-    normals = sum(v[1] for v in r["supports"].values())
-    friction_x = sum(v[2][1] * -1.0 for v in r["supports"].values())   # t2 = -x for n = +z
-    statics = abs(normals - W) <= 1e-9 * W and abs(friction_x + 0.9 * f * W) <= 1e-9 * W
-    assert statics or not r["ok"], r["message"]
+    assert r.ok, r.message
+    forces = np.array([s.normal * np.array([0, 0, 1.0]) + s.tangential_global
+                       for s in r.supports.values()])
+    np.testing.assert_allclose(forces.sum(axis=0), [-0.5 * f * W, 0.0, W], atol=1e-9 * W)
+    np.testing.assert_allclose(forces[:, 0], -0.125 * f * W, rtol=1e-9)
+    assert {s.state for s in r.supports.values()} == {"stick"}
+    # the same push at one corner turns the table as well: by the rigid
+    # body's statics (an LP over the pads' faceted cones) it cannot be
+    # carried beyond 0.8047 f W, so no equilibrium exists — proved, and read
+    # as the table sliding (a Farkas vector read as a rigid motion)
+    fr, W = _table(f, {"T0": 1.0})
+    with pytest.raises(NoSolutionError, match="no equilibrium exists.*slid"):
+        fr.solve()

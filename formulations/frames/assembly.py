@@ -397,8 +397,9 @@ def load_vector(b, combo: dict):
     return b["F"] @ f, b["U"] @ f
 
 
-def mechanism_message(S, free, names, nf) -> str:
-    """Name the free motion of a singular basic system (its null vector)."""
+def mechanism_message(S, free, names, nf, dofs=DOFS) -> str:
+    """Name the free motion of a singular basic system (its null vector);
+    ``dofs``: the dof names of a node."""
     if S.shape[0] > 4000:
         return ("the basic system (every contact link fixed) is singular: the frame is a "
                 "mechanism even with every contact closed, or two contacts constrain the same "
@@ -416,7 +417,7 @@ def mechanism_message(S, free, names, nf) -> str:
         return ("two or more contact links constrain the same displacement (redundant links): "
                 "remove one of them")
     order = np.argsort(-np.abs(v))[:3]
-    moves = ", ".join(f"{names[free[i] // 3]} {DOFS[free[i] % 3]}" for i in order
+    moves = ", ".join(f"{names[free[i] // len(dofs)]} {dofs[free[i] % len(dofs)]}" for i in order
                       if abs(v[i]) > 0.1 * abs(v[order[0]]))
     return (f"the frame is a mechanism even with every contact closed: it can move freely "
             f"({moves} move together); add supports, contacts or friction that prevent it")

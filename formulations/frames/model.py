@@ -11,13 +11,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact import FrictionProblem
 from qpcontact.core.errors import InvalidProblemError
 
 from . import assembly
 from .assembly import DOFS
 from .elements import geometry
-from .loads import CONSTANT, VARIABLE, MemberLoad, case_name, check_axes, combination, number
+from .loads import CONSTANT, VARIABLE, MemberLoad, case_name, check_axes, number
 from .recovery import FrameRecovery
 from .solving import FrameSolving
 from .tracing import FrameTracing
@@ -346,85 +345,15 @@ class Frame(FrameSolving, FrameTracing, FrameRecovery):
         qv, _ = assembly.combination_q(Q, np.zeros_like(q_gap), b, {VARIABLE: 1.0})
         return M, qc, qv, P, g, fric
 
-    def friction_problem(self, p: float = 1.0, *, combination: dict | None = None):
-        """The frame's contact problem for one load combination as a 2-D
-        :class:`~qpcontact.FrictionProblem` — the form FCLIB and
-        Siconos's solvers take (``qpcontact.io.write_fclib`` writes it).
+    def _release_directions(self, b):
+        """Each contact's normal and tangent as columns over the dofs, in the
+        system's (the nodes') axes, minus at ``other`` for a pair: (normals
+        N x nc, [tangents N x nc], friction per contact)."""
+        N = b["K"].shape[0]
+        cols = [np.array([assembly.contact_column(b["idx"], N, c, vec(c))
+                          for c in self.contacts]).T.reshape(N, -1)
+                for vec in (lambda c: c.normal, lambda c: (c.normal[1], -c.normal[0]))]
+        if b["Tn"] is not None:
+            cols = [b["Tn"] @ h for h in cols]
+        return cols[0], cols[1:], np.array([c.friction for c in self.contacts])
 
-        Global form: K v = H r + f (K the stiffness on the free dofs, v the
-        displacements, f the combination's loads, settlements moved to the
-        right-hand side), u = Hᵀ v + w with u = (opening, slip) per contact
-        (w: the gaps, and what settlements do to the contacts), r = (X_n,
-        X_t) the contact force on the structure along the normal and
-        t = (n_y, −n_x), μ = the contact's friction (0: a frictionless
-        contact, whose cone is its normal ray).  Quasi-static: "velocities"
-        are displacements, units the frame's.  Elastic contacts add their
-        flexibility 1/k to W's diagonal, so their problem is exported in local
-        form.  A frame that is a mechanism without its contacts (K singular:
-        W = Hᵀ K⁻¹ H does not exist) is exported in global form, unreduced,
-        which qpcontact.solve solves without W ("desaxce-global"); with elastic
-        contacts too it raises InvalidProblemError."""
-        import scipy.sparse as sp
-
-        b = self.build()
-        combo = self._combo(p, combination, b)
-        K, F, U, fixed, free = b["K"], b["F"], b["U"], b["fixed"], b["free"]
-        N = K.shape[0]
-        cols = []
-        for c in self.contacts:
-            t = np.array([c.normal[1], -c.normal[0]])
-            cols += [assembly.contact_column(b["idx"], N, c, c.normal),
-                     assembly.contact_column(b["idx"], N, c, t)]
-        H = np.array(cols).T
-        if b["Tn"] is not None:      # the system is written in the nodes' axes
-            H = b["Tn"] @ H
-        factors = np.array([combo.get(case, 0.0) for case in b["cases"]])
-        f_all, u_set = F @ factors, U @ factors
-        fixed_idx = np.flatnonzero(fixed)
-        f = f_all[free] - K[free][:, fixed_idx] @ u_set[fixed_idx]
-        w = H[fixed_idx].T @ u_set[fixed_idx]
-        w[0::2] += [c.gap for c in self.contacts]
-        mu = np.array([c.friction for c in self.contacts])
-        name = f"frame ({', '.join(f'{k}: {v:g}' for k, v in combo.items())})"
-        prob = FrictionProblem.global_problem(sp.csc_matrix(K[free][:, free]),
-                                              sp.csc_matrix(H[free]), f, w, mu, 2, name=name)
-        flex = np.repeat([0.0 if c.stiffness is None else 1.0 / c.stiffness
-                          for c in self.contacts], 2)
-        if np.any(flex > 0) and not prob.is_reduced:
-            raise InvalidProblemError(
-                "this frame is a mechanism without its contacts and has elastic contacts: their "
-                "flexibility enters W = Hᵀ K⁻¹ H, which does not exist; make the contacts rigid "
-                "or support the free motion to export it")
-        if np.any(flex > 0):
-            W = np.asarray(prob.W) + np.diag(flex)
-            prob = FrictionProblem(W, prob.q, mu, 2, name=name + ", elastic contacts")
-        return prob
-
-    def _combo(self, p, combo, b) -> dict:
-        if combo is None:
-            self._require_loads({CONSTANT: 1.0, VARIABLE: 1.0}, b, "solve(p)",
-                                "constant + p x variable", only_if_named=True)
-            return {CONSTANT: 1.0, VARIABLE: number(p, "p")}
-        return combination(combo, set(b["cases"]))
-
-    def _require_loads(self, combo, b, what, part, only_if_named=False) -> None:
-        """Refuse a combination that puts no load on the frame where one is
-        meant: solve(p) or trace() on a frame whose loads are all in named
-        cases returned ok=True at zero load, silently (issue 31).  With
-        ``only_if_named`` only when such cases exist (a frame with constant
-        loads alone still solves, and traces trivially)."""
-        factors = assembly.factors(b, combo)
-        if np.any(b["F"] @ factors) or np.any(b["U"] @ factors):
-            return
-        named = [c for c in b["cases"] if c not in (CONSTANT, VARIABLE)
-                 and (np.any(b["F"][:, b["cases"].index(c)])
-                      or np.any(b["U"][:, b["cases"].index(c)]))]
-        if only_if_named and not named:
-            return
-        cases = ", ".join(repr(c) for c in named) or "none"
-        example = "{" + ", ".join(f"{c!r}: 1.0" for c in named[:2]) + "}"
-        raise InvalidProblemError(
-            f"{what}: {part} (the cases {', '.join(repr(c) for c in combo)}) has no load, so "
-            f"there is nothing to analyse; this frame's loads are in the cases {cases} — pass "
-            f"combination={example} to solve, constant=/variable= to trace (e.g. "
-            f"variable={named[-1] if named else 'W'!r}), or add loads with case='variable'")

@@ -37,7 +37,7 @@ class LargeDisplacementWarning(UserWarning):
     """A result's displacements are beyond small-displacement theory."""
 
 
-def _beyond_rounding(res, scale, largest=None) -> float:
+def beyond_rounding(res, scale, largest=None) -> float:
     """max |res| / scale, not counting what rounding of the largest term of the
     same kind leaves (R_ROUNDING of it): a force that is zero in exact
     arithmetic comes out of the solve as a few eps times the largest force
@@ -54,6 +54,9 @@ def _beyond_rounding(res, scale, largest=None) -> float:
 
 class FrameRecovery:
     """The Frame's results construction (see the module docstring)."""
+
+    #: a node's dofs, in order (rotations start with "r")
+    DOFS = DOFS
 
     def _result_from_z(self, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameResult:
         """The frame's result for the LCP point z, checked: the contact
@@ -219,9 +222,9 @@ class FrameRecovery:
         K = b["K"]
         res = np.abs(K @ u - F - b["H"] @ X)[free]
         scale = (abs(K) @ np.abs(u) + np.abs(F) + abs(b["H"]) @ np.abs(X))[free]
-        moment = (free % 3) == 2
-        return max(_beyond_rounding(res[~moment], scale[~moment]),
-                   _beyond_rounding(res[moment], scale[moment]))
+        moment = np.array([d.startswith("r") for d in self.DOFS])[free % len(self.DOFS)]
+        return max(beyond_rounding(res[~moment], scale[~moment]),
+                   beyond_rounding(res[moment], scale[moment]))
 
     def _resultant(self, b, F, X, r_all, u, force_terms):
         """The frame's global statics: Σ forces and Σ moments (about the nodes'
@@ -270,8 +273,8 @@ class FrameRecovery:
         # every term of a sum carries its own rounding (R_ROUNDING of the largest)
         n_f = max(np.count_nonzero(ax), np.count_nonzero(ay), 1)
         n_m = np.count_nonzero(size)
-        return max(_beyond_rounding(res[:2], scale[:2], n_f * big_f),
-                   _beyond_rounding(res[2:], scale[2:], n_m * big_m))
+        return max(beyond_rounding(res[:2], scale[:2], n_f * big_f),
+                   beyond_rounding(res[2:], scale[2:], n_m * big_m))
 
     def _diagram(self, res: FrameResult, member: str, points: int):
         m = self._diagram_member(res, member, points)

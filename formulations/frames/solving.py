@@ -18,11 +18,9 @@ from qpcontact.judge.lcp import certify_lcp
 from . import assembly
 from .active_set import solve_active_set
 from .recovery import SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning
-from .loads import describe
+from .loads import CONSTANT, VARIABLE, combination, describe, number
 from .results import CombinationResults, FrameResult
 
-#: the frame's own routes besides the registry's methods
-ROUTES = ("auto", "active-set", "lemke", "tresca")
 #: seconds each QP backend may take inside a frame's "auto" route (Lemke's
 #: proof comes first; a backend loop on a load the frame cannot carry took
 #: 40 s in ProxQP before)
@@ -40,7 +38,15 @@ def _proved(sol) -> bool:
 
 class FrameSolving:
     """The Frame's solving methods (the model, its results and the trace are
-    the other parts of :class:`~.model.Frame`)."""
+    the other parts of :class:`~.model.Frame`); shared by the space frame
+    (:class:`~.space.SpaceFrame`), which has no active set and no Tresca
+    route.  A frame class provides ``build``, ``_result_from_z``,
+    ``_release_directions`` (for the rigid-motion proof), ``_how_far``,
+    ``_support_keys`` and its contacts' ``friction``."""
+
+    #: the frame's own routes besides the registry's methods
+    ROUTES = ("auto", "active-set", "lemke", "tresca")
+    RESULT = FrameResult
 
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
               raise_on_failure: bool = False, *, combination: dict | None = None,
@@ -81,13 +87,13 @@ class FrameSolving:
         from qpcontact.core.accuracy import resolve_accuracy
 
         _, tol = resolve_accuracy(accuracy)
-        if method not in ROUTES and method not in registry():
+        if method not in self.ROUTES and method not in registry():
             raise InvalidOptionError(
-                f"unknown method {method!r}: 'auto', 'active-set', 'lemke', 'tresca' (with "
-                f"friction) or a name from qpcontact.methods(): {', '.join(registry())}")
+                f"unknown method {method!r}: {', '.join(repr(r) for r in self.ROUTES)} or a name "
+                f"from qpcontact.methods(): {', '.join(registry())}")
         b = _built if _built is not None else self.build()
         combo = self._combo(p, combination, b)
-        if method in ("auto", "active-set"):
+        if method in ("auto", "active-set") and "active-set" in self.ROUTES:
             found = solve_active_set(self, b, combo)
             if found is not None:
                 sets = f"{found[1]} state set" + ("s" if found[1] > 1 else "")
@@ -122,6 +128,15 @@ class FrameSolving:
                     self._no_equilibrium(sol, fric, b, combo, hint=method != "auto")
                 z, route = found
         res = self._result_from_z(z, combo, route, b=b, lcp=lcp, tol=tol)
+        if not res.ok and method == "auto" and not route.startswith("trace"):
+            # an LCP answer that is no equilibrium of the frame: the load path
+            # may still reach one (a table on rigid frictional pads: Lemke's
+            # faceted-cone answer rotated it freely by 3.5e9 m, rounding
+            # spoiling its forces; the path from the unloaded table sticks)
+            found = self._trace_to(b, combo, lcp, accuracy, tol)
+            if found is not None:
+                again = self._result_from_z(found[0], combo, found[1], b=b, lcp=lcp, tol=tol)
+                res = again if again.ok else res
         if not res.ok and res.lcp_error <= tol:
             # the LCP's answer is no equilibrium of the frame: a contact matrix
             # singular to rounding (the frame is a mechanism once its contacts
@@ -199,31 +214,30 @@ class FrameSolving:
             return None
         F, _ = assembly.load_vector(b, combo)
         Ff = F[free]
-        N = b["K"].shape[0]
-        rows_a, rows_s = [], []
-        for c in self.contacts:
-            t = np.array([c.normal[1], -c.normal[0]])
-            for vec, rows in ((c.normal, rows_a), (t, rows_s)):
-                col = assembly.contact_column(b["idx"], N, c, vec)
-                col = col if b["Tn"] is None else b["Tn"] @ col    # the nodes' axes
-                rows.append(col[free] @ null)
-        Ha, Hs = np.array(rows_a), np.array(rows_s)
-        f = np.array([c.friction for c in self.contacts])
+        normals, tangents, f = self._release_directions(b)
+        Ha = normals[free].T @ null
+        Hs = [t[free].T @ null for t in tangents]        # one (nc x null) per tangent
         work = Ff @ null
         if not np.any(work):
             return None
-        A_ub = np.vstack([-(Ha - f[:, None] * Hs), -(Ha + f[:, None] * Hs)])
+        # a_c >= f |s_c|: exact with one tangent (a >= ±f s); with two, by
+        # a >= f (±s1 ±s2), which implies it (|s| <= |s1| + |s2|) — a proof
+        # found under the stronger condition is still one
+        signs = np.array(np.meshgrid(*[[1.0, -1.0]] * len(Hs))).reshape(len(Hs), -1).T
+        A_ub = np.vstack([-(Ha + f[:, None] * sum(sg * h for sg, h in zip(row, Hs)))
+                          for row in signs])
         res = linprog(np.zeros(null.shape[1]), A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]),
                       A_eq=work[None, :], b_eq=[1.0], bounds=[(None, None)] * null.shape[1],
                       method="highs")
         if res.status != 0:
             return None
         phi = null @ res.x
-        a, sl = Ha @ res.x, Hs @ res.x
+        a = Ha @ res.x
+        sl = np.stack([h @ res.x for h in Hs], axis=1) if Hs else np.zeros((a.size, 0))
         size = np.abs(phi).max()
         w_scale = np.abs(Ff) @ np.abs(phi)
         tol = 1e-9 * size
-        if not (Ff @ phi > 1e-6 * w_scale and np.all(a - f * np.abs(sl) >= -tol)):
+        if not (Ff @ phi > 1e-6 * w_scale and np.all(a - f * np.linalg.norm(sl, axis=1) >= -tol)):
             return None
         a = np.where(np.abs(a) <= tol, 0.0, a)
         sl = np.where(np.abs(sl) <= tol, 0.0, sl)
@@ -260,7 +274,7 @@ class FrameSolving:
             try:
                 res = self.solve(**args)
             except (NoSolutionError, SolverFailedError) as exc:
-                res = FrameResult(p=float("nan"), supports={}, displacements={},
+                res = self.RESULT(p=float("nan"), supports={}, displacements={},
                                   member_forces={}, reactions={},
                                   equilibrium_residual=float("nan"), lcp_error=float("nan"),
                                   route="", ok=False, message=str(exc), frame=self,
@@ -348,6 +362,11 @@ class FrameSolving:
                 "does not need a convex QP")
         return H + (-lam + 20.0 * n * np.finfo(float).eps) * np.diag(d2)
 
+    def _slide_words(self, ci, t) -> str:
+        """Which way contact ci slides in a rigid motion with tangential part
+        t (its components along the contact's tangents)."""
+        return "+t" if t[0] > 0 else "-t"
+
     def _collapse_words(self, proof, fric, carrying) -> str:
         """How the frame fails, read off the Farkas vector y.
 
@@ -374,16 +393,18 @@ class FrameSolving:
         tangential motion T_c at each contact (see _collapse_words)."""
         keys = self._support_keys()
         nc = len(self.contacts)
-        big = max(A.max(initial=0.0), np.abs(T).max(initial=0.0))
+        T = np.asarray(T, float).reshape(nc, -1)
+        size = np.linalg.norm(T, axis=1)
+        big = max(A.max(initial=0.0), size.max(initial=0.0))
         lift, slide, stay = [], [], []
         for ci in range(nc):
             f = self.contacts[ci].friction
-            if A[ci] <= 1e-9 * big and abs(T[ci]) <= 1e-9 * big:
+            if A[ci] <= 1e-9 * big and size[ci] <= 1e-9 * big:
                 stay.append(keys[ci])
-            elif A[ci] > f * abs(T[ci]) * (1 + 1e-6) + 1e-9 * big:
+            elif A[ci] > f * size[ci] * (1 + 1e-6) + 1e-9 * big:
                 lift.append(keys[ci])
             else:
-                slide.append(f"{keys[ci]} ({'+t' if T[ci] > 0 else '-t'})")
+                slide.append(f"{keys[ci]} ({self._slide_words(ci, T[ci])})")
         if slide and not lift:
             whole = carrying is None or all(any(s.startswith(k + " ") for s in slide)
                                             for k in carrying)
@@ -394,3 +415,85 @@ class FrameSolving:
                 return f"it tips over about {', '.join(stay)}: {', '.join(lift)} lift off"
             return "it lifts off: " + ", ".join(lift) + " would have to pull"
         return ("it lifts off at " + ", ".join(lift) + " and slides at " + ", ".join(slide))
+
+    def friction_problem(self, p: float = 1.0, *, combination: dict | None = None):
+        """The frame's contact problem for one load combination as a
+        :class:`~qpcontact.FrictionProblem` (2-D for a plane frame, 3-D for a
+        space frame, with the true circular cone) — the form FCLIB and
+        Siconos's solvers take (``qpcontact.io.write_fclib`` writes it).
+
+        Global form: K v = H r + f (K the stiffness on the free dofs, v the
+        displacements, f the combination's loads, settlements moved to the
+        right-hand side), u = Hᵀ v + w with u = (opening, slip along each
+        tangent) per contact (w: the gaps, and what settlements do to the
+        contacts), r = (X_n, X_t...) the contact force on the structure along
+        the normal and the tangents (plane: t = (n_y, −n_x); space: the
+        contact's t1, t2), μ = the contact's friction (0: a frictionless
+        contact, whose cone is its normal ray).  Quasi-static: "velocities"
+        are displacements, units the frame's.  Elastic contacts add their
+        flexibility 1/k to W's diagonal, so their problem is exported in local
+        form.  A frame that is a mechanism without its contacts (K singular:
+        W = Hᵀ K⁻¹ H does not exist) is exported in global form, unreduced,
+        which qpcontact.solve solves without W ("desaxce-global"); with elastic
+        contacts too it raises InvalidProblemError."""
+        import scipy.sparse as sp
+
+        from qpcontact import FrictionProblem
+
+        b = self.build()
+        combo = self._combo(p, combination, b)
+        K, F, U, fixed, free = b["K"], b["F"], b["U"], b["fixed"], b["free"]
+        normals, tangents, mu = self._release_directions(b)
+        dim = 1 + len(tangents)
+        nc = normals.shape[1]
+        # contact by contact: normal, then its tangents
+        H = np.stack([normals] + tangents, axis=2).reshape(normals.shape[0], nc * dim)
+        factors = np.array([combo.get(case, 0.0) for case in b["cases"]])
+        f_all, u_set = F @ factors, U @ factors
+        fixed_idx = np.flatnonzero(fixed)
+        f = f_all[free] - K[free][:, fixed_idx] @ u_set[fixed_idx]
+        w = H[fixed_idx].T @ u_set[fixed_idx]
+        w[0::dim] += [c.gap for c in self.contacts]
+        name = f"frame ({', '.join(f'{k}: {v:g}' for k, v in combo.items())})"
+        prob = FrictionProblem.global_problem(sp.csc_matrix(K[free][:, free]),
+                                              sp.csc_matrix(H[free]), f, w, mu, dim, name=name)
+        flex = np.repeat([0.0 if c.stiffness is None else 1.0 / c.stiffness
+                          for c in self.contacts], dim)
+        if np.any(flex > 0) and not prob.is_reduced:
+            raise InvalidProblemError(
+                "this frame is a mechanism without its contacts and has elastic contacts: their "
+                "flexibility enters W = Hᵀ K⁻¹ H, which does not exist; make the contacts rigid "
+                "or support the free motion to export it")
+        if np.any(flex > 0):
+            W = np.asarray(prob.W) + np.diag(flex)
+            prob = FrictionProblem(W, prob.q, mu, dim, name=name + ", elastic contacts")
+        return prob
+
+    def _combo(self, p, combo, b) -> dict:
+        if combo is None:
+            self._require_loads({CONSTANT: 1.0, VARIABLE: 1.0}, b, "solve(p)",
+                                "constant + p x variable", only_if_named=True)
+            return {CONSTANT: 1.0, VARIABLE: number(p, "p")}
+        return combination(combo, set(b["cases"]))
+
+    def _require_loads(self, combo, b, what, part, only_if_named=False) -> None:
+        """Refuse a combination that puts no load on the frame where one is
+        meant: solve(p) or trace() on a frame whose loads are all in named
+        cases returned ok=True at zero load, silently (issue 31).  With
+        ``only_if_named`` only when such cases exist (a frame with constant
+        loads alone still solves, and traces trivially)."""
+        factors = assembly.factors(b, combo)
+        if np.any(b["F"] @ factors) or np.any(b["U"] @ factors):
+            return
+        named = [c for c in b["cases"] if c not in (CONSTANT, VARIABLE)
+                 and (np.any(b["F"][:, b["cases"].index(c)])
+                      or np.any(b["U"][:, b["cases"].index(c)]))]
+        if only_if_named and not named:
+            return
+        cases = ", ".join(repr(c) for c in named) or "none"
+        example = "{" + ", ".join(f"{c!r}: 1.0" for c in named[:2]) + "}"
+        raise InvalidProblemError(
+            f"{what}: {part} (the cases {', '.join(repr(c) for c in combo)}) has no load, so "
+            f"there is nothing to analyse; this frame's loads are in the cases {cases} — pass "
+            f"combination={example} to solve, constant=/variable= to trace (e.g. "
+            f"variable={named[-1] if named else 'W'!r}), or add loads with case='variable'")

@@ -1,4 +1,5 @@
-"""Space frames (issue 35, in progress): the model and its linear assembly.
+"""Space frames on unilateral frictional supports: P3's displacement method
+in three dimensions.
 
 Six dofs per node, (ux, uy, uz, rx, ry, rz) in global axes (right-handed,
 rotations counterclockwise about each axis); members are the 3-D
@@ -7,11 +8,11 @@ subset of the six dofs; springs resist -k·u on any dof; loads belong to
 named cases as in 2-D (:mod:`.loads`).  Units the user's, consistent.
 
 What is here: the model, K and the load columns, the linear solution of a
-frame held by bilateral supports and springs (``solve_linear``), and
-unilateral contacts with Coulomb's cone in facets solved as an LCP by
-Lemke's method (``solve``).  Still to come (docs/dev-notes.md, "Issue 35"):
-the circular cone through the friction solvers, ``solve_combinations`` and
-``trace``, the active set, results, tables and drawings as in 2-D.
+frame held by bilateral supports and springs (``solve_linear``), and the
+assembly of its contact problem (``build``).  Solving, combinations and the
+trace are the plane frame's (:mod:`.solving`, :mod:`.tracing`: the LCP is
+the same in any dimension once the links and the cone's facets are laid
+out); the results are built in :mod:`.space_recovery`.
 
 Contacts (P3 in 3-D): at a node, a contact plane with unit normal n from the
 support into the structure, tangents t1, t2 (t1 = n x e normalised for the
@@ -35,26 +36,53 @@ towards -x).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
-from qpcontact.core.errors import InvalidProblemError, NoSolutionError, SolverFailedError
-
-from qpcontact import solve as qp_solve
-from qpcontact.core.problems import LCP
-from qpcontact.judge.lcp import certify_lcp
+from qpcontact.core.errors import InvalidProblemError
 
 from . import assembly
 from .elements3d import axes, rotation, stiffness
-from .loads import CONSTANT, case_name, check_axes, combination, number
+from .loads import CONSTANT, VARIABLE, case_name, check_axes, combination, number
+from .solving import FrameSolving
+from .space_recovery import DOFS, SpaceFrameResult, SpaceRecovery
+from .tracing import FrameTracing
 
-DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+@dataclass
+class SpaceContact:
+    """A unilateral support at a node: unit normal n (from the support into
+    the structure), tangents t1, t2, Coulomb coefficient, initial gap,
+    stiffness (None: rigid), facets of the friction cone's polygon."""
+
+    node: str
+    normal: np.ndarray
+    t1: np.ndarray
+    t2: np.ndarray
+    friction: float
+    gap: float
+    stiffness: float | None
+    facets: int
+    other: None = None
 
 
-class SpaceFrame:
+class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
     """A space frame (see the module docstring); ``units`` = (force, length)
-    names, for tables and drawings only."""
+    names, for tables and drawings only.
+
+    ``solve(p, method="auto", combination=...)``, ``solve_combinations`` and
+    ``trace`` are the plane frame's (:class:`~.model.Frame`): "auto" is
+    Lemke on the faceted-cone LCP (the exact SPD method without friction),
+    then the load path where Lemke's answer fails the frame's checks;
+    "lemke" alone, or a registered LCP method or QP backend for a
+    frictionless frame.  ``friction_problem`` gives the circular-cone
+    problem (3-D FrictionProblem, global form) for the friction solvers and
+    FCLIB."""
+
+    ROUTES = ("auto", "lemke")
+    RESULT = SpaceFrameResult
 
     def __init__(self, units=("kN", "m")):
         self.units = tuple(units)
@@ -64,7 +92,7 @@ class SpaceFrame:
         self.springs: dict[str, dict] = {}
         self.nodal_loads: list = []   # (node, 6 values, case)
         self.member_loads: list = []  # (member, (wx, wy, wz), axes, case)
-        self.contacts: list = []      # dicts: node, n, t1, t2, friction, gap, stiffness, facets
+        self.contacts: list = []      # SpaceContact
 
     def _node(self, name):
         if name not in self.nodes:
@@ -162,20 +190,26 @@ class SpaceFrame:
         e = np.eye(3)[int(np.argmin(np.abs(n)))]
         t1 = np.cross(n, e)
         t1 /= np.linalg.norm(t1)
-        self.contacts.append(dict(node=node, n=n, t1=t1, t2=np.cross(n, t1), friction=friction,
-                                  gap=gap, stiffness=None if stiffness is None else
-                                  float(stiffness), facets=facets))
+        self.contacts.append(SpaceContact(node, n, t1, np.cross(n, t1), friction, gap,
+                                          None if stiffness is None else float(stiffness),
+                                          facets))
         return len(self.contacts) - 1
 
     @property
     def load_cases(self) -> list:
-        names = {CONSTANT}
+        names = {CONSTANT, VARIABLE}
         names.update(c for *_, c in self.nodal_loads)
         names.update(c for *_, c in self.member_loads)
         return sorted(names)
 
+    @property
+    def has_friction(self) -> bool:
+        return any(c.friction > 0 for c in self.contacts)
+
     def assemble(self):
-        """(K (CSR), F (dofs x cases), fixed mask, cases, idx)."""
+        """(K (CSR), F (dofs x cases), fixed mask, cases, idx, local): local =
+        the members' (k (m, 12, 12), T, dofs (m, 12), Fe (m, 12, cases):
+        their fixed-end forces in member axes), as the plane frame's."""
         names = list(self.nodes)
         idx = {nm: 6 * k for k, nm in enumerate(names)}
         N = 6 * len(names)
@@ -184,17 +218,20 @@ class SpaceFrame:
         F = np.zeros((N, len(cases)))
         ms = list(self.members.values())
         rows, cols, vals = [], [], []
+        m = len(ms)
+        k_local, T = np.zeros((m, 12, 12)), np.zeros((m, 12, 12))
+        dofs, Fe = np.zeros((m, 12), int), np.zeros((m, 12, len(cases)))
         if ms:
-            xi = np.array([self.nodes[m["i"]] for m in ms])
-            xj = np.array([self.nodes[m["j"]] for m in ms])
-            R = np.stack([axes(xi[k], xj[k], m["ref"], m["roll"])[0] for k, m in enumerate(ms)])
+            xi = np.array([self.nodes[m_["i"]] for m_ in ms])
+            xj = np.array([self.nodes[m_["j"]] for m_ in ms])
+            R = np.stack([axes(xi[k], xj[k], m_["ref"], m_["roll"])[0] for k, m_ in enumerate(ms)])
             T = rotation(R)
             L = np.linalg.norm(xj - xi, axis=1)
-            k_local = stiffness(*(np.array([m[p] for m in ms]) for p in
+            k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
                                   ("E", "G", "A", "Iy", "Iz", "J")), L)
             kg = T.transpose(0, 2, 1) @ k_local @ T
-            dofs = np.array([np.r_[idx[m["i"]] + np.arange(6), idx[m["j"]] + np.arange(6)]
-                             for m in ms])
+            dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
+                             for m_ in ms])
             rows.append(np.repeat(dofs, 12, axis=1).ravel())
             cols.append(np.tile(dofs, (1, 12)).ravel())
             vals.append(kg.ravel())
@@ -202,8 +239,8 @@ class SpaceFrame:
             for member, w, ax, case in self.member_loads:
                 k = where[member]
                 q = np.asarray(w) if ax == "member" else R[k] @ np.asarray(w)
-                fe = _fixed_end(q, L[k])
-                F[dofs[k], col[case]] += T[k].T @ fe
+                Fe[k, :, col[case]] += _fixed_end(q, L[k])
+            np.add.at(F, dofs.ravel(), (T.transpose(0, 2, 1) @ Fe).reshape(-1, len(cases)))
         for node, v, case in self.nodal_loads:
             F[idx[node]:idx[node] + 6, col[case]] += v
         K = assembly.stiffness_matrix(rows, cols, vals, self.springs, idx, DOFS, N)
@@ -211,48 +248,91 @@ class SpaceFrame:
         for node, fx in self.fixed.items():
             for d in fx:
                 fixed[idx[node] + DOFS.index(d)] = True
-        return K, F, fixed, cases, idx
+        return K, F, fixed, cases, idx, (k_local, T, dofs, Fe)
 
     def solve_linear(self, combination_: dict | None = None) -> dict:
         """Displacements {node: 6-tuple} of a frame held by its bilateral
         supports and springs alone, under ``combination_`` {case: factor}
         (default the case "constant")."""
-        K, F, fixed, cases, idx = self.assemble()
+        K, F, fixed, cases, idx, _ = self.assemble()
         combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
         f = F @ np.array([combo.get(c, 0.0) for c in cases])
         free = np.flatnonzero(~fixed)
-        Kf = K[free][:, free].tocsc()
-        try:
-            lu = spla.splu(Kf)
-            piv = np.abs(lu.U.diagonal())
-            regular = piv.size and piv.min() > 1e-13 * piv.max()
-        except RuntimeError:
-            regular = False
-        if not regular:
+        lu = assembly.regular_lu(K[free][:, free].tocsc())
+        if lu is None:
             raise InvalidProblemError("the space frame is a mechanism on its bilateral supports "
                                       "and springs: add supports or members")
         u = np.zeros(K.shape[0])
         u[free] = lu.solve(f[free])
         return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
 
+    def build(self):
+        """The assembly the solving routes share with the plane frame (an
+        :class:`~.assembly.Built`): K, loads, links, the basic system's LU,
+        the faceted cones' maps; R and R_F on first use."""
+        if not self.contacts:
+            raise InvalidProblemError("the space frame has no contacts: it is a linear problem "
+                                      "(solve_linear); add_contact() defines unilateral supports")
+        self._check_conflicts()
+        K, F, fixed, cases, idx, local = self.assemble()
+        N = K.shape[0]
+        H, info = self._links(idx, N)
+        flex = np.array([0.0 if self.contacts[ci].stiffness is None
+                         else 1.0 / self.contacts[ci].stiffness for ci, _ in info])
+        basic = assembly.basic_system(K, H, fixed, flex, np.arange(N) % 6 < 3)
+        if basic["lu"] is None:
+            raise InvalidProblemError(assembly.mechanism_message(
+                basic["S"], basic["free"], list(self.nodes), basic["nf"], DOFS))
+        springs = np.zeros(N)
+        for node, ks in self.springs.items():
+            for d, kval in ks.items():
+                springs[idx[node] + DOFS.index(d)] += kval
+        b = assembly.Built(springs=springs, names=list(self.nodes), idx=idx, K=K, F=F,
+                           U=np.zeros_like(F), cases=cases, fixed=fixed, H=H, info=info,
+                           flex=flex, local=local, Tn=None, **basic)
+        b["maps"] = self._lcp_maps(info)
+        return b
+
+    def _held(self, c, vec) -> bool:
+        """Whether the bilateral supports at c's node fix the direction vec."""
+        held = self.fixed.get(c.node, set())
+        return all(d in held for d, comp in zip(DOFS[:3], vec) if abs(comp) > 1e-12)
+
+    def _check_conflicts(self):
+        """A contact's normal that bilateral supports fix makes the basic
+        system singular: name it instead.  (A tangent they fix is no link:
+        the support carries that part of the friction, :meth:`_links`.)"""
+        for c in self.contacts:
+            if self._held(c, c.normal):
+                raise InvalidProblemError(
+                    f"node {c.node!r}: the contact's normal direction is already fixed by its "
+                    "bilateral support; a contact and a support may share a node only where "
+                    "they constrain different directions — remove one of them")
 
     def _links(self, idx, N):
-        """H (N x links) and per link (contact, kind "n" | "t1" | "t2")."""
+        """H (N x links) and per link (contact, kind "n" | "t1" | "t2").  A
+        tangent that the node's bilateral supports hold gets no link (its
+        slip is zero, its friction the support's reaction): a planar frame
+        built in space, out-of-plane motion held, has the plane frame's
+        links and, through the facets along the plane, its LCP."""
         rows, cols, vals, info = [], [], [], []
         for ci, c in enumerate(self.contacts):
-            kinds = ("n", "t1", "t2") if c["friction"] > 0 else ("n",)
-            for kind in kinds:
-                for d in range(3):
-                    rows.append(idx[c["node"]] + d)
-                    cols.append(len(info))
-                    vals.append(c[kind][d])
+            kinds = ("n", "t1", "t2") if c.friction > 0 else ("n",)
+            for kind, vec in zip(kinds, (c.normal, c.t1, c.t2)):
+                if kind != "n" and self._held(c, vec):
+                    continue
+                rows += [idx[c.node] + d for d in range(3)]
+                cols += [len(info)] * 3
+                vals += list(vec)
                 info.append((ci, kind))
         H = sp.csr_matrix((vals, (rows, cols)), shape=(N, len(info)))
         H.eliminate_zeros()
         return H, info
 
     def _lcp_maps(self, info):
-        """P (links x z) and W (z x links) of the faceted cones, the gaps g."""
+        """(P, W, g, fric) as :func:`.assembly.link_maps` gives the plane
+        frame's: Δ = P z - g, w = W X; z = Z_n per contact, then the slips
+        along each facet direction of each frictional contact."""
         nl = len(info)
         pos = {}
         for li, (ci, kind) in enumerate(info):
@@ -261,130 +341,36 @@ class SpaceFrame:
         pr, pc, pv, wr, wc, wv = [], [], [], [], [], []
         g = np.zeros(nl)
         nz = nc
+        fric = []
         for ci, c in enumerate(self.contacts):
             pr.append(pos[ci]["n"]), pc.append(ci), pv.append(1.0)
             wr.append(ci), wc.append(pos[ci]["n"]), wv.append(1.0)
-            g[pos[ci]["n"]] = c["gap"]
-            if c["friction"] == 0:
+            g[pos[ci]["n"]] = c.gap
+            if c.friction == 0:
                 continue
-            for k in range(c["facets"]):
-                a = 2 * np.pi * k / c["facets"]
+            fric.append(ci)
+            for k in range(c.facets):
+                a = 2 * np.pi * k / c.facets
                 for kind, comp in (("t1", np.cos(a)), ("t2", np.sin(a))):
-                    pr.append(pos[ci][kind]), pc.append(nz), pv.append(comp)
-                    wr.append(nz), wc.append(pos[ci][kind]), wv.append(comp)
-                wr.append(nz), wc.append(pos[ci]["n"]), wv.append(c["friction"])
+                    if kind in pos[ci]:
+                        pr.append(pos[ci][kind]), pc.append(nz), pv.append(comp)
+                        wr.append(nz), wc.append(pos[ci][kind]), wv.append(comp)
+                wr.append(nz), wc.append(pos[ci]["n"]), wv.append(c.friction)
                 nz += 1
         P = sp.csr_matrix((pv, (pr, pc)), shape=(nl, nz))
         W = sp.csr_matrix((wv, (wr, wc)), shape=(nz, nl))
-        return P, W, g
+        P.eliminate_zeros(), W.eliminate_zeros()
+        return P, W, g, fric
 
-    def _resultant(self, idx, f, hx, reactions, size_hx, size_k):
-        """Σ forces and Σ moments (about the nodes' centroid) of the loads,
-        contact forces and reactions, each against the sum of its terms'
-        sizes (as the plane frame's resultant check; a reaction by |K||u| at
-        its dof only where it is one).  Refuses what a per-dof check passes
-        when a rigid motion inflates |K||u|: Lemke's answer for a table on
-        rigid frictional pads held a free sliding of 3.5e9 m, its normal
-        forces summing to 40.26 under a 40 kN weight."""
-        names = list(self.nodes)
-        xyz = np.array([self.nodes[n] for n in names])
-        xyz = xyz - xyz.mean(axis=0)
-        rows = np.array([idx[n] for n in names])
-        total = (f + hx + reactions).reshape(-1, 6)[np.argsort(rows)]
-        size = (np.abs(f) + size_hx + np.where(reactions != 0, size_k, 0.0)).reshape(-1, 6)
-        size = size[np.argsort(rows)]
-        force, moment = total[:, :3], total[:, 3:] + np.cross(xyz, total[:, :3])
-        fs, ms = size[:, :3], size[:, 3:] + np.abs(xyz).sum(axis=1)[:, None] * size[:, :3].sum(
-            axis=1)[:, None]
-        out = 0.0
-        for res, sc in ((np.abs(force.sum(axis=0)), fs.sum(axis=0)),
-                        (np.abs(moment.sum(axis=0)), ms.sum(axis=0))):
-            floor = assembly.R_ROUNDING * len(names) * sc.max(initial=0.0)
-            excess = np.maximum(res - floor, 0.0)
-            out = max(out, float(np.max(excess / np.where(sc > 0, sc, 1.0), initial=0.0)))
-        return out
-
-    def solve(self, combination_: dict | None = None, accuracy="high") -> dict:
-        """The frame under ``combination_`` {case: factor} (default the case
-        "constant") on its contacts: Lemke on the faceted-cone LCP, the answer
-        rebuilt from the data and checked (the LCP certificate and
-        equilibrium at every free dof on its own scale).  Returns a dict:
-        ``supports`` {contact: (state, X_n, X_t (t1, t2), opening, slip
-        (t1, t2))}, ``displacements``, ``reactions`` (global, at fixed dofs),
-        ``lcp_error``, ``equilibrium_residual``, ``ok``, ``message``."""
-        from qpcontact.core.accuracy import resolve_accuracy
-
-        _, tol = resolve_accuracy(accuracy)
-        if not self.contacts:
-            raise InvalidProblemError("the space frame has no contacts: use solve_linear")
-        K, F, fixed, cases, idx = self.assemble()
-        N = K.shape[0]
-        H, info = self._links(idx, N)
-        flex = np.array([0.0 if self.contacts[ci]["stiffness"] is None
-                         else 1.0 / self.contacts[ci]["stiffness"] for ci, _ in info])
-        b = dict(assembly.basic_system(K, H, fixed, flex, np.arange(N) % 6 < 3), info=info,
-                 cases=cases, F=F, U=np.zeros_like(F), H=H)
-        if b["lu"] is None:
-            raise InvalidProblemError("the space frame is a mechanism even with every contact "
-                                      "closed: add supports, contacts or friction")
-        b.update(assembly.contact_stiffness(b))
-        combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
-        factors = np.array([combo.get(c, 0.0) for c in cases])
-        P, W, g = self._lcp_maps(info)
-        R, RF = b["R"], b["RF"] @ factors
-        M = np.asarray((P.T @ (W @ R).T).T)
-        q = np.asarray(W @ RF) - np.asarray(W @ (R @ g))
-        lcp = LCP(M, q, q_terms=np.abs(W) @ np.abs(RF) + np.abs(W @ (R @ g)))
-        sol = qp_solve(lcp, method="lemke", accuracy=accuracy)
-        if sol.z is None:
-            err = NoSolutionError if sol.stats.get("proved_infeasible") else SolverFailedError
-            raise err(f"space frame: Lemke found no contact state ({sol.message})")
-        z = np.maximum(sol.z, 0.0)
-        delta = P @ z - g
-        nf, kappa = b["nf"], b["kappa"]
-        f = F @ factors
-        out = b["lu"].solve(np.r_[f[b["free"]], kappa * delta])
-        u = np.zeros(N)
-        u[b["free"]] = out[:nf]
-        X = -kappa * out[nf:]
-        r_all = K @ u - f - H @ X
-        res = np.abs(r_all)[b["free"]]
-        scale = (abs(K) @ np.abs(u) + np.abs(f) + abs(H) @ np.abs(X))[b["free"]]
-        floor = assembly.R_ROUNDING * scale.max(initial=0.0)
-        eq = float(np.max(np.maximum(res - floor, 0.0) / np.where(scale > 0, scale, 1.0),
-                          initial=0.0))
-        eq = max(eq, self._resultant(idx, f, H @ X, np.where(fixed, r_all, 0.0), abs(H) @ np.abs(X),
-                                     abs(K) @ np.abs(u)))
-        cert = certify_lcp(lcp, z).error
-        supports = {}
-        pos = {}
-        for li, (ci, kind) in enumerate(info):
-            pos.setdefault(ci, {})[kind] = li
-        big = np.abs(X).max(initial=0.0)
-        for ci, c in enumerate(self.contacts):
-            xn = X[pos[ci]["n"]]
-            xt = np.array([X[pos[ci][k]] if k in pos[ci] else 0.0 for k in ("t1", "t2")])
-            d = u[idx[c["node"]]:idx[c["node"]] + 3]
-            slip = np.array([delta[pos[ci][k]] if k in pos[ci] else c[k] @ d
-                             for k in ("t1", "t2")])
-            if xn <= 1e-9 * big:
-                state = "separated"
-            elif c["friction"] == 0:
-                state = "closed"
-            elif np.linalg.norm(slip) <= 1e-9 * max(np.abs(delta).max(initial=0.0), 1e-300):
-                state = "stick"
-            else:
-                state = "slip"
-            supports[f"{c['node']}#{ci}" if any(o["node"] == c["node"] for o in
-                                                 self.contacts[:ci]) else c["node"]] = (
-                state, float(xn), xt, float(z[ci]), slip)
-        ok = cert <= tol and eq <= max(tol, assembly.R_ROUNDING)
-        return dict(supports=supports, ok=ok, lcp_error=cert, equilibrium_residual=eq,
-                    displacements={nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes},
-                    reactions={nd: tuple(np.where(fixed, r_all, 0.0)[idx[nd]:idx[nd] + 6])
-                               for nd in self.fixed},
-                    message=f"lemke: LCP certificate {cert:.1e}, equilibrium residual {eq:.1e}"
-                            + ("" if ok else " — CHECK FAILED"))
+    def _release_directions(self, b):
+        N = b["K"].shape[0]
+        cols = []
+        for vec in ("normal", "t1", "t2"):
+            h = np.zeros((N, len(self.contacts)))
+            for ci, c in enumerate(self.contacts):
+                h[b["idx"][c.node]:b["idx"][c.node] + 3, ci] = getattr(c, vec)
+            cols.append(h)
+        return cols[0], cols[1:], np.array([c.friction for c in self.contacts])
 
 
 def _fixed_end(q, L) -> np.ndarray:

@@ -1,0 +1,183 @@
+"""From the faceted-cone LCP's answer z to a space frame's result, checked
+from the data: the saddle solve for the displacements and the link forces,
+member end actions, reactions, the contact states (each decided on its own
+scale), equilibrium per dof and of the whole frame; and the words for how a
+space frame fails (a Farkas vector or a rigid motion read as lifting,
+sliding and tipping).  Mixed into :class:`~.space.SpaceFrame`; what is
+generic is the plane frame's (:class:`~.recovery.FrameRecovery`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.judge.lcp import certify_lcp
+from qpcontact.judge.scales import ComponentScales
+
+from . import assembly
+from .loads import CONSTANT, VARIABLE
+from .recovery import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION, STATE_RTOL,
+                       FrameRecovery, beyond_rounding)
+from .space_results import DOFS, SpaceFrameResult, SpaceSupportResult
+
+
+class SpaceRecovery(FrameRecovery):
+    """The space frame's results construction (see the module docstring)."""
+
+    DOFS = DOFS
+
+    def _result_from_z(self, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFrameResult:
+        b = b or self.build()
+        if not isinstance(combo, dict):   # a number p: the P3 split
+            combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
+        P, W, g, fric = b["maps"]
+        z = np.maximum(np.asarray(z, float), 0.0)
+        factors = assembly.factors(b, combo)
+        F = b["F"] @ factors
+        delta = P @ z - g
+        nf, free = b["nf"], b["free"]
+        sol = b["lu"].solve(np.r_[F[free], b["kappa"] * delta])
+        u = np.zeros(F.size)
+        u[free] = sol[:nf]
+        # the forces from the same solve as u (as the plane frame's: R Δ + R_F
+        # has R's rounding-level entries dropped)
+        X = -b["kappa"] * sol[nf:]
+        r_all = b["K"] @ u - F - b["H"] @ X
+        reactions = {node: tuple(float(v) for v in r_all[b["idx"][node]:b["idx"][node] + 6])
+                     for node in b["names"] if node in self.fixed}
+        ends = assembly.member_end_actions(b, u, factors)
+        ft = assembly.force_terms(b, u, F, ends)
+        if lcp is None:
+            M, Q, q_gap, *_ = assembly.lcp_matrices(self, b)
+            lcp = assembly.combination_lcp(M, Q, q_gap, b, combo)
+        cert_error = certify_lcp(lcp, z).error
+        zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
+        supports = self._supports(b, z, X, u, delta, zeta, sigma)
+        eq = max(self._equilibrium(b, F, X, u), self._resultant_3d(b, F, X, r_all, u, ft))
+        ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
+        msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
+               + ("" if ok else " — CHECK FAILED"))
+        ratio, rot, words = self._how_far(u)
+        if words:
+            msg += "; " + words
+        return SpaceFrameResult(
+            p=float(combo.get(VARIABLE, 0.0)), supports=supports,
+            displacements=dict(zip(b["names"], map(tuple, u.reshape(-1, 6).tolist()))),
+            member_forces=dict(zip(self.members, ends)), reactions=reactions,
+            equilibrium_residual=eq, lcp_error=cert_error, route=route, ok=ok, message=msg,
+            frame=self, _u=u, combination=dict(combo), displacement_ratio=ratio,
+            max_rotation=rot)
+
+    def _supports(self, b, z, X, u, delta, zeta, sigma) -> dict:
+        """Each contact's state, forces, opening and slip; a normal force or a
+        facet's slip is zero below STATE_RTOL of its own scale (the
+        certificate's)."""
+        pos = assembly.layout(b)
+        out = {}
+        nc = len(self.contacts)
+        at = nc                                   # the first facet of the next frictional contact
+        for ci, (key, c) in enumerate(zip(self._support_keys(), self.contacts)):
+            xn = float(X[pos[ci]["n"]])
+            if c.friction > 0:
+                # a tangent the supports hold has no link: no slip, no friction
+                xt = np.array([X[pos[ci][k]] if k in pos[ci] else 0.0 for k in ("t1", "t2")])
+                slip = np.array([delta[pos[ci][k]] if k in pos[ci] else 0.0
+                                 for k in ("t1", "t2")])
+                facets = slice(at, at + c.facets)
+                at += c.facets
+                moving = bool(np.any(z[facets] > STATE_RTOL * zeta[facets]))
+            else:
+                # frictionless: the node slides freely; its slip is the
+                # tangential part of its motion
+                d = u[b["idx"][c.node]:b["idx"][c.node] + 3]
+                xt, slip, moving = np.zeros(2), np.array([c.t1 @ d, c.t2 @ d]), False
+            if xn <= STATE_RTOL * sigma[ci]:
+                state, xn, xt = "separated", 0.0, np.zeros(2)
+            elif c.friction == 0:
+                state = "closed"
+            else:
+                state = "slip" if moving else "stick"
+            out[key] = SpaceSupportResult(state, xn, xt, float(z[ci]), slip, t1=c.t1, t2=c.t2)
+        return out
+
+    def _resultant_3d(self, b, F, X, r_all, u, force_terms):
+        """The frame's global statics: Σ forces and Σ moments (about the
+        nodes' centroid) of loads, contact forces, reactions and springs, each
+        of the six equations against the sum of its terms' sizes, a reaction
+        sized by the forces that meet at its dof (as the plane frame's
+        :meth:`~.recovery.FrameRecovery._resultant`, which says why the
+        per-dof check cannot replace it)."""
+        xyz = np.array([self.nodes[nd] for nd in b["names"]])
+        xyz = xyz - xyz.mean(axis=0)
+        HX = b["H"] @ X
+        absHX = abs(b["H"]) @ np.abs(X)
+        spring = -b["springs"] * u
+        total = (F + HX + np.where(b["fixed"], r_all, 0.0) + spring).reshape(-1, 6)
+        size = (np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
+                + np.abs(spring)).reshape(-1, 6)
+        force = total[:, :3].sum(axis=0)
+        moment = (total[:, 3:] + np.cross(xyz, total[:, :3])).sum(axis=0)
+        lever = np.abs(xyz)
+        f_size = size[:, :3]
+        # |r x f| component by component is at most the sum of |r_a||f_b| over the other two axes
+        m_size = size[:, 3:] + np.stack([lever[:, 1] * f_size[:, 2] + lever[:, 2] * f_size[:, 1],
+                                         lever[:, 2] * f_size[:, 0] + lever[:, 0] * f_size[:, 2],
+                                         lever[:, 0] * f_size[:, 1] + lever[:, 1] * f_size[:, 0]],
+                                        axis=1)
+        span = max(float(np.linalg.norm(np.ptp(xyz, axis=0))), 1e-300)
+        big_f = max(f_size.max(initial=0.0), m_size.max(initial=0.0) / span)
+        n_f = max(np.count_nonzero(f_size), 1)
+        n_m = max(np.count_nonzero(m_size), 1)
+        return max(beyond_rounding(np.abs(force), f_size.sum(axis=0), n_f * big_f),
+                   beyond_rounding(np.abs(moment), m_size.sum(axis=0),
+                                   n_m * m_size.max(initial=0.0)))
+
+    def _how_far(self, u, always=False):
+        """(largest translation / frame size, largest rotation, words), as the
+        plane frame's."""
+        xyz = np.array(list(self.nodes.values()))
+        size = float(np.linalg.norm(np.ptp(xyz, axis=0))) or 1.0
+        uu = u.reshape(-1, 6)
+        trans = np.linalg.norm(uu[:, :3], axis=1)
+        k = int(np.argmax(trans))
+        ratio, rot = float(trans[k]) / size, float(np.abs(uu[:, 3:]).max(initial=0.0))
+        length = self.units[1]
+        moved = (f"node {list(self.nodes)[k]} has moved {trans[k]:.3g} {length} "
+                 f"({ratio:.2g} of the frame's size, {size:.3g} {length}), rotations up to "
+                 f"{rot:.2g} rad")
+        if ratio > SMALL_DISPLACEMENT or rot > SMALL_ROTATION:
+            return ratio, rot, (f"{moved}: beyond small-displacement theory (limits "
+                                f"{SMALL_DISPLACEMENT:g} of the size, {SMALL_ROTATION:g} rad), "
+                                "which this analysis assumes")
+        return ratio, rot, (moved if always else "")
+
+    def _collapse_words(self, proof, fric, carrying) -> str:
+        """How the frame fails, read off the Farkas vector y as the plane
+        frame's: A_c = y_n + f Σ_k y_k, T_c = Σ_k y_k d_k (the facets'
+        directions in the contact's tangent plane) — the normal and
+        tangential parts of a rigid motion in which the contact forces do no
+        work."""
+        y = proof["farkas"]
+        nc = len(self.contacts)
+        A = y[:nc].copy()
+        T = np.zeros((nc, 2))
+        at = nc
+        for ci in fric:
+            c = self.contacts[ci]
+            a = 2 * np.pi * np.arange(c.facets) / c.facets
+            yk = y[at:at + c.facets]
+            at += c.facets
+            A[ci] += c.friction * yk.sum()
+            T[ci] = [yk @ np.cos(a), yk @ np.sin(a)]
+        return self._motion_words(A, T, carrying)
+
+    def _slide_words(self, ci, t) -> str:
+        c = self.contacts[ci]
+        d = t[0] * c.t1 + t[1] * c.t2 if len(t) == 2 else t[0] * c.t1
+        d = d / max(np.linalg.norm(d), 1e-300)
+        return "along (" + ", ".join(f"{v + 0.0:.3g}" for v in np.round(d, 3)) + ")"
+
+    def _support_keys(self) -> list:
+        keys = []
+        for c in self.contacts:
+            keys.append(f"{c.node}#{len(keys)}" if c.node in keys else c.node)
+        return keys
