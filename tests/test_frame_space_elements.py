@@ -270,3 +270,27 @@ def test_a_table_on_rigid_frictional_pads_sticks_below_its_friction():
     fr, W = _table(f, {"T0": 1.0})
     with pytest.raises(NoSolutionError, match="no equilibrium exists.*slid"):
         fr.solve()
+
+
+def test_the_docs_space_frame_example_runs_and_says_what_hand_statics_say():
+    """docs/frames.md's space-frame session, run as written: at p = 5 every
+    pad sticks; the back pads slip at p = f W / (1 + f/2) (their normal force
+    W/4 - P h/4, with h = 0.5 m over a 2 m pad spacing, against a friction
+    demand P/4) and the table slides away at p = f W = 12 (W = 40 kN,
+    f = 0.3)."""
+    import pathlib
+    import re
+
+    text = (pathlib.Path(__file__).parent.parent / "docs" / "frames.md").read_text()
+    section = text[text.index("## Space frames"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    scope: dict = {}
+    exec(compile(code.replace("print(", "(lambda *a: None)("), "frames.md", "exec"), scope)
+    res, tr = scope["res"], scope["tr"]
+    assert res.ok and {s.state for s in res.supports.values()} == {"stick"}
+    assert tr.ok and tr.ended == "collapse", tr.message
+    f, W = 0.3, 40.0
+    np.testing.assert_allclose(tr.breakpoints, [f * W / (1 + f / 2)], rtol=1e-9)
+    assert set(tr.events[0].changes) == {"P0", "P3"}          # the back pads, x = 0
+    assert abs(tr.trace.proof["p_limit"] - f * W) <= 1e-6 * f * W
+    assert "slides away as a rigid body" in tr.message

@@ -33,7 +33,10 @@ loads), :mod:`.assembly` (the frame: K, links, the contact LCP), :mod:`.active_s
 (the contact problem on the sparse system, "auto"'s first route),
 :mod:`.results` (results, envelopes), :mod:`.tables`, :mod:`.notation`
 (numbers as engineers read them), :mod:`.drawing` (with :mod:`.labels`,
-:mod:`.load_arrows`, :mod:`.trace_plot`), :mod:`.examples`.
+:mod:`.load_arrows`, :mod:`.trace_plot`), :mod:`.examples`.  Space frames
+(six dofs per node, contacts with a faceted or circular Coulomb cone):
+:mod:`.space` (the SpaceFrame, solved by the same routes and trace),
+:mod:`.elements3d`, :mod:`.space_recovery`, :mod:`.space_results`.
 
 Only the effects the model calls for: contacts with f = 0 build no tangential
 link at all, and a frame without friction builds the normal-only LCP
@@ -49,8 +52,11 @@ from .recovery import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION, ST
                        LargeDisplacementWarning)
 from .results import (STATES, CombinationResults, FrameEvent, FrameResult, FrameTrace,
                       SupportResult)
+from .space import SpaceContact, SpaceFrame
+from .space_results import SpaceFrameResult, SpaceSupportResult
 
-__all__ = ["Frame", "FrameResult", "FrameTrace", "FrameEvent", "SupportResult",
+__all__ = ["Frame", "SpaceFrame", "SpaceFrameResult", "SpaceSupportResult", "SpaceContact",
+           "FrameResult", "FrameTrace", "FrameEvent", "SupportResult",
            "CombinationResults", "MemberLoad", "STATES", "EQUILIBRIUM_FLOOR", "STATE_RTOL",
            "SMALL_DISPLACEMENT", "SMALL_ROTATION", "LargeDisplacementWarning",
            "CONSTANT", "VARIABLE", "DOFS", "demo", "instances", "portal_example"]
