@@ -109,9 +109,10 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
     ----------
     plcp : ParametricLCP
     solve_lcp : callable
-        ``solve_lcp(lcp) -> LCPSolution``: the engine's certified solve of one
-        LCP by Lemke's method at ``accuracy`` (the start at p = 0 and the
-        schemes found just beyond a vertex); :func:`qpcontact.solve` passes it.
+        ``solve_lcp(lcp, prove=True) -> LCPSolution``: the engine's certified
+        solve of one LCP by Lemke's method at ``accuracy`` (the start at p = 0,
+        and with ``prove=False`` the schemes probed just beyond a vertex);
+        :func:`qpcontact.solve` passes it.
     accuracy : level or float
         Tolerance every piece is certified at (:mod:`qpcontact.core.accuracy`).
     p_max : float
@@ -287,4 +288,5 @@ def run_trace(plcp: ParametricLCP, tol: float, options: dict, engine) -> LoadTra
     piece from the data itself, at its start, middle and end (a path, not a
     point, is its answer); its Lemke solves go through ``engine``."""
     check_options("trace", options, _OPTIONS)
-    return trace_load(plcp, lambda lcp: engine.solve(lcp, "lemke"), accuracy=tol, **options)
+    return trace_load(plcp, lambda lcp, prove=True: engine.solve(lcp, "lemke", prove=prove),
+                      accuracy=tol, **options)

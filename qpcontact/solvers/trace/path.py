@@ -214,14 +214,15 @@ class Path(LoadFamily):
 
     def resolved_piece(self, p, F_prev, p_max, tol, solve_lcp):
         """A scheme found by Lemke's method at p + δ (δ tiny on the scale of p;
-        ``solve_lcp``: the engine's solve of one LCP by Lemke) that also holds
-        at p, certified like any piece; or None."""
+        ``solve_lcp``: the engine's solve of one LCP by Lemke, asked for no
+        proof where it fails: the trace seeks its own) that also holds at p,
+        certified like any piece; or None."""
         unit = self.load_unit(p)
         for rel in (1e-7, 1e-10):
             pp = p + rel * unit
             if np.isfinite(p_max) and pp >= p_max:
                 pp = 0.5 * (p + p_max)
-            sol = solve_lcp(self.plcp.at(pp))
+            sol = solve_lcp(self.plcp.at(pp), prove=False)
             if sol.ok:
                 got = self.piece_through(p, F_prev, sol.z, pp, p_max, tol)
                 if got is not None:
