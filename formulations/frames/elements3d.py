@@ -67,17 +67,19 @@ def stiffness(E, G, A, Iy, Iz, J, L) -> np.ndarray:
 def axes(xi, xj, ref=None, roll=0.0) -> np.ndarray:
     """Rotation matrices (m, 3, 3) whose rows are the members' local x, y, z
     in global components (see the module docstring); ``xi``, ``xj`` (m, 3)
-    end coordinates, ``ref`` (m, 3) or None, ``roll`` (m,) radians."""
+    end coordinates, ``ref`` (m, 3) (a row of NaN: the default) or None,
+    ``roll`` (m,) radians."""
     xi, xj = np.atleast_2d(np.asarray(xi, float)), np.atleast_2d(np.asarray(xj, float))
     d = xj - xi
     L = np.linalg.norm(d, axis=1)
     if np.any(L == 0):
         raise InvalidProblemError(f"space-frame member {int(np.argmin(L))}: its nodes coincide")
     x = d / L[:, None]
-    if ref is None:
-        vertical = np.abs(x[:, 2]) > 1.0 - 1e-9
-        ref = np.where(vertical[:, None], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])
-    ref = np.broadcast_to(np.asarray(ref, float), x.shape)
+    # the default reference (rows of NaN, or ref None): Z, or X for a vertical member
+    vertical = np.abs(x[:, 2]) > 1.0 - 1e-9
+    default = np.where(vertical[:, None], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    ref = default if ref is None else np.broadcast_to(np.asarray(ref, float), x.shape)
+    ref = np.where(np.isnan(ref), default, ref)
     z = np.cross(x, np.cross(ref, x))
     zn = np.linalg.norm(z, axis=1)
     bad = zn <= 1e-9 * np.linalg.norm(ref, axis=1)

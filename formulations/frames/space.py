@@ -125,7 +125,10 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
             if ref.shape != (3,) or not np.all(np.isfinite(ref)):
                 raise InvalidProblemError(f"{what}: ref must be a finite 3-vector")
         roll = number(roll, f"{what}: roll")
-        axes(self.nodes[i], self.nodes[j], ref, roll)      # refuses a bad reference now
+        try:                                               # refuses a bad reference now
+            axes(self.nodes[i], self.nodes[j], ref, roll)
+        except InvalidProblemError as exc:
+            raise InvalidProblemError(f"{what}: {str(exc).split(': ', 1)[1]}") from None
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
             raise InvalidProblemError(f"member {name!r} exists already")
@@ -224,7 +227,8 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
         if ms:
             xi = np.array([self.nodes[m_["i"]] for m_ in ms])
             xj = np.array([self.nodes[m_["j"]] for m_ in ms])
-            R = np.stack([axes(xi[k], xj[k], m_["ref"], m_["roll"])[0] for k, m_ in enumerate(ms)])
+            ref = np.array([np.full(3, np.nan) if m_["ref"] is None else m_["ref"] for m_ in ms])
+            R = axes(xi, xj, ref, np.array([m_["roll"] for m_ in ms]))
             T = rotation(R)
             L = np.linalg.norm(xj - xi, axis=1)
             k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
