@@ -294,3 +294,17 @@ def test_the_docs_space_frame_example_runs_and_says_what_hand_statics_say():
     assert set(tr.events[0].changes) == {"P0", "P3"}          # the back pads, x = 0
     assert abs(tr.trace.proof["p_limit"] - f * W) <= 1e-6 * f * W
     assert "slides away as a rigid body" in tr.message
+
+
+def test_the_trace_of_a_space_frame_is_plotted_against_any_of_its_six_dofs(tmp_path):
+    from qpcontact.core.errors import InvalidOptionError
+
+    fr, _ = _table(0.3, {}, 0.0)
+    for k in range(4):
+        fr.add_load(f"T{k}", fx=0.25, case="variable")
+    tr = fr.trace()
+    for dof in ("ux", "rz"):
+        path = tr.plot(tmp_path / f"{dof}.png", "T0", dof)
+        assert (tmp_path / f"{dof}.png").stat().st_size > 0 and str(path).endswith(".png")
+    with pytest.raises(InvalidOptionError, match="uz"):
+        tr.plot(tmp_path / "x.png", "T0", "fz")
