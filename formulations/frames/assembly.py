@@ -334,6 +334,9 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
     diag = np.abs(Kf.diagonal())
     moves = translational[free]
     kappa = float(np.max(diag[moves] if moves.any() else diag)) if free.size else 1.0
+    # no stiffness on those dofs at all (a node on a contact, no member):
+    # kappa = 0 would drop the links and name a held dof as the free one
+    kappa = kappa if kappa > 0 else 1.0
     Hc = H.tocoo()
     hk = at[Hc.row] >= 0
     Hf = sp.csr_matrix((kappa * Hc.data[hk], (at[Hc.row[hk]], Hc.col[hk])), shape=(nf, H.shape[1]))
@@ -419,8 +422,9 @@ def mechanism_message(S, free, names, nf, dofs=DOFS) -> str:
     order = np.argsort(-np.abs(v))[:3]
     moves = ", ".join(f"{names[free[i] // len(dofs)]} {dofs[free[i] % len(dofs)]}" for i in order
                       if abs(v[i]) > 0.1 * abs(v[order[0]]))
+    together = "move together" if "," in moves else "alone"
     return (f"the frame is a mechanism even with every contact closed: it can move freely "
-            f"({moves} move together); add supports, contacts or friction that prevent it")
+            f"({moves} {together}); add supports, contacts or friction that prevent it")
 
 
 def layout(b):

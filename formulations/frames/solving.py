@@ -406,6 +406,12 @@ class FrameSolving:
             else:
                 slide.append(f"{keys[ci]} ({self._slide_words(ci, T[ci])})")
         if slide and not lift:
+            # a carrying support that stays is a pivot (a table on a floor
+            # turning about one leg)
+            pivots = [k for k in stay if carrying is not None and k in carrying]
+            if pivots:
+                return (f"it turns about {', '.join(pivots)}: friction exhausted at "
+                        + ", ".join(slide))
             whole = carrying is None or all(any(s.startswith(k + " ") for s in slide)
                                             for k in carrying)
             return (("the frame slides away as a rigid body: " if whole else "it slides: ")

@@ -24,7 +24,10 @@ cos(2πk/m) t1 + sin(2πk/m) t2, k = 0..m-1, each complementary to a slip
 magnitude Z_k >= 0 along d_k (the slip is Σ Z_k d_k; slipping along d_k
 takes the friction force to -f X_n along it).  With m = 2 in a plane this
 is P3's 2-D LCP; along the directions d_k the faceted and circular cones
-agree, between them the facets allow up to 1/cos(π/m) more friction.
+agree, between them the facets allow up to 1/cos(π/m) more friction.  Where
+the node's bilateral supports hold one tangent, that tangent has no link
+and the cone is the segment along the other, two facets: a planar frame
+built in space has exactly the plane frame's LCP.
 
 Member loads: a uniform load per unit length over the whole member, in
 global or member axes.  Its equivalent nodal loads are the fixed-end forces,
@@ -125,10 +128,14 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
             if ref.shape != (3,) or not np.all(np.isfinite(ref)):
                 raise InvalidProblemError(f"{what}: ref must be a finite 3-vector")
         roll = number(roll, f"{what}: roll")
-        try:                                               # refuses a bad reference now
+        if not np.linalg.norm(self.nodes[j] - self.nodes[i]) > 0:
+            raise InvalidProblemError(f"{what}: nodes {i} and {j} coincide")
+        try:
             axes(self.nodes[i], self.nodes[j], ref, roll)
-        except InvalidProblemError as exc:
-            raise InvalidProblemError(f"{what}: {str(exc).split(': ', 1)[1]}") from None
+        except InvalidProblemError as exc:     # it numbers the member; name it
+            raise InvalidProblemError(
+                f"{what}: its reference vector {tuple(map(float, ref))} is parallel to the "
+                "member; give one in the plane of the member's local x-z axes") from exc
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
             raise InvalidProblemError(f"member {name!r} exists already")
@@ -180,7 +187,10 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
         allows at most 2 % more friction than Coulomb's circle between facet
         directions, 8 facets 8.2 %: docs/frames.md)."""
         self._node(node)
-        n = np.asarray(normal, float)
+        try:
+            n = np.asarray(normal, float)
+        except (TypeError, ValueError):
+            n = np.zeros(0)
         if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.linalg.norm(n) > 0:
             raise InvalidProblemError(f"contact at {node!r}: normal must be a nonzero 3-vector")
         n = n / np.linalg.norm(n)
@@ -352,11 +362,11 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
             pr.append(pos[ci]["n"]), pc.append(ci), pv.append(1.0)
             wr.append(ci), wc.append(pos[ci]["n"]), wv.append(1.0)
             g[pos[ci]["n"]] = c.gap
-            if c.friction == 0:
+            angles = self._facet_angles(c)
+            if not angles.size:
                 continue
             fric.append(ci)
-            for k in range(c.facets):
-                a = 2 * np.pi * k / c.facets
+            for a in angles:
                 for kind, comp in (("t1", np.cos(a)), ("t2", np.sin(a))):
                     if kind in pos[ci]:
                         pr.append(pos[ci][kind]), pc.append(nz), pv.append(comp)
@@ -367,6 +377,23 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
         W = sp.csr_matrix((wv, (wr, wc)), shape=(nz, nl))
         P.eliminate_zeros(), W.eliminate_zeros()
         return P, W, g, fric
+
+    def _facet_angles(self, c) -> np.ndarray:
+        """The angles of c's facet directions from t1 towards t2: the m-gon's,
+        or where bilateral supports hold one tangent only ±(the other) — the
+        cone is then the segment |X_t| <= f X_n, exact with two facets, and
+        the m-gon's oblique facets only repeat it, looser, with slips that
+        move nothing the two do not (a planar portal built in space: the
+        load path could not prove its sliding collapse through them) — and
+        none where both are held or without friction."""
+        if c.friction == 0:
+            return np.zeros(0)
+        free = [not self._held(c, t) for t in (c.t1, c.t2)]
+        if all(free):
+            return 2 * np.pi * np.arange(c.facets) / c.facets
+        if not any(free):
+            return np.zeros(0)
+        return np.array([0.0, np.pi]) + (0.0 if free[0] else 0.5 * np.pi)
 
     def _release_directions(self, b):
         N = b["K"].shape[0]

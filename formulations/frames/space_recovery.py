@@ -82,8 +82,9 @@ class SpaceRecovery(FrameRecovery):
                 xt = np.array([X[pos[ci][k]] if k in pos[ci] else 0.0 for k in ("t1", "t2")])
                 slip = np.array([delta[pos[ci][k]] if k in pos[ci] else 0.0
                                  for k in ("t1", "t2")])
-                facets = slice(at, at + c.facets)
-                at += c.facets
+                m = self._facet_angles(c).size
+                facets = slice(at, at + m)
+                at += m
                 moving = bool(np.any(z[facets] > STATE_RTOL * zeta[facets]))
             else:
                 # frictionless: the node slides freely; its slip is the
@@ -155,7 +156,10 @@ class SpaceRecovery(FrameRecovery):
         frame's: A_c = y_n + f Σ_k y_k, T_c = Σ_k y_k d_k (the facets'
         directions in the contact's tangent plane) — the normal and
         tangential parts of a rigid motion in which the contact forces do no
-        work."""
+        work.  The contact slides in it when y_n = 0: its T_c is handed on
+        with length Σ_k y_k, the faceted cone's measure of it (a slip between
+        two facets has |Σ y_k d_k| < Σ y_k, and the Euclidean length read a
+        stool turning about one pad as the other two lifting off)."""
         y = proof["farkas"]
         nc = len(self.contacts)
         A = y[:nc].copy()
@@ -163,11 +167,14 @@ class SpaceRecovery(FrameRecovery):
         at = nc
         for ci in fric:
             c = self.contacts[ci]
-            a = 2 * np.pi * np.arange(c.facets) / c.facets
-            yk = y[at:at + c.facets]
-            at += c.facets
+            a = self._facet_angles(c)
+            yk = y[at:at + a.size]
+            at += a.size
             A[ci] += c.friction * yk.sum()
             T[ci] = [yk @ np.cos(a), yk @ np.sin(a)]
+            length = np.linalg.norm(T[ci])
+            if length > 0:
+                T[ci] *= yk.sum() / length
         return self._motion_words(A, T, carrying)
 
     def _slide_words(self, ci, t) -> str:
