@@ -67,6 +67,9 @@ class FrameResult:
     _u: np.ndarray = field(repr=False, default=None)
     combination: dict = field(default_factory=dict)
     name: str = ""
+    #: the module whose TABLES, COMBINED, rows, envelope and envelope_rows
+    #: tabulate this kind of result (CombinationResults asks its results)
+    table_kit = tables
     #: the largest nodal translation over the frame's size (the diagonal of
     #: its nodes' bounding box), and the largest rotation [rad]: beyond
     #: recovery.SMALL_DISPLACEMENT / SMALL_ROTATION the analysis (small
@@ -167,7 +170,9 @@ class FrameResult:
 class CombinationResults(dict):
     """{combination name: FrameResult}, each solved on its own.  A
     combination the frame cannot carry has ``ok`` False and a message saying
-    what happens; it does not discard the others.  ``failed`` lists them."""
+    what happens; it does not discard the others.  ``failed`` lists them.
+    The tables are those of the results' kind (``table_kit``: a plane
+    frame's :mod:`.tables`, a space frame's :mod:`.space_tables`)."""
 
     @property
     def failed(self) -> list:
@@ -178,26 +183,29 @@ class CombinationResults(dict):
         member {"N"|"V"|"M": {"max": (value, x, combination), "min": ...}}
         (the diagrams' extremes, ends included), and per node the ground
         holds {"Fx"|"Fy"|"Mz": {"max": (value, combination), ...}} of its
-        total reaction under the key "supports"."""
-        return tables.envelope(self)
+        total reaction under the key "supports" (a space frame's: see
+        :func:`.space_tables.envelope`)."""
+        return self._kit().envelope(self)
 
     def rows(self, table: str, digits: int | None = DIGITS) -> list:
         """One table over all combinations, rounded per column over all of
         them (``digits=None``: full precision): a result table with a
         "combination" column first, "envelope" (members),
-        "envelope_reactions" (nodes) or "combinations" (each one's status)."""
-        tables.check_table(table, TABLES + tables.COMBINED)
+        "envelope_reactions" (nodes) or "combinations" (each one's status);
+        a space frame's also "envelope_supports" (contacts)."""
+        kit = self._kit()
+        tables.check_table(table, kit.TABLES + kit.COMBINED)
         if table == "combinations":
             return [{"combination": n, "ok": r.ok, "route": r.route, "message": r.message}
                     for n, r in self.items()]
         frame = self._frame()
         if frame is None:
             return []
-        if table in tables.COMBINED:
-            raw = tables.envelope_rows(frame, self.envelope(), table)
+        if table in kit.COMBINED:
+            raw = kit.envelope_rows(frame, self.envelope(), table)
         else:
             raw = [{"combination": name, "ok": r.ok, **row} for name, r in self.items()
-                   for row in tables.rows(frame, r, table)]
+                   for row in kit.rows(frame, r, table)]
         return tables.engineering(raw, frame, digits)
 
     def envelope_rows(self, digits: int | None = DIGITS) -> list:
@@ -206,8 +214,9 @@ class CombinationResults(dict):
 
     def to_csv(self, folder, digits: int | None = DIGITS) -> list:
         """Every table of ``rows`` as folder/<table>.csv (atomic writes)."""
+        kit = self._kit()
         return tables.write_tables(
-            folder, {t: self.rows(t, digits) for t in TABLES + tables.COMBINED}, digits)
+            folder, {t: self.rows(t, digits) for t in kit.TABLES + kit.COMBINED}, digits)
 
     def to_dataframe(self, table: str = "members", digits: int | None = DIGITS):
         """A table of ``rows`` as a pandas DataFrame (the ``tables`` extra)."""
@@ -215,6 +224,9 @@ class CombinationResults(dict):
 
     def _frame(self):
         return next((r.frame for r in self.values() if r.frame is not None), None)
+
+    def _kit(self):
+        return next((type(r).table_kit for r in self.values()), tables)
 
 
 @dataclass

@@ -19,6 +19,9 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
+from . import space_tables, tables
+from .notation import DIGITS
+
 DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
 #: a space frame's contact states: a slip has a direction in the contact's
 #: plane (``slip_global``), not a sign
@@ -76,6 +79,8 @@ class SpaceFrameResult:
     name: str = ""
     displacement_ratio: float = 0.0
     max_rotation: float = 0.0
+    #: the tables of this kind of result (CombinationResults asks for them)
+    table_kit = space_tables
 
     def end_forces(self, member: str) -> dict:
         """The member's end actions by name: {"i": {"N": ..., ...}, "j": {...}}
@@ -92,3 +97,47 @@ class SpaceFrameResult:
         (Fx, Fy, Fz)."""
         return {k: tuple(float(v) for v in s.normal * np.cross(s.t1, s.t2)
                          + s.tangential_global) for k, s in self.supports.items()}
+
+    @property
+    def reactions_by_node(self) -> dict:
+        """{node: {"total": (Fx, Fy, Fz, Mx, My, Mz), "support"|"spring"|
+        "contact": ...}}: what the ground exerts on each node it holds, and
+        each kind's part (global axes, full precision)."""
+        return space_tables.reactions_by_node(self.frame, self)
+
+    def rows(self, table: str, digits: int | None = DIGITS) -> list:
+        """Rows (dicts) of the table "supports", "reactions", "members" or
+        "displacements" (:mod:`.space_tables`), units in the headers, rounded
+        as the plane frame's (``digits=None``: full precision)."""
+        return tables.engineering(space_tables.rows(self.frame, self, table), self.frame, digits)
+
+    def to_csv(self, folder, digits: int | None = DIGITS) -> list:
+        """The four tables as folder/<table>.csv, each written atomically."""
+        return tables.write_tables(
+            folder, {t: self.rows(t, digits) for t in space_tables.TABLES}, digits)
+
+    def to_dataframe(self, table: str = "members", digits: int | None = DIGITS):
+        """The table as a pandas DataFrame (the ``tables`` extra)."""
+        return tables.dataframe(self.rows(table, digits))
+
+    def deflection(self, member: str, points: int = 21, axes: str = "member"):
+        """(x, u (points, 3)): the displacement of the member's axis at
+        ``points`` sections, x from node i; in member axes (u, v, w) or
+        ``axes="global"`` (ux, uy, uz).  Exact for the element's uniform
+        loads (:func:`.space_drawing.member_deflection`)."""
+        from .space_drawing import member_deflection
+
+        return member_deflection(self.frame, self, member, points, axes)
+
+    def plot(self, path, scale: float | None = None, title: str | None = None, *,
+             azimuth: float | None = None, elevation: float | None = None,
+             loads: bool = True) -> str:
+        """Draw the result (PNG, :mod:`.space_drawing`): the frame and its
+        deformed shape (displacements x ``scale``, default the largest drawn
+        as 8 % of the frame) in an orthographic view (default isometric), the
+        contacts by state, the slip directions, the loads.  Raises
+        SolverFailedError for a result that is not ok."""
+        from .space_drawing import plot_space_result
+
+        return plot_space_result(self.frame, self, path, scale=scale, title=title,
+                                 azimuth=azimuth, elevation=elevation, loads=loads)

@@ -263,9 +263,10 @@ def engineering(table_rows: list, frame, digits: int | None = DIGITS) -> list:
 
 
 def _size(frame) -> float:
-    """The frame's size: the diagonal of its nodes' bounding box."""
-    xy = np.array(list(frame.nodes.values()), float).reshape(-1, 2)
-    return float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))) if len(xy) else 0.0
+    """The frame's size: the diagonal of its nodes' bounding box (plane or
+    space frame)."""
+    xyz = np.array([tuple(v) for v in frame.nodes.values()], float)
+    return float(np.linalg.norm(np.ptp(xyz, axis=0))) if len(xyz) else 0.0
 
 
 def csv_rows(table_rows: list, digits: int | None) -> list:
