@@ -51,7 +51,7 @@ def _frame():
             fr.add_node(f"P{a}{b}", x, y, 0.0)
             fr.add_node(f"T{a}{b}", x, y, H)
             fr.add_member(f"P{a}{b}", f"T{a}{b}", E, G, 0.01, 8e-5, 8e-5, 1e-5, name=f"C{a}{b}")
-            fr.add_contact(f"P{a}{b}", friction=F_PAD)
+            fr.add_contact(f"P{a}{b}", friction=F_PAD, facets=8)
     for b in range(2):
         for a in range(2):
             fr.add_member(f"T{a}{b}", f"T{a + 1}{b}", E, G, 0.01, 2e-4, 1e-4, 2e-5,
