@@ -326,7 +326,8 @@ def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_
     """A beam pinned at A and resting on a frictional contact at B: K is
     singular, so W does not exist.  The problem is kept global, survives
     FCLIB, and the global method reproduces Frame.solve's contact forces;
-    with an elastic contact it cannot be exported (W would be needed)."""
+    with an elastic contact too (its spring to a contact point of its own is
+    two more dofs of the global problem)."""
     from qpcontact.io import read_fclib, write_fclib
 
     def frame(stiffness=None):
@@ -349,5 +350,12 @@ def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_
     sol = qpcontact.solve(back, accuracy=1e-9)
     assert sol.ok and sol.method == "desaxce-global", sol.message
     np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-7 * np.abs(expected).max())
-    with pytest.raises(InvalidProblemError, match="mechanism"):
-        frame(stiffness=1e6).friction_problem()
+    fr = frame(stiffness=1e6)
+    res = fr.solve()
+    assert res.ok, res.message
+    expected = np.array([[s.normal, s.tangential] for s in res.supports.values()]).ravel()
+    back = read_fclib(write_fclib(fr.friction_problem(), tmp_path / "elastic.hdf5"))
+    assert not back.is_reduced and back.global_data["M"].shape == (6, 6)
+    sol = qpcontact.solve(back, accuracy=1e-9)
+    assert sol.ok, sol.message
+    np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-7 * np.abs(expected).max())

@@ -8,6 +8,7 @@ import numpy as np
 from qpcontact.core.problems import ParametricLCP
 
 from .model import Frame
+from .space_examples import space_instances
 
 
 def demo(console) -> int:
@@ -89,7 +90,9 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     point loads; "easy" without friction (symmetric), "hard" with friction
     f = 0.3 and a lateral load (nonsymmetric: QP backends are not applicable).
     Named ``frames/10-supports-friction``; the contact forces are w's first
-    entries (X_n)."""
+    entries (X_n).  With "hard" also a space frame's circular-cone problem
+    (:func:`~.space_examples.space_instances`: a FrictionProblem in FCLIB's
+    global form)."""
     from qpcontact.cases.instance import Instance
 
     spans = {"small": 3, "medium": 10, "large": 30}[size]
@@ -110,4 +113,4 @@ def instances(size: str = "small", hardness: str = "easy", seed: int = 0):
     M, qc, qv, P, g, fric = fr.lcp()
     name = f"frames/{spans}-supports" + ("-friction" if friction else "")
     return [Instance(name, "frames", f"{spans}-supports", ParametricLCP(M, qc, qv).at(1.0),
-                     forces=("w", spans))]
+                     forces=("w", spans))] + space_instances(size, hardness, seed)

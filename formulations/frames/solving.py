@@ -17,6 +17,7 @@ from qpcontact.judge.lcp import certify_lcp
 
 from . import assembly
 from .active_set import solve_active_set
+from .contact_springs import with_contact_springs
 from .recovery import SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning
 from .loads import CONSTANT, VARIABLE, combination, describe, number
 from .results import CombinationResults, FrameResult
@@ -422,7 +423,7 @@ class FrameSolving:
             return "it lifts off: " + ", ".join(lift) + " would have to pull"
         return ("it lifts off at " + ", ".join(lift) + " and slides at " + ", ".join(slide))
 
-    def friction_problem(self, p: float = 1.0, *, combination: dict | None = None):
+    def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a
         :class:`~qpcontact.FrictionProblem` (2-D for a plane frame, 3-D for a
         space frame, with the true circular cone) — the form FCLIB and
@@ -436,17 +437,16 @@ class FrameSolving:
         the normal and the tangents (plane: t = (n_y, −n_x); space: the
         contact's t1, t2), μ = the contact's friction (0: a frictionless
         contact, whose cone is its normal ray).  Quasi-static: "velocities"
-        are displacements, units the frame's.  Elastic contacts add their
-        flexibility 1/k to W's diagonal, so their problem is exported in local
-        form.  A frame that is a mechanism without its contacts (K singular:
-        W = Hᵀ K⁻¹ H does not exist) is exported in global form, unreduced,
-        which qpcontact.solve solves without W ("desaxce-global"); with elastic
-        contacts too it raises InvalidProblemError."""
-        import scipy.sparse as sp
-
+        are displacements, units the frame's.  An elastic contact is a spring
+        to a contact point of its own, whose displacement (normal, tangents)
+        follows the free dofs in v (:mod:`.contact_springs`): reduced, W =
+        Hᵀ K⁻¹ H + 1/k on its diagonal.  A frame that is a mechanism without
+        its contacts (K singular: W does not exist) stays in global form,
+        unreduced, which qpcontact.solve solves without W
+        ("desaxce-global")."""
         from qpcontact import FrictionProblem
 
-        b = self.build()
+        b = _built if _built is not None else self.build()
         combo = self._combo(p, combination, b)
         K, F, U, fixed, free = b["K"], b["F"], b["U"], b["fixed"], b["free"]
         normals, tangents, mu = self._release_directions(b)
@@ -461,19 +461,10 @@ class FrameSolving:
         w = H[fixed_idx].T @ u_set[fixed_idx]
         w[0::dim] += [c.gap for c in self.contacts]
         name = f"frame ({', '.join(f'{k}: {v:g}' for k, v in combo.items())})"
-        prob = FrictionProblem.global_problem(sp.csc_matrix(K[free][:, free]),
-                                              sp.csc_matrix(H[free]), f, w, mu, dim, name=name)
         flex = np.repeat([0.0 if c.stiffness is None else 1.0 / c.stiffness
                           for c in self.contacts], dim)
-        if np.any(flex > 0) and not prob.is_reduced:
-            raise InvalidProblemError(
-                "this frame is a mechanism without its contacts and has elastic contacts: their "
-                "flexibility enters W = Hᵀ K⁻¹ H, which does not exist; make the contacts rigid "
-                "or support the free motion to export it")
-        if np.any(flex > 0):
-            W = np.asarray(prob.W) + np.diag(flex)
-            prob = FrictionProblem(W, prob.q, mu, dim, name=name + ", elastic contacts")
-        return prob
+        M, Hg, fg = with_contact_springs(K[free][:, free], H[free], f, flex, dim)
+        return FrictionProblem.global_problem(M, Hg, fg, w, mu, dim, name=name)
 
     def _combo(self, p, combo, b) -> dict:
         if combo is None:

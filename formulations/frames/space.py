@@ -50,6 +50,7 @@ from . import assembly
 from .elements3d import axes, rotation, stiffness
 from .loads import CONSTANT, VARIABLE, case_name, check_axes, combination, number
 from .solving import FrameSolving
+from .space_circular import CircularCone
 from .space_recovery import DOFS, SpaceFrameResult, SpaceRecovery
 from .tracing import FrameTracing
 
@@ -71,7 +72,7 @@ class SpaceContact:
     other: None = None
 
 
-class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
+class SpaceFrame(CircularCone, SpaceRecovery, FrameSolving, FrameTracing):
     """A space frame (see the module docstring); ``units`` = (force, length)
     names, for tables and drawings only.
 
@@ -82,7 +83,9 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
     "lemke" alone, or a registered LCP method or QP backend for a
     frictionless frame.  ``friction_problem`` gives the circular-cone
     problem (3-D FrictionProblem, global form) for the friction solvers and
-    FCLIB."""
+    FCLIB; ``solve(..., cone="circular")`` solves it by them ("auto" or a
+    friction method's name) and gives the frame's result
+    (:mod:`.space_circular`)."""
 
     ROUTES = ("auto", "lemke")
     RESULT = SpaceFrameResult

@@ -156,7 +156,7 @@ def solve_desaxce_global(problem, tol, options):
         polished = _polish_global(problem, x)
         if polished is not None and max(measure(polished)) < max(measure(x)):
             x = polished
-            message += "; polished by one linear solve on its contact states"
+            message += "; polished by Newton on its contact states"
     ray = getattr(made[0], "ray", None) if made else None
     if x is None and ray is not None:
         proof = no_equilibrium(problem, ray)
@@ -165,49 +165,92 @@ def solve_desaxce_global(problem, tol, options):
     return x, status, message, stats
 
 
-def _polish_global(problem, x):
+def _polish_global(problem, x, max_iter: int = 20):
     """An interior-point answer is accurate to the backend's tolerance (5e-7
     in the equilibrium of a frame whose K spans 1e6…1e8); its contact states
-    are usually right.  Fix them and solve the square linear system exactly:
-    Mv − Hr = f; an open contact r_i = 0; a sticking one H_iᵀv + w_i = 0; a
-    sliding one H_Nᵀv + w_N = 0 and r_T = μ r_N t̂ (t̂ its current friction
-    direction).  None when that system is singular; the caller keeps
-    whichever point has the smaller error."""
+    are usually right.  Fix them and solve, by Newton's method, the smooth
+    system they leave: Mv − Hr = f; an open contact r_i = 0; a sticking one
+    H_iᵀv + w_i = 0; a sliding one (or a closed frictionless one, μ = 0)
+    H_Nᵀv + w_N = 0 and r_T + μ r_N g = 0, g =
+    u_T/‖u_T‖ its slip direction (in 2-D ±1, so one linear solve; in 3-D the
+    direction moves with v: a table's pad sliding at an angle stalled at
+    1.3e-6 with g frozen at the iterate's, where Newton on it reaches
+    rounding in a few steps).  A sliding contact without a slip to take the
+    direction from keeps its friction's, r_T = μ r_N t̂.  Stops when the
+    residual (each row on its own scale) stops falling, returning the point
+    where it was smallest; the caller keeps whichever point has the smaller
+    error."""
     g, d = problem.global_data, problem.dim
-    M, H, f, w, mu = g["M"], g["H"], g["f"], g["w"], problem.mu
+    M, H, f, w, mu = sp.csr_matrix(g["M"]), sp.csr_matrix(g["H"]), g["f"], g["w"], problem.mu
     n, m = M.shape[0], d * problem.n_contacts
     r, v = x[:m].reshape(-1, d), x[m:]
     U = (np.asarray(H.T @ v).ravel() + w).reshape(-1, d)
     size = np.linalg.norm(r, axis=1)
     big = size.max(initial=0.0)
     t = np.linalg.norm(r[:, 1:], axis=1)
+    tn = np.linalg.norm(U[:, 1:], axis=1)
+    open_ = (size <= 1e-9 * big) & (U[:, 0] >= 0)
+    # a closed frictionless contact slides freely: u_N = 0, r_T = 0
+    sliding = ~open_ & ((mu == 0) | ((t >= (1 - 1e-6) * mu * r[:, 0]) & (t > 0)))
+    follows = sliding & (tn > 0)                  # direction from the slip, else frozen
+    that = r[:, 1:] / np.where(t > 0, t, 1.0)[:, None]
     Ht = sp.csr_matrix(H.T)
-    rows = [sp.hstack([sp.csr_matrix(M), -sp.csr_matrix(H)])]
-    rhs = [f]
-    for i in range(problem.n_contacts):
-        block = slice(d * i, d * i + d)
-        if size[i] <= 1e-9 * big and U[i, 0] >= 0:            # open
-            rows.append(sp.hstack([sp.csr_matrix((d, n)), sp.eye(d, m, d * i)]))
-            rhs.append(np.zeros(d))
-        elif mu[i] > 0 and t[i] >= (1 - 1e-6) * mu[i] * r[i, 0] and t[i] > 0:   # sliding
+    stuck = np.flatnonzero(~open_ & ~sliding)
+
+    def system(y):
+        """(G, J) at y = (v, r)."""
+        v, r = y[:n], y[n:]
+        R = r.reshape(-1, d)
+        U = (Ht @ v + w).reshape(-1, d)
+        rows, res = [sp.hstack([M, -H])], [M @ v - H @ r - f]
+        idx = np.flatnonzero(open_)
+        sel = (d * idx[:, None] + np.arange(d)).ravel()
+        rows.append(sp.hstack([sp.csr_matrix((sel.size, n)), sp.eye(m, format="csr")[sel]]))
+        res.append(r[sel])
+        sel = (d * stuck[:, None] + np.arange(d)).ravel()
+        rows.append(sp.hstack([Ht[sel], sp.csr_matrix((sel.size, m))]))
+        res.append(U[stuck].ravel())
+        for i in np.flatnonzero(sliding):
             rows.append(sp.hstack([Ht[d * i:d * i + 1], sp.csr_matrix((1, m))]))
-            rhs.append(-w[d * i:d * i + 1])
-            tangent = sp.lil_matrix((d - 1, m))
-            for k in range(1, d):
-                tangent[k - 1, d * i + k] = 1.0
-                tangent[k - 1, d * i] = -mu[i] * r[i, k] / t[i]
-            rows.append(sp.hstack([sp.csr_matrix((d - 1, n)), tangent]))
-            rhs.append(np.zeros(d - 1))
-        else:                                                   # sticking
-            rows.append(sp.hstack([Ht[block], sp.csr_matrix((d, m))]))
-            rhs.append(-w[block])
-    K = sp.vstack(rows).tocsc()
-    try:
-        lu = spla.splu(K)
-    except RuntimeError:
+            res.append(U[i, :1])
+            ut = U[i, 1:]
+            norm = np.linalg.norm(ut)
+            free = follows[i] and norm > 0
+            gi = ut / norm if free else -that[i]
+            jr = sp.lil_matrix((d - 1, m))
+            jr[:, d * i + 1:d * i + d] = np.eye(d - 1)
+            jr[:, d * i] = (mu[i] * gi)[:, None]
+            jv = sp.csr_matrix((d - 1, n))
+            if free:   # d(u_T/‖u_T‖) = (I − g gᵀ)/‖u_T‖ du_T
+                jv = sp.csr_matrix(mu[i] * R[i, 0] / norm
+                                   * (np.eye(d - 1) - np.outer(gi, gi))) @ Ht[d * i + 1:d * i + d]
+            rows.append(sp.hstack([jv, jr]))
+            res.append(R[i, 1:] + mu[i] * R[i, 0] * gi)
+        return np.concatenate(res), sp.vstack(rows).tocsc()
+
+    def scaled(y, G):
+        """|G| on each row's own scale (the equations' terms)."""
+        v, r = y[:n], y[n:]
+        s = np.r_[abs(M) @ np.abs(v) + abs(H) @ np.abs(r) + np.abs(f),
+                  np.full(G.size - n, np.abs(r).max(initial=0.0) + np.abs(v).max(initial=0.0))]
+        s = np.maximum(s, np.finfo(float).eps * s.max(initial=0.0))
+        return float(np.max(np.abs(G) / np.where(s > 0, s, 1.0), initial=0.0))
+
+    y = np.concatenate([v, r.ravel()])
+    best, best_y = np.inf, None
+    for _ in range(max_iter):
+        G, J = system(y)
+        level = scaled(y, G)
+        if not level < best:
+            break
+        best, best_y = level, y
+        try:
+            step = spla.splu(J).solve(-G)
+        except RuntimeError:
+            break
+        if not np.all(np.isfinite(step)):
+            break
+        y = y + step
+    if best_y is None:
         return None
-    y = lu.solve(np.concatenate(rhs))
-    y = y + lu.solve(np.concatenate(rhs) - K @ y)          # one step of refinement
-    if not np.all(np.isfinite(y)):
-        return None
-    return np.concatenate([y[n:], y[:n]])
+    return np.concatenate([best_y[n:], best_y[:n]])
