@@ -27,7 +27,9 @@ extensions = ["sphinx.ext.autodoc", "sphinx.ext.napoleon"]
 
 # No undoc-members: a dataclass's fields are documented once, by its
 # docstring's Attributes section (napoleon), not again as bare attributes.
-autodoc_default_options = {"member-order": "bysource", "show-inheritance": True}
+# No show-inheritance: "Bases: object" on every class says nothing; a class
+# with a public base shows it (directive_for; by hand on the facade's page).
+autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "signature"
 autodoc_class_signature = "mixed"
 napoleon_google_docstring = False
@@ -46,13 +48,17 @@ PROSE_DOCS = re.compile(r"^\.\. prose-docs::[ \t]*$", re.MULTILINE)
 HTML_DIR = Path("out/docs/html")
 
 
+def public_bases(cls) -> list:
+    return [b for b in cls.__bases__ if b is not object and not b.__name__.startswith("_")]
+
+
 def directive_for(obj) -> tuple[str, list[str]]:
     """The autodoc directive (with its options) that documents ``obj``."""
     if isinstance(obj, types.ModuleType):
         return "automodule", ["members"]
     if inspect.isclass(obj):
         kind = "autoexception" if issubclass(obj, BaseException) else "autoclass"
-        return kind, ["members"]
+        return kind, ["members"] + (["show-inheritance"] if public_bases(obj) else [])
     if inspect.isroutine(obj):
         return "autofunction", []
     # a value a person reads at a glance, not a scene schema's repr
@@ -136,7 +142,7 @@ def after_napoleon(app, what, name, obj, options, lines):
 
 def on_process_bases(app, name, obj, options, bases):
     """Private bases (``_LCPBase``) are no part of the reference."""
-    bases[:] = [b for b in bases if not getattr(b, "__name__", "").startswith("_")]
+    bases[:] = [b for b in bases if b in public_bases(obj)]
 
 
 def setup(app):
