@@ -224,7 +224,15 @@ class SpaceFrame(SpaceRecovery, FrameSolving, FrameTracing):
         if ms:
             xi = np.array([self.nodes[m_["i"]] for m_ in ms])
             xj = np.array([self.nodes[m_["j"]] for m_ in ms])
-            R = np.stack([axes(xi[k], xj[k], m_["ref"], m_["roll"])[0] for k, m_ in enumerate(ms)])
+            # one call for the members on the default reference (a call per
+            # member was most of a 400-member tower's solve)
+            R = np.empty((m, 3, 3))
+            plain = [k for k, m_ in enumerate(ms) if m_["ref"] is None]
+            if plain:
+                R[plain] = axes(xi[plain], xj[plain], None, [ms[k]["roll"] for k in plain])
+            for k, m_ in enumerate(ms):
+                if m_["ref"] is not None:
+                    R[k] = axes(xi[k], xj[k], m_["ref"], m_["roll"])[0]
             T = rotation(R)
             L = np.linalg.norm(xj - xi, axis=1)
             k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
