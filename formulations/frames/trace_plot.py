@@ -10,7 +10,6 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError
 
-from .assembly import DOFS
 from .drawing import sum_words
 from .labels import Placer, around
 from .notation import label
@@ -27,10 +26,11 @@ def plot_trace(frame, ft, path, node, dof, p_max):
 
     from qpcontact.plots.figures import save_figure
 
-    if dof not in DOFS:
-        raise InvalidOptionError(f"dof must be one of {DOFS}; got {dof!r}")
+    dofs = frame.DOFS      # (ux, uy, rz) for a plane frame, six for a space frame
+    if dof not in dofs:
+        raise InvalidOptionError(f"dof must be one of {dofs}; got {dof!r}")
     frame._node(node)
-    k = DOFS.index(dof)
+    k = dofs.index(dof)
     top = ft.trace.plot_range()
     if p_max is not None:
         top = min(float(p_max), ft.p_end)
@@ -43,7 +43,7 @@ def plot_trace(frame, ft, path, node, dof, p_max):
     at = [(ft.result_at(ev.p).displacements[node][k], ev.p) for ev in events]
     if at:
         ax.plot(*np.array(at).T, "o", color="tab:red", ms=3.5, zorder=3)
-    unit = "rad" if dof == "rz" else frame.units[1]
+    unit = "rad" if dof.startswith("r") else frame.units[1]
     ax.set_xlabel(f"{dof} at {node} [{unit}]", fontsize=9)
     var = {c: f for c, f in ft.variable.items() if f}
     grows = sum_words(var) if len(var) == 1 and abs(next(iter(var.values()))) == 1 \
