@@ -18,6 +18,19 @@ Models
   P_TIP; for short towers, which slide first, 0.7 x their sliding load): the
   windward supports lift off, the tower stands on friction alone.
 
+- A 10-storey concrete space frame, 3 x 3 bays of 6 m, on 16 frictional pads
+  (formulations/frames/space_tower.py's ``space_tower``: f = 0.5, 8
+  facets, elastic pads k = 5e6 kN/m) under 1.0 D + p W, at p = 7.5 (the
+  windward corner pad lifted off, the others stick: no pad slips, so
+  qpcontact's faceted cone and OpenSees' circular one give the same
+  problem), 9 and 12 (pads lift off and slip: the codes differ by the
+  faceting); then qpcontact's trace of p W on D to the collapse (rigid pads,
+  no peer runs one), and its rigid pads against OpenSees' penalty ones
+  (k = 5e6 ... 5e8, p = 7.5).  benchmarks/frames_space.py reads the
+  SpaceFrame into OpenSees (flatSliderBearing 3-D elements, Krylov-Newton:
+  Newton does not converge here) and PyNite (the frictionless variant on
+  compression-only springs, every pad dowelled in x and y).
+
 The contact law (qpcontact's holonomic Coulomb law): a normal spring k in
 series with a rigid unilateral link, a tangential spring k with
 |X_t| <= f X_n, total slip against total force.  For one proportional load
@@ -57,10 +70,13 @@ ratio with the build included is printed beside it).
 
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 .venv/bin/python benchmarks/frames.py \\
         [--spans 50,200,1000] [--storeys 20] [--repeat 5] [--budget 60]
-        [--no-pynite] [--no-opensees] [--no-cold]
+        [--space-storeys 10] [--space-facets 8,32,128] [--no-pynite]
+        [--no-opensees] [--no-cold]
 
 Exits non-zero when a qpcontact result is not ok or a peer's reactions
-differ by more than 1e-6 of the largest reaction (or a peer fails).
+differ by more than 1e-6 of the largest reaction (or a peer fails) — on
+the space frame where no pad slips; where pads slip, by more than
+SLIP_AGREEMENT (the faceted cone's difference, measured 3e-3 to 2e-2).
 """
 
 from __future__ import annotations
@@ -84,6 +100,8 @@ from formulations.frames import Frame  # noqa: E402
 from qpcontact.core.errors import QpcontactError  # noqa: E402
 
 AGREEMENT = 1e-6
+#: the space frame where pads slip: faceted against circular cones
+SLIP_AGREEMENT = 5e-2
 #: issue 34's targets: qpcontact / OpenSees, analysis alone
 TARGETS = {"beam 200": 2.0, "beam 1000": 3.0, "tower 20": 2.0}
 
@@ -479,10 +497,150 @@ def pynite_table(models, args, failures, with_opensees):
               f"{peers:>8} {q.runs:>2}/{p.runs}  {q.out.route}, ok={q.out.ok}, {states(q.out)}")
 
 
+# -- the space frame (issue 35) -----------------------------------------------
+
+SPACE_K, SPACE_P, PENALTY_K = 5e6, (7.5, 9.0, 12.0), (5e6, 5e7, 5e8)
+
+
+def space_opensees_table(storeys, args, failures):
+    from benchmarks import frames_space as fs
+    from formulations.frames.space_tower import space_tower
+
+    print(f"\nqpcontact against OpenSees, the {storeys}-storey space frame on 16 elastic "
+          f"frictional pads (k = {SPACE_K:g}, f = 0.5, 8 facets) at 1.0 D + p W")
+    print(f"{'model':>14} {'qpc':>9} {'qpc+b':>9} {'OS':>9} {'OS+b':>9} {'qpc/OS':>7} "
+          f"{'+build':>7} {'ΔR/R':>8} {'n':>5}  qpcontact route, states; states alike; "
+          "OpenSees iterations")
+    for p in SPACE_P:
+        combo = {"D": 1.0, "W": p}
+        name = f"tower3d p={p:g}"
+        try:
+            q = timed(lambda: space_tower(storeys, stiffness=SPACE_K),
+                      lambda fr: fr.solve(combination=combo), args.repeat, args.budget)
+        except QpcontactError as exc:
+            failures.append(f"{name}: qpcontact raised {type(exc).__name__}: {exc}")
+            continue
+        if not q.out.ok:
+            failures.append(f"{name}: qpcontact not ok: {q.out.message}")
+        fr = q.built
+        o = timed(lambda: fs.opensees_build(fr, combo), fs.opensees_solve, args.repeat,
+                  args.budget)
+        rc, iters = o.out
+        ours, theirs = fs.ours_forces(fr, q.out), fs.opensees_forces(fr, o.built)
+        diff = agreement(ours, theirs)
+        slipping = any(s.state == "slip" for s in q.out.supports.values())
+        alike = sum(a == s.state for a, s in zip(fs.states_from_forces(fr, theirs),
+                                                  q.out.supports.values()))
+        if rc != 0 or not diff <= (SLIP_AGREEMENT if slipping else AGREEMENT):
+            failures.append(f"{name}: OpenSees analyze returned {rc} after {iters} iterations, "
+                            f"forces differ by {diff:.1e}")
+        print(f"{name:>14} {fmt_ms(q.solve)} {fmt_ms(q.total)} {fmt_ms(o.solve)} "
+              f"{fmt_ms(o.total)} {q.solve / o.solve:7.2f} {q.total / o.total:7.2f} {diff:8.1e} "
+              f"{q.runs:>2}/{o.runs}  {q.out.route}, ok={q.out.ok}, {states(q.out)}; "
+              f"{alike}/{len(fr.contacts)}; {iters}" + ("  (faceted cone)" if slipping else ""))
+    # rigid pads (qpcontact) against OpenSees' penalty pads: where no pad
+    # slips the difference is the pads' compliance, O(1/k)
+    p = SPACE_P[0]
+    combo = {"D": 1.0, "W": p}
+    rigid = space_tower(storeys)
+    ours = fs.ours_forces(rigid, rigid.solve(combination=combo))
+    words = []
+    for k in PENALTY_K:
+        fr = space_tower(storeys, stiffness=k)
+        built = fs.opensees_build(fr, combo)
+        rc, iters = fs.opensees_solve(built)
+        words.append(f"k = {k:.0e}: " + (f"{agreement(ours, fs.opensees_forces(fr, built)):.1e}"
+                                          if rc == 0 else f"no convergence ({iters} iterations)"))
+    print(f"{'':>14} rigid pads (qpcontact) against OpenSees' penalty pads at p = {p:g}, ΔR/R: "
+          + "; ".join(words))
+    if args.space_facets:
+        # where pads slip: the faceted cone against OpenSees' circle as the
+        # facets multiply (a facet fixes the slip's direction, not the force's
+        # along it: the difference falls like 1/m, not like the 1/m² of the
+        # polygon's reach beyond the circle)
+        p = SPACE_P[1]
+        combo = {"D": 1.0, "W": p}
+        fr = space_tower(storeys, stiffness=SPACE_K)
+        built = fs.opensees_build(fr, combo)
+        fs.opensees_solve(built)
+        theirs = fs.opensees_forces(fr, built)
+        words = []
+        for m in (int(v) for v in args.space_facets.split(",") if v):
+            t = timed(lambda: space_tower(storeys, stiffness=SPACE_K, facets=m),
+                      lambda fr: fr.solve(combination=combo), 1, args.budget)
+            words.append(f"{m}: {agreement(fs.ours_forces(t.built, t.out), theirs):.1e} "
+                         f"({1e3 * t.solve:.0f} ms)")
+        print(f"{'':>14} facets of qpcontact's cones at p = {p:g}, ΔR/R against OpenSees "
+              "(qpcontact's solve): " + "; ".join(words))
+
+
+def space_trace_row(storeys, args, failures):
+    """qpcontact's trace of p W on D to the collapse (no peer runs one)."""
+    from formulations.frames.space_tower import space_tower
+
+    print(f"\nqpcontact's trace, the {storeys}-storey space frame: 1.0 D + p W, p from 0 to "
+          "the collapse")
+    print(f"{'pads':>14} {'trace':>9} {'+build':>9} {'n':>3}  events, ending")
+    for label, k in (("rigid", None), (f"k = {SPACE_K:g}", SPACE_K)):
+        t = timed(lambda: space_tower(storeys, stiffness=k),
+                  lambda fr: fr.trace(constant={"D": 1.0}, variable="W"), args.repeat,
+                  args.budget)
+        tr = t.out
+        if not tr.ok or tr.ended != "collapse":
+            failures.append(f"tower3d trace ({label}): ended {tr.ended}, ok={tr.ok}")
+        print(f"{label:>14} {fmt_ms(t.solve)} {fmt_ms(t.total)} {t.runs:>3}  "
+              f"{len(tr.events)} changes of the working scheme, {tr.ended} at p = "
+              f"{tr.p_end:.6g}, ok={tr.ok}")
+
+
+def space_pynite_table(storeys, args, failures, with_opensees):
+    """The frictionless variant: every pad is held in ux and uy by a
+    bilateral support (a dowel: the pads' horizontal reactions are compared
+    too), its contact along z alone."""
+    from benchmarks import frames_space as fs
+    from formulations.frames.space_tower import space_tower
+
+    def build():
+        fr = space_tower(storeys, stiffness=SPACE_K, friction=0.0)
+        for c in fr.contacts:
+            fr.add_support(c.node, fix=("ux", "uy"))
+        return fr
+
+    print(f"\nqpcontact against PyNite, the {storeys}-storey space frame, frictionless "
+          "variant (compression-only pads, dowelled in x and y)")
+    print(f"{'model':>14} {'qpc':>9} {'qpc+b':>9} {'PyNite':>9} {'PyN+b':>9} {'PyN/qpc':>8} "
+          f"{'+build':>7} {'ΔR/R':>8} {'OS↔PyN':>8} {'n':>5}  qpcontact route, states")
+    for p in SPACE_P:
+        combo = {"D": 1.0, "W": p}
+        name = f"tower3d p={p:g}"
+        q = timed(build, lambda fr: fr.solve(combination=combo), args.repeat, args.budget)
+        if not q.out.ok:
+            failures.append(f"{name} (f = 0): qpcontact not ok: {q.out.message}")
+        fr = q.built
+        pn = timed(lambda: fs.pynite_build(fr, combo), fs.pynite_solve, args.repeat, args.budget)
+        ref = fs.pynite_forces(fr, pn.built)
+        diff = agreement(fs.ours_forces(fr, q.out), ref)
+        if not diff <= AGREEMENT:
+            failures.append(f"{name} (f = 0): PyNite's forces differ by {diff:.1e}")
+        peers = ""
+        if with_opensees:
+            built = fs.opensees_build(fr, combo)
+            fs.opensees_solve(built)
+            peers = f"{agreement(fs.opensees_forces(fr, built), ref):8.1e}"
+        print(f"{name:>14} {fmt_ms(q.solve)} {fmt_ms(q.total)} {fmt_ms(pn.solve)} "
+              f"{fmt_ms(pn.total)} {pn.solve / q.solve:8.1f} {pn.total / q.total:7.1f} "
+              f"{diff:8.1e} {peers:>8} {q.runs:>2}/{pn.runs}  {q.out.route}, ok={q.out.ok}, "
+              f"{states(q.out)}")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--spans", default="50,200,1000", help="beam sizes, comma-separated")
     ap.add_argument("--storeys", type=int, default=20, help="tower storeys (0: no tower)")
+    ap.add_argument("--space-storeys", type=int, default=10,
+                    help="storeys of the space frame (0: none)")
+    ap.add_argument("--space-facets", default="",
+                    help="facet counts of the space frame's cones to compare, e.g. 8,32,128")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--budget", type=float, default=60.0,
                     help="seconds of runs per code and model before the median is taken")
@@ -512,6 +670,12 @@ def main(argv=None) -> int:
         opensees_table(models, args, failures)
     if "PyNite" in peers:
         pynite_table(models, args, failures, "OpenSees" in peers)
+    if args.space_storeys:
+        if "OpenSees" in peers:
+            space_opensees_table(args.space_storeys, args, failures)
+        space_trace_row(args.space_storeys, args, failures)
+        if "PyNite" in peers:
+            space_pynite_table(args.space_storeys, args, failures, "OpenSees" in peers)
     if not args.no_cold:
         t_import, t_first, ok = cold_start()
         print(f"\ncold start (fresh interpreter): import formulations.frames {1e3 * t_import:.0f} "
