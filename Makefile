@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export OMP_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 
-.PHONY: demo test test-all stress bench wheel clean
+.PHONY: demo test test-all docs stress bench wheel clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -27,6 +27,12 @@ test: $(STAMP)
 
 test-all: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2 -m ""
+
+# The API reference from the docstrings (docs/api), warnings as errors; -E: a
+# fresh read, so a page added under docs/ is listed.  `make test` builds it too.
+docs: $(STAMP)
+	$(BIN)/python -m sphinx -b html -W --keep-going -E -q docs/api out/docs/html
+	@echo "API reference: out/docs/html/index.html"
 
 # The full hard-case suite (docs/testing.md): about 10 000 problems, ~1 h on 2 cores.
 stress: $(STAMP)

@@ -25,7 +25,7 @@ model names:
   without it the contacts are rigid (P2's regularized C, or the exact LCP).
 
 A unilateral contact between point s_a of body a and point s_b of body b (or a
-ground anchor) along a fixed unit normal n is
+ground anchor) along a fixed unit normal n is ::
 
     Φ = n·(p_b - p_a) - offset >= 0,   p = a body point in the world,
     J = n·(J_b - J_a) (point Jacobians),   D = n·(J̇_b - J̇_a)ν  (so Φ̈ = Jν̇ + D).
@@ -40,7 +40,7 @@ With this update, an active contact satisfies Φ(t + h) ≈ Φ + hΦ̇ + ½h²Φ
 Δt = h, to second order.  The look-ahead acts as a restitution: a contact
 reached at Φ = 0 with speed Φ̇ leaves with -e Φ̇, e = 2h/Δt - 1, so Δt = h is
 elastic (e = 1) and Δt = 2h plastic (e = 0); :func:`lookahead_for` inverts it.
-A plastic impact penetrates by about ½ h |Φ̇| before it is pushed back: the
+A plastic impact penetrates by about ``½ h |Φ̇|`` before it is pushed back: the
 documented tolerance of the scenes' no-penetration test.
 """
 
@@ -63,7 +63,9 @@ __all__ = ["Mechanism", "MechanismResult", "lookahead_for", "ramming_scene", "pe
            "ramming_impact_step",
            "EFFECTS", "GRAVITY"]
 
+#: Gravitational acceleration [m/s²], the default of ``Mechanism(gravity=)``.
 GRAVITY = 9.81
+#: The effects a mechanism knows (module docstring); it assembles only those named.
 EFFECTS = ("gravity", "springs", "damping", "compliance")
 _AXES = ("x", "y", "theta")
 
@@ -438,4 +440,5 @@ def _scene_schema():
         build=_scene_build, arrays=scene_arrays, plot=scene_plot, summary=scene_summary)
 
 
+#: The mechanism's scene-file schema (entry point ``qpcontact.scenes``: ``mechanism``).
 SCENE = _scene_schema()

@@ -26,7 +26,7 @@ whose surface lies g(x, y) = κ((x − a/2)² + (y − b/2)²) below it (a bowl:
 contact starts in the middle and spreads).  Unknowns are the displacements of
 every node not on the top face; the only unilateral constraints are on the
 bottom nodes' vertical displacement: u_z ≥ −g.  That is the **mixed**
-problem finite-element contact really is —
+problem finite-element contact really is — ::
 
     min ½ u'Ku − f'u   subject to  u_z(bottom) ≥ −g,   (f = −K_ut u_top)
 

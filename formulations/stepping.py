@@ -9,7 +9,7 @@ A system (:class:`ContactSystem`) supplies, at (t, q, ν) and look-ahead Δt,
 one :class:`formulations.penalty_step.PenaltyStep` (G as an operator, Q, J,
 B = (2/Δt²)(Φ + ΔtΦ̇), D = J̇ν, C) and an acceleration offset a₀ that does
 not depend on the reactions (zero unless bilateral constraints are closed
-inside the step); the step is then
+inside the step); the step is then ::
 
     λ from the penalty QP (or the exact LCP), certified against the exact LCP;
     a = G⁻¹(Q + J'λ) + a₀;   q ← q ⊕ (h ν + ½h² a);   ν ← ν + h a.
@@ -35,6 +35,7 @@ from .penalty_step import exact_lcp, solve_penalty
 
 __all__ = ["ContactSystem", "MechanismResult", "ROUTES", "lookahead_for"]
 
+#: How a step's reactions are found (``simulate(route=)``): the penalty QP or the exact LCP.
 ROUTES = ("penalty", "lcp")
 
 

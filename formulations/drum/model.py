@@ -100,11 +100,18 @@ __all__ = ["Log", "Drum", "StepSizeWarning", "EFFECTS",
            "GREEN_SPRUCE_DENSITY", "SEASONED_SPRUCE_DENSITY", "SPRUCE_E_RADIAL",
            "SPRUCE_E_TANGENTIAL", "GRAVITY", "STEPS_PER_PERIOD"]
 
-GRAVITY = 9.81                   # m/s²
-GREEN_SPRUCE_DENSITY = 860.0     # kg/m³
-SEASONED_SPRUCE_DENSITY = 450.0  # kg/m³
-SPRUCE_E_RADIAL = 0.8e9          # Pa
-SPRUCE_E_TANGENTIAL = 0.4e9      # Pa
+#: Gravitational acceleration [m/s²].
+GRAVITY = 9.81
+#: Density of green spruce [kg/m³] (module docstring: masses).
+GREEN_SPRUCE_DENSITY = 860.0
+#: Density of seasoned spruce [kg/m³].
+SEASONED_SPRUCE_DENSITY = 450.0
+#: Spruce's Young's modulus across the grain, radial [Pa] (module docstring:
+#: stiffness model).
+SPRUCE_E_RADIAL = 0.8e9
+#: Spruce's Young's modulus across the grain, tangential [Pa]: the default of
+#: :func:`log_half_stiffness`.
+SPRUCE_E_TANGENTIAL = 0.4e9
 
 #: The effects a drum model knows; a model assembles only the terms of those named.
 EFFECTS = ("gravity", "damping", "shell_elasticity")

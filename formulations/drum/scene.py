@@ -150,4 +150,5 @@ def _scene_schema():
     )
 
 
+#: The drum's scene-file schema (entry point ``qpcontact.scenes``: ``drum``).
 SCENE = _scene_schema()

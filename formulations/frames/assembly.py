@@ -39,6 +39,7 @@ from qpcontact.core.problems import LCP
 from .elements import member_locals
 from .loads import CONSTANT, VARIABLE
 
+#: A plane frame node's degrees of freedom, in the order of its rows.
 DOFS = ("ux", "uy", "rz")
 #: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
 #: term) are rounding noise of the basic-system solve and are set to zero.

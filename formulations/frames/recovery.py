@@ -30,6 +30,7 @@ EQUILIBRIUM_FLOOR = 4096 * np.finfo(float).eps
 #: is no longer the structure's (a 20-storey tower swayed 19.5 m, 0.28 of its
 #: size, at its "collapse" load without a word): results say so and warn.
 SMALL_DISPLACEMENT = 0.02
+#: The rotation [rad] beside SMALL_DISPLACEMENT (see there).
 SMALL_ROTATION = 0.05
 
 

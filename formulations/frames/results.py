@@ -23,6 +23,8 @@ from . import tables
 from .notation import DIGITS
 from .tables import TABLES
 
+#: A plane frame's contact states; slip+ and slip- are the sign of the slip Δ_t
+#: along the contact's tangent t.
 STATES = ("separated", "closed", "stick", "slip+", "slip-")
 
 

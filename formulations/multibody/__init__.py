@@ -9,7 +9,7 @@ Body 0 moves by a given law; body i hangs from its parent λ(i) < i by joint i
 with n_i coordinates.  In body i's frame its spatial velocity is V_i = (v_i, ω_i)
 (v_i: velocity of the frame origin O_i).  With R_i, ρ_i the orientation and
 origin of frame i in the parent frame and H_i (6 x n_i) the joint's motion
-subspace in frame i,
+subspace in frame i, ::
 
     V_i = C_i V_λ(i) + H_i ν_i,     C_i = [[R_i', -R_i'ρ̃_i], [0, R_i']],        (1)
 
@@ -23,14 +23,14 @@ T = ½ Σ V_i'M_iV_i with M_i the 6 x 6 inertia of body i about O_i.  Define the
 subtree momenta μ by S'μ = M V, i.e. μ_i = M_iV_i + Σ_children C_c'μ_c (the
 momentum of the subtree rooted at i, about O_i, in frame i).  Since
 ∂V_j/∂ν_i = (transport) H_i for j in the subtree of i, the generalized momenta
-are p = ∂T/∂ν = H'μ.  Together:
+are p = ∂T/∂ν = H'μ.  Together::
 
     [ M   -S'   0 ] [V]   [ 0]
     [-S    0    H ] [μ] = [-b]      symmetric, indefinite, block tridiagonal   (6)
     [ 0    H'   0 ] [ν]   [ p]
 
 and the momentum balance of each subtree (the joint reaction's H_i'-projection
-is the joint force τ_i; F_i the applied forces on the subtree about O_i)
+is the joint force τ_i; F_i the applied forces on the subtree about O_i) ::
 
     ṗ_i = Ḣ_i'μ_i + H_i'(F_i - V_i ×* μ_i) + τ_i,   V ×* f = (ω × F, v × F + ω × N).   (7)
 

@@ -24,7 +24,9 @@ from .model import Data, Model
 
 __all__ = ["simulate", "Trajectory", "FORMS", "INTEGRATORS"]
 
+#: The forms of the equations of motion :func:`simulate` integrates (``form=``).
 FORMS = ("momentum", "lagrange")
+#: Its integrators (``integrator=``): adaptive DOP853 (rtol, atol) or fixed-step RK4 (h).
 INTEGRATORS = ("DOP853", "RK4")
 
 

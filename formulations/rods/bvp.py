@@ -5,7 +5,7 @@ differences, damped Newton, deferred correction, pseudo-arclength continuation.
 Problem: y'(s) = f(s, y) on [a, b] (y in R^m), boundary conditions
 g(y(a), y(b)) = 0 (m equations; separated or coupled).
 
-Discretisation on a mesh s_0 < ... < s_N (trapezoidal rule, O(h²)):
+Discretisation on a mesh s_0 < ... < s_N (trapezoidal rule, O(h²))::
 
     y_{j+1} - y_j - h_j/2 (f_j + f_{j+1}) = 0,   j = 0..N-1,   g(y_0, y_N) = 0.
 
@@ -120,7 +120,7 @@ def _jacobian(fun, bc, s, Y, F, jac):
 
 
 class BlockLU:
-    """LU factorisation of the trapezoid's Newton matrix
+    """LU factorisation of the trapezoid's Newton matrix ::
 
         rows j = 0..N-1:  A_j y_j + B_j y_{j+1}   (m x m blocks),
         boundary rows:    J_a y_0 + J_b y_N.
@@ -342,7 +342,7 @@ def solve(fun, bc, mesh, y0, *, jac=None, tol: float = 1e-8, max_newton: int = 5
     scipy.integrate.solve_bvp; ``jac(s, Y)`` optional, shape (m, m, N+1).
     ``corrections``: deferred-correction levels (0, 1, 2 -> order 2, 4, 6).
     ``tol`` bounds the estimated global error (max norm, relative to
-    max(1, |y|)).  The estimate is the change made by the last correction
+    ``max(1, |y|)``).  The estimate is the change made by the last correction
     level (with ``corrections=0``, a Richardson estimate from a halved mesh);
     the intervals where it exceeds the tolerance are bisected and the problem
     is solved again, until the estimate meets the tolerance.

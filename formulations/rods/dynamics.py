@@ -83,7 +83,7 @@ def cantilever_dynamics(alpha0: float, t_end: float, h: float, *, tip_load=None,
 
     Nondimensional: s = S/L, time in units of L²√(ρA/EI), forces × L²/EI.
     Unknowns along s: θ, κ = θ' (= ML/EI), x, y and the internal force F (on
-    the part [0, s] from the part beyond s):
+    the part [0, s] from the part beyond s)::
 
         θ' = κ,  κ' = F_x sin θ - F_y cos θ,  x' = cos θ,  y' = sin θ,
         F' = r̈ - q            (the element's momentum balance),

@@ -193,4 +193,5 @@ def _rod_schema():
                            "max_root_moment [N·m]": float(np.abs(r.root_moment).max())})
 
 
+#: The rod's scene-file schema (entry point ``qpcontact.scenes``: ``rod``).
 SCENE = _rod_schema()

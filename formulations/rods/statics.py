@@ -203,7 +203,7 @@ def spatial_cantilever(force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0), *, torsion
     along x, loaded at its free end by a dead ``force`` and ``moment`` (units:
     force x L²/EI, moment x L/EI, i.e. nondimensional), ``torsion_ratio`` =
     GJ/EI.  Unknowns (13): position r, orientation quaternion q (body axis 1 =
-    the tangent), internal force n and moment m (global frame):
+    the tangent), internal force n and moment m (global frame)::
 
         r' = R(q) e1,   q' = ½ q ⊗ (0, κ),   κ = B⁻¹ R(q)' m,   n' = 0,   m' = -r' × n,
 

@@ -102,7 +102,7 @@ def spread_lcp(seed: int, n: int = 24, cond: float = 100.0, decades: float = 12.
 
 def planted_ok(z, w, z_star, w_star, rtol: float = 1e-6) -> bool:
     """Whether (z, w) equals the planted (z*, w*) component by component:
-    |z_i - z*_i| <= rtol * s_i with s_i = max(|z*_i|, floor), the same for w,
+    ``|z_i - z*_i| <= rtol * s_i`` with ``s_i = max(|z*_i|, floor)``, the same for w,
     where the floor is the smallest nonzero planted magnitude (a planted zero
     is judged on the scale of the smallest planted value, not the largest)."""
     if z is None or w is None:

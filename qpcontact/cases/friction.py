@@ -43,6 +43,8 @@ from .planted import Case
 
 __all__ = ["FrictionCase", "build_friction", "FRICTION_KINDS", "STATES"]
 
+#: The kinds of frictional problem :func:`build_friction` (and the strategy
+#: ``frictions``) can plant.
 FRICTION_KINDS = ("sticking", "sliding", "separated", "mixed", "badly_scaled", "decoupled")
 STATES = ("open", "stick", "slide")
 

@@ -18,8 +18,10 @@ from .families import random_spd
 
 __all__ = ["Case", "build_lcp", "build_qp", "LCP_KINDS", "QP_KINDS"]
 
+#: The kinds of LCP :func:`build_lcp` (and the strategy ``lcps``) can plant.
 LCP_KINDS = ("spd", "psd_singular", "degenerate", "badly_scaled", "p_matrix", "friction",
              "infeasible")
+#: The kinds of QP :func:`build_qp` (and the strategy ``qps``) can plant.
 QP_KINDS = ("convex", "degenerate", "infeasible", "unbounded", "penalty")
 
 
@@ -55,7 +57,7 @@ class Case:
 
     def scales(self) -> tuple[np.ndarray, np.ndarray]:
         """Per-component scales of z and w that an answer's error is judged on:
-        max(|planted value|, the component's natural size)."""
+        ``max(|planted value|, the component's natural size)``."""
         if self.z_scale is not None:
             return (np.maximum(np.abs(self.z), self.z_scale),
                     np.maximum(np.abs(self.w), self.w_scale))

@@ -23,6 +23,8 @@ from .errors import InvalidOptionError
 
 __all__ = ["LEVELS", "DEFAULT_CERTIFY_TOL", "resolve_accuracy"]
 
+#: The named levels and their tolerances (None: the backend's own defaults,
+#: certified against DEFAULT_CERTIFY_TOL); see the module docstring.
 LEVELS: dict[str, float | None] = {"low": 1e-4, "default": None, "high": 1e-9}
 
 #: Threshold used to certify answers computed at the backends' default settings.

@@ -96,9 +96,10 @@ class LCP(_LCPBase):
         Real, finite.
     q_terms : (n,) array_like, optional
         When q was computed as a sum (q = q0 + p q1, gaps plus velocity terms),
-        the sum of the magnitudes of its terms, >= |q|.  The certificate judges
-        row i against |q_terms_i| + (|M||z|)_i, so a q_i that cancelled to
-        rounding noise is not judged against the noise.  Default |q|.
+        the sum of the magnitudes of its terms, ``>= |q|``.  The certificate
+        judges row i against ``|q_terms_i| + (|M||z|)_i``, so a q_i that
+        cancelled to rounding noise is not judged against the noise.  Default
+        ``|q|``.
     hierarchy : sequence of (n_l, n_(l+1)) matrices, optional
         Coarse levels of the mesh M comes from, as prolongations finest first
         (:func:`qpcontact.core.hierarchy.as_hierarchy`): the multilevel method
@@ -207,7 +208,7 @@ class ParametricLCP(_LCPBase):
 
     def at(self, p: float) -> LCP:
         """The LCP at load parameter p (shares M and its cached structure; its
-        ``q_terms`` are |q0| + |p q1|, the parametric data's own sizes)."""
+        ``q_terms`` are ``|q0| + |p q1|``, the parametric data's own sizes)."""
         p = float(p)
         if not np.isfinite(p):
             raise InvalidProblemError(f"load parameter p must be finite; got {p}")

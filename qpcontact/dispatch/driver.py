@@ -292,8 +292,9 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
 
     Raises
     ------
-    InvalidProblemError, NotSymmetricError, NotConvexError, InvalidOptionError,
-    UnknownMethodError, BackendUnavailableError
+    InvalidProblemError, NotSymmetricError, NotConvexError
+        On misuse (see :mod:`qpcontact.core.errors`).
+    InvalidOptionError, UnknownMethodError, BackendUnavailableError
         On misuse (see :mod:`qpcontact.core.errors`).
     """
     if not isinstance(method, str):

@@ -92,12 +92,15 @@ def cross_validate(problem, methods=None, accuracy="high", *, time_limit: float 
     min_certified : int
         Raise CrossValidationError when fewer answers are certified.
 
+    Notes
+    -----
     Agreement: for an LCP with a unique solution, two certified answers z_a,
-    z_b must satisfy |z_a,i - z_b,i| <= (f_a + f_b + 64 eps) s_i at every i,
-    where f is each answer's forward-error estimate (condition x backward
+    z_b must satisfy ``|z_a,i - z_b,i| <= (f_a + f_b + 64 eps) s_i`` at every
+    i, where f is each answer's forward-error estimate (condition x backward
     error, docs/certificates.md) and s_i the component's own scale; the same
-    for w.  For a QP with positive definite P, |x_a - x_b| <= (e_a + e_b + 64
-    eps) cond(P) max(|x_a|, |x_b|, 1e-300), componentwise in infinity norm.
+    for w.  For a QP with positive definite P, ``|x_a - x_b| <= (e_a + e_b +
+    64 eps) cond(P) max(|x_a|, |x_b|, 1e-300)``, componentwise in infinity
+    norm.
     Where the solution is not unique, w (LCP) or the optimal value (QP) is
     compared instead, at (e_a + e_b + 64 eps) times its scale.  For
     frictional contact, contact by contact: ‖r_a,i − r_b,i‖ <= (f_a + f_b +
