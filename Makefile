@@ -8,7 +8,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 export OMP_NUM_THREADS ?= 1
 export MKL_NUM_THREADS ?= 1
 
-.PHONY: demo test test-all docs stress bench clean
+.PHONY: demo test test-all docs stress bench wheel clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -52,5 +52,13 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/friction.py --skip-large
 	$(BIN)/python benchmarks/backend_limits.py
 
+# The wheel and sdist (dist/), built as a user would and installed into a fresh
+# virtual environment with their dependencies from the index; the README's first
+# example and a scene then run from it (tests/test_wheel.py).
+wheel: $(STAMP)
+	rm -rf dist
+	$(BIN)/python -m build --outdir dist
+	QPCONTACT_WHEEL_DIST=dist QPCONTACT_WHEEL_VENV=fresh $(BIN)/python -m pytest -q -m slow tests/test_wheel.py
+
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache
+	rm -rf $(VENV) build dist *.egg-info .pytest_cache
