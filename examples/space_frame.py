@@ -29,7 +29,7 @@ from formulations.frames.space_tower import node, space_tower  # noqa: E402
 
 def forces(res) -> str:
     lines = [f"{'pad':>8} {'state':>10} {'X_n':>9} {'|X_t|':>8} {'Fx':>8} {'Fy':>8}"]
-    for name, (fx, fy, fz) in res.support_reactions().items():
+    for name, (fx, fy, fz) in res.support_reactions.items():
         s = res.supports[name]
         lines.append(f"{name:>8} {s.state:>10} {s.normal:9.1f} {(fx * fx + fy * fy) ** 0.5:8.1f} "
                      f"{fx:8.1f} {fy:8.1f}")

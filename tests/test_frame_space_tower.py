@@ -69,7 +69,7 @@ def test_the_pads_balance_the_loads(p):
         res = fr.solve(combination=combo)
     assert res.ok, res.message
     force, moment = _applied(fr, combo)
-    pads = res.support_reactions()
+    pads = res.support_reactions
     total = sum(np.asarray(f) for f in pads.values())
     turning = sum(np.cross(fr.nodes[nd], f) for nd, f in pads.items())
     size = np.linalg.norm([BAYS * BAY, BAYS * BAY, STOREYS * STOREY])

@@ -199,7 +199,7 @@ def _bays_statics(res, p):
     p (8, 5) kN at each of the 9 top nodes), and Coulomb's law at every pad
     read off the result: |X_t| <= f X_n; a slipping pad's friction at f X_n,
     against its slip."""
-    forces = np.array(list(res.support_reactions().values()))
+    forces = np.array(list(res.support_reactions.values()))
     np.testing.assert_allclose(forces.sum(axis=0), [-9 * 8.0 * p, -9 * 5.0 * p, 1200.0],
                                rtol=1e-9, atol=1e-9 * 1200)
     for s in res.supports.values():
@@ -230,7 +230,7 @@ def test_a_frame_on_nine_pads_faceted_and_circular():
     for m in (16, 64):
         res = bays_on_pads(2, facets=m).solve(p)
         assert res.ok, res.message
-        forces = np.array(list(res.support_reactions().values()))
+        forces = np.array(list(res.support_reactions.values()))
         np.testing.assert_allclose(forces.sum(axis=0), [-9 * 8.0 * p, -9 * 5.0 * p, 1200.0],
                                    rtol=1e-9, atol=1e-9 * 1200)
         assert all(res.supports[k].state == s.state for k, s in circ.supports.items())

@@ -92,6 +92,7 @@ class SpaceFrameResult:
         return {"i": dict(zip(END_ACTIONS, map(float, f[:6]))),
                 "j": dict(zip(END_ACTIONS, map(float, f[6:])))}
 
+    @property
     def support_reactions(self) -> dict:
         """Each contact's force on the structure in global components
         (Fx, Fy, Fz)."""
