@@ -179,13 +179,13 @@ def test_an_unknown_method_in_solve_lists_the_installed_ones(tmp_path):
     assert all(name in out for name in methods())
 
 
-def test_options_that_leave_nothing_to_run_exit_2():
+def test_options_that_leave_nothing_to_run_exit_2(tmp_path):
     """A command that would do nothing says why and exits non-zero."""
     res = runner.invoke(app, ["compare", "--quick", "--formulations", "drum", "--methods", "nsgs",
-                              "-o", "unused"])
+                              "-o", str(tmp_path / "compare")])
     assert res.exit_code == 2 and "nothing to run" in _words(res.output), res.output
     res = runner.invoke(app, ["stress", "--quick", "--families", "spd", "--methods", "nsgs",
-                              "-o", "unused"])
+                              "-o", str(tmp_path / "stress")])
     assert res.exit_code == 2 and "nothing to run" in _words(res.output), res.output
 
 
