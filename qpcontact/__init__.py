@@ -15,31 +15,48 @@ status vocabulary (:data:`STATUSES`), one certificate interface
 (:func:`certify`).  The layout is drawn in docs/architecture.md.
 """
 
-from .core.accuracy import LEVELS
-from .core.conversions import DualLCP, qp_to_lcp
-from .core.errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
-                          NoSolutionError, NotConvexError, NotSymmetricError, QpcontactError,
-                          SolverFailedError, UnknownMethodError)
-from .core.problems import LCP, ParametricLCP
-from .core.results import (STATUSES, FrictionSolution, LCPSolution, MethodResult, QPSolution,
-                           Solution)
-from .dispatch.driver import solve, solve_friction
-from .friction.measures import FrictionCertificate
-from .friction.problem import FrictionProblem
-from .judge.certify import certify
-from .judge.lcp import LCPCertificate
-from .judge.qp import QPCertificate
-from .solvers.method import Method
-from .solvers.registry import all_methods, get_method, methods, register
+from importlib import import_module
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "LCP", "ParametricLCP", "FrictionProblem", "qp_to_lcp", "DualLCP",
-    "solve", "solve_friction", "certify", "methods", "all_methods", "get_method", "register",
-    "Method", "Solution", "LCPSolution", "QPSolution", "FrictionSolution", "MethodResult",
-    "LCPCertificate", "QPCertificate", "FrictionCertificate", "LEVELS", "STATUSES",
-    "QpcontactError", "InvalidProblemError", "NotSymmetricError", "NotConvexError",
-    "InvalidOptionError", "UnknownMethodError", "BackendUnavailableError",
-    "NoSolutionError", "SolverFailedError",
-]
+#: Where each public name is defined.  The names are imported on first use
+#: (PEP 562, as SciPy and scikit-image do: Scientific Python SPEC 1), so that
+#: ``import qpcontact`` and ``qpcontact --help`` cost no NumPy or SciPy, and
+#: the engine costs what it uses (tests/test_import_cost.py).
+_DEFINED_IN = {
+    "LCP": "core.problems", "ParametricLCP": "core.problems",
+    "FrictionProblem": "friction.problem",
+    "qp_to_lcp": "core.conversions", "DualLCP": "core.conversions",
+    "solve": "dispatch.driver", "solve_friction": "dispatch.driver",
+    "certify": "judge.certify",
+    "methods": "solvers.registry", "all_methods": "solvers.registry",
+    "get_method": "solvers.registry", "register": "solvers.registry",
+    "Method": "solvers.method",
+    "Solution": "core.results", "LCPSolution": "core.results", "QPSolution": "core.results",
+    "FrictionSolution": "core.results", "MethodResult": "core.results",
+    "LCPCertificate": "judge.lcp", "QPCertificate": "judge.qp",
+    "FrictionCertificate": "friction.measures",
+    "LEVELS": "core.accuracy", "STATUSES": "core.results",
+    **dict.fromkeys(("QpcontactError", "InvalidProblemError", "NotSymmetricError", "NotConvexError",
+                     "InvalidOptionError", "UnknownMethodError", "BackendUnavailableError",
+                     "NoSolutionError", "SolverFailedError"), "core.errors"),
+}
+_SUBPACKAGES = ("cases", "commands", "core", "dispatch", "friction", "io", "judge", "plots",
+                "proofs", "scenes", "solvers", "testing")
+
+__all__ = list(_DEFINED_IN)
+
+
+def __getattr__(name: str):
+    if name in _DEFINED_IN:
+        value = getattr(import_module(f".{_DEFINED_IN[name]}", __name__), name)
+    elif name in _SUBPACKAGES:
+        value = import_module(f".{name}", __name__)
+    else:
+        raise AttributeError(f"module 'qpcontact' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__) | set(_SUBPACKAGES))

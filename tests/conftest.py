@@ -8,14 +8,18 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-SICONOS_DIR = Path(__file__).resolve().parents[2] / "shared" / "data" / "siconos-lcp"
+from qpcontact.core.files import find_data
+
+# $QPCONTACT_DATA/siconos-lcp, else the checkout's ../shared/data (qpcontact.core.files)
+SICONOS_DIR = (find_data("siconos-lcp")
+               or Path(__file__).resolve().parents[2] / "shared" / "data" / "siconos-lcp")
 
 
 @pytest.fixture
 def siconos_dir() -> Path:
     if not SICONOS_DIR.is_dir():
         pytest.skip(f"Siconos LCP test data not found at {SICONOS_DIR} (the repo's ../shared/data); "
-                    "these tests need the shared data set beside the checkout")
+                    "these tests need the shared data set beside the checkout, or QPCONTACT_DATA")
     return SICONOS_DIR
 
 

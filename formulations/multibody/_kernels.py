@@ -20,8 +20,9 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from numba import njit
 from numba.core.errors import NumbaPerformanceWarning
+
+from qpcontact.core.compiled import njit
 
 # numba notes that '@' on non-contiguous 6 x n slices is slower than BLAS on
 # contiguous ones; at these sizes the loops win anyway.

@@ -1,18 +1,27 @@
-"""Command-line interface: ``qpcontact methods | solve | simulate | sweep | plot | demo | compare | stress``."""
+"""Command-line interface: ``qpcontact methods | solve | simulate | sweep | plot | demo | compare | stress``.
+
+Every command refuses a name it does not know (exit code 2, the valid names
+listed: :mod:`.choices`) and exits non-zero when it did nothing.  The help is
+click's plain text, rewrapped to the terminal, not rich's panels: they keep
+the docstrings' line breaks and cost 0.1 s more to draw.  NumPy and the
+engine are imported by the commands that use them, so that ``qpcontact
+--help`` starts in a tenth of a second.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 import typer
 from rich.console import Console
 from rich.markup import escape
-from rich.table import Table
 
 from ..core.errors import QpcontactError
+from ..core.files import DATA_ENV
+from .choices import (DATA_FORMULATIONS, RegistryHelp, data_folder, family_names, formulation_names,
+                      method_names, split_names)
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
+app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
                   help="Contact and unilateral-constraint problems as certified LCPs and QPs.")
 console = Console()
 if not console.is_terminal:
@@ -20,15 +29,37 @@ if not console.is_terminal:
 
 
 def _accuracy(value: str):
+    """The accuracy a command was given (a ladder level or a number),
+    refused with the valid levels when it is neither."""
+    from ..core.accuracy import resolve_accuracy
+
     try:
-        return float(value)
+        level = float(value)
     except ValueError:
-        return value
+        level = value
+    try:
+        resolve_accuracy(level)
+    except QpcontactError as exc:
+        raise typer.BadParameter(str(exc), param_hint="'--accuracy'") from None
+    return level
+
+
+def _error(exc: Exception, code: int = 2):
+    console.print(f"[red]error:[/red] {escape(str(exc))}")
+    raise typer.Exit(code)
+
+
+_DATA_HELP = (f"Folder that holds the data sets siconos-lcp/ and siconos-fc/ (default: ${DATA_ENV}, "
+              "else ../shared/data beside the checkout, else beside the current folder).")
 
 
 @app.command("methods")
 def methods_cmd(all_: bool = typer.Option(False, "--all", help="Also list known methods that are not installed.")):
-    """List the methods usable here: what each one solves, where it is exact, what it needs."""
+    """List the methods installed here.
+
+    For each one: what it solves, where it is exact, what it needs."""
+    from rich.table import Table
+
     from ..solvers.method import PROBLEM_KINDS
     from ..solvers.registry import all_methods
 
@@ -66,20 +97,27 @@ def solve_cmd(
     file: Path = typer.Argument(..., exists=True, dir_okay=False,
                                 help="Siconos .dat file (LCP or frictional contact) or FCLIB .hdf5."),
     method: str = typer.Option("auto", "--method", "-m",
-                               help="Method name (see `qpcontact methods`: what each one solves)."),
-    accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number."),
+                               help="Method name: auto, or one of `qpcontact methods` (which says "
+                                    "what each one solves)."),
+    accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number "
+                                 "in (0, 1)."),
 ):
-    """Solve a problem file; print the answer and its certificate. Exit code 1 if not certified."""
+    """Solve a problem file and certify the answer.
+
+    Prints the answer and its certificate.  Exit code 1 if the answer is not
+    certified, 2 if the file or an option is wrong."""
+    import numpy as np
+
     from ..dispatch.driver import solve
     from ..friction.problem import FrictionProblem
     from ..io import read_problem
 
     try:
+        level = _accuracy(accuracy)
         problem = read_problem(file)
-        sol = solve(problem, method=method, accuracy=_accuracy(accuracy))
+        sol = solve(problem, method=method, accuracy=level)
     except QpcontactError as exc:
-        console.print(f"[red]error:[/red] {escape(str(exc))}")
-        raise typer.Exit(2)
+        _error(exc)
     console.print(f"{file.name}: {escape(repr(problem))}")
     console.print(f"method {sol.method}: status [bold]{sol.status}[/bold] — {escape(sol.message)}")
     console.print(f"backend status {escape(repr(sol.backend_status))}; wall time "
@@ -92,9 +130,13 @@ def solve_cmd(
             if getattr(sol, name) is not None:
                 console.print(f"{name} = {getattr(sol, name)}")
     if sol.certificate is not None:
-        for key, val in sol.certificate.as_dict().items():
-            if isinstance(val, (int, float, np.floating)) and not isinstance(val, bool):
-                console.print(f"  {key:18s} {val: .3e}")
+        fields = [(key, val) for key, val in sol.certificate.as_dict().items()
+                  if isinstance(val, (int, float, np.integer, np.floating))
+                  and not isinstance(val, (bool, np.bool_))]
+        width = max((len(key) for key, _ in fields), default=0)
+        for key, val in fields:   # an index is an integer, a measure a float
+            text = f"{val: d}" if isinstance(val, (int, np.integer)) else f"{val: .3e}"
+            console.print(f"  {key:{width}s} {text}")
     raise typer.Exit(0 if sol.ok else 1)
 
 
@@ -107,8 +149,9 @@ def simulate_cmd(
     checkpoint_seconds: float = typer.Option(5.0, "--checkpoint-seconds",
                                              help="Write the results so far this often."),
 ):
-    """Run a scene with a progress bar; write its results to an HDF5 file,
-    checkpointed as it goes."""
+    """Run a scene file; write its results to an HDF5 file.
+
+    The results are checkpointed as the run goes (see --resume)."""
     from ..scenes import load_scene, read_state, write_results
 
     out = out or Path("out") / (scene.stem + ".h5")
@@ -128,8 +171,7 @@ def simulate_cmd(
         result = run(progress=True, resume=state, checkpoint=checkpoint,
                      checkpoint_seconds=checkpoint_seconds)
     except QpcontactError as exc:
-        console.print(f"[red]error:[/red] {escape(str(exc))}")
-        raise typer.Exit(2)
+        _error(exc)
     if hasattr(result, "summary"):   # the drum's table; a mechanism's result has none
         console.print(escape(result.summary().table()))
     console.print(f"{sc.schema.formulation} scene {scene.name}: effects "
@@ -148,8 +190,11 @@ def sweep_cmd(
     workers: int = typer.Option(0, "--workers", help="Run on a local Dask cluster with N processes."),
     scheduler: str = typer.Option(None, "--scheduler", help="Run on an existing Dask cluster."),
 ):
-    """Run variants of a scene (serially or on Dask); one HDF5 file per variant
-    and summary.csv."""
+    """Run variants of a scene, serially or on Dask.
+
+    Writes one HDF5 file per variant and summary.csv."""
+    from rich.table import Table
+
     from ..scenes import split_values, sweep
 
     variations = {}
@@ -161,14 +206,12 @@ def sweep_cmd(
         try:
             variations[key.strip()] = split_values(values)
         except QpcontactError as exc:
-            console.print(f"[red]error:[/red] --vary {escape(item)}: {escape(str(exc))}")
-            raise typer.Exit(2)
+            _error(f"--vary {item}: {exc}")
     out = out or Path("out") / f"sweep-{scene.stem}"
     try:
         rows = sweep(scene, variations, out, grid=grid, workers=workers, scheduler=scheduler)
     except QpcontactError as exc:
-        console.print(f"[red]error:[/red] {escape(str(exc))}")
-        raise typer.Exit(2)
+        _error(exc)
     table = Table(title=f"sweep of {scene.name} ({len(rows)} variants) — files in {out}")
     cols = list(dict.fromkeys(k for r in rows for k in r))
     for c in cols:
@@ -184,28 +227,33 @@ def plot_cmd(
     results: Path = typer.Argument(..., help="HDF5 results file written by `qpcontact simulate`."),
     out: Path = typer.Option(None, "--out", "-o", help="Folder for the figures (default: next to the file)."),
 ):
-    """Draw a results file's standard figures (forces, peaks, energy) without re-running."""
+    """Draw a results file's standard figures without re-running.
+
+    The figures: contact forces, their peaks, the energy."""
     from ..scenes import plot_results
 
     try:
         paths = plot_results(results, out)
     except QpcontactError as exc:
-        console.print(f"[red]error:[/red] {escape(str(exc))}")
-        raise typer.Exit(2)
+        _error(exc)
     for p in paths:
         console.print(f"wrote {p}")
 
 
 @app.command("demo")
-def demo_cmd(accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number.")):
-    """Solve the decomposition paper's examples with every installed method."""
+def demo_cmd(accuracy: str = typer.Option("high", "--accuracy", "-a", help="low, default, high, or a number "
+                                          "in (0, 1).")):
+    """Solve the paper's examples with every installed method.
+
+    The examples of the decomposition paper (Kolesnikov 2013); exit code 1
+    if a certified answer disagrees with it."""
     from .demo import run_demo
 
     wrong = run_demo(_accuracy(accuracy), console)
     raise typer.Exit(1 if wrong else 0)
 
 
-@app.command("compare")
+@app.command("compare", cls=RegistryHelp)
 def compare_cmd(
     out: str = typer.Option("out/compare", "--out", "-o", help="Output folder: results.csv, report.md, wp_*.png."),
     quick: bool = typer.Option(False, "--quick", help="Demo-sized sweep: small instances, 1 repeat, "
@@ -213,68 +261,107 @@ def compare_cmd(
     resume: bool = typer.Option(False, "--resume", help="Keep the rows already in results.csv and skip those runs."),
     workers: int = typer.Option(0, "--workers", help="Run on a local Dask cluster with N worker processes."),
     scheduler: str = typer.Option(None, "--scheduler", help="Run on an existing Dask cluster, e.g. tcp://host:8786."),
-    methods: str = typer.Option(None, "--methods", help="Comma-separated method names (default: every installed one)."),
+    methods: str = typer.Option(None, "--methods", help="Comma-separated method names, from: {methods}, "
+                                "or cvxpy:SOLVER (default: every installed one; --quick: but cvxpy's)."),
     formulations: str = typer.Option(None, "--formulations",
-                                     help="Comma-separated: drum, frames, penalty, siconos (default: all)."),
-    siconos: str = typer.Option(None, "--siconos", help="Folder of Siconos LCP files (default ../shared/data/siconos-lcp)."),
+                                     help="Comma-separated, from: {formulations} (default: all; the "
+                                          "data sets where they are found)."),
+    data: str = typer.Option(None, "--data", help=_DATA_HELP),
+    siconos: str = typer.Option(None, "--siconos", help="Folder of Siconos LCP files (default: "
+                                "siconos-lcp/ in the --data folder)."),
     repeats: int = typer.Option(None, "--repeats", help="Timed repeats per run (default 1 with --quick, else 3)."),
     time_limit: float = typer.Option(10.0, "--time-limit", help="Seconds: a run without a point counts at this "
                                      "time in the aggregates; repeats stop once a run exceeds it."),
 ):
-    """Sweep instances x methods x accuracies; write a CSV, a Markdown report and work-precision plots."""
-    from .compare import report, sweep
+    """Time every method at every accuracy on the instances.
 
-    csv_path = sweep(out, quick=quick, methods=methods.split(",") if methods else None,
-                     formulations=formulations.split(",") if formulations else None,
-                     siconos_dir=siconos, repeats=repeats, resume=resume, workers=workers,
-                     scheduler=scheduler, time_limit=time_limit)
+    The formulations' instances and the data sets x methods x accuracies,
+    each answer certified and measured against the exact solution; writes a
+    CSV, a Markdown report and work-precision plots.  Exit code 2 when the
+    options leave nothing to run."""
+    from .compare import collect_instances, plan, report, sweep
+
+    chosen = split_names(formulations, formulation_names, "'--formulations'", "formulation")
+    names = split_names(methods, method_names, "'--methods'", "method")
+    folders = {}
+    for name, data_set in DATA_FORMULATIONS.items():
+        if chosen is None or name in chosen:
+            folders[name], note = data_folder(
+                data_set, folder=siconos if name == "siconos" else None, root=data,
+                required_by="'--formulations'" if chosen else None)
+            if note:
+                console.print(f"{name}: {escape(note)}")
+    instances = collect_instances(quick, chosen, folders.get("siconos"), friction_dir=folders.get("friction"))
+    found = {inst.formulation for inst in instances}
+    for name in chosen or ():
+        if name not in found:
+            _error(f"--formulations {name}: no instances (none in {folders[name]})"
+                   if name in folders else f"--formulations {name}: no instances")
+    tasks = plan(instances, names, quick)
+    if not tasks:
+        _error(f"nothing to run: none of the methods {', '.join(names or ['(installed)'])} takes "
+               f"the instances of {', '.join(sorted(found)) or '(no formulation)'}")
+    csv_path = sweep(out, quick=quick, methods=names, instances=instances, repeats=repeats,
+                     resume=resume, workers=workers, scheduler=scheduler, time_limit=time_limit)
     md = report(csv_path, time_limit=time_limit)
     console.print(f"results: {csv_path}\nreport:  {md}\nplots:   {md.parent}/wp_*.png")
 
 
-@app.command("stress")
+@app.command("stress", cls=RegistryHelp)
 def stress_cmd(
     out: str = typer.Option("out/stress", "--out", "-o", help="Output folder: stress.csv, stress.md, stress.png."),
     quick: bool = typer.Option(False, "--quick", help="Small seeded slice: sizes 6 and 24, 2 seeds, accuracy "
-                               "high, no cvxpy (about 25 s on 2 cores)."),
-    methods: str = typer.Option(None, "--methods", help="Comma-separated method names (default: \"auto\" and every installed one)."),
-    families: str = typer.Option(None, "--families", help="Comma-separated families (default: all)."),
+                               "high, no cvxpy (about a minute on 2 cores)."),
+    methods: str = typer.Option(None, "--methods", help="Comma-separated method names, from: {methods}, "
+                                "or cvxpy:SOLVER (default: auto and every installed one)."),
+    families: str = typer.Option(None, "--families", help="Comma-separated, from: {families} "
+                                 "(default: all; siconos where its files are found)."),
     sizes: str = typer.Option(None, "--sizes", help="Comma-separated sizes n (default 8,30,100; --quick 6,24)."),
     seeds: int = typer.Option(None, "--seeds", help="Seeds per family and size (default 200; --quick 2)."),
     time_limit: float = typer.Option(None, "--time-limit", help="Seconds per solve (default 2; --quick 10)."),
     workers: int = typer.Option(2, "--workers", help="Worker processes (each solve runs in one; a crash "
                                 "or a hang costs one row)."),
-    siconos: str = typer.Option(None, "--siconos", help="Folder of Siconos LCP files (default ../shared/data/siconos-lcp)."),
+    data: str = typer.Option(None, "--data", help=_DATA_HELP),
+    siconos: str = typer.Option(None, "--siconos", help="Folder of Siconos LCP files (default: "
+                                "siconos-lcp/ in the --data folder)."),
 ):
-    """Hard cases x methods x accuracies, judged against built-in answers: silent wrong must be 0."""
+    """Run the hard cases with every method; silent wrong must be 0.
+
+    Cases x methods x accuracies, each answer judged against the case's
+    built-in answer.  Exit code 1 when an answer is silently wrong."""
     import dataclasses
 
-    from .stress import FAMILIES, FULL, QUICK, plot_heatmap, run_stress, write_markdown
+    from .stress import FULL, QUICK, plot_heatmap, run_stress, write_markdown
 
     config = QUICK if quick else FULL
     changes = {}
-    if methods:
-        changes["methods"] = tuple(methods.split(","))
-    if families:
-        bad = [f for f in families.split(",") if f not in FAMILIES]
-        if bad:
-            console.print(f"[red]error:[/red] unknown families {bad}; choose from {', '.join(FAMILIES)}")
-            raise typer.Exit(2)
-        changes["families"] = tuple(families.split(","))
+    names = split_names(methods, method_names, "'--methods'", "method")
+    if names:
+        changes["methods"] = tuple(names)
+    chosen = split_names(families, family_names, "'--families'", "family")
+    if chosen:
+        changes["families"] = tuple(chosen)
     if sizes:
-        changes["sizes"] = tuple(int(v) for v in sizes.split(","))
+        try:
+            changes["sizes"] = tuple(int(v) for v in sizes.split(","))
+        except ValueError:
+            raise typer.BadParameter(f"{sizes!r}: expected integers such as 8,30,100",
+                                     param_hint="'--sizes'") from None
     if seeds is not None:
         changes["seeds"] = seeds
     if time_limit is not None:
         changes["time_limit"] = time_limit
-    if siconos:
-        changes["siconos_dir"] = siconos
+    if "siconos" in (chosen or family_names()):
+        folder, note = data_folder("siconos-lcp", folder=siconos, root=data,
+                                   required_by="'--families'" if chosen else None)
+        if note:
+            console.print(f"siconos: {escape(note)}")
+        changes["siconos_dir"] = str(folder) if folder else None
     config = dataclasses.replace(config, **changes)
     try:
         csv_path = run_stress(out, config, workers=workers)
     except QpcontactError as exc:
-        console.print(f"[red]error:[/red] {exc}")
-        raise typer.Exit(2)
+        _error(exc)
     md, totals = write_markdown(csv_path)
     png = plot_heatmap(csv_path)
     console.print(md.read_text().split("## Per method and family")[0])

@@ -57,8 +57,8 @@ def shgeom(values, shift: float = SHIFT) -> float:
 def _siconos_instances(directory):
     from ..io import read_siconos_lcp
 
-    d = Path(directory)
-    if not d.is_dir():
+    d = Path(directory) if directory else None
+    if d is None or not d.is_dir():
         return []
     return [Instance(f"siconos/{p.stem}", "siconos", "file", read_siconos_lcp(p))
             for p in sorted(d.glob("*.dat"))]
@@ -72,8 +72,8 @@ def _friction_instances(directory, quick: bool):
     """The Siconos/FCLIB friction collection: FrictionProblem instances."""
     from ..io import read_problem
 
-    d = Path(directory)
-    if not d.is_dir():
+    d = Path(directory) if directory else None
+    if d is None or not d.is_dir():
         return []
     out = []
     for p in sorted(d.glob("*")):
@@ -89,11 +89,14 @@ def _friction_instances(directory, quick: bool):
 def collect_instances(quick: bool = True, formulations=None, siconos_dir=None, seed: int = 0,
                       friction_dir=None):
     """Instances of every installed formulation (sizes small, or small to large),
-    plus the Siconos LCP set from ``siconos_dir`` (default
-    ../shared/data/siconos-lcp) and the friction collection from
-    ``friction_dir`` (default ../shared/data/siconos-fc; formulation
-    "friction", solved by the friction methods)."""
+    plus the Siconos LCP set from ``siconos_dir`` and the friction
+    collection from ``friction_dir`` (formulation "friction", solved by the
+    friction methods); by default the data sets ``siconos-lcp`` and
+    ``siconos-fc`` where :func:`qpcontact.core.files.find_data` finds them
+    (none: no instances from them)."""
     from importlib.metadata import entry_points
+
+    from ..core.files import find_data
 
     sizes = ("small",) if quick else ("small", "medium", "large")
     out = []
@@ -107,10 +110,9 @@ def collect_instances(quick: bool = True, formulations=None, siconos_dir=None, s
             for hardness in ("easy", "hard"):
                 out.extend(module.instances(size, hardness, seed))
     if formulations is None or "siconos" in formulations:
-        out.extend(_siconos_instances(siconos_dir or Path("..") / "shared" / "data" / "siconos-lcp"))
+        out.extend(_siconos_instances(siconos_dir or find_data("siconos-lcp")))
     if formulations is None or "friction" in formulations:
-        out.extend(_friction_instances(friction_dir or Path("..") / "shared" / "data" / "siconos-fc",
-                                       quick))
+        out.extend(_friction_instances(friction_dir or find_data("siconos-fc"), quick))
     return out
 
 
@@ -385,7 +387,7 @@ def _level_order(level: str):
 
 
 def sweep(out_dir, *, quick: bool = True, methods=None, formulations=None, siconos_dir=None,
-          repeats: int | None = None, resume: bool = False, workers: int = 0,
+          friction_dir=None, repeats: int | None = None, resume: bool = False, workers: int = 0,
           scheduler: str | None = None, time_limit: float = 10.0, progress: bool = True,
           instances=None, flush_every: int = 10) -> Path:
     """Run the sweep into ``out_dir/results.csv`` (module docstring); returns its path.
@@ -397,7 +399,8 @@ def sweep(out_dir, *, quick: bool = True, methods=None, formulations=None, sicon
     out.mkdir(parents=True, exist_ok=True)
     path = out / "results.csv"
     repeats = repeats or (1 if quick else 3)
-    insts = instances if instances is not None else collect_instances(quick, formulations, siconos_dir)
+    insts = instances if instances is not None else collect_instances(quick, formulations, siconos_dir,
+                                                                      friction_dir=friction_dir)
     tasks = plan(insts, methods, quick)
     rows = _read_rows(path) if resume else []
     done = {(r["instance"], r["method"], r["level"]) for r in rows}

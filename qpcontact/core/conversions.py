@@ -33,18 +33,32 @@ Three routes, each exact (the solution sets correspond one to one):
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sp
-from qpsolvers import Problem
 
 from .errors import InvalidProblemError, NotConvexError, NotSymmetricError
 from .matrices import MatrixStructure, as_matrix, as_vector
 from .problems import LCP
 
-__all__ = ["qp_to_lcp", "DualLCP", "validate_qp", "check_convex"]
+if TYPE_CHECKING:
+    from qpsolvers import Problem
+
+__all__ = ["qp_to_lcp", "DualLCP", "validate_qp", "check_convex", "is_qp"]
+
+# scipy.linalg and qpsolvers (which imports every backend it finds) are
+# imported where they are used, so that `import qpcontact` stays cheap
+# (tests/test_import_cost.py).
+
+
+def is_qp(problem) -> bool:
+    """Whether ``problem`` is a ``qpsolvers.Problem``, decided without
+    importing qpsolvers: an instance exists only once its caller has."""
+    module = sys.modules.get("qpsolvers.problem")
+    return module is not None and isinstance(problem, module.Problem)
 
 
 def _dense(M) -> np.ndarray:
@@ -58,7 +72,7 @@ def validate_qp(problem: Problem) -> Problem:
     not match, non-finite values (infinite bounds are allowed), a matrix given
     without its vector, or lb > ub.
     """
-    if not isinstance(problem, Problem):
+    if not is_qp(problem):
         raise InvalidProblemError(
             f"expected an LCP or a qpsolvers.Problem; got {type(problem).__name__}"
         )
@@ -84,6 +98,8 @@ def validate_qp(problem: Problem) -> Problem:
     if lb is not None and ub is not None and np.any(lb > ub):
         i = int(np.argmax(lb > ub))
         raise InvalidProblemError(f"lb[{i}] = {lb[i]} exceeds ub[{i}] = {ub[i]}: the QP is infeasible as posed")
+    from qpsolvers import Problem
+
     return Problem(P, q, parts["G"], parts["h"], parts["A"], parts["b"], lb, ub)
 
 
@@ -162,6 +178,8 @@ class DualLCP:
 
     def primal_dual(self, lam) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
         """(x, y, z, z_box) in qpsolvers' conventions from the LCP unknowns λ."""
+        import scipy.linalg
+
         lam = np.asarray(lam, dtype=float)
         n = self._G.shape[1]
         rhs = self.problem.q + self._G.T @ lam
@@ -193,6 +211,8 @@ def qp_to_lcp(problem: Problem) -> DualLCP:
     NotConvexError
         P is not symmetric positive definite; use a QP backend instead.
     """
+    import scipy.linalg
+
     problem = validate_qp(problem)
     P = _dense(problem.P)
     n = P.shape[0]

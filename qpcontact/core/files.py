@@ -1,10 +1,43 @@
-"""Result files written so that an interrupted run never leaves a broken one."""
+"""Result files written so that an interrupted run never leaves a broken one,
+and the shared data sets (the Siconos collections), found from anywhere."""
 
 from __future__ import annotations
 
 import csv
 import os
 from pathlib import Path
+
+#: The environment variable naming the folder that holds the data sets
+#: (``siconos-lcp/``, ``siconos-fc/``).
+DATA_ENV = "QPCONTACT_DATA"
+#: The data sets by name: what each holds.
+DATA_SETS = {"siconos-lcp": "Siconos's LCP files", "siconos-fc": "Siconos's friction files"}
+# qpcontact/core/files.py -> the checkout; its data live beside it, in ../shared/data
+_CHECKOUT = Path(__file__).resolve().parents[2]
+
+
+def data_locations(name: str) -> list[Path]:
+    """Where the data set ``name`` is looked for, in order: ``$QPCONTACT_DATA/name``,
+    ``../shared/data/name`` beside the checkout, then beside the current folder."""
+    places = []
+    if os.environ.get(DATA_ENV):
+        places.append(Path(os.environ[DATA_ENV]).expanduser() / name)
+    places.append(_CHECKOUT.parent / "shared" / "data" / name)
+    places.append(Path.cwd().parent / "shared" / "data" / name)
+    return list(dict.fromkeys(Path(os.path.abspath(p)) for p in places))
+
+
+def find_data(name: str) -> Path | None:
+    """The first folder of :func:`data_locations` that exists, or None."""
+    return next((p for p in data_locations(name) if p.is_dir()), None)
+
+
+def missing_data(name: str, option: str, places=None) -> str:
+    """Why the data set ``name`` was not found in ``places`` (default:
+    :func:`data_locations`) and how to point at it."""
+    looked = ", ".join(str(p) for p in (data_locations(name) if places is None else places))
+    return (f"no {DATA_SETS.get(name, name)} ({name}/): looked in {looked}; set {DATA_ENV} to "
+            f"the folder that holds {name}/, or pass {option}")
 
 
 def write_csv_atomic(path: Path, rows: list[dict], fields) -> None:

@@ -17,10 +17,10 @@ span decades before anything is factorized.
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
-from scipy.linalg import lapack
+
+# scipy.linalg and scipy.sparse.linalg are imported where a block is factorized:
+# they cost more than the rest of `import qpcontact` (tests/test_import_cost.py).
 
 __all__ = ["ActiveBlock", "SolutionOverflow", "refined", "sub_bands", "symmetric_scaling",
            "ruiz_scaling", "dense_matrix", "BANDED_MAX"]
@@ -126,6 +126,8 @@ def sub_bands(ab: np.ndarray, F: np.ndarray) -> np.ndarray:
 
 
 def _banded_cholesky(ab_block: np.ndarray):
+    from scipy.linalg import lapack
+
     c, info = lapack.dpbtrf(ab_block, lower=0, overwrite_ab=1)
     if info != 0:
         raise np.linalg.LinAlgError(f"banded Cholesky: leading minor {info} is not positive")
@@ -151,6 +153,9 @@ class ActiveBlock:
     """
 
     def __init__(self, M, F: np.ndarray, *, symmetric: bool, triu=None, bands=None):
+        import scipy.linalg
+        import scipy.sparse.linalg as spla
+
         self.F = np.flatnonzero(F) if F.dtype == bool else np.asarray(F, dtype=np.intp)
         self.M = M
         self.symmetric = symmetric

@@ -13,10 +13,7 @@ from __future__ import annotations
 from functools import cached_property
 
 import numpy as np
-import scipy.linalg
-import scipy.linalg.lapack
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from .errors import InvalidProblemError
 
@@ -242,6 +239,10 @@ class MatrixStructure:
         remaining unit-diagonal block passes when its Cholesky factor (of the
         block plus 10 n eps I for semi=True) has squared pivots above n eps.
         """
+        import scipy.linalg
+        import scipy.linalg.lapack
+        import scipy.sparse.linalg as spla
+
         S = self.symmetric_part
         n = S.shape[0]
         eps = np.finfo(float).eps

@@ -14,12 +14,16 @@ define another.  Conversions between the two live in
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import scipy.sparse as sp
-from qpsolvers import Problem
 
 from .errors import InvalidProblemError, NotConvexError, NotSymmetricError
 from .matrices import MatrixStructure, as_matrix, as_vector
+
+if TYPE_CHECKING:
+    from qpsolvers import Problem
 
 __all__ = ["LCP", "ParametricLCP", "lcp_to_qp", "monotone_lcp_to_qp"]
 
@@ -241,6 +245,8 @@ def lcp_to_qp(lcp: LCP) -> Problem:
             "is nonconvex and QP backends may return local minima. Use a pivoting method "
             "such as 'lemke'."
         )
+    from qpsolvers import Problem
+
     P = lcp.structure.symmetric_part  # drops rounding-level asymmetry
     return Problem(P, lcp.q.copy(), lb=np.zeros(lcp.n))
 
@@ -252,6 +258,8 @@ def monotone_lcp_to_qp(lcp: LCP) -> Problem:
             "M + M' is not positive semidefinite, so the LCP is not monotone and no convex "
             "QP has its solutions as minimisers. Use a pivoting method such as 'lemke'."
         )
+    from qpsolvers import Problem
+
     M = lcp.M
     P = 2.0 * lcp.structure.symmetric_part
     return Problem(P, lcp.q.copy(), G=-M, h=lcp.q.copy(), lb=np.zeros(lcp.n))

@@ -15,10 +15,9 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from qpsolvers import Problem
 
 from ..core.accuracy import resolve_accuracy
-from ..core.conversions import check_convex, validate_qp
+from ..core.conversions import check_convex, is_qp, validate_qp
 from ..core.errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
                            NoSolutionError, NotConvexError, NotSymmetricError, SolverFailedError,
                            UnknownMethodError)
@@ -76,7 +75,7 @@ class Engine:
 
 
 def _validated(problem):
-    if isinstance(problem, Problem):
+    if is_qp(problem):
         problem = validate_qp(problem)
         check_convex(problem)
         return problem

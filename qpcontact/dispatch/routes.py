@@ -8,15 +8,20 @@ tries, in order, per kind is here too.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import scipy.sparse as sp
-from qpsolvers import Problem
 
+from ..core.conversions import is_qp
 from ..core.errors import NotConvexError, NotSymmetricError
 from ..core.linalg import BANDED_MAX
 from ..core.problems import LCP, ParametricLCP
 from ..friction.problem import FrictionProblem
 from ..solvers.method import Method
+
+if TYPE_CHECKING:
+    from qpsolvers import Problem
 
 __all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
            "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS",
@@ -102,7 +107,7 @@ def kind_of(problem) -> str:
     """The problem's kind, as :attr:`Method.problems` names it."""
     if isinstance(problem, LCP):
         return "lcp"
-    if isinstance(problem, Problem):
+    if is_qp(problem):
         return "qp"
     if isinstance(problem, ParametricLCP):
         return "parametric-lcp"
@@ -117,7 +122,7 @@ def auto_order(problem) -> tuple:
     if isinstance(problem, LCP):
         first = _lcp_first(problem)
         return first + tuple(m for m in AUTO_ORDER if m not in first)
-    if isinstance(problem, Problem) and lower_bounds_only(problem):
+    if is_qp(problem) and lower_bounds_only(problem):
         return ("ip-bpp",) + AUTO_ORDER
     return AUTO_ORDER
 

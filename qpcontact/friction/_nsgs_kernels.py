@@ -11,10 +11,10 @@ LCP solved exactly by enumeration (open, sticking, sliding either way); in
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ..core.compiled import njit
 
 
-@njit(cache=True)
+@njit
 def _project(r, mu, d):
     """r projected onto {‖r_T‖ <= μ r_N} in place (d = 2 or 3)."""
     t = 0.0
@@ -34,7 +34,7 @@ def _project(r, mu, d):
         r[k] = r[k] * mu * a / t if t > 0.0 else 0.0
 
 
-@njit(cache=True)
+@njit
 def _local_2d(A, b, mu, r):
     """The 2-D local problem by enumeration; False when no case fits (a
     degenerate block), r then left as it was."""
@@ -62,7 +62,7 @@ def _local_2d(A, b, mu, r):
     return False
 
 
-@njit(cache=True)
+@njit
 def _local_fixed_point(A, b, mu, r, d, rtol, max_local):
     rho = 0.0
     for a in range(d):
@@ -94,7 +94,7 @@ def _local_fixed_point(A, b, mu, r, d, rtol, max_local):
             break
 
 
-@njit(cache=True)
+@njit
 def sweeps(indptr, indices, data, q, mu, d, r, blocks, n_sweeps, local_rtol, max_local, omega):
     """``n_sweeps`` Gauss–Seidel sweeps on W (CSR: indptr, indices, data),
     updating r in place; ``blocks`` the diagonal blocks W_ii (nc x d x d);

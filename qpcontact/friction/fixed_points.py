@@ -32,7 +32,6 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..proofs.friction import no_equilibrium
 from .cones import GlobalSubproblem, Subproblem, no_options_left
@@ -180,6 +179,8 @@ def _polish_global(problem, x, max_iter: int = 20):
     residual (each row on its own scale) stops falling, returning the point
     where it was smallest; the caller keeps whichever point has the smaller
     error."""
+    import scipy.sparse.linalg as spla   # here, not at the top: `import qpcontact` stays cheap
+
     g, d = problem.global_data, problem.dim
     M, H, f, w, mu = sp.csr_matrix(g["M"]), sp.csr_matrix(g["H"]), g["f"], g["w"], problem.mu
     n, m = M.shape[0], d * problem.n_contacts

@@ -6,7 +6,6 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..core.errors import InvalidOptionError
 from .fixed_points import solve_anitescu
@@ -35,6 +34,8 @@ def solve_natural_newton(problem, tol, options):
     nondegenerate solution; no global guarantee — it stops and says so when
     the line search fails.  Options: ``r0``, ``max_iter`` (100), ``progress``,
     ``time_limit`` (s)."""
+    import scipy.sparse.linalg as spla   # here, not at the top: `import qpcontact` stays cheap
+
     options = dict(options)
     r0 = options.pop("r0", None)
     max_iter = int(options.pop("max_iter", 100))

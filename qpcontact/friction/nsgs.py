@@ -8,7 +8,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.errors import InvalidOptionError
-from ._nsgs_kernels import sweeps
 from .measures import certified_error
 
 __all__ = ["solve_nsgs", "NSGS"]
@@ -42,6 +41,8 @@ class NSGS:
         self.r = r
 
     def sweep(self, n: int) -> np.ndarray:
+        from ._nsgs_kernels import sweeps   # numba: imported when a sweep runs, not with the registry
+
         p = self.problem
         sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r, self.blocks,
                int(n), self.local_rtol, self.max_local, self.omega)

@@ -8,10 +8,10 @@ a 3e5-nonzero chain, a tenth of a bpp solve; as one loop, a few hundred µs.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ..core.compiled import njit
 
 
-@njit(cache=True)
+@njit
 def csc_column_max_ratio(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray,
                          sigma: np.ndarray) -> np.ndarray:
     """max_i |data_ij| / sigma_i per column of a CSC matrix (0/0 = 0, x/0 = inf)."""

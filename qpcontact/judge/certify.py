@@ -14,8 +14,7 @@ of :mod:`qpcontact.judge.scales`.
 
 from __future__ import annotations
 
-from qpsolvers import Problem
-
+from ..core.conversions import is_qp
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
 from ..friction.measures import FrictionCertificate, certify_friction
@@ -51,7 +50,7 @@ def certify(problem, x, *, y=None, z=None, z_box=None, v=None):
     """
     if isinstance(problem, LCP):
         return certify_lcp(problem, x)
-    if isinstance(problem, Problem):
+    if is_qp(problem):
         return certify_qp(problem, x, y, z, z_box)
     if isinstance(problem, FrictionProblem):
         return certify_friction(problem, x, v)

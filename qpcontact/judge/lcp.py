@@ -32,7 +32,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
@@ -146,6 +145,8 @@ def _block_solver(M, F: np.ndarray, structure):
 
         lu = spla.splu(M[F][:, F].tocsc())
         return lambda r, trans=False: lu.solve(r, trans="T" if trans else "N")
+    import scipy.linalg
+
     with warnings.catch_warnings():  # a singular block: inf below
         warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
         lu = scipy.linalg.lu_factor(M[np.ix_(F, F)], check_finite=False)

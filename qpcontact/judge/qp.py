@@ -18,16 +18,18 @@ qpsolvers' own definitions, kept for comparison with published figures.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
-from qpsolvers import Problem
-from qpsolvers import Solution as _QPSolution
 
 from ..core.errors import InvalidProblemError
 from .doubt import doubt
 from .scales import (Rows, abs_matvec, componentwise_scales, divide, inf_norm, max_abs, ratio,
                      row_scales)
+
+if TYPE_CHECKING:
+    from qpsolvers import Problem
 
 __all__ = ["QPCertificate", "certify_qp"]
 
@@ -326,7 +328,9 @@ def certify_qp(problem: Problem, x, y=None, z=None, z_box=None) -> QPCertificate
     inf = np.inf
     if not all(np.all(np.isfinite(v)) for v in (k.x, k.y, k.z, k.z_box) if v is not None):
         return QPCertificate(inf, inf, "non-finite point", inf, inf, inf, inf, -inf)
-    sol = _QPSolution(problem)
+    from qpsolvers import Solution   # a problem to judge means qpsolvers is loaded already
+
+    sol = Solution(problem)
     sol.found = True
     sol.x, sol.y, sol.z, sol.z_box = k.x, k.y, k.z, k.z_box
     duals = k.z_box is not None or not k.has_bounds

@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sp
 
 __all__ = ["ComponentScales", "Rows", "componentwise_scales", "row_scales", "column_influence",
@@ -185,4 +184,6 @@ class ComponentScales:
 
 def safe_norm2(v: np.ndarray) -> float:
     """‖v‖₂ without overflow (BLAS nrm2 scales)."""
+    import scipy.linalg   # not at the top: it would double the cost of `import qpcontact`
+
     return float(scipy.linalg.norm(v)) if v.size else 0.0

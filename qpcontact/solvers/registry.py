@@ -110,8 +110,10 @@ def get_method(name: str) -> Method:
     if m is None:
         close = difflib.get_close_matches(name, list(known), n=3)
         hint = f" Did you mean {', '.join(map(repr, close))}?" if close else ""
+        installed = ", ".join(sorted(n for n, m in known.items() if m.available))
         raise UnknownMethodError(
-            f"no method named {name!r}.{hint} `qpcontact methods` lists the installed ones."
+            f"no method named {name!r}.{hint} The installed methods: {installed} "
+            "(`qpcontact methods` says what each one solves)."
         )
     if not m.available:
         raise BackendUnavailableError(

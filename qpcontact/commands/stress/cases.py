@@ -183,5 +183,8 @@ def build_case(family: str, n: int, seed: int, siconos_dir: str | None = None):
     raise ValueError(f"unknown family {family!r}; choose from {', '.join(FAMILIES)}")
 
 
-def default_siconos() -> Path:
-    return Path("..") / "shared" / "data" / "siconos-lcp"
+def default_siconos() -> Path | None:
+    """The Siconos LCP files where :func:`qpcontact.core.files.find_data` finds them."""
+    from ...core.files import find_data
+
+    return find_data("siconos-lcp")

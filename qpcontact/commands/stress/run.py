@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+from ...core.errors import InvalidOptionError
 from ...core.progress import ProgressBar
 from .cases import QUICK, StressConfig, build_case, default_siconos
 from .judge import judge
@@ -141,8 +142,8 @@ def tasks(config: StressConfig) -> list[tuple]:
     k = 0
     for family in config.families:
         if family == "siconos":
-            d = Path(config.siconos_dir or default_siconos())
-            count = len(list(d.glob("*.dat"))) if d.is_dir() else 0
+            d = config.siconos_dir or default_siconos()
+            count = len(list(Path(d).glob("*.dat"))) if d and Path(d).is_dir() else 0
             instances = [(family, 0, i) for i in range(count)]
         else:
             instances = [(family, n, s) for n in config.sizes for s in range(config.seeds)]
@@ -169,6 +170,11 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     todo = tasks(config)
+    if not todo:
+        raise InvalidOptionError(
+            f"nothing to run: none of the methods {', '.join(config.methods or ['installed'])} "
+            f"takes a case of the families {', '.join(config.families)} (siconos: its files "
+            "where found); `qpcontact methods` says what each method solves")
     hard = OVER_FACTOR * config.time_limit + 3.0
     from ...dispatch.routes import AUTO_ORDER
 

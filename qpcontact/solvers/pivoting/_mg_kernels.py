@@ -10,10 +10,10 @@ a third of SciPy's two sparse products and their transposes.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ...core.compiled import njit
 
 
-@njit(cache=True)
+@njit
 def projected_gauss_seidel(indptr, indices, data, diag, q, z, sweeps):
     """``sweeps`` projected Gauss–Seidel sweeps for LCP(M, q), alternating
     forward and backward (a symmetric smoother), in place:
@@ -29,7 +29,7 @@ def projected_gauss_seidel(indptr, indices, data, diag, q, z, sweeps):
             z[i] = v if v > 0.0 else 0.0
 
 
-@njit(cache=True)
+@njit
 def gauss_seidel(indptr, indices, data, diag, b, x, free, forward):
     """One Gauss–Seidel sweep for A x = b on the rows where ``free`` (the
     others keep their value, zero for a truncated correction), in place."""
@@ -43,7 +43,7 @@ def gauss_seidel(indptr, indices, data, diag, b, x, free, forward):
             x[i] += r / diag[i]
 
 
-@njit(cache=True)
+@njit
 def galerkin(r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val, keep, nc):
     """C = R diag(keep) A diag(keep) P in CSR (R = P', all CSR), rows of C in
     order, columns unsorted.  ``keep`` truncates the fine level."""
@@ -91,7 +91,7 @@ def galerkin(r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val, keep
     return out_ptr, out_idx[:nnz].copy(), out_val[:nnz].copy()
 
 
-@njit(cache=True)
+@njit
 def aggregate(indptr, indices, data, diag, theta):
     """Greedy aggregation on the strength graph |a_ij| >= theta sqrt(a_ii a_jj)
     (Vaněk, Mandel, Brezina): pass 1 makes a node whose strong neighbours are

@@ -9,10 +9,10 @@ itself at n = 200; as one compiled loop they cost ~1 µs.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ...core.compiled import njit
 
 
-@njit(cache=True)
+@njit
 def scales_pivot(V: np.ndarray, col: np.ndarray, r: int) -> float:
     """Per-row scales after a pivot on row r (see RowScales.pivot), in place.
 
@@ -38,7 +38,7 @@ def scales_pivot(V: np.ndarray, col: np.ndarray, r: int) -> float:
     return grow
 
 
-@njit(cache=True)
+@njit
 def ratio_ties(col: np.ndarray, rhs: np.ndarray, rhs_scale: np.ndarray, inv_scale: np.ndarray,
                col_norm: float, pivot_rtol: float) -> np.ndarray:
     """Rows tied for the minimum ratio rhs_i / col_i among the candidates
@@ -76,7 +76,7 @@ def ratio_ties(col: np.ndarray, rhs: np.ndarray, rhs_scale: np.ndarray, inv_scal
     return out[:m]
 
 
-@njit(cache=True)
+@njit
 def sure_negatives(values: np.ndarray, is_z: np.ndarray, z: np.ndarray, q_terms: np.ndarray,
                    row_l1: np.ndarray, inv_diag: np.ndarray, cap_floor: float, rho: float):
     """(indices surely below -tau, whether some value is undecided) for the

@@ -8,20 +8,33 @@ The factorization of an active block and the scalings are in
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ...core.errors import InvalidProblemError, NotConvexError
 from ...judge.scales import ComponentScales
-from ._pivot_kernels import sure_negatives
 
 __all__ = ["sign_tolerances", "negative_components", "overflow_result", "check_dense_size",
-           "not_positive_definite", "DENSE_TABLEAU_LIMIT", "ExchangeRule", "SIGN_RTOL"]
+           "not_positive_definite", "DENSE_TABLEAU_LIMIT", "ExchangeRule", "SIGN_RTOL",
+           "pivot_kernels"]
 
 _EPS = np.finfo(float).eps
 
 #: Largest n for which the tableau methods ("energy", "lemke", "trace") build their
 #: dense n x n (or n x 2n) tableau: 8 n^2 bytes is 200 MB at n = 5000.
 DENSE_TABLEAU_LIMIT = 5000
+
+
+@functools.cache
+def pivot_kernels():
+    """The compiled loops of the pivoting methods (:mod:`._pivot_kernels`),
+    imported on first use: numba costs 0.3 s to import, and a listing of the
+    methods (`qpcontact methods`, `--help`) calls none of them."""
+    from . import _pivot_kernels
+
+    return _pivot_kernels
+
 
 #: Relative size below which a value counts as zero when deciding signs.
 SIGN_RTOL = 1e3 * _EPS
@@ -113,7 +126,7 @@ def negative_components(scales: ComponentScales, values: np.ndarray, is_z: np.nd
     tolerances are computed only when some value falls between the two.
     """
     row_l1, inv_diag, cap_floor = scales.bound_data()
-    surely, unsure = sure_negatives(np.asarray(values, dtype=float), np.asarray(is_z, dtype=bool),
+    surely, unsure = pivot_kernels().sure_negatives(np.asarray(values, dtype=float), np.asarray(is_z, dtype=bool),
                                     np.asarray(z, dtype=float), scales.q_terms, row_l1, inv_diag,
                                     cap_floor, SIGN_RTOL)
     if not unsure:

@@ -50,7 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ._pivot_kernels import ratio_ties, scales_pivot
+from .active_set import pivot_kernels
 from .lemke_tableau import PIVOT_RTOL, LemkeOutcome, lex_smallest, ray_outcome
 
 __all__ = ["sparse_lemke", "SingularBasis"]
@@ -133,6 +133,7 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int, deadline=None
     d > 0; see the module docstring.  Stops with status "time_limit" once
     time.perf_counter() passes ``deadline`` (None: never).  Raises
     SingularBasis when SuperLU finds a basis singular."""
+    ratio_ties, scales_pivot = pivot_kernels().ratio_ties, pivot_kernels().scales_pivot
     n = q.size
     if np.all(q >= 0):
         return LemkeOutcome("solved", np.zeros(n), np.zeros(n, bool), 0)

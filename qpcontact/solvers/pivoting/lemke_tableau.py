@@ -15,7 +15,7 @@ import numpy as np
 import scipy.linalg
 from scipy.linalg.blas import dger
 
-from ._pivot_kernels import ratio_ties, scales_pivot
+from .active_set import pivot_kernels
 
 __all__ = ["LemkeOutcome", "lemke", "lex_ratio_test", "lex_smallest", "ray_outcome",
            "tableau_pivot", "RowScales", "PIVOT_RTOL", "REFACTOR_EVERY"]
@@ -99,7 +99,7 @@ class RowScales:
         threshold hides the only candidate), so growth is bounded instead by
         recomputing the scales exactly once it exceeds _REANCHOR_GROWTH.
         """
-        self.growth *= scales_pivot(self._v, col, r)
+        self.growth *= pivot_kernels().scales_pivot(self._v, col, r)
 
     def reanchor_if_grown(self, Binv: np.ndarray) -> None:
         if self.growth > _REANCHOR_GROWTH:
@@ -117,7 +117,7 @@ def lex_ratio_test(col: np.ndarray, rhs: np.ndarray, lex: np.ndarray, scales: Ro
     else to the lexicographically smallest row of lex[i, :] / col_i (lex is the
     basis inverse, or any matrix whose rows make the tableau lexico-positive).
     """
-    ties = ratio_ties(col, rhs, scales.rhs, scales.inv, float(col_norm), PIVOT_RTOL)
+    ties = pivot_kernels().ratio_ties(col, rhs, scales.rhs, scales.inv, float(col_norm), PIVOT_RTOL)
     if ties.size <= 1:
         return int(ties[0]) if ties.size else None
     if prefer_row is not None and prefer_row in ties:

@@ -38,16 +38,27 @@ smoothed aggregation, Computing 56, 179–196.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
 from ...core.linalg import ActiveBlock
 from ...core.problems import LCP
-from ._mg_kernels import aggregate, galerkin, gauss_seidel, projected_gauss_seidel
 from .bpp import block_pivoting
 
 __all__ = ["aggregation_hierarchy", "multilevel_guess", "COARSEST_MAX"]
+
+
+@functools.cache
+def _kernels():
+    """The compiled loops (:mod:`._mg_kernels`), imported on first use: numba
+    costs 0.3 s to import, and a listing of the methods calls none of them."""
+    from . import _mg_kernels
+
+    return _mg_kernels
+
 
 #: Aggregation stops at this many unknowns (the coarsest level is solved
 #: directly: densely up to DENSE_COARSEST, sparse above).
@@ -86,7 +97,7 @@ def aggregation_hierarchy(M) -> tuple:
         d = A.diagonal()
         if not np.all(d > 0):
             break
-        agg, nc = aggregate(A.indptr, A.indices, A.data, d, STRENGTH)
+        agg, nc = _kernels().aggregate(A.indptr, A.indices, A.data, d, STRENGTH)
         if nc > n // 2 or nc == 0:
             break
         T = sp.csr_matrix((np.ones(n), (np.arange(n), agg)), shape=(n, nc))
@@ -108,7 +119,7 @@ def _product(R, A, P, keep) -> sp.csr_matrix:
     """R diag(keep) A diag(keep) P (keep None: no truncation)."""
     if keep is None:
         keep = np.ones(A.shape[0], dtype=np.bool_)
-    ptr, idx, val = galerkin(R.indptr, R.indices, R.data, A.indptr, A.indices, A.data,
+    ptr, idx, val = _kernels().galerkin(R.indptr, R.indices, R.data, A.indptr, A.indices, A.data,
                              P.indptr, P.indices, P.data, keep, P.shape[1])
     return sp.csr_matrix((val, idx, ptr), shape=(P.shape[1], P.shape[1]))
 
@@ -175,13 +186,13 @@ class _Correction:
             return self.coarsest.solve(b)
         A, d, free = (self.fine, self.diag, self.free) if k == 0 else self.ops[k - 1]
         x = np.zeros_like(b)
-        gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, True)
+        _kernels().gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, True)
         r = b - A @ x
         r[~free] = 0.0
         e = self.P[k] @ self._cycle(k + 1, self.R[k] @ r)
         e[~free] = 0.0
         x += e
-        gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, False)
+        _kernels().gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, False)
         return x
 
 
@@ -201,7 +212,7 @@ def _tnnmg(A, q, prolongations, restrictions, z, cycles, tol, stats, progress, l
     previous, held = None, 0
     n = q.size
     for cycle in range(cycles):
-        projected_gauss_seidel(A.indptr, A.indices, A.data, d, q, z, 1)
+        _kernels().projected_gauss_seidel(A.indptr, A.indices, A.data, d, q, z, 1)
         free = z > 0.0
         r = -(A @ z + q)
         if built is None or np.count_nonzero(free != built) > REBUILD_FRACTION * n:
@@ -220,7 +231,7 @@ def _tnnmg(A, q, prolongations, restrictions, z, cycles, tol, stats, progress, l
         if alpha > 0:
             z += alpha * c
             np.maximum(z, 0.0, out=z)
-        projected_gauss_seidel(A.indptr, A.indices, A.data, d, q, z, 2)
+        _kernels().projected_gauss_seidel(A.indptr, A.indices, A.data, d, q, z, 2)
         active = z > 0.0
         changed = n if previous is None else int(np.count_nonzero(active != previous))
         held = held + 1 if changed == 0 else 0

@@ -1,0 +1,48 @@
+"""numba's ``njit`` with its on-disk cache, wherever the cache can be written.
+
+A kernel compiled once is kept on disk, so that the next process loads it
+instead of compiling it again (0.5–2 s per kernel module).  numba looks for a
+writable place in order: ``NUMBA_CACHE_DIR`` when set, the ``__pycache__``
+beside the source (a checkout), the user's cache folder (``~/.cache/numba``:
+an installed wheel in a read-only site-packages).  Where none is writable (a
+read-only home as well) numba refuses to import the module at all; the cache
+then goes to the temporary folder, and failing that the kernel compiles in
+every process.  The kernels' modules are imported only by the functions that
+call them, so that ``import qpcontact`` never loads numba.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+import numba
+
+__all__ = ["njit", "fallback_cache_dir"]
+
+
+def fallback_cache_dir() -> str:
+    """The cache folder used when numba finds no writable place of its own."""
+    # one per user where the temporary folder is shared (Windows has one per user)
+    user = f"-{os.getuid()}" if hasattr(os, "getuid") else ""
+    return os.path.join(tempfile.gettempdir(), f"qpcontact-numba-cache{user}")
+
+
+def njit(function=None, *, cache: bool = True, **options):
+    """``numba.njit(cache=True, **options)``, used bare (``@njit``) or with
+    options; see the module docstring for where the cache goes."""
+    def compile_(f):
+        if not cache:
+            return numba.njit(**options)(f)
+        try:
+            return numba.njit(cache=True, **options)(f)
+        except RuntimeError:   # "cannot cache function ...: no locator available"
+            pass
+        if not numba.config.CACHE_DIR:
+            numba.config.CACHE_DIR = fallback_cache_dir()
+            try:
+                return numba.njit(cache=True, **options)(f)
+            except RuntimeError:
+                pass
+        return numba.njit(**options)(f)
+    return compile_ if function is None else compile_(function)
