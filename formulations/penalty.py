@@ -32,6 +32,8 @@ def demo(console) -> int:
     wrong (0 when all is well)."""
     import time
 
+    from rich import box
+    from rich.markup import escape
     from rich.table import Table
 
     from qpcontact import methods
@@ -41,24 +43,43 @@ def demo(console) -> int:
     auto = solve_penalty(step, mu="auto", method="clarabel")
     mu = auto.mu
     scale = max(np.abs(exact.z).max(), np.abs(step.b).max() / np.abs(step.A).max())
-    table = Table(title=f"Penalty QP (P2): ramming impact step, mu = {mu:.3g} s^2 (auto; KKT "
-                        f"threshold {mu_threshold(step, exact.z):.3g}); exact reaction "
-                        f"{exact.z.round(2)} N by Lemke")
+    table = Table(title="Penalty QP (P2): the ramming scene's impact step, every QP backend",
+                  box=box.SIMPLE_HEAD, title_justify="left", pad_edge=False)
     for col in ("method", "status", "lambda [N]", "rel. error vs exact", "time [ms]"):
-        table.add_column(col, justify="left" if col in ("method", "status") else "right")
+        table.add_column(escape(col), justify="left" if col in ("method", "status") else "right",
+                         no_wrap=True, min_width=len(col))
     wrong = 0
+    runs = []
     for name, m in methods().items():
         if m.takes != "qp" or m.constraints != "any":
             continue
-        t0 = time.perf_counter()
-        res = solve_penalty(step, mu=mu, method=name)
-        dt = time.perf_counter() - t0
-        err = np.abs(res.lam - exact.z).max() / scale if res.lam is not None else np.inf
+        solve_penalty(step, mu=mu, method=name)   # untimed: the first call pays the imports
+        dt = np.inf
+        for _ in range(3):      # the fastest of three: one call is mostly scheduling noise
+            t0 = time.perf_counter()
+            res = solve_penalty(step, mu=mu, method=name)
+            dt = min(dt, time.perf_counter() - t0)
+        runs.append((name, res))
+        err = np.abs(res.lam - exact.z).max() / scale if res.lam is not None else None
         wrong += int(res.ok and err > 1e-6)
         style = "green" if res.ok else "yellow"
         table.add_row(name, f"[{style}]{res.status}[/{style}]",
-                      "-" if res.lam is None else str(res.lam.round(3)), f"{err:.1e}", f"{1e3 * dt:.2f}")
+                      "-" if res.lam is None else str(res.lam.round(3)),
+                      "-" if err is None else f"{err:.1e}", f"{1e3 * dt:.2f}")
     console.print(table)
+    notes = [f"mu = {mu:.3g} s^2, chosen by mu='auto' (the KKT threshold is "
+             f"{mu_threshold(step, exact.z):.3g}); exact reaction {exact.z.round(2)} N by Lemke on "
+             "the step's LCP.  rel. error: max|lambda - exact| over the reaction scale.  time: the "
+             "fastest of 3 calls after a first, untimed one (it pays the backend's import).",
+             "solved: lambda solves the step's exact LCP at the requested accuracy (its "
+             "certificate, not the backend's word)."]
+    bad = [(name, r) for name, r in runs if not r.ok]
+    if bad:
+        notes.append("inaccurate: lambda misses the exact LCP's certificate, or no lambda came "
+                     "back ('-': nothing to compare), whatever the QP backend said; here: "
+                     + "; ".join(f"{name}: {r.message}" for name, r in bad))
+    for line in notes:
+        console.print(line, markup=False, highlight=False)
     return wrong
 
 

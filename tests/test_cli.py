@@ -29,12 +29,6 @@ def test_solve_reports_misuse_without_traceback(siconos_dir):
     assert res.exit_code == 2 and "unknown accuracy" in res.output
 
 
-def test_demo_runs_clean():
-    res = runner.invoke(app, ["demo"])
-    assert res.exit_code == 0, res.output
-    assert "0 certified answers disagree with the paper" in " ".join(res.output.split())
-
-
 def test_solve_friction_files(tmp_path):
     """A friction problem written with write_fclib (no shared data needed),
     then the same through a Siconos .dat file when the collection is here."""

@@ -17,6 +17,7 @@ def demo(console) -> int:
     by Lemke and by the Tresca fixed point; then the portal of
     :func:`portal_example` traced to its collapse, against the hand values.
     Returns the number of failed checks."""
+    from rich import box
     from rich.markup import escape
     from rich.table import Table
 
@@ -32,11 +33,16 @@ def demo(console) -> int:
         fr.add_load("B", fx=H)
         return fr
 
-    table = Table(title="Frame (P3): beam pinned at A, resting on a support at B with f = 0.3, "
-                        "100 kN at midspan, H at B; by hand: stick iff H <= f*50 = 15 kN")
-    for col in ("H [kN]", "route", "state at B", "X_n [kN]", "X_t [kN]", "contact cert.",
-                "equilibrium"):
-        table.add_column(escape(col), justify="left" if col in ("route", "state at B") else "right")
+    def table_of(title, cols, left, wrap=()):
+        table = Table(title=title, box=box.SIMPLE_HEAD, title_justify="left", pad_edge=False)
+        for col in cols:
+            table.add_column(escape(col), justify="left" if col in left else "right",
+                             no_wrap=col not in wrap, min_width=len(col))
+        return table
+
+    table = table_of("Frame (P3): beam A-C-B, pinned at A, on a support at B with f = 0.3",
+                     ("H [kN]", "route", "state at B", "X_n [kN]", "X_t [kN]", "LCP error",
+                      "equilibrium"), left=("route", "state at B"), wrap=("route",))
     failed = 0
     for H in (10.0, 20.0):
         for method in ("active-set", "lemke", "tresca"):
@@ -47,20 +53,33 @@ def demo(console) -> int:
             table.add_row(f"{H:g}", r.route, s.state, f"{s.normal:.3f}", f"{s.tangential:.3f}",
                           f"{r.lcp_error:.0e}", f"{r.equilibrium_residual:.0e}")
     console.print(table)
+    _notes(console, [
+        "Loads: 100 kN down at midspan C, H along the support at B.  By hand: B carries 50 kN, so "
+        "it sticks while H <= f * 50 = 15 kN and slides (slip+) above.  X_n, X_t: the normal and "
+        "tangential reactions at B; LCP error: the contact problem's certificate; equilibrium: "
+        "the worst dof's residual against its own terms."])
     tr = portal_example().trace(p_max=40.0)
-    table = Table(title="Increasing load (P3's trace): pinned-base portal 6 m x 4 m on two frictional "
-                        "bases (f = 0.3), 20 kN/m on the beam, P = p kN lateral at B")
-    for col in ("p", "by hand", "event"):
-        table.add_column(col, justify="left" if col == "event" else "right")
+    table = table_of("Increasing load (P3's trace): a pinned-base portal on two frictional bases",
+                     ("p [kN]", "by hand [kN]", "event"), left=("event",), wrap=("event",))
     hand = (25.4363, 0.3 * 20.0 * 6.0)   # force method; f w L
     rows = [(ev.p, str(ev)) for ev in tr.events] + [(tr.p_end, f"{tr.ended}: {tr.message}")]
     for (p, what), ref in zip(rows, hand):
         table.add_row(f"{p:.6g}", f"{ref:.6g}", escape(what))
     console.print(table)
+    _notes(console, [
+        "Portal 6 m x 4 m, bases A and D on frictional contacts (f = 0.3), 20 kN/m down on the "
+        "beam, P = p kN sideways at B.  By hand: D starts slipping at p = 25.4363 (force method); "
+        "the frame slides away at p = f w L = 36."])
     got = [p for p, _ in rows]
     failed += int(not (tr.ok and tr.ended == "collapse" and len(got) == 2
                        and abs(got[0] - hand[0]) < 5e-5 and abs(got[1] - hand[1]) < 1e-8 * hand[1]))
     return failed
+
+
+def _notes(console, lines) -> None:
+    """Plain text: units in brackets are words, not rich markup."""
+    for line in lines:
+        console.print(line, markup=False, highlight=False)
 
 
 def portal_example() -> Frame:

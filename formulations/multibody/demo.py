@@ -58,14 +58,15 @@ def _best(fn, reps=5):
 
 def demo(console) -> int:
     """Returns the number of chains where an O(N) solve disagrees with the dense one."""
+    from rich import box
     from rich.markup import escape
     from rich.table import Table
 
-    table = Table(title="Multibody (P4): velocities from momenta on Cardan chains, "
-                        "O(N) solvers against a dense Cholesky of G")
+    table = Table(title="Multibody (P4): velocities from momenta on Cardan chains",
+                  box=box.SIMPLE_HEAD, title_justify="left", pad_edge=False)
     for col in ("bodies N", "ldlt [ms]", "sweep [ms]", "CRBA + dense Cholesky [ms]",
                 "max |Δν| ldlt", "max |Δν| sweep"):
-        table.add_column(escape(col), justify="right")
+        table.add_column(escape(col), justify="right", no_wrap=True, min_width=len(col))
     rng = np.random.default_rng(0)
     wrong = 0
     for N in (10, 100, 400):
@@ -89,4 +90,9 @@ def demo(console) -> int:
         wrong += int(max(errs) > 1e-13 * cond * np.abs(ref).max())
         table.add_row(*row)
     console.print(table)
+    console.print("ldlt and sweep: P4's O(N) solvers of G ν = p; CRBA + dense Cholesky: G formed "
+                  "and factored, O(N³).  Times: the best of repeated calls after a first, untimed "
+                  "one.  max |Δν|: the largest difference from the dense solve's joint rates [rad/s]; "
+                  "the check allows 1e-13 × cond(G) × max |ν|.",
+                  markup=False, highlight=False)
     return wrong

@@ -256,8 +256,9 @@ def demo_cmd(accuracy: str = typer.Option("high", "--accuracy", "-a", help="low,
 @app.command("compare", cls=RegistryHelp)
 def compare_cmd(
     out: str = typer.Option("out/compare", "--out", "-o", help="Output folder: results.csv, report.md, wp_*.png."),
-    quick: bool = typer.Option(False, "--quick", help="Demo-sized sweep: small instances, 1 repeat, "
-                               "6 tolerances, no cvxpy (a few minutes on 2 cores)."),
+    quick: bool = typer.Option(False, "--quick", help="Demo-sized sweep: small instances up to 200 "
+                               "unknowns (friction: 50 contacts), 1 repeat, 6 tolerances, no cvxpy "
+                               "(under a minute on 2 cores)."),
     resume: bool = typer.Option(False, "--resume", help="Keep the rows already in results.csv and skip those runs."),
     workers: int = typer.Option(0, "--workers", help="Run on a local Dask cluster with N worker processes."),
     scheduler: str = typer.Option(None, "--scheduler", help="Run on an existing Dask cluster, e.g. tcp://host:8786."),
