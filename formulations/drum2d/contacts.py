@@ -73,7 +73,7 @@ class Contacts:
 
 def _disc_pairs(pos, rad, margin):
     pairs, checked = grid_pairs(pos, rad, margin)
-    d = pos[pairs[:, 0]] - pos[pairs[:, 1]]
+    d = pos[pairs[:, 1]] - pos[pairs[:, 0]]
     dist = np.hypot(d[:, 0], d[:, 1])
     gap = dist - rad[pairs[:, 0]] - rad[pairs[:, 1]]
     keep = gap <= margin
