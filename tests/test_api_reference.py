@@ -25,7 +25,7 @@ DOCS = ROOT / "docs" / "api"
 PUBLIC_MODULES = (
     "qpcontact", "qpcontact.testing", "qpcontact.testing.strategies", "qpcontact.scenes",
     "qpcontact.io", "qpcontact.plots.trace",
-    "formulations.drum", "formulations.frames", "formulations.mechanisms",
+    "formulations.drum", "formulations.drum2d", "formulations.frames", "formulations.mechanisms",
     "formulations.meshes", "formulations.multibody", "formulations.penalty",
     "formulations.stepping", "formulations.rods",
 )

@@ -40,7 +40,12 @@ __all__ = ["Contacts", "find_contacts", "KINDS", "DISC", "SHELL", "LIFTER"]
 
 #: contact kinds, the index in ``Contacts.kind``
 KINDS = ("disc", "shell", "lifter")
-DISC, SHELL, LIFTER = 0, 1, 2
+#: ``Contacts.kind`` of a disc–disc contact
+DISC = 0
+#: ``Contacts.kind`` of a disc–shell contact
+SHELL = 1
+#: ``Contacts.kind`` of a disc–lifter contact
+LIFTER = 2
 
 
 @dataclass
