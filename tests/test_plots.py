@@ -9,6 +9,8 @@ import matplotlib
 import numpy as np
 import pytest
 
+from .text_overlap import overlapping
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -51,16 +53,7 @@ def _texts(fig):
 
 
 def _overlaps(fig):
-    """Pairs of texts whose rendered boxes intersect (tests/test_frame_drawings.py's rule)."""
-    fig.draw_without_rendering()
-    renderer = fig.canvas.get_renderer()
-    texts = _texts(fig)
-    boxes = np.array([t.get_window_extent(renderer).extents for t in texts])
-    x0, y0, x1, y1 = boxes.T
-    hit = ((x0[:, None] < x1[None]) & (x1[:, None] > x0[None])
-           & (y0[:, None] < y1[None]) & (y1[:, None] > y0[None]))
-    np.fill_diagonal(hit, False)
-    return [(texts[i].get_text(), texts[j].get_text()) for i, j in zip(*np.nonzero(np.triu(hit)))]
+    return overlapping(fig, _texts(fig))
 
 
 @pytest.mark.parametrize("n", [1, 7, 8, 14, 56])

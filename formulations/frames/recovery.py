@@ -146,10 +146,12 @@ class FrameRecovery:
         words say where small-displacement theory stops holding (or, with
         ``always``, how far the frame has moved in any case)."""
         xy = np.array(list(self.nodes.values()))
-        size = float(np.hypot(*np.ptp(xy, axis=0))) or 1.0
-        trans = np.hypot(u[0::3], u[1::3])
+        size = float(np.linalg.norm(np.ptp(xy, axis=0))) or 1.0
+        spin = np.array([d.startswith("r") for d in self.DOFS])   # a node's rotations
+        per_node = np.asarray(u).reshape(-1, len(self.DOFS))
+        trans = np.linalg.norm(per_node[:, ~spin], axis=1)
         k = int(np.argmax(trans))
-        ratio, rot = float(trans[k]) / size, float(np.abs(u[2::3]).max(initial=0.0))
+        ratio, rot = float(trans[k]) / size, float(np.abs(per_node[:, spin]).max(initial=0.0))
         length = self.units[1]
         moved = (f"node {list(self.nodes)[k]} has moved {trans[k]:.3g} {length} "
                  f"({ratio:.2g} of the frame's size, {size:.3g} {length}), rotations up to "

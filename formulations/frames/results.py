@@ -42,18 +42,10 @@ class SupportResult:
 
 
 @dataclass
-class FrameResult:
-    """One analysed load combination: support states and forces, nodal
-    displacements (ux, uy, rz), member end actions, reactions, and the checks.
-
-    ``combination`` is {case: factor} (``p`` the factor of "variable" for the
-    P3 split).  ``ok`` is True only when the LCP certificate meets the
-    tolerance and equilibrium holds at every dof to the same tolerance, each
-    dof's residual against its own terms (``equilibrium_residual``);
-    a result that is not ok is never drawn (``plot`` raises) and its numbers
-    are not an equilibrium.  ``route`` says which method produced the contact
-    forces.
-    """
+class AnalysisResult:
+    """What every frame's analysed load combination holds (plane:
+    :class:`FrameResult`, space: :class:`~.space_results.SpaceFrameResult`,
+    which add their own readings of it)."""
 
     p: float
     supports: dict
@@ -69,9 +61,6 @@ class FrameResult:
     _u: np.ndarray = field(repr=False, default=None)
     combination: dict = field(default_factory=dict)
     name: str = ""
-    #: the module whose TABLES, COMBINED, rows, envelope and envelope_rows
-    #: tabulate this kind of result (CombinationResults asks its results)
-    table_kit = tables
     #: the largest nodal translation over the frame's size (the diagonal of
     #: its nodes' bounding box), and the largest rotation [rad]: beyond
     #: recovery.SMALL_DISPLACEMENT / SMALL_ROTATION the analysis (small
@@ -79,6 +68,25 @@ class FrameResult:
     #: describes the structure, and solve warns
     displacement_ratio: float = 0.0
     max_rotation: float = 0.0
+
+
+@dataclass
+class FrameResult(AnalysisResult):
+    """One analysed load combination: support states and forces, nodal
+    displacements (ux, uy, rz), member end actions, reactions, and the checks.
+
+    ``combination`` is {case: factor} (``p`` the factor of "variable" for the
+    P3 split).  ``ok`` is True only when the LCP certificate meets the
+    tolerance and equilibrium holds at every dof to the same tolerance, each
+    dof's residual against its own terms (``equilibrium_residual``);
+    a result that is not ok is never drawn (``plot`` raises) and its numbers
+    are not an equilibrium.  ``route`` says which method produced the contact
+    forces.
+    """
+
+    #: the module whose TABLES, COMBINED, rows, envelope and envelope_rows
+    #: tabulate this kind of result (CombinationResults asks its results)
+    table_kit = tables
 
     def diagram(self, member: str, points: int = 21):
         """(x, N, V, M) along a member, x from node i (member axes); the load

@@ -43,8 +43,8 @@ from qpcontact.friction.measures import (certify_friction, contact_scales, conta
                                          scales_from_diagonal, sizes)
 
 from . import assembly
-from .loads import VARIABLE, describe
-from .recovery import EQUILIBRIUM_FLOOR, STATE_RTOL
+from .loads import describe
+from .recovery import STATE_RTOL
 from .space_results import SpaceFrameResult, SpaceSupportResult
 
 #: the contact models of a space frame's solve
@@ -136,20 +136,10 @@ class CircularCone:
             rho, size = _global_scales(prob, r, v)
         eq = max(self._equilibrium(b, F, X, u), self._resultant_3d(b, F, X, r_all, u, ft))
         supports = self._circular_supports(r, local, rho, size, cert.error)
-        ok = bool(cert.error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR))
-        msg = (f"{route}: friction certificate {cert.error:.1e} (natural map "
-               f"{cert.natural_map_error:.1e}, componentwise {cert.componentwise_error:.1e}), "
-               f"equilibrium residual {eq:.1e}" + ("" if ok else " — CHECK FAILED"))
-        ratio, rot, words = self._how_far(u)
-        if words:
-            msg += "; " + words
-        return SpaceFrameResult(
-            p=float(combo.get(VARIABLE, 0.0)), supports=supports,
-            displacements=dict(zip(b["names"], map(tuple, u.reshape(-1, 6).tolist()))),
-            member_forces=dict(zip(self.members, ends)), reactions=reactions,
-            equilibrium_residual=eq, lcp_error=float(cert.error), route=route, ok=ok,
-            message=msg, frame=self, _u=u, combination=dict(combo), displacement_ratio=ratio,
-            max_rotation=rot)
+        checked = (f"friction certificate {cert.error:.1e} (natural map "
+                   f"{cert.natural_map_error:.1e}, componentwise {cert.componentwise_error:.1e})")
+        return self._space_result(b, combo, u, ends, reactions, supports, eq, cert.error, checked,
+                                  route, tol)
 
     def _circular_supports(self, r, local, rho, size, error) -> dict:
         """Each contact's state, forces, opening and slip, decided on the

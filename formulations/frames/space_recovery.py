@@ -15,8 +15,7 @@ from qpcontact.judge.scales import ComponentScales
 
 from . import assembly
 from .loads import CONSTANT, VARIABLE
-from .recovery import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION, STATE_RTOL,
-                       FrameRecovery, beyond_rounding)
+from .recovery import EQUILIBRIUM_FLOOR, STATE_RTOL, FrameRecovery, beyond_rounding
 from .space_results import DOFS, SpaceFrameResult, SpaceSupportResult
 
 
@@ -53,9 +52,17 @@ class SpaceRecovery(FrameRecovery):
         zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
         supports = self._supports(b, z, X, u, delta, zeta, sigma)
         eq = max(self._equilibrium(b, F, X, u), self._resultant_3d(b, F, X, r_all, u, ft))
-        ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
-        msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
-               + ("" if ok else " — CHECK FAILED"))
+        return self._space_result(b, combo, u, ends, reactions, supports, eq, cert_error,
+                                  f"contact certificate {cert_error:.1e}", route, tol)
+
+    def _space_result(self, b, combo, u, ends, reactions, supports, eq, error, checked, route,
+                      tol) -> SpaceFrameResult:
+        """The result of either cone: ok when the contact certificate's
+        ``error`` and the equilibrium residual ``eq`` meet the tolerance;
+        ``checked`` words the certificate for the message."""
+        ok = bool(error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR))
+        msg = f"{route}: {checked}, equilibrium residual {eq:.1e}" + ("" if ok else
+                                                                      " — CHECK FAILED")
         ratio, rot, words = self._how_far(u)
         if words:
             msg += "; " + words
@@ -63,7 +70,7 @@ class SpaceRecovery(FrameRecovery):
             p=float(combo.get(VARIABLE, 0.0)), supports=supports,
             displacements=dict(zip(b["names"], map(tuple, u.reshape(-1, 6).tolist()))),
             member_forces=dict(zip(self.members, ends)), reactions=reactions,
-            equilibrium_residual=eq, lcp_error=cert_error, route=route, ok=ok, message=msg,
+            equilibrium_residual=eq, lcp_error=float(error), route=route, ok=ok, message=msg,
             frame=self, _u=u, combination=dict(combo), displacement_ratio=ratio,
             max_rotation=rot)
 
@@ -131,25 +138,6 @@ class SpaceRecovery(FrameRecovery):
         return max(beyond_rounding(np.abs(force), f_size.sum(axis=0), n_f * big_f),
                    beyond_rounding(np.abs(moment), m_size.sum(axis=0),
                                    n_m * m_size.max(initial=0.0)))
-
-    def _how_far(self, u, always=False):
-        """(largest translation / frame size, largest rotation, words), as the
-        plane frame's."""
-        xyz = np.array(list(self.nodes.values()))
-        size = float(np.linalg.norm(np.ptp(xyz, axis=0))) or 1.0
-        uu = u.reshape(-1, 6)
-        trans = np.linalg.norm(uu[:, :3], axis=1)
-        k = int(np.argmax(trans))
-        ratio, rot = float(trans[k]) / size, float(np.abs(uu[:, 3:]).max(initial=0.0))
-        length = self.units[1]
-        moved = (f"node {list(self.nodes)[k]} has moved {trans[k]:.3g} {length} "
-                 f"({ratio:.2g} of the frame's size, {size:.3g} {length}), rotations up to "
-                 f"{rot:.2g} rad")
-        if ratio > SMALL_DISPLACEMENT or rot > SMALL_ROTATION:
-            return ratio, rot, (f"{moved}: beyond small-displacement theory (limits "
-                                f"{SMALL_DISPLACEMENT:g} of the size, {SMALL_ROTATION:g} rad), "
-                                "which this analysis assumes")
-        return ratio, rot, (moved if always else "")
 
     def _collapse_words(self, proof, fric, carrying) -> str:
         """How the frame fails, read off the Farkas vector y as the plane

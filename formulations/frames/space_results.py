@@ -21,6 +21,7 @@ from qpcontact.core.errors import InvalidProblemError
 
 from . import space_tables, tables
 from .notation import DIGITS
+from .results import AnalysisResult
 
 DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
 #: a space frame's contact states: a slip has a direction in the contact's
@@ -55,7 +56,7 @@ class SpaceSupportResult:
 
 
 @dataclass
-class SpaceFrameResult:
+class SpaceFrameResult(AnalysisResult):
     """One analysed load combination of a space frame: support states and
     forces, nodal displacements (ux, uy, uz, rx, ry, rz), member end actions
     (12 per member, member axes), reactions at bilateral supports (six per
@@ -63,22 +64,6 @@ class SpaceFrameResult:
     :class:`~.results.FrameResult`: the LCP certificate and equilibrium at
     every dof and of the whole frame, each on its own scale."""
 
-    p: float
-    supports: dict
-    displacements: dict
-    member_forces: dict
-    reactions: dict
-    equilibrium_residual: float
-    lcp_error: float
-    route: str
-    ok: bool
-    message: str
-    frame: "object" = field(repr=False, default=None)
-    _u: np.ndarray = field(repr=False, default=None)
-    combination: dict = field(default_factory=dict)
-    name: str = ""
-    displacement_ratio: float = 0.0
-    max_rotation: float = 0.0
     #: the tables of this kind of result (CombinationResults asks for them)
     table_kit = space_tables
 
