@@ -179,10 +179,7 @@ def _distributed(ax, placer, view, font):
                 continue
             d = w / size
             tail = placer.offset(ax, tip, -d, 4.0 + 9.0 * size / wref)
-            ax.annotate("", tip, xytext=tail, textcoords="data", annotation_clip=False,
-                        arrowprops=dict(arrowstyle="-|>", shrinkA=0, shrinkB=0,
-                                        mutation_scale=5, color=LOAD_COLOR, lw=0.6))
-            placer.keep_clear(ax, tip, tail)
+            band_arrow(ax, placer, tip, tail)
             tails.append(tail)
         tails = np.array(tails)
         ax.plot(tails[:, 0], tails[:, 1], color=LOAD_COLOR, lw=0.6)
@@ -230,3 +227,12 @@ def _runs(view):
                 open_at[(round(end[0] / tol), round(end[1] / tol), (round(c, 9),
                                                                    round(s, 9)))] = run
     return runs
+
+
+def band_arrow(ax, placer, tip, tail) -> None:
+    """One small arrow of a distributed load's band, from tail to tip, kept
+    clear of the labels placed after it."""
+    ax.annotate("", tip, xytext=tail, textcoords="data", annotation_clip=False,
+                arrowprops=dict(arrowstyle="-|>", shrinkA=0, shrinkB=0,
+                                mutation_scale=5, color=LOAD_COLOR, lw=0.6))
+    placer.keep_clear(ax, tip, tail)

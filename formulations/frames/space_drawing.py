@@ -35,6 +35,7 @@ from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, Solve
 from .drawing import combination_title
 from .elements3d import axes as member_axes
 from .labels import Placer, around, value_text
+from .load_arrows import LOAD_COLOR, band_arrow
 
 #: azimuth and elevation of the isometric view (degrees)
 ISOMETRIC = (-45.0, math.degrees(math.atan(1.0 / math.sqrt(2.0))))
@@ -42,7 +43,7 @@ ISOMETRIC = (-45.0, math.degrees(math.atan(1.0 / math.sqrt(2.0))))
 #: both differ, so the states read in grey print too)
 STATE_STYLE = {"separated": ("o", "white", "tab:red"), "closed": ("s", "tab:blue", "k"),
                "stick": ("^", "tab:green", "k"), "slip": ("D", "tab:orange", "k")}
-SLIP_COLOR, LOAD_COLOR = "tab:orange", "crimson"
+SLIP_COLOR = "tab:orange"
 #: displacements below RIGID x the frame's size are rounding of zero
 RIGID = 1e-12
 _FONT = 7.0
@@ -433,10 +434,7 @@ def _band(ax, placer, view, name, q):
         tails = []
         for tip in spots:
             tail = placer.offset(ax, tip, -d, 14.0)
-            ax.annotate("", tip, xytext=tail, textcoords="data", annotation_clip=False,
-                        arrowprops=dict(arrowstyle="-|>", shrinkA=0, shrinkB=0,
-                                        mutation_scale=5, color=LOAD_COLOR, lw=0.6))
-            placer.keep_clear(ax, tip, tail)
+            band_arrow(ax, placer, tip, tail)
             tails.append(tail)
         tails = np.array(tails)
         ax.plot(tails[:, 0], tails[:, 1], color=LOAD_COLOR, lw=0.6)
