@@ -12,7 +12,9 @@ frame held by bilateral supports and springs (``solve_linear``), and the
 assembly of its contact problem (``build``).  Solving, combinations and the
 trace are the plane frame's (:mod:`.solving`, :mod:`.tracing`: the LCP is
 the same in any dimension once the links and the cone's facets are laid
-out); the results are built in :mod:`.space_recovery`.
+out); the results are built in :mod:`.space_recovery` (the circular cone's
+in :mod:`.space_circular`), tabulated in :mod:`.space_tables` and drawn in
+:mod:`.space_drawing`.
 
 Contacts (P3 in 3-D): at a node, a contact plane with unit normal n from the
 support into the structure, tangents t1, t2 (t1 = n x e normalised for the
