@@ -52,7 +52,7 @@ def write_results(scene: Scene, result, path, completed: int | None = None,
                 h.attrs["total_steps"] = int(total)
             for name, values in scene.schema.arrays(result).items():
                 values = np.asarray(values)
-                if values.ndim == 0:
+                if values.ndim == 0 or values.size == 0:   # h5py refuses zero-size chunks
                     h.create_dataset(name, data=values)
                     continue
                 chunks = (min(len(values), 4096),) + values.shape[1:]

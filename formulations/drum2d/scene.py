@@ -1,0 +1,267 @@
+r"""The 2-D drum's scene files (``qpcontact.scenes``, formulation "drum2d").
+
+SI units, except the drum's speed in rev/s (Ω = 2π · speed [rad/s]) as the
+engineer gives it.  A scene is turned into the Drum2D model of this package:
+
+- the shell: ``[drum] diameter`` D [m], R = D/2; ``[lifters] count`` bars at
+  polar angles α_k = 2π k/count (k = 0 on the +x side, counter-clockwise) at
+  t = 0, of radial ``height`` h [m] and ``thickness`` 2b [m];
+- the fill: n logs of ``length`` ℓ [m] and ``density`` ρ [kg/m³], diameters
+  drawn uniformly in [d_min, d_max] with ``seed``, placed at rest on a
+  hexagonal lattice from the bottom up (geometry.hex_fill), lattice sites that
+  a lifter's capsule would cut left out.  Either ``count`` = n, or
+  ``fill_fraction`` f of the drum's cross-section covered by the discs:
+  n = round(f π R² / (π E[d²]/4)), E[d²] = d̄² + (d_max − d_min)²/12;
+- effects: gravity always (``[effect.gravity] g`` only when named); ``friction``
+  (μ per contact kind), ``damping`` (restitution e), ``rotation`` (speed
+  [rev/s]); without ``damping`` impacts are elastic (e = 1), without
+  ``rotation`` the shell is still;
+- time: ``step`` h [s] and ``duration`` [s] or ``revolutions`` (with
+  ``rotation``): steps = round(duration / h), duration = revolutions / speed.
+
+The run is Drum2D.simulate; the results file holds the states, the per-step
+certificates and energies, the active contacts' forces (impulse / h [N]) and
+the drum's geometry, so that ``plot`` draws from the file alone.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.errors import InvalidProblemError
+
+from .geometry import GRAVITY, SPRUCE_DENSITY, Discs, Shell, hex_fill
+from .stepper import Drum2D
+
+__all__ = ["SCENE", "Drum2DRun", "scene_model"]
+
+
+class Drum2DRun:
+    """A scene's run: the ``model`` (Drum2D), the step ``h`` [s] and the
+    ``result`` (Drum2DResult)."""
+
+    def __init__(self, model: Drum2D, h: float, result):
+        self.model, self.h, self.result = model, h, result
+        self.t = result.t
+
+
+def _lifter_clear(points, dmax, shell: Shell):
+    """Lattice sites whose disc (diameter up to dmax) stays off every lifter capsule."""
+    if not shell.lifter_angles.size:
+        return np.ones(len(points), bool)
+    inner, outer = shell.lifter_segments(0.0, 0.0)
+    ok = np.ones(len(points), bool)
+    for a, b in zip(inner, outer):
+        ab = b - a
+        s = np.clip((points - a) @ ab / (ab @ ab), 0.0, 1.0)
+        dist = np.hypot(*(points - (a + s[:, None] * ab)).T)
+        ok &= dist > 0.5 * dmax + shell.lifter_half_width
+    return ok
+
+
+def _fill(scene, shell: Shell):
+    """Centres (n, 2) and diameters (n,) of the fill (module docstring)."""
+    logs = scene.data["logs"]
+    dmin, dmax = logs["diameter_min"], logs["diameter_max"]
+    if dmax < dmin:
+        scene.fail(f"must be >= diameter_min = {dmin} m; got {dmax}", ("logs",), "diameter_max")
+    if (logs["count"] is None) == (logs["fill_fraction"] is None):
+        scene.fail("give exactly one of count (the number of logs) or fill_fraction (of the "
+                   "drum's cross-section)", ("logs",), "count")
+    if logs["count"] is not None:
+        n = logs["count"]
+    else:
+        f = logs["fill_fraction"]
+        if not 0 < f < 0.9:
+            scene.fail(f"must be in (0, 0.9); got {f}", ("logs",), "fill_fraction")
+        mean = 0.5 * (dmin + dmax)
+        n = max(1, int(round(4 * f * shell.radius ** 2 / (mean ** 2 + (dmax - dmin) ** 2 / 12))))
+    mean, spread = 0.5 * (dmin + dmax), (dmax - dmin) / (dmax + dmin)
+    extra = 0
+    while True:   # more sites than logs where lifters cut some out
+        try:
+            pts, d = hex_fill(shell.radius, n + extra, mean, spread=spread, seed=logs["seed"],
+                              clearance=logs["clearance"])
+        except InvalidProblemError as exc:
+            scene.fail(str(exc) + (" once the sites the lifters cut are left out"
+                                   if extra else ""), ("logs",), "count")
+        keep = _lifter_clear(pts, dmax, shell)
+        if keep.sum() >= n:
+            return pts[keep][:n], d[keep][:n]
+        extra += n - int(keep.sum())
+
+
+def scene_model(scene):
+    """(Drum2D, h [s], steps) from a checked scene (module docstring)."""
+    d, eff = scene.data, scene.effect_params
+    R = 0.5 * d["drum"]["diameter"]
+    lift = d["lifters"]
+    count = lift["count"]
+    if count < 0:
+        scene.fail(f"must be >= 0; got {count}", ("lifters",), "count")
+    if count:
+        for key in ("height", "thickness"):
+            if lift[key] is None:
+                scene.fail(f"missing: {count} lifters need a {key} [m]", ("lifters",), key)
+        if lift["height"] >= R:
+            scene.fail(f"must be < the drum's radius {R} m; got {lift['height']}",
+                       ("lifters",), "height")
+    speed = eff["rotation"]["speed"] if "rotation" in eff else 0.0
+    try:
+        shell = Shell(R, 2 * np.pi * speed, 2 * np.pi * np.arange(count) / max(count, 1),
+                      lift["height"] or 0.0, 0.5 * (lift["thickness"] or 0.0))
+    except InvalidProblemError as exc:
+        scene.fail(str(exc), ("lifters",))
+    pos, diam = _fill(scene, shell)
+    logs = d["logs"]
+    discs = Discs(diam, pos, length=logs["length"], density=logs["density"])
+    fr = eff.get("friction", {})
+    for key, mu in fr.items():
+        if mu < 0:
+            scene.fail(f"must be >= 0; got {mu}", ("effect", "friction"), key)
+    if "damping" in eff and not 0 <= eff["damping"]["restitution"] <= 1:
+        scene.fail(f"must be in [0, 1]; got {eff['damping']['restitution']}",
+                   ("effect", "damping"), "restitution")
+    model = Drum2D(discs, shell, scene.effects, mu_disc=fr.get("mu_disc", 0.0),
+                   mu_shell=fr.get("mu_shell", 0.0), mu_lifter=fr.get("mu_lifter", 0.0),
+                   restitution=eff["damping"]["restitution"] if "damping" in eff else 0.0,
+                   gravity=eff["gravity"]["g"] if "gravity" in eff else GRAVITY)
+    t = d["time"]
+    if (t["duration"] is None) == (t["revolutions"] is None):
+        scene.fail("give exactly one of duration [s] or revolutions", ("time",), "duration")
+    if t["revolutions"] is not None:
+        if "rotation" not in eff:
+            scene.fail("revolutions needs the effect 'rotation' (a still drum does not turn); "
+                       "give duration [s] instead", ("time",), "revolutions")
+        duration = t["revolutions"] / speed
+    else:
+        duration = t["duration"]
+    steps = int(round(duration / t["step"]))
+    if steps < 1:
+        scene.fail(f"the duration {duration:.4g} s is shorter than one step {t['step']} s",
+                   ("time",), "step")
+    return model, t["step"], steps
+
+
+def _scene_build(scene):
+    model, h, steps = scene_model(scene)
+    solver = scene.data["solver"]
+
+    def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
+        if resume is not None:
+            scene.fail("--resume is not supported for drum2d scenes yet (Drum2D.simulate "
+                       "starts at t = 0); run it afresh", ("time",))
+        result = Drum2DRun(model, h, model.simulate(h, steps, method=solver["method"],
+                                                    accuracy=solver["accuracy"]))
+        if checkpoint is not None:
+            checkpoint(result)
+        return result
+    run.total_steps = steps
+    return model, run
+
+
+def _scene_arrays(run: Drum2DRun) -> dict:
+    """The results file (SI): states per time, certificates and energies per
+    step, the active contacts (one row each, ``contacts/step`` their step),
+    the geometry as scalars."""
+    r, m, h = run.result, run.model, run.h
+    rows = [(s, c) for s, c in enumerate(r.contacts) if c is not None]
+    cat = (lambda key: np.concatenate([c[key] for _, c in rows]) if rows else np.zeros(0))
+    sh = m.shell
+    return {"t": r.t, "positions": r.positions, "velocities": r.velocities, "spins": r.spins,
+            "diameters": m.discs.diameters, "masses": m.discs.masses,
+            "certificate_error": r.certificate_error, "certified": r.certified.astype(np.int8),
+            "method": np.array(r.method, dtype="S"), "n_contacts": r.n_contacts,
+            "n_active": r.n_active, "solve_seconds": r.solve_seconds,
+            "energy/kinetic": r.kinetic, "energy/potential": r.potential,
+            "energy/drive": r.drive, "energy/friction_loss": r.friction_loss,
+            "energy/impact_loss": r.impact_loss, "energy/remainder": r.remainder,
+            "contacts/step": (np.concatenate([np.full(c["i"].size, s) for s, c in rows])
+                              if rows else np.zeros(0, np.int64)),
+            "contacts/i": cat("i"), "contacts/j": cat("j"), "contacts/kind": cat("kind"),
+            "contacts/force_n": cat("r_n") / h, "contacts/force_t": cat("r_t") / h,
+            "contacts/slip": cat("slip"),
+            "contacts/normal": (np.concatenate([c["normal"] for _, c in rows]) if rows
+                                else np.zeros((0, 2))),
+            "drum/radius": np.float64(sh.radius), "drum/omega": np.float64(m.omega),
+            "drum/lifter_angles": sh.lifter_angles, "drum/lifter_height":
+            np.float64(sh.lifter_height), "drum/lifter_half_width":
+            np.float64(sh.lifter_half_width), "drum/step": np.float64(h),
+            "drum/max_penetration": np.float64(r.max_penetration)}
+
+
+def _scene_plot(h, out) -> list:
+    from qpcontact.plots.figures import save_figure
+
+    from .figures import energy_figure, snapshot_figure
+
+    return [save_figure(snapshot_figure(h), f"{out}/snapshot.png"),
+            save_figure(energy_figure(h), f"{out}/energy.png")]
+
+
+def _scene_summary(run: Drum2DRun) -> dict:
+    r = run.result
+    e = r.energy_summary()
+    return {"max_certificate_error": r.worst_certificate, "uncertified_steps": len(r.uncertified),
+            **{f"{k} [J]": v for k, v in e.items()}}
+
+
+def _scene_schema():
+    from qpcontact.scenes import Field, SceneSchema
+
+    pos = dict(positive=True)
+    return SceneSchema(
+        formulation="drum2d",
+        doc="logs as discs tumbling in a rotating drum with lifters, one certified contact "
+            "problem per step (issue 37)",
+        sections={
+            "drum": {"diameter": Field("float", "m", "the shell's inner diameter", required=True,
+                                       **pos)},
+            "lifters": {
+                "count": Field("int", "", "lifter bars, evenly spaced", default=0),
+                "height": Field("float", "m", "radial height of each bar", **pos),
+                "thickness": Field("float", "m", "thickness of each bar (a capsule)", **pos),
+            },
+            "logs": {
+                "count": Field("int", "", "number of logs (or fill_fraction)", **pos),
+                "fill_fraction": Field("float", "-", "fraction of the cross-section the logs "
+                                       "cover (or count)", **pos),
+                "diameter_min": Field("float", "m", "smallest log diameter", required=True,
+                                      **pos),
+                "diameter_max": Field("float", "m", "largest log diameter", required=True,
+                                      **pos),
+                "seed": Field("int", "", "random seed of the diameters", default=0),
+                "clearance": Field("float", "m", "extra spacing of the lattice", default=0.0),
+                "length": Field("float", "m", "log length (along the drum axis)", required=True,
+                                **pos),
+                "density": Field("float", "kg/m³", "wood density", default=SPRUCE_DENSITY,
+                                 **pos),
+            },
+            "time": {
+                "step": Field("float", "s", "time step h", required=True, **pos),
+                "duration": Field("float", "s", "simulated time (or revolutions)", **pos),
+                "revolutions": Field("float", "", "simulated revolutions of the drum (needs "
+                                     "rotation)", **pos),
+            },
+            "solver": {
+                "method": Field("str", "", "contact solver per step", default="auto"),
+                "accuracy": Field("str", "", "low, default or high", default="high"),
+            },
+        },
+        effects={
+            "gravity": {"g": Field("float", "m/s²", "gravitational acceleration (always on)",
+                                   default=GRAVITY, **pos)},
+            "friction": {k: Field("float", "-", f"Coulomb coefficient, {w}", default=0.4)
+                         for k, w in (("mu_disc", "log on log"), ("mu_shell", "log on shell"),
+                                      ("mu_lifter", "log on lifter"))},
+            "damping": {"restitution": Field("float", "-", "Newton's restitution e in [0, 1] "
+                                             "(elastic e = 1 without the effect)",
+                                             required=True)},
+            "rotation": {"speed": Field("float", "rev/s", "drum speed, counter-clockwise",
+                                        required=True, **pos)},
+        },
+        build=_scene_build, arrays=_scene_arrays, plot=_scene_plot, summary=_scene_summary)
+
+
+#: The 2-D drum's scene-file schema (entry point ``qpcontact.scenes``: ``drum2d``).
+SCENE = _scene_schema()
