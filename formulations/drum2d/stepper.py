@@ -87,7 +87,9 @@ class Drum2DResult:
     ``pairs_checked``; energies [J] per state (``kinetic``, ``potential``)
     and per step (``drive``, ``friction_loss``, ``impact_loss``,
     ``remainder``); ``contacts``: per step a dict of the active contacts'
-    arrays (i, j, kind, r_n, r_t [N·s], slip u_T⁺ [m/s], gap [m]) when kept."""
+    arrays (i, j, kind, r_n, r_t [N·s], slip u_T⁺ [m/s], gap [m]) when kept;
+    ``fallback`` per step: the warm-started route was not certified and
+    ``method`` solved the step instead (always False without ``warm_start``)."""
 
     t: np.ndarray
     positions: np.ndarray
@@ -109,6 +111,7 @@ class Drum2DResult:
     max_penetration: float
     contacts: list = field(default_factory=list)
     effects: frozenset = frozenset()
+    fallback: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
 
     @property
     def uncertified(self) -> np.ndarray:
@@ -168,8 +171,19 @@ class Drum2D:
         return 1.5 * h * reach + 1e-9 * self.shell.radius
 
     def simulate(self, h: float, steps: int, *, method: str = "auto", accuracy="high",
-                 keep_contacts: bool = True, on_uncertified: str = "warn") -> Drum2DResult:
-        """``steps`` Moreau–Jean steps of ``h`` [s] (module docstring)."""
+                 keep_contacts: bool = True, on_uncertified: str = "warn",
+                 warm_start: str | None = None, warm_options=None) -> Drum2DResult:
+        """``steps`` Moreau–Jean steps of ``h`` [s] (module docstring).
+
+        ``warm_start`` (with friction only): a friction method taking ``r0``
+        ("nsgs", "nsgs-newton", "newton") started from the previous step's
+        impulses, matched contact by contact (module docstring, "Warm
+        starts"); a step it does not certify at ``accuracy`` is solved again
+        by ``method`` and flagged in ``Drum2DResult.fallback``.
+        ``warm_options``: more options for that method (``max_sweeps``...)."""
+        if warm_start is not None and "friction" not in self.effects:
+            raise InvalidOptionError("warm_start needs the 'friction' effect (without it each "
+                                     "step is an LCP, solved by `method`)")
         if not (np.isfinite(h) and h > 0) or int(steps) < 1:
             raise InvalidOptionError(f"h must be > 0 and steps >= 1; got h={h}, steps={steps}")
         if on_uncertified not in ("warn", "raise"):
@@ -195,6 +209,8 @@ class Drum2D:
         kin, pot = np.zeros(S + 1), np.zeros(S + 1)
         contacts_kept = []
         worst_pen = 0.0
+        fallback = np.zeros(S, bool)
+        warm = None if warm_start is None else _WarmStart(warm_start, warm_options, n)
 
         def record(s, q, v):
             V = v.reshape(n, 3)
@@ -219,8 +235,8 @@ class Drum2D:
             u_minus, u_free = u_minus[np.repeat(active, 2)], u_free[np.repeat(active, 2)]
             r = np.zeros(2 * c.m)
             if c.m:
-                r, err, ok, name, secs = self._solve_step(c, u_minus, u_free, minv, method,
-                                                          accuracy)
+                r, err, ok, name, secs, fallback[s] = self._solve_step(
+                    c, u_minus, u_free, minv, method, accuracy, warm)
                 per["certificate_error"][s], per["solve_seconds"][s] = err, secs
                 certified[s], methods[s] = ok, name
                 if not ok:
@@ -246,20 +262,29 @@ class Drum2D:
                 contacts_kept.append(None)
             per["remainder"][s] = (kin[s + 1] + pot[s + 1] - kin[s] - pot[s] - per["drive"][s]
                                    + per["friction_loss"][s] + per["impact_loss"][s])
+            if warm is not None:
+                warm.remember(c, r)
             v = v_new
-        return Drum2DResult(**out, **counts, certified=certified, method=methods,
+        return Drum2DResult(fallback=fallback, **out, **counts, certified=certified, method=methods,
                             kinetic=kin, potential=pot, max_penetration=worst_pen,
                             contacts=contacts_kept, effects=self.effects, **per)
 
-    def _solve_step(self, c, u_minus, u_free, minv, method, accuracy):
+    def _solve_step(self, c, u_minus, u_free, minv, method, accuracy, warm=None):
         W = (c.H.T @ sp.diags(minv) @ c.H).tocsc()
         W = 0.5 * (W + W.T)
         qv = u_free.copy()
         qv[0::2] += self.restitution * u_minus[0::2]
         t0 = time.perf_counter()
+        fell_back = False
         if "friction" in self.effects:
             prob = FrictionProblem(W, qv, self.mu[c.kind], 2)
-            sol = solve(prob, method=method, accuracy=accuracy)
+            sol = None
+            if warm is not None:
+                sol = solve(prob, method=warm.method, accuracy=accuracy,
+                            r0=warm.guess(c), **warm.options)
+            fell_back = sol is not None and not sol.ok
+            if sol is None or fell_back:
+                sol = solve(prob, method=method, accuracy=accuracy)
             r = np.zeros(2 * c.m) if sol.r is None else np.asarray(sol.r, float)
         else:
             Wn = W[0::2, :][:, 0::2].tocsc()
@@ -269,6 +294,36 @@ class Drum2D:
                 r[0::2] = sol.z
         secs = time.perf_counter() - t0
         err = sol.certificate.error if sol.certificate is not None else np.inf
-        return r, float(err), bool(sol.ok), sol.method, secs
+        return r, float(err), bool(sol.ok), sol.method, secs, fell_back
+
+
+class _WarmStart:
+    """The previous step's impulses by contact identity (disc i, other body j,
+    kind), for the next step's initial guess r0."""
+
+    def __init__(self, method, options, n_discs):
+        self.method, self.options = method, dict(options or {})
+        if "r0" in self.options:
+            raise InvalidOptionError("warm_options must not set r0: the warm start sets it")
+        self.n = n_discs
+        self.keys, self.r = np.zeros(0, np.int64), np.zeros((0, 2))
+
+    def _key(self, c):
+        return (c.i.astype(np.int64) * (self.n + 1) + (c.j + 1)) * 3 + c.kind
+
+    def remember(self, c, r):
+        keys = self._key(c)
+        order = np.argsort(keys, kind="stable")
+        self.keys, self.r = keys[order], r.reshape(-1, 2)[order]
+
+    def guess(self, c):
+        """Last step's (r_N, r_T) for the contacts that persist, 0 for new ones."""
+        keys = self._key(c)
+        r0 = np.zeros((c.m, 2))
+        if self.keys.size:
+            at = np.minimum(np.searchsorted(self.keys, keys), self.keys.size - 1)
+            hit = self.keys[at] == keys
+            r0[hit] = self.r[at[hit]]
+        return r0.ravel()
 
 

@@ -148,13 +148,15 @@ def projection_jacobian(x, mu, dim):
     t = np.linalg.norm(xt, axis=1)
     inside = t <= mu * xn
     J[inside] = np.eye(dim)
-    mid = ~inside & ~(mu * t <= -xn)
-    for i in np.flatnonzero(mid):   # a few hundred contacts at most per call
-        m, that = mu[i], xt[i] / t[i]
-        alpha = (xn[i] + m * t[i]) / (1 + m * m)
-        v = np.concatenate([[1.0], m * that])
-        J[i] = np.outer(v, v) / (1 + m * m)
-        J[i][1:, 1:] += m * alpha / t[i] * (np.eye(dim - 1) - np.outer(that, that))
+    mid = np.flatnonzero(~inside & ~(mu * t <= -xn))
+    m, tm = mu[mid], t[mid]
+    that = xt[mid] / tm[:, None]
+    alpha = (xn[mid] + m * tm) / (1 + m * m)
+    v = np.concatenate([np.ones((mid.size, 1)), m[:, None] * that], axis=1)
+    Jm = v[:, :, None] * v[:, None, :] / (1 + m * m)[:, None, None]
+    Jm[:, 1:, 1:] += (m * alpha / tm)[:, None, None] * (
+        np.eye(dim - 1) - that[:, :, None] * that[:, None, :])
+    J[mid] = Jm
     return J
 
 
@@ -184,15 +186,20 @@ def natural_map_jacobian(problem: FrictionProblem, r, slip_rtol: float = SLIP_RT
     size = contact_sizes(problem, r, rho_c)
     slip = np.flatnonzero(rho_c * tn > slip_rtol * size)
     g = U[slip, 1:] / tn[slip, None]
-    rows = np.repeat(d * slip, d - 1)
-    cols = (d * slip[:, None] + 1 + np.arange(d - 1)).ravel()
-    T = sp.identity(m, format="csr") + sp.csr_matrix(((mu[slip, None] * g).ravel(), (rows, cols)),
-                                                     shape=(m, m))
-    A = sp.identity(m, format="csr") - sp.diags(rho) @ (T @ sp.csr_matrix(W))
-    JP = sp.bsr_matrix((projection_jacobian(x, mu, d), np.arange(nc), np.arange(nc + 1)),
-                       shape=(m, m))
-    J = sp.identity(m, format="csc") - sp.csc_matrix(JP @ A)
-    return J if sp.issparse(W) else J.toarray()
+    # block by block, J = I − J_P + B W with B_i = ρ_i J_P,i T_i: one sparse
+    # product, where forming T, A and J_P A as matrices cost 3.6 ms a call on
+    # a 120-contact pile (mostly scipy's per-operation overhead)
+    JP = projection_jacobian(x, mu, d)
+    T = np.broadcast_to(np.eye(d), (nc, d, d)).copy()
+    T[slip, 0, 1:] += mu[slip, None] * g
+    B = rho_c[:, None, None] * np.einsum("kij,kjl->kil", JP, T)
+    blocks = dict(shape=(m, m), blocksize=(d, d))
+    diag = (np.arange(nc), np.arange(nc + 1))
+    J = sp.identity(m, format="csr") - sp.bsr_matrix((JP, *diag), **blocks).tocsr()
+    if sp.issparse(W):
+        return sp.csc_matrix(J + sp.bsr_matrix((B, *diag), **blocks).tocsr() @ sp.csr_matrix(W))
+    Wd = np.asarray(W, float).reshape(nc, d, m)
+    return J.toarray() + np.einsum("kij,kjl->kil", B, Wd).reshape(m, m)
 
 
 #: Jacobians up to this size are inverted explicitly for the condition
