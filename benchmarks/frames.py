@@ -96,6 +96,7 @@ import numpy as np  # noqa: E402
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 sys.path.insert(0, ROOT)
+from benchmarks.frames_space import opensees_solve  # noqa: E402  (one analysis step, both rows)
 from formulations.frames import Frame  # noqa: E402
 from qpcontact.core.errors import QpcontactError  # noqa: E402
 
@@ -284,14 +285,6 @@ def opensees_build(m: Model):
     ops.integrator("LoadControl", 1.0)
     ops.analysis("Static")
     return tag, ground
-
-
-def opensees_solve(built):
-    import openseespy.opensees as ops
-
-    rc = ops.analyze(1)
-    ops.reactions()
-    return rc, ops.testIter()
 
 
 def opensees_reactions(m: Model, built) -> np.ndarray:

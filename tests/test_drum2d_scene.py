@@ -13,7 +13,7 @@ import pytest
 from formulations.drum2d import Discs, Drum2D, Shell, hex_fill
 from qpcontact.scenes import SceneError, load_scene, parse_scene, schemas
 
-from .text_overlap import overlapping
+from .figure_checks import overlapping
 
 EXAMPLE = Path(__file__).parent.parent / "examples" / "scenes" / "drum2d.toml"
 

@@ -13,27 +13,14 @@ import matplotlib
 import numpy as np
 import pytest
 
-from .text_overlap import overlapping
+from .figure_checks import drawn, overlapping
 
-import qpcontact.plots.figures
 from formulations.frames import Frame
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
 from .test_frames_limits import _beam, _tower
 
 matplotlib.use("Agg")
-
-
-def _drawn(plot, *args, **kwargs):
-    """The figure a plot call would save (the save replaced by a capture)."""
-    figs = []
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(qpcontact.plots.figures, "save_figure",
-                   lambda fig, path, dpi=110: figs.append(fig) or str(path))
-        plot("unused.png", *args, **kwargs)
-    fig = figs[0]
-    fig.canvas.draw()
-    return fig
 
 
 def _texts(fig):
@@ -73,14 +60,14 @@ def tower():
 
 @pytest.fixture(scope="module")
 def tower_drawing(tower):
-    return _drawn(tower[1].plot)
+    return drawn(tower[1].plot)
 
 
 @pytest.fixture(scope="module")
 def beam_drawing():
     res = _beam(200).solve(50.0)
     assert res.ok
-    return _drawn(res.plot, diagrams=("deflection", "M", "V"))
+    return drawn(res.plot, diagrams=("deflection", "M", "V"))
 
 
 def test_tower_drawing_labels_do_not_overprint(tower_drawing):
@@ -134,7 +121,7 @@ def test_trace_numbers_do_not_overprint_and_the_key_lists_every_event():
     fr, _ = _tower()
     tr = fr.trace()
     assert len(tr.events) == 31
-    fig = _drawn(tr.plot, node="N20_0")
+    fig = drawn(tr.plot, node="N20_0")
     assert _overlaps(fig) == []
     _axes_have_units(fig)
     curve = fig.axes[0]
@@ -162,7 +149,7 @@ def _portal():
 def test_every_diagram_is_available_and_titles_use_the_users_names():
     fr = _portal()
     res = fr.solve_combinations({"1.2D+1.6L": {"D": 1.2, "L": 1.6}, "wind": {"D": 1.0, "W": 1.0}})
-    fig = _drawn(res["1.2D+1.6L"].plot, diagrams=("deflection", "M", "V", "N"))
+    fig = drawn(res["1.2D+1.6L"].plot, diagrams=("deflection", "M", "V", "N"))
     assert [ax.get_title().split(" [")[0] for ax in fig.axes[1:]] == \
         ["bending moment M", "shear force V", "axial force N"]
     assert _overlaps(fig) == []
@@ -171,8 +158,8 @@ def test_every_diagram_is_available_and_titles_use_the_users_names():
     for ax in fig.axes[1:]:
         assert any(ln.get_gid() == "scale bar" for ln in ax.lines), ax.get_title()
     one = fr.solve(combination={"D": 1.0, "W": -0.5})
-    assert _drawn(one.plot, diagrams="N")._suptitle.get_text() == "D − 0.5 × W"
-    assert _drawn(one.plot, title="my portal")._suptitle.get_text() == "my portal"
+    assert drawn(one.plot, diagrams="N")._suptitle.get_text() == "D − 0.5 × W"
+    assert drawn(one.plot, title="my portal")._suptitle.get_text() == "my portal"
 
 
 def test_unknown_diagrams_and_results_that_are_not_ok_are_refused(tmp_path):

@@ -20,9 +20,8 @@ import matplotlib
 import numpy as np
 import pytest
 
-from .text_overlap import overlapping
+from .figure_checks import drawn, keeps_previous_file, overlapping
 
-import qpcontact.plots.figures
 from formulations.frames.space import SpaceFrame
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
@@ -376,7 +375,7 @@ def test_envelopes_against_every_combination(res):
     assert set(res.envelope()) == set(fr.members) | {"supports", "contacts"}
 
 
-def test_csv_written_atomically_and_read_back(res, tmp_path, monkeypatch):
+def test_csv_written_atomically_and_read_back(res, tmp_path):
     paths = res.to_csv(tmp_path)
     assert sorted(p.split("/")[-1] for p in paths) == sorted(
         f"{t}.csv" for t in ("supports", "reactions", "members", "displacements", "envelope",
@@ -407,17 +406,7 @@ def test_csv_written_atomically_and_read_back(res, tmp_path, monkeypatch):
         back = list(csv.DictReader(fh))
     assert [float(b["X_t1 [kN]"]) for b in back] == [r["X_t1 [kN]"] for r in raw]
     # a write that fails before its rename leaves the previous file whole
-    import qpcontact.core.files as files
-
-    before = (one / "members.csv").read_text()
-
-    def fail(*args):
-        raise OSError("disk full")
-
-    monkeypatch.setattr(files.os, "replace", fail)
-    with pytest.raises(OSError, match="disk full"):
-        res["D"].to_csv(one)
-    assert (one / "members.csv").read_text() == before
+    assert keeps_previous_file(lambda: res["D"].to_csv(one), one / "members.csv")
 
 
 def test_dataframes_equal_the_rows(res):
@@ -439,17 +428,6 @@ def test_unknown_tables_are_refused_by_name(res):
 
 # -- the drawing ------------------------------------------------------------------------
 
-def _drawn(plot, *args, **kwargs):
-    """The figure a plot call would save (the save replaced by a capture)."""
-    figs = []
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(qpcontact.plots.figures, "save_figure",
-                   lambda fig, path, dpi=110: figs.append(fig) or str(path))
-        plot("unused.png", *args, **kwargs)
-    figs[0].canvas.draw()
-    return figs[0]
-
-
 def _texts(fig):
     """Every text printed (tick labels of axes that are drawn only)."""
     from matplotlib.text import Text
@@ -466,7 +444,7 @@ def _overlaps(fig):
 
 @pytest.fixture(scope="module")
 def drawing(res):
-    return _drawn(res["D+W+U"].plot)
+    return drawn(res["D+W+U"].plot)
 
 
 def test_drawing_labels_do_not_overprint(drawing):
@@ -503,7 +481,7 @@ def test_drawing_shows_states_slips_scale_loads_and_axes(drawing, res):
 
 
 def test_a_top_view_draws_the_vertical_loads_end_on_without_overprinting(res):
-    fig = _drawn(res["D+3W"].plot, azimuth=-90.0, elevation=90.0)
+    fig = drawn(res["D+3W"].plot, azimuth=-90.0, elevation=90.0)
     assert _overlaps(fig) == []
     words = [t.get_text() for t in fig.axes[0].texts]
     assert "40\u2009kN ⊗" in words and "view from azimuth -90°, elevation 90°" in \
@@ -543,7 +521,7 @@ def test_a_crowded_frame_keeps_its_labels_apart():
     removed); placed by the renderer's boxes, none."""
     r = _grid().solve(combination={"D": 1.0, "W": 1.0})
     assert r.ok and {s.state for s in r.supports.values()} == {"stick", "slip"}
-    fig = _drawn(r.plot)
+    fig = drawn(r.plot)
     assert _overlaps(fig) == []
     words = [t.get_text() for t in fig.axes[0].texts]
     named = sum(w.startswith("N0_") for w in words)
@@ -625,7 +603,7 @@ def test_the_frames_own_units_head_the_tables_and_label_the_drawing():
     rigid.add_load("B", fx=300.0, fz=-1e3)
     still = rigid.solve()
     assert 0 < max(abs(v) for v in still.displacements["B"]) < 1e-15
-    title = _drawn(still.plot).axes[0].get_title()
+    title = drawn(still.plot).axes[0].get_title()
     assert "displacements × 1;" in title and "no displacement" in title
     heads = [k for t in ("supports", "reactions", "members", "displacements")
              for k in r.rows(t)[0]]
@@ -633,7 +611,7 @@ def test_the_frames_own_units_head_the_tables_and_label_the_drawing():
                  "rz [rad]"):
         assert head in heads, head
     assert not any("kN" in h or "[m]" in h for h in heads)
-    fig = _drawn(r.plot)
+    fig = drawn(r.plot)
     words = [t.get_text() for t in fig.axes[0].texts]
     assert "(300, 0, -1000)\u2009N" in words
     assert "2000 × 0 × 0 mm" in fig.axes[0].get_title()

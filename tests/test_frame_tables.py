@@ -18,6 +18,8 @@ import pytest
 from formulations.frames import Frame
 from qpcontact.core.errors import BackendUnavailableError, InvalidOptionError
 
+from .figure_checks import keeps_previous_file
+
 E, A, I = 2e8, 0.01, 1e-4          # kN/m², m², m⁴
 K_RZ, K_B = 5e3, 1e5               # the spring at A (kN·m/rad), B's contact stiffness (kN/m)
 XY = {"A": (0.0, 0.0), "B": (4.0, 0.0), "C": (8.0, 0.0), "D": (8.0, 3.0)}
@@ -326,20 +328,11 @@ def test_csv_text_has_no_minus_zero_no_noise_and_reads_back(res, tmp_path):
     assert [float(b["M_max [kN·m]"]) for b in back] == [r["M_max [kN·m]"] for r in raw]
 
 
-def test_csv_is_written_atomically(res, tmp_path, monkeypatch):
+def test_csv_is_written_atomically(res, tmp_path):
     """A write that fails before its rename leaves the previous file whole."""
-    import qpcontact.core.files as files
-
     res["D"].to_csv(tmp_path)
-    before = (tmp_path / "members.csv").read_text()
-
-    def fail(*args):
-        raise OSError("disk full")
-
-    monkeypatch.setattr(files.os, "replace", fail)
-    with pytest.raises(OSError, match="disk full"):
-        res["1.2D+1.6L"].to_csv(tmp_path)
-    assert (tmp_path / "members.csv").read_text() == before
+    assert keeps_previous_file(lambda: res["1.2D+1.6L"].to_csv(tmp_path),
+                               tmp_path / "members.csv")
 
 
 def test_dataframe_equals_the_rows(res):

@@ -9,7 +9,7 @@ import matplotlib
 import numpy as np
 import pytest
 
-from .text_overlap import overlapping
+from .figure_checks import overlapping
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

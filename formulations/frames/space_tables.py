@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .tables import check_table
+from .tables import check_table, reaction_envelope_rows
 
 TABLES = ("supports", "reactions", "members", "displacements")
 #: the tables of a CombinationResults besides TABLES
@@ -232,14 +232,8 @@ def envelope_rows(frame, env: dict, table: str) -> list:
             out.append(row)
         return out
     if table == "envelope_reactions":
-        for node, per in env.get("supports", {}).items():
-            row = {"node": node}
-            for f in FORCES:
-                for side in ("max", "min"):
-                    row[f"{f}_{side} {u['F'] if f[0] == 'F' else u['M']}"] = per[f][side][0]
-                    row[f"combination({f}_{side})"] = per[f][side][1]
-            out.append(row)
-        return out
+        return reaction_envelope_rows(env.get("supports", {}), FORCES,
+                                      lambda f: u["F"] if f[0] == "F" else u["M"])
     heads = {"X_n": u["F"], "|X_t|": u["F"], "use": u["-"], "opening": u["L"], "|slip|": u["L"]}
     for key, per in env.get("contacts", {}).items():
         row = {"support": key,

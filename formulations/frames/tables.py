@@ -222,11 +222,19 @@ def envelope_rows(frame, env: dict, table: str) -> list:
                     row[f"combination({q}_{side})"] = name
             out.append(row)
         return out
-    for node, per in env.get("supports", {}).items():
+    return reaction_envelope_rows(env.get("supports", {}), FORCES, lambda f: f"[{unit[f]}]")
+
+
+def reaction_envelope_rows(supports: dict, forces, unit_of) -> list:
+    """One row per node the ground holds: each reaction component's max and
+    min with its combination (``unit_of(component)``: the header's unit);
+    plane and space frames alike."""
+    out = []
+    for node, per in supports.items():
         row = {"node": node}
-        for f in FORCES:
+        for f in forces:
             for side in ("max", "min"):
-                row[f"{f}_{side} [{unit[f]}]"] = per[f][side][0]
+                row[f"{f}_{side} {unit_of(f)}"] = per[f][side][0]
                 row[f"combination({f}_{side})"] = per[f][side][1]
         out.append(row)
     return out
