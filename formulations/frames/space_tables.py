@@ -37,12 +37,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .tables import check_table, reaction_envelope_rows
+from .tables import KINDS, check_table, reaction_envelope_rows, with_totals
 
 TABLES = ("supports", "reactions", "members", "displacements")
 #: the tables of a CombinationResults besides TABLES
 COMBINED = ("envelope", "envelope_reactions", "envelope_supports", "combinations")
-KINDS = ("support", "spring", "contact")
 FORCES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 #: the contact quantities whose extremes envelope_supports gives, and which side
 CONTACT_EXTREMES = (("X_n", "max"), ("X_n", "min"), ("|X_t|", "max"), ("use", "max"),
@@ -94,12 +93,7 @@ def reactions_by_node(frame, result) -> dict:
         slot["contact"] = tuple(float(a + b) for a, b in
                                 zip(before, np.r_[contact_force(s), 0.0, 0.0, 0.0]))
         slot.setdefault("contact states", []).append(s.state)
-    out = {}
-    for node in frame.nodes:
-        if node in parts:
-            kinds = [parts[node][k] for k in KINDS if k in parts[node]]
-            out[node] = {"total": tuple(float(sum(v)) for v in zip(*kinds)), **parts[node]}
-    return out
+    return with_totals(frame, parts)
 
 
 def rows(frame, result, table: str) -> list:

@@ -95,6 +95,12 @@ def reactions_by_node(frame, result) -> dict:
         slot["contact"] = tuple(a + b for a, b in zip(slot.get("contact", (0.0,) * 3),
                                                        _contact_force(c, s)))
         slot.setdefault("contact states", []).append(s.state)
+    return with_totals(frame, parts)
+
+
+def with_totals(frame, parts: dict) -> dict:
+    """{node: {"total": the sum of its kinds' reactions, kind: ...}} in the
+    frame's node order, for the nodes the ground holds (plane and space)."""
     out = {}
     for node in frame.nodes:
         if node in parts:
