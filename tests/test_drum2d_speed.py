@@ -38,7 +38,7 @@ def _same_states(a, b):
 @pytest.fixture(scope="module")
 def reference():
     model, steps = _pile()
-    return model, steps, model.simulate(2e-3, steps, keep_contacts=False)
+    return model, steps, model.simulate(2e-3, steps, keep_contacts=False, warm_start=None)
 
 
 def test_warm_route_gives_the_certified_states_of_auto(reference):

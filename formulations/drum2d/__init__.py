@@ -6,8 +6,11 @@ docstring derives its part (geometry, broadphase, contacts, stepper)."""
 from .broadphase import all_pairs, grid_pairs
 from .contacts import DISC, KINDS, LIFTER, SHELL, Contacts, find_contacts
 from .geometry import GRAVITY, Discs, Shell, disc_inertia, disc_mass, hex_fill, wall_velocity
+from .laws import ContactLaw
+from .records import FORCE_BINS
 from .stepper import EFFECTS, Drum2D, Drum2DResult, UncertifiedStepWarning
 
 __all__ = ["Discs", "Shell", "Drum2D", "Drum2DResult", "EFFECTS", "UncertifiedStepWarning",
            "Contacts", "find_contacts", "grid_pairs", "all_pairs", "KINDS", "DISC", "SHELL",
-           "LIFTER", "GRAVITY", "hex_fill", "disc_mass", "disc_inertia", "wall_velocity"]
+           "LIFTER", "GRAVITY", "hex_fill", "disc_mass", "disc_inertia", "wall_velocity",
+           "ContactLaw", "FORCE_BINS"]

@@ -72,18 +72,22 @@ def snapshot_figure(h, step: int | None = None):
 
 def energy_figure(h):
     """Cumulative energy balance [J] against time [s]: the drive's work, the
-    change of kinetic + potential energy, the friction and impact losses
-    (above); the numerical remainder, ΔK + ΔP − drive + losses (below)."""
+    change of kinetic + potential (+ the springs') energy, the friction and
+    impact losses (above); the numerical remainder, ΔK + ΔP + ΔE_el − drive +
+    losses (below)."""
     plt = _pyplot()
     t = h["t"][()]
     K, P = h["energy/kinetic"][()], h["energy/potential"][()]
+    if "energy/elastic" in h:      # the contact springs (log/shell elasticity)
+        P = P + h["energy/elastic"][()]
     cum = {k: np.concatenate([[0.0], np.cumsum(h[f"energy/{k}"][()])])
            for k in ("drive", "friction_loss", "impact_loss", "remainder")}
     fig, (ax, bx) = plt.subplots(2, 1, figsize=(8.5, 6.4), sharex=True,
                                  gridspec_kw={"height_ratios": (2.2, 1)})
     ax.plot(t, cum["drive"], color="#0072B2", lw=1.6, label="work of the drive")
+    springs = "energy/elastic" in h and np.any(h["energy/elastic"][()])
     ax.plot(t, K + P - K[0] - P[0], color="#000000", ls="--", lw=1.4,
-            label="kinetic + potential (change)")
+            label="kinetic + potential" + (" + elastic" if springs else "") + " (change)")
     named = "friction" in str(h.attrs.get("effects", ""))
     ax.plot(t, cum["friction_loss"], color="#D55E00", ls="-.", lw=1.4,
             label="friction loss" + ("" if named else " (friction not simulated)"))
@@ -97,8 +101,11 @@ def energy_figure(h):
     e = int(np.floor(np.log10(big))) if big > 0 else 0
     # the power of ten goes in the label: matplotlib's offset text would sit on the title
     bx.plot(t, cum["remainder"] / 10.0 ** e, color="#CC79A7", lw=1.2)
+    from matplotlib.ticker import MaxNLocator
+    bx.yaxis.set_major_locator(MaxNLocator(4))
+    bx.ticklabel_format(axis="y", useOffset=False)
     bx.set(xlabel="time [s]", ylabel="remainder [J]" if e == 0 else f"remainder [1e{e} J]")
     bx.set_title("numerical remainder (rounding and certificate residual)", fontsize=9)
     bx.grid(True, alpha=0.3)
-    fig.tight_layout(h_pad=1.5)   # the panels' end tick labels otherwise touch
+    fig.tight_layout(h_pad=2.5)   # the panels' end tick labels otherwise touch
     return fig

@@ -11,16 +11,21 @@ With ν = (vx, vy, ω) per disc, M = diag(m, m, I), f the gravity forces
     ν⁺ = ν + h M⁻¹ f + M⁻¹ H r                                      (momentum)
     q⁺ = q + h (ν + ν⁺)/2                                            (θ = ½)
     u⁺ = Hᵀ ν⁺ + w,   u⁻ = Hᵀ ν + w,
-    for each active contact:  0 <= r_N ⟂ u_N⁺ + e u_N⁻ >= 0           (Newton's law)
+    for each active contact:  0 <= r_N ⟂ u_N⁺ + e u_N⁻ (+ the spring's terms) >= 0
                               |r_T| <= μ r_N, Coulomb on u_T⁺           (friction)
+
+the normal law rigid (Newton's) or compliant (formulations.drum2d.laws:
+``log_elasticity``, ``shell_elasticity``, the stack model's springs).
 
 r (N·s) the contact impulses over the step.  A contact is active when its
 predicted gap g + h (u_N⁻ + u_N^free)/2 is <= 0, u^free = Hᵀ(ν + h M⁻¹ f) + w:
 the gap the free motion would leave at the end of the step.  Substituting
 ν⁺ gives the local problem
 
-    û = W r + q,   W = Hᵀ M⁻¹ H  (M diagonal: sparse, cheap),
-                   q = u^free + (e u_N⁻, 0),
+    û = (W + D) r + q,   W = Hᵀ M⁻¹ H  (M diagonal: sparse, cheap),
+                         q = u^free + (e u_N⁻ + the springs' gap terms, 0),
+
+D the springs' diagonal (laws: 0 for rigid contacts),
 
 a 2-D FrictionProblem (qpcontact.friction.problem), or without friction the
 LCP 0 <= r_N ⟂ W_NN r_N + q_N >= 0 — both solved by qpcontact.solve and
@@ -30,7 +35,8 @@ certified from the data.  A step whose answer is not certified is recorded
 
 Energy bookkeeping (exact identities of the scheme)
 ---------------------------------------------------
-K = ½ νᵀ M ν, P = Σ m g y.  From the momentum line,
+K = ½ νᵀ M ν, P = Σ m g y, E_el = Σ ½ c F² (the springs, F = r_N/h).  From
+the momentum line,
 ΔK = (h f + H r)ᵀ (ν + ν⁺)/2, and the midpoint positions make ΔP = −h fᵀ (ν + ν⁺)/2
 exactly (f constant), so
 
@@ -39,23 +45,33 @@ exactly (f constant), so
 −rᵀ w = Σ r · V is the work of the moving shell and lifters (the drive; the
 wall takes −r at velocity V).  Friction dissipates D_f = −Σ r_T u_T⁺ >= 0
 (Coulomb: r_T opposes the slip u_T⁺).  The rest, D_i = −rᵀ(u⁻ + u⁺)/2 − D_f,
-is the impacts' loss: its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
+is what the contacts take: their springs' change ΔE_el plus the impacts'
+loss ``impact_loss`` (reported net of ΔE_el).  For rigid contacts its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
 where r_N > 0, so with e = 1 the scheme dissipates nothing at the normal
 impacts (to the certificate's tolerance) and K + P is kept exactly when friction
 is off and the shell still.  The remainder ΔK + ΔP − drive + D_f + D_i is
-rounding and the certificate's residual; it is reported per run.
+rounding and the certificate's residual; it is reported per run (with
+springs, ΔK + ΔP + ΔE_el − drive + D_f + D_i).
 
 The scheme's own errors are in the positions: an impact is resolved up to one
 step early (a gap of at most h |u_N|) and a contact carried along the curved
 shell drifts into it by about (h v)²/(2ρ) per step (ρ the centre's radius of
-curvature); the run reports the largest penetration.
+curvature) — a rigid contact keeps that drift, a compliant one's gap term
+pushes it out within the step; the run reports the largest penetration.
+
+Warm starts
+-----------
+With friction the step's problem is first solved by ``warm_start`` (NSGS +
+Newton by default) from the previous step's impulses, matched contact by
+contact (disc i, other body j, kind); where that answer is not certified at
+``accuracy`` the step is solved again by ``method`` ("auto") and flagged in
+``fallback``.  The certificate judges either way.
 """
 
 from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -63,72 +79,25 @@ import scipy.sparse as sp
 from qpcontact import solve
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 from qpcontact.core.problems import LCP
+from qpcontact.core.progress import StepReporter
 from qpcontact.friction.problem import FrictionProblem
 
 from .contacts import find_contacts
 from .geometry import GRAVITY, Discs, Shell
+from .laws import SPRUCE_E_TANGENTIAL, ContactLaw
+from .records import Drum2DResult, Recorder
 
 __all__ = ["Drum2D", "Drum2DResult", "EFFECTS", "UncertifiedStepWarning"]
 
 #: the effects the model knows; gravity is always on
-EFFECTS = ("gravity", "friction", "rotation", "damping")
+EFFECTS = ("gravity", "friction", "rotation", "damping", "log_elasticity", "shell_elasticity")
+
+#: the warm start ``simulate`` uses with friction unless told otherwise
+WARM_START = "nsgs-newton"
 
 
 class UncertifiedStepWarning(UserWarning):
     """A step's contact problem came back without a certificate meeting the accuracy."""
-
-
-@dataclass
-class Drum2DResult:
-    """A run: times ``t`` (S+1,) [s], ``positions`` (S+1, n, 2) [m],
-    ``velocities`` (S+1, n, 2) [m/s], ``spins`` (S+1, n) [rad/s]; per step
-    (index s = the step from t[s] to t[s+1]) ``n_contacts``, ``n_active``,
-    ``certificate_error``, ``certified``, ``method``, ``solve_seconds``,
-    ``pairs_checked``; energies [J] per state (``kinetic``, ``potential``)
-    and per step (``drive``, ``friction_loss``, ``impact_loss``,
-    ``remainder``); ``contacts``: per step a dict of the active contacts'
-    arrays (i, j, kind, r_n, r_t [N·s], slip u_T⁺ [m/s], gap [m]) when kept;
-    ``fallback`` per step: the warm-started route was not certified and
-    ``method`` solved the step instead (always False without ``warm_start``)."""
-
-    t: np.ndarray
-    positions: np.ndarray
-    velocities: np.ndarray
-    spins: np.ndarray
-    n_contacts: np.ndarray
-    n_active: np.ndarray
-    certificate_error: np.ndarray
-    certified: np.ndarray
-    method: list
-    solve_seconds: np.ndarray
-    pairs_checked: np.ndarray
-    kinetic: np.ndarray
-    potential: np.ndarray
-    drive: np.ndarray
-    friction_loss: np.ndarray
-    impact_loss: np.ndarray
-    remainder: np.ndarray
-    max_penetration: float
-    contacts: list = field(default_factory=list)
-    effects: frozenset = frozenset()
-    fallback: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
-
-    @property
-    def uncertified(self) -> np.ndarray:
-        """The steps whose contact problem was not certified."""
-        return np.flatnonzero(~self.certified)
-
-    @property
-    def worst_certificate(self) -> float:
-        return float(self.certificate_error.max(initial=0.0))
-
-    def energy_summary(self) -> dict:
-        """Totals [J]: ΔK, ΔP, drive work, friction and impact losses, remainder."""
-        return {"kinetic_change": float(self.kinetic[-1] - self.kinetic[0]),
-                "potential_change": float(self.potential[-1] - self.potential[0]),
-                "drive": float(self.drive.sum()), "friction_loss": float(self.friction_loss.sum()),
-                "impact_loss": float(self.impact_loss.sum()),
-                "remainder": float(self.remainder.sum())}
 
 
 class Drum2D:
@@ -136,10 +105,14 @@ class Drum2D:
     ``shell`` (geometry.Shell); ``effects`` among EFFECTS (gravity always);
     ``mu_disc``, ``mu_shell``, ``mu_lifter`` the friction coefficients (used
     only with ``friction``), ``restitution`` e in [0, 1] (used only with
-    ``damping``; without it e = 1, elastic impacts)."""
+    ``damping``; without it e = 1, elastic impacts); ``modulus`` E [Pa] of
+    the logs across the grain (only with ``log_elasticity``: half stiffness
+    2 E ℓ), ``shell_stiffness`` k_s [N/m] (only with ``shell_elasticity``);
+    laws.py derives the compliant contacts."""
 
     def __init__(self, discs: Discs, shell: Shell, effects=("gravity",), *, mu_disc=0.4,
-                 mu_shell=0.4, mu_lifter=0.4, restitution=0.0, gravity=GRAVITY):
+                 mu_shell=0.4, mu_lifter=0.4, restitution=0.0, gravity=GRAVITY,
+                 modulus=SPRUCE_E_TANGENTIAL, shell_stiffness=None):
         effects = frozenset(effects) | {"gravity"}
         unknown = effects - set(EFFECTS)
         if unknown:
@@ -152,16 +125,29 @@ class Drum2D:
             raise InvalidOptionError(f"restitution must be in [0, 1]; got {restitution}")
         if not (np.isfinite(gravity) and gravity >= 0):
             raise InvalidOptionError(f"gravity must be finite and >= 0; got {gravity}")
+        if "shell_elasticity" in effects and shell_stiffness is None:
+            raise InvalidOptionError("the effect 'shell_elasticity' needs shell_stiffness [N/m]")
+        if not (np.isfinite(modulus) and modulus > 0):
+            raise InvalidOptionError(f"modulus must be finite and > 0 [Pa]; got {modulus}")
         self.discs, self.shell, self.effects = discs, shell, effects
         self.mu = np.array([mu_disc, mu_shell, mu_lifter], float)
         self.restitution = float(restitution) if "damping" in effects else 1.0
         self.omega = shell.omega if "rotation" in effects else 0.0
         self.gravity = float(gravity)
-        inside = np.hypot(*discs.positions.T) + discs.radii
-        if np.any(inside > shell.radius * (1 + 1e-9)):
+        self.law = ContactLaw(
+            2.0 * modulus * discs.length * np.ones(discs.n) if "log_elasticity" in effects
+            else None, shell_stiffness if "shell_elasticity" in effects else None,
+            self.restitution)
+        # a start state may overlap the shell a little (a resumed or settled
+        # run's drift); a centre beyond half a radius into it is a mistake
+        inside = np.hypot(*discs.positions.T) + 0.5 * discs.radii
+        if np.any(inside > shell.radius):
             k = int(np.argmax(inside - shell.radius))
-            raise InvalidOptionError(f"disc {k} reaches {inside[k]:.4g} m from the axis, outside "
-                                     f"the shell (R = {shell.radius} m)")
+            raise InvalidOptionError(
+                f"disc {k} (radius {discs.radii[k]:.4g} m) overlaps the shell by "
+                f"{inside[k] + 0.5 * discs.radii[k] - shell.radius:.4g} m, more than half its "
+                f"radius: its centre must lie within R − r = {shell.radius - discs.radii[k]:.4g} "
+                "m of the axis")
 
     def _margin(self, h, v, spin):
         rad = self.discs.radii
@@ -171,16 +157,26 @@ class Drum2D:
         return 1.5 * h * reach + 1e-9 * self.shell.radius
 
     def simulate(self, h: float, steps: int, *, method: str = "auto", accuracy="high",
-                 keep_contacts: bool = True, on_uncertified: str = "warn",
-                 warm_start: str | None = None, warm_options=None) -> Drum2DResult:
-        """``steps`` Moreau–Jean steps of ``h`` [s] (module docstring).
+                 keep_contacts=True, on_uncertified: str = "warn", warm_start="default",
+                 warm_options=None, t0: float = 0.0, progress: bool = False, on_step=None,
+                 resume: dict | None = None, checkpoint=None,
+                 checkpoint_seconds: float = 5.0) -> Drum2DResult:
+        """``steps`` Moreau–Jean steps of ``h`` [s] from the discs' state at
+        time ``t0`` [s] (module docstring).
 
         ``warm_start`` (with friction only): a friction method taking ``r0``
-        ("nsgs", "nsgs-newton", "newton") started from the previous step's
-        impulses, matched contact by contact (module docstring, "Warm
-        starts"); a step it does not certify at ``accuracy`` is solved again
-        by ``method`` and flagged in ``Drum2DResult.fallback``.
-        ``warm_options``: more options for that method (``max_sweeps``...)."""
+        ("nsgs", "nsgs-newton", "newton"; "default": nsgs-newton with friction,
+        None: none) started from the previous step's impulses (module
+        docstring, "Warm starts"); a step it does not certify at ``accuracy``
+        is solved again by ``method`` and flagged in ``fallback``.
+        ``warm_options``: more options for that method (``max_sweeps``...).
+        ``keep_contacts``: True (every step's active contacts), False, or k
+        (every k-th step).  ``on_step(n, contacts, r)``: called after step n
+        with its active contacts and impulses [N·s].  ``progress``: a progress bar; ``checkpoint(partial_result)``
+        every ``checkpoint_seconds``; ``resume``: an interrupted run's arrays
+        (the scene's results file, with ``completed``) to continue from."""
+        if warm_start == "default":
+            warm_start = WARM_START if "friction" in self.effects else None
         if warm_start is not None and "friction" not in self.effects:
             raise InvalidOptionError("warm_start needs the 'friction' effect (without it each "
                                      "step is an LCP, solved by `method`)")
@@ -189,91 +185,101 @@ class Drum2D:
         if on_uncertified not in ("warn", "raise"):
             raise InvalidOptionError(f"on_uncertified must be 'warn' or 'raise'; got "
                                      f"{on_uncertified!r}")
-        steps = int(steps)
-        d = self.discs
+        every = int(keep_contacts) if not isinstance(keep_contacts, bool) else int(keep_contacts)
+        if every < 0:
+            raise InvalidOptionError(f"keep_contacts must be True, False or a step count >= 1; "
+                                     f"got {keep_contacts}")
+        S, d = int(steps), self.discs
         n = d.n
-        minv = d.inverse_mass()
-        mdiag = d.mass_diagonal()
+        minv, mdiag = d.inverse_mass(), d.mass_diagonal()
         f = np.zeros(3 * n)
         f[1::3] = -d.masses * self.gravity
+        rec = Recorder(S, n, h, t0, every)
+        warm = None if warm_start is None else _WarmStart(warm_start, warm_options, n)
         q = d.positions.copy()
         v = np.column_stack([d.velocities, d.spins]).ravel()
-        S = steps
-        out = dict(t=np.arange(S + 1) * h, positions=np.zeros((S + 1, n, 2)),
-                   velocities=np.zeros((S + 1, n, 2)), spins=np.zeros((S + 1, n)))
-        per = {k: np.zeros(S) for k in ("certificate_error", "solve_seconds", "drive",
-                                         "friction_loss", "impact_loss", "remainder")}
-        counts = {k: np.zeros(S, np.int64) for k in ("n_contacts", "n_active", "pairs_checked")}
-        certified = np.ones(S, bool)
-        methods = [""] * S
-        kin, pot = np.zeros(S + 1), np.zeros(S + 1)
-        contacts_kept = []
-        worst_pen = 0.0
-        fallback = np.zeros(S, bool)
-        warm = None if warm_start is None else _WarmStart(warm_start, warm_options, n)
-
-        def record(s, q, v):
-            V = v.reshape(n, 3)
-            out["positions"][s], out["velocities"][s], out["spins"][s] = q, V[:, :2], V[:, 2]
-            kin[s] = 0.5 * float(mdiag @ (v * v))
-            pot[s] = float(self.gravity * d.masses @ q[:, 1])
-
-        record(0, q, v)
-        for s in range(S):
-            t = s * h
+        first, elastic = 0, 0.0
+        if resume is not None:
+            first = int(resume["completed"])
+            if not 0 <= first <= S or resume["positions"].shape[1:] != (n, 2):
+                raise InvalidOptionError(f"cannot resume: {first} completed steps of {S}, "
+                                         f"{resume['positions'].shape[1]} discs against {n}")
+            rec.restore(first, resume)
+            q = rec.state["positions"][first].copy()
+            v = np.column_stack([rec.state["velocities"][first],
+                                 rec.state["spins"][first]]).ravel()
+            elastic = float(rec.energy["elastic"][first])
+            if warm is not None and "warm/keys" in resume:
+                warm.keys, warm.r = np.asarray(resume["warm/keys"]), np.asarray(resume["warm/r"])
+        else:
+            rec.state_at(0, q, v, mdiag, d.masses, self.gravity, 0.0)
+        report = StepReporter(S, "drum2d", progress, checkpoint, checkpoint_seconds)
+        for s in range(first, S):
+            t = t0 + s * h
             V = v.reshape(n, 3)
             c = find_contacts(d, self.shell, t, self.omega, self._margin(h, V[:, :2], V[:, 2]),
                               positions=q)
-            counts["n_contacts"][s], counts["pairs_checked"][s] = c.m, c.pairs_checked
-            worst_pen = max(worst_pen, float(-c.gap.min(initial=0.0)))
+            rec.counts["n_contacts"][s], rec.counts["pairs_checked"][s] = c.m, c.pairs_checked
+            rec.worst_pen = max(rec.worst_pen, float(-c.gap.min(initial=0.0)))
             v_free = v + h * minv * f
             u_minus = c.H.T @ v + c.w
             u_free = c.H.T @ v_free + c.w
             active = c.gap + 0.5 * h * (u_minus[0::2] + u_free[0::2]) <= 0.0
+            if self.law.compliant:
+                active |= self.law.compliance(c) > 0
             c = c.subset(active)
-            counts["n_active"][s] = c.m
-            u_minus, u_free = u_minus[np.repeat(active, 2)], u_free[np.repeat(active, 2)]
+            rec.counts["n_active"][s] = c.m
+            keep2 = np.repeat(active, 2)
+            u_minus, u_free = u_minus[keep2], u_free[keep2]
             r = np.zeros(2 * c.m)
+            new_elastic = 0.0
             if c.m:
-                r, err, ok, name, secs, fallback[s] = self._solve_step(
-                    c, u_minus, u_free, minv, method, accuracy, warm)
-                per["certificate_error"][s], per["solve_seconds"][s] = err, secs
-                certified[s], methods[s] = ok, name
+                r, err, ok, name, secs, rec.fallback[s], comp = self._solve_step(
+                    c, u_minus, u_free, minv, h, method, accuracy, warm)
+                rec.per["certificate_error"][s], rec.per["solve_seconds"][s] = err, secs
+                rec.certified[s], rec.method[s] = ok, name
                 if not ok:
                     msg = (f"step {s} (t = {t:.6g} s): contact problem with {c.m} contacts not "
                            f"certified by {name} (error {err:.3g})")
                     if on_uncertified == "raise":
                         raise SolverFailedError(msg)
                     warnings.warn(msg, UncertifiedStepWarning, stacklevel=2)
+                new_elastic = self.law.elastic_energy(comp, r[0::2], h)
             v_new = v_free + minv * (c.H @ r) if c.m else v_free
             q = q + 0.5 * h * (v.reshape(n, 3)[:, :2] + v_new.reshape(n, 3)[:, :2])
-            record(s + 1, q, v_new)
+            rec.state_at(s + 1, q, v_new, mdiag, d.masses, self.gravity, new_elastic)
+            per = rec.per
             if c.m:
                 u_plus = c.H.T @ v_new + c.w
-                drive = -float(r @ c.w)
                 fric = -float(r[1::2] @ u_plus[1::2])
-                imp = -float(r @ (u_minus + u_plus)) / 2.0 - fric
-                per["drive"][s], per["friction_loss"][s], per["impact_loss"][s] = drive, fric, imp
-                if keep_contacts:
-                    contacts_kept.append(dict(i=c.i, j=c.j, kind=c.kind, r_n=r[0::2],
-                                              r_t=r[1::2], slip=u_plus[1::2], gap=c.gap,
-                                              normal=c.normal))
-            elif keep_contacts:
-                contacts_kept.append(None)
-            per["remainder"][s] = (kin[s + 1] + pot[s + 1] - kin[s] - pot[s] - per["drive"][s]
+                per["drive"][s], per["friction_loss"][s] = -float(r @ c.w), fric
+                per["impact_loss"][s] = (-float(r @ (u_minus + u_plus)) / 2.0 - fric
+                                         - (new_elastic - elastic))
+                rec.forces(s, c, r, u_plus[1::2])
+            E = rec.energy
+            per["remainder"][s] = (E["kinetic"][s + 1] + E["potential"][s + 1]
+                                   + E["elastic"][s + 1] - E["kinetic"][s] - E["potential"][s]
+                                   - E["elastic"][s] - per["drive"][s]
                                    + per["friction_loss"][s] + per["impact_loss"][s])
             if warm is not None:
                 warm.remember(c, r)
-            v = v_new
-        return Drum2DResult(fallback=fallback, **out, **counts, certified=certified, method=methods,
-                            kinetic=kin, potential=pot, max_penetration=worst_pen,
-                            contacts=contacts_kept, effects=self.effects, **per)
+            elastic, v = new_elastic, v_new
+            if on_step is not None:
+                on_step(s + 1, c, r)
+            report.after(s + 1, np.concatenate([[0.0], per["certificate_error"]]),
+                         lambda k: rec.result(k, self.effects, _warm_state(warm)))
+        return report.finish(rec.result(S, self.effects, _warm_state(warm)))
 
-    def _solve_step(self, c, u_minus, u_free, minv, method, accuracy, warm=None):
+    def _solve_step(self, c, u_minus, u_free, minv, h, method, accuracy, warm=None):
         W = (c.H.T @ sp.diags(minv) @ c.H).tocsc()
         W = 0.5 * (W + W.T)
         qv = u_free.copy()
-        qv[0::2] += self.restitution * u_minus[0::2]
+        D, offset, comp = self.law.normal_terms(c, h, u_minus[0::2])
+        qv[0::2] += offset
+        if self.law.compliant:
+            diag = np.zeros(2 * c.m)
+            diag[0::2] = D
+            W = (W + sp.diags(diag)).tocsc()
         t0 = time.perf_counter()
         fell_back = False
         if "friction" in self.effects:
@@ -294,7 +300,12 @@ class Drum2D:
                 r[0::2] = sol.z
         secs = time.perf_counter() - t0
         err = sol.certificate.error if sol.certificate is not None else np.inf
-        return r, float(err), bool(sol.ok), sol.method, secs, fell_back
+        return r, float(err), bool(sol.ok), sol.method, secs, fell_back, comp
+
+
+def _warm_state(warm):
+    """What a resumed run needs to warm-start as this one would have."""
+    return None if warm is None else {"keys": warm.keys.copy(), "r": warm.r.copy()}
 
 
 class _WarmStart:
