@@ -95,7 +95,10 @@ def test_registered_and_the_example_checks():
     ("duration = 0.2", "duration = 0.2\nrevolutions = 1.0", "time.duration: give exactly one"),
     ("duration = 0.2", "duration = 0.0001", "time.step: the duration"),
     ('"rotation", ', "", "effect.rotation: parameters given for effect 'rotation', which is not"),
-    ('"friction"]', '"friction", "shell_elasticity"]', "unknown effect 'shell_elasticity'"),
+    ('"friction"]', '"friction", "wind"]', "unknown effect 'wind'"),
+    ('"friction"]', '"friction", "shell_elasticity"]', "effect.shell_elasticity.stiffness"),
+    ("[time]", "[solver]\nwarm_start = \"lemke\"\n\n[time]", "solver.warm_start: must be one of"),
+    ("[time]", "[output]\ncontacts_every = -1\n\n[time]", "output.contacts_every: must be >= 0"),
     ("speed = 0.2", "speed = 0", "effect.rotation.speed: must be > 0 [rev/s]"),
 ])
 def test_bad_input_names_the_key(tmp_path, old, new, needle):
@@ -216,17 +219,66 @@ def test_figures_have_units_and_no_overprint(tiny_run, which):
         plt.close(fig)
 
 
-def test_resume_is_refused_with_a_reason(tiny_run, tmp_path):
-    from typer.testing import CliRunner
-
-    from qpcontact.commands.cli import app
-
-    scene, out = tiny_run
-    copy = tmp_path / "partial.h5"
-    copy.write_bytes(out.read_bytes())
+def test_a_killed_run_resumes_to_the_uninterrupted_file(tiny_run, tmp_path):
+    """The run is stopped after step 37 (its last checkpoint somewhere before),
+    then continued with --resume: every dataset equals the uninterrupted run's
+    bit for bit (states, statistics, kept contacts, the warm start's impulses)."""
     import h5py
-    with h5py.File(copy, "a") as h:
-        h.attrs["completed_steps"] = 10
-    res = CliRunner().invoke(app, ["simulate", str(scene), "--out", str(copy), "--resume"])
-    assert res.exit_code != 0
-    assert "--resume is not supported for drum2d" in res.output + str(res.exception)
+
+    from qpcontact.scenes import write_results
+
+    scene, full = tiny_run
+    sc = load_scene(scene)
+    _, run = sc.schema.build(sc)
+    partial = tmp_path / "partial.h5"
+
+    class Killed(Exception):
+        pass
+
+    def stop(n, contacts, r):
+        if n == 38:
+            raise Killed
+
+    def checkpoint(result):
+        write_results(sc, result, partial, completed=len(result.t) - 1, total=run.total_steps)
+    with pytest.raises(Killed):
+        run(checkpoint=checkpoint, checkpoint_seconds=0.0, on_step=stop)
+    with h5py.File(partial) as h:
+        done = int(h.attrs["completed_steps"])
+    assert 0 < done < 38
+    _run_cli("simulate", scene, "--out", partial, "--resume")
+    with h5py.File(full) as a, h5py.File(partial) as b:
+        assert b.attrs["completed_steps"] == a.attrs["completed_steps"] == 100
+        names = []
+        a.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset)
+                     else None)
+        for name in names:
+            if name in ("solve_seconds", "scene"):   # wall-clock times differ, by design
+                continue
+            np.testing.assert_array_equal(a[name][()], b[name][()], err_msg=name)
+
+
+def test_a_sweep_of_speed_and_fill_writes_one_row_per_variant(tmp_path):
+    """speed x count on a short run: one results file per variant, and each
+    summary row equals the statistics of its own file."""
+    import csv
+
+    import h5py
+
+    scene = _write(tmp_path, TINY.replace("duration = 0.2", "duration = 0.1"))
+    out = tmp_path / "sweep"
+    _run_cli("sweep", scene, "--vary", "effect.rotation.speed=0.1,0.2", "--vary",
+             "logs.count=6,10", "--grid", "--out", out)
+    rows = list(csv.DictReader(open(out / "summary.csv")))
+    assert [(r["effect.rotation.speed"], r["logs.count"]) for r in rows] == \
+        [("0.1", "6"), ("0.1", "10"), ("0.2", "6"), ("0.2", "10")]
+    for row in rows:
+        with h5py.File(out / f"{row['variant']}.h5") as h:
+            assert h["positions"].shape[1] == int(row["logs.count"])
+            assert np.isclose(float(h["drum/omega"][()]),
+                              2 * np.pi * float(row["effect.rotation.speed"]))
+            peak = h["force_peak"][()].max(axis=0)
+            assert float(row["peak log-shell [N]"]) == peak[1] > 0
+            turns = 0.1 * float(row["effect.rotation.speed"])
+            work = h["sliding_work"][()].sum() / int(row["logs.count"]) / turns
+            assert np.isclose(float(row["sliding/log/rev [J]"]), work, rtol=1e-12)

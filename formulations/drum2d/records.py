@@ -172,6 +172,14 @@ class Recorder:
         self.force_counts[:upto] = arrays["force_counts"][:upto]
         self.sliding_work[:upto] = arrays["sliding_work"][:upto]
         self.worst_pen = float(arrays["drum/max_penetration"])
+        step = np.asarray(arrays.get("contacts/step", np.zeros(0, np.int64)))
+        for s in np.unique(step[step < upto]):
+            at = step == s
+            self.contacts[s] = dict(
+                i=arrays["contacts/i"][at], j=arrays["contacts/j"][at],
+                kind=arrays["contacts/kind"][at], r_n=arrays["contacts/force_n"][at] * self.h,
+                r_t=arrays["contacts/force_t"][at] * self.h, slip=arrays["contacts/slip"][at],
+                gap=arrays["contacts/gap"][at], normal=arrays["contacts/normal"][at])
 
     def result(self, upto: int, effects, last_contacts) -> Drum2DResult:
         """The run up to state ``upto`` (all of it at the end, a prefix for a checkpoint)."""

@@ -14,14 +14,26 @@ engineer gives it.  A scene is turned into the Drum2D model of this package:
   n = round(f π R² / (π E[d²]/4)), E[d²] = d̄² + (d_max − d_min)²/12;
 - effects: gravity always (``[effect.gravity] g`` only when named); ``friction``
   (μ per contact kind), ``damping`` (restitution e), ``rotation`` (speed
-  [rev/s]); without ``damping`` impacts are elastic (e = 1), without
-  ``rotation`` the shell is still;
+  [rev/s]), ``log_elasticity`` (the stack model's springs: ``modulus`` E [Pa]
+  across the grain, half stiffness 2 E ℓ), ``shell_elasticity`` (``stiffness``
+  k_s [N/m]); without ``damping`` impacts are elastic (e = 1), without
+  ``rotation`` the shell is still, without the elasticities contacts are rigid;
+- solver: ``method`` (per step, or the fallback of the warm start),
+  ``accuracy``, ``warm_start`` (a friction method started from the last
+  step's impulses, "none" for none; used only with friction);
+- output: ``contacts_every`` k keeps the active contacts of every k-th step
+  (force chains in snapshots and animations; 0 none) — the force statistics
+  (peaks, histograms, sliding work) cover every step whatever k;
 - time: ``step`` h [s] and ``duration`` [s] or ``revolutions`` (with
   ``rotation``): steps = round(duration / h), duration = revolutions / speed.
 
 The run is Drum2D.simulate; the results file holds the states, the per-step
-certificates and energies, the active contacts' forces (impulse / h [N]) and
-the drum's geometry, so that ``plot`` draws from the file alone.
+certificates and energies, the force statistics, the kept contacts' forces
+(impulse / h [N]), the drum's geometry and the logs' data, so that ``plot``
+draws from the file alone, and what ``--resume`` continues from (the last
+step's impulses for the warm start: a resumed run equals an uninterrupted
+one).  A checkpoint rewrites the whole file, so the run writes one at most
+every ten times the last write took (at least ``--checkpoint-seconds``).
 """
 
 from __future__ import annotations
@@ -31,7 +43,9 @@ import numpy as np
 from qpcontact.core.errors import InvalidProblemError
 
 from .geometry import GRAVITY, SPRUCE_DENSITY, Discs, Shell, hex_fill
-from .stepper import Drum2D
+from .laws import SPRUCE_E_TANGENTIAL
+from .records import FORCE_BINS
+from .stepper import WARM_METHODS, Drum2D
 
 __all__ = ["SCENE", "Drum2DRun", "scene_model"]
 
@@ -125,7 +139,9 @@ def scene_model(scene):
     model = Drum2D(discs, shell, scene.effects, mu_disc=fr.get("mu_disc", 0.0),
                    mu_shell=fr.get("mu_shell", 0.0), mu_lifter=fr.get("mu_lifter", 0.0),
                    restitution=eff["damping"]["restitution"] if "damping" in eff else 0.0,
-                   gravity=eff["gravity"]["g"] if "gravity" in eff else GRAVITY)
+                   gravity=eff["gravity"]["g"] if "gravity" in eff else GRAVITY,
+                   modulus=eff.get("log_elasticity", {}).get("modulus", SPRUCE_E_TANGENTIAL),
+                   shell_stiffness=eff.get("shell_elasticity", {}).get("stiffness"))
     t = d["time"]
     if (t["duration"] is None) == (t["revolutions"] is None):
         scene.fail("give exactly one of duration [s] or revolutions", ("time",), "duration")
@@ -145,25 +161,52 @@ def scene_model(scene):
 
 def _scene_build(scene):
     model, h, steps = scene_model(scene)
-    solver = scene.data["solver"]
+    solver, every = scene.data["solver"], scene.data["output"]["contacts_every"]
+    if every < 0:
+        scene.fail(f"must be >= 0 (0: keep no contacts); got {every}", ("output",),
+                   "contacts_every")
+    warm = None if solver["warm_start"] == "none" else solver["warm_start"]
+    if warm is not None and warm not in WARM_METHODS:
+        scene.fail(f"must be one of {', '.join(WARM_METHODS)} or none; got {warm!r}",
+                   ("solver",), "warm_start")
+    if "friction" not in model.effects:
+        warm = None
 
-    def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0):
-        if resume is not None:
-            scene.fail("--resume is not supported for drum2d scenes yet (Drum2D.simulate "
-                       "starts at t = 0); run it afresh", ("time",))
-        result = Drum2DRun(model, h, model.simulate(h, steps, method=solver["method"],
-                                                    accuracy=solver["accuracy"]))
-        if checkpoint is not None:
-            checkpoint(result)
-        return result
+    def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0,
+            on_step=None):
+        wrote = None if checkpoint is None else _Spaced(checkpoint, model, h, steps)
+        result = model.simulate(h, steps, method=solver["method"], accuracy=solver["accuracy"],
+                                warm_start=warm, keep_contacts=every, progress=progress,
+                                on_step=on_step, resume=resume, checkpoint_seconds=
+                                checkpoint_seconds, checkpoint=wrote)
+        return Drum2DRun(model, h, result)
     run.total_steps = steps
     return model, run
 
 
+class _Spaced:
+    """The CLI's checkpoint, called at most every ten times its last write
+    took (a big run's file takes seconds to write), always for the end."""
+
+    def __init__(self, checkpoint, model, h, steps):
+        import time
+
+        self.checkpoint, self.model, self.h, self.steps = checkpoint, model, h, steps
+        self.clock, self.next = time.perf_counter, 0.0
+
+    def __call__(self, result):
+        now = self.clock()
+        if len(result.t) - 1 < self.steps and now < self.next:
+            return
+        self.checkpoint(Drum2DRun(self.model, self.h, result))
+        self.next = self.clock() + 10.0 * (self.clock() - now)
+
+
 def _scene_arrays(run: Drum2DRun) -> dict:
-    """The results file (SI): states per time, certificates and energies per
-    step, the active contacts (one row each, ``contacts/step`` their step),
-    the geometry as scalars."""
+    """The results file (SI): states per time, certificates, energies and
+    force statistics per step (records.py), the kept contacts (one row each,
+    ``contacts/step`` their step), the geometry and the logs' data as
+    scalars, the warm start's last impulses (``warm/``)."""
     r, m, h = run.result, run.model, run.h
     rows = [(s, c) for s, c in enumerate(r.contacts) if c is not None]
     cat = (lambda key: np.concatenate([c[key] for _, c in rows]) if rows else np.zeros(0))
@@ -173,6 +216,7 @@ def _scene_arrays(run: Drum2DRun) -> dict:
             "certificate_error": r.certificate_error, "certified": r.certified.astype(np.int8),
             "method": np.array(r.method, dtype="S"), "n_contacts": r.n_contacts,
             "n_active": r.n_active, "solve_seconds": r.solve_seconds,
+            "pairs_checked": r.pairs_checked,
             "energy/kinetic": r.kinetic, "energy/potential": r.potential,
             "energy/drive": r.drive, "energy/friction_loss": r.friction_loss,
             "energy/impact_loss": r.impact_loss, "energy/remainder": r.remainder,
@@ -180,9 +224,18 @@ def _scene_arrays(run: Drum2DRun) -> dict:
                               if rows else np.zeros(0, np.int64)),
             "contacts/i": cat("i"), "contacts/j": cat("j"), "contacts/kind": cat("kind"),
             "contacts/force_n": cat("r_n") / h, "contacts/force_t": cat("r_t") / h,
-            "contacts/slip": cat("slip"),
+            "contacts/slip": cat("slip"), "contacts/gap": cat("gap"),
             "contacts/normal": (np.concatenate([c["normal"] for _, c in rows]) if rows
                                 else np.zeros((0, 2))),
+            "energy/elastic": r.elastic, "fallback": r.fallback.astype(np.int8),
+            "force_peak": r.force_peak, "force_counts": r.force_counts,
+            "force_bins": FORCE_BINS, "sliding_work": r.sliding_work,
+            "warm/keys": (r.last_contacts or {}).get("keys", np.zeros(0, np.int64)),
+            "warm/r": (r.last_contacts or {}).get("r", np.zeros((0, 2))),
+            "logs/length": np.float64(m.discs.length), "logs/density": np.float64(m.discs.density),
+            "logs/modulus": np.float64(m.modulus), "drum/gravity": np.float64(m.gravity),
+            "drum/restitution": np.float64(m.restitution),
+            "drum/shell_stiffness": np.float64(m.shell_stiffness or 0.0),
             "drum/radius": np.float64(sh.radius), "drum/omega": np.float64(m.omega),
             "drum/lifter_angles": sh.lifter_angles, "drum/lifter_height":
             np.float64(sh.lifter_height), "drum/lifter_half_width":
@@ -200,9 +253,19 @@ def _scene_plot(h, out) -> list:
 
 
 def _scene_summary(run: Drum2DRun) -> dict:
-    r = run.result
+    """A sweep's columns: certificates, energies, the peak forces by kind and
+    the sliding work per log per revolution (per second without rotation)."""
+    r, m = run.result, run.model
     e = r.energy_summary()
+    span = r.t[-1] - r.t[0]
+    per = span * abs(m.omega) / (2 * np.pi) if m.omega else span
+    peaks = r.force_peak.max(axis=0, initial=0.0)
     return {"max_certificate_error": r.worst_certificate, "uncertified_steps": len(r.uncertified),
+            "fallback_steps": int(r.fallback.sum()),
+            "peak log-log [N]": float(peaks[0]), "peak log-shell [N]": float(peaks[1]),
+            "peak log-lifter [N]": float(peaks[2]),
+            ("sliding/log/rev [J]" if m.omega else "sliding/log/s [W]"):
+            float(r.sliding_work.sum() / m.discs.n / per) if per > 0 else 0.0,
             **{f"{k} [J]": v for k, v in e.items()}}
 
 
@@ -244,8 +307,16 @@ def _scene_schema():
                                      "rotation)", **pos),
             },
             "solver": {
-                "method": Field("str", "", "contact solver per step", default="auto"),
+                "method": Field("str", "", "contact solver per step (with friction: where the "
+                                "warm start is not certified)", default="auto"),
                 "accuracy": Field("str", "", "low, default or high", default="high"),
+                "warm_start": Field("str", "", "friction method started from the last step's "
+                                    "impulses, or none", default="nsgs-newton"),
+            },
+            "output": {
+                "contacts_every": Field("int", "", "keep the contacts of every k-th step (0: "
+                                        "none; the force statistics cover every step)",
+                                        default=1),
             },
         },
         effects={
@@ -259,6 +330,12 @@ def _scene_schema():
                                              required=True)},
             "rotation": {"speed": Field("float", "rev/s", "drum speed, counter-clockwise",
                                         required=True, **pos)},
+            "log_elasticity": {"modulus": Field("float", "Pa", "the logs' Young's modulus "
+                                                "across the grain (half stiffness 2 E ℓ, the "
+                                                "stack model's)", default=SPRUCE_E_TANGENTIAL,
+                                                **pos)},
+            "shell_elasticity": {"stiffness": Field("float", "N/m", "the shell's contact "
+                                                    "stiffness", required=True, **pos)},
         },
         build=_scene_build, arrays=_scene_arrays, plot=_scene_plot, summary=_scene_summary)
 

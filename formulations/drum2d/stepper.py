@@ -87,13 +87,16 @@ from .geometry import GRAVITY, Discs, Shell
 from .laws import SPRUCE_E_TANGENTIAL, ContactLaw
 from .records import Drum2DResult, Recorder
 
-__all__ = ["Drum2D", "Drum2DResult", "EFFECTS", "UncertifiedStepWarning"]
+__all__ = ["Drum2D", "Drum2DResult", "EFFECTS", "UncertifiedStepWarning", "WARM_START",
+           "WARM_METHODS"]
 
 #: the effects the model knows; gravity is always on
 EFFECTS = ("gravity", "friction", "rotation", "damping", "log_elasticity", "shell_elasticity")
 
 #: the warm start ``simulate`` uses with friction unless told otherwise
 WARM_START = "nsgs-newton"
+#: the friction methods that start from a given r0
+WARM_METHODS = ("nsgs", "nsgs-newton", "newton")
 
 
 class UncertifiedStepWarning(UserWarning):
@@ -134,6 +137,7 @@ class Drum2D:
         self.restitution = float(restitution) if "damping" in effects else 1.0
         self.omega = shell.omega if "rotation" in effects else 0.0
         self.gravity = float(gravity)
+        self.modulus, self.shell_stiffness = float(modulus), shell_stiffness
         self.law = ContactLaw(
             2.0 * modulus * discs.length * np.ones(discs.n) if "log_elasticity" in effects
             else None, shell_stiffness if "shell_elasticity" in effects else None,
@@ -313,6 +317,9 @@ class _WarmStart:
     kind), for the next step's initial guess r0."""
 
     def __init__(self, method, options, n_discs):
+        if method not in WARM_METHODS:
+            raise InvalidOptionError(f"warm_start must be one of {WARM_METHODS} (methods that "
+                                     f"start from r0) or None; got {method!r}")
         self.method, self.options = method, dict(options or {})
         if "r0" in self.options:
             raise InvalidOptionError("warm_options must not set r0: the warm start sets it")
