@@ -33,7 +33,11 @@ F = max(0, −g)/c, i.e.  0 <= F ⟂ g + c F >= 0.
 The step writes it, with F = r_N / h the step's mean force and the gap carried
 to the end of the step, as
 
-    0 <= r_N ⟂ u_N⁺ + e u_N⁻ + (1 + e) (g/h + c r_N/h²) >= 0.
+    0 <= r_N ⟂ u_N⁺ + e u_N⁻ + (1 + e) (ĝ/h + c r_N/h²) >= 0,
+
+ĝ = g, except at a contact still open (g > 0) that the free motion closes
+within the step (the rigid law's active set: g + h (u_N⁻ + u_N^free)/2 <= 0):
+there ĝ = 0.
 
 Why this form: where the step resolves the spring (h much less than the
 contact period T = 2π √(m* c), m* = (1/m_i + 1/m_j)⁻¹), u_N⁺ ≈ u_N⁻ and it
@@ -45,6 +49,34 @@ have T ≈ 0.7 ms against h = 2 ms), c r_N/h² is small beside W's entries and
 the law is Newton's, with e, plus the term (1 + e) g/h that pushes an overlap
 out over the step instead of letting it drift.  For e = 0 it is the implicit
 Euler spring (the "ERP = 1, CFM = c/h²" of rigid-body engines).
+
+Why ĝ = 0 at a closing contact: an impact that begins inside the step.  With
+g itself the law would ask the gap to reach 0 at the end of the step, which,
+the spring unresolved, leaves u_N⁺ = −u_N⁻ (1 − 2 g/(h |u_N⁻|)) for e = 1: a
+rebound anywhere between −1 and 1 times the impact speed, set by where in
+the step the contact began (measured 0.10–0.80).  With ĝ = 0 the impact is
+resolved from the start of the step, as the rigid law does (up to one step
+early): one contact of a body of mass m* rebounds at
+u_N⁺ = (γ u_N^free − e u_N⁻)/(1 + γ), γ = (1 + e) m* c/h² — Newton's law up
+to γ = (1 + e)(T/(2π h))².  An open contact that the free motion leaves open
+keeps g: pushed shut by the other contacts' impulses (a column settling), it
+meets its spring at the end of the step.
+
+What the scheme dissipates (tests/test_drum2d_compliance.py measures it):
+
+- resolved, one collision: the step's map of (gap, u_N) has determinant
+  1/(1 + ω²h²/2), ω = 2π/T, so over the contact's T/2 the energy falls by
+  exp(−π² h/T): the rebound is exp(−π² h/(2T)) Δv and the peak force
+  √(m*/c) Δv exp(−π² h/(4T)) (the stack model's backward differences lose
+  twice that: the 2-D step h matches the stack's h/2).  e hardly acts here
+  (it enters at O(h²)): the stack model damps with a viscous λ, not with e;
+- unresolved: Newton's law, e_eff = (e − γ)/(1 + γ).  With e < 1/3 the
+  midpoint positions leave an overlap of up to (1 − e) h |u_N⁻|/2 after the
+  impact, which the next step's (1 + e) g/h pushes out: the rebound lies
+  between e and (1 − 3 e²)/2 times the impact speed (½ for e = 0), set by
+  where in the step the contact began;
+- a contact that stays closed, unresolved: the implicit spring damps its
+  vibration within a few steps, so a pile settles even with e = 1.
 
 So a compliant contact adds (1 + e) c/h² to W's normal diagonal and
 (1 + e) g/h to its offset: the same FrictionProblem or LCP, with W + D, D >= 0
@@ -105,12 +137,15 @@ class ContactLaw:
             out[pair] += self.inverse_half[c.j[pair]]
         return out
 
-    def normal_terms(self, c, h, u_minus_n):
+    def normal_terms(self, c, h, u_minus_n, u_free_n):
         """(D, offset): what the contacts add to W's normal diagonal and to
-        the offset q_N (module docstring), and their compliance."""
+        the offset q_N (module docstring), and their compliance; ``u_free_n``
+        the normal velocities of the free motion (no contact impulses)."""
         comp = self.compliance(c)
         scale = 1.0 + self.e
-        offset = self.e * u_minus_n + np.where(comp > 0, scale * c.gap / h, 0.0)
+        closing = c.gap + 0.5 * h * (u_minus_n + u_free_n) <= 0.0
+        gap = np.where(closing, np.minimum(c.gap, 0.0), c.gap)
+        offset = self.e * u_minus_n + np.where(comp > 0, scale * gap / h, 0.0)
         return scale * comp / h ** 2, offset, comp
 
     @staticmethod

@@ -278,7 +278,7 @@ class Drum2D:
         W = (c.H.T @ sp.diags(minv) @ c.H).tocsc()
         W = 0.5 * (W + W.T)
         qv = u_free.copy()
-        D, offset, comp = self.law.normal_terms(c, h, u_minus[0::2])
+        D, offset, comp = self.law.normal_terms(c, h, u_minus[0::2], u_free[0::2])
         qv[0::2] += offset
         if self.law.compliant:
             diag = np.zeros(2 * c.m)
