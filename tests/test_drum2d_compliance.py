@@ -8,12 +8,14 @@ SI units: m, kg, s, N, J.  References (independent of the code under test):
   logs, with its own time scheme (backward differences);
 - a head-on collision of two bodies on a linear spring of compliance c: peak
   force √(m*/c) Δv, duration T/2 = π √(m* c), rebound Δv (elastic);
-- the time-step error of each scheme, from its step map on the linear spring
-  (energy factor per step 1/(1 + ω²h²/2) for the 2-D midpoint spring,
-  1/(1 + ω²τ²) for the stack's backward differences, ω = 2π/T): over the half
-  period the energy falls by exp(−π²h/T) and exp(−2π²τ/T), so the peak force
-  is low by the factor exp(−π²h/(4T)), resp. exp(−π²τ/(2T)), both first
-  order in the step — halving it halves the error;
+- the time-step error of the scheme, from its step map on the linear spring:
+  both the 2-D compliant step (θ = 1 positions, the spring at the end of the
+  step) and the stack model's step are backward differences, energy factor
+  per step 1/(1 + ω²h²), ω = 2π/T: over the half period the energy falls by
+  exp(−2π²h/T), so the peak force is low by exp(−π²h/(2T)) and the rebound
+  by exp(−π²h/T), first order in the step — halving it halves the error, and
+  the two models agree at the same h (to second order: the 2-D impact's first
+  step);
 - Newton's law with restitution e for an unresolved impact (h ≫ T), and the
   rigid model's rebound e v; the law's docstring's correction
   γ = (1 + e) m* c / h² by hand algebra on one contact;
@@ -90,30 +92,32 @@ def test_head_on_peak_force_matches_the_stack_model_and_the_spring():
         F = res.force_peak[:, DISC]
         peaks[per] = F.max()
         stack[per] = _head_on_stack(h)[0]
-        # the scheme's error, first order: the peak is low by exp(−π²h/(4T))
-        expect = F_spring * np.exp(-np.pi ** 2 * h / (4 * T))
-        assert abs(peaks[per] - expect) < 0.15 * (F_spring - expect), (per, peaks[per], expect)
-        expect_stack = F_spring * np.exp(-np.pi ** 2 * h / (2 * T))
-        assert abs(stack[per] - expect_stack) < 0.1 * (F_spring - expect_stack)
+        # the scheme's error, first order: the peak is low by exp(−π²h/(2T)), for
+        # the 2-D step and the stack's alike (both backward differences)
+        expect = F_spring * np.exp(-np.pi ** 2 * h / (2 * T))
+        assert abs(peaks[per] - expect) < 0.1 * (F_spring - expect), (per, peaks[per], expect)
+        assert abs(stack[per] - expect) < 0.1 * (F_spring - expect)
         # the contact lasts half a period: steps with force, to a step at each end
         on = np.flatnonzero(F > 0)
         assert np.all(np.diff(on) == 1)
         assert abs((on[-1] - on[0] + 1) * h - T / 2) <= 2 * h
-        # elastic: momentum kept, the rebound's loss is the scheme's exp(−π²h/(2T))
+        # elastic: momentum kept, the rebound's loss is the scheme's exp(−π²h/T)
         v = res.velocities[-1, :, 0]
         assert abs(m @ v - m @ [V1, V2]) < 1e-12 * m.sum() * (V1 - V2)
         e_scheme = (v[1] - v[0]) / (V1 - V2)
-        e_model = np.exp(-np.pi ** 2 * h / (2 * T))
+        e_model = np.exp(-np.pi ** 2 * h / T)
         assert abs(e_scheme - e_model) < 0.1 * (1 - e_model), e_scheme
     # halving h halves the error of either scheme (first order) ...
     for p in (peaks, stack):
         ratio = (F_spring - p[100]) / (F_spring - p[200])
         assert 1.8 < ratio < 2.2, ratio
     # ... so Richardson's 2 F(h/2) − F(h) reaches the spring's √(m*/c) Δv, and the
-    # 2-D peak at h meets the stack's at h/2 (the stack loses twice as fast)
+    # 2-D peak meets the stack's at the same h, the gap shrinking as h² (measured
+    # 1.6e-3 and 4e-4 of the force at T/h = 100 and 200)
     for p in (peaks, stack):
         assert abs(2 * p[200] - p[100] - F_spring) < 2e-3 * F_spring
-    assert abs(peaks[100] - stack[200]) < 4e-3 * F_spring
+    gap = {per: abs(peaks[per] - stack[per]) for per in peaks}
+    assert gap[100] < 2.5e-3 * F_spring and gap[200] < gap[100] / 3, gap
 
 
 def test_log_dropped_on_an_elastic_shell_matches_the_stack_model():
@@ -130,20 +134,21 @@ def test_log_dropped_on_an_elastic_shell_matches_the_stack_model():
     _certified(res)
     drum = Drum([Log.from_wood(d, LENGTH, RHO, E_T)], [0.4 * h * v], [-v],
                 shell_stiffness=k_s, effects=("shell_elasticity",))
-    F_stack = drum.simulate(h / 2, int(round(0.8 * T / (h / 2)))).forces[:, 0].max()
+    F_stack = drum.simulate(h, int(round(0.8 * T / h))).forces[:, 0].max()
     F2 = res.force_peak[:, SHELL].max()
     F_spring = np.sqrt(m / c) * v
-    assert abs(F2 - F_spring * np.exp(-np.pi ** 2 * h / (4 * T))) < 0.1 * np.pi ** 2 * h / \
-        (4 * T) * F_spring
-    assert abs(F2 - F_stack) < 3e-3 * F_spring
+    assert abs(F2 - F_spring * np.exp(-np.pi ** 2 * h / (2 * T))) < 0.1 * np.pi ** 2 * h / \
+        (2 * T) * F_spring
+    assert abs(F2 - F_stack) < 1e-3 * F_spring
 
 
 # -- 2. energy ---------------------------------------------------------------------------
 
 def test_resolved_collisions_lose_what_the_implicit_spring_predicts():
     """K + E_el of a gas of discs (no gravity, no friction, e = 1, still
-    shell) falls at each collision by (1 − exp(−π²h/T_k)) ½ m* u_N² — the
-    spring's step map, T_k the collision's period, u_N its approach speed."""
+    shell) falls at each collision by (1 − exp(−2π²h/T_k)) ½ m* u_N² — the
+    backward spring's step map, T_k the collision's period, u_N its approach
+    speed."""
     R, E, n = 0.6, 4e5, 8                    # a soft modulus: T ≈ 19 ms, resolved cheaply
     pos, dia = hex_fill(R, n, 0.12, spread=0.2, seed=1, clearance=0.04)
     discs = Discs(dia, pos, length=LENGTH,
@@ -168,7 +173,7 @@ def test_resolved_collisions_lose_what_the_implicit_spring_predicts():
             m_star, comp = ((m[i] * m[j] / (m[i] + m[j]), 2.0 / s) if j >= 0
                             else (m[i], 1.0 / s))
             T_k = 2.0 * np.pi * np.sqrt(m_star * comp)
-            predicted += (1.0 - np.exp(-np.pi ** 2 * h / T_k)) * 0.5 * m_star * u_n ** 2
+            predicted += (1.0 - np.exp(-2 * np.pi ** 2 * h / T_k)) * 0.5 * m_star * u_n ** 2
             collisions += 1
         touching = now
     E_mech = res.kinetic + res.elastic
@@ -196,13 +201,15 @@ def _impact_step(res):
     return int(np.flatnonzero(res.force_peak[:, SHELL] > 0)[0])
 
 
-@pytest.mark.parametrize("e", [1.0, 0.5])
+@pytest.mark.parametrize("e", [1.0, 0.5, 0.2, 0.0])
 def test_unresolved_impact_is_newtons_law_whatever_the_phase(e):
     """h = 2 ms against T = 2π √(m/s) ≈ 0.69 ms: one step carries the impact,
     u⁺ = (γ u_free − e u⁻)/(1 + γ), γ = (1 + e) m c/h² (hand algebra on the
     law with the gap counted from the step's start), whichever fraction of
     the step the log falls through before touching; the rigid model gives
-    −e u⁻ exactly.  e >= 1/3: no overlap is left to push out afterwards."""
+    −e u⁻ exactly.  With θ = 1 positions no overlap is left to push out
+    afterwards, for small e too (with the midpoint an e = 0 log rebounded at 0
+    to 0.43 of its speed, by phase)."""
     h = 2e-3
     effects = ("log_elasticity",) + (("damping",) if e < 1 else ())
     m = _mass(0.12, LENGTH)
@@ -210,7 +217,7 @@ def test_unresolved_impact_is_newtons_law_whatever_the_phase(e):
     T = 2.0 * np.pi * np.sqrt(m * c)
     assert 0.3 < T / h < 0.4
     gamma = (1 + e) * m * c / h ** 2
-    for y in 0.05 + np.linspace(0.0, 1.0, 5) * 0.0036:   # phases across a step
+    for y in 0.05 + np.linspace(0.0, 1.0, 7) * 0.0036:   # phases across a step
         res, _ = _drop(y, effects, e)
         k = _impact_step(res)
         vy = res.velocities[:, 0, 1]
@@ -218,37 +225,17 @@ def test_unresolved_impact_is_newtons_law_whatever_the_phase(e):
         expect = (gamma * u_free - e * u_minus) / (1 + gamma)
         assert abs(vy[k + 1] - expect) < 1e-7 * abs(u_minus), (y, vy[k + 1], expect)
         assert abs(vy[k + 1] / -u_minus - e) < 1.05 * (1 + e) * gamma
-        # free flight after it: nothing pushed out, no second impulse
-        assert np.allclose(vy[k + 2:k + 6], vy[k + 1] - G * h * np.arange(1, 5), rtol=0,
-                           atol=1e-9)
+        # free flight after it, nothing pushed out: no impulse until the log,
+        # stopped up to a step early (as the rigid law stops it), falls back
+        touch = np.flatnonzero(res.force_peak[k + 1:, SHELL] > 0)
+        free = min(4, int(touch[0]) if touch.size else 4)
+        assert free >= (1 if e == 0 else 4)
+        assert np.allclose(vy[k + 2:k + 2 + free], vy[k + 1] - G * h * np.arange(1, free + 1),
+                           rtol=0, atol=1e-9)
         rigid, _ = _drop(y, ("damping",) if e < 1 else (), e, steps=k + 3)
         kr = _impact_step(rigid)
         vr = rigid.velocities[:, 0, 1]
         assert abs(vr[kr + 1] + e * vr[kr]) < 1e-9
-
-
-@pytest.mark.parametrize("e", [0.3, 0.0])
-def test_unresolved_impact_with_small_restitution_rebounds_within_its_bound(e):
-    """e < 1/3: the midpoint positions leave an overlap of up to
-    (1 − e) h |u⁻|/2 after the impact, pushed out by the next step's gap term:
-    the rebound lies between e_eff and (1 − 3e²)/2 times the impact speed,
-    depending on the phase (laws.py).  Here e = 0.3 rebounds at ≈ 0.3 v as
-    the rigid model does, e = 0 at up to ½ v."""
-    m = _mass(0.12, LENGTH)
-    gamma = (1 + e) * m / (2.0 * E_T * LENGTH) / 2e-3 ** 2
-    rebounds = []
-    for y in 0.05 + np.linspace(0.0, 1.0, 7) * 0.0036:
-        res, _ = _drop(y, ("log_elasticity", "damping"), e)
-        k = _impact_step(res)
-        vy = res.velocities[:, 0, 1]
-        up = (vy[k + 1:k + 4] + G * 2e-3 * np.arange(3)).max()     # gravity added back
-        rebounds.append(up / -vy[k])
-    rebounds = np.array(rebounds)
-    low = (e - gamma) / (1 + gamma)
-    assert np.all(rebounds >= low - 0.01) and np.all(rebounds <= max(e, (1 - 3 * e ** 2) / 2)
-                                                      + 0.01), rebounds
-    if e == 0.3:
-        assert np.median(rebounds) == pytest.approx(e, abs=0.02)
 
 
 def test_unresolved_elastic_bounces_keep_newtons_energy():
@@ -296,7 +283,9 @@ def test_energy_closes_on_a_settling_compliant_bed():
     s_ = res.energy_summary()
     assert E[-1] < E[0]
     assert abs(s_["remainder"]) < 1e-9 * scale
-    assert abs((E[0] - E[-1]) - s_["impact_loss"]) < 1e-9 * scale
+    # the θ = 1 positions' term S (stepper) is booked beside the contacts' loss
+    assert abs((E[0] - E[-1]) - s_["impact_loss"] + s_["scheme"]) < 1e-9 * scale
+    assert abs(s_["scheme"]) < 1e-2 * (E[0] - E[-1])
     assert np.all(res.impact_loss >= -1e-9 * scale)
 
 

@@ -92,9 +92,12 @@ def energy_figure(h):
     ax.plot(t, cum["friction_loss"], color="#D55E00", ls="-.", lw=1.4,
             label="friction loss" + ("" if named else " (friction not simulated)"))
     ax.plot(t, cum["impact_loss"], color="#009E73", ls=":", lw=1.8, label="impact loss")
+    scheme = h["energy/scheme"][()] if "energy/scheme" in h else np.zeros(len(t) - 1)
+    if np.any(scheme):     # θ = 1 positions (with springs): the time scheme's own loss
+        ax.plot(t, -np.concatenate([[0.0], np.cumsum(scheme)]), color="#E69F00", lw=1.2,
+                label="time scheme's loss (θ = 1 positions)")
     ax.set_ylabel("energy since t = 0 [J]")
-    ax.set_title("Energy balance: drive work = change of K + P + friction + impact losses",
-                 fontsize=10)
+    ax.set_title("Energy balance: drive work = change of K + P + losses", fontsize=10)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     big = float(np.abs(cum["remainder"]).max(initial=0.0))

@@ -30,61 +30,56 @@ log–log contacts rigid).  The contact is a spring without pull: with g the
 rigid bodies' gap (negative: the overlap the halves take up) the force is
 F = max(0, −g)/c, i.e.  0 <= F ⟂ g + c F >= 0.
 
-The step writes it, with F = r_N / h the step's mean force and the gap carried
-to the end of the step, as
+The stepper advances a compliant run's positions with θ = 1 (q⁺ = q + h ν⁺),
+so the gap at the end of the step is g + h u_N⁺, and the law, with F = r_N/h
+the step's mean force, is the implicit (backward Euler) spring
 
-    0 <= r_N ⟂ u_N⁺ + e u_N⁻ + (1 + e) (ĝ/h + c r_N/h²) >= 0,
+    0 <= r_N ⟂ u_N⁺ + g/h + c r_N/h² >= 0                    (closed or open)
 
-ĝ = g, except at a contact still open (g > 0) that the free motion closes
-within the step (the rigid law's active set: g + h (u_N⁻ + u_N^free)/2 <= 0):
-there ĝ = 0.
+except at an impact — a contact still open (g >= 0) that the free motion
+closes within the step (the rigid law's active set: g + h (u_N⁻ + u_N^free)/2
+<= 0) — which obeys
 
-Why this form: where the step resolves the spring (h much less than the
-contact period T = 2π √(m* c), m* = (1/m_i + 1/m_j)⁻¹), u_N⁺ ≈ u_N⁻ and it
-reads g + h u_N + c F >= 0 — the spring at the end of the step (implicit, so
-stable at any h; with e = 1 the gap advances by h (u_N⁻ + u_N⁺)/2, the
-midpoint rule, and the collision of two logs gives the stack model's peak
-force √(m*/c) Δv).  Where it does not (the drum's steps: 0.12 m spruce logs
-have T ≈ 0.7 ms against h = 2 ms), c r_N/h² is small beside W's entries and
-the law is Newton's, with e, plus the term (1 + e) g/h that pushes an overlap
-out over the step instead of letting it drift.  For e = 0 it is the implicit
-Euler spring (the "ERP = 1, CFM = c/h²" of rigid-body engines).
+    0 <= r_N ⟂ u_N⁺ + e u_N⁻ + (1 + e) c r_N/h² >= 0          (impact).
 
-Why ĝ = 0 at a closing contact: an impact that begins inside the step.  With
-g itself the law would ask the gap to reach 0 at the end of the step, which,
-the spring unresolved, leaves u_N⁺ = −u_N⁻ (1 − 2 g/(h |u_N⁻|)) for e = 1: a
-rebound anywhere between −1 and 1 times the impact speed, set by where in
-the step the contact began (measured 0.10–0.80).  With ĝ = 0 the impact is
-resolved from the start of the step, as the rigid law does (up to one step
-early): one contact of a body of mass m* rebounds at
-u_N⁺ = (γ u_N^free − e u_N⁻)/(1 + γ), γ = (1 + e) m* c/h² — Newton's law up
-to γ = (1 + e)(T/(2π h))².  An open contact that the free motion leaves open
-keeps g: pushed shut by the other contacts' impulses (a column settling), it
-meets its spring at the end of the step.
+Why.  Where the step resolves the spring (h much less than the contact
+period T = 2π √(m* c), m* = (1/m_i + 1/m_j)⁻¹), c r_N/h² dominates and both
+read g + h u_N + c F >= 0: the spring at the end of the step, stable at any h,
+and the same backward differences as the stack model's step (its
+formulations.drum.model, point 4), so a collision of two logs gives the
+stack model's peak force at the same h (√(m*/c) Δv as h → 0).  Where it does
+not (the drum's steps: 0.12 m spruce logs have T ≈ 0.7 ms against h = 2 ms),
+c r_N/h² is small beside W's entries: an impact is Newton's law with e,
+resolved from the start of the step as the rigid law does (up to one step
+early), whatever the phase of the step at which the contact began (with g
+itself the rebound would depend on it); a contact that stays closed is the
+spring at the end of the step, its overlap pushed out within the step
+instead of drifting, and its forces on a pile the elastic split.  One
+impact of a body of mass m* rebounds at e_eff = (e − γ)/(1 + γ),
+γ = (1 + e) m* c/h² = (1 + e)(T/(2π h))².  For e = 0 the whole law is the
+implicit Euler spring (the "ERP = 1, CFM = c/h²" of rigid-body engines).
+
+Why θ = 1 and not the midpoint: after an unresolved impact the midpoint
+positions would leave an overlap (1 − e) h |u_N⁻|/2 that the spring pushes
+out at the next step as a bounce of up to (1 − e)/2 of the impact speed,
+whatever e (measured, e = 0: 0 to 0.43 by phase; with θ = 1: −0.003 every
+time).
 
 What the scheme dissipates (tests/test_drum2d_compliance.py measures it):
+resolved, the backward Euler spring loses energy at the rate ω²h per unit
+time (the stack model's scheme, the same figures at the same h); e hardly
+acts there (the stack model damps resolved contacts with a viscous λ, not
+with e); unresolved impacts lose Newton's (1 − e_eff²); a contact that stays
+closed damps its vibration within a few steps, so a pile settles even with
+e = 1.
 
-- resolved, one collision: the step's map of (gap, u_N) has determinant
-  1/(1 + ω²h²/2), ω = 2π/T, so over the contact's T/2 the energy falls by
-  exp(−π² h/T): the rebound is exp(−π² h/(2T)) Δv and the peak force
-  √(m*/c) Δv exp(−π² h/(4T)) (the stack model's backward differences lose
-  twice that: the 2-D step h matches the stack's h/2).  e hardly acts here
-  (it enters at O(h²)): the stack model damps with a viscous λ, not with e;
-- unresolved: Newton's law, e_eff = (e − γ)/(1 + γ).  With e < 1/3 the
-  midpoint positions leave an overlap of up to (1 − e) h |u_N⁻|/2 after the
-  impact, which the next step's (1 + e) g/h pushes out: the rebound lies
-  between e and (1 − 3 e²)/2 times the impact speed (½ for e = 0), set by
-  where in the step the contact began;
-- a contact that stays closed, unresolved: the implicit spring damps its
-  vibration within a few steps, so a pile settles even with e = 1.
-
-So a compliant contact adds (1 + e) c/h² to W's normal diagonal and
-(1 + e) g/h to its offset: the same FrictionProblem or LCP, with W + D, D >= 0
-diagonal — positive definite on the normal directions wherever every contact
-has c > 0, which makes the forces on a pile unique (the elastic split) and the
-step problem regular.  A compliant contact takes part in every step in which
-it is within the broad phase's margin: its law says r_N = 0 while the spring
-stays open.
+So a compliant contact adds c/h² (at an impact (1 + e) c/h²) to W's normal
+diagonal and g/h (at an impact e u_N⁻) to its offset: the same FrictionProblem
+or LCP, with W + D, D >= 0 diagonal — positive definite on the normal
+directions wherever every contact has c > 0, which makes the forces on a pile
+unique (the elastic split) and the step problem regular.  A compliant
+contact takes part in every step in which it is within the broad phase's
+margin: its law says r_N = 0 while the spring stays open.
 
 The springs store E_el = Σ ½ c F² [J]; the step's contact dissipation is what
 the springs do not store (stepper: energy bookkeeping).
@@ -142,11 +137,12 @@ class ContactLaw:
         the offset q_N (module docstring), and their compliance; ``u_free_n``
         the normal velocities of the free motion (no contact impulses)."""
         comp = self.compliance(c)
-        scale = 1.0 + self.e
-        closing = c.gap + 0.5 * h * (u_minus_n + u_free_n) <= 0.0
-        gap = np.where(closing, np.minimum(c.gap, 0.0), c.gap)
-        offset = self.e * u_minus_n + np.where(comp > 0, scale * gap / h, 0.0)
-        return scale * comp / h ** 2, offset, comp
+        spring = comp > 0
+        impact = spring & (c.gap >= 0.0) & (c.gap + 0.5 * h * (u_minus_n + u_free_n) <= 0.0)
+        rigid_or_impact = ~spring | impact
+        offset = np.where(rigid_or_impact, self.e * u_minus_n, c.gap / h)
+        D = np.where(impact, 1.0 + self.e, 1.0) * comp / h ** 2
+        return D, offset, comp
 
     @staticmethod
     def elastic_energy(comp, r_n, h) -> float:

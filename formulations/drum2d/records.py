@@ -46,7 +46,8 @@ class Drum2DResult:
     and ``method`` solved the step instead); energies [J] per state
     (``kinetic``, ``potential``, ``elastic``: the contact springs'
     ½ c F²) and per step (``drive``, ``friction_loss``, ``impact_loss``: what
-    the contacts dissipate besides friction, ``remainder``); the force
+    the contacts dissipate besides friction, ``scheme``: gravity's work
+    gained by θ = 1 positions (stepper), ``remainder``); the force
     statistics ``force_peak``, ``force_counts``, ``sliding_work`` (module
     docstring); ``contacts``: per step a dict of the active contacts' arrays
     (i, j, kind, r_n, r_t [N·s], slip u_T⁺ [m/s], gap [m], normal) where kept,
@@ -71,6 +72,7 @@ class Drum2DResult:
     impact_loss: np.ndarray
     remainder: np.ndarray
     max_penetration: float
+    scheme: np.ndarray = field(default_factory=lambda: np.zeros(0))
     elastic: np.ndarray = field(default_factory=lambda: np.zeros(0))
     force_peak: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     force_counts: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 80), np.int32))
@@ -90,14 +92,15 @@ class Drum2DResult:
         return float(self.certificate_error.max(initial=0.0))
 
     def energy_summary(self) -> dict:
-        """Totals [J]: ΔK, ΔP, ΔE_el, drive work, friction and impact losses, remainder."""
+        """Totals [J]: ΔK, ΔP, ΔE_el, drive work, friction and impact losses,
+        the θ positions' term, remainder."""
         el = self.elastic if self.elastic.size else np.zeros(2)
         return {"kinetic_change": float(self.kinetic[-1] - self.kinetic[0]),
                 "potential_change": float(self.potential[-1] - self.potential[0]),
                 "elastic_change": float(el[-1] - el[0]),
                 "drive": float(self.drive.sum()), "friction_loss": float(self.friction_loss.sum()),
                 "impact_loss": float(self.impact_loss.sum()),
-                "remainder": float(self.remainder.sum())}
+                "scheme": float(self.scheme.sum()), "remainder": float(self.remainder.sum())}
 
 
 class Recorder:
@@ -110,7 +113,8 @@ class Recorder:
         self.state = dict(t=t0 + np.arange(S + 1) * h, positions=np.zeros((S + 1, n, 2)),
                           velocities=np.zeros((S + 1, n, 2)), spins=np.zeros((S + 1, n)))
         self.per = {k: np.zeros(S) for k in ("certificate_error", "solve_seconds", "drive",
-                                             "friction_loss", "impact_loss", "remainder")}
+                                             "friction_loss", "impact_loss", "remainder",
+                                             "scheme")}
         self.counts = {k: np.zeros(S, np.int64) for k in ("n_contacts", "n_active",
                                                           "pairs_checked")}
         self.energy = {k: np.zeros(S + 1) for k in ("kinetic", "potential", "elastic")}
@@ -159,7 +163,7 @@ class Recorder:
             self.state[k][:upto + 1] = arrays[k][:upto + 1]
         for k in self.energy:
             self.energy[k][:upto + 1] = arrays[f"energy/{k}"][:upto + 1]
-        for k in ("drive", "friction_loss", "impact_loss", "remainder"):
+        for k in ("drive", "friction_loss", "impact_loss", "remainder", "scheme"):
             self.per[k][:upto] = arrays[f"energy/{k}"][:upto]
         for k in ("certificate_error", "solve_seconds"):
             self.per[k][:upto] = arrays[k][:upto]

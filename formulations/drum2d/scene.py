@@ -220,6 +220,7 @@ def _scene_arrays(run: Drum2DRun) -> dict:
             "energy/kinetic": r.kinetic, "energy/potential": r.potential,
             "energy/drive": r.drive, "energy/friction_loss": r.friction_loss,
             "energy/impact_loss": r.impact_loss, "energy/remainder": r.remainder,
+            "energy/scheme": r.scheme,
             "contacts/step": (np.concatenate([np.full(c["i"].size, s) for s, c in rows])
                               if rows else np.zeros(0, np.int64)),
             "contacts/i": cat("i"), "contacts/j": cat("j"), "contacts/kind": cat("kind"),
