@@ -245,12 +245,36 @@ def _scene_arrays(run: Drum2DRun) -> dict:
 
 
 def _scene_plot(h, out) -> list:
+    """The snapshot and the energy balance; with the force statistics (issue
+    37) the force histograms and peaks per revolution beside the stack
+    model's upper estimate (computed once for both) and the sliding work per
+    log; with two or more kept steps an animation (at most 40 frames: PNGs in
+    ``animation/`` and ``animation.gif`` where Pillow is installed)."""
+    import warnings
+
     from qpcontact.plots.figures import save_figure
 
-    from .figures import energy_figure, snapshot_figure
+    from .figures import (energy_figure, force_histogram_figure, force_peak_figure,
+                          sliding_work_figure, snapshot_figure)
 
-    return [save_figure(snapshot_figure(h), f"{out}/snapshot.png"),
-            save_figure(energy_figure(h), f"{out}/energy.png")]
+    paths = [save_figure(snapshot_figure(h), f"{out}/snapshot.png"),
+             save_figure(energy_figure(h), f"{out}/energy.png")]
+    if "force_counts" in h and "logs/length" in h:
+        from .stack import stack_estimate_for_run
+
+        est = stack_estimate_for_run(h)
+        paths += [save_figure(force_histogram_figure(h, est), f"{out}/force_histograms.png"),
+                  save_figure(force_peak_figure(h, est), f"{out}/force_peaks.png"),
+                  save_figure(sliding_work_figure(h), f"{out}/sliding_work.png")]
+    if np.unique(h["contacts/step"][()]).size >= 2:
+        from .animation import write_animation
+
+        anim = write_animation(h, f"{out}/animation", max_frames=40)
+        paths += [anim.movie] if anim.movie else []
+        paths.append(f"{out}/animation/ ({len(anim.frames)} PNG frames)")
+        if anim.message:
+            warnings.warn(anim.message, stacklevel=2)
+    return paths
 
 
 def _scene_summary(run: Drum2DRun) -> dict:
