@@ -212,18 +212,22 @@ def force_histogram_figure(h, estimate=None):
                    label=f"stack model upper estimate {bound / 1e3:.4g} kN")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlim((lo if np.isfinite(lo) else bound / 1e3) / 2.0, hi * 3.0)
+        lo = lo if np.isfinite(lo) else bound / 1e3
+        # a third of a decade beyond the outer decade ticks: their labels stay
+        # inside the panel instead of meeting the next panel's in the gap
+        ax.set_xlim(10.0 ** (np.floor(np.log10(lo)) - 0.35),
+                    10.0 ** (np.ceil(np.log10(hi)) + 0.35))
         ax.set_title(title, fontsize=10)
-        ax.set_xlabel("normal contact force (impulse / h) [N]")
+        ax.set_xlabel("normal contact force [N]")
         ax.grid(True, which="major", alpha=0.3)
         ax.legend(fontsize=7.5, loc="upper left", ncol=1 if len(revs) < 5 else 2)
     # log headroom above the highest bin: the legend sits there, off the data
     axes[0].set_ylim(0.6, most * 10 ** (1.2 + 0.1 * min(len(revs), 8)))
     axes[0].set_ylabel("contact-steps per bin [count]")
-    fig.suptitle(f"Contact-force histograms {_per(revs)} (10 bins a decade; the first bin "
-                 f"holds every force below {FORCE_BINS[0]:g} N)\n" + est.describe(),
+    fig.suptitle(f"Contact-force histograms {_per(revs)} (10 bins a decade from "
+                 f"{FORCE_BINS[0]:g} N)\n" + est.describe(),
                  fontsize=9.5)
-    fig.tight_layout()
+    fig.tight_layout(w_pad=2.5)   # the panels' end tick labels otherwise touch
     return fig
 
 

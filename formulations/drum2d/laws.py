@@ -73,6 +73,13 @@ with e); unresolved impacts lose Newton's (1 − e_eff²); a contact that stays
 closed damps its vibration within a few steps, so a pile settles even with
 e = 1.
 
+Peak forces.  F = r_N/h is the step's mean force.  An impact the step
+does not resolve delivers its impulse in half a period T/2 < h, so its
+peak is larger: for the linear spring, a half-sine pulse of impulse r_N
+peaks at π r_N / T (:meth:`ContactLaw.peak_forces`; the stack model's own
+impacts are such pulses).  The statistics (records.py) use it; a rigid run
+has only the mean force.
+
 So a compliant contact adds c/h² (at an impact (1 + e) c/h²) to W's normal
 diagonal and g/h (at an impact e u_N⁻) to its offset: the same FrictionProblem
 or LCP, with W + D, D >= 0 diagonal — positive definite on the normal
@@ -133,16 +140,31 @@ class ContactLaw:
         return out
 
     def normal_terms(self, c, h, u_minus_n, u_free_n):
-        """(D, offset): what the contacts add to W's normal diagonal and to
-        the offset q_N (module docstring), and their compliance; ``u_free_n``
-        the normal velocities of the free motion (no contact impulses)."""
+        """(D, offset, compliance, impact): what the contacts add to W's
+        normal diagonal and to the offset q_N (module docstring), their
+        compliance and which are impacts; ``u_free_n`` the normal velocities
+        of the free motion (no contact impulses)."""
         comp = self.compliance(c)
         spring = comp > 0
         impact = spring & (c.gap >= 0.0) & (c.gap + 0.5 * h * (u_minus_n + u_free_n) <= 0.0)
         rigid_or_impact = ~spring | impact
         offset = np.where(rigid_or_impact, self.e * u_minus_n, c.gap / h)
         D = np.where(impact, 1.0 + self.e, 1.0) * comp / h ** 2
-        return D, offset, comp
+        return D, offset, comp, impact
+
+    @staticmethod
+    def peak_forces(r_n, h, comp, impact, m_star):
+        """The contacts' forces [N] for the statistics: the step's mean r_N/h,
+        except at an impact whose spring the step does not resolve — there
+        the half-sine pulse of a linear spring that carries the impulse r_N
+        in half its period T = 2π √(m* c) peaks at π r_N / T (> r_N/h when
+        T < π h).  A rigid contact has no period: its mean force is all the
+        step says."""
+        F = r_n / h
+        T = 2.0 * np.pi * np.sqrt(m_star * comp)
+        pulse = impact & (T > 0) & (T < np.pi * h)
+        F[pulse] = np.pi * r_n[pulse] / T[pulse]
+        return F
 
     @staticmethod
     def elastic_energy(comp, r_n, h) -> float:

@@ -6,12 +6,15 @@ SI units: s, m, m/s, rad/s, N (forces = impulse / h), J.
 Per step s (from t[s] to t[s+1]) the recorder keeps, by contact kind (0 log–log,
 1 log–shell, 2 log–lifter: contacts.KINDS):
 
-- ``force_peak`` (S, 3) [N]: the largest normal force F = r_N / h;
-- ``force_counts`` (S, 3, B) : how many contacts carried a normal force in each
-  bin of :data:`FORCE_BINS` (forces below the first edge counted in the first
-  bin, above the last in the last; contacts with F = 0 not counted) — the
-  histograms per revolution are sums of these rows, so no contact list is
-  needed for them;
+- ``force_peak`` (S, 3) [N]: the largest normal force, F = r_N / h (the
+  step's mean), or at an impact the step does not resolve the spring's peak
+  π r_N / T (laws.ContactLaw.peak_forces; rigid contacts: the mean only);
+- ``force_counts`` (S, 3, B) : how many contacts carried a normal force F in
+  each bin of :data:`FORCE_BINS` (above the last edge counted in the last
+  bin; forces under the first edge, 0.1 N — round-off at contacts that are
+  opening, or a touch carrying a thousandth of a light log's weight — not
+  counted) — the histograms per revolution are sums of these rows, so no
+  contact list is needed for them;
 - ``sliding_work`` (S, n) [J]: the friction work −r_T u_T⁺ >= 0 of the step
   charged to the logs it rubs — half to each log at a log–log contact (both
   surfaces slide on each other), all to the log at the shell or a lifter (the
@@ -135,11 +138,11 @@ class Recorder:
         self.energy["potential"][s] = float(gravity * masses @ q[:, 1])
         self.energy["elastic"][s] = elastic
 
-    def forces(self, s, c, r, slip):
-        """The step's force statistics from its active contacts c, impulses r
-        and slips u_T⁺ (module docstring)."""
-        F = r[0::2] / self.h
-        carrying = F > 0
+    def forces(self, s, c, r, slip, F):
+        """The step's force statistics from its active contacts c, impulses r,
+        slips u_T⁺ and forces F [N] (laws.ContactLaw.peak_forces; module
+        docstring)."""
+        carrying = F >= FORCE_BINS[0]
         for k in range(3):
             mine = carrying & (c.kind == k)
             if mine.any():

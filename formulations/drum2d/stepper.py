@@ -252,7 +252,7 @@ class Drum2D:
             r = np.zeros(2 * c.m)
             new_elastic = 0.0
             if c.m:
-                r, err, ok, name, secs, rec.fallback[s], comp = self._solve_step(
+                r, err, ok, name, secs, rec.fallback[s], (comp, impact) = self._solve_step(
                     c, u_minus, u_free, minv, h, method, accuracy, warm)
                 rec.per["certificate_error"][s], rec.per["solve_seconds"][s] = err, secs
                 rec.certified[s], rec.method[s] = ok, name
@@ -275,7 +275,11 @@ class Drum2D:
                 per["drive"][s], per["friction_loss"][s] = -float(r @ c.w), fric
                 per["impact_loss"][s] = (-float(r @ (u_minus + u_plus)) / 2.0 - fric
                                          - (new_elastic - elastic))
-                rec.forces(s, c, r, u_plus[1::2])
+                m = d.masses
+                m_star = np.where(c.j >= 0, m[c.i] * m[c.j] / (m[c.i] + m[np.maximum(c.j, 0)]),
+                                  m[c.i])
+                rec.forces(s, c, r, u_plus[1::2],
+                           self.law.peak_forces(r[0::2].copy(), h, comp, impact, m_star))
             E = rec.energy
             per["remainder"][s] = (E["kinetic"][s + 1] + E["potential"][s + 1]
                                    + E["elastic"][s + 1] - E["kinetic"][s] - E["potential"][s]
@@ -294,7 +298,7 @@ class Drum2D:
         W = (c.H.T @ sp.diags(minv) @ c.H).tocsc()
         W = 0.5 * (W + W.T)
         qv = u_free.copy()
-        D, offset, comp = self.law.normal_terms(c, h, u_minus[0::2], u_free[0::2])
+        D, offset, comp, impact = self.law.normal_terms(c, h, u_minus[0::2], u_free[0::2])
         qv[0::2] += offset
         if self.law.compliant:
             diag = np.zeros(2 * c.m)
@@ -320,7 +324,7 @@ class Drum2D:
                 r[0::2] = sol.z
         secs = time.perf_counter() - t0
         err = sol.certificate.error if sol.certificate is not None else np.inf
-        return r, float(err), bool(sol.ok), sol.method, secs, fell_back, comp
+        return r, float(err), bool(sol.ok), sol.method, secs, fell_back, (comp, impact)
 
 
 def _warm_state(warm):
