@@ -78,14 +78,19 @@ def draw_cross_section(ax, data: dict, k: int, fmax: float | None = None):
 
 
 def snapshot_figure(h, step: int | None = None):
-    """The cross-section at state ``step`` (default: the last): shell, lifters,
-    discs, and a line per active contact of the step before it — centre to
-    centre between discs, centre to contact point at a wall — of width ∝ its
-    normal force (impulse / h [N])."""
+    """The cross-section at state ``step`` (default: the last state after a
+    step whose contacts were kept, else the last): shell, lifters, discs, and
+    a line per active contact of the step before it — centre to centre
+    between discs, centre to contact point at a wall — of width ∝ its normal
+    force (impulse / h [N])."""
     plt = _pyplot()
     data = cross_section_data(h)
     t, diam = data["t"], data["diameters"]
-    k = len(t) - 1 if step is None else int(step)
+    kept = data["step"]
+    if step is not None:
+        k = int(step)
+    else:    # contacts kept every k-th step: the last state with its force chains
+        k = int(kept.max()) + 1 if kept.size else len(t) - 1
     fig, ax = plt.subplots(figsize=(7.2, 7.0))
     fmax, _ = draw_cross_section(ax, data, k)
     ax.plot([], [], color="#0072B2", lw=4.3,
