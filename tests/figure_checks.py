@@ -52,3 +52,21 @@ def overlapping(fig, texts) -> list:
            & (y0[:, None] < y1[None]) & (y1[:, None] > y0[None]))
     np.fill_diagonal(hit, False)
     return [(texts[i].get_text(), texts[j].get_text()) for i, j in zip(*np.nonzero(np.triu(hit)))]
+
+
+def figure_texts(fig, in_view: bool = False) -> list:
+    """Every non-empty text of ``fig``: its own, each axes' title, labels,
+    visible tick labels and legend entries; with ``in_view`` only the tick
+    labels of ticks inside the axes' limits (matplotlib lists the others as
+    visible but never draws them)."""
+    out = list(fig.texts)
+    for ax in fig.axes:
+        out += [ax.title, ax.xaxis.label, ax.yaxis.label]
+        for axis, (lo, hi) in ((ax.xaxis, sorted(ax.get_xlim())),
+                               (ax.yaxis, sorted(ax.get_ylim()))):
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                if not in_view or lo <= tick.get_loc() <= hi:
+                    out += [t for t in (tick.label1, tick.label2) if t.get_visible()]
+        if ax.get_legend():
+            out += list(ax.get_legend().get_texts())
+    return [t for t in out if t.get_text()]

@@ -17,7 +17,7 @@ from formulations.drum2d.revolutions import (BIN_RATIO, histogram_quantile, revo
 from formulations.drum2d.stack import drop_height, stack_estimate, stack_estimate_for_run
 from qpcontact.core.errors import InvalidOptionError
 
-from .figure_checks import overlapping
+from .figure_checks import figure_texts, overlapping
 
 # twenty logs in a 1 m drum with two lifters, friction on: 60 steps of 5 ms
 SMALL = """formulation = "drum2d"
@@ -277,28 +277,6 @@ def test_the_estimate_for_a_run_and_its_drop(small):
 # -- figures and animation ---------------------------------------------------------------
 
 
-def _texts(fig):
-    out = list(fig.texts)
-    for ax in fig.axes:
-        out += [ax.title, ax.xaxis.label, ax.yaxis.label]
-        out += [t for t in ax.get_xticklabels() + ax.get_yticklabels() if t.get_visible()]
-        if ax.get_legend():
-            out += list(ax.get_legend().get_texts())
-    return [t for t in out if t.get_text()]
-
-
-def _ticks_out_of_view(fig) -> list:
-    """Tick labels of ticks outside the axes' limits (listed, never drawn)."""
-    out = []
-    for ax in fig.axes:
-        for axis, (lo, hi) in ((ax.xaxis, sorted(ax.get_xlim())),
-                               (ax.yaxis, sorted(ax.get_ylim()))):
-            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
-                if not lo <= tick.get_loc() <= hi:
-                    out += [tick.label1, tick.label2]
-    return out
-
-
 @pytest.mark.parametrize("which", ["histogram", "peaks", "sliding"])
 def test_figures_have_units_no_overprint_and_the_estimate(small, which):
     import h5py
@@ -314,9 +292,8 @@ def test_figures_have_units_no_overprint_and_the_estimate(small, which):
                "sliding": lambda: sliding_work_figure(h)}[which]()
         revs = revolutions(h)
     try:
-        texts = _texts(fig)
         W, Hpx = fig.canvas.get_width_height()
-        shown = [t for t in texts if t not in _ticks_out_of_view(fig)]
+        shown = figure_texts(fig, in_view=True)
         assert overlapping(fig, shown) == []
         for t in shown:                                   # nothing cut at the edges
             x0, y0, x1, y1 = t.get_window_extent().extents

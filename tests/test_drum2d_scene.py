@@ -13,7 +13,7 @@ import pytest
 from formulations.drum2d import Discs, Drum2D, Shell, hex_fill
 from qpcontact.scenes import SceneError, load_scene, parse_scene, schemas
 
-from .figure_checks import overlapping
+from .figure_checks import figure_texts, overlapping
 
 EXAMPLE = Path(__file__).parent.parent / "examples" / "scenes" / "drum2d.toml"
 
@@ -183,16 +183,6 @@ def test_plot_writes_both_figures(tiny_run, tmp_path):
         assert (tmp_path / "fig" / name).stat().st_size > 10_000, res.output
 
 
-def _texts(fig):
-    out = []
-    for ax in fig.axes:
-        out += [ax.title, ax.xaxis.label, ax.yaxis.label]
-        out += [t for t in ax.get_xticklabels() + ax.get_yticklabels() if t.get_visible()]
-        if ax.get_legend():
-            out += list(ax.get_legend().get_texts())
-    return [t for t in out if t.get_text()]
-
-
 @pytest.mark.parametrize("which", ["snapshot", "energy"])
 def test_figures_have_units_and_no_overprint(tiny_run, which):
     import h5py
@@ -204,7 +194,7 @@ def test_figures_have_units_and_no_overprint(tiny_run, which):
     with h5py.File(out) as h:
         fig = (snapshot_figure if which == "snapshot" else energy_figure)(h)
     try:
-        assert overlapping(fig, _texts(fig)) == []
+        assert overlapping(fig, figure_texts(fig)) == []
         for ax in fig.axes:
             if ax.get_xlabel():
                 assert "[" in ax.get_xlabel() and "]" in ax.get_xlabel()
