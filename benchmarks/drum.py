@@ -234,24 +234,10 @@ class StepClock:
 
 
 def step_problem(model: Drum2D, res, s, contacts):
-    """Step s's FrictionProblem rebuilt as stepper.py builds it (its module
-    docstring): W = Hᵀ M⁻¹ H + D, q = u_free + the law's normal offsets, from
-    the state at t[s] kept in ``res`` and the step's active ``contacts``."""
-    d = model.discs
-    minv = d.inverse_mass()
-    f = np.zeros(3 * d.n)
-    f[1::3] = -d.masses * model.gravity
+    """Step s's FrictionProblem as the stepper builds it (Drum2D.step_problem),
+    from the state at t[s] kept in ``res`` and the step's active ``contacts``."""
     v = np.column_stack([res.velocities[s], res.spins[s]]).ravel()
-    H = contacts.H
-    u_minus = H.T @ v + contacts.w
-    q = H.T @ (v + H2D * minv * f) + contacts.w
-    D, offset = model.law.normal_terms(contacts, H2D, u_minus[0::2], q[0::2])[:2]
-    q[0::2] += offset
-    W = (H.T @ sp.diags(minv) @ H).tocsc()
-    diag = np.zeros(2 * contacts.m)
-    diag[0::2] = D
-    W = (0.5 * (W + W.T) + sp.diags(diag)).tocsc()
-    return qpcontact.FrictionProblem(W, q, model.mu[contacts.kind], 2)
+    return model.step_problem(contacts, v, H2D)
 
 
 def warm_guess(prev, now):

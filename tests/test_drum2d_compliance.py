@@ -349,3 +349,31 @@ def test_bad_compliance_input_is_named(kw, match):
     with pytest.raises(InvalidOptionError, match=match):
         Drum2D(discs, Shell(1.0), **kw)
 
+
+
+def test_step_problem_is_the_problem_each_step_solved():
+    """Drum2D.step_problem rebuilt from the state and the active contacts that
+    on_step hands out: the run's own impulses certify on it (what the
+    benchmark's sampled steps rely on), with friction and springs."""
+    import qpcontact
+
+    pos, dia = hex_fill(0.6, 12, 0.12, spread=0.2, seed=3, clearance=0.005)
+    model = Drum2D(Discs(dia, pos, length=LENGTH), Shell(0.6, omega=1.0),
+                   ("friction", "rotation", "damping", "log_elasticity"), restitution=0.3)
+    seen = []
+    res = model.simulate(2e-3, 150, keep_contacts=False,
+                         on_step=lambda n, c, r: seen.append((n - 1, c, r.copy())))
+    _certified(res)
+    checked = 0
+    for s, c, r in seen[50::10]:
+        if not (r[0::2] > 0).any():
+            continue
+        v = np.column_stack([res.velocities[s], res.spins[s]]).ravel()
+        prob = model.step_problem(c, v, 2e-3)
+        assert prob.n_contacts == c.m
+        assert qpcontact.certify(prob, r).error <= 1e-9
+        wrong = r.copy()
+        wrong[0::2] *= 1.01                                      # and it can fail
+        assert qpcontact.certify(prob, wrong).error > 1e-6
+        checked += 1
+    assert checked >= 3

@@ -253,7 +253,7 @@ class Drum2D:
             new_elastic = 0.0
             if c.m:
                 r, err, ok, name, secs, rec.fallback[s], (comp, impact) = self._solve_step(
-                    c, u_minus, u_free, minv, h, method, accuracy, warm)
+                    c, v, h, method, accuracy, warm)
                 rec.per["certificate_error"][s], rec.per["solve_seconds"][s] = err, secs
                 rec.certified[s], rec.method[s] = ok, name
                 if not ok:
@@ -294,7 +294,21 @@ class Drum2D:
                          lambda k: rec.result(k, self.effects, _warm_state(warm)))
         return report.finish(rec.result(S, self.effects, _warm_state(warm)))
 
-    def _solve_step(self, c, u_minus, u_free, minv, h, method, accuracy, warm=None):
+    def step_problem(self, contacts, velocities, h):
+        """The step's contact problem (module docstring) for the active
+        ``contacts`` (as ``on_step`` hands them) from the generalized
+        ``velocities`` ν (3n,) at the step's start: a 2-D FrictionProblem
+        with W = Hᵀ M⁻¹ H + D and q = u^free + the laws' normal offsets
+        (μ = 0 without ``friction``: then its normal part is the step's LCP)."""
+        return self._assemble(contacts, np.asarray(velocities, float), h)[0]
+
+    def _assemble(self, c, v, h):
+        """(problem, compliance, impact) of step problem for active contacts c."""
+        minv = self.discs.inverse_mass()
+        f = np.zeros(3 * self.discs.n)
+        f[1::3] = -self.discs.masses * self.gravity
+        u_minus = c.H.T @ v + c.w
+        u_free = c.H.T @ (v + h * minv * f) + c.w
         W = (c.H.T @ sp.diags(minv) @ c.H).tocsc()
         W = 0.5 * (W + W.T)
         qv = u_free.copy()
@@ -304,10 +318,14 @@ class Drum2D:
             diag = np.zeros(2 * c.m)
             diag[0::2] = D
             W = (W + sp.diags(diag)).tocsc()
+        mu = self.mu[c.kind] if "friction" in self.effects else np.zeros(c.m)
+        return FrictionProblem(W, qv, mu, 2), comp, impact
+
+    def _solve_step(self, c, v, h, method, accuracy, warm=None):
+        prob, comp, impact = self._assemble(c, v, h)
         t0 = time.perf_counter()
         fell_back = False
         if "friction" in self.effects:
-            prob = FrictionProblem(W, qv, self.mu[c.kind], 2)
             sol = None
             if warm is not None:
                 sol = solve(prob, method=warm.method, accuracy=accuracy,
@@ -317,8 +335,8 @@ class Drum2D:
                 sol = solve(prob, method=method, accuracy=accuracy)
             r = np.zeros(2 * c.m) if sol.r is None else np.asarray(sol.r, float)
         else:
-            Wn = W[0::2, :][:, 0::2].tocsc()
-            sol = solve(LCP(Wn, qv[0::2]), method=method, accuracy=accuracy)
+            Wn = prob.W[0::2, :][:, 0::2].tocsc()
+            sol = solve(LCP(Wn, prob.q[0::2]), method=method, accuracy=accuracy)
             r = np.zeros(2 * c.m)
             if sol.z is not None:
                 r[0::2] = sol.z
