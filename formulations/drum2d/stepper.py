@@ -209,9 +209,7 @@ class Drum2D:
                                      f"got {keep_contacts}")
         S, d = int(steps), self.discs
         n = d.n
-        minv, mdiag = d.inverse_mass(), d.mass_diagonal()
-        f = np.zeros(3 * n)
-        f[1::3] = -d.masses * self.gravity
+        minv, mdiag, f = d.inverse_mass(), d.mass_diagonal(), self._gravity_forces()
         rec = Recorder(S, n, h, t0, every)
         warm = None if warm_start is None else _WarmStart(warm_start, warm_options, n)
         q = d.positions.copy()
@@ -253,7 +251,7 @@ class Drum2D:
             new_elastic = 0.0
             if c.m:
                 r, err, ok, name, secs, rec.fallback[s], (comp, impact) = self._solve_step(
-                    c, v, h, method, accuracy, warm)
+                    c, u_minus, u_free, minv, h, method, accuracy, warm)
                 rec.per["certificate_error"][s], rec.per["solve_seconds"][s] = err, secs
                 rec.certified[s], rec.method[s] = ok, name
                 if not ok:
@@ -300,15 +298,21 @@ class Drum2D:
         ``velocities`` ν (3n,) at the step's start: a 2-D FrictionProblem
         with W = Hᵀ M⁻¹ H + D and q = u^free + the laws' normal offsets
         (μ = 0 without ``friction``: then its normal part is the step's LCP)."""
-        return self._assemble(contacts, np.asarray(velocities, float), h)[0]
-
-    def _assemble(self, c, v, h):
-        """(problem, compliance, impact) of step problem for active contacts c."""
+        v, c = np.asarray(velocities, float), contacts
         minv = self.discs.inverse_mass()
+        u_minus = c.H.T @ v + c.w
+        u_free = c.H.T @ (v + h * minv * self._gravity_forces()) + c.w
+        return self._assemble(c, u_minus, u_free, minv, h)[0]
+
+    def _gravity_forces(self):
+        """f = (0, −m g, 0) per disc [N]."""
         f = np.zeros(3 * self.discs.n)
         f[1::3] = -self.discs.masses * self.gravity
-        u_minus = c.H.T @ v + c.w
-        u_free = c.H.T @ (v + h * minv * f) + c.w
+        return f
+
+    def _assemble(self, c, u_minus, u_free, minv, h):
+        """(problem, compliance, impact) of the step problem for the active
+        contacts c, from their velocities u⁻ and u^free (module docstring)."""
         W = (c.H.T @ sp.diags(minv) @ c.H).tocsc()
         W = 0.5 * (W + W.T)
         qv = u_free.copy()
@@ -321,8 +325,8 @@ class Drum2D:
         mu = self.mu[c.kind] if "friction" in self.effects else np.zeros(c.m)
         return FrictionProblem(W, qv, mu, 2), comp, impact
 
-    def _solve_step(self, c, v, h, method, accuracy, warm=None):
-        prob, comp, impact = self._assemble(c, v, h)
+    def _solve_step(self, c, u_minus, u_free, minv, h, method, accuracy, warm=None):
+        prob, comp, impact = self._assemble(c, u_minus, u_free, minv, h)
         t0 = time.perf_counter()
         fell_back = False
         if "friction" in self.effects:
