@@ -20,34 +20,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from formulations.frames.space import SpaceFrame  # noqa: E402
-
-E, G = 2.1e8, 8.1e7                     # steel, kN/m²
-
-
-def frame_on_pads() -> SpaceFrame:
-    fr = SpaceFrame(units=("kN", "m"))
-    for a, x in enumerate((0.0, 4.0, 8.0)):
-        for b, y in enumerate((0.0, 5.0)):
-            fr.add_node(f"P{a}{b}", x, y, 0.0)
-            fr.add_node(f"T{a}{b}", x, y, 3.5)
-            fr.add_member(f"P{a}{b}", f"T{a}{b}", E, G, 0.01, 8e-5, 8e-5, 1e-5, name=f"C{a}{b}")
-            fr.add_contact(f"P{a}{b}", friction=0.4)
-    for b in range(2):
-        for a in range(2):
-            fr.add_member(f"T{a}{b}", f"T{a + 1}{b}", E, G, 0.01, 2e-4, 1e-4, 2e-5,
-                          name=f"Bx{a}{b}")
-            fr.add_distributed_load(f"Bx{a}{b}", wz=-10.0, case="D")
-    for a in range(3):
-        fr.add_member(f"T{a}0", f"T{a}1", E, G, 0.01, 2e-4, 1e-4, 2e-5, name=f"By{a}")
-    fr.add_load("T00", fz=-5.0, case="D")
-    fr.add_load("T21", fz=-40.0, case="D")
-    fr.add_load("T20", fx=20.0, fy=20.0, case="W")
-    fr.add_load("T00", fz=20.0, case="U")
-    fr.add_contact("T21", normal=(-1.0, 0.0, 0.0), gap=1e-4)
-    fr.add_spring("P10", ux=5e3)
-    fr.add_support("P21", fix=("uy",))
-    return fr
+from formulations.frames.space_examples import six_pads  # noqa: E402
 
 
 def main(argv=None):
@@ -55,7 +28,7 @@ def main(argv=None):
     ap.add_argument("--out", default="out/space_frame")
     ap.add_argument("--plot", default=None, help="where to draw D+W+U (default: in --out)")
     args = ap.parse_args(argv)
-    res = frame_on_pads().solve_combinations(
+    res = six_pads().solve_combinations(
         {"D": {"D": 1.0}, "D+W": {"D": 1.0, "W": 1.0}, "D+W+U": {"D": 1.0, "W": 1.0, "U": 1.0},
          "D+3W": {"D": 1.0, "W": 3.0}})
     for name, r in res.items():

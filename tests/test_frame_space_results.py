@@ -20,9 +20,11 @@ import matplotlib
 import numpy as np
 import pytest
 
-from .figure_checks import drawn, keeps_previous_file, overlapping
+from .figure_checks import (csv_reads_back, drawn, keeps_previous_file, overlapping,
+                            rounded_by_hand)
 
 from formulations.frames.space import SpaceFrame
+from formulations.frames.space_examples import six_pads
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
 matplotlib.use("Agg")
@@ -40,33 +42,11 @@ LABELS = {"member", "node", "support", "state", "kinds", "combination", "ok", "r
 
 
 def _frame():
-    """One storey, 2 x 1 bays (8 m x 5 m, 3.5 m high), columns on six
-    frictional pads (f = 0.4, pinned: a pad carries no moment), beams
-    carrying 10 kN/m along x; P10 also has a horizontal spring, P21 a guide
-    in y; a frictionless bumper with a 0.1 mm gap stops T21 moving in +x.
-    Under D+W+U the uplift at T00 lifts P00, the push slides P01 and P20,
-    the bumper closes: every state at once."""
-    fr = SpaceFrame(units=("kN", "m"))
-    for a, x in enumerate(XS):
-        for b, y in enumerate(YS):
-            fr.add_node(f"P{a}{b}", x, y, 0.0)
-            fr.add_node(f"T{a}{b}", x, y, H)
-            fr.add_member(f"P{a}{b}", f"T{a}{b}", E, G, 0.01, 8e-5, 8e-5, 1e-5, name=f"C{a}{b}")
-            fr.add_contact(f"P{a}{b}", friction=F_PAD, facets=8)
-    for b in range(2):
-        for a in range(2):
-            fr.add_member(f"T{a}{b}", f"T{a + 1}{b}", E, G, 0.01, 2e-4, 1e-4, 2e-5,
-                          name=f"Bx{a}{b}")
-            fr.add_distributed_load(f"Bx{a}{b}", wz=-10.0, case="D")
-    for a in range(3):
-        fr.add_member(f"T{a}0", f"T{a}1", E, G, 0.01, 2e-4, 1e-4, 2e-5, name=f"By{a}")
-    fr.add_load("T00", fz=-5.0, case="D")
-    fr.add_load("T21", fz=-40.0, case="D")
-    fr.add_load("T20", fx=20.0, fy=20.0, case="W")
-    fr.add_load("T00", fz=20.0, case="U")
-    fr.add_contact("T21", normal=(-1.0, 0.0, 0.0), gap=1e-4)
-    fr.add_spring("P10", ux=K_SPRING)
-    fr.add_support("P21", fix=("uy",))
+    """space_examples.six_pads with the constants above (its geometry and
+    loads are restated by hand in _loads, the references' source), 8 facets."""
+    fr = six_pads(friction=F_PAD, spring=K_SPRING, facets=8)
+    assert {n: tuple(fr.nodes[n]) for n in ("P00", "T21")} == {"P00": (XS[0], YS[0], 0.0),
+                                                              "T21": (XS[2], YS[1], H)}
     return fr
 
 
@@ -268,29 +248,8 @@ def test_displacements_table(res):
 
 
 def _rounded(rows, digits=5):
-    """docs/frames.md's rule, written out: a value within 1e-9 of its unit's
-    scale (the table's largest in that unit; a moment's at least the force
-    scale x the frame's size, a rotation's at least the length scale over
-    it) is 0; each column keeps the decimals that give its largest
-    remaining value ``digits`` significant digits; NaN stays NaN."""
-    cols = [k for k in rows[0] if UNIT.search(k) and all(isinstance(r[k], float) for r in rows)]
-    scale: dict = {}
-    for k in cols:
-        u = UNIT.search(k).group(1)
-        scale[u] = max([scale.get(u, 0.0)] + [abs(r[k]) for r in rows if not math.isnan(r[k])])
-    if "kN·m" in scale:
-        scale["kN·m"] = max(scale["kN·m"], scale.get("kN", 0.0) * SIZE)
-    if "rad" in scale:
-        scale["rad"] = max(scale["rad"], scale.get("m", 0.0) / SIZE)
-    out = [dict(r) for r in rows]
-    for k in cols:
-        s = scale[UNIT.search(k).group(1)]
-        vals = [r[k] if math.isnan(r[k]) or abs(r[k]) > 1e-9 * s else 0.0 for r in rows]
-        big = max([abs(v) for v in vals if not math.isnan(v)] + [0.0])
-        d = max(0, digits - 1 - math.floor(math.log10(big))) if big else 0
-        for r, v in zip(out, vals):
-            r[k] = v if math.isnan(v) else float(f"{v:.{d}f}") + 0.0
-    return out
+    """docs/frames.md's rounding rule by hand (figure_checks.rounded_by_hand)."""
+    return rounded_by_hand(rows, UNIT, SIZE, digits)
 
 
 def _same(a, b):
@@ -381,24 +340,7 @@ def test_csv_written_atomically_and_read_back(res, tmp_path):
         f"{t}.csv" for t in ("supports", "reactions", "members", "displacements", "envelope",
                              "envelope_reactions", "envelope_supports", "combinations"))
     assert not list(tmp_path.glob("*.tmp"))
-    for path in paths:
-        rows = res.rows(path.split("/")[-1][:-4])
-        with open(path, newline="") as fh:
-            reader = csv.DictReader(fh)
-            assert reader.fieldnames == list(rows[0])
-            back = list(reader)
-        assert len(back) == len(rows)
-        for text_row, row in zip(back, rows):
-            for key, value in row.items():
-                text = text_row[key]
-                if isinstance(value, float):
-                    if math.isnan(value):
-                        assert text == "nan"
-                        continue
-                    assert float(text) == value, (key, text, value)
-                    assert "e" not in text.lower() and not re.fullmatch(r"-0(\.0*)?", text)
-                else:
-                    assert text == str(value)
+    csv_reads_back(res, paths, nan=True)
     one = tmp_path / "one"
     res["D+W+U"].to_csv(one, digits=None)
     raw = res["D+W+U"].rows("supports", None)

@@ -18,7 +18,7 @@ import pytest
 from formulations.frames import Frame
 from qpcontact.core.errors import BackendUnavailableError, InvalidOptionError
 
-from .figure_checks import keeps_previous_file
+from .figure_checks import csv_reads_back, keeps_previous_file, rounded_by_hand
 
 E, A, I = 2e8, 0.01, 1e-4          # kN/m², m², m⁴
 K_RZ, K_B = 5e3, 1e5               # the spring at A (kN·m/rad), B's contact stiffness (kN/m)
@@ -116,29 +116,8 @@ def _expected(fr, r, table):
 
 
 def _rounded(rows, digits=5):
-    """docs/frames.md's rule: a value within 1e-9 of its quantity's scale (the
-    largest value of the table in its unit; a moment's at least the force
-    scale x the frame's size, a rotation's at least the displacement scale
-    over it) is 0; a column keeps the decimals that give its largest
-    remaining value ``digits`` significant digits."""
-    cols = [k for k in rows[0] if UNIT.search(k)]
-    scale = {}
-    for k in cols:
-        u = UNIT.search(k).group(1)
-        scale[u] = max(scale.get(u, 0.0), max(abs(r[k]) for r in rows))
-    if "kN·m" in scale:
-        scale["kN·m"] = max(scale["kN·m"], scale.get("kN", 0.0) * SIZE)
-    if "rad" in scale:
-        scale["rad"] = max(scale["rad"], scale.get("m", 0.0) / SIZE)
-    out = [dict(r) for r in rows]
-    for k in cols:
-        s = scale[UNIT.search(k).group(1)]
-        vals = [0.0 if abs(r[k]) <= 1e-9 * s else r[k] for r in rows]
-        big = max(abs(v) for v in vals)
-        d = max(0, digits - 1 - math.floor(math.log10(big))) if big else 0
-        for r, v in zip(out, vals):
-            r[k] = float(f"{v:.{d}f}") + 0.0      # + 0.0: "-0.000" is 0
-    return out
+    """docs/frames.md's rounding rule by hand (figure_checks.rounded_by_hand)."""
+    return rounded_by_hand(rows, UNIT, SIZE, digits)
 
 
 def _numbers(rows, keys=None):
@@ -300,24 +279,7 @@ def test_csv_text_has_no_minus_zero_no_noise_and_reads_back(res, tmp_path):
         f"{t}.csv" for t in ("supports", "reactions", "members", "displacements", "envelope",
                              "envelope_reactions", "combinations"))
     assert not list(tmp_path.glob("*.tmp"))
-    for path in paths:
-        table = path.split("/")[-1][:-4]
-        rows = res.rows(table)
-        with open(path, newline="") as fh:
-            reader = csv.DictReader(fh)
-            assert reader.fieldnames == list(rows[0])
-            back = list(reader)
-        assert len(back) == len(rows)
-        for text_row, row in zip(back, rows):
-            for key, value in row.items():
-                text = text_row[key]
-                if isinstance(value, float):
-                    assert float(text) == value, (table, key, text, value)
-                    assert not re.fullmatch(r"-0(\.0*)?", text), (table, key, text)
-                    assert "e" not in text.lower(), (table, key, text)
-                    assert text == "0" or abs(value) >= 1e-6, (table, key, text)
-                else:
-                    assert text == str(value)
+    csv_reads_back(res, paths, floor=1e-6)
     assert "uplift,False" in (tmp_path / "combinations.csv").read_text()
     # full precision on request: the raw floats, read back to the bit
     raw_dir = tmp_path / "raw"

@@ -1,5 +1,7 @@
 """Worked space frames: a pad pushed obliquely (Coulomb's circular cone by
-hand) and a one-storey frame of bays on frictional pads, the instance that
+hand), a one-storey frame on six pads where every contact state occurs
+(examples/space_frame_on_pads.py, tests/test_frame_space_results.py), and a
+one-storey frame of bays on frictional pads, the instance that
 ``qpcontact compare`` runs on the circular cone (an FCLIB global problem)."""
 
 from __future__ import annotations
@@ -34,6 +36,40 @@ def pad_example(push: float, angle: float, *, weight: float = 100.0, friction: f
     c = fr.contacts[fr.add_contact("P", friction=friction, stiffness=stiffness, facets=facets)]
     d = np.cos(angle) * c.t1 + np.sin(angle) * c.t2
     fr.add_load("Q", *(push * d[:2]), fz=-weight)
+    return fr
+
+
+def six_pads(*, friction: float = 0.4, spring: float = 5e3, facets: int = 16) -> SpaceFrame:
+    """One storey, 2 x 1 bays (8 m x 5 m, 3.5 m high; kN, m), steel columns
+    P-T on six frictional pads (``friction``, pinned: a pad carries no
+    moment), beams along x carrying 10 kN/m (case "D"), 5 kN down at T00 and
+    40 kN at T21 (D), a push of (20, 20, 0) kN at T20 (case "W") and 20 kN
+    uplift at T00 (case "U"); P10 also has a horizontal ``spring`` [kN/m] in
+    x, P21 a guide in y, and a frictionless bumper with a 0.1 mm gap stops
+    T21 moving in +x.  Under D+W+U the uplift lifts P00, the push slides P01
+    and P20 and the bumper closes: every contact state at once."""
+    E, G = 2.1e8, 8.1e7                     # steel, kN/m²
+    fr = SpaceFrame(units=("kN", "m"))
+    for a, x in enumerate((0.0, 4.0, 8.0)):
+        for b, y in enumerate((0.0, 5.0)):
+            fr.add_node(f"P{a}{b}", x, y, 0.0)
+            fr.add_node(f"T{a}{b}", x, y, 3.5)
+            fr.add_member(f"P{a}{b}", f"T{a}{b}", E, G, 0.01, 8e-5, 8e-5, 1e-5, name=f"C{a}{b}")
+            fr.add_contact(f"P{a}{b}", friction=friction, facets=facets)
+    for b in range(2):
+        for a in range(2):
+            fr.add_member(f"T{a}{b}", f"T{a + 1}{b}", E, G, 0.01, 2e-4, 1e-4, 2e-5,
+                          name=f"Bx{a}{b}")
+            fr.add_distributed_load(f"Bx{a}{b}", wz=-10.0, case="D")
+    for a in range(3):
+        fr.add_member(f"T{a}0", f"T{a}1", E, G, 0.01, 2e-4, 1e-4, 2e-5, name=f"By{a}")
+    fr.add_load("T00", fz=-5.0, case="D")
+    fr.add_load("T21", fz=-40.0, case="D")
+    fr.add_load("T20", fx=20.0, fy=20.0, case="W")
+    fr.add_load("T00", fz=20.0, case="U")
+    fr.add_contact("T21", normal=(-1.0, 0.0, 0.0), gap=1e-4)
+    fr.add_spring("P10", ux=spring)
+    fr.add_support("P21", fix=("uy",))
     return fr
 
 
