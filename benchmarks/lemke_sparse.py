@@ -72,7 +72,7 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     cases = [(f"membrane {k}x{k}", membrane(int(k))) for k in args.mesh.split(",")]
     if args.friction and DATA.is_dir():
-        from qpcontact.friction.problem import fc2d_lcp
+        from qpcontact.core.friction_problem import fc2d_lcp
         from qpcontact.io import read_problem
 
         cases += [(name.split(".")[0], fc2d_lcp(read_problem(DATA / name))) for name in FRICTION]

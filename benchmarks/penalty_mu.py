@@ -34,7 +34,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import qpcontact  # noqa: E402
 from qpcontact.plots.figures import save_figure  # noqa: E402
 from formulations.mechanisms import ramming_impact_step  # noqa: E402
-from formulations.penalty import exact_lcp, mu_threshold, random_step, solve_penalty  # noqa: E402
+from formulations.mechanisms.penalty import exact_lcp, mu_threshold, random_step, solve_penalty  # noqa: E402
 
 MUS = 10.0 ** np.arange(-4, 17)
 LEVELS = ("low", "default", "high")

@@ -22,7 +22,7 @@ __version__ = "0.1.0"
 #: Where each public name is defined.  The names are imported on first use
 #: (PEP 562, as SciPy and scikit-image do: Scientific Python SPEC 1), so that
 #: ``import qpcontact`` and ``qpcontact --help`` cost no NumPy or SciPy, and
-#: the engine costs what it uses (tests/test_import_cost.py).
+#: the engine costs what it uses (tests/package/test_import_cost.py).
 _DEFINED_IN = {
     "LCP": "core.problems", "ParametricLCP": "core.problems",
     "FrictionProblem": "friction.problem",

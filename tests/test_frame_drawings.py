@@ -13,7 +13,7 @@ import matplotlib
 import numpy as np
 import pytest
 
-from .figure_checks import drawn, overlapping
+from .helpers.figures import drawn, overlapping
 
 from formulations.frames import Frame
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError

@@ -20,8 +20,8 @@ import matplotlib
 import numpy as np
 import pytest
 
-from .figure_checks import (csv_reads_back, drawn, keeps_previous_file, overlapping,
-                            rounded_by_hand)
+from .helpers.figures import (csv_reads_back, drawn, keeps_previous_file, overlapping,
+                              rounded_by_hand)
 
 from formulations.frames.space import SpaceFrame
 from formulations.frames.space_examples import six_pads

@@ -18,7 +18,7 @@ import pytest
 from formulations.frames import Frame
 from qpcontact.core.errors import BackendUnavailableError, InvalidOptionError
 
-from .figure_checks import csv_reads_back, keeps_previous_file, rounded_by_hand
+from .helpers.figures import csv_reads_back, keeps_previous_file, rounded_by_hand
 
 E, A, I = 2e8, 0.01, 1e-4          # kN/m², m², m⁴
 K_RZ, K_B = 5e3, 1e5               # the spring at A (kN·m/rad), B's contact stiffness (kN/m)

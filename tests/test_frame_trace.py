@@ -17,7 +17,7 @@ import pytest
 
 from formulations.frames import Frame, portal_example as _portal
 from qpcontact import ParametricLCP
-from qpcontact.judge.lcp import certify_lcp
+from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.core.errors import InvalidProblemError, NoSolutionError, QpcontactError
 
 # near their limits these frames sway beyond small-displacement theory on

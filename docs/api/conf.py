@@ -1,4 +1,4 @@
-"""Sphinx configuration of the API reference (``make docs``; tests/test_api_reference.py).
+"""Sphinx configuration of the API reference (``make docs``; tests/package/test_api_reference.py).
 
 The reference is generated from the docstrings by autodoc (with napoleon for
 their NumPy-style sections).  A page names its modules with a

@@ -53,7 +53,7 @@ class DrumSummary:
         examples/scenes/drum.toml (20 -> 40 -> 80 -> 160 steps per period:
         20.1, 13.5, 8.3, 4.7 J), the demo's drop and its ten logs, halving cut
         it by 33-47 %: the line says 30-50 %
-        (tests/test_demo.py::test_halving_tau_cuts_the_numerical_dissipation_by_30_to_50_percent)."""
+        (tests/commands/test_demo.py::test_halving_tau_cuts_the_numerical_dissipation_by_30_to_50_percent)."""
         of = f" of the initial {self.energy_initial:.3g} J" if self.energy_initial > 0 else ""
         return (f"numerical dissipation: {self.energy_final['numerical']:.3g} J{of} lost by the "
                 f"implicit (backward-difference) time steps at tau = {self.tau:.3g} s; halving tau "

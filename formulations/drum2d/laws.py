@@ -65,7 +65,7 @@ out at the next step as a bounce of up to (1 − e)/2 of the impact speed,
 whatever e (measured, e = 0: 0 to 0.43 by phase; with θ = 1: −0.003 every
 time).
 
-What the scheme dissipates (tests/test_drum2d_compliance.py measures it):
+What the scheme dissipates (tests/formulations/drum2d/test_drum2d_compliance.py measures it):
 resolved, the backward Euler spring loses energy at the rate ω²h per unit
 time (the stack model's scheme, the same figures at the same h); e hardly
 acts there (the stack model damps resolved contacts with a viscous λ, not

@@ -37,7 +37,7 @@ the gap the free motion would leave at the end of the step.  Substituting
 
 D the springs' diagonal (laws: 0 for rigid contacts),
 
-a 2-D FrictionProblem (qpcontact.friction.problem), or without friction the
+a 2-D FrictionProblem (qpcontact.core.friction_problem), or without friction the
 LCP 0 <= r_N ⟂ W_NN r_N + q_N >= 0 — both solved by qpcontact.solve and
 certified from the data.  A step whose answer is not certified is recorded
 (``Drum2DResult.uncertified``) and warned about, or raises with
@@ -92,7 +92,7 @@ from qpcontact import solve
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 from qpcontact.core.problems import LCP
 from qpcontact.core.progress import StepReporter
-from qpcontact.friction.problem import FrictionProblem
+from qpcontact.core.friction_problem import FrictionProblem
 
 from .contacts import find_contacts
 from .geometry import GRAVITY, Discs, Shell

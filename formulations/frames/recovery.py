@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
-from qpcontact.judge.lcp import certify_lcp
+from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
 from . import assembly

@@ -13,7 +13,7 @@ from qpcontact import solve
 from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
                                    NotConvexError, QpcontactError, SolverFailedError)
 from qpcontact.core.options import check_options
-from qpcontact.judge.lcp import certify_lcp
+from qpcontact.judge.lcp_certificate import certify_lcp
 
 from . import assembly
 from .active_set import solve_active_set

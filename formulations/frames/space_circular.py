@@ -14,7 +14,7 @@ forces are r; everything else — member end actions, reactions, the contact
 states — is rebuilt from them as for the faceted cone, and ``ok`` is decided
 by two independent checks at the requested accuracy:
 
-* the friction certificate (:func:`qpcontact.friction.measures.certify_friction`:
+* the friction certificate (:func:`qpcontact.judge.friction_certificate.certify_friction`:
   Siconos's natural-map error and each contact's residual on its own force
   scale) of r with the contact displacements computed from the frame's own
   displacements, opening = gap + n·u + X_n/k and slip = (t1·u, t2·u) + X_t/k;
@@ -39,8 +39,8 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, NoSolutionError, SolverFailedError
 from qpcontact.core.results import PROVED
-from qpcontact.friction.measures import (certify_friction, contact_scales, contact_sizes,
-                                         scales_from_diagonal, sizes)
+from qpcontact.judge.friction_certificate import (certify_friction, contact_scales, contact_sizes,
+                                                  scales_from_diagonal, sizes)
 
 from . import assembly
 from .loads import describe
@@ -175,7 +175,7 @@ class CircularCone:
 
 def _global_scales(prob, r, v):
     """(ρ, s) per contact for a global problem kept without W, as its
-    certificate takes them (:func:`~qpcontact.friction.measures.global_errors`):
+    certificate takes them (:func:`~qpcontact.judge.friction_certificate.global_errors`):
     W_nn estimated by Hᵀ diag(M)⁻¹ H, the displacements' terms |H|ᵀ|v|."""
     g = prob.global_data
     dm = np.asarray(g["M"].diagonal(), float)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from qpcontact.judge.lcp import certify_lcp
+from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
 from . import assembly

@@ -9,7 +9,7 @@ import numpy as np
 from qpcontact import solve
 from qpcontact.core.errors import NoSolutionError, QpcontactError
 from qpcontact.core.problems import ParametricLCP
-from qpcontact.judge.lcp import certify_lcp
+from qpcontact.judge.lcp_certificate import certify_lcp
 
 from . import assembly
 from .loads import CONSTANT, VARIABLE, combination, describe

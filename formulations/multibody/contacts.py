@@ -1,5 +1,5 @@
 r"""Tree (and closed-loop) multibody systems with unilateral contacts, stepped
-by P2's penalty QP on the O(N) model (formulations.stepping).
+by P2's penalty QP on the O(N) model (formulations.stepping.contact_step).
 
 SI units: m, kg, s, rad; forces N, torques N·m, joint damping N·s/m or
 N·m·s/rad, compliance m/N.
@@ -37,9 +37,9 @@ import scipy.linalg
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
 
-from ..penalty_step import PenaltyStep
-from ..stepping import (ContactSystem, scene_arrays, scene_plot, scene_run, scene_summary,
-                        solver_section, time_section, contacts_section)
+from ..stepping.penalty_step import PenaltyStep
+from ..stepping.contact_step import (ContactSystem, scene_arrays, scene_plot, scene_run,
+                                     scene_summary, solver_section, time_section, contacts_section)
 from . import algorithms as alg
 from . import constraints as con
 from .model import Cardan, Data, Free, Model, Prismatic, Revolute, Spherical

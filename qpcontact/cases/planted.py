@@ -229,7 +229,7 @@ def build_qp(kind: str, n: int, seed: int, *, cond: float = 1e4) -> Case:
 
 
 def _penalty_qp(n: int, rng, seed: int) -> Case:
-    """P2's penalty QP of one integration step (formulations/penalty.py):
+    """P2's penalty QP of one integration step (formulations/mechanisms/penalty.py):
     min ½λ'(C + 2μA)λ + (C P_y + μb)'λ  s.t.  Aλ >= -b, λ >= 0, with A =
     J G⁻¹ J' singular (more contacts than degrees of freedom) and μ up to
     1e12 times the exactness threshold μ*.  For μ > μ* its minimiser is the

@@ -1,6 +1,6 @@
 """Hard cases in real-valued (rounded) data whose answer is nevertheless exact:
 the status or the solution of the problem *as stored* is decided in rational
-arithmetic (:mod:`qpcontact.cases.exact`), never by a solver.
+arithmetic (:mod:`qpcontact.cases.rational_references`), never by a solver.
 
 Issue 31: an LCP built as B Bᵀ with Bᵀd = 0, d >= 0 and q'd < 0 has no
 solution in exact arithmetic, but the stored, rounded M is usually positive
@@ -42,7 +42,7 @@ import numpy as np
 from qpsolvers import Problem
 
 from ..core.problems import LCP
-from .exact import (ExactLCP, dot_exact, float_bpp, lcp_farkas_holds, round_down)
+from .rational_references import ExactLCP, dot_exact, float_bpp, lcp_farkas_holds, round_down
 from .families import random_spd
 from .planted import Case
 

@@ -109,7 +109,7 @@ def solve_cmd(
     import numpy as np
 
     from ..dispatch.driver import solve
-    from ..friction.problem import FrictionProblem
+    from ..core.friction_problem import FrictionProblem
     from ..io import read_problem
 
     try:

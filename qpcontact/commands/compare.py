@@ -128,7 +128,7 @@ def _unknowns(inst) -> int:
 
 
 def _is_friction(inst) -> bool:
-    from ..friction.problem import FrictionProblem
+    from ..core.friction_problem import FrictionProblem
 
     return isinstance(inst.problem, FrictionProblem)
 

@@ -51,7 +51,7 @@ __all__ = ["qp_to_lcp", "DualLCP", "validate_qp", "check_convex", "is_qp"]
 
 # scipy.linalg and qpsolvers (which imports every backend it finds) are
 # imported where they are used, so that `import qpcontact` stays cheap
-# (tests/test_import_cost.py).
+# (tests/package/test_import_cost.py).
 
 
 def is_qp(problem) -> bool:

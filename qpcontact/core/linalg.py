@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 # scipy.linalg and scipy.sparse.linalg are imported where a block is factorized:
-# they cost more than the rest of `import qpcontact` (tests/test_import_cost.py).
+# they cost more than the rest of `import qpcontact` (tests/package/test_import_cost.py).
 
 __all__ = ["ActiveBlock", "SolutionOverflow", "refined", "sub_bands", "symmetric_scaling",
            "ruiz_scaling", "dense_matrix", "BANDED_MAX"]

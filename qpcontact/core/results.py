@@ -17,8 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:  # the judge's types, for the annotations only
-    from ..judge.lcp import LCPCertificate
-    from ..judge.qp import QPCertificate
+    from ..judge.lcp_certificate import LCPCertificate
+    from ..judge.qp_certificate import QPCertificate
 
 __all__ = ["Solution", "LCPSolution", "QPSolution", "FrictionSolution", "MethodResult",
            "STATUSES", "PROVED"]

@@ -23,12 +23,12 @@ from ..core.errors import (BackendUnavailableError, InvalidOptionError, InvalidP
                            UnknownMethodError)
 from ..core.problems import LCP, ParametricLCP
 from ..core.results import PROVED
-from ..friction.problem import FrictionProblem
+from ..core.friction_problem import FrictionProblem
 from ..solvers.method import PROBLEM_KINDS
 from ..solvers.registry import get_method
 from .calls import DEFAULT_TIME_LIMIT, check_time_limit
-from .friction import check_friction_method, run_friction, run_friction_auto
-from .lcp_qp import doubtful, hints, prove_no_solution, run_lcp_qp
+from .friction_run import check_friction_method, run_friction, run_friction_auto
+from .lcp_qp_run import doubtful, hints, prove_no_solution, run_lcp_qp
 from .routes import applicable, auto_order, kind_of
 
 __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]

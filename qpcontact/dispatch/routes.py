@@ -17,7 +17,7 @@ from ..core.conversions import is_qp
 from ..core.errors import NotConvexError, NotSymmetricError
 from ..core.linalg import BANDED_MAX
 from ..core.problems import LCP, ParametricLCP
-from ..friction.problem import FrictionProblem
+from ..core.friction_problem import FrictionProblem
 from ..solvers.method import Method
 
 if TYPE_CHECKING:

@@ -10,7 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
-from ..friction.problem import FrictionProblem
+from ..core.friction_problem import FrictionProblem
 
 __all__ = ["read_fclib", "write_fclib"]
 

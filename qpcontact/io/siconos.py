@@ -37,7 +37,7 @@ import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
-from ..friction.problem import FrictionProblem
+from ..core.friction_problem import FrictionProblem
 
 __all__ = ["read_siconos", "read_siconos_lcp", "read_siconos_fc"]
 

@@ -7,8 +7,8 @@ docs/certificates.md gives the definitions with their reasons and the
 far-contact example that made them componentwise.
 
 :func:`certify` takes any problem kind; the measures live one module each:
-:mod:`qpcontact.judge.lcp`, :mod:`qpcontact.judge.qp` (and the friction
-measures of :mod:`qpcontact.friction.measures`), on the componentwise scales
+:mod:`qpcontact.judge.lcp_certificate`, :mod:`qpcontact.judge.qp_certificate` (and the friction
+measures of :mod:`qpcontact.judge.friction_certificate`), on the componentwise scales
 of :mod:`qpcontact.judge.scales`.
 """
 
@@ -17,10 +17,10 @@ from __future__ import annotations
 from ..core.conversions import is_qp
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
-from ..friction.measures import FrictionCertificate, certify_friction
-from ..friction.problem import FrictionProblem
-from .lcp import LCPCertificate, certify_lcp
-from .qp import QPCertificate, certify_qp
+from .friction_certificate import FrictionCertificate, certify_friction
+from ..core.friction_problem import FrictionProblem
+from .lcp_certificate import LCPCertificate, certify_lcp
+from .qp_certificate import QPCertificate, certify_qp
 
 __all__ = ["certify", "LCPCertificate", "QPCertificate", "FrictionCertificate"]
 

@@ -1,6 +1,6 @@
 """Componentwise scales: each row and each unknown of a problem judged on its own size.
 
-The certificates (:mod:`qpcontact.judge.lcp`, :mod:`qpcontact.judge.qp`) and
+The certificates (:mod:`qpcontact.judge.lcp_certificate`, :mod:`qpcontact.judge.qp_certificate`) and
 the pivoting methods' sign tests share these scales, in the sense of Oettli
 and Prager: a row is measured against the sizes of the terms it is made of,
 an unknown against the change that moves some row by all of that row's own

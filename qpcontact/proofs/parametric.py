@@ -19,7 +19,7 @@ import numpy as np
 
 from ..core.linalg import dense_matrix, ruiz_scaling
 from ..judge.scales import ComponentScales
-from .lcp import FARKAS_RTOL
+from .lcp_farkas import FARKAS_RTOL
 from .lp import linprog
 
 __all__ = ["LoadFamily", "TIE_RTOL", "COLLAPSE_NODES", "Z_BOUND"]

@@ -3,7 +3,7 @@ and the effects to simulate —, their results files (HDF5) and their figures,
 and sweeps of variants.  Formulations register their schemas under the
 entry-point group ``qpcontact.scenes``; see docs/scenes.md."""
 
-from .results import plot_results, read_state, write_results
+from .results_files import plot_results, read_state, write_results
 from .schema import Field, Scene, SceneError, SceneSchema, load_scene, parse_scene, schemas
 from .sweep import split_values, sweep, vary_scene
 

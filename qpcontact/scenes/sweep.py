@@ -7,7 +7,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from .results import write_results
+from .results_files import write_results
 from .schema import SceneError, SourceLines, load_scene, parse_scene
 
 __all__ = ["vary_scene", "split_values", "sweep"]

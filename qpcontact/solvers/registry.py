@@ -23,7 +23,7 @@ _REGISTRY: dict[str, Method] = {}
 #: The providers, in the order a listing shows them.
 PROVIDERS = ("pivoting", "trace", "friction", "qpsolvers", "cvxpy")
 #: The in-house providers' method names, known without importing them, so that
-#: asking for one method loads its provider only (tests/test_solve.py holds
+#: asking for one method loads its provider only (tests/dispatch/test_solve.py holds
 #: them to the providers' specs()).
 IN_HOUSE = {
     "pivoting": ("energy", "bpp", "ip-bpp", "mg-bpp", "lemke", "enumeration"),
@@ -46,11 +46,11 @@ def _load(provider: str) -> None:
         return
     _loaded.add(provider)
     if provider == "pivoting":
-        from .pivoting import specs as module
+        from .pivoting import pivoting_specs as module
     elif provider == "trace":
-        from .trace import specs as module
+        from .trace import trace_specs as module
     elif provider == "friction":
-        from ..friction import specs as module
+        from .friction import friction_specs as module
     elif provider == "qpsolvers":
         from .backends import qpsolvers_backends as module
     else:

@@ -46,7 +46,7 @@ re-exported here.
 from __future__ import annotations
 
 from ..cases.families import far_contact_lcp, planted_ok, random_spd, random_spd_lcp, spread_lcp
-from ..cases.friction import FRICTION_KINDS, FrictionCase, build_friction
+from ..cases.planted_friction import FRICTION_KINDS, FrictionCase, build_friction
 from .assertions import assert_friction_solution, assert_lcp_solution, assert_qp_kkt
 from .crossval import CrossValidation, CrossValidationError, cross_validate
 

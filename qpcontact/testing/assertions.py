@@ -10,10 +10,10 @@ from qpsolvers import Problem
 
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
-from ..friction.measures import certify_friction, contact_scales, contact_sizes
-from ..friction.problem import FrictionProblem
-from ..judge.lcp import certify_lcp
-from ..judge.qp import certify_qp
+from ..judge.friction_certificate import certify_friction, contact_scales, contact_sizes
+from ..core.friction_problem import FrictionProblem
+from ..judge.lcp_certificate import certify_lcp
+from ..judge.qp_certificate import certify_qp
 from ..judge.scales import ComponentScales
 
 __all__ = ["assert_lcp_solution", "assert_qp_kkt", "assert_friction_solution"]

@@ -15,8 +15,8 @@ from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
 from ..dispatch import driver
 from ..dispatch.routes import applicable
-from ..friction.measures import contact_sizes
-from ..friction.problem import FrictionProblem
+from ..judge.friction_certificate import contact_sizes
+from ..core.friction_problem import FrictionProblem
 from ..judge.scales import ComponentScales
 from ..solvers.registry import methods as installed
 

@@ -32,7 +32,7 @@ QP kinds (:func:`qps`)
     ``convex`` (P PD, unique x), ``degenerate`` (active constraints with zero
     multipliers, P singular on part of the space), ``infeasible``,
     ``unbounded``.
-Frictional kinds (:func:`frictions`, 2-D and 3-D; :mod:`qpcontact.cases.friction`)
+Frictional kinds (:func:`frictions`, 2-D and 3-D; :mod:`qpcontact.cases.planted_friction`)
     ``sticking``, ``sliding``, ``separated``, ``mixed`` (contacts in those
     states, planted exactly), ``badly_scaled`` (each contact in its own
     units over ``max_decades`` decades), ``decoupled`` (isotropic contacts:
@@ -56,7 +56,7 @@ except ImportError as exc:  # pragma: no cover - exercised only without the extr
     raise ImportError("qpcontact.testing.strategies needs hypothesis: "
                       'pip install "qpcontact[test]" (or pip install hypothesis)') from exc
 
-from ..cases.friction import FRICTION_KINDS, build_friction
+from ..cases.planted_friction import FRICTION_KINDS, build_friction
 from ..cases.planted import LCP_KINDS, QP_KINDS, Case, build_lcp, build_qp
 
 __all__ = ["Case", "lcps", "qps", "frictions", "LCP_KINDS", "QP_KINDS", "FRICTION_KINDS",
@@ -105,7 +105,7 @@ def qps(kinds=QP_KINDS, min_n: int = 2, max_n: int = 30, max_cond: float = 1e6):
 
 def frictions(kinds=FRICTION_KINDS, dims=(2, 3), min_contacts: int = 1, max_contacts: int = 8,
               max_cond: float = 1e4, max_decades: float = 8.0, max_mu: float = 1.0):
-    """Strategy drawing :class:`~qpcontact.cases.friction.FrictionCase` objects:
+    """Strategy drawing :class:`~qpcontact.cases.planted_friction.FrictionCase` objects:
     frictional contact problems of the given kinds and dimensions with their
     planted solution."""
     kinds = _checked(kinds, FRICTION_KINDS, "friction")

@@ -30,7 +30,7 @@ _QPSOLVERS_TABLE: dict[str, Callable[[float], dict]] = {
     # Clarabel's static regularization (default 1e-8) caps what it can reach: at
     # tolerances 1e-12 it stopped with InsufficientProgress / AlmostSolved at
     # certificate errors 1e-2..1e-4 on 11 of 48 seeded SPD LCPs (n = 20..200,
-    # cond 10..1e8, tests/test_pivoting.py's family); with 1e-10, 6 of 48, all at
+    # cond 10..1e8, tests/solvers/test_pivoting.py's family); with 1e-10, 6 of 48, all at
     # cond 1e8 (docs/pivoting.md).
     # With the componentwise certificate, 1e-5 t certified 32/41 of a mixed set
     # (random SPD to cond 1e8, Siconos mmc, P0, far contacts, drum steps) where

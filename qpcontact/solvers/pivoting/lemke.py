@@ -15,8 +15,8 @@ favour of z0 leaving.  The method ends
   other M it means nothing, so the method restarts with other covering vectors
   (``restarts``, seeded) before reporting the ray.  "No solution" is claimed
   only with a Farkas vector checked from the data in exact rational
-  arithmetic (found by :func:`qpcontact.proofs.lcp.feasibility`'s LP, checked
-  by :func:`qpcontact.proofs.lcp.check_farkas_hint`); one that holds only to
+  arithmetic (found by :func:`qpcontact.proofs.lcp_farkas.feasibility`'s LP, checked
+  by :func:`qpcontact.proofs.lcp_farkas.check_farkas_hint`); one that holds only to
   rounding is reported as such, with nothing proved;
 - ``max_pivots``: the pivot limit was reached.
 
@@ -44,7 +44,7 @@ from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, ruiz_sca
 from ...core.options import check_options, int_option
 from ...core.results import MethodResult
 from ...judge.scales import ComponentScales
-from ...proofs.lcp import check_farkas_hint, feasibility
+from ...proofs.lcp_farkas import check_farkas_hint, feasibility
 from .active_set import DENSE_TABLEAU_LIMIT, overflow_result, sign_tolerances
 from .lemke_sparse import SingularBasis, sparse_lemke
 from .lemke_tableau import lemke
@@ -95,7 +95,7 @@ def _regularised(problem, M, Ms, qs, cs, max_pivots, deadline=None):
     30, 100; 30 seeds each, scaled over up to 12 decades): 7 of the 29 rays
     left after 30 covering vectors solved exactly.  Returns (z, pivots, ε)
     or None."""
-    from ...judge.lcp import certify_lcp
+    from ...judge.lcp_certificate import certify_lcp
 
     n, pivots = problem.n, 0
     eye = np.eye(n)
@@ -147,7 +147,7 @@ def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     dense form's pivot cap alone let a 1000-span frame's 3003-unknown LCP,
     restarting on secondary rays, run for over 12 minutes)."""
     from ...core.accuracy import DEFAULT_CERTIFY_TOL
-    from ...judge.lcp import certify_lcp
+    from ...judge.lcp_certificate import certify_lcp
 
     check_options("lemke", options, _OPTIONS)
     n = problem.n

@@ -12,7 +12,7 @@ import scipy.linalg
 from scipy.linalg import lapack
 
 from ...core.linalg import refined, ruiz_scaling
-from ...judge.lcp import certify_lcp
+from ...judge.lcp_certificate import certify_lcp
 from ...judge.scales import ComponentScales
 from ...proofs.parametric import TIE_RTOL, LoadFamily
 from ..pivoting.lemke_tableau import lemke

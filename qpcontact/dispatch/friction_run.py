@@ -1,0 +1,148 @@
+"""One frictional-contact method run: call it (or, for an LCP method, solve the
+problem's faceted LCP), certify the reactions from the data, name the outcome;
+and "auto"'s chain of such runs on one time budget.
+
+"auto" (:func:`run_friction_auto`) tries :func:`~.routes.auto_chain`'s links in
+order.  Each link gets half of the time left (the last one all of it) as
+its ``time_limit``: the iterative links check it between iterations, Lemke's
+sparse form at each pivot.  Every link's answer is
+certified; the first certified one is returned, else the best-certified
+point of all, never a later, worse one.  ``progress`` (a callable taking a
+line) hears each link start and end and, from the iterative links, each
+check; the message names every link that ran, its time and where it
+stopped."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..core.errors import InvalidOptionError
+from ..core.results import PROVED, FrictionSolution, MethodResult
+from ..solvers.friction.lcp_route import LCP_ACCURACY, from_lcp, lcp_of
+from ..judge.friction_certificate import certify_friction
+from ..proofs.exact import Proof
+from ..solvers.method import PROBLEM_KINDS, Method
+from ..solvers.registry import get_method
+from .calls import call
+from .routes import PROGRESS_LINKS, auto_chain, kind_of
+
+__all__ = ["run_friction", "run_friction_auto", "check_friction_method"]
+
+
+def check_friction_method(problem, m: Method) -> None:
+    """InvalidOptionError when ``m`` does not take this form of frictional problem."""
+    kind = kind_of(problem)
+    if m.solves(kind):
+        return
+    if kind == "friction-global":
+        raise InvalidOptionError(
+            f"{m.name!r} needs the local form, and this global problem is kept without W "
+            f"({problem.global_data['unreduced_because']}); use desaxce-global or 'auto'")
+    if m.solves("friction-global"):
+        raise InvalidOptionError(f"{m.name!r} solves global problems kept without W; this one is "
+                                 "in local form (global_problem(..., reduce=False) keeps M, H)")
+    raise InvalidOptionError(
+        f"{m.name!r} does not solve frictional contact problems (it takes "
+        f"{', '.join(PROBLEM_KINDS[k] for k in m.problems)}); `qpcontact methods` lists what "
+        "each method takes (friction: nsgs, lemke, enumeration, anitescu, desaxce-fp, tresca-fp, "
+        "newton, desaxce-global, auto)")
+
+
+def _call(problem, m: Method, tol: float, options: dict, time_limit, isolate, engine
+          ) -> MethodResult:
+    if m.takes == "lcp":          # through the faceted LCP, certified there as an LCP
+        lcp, D, facets, lcp_options = lcp_of(problem, options)
+        sol = engine.solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY), time_limit=time_limit,
+                           **lcp_options)
+        return from_lcp(problem, m.name, sol, D, facets, tol)
+    return call(m, problem, tol, options, time_limit, isolate, engine)
+
+
+def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_limit=None,
+                 isolate="auto", engine=None) -> FrictionSolution:
+    """Run ``m`` on a frictional problem and certify its answer (r, and v for a
+    global problem kept without W) by :func:`certify_friction`.  ``tol`` is
+    both what the method stops at and what the certificate must meet."""
+    common = dict(method=m.name, accuracy=accuracy, tol=tol)
+    if problem.n_contacts == 0 and problem.is_reduced:
+        r = np.zeros(0)
+        return FrictionSolution(status="solved", ok=True, message="no contacts",
+                                certificate=certify_friction(problem, r), r=r, u=r, **common)
+    start = time.perf_counter()
+    res = _call(problem, m, tol, dict(options), time_limit, isolate, engine)
+    wall = time.perf_counter() - start
+    stats = {**res.stats, "time": wall}
+    common.update(backend_status=res.backend_status, backend_message=res.backend_message,
+                  wall_time=wall, iterations=res.iterations, stats=stats)
+    message = res.backend_message
+    if res.x is None and "ray" in stats:     # a checked proof that no equilibrium exists
+        stats["proof"] = Proof(kind="infeasible", message=message, vector={"d": stats["ray"]})
+        return FrictionSolution(status=PROVED[0], ok=False, message=message,
+                                certificate=None, r=None, u=None, **common)
+    x = None if res.x is None else np.asarray(res.x, float).ravel()
+    if x is None or not np.all(np.isfinite(x)):
+        status = "time_limit" if res.status == "time_limit" else "failed"
+        return FrictionSolution(status=status, ok=False,
+                                message=f"{m.name}: no usable point ({message})",
+                                certificate=None, r=None, u=None, **common)
+    size = problem.dim * problem.n_contacts
+    if problem.is_reduced:
+        r, v = x, None
+        u = problem.velocities(r)
+    else:
+        g = problem.global_data
+        r, v = x[:size], x[size:]
+        u = np.asarray(g["H"].T @ v).ravel() + g["w"]
+    cert = certify_friction(problem, r, v, u=u if problem.is_reduced else None)
+    ok = cert.ok(tol)
+    measures = (f"natural-map error {cert.natural_map_error:.1e}, componentwise "
+                f"{cert.componentwise_error:.1e}")
+    if not problem.is_reduced:
+        measures += f", equilibrium {cert.equilibrium_error:.1e}"
+    return FrictionSolution(status="solved" if ok else "inaccurate", ok=ok,
+                            message=(f"{measures} {'<=' if ok else '>'} {tol:.0e} "
+                                     f"({m.name}: {message})"),
+                            certificate=cert, r=r, u=u, v=v, **common)
+
+
+def run_friction_auto(problem, tol: float, accuracy, options: dict, time_limit=None,
+                      isolate="auto", engine=None) -> FrictionSolution:
+    """"auto" on a frictional problem (module docstring)."""
+    start = time.perf_counter()
+    options = dict(options)
+    progress = options.pop("progress", None)
+    chain = [get_method(name) for name in auto_chain(problem)]
+    runs, best, lines = [], None, []
+    for k, m in enumerate(chain):
+        left = None if time_limit is None else time_limit - (time.perf_counter() - start)
+        if left is not None and left <= 0:
+            lines.append(f"{m.name}: not run (the time limit of {time_limit:g} s was spent)")
+            continue
+        share = None if left is None else (left if k == len(chain) - 1 else left / 2)
+        opts = dict(options)
+        if m.name == "newton" and best is not None and best.r is not None:
+            opts.setdefault("r0", best.r)   # polish the best point so far
+        if progress is not None:
+            if m.name in PROGRESS_LINKS:
+                opts.setdefault("progress", progress)
+            progress(f"auto: {m.name}" + ("" if share is None else f" (up to {share:.3g} s)"))
+        sol = run_friction(problem, m, tol, accuracy, opts, time_limit=share, isolate=isolate,
+                           engine=engine)
+        runs.append(sol)
+        where = f"error {sol.error:.1e}" if sol.certificate is not None else sol.status
+        lines.append(f"{m.name}: {where} in {sol.wall_time or 0:.2f} s")
+        if progress is not None:
+            progress(f"auto: {m.name}: {sol.status}, {where} in {sol.wall_time or 0:.2f} s")
+        if best is None or sol.error < best.error:
+            best = sol
+        if sol.ok or sol.status in PROVED:
+            break
+    others = [r for r in runs if r is not best]
+    if others:
+        best.message += " — also tried " + "; ".join(f"{r.method}: {r.message}" for r in others)
+    best.message += " — links: " + "; ".join(lines)
+    best.stats.update(auto_tried=[(r.method, r.status, r.error) for r in runs],
+                      total_time=time.perf_counter() - start)
+    return best

@@ -1,0 +1,214 @@
+"""One LCP or QP method run: convert, call, certify, name the outcome — and,
+where the answer is in doubt, look for a proof that no solution exists."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..core.conversions import qp_to_lcp
+from ..core.problems import LCP
+from ..core.results import LCPSolution, MethodResult, QPSolution
+from ..judge.doubt import doubt, no_digit, singular_block
+from ..judge.lcp_certificate import certify_lcp
+from ..judge.qp_certificate import certify_qp
+from ..proofs.lcp_farkas import prove_lcp_infeasible
+from ..proofs.qp_farkas import prove_no_minimiser, x_size
+from ..solvers.method import Method
+from .calls import call
+from .routes import check_applicable, data_range, jacobi_scaled
+
+__all__ = ["run_lcp_qp", "doubtful", "prove_no_solution", "verdict", "hints", "DOUBT_FACTOR"]
+
+
+def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, time_limit=None,
+         isolate="auto"):
+    """Convert, run, time, certify.  Returns an LCPSolution or QPSolution."""
+    route = "direct"
+    start = time.perf_counter()
+    if isinstance(problem, LCP):
+        check_applicable(problem, m)
+        target, unscale = problem, None
+        if m.takes == "qp":
+            route = "qp" if problem.is_symmetric else "monotone-qp"
+            scaled, unscale = jacobi_scaled(problem)
+            if unscale is not None:
+                route += " (Jacobi-scaled)"
+            target = scaled.to_qp() if problem.is_symmetric else scaled.to_monotone_qp()
+    else:
+        target, dual = problem, None
+        if m.takes == "lcp":
+            dual = qp_to_lcp(problem)
+            target, route = dual.lcp, "dual-lcp"
+    # Overflow on extreme data is an outcome the certificate reports, not a
+    # warning to print from deep inside a method.
+    called = time.perf_counter()
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        res: MethodResult = call(m, target, tol_backend, dict(options), time_limit, isolate)
+    wall = time.perf_counter() - start
+    if "backend_seconds" in res.stats:
+        wall = (called - start) + res.stats.pop("backend_seconds")
+    said = verdict(res.backend_status)
+    if said:
+        res.stats["backend_verdict"] = said
+
+    x = None if res.x is None else np.asarray(res.x, dtype=float).ravel()
+    if isinstance(problem, LCP) and m.takes == "qp" and unscale is not None and x is not None \
+            and x.size == unscale.size:
+        x = x * unscale
+    expected = target.n if isinstance(target, LCP) else problem.q.size  # the dual LCP's size on "dual-lcp"
+    usable = x is not None and x.size == expected and bool(np.all(np.isfinite(x)))
+    stats = {"route": route, **res.stats}
+    common = dict(method=m.name, accuracy=accuracy, tol=tol_cert,
+                  backend_status=res.backend_status, backend_message=res.backend_message,
+                  wall_time=wall, iterations=res.iterations, stats=stats)
+    if isinstance(problem, LCP):
+        cert = certify_lcp(problem, x) if usable else None
+        fields = dict(z=x if usable else None, w=problem.w(x) if usable else None)
+        cls = LCPSolution
+    else:
+        y, zi, zb = res.y, res.z, res.z_box
+        if usable and m.takes == "lcp":
+            x, y, zi, zb = dual.primal_dual(x)
+        cert = certify_qp(problem, x, y, zi, zb) if usable else None
+        fields = dict(x=x if usable else None, y=y, z=zi, z_box=zb)
+        cls = QPSolution
+
+    if res.status in ("ray", "max_pivots"):
+        status = res.status
+    elif cert is not None and cert.error <= tol_cert:
+        status = ("solved" if cert.ok(tol_cert) else
+                  "ill_posed" if doubt(cert, tol_cert) else "inaccurate")
+    elif res.status == "time_limit" or res.stats.get("time_limit_reached"):
+        status = "time_limit"
+    elif cert is None:
+        status = "failed"
+    else:
+        status = "inaccurate"
+    ok = status == "solved"
+    if ok:
+        message = f"certified: error {cert.error:.2e} <= {tol_cert:.0e}"
+        # The forward error is in the message when it came for free (active
+        # blocks up to 400); above that, sol.forward_error computes it on request.
+        ferr = cert.forward_error if getattr(cert, "forward_error_known", False) else 0.0
+        if ferr > tol_cert:
+            message += ("; the solution is not isolated (its active block is singular to "
+                        "working precision): other solutions may exist" if singular_block(cert)
+                        else f"; forward error up to {ferr:.1e} (condition {cert.condition:.1e}): "
+                        "components may differ from the exact solution of these data by that "
+                        "much of their own size (a component near zero may have no correct digit)")
+    elif status == "ill_posed":
+        message = f"not certified: {doubt(cert, tol_cert)}"
+    elif status == "inaccurate" and cert.error <= tol_cert:
+        message = f"not certified: error {cert.error:.2e} <= {tol_cert:.0e}, but {no_digit(cert)}"
+    elif status == "inaccurate":
+        where = (f" at component {cert.worst_index}" if hasattr(cert, "worst_index")
+                 else f" at {cert.worst}")
+        message = (f"not certified: error {cert.error:.2e}{where} > {tol_cert:.0e} although the "
+                   f"backend said {res.backend_status!r}; ask for a tighter accuracy or use an "
+                   "exact method")
+        if cert.overflow:
+            message = ("not certified: the answer's products overflow double precision (beyond "
+                       "1e308); rescale the data's units")
+    elif status == "failed":
+        message = (f"no usable point came back (backend status {res.backend_status!r}"
+                   + (f": {res.backend_message}" if res.backend_message else "") + ")")
+        if res.backend_status == "overflow" or (x is not None and not np.all(np.isfinite(x))):
+            lo, hi = data_range(problem)
+            message += (f"; the solution does not fit in double precision: the data's magnitudes "
+                        f"span {lo:.1e} .. {hi:.1e}. Rescale the units (e.g. of q, or of the "
+                        "unknowns) so that the solution's entries stay below 1e300")
+    elif status == "time_limit":
+        message = res.backend_message if res.status == "time_limit" else (
+            f"stopped at the time limit of {time_limit:g} s (backend status "
+            f"{res.backend_status!r})" + (f"; the point it had reached has certificate error "
+                                          f"{cert.error:.2e} > {tol_cert:.0e}" if cert else "")
+            + "; raise time_limit= or try another method")
+    else:
+        message = res.backend_message or status
+    return cls(status=status, ok=ok, message=message, certificate=cert, **common, **fields)
+
+
+#: A certified answer larger than this many times the size the data give it
+#: (|q| / max|M| for an LCP, qpcontact.proofs.qp_farkas.x_size for a QP) is checked
+#: for a proof that no solution exists: backends on an unbounded QP return
+#: points of 1e8 and more whose residuals pass on their own rows' scales.
+#: Size alone does not take "solved" away (an SPD LCP of condition 1e8 has
+#: answers that large, digits and all); the doubt rule does.
+DOUBT_FACTOR = 1e3
+
+
+def verdict(backend_status) -> str | None:
+    """"infeasible" or "unbounded" when a backend's own status says so, in
+    its own words (OSQP "primal infeasible", Clarabel "DualInfeasible",
+    PIQP "PIQP_DUAL_INFEASIBLE", HiGHS "Unbounded", ...), else None.  Never
+    believed: it only sends the search for a proof at once."""
+    words = "".join(ch for ch in str(backend_status).lower() if ch.isalpha())
+    if "dualinfeasible" in words or "unbounded" in words:
+        return "unbounded"
+    if "infeasible" in words:
+        return "infeasible"
+    return None
+
+
+def doubtful(problem, sol) -> bool:
+    """Whether a result should be checked for a proof that no solution exists:
+    every result that is not ok (a proved ray aside) — among them the
+    "ill_posed" answers (qpcontact.judge.doubt) — and a certified answer that
+    may be the solution of nearby data only (an LCP answer whose forward
+    error reaches its own size, or any answer far beyond the data's size)."""
+    if sol.stats.get("proved_infeasible") or sol.stats.get("proved_unbounded"):
+        return False
+    if not sol.ok:
+        return True
+    if isinstance(problem, LCP):
+        cert = sol.certificate
+        if cert.forward_error_known and not cert.forward_error < 1.0:
+            return True  # no correct digit guaranteed (singular or nearly singular active block)
+        big = float(np.max(np.abs(sol.z), initial=0.0))
+        scale_M = problem.matrix_scale
+        return scale_M > 0 and big > DOUBT_FACTOR * float(np.max(np.abs(problem.q))) / scale_M
+    return float(np.max(np.abs(sol.x), initial=0.0)) > DOUBT_FACTOR * x_size(problem)
+
+
+def hints(sol) -> list:
+    """What a result teaches the proofs: Lemke's Farkas vector checked in
+    floating point, and the answer itself (its direction, when it ran far
+    out along a ray or a near-null vector)."""
+    out = [sol.stats["farkas"]] if sol.stats.get("farkas") is not None else []
+    point = sol.z if isinstance(sol, LCPSolution) else sol.x
+    if point is not None and np.all(np.isfinite(point)):
+        out.append(point)
+    return out
+
+
+def prove_no_solution(problem, sol, time_limit=None, extra_hints=()):
+    """Turn a result into "infeasible" or "unbounded" when a Farkas vector or a
+    ray is found and checked in exact arithmetic (qpcontact.proofs): a proof
+    about the data as stored outranks a certificate, which speaks of nearby
+    data.  ``extra_hints``: what earlier methods of the same call learned."""
+
+    tried = hints(sol) + list(extra_hints)
+    proof = (prove_lcp_infeasible(problem, time_limit, tried) if isinstance(problem, LCP)
+             else prove_no_minimiser(problem, time_limit, tried))
+    if proof is None:
+        cert = sol.certificate
+        if (sol.ok and isinstance(problem, LCP) and cert.forward_error_known
+                and np.isfinite(cert.forward_error) and cert.forward_error >= 1.0):
+            # an exactly singular M within rounding of a solvable one: what
+            # the residuals certify is a solution of nearby data
+            sol.message += ("; with no digit guaranteed the data as stored may have no solution "
+                            "at all (a Farkas vector was sought and none could be checked "
+                            "exactly)")
+        elif sol.status == "ill_posed":
+            sol.message += ("; no Farkas vector or ray could be checked exactly, so nothing is "
+                            "proved either way")
+        return sol
+    before = (f"{sol.method} certified a point of nearby data (error {sol.error:.1e})" if sol.ok
+              else f"{sol.method} returned {sol.backend_status!r}")
+    sol.stats.update({"proof": proof, "proved_infeasible": proof.kind == "infeasible",
+                      "proved_unbounded": proof.kind == "unbounded"})
+    sol.status, sol.ok = proof.kind, False
+    sol.message = f"{proof.message} (found after {before})"
+    return sol

@@ -1,0 +1,228 @@
+"""Proofs that an LCP has no solution: a Farkas vector y >= 0 with M'y <= 0 and
+q'y < 0 (then y'(Mz + q) < 0 for every z >= 0, so no z >= 0 has Mz + q >= 0).
+
+:func:`prove_lcp_infeasible` finds one by the QP route's LP
+(:func:`qpcontact.proofs.qp_farkas.find_farkas`) and, for a symmetric M whose
+computed null space is wider than its exact one, modulo a prime; each is
+checked in exact arithmetic.  :func:`feasibility` is Lemke's test after a
+secondary ray, in floating point, each component on its own scale
+(FARKAS_RTOL): its message says "checked from the data" in that sense.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import scipy.sparse as sp
+
+from .exact import Proof, candidates, exact_farkas
+from .lp import LP_TIME_LIMIT, Deadline
+from .qp_farkas import find_farkas
+
+__all__ = ["prove_lcp_infeasible", "check_farkas_hint", "feasibility", "FARKAS_RTOL"]
+
+
+def prove_lcp_infeasible(lcp, time_limit: float | None = None, hints=()) -> Proof | None:
+    """A Farkas vector proving that no z >= 0 has Mz + q >= 0 (so LCP(M, q)
+    has no solution), checked in exact arithmetic, or None.
+
+    ``hints`` are vectors a method learned on the way — Lemke's Farkas vector
+    checked in floating point, or the direction of a huge answer (for a
+    symmetric PSD M the answer of nearly infeasible data runs along M's
+    near-null vector, which is the Farkas vector when the data are exactly
+    singular) — tried exactly first, before the LPs."""
+    n = lcp.n
+    M = sp.csr_matrix(lcp.M)
+    q = np.asarray(lcp.q, float)
+    for y in hints:
+        proof = check_farkas_hint(M, q, y)
+        if proof is not None:
+            return proof
+    tl = Deadline(min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT))
+    with np.errstate(all="ignore"):
+        proof = find_farkas(None, np.zeros(n), -M, q, None, None, np.zeros(n), None, tl)
+    if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric:
+        proof = _null_vector_farkas(M, q)
+    return proof
+
+
+#: how far (relative to each column's terms) a hint may miss M'y <= 0 in
+#: floating point and still be checked exactly
+_HINT_RTOL = 1e-6
+
+
+def check_farkas_hint(M, q, y) -> Proof | None:
+    """``y`` (its nonnegative part, and the same snapped to short rationals)
+    checked exactly as a Farkas vector of {z >= 0, Mz + q >= 0}, or None."""
+    y = np.maximum(np.nan_to_num(np.asarray(y, float).ravel(), nan=0.0, posinf=0.0, neginf=0.0),
+                   0.0)
+    top = float(y.max(initial=0.0))
+    if y.size != q.size or not top > 0:
+        return None
+    n = q.size
+    Mc = sp.csr_matrix(M)
+    y = y / top
+    # the exact checks cost O(nnz) rationals per candidate: only a vector
+    # that holds in floating point, to a loose tolerance, is worth them
+    Mty, scale = Mc.T @ y, abs(Mc).T @ y
+    if not (q @ y < 0 and np.all(Mty <= _HINT_RTOL * scale)):
+        return None
+    empty = sp.csr_matrix((0, n))
+    for cand in candidates(y):
+        proof = exact_farkas(-Mc, q, empty, np.zeros(0), np.zeros(n), np.full(n, np.inf),
+                             cand, n)
+        if proof is not None:
+            return proof
+    return None
+
+
+#: largest n for the modular null-vector route (O(n³) integer work mod p)
+_MODULAR_MAX_N = 400
+
+
+_PRIME = 2_147_483_629   # < 2^31: products of residues fit in int64
+
+
+def _null_vector_farkas(M, q) -> Proof | None:
+    """For symmetric M a Farkas vector y (y >= 0, M y <= 0, q'y < 0) of a
+    PSD M lies in M's null space.  When M is exactly singular but its
+    computed null space is wider (a second direction with singular value
+    1e-14 of the largest: an LP returns a mix that no snapping makes exact),
+    the exact null vector is found modulo a prime — M's doubles are integers
+    times a power of two — and read back as small rationals; the exact check
+    (exact_farkas) decides.  Only a one-dimensional null space mod p is
+    tried."""
+    n = M.shape[0]
+    A = M.toarray()
+    if not np.all(np.isfinite(A)) or not np.any(A):
+        return None
+    nz = A[A != 0]
+    emin = min(math.frexp(float(v))[1] for v in nz) - 53
+    # residues of the integers A / 2^emin, entry by entry (exact)
+    R = np.zeros((n, n), dtype=np.int64)
+    for i, j in zip(*np.nonzero(A)):
+        m, e = math.frexp(float(A[i, j]))
+        mant = int(m * (1 << 53))
+        R[i, j] = (mant % _PRIME) * pow(2, e - 53 - emin, _PRIME) % _PRIME
+    y = _null_mod_p(R)
+    if y is None:
+        return None
+    k = int(np.flatnonzero(y)[0])
+    inv = pow(int(y[k]), _PRIME - 2, _PRIME)
+    cand = []
+    for v in y:
+        r = _rational(int(v) * inv % _PRIME)
+        if r is None:
+            return None
+        cand.append(r)
+    if all(c <= 0 for c in cand):
+        cand = [-c for c in cand]
+    if any(c < 0 for c in cand):
+        return None
+    top = max(cand)
+    cand = [c / top for c in cand]
+    empty = sp.csr_matrix((0, n))
+    return exact_farkas(sp.csr_matrix(-M), q, empty, np.zeros(0), np.zeros(n),
+                         np.full(n, np.inf), cand, n)
+
+
+def _null_mod_p(R) -> np.ndarray | None:
+    """A basis vector of the null space of R mod p when it is one-dimensional."""
+    A = R.copy() % _PRIME
+    n = A.shape[0]
+    pivots, row = [], 0
+    for col in range(n):
+        nzr = np.flatnonzero(A[row:, col]) if row < n else np.zeros(0, int)
+        if nzr.size == 0:
+            continue
+        r = row + int(nzr[0])
+        A[[row, r]] = A[[r, row]]
+        inv = pow(int(A[row, col]), _PRIME - 2, _PRIME)
+        A[row] = A[row] * inv % _PRIME
+        others = np.flatnonzero(A[:, col])
+        others = others[others != row]
+        if others.size:
+            f = A[others, col][:, None]
+            A[others] = (A[others] - (f * A[row]) % _PRIME) % _PRIME
+        pivots.append(col)
+        row += 1
+        if row == n:
+            break
+    pivot_set = set(pivots)
+    free = [c for c in range(n) if c not in pivot_set]
+    if len(free) != 1:
+        return None
+    y = np.zeros(n, dtype=np.int64)
+    y[free[0]] = 1
+    for r, c in enumerate(pivots):
+        y[c] = (-A[r, free[0]]) % _PRIME
+    return y
+
+
+def _rational(a: int) -> Fraction | None:
+    """The fraction u/v with |u|, v <= sqrt(p/2) congruent to a mod p, if any."""
+    bound = math.isqrt(_PRIME // 2)
+    r0, r1, s0, s1 = _PRIME, a, 0, 1
+    while r1 > bound:
+        qt = r0 // r1
+        r0, r1 = r1, r0 - qt * r1
+        s0, s1 = s1, s0 - qt * s1
+    if s1 == 0 or abs(s1) > bound:
+        return None
+    return Fraction(r1, s1)
+
+
+#: Relative residual (each column against its own terms) below which a Farkas
+#: vector or a feasible point from an LP is accepted as checked from the data.
+FARKAS_RTOL = 1e-12
+
+
+def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) -> tuple[bool | None, dict]:
+    """Whether {z >= 0, Mz + q >= 0} is nonempty, with evidence checked from the data.
+
+    Returns (False, {"farkas": y}) when y >= 0 with M'y <= 0 and q'y < 0 was
+    found (Farkas: then no z >= 0 has Mz + q >= 0, since y'(Mz + q) < 0);
+    (True, {"point": z}) for a feasible z; (None, {...}) when neither could be
+    checked.  The LPs run on the Ruiz-scaled data (R M C, R q; y = R y',
+    z = C z'), and their answers are accepted only when every component holds
+    on its own scale to FARKAS_RTOL: (M'y)_j <= FARKAS_RTOL (|M|'y)_j and
+    q'y < -FARKAS_RTOL |q|'y; (Mz + q)_i >= -FARKAS_RTOL (|M||z| + |q|)_i.
+    An LP's word alone is never a proof: on data spanning 1e-300..1e300 HiGHS
+    called a solvable problem infeasible (issue 14).
+    """
+    from scipy.optimize import linprog
+
+    n = q.size
+    if sp.issparse(M):
+        M = sp.csr_matrix(M)
+        Ms = sp.csr_matrix(sp.diags(rs) @ M @ sp.diags(cs))
+        absM = abs(M)
+    else:
+        Ms = M * rs[:, None] * cs[None, :]
+        absM = np.abs(M)
+    qs = q * rs
+    # Positive scalars change no sign: the LPs see max|M| = max|q| = 1, and
+    # z = C (b/a) z'' maps their point back.
+    a = float(abs(Ms).max()) or 1.0
+    b = float(np.max(np.abs(qs))) or 1.0
+    Ms, qs = Ms / a, qs / b
+    # Farkas: min qs'y' over y' >= 0, Ms'y' <= 0, sum(y') = 1.
+    res = linprog(qs, A_ub=Ms.T, b_ub=np.zeros(n), A_eq=np.ones((1, n)), b_eq=[1.0],
+                  bounds=(0, None), method="highs")
+    if res.status == 0 and res.fun < 0:
+        y = np.maximum(res.x * rs, 0.0)
+        My, scale = M.T @ y, absM.T @ y
+        qy, qscale = float(q @ y), float(np.abs(q) @ y)
+        bad = np.maximum(My, 0.0) > FARKAS_RTOL * scale
+        if not bad.any() and qy < -FARKAS_RTOL * qscale:
+            return False, {"farkas": y}
+    # A feasible point: z'' >= 0 with Ms z'' + qs >= 0.
+    res = linprog(np.zeros(n), A_ub=-Ms, b_ub=qs, bounds=(0, None), method="highs")
+    if res.status == 0:
+        z = np.maximum(res.x * cs * (b / a), 0.0)
+        w = M @ z + q
+        if np.all(np.isfinite(w)) and np.all(w >= -FARKAS_RTOL * (absM @ z + np.abs(q))):
+            return True, {"point": z}
+    return None, {"reason": "the LPs gave no answer that checks against the data"}

@@ -1,0 +1,101 @@
+"""Nonsmooth Gauss–Seidel (Siconos's NSGS workhorse)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from ...core.errors import InvalidOptionError
+from ...judge.friction_certificate import certified_error
+
+__all__ = ["solve_nsgs", "NSGS"]
+
+
+class NSGS:
+    """The sweeps' state on one problem: W in CSR, its diagonal blocks, the
+    iterate ``r`` and the sweeps ``done``; ``omega`` over-relaxes each local
+    solution (then projected back onto the cone)."""
+
+    def __init__(self, problem, r0=None, *, omega=1.0, local_rtol=1e-14, max_local=200):
+        d, nc = problem.dim, problem.n_contacts
+        if not 0.0 < omega < 2.0:
+            raise InvalidOptionError(f"'nsgs': omega must be in (0, 2); got {omega}")
+        W = sp.csr_matrix(problem.W)
+        W.sum_duplicates()
+        # the diagonal blocks gathered in one pass: slicing W per contact cost
+        # 9 ms a step on a 120-contact drum pile, more than its sweeps
+        rows = np.repeat(np.arange(W.shape[0]), np.diff(W.indptr))
+        own = rows // d == W.indices // d
+        self.blocks = np.zeros((nc, d, d))
+        self.blocks[rows[own] // d, rows[own] % d, W.indices[own] % d] = W.data[own]
+        self.W, self.indices = W, W.indices.astype(np.int64)
+        self.problem, self.omega = problem, float(omega)
+        self.local_rtol, self.max_local = float(local_rtol), int(max_local)
+        self.done = 0
+        self.restart(np.zeros(d * nc) if r0 is None else r0)
+
+    def restart(self, r):
+        r = np.array(r, float).ravel()
+        size = self.problem.dim * self.problem.n_contacts
+        if r.shape != (size,):
+            raise InvalidOptionError(f"'nsgs': r0 must have {size} entries; got {r.size}")
+        self.r = r
+
+    def sweep(self, n: int) -> np.ndarray:
+        from ._nsgs_kernels import sweeps   # numba: imported when a sweep runs, not with the registry
+
+        p = self.problem
+        sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r, self.blocks,
+               int(n), self.local_rtol, self.max_local, self.omega)
+        self.done += int(n)
+        return self.r
+
+
+def solve_nsgs(problem, tol, options):
+    """Nonsmooth Gauss–Seidel (Siconos's NSGS; :mod:`qpcontact._nsgs_kernels`):
+    sweeps over the contacts, each solving its local problem with the
+    others frozen — exactly in 2-D, by a local projected fixed point in 3-D.
+    Options: ``max_sweeps`` (10 000), ``check_every`` (10 sweeps between
+    error checks), ``r0``, ``omega`` (over-relaxation, 1), ``local_rtol``
+    (1e-14), ``max_local`` (200 local iterations), ``time_limit`` (s).  Stops when both error
+    measures are <= tol, or when the best error has not improved for 100
+    checks; returns the best iterate.  No convergence guarantee (Coulomb
+    friction is not a minimisation): the certificate decides."""
+    options = dict(options)
+    max_sweeps = int(options.pop("max_sweeps", 10_000))
+    every = max(1, int(options.pop("check_every", 10)))
+    local = dict(local_rtol=float(options.pop("local_rtol", 1e-14)),
+                 max_local=int(options.pop("max_local", 200)),
+                 omega=float(options.pop("omega", 1.0)))
+    r0 = options.pop("r0", None)
+    time_limit = options.pop("time_limit", None)
+    if options:
+        raise InvalidOptionError(f"'nsgs' does not take {', '.join(sorted(options))}; its options "
+                                 "are max_sweeps, check_every, r0, omega, local_rtol, max_local, "
+                                 "time_limit")
+    start = time.perf_counter()
+    gs = NSGS(problem, r0, **local)
+    best, best_r, since = np.inf, gs.r.copy(), 0
+    why = f"stopped at {max_sweeps} sweeps"
+    while gs.done < max_sweeps:
+        r = gs.sweep(every)
+        err = certified_error(problem, r)
+        if err < best:
+            best, best_r, since = err, r.copy(), 0
+        else:
+            since += 1
+        if best <= tol:
+            why = "reached the tolerance"
+        elif since >= 100:
+            why = "stalled (no better iterate in 100 checks)"
+        elif not np.all(np.isfinite(r)):
+            why = "stopped: the iterate is no longer finite"
+        elif time_limit is not None and time.perf_counter() - start > time_limit:
+            why = f"stopped at its time limit of {time_limit:g} s"
+        else:
+            continue
+        break
+    return best_r, "solved" if best <= tol else "stopped", \
+        f"NSGS {why} after {gs.done} sweeps", {"iterations": gs.done}

@@ -1,0 +1,239 @@
+"""The command line, run as a user would (typer's runner)."""
+
+from __future__ import annotations
+
+from typer.testing import CliRunner
+
+from qpcontact.commands.cli import app
+from tests.helpers.paths import data_dir
+
+runner = CliRunner()
+
+
+def test_methods_table():
+    res = runner.invoke(app, ["methods"])
+    assert res.exit_code == 0
+    for name in ("osqp", "clarabel", "proxqp", "daqp", "piqp", "highs", "quadprog", "cvxpy:CLARABEL"):
+        assert name in res.output
+
+
+def test_solve_file(siconos_dir):
+    res = runner.invoke(app, ["solve", str(siconos_dir / "lcp_deudeu.dat"), "--method", "daqp"])
+    assert res.exit_code == 0, res.output
+    assert "solved" in res.output and "siconos_error" in res.output and "1.3333333333" in res.output
+
+
+def test_solve_reports_misuse_without_traceback(siconos_dir):
+    res = runner.invoke(app, ["solve", str(siconos_dir / "lcp_CPS_2.dat"), "--method", "osqp"])
+    assert res.exit_code == 2 and "lemke" in res.output and "Traceback" not in res.output
+    res = runner.invoke(app, ["solve", str(siconos_dir / "lcp_deudeu.dat"), "--accuracy", "ultra"])
+    assert res.exit_code == 2 and "unknown accuracy" in res.output
+
+
+def test_solve_friction_files(tmp_path):
+    """A friction problem written with write_fclib (no shared data needed),
+    then the same through a Siconos .dat file when the collection is here."""
+    import numpy as np
+
+    from qpcontact.core.friction_problem import FrictionProblem
+    from qpcontact.io import write_fclib
+
+    # one contact, W = I, q = (-1, 2, 0), mu = 0.5: it slides with r = (1, -0.5, 0)
+    path = write_fclib(FrictionProblem(np.eye(3), [-1.0, 2.0, 0.0], [0.5], 3), tmp_path / "one.hdf5")
+    res = runner.invoke(app, ["solve", str(path)])
+    assert res.exit_code == 0, res.output
+    out = " ".join(res.output.split())
+    assert "natural-map error" in out and "status solved" in out
+    import re
+    r = [float(v) for v in re.search(r"r = \[([^\]]*)\]", out).group(1).split()]
+    np.testing.assert_allclose(r, [1.0, -0.5, 0.0], atol=1e-8)
+    res = runner.invoke(app, ["solve", str(path), "--method", "anitescu"])
+    assert res.exit_code == 1 and "inaccurate" in " ".join(res.output.split())   # it lifts off
+    res = runner.invoke(app, ["solve", str(path), "--method", "pgs"])
+    assert res.exit_code == 2 and "no method named 'pgs'" in " ".join(res.output.split())
+    assert "Traceback" not in res.output
+
+
+def test_solve_siconos_friction_dat():
+    import pytest
+
+    folder = data_dir("siconos-fc")
+    f = folder / "FC2D_SliderCrankLagrangian00000.dat"
+    if not f.exists():
+        pytest.skip(f"Siconos friction data not found at {f.parent}")
+    res = runner.invoke(app, ["solve", str(f)])
+    assert res.exit_code == 0, res.output
+    assert "dim 2" in res.output and "exact 2-D LCP" in " ".join(res.output.split())
+
+
+def test_solve_refuses_a_file_with_trailing_garbage(tmp_path):
+    """Issue 31: the CLI solved such a file and said nothing."""
+    for tail, fragment in ((" 7\n", "more number"), ("\nleft over text\n", "text 'left'"),
+                           ("\n\x00\x01", "binary data")):
+        path = tmp_path / "deudeu_tail.dat"
+        path.write_text("2\n0 2 2\n2 2\n2 1\n1 2\n-5 -6" + tail)
+        res = runner.invoke(app, ["solve", str(path), "--method", "lemke"])
+        out = " ".join(res.output.split())
+        assert res.exit_code == 2, out
+        assert "deudeu_tail.dat" in out and "line" in out and fragment in out, out
+
+
+# -- issue 36: commands that fail loudly, help read from the registries ----------------------
+
+def _words(text: str) -> str:
+    return " ".join(text.split())
+
+
+def _listed(output: str, option: str) -> list[str]:
+    """The names an option's help lists after "from:" (up to "or"/"(")."""
+    block = _words(output.split(option, 1)[1].split("\n --", 1)[0])
+    names = block.split("from:", 1)[1].split("(", 1)[0].replace(" or ", ", ")
+    return [n.strip(" ,.") for n in names.split(",") if n.strip(" ,.") and ":" not in n]
+
+
+def _installed_formulations() -> set[str]:
+    """Read independently of the CLI: the entry points that build compare
+    instances, and the two data sets compare reads."""
+    from importlib.metadata import entry_points
+
+    return {ep.name for ep in entry_points(group="qpcontact.formulations")
+            if hasattr(ep.load(), "instances")} | {"siconos", "friction"}
+
+
+def test_help_lists_the_formulations_and_methods_accepted():
+    """Issue 36: --help listed four formulations where six were accepted."""
+    from qpcontact.commands.stress import FAMILIES
+    from qpcontact.solvers.registry import methods
+
+    res = runner.invoke(app, ["compare", "--help"])
+    assert res.exit_code == 0, res.output
+    assert set(_listed(res.output, "--formulations")) == _installed_formulations()
+    installed = {n for n, m in methods().items() if m.family != "cvxpy"} | {"auto"}
+    assert set(_listed(res.output, "--methods")) == installed
+    res = runner.invoke(app, ["stress", "--help"])
+    assert res.exit_code == 0, res.output
+    assert _listed(res.output, "--families") == list(FAMILIES)
+
+
+def test_help_lines_are_whole_sentences_rewrapped():
+    """Each command's summary is a whole sentence (not cut with "..."), and a
+    paragraph's lines are filled to the width, not broken where the
+    docstring's lines were (rich kept "an HDF5 file," alone on a line)."""
+    res = runner.invoke(app, ["--help"], terminal_width=80)
+    commands = res.output.split("Commands:")[1].strip().splitlines()
+    assert len(commands) == 8
+    for line in commands:
+        assert line.rstrip().endswith(".") and not line.rstrip().endswith("..."), line
+    for command in ("methods", "solve", "simulate", "sweep", "plot", "demo", "compare", "stress"):
+        out = runner.invoke(app, [command, "--help"], terminal_width=80).output
+        description = out.split("\n\n", 1)[1].split("Options:")[0] if "Arguments" not in out else \
+            out.split("\n\n", 1)[1].split("Arguments:")[0]
+        for paragraph in description.strip().split("\n\n"):
+            lines = paragraph.splitlines()
+            for line, following in zip(lines, lines[1:]):
+                first_word = following.split()[0]
+                assert len(line) + 1 + len(first_word) > 78, (command, line, following)
+
+
+def test_unknown_formulation_method_family_or_accuracy_exits_2_with_the_valid_names():
+    """Issue 36: `compare --formulations typo` ran nothing and exited 0."""
+    from qpcontact.commands.stress import FAMILIES
+    from qpcontact.solvers.registry import methods
+
+    installed = sorted(methods())
+    cases = [
+        (["compare", "--quick", "--formulations", "drum,typo"], "formulation 'typo'",
+         sorted(_installed_formulations())),
+        (["compare", "--quick", "--methods", "lemke,lemk"], "method 'lemk'", installed),
+        (["stress", "--quick", "--families", "spdd"], "family 'spdd'", list(FAMILIES)),
+        (["stress", "--quick", "--methods", "osqpp"], "method 'osqpp'", installed),
+        (["demo", "--accuracy", "ultra"], "accuracy 'ultra'", ["'low'", "'default'", "'high'"]),
+    ]
+    for args, named, valid in cases:
+        res = runner.invoke(app, args)
+        out = _words(res.output)
+        assert res.exit_code == 2, (args, out)
+        assert named in out and "Traceback" not in out, (args, out)
+        assert all(v in out for v in valid), (args, [v for v in valid if v not in out])
+    res = runner.invoke(app, ["stress", "--quick", "--sizes", "6,x"])
+    assert res.exit_code == 2 and "--sizes" in res.output
+
+
+def test_an_unknown_method_in_solve_lists_the_installed_ones(tmp_path):
+    from qpcontact.solvers.registry import methods
+
+    path = tmp_path / "deudeu.dat"
+    path.write_text("2\n0 2 2\n2 2\n2 1\n1 2\n-5 -6\n")
+    res = runner.invoke(app, ["solve", str(path), "--method", "lemk"])
+    out = _words(res.output)
+    assert res.exit_code == 2 and "no method named 'lemk'" in out
+    assert all(name in out for name in methods())
+
+
+def test_options_that_leave_nothing_to_run_exit_2(tmp_path):
+    """A command that would do nothing says why and exits non-zero."""
+    res = runner.invoke(app, ["compare", "--quick", "--formulations", "drum", "--methods", "nsgs",
+                              "-o", str(tmp_path / "compare")])
+    assert res.exit_code == 2 and "nothing to run" in _words(res.output), res.output
+    res = runner.invoke(app, ["stress", "--quick", "--families", "spd", "--methods", "nsgs",
+                              "-o", str(tmp_path / "stress")])
+    assert res.exit_code == 2 and "nothing to run" in _words(res.output), res.output
+
+
+def test_missing_data_says_where_it_looked_and_how_to_point_at_it(tmp_path, monkeypatch):
+    """The data sets were looked for relative to the current folder and
+    skipped silently elsewhere (issue 36)."""
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    monkeypatch.chdir(tmp_path)
+    res = runner.invoke(app, ["compare", "--quick", "--formulations", "siconos", "--data", str(empty)])
+    out = _words(res.output)
+    assert res.exit_code == 2, out
+    assert str(empty / "siconos-lcp") in out and "QPCONTACT_DATA" in out and "--data" in out, out
+    res = runner.invoke(app, ["compare", "--quick", "--formulations", "friction",
+                              "--data", str(tmp_path / "nowhere")])
+    assert res.exit_code == 2 and str(tmp_path / "nowhere") in _words(res.output)
+    res = runner.invoke(app, ["stress", "--quick", "--families", "siconos", "--data", str(empty)])
+    assert res.exit_code == 2 and str(empty / "siconos-lcp") in _words(res.output)
+    res = runner.invoke(app, ["compare", "--quick", "--formulations", "siconos",
+                              "--siconos", str(tmp_path / "nowhere")])
+    assert res.exit_code == 2 and str(tmp_path / "nowhere") in _words(res.output)
+
+
+def test_data_found_from_any_folder_by_qpcontact_data(tmp_path, monkeypatch):
+    """QPCONTACT_DATA points at the data sets; the checkout's ../shared/data
+    is found wherever the command runs from."""
+    import csv
+    from pathlib import Path
+
+    import qpcontact
+    from qpcontact.core.files import data_locations
+
+    data = tmp_path / "data" / "siconos-lcp"
+    data.mkdir(parents=True)
+    (data / "deudeu.dat").write_text("2\n0 2 2\n2 2\n2 1\n1 2\n-5 -6\n")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    monkeypatch.setenv("QPCONTACT_DATA", str(tmp_path / "data"))
+    checkout_data = Path(qpcontact.__file__).resolve().parents[1].parent / "shared" / "data"
+    assert data_locations("siconos-lcp")[:2] == [data, checkout_data / "siconos-lcp"]
+    res = runner.invoke(app, ["compare", "--quick", "--formulations", "siconos",
+                              "--methods", "lemke", "-o", "out"])
+    assert res.exit_code == 0, res.output
+    with open(elsewhere / "out" / "results.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {r["instance"] for r in rows} == {"siconos/deudeu"}
+    assert all(r["success"] == "True" for r in rows)
+
+
+def test_solve_prints_integer_fields_as_integers(tmp_path):
+    """Issue 36: worst_index printed as 0.000e+00."""
+    import re
+
+    path = tmp_path / "deudeu.dat"
+    path.write_text("2\n0 2 2\n2 2\n2 1\n1 2\n-5 -6\n")
+    res = runner.invoke(app, ["solve", str(path), "--method", "lemke"])
+    assert res.exit_code == 0, res.output
+    assert re.search(r"^\s+worst_index\s+-?\d+$", res.output, re.M), res.output
+    assert re.search(r"^\s+error\s+ \d\.\d{3}e[+-]\d\d$", res.output, re.M), res.output

@@ -1,0 +1,110 @@
+"""Bad input gets the documented exception, with a message that says what is
+wrong (issue 16's list of raw exceptions), and "auto" neither gives up on valid
+input nor wanders past a proof."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import qpcontact
+from qpcontact import LCP, InvalidOptionError, InvalidProblemError, NoSolutionError
+from qpcontact.core.errors import NotConvexError
+from qpcontact.io import read_siconos_lcp
+from qpcontact.solvers.registry import _REGISTRY, get_method
+from qpcontact.dispatch import lcp_qp_run as lcp_qp
+
+
+def test_ragged_matrix_is_an_invalid_problem():
+    with pytest.raises(InvalidProblemError, match="rectangular"):
+        LCP([[1.0, 2.0], [3.0]], [1.0, 2.0])
+    with pytest.raises(InvalidProblemError, match="q"):
+        LCP(np.eye(2), [[1.0], [2.0, 3.0]])
+
+
+@pytest.mark.parametrize("method", [None, 3, ["lemke"]])
+def test_method_must_be_a_name(method):
+    with pytest.raises(InvalidOptionError, match="method must be a string"):
+        qpcontact.solve(LCP(np.eye(2), [-1.0, -1.0]), method=method)
+
+
+@pytest.mark.parametrize("method, option, value", [
+    ("lemke", "max_pivots", "abc"), ("lemke", "max_pivots", None), ("lemke", "max_pivots", 2.5),
+    ("lemke", "max_pivots", -1), ("lemke", "restarts", "x"), ("lemke", "restarts", True),
+    ("lemke", "seed", "x"), ("energy", "max_pivots", "abc"), ("bpp", "max_iter", "x"),
+    ("bpp", "patience", None),
+])
+def test_option_values_of_the_wrong_type(method, option, value):
+    with pytest.raises(InvalidOptionError, match=option):
+        qpcontact.solve(LCP(np.eye(2) * 2, [-1.0, -1.0]), method=method, **{option: value})
+
+
+def test_integral_floats_and_numpy_ints_are_accepted():
+    lcp = LCP(np.eye(2) * 2, [-1.0, -1.0])
+    assert qpcontact.solve(lcp, method="lemke", max_pivots=100.0, restarts=np.int64(2)).ok
+
+
+def test_siconos_file_paths_and_sizes(tmp_path):
+    with pytest.raises(InvalidProblemError, match="directory"):
+        read_siconos_lcp(tmp_path)
+    with pytest.raises(InvalidProblemError, match="no such file"):
+        read_siconos_lcp(tmp_path / "missing.dat")
+    # a header announcing n = 1e5 dense (80 GB) in a file of a few bytes: refused
+    # before anything is allocated, saying what the header claims
+    f = tmp_path / "huge.dat"
+    f.write_text("100000 0 100000 100000 100000 100000 1 2 3\n")
+    with pytest.raises(InvalidProblemError, match="announces 10000000000 values"):
+        read_siconos_lcp(f)
+
+
+def test_auto_stops_at_a_proof_of_infeasibility():
+    """M = 0, q = -1 and an infeasible PSD LCP: Lemke's Farkas vector ends the
+    chain (no backend loop), and raise_on_failure says there is no solution."""
+    with pytest.raises(NoSolutionError, match="Farkas"):
+        qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), raise_on_failure=True)
+    sol = qpcontact.solve(LCP(np.array([[1.0, -1.0], [-1.0, 1.0]]), [-1.0, -1.0]))
+    assert sol.status == "ray" and sol.stats["proved_infeasible"]
+    assert [t[0] for t in sol.stats["auto_tried"]] == ["lemke"]
+
+
+def _lemke_without_its_own_proof(monkeypatch):
+    """Register a "lemke" whose rays never claim a proof themselves."""
+    original = get_method("lemke")
+
+    def run(problem, tol, options):
+        res = original.run(problem, tol, options)
+        res.stats["proved_infeasible"] = False
+        return res
+
+    monkeypatch.setitem(_REGISTRY, "lemke", dataclasses.replace(original, run=run))
+
+
+def test_unproved_ray_is_not_called_no_solution(monkeypatch):
+    _lemke_without_its_own_proof(monkeypatch)
+    # and no proof found afterwards either (on these data one exists: the
+    # engine's own search finds it from Lemke's vector, tested below)
+    monkeypatch.setattr(lcp_qp, "prove_lcp_infeasible", lambda *a, **k: None)
+    with pytest.raises(qpcontact.SolverFailedError):
+        qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), method="lemke", raise_on_failure=True)
+
+
+def test_a_ray_with_a_farkas_vector_is_proved_by_the_engine_exactly(monkeypatch):
+    """Lemke's own word dropped, the engine checks the vector it found in
+    exact arithmetic and proves it."""
+    _lemke_without_its_own_proof(monkeypatch)
+    sol = qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), method="lemke")
+    assert sol.status == "infeasible" and "exact rational" in sol.message
+
+
+def test_auto_goes_on_when_a_method_finds_the_matrix_unfit_mid_run(monkeypatch):
+    """A block that is not numerically positive definite is found only while
+    factorizing; "auto" must try the next method, not pass the error on."""
+    def refuse(problem, tol, options):
+        raise NotConvexError("'energy' met an active block that is not numerically positive definite")
+
+    monkeypatch.setitem(_REGISTRY, "energy", dataclasses.replace(get_method("energy"), run=refuse))
+    sol = qpcontact.solve(LCP(np.eye(3) * 2, [-1.0, 1.0, -2.0]))
+    assert sol.ok and sol.method == "bpp"
+    assert sol.stats["auto_tried"][0][0] == "energy" and "skipped" in sol.stats["auto_tried"][0][1]
