@@ -25,7 +25,7 @@ __version__ = "0.1.0"
 #: the engine costs what it uses (tests/package/test_import_cost.py).
 _DEFINED_IN = {
     "LCP": "core.problems", "ParametricLCP": "core.problems",
-    "FrictionProblem": "friction.problem",
+    "FrictionProblem": "core.friction_problem",
     "qp_to_lcp": "core.conversions", "DualLCP": "core.conversions",
     "solve": "dispatch.driver", "solve_friction": "dispatch.driver",
     "certify": "judge.certify",
@@ -34,15 +34,15 @@ _DEFINED_IN = {
     "Method": "solvers.method",
     "Solution": "core.results", "LCPSolution": "core.results", "QPSolution": "core.results",
     "FrictionSolution": "core.results", "MethodResult": "core.results",
-    "LCPCertificate": "judge.lcp", "QPCertificate": "judge.qp",
-    "FrictionCertificate": "friction.measures",
+    "LCPCertificate": "judge.lcp_certificate", "QPCertificate": "judge.qp_certificate",
+    "FrictionCertificate": "judge.friction_certificate",
     "LEVELS": "core.accuracy", "STATUSES": "core.results",
     **dict.fromkeys(("QpcontactError", "InvalidProblemError", "NotSymmetricError", "NotConvexError",
-                     "InvalidOptionError", "UnknownMethodError", "BackendUnavailableError",
+                     "NoApplicableMethodError", "InvalidOptionError", "UnknownMethodError", "BackendUnavailableError",
                      "NoSolutionError", "SolverFailedError"), "core.errors"),
 }
-_SUBPACKAGES = ("cases", "commands", "core", "dispatch", "friction", "io", "judge", "plots",
-                "proofs", "scenes", "solvers", "testing")
+_SUBPACKAGES = ("cases", "commands", "core", "dispatch", "io", "judge", "plots", "proofs",
+                "scenes", "solvers", "testing")
 
 __all__ = list(_DEFINED_IN)
 

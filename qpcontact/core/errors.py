@@ -15,6 +15,7 @@ __all__ = [
     "InvalidProblemError",
     "NotSymmetricError",
     "NotConvexError",
+    "NoApplicableMethodError",
     "InvalidOptionError",
     "UnknownMethodError",
     "BackendUnavailableError",
@@ -38,6 +39,13 @@ class NotSymmetricError(QpcontactError, ValueError):
 
 class NotConvexError(QpcontactError, ValueError):
     """The method needs a (semi)definite matrix and the matrix is not."""
+
+
+class NoApplicableMethodError(QpcontactError, ValueError):
+    """No installed method applies to the problem: none solves its kind, or
+    each refuses its structure (a nonsymmetric or indefinite M, a size beyond
+    its limit).  The message lists what was considered; `qpcontact methods`
+    says what each method requires and how to install the missing ones."""
 
 
 class InvalidOptionError(QpcontactError, ValueError):

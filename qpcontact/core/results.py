@@ -44,8 +44,9 @@ STATUSES = {
                   "the proof is in stats['proof']",
     "unbounded": "a QP's objective falls without bound along a ray checked from the data "
                  "(stats['proof'])",
-    "ray": "a pivoting method ended on a secondary ray: a proof that no solution exists only "
-           "with stats['proved_infeasible'] (a checked Farkas vector), otherwise nothing",
+    "ray": "a pivoting method ended on a secondary ray and nothing is proved (where a Farkas "
+           "vector was checked from the data the status is \"infeasible\", whichever method "
+           "found it)",
     "max_pivots": "a pivoting method reached its pivot or piece limit",
 }
 

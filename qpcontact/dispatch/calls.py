@@ -1,20 +1,22 @@
-"""Calling a method: its time limit, in a child process where it cannot honour
-one itself, with the engine passed to methods that solve sub-problems."""
+"""Calling a method: the time its run context leaves it, in a child process
+where it cannot honour a time limit itself, with the engine passed to
+methods that solve sub-problems."""
 
 from __future__ import annotations
 
 import inspect
 
-from ..core.errors import InvalidOptionError
 from ..core.results import MethodResult
 from ..solvers.method import Method
 from ..solvers.registry import get_method
 
-__all__ = ["DEFAULT_TIME_LIMIT", "BACKEND_FAMILIES", "call", "check_time_limit", "takes_keyword"]
+__all__ = ["DEFAULT_TIME_LIMIT", "BACKEND_FAMILIES", "call", "takes_keyword"]
 
-#: Seconds a backend call may take (``solve(..., time_limit=)``), enforced by
-#: the backend's own setting where it has one and by a killable child process
-#: for ProxQP (qpcontact.dispatch.isolation).  The slowest certified backend call in the
+#: Seconds a ``solve`` call may take by default (``solve(..., time_limit=)``:
+#: wall time for the whole call), enforced by the backends' own settings where
+#: they have one, by a killable child process for those that do not (ProxQP;
+#: qpcontact.dispatch.isolation) and by the in-house methods' and proofs'
+#: checks of the deadline.  The slowest certified backend call in the
 #: benchmarks (PIQP, n = 1e5 membrane) took 9 s; the hangs it cuts took 59 s
 #: to more than 120 s on problems of n <= 8.
 DEFAULT_TIME_LIMIT = 60.0
@@ -43,25 +45,27 @@ def _isolated_run(name, target, tol, options, time_limit):
     return _run_with_limit(get_method(name), target, tol, options, time_limit)
 
 
-def call(m: Method, target, tol_backend, options, time_limit, isolate, engine=None
-         ) -> MethodResult:
-    """The method's call, with the time limit and isolation of :func:`solve`;
+def call(m: Method, target, options, ctx, engine=None) -> MethodResult:
+    """The method's call within the run context ``ctx``
+    (:class:`~qpcontact.dispatch.context.RunContext`): it is asked for
+    ``ctx.tol_backend`` and given the seconds left as ``time_limit=``;
     ``engine`` is passed to the methods that solve sub-problems through it."""
+    time_limit, tol = ctx.seconds(), ctx.tol_backend
     if m.family not in BACKEND_FAMILIES:
         kw = {}
         if engine is not None and takes_keyword(m.run, "engine"):
             kw["engine"] = engine
         if time_limit is not None and takes_keyword(m.run, "time_limit"):
             kw["time_limit"] = time_limit      # an in-house method that watches the clock
-        return m.run(target, tol_backend, options, **kw)
-    if isolate is True or (isolate == "auto" and time_limit is not None and m.needs_isolation):
+        return m.run(target, tol, options, **kw)
+    if ctx.isolate is True or (ctx.isolate == "auto" and time_limit is not None
+                               and m.needs_isolation):
         from .isolation import call_isolated
 
-        # the backend's own limit first; the kill a moment later — but within
-        # half the limit again, so that a call stays inside 1.5 x its limit
-        # (qpcontact stress flags solves beyond that)
-        hard = None if time_limit is None else 1.2 * time_limit + min(2.0, 0.1 * time_limit)
-        out = call_isolated(_isolated_run, (m.name, target, tol_backend, options, time_limit), hard)
+        # the backend's own limit first; the kill at the deadline plus half
+        # the stated grace, for a backend that does not keep it
+        out = call_isolated(_isolated_run, (m.name, target, tol, options, time_limit),
+                            ctx.kill_after())
         if out is not None:
             if out.kind == "ok":
                 # timed in the child: the fork is not the backend's cost
@@ -69,25 +73,13 @@ def call(m: Method, target, tol_backend, options, time_limit, isolate, engine=No
                 return out.value
             if out.kind == "error":
                 raise out.value
-            words = (f"stopped: no answer within the time limit of {time_limit:g} s "
-                     f"({out.detail}); raise time_limit= or try another method"
+            limit = "" if ctx.time_limit is None else f" of {ctx.time_limit:g} s"
+            words = (f"stopped: no answer within the time limit{limit} ({out.detail}); raise "
+                     "time_limit= or try another method"
                      if out.kind == "time_limit" else
                      f"{out.detail}; the backend crashed on these data (the caller survived "
                      "because it ran isolated); try another method or rescale the data")
             return MethodResult(x=None, backend_status=out.kind, backend_message=words,
                                 status="time_limit" if out.kind == "time_limit" else None,
                                 stats={"isolated": True})
-    return _run_with_limit(m, target, tol_backend, options, time_limit)
-
-
-def check_time_limit(time_limit):
-    if time_limit is None:
-        return None
-    try:
-        value = float(time_limit)
-    except (TypeError, ValueError):
-        value = float("nan")
-    if isinstance(time_limit, bool) or not value > 0:
-        raise InvalidOptionError(
-            f"time_limit must be a positive number of seconds or None; got {time_limit!r}")
-    return value
+    return _run_with_limit(m, target, tol, options, time_limit)

@@ -1,32 +1,31 @@
 """``solve``: one entry point for every problem kind and every method.
 
-Every kind goes the same way: the problem is validated, the accuracy ladder
-gives the tolerance (:mod:`qpcontact.core.accuracy`), the method comes from
-the one registry — or "auto" tries the kind's methods in order until one is
-certified or no solution is proved — and every answer is certified from the
-data, whatever the method says (:mod:`qpcontact.judge`).  The kinds differ
-only in how one run goes: :mod:`.lcp_qp` (LCPs and QPs, with proofs where an
-answer is in doubt), :mod:`.friction` (frictional contact), and the load
-trace, which certifies its pieces itself.
+Every kind goes the same way: the problem is validated, the call's run
+context is made once (:mod:`.context`: the accuracy ladder's tolerances, the
+deadline, isolation), the method comes from the one registry — or "auto"
+tries the kind's methods in order until one is certified or no solution is
+proved — and every answer is certified from the data, whatever the method
+says (:mod:`qpcontact.judge`).  The kinds differ only in how one run goes:
+:mod:`.lcp_qp_run` (LCPs and QPs, with proofs where an answer is in doubt),
+:mod:`.friction_run` (frictional contact), and the load trace, which
+certifies its pieces itself.
 """
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
-from ..core.accuracy import resolve_accuracy
 from ..core.conversions import check_convex, is_qp, validate_qp
 from ..core.errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
-                           NoSolutionError, NotConvexError, NotSymmetricError, SolverFailedError,
-                           UnknownMethodError)
+                           NoApplicableMethodError, NoSolutionError, NotConvexError,
+                           NotSymmetricError, SolverFailedError, UnknownMethodError)
 from ..core.problems import LCP, ParametricLCP
 from ..core.results import PROVED
 from ..core.friction_problem import FrictionProblem
 from ..solvers.method import PROBLEM_KINDS
 from ..solvers.registry import get_method
-from .calls import DEFAULT_TIME_LIMIT, check_time_limit
+from .calls import DEFAULT_TIME_LIMIT
+from .context import RunContext
 from .friction_run import check_friction_method, run_friction, run_friction_auto
 from .lcp_qp_run import doubtful, hints, prove_no_solution, run_lcp_qp
 from .routes import applicable, auto_order, kind_of
@@ -36,32 +35,34 @@ __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]
 
 class Engine:
     """What a method that solves sub-problems is given (``engine=``): the
-    engine's own :func:`solve`, at the accuracy, time limit and isolation of
-    the call that runs it — the trace's Lemke solves, the friction fixed
-    points' 2-D QPs, the faceted LCP of a frictional problem.  Methods never
-    import the dispatcher."""
+    engine's own :func:`solve` within the run context of the call that runs
+    it — the trace's Lemke solves, the friction fixed points' 2-D QPs, the
+    faceted LCP of a frictional problem.  A sub-solve keeps the caller's
+    deadline (a ``time_limit=`` of its own can only shorten it), so the whole
+    call stays within the user's limit.  Methods never import the
+    dispatcher."""
 
-    def __init__(self, accuracy, time_limit, isolate):
-        self.accuracy, self.time_limit, self.isolate = accuracy, time_limit, isolate
+    def __init__(self, ctx: RunContext):
+        self.ctx = ctx
 
-    def solve(self, problem, method: str, *, prove: bool = True, **kw):
-        """``prove=False``: one named method's certified answer to an LCP,
-        without the search for a proof that no solution exists where it
-        fails — for a probe whose failure the caller handles itself (the
-        trace's solve just beyond a vertex, followed by its own collapse
-        proof: the exact Farkas search there took 2.3 s of a 10-storey space
-        frame's 3.4 s trace and proved nothing the trace used)."""
-        kw.setdefault("accuracy", self.accuracy)
-        kw.setdefault("time_limit", self.time_limit)
-        kw.setdefault("isolate", self.isolate)
-        if not prove and isinstance(problem, LCP) and method != "auto":
-            m = get_method(method)
-            _check_kind(problem, m)
-            tol_backend, tol_cert = resolve_accuracy(kw.pop("accuracy"))
-            run = dict(time_limit=check_time_limit(kw.pop("time_limit")),
-                       isolate=kw.pop("isolate"))
-            return run_lcp_qp(problem, m, tol_backend, tol_cert, self.accuracy, kw, **run)
-        return solve(problem, method, **kw)
+    def within(self, ctx: RunContext) -> "Engine":
+        """The engine for a part of the call with a context of its own."""
+        return Engine(ctx)
+
+    def expired(self) -> bool:
+        """Whether the call's deadline has passed (a composite method stops)."""
+        return self.ctx.expired()
+
+    def solve(self, problem, method: str, *, prove: bool = True, accuracy=None,
+              time_limit=None, isolate=None, **options):
+        """A certified sub-solve; ``prove=False``: without the search for a
+        proof that no solution exists where it fails — for a probe whose
+        failure the caller handles itself (the trace's solve just beyond a
+        vertex, followed by its own collapse proof: the exact Farkas search
+        there took 2.3 s of a 10-storey space frame's 3.4 s trace and proved
+        nothing the trace used)."""
+        ctx = self.ctx.at(accuracy=accuracy, time_limit=time_limit, isolate=isolate, prove=prove)
+        return solve_within(_validated(problem), method, ctx, options)
 
     def qp_method(self, name: str) -> str | None:
         """The registered QP method called ``name`` (any constraints), or None.
@@ -153,90 +154,101 @@ def _points_to_no_solution(sol) -> bool:
             or (sol.status == "ray" and sol.stats.get("farkas") is not None))
 
 
-def _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run):
+def _solve_lcp_qp(problem, method, ctx, options):
     if method != "auto":
         m = get_method(method)
         _check_kind(problem, m)
-        sol = run_lcp_qp(problem, m, tol_backend, tol_cert, accuracy, options, **run)
-        if not doubtful(problem, sol):
+        sol = run_lcp_qp(problem, m, options, ctx)
+        if not ctx.prove or not doubtful(problem, sol):
             return sol
-        limit = run["time_limit"]
-        # the proof gets what the method left of the limit, at least a quarter
-        return prove_no_solution(problem, sol, None if limit is None else
-                                 max(limit - sol.wall_time, 0.25 * limit))
-    start, limit = time.perf_counter(), run["time_limit"]
+        return prove_no_solution(problem, sol, ctx.deadline)
     learned, seen = [], {"proofs": 0, "evidence": 0}
-
-    def left():
-        return None if limit is None else limit - (time.perf_counter() - start)
 
     def attempt(m, best):
         # each link gets half of what is left, so the chain fits in the limit
         # and a backend looping at its iteration cap cannot take it all
-        share = None if limit is None else left() / 2
-        sol = run_lcp_qp(problem, m, tol_backend, tol_cert, accuracy, options,
-                         time_limit=share, isolate=run["isolate"])
+        link = ctx.share(0.5)
+        share = link.left()
+        sol = run_lcp_qp(problem, m, options, link)
         if share is not None:
             sol.stats["time_share"] = share
-        if doubtful(problem, sol):
+        if ctx.prove and doubtful(problem, sol):
             new = hints(sol)
             # a proof is sought where a result points to no solution (its
             # own verdict, an answer in doubt, a ray, a point far out), again
             # whenever a later one brings something new; a plain miss of the
             # tolerance waits for the end of the chain (most are certified by
-            # the next method: a penalty step's QP took 1.5 proofs per step)
+            # the next method: a penalty step's QP took 1.5 proofs per step).
+            # The proof has what is left of the call.
             if seen["proofs"] < AUTO_PROOFS and (_points_to_no_solution(sol)
                                                  or _asks_for_proof(sol)):
                 seen["proofs"] += 1
-                sol = prove_no_solution(problem, sol, _proof_time(left(), limit), learned)
+                sol = prove_no_solution(problem, sol, ctx.deadline, learned)
             learned.extend(new)
         if _points_to_no_solution(sol):
             seen["evidence"] += 1
         return sol
 
     def stop(sol):
-        if sol.status == "ray" and sol.stats.get("proved_infeasible"):
-            return True
-        return seen["evidence"] >= AUTO_EVIDENCE or (limit is not None and left() < 0.01 * limit)
+        return seen["evidence"] >= AUTO_EVIDENCE or ctx.expired()
 
-    sol, tried = _auto(_installed(auto_order(problem), problem), attempt, stop_early=stop)
+    candidates = list(_installed(auto_order(problem), problem))
+    if not candidates:
+        raise NoApplicableMethodError(
+            f"no installed method applies to this {kind_of(problem).upper()} (of the ones "
+            f"'auto' tries: {', '.join(auto_order(problem))}); `qpcontact methods` lists what "
+            "is installed and what each one requires")
+    sol, tried = _auto(candidates, attempt, stop_early=stop)
     if sol is None:
-        raise NotSymmetricError(
-            "no installed method applies to this problem; `qpcontact methods` lists what is "
-            "installed and what each one requires")
-    if not sol.ok and sol.status not in PROVED and seen["proofs"] == 0 and doubtful(problem, sol):
-        sol = prove_no_solution(problem, sol, _proof_time(left(), limit), learned)
+        raise NoApplicableMethodError(
+            "no installed method could take this problem: " + "; ".join(
+                f"{name}: {status}" for name, status, _ in tried)
+            + " — `qpcontact methods` lists what each one requires")
+    if (ctx.prove and not sol.ok and sol.status not in PROVED and seen["proofs"] == 0
+            and doubtful(problem, sol)):
+        sol = prove_no_solution(problem, sol, ctx.deadline, learned)
     if not sol.ok and sol.status not in PROVED and seen["evidence"] >= AUTO_EVIDENCE:
         sol.message += (f" — 'auto' stopped after {len(tried)} method(s): {seen['evidence']} of "
                         "them point to data with no solution (an answer in doubt, a Farkas vector "
                         "holding to rounding, a backend's own verdict) and no proof could be "
                         "checked exactly")
+    elif not sol.ok and sol.status not in PROVED and ctx.expired():
+        sol.message += (f" — 'auto' stopped at the time limit of {ctx.time_limit:g} s after "
+                        f"{len(tried)} method(s)")
     sol.stats["auto_tried"] = tried
     return sol
 
 
-def _proof_time(left, limit):
-    """Seconds each proof LP may take: what is left of the call's limit, but
-    never nothing (a proof is worth a tenth of the limit beyond it)."""
-    return None if left is None else max(left, 0.1 * limit)
-
-
-def _solve_friction(problem, method, tol, accuracy, options, run, engine):
+def _solve_friction(problem, method, ctx, options):
+    engine = Engine(ctx)
     if method != "auto":
         m = get_method(method)
         check_friction_method(problem, m)
-        return run_friction(problem, m, tol, accuracy, options, engine=engine, **run)
-    return run_friction_auto(problem, tol, accuracy, options, engine=engine, **run)
+        return run_friction(problem, m, options, ctx, engine)
+    return run_friction_auto(problem, options, ctx, engine)
 
 
-def _solve_parametric(problem, method, tol, accuracy, options, engine):
+def _solve_parametric(problem, method, ctx, options):
     if method not in ("trace", "auto"):
         raise InvalidProblemError(
             f"a ParametricLCP is a family of LCPs; method {method!r} solves one LCP — use "
             "method='trace' to follow the load, or fix it with problem.at(p)")
-    sol = get_method("trace").run(problem, tol, options, engine=engine)
-    sol.accuracy = accuracy
+    sol = get_method("trace").run(problem, ctx.tol_cert, options, engine=Engine(ctx))
+    sol.accuracy = ctx.accuracy
     return sol
+
+
+def solve_within(problem, method: str, ctx: RunContext, options: dict):
+    """:func:`solve` of a validated problem within a run context (the
+    engine's sub-solves come here)."""
+    if not isinstance(method, str):
+        raise InvalidOptionError(
+            f"method must be a string: 'auto' or a name from qpcontact.methods(); got {method!r}")
+    if isinstance(problem, ParametricLCP):
+        return _solve_parametric(problem, method, ctx, options)
+    if isinstance(problem, FrictionProblem):
+        return _solve_friction(problem, method, ctx, options)
+    return _solve_lcp_qp(problem, method, ctx, options)
 
 
 def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: bool = False,
@@ -267,14 +279,20 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
         :class:`NoSolutionError` when no solution exists (a checked Farkas
         vector, ray or motion), :class:`SolverFailedError` otherwise.
     time_limit : float or None
-        Seconds each backend call may take (default :data:`DEFAULT_TIME_LIMIT`);
-        a call stopped by it has status ``"time_limit"``.  Passed to the
-        backends that have a time limit of their own; ProxQP, which has none,
-        runs in a child process killed at the limit.  Lemke's sparse form
-        checks it at each pivot, the iterative friction methods between
-        iterations, and a frictional "auto" gives each link half of what is
-        left; the other pivoting methods are bounded by their pivot caps.
-        None: no limit.
+        Seconds of wall time the whole call may take (default
+        :data:`DEFAULT_TIME_LIMIT`), however busy the machine is: it returns
+        within ``time_limit`` plus :func:`~qpcontact.core.deadline.grace`
+        (0.5 s and a tenth of the limit: the step in flight ends and its
+        answer is certified).  Every part keeps the same deadline
+        (:mod:`qpcontact.dispatch.context`): "auto" gives each method half of
+        what is left, a proof gets what is left, the backends get it as
+        their own time setting, ProxQP (which has none) runs in a child
+        process killed at the deadline, Lemke and the iterative friction
+        methods check it as they go, and a composite method's sub-solves
+        (the load trace's, the friction fixed points') share it.  A call
+        stopped by it has status ``"time_limit"`` (or the best answer found,
+        not certified).  The pivoting methods other than Lemke are bounded by
+        their pivot caps.  None: no limit.
     isolate : "auto", True or False
         True runs every backend call in a child process (a crash or a hang
         costs that call, not the caller); "auto" only the backends that cannot
@@ -291,7 +309,7 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
 
     Raises
     ------
-    InvalidProblemError, NotSymmetricError, NotConvexError
+    InvalidProblemError, NotSymmetricError, NotConvexError, NoApplicableMethodError
         On misuse (see :mod:`qpcontact.core.errors`).
     InvalidOptionError, UnknownMethodError, BackendUnavailableError
         On misuse (see :mod:`qpcontact.core.errors`).
@@ -299,22 +317,12 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
     if not isinstance(method, str):
         raise InvalidOptionError(
             f"method must be a string: 'auto' or a name from qpcontact.methods(); got {method!r}")
-    problem = _validated(problem)
-    tol_backend, tol_cert = resolve_accuracy(accuracy)
-    time_limit = check_time_limit(time_limit)
-    if isolate not in ("auto", True, False):
-        raise InvalidOptionError(f"isolate must be 'auto', True or False; got {isolate!r}")
-    run = dict(time_limit=time_limit, isolate=isolate)
-    engine = Engine(accuracy, time_limit, isolate)
-    if isinstance(problem, ParametricLCP):
-        sol = _solve_parametric(problem, method, tol_cert, accuracy, options, engine)
-    elif isinstance(problem, FrictionProblem):
-        sol = _solve_friction(problem, method, tol_cert, accuracy, options, run, engine)
-    else:
-        sol = _solve_lcp_qp(problem, method, tol_backend, tol_cert, accuracy, options, run)
+    if not isinstance(raise_on_failure, bool):
+        raise InvalidOptionError(f"raise_on_failure must be True or False; got {raise_on_failure!r}")
+    ctx = RunContext.start(accuracy, time_limit, isolate)
+    sol = solve_within(_validated(problem), method, ctx, options)
     if raise_on_failure and not sol.ok:
-        if sol.status in PROVED or (sol.status == "ray"
-                                    and sol.stats.get("proved_infeasible", True)):
+        if sol.status in PROVED:
             raise NoSolutionError(f"{sol.method}: {sol.message}")
         raise SolverFailedError(f"{sol.method} returned no certified solution: {sol.message}")
     return sol

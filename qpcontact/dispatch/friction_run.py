@@ -3,9 +3,9 @@ problem's faceted LCP), certify the reactions from the data, name the outcome;
 and "auto"'s chain of such runs on one time budget.
 
 "auto" (:func:`run_friction_auto`) tries :func:`~.routes.auto_chain`'s links in
-order.  Each link gets half of the time left (the last one all of it) as
-its ``time_limit``: the iterative links check it between iterations, Lemke's
-sparse form at each pivot.  Every link's answer is
+order.  Each link gets half of the time left (the last one all of it), a
+share of the run context's deadline: the iterative links check it between
+iterations, Lemke at each pivot.  Every link's answer is
 certified; the first certified one is returned, else the best-certified
 point of all, never a later, worse one.  ``progress`` (a callable taking a
 line) hears each link start and end and, from the iterative links, each
@@ -50,28 +50,30 @@ def check_friction_method(problem, m: Method) -> None:
         "newton, desaxce-global, auto)")
 
 
-def _call(problem, m: Method, tol: float, options: dict, time_limit, isolate, engine
-          ) -> MethodResult:
+def _call(problem, m: Method, options: dict, ctx, engine) -> MethodResult:
+    tol = ctx.tol_cert
     if m.takes == "lcp":          # through the faceted LCP, certified there as an LCP
         lcp, D, facets, lcp_options = lcp_of(problem, options)
-        sol = engine.solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY), time_limit=time_limit,
-                           **lcp_options)
+        sol = engine.within(ctx).solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY),
+                                       **lcp_options)
         return from_lcp(problem, m.name, sol, D, facets, tol)
-    return call(m, problem, tol, options, time_limit, isolate, engine)
+    # the friction methods stop at the certificate's tolerance, not a backend's
+    return call(m, problem, options, ctx.at(accuracy=tol), engine.within(ctx))
 
 
-def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_limit=None,
-                 isolate="auto", engine=None) -> FrictionSolution:
-    """Run ``m`` on a frictional problem and certify its answer (r, and v for a
-    global problem kept without W) by :func:`certify_friction`.  ``tol`` is
-    both what the method stops at and what the certificate must meet."""
-    common = dict(method=m.name, accuracy=accuracy, tol=tol)
+def run_friction(problem, m: Method, options: dict, ctx, engine) -> FrictionSolution:
+    """Run ``m`` on a frictional problem within the run context ``ctx`` and
+    certify its answer (r, and v for a global problem kept without W) by
+    :func:`certify_friction`.  ``ctx.tol_cert`` is both what the method stops
+    at and what the certificate must meet."""
+    tol = ctx.tol_cert
+    common = dict(method=m.name, accuracy=ctx.accuracy, tol=tol)
     if problem.n_contacts == 0 and problem.is_reduced:
         r = np.zeros(0)
         return FrictionSolution(status="solved", ok=True, message="no contacts",
                                 certificate=certify_friction(problem, r), r=r, u=r, **common)
     start = time.perf_counter()
-    res = _call(problem, m, tol, dict(options), time_limit, isolate, engine)
+    res = _call(problem, m, dict(options), ctx, engine)
     wall = time.perf_counter() - start
     stats = {**res.stats, "time": wall}
     common.update(backend_status=res.backend_status, backend_message=res.backend_message,
@@ -107,20 +109,20 @@ def run_friction(problem, m: Method, tol: float, accuracy, options: dict, time_l
                             certificate=cert, r=r, u=u, v=v, **common)
 
 
-def run_friction_auto(problem, tol: float, accuracy, options: dict, time_limit=None,
-                      isolate="auto", engine=None) -> FrictionSolution:
-    """"auto" on a frictional problem (module docstring)."""
+def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:
+    """"auto" on a frictional problem within the run context ``ctx`` (module
+    docstring)."""
     start = time.perf_counter()
     options = dict(options)
     progress = options.pop("progress", None)
     chain = [get_method(name) for name in auto_chain(problem)]
     runs, best, lines = [], None, []
     for k, m in enumerate(chain):
-        left = None if time_limit is None else time_limit - (time.perf_counter() - start)
-        if left is not None and left <= 0:
-            lines.append(f"{m.name}: not run (the time limit of {time_limit:g} s was spent)")
+        if ctx.expired():
+            lines.append(f"{m.name}: not run (the time limit of {ctx.time_limit:g} s was spent)")
             continue
-        share = None if left is None else (left if k == len(chain) - 1 else left / 2)
+        link = ctx.share(1.0 if k == len(chain) - 1 else 0.5)
+        share = link.left()
         opts = dict(options)
         if m.name == "newton" and best is not None and best.r is not None:
             opts.setdefault("r0", best.r)   # polish the best point so far
@@ -128,8 +130,7 @@ def run_friction_auto(problem, tol: float, accuracy, options: dict, time_limit=N
             if m.name in PROGRESS_LINKS:
                 opts.setdefault("progress", progress)
             progress(f"auto: {m.name}" + ("" if share is None else f" (up to {share:.3g} s)"))
-        sol = run_friction(problem, m, tol, accuracy, opts, time_limit=share, isolate=isolate,
-                           engine=engine)
+        sol = run_friction(problem, m, opts, link, engine)
         runs.append(sol)
         where = f"error {sol.error:.1e}" if sol.certificate is not None else sol.status
         lines.append(f"{m.name}: {where} in {sol.wall_time or 0:.2f} s")

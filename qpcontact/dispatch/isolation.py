@@ -56,7 +56,7 @@ def _child(conn, fn, args):
         conn.close()
 
 
-def context():
+def process_context():
     """The multiprocessing context of isolated calls: fork, so that the child
     inherits the imported backends and the problem without pickling them;
     elsewhere spawn (fn and args must then pickle)."""
@@ -68,7 +68,7 @@ def call_isolated(fn, args: tuple, time_limit: float | None) -> IsolatedOutcome 
     (None: no limit).  Returns None when no child can be started here (a
     daemonic process, e.g. some pool workers, may not have children): the
     caller then runs the call in-process."""
-    ctx = context()
+    ctx = process_context()
     recv, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child, args=(send, fn, args), daemon=True)
     try:

@@ -22,9 +22,13 @@ from .routes import check_applicable, data_range, jacobi_scaled
 __all__ = ["run_lcp_qp", "doubtful", "prove_no_solution", "verdict", "hints", "DOUBT_FACTOR"]
 
 
-def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, time_limit=None,
-         isolate="auto"):
-    """Convert, run, time, certify.  Returns an LCPSolution or QPSolution."""
+def run_lcp_qp(problem, m: Method, options, ctx):
+    """Convert, run, time, certify, within the run context ``ctx`` (its
+    accuracy, deadline, isolation).  Returns an LCPSolution or QPSolution.  A
+    method that proved the data have no solution (Lemke's Farkas vector,
+    checked exactly) gives status "infeasible", as a proof found afterwards
+    would; "ray" is left for a secondary ray that proves nothing."""
+    tol_cert = ctx.tol_cert
     route = "direct"
     start = time.perf_counter()
     if isinstance(problem, LCP):
@@ -45,7 +49,7 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
     # warning to print from deep inside a method.
     called = time.perf_counter()
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        res: MethodResult = call(m, target, tol_backend, dict(options), time_limit, isolate)
+        res: MethodResult = call(m, target, dict(options), ctx)
     wall = time.perf_counter() - start
     if "backend_seconds" in res.stats:
         wall = (called - start) + res.stats.pop("backend_seconds")
@@ -60,7 +64,7 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
     expected = target.n if isinstance(target, LCP) else problem.q.size  # the dual LCP's size on "dual-lcp"
     usable = x is not None and x.size == expected and bool(np.all(np.isfinite(x)))
     stats = {"route": route, **res.stats}
-    common = dict(method=m.name, accuracy=accuracy, tol=tol_cert,
+    common = dict(method=m.name, accuracy=ctx.accuracy, tol=tol_cert,
                   backend_status=res.backend_status, backend_message=res.backend_message,
                   wall_time=wall, iterations=res.iterations, stats=stats)
     if isinstance(problem, LCP):
@@ -75,7 +79,12 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
         fields = dict(x=x if usable else None, y=y, z=zi, z_box=zb)
         cls = QPSolution
 
-    if res.status in ("ray", "max_pivots"):
+    proof = res.stats.get("proof")
+    if res.status == "ray" and proof is not None:
+        status = proof.kind            # a Farkas vector checked exactly by the method
+        stats.update(proved_infeasible=proof.kind == "infeasible",
+                     proved_unbounded=proof.kind == "unbounded")
+    elif res.status in ("ray", "max_pivots"):
         status = res.status
     elif cert is not None and cert.error <= tol_cert:
         status = ("solved" if cert.ok(tol_cert) else
@@ -121,13 +130,17 @@ def run_lcp_qp(problem, m: Method, tol_backend, tol_cert, accuracy, options, tim
                         "unknowns) so that the solution's entries stay below 1e300")
     elif status == "time_limit":
         message = res.backend_message if res.status == "time_limit" else (
-            f"stopped at the time limit of {time_limit:g} s (backend status "
+            f"stopped at the time limit{_seconds(ctx.time_limit)} (backend status "
             f"{res.backend_status!r})" + (f"; the point it had reached has certificate error "
                                           f"{cert.error:.2e} > {tol_cert:.0e}" if cert else "")
             + "; raise time_limit= or try another method")
     else:
         message = res.backend_message or status
     return cls(status=status, ok=ok, message=message, certificate=cert, **common, **fields)
+
+
+def _seconds(time_limit) -> str:
+    return "" if time_limit is None else f" of {time_limit:g} s"
 
 
 #: A certified answer larger than this many times the size the data give it
@@ -183,15 +196,16 @@ def hints(sol) -> list:
     return out
 
 
-def prove_no_solution(problem, sol, time_limit=None, extra_hints=()):
+def prove_no_solution(problem, sol, deadline, extra_hints=()):
     """Turn a result into "infeasible" or "unbounded" when a Farkas vector or a
-    ray is found and checked in exact arithmetic (qpcontact.proofs): a proof
+    ray is found and checked in exact arithmetic (qpcontact.proofs) before
+    ``deadline`` (a :class:`~qpcontact.core.deadline.Deadline`): a proof
     about the data as stored outranks a certificate, which speaks of nearby
     data.  ``extra_hints``: what earlier methods of the same call learned."""
 
     tried = hints(sol) + list(extra_hints)
-    proof = (prove_lcp_infeasible(problem, time_limit, tried) if isinstance(problem, LCP)
-             else prove_no_minimiser(problem, time_limit, tried))
+    proof = (prove_lcp_infeasible(problem, deadline, tried) if isinstance(problem, LCP)
+             else prove_no_minimiser(problem, deadline, tried))
     if proof is None:
         cert = sol.certificate
         if (sol.ok and isinstance(problem, LCP) and cert.forward_error_known

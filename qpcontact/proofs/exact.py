@@ -54,12 +54,15 @@ _SNAPS = (1 << 4, 1 << 8, 1 << 12, 1 << 16, 1 << 20, None)
 _ZEROS = (0.0, 1e-12, 1e-9, 1e-6)
 
 
-def candidates(values: np.ndarray):
-    """Exact rational vectors near ``values``, simplest first."""
+def candidates(values: np.ndarray, deadline=None):
+    """Exact rational vectors near ``values``, simplest first; none more once
+    ``deadline`` (a :class:`~qpcontact.core.deadline.Deadline`) has passed."""
     top = float(np.max(np.abs(values), initial=0.0))
     for tiny in _ZEROS:
         cut = np.where(np.abs(values) <= tiny * top, 0.0, values)
         for limit in _SNAPS:
+            if deadline is not None and deadline.expired():
+                return
             yield snap(cut, limit)
 
 
@@ -77,11 +80,12 @@ def snap(values: np.ndarray, limit) -> list:
     return out
 
 
-def exact_farkas(G, h, A, b, lo, hi, exact, m_G) -> Proof | None:
+def exact_farkas(G, h, A, b, lo, hi, exact, m_G, deadline=None) -> Proof | None:
     """Check a Farkas vector in exact rational arithmetic: the data's doubles
     are rationals, so G'z + A'y, the bound multipliers that cancel it, and
     c = h'z + b'y - lb'μl + ub'μu are computed without rounding.  Sound: a
-    vector that passes proves infeasibility of the data as stored."""
+    vector that passes proves infeasibility of the data as stored.  Gives up
+    (None: nothing proved) once ``deadline`` passes, row by row."""
     n = lo.size
     z, y = exact[:m_G], exact[m_G:]
     Gc, Ac = G.tocsr(), A.tocsr()
@@ -95,6 +99,8 @@ def exact_farkas(G, h, A, b, lo, hi, exact, m_G) -> Proof | None:
         for i in range(M.shape[0]):
             if not w[i]:
                 continue
+            if deadline is not None and deadline.expired():
+                return None
             c += Fraction(float(rhs[i])) * w[i]
             for p in range(M.indptr[i], M.indptr[i + 1]):
                 r[M.indices[p]] += Fraction(float(M.data[p])) * w[i]
@@ -129,8 +135,9 @@ def exact_farkas(G, h, A, b, lo, hi, exact, m_G) -> Proof | None:
     )
 
 
-def exact_ray(P, q, G, A, dF, lo, hi) -> bool:
-    """Pd = 0, Gd <= 0, Ad = 0, q'd < 0 and d's signs, in exact arithmetic."""
+def exact_ray(P, q, G, A, dF, lo, hi, deadline=None) -> bool:
+    """Pd = 0, Gd <= 0, Ad = 0, q'd < 0 and d's signs, in exact arithmetic
+    (False, nothing proved, once ``deadline`` passes)."""
     support = [j for j, v in enumerate(dF) if v]
     if not support:
         return False
@@ -147,6 +154,8 @@ def exact_ray(P, q, G, A, dF, lo, hi) -> bool:
             return False
         acc: dict[int, Fraction] = {}
         for j in support:
+            if deadline is not None and deadline.expired():
+                return False
             for p in range(Mc.indptr[j], Mc.indptr[j + 1]):
                 i = Mc.indices[p]
                 acc[i] = acc.get(i, Fraction(0)) + Fraction(float(Mc.data[p])) * dF[j]

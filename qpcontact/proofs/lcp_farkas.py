@@ -18,13 +18,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from .exact import Proof, candidates, exact_farkas
-from .lp import LP_TIME_LIMIT, Deadline
+from .lp import proof_deadline
 from .qp_farkas import find_farkas
 
 __all__ = ["prove_lcp_infeasible", "check_farkas_hint", "feasibility", "FARKAS_RTOL"]
 
 
-def prove_lcp_infeasible(lcp, time_limit: float | None = None, hints=()) -> Proof | None:
+def prove_lcp_infeasible(lcp, time_limit=None, hints=()) -> Proof | None:
     """A Farkas vector proving that no z >= 0 has Mz + q >= 0 (so LCP(M, q)
     has no solution), checked in exact arithmetic, or None.
 
@@ -32,19 +32,21 @@ def prove_lcp_infeasible(lcp, time_limit: float | None = None, hints=()) -> Proo
     checked in floating point, or the direction of a huge answer (for a
     symmetric PSD M the answer of nearly infeasible data runs along M's
     near-null vector, which is the Farkas vector when the data are exactly
-    singular) — tried exactly first, before the LPs."""
+    singular) — tried exactly first, before the LPs.  The whole search keeps
+    ``time_limit`` (a :class:`~qpcontact.core.deadline.Deadline` or seconds;
+    at most :data:`~qpcontact.proofs.lp.LP_TIME_LIMIT` from now)."""
+    tl = proof_deadline(time_limit)
     n = lcp.n
     M = sp.csr_matrix(lcp.M)
     q = np.asarray(lcp.q, float)
     for y in hints:
-        proof = check_farkas_hint(M, q, y)
+        proof = check_farkas_hint(M, q, y, tl)
         if proof is not None:
             return proof
-    tl = Deadline(min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT))
     with np.errstate(all="ignore"):
         proof = find_farkas(None, np.zeros(n), -M, q, None, None, np.zeros(n), None, tl)
-    if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric:
-        proof = _null_vector_farkas(M, q)
+    if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric and not tl.expired():
+        proof = _null_vector_farkas(M, q, tl)
     return proof
 
 
@@ -53,7 +55,7 @@ def prove_lcp_infeasible(lcp, time_limit: float | None = None, hints=()) -> Proo
 _HINT_RTOL = 1e-6
 
 
-def check_farkas_hint(M, q, y) -> Proof | None:
+def check_farkas_hint(M, q, y, deadline=None) -> Proof | None:
     """``y`` (its nonnegative part, and the same snapped to short rationals)
     checked exactly as a Farkas vector of {z >= 0, Mz + q >= 0}, or None."""
     y = np.maximum(np.nan_to_num(np.asarray(y, float).ravel(), nan=0.0, posinf=0.0, neginf=0.0),
@@ -70,9 +72,9 @@ def check_farkas_hint(M, q, y) -> Proof | None:
     if not (q @ y < 0 and np.all(Mty <= _HINT_RTOL * scale)):
         return None
     empty = sp.csr_matrix((0, n))
-    for cand in candidates(y):
+    for cand in candidates(y, deadline):
         proof = exact_farkas(-Mc, q, empty, np.zeros(0), np.zeros(n), np.full(n, np.inf),
-                             cand, n)
+                             cand, n, deadline)
         if proof is not None:
             return proof
     return None
@@ -85,7 +87,7 @@ _MODULAR_MAX_N = 400
 _PRIME = 2_147_483_629   # < 2^31: products of residues fit in int64
 
 
-def _null_vector_farkas(M, q) -> Proof | None:
+def _null_vector_farkas(M, q, deadline) -> Proof | None:
     """For symmetric M a Farkas vector y (y >= 0, M y <= 0, q'y < 0) of a
     PSD M lies in M's null space.  When M is exactly singular but its
     computed null space is wider (a second direction with singular value
@@ -125,7 +127,7 @@ def _null_vector_farkas(M, q) -> Proof | None:
     cand = [c / top for c in cand]
     empty = sp.csr_matrix((0, n))
     return exact_farkas(sp.csr_matrix(-M), q, empty, np.zeros(0), np.zeros(n),
-                         np.full(n, np.inf), cand, n)
+                         np.full(n, np.inf), cand, n, deadline)
 
 
 def _null_mod_p(R) -> np.ndarray | None:

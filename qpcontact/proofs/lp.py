@@ -8,26 +8,23 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["linprog", "csr_rows", "row_scale", "column_scale", "LP_TIME_LIMIT", "Deadline"]
+from ..core.deadline import Deadline
+
+__all__ = ["linprog", "csr_rows", "row_scale", "column_scale", "LP_TIME_LIMIT", "proof_deadline"]
 
 
 #: seconds a proof's LPs may take together (solve's time_limit when smaller)
 LP_TIME_LIMIT = 30.0
 
 
-class Deadline:
-    """One budget for every LP of a proof: a search of four to six LPs got
-    the whole time limit for each and doubled a solve's time (qpcontact
-    stress: 2 s backends ending at 4.6 s)."""
-
-    def __init__(self, seconds: float):
-        import time
-
-        self._clock = time.perf_counter
-        self._end = self._clock() + seconds
-
-    def left(self) -> float:
-        return self._end - self._clock()
+def proof_deadline(time_limit) -> Deadline:
+    """A proof's deadline: ``time_limit`` (a :class:`Deadline` or seconds;
+    None: none) and never more than :data:`LP_TIME_LIMIT` from now.  A search
+    of four to six LPs used to get the whole time limit for each and doubled
+    a solve's time; they now share one deadline, which the exact checks watch
+    too."""
+    given = time_limit if isinstance(time_limit, Deadline) else Deadline(time_limit)
+    return given.within(LP_TIME_LIMIT)
 
 
 def linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None, time_limit=LP_TIME_LIMIT,

@@ -41,7 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .exact import EXACT_WORK, Proof, candidates, exact_farkas, exact_ray
-from .lp import LP_TIME_LIMIT, Deadline, column_scale, csr_rows, linprog, row_scale
+from .lp import column_scale, csr_rows, linprog, proof_deadline, row_scale
 
 __all__ = ["prove_no_minimiser", "find_farkas", "x_size"]
 
@@ -80,8 +80,8 @@ def find_farkas(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
     top = float(np.max(np.abs(weights), initial=0.0))
     if not top > 0:
         return None
-    for exact in candidates(weights / top):   # the ratios are what matters: 1 : 2 : 3
-        proof = exact_farkas(G, h, A, b, lo, hi, exact, G.shape[0])
+    for exact in candidates(weights / top, tl):   # the ratios are what matters: 1 : 2 : 3
+        proof = exact_farkas(G, h, A, b, lo, hi, exact, G.shape[0], tl)
         if proof is not None:
             return proof
     return None
@@ -220,8 +220,9 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
         top = float(np.max(np.abs(dt), initial=0.0))
         if not top > 0:
             continue
-        dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)] for vt in candidates(dt / top))
-                   if exact_ray(P, q, G, A, d, lo, hi)), None)
+        dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)]
+                                for vt in candidates(dt / top, tl))
+                   if exact_ray(P, q, G, A, d, lo, hi, tl)), None)
         if dF is not None:
             break
     if dF is None:
@@ -301,16 +302,17 @@ def _exactly_feasible(x, G, h, A, b, lb, ub) -> bool:
     return bool(np.all(x >= lo) and np.all(x <= hi))   # comparisons of doubles are exact
 
 
-def prove_no_minimiser(problem, time_limit: float | None = None, hints=()) -> Proof | None:
+def prove_no_minimiser(problem, time_limit=None, hints=()) -> Proof | None:
     """A checked Farkas vector or ray for a convex ``qpsolvers.Problem``, or
     None when neither is found (the QP may still have no minimiser; nothing
-    is claimed then).  Its LPs get ``time_limit`` seconds together (default
-    and cap :data:`LP_TIME_LIMIT`).  ``hints`` are points a method returned
+    is claimed then).  Its LPs and exact checks keep ``time_limit`` (a
+    :class:`~qpcontact.core.deadline.Deadline` or seconds; at most
+    :data:`~qpcontact.proofs.lp.LP_TIME_LIMIT` from now).  ``hints`` are points a method returned
     far out: their direction is tried exactly as a ray first (a backend on an
     unbounded QP stops at x ~ 1e8..1e11 along it)."""
     P, q, G, h, A, b, lb, ub = problem.unpack()
     q = np.asarray(q, dtype=float)
-    tl = Deadline(min(LP_TIME_LIMIT, time_limit or LP_TIME_LIMIT))
+    tl = proof_deadline(time_limit)
     with np.errstate(all="ignore"):
         for x in hints:
             proof = _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl)
@@ -337,5 +339,5 @@ def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
     # null space in floating point
     if not (q @ d < 0 and np.all(np.abs(P @ d) <= 1e-6 * (abs(P) @ np.abs(d)))):
         return None
-    dF = next((c for c in candidates(d) if exact_ray(P, q, Gr, Ar, c, lo, hi)), None)
+    dF = next((c for c in candidates(d, tl) if exact_ray(P, q, Gr, Ar, c, lo, hi, tl)), None)
     return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)

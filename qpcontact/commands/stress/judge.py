@@ -167,10 +167,8 @@ def judge(case, sol) -> tuple[str, str]:
     from ...core.problems import LCP
 
     is_lcp = isinstance(case.problem, LCP)
-    proved = sol.status in ("infeasible", "unbounded") or (
-        sol.status == "ray" and bool(sol.stats.get("proved_infeasible")))
     claimed = "solved" if sol.ok else (sol.status if sol.status in ("infeasible", "unbounded")
-                                       else ("infeasible" if proved else None))
+                                       else None)
     if sol.status == "time_limit":
         return "hung", sol.message[:120]
     if case.status in ("infeasible", "unbounded"):

@@ -93,10 +93,10 @@ def _worker_loop(conn, siconos_dir, time_limit):
 
 class _Worker:
     def __init__(self, siconos_dir, time_limit):
-        from ...dispatch.isolation import context
+        from ...dispatch.isolation import process_context
 
         self.args = (siconos_dir, time_limit)
-        self.ctx = context()
+        self.ctx = process_context()
         self._start()
 
     def _start(self):

@@ -39,6 +39,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
+from ...core.deadline import Deadline
 from ...core.errors import InvalidOptionError
 from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, ruiz_scaling
 from ...core.options import check_options, int_option
@@ -279,7 +280,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
         # the LP's vector holds to 1e-12 of each component's terms; only the
         # rational check makes it a proof (on an exactly positive definite M
         # within rounding of a singular one it held to 1e-12 and failed exactly)
-        exact = check_farkas_hint(M, q, evidence["farkas"])
+        exact = check_farkas_hint(M, q, evidence["farkas"], Deadline(end=deadline))
     if exact is not None:
         stats["proof"] = exact
         why = ("no solution exists: no z >= 0 has Mz + q >= 0 (a Farkas vector y >= 0 with "

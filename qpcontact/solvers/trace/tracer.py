@@ -102,7 +102,7 @@ def _start(plcp: ParametricLCP, solve_lcp):
 
 
 def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float = 1.0,
-               max_pieces: int | None = None) -> LoadTrace:
+               max_pieces: int | None = None, expired=None) -> LoadTrace:
     """Trace the solution of ``plcp`` for p from 0 to ``p_max`` (see module docstring).
 
     Parameters
@@ -120,6 +120,10 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
         changing, or no equilibrium continues the path).
     max_pieces : int, optional
         Default max(1000, 20 n).
+    expired : callable, optional
+        ``expired() -> bool``: whether the call's deadline has passed (the
+        engine's); the trace then ends "time_limit" with the path certified
+        up to where it stopped.
 
     Raises
     ------
@@ -152,6 +156,9 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
     worst = 0.0
     checked = 0
     while True:
+        if expired is not None and expired():
+            end = "time_limit"
+            break
         found, exhaustive = path.continuation(p, z, w, F_prev, 50 * n + 1000)
         resolved = False
         accepted = None
@@ -230,7 +237,8 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
     lcp_final = plcp.at(p_final)
     cert = certify_lcp(lcp_final, z_fin)
     breakpoints = np.array([pc.p_end for pc in pieces[:-1]])
-    status = {"breakdown": "failed", "max_pieces": "max_pivots"}.get(end, "solved")
+    status = {"breakdown": "failed", "max_pieces": "max_pivots",
+              "time_limit": "time_limit"}.get(end, "solved")
     # At a collapse the last point is the limit itself, where the active block
     # turns singular: no digit of it is guaranteed by nature (the portal's
     # sliding load: condition 6e14), and the collapse is what the proof says.
@@ -279,6 +287,9 @@ def _message(end, p, p_max, p_final, proof, why, max_pieces) -> str:
                 "so other equilibria may exist beyond — solve problem.at(p) for them)")
     if end == "max_pieces":
         return f"piece limit {max_pieces} reached at p = {p:g}"
+    if end == "time_limit":
+        return (f"stopped at the time limit at p = {p_final:.10g} (solve's time_limit= bounds the "
+                "whole trace); the path up to there is certified: raise time_limit= to go on")
     return why
 
 
@@ -289,4 +300,4 @@ def run_trace(plcp: ParametricLCP, tol: float, options: dict, engine) -> LoadTra
     point, is its answer); its Lemke solves go through ``engine``."""
     check_options("trace", options, _OPTIONS)
     return trace_load(plcp, lambda lcp, prove=True: engine.solve(lcp, "lemke", prove=prove),
-                      accuracy=tol, **options)
+                      accuracy=tol, expired=engine.expired, **options)

@@ -1,0 +1,91 @@
+"""A deadline on the wall clock: the one way time is measured and shared out.
+
+``solve(..., time_limit=t)`` means the call returns within t seconds of wall
+time (plus the grace :data:`GRACE` states) however busy the machine is: a
+loaded machine slows the work, not the clock.  So every part of a call —
+"auto"'s chain, each method, each proof — measures the same deadline, never a
+duration of its own started later, and a part given a share gets a deadline
+no later than its caller's.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from .errors import InvalidOptionError
+
+__all__ = ["Deadline", "check_time_limit", "grace"]
+
+
+def grace(time_limit: float | None) -> float:
+    """Seconds a call may run past its time limit: the step in flight at the
+    deadline ends (a backend's iteration, one factorization, one exact check
+    of a candidate) and the answer is certified.  0.5 s plus a tenth of the
+    limit."""
+    return 0.0 if time_limit is None else 0.5 + 0.1 * time_limit
+
+
+def check_time_limit(time_limit) -> float | None:
+    """``time_limit`` as positive finite seconds, or None for no limit;
+    InvalidOptionError naming the value otherwise (a string, a bool, zero, a
+    negative number, NaN, inf)."""
+    if time_limit is None:
+        return None
+    if isinstance(time_limit, bool) or not isinstance(time_limit, (int, float)) \
+            and type(time_limit).__module__ != "numpy":
+        raise InvalidOptionError(
+            f"time_limit must be a positive number of seconds or None (no limit); got "
+            f"{time_limit!r} of type {type(time_limit).__name__}")
+    try:
+        value = float(time_limit)
+    except (TypeError, ValueError):
+        value = math.nan
+    if not (value > 0 and math.isfinite(value)):
+        raise InvalidOptionError(
+            f"time_limit must be a positive, finite number of seconds or None (no limit); got "
+            f"{time_limit!r}")
+    return value
+
+
+class Deadline:
+    """A point on the monotonic wall clock (``time.perf_counter``), or none.
+
+    ``Deadline(seconds)`` ends that many seconds from now (None: never).
+    :meth:`share` gives a part of the work a deadline of its own, never later
+    than this one."""
+
+    __slots__ = ("end",)
+
+    def __init__(self, seconds: float | None = None, *, end: float | None = None):
+        self.end = end if seconds is None else time.perf_counter() + float(seconds)
+
+    @property
+    def limited(self) -> bool:
+        return self.end is not None
+
+    def left(self) -> float | None:
+        """Seconds left (negative once passed), or None without a deadline."""
+        return None if self.end is None else self.end - time.perf_counter()
+
+    def expired(self) -> bool:
+        return self.end is not None and time.perf_counter() >= self.end
+
+    def share(self, fraction: float) -> "Deadline":
+        """A deadline ``fraction`` of what is left from now (this one's when
+        ``fraction`` >= 1)."""
+        if self.end is None or fraction >= 1.0:
+            return Deadline(end=self.end)
+        now = time.perf_counter()
+        return Deadline(end=now + max(self.end - now, 0.0) * fraction)
+
+    def within(self, seconds: float | None) -> "Deadline":
+        """The earlier of this deadline and ``seconds`` from now."""
+        if seconds is None:
+            return Deadline(end=self.end)
+        end = time.perf_counter() + seconds
+        return Deadline(end=end if self.end is None else min(end, self.end))
+
+    def __repr__(self) -> str:
+        left = self.left()
+        return "Deadline(none)" if left is None else f"Deadline({left:.3g} s left)"
