@@ -1,5 +1,6 @@
-"""The BVP solver (P1) against exact elliptic-integral solutions of the
-elastica, observed orders on a problem with a known solution, and SciPy."""
+"""The BVP solver (Pustovoy, Levin & Krasnorutskiy 2014) against exact
+elliptic-integral solutions of the elastica, observed orders on a problem with
+a known solution, and SciPy."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The multilevel route "mg-bpp" (issue 32): its answers equal the exact
+"""The multilevel route "mg-bpp": its answers equal the exact
 oracle's — the energy method's, a manufactured solution's, or a closed form —
 on several meshes, with the problem's own grid hierarchy and with the one it
 builds by aggregation; a hierarchy that does not match is refused; a poor
