@@ -56,7 +56,7 @@ def test_certificate_sees_a_near_contact_beside_far_gaps():
 
 @pytest.mark.parametrize("method", EXACT)
 def test_exact_methods_right_on_far_contact_problems(method):
-    """The issue's reproducer: 'energy' returned 100 of 100 and 'bpp' 96 of 100
+    """The far-contact reproducer: 'energy' returned 100 of 100 and 'bpp' 96 of 100
     wrong answers with ok=True before the sign tests became per-row."""
     wrong = []
     for seed in range(100):
