@@ -1,4 +1,5 @@
-"""The BVP solver (P1) against scipy.integrate.solve_bvp on the planar elastica.
+"""The BVP solver (Pustovoy, Levin & Krasnorutskiy 2014) against
+scipy.integrate.solve_bvp on the planar elastica.
 
 For the tip-loaded cantilever (α = PL²/EI = 1 ... 1e4) and the axially loaded
 column (buckled branch, α up to 10): time and error against tolerance for

@@ -1,4 +1,4 @@
-"""Census of issue 31: does "ok" mean correct digits on real-valued data?
+"""Census of "ok" on rounded data: does "ok" mean correct digits on real-valued data?
 
 Runs the rounded stress families (references decided in rational arithmetic,
 qpcontact/cases/rounded.py) through the stress machinery — "auto" and every
@@ -130,7 +130,7 @@ def main(argv=None) -> int:
         path = run_stress(args.out, config, workers=args.workers, progress=sys.stderr.isatty())
     with open(path, newline="") as fh:
         rows = list(csv.DictReader(fh))
-    header = [f"# Census of issue 31 (qpcontact {getattr(qpcontact, '__version__', '?')})", "",
+    header = [f"# Census of ok on rounded data (qpcontact {getattr(qpcontact, '__version__', '?')})", "",
               f"command: python benchmarks/census_31.py {' '.join(argv or sys.argv[1:])}",
               f"{len(rows)} solves of {len({(r['family'], r['n'], r['seed']) for r in rows})} "
               f"problems; sizes {args.sizes} (exact LCP families capped at n = 40), "

@@ -8,9 +8,9 @@ time of the fastest QP backend at "high" on the same steps.  A stack of logs
 random gaps (0-2 mm) and velocities (0-1 m/s down), tau = 1/20 of the shortest
 contact period.  Every step's answer is certified.  For the QP backends, every
 k-th step's LCP (up to --sample of them) is re-solved and timed.
-Target (issue 4): >= 1e6 contact-steps/s for the 10 000-log stack on 2 cores.
+Target: >= 1e6 contact-steps/s for the 10 000-log stack on 2 cores.
 
-2-D drum (``--model 2d``, issue 37): a 4 m drum, 8 lifters (0.15 m high,
+2-D drum (``--model 2d``): a 4 m drum, 8 lifters (0.15 m high,
 0.05 m thick), 0.15 rev/s, spruce logs 1 m long, 0.10-0.14 m across (above
 500 logs the diameters shrink by sqrt(500/n) so that the fill fraction stays
 that of 500 logs: 0.05-0.07 m at 2 000), effects friction (mu = 0.4 at every

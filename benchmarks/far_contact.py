@@ -1,7 +1,7 @@
 """Far contacts: how many generated problems each method solves right, and how
 many it gets wrong while saying "solved".
 
-The family (qpcontact.testing.far_contact_lcp, issue 14): n = 21, SPD M with
+The family (qpcontact.testing.far_contact_lcp): n = 21, SPD M with
 cond 297, half the contacts closed (forces 0.1..2), the others open (gaps
 0.1..2), three of the open ones far away (gaps 5e11).  The solution is planted,
 so every answer is judged against it component by component

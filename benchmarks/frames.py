@@ -64,7 +64,7 @@ or of fewer runs where they exceed --budget seconds per code and model (the
 table's n).  The cold start of qpcontact (import, then the first solve of
 the 200-span beam) is measured in a fresh interpreter.
 
-Targets (issue 34): qpcontact within 2x of OpenSees on the 200-span beam and
+Targets: qpcontact within 2x of OpenSees on the 200-span beam and
 the 20-storey frame, 1000 spans within 3x (judged on the analysis alone; the
 ratio with the build included is printed beside it).
 
@@ -103,7 +103,7 @@ from qpcontact.core.errors import QpcontactError  # noqa: E402
 AGREEMENT = 1e-6
 #: the space frame where pads slip: faceted against circular cones
 SLIP_AGREEMENT = 5e-2
-#: issue 34's targets: qpcontact / OpenSees, analysis alone
+#: the targets: qpcontact / OpenSees, analysis alone
 TARGETS = {"beam 200": 2.0, "beam 1000": 3.0, "tower 20": 2.0}
 
 
@@ -490,7 +490,7 @@ def pynite_table(models, args, failures, with_opensees):
               f"{peers:>8} {q.runs:>2}/{p.runs}  {q.out.route}, ok={q.out.ok}, {states(q.out)}")
 
 
-# -- the space frame (issue 35) -----------------------------------------------
+# -- the space frame ---------------------------------------------------------
 
 SPACE_K, SPACE_P, PENALTY_K = 5e6, (7.5, 9.0, 12.0), (5e6, 5e7, 5e8)
 

@@ -1,5 +1,5 @@
-"""Space frames in OpenSees and PyNite, read off a qpcontact ``SpaceFrame``
-(issue 35): the same nodes, members, member and nodal loads, supports and
+"""Space frames in OpenSees and PyNite, read off a qpcontact ``SpaceFrame``:
+the same nodes, members, member and nodal loads, supports and
 contacts, built through each code's API, so that one description
 (:func:`formulations.frames.space_tower.space_tower`) feeds every code.
 benchmarks/frames.py times them side by side; tests/test_frame_space_tower.py

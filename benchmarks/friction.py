@@ -1,6 +1,5 @@
-"""Frictional contact on the peers' collection (issue 20) and on generated
-piles (issue 33): every friction method on every problem of
-``../shared/data/siconos-fc`` — success at the
+"""Frictional contact on the peers' collection and on generated piles: every
+friction method on every problem of ``../shared/data/siconos-fc`` — success at the
 tolerances 1e-4, 1e-6, 1e-8 of the natural-map error (computed from the data,
 whatever a method says, and the componentwise error of
 ``qpcontact.friction.componentwise_error``: a run succeeds at ε when both are
@@ -20,7 +19,7 @@ Generated piles (:mod:`qpcontact.cases.piles`, ``--seeds``, default 0): 2-D disc
 1 000–20 000 contacts ("granular", the generator's defaults, and "compact",
 agitation 0.1 and polydispersity 0.005: nearly closed, statically
 indeterminate) and 3-D sphere piles of 500–2 000 contacts, solved by "auto",
-"nsgs-newton" and plain "nsgs" (the link "auto" began with before issue 33),
+"nsgs-newton" and plain "nsgs" (the link "auto" began with before the large-pile route),
 each in its own process with its time and peak memory (the child's peak
 resident set above its size once the problem is built and the methods
 loaded).  Saves piles.csv,

@@ -1,10 +1,10 @@
 """Time per forward-dynamics evaluation and peak memory for chains of N bodies
-with 2-DOF Cardan joints (P4's experiments), N = 10 ... 5000.
+with 2-DOF Cardan joints (Ivanov & Shimanovsky's experiments), N = 10 ... 5000.
 
 Candidates (each case runs in its own subprocess, so that peak memory is its
 own and a runaway allocation cannot take the benchmark down):
 
-  ldlt, sweep       P4's system (6) solved for ν from (q, p): LDL' / sweep (O(N))
+  ldlt, sweep       the momentum form's system (6) solved for ν from (q, p): LDL' / sweep (O(N))
   momentum-rhs      the whole right-hand side (q̇, ṗ) of the momentum form (ldlt)
   lagrange-dense    CRBA + RNEA + dense Cholesky of G (O(N²) memory, O(N³) time)
   pinocchio-aba     Pinocchio's articulated-body algorithm         (if installed)
@@ -13,8 +13,8 @@ own and a runaway allocation cannot take the benchmark down):
   mujoco-step       MuJoCo mj_step
 
 Prints a table, the fitted log-log slope of time against N per candidate,
-the sweep/LDL' ratio per N (P4: 1.35-1.4) and ours against MuJoCo's step at
-N = 1000; ``--plot`` saves the log-log figure.  BLAS is pinned to one thread.
+the sweep/LDL' ratio per N (Ivanov & Shimanovsky: 1.35-1.4) and ours against
+MuJoCo's step at N = 1000; ``--plot`` saves the log-log figure.  BLAS is pinned to one thread.
 
     python benchmarks/multibody.py [--sizes 10,100,1000] [--plot docs/figures/multibody.png]
 """
@@ -233,7 +233,7 @@ def main(argv=None):
             print(f"  {c:15s} {slopes[c]:.2f}")
     by = {(r["name"], r["N"]): r for r in results}
     if "ldlt" in cands and "sweep" in cands:
-        print("\nsweep / LDL' time ratio (P4 reports 1.35-1.4):")
+        print("\nsweep / LDL' time ratio (Ivanov & Shimanovsky 2017 report 1.35-1.4):")
         for N in sizes:
             a, b = by.get(("sweep", N)), by.get(("ldlt", N))
             if a and b and np.isfinite(a["time"]) and np.isfinite(b["time"]):

@@ -1,6 +1,6 @@
 """What μ costs: error of the penalty QP's reactions against the exact LCP
 solution, cond(W) and solve time, as functions of the penalty μ, per backend
-and accuracy level (P2 — docs/penalty.md).
+and accuracy level (the penalty paper, Nikolsky et al. 2012 — docs/penalty.md).
 
 Family: seeded random mechanism steps (G SPD n x n, J ν x n, compliance C
 diagonal 1e-3..1e-2 m/N): "regular" (n = 7, ν = 4: A = JG⁻¹J' positive
@@ -146,7 +146,7 @@ def plot(rows, backends, path):
         ax.grid(True, which="major", alpha=0.3)
         axt.grid(True, which="major", alpha=0.3)
         ax.legend(fontsize=7, loc="lower left")
-    fig.suptitle("P2 penalty QP: what mu costs (error clipped at 10; red line: 'high' = 1e-9)")
+    fig.suptitle("Penalty QP (Nikolsky et al.): what mu costs (error clipped at 10; red line: 'high' = 1e-9)")
     fig.tight_layout()
     print("plot written to", save_figure(fig, path, dpi=100))
 

@@ -1,4 +1,4 @@
-"""The exact oracle at mesh scale (issues 18, 32): membrane and plate obstacle
+"""The exact oracle at mesh scale: membrane and plate obstacle
 problems (obstacle shapes "dome", "ridge", "bumps") and a 3-D elastic block on
 a rigid foundation (the mixed problem), n = 1e4 .. 1e6, every method in its
 own process (time, peak memory, killed at the time limit), measured side by

@@ -1,4 +1,5 @@
-"""Ten pulpwood logs falling into a debarking drum's shell (P0's conditional stack).
+"""Ten pulpwood logs falling into a debarking drum's shell
+(Kolesnikov's conditional stack).
 
 Logs of unequal diameter (0.10-0.20 m, 1.2 m long, green spruce) start above
 the shell with small gaps, thrown downward at 0.5-2 m/s; damping ratio 5 %.

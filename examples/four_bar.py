@@ -1,6 +1,7 @@
-"""A closed four-bar linkage under gravity: constraint drift of P4's momentum
-form (closed at velocity level, Baumgarte α) against the Lagrange form with
-the constraint differentiated twice (unstabilised, and Baumgarte α = β).
+"""A closed four-bar linkage under gravity: constraint drift of the momentum
+form of Ivanov & Shimanovsky (closed at velocity level, Baumgarte α) against
+the Lagrange form with the constraint differentiated twice (unstabilised, and
+Baumgarte α = β).
 
     python examples/four_bar.py [--plot docs/figures/four_bar_drift.png] [--time 20]
 

@@ -1,4 +1,4 @@
-"""Shot pellets in a tube pushed by a piston (P2's pellet example): a gas
+"""Shot pellets in a tube pushed by a piston (the penalty paper's pellet example): a gas
 force pulse drives the wad, pellets collide and travel as a column.
 
 Prints momentum and contact figures and saves positions, velocities and

@@ -1,5 +1,6 @@
 """Ramming cycle: a spring-driven bolt pushes a cartridge along the guide into
-the chamber stop (P2's automatic-weapon subsystem), one penalty QP per step.
+the chamber stop (the penalty paper's automatic-weapon subsystem), one penalty
+QP per step.
 
 Prints the contact events and saves positions, velocities and reactions
 against time (PNG).  SI units.

@@ -1,4 +1,5 @@
-"""Collisions of pulpwood logs in a debarking drum: one LCP per time step (P0).
+"""Collisions of pulpwood logs in a debarking drum: one LCP per time step
+(the decomposition paper, Kolesnikov 2013).
 
 Layout: :mod:`.model` (the model derived from the mechanics, with units; the
 Drum and its stepper), :mod:`.results` (a run's arrays, energy balance,

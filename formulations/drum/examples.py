@@ -41,7 +41,7 @@ def demo(console) -> int:
     v = np.sqrt(2 * GRAVITY * h)
     exact = log.mass * GRAVITY + np.sqrt((log.mass * GRAVITY) ** 2 + log.stiffness * log.mass * v * v)
     impact = 0.5 * log.mass * v * v
-    table = Table(title="Drum (P0): one 0.15 m x 1.2 m spruce log dropped 2 cm on a rigid shell",
+    table = Table(title="Drum (Kolesnikov 2013): one 0.15 m x 1.2 m spruce log dropped 2 cm on a rigid shell",
                   box=box.SIMPLE_HEAD, title_justify="left", pad_edge=False)
     cols = ("steps per contact period", "tau [µs]", "peak force [kN]", "error", "order",
             "lost [J]")

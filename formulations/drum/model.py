@@ -1,4 +1,5 @@
-r"""Collisions of pulpwood logs in a debarking drum: one LCP per time step (P0).
+r"""Collisions of pulpwood logs in a debarking drum: one LCP per time step
+(the decomposition paper, Kolesnikov 2013).
 
 SI units throughout: metres, kilograms, seconds, newtons (stiffness N/m,
 damping N·s/m, compliance m/N).

@@ -124,7 +124,7 @@ def _scene_schema():
 
     return SceneSchema(
         formulation="drum",
-        doc="logs stacked above the drum shell, one LCP per time step (P0)",
+        doc="logs stacked above the drum shell, one LCP per time step (Kolesnikov 2013)",
         sections={
             "logs": Field("tables", doc="one [[logs]] table per log, bottom to top", required=True,
                           fields={

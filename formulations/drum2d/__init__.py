@@ -1,4 +1,4 @@
-"""The debarking drum's 2-D cross-section (issue 37): logs as discs in a
+"""The debarking drum's 2-D cross-section: logs as discs in a
 rotating shell with lifter bars, Moreau–Jean steps with certified 2-D
 frictional contact problems.  docs/drum2d.md derives the model; each module's
 docstring derives its part (geometry, broadphase, contacts, stepper; what an

@@ -34,7 +34,7 @@ cumulative count first reaches q · N, and is reported as that bin's upper
 edge, capped at the window's peak (exact for q = 1) — an upper bound of the
 true quantile, at most a factor :data:`BIN_RATIO` = 10^0.1 ≈ 1.26 above it.
 
-Kinds: log–log and log–shell as the issue asks, log–lifter kept apart
+Kinds: log–log and log–shell (the stack model's two kinds), log–lifter kept apart
 (``"log-lifter"``), and ``"log-steel"`` = log–shell and log–lifter merged
 (both steel; the stack model's shell contact is the upper estimate for
 either, formulations.drum2d.stack).  The figures draw log–log and log–steel.

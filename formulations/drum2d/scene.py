@@ -301,7 +301,7 @@ def _scene_schema():
     return SceneSchema(
         formulation="drum2d",
         doc="logs as discs tumbling in a rotating drum with lifters, one certified contact "
-            "problem per step (issue 37)",
+            "problem per step",
         sections={
             "drum": {"diameter": Field("float", "m", "the shell's inner diameter", required=True,
                                        **pos)},

@@ -2,7 +2,7 @@ r"""The stack model's upper estimate of collision forces for a 2-D drum's logs.
 
 SI units: m, kg, s, N (stiffness N/m, modulus Pa).
 
-The decomposition paper (Kolesnikov 2013, ../shared/PAPERS.md P0) estimates
+The decomposition paper (Kolesnikov 2013; digest in ../shared/PAPERS.md) estimates
 the collision forces in a debarking drum from above with a "conditional
 stack": logs on one vertical axis, each two springs of stiffness s = 2 E ℓ
 about a centre mass (formulations.drum.model derives it), colliding with the

@@ -1,6 +1,6 @@
 """Mechanisms with unilateral constraints: the penalty QP of one integration
-step (P2, Nikolsky, Kopylov, Romanenko & Kudryashov 2012) — the formulation's
-front for ``qpcontact demo`` and ``compare`` (entry point ``penalty``).
+step (the penalty paper: Nikolsky, Kopylov, Romanenko & Kudryashov 2012) —
+the formulation's front for ``qpcontact demo`` and ``compare`` (entry point ``penalty``).
 
 The step problem, its derivation and units live in
 :mod:`formulations.stepping.penalty_step` (re-exported here).  The demo and
@@ -27,7 +27,7 @@ __all__ = ["PenaltyStep", "PenaltyResult", "penalty_qp", "step_penalty_qp", "exa
 
 def demo(console) -> int:
     """The penalty part of ``qpcontact demo``: the ramming scene's impact step
-    solved as P2's penalty QP by every installed QP backend and checked against
+    solved as the penalty paper's QP by every installed QP backend and checked against
     the exact LCP (Lemke).  Returns the number of certified answers that are
     wrong (0 when all is well)."""
     import time
@@ -43,7 +43,7 @@ def demo(console) -> int:
     auto = solve_penalty(step, mu="auto", method="clarabel")
     mu = auto.mu
     scale = max(np.abs(exact.z).max(), np.abs(step.b).max() / np.abs(step.A).max())
-    table = Table(title="Penalty QP (P2): the ramming scene's impact step, every QP backend",
+    table = Table(title="Penalty QP (Nikolsky et al. 2012): the ramming scene's impact step, every QP backend",
                   box=box.SIMPLE_HEAD, title_justify="left", pad_edge=False)
     for col in ("method", "status", "lambda [N]", "rel. error vs exact", "time [ms]"):
         table.add_column(escape(col), justify="left" if col in ("method", "status") else "right",

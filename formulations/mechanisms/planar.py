@@ -1,4 +1,5 @@
-r"""Planar mechanisms whose parts may separate, stepped with P2's penalty QP.
+r"""Planar mechanisms whose parts may separate, stepped with the penalty QP
+of Nikolsky, Kopylov, Romanenko & Kudryashov (2012).
 
 SI units: positions m, angles rad, masses kg, inertias kg·m², forces N,
 torques N·m, stiffness N/m, compliance m/N, time s.
@@ -22,7 +23,8 @@ model names:
   step's start like every force (explicit: stable while h c / m stays small);
 - applied forces (always): constant or f(t, q, v) -> (F_x, F_y, torque);
 - ``compliance``: a contact compliance c_k [m/N] per contact, C = diag(c);
-  without it the contacts are rigid (P2's regularized C, or the exact LCP).
+  without it the contacts are rigid (the penalty paper's regularized C, or the
+  exact LCP).
 
 A unilateral contact between point s_a of body a and point s_b of body b (or a
 ground anchor) along a fixed unit normal n is ::
@@ -32,7 +34,7 @@ ground anchor) along a fixed unit normal n is ::
 
 Integration step (size h, look-ahead Δt)
 ----------------------------------------
-1. Φ, Φ̇ = J v, D, Q at (t, q, v); B = (2/Δt²)(Φ + Δt Φ̇) (P2);
+1. Φ, Φ̇ = J v, D, Q at (t, q, v); B = (2/Δt²)(Φ + Δt Φ̇) (the penalty paper);
 2. λ from the penalty QP (formulations.stepping.penalty_step; or the exact LCP);
 3. a = G⁻¹(J'λ + Q);  q ← q ⊕ (h v + ½h² a);  v ← v + h a.
 
@@ -387,7 +389,7 @@ def _scene_schema():
     xy = "m (x, y in the body's frame, or the world's for the ground)"
     return SceneSchema(
         formulation="mechanism",
-        doc="a planar mechanism from bodies, springs, forces and unilateral contacts (P2)",
+        doc="a planar mechanism from bodies, springs, forces and unilateral contacts (Nikolsky et al. 2012)",
         sections={
             "bodies": Field("tables", doc="one [[bodies]] table per body", required=True, fields={
                 "name": Field("str", "", "body name", required=True),

@@ -1,10 +1,10 @@
-r"""Tree-structured rigid-body systems (P4, Ivanov & Shimanovsky 2017): O(N)
+r"""Tree-structured rigid-body systems (Ivanov & Shimanovsky 2017): O(N)
 equations of motion in generalized momenta, with the Lagrange form beside them.
 
 SI units: m, kg, s, rad; forces N, moments N·m, momenta kg·m/s and kg·m²/s.
 
-Kinematics (P4 eqs. 1-5)
-------------------------
+Kinematics (the paper's eqs. 1-5)
+---------------------------------
 Body 0 moves by a given law; body i hangs from its parent λ(i) < i by joint i
 with n_i coordinates.  In body i's frame its spatial velocity is V_i = (v_i, ω_i)
 (v_i: velocity of the frame origin O_i).  With R_i, ρ_i the orientation and
@@ -17,8 +17,8 @@ subspace in frame i, ::
 H ν + b with S block lower-triangular (E6 on the diagonal, -C_i at column
 λ(i)) and b_i = C_i V_0 for the base's children: eq. (3).
 
-Momentum form (P4 eqs. 6-7, reconstructed)
-------------------------------------------
+Momentum form (the paper's eqs. 6-7, reconstructed)
+---------------------------------------------------
 T = ½ Σ V_i'M_iV_i with M_i the 6 x 6 inertia of body i about O_i.  Define the
 subtree momenta μ by S'μ = M V, i.e. μ_i = M_iV_i + Σ_children C_c'μ_c (the
 momentum of the subtree rooted at i, about O_i, in frame i).  Since
@@ -40,7 +40,7 @@ with Ī_i = M_i + Σ C_c'Â_cC_c, D_i = H_i'Ī_iH_i (n_i x n_i, positive definit
 H_i'Ī_iC_iV_λ(i)) and V_i by (1).  The *sweep* forms D_i⁻¹ explicitly and
 updates full 6 x 6 blocks (an LU elimination); the *LDLᵀ* variant keeps the
 Cholesky factor L_i of D_i, W_i = L_i⁻¹H_i'Ī_i, Â_i = Ī_i - W_i'W_i and
-updates only upper triangles (P4: 1.35-1.4x faster).  With V_0 = 0, (6) maps
+updates only upper triangles (the paper: 1.35-1.4x faster).  With V_0 = 0, (6) maps
 p to ν = G⁻¹p: the same recursion is an O(N) factorized G⁻¹
 (:class:`MassOperator`) for the contact formulations.
 

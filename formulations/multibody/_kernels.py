@@ -332,7 +332,7 @@ def crba(parent, Rrel, rho, H, nvj, iv, M, nv):
     return G
 
 
-# -- dynamics, momentum form (P4) -------------------------------------------------------------
+# -- dynamics, momentum form (Ivanov & Shimanovsky 2017) ---------------------------------------
 
 @njit(cache=_CACHE)
 def _congruence_add(R, rho, A, sym, B, col, row, out):
@@ -422,7 +422,7 @@ def _congruence_sym_add(R, rho, A, T, B11, B12, B22, X, out):
 
 @njit(cache=_CACHE)
 def momentum_factor(parent, Rrel, rho, H, nvj, M, ldlt):
-    """Factor P4's system (6), leaves to root, independently of p: the
+    """Factor the momentum form's system (6), leaves to root, independently of p: the
     articulated inertias Ī_i = M_i + Σ_c C_c'Â_cC_c, the joint blocks
     D_i = H_i'Ī_iH_i and what the solve needs of them.  ``ldlt`` False: the
     sweep (explicit D_i⁻¹, full 6 x 6 updates); True: the LDL' variant

@@ -23,7 +23,7 @@ __all__ = ["forward_kinematics", "mass_matrix", "rnea", "nonlinear_effects", "fo
            "kinetic_energy", "potential_energy", "point_jacobian", "point_position",
            "integrate", "MassOperator", "METHODS"]
 
-#: Solvers of P4's system (6): "ldlt" (Cholesky factors of the joint blocks,
+#: Solvers of the momentum form's system (6): "ldlt" (Cholesky factors of the joint blocks,
 #: symmetric updates) and "sweep" (block elimination with explicit inverses).
 METHODS = ("ldlt", "sweep")
 
@@ -44,7 +44,7 @@ def _fill(model: Model, data: Data, q, v=None, t: float = 0.0, world: bool = Tru
 
 def forward_kinematics(model: Model, data: Data, q, v=None, t: float = 0.0) -> Data:
     """World placements (data.Ra, data.ra) and, with v, body velocities data.V
-    by P4's recursions (1)."""
+    by Ivanov & Shimanovsky's recursions (1)."""
     if v is None:
         q = model.check_state(q)
         _fill(model, data, q, None, t)
@@ -157,7 +157,7 @@ def momenta(model: Model, data: Data, q, v, t: float = 0.0) -> np.ndarray:
 
 
 def _factor_momentum(model, data, a, method):
-    """Factors of P4's system (6) at the joint data in ``data`` (p-independent)."""
+    """Factors of the momentum form's system (6) at the joint data in ``data`` (p-independent)."""
     if method not in METHODS:
         raise InvalidOptionError(f"method must be one of {METHODS}; got {method!r}")
     *factors, ok = K.momentum_factor(a["parent"], data.Rrel, data.rho, data.H, a["nvj"], a["M"],
@@ -182,7 +182,7 @@ def _solve_momentum(model, data, a, p, V0, method):
 
 def velocities_from_momenta(model: Model, data: Data, q, p, t: float = 0.0,
                             method: str = "ldlt") -> np.ndarray:
-    """ν from (q, p): P4's symmetric indefinite block-tridiagonal system (6),
+    """ν from (q, p): the momentum form's symmetric indefinite block-tridiagonal system (6),
     O(N) by ``method`` "ldlt" or "sweep".  Also fills data.V and data.mu."""
     q = model.check_state(q)
     p = np.asarray(p, float)
@@ -194,7 +194,7 @@ def velocities_from_momenta(model: Model, data: Data, q, p, t: float = 0.0,
 
 def momentum_rhs(model: Model, data: Data, t: float, q, p, tau=None, fext=None,
                  method: str = "ldlt"):
-    """Hamilton's equations in P4's variables: (q̇, ṗ, ν) at (t, q, p).
+    """Hamilton's equations in Ivanov & Shimanovsky's variables: (q̇, ṗ, ν) at (t, q, p).
 
     ν from system (6); ṗ_i = Ḣ_i'μ_i + H_i'(F_i - V_i ×* μ_i) + τ_i (eq. (7),
     derived in the package docstring) with F_i the gravity and body forces on

@@ -1,6 +1,6 @@
 """Closed loops: extra geometric constraints Φ(q) = 0 on a tree.
 
-Two ways to close them (P4's comparison):
+Two ways to close them (Ivanov & Shimanovsky's comparison):
 
 **Momentum form, closed by the constraint itself.**  With p = Gν the true
 momenta, ṗ = F(q, ν) + J_c'λ.  Integrate instead p̄ = p + J_c'σ with σ̇ = -λ:

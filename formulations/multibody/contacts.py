@@ -1,5 +1,5 @@
 r"""Tree (and closed-loop) multibody systems with unilateral contacts, stepped
-by P2's penalty QP on the O(N) model (formulations.stepping.contact_step).
+by the penalty QP of Nikolsky et al. (2012) on the O(N) model (formulations.stepping).
 
 SI units: m, kg, s, rad; forces N, torques N·m, joint damping N·s/m or
 N·m·s/rad, compliance m/N.
@@ -11,7 +11,7 @@ Cardan, spherical, free, planar) plus the *effects* its scene names:
 - ``joint_damping``: τ_j = −c_j ν_j on the joints given a coefficient (a
   generalized force, evaluated at the step's start like every force);
 - ``compliance``: one compliance c [m/N] for every contact (C = c I);
-  without it the contacts are rigid (P2's regularized C, or the exact LCP);
+  without it the contacts are rigid (the penalty paper's regularized C, or the exact LCP);
 - ``loops``: closed loops (constraints.PointLoop) kept inside each step with
   Baumgarte stabilisation:
 
@@ -370,8 +370,8 @@ def _scene_schema():
     pt = "m (the body's frame, or the world's for the ground)"
     return SceneSchema(
         formulation="multibody",
-        doc="a spatial tree of rigid bodies (P4's O(N) model) with unilateral contacts and "
-            "closed loops, stepped by P2's penalty QP",
+        doc="a spatial tree of rigid bodies (Ivanov & Shimanovsky's O(N) model) with unilateral contacts and "
+            "closed loops, stepped by Nikolsky et al.'s penalty QP",
         sections={
             "bodies": Field("tables", doc="one [[bodies]] table per body, parents first",
                             required=True, fields={

@@ -1,6 +1,6 @@
-"""Scenes for the multibody model (P4's Cardan chains, a closed four-bar
+"""Scenes for the multibody model (Ivanov & Shimanovsky's Cardan chains, a closed four-bar
 linkage) and the multibody part of ``qpcontact demo``: a Cardan chain's
-velocities from momenta by P4's O(N) solvers against a dense solve of G."""
+velocities from momenta by the O(N) solvers against a dense solve of G."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ FOUR_BAR = (0.2, 0.5, 0.4, 0.45)
 
 
 def cardan_chain(N: int, link: float = 0.1) -> Model:
-    """N bodies (1 kg, 0.1 m links) hanging on 2-DOF Cardan joints (P4's test chains)."""
+    """N bodies (1 kg, 0.1 m links) hanging on 2-DOF Cardan joints (Ivanov & Shimanovsky's test chains)."""
     m = Model(gravity=(0.0, 0.0, -9.81))
     for i in range(1, N + 1):
         m.add_body(f"b{i}", i - 1, Cardan("x", "y"), placement=(0, 0, -link if i > 1 else 0.0),
@@ -62,7 +62,7 @@ def demo(console) -> int:
     from rich.markup import escape
     from rich.table import Table
 
-    table = Table(title="Multibody (P4): velocities from momenta on Cardan chains",
+    table = Table(title="Multibody (Ivanov & Shimanovsky 2017): velocities from momenta on Cardan chains",
                   box=box.SIMPLE_HEAD, title_justify="left", pad_edge=False)
     for col in ("bodies N", "ldlt [ms]", "sweep [ms]", "CRBA + dense Cholesky [ms]",
                 "max |Δν| ldlt", "max |Δν| sweep"):
@@ -90,7 +90,7 @@ def demo(console) -> int:
         wrong += int(max(errs) > 1e-13 * cond * np.abs(ref).max())
         table.add_row(*row)
     console.print(table)
-    console.print("ldlt and sweep: P4's O(N) solvers of G ν = p; CRBA + dense Cholesky: G formed "
+    console.print("ldlt and sweep: Ivanov & Shimanovsky's O(N) solvers of G ν = p; CRBA + dense Cholesky: G formed "
                   "and factored, O(N³).  Times: the best of repeated calls after a first, untimed "
                   "one.  max |Δν|: the largest difference from the dense solve's joint rates [rad/s]; "
                   "the check allows 1e-13 × cond(G) × max |ν|.",

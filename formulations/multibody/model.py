@@ -2,7 +2,7 @@
 
 SI units: lengths m, masses kg, inertias kg·m², angles rad.  Body 0 is the
 base (the ground, or a body moving by a given law); every other body hangs on
-a joint from a parent with a lower number, as in P4.
+a joint from a parent with a lower number, as in Ivanov & Shimanovsky (2017).
 """
 
 from __future__ import annotations
@@ -64,7 +64,7 @@ def Prismatic(axis="x") -> Joint:
 
 
 def Cardan(axis1="x", axis2="y") -> Joint:
-    """2 DOF universal joint (P4's experiments): rotation q1 about axis1, then
+    """2 DOF universal joint (Ivanov & Shimanovsky's experiments): rotation q1 about axis1, then
     q2 about axis2 of the once-rotated frame."""
     ax = np.array([_unit(axis1, "Cardan axis1"), _unit(axis2, "Cardan axis2")])
     if abs(ax[0] @ ax[1]) > 1 - 1e-12:

@@ -1,9 +1,9 @@
 """Time integration of tree (and closed-loop) systems.
 
-``simulate`` integrates either P4's momentum form (state q, p; ν from system
+``simulate`` integrates either Ivanov & Shimanovsky's momentum form (state q, p; ν from system
 (6) at every evaluation, O(N)) or the Lagrange form (state q, ν; ν̇ from a
 dense Cholesky of G), with an explicit integrator: SciPy's adaptive DOP853
-(order 8; P4 used a 6th-order Störmer method) or classical fixed-step RK4
+(order 8; they used a 6th-order Störmer method) or classical fixed-step RK4
 (order 4, to measure orders).  Closed loops (constraints.PointLoop) are
 closed at velocity level with Baumgarte α in the momentum form, or
 differentiated twice (Baumgarte α, β) in the Lagrange form.

@@ -1,4 +1,5 @@
-"""Thin rods with large deflections (P1): the planar elastica and the spatial
+"""Thin rods with large deflections (the rod paper: Pustovoy, Levin &
+Krasnorutskiy 2014): the planar elastica and the spatial
 Kirchhoff rod, their statics and motion, solved as two-point boundary-value
 problems.
 

@@ -1,5 +1,5 @@
-"""Nonlinear two-point boundary-value problems (P1, Pustovoy, Levin &
-Krasnorutskiy 2014: the KLPALG solver): trapezoidal finite
+"""Nonlinear two-point boundary-value problems (the rod paper: Pustovoy, Levin &
+Krasnorutskiy 2014, its KLPALG solver): trapezoidal finite
 differences, damped Newton, deferred correction, pseudo-arclength continuation.
 
 Problem: y'(s) = f(s, y) on [a, b] (y in R^m), boundary conditions
@@ -10,12 +10,12 @@ Discretisation on a mesh s_0 < ... < s_N (trapezoidal rule, O(h²))::
     y_{j+1} - y_j - h_j/2 (f_j + f_{j+1}) = 0,   j = 0..N-1,   g(y_0, y_N) = 0.
 
 Newton's method on these m(N+1) equations; the step length λ is the largest
-of 1, ½, ¼, ... with ‖R(Y + λΔ)‖² <= (1 - 2cλ)‖R(Y)‖², c = 0.11 (P1); the
+of 1, ½, ¼, ... with ‖R(Y + λΔ)‖² <= (1 - 2cλ)‖R(Y)‖², c = 0.11 (the paper's); the
 Jacobian is reused while the residual falls by at least half per step.  The
 Jacobian is block bidiagonal (m x m blocks) plus the boundary rows: with
 separated conditions, ordered [left conditions; intervals; right
 conditions], it is banded and factorised by LAPACK's banded LU with partial
-pivoting — P1's block LU with pivoting inside the blocks (:class:`BlockLU`);
+pivoting — the paper's block LU with pivoting inside the blocks (:class:`BlockLU`);
 coupled conditions go to SuperLU.  Both give the sign of the determinant,
 which continuation watches for turning points and bifurcations.
 
@@ -129,7 +129,7 @@ class BlockLU:
     are put in the order [left conditions; intervals 0..N-1; right
     conditions], which makes the matrix banded with kl = p + m - 1 and
     ku = 2m - 1 - p (p left conditions): LAPACK's banded LU with partial
-    pivoting (dgbtrf) then is P1's block elimination with pivoting inside the
+    pivoting (dgbtrf) then is the paper's block elimination with pivoting inside the
     blocks, in O(N m³).  Coupled conditions (a row touching both ends) break
     the band; those go to SuperLU on the sparse matrix.  Either way
     ``det_sign`` gives the sign of det(∂R/∂Y) (fixed row order), whose changes

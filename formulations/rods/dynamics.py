@@ -1,6 +1,7 @@
-"""Rod dynamics (P1): one nonlinear BVP in the arc length per time step, with
-Park's implicit multistep method — the planar cantilever and the spatial
-Kirchhoff rod of :mod:`.statics` in motion (nondimensional, as there)."""
+"""Rod dynamics (Pustovoy, Levin & Krasnorutskiy 2014): one nonlinear BVP in the
+arc length per time step, with Park's implicit multistep method — the planar
+cantilever and the spatial Kirchhoff rod of :mod:`.statics` in motion
+(nondimensional, as there)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from .statics import cantilever, cantilever_general, spatial_cantilever, spatial
 __all__ = ["cantilever_dynamics", "spatial_cantilever_dynamics", "RodMotion", "PARK"]
 
 #: Backward-difference velocity formulas ẋ_{n+1} = (Σ_i a_i x_{n+1-i}) / h:
-#: BDF1, BDF2 and Park's stiffly stable three-step formula (P1's choice).
+#: BDF1, BDF2 and Park's stiffly stable three-step formula (the rod paper's choice).
 PARK = {1: (1.0, -1.0), 2: (1.5, -2.0, 0.5), 3: (10 / 6, -15 / 6, 6 / 6, -1 / 6)}
 
 

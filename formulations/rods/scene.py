@@ -156,7 +156,7 @@ def _rod_schema():
     until = Field("float", "s", "the load acts while t < until (default: always)")
     return SceneSchema(
         formulation="rod",
-        doc="a planar cantilever's large motion (P1): one BVP per time step",
+        doc="a planar cantilever's large motion (Pustovoy et al. 2014): one BVP per time step",
         sections={
             "rod": {
                 "length": Field("float", "m", "length L", required=True, positive=True),

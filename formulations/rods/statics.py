@@ -1,4 +1,5 @@
-"""Thin rods with large deflections (P1): the planar inextensible elastica
+"""Thin rods with large deflections (Pustovoy, Levin & Krasnorutskiy
+2014): the planar inextensible elastica
 under a dead load, solved by :mod:`.bvp`, and what builds on it.
 
 Nondimensional: arc length s in [0, 1] (s = S/L), load parameter α = P L²/EI,
@@ -16,7 +17,7 @@ Columns: clamped-free or pinned-pinned.  :func:`cantilever_general` adds
 follower loads and extensibility; :func:`spatial_cantilever` is the spatial
 Kirchhoff rod (statics); :func:`cantilever_dynamics` and
 :func:`spatial_cantilever_dynamics` their motion, one BVP per time step with
-Park's implicit multistep method (P1).
+Park's implicit multistep method (as in the rod paper).
 """
 
 from __future__ import annotations
@@ -207,7 +208,7 @@ def spatial_cantilever(force=(0.0, 0.0, 0.0), moment=(0.0, 0.0, 0.0), *, torsion
 
         r' = R(q) e1,   q' = ½ q ⊗ (0, κ),   κ = B⁻¹ R(q)' m,   n' = 0,   m' = -r' × n,
 
-    B = diag(GJ/EI, 1, 1).  P1 uses 12 unknowns with three finite-rotation
+    B = diag(GJ/EI, 1, 1).  The rod paper uses 12 unknowns with three finite-rotation
     parameters; the quaternion (norm kept by the equations) avoids their
     singularity and keeps the right-hand side polynomial.  The load is applied
     in ``steps`` increments (natural-parameter continuation).  Returns a

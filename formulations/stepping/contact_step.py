@@ -1,6 +1,6 @@
-r"""The contact time step shared by planar mechanisms (formulations.mechanisms.planar)
-and spatial trees (formulations.multibody.contacts): P2's semi-implicit step
-with its penalty QP, or the exact LCP.
+r"""The contact time step shared by planar mechanisms (formulations.mechanisms)
+and spatial trees (formulations.multibody.contacts): the semi-implicit step
+of the penalty paper (Nikolsky et al. 2012) with its penalty QP, or the exact LCP.
 
 SI units: coordinates m or rad, velocities m/s or rad/s, reactions N, gaps m,
 time s.
@@ -56,7 +56,7 @@ class ContactSystem:
         """Integrate ``steps`` steps of size ``h`` [s] with look-ahead Δt
         (default h, elastic; see mechanisms.lookahead_for).
 
-        ``route="penalty"`` solves P2's penalty QP with ``method`` (μ chosen
+        ``route="penalty"`` solves the penalty QP with ``method`` (μ chosen
         automatically at the first step that needs it, re-chosen whenever a
         step's λ fails its certificate against the exact LCP); ``route="lcp"``
         solves the exact LCP (pivoting).  Every step's λ is certified against
@@ -228,7 +228,7 @@ def time_section() -> dict:
 def solver_section() -> dict:
     from qpcontact.scenes import Field
 
-    return {"route": Field("str", "", "penalty (P2's QP) or lcp (exact)", default="penalty"),
+    return {"route": Field("str", "", "penalty (Nikolsky et al.'s QP) or lcp (exact)", default="penalty"),
             "method": Field("str", "", "QP method of the penalty route", default="auto"),
             "accuracy": Field("str", "", "low, default or high", default="high")}
 

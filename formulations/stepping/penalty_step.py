@@ -1,5 +1,5 @@
 r"""Mechanisms with unilateral constraints: the penalty QP of one integration
-step (P2, Nikolsky, Kopylov, Romanenko & Kudryashov 2012).
+step (the penalty paper: Nikolsky, Kopylov, Romanenko & Kudryashov 2012).
 
 Units: SI.  Generalized coordinates q (m or rad), inertia G (kg, kg·m²),
 generalized forces Q (N, N·m), contact reactions λ (N), Jacobian J of the
@@ -9,24 +9,24 @@ A = J G⁻¹ J' [1/kg], b [m/s²], compliance C [m/N], P_y [N], penalty μ [s²]
 
 Derivation
 ----------
-Equations of motion with contact reactions (P2 eq. 1):
+Equations of motion with contact reactions (the paper's eq. 1):
 
     G q̈ = Q + J'λ          =>   q̈ = G⁻¹ (J'λ + Q).
 
 The constraint accelerations are Φ̈ = J q̈ + D, with D_k = q̇' ∇²Φ_k q̇.  With a
 look-ahead time Δt, Φ(t + Δt) ≈ Φ + Δt Φ̇ + ½Δt² Φ̈ >= 0 reads Φ̈ + B >= 0 with
-B = (2/Δt²)(Φ + Δt Φ̇) (P2's B, reconstructed).  Substituting q̈:
+B = (2/Δt²)(Φ + Δt Φ̇) (the paper's B, reconstructed).  Substituting q̈:
 
     w = A λ + b >= 0,   λ >= 0,   λ'w = 0,
     A = J G⁻¹ J'  (symmetric PSD),   b = B + J G⁻¹ Q + D,
 
 a linear complementarity problem in the reactions: the **exact reference**
-(:func:`exact_lcp`), solved by the pivoting methods.  P2's original problem
+(:func:`exact_lcp`), solved by the pivoting methods.  The paper's original problem
 minimises ½λ'Cλ + P_y'Cλ over the complementary feasible λ (C the symmetric
 positive definite matrix of contact influence coefficients); when A is
 positive definite that set is the single LCP solution.
 
-**Penalty QP** (P2 eqs. 7-10): move the nonlinear complementarity product
+**Penalty QP** (the paper's eqs. 7-10): move the nonlinear complementarity product
 into the objective with a weight μ > 0,
 
     minimise   ½ λ'Wλ + (C P_y + μ b)'λ,    W = C + 2μA,
@@ -166,7 +166,7 @@ class PenaltyStep:
 
 
 def penalty_qp(G, Q, J, C, B, D, P_y, mu) -> Problem:
-    """P2's penalty QP of one step as a ``qpsolvers.Problem`` in λ [N]:
+    """The penalty QP (Nikolsky et al. 2012) of one step as a ``qpsolvers.Problem`` in λ [N]:
     min ½λ'(C + 2μA)λ + (C P_y + μ b)'λ  s.t.  -Aλ <= b, λ >= 0.
     ``C=None`` means rigid contacts (regularized, see REGULARIZATION)."""
     return step_penalty_qp(PenaltyStep(G, Q, J, B, D, C, P_y), mu)

@@ -55,7 +55,8 @@ def random_spd_lcp(n: int, cond: float, seed: int):
 
 def far_contact_lcp(seed: int, n: int = 21, cond: float = 297.0, n_far: int = 3,
                     far: float = 5e11):
-    """(LCP, z*, w*): the far-contact family of issue 14.
+    """(LCP, z*, w*): the far-contact family: gaps spread over
+    1e0..1e12, where one tolerance for every row gave silent wrong answers.
 
     M = Q diag(λ) Q' (λ log-spaced in [1/cond, 1]); z*_i uniform in [0.1, 2] on
     about half the indices and 0 elsewhere, w*_i uniform in [0.1, 2] where

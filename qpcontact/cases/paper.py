@@ -1,4 +1,4 @@
-"""The three test examples of the decomposition paper (P0, Kolesnikov 2013),
+"""The three test examples of the decomposition paper (Kolesnikov 2013),
 with the solutions and pivot counts printed there.
 
 The matrices are garbled in the extracted text; these are the reconstructions
@@ -29,17 +29,17 @@ class PaperExample:
 
 
 def p0_examples() -> list[PaperExample]:
-    """The P0 examples 1-3 as LCPs with their published solutions."""
+    """Kolesnikov's examples 1-3 as LCPs with their published solutions."""
     ex1 = LCP([[4, -1, 0, 0], [-1, 4, -1, 0], [0, -1, 4, -1], [0, 0, -1, 4]], [-4, 3, -4, 2])
     ex2 = LCP([[100, -2, -3, -4], [-2, 50, -6, -7], [-3, -6, 100, -11], [-4, -7, -11, 200]],
               [1, -2, 3, -4])
     ex3 = LCP([[4, -1, 2, 0], [-1, 4, -1, 0], [2, -1, 4, -1], [0, 0, -1, 4]], [-4, 1, -2, 0])
     z2 = np.array([0.0, 428 / 9951, 0.0, 214 / 9951])
     return [
-        PaperExample("P0 example 1", ex1, np.array([1.0, 0, 1, 0]), np.array([0.0, 1, 0, 1]), 2,
+        PaperExample("Kolesnikov example 1", ex1, np.array([1.0, 0, 1, 0]), np.array([0.0, 1, 0, 1]), 2,
                      "tie between i=1 and i=3 in the first step"),
-        PaperExample("P0 example 2", ex2, z2, ex2.w(z2), 2,
+        PaperExample("Kolesnikov example 2", ex2, z2, ex2.w(z2), 2,
                      "a published interior-point method needed 54 iterations"),
-        PaperExample("P0 example 3", ex3, np.array([1.0, 0, 0, 0]), np.zeros(4), 1,
+        PaperExample("Kolesnikov example 3", ex3, np.array([1.0, 0, 0, 0]), np.zeros(4), 1,
                      "degenerate: z_i = w_i = 0 for i = 2, 3, 4"),
     ]

@@ -229,11 +229,11 @@ def build_qp(kind: str, n: int, seed: int, *, cond: float = 1e4) -> Case:
 
 
 def _penalty_qp(n: int, rng, seed: int) -> Case:
-    """P2's penalty QP of one integration step (formulations/mechanisms/penalty.py):
+    """The penalty QP of one integration step (Nikolsky et al. 2012) (formulations/mechanisms/penalty.py):
     min ½λ'(C + 2μA)λ + (C P_y + μb)'λ  s.t.  Aλ >= -b, λ >= 0, with A =
     J G⁻¹ J' singular (more contacts than degrees of freedom) and μ up to
     1e12 times the exactness threshold μ*.  For μ > μ* its minimiser is the
-    LCP solution λ* (P2's exact-penalty result, reconstructed in
+    LCP solution λ* (the penalty paper's exact-penalty result, reconstructed in
     ../shared/PAPERS.md), which is planted here; μ* is computed from the
     planted λ*, so the known answer holds by that theorem, not by a solver."""
     dof, nu = max(2, n // 2), n

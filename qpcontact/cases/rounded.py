@@ -2,7 +2,7 @@
 the status or the solution of the problem *as stored* is decided in rational
 arithmetic (:mod:`qpcontact.cases.rational_references`), never by a solver.
 
-Issue 31: an LCP built as B Bᵀ with Bᵀd = 0, d >= 0 and q'd < 0 has no
+Ill-posed data: an LCP built as B Bᵀ with Bᵀd = 0, d >= 0 and q'd < 0 has no
 solution in exact arithmetic, but the stored, rounded M is usually positive
 definite or indefinite, and then the stored problem may have a solution with
 |z| ~ 1e16 — or none.  Methods that answer "ok" there have no correct digit.

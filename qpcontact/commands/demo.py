@@ -58,7 +58,7 @@ def demo_rows(accuracy="high") -> list[dict]:
             sols = [solve(ex.lcp, method=name, accuracy=accuracy) for _ in range(REPEATS)]
             sol = min(sols, key=lambda s: s.wall_time)
             dz = np.inf if sol.z is None else float(np.max(np.abs(sol.z - ex.z)) / np.max(np.abs(ex.z)))
-            rows.append(dict(method=name, example=ex.name.replace("P0 example ", "ex "),
+            rows.append(dict(method=name, example=ex.name.replace("Kolesnikov example ", "ex "),
                              status=sol.status, ok=sol.ok, error=sol.error, time=sol.wall_time,
                              first_call=first, dz=dz, iterations=sol.iterations))
     return rows
@@ -97,8 +97,8 @@ def _statuses(rs) -> str:
 
 def _paper_table(console, accuracy) -> int:
     rows = demo_rows(accuracy)
-    table = _table(f"P0 examples 1-3 (Kolesnikov 2013), accuracy {accuracy!r}: every installed "
-                   "method, one row each", ("method", "status", "error", "|z-z_paper|/|z|",
+    table = _table(f"Examples 1-3 of the decomposition paper (Kolesnikov 2013), accuracy {accuracy!r}: "
+                   "every installed method, one row each", ("method", "status", "error", "|z-z_paper|/|z|",
                                             "time [ms] ex 1, 2, 3", "iterations"),
                    left=("method", "status"))
     wrong = 0
@@ -217,8 +217,8 @@ def _formulation_demos(console, first_part: int) -> int:
 
 
 def _pivot_table(console) -> int:
-    """P0's energy method: our pivot counts beside the paper's; returns mismatches."""
-    table = _table("Energy method (P0): principal pivots, ours against the paper's and Lemke's",
+    """Kolesnikov's energy method: our pivot counts beside the paper's; returns mismatches."""
+    table = _table("Energy method (Kolesnikov 2013): principal pivots, ours against the paper's and Lemke's",
                    ("example", "energy", "paper", "lemke", "Murty fallback", "note"),
                    left=("example", "note"))
     table.columns[-1].no_wrap = False
@@ -229,7 +229,7 @@ def _pivot_table(console) -> int:
         same = sol.ok and sol.iterations == ex.pivots
         mismatches += int(not same)
         style = "green" if same else "red"
-        table.add_row(ex.name.replace("P0 example ", "ex "), f"[{style}]{sol.iterations}[/{style}]",
+        table.add_row(ex.name.replace("Kolesnikov example ", "ex "), f"[{style}]{sol.iterations}[/{style}]",
                       str(ex.pivots), str(lem.iterations),
                       "yes" if sol.stats.get("fallback") else "no", ex.note)
     console.print(table)

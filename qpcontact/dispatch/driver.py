@@ -137,7 +137,7 @@ AUTO_PROOFS = 3
 #: "auto" ends its chain once this many results point to no solution — an
 #: answer in doubt (status "ill_posed"), Lemke's Farkas vector holding to
 #: rounding only, a backend's own "infeasible"/"unbounded" — and the proofs
-#: they led to failed: further methods only repeat it (the audit of issue 31:
+#: they led to failed: further methods only repeat it (measured:
 #: over 12 s on ill-posed LCPs, over 5 s on unbounded QPs)
 AUTO_EVIDENCE = 2
 

@@ -28,8 +28,9 @@ __all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "G
            "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
-#: Preference of ``method="auto"``: exact pivoting first where it applies (as
-#: DESIGN.md asks), then the QP backends in the order that reached "high"
+#: Preference of ``method="auto"``: exact pivoting first where it applies (the
+#: reference the others are judged against; docs/guide.md, docs/backends.md),
+#: then the QP backends in the order that reached "high"
 #: fastest in benchmarks/backends.py on this machine class (docs/backends.md).
 #: "auto" tries them in turn until one is certified.
 #: "enumeration" (n <= 16) follows Lemke: a general M's secondary ray proves

@@ -12,7 +12,7 @@ componentwise one by the factor of cancellation σ_i / σ_w.
 Where the componentwise error holds and the normwise one does not —
 ``normwise_error > max(DOUBT_RATIO × error, tol)`` — the answer is the
 solution of nearby data only: no digit of it is guaranteed, and the data
-may have no solution at all.  Measured (issue 31, docs/certificates.md): on
+may have no solution at all.  Measured (docs/certificates.md, the doubt rules): on
 200 near-singular PSD LCPs with a nonnegative null vector d and q'd < 0 the
 rule caught every accepted answer (normwise >= 0.13, componentwise 1e-16);
 on 144 valid answers of 8 solvable families it fired on none (largest valid

@@ -192,7 +192,7 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
     on its own scale to FARKAS_RTOL: (M'y)_j <= FARKAS_RTOL (|M|'y)_j and
     q'y < -FARKAS_RTOL |q|'y; (Mz + q)_i >= -FARKAS_RTOL (|M||z| + |q|)_i.
     An LP's word alone is never a proof: on data spanning 1e-300..1e300 HiGHS
-    called a solvable problem infeasible (issue 14).
+    called a solvable problem infeasible.
     """
     from scipy.optimize import linprog
 

@@ -1,5 +1,5 @@
 """Proofs that a parametric LCP has no solution beyond a load: the collapse of a
-load trace (Osipova, Popov & Lovtsov, P3), by Farkas vectors and branch and
+load trace (the load-trace paper of Osipova, Popov & Lovtsov), by Farkas vectors and branch and
 bound over the complementary patterns.
 
 For the family w = M z + q0 + p q1, LCP(M, q(p')) has a solution only if one

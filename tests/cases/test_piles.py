@@ -1,5 +1,5 @@
 """Generated granular piles (qpcontact.cases.piles) and the route for large
-frictional problems ("nsgs-newton", "auto" with time shares; issue 33).
+frictional problems ("nsgs-newton", "auto" with time shares).
 
 References: the Delassus entries of a contact between two rigid discs or
 spheres by hand (1/m_a + 1/m_b along the normal; with the rolling terms

@@ -67,7 +67,8 @@ def test_solve_siconos_friction_dat():
 
 
 def test_solve_refuses_a_file_with_trailing_garbage(tmp_path):
-    """Issue 31: the CLI solved such a file and said nothing."""
+    """A data file with something after its data: the CLI once solved it and
+    said nothing."""
     for tail, fragment in ((" 7\n", "more number"), ("\nleft over text\n", "text 'left'"),
                            ("\n\x00\x01", "binary data")):
         path = tmp_path / "deudeu_tail.dat"
@@ -78,7 +79,7 @@ def test_solve_refuses_a_file_with_trailing_garbage(tmp_path):
         assert "deudeu_tail.dat" in out and "line" in out and fragment in out, out
 
 
-# -- issue 36: commands that fail loudly, help read from the registries ----------------------
+# -- commands that fail loudly, help read from the registries ----------------------
 
 def _words(text: str) -> str:
     return " ".join(text.split())
@@ -101,7 +102,7 @@ def _installed_formulations() -> set[str]:
 
 
 def test_help_lists_the_formulations_and_methods_accepted():
-    """Issue 36: --help listed four formulations where six were accepted."""
+    """--help once listed four formulations where six were accepted."""
     from qpcontact.commands.stress import FAMILIES
     from qpcontact.solvers.registry import methods
 
@@ -136,7 +137,8 @@ def test_help_lines_are_whole_sentences_rewrapped():
 
 
 def test_unknown_formulation_method_family_or_accuracy_exits_2_with_the_valid_names():
-    """Issue 36: `compare --formulations typo` ran nothing and exited 0."""
+    """A typo in a name is an error: `compare --formulations typo` once ran
+    nothing and exited 0."""
     from qpcontact.commands.stress import FAMILIES
     from qpcontact.solvers.registry import methods
 
@@ -182,7 +184,7 @@ def test_options_that_leave_nothing_to_run_exit_2(tmp_path):
 
 def test_missing_data_says_where_it_looked_and_how_to_point_at_it(tmp_path, monkeypatch):
     """The data sets were looked for relative to the current folder and
-    skipped silently elsewhere (issue 36)."""
+    skipped silently elsewhere."""
     empty = tmp_path / "empty"
     empty.mkdir()
     monkeypatch.chdir(tmp_path)
@@ -228,7 +230,7 @@ def test_data_found_from_any_folder_by_qpcontact_data(tmp_path, monkeypatch):
 
 
 def test_solve_prints_integer_fields_as_integers(tmp_path):
-    """Issue 36: worst_index printed as 0.000e+00."""
+    """Integer fields print as integers: worst_index once printed as 0.000e+00."""
     import re
 
     path = tmp_path / "deudeu.dat"

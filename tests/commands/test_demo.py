@@ -1,4 +1,4 @@
-"""``qpcontact demo`` as a newcomer reads it (issue 36): run once through the
+"""``qpcontact demo`` as a newcomer reads it: run once through the
 command line as a log or a pipe gets it, then judged on its text: each part a
 terminal page on 100 columns, every header with a unit whole, every status
 explained in the part where it appears, timings without the first call's

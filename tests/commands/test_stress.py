@@ -77,7 +77,7 @@ def test_siconos_files_are_judged(siconos_dir):
         assert category != "silent_wrong", (case.kind, reason)
 
 
-# --- issue 31: rounded families, exact references, the judge's own tolerance ---------------
+# --- rounded families, exact references, the judge's own tolerance --------------------------
 # The references of qpcontact/cases/rounded.py come from its Bareiss code; here they are
 # re-checked by plain Fraction elimination written in this file (a second route).
 

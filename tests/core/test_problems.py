@@ -91,7 +91,7 @@ def test_parametric_at_shares_structure_and_pickles():
 
 def test_definiteness_by_diagonal_dominance_and_its_limits():
     """Gershgorin decides irreducibly diagonally dominant matrices without a
-    factorization (issue 32); singular weakly dominant ones are not passed.
+    factorization; singular weakly dominant ones are not passed.
     References: the Dirichlet Laplacian is PD, the periodic ring Laplacian
     is PSD and singular (eigenvalue 0 for the constant vector)."""
     import scipy.sparse as sp

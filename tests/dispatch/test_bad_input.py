@@ -1,5 +1,5 @@
 """Bad input gets the documented exception, with a message that says what is
-wrong (issue 16's list of raw exceptions), and "auto" neither gives up on valid
+wrong (no raw exception from deep inside a backend), and "auto" neither gives up on valid
 input nor wanders past a proof."""
 
 from __future__ import annotations

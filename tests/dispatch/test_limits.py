@@ -1,4 +1,4 @@
-"""Hard cases of issue 16: time limits, isolation, proofs of infeasibility and
+"""Hard cases: time limits, isolation, proofs of infeasibility and
 unboundedness for QPs, option names, and the definiteness test's scale."""
 
 from __future__ import annotations

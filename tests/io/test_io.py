@@ -70,7 +70,7 @@ def test_sparse_block_inconsistency(tmp_path):
         read_siconos_lcp(path)
 
 
-# Issue 31: a file with something after its data was solved without a word.
+# A file with something after its data was once solved without a word.
 _DEUDEU = "2\n0 2 2\n2 2\n2 1\n1 2\n-5 -6"   # M = [[2, 1], [1, 2]], q = (-5, -6) on line 6
 
 

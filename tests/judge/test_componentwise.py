@@ -1,4 +1,4 @@
-"""Issue 14: no silent wrong answer.  The componentwise certificate, the
+"""No silent wrong answer.  The componentwise certificate, the
 pivoting methods' per-row decisions, convexity of QPs, extreme data.
 
 Every reference here is independent of qpcontact's certificate: planted
@@ -56,7 +56,7 @@ def test_certificate_sees_a_near_contact_beside_far_gaps():
 
 @pytest.mark.parametrize("method", EXACT)
 def test_exact_methods_right_on_far_contact_problems(method):
-    """The issue's reproducer: 'energy' returned 100 of 100 and 'bpp' 96 of 100
+    """The far-contact reproducer: 'energy' returned 100 of 100 and 'bpp' 96 of 100
     wrong answers with ok=True before the sign tests became per-row."""
     wrong = []
     for seed in range(100):
@@ -71,7 +71,7 @@ def test_qp_backends_never_silently_wrong_on_far_contacts():
     """QP backends may fail on these data (most do: absolute tolerances against
     gaps of 5e11), but whatever they return as ok is right."""
     # proxqp is left out: on far_contact_lcp(7) it runs 13.6 M iterations (100 s)
-    # on its first calls in a process, then 10 000 on later ones (issue 16: hangs).
+    # on its first calls in a process, then 10 000 on later ones (a hang).
     names = [m for m in ("clarabel", "osqp", "piqp", "scs", "highs", "daqp", "quadprog")
              if m in qpcontact.methods()]
     silent = []
@@ -116,7 +116,7 @@ def test_qp_far_constraint_does_not_hide_a_violated_near_one():
 
 
 def test_idle_row_noise_is_not_an_error_but_a_violation_is():
-    """P0 example 3 has an idle row (q_4 = 0, z_3 = z_4 = 0 at the solution): a
+    """Kolesnikov example 3 has an idle row (q_4 = 0, z_3 = z_4 = 0 at the solution): a
     point correct to 1e-24 there is certified; a gap violated by 1e-3 is not."""
     from qpcontact.cases.paper import p0_examples
 

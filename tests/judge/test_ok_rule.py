@@ -1,4 +1,4 @@
-"""`ok` means the answer has correct digits (issue 31).
+"""`ok` means the answer has correct digits, also on ill-posed data.
 
 The instances come from the rounded families (qpcontact/cases/rounded.py):
 real-valued data whose status — and, where the stored matrix is exactly

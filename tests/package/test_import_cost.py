@@ -1,4 +1,4 @@
-"""What the first touch costs (issue 36): ``import qpcontact`` and ``qpcontact
+"""What the first touch costs: ``import qpcontact`` and ``qpcontact
 --help`` load none of the heavy modules, and a compiled kernel is kept on disk
 so that a second process loads it instead of compiling it.  Each check runs in
 a fresh interpreter: this one has imported everything already."""

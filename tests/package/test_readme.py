@@ -1,4 +1,4 @@
-"""README.md kept true (issue 36): every python block runs as written, each
+"""README.md kept true: every python block runs as written, each
 in a fresh namespace, from a scratch folder laid out like a checkout (its
 ``../shared`` is the data beside this checkout, when there is one), and what
 a block shows — ``# -> value`` comments, a ```text block of its output — is

@@ -1,4 +1,4 @@
-"""The wheel and sdist a user would install (issue 36): built from this
+"""The wheel and sdist a user would install: built from this
 checkout, the wheel carries every module and entry point, the sdist every
 file a checkout runs `make demo` and `make test` from, and the installed
 wheel runs the README's first example and a scene file from a folder outside

@@ -1,4 +1,4 @@
-"""Figures read at a glance (issue 36): a colour and a marker of its own per
+"""Figures read at a glance: a colour and a marker of its own per
 method, colour-blind-safe colours, exact zeros in a labelled band rather than
 on an unlabelled floor, tick labels that do not overprint (judged on the
 rendered figure), units on every axis."""

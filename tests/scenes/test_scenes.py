@@ -1,4 +1,4 @@
-"""Scene files (issue 19, first part): the engine's loader, the drum's schema,
+"""Scene files: the engine's loader, the drum's schema,
 `qpcontact simulate` and its HDF5 results.  Line numbers in the expected
 messages are found in the test's own text, not taken from the loader."""
 
@@ -366,7 +366,7 @@ def test_sweep_on_dask_equals_the_serial_sweep(tmp_path):
 
 
 def test_ramming_scene_file_equals_the_python_scene():
-    """examples/scenes/ramming.toml is P2's ramming scene written as a
+    """examples/scenes/ramming.toml is the penalty paper's ramming scene written as a
     user-defined mechanism: the same motion and reactions as ramming_scene()."""
     from formulations.mechanisms import ramming_scene
     from qpcontact.scenes import parse_scene, vary_scene
@@ -397,8 +397,8 @@ def test_mechanism_springs_without_the_effect_point_at_their_table(tmp_path):
 
 
 def test_pellet_scene_file_equals_the_python_scene():
-    """examples/scenes/pellets.toml (a force pulse given by `until`) is P2's
-    pellet scene: the same motion and reactions as pellet_scene() through the
+    """examples/scenes/pellets.toml (a force pulse given by `until`) is the
+    penalty paper's pellet scene: the same motion and reactions as pellet_scene() through the
     first impacts."""
     from formulations.mechanisms import pellet_scene
     from qpcontact.scenes import parse_scene, vary_scene

@@ -1,7 +1,6 @@
-"""Frictional contact (issue 20, first part): readers for Siconos .dat and
-FCLIB HDF5 files, the problem type, the natural-map error, and the exact 2-D
-LCP solved by Lemke — judged by an error function written here, independently
-of qpcontact.friction."""
+"""Frictional contact: readers for Siconos .dat and FCLIB HDF5 files, the
+problem type, the natural-map error, and the exact 2-D LCP solved by Lemke — judged by an error function written here,
+independently of qpcontact.friction."""
 
 from __future__ import annotations
 
@@ -126,7 +125,7 @@ def test_bad_friction_data_is_named():
         FrictionProblem(np.eye(4), np.zeros(4), [0.3], 4)
 
 
-# -- 3-D and the cone methods (issue 20, second part) --------------------------------
+# -- 3-D and the cone methods ----------------------------------------------------------
 
 THREE_D = [n for n in FILES if n not in SMALL_2D and not n.startswith(("fc2d", "gfc2d"))]
 

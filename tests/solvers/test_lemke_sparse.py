@@ -83,7 +83,7 @@ def test_degenerate_and_nonsymmetric_problems(seed, sparse_form):
 @pytest.mark.parametrize("seed", range(8))
 def test_spread_gaps_and_touching_pairs(seed, sparse_form):
     """Gaps over 1e0..1e12 and touching unloaded pairs, planted: equal
-    component by component (issue 14's family)."""
+    component by component (the far-contact family)."""
     lcp, z, w = spread_lcp(seed, sparse=True)
     sol = qpcontact.solve(lcp, method="lemke")
     assert sol.ok and planted_ok(sol.z, sol.w, z, w, rtol=1e-9), sol.message

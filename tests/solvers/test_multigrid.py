@@ -1,4 +1,4 @@
-"""The multilevel route "mg-bpp" (issue 32): its answers equal the exact
+"""The multilevel route "mg-bpp": its answers equal the exact
 oracle's — the energy method's, a manufactured solution's, or a closed form —
 on several meshes, with the problem's own grid hierarchy and with the one it
 builds by aggregation; a hierarchy that does not match is refused; a poor
@@ -231,7 +231,7 @@ def test_grid_hierarchy_interpolates_linear_functions_exactly(N):
 @pytest.mark.slow
 @pytest.mark.parametrize("hierarchy", ["grid", "aggregation"])
 def test_a_hundred_thousand_unknowns_equal_ip_bpp(hierarchy):
-    """n = 99 856 (the issue's membrane row): the same certified answer as
+    """n = 99 856 (the membrane row of docs/pivoting.md's mesh-scale table): the same certified answer as
     the interior-point route (its own pivoting and factorizations), with at
     most one exchange after the multilevel search."""
     lcp = meshes.membrane(316, obstacle="bumps")

@@ -1,7 +1,7 @@
 """The pivoting methods ("energy", "bpp", "lemke") as the exact oracle.
 
 References come from outside the code under test: the paper's printed
-solutions and pivot counts (P0), the literature's pivot counts (Fathi 1979),
+solutions and pivot counts (Kolesnikov 2013), the literature's pivot counts (Fathi 1979),
 exact-rational Lemke and enumeration (tests/helpers/references.py), solutions built
 into the random problems, and the QP backends."""
 
@@ -26,7 +26,7 @@ from ..helpers.references import enumerate_lcp, exact_lemke_pivots, fathi_family
 PIVOTING = ("energy", "bpp", "lemke")
 
 
-# --- P0: the paper's examples -------------------------------------------------
+# --- Kolesnikov (2013): the decomposition paper's examples ----------------------
 
 @pytest.mark.parametrize("ex", p0_examples(), ids=lambda e: e.name)
 def test_energy_reproduces_paper_solution_and_pivot_count(ex):
@@ -47,8 +47,9 @@ def test_other_pivoting_methods_solve_paper_examples(ex, method):
 
 
 def test_energy_drops_basic_z_that_turns_negative():
-    # PAPERS.md P0: never-drop ends at z = (6/13, -1/13, 11/13); the rule with
-    # dropping reaches z = (3/7, 0, 5/7), w = (0, 1/7, 0) in 4 pivots.
+    # Kolesnikov (2013; digest in PAPERS.md): never-drop ends at
+    # z = (6/13, -1/13, 11/13); the rule with dropping reaches z = (3/7, 0, 5/7),
+    # w = (0, 1/7, 0) in 4 pivots.
     M = np.array([[4.0, 0, -1], [0, 7, 3], [-1, 3, 2]])
     q = np.array([-1.0, -2, -1])
     sol = qpcontact.solve(LCP(M, q), method="energy")
@@ -159,7 +160,7 @@ def test_pivoting_methods_and_backends_agree_on_random_spd(n, cond, seed, sparse
 
 
 def test_energy_rule_fallback_frequency_on_random_spd(record_property):
-    """The energy rule alone terminated in every trial P0's study ran; count
+    """The energy rule alone terminated in every trial Kolesnikov's study ran; count
     how often the Murty fallback is needed here and fail loudly if ever."""
     needed, pivots, trials = [], [], 0
     for seed in range(150):
@@ -336,7 +337,7 @@ def test_exact_methods_on_very_ill_conditioned_spd(seed):
         assert np.max(np.abs(sol.z - z_star)) <= 1e12 * 1e-16 * 100 * np.max(z_star), method
 
 
-# --- gaps far apart, touching contacts (issue 14) ---------------------------------
+# --- gaps far apart, touching contacts (the far-contact family) -------------------
 
 @pytest.mark.parametrize("sparse", [False, True])
 @pytest.mark.parametrize("seed", range(8))

@@ -1,4 +1,5 @@
-"""Load-parameter tracing ("trace", P3) checked against independent solves.
+"""Load-parameter tracing ("trace"; the load-trace paper of Osipova, Popov &
+Lovtsov) checked against independent solves.
 
 Every breakpoint is verified by solving the LCP at p_k - eps and p_k + eps
 from scratch (another method) and comparing the sets of positive z's; between
@@ -165,7 +166,7 @@ def test_trace_plot_is_written(tmp_path):
 
 @pytest.mark.parametrize("seed", range(4))
 def test_trace_with_far_and_touching_gaps_agrees_componentwise(seed):
-    """Issue 14's family in the trace: gaps spread over 1e0..1e12 (far contacts)
+    """The far-contact family in the trace: gaps spread over 1e0..1e12
     and gaps of exactly zero (touching, unloaded).  Each piece must match an
     independent solve ("bpp", no shared pivoting code) component by component,
     w_i against its own size — a normwise check would let near contacts be

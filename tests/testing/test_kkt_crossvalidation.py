@@ -44,9 +44,9 @@ QP_BACKENDS = sorted(name for name, m in qpcontact.methods().items()
 
 # (backend family, problem) pairs that cannot reach "high" and are documented
 # in docs/backends.md: interior-point methods converge to a degenerate solution
-# (z_i = w_i = 0) only like sqrt(gap), so P0 example 3 stops near 1e-7.
+# (z_i = w_i = 0) only like sqrt(gap), so Kolesnikov example 3 stops near 1e-7.
 INTERIOR_POINT = {"clarabel", "piqp", "cvxpy:CLARABEL", "cvxpy:PIQP"}
-DEGENERATE_EXAMPLES = {"P0 example 3"}
+DEGENERATE_EXAMPLES = {"Kolesnikov example 3"}
 
 
 def _bound_constant(lcp) -> float:

@@ -29,7 +29,7 @@ qpcontact promises it on — docs/certificates.md — recomputed here by
 definition), where ``tol`` is the requested accuracy and κ the judge's own
 condition number of the reference, from the case data (never the answer's
 own forward-error estimate, which is huge exactly where the answer has no
-digit: issue 31).  The cap says that ok means at least one correct digit.
+digit).  The cap says that ok means at least one correct digit.
 QPs are judged on the optimal value and on feasibility, each row on its own
 scale, at ``1000 tol``.  The rounded families (qpcontact.cases.rounded) have
 references decided in rational arithmetic; docs/testing.md has the details.

@@ -23,7 +23,7 @@ LCP_FAMILIES = ("spd", "psd_singular", "degenerate", "badly_scaled", "p_matrix",
 QP_FAMILIES = ("qp_convex", "qp_degenerate", "qp_infeasible", "qp_unbounded", "qp_penalty")
 
 #: real-valued data whose status or solution is decided exactly, in rationals
-#: (qpcontact.cases.rounded; issue 31).  Appended after "siconos" so that the
+#: (qpcontact.cases.rounded).  Appended after "siconos" so that the
 #: older families keep their index in FAMILIES, which seeds their instances.
 ROUNDED_LCP_FAMILIES = ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded")
 ROUNDED_QP_FAMILIES = ("qp_infeasible_rounded", "qp_unbounded_rounded")

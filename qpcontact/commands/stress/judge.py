@@ -29,7 +29,7 @@ def _promised_scales(M, q, z_star) -> tuple[np.ndarray, np.ndarray]:
 
 #: an ok answer promises at least one correct digit: whatever the judge's
 #: own bound allows, no component may be off by more than this fraction of its
-#: scale (issue 31: "ok" with |z| 1e9 off by 66 % was accepted before)
+#: scale ("ok" with |z| 1e9 off by 66 % was once accepted)
 DIGIT_CAP = 0.1
 
 
@@ -181,13 +181,13 @@ def judge(case, sol) -> tuple[str, str]:
     if sol.ok:
         if is_lcp:
             # tolerances from the case data only: an answer's own forward-error
-            # estimate may be huge exactly where it has no digit (issue 31)
+            # estimate may be huge exactly where it has no digit
             good = _lcp_agrees(case, sol.z, sol.tol)
         else:
             good = _qp_agrees(case, sol.x, 1000 * sol.tol)
         return ("certified", "") if good else (
             "silent_wrong", f"certified (error {sol.error:.1e}) but disagrees with the known answer")
-    # "ill_posed" (issue 31): not ok, said so — the honest answer where the
+    # "ill_posed": not ok, said so — the honest answer where the
     # data are a rounding away from a problem without a solution
     if sol.status in ("inaccurate", "ill_posed", "max_pivots", "ray"):
         return "inaccurate", sol.status

@@ -134,7 +134,7 @@ def tasks(config: StressConfig) -> list[tuple]:
     from ...solvers.registry import methods as installed
     from ...dispatch.routes import applicable
 
-    # "auto" is what users call: it runs in every default run (issue 31)
+    # "auto" is what users call: it runs in every default run
     names = list(config.methods) if config.methods else ["auto"] + [
         name for name, m in installed().items() if not (config.no_cvxpy and m.family == "cvxpy")]
     registry = installed()

@@ -33,7 +33,7 @@ _QPSOLVERS_TABLE: dict[str, Callable[[float], dict]] = {
     # cond 10..1e8, tests/solvers/test_pivoting.py's family); with 1e-10, 6 of 48, all at
     # cond 1e8 (docs/pivoting.md).
     # With the componentwise certificate, 1e-5 t certified 32/41 of a mixed set
-    # (random SPD to cond 1e8, Siconos mmc, P0, far contacts, drum steps) where
+    # (random SPD to cond 1e8, Siconos mmc, Kolesnikov's examples, far contacts, drum steps) where
     # 1e-3 t certified 27/41; smaller factors gained nothing (docs/backends.md).
     "clarabel": lambda t: {"tol_feas": _tight(t, 1e-5, 1e-15), "tol_gap_abs": _tight(t, 1e-5, 1e-15),
                            "tol_gap_rel": _tight(t, 1e-5, 1e-15),
@@ -43,7 +43,7 @@ _QPSOLVERS_TABLE: dict[str, Callable[[float], dict]] = {
     "ecos": lambda t: {"feastol": t},
     # HiGHS' QP solver is active-set and ignores the primal tolerance (qpbenchmark
     # notes it too).  It regularises the Hessian by 1e-7 by default, which moved
-    # the P0 solutions by 2.5e-8 whatever the tolerances; shrinking the
+    # the solutions of Kolesnikov's examples by 2.5e-8 whatever the tolerances; shrinking the
     # regularisation with tol made them exact.
     # HiGHS refuses feasibility tolerances below 1e-10 (kError; cvxpy raises).
     "highs": lambda t: {"dual_feasibility_tolerance": max(t, 1e-10),
@@ -54,15 +54,15 @@ _QPSOLVERS_TABLE: dict[str, Callable[[float], dict]] = {
     # Polishing added: measured here, OSQP without it stays 1e-2 off at eps 1e-3,
     # and with it reaches 1e-14 when the active set is right.
     "osqp": lambda t: {"eps_abs": t, "eps_rel": 0.0, "polishing": True},
-    # 1e-5 t: 40/41 of the same set certified (P0 example 3 at 2.5e-8), 39/41 at
-    # 1e-3 t (Siconos mmc 2.4e-9, P0 example 3 at 4.4e-7).  Not lower: asked for
+    # 1e-5 t: 40/41 of the same set certified (Kolesnikov example 3 at 2.5e-8), 39/41 at
+    # 1e-3 t (Siconos mmc 2.4e-9, Kolesnikov example 3 at 4.4e-7).  Not lower: asked for
     # 1e-15, PIQP ran to its 250-iteration limit on a dense n = 1000 problem
     # (5.8 s against 0.5 s at 1e-14, 12 iterations).
     "piqp": lambda t: {"eps_abs": _tight(t, 1e-5, 1e-15), "eps_rel": 0.0,
                        "eps_duality_gap_abs": _tight(t, 1e-5, 1e-15), "eps_duality_gap_rel": 0.0},
     # 1e-3 t: 41/41; 1e-4 t hits its iteration limit on two far-contact problems.
     # max_iter: at its own default ProxQP 0.8 ran 108 s on one far-contact problem
-    # (qpcontact.testing.far_contact_lcp(7)).  1 000, not 10 000 (issue 16):
+    # (qpcontact.testing.far_contact_lcp(7)).  1 000, not 10 000 (hangs):
     # max_iter counts outer iterations only, and the inner ones multiply it —
     # the SPD n = 300, cond 1e8 case of test_kkt_crossvalidation took 74 s
     # (3.3e5 inner iterations) at 10 000 and 4.6 s at 1 000, certified both

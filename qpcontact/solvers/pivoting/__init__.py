@@ -1,2 +1,2 @@
-"""The in-house pivoting methods: energy (P0), block principal pivoting, the
-interior-point-warm-started bpp, Lemke (dense and sparse forms), enumeration."""
+"""The in-house pivoting methods: energy (Kolesnikov's energy criterion),
+block principal pivoting, the interior-point-warm-started bpp, Lemke (dense and sparse forms), enumeration."""

@@ -108,7 +108,7 @@ def sign_tolerances(scales: ComponentScales, z: np.ndarray, q_terms: np.ndarray 
     SIGN_RTOL times the certificate's own scales at z (ζ_i for z_i, σ_i =
     |q_i| + (|M||z|)_i for w_i): each decision is made on the component's own
     size, so a gap of 5e11 at one contact does not make -0.09 look like zero at
-    another (issue 14), and scaling M or q does not change any decision.
+    another, and scaling M or q does not change any decision.
     """
     zeta, sigma = scales.at(z, q_terms)
     return SIGN_RTOL * zeta, SIGN_RTOL * sigma

@@ -1,4 +1,4 @@
-"""``"energy"``: the decomposition algorithm of Kolesnikov (2013) (P0) for
+"""``"energy"``: the decomposition algorithm of Kolesnikov (2013) for
 LCP(M, q) with M symmetric positive definite.
 
 The tableau ``y = T x + q̄`` starts as ``w = M z + q``; its constant column q̄
@@ -10,7 +10,7 @@ q̄_i is negative, the energy criterion
 picks the index i* = argmin p_i, and one Gauss–Jordan principal pivot on T_i*i*
 exchanges w_i* and z_i* (ties: the lowest index).  Mechanically each pivot
 switches one contact on or off, largest energy drop first.  A basic z_i that
-turns negative is pivoted back out by the same rule (P0's "facts checked
+turns negative is pivoted back out by the same rule (the paper's "facts checked
 numerically": a variant that never drops an index is wrong for SPD matrices).
 
 Safety, because termination of the rule is not proven:
@@ -51,7 +51,7 @@ _OPTIONS = ("max_pivots", "rule")
 def energy_pivot_cap(n: int) -> int:
     """Pivots the energy rule may take before Murty's rule takes over: 5n + 20.
 
-    P0's numerical study needed 65 pivots at n = 50 (ill-conditioned) and never
+    Kolesnikov's numerical study needed 65 pivots at n = 50 (ill-conditioned) and never
     came near this; the cap only bounds the damage of a cycle the repeated-basis
     detector would miss.
     """

@@ -197,7 +197,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
     if problem.is_symmetric and np.all(diag > 0):
         # symmetric (Jacobi) scaling in powers of two: exact, and it keeps M
         # symmetric PSD, which Ruiz's separate row and column factors do not.
-        # Measured (qpcontact stress, issue 16): on SPD M scaled over 12
+        # Measured (qpcontact stress, the hard cases): on SPD M scaled over 12
         # decades with cond 1e8, Ruiz left 18 of 240 on a false ray or
         # uncertified; Jacobi none
         rs = cs = 2.0 ** -np.round(0.5 * np.log2(diag))

@@ -63,7 +63,7 @@ class RowScales:
     bound has grown by more than _REANCHOR_GROWTH since the last exact values,
     and at every refactorization, they are recomputed exactly.  Each row is
     thus tested against its own size: a gap of 5e11 in one row no longer sets
-    the tolerance of every other row (issue 14).
+    the tolerance of every other row.
     """
 
     def __init__(self, q_abs: np.ndarray):

@@ -23,7 +23,7 @@ _ANY_M = ("lcp", "qp", "friction-2d", "friction-3d")
 def specs() -> list[Method]:
     return [
         Method("energy", run_energy, takes="lcp", requires="spd", accepts_sparse=False,
-               returns_duals=False, algorithm="principal pivoting (energy criterion, P0)",
+               returns_duals=False, algorithm="principal pivoting (Kolesnikov's energy criterion)",
                exact=True, family="pivoting", install=_INSTALL),
         Method("bpp", run_bpp, takes="lcp", requires="spd", accepts_sparse=True,
                returns_duals=False, algorithm="block principal pivoting (Kostreva, Judice-Pires)",

@@ -9,5 +9,5 @@ from .tracer import run_trace
 def specs() -> list[Method]:
     return [Method("trace", run_trace, takes="parametric-lcp", requires="any",
                    accepts_sparse=False, returns_duals=False,
-                   algorithm="parametric principal pivoting (load tracing, P3)", exact=True,
+                   algorithm="parametric principal pivoting (load trace: Osipova, Popov, Lovtsov)", exact=True,
                    family="pivoting", install="pip install qpcontact")]

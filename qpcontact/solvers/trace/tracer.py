@@ -1,4 +1,5 @@
-"""``"trace"``: follow the solution of a parametric LCP as the load grows (P3).
+"""``"trace"``: follow the solution of a parametric LCP as the load grows
+(the load-trace paper of Osipova, Popov & Lovtsov).
 
 For ``ParametricLCP(M, q0, q1)``, w = M z + q0 + p q1: q0 is the constant load
 (gaps, dead weight), q1 the variable load scaled by the load parameter p >= 0
@@ -14,7 +15,7 @@ in F) reaches zero.
 
 How the path is followed here
 -----------------------------
-1. Start from a solution at p = 0: z = 0 when q0 >= 0 (P3's cases a and b),
+1. Start from a solution at p = 0: z = 0 when q0 >= 0 (the paper's cases a and b),
    otherwise the one Lemke's method finds for LCP(M, q0) (case c).
 2. At every breakpoint (and at the start) the next working scheme is *decided*,
    not guessed: with α = {z_i > 0}, γ = {w_i > 0} and β the pairs with z_i =

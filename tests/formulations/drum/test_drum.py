@@ -1,4 +1,4 @@
-"""The drum formulation (P0) against independent references: the analytic
+"""The drum formulation (Kolesnikov 2013) against independent references: the analytic
 impact of a mass on a linear spring, statics of a stack, energy, and every
 step's LCP solved by other methods."""
 

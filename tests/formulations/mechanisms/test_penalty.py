@@ -1,6 +1,6 @@
-"""P2's penalty formulation against hand-computed accelerations, the exact
-LCP (pivoting), Gauss' principle (a QP in the accelerations), and the KKT
-threshold for μ."""
+"""The penalty formulation (Nikolsky et al. 2012) against hand-computed
+accelerations, the exact LCP (pivoting), Gauss' principle (a QP in the
+accelerations), and the KKT threshold for μ."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Mesh-scale contact (issue 18): the membrane, plate and 3-D block families
+"""Mesh-scale contact: the membrane, plate and 3-D block families
 and the "ip-bpp" method, at small n against independent references — the
 energy method on the LCP, a manufactured solution (degenerate instances), the
 dense Schur complement of the mixed problem solved by Lemke, and Clarabel."""

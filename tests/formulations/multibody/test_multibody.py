@@ -1,5 +1,6 @@
-"""Tree-structured multibody dynamics (P4): references are analytic solutions,
-invariants, finite differences of the model's own definitions, and Pinocchio."""
+"""Tree-structured multibody dynamics (Ivanov & Shimanovsky 2017): references
+are analytic solutions, invariants, finite differences of the model's own
+definitions, and Pinocchio."""
 
 import numpy as np
 import pytest

@@ -1,5 +1,6 @@
-"""The BVP solver (P1) against exact elliptic-integral solutions of the
-elastica, observed orders on a problem with a known solution, and SciPy."""
+"""The BVP solver (Pustovoy, Levin & Krasnorutskiy 2014) against exact
+elliptic-integral solutions of the elastica, observed orders on a problem with
+a known solution, and SciPy."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from formulations.rods import bvp
 
 
 def _analytic_cantilever(alpha):
-    """δ_v/L for the tip-loaded cantilever (the issue's closed form)."""
+    """δ_v/L for the tip-loaded cantilever (the elliptic-integral closed form)."""
     def phi1(m):
         return np.arcsin(1.0 / np.sqrt(2.0 * m))
 
@@ -31,7 +32,7 @@ def _analytic_cantilever(alpha):
                                            (10, 0.810609), (100, 0.941421)])
 def test_cantilever_matches_elliptic_integrals(alpha, printed):
     exact = _analytic_cantilever(alpha)
-    assert exact == pytest.approx(printed, abs=5e-7)  # our closed form = the issue's table
+    assert exact == pytest.approx(printed, abs=5e-7)  # our closed form = the printed table
     res = rods.cantilever(alpha, tol=1e-8)
     assert res.ok, res.message
     assert rods.tip_deflection(res) == pytest.approx(exact, abs=1e-6)
