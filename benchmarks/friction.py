@@ -2,7 +2,7 @@
 friction method on every problem of ``../shared/data/siconos-fc`` — success at the
 tolerances 1e-4, 1e-6, 1e-8 of the natural-map error (computed from the data,
 whatever a method says, and the componentwise error of
-``qpcontact.friction.componentwise_error``: a run succeeds at ε when both are
+``qpcontact.judge.friction_certificate.componentwise_error``: a run succeeds at ε when both are
 <= ε), time and iterations — and a Dolan–Moré performance profile at 1e-8.
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/friction.py

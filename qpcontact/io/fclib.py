@@ -31,7 +31,7 @@ def _cs_from_fclib(g, name: str):
 def read_fclib(path: str | os.PathLike):
     """Read an FCLIB HDF5 file (local or global problem; the stored
     ``solution`` and ``guesses`` when present).  Returns a
-    :class:`~qpcontact.friction.FrictionProblem`."""
+    :class:`~qpcontact.core.friction_problem.FrictionProblem`."""
     from ..core.files import open_hdf5
 
     path = Path(path)
@@ -71,7 +71,7 @@ def _cs_to_fclib(group, A) -> None:
 
 def write_fclib(problem, path: str | os.PathLike, *, title: str = "", description: str = "",
                 solution: dict | None = None, guesses: list | None = None) -> Path:
-    """Write a :class:`~qpcontact.friction.FrictionProblem` as an FCLIB HDF5
+    """Write a :class:`~qpcontact.core.friction_problem.FrictionProblem` as an FCLIB HDF5
     file that FCLIB's reader (and :func:`read_fclib`) takes: ``fclib_global``
     (M, H, f, w, mu) when the problem came from a global one, else
     ``fclib_local`` (W, q, mu); ``solution`` and ``guesses`` as dicts of

@@ -327,7 +327,7 @@ def read_siconos_fc(path: str | os.PathLike):
     """Read a frictional-contact problem from a Siconos ``.dat`` file:
     ``d nc W q mu`` (local) or ``d nc M H f w mu`` (global: the first
     matrix is not d·nc square).  Returns a
-    :class:`~qpcontact.friction.FrictionProblem`."""
+    :class:`~qpcontact.core.friction_problem.FrictionProblem`."""
     return _fc_from(_Tokens(Path(path)))
 
 

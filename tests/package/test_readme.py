@@ -19,7 +19,7 @@ import qpcontact
 from ..helpers.readme import README, blocks, output_differences, python_blocks, run
 from tests.helpers.paths import ROOT
 
-SHARED = ROOT.parent / "shared"          # where tests/conftest.py looks for the data too
+SHARED = ROOT.parent / "shared"          # where tests/helpers/paths.py looks for the data too
 TEXT = README.read_text(encoding="utf-8")
 BLOCKS = python_blocks()
 

@@ -1,6 +1,6 @@
 """Frictional contact: readers for Siconos .dat and FCLIB HDF5 files, the
 problem type, the natural-map error, and the exact 2-D LCP solved by Lemke — judged by an error function written here,
-independently of qpcontact.friction."""
+independently of the package's friction modules."""
 
 from __future__ import annotations
 
