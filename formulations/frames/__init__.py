@@ -44,16 +44,17 @@ link at all, and a frame without friction builds the normal-only LCP
 definite.
 """
 
-from .assembly import DOFS
-from .examples import demo, instances, portal_example
-from .loads import CONSTANT, VARIABLE, MemberLoad
-from .model import Frame
-from .recovery import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION, STATE_RTOL,
-                       LargeDisplacementWarning)
-from .results import (STATES, CombinationResults, FrameEvent, FrameResult, FrameTrace,
-                      SupportResult)
-from .space import SpaceContact, SpaceFrame
-from .space_results import SpaceFrameResult, SpaceSupportResult
+from .catalogue import instances
+from .mechanics.analysis_results import CombinationResults, FrameEvent, FrameTrace
+from .mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION,
+                                           STATE_RTOL, LargeDisplacementWarning)
+from .mechanics.loads import CONSTANT, VARIABLE, MemberLoad
+from .mechanics.plane_element import DOFS
+from .plane.frame import Frame
+from .plane.plane_examples import demo, portal_example
+from .plane.plane_results import STATES, FrameResult, SupportResult
+from .space.space_frame import SpaceContact, SpaceFrame
+from .space.space_results import SpaceFrameResult, SpaceSupportResult
 
 __all__ = ["Frame", "SpaceFrame", "SpaceFrameResult", "SpaceSupportResult", "SpaceContact",
            "FrameResult", "FrameTrace", "FrameEvent", "SupportResult",
