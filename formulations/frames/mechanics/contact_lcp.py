@@ -6,7 +6,7 @@ A plane frame's K and links are assembled in
 K u = F + H X: the frame's stiffness on its free degrees of freedom, the
 loads, and the contact links' forces X mapped by H (columns n and t at the
 contact's node, minus at ``other``).  The links' relative displacements are
-Δ = H'u.  The contact stiffness R and load vectors R_F of P3's *basic system*
+Δ = H'u.  The contact stiffness R and load vectors R_F of the *basic system*
 (every link fixed) are read from the saddle-point system
 
     [K  H] [u]   [F]
@@ -21,7 +21,7 @@ definite.  Elastic contacts add their flexibility D = diag(1/k) to the
 link rows, H'u + D X = Δ, which gives R = (I + R₀ D)⁻¹ R₀ directly.
 
 Unknowns per contact: z = (Z_n, Z⁺, Z⁻) with Δ_n = Z_n - g, Δ_t = Z⁺ - Z⁻,
-and w = (X_n, f X_n + X_t, f X_n - X_t) (P3's holonomic Coulomb law: total
+and w = (X_n, f X_n + X_t, f X_n - X_t) (Osipova–Popov–Lovtsov's holonomic Coulomb law: total
 slip against total force).  Contacts with f = 0 build no tangential link at
 all, and a frame without friction builds the normal-only LCP (M = R_nn,
 symmetric positive semidefinite).

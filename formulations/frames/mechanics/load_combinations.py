@@ -24,7 +24,7 @@ def load_combination(frame, p, combo, b) -> dict:
 def require_loads(combo, b, what, part, only_if_named=False) -> None:
     """Refuse a combination that puts no load on the frame where one is
     meant: solve(p) or trace() on a frame whose loads are all in named
-    cases returned ok=True at zero load, silently (issue 31).  With
+    cases returned ok=True at zero load, silently.  With
     ``only_if_named`` only when such cases exist (a frame with constant
     loads alone still solves, and traces trivially)."""
     factors = contact_lcp.factors(b, combo)

@@ -3,7 +3,7 @@
 A load belongs to a named **load case** ("D", "L", "W", ...).  A
 **combination** is a dict {case: factor}; each combination is analysed as its
 own nonlinear problem (contact states differ between combinations, so results
-are never superposed).  The cases "constant" and "variable" are the P3 split
+are never superposed).  The cases "constant" and "variable" are the Osipova–Popov–Lovtsov split
 used by ``Frame.solve(p)`` and ``Frame.trace``: constant + p x variable.
 
 Member loads are stored in the axes they were given in ("global": x right,
@@ -31,7 +31,7 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
-#: the two cases of the P3 split (constant + p x variable)
+#: the two cases of the Osipova–Popov–Lovtsov split (constant + p x variable)
 CONSTANT, VARIABLE = "constant", "variable"
 AXES = ("global", "member")
 
@@ -108,7 +108,7 @@ def combination(combo, cases) -> dict:
 
 def describe(combo: dict) -> str:
     """A combination in words: "1.2·D + 1.6·L" ("no load" when every factor
-    is 0); the P3 split as "p = 2" (constant + 2 × variable)."""
+    is 0); the Osipova–Popov–Lovtsov split as "p = 2" (constant + 2 × variable)."""
     if set(combo) <= {CONSTANT, VARIABLE} and combo.get(CONSTANT, 1.0) in (0.0, 1.0) \
             and VARIABLE in combo:
         p = combo[VARIABLE]

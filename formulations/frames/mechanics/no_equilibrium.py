@@ -20,7 +20,7 @@ def proved(sol) -> bool:
     """Whether a failed solve came with a proof that no equilibrium exists."""
     proof = sol.stats.get("proof")
     # Lemke's stats["farkas"] may hold a vector that holds to rounding only
-    # (issue 31): a proof is what was checked exactly
+    # (rounding can leave it just short): a proof is what was checked exactly
     return bool(sol.stats.get("proved_infeasible")) or (
         proof is not None and getattr(proof, "kind", None) == "infeasible")
 

@@ -1,4 +1,4 @@
-"""Space-frame members (issue 35, first part): the 3-D beam-column element's
+"""Space-frame members: the 3-D beam-column element's
 stiffness and its rotation to global axes, for all members at once.
 
 Member axes: x from node i to node j; y and z the section's principal axes,

@@ -22,7 +22,7 @@ from .loads import CONSTANT, VARIABLE, combination, describe
 
 def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
           variable=None) -> FrameTrace:
-    """P3's increasing-load analysis: the ``constant`` combination (default
+    """Osipova–Popov–Lovtsov's increasing-load analysis: the ``constant`` combination (default
     the case "constant"), then the ``variable`` loads (a case name or a
     combination; default the case "variable") scaled by p from 0 to
     ``p_max`` (None: until no support changes state again, or no
@@ -124,8 +124,8 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
     — the route ``trace`` takes, which Lemke's method at a fixed load does
     not: near a collapse Lemke can end on a secondary ray (which proves
     nothing for a nonsymmetric M) where the trace still certifies an
-    equilibrium (issue 31: a 20-storey frame, 12 of 61 loads below its
-    tipping load).  Paths tried: the P3 split (constant, then p x
+    equilibrium (a 20-storey frame, 12 of 61 loads below its
+    tipping load).  Paths tried: the Osipova–Popov–Lovtsov split (constant, then p x
     variable up to the requested p) when ``combo`` is one, then every
     load growing in proportion from the unloaded frame.  Returns (z,
     route words) certified on ``lcp`` itself, or None; raises

@@ -348,11 +348,12 @@ class Frame:
 
     # -- assembly -----------------------------------------------------------
     def build(self):
-        """The assembly (K, links, R and R_F per case): see formulations.frames.assembly."""
+        """The assembly (K, links, R and R_F per case): see :mod:`.plane_assembly`."""
         return plane_assembly.build(self)
 
     def lcp(self, b=None):
-        """The contact LCP of the P3 split as (M, q_constant, q_variable, P, g,
+        """The contact LCP of the split constant + p x variable as (M,
+        q_constant, q_variable, P, g,
         fric) with link displacements Δ = P z - g: z = (Z_n per contact, then
         Z⁺, Z⁻ per frictional contact)."""
         b = b or self.build()

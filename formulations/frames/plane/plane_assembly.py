@@ -19,7 +19,8 @@ from ..mechanics.plane_element import DOFS, member_locals
 
 
 def cases(frame) -> list:
-    """Every load case with a load, plus the P3 pair (constant, variable)."""
+    """Every load case with a load, plus the pair (constant, variable) of the
+    split constant + p x variable."""
     names = {CONSTANT, VARIABLE}
     names.update(ld[4] for ld in frame.nodal_loads)
     names.update(st[2] for st in frame.settlements)

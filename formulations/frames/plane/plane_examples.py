@@ -40,7 +40,8 @@ def demo(console) -> int:
                              no_wrap=col not in wrap, min_width=len(col))
         return table
 
-    table = table_of("Frame (P3): beam A-C-B, pinned at A, on a support at B with f = 0.3",
+    table = table_of("Frame (Osipova–Popov–Lovtsov): beam A-C-B, pinned at A, on a support at B "
+                     "with f = 0.3",
                      ("H [kN]", "route", "state at B", "X_n [kN]", "X_t [kN]", "LCP error",
                       "equilibrium"), left=("route", "state at B"), wrap=("route",))
     failed = 0
@@ -59,7 +60,8 @@ def demo(console) -> int:
         "tangential reactions at B; LCP error: the contact problem's certificate; equilibrium: "
         "the worst dof's residual against its own terms."])
     tr = portal_example().trace(p_max=40.0)
-    table = table_of("Increasing load (P3's trace): a pinned-base portal on two frictional bases",
+    table = table_of("Increasing load (Osipova–Popov–Lovtsov's trace): a pinned-base portal on "
+                     "two frictional bases",
                      ("p [kN]", "by hand [kN]", "event"), left=("event",), wrap=("event",))
     hand = (25.4363, 0.3 * 20.0 * 6.0)   # force method; f w L
     rows = [(ev.p, str(ev)) for ev in tr.events] + [(tr.p_end, f"{tr.ended}: {tr.message}")]
@@ -83,7 +85,8 @@ def _notes(console, lines) -> None:
 
 
 def portal_example() -> Frame:
-    """The portal of issue 15: columns A(0,0)-B(0,4) and D(6,0)-C(6,4), beam B-C,
+    """The pinned-base portal of the trace's hand checks: columns A(0,0)-B(0,4)
+    and D(6,0)-C(6,4), beam B-C,
     IPE 300 (E = 210e6 kN/m², A = 5.381e-3 m², I = 8.356e-5 m⁴), both bases rigid
     frictional contacts (normal (0, 1), f = 0.3, free rotation), 20 kN/m down on
     the beam (constant), P = p kN at B along +x (variable).  By hand: base D

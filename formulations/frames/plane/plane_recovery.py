@@ -28,7 +28,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     componentwise measure on the contact quantities' mechanical scales:
     :meth:`_contact_certificate`) and equilibrium."""
     b = b or frame.build()
-    if not isinstance(combo, dict):   # a number p: the P3 split
+    if not isinstance(combo, dict):   # a number p: the Osipova–Popov–Lovtsov split
         combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
     P, W, g, fric = b["maps"]
     z = np.maximum(np.asarray(z, float), 0.0)
@@ -43,7 +43,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     # The contact forces from the same solve as u, not R Δ + R_F: R has its
     # rounding-level entries dropped (contact_lcp.contact_stiffness), which times the large
     # openings of a long lifted stretch left forces 1e-9 off and out of
-    # equilibrium with u (issue 31, a 200-span beam); the solve's own
+    # equilibrium with u (a 200-span beam); the solve's own
     # multipliers satisfy K u = F + H X to rounding.
     X = -b["kappa"] * sol[nf:]
     # reactions at the fixed dofs: K u - F - H X on them (member loads

@@ -47,7 +47,7 @@ class FrameResult(AnalysisResult):
     displacements (ux, uy, rz), member end actions, reactions, and the checks.
 
     ``combination`` is {case: factor} (``p`` the factor of "variable" for the
-    P3 split).  ``ok`` is True only when the LCP certificate meets the
+    split constant + p x variable).  ``ok`` is True only when the LCP certificate meets the
     tolerance and equilibrium holds at every dof to the same tolerance, each
     dof's residual against its own terms (``equilibrium_residual``);
     a result that is not ok is never drawn (``plot`` raises) and its numbers

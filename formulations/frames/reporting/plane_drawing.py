@@ -55,7 +55,8 @@ def check_diagrams(diagrams) -> tuple:
 
 
 def combination_title(res) -> str:
-    """The result in the user's words: the combination's name, the P3 split
+    """The result in the user's words: the combination's name, the split
+    constant + p x variable
     as "p = 2 (constant + 2 × variable)", or a dict as "1.2 × D + 1.6 × L"."""
     combo = {c: f for c, f in res.combination.items() if f}
     words = sum_words(combo)

@@ -1,4 +1,4 @@
-"""Space frames on unilateral frictional supports: P3's displacement method
+"""Space frames on unilateral frictional supports: Osipova–Popov–Lovtsov's displacement method
 in three dimensions.
 
 Six dofs per node, (ux, uy, uz, rx, ry, rz) in global axes (right-handed,
@@ -16,7 +16,7 @@ out); the results are built in :mod:`.space_recovery` (the circular cone's
 in :mod:`.space_circular`), tabulated in :mod:`.space_tables` and drawn in
 :mod:`.space_drawing`.
 
-Contacts (P3 in 3-D): at a node, a contact plane with unit normal n from the
+Contacts (the displacement method's, in 3-D): at a node, a contact plane with unit normal n from the
 support into the structure, tangents t1, t2 (t1 = n x e normalised for the
 global axis e least aligned with n, t2 = n x t1).  Links: the opening Z_n =
 g + n·u (+X_n/k), and with friction f > 0 the tangential displacement
@@ -25,7 +25,7 @@ circumscribing it: w_k = f X_n + d_k·X_t >= 0 for the facet directions d_k =
 cos(2πk/m) t1 + sin(2πk/m) t2, k = 0..m-1, each complementary to a slip
 magnitude Z_k >= 0 along d_k (the slip is Σ Z_k d_k; slipping along d_k
 takes the friction force to -f X_n along it).  With m = 2 in a plane this
-is P3's 2-D LCP; along the directions d_k the faceted and circular cones
+is the plane frame's 2-D LCP; along the directions d_k the faceted and circular cones
 agree, between them the facets allow up to 1/cos(π/m) more friction.  Where
 the node's bilateral supports hold one tangent, that tangent has no link
 and the cone is the segment along the other, two facets: a planar frame

@@ -25,7 +25,7 @@ from .space_results import SpaceFrameResult, SpaceSupportResult
 
 def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFrameResult:
     b = b or frame.build()
-    if not isinstance(combo, dict):   # a number p: the P3 split
+    if not isinstance(combo, dict):   # a number p: the Osipova–Popov–Lovtsov split
         combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
     P, W, g, fric = b["maps"]
     z = np.maximum(np.asarray(z, float), 0.0)

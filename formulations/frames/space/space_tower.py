@@ -1,5 +1,5 @@
 """Worked space frames: a reinforced-concrete tower standing on frictional
-pads (issue 35's example and benchmark model).
+pads (the space frames' example and benchmark model).
 
 :func:`space_tower` builds a moment frame of ``storeys`` storeys and
 ``bays`` x ``bays`` bays, one column line at every grid point, each column

@@ -1,4 +1,4 @@
-"""The frames' sparse active set (issue 34): the same equilibrium as the
+"""The frames' sparse active set: the same equilibrium as the
 exact LCP route (Lemke) on frictional beams and towers where it is unique
 (with friction it need not be: docs/frames.md), in both of its spaces (the
 links' own on the condensed R, the sparse saddle system); its mechanical
@@ -152,7 +152,7 @@ def _lever(slope):
 def test_a_mechanism_is_no_answer(slope, monkeypatch):
     """A state set that leaves a mechanism is singular only to rounding when
     the frame is not square to the axes; solved anyway it gave a rigid
-    motion of 2.7e11 m with ok=True (review of issue 34).  Both spaces must
+    motion of 2.7e11 m with ok=True (a review of the active set).  Both spaces must
     refuse it, and "auto" must end in Lemke's proof."""
     for limit in (0, 10_000):
         monkeypatch.setattr(active_set, "LINK_SPACE_MAX", limit)

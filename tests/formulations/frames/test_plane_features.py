@@ -1,4 +1,4 @@
-"""The member and support features engineers reach for (issue 34), each
+"""The member and support features engineers reach for, each
 against an independent reference: hand formulas (a propped cantilever with
 an internal hinge or a semi-rigid end, a Timoshenko cantilever, rigid end
 offsets), the same structure modelled another way (a Timoshenko member cut

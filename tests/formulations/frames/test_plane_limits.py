@@ -1,4 +1,4 @@
-"""Frames near their limits (issue 31), each against an independent reference.
+"""Frames near their limits, each against an independent reference.
 
 - A 3-bay, 20-storey frame on a foundation beam resting on elastic frictional
   supports tips over at its moment balance about the toe (hand statics); every

@@ -1,4 +1,4 @@
-"""Frames for engineers (issue 17): member loads against hand statics and
+"""Frames for engineers: member loads against hand statics and
 textbook fixed-end forces, load cases and combinations solved independently,
 springs, named conflicts, fast proved failure, tables and bad input."""
 

@@ -1,6 +1,6 @@
 """Frames against PyNite (an independent FE code; test extra PyNiteFEA) on a
 single combination with compression-only elastic supports, where PyNite is
-right: the grade-beam shape of issue 17 with member point and partial
+right: the grade-beam shape of the member-load tests with member point and partial
 trapezoidal loads and an uplift that lifts some supports off."""
 
 from __future__ import annotations

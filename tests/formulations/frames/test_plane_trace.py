@@ -1,4 +1,4 @@
-"""The increasing-load trace of frames (issue 15) against hand values and
+"""The increasing-load trace of frames (Osipova–Popov–Lovtsov's algorithm) against hand values and
 independent solves.
 
 Hand cases: a cantilever on a frictional support that slips and then lifts off;

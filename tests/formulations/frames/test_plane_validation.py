@@ -1,4 +1,4 @@
-"""Friction frames (P3) against independent references: enumeration of all
+"""Friction frames (Osipova–Popov–Lovtsov's model) against independent references: enumeration of all
 contact states with a separate beam code, hand-computed friction limits,
 statics, rescaled data, and independent solves around every breakpoint."""
 

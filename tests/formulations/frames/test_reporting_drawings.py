@@ -1,4 +1,4 @@
-"""Drawings that read at 20 storeys and 200 spans (issue 34), judged on the
+"""Drawings that read at 20 storeys and 200 spans, judged on the
 rendered figure: every text box measured by the renderer and none
 overprinting another, every axis labelled with a unit, a scale bar on each
 frame diagram, loads and reactions with their values, the user's names in

@@ -1,4 +1,4 @@
-"""Frame tables (issue 34): every value against the result it prints, rounded
+"""Frame tables: every value against the result it prints, rounded
 by the rule docs/frames.md states (written out here on its own: string
 formatting to the column's decimals, not notation.round_column), units in
 every header, one reaction row per node whose parts sum to its total and

@@ -1,4 +1,4 @@
-"""Bad input to a space frame (issue 35) is refused with an
+"""Bad input to a space frame is refused with an
 InvalidProblemError that names what is wrong: the contact's normal, its
 facets, friction, stiffness, unknown nodes, dofs, members and load cases,
 a contact whose normal a bilateral support already fixes, and a frame that

@@ -1,4 +1,4 @@
-"""Space frames with the true circular Coulomb cone (issue 35): the exported
+"""Space frames with the true circular Coulomb cone : the exported
 friction problem against hand values, ``solve(cone="circular")`` against
 the statics of a pad and a cantilever by hand, the faceted cone's answers
 converging to the circular one (at the rates the polygon's geometry gives by

@@ -1,4 +1,4 @@
-"""The space-frame element (issue 35, first part) against independent
+"""The space-frame element against independent
 references: a cantilever in any orientation by the beam formulas in each
 principal plane, torsion and tension; rigid motions cost nothing; and an
 L-shaped space frame against PyNite 3-D (bilateral supports)."""

@@ -1,4 +1,4 @@
-"""Space frames (issue 35) against references independent of the code under
+"""Space frames against references independent of the code under
 test.
 
 * Planar frames built in the x-z plane of a space frame (out-of-plane dofs

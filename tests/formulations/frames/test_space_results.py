@@ -1,4 +1,4 @@
-"""Space-frame results as tables and a drawing (issue 35): every table value
+"""Space-frame results as tables and a drawing: every table value
 against the result it prints and against statics by hand (the reactions
 against the loads, each member's end actions against its load, each pad's
 force against its column's base), the rounding by the documented rule

@@ -1,4 +1,4 @@
-"""The 10-storey space frame on 16 frictional pads (issue 35's example and
+"""The 10-storey space frame on 16 frictional pads (the space frames' example and
 benchmark model, formulations/frames/space_tower.py) checked by hand
 statics — its loads from the sections and pressures of its docstring, the
 pads' forces balancing them in force and moment, the collapse load from the
