@@ -497,7 +497,7 @@ SPACE_K, SPACE_P, PENALTY_K = 5e6, (7.5, 9.0, 12.0), (5e6, 5e7, 5e8)
 
 def space_opensees_table(storeys, args, failures):
     from benchmarks import frames_space as fs
-    from formulations.frames.space_tower import space_tower
+    from formulations.frames.space.space_tower import space_tower
 
     print(f"\nqpcontact against OpenSees, the {storeys}-storey space frame on 16 elastic "
           f"frictional pads (k = {SPACE_K:g}, f = 0.5, 8 facets) at 1.0 D + p W")
@@ -569,7 +569,7 @@ def space_opensees_table(storeys, args, failures):
 
 def space_trace_row(storeys, args, failures):
     """qpcontact's trace of p W on D to the collapse (no peer runs one)."""
-    from formulations.frames.space_tower import space_tower
+    from formulations.frames.space.space_tower import space_tower
 
     print(f"\nqpcontact's trace, the {storeys}-storey space frame: 1.0 D + p W, p from 0 to "
           "the collapse")
@@ -591,7 +591,7 @@ def space_pynite_table(storeys, args, failures, with_opensees):
     bilateral support (a dowel: the pads' horizontal reactions are compared
     too), its contact along z alone."""
     from benchmarks import frames_space as fs
-    from formulations.frames.space_tower import space_tower
+    from formulations.frames.space.space_tower import space_tower
 
     def build():
         fr = space_tower(storeys, stiffness=SPACE_K, friction=0.0)

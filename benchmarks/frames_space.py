@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from formulations.frames.elements3d import axes
+from formulations.frames.mechanics.space_element import axes
 
 #: OpenSees' solution algorithm for the 3-D tower: Newton (the 2-D
 #: benchmark's) does not converge in one load step once pads slip or lift

@@ -24,7 +24,7 @@ import warnings
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from formulations.frames import LargeDisplacementWarning  # noqa: E402
-from formulations.frames.space_tower import node, space_tower  # noqa: E402
+from formulations.frames.space.space_tower import node, space_tower  # noqa: E402
 
 
 def forces(res) -> str:

@@ -20,7 +20,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from formulations.frames.space_examples import six_pads  # noqa: E402
+from formulations.frames.space.space_examples import six_pads  # noqa: E402
 
 
 def main(argv=None):

@@ -1,7 +1,7 @@
-r"""Plane frames on unilateral supports with Coulomb friction (P3, Osipova,
+r"""Plane frames on unilateral supports with Coulomb friction (Osipova,
 Popov & Lovtsov): the displacement-method LCP, solved by Lemke, by the exact SPD
 methods when there is no friction, or by a Tresca fixed point on QP backends;
-P3's increasing-load algorithm (``"trace"``); load cases and combinations,
+their increasing-load algorithm (``"trace"``); load cases and combinations,
 each combination solved as its own nonlinear problem.
 
 Units: the user's, consistent (e.g. kN, m, kN·m, kN/m²); ``Frame(units=...)``
@@ -23,20 +23,18 @@ forces act on ``other`` with the opposite sign.  ``member_forces`` are end
 actions in member axes; diagrams and ``end_forces``: axial N tension
 positive, bending moment M positive when it compresses the member's +y fibre
 (sagging for a beam drawn left to right), shear V = dM/dx (see
-:mod:`.results`).
+:mod:`.plane.plane_results`).
 
-Layout: :mod:`.model` (the Frame: model building; its solving in
-:mod:`.solving`, results construction in :mod:`.recovery`, the trace in
-:mod:`.tracing`), :mod:`.loads` (cases, member loads, combinations),
-:mod:`.elements` (the members: stiffness, releases, rigid zones, their
-loads), :mod:`.assembly` (the frame: K, links, the contact LCP), :mod:`.active_set`
-(the contact problem on the sparse system, "auto"'s first route),
-:mod:`.results` (results, envelopes), :mod:`.tables`, :mod:`.notation`
-(numbers as engineers read them), :mod:`.drawing` (with :mod:`.labels`,
-:mod:`.load_arrows`, :mod:`.trace_plot`), :mod:`.examples`.  Space frames
-(six dofs per node, contacts with a faceted or circular Coulomb cone):
-:mod:`.space` (the SpaceFrame, solved by the same routes and trace),
-:mod:`.elements3d`, :mod:`.space_recovery`, :mod:`.space_results`.
+Layout, in wings: :mod:`.plane` (the plane :class:`Frame`, one model whose
+analysis is functions taking it; its assembly, results, member diagrams,
+sparse active set, examples), :mod:`.space` (the :class:`SpaceFrame`, its
+assembly, results, circular cone, tower and examples), :mod:`.mechanics`
+(what both share: the elements, loads, the contact LCP, the checks, solving,
+tracing, the Tresca fixed point, the proofs of no equilibrium, the export as
+a friction problem, the result containers, and :class:`FrameKind`, the
+hooks by which the shared functions reach each kind's own), and
+:mod:`.reporting` (tables, notation, drawings, labels, load arrows, the
+trace plot).  :mod:`.catalogue` gives ``qpcontact compare`` its instances.
 
 Only the effects the model calls for: contacts with f = 0 build no tangential
 link at all, and a frame without friction builds the normal-only LCP
@@ -44,16 +42,17 @@ link at all, and a frame without friction builds the normal-only LCP
 definite.
 """
 
-from .assembly import DOFS
-from .examples import demo, instances, portal_example
-from .loads import CONSTANT, VARIABLE, MemberLoad
-from .model import Frame
-from .recovery import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION, STATE_RTOL,
-                       LargeDisplacementWarning)
-from .results import (STATES, CombinationResults, FrameEvent, FrameResult, FrameTrace,
-                      SupportResult)
-from .space import SpaceContact, SpaceFrame
-from .space_results import SpaceFrameResult, SpaceSupportResult
+from .catalogue import instances
+from .mechanics.analysis_results import CombinationResults, FrameEvent, FrameTrace
+from .mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, SMALL_DISPLACEMENT, SMALL_ROTATION,
+                                           STATE_RTOL, LargeDisplacementWarning)
+from .mechanics.loads import CONSTANT, VARIABLE, MemberLoad
+from .mechanics.plane_element import DOFS
+from .plane.frame import Frame
+from .plane.plane_examples import demo, portal_example
+from .plane.plane_results import STATES, FrameResult, SupportResult
+from .space.space_frame import SpaceContact, SpaceFrame
+from .space.space_results import SpaceFrameResult, SpaceSupportResult
 
 __all__ = ["Frame", "SpaceFrame", "SpaceFrameResult", "SpaceSupportResult", "SpaceContact",
            "FrameResult", "FrameTrace", "FrameEvent", "SupportResult",

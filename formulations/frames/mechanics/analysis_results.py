@@ -1,0 +1,182 @@
+"""What every frame analysis gives back, plane or space: one result per load
+combination (:class:`AnalysisResult`, read further by a plane frame's
+:class:`~..plane.plane_results.FrameResult` and a space frame's
+:class:`~..space.space_results.SpaceFrameResult`), the results over
+combinations with their envelopes and tables (:class:`CombinationResults`:
+built and rounded in the results' own table module; CSV always, written
+atomically; pandas DataFrames with the ``tables`` extra), and the
+increasing-load trace's objects (:class:`FrameTrace`, :class:`FrameEvent`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..reporting import tables
+from ..reporting.notation import DIGITS
+
+
+@dataclass
+class AnalysisResult:
+    """What every frame's analysed load combination holds (plane:
+    :class:`~..plane.plane_results.FrameResult`, space:
+    :class:`~..space.space_results.SpaceFrameResult`,
+    which add their own readings of it)."""
+
+    p: float
+    supports: dict
+    displacements: dict
+    member_forces: dict
+    reactions: dict
+    equilibrium_residual: float
+    lcp_error: float
+    route: str
+    ok: bool
+    message: str
+    frame: "object" = field(repr=False, default=None)
+    _u: np.ndarray = field(repr=False, default=None)
+    combination: dict = field(default_factory=dict)
+    name: str = ""
+    #: the largest nodal translation over the frame's size (the diagonal of
+    #: its nodes' bounding box), and the largest rotation [rad]: beyond
+    #: recovery.SMALL_DISPLACEMENT / SMALL_ROTATION the analysis (small
+    #: displacements, equilibrium on the undeformed frame) no longer
+    #: describes the structure, and solve warns
+    displacement_ratio: float = 0.0
+    max_rotation: float = 0.0
+
+
+class CombinationResults(dict):
+    """{combination name: FrameResult}, each solved on its own.  A
+    combination the frame cannot carry has ``ok`` False and a message saying
+    what happens; it does not discard the others.  ``failed`` lists them.
+    The tables are those of the results' kind (``table_kit``: a plane
+    frame's :mod:`..reporting.tables`, a space frame's
+    :mod:`..reporting.space_tables`)."""
+
+    @property
+    def failed(self) -> list:
+        return [name for name, r in self.items() if not r.ok]
+
+    def envelope(self) -> dict:
+        """Max/min over the combinations that are ok (full precision): per
+        member {"N"|"V"|"M": {"max": (value, x, combination), "min": ...}}
+        (the diagrams' extremes, ends included), and per node the ground
+        holds {"Fx"|"Fy"|"Mz": {"max": (value, combination), ...}} of its
+        total reaction under the key "supports" (a space frame's: see
+        :func:`..reporting.space_tables.envelope`)."""
+        return self._kit().envelope(self)
+
+    def rows(self, table: str, digits: int | None = DIGITS) -> list:
+        """One table over all combinations, rounded per column over all of
+        them (``digits=None``: full precision): a result table with a
+        "combination" column first, "envelope" (members),
+        "envelope_reactions" (nodes) or "combinations" (each one's status);
+        a space frame's also "envelope_supports" (contacts)."""
+        kit = self._kit()
+        tables.check_table(table, kit.TABLES + kit.COMBINED)
+        if table == "combinations":
+            return [{"combination": n, "ok": r.ok, "route": r.route, "message": r.message}
+                    for n, r in self.items()]
+        frame = self._frame()
+        if frame is None:
+            return []
+        if table in kit.COMBINED:
+            raw = kit.envelope_rows(frame, self.envelope(), table)
+        else:
+            raw = [{"combination": name, "ok": r.ok, **row} for name, r in self.items()
+                   for row in kit.rows(frame, r, table)]
+        return tables.engineering(raw, frame, digits)
+
+    def envelope_rows(self, digits: int | None = DIGITS) -> list:
+        """The members' envelope table: rows("envelope")."""
+        return self.rows("envelope", digits)
+
+    def to_csv(self, folder, digits: int | None = DIGITS) -> list:
+        """Every table of ``rows`` as folder/<table>.csv (atomic writes)."""
+        kit = self._kit()
+        return tables.write_tables(
+            folder, {t: self.rows(t, digits) for t in kit.TABLES + kit.COMBINED}, digits)
+
+    def to_dataframe(self, table: str = "members", digits: int | None = DIGITS):
+        """A table of ``rows`` as a pandas DataFrame (the ``tables`` extra)."""
+        return tables.dataframe(self.rows(table, digits))
+
+    def _frame(self):
+        return next((r.frame for r in self.values() if r.frame is not None), None)
+
+    def _kit(self):
+        return next((type(r).table_kit for r in self.values()), tables)
+
+
+@dataclass
+class FrameEvent:
+    """A breakpoint of the trace: at load parameter ``p`` the supports in
+    ``changes`` go from one state to another ({support: (before, after)})."""
+
+    p: float
+    changes: dict
+
+    def __str__(self) -> str:
+        return "; ".join(f"{k}: {a} \u2192 {b}" for k, (a, b) in self.changes.items())
+
+
+@dataclass
+class FrameTrace:
+    """The increasing-load analysis (Osipova–Popov–Lovtsov's algorithm).
+
+    ``breakpoints``: the values of p where some support changes state, with
+    ``events`` saying which and how ("S3: stick → slip-"); ``intervals``
+    [(p_start, p_end)] between them and ``states`` (a FrameResult at the
+    middle of each); ``ended``: why the trace stopped — "p_max" (reached),
+    "unbounded" (no support changes state again, p_max = inf), "collapse"
+    (no equilibrium exists beyond the end: proved, and ``message`` says how
+    the frame fails), "fold" (equilibria may exist beyond but none continues
+    this path), "breakdown", "max_pieces" (see docs/frames.md); ``ok`` is True
+    when every traced piece passed the LCP certificate and the equilibrium
+    check at its start, middle and end, and the ending is proved.
+    ``result_at(p)`` analyses any p inside the traced range.
+    """
+
+    breakpoints: np.ndarray
+    states: list
+    intervals: list
+    events: list
+    ended: str
+    message: str
+    ok: bool
+    trace: object = field(repr=False, default=None)
+    frame: "object" = field(repr=False, default=None)
+    _built: dict = field(repr=False, default=None)   # the frame's assembly, reused by result_at
+    constant: dict = field(default_factory=dict)
+    variable: dict = field(default_factory=dict)
+
+    @property
+    def p_end(self) -> float:
+        """Where the traced range ends (inf on an unbounded last interval)."""
+        return self.intervals[-1][1] if self.intervals else 0.0
+
+    def result_at(self, p: float):
+        """The frame's checked result at load level ``p`` in the traced range
+        (everything is linear in p inside an interval)."""
+        return self.frame.kind.result_from_z(self.frame, self.trace.z_at(p),
+                                             self.combination_at(p), "trace", b=self._built)
+
+    def combination_at(self, p: float) -> dict:
+        """The combination {case: factor} at load level ``p``: the constant
+        part plus p times the variable part."""
+        combo = dict(self.constant)
+        for case, f in self.variable.items():
+            combo[case] = combo.get(case, 0.0) + p * f
+        return combo
+
+    def plot(self, path, node: str, dof: str = "ux", p_max: float | None = None) -> str:
+        """Load parameter against a displacement of ``node`` (PNG), each
+        breakpoint numbered on the curve and listed with its events in a key
+        beside it.  Default range: the traced one (an unbounded last
+        interval: 1.5 x the last breakpoint)."""
+        from ..reporting.trace_plot import plot_trace
+
+        return plot_trace(self.frame, self, path, node, dof, p_max)

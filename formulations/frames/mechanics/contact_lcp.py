@@ -1,0 +1,291 @@
+"""The contact LCP both frames share (Osipova–Popov–Lovtsov's displacement
+method): the basic system, the contact stiffness, the LCP of a load combination.
+A plane frame's K and links are assembled in
+:mod:`..plane.plane_assembly`, a space frame's in :mod:`..space.space_assembly`.
+
+K u = F + H X: the frame's stiffness on its free degrees of freedom, the
+loads, and the contact links' forces X mapped by H (columns n and t at the
+contact's node, minus at ``other``).  The links' relative displacements are
+Δ = H'u.  The contact stiffness R and load vectors R_F of the *basic system*
+(every link fixed) are read from the saddle-point system
+
+    [K  H] [u]   [F]
+    [H' 0] [y] = [Δ],     X = -y = R Δ + R_F,
+
+for unit dislocations Δ = e_j (columns of R) and for each load case with
+Δ = 0 (one column R_F per case).  Unit dislocations through this system
+rather than condensing K onto the links: K alone is singular whenever the
+frame relies on its contacts for stability (a beam resting on unilateral
+supports only), while the basic system is not.  R is symmetric positive
+definite.  Elastic contacts add their flexibility D = diag(1/k) to the
+link rows, H'u + D X = Δ, which gives R = (I + R₀ D)⁻¹ R₀ directly.
+
+Unknowns per contact: z = (Z_n, Z⁺, Z⁻) with Δ_n = Z_n - g, Δ_t = Z⁺ - Z⁻,
+and w = (X_n, f X_n + X_t, f X_n - X_t) (Osipova–Popov–Lovtsov's holonomic Coulomb law: total
+slip against total force).  Contacts with f = 0 build no tangential link at
+all, and a frame without friction builds the normal-only LCP (M = R_nn,
+symmetric positive semidefinite).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from qpcontact.core.problems import LCP
+
+
+#: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
+#: term) are rounding noise of the basic-system solve and are set to zero.
+R_ROUNDING = 256 * np.finfo(float).eps
+
+
+def stiffness_matrix(rows, cols, vals, springs, idx, dofs, N):
+    """K (CSR, N x N) from the members' triplets (lists of arrays) and the
+    springs to the ground {node: {dof: k}} (``dofs``: the dof names of a
+    node, in order; ``idx``: each node's first dof)."""
+    for node, ks in springs.items():
+        for d, kval in ks.items():
+            rows.append([idx[node] + dofs.index(d)])
+            cols.append([idx[node] + dofs.index(d)])
+            vals.append([kval])
+    return sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
+                          (np.concatenate(rows) if rows else np.zeros(0, int),
+                           np.concatenate(cols) if cols else np.zeros(0, int))),
+                         shape=(N, N)).tocsr()
+
+
+def force_terms(b, u, F, ends):
+    """Per dof (the system's axes): the sizes of the forces that meet there —
+    every member's end force, the springs', the load: what a contact force
+    at that node is made of by equilibrium, and so its scale.  Member end
+    forces, not |K||u|: a stiff member moving rigidly has K u ~ 0 from
+    terms of 1e10 (a rigid zone as a 1e7-times-stiffer member), which as a
+    scale would call a 16 kN contact force zero.  ``ends``: the members'
+    end actions (:func:`member_end_actions`), which the results need too."""
+    ug = to_global(b, u)
+    k, T, dofs, Fe = b["local"]
+    terms = np.zeros(ug.size)
+    np.add.at(terms, dofs.ravel(),
+              np.abs((T.transpose(0, 2, 1) @ ends[..., None])[..., 0]).ravel())
+    terms += np.abs(b["springs"] * ug)
+    if b["Tn"] is not None:
+        terms = abs(b["Tn"]) @ terms
+    return terms + np.abs(F)
+
+
+def member_end_actions(b, u, combo_factors) -> np.ndarray:
+    """Every member's end actions k T u - f (member axes), (m, 6), from the
+    global displacements u."""
+    k, T, dofs, Fe = b["local"]
+    return (k @ (T @ u[dofs][..., None]))[..., 0] - Fe @ combo_factors
+
+
+def to_global(b, v):
+    """A vector (or the columns of a matrix) of dofs from the nodes' axes to global."""
+    return v if b["Tn"] is None else b["Tn"].T @ v
+
+
+#: a saddle matrix whose LU pivots span more than this is singular: a
+#: mechanism, which rounding would otherwise answer with a rigid motion of
+#: 1e11 m that every scaled check passes
+SINGULAR_PIVOTS = 1e-13
+
+
+def regular_lu(S):
+    """SuperLU of S, or None where S is singular (exactly, or its pivots
+    spanning more than 1/SINGULAR_PIVOTS)."""
+    try:
+        lu = spla.splu(S)
+    except RuntimeError:   # exactly singular
+        return None
+    piv = np.abs(lu.U.diagonal())
+    return lu if piv.size and piv.min() > SINGULAR_PIVOTS * piv.max() else None
+
+
+class Built(dict):
+    """A frame's assembly: K, loads, links, the saddle matrix's LU, ... (see
+    :func:`build`).  The contact stiffness R (and R_solve, the same before its
+    rounding-level entries are dropped) and the load columns R_F — dense,
+    links x links, the cost of a long beam's LCP (1000 spans: 2 000 links, one
+    solve per link) — are computed on first use, so a route that never needs
+    the LCP's matrix (the sparse active set) never pays for them."""
+
+    def __missing__(self, key):
+        if key not in ("R", "RF", "R_solve"):
+            raise KeyError(key)
+        self.update(contact_stiffness(self))
+        return self[key]
+
+
+def basic_system(K, H, fixed, flex, translational) -> dict:
+    """The basic system (every link fixed) of a structure with stiffness K
+    (all dofs), links H and contact flexibilities ``flex``, any number of
+    dofs per node: the free/fixed blocks of K, the scaled saddle matrix
+    S = [K_ff kappa H_f; kappa H_f' -kappa² D] and its LU (None where S is
+    singular: a mechanism).  ``translational`` marks the dofs that links
+    push along, which set kappa."""
+    N = K.shape[0]
+    free = np.flatnonzero(~fixed)
+    nf = free.size
+    # the blocks on the free dofs from triplets, not by fancy indexing (a
+    # sparse slice costs a tenth of a millisecond, the whole solve of a
+    # 20-storey frame a few)
+    at = np.full(N, -1)
+    at[free] = np.arange(nf)
+    Kc = K.tocoo()
+    r, c = at[Kc.row], at[Kc.col]
+    ff, fa = (r >= 0) & (c >= 0), (r >= 0) & (c < 0)
+    Kf = sp.csr_matrix((Kc.data[ff], (r[ff], c[ff])), shape=(nf, nf))
+    fixed_idx = np.flatnonzero(fixed)
+    at_fixed = np.full(N, -1)
+    at_fixed[fixed_idx] = np.arange(fixed_idx.size)
+    K_fa = sp.csr_matrix((Kc.data[fa], (r[fa], at_fixed[Kc.col[fa]])),
+                         shape=(nf, fixed_idx.size))
+    # The links enter scaled by a typical stiffness kappa, so that the saddle
+    # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
+    # the singularity test is meaningful: X = -kappa y.  Links push nodes
+    # along, so kappa is the largest *translational* stiffness: the largest
+    # of all is a rotation's (moment per radian), which in N and mm is 1e5
+    # times a translation's, and kappa² / k on an elastic contact's diagonal
+    # then made a sound beam look like a mechanism (pivots 3e-14 apart).
+    diag = np.abs(Kf.diagonal())
+    moves = translational[free]
+    kappa = float(np.max(diag[moves] if moves.any() else diag)) if free.size else 1.0
+    # no stiffness on those dofs at all (a node on a contact, no member):
+    # kappa = 0 would drop the links and name a held dof as the free one
+    kappa = kappa if kappa > 0 else 1.0
+    Hc = H.tocoo()
+    hk = at[Hc.row] >= 0
+    Hf = sp.csr_matrix((kappa * Hc.data[hk], (at[Hc.row[hk]], Hc.col[hk])), shape=(nf, H.shape[1]))
+    nl = H.shape[1]
+    Hfc = Hf.tocoo()
+    links_ = np.arange(nl)
+    S = sp.csc_matrix((np.r_[Kc.data[ff], Hfc.data, Hfc.data, -kappa ** 2 * flex],
+                       (np.r_[r[ff], Hfc.row, nf + Hfc.col, nf + links_],
+                        np.r_[c[ff], nf + Hfc.col, Hfc.row, nf + links_])),
+                      shape=(nf + nl, nf + nl))
+    # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
+    # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
+    return dict(free=free, nf=nf, fixed_idx=fixed_idx, K_fa=K_fa, kappa=kappa, Hf=Hf, S=S,
+                lu=regular_lu(S))
+
+
+def contact_stiffness(b) -> dict:
+    """R (links x links) and R_F (one column per case) from unit
+    dislocations through the basic system's LU (the module docstring)."""
+    nf, kappa, fixed_idx = b["nf"], b["kappa"], b["fixed_idx"]
+    nl = len(b["info"])
+    nc = len(b["cases"])
+    rhs = np.zeros((nf + nl, nl + nc))
+    rhs[nf:, :nl] = kappa * np.eye(nl)
+    # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
+    U, H = b["U"], b["H"]
+    rhs[:nf, nl:] = b["F"][b["free"]] - b["K_fa"] @ U[fixed_idx]
+    rhs[nf:, nl:] = -kappa * (H[fixed_idx].T @ U[fixed_idx])
+    sol = b["lu"].solve(rhs)
+    R = -kappa * sol[nf:, :nl]
+    R = 0.5 * (R + R.T)
+    # R's entries are sums of terms of size kappa (the stiffness), so each
+    # carries a rounding error of a few eps * kappa.  An entry that small is
+    # zero: a dislocation that a rigid motion of the frame absorbs (a portal
+    # on two pins lifted at one base) costs no force, and noise in its place
+    # would turn "this link has no effect" into a random sign — which the
+    # trace's collapse proof (a Farkas vector, M'y <= 0 column by column)
+    # and the support states would read as data.
+    exact = R.copy()
+    R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
+    return {"R": R, "RF": -kappa * sol[nf:, nl:], "R_solve": exact}
+
+
+def factors(b, combo: dict) -> np.ndarray:
+    col = {c: k for k, c in enumerate(b["cases"])}
+    f = np.zeros(len(b["cases"]))
+    for case, factor in combo.items():
+        f[col[case]] = factor
+    return f
+
+
+def combine(b, combo: dict):
+    """(F, R_F) of a combination {case: factor}."""
+    f = factors(b, combo)
+    return b["F"] @ f, b["RF"] @ f
+
+
+def load_vector(b, combo: dict):
+    """(F, u_a): the combination's nodal loads and settlements."""
+    f = factors(b, combo)
+    return b["F"] @ f, b["U"] @ f
+
+
+def mechanism_message(S, free, names, nf, dofs) -> str:
+    """Name the free motion of a singular basic system (its null vector);
+    ``dofs``: the dof names of a node."""
+    if S.shape[0] > 4000:
+        return ("the basic system (every contact link fixed) is singular: the frame is a "
+                "mechanism even with every contact closed, or two contacts constrain the same "
+                "displacement; add supports or remove a redundant contact")
+    S = S.toarray()
+    try:
+        null = scipy.linalg.null_space(S, rcond=1e-12)
+    except (ValueError, np.linalg.LinAlgError):
+        null = np.zeros((S.shape[0], 0))
+    if null.shape[1] == 0:
+        return ("the basic system (every contact link fixed) is singular: check supports, "
+                "hinges and that no two contacts constrain the same displacement")
+    v = null[:nf, 0]
+    if np.max(np.abs(v)) <= 1e-9 * np.max(np.abs(null[:, 0])):
+        return ("two or more contact links constrain the same displacement (redundant links): "
+                "remove one of them")
+    order = np.argsort(-np.abs(v))[:3]
+    moves = ", ".join(f"{names[free[i] // len(dofs)]} {dofs[free[i] % len(dofs)]}" for i in order
+                      if abs(v[i]) > 0.1 * abs(v[order[0]]))
+    together = "move together" if "," in moves else "alone"
+    return (f"the frame is a mechanism even with every contact closed: it can move freely "
+            f"({moves} {together}); add supports, contacts or friction that prevent it")
+
+
+def layout(b):
+    """Per contact: the link positions of n and t (cached in b)."""
+    if "layout" not in b:
+        pos = {}
+        for li, (ci, kind) in enumerate(b["info"]):
+            pos.setdefault(ci, {})[kind] = li
+        b["layout"] = pos
+    return b["layout"]
+
+
+def lcp_matrices(b):
+    """(M, Q, q_gap, P, g, fric): w = M z + Q f + q_gap for the case factors
+    f (Q has one column per case of b["cases"]); Δ = P z - g (P dense), from
+    the link maps b["maps"] = (P, W, g, fric) each frame's build lays out.
+    Computed once per assembly (cached in b); forms R."""
+    if "lcp" in b:
+        return b["lcp"]
+    P, W, g, fric = b["maps"]
+    R = b["R"]
+    M = np.asarray((P.T @ (W @ R).T).T) if P.shape[1] else np.zeros((0, 0))
+    if not fric:
+        M = 0.5 * (M + M.T)  # = R_nn exactly; remove rounding asymmetry
+    b["lcp"] = (M, np.asarray(W @ b["RF"]), -np.asarray(W @ (R @ g)), P.toarray(), g, fric)
+    return b["lcp"]
+
+
+def combination_q(Q, q_gap, b, combo):
+    """q and its terms' sizes (each case's share and the gaps': what a force
+    that is their difference is judged against)."""
+    col = {c: k for k, c in enumerate(b["cases"])}
+    q = q_gap.copy()
+    terms = np.abs(q_gap)
+    for case, factor in combo.items():
+        share = factor * Q[:, col[case]]
+        q = q + share
+        terms = terms + np.abs(share)
+    return q, terms
+
+
+def combination_lcp(M, Q, q_gap, b, combo) -> LCP:
+    q, terms = combination_q(Q, q_gap, b, combo)
+    return LCP(M, q, q_terms=terms)

@@ -1,0 +1,102 @@
+"""The checks every frame answer passes before it is called one, shared by
+the plane and the space frame: equilibrium dof by dof on each dof's own
+scale, the componentwise measure of complementarity, what rounding leaves
+and is not counted, and how far the frame has moved (where
+small-displacement theory stops holding)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .contact_lcp import R_ROUNDING
+
+
+#: A normal force or slip below STATE_RTOL of its own componentwise scale is zero
+#: when the support's state is named.
+STATE_RTOL = 1e-9
+
+
+#: The equilibrium check's limit is the requested accuracy (1e-9 at "high"), but
+#: never below what rounding leaves in a right answer's per-dof residual (a few
+#: thousand eps: the saddle solve's backward error on a long member chain).
+EQUILIBRIUM_FLOOR = 4096 * np.finfo(float).eps
+
+
+#: Beyond a translation of SMALL_DISPLACEMENT x the frame's size, or a
+#: rotation of SMALL_ROTATION rad, equilibrium written on the undeformed frame
+#: is no longer the structure's (a 20-storey tower swayed 19.5 m, 0.28 of its
+#: size, at its "collapse" load without a word): results say so and warn.
+SMALL_DISPLACEMENT = 0.02
+
+
+#: The rotation [rad] beside SMALL_DISPLACEMENT (see there).
+SMALL_ROTATION = 0.05
+
+
+class LargeDisplacementWarning(UserWarning):
+    """A result's displacements are beyond small-displacement theory."""
+
+
+def beyond_rounding(res, scale, largest=None) -> float:
+    """max |res| / scale, not counting what rounding of the largest term of the
+    same kind leaves (R_ROUNDING of it): a force that is zero in exact
+    arithmetic comes out of the solve as a few eps times the largest force
+    (a friction force of 1.6e-15 beside a reaction of 50), and judged against
+    its own terms — all of them zero — it would be wrong by all of its size."""
+    if res.size == 0:
+        return 0.0
+    floor = R_ROUNDING * (scale.max() if largest is None else largest)
+    excess = np.maximum(res - floor, 0.0)
+    ratio = np.divide(excess, scale, out=np.zeros_like(excess), where=scale > 0)
+    ratio[(scale <= 0) & (excess > 0)] = np.inf
+    return float(ratio.max())
+
+
+def how_far(frame, u, always=False):
+    """(largest translation / frame size, largest rotation, words): the
+    words say where small-displacement theory stops holding (or, with
+    ``always``, how far the frame has moved in any case)."""
+    xy = np.array(list(frame.nodes.values()))
+    size = float(np.linalg.norm(np.ptp(xy, axis=0))) or 1.0
+    spin = np.array([d.startswith("r") for d in frame.DOFS])   # a node's rotations
+    per_node = np.asarray(u).reshape(-1, len(frame.DOFS))
+    trans = np.linalg.norm(per_node[:, ~spin], axis=1)
+    k = int(np.argmax(trans))
+    ratio, rot = float(trans[k]) / size, float(np.abs(per_node[:, spin]).max(initial=0.0))
+    length = frame.units[1]
+    moved = (f"node {list(frame.nodes)[k]} has moved {trans[k]:.3g} {length} "
+             f"({ratio:.2g} of the frame's size, {size:.3g} {length}), rotations up to "
+             f"{rot:.2g} rad")
+    if ratio > SMALL_DISPLACEMENT or rot > SMALL_ROTATION:
+        return ratio, rot, (f"{moved}: beyond small-displacement theory (limits "
+                            f"{SMALL_DISPLACEMENT:g} of the size, {SMALL_ROTATION:g} rad), "
+                            "which this analysis assumes — the deformed frame's equilibrium "
+                            "(second-order effects) is not in it")
+    return ratio, rot, (moved if always else "")
+
+
+def complementarity(z, w, zeta, sigma):
+    """(|min(z/ζ, w/σ)| per component, σ)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Z = np.where(zeta > 0, z / np.where(zeta > 0, zeta, 1.0), np.where(z > 0, np.inf, 0.0))
+        Wr = np.where(sigma > 0, w / np.where(sigma > 0, sigma, 1.0),
+                      np.where(w != 0, np.sign(w) * np.inf, 0.0))
+    return np.abs(np.minimum(Z, Wr)), sigma
+
+
+def equilibrium(frame, b, F, X, u):
+    """Equilibrium judged dof by dof, each on its own scale: the residual of
+    K u = F + H X at every free dof against the sum of the absolute values
+    of the terms that make it, |K||u| + |F| + |H||X| (a componentwise
+    backward error, like the LCP certificate's; the reactions at fixed
+    dofs are those rows' remainders, so they hold by definition).  The old
+    check — the resultant against the largest load, limit 1e-8 — failed
+    right answers on long beams (200 spans: 1.1-2.5e-8 where independent
+    statics agree to 1e-9)."""
+    free = b["free"]
+    K = b["K"]
+    res = np.abs(K @ u - F - b["H"] @ X)[free]
+    scale = (abs(K) @ np.abs(u) + np.abs(F) + abs(b["H"]) @ np.abs(X))[free]
+    moment = np.array([d.startswith("r") for d in frame.DOFS])[free % len(frame.DOFS)]
+    return max(beyond_rounding(res[~moment], scale[~moment]),
+               beyond_rounding(res[moment], scale[moment]))

@@ -1,0 +1,44 @@
+"""The load combination a frame's solve or trace analyses: ``solve(p)``'s
+Osipova–Popov–Lovtsov split (constant + p x variable) or a named
+combination {case: factor}, and the refusal of one that puts no load on the
+frame where one is meant."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.errors import InvalidProblemError
+
+from . import contact_lcp
+from .loads import CONSTANT, VARIABLE, combination, number
+
+
+def load_combination(frame, p, combo, b) -> dict:
+    if combo is None:
+        require_loads({CONSTANT: 1.0, VARIABLE: 1.0}, b, "solve(p)",
+                            "constant + p x variable", only_if_named=True)
+        return {CONSTANT: 1.0, VARIABLE: number(p, "p")}
+    return combination(combo, set(b["cases"]))
+
+
+def require_loads(combo, b, what, part, only_if_named=False) -> None:
+    """Refuse a combination that puts no load on the frame where one is
+    meant: solve(p) or trace() on a frame whose loads are all in named
+    cases returned ok=True at zero load, silently.  With
+    ``only_if_named`` only when such cases exist (a frame with constant
+    loads alone still solves, and traces trivially)."""
+    factors = contact_lcp.factors(b, combo)
+    if np.any(b["F"] @ factors) or np.any(b["U"] @ factors):
+        return
+    named = [c for c in b["cases"] if c not in (CONSTANT, VARIABLE)
+             and (np.any(b["F"][:, b["cases"].index(c)])
+                  or np.any(b["U"][:, b["cases"].index(c)]))]
+    if only_if_named and not named:
+        return
+    cases = ", ".join(repr(c) for c in named) or "none"
+    example = "{" + ", ".join(f"{c!r}: 1.0" for c in named[:2]) + "}"
+    raise InvalidProblemError(
+        f"{what}: {part} (the cases {', '.join(repr(c) for c in combo)}) has no load, so "
+        f"there is nothing to analyse; this frame's loads are in the cases {cases} — pass "
+        f"combination={example} to solve, constant=/variable= to trace (e.g. "
+        f"variable={named[-1] if named else 'W'!r}), or add loads with case='variable'")

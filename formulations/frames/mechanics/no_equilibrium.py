@@ -1,0 +1,152 @@
+"""When a frame has no equilibrium: the proof and the words for how it fails.
+A failed solve's Farkas vector is read through the frame's
+``kind.collapse_words``; where the contact matrix is singular only up to
+rounding, one LP over the null space of the free stiffness finds a rigid
+motion in which the loads do positive work while every contact opens or
+slides within its friction cone (:func:`rigid_motion`).  Shared by the plane
+and the space frame."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.errors import NoSolutionError, SolverFailedError
+
+from . import contact_lcp
+from .loads import describe
+
+
+def proved(sol) -> bool:
+    """Whether a failed solve came with a proof that no equilibrium exists."""
+    proof = sol.stats.get("proof")
+    # Lemke's stats["farkas"] may hold a vector that holds to rounding only
+    # (rounding can leave it just short): a proof is what was checked exactly
+    return bool(sol.stats.get("proved_infeasible")) or (
+        proof is not None and getattr(proof, "kind", None) == "infeasible")
+
+
+def raise_no_equilibrium(frame, sol, fric, b, combo, hint=False):
+    """Raise with what was proved (a Farkas vector: how the frame fails) or
+    with what was tried (``hint``: say that "auto" also follows the load
+    path)."""
+    proof = sol.stats.get("proof")
+    y = sol.stats.get("farkas") if sol.stats.get("proved_infeasible") else None
+    if y is None and proof is not None and proof.kind == "infeasible":
+        y = proof.vector["z"]
+    what = describe(combo)
+    if y is not None:
+        words = frame.kind.collapse_words(frame, {"farkas": np.asarray(y, float)}, fric,
+                                          carrying=None)
+        raise NoSolutionError(
+            f"frame under {what}: no equilibrium exists — {words} (proved by a Farkas "
+            f"vector checked from the data: y >= 0, M'y <= 0, q'y < 0)")
+    raise_rigid_motion(frame, b, combo, f"{sol.method}: {sol.message}")
+    raise SolverFailedError(
+        f"frame under {what}: {sol.method} found no contact state ({sol.message}); nothing "
+        "was proved either way" + ("; method='auto' also follows the load path to this "
+                                   "load (the trace's route)" if hint else
+                                   "; following the load path to it (the trace) found no "
+                                   "certified equilibrium either"))
+
+
+def rigid_motion(frame, b, combo):
+    """A rigid motion φ of the frame with every contact released (a null
+    vector of the free stiffness, springs and bilateral supports
+    included) that only opens or slides the contacts within Coulomb's
+    cone (a_c >= f |s_c|) and in which the loads do positive work: then
+    no equilibrium exists (virtual work: F'φ = -Σ X·(H'φ) <= 0 for any
+    admissible contact forces).  Found by one LP over the null space and
+    checked in floating point to rounding; returns (a, s) or None.
+
+    This is what proves "no equilibrium" when the contact matrix is
+    singular only up to rounding (R has the rigid motion in its null
+    space exactly, its computed copy only nearly), where the LCP's exact
+    Farkas check cannot pass."""
+    from scipy.optimize import linprog
+
+    free = b["free"]
+    if free.size > 3000:
+        return None
+    Kf = b["K"][free][:, free].toarray()
+    d = np.sqrt(np.abs(np.diag(Kf)))
+    d[d == 0] = 1.0
+    lam, V = np.linalg.eigh(Kf / d[:, None] / d[None, :])
+    null = V[:, lam <= 1e-10 * max(lam.max(initial=0.0), 1e-300)] / d[:, None]
+    if null.shape[1] == 0:
+        return None
+    F, _ = contact_lcp.load_vector(b, combo)
+    Ff = F[free]
+    normals, tangents, f = frame.kind.release_directions(frame, b)
+    Ha = normals[free].T @ null
+    Hs = [t[free].T @ null for t in tangents]        # one (nc x null) per tangent
+    work = Ff @ null
+    if not np.any(work):
+        return None
+    # a_c >= f |s_c|: exact with one tangent (a >= ±f s); with two, by
+    # a >= f (±s1 ±s2), which implies it (|s| <= |s1| + |s2|) — a proof
+    # found under the stronger condition is still one
+    signs = np.array(np.meshgrid(*[[1.0, -1.0]] * len(Hs))).reshape(len(Hs), -1).T
+    A_ub = np.vstack([-(Ha + f[:, None] * sum(sg * h for sg, h in zip(row, Hs)))
+                      for row in signs])
+    res = linprog(np.zeros(null.shape[1]), A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]),
+                  A_eq=work[None, :], b_eq=[1.0], bounds=[(None, None)] * null.shape[1],
+                  method="highs")
+    if res.status != 0:
+        return None
+    phi = null @ res.x
+    a = Ha @ res.x
+    sl = np.stack([h @ res.x for h in Hs], axis=1) if Hs else np.zeros((a.size, 0))
+    size = np.abs(phi).max()
+    w_scale = np.abs(Ff) @ np.abs(phi)
+    tol = 1e-9 * size
+    if not (Ff @ phi > 1e-6 * w_scale and np.all(a - f * np.linalg.norm(sl, axis=1) >= -tol)):
+        return None
+    a = np.where(np.abs(a) <= tol, 0.0, a)
+    sl = np.where(np.abs(sl) <= tol, 0.0, sl)
+    return a, sl
+
+
+def raise_rigid_motion(frame, b, combo, before: str):
+    motion = rigid_motion(frame, b, combo)
+    if motion is None:
+        return
+    raise NoSolutionError(
+        f"frame under {describe(combo)}: no equilibrium exists — {motion_words(frame, *motion, None)} "
+        f"(a rigid motion of the frame with its contacts released, in which the loads do "
+        f"positive work while every contact opens or slides within its friction cone; "
+        f"found by LP, checked to rounding; {before})")
+
+
+def motion_words(frame, A, T, carrying) -> str:
+    """Words for a rigid motion with normal opening A_c >= f |T_c| and
+    tangential motion T_c at each contact (see _collapse_words)."""
+    keys = frame.kind.support_keys(frame)
+    nc = len(frame.contacts)
+    T = np.asarray(T, float).reshape(nc, -1)
+    size = np.linalg.norm(T, axis=1)
+    big = max(A.max(initial=0.0), size.max(initial=0.0))
+    lift, slide, stay = [], [], []
+    for ci in range(nc):
+        f = frame.contacts[ci].friction
+        if A[ci] <= 1e-9 * big and size[ci] <= 1e-9 * big:
+            stay.append(keys[ci])
+        elif A[ci] > f * size[ci] * (1 + 1e-6) + 1e-9 * big:
+            lift.append(keys[ci])
+        else:
+            slide.append(f"{keys[ci]} ({frame.kind.slide_words(frame, ci, T[ci])})")
+    if slide and not lift:
+        # a carrying support that stays is a pivot (a table on a floor
+        # turning about one leg)
+        pivots = [k for k in stay if carrying is not None and k in carrying]
+        if pivots:
+            return (f"it turns about {', '.join(pivots)}: friction exhausted at "
+                    + ", ".join(slide))
+        whole = carrying is None or all(any(s.startswith(k + " ") for s in slide)
+                                        for k in carrying)
+        return (("the frame slides away as a rigid body: " if whole else "it slides: ")
+                + "friction exhausted at " + ", ".join(slide))
+    if lift and not slide:
+        if stay:
+            return f"it tips over about {', '.join(stay)}: {', '.join(lift)} lift off"
+        return "it lifts off: " + ", ".join(lift) + " would have to pull"
+    return ("it lifts off at " + ", ".join(lift) + " and slides at " + ", ".join(slide))

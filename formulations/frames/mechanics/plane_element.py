@@ -1,0 +1,139 @@
+"""Plane frame elements: the member's local stiffness (Euler-Bernoulli or
+Timoshenko), its rotation to global axes, end releases (hinges, semi-rigid
+springs) and rigid end zones, and their equivalent nodal loads — for all
+members at once (:func:`member_locals`), which :mod:`.assembly` scatters
+into the frame's K and F.  Member axes: x from node i to node j, y turned
+counterclockwise; end dofs (u, v, θ) at i then j; units the user's."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from qpcontact.core.errors import InvalidProblemError
+
+from .loads import equivalent_nodal_many, offset_parts
+
+#: A plane frame node's degrees of freedom, in the order of its rows.
+DOFS = ("ux", "uy", "rz")
+
+
+def beam_k(E, A, I, L, phi=0.0) -> np.ndarray:
+    """Local stiffness of 2-D frame elements, (6, 6) or (m, 6, 6) for arrays:
+    Euler-Bernoulli for φ = 0, Timoshenko (shear deformation, φ =
+    12EI/(G A_s L²)) otherwise."""
+    E, A, I, L, phi = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, phi)))
+    a = E * A / L
+    f = E * I / (L * (1.0 + phi))
+    b, c, d, e = 12 * f / L ** 2, 6 * f / L, (4 + phi) * f, (2 - phi) * f
+    k = np.zeros(E.shape + (6, 6))
+    k[..., 0, 0] = k[..., 3, 3] = a
+    k[..., 0, 3] = k[..., 3, 0] = -a
+    k[..., 1, 1] = k[..., 4, 4] = b
+    k[..., 1, 4] = k[..., 4, 1] = -b
+    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = c
+    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -c
+    k[..., 2, 2] = k[..., 5, 5] = d
+    k[..., 2, 5] = k[..., 5, 2] = e
+    return k
+
+
+def geometry(frame, m):
+    """(L, cos, sin) of a member's axis."""
+    d = frame.nodes[m.j] - frame.nodes[m.i]
+    L = math.hypot(d[0], d[1])
+    if L == 0:
+        raise InvalidProblemError(f"member {m.name}: nodes {m.i} and {m.j} coincide")
+    return L, float(d[0]) / L, float(d[1]) / L
+
+
+def rotation(c, s) -> np.ndarray:
+    """T (6x6, or (m, 6, 6) for arrays): global end displacements to member axes."""
+    c, s = np.broadcast_arrays(np.asarray(c, float), np.asarray(s, float))
+    T = np.zeros(c.shape + (6, 6))
+    for o in (0, 3):
+        T[..., o, o] = T[..., o + 1, o + 1] = c
+        T[..., o, o + 1] = s
+        T[..., o + 1, o] = -s
+        T[..., o + 2, o + 2] = 1.0
+    return T
+
+
+def _offset_map(oi, oj) -> np.ndarray:
+    """Node displacements (member axes) to the flexible ends': the rigid arm
+    of length oi moves the end across the axis by oi·θ_i, at j by -oj·θ_j."""
+    A = np.eye(6)
+    A[1, 2], A[4, 5] = oi, -oj
+    return A
+
+
+def _release(k, fe, r, spring):
+    """Condense the member end's own rotation (dof r) behind a rotational
+    spring to the node (0: a hinge): row/column r then belong to the node's
+    rotation.  The member's loads fe (6, cases) are condensed alike."""
+    k7 = np.zeros((7, 7))
+    k7[:6, :6] = k
+    k7[r, r] += spring
+    k7[r, 6] = k7[6, r] = -spring
+    k7[6, 6] = spring
+    col = k7[:, r].copy()
+    kc = k7 - np.outer(col, col) / k7[r, r]
+    keep = [6 if d == r else d for d in range(6)]
+    f7 = np.vstack([fe, np.zeros((1, fe.shape[1]))])
+    fc = f7 - np.outer(col, f7[r]) / k7[r, r]
+    return kc[np.ix_(keep, keep)], fc[keep]
+
+
+def member_locals(frame, names, idx, col):
+    """Every member's local stiffness (node dofs, member axes), rotation,
+    dofs and equivalent nodal loads per case, computed for all members at
+    once: (k (m,6,6), T (m,6,6), dofs (m,6), Fe (m,6,cases)); ``col`` maps
+    a case to its column."""
+    ms = list(frame.members.values())
+    nm = len(ms)
+    xy = np.array([frame.nodes[n] for n in names]).reshape(-1, 2)
+    ii = np.array([idx[m.i] // 3 for m in ms], int)
+    jj = np.array([idx[m.j] // 3 for m in ms], int)
+    d = xy[jj] - xy[ii]
+    L = np.hypot(d[:, 0], d[:, 1])
+    c, s = d[:, 0] / L, d[:, 1] / L
+    # one pass over the members for their numbers (a Python call per
+    # member and property cost 2 ms on a 400-member beam)
+    E, A, I, oi, oj, GAs = np.array([(m.E, m.A, m.I, m.offset_i, m.offset_j,
+                                      0.0 if m.GAs is None else m.GAs)
+                                     for m in ms], float).reshape(nm, 6).T
+    Lf = L - oi - oj
+    phi = np.divide(12.0 * E * I, GAs * Lf ** 2, out=np.zeros(nm), where=GAs > 0)
+    k_all = beam_k(E, A, I, Lf, phi)
+    T = rotation(c, s)
+    dofs = np.c_[3 * ii[:, None] + np.arange(3), 3 * jj[:, None] + np.arange(3)]
+    offset = np.flatnonzero((oi > 0) | (oj > 0)).tolist()
+    Fe = np.zeros((nm, 6, len(col)))
+    plain = [(k, ld) for k, m in enumerate(ms) if m.loads and not (m.offset_i or m.offset_j)
+             for ld in m.loads]
+    if plain:
+        rows = np.array([k for k, _ in plain])
+        cases_ = np.array([col[ld.case] for _, ld in plain])
+        loads = equivalent_nodal_many([ld for _, ld in plain], L[rows], c[rows], s[rows],
+                                      phi[rows])
+        np.add.at(Fe, (rows[:, None], np.arange(6)[None, :], cases_[:, None]), loads)
+    rigid = {k: np.zeros((6, len(col))) for k in offset}
+    for k in offset:
+        for ld in ms[k].loads:
+            fe, at_nodes = offset_parts(ld, L[k], c[k], s[k], phi[k],
+                                        (ms[k].offset_i, ms[k].offset_j))
+            Fe[k, :, col[ld.case]] += fe
+            rigid[k][:, col[ld.case]] += at_nodes
+    # releases act at the flexible ends (the face of the rigid zone), so
+    # they come before the rigid arms carry the end to the node
+    for k, m in enumerate(ms):
+        if m.hinge_i or m.hinge_j or m.spring_i is not None or m.spring_j is not None:
+            for r, spring in zip((2, 5), m.end_springs):
+                if spring is not None:
+                    k_all[k], Fe[k] = _release(k_all[k], Fe[k], r, spring)
+    for k in offset:
+        Aoff = _offset_map(ms[k].offset_i, ms[k].offset_j)
+        k_all[k] = Aoff.T @ k_all[k] @ Aoff
+        Fe[k] = Aoff.T @ Fe[k] + rigid[k]
+    return k_all, T, dofs, Fe

@@ -1,0 +1,192 @@
+"""Solving a frame's contact problem, shared by the plane and the space
+frame: one combination (:func:`solve`: the "auto" route, a named method, or
+the Tresca fixed point), many (:func:`solve_combinations`).  What differs
+between the kinds of frame (their results, their first route) comes from
+``frame.kind`` (:class:`~.frame_kind.FrameKind`); when no equilibrium
+exists, :mod:`.no_equilibrium` proves it and says how the frame fails."""
+
+from __future__ import annotations
+
+import warnings
+
+from qpcontact import solve as solve_problem
+from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
+                                   QpcontactError, SolverFailedError)
+
+from . import contact_lcp
+from .analysis_results import CombinationResults
+from .equilibrium_checks import (SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning,
+                                 how_far)
+from .load_combinations import load_combination
+from .loads import describe
+from .no_equilibrium import proved, raise_no_equilibrium, raise_rigid_motion
+from .tracing import trace_to
+from .tresca import tresca_fixed_point
+
+
+#: seconds each QP backend may take inside a frame's "auto" route (Lemke's
+#: proof comes first; a backend loop on a load the frame cannot carry took
+#: 40 s in ProxQP before)
+BACKEND_TIME_LIMIT = 10.0
+
+
+def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
+          raise_on_failure: bool = False, *, combination: dict | None = None,
+          _built=None, **options):
+    """Analyse one load combination of ``frame``: ``combination`` = {case:
+    factor}, or by default Osipova–Popov–Lovtsov's split constant +
+    p·variable (``Frame.solve`` and ``SpaceFrame.solve`` call this).
+
+    ``method``: "auto" (for a plane frame first the sparse active set,
+    :mod:`..plane.sparse_active_set`,
+    which never forms the dense contact LCP; where it finds no
+    consistent states or its answer fails the checks, the LCP:
+    frictionless and positive definite, the exact SPD method "bpp";
+    otherwise Lemke, whose ray on a load the frame cannot carry comes
+    with a Farkas vector checked from the data, then the QP backends
+    with a time limit each), "active-set" alone, any registered LCP
+    method or QP backend name (frictionless), "lemke", or "tresca" (with
+    friction: a fixed point of convex QPs with Tresca bounds, stopped on
+    the full LCP certificate; falls back to Lemke).
+
+    Raises NoSolutionError when no equilibrium exists (proved), saying
+    how the frame fails; SolverFailedError when no method found one and
+    nothing was proved; with ``raise_on_failure`` also for a result whose
+    checks fail.  Warns (LargeDisplacementWarning) when the displacements
+    leave small-displacement theory (``displacement_ratio``,
+    ``max_rotation`` of the result).
+    """
+    res = frame.kind.solve_one(frame, p, method, accuracy, raise_on_failure, combination,
+                               _built, options)
+    if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
+                   or res.max_rotation > SMALL_ROTATION):
+        warnings.warn(f"frame under {describe(res.combination)}: {how_far(frame, res._u)[2]}",
+                      LargeDisplacementWarning, stacklevel=3)
+    return res
+
+
+def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
+    """One combination solved on the contact LCP (the faceted cone for a
+    space frame) by the frame's routes: :func:`solve` without its warning."""
+    if not isinstance(method, str):
+        raise InvalidOptionError(f"method must be a string; got {method!r}")
+    from qpcontact import methods as registry
+    from qpcontact.core.accuracy import resolve_accuracy
+
+    _, tol = resolve_accuracy(accuracy)
+    routes = frame.kind.routes
+    if method not in routes and method not in registry():
+        raise InvalidOptionError(
+            f"unknown method {method!r}: {', '.join(repr(r) for r in routes)} or a name "
+            f"from qpcontact.methods(): {', '.join(registry())}")
+    b = _built if _built is not None else frame.build()
+    combo = load_combination(frame, p, combination, b)
+    if method in ("auto", "active-set") and frame.kind.active_set is not None:
+        found = frame.kind.active_set(frame, b, combo)
+        if found is not None:
+            sets = f"{found[1]} state set" + ("s" if found[1] > 1 else "")
+            res = frame.kind.result_from_z(frame, found[0], combo, f"active set ({sets})",
+                                           b=b, tol=tol)
+            if res.ok:
+                return res
+        if method == "active-set":
+            raise SolverFailedError(
+                "frame: the active set found no consistent contact states (a cycle or a "
+                "singular state set); method='auto' goes on with the LCP (Lemke, the load "
+                "path)")
+    M, Q, q_gap, P, g, fric = contact_lcp.lcp_matrices(b)
+    lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+    if method == "tresca":
+        if not fric:
+            raise InvalidOptionError("'tresca' is for frictional frames; this one has no friction")
+        z, route = tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options)
+    else:
+        if fric and method not in ("auto", "lemke"):
+            raise InvalidOptionError(
+                f"with friction the LCP is not symmetric; use method='lemke' or 'tresca', "
+                f"not {method!r}")
+        if method == "auto":
+            sol = auto_lcp(lcp, fric, accuracy, options)
+        else:
+            sol = solve_problem(lcp, method=method, accuracy=accuracy, **options)
+        z, route = sol.z, sol.method
+        if not sol.ok:
+            found = (trace_to(frame, b, combo, lcp, accuracy, tol)
+                     if method == "auto" and not proved(sol) else None)
+            if found is None:
+                raise_no_equilibrium(frame, sol, fric, b, combo, hint=method != "auto")
+            z, route = found
+    res = frame.kind.result_from_z(frame, z, combo, route, b=b, lcp=lcp, tol=tol)
+    if not res.ok and method == "auto" and not route.startswith("trace"):
+        # an LCP answer that is no equilibrium of the frame: the load path
+        # may still reach one (a table on rigid frictional pads: Lemke's
+        # faceted-cone answer rotated it freely by 3.5e9 m, rounding
+        # spoiling its forces; the path from the unloaded table sticks)
+        found = trace_to(frame, b, combo, lcp, accuracy, tol)
+        if found is not None:
+            again = frame.kind.result_from_z(frame, found[0], combo, found[1], b=b, lcp=lcp,
+                                             tol=tol)
+            res = again if again.ok else res
+    if not res.ok and res.lcp_error <= tol:
+        # the LCP's answer is no equilibrium of the frame: a contact matrix
+        # singular to rounding (the frame is a mechanism once its contacts
+        # open) solved at a point of huge openings
+        raise_rigid_motion(frame, b, combo, f"{route}'s answer failed the statics check "
+                                            f"({res.message})")
+    if raise_on_failure and not res.ok:
+        raise SolverFailedError(f"frame: {res.message}")
+    return res
+
+
+def auto_lcp(lcp, fric, accuracy, options):
+    """"auto" on the contact LCP: "bpp" where it is frictionless and
+    positive definite; else Lemke, then (frictionless) the QP backends with a
+    time limit each."""
+    if not fric and lcp.is_positive_definite:
+        return solve_problem(lcp, method="bpp", accuracy=accuracy)
+    sol = solve_problem(lcp, method="lemke", accuracy=accuracy, **options)
+    if sol.ok or fric or proved(sol):
+        return sol     # with friction, solve follows the load path where this is not ok
+    best = sol
+    for name in ("clarabel", "piqp", "osqp", "highs"):
+        try:
+            s = solve_problem(lcp, method=name, accuracy=accuracy, time_limit=BACKEND_TIME_LIMIT)
+        except QpcontactError:
+            continue
+        if s.ok or s.stats.get("proof") is not None:
+            return s
+        if s.error < best.error:
+            best = s
+    return best
+
+
+def solve_combinations(frame, combinations: dict, **kw) -> CombinationResults:
+    """Each named combination solved on its own — its own contact states,
+    reactions and checks (no state carried over, never superposed).
+    Values are {case: factor} dicts (or a number p for the split constant +
+    p x variable).  A
+    combination that cannot be carried gives a result with ok False and
+    the reason; the others are kept.  Returns a CombinationResults."""
+    if not isinstance(combinations, dict) or not combinations:
+        raise InvalidProblemError("combinations: a non-empty dict {name: {case: factor}}")
+    out = CombinationResults()
+    # one assembly and one factorization of the basic system for all
+    # combinations (and R, formed once if a combination needs the LCP)
+    kw["_built"] = frame.build()
+    for name, combo in combinations.items():
+        args = dict(kw)
+        if isinstance(combo, dict):
+            args["combination"] = combo
+        else:
+            args["p"] = combo
+        try:
+            res = frame.solve(**args)
+        except (NoSolutionError, SolverFailedError) as exc:
+            res = frame.kind.result_type(
+                p=float("nan"), supports={}, displacements={}, member_forces={}, reactions={},
+                equilibrium_residual=float("nan"), lcp_error=float("nan"), route="", ok=False,
+                message=str(exc), frame=frame,
+                combination=combo if isinstance(combo, dict) else {})
+        res.name = str(name)
+        out[name] = res
+    return out

@@ -1,0 +1,104 @@
+"""Space-frame members: the 3-D beam-column element's
+stiffness and its rotation to global axes, for all members at once.
+
+Member axes: x from node i to node j; y and z the section's principal axes,
+fixed by a reference vector ``ref`` that lies in the member's local x-z
+plane (OpenSees' ``vecxz``): z = x × (ref × x) normalised, y = z × x; a roll
+angle turns y and z about x afterwards.  The default reference is global Z
+(vertical: y then lies horizontal), or global X for a vertical member.
+
+End dofs (member axes), at i then j: u, v, w (translations along x, y, z),
+θx (twist), θy, θz — 12 per member.  Units the user's, consistent: E, G in
+force/length², A in length², Iy, Iz (second moments about y and z) and J
+(torsion constant) in length⁴.
+
+Stiffness (Euler-Bernoulli bending in each principal plane, Saint-Venant
+torsion, no warping, no coupling between the planes — a doubly symmetric
+section or the principal axes of any section through its shear centre):
+
+* axial EA/L on (u_i, u_j); torsion GJ/L on (θx_i, θx_j);
+* bending in the x-y plane (EIz): v with θz, the plane frame's 4 x 4 block;
+* bending in the x-z plane (EIy): w with θy, the same block with the signs of
+  the couplings reversed, since a positive θy turns +z towards -x
+  (dw/dx = -θy while dv/dx = +θz).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.errors import InvalidProblemError
+
+
+def stiffness(E, G, A, Iy, Iz, J, L) -> np.ndarray:
+    """Local stiffness of space-frame members, (m, 12, 12) (or (12, 12) for
+    scalars); dofs (u, v, w, θx, θy, θz) at i then j."""
+    E, G, A, Iy, Iz, J, L = np.broadcast_arrays(
+        *(np.asarray(v, float) for v in (E, G, A, Iy, Iz, J, L)))
+    k = np.zeros(E.shape + (12, 12))
+
+    def put(a, b, value):
+        k[..., a, b] = value
+        k[..., b, a] = value
+
+    ea, gj = E * A / L, G * J / L
+    for (a, b), s in (((0, 0), 1), ((6, 6), 1), ((0, 6), -1)):
+        put(a, b, s * ea)
+    for (a, b), s in (((3, 3), 1), ((9, 9), 1), ((3, 9), -1)):
+        put(a, b, s * gj)
+    # bending: (translation, rotation) dofs of each plane and the sign that
+    # relates the rotation to the slope (+θz = dv/dx, -θy = dw/dx)
+    for EI, t, r, sign in ((E * Iz, 1, 5, 1.0), (E * Iy, 2, 4, -1.0)):
+        b12, b6, b4, b2 = 12 * EI / L ** 3, 6 * EI / L ** 2, 4 * EI / L, 2 * EI / L
+        ti, tj, ri, rj = t, t + 6, r, r + 6
+        put(ti, ti, b12)
+        put(tj, tj, b12)
+        put(ti, tj, -b12)
+        put(ri, ri, b4)
+        put(rj, rj, b4)
+        put(ri, rj, b2)
+        put(ti, ri, sign * b6)
+        put(ti, rj, sign * b6)
+        put(tj, ri, -sign * b6)
+        put(tj, rj, -sign * b6)
+    return k
+
+
+def axes(xi, xj, ref=None, roll=0.0) -> np.ndarray:
+    """Rotation matrices (m, 3, 3) whose rows are the members' local x, y, z
+    in global components (see the module docstring); ``xi``, ``xj`` (m, 3)
+    end coordinates, ``ref`` (m, 3) (a row of NaN: the default) or None,
+    ``roll`` (m,) radians."""
+    xi, xj = np.atleast_2d(np.asarray(xi, float)), np.atleast_2d(np.asarray(xj, float))
+    d = xj - xi
+    L = np.linalg.norm(d, axis=1)
+    if np.any(L == 0):
+        raise InvalidProblemError(f"space-frame member {int(np.argmin(L))}: its nodes coincide")
+    x = d / L[:, None]
+    # the default reference (rows of NaN, or ref None): Z, or X for a vertical member
+    vertical = np.abs(x[:, 2]) > 1.0 - 1e-9
+    default = np.where(vertical[:, None], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    ref = default if ref is None else np.broadcast_to(np.asarray(ref, float), x.shape)
+    ref = np.where(np.isnan(ref), default, ref)
+    z = np.cross(x, np.cross(ref, x))
+    zn = np.linalg.norm(z, axis=1)
+    bad = zn <= 1e-9 * np.linalg.norm(ref, axis=1)
+    if np.any(bad):
+        raise InvalidProblemError(
+            f"space-frame member {int(np.flatnonzero(bad)[0])}: its reference vector is "
+            "parallel to the member; give one in the plane of the member's local x-z axes")
+    z = z / zn[:, None]
+    y = np.cross(z, x)
+    roll = np.broadcast_to(np.asarray(roll, float), L.shape)
+    c, s = np.cos(roll)[:, None], np.sin(roll)[:, None]
+    y, z = c * y + s * z, -s * y + c * z
+    return np.stack([x, y, z], axis=1)
+
+
+def rotation(R) -> np.ndarray:
+    """T (m, 12, 12): the four 3 x 3 blocks of R, global end dofs to member axes."""
+    R = np.asarray(R, float)
+    T = np.zeros(R.shape[:-2] + (12, 12))
+    for o in range(0, 12, 3):
+        T[..., o:o + 3, o:o + 3] = R
+    return T

@@ -1,0 +1,256 @@
+"""Assembly of a plane frame (Osipova–Popov–Lovtsov's displacement method):
+K, the loads and settlements per case, the turned node axes, the contact
+links H and their maps to the LCP's unknowns; the basic system and the LCP
+itself are the shared :mod:`..mechanics.contact_lcp`'s."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.sparse as sp
+
+from qpcontact.core.errors import InvalidProblemError
+
+from ..mechanics.contact_lcp import (Built, basic_system, layout, mechanism_message,
+                                     stiffness_matrix)
+from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.plane_element import DOFS, member_locals
+
+
+def cases(frame) -> list:
+    """Every load case with a load, plus the pair (constant, variable) of the
+    split constant + p x variable."""
+    names = {CONSTANT, VARIABLE}
+    names.update(ld[4] for ld in frame.nodal_loads)
+    names.update(st[2] for st in frame.settlements)
+    for m in frame.members.values():
+        names.update(ld.case for ld in m.loads)
+    return sorted(names)
+
+
+def assemble(frame):
+    """K (CSR), loads F and settlements U (one column per case), the fixed
+    dofs, and the members' local data for the results (k, T, dofs, Fe):
+    all members at once (K from one COO array)."""
+    names = list(frame.nodes)
+    idx = {nm: 3 * i for i, nm in enumerate(names)}
+    N = 3 * len(names)
+    case_list = cases(frame)
+    col = {c: k for k, c in enumerate(case_list)}
+    F = np.zeros((N, len(case_list)))
+    if frame.members:
+        k_all, T, dofs, Fe = member_locals(frame, names, idx, col)
+        Tt = T.transpose(0, 2, 1)
+        kg = Tt @ k_all @ T          # batched matmul: 10x einsum's three-operand path
+        rows = [np.repeat(dofs, 6, axis=1).ravel()]
+        cols = [np.tile(dofs, (1, 6)).ravel()]
+        vals = [kg.ravel()]
+        np.add.at(F, dofs.ravel(), (Tt @ Fe).reshape(-1, len(col)))
+    else:
+        k_all, T = np.zeros((0, 6, 6)), np.zeros((0, 6, 6))
+        dofs, Fe = np.zeros((0, 6), int), np.zeros((0, 6, len(col)))
+        rows, cols, vals = [], [], []
+    for node, fx, fy, mz, case in frame.nodal_loads:
+        F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
+    U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
+    for node, dof, case, value in frame.settlements:
+        U[idx[node] + DOFS.index(dof), col[case]] += value
+    K = stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
+    Tn = node_axes(frame, idx, N)
+    if Tn is not None:     # turned node axes: the system is written in them
+        K = (Tn @ K @ Tn.T).tocsr()
+        F = Tn @ F
+    fixed = np.zeros(N, bool)
+    for node, dofs_fixed in frame.fixed.items():
+        for d in dofs_fixed:
+            fixed[idx[node] + DOFS.index(d)] = True
+    # a rotation no member resists (only hinged ends, or no member) is not a
+    # dof — exactly zero: a hinge condenses to exact zeros, and a tiny
+    # rotational spring is a spring.  A moment applied there has nothing to
+    # act on; it is refused rather than lost
+    free_spin = (K.diagonal() == 0.0) & (np.arange(N) % 3 == 2) & ~fixed
+    lost = np.flatnonzero(free_spin & np.any(F != 0.0, axis=1))
+    if lost.size:
+        node = names[lost[0] // 3]
+        raise InvalidProblemError(
+            f"node {node!r}: a moment is applied where no member and no support resists "
+            "rotation (only released ends meet there), so it would act on nothing; put it "
+            "on a member end that is not released (add_point_load(member, a, mz=...)) or "
+            "release one end fewer")
+    fixed |= free_spin
+    # per member, for the results: stiffness, rotation, dofs, and the
+    # equivalent nodal loads of every case (member axes), (m, 6, cases)
+    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn
+
+
+def node_axes(frame, idx, N):
+    """Tn (sparse, orthogonal) turning global dofs into the nodes' own axes
+    (u' = Tn u), or None where no node's axes are turned."""
+    if not frame.node_angles:
+        return None
+    Tn = sp.lil_matrix((N, N))
+    Tn.setdiag(1.0)
+    for node, a in frame.node_angles.items():
+        i = idx[node]
+        c, s = math.cos(a), math.sin(a)
+        Tn[i, i], Tn[i, i + 1], Tn[i + 1, i], Tn[i + 1, i + 1] = c, s, -s, c
+    return Tn.tocsr()
+
+
+def contact_column(idx, N, c, vec) -> np.ndarray:
+    """The column of H mapping a force along ``vec`` at contact c to the
+    nodal forces (minus at ``other`` for a pair)."""
+    h = np.zeros(N)
+    h[idx[c.node]:idx[c.node] + 2] += vec
+    if c.other is not None:
+        h[idx[c.other]:idx[c.other] + 2] -= vec
+    return h
+
+
+def links(frame, idx, N):
+    """H (N x links, sparse CSR) and, per link: contact index, kind 'n'/'t'."""
+    cs = frame.contacts
+    nc = len(cs)
+    normal = np.array([c.normal for c in cs]).reshape(nc, 2)
+    fric = np.array([c.friction > 0 for c in cs], bool)
+    node = np.array([idx[c.node] for c in cs], int)
+    other = np.array([-1 if c.other is None else idx[c.other] for c in cs], int)
+    # links in contact order: n, then t where there is friction
+    n_link = np.arange(nc) + np.r_[0, np.cumsum(fric)[:-1]]
+    t_link = n_link + 1
+    info = []
+    for ci in range(nc):
+        info.append((ci, "n"))
+        if fric[ci]:
+            info.append((ci, "t"))
+    tangent = np.c_[normal[:, 1], -normal[:, 0]]
+    rows, cols, vals = [], [], []
+    for links_, vecs, keep in ((n_link, normal, np.ones(nc, bool)), (t_link, tangent, fric)):
+        for at, sign in ((node, 1.0), (other, -1.0)):
+            k = keep & (at >= 0)
+            for d in (0, 1):
+                rows.append(at[k] + d)
+                cols.append(links_[k])
+                vals.append(sign * vecs[k, d])
+    H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(N, len(info)))
+    H.eliminate_zeros()
+    return H, info
+
+
+def check_conflicts(frame):
+    """A contact whose normal (or tangent, with friction) displacement the
+    bilateral supports already fix would make the basic system singular:
+    name the node and the dofs instead."""
+    for c in frame.contacts:
+        if c.other is not None or c.node not in frame.fixed:
+            continue
+        fixed = frame.fixed[c.node]
+        dirs = [("normal", c.normal)]
+        if c.friction > 0:
+            dirs.append(("tangential", np.array([c.normal[1], -c.normal[0]])))
+        angle = frame.node_angles.get(c.node, 0.0)
+        turn = np.array([[math.cos(angle), math.sin(angle)], [-math.sin(angle), math.cos(angle)]])
+        for what, vec in dirs:
+            vec = np.where(np.abs(turn @ vec) <= 1e-12, 0.0, turn @ vec)
+            free_axes = [d for d, comp in zip(("ux", "uy"), vec) if abs(comp) > 0 and d not in fixed]
+            if not free_axes:
+                held = sorted(d for d, comp in zip(("ux", "uy"), vec) if abs(comp) > 0)
+                shown = tuple(float(v) + 0.0 for v in np.round(vec, 6))
+                raise InvalidProblemError(
+                    f"node {c.node!r}: the contact's {what} direction {shown} is "
+                    f"already fixed by its bilateral support ({', '.join(held)}); a contact and a "
+                    "support may share a node only where they constrain different directions — "
+                    "remove one of them")
+
+
+def build(frame):
+    """Assemble K, the links, and the LU of the basic system (every link
+    fixed).  Returns a :class:`Built` with everything the routes and the
+    results need; R and R_F come on first use."""
+    if not frame.contacts:
+        raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
+                                  "add_contact() defines the unilateral supports")
+    check_conflicts(frame)
+    names, idx, K, F, U, case_list, fixed, local, Tn = assemble(frame)
+    N = K.shape[0]
+    H, info = links(frame, idx, N)
+    if Tn is not None:
+        H = (Tn @ H).tocsr()
+    # Elastic contacts: the link's displacement is the structure's plus the
+    # spring's, H'u + D X = Δ (D = diag 1/k), so D enters the saddle matrix
+    # (scaled like the links) and R, R_F come out elastic — no dense
+    # (I + R D)⁻¹ on nl x nl.
+    flex = np.array([0.0 if frame.contacts[ci].stiffness is None
+                     else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
+    basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2)
+    if basic["lu"] is None:
+        raise InvalidProblemError(mechanism_message(basic["S"], basic["free"], names,
+                                                    basic["nf"], DOFS))
+    springs = np.zeros(N)
+    for node, ks in frame.springs.items():
+        for d, kval in ks.items():
+            springs[idx[node] + DOFS.index(d)] += kval
+    b = Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
+              fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn, **basic)
+    link_maps(frame, b)      # b["maps"], which the shared LCP reads
+    return b
+
+
+def contact_arrays(frame, b) -> dict:
+    """The contacts as arrays (cached in b): link of n and of t (-1 without
+    friction), friction, gap, unit normal, node and other node (-1)."""
+    if "contact_arrays" not in b:
+        pos = layout(b)
+        cs = frame.contacts
+        idx = b["idx"]
+        b["contact_arrays"] = dict(
+            n_link=np.array([pos[ci]["n"] for ci in range(len(cs))], int),
+            t_link=np.array([pos[ci].get("t", -1) for ci in range(len(cs))], int),
+            mu=np.array([c.friction for c in cs]), gap=np.array([c.gap for c in cs]),
+            normal=np.array([c.normal for c in cs]).reshape(len(cs), 2),
+            node=np.array([idx[c.node] // 3 for c in cs], int),
+            other=np.array([-1 if c.other is None else idx[c.other] // 3 for c in cs], int))
+    return b["contact_arrays"]
+
+
+def link_maps(frame, b):
+    """(P, W, g, fric): the link displacements Δ = P z - g and the LCP's w =
+    W X as sparse selections with the friction coefficients (z = Z_n per
+    contact, then Z⁺, Z⁻ per frictional contact; ``fric`` the frictional
+    contacts' indices).  Cheap: no R.  Cached in b."""
+    if "maps" in b:
+        return b["maps"]
+    ca = contact_arrays(frame, b)
+    nc = len(frame.contacts)
+    has_t = ca["t_link"] >= 0
+    fric = np.flatnonzero(has_t).tolist()
+    nl = len(b["info"])
+    nz = nc + 2 * len(fric)
+    tl, n_of_t, mu = ca["t_link"][has_t], ca["n_link"][has_t], ca["mu"][has_t]
+    plus = nc + 2 * np.arange(len(fric))
+    P = sp.csr_matrix((np.r_[np.ones(nc), np.ones(len(fric)), -np.ones(len(fric))],
+                       (np.r_[ca["n_link"], tl, tl], np.r_[np.arange(nc), plus, plus + 1])),
+                      shape=(nl, nz))
+    g = np.zeros(nl)
+    g[ca["n_link"]] = ca["gap"]
+    # rows of w as combinations of the link forces X: X_n; f X_n + X_t; f X_n - X_t
+    W = sp.csr_matrix((np.r_[np.ones(nc), mu, np.ones(len(fric)), mu, -np.ones(len(fric))],
+                       (np.r_[np.arange(nc), plus, plus, plus + 1, plus + 1],
+                        np.r_[ca["n_link"], n_of_t, tl, n_of_t, tl])), shape=(nz, nl))
+    b["maps"] = (P, W, g, fric)
+    return b["maps"]
+
+
+def release_directions(frame, b):
+    """Each contact's normal and tangent as columns over the dofs, in the
+    system's (the nodes') axes, minus at ``other`` for a pair: (normals
+    N x nc, [tangents N x nc], friction per contact)."""
+    N = b["K"].shape[0]
+    cols = [np.array([contact_column(b["idx"], N, c, vec(c))
+                      for c in frame.contacts]).T.reshape(N, -1)
+            for vec in (lambda c: c.normal, lambda c: (c.normal[1], -c.normal[0]))]
+    if b["Tn"] is not None:
+        cols = [b["Tn"] @ h for h in cols]
+    return cols[0], cols[1:], np.array([c.friction for c in frame.contacts])

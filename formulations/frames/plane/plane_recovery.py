@@ -1,0 +1,234 @@
+"""From the contact LCP's answer z to a plane frame's result: displacements,
+member end actions, reactions, each support's state (decided on the
+component's own scale), the global statics check; and the words for how a
+plane frame fails (a Farkas vector read as lifting, sliding and tipping).
+These are the plane frame's hooks of the shared analysis
+(:class:`~..mechanics.frame_kind.FrameKind`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.judge.lcp_certificate import certify_lcp
+from qpcontact.judge.scales import ComponentScales
+
+from ..mechanics import contact_lcp
+from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
+                                            complementarity, equilibrium, how_far)
+from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.no_equilibrium import motion_words
+from ..mechanics.plane_element import DOFS
+from . import plane_assembly
+from .plane_results import FrameResult, SupportResult
+
+
+def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameResult:
+    """The frame's result for the LCP point z, checked: the contact
+    certificate (the LCP's when its matrix is at hand, else the same
+    componentwise measure on the contact quantities' mechanical scales:
+    :meth:`_contact_certificate`) and equilibrium."""
+    b = b or frame.build()
+    if not isinstance(combo, dict):   # a number p: the Osipova–Popov–Lovtsov split
+        combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
+    P, W, g, fric = b["maps"]
+    z = np.maximum(np.asarray(z, float), 0.0)
+    F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
+    delta = P @ z - g                      # link displacements incl. contact flexibility
+    nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
+    rhs = np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
+                b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])]
+    sol = b["lu"].solve(rhs)
+    u = ua.copy()
+    u[free] = sol[:nf]
+    # The contact forces from the same solve as u, not R Δ + R_F: R has its
+    # rounding-level entries dropped (contact_lcp.contact_stiffness), which times the large
+    # openings of a long lifted stretch left forces 1e-9 off and out of
+    # equilibrium with u (a 200-span beam); the solve's own
+    # multipliers satisfy K u = F + H X to rounding.
+    X = -b["kappa"] * sol[nf:]
+    # reactions at the fixed dofs: K u - F - H X on them (member loads
+    # included), reported in global axes (a node's axes may be turned)
+    r_all = b["K"] @ u - F - b["H"] @ X
+    r_glob = contact_lcp.to_global(b, np.where(b["fixed"], r_all, 0.0))
+    reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
+                 for node in b["names"] if node in frame.fixed}
+    # what meets at each dof: the members' end forces, springs, loads
+    ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), contact_lcp.factors(b, combo))
+    ft = contact_lcp.force_terms(b, u, F, ends)
+    if lcp is None and "R" not in b:
+        cert_error, zeta, sigma = contact_certificate(frame, b, z, X, u, ft, W, P, g)
+    else:
+        if lcp is None:
+            M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+            lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+        cert_error = certify_lcp(lcp, z).error
+        zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
+    u_axes, u = u, contact_lcp.to_global(b, u)
+    ca = plane_assembly.contact_arrays(frame, b)
+    nc = len(frame.contacts)
+    has_t = ca["t_link"] >= 0
+    xn = X[ca["n_link"]]
+    xt = np.where(has_t, X[ca["t_link"]], 0.0)
+    # frictionless: no tangential link, the node slides freely (t·relative motion)
+    u2 = u.reshape(-1, 3)[:, :2]
+    rel = u2[ca["node"]] - np.where(ca["other"][:, None] >= 0, u2[ca["other"]], 0.0)
+    tangent = np.c_[ca["normal"][:, 1], -ca["normal"][:, 0]]
+    slip = np.where(has_t, delta[ca["t_link"]], np.einsum("ij,ij->i", tangent, rel))
+    # each state decided on the component's own scale (the certificate's):
+    # X_n against the terms it is made of, a slip part against its own size
+    sl = nc + 2 * np.arange(int(has_t.sum()))      # Z⁺ of each frictional contact
+    moving = np.zeros(nc, bool)
+    moving[has_t] = (np.maximum(z[sl], z[sl + 1])
+                     > STATE_RTOL * np.maximum(zeta[sl], zeta[sl + 1]))
+    separated = xn <= STATE_RTOL * sigma[:nc]
+    states = np.where(separated, "separated", np.where(
+        ~has_t, "closed", np.where(~moving, "stick", np.where(slip > 0, "slip+", "slip-"))))
+    xn = np.where(separated, 0.0, xn)   # rounding noise of a force that is zero
+    xt = np.where(separated, 0.0, xt)
+    supports = {key: SupportResult(str(st), float(a), float(t_), float(o), float(sp_))
+                for key, st, a, t_, o, sp_ in zip(support_keys(frame), states, xn, xt,
+                                                  z[:nc], slip)}
+    eq = max(equilibrium(frame, b, F, X, u_axes), resultant(frame, b, F, X, r_all, u_axes, ft))
+    displacements = dict(zip(b["names"], map(tuple, u.reshape(-1, 3).tolist())))
+    member_forces = dict(zip(frame.members, ends))
+    ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
+    msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
+           + ("" if ok else " — CHECK FAILED"))
+    ratio, rot, words = how_far(frame, u)
+    if words:
+        msg += "; " + words
+    return FrameResult(p=float(combo.get(VARIABLE, 0.0)), supports=supports,
+                       displacements=displacements, member_forces=member_forces,
+                       reactions=reactions, equilibrium_residual=eq, lcp_error=cert_error,
+                       route=route, ok=ok, message=msg, frame=frame, _u=u,
+                       combination=dict(combo), displacement_ratio=ratio,
+                       max_rotation=rot)
+
+
+def contact_certificate(frame, b, z, X, u, force_terms, W, P, g):
+    """(error, ζ, σ): the LCP certificate's componentwise measure,
+    max_i |min(z_i/ζ_i, w_i/σ_i)| with w = W X, where the LCP's matrix is
+    not formed (the sparse active set never forms the dense R).  The
+    scales are what each quantity is made of, as the certificate's
+    |M||z| + |q| are, read off the mechanics instead of M: a link force
+    against the forces that meet at its node (contact_lcp.force_terms: the
+    members' end forces, the springs', the loads), and a link
+    displacement (an opening, a slip part) against |h|ᵀ|u| + |D X| + g.
+    Equilibrium is checked on its own (_equilibrium, _resultant)."""
+    absH = abs(b["H"])
+    forces = absH.T @ force_terms
+    lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
+    forces = forces + contact_lcp.R_ROUNDING * forces.max(initial=0.0)
+    lengths = lengths + contact_lcp.R_ROUNDING * lengths.max(initial=0.0)
+    zeta = abs(P).T @ lengths
+    w = W @ X
+    e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
+    # the LCP's scale of a link force also holds the force its own link
+    # displacement makes, R_ll |Δ_l|, which the rounding of the solve
+    # follows: a lifted stretch of a foundation beam had X_n = -4e-10
+    # from rounding against node forces of 1e-9, where R_ll |Δ| = 2e4 as
+    # in the LCP's |R||Δ|.  R_ll is read off the basic system's LU, one
+    # solve per moving link whose component is above rounding without it
+    # (a bound such as the node's stiffness h'|K|h was 1e9 times too
+    # large beside a 1 cm stub, and passed a tip lifted 1 m); leaving it
+    # out elsewhere can only overstate the error
+    delta = P @ z - g
+    rows = np.flatnonzero(e > 64 * np.finfo(float).eps)
+    touched = np.asarray(abs(W)[rows].sum(axis=0)).ravel() > 0
+    moving = np.flatnonzero(touched & (delta != 0))
+    if moving.size:
+        nf, kappa = b["nf"], b["kappa"]
+        unit = np.zeros((nf + len(delta), moving.size))
+        unit[nf + moving, np.arange(moving.size)] = kappa
+        R_ll = np.abs(kappa * b["lu"].solve(unit)[nf + moving, np.arange(moving.size)])
+        forces[moving] += R_ll * np.abs(delta[moving])
+        e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
+    return (float(e.max(initial=0.0)), zeta, sigma)
+
+
+def resultant(frame, b, F, X, r_all, u, force_terms):
+    """The frame's global statics: Σ forces and Σ moments (about the nodes'
+    centroid) of the loads, contact forces, bilateral reactions and
+    springs, each equation against the sum of the absolute values of its
+    terms (a 200-span beam's resultant is the rounding of 200 reactions,
+    judged against all of them).
+
+    The per-dof check cannot replace it: its scale holds |K||u|, which a
+    rigid motion makes huge while K u stays zero — a Tresca iterate that
+    lifted a frame resting on its contacts by 2e9 m passed it and the LCP
+    certificate, and fails here by the weight its "separated" supports
+    do not carry.  For the same reason a reaction is sized by the forces
+    that meet at its dof (``force_terms``: members' end forces, springs,
+    loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
+    of 1e11 m had its wrong pin reaction pass."""
+    xy = np.array([frame.nodes[nd] for nd in b["names"]])
+    xy = xy - xy.mean(axis=0)
+    absHX = abs(b["H"]) @ np.abs(X)
+    terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0)]
+    # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
+    # H X at its dof) by the forces meeting there and |H||X|
+    size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
+    if b["Tn"] is not None:   # sums of forces are taken in global axes
+        terms = [b["Tn"].T @ t for t in terms]
+        size = abs(b["Tn"]).T @ size
+        u = b["Tn"].T @ u
+    spring = np.zeros_like(F)
+    for node, ks in frame.springs.items():
+        for d, kval in ks.items():
+            i = b["idx"][node] + DOFS.index(d)
+            spring[i] -= kval * u[i]
+    terms.append(spring)
+    size = size + np.abs(spring)
+    total = sum(terms)
+    fx, fy, mz = total[0::3], total[1::3], total[2::3]
+    ax, ay, am = size[0::3], size[1::3], size[2::3]
+    lx, ly = np.abs(xy[:, 0]), np.abs(xy[:, 1])
+    res = np.abs([fx.sum(), fy.sum(), (mz + xy[:, 0] * fy - xy[:, 1] * fx).sum()])
+    scale = np.array([ax.sum(), ay.sum(), (am + lx * ay + ly * ax).sum()])
+    big_m = (am + lx * ay + ly * ax).max(initial=0.0)
+    # forces carry the rounding of the moments they balance too (a frame
+    # loaded by a moment alone has shears that are zero but for it)
+    size_xy = max(float(np.hypot(*np.ptp(xy, axis=0))), 1e-300)
+    big_f = max(ax.max(initial=0.0), ay.max(initial=0.0), am.max(initial=0.0) / size_xy)
+    # every term of a sum carries its own rounding (R_ROUNDING of the largest)
+    n_f = max(np.count_nonzero(ax), np.count_nonzero(ay), 1)
+    n_m = np.count_nonzero(size)
+    return max(beyond_rounding(res[:2], scale[:2], n_f * big_f),
+               beyond_rounding(res[2:], scale[2:], n_m * big_m))
+
+
+def support_keys(frame) -> list:
+    """The key of each contact in FrameResult.supports, in contact order."""
+    keys = []
+    for c in frame.contacts:
+        key = c.node if c.other is None else f"{c.node}-{c.other}"
+        keys.append(f"{key}#{len(keys)}" if key in keys else key)
+    return keys
+
+
+def collapse_words(frame, proof, fric, carrying) -> str:
+    """How the frame fails, read off the Farkas vector y.
+
+    y'w = Σ_c (A_c X_n + T_c X_t) with A_c = y_n + f (y+ + y-) and T_c =
+    y+ - y-, and y'M = 0 makes this combination independent of the
+    displacements: it is the virtual work of the contact forces in a rigid
+    motion of the frame with normal motion A_c >= f |T_c| and tangential
+    motion T_c at each contact.  A contact lifts off in it when A_c >
+    f |T_c|, slides (along ±t) when T_c != 0 and A_c = f |T_c| (Coulomb's
+    cone), and stays (a pivot) when both are zero.
+    """
+    y = proof["farkas"]
+    nc = len(frame.contacts)
+    A = y[:nc].copy()
+    T = np.zeros(nc)
+    for k, ci in enumerate(fric):
+        yp, ym = y[nc + 2 * k], y[nc + 2 * k + 1]
+        A[ci] += frame.contacts[ci].friction * (yp + ym)
+        T[ci] = yp - ym
+    return motion_words(frame, A, T, carrying)
+
+
+def slide_words(frame, ci, t) -> str:
+    """Which way contact ci slides in a rigid motion with tangential part
+    t (its components along the contact's tangents)."""
+    return "+t" if t[0] > 0 else "-t"

@@ -1,0 +1,2 @@
+"""The SpaceFrame: its model, assembly, results, circular cone, tower and
+worked examples."""

@@ -1,0 +1,202 @@
+"""Assembly of a space frame (Osipova–Popov–Lovtsov's displacement method in
+three dimensions): K and the load columns, the basic system, the contact
+links H (a tangent the node's bilateral supports hold gets none) and the
+faceted cones' maps to the LCP's unknowns; the LCP itself is the shared
+:mod:`..mechanics.contact_lcp`'s."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from qpcontact.core.errors import InvalidProblemError
+
+from ..mechanics import contact_lcp
+from ..mechanics.space_element import axes, rotation, stiffness
+from .space_results import DOFS
+
+
+def assemble(frame):
+    """(K (CSR), F (dofs x cases), fixed mask, cases, idx, local): local =
+    the members' (k (m, 12, 12), T, dofs (m, 12), Fe (m, 12, cases):
+    their fixed-end forces in member axes), as the plane frame's."""
+    names = list(frame.nodes)
+    idx = {nm: 6 * k for k, nm in enumerate(names)}
+    N = 6 * len(names)
+    cases = frame.load_cases
+    col = {c: k for k, c in enumerate(cases)}
+    F = np.zeros((N, len(cases)))
+    ms = list(frame.members.values())
+    rows, cols, vals = [], [], []
+    m = len(ms)
+    k_local, T = np.zeros((m, 12, 12)), np.zeros((m, 12, 12))
+    dofs, Fe = np.zeros((m, 12), int), np.zeros((m, 12, len(cases)))
+    if ms:
+        xi = np.array([frame.nodes[m_["i"]] for m_ in ms])
+        xj = np.array([frame.nodes[m_["j"]] for m_ in ms])
+        ref = np.array([np.full(3, np.nan) if m_["ref"] is None else m_["ref"] for m_ in ms])
+        R = axes(xi, xj, ref, np.array([m_["roll"] for m_ in ms]))
+        T = rotation(R)
+        L = np.linalg.norm(xj - xi, axis=1)
+        k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
+                              ("E", "G", "A", "Iy", "Iz", "J")), L)
+        kg = T.transpose(0, 2, 1) @ k_local @ T
+        dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
+                         for m_ in ms])
+        rows.append(np.repeat(dofs, 12, axis=1).ravel())
+        cols.append(np.tile(dofs, (1, 12)).ravel())
+        vals.append(kg.ravel())
+        where = {nm: k for k, nm in enumerate(frame.members)}
+        for member, w, ax, case in frame.member_loads:
+            k = where[member]
+            q = np.asarray(w) if ax == "member" else R[k] @ np.asarray(w)
+            Fe[k, :, col[case]] += fixed_end(q, L[k])
+        np.add.at(F, dofs.ravel(), (T.transpose(0, 2, 1) @ Fe).reshape(-1, len(cases)))
+    for node, v, case in frame.nodal_loads:
+        F[idx[node]:idx[node] + 6, col[case]] += v
+    K = contact_lcp.stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
+    fixed = np.zeros(N, bool)
+    for node, fx in frame.fixed.items():
+        for d in fx:
+            fixed[idx[node] + DOFS.index(d)] = True
+    return K, F, fixed, cases, idx, (k_local, T, dofs, Fe)
+
+
+def build(frame):
+    """The assembly the solving routes share with the plane frame (an
+    :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic system's LU,
+    the faceted cones' maps; R and R_F on first use."""
+    if not frame.contacts:
+        raise InvalidProblemError("the space frame has no contacts: it is a linear problem "
+                                  "(solve_linear); add_contact() defines unilateral supports")
+    check_conflicts(frame)
+    K, F, fixed, cases, idx, local = assemble(frame)
+    N = K.shape[0]
+    H, info = links(frame, idx, N)
+    flex = np.array([0.0 if frame.contacts[ci].stiffness is None
+                     else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
+    basic = contact_lcp.basic_system(K, H, fixed, flex, np.arange(N) % 6 < 3)
+    if basic["lu"] is None:
+        raise InvalidProblemError(contact_lcp.mechanism_message(
+            basic["S"], basic["free"], list(frame.nodes), basic["nf"], DOFS))
+    springs = np.zeros(N)
+    for node, ks in frame.springs.items():
+        for d, kval in ks.items():
+            springs[idx[node] + DOFS.index(d)] += kval
+    b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
+                          U=np.zeros_like(F), cases=cases, fixed=fixed, H=H, info=info,
+                          flex=flex, local=local, Tn=None, **basic)
+    b["maps"] = lcp_maps(frame, info)
+    return b
+
+
+def held(frame, c, vec) -> bool:
+    """Whether the bilateral supports at c's node fix the direction vec."""
+    held = frame.fixed.get(c.node, set())
+    return all(d in held for d, comp in zip(DOFS[:3], vec) if abs(comp) > 1e-12)
+
+
+def check_conflicts(frame):
+    """A contact's normal that bilateral supports fix makes the basic
+    system singular: name it instead.  (A tangent they fix is no link:
+    the support carries that part of the friction, :meth:`_links`.)"""
+    for c in frame.contacts:
+        if held(frame, c, c.normal):
+            raise InvalidProblemError(
+                f"node {c.node!r}: the contact's normal direction is already fixed by its "
+                "bilateral support; a contact and a support may share a node only where "
+                "they constrain different directions — remove one of them")
+
+
+def links(frame, idx, N):
+    """H (N x links) and per link (contact, kind "n" | "t1" | "t2").  A
+    tangent that the node's bilateral supports hold gets no link (its
+    slip is zero, its friction the support's reaction): a planar frame
+    built in space, out-of-plane motion held, has the plane frame's
+    links and, through the facets along the plane, its LCP."""
+    rows, cols, vals, info = [], [], [], []
+    for ci, c in enumerate(frame.contacts):
+        kinds = ("n", "t1", "t2") if c.friction > 0 else ("n",)
+        for kind, vec in zip(kinds, (c.normal, c.t1, c.t2)):
+            if kind != "n" and held(frame, c, vec):
+                continue
+            rows += [idx[c.node] + d for d in range(3)]
+            cols += [len(info)] * 3
+            vals += list(vec)
+            info.append((ci, kind))
+    H = sp.csr_matrix((vals, (rows, cols)), shape=(N, len(info)))
+    H.eliminate_zeros()
+    return H, info
+
+
+def lcp_maps(frame, info):
+    """(P, W, g, fric) as :func:`..plane.plane_assembly.link_maps` gives the plane
+    frame's: Δ = P z - g, w = W X; z = Z_n per contact, then the slips
+    along each facet direction of each frictional contact."""
+    nl = len(info)
+    pos = {}
+    for li, (ci, kind) in enumerate(info):
+        pos.setdefault(ci, {})[kind] = li
+    nc = len(frame.contacts)
+    pr, pc, pv, wr, wc, wv = [], [], [], [], [], []
+    g = np.zeros(nl)
+    nz = nc
+    fric = []
+    for ci, c in enumerate(frame.contacts):
+        pr.append(pos[ci]["n"]), pc.append(ci), pv.append(1.0)
+        wr.append(ci), wc.append(pos[ci]["n"]), wv.append(1.0)
+        g[pos[ci]["n"]] = c.gap
+        angles = facet_angles(frame, c)
+        if not angles.size:
+            continue
+        fric.append(ci)
+        for a in angles:
+            for kind, comp in (("t1", np.cos(a)), ("t2", np.sin(a))):
+                if kind in pos[ci]:
+                    pr.append(pos[ci][kind]), pc.append(nz), pv.append(comp)
+                    wr.append(nz), wc.append(pos[ci][kind]), wv.append(comp)
+            wr.append(nz), wc.append(pos[ci]["n"]), wv.append(c.friction)
+            nz += 1
+    P = sp.csr_matrix((pv, (pr, pc)), shape=(nl, nz))
+    W = sp.csr_matrix((wv, (wr, wc)), shape=(nz, nl))
+    P.eliminate_zeros(), W.eliminate_zeros()
+    return P, W, g, fric
+
+
+def facet_angles(frame, c) -> np.ndarray:
+    """The angles of c's facet directions from t1 towards t2: the m-gon's,
+    or where bilateral supports hold one tangent only ±(the other) — the
+    cone is then the segment |X_t| <= f X_n, exact with two facets, and
+    the m-gon's oblique facets only repeat it, looser, with slips that
+    move nothing the two do not (a planar portal built in space: the
+    load path could not prove its sliding collapse through them) — and
+    none where both are held or without friction."""
+    if c.friction == 0:
+        return np.zeros(0)
+    free = [not held(frame, c, t) for t in (c.t1, c.t2)]
+    if all(free):
+        return 2 * np.pi * np.arange(c.facets) / c.facets
+    if not any(free):
+        return np.zeros(0)
+    return np.array([0.0, np.pi]) + (0.0 if free[0] else 0.5 * np.pi)
+
+
+def release_directions(frame, b):
+    N = b["K"].shape[0]
+    cols = []
+    for vec in ("normal", "t1", "t2"):
+        h = np.zeros((N, len(frame.contacts)))
+        for ci, c in enumerate(frame.contacts):
+            h[b["idx"][c.node]:b["idx"][c.node] + 3, ci] = getattr(c, vec)
+        cols.append(h)
+    return cols[0], cols[1:], np.array([c.friction for c in frame.contacts])
+
+
+def fixed_end(q, L) -> np.ndarray:
+    """Equivalent nodal loads (member axes, 12) of a uniform load q = (qx,
+    qy, qz) per unit length over a member of length L."""
+    qx, qy, qz = q
+    m_y, m_z = qz * L * L / 12.0, qy * L * L / 12.0
+    return np.array([qx * L / 2, qy * L / 2, qz * L / 2, 0.0, -m_y, m_z,
+                     qx * L / 2, qy * L / 2, qz * L / 2, 0.0, m_y, -m_z])
+

@@ -1,0 +1,289 @@
+"""Space frames on unilateral frictional supports: Osipova–Popov–Lovtsov's displacement method
+in three dimensions.
+
+Six dofs per node, (ux, uy, uz, rx, ry, rz) in global axes (right-handed,
+rotations counterclockwise about each axis); members are the 3-D
+beam-column elements of :mod:`.elements3d`; bilateral supports fix any
+subset of the six dofs; springs resist -k·u on any dof; loads belong to
+named cases as in 2-D (:mod:`.loads`).  Units the user's, consistent.
+
+What is here: the model, K and the load columns, the linear solution of a
+frame held by bilateral supports and springs (``solve_linear``), and the
+assembly of its contact problem (``build``).  Solving, combinations and the
+trace are the plane frame's (:mod:`.solving`, :mod:`.tracing`: the LCP is
+the same in any dimension once the links and the cone's facets are laid
+out); the results are built in :mod:`.space_recovery` (the circular cone's
+in :mod:`.space_circular`), tabulated in :mod:`.space_tables` and drawn in
+:mod:`.space_drawing`.
+
+Contacts (the displacement method's, in 3-D): at a node, a contact plane with unit normal n from the
+support into the structure, tangents t1, t2 (t1 = n x e normalised for the
+global axis e least aligned with n, t2 = n x t1).  Links: the opening Z_n =
+g + n·u (+X_n/k), and with friction f > 0 the tangential displacement
+(t1·u, t2·u) (+X_t/k).  The cone |X_t| <= f X_n is replaced by the m-gon
+circumscribing it: w_k = f X_n + d_k·X_t >= 0 for the facet directions d_k =
+cos(2πk/m) t1 + sin(2πk/m) t2, k = 0..m-1, each complementary to a slip
+magnitude Z_k >= 0 along d_k (the slip is Σ Z_k d_k; slipping along d_k
+takes the friction force to -f X_n along it).  With m = 2 in a plane this
+is the plane frame's 2-D LCP; along the directions d_k the faceted and circular cones
+agree, between them the facets allow up to 1/cos(π/m) more friction.  Where
+the node's bilateral supports hold one tangent, that tangent has no link
+and the cone is the segment along the other, two facets: a planar frame
+built in space has exactly the plane frame's LCP.
+
+Member loads: a uniform load per unit length over the whole member, in
+global or member axes.  Its equivalent nodal loads are the fixed-end forces,
+exact for this element: w L / 2 at each end along each axis, and the
+end moments w L² / 12 — in the x-y plane +q_y L²/12 about z at i and minus
+that at j; in the x-z plane the signs reversed (a positive θy turns +z
+towards -x).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from qpcontact.core.errors import InvalidProblemError
+
+from ..mechanics import contact_lcp, friction_export, solving, tracing
+from ..mechanics.frame_kind import FrameKind
+from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, combination,
+                               known_node, number)
+from ..mechanics.space_element import axes
+from . import circular_cone, space_assembly, space_recovery
+from .space_results import DOFS, SpaceFrameResult
+
+#: The space frame's hooks of the shared analysis (:class:`FrameKind`): Lemke
+#: on the faceted cone, or the friction solvers on the circular one.
+SPACE = FrameKind(
+    name="space", routes=("auto", "lemke"), result_type=SpaceFrameResult,
+    solve_one=circular_cone.solve_either_cone, result_from_z=space_recovery.result_from_z,
+    release_directions=space_assembly.release_directions,
+    support_keys=space_recovery.support_keys, collapse_words=space_recovery.collapse_words,
+    slide_words=space_recovery.slide_words)
+
+
+@dataclass
+class SpaceContact:
+    """A unilateral support at a node: unit normal n (from the support into
+    the structure), tangents t1, t2, Coulomb coefficient, initial gap,
+    stiffness (None: rigid), facets of the friction cone's polygon."""
+
+    node: str
+    normal: np.ndarray
+    t1: np.ndarray
+    t2: np.ndarray
+    friction: float
+    gap: float
+    stiffness: float | None
+    facets: int
+    other: None = None
+
+
+class SpaceFrame:
+    """A space frame (see the module docstring); ``units`` = (force, length)
+    names, for tables and drawings only.
+
+    ``solve(p, method="auto", combination=...)``, ``solve_combinations`` and
+    ``trace`` are the plane frame's (:class:`~.model.Frame`): "auto" is
+    Lemke on the faceted-cone LCP (the exact SPD method without friction),
+    then the load path where Lemke's answer fails the frame's checks;
+    "lemke" alone, or a registered LCP method or QP backend for a
+    frictionless frame.  ``friction_problem`` gives the circular-cone
+    problem (3-D FrictionProblem, global form) for the friction solvers and
+    FCLIB; ``solve(..., cone="circular")`` solves it by them ("auto" or a
+    friction method's name) and gives the frame's result
+    (:mod:`.space_circular`)."""
+
+    #: a node's dofs, in order (rotations start with "r")
+    DOFS = DOFS
+    #: the space frame's hooks of the shared analysis
+    kind = SPACE
+
+    def __init__(self, units=("kN", "m")):
+        self.units = tuple(units)
+        self.nodes: dict[str, np.ndarray] = {}
+        self.members: dict[str, dict] = {}
+        self.fixed: dict[str, set] = {}
+        self.springs: dict[str, dict] = {}
+        self.nodal_loads: list = []   # (node, 6 values, case)
+        self.member_loads: list = []  # (member, (wx, wy, wz), axes, case)
+        self.contacts: list = []      # SpaceContact
+
+    def add_node(self, name: str, x: float, y: float, z: float) -> str:
+        if name in self.nodes:
+            raise InvalidProblemError(f"node {name!r} exists already")
+        self.nodes[name] = np.array([number(v, f"node {name!r}: {c}")
+                                     for v, c in zip((x, y, z), "xyz")])
+        return name
+
+    def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
+                   J: float, *, name: str | None = None, ref=None, roll: float = 0.0) -> str:
+        """A member from node i to node j: E, G, A, Iy, Iz (about the local y
+        and z axes), J; its local x-z plane contains ``ref`` (default global
+        Z, or X for a vertical member), turned by ``roll`` (radians) about x."""
+        known_node(self, i), known_node(self, j)
+        if i == j:
+            raise InvalidProblemError("a member needs two different nodes")
+        what = f"member {i}-{j}" if name is None else f"member {name!r}"
+        props = {}
+        for v, nm in ((E, "E"), (G, "G"), (A, "A"), (Iy, "Iy"), (Iz, "Iz"), (J, "J")):
+            props[nm] = number(v, f"{what}: {nm}")
+            if not props[nm] > 0:
+                raise InvalidProblemError(f"{what}: {nm} must be positive; got {v}")
+        if ref is not None:
+            ref = np.asarray(ref, float)
+            if ref.shape != (3,) or not np.all(np.isfinite(ref)):
+                raise InvalidProblemError(f"{what}: ref must be a finite 3-vector")
+        roll = number(roll, f"{what}: roll")
+        if not np.linalg.norm(self.nodes[j] - self.nodes[i]) > 0:
+            raise InvalidProblemError(f"{what}: nodes {i} and {j} coincide")
+        try:
+            axes(self.nodes[i], self.nodes[j], ref, roll)
+        except InvalidProblemError as exc:     # it numbers the member; name it
+            raise InvalidProblemError(
+                f"{what}: its reference vector {tuple(map(float, ref))} is parallel to the "
+                "member; give one in the plane of the member's local x-z axes") from exc
+        name = name or f"M{len(self.members) + 1}"
+        if name in self.members:
+            raise InvalidProblemError(f"member {name!r} exists already")
+        self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, **props)
+        return name
+
+    def add_support(self, node: str, fix=DOFS) -> None:
+        known_node(self, node)
+        fix = (fix,) if isinstance(fix, str) else tuple(fix)
+        bad = [d for d in fix if d not in DOFS]
+        if bad:
+            raise InvalidProblemError(f"fix must name dofs among {DOFS}; got {bad}")
+        self.fixed.setdefault(node, set()).update(fix)
+
+    def add_spring(self, node: str, **stiffnesses) -> None:
+        """Springs to the ground on the named dofs: add_spring("A", uz=1e5)."""
+        known_node(self, node)
+        bad = [d for d in stiffnesses if d not in DOFS]
+        if bad:
+            raise InvalidProblemError(f"spring at {node!r}: dofs among {DOFS}; got {bad}")
+        slot = self.springs.setdefault(node, {})
+        for d, v in stiffnesses.items():
+            v = number(v, f"spring at {node!r}: {d}")
+            if v < 0:
+                raise InvalidProblemError(f"spring at {node!r}: {d} must be >= 0; got {v}")
+            slot[d] = slot.get(d, 0.0) + v
+
+    def add_load(self, node: str, fx=0.0, fy=0.0, fz=0.0, mx=0.0, my=0.0, mz=0.0,
+                 case: str = CONSTANT) -> None:
+        known_node(self, node)
+        vals = tuple(number(v, f"load at {node!r}: {c}") for v, c in
+                     zip((fx, fy, fz, mx, my, mz), ("fx", "fy", "fz", "mx", "my", "mz")))
+        self.nodal_loads.append((node, vals, case_name(case)))
+
+    def add_distributed_load(self, member: str, wx=0.0, wy=0.0, wz=0.0, case: str = CONSTANT,
+                             *, axes: str = "global") -> None:
+        """A uniform load per unit length over the whole member."""
+        if member not in self.members:
+            raise InvalidProblemError(f"no member named {member!r}; members: {list(self.members)}")
+        w = tuple(number(v, f"distributed load on {member}: {c}")
+                  for v, c in zip((wx, wy, wz), ("wx", "wy", "wz")))
+        self.member_loads.append((member, w, check_axes(axes), case_name(case)))
+
+    def add_contact(self, node: str, normal=(0.0, 0.0, 1.0), friction: float = 0.0,
+                    gap: float = 0.0, stiffness: float | None = None, facets: int = 16) -> int:
+        """A unilateral support at ``node`` (the module docstring): its
+        normal, Coulomb coefficient, initial gap, spring (None: rigid) and
+        the number of facets of its friction cone (even, >= 4; the default 16
+        allows at most 2 % more friction than Coulomb's circle between facet
+        directions, 8 facets 8.2 %: docs/frames.md)."""
+        known_node(self, node)
+        try:
+            n = np.asarray(normal, float)
+        except (TypeError, ValueError):
+            n = np.zeros(0)
+        if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.linalg.norm(n) > 0:
+            raise InvalidProblemError(f"contact at {node!r}: normal must be a nonzero 3-vector")
+        n = n / np.linalg.norm(n)
+        friction, gap = number(friction, "friction"), number(gap, "gap")
+        if friction < 0 or gap < 0:
+            raise InvalidProblemError(f"contact at {node!r}: friction and gap must be >= 0")
+        if stiffness is not None and not number(stiffness, "stiffness") > 0:
+            raise InvalidProblemError(f"contact at {node!r}: stiffness must be > 0 or None")
+        if isinstance(facets, bool) or not isinstance(facets, int) or facets < 4 or facets % 2:
+            raise InvalidProblemError(f"contact at {node!r}: facets must be an even integer "
+                                      f">= 4 (opposite directions both facets); got {facets!r}")
+        e = np.eye(3)[int(np.argmin(np.abs(n)))]
+        t1 = np.cross(n, e)
+        t1 /= np.linalg.norm(t1)
+        self.contacts.append(SpaceContact(node, n, t1, np.cross(n, t1), friction, gap,
+                                          None if stiffness is None else float(stiffness),
+                                          facets))
+        return len(self.contacts) - 1
+
+    @property
+    def load_cases(self) -> list:
+        names = {CONSTANT, VARIABLE}
+        names.update(c for *_, c in self.nodal_loads)
+        names.update(c for *_, c in self.member_loads)
+        return sorted(names)
+
+    @property
+    def has_friction(self) -> bool:
+        return any(c.friction > 0 for c in self.contacts)
+
+    def assemble(self):
+        """(K (CSR), F (dofs x cases), fixed mask, cases, idx, local): local =
+        the members' (k (m, 12, 12), T, dofs (m, 12), Fe (m, 12, cases):
+        their fixed-end forces in member axes), as the plane frame's
+        (:func:`.space_assembly.assemble`)."""
+        return space_assembly.assemble(self)
+
+    def solve_linear(self, combination_: dict | None = None) -> dict:
+        """Displacements {node: 6-tuple} of a frame held by its bilateral
+        supports and springs alone, under ``combination_`` {case: factor}
+        (default the case "constant")."""
+        K, F, fixed, cases, idx, _ = space_assembly.assemble(self)
+        combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
+        f = F @ np.array([combo.get(c, 0.0) for c in cases])
+        free = np.flatnonzero(~fixed)
+        lu = contact_lcp.regular_lu(K[free][:, free].tocsc())
+        if lu is None:
+            raise InvalidProblemError("the space frame is a mechanism on its bilateral supports "
+                                      "and springs: add supports or members")
+        u = np.zeros(K.shape[0])
+        u[free] = lu.solve(f[free])
+        return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
+
+    def build(self):
+        """The assembly the solving routes share with the plane frame (an
+        :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic
+        system's LU, the faceted cones' maps; R and R_F on first use
+        (:func:`.space_assembly.build`)."""
+        return space_assembly.build(self)
+
+    # -- analysis: the shared functions called on this model ---------------
+    def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
+              raise_on_failure: bool = False, *, combination: dict | None = None,
+              _built=None, **options) -> SpaceFrameResult:
+        """Analyse one load combination (:func:`..mechanics.solving.solve`):
+        ``cone="faceted"`` (default: the LCP of the facets' polygon) or
+        ``"circular"`` (the friction solvers, :mod:`.circular_cone`)."""
+        return solving.solve(self, p, method, accuracy, raise_on_failure,
+                             combination=combination, _built=_built, **options)
+
+    def solve_combinations(self, combinations: dict, **kw):
+        """Each named combination solved on its own, as a CombinationResults
+        (:func:`..mechanics.solving.solve_combinations`)."""
+        return solving.solve_combinations(self, combinations, **kw)
+
+    def trace(self, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
+              variable=None):
+        """The increasing-load analysis on the faceted cone, as a FrameTrace
+        (:func:`..mechanics.tracing.trace`)."""
+        return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable)
+
+    def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
+        """The frame's contact problem for one load combination as a 3-D
+        :class:`~qpcontact.FrictionProblem` with the circular cone, in global
+        form (:func:`..mechanics.friction_export.friction_problem`)."""
+        return friction_export.friction_problem(self, p, combination=combination, _built=_built)

@@ -1,0 +1,183 @@
+"""From the faceted-cone LCP's answer z to a space frame's result, checked
+from the data: the saddle solve for the displacements and the link forces,
+member end actions, reactions, the contact states (each decided on its own
+scale), equilibrium per dof and of the whole frame; and the words for how a
+space frame fails (a Farkas vector or a rigid motion read as lifting,
+sliding and tipping).  These are the space frame's hooks of the shared
+analysis (:class:`~..mechanics.frame_kind.FrameKind`); what is generic is
+in :mod:`..mechanics.equilibrium_checks` and :mod:`..mechanics.no_equilibrium`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.judge.lcp_certificate import certify_lcp
+from qpcontact.judge.scales import ComponentScales
+
+from ..mechanics import contact_lcp
+from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
+                                            equilibrium, how_far)
+from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.no_equilibrium import motion_words
+from .space_assembly import facet_angles
+from .space_results import SpaceFrameResult, SpaceSupportResult
+
+
+def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFrameResult:
+    b = b or frame.build()
+    if not isinstance(combo, dict):   # a number p: the Osipova–Popov–Lovtsov split
+        combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
+    P, W, g, fric = b["maps"]
+    z = np.maximum(np.asarray(z, float), 0.0)
+    factors = contact_lcp.factors(b, combo)
+    F = b["F"] @ factors
+    delta = P @ z - g
+    nf, free = b["nf"], b["free"]
+    sol = b["lu"].solve(np.r_[F[free], b["kappa"] * delta])
+    u = np.zeros(F.size)
+    u[free] = sol[:nf]
+    # the forces from the same solve as u (as the plane frame's: R Δ + R_F
+    # has R's rounding-level entries dropped)
+    X = -b["kappa"] * sol[nf:]
+    r_all = b["K"] @ u - F - b["H"] @ X
+    reactions = {node: tuple(float(v) for v in r_all[b["idx"][node]:b["idx"][node] + 6])
+                 for node in b["names"] if node in frame.fixed}
+    ends = contact_lcp.member_end_actions(b, u, factors)
+    ft = contact_lcp.force_terms(b, u, F, ends)
+    if lcp is None:
+        M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+        lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+    cert_error = certify_lcp(lcp, z).error
+    zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
+    supports = contact_states(frame, b, z, X, u, delta, zeta, sigma)
+    eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
+    return space_result(frame, b, combo, u, ends, reactions, supports, eq, cert_error,
+                        f"contact certificate {cert_error:.1e}", route, tol)
+
+
+def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, checked, route,
+                  tol) -> SpaceFrameResult:
+    """The result of either cone: ok when the contact certificate's
+    ``error`` and the equilibrium residual ``eq`` meet the tolerance;
+    ``checked`` words the certificate for the message."""
+    ok = bool(error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR))
+    msg = f"{route}: {checked}, equilibrium residual {eq:.1e}" + ("" if ok else
+                                                                  " — CHECK FAILED")
+    ratio, rot, words = how_far(frame, u)
+    if words:
+        msg += "; " + words
+    return SpaceFrameResult(
+        p=float(combo.get(VARIABLE, 0.0)), supports=supports,
+        displacements=dict(zip(b["names"], map(tuple, u.reshape(-1, 6).tolist()))),
+        member_forces=dict(zip(frame.members, ends)), reactions=reactions,
+        equilibrium_residual=eq, lcp_error=float(error), route=route, ok=ok, message=msg,
+        frame=frame, _u=u, combination=dict(combo), displacement_ratio=ratio,
+        max_rotation=rot)
+
+
+def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:
+    """Each contact's state, forces, opening and slip; a normal force or a
+    facet's slip is zero below STATE_RTOL of its own scale (the
+    certificate's)."""
+    pos = contact_lcp.layout(b)
+    out = {}
+    nc = len(frame.contacts)
+    at = nc                                   # the first facet of the next frictional contact
+    for ci, (key, c) in enumerate(zip(support_keys(frame), frame.contacts)):
+        xn = float(X[pos[ci]["n"]])
+        if c.friction > 0:
+            # a tangent the supports hold has no link: no slip, no friction
+            xt = np.array([X[pos[ci][k]] if k in pos[ci] else 0.0 for k in ("t1", "t2")])
+            slip = np.array([delta[pos[ci][k]] if k in pos[ci] else 0.0
+                             for k in ("t1", "t2")])
+            m = facet_angles(frame, c).size
+            facets = slice(at, at + m)
+            at += m
+            moving = bool(np.any(z[facets] > STATE_RTOL * zeta[facets]))
+        else:
+            # frictionless: the node slides freely; its slip is the
+            # tangential part of its motion
+            d = u[b["idx"][c.node]:b["idx"][c.node] + 3]
+            xt, slip, moving = np.zeros(2), np.array([c.t1 @ d, c.t2 @ d]), False
+        if xn <= STATE_RTOL * sigma[ci]:
+            state, xn, xt = "separated", 0.0, np.zeros(2)
+        elif c.friction == 0:
+            state = "closed"
+        else:
+            state = "slip" if moving else "stick"
+        out[key] = SpaceSupportResult(state, xn, xt, float(z[ci]), slip, t1=c.t1, t2=c.t2)
+    return out
+
+
+def resultant(frame, b, F, X, r_all, u, force_terms):
+    """The frame's global statics: Σ forces and Σ moments (about the
+    nodes' centroid) of loads, contact forces, reactions and springs, each
+    of the six equations against the sum of its terms' sizes, a reaction
+    sized by the forces that meet at its dof (as the plane frame's
+    :func:`~..plane.plane_recovery.resultant`, which says why the
+    per-dof check cannot replace it)."""
+    xyz = np.array([frame.nodes[nd] for nd in b["names"]])
+    xyz = xyz - xyz.mean(axis=0)
+    HX = b["H"] @ X
+    absHX = abs(b["H"]) @ np.abs(X)
+    spring = -b["springs"] * u
+    total = (F + HX + np.where(b["fixed"], r_all, 0.0) + spring).reshape(-1, 6)
+    size = (np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
+            + np.abs(spring)).reshape(-1, 6)
+    force = total[:, :3].sum(axis=0)
+    moment = (total[:, 3:] + np.cross(xyz, total[:, :3])).sum(axis=0)
+    lever = np.abs(xyz)
+    f_size = size[:, :3]
+    # |r x f| component by component is at most the sum of |r_a||f_b| over the other two axes
+    m_size = size[:, 3:] + np.stack([lever[:, 1] * f_size[:, 2] + lever[:, 2] * f_size[:, 1],
+                                     lever[:, 2] * f_size[:, 0] + lever[:, 0] * f_size[:, 2],
+                                     lever[:, 0] * f_size[:, 1] + lever[:, 1] * f_size[:, 0]],
+                                    axis=1)
+    span = max(float(np.linalg.norm(np.ptp(xyz, axis=0))), 1e-300)
+    big_f = max(f_size.max(initial=0.0), m_size.max(initial=0.0) / span)
+    n_f = max(np.count_nonzero(f_size), 1)
+    n_m = max(np.count_nonzero(m_size), 1)
+    return max(beyond_rounding(np.abs(force), f_size.sum(axis=0), n_f * big_f),
+               beyond_rounding(np.abs(moment), m_size.sum(axis=0),
+                               n_m * m_size.max(initial=0.0)))
+
+
+def collapse_words(frame, proof, fric, carrying) -> str:
+    """How the frame fails, read off the Farkas vector y as the plane
+    frame's: A_c = y_n + f Σ_k y_k, T_c = Σ_k y_k d_k (the facets'
+    directions in the contact's tangent plane) — the normal and
+    tangential parts of a rigid motion in which the contact forces do no
+    work.  The contact slides in it when y_n = 0: its T_c is handed on
+    with length Σ_k y_k, the faceted cone's measure of it (a slip between
+    two facets has |Σ y_k d_k| < Σ y_k, and the Euclidean length read a
+    stool turning about one pad as the other two lifting off)."""
+    y = proof["farkas"]
+    nc = len(frame.contacts)
+    A = y[:nc].copy()
+    T = np.zeros((nc, 2))
+    at = nc
+    for ci in fric:
+        c = frame.contacts[ci]
+        a = facet_angles(frame, c)
+        yk = y[at:at + a.size]
+        at += a.size
+        A[ci] += c.friction * yk.sum()
+        T[ci] = [yk @ np.cos(a), yk @ np.sin(a)]
+        length = np.linalg.norm(T[ci])
+        if length > 0:
+            T[ci] *= yk.sum() / length
+    return motion_words(frame, A, T, carrying)
+
+
+def slide_words(frame, ci, t) -> str:
+    c = frame.contacts[ci]
+    d = t[0] * c.t1 + t[1] * c.t2 if len(t) == 2 else t[0] * c.t1
+    d = d / max(np.linalg.norm(d), 1e-300)
+    return "along (" + ", ".join(f"{v + 0.0:.3g}" for v in np.round(d, 3)) + ")"
+
+
+def support_keys(frame) -> list:
+    keys = []
+    for c in frame.contacts:
+        keys.append(f"{c.node}#{len(keys)}" if c.node in keys else c.node)
+    return keys

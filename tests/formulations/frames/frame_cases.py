@@ -1,0 +1,87 @@
+"""Frames the frame tests share: built here once, imported by the test
+modules that use them (never from one test module into another)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from formulations.frames import Frame
+
+
+def tower(storeys, bays=2):
+    """bays + 1 columns 6 m apart, `storeys` x 3.5 m, 30 kN/m on every beam, a
+    foundation beam from x = -3 to 6 bays + 3 on elastic frictional contacts
+    (f = 0.5, k = 5e5) every 1.5 m, 10 kN x p at every floor of the left
+    column.  (:func:`three_bay_tower` is its 3-bay, 20-storey case.)"""
+    fr = Frame()
+    col, beam = (210e6, 1.5e-2, 5e-4), (210e6, 8e-3, 2e-4)
+    xs = tuple(6.0 * j for j in range(bays + 1))
+    for s in range(storeys + 1):
+        for j, x in enumerate(xs):
+            fr.add_node(f"N{s}_{j}", x, 3.5 * s)
+    for s in range(storeys):
+        for j in range(bays + 1):
+            fr.add_beam(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
+    for s in range(1, storeys + 1):
+        for j in range(bays):
+            fr.add_distributed_load(fr.add_beam(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
+    base = []
+    for k, x in enumerate(np.arange(-3.0, xs[-1] + 3.01, 1.5)):
+        hit = [j for j, xx in enumerate(xs) if abs(x - xx) < 1e-9]
+        base.append(f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0))
+    for a, b in zip(base[:-1], base[1:]):
+        fr.add_beam(a, b, 30e6, 1.2, 0.36)
+    for name in base:
+        fr.add_contact(name, normal=(0.0, 1.0), friction=0.5, stiffness=5e5)
+    for s in range(1, storeys + 1):
+        fr.add_load(f"N{s}_0", fx=10.0, case="variable")
+    return fr, base
+
+
+def three_bay_tower(storeys=20):
+    """Four columns 6 m apart (3 bays), storeys x 3.5 m, 30 kN/m on every beam;
+    a foundation beam x = -3 .. 21 on elastic frictional contacts (f = 0.5,
+    k = 5e5) every 1.5 m; 10 kN x p at every floor of the left column."""
+    return tower(storeys, bays=3)
+
+
+def beam_on_supports(spans, every=10, P=250.0):
+    """6 m spans, E = 30e6, A = 0.32, I = 1e-4, pinned (ux) at the left end,
+    rigid unilateral supports at every node; weight 18 kN/m (constant) and
+    P x p at midspan of every `every`-th span (variable)."""
+    fr = Frame()
+    for k in range(spans + 1):
+        fr.add_node(f"N{k}", 6.0 * k, 0.0)
+    for k in range(spans):
+        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.32, 1e-4, name=f"M{k}")
+        fr.add_distributed_load(f"M{k}", wy=-(25.0 * 0.32 + 10.0))
+    fr.add_support("N0", fix=("ux",))
+    for k in range(spans + 1):
+        fr.add_contact(f"N{k}", normal=(0.0, 1.0))
+    for k in range(every // 2, spans, every):
+        fr.add_point_load(f"M{k}", 3.0, fy=-P, case="variable")
+    return fr
+
+
+# --- an independent plain beam code (Euler-Bernoulli, transverse dofs only) ----------
+def beam_solve(xs, EI, w, point_loads, held):
+    """Continuous beam on the x axis, uniform load w (per length, +up) and point
+    loads {node: fy}; nodes in ``held`` have v = 0.  Returns (v, reactions)."""
+    n = len(xs)
+    K = np.zeros((2 * n, 2 * n))
+    F = np.zeros(2 * n)
+    for e in range(n - 1):
+        L = xs[e + 1] - xs[e]
+        k = EI / L ** 3 * np.array([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+                                    [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
+        d = [2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3]
+        K[np.ix_(d, d)] += k
+        F[d] += w * np.array([L / 2, L * L / 12, L / 2, -L * L / 12])
+    for node, fy in point_loads.items():
+        F[2 * node] += fy
+    fixed = [2 * i for i in held]
+    free = [i for i in range(2 * n) if i not in fixed]
+    u = np.zeros(2 * n)
+    u[free] = np.linalg.solve(K[np.ix_(free, free)], F[free])
+    r = K @ u - F
+    return u[0::2], r[0::2]

@@ -1,0 +1,187 @@
+"""The frames' sparse active set: the same equilibrium as the
+exact LCP route (Lemke) on frictional beams and towers where it is unique
+(with friction it need not be: docs/frames.md), in both of its spaces (the
+links' own on the condensed R, the sparse saddle system); its mechanical
+contact certificate against the LCP's on the same points, and on wrong
+points; no answer where a state set leaves a mechanism; and the hand-over
+to the LCP when it finds no consistent states."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from formulations.frames import Frame
+from formulations.frames.mechanics.load_combinations import load_combination
+from formulations.frames.plane import plane_recovery
+from formulations.frames.plane import sparse_active_set as active_set
+from qpcontact.core.errors import NoSolutionError, SolverFailedError
+
+from .frame_cases import three_bay_tower
+
+
+def _beam(spans, seed, friction=0.3):
+    """Two elements per 6 m span on elastic frictional supports, weight,
+    uplift at a few nodes and a push at the right end."""
+    rng = np.random.default_rng(seed)
+    fr = Frame()
+    n = 2 * spans + 1
+    for k in range(n):
+        fr.add_node(f"N{k}", 3.0 * k, 0.0)
+    for k in range(n - 1):
+        fr.add_distributed_load(fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017), wy=-18.0)
+    fr.add_support("N0", fix=("ux",))
+    for k in range(0, n, 2):
+        fr.add_contact(f"N{k}", normal=(0.0, 1.0), friction=friction if k else 0.0,
+                       stiffness=6e4)
+    for k in rng.choice(np.arange(1, n - 1), size=max(1, spans // 5), replace=False):
+        fr.add_load(f"N{k}", fy=float(rng.uniform(150.0, 300.0)))
+    fr.add_load(f"N{n - 1}", fx=-100.0)
+    return fr
+
+
+def _same(a, b, rtol=1e-9):
+    assert {k: s.state for k, s in a.supports.items()} == \
+        {k: s.state for k, s in b.supports.items()}
+    big = max(abs(s.normal) for s in b.supports.values())
+    for k, s in b.supports.items():
+        assert abs(a.supports[k].normal - s.normal) <= rtol * big, k
+        assert abs(a.supports[k].tangential - s.tangential) <= rtol * big, k
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_both_spaces_agree_with_lemke(seed, monkeypatch):
+    fr = _beam(12, seed)
+    ref = fr.solve(method="lemke")
+    assert ref.ok, ref.message
+    for limit in (0, 10_000):            # the sparse saddle system, the links' space
+        monkeypatch.setattr(active_set, "LINK_SPACE_MAX", limit)
+        r = fr.solve(method="active-set")
+        assert r.ok and r.route.startswith("active set"), r.message
+        _same(r, ref)
+
+
+def test_tower_states_and_forces_agree_with_lemke_below_tipping():
+    fr, _ = three_bay_tower()
+    for p in (4.0, 10.0, 14.0):
+        r, ref = fr.solve(p, method="active-set"), fr.solve(p, method="lemke")
+        assert r.ok and ref.ok
+        _same(r, ref)
+
+
+def test_mechanical_certificate_tracks_the_lcp_one(monkeypatch):
+    """The same points judged by the LCP's certificate (R formed) and by the
+    mechanical one (R not formed): both at rounding level, and a point made
+    wrong by moving one contact's opening is refused by both."""
+    monkeypatch.setattr(active_set, "LINK_SPACE_MAX", 0)
+    fr = _beam(20, 7)
+    b = fr.build()
+    combo = load_combination(fr, 1.0, None, b)
+    z, _ = active_set.solve_active_set(fr, b, combo)
+    mech = plane_recovery.result_from_z(fr, z, combo, "", b=b)
+    fr.lcp(b)                                      # forms R: the LCP's certificate from now on
+    lcp = plane_recovery.result_from_z(fr, z, combo, "", b=b)
+    assert mech.ok and lcp.ok
+    assert mech.lcp_error < 1e-12 and lcp.lcp_error < 1e-12
+    bad = z.copy()
+    k = int(np.argmax(z[:len(fr.contacts)]))       # an open contact, closed by force
+    bad[k] = 0.0
+    b2 = fr.build()
+    wrong_mech = plane_recovery.result_from_z(fr, bad, combo, "", b=b2)
+    fr.lcp(b2)
+    wrong_lcp = plane_recovery.result_from_z(fr, bad, combo, "", b=b2)
+    assert not wrong_mech.ok and not wrong_lcp.ok
+    assert wrong_mech.lcp_error > 1e-3 and wrong_lcp.lcp_error > 1e-3
+
+
+def test_no_consistent_states_hands_over_to_the_lcp(monkeypatch):
+    fr = _beam(6, 3)
+    ref = fr.solve(method="lemke")
+    monkeypatch.setattr(active_set, "MAX_ITERATIONS", 1)    # stops before it settles
+    r = fr.solve()
+    assert r.ok and not r.route.startswith("active set"), r.route
+    _same(r, ref)
+    with pytest.raises(SolverFailedError, match="active set found no consistent"):
+        fr.solve(method="active-set")
+
+
+def test_badly_scaled_units_give_the_same_states():
+    """The same beam in N and mm as in kN and m: states equal, forces x1000."""
+    def beam(force, length):
+        fr = Frame(units=("N", "mm") if force == 1e3 else ("kN", "m"))
+        for k in range(9):
+            fr.add_node(f"N{k}", 3.0 * k * length, 0.0)
+        for k in range(8):
+            m = fr.add_beam(f"N{k}", f"N{k + 1}", 30e6 * force / length ** 2, 0.32 * length ** 2,
+                            0.017 * length ** 4)
+            fr.add_distributed_load(m, wy=-18.0 * force / length)
+        fr.add_support("N0", fix=("ux",))
+        for k in range(0, 9, 2):
+            fr.add_contact(f"N{k}", friction=0.3 if k else 0.0, stiffness=6e4 * force / length)
+        fr.add_load("N3", fy=260.0 * force)
+        fr.add_load("N8", fx=-30.0 * force)
+        return fr.solve(method="active-set")
+
+    a, b = beam(1.0, 1.0), beam(1e3, 1e3)
+    assert a.ok and b.ok, (a.message, b.message)
+    assert {k: s.state for k, s in a.supports.items()} == \
+        {k: s.state for k, s in b.supports.items()}
+    for k, s in a.supports.items():
+        assert abs(b.supports[k].normal - 1e3 * s.normal) <= 1e-9 * 1e3 * 300
+
+
+def _lever(slope):
+    """A lever pinned at N0 on turned axes, resting on three contacts with
+    gaps, lifted at its tip harder than its load at N1 holds it down: no
+    equilibrium exists (it tips over about N2)."""
+    fr = Frame()
+    for k in range(5):
+        fr.add_node(f"N{k}", 2.0 * k * np.cos(slope), 2.0 * k * np.sin(slope))
+    for k in range(4):
+        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02, hinge_i=(k == 1))
+    fr.add_support("N0", fix=("ux", "uy"), angle=25.0)
+    fr.add_contact("N2", normal=(0.22, 1), gap=1e-3, stiffness=1e5)
+    fr.add_contact("N3", normal=(-0.04, 1), gap=1e-3, stiffness=1e5)
+    fr.add_contact("N4", normal=(0.28, 1), friction=0.3, gap=1e-3)
+    fr.add_load("N4", fy=32.4, fx=2.05)
+    fr.add_load("N1", fy=-10.0)
+    return fr
+
+
+@pytest.mark.parametrize("slope", [0.0, 0.0113, 0.3])
+def test_a_mechanism_is_no_answer(slope, monkeypatch):
+    """A state set that leaves a mechanism is singular only to rounding when
+    the frame is not square to the axes; solved anyway it gave a rigid
+    motion of 2.7e11 m with ok=True (a review of the active set).  Both spaces must
+    refuse it, and "auto" must end in Lemke's proof."""
+    for limit in (0, 10_000):
+        monkeypatch.setattr(active_set, "LINK_SPACE_MAX", limit)
+        fr = _lever(slope)
+        with pytest.raises(SolverFailedError, match="active set found no consistent"):
+            fr.solve(method="active-set")
+        with pytest.raises(NoSolutionError, match="tips over"):
+            fr.solve()
+
+
+def test_mechanical_certificate_refuses_a_lifted_tip_beside_a_stub():
+    """A cantilever ending in a 1 cm stub on a rigid contact, given a point
+    with the tip lifted 1 m: the LCP's certificate says 1.0; the mechanical
+    one, with a link stiffness bounded by the node's h'|K|h (1e9 times the
+    true R_ll beside the stub), said 2.5e-10.  With R_ll it refuses it."""
+    fr = Frame()
+    for k in range(11):
+        fr.add_node(f"N{k}", float(k), 0.0)
+    fr.add_node("T", 10.01, 0.0)
+    for k in range(10):
+        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02)
+    fr.add_beam("N10", "T", 30e6, 0.3, 0.02)
+    fr.add_support("N0")
+    fr.add_contact("T")
+    fr.add_load("T", fy=-10.0)
+    right = fr.solve()
+    assert right.ok and right.supports["T"].state == "closed"
+    b = fr.build()
+    combo = load_combination(fr, 1.0, None, b)
+    for lift in (0.01, 1.0):
+        r = plane_recovery.result_from_z(fr, np.array([lift]), combo, "wrong", b=b, tol=1e-6)
+        assert "R" not in b and not r.ok and r.lcp_error > 0.1, r.message
