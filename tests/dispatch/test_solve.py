@@ -52,10 +52,13 @@ def test_nan_answer_is_failed(monkeypatch):
     assert sol.status == "failed" and sol.z is None and sol.certificate is None
 
 
-def test_ray_status_raises_no_solution(monkeypatch):
+def test_an_unproved_ray_is_no_proof(monkeypatch):
+    """A secondary ray with no checked Farkas vector proves nothing: status
+    "ray", and raise_on_failure says the method failed — never "no solution"
+    (EX1 has one)."""
     _patched(monkeypatch, "osqp", lambda res: MethodResult(x=None, status="ray", backend_message="secondary ray"))
     assert qpcontact.solve(EX1.lcp, method="osqp").status == "ray"
-    with pytest.raises(NoSolutionError, match="secondary ray"):
+    with pytest.raises(SolverFailedError, match="secondary ray"):
         qpcontact.solve(EX1.lcp, method="osqp", raise_on_failure=True)
 
 

@@ -12,7 +12,6 @@ import importlib
 import re
 import subprocess
 import sys
-import time
 import zlib
 from pathlib import Path
 
@@ -33,8 +32,6 @@ PUBLIC_MODULES = (
 EXTRA_NAMES = {"qpcontact.plots.figures": ("save_figure",)}
 # A formulation module whose public names are all re-exported by another.
 REEXPORTED_BY = {"formulations.stepping.penalty_step": "formulations.mechanisms.penalty"}
-# Sphinx took 7-12 s on the 2-core machine; far beyond this is worth a look.
-BUILD_SECONDS = 60
 
 
 def public_names() -> list[str]:
@@ -87,14 +84,11 @@ def test_reference_builds_cleanly_with_every_public_name_described(tmp_path):
     pytest.importorskip("sphinx", reason="the API reference needs Sphinx: "
                                          "pip install -e \".[docs]\" (in .[all])")
     out = tmp_path / "html"
-    t0 = time.perf_counter()
     res = subprocess.run([sys.executable, "-m", "sphinx", "-b", "html", "-W", "--keep-going",
                           "-q", str(DOCS), str(out)], capture_output=True, text=True, cwd=ROOT)
-    seconds = time.perf_counter() - t0
     assert res.returncode == 0, ("the API reference does not build cleanly (warnings are "
                                  f"errors):\n{res.stdout}\n{res.stderr}")
     assert (out / "index.html").is_file()
-    assert seconds < BUILD_SECONDS, f"sphinx took {seconds:.0f} s"
 
     inventory = read_inventory(out / "objects.inv")
     missing = [name for name in public_names() if name not in inventory]

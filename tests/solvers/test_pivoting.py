@@ -7,7 +7,6 @@ into the random problems, and the QP backends."""
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -22,6 +21,7 @@ from qpcontact.cases.paper import p0_examples
 from tests.helpers.problems import planted_spd_lcp
 from tests.helpers.paths import siconos_files
 from ..helpers.references import enumerate_lcp, exact_lemke_pivots, fathi_family, murty_family
+from tests.helpers.limits import kept, timed
 
 PIVOTING = ("energy", "bpp", "lemke")
 
@@ -408,7 +408,7 @@ def test_dense_lemke_stops_at_the_time_limit():
     form stops at solve()'s time_limit (a frame's 3003-unknown LCP ran for
     12 minutes under its pivot cap alone)."""
     M, q = fathi_family(30)
-    t = time.perf_counter()
-    s = qpcontact.solve(LCP(M, q), "lemke", time_limit=0.5, max_pivots=10 ** 9)
-    assert time.perf_counter() - t < 3.0
+    qpcontact.solve(LCP(M, q), "lemke", time_limit=0.05, max_pivots=10 ** 9)   # compile
+    s, took = timed(qpcontact.solve, LCP(M, q), "lemke", time_limit=0.5, max_pivots=10 ** 9)
+    assert kept(0.5, took), took
     assert s.status == "time_limit" and not s.ok, s.message
