@@ -50,6 +50,20 @@ __all__ = ["FrictionProblem", "project_cone", "modified_velocity", "faceted_lcp"
 DENSE_W_LIMIT = 6000
 
 
+def _coefficients(mu) -> np.ndarray:
+    """The friction coefficients as a float array (at least 1-D);
+    InvalidProblemError for what is not numbers (a string, None, a ragged
+    list) rather than numpy's ValueError."""
+    try:
+        out = np.atleast_1d(np.asarray(mu, dtype=float))
+    except (TypeError, ValueError):
+        shown = repr(mu)
+        raise InvalidProblemError(
+            "friction coefficients mu must be numbers, one per contact; got "
+            + (shown if len(shown) <= 80 else shown[:77] + "...")) from None
+    return out
+
+
 class FrictionProblem:
     """A frictional contact problem (module docstring), validated like LCP.
 
@@ -62,7 +76,7 @@ class FrictionProblem:
         if dim not in (2, 3):
             raise InvalidProblemError(f"dim must be 2 or 3 (the contact space); got {dim!r}")
         self.dim = int(dim)
-        mu = np.atleast_1d(np.asarray(mu, dtype=float))
+        mu = _coefficients(mu)
         nc = mu.size
         m = self.dim * nc
         self.W = as_matrix(W, "W") if m else np.zeros((0, 0))
@@ -100,7 +114,7 @@ class FrictionProblem:
 
         M = as_matrix(M, "M")
         n = M.shape[0]
-        mu = np.atleast_1d(np.asarray(mu, dtype=float))
+        mu = _coefficients(mu)
         m = int(dim) * mu.size
         H = as_matrix(H, "H") if H.shape[1] else sp.csc_matrix((n, 0))
         if M.shape != (n, n) or H.shape != (n, m):

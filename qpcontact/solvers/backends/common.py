@@ -12,6 +12,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...core.errors import InvalidOptionError
+from ...core.options import names_only, read_options
 from ...core.results import MethodResult
 
 __all__ = ["PRINTS_WHEN_QUIET", "quiet_c_stdout", "ran_out", "DATA_LIMIT", "DEFAULT_DATA_LIMIT",
@@ -114,25 +115,19 @@ def check_option_names(label: str, options: dict, known) -> None:
     """InvalidOptionError for option names ``label`` does not know, before the
     backend is called: HiGHS, PIQP and cvxpy's DAQP and ProxQP interfaces
     accept unknown names silently (a misspelt tolerance is then ignored).
-    ``known`` is a set of names, or a predicate for backends that can only be
+    ``known`` is a set of names (checked by :func:`qpcontact.core.options.read_options`,
+    which suggests a close one), or a predicate for backends that can only be
     asked name by name (HiGHS), or None (the backend rejects names itself)."""
     if known is None or not options:
         return
-    accepts = known if callable(known) else known.__contains__
-    unknown = sorted(key for key in options if not accepts(key))
-    if not unknown:
+    if not callable(known):
+        read_options(label, options, names_only(known), word="setting")
         return
-    if callable(known):
+    unknown = sorted(key for key in options if not known(key))
+    if unknown:
         raise InvalidOptionError(
             f"{label} has no setting {', '.join(map(repr, unknown))}; see its documentation "
             "for the setting names")
-    import difflib
-
-    hints = [f"{key!r} (did you mean {', '.join(map(repr, close))}?)"
-             if (close := difflib.get_close_matches(key, sorted(known), n=2)) else repr(key)
-             for key in unknown]
-    raise InvalidOptionError(
-        f"{label} has no setting {', '.join(hints)}; its settings are: {', '.join(sorted(known))}")
 
 
 _PROXQP_SOLVE_KEYWORDS = {  # proxsuite.proxqp.dense.solve's keyword arguments (0.6-0.8)

@@ -19,8 +19,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...core.errors import InvalidOptionError, NotConvexError
+from ...core.options import Option
 
-__all__ = ["CONE_BACKENDS", "Subproblem", "GlobalSubproblem", "no_options_left"]
+__all__ = ["CONE_BACKENDS", "Subproblem", "GlobalSubproblem", "CONE_OPTIONS"]
 
 
 def _cone_rows(dim: int, mu: np.ndarray, tresca: np.ndarray | None):
@@ -95,6 +96,18 @@ def _scs(P, c, A, b, nc, dim, tol, options, nonneg=None):
 #: come before the n_contacts second-order cones of size dim.  Status "unbounded": x is the
 #: backend's ray (the objective decreases without bound along it), no multipliers.
 CONE_BACKENDS = {"clarabel": _clarabel, "scs": _scs}
+#: the options of every method that solves these subproblems (the fixed
+#: points add theirs): read by qpcontact.core.options.read_options, handed to
+#: Subproblem.  ``engine`` is passed in by :func:`qpcontact.solve`.
+CONE_OPTIONS = (
+    Option("backend", "clarabel", "any",
+           doc="the subproblems' backend: clarabel, scs, or in 2-D a QP method"),
+    Option("backend_options", {}, "mapping", none_ok=True, doc="the backend's own settings"),
+    Option("inner_tol", 1e-10, "float", low=0.0, low_open=True,
+           doc="the tolerance asked of each subproblem"),
+    Option("engine", None, "any", doc="the engine running the method (set by qpcontact.solve)"),
+)
+
 #: each cone backend's own time-limit setting (seconds)
 _TIME_SETTING = {"clarabel": "time_limit", "scs": "time_limit_secs"}
 
@@ -108,7 +121,8 @@ class Subproblem:
     ``"daqp"``, ``"cvxpy:OSQP"``, ...), each answer certified there as a QP
     before the friction measures judge the iterate.  The engine that runs the
     method passes itself in ``options["engine"]`` (its ``solve`` and
-    ``qp_method``): the friction methods never import the dispatcher."""
+    ``qp_method``): the friction methods never import the dispatcher.
+    ``options`` are the method's, read against :data:`CONE_OPTIONS`."""
 
     def __init__(self, problem, options, qp_allowed: bool = True):
         self.problem = problem
@@ -118,8 +132,8 @@ class Subproblem:
         self.size = problem.W.shape[0]
 
     def _backend(self, options, qp_allowed: bool = True):
-        self.engine = options.pop("engine", None)
-        backend = options.pop("backend", "clarabel")
+        self.engine = options["engine"]
+        backend = options["backend"]
         self.qp = None
         if backend not in CONE_BACKENDS:
             if isinstance(backend, str) and self.engine is None:
@@ -138,8 +152,8 @@ class Subproblem:
                     "problems, whose cones are polyhedral; here they have second-order cones — "
                     f"use {' or '.join(CONE_BACKENDS)}")
         self.backend = backend
-        self.backend_options = dict(options.pop("backend_options", {}) or {})
-        self.inner_tol = float(options.pop("inner_tol", 1e-10))
+        self.backend_options = dict(options["backend_options"] or {})
+        self.inner_tol = options["inner_tol"]
         self.inner_iterations = 0
 
     def solve(self, c, tresca=None, time_left=None):
@@ -200,13 +214,6 @@ class Subproblem:
                 "'nsgs' or 'lemke'") from None
         self.inner_iterations += sol.iterations or 0
         return (sol.x if sol.status != "unbounded" else None), sol.status
-
-
-def no_options_left(method, options):
-    if options:
-        raise InvalidOptionError(f"{method!r} does not take {', '.join(sorted(options))}; its "
-                                 "options are backend, backend_options, inner_tol"
-                                 + ("" if method == "anitescu" else ", max_outer, progress, time_limit"))
 
 
 class GlobalSubproblem(Subproblem):

@@ -33,17 +33,29 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...proofs.friction_motion import no_equilibrium
-from .cones import GlobalSubproblem, Subproblem, no_options_left
+from .cones import CONE_OPTIONS, GlobalSubproblem, Subproblem
 from ...judge.friction_certificate import componentwise_error, global_errors, natural_map_error
 
-__all__ = ["solve_anitescu", "solve_desaxce_fp", "solve_tresca_fp", "solve_desaxce_global"]
+__all__ = ["solve_anitescu", "solve_desaxce_fp", "solve_tresca_fp", "solve_desaxce_global",
+           "ANITESCU_OPTIONS", "FIXED_POINT_OPTIONS"]
+
+#: "anitescu" solves one SOCP: the subproblems' options only
+ANITESCU_OPTIONS = CONE_OPTIONS
+
+#: "desaxce-fp", "tresca-fp", "desaxce-global"
+FIXED_POINT_OPTIONS = CONE_OPTIONS + (
+    Option("max_outer", 100, "int", low=1, doc="subproblems (outer iterations) at most"),
+    PROGRESS, TIME_LIMIT,
+)
 
 
 def solve_anitescu(problem, tol, options):
-    options = dict(options)
-    sub = Subproblem(problem, options)
-    no_options_left("anitescu", options)
+    """Anitescu's convex relaxation: one SOCP (module docstring).  Options
+    (:data:`ANITESCU_OPTIONS`): ``backend`` (clarabel; scs; in 2-D a QP
+    method), ``backend_options``, ``inner_tol`` (1e-10)."""
+    sub = Subproblem(problem, read_options("anitescu", options, ANITESCU_OPTIONS))
     r, status = sub.solve(problem.q.copy())
     return r, status, f"one SOCP by {sub.backend} ({status})", {
         "inner_iterations": sub.inner_iterations, "backend": sub.backend}
@@ -55,15 +67,16 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
     iterations.  Returns the iterate with the smallest certified error (the
     larger of the two), ties going to the smaller natural-map error: where a
     few contacts carrying ~1e-22 forces hold the componentwise error at 0.5
-    the iteration still improves the rest, and is kept going for it."""
-    options = dict(options)
+    the iteration still improves the rest, and is kept going for it.
+    Options (:data:`FIXED_POINT_OPTIONS`): ``backend`` (clarabel; scs; in
+    2-D a QP method), ``backend_options``, ``inner_tol`` (1e-10),
+    ``max_outer`` (100), ``progress``, ``time_limit`` (s)."""
+    options = read_options(method, options, FIXED_POINT_OPTIONS)
     sub = (subproblem or Subproblem)(problem, options)
     measure = measure or (lambda r: (natural_map_error(problem, r),
                                      componentwise_error(problem, r)))
-    max_outer = int(options.pop("max_outer", 100))
-    progress = options.pop("progress", None)
-    time_limit = options.pop("time_limit", None)
-    no_options_left(method, options)
+    max_outer, progress, time_limit = options["max_outer"], options["progress"], \
+        options["time_limit"]
     start, timed_out = time.perf_counter(), False
     r = np.zeros(sub.size)
     best_key, best_r, lowest, since, errors = (np.inf, np.inf), None, [np.inf, np.inf], 0, []
@@ -113,12 +126,20 @@ def _desaxce_shift(u, mu, d) -> np.ndarray:
 
 
 def solve_desaxce_fp(problem, tol, options):
+    """De Saxcé's fixed point of SOCPs (module docstring).  Options
+    (:data:`FIXED_POINT_OPTIONS`): ``backend`` (clarabel; scs; in 2-D a QP
+    method), ``backend_options``, ``inner_tol`` (1e-10), ``max_outer``
+    (100), ``progress``, ``time_limit`` (s)."""
     def update(r):
         return problem.q + _desaxce_shift(problem.velocities(r), problem.mu, problem.dim), None
     return _fixed_point("desaxce-fp", problem, tol, options, update)
 
 
 def solve_tresca_fp(problem, tol, options):
+    """Tresca's fixed point of SOCPs (module docstring).  Options
+    (:data:`FIXED_POINT_OPTIONS`): ``backend`` (clarabel; scs; in 2-D a QP
+    method), ``backend_options``, ``inner_tol`` (1e-10), ``max_outer``
+    (100), ``progress``, ``time_limit`` (s)."""
     d = problem.dim
     first = [True]
 
@@ -133,7 +154,10 @@ def solve_tresca_fp(problem, tol, options):
 def solve_desaxce_global(problem, tol, options):
     """De Saxcé's fixed point on a global problem kept without W: each
     iterate one SOCP in v (:class:`GlobalSubproblem`), s = μ‖u_T‖ from the
-    last u = H'v + w.  Returns x = (r, v)."""
+    last u = H'v + w.  Returns x = (r, v).  Options
+    (:data:`FIXED_POINT_OPTIONS`): ``backend`` (clarabel, scs),
+    ``backend_options``, ``inner_tol`` (1e-10), ``max_outer`` (100),
+    ``progress``, ``time_limit`` (s)."""
     g, d = problem.global_data, problem.dim
     m = d * problem.n_contacts
 

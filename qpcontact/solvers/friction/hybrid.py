@@ -46,12 +46,13 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ...core.errors import InvalidOptionError
+from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...judge.friction_certificate import certified_error, contact_scales, natural_map_jacobian
-from .nsgs import NSGS
+from .nsgs import NSGS, R0, starting_point
 from ...core.friction_problem import modified_velocity, project_cone
 
-__all__ = ["solve_nsgs_newton", "minimum_norm_newton", "NEWTON_FROM", "OMEGA"]
+__all__ = ["solve_nsgs_newton", "minimum_norm_newton", "NEWTON_FROM", "OMEGA",
+           "NSGS_NEWTON_OPTIONS"]
 
 #: Newton is first tried once NSGS's certified error is below this
 NEWTON_FROM = 1e-3
@@ -60,6 +61,13 @@ NEWTON_FROM = 1e-3
 #: sweeps to 340 and solved two 2 000-contact compact piles that 1.0 left at
 #: 1.8e-6; 1.5 and 1.7 did worse on the compact 3-D pile (1e-3, 6e-3)
 OMEGA = 1.3
+
+NSGS_NEWTON_OPTIONS = (
+    Option("omega", OMEGA, "float", low=0.0, high=2.0, low_open=True, high_open=True,
+           doc="NSGS's over-relaxation"),
+    Option("max_sweeps", 100_000, "int", low=0, doc="NSGS sweeps at most"),
+    R0, TIME_LIMIT, PROGRESS,
+)
 
 #: the augmented system's regularization (J is dimensionless)
 _LAMBDA = 1e-12
@@ -97,20 +105,16 @@ def minimum_norm_newton(problem, r, tol, max_steps=6):
 def solve_nsgs_newton(problem, tol, options):
     """NSGS, with minimum-norm Newton steps tried each time its error falls
     tenfold below :data:`NEWTON_FROM` and on a plateau, with a wait that
-    doubles after each failed try (module docstring).  Options: ``omega``
+    doubles after each failed try (module docstring).  Options
+    (:data:`NSGS_NEWTON_OPTIONS`): ``omega``
     (NSGS's over-relaxation, :data:`OMEGA`), ``max_sweeps`` (100 000), ``r0``,
     ``time_limit`` (s), ``progress`` (a callable taking a line).  Stops at
     tol, at the time limit, or when neither NSGS nor Newton has improved the
     best error over the last 50 checks; returns the best point."""
-    options = dict(options)
-    omega = float(options.pop("omega", OMEGA))
-    max_sweeps = int(options.pop("max_sweeps", 100_000))
-    time_limit = options.pop("time_limit", None)
-    progress = options.pop("progress", None)
-    r0 = options.pop("r0", None)
-    if options:
-        raise InvalidOptionError(f"'nsgs-newton' does not take {', '.join(sorted(options))}; its "
-                                 "options are omega, max_sweeps, r0, time_limit, progress")
+    opts = read_options("nsgs-newton", options, NSGS_NEWTON_OPTIONS)
+    omega, max_sweeps = opts["omega"], opts["max_sweeps"]
+    time_limit, progress = opts["time_limit"], opts["progress"]
+    r0 = starting_point("nsgs-newton", problem, opts["r0"])
     start = time.perf_counter()
     gs = NSGS(problem, r0, omega=omega)
     r = gs.r.copy()

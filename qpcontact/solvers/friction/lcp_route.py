@@ -24,24 +24,34 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...core.options import Option, read_options
 from ...core.results import MethodResult
 from ...judge.friction_certificate import certified_error
 from .newton import solve_natural_newton
 from ...core.friction_problem import faceted_lcp
 
-__all__ = ["lcp_of", "from_lcp", "LCP_ACCURACY"]
+__all__ = ["lcp_of", "from_lcp", "LCP_ACCURACY", "FACETS"]
 
 #: the LCP is solved at least this tightly: its answer is the exact oracle of 2-D
 LCP_ACCURACY = 1e-9
 
 
-def lcp_of(problem, options: dict):
+#: the route's own option; the others are the LCP method's, which reads them
+FACETS = Option("facets", None, "int", doc="directions of the faceted cone (2-D: 2, the exact "
+                "cone; 3-D: default 8, at least 3)")
+
+
+def lcp_of(problem, options: dict, method: str = "the LCP route"):
     """(LCP, D, facets, the LCP method's own options) for ``problem``; option
-    ``facets`` (2-D: 2, the exact cone; 3-D: default 8)."""
+    ``facets`` (2-D: 2, the exact cone; 3-D: default 8), checked here (its
+    type) and by :func:`faceted_lcp` (its range for the problem's dim)."""
     options = dict(options)
-    facets = options.pop("facets", 2 if problem.dim == 2 else 8)
+    given = {"facets": options.pop("facets")} if "facets" in options else {}
+    facets = read_options(method, given, (FACETS,))["facets"]
+    if facets is None:
+        facets = 2 if problem.dim == 2 else 8
     lcp, D = faceted_lcp(problem, facets)
-    return lcp, D, int(facets), options
+    return lcp, D, facets, options
 
 
 def from_lcp(problem, method: str, sol, D, facets: int, tol: float) -> MethodResult:

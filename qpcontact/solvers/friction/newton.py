@@ -7,13 +7,14 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from ...core.errors import InvalidOptionError
+from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from .fixed_points import solve_anitescu
+from .nsgs import starting_point
 from ...judge.friction_certificate import (certified_error, contact_scales, contact_sizes,
                                            projection_jacobian)
 from ...core.friction_problem import modified_velocity, project_cone
 
-__all__ = ["solve_natural_newton", "SPARSE_NEWTON_MIN", "LM_BELOW"]
+__all__ = ["solve_natural_newton", "SPARSE_NEWTON_MIN", "LM_BELOW", "NEWTON_OPTIONS"]
 
 
 #: above this many local unknowns (and W sparse) Newton's linear algebra is sparse
@@ -22,6 +23,13 @@ SPARSE_NEWTON_MIN = 1000
 
 #: a Newton step shorter than this also tries Levenberg–Marquardt's
 LM_BELOW = 1e-3
+
+
+NEWTON_OPTIONS = (
+    Option("r0", None, "vector", doc="starting reactions (default: Anitescu's relaxation)"),
+    Option("max_iter", 100, "int", low=0, doc="Newton iterations at most"),
+    PROGRESS, TIME_LIMIT,
+)
 
 
 def solve_natural_newton(problem, tol, options):
@@ -33,18 +41,13 @@ def solve_natural_newton(problem, tol, options):
     :func:`~qpcontact.judge.friction_certificate.contact_sizes`, frozen per iteration).  Starts from
     ``r0`` (default: Anitescu's relaxation by Clarabel).  Local quadratic convergence near a
     nondegenerate solution; no global guarantee — it stops and says so when
-    the line search fails.  Options: ``r0``, ``max_iter`` (100), ``progress``,
-    ``time_limit`` (s)."""
+    the line search fails.  Options (:data:`NEWTON_OPTIONS`): ``r0``,
+    ``max_iter`` (100), ``progress``, ``time_limit`` (s)."""
     import scipy.sparse.linalg as spla   # here, not at the top: `import qpcontact` stays cheap
 
-    options = dict(options)
-    r0 = options.pop("r0", None)
-    max_iter = int(options.pop("max_iter", 100))
-    progress = options.pop("progress", None)
-    time_limit = options.pop("time_limit", None)
-    if options:
-        raise InvalidOptionError(f"'newton' does not take {', '.join(sorted(options))}; its "
-                                 "options are r0, max_iter, progress, time_limit")
+    opts = read_options("newton", options, NEWTON_OPTIONS)
+    r0 = starting_point("newton", problem, opts["r0"])
+    max_iter, progress, time_limit = opts["max_iter"], opts["progress"], opts["time_limit"]
     start = time.perf_counter()
     p, d = problem, problem.dim
     nc, mu = p.n_contacts, p.mu

@@ -8,9 +8,33 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...core.errors import InvalidOptionError
+from ...core.options import TIME_LIMIT, Option, check_length, read_options
 from ...judge.friction_certificate import certified_error
 
-__all__ = ["solve_nsgs", "NSGS"]
+__all__ = ["solve_nsgs", "NSGS", "NSGS_OPTIONS", "R0", "starting_point"]
+
+#: the starting reactions of the iterative friction methods
+R0 = Option("r0", None, "vector", doc="starting reactions, dim entries per contact")
+
+NSGS_OPTIONS = (
+    Option("max_sweeps", 10_000, "int", low=0, doc="sweeps at most"),
+    Option("check_every", 10, "int", low=1, doc="sweeps between error checks"),
+    R0,
+    Option("omega", 1.0, "float", low=0.0, high=2.0, low_open=True, high_open=True,
+           doc="over-relaxation"),
+    Option("local_rtol", 1e-14, "float", low=0.0, low_open=True,
+           doc="relative tolerance of the 3-D local problems"),
+    Option("max_local", 200, "int", low=1, doc="iterations of a 3-D local problem at most"),
+    TIME_LIMIT,
+)
+
+
+def starting_point(method: str, problem, r0):
+    """``r0`` as read by read_options, its length checked against
+    ``problem`` (dim entries per contact); None stays None."""
+    if r0 is None:
+        return None
+    return check_length(method, "r0", r0, problem.dim * problem.n_contacts)
 
 
 class NSGS:
@@ -57,24 +81,17 @@ def solve_nsgs(problem, tol, options):
     """Nonsmooth Gauss–Seidel (Siconos's NSGS; :mod:`qpcontact._nsgs_kernels`):
     sweeps over the contacts, each solving its local problem with the
     others frozen — exactly in 2-D, by a local projected fixed point in 3-D.
-    Options: ``max_sweeps`` (10 000), ``check_every`` (10 sweeps between
-    error checks), ``r0``, ``omega`` (over-relaxation, 1), ``local_rtol``
-    (1e-14), ``max_local`` (200 local iterations), ``time_limit`` (s).  Stops when both error
-    measures are <= tol, or when the best error has not improved for 100
-    checks; returns the best iterate.  No convergence guarantee (Coulomb
-    friction is not a minimisation): the certificate decides."""
-    options = dict(options)
-    max_sweeps = int(options.pop("max_sweeps", 10_000))
-    every = max(1, int(options.pop("check_every", 10)))
-    local = dict(local_rtol=float(options.pop("local_rtol", 1e-14)),
-                 max_local=int(options.pop("max_local", 200)),
-                 omega=float(options.pop("omega", 1.0)))
-    r0 = options.pop("r0", None)
-    time_limit = options.pop("time_limit", None)
-    if options:
-        raise InvalidOptionError(f"'nsgs' does not take {', '.join(sorted(options))}; its options "
-                                 "are max_sweeps, check_every, r0, omega, local_rtol, max_local, "
-                                 "time_limit")
+    Stops when both error measures are <= tol, or when the best error has
+    not improved for 100 checks; returns the best iterate.  No convergence
+    guarantee (Coulomb friction is not a minimisation): the certificate
+    decides.  Options (:data:`NSGS_OPTIONS`): ``max_sweeps`` (10 000),
+    ``check_every`` (10 sweeps between error checks), ``r0``, ``omega``
+    (over-relaxation, 1), ``local_rtol`` (1e-14), ``max_local`` (200 local
+    iterations), ``time_limit`` (s)."""
+    opts = read_options("nsgs", options, NSGS_OPTIONS)
+    max_sweeps, every, time_limit = opts["max_sweeps"], opts["check_every"], opts["time_limit"]
+    local = {key: opts[key] for key in ("local_rtol", "max_local", "omega")}
+    r0 = starting_point("nsgs", problem, opts["r0"])
     start = time.perf_counter()
     gs = NSGS(problem, r0, **local)
     best, best_r, since = np.inf, gs.r.copy(), 0

@@ -35,11 +35,17 @@ from ...core.linalg import BANDED_MAX, SolutionOverflow
 from ...judge.scales import ComponentScales
 from .active_set import ExchangeRule, negative_components, not_positive_definite, overflow_result
 from .finish import NearbyBases
-from ...core.options import check_options, int_option
+from ...core.options import BySize, Option, read_options
 
-__all__ = ["run_bpp", "block_pivoting"]
+__all__ = ["run_bpp", "block_pivoting", "BPP_OPTIONS"]
 
-_OPTIONS = ("initial_active", "max_iter", "patience")
+BPP_OPTIONS = (
+    Option("initial_active", None, "any",
+           doc="a bool mask of length n, or the indices of the z's expected positive"),
+    Option("max_iter", BySize(lambda n: 10 * n + 100, "10 n + 100"), "int", low=0,
+           doc="block exchanges and pivots at most"),
+    Option("patience", 3, "int", low=0, doc="full exchanges without a new smallest |I|"),
+)
 
 
 def _as_mask(active, n: int) -> np.ndarray:
@@ -88,12 +94,13 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=N
 
 
 def run_bpp(problem, tol, options) -> MethodResult:
-    check_options("bpp", options, _OPTIONS)
+    """The "bpp" method (module docstring).  Options (:data:`BPP_OPTIONS`):
+    ``initial_active``, ``max_iter`` (10 n + 100), ``patience`` (3)."""
     n = problem.n
-    F = (_as_mask(options["initial_active"], n) if options.get("initial_active") is not None
+    opts = read_options("bpp", options, BPP_OPTIONS, size=n)
+    F = (_as_mask(opts["initial_active"], n) if opts["initial_active"] is not None
          else np.zeros(n, dtype=bool))
-    max_iter = int_option("bpp", options, "max_iter", 10 * n + 100)
-    patience = int_option("bpp", options, "patience", 3)
+    max_iter, patience = opts["max_iter"], opts["patience"]
     try:
         z, F, stats, status = block_pivoting(problem, F, max_iter, patience)
     except np.linalg.LinAlgError as exc:

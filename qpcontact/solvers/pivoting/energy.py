@@ -35,17 +35,22 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg.blas import dger
 
-from ...core.errors import InvalidOptionError, NotConvexError
+from ...core.errors import NotConvexError
 from ...core.results import MethodResult
 from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, symmetric_scaling
 from ...judge.scales import ComponentScales
 from .active_set import (check_dense_size, negative_components, not_positive_definite,
                          overflow_result, sign_tolerances)
-from ...core.options import check_options, int_option
+from ...core.options import BySize, Option, read_options
 
-__all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau"]
+__all__ = ["energy_pivot_cap", "run_energy", "principal_pivot", "ppt_tableau", "ENERGY_OPTIONS"]
 
-_OPTIONS = ("max_pivots", "rule")
+ENERGY_OPTIONS = (
+    Option("max_pivots", BySize(lambda n: 100 * n + 1000, "100 n + 1000"), "int", low=0,
+           doc="principal pivots at most"),
+    Option("rule", "energy", "choice", choices=("energy", "murty"),
+           doc="the pivot rule: least energy, or Murty's least index"),
+)
 
 
 def energy_pivot_cap(n: int) -> int:
@@ -164,14 +169,14 @@ def _energy(M: np.ndarray, q: np.ndarray, q_terms: np.ndarray, max_pivots: int, 
 
 
 def run_energy(problem, tol, options) -> MethodResult:
-    check_options("energy", options, _OPTIONS)
+    """The "energy" method (module docstring).  Options
+    (:data:`ENERGY_OPTIONS`): ``max_pivots`` (100 n + 1000), ``rule``
+    ("energy"; "murty": Murty's least-index rule from the start)."""
     n = problem.n
+    opts = read_options("energy", options, ENERGY_OPTIONS, size=n)
     check_dense_size("energy", n, f"{n} x {n} tableau",
                      "'bpp' (block pivoting with sparse factorizations)")
-    max_pivots = int_option("energy", options, "max_pivots", 100 * n + 1000)
-    rule = options.get("rule", "energy")
-    if rule not in ("energy", "murty"):
-        raise InvalidOptionError(f"'energy': rule must be 'energy' or 'murty', not {rule!r}")
+    max_pivots, rule = opts["max_pivots"], opts["rule"]
     M = dense_matrix(problem.M)
     d = symmetric_scaling(M)
     Ms = M * d[:, None] * d[None, :]

@@ -20,6 +20,7 @@ import numpy as np
 import scipy.linalg
 
 from ...core.errors import InvalidProblemError
+from ...core.options import read_options
 from ...core.results import MethodResult
 from ...core.linalg import dense_matrix
 
@@ -28,8 +29,8 @@ ENUMERATION_MAX = 16
 
 
 def run_enumeration(problem, tol, options) -> MethodResult:
-    if options:
-        raise InvalidProblemError(f"'enumeration' takes no options; got {', '.join(options)}")
+    """The "enumeration" method (module docstring); it takes no options."""
+    read_options("enumeration", options, ())
     n = problem.n
     if n > ENUMERATION_MAX:
         raise InvalidProblemError(f"'enumeration' tries all 2^n complementary bases; n = {n} is "

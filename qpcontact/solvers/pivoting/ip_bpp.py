@@ -67,15 +67,23 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-from ...core.errors import InvalidOptionError, InvalidProblemError
+from ...core.errors import InvalidProblemError
 from ...core.results import MethodResult
 from .active_set import SIGN_RTOL, ExchangeRule, not_positive_definite
 from .finish import preconditioned_cg, restricted_preconditioner, reusable
-from ...core.options import check_options, int_option
+from ...core.options import PROGRESS, BySize, Option, read_options
 
-__all__ = ["run_ip_bpp"]
+__all__ = ["run_ip_bpp", "IP_BPP_OPTIONS"]
 
-_OPTIONS = ("max_ip", "ip_drop", "max_iter", "patience", "progress")
+IP_BPP_OPTIONS = (
+    Option("max_ip", 60, "int", low=0, doc="interior-point steps at most"),
+    Option("ip_drop", 1e16, "float", low=1.0,
+           doc="the interior-point phase stops once the gap has dropped by this factor"),
+    Option("max_iter", BySize(lambda n: 10 * n + 100, "10 n + 100"), "int", low=0,
+           doc="pivoting steps at most"),
+    Option("patience", 3, "int", low=0, doc="full exchanges without a new smallest |I|"),
+    PROGRESS,
+)
 
 
 class _Factor:
@@ -433,19 +441,13 @@ def _solve_condensed(P, c, lb, bounded, max_ip, drop, max_iter, patience, stats,
 
 
 def run_ip_bpp(problem, tol, options) -> MethodResult:
-    check_options("ip-bpp", options, _OPTIONS)
+    """The "ip-bpp" method (module docstring; options :data:`IP_BPP_OPTIONS`)."""
     P, c, lb = _problem_data(problem)
     n = c.size
+    opts = read_options("ip-bpp", options, IP_BPP_OPTIONS, size=n)
     bounded = np.isfinite(lb)
-    max_ip = int_option("ip-bpp", options, "max_ip", 60)
-    max_iter = int_option("ip-bpp", options, "max_iter", 10 * n + 100)
-    patience = int_option("ip-bpp", options, "patience", 3)
-    drop = options.get("ip_drop", 1e16)
-    if isinstance(drop, bool) or not isinstance(drop, (int, float)) or not drop >= 1:
-        raise InvalidOptionError(f"'ip-bpp': ip_drop must be a number >= 1; got {drop!r}")
-    progress = options.get("progress")
-    if progress is not None and not callable(progress):
-        raise InvalidOptionError("'ip-bpp': progress must be a callable taking a line of text")
+    max_ip, max_iter, patience = opts["max_ip"], opts["max_iter"], opts["patience"]
+    drop, progress = opts["ip_drop"], opts["progress"]
     stats = {"iterations": 0, "factorizations": 0, "ip_steps": 0}
     m = int(bounded.sum())
     try:

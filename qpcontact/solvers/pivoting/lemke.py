@@ -40,9 +40,8 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from ...core.deadline import Deadline
-from ...core.errors import InvalidOptionError
 from ...core.linalg import ActiveBlock, SolutionOverflow, dense_matrix, ruiz_scaling
-from ...core.options import check_options, int_option
+from ...core.options import BySize, Option, check_length, read_options
 from ...core.results import MethodResult
 from ...judge.scales import ComponentScales
 from ...proofs.lcp_farkas import check_farkas_hint, feasibility
@@ -50,9 +49,21 @@ from .active_set import DENSE_TABLEAU_LIMIT, overflow_result, sign_tolerances
 from .lemke_sparse import SingularBasis, sparse_lemke
 from .lemke_tableau import lemke
 
-__all__ = ["run_lemke", "SPARSE_FROM", "DENSE_FALLBACK_MAX"]
+__all__ = ["run_lemke", "SPARSE_FROM", "DENSE_FALLBACK_MAX", "LEMKE_OPTIONS"]
 
-_OPTIONS = ("covering", "max_pivots", "restarts", "seed")
+LEMKE_OPTIONS = (
+    Option("covering", None, "vector", low=0.0, low_open=True,
+           doc="the covering vector d, n positive numbers (default: scaled ones)"),
+    Option("max_pivots", BySize(lambda n: max(10_000, 50 * n), "max(10 000, 50 n)"), "int",
+           low=0, doc="pivots at most, per start"),
+    # 3 left 8 of 430 equilibria of random frames (friction) and 38 of 723
+    # Stewart-Trinkle LCPs on a secondary ray; 10 found all the frames', 8-33 the
+    # others'.  Restarts cost only when a ray is met.
+    Option("restarts", 30, "int", low=0,
+           doc="restarts with a random covering vector after a secondary ray"),
+    Option("seed", 0, "int", low=0, none_ok=True,
+           doc="the restarts' random seed (None: fresh randomness)"),
+)
 
 
 def _sign_errors(lcp, M, z, basic_z) -> bool:
@@ -146,12 +157,14 @@ def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     only, both with gaps over 1e0..1e12).  ``time_limit`` (s, from
     :func:`qpcontact.solve`) bounds both forms, checked at each pivot (the
     dense form's pivot cap alone let a 1000-span frame's 3003-unknown LCP,
-    restarting on secondary rays, run for over 12 minutes)."""
+    restarting on secondary rays, run for over 12 minutes).  Options
+    (:data:`LEMKE_OPTIONS`): ``covering``, ``max_pivots`` (max(10 000, 50 n)),
+    ``restarts`` (30), ``seed`` (0)."""
     from ...core.accuracy import DEFAULT_CERTIFY_TOL
     from ...judge.lcp_certificate import certify_lcp
 
-    check_options("lemke", options, _OPTIONS)
     n = problem.n
+    options = read_options("lemke", options, LEMKE_OPTIONS, size=n)
     deadline = None if time_limit is None else time.perf_counter() + time_limit
     if not (n > DENSE_TABLEAU_LIMIT or (problem.is_sparse and n >= SPARSE_FROM)):
         return _run_lemke(problem, options, sparse=False, deadline=deadline)
@@ -176,21 +189,10 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
     n = problem.n
     M = sp.csc_matrix(problem.M) if sparse else dense_matrix(problem.M)
     q = problem.q
-    d_user = options.get("covering")
+    d_user = options["covering"]
     if d_user is not None:
-        d_user = np.asarray(d_user, dtype=float).ravel()
-        if d_user.shape != (n,) or not np.all(np.isfinite(d_user)) or not np.all(d_user > 0):
-            raise InvalidOptionError(
-                f"'lemke': covering must be a vector of {n} finite positive numbers"
-            )
-    max_pivots = int_option("lemke", options, "max_pivots", max(10_000, 50 * n))
-    # 3 left 8 of 430 equilibria of random frames (friction) and 38 of 723
-    # Stewart-Trinkle LCPs on a secondary ray; 10 found all the frames', 8-33 the
-    # others'.  Restarts cost only when a ray is met.
-    restarts = int_option("lemke", options, "restarts", 30)
-    seed = options.get("seed", 0)
-    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer))):
-        raise InvalidOptionError(f"'lemke': option seed must be an integer (or None); got {seed!r}")
+        d_user = check_length("lemke", "covering", d_user, n)
+    max_pivots, restarts, seed = options["max_pivots"], options["restarts"], options["seed"]
     rng = None
 
     diag = M.diagonal()

@@ -47,17 +47,23 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from ...core.errors import InvalidOptionError, InvalidProblemError
+from ...core.errors import InvalidProblemError
 from ...core.linalg import SolutionOverflow
-from ...core.options import check_options, int_option
+from ...core.options import PROGRESS, BySize, Option, read_options
 from ...core.results import MethodResult
 from .active_set import not_positive_definite, overflow_result
 from .bpp import block_pivoting
 from .multigrid import aggregation_hierarchy, multilevel_guess
 
-__all__ = ["run_mg_bpp"]
+__all__ = ["run_mg_bpp", "MG_BPP_OPTIONS"]
 
-_OPTIONS = ("max_cycles", "max_iter", "patience", "progress")
+MG_BPP_OPTIONS = (
+    Option("max_cycles", 500, "int", low=0, doc="finest-level multigrid cycles at most"),
+    Option("max_iter", BySize(lambda n: 10 * n + 100, "10 n + 100"), "int", low=0,
+           doc="pivoting steps at most"),
+    Option("patience", 3, "int", low=0, doc="full exchanges without a new smallest |I|"),
+    PROGRESS,
+)
 
 
 def _hierarchy(problem, stats) -> tuple:
@@ -74,14 +80,11 @@ def _hierarchy(problem, stats) -> tuple:
 
 
 def run_mg_bpp(problem, tol, options) -> MethodResult:
-    check_options("mg-bpp", options, _OPTIONS)
+    """The "mg-bpp" method (module docstring; options :data:`MG_BPP_OPTIONS`)."""
     n = problem.n
-    cycles = int_option("mg-bpp", options, "max_cycles", 500)
-    max_iter = int_option("mg-bpp", options, "max_iter", 10 * n + 100)
-    patience = int_option("mg-bpp", options, "patience", 3)
-    progress = options.get("progress")
-    if progress is not None and not callable(progress):
-        raise InvalidOptionError("'mg-bpp': progress must be a callable taking a line of text")
+    opts = read_options("mg-bpp", options, MG_BPP_OPTIONS, size=n)
+    cycles, max_iter = opts["max_cycles"], opts["max_iter"]
+    patience, progress = opts["patience"], opts["progress"]
     M = problem.M
     diag = np.asarray(M.diagonal() if sp.issparse(M) else np.diag(M), dtype=float)
     if not np.all(diag > 0):

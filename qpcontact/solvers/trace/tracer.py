@@ -72,8 +72,8 @@ import time
 import numpy as np
 
 from ...core.accuracy import resolve_accuracy
-from ...core.errors import InvalidOptionError, InvalidProblemError, NoSolutionError
-from ...core.options import check_options, int_option
+from ...core.errors import InvalidProblemError, NoSolutionError
+from ...core.options import BySize, Option, names_only, read_options
 from ...core.problems import ParametricLCP
 from ...judge.doubt import doubt, no_digit
 from ...judge.lcp_certificate import certify_lcp
@@ -81,9 +81,14 @@ from ..pivoting.active_set import check_dense_size
 from .path import Path
 from .result import LoadTrace, TraceEvent, TracePiece
 
-__all__ = ["trace_load", "run_trace"]
+__all__ = ["trace_load", "run_trace", "TRACE_OPTIONS"]
 
-_OPTIONS = ("p_max", "max_pieces")
+TRACE_OPTIONS = (
+    Option("p_max", 1.0, "float", low=0.0, low_open=True,
+           doc="the load parameter to stop at (inf: follow the path to its end)"),
+    Option("max_pieces", BySize(lambda n: max(1000, 20 * n), "max(1000, 20 n)"), "int", low=1,
+           doc="linear pieces at most"),
+)
 
 
 def _start(plcp: ParametricLCP, solve_lcp):
@@ -133,16 +138,11 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
     """
     if not isinstance(plcp, ParametricLCP):
         raise InvalidProblemError(f"'trace' takes a ParametricLCP; got {type(plcp).__name__}")
-    try:
-        p_max = float(p_max)
-    except (TypeError, ValueError):
-        raise InvalidOptionError(f"'trace': p_max must be a number > 0, got {p_max!r}") from None
-    if not p_max > 0:
-        raise InvalidOptionError(f"'trace': p_max must be > 0, got {p_max}")
     n = plcp.n
+    given = {"p_max": p_max} if max_pieces is None else {"p_max": p_max, "max_pieces": max_pieces}
+    opts = read_options("trace", given, TRACE_OPTIONS, size=n)
+    p_max, max_pieces = opts["p_max"], opts["max_pieces"]
     check_dense_size("trace", n, f"{n} x {n} block", "fixed loads with problem.at(p)")
-    max_pieces = int_option("trace", {} if max_pieces is None else {"max_pieces": max_pieces},
-                            "max_pieces", max(1000, 20 * n), minimum=1)
     _, tol = resolve_accuracy(accuracy)
     start = time.perf_counter()
     path = Path(plcp)
@@ -295,10 +295,12 @@ def _message(end, p, p_max, p_final, proof, why, max_pieces) -> str:
 
 
 def run_trace(plcp: ParametricLCP, tol: float, options: dict, engine) -> LoadTrace:
-    """The "trace" method (registered in :mod:`.specs`): options ``p_max``,
-    ``max_pieces``; every piece is certified to ``tol``.  It certifies each
-    piece from the data itself, at its start, middle and end (a path, not a
-    point, is its answer); its Lemke solves go through ``engine``."""
-    check_options("trace", options, _OPTIONS)
+    """The "trace" method (registered in :mod:`.specs`): options
+    (:data:`TRACE_OPTIONS`) ``p_max`` (1), ``max_pieces`` (max(1000, 20 n));
+    every piece is certified to ``tol``.  It certifies each piece from the
+    data itself, at its start, middle and end (a path, not a point, is its
+    answer); its Lemke solves go through ``engine``."""
+    # the names here, the values (and the size-dependent default) in trace_load
+    read_options("trace", options, names_only(opt.name for opt in TRACE_OPTIONS))
     return trace_load(plcp, lambda lcp, prove=True: engine.solve(lcp, "lemke", prove=prove),
                       accuracy=tol, expired=engine.expired, **options)
