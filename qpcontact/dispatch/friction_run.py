@@ -53,7 +53,7 @@ def check_friction_method(problem, m: Method) -> None:
 def _call(problem, m: Method, options: dict, ctx, engine) -> MethodResult:
     tol = ctx.tol_cert
     if m.takes == "lcp":          # through the faceted LCP, certified there as an LCP
-        lcp, D, facets, lcp_options = lcp_of(problem, options)
+        lcp, D, facets, lcp_options = lcp_of(problem, options, m.name)
         sol = engine.within(ctx).solve(lcp, m.name, accuracy=min(tol, LCP_ACCURACY),
                                        **lcp_options)
         return from_lcp(problem, m.name, sol, D, facets, tol)
