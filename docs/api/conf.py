@@ -30,6 +30,12 @@ author = "The qpcontact authors"
 copyright = "2026, the qpcontact authors"  # the footer; the LICENSE file's line
 release = version = "0.1.0"
 
+try:
+    import myst_parser  # noqa: F401
+except ImportError:
+    from sphinx.errors import ConfigError
+    raise ConfigError("the guides (docs/*.md) need myst-parser: pip install -e \".[docs]\" "
+                      "(in .[all]; `make docs` installs it)") from None
 extensions = ["sphinx.ext.autodoc", "sphinx.ext.napoleon", "myst_parser"]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 # The guides link to each other's sections (certificates.md#statuses); GitHub's
