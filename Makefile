@@ -54,11 +54,11 @@ bench: $(STAMP)
 
 # The wheel and sdist (dist/), built as a user would and installed into a fresh
 # virtual environment with their dependencies from the index; the README's first
-# example and a scene then run from it (tests/test_wheel.py).
+# example and a scene then run from it (tests/package/test_wheel.py).
 wheel: $(STAMP)
 	rm -rf dist
 	$(BIN)/python -m build --outdir dist
-	QPCONTACT_WHEEL_DIST=dist QPCONTACT_WHEEL_VENV=fresh $(BIN)/python -m pytest -q -m slow tests/test_wheel.py
+	QPCONTACT_WHEEL_DIST=dist QPCONTACT_WHEEL_VENV=fresh $(BIN)/python -m pytest -q -m slow tests/package/test_wheel.py
 
 clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache

@@ -13,13 +13,13 @@ Models
   off) and 100 kN pushing the right end to the left (the supports near it
   slip, the others stick).  N = 50, 200 (401 nodes) and 1000.
 - A 20-storey, 3-bay frame on a foundation beam resting on 17 elastic
-  frictional contacts (tests/test_frame_trace.py's ``_tower``: f = 0.5,
-  k = 5e5) at p = 0.7 x its tipping load (tests/test_frames_limits.py's
+  frictional contacts (tests/formulations/frames/frame_cases.py's ``tower``: f = 0.5,
+  k = 5e5) at p = 0.7 x its tipping load (tests/formulations/frames/test_plane_limits.py's
   P_TIP; for short towers, which slide first, 0.7 x their sliding load): the
   windward supports lift off, the tower stands on friction alone.
 
 - A 10-storey concrete space frame, 3 x 3 bays of 6 m, on 16 frictional pads
-  (formulations/frames/space_tower.py's ``space_tower``: f = 0.5, 8
+  (formulations/frames/space/space_tower.py's ``space_tower``: f = 0.5, 8
   facets, elastic pads k = 5e6 kN/m) under 1.0 D + p W, at p = 7.5 (the
   windward corner pad lifted off, the others stick: no pad slips, so
   qpcontact's faceted cone and OpenSees' circular one give the same
@@ -156,7 +156,7 @@ def beam(spans: int) -> Model:
 def p_limit(storeys: int = 20, bays: int = 3) -> float:
     """The load factor p at which the tower fails, the smaller of tipping by
     moments about the toe (the last contact, 3 m beyond the last column:
-    tests/test_frames_limits.py's P_TIP for 20 storeys, 3 bays) and sliding
+    tests/formulations/frames/test_plane_limits.py's P_TIP for 20 storeys, 3 bays) and sliding
     when 10 p per floor exceeds f x the weight (short towers)."""
     width = 6.0 * bays
     weight = storeys * bays * 6.0 * 30.0
@@ -165,7 +165,7 @@ def p_limit(storeys: int = 20, bays: int = 3) -> float:
 
 
 def tower(storeys: int = 20, bays: int = 3, p: float | None = None) -> Model:
-    """tests/test_frame_trace.py's ``_tower`` with its two cases folded into
+    """tests/formulations/frames/frame_cases.py's ``tower`` with its two cases folded into
     one: 30 kN/m on every beam plus 10 p kN at every floor of the left column."""
     p = 0.7 * p_limit(storeys, bays) if p is None else p
     col, bm = (210e6, 1.5e-2, 5e-4), (210e6, 8e-3, 2e-4)

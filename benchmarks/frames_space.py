@@ -1,8 +1,8 @@
 """Space frames in OpenSees and PyNite, read off a qpcontact ``SpaceFrame``:
 the same nodes, members, member and nodal loads, supports and
 contacts, built through each code's API, so that one description
-(:func:`formulations.frames.space_tower.space_tower`) feeds every code.
-benchmarks/frames.py times them side by side; tests/test_frame_space_tower.py
+(:func:`formulations.frames.space.space_tower.space_tower`) feeds every code.
+benchmarks/frames.py times them side by side; tests/formulations/frames/test_space_tower.py
 checks the answers.
 
 The law, as in 2-D (benchmarks/frames.py): an elastic contact is a normal

@@ -2,7 +2,7 @@
 three dimensions, issue 35): dead load D, then wind W from 30° growing
 until the tower can no longer stand.
 
-The tower is :func:`formulations.frames.space_tower.space_tower`: 3 x 3
+The tower is :func:`formulations.frames.space.space_tower.space_tower`: 3 x 3
 bays of 6 m, storeys of 3.5 m, columns 0.7 x 0.7 m, beams 0.4 x 0.7 m, each
 column pinned on a rigid pad with friction 0.5 (the cone faceted in 8).
 Units kN, m.  Solves 1.0 D + 1.0 W (every pad sticks under the design

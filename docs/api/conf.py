@@ -6,6 +6,12 @@ their NumPy-style sections).  A page names its modules with a
 name in the module's ``__all__``, so a name added to ``__all__`` is in the
 reference on the next build.  Built with ``-W --keep-going``: a docstring that
 is not valid reStructuredText fails the build.
+
+The guides (``docs/*.md``) are pages of the site too: each has a stub in
+``docs/api/guides/`` that includes it (myst-parser reads the Markdown), and
+index.rst lists the stubs in reading order.  A guide without a stub fails the
+build (``check_guides``), and so does a stub missing from the listing (Sphinx:
+"document isn't included in any toctree").
 """
 
 import importlib
@@ -20,10 +26,21 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 project = "qpcontact"
-author = "qpcontact contributors"
+author = "The qpcontact authors"
+copyright = "2026, the qpcontact authors"  # the footer; the LICENSE file's line
 release = version = "0.1.0"
 
-extensions = ["sphinx.ext.autodoc", "sphinx.ext.napoleon"]
+try:
+    import myst_parser  # noqa: F401
+except ImportError:
+    from sphinx.errors import ConfigError
+    raise ConfigError("the guides (docs/*.md) need myst-parser: pip install -e \".[docs]\" "
+                      "(in .[all]; `make docs` installs it)") from None
+extensions = ["sphinx.ext.autodoc", "sphinx.ext.napoleon", "myst_parser"]
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+# The guides link to each other's sections (certificates.md#statuses); GitHub's
+# anchors, which MyST makes for these heading levels.
+myst_heading_anchors = 3
 
 # No undoc-members: a dataclass's fields are documented once, by its
 # docstring's Attributes section (napoleon), not again as bare attributes.
@@ -43,9 +60,6 @@ html_copy_source = False  # the pages are directives; the source worth reading i
 smartquotes = False  # ' is the transpose in the docstrings' formulas (M'z), not a quote
 
 PUBLIC_NAMES = re.compile(r"^\.\. public-names:: (\S+)[ \t]*$", re.MULTILINE)
-PROSE_DOCS = re.compile(r"^\.\. prose-docs::[ \t]*$", re.MULTILINE)
-# where `make docs` writes the HTML, relative to the checkout
-HTML_DIR = Path("out/docs/html")
 
 
 def public_bases(cls) -> list:
@@ -81,21 +95,20 @@ def expand_public_names(module_name: str) -> str:
     return "\n".join(lines)
 
 
-def prose_docs() -> str:
-    """A link list of docs/*.md, each with its title, read at build time so a
-    page added or renamed there needs no edit here."""
-    up = "../" * len(HTML_DIR.parts)
-    lines = []
+def check_guides(app):
+    """Every guide in ``docs/`` has its page: a stub ``docs/api/guides/NAME.md``
+    that includes it (and index.rst places the stub in the reading order)."""
+    from sphinx.util import logging
+    stubs = {p.name for p in (Path(app.srcdir) / "guides").glob("*.md")}
     for page in sorted((ROOT / "docs").glob("*.md")):
-        title = page.read_text(encoding="utf-8").split("\n", 1)[0].lstrip("# ").strip()
-        title = title.replace("`", "")  # a link's text cannot hold a literal
-        lines.append(f"- `{title} <{up}docs/{page.name}>`__ (``docs/{page.name}``)")
-    return "\n".join(lines)
+        if page.name not in stubs:
+            logging.getLogger(__name__).warning(
+                f"docs/{page.name} is not in the API reference: add docs/api/guides/{page.name} "
+                f"(a copy of another stub, naming it) and list it in docs/api/index.rst")
 
 
 def on_source_read(app, docname, source):
-    text = PUBLIC_NAMES.sub(lambda m: expand_public_names(m.group(1)), source[0])
-    source[0] = PROSE_DOCS.sub(lambda m: prose_docs(), text)
+    source[0] = PUBLIC_NAMES.sub(lambda m: expand_public_names(m.group(1)), source[0])
 
 
 def data_comment(module_name: str, name: str, obj):
@@ -146,6 +159,7 @@ def on_process_bases(app, name, obj, options, bases):
 
 
 def setup(app):
+    app.connect("builder-inited", check_guides)
     app.connect("source-read", on_source_read)
     # napoleon's handler runs at the default priority, 500
     app.connect("autodoc-process-docstring", before_napoleon, priority=499)

@@ -304,7 +304,7 @@ def options_doc(spec) -> str:
 
 
 # The first interface, kept for callers outside the methods
-# (formulations/frames/solving.py).
+# (formulations/frames/mechanics/tresca.py).
 
 def check_options(method: str, options: dict, allowed: tuple) -> None:
     """InvalidOptionError naming the options ``method`` does not take (the

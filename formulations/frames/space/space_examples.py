@@ -1,6 +1,6 @@
 """Worked space frames: a pad pushed obliquely (Coulomb's circular cone by
 hand), a one-storey frame on six pads where every contact state occurs
-(examples/space_frame_on_pads.py, tests/test_frame_space_results.py), and a
+(examples/space_frame_on_pads.py, tests/formulations/frames/test_space_results.py), and a
 one-storey frame of bays on frictional pads, the instance that
 ``qpcontact compare`` runs on the circular cone (an FCLIB global problem)."""
 

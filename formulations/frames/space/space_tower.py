@@ -33,7 +33,7 @@ from 0) finds the windward corner pad slipping at p = 5.3 and lifting off at
 7.2, the others slipping and lifting off one after another (25 changes of
 the working scheme), until the tower slides away at p = 26.84 — the load the
 friction polygon allows, f W over the wind's largest component along a
-facet's normal (tests/test_frame_space_tower.py).
+facet's normal (tests/formulations/frames/test_space_tower.py).
 """
 
 from __future__ import annotations

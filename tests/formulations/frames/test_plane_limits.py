@@ -26,7 +26,7 @@ from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, NoSol
 from .frame_cases import beam_on_supports, three_bay_tower
 
 # near their limits these frames sway beyond small-displacement theory on
-# purpose; the warning that says so is tested in tests/test_frame_features.py
+# purpose; the warning that says so is tested in tests/formulations/frames/test_plane_features.py
 pytestmark = pytest.mark.filterwarnings(
     "ignore::formulations.frames.LargeDisplacementWarning")
 

@@ -23,7 +23,7 @@ from qpcontact.core.errors import InvalidProblemError, NoSolutionError, Qpcontac
 from .frame_cases import tower
 
 # near their limits these frames sway beyond small-displacement theory on
-# purpose; the warning that says so is tested in tests/test_frame_features.py
+# purpose; the warning that says so is tested in tests/formulations/frames/test_plane_features.py
 pytestmark = pytest.mark.filterwarnings(
     "ignore::formulations.frames.LargeDisplacementWarning")
 

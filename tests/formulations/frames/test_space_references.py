@@ -16,7 +16,7 @@ test.
   springs where one support lifts off (PyNite's iteration on the springs
   against the space frame's elastic frictionless contacts).
 * Combinations: each solved on its own, what cannot be carried said.
-(Bad input: tests/test_frame_space_bad_input.py.)
+(Bad input: tests/formulations/frames/test_space_bad_input.py.)
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from formulations.frames import SpaceFrame
 from qpcontact.core.errors import NoSolutionError
 
 # near their collapse loads some of these frames sway beyond small-displacement
-# theory (said and warned elsewhere: tests/test_frame_features.py)
+# theory (said and warned elsewhere: tests/formulations/frames/test_plane_features.py)
 pytestmark = pytest.mark.filterwarnings(
     "ignore::formulations.frames.LargeDisplacementWarning")
 

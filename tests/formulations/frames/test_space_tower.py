@@ -1,5 +1,5 @@
 """The 10-storey space frame on 16 frictional pads (the space frames' example and
-benchmark model, formulations/frames/space_tower.py) checked by hand
+benchmark model, formulations/frames/space/space_tower.py) checked by hand
 statics — its loads from the sections and pressures of its docstring, the
 pads' forces balancing them in force and moment, the collapse load from the
 friction polygon — and against OpenSees (flatSliderBearing pads, where
