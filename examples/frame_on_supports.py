@@ -1,4 +1,5 @@
-"""A two-span portal frame on five frictional supports (P3): gravity on the
+"""A two-span portal frame on five frictional supports (Osipova, Popov and
+Lovtsov's increasing load parameter): gravity on the
 beams (case G), then a lateral load (case W) that grows until the working
 scheme stops changing; then three design combinations, each solved on its own.
 

@@ -1,5 +1,6 @@
-"""A 10-storey concrete space frame standing on 16 frictional pads (P3 in
-three dimensions, issue 35): dead load D, then wind W from 30° growing
+"""A 10-storey concrete space frame standing on 16 frictional pads (the
+increasing-load method of Osipova, Popov and Lovtsov in three dimensions):
+dead load D, then wind W from 30° growing
 until the tower can no longer stand.
 
 The tower is :func:`formulations.frames.space.space_tower.space_tower`: 3 x 3

@@ -1,4 +1,4 @@
-"""A one-storey space frame on six frictional pads (issue 35): 2 x 1 bays,
+"""A one-storey space frame on six frictional pads: 2 x 1 bays,
 8 m x 5 m, 3.5 m high, the columns standing on pads with f = 0.4 (a pad
 carries no moment); a spring holds P10 in x, a guide holds P21 in y, and a
 frictionless bumper 0.1 mm beside T21 stops it moving in +x.  Dead load D
