@@ -46,8 +46,10 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     M, Q, q_gap, P, g, fric = contact_lcp.lcp_matrices(b)
     qc, _ = contact_lcp.combination_q(Q, q_gap, b, const)
     qv, _ = contact_lcp.combination_q(Q, np.zeros_like(q_gap), b, var)
+    # followed to its end: solve's time_limit would bound the whole path,
+    # and a frame's trace has no limit to raise (its probes keep their caps)
     tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
-                       p_max=np.inf if p_max is None else p_max)
+                       p_max=np.inf if p_max is None else p_max, time_limit=None)
     ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
                     ended=tr.end, message="", ok=False, trace=tr, frame=frame, _built=b,
                     constant=const, variable=var)
@@ -142,7 +144,7 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
         qv, _ = contact_lcp.combination_q(Q, np.zeros_like(q_gap), b, var)
         try:
             tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
-                               p_max=target)
+                               p_max=target, time_limit=None)
         except NoSolutionError:
             continue        # no equilibrium to start this path from
         except QpcontactError:
