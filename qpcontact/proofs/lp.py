@@ -37,15 +37,28 @@ def linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None, time_lim
         time_limit = time_limit.left()
         if time_limit <= 0.0:
             return None
-    options = {"time_limit": time_limit}
-    if tight:
-        options.update(primal_feasibility_tolerance=1e-10, dual_feasibility_tolerance=1e-10)
-    with np.errstate(all="ignore"):
-        try:
-            return highs_lp(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds,
-                           method="highs", options=options)
-        except (ValueError, MemoryError):
-            return None
+    deadline = Deadline(time_limit)
+    res = None
+    # HiGHS's choice first; where it stops on numerical difficulties (status
+    # 4, no point: SciPy 1.17's HiGHS on a frame's degenerate patterns at its
+    # collapse load, with tolerances at 1e-10) the dual simplex, then the
+    # interior point — an LP's answer is only a candidate, checked after
+    for method in ("highs", "highs-ds", "highs-ipm"):
+        left = deadline.left()
+        if left is not None and left <= 0.0:
+            break
+        options = {} if left is None else {"time_limit": left}
+        if tight:
+            options.update(primal_feasibility_tolerance=1e-10, dual_feasibility_tolerance=1e-10)
+        with np.errstate(all="ignore"):
+            try:
+                res = highs_lp(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds,
+                               method=method, options=options)
+            except (ValueError, MemoryError):
+                return None
+        if res.status != 4:
+            break
+    return res
 
 
 def csr_rows(M, n):
