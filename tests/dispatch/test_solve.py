@@ -154,3 +154,20 @@ def test_the_registry_knows_its_in_house_names_before_loading_them():
         assert registry.IN_HOUSE[provider] == tuple(m.name for m in module.specs())
     every = qpcontact.all_methods()
     assert set(every) >= {name for names in registry.IN_HOUSE.values() for name in names}
+
+
+def test_no_applicable_method_is_its_own_error(monkeypatch):
+    """Where no installed method applies (here "auto" limited to methods that
+    need a symmetric M, given a nonsymmetric one) the error says so and names
+    what was considered — not NotSymmetricError, which is about one method."""
+    import qpcontact.dispatch.driver as driver
+
+    monkeypatch.setattr(driver, "auto_order", lambda problem: ("energy", "bpp", "no-such-method"))
+    lcp = LCP(np.array([[2.0, 1.0], [0.0, 2.0]]), [-1.0, -1.0])
+    with pytest.raises(qpcontact.NoApplicableMethodError, match="energy, bpp") as info:
+        qpcontact.solve(lcp)
+    assert "qpcontact methods" in str(info.value)
+    assert not isinstance(info.value, qpcontact.NotSymmetricError)
+    # the same problem with the real order is solved (Lemke takes any M)
+    monkeypatch.undo()
+    assert qpcontact.solve(lcp).ok

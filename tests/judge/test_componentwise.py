@@ -19,7 +19,7 @@ from qpcontact import LCP, NotConvexError, NotSymmetricError
 from qpcontact import certify
 from qpcontact.testing import far_contact_lcp, planted_ok, random_spd
 
-from ..helpers.references import exact_basic_solution
+from tests.helpers.references import exact_basic_solution
 
 EXACT = ("energy", "bpp", "lemke")
 

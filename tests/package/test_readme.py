@@ -16,7 +16,7 @@ import pytest
 
 import qpcontact
 
-from ..helpers.readme import README, blocks, output_differences, python_blocks, run
+from tests.helpers.readme import README, blocks, output_differences, python_blocks, run
 from tests.helpers.paths import ROOT
 
 SHARED = ROOT.parent / "shared"          # where tests/helpers/paths.py looks for the data too

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import pytest
 
-from ..helpers.readme import output_differences, python_blocks
+from tests.helpers.readme import output_differences, python_blocks
 from tests.helpers.paths import ROOT
 
 pytestmark = pytest.mark.slow

@@ -9,7 +9,7 @@ import matplotlib
 import numpy as np
 import pytest
 
-from ..helpers.figures import overlapping
+from tests.helpers.figures import overlapping
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -19,7 +19,7 @@ from qpcontact.testing import planted_ok, spread_lcp
 
 from tests.helpers.problems import seeded_spd_matrix, planted_spd_lcp
 from tests.helpers.paths import siconos_files
-from ..helpers.references import exact_lemke_pivots, fathi_family, murty_family
+from tests.helpers.references import exact_lemke_pivots, fathi_family, murty_family
 
 
 @pytest.fixture

@@ -20,7 +20,7 @@ from qpcontact.cases.paper import p0_examples
 
 from tests.helpers.problems import planted_spd_lcp
 from tests.helpers.paths import siconos_files
-from ..helpers.references import enumerate_lcp, exact_lemke_pivots, fathi_family, murty_family
+from tests.helpers.references import enumerate_lcp, exact_lemke_pivots, fathi_family, murty_family
 from tests.helpers.limits import kept, timed
 
 PIVOTING = ("energy", "bpp", "lemke")

@@ -15,8 +15,9 @@ import qpcontact
 from qpcontact.testing import assert_lcp_solution
 from qpcontact import InvalidProblemError, NoSolutionError, ParametricLCP
 
+from tests.helpers.limits import kept, timed
 from tests.helpers.problems import seeded_spd_matrix
-from ..helpers.references import enumerate_lcp
+from tests.helpers.references import enumerate_lcp
 
 
 def _independent(lcp, symmetric):
@@ -280,3 +281,24 @@ def test_trace_psd_singular_matrix_w_matches_independent_solves(seed):
             assert ref is not None
             w = lcp.w(tr.z_at(p))
             np.testing.assert_allclose(w, ref.w, rtol=1e-6, atol=1e-6 * np.abs(lcp.q).max())
+
+
+def test_the_trace_keeps_the_calls_time_limit_and_certifies_what_it_traced():
+    """solve's time_limit bounds the whole trace (its Lemke solves share the
+    call's deadline through the engine): a 300-unknown path of some 300
+    pieces stops at 0.3 s, says so, and every piece it returns matches
+    independent solves inside it."""
+    M = seeded_spd_matrix(300, 1e3, 1)
+    rng = np.random.default_rng(2)
+    plcp = ParametricLCP(M, rng.uniform(0.0, 1.0, 300), -rng.uniform(0.5, 1.5, 300))
+    qpcontact.solve(ParametricLCP(M[:20, :20], plcp.q0[:20], plcp.q1[:20]), method="trace",
+                    p_max=np.inf)                                   # one-time costs first
+    tr, took = timed(qpcontact.solve, plcp, method="trace", p_max=np.inf, time_limit=0.3)
+    assert kept(0.3, took), took
+    assert tr.status == "time_limit" and tr.end == "time_limit" and not tr.ok, tr.message
+    assert "time limit" in tr.message and tr.stats["worst_piece_error"] <= 1e-9
+    for piece in tr.pieces[:-1][:8]:      # the path up to where it stopped, checked independently
+        for p in (piece.p_start, 0.5 * (piece.p_start + piece.p_end)):
+            z_ref = _independent(plcp.at(p), True)
+            np.testing.assert_allclose(tr.z_at(p), z_ref, rtol=0,
+                                       atol=1e-6 * _z_scale(plcp.at(p), z_ref))

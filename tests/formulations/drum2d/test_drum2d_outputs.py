@@ -17,7 +17,7 @@ from formulations.drum2d.revolutions import (BIN_RATIO, histogram_quantile, revo
 from formulations.drum2d.stack import drop_height, stack_estimate, stack_estimate_for_run
 from qpcontact.core.errors import InvalidOptionError
 
-from ...helpers.figures import figure_texts, overlapping
+from tests.helpers.figures import figure_texts, overlapping
 
 # twenty logs in a 1 m drum with two lifters, friction on: 60 steps of 5 ms
 SMALL = """formulation = "drum2d"

@@ -12,7 +12,7 @@ import pytest
 from formulations.drum2d import Discs, Drum2D, Shell, hex_fill
 from qpcontact.scenes import SceneError, load_scene, parse_scene, schemas
 
-from ...helpers.figures import figure_texts, overlapping
+from tests.helpers.figures import figure_texts, overlapping
 from tests.helpers.paths import SCENES
 
 EXAMPLE = SCENES / "drum2d.toml"
