@@ -111,7 +111,7 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
     why = ("reached the tolerance" if best_key[0] <= tol else
            "stalled (neither error improved in 5 iterations)" if since >= 5 else
            f"stopped at {max_outer} iterations" if len(errors) >= max_outer else
-           f"stopped at its time limit of {time_limit:g} s" if timed_out else
+           f"stopped at its time limit of {time_limit:.3g} s" if timed_out else
            f"{sub.backend} failed on a subproblem ({status})")
     return best_r, status, f"fixed point {why}, best of {len(errors)} SOCPs by {sub.backend}", \
         stats

@@ -128,7 +128,7 @@ def solve_nsgs_newton(problem, tol, options):
             why = "reached the tolerance"
             break
         if time_limit is not None and time.perf_counter() - start > time_limit:
-            why = f"stopped at its time limit of {time_limit:g} s"
+            why = f"stopped at its time limit of {time_limit:.3g} s"
             break
         # the 3-D local problems solved only as tightly as the whole is
         # solved so far: their projected fixed point contracts slowly

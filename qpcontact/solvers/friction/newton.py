@@ -103,7 +103,7 @@ def solve_natural_newton(problem, tol, options):
             why = "reached the tolerance"
             break
         if time_limit is not None and time.perf_counter() - start > time_limit:
-            why = f"stopped at its time limit of {time_limit:g} s"
+            why = f"stopped at its time limit of {time_limit:.3g} s"
             break
         # Jacobian of û: (I + Σ_slip μ_i e_N,i g_i') W, g_i = u_T,i/‖u_T,i‖ placed
         # in contact i's tangent columns (zero where u_T = 0)

@@ -110,7 +110,7 @@ def solve_nsgs(problem, tol, options):
         elif not np.all(np.isfinite(r)):
             why = "stopped: the iterate is no longer finite"
         elif time_limit is not None and time.perf_counter() - start > time_limit:
-            why = f"stopped at its time limit of {time_limit:g} s"
+            why = f"stopped at its time limit of {time_limit:.3g} s"
         else:
             continue
         break
