@@ -13,6 +13,8 @@ certifies its pieces itself.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from ..core.conversions import check_convex, is_qp, validate_qp
@@ -192,13 +194,15 @@ def _solve_lcp_qp(problem, method, ctx, options):
     def stop(sol):
         return seen["evidence"] >= AUTO_EVIDENCE or ctx.expired()
 
-    candidates = list(_installed(auto_order(problem), problem))
-    if not candidates:
+    # looked up lazily: a late entry (cvxpy, a second to import) only if reached
+    candidates = _installed(auto_order(problem), problem)
+    first = next(candidates, None)
+    if first is None:
         raise NoApplicableMethodError(
             f"no installed method applies to this {kind_of(problem).upper()} (of the ones "
             f"'auto' tries: {', '.join(auto_order(problem))}); `qpcontact methods` lists what "
             "is installed and what each one requires")
-    sol, tried = _auto(candidates, attempt, stop_early=stop)
+    sol, tried = _auto(itertools.chain([first], candidates), attempt, stop_early=stop)
     if sol is None:
         raise NoApplicableMethodError(
             "no installed method could take this problem: " + "; ".join(
