@@ -12,7 +12,7 @@ spring k in series with a rigid unilateral link, a tangential spring k with
 - OpenSees (``model basic -ndm 3 -ndf 6``): members are elasticBeamColumn
   elements with a Linear geomTransf whose vecxz is the member's local z
   (the SpaceFrame's axes: OpenSees' y = vecxz x x, z = x x y are the same
-  axes, :mod:`formulations.frames.elements3d`); uniform member loads go in
+  axes, :mod:`formulations.frames.mechanics.space_element`); uniform member loads go in
   as ``-beamUniform Wy Wz Wx`` in member axes.  A frictional contact is a
   zero-length ``flatSliderBearing`` from a fixed ground node (node i, so
   that its P-delta moments fall on the ground) to the structure's node:
