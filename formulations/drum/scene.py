@@ -120,7 +120,7 @@ def _scene_summary(result) -> dict:
 
 
 def _scene_schema():
-    from qpcontact.scenes import Field, SceneSchema
+    from qpcontact.scenes import Field, SceneSchema, accuracy_problem, method_problem
 
     return SceneSchema(
         formulation="drum",
@@ -149,8 +149,10 @@ def _scene_schema():
                                           default=40.0, positive=True),
             },
             "solver": {
-                "method": Field("str", "", "LCP method per step", default="bpp"),
-                "accuracy": Field("str", "", "low, default or high", default="high"),
+                "method": Field("str", "", "LCP method per step", default="bpp",
+                                check=lambda name: method_problem(name, ("lcp",))),
+                "accuracy": Field("str", "", "low, default or high", default="high",
+                                  check=accuracy_problem),
             },
         },
         effects={

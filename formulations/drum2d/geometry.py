@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.options import check_seed
 
 __all__ = ["Discs", "Shell", "GRAVITY", "SPRUCE_DENSITY", "disc_mass", "disc_inertia",
            "hex_fill"]

@@ -47,7 +47,16 @@ from .laws import SPRUCE_E_TANGENTIAL
 from .records import FORCE_BINS
 from .stepper import WARM_METHODS, Drum2D
 
-__all__ = ["SCENE", "Drum2DRun", "scene_model"]
+__all__ = ["SCENE", "Drum2DRun", "scene_model", "MAX_SPEED", "MAX_STEPS"]
+
+#: the fastest drum a scene may turn [rev/s]: debarking drums turn at a
+#: fraction of a revolution per second, and above sqrt(g/R)/2π (0.5 rev/s for
+#: a 2 m drum) the logs are pinned to the shell
+MAX_SPEED = 10.0
+SPEED_WHY = ("600 rpm; a debarking drum turns at a fraction of a rev/s, and above "
+             "sqrt(g/R)/2π the logs stay pinned to the shell")
+#: the most steps a scene may ask for (duration / step)
+MAX_STEPS = 10 ** 8
 
 
 class Drum2DRun:
@@ -152,7 +161,12 @@ def scene_model(scene):
         duration = t["revolutions"] / speed
     else:
         duration = t["duration"]
-    steps = int(round(duration / t["step"]))
+    steps = duration / t["step"]
+    if not steps <= MAX_STEPS:
+        scene.fail(f"the duration {duration:.4g} s in steps of {t['step']:g} s makes {steps:.3g} "
+                   f"steps, more than {MAX_STEPS:.0e}; give a shorter duration or a longer step",
+                   ("time",), "step")
+    steps = int(round(steps))
     if steps < 1:
         scene.fail(f"the duration {duration:.4g} s is shorter than one step {t['step']} s",
                    ("time",), "step")
@@ -160,6 +174,8 @@ def scene_model(scene):
 
 
 def _scene_build(scene):
+    from qpcontact.scenes import method_problem
+
     model, h, steps = scene_model(scene)
     solver, every = scene.data["solver"], scene.data["output"]["contacts_every"]
     if every < 0:
@@ -171,6 +187,12 @@ def _scene_build(scene):
                    ("solver",), "warm_start")
     if "friction" not in model.effects:
         warm = None
+    kinds = ("friction-2d",) if "friction" in model.effects else ("lcp",)
+    wrong = method_problem(solver["method"], kinds)
+    if wrong:
+        scene.fail(wrong + ("" if "friction" in model.effects else
+                            " (without the effect 'friction' each step is an LCP)"),
+                   ("solver",), "method")
 
     def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0,
             on_step=None):
@@ -295,7 +317,7 @@ def _scene_summary(run: Drum2DRun) -> dict:
 
 
 def _scene_schema():
-    from qpcontact.scenes import Field, SceneSchema
+    from qpcontact.scenes import Field, SceneSchema, accuracy_problem
 
     pos = dict(positive=True)
     return SceneSchema(
@@ -318,8 +340,9 @@ def _scene_schema():
                                       **pos),
                 "diameter_max": Field("float", "m", "largest log diameter", required=True,
                                       **pos),
-                "seed": Field("int", "", "random seed of the diameters", default=0),
-                "clearance": Field("float", "m", "extra spacing of the lattice", default=0.0),
+                "seed": Field("int", "", "random seed of the diameters", default=0, low=0),
+                "clearance": Field("float", "m", "extra spacing of the lattice", default=0.0,
+                                   low=0.0),
                 "length": Field("float", "m", "log length (along the drum axis)", required=True,
                                 **pos),
                 "density": Field("float", "kg/m³", "wood density", default=SPRUCE_DENSITY,
@@ -334,7 +357,8 @@ def _scene_schema():
             "solver": {
                 "method": Field("str", "", "contact solver per step (with friction: where the "
                                 "warm start is not certified)", default="auto"),
-                "accuracy": Field("str", "", "low, default or high", default="high"),
+                "accuracy": Field("str", "", "low, default or high", default="high",
+                                  check=accuracy_problem),
                 "warm_start": Field("str", "", "friction method started from the last step's "
                                     "impulses, or none", default="nsgs-newton"),
             },
@@ -354,7 +378,7 @@ def _scene_schema():
                                              "(elastic e = 1 without the effect)",
                                              required=True)},
             "rotation": {"speed": Field("float", "rev/s", "drum speed, counter-clockwise",
-                                        required=True, **pos)},
+                                        required=True, high=MAX_SPEED, why=SPEED_WHY, **pos)},
             "log_elasticity": {"modulus": Field("float", "Pa", "the logs' Young's modulus "
                                                 "across the grain (half stiffness 2 E ℓ, the "
                                                 "stack model's)", default=SPRUCE_E_TANGENTIAL,

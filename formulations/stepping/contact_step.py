@@ -226,11 +226,13 @@ def time_section() -> dict:
 
 
 def solver_section() -> dict:
-    from qpcontact.scenes import Field
+    from qpcontact.scenes import Field, accuracy_problem, method_problem
 
     return {"route": Field("str", "", "penalty (Nikolsky et al.'s QP) or lcp (exact)", default="penalty"),
-            "method": Field("str", "", "QP method of the penalty route", default="auto"),
-            "accuracy": Field("str", "", "low, default or high", default="high")}
+            "method": Field("str", "", "QP method of the penalty route", default="auto",
+                            check=lambda name: method_problem(name, ("qp", "lcp"))),
+            "accuracy": Field("str", "", "low, default or high", default="high",
+                              check=accuracy_problem)}
 
 
 def contacts_section(normal):

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.options import check_seed
 from ..core.problems import LCP
 
 __all__ = ["random_spd", "random_spd_lcp", "far_contact_lcp", "spread_lcp", "planted_ok"]
@@ -47,6 +48,7 @@ def _planted(M: np.ndarray, rng: np.random.Generator, active_fraction: float = 0
 def random_spd_lcp(n: int, cond: float, seed: int):
     """(LCP, z*): dense SPD M with condition number ``cond``, about half the
     z* in [0.1, 2] and the other half of the w* in [0.1, 2]."""
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     M = random_spd(n, cond, rng)
     z, w = _planted(M, rng)
@@ -63,6 +65,7 @@ def far_contact_lcp(seed: int, n: int = 21, cond: float = 297.0, n_far: int = 3,
     z*_i = 0; q = w* - M z*; then ``far`` is added to q_i (and w*_i) at
     ``n_far`` indices where z*_i = 0, which keeps z* the unique solution.
     """
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     M = random_spd(n, cond, rng)
     z, w = _planted(M, rng)
@@ -89,6 +92,7 @@ def spread_lcp(seed: int, n: int = 24, cond: float = 100.0, decades: float = 12.
     """
     import scipy.sparse as sp
 
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     if sparse:
         k = rng.uniform(0.5, 1.5, n + 1)

@@ -54,6 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..core.options import check_seed
 from ..core.errors import InvalidProblemError
 from ..core.friction_problem import FrictionProblem
 
@@ -208,6 +209,7 @@ def disc_pile(n_contacts: int = 2000, *, seed: int = 0, mu: float = 0.3, columns
     ``h`` the step (s); ``agitation`` the bodies' speed in √(gR);
     ``density`` kg/m³ (masses per metre of disc length)."""
     _check_common(n_contacts, mu, radius, polydispersity, gap, h, agitation, density)
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     columns = int(columns or max(3, round(np.sqrt(n_contacts / 6.0))))
     _check("columns", columns, 3, integer=True)
@@ -239,6 +241,7 @@ def sphere_pile(n_contacts: int = 500, *, seed: int = 0, mu: float = 0.5, layers
     ``layers`` the pile's height in cubic cells of four spheres (default:
     what makes about ``n_contacts``)."""
     _check_common(n_contacts, mu, radius, polydispersity, gap, h, agitation, density)
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     # about five contacts per sphere, four spheres per cubic cell
     side = max(2, round((n_contacts / 20.0) ** (1.0 / 3.0)))

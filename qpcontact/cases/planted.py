@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from qpsolvers import Problem
 
+from ..core.options import check_seed
 from ..core.problems import LCP
 from .families import random_spd
 
@@ -135,6 +136,7 @@ def _friction_matrix(contacts: int, rng) -> tuple[np.ndarray, int]:
 
 def build_lcp(kind: str, n: int, seed: int, *, cond: float = 1e4, decades: float = 8.0) -> Case:
     """One LCP case, deterministic in its arguments (see the module docstring)."""
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     if kind in ("spd", "degenerate", "badly_scaled"):
         M = random_spd(n, cond, rng)
@@ -184,6 +186,7 @@ def build_lcp(kind: str, n: int, seed: int, *, cond: float = 1e4, decades: float
 def build_qp(kind: str, n: int, seed: int, *, cond: float = 1e4) -> Case:
     """One QP case, deterministic in its arguments (see the module docstring).
     Inequalities Gx <= h with m = n rows, and bounds on some variables."""
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     m = n
     G = rng.standard_normal((m, n))

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.options import check_seed
 from ..core.friction_problem import FrictionProblem
 from .families import random_spd
 from .planted import Case
@@ -132,6 +133,7 @@ def build_friction(kind: str, contacts: int, seed: int, *, dim: int = 3, cond: f
         raise ValueError(f"unknown friction kind {kind!r}; choose from {FRICTION_KINDS}")
     if dim not in (2, 3):
         raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     nc, m = int(contacts), dim * int(contacts)
     mu = rng.uniform(0.1, mu_max, nc)

@@ -41,6 +41,7 @@ from fractions import Fraction
 import numpy as np
 from qpsolvers import Problem
 
+from ..core.options import check_seed
 from ..core.problems import LCP
 from .rational_references import ExactLCP, dot_exact, float_bpp, lcp_farkas_holds, round_down
 from .families import random_spd
@@ -90,6 +91,7 @@ def _exact_solution(M, q, start, kind, seed, *, note):
 
 
 def illposed_psd(n: int, seed: int) -> Case:
+    seed = check_seed(seed)
     rng = np.random.default_rng([seed, n, 310])
     d = rng.uniform(0.25, 2.0, n)
     rank = n - 1 if rng.random() < 0.75 else max(1, n - 1 - int(rng.integers(1, max(2, n // 4))))
@@ -121,6 +123,7 @@ def illposed_psd(n: int, seed: int) -> Case:
 
 
 def ill_conditioned_spd(n: int, seed: int) -> Case:
+    seed = check_seed(seed)
     rng = np.random.default_rng([seed, n, 311])
     cond = 10.0 ** rng.uniform(10.0, 13.0)
     M = random_spd(n, cond, rng)
@@ -135,6 +138,7 @@ def ill_conditioned_spd(n: int, seed: int) -> Case:
 
 
 def infeasible_rounded(n: int, seed: int) -> Case:
+    seed = check_seed(seed)
     rng = np.random.default_rng([seed, n, 312])
     y = 2.0 ** rng.integers(-2, 3, n).astype(float)
     y[-1] = 1.0
@@ -176,6 +180,7 @@ def qp_box_farkas_holds(G, h, lb, ub, y) -> bool:
 
 
 def qp_unbounded_rounded(n: int, seed: int) -> Case:
+    seed = check_seed(seed)
     rng = np.random.default_rng([seed, n, 313])
     n = max(n, 3)
     r = max(2, n - int(rng.integers(1, max(2, n // 3) + 1)))
@@ -208,6 +213,7 @@ def qp_unbounded_rounded(n: int, seed: int) -> Case:
 
 
 def qp_infeasible_rounded(n: int, seed: int) -> Case:
+    seed = check_seed(seed)
     rng = np.random.default_rng([seed, n, 314])
     n = max(n, 3)
     m = n
@@ -238,6 +244,7 @@ _BUILDERS = {"illposed_psd": illposed_psd, "ill_conditioned_spd": ill_conditione
 
 def build_rounded(family: str, n: int, seed: int) -> Case:
     """One case of a rounded family, deterministic in (family, n, seed)."""
+    seed = check_seed(seed)
     if family not in _BUILDERS:
         raise ValueError(f"unknown rounded family {family!r}; choose from {ROUNDED_FAMILIES}")
     if family in ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded"):

@@ -11,6 +11,7 @@ cost about a second to load, more than a command line should pay to start.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import typer
@@ -19,7 +20,7 @@ from typer.core import TyperCommand
 from ..core.files import data_locations, missing_data
 
 __all__ = ["DATA_FORMULATIONS", "formulation_names", "method_names", "family_names", "split_names",
-           "data_folder", "RegistryHelp"]
+           "data_folder", "RegistryHelp", "positive_seconds", "at_least"]
 
 #: compare's formulations that are data sets, not entry points: name -> the data set
 DATA_FORMULATIONS = {"siconos": "siconos-lcp", "friction": "siconos-fc"}
@@ -124,3 +125,21 @@ class RegistryHelp(TyperCommand):
             if text:
                 param.help = text
         super().format_help(ctx, formatter)
+
+
+def positive_seconds(value, option: str):
+    """``value`` (None: the command's default) when it is a positive, finite
+    number of seconds; else typer.BadParameter naming it (exit code 2)."""
+    if value is not None and not (math.isfinite(value) and value > 0):
+        raise typer.BadParameter(f"{value!r}: expected a positive, finite number of seconds",
+                                 param_hint=f"'{option}'")
+    return value
+
+
+def at_least(value, least: int, option: str, what: str):
+    """``value`` (None: the command's default) when it is >= ``least``;
+    else typer.BadParameter naming it and saying what it counts."""
+    if value is not None and value < least:
+        raise typer.BadParameter(f"{value!r}: expected {what}, an integer >= {least}",
+                                 param_hint=f"'{option}'")
+    return value

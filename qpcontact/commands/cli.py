@@ -18,8 +18,8 @@ from rich.markup import escape
 
 from ..core.errors import QpcontactError
 from ..core.files import DATA_ENV
-from .choices import (DATA_FORMULATIONS, RegistryHelp, data_folder, family_names, formulation_names,
-                      method_names, split_names)
+from .choices import (DATA_FORMULATIONS, RegistryHelp, at_least, data_folder, family_names,
+                      formulation_names, method_names, positive_seconds, split_names)
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
                   help="Contact and unilateral-constraint problems as certified LCPs and QPs.")
@@ -152,10 +152,13 @@ def simulate_cmd(
     """Run a scene file; write its results to an HDF5 file.
 
     The results are checkpointed as the run goes (see --resume)."""
+    from ..core.files import file_target
     from ..scenes import load_scene, read_state, write_results
 
+    positive_seconds(checkpoint_seconds, "--checkpoint-seconds")
     out = out or Path("out") / (scene.stem + ".h5")
     try:
+        file_target(out)
         sc = load_scene(scene)
         _, run = sc.schema.build(sc)
         total = getattr(run, "total_steps", None)
@@ -197,6 +200,7 @@ def sweep_cmd(
 
     from ..scenes import split_values, sweep
 
+    at_least(workers, 0, "--workers", "local Dask processes (0: run here)")
     variations = {}
     for item in vary:
         key, sep, values = item.partition("=")
@@ -280,8 +284,16 @@ def compare_cmd(
     each answer certified and measured against the exact solution; writes a
     CSV, a Markdown report and work-precision plots.  Exit code 2 when the
     options leave nothing to run."""
+    from ..core.files import make_folder
     from .compare import collect_instances, plan, report, sweep
 
+    positive_seconds(time_limit, "--time-limit")
+    at_least(repeats, 1, "--repeats", "timed repeats per run")
+    at_least(workers, 0, "--workers", "local Dask processes (0: run here)")
+    try:
+        make_folder(out)
+    except QpcontactError as exc:
+        _error(exc)
     chosen = split_names(formulations, formulation_names, "'--formulations'", "formulation")
     names = split_names(methods, method_names, "'--methods'", "method")
     folders = {}
@@ -302,8 +314,12 @@ def compare_cmd(
     if not tasks:
         _error(f"nothing to run: none of the methods {', '.join(names or ['(installed)'])} takes "
                f"the instances of {', '.join(sorted(found)) or '(no formulation)'}")
-    csv_path = sweep(out, quick=quick, methods=names, instances=instances, repeats=repeats,
-                     resume=resume, workers=workers, scheduler=scheduler, time_limit=time_limit)
+    try:
+        csv_path = sweep(out, quick=quick, methods=names, instances=instances, repeats=repeats,
+                         resume=resume, workers=workers, scheduler=scheduler,
+                         time_limit=time_limit)
+    except QpcontactError as exc:
+        _error(exc)
     md = report(csv_path, time_limit=time_limit)
     console.print(f"results: {csv_path}\nreport:  {md}\nplots:   {md.parent}/wp_*.png")
 
@@ -332,8 +348,16 @@ def stress_cmd(
     built-in answer.  Exit code 1 when an answer is silently wrong."""
     import dataclasses
 
+    from ..core.files import make_folder
     from .stress import FULL, QUICK, plot_heatmap, run_stress, write_markdown
 
+    positive_seconds(time_limit, "--time-limit")
+    at_least(seeds, 1, "--seeds", "seeds per family and size")
+    at_least(workers, 1, "--workers", "worker processes")
+    try:
+        make_folder(out)
+    except QpcontactError as exc:
+        _error(exc)
     config = QUICK if quick else FULL
     changes = {}
     names = split_names(methods, method_names, "'--methods'", "method")
@@ -348,6 +372,8 @@ def stress_cmd(
         except ValueError:
             raise typer.BadParameter(f"{sizes!r}: expected integers such as 8,30,100",
                                      param_hint="'--sizes'") from None
+        for n in changes["sizes"]:
+            at_least(n, 1, "--sizes", f"a problem size in {sizes!r}")
     if seeds is not None:
         changes["seeds"] = seeds
     if time_limit is not None:

@@ -417,7 +417,9 @@ def sweep(out_dir, *, quick: bool = True, methods=None, formulations=None, sicon
     ``workers`` > 0: a local Dask cluster; ``scheduler``: an existing one.
     """
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    from ..core.files import make_folder
+
+    make_folder(out)
     path = out / "results.csv"
     repeats = repeats or (1 if quick else 3)
     insts = instances if instances is not None else collect_instances(quick, formulations, siconos_dir,

@@ -7,6 +7,8 @@ import csv
 import os
 from pathlib import Path
 
+from .errors import InvalidOptionError
+
 #: The environment variable naming the folder that holds the data sets
 #: (``siconos-lcp/``, ``siconos-fc/``).
 DATA_ENV = "QPCONTACT_DATA"
@@ -40,9 +42,42 @@ def missing_data(name: str, option: str, places=None) -> str:
             f"the folder that holds {name}/, or pass {option}")
 
 
-def write_csv_atomic(path: Path, rows: list[dict], fields) -> None:
-    """A temporary file, flushed to disk, then renamed over ``path``."""
+def make_folder(path, option: str = "--out") -> Path:
+    """The folder ``path``, made with its parents when missing; InvalidOptionError
+    naming ``option``, the path and why when it cannot be (a file stands there
+    or on the way, no permission)."""
     path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise InvalidOptionError(f"{option} {path}: is a file, not a folder; give a folder "
+                                 "(it is made if missing)")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        on_way = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+        raise InvalidOptionError(
+            f"{option} {path}: cannot make the folder: {on_way or 'a part of the path'} is a "
+            "file; give a path under a folder") from None
+    except OSError as exc:
+        raise InvalidOptionError(f"{option} {path}: cannot make the folder "
+                                 f"({exc.strerror or exc}); give a folder you can write to") from None
+    return path
+
+
+def file_target(path, option: str = "--out") -> Path:
+    """``path`` for a file to be written, its folder made (:func:`make_folder`);
+    InvalidOptionError when ``path`` is a folder."""
+    path = Path(path)
+    if path.is_dir():
+        raise InvalidOptionError(f"{option} {path}: is a folder; give the file's name, e.g. "
+                                 f"{path / 'results.h5'}")
+    make_folder(path.parent, f"{option} {path}: its folder")
+    return path
+
+
+def write_csv_atomic(path: Path, rows: list[dict], fields) -> None:
+    """A temporary file, flushed to disk, then renamed over ``path`` (its
+    folder made: :func:`file_target`)."""
+    path = file_target(path, "the CSV file")
     tmp = path.with_suffix(path.suffix + ".tmp")
     with open(tmp, "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(fields))

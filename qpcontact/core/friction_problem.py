@@ -56,6 +56,10 @@ def _coefficients(mu) -> np.ndarray:
     list) rather than numpy's ValueError."""
     try:
         out = np.atleast_1d(np.asarray(mu, dtype=float))
+        # numpy reads "0.3" as 0.3: a coefficient is a number, not text
+        if np.asarray(mu).dtype.kind in "USO" and any(
+                isinstance(v, (str, bytes)) for v in np.asarray(mu, dtype=object).ravel()):
+            raise TypeError
     except (TypeError, ValueError):
         shown = repr(mu)
         raise InvalidProblemError(
@@ -152,7 +156,9 @@ class FrictionProblem:
             prob = cls.__new__(cls)
             prob.dim, prob.mu, prob.name = int(dim), mu, name
             if not np.all(np.isfinite(mu)) or np.any(mu < 0):
-                raise InvalidProblemError("friction coefficients must be finite and >= 0")
+                bad = int(np.flatnonzero(~(np.isfinite(mu) & (mu >= 0)))[0])
+                raise InvalidProblemError(
+                    f"friction coefficients must be finite and >= 0; mu[{bad}] = {mu[bad]}")
             prob.W = prob.q = None
             prob.solution, prob.guesses = None, []
             prob.global_data = {"M": Ms, "H": sp.csc_matrix(H), "f": f, "w": w, "lu": None,

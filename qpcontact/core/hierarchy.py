@@ -52,6 +52,17 @@ def as_hierarchy(prolongations, n: int) -> tuple:
     out = []
     rows = n
     for l, P in enumerate(levels):
+        dtype = getattr(P, "dtype", None)
+        if dtype is None:
+            try:
+                dtype = np.asarray(P).dtype
+            except (TypeError, ValueError):
+                dtype = None
+        if dtype is not None and dtype.kind == "c":
+            raise InvalidProblemError(
+                f"hierarchy level {l}: the prolongation has complex entries (dtype {dtype}); a "
+                "prolongation is a real matrix — pass its real part (P.real) if the imaginary "
+                "part is zero, or build it from real shape functions")
         try:
             P = sp.csr_matrix(P, dtype=float)
         except (TypeError, ValueError) as exc:
@@ -67,9 +78,13 @@ def as_hierarchy(prolongations, n: int) -> tuple:
             raise InvalidProblemError(
                 f"hierarchy level {l}: a coarse level must have fewer unknowns than the one "
                 f"above and at least one; P_{l} has shape {P.shape}")
-        if not np.all(np.isfinite(P.data)):
-            raise InvalidProblemError(f"hierarchy level {l}: the prolongation has entries "
-                                      "that are not finite")
+        bad = np.flatnonzero(~np.isfinite(P.data))
+        if bad.size:
+            row = int(np.searchsorted(P.indptr, bad[0], side="right") - 1)
+            raise InvalidProblemError(
+                f"hierarchy level {l}: the prolongation has entries that are not finite "
+                f"(P_{l}[{row}, {int(P.indices[bad[0]])}] = {P.data[bad[0]]}); replace them "
+                "with the coarse shape functions' values")
         P.eliminate_zeros()
         empty = np.flatnonzero(np.diff(P.tocsc().indptr) == 0)
         if empty.size:

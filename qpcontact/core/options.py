@@ -41,7 +41,8 @@ import numpy as np
 from .errors import InvalidOptionError
 
 __all__ = ["Option", "BySize", "UNSET", "read_options", "names_only", "check_length",
-           "options_doc", "check_options", "int_option", "KINDS", "PROGRESS", "TIME_LIMIT"]
+           "options_doc", "check_options", "int_option", "check_seed", "KINDS", "PROGRESS",
+           "TIME_LIMIT"]
 
 KINDS = ("int", "float", "bool", "callable", "vector", "choice", "mapping", "any")
 
@@ -301,6 +302,16 @@ def options_doc(spec) -> str:
         default = "" if opt.default is None else f"; default {opt.default_doc}"
         lines.append(f"    ``{opt.name}``: {words} ({opt.expected()}{default})")
     return "Options:\n\n" + "\n".join(lines) if lines else "Options: none."
+
+
+def check_seed(seed, what: str = "seed") -> int:
+    """``seed`` as an int >= 0 (numpy's generators take no negative seed),
+    or InvalidOptionError naming ``what`` and the value given."""
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) \
+            or seed < 0:
+        raise InvalidOptionError(f"{what} must be an integer >= 0 (a random generator's seed); "
+                                 f"got {seed!r} — pass 0 or a positive integer")
+    return int(seed)
 
 
 # The first interface, kept for callers outside the methods

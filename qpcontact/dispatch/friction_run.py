@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from ..core.errors import InvalidOptionError
+from ..core.options import PROGRESS, read_options
 from ..core.results import PROVED, FrictionSolution, MethodResult
 from ..solvers.friction.lcp_route import LCP_ACCURACY, from_lcp, lcp_of
 from ..judge.friction_certificate import certify_friction
@@ -114,7 +115,8 @@ def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:
     docstring)."""
     start = time.perf_counter()
     options = dict(options)
-    progress = options.pop("progress", None)
+    progress = read_options("auto", {"progress": options.pop("progress", None)},
+                            (PROGRESS,))["progress"]
     chain = [get_method(name) for name in auto_chain(problem)]
     runs, best, lines = [], None, []
     for k, m in enumerate(chain):

@@ -35,8 +35,9 @@ def write_results(scene: Scene, result, path, completed: int | None = None,
     import h5py
     import numpy as np
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    from ..core.files import file_target
+
+    path = file_target(path)
     tmp = path.with_name(path.name + ".tmp")
     try:
         with h5py.File(tmp, "w") as h:
@@ -68,7 +69,7 @@ def write_results(scene: Scene, result, path, completed: int | None = None,
 def plot_results(path, out=None) -> list:
     """The formulation's standard figures from a results file (no re-run),
     saved in ``out`` (default: a folder next to the file, named after it)."""
-    from ..core.files import open_hdf5
+    from ..core.files import make_folder, open_hdf5
 
     path = Path(path)
     with open_hdf5(path, SceneError, "an HDF5 results file") as h:
@@ -78,7 +79,7 @@ def plot_results(path, out=None) -> list:
             raise SceneError(f"{path}: written for formulation {name!r}, which has no plots "
                              f"here; formulations with plots: "
                              f"{', '.join(n for n, s in known.items() if s.plot) or '(none)'}")
-        return known[name].plot(h, str(out or path.with_suffix("")))
+        return known[name].plot(h, str(make_folder(out or path.with_suffix(""))))
 
 
 def read_state(path, scene: Scene) -> dict:

@@ -20,15 +20,16 @@ formulation's constructor assembles only what it is given.
 
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..core.errors import InvalidProblemError
+from ..core.errors import InvalidProblemError, QpcontactError
 
 __all__ = ["Field", "SceneSchema", "Scene", "SceneError", "SourceLines", "load_scene", "schemas",
-           "parse_scene"]
+           "parse_scene", "accuracy_problem", "method_problem"]
 
 _TYPES = {"float": (int, float), "int": (int,), "str": (str,), "bool": (bool,),
           "floats": (list,), "strs": (list,), "tables": (list,)}
@@ -52,6 +53,39 @@ class Field:
     default: object = None
     fields: dict = field(default_factory=dict)   # for kind "tables"
     positive: bool = False
+    low: float | None = None     # the least value allowed (numbers)
+    high: float | None = None    # the largest value allowed (numbers); ``why`` says why
+    why: str = ""
+    check: object = None         # value -> None, or what is wrong with it (a message)
+
+
+def accuracy_problem(value) -> str | None:
+    """None for an accuracy level the engine knows; else what is wrong, with
+    the levels (a Field's ``check``)."""
+    from ..core.accuracy import resolve_accuracy
+
+    try:
+        resolve_accuracy(value)
+    except QpcontactError as exc:
+        return str(exc)
+    return None
+
+
+def method_problem(name, kinds) -> str | None:
+    """None when ``name`` is "auto" or a method that solves one of
+    ``kinds`` (problem kinds: "lcp", "qp", "friction-2d", ...); else what is
+    wrong, with the methods that would do."""
+    from ..solvers.registry import all_methods
+
+    known = all_methods()
+    fits = sorted(n for n, m in known.items() if set(m.problems) & set(kinds))
+    if name == "auto" or name in fits:
+        return None
+    choose = f"choose auto or one of {', '.join(fits)}"
+    if name in known:
+        return (f"{name!r} does not solve {' or '.join(kinds)} problems (it solves "
+                f"{', '.join(known[name].problems)}); {choose}")
+    return f"unknown method {name!r}; {choose}"
 
 
 @dataclass(frozen=True)
@@ -156,8 +190,25 @@ def _check_value(path, lines, where, f: Field, value, table, key, index=None):
         _fail(path, lines, where, f"expected a list of strings, got {value!r}", table, key, index)
     if f.kind == "float":
         value = float(value)
-    if f.positive and f.kind in ("float", "int") and value <= 0:
-        _fail(path, lines, where, f"must be > 0 [{f.unit}], got {value!r}", table, key, index)
+    unit = f" [{f.unit}]" if f.unit else ""
+    numbers = [value] if f.kind in ("float", "int") else value if f.kind == "floats" else []
+    for v in numbers:
+        if not math.isfinite(v):   # TOML has nan and inf
+            _fail(path, lines, where, f"must be a finite number{unit}, got {v!r}", table, key,
+                  index)
+        if f.positive and v <= 0:
+            _fail(path, lines, where, f"must be > 0{unit}, got {v!r}", table, key, index)
+        if f.low is not None and v < f.low:
+            _fail(path, lines, where, f"must be >= {f.low:g}{unit}, got {v!r}", table, key,
+                  index)
+        if f.high is not None and v > f.high:
+            why = f" ({f.why})" if f.why else ""
+            _fail(path, lines, where, f"must be <= {f.high:g}{unit}{why}, got {v!r}", table,
+                  key, index)
+    if f.check is not None:
+        wrong = f.check(value)
+        if wrong:
+            _fail(path, lines, where, wrong, table, key, index)
     return value
 
 

@@ -89,7 +89,7 @@ def sweep(path, variations: dict, out_dir, *, grid: bool = False, workers: int =
     values and the schema's summary of each run); returns the summary rows."""
     import itertools
 
-    from ..core.files import write_csv_atomic
+    from ..core.files import make_folder, write_csv_atomic
     from ..core.progress import ProgressBar
 
     path = Path(path)
@@ -115,12 +115,11 @@ def sweep(path, variations: dict, out_dir, *, grid: bool = False, workers: int =
         scenes.append(parse_scene(text, f"{path} with {dict(zip(keys, combo))}"))
         texts.append(text)
         labels.append(f"{path.stem}-{n:03d}")
+    out = make_folder(Path(out_dir))
     if workers or scheduler:
         results = _dask_runs(texts, labels, workers, scheduler)
     else:
         results = (_run_text(t, lb) for t, lb in zip(texts, labels))
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     bar = ProgressBar(len(texts), "sweep variants", progress)
     rows = []
     for n, (scene, label, result) in enumerate(zip(scenes, labels, results), 1):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 from typer.testing import CliRunner
 
 from qpcontact.commands.cli import app
@@ -239,3 +240,61 @@ def test_solve_prints_integer_fields_as_integers(tmp_path):
     assert res.exit_code == 0, res.output
     assert re.search(r"^\s+worst_index\s+-?\d+$", res.output, re.M), res.output
     assert re.search(r"^\s+error\s+ \d\.\d{3}e[+-]\d\d$", res.output, re.M), res.output
+
+
+_SCENE = "examples/scenes/drum2d.toml"
+
+
+@pytest.mark.parametrize("args, words", [
+    (["compare", "--time-limit", "-5"], "'--time-limit': -5.0: expected a positive, finite"),
+    (["compare", "--time-limit", "nan"], "'--time-limit': nan: expected a positive, finite"),
+    (["compare", "--repeats", "0"], "'--repeats': 0: expected timed repeats per run, an integer >= 1"),
+    (["compare", "--repeats", "-2"], "'--repeats': -2: expected timed repeats"),
+    (["compare", "--workers", "-1"], "'--workers': -1: expected local Dask processes (0: run here)"),
+    (["simulate", _SCENE, "--checkpoint-seconds", "-1"], "'--checkpoint-seconds': -1.0: expected"),
+    (["simulate", _SCENE, "--checkpoint-seconds", "0"], "'--checkpoint-seconds': 0.0: expected"),
+    (["simulate", _SCENE, "--checkpoint-seconds", "nan"], "'--checkpoint-seconds': nan: expected"),
+    (["stress", "--time-limit", "0"], "'--time-limit': 0.0: expected a positive, finite"),
+    (["stress", "--time-limit", "nan"], "'--time-limit': nan: expected a positive, finite"),
+    (["stress", "--sizes", "-3"], "'--sizes': -3: expected a problem size in '-3', an integer >= 1"),
+    (["stress", "--seeds", "0"], "'--seeds': 0: expected seeds per family and size"),
+    (["stress", "--workers", "0"], "'--workers': 0: expected worker processes, an integer >= 1"),
+    (["sweep", _SCENE, "--vary", "effect.rotation.speed=0.1", "--workers", "-1"],
+     "'--workers': -1: expected local Dask processes"),
+])
+def test_bad_numbers_exit_2_naming_the_option_and_value(args, words):
+    res = runner.invoke(app, args)
+    out = " ".join(res.output.split())
+    assert res.exit_code == 2, res.output
+    assert words in out, out
+    assert "Traceback" not in res.output
+
+
+@pytest.mark.parametrize("command, where, words", [
+    ("compare", "file/sub", "--out {t}/file/sub: cannot make the folder: {t}/file is a file"),
+    ("compare", "file", "--out {t}/file: is a file, not a folder"),
+    ("stress", "file/x", "--out {t}/file/x: cannot make the folder: {t}/file is a file"),
+    ("simulate", ".", "--out {t}: is a folder; give the file's name"),
+    ("simulate", "file/r.h5", "--out {t}/file/r.h5: its folder {t}/file: is a file"),
+])
+def test_an_out_path_that_cannot_be_used_exits_2_naming_it(tmp_path, command, where, words):
+    (tmp_path / "file").write_text("x")
+    out = tmp_path if where == "." else tmp_path / where
+    args = [command] + ([_SCENE] if command == "simulate" else []) + ["--out", str(out)]
+    res = runner.invoke(app, args)
+    text = " ".join(res.output.split())
+    assert res.exit_code == 2 and not isinstance(res.exception, (OSError, ValueError)), res.output
+    assert words.format(t=tmp_path) in text, text
+
+
+def test_an_unreachable_dask_scheduler_fails_within_seconds(tmp_path):
+    import time
+
+    pytest.importorskip("distributed")
+    start = time.perf_counter()
+    res = runner.invoke(app, ["compare", "--quick", "--formulations", "drum", "--methods", "bpp",
+                              "--out", str(tmp_path), "--scheduler", "tcp://127.0.0.1:9"])
+    text = " ".join(res.output.split())
+    assert res.exit_code == 2, res.output
+    assert "--scheduler tcp://127.0.0.1:9: no Dask scheduler answered within 5 s" in text, text
+    assert time.perf_counter() - start < 30   # 40 s and a traceback before

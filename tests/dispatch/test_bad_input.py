@@ -110,3 +110,80 @@ def test_auto_goes_on_when_a_method_finds_the_matrix_unfit_mid_run(monkeypatch):
     sol = qpcontact.solve(LCP(np.eye(3) * 2, [-1.0, 1.0, -2.0]))
     assert sol.ok and sol.method == "bpp"
     assert sol.stats["auto_tried"][0][0] == "energy" and "skipped" in sol.stats["auto_tried"][0][1]
+
+
+def _hierarchy_lcp(P):
+    return LCP(2 * np.eye(8), -np.ones(8), hierarchy=[P])
+
+
+def _pairs():
+    P = np.zeros((8, 4))
+    P[np.arange(8), np.arange(8) // 2] = 1.0
+    return P
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda P: P * (1 + 1j), r"hierarchy level 0: the prolongation has complex entries "
+                             r"\(dtype complex128\).*pass its real part"),
+    (lambda P: __import__("scipy.sparse").sparse.csr_matrix(P * (1 + 0.5j)),
+     r"hierarchy level 0: the prolongation has complex entries"),
+    (lambda P: np.where(np.arange(32).reshape(8, 4) == 0, np.nan, P),
+     r"not finite \(P_0\[0, 0\] = nan\)"),
+    (lambda P: np.where(np.arange(32).reshape(8, 4) == 5, np.inf, P),
+     r"not finite \(P_0\[1, 1\] = inf\)"),
+])
+def test_a_complex_or_non_finite_prolongation_is_refused(make, words):
+    """Before: a complex P lost its imaginary part with a warning and the
+    problem was solved ok=True."""
+    with pytest.raises(InvalidProblemError, match=words):
+        _hierarchy_lcp(make(_pairs()))
+
+
+def _friction():
+    return qpcontact.FrictionProblem(2 * np.eye(3), [-1.0, 0.0, 0.0], [0.3], 3)
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(time_limit="5"), "time_limit must be a positive number of seconds or None .* got '5'"),
+    (dict(method="nsgs", max_sweeps=-5), "'nsgs': option max_sweeps must be an integer >= 0; got -5"),
+    (dict(method="nsgs", max_sweeps=1.5), "option max_sweeps must be an integer >= 0; got 1.5"),
+    (dict(method="nsgs", r0=[np.nan, 0, 0]), "option r0 must be a vector of finite numbers.*entry 0 is nan"),
+    (dict(method="newton", r0=[np.inf, 0, 0]), "'newton': option r0 .*entry 0 is inf"),
+    (dict(progress="notcallable"), "'auto': option progress must be a callable; got 'notcallable'"),
+])
+def test_friction_options_name_the_bad_value(kw, words):
+    with pytest.raises(InvalidOptionError, match=words):
+        qpcontact.solve(_friction(), **kw)
+
+
+@pytest.mark.parametrize("mu", ["0.3", ["abc"], [b"0.3"]])
+def test_a_friction_coefficient_given_as_text_is_refused(mu):
+    with pytest.raises(InvalidProblemError, match="friction coefficients mu must be numbers.*got"):
+        qpcontact.FrictionProblem(2 * np.eye(3), [-1.0, 0.0, 0.0], mu, 3)
+
+
+def test_a_global_problem_names_its_bad_coefficient():
+    with pytest.raises(InvalidProblemError, match=r"mu\[0\] = nan"):
+        qpcontact.FrictionProblem.global_problem(np.eye(3), np.eye(3), np.zeros(3), np.zeros(3),
+                                                 [np.nan], 3)
+
+
+def _generators():
+    from qpcontact.cases.families import far_contact_lcp, random_spd_lcp, spread_lcp
+    from qpcontact.cases.piles import disc_pile, sphere_pile
+    from qpcontact.cases.planted import build_lcp, build_qp
+    from qpcontact.cases.planted_friction import build_friction
+    from qpcontact.cases.rounded import build_rounded
+    from qpcontact.commands.stress.cases import build_case
+
+    return [lambda s: random_spd_lcp(5, 10.0, s), lambda s: far_contact_lcp(s),
+            lambda s: spread_lcp(s), lambda s: disc_pile(10, seed=s),
+            lambda s: sphere_pile(10, seed=s), lambda s: build_lcp("spd", 5, s),
+            lambda s: build_qp("convex", 5, s), lambda s: build_friction("sticking", 2, s),
+            lambda s: build_rounded("illposed_psd", 5, s), lambda s: build_case("spd", 5, s)]
+
+
+@pytest.mark.parametrize("k", range(10))
+def test_a_negative_seed_is_refused_naming_it(k):
+    with pytest.raises(InvalidOptionError, match=r"seed must be an integer >= 0 .*got -1 — pass 0"):
+        _generators()[k](-1)

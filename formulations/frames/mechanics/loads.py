@@ -64,6 +64,56 @@ def number(value, what: str) -> float:
     return v
 
 
+#: unit names recognised as forces and as lengths (others pass unchecked)
+FORCE_UNITS = ("N", "kN", "MN", "daN", "lbf", "kip", "kips", "klf", "tf", "kgf", "lb")
+LENGTH_UNITS = ("m", "mm", "cm", "dm", "km", "in", "ft", "inch", "yd")
+
+
+def check_units(units) -> tuple:
+    """``units`` as a (force, length) pair of names; InvalidProblemError for
+    another shape, or for a known length named first or a known force second
+    (the order swapped)."""
+    if (not isinstance(units, (tuple, list)) or len(units) != 2
+            or not all(isinstance(u, str) and u for u in units)):
+        raise InvalidProblemError(f"units must be (force, length) names, e.g. ('kN', 'm'); "
+                                  f"got {units!r}")
+    force, length = units
+    if force in LENGTH_UNITS or length in FORCE_UNITS:
+        raise InvalidProblemError(
+            f"units are (force, length), in that order; got {tuple(units)!r}, which names "
+            f"{'a length' if force in LENGTH_UNITS else 'a force'} "
+            f"{'first' if force in LENGTH_UNITS else 'second'} — write "
+            f"({length!r}, {force!r})")
+    return tuple(units)
+
+
+def no_member_between(members, i: str, j: str, what: str) -> None:
+    """InvalidProblemError if one of ``members`` ((name, node i, node j)
+    triples) joins the nodes i and j already, in either direction."""
+    for name, a, b in members:
+        if {a, b} == {i, j}:
+            raise InvalidProblemError(
+                f"{what}: nodes {i!r} and {j!r} are joined already by member {name!r}; a "
+                "second member between the same nodes would add its stiffness unseen — give "
+                "one member with the combined section, or add a node between them")
+
+
+def no_same_contact(contacts, node: str, normal, other=None) -> None:
+    """InvalidProblemError if one of ``contacts`` (with ``node``, ``normal``
+    (unit) and ``other``) is at ``node`` (against ``other``) with the same
+    normal: two unilateral links in one direction at one node are one link
+    whose force is split in no determined way.  Other normals (a node in a
+    corner, or between two walls) are separate contacts and allowed."""
+    for k, c in enumerate(contacts):
+        if c.node == node and getattr(c, "other", None) == other \
+                and np.allclose(c.normal, normal, rtol=0.0, atol=1e-12):
+            raise InvalidProblemError(
+                f"contact at {node!r}: the node has contact {k} with the same normal "
+                f"{tuple(round(float(v), 12) for v in normal)} already; a second one in the same "
+                f"direction is redundant (its force is not determined) — change contact {k}'s "
+                "friction, gap or stiffness instead, or give another normal")
+
+
 def known_node(frame, name) -> str:
     """``name`` if the frame has a node of that name; else the error lists them."""
     if name not in frame.nodes:

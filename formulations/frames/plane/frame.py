@@ -19,7 +19,8 @@ from qpcontact.core.errors import InvalidProblemError
 from ..mechanics import contact_lcp, friction_export, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, case_name, check_axes,
-                               known_member, known_node, number)
+                               check_units, known_member, known_node, no_member_between,
+                               no_same_contact, number)
 from ..mechanics.plane_element import DOFS, geometry
 from . import plane_assembly, plane_recovery
 from .plane_results import FrameResult
@@ -91,11 +92,7 @@ class Frame:
     kind = PLANE
 
     def __init__(self, units=("kN", "m")):
-        if (not isinstance(units, (tuple, list)) or len(units) != 2
-                or not all(isinstance(u, str) for u in units)):
-            raise InvalidProblemError(f"units must be (force, length) names, e.g. ('kN', 'm'); "
-                                      f"got {units!r}")
-        self.units = tuple(units)
+        self.units = check_units(units)
         self.nodes: dict[str, np.ndarray] = {}
         self.members: dict[str, Member] = {}
         self.fixed: dict[str, set] = {}
@@ -170,7 +167,8 @@ class Frame:
                 f"(offset_i + offset_j < L = {L:g}); got {offs[0]:g} and {offs[1]:g}")
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
-            raise InvalidProblemError(f"member {name!r} exists already")
+            raise InvalidProblemError(f"member {name!r} exists already; give another name")
+        no_member_between(((m.name, m.i, m.j) for m in self.members.values()), i, j, what)
         self.members[name] = Member(name, i, j, vals["E"], vals["A"], vals["I"], bool(hinge_i),
                                      bool(hinge_j), spring_i=springs[0], spring_j=springs[1],
                                      GAs=GAs, offset_i=offs[0], offset_j=offs[1])
@@ -262,8 +260,9 @@ class Frame:
             if not stiffness > 0:
                 raise InvalidProblemError(
                     f"contact at {node!r}: stiffness must be > 0 or None (rigid)")
-        self.contacts.append(Contact(node, n / np.linalg.norm(n), friction, gap, stiffness,
-                                      other))
+        n = n / np.linalg.norm(n)
+        no_same_contact(self.contacts, node, n, other)
+        self.contacts.append(Contact(node, n, friction, gap, stiffness, other))
         return len(self.contacts) - 1
 
     # -- loads -------------------------------------------------------------

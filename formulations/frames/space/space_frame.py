@@ -49,8 +49,9 @@ from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp, friction_export, solving, tracing
 from ..mechanics.frame_kind import FrameKind
-from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, combination,
-                               known_node, number)
+from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_units,
+                               combination, known_node, no_member_between, no_same_contact,
+                               number)
 from ..mechanics.space_element import axes
 from . import circular_cone, space_assembly, space_recovery
 from .space_results import DOFS, SpaceFrameResult
@@ -103,7 +104,7 @@ class SpaceFrame:
     kind = SPACE
 
     def __init__(self, units=("kN", "m")):
-        self.units = tuple(units)
+        self.units = check_units(units)
         self.nodes: dict[str, np.ndarray] = {}
         self.members: dict[str, dict] = {}
         self.fixed: dict[str, set] = {}
@@ -148,7 +149,8 @@ class SpaceFrame:
                 "member; give one in the plane of the member's local x-z axes") from exc
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
-            raise InvalidProblemError(f"member {name!r} exists already")
+            raise InvalidProblemError(f"member {name!r} exists already; give another name")
+        no_member_between(((k, m["i"], m["j"]) for k, m in self.members.items()), i, j, what)
         self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, **props)
         return name
 
@@ -212,6 +214,7 @@ class SpaceFrame:
         if isinstance(facets, bool) or not isinstance(facets, int) or facets < 4 or facets % 2:
             raise InvalidProblemError(f"contact at {node!r}: facets must be an even integer "
                                       f">= 4 (opposite directions both facets); got {facets!r}")
+        no_same_contact(self.contacts, node, n)
         e = np.eye(3)[int(np.argmin(np.abs(n)))]
         t1 = np.cross(n, e)
         t1 /= np.linalg.norm(t1)

@@ -141,7 +141,9 @@ def build_case(family: str, n: int, seed: int, siconos_dir: str | None = None):
     """The instance ``(family, n, seed)``: a qpcontact.cases.planted.Case."""
     from ...cases.planted import Case, build_lcp, build_qp
     from ...cases.families import far_contact_lcp, spread_lcp
+    from ...core.options import check_seed
 
+    seed = check_seed(seed)
     rng = np.random.default_rng([seed, n, FAMILIES.index(family)])
     decades = float(rng.choice([0.0, 4.0, 8.0, 12.0]))
     cond = 10.0 ** rng.uniform(0.0, 8.0)

@@ -168,7 +168,9 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
                progress: bool = True) -> Path:
     """Run the suite; write ``stress.csv`` and return its path."""
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    from ...core.files import make_folder
+
+    make_folder(out)
     todo = tasks(config)
     if not todo:
         raise InvalidOptionError(

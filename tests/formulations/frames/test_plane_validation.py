@@ -337,3 +337,49 @@ def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_
     sol = qpcontact.solve(back, accuracy=1e-9)
     assert sol.ok, sol.message
     np.testing.assert_allclose(sol.r, expected, rtol=0, atol=1e-7 * np.abs(expected).max())
+
+
+def _two_nodes():
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 4.0, 0.0)
+    fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4, name="M1")
+    return fr
+
+
+@pytest.mark.parametrize("add, words", [
+    (lambda fr: fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4, name="M1"),
+     "member 'M1' exists already; give another name"),
+    (lambda fr: fr.add_beam("B", "A", E=2e8, A=0.01, I=1e-4),
+     "member B-A: nodes 'B' and 'A' are joined already by member 'M1'.*combined section"),
+    (lambda fr: fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4, name="M2"),
+     "member 'M2': nodes 'A' and 'B' are joined already by member 'M1'"),
+    (lambda fr: (fr.add_contact("B"), fr.add_contact("B", normal=(0.0, 3.0), friction=0.2)),
+     r"contact at 'B': the node has contact 0 with the same normal \(0.0, 1.0\) already.*"
+     "change contact 0's friction, gap or stiffness"),
+])
+def test_a_member_or_a_contact_given_twice_is_refused_naming_it(add, words):
+    with pytest.raises(InvalidProblemError, match=words):
+        add(_two_nodes())
+
+
+def test_contacts_at_one_node_with_other_normals_are_allowed():
+    fr = _two_nodes()
+    fr.add_contact("B", normal=(0.0, 1.0))
+    fr.add_contact("B", normal=(-1.0, 0.0))                 # a corner
+    fr.add_contact("B", normal=(0.0, -1.0), gap=0.01)       # a slot: the wall above
+    assert len(fr.contacts) == 3
+
+
+@pytest.mark.parametrize("units, words", [
+    (("kN",), r"units must be \(force, length\) names, e.g. \('kN', 'm'\); got \('kN',\)"),
+    ("kN", "units must be .* got 'kN'"),
+    (("m", "kN"), r"units are \(force, length\), in that order; got \('m', 'kN'\), which names "
+                  r"a length first — write \('kN', 'm'\)"),
+    (("N", "MN"), r"got \('N', 'MN'\), which names a force second"),
+])
+def test_units_of_the_wrong_shape_or_order_are_refused(units, words):
+    with pytest.raises(InvalidProblemError, match=words):
+        Frame(units=units)
+    assert Frame(units=("lbf", "in")).units == ("lbf", "in")
+    assert Frame(units=("kN", "furlong")).units == ("kN", "furlong")   # unknown names pass

@@ -115,7 +115,8 @@ BAD = [
     (_post_on_a_pad, r"mechanism even with every contact closed.*\(A rz alone\)"),
     (_rolls_on_two_pads, r"mechanism even with every contact closed.*\(C uy, (C rx, B rx|B rx, "
                           r"C rx) move together\)"),
-    (_twice_the_same_contact, "two or more contact links constrain the same displacement"),
+    (_twice_the_same_contact, r"contact at 'C': the node has contact 0 with the same normal "
+                              r"\(0.0, 0.0, 1.0\) already"),
     (lambda: (lambda fr: (fr.add_support("A"), fr.solve()))(_beam()),
      "no contacts: it is a linear problem"),
     (lambda: _beam().solve_linear(), "mechanism on its bilateral supports"),
@@ -125,6 +126,14 @@ BAD = [
     (lambda: _frictional().solve(p=np.nan), "p must be finite"),
     (lambda: _frictional().solve_combinations({}), "combinations: a non-empty dict"),
     (lambda: _frictional().solve().end_forces("M9"), "no member named 'M9'"),
+    # a second member between the same nodes, by its name or by its node pair
+    (lambda: _beam().add_member("A", "C", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="M1"),
+     "member 'M1' exists already; give another name"),
+    (lambda: _beam().add_member("B", "A", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="M3"),
+     "member 'M3': nodes 'B' and 'A' are joined already by member 'M1'.*combined section"),
+    (lambda: SpaceFrame(units=("kN",)), r"units must be \(force, length\) names.*\('kN',\)"),
+    (lambda: SpaceFrame(units=("m", "kN")),
+     r"units are \(force, length\), in that order; got \('m', 'kN'\).*write \('kN', 'm'\)"),
 ]
 
 
@@ -132,3 +141,14 @@ BAD = [
 def test_bad_input_in_space_is_refused_with_what_is_wrong(make, words):
     with pytest.raises(InvalidProblemError, match=words):
         make()
+
+
+def test_contacts_at_one_node_in_other_directions_are_separate_contacts():
+    """Only a second contact with the same normal is refused: a node in a
+    corner (two normals) or between two walls (opposite normals) has two."""
+    fr = _beam()
+    assert fr.add_contact("C", normal=(0.0, 0.0, 1.0)) == 0
+    assert fr.add_contact("C", normal=(1.0, 0.0, 0.0)) == 1
+    assert fr.add_contact("C", normal=(0.0, 0.0, -1.0), gap=0.01) == 2
+    with pytest.raises(InvalidProblemError, match="contact at 'C': the node has contact 1"):
+        fr.add_contact("C", normal=(2.0, 0.0, 0.0), friction=0.3)
