@@ -192,7 +192,7 @@ def _solve_lcp_qp(problem, method, ctx, options):
         return sol
 
     def stop(sol):
-        return seen["evidence"] >= AUTO_EVIDENCE or ctx.expired()
+        return seen["evidence"] >= AUTO_EVIDENCE or ctx.spent()
 
     # looked up lazily: a late entry (cvxpy, a second to import) only if reached
     candidates = _installed(auto_order(problem), problem)
@@ -216,7 +216,7 @@ def _solve_lcp_qp(problem, method, ctx, options):
                         "them point to data with no solution (an answer in doubt, a Farkas vector "
                         "holding to rounding, a backend's own verdict) and no proof could be "
                         "checked exactly")
-    elif not sol.ok and sol.status not in PROVED and ctx.expired():
+    elif not sol.ok and sol.status not in PROVED and ctx.spent():
         sol.message += (f" — 'auto' stopped at the time limit of {ctx.time_limit:g} s after "
                         f"{len(tried)} method(s)")
     sol.stats["auto_tried"] = tried

@@ -120,8 +120,9 @@ def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:
     chain = [get_method(name) for name in auto_chain(problem)]
     runs, best, lines = [], None, []
     for k, m in enumerate(chain):
-        if ctx.expired():
-            lines.append(f"{m.name}: not run (the time limit of {ctx.time_limit:g} s was spent)")
+        if ctx.spent():
+            lines.append(f"{m.name}: not run ({max(ctx.left(), 0.0):.2g} s of the time limit of "
+                         f"{ctx.time_limit:g} s was left)")
             continue
         link = ctx.share(1.0 if k == len(chain) - 1 else 0.5)
         share = link.left()

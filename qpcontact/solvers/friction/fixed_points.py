@@ -33,6 +33,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from ...core.deadline import Pace
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...proofs.friction_motion import no_equilibrium
 from .cones import CONE_OPTIONS, GlobalSubproblem, Subproblem
@@ -78,6 +79,7 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
     max_outer, progress, time_limit = options["max_outer"], options["progress"], \
         options["time_limit"]
     start, timed_out = time.perf_counter(), False
+    pace = Pace(time_limit)
     r = np.zeros(sub.size)
     best_key, best_r, lowest, since, errors = (np.inf, np.inf), None, [np.inf, np.inf], 0, []
     status = "not started"
@@ -101,7 +103,8 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
         since = 0 if improved else since + 1
         if key[0] <= tol or since >= 5:
             break
-        if time_limit is not None and time.perf_counter() - start > time_limit:
+        pace.step_done()
+        if not pace.fits():      # another SOCP like the longest so far would not fit
             timed_out = True
             break
     stats = {"iterations": len(errors), "inner_iterations": sub.inner_iterations,

@@ -122,6 +122,7 @@ def solve_nsgs_newton(problem, tol, options):
     next_try, since, chunk = NEWTON_FROM, 0, 20
     quiet, wait = 0, 3            # checks since the last Newton try, and the wait
     tries = newton_steps = 0
+    longest_try = 0.0           # a Newton try is not started where the longest would not fit
     why = f"stopped at {max_sweeps} sweeps"
     while gs.done < max_sweeps:
         if best <= tol:
@@ -142,9 +143,12 @@ def solve_nsgs_newton(problem, tol, options):
         if best <= tol:
             continue
         quiet += 1
-        if best < next_try or (since and quiet >= wait):
+        left = None if time_limit is None else time_limit - (time.perf_counter() - start)
+        if (best < next_try or (since and quiet >= wait)) and (left is None or left > longest_try):
             tries += 1
+            t_try = time.perf_counter()
             rn, en, k = minimum_norm_newton(problem, r.copy(), tol)
+            longest_try = max(longest_try, time.perf_counter() - t_try)
             newton_steps += k
             next_try = min(next_try, best / 10.0)
             quiet = 0

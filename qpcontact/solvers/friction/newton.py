@@ -7,6 +7,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from ...core.deadline import Pace
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from .fixed_points import solve_anitescu
 from .nsgs import starting_point
@@ -98,12 +99,16 @@ def solve_natural_newton(problem, tol, options):
     phi = 0.5 * np.sum((D * Fr) ** 2)
     best_err, best_r = certified_error(p, r), r.copy()
     k, why = 0, f"stopped at {max_iter} iterations"
+    pace = Pace(None if time_limit is None else time_limit - (time.perf_counter() - start))
     for k in range(1, max_iter + 1):
+        if k > 1:
+            pace.step_done()
         if best_err <= tol:
             why = "reached the tolerance"
             break
-        if time_limit is not None and time.perf_counter() - start > time_limit:
-            why = f"stopped at its time limit of {time_limit:.3g} s"
+        if not pace.fits():
+            why = (f"stopped at its time limit of {time_limit:.3g} s (another iteration, "
+                   f"{pace.longest:.2g} s the longest so far, would not fit)")
             break
         # Jacobian of û: (I + Σ_slip μ_i e_N,i g_i') W, g_i = u_T,i/‖u_T,i‖ placed
         # in contact i's tangent columns (zero where u_T = 0)
