@@ -20,6 +20,7 @@ backend costs one row of its table, not the run).
 from __future__ import annotations
 
 import multiprocessing as mp
+import os
 import signal
 import sys
 import time
@@ -39,10 +40,31 @@ class IsolatedOutcome:
         self.kind, self.value, self.detail, self.seconds = kind, value, detail, seconds
 
 
-def _child(conn, fn, args):
+def _die_with_parent(parent: int) -> None:
+    """Have the kernel kill this child when its parent dies (Linux's
+    PR_SET_PDEATHSIG): a caller killed while it waits — a benchmark's or a
+    job runner's own time limit — left ProxQP running on, orphaned, for over
+    half an hour.  Elsewhere nothing is set (the parent's own kill at the
+    deadline still holds)."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGKILL)          # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:                 # the parent died before prctl
+        os._exit(1)
+
+
+def _child(conn, fn, args, parent=None):
     import faulthandler
 
     faulthandler.disable()  # a crash is reported by the parent, in one line
+    if parent is not None:
+        _die_with_parent(parent)
     try:
         start = time.perf_counter()
         value = fn(*args)
@@ -70,7 +92,7 @@ def call_isolated(fn, args: tuple, time_limit: float | None) -> IsolatedOutcome 
     caller then runs the call in-process."""
     ctx = process_context()
     recv, send = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_child, args=(send, fn, args), daemon=True)
+    proc = ctx.Process(target=_child, args=(send, fn, args, os.getpid()), daemon=True)
     try:
         proc.start()
     except (AssertionError, OSError):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 import time
 
 import numpy as np
@@ -239,3 +240,50 @@ def test_infeasible_lcp_with_a_wider_computed_null_space_is_proved(seed, method)
     for j in range(M.shape[0]):
         assert sum(Fraction(float(M[i, j])) * y[i] for i in range(M.shape[0]) if y[i]) <= 0
     assert sum(Fraction(float(a)) * b for a, b in zip(q, y)) < 0
+
+
+def _isolated_sleep_then_report(queue):
+    """A caller that runs a 60 s call isolated and reports its child's pid."""
+    import multiprocessing
+    import threading
+
+    def report():
+        time.sleep(1.0)
+        queue.put([c.pid for c in multiprocessing.active_children()])
+
+    threading.Thread(target=report, daemon=True).start()
+    call_isolated(_sleep, (60.0,), 120.0)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
+def test_an_isolated_call_dies_with_its_caller():
+    """A caller killed while it waits (a benchmark's or a job runner's own
+    limit) takes its isolated backend with it: ProxQP children used to run on,
+    orphaned, for over half an hour."""
+    import multiprocessing
+    import os
+
+    ctx = multiprocessing.get_context("spawn")
+    queue = ctx.Queue()
+    caller = ctx.Process(target=_isolated_sleep_then_report, args=(queue,))
+    caller.start()
+    children = queue.get(timeout=60)
+    caller.kill()
+    caller.join()
+    assert children, "the caller started no child"
+    deadline = time.perf_counter() + 10.0
+    alive = children
+    while alive and time.perf_counter() < deadline:
+        time.sleep(0.1)
+        alive = [pid for pid in alive if _running(pid)]
+    for pid in alive:       # leave nothing behind, whatever the outcome
+        os.kill(pid, 9)
+    assert not alive, f"isolated children outlived their caller: {alive}"
+
+
+def _running(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split()[2] != "Z"
+    except FileNotFoundError:
+        return False
