@@ -99,6 +99,10 @@ def main(argv=None) -> int:
             if lcp.is_sparse and not method.accepts_sparse and n > 5000:
                 print(f"{name:16s} skipped: dense-only backend (n x n dense copy of a sparse matrix)")
                 continue
+            if method.max_n is not None and n > method.max_n:
+                # enumeration's 2^n bases: refused above its size limit (it ended the run)
+                print(f"{name:16s} skipped: n = {n} above its size limit {method.max_n}")
+                continue
             for acc in ("default", "high"):
                 if (name, acc) in too_slow:
                     print(f"{name:16s} {acc:8s} skipped (over --time-limit at a smaller size)")
