@@ -64,7 +64,7 @@ class Engine:
         there took 2.3 s of a 10-storey space frame's 3.4 s trace and proved
         nothing the trace used)."""
         ctx = self.ctx.at(accuracy=accuracy, time_limit=time_limit, isolate=isolate, prove=prove)
-        return solve_within(_validated(problem), method, ctx, options)
+        return solve_within(problem, method, ctx, options)
 
     def qp_method(self, name: str) -> str | None:
         """The registered QP method called ``name`` (any constraints), or None.
@@ -243,11 +243,9 @@ def _solve_parametric(problem, method, ctx, options):
 
 
 def solve_within(problem, method: str, ctx: RunContext, options: dict):
-    """:func:`solve` of a validated problem within a run context (the
-    engine's sub-solves come here)."""
-    if not isinstance(method, str):
-        raise InvalidOptionError(
-            f"method must be a string: 'auto' or a name from qpcontact.methods(); got {method!r}")
+    """:func:`solve` within a run context (the engine's sub-solves come here):
+    the problem validated, then run by its kind."""
+    problem = _validated(problem)
     if isinstance(problem, ParametricLCP):
         return _solve_parametric(problem, method, ctx, options)
     if isinstance(problem, FrictionProblem):
@@ -324,7 +322,7 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
     if not isinstance(raise_on_failure, bool):
         raise InvalidOptionError(f"raise_on_failure must be True or False; got {raise_on_failure!r}")
     ctx = RunContext.start(accuracy, time_limit, isolate)
-    sol = solve_within(_validated(problem), method, ctx, options)
+    sol = solve_within(problem, method, ctx, options)
     if raise_on_failure and not sol.ok:
         if sol.status in PROVED:
             raise NoSolutionError(f"{sol.method}: {sol.message}")

@@ -33,11 +33,7 @@ def linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None, time_lim
     once it has passed: no LP is started without time to finish it)."""
     from scipy.optimize import linprog as highs_lp
 
-    if isinstance(time_limit, Deadline):
-        time_limit = time_limit.left()
-        if time_limit <= 0.0:
-            return None
-    deadline = Deadline(time_limit)
+    deadline = time_limit if isinstance(time_limit, Deadline) else Deadline(time_limit)
     res = None
     # HiGHS's choice first; where it stops on numerical difficulties (status
     # 4, no point: SciPy 1.17's HiGHS on a frame's degenerate patterns at its
