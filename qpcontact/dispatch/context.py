@@ -55,9 +55,8 @@ class RunContext:
         """The context of a call that starts now (each argument checked)."""
         tol_backend, tol_cert = resolve_accuracy(accuracy)
         time_limit = check_time_limit(time_limit)
-        if isolate not in ("auto", True, False):
-            raise InvalidOptionError(f"isolate must be 'auto', True or False; got {isolate!r}")
-        return cls(accuracy, tol_backend, tol_cert, time_limit, Deadline(time_limit), isolate)
+        return cls(accuracy, tol_backend, tol_cert, time_limit, Deadline(time_limit),
+                   _checked_isolate(isolate))
 
     def left(self) -> float | None:
         """Seconds left to this part of the call (None: no limit)."""
@@ -93,9 +92,7 @@ class RunContext:
         if time_limit is not None:
             ctx = replace(ctx, deadline=ctx.deadline.within(check_time_limit(time_limit)))
         if isolate is not None:
-            if isolate not in ("auto", True, False):
-                raise InvalidOptionError(f"isolate must be 'auto', True or False; got {isolate!r}")
-            ctx = replace(ctx, isolate=isolate)
+            ctx = replace(ctx, isolate=_checked_isolate(isolate))
         if prove is not None:
             ctx = replace(ctx, prove=bool(prove))
         return ctx
@@ -106,3 +103,9 @@ class RunContext:
         the kill is for one that does not keep it)."""
         left = self.left()
         return None if left is None else max(left, 0.0) + 0.5 * grace(self.time_limit)
+
+
+def _checked_isolate(isolate):
+    if isolate not in ("auto", True, False):
+        raise InvalidOptionError(f"isolate must be 'auto', True or False; got {isolate!r}")
+    return isolate
