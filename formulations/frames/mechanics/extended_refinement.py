@@ -45,32 +45,20 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .equilibrium_checks import STATE_RTOL
-
-#: the extended format of the residuals
-EXTENDED = np.longdouble
+from .member_forces import EXTENDED, stiffness_times
 
 #: refinement steps at most (each one gains about -log10(ε cond) digits)
 STEPS = 5
+
+#: a resting unknown whose reserve the refinement takes below -PIVOT_RTOL of
+#: its scale moves (far above the extended format's rounding, far below
+#: the certificate's tolerance)
+PIVOT_RTOL = 1e-12
 
 #: an answer is polished only where its contact certificate holds to this
 #: already: the polish refines a right answer's digits, it does not turn a
 #: wrong point (a tip lifted 1 m, with a certificate of 1.0) into another
 POLISHABLE = 1e-6
-
-
-def stiffness_times(b, u) -> np.ndarray:
-    """K u in extended precision, member by member: Σ Tᵀ k (T u_e) plus the
-    springs, in the system's (node) axes; u in the same axes, all dofs."""
-    k, T, dofs, _ = b["local"]
-    u = np.asarray(u, EXTENDED)
-    Tn = b["Tn"]
-    ug = u if Tn is None else Tn.T.astype(EXTENDED) @ u
-    kl, Tl = k.astype(EXTENDED), T.astype(EXTENDED)
-    ends = (kl @ (Tl @ ug[dofs][..., None]))
-    f = np.zeros(ug.size, EXTENDED)
-    np.add.at(f, dofs.ravel(), (Tl.transpose(0, 2, 1) @ ends)[..., 0].ravel())
-    f += np.asarray(b["springs"], EXTENDED) * ug
-    return f if Tn is None else Tn.astype(EXTENDED) @ f
 
 
 def moving_unknowns(z, w, zeta, sigma) -> np.ndarray:
@@ -148,17 +136,22 @@ def polished(b, z, F, ua, u, X, w, zeta, sigma, error):
     if not error <= POLISHABLE:
         return None
     basis = moving_unknowns(z, w, zeta, sigma)
+    W = sp.csr_matrix(b["maps"][1])
     # at a breakpoint of the load path an unknown is at zero on both sides
-    # (a slip just starting: z and its reserve both ~0); the refinement may
-    # then drive it a rounding below zero — it is not moving: take it out
-    for _ in range(4):
+    # (a slip just starting: z and its reserve both ~0), and the answer's
+    # own rounding decides on which side it was put: the refinement may then
+    # drive a moving unknown a rounding below zero (it is not moving: out of
+    # the basis) or a resting one's reserve below zero (it moves: into the
+    # basis) — a few exact pivots at the degenerate vertex
+    for _ in range(6):
         refined = refine(b, z, F, ua, basis, u, X)
         if refined is None:
             return None
         below = basis & (refined[0] < 0)
-        if not below.any():
+        short = ~basis & (np.asarray(W @ np.asarray(refined[2], float)) < -PIVOT_RTOL * sigma)
+        if not below.any() and not short.any():
             break
-        basis = basis & ~below
+        basis = (basis & ~below) | short
     if np.any(refined[0] < -STATE_RTOL * zeta):
         return None
     return (np.maximum(refined[0], 0.0), *refined[1:])

@@ -16,6 +16,7 @@ from ..mechanics import contact_lcp, extended_refinement
 from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
                                             equilibrium, how_far, mechanical_certificate)
 from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.member_forces import stiffness_times
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.plane_element import DOFS
 from . import plane_assembly
@@ -73,7 +74,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         # the basic system's solve that the refinement has removed
         again = checked(z2, u2, X2, mechanical=True)
         if again[0] <= max(cert_error, tol):
-            Ku = extended_refinement.stiffness_times(b, refined[1])
+            Ku = stiffness_times(b, refined[1])
             z, u, X = z2, u2, X2
             cert_error, zeta, sigma, ends, ft = again
             delta = P @ z - g

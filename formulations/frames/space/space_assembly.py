@@ -84,6 +84,7 @@ def build(frame):
         for d, kval in ks.items():
             springs[idx[node] + DOFS.index(d)] += kval
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
+                          coords=np.array(list(frame.nodes.values()), float),
                           U=np.zeros_like(F), cases=cases, fixed=fixed, H=H, info=info,
                           flex=flex, local=local, Tn=None, **basic)
     b["maps"] = lcp_maps(frame, info)

@@ -18,6 +18,7 @@ from ..mechanics import contact_lcp, extended_refinement
 from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
                                             equilibrium, how_far, mechanical_certificate)
 from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.member_forces import stiffness_times
 from ..mechanics.no_equilibrium import motion_words
 from .space_assembly import facet_angles, reach
 from .space_results import SpaceFrameResult, SpaceSupportResult
@@ -55,10 +56,10 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
         # the basic system's solve that the refinement has removed
         uf, Xf = u2.astype(float), X2.astype(float)
         ft2 = contact_lcp.force_terms(b, uf, F, contact_lcp.member_end_actions(b, uf, factors))
-        error2, zeta2, sigma2 = mechanical_certificate(b, z2, Xf, uf, ft2)
+        error2, zeta2, sigma2 = mechanical_certificate(b, z2, X2, u2, ft2)
         if error2 <= max(cert_error, tol):
             z, cert_error, zeta, sigma = z2, error2, zeta2, sigma2
-            Ku = extended_refinement.stiffness_times(b, u2)
+            Ku = stiffness_times(b, u2)
             u, X = uf, Xf
             delta = P @ z - g
     if Ku is None:
