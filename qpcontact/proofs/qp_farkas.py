@@ -22,7 +22,8 @@ and on a badly scaled but solvable LCP the solution lay beyond that (a false
 "infeasible", caught by ``qpcontact stress``).  The price: on data whose
 exact Farkas vector or ray has no short rational form nothing is proved and
 the answer stays "failed"/"inaccurate" — never a claim that is not true.
-The exact check (:mod:`qpcontact.proofs.exact`) is skipped above EXACT_WORK products.
+The exact check (:mod:`qpcontact.proofs.exact`, in integers) is skipped above EXACT_WORK
+products and stops at the proof's deadline.
 
 Backends say "infeasible" in their own words and on their own absolute
 tolerances; QP backends also loop for a long time on such problems (an
@@ -40,7 +41,7 @@ from fractions import Fraction
 import numpy as np
 import scipy.sparse as sp
 
-from .exact import EXACT_WORK, Proof, candidates, exact_farkas, exact_ray
+from .exact import FarkasCheck, Proof, RayCheck, candidates, exactly_within
 from .lp import column_scale, csr_rows, linprog, proof_deadline, row_scale
 
 __all__ = ["prove_no_minimiser", "find_farkas", "x_size"]
@@ -80,8 +81,9 @@ def find_farkas(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
     top = float(np.max(np.abs(weights), initial=0.0))
     if not top > 0:
         return None
+    check = FarkasCheck(G, h, A, b, lo, hi)
     for exact in candidates(weights / top, tl):   # the ratios are what matters: 1 : 2 : 3
-        proof = exact_farkas(G, h, A, b, lo, hi, exact, G.shape[0], tl)
+        proof = check.check(exact, tl)
         if proof is not None:
             return proof
     return None
@@ -179,6 +181,7 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
         return None  # q'd = 0 for every d: no descent direction
     dF = None
     cF = [Fraction(float(v)) for v in c]
+    ray = RayCheck(P, q, G, A, lo, hi)
     # The cost at unit size too (HiGHS's dual tolerance is absolute: a cost
     # of 1e-9 entries was declared optimal at d = 0).  HiGHS's own
     # tolerances first, then 1e-10: each missed rays the other found (at
@@ -222,7 +225,7 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
             continue
         dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)]
                                 for vt in candidates(dt / top, tl))
-                   if exact_ray(P, q, G, A, d, lo, hi, tl)), None)
+                   if ray.check(d, tl)), None)
         if dF is not None:
             break
     if dF is None:
@@ -266,7 +269,7 @@ def _unbounded(P, q, G, h, A, b, lb, ub, dF, tl) -> Proof | None:
     # The ray alone proves that no minimiser exists (feasible: x0 + t d falls
     # for ever; infeasible: nothing to minimise); "unbounded below" also needs
     # x0 feasible, which is said as checked.
-    exact = _exactly_feasible(x0, G, h, A, b, lb, ub)
+    exact = _exactly_feasible(x0, G, h, A, b, lb, ub, tl)
     where = ("feasibility checked in exact rational arithmetic" if exact else
              "feasible to rounding only: if the constraints admit no point at all the QP is "
              "infeasible instead — no minimiser exists either way")
@@ -281,22 +284,13 @@ def _unbounded(P, q, G, h, A, b, lb, ub, dF, tl) -> Proof | None:
     )
 
 
-def _exactly_feasible(x, G, h, A, b, lb, ub) -> bool:
-    """Gx <= h, Ax = b and the bounds, in rational arithmetic (False above
-    EXACT_WORK products: not checked)."""
+def _exactly_feasible(x, G, h, A, b, lb, ub, tl=None) -> bool:
+    """Gx <= h, Ax = b and the bounds, in exact (integer) arithmetic (False
+    beyond EXACT_WORK products or past ``tl``: not checked)."""
     n = x.size
-    xF = [Fraction(float(v)) for v in x]
     for M, rhs, eq in ((csr_rows(G, n), h, False), (csr_rows(A, n), b, True)):
-        if not M.shape[0]:
-            continue
-        if M.nnz > EXACT_WORK:
+        if M.shape[0] and not exactly_within(M, x, np.asarray(rhs, float), eq, tl):
             return False
-        for i in range(M.shape[0]):
-            acc = sum((Fraction(float(M.data[p])) * xF[M.indices[p]]
-                       for p in range(M.indptr[i], M.indptr[i + 1])), Fraction(0))
-            r = Fraction(float(rhs[i]))
-            if (acc != r) if eq else (acc > r):
-                return False
     lo = lb if lb is not None else np.full(n, -np.inf)
     hi = ub if ub is not None else np.full(n, np.inf)
     return bool(np.all(x >= lo) and np.all(x <= hi))   # comparisons of doubles are exact
@@ -339,5 +333,6 @@ def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
     # null space in floating point
     if not (q @ d < 0 and np.all(np.abs(P @ d) <= 1e-6 * (abs(P) @ np.abs(d)))):
         return None
-    dF = next((c for c in candidates(d, tl) if exact_ray(P, q, Gr, Ar, c, lo, hi, tl)), None)
+    ray = RayCheck(P, q, Gr, Ar, lo, hi)
+    dF = next((c for c in candidates(d, tl) if ray.check(c, tl)), None)
     return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
