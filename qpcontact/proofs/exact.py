@@ -111,6 +111,13 @@ def ints(values) -> tuple[np.ndarray, int]:
     integers, e one exponent (the doubles' trailing zero bits stripped, so
     integer data stay small integers).  Nonfinite entries are read as 0: the
     caller masks them."""
+    out, e0, _ = _ints(values)
+    return out, e0
+
+
+def _ints(values) -> tuple[np.ndarray, int, np.ndarray | None]:
+    """:func:`ints`, and the same integers as int64 when all of them fit in
+    62 bits (else None)."""
     v = np.asarray(values, dtype=float).ravel()
     v = np.where(np.isfinite(v), v, 0.0)
     out = np.zeros(v.size, dtype=object)
@@ -118,18 +125,21 @@ def ints(values) -> tuple[np.ndarray, int]:
     mant = np.ldexp(m, 53).astype(np.int64)
     nz = mant != 0
     if not nz.any():
-        return out, 0
+        return out, 0, np.zeros(v.size, dtype=np.int64)
     mant, e = mant[nz], e[nz].astype(np.int64) - 53
     low = mant & -mant
     tz = np.frexp(low.astype(float))[1].astype(np.int64) - 1
     mant, e = mant >> tz, e + tz
     e0 = int(e.min())
     shift = e - e0
-    if int(shift.max()) <= 9:     # |mant| < 2^53: the shifted values fit in int64
-        out[nz] = (mant << shift).astype(object)
-    else:
-        out[nz] = mant.astype(object) * np.array([1 << int(s) for s in shift], dtype=object)
-    return out, e0
+    bits = np.frexp(np.abs(mant).astype(float))[1].astype(np.int64) + shift
+    if int(bits.max()) <= 62:
+        small = np.zeros(v.size, dtype=np.int64)
+        small[nz] = mant << shift
+        out[nz] = small[nz].astype(object)
+        return out, e0, small
+    out[nz] = np.left_shift(mant.astype(object), shift.astype(object))
+    return out, e0, None
 
 
 def over_common_denominator(weights) -> tuple[np.ndarray, int]:
@@ -163,7 +173,13 @@ class IntMatrix:
         self.abs = abs(M)
         self.shape, self.nnz = M.shape, M.nnz
         self.indptr, self.indices = M.indptr, M.indices
-        self.data, self.exp = ints(M.data)
+        self.data, self.exp, small = _ints(M.data)
+        # the same in int64 (and how many bits its entries take), for
+        # products that cannot overflow
+        self.small = None if small is None else sp.csr_matrix(
+            (small, M.indices, M.indptr), shape=M.shape)
+        self.bits = 0 if small is None or not small.size else int(
+            np.max(np.abs(small))).bit_length()
 
     def times(self, W: np.ndarray, deadline=None) -> np.ndarray | None:
         """M·W exactly, in units of 2^exp (an object array of Python
@@ -172,6 +188,11 @@ class IntMatrix:
         out = np.zeros(rows, dtype=object)
         if not self.nnz or not np.any(W != 0):
             return out
+        if self.small is not None:
+            wbits = max(int(v).bit_length() for v in (max(W), min(W)))
+            longest = int(np.max(np.diff(self.indptr)))
+            if self.bits + wbits + longest.bit_length() <= 62:    # no int64 sum can overflow
+                return (self.small @ W.astype(np.int64)).astype(object)
         lens = np.diff(self.indptr)
         r0 = 0
         while r0 < rows:
