@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .exact import FarkasCheck, Proof, candidates, ints
-from .lp import linprog, proof_deadline, row_scale
+from .lp import NULL_SPACE_MAX_N, linprog, null_basis, proof_deadline, row_scale
 from .qp_farkas import find_farkas
 
 __all__ = ["prove_lcp_infeasible", "sign_farkas", "check_farkas_hint", "feasibility",
@@ -106,11 +106,6 @@ def sign_farkas(M, q) -> Proof | None:
                 "exact": {"z": exact, "y": []}})
 
 
-#: largest n whose null space is computed densely (an eigendecomposition:
-#: 0.02 s at n = 250, about a second at 1 000 on one core)
-NULL_SPACE_MAX_N = 1000
-
-
 def _null_space_farkas(M, q, deadline, check) -> Proof | None:
     """For a symmetric PSD M: y = N c >= 0 with q'y < 0, N a basis of M's
     numerical null space (eigenvalues within 1e3 n eps of the largest), from
@@ -118,21 +113,10 @@ def _null_space_farkas(M, q, deadline, check) -> Proof | None:
     full LP at n = 250 and 90-170 s at n = 1 000, the null space's LP
     milliseconds).  The candidate, snapped to short rationals, is checked
     exactly (a null vector of integer data has a short rational form)."""
-    from scipy.linalg import eigh
-
     n = q.size
-    A = M.toarray()
-    if not np.all(np.isfinite(A)):
+    N = null_basis(M)
+    if N is None or deadline.expired():
         return None
-    d = np.sqrt(np.abs(A.diagonal()))
-    d = np.where(d > 0, 1.0 / np.where(d > 0, d, 1.0), 1.0)
-    with np.errstate(all="ignore"):
-        lam, V = eigh(A * d[:, None] * d[None, :])
-    top = float(np.max(np.abs(lam), initial=0.0))
-    N = V[:, np.abs(lam) <= 1e3 * n * np.finfo(float).eps * top] * d[:, None]
-    if not N.shape[1] or deadline.expired():
-        return None
-    N = N / np.max(np.abs(N), axis=0)
     k = N.shape[1]
     qN = N.T @ q
     scale = float(np.max(np.abs(qN))) or 1.0

@@ -10,7 +10,8 @@ import scipy.sparse as sp
 
 from ..core.deadline import Deadline
 
-__all__ = ["linprog", "csr_rows", "row_scale", "column_scale", "LP_TIME_LIMIT", "proof_deadline"]
+__all__ = ["linprog", "csr_rows", "row_scale", "column_scale", "LP_TIME_LIMIT", "proof_deadline",
+           "null_basis", "NULL_SPACE_MAX_N"]
 
 
 #: seconds a proof's LPs may take together (solve's time_limit when smaller)
@@ -81,3 +82,31 @@ def column_scale(blocks, n) -> np.ndarray:
         return np.ones(n)
     colmax = np.asarray(abs(sp.vstack(stacked)).max(axis=0).toarray()).ravel()
     return np.where(colmax > 0, 2.0 ** -np.round(np.log2(np.where(colmax > 0, colmax, 1.0))), 1.0)
+
+
+#: largest n whose null space is computed densely (an eigendecomposition:
+#: 0.02 s at n = 250, about a second at 1 000 on one core)
+NULL_SPACE_MAX_N = 1000
+
+
+def null_basis(S) -> np.ndarray | None:
+    """A basis of the numerical null space of the symmetric PSD matrix S
+    (dense or sparse, n <= NULL_SPACE_MAX_N), each column scaled to max 1:
+    the eigenvectors of its Jacobi scaling whose eigenvalues are within
+    1e3 n eps of the largest, scaled back.  None when S is definite (or
+    not finite)."""
+    from scipy.linalg import eigh
+
+    A = S.toarray() if sp.issparse(S) else np.asarray(S, dtype=float)
+    n = A.shape[0]
+    if not np.all(np.isfinite(A)) or n > NULL_SPACE_MAX_N:
+        return None
+    d = np.sqrt(np.abs(A.diagonal()))
+    d = np.where(d > 0, 1.0 / np.where(d > 0, d, 1.0), 1.0)
+    with np.errstate(all="ignore"):
+        lam, V = eigh(A * d[:, None] * d[None, :])
+    top = float(np.max(np.abs(lam), initial=0.0))
+    N = V[:, np.abs(lam) <= 1e3 * n * np.finfo(float).eps * top] * d[:, None]
+    if not N.shape[1]:
+        return None
+    return N / np.max(np.abs(N), axis=0)

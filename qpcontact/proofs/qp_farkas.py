@@ -42,7 +42,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from .exact import FarkasCheck, Proof, RayCheck, candidates, exactly_within
-from .lp import column_scale, csr_rows, linprog, proof_deadline, row_scale
+from .lp import (NULL_SPACE_MAX_N, column_scale, csr_rows, linprog, null_basis,
+                 proof_deadline, row_scale)
 
 __all__ = ["prove_no_minimiser", "find_farkas", "x_size"]
 
@@ -296,14 +297,18 @@ def _exactly_feasible(x, G, h, A, b, lb, ub, tl=None) -> bool:
     return bool(np.all(x >= lo) and np.all(x <= hi))   # comparisons of doubles are exact
 
 
-def prove_no_minimiser(problem, time_limit=None, hints=()) -> Proof | None:
+def prove_no_minimiser(problem, time_limit=None, hints=(), quick=False) -> Proof | None:
     """A checked Farkas vector or ray for a convex ``qpsolvers.Problem``, or
     None when neither is found (the QP may still have no minimiser; nothing
     is claimed then).  Its LPs and exact checks keep ``time_limit`` (a
     :class:`~qpcontact.core.deadline.Deadline` or seconds; at most
     :data:`~qpcontact.proofs.lp.LP_TIME_LIMIT` from now).  ``hints`` are points a method returned
     far out: their direction is tried exactly as a ray first (a backend on an
-    unbounded QP stops at x ~ 1e8..1e11 along it)."""
+    unbounded QP stops at x ~ 1e8..1e11 along it).
+
+    ``quick``: only a ray in P's null space, from one LP in its few
+    coordinates (n <= NULL_SPACE_MAX_N) — what "auto" tries before any
+    method runs where P is singular."""
     P, q, G, h, A, b, lb, ub = problem.unpack()
     q = np.asarray(q, dtype=float)
     tl = proof_deadline(time_limit)
@@ -312,10 +317,56 @@ def prove_no_minimiser(problem, time_limit=None, hints=()) -> Proof | None:
             proof = _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl)
             if proof is not None:
                 return proof
+        if quick:
+            return _null_space_ray(P, q, G, h, A, b, lb, ub, tl)
         proof = find_farkas(P, q, G, h, A, b, lb, ub, tl)
         if proof is None:
             proof = _ray(P, q, G, h, A, b, lb, ub, tl)
     return proof
+
+
+def _null_space_ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
+    """A ray d = N c, N a basis of P's numerical null space
+    (:func:`~qpcontact.proofs.lp.null_basis`): one LP in the null space's few
+    coordinates, min q'Nc over G N c <= 0, A N c = 0, the bounds' signs and
+    |c| <= 1.  HiGHS took 1.5 s on the full ray LP at n = 250 (P's rows as
+    equalities); this one takes milliseconds.  The candidate, snapped, is
+    checked exactly (:class:`~qpcontact.proofs.exact.RayCheck`)."""
+    n = q.size
+    N = null_basis(P) if n <= NULL_SPACE_MAX_N and np.all(np.isfinite(q)) else None
+    if N is None or tl.expired():
+        return None
+    k = N.shape[1]
+    G, A = csr_rows(G, n), csr_rows(A, n)
+    lo = np.where(np.isfinite(lb), 0.0, -1.0) if lb is not None else -np.ones(n)
+    hi = np.where(np.isfinite(ub), 0.0, 1.0) if ub is not None else np.ones(n)
+
+    def unit_rows(B):
+        big = np.max(np.abs(B), axis=1) if B.shape[0] else np.zeros(0)
+        keep = big > 0
+        return B[keep] / big[keep, None]
+
+    ub_rows = [unit_rows(np.asarray(G @ N)), unit_rows(-N[lo == 0]), unit_rows(N[hi == 0])]
+    ub_rows = np.vstack([r for r in ub_rows if r.shape[0]] or [np.zeros((0, k))])
+    eq_rows = unit_rows(np.asarray(A @ N))
+    qN = N.T @ q
+    scale = float(np.max(np.abs(qN)))
+    if not scale > 0:
+        return None
+    res = linprog(qN / scale, A_ub=ub_rows if ub_rows.shape[0] else None,
+                  b_ub=np.zeros(ub_rows.shape[0]) if ub_rows.shape[0] else None,
+                  A_eq=eq_rows if eq_rows.shape[0] else None,
+                  b_eq=np.zeros(eq_rows.shape[0]) if eq_rows.shape[0] else None,
+                  bounds=[(-1, 1)] * k, time_limit=tl, tight=True)
+    if res is None or res.status != 0 or res.x is None or not res.fun < -1e-9:
+        return None
+    d = np.clip(N @ res.x, lo, hi)
+    top = float(np.max(np.abs(d), initial=0.0))
+    if not top > 0:
+        return None
+    ray = RayCheck(sp.csr_matrix(P), q, G, A, lo, hi)
+    dF = next((c for c in candidates(d / top, tl) if ray.check(c, tl)), None)
+    return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
 
 
 def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
