@@ -107,27 +107,37 @@ def sign_farkas(M, q) -> Proof | None:
 
 
 def _null_space_farkas(M, q, deadline, check) -> Proof | None:
-    """For a symmetric PSD M: y = N c >= 0 with q'y < 0, N a basis of M's
-    numerical null space (eigenvalues within 1e3 n eps of the largest), from
+    """For a symmetric PSD M: y = N x >= 0 with q'y < 0, N a basis of M's
+    numerical null space (:func:`~qpcontact.proofs.lp.null_basis`), from
     one LP in the null space's few coordinates (HiGHS took 0.7 s on the
     full LP at n = 250 and 90-170 s at n = 1 000, the null space's LP
     milliseconds).  The candidate, snapped to short rationals, is checked
     exactly (a null vector of integer data has a short rational form)."""
     n = q.size
-    N = null_basis(M)
-    if N is None or deadline.expired():
+    basis = null_basis(M)
+    if basis is None or deadline.expired():
         return None
-    k = N.shape[1]
-    qN = N.T @ q
+    B, c = basis
+    k = B.shape[1]
+    qN = (B * c[:, None]).T @ q
     scale = float(np.max(np.abs(qN))) or 1.0
-    # min q'Nc over N c >= 0, |c| <= 1
-    res = linprog(qN / scale, A_ub=-N, b_ub=np.zeros(n), bounds=[(-1, 1)] * k,
-                  time_limit=deadline, tight=True)
+    # min q'y over y = c * (B x) >= 0 with |B x| <= 1 (c > 0: the signs are B x's)
+    res = linprog(qN / scale, A_ub=np.vstack([-B, B]), b_ub=np.r_[np.zeros(n), np.ones(n)],
+                  bounds=[(None, None)] * k, time_limit=deadline, tight=True)
     if res is None or res.status != 0 or res.x is None or not res.fun < -1e-9:
         return None
-    y = np.maximum(N @ res.x, 0.0)
-    top = float(y.max(initial=0.0))
-    return check_farkas_hint(M, q, y / top, deadline, check) if top > 0 else None
+    # snapped in the balanced coordinates, mapped back exactly (c: powers of two)
+    yt = np.maximum(B @ res.x, 0.0)
+    top = float(yt.max(initial=0.0))
+    if not top > 0:
+        return None
+    cF = [Fraction(float(v)) for v in c]
+    for cand in itertools.chain([[Fraction(float(v)) for v in yt / top]],
+                                candidates(yt / top, deadline)):
+        proof = check.check([v * cj for v, cj in zip(cand, cF)], deadline)
+        if proof is not None:
+            return proof
+    return None
 
 
 #: an interior Farkas vector's margin (each column of M'y at most -margin

@@ -89,24 +89,27 @@ def column_scale(blocks, n) -> np.ndarray:
 NULL_SPACE_MAX_N = 1000
 
 
-def null_basis(S) -> np.ndarray | None:
-    """A basis of the numerical null space of the symmetric PSD matrix S
-    (dense or sparse, n <= NULL_SPACE_MAX_N), each column scaled to max 1:
-    the eigenvectors of its Jacobi scaling whose eigenvalues are within
-    1e3 n eps of the largest, scaled back.  None when S is definite (or
-    not finite)."""
+def null_basis(S) -> tuple[np.ndarray, np.ndarray] | None:
+    """(B, c): a basis of the numerical null space of the symmetric PSD
+    matrix S (dense or sparse, n <= NULL_SPACE_MAX_N) is c * B (row i of B
+    times c_i), each column of B scaled to max 1.  c_i are powers of two
+    near S_ii^-1/2, and B is the eigenvectors of the scaled D S D whose
+    eigenvalues lie within 1e3 n eps of the largest: balanced coordinates,
+    where a candidate is snapped (a component at 1e-12 of the largest in
+    S's own units keeps no digit there) and mapped back exactly.  None when
+    S is definite (or not finite)."""
     from scipy.linalg import eigh
 
     A = S.toarray() if sp.issparse(S) else np.asarray(S, dtype=float)
     n = A.shape[0]
     if not np.all(np.isfinite(A)) or n > NULL_SPACE_MAX_N:
         return None
-    d = np.sqrt(np.abs(A.diagonal()))
-    d = np.where(d > 0, 1.0 / np.where(d > 0, d, 1.0), 1.0)
+    diag = np.abs(A.diagonal())
+    c = np.where(diag > 0, 2.0 ** -np.round(0.5 * np.log2(np.where(diag > 0, diag, 1.0))), 1.0)
     with np.errstate(all="ignore"):
-        lam, V = eigh(A * d[:, None] * d[None, :])
+        lam, V = eigh(A * c[:, None] * c[None, :])
     top = float(np.max(np.abs(lam), initial=0.0))
-    N = V[:, np.abs(lam) <= 1e3 * n * np.finfo(float).eps * top] * d[:, None]
-    if not N.shape[1]:
+    B = V[:, np.abs(lam) <= 1e3 * n * np.finfo(float).eps * top]
+    if not B.shape[1]:
         return None
-    return N / np.max(np.abs(N), axis=0)
+    return B / np.max(np.abs(B), axis=0), c

@@ -333,9 +333,11 @@ def _null_space_ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
     equalities); this one takes milliseconds.  The candidate, snapped, is
     checked exactly (:class:`~qpcontact.proofs.exact.RayCheck`)."""
     n = q.size
-    N = null_basis(P) if n <= NULL_SPACE_MAX_N and np.all(np.isfinite(q)) else None
-    if N is None or tl.expired():
+    basis = null_basis(P) if n <= NULL_SPACE_MAX_N and np.all(np.isfinite(q)) else None
+    if basis is None or tl.expired():
         return None
+    B, c = basis
+    N = B * c[:, None]
     k = N.shape[1]
     G, A = csr_rows(G, n), csr_rows(A, n)
     lo = np.where(np.isfinite(lb), 0.0, -1.0) if lb is not None else -np.ones(n)
@@ -346,26 +348,33 @@ def _null_space_ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
         keep = big > 0
         return B[keep] / big[keep, None]
 
-    ub_rows = [unit_rows(np.asarray(G @ N)), unit_rows(-N[lo == 0]), unit_rows(N[hi == 0])]
-    ub_rows = np.vstack([r for r in ub_rows if r.shape[0]] or [np.zeros((0, k))])
+    cones = [unit_rows(np.asarray(G @ N)), unit_rows(-N[lo == 0]), unit_rows(N[hi == 0])]
+    cones = [r for r in cones if r.shape[0]]
+    # |d_i| <= 1 (rather than |c| <= 1): a vertex then has d's entries at
+    # ±1 or set by the data's rows, the exact weights of a rounded P's
+    # sparse null vectors rather than an eigenbasis's irrational mix
+    ub_rows = np.vstack(cones + [B, -B])
+    b_ub = np.r_[np.zeros(sum(r.shape[0] for r in cones)), np.ones(2 * n)]
     eq_rows = unit_rows(np.asarray(A @ N))
     qN = N.T @ q
     scale = float(np.max(np.abs(qN)))
     if not scale > 0:
         return None
-    res = linprog(qN / scale, A_ub=ub_rows if ub_rows.shape[0] else None,
-                  b_ub=np.zeros(ub_rows.shape[0]) if ub_rows.shape[0] else None,
+    res = linprog(qN / scale, A_ub=ub_rows, b_ub=b_ub,
                   A_eq=eq_rows if eq_rows.shape[0] else None,
                   b_eq=np.zeros(eq_rows.shape[0]) if eq_rows.shape[0] else None,
-                  bounds=[(-1, 1)] * k, time_limit=tl, tight=True)
+                  bounds=[(None, None)] * k, time_limit=tl, tight=True)
     if res is None or res.status != 0 or res.x is None or not res.fun < -1e-9:
         return None
-    d = np.clip(N @ res.x, lo, hi)
-    top = float(np.max(np.abs(d), initial=0.0))
+    # snapped in the balanced coordinates d = c * dt, mapped back exactly
+    dt = np.clip(B @ res.x, lo, hi)
+    top = float(np.max(np.abs(dt), initial=0.0))
     if not top > 0:
         return None
     ray = RayCheck(sp.csr_matrix(P), q, G, A, lo, hi)
-    dF = next((c for c in candidates(d / top, tl) if ray.check(c, tl)), None)
+    cF = [Fraction(float(v)) for v in c]
+    dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)] for vt in candidates(dt / top, tl))
+               if ray.check(d, tl)), None)
     return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
 
 
