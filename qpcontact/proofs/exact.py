@@ -210,6 +210,8 @@ class IntMatrix:
         integers), a block of rows at a time; None once ``deadline`` passes."""
         rows = self.shape[0]
         out = np.zeros(rows, dtype=object)
+        if deadline is not None and deadline.expired():
+            return None
         if not self.nnz or not np.any(W != 0):
             return out
         if self.small is not None:

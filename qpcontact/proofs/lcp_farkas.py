@@ -114,7 +114,7 @@ def _null_space_farkas(M, q, deadline, check) -> Proof | None:
     milliseconds).  The candidate, snapped to short rationals, is checked
     exactly (a null vector of integer data has a short rational form)."""
     n = q.size
-    basis = null_basis(M)
+    basis = null_basis(M, deadline)
     if basis is None or deadline.expired():
         return None
     B, c = basis

@@ -333,7 +333,7 @@ def _null_space_ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
     equalities); this one takes milliseconds.  The candidate, snapped, is
     checked exactly (:class:`~qpcontact.proofs.exact.RayCheck`)."""
     n = q.size
-    basis = null_basis(P) if n <= NULL_SPACE_MAX_N and np.all(np.isfinite(q)) else None
+    basis = null_basis(P, tl) if n <= NULL_SPACE_MAX_N and np.all(np.isfinite(q)) else None
     if basis is None or tl.expired():
         return None
     B, c = basis
