@@ -273,7 +273,7 @@ class FarkasCheck:
         """The proof for the rational weights ``exact`` (z for G's rows, then
         y for A's), or None: they fail, or the check would pass ``deadline``
         or :data:`EXACT_WORK` products (nothing proved)."""
-        if self.work > EXACT_WORK:
+        if self.work > EXACT_WORK or (deadline is not None and deadline.expired()):
             return None
         z, y = list(exact[:self.m_G]), list(exact[self.m_G:])
         if any(v < 0 for v in z) or not any(v for v in exact):
