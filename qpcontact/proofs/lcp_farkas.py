@@ -11,7 +11,8 @@ short rationals) and, for a symmetric M whose computed null space is wider
 than its exact one, a null vector modulo a prime; each is checked in exact
 arithmetic (:mod:`qpcontact.proofs.exact`) and none runs past the deadline.
 :func:`feasibility` is Lemke's test after a secondary ray, in floating point,
-each component on its own scale (FARKAS_RTOL): its message says "checked from the data" in that sense.
+each component on its own scale (FARKAS_RTOL): its message says "checked from
+the data" in that sense.
 """
 
 from __future__ import annotations
