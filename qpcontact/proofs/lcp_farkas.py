@@ -87,12 +87,19 @@ def sign_farkas(M, q) -> Proof | None:
     <= q_i < 0 for every z >= 0, so no z is feasible (the Farkas vector e_i).
     Exact from the signs of the stored doubles alone; the row whose q_i is
     most negative is named."""
-    M = sp.csr_matrix(M)
-    top = np.asarray(M.max(axis=1).toarray()).ravel() if M.nnz else np.zeros(q.size)
-    rows = np.flatnonzero((top <= 0) & (q < 0))
+    neg = np.flatnonzero(q < 0)
+    if not neg.size:
+        return None
+    if sp.issparse(M):
+        sub = sp.csr_matrix(M)[neg]
+        top = np.asarray(sub.max(axis=1).toarray()).ravel() if sub.nnz else np.zeros(neg.size)
+    else:
+        top = np.max(np.asarray(M)[neg], axis=1)
+    rows = neg[top <= 0]
     if not rows.size:
         return None
     i = int(rows[np.argmin(q[rows])])
+    M = sp.csr_matrix(M)
     y = np.zeros(q.size)
     y[i] = 1.0
     exact = [Fraction(0)] * q.size
