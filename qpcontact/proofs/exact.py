@@ -279,8 +279,10 @@ class FarkasCheck:
         if any(v < 0 for v in z) or not any(v for v in exact):
             return None
         zf, yf = _floats(z), _floats(y)
-        # rows with an infinite right-hand side prove nothing
-        if np.any(zf[~np.isfinite(self.h)] != 0) or np.any(yf[~np.isfinite(self.b)] != 0):
+        # rows with an infinite right-hand side prove nothing (read on the
+        # rationals: a weight may round to 0.0 as a double)
+        if any(z[i] for i in np.flatnonzero(~np.isfinite(self.h))) or \
+                any(y[i] for i in np.flatnonzero(~np.isfinite(self.b))):
             return None
         GT, AT, (hI, eh), (bI, eb), (loI, elo), (hiI, ehi) = self._prepare()
         if not self._plausible(GT, AT, zf, yf):
@@ -375,10 +377,11 @@ class RayCheck:
         """Whether the rationals ``dF`` are such a ray (False, nothing proved,
         beyond EXACT_WORK products or once ``deadline`` passes)."""
         df = _floats(dF)
-        support = np.flatnonzero(df)
-        if not support.size or sum(sp.csr_matrix(M).nnz for M, _ in self._blocks) > EXACT_WORK:
+        # d's signs from the rationals (a component may round to 0.0)
+        sign = np.array([(v > 0) - (v < 0) for v in dF], dtype=int)
+        if not sign.any() or sum(sp.csr_matrix(M).nnz for M, _ in self._blocks) > EXACT_WORK:
             return False
-        if np.any((df > 0) & (self.hi == 0.0)) or np.any((df < 0) & (self.lo == 0.0)):
+        if np.any((sign > 0) & (self.hi == 0.0)) or np.any((sign < 0) & (self.lo == 0.0)):
             return False
         with np.errstate(all="ignore"):
             for M, sign in self.parts:     # the loose floating-point screen
