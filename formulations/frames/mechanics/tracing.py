@@ -16,6 +16,7 @@ from qpcontact.judge.lcp_certificate import certify_lcp
 from . import contact_lcp
 from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
+from .joined_trace import RESTART, RESTARTS, JoinedTrace
 from .load_combinations import require_loads
 from .loads import CONSTANT, VARIABLE, combination, describe
 from .no_equilibrium import motion_words
@@ -62,6 +63,24 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
             raise
         tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
                            p_max=upto, time_limit=None, start=start)
+    tr = JoinedTrace(tr)
+    while tr.end in ("breakdown", "fold") and len(tr.segments) <= RESTARTS:
+        # stopped at a degenerate vertex (joined_trace): restart just beyond
+        # it from an equilibrium certified there, if there is one
+        p_next = tr.p_end * (1.0 + RESTART) + RESTART
+        if p_next >= upto:
+            break
+        at = {c: const.get(c, 0.0) + p_next * var.get(c, 0.0) for c in set(const) | set(var)}
+        start = judged_start(frame, b, at, accuracy, tol)
+        if start is None:
+            break
+        try:
+            more = solve_problem(ParametricLCP(M, qc + p_next * qv, qv), method="trace",
+                                 accuracy=accuracy, p_max=upto - p_next, time_limit=None,
+                                 start=start)
+        except QpcontactError:
+            break
+        tr.add(p_next, more)
     ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
                     ended=tr.end, message="", ok=False, trace=tr, frame=frame, _built=b,
                     constant=const, variable=var)
@@ -134,7 +153,7 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                "states left after branching")
         bound = ("" if not np.isfinite(tr.proof["z_bound"]) else
                  f" for openings and slips summing below {tr.proof['z_bound']:.1e}")
-        ft.limit = (tr.p_end, tr.proof["p_limit"])
+        ft.limit = (float(tr.p_end), float(tr.proof["p_limit"]))
         ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
                       f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
                       f"the data{bound})")
@@ -150,6 +169,11 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                       "carries any larger load in its last working scheme")
     else:
         ft.message = tr.message
+    if tr.restarts:
+        ft.message += (f"; restarted beyond degenerate vertices at p = "
+                       + ", ".join(f"{p:.10g}" for p in tr.restarts)
+                       + f" (each from an equilibrium certified there; the {RESTART:g} "
+                       "of p before each is not traced)")
     ft.ended = ended
     ft.ok = bool((tr.ok or ft.limit is not None) and failed is None)
     ft.message += f"; {len(ft.events)} change(s) of the working scheme"
@@ -226,7 +250,7 @@ def limit_proof(frame, b, ft, tr, fric):
     width = (p_hi - p_lo) / max(abs(p_hi), 1e-300)
     if width > BRACKET:
         return None
-    ft.limit = (p_lo, p_hi)
+    ft.limit = (float(p_lo), float(p_hi))
     return (f"no equilibrium exists for p >= {p_hi:.12g} (the last one on the path is at "
             f"p = {p_lo:.12g}, {width:.1e} below): {words} (proved by a rigid motion of the "
             f"whole frame in which the loads do positive work and no contact force the "
@@ -234,9 +258,9 @@ def limit_proof(frame, b, ft, tr, fric):
 
 
 def judged_start(frame, b, const, accuracy, tol):
-    """Lemke's point under the constant loads where the frame's own checks
-    (its states refined, judged on the mechanics) call it an equilibrium;
-    else None."""
+    """Lemke's point under the combination ``const`` where the frame's own
+    checks (its states refined, judged on the mechanics) call it an
+    equilibrium; else None."""
     M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
     lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, const)
     sol = solve_problem(lcp, method="lemke", accuracy=accuracy)

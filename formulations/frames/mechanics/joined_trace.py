@@ -1,0 +1,108 @@
+"""A frame's load path joined from traces that restart across degenerate
+vertices.
+
+Why.  On rigid pads under a flexible frame the faceted cone's LCP has null
+vectors (opposite facets' slips cancel), and at some vertices of the path
+no scheme that continues it can be certified by the parametric trace
+("M has null vectors: not every scheme was tried") although equilibria go
+on (a table on four legs: every pad slipping from p = 11.29 to its sliding
+limit 12, each one certified by Lemke at a fixed load).  The law is
+holonomic (total slip against total force), so the path's state at a load
+is the equilibrium at that load: the path restarts just beyond the vertex,
+at p_b (1 + RESTART), from a certified equilibrium there, and is traced on
+from it.  The gap (p_b, p_b (1 + RESTART)) is not traced; both its ends are
+certified, and the joined path says where it restarted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: the relative step beyond a vertex where a stopped path restarts
+RESTART = 1e-9
+
+#: restarts at most along one path
+RESTARTS = 12
+
+
+@dataclass
+class ShiftedPiece:
+    """One linear piece of a restarted trace, in the whole path's p."""
+
+    piece: object
+    offset: float
+
+    @property
+    def p_start(self) -> float:
+        return self.piece.p_start + self.offset
+
+    @property
+    def p_end(self) -> float:
+        return self.piece.p_end + self.offset
+
+    def z(self, p: float) -> np.ndarray:
+        return self.piece.z(p - self.offset)
+
+
+class JoinedTrace:
+    """The engine's traces of one load path, each started at ``offset``:
+    the LoadTrace interface the frame's trace reads (pieces, end, proof,
+    p_end, ok, message, z_at, plot_range) in the whole path's p."""
+
+    def __init__(self, first):
+        self.segments = [(0.0, first)]
+
+    def add(self, offset: float, trace) -> None:
+        self.segments.append((offset, trace))
+
+    @property
+    def restarts(self) -> list:
+        """Where the path restarted beyond a degenerate vertex."""
+        return [off for off, _ in self.segments[1:]]
+
+    @property
+    def last(self):
+        return self.segments[-1]
+
+    @property
+    def pieces(self) -> list:
+        return [p if off == 0.0 else ShiftedPiece(p, off)
+                for off, tr in self.segments for p in tr.pieces]
+
+    @property
+    def end(self) -> str:
+        return self.last[1].end
+
+    @property
+    def ok(self) -> bool:
+        return all(tr.ok for _, tr in self.segments)
+
+    @property
+    def message(self) -> str:
+        return self.last[1].message
+
+    @property
+    def p_end(self) -> float:
+        off, tr = self.last
+        return tr.p_end + off
+
+    @property
+    def proof(self) -> dict:
+        off, tr = self.last
+        proof = dict(tr.proof)
+        for key in ("p_limit", "from"):
+            if key in proof and proof[key] is not None:
+                proof[key] = proof[key] + off
+        return proof
+
+    def z_at(self, p: float) -> np.ndarray:
+        for off, tr in reversed(self.segments):
+            if p >= off:
+                return tr.z_at(p - off)
+        return self.segments[0][1].z_at(p)
+
+    def plot_range(self) -> float:
+        off, tr = self.last
+        return tr.plot_range() + off
