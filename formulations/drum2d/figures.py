@@ -307,7 +307,7 @@ def sliding_work_figure(h):
     ax.set_ylabel("sliding work per log and revolution [J]" if revs[0].window.label !=
                   "whole run" else "sliding work per log over the run [J]")
     named = "friction" in str(h.attrs.get("effects", ""))
-    ax.set_title(f"Sliding work per log {_per(revs)} (friction work −r_T·u_T, half to each "
+    ax.set_title(f"Sliding work per log {_per(revs)} (friction work ∫|F_T||u_T|dt, half to each "
                  "log at log–log contacts)" + ("" if named else ": friction not simulated"),
                  fontsize=9.5)
     ax.grid(True, alpha=0.3)

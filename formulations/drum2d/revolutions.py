@@ -41,7 +41,7 @@ either, formulations.drum2d.stack).  The figures draw log–log and log–steel.
 
 Sliding work
 ------------
-``sliding_work[s, i]`` [J] is the friction work −r_T u_T⁺ of step s charged to
+``sliding_work[s, i]`` [J] is the friction work |r_T| s̄ of step s (records.py) charged to
 log i (half each at a log–log contact, all to the log at the steel).  A
 window's sliding work per log is the sum of its rows (n,) [J]; reported with
 its total, mean over logs, maximum and the log (index) that takes it.

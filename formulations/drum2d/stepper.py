@@ -55,10 +55,23 @@ exactly (f constant), so
                                   −½ h² g² m per free disc and step),
 
 −rᵀ w = Σ r · V is the work of the moving shell and lifters (the drive; the
-wall takes −r at velocity V).  Friction dissipates D_f = −Σ r_T u_T⁺ >= 0
-(Coulomb: r_T opposes the slip u_T⁺).  The rest, D_i = −rᵀ(u⁻ + u⁺)/2 − D_f,
-is what the contacts take: their springs' change ΔE_el plus the impacts'
-loss ``impact_loss`` (reported net of ΔE_el).  For rigid contacts its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
+wall takes −r at velocity V).  Friction dissipates the sliding work
+
+    D_f = Σ |r_T| s̄ >= 0,   s̄ = (1/h) ∫ |u_T(t)| dt  over the step,
+
+u_T taken linear from u_T⁻ to u_T⁺ (records.sliding_speed: (|u⁻| + |u⁺|)/2,
+or (u⁻² + u⁺²)/(2(|u⁻| + |u⁺|)) where the slip turns), the force |r_T|/h
+constant — ∫ F_T · slip dt, slip that stops within the step included (a
+log sliding at u_T⁻ that sticks by the step's end rubs |r_T| u_T⁻/2; the end
+slip alone would book 0).  Where r_T opposes the slip throughout this is
+−r_T (u_T⁻ + u_T⁺)/2, the tangential part of the identity above.  The rest,
+D_i = −rᵀ(u⁻ + u⁺)/2 − D_f, is what the contacts take: their springs' change
+ΔE_el plus the impacts' loss ``impact_loss`` (reported net of ΔE_el).  A
+step's impact loss can be negative: where the slip turns within the step,
+or sticks with a friction impulse along its starting slip, the one constant
+impulse of the step did less tangential work than Coulomb's ∫ |F_T||u_T|
+charges, and D_i gives the difference back; with springs also the θ = 1
+pairing below (docs/drum2d.md, "Energy books", measures both).  For rigid contacts its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
 where r_N > 0, so with e = 1 the scheme dissipates nothing at the normal
 impacts (to the certificate's tolerance) and K + P is kept exactly when friction
 is off and the shell still.  The remainder ΔK + ΔP − drive + D_f + D_i is
@@ -97,7 +110,7 @@ from qpcontact.core.friction_problem import FrictionProblem
 from .contacts import find_contacts
 from .geometry import GRAVITY, Discs, Shell
 from .laws import SPRUCE_E_TANGENTIAL, ContactLaw
-from .records import Drum2DResult, Recorder
+from .records import Drum2DResult, Recorder, sliding_speed
 
 __all__ = ["Drum2D", "Drum2DResult", "EFFECTS", "UncertifiedStepWarning", "WARM_START",
            "WARM_METHODS"]
@@ -269,14 +282,17 @@ class Drum2D:
             per = rec.per
             if c.m:
                 u_plus = c.H.T @ v_new + c.w
-                fric = -float(r[1::2] @ u_plus[1::2])
+                # the step's mean sliding speed, slip stopped within the step
+                # included; its work |r_T| times that (module docstring)
+                slip = sliding_speed(u_minus[1::2], u_plus[1::2])
+                fric = float(np.abs(r[1::2]) @ slip)
                 per["drive"][s], per["friction_loss"][s] = -float(r @ c.w), fric
                 per["impact_loss"][s] = (-float(r @ (u_minus + u_plus)) / 2.0 - fric
                                          - (new_elastic - elastic))
                 m = d.masses
                 m_star = np.where(c.j >= 0, m[c.i] * m[c.j] / (m[c.i] + m[np.maximum(c.j, 0)]),
                                   m[c.i])
-                rec.forces(s, c, r, u_plus[1::2],
+                rec.forces(s, c, r, slip,
                            self.law.peak_forces(r[0::2].copy(), h, comp, impact, m_star))
             E = rec.energy
             per["remainder"][s] = (E["kinetic"][s + 1] + E["potential"][s + 1]

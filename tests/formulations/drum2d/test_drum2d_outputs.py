@@ -128,7 +128,7 @@ def test_histogram_quantile_by_hand():
 
 def _by_hand(result, first, stop, n):
     """Histograms, peaks and sliding work of steps first..stop−1 recounted
-    from the kept contacts (r_n / h, −r_t · slip charged to the logs)."""
+    from the kept contacts (r_n / h, |r_t| · slip charged to the logs)."""
     counts = {k: np.zeros(FORCE_BINS.size - 1, int) for k in range(3)}
     peaks = np.zeros(3)
     work = np.zeros(n)
@@ -143,7 +143,7 @@ def _by_hand(result, first, stop, n):
                 counts[k] += np.histogram(np.minimum(f, FORCE_BINS[-1]), FORCE_BINS)[0]
                 peaks[k] = max(peaks[k], f.max())
         for i, j, kind, rt, slip in zip(c["i"], c["j"], c["kind"], c["r_t"], c["slip"]):
-            w = max(0.0, -rt * slip)
+            w = abs(rt) * slip                     # slip: the mean sliding speed >= 0
             if kind == 0:
                 work[i] += w / 2
                 work[j] += w / 2
