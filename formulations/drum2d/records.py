@@ -7,8 +7,9 @@ Per step s (from t[s] to t[s+1]) the recorder keeps, by contact kind (0 log–lo
 1 log–shell, 2 log–lifter: contacts.KINDS):
 
 - ``force_peak`` (S, 3) [N]: the largest normal force, F = r_N / h (the
-  step's mean), or at an impact the step does not resolve the spring's peak
-  π r_N / T (laws.ContactLaw.peak_forces; rigid contacts: the mean only);
+  step's mean), or where the step holds an impact it does not resolve the
+  largest force of a resolved run of the impact's cluster (impacts.py; rigid
+  contacts: the mean only);
 - ``force_counts`` (S, 3, B) : how many contacts carried a normal force F in
   each bin of :data:`FORCE_BINS` (above the last edge counted in the last
   bin; forces under the first edge, 0.1 N — round-off at contacts that are
@@ -156,7 +157,7 @@ class Recorder:
 
     def forces(self, s, c, r, slip, F):
         """The step's force statistics from its active contacts c, impulses r,
-        mean sliding speeds (:func:`sliding_speed`) and forces F [N] (laws.ContactLaw.peak_forces; module
+        mean sliding speeds (:func:`sliding_speed`) and forces F [N] (impacts.step_forces; module
         docstring)."""
         carrying = F >= FORCE_BINS[0]
         for k in range(3):

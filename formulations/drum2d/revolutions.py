@@ -24,7 +24,7 @@ The recorder (records.py) keeps per step s and kind (0 log–log, 1 log–shell,
 ``force_counts[s, kind, b]`` of active contacts whose force F >= 0.1 N fell
 in bin b of :data:`FORCE_BINS` (10 bins a decade, 0.1 N to 10 MN; above
 counted in the last bin); F is the step's mean force, or at an unresolved
-impact of compliant contacts the spring's peak (laws.ContactLaw.peak_forces).  A window's histogram is the sum of its
+impact of compliant contacts the resolved cluster's peak (impacts.py).  A window's histogram is the sum of its
 steps' rows: it counts contact-steps (a contact carried for 50 steps counts
 50 times: the histogram is time-weighted, so a resting log's weight dominates
 it and impacts show in its tail); its peak is the largest ``force_peak``.

@@ -109,6 +109,7 @@ from qpcontact.core.friction_problem import FrictionProblem
 
 from .contacts import find_contacts
 from .geometry import GRAVITY, Discs, Shell
+from .impacts import step_forces
 from .laws import SPRUCE_E_TANGENTIAL, ContactLaw
 from .records import Drum2DResult, Recorder, sliding_speed
 
@@ -276,6 +277,7 @@ class Drum2D:
                 new_elastic = self.law.elastic_energy(comp, r[0::2], h)
             v_new = v_free + minv * (c.H @ r) if c.m else v_free
             th = self.theta
+            q_start = q
             q = q + h * ((1 - th) * v.reshape(n, 3)[:, :2] + th * v_new.reshape(n, 3)[:, :2])
             rec.per["scheme"][s] = h * (th - 0.5) * float(f @ (v - v_new))
             rec.state_at(s + 1, q, v_new, mdiag, d.masses, self.gravity, new_elastic)
@@ -292,8 +294,12 @@ class Drum2D:
                 m = d.masses
                 m_star = np.where(c.j >= 0, m[c.i] * m[c.j] / (m[c.i] + m[np.maximum(c.j, 0)]),
                                   m[c.i])
-                rec.forces(s, c, r, slip,
-                           self.law.peak_forces(r[0::2].copy(), h, comp, impact, m_star))
+                rec.forces(s, c, r, slip, step_forces(
+                    c, r[0::2], h, comp, impact, m_star, positions=q_start, velocities=v,
+                    masses=d.masses, radii=d.radii, inverse_inertia=minv[2::3],
+                    mu=self.mu[c.kind] if "friction" in self.effects else np.zeros(c.m),
+                    shell_radius=self.shell.radius,
+                    restitution=self.restitution, gravity=self.gravity))
             E = rec.energy
             per["remainder"][s] = (E["kinetic"][s + 1] + E["potential"][s + 1]
                                    + E["elastic"][s + 1] - E["kinetic"][s] - E["potential"][s]
