@@ -36,7 +36,7 @@ true quantile, at most a factor :data:`BIN_RATIO` = 10^0.1 ≈ 1.26 above it.
 
 Kinds: log–log and log–shell (the stack model's two kinds), log–lifter kept apart
 (``"log-lifter"``), and ``"log-steel"`` = log–shell and log–lifter merged
-(both steel; the stack model's shell contact is the upper estimate for
+(both steel; the stack model's shell contact is the estimate for
 either, formulations.drum2d.stack).  The figures draw log–log and log–steel.
 
 Sliding work

@@ -109,6 +109,7 @@ from qpcontact.core.friction_problem import FrictionProblem
 
 from .contacts import find_contacts
 from .geometry import GRAVITY, Discs, Shell
+from .drift import keep_gaps
 from .impacts import step_forces
 from .laws import SPRUCE_E_TANGENTIAL, ContactLaw
 from .records import Drum2DResult, Recorder, sliding_speed
@@ -257,7 +258,7 @@ class Drum2D:
             active = c.gap + 0.5 * h * (u_minus[0::2] + u_free[0::2]) <= 0.0
             if self.law.compliant:
                 active |= self.law.compliance(c) > 0
-            c = c.subset(active)
+            near, c = c, c.subset(active)
             rec.counts["n_active"][s] = c.m
             keep2 = np.repeat(active, 2)
             u_minus, u_free = u_minus[keep2], u_free[keep2]
@@ -280,10 +281,16 @@ class Drum2D:
             q_start = q
             q = q + h * ((1 - th) * v.reshape(n, 3)[:, :2] + th * v_new.reshape(n, 3)[:, :2])
             rec.per["scheme"][s] = h * (th - 0.5) * float(f @ (v - v_new))
+            v_step = v_new
+            if near.m:     # rigid contacts keep their gaps, energy unchanged (drift.py)
+                q, v_new, rest = keep_gaps(near, self.law.compliance(near) == 0, q_start, q,
+                                           v_new, d, self.shell.radius, h, self.gravity,
+                                           accuracy)
+                rec.per["scheme"][s] += rest
             rec.state_at(s + 1, q, v_new, mdiag, d.masses, self.gravity, new_elastic)
             per = rec.per
             if c.m:
-                u_plus = c.H.T @ v_new + c.w
+                u_plus = c.H.T @ v_step + c.w
                 # the step's mean sliding speed, slip stopped within the step
                 # included; its work |r_T| times that (module docstring)
                 slip = sliding_speed(u_minus[1::2], u_plus[1::2])
