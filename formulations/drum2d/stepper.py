@@ -285,7 +285,7 @@ class Drum2D:
             if near.m:     # rigid contacts keep their gaps, energy unchanged (drift.py)
                 q, v_new, rest = keep_gaps(near, self.law.compliance(near) == 0, q_start, q,
                                            v_new, d, self.shell.radius, h, self.gravity,
-                                           accuracy)
+                                           self.omega == 0.0, accuracy)
                 rec.per["scheme"][s] += rest
             rec.state_at(s + 1, q, v_new, mdiag, d.masses, self.gravity, new_elastic)
             per = rec.per

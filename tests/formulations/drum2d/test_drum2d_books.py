@@ -91,10 +91,12 @@ def test_a_carried_disc_does_not_sink_and_slides_back_at_the_friction_angle():
     grid = np.linspace(0.2, 1.2, 500001)
     ref = grid[np.argmin(np.abs(np.sin(grid) - mu * (np.cos(grid) + k)))]
     assert abs(theta - ref) < 2 * omega * R / rho * h, (np.degrees(theta), np.degrees(ref))
-    # the books close, and the correction paid for itself (no scheme term: rigid, θ = ½)
+    # the books close; in a turning drum the lift is booked with the positions'
+    # terms (the drive restores the speed), a few m g × 10 µm a step
     s = res.energy_summary()
     assert abs(s["remainder"]) < 1e-9 * (s["drive"] + 1.0)
-    assert np.all(res.scheme == 0.0)
+    m = discs.masses[0]
+    assert np.all(res.scheme >= 0) and res.scheme.max() < m * G * 3 * (1e-5 + drift)
 
 
 def test_elastic_discs_keep_their_energy_through_the_correction():
