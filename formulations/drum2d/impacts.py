@@ -28,10 +28,11 @@ contact's slip in one sub-step), the discs spinning.  Disc–disc and
 disc–shell contacts use their exact gaps as the discs move; a lifter's gap
 moves linearly along its normal at the wall's velocity.  The run is velocity
 Verlet (the velocity-dependent forces at the predicted velocity) with
-τ = 0.05 / ω_max (ω_max² <= max_i Σ_k (2/m_i + 2/√(m_i m_j))/c_k, Gershgorin
-on the cluster's stiffness: at least 125 sub-steps a period of its fastest
+τ = 0.1 / ω_max (ω_max² <= max_i Σ_k (2/m_i + 2/√(m_i m_j))/c_k, Gershgorin
+on the cluster's stiffness: at least 63 sub-steps a period of its fastest
 mode; a dashpot's force jumps at the touch, which makes the peak first order
-in τ: +1.3 % on a binary impact with e = 0.2, +8 % at 0.2 / ω_max), over
+in τ: +1.5 % on a binary impact with e = 0.2 at 0.1 and at 0.05 / ω_max,
++8 % at 0.2, +0.4 % at 0.025), over
 h + T_max/2 (an impact starting at the step's end still reaches its peak).
 Each cluster contact's force is the largest of that run; every other
 contact's the step's mean r_N/h.
@@ -40,16 +41,16 @@ Measured against a penalty DEM of the whole scene at h/400 (linear
 spring–dashpot, Coulomb, h = 2 ms, spruce 0.4 GPa, e = 0.2 unless said;
 tests/formulations/drum2d/test_drum2d_peaks.py): binary 0.12 + 0.2 m at
 2 m/s +1.5 % (e = 1: 0.0 %), a log struck on a log resting on the shell
-−0.7 % (log–log) and −0.5 % (log–shell), a column of 5 and of 8 logs struck
-at 3 m/s +1.0 % (e = 1: 0.0 %), a pile of 6 struck obliquely +0.6 % (log–log)
-and +0.1 to +1.0 % (log–shell); the pair's half-sine gave −35 %, +27 %,
-+24 to +87 % and +12 to +27 % (log–shell of the pile −76 %).
+−1.7 % (log–log) and −0.9 % (log–shell), a column of 5 and of 8 logs struck
+at 3 m/s +0.7 % (e = 1: 0.0 %), a pile of 6 struck obliquely −0.2 to −0.1 %
+(log–log) and 0.0 to +0.9 % (log–shell); the pair's half-sine gave −35 %,
++27 %, +22 to +87 % and +12 to +27 % (log–shell of the pile −76 %).
 
 What it leaves out: contacts to discs outside the cluster (they carried no
 impulse in the step) and the bodies outside it (frozen); the lifters'
 curvature of motion within the step.  Its cost: a cluster is the connected
 part of the bed, so a settled bed's every step with an impact runs the bed
-(compiled: ~7 % of a 40-log step).
+(compiled; measured in docs/drum2d.md, "Peak forces").
 The step itself — velocities, positions, the books — is the certified
 contact problem's, untouched: this is a measurement of the step, not a
 second model of it.  A cluster with a rigid contact (``shell_elasticity``
@@ -68,7 +69,7 @@ from .contacts import DISC, SHELL
 __all__ = ["step_forces", "damping_ratio"]
 
 #: ω_max τ of the cluster runs (module docstring)
-OMEGA_TAU = 0.05
+OMEGA_TAU = 0.1
 
 
 def damping_ratio(e: float) -> float:

@@ -12,7 +12,7 @@ within 0.3 %.)  For e = 1 the binary peak is the spring's √(m*/c) Δv by hand.
 
 The 2-D model runs at h = 2 ms, longer than the contact period (0.6–0.8 ms
 here), so its impacts are not resolved by the step; the pair's half-sine it
-used to record was 35 % low on a damped binary impact and 24–87 % high on a
+used to record was 35 % low on a damped binary impact and 22–87 % high on a
 struck column (the impulse comes through the chain).
 """
 
