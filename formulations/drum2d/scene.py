@@ -269,7 +269,7 @@ def _scene_arrays(run: Drum2DRun) -> dict:
 def _scene_plot(h, out) -> list:
     """The snapshot and the energy balance; with the force statistics (issue
     37) the force histograms and peaks per revolution beside the stack
-    model's estimate (computed once for both) and the sliding work per
+    model's upper estimate (computed once for both) and the sliding work per
     log; with two or more kept steps an animation (at most 40 frames: PNGs in
     ``animation/`` and ``animation.gif`` where Pillow is installed)."""
     import warnings
