@@ -2,7 +2,7 @@
 h5py.File written by the drum2d scene): a snapshot of the cross-section with
 its force chains, the energy balance over time, and per revolution
 (formulations.drum2d.revolutions) the contact-force histograms and peaks
-beside the stack model's upper estimate (formulations.drum2d.stack) and the
+beside the stack model's estimate (formulations.drum2d.stack) and the
 sliding work per log.  SI units on the axes (m, s, J, N).
 ``draw_cross_section`` draws one state on given axes: the snapshot's and the
 animation's (formulations.drum2d.animation) frames."""
@@ -192,7 +192,7 @@ def force_histogram_figure(h, estimate=None):
     """Per revolution, the histogram of the normal contact forces [N] (every
     active contact of every step counted once per step, bins of
     revolutions.FORCE_BINS, 10 a decade), log–log and log–shell (with the
-    lifters) in separate panels, force on a log axis; the stack model's upper
+    lifters) in separate panels, force on a log axis; the stack model's
     estimate (formulations.drum2d.stack; computed from the file unless
     ``estimate`` is given) as a vertical line in each panel."""
     from .records import FORCE_BINS
@@ -214,7 +214,7 @@ def force_histogram_figure(h, estimate=None):
             ax.stairs(np.where(counts > 0, counts, np.nan), FORCE_BINS, color=c, lw=1.5,
                       label=lab)
         ax.axvline(bound, color="0.15", ls="--", lw=1.4,
-                   label=f"stack model upper estimate {bound / 1e3:.4g} kN")
+                   label=f"stack model estimate (not a bound) {bound / 1e3:.4g} kN")
         ax.set_xscale("log")
         ax.set_yscale("log")
         lo = lo if np.isfinite(lo) else bound / 1e3
@@ -239,7 +239,7 @@ def force_histogram_figure(h, estimate=None):
 def force_peak_figure(h, estimate=None):
     """The peak normal contact force [N] of each revolution, log–log and
     log–shell (with the lifters) side by side, with the 99 % quantile of each
-    (histogram bin's upper edge) as a tick, and the stack model's upper
+    (histogram bin's upper edge) as a tick, and the stack model's
     estimates as horizontal lines (computed from the file unless
     ``estimate`` is given)."""
     plt = _pyplot()
@@ -272,7 +272,7 @@ def force_peak_figure(h, estimate=None):
     ax.set_xlabel("revolution [-] (* partial)" if revs[0].window.label != "whole run"
                   else "window [-] (no rotation: the whole run)")
     ax.set_ylabel("normal contact force [N]")
-    ax.set_title(f"Peak contact force {_per(revs)} and the stack model's upper estimate\n"
+    ax.set_title(f"Peak contact force {_per(revs)} and the stack model's estimate\n"
                  "largest 2-D peak / estimate: " + ", ".join(ratio), fontsize=9.5)
     ax.grid(True, axis="y", which="major", alpha=0.3)
     ax.legend(fontsize=8, loc="upper right", ncol=2)
@@ -307,7 +307,7 @@ def sliding_work_figure(h):
     ax.set_ylabel("sliding work per log and revolution [J]" if revs[0].window.label !=
                   "whole run" else "sliding work per log over the run [J]")
     named = "friction" in str(h.attrs.get("effects", ""))
-    ax.set_title(f"Sliding work per log {_per(revs)} (friction work −r_T·u_T, half to each "
+    ax.set_title(f"Sliding work per log {_per(revs)} (friction work ∫|F_T||u_T|dt, half to each "
                  "log at log–log contacts)" + ("" if named else ": friction not simulated"),
                  fontsize=9.5)
     ax.grid(True, alpha=0.3)

@@ -74,11 +74,10 @@ closed damps its vibration within a few steps, so a pile settles even with
 e = 1.
 
 Peak forces.  F = r_N/h is the step's mean force.  An impact the step
-does not resolve delivers its impulse in half a period T/2 < h, so its
-peak is larger: for the linear spring, a half-sine pulse of impulse r_N
-peaks at π r_N / T (:meth:`ContactLaw.peak_forces`; the stack model's own
-impacts are such pulses).  The statistics (records.py) use it; a rigid run
-has only the mean force.
+does not resolve delivers its impulse in less than the step, so its peak is
+larger; formulations.drum2d.impacts measures it by a resolved run of the
+impact's cluster over the step (the pair's half-sine π r_N/T is right for a
+binary collision only).  A rigid run has only the mean force.
 
 So a compliant contact adds c/h² (at an impact (1 + e) c/h²) to W's normal
 diagonal and g/h (at an impact e u_N⁻) to its offset: the same FrictionProblem
@@ -151,20 +150,6 @@ class ContactLaw:
         offset = np.where(rigid_or_impact, self.e * u_minus_n, c.gap / h)
         D = np.where(impact, 1.0 + self.e, 1.0) * comp / h ** 2
         return D, offset, comp, impact
-
-    @staticmethod
-    def peak_forces(r_n, h, comp, impact, m_star):
-        """The contacts' forces [N] for the statistics: the step's mean r_N/h,
-        except at an impact whose spring the step does not resolve — there
-        the half-sine pulse of a linear spring that carries the impulse r_N
-        in half its period T = 2π √(m* c) peaks at π r_N / T (> r_N/h when
-        T < π h).  A rigid contact has no period: its mean force is all the
-        step says."""
-        F = r_n / h
-        T = 2.0 * np.pi * np.sqrt(m_star * comp)
-        pulse = impact & (T > 0) & (T < np.pi * h)
-        F[pulse] = np.pi * r_n[pulse] / T[pulse]
-        return F
 
     @staticmethod
     def elastic_energy(comp, r_n, h) -> float:

@@ -7,18 +7,22 @@ Per step s (from t[s] to t[s+1]) the recorder keeps, by contact kind (0 log–lo
 1 log–shell, 2 log–lifter: contacts.KINDS):
 
 - ``force_peak`` (S, 3) [N]: the largest normal force, F = r_N / h (the
-  step's mean), or at an impact the step does not resolve the spring's peak
-  π r_N / T (laws.ContactLaw.peak_forces; rigid contacts: the mean only);
+  step's mean), or where the step holds an impact it does not resolve the
+  largest force of a resolved run of the impact's cluster (impacts.py; rigid
+  contacts: the mean only);
 - ``force_counts`` (S, 3, B) : how many contacts carried a normal force F in
   each bin of :data:`FORCE_BINS` (above the last edge counted in the last
   bin; forces under the first edge, 0.1 N — round-off at contacts that are
   opening, or a touch carrying a thousandth of a light log's weight — not
   counted) — the histograms per revolution are sums of these rows, so no
   contact list is needed for them;
-- ``sliding_work`` (S, n) [J]: the friction work −r_T u_T⁺ >= 0 of the step
-  charged to the logs it rubs — half to each log at a log–log contact (both
-  surfaces slide on each other), all to the log at the shell or a lifter (the
-  steel loses no bark).  Summed over logs it is the step's friction loss.
+- ``sliding_work`` (S, n) [J]: the friction work |r_T| s̄ >= 0 of the step
+  (s̄ its mean sliding speed, :func:`sliding_speed`: the slip taken linear
+  from the step's start to its end, so slip that stops within the step
+  counts) charged to the logs it rubs — half to each log at a log–log
+  contact (both surfaces slide on each other), all to the log at the shell
+  or a lifter (the steel loses no bark).  Summed over logs it is the step's
+  friction loss (stepper: energy bookkeeping).
 
 ``contacts`` keeps every active contact's arrays for the steps asked for
 (``keep_contacts``: all, none, or every k-th step), for force chains in
@@ -33,10 +37,22 @@ import numpy as np
 
 from .contacts import DISC
 
-__all__ = ["Drum2DResult", "FORCE_BINS", "Recorder"]
+__all__ = ["Drum2DResult", "FORCE_BINS", "Recorder", "sliding_speed"]
 
 #: Edges [N] of the force histograms: 10 bins a decade from 0.1 N to 10 MN.
 FORCE_BINS = np.logspace(-1, 7, 81)
+
+
+def sliding_speed(u_before, u_after):
+    """The step's mean sliding speed [m/s] at each contact: the mean of |u_T(t)|
+    over the step for the slip u_T varying linearly from ``u_before`` (u_T⁻) to
+    ``u_after`` (u_T⁺) — (|u⁻| + |u⁺|)/2 without a sign change, and
+    (u⁻² + u⁺²)/(2 (|u⁻| + |u⁺|)) where the slip stops at t = h |u⁻|/(|u⁻| + |u⁺|)
+    and turns (module docstring)."""
+    a, b = np.abs(u_before), np.abs(u_after)
+    turns = u_before * u_after < 0
+    return np.where(turns, (a * a + b * b) / (2.0 * np.where(turns, a + b, 1.0)),
+                    0.5 * (a + b))
 
 
 @dataclass
@@ -53,7 +69,8 @@ class Drum2DResult:
     gained by θ = 1 positions (stepper), ``remainder``); the force
     statistics ``force_peak``, ``force_counts``, ``sliding_work`` (module
     docstring); ``contacts``: per step a dict of the active contacts' arrays
-    (i, j, kind, r_n, r_t [N·s], slip u_T⁺ [m/s], gap [m], normal) where kept,
+    (i, j, kind, r_n, r_t [N·s], slip: the mean sliding speed s̄ >= 0 [m/s],
+    whose work is |r_t| s̄, gap [m], normal) where kept,
     else None; ``last_contacts``: the last step's contacts and impulses (what
     a resumed run warm-starts from)."""
 
@@ -140,7 +157,7 @@ class Recorder:
 
     def forces(self, s, c, r, slip, F):
         """The step's force statistics from its active contacts c, impulses r,
-        slips u_T⁺ and forces F [N] (laws.ContactLaw.peak_forces; module
+        mean sliding speeds (:func:`sliding_speed`) and forces F [N] (impacts.step_forces; module
         docstring)."""
         carrying = F >= FORCE_BINS[0]
         for k in range(3):
@@ -150,7 +167,7 @@ class Recorder:
                 at = np.clip(np.searchsorted(FORCE_BINS, F[mine], side="right") - 1, 0,
                              FORCE_BINS.size - 2)
                 self.force_counts[s, k] = np.bincount(at, minlength=FORCE_BINS.size - 1)
-        work = np.maximum(-r[1::2] * slip, 0.0)
+        work = np.abs(r[1::2]) * slip
         share = np.where(c.kind == DISC, 0.5, 1.0) * work
         np.add.at(self.sliding_work[s], c.i, share)
         pair = c.j >= 0

@@ -24,7 +24,7 @@ The recorder (records.py) keeps per step s and kind (0 log–log, 1 log–shell,
 ``force_counts[s, kind, b]`` of active contacts whose force F >= 0.1 N fell
 in bin b of :data:`FORCE_BINS` (10 bins a decade, 0.1 N to 10 MN; above
 counted in the last bin); F is the step's mean force, or at an unresolved
-impact of compliant contacts the spring's peak (laws.ContactLaw.peak_forces).  A window's histogram is the sum of its
+impact of compliant contacts the resolved cluster's peak (impacts.py).  A window's histogram is the sum of its
 steps' rows: it counts contact-steps (a contact carried for 50 steps counts
 50 times: the histogram is time-weighted, so a resting log's weight dominates
 it and impacts show in its tail); its peak is the largest ``force_peak``.
@@ -36,12 +36,12 @@ true quantile, at most a factor :data:`BIN_RATIO` = 10^0.1 ≈ 1.26 above it.
 
 Kinds: log–log and log–shell (the stack model's two kinds), log–lifter kept apart
 (``"log-lifter"``), and ``"log-steel"`` = log–shell and log–lifter merged
-(both steel; the stack model's shell contact is the upper estimate for
+(both steel; the stack model's shell contact is the estimate for
 either, formulations.drum2d.stack).  The figures draw log–log and log–steel.
 
 Sliding work
 ------------
-``sliding_work[s, i]`` [J] is the friction work −r_T u_T⁺ of step s charged to
+``sliding_work[s, i]`` [J] is the friction work |r_T| s̄ of step s (records.py) charged to
 log i (half each at a log–log contact, all to the log at the steel).  A
 window's sliding work per log is the sum of its rows (n,) [J]; reported with
 its total, mean over logs, maximum and the log (index) that takes it.

@@ -1,4 +1,4 @@
-r"""The stack model's upper estimate of collision forces for a 2-D drum's logs.
+r"""The stack model's estimate of collision forces for a 2-D drum's logs.
 
 SI units: m, kg, s, N (stiffness N/m, modulus Pa).
 
@@ -11,8 +11,8 @@ sets that stack up for the logs of a 2-D run and the drum they tumble in, runs
 it with formulations.drum's public API (Drum, Log, log_half_stiffness) and
 returns its peak log–shell and log–log forces [N].
 
-Assumptions (each chosen to err on the high side, as an upper estimate must)
----------------------------------------------------------------------------
+Assumptions (each chosen to err on the high side)
+-------------------------------------------------
 - **Which logs.**  A column of L logs: the L heaviest logs of the run, the
   heaviest lowest (the peak of an impact grows with √m).  L is the number of
   layers of the bed at rest, round(bed depth / mean diameter) with the bed
@@ -42,6 +42,14 @@ Assumptions (each chosen to err on the high side, as an upper estimate must)
   come within the first (columns of 1 to 12 logs of 0.08–0.2 m, run for ten
   periods: the largest force of the ten came in the first).
 
+Not a bound.  Each assumption errs high, but nothing proves that no 2-D
+impact exceeds the column's: a log can strike a bed that is not a column
+(the 2-D peaks come from a resolved run of the impact's cluster,
+formulations.drum2d.impacts, which sees the chain the impulse takes), and
+friction, spin and the lifters' speed are not in the stack.  The figures
+draw it as a reference line and print the ratio largest 2-D peak / estimate;
+a ratio above 1 says the column is not the worst case of that run.
+
 The 2-D run with rigid contacts reports impulse / h, the mean force over a
 step h much longer than a contact period; those are far below this estimate.
 """
@@ -64,7 +72,7 @@ __all__ = ["StackEstimate", "stack_estimate", "stack_estimate_for_run", "drop_he
 
 @dataclass
 class StackEstimate:
-    """The stack model's upper estimate: ``log_shell_N`` and ``log_log_N``
+    """The stack model's estimate: ``log_shell_N`` and ``log_log_N``
     [N] (peak forces), the ``drop_height_m`` H_eq [m] and ``impact_speed_m_s``
     v [m/s], the column's ``masses_kg`` (bottom to top) and ``stiffness_N_m``
     (each log half), the ``shell_stiffness_N_m`` (None: rigid) and the time

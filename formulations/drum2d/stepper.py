@@ -55,10 +55,23 @@ exactly (f constant), so
                                   −½ h² g² m per free disc and step),
 
 −rᵀ w = Σ r · V is the work of the moving shell and lifters (the drive; the
-wall takes −r at velocity V).  Friction dissipates D_f = −Σ r_T u_T⁺ >= 0
-(Coulomb: r_T opposes the slip u_T⁺).  The rest, D_i = −rᵀ(u⁻ + u⁺)/2 − D_f,
-is what the contacts take: their springs' change ΔE_el plus the impacts'
-loss ``impact_loss`` (reported net of ΔE_el).  For rigid contacts its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
+wall takes −r at velocity V).  Friction dissipates the sliding work
+
+    D_f = Σ |r_T| s̄ >= 0,   s̄ = (1/h) ∫ |u_T(t)| dt  over the step,
+
+u_T taken linear from u_T⁻ to u_T⁺ (records.sliding_speed: (|u⁻| + |u⁺|)/2,
+or (u⁻² + u⁺²)/(2(|u⁻| + |u⁺|)) where the slip turns), the force |r_T|/h
+constant — ∫ F_T · slip dt, slip that stops within the step included (a
+log sliding at u_T⁻ that sticks by the step's end rubs |r_T| u_T⁻/2; the end
+slip alone would book 0).  Where r_T opposes the slip throughout this is
+−r_T (u_T⁻ + u_T⁺)/2, the tangential part of the identity above.  The rest,
+D_i = −rᵀ(u⁻ + u⁺)/2 − D_f, is what the contacts take: their springs' change
+ΔE_el plus the impacts' loss ``impact_loss`` (reported net of ΔE_el).  A
+step's impact loss can be negative: where the slip turns within the step,
+or sticks with a friction impulse along its starting slip, the one constant
+impulse of the step did less tangential work than Coulomb's ∫ |F_T||u_T|
+charges, and D_i gives the difference back; with springs also the θ = 1
+pairing below (docs/drum2d.md, "Energy books", measures both).  For rigid contacts its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
 where r_N > 0, so with e = 1 the scheme dissipates nothing at the normal
 impacts (to the certificate's tolerance) and K + P is kept exactly when friction
 is off and the shell still.  The remainder ΔK + ΔP − drive + D_f + D_i is
@@ -96,8 +109,10 @@ from qpcontact.core.friction_problem import FrictionProblem
 
 from .contacts import find_contacts
 from .geometry import GRAVITY, Discs, Shell
+from .drift import keep_gaps
+from .impacts import step_forces
 from .laws import SPRUCE_E_TANGENTIAL, ContactLaw
-from .records import Drum2DResult, Recorder
+from .records import Drum2DResult, Recorder, sliding_speed
 
 __all__ = ["Drum2D", "Drum2DResult", "EFFECTS", "UncertifiedStepWarning", "WARM_START",
            "WARM_METHODS"]
@@ -243,7 +258,7 @@ class Drum2D:
             active = c.gap + 0.5 * h * (u_minus[0::2] + u_free[0::2]) <= 0.0
             if self.law.compliant:
                 active |= self.law.compliance(c) > 0
-            c = c.subset(active)
+            near, c = c, c.subset(active)
             rec.counts["n_active"][s] = c.m
             keep2 = np.repeat(active, 2)
             u_minus, u_free = u_minus[keep2], u_free[keep2]
@@ -263,21 +278,35 @@ class Drum2D:
                 new_elastic = self.law.elastic_energy(comp, r[0::2], h)
             v_new = v_free + minv * (c.H @ r) if c.m else v_free
             th = self.theta
+            q_start = q
             q = q + h * ((1 - th) * v.reshape(n, 3)[:, :2] + th * v_new.reshape(n, 3)[:, :2])
             rec.per["scheme"][s] = h * (th - 0.5) * float(f @ (v - v_new))
+            v_step = v_new
+            if near.m:     # rigid contacts keep their gaps, energy unchanged (drift.py)
+                q, v_new, rest = keep_gaps(near, self.law.compliance(near) == 0, q_start, q,
+                                           v_new, d, self.shell.radius, h, self.gravity,
+                                           self.omega == 0.0, accuracy)
+                rec.per["scheme"][s] += rest
             rec.state_at(s + 1, q, v_new, mdiag, d.masses, self.gravity, new_elastic)
             per = rec.per
             if c.m:
-                u_plus = c.H.T @ v_new + c.w
-                fric = -float(r[1::2] @ u_plus[1::2])
+                u_plus = c.H.T @ v_step + c.w
+                # the step's mean sliding speed, slip stopped within the step
+                # included; its work |r_T| times that (module docstring)
+                slip = sliding_speed(u_minus[1::2], u_plus[1::2])
+                fric = float(np.abs(r[1::2]) @ slip)
                 per["drive"][s], per["friction_loss"][s] = -float(r @ c.w), fric
                 per["impact_loss"][s] = (-float(r @ (u_minus + u_plus)) / 2.0 - fric
                                          - (new_elastic - elastic))
                 m = d.masses
                 m_star = np.where(c.j >= 0, m[c.i] * m[c.j] / (m[c.i] + m[np.maximum(c.j, 0)]),
                                   m[c.i])
-                rec.forces(s, c, r, u_plus[1::2],
-                           self.law.peak_forces(r[0::2].copy(), h, comp, impact, m_star))
+                rec.forces(s, c, r, slip, step_forces(
+                    c, r[0::2], h, comp, impact, m_star, positions=q_start, velocities=v,
+                    masses=d.masses, radii=d.radii, inverse_inertia=minv[2::3],
+                    mu=self.mu[c.kind] if "friction" in self.effects else np.zeros(c.m),
+                    shell_radius=self.shell.radius,
+                    restitution=self.restitution, gravity=self.gravity))
             E = rec.energy
             per["remainder"][s] = (E["kinetic"][s + 1] + E["potential"][s + 1]
                                    + E["elastic"][s + 1] - E["kinetic"][s] - E["potential"][s]

@@ -1,6 +1,6 @@
 """What the engineer reads off a 2-D drum run: per-revolution force
 histograms, peaks and quantiles, sliding work per log (against a count of the
-kept contacts themselves), revolution windows by hand, the stack model's upper
+kept contacts themselves), revolution windows by hand, the stack model's
 estimate (against the analytic peak of one log dropped on the shell and
 against formulations.drum run by hand), the figures (units, no overprint,
 the estimate drawn) and the animation's frames."""
@@ -128,7 +128,7 @@ def test_histogram_quantile_by_hand():
 
 def _by_hand(result, first, stop, n):
     """Histograms, peaks and sliding work of steps first..stop−1 recounted
-    from the kept contacts (r_n / h, −r_t · slip charged to the logs)."""
+    from the kept contacts (r_n / h, |r_t| · slip charged to the logs)."""
     counts = {k: np.zeros(FORCE_BINS.size - 1, int) for k in range(3)}
     peaks = np.zeros(3)
     work = np.zeros(n)
@@ -143,7 +143,7 @@ def _by_hand(result, first, stop, n):
                 counts[k] += np.histogram(np.minimum(f, FORCE_BINS[-1]), FORCE_BINS)[0]
                 peaks[k] = max(peaks[k], f.max())
         for i, j, kind, rt, slip in zip(c["i"], c["j"], c["kind"], c["r_t"], c["slip"]):
-            w = max(0.0, -rt * slip)
+            w = abs(rt) * slip                     # slip: the mean sliding speed >= 0
             if kind == 0:
                 work[i] += w / 2
                 work[j] += w / 2
@@ -211,7 +211,7 @@ def test_a_result_needs_omega_and_a_file_its_statistics(small, tmp_path):
         revolutions(h)
 
 
-# -- the stack model's upper estimate ----------------------------------------------------
+# -- the stack model's estimate ----------------------------------------------------------
 
 
 def test_one_log_dropped_on_a_rigid_shell_gives_the_analytic_peak():
@@ -264,7 +264,7 @@ def test_the_estimate_for_a_run_and_its_drop(small):
     assert 2 <= est.layers <= 20
     same = stack_estimate_for_run(run.model)       # from the model, not the file
     assert same.log_shell_N == est.log_shell_N and same.log_log_N == est.log_log_N
-    # an upper estimate: above every 2-D peak of the run (rigid: impulse / h)
+    # above every 2-D peak of this run (rigid: impulse / h); not a bound in general
     with h5py.File(path) as h:
         peak = h["force_peak"][()].max(axis=0)
     assert peak[0] < est.log_log_N and max(peak[1], peak[2]) < est.log_shell_N

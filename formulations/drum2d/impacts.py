@@ -1,0 +1,152 @@
+r"""Peak contact forces of a step from the resolved dynamics of its impact's
+cluster.
+
+SI units: m, s, kg, N, N·s (impulses), compliance m/N.
+
+Why.  With springs the drum's step h (2 ms) is longer than a contact period
+T = 2π √(m* c) (0.7 ms for 0.12 m spruce logs): an impact is over within the
+step, and r_N/h, the step's mean force, is a fraction of its peak.  Rebuilding
+the peak from one two-body spring (the half-sine π r_N/T) is right for a
+binary collision only.  Where the impulse passes through a chain — a log
+striking a column, a log landing on one that rests on the shell — the struck
+contact's impulse is the whole chain's momentum change, delivered over the
+chain's wave time rather than the pair's half period, and the half-sine of
+the pair overestimates the peak (a struck column: 860 kN against 195 kN from a
+resolved simulation; a log struck on the shell: 86 kN against 61 kN).
+
+What.  Each step whose unresolved impacts (laws: an impact contact with
+T < π h) involve only compliant contacts is run again, for the force
+statistics only, as a resolved simulation of the impact's cluster: the discs
+connected to an impact's discs through contacts that carry an impulse in the
+step (its connected component in the contact graph), with every active
+contact among them, from the step's start state (positions, velocities,
+overlaps), under gravity, each contact the step's own spring 1/c (laws.py)
+with a dashpot of the step's restitution e (ζ = −ln e / √(π² + ln² e) on the
+contact's m*; none with e = 1), no pull, and Coulomb friction with the
+step's μ (regularized by a viscous law stiff enough to take a fifth of a
+contact's slip in one sub-step), the discs spinning.  Disc–disc and
+disc–shell contacts use their exact gaps as the discs move; a lifter's gap
+moves linearly along its normal at the wall's velocity.  The run is velocity
+Verlet (the velocity-dependent forces at the predicted velocity) with
+τ = 0.1 / ω_max (ω_max² <= max_i Σ_k (2/m_i + 2/√(m_i m_j))/c_k, Gershgorin
+on the cluster's stiffness: at least 63 sub-steps a period of its fastest
+mode; a dashpot's force jumps at the touch, which makes the peak first order
+in τ: +1.5 % on a binary impact with e = 0.2 at 0.1 and at 0.05 / ω_max,
++8 % at 0.2, +0.4 % at 0.025), over
+h + T_max/2 (an impact starting at the step's end still reaches its peak).
+Each cluster contact's force is the largest of that run; every other
+contact's the step's mean r_N/h.
+
+Measured against a penalty DEM of the whole scene at h/400 (linear
+spring–dashpot, Coulomb, h = 2 ms, spruce 0.4 GPa, e = 0.2 unless said;
+tests/formulations/drum2d/test_drum2d_peaks.py): binary 0.12 + 0.2 m at
+2 m/s +1.5 % (e = 1: 0.0 %), a log struck on a log resting on the shell
+−1.7 % (log–log) and −0.9 % (log–shell), a column of 5 and of 8 logs struck
+at 3 m/s +0.7 % (e = 1: 0.0 %), a pile of 6 struck obliquely −0.2 to −0.1 %
+(log–log) and 0.0 to +0.9 % (log–shell); the pair's half-sine gave −35 %,
++27 %, +22 to +87 % and +12 to +27 % (log–shell of the pile −76 %).
+
+What it leaves out: contacts to discs outside the cluster (they carried no
+impulse in the step) and the bodies outside it (frozen); the lifters'
+curvature of motion within the step.  Its cost: a cluster is the connected
+part of the bed, so a settled bed's every step with an impact runs the bed
+(compiled; measured in docs/drum2d.md, "Peak forces").
+The step itself — velocities, positions, the books — is the certified
+contact problem's, untouched: this is a measurement of the step, not a
+second model of it.  A cluster with a rigid contact (``shell_elasticity``
+alone: rigid log–log) has no spring to resolve: its impacts keep the pair's
+half-sine π r_N/T, the others the mean.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from .contacts import DISC, SHELL
+
+__all__ = ["step_forces", "damping_ratio"]
+
+#: ω_max τ of the cluster runs (module docstring)
+OMEGA_TAU = 0.1
+
+
+def damping_ratio(e: float) -> float:
+    """ζ of a linear spring–dashpot whose restitution is ``e`` (0 < e <= 1;
+    e = 0 is critical damping, ζ = 1)."""
+    if e <= 0.0:
+        return 1.0
+    le = np.log(e)
+    return float(-le / np.sqrt(np.pi ** 2 + le * le))
+
+
+def step_forces(c, r_n, h, comp, impact, m_star, *, positions, velocities, masses, radii,
+                inverse_inertia, mu, shell_radius, restitution, gravity):
+    """The step's normal contact forces [N] for the statistics (module
+    docstring): contacts ``c`` (active), impulses ``r_n`` [N·s], compliance
+    ``comp`` [m/N], ``impact`` (laws.ContactLaw.normal_terms), reduced
+    masses ``m_star`` [kg], friction coefficients ``mu``; the step's start
+    ``positions`` (n, 2) [m] and generalized ``velocities`` (3n,); the discs'
+    ``inverse_inertia`` (n,) [1/(kg m²)], 0 where held from rolling."""
+    F = r_n / h
+    T = 2.0 * np.pi * np.sqrt(m_star * comp)
+    pulse = impact & (T > 0) & (T < np.pi * h)
+    if not pulse.any():
+        return F
+    n = masses.size
+    loaded = (r_n > 0) | impact
+    pair = (c.j >= 0) & loaded
+    graph = sp.coo_matrix((np.ones(int(pair.sum())), (c.i[pair], c.j[pair])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    struck = np.unique(label[np.concatenate([c.i[pulse], c.j[pulse & (c.j >= 0)]])])
+    for lab in struck:
+        inside = label == lab
+        mine = inside[c.i] & ((c.j < 0) | inside[np.maximum(c.j, 0)])
+        if np.any(comp[mine] <= 0):          # a rigid contact: nothing to resolve
+            F[mine & pulse] = np.pi * r_n[mine & pulse] / T[mine & pulse]
+            continue
+        F[mine] = _cluster_run(c, mine, inside, comp, T[mine & pulse].max(), m_star, mu, h,
+                               positions, velocities, masses, radii, inverse_inertia,
+                               shell_radius, restitution, gravity)
+    return F
+
+
+def _cluster_run(c, mine, inside, comp, T_max, m_star, mu, h, positions, velocities, masses,
+                 radii, inverse_inertia, shell_radius, restitution, gravity):
+    from .impact_kernel import cluster_peaks
+
+    discs = np.flatnonzero(inside)
+    local = np.full(inside.size, -1, np.int64)
+    local[discs] = np.arange(discs.size)
+    a = local[c.i[mine]]
+    b = np.where(c.j[mine] >= 0, local[np.maximum(c.j[mine], 0)], -1)
+    kind = np.where(c.kind[mine] == DISC, 0, np.where(c.kind[mine] == SHELL, 1, 2))
+    stiff = 1.0 / comp[mine]
+    eta = 2.0 * damping_ratio(restitution) * np.sqrt(m_star[mine] * stiff)
+    m = masses[discs]
+    # Gershgorin on M^-1/2 K M^-1/2: (2/m_i + 2/sqrt(m_i m_j)) / c per contact and end
+    mj = np.where(b >= 0, m[np.maximum(b, 0)], np.inf)
+    row = np.zeros(discs.size)
+    np.add.at(row, a, stiff * (2.0 / m[a] + 2.0 / np.sqrt(m[a] * mj)))
+    pb = b >= 0
+    np.add.at(row, b[pb], stiff[pb] * (2.0 / mj[pb] + 2.0 / np.sqrt(m[a[pb]] * mj[pb])))
+    tau = OMEGA_TAU / np.sqrt(row.max())
+    steps = int(np.ceil((h + 0.5 * T_max) / tau))
+    V = velocities.reshape(-1, 3)
+    inv_i = np.ascontiguousarray(inverse_inertia[discs], float)
+    inv_m_t = 1.0 / m + radii[discs] ** 2 * inv_i
+    # Coulomb's stick, regularized: a viscous law that would take 0.2 of a
+    # contact's slip a sub-step (a disc's tangential inverse mass 1/m + r²/I)
+    w_t = inv_m_t[a] + np.where(b >= 0, inv_m_t[np.maximum(b, 0)], 0.0)
+    gam = 0.2 / (tau * w_t)
+    return cluster_peaks(np.ascontiguousarray(positions[discs], float),
+                         np.ascontiguousarray(V[discs, :2], float),
+                         np.ascontiguousarray(V[discs, 2], float),
+                         np.ascontiguousarray(c.gap[mine], float), 1.0 / m, inv_i,
+                         float(gravity), np.ascontiguousarray(radii[discs], float), a, b,
+                         kind.astype(np.int64), np.ascontiguousarray(c.normal[mine], float),
+                         np.ascontiguousarray(c.w[0::2][mine], float),
+                         np.ascontiguousarray(c.w[1::2][mine], float), stiff, eta,
+                         np.ascontiguousarray(mu[mine], float), gam, float(shell_radius),
+                         float(tau), steps)
