@@ -171,13 +171,22 @@ def prove_beyond(frame, b, const, var, p):
             which.append((ci, v))
     A = np.array(rows)                       # A c >= 0 for every ray, (G F)·c = 1
     gF = G @ F
-    sc = max(np.abs(A).max(initial=0.0), np.abs(gF).max(), 1e-300)
-    res = linprog(np.zeros(G.shape[0]), A_ub=-A / sc, b_ub=np.zeros(len(A)),
-                  A_eq=gF[None, :] / sc, b_eq=[1.0 / sc], bounds=[(None, None)] * G.shape[0],
+    # balanced for the LP's tolerances: each parameter by its largest
+    # lever (a rotation's moves grow with the frame's size, a translation's
+    # do not), each ray's row by its size — else a tower's rotation
+    # "satisfied" every ray to 1e-10 of the scaled rows and failed the
+    # exact check by 3e-5
+    col = np.maximum(np.abs(A).max(axis=0, initial=0.0), np.abs(gF))
+    col[col == 0] = 1.0
+    As, gs = A / col, gF / col
+    row = np.abs(As).max(axis=1, initial=0.0)
+    row[row == 0] = 1.0
+    res = linprog(np.zeros(G.shape[0]), A_ub=-As / row[:, None], b_ub=np.zeros(len(A)),
+                  A_eq=gs[None, :], b_eq=[1.0], bounds=[(None, None)] * G.shape[0],
                   method="highs")
     if res.status != 0:
         return None
-    return exact_check(frame, b, G, F, rays, res.x)
+    return exact_check(frame, b, G, F, rays, res.x / col)
 
 
 def exact_check(frame, b, G, F, rays, c):
