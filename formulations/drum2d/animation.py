@@ -12,10 +12,11 @@ Which states: those after the steps whose contacts were kept (the scene's
 ``contacts_every``), so every frame shows its force chains; a file that kept
 no contacts gives frames of the motion alone.  ``stride`` takes every
 stride-th of them (default: as few as keep at most ``max_frames``), or with
-``interval`` [s] (the scene's ``[output] frame_interval``) the first kept
-state at or after each multiple of the interval from the first, so that the
-frames are that far apart in simulated time (never closer: a kept step
-falls between the marks); ``max_frames`` caps the count — an animation is a
+``interval`` [s] (the scene's ``[output] frame_interval``) each frame the
+first kept state at least the interval after the one before, so that the
+frames are that far apart in simulated time — exactly where the interval
+is a multiple of the kept steps' spacing, else up to one spacing more;
+``max_frames`` caps the count — an animation is a
 look, not a record.
 
 Output: PNG frames ``frame_0000.png``, ... in a folder (always), and a movie
@@ -55,9 +56,9 @@ class Animation:
 def animation_states(h, stride: int | None = None, max_frames: int = 60,
                      interval: float | None = None) -> np.ndarray:
     """The states drawn (module docstring): after each kept step (every state
-    when none was kept), every ``stride``-th, or with ``interval`` [s] the
-    first at or after each multiple of it from the first; at most
-    ``max_frames``."""
+    when none was kept), every ``stride``-th, or with ``interval`` [s] from
+    the first, each the first kept state at least ``interval`` after the
+    frame before; at most ``max_frames``."""
     if int(max_frames) < 1 or (stride is not None and int(stride) < 1):
         raise InvalidOptionError(f"max_frames and stride must be >= 1; got {max_frames}, "
                                  f"{stride}")
@@ -70,11 +71,14 @@ def animation_states(h, stride: int | None = None, max_frames: int = 60,
     states = kept if kept.size else np.arange(len(h["t"]))
     if interval is not None:
         t = np.asarray(h["t"][()], float)[states]
-        # a hair of the step's rounding: a state at k·interval − 1e-12 s is k's
-        marks = t[0] + interval * np.arange(int(np.floor((t[-1] - t[0]) / interval
-                                                         + 1e-9)) + 1)
-        at = np.searchsorted(t, marks - 1e-9 * interval)
-        return np.unique(states[at[at < states.size]])[:int(max_frames)]
+        picked = [0]
+        while len(picked) < int(max_frames):
+            # a hair of rounding: a state at t + interval − 1e-12 s is far enough
+            k = int(np.searchsorted(t, t[picked[-1]] + interval * (1 - 1e-9)))
+            if k >= t.size:
+                break
+            picked.append(k)
+        return states[picked]
     if stride is None:
         stride = int(np.ceil(states.size / max_frames))
     return states[::int(stride)][:int(max_frames)]
