@@ -122,7 +122,7 @@ def _fill(scene, shell: Shell):
         scene.fail(f"must be one of {', '.join(PACKINGS)}; got {logs['packing']!r}", ("logs",),
                    "packing")
     if logs["packing"] == "deposit":
-        # the diameters drawn as hex_fill draws them, so the two fills hold the same logs
+        # the diameters drawn as hex_fill draws them
         d = mean * (1.0 + spread * np.random.default_rng(logs["seed"]).uniform(-1.0, 1.0, n))
         inner, outer = shell.lifter_segments(0.0, 0.0)
         try:
@@ -240,7 +240,7 @@ def _scene_build(scene):
 
     def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0,
             on_step=None):
-        wrote = None if checkpoint is None else _Spaced(checkpoint, model, h, steps)
+        wrote = None if checkpoint is None else _Spaced(checkpoint, model, h, steps, frames)
         result = model.simulate(h, steps, method=solver["method"], accuracy=solver["accuracy"],
                                 warm_start=warm, keep_contacts=every, progress=progress,
                                 on_step=on_step, resume=resume, checkpoint_seconds=
@@ -254,17 +254,18 @@ class _Spaced:
     """The CLI's checkpoint, called at most every ten times its last write
     took (a big run's file takes seconds to write), always for the end."""
 
-    def __init__(self, checkpoint, model, h, steps):
+    def __init__(self, checkpoint, model, h, steps, frames=None):
         import time
 
         self.checkpoint, self.model, self.h, self.steps = checkpoint, model, h, steps
+        self.frames = frames
         self.clock, self.next = time.perf_counter, 0.0
 
     def __call__(self, result):
         now = self.clock()
         if len(result.t) - 1 < self.steps and now < self.next:
             return
-        self.checkpoint(Drum2DRun(self.model, self.h, result))
+        self.checkpoint(Drum2DRun(self.model, self.h, result, self.frames))
         self.next = self.clock() + 10.0 * (self.clock() - now)
 
 
