@@ -300,7 +300,9 @@ def on_sampled_step(model, res, s, kept, methods, lcp_methods, time_limit):
                  in_loop_err=res.certificate_error[s], in_loop_ok=bool(res.certified[s]),
                  rebuilt=check, runs=[])
     r0 = warm_guess(kept[s - 1], c) if s - 1 in kept else None
-    tries = [("warm nsgs-newton (re-solve)", "nsgs-newton", dict(r0=r0))]
+    # as the stepper solves it: compliant contacts, J's own LU first
+    tries = [("warm nsgs-newton (re-solve)", "nsgs-newton",
+              dict(r0=r0, square_first=model.law.compliant))]
     tries += [(m, m, {}) for m in methods]
     for label, m, opts in tries:
         fresh = step_problem(model, res, s, c)        # nothing kept from another method
