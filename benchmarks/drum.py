@@ -32,6 +32,12 @@ run's impulses must certify on it as in the run) and solved by every friction
 method of the registry at "high" (time limit --time-limit s each) against the
 warm-started route, plus the frictionless LCP of the same contacts.
 
+Last, per size, the CPU per simulated second of the friction route (its
+timed steps) against a resolved explicit penalty DEM of the same scene from
+the same settled bed (benchmarks/drum2d_dem.py: the same springs, dashpots
+for the restitution, Coulomb-capped tangential dashpots, 50 steps a contact
+period, numba) run for --dem-time simulated seconds in the same process.
+
 The settled beds are kept in out/bench/drum2d/ (--cache; --no-cache settles
 afresh) and read back by the next run with the same sizes and --settle.
 
@@ -48,7 +54,7 @@ Options: --model both|stack|2d  --quick  --logs 10,100,1000,10000  --steps 200
 frictionless LCPs)  --d2-logs 100,500  --d2-steps 40  --warmup 10  --settle 400
 --d2-sample 2  --time-limit 10 (s per method on a sampled step)  --methods
 (friction methods, comma-separated; default all of the registry's for 2-D)
---cache DIR  --no-cache
+--dem-time 0.05 (s simulated by the DEM)  --cache DIR  --no-cache
 """
 
 from __future__ import annotations
@@ -72,6 +78,7 @@ import qpcontact  # noqa: E402
 from formulations.drum import Drum, Log  # noqa: E402
 from formulations.drum2d import (LIFTER, Discs, Drum2D, Shell,  # noqa: E402
                                  UncertifiedStepWarning, find_contacts, hex_fill)
+from benchmarks.drum2d_dem import penalty_dem  # noqa: E402
 
 
 # ---------------------------------------------------------------- the stack model
@@ -216,11 +223,13 @@ class StepClock:
         self.want = set(sampled) | {s - 1 for s in sampled}
         self.kept = {}
         self.stamps = [time.perf_counter()]
+        self.cpu = [time.process_time()]
         self.last_print = self.stamps[0]
 
     def __call__(self, n, contacts, r):
         now = time.perf_counter()
         self.stamps.append(now)
+        self.cpu.append(time.process_time())
         s = n - 1                       # the step from t[s] to t[s+1]
         if s in self.want:
             self.kept[s] = (contacts, r.copy())
@@ -231,6 +240,9 @@ class StepClock:
 
     def seconds(self):
         return np.diff(self.stamps)
+
+    def cpu_seconds(self):
+        return np.diff(self.cpu)
 
 
 def step_problem(model: Drum2D, res, s, contacts):
@@ -288,7 +300,9 @@ def on_sampled_step(model, res, s, kept, methods, lcp_methods, time_limit):
                  in_loop_err=res.certificate_error[s], in_loop_ok=bool(res.certified[s]),
                  rebuilt=check, runs=[])
     r0 = warm_guess(kept[s - 1], c) if s - 1 in kept else None
-    tries = [("warm nsgs-newton (re-solve)", "nsgs-newton", dict(r0=r0))]
+    # as the stepper solves it: compliant contacts, J's own LU first
+    tries = [("warm nsgs-newton (re-solve)", "nsgs-newton",
+              dict(r0=r0, square_first=model.law.compliant))]
     tries += [(m, m, {}) for m in methods]
     for label, m, opts in tries:
         fresh = step_problem(model, res, s, c)        # nothing kept from another method
@@ -321,7 +335,7 @@ def run_2d(args):
     total = args.warmup + args.d2_steps
     spread = max(1, args.d2_steps // max(args.d2_sample, 1))
     sampled = [args.warmup + spread // 2 + k * spread for k in range(args.d2_sample)]
-    rows, comparisons, lcps, per_step, settling = [], [], [], {}, {}
+    rows, comparisons, lcps, per_step, settling, dems = [], [], [], {}, {}, []
     print(f"\n2-D drum: 4 m, {N_LIFTERS} lifters, {REV_PER_S} rev/s, h = {1e3 * H2D:g} ms, "
           f"effects {', '.join(EFFECTS_2D)}; settle {args.settle} steps, then {args.warmup} "
           f"untimed + {args.d2_steps} timed steps; friction methods {methods}", flush=True)
@@ -364,6 +378,12 @@ def run_2d(args):
                   f"{r['fallbacks']}", flush=True)
             if route != "friction":
                 continue
+            # the resolved explicit DEM from the same settled bed, same scene
+            dem = penalty_dem(model, args.dem_time)
+            cpu = clock.cpu_seconds()[timed].sum() / (args.d2_steps * H2D)
+            dems.append((n, cpu, dem["cpu"] / (dem["steps"] * dem["dt"]), dem))
+            print(f"  {n} logs, penalty DEM: {dem['steps']} steps of {dem['dt']:.3g} s, "
+                  f"{1e3 * dem['cpu'] / dem['steps']:.3f} ms CPU a step", flush=True)
             for s in sampled:
                 if not comparisons:
                     first_calls(step_problem(model, res, s, clock.kept[s][0]), methods,
@@ -373,6 +393,19 @@ def run_2d(args):
                 comparisons.append(entry)
                 lcps += [(n, *row) for row in lcp_rows]
     _print_2d(rows, per_step, settling, comparisons, lcps, args)
+    _print_dem(dems)
+
+
+def _print_dem(dems):
+    print("\nPer simulated second against a resolved explicit penalty DEM of the same scene "
+          "(benchmarks/drum2d_dem.py: the same springs, Δt = T_min/50), CPU seconds, side by "
+          "side in this run\n")
+    print("| logs | contact-implicit route [CPU s / simulated s] | penalty DEM [CPU s / "
+          "simulated s] | DEM Δt [s] | DEM contacts in force | route / DEM |")
+    print("|---|---|---|---|---|---|")
+    for n, route, dem, d in dems:
+        print(f"| {n} | {route:.3g} | {dem:.3g} | {d['dt']:.3g} | {d['contacts']:.0f} "
+              f"| {route / dem:.2f} |")
 
 
 def _slope(x, y):
@@ -527,6 +560,8 @@ def main(argv=None):
     ap.add_argument("--d2-sample", type=int, default=2)
     ap.add_argument("--time-limit", type=float, default=10.0)
     ap.add_argument("--methods", default=None)
+    ap.add_argument("--dem-time", type=float, default=0.05,
+                    help="simulated seconds of the penalty DEM per size")
     ap.add_argument("--cache", default=os.path.join(ROOT, "out", "bench", "drum2d"),
                     help="folder for the settled beds (read back by the next run)")
     ap.add_argument("--no-cache", action="store_true", help="settle every bed afresh")

@@ -11,8 +11,13 @@ forces drawn gets the full width, stronger ones (an impact) up to 1.5 times.
 Which states: those after the steps whose contacts were kept (the scene's
 ``contacts_every``), so every frame shows its force chains; a file that kept
 no contacts gives frames of the motion alone.  ``stride`` takes every
-stride-th of them (default: as few as keep at most ``max_frames``), and
-``max_frames`` caps the count — an animation is a look, not a record.
+stride-th of them (default: as few as keep at most ``max_frames``), or with
+``interval`` [s] (the scene's ``[output] frame_interval``) each frame the
+first kept state at least the interval after the one before, so that the
+frames are that far apart in simulated time — exactly where the interval
+is a multiple of the kept steps' spacing, else up to one spacing more;
+``max_frames`` caps the count — an animation is a
+look, not a record.
 
 Output: PNG frames ``frame_0000.png``, ... in a folder (always), and a movie
 beside them when a writer is installed: a GIF through Pillow (what
@@ -48,14 +53,32 @@ class Animation:
     message: str = ""
 
 
-def animation_states(h, stride: int | None = None, max_frames: int = 60) -> np.ndarray:
+def animation_states(h, stride: int | None = None, max_frames: int = 60,
+                     interval: float | None = None) -> np.ndarray:
     """The states drawn (module docstring): after each kept step (every state
-    when none was kept), every ``stride``-th, at most ``max_frames``."""
+    when none was kept), every ``stride``-th, or with ``interval`` [s] from
+    the first, each the first kept state at least ``interval`` after the
+    frame before; at most ``max_frames``."""
     if int(max_frames) < 1 or (stride is not None and int(stride) < 1):
         raise InvalidOptionError(f"max_frames and stride must be >= 1; got {max_frames}, "
                                  f"{stride}")
+    if interval is not None and stride is not None:
+        raise InvalidOptionError("give stride or interval, not both")
+    if interval is not None and not (np.isfinite(interval) and interval > 0):
+        raise InvalidOptionError(f"the frame interval must be a finite time > 0 [s]; got "
+                                 f"{interval}")
     kept = np.unique(h["contacts/step"][()]).astype(np.int64) + 1
     states = kept if kept.size else np.arange(len(h["t"]))
+    if interval is not None:
+        t = np.asarray(h["t"][()], float)[states]
+        picked = [0]
+        while len(picked) < int(max_frames):
+            # a hair of rounding: a state at t + interval − 1e-12 s is far enough
+            k = int(np.searchsorted(t, t[picked[-1]] + interval * (1 - 1e-9)))
+            if k >= t.size:
+                break
+            picked.append(k)
+        return states[picked]
     if stride is None:
         stride = int(np.ceil(states.size / max_frames))
     return states[::int(stride)][:int(max_frames)]
@@ -80,18 +103,19 @@ def _movie_writer(movie: str, fps: int):
 
 def write_animation(h, folder, *, stride: int | None = None, max_frames: int = 60,
                     fps: int = 8, dpi: int = 80, movie: str = "auto",
-                    name: str = "animation") -> Animation:
+                    name: str = "animation", interval: float | None = None) -> Animation:
     """Frames of the cross-section with force chains (module docstring) as
     PNGs in ``folder`` and, with ``movie`` "auto" (GIF, else MP4), "gif" or
     "mp4", a movie ``name``.gif/.mp4 beside the folder; "none" for frames
-    only.  ``fps`` frames per second, ``dpi`` of frames and movie."""
+    only.  ``fps`` frames per second, ``dpi`` of frames and movie;
+    ``interval`` [s] the simulated time between frames (animation_states)."""
     if movie not in ("auto", "gif", "mp4", "none"):
         raise InvalidOptionError(f"movie must be auto, gif, mp4 or none; got {movie!r}")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    states = animation_states(h, stride, max_frames)
+    states = animation_states(h, stride, max_frames, interval)
     data = cross_section_data(h)
     shown = np.isin(data["step"], states - 1)
     # one scale for all frames, robust to a single impact: the 99th percentile

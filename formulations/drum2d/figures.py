@@ -229,6 +229,13 @@ def force_histogram_figure(h, estimate=None):
     # log headroom above the highest bin: the legend sits there, off the data
     axes[0].set_ylim(0.6, most * 10 ** (1.2 + 0.1 * min(len(revs), 8)))
     axes[0].set_ylabel("contact-steps per bin [count]")
+    # the same counts as a rate over a whole window (revolutions.KindForces:
+    # impacts a second in the tail, whatever the step)
+    span = max((r.window.t_end_s - r.window.t_start_s) / r.window.fraction for r in revs)
+    if span > 0:
+        right = axes[1].secondary_yaxis("right", functions=(lambda c: c / span,
+                                                            lambda x: x * span))
+        right.set_ylabel(f"per second over a whole window ({span:.3g} s) [1/s]")
     fig.suptitle(f"Contact-force histograms {_per(revs)} (10 bins a decade from "
                  f"{FORCE_BINS[0]:g} N)\n" + est.describe(),
                  fontsize=9.5)

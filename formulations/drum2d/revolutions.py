@@ -92,11 +92,31 @@ class Window:
 class KindForces:
     """One contact kind over one window: ``counts`` (B,) contact-steps per bin
     of FORCE_BINS, ``peak_N`` [N] the largest force (0 without contacts),
-    ``quantiles_N`` {q: upper bound [N]} (module docstring)."""
+    ``quantiles_N`` {q: upper bound [N]} (module docstring), the window's
+    ``seconds`` [s] and the step ``step_s`` h [s].
+
+    The counts depend on the step: a contact carried for a time τ counts
+    τ/h times, an unresolved impact once.  Two rates do not:
+    ``per_second`` = counts / seconds [1/s] is, in the impact tail, the
+    impacts a second; ``at_a_time`` = counts · h / seconds [-] is, in the
+    resting part, the mean number of contacts in the bin at any instant
+    (contact-seconds per second)."""
 
     counts: np.ndarray
     peak_N: float
     quantiles_N: dict
+    seconds: float = 0.0
+    step_s: float = 0.0
+
+    @property
+    def per_second(self) -> np.ndarray:
+        """counts / window duration [1/s] (0 for an empty window)."""
+        return self.counts / self.seconds if self.seconds > 0 else np.zeros(self.counts.shape)
+
+    @property
+    def at_a_time(self) -> np.ndarray:
+        """counts · h / window duration [-]: the mean number of contacts in each bin."""
+        return self.per_second * self.step_s
 
     @property
     def contact_steps(self) -> int:
@@ -210,9 +230,10 @@ def run_arrays(source, omega=None) -> dict:
                 omega=float(source["drum/omega"][()]) if omega is None else float(omega))
 
 
-def _kind(counts, peaks, quantiles) -> KindForces:
+def _kind(counts, peaks, quantiles, seconds, step) -> KindForces:
     peak = float(peaks.max(initial=0.0))
-    return KindForces(counts, peak, {q: histogram_quantile(counts, q, peak) for q in quantiles})
+    return KindForces(counts, peak, {q: histogram_quantile(counts, q, peak) for q in quantiles},
+                      seconds, step)
 
 
 def revolutions(source, omega=None, quantiles=QUANTILES) -> list:
@@ -230,8 +251,11 @@ def revolutions(source, omega=None, quantiles=QUANTILES) -> list:
         rows = slice(w.first, w.stop)
         counts = a["force_counts"][rows].sum(axis=0).astype(np.int64)     # (3, B)
         peaks = a["force_peak"][rows]                                    # (steps, 3)
-        forces = {name: _kind(counts[k], peaks[:, k], quantiles)
+        seconds = w.t_end_s - w.t_start_s
+        step = float(np.mean(np.diff(a["t"][w.first:w.stop + 1])))
+        forces = {name: _kind(counts[k], peaks[:, k], quantiles, seconds, step)
                   for k, name in enumerate(KIND_NAMES[:3])}
-        forces["log-steel"] = _kind(counts[1] + counts[2], peaks[:, 1:], quantiles)
+        forces["log-steel"] = _kind(counts[1] + counts[2], peaks[:, 1:], quantiles, seconds,
+                                    step)
         out.append(Revolution(w, forces, SlidingWork(a["sliding_work"][rows].sum(axis=0))))
     return out

@@ -9,7 +9,10 @@ engineer gives it.  A scene is turned into the Drum2D model of this package:
 - the fill: n logs of ``length`` ℓ [m] and ``density`` ρ [kg/m³], diameters
   drawn uniformly in [d_min, d_max] with ``seed``, placed at rest on a
   hexagonal lattice from the bottom up (geometry.hex_fill), lattice sites that
-  a lifter's capsule would cut left out.  Either ``count`` = n, or
+  a lifter's capsule would cut left out, or with ``packing = "deposit"``
+  dropped one by one to the lowest place they reach (packing.deposit_fill:
+  about 0.8 of the bed covered against the lattice's 0.907 E[d²]/d_max²,
+  so 120 logs of 0.12–0.28 m fit a 3.5 m drum).  Either ``count`` = n, or
   ``fill_fraction`` f of the drum's cross-section covered by the discs:
   n = round(f π R² / (π E[d²]/4)), E[d²] = d̄² + (d_max − d_min)²/12;
 - effects: gravity always (``[effect.gravity] g`` only when named); ``friction``
@@ -24,6 +27,8 @@ engineer gives it.  A scene is turned into the Drum2D model of this package:
 - output: ``contacts_every`` k keeps the active contacts of every k-th step
   (force chains in snapshots and animations; 0 none) — the force statistics
   (peaks, histograms, sliding work) cover every step whatever k;
+  ``frame_interval`` [s] the simulated time between the animation's frames
+  (at least k h: the frames are kept steps; default at most 40 frames);
 - time: ``step`` h [s] and ``duration`` [s] or ``revolutions`` (with
   ``rotation``): steps = round(duration / h), duration = revolutions / speed.
 
@@ -44,6 +49,8 @@ from qpcontact.core.errors import InvalidProblemError
 
 from .geometry import GRAVITY, SPRUCE_DENSITY, Discs, Shell, hex_fill
 from .laws import SPRUCE_E_TANGENTIAL
+from .outputs import run_summary
+from .packing import deposit_fill
 from .records import FORCE_BINS
 from .stepper import WARM_METHODS, Drum2D
 
@@ -57,15 +64,26 @@ SPEED_WHY = ("600 rpm; a debarking drum turns at a fraction of a rev/s, and abov
              "sqrt(g/R)/2π the logs stay pinned to the shell")
 #: the most steps a scene may ask for (duration / step)
 MAX_STEPS = 10 ** 8
+#: how the logs are placed at the start (module docstring)
+PACKINGS = ("lattice", "deposit")
+#: the most frames an animation with a scene's frame_interval draws
+MAX_FRAMES = 2000
 
 
 class Drum2DRun:
     """A scene's run: the ``model`` (Drum2D), the step ``h`` [s] and the
     ``result`` (Drum2DResult)."""
 
-    def __init__(self, model: Drum2D, h: float, result):
+    def __init__(self, model: Drum2D, h: float, result, frame_interval=None):
         self.model, self.h, self.result = model, h, result
         self.t = result.t
+        self.frame_interval = frame_interval
+
+    def summary(self):
+        """The end-of-run figures (outputs.RunSummary: certificates, peaks,
+        drive power and torque per metre, energy per tonne, sliding work per
+        log and per m² of log surface), printed by ``qpcontact simulate``."""
+        return run_summary(self.result, self.model.discs, self.model.omega)
 
 
 def _lifter_clear(points, dmax, shell: Shell):
@@ -100,6 +118,20 @@ def _fill(scene, shell: Shell):
         mean = 0.5 * (dmin + dmax)
         n = max(1, int(round(4 * f * shell.radius ** 2 / (mean ** 2 + (dmax - dmin) ** 2 / 12))))
     mean, spread = 0.5 * (dmin + dmax), (dmax - dmin) / (dmax + dmin)
+    if logs["packing"] not in PACKINGS:
+        scene.fail(f"must be one of {', '.join(PACKINGS)}; got {logs['packing']!r}", ("logs",),
+                   "packing")
+    if logs["packing"] == "deposit":
+        # the diameters drawn as hex_fill draws them
+        d = mean * (1.0 + spread * np.random.default_rng(logs["seed"]).uniform(-1.0, 1.0, n))
+        inner, outer = shell.lifter_segments(0.0, 0.0)
+        try:
+            return deposit_fill(shell.radius, d, clearance=logs["clearance"],
+                                lifters=list(zip(inner, outer)),
+                                half_width=shell.lifter_half_width), d
+        except InvalidProblemError as exc:
+            scene.fail(str(exc), ("logs",), "count" if logs["count"] is not None
+                       else "fill_fraction")
     extra = 0
     while True:   # more sites than logs where lifters cut some out
         try:
@@ -107,7 +139,8 @@ def _fill(scene, shell: Shell):
                               clearance=logs["clearance"])
         except InvalidProblemError as exc:
             scene.fail(str(exc) + (" once the sites the lifters cut are left out"
-                                   if extra else ""), ("logs",), "count")
+                                   if extra else "") + "; packing = \"deposit\" packs "
+                       "mixed diameters denser", ("logs",), "count")
         keep = _lifter_clear(pts, dmax, shell)
         if keep.sum() >= n:
             return pts[keep][:n], d[keep][:n]
@@ -181,6 +214,17 @@ def _scene_build(scene):
     if every < 0:
         scene.fail(f"must be >= 0 (0: keep no contacts); got {every}", ("output",),
                    "contacts_every")
+    frames = scene.data["output"]["frame_interval"]
+    if frames is not None and every == 0:
+        scene.fail("the animation's frames are the steps whose contacts are kept: set "
+                   "contacts_every >= 1 for frames", ("output",), "frame_interval")
+    if frames is not None and frames < every * h * (1 - 1e-9):
+        scene.fail(f"must be at least contacts_every × step = {every} × {h:g} s = "
+                   f"{every * h:.6g} s (the frames are the kept steps); got {frames:g} s: "
+                   "lengthen it or lower contacts_every", ("output",), "frame_interval")
+    if frames is not None and frames > h * steps:
+        scene.fail(f"must not exceed the run's duration {h * steps:.6g} s; got {frames:g} s",
+                   ("output",), "frame_interval")
     warm = None if solver["warm_start"] == "none" else solver["warm_start"]
     if warm is not None and warm not in WARM_METHODS:
         scene.fail(f"must be one of {', '.join(WARM_METHODS)} or none; got {warm!r}",
@@ -196,12 +240,12 @@ def _scene_build(scene):
 
     def run(progress: bool = False, resume=None, checkpoint=None, checkpoint_seconds=5.0,
             on_step=None):
-        wrote = None if checkpoint is None else _Spaced(checkpoint, model, h, steps)
+        wrote = None if checkpoint is None else _Spaced(checkpoint, model, h, steps, frames)
         result = model.simulate(h, steps, method=solver["method"], accuracy=solver["accuracy"],
                                 warm_start=warm, keep_contacts=every, progress=progress,
                                 on_step=on_step, resume=resume, checkpoint_seconds=
                                 checkpoint_seconds, checkpoint=wrote)
-        return Drum2DRun(model, h, result)
+        return Drum2DRun(model, h, result, frames)
     run.total_steps = steps
     return model, run
 
@@ -210,17 +254,18 @@ class _Spaced:
     """The CLI's checkpoint, called at most every ten times its last write
     took (a big run's file takes seconds to write), always for the end."""
 
-    def __init__(self, checkpoint, model, h, steps):
+    def __init__(self, checkpoint, model, h, steps, frames=None):
         import time
 
         self.checkpoint, self.model, self.h, self.steps = checkpoint, model, h, steps
+        self.frames = frames
         self.clock, self.next = time.perf_counter, 0.0
 
     def __call__(self, result):
         now = self.clock()
         if len(result.t) - 1 < self.steps and now < self.next:
             return
-        self.checkpoint(Drum2DRun(self.model, self.h, result))
+        self.checkpoint(Drum2DRun(self.model, self.h, result, self.frames))
         self.next = self.clock() + 10.0 * (self.clock() - now)
 
 
@@ -263,15 +308,18 @@ def _scene_arrays(run: Drum2DRun) -> dict:
             "drum/lifter_angles": sh.lifter_angles, "drum/lifter_height":
             np.float64(sh.lifter_height), "drum/lifter_half_width":
             np.float64(sh.lifter_half_width), "drum/step": np.float64(h),
-            "drum/max_penetration": np.float64(r.max_penetration)}
+            "drum/max_penetration": np.float64(r.max_penetration),
+            "output/frame_interval": np.float64(run.frame_interval or 0.0)}
 
 
 def _scene_plot(h, out) -> list:
     """The snapshot and the energy balance; with the force statistics (issue
     37) the force histograms and peaks per revolution beside the stack
-    model's upper estimate (computed once for both) and the sliding work per
-    log; with two or more kept steps an animation (at most 40 frames: PNGs in
-    ``animation/`` and ``animation.gif`` where Pillow is installed)."""
+    model's estimate (computed once for both) and the sliding work per
+    log; with two or more kept steps an animation (PNGs in ``animation/``
+    and ``animation.gif`` where Pillow is installed): a frame every
+    ``[output] frame_interval`` seconds (at most MAX_FRAMES), else at most 40
+    frames over the run."""
     import warnings
 
     from qpcontact.plots.figures import save_figure
@@ -291,7 +339,9 @@ def _scene_plot(h, out) -> list:
     if np.unique(h["contacts/step"][()]).size >= 2:
         from .animation import write_animation
 
-        anim = write_animation(h, f"{out}/animation", max_frames=40)
+        every = float(h["output/frame_interval"][()]) if "output/frame_interval" in h else 0.0
+        anim = write_animation(h, f"{out}/animation", max_frames=MAX_FRAMES if every else 40,
+                               interval=every or None)
         paths += [anim.movie] if anim.movie else []
         paths.append(f"{out}/animation/ ({len(anim.frames)} PNG frames)")
         if anim.message:
@@ -300,20 +350,11 @@ def _scene_plot(h, out) -> list:
 
 
 def _scene_summary(run: Drum2DRun) -> dict:
-    """A sweep's columns: certificates, energies, the peak forces by kind and
-    the sliding work per log per revolution (per second without rotation)."""
-    r, m = run.result, run.model
-    e = r.energy_summary()
-    span = r.t[-1] - r.t[0]
-    per = span * abs(m.omega) / (2 * np.pi) if m.omega else span
-    peaks = r.force_peak.max(axis=0, initial=0.0)
-    return {"max_certificate_error": r.worst_certificate, "uncertified_steps": len(r.uncertified),
-            "fallback_steps": int(r.fallback.sum()),
-            "peak log-log [N]": float(peaks[0]), "peak log-shell [N]": float(peaks[1]),
-            "peak log-lifter [N]": float(peaks[2]),
-            ("sliding/log/rev [J]" if m.omega else "sliding/log/s [W]"):
-            float(r.sliding_work.sum() / m.discs.n / per) if per > 0 else 0.0,
-            **{f"{k} [J]": v for k, v in e.items()}}
+    """A sweep's columns: outputs.RunSummary's (certificates, peaks, drive
+    power and torque per metre, energy per tonne and sliding work per
+    revolution, per second without rotation) and the energy totals."""
+    return {**run.summary().as_dict(),
+            **{f"{k} [J]": v for k, v in run.result.energy_summary().items()}}
 
 
 def _scene_schema():
@@ -341,8 +382,11 @@ def _scene_schema():
                 "diameter_max": Field("float", "m", "largest log diameter", required=True,
                                       **pos),
                 "seed": Field("int", "", "random seed of the diameters", default=0, low=0),
-                "clearance": Field("float", "m", "extra spacing of the lattice", default=0.0,
-                                   low=0.0),
+                "clearance": Field("float", "m", "extra spacing of the lattice (the least "
+                                   "gap of a deposit)", default=0.0, low=0.0),
+                "packing": Field("str", "", "lattice (hexagonal, the pitch of the largest "
+                                 "diameter) or deposit (dropped one by one, denser)",
+                                 default="lattice"),
                 "length": Field("float", "m", "log length (along the drum axis)", required=True,
                                 **pos),
                 "density": Field("float", "kg/m³", "wood density", default=SPRUCE_DENSITY,
@@ -366,6 +410,9 @@ def _scene_schema():
                 "contacts_every": Field("int", "", "keep the contacts of every k-th step (0: "
                                         "none; the force statistics cover every step)",
                                         default=1),
+                "frame_interval": Field("float", "s", "simulated time between the "
+                                        "animation's frames (default: at most 40 frames "
+                                        "over the run)", **pos),
             },
         },
         effects={

@@ -226,7 +226,8 @@ class Drum2D:
         n = d.n
         minv, mdiag, f = d.inverse_mass(), d.mass_diagonal(), self._gravity_forces()
         rec = Recorder(S, n, h, t0, every)
-        warm = None if warm_start is None else _WarmStart(warm_start, warm_options, n)
+        warm = None if warm_start is None else _WarmStart(warm_start, warm_options, n,
+                                                          self.law.compliant)
         q = d.positions.copy()
         v = np.column_stack([d.velocities, d.spins]).ravel()
         first, elastic = 0, 0.0
@@ -385,13 +386,18 @@ def _warm_state(warm):
 
 class _WarmStart:
     """The previous step's impulses by contact identity (disc i, other body j,
-    kind), for the next step's initial guess r0."""
+    kind), for the next step's initial guess r0; ``regular``: the contacts
+    are compliant (J regular: nsgs-newton's ``square_first``)."""
 
-    def __init__(self, method, options, n_discs):
+    def __init__(self, method, options, n_discs, regular=False):
         if method not in WARM_METHODS:
             raise InvalidOptionError(f"warm_start must be one of {WARM_METHODS} (methods that "
                                      f"start from r0) or None; got {method!r}")
         self.method, self.options = method, dict(options or {})
+        if method == "nsgs-newton" and regular:
+            # compliant contacts make J regular: Newton's step by J's own LU
+            # (a tenth of the minimum-norm system's fill; hybrid.py)
+            self.options.setdefault("square_first", True)
         if "r0" in self.options:
             raise InvalidOptionError("warm_options must not set r0: the warm start sets it")
         self.n = n_discs

