@@ -7,8 +7,8 @@ per family and per method: certified, ok but wrong (against the exact
 reference), false proofs, proved, honest not-ok, failed, hung, and the whole
 wall time (median, max, count over its time share).
 
-    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/census_31.py \\
-        --out /tmp/census31 > docs/census-31-after.txt
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/census.py \\
+        --out /tmp/census > docs/census-after.txt
 
 Defaults (sizes 8 and 30, 20 seeds, time limit 2 s, 2 workers, no cvxpy)
 take about 10 minutes on 2 cores; --seeds, --sizes, --cvxpy, --families
@@ -105,7 +105,7 @@ def main(argv=None) -> int:
     from qpcontact.commands.stress.cases import ROUNDED_FAMILIES
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default="/tmp/census31", help="folder for stress.csv")
+    ap.add_argument("--out", default="/tmp/census", help="folder for stress.csv")
     ap.add_argument("--sizes", default="8,30")
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--families", default=",".join(ROUNDED_FAMILIES))
@@ -131,7 +131,7 @@ def main(argv=None) -> int:
     with open(path, newline="") as fh:
         rows = list(csv.DictReader(fh))
     header = [f"# Census of ok on rounded data (qpcontact {getattr(qpcontact, '__version__', '?')})", "",
-              f"command: python benchmarks/census_31.py {' '.join(argv or sys.argv[1:])}",
+              f"command: python benchmarks/census.py {' '.join(argv or sys.argv[1:])}",
               f"{len(rows)} solves of {len({(r['family'], r['n'], r['seed']) for r in rows})} "
               f"problems; sizes {args.sizes} (exact LCP families capped at n = 40), "
               f"{args.seeds} seeds, accuracy rotating low/default/high, time limit "
