@@ -37,6 +37,7 @@ import scipy.sparse as sp
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
 from .forward import ForwardErrorMixin
+from .near_farkas import near_farkas
 from .scales import ComponentScales, abs_matvec, divide, inf_norm, row_scales, safe_norm2
 
 __all__ = ["LCPCertificate", "certify_lcp"]
@@ -70,6 +71,24 @@ class LCPCertificate(ForwardErrorMixin):
     # for an active block above _EXACT_CONDITION_SIZE the estimate costs one
     # more factorization of it, which a solve should not pay unasked.
     _forward: object = field(default=None, repr=False, compare=False)
+    # the near-Farkas vector (None or an array), or a function finding it:
+    # asked for only where the active block is singular to working precision
+    _near: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def near_farkas(self):
+        """Where the forward error is known and no digit is guaranteed
+        (forward error >= 1, the active block singular or nearly so): a
+        vector y >= 0 on the active rows with Mᵀy <= 0 and qᵀy <= 0 to
+        rounding (each column against its own terms |M|ᵀy, qᵀy against
+        |q|ᵀy) — the data are then within rounding of a problem with no
+        solution, and y is the Farkas vector to check exactly.  None
+        otherwise (also when the forward error is not computed yet)."""
+        if not self.forward_error_known or self.forward_error < 1.0:
+            return None
+        if callable(self._near):
+            object.__setattr__(self, "_near", self._near())
+        return self._near
 
 
     @property
@@ -262,10 +281,14 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
         return (float(condition), (float(forward) if np.isfinite(forward) else np.inf),
                 float(by_scale) if np.isfinite(by_scale) else np.inf, float(scaled))
 
+    def near(M=lcp.M, q=lcp.q):
+        return near_farkas(M, q, Z > W, max(10.0 * error, 100.0 * level))
+
     active = np.count_nonzero(Z > W)   # the basis _lcp_condition factorizes
     return LCPCertificate(
         error=error,
         _forward=forward_pair() if active <= _EXACT_CONDITION_SIZE else forward_pair,
+        _near=near,
         normwise_error=float(_lcp_normwise(lcp, z, Mz, w)),
         worst_index=worst,
         comp_abs=inf_norm(r),

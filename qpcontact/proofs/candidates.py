@@ -1,0 +1,216 @@
+"""The cheap Farkas candidates of an LCP, checked exactly before any LP.
+
+A Farkas vector y >= 0 with Mᵀy <= 0 and qᵀy < 0 proves that no z >= 0 has
+w = Mz + q >= 0 (yᵀw = (Mᵀy)ᵀz + qᵀy < 0), so LCP(M, q) has no solution.
+Some are found without any search, and an LP can miss them:
+
+- **one row**: a row i with every M_ij <= 0 and q_i < 0 — then w_i <= q_i < 0
+  for every z >= 0, and y = e_i.  Exact from the signs alone.
+- **all ones**: a mechanism loaded along itself — Mᵀ1 = 0 with qᵀ1 < 0 (a
+  floating body under a net load).  Beside far contacts (|q| ~ 1e13) the LP
+  cannot see qᵀy = -1 at all; the rational check can.
+- **null directions**: for a singular M (or an active block singular to
+  working precision) the left null vectors U₀ of M as computed, any
+  dimension: each one (signs flipped where that makes it nonnegative) and
+  the nonnegative combination y = U₀c minimising qᵀy (an LP in the few
+  coefficients c, not in n unknowns).
+
+Each candidate is checked in exact rational arithmetic
+(:func:`qpcontact.proofs.exact.exact_farkas`); none is believed in floating
+point.  The floating-point filter before the exact check is loose on qᵀy
+(qᵀ1 = -1 beside |q| ~ 1e13 may round to either sign)."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import scipy.sparse as sp
+
+from .exact import EXACT_WORK, Proof, candidates, exact_farkas
+
+__all__ = ["one_row_farkas", "cheap_lcp_farkas", "left_null_directions", "exact_friction_motion",
+           "NULL_MAX_N"]
+
+#: largest n whose left null space is computed (a dense SVD, O(n³))
+NULL_MAX_N = 400
+
+#: how far a candidate may miss Mᵀy <= 0 (each column against its own terms,
+#: |M|ᵀy) and qᵀy <= 0 (against |q|ᵀy) in floating point and still be worth
+#: an exact check
+_FILTER_RTOL = 1e-6
+
+
+def _check(Mc, q, y_exact, deadline) -> Proof | None:
+    n = q.size
+    empty = sp.csr_matrix((0, n))
+    return exact_farkas(-Mc, q, empty, np.zeros(0), np.zeros(n), np.full(n, np.inf),
+                        y_exact, n, deadline)
+
+
+def one_row_farkas(M, q) -> Proof | None:
+    """y = e_i for a row i with max_j M_ij <= 0 and q_i < 0 (the most
+    negative q_i relative to its row first), checked exactly; None when no
+    row qualifies."""
+    Mc = sp.csr_matrix(M)
+    q = np.asarray(q, float)
+    n = q.size
+    if n == 0:
+        return None
+    rowmax = np.full(n, -np.inf)
+    if Mc.nnz:
+        rowmax = np.asarray(Mc.max(axis=1).toarray()).ravel()   # implicit zeros count as 0
+        full = np.diff(Mc.indptr) == n
+        rowmax = np.where(full, rowmax, np.maximum(rowmax, 0.0))
+    else:
+        rowmax = np.zeros(n)
+    rows = np.flatnonzero((rowmax <= 0) & (q < 0))
+    for i in rows[np.argsort(q[rows])][:3]:
+        y = [Fraction(0)] * n
+        y[int(i)] = Fraction(1)
+        proof = _check(Mc, q, y, None)
+        if proof is not None:
+            return proof
+    return None
+
+
+def left_null_directions(M, rtol: float | None = None) -> np.ndarray:
+    """Columns spanning the computed left null space of M (Mᵀu ≈ 0): the
+    left singular vectors whose singular value is at most ``rtol`` times the
+    largest (default n·eps·100).  Empty (n, 0) above NULL_MAX_N or when M
+    has full rank to that tolerance."""
+    n = M.shape[0]
+    if n == 0 or n > NULL_MAX_N:
+        return np.zeros((n, 0))
+    A = M.toarray() if sp.issparse(M) else np.asarray(M, float)
+    if not np.all(np.isfinite(A)):
+        return np.zeros((n, 0))
+    try:
+        U, s, _ = np.linalg.svd(A)
+    except np.linalg.LinAlgError:
+        return np.zeros((n, 0))
+    tol = (100.0 * n * np.finfo(float).eps if rtol is None else rtol) * (s[0] if s.size else 0.0)
+    return U[:, s <= tol]
+
+
+def _nonnegative_combination(U: np.ndarray, q: np.ndarray, deadline) -> np.ndarray | None:
+    """y = U c >= 0, Σy = 1, minimising qᵀy (q scaled to unit size): an LP in
+    U's few columns."""
+    from .lp import linprog
+
+    k = U.shape[1]
+    if k == 0:
+        return None
+    qs = q / (float(np.max(np.abs(q))) or 1.0)
+    res = linprog(qs @ U, A_ub=-U, b_ub=np.zeros(U.shape[0]), A_eq=U.sum(axis=0)[None, :],
+                  b_eq=[1.0], bounds=[(None, None)] * k, time_limit=deadline, tight=False)
+    if res is None or res.status != 0:
+        return None
+    return np.maximum(U @ res.x, 0.0)
+
+
+def _worth_checking(Mc, absM, q, y) -> bool:
+    top = float(np.max(y, initial=0.0))
+    if not top > 0:
+        return False
+    y = y / top
+    return bool(np.all(Mc.T @ y <= _FILTER_RTOL * (absM.T @ y))
+                and q @ y <= _FILTER_RTOL * (np.abs(q) @ y))
+
+
+def cheap_lcp_farkas(M, q, deadline=None, directions=()) -> Proof | None:
+    """The cheap candidates (module docstring) checked exactly, one-row
+    first; ``directions`` are further vectors (an active block's left null
+    vectors, embedded in n components; a method's Farkas vector) tried with
+    the rest.  None when no candidate holds exactly or ``deadline`` (a
+    :class:`~qpcontact.core.deadline.Deadline`) passes."""
+    q = np.asarray(q, float).ravel()
+    n = q.size
+    if not np.all(np.isfinite(q)):
+        return None
+    Mc = sp.csr_matrix(M)
+    if Mc.nnz and not np.all(np.isfinite(Mc.data)):
+        return None
+    proof = one_row_farkas(Mc, q)
+    if proof is not None:
+        return proof
+    absM = abs(Mc)
+    if Mc.nnz <= EXACT_WORK and _worth_checking(Mc, absM, q, np.ones(n)):
+        proof = _check(Mc, q, [Fraction(1)] * n, deadline)
+        if proof is not None:
+            return proof
+    vectors = [np.asarray(d, float).ravel() for d in directions]
+    U = left_null_directions(Mc) if n <= NULL_MAX_N else np.zeros((n, 0))
+    if U.shape[1]:
+        comb = _nonnegative_combination(U, q, deadline)
+        if comb is not None:
+            vectors.append(comb)
+        vectors.extend(U.T)
+    for v in vectors:
+        if deadline is not None and deadline.expired():
+            return None
+        if v.shape != (n,) or not np.all(np.isfinite(v)):
+            continue
+        for y in (v, -v):
+            y = np.maximum(y, 0.0)
+            if not _worth_checking(Mc, absM, q, y):
+                continue
+            y = y / float(y.max())
+            for cand in candidates(y, deadline):
+                proof = _check(Mc, q, cand, deadline)
+                if proof is not None:
+                    return proof
+    return None
+
+
+def _cone_holds(u, mu) -> bool:
+    """u in the dual cone {u_N >= μ ‖u_T‖}, exactly (squares: no roots)."""
+    uN, uT = u[0], u[1:]
+    return uN >= 0 and uN * uN >= mu * mu * sum((t * t for t in uT), Fraction(0))
+
+
+def exact_friction_motion(problem, d, deadline=None):
+    """Decide a frictional problem's near-limit motion ``d`` exactly: returns
+    ("infeasible", Proof) when Md = 0, every contact admits Hᵀd (its dual
+    cone) and fᵀd > 0 in rational arithmetic (no reactions within the cones
+    balance the loads: 0 = dᵀMv = (Hᵀd)·r + fᵀd > 0 for any equilibrium);
+    ("within", None) when the motion holds exactly but fᵀd <= 0 (the loads
+    are at or below the limit along it: nothing missing); None when no
+    snapping of d makes it exact (nothing decided)."""
+    g = problem.global_data
+    dim = problem.dim
+    M, H = sp.csc_matrix(g["M"]), sp.csc_matrix(g["H"])
+    f = np.asarray(g["f"], float)
+    mu = [Fraction(float(m)) for m in problem.mu]
+    if M.nnz + H.nnz > EXACT_WORK:
+        return None
+    for cand in candidates(np.asarray(d, float), deadline):
+        if not any(cand):
+            continue
+        Md = {}
+        for j, dj in enumerate(cand):
+            if dj:
+                for p in range(M.indptr[j], M.indptr[j + 1]):
+                    i = M.indices[p]
+                    Md[i] = Md.get(i, Fraction(0)) + Fraction(float(M.data[p])) * dj
+        if any(v != 0 for v in Md.values()):
+            continue
+        Hr = sp.csr_matrix(H.T)
+        u = [sum((Fraction(float(Hr.data[p])) * cand[Hr.indices[p]]
+                  for p in range(Hr.indptr[i], Hr.indptr[i + 1])), Fraction(0))
+             for i in range(Hr.shape[0])]
+        if not all(_cone_holds(u[c * dim:(c + 1) * dim], mu[c]) for c in range(len(mu))):
+            continue
+        work = sum((Fraction(float(fi)) * di for fi, di in zip(f, cand) if di), Fraction(0))
+        if work <= 0:
+            return "within", None
+        df = np.array([float(v) for v in cand])
+        return "infeasible", Proof(
+            kind="infeasible",
+            message=("no equilibrium exists: the motion d (stats['ray']) has Md = 0, every "
+                     "contact admits it (Hᵀd in its dual cone) and the loads do work "
+                     f"fᵀd = {float(work):.3e} > 0 on it, checked from the data in exact "
+                     "rational arithmetic (the loads are beyond the friction limit by that "
+                     "much)"),
+            vector={"d": df, "exact": {"d": list(cand)}})
+    return None
