@@ -130,7 +130,7 @@ def _at_the_limit(problem, r, cert, ctx, stats) -> tuple[str, str]:
     d = near_friction_ray(problem, r, max(10.0 * cert.error, 1e-12))
     if d is None:
         return "solved", ""
-    decided = exact_friction_motion(problem, d, ctx.deadline)
+    decided = exact_friction_motion(problem, d, r, ctx.deadline)
     if decided is None:
         stats["near_ray"] = d
         return "ill_posed", ("; but not certified: the loads are within rounding of the friction "
@@ -140,8 +140,8 @@ def _at_the_limit(problem, r, cert, ctx, stats) -> tuple[str, str]:
         proof = decided[1]
         stats.update(proof=proof, ray=proof.vector["d"], proved_infeasible=True)
         return "infeasible", ""
-    return "solved", ("; at or below the friction limit along a motion the contacts admit (its "
-                      "work checked exactly)")
+    return "solved", ("; within rounding of the friction limit, at or below it: reactions within "
+                      "the cones balance the loads on every mechanism (checked exactly)")
 
 
 def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:

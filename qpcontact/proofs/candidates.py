@@ -30,6 +30,7 @@ import scipy.sparse as sp
 from .exact import EXACT_WORK, Proof, candidates, exact_farkas
 
 __all__ = ["one_row_farkas", "cheap_lcp_farkas", "left_null_directions", "exact_friction_motion",
+           "exact_equilibrium",
            "NULL_MAX_N"]
 
 #: largest n whose left null space is computed (a dense SVD, O(n³))
@@ -169,14 +170,15 @@ def _cone_holds(u, mu) -> bool:
     return uN >= 0 and uN * uN >= mu * mu * sum((t * t for t in uT), Fraction(0))
 
 
-def exact_friction_motion(problem, d, deadline=None):
-    """Decide a frictional problem's near-limit motion ``d`` exactly: returns
-    ("infeasible", Proof) when Md = 0, every contact admits Hᵀd (its dual
-    cone) and fᵀd > 0 in rational arithmetic (no reactions within the cones
-    balance the loads: 0 = dᵀMv = (Hᵀd)·r + fᵀd > 0 for any equilibrium);
-    ("within", None) when the motion holds exactly but fᵀd <= 0 (the loads
-    are at or below the limit along it: nothing missing); None when no
-    snapping of d makes it exact (nothing decided)."""
+def exact_friction_motion(problem, d, r, deadline=None):
+    """Decide a frictional problem within rounding of its friction limit,
+    exactly.  Returns ("infeasible", Proof) when a snapping of the motion
+    ``d`` has Md = 0, every contact admitting Hᵀd (its dual cone) and
+    fᵀd > 0 in rational arithmetic (no reactions within the cones balance
+    the loads: 0 = dᵀMv = (Hᵀd)·r + fᵀd > 0 for any equilibrium);
+    ("within", None) when the answer ``r``, corrected exactly onto the
+    mechanism's balance (:func:`exact_equilibrium`), lies in every cone: an
+    equilibrium exists, at or below the limit; None when neither is proved."""
     g = problem.global_data
     dim = problem.dim
     M, H = sp.csc_matrix(g["M"]), sp.csc_matrix(g["H"])
@@ -184,6 +186,7 @@ def exact_friction_motion(problem, d, deadline=None):
     mu = [Fraction(float(m)) for m in problem.mu]
     if M.nnz + H.nnz > EXACT_WORK:
         return None
+    Hr = sp.csr_matrix(H.T)
     for cand in candidates(np.asarray(d, float), deadline):
         if not any(cand):
             continue
@@ -195,7 +198,6 @@ def exact_friction_motion(problem, d, deadline=None):
                     Md[i] = Md.get(i, Fraction(0)) + Fraction(float(M.data[p])) * dj
         if any(v != 0 for v in Md.values()):
             continue
-        Hr = sp.csr_matrix(H.T)
         u = [sum((Fraction(float(Hr.data[p])) * cand[Hr.indices[p]]
                   for p in range(Hr.indptr[i], Hr.indptr[i + 1])), Fraction(0))
              for i in range(Hr.shape[0])]
@@ -203,7 +205,7 @@ def exact_friction_motion(problem, d, deadline=None):
             continue
         work = sum((Fraction(float(fi)) * di for fi, di in zip(f, cand) if di), Fraction(0))
         if work <= 0:
-            return "within", None
+            continue
         df = np.array([float(v) for v in cand])
         return "infeasible", Proof(
             kind="infeasible",
@@ -213,4 +215,88 @@ def exact_friction_motion(problem, d, deadline=None):
                      "rational arithmetic (the loads are beyond the friction limit by that "
                      "much)"),
             vector={"d": df, "exact": {"d": list(cand)}})
+    if exact_equilibrium(problem, r, deadline):
+        return "within", None
     return None
+
+
+def _exact_null_basis(M, deadline):
+    """An exact basis of M's null space (columns of rationals with M N = 0
+    exactly) from the computed one, snapped; None when snapping does not
+    make it exact."""
+    Md = M.toarray()
+    n = Md.shape[0]
+    if not np.any(Md):
+        return [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
+    U = left_null_directions(sp.csr_matrix(Md))
+    if U.shape[1] == 0:
+        return []
+    Mf = [[Fraction(float(x)) for x in row] for row in Md]
+    basis = []
+    for col in U.T:
+        for cand in candidates(col / np.abs(col).max(), deadline):
+            if all(sum((a * b for a, b in zip(row, cand) if a and b), Fraction(0)) == 0
+                   for row in Mf):
+                basis.append(cand)
+                break
+        else:
+            return None
+    return [list(x) for x in zip(*basis)]
+
+
+def _solve_exact(A, b):
+    """A x = b by Gauss–Jordan elimination in rationals; None when singular."""
+    k = len(A)
+    R = [list(A[i]) + [b[i]] for i in range(k)]
+    for c in range(k):
+        p = next((i for i in range(c, k) if R[i][c] != 0), None)
+        if p is None:
+            return None
+        R[c], R[p] = R[p], R[c]
+        for i in range(k):
+            if i != c and R[i][c] != 0:
+                t = R[i][c] / R[c][c]
+                R[i] = [a - t * e for a, e in zip(R[i], R[c])]
+    return [R[i][k] / R[i][i] for i in range(k)]
+
+
+def exact_equilibrium(problem, r, deadline=None) -> bool:
+    """Whether reactions within the cones balance the loads on the
+    mechanisms, exactly: with N an exact basis of null(M) (M symmetric, so
+    H r + f must be orthogonal to it), the answer r is corrected by the
+    least-norm change that makes Nᵀ(H r + f) = 0 exactly, and every contact's
+    corrected reaction must lie in its cone (r_N >= 0, μ² r_N² >= ‖r_T‖²: no
+    roots).  True is a proof that an equilibrium exists; False proves
+    nothing."""
+    g = problem.global_data
+    dim = problem.dim
+    M, H = sp.csc_matrix(g["M"]), sp.csr_matrix(g["H"])
+    f = [Fraction(float(v)) for v in g["f"]]
+    N = _exact_null_basis(M, deadline)
+    if N is None or (deadline is not None and deadline.expired()):
+        return False
+    n, m = H.shape
+    k = len(N[0]) if N else 0
+    rr = [Fraction(float(v)) for v in np.asarray(r, float).ravel()]
+    if len(rr) != m:
+        return False
+    if k:
+        Hd = H.toarray()
+        # A = Nᵀ H (k x m), b = -Nᵀ f
+        A = [[sum((N[i][c] * Fraction(float(Hd[i, j])) for i in range(n) if N[i][c] and Hd[i, j]),
+                  Fraction(0)) for j in range(m)] for c in range(k)]
+        b = [-sum((N[i][c] * f[i] for i in range(n) if N[i][c]), Fraction(0)) for c in range(k)]
+        res = [b[c] - sum((A[c][j] * rr[j] for j in range(m) if A[c][j]), Fraction(0))
+               for c in range(k)]
+        AAt = [[sum((A[a][j] * A[c][j] for j in range(m)), Fraction(0)) for c in range(k)]
+               for a in range(k)]
+        lam = _solve_exact(AAt, res)
+        if lam is None:
+            return False
+        rr = [rr[j] + sum((A[c][j] * lam[c] for c in range(k)), Fraction(0)) for j in range(m)]
+    mu = [Fraction(float(x)) for x in problem.mu]
+    for c in range(len(mu)):
+        rN, rT = rr[c * dim], rr[c * dim + 1:(c + 1) * dim]
+        if rN < 0 or mu[c] * mu[c] * rN * rN < sum((t * t for t in rT), Fraction(0)):
+            return False
+    return True
