@@ -193,9 +193,6 @@ def hints(sol) -> list:
     floating point, and the answer itself (its direction, when it ran far
     out along a ray or a near-null vector)."""
     out = [sol.stats["farkas"]] if sol.stats.get("farkas") is not None else []
-    near = getattr(sol.certificate, "near_farkas", None)
-    if near is not None:
-        out.append(near)
     point = sol.z if isinstance(sol, LCPSolution) else sol.x
     if point is not None and np.all(np.isfinite(point)):
         out.append(point)
@@ -213,7 +210,9 @@ def prove_no_solution(problem, sol, deadline, extra_hints=()):
     if isinstance(problem, LCP):
         # the cheap candidates (one row, all ones, null directions, the
         # hints) exactly, before any LP: an LP misses qᵀ1 = -1 beside |q| ~ 1e13
-        proof = cheap_lcp_farkas(problem.M, problem.q, deadline, tried)
+        near = getattr(sol.certificate, "near_farkas", None)
+        proof = cheap_lcp_farkas(problem.M, problem.q, deadline,
+                                 ([] if near is None else [near]) + tried)
         if proof is None:
             proof = prove_lcp_infeasible(problem, deadline, tried)
     else:

@@ -30,7 +30,7 @@ import scipy.sparse as sp
 from .exact import EXACT_WORK, Proof, candidates, exact_farkas
 
 __all__ = ["one_row_farkas", "cheap_lcp_farkas", "left_null_directions", "exact_friction_motion",
-           "exact_equilibrium",
+           "exact_equilibrium", "CHEAP_SECONDS",
            "NULL_MAX_N"]
 
 #: largest n whose left null space is computed (a dense SVD, O(n³))
@@ -110,21 +110,60 @@ def _nonnegative_combination(U: np.ndarray, q: np.ndarray, deadline) -> np.ndarr
     return np.maximum(U @ res.x, 0.0)
 
 
-def _worth_checking(Mc, absM, q, y) -> bool:
+def _worth_checking(Mc, absM, q, y, rtol=_FILTER_RTOL) -> bool:
     top = float(np.max(y, initial=0.0))
     if not top > 0:
         return False
     y = y / top
-    return bool(np.all(Mc.T @ y <= _FILTER_RTOL * (absM.T @ y))
-                and q @ y <= _FILTER_RTOL * (np.abs(q) @ y))
+    return bool(np.all(Mc.T @ y <= rtol * (absM.T @ y))
+                and q @ y <= rtol * (np.abs(q) @ y))
+
+
+#: seconds the cheap candidates may take together (less when the call's
+#: deadline leaves less): they come before the LPs and must stay cheap
+CHEAP_SECONDS = 2.0
+
+
+class _IntegerData:
+    """(M, q) as Python integers times one power of two (every double is a
+    dyadic rational), for exact checks of many candidates at the cost of
+    integer dot products; only for dense data up to NULL_MAX_N."""
+
+    def __init__(self, M: np.ndarray, q: np.ndarray):
+        vals = np.concatenate([M.ravel(), q])
+        mant, expo = np.frexp(vals)
+        mant = (mant * 2.0 ** 53).astype(np.int64)
+        expo = expo.astype(np.int64) - 53
+        low = int(expo[mant != 0].min(initial=0))
+        ints = np.array([int(m) << int(e - low) if m else 0 for m, e in zip(mant, expo)],
+                        dtype=object)
+        n = q.size
+        self.M = ints[:n * n].reshape(n, n)
+        self.q = ints[n * n:]
+
+    def farkas(self, cand) -> bool:
+        """y >= 0, Mᵀy <= 0, qᵀy < 0 for the rationals ``cand``, exactly."""
+        den = 1
+        for c in cand:
+            if c:
+                den = den * c.denominator // np.gcd(den, c.denominator)
+        y = np.array([int(c * den) for c in cand], dtype=object)
+        if any(v < 0 for v in y) or not any(y):
+            return False
+        nz = np.flatnonzero(y != 0)
+        My = y[nz] @ self.M[nz]
+        return bool(all(v <= 0 for v in My) and self.q[nz] @ y[nz] < 0)
 
 
 def cheap_lcp_farkas(M, q, deadline=None, directions=()) -> Proof | None:
     """The cheap candidates (module docstring) checked exactly, one-row
     first; ``directions`` are further vectors (an active block's left null
     vectors, embedded in n components; a method's Farkas vector) tried with
-    the rest.  None when no candidate holds exactly or ``deadline`` (a
-    :class:`~qpcontact.core.deadline.Deadline`) passes."""
+    the rest.  None when no candidate holds exactly, or once ``deadline`` (a
+    :class:`~qpcontact.core.deadline.Deadline`) or CHEAP_SECONDS pass."""
+    from ..core.deadline import Deadline
+
+    deadline = (deadline if deadline is not None else Deadline()).within(CHEAP_SECONDS)
     q = np.asarray(q, float).ravel()
     n = q.size
     if not np.all(np.isfinite(q)):
@@ -140,15 +179,19 @@ def cheap_lcp_farkas(M, q, deadline=None, directions=()) -> Proof | None:
         proof = _check(Mc, q, [Fraction(1)] * n, deadline)
         if proof is not None:
             return proof
+    if n > NULL_MAX_N:
+        return None
     vectors = [np.asarray(d, float).ravel() for d in directions]
-    U = left_null_directions(Mc) if n <= NULL_MAX_N else np.zeros((n, 0))
+    U = left_null_directions(Mc)
     if U.shape[1]:
         comb = _nonnegative_combination(U, q, deadline)
         if comb is not None:
-            vectors.append(comb)
-        vectors.extend(U.T)
+            vectors.insert(0, comb)
+        if U.shape[1] <= 3:
+            vectors.extend(U.T)
+    exact = None
     for v in vectors:
-        if deadline is not None and deadline.expired():
+        if deadline.expired():
             return None
         if v.shape != (n,) or not np.all(np.isfinite(v)):
             continue
@@ -158,9 +201,15 @@ def cheap_lcp_farkas(M, q, deadline=None, directions=()) -> Proof | None:
                 continue
             y = y / float(y.max())
             for cand in candidates(y, deadline):
-                proof = _check(Mc, q, cand, deadline)
-                if proof is not None:
-                    return proof
+                yf = np.array([float(c) for c in cand])
+                # a snapping that breaks Mᵀy <= 0 in floating point by more
+                # than rounding cannot hold exactly
+                if not _worth_checking(Mc, absM, q, yf, 1e-9):
+                    continue
+                if exact is None:
+                    exact = _IntegerData(Mc.toarray(), q)
+                if exact.farkas(cand):
+                    return _check(Mc, q, cand, None)
     return None
 
 
