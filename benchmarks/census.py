@@ -35,7 +35,7 @@ from collections import defaultdict
 CLASSES = ("certified", "ok_wrong", "false_proof", "proved", "honest_not_ok", "failed", "hung")
 
 #: counted beside the classes (a solve may be in a class and in these)
-MARKS = ("ok_doubt", "fe_miss", "ray_one_row")
+MARKS = ("ok_doubt", "fe_miss", "fe_miss_any", "ray_one_row")
 
 
 def marks(row: dict) -> dict:
@@ -44,9 +44,12 @@ def marks(row: dict) -> dict:
     the scale, so that rounding noise is not counted), an unproved ray where
     a one-row Farkas vector exists."""
     true, est = _float(row.get("fe_true")), _float(row.get("fe_est"))
+    missed = math.isfinite(true) and not math.isnan(est) and true > 1e-12 and true > 2 * est
     return {"ok_doubt": int(_float(row.get("doubt")) == 1),
-            "fe_miss": int(math.isfinite(true) and not math.isnan(est)
-                           and true > 1e-12 and true > 2 * est),
+            # an estimate of 0.5 or more already says "no digit": a truth
+            # beyond it misleads no one (fe_miss_any counts those too)
+            "fe_miss": int(missed and est < 0.5),
+            "fe_miss_any": int(missed),
             "ray_one_row": int(row.get("status") == "ray" and _float(row.get("one_row")) == 1)}
 
 
@@ -109,7 +112,8 @@ def report(rows: list[dict], header: list[str]) -> str:
             "case; honest_not_ok: not ok and said so (inaccurate, ill_posed, failed, ...); "
             "failed: crash, kill or exception; ok_doubt: ok, and the message says the data may "
             "have no solution; fe_miss: the forward-error estimate below half the true error "
-            "(unique reference); ray_one_row: an unproved ray although a one-row Farkas vector "
+            "(unique reference) where the estimate claims a digit (below 0.5); fe_miss_any: the "
+            "same without that condition; ray_one_row: an unproved ray although a one-row Farkas vector "
             "exists.", "", "## Totals", ""]
     out += table(rows, lambda r: "all")
     out += ["", "## Per family", ""]

@@ -176,20 +176,35 @@ def farkas_far_contacts(n: int, seed: int) -> Case:
     """A floating mechanism beside far contacts: M = B Bᵀ with 1ᵀB = 0
     exactly (dyadic B, its last row minus the sum of the others), so Mᵀ1 = 0
     and M's null space has dimension 12..14; q of integers up to 2e13..2.5e14
-    in size (far contacts), its last entry set so that qᵀ1 = -1 exactly.
+    in size (far contacts), its last entry set so that qᵀ1 = -1 exactly —
+    either random (clearly infeasible along other null directions too) or
+    balanced (q = -M z0 - e_n: a solution of data within 1 of q, every
+    contact closed, so that backends certify "solutions" of nearby data).
     y = 1 is an exact Farkas vector, invisible to an LP beside |q| ~ 1e13."""
     seed = check_seed(seed)
     rng = np.random.default_rng([seed, n, 317])
     n = max(n, 16)
     r = n - int(rng.integers(12, 15))
-    B = np.round(rng.standard_normal((n, r)) * 2.0 ** 10) / 2.0 ** 10
-    B[-1] = -B[:-1].sum(axis=0)
-    M = _sym(B @ B.T)
+    balanced = rng.random() < 0.5
     size = 10.0 ** rng.uniform(13.3, 14.4)
-    q = np.round(rng.standard_normal(n) * size / 4)
-    far = rng.random(n) < 0.3
-    q[far] = np.abs(q[far])
-    q[-1] = -1.0 - float(sum(Fraction(float(v)) for v in q[:-1]))
+    if balanced:
+        # every contact loaded and closed: q = -M z0 - e_n with integer B and
+        # z0 (exact), a solution of q + e_n, and qᵀ1 = -1 hides in rounding
+        B = np.round(rng.standard_normal((n, r)) * 8.0)
+        B[-1] = -B[:-1].sum(axis=0)
+        M = _sym(B @ B.T)
+        z0 = np.round(np.abs(rng.standard_normal(n)) * size / (4.0 * float(np.abs(M).max())))
+        z0[rng.random(n) < 0.2] = 0.0
+        q = -(M @ z0)
+        q[-1] -= 1.0
+    else:
+        B = np.round(rng.standard_normal((n, r)) * 2.0 ** 10) / 2.0 ** 10
+        B[-1] = -B[:-1].sum(axis=0)
+        M = _sym(B @ B.T)
+        q = np.round(rng.standard_normal(n) * size / 4)
+        far = rng.random(n) < 0.3
+        q[far] = np.abs(q[far])
+        q[-1] = -1.0 - float(sum(Fraction(float(v)) for v in q[:-1]))
     y = np.ones(n)
     if not lcp_farkas_holds(M, q, y):
         raise AssertionError(f"farkas_far_contacts n={n} seed={seed}: the Farkas vector fails")

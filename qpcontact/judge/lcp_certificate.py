@@ -344,7 +344,11 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
                 float(by_scale) if np.isfinite(by_scale) else np.inf, float(scaled))
 
     def near(M=lcp.M, q=lcp.q):
-        return near_farkas(M, q, Z > W, max(10.0 * error, 100.0 * level))
+        # a Farkas vector lives where w is zero to within what the answer's
+        # residuals can hide: the active rows, and the rows whose w is within
+        # the error's reach of zero (1ᵀw = -1 beside σ ~ 1e13 spreads over them)
+        rows = (Z > W) | (np.abs(W) <= max(100.0 * error, np.sqrt(_EPS)))
+        return near_farkas(M, q, rows, max(10.0 * error, 100.0 * level))
 
     active = np.count_nonzero(Z > W)   # the basis _lcp_condition factorizes
     return LCPCertificate(
