@@ -22,6 +22,7 @@ point.  The floating-point filter before the exact check is loose on qᵀy
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import numpy as np
@@ -146,7 +147,7 @@ class _IntegerData:
         den = 1
         for c in cand:
             if c:
-                den = den * c.denominator // np.gcd(den, c.denominator)
+                den = den * c.denominator // math.gcd(den, c.denominator)
         y = np.array([int(c * den) for c in cand], dtype=object)
         if any(v < 0 for v in y) or not any(y):
             return False
