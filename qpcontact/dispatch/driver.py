@@ -29,7 +29,7 @@ from ..solvers.registry import get_method
 from .calls import DEFAULT_TIME_LIMIT
 from .context import RunContext
 from .friction_run import check_friction_method, run_friction, run_friction_auto
-from .lcp_qp_run import doubtful, hints, prove_no_solution, run_lcp_qp
+from .lcp_qp_run import doubtful, hints, proof_first, prove_no_solution, run_lcp_qp
 from .routes import applicable, auto_order, kind_of
 
 __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]
@@ -164,6 +164,12 @@ def _solve_lcp_qp(problem, method, ctx, options):
         if not ctx.prove or not doubtful(problem, sol):
             return sol
         return prove_no_solution(problem, sol, ctx.deadline)
+    # where no solution may exist, its proof first (an LP of milliseconds,
+    # where the methods can loop for the whole time limit)
+    proved = proof_first(problem, ctx)
+    if proved is not None:
+        proved.stats["auto_tried"] = [(proved.method, proved.status, proved.error)]
+        return proved
     learned, seen = [], {"proofs": 0, "evidence": 0}
 
     def attempt(m, best):

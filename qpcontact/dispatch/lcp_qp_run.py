@@ -13,14 +13,17 @@ from ..core.results import LCPSolution, MethodResult, QPSolution
 from ..judge.doubt import doubt, no_digit, singular_block
 from ..judge.lcp_certificate import certify_lcp
 from ..judge.qp_certificate import certify_qp
+from ..core.matrices import MatrixStructure
 from ..proofs.candidates import cheap_lcp_farkas
-from ..proofs.lcp_farkas import prove_lcp_infeasible
+from ..proofs.lcp_farkas import prove_lcp_infeasible, sign_farkas
+from ..proofs.lp import NULL_SPACE_MAX_N
 from ..proofs.qp_farkas import prove_no_minimiser, x_size
 from ..solvers.method import Method
 from .calls import call
 from .routes import check_applicable, data_range, jacobi_scaled
 
-__all__ = ["run_lcp_qp", "doubtful", "prove_no_solution", "verdict", "hints", "DOUBT_FACTOR"]
+__all__ = ["run_lcp_qp", "doubtful", "prove_no_solution", "proof_first", "verdict", "hints",
+           "DOUBT_FACTOR", "PROOF_FIRST_SHARE", "PROOF_FIRST_SECONDS"]
 
 
 def run_lcp_qp(problem, m: Method, options, ctx):
@@ -238,3 +241,61 @@ def prove_no_solution(problem, sol, deadline, extra_hints=()):
     sol.status, sol.ok = proof.kind, False
     sol.message = f"{proof.message} (found after {before})"
     return sol
+
+
+#: what the proof sought before any method runs ("auto") may take: this
+#: share of what is left of the call, and never more than PROOF_FIRST_SECONDS
+PROOF_FIRST_SHARE = 0.25
+PROOF_FIRST_SECONDS = 5.0
+
+
+def proof_first(problem, ctx):
+    """"auto"'s first step: a proof that no solution exists, sought before
+    any method runs where the data's cheap signs allow one, or None.
+
+    Iterative backends spend their whole share on data with no solution
+    (an unbounded QP at n = 250 took 19 s of a 20 s limit, Lemke reached its
+    pivot cap on a 250-row infeasible LCP) while the proof costs an LP of a
+    few coordinates.  The step is skipped where a solution is known to
+    exist: q >= 0 (z = 0), an M or P that is positive definite (one
+    factorization, kept for the methods), a nonsymmetric M with M·1 > 0
+    (z = t·1 for large t).  Otherwise, up to NULL_SPACE_MAX_N unknowns:
+    the signs of the rows (a row of M with no positive entry and q_i < 0,
+    at any size), the all-ones vector, and one LP — in the null space of a
+    symmetric PSD M or of P, or the interior Farkas LP of a general M.
+    It keeps PROOF_FIRST_SHARE of what is left of the call."""
+    if not ctx.prove:
+        return None
+    started = time.perf_counter()
+    deadline = ctx.deadline.share(PROOF_FIRST_SHARE).within(PROOF_FIRST_SECONDS)
+    if isinstance(problem, LCP):
+        q = problem.q
+        if np.all(q >= 0):
+            return None
+        proof = sign_farkas(problem.M, q)
+        if proof is None and problem.n <= NULL_SPACE_MAX_N and not problem.is_positive_definite \
+                and (problem.is_symmetric or not _ones_solve(problem)):
+            proof = prove_lcp_infeasible(problem, deadline, quick=True)
+        cls, fields = LCPSolution, dict(z=None, w=None)
+    else:
+        n = problem.q.size
+        if n > NULL_SPACE_MAX_N or MatrixStructure(problem.P).is_positive_definite:
+            return None
+        proof = prove_no_minimiser(problem, deadline, quick=True)
+        cls, fields = QPSolution, dict(x=None if proof is None else proof.point)
+    if proof is None:
+        return None
+    wall = time.perf_counter() - started
+    return cls(method="proof", status=proof.kind, ok=False,
+               message=f"{proof.message} (found before any method ran, in {wall:.2g} s)",
+               accuracy=ctx.accuracy, tol=ctx.tol_cert, certificate=None, wall_time=wall,
+               stats={"route": "proof first", "proof": proof,
+                      "proved_infeasible": proof.kind == "infeasible",
+                      "proved_unbounded": proof.kind == "unbounded"}, **fields)
+
+
+def _ones_solve(lcp) -> bool:
+    """M·1 > 0 row by row (a screen, in floating point): then z = t·1 is
+    feasible for t large, and no Farkas vector exists."""
+    with np.errstate(all="ignore"):
+        return bool(np.all(np.asarray(lcp.M @ np.ones(lcp.n)).ravel() > 0))

@@ -1,30 +1,38 @@
 """Proofs that an LCP has no solution: a Farkas vector y >= 0 with M'y <= 0 and
 q'y < 0 (then y'(Mz + q) < 0 for every z >= 0, so no z >= 0 has Mz + q >= 0).
 
-:func:`prove_lcp_infeasible` finds one by the QP route's LP
-(:func:`qpcontact.proofs.qp_farkas.find_farkas`) and, for a symmetric M whose
-computed null space is wider than its exact one, modulo a prime; each is
-checked in exact arithmetic.  :func:`feasibility` is Lemke's test after a
-secondary ray, in floating point, each component on its own scale
-(FARKAS_RTOL): its message says "checked from the data" in that sense.
+:func:`prove_lcp_infeasible` tries, cheapest first: a row i with M[i, :] <= 0
+and q_i < 0 (y = e_i: w_i <= q_i < 0 for every z >= 0, read off the signs of
+the data), the all-ones vector (columns of M summing to <= 0), an interior
+Farkas vector from one LP (every column of M'y negative with a margin far
+above rounding, so its doubles check exactly as they are), the QP route's
+LP (:func:`qpcontact.proofs.qp_farkas.find_farkas`: a vertex, snapped to
+short rationals) and, for a symmetric M whose computed null space is wider
+than its exact one, a null vector modulo a prime; each is checked in exact
+arithmetic (:mod:`qpcontact.proofs.exact`) and none runs past the deadline.
+:func:`feasibility` is Lemke's test after a secondary ray, in floating point,
+each component on its own scale (FARKAS_RTOL): its message says "checked from
+the data" in that sense.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from fractions import Fraction
 
 import numpy as np
 import scipy.sparse as sp
 
-from .exact import Proof, candidates, exact_farkas
-from .lp import proof_deadline
+from .exact import FarkasCheck, Proof, candidates, ints
+from .lp import NULL_SPACE_MAX_N, linprog, null_basis, proof_deadline, row_scale
 from .qp_farkas import find_farkas
 
-__all__ = ["prove_lcp_infeasible", "check_farkas_hint", "feasibility", "FARKAS_RTOL"]
+__all__ = ["prove_lcp_infeasible", "sign_farkas", "check_farkas_hint", "feasibility",
+           "FARKAS_RTOL"]
 
 
-def prove_lcp_infeasible(lcp, time_limit=None, hints=()) -> Proof | None:
+def prove_lcp_infeasible(lcp, time_limit=None, hints=(), quick=False) -> Proof | None:
     """A Farkas vector proving that no z >= 0 has Mz + q >= 0 (so LCP(M, q)
     has no solution), checked in exact arithmetic, or None.
 
@@ -34,20 +42,152 @@ def prove_lcp_infeasible(lcp, time_limit=None, hints=()) -> Proof | None:
     near-null vector, which is the Farkas vector when the data are exactly
     singular) — tried exactly first, before the LPs.  The whole search keeps
     ``time_limit`` (a :class:`~qpcontact.core.deadline.Deadline` or seconds;
-    at most :data:`~qpcontact.proofs.lp.LP_TIME_LIMIT` from now)."""
+    at most :data:`~qpcontact.proofs.lp.LP_TIME_LIMIT` from now).
+
+    ``quick``: only the routes that cost milliseconds to a few tenths of a
+    second at n <= 1 000 (the signs, the all-ones vector, M's null space
+    for a symmetric PSD M, the interior LP otherwise) — what "auto" tries
+    before any method runs."""
     tl = proof_deadline(time_limit)
     n = lcp.n
     M = sp.csr_matrix(lcp.M)
     q = np.asarray(lcp.q, float)
-    for y in hints:
-        proof = check_farkas_hint(M, q, y, tl)
+    proof = sign_farkas(M, q)
+    if proof is not None or np.all(q >= 0):     # z = 0 solves: no Farkas vector exists
+        return proof
+    check = _lcp_check(M, q)
+    for y in list(hints) + [np.ones(n)]:
+        if proof is None and not tl.expired():
+            proof = check_farkas_hint(M, q, y, tl, check)
+    psd = lcp.is_symmetric and lcp.is_psd
+    if proof is None and not tl.expired():
+        # a symmetric PSD M: every Farkas vector has M y = 0 (y'My <= 0),
+        # so it lies in M's null space and the interior LP finds no margin
+        proof = (_null_space_farkas(M, q, tl, check) if psd and n <= NULL_SPACE_MAX_N
+                 else None if psd else _interior_farkas(M, q, tl, check))
+    if quick:
+        return proof
+    if proof is None and not tl.expired():
+        with np.errstate(all="ignore"):
+            proof = find_farkas(None, np.zeros(n), -M, q, None, None, np.zeros(n), None, tl)
+    if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric and not tl.expired():
+        proof = _null_vector_farkas(M, q, tl, check)
+    return proof
+
+
+def _lcp_check(M, q) -> FarkasCheck:
+    """The exact check of y >= 0, M'y <= 0, q'y < 0 (the QP form: rows
+    -Mz <= q, bounds z >= 0)."""
+    n = q.size
+    return FarkasCheck(-M, q, sp.csr_matrix((0, n)), np.zeros(0), np.zeros(n), np.full(n, np.inf))
+
+
+def sign_farkas(M, q) -> Proof | None:
+    """A row i with q_i < 0 and M[i, j] <= 0 for every j: w_i = M[i, :]z + q_i
+    <= q_i < 0 for every z >= 0, so no z is feasible (the Farkas vector e_i).
+    Exact from the signs of the stored doubles alone; the row whose q_i is
+    most negative is named."""
+    neg = np.flatnonzero(q < 0)
+    if not neg.size:
+        return None
+    if sp.issparse(M):
+        sub = sp.csr_matrix(M)[neg]
+        top = np.asarray(sub.max(axis=1).toarray()).ravel() if sub.nnz else np.zeros(neg.size)
+    else:
+        top = np.max(np.asarray(M)[neg], axis=1)
+    rows = neg[top <= 0]
+    if not rows.size:
+        return None
+    i = int(rows[np.argmin(q[rows])])
+    M = sp.csr_matrix(M)
+    y = np.zeros(q.size)
+    y[i] = 1.0
+    exact = [Fraction(0)] * q.size
+    exact[i] = Fraction(1)
+    lower = np.maximum(-M.getrow(i).toarray().ravel(), 0.0)
+    return Proof(
+        kind="infeasible",
+        message=(f"no z >= 0 has Mz + q >= 0: row {i} of M has no positive entry and q[{i}] = "
+                 f"{q[i]:.3e} < 0, so w[{i}] <= q[{i}] < 0 for every z >= 0 (the Farkas vector "
+                 f"e_{i}, read off the signs of the data)"),
+        vector={"z": y, "y": np.zeros(0), "lower": lower, "upper": np.zeros(q.size),
+                "exact": {"z": exact, "y": []}})
+
+
+def _null_space_farkas(M, q, deadline, check) -> Proof | None:
+    """For a symmetric PSD M: y = N x >= 0 with q'y < 0, N a basis of M's
+    numerical null space (:func:`~qpcontact.proofs.lp.null_basis`), from
+    one LP in the null space's few coordinates (HiGHS took 0.7 s on the
+    full LP at n = 250 and 90-170 s at n = 1 000, the null space's LP
+    milliseconds).  The candidate, snapped to short rationals, is checked
+    exactly (a null vector of integer data has a short rational form)."""
+    n = q.size
+    basis = null_basis(M, deadline)
+    if basis is None or deadline.expired():
+        return None
+    B, c = basis
+    k = B.shape[1]
+    qN = (B * c[:, None]).T @ q
+    scale = float(np.max(np.abs(qN))) or 1.0
+    # min q'y over y = c * (B x) >= 0 with |B x| <= 1 (c > 0: the signs are B x's)
+    res = linprog(qN / scale, A_ub=np.vstack([-B, B]), b_ub=np.r_[np.zeros(n), np.ones(n)],
+                  bounds=[(None, None)] * k, time_limit=deadline, tight=True)
+    if res is None or res.status != 0 or res.x is None or not res.fun < -1e-9:
+        return None
+    # snapped in the balanced coordinates, mapped back exactly (c: powers of two)
+    yt = np.maximum(B @ res.x, 0.0)
+    top = float(yt.max(initial=0.0))
+    if not top > 0:
+        return None
+    cF = [Fraction(float(v)) for v in c]
+    for cand in itertools.chain([[Fraction(float(v)) for v in yt / top]],
+                                candidates(yt / top, deadline)):
+        proof = check.check([v * cj for v, cj in zip(cand, cF)], deadline)
         if proof is not None:
             return proof
+    return None
+
+
+#: an interior Farkas vector's margin (each column of M'y at most -margin
+#: times its own size, after scaling) below which its doubles are not
+#: expected to check exactly as they are
+_INTERIOR_MARGIN = 1e-9
+
+
+def _interior_farkas(M, q, deadline, check) -> Proof | None:
+    """One LP: max t over y >= 0, sum(y) = 1, with every column of M'y and
+    q'y at most -t times its own size (rows of M scaled to unit size, y
+    scaled back).  Where Farkas vectors fill a cone with interior, its
+    answer has every component of M'y negative with a margin far beyond
+    rounding, so the doubles the LP returned check exactly as they are —
+    no snapping to short rationals, which fails on the vertex of a random
+    dense M (denominators of the size of its minors).  Where every Farkas
+    vector has some column of M'y exactly zero (a PSD M: M y = 0) t = 0 and
+    the vertex LPs follow."""
+    n = q.size
+    rs = row_scale(M)
+    rs = np.where(np.abs(q) > 0, np.where(rs > 0, rs, 1.0 / np.where(q != 0, np.abs(q), 1.0)), rs)
+    Ms = sp.diags(rs) @ M
+    qs = rs * q
+    live = np.flatnonzero(np.asarray(abs(Ms).max(axis=0).toarray()).ravel() > 0)
+    if not live.size or not np.all(np.isfinite(Ms.data)) or not np.all(np.isfinite(qs)):
+        return None
+    size = np.asarray(abs(Ms).max(axis=0).toarray()).ravel()[live]
+    qsize = float(np.max(np.abs(qs))) or 1.0
+    # rows: Ms[:, live]' y + t size <= 0 and qs'y + t qsize <= 0
+    A_ub = sp.vstack([sp.hstack([Ms[:, live].T, sp.csr_matrix(size[:, None])]),
+                      sp.csr_matrix(np.r_[qs, qsize][None, :])]).tocsc()
+    A_eq = sp.csr_matrix(np.r_[np.ones(n), 0.0][None, :])
+    cost = np.zeros(n + 1)
+    cost[-1] = -1.0
     with np.errstate(all="ignore"):
-        proof = find_farkas(None, np.zeros(n), -M, q, None, None, np.zeros(n), None, tl)
-    if proof is None and n <= _MODULAR_MAX_N and lcp.is_symmetric and not tl.expired():
-        proof = _null_vector_farkas(M, q, tl)
-    return proof
+        res = linprog(cost, A_ub=A_ub, b_ub=np.zeros(A_ub.shape[0]), A_eq=A_eq, b_eq=[1.0],
+                      bounds=[(0, None)] * n + [(0, 1)], time_limit=deadline, tight=True)
+    if res is None or res.status != 0 or res.x is None or not -res.fun > _INTERIOR_MARGIN:
+        return None
+    y = np.maximum(res.x[:n], 0.0) * rs
+    top = float(y.max(initial=0.0))
+    return check_farkas_hint(M, q, y / top, deadline, check) if top > 0 else None
 
 
 #: how far (relative to each column's terms) a hint may miss M'y <= 0 in
@@ -55,9 +195,10 @@ def prove_lcp_infeasible(lcp, time_limit=None, hints=()) -> Proof | None:
 _HINT_RTOL = 1e-6
 
 
-def check_farkas_hint(M, q, y, deadline=None) -> Proof | None:
-    """``y`` (its nonnegative part, and the same snapped to short rationals)
-    checked exactly as a Farkas vector of {z >= 0, Mz + q >= 0}, or None."""
+def check_farkas_hint(M, q, y, deadline=None, check=None) -> Proof | None:
+    """``y`` (its nonnegative part as it is, then snapped to short rationals)
+    checked exactly as a Farkas vector of {z >= 0, Mz + q >= 0}, or None;
+    ``check``: the exact check of these data, made once by the caller."""
     y = np.maximum(np.nan_to_num(np.asarray(y, float).ravel(), nan=0.0, posinf=0.0, neginf=0.0),
                    0.0)
     top = float(y.max(initial=0.0))
@@ -71,10 +212,9 @@ def check_farkas_hint(M, q, y, deadline=None) -> Proof | None:
     Mty, scale = Mc.T @ y, abs(Mc).T @ y
     if not (q @ y < 0 and np.all(Mty <= _HINT_RTOL * scale)):
         return None
-    empty = sp.csr_matrix((0, n))
-    for cand in candidates(y, deadline):
-        proof = exact_farkas(-Mc, q, empty, np.zeros(0), np.zeros(n), np.full(n, np.inf),
-                             cand, n, deadline)
+    check = check or _lcp_check(Mc, q)
+    for cand in itertools.chain([[Fraction(float(v)) for v in y]], candidates(y, deadline)):
+        proof = check.check(cand, deadline)
         if proof is not None:
             return proof
     return None
@@ -87,28 +227,23 @@ _MODULAR_MAX_N = 400
 _PRIME = 2_147_483_629   # < 2^31: products of residues fit in int64
 
 
-def _null_vector_farkas(M, q, deadline) -> Proof | None:
+def _null_vector_farkas(M, q, deadline, check) -> Proof | None:
     """For symmetric M a Farkas vector y (y >= 0, M y <= 0, q'y < 0) of a
     PSD M lies in M's null space.  When M is exactly singular but its
     computed null space is wider (a second direction with singular value
     1e-14 of the largest: an LP returns a mix that no snapping makes exact),
     the exact null vector is found modulo a prime — M's doubles are integers
     times a power of two — and read back as small rationals; the exact check
-    (exact_farkas) decides.  Only a one-dimensional null space mod p is
-    tried."""
+    (``check``) decides.  Only a one-dimensional null space mod p is
+    tried; the elimination stops at ``deadline`` (nothing proved)."""
     n = M.shape[0]
     A = M.toarray()
     if not np.all(np.isfinite(A)) or not np.any(A):
         return None
-    nz = A[A != 0]
-    emin = min(math.frexp(float(v))[1] for v in nz) - 53
-    # residues of the integers A / 2^emin, entry by entry (exact)
-    R = np.zeros((n, n), dtype=np.int64)
-    for i, j in zip(*np.nonzero(A)):
-        m, e = math.frexp(float(A[i, j]))
-        mant = int(m * (1 << 53))
-        R[i, j] = (mant % _PRIME) * pow(2, e - 53 - emin, _PRIME) % _PRIME
-    y = _null_mod_p(R)
+    # residues of the integers A / 2^e (exact: ints strips the power of two)
+    I, _ = ints(A.ravel())
+    R = np.mod(I, _PRIME).astype(np.int64).reshape(n, n)
+    y = _null_mod_p(R, deadline)
     if y is None:
         return None
     k = int(np.flatnonzero(y)[0])
@@ -124,18 +259,18 @@ def _null_vector_farkas(M, q, deadline) -> Proof | None:
     if any(c < 0 for c in cand):
         return None
     top = max(cand)
-    cand = [c / top for c in cand]
-    empty = sp.csr_matrix((0, n))
-    return exact_farkas(sp.csr_matrix(-M), q, empty, np.zeros(0), np.zeros(n),
-                         np.full(n, np.inf), cand, n, deadline)
+    return check.check([c / top for c in cand], deadline)
 
 
-def _null_mod_p(R) -> np.ndarray | None:
-    """A basis vector of the null space of R mod p when it is one-dimensional."""
+def _null_mod_p(R, deadline=None) -> np.ndarray | None:
+    """A basis vector of the null space of R mod p when it is one-dimensional
+    (None as well once ``deadline`` passes)."""
     A = R.copy() % _PRIME
     n = A.shape[0]
     pivots, row = [], 0
     for col in range(n):
+        if deadline is not None and deadline.expired():
+            return None
         nzr = np.flatnonzero(A[row:, col]) if row < n else np.zeros(0, int)
         if nzr.size == 0:
             continue

@@ -22,7 +22,8 @@ and on a badly scaled but solvable LCP the solution lay beyond that (a false
 "infeasible", caught by ``qpcontact stress``).  The price: on data whose
 exact Farkas vector or ray has no short rational form nothing is proved and
 the answer stays "failed"/"inaccurate" — never a claim that is not true.
-The exact check (:mod:`qpcontact.proofs.exact`) is skipped above EXACT_WORK products.
+The exact check (:mod:`qpcontact.proofs.exact`, in integers) is skipped above EXACT_WORK
+products and stops at the proof's deadline.
 
 Backends say "infeasible" in their own words and on their own absolute
 tolerances; QP backends also loop for a long time on such problems (an
@@ -40,8 +41,9 @@ from fractions import Fraction
 import numpy as np
 import scipy.sparse as sp
 
-from .exact import EXACT_WORK, Proof, candidates, exact_farkas, exact_ray
-from .lp import column_scale, csr_rows, linprog, proof_deadline, row_scale
+from .exact import FarkasCheck, Proof, RayCheck, candidates, exactly_within
+from .lp import (NULL_SPACE_MAX_N, column_scale, csr_rows, linprog, null_basis,
+                 proof_deadline, row_scale)
 
 __all__ = ["prove_no_minimiser", "find_farkas", "x_size"]
 
@@ -80,8 +82,9 @@ def find_farkas(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
     top = float(np.max(np.abs(weights), initial=0.0))
     if not top > 0:
         return None
+    check = FarkasCheck(G, h, A, b, lo, hi)
     for exact in candidates(weights / top, tl):   # the ratios are what matters: 1 : 2 : 3
-        proof = exact_farkas(G, h, A, b, lo, hi, exact, G.shape[0], tl)
+        proof = check.check(exact, tl)
         if proof is not None:
             return proof
     return None
@@ -179,6 +182,7 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
         return None  # q'd = 0 for every d: no descent direction
     dF = None
     cF = [Fraction(float(v)) for v in c]
+    ray = RayCheck(P, q, G, A, lo, hi)
     # The cost at unit size too (HiGHS's dual tolerance is absolute: a cost
     # of 1e-9 entries was declared optimal at d = 0).  HiGHS's own
     # tolerances first, then 1e-10: each missed rays the other found (at
@@ -222,7 +226,7 @@ def _ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
             continue
         dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)]
                                 for vt in candidates(dt / top, tl))
-                   if exact_ray(P, q, G, A, d, lo, hi, tl)), None)
+                   if ray.check(d, tl)), None)
         if dF is not None:
             break
     if dF is None:
@@ -266,7 +270,7 @@ def _unbounded(P, q, G, h, A, b, lb, ub, dF, tl) -> Proof | None:
     # The ray alone proves that no minimiser exists (feasible: x0 + t d falls
     # for ever; infeasible: nothing to minimise); "unbounded below" also needs
     # x0 feasible, which is said as checked.
-    exact = _exactly_feasible(x0, G, h, A, b, lb, ub)
+    exact = _exactly_feasible(x0, G, h, A, b, lb, ub, tl)
     where = ("feasibility checked in exact rational arithmetic" if exact else
              "feasible to rounding only: if the constraints admit no point at all the QP is "
              "infeasible instead — no minimiser exists either way")
@@ -281,35 +285,30 @@ def _unbounded(P, q, G, h, A, b, lb, ub, dF, tl) -> Proof | None:
     )
 
 
-def _exactly_feasible(x, G, h, A, b, lb, ub) -> bool:
-    """Gx <= h, Ax = b and the bounds, in rational arithmetic (False above
-    EXACT_WORK products: not checked)."""
+def _exactly_feasible(x, G, h, A, b, lb, ub, tl=None) -> bool:
+    """Gx <= h, Ax = b and the bounds, in exact (integer) arithmetic (False
+    beyond EXACT_WORK products or past ``tl``: not checked)."""
     n = x.size
-    xF = [Fraction(float(v)) for v in x]
     for M, rhs, eq in ((csr_rows(G, n), h, False), (csr_rows(A, n), b, True)):
-        if not M.shape[0]:
-            continue
-        if M.nnz > EXACT_WORK:
+        if M.shape[0] and not exactly_within(M, x, np.asarray(rhs, float), eq, tl):
             return False
-        for i in range(M.shape[0]):
-            acc = sum((Fraction(float(M.data[p])) * xF[M.indices[p]]
-                       for p in range(M.indptr[i], M.indptr[i + 1])), Fraction(0))
-            r = Fraction(float(rhs[i]))
-            if (acc != r) if eq else (acc > r):
-                return False
     lo = lb if lb is not None else np.full(n, -np.inf)
     hi = ub if ub is not None else np.full(n, np.inf)
     return bool(np.all(x >= lo) and np.all(x <= hi))   # comparisons of doubles are exact
 
 
-def prove_no_minimiser(problem, time_limit=None, hints=()) -> Proof | None:
+def prove_no_minimiser(problem, time_limit=None, hints=(), quick=False) -> Proof | None:
     """A checked Farkas vector or ray for a convex ``qpsolvers.Problem``, or
     None when neither is found (the QP may still have no minimiser; nothing
     is claimed then).  Its LPs and exact checks keep ``time_limit`` (a
     :class:`~qpcontact.core.deadline.Deadline` or seconds; at most
     :data:`~qpcontact.proofs.lp.LP_TIME_LIMIT` from now).  ``hints`` are points a method returned
     far out: their direction is tried exactly as a ray first (a backend on an
-    unbounded QP stops at x ~ 1e8..1e11 along it)."""
+    unbounded QP stops at x ~ 1e8..1e11 along it).
+
+    ``quick``: only a ray in P's null space, from one LP in its few
+    coordinates (n <= NULL_SPACE_MAX_N) — what "auto" tries before any
+    method runs where P is singular."""
     P, q, G, h, A, b, lb, ub = problem.unpack()
     q = np.asarray(q, dtype=float)
     tl = proof_deadline(time_limit)
@@ -318,10 +317,65 @@ def prove_no_minimiser(problem, time_limit=None, hints=()) -> Proof | None:
             proof = _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl)
             if proof is not None:
                 return proof
+        if quick:
+            return _null_space_ray(P, q, G, h, A, b, lb, ub, tl)
         proof = find_farkas(P, q, G, h, A, b, lb, ub, tl)
         if proof is None:
             proof = _ray(P, q, G, h, A, b, lb, ub, tl)
     return proof
+
+
+def _null_space_ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
+    """A ray d = N c, N a basis of P's numerical null space
+    (:func:`~qpcontact.proofs.lp.null_basis`): one LP in the null space's few
+    coordinates, min q'Nc over G N c <= 0, A N c = 0, the bounds' signs and
+    |c| <= 1.  HiGHS took 1.5 s on the full ray LP at n = 250 (P's rows as
+    equalities); this one takes milliseconds.  The candidate, snapped, is
+    checked exactly (:class:`~qpcontact.proofs.exact.RayCheck`)."""
+    n = q.size
+    basis = null_basis(P, tl) if n <= NULL_SPACE_MAX_N and np.all(np.isfinite(q)) else None
+    if basis is None or tl.expired():
+        return None
+    B, c = basis
+    N = B * c[:, None]
+    k = N.shape[1]
+    G, A = csr_rows(G, n), csr_rows(A, n)
+    lo = np.where(np.isfinite(lb), 0.0, -1.0) if lb is not None else -np.ones(n)
+    hi = np.where(np.isfinite(ub), 0.0, 1.0) if ub is not None else np.ones(n)
+
+    def unit_rows(B):
+        big = np.max(np.abs(B), axis=1) if B.shape[0] else np.zeros(0)
+        keep = big > 0
+        return B[keep] / big[keep, None]
+
+    cones = [unit_rows(np.asarray(G @ N)), unit_rows(-N[lo == 0]), unit_rows(N[hi == 0])]
+    cones = [r for r in cones if r.shape[0]]
+    # |d_i| <= 1 (rather than |c| <= 1): a vertex then has d's entries at
+    # ±1 or set by the data's rows, the exact weights of a rounded P's
+    # sparse null vectors rather than an eigenbasis's irrational mix
+    ub_rows = np.vstack(cones + [B, -B])
+    b_ub = np.r_[np.zeros(sum(r.shape[0] for r in cones)), np.ones(2 * n)]
+    eq_rows = unit_rows(np.asarray(A @ N))
+    qN = N.T @ q
+    scale = float(np.max(np.abs(qN)))
+    if not scale > 0:
+        return None
+    res = linprog(qN / scale, A_ub=ub_rows, b_ub=b_ub,
+                  A_eq=eq_rows if eq_rows.shape[0] else None,
+                  b_eq=np.zeros(eq_rows.shape[0]) if eq_rows.shape[0] else None,
+                  bounds=[(None, None)] * k, time_limit=tl, tight=True)
+    if res is None or res.status != 0 or res.x is None or not res.fun < -1e-9:
+        return None
+    # snapped in the balanced coordinates d = c * dt, mapped back exactly
+    dt = np.clip(B @ res.x, lo, hi)
+    top = float(np.max(np.abs(dt), initial=0.0))
+    if not top > 0:
+        return None
+    ray = RayCheck(sp.csr_matrix(P), q, G, A, lo, hi)
+    cF = [Fraction(float(v)) for v in c]
+    dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)] for vt in candidates(dt / top, tl))
+               if ray.check(d, tl)), None)
+    return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
 
 
 def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
@@ -339,5 +393,6 @@ def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
     # null space in floating point
     if not (q @ d < 0 and np.all(np.abs(P @ d) <= 1e-6 * (abs(P) @ np.abs(d)))):
         return None
-    dF = next((c for c in candidates(d, tl) if exact_ray(P, q, Gr, Ar, c, lo, hi, tl)), None)
+    ray = RayCheck(P, q, Gr, Ar, lo, hi)
+    dF = next((c for c in candidates(d, tl) if ray.check(c, tl)), None)
     return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)

@@ -60,14 +60,20 @@ def test_siconos_file_paths_and_sizes(tmp_path):
 
 
 def test_auto_stops_at_a_proof_of_infeasibility():
-    """M = 0, q = -1 and an infeasible PSD LCP: Lemke's Farkas vector ends the
-    chain (no backend loop), and raise_on_failure says there is no solution."""
+    """M = 0, q = -1 and an infeasible PSD LCP: the proof sought before any
+    method runs ends the call (no backend loop), and raise_on_failure says
+    there is no solution; an explicit Lemke proves it with its own Farkas
+    vector, which gives the same status."""
     with pytest.raises(NoSolutionError, match="Farkas"):
         qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), raise_on_failure=True)
-    sol = qpcontact.solve(LCP(np.array([[1.0, -1.0], [-1.0, 1.0]]), [-1.0, -1.0]))
-    # proved by Lemke's own Farkas vector: "infeasible", as any other proof
+    lcp = LCP(np.array([[1.0, -1.0], [-1.0, 1.0]]), [-1.0, -1.0])
+    sol = qpcontact.solve(lcp)
     assert sol.status == "infeasible" and sol.stats["proved_infeasible"]
-    assert [t[0] for t in sol.stats["auto_tried"]] == ["lemke"]
+    assert [t[0] for t in sol.stats["auto_tried"]] == ["proof"]
+    y = sol.stats["proof"].vector["z"]       # y = (1, 1): M'y = 0, q'y = -2
+    assert np.all(y >= 0) and np.all(lcp.M.T @ y <= 0) and lcp.q @ y < 0
+    sol = qpcontact.solve(lcp, "lemke")
+    assert sol.status == "infeasible" and sol.stats["proved_infeasible"]
 
 
 def _lemke_without_its_own_proof(monkeypatch):
@@ -95,9 +101,10 @@ def test_unproved_ray_is_not_called_no_solution(monkeypatch):
 
 def test_a_ray_with_a_farkas_vector_is_proved_by_the_engine_exactly(monkeypatch):
     """Lemke's own word dropped, the engine checks the vector it found in
-    exact arithmetic and proves it."""
+    exact arithmetic and proves it (data with no row of nonpositive signs,
+    which would be proved from the signs alone)."""
     _lemke_without_its_own_proof(monkeypatch)
-    sol = qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), method="lemke")
+    sol = qpcontact.solve(LCP([[1.0, -1.0], [-1.0, 1.0]], [-1.0, -1.0]), method="lemke")
     assert sol.status == "infeasible" and "exact rational" in sol.message
 
 

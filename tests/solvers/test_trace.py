@@ -302,3 +302,20 @@ def test_the_trace_keeps_the_calls_time_limit_and_certifies_what_it_traced():
             z_ref = _independent(plcp.at(p), True)
             np.testing.assert_allclose(tr.z_at(p), z_ref, rtol=0,
                                        atol=1e-6 * _z_scale(plcp.at(p), z_ref))
+
+
+def test_trace_starts_from_a_given_solution_and_refuses_a_wrong_one():
+    """``start``: the caller's solution at p = 0, checked by the certificate;
+    the path from it is the path from Lemke's."""
+    M = seeded_spd_matrix(6, 30.0, 3)
+    q0 = np.array([-1.0, 2.0, -0.5, 1.0, -2.0, 0.3])
+    qv = np.array([1.0, -1.0, 0.5, -0.2, 0.4, -1.0])
+    plcp = ParametricLCP(M, q0, qv)
+    (z0,) = enumerate_lcp(M, q0)           # SPD: one solution
+    ref = qpcontact.solve(plcp, method="trace", p_max=2.0)
+    got = qpcontact.solve(plcp, method="trace", p_max=2.0, start=z0)
+    assert got.ok and np.allclose(got.z_at(1.5), ref.z_at(1.5), atol=1e-12)
+    with pytest.raises(qpcontact.InvalidOptionError, match="start is no solution at p = 0"):
+        qpcontact.solve(plcp, method="trace", p_max=2.0, start=z0 + 1.0)
+    with pytest.raises(qpcontact.InvalidOptionError, match="start has 5 entries"):
+        qpcontact.solve(plcp, method="trace", p_max=2.0, start=z0[:5])

@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from qpcontact.core.errors import InvalidOptionError
+
 from ..reporting import tables
 from ..reporting.notation import DIGITS
 
@@ -137,7 +139,8 @@ class FrameTrace:
     this path), "breakdown", "max_pieces" (see docs/frames.md); ``ok`` is True
     when every traced piece passed the LCP certificate and the equilibrium
     check at its start, middle and end, and the ending is proved.
-    ``result_at(p)`` analyses any p inside the traced range.
+    ``result_at(p)`` analyses any p inside the traced range; ``limit`` is
+    the bracket [p_lo, p_hi] of a proved limit load.
     """
 
     breakpoints: np.ndarray
@@ -152,11 +155,27 @@ class FrameTrace:
     _built: dict = field(repr=False, default=None)   # the frame's assembly, reused by result_at
     constant: dict = field(default_factory=dict)
     variable: dict = field(default_factory=dict)
+    #: (p_lo, p_hi) where the path ends at a limit: p_lo the last certified
+    #: equilibrium on it, p_hi a proof that none exists at or beyond it
+    limit: tuple | None = None
 
     @property
     def p_end(self) -> float:
         """Where the traced range ends (inf on an unbounded last interval)."""
         return self.intervals[-1][1] if self.intervals else 0.0
+
+    def safety_factor(self, p_design: float) -> tuple:
+        """(lower, upper): the proved limit's bracket over the design load
+        level ``p_design`` of the variable part (the constant part as
+        traced); raises where the trace proved no limit."""
+        if self.limit is None:
+            raise InvalidOptionError(
+                f"this trace proved no limit (it ended {self.ended!r}: {self.message[:120]}); "
+                "a safety factor needs one")
+        if isinstance(p_design, bool) or not isinstance(p_design, (int, float)) \
+                or not np.isfinite(p_design) or p_design <= 0:
+            raise InvalidOptionError(f"p_design must be a positive number; got {p_design!r}")
+        return (self.limit[0] / p_design, self.limit[1] / p_design)
 
     def result_at(self, p: float):
         """The frame's checked result at load level ``p`` in the traced range

@@ -36,6 +36,8 @@ import scipy.sparse.linalg as spla
 
 from qpcontact.core.problems import LCP
 
+from .member_forces import EXTENDED, contrast, stiffness_times
+
 
 #: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
 #: term) are rounding noise of the basic-system solve and are set to zero.
@@ -186,6 +188,8 @@ def contact_stiffness(b) -> dict:
     rhs[:nf, nl:] = b["F"][b["free"]] - b["K_fa"] @ U[fixed_idx]
     rhs[nf:, nl:] = -kappa * (H[fixed_idx].T @ U[fixed_idx])
     sol = b["lu"].solve(rhs)
+    if contrast(b) > CONTRAST:
+        sol = refined_columns(b, rhs, sol)
     R = -kappa * sol[nf:, :nl]
     R = 0.5 * (R + R.T)
     # R's entries are sums of terms of size kappa (the stiffness), so each
@@ -198,6 +202,35 @@ def contact_stiffness(b) -> dict:
     exact = R.copy()
     R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
     return {"R": R, "RF": -kappa * sol[nf:, nl:], "R_solve": exact}
+
+
+#: members whose stiffness differs by more than this get R refined in
+#: extended precision (a deck 1e8 times stiffer than its legs had R, and so
+#: the LCP's matrix, 1e-8 off: the load path chose wrong states from it)
+CONTRAST = 1e6
+
+
+def refined_columns(b, rhs, sol, steps=2, chunk=256):
+    """Solutions of the basic system S x = rhs (columns) refined by
+    ``steps`` steps with the residual in extended precision (K's part
+    member by member: :func:`.member_forces.stiffness_times`)."""
+    nf, free, kappa = b["nf"], b["free"], b["kappa"]
+    N = b["K"].shape[0]
+    Hf = b["Hf"].astype(EXTENDED)
+    flex = np.asarray(b["flex"], EXTENDED)[:, None]
+    out = np.empty_like(sol)
+    for at in range(0, rhs.shape[1], chunk):
+        cols = slice(at, min(at + chunk, rhs.shape[1]))
+        x = np.asarray(sol[:, cols], EXTENDED)
+        r_ = np.asarray(rhs[:, cols], EXTENDED)
+        for _ in range(steps):
+            U = np.zeros((N, x.shape[1]), EXTENDED)
+            U[free] = x[:nf]
+            top = stiffness_times(b, U)[free] + Hf @ x[nf:]
+            bottom = Hf.T @ x[:nf] - kappa ** 2 * flex * x[nf:]
+            x += b["lu"].solve(np.asarray(r_ - np.vstack([top, bottom]), float))
+        out[:, cols] = np.asarray(x, float)
+    return out
 
 
 def factors(b, combo: dict) -> np.ndarray:

@@ -100,3 +100,47 @@ def equilibrium(frame, b, F, X, u):
     moment = np.array([d.startswith("r") for d in frame.DOFS])[free % len(frame.DOFS)]
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))
+
+
+def mechanical_certificate(b, z, X, u, force_terms):
+    """(error, ζ, σ): the LCP certificate's componentwise measure,
+    max_i |min(z_i/ζ_i, w_i/σ_i)| with w = W X, where the LCP's matrix is
+    not formed (the sparse active set never forms the dense R).  The
+    scales are what each quantity is made of, as the certificate's
+    |M||z| + |q| are, read off the mechanics instead of M: a link force
+    against the forces that meet at its node (contact_lcp.force_terms: the
+    members' end forces, the springs', the loads), and a link
+    displacement (an opening, a slip part) against |h|ᵀ|u| + |D X| + g.
+    Equilibrium is checked on its own (:func:`equilibrium`, the frames'
+    resultants).  The links' kinematics Δ = H'u + D X = P z - g are the
+    answer's by construction (u solved for them), not judged here."""
+    P, W, g, _ = b["maps"]
+    absH = abs(b["H"])
+    forces = absH.T @ force_terms
+    lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
+    forces = forces + R_ROUNDING * forces.max(initial=0.0)
+    lengths = lengths + R_ROUNDING * lengths.max(initial=0.0)
+    zeta = abs(P).T @ lengths
+    w = W @ X
+    e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
+    # the LCP's scale of a link force also holds the force its own link
+    # displacement makes, R_ll |Δ_l|, which the rounding of the solve
+    # follows: a lifted stretch of a foundation beam had X_n = -4e-10
+    # from rounding against node forces of 1e-9, where R_ll |Δ| = 2e4 as
+    # in the LCP's |R||Δ|.  R_ll is read off the basic system's LU, one
+    # solve per moving link whose component is above rounding without it
+    # (a bound such as the node's stiffness h'|K|h was 1e9 times too
+    # large beside a 1 cm stub, and passed a tip lifted 1 m); leaving it
+    # out elsewhere can only overstate the error
+    delta = P @ z - g
+    rows = np.flatnonzero(e > 64 * np.finfo(float).eps)
+    touched = np.asarray(abs(W)[rows].sum(axis=0)).ravel() > 0
+    moving = np.flatnonzero(touched & (delta != 0))
+    if moving.size:
+        nf, kappa = b["nf"], b["kappa"]
+        unit = np.zeros((nf + len(delta), moving.size))
+        unit[nf + moving, np.arange(moving.size)] = kappa
+        R_ll = np.abs(kappa * b["lu"].solve(unit)[nf + moving, np.arange(moving.size)])
+        forces[moving] += R_ll * np.abs(delta[moving])
+        e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
+    return (float(e.max(initial=0.0)), zeta, sigma)

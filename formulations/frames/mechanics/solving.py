@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import warnings
 
+import numpy as np
+
 from qpcontact import solve as solve_problem
 from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
                                    QpcontactError, SolverFailedError)
@@ -110,7 +112,17 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
         else:
             sol = solve_problem(lcp, method=method, accuracy=accuracy, **options)
         z, route = sol.z, sol.method
-        if not sol.ok:
+        judged = None
+        if not sol.ok and not proved(sol) and sol.z is not None and np.all(np.isfinite(sol.z)):
+            # Lemke's point doubted for its digits only (a degenerate basis:
+            # rigid pads, four legs — the same forces written with other
+            # unknowns): the frame judges it on its own, its states refined in
+            # extended precision and checked on the mechanics
+            judged = frame.kind.result_from_z(frame, sol.z, combo, f"{sol.method} (judged on "
+                                              "the frame)", b=b, lcp=lcp, tol=tol)
+        if judged is not None and judged.ok:
+            z, route = sol.z, judged.route
+        elif not sol.ok:
             found = (trace_to(frame, b, combo, lcp, accuracy, tol)
                      if method == "auto" and not proved(sol) else None)
             if found is None:

@@ -18,6 +18,7 @@ from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
 from .load_combinations import require_loads
 from .loads import CONSTANT, VARIABLE, combination, describe
+from .no_equilibrium import motion_words
 
 
 def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
@@ -48,8 +49,19 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     qv, _ = contact_lcp.combination_q(Q, np.zeros_like(q_gap), b, var)
     # followed to its end: solve's time_limit would bound the whole path,
     # and a frame's trace has no limit to raise (its probes keep their caps)
-    tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
-                       p_max=np.inf if p_max is None else p_max, time_limit=None)
+    upto = np.inf if p_max is None else p_max
+    try:
+        tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
+                           p_max=upto, time_limit=None)
+    except NoSolutionError:
+        # Lemke's point at p = 0 doubted for its digits (a degenerate basis:
+        # rigid pads under a frame that rests on four legs) may still be the
+        # frame's equilibrium: judged on the mechanics, it starts the path
+        start = judged_start(frame, b, const, accuracy, tol)
+        if start is None:
+            raise
+        tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
+                           p_max=upto, time_limit=None, start=start)
     ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
                     ended=tr.end, message="", ok=False, trace=tr, frame=frame, _built=b,
                     constant=const, variable=var)
@@ -68,6 +80,17 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                   for pp in (piece.p_start, 0.5 * (piece.p_start + hi), hi)]
         bad = [r for r in checks if not r.ok]
         if bad:
+            if checks[0].ok:
+                # the piece reaches past what its checks accept (a degenerate
+                # vertex, or the frame's last equilibrium, computed on the
+                # rounded LCP): the path is certified up to where they still
+                # pass, found by bisection
+                last = last_certified(frame, b, ft, piece, checks, tol)
+                key = {k_: v.state for k_, v in last.supports.items()}
+                if last.p > piece.p_start and runs and runs[-1][2] == key:
+                    runs[-1][1] = last.p
+                elif last.p > piece.p_start:
+                    runs.append([piece.p_start, last.p, key])
             # the message names the piece, not the check point that failed
             ended, failed = "breakdown", (piece, bad[0])
             break
@@ -76,7 +99,6 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
             runs[-1][1] = piece.p_end
         else:
             runs.append([piece.p_start, piece.p_end, key])
-    ft.ended = ended
     ft.intervals = [(r[0], r[1]) for r in runs]
     ft.events = [FrameEvent(r1[0], {k: (r0[2][k], r1[2][k]) for k in r1[2]
                                     if r0[2][k] != r1[2][k]})
@@ -85,11 +107,22 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     for lo, hi in ft.intervals:
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)
         ft.states.append(ft.result_at(0.5 * (lo + top)))
-    if failed is not None:
+    wide = ended == "collapse" and (tr.proof["p_limit"] - tr.p_end
+                                    > BRACKET * abs(tr.proof["p_limit"]))
+    # where the path stops short of a proof, or the LCP's Farkas proof
+    # stands further above its end than a bracket may, the rigid-body proof
+    # (a frame resting on its contacts alone) is tried just above the last
+    # certified equilibrium
+    proved = (limit_proof(frame, b, ft, tr, fric)
+              if ended not in ("p_max", "unbounded", "collapse") or wide else None)
+    if proved:
+        ended, failed = "collapse", None
+        ft.message = proved
+    elif failed is not None:
         piece, bad = failed
         ft.message = (f"the piece from p = {piece.p_start:.10g} to {piece.p_end:.10g} failed "
                       f"the frame's checks at p = {bad.p:.10g} ({bad.message}); the trace "
-                      f"stops at p = {piece.p_start:.10g}")
+                      f"stops at p = {ft.p_end:.10g}")
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                     if ft.states else None)
@@ -101,6 +134,7 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                "states left after branching")
         bound = ("" if not np.isfinite(tr.proof["z_bound"]) else
                  f" for openings and slips summing below {tr.proof['z_bound']:.1e}")
+        ft.limit = (tr.p_end, tr.proof["p_limit"])
         ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
                       f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
                       f"the data{bound})")
@@ -116,7 +150,8 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                       "carries any larger load in its last working scheme")
     else:
         ft.message = tr.message
-    ft.ok = bool(tr.ok and failed is None)
+    ft.ended = ended
+    ft.ok = bool((tr.ok or ft.limit is not None) and failed is None)
     ft.message += f"; {len(ft.events)} change(s) of the working scheme"
     return ft
 
@@ -167,3 +202,60 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
             return z, (f"trace ({words}; Lemke at the fixed load proved nothing, "
                        f"{len(tr.pieces)} pieces)")
     return None
+
+
+#: a limit's bracket [p_lo, p_hi] is called the limit where its relative
+#: width is at most this
+BRACKET = 1e-6
+
+
+def limit_proof(frame, b, ft, tr, fric):
+    """The message of a proved rigid-body limit just above the last
+    certified equilibrium of the path (``ft.limit`` set), or None."""
+    from .rigid_limit import limit_bracket
+
+    p_lo = ft.p_end
+    if not np.isfinite(p_lo):
+        return None
+    p_hi, proof = limit_bracket(frame, b, ft.constant, ft.variable, p_lo)
+    if proof is None:
+        return None
+    carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
+                if ft.states else None)
+    words = motion_words(frame, proof["opening"], proof["sliding"], carrying) + proof["turn"]
+    width = (p_hi - p_lo) / max(abs(p_hi), 1e-300)
+    if width > BRACKET:
+        return None
+    ft.limit = (p_lo, p_hi)
+    return (f"no equilibrium exists for p >= {p_hi:.12g} (the last one on the path is at "
+            f"p = {p_lo:.12g}, {width:.1e} below): {words} (proved by a rigid motion of the "
+            f"whole frame in which the loads do positive work and no contact force the "
+            f"friction polygons allow resists, checked in rational arithmetic)")
+
+
+def judged_start(frame, b, const, accuracy, tol):
+    """Lemke's point under the constant loads where the frame's own checks
+    (its states refined, judged on the mechanics) call it an equilibrium;
+    else None."""
+    M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+    lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, const)
+    sol = solve_problem(lcp, method="lemke", accuracy=accuracy)
+    if sol.z is None or not np.all(np.isfinite(sol.z)) or certify_lcp(lcp, sol.z).error > tol:
+        return None
+    res = frame.kind.result_from_z(frame, sol.z, const, "start", b=b, lcp=lcp, tol=tol)
+    return np.maximum(sol.z, 0.0) if res.ok else None
+
+
+def last_certified(frame, b, ft, piece, checks, tol):
+    """The result at the largest p of ``piece`` whose checks pass (to 1e-12
+    of p), bisecting between its last passing check and its first failing
+    one."""
+    points = (piece.p_start, 0.5 * (piece.p_start + piece.p_end), piece.p_end)
+    good = max(i for i, r in enumerate(checks) if r.ok and all(c.ok for c in checks[:i + 1]))
+    lo, hi, best = points[good], points[good + 1], checks[good]
+    while hi - lo > 1e-12 * max(abs(hi), 1.0):
+        mid = 0.5 * (lo + hi)
+        r = frame.kind.result_from_z(frame, piece.z(mid), ft.combination_at(mid), "trace", b=b,
+                                     tol=tol)
+        lo, hi, best = (mid, hi, r) if r.ok else (lo, mid, best)
+    return best

@@ -193,6 +193,7 @@ def build(frame):
         for d, kval in ks.items():
             springs[idx[node] + DOFS.index(d)] += kval
     b = Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
+              coords=np.array([frame.nodes[n] for n in names], float),
               fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn, **basic)
     link_maps(frame, b)      # b["maps"], which the shared LCP reads
     return b

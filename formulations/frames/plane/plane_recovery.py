@@ -12,10 +12,11 @@ import numpy as np
 from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
-from ..mechanics import contact_lcp
+from ..mechanics import contact_lcp, extended_refinement
 from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
-                                            complementarity, equilibrium, how_far)
+                                            equilibrium, how_far, mechanical_certificate)
 from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.member_forces import stiffness_times
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.plane_element import DOFS
 from . import plane_assembly
@@ -26,7 +27,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     """The frame's result for the LCP point z, checked: the contact
     certificate (the LCP's when its matrix is at hand, else the same
     componentwise measure on the contact quantities' mechanical scales:
-    :meth:`_contact_certificate`) and equilibrium."""
+    :func:`..mechanics.equilibrium_checks.mechanical_certificate`) and
+    equilibrium; a right answer's digits refined on its states in extended
+    precision (:mod:`..mechanics.extended_refinement`)."""
     b = b or frame.build()
     if not isinstance(combo, dict):   # a number p: the Osipova–Popov–Lovtsov split
         combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
@@ -46,23 +49,45 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     # equilibrium with u (a 200-span beam); the solve's own
     # multipliers satisfy K u = F + H X to rounding.
     X = -b["kappa"] * sol[nf:]
+    if lcp is None and "R" in b:
+        M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+        lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+    combo_factors = contact_lcp.factors(b, combo)
+
+    def checked(z, u, X, mechanical=lcp is None):
+        """(certificate error, ζ, σ, member ends, force terms) of an answer"""
+        ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), combo_factors)
+        ft = contact_lcp.force_terms(b, u, F, ends)
+        if mechanical:
+            return (*mechanical_certificate(b, z, X, u, ft), ends, ft)
+        return (certify_lcp(lcp, z).error, *ComponentScales(lcp.M, lcp.q_terms).at(z), ends, ft)
+
+    cert_error, zeta, sigma, ends, ft = checked(z, u, X)
+    # the answer refined on its states in extended precision, kept where it
+    # checks at least as well (a stiff member's forces: mechanics/extended_refinement)
+    w = W @ X if lcp is None else lcp.M @ z + lcp.q
+    refined = extended_refinement.polished(b, z, F, ua, u, X, w, zeta, sigma, cert_error)
+    Ku = None
+    if refined is not None:
+        z2, u2, X2 = refined[0], *(np.asarray(v, float) for v in refined[1:])
+        # judged on the mechanics: the LCP's matrix carries the rounding of
+        # the basic system's solve that the refinement has removed
+        again = checked(z2, u2, X2, mechanical=True)
+        if again[0] <= max(cert_error, tol):
+            Ku = stiffness_times(b, refined[1])
+            z, u, X = z2, u2, X2
+            cert_error, zeta, sigma, ends, ft = again
+            delta = P @ z - g
     # reactions at the fixed dofs: K u - F - H X on them (member loads
     # included), reported in global axes (a node's axes may be turned)
-    r_all = b["K"] @ u - F - b["H"] @ X
+    if Ku is None:
+        r_all = b["K"] @ u - F - b["H"] @ X
+    else:
+        r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
+                           - b["H"].astype(Ku.dtype) @ np.asarray(refined[2], Ku.dtype), float)
     r_glob = contact_lcp.to_global(b, np.where(b["fixed"], r_all, 0.0))
     reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
                  for node in b["names"] if node in frame.fixed}
-    # what meets at each dof: the members' end forces, springs, loads
-    ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), contact_lcp.factors(b, combo))
-    ft = contact_lcp.force_terms(b, u, F, ends)
-    if lcp is None and "R" not in b:
-        cert_error, zeta, sigma = contact_certificate(frame, b, z, X, u, ft, W, P, g)
-    else:
-        if lcp is None:
-            M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
-            lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
-        cert_error = certify_lcp(lcp, z).error
-        zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
     u_axes, u = u, contact_lcp.to_global(b, u)
     ca = plane_assembly.contact_arrays(frame, b)
     nc = len(frame.contacts)
@@ -103,47 +128,6 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                        route=route, ok=ok, message=msg, frame=frame, _u=u,
                        combination=dict(combo), displacement_ratio=ratio,
                        max_rotation=rot)
-
-
-def contact_certificate(frame, b, z, X, u, force_terms, W, P, g):
-    """(error, ζ, σ): the LCP certificate's componentwise measure,
-    max_i |min(z_i/ζ_i, w_i/σ_i)| with w = W X, where the LCP's matrix is
-    not formed (the sparse active set never forms the dense R).  The
-    scales are what each quantity is made of, as the certificate's
-    |M||z| + |q| are, read off the mechanics instead of M: a link force
-    against the forces that meet at its node (contact_lcp.force_terms: the
-    members' end forces, the springs', the loads), and a link
-    displacement (an opening, a slip part) against |h|ᵀ|u| + |D X| + g.
-    Equilibrium is checked on its own (_equilibrium, _resultant)."""
-    absH = abs(b["H"])
-    forces = absH.T @ force_terms
-    lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
-    forces = forces + contact_lcp.R_ROUNDING * forces.max(initial=0.0)
-    lengths = lengths + contact_lcp.R_ROUNDING * lengths.max(initial=0.0)
-    zeta = abs(P).T @ lengths
-    w = W @ X
-    e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
-    # the LCP's scale of a link force also holds the force its own link
-    # displacement makes, R_ll |Δ_l|, which the rounding of the solve
-    # follows: a lifted stretch of a foundation beam had X_n = -4e-10
-    # from rounding against node forces of 1e-9, where R_ll |Δ| = 2e4 as
-    # in the LCP's |R||Δ|.  R_ll is read off the basic system's LU, one
-    # solve per moving link whose component is above rounding without it
-    # (a bound such as the node's stiffness h'|K|h was 1e9 times too
-    # large beside a 1 cm stub, and passed a tip lifted 1 m); leaving it
-    # out elsewhere can only overstate the error
-    delta = P @ z - g
-    rows = np.flatnonzero(e > 64 * np.finfo(float).eps)
-    touched = np.asarray(abs(W)[rows].sum(axis=0)).ravel() > 0
-    moving = np.flatnonzero(touched & (delta != 0))
-    if moving.size:
-        nf, kappa = b["nf"], b["kappa"]
-        unit = np.zeros((nf + len(delta), moving.size))
-        unit[nf + moving, np.arange(moving.size)] = kappa
-        R_ll = np.abs(kappa * b["lu"].solve(unit)[nf + moving, np.arange(moving.size)])
-        forces[moving] += R_ll * np.abs(delta[moving])
-        e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
-    return (float(e.max(initial=0.0)), zeta, sigma)
 
 
 def resultant(frame, b, F, X, r_all, u, force_terms):

@@ -60,12 +60,16 @@ def plot_trace(frame, ft, path, node, dof, p_max):
     if ended:
         ax.axhline(ft.p_end, color="tab:red", ls="--", lw=0.8)
     key.set_axis_off()
+    bracket = (f"limit p in [{ft.limit[0]:.10g}, {ft.limit[1]:.10g}] (proved)"
+               if ft.limit is not None else "")
     fig.suptitle(f"increasing load: {len(ft.breakpoints)} change(s) of the working scheme; "
-                 f"ended: {ft.ended}" + (f" at p = {ft.p_end:.6g}" if ended else ""), fontsize=10)
+                 f"ended: {ft.ended}" + (f" at p = {ft.p_end:.6g}" if ended else "")
+                 + (f"\n{bracket}" if bracket else ""), fontsize=10)
     placer = Placer(fig)
     placer.freeze()
     if ended:
-        placer.label(ax, ft.ended, (0.01, ft.p_end), [(2, 2, "left", "bottom"),
+        placer.label(ax, ft.ended + (f": {bracket}" if bracket else ""), (0.01, ft.p_end),
+                     [(2, 2, "left", "bottom"),
                      (2, -2, "left", "top")], xycoords=("axes fraction", "data"), fontsize=8,
                      color="tab:red")
     for a, b in zip(np.c_[disp, ps][:-1], np.c_[disp, ps][1:]):

@@ -84,6 +84,7 @@ def build(frame):
         for d, kval in ks.items():
             springs[idx[node] + DOFS.index(d)] += kval
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
+                          coords=np.array(list(frame.nodes.values()), float),
                           U=np.zeros_like(F), cases=cases, fixed=fixed, H=H, info=info,
                           flex=flex, local=local, Tn=None, **basic)
     b["maps"] = lcp_maps(frame, info)
@@ -155,7 +156,7 @@ def lcp_maps(frame, info):
                 if kind in pos[ci]:
                     pr.append(pos[ci][kind]), pc.append(nz), pv.append(comp)
                     wr.append(nz), wc.append(pos[ci][kind]), wv.append(comp)
-            wr.append(nz), wc.append(pos[ci]["n"]), wv.append(c.friction)
+            wr.append(nz), wc.append(pos[ci]["n"]), wv.append(c.friction * reach(frame, c))
             nz += 1
     P = sp.csr_matrix((pv, (pr, pc)), shape=(nl, nz))
     W = sp.csr_matrix((wv, (wr, wc)), shape=(nz, nl))
@@ -175,10 +176,22 @@ def facet_angles(frame, c) -> np.ndarray:
         return np.zeros(0)
     free = [not held(frame, c, t) for t in (c.t1, c.t2)]
     if all(free):
-        return 2 * np.pi * np.arange(c.facets) / c.facets
+        # an inscribed m-gon's facets face the midpoints between its
+        # vertices, which lie on the circle at 2πk/m
+        turn = 0.5 if c.polygon == "inscribed" else 0.0
+        return 2 * np.pi * (np.arange(c.facets) + turn) / c.facets
     if not any(free):
         return np.zeros(0)
     return np.array([0.0, np.pi]) + (0.0 if free[0] else 0.5 * np.pi)
+
+
+def reach(frame, c) -> float:
+    """How far c's facets stand from the cone's axis, per f X_n: 1 for a
+    polygon around Coulomb's circle (or the exact segment of one free
+    tangent), cos(π/m) for the m-gon inscribed in it."""
+    if c.polygon == "inscribed" and facet_angles(frame, c).size > 2:
+        return float(np.cos(np.pi / c.facets))
+    return 1.0
 
 
 def release_directions(frame, b):

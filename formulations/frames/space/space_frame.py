@@ -66,11 +66,16 @@ SPACE = FrameKind(
     slide_words=space_recovery.slide_words)
 
 
+#: the friction cone's polygons: inside Coulomb's circle (safe) or around it
+POLYGONS = ("inscribed", "circumscribed")
+
+
 @dataclass
 class SpaceContact:
     """A unilateral support at a node: unit normal n (from the support into
     the structure), tangents t1, t2, Coulomb coefficient, initial gap,
-    stiffness (None: rigid), facets of the friction cone's polygon."""
+    stiffness (None: rigid), facets of the friction cone's polygon and
+    whether it is inscribed in Coulomb's circle or circumscribes it."""
 
     node: str
     normal: np.ndarray
@@ -80,6 +85,7 @@ class SpaceContact:
     gap: float
     stiffness: float | None
     facets: int
+    polygon: str = "circumscribed"
     other: None = None
 
 
@@ -192,12 +198,16 @@ class SpaceFrame:
         self.member_loads.append((member, w, check_axes(axes), case_name(case)))
 
     def add_contact(self, node: str, normal=(0.0, 0.0, 1.0), friction: float = 0.0,
-                    gap: float = 0.0, stiffness: float | None = None, facets: int = 16) -> int:
+                    gap: float = 0.0, stiffness: float | None = None, facets: int = 16,
+                    polygon: str = "circumscribed") -> int:
         """A unilateral support at ``node`` (the module docstring): its
-        normal, Coulomb coefficient, initial gap, spring (None: rigid) and
-        the number of facets of its friction cone (even, >= 4; the default 16
-        allows at most 2 % more friction than Coulomb's circle between facet
-        directions, 8 facets 8.2 %: docs/frames.md)."""
+        normal, Coulomb coefficient, initial gap, spring (None: rigid), the
+        number of facets of its friction cone's polygon (even, >= 4) and
+        which polygon: "circumscribed" about Coulomb's circle (the default:
+        never less friction than Coulomb, at most 1/cos(π/m) - 1 more — 2.0 %
+        with 16 facets, 8.2 % with 8) or "inscribed" in it (the safe side for
+        a limit load: never more friction than Coulomb, at most 1 - cos(π/m)
+        less: 1.9 %, 7.6 %): docs/frames.md."""
         known_node(self, node)
         try:
             n = np.asarray(normal, float)
@@ -214,13 +224,17 @@ class SpaceFrame:
         if isinstance(facets, bool) or not isinstance(facets, int) or facets < 4 or facets % 2:
             raise InvalidProblemError(f"contact at {node!r}: facets must be an even integer "
                                       f">= 4 (opposite directions both facets); got {facets!r}")
+        if polygon not in POLYGONS:
+            raise InvalidProblemError(f"contact at {node!r}: polygon must be one of {POLYGONS} "
+                                      f"(inscribed: never more friction than Coulomb's circle, "
+                                      f"the safe side); got {polygon!r}")
         no_same_contact(self.contacts, node, n)
         e = np.eye(3)[int(np.argmin(np.abs(n)))]
         t1 = np.cross(n, e)
         t1 /= np.linalg.norm(t1)
         self.contacts.append(SpaceContact(node, n, t1, np.cross(n, t1), friction, gap,
                                           None if stiffness is None else float(stiffness),
-                                          facets))
+                                          facets, polygon))
         return len(self.contacts) - 1
 
     @property

@@ -14,12 +14,13 @@ import numpy as np
 from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
-from ..mechanics import contact_lcp
+from ..mechanics import contact_lcp, extended_refinement
 from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
-                                            equilibrium, how_far)
+                                            equilibrium, how_far, mechanical_certificate)
 from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.member_forces import stiffness_times
 from ..mechanics.no_equilibrium import motion_words
-from .space_assembly import facet_angles
+from .space_assembly import facet_angles, reach
 from .space_results import SpaceFrameResult, SpaceSupportResult
 
 
@@ -39,16 +40,37 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
     # the forces from the same solve as u (as the plane frame's: R Δ + R_F
     # has R's rounding-level entries dropped)
     X = -b["kappa"] * sol[nf:]
-    r_all = b["K"] @ u - F - b["H"] @ X
-    reactions = {node: tuple(float(v) for v in r_all[b["idx"][node]:b["idx"][node] + 6])
-                 for node in b["names"] if node in frame.fixed}
-    ends = contact_lcp.member_end_actions(b, u, factors)
-    ft = contact_lcp.force_terms(b, u, F, ends)
     if lcp is None:
         M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
         lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
     cert_error = certify_lcp(lcp, z).error
     zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
+    # the answer refined on its states in extended precision, kept where it
+    # checks at least as well (a stiff deck's forces: mechanics/extended_refinement)
+    Ku = None
+    refined = extended_refinement.polished(b, z, F, np.zeros(F.size), u, X, lcp.M @ z + lcp.q,
+                                           zeta, sigma, cert_error)
+    if refined is not None:
+        z2, u2, X2 = refined
+        # judged on the mechanics: the LCP's matrix carries the rounding of
+        # the basic system's solve that the refinement has removed
+        uf, Xf = u2.astype(float), X2.astype(float)
+        ft2 = contact_lcp.force_terms(b, uf, F, contact_lcp.member_end_actions(b, uf, factors))
+        error2, zeta2, sigma2 = mechanical_certificate(b, z2, X2, u2, ft2)
+        if error2 <= max(cert_error, tol):
+            z, cert_error, zeta, sigma = z2, error2, zeta2, sigma2
+            Ku = stiffness_times(b, u2)
+            u, X = uf, Xf
+            delta = P @ z - g
+    if Ku is None:
+        r_all = b["K"] @ u - F - b["H"] @ X
+    else:
+        r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
+                           - b["H"].astype(Ku.dtype) @ np.asarray(X, Ku.dtype), float)
+    reactions = {node: tuple(float(v) for v in r_all[b["idx"][node]:b["idx"][node] + 6])
+                 for node in b["names"] if node in frame.fixed}
+    ends = contact_lcp.member_end_actions(b, u, factors)
+    ft = contact_lcp.force_terms(b, u, F, ends)
     supports = contact_states(frame, b, z, X, u, delta, zeta, sigma)
     eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
     return space_result(frame, b, combo, u, ends, reactions, supports, eq, cert_error,
@@ -161,7 +183,7 @@ def collapse_words(frame, proof, fric, carrying) -> str:
         a = facet_angles(frame, c)
         yk = y[at:at + a.size]
         at += a.size
-        A[ci] += c.friction * yk.sum()
+        A[ci] += c.friction * reach(frame, c) * yk.sum()
         T[ci] = [yk @ np.cos(a), yk @ np.sin(a)]
         length = np.linalg.norm(T[ci])
         if length > 0:

@@ -72,7 +72,7 @@ import time
 import numpy as np
 
 from ...core.accuracy import resolve_accuracy
-from ...core.errors import InvalidProblemError, NoSolutionError
+from ...core.errors import InvalidOptionError, InvalidProblemError, NoSolutionError
 from ...core.options import BySize, Option, names_only, read_options
 from ...core.problems import ParametricLCP
 from ...judge.doubt import doubt, no_digit
@@ -88,12 +88,24 @@ TRACE_OPTIONS = (
            doc="the load parameter to stop at (inf: follow the path to its end)"),
     Option("max_pieces", BySize(lambda n: max(1000, 20 * n), "max(1000, 20 n)"), "int", low=1,
            doc="linear pieces at most"),
+    Option("start", None, "vector", low=0.0,
+           doc="a solution at p = 0 to start from (the caller's: a frame judges a degenerate "
+               "point on its mechanics); checked here by the LCP's certificate"),
 )
 
 
-def _start(plcp: ParametricLCP, solve_lcp):
-    """A certified solution at p = 0."""
+def _start(plcp: ParametricLCP, solve_lcp, given=None, tol=None):
+    """A certified solution at p = 0 (``given``: the caller's, certified here)."""
     n = plcp.n
+    if given is not None:
+        if given.size != n:
+            raise InvalidOptionError(f"trace: start has {given.size} entries; the problem has {n}")
+        error = certify_lcp(plcp.at(0.0), given).error
+        if not error <= tol:
+            raise InvalidOptionError(
+                f"trace: start is no solution at p = 0 (certificate {error:.1e} > {tol:.0e}); "
+                "pass a certified one or leave start out")
+        return given
     if np.all(plcp.q0 >= 0):
         return np.zeros(n)
     sol = solve_lcp(plcp.at(0.0))
@@ -108,7 +120,7 @@ def _start(plcp: ParametricLCP, solve_lcp):
 
 
 def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float = 1.0,
-               max_pieces: int | None = None, expired=None) -> LoadTrace:
+               max_pieces: int | None = None, expired=None, start=None) -> LoadTrace:
     """Trace the solution of ``plcp`` for p from 0 to ``p_max`` (see module docstring).
 
     Parameters
@@ -130,6 +142,9 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
         ``expired() -> bool``: whether the call's deadline has passed (the
         engine's); the trace then ends "time_limit" with the path certified
         up to where it stopped.
+    start : array, optional
+        A solution at p = 0 to start from instead of Lemke's (checked by the
+        LCP's certificate at ``accuracy``).
 
     Raises
     ------
@@ -140,6 +155,8 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
         raise InvalidProblemError(f"'trace' takes a ParametricLCP; got {type(plcp).__name__}")
     n = plcp.n
     given = {"p_max": p_max} if max_pieces is None else {"p_max": p_max, "max_pieces": max_pieces}
+    if start is not None:
+        given["start"] = start
     opts = read_options("trace", given, TRACE_OPTIONS, size=n)
     p_max, max_pieces = opts["p_max"], opts["max_pieces"]
     check_dense_size("trace", n, f"{n} x {n} block", "fixed loads with problem.at(p)")
@@ -147,7 +164,7 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
     start = time.perf_counter()
     path = Path(plcp)
 
-    z = _start(plcp, solve_lcp)
+    z = _start(plcp, solve_lcp, opts.get("start"), tol)
     p = 0.0
     w = path.M @ z + plcp.q0
     F_prev = np.zeros(n, bool)

@@ -198,7 +198,7 @@ def test_a_moment_alone_in_its_column_is_noise_against_the_forces_times_the_size
     fr.add_load("Q", fx=6e3, fy=8e3)
     r = fr.solve()
     raw = r.rows("reactions", None)[0]
-    assert raw["Mz [N·mm]"] != 0.0 and raw["Fx [N]"] != -6000.0      # noise to remove
+    assert raw["Mz [N·mm]"] != 0.0                                      # noise to remove
     row = r.rows("reactions")[0]
     assert (row["Fx [N]"], row["Fy [N]"], row["Mz [N·mm]"]) == (-6000.0, -8000.0, 0.0)
     assert r.rows("displacements")[1]["rz [rad]"] == 0.0

@@ -1,0 +1,157 @@
+"""A frame's answer refined on its contact states in extended precision.
+
+Why.  A frame whose members differ in stiffness by 1e8 (a stiff deck on
+slender legs, a rigid zone modelled as a very stiff member) has its
+displacements u of the deck's size δ but stiffness terms |K| 1e8 times the
+legs'.  Any answer held in double precision carries ε|u| in each
+displacement, and the forces it implies, K u, carry ε|K||u| — on a table of
+2e13 kN/m deck members moved 3e-4 m by its legs, 1e-6 kN on a 12 kN pad
+force: six digits, not the nine "high" promises.  The LCP's pivoting is
+exact for its matrix, but that matrix (R, from the basic system's LU) and
+the recovery's saddle solve are both rounded at that level; the global
+statics check sees the difference (the forces of the pads no longer sum to
+the loads) and rightly refuses the answer.
+
+What.  Once the contact states are known (which links are open, which
+facets slip: the LCP's basis), the answer is the solution of one linear
+system — equilibrium at the free dofs, the links' kinematics, and the
+reserve of every moving unknown at zero:
+
+    K_ff u_f − H_f X        = F_f − K_fa u_a          [force]
+    H_fᵀ u_f + D X − P_B z_B = −g − H_aᵀ u_a           [length]
+    (W X)_B                  = 0                       [force]
+
+(z_B the unknowns off zero, Δ = P z − g the links' displacements, w = W X
+the reserves; every other z stays 0).  It is solved by iterative refinement:
+the residual in extended precision (``numpy.longdouble``: 64-bit mantissa on
+x86, 113 on aarch64), the member forces computed member by member as the
+element stiffness k times the member's own end displacements T u_e — so a
+rigid motion of a stiff member cancels within the member, exactly in the
+translations, instead of leaving ε|K||u| behind in the assembled K — and the
+correction from one sparse LU in double.  The refined u and X carry the
+rounding of the extended format (1e-19 |K||u|), which puts the deck's
+forces back to their nine digits.
+
+The refinement is an answer's polish, not a solver: it keeps the states it
+is given, and the caller keeps it only if it passes the same checks (the
+contact certificate and equilibrium) at least as well as the answer it
+came from.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .equilibrium_checks import STATE_RTOL
+from .member_forces import EXTENDED, stiffness_times
+
+#: refinement steps at most (each one gains about -log10(ε cond) digits)
+STEPS = 5
+
+#: a resting unknown whose reserve the refinement takes below -PIVOT_RTOL of
+#: its scale moves (far above the extended format's rounding, far below
+#: the certificate's tolerance)
+PIVOT_RTOL = 1e-12
+
+#: an answer is polished only where its contact certificate holds to this
+#: already: the polish refines a right answer's digits, it does not turn a
+#: wrong point (a tip lifted 1 m, with a certificate of 1.0) into another
+POLISHABLE = 1e-6
+
+
+def moving_unknowns(z, w, zeta, sigma) -> np.ndarray:
+    """The LCP's basis read off a point: z_i is off zero where it is larger
+    on its own scale than its reserve w_i on its own (the certificate's
+    scales ζ, σ)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        zr = np.where(zeta > 0, z / np.where(zeta > 0, zeta, 1.0), np.where(z > 0, np.inf, 0.0))
+        wr = np.where(sigma > 0, np.abs(w) / np.where(sigma > 0, sigma, 1.0), 0.0)
+    return (z > 0) & (zr >= wr)
+
+
+def refine(b, z, F, ua, basis, u, X):
+    """(z, u, X) refined on ``basis`` (a mask over z: the unknowns off zero)
+    from the answer (z, u, X) in double; u, F and ua over all dofs (system
+    axes).  None where the states' system is singular (a degenerate basis:
+    the answer is kept as it was)."""
+    P, W, g, _ = b["maps"]
+    P, W = sp.csr_matrix(P), sp.csr_matrix(W)
+    nf, free, kappa = b["nf"], b["free"], b["kappa"]
+    H = sp.csr_matrix(b["H"])
+    B = np.flatnonzero(basis)
+    PB, WB = P[:, B], W[B]
+    nl = H.shape[1]
+    A = sp.bmat([[b["S"], sp.vstack([sp.csr_matrix((nf, B.size)), -kappa * PB])],
+                 [sp.hstack([sp.csr_matrix((B.size, nf)), kappa * WB]), None]],
+                format="csc")
+    if A.shape[0] > nf + nl:
+        try:
+            lu = spla.splu(A)
+        except RuntimeError:        # exactly singular: the states do not fix the answer
+            return None
+        piv = np.abs(lu.U.diagonal())
+        if not (piv.size and piv.min() > 1e-13 * piv.max()):
+            return None
+    else:
+        lu = b["lu"]
+    E = EXTENDED
+    Hl, PBl, WBl = H.astype(E), PB.astype(E), WB.astype(E)
+    Fl, gl = np.asarray(F, E), np.asarray(g, E)
+    flex = np.asarray(b["flex"], E)
+    u = np.asarray(u, E).copy()
+    u[b["fixed_idx"]] = np.asarray(ua, E)[b["fixed_idx"]]
+    X = np.asarray(X, E).copy()
+    zB = np.asarray(z, E)[B].copy()
+    z0 = Pz = None
+    for _ in range(STEPS):
+        Pz = PBl @ zB
+        r1 = (Fl + Hl @ X - stiffness_times(b, u))[free]
+        r2 = (Pz - gl) - (Hl.T @ u + flex * X)
+        r3 = -(WBl @ X)
+        rhs = np.r_[r1, kappa * r2, -r3].astype(float)
+        d = lu.solve(rhs)
+        if not np.all(np.isfinite(d)):
+            return None
+        u[free] += d[:nf]
+        X -= kappa * np.asarray(d[nf:nf + nl], E)
+        zB += np.asarray(d[nf + nl:], E)
+        size = max(float(np.abs(u).max(initial=0.0)), 1e-300)
+        if float(np.abs(d[:nf]).max(initial=0.0)) <= 1e-18 * size and z0 is not None:
+            break
+        z0 = True
+    zz = np.zeros(len(z))
+    zz[B] = np.asarray(zB, float)
+    return zz, u, X
+
+
+def polished(b, z, F, ua, u, X, w, zeta, sigma, error):
+    """(z, u, X) of the answer (z, u, X) refined on its own states (``w``
+    its reserves, ζ and σ the certificate's scales, ``error`` its contact
+    certificate), u and X in extended precision; None where it is not
+    refined: its certificate above POLISHABLE, its states' system
+    singular, or an unknown the refinement drives below zero beyond
+    rounding (then the states were not the answer's)."""
+    if not error <= POLISHABLE:
+        return None
+    basis = moving_unknowns(z, w, zeta, sigma)
+    W = sp.csr_matrix(b["maps"][1])
+    # at a breakpoint of the load path an unknown is at zero on both sides
+    # (a slip just starting: z and its reserve both ~0), and the answer's
+    # own rounding decides on which side it was put: the refinement may then
+    # drive a moving unknown a rounding below zero (it is not moving: out of
+    # the basis) or a resting one's reserve below zero (it moves: into the
+    # basis) — a few exact pivots at the degenerate vertex
+    for _ in range(6):
+        refined = refine(b, z, F, ua, basis, u, X)
+        if refined is None:
+            return None
+        below = basis & (refined[0] < 0)
+        short = ~basis & (np.asarray(W @ np.asarray(refined[2], float)) < -PIVOT_RTOL * sigma)
+        if not below.any() and not short.any():
+            break
+        basis = (basis & ~below) | short
+    if np.any(refined[0] < -STATE_RTOL * zeta):
+        return None
+    return (np.maximum(refined[0], 0.0), *refined[1:])

@@ -1,0 +1,103 @@
+"""A frame's stiffness times displacements in extended precision, member by
+member, with each member's rigid motion taken out first.
+
+Why.  K u assembled in double carries ε|K||u| at every dof; beside a deck
+1e8 times stiffer than its legs that is 1e-6 of the pads' forces.  Computed
+member by member as Tᵀ k (T u_e − r_e), with r_e the member's own rigid
+motion (its end i's translation and the rotation that carries its chord
+from i to j), the large rigid part of a stiff member's motion never meets
+its large stiffness: k annihilates r_e in exact arithmetic but not as
+rounded (12EI/L³·L against 2·6EI/L²: a twisted 1e8 deck kept 4e-9 of its
+pads' forces that way).  In ``numpy.longdouble`` (64-bit mantissa on x86,
+113 on aarch64) the rest carries 1e-19 |k||u_e − r_e|.
+
+Used by the refinement of an answer on its contact states
+(:mod:`.extended_refinement`) and of the contact stiffness R where the
+members' stiffness differs by orders of magnitude (:mod:`.contact_lcp`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: the extended format of the residuals
+EXTENDED = np.longdouble
+
+
+def stiffness_times(b, u) -> np.ndarray:
+    """K u in extended precision, member by member: Σ Tᵀ k (T u_e − r_e)
+    plus the springs, in the system's (node) axes; u (all dofs, the same
+    axes) a vector or a matrix of columns."""
+    k, T, dofs, _ = b["local"]
+    u = np.asarray(u, EXTENDED)
+    vector = u.ndim == 1
+    u = u.reshape(u.shape[0], -1)
+    Tn = b["Tn"]
+    ug = u if Tn is None else Tn.T.astype(EXTENDED) @ u
+    kl, Tl = k.astype(EXTENDED), T.astype(EXTENDED)
+    d = np.einsum("mij,mjc->mic", Tl, ug[dofs])
+    d = d - rigid_part(b, d, dofs)
+    ends = np.einsum("mij,mjc->mic", kl, d)
+    back = np.einsum("mji,mjc->mic", Tl, ends)
+    f = np.zeros(ug.shape, EXTENDED)
+    np.add.at(f, dofs.ravel(), back.reshape(-1, back.shape[2]))
+    f += np.asarray(b["springs"], EXTENDED)[:, None] * ug
+    f = f if Tn is None else Tn.astype(EXTENDED) @ f
+    return f[:, 0] if vector else f
+
+
+def rigid_part(b, d, dofs):
+    """Each member's rigid motion in its own axes (m, 2 nd, columns) from
+    its end displacements d: end i's translation and the chord's rotation
+    (plane: u, v, θ; space: u, v, w, θx, θy, θz), zero for a member whose k
+    does not annihilate it (an element this does not know)."""
+    k = b["local"][0]
+    nd = dofs.shape[1] // 2
+    xyz = np.asarray(b["coords"], EXTENDED)
+    L = np.sqrt(((xyz[dofs[:, nd] // nd] - xyz[dofs[:, 0] // nd]) ** 2).sum(axis=1))[:, None]
+    r = np.zeros_like(d)
+    if nd == 3:
+        th = (d[:, 4] - d[:, 1]) / L
+        r[:, 0], r[:, 1], r[:, 2] = d[:, 0], d[:, 1], th
+        r[:, 3], r[:, 4], r[:, 5] = d[:, 0], d[:, 1] + th * L, th
+    else:
+        tz, ty, tx = (d[:, 7] - d[:, 1]) / L, -(d[:, 8] - d[:, 2]) / L, d[:, 3]
+        r[:, 0:3] = d[:, 0:3]
+        r[:, 3], r[:, 4], r[:, 5] = tx, ty, tz
+        r[:, 6], r[:, 7], r[:, 8] = d[:, 0], d[:, 1] + tz * L, d[:, 2] - ty * L
+        r[:, 9], r[:, 10], r[:, 11] = tx, ty, tz
+    # only where k annihilates the member's rigid motions (as rounded)
+    unit = rigid_basis(np.asarray(L[:, 0], float), nd)
+    kr = np.abs(k @ unit).max(axis=(1, 2))
+    size = np.abs(k).max(axis=(1, 2)) * np.abs(unit).max(axis=(1, 2))
+    r[kr > 1e-9 * size] = 0.0
+    return r
+
+
+def rigid_basis(L, nd):
+    """(m, 2 nd, modes): each member's rigid motions in its own axes."""
+    m = L.size
+    if nd == 3:
+        B = np.zeros((m, 6, 3))
+        B[:, [0, 3], 0] = 1.0
+        B[:, [1, 4], 1] = 1.0
+        B[:, 2, 2] = B[:, 5, 2] = 1.0
+        B[:, 4, 2] = L
+        return B
+    B = np.zeros((m, 12, 6))
+    for a in range(3):
+        B[:, a, a] = B[:, 6 + a, a] = 1.0
+        B[:, 3 + a, 3 + a] = B[:, 9 + a, 3 + a] = 1.0
+    B[:, 7, 5] = L          # θz carries j along +y
+    B[:, 8, 4] = -L         # θy carries j along -z
+    return B
+
+
+def contrast(b) -> float:
+    """The members' stiffness contrast: the largest entry of one member's k
+    over the largest of another's (1 for a single member)."""
+    k = b["local"][0]
+    if not len(k):
+        return 1.0
+    big = np.abs(k).max(axis=(1, 2))
+    return float(big.max() / max(big.min(), 1e-300))

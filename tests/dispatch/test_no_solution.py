@@ -1,0 +1,95 @@
+""""auto" on data with no solution: the proof comes first, before any method
+runs, and its time is a share of the call's deadline.  Planted certificates
+(tests/helpers/no_solution.py); every proof checked here in Fractions."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from qpsolvers import Problem
+
+import qpcontact
+from qpcontact import LCP
+from qpcontact.core.errors import NoSolutionError
+from qpcontact.dispatch import lcp_qp_run
+from qpcontact.dispatch.context import RunContext
+from tests.helpers.no_solution import KINDS, farkas_lcp, ray_qp
+
+
+def _F(v) -> Fraction:
+    return Fraction(float(v))
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_auto_proves_an_infeasible_lcp_before_any_method(kind):
+    lcp, _ = farkas_lcp(80, 2, kind)
+    sol = qpcontact.solve(lcp, "auto", time_limit=20)
+    assert sol.status == "infeasible" and not sol.ok, sol.message
+    assert [t[0] for t in sol.stats["auto_tried"]] == ["proof"]
+    y = sol.stats["proof"].vector["exact"]["z"]
+    M, q = lcp.M, lcp.q
+    assert all(v >= 0 for v in y)
+    assert all(sum(_F(M[i, j]) * y[i] for i in range(lcp.n) if y[i]) <= 0 for j in range(lcp.n))
+    assert sum(_F(q[i]) * y[i] for i in range(lcp.n)) < 0
+    with pytest.raises(NoSolutionError):
+        qpcontact.solve(lcp, "auto", raise_on_failure=True)
+
+
+def test_auto_proves_an_unbounded_qp_before_any_method():
+    problem, _ = ray_qp(80, 3)
+    sol = qpcontact.solve(problem, "auto", time_limit=20)
+    assert sol.status == "unbounded" and not sol.ok, sol.message
+    assert [t[0] for t in sol.stats["auto_tried"]] == ["proof"]
+    proof = sol.stats["proof"]
+    d = [_F(v) for v in proof.vector["d"]]
+    P, q, G, h = problem.P, problem.q, problem.G, problem.h
+    n = q.size
+    assert all(sum(_F(P[i, j]) * d[j] for j in range(n)) == 0 for i in range(n))
+    assert all(sum(_F(G[i, j]) * d[j] for j in range(n)) <= 0 for i in range(G.shape[0]))
+    assert sum(_F(q[j]) * d[j] for j in range(n)) < 0
+    x0 = proof.point
+    assert np.all(G @ x0 <= h + 1e-9 * (np.abs(G) @ np.abs(x0) + np.abs(h)))
+
+
+@pytest.mark.parametrize("problem", [
+    LCP(np.eye(3), [-1.0, 2.0, -3.0]),                       # positive definite M
+    LCP([[0.0, -1.0], [1.0, 0.0]], [1.0, 2.0]),              # q >= 0: z = 0 solves
+    LCP([[1.0, 2.0], [3.0, -1.0]], [-1.0, -1.0]),            # M·1 > 0: z = t·1 solves
+    Problem(np.eye(2), np.ones(2)),                          # P positive definite
+], ids=["pd", "q-nonnegative", "ones-solve", "qp-pd"])
+def test_no_proof_is_sought_where_a_solution_is_known_to_exist(monkeypatch, problem):
+    called = []
+    monkeypatch.setattr(lcp_qp_run, "prove_lcp_infeasible", lambda *a, **k: called.append(a))
+    monkeypatch.setattr(lcp_qp_run, "prove_no_minimiser", lambda *a, **k: called.append(a))
+    assert lcp_qp_run.proof_first(problem, RunContext.start("high", 10.0)) is None
+    assert not called
+    assert qpcontact.solve(problem, "auto").ok
+
+
+@pytest.mark.parametrize("time_limit", [2.0, 60.0, None])
+def test_the_first_proof_gets_a_share_of_the_deadline(monkeypatch, time_limit):
+    """Its deadline: PROOF_FIRST_SHARE of what is left, at most
+    PROOF_FIRST_SECONDS — read off the deadline it is given, not timed."""
+    seen = []
+
+    def spy(problem, deadline, **kwargs):
+        seen.append(deadline.left())
+        return None
+
+    monkeypatch.setattr(lcp_qp_run, "prove_lcp_infeasible", spy)
+    lcp, _ = farkas_lcp(20, 0, "general")
+    ctx = RunContext.start("high", time_limit)
+    assert lcp_qp_run.proof_first(lcp, ctx) is None
+    cap = lcp_qp_run.PROOF_FIRST_SECONDS
+    if time_limit is not None:
+        cap = min(cap, lcp_qp_run.PROOF_FIRST_SHARE * time_limit)
+    assert len(seen) == 1 and 0 < seen[0] <= cap
+
+
+def test_a_call_past_its_deadline_seeks_no_proof():
+    lcp, _ = farkas_lcp(40, 1, "psd")
+    ctx = RunContext.start("high", 1.0)
+    object.__setattr__(ctx.deadline, "end", 0.0)         # the deadline has passed
+    assert lcp_qp_run.proof_first(lcp, ctx) is None

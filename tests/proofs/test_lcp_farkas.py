@@ -1,0 +1,72 @@
+"""Proofs that an LCP has no solution, on data with a planted Farkas vector
+(tests/helpers/no_solution.py), each proof checked here in Fractions; and
+no proof on data with a solution."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from qpcontact import LCP
+from qpcontact.core.deadline import Deadline
+from qpcontact.proofs.lcp_farkas import prove_lcp_infeasible, sign_farkas
+from tests.helpers.no_solution import KINDS, farkas_lcp
+
+
+def _holds_exactly(M, q, y) -> bool:
+    """y >= 0, M'y <= 0 and q'y < 0 in Fractions."""
+    M = M.toarray() if hasattr(M, "toarray") else np.asarray(M)
+    y = [Fraction(v) for v in y]
+    n = len(y)
+    if any(v < 0 for v in y):
+        return False
+    cols = [sum(Fraction(float(M[i, j])) * y[i] for i in range(n) if y[i]) for j in range(n)]
+    return all(c <= 0 for c in cols) and sum(Fraction(float(q[i])) * y[i] for i in range(n)) < 0
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("n, seed", [(30, 0), (60, 1)])
+def test_planted_infeasible_lcps_are_proved_by_the_quick_routes(kind, n, seed):
+    lcp, _ = farkas_lcp(n, seed, kind)
+    proof = prove_lcp_infeasible(lcp, 20.0, quick=True)
+    assert proof is not None and proof.kind == "infeasible"
+    assert _holds_exactly(lcp.M, lcp.q, proof.vector["exact"]["z"])
+
+
+def test_a_row_of_nonpositive_signs_is_its_own_proof():
+    M = np.array([[2.0, 1.0, -1.0], [-1.0, 0.0, -3.0], [1.0, 1.0, 1.0]])
+    q = np.array([-1.0, -0.5, 2.0])
+    proof = sign_farkas(M, q)
+    assert proof is not None and list(proof.vector["z"]) == [0.0, 1.0, 0.0]
+    assert _holds_exactly(M, q, proof.vector["exact"]["z"])
+    assert sign_farkas(M, np.array([-1.0, 0.5, 2.0])) is None      # q_1 >= 0: no such row
+
+
+def test_the_all_ones_vector_is_tried():
+    """Columns of M summing to <= 0 with sum(q) < 0 and no row of
+    nonpositive signs: y = 1."""
+    M = np.array([[1.0, -2.0, 1.0], [-2.0, 1.0, 1.0], [1.0, 1.0, -3.0]])
+    q = np.array([1.0, -2.0, 0.5])
+    assert sign_farkas(M, q) is None
+    proof = prove_lcp_infeasible(LCP(M, q), 20.0, quick=True)
+    assert proof is not None and _holds_exactly(M, q, proof.vector["exact"]["z"])
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_solvable_lcps_get_no_proof(seed):
+    """A planted solution z >= 0, w = Mz + q >= 0: no Farkas vector exists,
+    whatever the LPs return (a symmetric PSD singular M and a general M)."""
+    rng = np.random.default_rng(seed)
+    n = 40
+    B = rng.integers(-3, 4, (n, n // 2)).astype(float)
+    for M in (B @ B.T, rng.standard_normal((n, n))):
+        z = np.where(rng.random(n) < 0.5, rng.uniform(0.1, 2.0, n), 0.0)
+        w = np.where(z > 0, 0.0, rng.uniform(0.1, 2.0, n))
+        assert prove_lcp_infeasible(LCP(M, w - M @ z), 20.0) is None
+
+
+def test_no_proof_is_sought_past_the_deadline():
+    lcp, _ = farkas_lcp(60, 0, "general")
+    assert prove_lcp_infeasible(lcp, Deadline(end=0.0)) is None
