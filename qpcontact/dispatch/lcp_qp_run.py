@@ -228,8 +228,8 @@ def prove_no_solution(problem, sol, deadline, extra_hints=()):
             # rounding (else the answer would be "ill_posed"): the data are
             # solvable nearby and the solution is not isolated
             sol.message += ("; no digit is guaranteed: the solution is not isolated (other "
-                            "solutions may be as right), and no Farkas vector lies within "
-                            "rounding of the data")
+                            "solutions may be as right), and no vector on its active rows is a "
+                            "Farkas vector to rounding (judge/near_farkas)")
         elif sol.status == "ill_posed":
             sol.message += ("; no Farkas vector or ray could be checked exactly, so nothing is "
                             "proved either way")
