@@ -51,7 +51,8 @@ __all__ = ["ROUNDED_FAMILIES", "EXACT_MAX_N", "build_rounded", "qp_ray_holds",
            "qp_box_farkas_holds"]
 
 ROUNDED_FAMILIES = ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded",
-                    "qp_infeasible_rounded", "qp_unbounded_rounded")
+                    "qp_infeasible_rounded", "qp_unbounded_rounded", "conditioned_spd",
+                    "near_singular_pd", "farkas_far_contacts", "farkas_one_row")
 
 #: the families with an exact LCP reference are built at min(n, EXACT_MAX_N)
 EXACT_MAX_N = 40
@@ -135,6 +136,101 @@ def ill_conditioned_spd(n: int, seed: int) -> Case:
         return Case("ill_conditioned_spd", LCP(M, q), "unknown", seed=seed,
                     reference="stored M not exactly positive definite")
     return case
+
+
+def conditioned_spd(n: int, seed: int) -> Case:
+    """SPD M of condition 1e8..1e16 (beyond 1/eps the stored M may not be
+    positive definite: then "unknown"), planted z, w; the reference is the
+    exact solution of the stored (M, q)."""
+    seed = check_seed(seed)
+    rng = np.random.default_rng([seed, n, 315])
+    cond = 10.0 ** rng.uniform(8.0, 16.0)
+    M = _sym(random_spd(n, cond, rng))
+    z, w = _complementary(n, rng)
+    q = w - M @ z
+    case = _exact_solution(M, q, np.flatnonzero(z > 0), "conditioned_spd", seed,
+                           note=f"cond {cond:.1e}")
+    return case or Case("conditioned_spd", LCP(M, q), "unknown", seed=seed,
+                        reference="stored M not exactly positive definite")
+
+
+def near_singular_pd(n: int, seed: int) -> Case:
+    """M = fl(B Bᵀ) + δ I with B of rank n - k (k = 1..3) and δ = 1e-13..1e-9
+    of max|M|: positive definite, near-singular along k directions; planted
+    z, w.  The reference is the exact solution of the stored (M, q)."""
+    seed = check_seed(seed)
+    rng = np.random.default_rng([seed, n, 316])
+    k = int(rng.integers(1, min(4, n)))
+    B = rng.standard_normal((n, n - k))
+    M = B @ B.T
+    M = _sym(M + 10.0 ** rng.uniform(-13, -9) * float(np.abs(M).max()) * np.eye(n))
+    z, w = _complementary(n, rng)
+    q = w - M @ z
+    case = _exact_solution(M, q, np.flatnonzero(z > 0), "near_singular_pd", seed,
+                           note="B Bᵀ + δI")
+    return case or Case("near_singular_pd", LCP(M, q), "unknown", seed=seed,
+                        reference="stored M not exactly positive definite")
+
+
+def farkas_far_contacts(n: int, seed: int) -> Case:
+    """A floating mechanism beside far contacts: M = B Bᵀ with 1ᵀB = 0
+    exactly (dyadic B, its last row minus the sum of the others), so Mᵀ1 = 0
+    and M's null space has dimension 12..14; q of integers up to 2e13..2.5e14
+    in size (far contacts), its last entry set so that qᵀ1 = -1 exactly —
+    either random (clearly infeasible along other null directions too) or
+    balanced (q = -M z0 - e_n: a solution of data within 1 of q, every
+    contact closed, so that backends certify "solutions" of nearby data).
+    y = 1 is an exact Farkas vector, invisible to an LP beside |q| ~ 1e13."""
+    seed = check_seed(seed)
+    rng = np.random.default_rng([seed, n, 317])
+    n = max(n, 16)
+    r = n - int(rng.integers(12, 15))
+    balanced = rng.random() < 0.5
+    size = 10.0 ** rng.uniform(13.3, 14.4)
+    if balanced:
+        # every contact loaded and closed: q = -M z0 - e_n with integer B and
+        # z0 (exact), a solution of q + e_n, and qᵀ1 = -1 hides in rounding
+        B = np.round(rng.standard_normal((n, r)) * 8.0)
+        B[-1] = -B[:-1].sum(axis=0)
+        M = _sym(B @ B.T)
+        z0 = np.round(np.abs(rng.standard_normal(n)) * size / (4.0 * float(np.abs(M).max())))
+        z0[rng.random(n) < 0.2] = 0.0
+        q = -(M @ z0)
+        q[-1] -= 1.0
+    else:
+        B = np.round(rng.standard_normal((n, r)) * 2.0 ** 10) / 2.0 ** 10
+        B[-1] = -B[:-1].sum(axis=0)
+        M = _sym(B @ B.T)
+        q = np.round(rng.standard_normal(n) * size / 4)
+        far = rng.random(n) < 0.3
+        q[far] = np.abs(q[far])
+        q[-1] = -1.0 - float(sum(Fraction(float(v)) for v in q[:-1]))
+    y = np.ones(n)
+    if not lcp_farkas_holds(M, q, y):
+        raise AssertionError(f"farkas_far_contacts n={n} seed={seed}: the Farkas vector fails")
+    return Case("farkas_far_contacts", LCP(M, q), "infeasible", seed=seed, witness=y,
+                reference="exact Farkas vector y = 1 (M'1 = 0, q'1 = -1 in rationals)")
+
+
+def farkas_one_row(n: int, seed: int) -> Case:
+    """A random M and q with one row i whose entries are all <= -0.1 and
+    q_i <= -0.1: w_i <= q_i < 0 for every z >= 0, so y = e_i is an exact
+    Farkas vector with a margin; the other rows are those of a P-matrix
+    problem (a diagonally dominant M), so nothing else is wrong."""
+    seed = check_seed(seed)
+    rng = np.random.default_rng([seed, n, 318])
+    A = rng.standard_normal((n, n))
+    M = A + np.diag(np.abs(A).sum(axis=1) + rng.uniform(0.5, 2.0, n))
+    q = rng.standard_normal(n)
+    i = int(rng.integers(n))
+    M[i] = -rng.uniform(0.1, 3.0, n)
+    q[i] = -rng.uniform(0.1, 3.0)
+    y = np.zeros(n)
+    y[i] = 1.0
+    if not lcp_farkas_holds(M, q, y):
+        raise AssertionError(f"farkas_one_row n={n} seed={seed}: the Farkas vector fails")
+    return Case("farkas_one_row", LCP(M, q), "infeasible", seed=seed, witness=y,
+                reference=f"exact Farkas vector y = e_{i} (row {i} of M <= -0.1, q_{i} <= -0.1)")
 
 
 def infeasible_rounded(n: int, seed: int) -> Case:
@@ -239,7 +335,9 @@ def qp_infeasible_rounded(n: int, seed: int) -> Case:
 
 _BUILDERS = {"illposed_psd": illposed_psd, "ill_conditioned_spd": ill_conditioned_spd,
              "infeasible_rounded": infeasible_rounded, "qp_unbounded_rounded": qp_unbounded_rounded,
-             "qp_infeasible_rounded": qp_infeasible_rounded}
+             "qp_infeasible_rounded": qp_infeasible_rounded, "conditioned_spd": conditioned_spd,
+             "near_singular_pd": near_singular_pd, "farkas_far_contacts": farkas_far_contacts,
+             "farkas_one_row": farkas_one_row}
 
 
 def build_rounded(family: str, n: int, seed: int) -> Case:
@@ -247,6 +345,7 @@ def build_rounded(family: str, n: int, seed: int) -> Case:
     seed = check_seed(seed)
     if family not in _BUILDERS:
         raise ValueError(f"unknown rounded family {family!r}; choose from {ROUNDED_FAMILIES}")
-    if family in ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded"):
+    if family in ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded", "conditioned_spd",
+                  "near_singular_pd"):
         n = min(n, EXACT_MAX_N)
     return _BUILDERS[family](max(n, 2), seed)

@@ -29,11 +29,13 @@ STATUSES = {
     "solved": "the certificate computed from the data meets the requested tolerance",
     "inaccurate": "a point came back but its certificate misses the tolerance, whatever the "
                   "method said about it",
-    "ill_posed": "a point came back whose residuals are small only on scales that grew with it "
-                 "(normwise error far above the componentwise one: the answer runs along a "
-                 "direction the data barely resist), and no proof that no solution exists could "
-                 "be checked exactly: the data are within rounding of a problem with no "
-                 "solution, and no digit of the answer is guaranteed (it is kept)",
+    "ill_posed": "a point came back whose residuals are small, but the data are within "
+                 "rounding of a problem with no solution — its residuals are small only on "
+                 "scales that grew with it (normwise error far above the componentwise one), "
+                 "or it has no digit guaranteed beside a vector that is a Farkas vector to "
+                 "rounding, or a frictional problem's loads are within rounding of the "
+                 "friction limit — and no proof either way could be checked exactly; no digit "
+                 "of the answer is guaranteed (it is kept)",
     "failed": "no usable point came back (the method gave up, raised, or claimed no solution "
               "exists without a proof; its own words are kept in backend_status)",
     "time_limit": "the call was stopped by solve(..., time_limit=) and no certified point came "

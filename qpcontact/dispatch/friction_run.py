@@ -23,6 +23,8 @@ from ..core.options import PROGRESS, read_options
 from ..core.results import PROVED, FrictionSolution, MethodResult
 from ..solvers.friction.lcp_route import LCP_ACCURACY, from_lcp, lcp_of
 from ..judge.friction_certificate import certify_friction
+from ..judge.near_farkas import near_friction_ray
+from ..proofs.candidates import exact_friction_motion
 from ..proofs.exact import Proof
 from ..solvers.method import PROBLEM_KINDS, Method
 from ..solvers.registry import get_method
@@ -104,10 +106,42 @@ def run_friction(problem, m: Method, options: dict, ctx, engine) -> FrictionSolu
                 f"{cert.componentwise_error:.1e}")
     if not problem.is_reduced:
         measures += f", equilibrium {cert.equilibrium_error:.1e}"
-    return FrictionSolution(status="solved" if ok else "inaccurate", ok=ok,
-                            message=(f"{measures} {'<=' if ok else '>'} {tol:.0e} "
-                                     f"({m.name}: {message})"),
+    status, note = ("solved" if ok else "inaccurate"), ""
+    if ok and ctx.prove and not problem.is_reduced:
+        status, note = _at_the_limit(problem, r, cert, ctx, stats)
+        ok = status == "solved"
+    if status == "infeasible":
+        return FrictionSolution(status=status, ok=False, message=stats["proof"].message,
+                                certificate=cert, r=r, u=u, v=v, **common)
+    return FrictionSolution(status=status, ok=ok,
+                            message=(f"{measures} {'<=' if cert.error <= tol else '>'} {tol:.0e} "
+                                     f"({m.name}: {message})" + note),
                             certificate=cert, r=r, u=u, v=v, **common)
+
+
+def _at_the_limit(problem, r, cert, ctx, stats) -> tuple[str, str]:
+    """A certified answer of a problem with a mechanism, checked against the
+    friction limit: a motion the contacts admit on which the loads do work
+    within rounding of zero (:func:`qpcontact.judge.near_farkas.near_friction_ray`)
+    is decided exactly — positive work proves no equilibrium ("infeasible"),
+    none leaves the answer "solved" (at or below the limit), and a motion that
+    cannot be checked exactly leaves it "ill_posed": the loads are within
+    rounding of the limit, and the equilibrium may not exist."""
+    d = near_friction_ray(problem, r, max(10.0 * cert.error, 1e-12))
+    if d is None:
+        return "solved", ""
+    decided = exact_friction_motion(problem, d, r, ctx.deadline)
+    if decided is None:
+        stats["near_ray"] = d
+        return "ill_posed", ("; but not certified: the loads are within rounding of the friction "
+                             "limit along a motion the contacts admit (stats['near_ray']), which "
+                             "could not be checked exactly, so the equilibrium may not exist")
+    if decided[0] == "infeasible":
+        proof = decided[1]
+        stats.update(proof=proof, ray=proof.vector["d"], proved_infeasible=True)
+        return "infeasible", ""
+    return "solved", ("; within rounding of the friction limit, at or below it: reactions within "
+                      "the cones balance the loads on every mechanism (checked exactly)")
 
 
 def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:

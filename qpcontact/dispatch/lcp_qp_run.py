@@ -14,6 +14,7 @@ from ..judge.doubt import doubt, no_digit, singular_block
 from ..judge.lcp_certificate import certify_lcp
 from ..judge.qp_certificate import certify_qp
 from ..core.matrices import MatrixStructure
+from ..proofs.candidates import cheap_lcp_farkas
 from ..proofs.lcp_farkas import prove_lcp_infeasible, sign_farkas
 from ..proofs.lp import NULL_SPACE_MAX_N
 from ..proofs.qp_farkas import prove_no_minimiser, x_size
@@ -112,6 +113,8 @@ def run_lcp_qp(problem, m: Method, options, ctx):
                         "much of their own size (a component near zero may have no correct digit)")
     elif status == "ill_posed":
         message = f"not certified: {doubt(cert, tol_cert)}"
+        if getattr(cert, "near_farkas", None) is not None:
+            stats["near_farkas"] = cert.near_farkas
     elif status == "inaccurate" and cert.error <= tol_cert:
         message = f"not certified: error {cert.error:.2e} <= {tol_cert:.0e}, but {no_digit(cert)}"
     elif status == "inaccurate":
@@ -207,17 +210,26 @@ def prove_no_solution(problem, sol, deadline, extra_hints=()):
     data.  ``extra_hints``: what earlier methods of the same call learned."""
 
     tried = hints(sol) + list(extra_hints)
-    proof = (prove_lcp_infeasible(problem, deadline, tried) if isinstance(problem, LCP)
-             else prove_no_minimiser(problem, deadline, tried))
+    if isinstance(problem, LCP):
+        # the cheap candidates (one row, all ones, null directions, the
+        # hints) exactly, before any LP: an LP misses qᵀ1 = -1 beside |q| ~ 1e13
+        near = getattr(sol.certificate, "near_farkas", None)
+        proof = cheap_lcp_farkas(problem.M, problem.q, deadline,
+                                 ([] if near is None else [near]) + tried)
+        if proof is None:
+            proof = prove_lcp_infeasible(problem, deadline, tried)
+    else:
+        proof = prove_no_minimiser(problem, deadline, tried)
     if proof is None:
         cert = sol.certificate
         if (sol.ok and isinstance(problem, LCP) and cert.forward_error_known
-                and np.isfinite(cert.forward_error) and cert.forward_error >= 1.0):
-            # an exactly singular M within rounding of a solvable one: what
-            # the residuals certify is a solution of nearby data
-            sol.message += ("; with no digit guaranteed the data as stored may have no solution "
-                            "at all (a Farkas vector was sought and none could be checked "
-                            "exactly)")
+                and not cert.forward_error < 1.0):
+            # no vector near the active block's null space is Farkas to
+            # rounding (else the answer would be "ill_posed"): the data are
+            # solvable nearby and the solution is not isolated
+            sol.message += ("; no digit is guaranteed: the solution is not isolated (other "
+                            "solutions may be as right), and no vector on its active rows is a "
+                            "Farkas vector to rounding (judge/near_farkas)")
         elif sol.status == "ill_posed":
             sol.message += ("; no Farkas vector or ray could be checked exactly, so nothing is "
                             "proved either way")

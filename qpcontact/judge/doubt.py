@@ -39,9 +39,17 @@ def doubt(cert, tol: float) -> str | None:
     """Why ``cert``'s answer is in doubt although its backward error may meet
     ``tol``, or None.  LCPs and QPs: their ``normwise_error`` (a QP's is
     OSQP's relative residuals, with x's natural size |q| / max|P| as a floor).
+    An LCP answer with no guaranteed digit (forward error >= 1) beside a
+    vector that is Farkas to rounding (:mod:`qpcontact.judge.near_farkas`)
+    is in doubt too: the data may have no solution.
     Certificates without a normwise measure (a frictional
     problem's error already includes Siconos' normwise natural-map error)
     are never in doubt here."""
+    if getattr(cert, "near_farkas", None) is not None:
+        return ("ill-posed: the solution is not isolated (its active block is singular to "
+                "working precision, no digit guaranteed) and the data are within rounding of a "
+                "problem with no solution: a vector y >= 0 on the active rows with M'y <= 0 and "
+                "q'y <= 0 holds to rounding (stats['near_farkas'])")
     normwise = getattr(cert, "normwise_error", None)
     if normwise is None or not normwise > max(DOUBT_RATIO * cert.error, tol):
         return None

@@ -37,6 +37,9 @@ class ForwardErrorMixin:
 
     def __getstate__(self):
         self._forward_pair()
+        if callable(getattr(self, "_near", None)):
+            # a function does not pickle: its value (None unless asked for)
+            object.__setattr__(self, "_near", self._near() if not self.forward_error < 1.0 else None)
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
     def __setstate__(self, state):

@@ -37,6 +37,7 @@ import scipy.sparse as sp
 from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
 from .forward import ForwardErrorMixin
+from .near_farkas import near_farkas
 from .scales import ComponentScales, abs_matvec, divide, inf_norm, row_scales, safe_norm2
 
 __all__ = ["LCPCertificate", "certify_lcp"]
@@ -70,6 +71,24 @@ class LCPCertificate(ForwardErrorMixin):
     # for an active block above _EXACT_CONDITION_SIZE the estimate costs one
     # more factorization of it, which a solve should not pay unasked.
     _forward: object = field(default=None, repr=False, compare=False)
+    # the near-Farkas vector (None or an array), or a function finding it:
+    # asked for only where the active block is singular to working precision
+    _near: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def near_farkas(self):
+        """Where the forward error is known and no digit is guaranteed
+        (forward error >= 1, the active block singular or nearly so): a
+        vector y >= 0 on the active rows with Mᵀy <= 0 and qᵀy <= 0 to
+        rounding (each column against its own terms |M|ᵀy, qᵀy against
+        |q|ᵀy) — the data are then within rounding of a problem with no
+        solution, and y is the Farkas vector to check exactly.  None
+        otherwise (also when the forward error is not computed yet)."""
+        if not self.forward_error_known or self.forward_error < 1.0:
+            return None
+        if callable(self._near):
+            object.__setattr__(self, "_near", self._near())
+        return self._near
 
 
     @property
@@ -154,10 +173,79 @@ def _block_solver(M, F: np.ndarray, structure):
                                                         check_finite=False)
 
 
-def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
+def _basis_factors(M, F, N, z, w, zeta, sigma, level, structure):
+    """(κ_z, κ_w, per-component factors on the scales) of the basis F (z_F
+    on, w_N on); see :func:`_lcp_condition`.  The per-component factors
+    (v_i / ζ_i on F, (σ_j + (|M_NF| v)_j) / σ_j on N) are None above
+    _EXACT_CONDITION_SIZE (a 1-norm estimate gives their maximum only);
+    inf everywhere when M_FF is singular."""
+    n = z.size
+    inf = (np.inf, np.inf, np.full(n, np.inf))
+    kappa_z, v, by_scale = 0.0, np.zeros(0), np.zeros(n)
+    if F.size:
+        den = np.where(np.abs(z[F]) > level * zeta[F], np.abs(z[F]), zeta[F])
+        g = sigma[F]
+        k = F.size
+        try:
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                if k <= _EXACT_CONDITION_SIZE:
+                    B = M[F][:, F].toarray() if sp.issparse(M) else M[np.ix_(F, F)]
+                    inv = np.linalg.inv(B)  # LinAlgError when exactly singular
+                    if not np.all(np.isfinite(inv)):
+                        return inf
+                    v = np.abs(inv) @ g + zeta[F]
+                    kappa_z = float(np.max(divide(v, den)))
+                    by_scale[F] = divide(v, zeta[F])
+                else:
+                    from scipy.sparse.linalg import LinearOperator, onenormest
+
+                    solve = _block_solver(M, F, structure)
+                    # ‖Z⁻¹ |B⁻¹| g‖∞ = ‖Z⁻¹ B⁻¹ G‖∞ = ‖G B⁻ᵀ Z⁻¹‖₁
+                    op = LinearOperator((k, k), dtype=float,
+                                        matvec=lambda x: g * solve(np.ravel(x) / den, trans=True),
+                                        rmatvec=lambda y: solve(g * np.ravel(y)) / den)
+                    kappa_z = float(onenormest(op, t=1)) + float(np.max(zeta[F] / den))
+                    by_scale_op = LinearOperator(
+                        (k, k), dtype=float,
+                        matvec=lambda x: g * solve(np.ravel(x) / zeta[F], trans=True),
+                        rmatvec=lambda y: solve(g * np.ravel(y)) / zeta[F])
+                    by_scale = None
+                    scaled_z = float(onenormest(by_scale_op, t=1)) + 1.0
+                    v = None
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            return inf
+        if not np.isfinite(kappa_z):
+            return inf
+    kappa_w = 0.0
+    if N.size:
+        if F.size and v is not None:
+            MNF = M[N][:, F] if sp.issparse(M) else M[np.ix_(N, F)]
+            spread = sigma[N] + abs_matvec(MNF, v)
+        else:
+            spread = (1.0 + kappa_z) * sigma[N]
+        wd = np.where(np.abs(w[N]) > level * sigma[N], np.abs(w[N]), sigma[N])
+        kappa_w = float(np.max(divide(spread, wd)))
+        if by_scale is not None:
+            by_scale[N] = divide(spread, sigma[N])
+        else:
+            scaled_z = max(scaled_z, float(np.max(divide(spread, sigma[N]))))
+    if by_scale is None:
+        by_scale = np.full(n, scaled_z)
+    return kappa_z, kappa_w, by_scale
+
+
+#: how many times the basis is widened by its ambiguous components (below)
+_PROBES = 4
+
+#: a component is ambiguous when it lies within this many times its own
+#: forward-error estimate of switching sides (z_i -> 0 on F, w_j -> 0 on N)
+_AMBIGUITY = 4.0
+
+
+def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None, error: float = 0.0
                    ) -> tuple[float, float, float, float]:
     """(condition, forward z factor, forward w factor, scale factor) of a
-    solution at its basis.
+    solution, over the bases it may have.
 
     F = {i: z_i / ζ_i > w_i / σ_i} (the z's that are "on"), N the rest.  On F,
     z_F = -M_FF⁻¹ q_F; data perturbed by ε of each entry's own size, with the
@@ -177,55 +265,48 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None
     many digits a component has relative to the size its data give it —
     the measure of "no digit at all" (qpcontact.judge.doubt.no_digit), where
     a w of 5e-9 beside forces of 1 may well have none of its own.
+
+    The answer's own basis need not be the solution's: a w_j of 2e-5 of its
+    scale, with an estimate of 5e-2, may be a z_j > 0 of the exact solution,
+    whose block is worse conditioned (an SPD LCP of condition 1e13 read
+    5.6e-2 at the answer's basis where the true error was 0.59).  So the
+    components within _AMBIGUITY times their own estimate (``error`` times
+    the scale factor) of switching sides are probed: the basis widened by
+    the ambiguous w's (F ∪ A_N: for a positive definite M the larger block
+    is the worse conditioned) and narrowed by the ambiguous z's (F \ A_F),
+    repeated with the new estimates until no component joins (at most
+    _PROBES times); every factor is the largest over the probes.
     """
     Z, W = divide(z, zeta), divide(w, sigma)
     on = Z > W
-    F, N = np.flatnonzero(on), np.flatnonzero(~on)
-    kappa_z, scaled_z, v = 0.0, 0.0, np.zeros(0)
-    if F.size:
-        den = np.where(np.abs(z[F]) > level * zeta[F], np.abs(z[F]), zeta[F])
-        g = sigma[F]
-        k = F.size
-        try:
-            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-                if k <= _EXACT_CONDITION_SIZE:
-                    B = M[F][:, F].toarray() if sp.issparse(M) else M[np.ix_(F, F)]
-                    inv = np.linalg.inv(B)  # LinAlgError when exactly singular
-                    if not np.all(np.isfinite(inv)):
-                        return np.inf, np.inf, np.inf, np.inf
-                    v = np.abs(inv) @ g + zeta[F]
-                    kappa_z = float(np.max(divide(v, den)))
-                    scaled_z = float(np.max(divide(v, zeta[F])))
-                else:
-                    from scipy.sparse.linalg import LinearOperator, onenormest
-
-                    solve = _block_solver(M, F, structure)
-                    # ‖Z⁻¹ |B⁻¹| g‖∞ = ‖Z⁻¹ B⁻¹ G‖∞ = ‖G B⁻ᵀ Z⁻¹‖₁
-                    op = LinearOperator((k, k), dtype=float,
-                                        matvec=lambda x: g * solve(np.ravel(x) / den, trans=True),
-                                        rmatvec=lambda y: solve(g * np.ravel(y)) / den)
-                    kappa_z = float(onenormest(op, t=1)) + float(np.max(zeta[F] / den))
-                    by_scale = LinearOperator(
-                        (k, k), dtype=float,
-                        matvec=lambda x: g * solve(np.ravel(x) / zeta[F], trans=True),
-                        rmatvec=lambda y: solve(g * np.ravel(y)) / zeta[F])
-                    scaled_z = float(onenormest(by_scale, t=1)) + 1.0
-                    v = None
-        except (RuntimeError, ValueError, np.linalg.LinAlgError):
-            return np.inf, np.inf, np.inf, np.inf
-        if not np.isfinite(kappa_z):
-            return np.inf, np.inf, np.inf, np.inf
-    kappa_w = scaled_w = 0.0
-    if N.size:
-        if F.size and v is not None:
-            MNF = M[N][:, F] if sp.issparse(M) else M[np.ix_(N, F)]
-            spread = sigma[N] + abs_matvec(MNF, v)
-        else:
-            spread = (1.0 + kappa_z) * sigma[N]
-        wd = np.where(np.abs(w[N]) > level * sigma[N], np.abs(w[N]), sigma[N])
-        kappa_w = float(np.max(divide(spread, wd)))
-        scaled_w = float(np.max(divide(spread, sigma[N])))
-    return max(kappa_z, kappa_w), kappa_z, kappa_w, max(scaled_z, scaled_w)
+    eps = max(error, level)
+    worst = (0.0, 0.0, np.zeros(z.size))
+    probes = [on]
+    seen = set()
+    for _ in range(_PROBES + 1):
+        new = []
+        for basis in probes:
+            key = basis.tobytes()
+            if key in seen:
+                continue
+            seen.add(key)
+            F, N = np.flatnonzero(basis), np.flatnonzero(~basis)
+            kz, kw, by = _basis_factors(M, F, N, z, w, zeta, sigma, level, structure)
+            if not np.isfinite(kz):
+                return np.inf, np.inf, np.inf, np.inf
+            worst = (max(worst[0], kz), max(worst[1], kw), np.maximum(worst[2], by))
+            new.append(basis)
+        if not new or eps * float(worst[2].max(initial=0.0)) >= 1.0 \
+                or np.count_nonzero(on) > _EXACT_CONDITION_SIZE:
+            # nothing new, no digit on some scale already, or a block whose
+            # factors are 1-norm estimates (no per-component reach to probe)
+            break
+        reach = _AMBIGUITY * eps * worst[2]
+        amb_n = ~on & (np.abs(W) <= reach)
+        amb_f = on & (np.abs(Z) <= reach)
+        probes = [on | amb_n, on & ~amb_f]
+    kappa_z, kappa_w, by = worst
+    return max(kappa_z, kappa_w), kappa_z, kappa_w, float(by.max(initial=0.0))
 
 
 def certify_lcp(lcp: LCP, z) -> LCPCertificate:
@@ -256,16 +337,24 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
 
     def forward_pair(M=lcp.M, structure=lcp.structure):
         condition, kappa_z, kappa_w, scaled = _lcp_condition(M, z, w, zeta, sigma, level,
-                                                             structure)
+                                                             structure, error)
         eps = max(error, level)
         forward, by_scale = eps * max(kappa_z, kappa_w), eps * scaled
         return (float(condition), (float(forward) if np.isfinite(forward) else np.inf),
                 float(by_scale) if np.isfinite(by_scale) else np.inf, float(scaled))
 
+    def near(M=lcp.M, q=lcp.q):
+        # a Farkas vector lives where w is zero to within what the answer's
+        # residuals can hide: the active rows, and the rows whose w is within
+        # the error's reach of zero (1ᵀw = -1 beside σ ~ 1e13 spreads over them)
+        rows = (Z > W) | (np.abs(W) <= max(100.0 * error, np.sqrt(_EPS)))
+        return near_farkas(M, q, rows, max(10.0 * error, 100.0 * level))
+
     active = np.count_nonzero(Z > W)   # the basis _lcp_condition factorizes
     return LCPCertificate(
         error=error,
         _forward=forward_pair() if active <= _EXACT_CONDITION_SIZE else forward_pair,
+        _near=near,
         normwise_error=float(_lcp_normwise(lcp, z, Mz, w)),
         worst_index=worst,
         comp_abs=inf_norm(r),

@@ -251,3 +251,27 @@ def test_judge_holds_w_of_a_singular_psd_lcp_to_its_own_condition():
     dz = np.linalg.lstsq(M, 0.2 * np.abs(case.w).max() * np.ones(case.z.size), rcond=None)[0]
     z = np.maximum(case.z + dz, 0.0)
     assert judge(case, _ok_solution(case, z))[0] == "silent_wrong"
+
+
+def test_edge_families_run_in_stress_with_their_exact_verdicts(tmp_path):
+    """The families near the edge of solvability (condition 1e8..1e16,
+    near-singular PD, Farkas vectors an LP cannot see or a ray should find)
+    run in `qpcontact stress`: no silent wrong answer, the Farkas families
+    proved, every row carrying the forward-error truth and estimate."""
+    from qpcontact.commands.stress.cases import EDGE_FAMILIES
+
+    config = dataclasses.replace(QUICK, sizes=(8,), seeds=1, families=EDGE_FAMILIES,
+                                 methods=("lemke", "bpp", "highs"), time_limit=10.0)
+    path = run_stress(tmp_path, config, workers=2, progress=False)
+    md, totals = write_markdown(path)
+    rows = list(csv.DictReader(open(path)))
+    assert totals["silent_wrong"] == 0, md.read_text()
+    farkas = [r for r in rows if r["family"].startswith("farkas_") and r["method"] == "lemke"]
+    assert farkas and all(r["status"] == "infeasible" for r in farkas), farkas
+    assert all(r["one_row"] == "1" for r in rows if r["family"] == "farkas_one_row")
+    known = [r for r in rows if r["family"] in ("conditioned_spd", "near_singular_pd")
+             and r["fe_true"] not in ("", "nan")]
+    assert known
+    # the estimate bounds the truth (where it claims a digit)
+    assert all(float(r["fe_true"]) <= max(2 * float(r["fe_est"]), 1e-12)
+               or float(r["fe_est"]) >= 0.5 for r in known)

@@ -94,6 +94,7 @@ def test_unproved_ray_is_not_called_no_solution(monkeypatch):
     # and no proof found afterwards either (on these data one exists: the
     # engine's own search finds it from Lemke's vector, tested below)
     monkeypatch.setattr(lcp_qp, "prove_lcp_infeasible", lambda *a, **k: None)
+    monkeypatch.setattr(lcp_qp, "cheap_lcp_farkas", lambda *a, **k: None)
     with pytest.raises(qpcontact.SolverFailedError):
         qpcontact.solve(LCP(np.zeros((2, 2)), [-1.0, -1.0]), method="lemke", raise_on_failure=True)
 

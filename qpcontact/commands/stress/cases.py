@@ -9,7 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CATEGORIES", "LCP_FAMILIES", "QP_FAMILIES", "ROUNDED_FAMILIES", "FAMILIES", "StressConfig", "QUICK",
+__all__ = ["CATEGORIES", "LCP_FAMILIES", "QP_FAMILIES", "ROUNDED_FAMILIES", "EDGE_FAMILIES",
+           "FAMILIES", "StressConfig", "QUICK",
            "FULL", "build_case", "default_siconos"]
 
 CATEGORIES = ("certified", "proved", "inaccurate", "failed", "silent_wrong", "hung")
@@ -27,7 +28,13 @@ QP_FAMILIES = ("qp_convex", "qp_degenerate", "qp_infeasible", "qp_unbounded", "q
 #: older families keep their index in FAMILIES, which seeds their instances.
 ROUNDED_LCP_FAMILIES = ("illposed_psd", "ill_conditioned_spd", "infeasible_rounded")
 ROUNDED_QP_FAMILIES = ("qp_infeasible_rounded", "qp_unbounded_rounded")
-ROUNDED_FAMILIES = ROUNDED_LCP_FAMILIES + ROUNDED_QP_FAMILIES
+#: real-valued data near the edge of solvability, decided exactly
+#: (qpcontact.cases.rounded): condition 1e8..1e16 and near-singular PD (the
+#: forward-error bound), Farkas vectors an LP cannot see (y = 1 beside far
+#: contacts) or that a ray should have found (one row).  Appended last, so
+#: that every older family keeps its index.
+EDGE_FAMILIES = ("conditioned_spd", "near_singular_pd", "farkas_far_contacts", "farkas_one_row")
+ROUNDED_FAMILIES = ROUNDED_LCP_FAMILIES + ROUNDED_QP_FAMILIES + EDGE_FAMILIES
 
 FAMILIES = LCP_FAMILIES + QP_FAMILIES + ("siconos",) + ROUNDED_FAMILIES
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["judge", "judge_condition", "judge_rtol", "DIGIT_CAP"]
+__all__ = ["judge", "judge_condition", "judge_rtol", "DIGIT_CAP", "forward_errors",
+           "has_one_row_farkas", "DOUBT_WORDS"]
 
 
 def _promised_scales(M, q, z_star) -> tuple[np.ndarray, np.ndarray]:
@@ -192,3 +193,43 @@ def judge(case, sol) -> tuple[str, str]:
     if sol.status in ("inaccurate", "ill_posed", "max_pivots", "ray"):
         return "inaccurate", sol.status
     return "failed", sol.status
+
+
+#: what an answer's message says where the data may have no solution
+DOUBT_WORDS = ("may have no solution", "within rounding of a problem with no solution")
+
+
+def forward_errors(case, sol) -> tuple[float, float]:
+    """(true, estimated) forward error of an LCP answer on the certificate's
+    scales — the truth against the unique reference (this judge's own
+    recomputation of the scales ζ, σ at the answer, by their definition),
+    the estimate the certificate's ``scale_forward_error``.  (nan, nan) where
+    there is no unique reference or no estimate."""
+    from ...core.problems import LCP
+
+    nan = float("nan")
+    cert = getattr(sol, "certificate", None)
+    if (not isinstance(case.problem, LCP) or case.status != "solved" or not case.unique_z
+            or case.z is None or sol.z is None or cert is None
+            or not getattr(cert, "forward_error_known", False)):
+        return nan, nan
+    M, q = case.problem.M, case.problem.q
+    z = np.asarray(sol.z, float)
+    w = np.asarray(M @ z).ravel() + q
+    zeta, sigma = _promised_scales(M, q, z)
+    with np.errstate(all="ignore"):
+        true = max(float(np.max(np.abs(z - case.z) / zeta)),
+                   float(np.max(np.abs(w - case.w) / sigma)))
+    return true, float(cert.scale_forward_error)
+
+
+def has_one_row_farkas(case) -> bool:
+    """Whether an LCP has a row i with every M_ij <= 0 and q_i < 0 (y = e_i
+    is then an exact Farkas vector, read from the signs)."""
+    from ...core.problems import LCP
+
+    if not isinstance(case.problem, LCP):
+        return False
+    M = case.problem.M
+    A = np.asarray(M.toarray() if hasattr(M, "toarray") else M)
+    return bool(np.any((A.max(axis=1) <= 0) & (case.problem.q < 0)))

@@ -11,12 +11,13 @@ from pathlib import Path
 from ...core.errors import InvalidOptionError
 from ...core.progress import ProgressBar
 from .cases import QUICK, StressConfig, build_case, default_siconos
-from .judge import judge
+from .judge import DOUBT_WORDS, forward_errors, has_one_row_farkas, judge
 
 __all__ = ["FIELDS", "tasks", "run_stress", "time_share", "OVER_FACTOR"]
 
 FIELDS = ("family", "n", "seed", "instance", "method", "accuracy", "expected", "status",
-          "category", "reason", "error", "seconds", "wall", "limit_s", "over_limit")
+          "category", "reason", "error", "seconds", "wall", "limit_s", "over_limit",
+          "fe_true", "fe_est", "doubt", "one_row")
 
 #: a solve is "over the limit" when its whole wall time (method, certificate,
 #: proof) passes OVER_FACTOR x time_limit — "auto" included, which gives each
@@ -72,8 +73,12 @@ def _solve_row(task, siconos_dir, time_limit, cache={}):  # noqa: B006 - per-pro
         return row
     wall = time.perf_counter() - start
     category, reason = judge(case, sol)
+    fe_true, fe_est = forward_errors(case, sol)
     row.update(status=sol.status, category=category, reason=reason, error=sol.error,
-               seconds=sol.wall_time, wall=wall, over_limit=int(wall > limit))
+               seconds=sol.wall_time, wall=wall, over_limit=int(wall > limit),
+               fe_true=fe_true, fe_est=fe_est,
+               doubt=int(bool(sol.ok) and any(x in sol.message for x in DOUBT_WORDS)),
+               one_row=int(has_one_row_farkas(case)))
     return row
 
 

@@ -1,18 +1,24 @@
-"""Census of "ok" on rounded data: does "ok" mean correct digits on real-valued data?
+"""Census of "ok": does "ok" mean correct digits, against exact references?
 
-Runs the rounded stress families (references decided in rational arithmetic,
-qpcontact/cases/rounded.py) through the stress machinery — "auto" and every
-installed LCP/QP method, accuracies rotating low/default/high — and prints,
-per family and per method: certified, ok but wrong (against the exact
-reference), false proofs, proved, honest not-ok, failed, hung, and the whole
-wall time (median, max, count over its time share).
+Runs the rounded and edge stress families (references decided in rational
+arithmetic, qpcontact/cases/rounded.py; --all adds every other stress family)
+through the stress machinery — "auto" and every installed LCP/QP method, each
+at every accuracy level (low, default, high) — and prints, per family and per
+method: certified, ok but wrong (against the exact reference: no correct
+leading digit, or ok on a problem without solution), ok beside a doubt (an ok
+answer whose message says the data may have no solution), forward-error
+misses (the certificate's scale_forward_error below half the true error on
+the same scales, where the reference is unique), false proofs, unproved rays
+where a one-row Farkas vector exists, proved, honest not-ok, failed, hung,
+and the wall time (median, max, count over its limit).
 
-    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/census_31.py \\
-        --out /tmp/census31 > docs/census-31-after.txt
+    OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/census.py \\
+        --out /tmp/census > /tmp/census.txt
 
-Defaults (sizes 8 and 30, 20 seeds, time limit 2 s, 2 workers, no cvxpy)
-take about 10 minutes on 2 cores; --seeds, --sizes, --cvxpy, --families
-change that, and --csv re-prints the census of an earlier run's stress.csv.
+Defaults (sizes 8 and 30, 10 seeds, time limit 2 s, 2 workers, no cvxpy)
+take about 15 minutes on 2 cores; --seeds, --sizes, --cvxpy, --families,
+--all change that, and --csv re-prints the census of an earlier run's
+stress.csv.
 """
 
 from __future__ import annotations
@@ -27,6 +33,24 @@ import time
 from collections import defaultdict
 
 CLASSES = ("certified", "ok_wrong", "false_proof", "proved", "honest_not_ok", "failed", "hung")
+
+#: counted beside the classes (a solve may be in a class and in these)
+MARKS = ("ok_doubt", "fe_miss", "fe_miss_any", "ray_one_row")
+
+
+def marks(row: dict) -> dict:
+    """The census's further counts for one solve: ok beside a doubt, a
+    forward-error estimate below half the truth (true error above 1e-12 of
+    the scale, so that rounding noise is not counted), an unproved ray where
+    a one-row Farkas vector exists."""
+    true, est = _float(row.get("fe_true")), _float(row.get("fe_est"))
+    missed = math.isfinite(true) and not math.isnan(est) and true > 1e-12 and true > 2 * est
+    return {"ok_doubt": int(_float(row.get("doubt")) == 1),
+            # an estimate of 0.5 or more already says "no digit": a truth
+            # beyond it misleads no one (fe_miss_any counts those too)
+            "fe_miss": int(missed and est < 0.5),
+            "fe_miss_any": int(missed),
+            "ray_one_row": int(row.get("status") == "ray" and _float(row.get("one_row")) == 1)}
 
 
 def classify(row: dict) -> str:
@@ -56,18 +80,20 @@ def table(rows: list[dict], key) -> list[str]:
     groups: dict = defaultdict(list)
     for r in rows:
         groups[key(r)].append(r)
-    head = ("| " + " | ".join(["class", "solves", *CLASSES, "median s", "max s", "over limit"])
-            + " |")
-    lines = [head, "|" + "---|" * (len(CLASSES) + 5)]
+    head = ("| " + " | ".join(["class", "solves", *CLASSES, *MARKS, "median s", "max s",
+                                "over limit"]) + " |")
+    lines = [head, "|" + "---|" * (len(CLASSES) + len(MARKS) + 5)]
     for k in sorted(groups):
         rs = groups[k]
-        counts = {c: 0 for c in CLASSES}
+        counts = {c: 0 for c in CLASSES + MARKS}
         for r in rs:
             counts[classify(r)] += 1
+            for name, v in marks(r).items():
+                counts[name] += v
         t = [x for x in (_float(r.get("wall") or r.get("seconds")) for r in rs) if math.isfinite(x)]
         over = sum(int(_float(r.get("over_limit")) or 0) for r in rs
                    if math.isfinite(_float(r.get("over_limit"))))
-        lines.append(f"| {k} | {len(rs)} | " + " | ".join(str(counts[c]) for c in CLASSES)
+        lines.append(f"| {k} | {len(rs)} | " + " | ".join(str(counts[c]) for c in CLASSES + MARKS)
                      + f" | {statistics.median(t) if t else math.nan:.3g}"
                      f" | {max(t) if t else math.nan:.3g} | {over} |")
     return lines
@@ -84,7 +110,13 @@ def report(rows: list[dict], header: list[str]) -> str:
     out += ["", "ok_wrong: said ok, disagrees with the exact reference (no correct digit, or "
             "ok on an infeasible/unbounded case); false_proof: claimed no solution on a solvable "
             "case; honest_not_ok: not ok and said so (inaccurate, ill_posed, failed, ...); "
-            "failed: crash, kill or exception.", "", "## Per family", ""]
+            "failed: crash, kill or exception; ok_doubt: ok, and the message says the data may "
+            "have no solution; fe_miss: the forward-error estimate below half the true error "
+            "(unique reference) where the estimate claims a digit (below 0.5); fe_miss_any: the "
+            "same without that condition; ray_one_row: an unproved ray although a one-row Farkas vector "
+            "exists.", "", "## Totals", ""]
+    out += table(rows, lambda r: "all")
+    out += ["", "## Per family", ""]
     out += table(rows, lambda r: r["family"])
     out += ["", "## Per method", ""]
     out += table(rows, lambda r: r["method"])
@@ -102,13 +134,15 @@ def report(rows: list[dict], header: list[str]) -> str:
 
 def main(argv=None) -> int:
     from qpcontact.commands.stress import QUICK, run_stress
-    from qpcontact.commands.stress.cases import ROUNDED_FAMILIES
+    from qpcontact.commands.stress.cases import FAMILIES, ROUNDED_FAMILIES
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default="/tmp/census31", help="folder for stress.csv")
+    ap.add_argument("--out", default="/tmp/census", help="folder for stress.csv")
     ap.add_argument("--sizes", default="8,30")
-    ap.add_argument("--seeds", type=int, default=20)
+    ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--families", default=",".join(ROUNDED_FAMILIES))
+    ap.add_argument("--all", action="store_true",
+                    help="every stress family (Siconos files aside), not only the exact ones")
     ap.add_argument("--methods", default=None, help="default: auto and every installed method")
     ap.add_argument("--cvxpy", action="store_true", help="include the cvxpy methods")
     ap.add_argument("--time-limit", type=float, default=2.0)
@@ -123,18 +157,19 @@ def main(argv=None) -> int:
     else:
         config = dataclasses.replace(
             QUICK, sizes=tuple(int(s) for s in args.sizes.split(",")), seeds=args.seeds,
-            families=tuple(args.families.split(",")), no_cvxpy=not args.cvxpy,
+            families=(tuple(f for f in FAMILIES if f != "siconos") if args.all
+                      else tuple(args.families.split(","))), no_cvxpy=not args.cvxpy,
             methods=tuple(args.methods.split(",")) if args.methods else None,
-            accuracies=("low", "default", "high"), rotate_accuracy=True,
+            accuracies=("low", "default", "high"), rotate_accuracy=False,
             time_limit=args.time_limit)
         path = run_stress(args.out, config, workers=args.workers, progress=sys.stderr.isatty())
     with open(path, newline="") as fh:
         rows = list(csv.DictReader(fh))
     header = [f"# Census of ok on rounded data (qpcontact {getattr(qpcontact, '__version__', '?')})", "",
-              f"command: python benchmarks/census_31.py {' '.join(argv or sys.argv[1:])}",
+              f"command: python benchmarks/census.py {' '.join(argv or sys.argv[1:])}",
               f"{len(rows)} solves of {len({(r['family'], r['n'], r['seed']) for r in rows})} "
               f"problems; sizes {args.sizes} (exact LCP families capped at n = 40), "
-              f"{args.seeds} seeds, accuracy rotating low/default/high, time limit "
+              f"{args.seeds} seeds, every accuracy (low, default, high), time limit "
               f"{args.time_limit:g} s; {time.time() - start:.0f} s wall"]
     print(report(rows, header), end="")
     return 0
