@@ -16,7 +16,7 @@ Per step s (from t[s] to t[s+1]) the recorder keeps, by contact kind (0 log–lo
   opening, or a touch carrying a thousandth of a light log's weight — not
   counted) — the histograms per revolution are sums of these rows, so no
   contact list is needed for them;
-- ``sliding_work`` (S, n) [J]: the friction work |r_T| s̄ >= 0 of the step
+- ``sliding_work`` (S, n) [J]: the friction work ``|r_T| s̄`` >= 0 of the step
   (s̄ its mean sliding speed, :func:`sliding_speed`: the slip taken linear
   from the step's start to its end, so slip that stops within the step
   counts) charged to the logs it rubs — half to each log at a log–log
@@ -70,7 +70,7 @@ class Drum2DResult:
     statistics ``force_peak``, ``force_counts``, ``sliding_work`` (module
     docstring); ``contacts``: per step a dict of the active contacts' arrays
     (i, j, kind, r_n, r_t [N·s], slip: the mean sliding speed s̄ >= 0 [m/s],
-    whose work is |r_t| s̄, gap [m], normal) where kept,
+    whose work is ``|r_t| s̄``, gap [m], normal) where kept,
     else None; ``last_contacts``: the last step's contacts and impulses (what
     a resumed run warm-starts from)."""
 

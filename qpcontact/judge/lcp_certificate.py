@@ -80,8 +80,8 @@ class LCPCertificate(ForwardErrorMixin):
         """Where the forward error is known and no digit is guaranteed
         (forward error >= 1, the active block singular or nearly so): a
         vector y >= 0 on the active rows with Mᵀy <= 0 and qᵀy <= 0 to
-        rounding (each column against its own terms |M|ᵀy, qᵀy against
-        |q|ᵀy) — the data are then within rounding of a problem with no
+        rounding (each column against its own terms ``|M|ᵀy``, qᵀy against
+        ``|q|ᵀy``) — the data are then within rounding of a problem with no
         solution, and y is the Farkas vector to check exactly.  None
         otherwise (also when the forward error is not computed yet)."""
         if not self.forward_error_known or self.forward_error < 1.0:
@@ -344,6 +344,12 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
                 float(by_scale) if np.isfinite(by_scale) else np.inf, float(scaled))
 
     def near(M=lcp.M, q=lcp.q):
+        # an answer that solves the stored data exactly is right whatever
+        # data within rounding of them do (Siconos' CPS_5: z = (0, 1) solves
+        # M = [[1, -1], [-1, 1]], q = (1, -1) exactly; y = (1, 1) has
+        # M'y = 0 = q'y, and q rounded the other way would have none)
+        if error == 0.0 and exactly_solves(M, q, z):
+            return None
         # a Farkas vector lives where w is zero to within what the answer's
         # residuals can hide: the active rows, and the rows whose w is within
         # the error's reach of zero (1ᵀw = -1 beside σ ~ 1e13 spreads over them)
@@ -363,3 +369,29 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
         min_w=float(min(w.min(), 0.0)),
         zw=zw,
     )
+
+
+#: the exact check of an answer runs up to this many products
+EXACT_PRODUCTS = 200_000
+
+
+def exactly_solves(M, q, z) -> bool:
+    """Whether z solves the LCP (M, q) exactly, in rationals from the stored
+    floats: z >= 0, w = M z + q >= 0, z_i w_i = 0 (False where the check
+    would take more than EXACT_PRODUCTS products)."""
+    from fractions import Fraction
+
+    z = np.asarray(z, float)
+    if np.any(z < 0) or not np.all(np.isfinite(z)):
+        return False
+    support = np.flatnonzero(z)
+    if q.size * max(support.size, 1) > EXACT_PRODUCTS:
+        return False
+    cols = (M[:, support].toarray() if hasattr(M, "toarray") else np.asarray(M)[:, support])
+    zq = [Fraction(float(v)) for v in z[support]]
+    for i in range(q.size):
+        w = Fraction(float(q[i])) + sum((Fraction(float(a)) * b for a, b in zip(cols[i], zq)
+                                          if a != 0.0), Fraction(0))
+        if w < 0 or (w != 0 and z[i] != 0):
+            return False
+    return True

@@ -159,9 +159,11 @@ def solve_nsgs_newton(problem, tol, options):
     doubles after each failed try (module docstring).  Options
     (:data:`NSGS_NEWTON_OPTIONS`): ``omega``
     (NSGS's over-relaxation, :data:`OMEGA`), ``max_sweeps`` (100 000), ``r0``,
-    ``time_limit`` (s), ``progress`` (a callable taking a line).  Stops at
-    tol, at the time limit, or when neither NSGS nor Newton has improved the
-    best error over the last 50 checks; returns the best point."""
+    ``time_limit`` (s), ``progress`` (a callable taking a line),
+    ``square_first`` (Newton's step by J's own LU where J is regular, before
+    the minimum-norm step: the drum's compliant contacts).  Stops at tol, at
+    the time limit, or when neither NSGS nor Newton has improved the best
+    error over the last 50 checks; returns the best point."""
     opts = read_options("nsgs-newton", options, NSGS_NEWTON_OPTIONS)
     omega, max_sweeps = opts["omega"], opts["max_sweeps"]
     time_limit, progress = opts["time_limit"], opts["progress"]

@@ -313,7 +313,8 @@ def _message(end, p, p_max, p_final, proof, why, max_pieces) -> str:
 
 def run_trace(plcp: ParametricLCP, tol: float, options: dict, engine) -> LoadTrace:
     """The "trace" method (registered in :mod:`.specs`): options
-    (:data:`TRACE_OPTIONS`) ``p_max`` (1), ``max_pieces`` (max(1000, 20 n));
+    (:data:`TRACE_OPTIONS`) ``p_max`` (1), ``max_pieces`` (max(1000, 20 n)),
+    ``start`` (a solution at p = 0 to start from, certified here);
     every piece is certified to ``tol``.  It certifies each piece from the
     data itself, at its start, middle and end (a path, not a point, is its
     answer); its Lemke solves go through ``engine``."""
