@@ -120,6 +120,17 @@ def contact_rays(b):
     return rays
 
 
+def ray_works(G, b, rays) -> np.ndarray:
+    """(rays, params): the work of each extreme ray's contact force in each
+    rigid motion of G (floats, for the LPs)."""
+    Hd = sp.csr_matrix(b["H"])
+    rows = []
+    for links, verts in rays:
+        Hc = Hd[:, links].toarray()
+        rows += [G @ (Hc @ np.array([float(a) for a in v])) for v in verts]
+    return np.array(rows).reshape(len(rows), G.shape[0])
+
+
 def static_limit(frame, b, const, var):
     """The largest p such that contact forces in their cones balance
     F(const) + p F(var) (one LP; inf if unbounded, None where the frame is
@@ -132,13 +143,7 @@ def static_limit(frame, b, const, var):
         return None
     Fc = b["F"] @ contact_lcp.factors(b, const)
     Fv = b["F"] @ contact_lcp.factors(b, var)
-    Hd = sp.csr_matrix(b["H"])
-    cols = []
-    for links, verts in rays:
-        Hc = Hd[:, links].toarray()
-        for v in verts:
-            cols.append(G @ (Hc @ np.array([float(a) for a in v])))
-    A = np.column_stack(cols + [G @ Fv])          # Σ μ (G H ray) + p G F_v = -G F_c
+    A = np.column_stack([ray_works(G, b, rays).T, G @ Fv])  # Σ μ (G H ray) + p G F_v = -G F_c
     c = np.zeros(A.shape[1])
     c[-1] = -1.0
     scale = max(np.abs(A).max(), 1e-300)
@@ -162,14 +167,7 @@ def prove_beyond(frame, b, const, var, p):
     if G is None or rays is None:
         return None
     F = b["F"] @ (contact_lcp.factors(b, const) + p * contact_lcp.factors(b, var))
-    Hd = sp.csr_matrix(b["H"])
-    rows, which = [], []
-    for ci, (links, verts) in enumerate(rays):
-        Hc = Hd[:, links].toarray()
-        for v in verts:
-            rows.append(G @ (Hc @ np.array([float(a) for a in v])))
-            which.append((ci, v))
-    A = np.array(rows)                       # A c >= 0 for every ray, (G F)·c = 1
+    A = ray_works(G, b, rays)                # A c >= 0 for every ray, (G F)·c = 1
     gF = G @ F
     # balanced for the LP's tolerances: each parameter by its largest
     # lever (a rotation's moves grow with the frame's size, a translation's
