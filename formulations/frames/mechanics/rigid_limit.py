@@ -131,14 +131,17 @@ def ray_works(G, b, rays) -> np.ndarray:
     return np.array(rows).reshape(len(rows), G.shape[0])
 
 
-def static_limit(frame, b, const, var):
-    """The largest p such that contact forces in their cones balance
-    F(const) + p F(var) (one LP; inf if unbounded, None where the frame is
-    held or the LP fails)."""
+def static_limit(frame, b, const, var, G=None, rays=None):
+    """(p*, motion): the largest p such that contact forces in their cones
+    balance F(const) + p F(var) (one LP), and the LP's dual there — the
+    rigid motion's parameters c (floats) in which the rays do no negative
+    work and the variable loads unit work; (inf, None) if unbounded, None
+    where the frame is held or the LP fails.  ``G``, ``rays``: computed
+    here if not given."""
     from scipy.optimize import linprog
 
-    G = rigid_motions(frame, b)
-    rays = contact_rays(b)
+    G = rigid_motions(frame, b) if G is None else G
+    rays = contact_rays(b) if rays is None else rays
     if G is None or rays is None:
         return None
     Fc = b["F"] @ contact_lcp.factors(b, const)
@@ -150,11 +153,16 @@ def static_limit(frame, b, const, var):
     res = linprog(c, A_eq=A / scale, b_eq=-(G @ Fc) / scale,
                   bounds=[(0, None)] * (A.shape[1] - 1) + [(None, None)], method="highs")
     if res.status == 3:
-        return np.inf
-    return float(res.x[-1]) if res.status == 0 else None
+        return np.inf, None
+    if res.status != 0:
+        return None
+    # the dual y of the equations: every ray's work in -y is >= 0 and the
+    # variable loads' is 1 (the free column p), so -y is the motion
+    motion = getattr(getattr(res, "eqlin", None), "marginals", None)
+    return float(res.x[-1]), (None if motion is None else -np.asarray(motion, float))
 
 
-def prove_beyond(frame, b, const, var, p):
+def prove_beyond(frame, b, const, var, p, G=None, rays=None):
     """A rigid motion proving that no equilibrium exists at F(const) + p
     F(var), checked in rationals (the module docstring): a dict with the
     motion's parameters, its exact work, and per contact its normal
@@ -162,8 +170,8 @@ def prove_beyond(frame, b, const, var, p):
     is found or it does not check."""
     from scipy.optimize import linprog
 
-    G = rigid_motions(frame, b)
-    rays = contact_rays(b)
+    G = rigid_motions(frame, b) if G is None else G
+    rays = contact_rays(b) if rays is None else rays
     if G is None or rays is None:
         return None
     F = b["F"] @ (contact_lcp.factors(b, const) + p * contact_lcp.factors(b, var))
@@ -235,17 +243,29 @@ def exact_check(frame, b, G, F, rays, c):
         per_ray = works(phi)
         if work <= 0 or min(w for ws in per_ray for w in ws) < 0:
             return None
+    phi_f = np.array([float(v) for v in phi])
+    proof = motion_words(frame, b, rays, phi_f, [[float(w) for w in ws] for ws in per_ray], c)
+    proof["work"] = work
+    return proof
+
+
+def motion_words(frame, b, rays, phi, per_ray, c) -> dict:
+    """The proof's record for the words: the motion's parameters, per
+    contact its normal opening and tangential motion, the axis it turns
+    about (floats: ``phi`` the nodes' motion, ``per_ray`` each contact's
+    rays' works)."""
+    Hd = sp.csc_matrix(b["H"])
     opening, sliding = [], []
-    size = max(abs(float(v)) for v in phi) or 1.0
+    size = float(np.abs(phi).max(initial=0.0)) or 1.0
     for ci, ((links, _), ws) in enumerate(zip(rays, per_ray)):
-        m = [float(link_motion(phi, li)) for li in links]
+        m = [float((Hd[:, [li]].T @ phi)[0]) for li in links]
         s = m[1:] + [0.0] * (2 - len(m[1:]))
         # a contact whose tightest ray does no work slides on its polygon
         # (or stays): its opening read as Coulomb's f|s| for the words
         tight = float(min(ws)) <= 1e-9 * size
         opening.append(frame.contacts[ci].friction * float(np.hypot(*s)) if tight else m[0])
         sliding.append(s)
-    return {"params": [float(x) for x in c], "work": work, "turn": turn_words(frame, c),
+    return {"params": [float(x) for x in c], "turn": turn_words(frame, [float(x) for x in c]),
             "opening": np.array(opening), "sliding": np.array(sliding)}
 
 
@@ -273,17 +293,190 @@ def turn_words(frame, c) -> str:
 
 
 def limit_bracket(frame, b, const, var, p_lo):
-    """(p_hi, proof): the first margin above the LP's static limit at which
-    a rigid motion proves that no equilibrium exists; (None, None) where
-    none is found.  ``p_lo``: the last certified equilibrium, which the
-    proof must lie above."""
-    p_star = static_limit(frame, b, const, var)
-    if p_star is None or not np.isfinite(p_star):
+    """(p_hi, proof): a load above which a rigid motion proves that no
+    equilibrium exists — first the LP's own dual motion made exact on its
+    active rays (:func:`vertex_proof`: p_hi the next float above the exact
+    limit of that motion), else the first margin above the LP's static
+    limit at which the dual LP's motion checks; (None, None) where none is
+    found.  ``p_lo``: the last certified equilibrium, which the proof must
+    lie above.  The rays and their rational vertices are computed once."""
+    G = rigid_motions(frame, b)
+    rays = contact_rays(b)
+    if G is None or rays is None:
         return None, None
+    found = static_limit(frame, b, const, var, G, rays)
+    if found is None or not np.isfinite(found[0]):
+        return None, None
+    p_star, motion = found
+    if motion is not None:
+        proof = vertex_proof(frame, b, const, var, G, rays, motion)
+        if proof is not None and proof["p_hi"] > p_lo:
+            return proof["p_hi"], proof
     base = max(p_star, p_lo)
     for margin in MARGINS:
         p_hi = base + margin * max(abs(base), 1e-300)
-        proof = prove_beyond(frame, b, const, var, p_hi)
+        proof = prove_beyond(frame, b, const, var, p_hi, G, rays)
         if proof is not None:
             return p_hi, proof
     return None, None
+
+
+def exact_rows(G, b, rays):
+    """Per ray, its work in each of the rigid motions G's rows, in
+    Fractions: the exact linear map from a motion's parameters to the
+    rays' works (the model as stored)."""
+    Hd = sp.csc_matrix(b["H"])
+    Gq = {}
+    rows = []
+    for links, verts in rays:
+        per_link = []
+        for li in links:
+            lo, hi = Hd.indptr[li], Hd.indptr[li + 1]
+            m = [Fraction(0)] * G.shape[0]
+            for i, v in zip(Hd.indices[lo:hi], Hd.data[lo:hi]):
+                for k in range(G.shape[0]):
+                    if G[k, i]:
+                        key = (k, i)
+                        if key not in Gq:
+                            Gq[key] = Fraction(G[k, i])
+                        m[k] += Fraction(v) * Gq[key]
+            per_link.append(m)
+        for vert in verts:
+            rows.append([sum((a * pl[k] for a, pl in zip(vert, per_link)), Fraction(0))
+                         for k in range(G.shape[0])])
+    return rows
+
+
+def per_contact(rows, rays) -> list:
+    """``rows`` (one per ray, in order) split per contact."""
+    out, at = [], 0
+    for _, verts in rays:
+        out.append(rows[at:at + len(verts)])
+        at += len(verts)
+    return out
+
+
+def load_work(G, F) -> list:
+    """The work of the loads F (floats, read as rationals) in each rigid
+    motion of G: exact."""
+    nz = np.flatnonzero(F)
+    return [sum((Fraction(G[k, i]) * Fraction(F[i]) for i in nz if G[k, i]), Fraction(0))
+            for k in range(G.shape[0])]
+
+
+def solve_exact(A, rhs):
+    """x with A x = rhs (square, Fractions) by Gauss–Jordan; None if singular."""
+    n = len(A)
+    M = [list(row) + [r] for row, r in zip(A, rhs)]
+    for col in range(n):
+        piv = next((r for r in range(col, n) if M[r][col] != 0), None)
+        if piv is None:
+            return None
+        M[col], M[piv] = M[piv], M[col]
+        inv = 1 / M[col][col]
+        M[col] = [v * inv for v in M[col]]
+        for r in range(n):
+            if r != col and M[r][col] != 0:
+                f = M[r][col]
+                M[r] = [a - f * c for a, c in zip(M[r], M[col])]
+    return [M[r][n] for r in range(n)]
+
+
+def vertex_proof(frame, b, const, var, G, rays, motion):
+    """The LP's dual motion made exact: the rays it leaves at (nearly)
+    zero work are held at exactly zero, the variable loads' work at one,
+    and any parameters these leave free at the LP's values; the motion,
+    solved in rationals, must give every ray non-negative work exactly.
+    Then the loads' work (F_c + p F_v)·φ is positive for every p above
+    p_exact = −F_c·φ / F_v·φ, so no equilibrium exists there whatever the
+    members and pads: p_hi is the next float above p_exact.  Why: the LP's
+    optimum stands on rays that do no work in its motion (the pads that
+    stay put or slide exactly along a vertex), and in floats those come
+    out at ±1e-17 — a margin above p* then had to outweigh the LP's
+    tolerances (a table tipping about its far legs on inscribed polygons
+    was proved only 1e-6 above its limit).  None where the motion fails."""
+    import math
+
+    motion = np.asarray(motion, float)
+    A = ray_works(G, b, rays)
+    size = np.abs(A).max(axis=1) * np.abs(motion).max()
+    if not np.all(np.isfinite(motion)) or not size.max() > 0:
+        return None
+    active = np.flatnonzero(A @ motion <= 1e-7 * np.maximum(size, 1e-300))
+    npar = G.shape[0]
+    Fc = b["F"] @ contact_lcp.factors(b, const)
+    Fv = b["F"] @ contact_lcp.factors(b, var)
+    gv = G @ Fv
+    # independent active rows, and the normalisation, by QR with pivoting
+    import scipy.linalg
+
+    rows_f = np.vstack([A[active] / np.maximum(size[active, None], 1e-300),
+                        gv[None, :] / max(np.abs(gv).max(), 1e-300)])
+    _, R, piv = scipy.linalg.qr(rows_f.T, pivoting=True, mode="economic")
+    diag = np.abs(np.diag(R))
+    rank = int(np.sum(diag > 1e-9 * diag.max())) if diag.size else 0
+    chosen = [int(i) for i in piv[:rank]]
+    if len(active) not in chosen:        # the normalisation must be in the system
+        chosen = chosen[:rank - 1] + [len(active)] if rank == npar else chosen + [len(active)]
+    exact = exact_rows(G, b, rays)
+    wv = load_work(G, Fv)
+    system, rhs = [], []
+    for i in chosen:
+        if i == len(active):
+            system.append(wv)
+            rhs.append(Fraction(1))
+        else:
+            system.append(exact[active[i]])
+            rhs.append(Fraction(0))
+    # parameters left free: pinned at the LP's motion (normalised)
+    scale_v = float(gv @ motion)
+    if not scale_v > 0:
+        return None
+    basis = np.array([[float(x) for x in row] for row in system])
+    for k in np.argsort(-np.abs(motion)):
+        if len(system) >= npar:
+            break
+        trial = np.vstack([basis, np.eye(npar)[k]])
+        if np.linalg.matrix_rank(trial, tol=1e-9 * np.abs(trial).max()) == len(system) + 1:
+            unit = [Fraction(0)] * npar
+            unit[k] = Fraction(1)
+            system.append(unit)
+            rhs.append(Fraction(motion[k] / scale_v))
+            basis = trial
+    if len(system) != npar:
+        return None
+    c = solve_exact(system, rhs)
+    if c is None:
+        return None
+    per_ray_all = [sum((a * x for a, x in zip(row, c)), Fraction(0)) for row in exact]
+    worst = min(per_ray_all)
+    if worst < 0:
+        # an active ray dependent in floats on the others (the LP's basis)
+        # is not exactly so in rationals: lift the motion along the
+        # contacts' normals (every ray gains) by the least that restores it
+        normals = np.array([np.asarray(b["H"][:, links[0]].toarray()).ravel()
+                            for links, _ in rays])
+        lift, *_ = np.linalg.lstsq(G.T, normals.sum(axis=0), rcond=None)
+        lift = [Fraction(v) for v in lift]
+        gains = [sum((a * x for a, x in zip(row, lift)), Fraction(0)) for row in exact]
+        if not min(gains) > 0:
+            return None
+        delta = 2 * (-worst) / min(gains)
+        c = [x + delta * y for x, y in zip(c, lift)]
+        per_ray_all = [sum((a * x for a, x in zip(row, c)), Fraction(0)) for row in exact]
+        if min(per_ray_all) < 0:
+            return None
+    work_v = sum((a * x for a, x in zip(wv, c)), Fraction(0))
+    work_c = sum((a * x for a, x in zip(load_work(G, Fc), c)), Fraction(0))
+    if not work_v > 0:
+        return None
+    p_exact = -work_c / work_v
+    p_hi = math.nextafter(float(p_exact), math.inf)
+    while Fraction(p_hi) <= p_exact:
+        p_hi = math.nextafter(p_hi, math.inf)
+    cf = np.array([float(x) for x in c])
+    works = [[float(sum((a * x for a, x in zip(row, c)), Fraction(0))) for row in rows]
+             for rows in per_contact(exact, rays)]
+    proof = motion_words(frame, b, rays, G.T @ cf, works, c)
+    proof.update(p_hi=p_hi, work=work_c + Fraction(p_hi) * work_v, p_exact=p_exact)
+    return proof
