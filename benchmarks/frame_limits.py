@@ -42,7 +42,7 @@ import numpy as np
 from formulations.frames.space.space_family import (RACK_CASES, SKID_CASES, TABLE_CASES,
                                                      pipe_rack, skid, table)
 from formulations.frames.space.space_tower import space_tower
-from qpcontact.core.errors import NoSolutionError, SolverFailedError
+from qpcontact.core.errors import NoSolutionError, QpcontactError, SolverFailedError
 from tests.helpers.rigid_body_lp import static_limit
 
 FRACTIONS = (0.5, 0.9, 0.99, 0.999)
@@ -87,6 +87,10 @@ class Timeout(Exception):
     pass
 
 
+class Failed(Exception):
+    """The trace raised: its row is filled, the solves tried at the reference's fractions."""
+
+
 def alarm(signum, frame):
     raise Timeout()
 
@@ -100,6 +104,8 @@ def solve_word(fr, const, case, p):
         return "SFE"
     except NoSolutionError:
         return "NOSOL"
+    except QpcontactError:
+        return "ERR"
     return "ok" if res.ok else "CHECK"
 
 
@@ -110,7 +116,14 @@ def run_case(name, build, case, const, limit_s):
     signal.alarm(limit_s)
     row = dict(frame=name, case=case, ref=ref)
     try:
-        tr = fr.trace(constant=const, variable=case)
+        try:
+            tr = fr.trace(constant=const, variable=case)
+        except QpcontactError as exc:
+            row.update(ended=type(exc).__name__[:10], proof=False, lo=np.nan, hi=np.nan,
+                       width=np.nan, contains=False, below_lp=False, message=str(exc),
+                       trace_s=time.perf_counter() - start,
+                       solves=[solve_word(fr, const, case, f * ref) for f in FRACTIONS])
+            raise Failed() from exc
         row["trace_s"] = time.perf_counter() - start
         row["ended"] = tr.ended if tr.ok or tr.ended != "collapse" else "collapse?"
         row["proof"] = tr.limit is not None and tr.ok
@@ -123,6 +136,8 @@ def run_case(name, build, case, const, limit_s):
         row["below_lp"] = bool(tr.limit is not None and hi < ref - tol)
         base = lo if np.isfinite(lo) and lo > 0 else ref
         row["solves"] = [solve_word(fr, const, case, f * base) for f in FRACTIONS]
+    except Failed:
+        pass
     except Timeout:
         row.update(ended="timeout", proof=False, lo=np.nan, hi=np.nan, width=np.nan,
                    contains=False, below_lp=False, solves=["-"] * 4, message="",
@@ -168,7 +183,7 @@ def main():
     print()
     print(f"{'frame kind':<12} {'cases':>5} {'proof':>5} {'no proof':>8} {'bracket>1e-6':>12} "
           f"{'misses ref':>10} {'below LP':>8} {'CHECK':>5} {'SFE':>4} {'NOSOL':>5} "
-          f"{'wall_s':>7}")
+          f"{'ERR':>4} {'wall_s':>7}")
     groups = defaultdict(list)
     for r in rows:
         groups[r["frame"].split()[0]].append(r)
@@ -180,7 +195,7 @@ def main():
               f"{sum(r['proof'] and not r['width'] <= 1e-6 for r in rs):>12} "
               f"{sum(not r['contains'] and not r['below_lp'] for r in rs):>10} "
               f"{sum(r['below_lp'] for r in rs):>8} {solves.count('CHECK'):>5} "
-              f"{solves.count('SFE'):>4} {solves.count('NOSOL'):>5} "
+              f"{solves.count('SFE'):>4} {solves.count('NOSOL'):>5} {solves.count('ERR'):>4} "
               f"{sum(r['wall_s'] for r in rs):>7.1f}")
 
 

@@ -94,22 +94,24 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
             # 6e14, forward error 2.9); its end is checked just inside,
             # the collapse by the trace's proof
             hi = piece.p_start + (1.0 - 1e-3) * (hi - piece.p_start)
+        points = (piece.p_start, 0.5 * (piece.p_start + hi), hi)
         checks = [frame.kind.result_from_z(frame, piece.z(pp), ft.combination_at(pp), "trace",
                                            b=b, tol=tol)
-                  for pp in (piece.p_start, 0.5 * (piece.p_start + hi), hi)]
-        bad = [r for r in checks if not r.ok]
+                  for pp in points]
+        bad = [(pp, r) for pp, r in zip(points, checks) if not r.ok]
         if bad:
             if checks[0].ok:
                 # the piece reaches past what its checks accept (a degenerate
                 # vertex, or the frame's last equilibrium, computed on the
                 # rounded LCP): the path is certified up to where they still
-                # pass, found by bisection
-                last = last_certified(frame, b, ft, piece, checks, tol)
+                # pass, found by bisection (p read off the path, not off
+                # the result: a result names p only for the case "variable")
+                p_last, last = last_certified(frame, b, ft, piece, points, checks, tol)
                 key = {k_: v.state for k_, v in last.supports.items()}
-                if last.p > piece.p_start and runs and runs[-1][2] == key:
-                    runs[-1][1] = last.p
-                elif last.p > piece.p_start:
-                    runs.append([piece.p_start, last.p, key])
+                if p_last > piece.p_start and runs and runs[-1][2] == key:
+                    runs[-1][1] = p_last
+                elif p_last > piece.p_start:
+                    runs.append([piece.p_start, p_last, key])
             # the message names the piece, not the check point that failed
             ended, failed = "breakdown", (piece, bad[0])
             break
@@ -127,20 +129,21 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)
         ft.states.append(ft.result_at(0.5 * (lo + top)))
     wide = ended == "collapse" and (tr.proof["p_limit"] - tr.p_end
-                                    > BRACKET * abs(tr.proof["p_limit"]))
+                                    > TIGHT * abs(tr.proof["p_limit"]))
     # where the path stops short of a proof, or the LCP's Farkas proof
-    # stands further above its end than a bracket may, the rigid-body proof
-    # (a frame resting on its contacts alone) is tried just above the last
-    # certified equilibrium
+    # stands further above its end than TIGHT (its step beyond the last
+    # piece: 1e-6 on soft pads, the width a bracket may have at most), the
+    # rigid-body proof (a frame resting on its contacts alone) is tried just
+    # above the last certified equilibrium
     proved = (limit_proof(frame, b, ft, tr, fric)
               if ended not in ("p_max", "unbounded", "collapse") or wide else None)
     if proved:
         ended, failed = "collapse", None
         ft.message = proved
     elif failed is not None:
-        piece, bad = failed
+        piece, (p_bad, bad) = failed
         ft.message = (f"the piece from p = {piece.p_start:.10g} to {piece.p_end:.10g} failed "
-                      f"the frame's checks at p = {bad.p:.10g} ({bad.message}); the trace "
+                      f"the frame's checks at p = {p_bad:.10g} ({bad.message}); the trace "
                       f"stops at p = {ft.p_end:.10g}")
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
@@ -232,6 +235,10 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
 #: width is at most this
 BRACKET = 1e-6
 
+#: a Farkas proof from the path wider than this is tightened by the
+#: rigid-body proof where the frame rests on its contacts alone
+TIGHT = 1e-9
+
 
 def limit_proof(frame, b, ft, tr, fric):
     """The message of a proved rigid-body limit just above the last
@@ -270,11 +277,10 @@ def judged_start(frame, b, const, accuracy, tol):
     return np.maximum(sol.z, 0.0) if res.ok else None
 
 
-def last_certified(frame, b, ft, piece, checks, tol):
-    """The result at the largest p of ``piece`` whose checks pass (to 1e-12
+def last_certified(frame, b, ft, piece, points, checks, tol):
+    """(p, result) at the largest p of ``piece`` whose checks pass (to 1e-12
     of p), bisecting between its last passing check and its first failing
-    one."""
-    points = (piece.p_start, 0.5 * (piece.p_start + piece.p_end), piece.p_end)
+    one (``points``: where ``checks`` were made)."""
     good = max(i for i, r in enumerate(checks) if r.ok and all(c.ok for c in checks[:i + 1]))
     lo, hi, best = points[good], points[good + 1], checks[good]
     while hi - lo > 1e-12 * max(abs(hi), 1.0):
@@ -282,4 +288,4 @@ def last_certified(frame, b, ft, piece, checks, tol):
         r = frame.kind.result_from_z(frame, piece.z(mid), ft.combination_at(mid), "trace", b=b,
                                      tol=tol)
         lo, hi, best = (mid, hi, r) if r.ok else (lo, mid, best)
-    return best
+    return lo, best
