@@ -53,9 +53,18 @@ class JoinedTrace:
 
     def __init__(self, first):
         self.segments = [(0.0, first)]
+        #: per segment, where the path leaves it (None: at its end)
+        self.cuts = [None]
 
     def add(self, offset: float, trace) -> None:
         self.segments.append((offset, trace))
+        self.cuts.append(None)
+
+    def cut(self, p: float) -> None:
+        """The last segment is kept up to p only (the path restarts beyond
+        p from a certified equilibrium: its pieces after p failed the
+        frame's checks)."""
+        self.cuts[-1] = p
 
     @property
     def restarts(self) -> list:
@@ -69,7 +78,8 @@ class JoinedTrace:
     @property
     def pieces(self) -> list:
         return [p if off == 0.0 else ShiftedPiece(p, off)
-                for off, tr in self.segments for p in tr.pieces]
+                for (off, tr), cut in zip(self.segments, self.cuts) for p in tr.pieces
+                if cut is None or p.p_start + off < cut]
 
     @property
     def end(self) -> str:

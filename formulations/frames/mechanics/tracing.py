@@ -64,62 +64,36 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
                            p_max=upto, time_limit=None, start=start)
     tr = JoinedTrace(tr)
-    while tr.end in ("breakdown", "fold") and len(tr.segments) <= RESTARTS:
-        # stopped at a degenerate vertex (joined_trace): restart just beyond
-        # it from an equilibrium certified there, if there is one
-        p_next = tr.p_end * (1.0 + RESTART) + RESTART
-        if p_next >= upto:
-            break
-        at = {c: const.get(c, 0.0) + p_next * var.get(c, 0.0) for c in set(const) | set(var)}
-        start = judged_start(frame, b, at, accuracy, tol)
-        if start is None:
-            break
-        try:
-            more = solve_problem(ParametricLCP(M, qc + p_next * qv, qv), method="trace",
-                                 accuracy=accuracy, p_max=upto - p_next, time_limit=None,
-                                 start=start)
-        except QpcontactError:
-            break
-        tr.add(p_next, more)
+    path = dict(M=M, qc=qc, qv=qv, const=const, var=var, upto=upto, accuracy=accuracy, tol=tol)
+    follow(frame, b, tr, path)
     ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
                     ended=tr.end, message="", ok=False, trace=tr, frame=frame, _built=b,
                     constant=const, variable=var)
     runs = []        # [p_start, p_end, states]
-    ended, failed = tr.end, None
-    for k, piece in enumerate(tr.pieces):
-        hi = piece.p_end if np.isfinite(piece.p_end) else piece.p_start + max(1.0, piece.p_start)
-        if tr.end == "collapse" and k == len(tr.pieces) - 1:
-            # at the collapse load itself the active block turns singular
-            # and no digit of the state is guaranteed (the portal: condition
-            # 6e14, forward error 2.9); its end is checked just inside,
-            # the collapse by the trace's proof
-            hi = piece.p_start + (1.0 - 1e-3) * (hi - piece.p_start)
-        points = (piece.p_start, 0.5 * (piece.p_start + hi), hi)
-        checks = [frame.kind.result_from_z(frame, piece.z(pp), ft.combination_at(pp), "trace",
-                                           b=b, tol=tol)
-                  for pp in points]
-        bad = [(pp, r) for pp, r in zip(points, checks) if not r.ok]
-        if bad:
-            if checks[0].ok:
-                # the piece reaches past what its checks accept (a degenerate
-                # vertex, or the frame's last equilibrium, computed on the
-                # rounded LCP): the path is certified up to where they still
-                # pass, found by bisection (p read off the path, not off
-                # the result: a result names p only for the case "variable")
-                p_last, last = last_certified(frame, b, ft, piece, points, checks, tol)
-                key = {k_: v.state for k_, v in last.supports.items()}
-                if p_last > piece.p_start and runs and runs[-1][2] == key:
-                    runs[-1][1] = p_last
-                elif p_last > piece.p_start:
-                    runs.append([piece.p_start, p_last, key])
-            # the message names the piece, not the check point that failed
-            ended, failed = "breakdown", (piece, bad[0])
+    checked = 0      # pieces of tr checked so far
+    while True:
+        ended, failed, p_last = tr.end, None, None
+        pieces = tr.pieces
+        for k in range(checked, len(pieces)):
+            piece = pieces[k]
+            failed, p_last = check_piece(frame, b, ft, tr, piece, k == len(pieces) - 1, runs,
+                                         tol)
+            if failed is not None:
+                ended = "breakdown"
+                break
+            checked = k + 1
+        if failed is None:
             break
-        key = {k: v.state for k, v in checks[1].supports.items()}
-        if runs and runs[-1][2] == key:
-            runs[-1][1] = piece.p_end
-        else:
-            runs.append([piece.p_start, piece.p_end, key])
+        # a piece that fails the frame's checks (its end computed on the
+        # rounded LCP, a degenerate vertex the engine passed): the path
+        # restarts just beyond its last certified point, as beyond a
+        # degenerate vertex, from an equilibrium certified there
+        if not restart(frame, b, tr, path, p_last, cut=True):
+            break
+        # the pieces before the restart are checked (the one cut at p_last
+        # certified up to it): checking goes on with the new segment's
+        checked = len(tr.pieces) - len(tr.last[1].pieces)
+        follow(frame, b, tr, path)
     ft.intervals = [(r[0], r[1]) for r in runs]
     ft.events = [FrameEvent(r1[0], {k: (r0[2][k], r1[2][k]) for k in r1[2]
                                     if r0[2][k] != r1[2][k]})
@@ -181,6 +155,85 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     ft.ok = bool((tr.ok or ft.limit is not None) and failed is None)
     ft.message += f"; {len(ft.events)} change(s) of the working scheme"
     return ft
+
+
+
+def follow(frame, b, tr, path) -> None:
+    """Restart ``tr`` beyond each degenerate vertex where it stopped
+    (joined_trace), while an equilibrium certified just beyond continues it."""
+    while tr.end in ("breakdown", "fold") and len(tr.segments) <= RESTARTS:
+        if not restart(frame, b, tr, path, tr.p_end):
+            break
+
+
+def restart(frame, b, tr, path, p_from, cut=False) -> bool:
+    """Trace on from p_from (1 + RESTART) + RESTART, from Lemke's point
+    there judged an equilibrium by the frame (its states refined); with
+    ``cut`` the path so far is kept only up to p_from.  False where there
+    is no such point or no trace from it."""
+    if len(tr.segments) > RESTARTS:
+        return False
+    p_next = p_from * (1.0 + RESTART) + RESTART
+    const, var = path["const"], path["var"]
+    if p_next >= path["upto"]:
+        return False
+    at = {c: const.get(c, 0.0) + p_next * var.get(c, 0.0) for c in set(const) | set(var)}
+    start = judged_start(frame, b, at, path["accuracy"], path["tol"])
+    if start is None:
+        return False
+    try:
+        more = solve_problem(ParametricLCP(path["M"], path["qc"] + p_next * path["qv"],
+                                           path["qv"]),
+                             method="trace", accuracy=path["accuracy"],
+                             p_max=path["upto"] - p_next, time_limit=None, start=start)
+    except QpcontactError:
+        return False
+    if cut:
+        tr.cut(p_from)
+    tr.add(p_next, more)
+    return True
+
+
+def check_piece(frame, b, ft, tr, piece, last, runs, tol):
+    """Check one piece like a single solve (at its start, middle and end)
+    and extend ``runs`` ([p_start, p_end, states]) with what passes;
+    (None, None) where it all passes, else ((piece, (p, failing result)),
+    the last certified p)."""
+    hi = piece.p_end if np.isfinite(piece.p_end) else piece.p_start + max(1.0, piece.p_start)
+    if tr.end == "collapse" and last:
+        # at the collapse load itself the active block turns singular
+        # and no digit of the state is guaranteed (the portal: condition
+        # 6e14, forward error 2.9); its end is checked just inside,
+        # the collapse by the trace's proof
+        hi = piece.p_start + (1.0 - 1e-3) * (hi - piece.p_start)
+    points = (piece.p_start, 0.5 * (piece.p_start + hi), hi)
+    checks = [frame.kind.result_from_z(frame, piece.z(pp), ft.combination_at(pp), "trace",
+                                       b=b, tol=tol)
+              for pp in points]
+    bad = [(pp, r) for pp, r in zip(points, checks) if not r.ok]
+    if bad:
+        p_last = runs[-1][1] if runs else piece.p_start
+        if checks[0].ok:
+            # the piece reaches past what its checks accept (a degenerate
+            # vertex, or the frame's last equilibrium, computed on the
+            # rounded LCP): the path is certified up to where they still
+            # pass, found by bisection (p read off the path, not off the
+            # result: a result names p only for the case "variable")
+            p_last, last_ok = last_certified(frame, b, ft, piece, points, checks, tol)
+            key = {k_: v.state for k_, v in last_ok.supports.items()}
+            if p_last > piece.p_start and runs and runs[-1][2] == key:
+                runs[-1][1] = p_last
+            elif p_last > piece.p_start:
+                runs.append([piece.p_start, p_last, key])
+            p_last = max(p_last, piece.p_start)
+        # the message names the piece, not the check point that failed
+        return (piece, bad[0]), p_last
+    key = {k_: v.state for k_, v in checks[1].supports.items()}
+    if runs and runs[-1][2] == key:
+        runs[-1][1] = piece.p_end
+    else:
+        runs.append([piece.p_start, piece.p_end, key])
+    return None, None
 
 
 def trace_to(frame, b, combo, lcp, accuracy, tol):
