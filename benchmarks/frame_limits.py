@@ -18,10 +18,12 @@ on an overhang; a skid pushed through its centre and at a corner; a pipe
 rack on six elastic pads under D + p U (a corner uplift); a 10-storey tower
 on 16 pads under D + p W.
 
-Where the LP's limit lies above the bracket and the bracket is a proof
-from the load path (non-associated friction: the path ends before the
-rigid body's statics would), the row says "below LP" — the reference is
-then an upper bound, not the limit.
+Where the trace ends "bounded" (the path stops unproved below the rigid
+body's proved limit: non-associated friction) the bracket shown is that
+bound [last certified equilibrium, proof]; where a proved bracket lies
+below the LP's limit (the path ends before the rigid body's statics
+would), the row says "below LP": the reference is then an upper bound,
+not the limit.
 
     .venv/bin/python benchmarks/frame_limits.py            # the family
     .venv/bin/python benchmarks/frame_limits.py --quick    # a small subset
@@ -119,7 +121,8 @@ def run_case(name, build, case, const, limit_s):
         try:
             tr = fr.trace(constant=const, variable=case)
         except QpcontactError as exc:
-            row.update(ended=type(exc).__name__[:10], proof=False, lo=np.nan, hi=np.nan,
+            row.update(ended=type(exc).__name__[:10], proof=False, bounded=False, lo=np.nan,
+                       hi=np.nan,
                        width=np.nan, contains=False, below_lp=False, message=str(exc),
                        trace_s=time.perf_counter() - start,
                        solves=[solve_word(fr, const, case, f * ref) for f in FRACTIONS])
@@ -128,9 +131,12 @@ def run_case(name, build, case, const, limit_s):
         row["ended"] = tr.ended if tr.ok or tr.ended != "collapse" else "collapse?"
         row["proof"] = tr.limit is not None and tr.ok
         row["message"] = tr.message
-        lo, hi = tr.limit if tr.limit is not None else (tr.p_end, np.nan)
+        bound = getattr(tr, "bound", None)
+        lo, hi = (tr.limit if tr.limit is not None else bound if bound is not None
+                  else (tr.p_end, np.nan))
         row["lo"], row["hi"] = lo, hi
-        row["width"] = (hi - lo) / abs(hi) if tr.limit is not None else np.nan
+        row["bounded"] = tr.limit is None and bound is not None
+        row["width"] = (hi - lo) / abs(hi) if np.isfinite(hi) else np.nan
         tol = 1e-9 * max(abs(ref), 1.0)
         row["contains"] = bool(tr.limit is not None and lo - tol <= ref <= hi + tol)
         row["below_lp"] = bool(tr.limit is not None and hi < ref - tol)
@@ -139,7 +145,8 @@ def run_case(name, build, case, const, limit_s):
     except Failed:
         pass
     except Timeout:
-        row.update(ended="timeout", proof=False, lo=np.nan, hi=np.nan, width=np.nan,
+        row.update(ended="timeout", proof=False, bounded=False, lo=np.nan, hi=np.nan,
+                   width=np.nan,
                    contains=False, below_lp=False, solves=["-"] * 4, message="",
                    trace_s=float(limit_s))
     finally:
@@ -181,7 +188,8 @@ def main():
             if args.messages:
                 print("    ", row["message"][:400], flush=True)
     print()
-    print(f"{'frame kind':<12} {'cases':>5} {'proof':>5} {'no proof':>8} {'bracket>1e-6':>12} "
+    print(f"{'frame kind':<12} {'cases':>5} {'proof':>5} {'bounded':>7} {'no proof':>8} "
+          f"{'bracket>1e-6':>12} "
           f"{'misses ref':>10} {'below LP':>8} {'CHECK':>5} {'SFE':>4} {'NOSOL':>5} "
           f"{'ERR':>4} {'wall_s':>7}")
     groups = defaultdict(list)
@@ -191,7 +199,8 @@ def main():
     for kind, rs in groups.items():
         solves = [s for r in rs for s in r["solves"]]
         print(f"{kind:<12} {len(rs):>5} {sum(r['proof'] for r in rs):>5} "
-              f"{sum(not r['proof'] for r in rs):>8} "
+              f"{sum(r.get('bounded', False) for r in rs):>7} "
+              f"{sum(not r['proof'] and not r.get('bounded', False) for r in rs):>8} "
               f"{sum(r['proof'] and not r['width'] <= 1e-6 for r in rs):>12} "
               f"{sum(not r['contains'] and not r['below_lp'] for r in rs):>10} "
               f"{sum(r['below_lp'] for r in rs):>8} {solves.count('CHECK'):>5} "

@@ -135,7 +135,9 @@ class FrameTrace:
     middle of each); ``ended``: why the trace stopped — "p_max" (reached),
     "unbounded" (no support changes state again, p_max = inf), "collapse"
     (no equilibrium exists beyond the end: proved, and ``message`` says how
-    the frame fails), "fold" (equilibria may exist beyond but none continues
+    the frame fails), "bounded" (the path stops unproved below a proved
+    upper bound, ``bound``: the message says where it stands and how the
+    frame moves there), "fold" (equilibria may exist beyond but none continues
     this path), "breakdown", "max_pieces" (see docs/frames.md); ``ok`` is True
     when every traced piece passed the LCP certificate and the equilibrium
     check at its start, middle and end, and the ending is proved.
@@ -158,6 +160,11 @@ class FrameTrace:
     #: (p_lo, p_hi) where the path ends at a limit: p_lo the last certified
     #: equilibrium on it, p_hi a proof that none exists at or beyond it
     limit: tuple | None = None
+    #: (p_lo, p_hi) where the path stops short of a proved limit (ended
+    #: "bounded"): p_lo its last certified equilibrium, p_hi a proof that
+    #: none exists at or beyond it, the gap between them unresolved
+    bound: tuple | None = None
+    bound_words: str = field(repr=False, default="")
 
     @property
     def p_end(self) -> float:

@@ -146,6 +146,20 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                       "carries any larger load in its last working scheme")
     else:
         ft.message = tr.message
+    if ft.bound is not None and ft.limit is None:
+        # the path stops unproved below a proved rigid-body bound (Coulomb's
+        # law is non-associated: the load path need not reach the load the
+        # rigid body's statics allow): say exactly what is known
+        ended = "bounded"
+        lo, hi = ft.bound
+        ft.message = (f"the load path is certified up to p = {lo:.10g}, where "
+                      f"{state_words(frame, ft.result_at(lo))}; no equilibrium exists for "
+                      f"p >= {hi:.10g} ({(hi - lo) / abs(hi):.1e} above): {ft.bound_words} "
+                      "(proved by a rigid motion of the whole frame checked in rational "
+                      "arithmetic); between them no equilibrium continuing the path was "
+                      "found and none was proved impossible — Coulomb's law is "
+                      "non-associated, so the path may end below the rigid body's limit "
+                      f"(where the path stopped: {ft.message})")
     if tr.restarts:
         ft.message += (f"; restarted beyond degenerate vertices at p = "
                        + ", ".join(f"{p:.10g}" for p in tr.restarts)
@@ -309,12 +323,31 @@ def limit_proof(frame, b, ft, tr, fric):
     words = motion_words(frame, proof["opening"], proof["sliding"], carrying) + proof["turn"]
     width = (p_hi - p_lo) / max(abs(p_hi), 1e-300)
     if width > BRACKET:
+        # not the limit, but a proved bound above the path's end
+        ft.bound, ft.bound_words = (float(p_lo), float(p_hi)), words
         return None
     ft.limit = (float(p_lo), float(p_hi))
     return (f"no equilibrium exists for p >= {p_hi:.12g} (the last one on the path is at "
             f"p = {p_lo:.12g}, {width:.1e} below): {words} (proved by a rigid motion of the "
             f"whole frame in which the loads do positive work and no contact force the "
             f"friction polygons allow resists, checked in rational arithmetic)")
+
+
+def state_words(frame, res) -> str:
+    """How the frame stands in ``res``: which contacts slip (and along
+    which direction), stick, or have lifted off."""
+    by = {}
+    for ci, (key, v) in enumerate(res.supports.items()):
+        slip = np.atleast_1d(np.asarray(getattr(v, "slip", 0.0), float))
+        if v.state.startswith("slip") and slip.size == 2 and np.any(slip):
+            word = f"{key} slips {frame.kind.slide_words(frame, ci, slip)}"
+            by.setdefault("slip", []).append(word)
+        else:
+            by.setdefault(v.state, []).append(str(key))
+    names = {"separated": "lifted off", "closed": "closed", "stick": "stick"}
+    parts = [", ".join(by.pop("slip"))] if "slip" in by else []
+    parts += [f"{', '.join(v)} {names.get(k, k)}" for k, v in by.items()]
+    return "; ".join(parts)
 
 
 def judged_start(frame, b, const, accuracy, tol):
