@@ -51,6 +51,10 @@ from . import contact_lcp
 #: relative steps above the LP's limit at which a proof is tried
 MARGINS = (1e-10, 1e-9, 1e-8, 1e-7)
 
+#: a last certified equilibrium (to the checks' tolerance) may lie this far
+#: above the exact limit of the proof's motion: rounding, not a contradiction
+ABOVE = 1e-9
+
 
 def rigid_motions(frame, b):
     """G (params x dofs): the whole frame's rigid motions, exact in floats
@@ -310,6 +314,14 @@ def limit_bracket(frame, b, const, var, p_lo):
     p_star, motion = found
     if motion is not None:
         proof = vertex_proof(frame, b, const, var, G, rays, motion)
+        if proof is not None and proof["p_hi"] <= p_lo <= proof["p_exact"] * (1 + ABOVE):
+            # the last equilibrium, certified to the checks' tolerance, lies
+            # a rounding above the exact limit: the proof holds for every p
+            # above p_exact, so just above p_lo too
+            import math
+
+            proof["p_hi"] = math.nextafter(p_lo, math.inf)
+            proof["work"] = proof["work_c"] + Fraction(proof["p_hi"]) * proof["work_v"]
         if proof is not None and proof["p_hi"] > p_lo:
             return proof["p_hi"], proof
     base = max(p_star, p_lo)
@@ -478,5 +490,6 @@ def vertex_proof(frame, b, const, var, G, rays, motion):
     works = [[float(sum((a * x for a, x in zip(row, c)), Fraction(0))) for row in rows]
              for rows in per_contact(exact, rays)]
     proof = motion_words(frame, b, rays, G.T @ cf, works, c)
-    proof.update(p_hi=p_hi, work=work_c + Fraction(p_hi) * work_v, p_exact=p_exact)
+    proof.update(p_hi=p_hi, work=work_c + Fraction(p_hi) * work_v, p_exact=p_exact,
+                 work_c=work_c, work_v=work_v)
     return proof

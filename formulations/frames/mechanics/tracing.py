@@ -102,15 +102,16 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     for lo, hi in ft.intervals:
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)
         ft.states.append(ft.result_at(0.5 * (lo + top)))
-    wide = ended == "collapse" and (tr.proof["p_limit"] - tr.p_end
-                                    > TIGHT * abs(tr.proof["p_limit"]))
-    # where the path stops short of a proof, or the LCP's Farkas proof
-    # stands further above its end than TIGHT (its step beyond the last
-    # piece: 1e-6 on soft pads, the width a bracket may have at most), the
-    # rigid-body proof (a frame resting on its contacts alone) is tried just
-    # above the last certified equilibrium
+    # where the path stops short of a proof, or ends in the LCP's Farkas
+    # proof, the rigid-body proof (a frame resting on its contacts alone)
+    # is tried just above the last certified equilibrium, and preferred
+    # where its bracket is narrow enough: it is exact on the model as
+    # stored, while the Farkas vector is checked on the LCP's data, whose R
+    # carries the basic system's rounding (a table on soft pads: "no
+    # equilibrium for p >= 26.66666663", 1.4e-9 below the load at which
+    # statics lets it tip, 26.6666667)
     proved = (limit_proof(frame, b, ft, tr, fric)
-              if ended not in ("p_max", "unbounded", "collapse") or wide else None)
+              if ended not in ("p_max", "unbounded") else None)
     if proved:
         ended, failed = "collapse", None
         ft.message = proved
@@ -146,7 +147,9 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                       "carries any larger load in its last working scheme")
     else:
         ft.message = tr.message
-    if ft.bound is not None and ft.limit is None:
+    if ft.limit is not None:
+        ft.bound = None
+    if ft.bound is not None:
         # the path stops unproved below a proved rigid-body bound (Coulomb's
         # law is non-associated: the load path need not reach the load the
         # rigid body's statics allow): say exactly what is known
@@ -301,10 +304,6 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
 #: a limit's bracket [p_lo, p_hi] is called the limit where its relative
 #: width is at most this
 BRACKET = 1e-6
-
-#: a Farkas proof from the path wider than this is tightened by the
-#: rigid-body proof where the frame rests on its contacts alone
-TIGHT = 1e-9
 
 
 def limit_proof(frame, b, ft, tr, fric):
