@@ -72,6 +72,17 @@ class JoinedTrace:
         return [off for off, _ in self.segments[1:]]
 
     @property
+    def gaps(self) -> list:
+        """(where the path left a segment, where the next one starts): the
+        stretches not traced."""
+        out = []
+        for k in range(1, len(self.segments)):
+            off, tr = self.segments[k - 1]
+            left = self.cuts[k - 1] if self.cuts[k - 1] is not None else tr.p_end + off
+            out.append((left, self.segments[k][0]))
+        return out
+
+    @property
     def last(self):
         return self.segments[-1]
 

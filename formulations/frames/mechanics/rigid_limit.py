@@ -58,10 +58,21 @@ ABOVE = 1e-9
 
 def rigid_motions(frame, b):
     """G (params x dofs): the whole frame's rigid motions, exact in floats
-    (entries 0, ±1 and the nodes' coordinates); None where the frame is
-    held by bilateral supports or springs, or its nodes' axes are turned."""
-    if b["fixed"].any() or np.any(b["springs"]) or b.get("Tn") is not None:
+    (entries 0, ±1 and the nodes' coordinates); a motion that moves a dof
+    held by a bilateral support or a spring has its row zeroed (a planar
+    frame built in space, held out of its plane, keeps the plane's three
+    motions); None where no motion is left, or the nodes' axes are turned."""
+    if b.get("Tn") is not None:
         return None
+    G = all_rigid_motions(frame, b)
+    held = np.asarray(b["fixed"], bool) | (np.asarray(b["springs"]) != 0)
+    if held.any():
+        G[np.any(G[:, held] != 0, axis=1)] = 0.0
+    return G if np.any(G) else None
+
+
+def all_rigid_motions(frame, b):
+    """G of :func:`rigid_motions` before the held dofs are considered."""
     names = b["names"]
     xyz = np.array([frame.nodes[n] for n in names], float)
     nd = len(frame.DOFS)
@@ -196,7 +207,7 @@ def prove_beyond(frame, b, const, var, p, G=None, rays=None):
                   method="highs")
     if res.status != 0:
         return None
-    return exact_check(frame, b, G, F, rays, res.x / col)
+    return exact_check(frame, b, G, F, rays, np.where(np.any(G != 0, axis=1), res.x / col, 0.0))
 
 
 def exact_check(frame, b, G, F, rays, c):
@@ -259,11 +270,16 @@ def motion_words(frame, b, rays, phi, per_ray, c) -> dict:
     about (floats: ``phi`` the nodes' motion, ``per_ray`` each contact's
     rays' works)."""
     Hd = sp.csc_matrix(b["H"])
+    pos = contact_lcp.layout(b)
     opening, sliding = [], []
     size = float(np.abs(phi).max(initial=0.0)) or 1.0
     for ci, ((links, _), ws) in enumerate(zip(rays, per_ray)):
         m = [float((Hd[:, [li]].T @ phi)[0]) for li in links]
-        s = m[1:] + [0.0] * (2 - len(m[1:]))
+        # the slip in the contact's tangents: (t1, t2) in space — one of
+        # them absent where a bilateral support holds it — or (t,) in a plane
+        kinds = [k for k in ("t1", "t2") if k in pos[ci]]
+        s = ([m[1 + kinds.index(k)] if k in kinds else 0.0 for k in ("t1", "t2")]
+             if kinds else m[1:] + [0.0] * (2 - len(m[1:])))
         # a contact whose tightest ray does no work slides on its polygon
         # (or stays): its opening read as Coulomb's f|s| for the words
         tight = float(min(ws)) <= 1e-9 * size
@@ -440,12 +456,14 @@ def vertex_proof(frame, b, const, var, G, rays, motion):
         else:
             system.append(exact[active[i]])
             rhs.append(Fraction(0))
-    # parameters left free: pinned at the LP's motion (normalised)
+    # parameters left free: pinned at the LP's motion (normalised); those of
+    # held motions (zero rows of G) at zero
     scale_v = float(gv @ motion)
     if not scale_v > 0:
         return None
+    motion = np.where(np.any(G != 0, axis=1), motion, 0.0)
     basis = np.array([[float(x) for x in row] for row in system])
-    for k in np.argsort(-np.abs(motion)):
+    for k in sorted(range(npar), key=lambda k: (np.any(G[k] != 0), -abs(motion[k]))):
         if len(system) >= npar:
             break
         trial = np.vstack([basis, np.eye(npar)[k]])

@@ -105,11 +105,11 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     # where the path stops short of a proof, or ends in the LCP's Farkas
     # proof, the rigid-body proof (a frame resting on its contacts alone)
     # is tried just above the last certified equilibrium, and preferred
-    # where its bracket is narrow enough: it is exact on the model as
-    # stored, while the Farkas vector is checked on the LCP's data, whose R
-    # carries the basic system's rounding (a table on soft pads: "no
-    # equilibrium for p >= 26.66666663", 1.4e-9 below the load at which
-    # statics lets it tip, 26.6666667)
+    # where its bracket is narrow enough: it is exact on the model as stored, while
+    # the Farkas vector is checked on the LCP's data, whose R carries the
+    # basic system's rounding (a table on soft pads: "no equilibrium for
+    # p >= 26.66666663", 1.4e-9 below the load at which statics lets it
+    # tip, 26.6666667)
     proved = (limit_proof(frame, b, ft, tr, fric)
               if ended not in ("p_max", "unbounded") else None)
     if proved:
@@ -135,13 +135,6 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
                       f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
                       f"the data{bound})")
-        if ft.intervals:
-            # how far the frame has gone by then: a collapse load read off a
-            # frame that sways metres is a small-displacement idealisation
-            lo, hi = ft.intervals[-1]
-            near = lo + (1.0 - 1e-3) * (hi - lo)
-            far = how_far(frame, ft.result_at(near)._u, always=True)[2]
-            ft.message += f"; just before it (p = {near:.6g}) {far}"
     elif ended == "unbounded":
         ft.message = (f"no support changes state for p >= {tr.proof['from']:g}: the frame "
                       "carries any larger load in its last working scheme")
@@ -149,6 +142,13 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = tr.message
     if ft.limit is not None:
         ft.bound = None
+        if ft.intervals:
+            # how far the frame has gone by then: a collapse load read off a
+            # frame that sways metres is a small-displacement idealisation
+            lo, hi = ft.intervals[-1]
+            near = lo + (1.0 - 1e-3) * (hi - lo)
+            far = how_far(frame, ft.result_at(near)._u, always=True)[2]
+            ft.message += f"; just before it (p = {near:.6g}) {far}"
     if ft.bound is not None:
         # the path stops unproved below a proved rigid-body bound (Coulomb's
         # law is non-associated: the load path need not reach the load the
@@ -166,8 +166,10 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     if tr.restarts:
         ft.message += (f"; restarted beyond degenerate vertices at p = "
                        + ", ".join(f"{p:.10g}" for p in tr.restarts)
-                       + f" (each from an equilibrium certified there; the {RESTART:g} "
-                       "of p before each is not traced)")
+                       + " (each from an equilibrium certified there, "
+                       + ", ".join(f"{(p1 - p0) / max(abs(p0), 1.0):.0e}"
+                                   for p0, p1 in tr.gaps)
+                       + " of p before each not traced)")
     ft.ended = ended
     ft.ok = bool((tr.ok or ft.limit is not None) and failed is None)
     ft.message += f"; {len(ft.events)} change(s) of the working scheme"
@@ -190,25 +192,36 @@ def restart(frame, b, tr, path, p_from, cut=False) -> bool:
     is no such point or no trace from it."""
     if len(tr.segments) > RESTARTS:
         return False
-    p_next = p_from * (1.0 + RESTART) + RESTART
     const, var = path["const"], path["var"]
-    if p_next >= path["upto"]:
-        return False
-    at = {c: const.get(c, 0.0) + p_next * var.get(c, 0.0) for c in set(const) | set(var)}
-    start = judged_start(frame, b, at, path["accuracy"], path["tol"])
-    if start is None:
-        return False
-    try:
-        more = solve_problem(ParametricLCP(path["M"], path["qc"] + p_next * path["qv"],
-                                           path["qv"]),
-                             method="trace", accuracy=path["accuracy"],
-                             p_max=path["upto"] - p_next, time_limit=None, start=start)
-    except QpcontactError:
-        return False
-    if cut:
-        tr.cut(p_from)
-    tr.add(p_next, more)
-    return True
+    # just beyond, else a little further: Lemke at a fixed load can end on
+    # a secondary ray right at the vertex and find the equilibrium a step on
+    # (a pipe rack on inscribed polygons stopped at 43.29, though Lemke
+    # certifies equilibria at 43.3 … 49: judged starts failed up to 1e-4
+    # beyond the stop and held 1e-3 beyond; its limit is 50.09)
+    for step in RESTART_STEPS:
+        p_next = p_from * (1.0 + step) + step
+        if p_next >= path["upto"]:
+            return False
+        at = {c: const.get(c, 0.0) + p_next * var.get(c, 0.0) for c in set(const) | set(var)}
+        start = judged_start(frame, b, at, path["accuracy"], path["tol"])
+        if start is None:
+            continue
+        try:
+            more = solve_problem(ParametricLCP(path["M"], path["qc"] + p_next * path["qv"],
+                                               path["qv"]),
+                                 method="trace", accuracy=path["accuracy"],
+                                 p_max=path["upto"] - p_next, time_limit=None, start=start)
+        except QpcontactError:
+            continue
+        if cut:
+            tr.cut(p_from)
+        tr.add(p_next, more)
+        return True
+    return False
+
+
+#: the relative steps beyond a stop at which the path restarts, in turn
+RESTART_STEPS = (RESTART, 1e-6, 1e-4, 1e-3)
 
 
 def check_piece(frame, b, ft, tr, piece, last, runs, tol):
@@ -270,7 +283,32 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
     if set(combo) <= {CONSTANT, VARIABLE} and combo.get(VARIABLE, 0.0) > 0:
         paths.append(({CONSTANT: combo.get(CONSTANT, 0.0)}, {VARIABLE: 1.0},
                       combo[VARIABLE], "constant, then p x variable"))
+    elif combo.get(CONSTANT, 0.0) > 0 and len(combo) > 1:
+        paths.append(({CONSTANT: combo[CONSTANT]},
+                      {c: f for c, f in combo.items() if c != CONSTANT}, 1.0,
+                      "constant, then the other loads in proportion"))
     paths.append(({}, dict(combo), 1.0, "every load in proportion from zero"))
+    found = engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths)
+    if found is not None or not paths[0][0]:
+        return found
+    # the frame's own trace of the first path: it restarts beyond degenerate
+    # vertices and beyond pieces that fail its checks, where the engine's
+    # path stops (a pipe rack on six pads: Lemke ended on secondary rays at
+    # 90 and 99 % of the limit that the frame's trace proved)
+    const, var, target, words = paths[0]
+    try:
+        ft = trace(frame, target, accuracy, constant=const, variable=var)
+    except QpcontactError:
+        return None
+    if ft.ended == "p_max" and ft.ok:
+        z = ft.trace.z_at(target)
+        if certify_lcp(lcp, z).ok(tol):
+            return z, f"trace ({words}, restarted; Lemke at the fixed load proved nothing)"
+    return None
+
+
+def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths):
+    """:func:`trace_to` along each of ``paths`` by the engine's trace alone."""
     for const, var, target, words in paths:
         qc, _ = contact_lcp.combination_q(Q, q_gap, b, const)
         qv, _ = contact_lcp.combination_q(Q, np.zeros_like(q_gap), b, var)

@@ -155,10 +155,12 @@ def _same_answers(plane, space, r2, r3):
 
 def _words(message):
     """A trace's collapse words without the parenthesised details (the slip
-    directions are written (+t) in the plane, (along (x, y, z)) in space)."""
+    directions are written (+t) in the plane, (along (x, y, z)) in space)
+    and without the axis a rigid proof's motion turns about (a point in the
+    plane, an axis in space)."""
     while "(" in message:
         message = re.sub(r" ?\([^()]*\)", "", message)
-    return message.split("; just before")[0]
+    return message.split("; just before")[0].split("; the proof's motion turns")[0]
 
 
 @pytest.mark.parametrize("model", [_continuous_beam, _portal, _ladder])
