@@ -127,6 +127,27 @@ def test_a_corner_push_says_what_is_known_where_the_path_stops_below_the_lp():
     assert "no equilibrium exists for p >= 10.32273" in tr.message
 
 
+@pytest.mark.parametrize("polygon", ["inscribed", "circumscribed"])
+def test_a_pipe_rack_under_uplift_is_solved_below_its_limit(polygon):
+    """Lemke at the fixed load can end on a secondary ray (the rack at 90 and
+    99 % of its limit raised SolverFailedError); the load path — the pipes'
+    weight first, then the uplift — reaches it.  By hand: the pads carry the
+    pipes (6 kN/m on two 12 m lines) less the uplift, and the sideways 0.2 p
+    by friction."""
+    fr = pipe_rack(polygon=polygon)
+    ref = static_limit(fr, CONST, {"uplift": 1.0})
+    for f in (0.5, 0.9, 0.99):
+        p = f * ref
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = fr.solve(combination={"constant": 1.0, "uplift": p})
+        assert res.ok, res.message
+        forces = sum(v.normal for v in res.supports.values())
+        assert forces == pytest.approx(2 * 12.0 * 6.0 - p, rel=1e-9)
+        fy = sum(v.tangential_global[1] for v in res.supports.values())
+        assert fy == pytest.approx(-0.2 * p, rel=1e-9)
+
+
 def test_a_beam_on_two_pads_is_still_a_mechanism():
     """The scaled pivots still see a true mechanism: a beam on two point
     pads turns freely about its own axis."""
