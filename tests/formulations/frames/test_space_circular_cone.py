@@ -223,7 +223,7 @@ def test_a_frame_on_nine_pads_faceted_and_circular():
     p = 5.0
     circ = bays_on_pads(2).solve(p)
     assert circ.ok, circ.message
-    assert circ.route == "circular cone (desaxce-global)"
+    assert circ.route.startswith("circular cone")
     _bays_statics(circ, p)
     assert sorted(s.state for s in circ.supports.values()).count("slip") == 3
     big = max(np.linalg.norm(s.tangential) for s in circ.supports.values())
