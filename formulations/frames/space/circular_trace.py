@@ -81,8 +81,11 @@ class CircularTrace(FrameTrace):
         known = self.trace.results.get(p)
         if known is not None:
             return known
-        res = self.frame.solve(combination=self.combination_at(p), accuracy=self.accuracy,
-                               _built=self._built)
+        with warnings.catch_warnings():
+            # how far the frame has moved is in the trace's message
+            warnings.simplefilter("ignore", LargeDisplacementWarning)
+            res = self.frame.solve(combination=self.combination_at(p), accuracy=self.accuracy,
+                                   _built=self._built)
         res.p = p
         return res
 
@@ -183,6 +186,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
         if ft.limit is not None:
             runs[-1][1] = ft.limit[0]
     ft.intervals = [(a, b_) for a, b_, _ in runs]
+    path.top = ft.intervals[-1][1]          # the plot ends at the last certified answer
     ft.events = events
     ft.breakpoints = np.array([ev.p for ev in events])
     ft.states = [ft.result_at(0.5 * (a + b_)) for a, b_ in ft.intervals]
