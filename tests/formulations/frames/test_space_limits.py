@@ -86,7 +86,7 @@ def assert_bracket(tr, value):
     assert (hi - lo) / hi <= 1e-6, tr.limit
 
 
-@pytest.mark.parametrize("ratio", [1.0, 1e2, 1e4, 1e8])
+@pytest.mark.parametrize("ratio", [pytest.param(1.0, marks=pytest.mark.slow), 1e2, 1e4, 1e8])
 @pytest.mark.parametrize("cone", CONES)
 def test_a_table_pushed_at_its_centre_slides_at_mu_W(ratio, cone):
     """At ratio 1 (a deck as slender as its legs, rigid pads) the polygons'
