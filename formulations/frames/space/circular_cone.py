@@ -104,7 +104,7 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
         # first the faceted cone's exact answer (Lemke on the circumscribed
         # polygon) carried to the circle by the active set: on the 16-pad
         # tower 2 s, where De Saxcé's SOCPs take 15 s
-        tried = _from_polygon(frame, prob, b, combo, accuracy, tol)
+        tried = from_polygon(frame, prob, b, combo, accuracy, tol)
         if tried is not None and tried.ok:
             return tried
     sol = solve(prob, method=method, accuracy=accuracy, **options)
@@ -120,7 +120,7 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
         res = circular_result(frame, prob, sol.r, v, b, combo,
                               f"circular cone ({sol.method})", tol)
     if (res is None or not res.ok) and method != "auto":
-        tried = _from_polygon(frame, prob, b, combo, accuracy, tol)
+        tried = from_polygon(frame, prob, b, combo, accuracy, tol)
     if tried is not None and (tried.ok or res is None):
         res = tried
     if res is None or not res.ok:
@@ -168,7 +168,7 @@ def on_states(frame, prob, b, combo, u, r, states, route, tol):
     """The checked result of the active set on the circle
     (:func:`.circular_polish.solve_on_states`) started from (u, r) on
     ``states``; None where it does not settle."""
-    F, Hc, gap, flex, mu = _contact_data(frame, b, combo)
+    F, Hc, gap, flex, mu = contact_data(frame, b, combo)
     held_t = [[held(frame, c, t) for t in (c.t1, c.t2)] for c in frame.contacts]
     out = solve_on_states(b, F, u, r, Hc, gap, flex, mu, states, held_t)
     if out is None:
@@ -178,7 +178,7 @@ def on_states(frame, prob, b, combo, u, r, states, route, tol):
                     stiffness_times(b, u2), route, tol)[0]
 
 
-def _from_polygon(frame, prob, b, combo, accuracy, tol):
+def from_polygon(frame, prob, b, combo, accuracy, tol):
     """The active set on the circle started from the polygon's answer
     (:func:`polygon_start`), checked; None where there is none."""
     start = polygon_start(frame, b, combo, accuracy)
@@ -202,7 +202,7 @@ def polygon_start(frame, b, combo, accuracy):
     return res._u, r, [s.state for s in res.supports.values()]
 
 
-def _contact_data(frame, b, combo):
+def contact_data(frame, b, combo):
     """(F, H_c, gap, 1/k, f): the loads and, per contact component (n, t1,
     t2), the directions over the dofs, gaps and flexibilities; f per
     contact."""
@@ -220,7 +220,7 @@ def judged(frame, prob, b, combo, u, r, Ku, route, tol):
     """(result, supports): the answer (u, r) judged as it is — the friction
     certificate and the frame's equilibrium; ``Ku`` the extended-precision
     K u where the answer was refined (the reactions then come from it)."""
-    F, Hc, gap, flex, _ = _contact_data(frame, b, combo)
+    F, Hc, gap, flex, _ = contact_data(frame, b, combo)
     factors = contact_lcp.factors(b, combo)
     X = np.array([r[3 * ci + _COMPONENT[kind]] for ci, kind in b["info"]])
     if Ku is None:

@@ -67,7 +67,7 @@ def solve_on_states(b, F, u, r, Hc, gap, flex, mu, states, held):
     E = EXTENDED
     u = np.asarray(u, E).copy()
     r = np.asarray(r, E).copy()
-    lam = _start_rates(u, r, Hc, gap, flex, states, held)
+    lam = start_rates(u, r, Hc, gap, flex, states, held)
     seen = set()
     for _ in range(CHANGES):
         out = newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held)
@@ -88,7 +88,7 @@ def solve_on_states(b, F, u, r, Hc, gap, flex, mu, states, held):
     return None
 
 
-def _start_rates(u, r, Hc, gap, flex, states, held):
+def start_rates(u, r, Hc, gap, flex, states, held):
     """λ_c for the slipping contacts from the start: |slip| / |X_t|."""
     delta = np.asarray(Hc, float).T @ np.asarray(u, float) + gap + flex * np.asarray(r, float)
     lam = np.zeros(len(states), EXTENDED)
@@ -226,3 +226,30 @@ def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
             return None         # not settling
         last = step
     return u, r, lam
+
+
+def margin(answer, Hc, gap, flex, mu, states, held) -> float:
+    """How far the answer (u, r, λ) on ``states`` is from needing another
+    state, each inequality on its own scale, the least of them: a sticking
+    contact's (f X_n − |X_t|) and a closed one's X_n over the largest
+    force, a slipping one's λ over the largest λ (and its X_n), a separated
+    one's opening over its length scale.  Negative where a state no longer
+    holds: its root in p is where the state changes (an event)."""
+    u, r, lam = (np.asarray(x, float) for x in answer)
+    delta = np.asarray(Hc, float).T @ u + gap + flex * r
+    size = np.abs(np.asarray(Hc, float)).T @ np.abs(u) + np.abs(gap) + np.abs(flex * r)
+    force = max(float(np.abs(r).max(initial=0.0)), 1e-300)
+    rate = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
+    out = []
+    for c, s in enumerate(states):
+        xn = r[3 * c]
+        t = _free_tangents(held[c])
+        if s == "separated":
+            out.append(delta[3 * c] / max(size[3 * c], 1e-300))
+            continue
+        out.append(xn / force)
+        if s == "stick" and t:
+            out.append((mu[c] * xn - np.linalg.norm([r[3 * c + k] for k in t])) / force)
+        elif s == "slip":
+            out.append(lam[c] / rate)
+    return float(min(out, default=1.0))

@@ -47,13 +47,18 @@ from ..mechanics.load_combinations import require_loads
 from ..mechanics.loads import CONSTANT, VARIABLE, combination
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.tracing import BRACKET
-from .circular_cone import on_states
+from ..mechanics.member_forces import EXTENDED
+from .circular_cone import contact_data, from_polygon, on_states
+from .circular_polish import margin, newton, start_rates
+from .space_assembly import held
 from .circular_limit import limit_bracket
 
 #: certified solves along the path before its events are located
 SAMPLES = 24
-#: an event's bracket is narrowed to this relative width
+#: an event's bracket is narrowed to this relative width by bisection
 EVENT = 1e-6
+#: where the event margin's root is found, the bracket certified around it
+ROOT = 1e-10
 
 
 class CircularPath:
@@ -118,11 +123,15 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
 
     _, tol = resolve_accuracy(accuracy)
 
-    def at(p):
+    def at(p, full=False):
         """The certified answer at p, None where none is certified, or the
         NoSolutionError proving that none exists.  First by continuation:
         the active set on the circle from the nearest certified answer
-        below p (its displacements, forces and states); then a full solve."""
+        below p (its displacements, forces and states); then from the
+        circumscribed polygon's exact answer; with ``full`` (the samples)
+        then the whole solve, friction solvers included — not in the
+        bisections, where it would cost 15 s a point on the 16-pad tower
+        and rarely certify what the active set does not."""
         p = float(p)
         if p in path.results:
             return path.results[p]
@@ -131,24 +140,43 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
         res = None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", LargeDisplacementWarning)
+            prob = frame.friction_problem(combination=combo, _built=b)
             if below:
                 near = path.results[max(below)]
-                r0 = np.concatenate([[s.normal, *s.tangential] for s in near.supports.values()])
-                prob = frame.friction_problem(combination=combo, _built=b)
-                res = on_states(frame, prob, b, combo, near._u, r0,
+                res = on_states(frame, prob, b, combo, near._u, _forces(near),
                                 [s.state for s in near.supports.values()],
                                 "circular cone (continued from the path)", tol)
-            if res is None or not res.ok:
+            if (res is None or not res.ok) and not full:
+                res = from_polygon(frame, prob, b, combo, accuracy, tol)
+            if (res is None or not res.ok) and full:
                 try:
                     res = frame.solve(combination=combo, accuracy=accuracy, _built=b)
                 except NoSolutionError as exc:
                     return exc
                 except QpcontactError:
                     return None
+        if res is None:
+            return None
         res.p = p
         if res.ok:
             path.results[p] = res
         return res if res.ok else None
+
+    def branch(near, p):
+        """The answer at p on ``near``'s states kept (Newton alone, no
+        change of state): (its event margin, answer) or None."""
+        combo = ft.combination_at(p)
+        F, Hc, gap, flex, mu = contact_data(frame, b, combo)
+        states = [s.state for s in near.supports.values()]
+        r0 = _forces(near)
+        lam = start_rates(near._u, r0, Hc, gap, flex, states, held_t)
+        out = newton(b, F, np.asarray(near._u, EXTENDED), np.asarray(r0, EXTENDED), lam, Hc,
+                     gap, flex, mu, states, held_t)
+        if out is None:
+            return None
+        return margin(out, Hc, gap, flex, mu, states, held_t)
+
+    held_t = [[held(frame, c, t) for t in (c.t1, c.t2)] for c in frame.contacts]
 
     grid = np.linspace(0.0, top, samples + 1)
     if p_hi is not None and (p_max is None or p_max >= p_poly):
@@ -156,7 +184,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
     good = []
     stop = None
     for p in grid:
-        r = at(p)
+        r = at(p, full=True)
         if isinstance(r, NoSolutionError):
             stop = (float(p), r)
             break
@@ -171,14 +199,16 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
     runs = [[good[0].p, good[0].p, _key(good[0])]]
     events = []
     for r0, r1 in zip(good[:-1], good[1:]):
-        if _key(r0) == _key(r1):
-            runs[-1][1] = r1.p
-            continue
-        lo, hi = _bisect_event(at, r0, r1, top)
-        runs[-1][1] = lo.p
-        events.append(FrameEvent(hi.p, {k: (v, _key(hi)[k]) for k, v in _key(lo).items()
-                                        if v != _key(hi)[k]}, bracket=(lo.p, hi.p)))
-        runs.append([hi.p, r1.p, _key(r1)])
+        while _key(r0) != _key(r1):
+            lo, hi = _locate(at, branch, r0, r1, top)
+            runs[-1][1] = lo.p
+            events.append(FrameEvent(hi.p, {k: (v, _key(hi)[k]) for k, v in _key(lo).items()
+                                            if v != _key(hi)[k]}, bracket=(lo.p, hi.p)))
+            runs.append([hi.p, hi.p, _key(hi)])
+            if hi is r1 or hi.p >= r1.p:
+                break
+            r0 = hi
+        runs[-1][1] = r1.p
     last = good[-1]
     ended, limit_words = "p_max", ""
     if stop is not None or (p_hi is not None and (p_max is None or p_max >= p_poly)):
@@ -189,7 +219,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
     path.top = ft.intervals[-1][1]          # the plot ends at the last certified answer
     ft.events = events
     ft.breakpoints = np.array([ev.p for ev in events])
-    ft.states = [ft.result_at(0.5 * (a + b_)) for a, b_ in ft.intervals]
+    ft.states = [_inside(path, a, b_) or ft.result_at(0.5 * (a + b_)) for a, b_ in ft.intervals]
     ft.ended = ended
     ft.ok = ended in ("p_max", "collapse")
     where = (f"{len(path.results)} certified solves on Coulomb's circular cone; events located "
@@ -201,6 +231,66 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
 
 def _key(res) -> dict:
     return {k: s.state for k, s in res.supports.items()}
+
+
+def _forces(res):
+    """The contact forces (n, t1, t2 per contact) of a result."""
+    return np.concatenate([[s.normal, *s.tangential] for s in res.supports.values()])
+
+
+def _inside(path, a, b):
+    """A certified answer of the path strictly inside (a, b), the one
+    nearest the middle; None if there is none."""
+    inside = [q for q in path.results if a < q < b]
+    return path.results[min(inside, key=lambda q: abs(q - 0.5 * (a + b)))] if inside else None
+
+
+def _locate(at, branch, r0, r1, top):
+    """The certified answers just before and just after the first change of
+    state after r0 (r1 has another state): the root of the event margin
+    on r0's states (:func:`.circular_polish.margin`: the first of a
+    sticking contact's f X_n − |X_t|, a closed one's X_n, a slipping one's
+    λ, a separated one's opening to reach zero) by Illinois' regula falsi,
+    then certified answers ROOT of p either side; failing that, bisection
+    to EVENT."""
+    ga = branch(r0, r0.p)
+    gb = branch(r0, r1.p)
+    if ga is not None and gb is not None and ga >= 0 > gb:
+        a, b, side = r0.p, r1.p, 0
+        for _ in range(60):
+            c = b - gb * (b - a) / (gb - ga)
+            if not a < c < b:
+                c = 0.5 * (a + b)
+            gc = branch(r0, c)
+            if gc is None:
+                break
+            if gc >= 0:
+                a, ga = c, gc
+                if side == -1:
+                    gb *= 0.5
+                side = -1
+            else:
+                b, gb = c, gc
+                if side == 1:
+                    ga *= 0.5
+                side = 1
+            if b - a <= ROOT * max(abs(b), 1e-300):
+                lo = at(a)
+                if lo is None or isinstance(lo, NoSolutionError) or _key(lo) != _key(r0):
+                    break
+                # just past the root a new slip or opening is still below
+                # what a state is named on: step on until it is
+                for step in (1e-9, 1e-8, 1e-7, 1e-6):
+                    p_hi = b + step * max(abs(b), 1e-300)
+                    if p_hi >= r1.p:
+                        break
+                    hi = at(p_hi)
+                    if hi is None or isinstance(hi, NoSolutionError):
+                        break
+                    if _key(hi) != _key(r0):
+                        return lo, hi
+                break
+    return _bisect_event(at, r0, r1, top)
 
 
 def _bisect_event(at, r0, r1, top):
