@@ -61,8 +61,8 @@ def vertices(polygon: str, m: int) -> np.ndarray:
 
 def static_limit(frame, const: dict, var: dict, polygon: str | None = None) -> float:
     """The largest p carried by the pads as a rigid body's supports (the
-    module docstring); ``polygon`` None: each contact's own polygon and
-    facets; "inscribed"/"circumscribed" with 2048 facets; inf where
+    module docstring); ``polygon`` None: the frame's polygon and each
+    contact's facets; "inscribed"/"circumscribed" with 2048 facets; inf where
     unbounded."""
     if frame.fixed or frame.springs:
         raise ValueError("the rigid-body LP is for frames held by their contacts alone")
@@ -72,7 +72,10 @@ def static_limit(frame, const: dict, var: dict, polygon: str | None = None) -> f
     rows = []          # per contact: (first column, count)
     for c in frame.contacts:
         x = frame.nodes[c.node]
-        kind, m = (c.polygon, c.facets) if polygon is None else (polygon, 2048)
+        kind, m = (frame.cone, c.facets) if polygon is None else (polygon, 2048)
+        if kind == "circular":
+            raise ValueError("the frame is on Coulomb's circle: ask coulomb_limits for the "
+                             "bracket of 2048-gons")
         forces = [np.asarray(c.normal, float)]
         if c.friction > 0:
             forces += [c.friction * (vx * c.t1 + vy * c.t2) for vx, vy in vertices(kind, m)]

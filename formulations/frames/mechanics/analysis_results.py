@@ -116,10 +116,13 @@ class CombinationResults(dict):
 @dataclass
 class FrameEvent:
     """A breakpoint of the trace: at load parameter ``p`` the supports in
-    ``changes`` go from one state to another ({support: (before, after)})."""
+    ``changes`` go from one state to another ({support: (before, after)});
+    ``bracket`` (p_before, p_after) where the event is located between two
+    certified answers rather than exactly (the circular cone's trace)."""
 
     p: float
     changes: dict
+    bracket: tuple | None = None
 
     def __str__(self) -> str:
         return "; ".join(f"{k}: {a} \u2192 {b}" for k, (a, b) in self.changes.items())

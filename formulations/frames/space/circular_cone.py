@@ -37,23 +37,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidOptionError, NoSolutionError, SolverFailedError
+from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
+                                   SolverFailedError)
 from qpcontact.core.results import PROVED
 from qpcontact.judge.friction_certificate import (certify_friction, contact_scales, contact_sizes,
                                          scales_from_diagonal, sizes)
 
 from ..mechanics import contact_lcp
 from ..mechanics.equilibrium_checks import STATE_RTOL, equilibrium
+from ..mechanics.member_forces import stiffness_times
 from ..mechanics.load_combinations import load_combination
 from ..mechanics.loads import describe
-from ..mechanics.no_equilibrium import raise_rigid_motion
+from ..mechanics.no_equilibrium import motion_words, raise_rigid_motion
 from ..mechanics.solving import solve_lcp
 from .space_assembly import held, release_directions
+from .circular_limit import prove_no_equilibrium
+from .circular_polish import solve_on_states
 from .space_recovery import resultant, space_result, support_keys
 from .space_results import SpaceSupportResult
 
-#: the contact models of a space frame's solve
-CONES = ("faceted", "circular")
 #: a contact's force or slip within this many times the certificate's error
 #: of zero (on the contact's scale) is zero when its state is named
 UNDECIDED = 10.0
@@ -63,15 +65,16 @@ _COMPONENT = {"n": 0, "t1": 1, "t2": 2}
 
 def solve_either_cone(frame, p, method, accuracy, raise_on_failure, combination, _built,
                       options):
-    """One combination on the cone ``options["cone"]`` asks for: "faceted"
-    (the default: the LCP of the facets' polygon, solved as the plane
-    frame's, :func:`..mechanics.solving.solve_lcp`) or "circular" (the
-    module docstring)."""
-    cone = options.pop("cone", "faceted")
-    if cone not in CONES:
-        raise InvalidOptionError(f"cone must be one of {', '.join(map(repr, CONES))}; "
-                                 f"got {cone!r}")
-    if cone == "faceted":
+    """One combination on the frame's cone (``frame.cone``): "circular"
+    (the module docstring) or a polygon, "inscribed" or "circumscribed"
+    (the LCP of the facets, solved as the plane frame's:
+    :func:`..mechanics.solving.solve_lcp`)."""
+    if "cone" in options:
+        raise InvalidOptionError(
+            f"cone={options['cone']!r}: the friction cone is the frame's model, not a solve "
+            "option: SpaceFrame(cone=...) or frame.cone = \"circular\" | \"inscribed\" | "
+            "\"circumscribed\"")
+    if frame.cone != "circular":
         return solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
                          options)
     return solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _built,
@@ -91,23 +94,51 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
     if method != "auto" and method not in friction_methods:
         raise InvalidOptionError(
             f"cone='circular' is solved by the friction methods: 'auto' or one of "
-            f"{', '.join(map(repr, friction_methods))}; got {method!r} (Lemke solves the "
-            "faceted cone: cone='faceted')")
+            f"{', '.join(map(repr, friction_methods))}; got {method!r} (Lemke solves a "
+            "polygon: frame.cone = 'inscribed' or 'circumscribed')")
     b = _built if _built is not None else frame.build()
     combo = load_combination(frame, p, combination, b)
     prob = frame.friction_problem(combination=combo, _built=b)
+    tried = None
+    if method == "auto" and not options:
+        # first the faceted cone's exact answer (Lemke on the circumscribed
+        # polygon) carried to the circle by the active set: on the 16-pad
+        # tower 2 s, where De Saxcé's SOCPs take 15 s
+        tried = from_polygon(frame, prob, b, combo, accuracy, tol)
+        if tried is not None and tried.ok:
+            return tried
     sol = solve(prob, method=method, accuracy=accuracy, **options)
+    res = None
     if sol.r is None:
         before = f"circular cone, {sol.method}: {sol.message}"
         raise_rigid_motion(frame, b, combo, before)
         if sol.status in PROVED:
             raise NoSolutionError(f"frame under {describe(combo)}: no equilibrium exists "
                                   f"({before})")
-        raise SolverFailedError(f"frame under {describe(combo)}: {before}; nothing was "
-                                "proved either way")
-    v = sol.v if sol.v is not None else prob.global_velocity(sol.r)
-    res = circular_result(frame, prob, sol.r, v, b, combo,
-                                f"circular cone ({sol.method})", tol)
+    else:
+        v = sol.v if sol.v is not None else prob.global_velocity(sol.r)
+        res = circular_result(frame, prob, sol.r, v, b, combo,
+                              f"circular cone ({sol.method})", tol)
+    if (res is None or not res.ok) and method != "auto":
+        tried = from_polygon(frame, prob, b, combo, accuracy, tol)
+    if tried is not None and (tried.ok or res is None):
+        res = tried
+    if res is None or not res.ok:
+        # no answer passed: where the loads exceed what forces within the
+        # circles can carry, a rigid motion checked in rationals proves it
+        proof = prove_no_equilibrium(frame, b, combo)
+        if proof is not None:
+            carrying = [k for k in support_keys(frame)]
+            raise NoSolutionError(
+                f"frame under {describe(combo)}: no equilibrium exists — "
+                f"{motion_words(frame, proof['opening'], proof['sliding'], carrying)}"
+                f"{proof['turn']} (proved by a rigid motion of the whole frame in which the "
+                "loads do positive work and no contact force within Coulomb's circles "
+                "resists, checked in rational arithmetic)")
+    if res is None:
+        raise SolverFailedError(f"frame under {describe(combo)}: {before}; the active set on "
+                                "the circle from the polygon's answer did not settle either; "
+                                "nothing was proved either way")
     if not res.ok and raise_on_failure:
         raise SolverFailedError(f"frame: {res.message}")
     return res
@@ -115,40 +146,111 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
 
 def circular_result(frame, prob, r, v, b, combo, route, tol):
     """The frame's result for the friction problem's answer (r, v),
-    checked (module docstring)."""
+    checked (module docstring); unless it passes with room to spare it is
+    refined on its states in extended precision (:mod:`.circular_polish`),
+    and the refined answer kept if it checks at least as well."""
     r = np.asarray(r, float)
     factors = contact_lcp.factors(b, combo)
-    F = b["F"] @ factors
-    free, K, H = b["free"], b["K"], b["H"]
     u = b["U"] @ factors                        # settlements at the fixed dofs
-    u[free] = np.asarray(v, float)[:free.size]  # beyond: elastic contacts' points
+    u[b["free"]] = np.asarray(v, float)[:b["free"].size]  # beyond: elastic contacts' points
+    res, supports = judged(frame, prob, b, combo, u, r, None, route, tol)
+    # refined even where it passes: a solver's answer certified to 1e-9
+    # may carry 2e-9 in a displacement, which the states' system removes
+    again = on_states(frame, prob, b, combo, u, r, [s.state for s in supports.values()],
+                      route, tol)
+    if again is not None and again.lcp_error <= max(res.lcp_error, tol) and (
+            again.equilibrium_residual <= res.equilibrium_residual or not res.ok):
+        return again
+    return res
+
+
+def on_states(frame, prob, b, combo, u, r, states, route, tol):
+    """The checked result of the active set on the circle
+    (:func:`.circular_polish.solve_on_states`) started from (u, r) on
+    ``states``; None where it does not settle."""
+    F, Hc, gap, flex, mu = contact_data(frame, b, combo)
+    held_t = [[held(frame, c, t) for t in (c.t1, c.t2)] for c in frame.contacts]
+    out = solve_on_states(b, F, u, r, Hc, gap, flex, mu, states, held_t)
+    if out is None:
+        return None
+    u2, r2, _ = out
+    return judged(frame, prob, b, combo, u2.astype(float), r2.astype(float),
+                    stiffness_times(b, u2), route, tol)[0]
+
+
+def from_polygon(frame, prob, b, combo, accuracy, tol):
+    """The active set on the circle started from the polygon's answer
+    (:func:`polygon_start`), checked; None where there is none."""
+    start = polygon_start(frame, b, combo, accuracy)
+    if start is None:
+        return None
+    return on_states(frame, prob, b, combo, *start, "circular cone (active set on the "
+                     "circle from the polygon's exact answer)", tol)
+
+
+def polygon_start(frame, b, combo, accuracy):
+    """(u, r, states) of the faceted cone's answer for ``combo`` (the
+    circumscribed polygon the assembly lays out, solved by Lemke and the
+    load path), or None where it gives none."""
+    try:
+        res = solve_lcp(frame, 1.0, "auto", accuracy, False, combo, b, {})
+    except QpcontactError:
+        return None
+    if res._u is None:
+        return None
+    r = np.concatenate([[s.normal, *s.tangential] for s in res.supports.values()])
+    return res._u, r, [s.state for s in res.supports.values()]
+
+
+def contact_data(frame, b, combo):
+    """(F, H_c, gap, 1/k, f): the loads and, per contact component (n, t1,
+    t2), the directions over the dofs, gaps and flexibilities; f per
+    contact."""
+    F = b["F"] @ contact_lcp.factors(b, combo)
+    normals, tangents, mu = release_directions(frame, b)
+    Hc = np.stack([normals] + tangents, axis=2).reshape(F.size, -1)
+    flex = np.repeat([0.0 if c.stiffness is None else 1.0 / c.stiffness
+                      for c in frame.contacts], 3)
+    gap = np.zeros(Hc.shape[1])
+    gap[0::3] = [c.gap for c in frame.contacts]
+    return F, Hc, gap, flex, mu
+
+
+def judged(frame, prob, b, combo, u, r, Ku, route, tol):
+    """(result, supports): the answer (u, r) judged as it is — the friction
+    certificate and the frame's equilibrium; ``Ku`` the extended-precision
+    K u where the answer was refined (the reactions then come from it)."""
+    F, Hc, gap, flex, _ = contact_data(frame, b, combo)
+    factors = contact_lcp.factors(b, combo)
     X = np.array([r[3 * ci + _COMPONENT[kind]] for ci, kind in b["info"]])
-    r_all = K @ u - F - H @ X
+    if Ku is None:
+        r_all = b["K"] @ u - F - b["H"] @ X
+    else:
+        r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
+                           - b["H"].astype(Ku.dtype) @ np.asarray(X, Ku.dtype), float)
     reactions = {node: tuple(float(x) for x in r_all[b["idx"][node]:b["idx"][node] + 6])
                  for node in b["names"] if node in frame.fixed}
     ends = contact_lcp.member_end_actions(b, u, factors)
     ft = contact_lcp.force_terms(b, u, F, ends)
     # each contact's opening and slip from the frame's displacements
-    normals, tangents, _ = release_directions(frame, b)
-    Hc = np.stack([normals] + tangents, axis=2).reshape(u.size, -1)
-    flex = np.repeat([0.0 if c.stiffness is None else 1.0 / c.stiffness
-                      for c in frame.contacts], 3)
-    gap = np.zeros(r.size)
-    gap[0::3] = [c.gap for c in frame.contacts]
     local = Hc.T @ u + gap + flex * r
     if prob.is_reduced:
         cert = certify_friction(prob, r, u=local)
         rho = contact_scales(prob)
         size = contact_sizes(prob, r, rho)
     else:
+        # the global unknowns: the free dofs, then the elastic contacts'
+        # own points (contact_springs: each at its node's motion plus r/k)
+        v = np.r_[u[b["free"]], (Hc.T @ u + flex * r)[flex > 0]]
         cert = certify_friction(prob, r, v)
         rho, size = _global_scales(prob, r, v)
     eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
     supports = circular_supports(frame, r, local, rho, size, cert.error)
     checked = (f"friction certificate {cert.error:.1e} (natural map "
                f"{cert.natural_map_error:.1e}, componentwise {cert.componentwise_error:.1e})")
-    return space_result(frame, b, combo, u, ends, reactions, supports, eq, cert.error, checked,
-                              route, tol)
+    res = space_result(frame, b, combo, u, ends, reactions, supports, eq, cert.error, checked,
+                       route, tol)
+    return res, supports
 
 
 def circular_supports(frame, r, local, rho, size, error) -> dict:

@@ -178,7 +178,7 @@ def facet_angles(frame, c) -> np.ndarray:
     if all(free):
         # an inscribed m-gon's facets face the midpoints between its
         # vertices, which lie on the circle at 2πk/m
-        turn = 0.5 if c.polygon == "inscribed" else 0.0
+        turn = 0.5 if frame.cone == "inscribed" else 0.0
         return 2 * np.pi * (np.arange(c.facets) + turn) / c.facets
     if not any(free):
         return np.zeros(0)
@@ -189,7 +189,7 @@ def reach(frame, c) -> float:
     """How far c's facets stand from the cone's axis, per f X_n: 1 for a
     polygon around Coulomb's circle (or the exact segment of one free
     tangent), cos(π/m) for the m-gon inscribed in it."""
-    if c.polygon == "inscribed" and facet_angles(frame, c).size > 2:
+    if frame.cone == "inscribed" and facet_angles(frame, c).size > 2:
         return float(np.cos(np.pi / c.facets))
     return 1.0
 

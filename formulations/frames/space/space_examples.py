@@ -17,7 +17,7 @@ BEAM = (2.1e8, 8.1e7, 1.0e-2, 2.3e-4, 1.6e-5, 1.0e-6)
 
 def pad_example(push: float, angle: float, *, weight: float = 100.0, friction: float = 0.4,
                 spring: float = 1e4, stiffness: float | None = None,
-                facets: int = 8) -> SpaceFrame:
+                facets: int = 8, cone: str = "circular") -> SpaceFrame:
     """A stiff post P-Q standing on a frictional pad at P (normal +z), its
     rotations at P held, a horizontal spring ``spring`` on ux and uy at P,
     ``weight`` down and ``push`` horizontal at Q along ``angle`` (radians)
@@ -27,7 +27,7 @@ def pad_example(push: float, angle: float, *, weight: float = 100.0, friction: f
     friction −push/(1 + spring/stiffness) along the push; beyond, it slips
     along the push, friction f W against it, the post's foot moving
     (push − f W)/spring."""
-    fr = SpaceFrame()
+    fr = SpaceFrame(cone=cone)
     fr.add_node("P", 0.0, 0.0, 0.0)
     fr.add_node("Q", 0.0, 0.0, 1.0)
     fr.add_member("P", "Q", *COLUMN)
@@ -39,7 +39,8 @@ def pad_example(push: float, angle: float, *, weight: float = 100.0, friction: f
     return fr
 
 
-def six_pads(*, friction: float = 0.4, spring: float = 5e3, facets: int = 16) -> SpaceFrame:
+def six_pads(*, friction: float = 0.4, spring: float = 5e3, facets: int = 16,
+             cone: str = "circular") -> SpaceFrame:
     """One storey, 2 x 1 bays (8 m x 5 m, 3.5 m high; kN, m), steel columns
     P-T on six frictional pads (``friction``, pinned: a pad carries no
     moment), beams along x carrying 10 kN/m (case "D"), 5 kN down at T00 and
@@ -49,7 +50,7 @@ def six_pads(*, friction: float = 0.4, spring: float = 5e3, facets: int = 16) ->
     T21 moving in +x.  Under D+W+U the uplift lifts P00, the push slides P01
     and P20 and the bumper closes: every contact state at once."""
     E, G = 2.1e8, 8.1e7                     # steel, kN/m²
-    fr = SpaceFrame(units=("kN", "m"))
+    fr = SpaceFrame(units=("kN", "m"), cone=cone)
     for a, x in enumerate((0.0, 4.0, 8.0)):
         for b, y in enumerate((0.0, 5.0)):
             fr.add_node(f"P{a}{b}", x, y, 0.0)
@@ -76,7 +77,7 @@ def six_pads(*, friction: float = 0.4, spring: float = 5e3, facets: int = 16) ->
 def bays_on_pads(bays: int = 2, *, span: float = 5.0, height: float = 3.5,
                  friction: float = 0.5, gravity: float = 20.0, lateral=(8.0, 5.0),
                  stiffness: float | None = None, facets: int = 8,
-                 pinned_corners: bool = False) -> SpaceFrame:
+                 pinned_corners: bool = False, cone: str = "circular") -> SpaceFrame:
     """A one-storey space frame of ``bays`` x ``bays`` bays (``span`` each
     way, columns ``height``), every column's foot on a frictional pad
     (normal +z, free rotations: a point contact), ``gravity`` kN/m down on
@@ -86,7 +87,7 @@ def bays_on_pads(bays: int = 2, *, span: float = 5.0, height: float = 3.5,
     ``pinned_corners`` the four corner columns are pinned to the ground
     instead (translations held, rotations free) and the others stand on
     pads: then W = Hᵀ K⁻¹ H exists and the problem is reduced too."""
-    fr = SpaceFrame()
+    fr = SpaceFrame(cone=cone)
     n = bays + 1
     for i in range(n):
         for j in range(n):

@@ -40,7 +40,7 @@ TABLE_CASES = ("centre", "corner", "twist", "overhang")
 
 def table(legs: int = 4, ratio: float = 1e4, *, mu: float = 0.3, h: float = 0.8,
           weight: float = 40.0, stiffness: float | None = None,
-          polygon: str = "circumscribed", facets: int = 16,
+          cone: str = "circular", facets: int = 16,
           overhang: float = 0.5) -> SpaceFrame:
     """A table: ``legs`` steel legs (:data:`LEG`, :data:`TABLE_LEGS`) ``h``
     high on frictional pads, a deck of members ``ratio`` times stiffer than
@@ -50,7 +50,7 @@ def table(legs: int = 4, ratio: float = 1e4, *, mu: float = 0.3, h: float = 0.8,
     the height of the deck, tied to the two top nodes furthest along x.
     Cases :data:`TABLE_CASES`."""
     plan = TABLE_LEGS[legs]
-    fr = SpaceFrame(units=("kN", "m"))
+    fr = SpaceFrame(units=("kN", "m"), cone=cone)
     cx, cy = np.mean(plan, axis=0)
     fr.add_node("C", cx, cy, h)
     for k, (x, y) in enumerate(plan):
@@ -58,7 +58,7 @@ def table(legs: int = 4, ratio: float = 1e4, *, mu: float = 0.3, h: float = 0.8,
         fr.add_node(f"T{k}", x, y, h)
         fr.add_member(f"F{k}", f"T{k}", **LEG, name=f"L{k}")
         fr.add_contact(f"F{k}", normal=(0, 0, 1), friction=mu, stiffness=stiffness,
-                       facets=facets, polygon=polygon)
+                       facets=facets)
     deck = {k: v * (ratio if k in ("A", "Iy", "Iz", "J") else 1.0) for k, v in LEG.items()}
     for k in range(legs):
         fr.add_member(f"T{k}", f"T{(k + 1) % legs}", **deck, name=f"R{k}")
@@ -83,7 +83,7 @@ SKID_CASES = ("centre", "corner")
 
 
 def skid(*, mu: float = 0.3, weight: float = 53.8, length: float = 3.0, width: float = 1.5,
-         leg: float = 0.3, stiffness: float | None = None, polygon: str = "circumscribed",
+         leg: float = 0.3, stiffness: float | None = None, cone: str = "circular",
          facets: int = 16) -> SpaceFrame:
     """A skid: a flat steel frame ``length`` x ``width`` (runners along x,
     cross members at the ends and through the middle, 10 times a leg's
@@ -92,7 +92,7 @@ def skid(*, mu: float = 0.3, weight: float = 53.8, length: float = 3.0, width: f
     along x at E (case "centre") and at the corner top node K3 (case
     "corner").  It slides through its centre at μW; pushed at a corner it
     slides and turns."""
-    fr = SpaceFrame(units=("kN", "m"))
+    fr = SpaceFrame(units=("kN", "m"), cone=cone)
     plan = ((0.0, 0.0), (length, 0.0), (length, width), (0.0, width))
     beam = {k: v * (10.0 if k in ("A", "Iy", "Iz", "J") else 1.0) for k, v in LEG.items()}
     for k, (x, y) in enumerate(plan):
@@ -100,7 +100,7 @@ def skid(*, mu: float = 0.3, weight: float = 53.8, length: float = 3.0, width: f
         fr.add_node(f"K{k}", x, y, leg)
         fr.add_member(f"P{k}", f"K{k}", **LEG, name=f"L{k}")
         fr.add_contact(f"P{k}", normal=(0, 0, 1), friction=mu, stiffness=stiffness,
-                       facets=facets, polygon=polygon)
+                       facets=facets)
     fr.add_node("M0", length / 2, 0.0, leg)
     fr.add_node("M1", length / 2, width, leg)
     fr.add_node("E", length / 2, width / 2, leg)
@@ -120,7 +120,7 @@ RACK_CASES = ("uplift",)
 
 def pipe_rack(*, mu: float = 0.4, bents: int = 3, spacing: float = 6.0, width: float = 4.0,
               height: float = 5.0, pipes: float = 6.0, stiffness: float | None = 1e6,
-              polygon: str = "circumscribed", facets: int = 16) -> SpaceFrame:
+              cone: str = "circular", facets: int = 16) -> SpaceFrame:
     """A pipe rack: ``bents`` portal bents along x, ``spacing`` apart, each
     two steel columns ``width`` apart in y, ``height`` high, on frictional
     pads (``stiffness`` kN/m, None: rigid); a cross beam on each bent and
@@ -130,7 +130,7 @@ def pipe_rack(*, mu: float = 0.4, bents: int = 3, spacing: float = 6.0, width: f
     0.2 kN along +y (case "uplift": U)."""
     col = dict(E=2.1e8, G=8.1e7, A=1.2e-2, Iy=1.5e-4, Iz=5e-5, J=1e-6)
     beam = dict(E=2.1e8, G=8.1e7, A=8e-3, Iy=8e-5, Iz=1e-5, J=5e-7)
-    fr = SpaceFrame(units=("kN", "m"))
+    fr = SpaceFrame(units=("kN", "m"), cone=cone)
     for a in range(bents):
         for b_ in range(2):
             x, y = a * spacing, b_ * width
@@ -138,7 +138,7 @@ def pipe_rack(*, mu: float = 0.4, bents: int = 3, spacing: float = 6.0, width: f
             fr.add_node(f"T{a}{b_}", x, y, height)
             fr.add_member(f"P{a}{b_}", f"T{a}{b_}", **col, name=f"C{a}{b_}")
             fr.add_contact(f"P{a}{b_}", normal=(0, 0, 1), friction=mu, stiffness=stiffness,
-                           facets=facets, polygon=polygon)
+                           facets=facets)
         fr.add_member(f"T{a}0", f"T{a}1", **beam, name=f"X{a}")
     for a in range(bents - 1):
         for b_ in range(2):

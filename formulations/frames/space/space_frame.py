@@ -53,7 +53,7 @@ from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_
                                combination, known_node, no_member_between, no_same_contact,
                                number)
 from ..mechanics.space_element import axes
-from . import circular_cone, space_assembly, space_recovery
+from . import circular_cone, circular_trace, space_assembly, space_recovery
 from .space_results import DOFS, SpaceFrameResult
 
 #: The space frame's hooks of the shared analysis (:class:`FrameKind`): Lemke
@@ -66,16 +66,18 @@ SPACE = FrameKind(
     slide_words=space_recovery.slide_words)
 
 
-#: the friction cone's polygons: inside Coulomb's circle (safe) or around it
-POLYGONS = ("inscribed", "circumscribed")
+#: the frame's friction models: Coulomb's circle itself, or a polygon of
+#: each contact's facets inside it (never more friction: the safe side) or
+#: around it (never less)
+CONES = ("circular", "inscribed", "circumscribed")
 
 
 @dataclass
 class SpaceContact:
     """A unilateral support at a node: unit normal n (from the support into
     the structure), tangents t1, t2, Coulomb coefficient, initial gap,
-    stiffness (None: rigid), facets of the friction cone's polygon and
-    whether it is inscribed in Coulomb's circle or circumscribes it."""
+    stiffness (None: rigid), facets of the friction cone's polygon (where
+    the frame's cone is one)."""
 
     node: str
     normal: np.ndarray
@@ -85,7 +87,6 @@ class SpaceContact:
     gap: float
     stiffness: float | None
     facets: int
-    polygon: str = "circumscribed"
     other: None = None
 
 
@@ -109,8 +110,9 @@ class SpaceFrame:
     #: the space frame's hooks of the shared analysis
     kind = SPACE
 
-    def __init__(self, units=("kN", "m")):
+    def __init__(self, units=("kN", "m"), cone: str = "circular"):
         self.units = check_units(units)
+        self.cone = cone
         self.nodes: dict[str, np.ndarray] = {}
         self.members: dict[str, dict] = {}
         self.fixed: dict[str, set] = {}
@@ -198,16 +200,13 @@ class SpaceFrame:
         self.member_loads.append((member, w, check_axes(axes), case_name(case)))
 
     def add_contact(self, node: str, normal=(0.0, 0.0, 1.0), friction: float = 0.0,
-                    gap: float = 0.0, stiffness: float | None = None, facets: int = 16,
-                    polygon: str = "circumscribed") -> int:
+                    gap: float = 0.0, stiffness: float | None = None,
+                    facets: int = 16) -> int:
         """A unilateral support at ``node`` (the module docstring): its
-        normal, Coulomb coefficient, initial gap, spring (None: rigid), the
-        number of facets of its friction cone's polygon (even, >= 4) and
-        which polygon: "circumscribed" about Coulomb's circle (the default:
-        never less friction than Coulomb, at most 1/cos(π/m) - 1 more — 2.0 %
-        with 16 facets, 8.2 % with 8) or "inscribed" in it (the safe side for
-        a limit load: never more friction than Coulomb, at most 1 - cos(π/m)
-        less: 1.9 %, 7.6 %): docs/frames.md."""
+        normal, Coulomb coefficient, initial gap, spring (None: rigid), and
+        the number of facets (even, >= 4) of its friction cone's polygon
+        where the frame's ``cone`` is one ("inscribed" or "circumscribed":
+        docs/frames.md)."""
         known_node(self, node)
         try:
             n = np.asarray(normal, float)
@@ -224,18 +223,33 @@ class SpaceFrame:
         if isinstance(facets, bool) or not isinstance(facets, int) or facets < 4 or facets % 2:
             raise InvalidProblemError(f"contact at {node!r}: facets must be an even integer "
                                       f">= 4 (opposite directions both facets); got {facets!r}")
-        if polygon not in POLYGONS:
-            raise InvalidProblemError(f"contact at {node!r}: polygon must be one of {POLYGONS} "
-                                      f"(inscribed: never more friction than Coulomb's circle, "
-                                      f"the safe side); got {polygon!r}")
         no_same_contact(self.contacts, node, n)
         e = np.eye(3)[int(np.argmin(np.abs(n)))]
         t1 = np.cross(n, e)
         t1 /= np.linalg.norm(t1)
         self.contacts.append(SpaceContact(node, n, t1, np.cross(n, t1), friction, gap,
                                           None if stiffness is None else float(stiffness),
-                                          facets, polygon))
+                                          facets))
         return len(self.contacts) - 1
+
+    @property
+    def cone(self) -> str:
+        """The friction model of every contact: "circular" (Coulomb's cone
+        itself, the default: solved by the friction solvers), "inscribed"
+        (each contact's m-gon inside the circle: never more friction than
+        Coulomb, at most 1 - cos(π/m) less — 1.9 % with 16 facets) or
+        "circumscribed" (around it: at most 1/cos(π/m) - 1 more, 2.0 %);
+        the polygons are solved as an LCP by Lemke and the load path."""
+        return self._cone
+
+    @cone.setter
+    def cone(self, value: str) -> None:
+        if value not in CONES:
+            raise InvalidProblemError(
+                f"cone must be one of {CONES}; got {value!r} (\"circular\": Coulomb's law; a "
+                "polygon only on request: \"inscribed\" never gives more friction than "
+                "Coulomb, the safe side)")
+        self._cone = value
 
     @property
     def load_cases(self) -> list:
@@ -282,9 +296,9 @@ class SpaceFrame:
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
               raise_on_failure: bool = False, *, combination: dict | None = None,
               _built=None, **options) -> SpaceFrameResult:
-        """Analyse one load combination (:func:`..mechanics.solving.solve`):
-        ``cone="faceted"`` (default: the LCP of the facets' polygon) or
-        ``"circular"`` (the friction solvers, :mod:`.circular_cone`)."""
+        """Analyse one load combination (:func:`..mechanics.solving.solve`)
+        on the frame's ``cone``: the circular one by the friction solvers
+        (:mod:`.circular_cone`), a polygon as the LCP of its facets."""
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
 
@@ -294,9 +308,17 @@ class SpaceFrame:
         return solving.solve_combinations(self, combinations, **kw)
 
     def trace(self, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
-              variable=None):
-        """The increasing-load analysis on the faceted cone, as a FrameTrace
-        (:func:`..mechanics.tracing.trace`)."""
+              variable=None, **options):
+        """The increasing-load analysis, as a FrameTrace: on the circular
+        cone by certified solves, events and the limit as brackets
+        (:func:`.circular_trace.trace`; option ``samples``); on a polygon
+        the LCP's exact path (:func:`..mechanics.tracing.trace`)."""
+        if self.cone == "circular":
+            return circular_trace.trace(self, p_max, accuracy, constant=constant,
+                                        variable=variable, **options)
+        if options:
+            raise InvalidProblemError(f"trace on a polygon takes no options {sorted(options)} "
+                                      "(samples is the circular cone's)")
         return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):

@@ -88,6 +88,7 @@ def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, check
     ratio, rot, words = how_far(frame, u)
     if words:
         msg += "; " + words
+    msg += cone_words(frame)
     return SpaceFrameResult(
         p=float(combo.get(VARIABLE, 0.0)), supports=supports,
         displacements=dict(zip(b["names"], map(tuple, u.reshape(-1, 6).tolist()))),
@@ -203,3 +204,17 @@ def support_keys(frame) -> list:
     for c in frame.contacts:
         keys.append(f"{c.node}#{len(keys)}" if c.node in keys else c.node)
     return keys
+
+
+def cone_words(frame) -> str:
+    """The bound a polygon's friction keeps from Coulomb's circle, for the
+    messages ("" on the circle or without friction)."""
+    m = sorted({c.facets for c in frame.contacts if c.friction > 0})
+    if frame.cone == "circular" or not m:
+        return ""
+    facets = "/".join(map(str, m))
+    if frame.cone == "inscribed":
+        return (f"; friction on the inscribed {facets}-gon: never more than Coulomb's, at most "
+                f"{100 * (1 - np.cos(np.pi / m[0])):.2g} % less")
+    return (f"; friction on the circumscribed {facets}-gon: never less than Coulomb's, up to "
+            f"{100 * (1 / np.cos(np.pi / m[0]) - 1):.2g} % more (the unsafe side for a limit)")

@@ -62,7 +62,7 @@ def node(level: int, i: int, j: int) -> str:
 
 def space_tower(storeys: int = 10, bays: int = 3, *, bay: float = 6.0, storey: float = 3.5,
                 friction: float = 0.5, stiffness: float | None = None, facets: int = 8,
-                wind: float = 1.0, angle: float = 30.0) -> SpaceFrame:
+                wind: float = 1.0, angle: float = 30.0, cone: str = "circular") -> SpaceFrame:
     """A concrete moment frame on (bays + 1)² frictional pads (the module
     docstring): ``bay`` and ``storey`` in m, ``friction`` the pads' Coulomb
     coefficient, ``stiffness`` their spring in kN/m (None: rigid), ``facets``
@@ -79,7 +79,7 @@ def space_tower(storeys: int = 10, bays: int = 3, *, bay: float = 6.0, storey: f
     if not (bay > 0 and storey > 0):
         raise InvalidProblemError(f"space_tower: bay and storey must be positive; "
                                   f"got {bay!r}, {storey!r}")
-    fr = SpaceFrame(units=("kN", "m"))
+    fr = SpaceFrame(units=("kN", "m"), cone=cone)
     lines = range(bays + 1)
     for s in range(storeys + 1):
         for i in lines:

@@ -290,9 +290,13 @@ def test_the_docs_space_frame_example_runs_and_says_what_hand_statics_say():
     assert res.ok and {s.state for s in res.supports.values()} == {"stick"}
     assert tr.ok and tr.ended == "collapse", tr.message
     f, W = 0.3, 40.0
-    np.testing.assert_allclose(tr.breakpoints, [f * W / (1 + f / 2)], rtol=1e-9)
+    # on Coulomb's circle (the default) an event is a bracket of certified
+    # answers, the limit one between a certified answer and a proof
+    (lo, hi), = [ev.bracket for ev in tr.events]
+    assert lo <= f * W / (1 + f / 2) <= hi and hi - lo <= 1e-6 * hi
     assert set(tr.events[0].changes) == {"P0", "P3"}          # the back pads, x = 0
-    assert abs(tr.trace.proof["p_limit"] - f * W) <= 1e-6 * f * W
+    lo, hi = tr.limit
+    assert lo <= f * W <= hi and hi - lo <= 1e-6 * hi
     assert "slides away as a rigid body" in tr.message
 
 

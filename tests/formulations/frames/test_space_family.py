@@ -34,7 +34,7 @@ def test_the_reference_lp_agrees_with_hand_statics():
     (C at x = 1, the overhang's tip 0.5 beyond x = 2), and Coulomb's
     circle's turning limit μW·r̄ of four pads at the corners of 2.0 x 1.2
     (each at r = √(1² + 0.6²) from C) between the 2048-gons."""
-    fr = table(4, 1e4)
+    fr = table(4, 1e4, cone="circumscribed")
     assert static_limit(fr, CONST, {"centre": 1.0}) == pytest.approx(0.3 * W, rel=1e-12)
     assert static_limit(fr, CONST, {"overhang": 1.0}) == pytest.approx(W * 1.0 / 0.5, rel=1e-12)
     lo, hi = coulomb_limits(fr, CONST, {"twist": 1.0})
@@ -42,11 +42,11 @@ def test_the_reference_lp_agrees_with_hand_statics():
 
 
 @pytest.mark.parametrize("build, case", [
-    (lambda: table(3, 1e4, polygon="inscribed"), "twist"),
-    (lambda: table(4, 1e4, polygon="inscribed"), "overhang"),
-    (lambda: table(6, 1.0), "corner"),
-    (lambda: skid(polygon="inscribed"), "corner"),
-    (lambda: pipe_rack(), "uplift"),
+    (lambda: table(3, 1e4, cone="inscribed"), "twist"),
+    (lambda: table(4, 1e4, cone="inscribed"), "overhang"),
+    (lambda: table(6, 1.0, cone="circumscribed"), "corner"),
+    (lambda: skid(cone="inscribed"), "corner"),
+    (lambda: pipe_rack(cone="circumscribed"), "uplift"),
 ])
 def test_the_rigid_proof_stands_within_rounding_of_the_lp(build, case):
     """The proof's motion is the LP's dual made exact on its active rays:
@@ -62,13 +62,14 @@ def test_the_rigid_proof_stands_within_rounding_of_the_lp(build, case):
     assert proof["work"] > 0
 
 
+@pytest.mark.parametrize("cone", ["circular", "circumscribed"])
 @pytest.mark.parametrize("stiffness", [1e2, 1e6])
-def test_elastic_pads_under_a_deck_1e8_stiffer_are_no_mechanism(stiffness):
+def test_elastic_pads_under_a_deck_1e8_stiffer_are_no_mechanism(stiffness, cone):
     """Pads much softer (1e2 kN/m) or much stiffer (1e6) than the legs under
     a deck 1e8 times stiffer: the basic system's pivots spanned 4e-24 and
     8e-20 unscaled, and the table was refused as "a mechanism even with
     every contact closed".  It tips about its far legs at W·1/0.5 = 80."""
-    fr = table(4, 1e8, stiffness=stiffness)
+    fr = table(4, 1e8, stiffness=stiffness, cone=cone)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")       # soft pads settle 0.1 m: large displacements
         tr = fr.trace(variable="overhang")
@@ -76,13 +77,14 @@ def test_elastic_pads_under_a_deck_1e8_stiffer_are_no_mechanism(stiffness):
     assert "tips over about F1, F2" in tr.message
 
 
-def test_a_stiff_deck_on_stiff_pads_slides_at_mu_w_with_right_forces():
+@pytest.mark.parametrize("cone", ["circular", "circumscribed"])
+def test_a_stiff_deck_on_stiff_pads_slides_at_mu_w_with_right_forces(cone):
     """Its answers were refused by the refinement's own singularity test
     (unscaled pivots 8e-20: "CHECK FAILED" on right forces).  Below μW by
     hand: the normal forces W/4 ∓ p h / (2 a) on the legs behind and ahead
     (the push p at h = 0.8 m, the legs a = 2 m apart along it), the friction
     forces summing to p."""
-    fr = table(4, 1e8, stiffness=1e6)
+    fr = table(4, 1e8, stiffness=1e6, cone=cone)
     tr = fr.trace(variable="centre")
     assert_bracket(tr, 0.3 * W)
     for f in (0.5, 0.9, 0.99):
@@ -100,7 +102,7 @@ def test_a_twisted_table_on_inscribed_polygons_is_traced_to_its_limit():
     """Before: a piece failed the frame's checks 3e-5 below the limit
     (equilibrium residual 1.4e-9) and the trace ended "breakdown"; the path
     now restarts just beyond the last certified point."""
-    fr = table(4, 1e4, polygon="inscribed")
+    fr = table(4, 1e4, cone="inscribed")
     tr = fr.trace(variable="twist")
     ref = static_limit(fr, CONST, {"twist": 1.0})
     assert np.cos(np.pi / 16) * 0.3 * W * np.hypot(1.0, 0.6) <= ref
@@ -114,7 +116,7 @@ def test_a_corner_push_says_what_is_known_where_the_path_stops_below_the_lp():
     secondary rays.  Before: "breakdown", nothing proved.  Now "bounded":
     the last certified equilibrium (checked here by solving there), how
     the frame moves there, and the proved upper bound, at the LP's value."""
-    fr = table(4, 1e4, polygon="inscribed")
+    fr = table(4, 1e4, cone="inscribed")
     tr = fr.trace(variable="corner")
     ref = static_limit(fr, CONST, {"corner": 1.0})
     assert tr.ended == "bounded" and tr.limit is None, tr.message
@@ -134,7 +136,7 @@ def test_a_pipe_rack_under_uplift_is_solved_below_its_limit(polygon):
     weight first, then the uplift — reaches it.  By hand: the pads carry the
     pipes (6 kN/m on two 12 m lines) less the uplift, and the sideways 0.2 p
     by friction."""
-    fr = pipe_rack(polygon=polygon)
+    fr = pipe_rack(cone=polygon)
     ref = static_limit(fr, CONST, {"uplift": 1.0})
     for f in (0.5, 0.9, 0.99):
         p = f * ref

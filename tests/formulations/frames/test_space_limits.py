@@ -18,24 +18,26 @@ import pytest
 from scipy.optimize import linprog
 
 from formulations.frames import SpaceFrame
+from formulations.frames.space.space_frame import CONES
+from qpcontact.core.errors import NoSolutionError
 
 W, A, B = 40.0, 2.0, 1.2
 LEG = dict(E=2e8, G=8e7, A=1e-3, Iy=1e-6, Iz=1e-6, J=2e-6)
 PADS = [(0.0, 0.0), (A, 0.0), (A, B), (0.0, B)]
 
 
-def table(ratio, *, mu=0.3, h=0.8, polygon="circumscribed", load=(1, 0, 0, 0, 0, 0),
+def table(ratio, *, mu=0.3, h=0.8, cone="circular", load=(1, 0, 0, 0, 0, 0),
           stiffness=None, facets=16):
     """Four steel legs h high under a deck `ratio` times stiffer, rigid (or
     elastic) frictional feet, 40 kN at the deck's centre C; the variable
     load `load` x p at C."""
-    fr = SpaceFrame(units=("kN", "m"))
+    fr = SpaceFrame(units=("kN", "m"), cone=cone)
     fr.add_node("C", A / 2, B / 2, h)
     for k, (x, y) in enumerate(PADS):
         fr.add_node(f"F{k}", x, y, 0.0)
         fr.add_node(f"T{k}", x, y, h)
         fr.add_member(f"F{k}", f"T{k}", **LEG)
-        fr.add_contact(f"F{k}", normal=(0, 0, 1), friction=mu, polygon=polygon,
+        fr.add_contact(f"F{k}", normal=(0, 0, 1), friction=mu,
                        stiffness=stiffness, facets=facets)
     deck = {k: v * (ratio if k not in ("E", "G") else 1.0) for k, v in LEG.items()}
     for k in range(4):
@@ -84,20 +86,29 @@ def assert_bracket(tr, value):
     assert (hi - lo) / hi <= 1e-6, tr.limit
 
 
-@pytest.mark.parametrize("ratio", [1.0, 1e2, 1e4, 1e8])
-@pytest.mark.parametrize("polygon", ["inscribed", "circumscribed"])
-def test_a_table_pushed_at_its_centre_slides_at_mu_W(ratio, polygon):
-    """At ratio 1 (a deck as slender as its legs, rigid pads) the path
-    stops at a degenerate vertex (p = 11.29, every pad starting to slip)
-    and restarts beyond it."""
-    tr = table(ratio, polygon=polygon).trace()
+@pytest.mark.parametrize("ratio", [pytest.param(1.0, marks=pytest.mark.slow), 1e2, 1e4, 1e8])
+@pytest.mark.parametrize("cone", CONES)
+def test_a_table_pushed_at_its_centre_slides_at_mu_W(ratio, cone):
+    """At ratio 1 (a deck as slender as its legs, rigid pads) the polygons'
+    path stops at a degenerate vertex (p = 11.29, every pad starting to
+    slip) and restarts beyond it; the circle's path is certified solves."""
+    tr = table(ratio, cone=cone).trace()
     assert_bracket(tr, 0.3 * W)
     assert "slides" in tr.message
 
 
+def test_a_slender_deck_restarts_its_polygon_path_beyond_the_degenerate_vertex():
+    """Ratio 1: every pad starts to slip at p = 11.29 (a degenerate vertex
+    of the LCP's path); the path restarts beyond it and ends in a proof."""
+    tr = table(1.0, cone="circumscribed").trace()
+    assert_bracket(tr, 0.3 * W)
+    assert "restarted beyond degenerate vertices" in tr.message
+
+
 @pytest.mark.parametrize("ratio", [1e2, 1e4, 1e8])
-def test_a_tall_table_tips_about_its_far_legs_at_W_a_over_2h(ratio):
-    tr = table(ratio, mu=0.9, h=2.0).trace()
+@pytest.mark.parametrize("cone", ["circular", "inscribed"])
+def test_a_tall_table_tips_about_its_far_legs_at_W_a_over_2h(ratio, cone):
+    tr = table(ratio, mu=0.9, h=2.0, cone=cone).trace()
     assert_bracket(tr, W * (A / 2) / 2.0)
     assert "tips over about F1, F2" in tr.message
 
@@ -105,7 +116,7 @@ def test_a_tall_table_tips_about_its_far_legs_at_W_a_over_2h(ratio):
 @pytest.mark.parametrize("ratio", [pytest.param(1.0, marks=pytest.mark.slow), 1e2, 1e4, 1e8])
 @pytest.mark.parametrize("polygon", ["inscribed", "circumscribed"])
 def test_a_twisted_table_turns_at_the_polygons_rigid_body_limit(ratio, polygon):
-    tr = table(ratio, polygon=polygon, load=(0, 0, 0, 0, 0, 1)).trace()
+    tr = table(ratio, cone=polygon, load=(0, 0, 0, 0, 0, 1)).trace()
     lp = rigid_body_limit(0.3, polygon, 16, (0, 0, 0, 0, 0, 1.0))
     coulomb = 0.3 * W * np.hypot(A, B) / 2
     if polygon == "inscribed":
@@ -116,23 +127,76 @@ def test_a_twisted_table_turns_at_the_polygons_rigid_body_limit(ratio, polygon):
     assert "turns about" in tr.message or "slides" in tr.message
 
 
+@pytest.mark.parametrize("ratio", [1.0, 1e2, 1e4, 1e8])
+def test_by_default_a_twisted_table_turns_at_coulombs_mu_W_r(ratio):
+    """On Coulomb's circle (the default) every pad gives its full friction
+    μW/4 perpendicular to its radius r = √(a² + b²)/2 from the centre: the
+    table turns at μW r = 13.9943 kN·m by hand — and never carries more
+    (the default model is never beyond Coulomb's law)."""
+    fr = table(ratio, load=(0, 0, 0, 0, 0, 1))
+    coulomb = 0.3 * W * np.hypot(A, B) / 2
+    for share in (0.5, 0.9, 0.99, 0.999):
+        r = fr.solve(share * coulomb)
+        assert r.ok, r.message
+        for s in r.supports.values():
+            assert np.hypot(*s.tangential) <= 0.3 * s.normal * (1 + 1e-12)
+    with pytest.raises(NoSolutionError, match="no equilibrium"):
+        fr.solve(1.001 * coulomb)
+    tr = fr.trace()
+    assert_bracket(tr, coulomb)
+    assert "Coulomb's circles" in tr.message
+
+
 @pytest.mark.parametrize("ratio", [1e2, 1e4])
 def test_a_table_pushed_at_a_corner_gives_way_at_the_rigid_bodys_limit(ratio):
     """1 kN x p along x at the deck's corner T2 (2, 1.2): at C a force
     (1, 0, 0) and a moment (0, 0, -0.6) — sliding and turning together."""
-    fr = table(ratio)
+    fr = table(ratio, cone="circumscribed")
     fr.add_load("T2", fx=1.0, case="corner")
     tr = fr.trace(variable="corner")
     assert_bracket(tr, rigid_body_limit(0.3, "circumscribed", 16, (1, 0, 0, 0, 0, -0.6)))
 
 
+@pytest.mark.parametrize("ratio", [1e2, pytest.param(1e4, marks=pytest.mark.slow)])
+def test_on_the_circle_a_corner_push_ends_at_a_certified_load_below_a_proved_bound(ratio):
+    """Coulomb's law is non-associated: pushed at a corner, the elastic
+    table on the circle stops following the load at a certified
+    equilibrium (about 10.31–10.33, depending on the deck) below the rigid
+    body's static limit on the circle, 10.3974 — an LP over 256-gons inside
+    and around the circle, written here, brackets it to 8e-5.  The trace
+    says so: its upper end is a proof at the static limit, its lower end
+    the last certified equilibrium, and the message names both."""
+    fr = table(ratio)
+    fr.add_load("T2", fx=1.0, case="corner")
+    tr = fr.trace(variable="corner")
+    inner = rigid_body_limit(0.3, "inscribed", 256, (1, 0, 0, 0, 0, -0.6))
+    outer = rigid_body_limit(0.3, "circumscribed", 256, (1, 0, 0, 0, 0, -0.6))
+    lo, hi = tr.limit or tr.bound
+    assert inner * (1 - 1e-9) <= hi <= outer * (1 + 1e-6)
+    assert lo < hi
+    r = tr.result_at(lo)
+    assert r.ok, r.message
+    if tr.ended == "bounded":
+        assert not tr.ok and tr.limit is None and "last certified equilibrium" in tr.message
+        assert "non-associated" in tr.message
+    else:
+        assert_bracket(tr, hi)
+
+
 def test_a_frame_held_by_a_spring_is_not_proved_by_a_rigid_motion():
     """The rigid-body proof is for a frame resting on its contacts alone: a
     spring that holds the deck carries any push once the pads slide."""
-    fr = table(1e4)
+    fr = table(1e4, cone="circumscribed")
     fr.add_spring("C", ux=100.0)
     tr = fr.trace()
     assert tr.limit is None and "rigid motion" not in tr.message
+    # on the circle the path has no end of its own to find: p_max is asked
+    fr.cone = "circular"
+    with pytest.raises(Exception, match="give p_max"):
+        fr.trace()
+    tr = fr.trace(30.0)
+    assert tr.ok and tr.ended == "p_max" and tr.limit is None
+    assert tr.result_at(30.0).ok
 
 
 def test_the_safety_factor_is_the_bracket_over_the_design_load():

@@ -49,7 +49,7 @@ def _planar(nodes, members, fix, contacts, loads, member_loads):
     member are Vz and -My of the space one; uy, rx and rz held at every node.
     contacts: (node, 2-D normal, friction, gap, stiffness); loads: (node, fx,
     fy, mz, case); member_loads: (member, wx, wy, case, axes)."""
-    plane, space = Frame(), SpaceFrame()
+    plane, space = Frame(), SpaceFrame(cone="circumscribed")
     for name, (x, y) in nodes.items():
         plane.add_node(name, x, y)
         space.add_node(name, x, 0.0, y)
@@ -208,7 +208,7 @@ SQUARE = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)]     # pads 2 m apart: 
 def _table(f, corners=SQUARE, h=0.5, W=40.0, facets=8):
     """Legs P_k-T_k of height h on rigid pads with friction f, the top a ring
     of beams, W shared by the top corners (case "constant")."""
-    fr = SpaceFrame()
+    fr = SpaceFrame(cone="circumscribed")
     n = len(corners)
     for k, (x, y) in enumerate(corners):
         fr.add_node(f"P{k}", x, y, 0.0)

@@ -44,7 +44,7 @@ LABELS = {"member", "node", "support", "state", "kinds", "combination", "ok", "r
 def _frame():
     """space_examples.six_pads with the constants above (its geometry and
     loads are restated by hand in _loads, the references' source), 8 facets."""
-    fr = six_pads(friction=F_PAD, spring=K_SPRING, facets=8)
+    fr = six_pads(friction=F_PAD, spring=K_SPRING, facets=8, cone="circumscribed")
     assert {n: tuple(fr.nodes[n]) for n in ("P00", "T21")} == {"P00": (XS[0], YS[0], 0.0),
                                                               "T21": (XS[2], YS[1], H)}
     return fr

@@ -28,14 +28,13 @@ def table(ratio, stiffness=None, polygon="circumscribed", twist=False):
     """A 2.0 x 1.2 m table 0.8 m high on four steel legs, rigid (or elastic)
     feet on a floor with μ 0.3, 40 kN at the centre of a deck ``ratio``
     times stiffer than the legs; pushed along x at the centre (p x 1 kN)."""
-    fr = SpaceFrame(units=("kN", "m"))
+    fr = SpaceFrame(units=("kN", "m"), cone=polygon)
     fr.add_node("C", A / 2, B / 2, H)
     for k, (x, y) in enumerate([(0, 0), (A, 0), (A, B), (0, B)]):
         fr.add_node(f"F{k}", x, y, 0.0)
         fr.add_node(f"T{k}", x, y, H)
         fr.add_member(f"F{k}", f"T{k}", **LEG)
-        fr.add_contact(f"F{k}", normal=(0, 0, 1), friction=MU, stiffness=stiffness,
-                       polygon=polygon)
+        fr.add_contact(f"F{k}", normal=(0, 0, 1), friction=MU, stiffness=stiffness)
     deck = {k: v * (ratio if k != "E" and k != "G" else 1.0) for k, v in LEG.items()}
     for k in range(4):
         fr.add_member(f"T{k}", f"T{(k + 1) % 4}", **deck)
@@ -162,7 +161,11 @@ def test_the_inscribed_polygon_never_gives_more_friction_than_coulomb(ratio):
     assert last < outer <= TURNING / np.cos(np.pi / 16) * (1 + 1e-9)
 
 
-def test_a_polygon_that_is_neither_is_refused():
+def test_a_cone_that_is_none_of_the_models_is_refused():
+    with pytest.raises(Exception, match="cone must be one of.*'round'"):
+        SpaceFrame(cone="round")
     fr = table(1.0)
-    with pytest.raises(Exception, match="polygon must be one of.*'round'"):
-        fr.add_contact("T0", normal=(1, 0, 0), friction=0.3, polygon="round")
+    with pytest.raises(Exception, match="cone must be one of.*'faceted'"):
+        fr.cone = "faceted"
+    with pytest.raises(Exception, match="the frame's model, not a solve option"):
+        fr.solve(1.0, cone="inscribed")

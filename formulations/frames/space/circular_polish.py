@@ -1,0 +1,255 @@
+"""A frame's answer on Coulomb's circular cone found, or refined, on its
+contact states in extended precision: Newton's method on the states'
+smooth system inside an active-set loop that corrects the states.
+
+Why.  The friction solvers work in double on the frame's global problem:
+beside a deck 1e8 times stiffer than its legs, their answer carries
+ε|K||u| in the forces — the table's pads 0.27 kN out of balance at 1e8,
+2e-7 at 1e4 — and the frame's statics rightly refuse it; near a change of
+state or the limit they may stop uncertified (a certificate of 1e-5 …
+1e-2 on the pushed table).  Once each contact's state is known the answer
+is the root of a small smooth system, and Newton's method on it with the
+residual in ``numpy.longdouble`` (member forces member by member, each
+member's rigid motion taken out:
+:func:`..mechanics.member_forces.stiffness_times`) gives the digits back;
+where a state proves wrong (a sticking contact whose friction leaves the
+circle, a slipping one whose slip turns against its force, a closed one
+in tension, a separated one that penetrates) it is changed and Newton run
+again — a primal-dual active set on the circle, started from the friction
+solvers' answer or from the faceted cone's exact one.
+
+The system.  Unknowns: the free displacements u_f, each contact's force
+r_c = (X_n, X_t1, X_t2) and, per slipping contact, its slip rate λ_c ≥ 0;
+Δ_c = H_cᵀ u + g_c + r_c/k_c the contact's opening and slip (k_c its
+spring, ∞ when rigid):
+
+    (K u − F − H r)_f = 0                              [force]
+    separated:  r_c = 0
+    sticking:   Δ_c = 0                                [length, × κ]
+    slipping:   Δ_n = 0,  Δ_t + λ X_t = 0,  |X_t| − f X_n = 0
+    frictionless and closed: Δ_n = 0, X_t = 0
+
+— the slip opposite to the friction, which is on the circle (maximal
+dissipation).  Unlike X_t = −f X_n s/|s| this stays regular where a slip
+starts (λ = 0).  A tangent held by the node's bilateral supports carries
+no friction here (the support's reaction does): X along it is 0 and the
+slip is the other tangent's.
+
+The caller keeps an answer only where it passes the frame's own checks
+(friction certificate, equilibrium): the states and Newton are how it is
+found, not why it is believed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..mechanics.member_forces import EXTENDED, stiffness_times
+
+#: Newton steps at most per set of states
+STEPS = 12
+#: changes of the states at most
+CHANGES = 12
+#: a state is wrong where its inequality fails by more than this (relative
+#: to the quantity's own scale)
+SLACK = 1e-12
+
+
+def solve_on_states(b, F, u, r, Hc, gap, flex, mu, states, held):
+    """(u, r, states): the answer (extended precision) and the states it
+    settled on, from the start (u over all dofs, settlements at the fixed
+    ones; r per contact (n, t1, t2)) and its ``states`` ("separated",
+    "closed", "stick", "slip"; ``held`` (nc, 2) the tangents the bilateral
+    supports hold); None where Newton does not settle or the states cycle."""
+    states = list(states)
+    E = EXTENDED
+    u = np.asarray(u, E).copy()
+    r = np.asarray(r, E).copy()
+    lam = start_rates(u, r, Hc, gap, flex, states, held)
+    seen = set()
+    for _ in range(CHANGES):
+        out = newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held)
+        if out is None:
+            return None
+        u, r, lam = out
+        new = corrected(u, r, lam, Hc, gap, flex, mu, states, held)
+        if new == states:
+            return u, r, states
+        key = tuple(new)
+        if key in seen:
+            return None
+        seen.add(key)
+        for c, (a, bb) in enumerate(zip(states, new)):
+            if bb == "slip" and a != "slip":
+                lam[c] = E(0)
+        states = new
+    return None
+
+
+def start_rates(u, r, Hc, gap, flex, states, held):
+    """λ_c for the slipping contacts from the start: |slip| / |X_t|."""
+    delta = np.asarray(Hc, float).T @ np.asarray(u, float) + gap + flex * np.asarray(r, float)
+    lam = np.zeros(len(states), EXTENDED)
+    for c, s in enumerate(states):
+        if s == "slip":
+            t = _free_tangents(held[c])
+            xt = np.linalg.norm([float(r[3 * c + k]) for k in t])
+            st = np.linalg.norm([delta[3 * c + k] for k in t])
+            lam[c] = st / xt if xt > 0 else 0.0
+    return lam
+
+
+def _free_tangents(held_c):
+    return [k for k in (1, 2) if not held_c[k - 1]]
+
+
+def corrected(u, r, lam, Hc, gap, flex, mu, states, held):
+    """The states the answer (u, r, λ) shows: a sticking contact whose
+    friction leaves the circle slips, a slipping one with λ < 0 sticks, a
+    closed one in tension separates, a separated one that penetrates
+    closes — each beyond SLACK of its own scale."""
+    uf, rf = np.asarray(u, float), np.asarray(r, float)
+    delta = np.asarray(Hc, float).T @ uf + gap + flex * rf
+    size = np.abs(np.asarray(Hc, float)).T @ np.abs(uf) + np.abs(gap) + np.abs(flex * rf)
+    force = max(float(np.abs(rf).max(initial=0.0)), 1e-300)
+    new = []
+    for c, s in enumerate(states):
+        xn = rf[3 * c]
+        t = _free_tangents(held[c])
+        xt = np.linalg.norm([rf[3 * c + k] for k in t]) if t else 0.0
+        f = mu[c]
+        if s == "separated":
+            new.append("stick" if delta[3 * c] < -SLACK * max(size[3 * c], 1e-300) and f > 0
+                       else "closed" if delta[3 * c] < -SLACK * max(size[3 * c], 1e-300)
+                       else s)
+        elif xn < -SLACK * force:
+            new.append("separated")
+        elif s == "stick" and t and xt > f * xn * (1 + SLACK) + SLACK * force:
+            new.append("slip")
+        elif s == "slip" and float(lam[c]) < -SLACK * max(float(np.abs(lam).max()), 1e-300):
+            new.append("stick")
+        else:
+            new.append(s)
+    return new
+
+
+def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
+    """(u, r, λ) solving the states' system (module docstring) by Newton's
+    method from (u, r, λ), the residual in extended precision; None where
+    its matrix is singular or it does not settle."""
+    free, kappa = b["free"], b["kappa"]
+    nc = len(states)
+    E = EXTENDED
+    Hl = np.asarray(Hc, E)
+    u, r, lam = u.copy(), r.copy(), lam.copy()
+    Fl, gl, fl = np.asarray(F, E), np.asarray(gap, E), np.asarray(flex, E)
+    Kff = sp.csr_matrix(b["K"][free][:, free])
+    Hf = sp.csc_matrix(np.asarray(Hc, float)[free])
+    nf, m = free.size, 3 * nc
+    slips = [c for c in range(nc) if states[c] == "slip"]
+    at = {c: nf + m + i for i, c in enumerate(slips)}      # λ's column and its row
+    n = nf + m + len(slips)
+    last = np.inf
+    for it in range(STEPS):
+        delta = Hl.T @ u + gl + fl * r
+        res = np.zeros(n, E)
+        res[:nf] = (stiffness_times(b, u) - Fl - Hl @ r)[free]
+        rows, cols, vals = [], [], []
+
+        def put(i, j, v):
+            rows.append(i - nf), cols.append(j), vals.append(v)
+
+        def kinematic(i, j, factor):
+            """Row i holds factor × Δ_j's derivative."""
+            lo, hi = Hf.indptr[j], Hf.indptr[j + 1]
+            for d, h in zip(Hf.indices[lo:hi], Hf.data[lo:hi]):
+                put(i, d, factor * h)
+            put(i, nf + j, factor * float(flex[j]))
+
+        for c in range(nc):
+            t = _free_tangents(held[c])
+            for k in range(3):
+                i, j = nf + 3 * c + k, 3 * c + k
+                zero = states[c] == "separated" or (k > 0 and (k not in t
+                                                                 or states[c] == "closed"))
+                if zero:
+                    res[i] = r[j]
+                    put(i, nf + j, 1.0)
+                elif k == 0 or states[c] == "stick":
+                    res[i] = kappa * delta[j]
+                    kinematic(i, j, kappa)
+                else:       # slipping: Δ_t + λ X_t = 0, scaled like a length
+                    res[i] = kappa * (delta[j] + lam[c] * r[j])
+                    kinematic(i, j, kappa)
+                    put(i, nf + j, kappa * float(lam[c]))
+                    put(i, at[c], kappa * float(r[j]))
+            if states[c] == "slip":
+                xt = np.sqrt(sum(r[3 * c + k] ** 2 for k in t))
+                i = at[c]
+                res[i] = xt - E(mu[c]) * r[3 * c]
+                put(i, nf + 3 * c, -float(mu[c]))
+                if float(xt) > 0:
+                    for k in t:
+                        put(i, nf + 3 * c + k, float(r[3 * c + k] / xt))
+                else:       # at the cone's tip the circle has no direction yet
+                    return None
+        Jc = sp.csr_matrix((vals, (rows, cols)), shape=(n - nf, n))
+        A = sp.vstack([sp.hstack([Kff, -Hf, sp.csr_matrix((nf, len(slips)))]), Jc],
+                      format="csc")
+        # equilibrated (rows, then columns, by their largest entries): a
+        # deck's stiffness 1e13 beside the slip law's unit entries
+        dr = 1.0 / np.maximum(abs(A).max(axis=1).toarray().ravel(), 1e-300)
+        A = sp.diags(dr) @ A
+        dc = 1.0 / np.maximum(abs(A).max(axis=0).toarray().ravel(), 1e-300)
+        A = sp.csc_matrix(A @ sp.diags(dc))
+        try:
+            lu = spla.splu(A)
+        except RuntimeError:
+            return None
+        piv = np.abs(lu.U.diagonal())
+        if not (piv.size and piv.min() > 1e-14 * piv.max()):
+            return None
+        d = dc * lu.solve(-dr * np.asarray(res, float))
+        if not np.all(np.isfinite(d)):
+            return None
+        u[free] += np.asarray(d[:nf], E)
+        r += np.asarray(d[nf:nf + m], E)
+        for c in slips:
+            lam[c] += E(d[at[c]])
+        step = float(np.abs(d[:nf]).max(initial=0.0))
+        size = max(float(np.abs(u).max(initial=0.0)), 1e-300)
+        if step <= 1e-18 * size:
+            return u, r, lam
+        if it >= 4 and step > 0.5 * last and step > 1e-12 * size:
+            return None         # not settling
+        last = step
+    return u, r, lam
+
+
+def margin(answer, Hc, gap, flex, mu, states, held) -> float:
+    """How far the answer (u, r, λ) on ``states`` is from needing another
+    state, each inequality on its own scale, the least of them: a sticking
+    contact's (f X_n − |X_t|) and a closed one's X_n over the largest
+    force, a slipping one's λ over the largest λ (and its X_n), a separated
+    one's opening over its length scale.  Negative where a state no longer
+    holds: its root in p is where the state changes (an event)."""
+    u, r, lam = (np.asarray(x, float) for x in answer)
+    delta = np.asarray(Hc, float).T @ u + gap + flex * r
+    size = np.abs(np.asarray(Hc, float)).T @ np.abs(u) + np.abs(gap) + np.abs(flex * r)
+    force = max(float(np.abs(r).max(initial=0.0)), 1e-300)
+    rate = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
+    out = []
+    for c, s in enumerate(states):
+        xn = r[3 * c]
+        t = _free_tangents(held[c])
+        if s == "separated":
+            out.append(delta[3 * c] / max(size[3 * c], 1e-300))
+            continue
+        out.append(xn / force)
+        if s == "stick" and t:
+            out.append((mu[c] * xn - np.linalg.norm([r[3 * c + k] for k in t])) / force)
+        elif s == "slip":
+            out.append(lam[c] / rate)
+    return float(min(out, default=1.0))
