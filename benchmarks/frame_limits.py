@@ -50,6 +50,8 @@ from tests.helpers.rigid_body_lp import coulomb_limits, static_limit
 
 FRACTIONS = (0.5, 0.9, 0.99, 0.999)
 CONES = ("circular", "inscribed", "circumscribed")
+#: the models in the rows' names
+LABEL = {"circular": "circle", "inscribed": "inscr", "circumscribed": "circum"}
 #: pads much softer than the legs' bending (1.2e3 kN/m), and much stiffer
 #: than their axial stiffness (2.5e5 kN/m)
 FEET = {"rigid": None, "soft": 1e2, "stiff": 1e6}
@@ -61,28 +63,28 @@ def family(quick: bool):
     out = []
     if quick:
         for polygon in CONES:
-            out.append((f"table4 r1e4 rigid {polygon[:4]}",
+            out.append((f"table4 r1e4 rigid {LABEL[polygon]}",
                         lambda p=polygon: table(4, 1e4, cone=p), TABLE_CASES))
-        out.append(("skid rigid circ", lambda: skid(), SKID_CASES))
+        out.append(("skid rigid circle", lambda: skid(), SKID_CASES))
         return [(n, b, c, {"constant": 1.0}) for n, b, c in out]
     for legs in (3, 4, 6):
         for feet, k in FEET.items():
             ratios = RATIOS if legs == 4 else ((1.0, 1e4) if feet == "rigid" else (1e4,))
             for ratio in ratios:
                 for polygon in CONES:
-                    out.append((f"table{legs} r{ratio:.0e} {feet} {polygon[:4]}",
+                    out.append((f"table{legs} r{ratio:.0e} {feet} {LABEL[polygon]}",
                                 lambda lg=legs, r=ratio, kk=k, p=polygon:
                                 table(lg, r, stiffness=kk, cone=p), TABLE_CASES))
     for feet, k in (("rigid", None), ("stiff", 1e6)):
         for polygon in CONES:
-            out.append((f"skid {feet} {polygon[:4]}",
+            out.append((f"skid {feet} {LABEL[polygon]}",
                         lambda kk=k, p=polygon: skid(stiffness=kk, cone=p), SKID_CASES))
     for polygon in CONES:
-        out.append((f"rack k1e6 {polygon[:4]}", lambda p=polygon: pipe_rack(cone=p),
+        out.append((f"rack k1e6 {LABEL[polygon]}", lambda p=polygon: pipe_rack(cone=p),
                     RACK_CASES))
     out = [(n, b, c, {"constant": 1.0}) for n, b, c in out]
     for cone in CONES:
-        out.append((f"tower 10x3 rigid {cone[:4]}",
+        out.append((f"tower 10x3 rigid {LABEL[cone]}",
                     lambda c=cone: space_tower(10, 3, facets=16, cone=c), ("W",), {"D": 1.0}))
     return out
 
