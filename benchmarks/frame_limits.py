@@ -34,6 +34,7 @@ not the limit.
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 import time
@@ -42,11 +43,13 @@ from collections import defaultdict
 
 import numpy as np
 
-from formulations.frames.space.space_family import (RACK_CASES, SKID_CASES, TABLE_CASES,
-                                                     pipe_rack, skid, table)
-from formulations.frames.space.space_tower import space_tower
-from qpcontact.core.errors import NoSolutionError, QpcontactError, SolverFailedError
-from tests.helpers.rigid_body_lp import coulomb_limits, static_limit
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from formulations.frames.space.space_family import (  # noqa: E402
+    RACK_CASES, SKID_CASES, TABLE_CASES, pipe_rack, skid, table)
+from formulations.frames.space.space_tower import space_tower  # noqa: E402
+from qpcontact.core.errors import (  # noqa: E402
+    NoSolutionError, QpcontactError, SolverFailedError)
+from tests.helpers.rigid_body_lp import coulomb_limits, static_limit  # noqa: E402
 
 FRACTIONS = (0.5, 0.9, 0.99, 0.999)
 CONES = ("circular", "inscribed", "circumscribed")
