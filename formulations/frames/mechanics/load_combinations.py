@@ -42,3 +42,16 @@ def require_loads(combo, b, what, part, only_if_named=False) -> None:
         f"there is nothing to analyse; this frame's loads are in the cases {cases} — pass "
         f"combination={example} to solve, constant=/variable= to trace (e.g. "
         f"variable={named[-1] if named else 'W'!r}), or add loads with case='variable'")
+
+
+def trace_combinations(b, constant, variable) -> tuple:
+    """(constant, variable) of a trace, validated: ``constant`` a
+    combination (default the case "constant"), ``variable`` a case name or
+    a combination (default the case "variable"), which must load the frame
+    where named cases hold its loads."""
+    known = set(b["cases"])
+    const = combination(constant or {CONSTANT: 1.0}, known)
+    var = combination({variable: 1.0} if isinstance(variable, str)
+                      else (variable or {VARIABLE: 1.0}), known)
+    require_loads(var, b, "trace", "the variable part", only_if_named=True)
+    return const, var

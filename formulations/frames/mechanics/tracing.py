@@ -17,8 +17,8 @@ from . import contact_lcp
 from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
 from .joined_trace import RESTART, RESTARTS, JoinedTrace
-from .load_combinations import require_loads
-from .loads import CONSTANT, VARIABLE, combination, describe
+from .load_combinations import trace_combinations
+from .loads import CONSTANT, VARIABLE, describe
 from .no_equilibrium import motion_words
 
 
@@ -40,11 +40,7 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
 
     _, tol = resolve_accuracy(accuracy)
     b = frame.build()
-    known = set(b["cases"])
-    const = combination(constant or {CONSTANT: 1.0}, known)
-    var = combination({variable: 1.0} if isinstance(variable, str)
-                      else (variable or {VARIABLE: 1.0}), known)
-    require_loads(var, b, "trace", "the variable part", only_if_named=True)
+    const, var = trace_combinations(b, constant, variable)
     M, Q, q_gap, P, g, fric = contact_lcp.lcp_matrices(b)
     qc, _ = contact_lcp.combination_q(Q, q_gap, b, const)
     qv, _ = contact_lcp.combination_q(Q, np.zeros_like(q_gap), b, var)

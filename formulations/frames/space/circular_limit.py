@@ -74,6 +74,41 @@ def vertices(angles, f):
     return np.c_[rad * np.cos(mid), rad * np.sin(mid)]
 
 
+def rays(cf, angles):
+    """(columns, owners): each contact's extreme rays — its normal alone
+    without friction, else (1, vertex) of its circumscribed polygon — as
+    the rigid motions' work (columns), and whose they are (contact,
+    vertex)."""
+    cols, owner = [], []
+    for ci, ((A, f), ang) in enumerate(zip(cf, angles)):
+        if f == 0:
+            cols.append(A[0]), owner.append((ci, None))
+            continue
+        for v in vertices(ang, f):
+            cols.append(A[0] + v[0] * A[1] + v[1] * A[2]), owner.append((ci, v))
+    return cols, owner
+
+
+def cut(x, owner, cf, angles) -> bool:
+    """Each contact's force from the LP's ray weights ``x``; where one
+    stands outside its circle (beyond OUTSIDE), its polygon gets the
+    tangent at that direction (``angles`` updated).  True if any did."""
+    xn = np.zeros(len(cf))
+    xt = np.zeros((len(cf), 2))
+    for lam, (ci, v) in zip(x, owner):
+        xn[ci] += lam
+        if v is not None:
+            xt[ci] += lam * v
+    added = False
+    for ci, (_, f) in enumerate(cf):
+        if f > 0 and xn[ci] > 0 and np.linalg.norm(xt[ci]) > f * xn[ci] * (1 + OUTSIDE):
+            new = np.arctan2(xt[ci, 1], xt[ci, 0]) % (2 * np.pi)
+            if np.min(np.abs((angles[ci] - new + np.pi) % (2 * np.pi) - np.pi)) > 1e-9:
+                angles[ci] = np.sort(np.r_[angles[ci], new])
+                added = True
+    return added
+
+
 def polygon_limit(frame, b, const, var):
     """(p, angles): the largest p carried on circumscribed polygons refined
     by cutting planes until the limit settles (the module docstring); p is
@@ -89,13 +124,7 @@ def polygon_limit(frame, b, const, var):
     gv = G @ (b["F"] @ contact_lcp.factors(b, var))
     angles = [2 * np.pi * np.arange(START) / START if f > 0 else np.zeros(0) for _, f in cf]
     for _ in range(ROUNDS):
-        cols, owner = [], []
-        for ci, ((A, f), ang) in enumerate(zip(cf, angles)):
-            if f == 0:
-                cols.append(A[0]), owner.append((ci, None))
-                continue
-            for v in vertices(ang, f):
-                cols.append(A[0] + v[0] * A[1] + v[1] * A[2]), owner.append((ci, v))
+        cols, owner = rays(cf, angles)
         Aeq = np.column_stack(cols + [gv])
         scale = max(np.abs(Aeq).max(), 1e-300)
         c = np.zeros(Aeq.shape[1])
@@ -108,21 +137,7 @@ def polygon_limit(frame, b, const, var):
         if res.status != 0:
             return None, None
         p = float(res.x[-1])
-        # each contact's optimal force; a tangent where it stands outside the circle
-        xn = np.zeros(len(cf))
-        xt = np.zeros((len(cf), 2))
-        for lam, (ci, v) in zip(res.x[:-1], owner):
-            xn[ci] += lam
-            if v is not None:
-                xt[ci] += lam * v
-        added = False
-        for ci, (_, f) in enumerate(cf):
-            if f > 0 and np.linalg.norm(xt[ci]) > f * xn[ci] * (1 + OUTSIDE) and xn[ci] > 0:
-                new = np.arctan2(xt[ci, 1], xt[ci, 0]) % (2 * np.pi)
-                if np.min(np.abs((angles[ci] - new + np.pi) % (2 * np.pi) - np.pi)) > 1e-9:
-                    angles[ci] = np.sort(np.r_[angles[ci], new])
-                    added = True
-        if not added:
+        if not cut(res.x[:-1], owner, cf, angles):
             return p, angles
     return p, angles
 
@@ -140,13 +155,7 @@ def prove_beyond(frame, b, const, var, p, angles):
     cf = contact_frames(frame, b, G)
     F = b["F"] @ (contact_lcp.factors(b, const) + p * contact_lcp.factors(b, var))
     gF = G @ F
-    rows = []
-    for (A, f), ang in zip(cf, angles):
-        if f == 0:
-            rows.append(A[0])
-        else:
-            rows += [A[0] + v[0] * A[1] + v[1] * A[2] for v in vertices(ang, f)]
-    R = np.array(rows)
+    R = np.array(rays(cf, angles)[0])
     # balanced as the polygons' proof (rigid_limit.prove_beyond): each
     # parameter by its largest lever, each row by its size
     col = np.maximum(np.abs(R).max(axis=0, initial=0.0), np.abs(gF))
@@ -261,13 +270,7 @@ def prove_no_equilibrium(frame, b, combo):
     gF = G @ (b["F"] @ contact_lcp.factors(b, combo))
     angles = [2 * np.pi * np.arange(START) / START if f > 0 else np.zeros(0) for _, f in cf]
     for _ in range(ROUNDS):
-        cols, owner = [], []
-        for ci, ((A, f), ang) in enumerate(zip(cf, angles)):
-            if f == 0:
-                cols.append(A[0]), owner.append((ci, None))
-                continue
-            for v in vertices(ang, f):
-                cols.append(A[0] + v[0] * A[1] + v[1] * A[2]), owner.append((ci, v))
+        cols, owner = rays(cf, angles)
         Aeq = np.column_stack(cols)
         scale = max(np.abs(Aeq).max(), 1e-300)
         res = linprog(np.zeros(Aeq.shape[1]), A_eq=Aeq / scale, b_eq=-gF / scale,
@@ -276,19 +279,6 @@ def prove_no_equilibrium(frame, b, combo):
             return prove_beyond(frame, b, {}, combo, 1.0, angles)
         if res.status != 0:
             return None
-        xn = np.zeros(len(cf))
-        xt = np.zeros((len(cf), 2))
-        for lam, (ci, v) in zip(res.x, owner):
-            xn[ci] += lam
-            if v is not None:
-                xt[ci] += lam * v
-        added = False
-        for ci, (_, f) in enumerate(cf):
-            if f > 0 and xn[ci] > 0 and np.linalg.norm(xt[ci]) > f * xn[ci] * (1 + OUTSIDE):
-                new = np.arctan2(xt[ci, 1], xt[ci, 0]) % (2 * np.pi)
-                if np.min(np.abs((angles[ci] - new + np.pi) % (2 * np.pi) - np.pi)) > 1e-9:
-                    angles[ci] = np.sort(np.r_[angles[ci], new])
-                    added = True
-        if not added:
+        if not cut(res.x, owner, cf, angles):
             return None                 # forces within the circles carry it
     return None

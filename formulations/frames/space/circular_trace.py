@@ -43,8 +43,7 @@ from qpcontact.core.errors import InvalidOptionError, NoSolutionError, Qpcontact
 
 from ..mechanics.analysis_results import FrameEvent, FrameTrace
 from ..mechanics.equilibrium_checks import LargeDisplacementWarning, how_far
-from ..mechanics.load_combinations import require_loads
-from ..mechanics.loads import CONSTANT, VARIABLE, combination
+from ..mechanics.load_combinations import trace_combinations
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.tracing import BRACKET
 from ..mechanics.member_forces import EXTENDED
@@ -104,11 +103,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
         raise InvalidOptionError(f"samples must be an integer >= 2; got {samples!r}")
     b = frame.build()
-    known = set(b["cases"])
-    const = combination(constant or {CONSTANT: 1.0}, known)
-    var = combination({variable: 1.0} if isinstance(variable, str)
-                      else (variable or {VARIABLE: 1.0}), known)
-    require_loads(var, b, "trace", "the variable part", only_if_named=True)
+    const, var = trace_combinations(b, constant, variable)
     ft = CircularTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
                        ended="", message="", ok=False, trace=CircularPath(), frame=frame,
                        _built=b, constant=const, variable=var, accuracy=accuracy)
