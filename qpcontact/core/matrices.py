@@ -380,6 +380,18 @@ class MatrixStructure:
         return self.scale == 0.0 or self.is_positive_definite or self._definite(semi=True)
 
     @cached_property
+    def abs_matrix(self):
+        """|M| (CSC when M is sparse), for the componentwise scales: a time
+        stepper's LCPs share this structure, and forming |M| anew at every
+        certificate and every pivoting run was a sixth of a drum step."""
+        return abs(self.M).tocsc() if sp.issparse(self.M) else np.abs(self.M)
+
+    @cached_property
+    def abs_row_sums(self) -> np.ndarray:
+        """‖M_i‖₁ per row (the row sums of :attr:`abs_matrix`)."""
+        return np.asarray(self.abs_matrix.sum(axis=1)).ravel()
+
+    @cached_property
     def is_positive_definite_exactly(self) -> bool:
         """Whether the symmetric part of M *as stored* is positive definite in
         exact arithmetic, not only to rounding — then z'Mz > 0 for every z != 0,
