@@ -596,3 +596,6 @@ def test_auto_goes_on_to_lemke_where_nsgs_stalls():
     p, s, _ = _solved_by_auto("fc2d_granularflowonwall_02020_00213.dat")
     assert s.method == "lemke" and _tried(s) == ["nsgs-newton", "lemke"], s.message
     assert "links: nsgs-newton: error" in s.message and "lemke: error" in s.message
+    # Lemke's basic solution misses the rounding-level contacts and is polished
+    # (the polish's must-fail half is test_a_basic_solution_..._is_polished, slow)
+    assert "polished by Newton" in s.message, s.message
