@@ -22,7 +22,8 @@ def grace(time_limit: float | None) -> float:
     """Seconds a call may run past its time limit: the step in flight at the
     deadline ends (a backend's iteration, one factorization, one exact check
     of a candidate) and the answer is certified.  0.5 s plus a tenth of the
-    limit.  Not covered: the one-time costs of a process's first use of a
+    limit, of work at a full core's speed (a process that gets a share of
+    a core takes that much longer).  Not covered: the one-time costs of a process's first use of a
     method — importing its backend (up to a second or two) and numba
     compiling its kernels into the on-disk cache (once per machine)."""
     return 0.0 if time_limit is None else 0.5 + 0.1 * time_limit

@@ -4,6 +4,7 @@ methods that solve sub-problems."""
 
 from __future__ import annotations
 
+import functools
 import inspect
 
 from ..core.results import MethodResult
@@ -29,9 +30,21 @@ def takes_keyword(run, name: str) -> bool:
     """Whether ``run`` accepts the keyword ``name`` (a method's run may take
     ``time_limit=`` and ``engine=``; a user's own may take neither)."""
     try:
-        return name in inspect.signature(run).parameters
+        return name in _parameters(run)
+    except TypeError:   # unhashable: read its signature each time
+        try:
+            return name in inspect.signature(run).parameters
+        except (TypeError, ValueError):
+            return False
+
+
+@functools.lru_cache(maxsize=512)
+def _parameters(run) -> frozenset:
+    # inspect.signature cost a twentieth of a small LCP's solve, at every call
+    try:
+        return frozenset(inspect.signature(run).parameters)
     except (TypeError, ValueError):
-        return False
+        return frozenset()
 
 
 def _run_with_limit(m: Method, target, tol, options, time_limit):

@@ -291,7 +291,11 @@ def solve(problem, method: str = "auto", accuracy="high", *, raise_on_failure: b
         :data:`DEFAULT_TIME_LIMIT`), however busy the machine is: it returns
         within ``time_limit`` plus :func:`~qpcontact.core.deadline.grace`
         (0.5 s and a tenth of the limit: the step in flight ends and its
-        answer is certified).  Every part keeps the same deadline
+        answer is certified; that much work at a full core's speed — on a
+        loaded machine it takes longer).  The default limit makes a large
+        problem's outcome depend on the machine's load (a 2 020-contact
+        Lemke solve: 9.8 s of CPU, 61 s of wall time when the process got a
+        sixth of a core): pass ``time_limit=None`` where the answer must not.  Every part keeps the same deadline
         (:mod:`qpcontact.dispatch.context`): "auto" gives each method half of
         what is left, a proof gets what is left, the backends get it as
         their own time setting, ProxQP (which has none) runs in a child

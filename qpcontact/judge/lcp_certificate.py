@@ -38,7 +38,7 @@ from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
 from .forward import ForwardErrorMixin
 from .near_farkas import near_farkas
-from .scales import ComponentScales, abs_matvec, divide, inf_norm, row_scales, safe_norm2
+from .scales import ComponentScales, abs_matvec, divide, inf_norm, safe_norm2
 
 __all__ = ["LCPCertificate", "certify_lcp"]
 
@@ -319,9 +319,12 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     with np.errstate(over="ignore", invalid="ignore"):
         Mz = np.asarray(lcp.M @ z).ravel()
         w = Mz + lcp.q
-    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(row_scales(lcp.M, z, lcp.q_terms)))):
+    scales = ComponentScales.of(lcp)
+    with np.errstate(over="ignore", invalid="ignore"):
+        terms = np.asarray(scales.absM @ np.abs(z)).ravel() + lcp.q_terms   # σ: |M||z| + |q|
+    if not (np.all(np.isfinite(w)) and np.all(np.isfinite(terms))):
         return _bad_lcp_certificate(overflow=True)
-    zeta, sigma = ComponentScales(lcp.M, lcp.q_terms, lcp.matrix_scale).at(z)
+    zeta, sigma = scales.at(z)
     Z, W = divide(z, zeta), divide(w, sigma)
     e = np.abs(np.minimum(Z, W))
     worst = int(np.argmax(e))

@@ -155,6 +155,20 @@ class ComponentScales:
         self.q_terms = np.abs(np.asarray(q_terms, dtype=float))
         self.scale_M = max_abs(M) if scale_M is None else scale_M
 
+    @classmethod
+    def of(cls, lcp) -> "ComponentScales":
+        """The scales of an LCP, with |M| and its row sums taken from (and
+        kept in) its structure, which a time stepper's LCPs share."""
+        st = lcp.structure
+        obj = cls.__new__(cls)
+        obj.absM = st.abs_matrix
+        obj.q_terms = np.abs(np.asarray(lcp.q_terms, dtype=float))
+        obj.scale_M = st.scale
+        obj._row_sums = st.abs_row_sums
+        return obj
+
+    _row_sums = None
+
     def bound_data(self) -> tuple[np.ndarray, np.ndarray, float]:
         """(‖M_i‖₁ per row, 1/|M_ii| (inf where 0), ‖q‖∞ / max|M|): what cheap
         upper bounds of the scales need — σ_i <= |q_i| + ‖M_i‖₁ ‖z‖∞, plus
@@ -166,7 +180,8 @@ class ComponentScales:
             with np.errstate(divide="ignore"):
                 inv_diag = np.where(diag > 0, 1.0 / np.where(diag > 0, diag, 1.0), np.inf)
             floor = inf_norm(self.q_terms) / self.scale_M if self.scale_M > 0 else 0.0
-            self._bounds = (np.asarray(A.sum(axis=1)).ravel(), inv_diag, floor)
+            sums = np.asarray(A.sum(axis=1)).ravel() if self._row_sums is None else self._row_sums
+            self._bounds = (sums, inv_diag, floor)
         return self._bounds
 
     _bounds = None

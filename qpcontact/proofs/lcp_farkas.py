@@ -55,6 +55,8 @@ def prove_lcp_infeasible(lcp, time_limit=None, hints=(), quick=False) -> Proof |
     proof = sign_farkas(M, q)
     if proof is not None or np.all(q >= 0):     # z = 0 solves: no Farkas vector exists
         return proof
+    if lcp.structure.is_positive_definite_exactly:   # y'My > 0: none exists
+        return None
     check = _lcp_check(M, q)
     for y in list(hints) + [np.ones(n)]:
         if proof is None and not tl.expired():

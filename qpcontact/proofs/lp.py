@@ -10,7 +10,7 @@ import scipy.sparse as sp
 
 from ..core.deadline import Deadline
 
-__all__ = ["linprog", "csr_rows", "row_scale", "column_scale", "LP_TIME_LIMIT", "proof_deadline",
+__all__ = ["linprog", "csr_rows", "row_scale", "row_abs_max", "column_scale", "LP_TIME_LIMIT", "proof_deadline",
            "null_basis", "NULL_SPACE_MAX_N"]
 
 
@@ -64,10 +64,23 @@ def csr_rows(M, n):
     return sp.csr_matrix(M)
 
 
-def row_scale(M: sp.csr_matrix) -> np.ndarray:
+def row_abs_max(M: sp.csr_matrix) -> np.ndarray:
+    """max_j |M_ij| per row (0 for an empty row), read off the CSR arrays: the
+    doubt test asks it of every certified QP answer, where scipy's
+    abs(M).max(axis=1) cost 2 ms a call (a third of a mechanism's step)."""
     big = np.zeros(M.shape[0])
     if M.nnz:
-        big = np.asarray(abs(M).max(axis=1).toarray()).ravel()
+        if not M.has_canonical_format:
+            M = M.copy()
+            M.sum_duplicates()
+        starts = M.indptr[:-1]
+        rows = np.flatnonzero(np.diff(M.indptr) > 0)
+        big[rows] = np.maximum.reduceat(np.abs(M.data), starts[rows])
+    return big
+
+
+def row_scale(M: sp.csr_matrix) -> np.ndarray:
+    big = row_abs_max(M)
     return np.where(big > 0, 1.0 / np.where(big > 0, big, 1.0), 0.0)
 
 

@@ -42,7 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .exact import FarkasCheck, Proof, RayCheck, candidates, exactly_within
-from .lp import (NULL_SPACE_MAX_N, column_scale, csr_rows, linprog, null_basis,
+from .lp import (NULL_SPACE_MAX_N, column_scale, csr_rows, linprog, null_basis, row_abs_max,
                  proof_deadline, row_scale)
 
 __all__ = ["prove_no_minimiser", "find_farkas", "x_size"]
@@ -95,7 +95,7 @@ def _x_size(G, h, A, b, lbf, ubf) -> float:
     size = [np.abs(lbf), np.abs(ubf)]
     for M, rhs in ((G, h), (A, b)):
         if M.shape[0]:
-            big = np.asarray(abs(M).max(axis=1).toarray()).ravel()
+            big = row_abs_max(M)
             size.append(np.abs(rhs[big > 0]) / big[big > 0])
     return max([float(s.max()) for s in size if s.size] + [np.finfo(float).tiny])
 

@@ -50,7 +50,7 @@ def assert_lcp_solution(lcp, z, tol: float = 1e-9) -> None:
     if cert.error <= tol:
         return
     i = cert.worst_index
-    zeta, sigma = ComponentScales(lcp.M, lcp.q_terms, lcp.matrix_scale).at(z)
+    zeta, sigma = ComponentScales.of(lcp).at(z)
     w = lcp.w(z)
     if z[i] < 0 and z[i] / zeta[i] <= w[i] / sigma[i]:
         what = (f"z >= 0 at index {i}: z_{i} = {z[i]:.3e}, judged against its scale "

@@ -211,15 +211,18 @@ def test_plot_command_draws_from_the_file_alone(tmp_path):
 @pytest.mark.parametrize("example, edit, steps, must_hold", [
     # the drum: its state is two displacement vectors, the forces (damped set,
     # bpp's warm start), the dissipation, the methods, the fallbacks
-    ("drum.toml", ("steps = 5000", "steps = 8000"), 8000, ("forces", "energy/viscous")),
+    # (the drum's and the tree's runs take 2-3 minutes: make test-all; the
+    # mechanism's stands for them in make test)
+    pytest.param("drum.toml", ("steps = 5000", "steps = 8000"), 8000, ("forces", "energy/viscous"),
+                 marks=pytest.mark.slow),
     # a mechanism on the shared contact stepper: (q, v) and the penalty mu in use
     ("pellets.toml", ("steps = 800", "steps = 500"), 500, ("reactions", "mu")),
     # a tree with compliant contacts: the automatic mu (c / 2 max|A|, A changing with
     # the configuration) must be restored, not re-chosen, for the bits to agree
-    ("chain.toml", ('effects = ["gravity", "joint_damping"]',
-                    'effects = ["gravity", "joint_damping", "compliance"]\n'
-                    '[effect.compliance]\ncompliance = 1e-6\n#'), 1200,
-     ("reactions", "mu", "energy/kinetic")),
+    pytest.param("chain.toml", ('effects = ["gravity", "joint_damping"]',
+                                'effects = ["gravity", "joint_damping", "compliance"]\n'
+                                '[effect.compliance]\ncompliance = 1e-6\n#'), 1200,
+                 ("reactions", "mu", "energy/kinetic"), marks=pytest.mark.slow),
 ], ids=["drum", "mechanism", "tree"])
 def test_kill_and_resume_is_bit_identical(tmp_path, example, edit, steps, must_hold):
     """`qpcontact simulate` killed (SIGKILL) at random moments, three times

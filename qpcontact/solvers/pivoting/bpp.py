@@ -67,7 +67,7 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=N
     """Iterate from the basis F; returns (z, F, stats, status).  ``stats``
     (a dict, updated in place) lets a caller count its own work beside."""
     M, q = problem.M, problem.q
-    scales = ComponentScales(M, problem.q_terms, problem.matrix_scale)
+    scales = ComponentScales.of(problem)
     # Per-matrix analysis, cached on the problem (a time stepper reuses it).
     structure = problem.structure
     bands = structure.upper_bands(BANDED_MAX) if sp.issparse(M) else None

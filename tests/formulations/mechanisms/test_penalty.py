@@ -173,6 +173,8 @@ def _momentum_check(res):
     return worst
 
 
+@pytest.mark.slow   # two full runs of the scene (about a minute); make test runs the scene
+# through its file (tests/scenes) and the penalty routes against the exact LCP
 def test_ramming_scene_no_penetration_momentum_and_backend_independence():
     mech, h, steps, dt = ramming_scene()
     a = mech.simulate(h, steps, lookahead=dt, method="piqp")
