@@ -112,7 +112,8 @@ def test_a_tall_table_tips_about_its_far_legs_at_W_a_over_2h(ratio, cone):
     assert "tips over about F1, F2" in tr.message
 
 
-@pytest.mark.parametrize("ratio", [pytest.param(1.0, marks=pytest.mark.slow), 1e2, 1e4, 1e8])
+@pytest.mark.parametrize("ratio", [pytest.param(1.0, marks=pytest.mark.slow), 1e2,
+                                   pytest.param(1e4, marks=pytest.mark.slow), 1e8])
 @pytest.mark.parametrize("polygon", ["inscribed", "circumscribed"])
 def test_a_twisted_table_turns_at_the_polygons_rigid_body_limit(ratio, polygon):
     tr = table(ratio, cone=polygon, load=(0, 0, 0, 0, 0, 1)).trace()

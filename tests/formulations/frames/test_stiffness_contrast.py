@@ -142,7 +142,7 @@ def test_answers_a_millionth_off_are_refused_on_a_stiff_deck():
 TURNING = MU * W * np.hypot(A, B) / 2
 
 
-@pytest.mark.parametrize("ratio", [1e2, 1e4])
+@pytest.mark.parametrize("ratio", [1e2, pytest.param(1e4, marks=pytest.mark.slow)])
 def test_the_inscribed_polygon_never_gives_more_friction_than_coulomb(ratio):
     """Twisted about its centre, the table turns at μW r (13.9943 kN·m).  On
     the inscribed 16-gon no pad ever uses more than its circle, and the last
