@@ -183,15 +183,22 @@ def prove_beyond(frame, b, const, var, p, G=None, rays=None):
     motion's parameters, its exact work, and per contact its normal
     opening and tangential motion (floats, for the words); None if none
     is found or it does not check."""
-    from scipy.optimize import linprog
-
     G = rigid_motions(frame, b) if G is None else G
     rays = contact_rays(b) if rays is None else rays
     if G is None or rays is None:
         return None
     F = b["F"] @ (contact_lcp.factors(b, const) + p * contact_lcp.factors(b, var))
-    A = ray_works(G, b, rays)                # A c >= 0 for every ray, (G F)·c = 1
-    gF = G @ F
+    c = balanced_motion(G, ray_works(G, b, rays), G @ F)
+    return None if c is None else exact_check(frame, b, G, F, rays, c)
+
+
+def balanced_motion(G, A, gF, cost=None):
+    """The parameters c of a rigid motion G'c with A c >= 0 (each row a
+    contact ray's work) and unit load work (G F)·c = 1, from one LP — with
+    ``cost``·c least where given — or None where there is none; the
+    parameters of motions G has zeroed (held dofs) are 0."""
+    from scipy.optimize import linprog
+
     # balanced for the LP's tolerances: each parameter by its largest
     # lever (a rotation's moves grow with the frame's size, a translation's
     # do not), each ray's row by its size — else a tower's rotation
@@ -202,12 +209,16 @@ def prove_beyond(frame, b, const, var, p, G=None, rays=None):
     As, gs = A / col, gF / col
     row = np.abs(As).max(axis=1, initial=0.0)
     row[row == 0] = 1.0
-    res = linprog(np.zeros(G.shape[0]), A_ub=-As / row[:, None], b_ub=np.zeros(len(A)),
+    objective = np.zeros(G.shape[0])
+    if cost is not None:
+        objective = cost / col
+        objective = objective / max(np.abs(objective).max(), 1e-300)
+    res = linprog(objective, A_ub=-As / row[:, None], b_ub=np.zeros(len(A)),
                   A_eq=gs[None, :], b_eq=[1.0], bounds=[(None, None)] * G.shape[0],
                   method="highs")
     if res.status != 0:
         return None
-    return exact_check(frame, b, G, F, rays, np.where(np.any(G != 0, axis=1), res.x / col, 0.0))
+    return np.where(np.any(G != 0, axis=1), res.x / col, 0.0)
 
 
 def exact_check(frame, b, G, F, rays, c):

@@ -128,7 +128,7 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
         # circles can carry, a rigid motion checked in rationals proves it
         proof = prove_no_equilibrium(frame, b, combo)
         if proof is not None:
-            carrying = [k for k in support_keys(frame)]
+            carrying = list(support_keys(frame))
             raise NoSolutionError(
                 f"frame under {describe(combo)}: no equilibrium exists — "
                 f"{motion_words(frame, proof['opening'], proof['sliding'], carrying)}"
@@ -146,9 +146,9 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
 
 def circular_result(frame, prob, r, v, b, combo, route, tol):
     """The frame's result for the friction problem's answer (r, v),
-    checked (module docstring); unless it passes with room to spare it is
-    refined on its states in extended precision (:mod:`.circular_polish`),
-    and the refined answer kept if it checks at least as well."""
+    checked (module docstring); always refined on its states in extended
+    precision (:mod:`.circular_polish`), the refined answer kept if it
+    checks at least as well."""
     r = np.asarray(r, float)
     factors = contact_lcp.factors(b, combo)
     u = b["U"] @ factors                        # settlements at the fixed dofs
@@ -198,8 +198,13 @@ def polygon_start(frame, b, combo, accuracy):
         return None
     if res._u is None:
         return None
-    r = np.concatenate([[s.normal, *s.tangential] for s in res.supports.values()])
-    return res._u, r, [s.state for s in res.supports.values()]
+    return res._u, contact_forces(res), [s.state for s in res.supports.values()]
+
+
+def contact_forces(res) -> np.ndarray:
+    """A result's contact forces as the friction problem's r: (X_n, X_t1,
+    X_t2) per contact."""
+    return np.concatenate([[s.normal, *s.tangential] for s in res.supports.values()])
 
 
 def contact_data(frame, b, combo):

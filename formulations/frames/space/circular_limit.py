@@ -36,7 +36,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..mechanics import contact_lcp
-from ..mechanics.rigid_limit import rigid_motions, turn_words
+from ..mechanics.rigid_limit import balanced_motion, rigid_motions, turn_words
 
 #: relative steps above the polygons' limit at which a proof is tried
 MARGINS = (1e-10, 1e-9, 1e-8, 1e-7)
@@ -147,35 +147,18 @@ def prove_beyond(frame, b, const, var, p, angles):
     exists at F(const) + p F(var), checked in rationals: a dict with its
     parameters, exact work, and per contact its opening a and tangential
     motion s (floats, for the words); None if none is found or it fails."""
-    from scipy.optimize import linprog
-
     G = rigid_motions(frame, b)
     if G is None:
         return None
     cf = contact_frames(frame, b, G)
     F = b["F"] @ (contact_lcp.factors(b, const) + p * contact_lcp.factors(b, var))
-    gF = G @ F
     R = np.array(rays(cf, angles)[0])
-    # balanced as the polygons' proof (rigid_limit.prove_beyond): each
-    # parameter by its largest lever, each row by its size
-    col = np.maximum(np.abs(R).max(axis=0, initial=0.0), np.abs(gF))
-    col[col == 0] = 1.0
-    Rs, gs = R / col, gF / col
-    row = np.abs(Rs).max(axis=1, initial=0.0)
-    row[row == 0] = 1.0
     # the motion that opens the contacts least for unit work: the tight one
     # (a contact slides where it can), so that its words name the mechanism
-    opening = sum(A[0] for A, _ in cf) / col
-    res = linprog(opening / max(np.abs(opening).max(), 1e-300), A_ub=-Rs / row[:, None],
-                  b_ub=np.zeros(len(R)), A_eq=gs[None, :], b_eq=[1.0],
-                  bounds=[(None, None)] * G.shape[0], method="highs")
-    if res.status != 0:
-        res = linprog(np.zeros(G.shape[0]), A_ub=-Rs / row[:, None], b_ub=np.zeros(len(R)),
-                      A_eq=gs[None, :], b_eq=[1.0], bounds=[(None, None)] * G.shape[0],
-                      method="highs")
-    if res.status != 0:
-        return None
-    return exact_check(frame, G, cf, F, res.x / col)
+    c = balanced_motion(G, R, G @ F, cost=sum(A[0] for A, _ in cf))
+    if c is None:
+        c = balanced_motion(G, R, G @ F)
+    return None if c is None else exact_check(frame, G, cf, F, c)
 
 
 def exact_check(frame, G, cf, F, c):

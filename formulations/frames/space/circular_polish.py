@@ -110,29 +110,42 @@ def corrected(u, r, lam, Hc, gap, flex, mu, states, held):
     friction leaves the circle slips, a slipping one with λ < 0 sticks, a
     closed one in tension separates, a separated one that penetrates
     closes — each beyond SLACK of its own scale."""
-    uf, rf = np.asarray(u, float), np.asarray(r, float)
-    delta = np.asarray(Hc, float).T @ uf + gap + flex * rf
-    size = np.abs(np.asarray(Hc, float)).T @ np.abs(uf) + np.abs(gap) + np.abs(flex * rf)
-    force = max(float(np.abs(rf).max(initial=0.0)), 1e-300)
     new = []
+    for s, checks in zip(states, inequalities((u, r, lam), Hc, gap, flex, mu, states, held)):
+        broken = [to for value, scale, to in checks if value < -SLACK * scale]
+        new.append(broken[0] if broken else s)
+    return new
+
+
+def inequalities(answer, Hc, gap, flex, mu, states, held) -> list:
+    """Per contact, the inequalities its state keeps, in the order they are
+    read: (value, its scale, the state the contact goes to where the value
+    is below zero) — a separated contact's opening (over |h|ᵀ|u| + gap +
+    |X|/k), then for the others X_n (over the largest force), a sticking
+    one's f X_n − |X_t| (over f X_n and the largest force), a slipping
+    one's λ (over the largest λ)."""
+    u, r, lam = (np.asarray(x, float) for x in answer)
+    delta = np.asarray(Hc, float).T @ u + gap + flex * r
+    size = np.abs(np.asarray(Hc, float)).T @ np.abs(u) + np.abs(gap) + np.abs(flex * r)
+    force = max(float(np.abs(r).max(initial=0.0)), 1e-300)
+    rate = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
+    out = []
     for c, s in enumerate(states):
-        xn = rf[3 * c]
-        t = _free_tangents(held[c])
-        xt = np.linalg.norm([rf[3 * c + k] for k in t]) if t else 0.0
         f = mu[c]
         if s == "separated":
-            new.append("stick" if delta[3 * c] < -SLACK * max(size[3 * c], 1e-300) and f > 0
-                       else "closed" if delta[3 * c] < -SLACK * max(size[3 * c], 1e-300)
-                       else s)
-        elif xn < -SLACK * force:
-            new.append("separated")
-        elif s == "stick" and t and xt > f * xn * (1 + SLACK) + SLACK * force:
-            new.append("slip")
-        elif s == "slip" and float(lam[c]) < -SLACK * max(float(np.abs(lam).max()), 1e-300):
-            new.append("stick")
-        else:
-            new.append(s)
-    return new
+            out.append([(delta[3 * c], max(size[3 * c], 1e-300),
+                         "stick" if f > 0 else "closed")])
+            continue
+        xn = r[3 * c]
+        t = _free_tangents(held[c])
+        checks = [(xn, force, "separated")]
+        if s == "stick" and t:
+            xt = np.linalg.norm([r[3 * c + k] for k in t])
+            checks.append((f * xn - xt, f * xn + force, "slip"))
+        elif s == "slip":
+            checks.append((lam[c], rate, "stick"))
+        out.append(checks)
+    return out
 
 
 def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
@@ -230,26 +243,8 @@ def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
 
 def margin(answer, Hc, gap, flex, mu, states, held) -> float:
     """How far the answer (u, r, λ) on ``states`` is from needing another
-    state, each inequality on its own scale, the least of them: a sticking
-    contact's (f X_n − |X_t|) and a closed one's X_n over the largest
-    force, a slipping one's λ over the largest λ (and its X_n), a separated
-    one's opening over its length scale.  Negative where a state no longer
-    holds: its root in p is where the state changes (an event)."""
-    u, r, lam = (np.asarray(x, float) for x in answer)
-    delta = np.asarray(Hc, float).T @ u + gap + flex * r
-    size = np.abs(np.asarray(Hc, float)).T @ np.abs(u) + np.abs(gap) + np.abs(flex * r)
-    force = max(float(np.abs(r).max(initial=0.0)), 1e-300)
-    rate = max(float(np.abs(lam).max(initial=0.0)), 1e-300)
-    out = []
-    for c, s in enumerate(states):
-        xn = r[3 * c]
-        t = _free_tangents(held[c])
-        if s == "separated":
-            out.append(delta[3 * c] / max(size[3 * c], 1e-300))
-            continue
-        out.append(xn / force)
-        if s == "stick" and t:
-            out.append((mu[c] * xn - np.linalg.norm([r[3 * c + k] for k in t])) / force)
-        elif s == "slip":
-            out.append(lam[c] / rate)
-    return float(min(out, default=1.0))
+    state: the least of its :func:`inequalities`, each over its own scale.
+    Negative where a state no longer holds: its root in p is where the
+    state changes (an event)."""
+    checks = inequalities(answer, Hc, gap, flex, mu, states, held)
+    return float(min((value / scale for cs in checks for value, scale, _ in cs), default=1.0))

@@ -47,7 +47,7 @@ from ..mechanics.load_combinations import trace_combinations
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.tracing import BRACKET
 from ..mechanics.member_forces import EXTENDED
-from .circular_cone import contact_data, from_polygon, on_states
+from .circular_cone import contact_data, contact_forces, from_polygon, on_states
 from .circular_polish import margin, newton, start_rates
 from .space_assembly import held
 from .circular_limit import limit_bracket
@@ -138,7 +138,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
             prob = frame.friction_problem(combination=combo, _built=b)
             if below:
                 near = path.results[max(below)]
-                res = on_states(frame, prob, b, combo, near._u, _forces(near),
+                res = on_states(frame, prob, b, combo, near._u, contact_forces(near),
                                 [s.state for s in near.supports.values()],
                                 "circular cone (continued from the path)", tol)
             if (res is None or not res.ok) and not full:
@@ -163,7 +163,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
         combo = ft.combination_at(p)
         F, Hc, gap, flex, mu = contact_data(frame, b, combo)
         states = [s.state for s in near.supports.values()]
-        r0 = _forces(near)
+        r0 = contact_forces(near)
         lam = start_rates(near._u, r0, Hc, gap, flex, states, held_t)
         out = newton(b, F, np.asarray(near._u, EXTENDED), np.asarray(r0, EXTENDED), lam, Hc,
                      gap, flex, mu, states, held_t)
@@ -226,11 +226,6 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
 
 def _key(res) -> dict:
     return {k: s.state for k, s in res.supports.items()}
-
-
-def _forces(res):
-    """The contact forces (n, t1, t2 per contact) of a result."""
-    return np.concatenate([[s.normal, *s.tangential] for s in res.supports.values()])
 
 
 def _inside(path, a, b):
