@@ -17,8 +17,14 @@ solvable families, "auto" with its proof-first step
 of the same problem, side by side (CPU seconds: the machine is shared): the
 ratio with / without is what the step adds.
 
+Part 3 — the limit kept by backends without a time setting of their own
+(PIQP, DAQP, quadprog and their cvxpy twins; ProxQP for comparison), each
+called by name on the no-solution families with a short limit: wall seconds
+against the limit plus its grace (qpcontact.core.deadline.grace).
+
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/no_solution.py
-    options: --sizes 60,120,250,500,1000  --seeds 2  --part 1|2|both
+    options: --sizes 60,120,250,500,1000  --seeds 2  --part 1|2|3|both
+             --limit-methods piqp,daqp,...  --limit-families infeasible,...
 """
 
 from __future__ import annotations
@@ -35,6 +41,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import qpcontact  # noqa: E402
 from qpcontact.commands.stress import build_case  # noqa: E402
+from qpcontact.core.errors import QpcontactError  # noqa: E402
 from tests.helpers.no_solution import farkas_lcp, ray_qp  # noqa: E402
 
 PLANTED = ("lcp-psd", "lcp-general", "lcp-row", "qp-ray")
@@ -112,12 +119,51 @@ def part2(sizes, seeds):
                   f"{with_ / max(without, 1e-9):7.2f}", flush=True)
 
 
+LIMIT_METHODS = ("piqp", "daqp", "quadprog", "proxqp", "cvxpy:PIQP", "cvxpy:DAQP")
+
+
+def part3(sizes, seeds, time_limit, methods, families):
+    """Each backend by name on data with no solution, with ``time_limit``:
+    the wall seconds, whether they kept limit + grace, and whether the call
+    ran in a child process."""
+    from qpcontact.core.deadline import grace
+
+    bound = time_limit + grace(time_limit)
+    print(f"limits kept by backends without a time setting: time_limit={time_limit:g} s "
+          f"(+ grace: {bound:g} s)")
+    print(f"{'family':22s} {'n':>5s} {'seed':>4s} {'method':>11s} {'status':>11s} {'wall':>7s} "
+          f"{'kept':>5s} {'isolated':>8s}")
+    worst = 0.0
+    for family in families:
+        for n in sizes:
+            for seed in range(seeds):
+                for method in methods:
+                    if family in PLANTED:
+                        problem = _planted(family, n, seed)[0]
+                    else:
+                        problem = build_case(family, n, seed).problem
+                    try:
+                        sol, wall, _ = _timed(qpcontact.solve, problem, method,
+                                              time_limit=time_limit)
+                    except QpcontactError as exc:
+                        print(f"{family:22s} {n:5d} {seed:4d} {method:>11s} refused: "
+                              f"{str(exc)[:60]}", flush=True)
+                        continue
+                    worst = max(worst, wall)
+                    print(f"{family:22s} {n:5d} {seed:4d} {method:>11s} {sol.status:>11s} "
+                          f"{wall:7.2f} {str(wall <= bound):>5s} "
+                          f"{str(bool(sol.stats.get('isolated'))):>8s}", flush=True)
+    print(f"longest call: {worst:.2f} s (limit {time_limit:g} s + grace = {bound:g} s)")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", default="60,120,250,500,1000")
     ap.add_argument("--seeds", type=int, default=2)
-    ap.add_argument("--part", default="both", choices=("1", "2", "both"))
+    ap.add_argument("--part", default="both", choices=("1", "2", "3", "both"))
+    ap.add_argument("--limit-methods", default=",".join(LIMIT_METHODS))
+    ap.add_argument("--limit-families", default="infeasible,qp_unbounded,qp_infeasible")
     ap.add_argument("--time-limit", type=float, default=20.0)
     args = ap.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",")]
@@ -131,6 +177,9 @@ def main(argv=None) -> int:
         part1(sizes, args.seeds, args.time_limit)
     if args.part in ("2", "both"):
         part2(sizes, args.seeds)
+    if args.part == "3":
+        part3(sizes, args.seeds, args.time_limit, args.limit_methods.split(","),
+              args.limit_families.split(","))
     return 0
 
 

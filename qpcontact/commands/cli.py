@@ -79,8 +79,11 @@ def methods_cmd(all_: bool = typer.Option(False, "--all", help="Also list known 
             notes.append(f"n <= {m.max_n}")
         if m.constraints == "lower-bounds":
             notes.append("QPs with lower bounds only")
-        if m.needs_isolation:
+        if m.isolate_from == 0:
             notes.append("time limit by a child process")
+        elif m.isolate_from is not None:
+            notes.append(f"time limit by a child process (from {m.isolate_from} unknowns and "
+                         "constraints, or a short limit)")
         if not m.available:
             notes.append(f"not installed: {m.install}")
         table.add_row(name, m.family, solves, requires[m.requires] if m.solves("lcp") else "",

@@ -11,19 +11,49 @@ from ..core.results import MethodResult
 from ..solvers.method import Method
 from ..solvers.registry import get_method
 
-__all__ = ["DEFAULT_TIME_LIMIT", "BACKEND_FAMILIES", "call", "takes_keyword"]
+__all__ = ["DEFAULT_TIME_LIMIT", "BACKEND_FAMILIES", "IN_PROCESS_MIN_LEFT", "call", "isolated",
+           "problem_size", "takes_keyword"]
 
 #: Seconds a ``solve`` call may take by default (``solve(..., time_limit=)``:
 #: wall time for the whole call), enforced by the backends' own settings where
 #: they have one, by a killable child process for those that do not (ProxQP;
-#: qpcontact.dispatch.isolation) and by the in-house methods' and proofs'
-#: checks of the deadline.  The slowest certified backend call in the
+#: PIQP, DAQP, quadprog, ... on large problems or short limits: :func:`isolated`)
+#: and by the in-house methods' and proofs' checks of the deadline.  The slowest certified backend call in the
 #: benchmarks (PIQP, n = 1e5 membrane) took 9 s; the hangs it cuts took 59 s
 #: to more than 120 s on problems of n <= 8.
 DEFAULT_TIME_LIMIT = 60.0
 
 #: the families whose calls the time limit and isolation apply to
 BACKEND_FAMILIES = ("qpsolvers", "cvxpy")
+
+#: A backend without a time setting whose work an iteration cap bounds runs
+#: in-process on a small problem (Method.isolate_from) only while at least
+#: this many seconds are left: 16 times the slowest such call measured
+#: (qpcontact.solvers.backends.common.SMALL_WORK), so the default limit's
+#: small solves pay no fork, and a short limit is kept by the kill.
+IN_PROCESS_MIN_LEFT = 30.0
+
+
+def problem_size(target) -> int:
+    """Unknowns plus constraint rows of a backend's QP (a qpsolvers.Problem)."""
+    n = int(target.P.shape[0])
+    rows = sum(int(a.shape[0]) for a in (getattr(target, "G", None), getattr(target, "A", None))
+               if a is not None)
+    bounds = sum(n for b in (getattr(target, "lb", None), getattr(target, "ub", None))
+                 if b is not None)
+    return n + rows + bounds
+
+
+def isolated(m: Method, target, ctx, time_limit) -> bool:
+    """Whether ``m``'s call runs in a child process killed at the deadline:
+    ``isolate=True``; or under a time limit (``isolate="auto"``), a backend
+    that cannot keep it itself (:attr:`Method.isolate_from`) on a problem of
+    at least its size, or with less than IN_PROCESS_MIN_LEFT seconds left."""
+    if ctx.isolate is True:
+        return True
+    if ctx.isolate is False or time_limit is None or m.isolate_from is None:
+        return False
+    return time_limit < IN_PROCESS_MIN_LEFT or problem_size(target) >= m.isolate_from
 
 
 def takes_keyword(run, name: str) -> bool:
@@ -71,8 +101,7 @@ def call(m: Method, target, options, ctx, engine=None) -> MethodResult:
         if time_limit is not None and takes_keyword(m.run, "time_limit"):
             kw["time_limit"] = time_limit      # an in-house method that watches the clock
         return m.run(target, tol, options, **kw)
-    if ctx.isolate is True or (ctx.isolate == "auto" and time_limit is not None
-                               and m.needs_isolation):
+    if isolated(m, target, ctx, time_limit):
         from .isolation import call_isolated
 
         # the backend's own limit first; the kill at the deadline plus half

@@ -173,18 +173,31 @@ def _block_solver(M, F: np.ndarray, structure):
                                                         check_finite=False)
 
 
-def _basis_factors(M, F, N, z, w, zeta, sigma, level, structure):
+def _basis_factors(M, F, N, z, w, zeta, sigma, level, structure, eps):
     """(κ_z, κ_w, per-component factors on the scales) of the basis F (z_F
     on, w_N on); see :func:`_lcp_condition`.  The per-component factors
-    (v_i / ζ_i on F, (σ_j + (|M_NF| v)_j) / σ_j on N) are None above
+    (v_i / ζ_i on F, (σ_j + (|M_NF| v + |M_NN| a_N)_j) / σ_j on N) are None above
     _EXACT_CONDITION_SIZE (a 1-norm estimate gives their maximum only);
     inf everywhere when M_FF is singular."""
     n = z.size
     inf = (np.inf, np.inf, np.full(n, np.inf))
     kappa_z, v, by_scale = 0.0, np.zeros(0), np.zeros(n)
+    # The z's that are off need not be zero: the exact solution's are, and
+    # zeroing them moves the rows by |M_·N| |z_N| = ε |M_·N| (|z_N| / ε),
+    # which σ at the answer does not hold when z_N is small (ProxQP's 1e-8's
+    # beside one active row of σ = 0.02 read 8.7e-8 where the error was
+    # 2.4e-7).  On the answer's own basis |z_N| <= ε ζ_N (the backward
+    # error); on a probe's the allowance is capped at ε ζ_N, the change
+    # "ε of each entry's own size" allows.  Each |M_ij| ζ_j <= σ_i (the
+    # scale's definition), so this adds at most |N| σ_i to a row, and
+    # nothing where z_N = 0 exactly (the pivoting methods).
+    allowance = np.zeros(n)
+    if N.size and eps > 0:
+        allowance[N] = np.minimum(divide(np.abs(z[N]), eps), zeta[N])
+    off = abs_matvec(M, allowance) if np.any(allowance) else allowance
     if F.size:
         den = np.where(np.abs(z[F]) > level * zeta[F], np.abs(z[F]), zeta[F])
-        g = sigma[F]
+        g = sigma[F] + off[F]
         k = F.size
         try:
             with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -220,9 +233,9 @@ def _basis_factors(M, F, N, z, w, zeta, sigma, level, structure):
     if N.size:
         if F.size and v is not None:
             MNF = M[N][:, F] if sp.issparse(M) else M[np.ix_(N, F)]
-            spread = sigma[N] + abs_matvec(MNF, v)
+            spread = sigma[N] + abs_matvec(MNF, v) + off[N]
         else:
-            spread = (1.0 + kappa_z) * sigma[N]
+            spread = (1.0 + kappa_z) * sigma[N] + off[N]
         wd = np.where(np.abs(w[N]) > level * sigma[N], np.abs(w[N]), sigma[N])
         kappa_w = float(np.max(divide(spread, wd)))
         if by_scale is not None:
@@ -249,8 +262,10 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None, error: fl
 
     F = {i: z_i / ζ_i > w_i / σ_i} (the z's that are "on"), N the rest.  On F,
     z_F = -M_FF⁻¹ q_F; data perturbed by ε of each entry's own size, with the
-    forward allowance ε ζ_F, move z_F by at most ε v, v = |M_FF⁻¹| σ_F + ζ_F
-    (first order), and w_N by at most ε (σ_N + |M_NF| v).  Returned: the
+    forward allowance ε ζ_F, and the off z's (within ε ζ_N of zero, not at
+    it) set to zero, move z_F by at most ε v, v = |M_FF⁻¹| (σ_F + |M_FN| a_N)
+    + ζ_F with a_N = min(|z_N| / ε, ζ_N) (first order), and w_N by at most
+    ε (σ_N + |M_NF| v + |M_NN| a_N).  Returned: the
     largest relative factors max_i v_i / |z_i| (F) and max_j (σ_j + (|M_NF|
     v)_j) / |w_j| (N), and their maximum as the condition number; the forward
     error is ε times them.  For active blocks above _EXACT_CONDITION_SIZE, v is
@@ -291,7 +306,7 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None, error: fl
                 continue
             seen.add(key)
             F, N = np.flatnonzero(basis), np.flatnonzero(~basis)
-            kz, kw, by = _basis_factors(M, F, N, z, w, zeta, sigma, level, structure)
+            kz, kw, by = _basis_factors(M, F, N, z, w, zeta, sigma, level, structure, eps)
             if not np.isfinite(kz):
                 return np.inf, np.inf, np.inf, np.inf
             worst = (max(worst[0], kz), max(worst[1], kw), np.maximum(worst[2], by))

@@ -82,9 +82,13 @@ class Method:
     approximate_on : tuple of str
         Kinds it solves only approximately by construction ("lemke" on 3-D
         friction: the cone faceted into a polyhedron).
-    needs_isolation : bool
-        It has no time limit of its own and an iteration cap that does not
-        bound its work: run in a child process killed at the time limit.
+    isolate_from : int or None
+        None where it keeps a time limit itself (a backend's own setting, an
+        in-house method's clock checks).  Otherwise it runs in a child
+        process killed at the deadline whenever a time limit is in force and
+        its problem has at least this many unknowns and constraints, or
+        little time is left (qpcontact.dispatch.calls.isolated): 0 for a
+        backend whose iteration cap does not bound its work (ProxQP).
     package : str
         The distribution whose version its results depend on (reports).
     """
@@ -104,7 +108,7 @@ class Method:
     max_n: int | None = None
     problems: tuple = ()
     approximate_on: tuple = ()
-    needs_isolation: bool = False
+    isolate_from: int | None = None
     package: str = "qpcontact"
 
     def __post_init__(self):
@@ -117,6 +121,11 @@ class Method:
         if unknown:
             raise ValueError(f"Method {self.name!r}: unknown problem kinds {sorted(unknown)}; "
                              f"the kinds are {', '.join(PROBLEM_KINDS)}")
+
+    @property
+    def needs_isolation(self) -> bool:
+        """Whether it has no time limit of its own (a child process keeps it)."""
+        return self.isolate_from is not None
 
     @property
     def needs_symmetric(self) -> bool:

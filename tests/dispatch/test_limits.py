@@ -287,3 +287,49 @@ def _running(pid: int) -> bool:
             return f.read().split()[2] != "Z"
     except FileNotFoundError:
         return False
+
+
+def _spd_lcp(n, seed=0):
+    rng = np.random.default_rng(seed)
+    B = rng.standard_normal((n, n))
+    M = B @ B.T / n + np.eye(n)
+    return LCP(M, rng.standard_normal(n))
+
+
+@pytest.mark.parametrize("method", ["piqp", "daqp", "quadprog"])
+def test_a_backend_without_a_time_setting_runs_killable_where_its_work_can_outlast_the_limit(
+        method):
+    """PIQP, DAQP and quadprog have no time setting: their iteration caps
+    bound the factorizations, not the clock (PIQP ran 148 s on an unbounded
+    QP of n = 1 000 under a 20 s limit).  From SMALL_WORK unknowns and
+    constraints, or with a short limit, the call runs in a child killed at
+    the deadline; a small problem under a long limit pays no fork."""
+    from qpcontact.solvers.backends.common import SMALL_WORK
+    from qpcontact.solvers.registry import get_method
+
+    if not get_method(method).available:
+        pytest.skip(f"{method} not installed")
+    assert get_method(method).isolate_from == SMALL_WORK
+    small, large = _spd_lcp(8), _spd_lcp(SMALL_WORK)
+    assert not qpcontact.solve(small, method, time_limit=60).stats.get("isolated")
+    assert qpcontact.solve(small, method, time_limit=5).stats.get("isolated")
+    big = qpcontact.solve(large, method, time_limit=60)
+    assert big.stats.get("isolated") and big.ok, big.message
+    assert not qpcontact.solve(large, method, time_limit=None).stats.get("isolated")
+    assert not qpcontact.solve(large, method, time_limit=60, isolate=False).stats.get("isolated")
+
+
+def test_proxqp_runs_killable_at_every_size():
+    from qpcontact.solvers.registry import get_method
+
+    assert get_method("proxqp").isolate_from == 0
+    assert qpcontact.solve(_spd_lcp(8), "proxqp", time_limit=60).stats.get("isolated")
+
+
+def test_a_backend_killed_at_the_deadline_says_time_limit():
+    """PIQP on an LCP of n = 1 000 (its QP has 2 000 bounds and unknowns)
+    given 0.2 s: killed, status "time_limit" (the wall time is the
+    benchmark's: benchmarks/no_solution.py --part 3)."""
+    sol = qpcontact.solve(_spd_lcp(1000), "piqp", time_limit=0.2)
+    assert sol.stats.get("isolated")
+    assert sol.status == "time_limit" and not sol.ok, sol.message

@@ -15,9 +15,30 @@ from ...core.errors import InvalidOptionError
 from ...core.options import names_only, read_options
 from ...core.results import MethodResult
 
-__all__ = ["PRINTS_WHEN_QUIET", "quiet_c_stdout", "ran_out", "DATA_LIMIT", "DEFAULT_DATA_LIMIT",
+__all__ = ["SMALL_WORK", "isolate_from", "PRINTS_WHEN_QUIET", "quiet_c_stdout", "ran_out", "DATA_LIMIT", "DEFAULT_DATA_LIMIT",
            "data_magnitude", "refuse_extreme_data", "reject_options", "check_option_names",
            "qpsolvers_known_options", "QPSOLVERS_KEYWORDS"]
+
+
+#: Unknowns plus constraints below which a backend without a time setting
+#: whose work an iteration cap bounds (PIQP, DAQP, quadprog, CVXOPT, ECOS)
+#: may run in-process while much time is left
+#: (qpcontact.dispatch.calls.IN_PROCESS_MIN_LEFT).  Above it the
+#: factorizations are what is slow: PIQP ran 36.5 s of a 6 s share on an
+#: infeasible LCP of n = 1 000 and 148 s on an unbounded QP of that size.
+#: Below it the slowest call measured was DAQP on a degenerate QP of n = 60
+#: (1.8 s, at its iteration cap); a fork costs 15-40 ms, more than such a
+#: solve of n = 8.
+SMALL_WORK = 200
+
+
+def isolate_from(has_time_setting: bool, work_bounded: bool) -> int | None:
+    """:attr:`~qpcontact.solvers.method.Method.isolate_from` of a backend:
+    None where it keeps a limit itself, SMALL_WORK where an iteration cap
+    bounds its work, 0 (always, under a limit) where nothing does."""
+    if has_time_setting:
+        return None
+    return SMALL_WORK if work_bounded else 0
 
 
 # OSQP 1.x prints "Polishing not needed - no active set detected at optimal

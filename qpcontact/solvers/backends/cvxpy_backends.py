@@ -17,7 +17,7 @@ import numpy as np
 
 from ...core.results import MethodResult
 from ..method import Method
-from .common import (PRINTS_WHEN_QUIET, check_option_names, qpsolvers_known_options,
+from .common import (PRINTS_WHEN_QUIET, isolate_from, check_option_names, qpsolvers_known_options,
                      quiet_c_stdout, ran_out, refuse_extreme_data, reject_options)
 from .settings import backend_settings
 
@@ -32,7 +32,8 @@ _DENSE_ONLY = {"DAQP"}  # cvxpy hands them a dense copy: n x n doubles
 #: Each solver's own time-limit setting under cvxpy (seconds).
 TIME_LIMIT_KEY = {"OSQP": "time_limit", "CLARABEL": "time_limit", "HIGHS": "time_limit",
                   "SCS": "time_limit_secs"}
-NEEDS_ISOLATION = {"PROXQP"}
+#: as qpsolvers_backends.UNBOUNDED_WORK
+UNBOUNDED_WORK = {"PROXQP"}
 _CVXPY_KEYWORDS = {"verbose", "warm_start"}
 
 
@@ -164,6 +165,6 @@ def specs() -> list[Method]:
         family="cvxpy",
         install=f"pip install cvxpy  # and the {solver} solver package",
         available=True,
-        needs_isolation=solver in NEEDS_ISOLATION,
+        isolate_from=isolate_from(solver in TIME_LIMIT_KEY, solver not in UNBOUNDED_WORK),
         package="cvxpy",
     ) for solver in _qp_capable(cp.installed_solvers())]

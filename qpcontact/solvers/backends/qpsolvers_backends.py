@@ -15,7 +15,7 @@ import numpy as np
 
 from ...core.results import MethodResult
 from ..method import Method
-from .common import (PRINTS_WHEN_QUIET, check_option_names, qpsolvers_known_options,
+from .common import (PRINTS_WHEN_QUIET, isolate_from, check_option_names, qpsolvers_known_options,
                      quiet_c_stdout, ran_out, refuse_extreme_data, reject_options)
 from .settings import backend_settings
 
@@ -64,10 +64,12 @@ TIME_LIMIT_KEY = {"osqp": "time_limit", "clarabel": "time_limit", "highs": "time
 #: No time limit of their own, and an iteration cap that does not bound the
 #: work (ProxQP counts outer iterations; 77 s and 3e5 inner iterations on an
 #: SPD problem of n = 300 at max_iter = 10 000): run in a killable child
-#: process whenever a time limit is in force (qpcontact.dispatch.isolation).  PIQP,
-#: DAQP, quadprog, CVXOPT and ECOS stop after a bounded number of
-#: factorizations.
-NEEDS_ISOLATION = {"proxqp"}
+#: process whenever a time limit is in force (qpcontact.dispatch.isolation).
+#: The others without a time setting (PIQP, DAQP, quadprog, CVXOPT, ECOS)
+#: stop after a bounded number of factorizations, which at n = 1 000 is no
+#: bound on the clock: they run in a child from common.SMALL_WORK unknowns
+#: and constraints, or when little time is left.
+UNBOUNDED_WORK = {"proxqp"}
 
 
 def _make_run(name: str):
@@ -141,7 +143,7 @@ def specs() -> list[Method]:
             family="qpsolvers",
             install=f"pip install {pip}",
             available=available,
-            needs_isolation=name in NEEDS_ISOLATION,
+            isolate_from=isolate_from(name in TIME_LIMIT_KEY, name not in UNBOUNDED_WORK),
             package=pip.strip('"').split("[")[0],
         ))
     return out
