@@ -143,29 +143,35 @@ def tasks(config: StressConfig) -> list[tuple]:
     names = list(config.methods) if config.methods else ["auto"] + [
         name for name, m in installed().items() if not (config.no_cvxpy and m.family == "cvxpy")]
     registry = installed()
-    tasks = []
-    k = 0
+    instances = []
     for family in config.families:
         if family == "siconos":
             d = config.siconos_dir or default_siconos()
             count = len(list(Path(d).glob("*.dat"))) if d and Path(d).is_dir() else 0
-            instances = [(family, 0, i) for i in range(count)]
+            instances += [(family, 0, i) for i in range(count)]
         else:
-            instances = [(family, n, s) for n in config.sizes for s in range(config.seeds)]
-        for family_, n, seed in instances:
-            case = build_case(family_, n, seed, config.siconos_dir)
-            levels = ([config.accuracies[k % len(config.accuracies)]] if config.rotate_accuracy
-                      else list(config.accuracies))
-            k += 1
-            for name in names:
-                m = registry.get(name)
-                if name == "auto":
-                    if not _auto_methods(case.problem):
-                        continue
-                elif m is None or not applicable(case.problem, m):
+            instances += [(family, n, s) for n in config.sizes for s in range(config.seeds)]
+    # seed by seed, each seed over every family: a long run stopped midway
+    # (its CSV is written every 2 000 solves) has counted every family.  A
+    # case's solves stay together (each worker keeps its last case), and the
+    # rotating accuracy follows the families' order, as before.
+    order = sorted(range(len(instances)),
+                   key=lambda k: -1 if instances[k][0] == "siconos" else instances[k][2])
+    tasks = []
+    for k in order:
+        family_, n, seed = instances[k]
+        case = build_case(family_, n, seed, config.siconos_dir)
+        levels = ([config.accuracies[k % len(config.accuracies)]] if config.rotate_accuracy
+                  else list(config.accuracies))
+        for name in names:
+            m = registry.get(name)
+            if name == "auto":
+                if not _auto_methods(case.problem):
                     continue
-                for level in levels:
-                    tasks.append((family_, n, seed, name, level))
+            elif m is None or not applicable(case.problem, m):
+                continue
+            for level in levels:
+                tasks.append((family_, n, seed, name, level))
     return tasks
 
 
