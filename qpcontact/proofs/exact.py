@@ -139,12 +139,15 @@ def ints(values) -> tuple[np.ndarray, int]:
     return out, e0
 
 
-def _ints(values) -> tuple[np.ndarray, int, np.ndarray | None]:
+def _ints(values, python=True) -> tuple[np.ndarray | None, int, np.ndarray | None]:
     """:func:`ints`, and the same integers as int64 when all of them fit in
-    62 bits (else None)."""
+    62 bits (else None).  ``python=False``: the object array only where the
+    int64 one cannot be made (None otherwise) — a million Python integers
+    took a second of a proof at n = 1 000 that the int64 products did not
+    need."""
     v = np.asarray(values, dtype=float).ravel()
     v = np.where(np.isfinite(v), v, 0.0)
-    out = np.zeros(v.size, dtype=object)
+    out = np.zeros(v.size, dtype=object) if python else None
     m, e = np.frexp(v)
     mant = np.ldexp(m, 53).astype(np.int64)
     nz = mant != 0
@@ -160,8 +163,11 @@ def _ints(values) -> tuple[np.ndarray, int, np.ndarray | None]:
     if int(bits.max()) <= 62:
         small = np.zeros(v.size, dtype=np.int64)
         small[nz] = mant << shift
-        out[nz] = small[nz].astype(object)
+        if out is not None:
+            out[nz] = small[nz].astype(object)
         return out, e0, small
+    if out is None:
+        out = np.zeros(v.size, dtype=object)
     out[nz] = np.left_shift(mant.astype(object), shift.astype(object))
     return out, e0, None
 
@@ -197,13 +203,22 @@ class IntMatrix:
         self.abs = abs(M)
         self.shape, self.nnz = M.shape, M.nnz
         self.indptr, self.indices = M.indptr, M.indices
-        self.data, self.exp, small = _ints(M.data)
+        self._data, self.exp, small = _ints(M.data, python=False)
+        self._small_data = small
         # the same in int64 (and how many bits its entries take), for
         # products that cannot overflow
         self.small = None if small is None else sp.csr_matrix(
             (small, M.indices, M.indptr), shape=M.shape)
         self.bits = 0 if small is None or not small.size else int(
             np.max(np.abs(small))).bit_length()
+
+    @property
+    def data(self) -> np.ndarray:
+        """The entries as Python integers (made on first use: the int64
+        products need none)."""
+        if self._data is None:
+            self._data = self._small_data.astype(object)
+        return self._data
 
     def times(self, W: np.ndarray, deadline=None) -> np.ndarray | None:
         """M·W exactly, in units of 2^exp (an object array of Python
@@ -376,6 +391,8 @@ class RayCheck:
     def check(self, dF, deadline=None) -> bool:
         """Whether the rationals ``dF`` are such a ray (False, nothing proved,
         beyond EXACT_WORK products or once ``deadline`` passes)."""
+        if deadline is not None and deadline.expired():
+            return False
         df = _floats(dF)
         # d's signs from the rationals (a component may round to 0.0)
         sign = np.array([(v > 0) - (v < 0) for v in dF], dtype=int)

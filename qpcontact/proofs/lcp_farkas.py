@@ -50,6 +50,8 @@ def prove_lcp_infeasible(lcp, time_limit=None, hints=(), quick=False) -> Proof |
     before any method runs."""
     tl = proof_deadline(time_limit)
     n = lcp.n
+    if tl.expired():
+        return None     # nothing is started past the deadline
     M = sp.csr_matrix(lcp.M)
     q = np.asarray(lcp.q, float)
     proof = sign_farkas(M, q)
