@@ -322,6 +322,9 @@ def prove_no_minimiser(problem, time_limit=None, hints=(), quick=False) -> Proof
             proof = _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl)
             if proof is not None:
                 return proof
+        proof = _twin_column_ray(P, q, G, h, A, b, lb, ub, tl)
+        if proof is not None:
+            return proof
         if quick:
             return _null_space_ray(P, q, G, h, A, b, lb, ub, tl)
         proof = None if tl.expired() else find_farkas(P, q, G, h, A, b, lb, ub, tl)
@@ -381,6 +384,60 @@ def _null_space_ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
     dF = next((d for d in ([v * cj for v, cj in zip(vt, cF)] for vt in candidates(dt / top, tl))
                if ray.check(d, tl)), None)
     return None if dF is None else _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
+
+
+#: the most pairs of twin columns whose rays _twin_column_ray checks
+_TWIN_PAIRS = 2000
+
+
+def _twin_column_ray(P, q, G, h, A, b, lb, ub, tl) -> Proof | None:
+    """A ray from two variables that P sees as one: columns i and j of P
+    equal up to a signed power of two (P[:, i] = c P[:, j], exact in doubles)
+    give P d = 0 exactly for d = e_i - c e_j — a variable entered twice, or
+    in two units.  Where P has several such pairs the null space's LP
+    returns a mix of them that no snapping makes exact (the stress family
+    qp_unbounded_rounded, unproved at n = 250); each pair's ±d is screened in
+    floating point (G d <= 0, A d = 0, the bounds' signs, q'd < 0) and the
+    survivors checked exactly."""
+    n = q.size
+    if n < 2 or n > NULL_SPACE_MAX_N or tl.expired():
+        return None
+    D = P.toarray() if sp.issparse(P) else np.asarray(P, float)
+    if not np.all(np.isfinite(D)):
+        return None
+    # each column over the signed power of two of its largest entry: twins
+    # become equal (dividing by a power of two is exact)
+    lead = D[np.argmax(np.abs(D), axis=0), np.arange(n)]
+    live = lead != 0
+    power = np.floor(np.log2(np.where(live, np.abs(lead), 1.0)))
+    scale = np.where(live, np.sign(lead) * 2.0 ** power, 1.0)
+    N = D / scale[None, :]
+    groups: dict = {}
+    for j in np.flatnonzero(live):
+        groups.setdefault(N[:, j].tobytes(), []).append(j)
+    pairs = [(g[0], j) for g in groups.values() if len(g) > 1 for j in g[1:]][:_TWIN_PAIRS]
+    if not pairs:
+        return None
+    G, A = csr_rows(G, n), csr_rows(A, n)
+    lo = np.where(np.isfinite(lb), 0.0, -1.0) if lb is not None else -np.ones(n)
+    hi = np.where(np.isfinite(ub), 0.0, 1.0) if ub is not None else np.ones(n)
+    ray = None
+    for i, j in pairs:
+        if tl.expired():
+            return None
+        c = scale[i] / scale[j]              # P[:, i] = c P[:, j]: a power of two, signed
+        d = np.zeros(n)
+        d[i], d[j] = 1.0, -c
+        for s in (1.0, -1.0):
+            v = s * d
+            if not (q @ v < 0 and np.all(G @ v <= 0) and np.all(A @ v == 0)
+                    and np.all(v >= lo * np.abs(v)) and np.all(v <= hi * np.abs(v))):
+                continue
+            ray = ray or RayCheck(sp.csr_matrix(P), q, G, A, lo, hi)
+            dF = [Fraction(float(x)) for x in v]
+            if ray.check(dF, tl):
+                return _unbounded(P, q, G, h, A, b, lb, ub, dF, tl)
+    return None
 
 
 def _hinted_ray(P, q, G, h, A, b, lb, ub, x, tl) -> Proof | None:
