@@ -397,7 +397,8 @@ def _rational(a: int) -> Fraction | None:
 FARKAS_RTOL = 1e-12
 
 
-def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) -> tuple[bool | None, dict]:
+def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray,
+                deadline=None) -> tuple[bool | None, dict]:
     """Whether {z >= 0, Mz + q >= 0} is nonempty, with evidence checked from the data.
 
     Returns (False, {"farkas": y}) when y >= 0 with M'y <= 0 and q'y < 0 was
@@ -408,9 +409,20 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
     on its own scale to FARKAS_RTOL: (M'y)_j <= FARKAS_RTOL (|M|'y)_j and
     q'y < -FARKAS_RTOL |q|'y; (Mz + q)_i >= -FARKAS_RTOL (|M||z| + |q|)_i.
     An LP's word alone is never a proof: on data spanning 1e-300..1e300 HiGHS
-    called a solvable problem infeasible.
+    called a solvable problem infeasible.  ``deadline`` (a
+    :class:`~qpcontact.core.deadline.Deadline`): each LP gets what is left, and
+    none starts once it has passed (the Farkas LP of a dense n = 1 000 LCP ran
+    60 s after Lemke's ray, under a 20 s limit).
     """
     from scipy.optimize import linprog
+
+    def options():
+        left = None if deadline is None else deadline.left()
+        if left is not None and left <= 0:
+            return None
+        return {} if left is None else {"time_limit": left}
+
+    late = (None, {"reason": "the time limit passed before the LPs could decide"})
 
     n = q.size
     if sp.issparse(M):
@@ -427,8 +439,10 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
     b = float(np.max(np.abs(qs))) or 1.0
     Ms, qs = Ms / a, qs / b
     # Farkas: min qs'y' over y' >= 0, Ms'y' <= 0, sum(y') = 1.
+    if options() is None:
+        return late
     res = linprog(qs, A_ub=Ms.T, b_ub=np.zeros(n), A_eq=np.ones((1, n)), b_eq=[1.0],
-                  bounds=(0, None), method="highs")
+                  bounds=(0, None), method="highs", options=options())
     if res.status == 0 and res.fun < 0:
         y = np.maximum(res.x * rs, 0.0)
         My, scale = M.T @ y, absM.T @ y
@@ -437,7 +451,10 @@ def feasibility(M: np.ndarray, q: np.ndarray, rs: np.ndarray, cs: np.ndarray) ->
         if not bad.any() and qy < -FARKAS_RTOL * qscale:
             return False, {"farkas": y}
     # A feasible point: z'' >= 0 with Ms z'' + qs >= 0.
-    res = linprog(np.zeros(n), A_ub=-Ms, b_ub=qs, bounds=(0, None), method="highs")
+    if options() is None:
+        return late
+    res = linprog(np.zeros(n), A_ub=-Ms, b_ub=qs, bounds=(0, None), method="highs",
+                  options=options())
     if res.status == 0:
         z = np.maximum(res.x * cs * (b / a), 0.0)
         w = M @ z + q

@@ -239,7 +239,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
             break
         if problem.is_psd:
             if proof is None:
-                proof = feasibility(M, q, rs, cs)
+                proof = feasibility(M, q, rs, cs, Deadline(end=deadline))
             if proof[0] is False:
                 break
         rng = rng or np.random.default_rng(seed)
@@ -273,7 +273,8 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
                             stats=stats)
     ray = out.ray
     stats["ray"] = {"z": ray["z"] * cs, "dz": ray["dz"] * cs, "z0": ray["z0"], "dz0": ray["dz0"]}
-    feasible, evidence = proof if proof is not None else feasibility(M, q, rs, cs)
+    feasible, evidence = (proof if proof is not None
+                          else feasibility(M, q, rs, cs, Deadline(end=deadline)))
     stats["feasible"] = feasible
     stats.update(evidence)
     monotone = problem.is_psd
