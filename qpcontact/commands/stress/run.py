@@ -175,6 +175,31 @@ def tasks(config: StressConfig) -> list[tuple]:
     return tasks
 
 
+def _warm(names) -> None:
+    """Each method's one-time costs — importing its backend, numba loading
+    its kernels (compiled to the disk cache once per machine) — paid once in
+    this process, whose forked workers inherit them.  The time limit's grace
+    does not cover them (qpcontact.core.deadline.grace): a worker's first
+    solves otherwise counted them (a census's first "auto" on an SPD LCP of
+    n = 8: 10-11 s; Lemke 4-5 s "after 1 pivots")."""
+    import numpy as np
+    import scipy.sparse as sp
+    from qpsolvers import Problem
+
+    from ...core.problems import LCP
+    from ...dispatch.driver import solve
+
+    M = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 2.0]])
+    probes = (LCP(M, -np.ones(3)), LCP(sp.csr_matrix(M), -np.ones(3)),
+              Problem(M, -np.ones(3), np.eye(3), np.ones(3)))
+    for name in names:
+        for problem in probes:
+            try:
+                solve(problem, name, "low", time_limit=30)
+            except Exception:  # noqa: BLE001 - a method that does not take this kind
+                pass
+
+
 def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
                progress: bool = True) -> Path:
     """Run the suite; write ``stress.csv`` and return its path."""
@@ -197,6 +222,7 @@ def run_stress(out_dir, config: StressConfig = QUICK, *, workers: int = 2,
     hard_auto = OVER_FACTOR * config.time_limit * len(AUTO_ORDER) + 3.0
     rows: list[dict] = []
     bar = ProgressBar(len(todo), f"stress: {len(todo)} solves", enabled=progress)
+    _warm(dict.fromkeys(task[3] for task in todo))
     pool = [_Worker(config.siconos_dir, config.time_limit) for _ in range(max(1, workers))]
     from multiprocessing.connection import wait
 
