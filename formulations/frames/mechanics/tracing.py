@@ -119,16 +119,17 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                     if ft.states else None)
-        words = (frame.kind.collapse_words(frame, tr.proof, fric, carrying)
-                 if tr.proof["farkas"] is not None
+        proof = narrowed(path, tr, tol) or tr.proof
+        words = (frame.kind.collapse_words(frame, proof, fric, carrying)
+                 if proof["farkas"] is not None
                  else "no combination of support states carries the load")
-        how = ("a Farkas certificate" if tr.proof["patterns"] == 1 else
-               f"Farkas certificates for all {tr.proof['patterns']} combinations of support "
+        how = ("a Farkas certificate" if proof["patterns"] == 1 else
+               f"Farkas certificates for all {proof['patterns']} combinations of support "
                "states left after branching")
-        bound = ("" if not np.isfinite(tr.proof["z_bound"]) else
-                 f" for openings and slips summing below {tr.proof['z_bound']:.1e}")
-        ft.limit = (float(tr.p_end), float(tr.proof["p_limit"]))
-        ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
+        bound = ("" if not np.isfinite(proof["z_bound"]) else
+                 f" for openings and slips summing below {proof['z_bound']:.1e}")
+        ft.limit = (float(tr.p_end), float(proof["p_limit"]))
+        ft.message = (f"no equilibrium exists for p >= {proof['p_limit']:.10g} (the last one "
                       f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
                       f"the data{bound})")
     elif ended == "unbounded":
@@ -364,6 +365,46 @@ def limit_proof(frame, b, ft, tr, fric):
             f"p = {p_lo:.12g}, {width:.1e} below): {words} (proved by a rigid motion of the "
             f"whole frame in which the loads do positive work and no contact force the "
             f"friction polygons allow resists, checked in rational arithmetic)")
+
+
+#: where the engine's collapse proof lies further above the path's end than
+#: BRACKET, the proof is tried again at these fractions of BRACKET above it
+NARROWER = (0.5, 0.1)
+
+
+def narrowed(path, tr, tol):
+    """A collapse proof (:meth:`~qpcontact.proofs.parametric.LoadFamily.proof_at`)
+    within BRACKET of the path's last equilibrium p_end where the engine's
+    lies further out, or None.  Why: the engine proves a hair above p_end
+    measured on the load's own scale (1e-9, 1e-6, 1e-4 of max(p, the p at
+    which the variable load equals the constant one): a table's corner push
+    against 40 kN of weight has unit 27, so its 1e-6 step is 2.7e-6 of p and
+    its 1e-4 step 3.5e-4), and the bracket's width is that step; the same
+    branch and bound a fraction of BRACKET of p above p_end proves it there
+    (each leaf a Farkas vector checked from the data) — the last certified
+    equilibrium is the lower end either way."""
+    from qpcontact.proofs.parametric import LoadFamily
+
+    p_end, p_limit = float(tr.p_end), float(tr.proof["p_limit"])
+    if not (np.isfinite(p_end) and p_limit - p_end > BRACKET * abs(p_limit)):
+        return None
+    family = LoadFamily(ParametricLCP(path["M"], path["qc"], path["qv"]))
+    try:
+        z_end = tr.z_at(p_end)
+    except QpcontactError:
+        # a restart whose own path collapsed at its start: the state there
+        # is the one it started from, the last piece's end before it
+        last = tr.pieces[-1] if tr.pieces else None
+        z_end = last.z(last.p_end) if last is not None else np.zeros(path["qc"].size)
+    zeta, _ = family.values.at(z_end, family.q_terms(p_end))
+    z_scale = max(float(np.abs(z_end).max(initial=0.0)), float(zeta.max(initial=0.0)), 1e-300)
+    best = None
+    for fraction in NARROWER:
+        out = family.proof_at(p_end + fraction * BRACKET * abs(p_end), z_scale, tol)
+        if out is None:
+            break
+        best = out
+    return best
 
 
 def state_words(frame, res) -> str:
