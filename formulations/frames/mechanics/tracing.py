@@ -152,14 +152,17 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         # rigid body's statics allow): say exactly what is known
         ended = "bounded"
         lo, hi = ft.bound
+        last = ft.result_at(lo)
+        exhausted = exhausted_words(frame, b, ft, last, lo)
         ft.message = (f"the load path is certified up to p = {lo:.10g}, where "
-                      f"{state_words(frame, ft.result_at(lo))}; no equilibrium exists for "
-                      f"p >= {hi:.10g} ({(hi - lo) / abs(hi):.1e} above): {ft.bound_words} "
-                      "(proved by a rigid motion of the whole frame checked in rational "
-                      "arithmetic); between them no equilibrium continuing the path was "
-                      "found and none was proved impossible — Coulomb's law is "
-                      "non-associated, so the path may end below the rigid body's limit "
-                      f"(where the path stopped: {ft.message})")
+                      f"{state_words(frame, last)}; {exhausted}"
+                      f"no equilibrium exists for p >= {hi:.10g} ({(hi - lo) / abs(hi):.1e} "
+                      f"above): {ft.bound_words} (proved by a rigid motion of the whole frame "
+                      "checked in rational arithmetic); between them no equilibrium continuing "
+                      "the path was found and none was proved impossible"
+                      + ("" if exhausted else " — Coulomb's law is non-associated, so the path "
+                         "may end below the rigid body's limit")
+                      + f" (where the path stopped: {ft.message})")
     if tr.restarts:
         ft.message += (f"; restarted beyond degenerate vertices at p = "
                        + ", ".join(f"{p:.10g}" for p in tr.restarts)
@@ -209,6 +212,12 @@ def restart(frame, b, tr, path, p_from, cut=False) -> bool:
                                  method="trace", accuracy=path["accuracy"],
                                  p_max=path["upto"] - p_next, time_limit=None, start=start)
         except QpcontactError:
+            continue
+        if more.end in ("breakdown", "fold") and not more.pieces:
+            # stopped where it started (another branch of the same vertex):
+            # no further on, and a restart spent — the next step is tried
+            # (a six-legged table tipping on soft pads used all its restarts
+            # 1e-9 apart at 36.005 and stopped there)
             continue
         if cut:
             tr.cut(p_from)
@@ -405,6 +414,35 @@ def narrowed(path, tr, tol):
             break
         best = out
     return best
+
+
+#: the path's last load and what friction carries under its normal forces
+#: agree to this (relative) where the path stopped because friction was
+#: exhausted there
+EXHAUSTED = 1e-6
+
+
+def exhausted_words(frame, b, ft, res, p) -> str:
+    """Where the path's last load ``p`` is what the pads' friction carries
+    under the normal forces of its last state ``res``
+    (:func:`.friction_capacity.capacity`, set as ``ft.capacity``): words
+    saying so, and why the rigid body's bound is out of the path's reach;
+    else ""."""
+    from .friction_capacity import capacity
+
+    normals = [float(v.normal) for v in res.supports.values()]
+    cap = capacity(frame, b, normals, ft.constant, ft.variable)
+    if cap is None or not abs(cap - p) <= EXHAUSTED * max(abs(p), 1e-300):
+        return ""
+    ft.capacity = cap
+    force = frame.units[0]
+    shares = ", ".join(f"{k} {n:.4g}" for k, n in zip(res.supports, normals))
+    return (f"there the friction of every carrying pad is exhausted under the normal forces "
+            f"the frame gives them ({shares} {force}): held at those, the pads' friction "
+            f"carries at most p = {cap:.10g} in the motions that keep them on the floor (an "
+            "LP) — the frame starts to slide or turn, and only other normal forces, which its "
+            "stiffness does not give the pads, would carry more (a pad slides without "
+            "lifting: Coulomb's law is non-associated); ")
 
 
 def state_words(frame, res) -> str:
