@@ -58,7 +58,7 @@ def test_six_legs_on_a_circle_twisted_turn_at_the_lp_limit():
     assert (hi - lo) / hi <= 1e-6
 
 
-def in_plane_capacity(normals, plan, polygon, torque_only=True):
+def in_plane_capacity(normals, plan, polygon):
     """The largest torque about z at the centroid of ``plan`` that pads
     with normal forces ``normals`` carry, each friction force within its
     polygon (vertices ``polygon``, a unit-μ list of (cx, cy)) scaled by
