@@ -21,7 +21,9 @@ on 16 pads under D + p W.
 
 Where the trace ends "bounded" (the path stops unproved below the rigid
 body's proved limit: non-associated friction) the bracket shown is that
-bound [last certified equilibrium, proof]; where a proved bracket lies
+bound [last certified equilibrium, proof], and "exhausted" counts those
+whose stop is where the pads' friction is exhausted under the frame's own
+normal forces (``tr.capacity``); where a proved bracket lies
 below the LP's limit (the path ends before the rigid body's statics
 would), the row says "below LP": the reference is then an upper bound,
 not the limit.
@@ -146,6 +148,9 @@ def run_case(name, build, case, const, limit_s):
                   else (tr.p_end, np.nan))
         row["lo"], row["hi"] = lo, hi
         row["bounded"] = tr.limit is None and bound is not None
+        # bounded where the pads' friction is exhausted under the frame's own
+        # normal forces (tr.capacity: the path's stop, not a missing scheme)
+        row["exhausted"] = row["bounded"] and getattr(tr, "capacity", None) is not None
         row["width"] = (hi - lo) / abs(hi) if np.isfinite(hi) else np.nan
         tol = 1e-9 * max(abs(ref), 1.0)
         row["contains"] = bool(tr.limit is not None and lo - tol <= ref and ref_lo <= hi + tol)
@@ -198,7 +203,8 @@ def main():
             if args.messages:
                 print("    ", row["message"][:400], flush=True)
     print()
-    print(f"{'frame kind':<12} {'cases':>5} {'proof':>5} {'bounded':>7} {'no proof':>8} "
+    print(f"{'frame kind':<12} {'cases':>5} {'proof':>5} {'bounded':>7} {'exhausted':>9} "
+          f"{'no proof':>8} "
           f"{'bracket>1e-6':>12} "
           f"{'misses ref':>10} {'below LP':>8} {'CHECK':>5} {'SFE':>4} {'NOSOL':>5} "
           f"{'ERR':>4} {'wall_s':>7}")
@@ -210,6 +216,7 @@ def main():
         solves = [s for r in rs for s in r["solves"]]
         print(f"{kind:<12} {len(rs):>5} {sum(r['proof'] for r in rs):>5} "
               f"{sum(r.get('bounded', False) for r in rs):>7} "
+              f"{sum(r.get('exhausted', False) for r in rs):>9} "
               f"{sum(not r['proof'] and not r.get('bounded', False) for r in rs):>8} "
               f"{sum(r['proof'] and not r['width'] <= 1e-6 for r in rs):>12} "
               f"{sum(not r['contains'] and not r['below_lp'] for r in rs):>10} "

@@ -99,11 +99,7 @@ class LoadFamily:
         0.25, and Lemke found an equilibrium just beyond) proves nothing.
         """
         unit = self.load_unit(p)
-        # At p = 0 with no constant load the solution is 0: the displacement
-        # scale is then that of the load a unit further, |q| / max|M|.
-        scale_M = float(np.abs(self.M).max(initial=0.0))
-        if scale_M > 0:
-            z_scale = max(z_scale, float(self.q_terms(p + unit).max(initial=0.0)) / scale_M)
+        z_scale = self.solution_scale(p, z_scale)
         # Just beyond p every LP point is within ~(p' - p) of the last
         # equilibrium, which an LP's tolerances cannot tell from feasible: if the
         # proof does not go through a hair above p it is tried a little further.
@@ -116,6 +112,28 @@ class LoadFamily:
                 return out
             found = out or found
         return found
+
+    def solution_scale(self, p: float, z_scale: float) -> float:
+        """The size of a solution at p that a proof's z bound is measured
+        against: ``z_scale``, the one found there, or where that is 0 (at p
+        = 0 with no constant load) that of the load a unit further, |q| /
+        max|M|."""
+        scale_M = float(np.abs(self.M).max(initial=0.0))
+        if scale_M > 0:
+            unit = self.load_unit(p)
+            z_scale = max(z_scale, float(self.q_terms(p + unit).max(initial=0.0)) / scale_M)
+        return z_scale
+
+    def proof_at(self, p_lo: float, z_scale: float, tol: float,
+                 max_nodes: int = COLLAPSE_NODES):
+        """:meth:`collapse_proof` for p' >= ``p_lo`` itself (no hair added):
+        the dict with ``p_limit`` = p_lo, or None where the branches found
+        no proof there (an LP point beyond it, or a leaf without a
+        certificate that checks).  For narrowing a collapse's bracket: p_lo
+        between the last certified equilibrium and a proof further out."""
+        out = self._branch_and_bound(p_lo, self.load_unit(p_lo),
+                                     self.solution_scale(p_lo, z_scale), tol, max_nodes)
+        return None if out is None or "solution" in out else out
 
     def _branch_and_bound(self, p_lo, unit, z_scale, tol, max_nodes):
         n = self.q0.size

@@ -168,6 +168,11 @@ class FrameTrace:
     #: none exists at or beyond it, the gap between them unresolved
     bound: tuple | None = None
     bound_words: str = field(repr=False, default="")
+    #: where the path ends "bounded" because the pads' friction is exhausted
+    #: under the normal forces the frame gives them: the largest p that
+    #: friction carries with those normal forces (an LP,
+    #: mechanics/friction_capacity.py), equal to the path's last load
+    capacity: float | None = None
 
     @property
     def p_end(self) -> float:

@@ -150,7 +150,69 @@ def polished(b, z, F, ua, u, X, w, zeta, sigma, error):
         short = ~basis & (np.asarray(W @ np.asarray(refined[2], float)) < -PIVOT_RTOL * sigma)
         if not below.any() and not short.any():
             break
-        basis = (basis & ~below) | short
+        turned = lifted_turns(b, basis, refined[0], below)
+        basis = turned if turned is not None else (basis & ~below) | short
     if np.any(refined[0] < -STATE_RTOL * zeta):
         return None
     return (np.maximum(refined[0], 0.0), *refined[1:])
+
+
+def lifted_turns(b, basis, z, below):
+    """``basis`` with the slips of each lifted contact whose slip unknown
+    went ``below`` zero re-read as the facets whose directions bracket the
+    slip z gives it (adjacent ones on a polygon, the one of its sign on a
+    line); None where no lifted contact's slip went below zero.
+
+    Why.  A lifted contact (its normal unknown moving) carries nothing, so
+    every facet's reserve is zero and its foot may move in any direction:
+    which two facets the slip is written with is decided by its direction
+    alone.  Lemke's answer puts a slip near a facet's direction on either
+    side by rounding (a six-legged table on soft pads tipping over, its
+    lifted feet's slips 3e-9 on one facet), the refinement then drives that
+    one below zero, and dropping it left the slip a direction it cannot
+    take: the polish failed and the answer kept its double-precision forces
+    (global statics off by 7e-4, "CHECK FAILED" on a right answer).  No
+    reserve tells which facet to take instead (they are all zero), the
+    direction does."""
+    P = sp.csc_matrix(b["maps"][0])
+    info = b["info"]
+    owner, kind = [], []
+    for j in range(P.shape[1]):
+        rows = P.indices[P.indptr[j]:P.indptr[j + 1]]
+        owner.append(info[rows[0]][0] if rows.size else -1)
+        kind.append("n" if rows.size and all(info[r][1] == "n" for r in rows) else "t")
+    normal_of = {owner[j]: j for j in range(len(owner)) if kind[j] == "n"}
+    out, changed = basis.copy(), False
+    for c in sorted({owner[j] for j in np.flatnonzero(below) if kind[j] == "t"}):
+        if c not in normal_of or not basis[normal_of[c]]:
+            continue                      # not lifted: the reserves decide
+        facets = [j for j in range(len(owner)) if owner[j] == c and kind[j] == "t"]
+        links = sorted({int(r) for j in facets
+                        for r in P.indices[P.indptr[j]:P.indptr[j + 1]]})
+        D = np.array([[P[r, j] for r in links] for j in facets])    # facets x tangents
+        slip = D.T @ np.asarray(z, float)[facets]
+        pair = bracketing(D, slip)
+        if pair is None:
+            continue
+        out[facets] = False
+        out[[facets[k] for k in pair]] = True
+        changed = True
+    return out if changed else None
+
+
+def bracketing(D, s):
+    """Indices of the rows of D (facet directions) whose non-negative
+    combination is s: the adjacent pair around s's angle in a plane, the
+    row of s's sign on a line; None where s is zero."""
+    if not np.any(s):
+        return None
+    if D.shape[1] == 1:
+        return [int(np.argmax(D[:, 0] * np.sign(s[0])))]
+    ang = np.arctan2(D[:, 1], D[:, 0])
+    order = np.argsort(ang)
+    target = np.arctan2(s[1], s[0])
+    for a, b_ in zip(order, np.roll(order, -1)):
+        lo, span = ang[a], (ang[b_] - ang[a]) % (2 * np.pi)
+        if (target - lo) % (2 * np.pi) <= span:
+            return [int(a), int(b_)]
+    return None

@@ -119,16 +119,17 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                     if ft.states else None)
-        words = (frame.kind.collapse_words(frame, tr.proof, fric, carrying)
-                 if tr.proof["farkas"] is not None
+        proof = narrowed(path, tr, tol) or tr.proof
+        words = (frame.kind.collapse_words(frame, proof, fric, carrying)
+                 if proof["farkas"] is not None
                  else "no combination of support states carries the load")
-        how = ("a Farkas certificate" if tr.proof["patterns"] == 1 else
-               f"Farkas certificates for all {tr.proof['patterns']} combinations of support "
+        how = ("a Farkas certificate" if proof["patterns"] == 1 else
+               f"Farkas certificates for all {proof['patterns']} combinations of support "
                "states left after branching")
-        bound = ("" if not np.isfinite(tr.proof["z_bound"]) else
-                 f" for openings and slips summing below {tr.proof['z_bound']:.1e}")
-        ft.limit = (float(tr.p_end), float(tr.proof["p_limit"]))
-        ft.message = (f"no equilibrium exists for p >= {tr.proof['p_limit']:.10g} (the last one "
+        bound = ("" if not np.isfinite(proof["z_bound"]) else
+                 f" for openings and slips summing below {proof['z_bound']:.1e}")
+        ft.limit = (float(tr.p_end), float(proof["p_limit"]))
+        ft.message = (f"no equilibrium exists for p >= {proof['p_limit']:.10g} (the last one "
                       f"is at p = {tr.p_end:.10g}): {words} (proved by {how}, checked from "
                       f"the data{bound})")
     elif ended == "unbounded":
@@ -151,14 +152,17 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         # rigid body's statics allow): say exactly what is known
         ended = "bounded"
         lo, hi = ft.bound
+        last = ft.result_at(lo)
+        exhausted = exhausted_words(frame, b, ft, last, lo)
         ft.message = (f"the load path is certified up to p = {lo:.10g}, where "
-                      f"{state_words(frame, ft.result_at(lo))}; no equilibrium exists for "
-                      f"p >= {hi:.10g} ({(hi - lo) / abs(hi):.1e} above): {ft.bound_words} "
-                      "(proved by a rigid motion of the whole frame checked in rational "
-                      "arithmetic); between them no equilibrium continuing the path was "
-                      "found and none was proved impossible — Coulomb's law is "
-                      "non-associated, so the path may end below the rigid body's limit "
-                      f"(where the path stopped: {ft.message})")
+                      f"{state_words(frame, last)}; {exhausted}"
+                      f"no equilibrium exists for p >= {hi:.10g} ({(hi - lo) / abs(hi):.1e} "
+                      f"above): {ft.bound_words} (proved by a rigid motion of the whole frame "
+                      "checked in rational arithmetic); between them no equilibrium continuing "
+                      "the path was found and none was proved impossible"
+                      + ("" if exhausted else " — Coulomb's law is non-associated, so the path "
+                         "may end below the rigid body's limit")
+                      + f" (where the path stopped: {ft.message})")
     if tr.restarts:
         ft.message += (f"; restarted beyond degenerate vertices at p = "
                        + ", ".join(f"{p:.10g}" for p in tr.restarts)
@@ -208,6 +212,12 @@ def restart(frame, b, tr, path, p_from, cut=False) -> bool:
                                  method="trace", accuracy=path["accuracy"],
                                  p_max=path["upto"] - p_next, time_limit=None, start=start)
         except QpcontactError:
+            continue
+        if more.end in ("breakdown", "fold") and not more.pieces:
+            # stopped where it started (another branch of the same vertex):
+            # no further on, and a restart spent — the next step is tried
+            # (a six-legged table tipping on soft pads used all its restarts
+            # 1e-9 apart at 36.005 and stopped there)
             continue
         if cut:
             tr.cut(p_from)
@@ -364,6 +374,75 @@ def limit_proof(frame, b, ft, tr, fric):
             f"p = {p_lo:.12g}, {width:.1e} below): {words} (proved by a rigid motion of the "
             f"whole frame in which the loads do positive work and no contact force the "
             f"friction polygons allow resists, checked in rational arithmetic)")
+
+
+#: where the engine's collapse proof lies further above the path's end than
+#: BRACKET, the proof is tried again at these fractions of BRACKET above it
+NARROWER = (0.5, 0.1)
+
+
+def narrowed(path, tr, tol):
+    """A collapse proof (:meth:`~qpcontact.proofs.parametric.LoadFamily.proof_at`)
+    within BRACKET of the path's last equilibrium p_end where the engine's
+    lies further out, or None.  Why: the engine proves a hair above p_end
+    measured on the load's own scale (1e-9, 1e-6, 1e-4 of max(p, the p at
+    which the variable load equals the constant one): a table's corner push
+    against 40 kN of weight has unit 27, so its 1e-6 step is 2.7e-6 of p and
+    its 1e-4 step 3.5e-4), and the bracket's width is that step; the same
+    branch and bound a fraction of BRACKET of p above p_end proves it there
+    (each leaf a Farkas vector checked from the data) — the last certified
+    equilibrium is the lower end either way."""
+    from qpcontact.proofs.parametric import LoadFamily
+
+    p_end, p_limit = float(tr.p_end), float(tr.proof["p_limit"])
+    if not (np.isfinite(p_end) and p_limit - p_end > BRACKET * abs(p_limit)):
+        return None
+    family = LoadFamily(ParametricLCP(path["M"], path["qc"], path["qv"]))
+    try:
+        z_end = tr.z_at(p_end)
+    except QpcontactError:
+        # a restart whose own path collapsed at its start: the state there
+        # is the one it started from, the last piece's end before it
+        last = tr.pieces[-1] if tr.pieces else None
+        z_end = last.z(last.p_end) if last is not None else np.zeros(path["qc"].size)
+    zeta, _ = family.values.at(z_end, family.q_terms(p_end))
+    z_scale = max(float(np.abs(z_end).max(initial=0.0)), float(zeta.max(initial=0.0)), 1e-300)
+    best = None
+    for fraction in NARROWER:
+        out = family.proof_at(p_end + fraction * BRACKET * abs(p_end), z_scale, tol)
+        if out is None:
+            break
+        best = out
+    return best
+
+
+#: the path's last load and what friction carries under its normal forces
+#: agree to this (relative) where the path stopped because friction was
+#: exhausted there
+EXHAUSTED = 1e-6
+
+
+def exhausted_words(frame, b, ft, res, p) -> str:
+    """Where the path's last load ``p`` is what the pads' friction carries
+    under the normal forces of its last state ``res``
+    (:func:`.friction_capacity.capacity`, set as ``ft.capacity``): words
+    saying so, and why the rigid body's bound is out of the path's reach;
+    else ""."""
+    from .friction_capacity import capacity
+
+    normals = [float(v.normal) for v in res.supports.values()]
+    cap = capacity(frame, b, normals, ft.constant, ft.variable)
+    if cap is None or not abs(cap - p) <= EXHAUSTED * max(abs(p), 1e-300):
+        return ""
+    ft.capacity = cap
+    force = frame.units[0]
+    shares = ", ".join(f"{k} {n:.4g}" for k, n in zip(res.supports, normals))
+    return (f"there the friction of every carrying pad is exhausted under the normal forces "
+            f"the frame gives them ({shares} {force}): held at those, the pads' friction "
+            f"carries at most p = {cap:.10g} in the motions that keep them on the floor (an "
+            "LP) — the frame starts to slide or turn, and only other normal forces, which its "
+            "stiffness does not give the pads, would carry more (a pad slides without "
+            "lifting: Coulomb's law is non-associated); ")
 
 
 def state_words(frame, res) -> str:
