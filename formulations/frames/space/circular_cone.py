@@ -100,6 +100,10 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
     combo = load_combination(frame, p, combination, b)
     prob = frame.friction_problem(combination=combo, _built=b)
     tried = None
+    options = dict(options)
+    # the call's wall-time limit is the friction solvers'; it is not a
+    # method's setting that would replace the polygon's start
+    limit = {"time_limit": options.pop("time_limit")} if "time_limit" in options else {}
     if method == "auto" and not options:
         # first the faceted cone's exact answer (Lemke on the circumscribed
         # polygon) carried to the circle by the active set: on the 16-pad
@@ -107,7 +111,7 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
         tried = from_polygon(frame, prob, b, combo, accuracy, tol)
         if tried is not None and tried.ok:
             return tried
-    sol = solve(prob, method=method, accuracy=accuracy, **options)
+    sol = solve(prob, method=method, accuracy=accuracy, **limit, **options)
     res = None
     if sol.r is None:
         before = f"circular cone, {sol.method}: {sol.message}"

@@ -145,7 +145,11 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
                 res = from_polygon(frame, prob, b, combo, accuracy, tol)
             if (res is None or not res.ok) and full:
                 try:
-                    res = frame.solve(combination=combo, accuracy=accuracy, _built=b)
+                    # no wall-time limit: the path must not depend on how
+                    # busy the machine is (the friction solvers cut at 60 s
+                    # on a loaded machine ended the tower's path 5 % early)
+                    res = frame.solve(combination=combo, accuracy=accuracy, _built=b,
+                                      time_limit=None)
                 except NoSolutionError as exc:
                     return exc
                 except QpcontactError:

@@ -96,8 +96,9 @@ def test_the_trace_ends_in_a_proved_slide_at_the_friction_polygons_limit():
     the pads' friction forces sum to a vector of the polygon f W P (each in
     f N_i P, P the unit octagon, Σ N_i = W), so p W_h can be carried only up
     to p = f W / max_k (W_h · d_k) over the facets' normals d_k: the collapse
-    load where the tower slides before it tips."""
-    fr = space_tower()
+    load where the tower slides before it tips — on the octagon around
+    Coulomb's circle, its facets at distance f N from the axis."""
+    fr = space_tower(cone="circumscribed")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", LargeDisplacementWarning)
         tr = fr.trace(constant={"D": 1.0}, variable="W")
