@@ -170,8 +170,10 @@ def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
     slips = [c for c in range(nc) if states[c] == "slip"]
     at = {c: nf + m + i for i, c in enumerate(slips)}      # λ's column and its row
     n = nf + m + len(slips)
-    key = (id(b), tuple(states), np.asarray(r, E).tobytes(), np.asarray(lam, E).tobytes())
-    factor = _KEPT.get(key)
+    key = (tuple(states), np.asarray(r, E).tobytes(), np.asarray(lam, E).tobytes())
+    # the frame is known by its stiffness matrix itself, held here, so that
+    # another frame's matrix cannot take its place at the same address
+    factor = _KEPT[key][1] if key in _KEPT and _KEPT[key][0] is b["K"] else None
     last = np.inf
     for it in range(STEPS + 8):
         delta = Hl.T @ u + gl + fl * r
@@ -198,7 +200,7 @@ def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
                 return None
             if it == 0:
                 _KEPT.clear()
-                _KEPT[key] = factor
+                _KEPT[key] = (b["K"], factor)
         lu, dr, dc = factor
         d = dc * lu.solve(-dr * np.asarray(res, float))
         if not np.all(np.isfinite(d)):
@@ -219,7 +221,7 @@ def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
     return u, r, lam
 
 
-#: the last starting factorization: {(frame, states, r, λ): (lu, dr, dc)}
+#: the last starting factorization: {(states, r, λ): (K, (lu, dr, dc))}
 _KEPT: dict = {}
 
 
@@ -290,8 +292,9 @@ def _factor(b, r, lam, Hc, flex, mu, states, held, slips, at, n):
     return lu, dr, dc
 
 
-#: the frame's rows of the Newton matrix, [K_ff, −H_f], as (rows, columns,
-#: values), and H_f by columns: {(frame, H_c's shape): (..., H_c)}
+#: the last frame's rows of the Newton matrix, [K_ff, −H_f], as (rows,
+#: columns, values), H_f by columns, and what they were formed from (its
+#: stiffness matrix itself, held, and H_c): {"kept": (...)}
 _BLOCKS: dict = {}
 
 
@@ -300,9 +303,8 @@ def _frame_block(b, Hc):
     equilibrium, [K_ff, −H_f] — as COO arrays, and H_f by columns: formed
     once per frame and contact layout."""
     Hc = np.asarray(Hc, float)
-    key = (id(b), Hc.shape)
-    kept = _BLOCKS.get(key)
-    if kept is not None and np.array_equal(kept[-1], Hc):
+    kept = _BLOCKS.get("kept")
+    if kept is not None and kept[-2] is b["K"] and np.array_equal(kept[-1], Hc):
         return kept[:4]
     free = b["free"]
     Kff = sp.coo_matrix(b["K"][free][:, free])
@@ -310,9 +312,8 @@ def _frame_block(b, Hc):
     Hcoo = Hf.tocoo()
     kept = (np.concatenate([Kff.row, Hcoo.row]),
             np.concatenate([Kff.col, Hcoo.col + free.size]),
-            np.concatenate([Kff.data, -Hcoo.data]), Hf, Hc)
-    _BLOCKS.clear()
-    _BLOCKS[key] = kept
+            np.concatenate([Kff.data, -Hcoo.data]), Hf, b["K"], Hc.copy())
+    _BLOCKS["kept"] = kept
     return kept[:4]
 
 
