@@ -5,8 +5,9 @@ until the tower can no longer stand.
 
 The tower is :func:`formulations.frames.space.space_tower.space_tower`: 3 x 3
 bays of 6 m, storeys of 3.5 m, columns 0.7 x 0.7 m, beams 0.4 x 0.7 m, each
-column pinned on a rigid pad with friction 0.5 (the cone faceted in 8).
-Units kN, m.  Solves 1.0 D + 1.0 W (every pad sticks under the design
+column pinned on a rigid pad with friction 0.5 on Coulomb's circle (the
+default model; ``cone="inscribed"`` or ``"circumscribed"`` for a polygon,
+faceted in 8).  Units kN, m.  Solves 1.0 D + 1.0 W (every pad sticks under the design
 wind), then traces D + p W from p = 0: the windward pads slip and lift off,
 the rest slip one after another, and the trace ends with the proof that no
 equilibrium exists beyond its last load (the tower slides away).  Saves the
@@ -42,9 +43,13 @@ def main(argv=None):
     ap.add_argument("--storeys", type=int, default=10)
     ap.add_argument("--out", default="out/space_frame")
     ap.add_argument("--no-plot", action="store_true")
+    ap.add_argument("--cone", default="circular", choices=("circular", "inscribed",
+                                                          "circumscribed"),
+                    help="the pads' friction: Coulomb's circle (default) or an octagon "
+                         "inside or around it")
     args = ap.parse_args(argv)
 
-    fr = space_tower(args.storeys)
+    fr = space_tower(args.storeys, cone=args.cone)
     top = node(args.storeys, 0, 0)
     res = fr.solve(combination={"D": 1.0, "W": 1.0})
     weight = sum(s.normal for s in res.supports.values())

@@ -40,6 +40,8 @@ import numpy as np
 from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
                                    SolverFailedError)
 from qpcontact.core.results import PROVED
+from qpcontact.dispatch.context import RunContext
+from qpcontact.dispatch.driver import Engine
 from qpcontact.judge.friction_certificate import (certify_friction, contact_scales, contact_sizes,
                                          scales_from_diagonal, sizes)
 
@@ -100,6 +102,10 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
     combo = load_combination(frame, p, combination, b)
     prob = frame.friction_problem(combination=combo, _built=b)
     tried = None
+    options = dict(options)
+    # the call's wall-time limit is the friction solvers'; it is not a
+    # method's setting that would replace the polygon's start
+    limit = {"time_limit": options.pop("time_limit")} if "time_limit" in options else {}
     if method == "auto" and not options:
         # first the faceted cone's exact answer (Lemke on the circumscribed
         # polygon) carried to the circle by the active set: on the 16-pad
@@ -107,7 +113,7 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
         tried = from_polygon(frame, prob, b, combo, accuracy, tol)
         if tried is not None and tried.ok:
             return tried
-    sol = solve(prob, method=method, accuracy=accuracy, **options)
+    sol = solve(prob, method=method, accuracy=accuracy, **limit, **options)
     res = None
     if sol.r is None:
         before = f"circular cone, {sol.method}: {sol.message}"
@@ -178,22 +184,33 @@ def on_states(frame, prob, b, combo, u, r, states, route, tol):
                     stiffness_times(b, u2), route, tol)[0]
 
 
-def from_polygon(frame, prob, b, combo, accuracy, tol):
+def from_polygon(frame, prob, b, combo, accuracy, tol, method="auto"):
     """The active set on the circle started from the polygon's answer
     (:func:`polygon_start`), checked; None where there is none."""
-    start = polygon_start(frame, b, combo, accuracy)
+    start = polygon_start(frame, b, combo, accuracy, method)
     if start is None:
         return None
     return on_states(frame, prob, b, combo, *start, "circular cone (active set on the "
                      "circle from the polygon's exact answer)", tol)
 
 
-def polygon_start(frame, b, combo, accuracy):
+def polygon_start(frame, b, combo, accuracy, method="auto"):
     """(u, r, states) of the faceted cone's answer for ``combo`` (the
-    circumscribed polygon the assembly lays out, solved by Lemke and the
-    load path), or None where it gives none."""
+    circumscribed polygon the assembly lays out), or None where it gives
+    none: with ``method`` "auto" the frame's polygon solve (Lemke, then the
+    load path); with "lemke" Lemke's answer alone, as a probe — no search
+    for a proof that the polygon has none, which the circle's callers do
+    not use (55 searches, a quarter of the 16-pad tower's trace)."""
     try:
-        res = solve_lcp(frame, 1.0, "auto", accuracy, False, combo, b, {})
+        if method == "lemke":
+            M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+            lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+            sol = Engine(RunContext.start(accuracy)).solve(lcp, "lemke", prove=False)
+            if sol.z is None or not np.all(np.isfinite(sol.z)):
+                return None
+            res = frame.kind.result_from_z(frame, sol.z, combo, "lemke", b=b, lcp=lcp)
+        else:
+            res = solve_lcp(frame, 1.0, method, accuracy, False, combo, b, {})
     except QpcontactError:
         return None
     if res._u is None:

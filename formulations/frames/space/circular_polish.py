@@ -151,79 +151,57 @@ def inequalities(answer, Hc, gap, flex, mu, states, held) -> list:
 def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
     """(u, r, λ) solving the states' system (module docstring) by Newton's
     method from (u, r, λ), the residual in extended precision; None where
-    its matrix is singular or it does not settle."""
-    free, kappa = b["free"], b["kappa"]
+    its matrix is singular or it does not settle.
+
+    The matrix is factored again only where the last factorization stops
+    contracting the steps (a chord step costs a residual; a factorization
+    of the tower's 1 100 unknowns twenty): the residual, not the matrix,
+    sets the answer's digits.  The factorization at the start is kept for
+    the next call from the same forces and rates (its matrix does not
+    depend on u or the load): an event's root search starts every solve
+    from one answer."""
     nc = len(states)
     E = EXTENDED
     Hl = np.asarray(Hc, E)
     u, r, lam = u.copy(), r.copy(), lam.copy()
     Fl, gl, fl = np.asarray(F, E), np.asarray(gap, E), np.asarray(flex, E)
-    Kff = sp.csr_matrix(b["K"][free][:, free])
-    Hf = sp.csc_matrix(np.asarray(Hc, float)[free])
+    free, kappa = b["free"], b["kappa"]
     nf, m = free.size, 3 * nc
     slips = [c for c in range(nc) if states[c] == "slip"]
     at = {c: nf + m + i for i, c in enumerate(slips)}      # λ's column and its row
     n = nf + m + len(slips)
+    key = (tuple(states), np.asarray(r, E).tobytes(), np.asarray(lam, E).tobytes())
+    # the frame is known by its stiffness matrix itself, held here, so that
+    # another frame's matrix cannot take its place at the same address
+    factor = _KEPT[key][1] if key in _KEPT and _KEPT[key][0] is b["K"] else None
     last = np.inf
-    for it in range(STEPS):
+    for it in range(STEPS + 8):
         delta = Hl.T @ u + gl + fl * r
         res = np.zeros(n, E)
         res[:nf] = (stiffness_times(b, u) - Fl - Hl @ r)[free]
-        rows, cols, vals = [], [], []
-
-        def put(i, j, v):
-            rows.append(i - nf), cols.append(j), vals.append(v)
-
-        def kinematic(i, j, factor):
-            """Row i holds factor × Δ_j's derivative."""
-            lo, hi = Hf.indptr[j], Hf.indptr[j + 1]
-            for d, h in zip(Hf.indices[lo:hi], Hf.data[lo:hi]):
-                put(i, d, factor * h)
-            put(i, nf + j, factor * float(flex[j]))
-
         for c in range(nc):
             t = _free_tangents(held[c])
             for k in range(3):
                 i, j = nf + 3 * c + k, 3 * c + k
-                zero = states[c] == "separated" or (k > 0 and (k not in t
-                                                                 or states[c] == "closed"))
-                if zero:
+                if _zero(states[c], k, t):
                     res[i] = r[j]
-                    put(i, nf + j, 1.0)
                 elif k == 0 or states[c] == "stick":
                     res[i] = kappa * delta[j]
-                    kinematic(i, j, kappa)
                 else:       # slipping: Δ_t + λ X_t = 0, scaled like a length
                     res[i] = kappa * (delta[j] + lam[c] * r[j])
-                    kinematic(i, j, kappa)
-                    put(i, nf + j, kappa * float(lam[c]))
-                    put(i, at[c], kappa * float(r[j]))
             if states[c] == "slip":
-                xt = np.sqrt(sum(r[3 * c + k] ** 2 for k in t))
-                i = at[c]
-                res[i] = xt - E(mu[c]) * r[3 * c]
-                put(i, nf + 3 * c, -float(mu[c]))
-                if float(xt) > 0:
-                    for k in t:
-                        put(i, nf + 3 * c + k, float(r[3 * c + k] / xt))
-                else:       # at the cone's tip the circle has no direction yet
-                    return None
-        Jc = sp.csr_matrix((vals, (rows, cols)), shape=(n - nf, n))
-        A = sp.vstack([sp.hstack([Kff, -Hf, sp.csr_matrix((nf, len(slips)))]), Jc],
-                      format="csc")
-        # equilibrated (rows, then columns, by their largest entries): a
-        # deck's stiffness 1e13 beside the slip law's unit entries
-        dr = 1.0 / np.maximum(abs(A).max(axis=1).toarray().ravel(), 1e-300)
-        A = sp.diags(dr) @ A
-        dc = 1.0 / np.maximum(abs(A).max(axis=0).toarray().ravel(), 1e-300)
-        A = sp.csc_matrix(A @ sp.diags(dc))
-        try:
-            lu = spla.splu(A)
-        except RuntimeError:
-            return None
-        piv = np.abs(lu.U.diagonal())
-        if not (piv.size and piv.min() > 1e-14 * piv.max()):
-            return None
+                if not float(np.sqrt(sum(r[3 * c + k] ** 2 for k in t))) > 0:
+                    return None     # at the cone's tip the circle has no direction yet
+                res[at[c]] = np.sqrt(sum(r[3 * c + k] ** 2 for k in t)) - E(mu[c]) * r[3 * c]
+        fresh = factor is None      # a Newton step (else a chord step)
+        if fresh:
+            factor = _factor(b, r, lam, Hc, flex, mu, states, held, slips, at, n)
+            if factor is None:
+                return None
+            if it == 0:
+                _KEPT.clear()
+                _KEPT[key] = (b["K"], factor)
+        lu, dr, dc = factor
         d = dc * lu.solve(-dr * np.asarray(res, float))
         if not np.all(np.isfinite(d)):
             return None
@@ -235,10 +213,108 @@ def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
         size = max(float(np.abs(u).max(initial=0.0)), 1e-300)
         if step <= 1e-18 * size:
             return u, r, lam
-        if it >= 4 and step > 0.5 * last and step > 1e-12 * size:
-            return None         # not settling
+        if step > 0.25 * last and step > 1e-12 * size:
+            if fresh and it >= 4 and step > 0.5 * last:
+                return None         # not settling on a fresh matrix
+            factor = None           # the chord no longer contracts: refactor
         last = step
     return u, r, lam
+
+
+#: the last starting factorization: {(states, r, λ): (K, (lu, dr, dc))}
+_KEPT: dict = {}
+
+
+def _zero(state, k, t) -> bool:
+    """Whether component k (0 normal, 1, 2 tangents) of a contact in
+    ``state`` is zero: separated, or a tangent held or of a frictionless
+    closed contact."""
+    return state == "separated" or (k > 0 and (k not in t or state == "closed"))
+
+
+def _factor(b, r, lam, Hc, flex, mu, states, held, slips, at, n):
+    """(LU, row scales, column scales) of the states' Newton matrix at
+    (r, λ) — None where it is singular."""
+    free, kappa = b["free"], b["kappa"]
+    nf, nc = free.size, len(states)
+    top_rows, top_cols, top_vals, Hf = _frame_block(b, Hc)
+    rows, cols, vals = [], [], []
+
+    def put(i, j, v):
+        rows.append(i), cols.append(j), vals.append(v)
+
+    def kinematic(i, j, factor):
+        """Row i holds factor × Δ_j's derivative."""
+        lo, hi = Hf.indptr[j], Hf.indptr[j + 1]
+        for d, h in zip(Hf.indices[lo:hi], Hf.data[lo:hi]):
+            put(i, d, factor * h)
+        put(i, nf + j, factor * float(flex[j]))
+
+    for c in range(nc):
+        t = _free_tangents(held[c])
+        for k in range(3):
+            i, j = nf + 3 * c + k, 3 * c + k
+            if _zero(states[c], k, t):
+                put(i, nf + j, 1.0)
+            elif k == 0 or states[c] == "stick":
+                kinematic(i, j, kappa)
+            else:
+                kinematic(i, j, kappa)
+                put(i, nf + j, kappa * float(lam[c]))
+                put(i, at[c], kappa * float(r[j]))
+        if states[c] == "slip":
+            xt = float(np.sqrt(sum(r[3 * c + k] ** 2 for k in t)))
+            put(at[c], nf + 3 * c, -float(mu[c]))
+            for k in t:
+                put(at[c], nf + 3 * c + k, float(r[3 * c + k]) / xt)
+    # one construction (repeated entries summed), then equilibrated in
+    # place — rows, then columns, by their largest entries: a deck's
+    # stiffness 1e13 beside the slip law's unit entries
+    A = sp.csr_matrix((np.concatenate([top_vals, vals]),
+                       (np.concatenate([top_rows, rows]).astype(np.int64),
+                        np.concatenate([top_cols, cols]).astype(np.int64))), shape=(n, n))
+    row_of = np.repeat(np.arange(n), np.diff(A.indptr))
+    big = np.zeros(n)
+    np.maximum.at(big, row_of, np.abs(A.data))
+    dr = 1.0 / np.maximum(big, 1e-300)
+    A.data *= dr[row_of]
+    big = np.zeros(n)
+    np.maximum.at(big, A.indices, np.abs(A.data))
+    dc = 1.0 / np.maximum(big, 1e-300)
+    A.data *= dc[A.indices]
+    try:
+        lu = spla.splu(A.tocsc())
+    except RuntimeError:
+        return None
+    piv = np.abs(lu.U.diagonal())
+    if not (piv.size and piv.min() > 1e-14 * piv.max()):
+        return None
+    return lu, dr, dc
+
+
+#: the last frame's rows of the Newton matrix, [K_ff, −H_f], as (rows,
+#: columns, values), H_f by columns, and what they were formed from (its
+#: stiffness matrix itself, held, and H_c): {"kept": (...)}
+_BLOCKS: dict = {}
+
+
+def _frame_block(b, Hc):
+    """The rows of the Newton matrix that no state changes — the free dofs'
+    equilibrium, [K_ff, −H_f] — as COO arrays, and H_f by columns: formed
+    once per frame and contact layout."""
+    Hc = np.asarray(Hc, float)
+    kept = _BLOCKS.get("kept")
+    if kept is not None and kept[-2] is b["K"] and np.array_equal(kept[-1], Hc):
+        return kept[:4]
+    free = b["free"]
+    Kff = sp.coo_matrix(b["K"][free][:, free])
+    Hf = sp.csc_matrix(Hc[free])
+    Hcoo = Hf.tocoo()
+    kept = (np.concatenate([Kff.row, Hcoo.row]),
+            np.concatenate([Kff.col, Hcoo.col + free.size]),
+            np.concatenate([Kff.data, -Hcoo.data]), Hf, b["K"], Hc.copy())
+    _BLOCKS["kept"] = kept
+    return kept[:4]
 
 
 def margin(answer, Hc, gap, flex, mu, states, held) -> float:

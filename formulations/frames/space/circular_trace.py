@@ -142,10 +142,18 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
                                 [s.state for s in near.supports.values()],
                                 "circular cone (continued from the path)", tol)
             if (res is None or not res.ok) and not full:
-                res = from_polygon(frame, prob, b, combo, accuracy, tol)
+                # Lemke's answer alone: the polygon's load path from zero
+                # (its "auto") costs seconds a point where it stops below p
+                # — a six-legged table's twist — and the samples' whole
+                # solves try it anyway
+                res = from_polygon(frame, prob, b, combo, accuracy, tol, "lemke")
             if (res is None or not res.ok) and full:
                 try:
-                    res = frame.solve(combination=combo, accuracy=accuracy, _built=b)
+                    # no wall-time limit: the path must not depend on how
+                    # busy the machine is (the friction solvers cut at 60 s
+                    # on a loaded machine ended the tower's path 5 % early)
+                    res = frame.solve(combination=combo, accuracy=accuracy, _built=b,
+                                      time_limit=None)
                 except NoSolutionError as exc:
                     return exc
                 except QpcontactError:
@@ -214,7 +222,18 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
     path.top = ft.intervals[-1][1]          # the plot ends at the last certified answer
     ft.events = events
     ft.breakpoints = np.array([ev.p for ev in events])
-    ft.states = [_inside(path, a, b_) or ft.result_at(0.5 * (a + b_)) for a, b_ in ft.intervals]
+
+    def state_in(a, b_):
+        """A certified answer inside (a, b_): one the path has, else the
+        continuation's at the middle, else the whole solve there."""
+        known = _inside(path, a, b_)
+        if known is None:
+            known = at(0.5 * (a + b_))
+        if known is None or isinstance(known, NoSolutionError):
+            known = ft.result_at(0.5 * (a + b_))
+        return known
+
+    ft.states = [state_in(a, b_) for a, b_ in ft.intervals]
     ft.ended = ended
     ft.ok = ended in ("p_max", "collapse")
     where = (f"{len(path.results)} certified solves on Coulomb's circular cone; events located "
