@@ -39,15 +39,18 @@ import numpy as np
 import warnings
 
 from qpcontact.core.accuracy import resolve_accuracy
-from qpcontact.core.errors import InvalidOptionError, NoSolutionError, QpcontactError
+from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
+                                   SolverFailedError)
 
 from ..mechanics.analysis_results import FrameEvent, FrameTrace
 from ..mechanics.equilibrium_checks import LargeDisplacementWarning, how_far
-from ..mechanics.load_combinations import trace_combinations
+from ..mechanics.load_combinations import load_combination, trace_combinations
+from ..mechanics.loads import CONSTANT, VARIABLE, describe
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.tracing import BRACKET
 from ..mechanics.member_forces import EXTENDED
-from .circular_cone import contact_data, contact_forces, from_polygon, on_states
+from .circular_cone import (contact_data, contact_forces, from_polygon, on_states,
+                            solve_either_cone)
 from .circular_polish import margin, newton, start_rates
 from .space_assembly import held
 from .circular_limit import limit_bracket
@@ -88,8 +91,10 @@ class CircularTrace(FrameTrace):
         with warnings.catch_warnings():
             # how far the frame has moved is in the trace's message
             warnings.simplefilter("ignore", LargeDisplacementWarning)
+            # no wall-time limit, as the trace's own solves (and no path
+            # followed again from inside a path)
             res = self.frame.solve(combination=self.combination_at(p), accuracy=self.accuracy,
-                                   _built=self._built)
+                                   _built=self._built, time_limit=None)
         res.p = p
         return res
 
@@ -241,6 +246,67 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
     ft.message = (limit_words + "; " if limit_words else "") + where + \
         f"; {len(events)} change(s) of the working scheme"
     return ft
+
+
+def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _built,
+                  options):
+    """One combination on the frame's cone
+    (:func:`.circular_cone.solve_either_cone`); on the circle, where "auto"
+    certifies nothing, the equilibrium reached by following the load path
+    to it — the constant loads, then the rest in proportion — as the trace
+    does (a six-legged table pushed at a corner, at 99.9 % of its path's
+    last certified load: the friction solvers' answer lifted five pads off,
+    its certificate 7e-4, where the path's continuation certifies the
+    equilibrium).  A path that collapses first raises its proof."""
+    failed = None
+    try:
+        res = solve_either_cone(frame, p, method, accuracy, False, combination, _built, options)
+    except SolverFailedError as exc:
+        res, failed = None, exc
+    if (res is not None and res.ok) or frame.cone != "circular" or method != "auto" or options:
+        if res is None:
+            raise failed
+        if raise_on_failure and not res.ok:
+            raise SolverFailedError(f"frame: {res.message}")
+        return res
+    b = _built if _built is not None else frame.build()
+    combo = load_combination(frame, p, combination, b)
+    if set(combo) <= {CONSTANT, VARIABLE} and combo.get(VARIABLE, 0.0) > 0:
+        const, var, target = {CONSTANT: combo.get(CONSTANT, 0.0)}, {VARIABLE: 1.0}, combo[VARIABLE]
+    else:
+        const = {CONSTANT: combo[CONSTANT]} if combo.get(CONSTANT, 0.0) > 0 else {}
+        var, target = {c: f for c, f in combo.items() if c != CONSTANT}, 1.0
+    found = None
+    if var and const:
+        try:
+            ft = trace(frame, target, accuracy, constant=const, variable=var)
+        except QpcontactError:
+            ft = None
+        if ft is not None and ft.ended == "collapse":
+            raise NoSolutionError(f"frame under {describe(combo)}: along the load path (the constant "
+                                  f"loads, then the rest in proportion) {ft.message}")
+        if ft is not None:
+            found = ft.trace.results.get(float(target))
+            below = [q for q in ft.trace.results if q < target]
+            if found is None and below and max(ft.trace.results) > target:
+                # the path is certified on both sides: continued from below
+                near = ft.trace.results[max(below)]
+                prob = frame.friction_problem(combination=combo, _built=b)
+                found = on_states(frame, prob, b, combo, near._u, contact_forces(near),
+                                  [s_.state for s_ in near.supports.values()],
+                                  "circular cone (continued from the path)",
+                                  resolve_accuracy(accuracy)[1])
+            if found is not None and not found.ok:
+                found = None
+    if found is not None:
+        found.route = ("circular cone (the load path followed to it: the constant loads, "
+                       "then the rest in proportion)")
+        return found
+    if res is None:
+        raise failed
+    if raise_on_failure:
+        raise SolverFailedError(f"frame: {res.message}")
+    return res
 
 
 def _key(res) -> dict:

@@ -162,3 +162,36 @@ def test_a_beam_on_two_pads_is_still_a_mechanism():
     fr.add_load("B", fz=-1.0)
     with pytest.raises(InvalidProblemError, match="mechanism"):
         fr.solve(0.0)
+
+
+def test_on_the_circle_solve_follows_the_load_path_where_the_friction_solvers_fail():
+    """A slender six-legged table (deck as stiff as its legs) pushed at a
+    corner, at 99.9 % of the load where its path on Coulomb's circle ends
+    (7.11629, well below the rigid body's 10.397: its own normal forces
+    exhaust the pads' friction): the friction solvers' answer lifted five
+    pads off and failed its certificate (7e-4).  solve() now follows the
+    constant loads, then the push, to it.  Checked by hand statics: the
+    pads' forces balance the 40 kN weight and the push in force and in
+    moment about the deck's centre, each within Coulomb's circle."""
+    fr = table(6, 1.0)
+    p = 0.999 * 7.1162938026
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(combination={"constant": 1.0, "corner": p})
+    assert res.ok, res.message
+    # the loads, read off the frame: 40 kN down at the deck's centre C and
+    # the push p along x at a corner of the deck (the family's cases)
+    force, moment = np.zeros(3), np.zeros(3)
+    for nd, v, case in fr.nodal_loads:
+        f = {"constant": 1.0, "corner": p}.get(case, 0.0) * np.asarray(v, float)
+        force += f[:3]
+        moment += np.cross(np.asarray(fr.nodes[nd], float), f[:3]) + f[3:]
+    assert np.hypot(*force[:2]) == pytest.approx(p, rel=1e-12) and force[2] == pytest.approx(-W)
+    pads = res.support_reactions
+    total = sum(np.asarray(f, float) for f in pads.values())
+    turning = sum(np.cross(np.asarray(fr.nodes[nd], float), np.asarray(f, float))
+                  for nd, f in pads.items())
+    assert np.abs(total + force).max() <= 1e-9 * W
+    assert np.abs(turning + moment).max() <= 1e-9 * W * 3.0
+    for s in res.supports.values():
+        assert s.normal >= 0.0 and np.hypot(*s.tangential) <= 0.3 * s.normal * (1 + 1e-9)
