@@ -112,3 +112,17 @@ def coulomb_limits(frame, const: dict, var: dict) -> tuple:
     limit lies between them (within 1.2e-6 relative)."""
     return (static_limit(frame, const, var, "inscribed"),
             static_limit(frame, const, var, "circumscribed"))
+
+
+def bounded_at_the_lp(frame, case: str, const: dict | None = None):
+    """The frame's trace of ``case`` (on ``const``, default the case
+    "constant") checked to end "bounded" with its proved bound at the LP's
+    limit (:func:`static_limit`, to 1e-12), then solved at the bound's
+    lower end: (trace, that result, the LP's limit)."""
+    const = {"constant": 1.0} if const is None else const
+    tr = frame.trace(constant=const, variable=case)
+    ref = static_limit(frame, const, {case: 1.0})
+    assert tr.ended == "bounded" and tr.limit is None, tr.message
+    lo, hi = tr.bound
+    assert lo < hi and abs(hi - ref) <= 1e-12 * ref
+    return tr, frame.solve(combination={**const, case: lo}), ref

@@ -16,7 +16,7 @@ from formulations.frames import SpaceFrame
 from formulations.frames.mechanics.rigid_limit import limit_bracket
 from formulations.frames.space.space_family import pipe_rack, skid, table
 from qpcontact.core.errors import InvalidProblemError
-from tests.helpers.rigid_body_lp import coulomb_limits, static_limit
+from tests.helpers.rigid_body_lp import bounded_at_the_lp, coulomb_limits, static_limit
 
 CONST = {"constant": 1.0}
 W = 40.0          # the tables' weight at C (kN)
@@ -116,14 +116,7 @@ def test_a_corner_push_says_what_is_known_where_the_path_stops_below_the_lp():
     secondary rays.  Before: "breakdown", nothing proved.  Now "bounded":
     the last certified equilibrium (checked here by solving there), how
     the frame moves there, and the proved upper bound, at the LP's value."""
-    fr = table(4, 1e4, cone="inscribed")
-    tr = fr.trace(variable="corner")
-    ref = static_limit(fr, CONST, {"corner": 1.0})
-    assert tr.ended == "bounded" and tr.limit is None, tr.message
-    lo, hi = tr.bound
-    assert abs(hi - ref) <= 1e-12 * ref
-    assert lo < hi
-    res = fr.solve(combination={"constant": 1.0, "corner": lo})
+    tr, res, _ = bounded_at_the_lp(table(4, 1e4, cone="inscribed"), "corner")
     assert res.ok and all(v.state == "slip" for v in res.supports.values()), res.message
     assert "certified up to p = 10.22" in tr.message and "slips along" in tr.message
     assert "no equilibrium exists for p >= 10.32273" in tr.message

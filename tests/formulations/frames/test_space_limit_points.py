@@ -14,7 +14,7 @@ from scipy.optimize import linprog
 
 from formulations.frames import SpaceFrame
 from formulations.frames.space.space_family import LEG, TABLE_LEGS, pipe_rack, table
-from tests.helpers.rigid_body_lp import static_limit
+from tests.helpers.rigid_body_lp import bounded_at_the_lp, static_limit
 
 CONST = {"constant": 1.0}
 W = 40.0          # the tables' weight at C (kN)
@@ -91,13 +91,8 @@ def test_six_legs_on_a_rectangle_twisted_stop_where_friction_is_exhausted():
     under its own normal forces: the torque the pads carry with the normal
     forces of the last certified state (solved there, an LP here over the
     inscribed 16-gon) is the stop, 16 % below the LP's bound."""
-    fr = table(6, 1e4, cone="inscribed")
-    tr = fr.trace(variable="twist")
-    ref = static_limit(fr, CONST, {"twist": 1.0})
-    assert tr.ended == "bounded" and tr.limit is None, tr.message
-    lo, hi = tr.bound
-    assert abs(hi - ref) <= 1e-12 * ref
-    res = fr.solve(combination={"constant": 1.0, "twist": lo})
+    tr, res, ref = bounded_at_the_lp(table(6, 1e4, cone="inscribed"), "twist")
+    lo = tr.bound[0]
     assert res.ok, res.message
     normals = [res.supports[f"F{k}"].normal for k in range(6)]
     assert sum(normals) == pytest.approx(W, rel=1e-9)
