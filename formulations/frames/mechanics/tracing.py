@@ -326,6 +326,12 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths):
         except QpcontactError:
             continue
         if tr.end == "collapse" and tr.proof["p_limit"] <= target:
+            # (a path from zero has no limit load to name: its combination
+            # alone cannot stand, and any motion proves it)
+            rigid = rigid_words(frame, b, const, var, target) if const else None
+            if rigid is not None:
+                raise NoSolutionError(f"frame under {describe(combo)}: no equilibrium exists "
+                                      f"— {rigid} (the load path, {words}, ends below it)")
             fric = contact_lcp.lcp_matrices(b)[5]
             how = (frame.kind.collapse_words(frame, tr.proof, fric, None)
                    if tr.proof["farkas"] is not None
@@ -348,6 +354,28 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths):
 #: a limit's bracket [p_lo, p_hi] is called the limit where its relative
 #: width is at most this
 BRACKET = 1e-6
+
+
+def rigid_words(frame, b, const, var, target):
+    """Where a rigid motion of the whole frame proves that no equilibrium
+    exists at ``target`` x ``var`` on ``const``: how the frame moves in it
+    and the proof, in words; else None.  Preferred to the words read off
+    an engine's Farkas vector, which is not unique: on a tall table tipping
+    about two legs the vector put the two lifting pads on their cones'
+    boundary (opening = f x slip) and read "slides away"."""
+    from .rigid_limit import limit_bracket
+
+    try:
+        p_hi, proof = limit_bracket(frame, b, const, var, 0.0)
+    except QpcontactError:
+        return None
+    if proof is None or not p_hi <= target:
+        return None
+    words = motion_words(frame, proof["opening"], proof["sliding"], None) + proof["turn"]
+    at = f"p = {p_hi:.10g}" if VARIABLE in var else f"{p_hi:.10g} x the combination"
+    return (f"{words} (none exists from {at} on: proved by a rigid motion of the whole frame "
+            "in which the loads do positive work and no contact force the friction polygons "
+            "allow resists, checked in rational arithmetic)")
 
 
 def limit_proof(frame, b, ft, tr, fric):
