@@ -55,3 +55,18 @@ def trace_combinations(b, constant, variable) -> tuple:
                       else (variable or {VARIABLE: 1.0}), known)
     require_loads(var, b, "trace", "the variable part", only_if_named=True)
     return const, var
+
+
+def constant_first(combo: dict):
+    """The load path to ``combo`` that puts the constant loads on first:
+    (constant, variable, target p, words) — the Osipova–Popov–Lovtsov split
+    (constant, then p x variable up to the requested p) where ``combo`` is
+    one, else the case "constant", then the other loads in proportion up to
+    1 — or None where it has no constant part and another load."""
+    if set(combo) <= {CONSTANT, VARIABLE} and combo.get(VARIABLE, 0.0) > 0:
+        return ({CONSTANT: combo.get(CONSTANT, 0.0)}, {VARIABLE: 1.0}, combo[VARIABLE],
+                "constant, then p x variable")
+    if combo.get(CONSTANT, 0.0) > 0 and len(combo) > 1:
+        return ({CONSTANT: combo[CONSTANT]}, {c: f for c, f in combo.items() if c != CONSTANT},
+                1.0, "constant, then the other loads in proportion")
+    return None

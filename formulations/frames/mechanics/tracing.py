@@ -17,8 +17,8 @@ from . import contact_lcp
 from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
 from .joined_trace import RESTART, RESTARTS, JoinedTrace
-from .load_combinations import trace_combinations
-from .loads import CONSTANT, VARIABLE, describe
+from .load_combinations import constant_first, trace_combinations
+from .loads import VARIABLE, describe
 from .no_equilibrium import motion_words
 
 
@@ -285,14 +285,8 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
     NoSolutionError with the trace's proof when the path collapses
     before the requested load."""
     M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
-    paths = []
-    if set(combo) <= {CONSTANT, VARIABLE} and combo.get(VARIABLE, 0.0) > 0:
-        paths.append(({CONSTANT: combo.get(CONSTANT, 0.0)}, {VARIABLE: 1.0},
-                      combo[VARIABLE], "constant, then p x variable"))
-    elif combo.get(CONSTANT, 0.0) > 0 and len(combo) > 1:
-        paths.append(({CONSTANT: combo[CONSTANT]},
-                      {c: f for c, f in combo.items() if c != CONSTANT}, 1.0,
-                      "constant, then the other loads in proportion"))
+    first = constant_first(combo)
+    paths = [] if first is None else [first]
     paths.append(({}, dict(combo), 1.0, "every load in proportion from zero"))
     found = engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths)
     if found is not None or not paths[0][0]:

@@ -44,8 +44,9 @@ from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, Qpcontac
 
 from ..mechanics.analysis_results import FrameEvent, FrameTrace
 from ..mechanics.equilibrium_checks import LargeDisplacementWarning, how_far
-from ..mechanics.load_combinations import load_combination, trace_combinations
-from ..mechanics.loads import CONSTANT, VARIABLE, describe
+from ..mechanics.load_combinations import (constant_first, load_combination,
+                                           trace_combinations)
+from ..mechanics.loads import describe
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.tracing import BRACKET
 from ..mechanics.member_forces import EXTENDED
@@ -271,13 +272,10 @@ def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _bu
         return res
     b = _built if _built is not None else frame.build()
     combo = load_combination(frame, p, combination, b)
-    if set(combo) <= {CONSTANT, VARIABLE} and combo.get(VARIABLE, 0.0) > 0:
-        const, var, target = {CONSTANT: combo.get(CONSTANT, 0.0)}, {VARIABLE: 1.0}, combo[VARIABLE]
-    else:
-        const = {CONSTANT: combo[CONSTANT]} if combo.get(CONSTANT, 0.0) > 0 else {}
-        var, target = {c: f for c, f in combo.items() if c != CONSTANT}, 1.0
+    path = constant_first(combo)
     found = None
-    if var and const:
+    if path is not None:
+        const, var, target, _ = path
         try:
             ft = trace(frame, target, accuracy, constant=const, variable=var)
         except QpcontactError:
