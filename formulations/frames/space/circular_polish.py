@@ -190,9 +190,10 @@ def newton(b, F, u, r, lam, Hc, gap, flex, mu, states, held):
                 else:       # slipping: Δ_t + λ X_t = 0, scaled like a length
                     res[i] = kappa * (delta[j] + lam[c] * r[j])
             if states[c] == "slip":
-                if not float(np.sqrt(sum(r[3 * c + k] ** 2 for k in t))) > 0:
+                xt = np.sqrt(sum(r[3 * c + k] ** 2 for k in t))
+                if not float(xt) > 0:
                     return None     # at the cone's tip the circle has no direction yet
-                res[at[c]] = np.sqrt(sum(r[3 * c + k] ** 2 for k in t)) - E(mu[c]) * r[3 * c]
+                res[at[c]] = xt - E(mu[c]) * r[3 * c]
         fresh = factor is None      # a Newton step (else a chord step)
         if fresh:
             factor = _factor(b, r, lam, Hc, flex, mu, states, held, slips, at, n)
