@@ -39,13 +39,19 @@ def linprog(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None, time_lim
     # HiGHS's choice first; where it stops on numerical difficulties (status
     # 4, no point: SciPy 1.17's HiGHS on a frame's degenerate patterns at its
     # collapse load, with tolerances at 1e-10) the dual simplex, then the
-    # interior point — an LP's answer is only a candidate, checked after
-    for method in ("highs", "highs-ds", "highs-ipm"):
+    # interior point, then HiGHS's own tolerances (1e-7): a four-legged
+    # table's collapse patterns 5e-7 of p above its path's end failed the
+    # three at 1e-10 and gave, at 1e-7, a Farkas vector that checks to 1.5e-10
+    # — an LP's answer is only a candidate, checked after
+    attempts = [("highs", tight), ("highs-ds", tight), ("highs-ipm", tight)]
+    if tight:
+        attempts.append(("highs", False))
+    for method, tighten in attempts:
         left = deadline.left()
         if left is not None and left <= 0.0:
             break
         options = {} if left is None else {"time_limit": left}
-        if tight:
+        if tighten:
             options.update(primal_feasibility_tolerance=1e-10, dual_feasibility_tolerance=1e-10)
         with np.errstate(all="ignore"):
             try:

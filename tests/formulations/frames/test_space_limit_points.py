@@ -120,6 +120,55 @@ def test_a_corner_push_collapse_is_bracketed_within_1e_6():
     assert res.ok, res.message
 
 
+@pytest.mark.parametrize("ratio, stiffness", [
+    (1e2, 1e6),
+    pytest.param(1.0, None, marks=pytest.mark.slow),
+])
+def test_a_corner_push_whose_proof_lps_stall_at_tight_tolerances_is_bracketed_within_1e_6(
+        ratio, stiffness):
+    """The narrowed proof failed on these two tables (brackets 2.6e-6 and
+    3.5e-4 wide): one pattern's Farkas LP stopped on HiGHS's numerical
+    difficulties with every method at tolerances of 1e-10, though at its
+    own 1e-7 it gives a vector that checks to 1.5e-10 (a candidate: the
+    check decides).  The bracket lies below the rigid body's LP and its
+    lower end solves, by hand statics: the pads carry W and the push."""
+    fr = table(4, ratio, stiffness=stiffness, cone="inscribed")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")      # the deck moves 0.07-0.4 m: large displacements
+        tr = fr.trace(variable="corner")
+        assert tr.ended == "collapse" and tr.ok, tr.message
+        lo, hi = tr.limit
+        assert 0 < (hi - lo) / hi <= 1e-6, tr.limit
+        assert hi < static_limit(fr, CONST, {"corner": 1.0})
+        res = fr.solve(combination={"constant": 1.0, "corner": lo})
+    assert res.ok, res.message
+    assert sum(v.normal for v in res.supports.values()) == pytest.approx(W, rel=1e-9)
+    push = sum(v.tangential_global[:2] for v in res.supports.values())
+    assert np.hypot(*push) == pytest.approx(lo, rel=1e-9)
+
+
+def test_six_legs_a_millionth_below_sliding_away_are_ok():
+    """A millionth below μW = 12 kN (hand: the 16-gon's vertex lies along
+    the push, so every pad carries μ N along it at the limit) Lemke's basis
+    held the last sticking pad's slip at 1e-4 of the others': with all six
+    slipping the deck's rigid motion is free and the polish's system
+    singular, and the answer kept its double-precision forces (statics off
+    by 2e-5: "CHECK FAILED").  By hand: the pads carry W and the push, each
+    within its friction, and the friction left over sums to 12 - p."""
+    fr = table(6, 1e4, stiffness=1e6, cone="inscribed")
+    p = MU * W * (1 - 1e-6)
+    res = fr.solve(combination={"constant": 1.0, "centre": p})
+    assert res.ok, res.message
+    normals = np.array([v.normal for v in res.supports.values()])
+    # the pads' forces on the deck resist the push (along -x)
+    tang = -np.array([v.tangential_global[:2] for v in res.supports.values()])
+    assert normals.sum() == pytest.approx(W, rel=1e-9)
+    assert tang[:, 0].sum() == pytest.approx(p, rel=1e-9)
+    assert abs(tang[:, 1].sum()) <= 1e-9 * p
+    assert np.all(np.hypot(*tang.T) <= MU * normals * (1 + 1e-9))
+    assert (MU * normals - tang[:, 0]).sum() == pytest.approx(MU * W - p, rel=1e-3)
+
+
 def test_a_pipe_rack_is_solved_at_999_per_mille_of_its_limit():
     """solve() at 99.9 % of the inscribed rack's limit raised
     SolverFailedError: Lemke at the fixed load ends on a secondary ray, and
