@@ -48,6 +48,9 @@ class AnalysisResult:
     #: describes the structure, and solve warns
     displacement_ratio: float = 0.0
     max_rotation: float = 0.0
+    #: a second-order answer's fixed point ({"rounds", "axial_error",
+    #: "axial"}: mechanics.second_order_analysis); None for first order
+    second_order: dict | None = None
 
 
 class CombinationResults(dict):

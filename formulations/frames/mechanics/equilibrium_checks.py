@@ -52,10 +52,11 @@ def beyond_rounding(res, scale, largest=None) -> float:
     return float(ratio.max())
 
 
-def how_far(frame, u, always=False):
+def how_far(frame, u, always=False, second_order=False):
     """(largest translation / frame size, largest rotation, words): the
     words say where small-displacement theory stops holding (or, with
-    ``always``, how far the frame has moved in any case)."""
+    ``always``, how far the frame has moved in any case); a
+    ``second_order`` answer's words say what its theory leaves out."""
     xy = np.array(list(frame.nodes.values()))
     size = float(np.linalg.norm(np.ptp(xy, axis=0))) or 1.0
     spin = np.array([d.startswith("r") for d in frame.DOFS])   # a node's rotations
@@ -68,10 +69,17 @@ def how_far(frame, u, always=False):
              f"({ratio:.2g} of the frame's size, {size:.3g} {length}), rotations up to "
              f"{rot:.2g} rad")
     if ratio > SMALL_DISPLACEMENT or rot > SMALL_ROTATION:
-        return ratio, rot, (f"{moved}: beyond small-displacement theory (limits "
-                            f"{SMALL_DISPLACEMENT:g} of the size, {SMALL_ROTATION:g} rad), "
-                            "which this analysis assumes — the deformed frame's equilibrium "
-                            "(second-order effects) is not in it")
+        limits = f"(limits {SMALL_DISPLACEMENT:g} of the size, {SMALL_ROTATION:g} rad)"
+        if second_order:
+            return ratio, rot, (f"{moved}: beyond moderate rotations {limits}; this second-order "
+                                "analysis writes equilibrium on the deformed frame to first order "
+                                "in its rotations (P-Δ, P-δ): large rotations (a corotational "
+                                "analysis) are not in it")
+        route = ("solve(..., second_order=True) writes it" if frame.kind.name == "plane"
+                 else "second-order analysis is written for plane frames so far")
+        return ratio, rot, (f"{moved}: beyond small-displacement theory {limits}, which this "
+                            "analysis assumes — the deformed frame's equilibrium (second-order "
+                            f"effects) is not in it: {route}")
     return ratio, rot, (moved if always else "")
 
 

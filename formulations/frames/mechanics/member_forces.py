@@ -49,29 +49,30 @@ def stiffness_times(b, u) -> np.ndarray:
 def rigid_part(b, d, dofs):
     """Each member's rigid motion in its own axes (m, 2 nd, columns) from
     its end displacements d: end i's translation and the chord's rotation
-    (plane: u, v, θ; space: u, v, w, θx, θy, θz), zero for a member whose k
-    does not annihilate it (an element this does not know)."""
+    (plane: u, v, θ; space: u, v, w, θx, θy, θz) — each mode only where the
+    member's k annihilates it (as rounded): a second-order member resists
+    the chord's rotation (its P-Δ shear) but not a translation, and an
+    element this does not know keeps all of d."""
     k = b["local"][0]
     nd = dofs.shape[1] // 2
     xyz = np.asarray(b["coords"], EXTENDED)
     L = np.sqrt(((xyz[dofs[:, nd] // nd] - xyz[dofs[:, 0] // nd]) ** 2).sum(axis=1))[:, None]
-    r = np.zeros_like(d)
     if nd == 3:
-        th = (d[:, 4] - d[:, 1]) / L
-        r[:, 0], r[:, 1], r[:, 2] = d[:, 0], d[:, 1], th
-        r[:, 3], r[:, 4], r[:, 5] = d[:, 0], d[:, 1] + th * L, th
+        c = np.stack([d[:, 0], d[:, 1], (d[:, 4] - d[:, 1]) / L], axis=1)
     else:
-        tz, ty, tx = (d[:, 7] - d[:, 1]) / L, -(d[:, 8] - d[:, 2]) / L, d[:, 3]
-        r[:, 0:3] = d[:, 0:3]
-        r[:, 3], r[:, 4], r[:, 5] = tx, ty, tz
-        r[:, 6], r[:, 7], r[:, 8] = d[:, 0], d[:, 1] + tz * L, d[:, 2] - ty * L
-        r[:, 9], r[:, 10], r[:, 11] = tx, ty, tz
-    # only where k annihilates the member's rigid motions (as rounded)
+        c = np.stack([d[:, 0], d[:, 1], d[:, 2], d[:, 3], -(d[:, 8] - d[:, 2]) / L,
+                      (d[:, 7] - d[:, 1]) / L], axis=1)
     unit = rigid_basis(np.asarray(L[:, 0], float), nd)
-    kr = np.abs(k @ unit).max(axis=(1, 2))
-    size = np.abs(k).max(axis=(1, 2)) * np.abs(unit).max(axis=(1, 2))
-    r[kr > 1e-9 * size] = 0.0
-    return r
+    kr = np.abs(k @ unit).max(axis=1)                                   # (m, modes)
+    size = np.abs(k).max(axis=(1, 2))[:, None] * np.abs(unit).max(axis=1)
+    kept = kr <= 1e-9 * size
+    if b.get("axial") is not None:
+        # a second-order member's P-Δ shear N θ is a real force, though
+        # under 1e-9 of a stiff member's k (a rigid beam's N of 10 kN
+        # beside EA/L of 3e9 kN/m): its chord rotation stays in d
+        kept[:, nd - 1 if nd == 3 else 3:] &= (np.asarray(b["axial"]) == 0.0)[:, None]
+    kept = kept[:, :, None]
+    return np.einsum("mij,mjc->mic", unit.astype(EXTENDED), c * kept)
 
 
 def rigid_basis(L, nd):

@@ -14,6 +14,7 @@ import numpy as np
 from qpcontact.core.errors import InvalidProblemError
 
 from .loads import equivalent_nodal_many, offset_parts
+from .second_order import beam_column_k, consistent_geometric_k
 
 #: A plane frame node's degrees of freedom, in the order of its rows.
 DOFS = ("ux", "uy", "rz")
@@ -85,11 +86,13 @@ def _release(k, fe, r, spring):
     return kc[np.ix_(keep, keep)], fc[keep]
 
 
-def member_locals(frame, names, idx, col):
+def member_locals(frame, names, idx, col, axial=None):
     """Every member's local stiffness (node dofs, member axes), rotation,
     dofs and equivalent nodal loads per case, computed for all members at
     once: (k (m,6,6), T (m,6,6), dofs (m,6), Fe (m,6,cases)); ``col`` maps
-    a case to its column."""
+    a case to its column.  ``axial`` (m,): the members' axial forces
+    (tension positive) for a second-order stiffness
+    (:mod:`.second_order`), None for first order."""
     ms = list(frame.members.values())
     nm = len(ms)
     xy = np.array([frame.nodes[n] for n in names]).reshape(-1, 2)
@@ -105,7 +108,13 @@ def member_locals(frame, names, idx, col):
                                      for m in ms], float).reshape(nm, 6).T
     Lf = L - oi - oj
     phi = np.divide(12.0 * E * I, GAs * Lf ** 2, out=np.zeros(nm), where=GAs > 0)
-    k_all = beam_k(E, A, I, Lf, phi)
+    if axial is None:
+        k_all = beam_k(E, A, I, Lf, phi)
+    else:
+        axial = np.asarray(axial, float)
+        k_all = np.where((phi > 0)[:, None, None],
+                         beam_k(E, A, I, Lf, phi) + consistent_geometric_k(Lf, axial),
+                         beam_column_k(E, A, I, Lf, axial))
     T = rotation(c, s)
     dofs = np.c_[3 * ii[:, None] + np.arange(3), 3 * jj[:, None] + np.arange(3)]
     offset = np.flatnonzero((oi > 0) | (oj > 0)).tolist()

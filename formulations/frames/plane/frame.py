@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
 
-from ..mechanics import contact_lcp, friction_export, solving, tracing
+from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, case_name, check_axes,
                                check_units, known_member, known_node, no_member_between,
@@ -346,9 +346,17 @@ class Frame:
         return any(c.friction > 0 for c in self.contacts)
 
     # -- assembly -----------------------------------------------------------
-    def build(self):
-        """The assembly (K, links, R and R_F per case): see :mod:`.plane_assembly`."""
-        return plane_assembly.build(self)
+    def build(self, axial=None):
+        """The assembly (K, links, R and R_F per case): see :mod:`.plane_assembly`;
+        ``axial``: the members' axial forces of a second-order stiffness."""
+        return plane_assembly.build(self, axial)
+
+    def stiffness(self, axial=None):
+        """The frame's stiffness K (all dofs, CSR, in the nodes' axes) alone,
+        first order or (``axial``: the members' axial forces, tension
+        positive) second order: what α_cr's eigenvalue count reads, where
+        K may be singular and ``build`` would refuse it."""
+        return plane_assembly.assemble(self, axial)[2]
 
     def lcp(self, b=None):
         """The contact LCP of the split constant + p x variable as (M,
@@ -364,13 +372,26 @@ class Frame:
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
               raise_on_failure: bool = False, *, combination: dict | None = None,
-              _built=None, **options) -> FrameResult:
+              second_order: bool = False, _built=None, **options) -> FrameResult:
         """Analyse one load combination (:func:`..mechanics.solving.solve`,
         which says what ``method``, the errors and the warning are):
         ``combination`` = {case: factor}, or by default constant +
-        p·variable."""
+        p·variable.  ``second_order``: equilibrium on the deformed frame (P-Δ
+        and P-δ, :mod:`..mechanics.second_order_analysis`)."""
+        if second_order:
+            if _built is not None:
+                raise InvalidOptionError("second_order=True builds its own stiffness; do not "
+                                         "pass _built")
+            return second_order_analysis.solve_second_order(
+                self, p, method, accuracy, raise_on_failure, combination, options)
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
+
+    def critical_load_factor(self, result) -> dict:
+        """The elastic critical load factor α_cr of ``result``'s combination,
+        its contact states held (:func:`..mechanics.second_order_analysis.critical_load_factor`):
+        {"alpha", "mode", "members", "limited_by"}."""
+        return second_order_analysis.critical_load_factor(self, result)
 
     def solve_combinations(self, combinations: dict, **kw):
         """Each named combination solved on its own, as a CombinationResults

@@ -29,7 +29,7 @@ def cases(frame) -> list:
     return sorted(names)
 
 
-def assemble(frame):
+def assemble(frame, axial=None):
     """K (CSR), loads F and settlements U (one column per case), the fixed
     dofs, and the members' local data for the results (k, T, dofs, Fe):
     all members at once (K from one COO array)."""
@@ -40,7 +40,7 @@ def assemble(frame):
     col = {c: k for k, c in enumerate(case_list)}
     F = np.zeros((N, len(case_list)))
     if frame.members:
-        k_all, T, dofs, Fe = member_locals(frame, names, idx, col)
+        k_all, T, dofs, Fe = member_locals(frame, names, idx, col, axial)
         Tt = T.transpose(0, 2, 1)
         kg = Tt @ k_all @ T          # batched matmul: 10x einsum's three-operand path
         rows = [np.repeat(dofs, 6, axis=1).ravel()]
@@ -165,15 +165,17 @@ def check_conflicts(frame):
                     "remove one of them")
 
 
-def build(frame):
+def build(frame, axial=None):
     """Assemble K, the links, and the LU of the basic system (every link
     fixed).  Returns a :class:`Built` with everything the routes and the
-    results need; R and R_F come on first use."""
+    results need; R and R_F come on first use.  ``axial``: the members'
+    axial forces (tension positive, in the order of ``frame.members``) of
+    a second-order stiffness, kept as ``b["axial"]``; None: first order."""
     if not frame.contacts:
         raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
                                   "add_contact() defines the unilateral supports")
     check_conflicts(frame)
-    names, idx, K, F, U, case_list, fixed, local, Tn = assemble(frame)
+    names, idx, K, F, U, case_list, fixed, local, Tn = assemble(frame, axial)
     N = K.shape[0]
     H, info = links(frame, idx, N)
     if Tn is not None:
@@ -194,7 +196,8 @@ def build(frame):
             springs[idx[node] + DOFS.index(d)] += kval
     b = Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
               coords=np.array([frame.nodes[n] for n in names], float),
-              fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn, **basic)
+              fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,
+              axial=None if axial is None else np.asarray(axial, float), **basic)
     link_maps(frame, b)      # b["maps"], which the shared LCP reads
     return b
 

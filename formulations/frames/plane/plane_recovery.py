@@ -12,7 +12,7 @@ import numpy as np
 from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
-from ..mechanics import contact_lcp, extended_refinement
+from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
                                             equilibrium, how_far, mechanical_certificate)
 from ..mechanics.loads import CONSTANT, VARIABLE
@@ -119,7 +119,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
     msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
            + ("" if ok else " — CHECK FAILED"))
-    ratio, rot, words = how_far(frame, u)
+    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None)
     if words:
         msg += "; " + words
     return FrameResult(p=float(combo.get(VARIABLE, 0.0)), supports=supports,
@@ -169,6 +169,12 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     lx, ly = np.abs(xy[:, 0]), np.abs(xy[:, 1])
     res = np.abs([fx.sum(), fy.sum(), (mz + xy[:, 0] * fy - xy[:, 1] * fx).sum()])
     scale = np.array([ax.sum(), ay.sum(), (am + lx * ay + ly * ax).sum()])
+    if b.get("axial") is not None:
+        # second order: the members' end forces are in equilibrium on the
+        # deformed frame, so the undeformed moments sum to their P-Δ couples
+        couples = second_order.pdelta_couples(frame, b, u)
+        res[2] = abs((mz + xy[:, 0] * fy - xy[:, 1] * fx).sum() - couples.sum())
+        scale[2] += np.abs(couples).sum()
     big_m = (am + lx * ay + ly * ax).max(initial=0.0)
     # forces carry the rounding of the moments they balance too (a frame
     # loaded by a moment alone has shears that are zero but for it)

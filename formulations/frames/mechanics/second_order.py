@@ -1,0 +1,145 @@
+"""Second-order analysis of plane frames: equilibrium written on the
+deformed frame (P-Δ between the members' ends, P-δ along them), solved
+together with the contact states.
+
+The mechanics.  A straight Euler–Bernoulli member (E [F/L²], I [L⁴],
+length L [L]) carrying an axial force N [F] (tension positive) has, on its
+bending, the equation EI v'''' − N v'' = 0 written on the deformed axis.
+Its exact end stiffness (Livesley's stability functions) in member axes,
+end dofs (v_i, θ_i, v_j, θ_j), with f = EI/L and t = −N L²/(EI) (t > 0 in
+compression, t = ψ² where ψ = L √(P/EI)):
+
+    k_θθ  = s f                         (the far end held)
+    k_θθ' = s c f                       (carried over to the far end)
+    k_vθ  = (s + s c) f / L
+    k_vv  = (2 (s + s c) − t) f / L²    (the − t f/L² = N/L: the P-Δ shear)
+
+    compression (ψ² = t):  s = ψ (sin ψ − ψ cos ψ) / (2 − 2 cos ψ − ψ sin ψ),
+                           s c = ψ (ψ − sin ψ) / (2 − 2 cos ψ − ψ sin ψ);
+    tension (ψ² = −t):     s = ψ (ψ cosh ψ − sinh ψ) / (2 − 2 cosh ψ + ψ sinh ψ),
+                           s c = ψ (sinh ψ − ψ) / (2 − 2 cosh ψ + ψ sinh ψ).
+
+At N = 0 they are 4, 2 and 12: the first-order beam.  Near it the closed
+forms cancel (their denominators are ψ⁴/12), so |t| < T_SERIES takes the
+Taylor series in t, which is one series for tension and compression
+(s = 4 − 2t/15 − 11t²/6300 − …; eight terms, 1e-15 of s at |t| = 0.25).
+The consistent geometric matrix (cubic shape functions: −N/L [6/5, L/10,
+2L²/15, −L²/30]) is their first-order term; one
+element per member with it puts a cantilever's buckling load 0.75 % high,
+the stability functions put it at π²EI/(4L²) exactly.  The axial row is
+EA/L as before (no bowing): the axial force comes from the axial strain.
+
+Members with shear deformation (Timoshenko, φ > 0) take the consistent
+geometric matrix beside their own stiffness: the exact Timoshenko
+beam-column is not written here, and its error is the consistent matrix's
+(P-δ to O(t²)).  Fixed-end forces of member loads stay first-order (their
+span moments are not amplified by N).
+
+Statics.  Each member's end forces satisfy, in its undeformed axes,
+Σ moments about end i = N (v_j − v_i) exactly (the column v_i of k sums to
+t f / L = P); so the frame's moment resultant is the members' P-Δ
+couples, which the recovery's statics check adds (``b["axial"]``).  The
+answer is a fixed point: the N that built k are the N its displacements
+give, to the accuracy asked for
+(:func:`.second_order_analysis.solve_second_order`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: |t| = |N| L² / EI below which the stability functions come from their
+#: series (the closed forms' denominators cancel to ψ⁴/12 near 0)
+T_SERIES = 0.25
+
+# Taylor coefficients in t (compression positive) of s and s c: one series
+# for tension and compression
+_S = (4.0, -2 / 15, -11 / 6300, -1 / 27000, -509 / 582120000, -14617 / 681080400000,
+      -153221 / 286053768000000, -93589 / 6947020080000000)
+_SC = (2.0, 1 / 30, 13 / 12600, 11 / 378000, 907 / 1164240000, 27641 / 1362160800000,
+       298183 / 572107536000000, 184697 / 13894040160000000)
+
+
+def stability_functions(t) -> tuple[np.ndarray, np.ndarray]:
+    """(s, s c) for t = −N L²/EI (arrays); inf where a compressed member
+    is at its own clamped-clamped buckling load (t = 4π²)."""
+    t = np.asarray(t, float)
+    s, sc = np.zeros_like(t), np.zeros_like(t)
+    small = np.abs(t) < T_SERIES
+    ts = t[small]
+    s[small] = sum(c * ts ** k for k, c in enumerate(_S))
+    sc[small] = sum(c * ts ** k for k, c in enumerate(_SC))
+    comp = (t >= T_SERIES)
+    if comp.any():
+        psi = np.sqrt(t[comp])
+        sn, cs = np.sin(psi), np.cos(psi)
+        den = 2.0 - 2.0 * cs - psi * sn
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s[comp] = psi * (sn - psi * cs) / den
+            sc[comp] = psi * (psi - sn) / den
+    ten = (t <= -T_SERIES)
+    if ten.any():
+        psi = np.sqrt(-t[ten])
+        sh, ch = np.sinh(psi), np.cosh(psi)
+        den = 2.0 - 2.0 * ch + psi * sh
+        s[ten] = psi * (psi * ch - sh) / den
+        sc[ten] = psi * (sh - psi) / den
+    return s, sc
+
+
+def beam_column_k(E, A, I, L, N) -> np.ndarray:
+    """Local stiffness (m, 6, 6) of Euler–Bernoulli members carrying axial
+    forces N (tension positive), end dofs (u, v, θ) at i then j."""
+    E, A, I, L, N = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, N)))
+    f = E * I / L
+    t = -N * L ** 2 / (E * I)
+    s, sc = stability_functions(t)
+    a = E * A / L
+    vv, vt = (2.0 * (s + sc) - t) * f / L ** 2, (s + sc) * f / L
+    k = np.zeros(E.shape + (6, 6))
+    k[..., 0, 0] = k[..., 3, 3] = a
+    k[..., 0, 3] = k[..., 3, 0] = -a
+    k[..., 1, 1] = k[..., 4, 4] = vv
+    k[..., 1, 4] = k[..., 4, 1] = -vv
+    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = vt
+    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -vt
+    k[..., 2, 2] = k[..., 5, 5] = s * f
+    k[..., 2, 5] = k[..., 5, 2] = sc * f
+    return k
+
+
+def consistent_geometric_k(L, N) -> np.ndarray:
+    """The consistent geometric stiffness (m, 6, 6) of cubic shape
+    functions, N tension positive: the first-order term of the stability
+    functions, for members whose own stiffness is not Euler–Bernoulli."""
+    L, N = np.broadcast_arrays(np.asarray(L, float), np.asarray(N, float))
+    g = N / L
+    k = np.zeros(L.shape + (6, 6))
+    k[..., 1, 1] = k[..., 4, 4] = 1.2 * g
+    k[..., 1, 4] = k[..., 4, 1] = -1.2 * g
+    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = 0.1 * g * L
+    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -0.1 * g * L
+    k[..., 2, 2] = k[..., 5, 5] = 2.0 / 15.0 * g * L ** 2
+    k[..., 2, 5] = k[..., 5, 2] = -g * L ** 2 / 30.0
+    return k
+
+
+def clamped_buckling_t() -> float:
+    """t at which a member clamped at both ends buckles on its own (4π²):
+    the stability functions' pole, which no load factor may pass."""
+    return 4.0 * np.pi ** 2
+
+
+def pdelta_couples(frame, b, u) -> np.ndarray:
+    """Each member's P-Δ couple N (v'_j − v'_i) (m,): the moment its end
+    forces make in the undeformed frame, from the axial forces that built
+    its stiffness (``b["axial"]``) and the transverse displacements of its
+    flexible ends (v' = v ± the rigid arm times θ) in its own axes; ``u``
+    the global displacements."""
+    _, T, dofs, _ = b["local"]
+    d = (T @ np.asarray(u, float)[dofs][..., None])[..., 0]
+    oi = np.array([m.offset_i for m in frame.members.values()], float)
+    oj = np.array([m.offset_j for m in frame.members.values()], float)
+    vi = d[:, 1] + oi * d[:, 2]
+    vj = d[:, 4] - oj * d[:, 5]
+    return b["axial"] * (vj - vi)

@@ -1,0 +1,208 @@
+"""Second-order analysis of plane frames (P-Δ and P-δ) on their contacts,
+against closed forms of the beam-column equation EI v'''' + P v'' = 0
+written here: a cantilever's tip deflection under a compressive or tensile
+axial force, its base moment by statics on the deformed column, its
+buckling load π²EI/(4L²); a sway portal as two cantilevers of half the
+height; a column on two rigid pads whose windward pad lifts at the
+second-order tipping load W a / (h + (tan kh − kh)/k), below the
+first-order W a / h."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from formulations.frames import Frame
+from qpcontact.core.errors import NoSolutionError
+
+E, A, I = 2e8, 1e-2, 2e-5       # kN/m², m², m⁴: a steel column
+
+
+def cantilever(L, P, H, stub=True) -> Frame:
+    """A column of height L fixed at A, axial load P (compression
+    positive) and lateral H at its tip B; a stub on a pad gives the frame
+    its one contact."""
+    fr = Frame(units=("kN", "m"))
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_beam("A", "B", E, A, I, name="column")
+    fr.add_support("A")
+    if stub:
+        fr.add_node("C", 2.0, 0.0)
+        fr.add_beam("A", "C", E, A, I, name="stub")
+        fr.add_contact("C", normal=(0.0, 1.0))
+    fr.add_load("B", fx=H, fy=-P)
+    return fr
+
+
+@pytest.mark.parametrize("share", [0.1, 0.5, 0.9])
+def test_a_cantilever_sways_as_the_beam_column_equation_says(share):
+    """Compression P: δ = H (tan kL − kL) / (P k), k = √(P/EI); the base
+    moment is H L + P δ (statics on the deformed column); the first-order
+    δ is H L³/(3EI)."""
+    L = 5.0
+    P = share * np.pi ** 2 * E * I / (4 * L ** 2)
+    H = 10.0
+    fr = cantilever(L, P, H)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        first = fr.solve()
+        res = fr.solve(second_order=True)
+    assert res.ok, res.message
+    k = np.sqrt(P / (E * I))
+    delta = H * (np.tan(k * L) - k * L) / (P * k)
+    assert first.displacements["B"][0] == pytest.approx(H * L ** 3 / (3 * E * I), rel=1e-12)
+    assert res.displacements["B"][0] == pytest.approx(delta, rel=1e-9)
+    # the fixed support's moment balances H and P on the deformed column
+    assert res.reactions["A"][2] == pytest.approx(H * L + P * delta, rel=1e-9)
+    assert res.second_order["axial"]["column"] == pytest.approx(-P, rel=1e-12)
+    assert res.second_order["stable"] is True
+
+
+def test_a_cantilever_in_tension_is_stiffer():
+    """Tension T: δ = H (kL − tanh kL) / (T k), k = √(T/EI)."""
+    L, T, H = 5.0, 300.0, 10.0
+    fr = cantilever(L, -T, H)
+    res = fr.solve(second_order=True)
+    assert res.ok, res.message
+    k = np.sqrt(T / (E * I))
+    assert res.displacements["B"][0] == pytest.approx(H * (k * L - np.tanh(k * L)) / (T * k),
+                                                      rel=1e-9)
+
+
+@pytest.mark.parametrize("share", [0.3, 0.5])
+def test_the_critical_load_factor_of_a_cantilever_is_eulers(share):
+    """α_cr = P_cr / P with P_cr = π²EI/(4L²), from one element per member."""
+    L = 5.0
+    P_cr = np.pi ** 2 * E * I / (4 * L ** 2)
+    fr = cantilever(L, share * P_cr, 1.0)
+    res = fr.solve(second_order=True)
+    crit = fr.critical_load_factor(res)
+    assert crit["alpha"] == pytest.approx(1 / share, rel=1e-8)
+    assert crit["limited_by"] is None
+    # the mode is the sway of the tip
+    assert abs(crit["mode"]["B"][0]) == pytest.approx(1.0)
+
+
+def test_a_frame_in_tension_only_has_no_critical_load():
+    fr = cantilever(5.0, -100.0, 1.0)
+    res = fr.solve(second_order=True)
+    assert fr.critical_load_factor(res)["alpha"] == np.inf
+
+
+def portal(P, H, h=4.0, span=6.0) -> Frame:
+    """Columns fixed at their bases A, D, tops B, C held from turning by a
+    beam 1e8 times stiffer and by the columns' own axial stiffness (A x
+    1e4: with the section's own A the beam turns by the columns'
+    shortening, and the portal buckles 4e-4 below the guided column);
+    P down on each top, H sideways at B; a stub on a pad gives the frame
+    its one contact."""
+    fr = Frame(units=("kN", "m"))
+    for n, (x, y) in {"A": (0, 0), "B": (0, h), "C": (span, h), "D": (span, 0),
+                      "S": (-2.0, 0.0)}.items():
+        fr.add_node(n, x, y)
+    fr.add_beam("A", "B", E, A * 1e4, I, name="AB")
+    fr.add_beam("D", "C", E, A * 1e4, I, name="DC")
+    fr.add_beam("B", "C", E, A * 1e4, I * 1e8, name="BC")
+    fr.add_beam("A", "S", E, A, I)
+    fr.add_support("A")
+    fr.add_support("D")
+    fr.add_contact("S", normal=(0.0, 1.0))
+    fr.add_load("B", fy=-P)
+    fr.add_load("C", fy=-P)
+    if H:
+        fr.add_load("B", fx=H)
+    return fr
+
+
+def test_a_sway_portal_with_a_rigid_beam_sways_as_half_cantilevers():
+    """Each column bends antisymmetrically about its mid-height: two
+    cantilevers of h/2, so its shear at a sway Δ under its axial force P_c
+    is V = Δ P_c κ / (2 (tan(κh/2) − κh/2)), κ = √(P_c/EI); the two
+    shears carry H.  The columns' axial forces differ by the overturning
+    (P ± about H h / span) and sum to 2P (vertical statics)."""
+    h, P, H = 4.0, 500.0, 20.0
+    fr = portal(P, H, h)
+    res = fr.solve(second_order=True)
+    assert res.ok, res.message
+    axial = res.second_order["axial"]
+    assert axial["AB"] + axial["DC"] == pytest.approx(-2 * P, rel=1e-9)
+    sway = res.displacements["B"][0]
+    shears = 0.0
+    for col in ("AB", "DC"):
+        Pc = -axial[col]
+        kap = np.sqrt(Pc / (E * I))
+        shears += sway * Pc * kap / (2 * (np.tan(kap * h / 2) - kap * h / 2))
+    assert shears == pytest.approx(H, rel=1e-6)
+    # first order: the same columns with no axial force, 12EI/h³ each
+    assert fr.solve().displacements["B"][0] == pytest.approx(H * h ** 3 / (24 * E * I), rel=1e-6)
+
+
+def test_a_sway_portal_buckles_at_eulers_sway_load():
+    """P_cr = π²EI/h² per column (fixed at one end, sliding without
+    turning at the other)."""
+    h, P = 4.0, 500.0
+    fr = portal(P, 0.0, h)
+    res = fr.solve(second_order=True)
+    crit = fr.critical_load_factor(res)
+    assert crit["alpha"] == pytest.approx(np.pi ** 2 * E * I / h ** 2 / P, rel=1e-6)
+    assert abs(crit["mode"]["B"][0]) == pytest.approx(abs(crit["mode"]["C"][0]), rel=1e-6)
+
+
+def column_on_pads(W, a=1.0, h=6.0) -> Frame:
+    """A column (E, A, I) of height h on a base 1e4 times stiffer, on two
+    rigid pads at ±a (μ = 1: it tips before it slides), W on its top and
+    the case "variable" a unit push there."""
+    fr = Frame(units=("kN", "m"))
+    for n, x in (("L", -a), ("O", 0.0), ("R", a)):
+        fr.add_node(n, x, 0.0)
+    fr.add_node("T", 0.0, h)
+    fr.add_beam("L", "O", E * 1e4, A * 10, I * 1e4)
+    fr.add_beam("O", "R", E * 1e4, A * 10, I * 1e4)
+    fr.add_beam("O", "T", E, A, I, name="column")
+    fr.add_contact("L", normal=(0.0, 1.0), friction=1.0)
+    fr.add_contact("R", normal=(0.0, 1.0), friction=1.0)
+    fr.add_load("T", fy=-W)
+    fr.add_load("T", fx=1.0, case="variable")
+    return fr
+
+
+def test_a_column_on_pads_tips_at_its_second_order_load():
+    """Statics on the deformed column about the leeward pad R: the windward
+    pad carries N_L = W/2 − (H h + W Δ)/(2a), Δ = H (tan kh − kh)/(W k)
+    the column's sway on its (rigid) base; it lifts at H = W a / (h + (tan
+    kh − kh)/k), 26 % below the first-order W a / h here.  Beyond it no
+    equilibrium the frame can rest in exists."""
+    h, a = 6.0, 1.0
+    W = 0.3 * np.pi ** 2 * E * I / (4 * h ** 2)
+    k = np.sqrt(W / (E * I))
+    H_tip = W * a / (h + (np.tan(k * h) - k * h) / k)
+    assert H_tip < 0.75 * W * a / h
+    fr = column_on_pads(W, a, h)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")     # the column sways 0.26 m
+        for share in (0.5, 0.99, 0.999):
+            H = share * H_tip
+            res = fr.solve(p=H, second_order=True)
+            assert res.ok, res.message
+            delta = H * (np.tan(k * h) - k * h) / (W * k)
+            n_left = W / 2 - (H * h + W * delta) / (2 * a)
+            assert res.supports["L"].normal == pytest.approx(n_left, abs=1e-9 * W)
+            assert res.supports["L"].normal + res.supports["R"].normal == pytest.approx(W)
+            assert fr.critical_load_factor(res)["alpha"] > 1.0
+        # first order would carry 1.3 x the second-order tipping load
+        assert fr.solve(p=1.3 * H_tip).ok
+        for share in (1.001, 1.01):
+            try:
+                res = fr.solve(p=share * H_tip, second_order=True)
+            except NoSolutionError:
+                continue
+            assert not res.ok, res.message
+
+
+def test_second_order_is_refused_on_a_frame_passed_prebuilt():
+    fr = cantilever(5.0, 10.0, 1.0)
+    with pytest.raises(Exception, match="_built"):
+        fr.solve(second_order=True, _built=fr.build())
