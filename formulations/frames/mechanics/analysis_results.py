@@ -176,6 +176,10 @@ class FrameTrace:
     #: friction carries with those normal forces (an LP,
     #: mechanics/friction_capacity.py), equal to the path's last load
     capacity: float | None = None
+    #: a second-order trace's fixed point ({"rounds", "axial_error",
+    #: "axial", "path_axial_change", "stable"}:
+    #: mechanics.second_order_analysis.trace_second_order); None for first order
+    second_order: dict | None = None
 
     @property
     def p_end(self) -> float:

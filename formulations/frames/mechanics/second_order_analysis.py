@@ -47,15 +47,20 @@ ALPHA_RTOL = 1e-10
 DENSE_DOFS = 3000
 
 
-def axial_forces(b, u) -> tuple[np.ndarray, np.ndarray]:
-    """(N, scale): each member's axial force (tension positive) from the
-    global displacements u on the assembly ``b``, and the terms it is made
-    of (EA/L (|u_i| + |u_j|) along the axis, its member loads' share)."""
-    k, T, dofs, _ = b["local"]
-    d = (T @ np.asarray(u, float)[dofs][..., None])[..., 0]
+def axial_forces(b, res) -> tuple[np.ndarray, np.ndarray]:
+    """(N, scale): each member's axial force (tension positive; the mean
+    of its ends' where member loads have an axial part, as a column's own
+    weight does) in the answer ``res`` on the assembly ``b``, and the terms
+    it is made of (EA/L (|u_i| + |u_j|) along the axis, the member loads'
+    axial parts)."""
+    from .contact_lcp import factors
+
+    k, T, dofs, Fe = b["local"]
+    d = (T @ np.asarray(res._u, float)[dofs][..., None])[..., 0]
+    fe = Fe @ factors(b, res.combination)
     ea = k[:, 3, 3]
-    N = ea * (d[:, 3] - d[:, 0])
-    return N, ea * (np.abs(d[:, 3]) + np.abs(d[:, 0]))
+    N = ea * (d[:, 3] - d[:, 0]) - 0.5 * (fe[:, 3] - fe[:, 0])
+    return N, ea * (np.abs(d[:, 3]) + np.abs(d[:, 0])) + 0.5 * (np.abs(fe[:, 3]) + np.abs(fe[:, 0]))
 
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options):
@@ -86,16 +91,13 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
 
     b = frame.build()
     res = solve_on(b)
-    N, _ = axial_forces(b, res._u)
+    N, _ = axial_forces(b, res)
     error = np.inf
     for rounds in range(1, ROUNDS + 1):
         b = frame.build(axial=N)
         res = solve_on(b)
-        N_new, terms = axial_forces(b, res._u)
-        scale = np.abs(N_new) + terms
-        diff = np.abs(N_new - N)
-        error = float(np.max(np.divide(diff, scale, out=np.zeros_like(diff),
-                                       where=scale > 0), initial=0.0))
+        N_new, terms = axial_forces(b, res)
+        error = relative_change(N_new, N, terms)
         if error <= tol:
             break
         N = N_new
@@ -138,9 +140,10 @@ def critical_load_factor(frame, result) -> dict:
     if frame.kind.name != "plane":
         raise InvalidOptionError("critical_load_factor is written for plane frames (Frame)")
     b = frame.build()
-    N = np.array([result.member_forces[m][3] for m in frame.members], float)
     if getattr(result, "second_order", None):
         N = np.array([result.second_order["axial"][m] for m in frame.members], float)
+    else:
+        N = axial_forces(b, result)[0]
     EI = np.array([m.E * m.I for m in frame.members.values()], float)
     L = np.array([np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
                   - m.offset_i - m.offset_j for m in frame.members.values()], float)
@@ -194,9 +197,10 @@ def held_links(frame, b, result) -> np.ndarray:
     return np.array([result.supports[keys[ci]].state != "separated" for ci, _ in b["info"]])
 
 
-def reduced_tangent(frame, b, N, held) -> np.ndarray:
+def reduced_tangent(frame, b, N, held, basis=False):
     """K(N) on the free dofs, elastic held links as springs, rigid ones as
-    constraints (projected out: Z' K Z over their null space), dense."""
+    constraints (projected out: Z' K Z over their null space), dense; with
+    ``basis`` also Z (free dofs x reduced)."""
     K = frame.stiffness(axial=N)
     free = b["free"]
     if free.size > DENSE_DOFS:
@@ -209,27 +213,207 @@ def reduced_tangent(frame, b, N, held) -> np.ndarray:
     if soft.any():
         Kf = Kf + (H[:, soft] / flex[soft]) @ H[:, soft].T
     rigid = H[:, ~soft]
-    if rigid.shape[1]:
-        Z = la.null_space(rigid.T)
-        Kf = Z.T @ Kf @ Z
-    return 0.5 * (Kf + Kf.T)
+    Z = la.null_space(rigid.T) if rigid.shape[1] else np.eye(free.size)
+    Kf = Z.T @ Kf @ Z
+    Kf = 0.5 * (Kf + Kf.T)
+    return (Kf, Z) if basis else Kf
 
 
 def buckling_mode(frame, b, N, held) -> dict:
     """The eigenvector of the smallest eigenvalue of K(N) with the held
     links (at α_cr: the buckling shape), per node, scaled to largest 1."""
-    K = frame.stiffness(axial=N)
-    free = b["free"]
-    Kf = K[free][:, free].toarray()
-    H = b["H"][free].toarray()[:, held]
-    flex = b["flex"][held]
-    soft = flex > 0
-    if soft.any():
-        Kf = Kf + (H[:, soft] / flex[soft]) @ H[:, soft].T
-    rigid = H[:, ~soft]
-    Z = la.null_space(rigid.T) if rigid.shape[1] else np.eye(free.size)
-    lam, V = la.eigh(0.5 * (Z.T @ Kf @ Z + (Z.T @ Kf @ Z).T))
+    Kr, Z = reduced_tangent(frame, b, N, held, basis=True)
+    _, V = la.eigh(Kr)
     v = np.zeros(b["K"].shape[0])
-    v[free] = Z @ V[:, 0]
+    v[b["free"]] = Z @ V[:, 0]
     v /= np.abs(v).max() or 1.0
     return dict(zip(b["names"], map(tuple, v.reshape(-1, 3).tolist())))
+
+
+def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, variable=None):
+    """The load path on the deformed frame, and where the frame stops
+    following it.
+
+    A frame's load path is traced on one stiffness (the path is piecewise
+    linear in p, each piece and its end certified and proved as first-order
+    ones are).  Here that stiffness is K(N), N the axial forces of the
+    path's own last stable equilibrium: N⁰ those of the constant loads'
+    second-order answer; trace; read N off the end; trace again on K(N¹);
+    until the N that built K are the end's own to the accuracy asked for.
+
+    Stability.  Inside a piece of the path the stiffness and the contact
+    states are fixed, so each piece is stable (K with its contact states
+    held has no negative eigenvalue) or not as a whole.  On the deformed
+    frame the path may go on through unstable pieces (P-Δ makes K
+    indefinite once pads lift: the linearised model's far branches), which
+    the frame cannot follow: it stops at the start of the first unstable
+    piece, the load at which it tips over or buckles (``ended``
+    "stability", ``limit`` (p, p)).  Where the path itself ends on a stable
+    piece whose pads' forces fall to zero and lifting them only closes them
+    again under more load (a fold), that end is the stability limit too.
+
+    Before its end the path is written with the end's axial forces;
+    ``second_order["path_axial_change"]`` says how far the axial forces
+    along it (at each piece's middle) are from them, as a share of each
+    member's Euler load π²EI/L²: zero where the variable loads do not
+    change the axial forces (a push on a column under its weight), small
+    where they redistribute them (wind on a tower: the windward columns'
+    compression drops, the leeward's grows, the storey's total stays)."""
+    from qpcontact.core.accuracy import resolve_accuracy
+
+    from .load_combinations import trace_combinations
+    from .tracing import trace
+
+    if frame.kind.name != "plane":
+        raise InvalidOptionError("second_order=True is written for plane frames (Frame); a "
+                                 "SpaceFrame is traced to first order")
+    _, tol = resolve_accuracy(accuracy)
+    const, var = trace_combinations(frame.build(), constant, variable)
+    start = solve_second_order(frame, 1.0, "auto", accuracy, False, const, {})
+    N = np.array([start.second_order["axial"][m] for m in frame.members], float)
+    error, ft, unstable = np.inf, None, None
+    for rounds in range(1, ROUNDS + 1):
+        b = frame.build(axial=N)
+        ft = trace(frame, p_max, accuracy, constant=const, variable=var, _built=b)
+        unstable = first_unstable_piece(frame, b, ft, N)
+        p_last, inside = stable_end(ft, unstable)
+        N_new, terms = axial_forces(b, ft.result_at(inside))
+        error = relative_change(N_new, N, terms)
+        if error <= tol:
+            break
+        N = N_new
+    b = ft._built
+    # how far the path's axial forces are from N, as a share of each
+    # member's Euler load π²EI/L² (what they change in its stiffness)
+    euler = np.array([np.pi ** 2 * m.E * m.I for m in frame.members.values()]) / \
+        np.array([np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
+                  - m.offset_i - m.offset_j for m in frame.members.values()]) ** 2
+    change = 0.0
+    for lo, hi in ft.intervals:
+        if lo >= p_last:
+            break
+        N_mid, _ = axial_forces(b, ft.result_at(0.5 * (lo + min(hi, p_last))))
+        change = max(change, float(np.max(np.abs(N_mid - N) / euler, initial=0.0)))
+    fold = None
+    if unstable is None and ft.limit is None and p_last > 0 and b["free"].size <= DENSE_DOFS:
+        fold = fold_at_end(frame, b, ft, N, inside, p_last,
+                           held_links(frame, b, ft.result_at(inside)))
+    ft.second_order = {"rounds": rounds, "axial_error": error, "axial": dict(zip(frame.members, N)),
+                       "path_axial_change": change,
+                       "stable": None if b["free"].size > DENSE_DOFS else True}
+    bound = (f" (the first-order path's own end, on the same stiffness: {ft.message})")
+    if unstable is not None:
+        changed = [ev for ev in ft.events if abs(ev.p - p_last) <= 1e-12 * max(abs(p_last), 1.0)]
+        what = ("; ".join(f"{k}: {a} → {c}" for ev in changed for k, (a, c) in ev.changes.items())
+                or "the working scheme changes")
+        ft.ended, ft.limit, ft.bound, ft.ok = "stability", (p_last, p_last), None, True
+        ft.message = (f"the deformed frame stands up to p = {p_last:.10g} and no further: there "
+                      f"{what}, and beyond it the path's equilibria are unstable (with their "
+                      "contact states held the deformed frame's tangent stiffness, P-Δ, has a "
+                      "negative eigenvalue): it tips over or buckles at that load" + bound)
+    elif fold is not None:
+        them = "it" if len(fold) == 1 else "them"
+        ft.ended, ft.limit, ft.bound, ft.ok = "stability", (p_last, p_last), None, True
+        ft.message = (f"the deformed frame's load path ends at p = {p_last:.10g}, where "
+                      f"{', '.join(fold)} carr{'ies' if len(fold) == 1 else 'y'} nothing: held, "
+                      f"{them} would have to pull; lifted, more load closes {them} again (on "
+                      "the deformed frame's stiffness, the other contacts as they are, du/dp "
+                      f"opens {them} at a negative rate: that stiffness has a negative "
+                      "eigenvalue) — no equilibrium continues the path beyond: it tips over "
+                      "here (a fold; equilibria farther from the path are unstable)" + bound)
+    words = (f"second order (P-Δ and P-δ): the stiffness is built from the axial forces of the "
+             f"path's last stable equilibrium (p = {p_last:.10g}), which they agree with to "
+             f"{error:.1e} after {rounds} round(s); along the path the axial forces differ "
+             f"from these by up to {change:.1e} of the members' Euler loads")
+    if b["free"].size > DENSE_DOFS:
+        words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
+    if error > tol:
+        ft.ok = False
+        words += f" — NOT CONVERGED (asked {tol:.0e})"
+    ft.message = f"{ft.message}; {words}"
+    return ft
+
+
+def first_unstable_piece(frame, b, ft, N):
+    """The index of the first interval of ``ft`` whose equilibria (at its
+    middle; stability is the same all along it) are unstable with their
+    contact states held, or None (also where the frame is too large to
+    check)."""
+    if b["free"].size > DENSE_DOFS:
+        return None
+    for k, (lo, hi) in enumerate(ft.intervals):
+        top = hi if np.isfinite(hi) else lo + max(1.0, lo)
+        held = held_links(frame, b, ft.result_at(0.5 * (lo + top)))
+        if negative_eigenvalues(reduced_tangent(frame, b, N, held)):
+            return k
+    return None
+
+
+def stable_end(ft, unstable) -> tuple[float, float]:
+    """(p, a point inside the last stable piece just before it): the start
+    of the first unstable piece, else the path's last certified load."""
+    if unstable is not None:
+        p = float(ft.intervals[unstable][0])
+        lo = float(ft.intervals[unstable - 1][0]) if unstable > 0 else 0.0
+        return p, p - 1e-3 * (p - lo)
+    p = last_equilibrium(ft)
+    lo = float(ft.intervals[-1][0]) if ft.intervals else 0.0
+    return p, (p - 1e-3 * (p - lo) if lo < p else p)
+
+
+def last_equilibrium(ft) -> float:
+    """The path's last certified load: a limit's or a bound's lower end,
+    else the end of the traced range (p_max), else the last breakpoint
+    beyond which nothing changes."""
+    for pair in (ft.limit, ft.bound):
+        if pair is not None:
+            return float(pair[0])
+    if ft.intervals:
+        lo, hi = ft.intervals[-1]
+        return float(hi if np.isfinite(hi) else lo)
+    return 0.0
+
+
+def relative_change(new, old, terms) -> float:
+    """max over members of |new − old| on each one's own scale."""
+    scale = np.abs(new) + terms
+    diff = np.abs(new - old)
+    return float(np.max(np.divide(diff, scale, out=np.zeros_like(diff), where=scale > 0),
+                        initial=0.0))
+
+
+def fold_at_end(frame, b, ft, N, inside, p_last, held):
+    """The contacts whose normal force falls to zero at the path's end
+    ``p_last`` (from ``inside`` the last interval) where neither holding
+    them nor releasing them continues the path: held, their normal force
+    (linear in p in the last working scheme) turns to a pull; released,
+    the frame's response to more load, du/dp = K⁻¹ F_variable on the
+    deformed frame's stiffness with the other contacts held, closes them
+    (their opening rate is negative: the frame with them lifted only
+    stands at smaller loads — its tangent stiffness has a negative
+    eigenvalue, which is checked too).  None where that is not so."""
+    from .contact_lcp import load_vector
+
+    before, end = ft.result_at(inside), ft.result_at(p_last)
+    keys = list(end.supports)
+    falling = [k for k in keys
+               if end.supports[k].normal <= 1e-9 * max(abs(before.supports[k].normal), 1e-300)
+               and before.supports[k].normal > end.supports[k].normal]
+    if not falling:
+        return None
+    released = held.copy()
+    lifting = np.zeros(held.size, bool)
+    for i, (ci, kind) in enumerate(b["info"]):
+        if keys[ci] in falling:
+            released[i] = False
+            lifting[i] = kind == "n"
+    Kr, Z = reduced_tangent(frame, b, N, released, basis=True)
+    if negative_eigenvalues(Kr) == 0:
+        return None
+    free = b["free"]
+    dF = load_vector(b, ft.variable)[0][free]
+    du = Z @ la.solve(Kr, Z.T @ dF, assume_a="sym")
+    opening = b["H"][free][:, lifting].T @ du
+    if not np.all(opening < 0):
+        return None
+    return falling

@@ -23,7 +23,7 @@ from .no_equilibrium import motion_words
 
 
 def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
-          variable=None) -> FrameTrace:
+          variable=None, _built=None) -> FrameTrace:
     """Osipova–Popov–Lovtsov's increasing-load analysis: the ``constant`` combination (default
     the case "constant"), then the ``variable`` loads (a case name or a
     combination; default the case "variable") scaled by p from 0 to
@@ -39,7 +39,7 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     from qpcontact.core.accuracy import resolve_accuracy
 
     _, tol = resolve_accuracy(accuracy)
-    b = frame.build()
+    b = _built if _built is not None else frame.build()
     const, var = trace_combinations(b, constant, variable)
     M, Q, q_gap, P, g, fric = contact_lcp.lcp_matrices(b)
     qc, _ = contact_lcp.combination_q(Q, q_gap, b, const)

@@ -206,3 +206,23 @@ def test_second_order_is_refused_on_a_frame_passed_prebuilt():
     fr = cantilever(5.0, 10.0, 1.0)
     with pytest.raises(Exception, match="_built"):
         fr.solve(second_order=True, _built=fr.build())
+
+
+def test_the_second_order_trace_of_a_column_on_pads_ends_where_it_tips():
+    """The path on the deformed frame ends where the windward pad's force
+    reaches zero, at the hand value W a / (h + (tan kh − kh)/k); the
+    first-order path ends at W a / h (the rigid body tips)."""
+    h, a = 6.0, 1.0
+    W = 0.3 * np.pi ** 2 * E * I / (4 * h ** 2)
+    k = np.sqrt(W / (E * I))
+    fr = column_on_pads(W, a, h)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        first = fr.trace()
+        second = fr.trace(second_order=True)
+    assert first.ended == "collapse" and first.ok
+    assert first.limit[0] <= W * a / h * (1 + 1e-9) <= first.limit[1] * (1 + 2e-9)
+    assert second.ended == "stability" and second.ok, second.message
+    assert second.limit[0] == pytest.approx(W * a / (h + (np.tan(k * h) - k * h) / k), rel=1e-9)
+    assert "L carries nothing" in second.message
+    assert second.second_order["path_axial_change"] < 1e-9
