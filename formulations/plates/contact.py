@@ -64,6 +64,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from qpcontact.core.accuracy import resolve_accuracy
 from qpcontact.core.errors import InvalidProblemError
 
 __all__ = ["ContactQP", "ContactAnswer", "solve_contact", "rigid_motions", "NoEquilibriumError"]
@@ -102,7 +103,7 @@ def _solve_condensed(problem, method, accuracy, time_limit):
             and np.array_equal(lu.perm_c, np.arange(c.size)) and np.all(lu.U.diagonal() > 0)):
         raise InvalidProblemError("the raft's pinned stiffness is not positive definite: its "
                                   "supports leave a rigid motion free")
-    S = lu.L.tocsc()[k:, k:].toarray() @ lu.U.tocsc()[k:, k:].toarray()   # dense: the block is
+    S = lu.L.tocsc()[k:, k:].toarray() @ lu.U.tocsc()[k:, k:].toarray()   # dense: the trailing block fills in
     S = 0.5 * (S + S.T)
     q = c[B] - P[B][:, U] @ lu_U.solve(c[U])       # q_S = c_B − P_BU P_UU⁻¹ c_U
     lcp = LCP(S, q)
@@ -317,6 +318,20 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
             raise InvalidProblemError(
                 "no three supported nodes off one line carry load in the bilateral solution; "
                 "the raft's supported area is a line — give it soil over an area")
+    if qp.supported.size == 0:            # bilateral supports only: one linear solve
+        import scipy.sparse.linalg as spla
+
+        from qpsolvers import Problem
+
+        problem = Problem(qp.P, qp.c(f))
+        x = spla.splu(problem.P.tocsc()).solve(-problem.q)
+        cert = qpcontact.certify(problem, x)
+        tol = resolve_accuracy(accuracy)[1]      # what qpcontact.solve's certificate must meet
+        ok = bool(cert.ok(tol))
+        return ContactAnswer(x, ok, "solved" if ok else "inaccurate",
+                             f"{'certified' if ok else 'not certified'}: error {cert.error:.2e} "
+                             f"(no contact: the linear system)", "splu", [], float(cert.error),
+                             time.perf_counter() - start)
     released = []
     x_full = None
     sol = None

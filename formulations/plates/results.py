@@ -64,16 +64,19 @@ class RaftResult:
         self.u = qp.T @ answer.x                        # every dof [length, rad]
         self.w = self.u[0::3]
         self.theta = self.u.reshape(-1, 3)[:, 1:]
-        self.support_force = qp.support_forces(answer.x, f)         # upward [force]
-        area = b["area"]
-        self.pressure = np.divide(self.support_force, area, out=np.zeros_like(area),
-                                  where=area > 0)                   # [force/length²]
         self.supported = np.zeros(mesh.nodes.shape[0], bool)
         self.supported[qp.supported] = True
         gaps = qp.gaps(answer.x)
         scale = float(np.abs(self.w).max()) or 1.0
         self.lifted = np.zeros(mesh.nodes.shape[0], bool)
         self.lifted[qp.supported] = gaps > 1e-9 * scale
+        self.support_force = qp.support_forces(answer.x, f)         # upward [force]
+        # a lifted node's force is zero by complementarity; k (w + g) computed
+        # from the two leaves their rounding (1e-10 of the peak on stiff rafts)
+        self.support_force[self.lifted] = 0.0
+        area = b["area"]
+        self.pressure = np.divide(self.support_force, area, out=np.zeros_like(area),
+                                  where=area > 0)                   # [force/length²]
         self.contact = self.supported & ~self.lifted
         m, q = resultants(mesh.corners, self.u[b["dofs"]], raft.E, raft.nu, raft.thickness)
         self.moments, self.shears = m, q                # (ne, 3), (ne, 2) at the centres

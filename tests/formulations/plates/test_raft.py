@@ -1,0 +1,160 @@
+"""Rafts on tensionless Winkler soil and slabs on a rigid floor, against
+independent references: the infinite plate on Winkler soil under a point
+load (w = P / (8 √(k D))), a rigid raft loaded beyond its kern (the
+triangular pressure block of statics), the linear solution when all the soil
+is pressed (a plain sparse solve written here), and a beam-like strip that
+lifts off against a fine 1-D beam on compression-only springs solved here by
+its own active-set iteration."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from formulations.plates import NoEquilibriumError, Raft
+
+
+def _winkler_square(N=40, L=10.0, lam=1.0, q=0.0):
+    """A raft L x L on soil whose elastic length (D/k)^¼ is ``lam``, a unit
+    point load at the centre and a pressure q."""
+    E, nu, t = 1.0e7, 0.2, 0.02 * lam       # thin: Mindlin's shear term under a point load is
+    #                                         log-singular; at t/λ = 0.02 it is ~2e-4 of w
+    raft = Raft(L, L, thickness=t, E=E, nu=nu, cells=(N, N))
+    D = raft.D
+    k = D / lam ** 4
+    raft.add_soil(k)
+    raft.add_point_load(L / 2, L / 2, 1.0, case="P")
+    if q:
+        raft.add_area_load(q, case="q")
+    return raft, D, k
+
+
+def test_infinite_plate_on_winkler_soil_under_a_point_load():
+    """Westergaard / Hetényi: w = P/(8√(kD)) under the load; a raft 10 elastic
+    lengths wide is infinite for it.  A pressure q keeps the ring where the
+    infinite plate rises (about 3 % of the peak) pressed, adding q/k = 10 %
+    of the peak; the point load's part is compared."""
+    raft, D, k = _winkler_square(q=0.0125)
+    res = raft.solve()
+    assert res.ok, res.message
+    assert not res.lifted.any()
+    centre = res.mesh.nearest_node(5.0, 5.0)
+    w_point = res.w[centre] - 0.0125 / k
+    assert abs(w_point * 8 * np.sqrt(k * D) - 1) < 0.02
+    assert abs(res.support_force.sum() - (1.0 + 0.0125 * 100)) < 1e-9 * 2.25
+
+
+def test_all_soil_pressed_equals_the_bilateral_springs():
+    """With every node pressed, the tensionless answer is the linear one:
+    (K + K_s) u = f by a plain sparse solve, K_s the lumped springs."""
+    raft, D, k = _winkler_square(N=16, q=0.0125)
+    res = raft.solve()
+    assert res.ok and not res.lifted.any()
+    mesh = res.mesh
+    b = raft.build()
+    springs = np.zeros(3 * mesh.nodes.shape[0])
+    springs[0::3] = k * mesh.tributary_areas()
+    u = spla.spsolve((b["K"] + sp.diags(springs)).tocsc(), raft.load_vector({"P": 1, "q": 1}))
+    assert np.max(np.abs(res.u - u)) <= 1e-10 * np.max(np.abs(u))
+    # and a point load alone lifts the ring: the answers part
+    alone = raft.solve({"P": 1.0})
+    assert alone.ok and alone.lifted.any()
+
+
+def test_rigid_raft_beyond_the_kern_has_the_triangular_pressure_block():
+    """A very stiff strip B x L, a line load P across it at eccentricity
+    e > B/6: contact over 3(B/2 − e) from the far edge, peak 2P/(3 L (B/2 − e))."""
+    B, L, P, e = 4.0, 1.0, 100.0, 1.0
+    raft = Raft(B, L, thickness=2.0, E=1e9, nu=0.0, cells=(80, 2))
+    raft.add_soil(1e3)
+    x = B / 2 + e
+    raft.add_patch_load(x - 0.025, 0.0, x + 0.025, L, P / (0.05 * L))
+    res = raft.solve()
+    assert res.ok, res.message
+    edge = np.isclose(res.mesh.nodes[:, 0], B)
+    peak = res.pressure[edge].mean()
+    ref_peak = 2 * P / (3 * L * (B / 2 - e))
+    assert abs(peak / ref_peak - 1) < 0.01
+    xs = res.mesh.nodes[res.contact, 0]
+    assert abs((B - xs.min()) - 3 * (B / 2 - e)) <= 0.05 + 1e-9      # one cell
+    # to the certificate's accuracy: the stiff plate (D/(k B⁴) = 2.6e3) is ill-conditioned
+    assert abs(res.support_force.sum() - P) < 1e-6 * P
+
+
+def _beam_on_tensionless_springs(length, EI, k_line, P, n=400):
+    """Euler–Bernoulli beam (Hermite cubics), free ends, springs k_line [N/m²]
+    lumped to the nodes, compression only; central load P.  Solved by the
+    classic iteration on the pressed set, ended when the set repeats, and
+    checked for complementarity here."""
+    h = length / n
+    ke = EI / h ** 3 * np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
+                                 [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
+    K = np.zeros((2 * n + 2, 2 * n + 2))
+    for i in range(n):
+        K[2 * i:2 * i + 4, 2 * i:2 * i + 4] += ke
+    ks = np.full(n + 1, k_line * h)
+    ks[[0, -1]] *= 0.5
+    f = np.zeros(2 * n + 2)
+    f[2 * (n // 2)] = P
+    pressed = np.ones(n + 1, bool)
+    for _ in range(200):
+        A = K.copy()
+        A[0::2, 0::2] += np.diag(ks * pressed)
+        u = np.linalg.solve(A, f)
+        new = u[0::2] > 0
+        if np.array_equal(new, pressed):
+            break
+        pressed = new
+    w = u[0::2]
+    force = ks * np.maximum(w, 0)
+    assert np.all(force[~pressed] == 0) and np.all(w[pressed] >= 0)
+    assert abs(force.sum() - P) < 1e-9 * P
+    return np.linspace(0, length, n + 1), w
+
+
+def test_beam_strip_lifting_off_matches_a_fine_beam_on_tensionless_springs():
+    length, width, t, E = 12.0, 0.5, 0.3, 3e7
+    k = 2e4
+    raft = Raft(length, width, thickness=t, E=E, nu=0.0, cells=(120, 1))
+    raft.add_soil(k)
+    P = 100.0
+    raft.add_point_load(length / 2, 0.0, P / 2)
+    raft.add_point_load(length / 2, width, P / 2)
+    res = raft.solve()
+    assert res.ok, res.message
+    EI = E * width * t ** 3 / 12
+    x, w = _beam_on_tensionless_springs(length, EI, k * width, P)
+    assert w.min() < 0                                      # the ends lift in the reference too
+    mid = np.argmin(np.abs(x - length / 2))
+    plate_mid = res.w[res.mesh.nearest_node(length / 2, 0.0)]
+    assert abs(plate_mid / w[mid] - 1) < 0.01
+    lift_ref = x[(w <= 0) & (x > length / 2)].min()
+    lifted_x = res.mesh.nodes[res.lifted, 0]
+    lift_plate = lifted_x[lifted_x > length / 2].min()
+    assert abs(lift_plate - lift_ref) <= 0.1 + 1e-9          # one plate cell
+
+
+def test_slab_on_a_rigid_floor_lifts_where_the_load_pulls():
+    """A weightless square slab on a rigid floor, self-weight plus an upward
+    corner pull: the pull's corner lifts, the floor's reactions carry
+    exactly the net load, and no reaction pulls."""
+    raft = Raft(6.0, 6.0, thickness=0.2, E=3e7, nu=0.2, cells=(12, 12))
+    raft.add_rigid_floor()
+    raft.add_self_weight(25.0)
+    raft.add_point_load(6.0, 6.0, -20.0, case="pull")
+    res = raft.solve()
+    assert res.ok, res.message
+    corner = res.mesh.nearest_node(6.0, 6.0)
+    assert res.lifted[corner] and res.w[corner] < 0
+    assert res.support_force.min() >= -1e-9 * res.support_force.max()
+    assert abs(res.support_force.sum() - (25 * 0.2 * 36 - 20)) < 1e-9 * 200
+
+
+def test_loads_without_equilibrium_are_refused():
+    raft = Raft(4.0, 4.0, thickness=0.3, E=3e7, cells=(4, 4))
+    raft.add_soil(1e4)
+    raft.add_point_load(2.0, 2.0, -10.0)
+    with pytest.raises(NoEquilibriumError, match="lift off"):
+        raft.solve()
