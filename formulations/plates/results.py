@@ -165,6 +165,7 @@ class RaftResult:
                     v, x, y = ext[which]
                     rows.append({"quantity": q, "extreme": which, "value": v, "unit": u[q],
                                  f"x [{u['x']}]": x, f"y [{u['y']}]": y})
+            _round_coordinates(rows, u["x"], self.raft, digits)
             vals = {}
             for r in rows:          # round per unit (quantities of one unit share a scale)
                 vals.setdefault(r["unit"], []).append(r["value"])
@@ -178,8 +179,8 @@ class RaftResult:
             F = u["force"]
             return [{"combination": self.name, "ok": self.ok, "method": self.method,
                      "message": self.message,
-                     f"load [{F}]": float(self.loads[0::3].sum()),
-                     f"soil [{F}]": float(self.support_force.sum()),
+                     f"load [{F}]": float(round_column([self.loads[0::3].sum()], digits)[0]),
+                     f"soil [{F}]": float(round_column([self.support_force.sum()], digits)[0]),
                      f"contact area [{u['x']}²]": round(self.contact_area, 6),
                      "uplift": f"{100 * self.uplift_fraction:.1f} %"}]
         raise InvalidProblemError(f"unknown table {table!r}; one of nodes, elements, extremes, "
@@ -245,6 +246,7 @@ class RaftCombinations(dict):
                      f"x [{u['x']}]": env[q][which][1], f"y [{u['y']}]": env[q][which][2],
                      "combination": env[q][which][3]}
                     for q in env if q != "uplift" for which in ("max", "min")]
+            _round_coordinates(rows, u["x"], first.raft, digits)
             for unit in {r["unit"] for r in rows}:
                 idx = [i for i, r in enumerate(rows) if r["unit"] == unit]
                 for i, v in zip(idx, round_column([rows[i]["value"] for i in idx], digits)):
@@ -260,6 +262,17 @@ class RaftCombinations(dict):
     def to_csv(self, folder, digits=5) -> None:
         for t in ("envelope", "combinations"):
             write_csv(os.path.join(folder, f"{t}.csv"), self.rows(t, digits))
+
+
+def _round_coordinates(rows, unit, raft, digits):
+    """x and y to the decimals that give the raft's size ``digits`` digits."""
+    if digits is None:
+        return
+    size = max(raft.width, raft.length)
+    decimals = max(0, digits - 1 - int(math.floor(math.log10(size))))
+    for r in rows:
+        for key in (f"x [{unit}]", f"y [{unit}]"):
+            r[key] = round(r[key], decimals) + 0.0
 
 
 def format_rows(rows: list) -> str:
