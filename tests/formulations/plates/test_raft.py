@@ -158,3 +158,32 @@ def test_loads_without_equilibrium_are_refused():
     raft.add_point_load(2.0, 2.0, -10.0)
     with pytest.raises(NoEquilibriumError, match="lift off"):
         raft.solve()
+
+
+def test_a_pin_that_pulls_is_released_and_the_answer_is_the_same(monkeypatch):
+    """The first three pins forced onto nodes that lift: the pinned QP's
+    answer pulls on one, which is released and replaced; the final answer is
+    the one found without the detour, certified on the unpinned QP."""
+    import formulations.plates.contact as contact
+
+    raft = Raft(8.0, 4.0, thickness=0.3, E=3e7, nu=0.2, cells=(16, 8))
+    raft.add_soil(2e4)
+    raft.add_self_weight(25.0)
+    raft.add_point_load(8.0, 2.0, -30.0)            # pulls the right edge up: it lifts
+    plain = raft.solve()
+    assert plain.ok and plain.lifted[plain.mesh.nearest_node(8.0, 2.0)]
+    qp = raft.build()["qp"]
+    lifted_pos = [int(np.flatnonzero(qp.supported == n)[0]) for n in np.flatnonzero(plain.lifted)]
+    real = contact._choose_pins
+    calls = []
+
+    def first_bad(qp_, nodes, forces, count, exclude=()):
+        calls.append(1)
+        if len(calls) == 1:
+            return real(qp_, nodes, forces, count - 1, exclude) + [lifted_pos[0]]
+        return real(qp_, nodes, forces, count, exclude)
+
+    monkeypatch.setattr(contact, "_choose_pins", first_bad)
+    detour = raft.solve()
+    assert len(calls) >= 2 and detour.ok, detour.message
+    assert np.max(np.abs(detour.w - plain.w)) <= 1e-9 * np.max(np.abs(plain.w))
