@@ -64,6 +64,10 @@ def plot_raft(res, path, moment: str = "mx", dpi: int = 110) -> str:
                if kind == "patch" and res.combination.get(c)}
     if points:
         ax.plot(*np.array(sorted(points)).T, "s", ms=6, mfc="w", mec="k", label="columns")
+    lines = [d for c, kind, d in res.raft.loads if kind == "line" and res.combination.get(c)]
+    for k, d in enumerate(lines):
+        ax.plot([d[0], d[2]], [d[1], d[3]], "-", color="0.3", lw=3,
+                label="line loads" if k == 0 else None)
     ax.set_title(f"soil pressure — {res.name}", fontsize=11)
     ax2 = axes[1]
     lim = np.nanmax(np.abs(M)) or 1.0

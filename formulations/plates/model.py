@@ -3,7 +3,8 @@ r"""Rafts and slabs on tensionless soil: the :class:`Raft` model.
 A rectangular plate (width along x, length along y [m]; thickness t [m],
 Young's modulus E and Poisson's ratio ν) meshed with MITC4 elements
 (:mod:`.element`) on a structured grid whose lines pass through every column,
-patch edge, opening edge and soil-zone edge, resting on
+patch edge, line load, edge beam, opening edge and soil-zone edge, with
+edge beams along grid lines, resting on
 
 * tensionless Winkler soil: a modulus of subgrade reaction k [force/length³]
   per zone, lumped to nodal springs by tributary area, that pushes and never
@@ -29,7 +30,8 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
-from .assembly import area_load, assemble_stiffness, element_dofs
+from .assembly import (area_load, assemble_stiffness, beam_stiffness, element_dofs, line_load,
+                       segment_edges)
 from .contact import ContactQP, solve_contact
 from .element import DOFS, rigidity
 from .mesh import PlateMesh, grid, grid_lines
@@ -101,6 +103,7 @@ class Raft:
         self.soil_zones = []            # (k, rectangle or None), later ones override
         self.supports = []              # (predicate or node list, dofs)
         self.loads = []                 # (case, kind, data)
+        self.beams = []                 # (x0, y0, x1, y1, EI, GJ)
         self._built = None
 
     # -- model building ---------------------------------------------------
@@ -161,6 +164,37 @@ class Raft:
         self.loads.append((self._case(case), "patch", (*r, float(p))))
         self._built = None
 
+    def add_line_load(self, x0, y0, x1, y1, q: float, case: str = "D") -> None:
+        """A line load q [force/length], downward positive, along a segment
+        parallel to x or y (a wall); on a mesh of the user's, along element edges."""
+        self._segment("a line load", x0, y0, x1, y1)
+        if not np.isfinite(q):
+            raise InvalidProblemError(f"a line load must be finite; got {q!r}")
+        self.loads.append((self._case(case), "line", (float(x0), float(y0), float(x1),
+                                                       float(y1), float(q))))
+        self._built = None
+
+    def add_edge_beam(self, x0, y0, x1, y1, EI: float, GJ: float = 0.0) -> None:
+        """A beam along a segment parallel to x or y (an edge beam, a ground
+        beam under a wall), fixed to the plate: bending stiffness EI and
+        torsional stiffness GJ [force·length²] about the plate's mid-surface
+        (:func:`.assembly.beam_stiffness`)."""
+        self._segment("an edge beam", x0, y0, x1, y1)
+        EI = _positive("a beam's EI", EI)
+        if not (np.isfinite(GJ) and GJ >= 0):
+            raise InvalidProblemError(f"a beam's GJ must be a finite number >= 0; got {GJ!r}")
+        self.beams.append((float(x0), float(y0), float(x1), float(y1), EI, float(GJ)))
+        self._built = None
+
+    def _segment(self, what, x0, y0, x1, y1):
+        self._inside(x0, y0)
+        self._inside(x1, y1)
+        if (x0, y0) == (x1, y1):
+            raise InvalidProblemError(f"{what} needs two different ends; got ({x0}, {y0}) twice")
+        if self._user_mesh is None and x0 != x1 and y0 != y1:
+            raise InvalidProblemError(f"{what} on the grid runs along x or along y; got "
+                                      f"({x0}, {y0}) to ({x1}, {y1})")
+
     def add_area_load(self, p: float, case: str = "D") -> None:
         """A uniform pressure p [force/length²] over the whole raft."""
         if not np.isfinite(p):
@@ -196,15 +230,22 @@ class Raft:
                 if kind == "point":
                     xs.append(d[0])
                     ys.append(d[1])
-                elif kind == "patch":
+                elif kind in ("patch", "line"):
                     xs += [d[0], d[2]]
                     ys += [d[1], d[3]]
+            for d in self.beams:
+                xs += [d[0], d[2]]
+                ys += [d[1], d[3]]
             for r in self.openings + [z for _, z in self.soil_zones if z is not None]:
                 xs += [min(max(r[0], 0), self.width), min(max(r[2], 0), self.width)]
                 ys += [min(max(r[1], 0), self.length), min(max(r[3], 0), self.length)]
             mesh = grid(grid_lines(self.width, self.cells[0], xs),
                         grid_lines(self.length, self.cells[1], ys), self.openings)
         K = assemble_stiffness(mesh, self.E, self.nu, self.thickness)
+        for x0, y0, x1, y1, EI, GJ in self.beams:
+            K = K + beam_stiffness(mesh, segment_edges(mesh, x0, y0, x1, y1, "an edge beam"),
+                                   EI, GJ)
+        K = K.tocsr()
         ke = np.zeros(mesh.elements.shape[0])
         centres = mesh.centres
         for k, zone in self.soil_zones:
@@ -267,6 +308,9 @@ class Raft:
                         f"not its {(x1 - x0) * (y1 - y0):.6g}: it overlaps an opening or the "
                         "edge, or its edges are not element edges")
                 f[0::3] += factor * area_load(mesh, np.where(inside, p, 0.0))
+            elif kind == "line":
+                edges = segment_edges(mesh, *d[:4], "a line load")
+                f[0::3] += factor * line_load(mesh, edges, d[4])
             else:
                 f[0::3] += factor * area_load(mesh, np.full(mesh.elements.shape[0], d))
         return f
