@@ -31,25 +31,29 @@ The rigid floor (k → ∞): the node cannot go down, w_i = −g_i ≤ 0; the sa
 QP with w_i replaced by −g_i and no spring; the bound's multiplier
 ∂Π/∂g_i = (f − Ku)_{w_i} is the floor's upward reaction.
 
-Why three nodes are pinned first
---------------------------------
+Why nodes are pinned first
+--------------------------
 A raft held by nothing but the soil can lift off as a rigid body: u = r
 (w = a + b x + c y, θ = (b, c)) with g = −w keeps every compression at zero
 and costs no energy, so P is only semidefinite.  That is the physics (no
 choice of unknowns that lets the whole raft lift is definite), and the exact
 methods refuse a singular P.  But the minimum is unique as soon as three
 non-collinear nodes stay in contact, and a node in contact has g_i = 0.  So
-three nodes are **pinned** — their gap removed from the unknowns, g_i = 0 —
-which makes P definite (the rigid motions vanishing at three non-collinear
-points are zero); they are chosen where the bilateral solution (every spring
-pulling too) presses hardest, apart from each other.  The pinned QP is
-solved and certified by ``qpcontact.solve``; if every pinned node's force
-comes out ≥ 0, the answer satisfies the unpinned problem's optimality
-conditions exactly (the bound g_i ≥ 0 holds with multiplier ≥ 0), which
-:func:`qpcontact.certify` then checks on the unpinned QP from its data.  A pin
-in tension is released and replaced by the node the last answer presses
-hardest, and the QP solved again.  No pin is needed where the raft's own
-supports already fix its rigid motions.
+nodes are **pinned** — their gap removed from the unknowns, g_i = 0 — which
+makes P definite (the rigid motions vanishing at three non-collinear points
+are zero).  First every node the bilateral solution (every spring pulling
+too) presses is pinned: the LCP keeps only the others, a small one.  Where
+the answer pulls on pins, they are released (all at once: a released node
+is an unknown of the next LCP, free to press again) and the QP solved
+again, at most ``MAX_ROUNDS`` times; if that runs out, or leaves a rigid
+motion free, three pins are chosen where the bilateral solution presses
+hardest, apart from each other, a pin in tension replaced by the node the
+last answer presses hardest.  When every pin's force comes out ≥ 0, the
+answer satisfies the unpinned problem's optimality conditions exactly (the
+bound g_i ≥ 0 holds with multiplier ≥ 0), which :func:`qpcontact.certify`
+then checks on the unpinned QP from its data; ``ok`` needs that and the
+pinned solve's certificate.  Nothing is pinned where bilateral supports
+already fix the rigid motions and no node presses.
 
 A raft whose loads push it up or tip it over the edge of its footprint has
 no equilibrium on tensionless supports (statics: the soil only pushes, so
@@ -69,7 +73,9 @@ from qpcontact.core.errors import InvalidProblemError
 
 __all__ = ["ContactQP", "ContactAnswer", "solve_contact", "rigid_motions", "NoEquilibriumError"]
 
-#: pins released and re-chosen at most this many times
+#: rounds of releasing the pressed nodes' pins the answer pulls on, at most
+MAX_ROUNDS = 25
+#: three pins released and re-chosen at most this many times
 MAX_REPINS = 8
 #: up to this many gaps the QP is condensed onto them (a dense SPD LCP,
 #: n² memory: 128 MB at 4000); above it the mixed QP goes to "auto" whole
@@ -286,83 +292,147 @@ def _statics(qp, nodes, f):
                 "(it would tip over its edge)")
 
 
-def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
-                  time_limit=None, route="auto") -> ContactAnswer:
-    """Solve one combination's QP (module docstring): pin, solve, check the
-    pins, certify on the unpinned QP."""
+def _bilateral_forces(qp, f):
+    """The supports' forces when every gap is closed (the soil pulls too):
+    one sparse solve with the displacements alone; None where that system is
+    singular (the raft's supports lie on a line)."""
+    import scipy.sparse.linalg as spla
+
+    nf = qp.free.size
+    try:
+        lu = spla.splu(qp.P[:nf][:, :nf].tocsc())
+    except RuntimeError:
+        return None
+    x0 = np.zeros(qp.nx)
+    x0[:nf] = lu.solve(-qp.c(f)[:nf])
+    return qp.support_forces(x0, f) if np.all(np.isfinite(x0)) else None
+
+
+def _linear(qp, f, accuracy, start):
+    """Bilateral supports only: one linear solve, certified as a QP."""
     import time
 
     import qpcontact
     import scipy.sparse.linalg as spla
+    from qpsolvers import Problem
 
-    start = time.perf_counter()
-    free_motions = qp.unrestrained(nodes)
-    need = free_motions.shape[1]
-    pinned = []
-    if need and qp.supported.size:
-        _statics(qp, nodes, f)
-        # the bilateral solution: every gap closed (P restricted to the displacements)
-        nf = qp.free.size
-        keep = np.arange(nf)
-        Pu = qp.P[keep][:, keep].tocsc()
-        try:
-            lu = spla.splu(Pu)
-            x0 = np.zeros(qp.nx)
-            x0[:nf] = lu.solve(-qp.c(f)[:nf])
-            forces = qp.support_forces(x0, f)
-        except RuntimeError:             # singular: fall back on the loads themselves
-            forces = np.zeros(nodes.shape[0])
-            forces[qp.supported] = f[0::3][qp.supported]
-        pinned = _choose_pins(qp, nodes, forces, need)
-        if pinned is None:
-            raise InvalidProblemError(
-                "no three supported nodes off one line carry load in the bilateral solution; "
-                "the raft's supported area is a line — give it soil over an area")
-    if qp.supported.size == 0:            # bilateral supports only: one linear solve
+    problem = Problem(qp.P, qp.c(f))
+    x = spla.splu(problem.P.tocsc()).solve(-problem.q)
+    cert = qpcontact.certify(problem, x)
+    tol = resolve_accuracy(accuracy)[1]      # what qpcontact.solve's certificate must meet
+    ok = bool(cert.ok(tol))
+    return ContactAnswer(x, ok, "solved" if ok else "inaccurate",
+                         f"{'certified' if ok else 'not certified'}: error {cert.error:.2e} "
+                         "(no contact: the linear system)", "splu", [], float(cert.error),
+                         time.perf_counter() - start)
+
+
+class _NoGap:
+    """What a solve returns when every gap is pinned: the displacements come
+    from one linear solve and only the unpinned QP's certificate judges."""
+
+    ok, status, method = True, "solved", "splu"
+    message = "every supported node pinned: one linear solve"
+
+    def __init__(self, tol):
+        self.tol = tol
+
+
+def _solve_pinned(qp, f, pinned, method, accuracy, time_limit):
+    """(solution, x of the unpinned QP or None) with the ``pinned`` gaps held at 0."""
+    import qpcontact
+
+    problem = qp.problem(f, pinned)
+    gaps = qp.supported.size - len(pinned)
+    if gaps == 0:
         import scipy.sparse.linalg as spla
 
-        from qpsolvers import Problem
-
-        problem = Problem(qp.P, qp.c(f))
+        sol = _NoGap(resolve_accuracy(accuracy)[1])
         x = spla.splu(problem.P.tocsc()).solve(-problem.q)
-        cert = qpcontact.certify(problem, x)
-        tol = resolve_accuracy(accuracy)[1]      # what qpcontact.solve's certificate must meet
-        ok = bool(cert.ok(tol))
-        return ContactAnswer(x, ok, "solved" if ok else "inaccurate",
-                             f"{'certified' if ok else 'not certified'}: error {cert.error:.2e} "
-                             f"(no contact: the linear system)", "splu", [], float(cert.error),
-                             time.perf_counter() - start)
-    released = []
-    x_full = None
-    sol = None
-    for round_ in range(MAX_REPINS + 1):
-        problem = qp.problem(f, pinned)
-        if qp.supported.size - len(pinned) <= CONDENSE_MAX and route != "mixed":
-            sol, x = _solve_condensed(problem, method, accuracy, time_limit)
+    elif gaps <= CONDENSE_MAX:
+        sol, x = _solve_condensed(problem, method, accuracy, time_limit)
+    else:
+        sol = qpcontact.solve(problem, method=method, accuracy=accuracy, time_limit=time_limit)
+        x = sol.x
+    if x is None:
+        return sol, None
+    x_full = np.zeros(qp.nx)
+    x_full[qp.kept(pinned)] = x
+    return sol, x_full
+
+
+def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
+                  time_limit=None) -> ContactAnswer:
+    """Solve one combination's QP (module docstring): pin, solve, release
+    the pins the answer pulls on, certify on the unpinned QP."""
+    import time
+
+    import qpcontact
+
+    start = time.perf_counter()
+    if qp.supported.size == 0:
+        return _linear(qp, f, accuracy, start)
+    need = qp.unrestrained(nodes).shape[1]
+    if need:
+        _statics(qp, nodes, f)
+    forces = _bilateral_forces(qp, f)
+    if forces is None:                   # singular: the loads themselves rank the nodes
+        forces = np.zeros(nodes.shape[0])
+        forces[qp.supported] = f[0::3][qp.supported]
+    # first every node the bilateral answer presses (the LCP keeps the others);
+    # where that runs out of rounds or leaves a rigid motion free, three pins
+    pressed = [k for k in range(qp.supported.size) if forces[qp.supported[k]] > 0]
+    plans = [("pressed", pressed, MAX_ROUNDS)] if pressed else []
+    released, rounds, sol, x_full, pinned = [], 0, None, None, []
+    why = ""
+    while plans or x_full is None:
+        if not plans:
+            three = _choose_pins(qp, nodes, forces, need) if need else []
+            if three is None:
+                raise InvalidProblemError(
+                    "no three supported nodes off one line carry load in the bilateral "
+                    "solution; the raft's supported area is a line — give it soil over an area")
+            plans = [("three", three, MAX_REPINS)]
+        plan, pinned, budget = plans.pop(0)
+        released = []
+        for _ in range(budget + 1):
+            rounds += 1
+            try:
+                sol, x_full = _solve_pinned(qp, f, pinned, method, accuracy, time_limit)
+            except InvalidProblemError:   # the pins leave a rigid motion free
+                sol, x_full = None, None
+                why = "the pins left the raft's stiffness singular"
+                break
+            if x_full is None:
+                break
+            now = qp.support_forces(x_full, f)
+            scale = float(np.abs(now).max()) or 1.0
+            tension = [k for k in pinned if now[qp.supported[k]] < -1e-12 * scale]
+            if not tension or not sol.ok:
+                plans = []
+                break
+            released += tension
+            if plan == "pressed":        # release them all; the LCP takes them
+                gone = set(tension)
+                pinned = [k for k in pinned if k not in gone]
+            else:
+                keep = [k for k in pinned if k not in tension]
+                pinned = _choose_pins_with(qp, nodes, now, keep, need, released)
+                if pinned is None:
+                    plans = []
+                    break
         else:
-            sol = qpcontact.solve(problem, method=method, accuracy=accuracy,
-                                  time_limit=time_limit)
-            x = sol.x
-        if x is None:
+            x_full = None                # out of rounds: the next plan
+            why = f"a pinned node still pulled on its support after {rounds} solves"
+        if x_full is None and not plans and plan == "three":
             break
-        x_full = np.zeros(qp.nx)
-        x_full[qp.kept(pinned)] = x
-        forces = qp.support_forces(x_full, f)
-        scale = float(np.abs(forces).max()) or 1.0
-        tension = [k for k in pinned if forces[qp.supported[k]] < -1e-12 * scale]
-        if not tension or not sol.ok:
-            break
-        released += tension
-        keep_pins = [k for k in pinned if k not in tension]
-        extra = _choose_pins_with(qp, nodes, forces, keep_pins, need, released)
-        if extra is None:
-            break
-        pinned = extra
     wall = time.perf_counter() - start
     if x_full is None or sol is None:
-        return ContactAnswer(np.full(qp.nx, np.nan), False, sol.status if sol else "failed",
-                             sol.message if sol else "no solve", sol.method if sol else "",
-                             pinned, wall_time=wall)
+        failed = sol is None or sol.ok            # the pins failed, not the solver
+        return ContactAnswer(np.full(qp.nx, np.nan), False, "failed" if failed else sol.status,
+                             f"not solved: {why}" if failed else sol.message,
+                             sol.method if sol else "", list(pinned or []), wall_time=wall,
+                             repins=len(released))
     # the certificate on the unpinned QP: the bound multipliers from its gradient
     full = qp.problem(f)
     grad = qp.P @ x_full + full.q
@@ -373,14 +443,13 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
     ok = bool(sol.ok and cert.ok(tol))
     if ok:
         message = (f"certified: error {cert.error:.2e} <= {tol:.0e} on the unpinned QP "
-                   f"({sol.method}; {len(pinned)} node(s) pinned, every one in compression)")
+                   f"({sol.method}; {len(pinned)} of {qp.supported.size} supported nodes pinned, "
+                   f"every one in compression; {rounds} solve(s))")
         status = "solved"
     elif sol.ok:
         status = "inaccurate"
         message = (f"not certified: the pinned QP was solved ({sol.message}) but on the unpinned "
-                   f"QP the error is {cert.error:.2e} > {tol:.0e}"
-                   + (" — a pinned node pulls on its support after "
-                      f"{MAX_REPINS} re-choices" if round_ == MAX_REPINS else ""))
+                   f"QP the error is {cert.error:.2e} > {tol:.0e}")
     else:
         status, message = sol.status, sol.message
     return ContactAnswer(x_full, ok, status, message, sol.method, list(pinned),

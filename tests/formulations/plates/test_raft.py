@@ -160,18 +160,22 @@ def test_loads_without_equilibrium_are_refused():
         raft.solve()
 
 
-def test_a_pin_that_pulls_is_released_and_the_answer_is_the_same(monkeypatch):
-    """The first three pins forced onto nodes that lift: the pinned QP's
-    answer pulls on one, which is released and replaced; the final answer is
-    the one found without the detour, certified on the unpinned QP."""
+def test_pins_the_answer_pulls_on_are_released_and_the_answer_is_the_same(monkeypatch):
+    """Every node the bilateral answer presses is pinned first: the wind
+    lifts more than the bilateral answer's tension zone, so the first answer
+    pulls on pins, which are released and the LCP solved again.
+    The answer equals the three-pin route's — forced, with its first three
+    pins put on a node that lifts, which is released and replaced — and
+    both are certified on the unpinned QP."""
     import formulations.plates.contact as contact
 
-    raft = Raft(8.0, 4.0, thickness=0.3, E=3e7, nu=0.2, cells=(16, 8))
-    raft.add_soil(2e4)
-    raft.add_self_weight(25.0)
-    raft.add_point_load(8.0, 2.0, -30.0)            # pulls the right edge up: it lifts
-    plain = raft.solve()
-    assert plain.ok and plain.lifted[plain.mesh.nearest_node(8.0, 2.0)]
+    from formulations.plates.examples import COMBINATIONS, raft_example
+
+    raft = raft_example(cells=(16, 12))             # wind lifts the windward third
+    wind = COMBINATIONS["1.0D+1.5W"]
+    plain = raft.solve(wind)
+    assert plain.ok and plain.uplift_fraction > 0.2, plain.message
+    assert "; 1 solve(s)" not in plain.message      # the pressed pins needed a release
     qp = raft.build()["qp"]
     lifted_pos = [int(np.flatnonzero(qp.supported == n)[0]) for n in np.flatnonzero(plain.lifted)]
     real = contact._choose_pins
@@ -183,7 +187,21 @@ def test_a_pin_that_pulls_is_released_and_the_answer_is_the_same(monkeypatch):
             return real(qp_, nodes, forces, count - 1, exclude) + [lifted_pos[0]]
         return real(qp_, nodes, forces, count, exclude)
 
+    monkeypatch.setattr(contact, "MAX_ROUNDS", 0)   # the pressed pins get one solve only
     monkeypatch.setattr(contact, "_choose_pins", first_bad)
-    detour = raft.solve()
+    detour = raft.solve(wind)
     assert len(calls) >= 2 and detour.ok, detour.message
+    assert "3 of" in detour.message
     assert np.max(np.abs(detour.w - plain.w)) <= 1e-9 * np.max(np.abs(plain.w))
+
+
+@pytest.mark.slow
+def test_infinite_plate_converges_on_a_finer_raft():
+    """80 x 80 cells (h = λ/8, 6561 soil nodes): 0.9724, 0.9947, 1.0010 of the
+    closed form at h = λ/2, λ/4, λ/8 — the mesh's error gone below the
+    finite raft's and Mindlin's shear term's."""
+    raft, D, k = _winkler_square(N=80, q=0.0125)
+    res = raft.solve()
+    assert res.ok, res.message
+    centre = res.mesh.nearest_node(5.0, 5.0)
+    assert abs((res.w[centre] - 0.0125 / k) * 8 * np.sqrt(k * D) - 1) < 5e-3
