@@ -12,17 +12,14 @@ from qpcontact.core.errors import InvalidProblemError
 __all__ = ["plot_raft"]
 
 
-def _grid_values(res, values):
-    """Values at the nodes of a structured mesh as 2-D arrays (x lines, y
-    lines, V), NaN where a node is missing (an opening)."""
-    nodes = res.mesh.nodes
-    xs = np.unique(np.round(nodes[:, 0], 12))
-    ys = np.unique(np.round(nodes[:, 1], 12))
-    V = np.full((xs.size, ys.size), np.nan)
-    i = np.searchsorted(xs, np.round(nodes[:, 0], 12))
-    j = np.searchsorted(ys, np.round(nodes[:, 1], 12))
-    V[i, j] = values
-    return xs, ys, V
+def _triangulation(mesh):
+    """Each quadrilateral as two triangles (any mesh: structured, with
+    openings, or the user's own)."""
+    from matplotlib.tri import Triangulation
+
+    e = mesh.elements
+    tris = np.concatenate([e[:, [0, 1, 2]], e[:, [0, 2, 3]]])
+    return Triangulation(mesh.nodes[:, 0], mesh.nodes[:, 1], tris)
 
 
 def plot_raft(res, path, moment: str = "mx", dpi: int = 110) -> str:
@@ -42,20 +39,20 @@ def plot_raft(res, path, moment: str = "mx", dpi: int = 110) -> str:
     from qpcontact.plots.figures import save_figure
 
     F, L = res.raft.units
-    xs, ys, P = _grid_values(res, np.where(res.supported, res.pressure, np.nan))
-    _, _, C = _grid_values(res, res.contact.astype(float))
-    _, _, M = _grid_values(res, res.nodal(moment))
+    tri = _triangulation(res.mesh)
+    P = np.where(res.supported, res.pressure, 0.0)
+    C = res.contact.astype(float)
+    M = res.nodal(moment)
     aspect = res.raft.length / res.raft.width
     width = 11.0
     fig, axes = plt.subplots(1, 2, figsize=(width, max(3.2, min(8.0, 0.45 * width * aspect + 1.2))),
                              constrained_layout=True)
-    X, Y = np.meshgrid(xs, ys, indexing="ij")
     ax = axes[0]
-    cs = ax.contourf(X, Y, P, levels=12, cmap="YlOrBr")
+    cs = ax.tricontourf(tri, P, levels=12, cmap="YlOrBr")
     fig.colorbar(cs, ax=ax, label=f"soil pressure [{F}/{L}²]", shrink=0.9)
     if res.lifted.any():
-        ax.contourf(X, Y, 1 - C, levels=[0.5, 1.5], colors="none", hatches=["//"])
-        ax.contour(X, Y, C, levels=[0.5], colors="k", linewidths=2.0)
+        ax.tricontourf(tri, 1 - C, levels=[0.5, 1.5], colors="none", hatches=["//"])
+        ax.tricontour(tri, C, levels=[0.5], colors="k", linewidths=2.0)
         ax.plot([], [], "k-", lw=2, label=f"lift-off line ({100 * res.uplift_fraction:.0f} % lifted)")
     # the columns of the combination: point loads and patches of its cases
     points = {(d[0], d[1]) for c, kind, d in res.raft.loads
@@ -70,8 +67,8 @@ def plot_raft(res, path, moment: str = "mx", dpi: int = 110) -> str:
                 label="line loads" if k == 0 else None)
     ax.set_title(f"soil pressure — {res.name}", fontsize=11)
     ax2 = axes[1]
-    lim = np.nanmax(np.abs(M)) or 1.0
-    cm = ax2.contourf(X, Y, M, levels=np.linspace(-lim, lim, 17), cmap="RdBu_r")
+    lim = float(np.max(np.abs(M))) or 1.0
+    cm = ax2.tricontourf(tri, M, levels=np.linspace(-lim, lim, 17), cmap="RdBu_r")
     fig.colorbar(cm, ax=ax2, label=f"{moment} [{F}·{L}/{L}] (+: bottom in tension)", shrink=0.9)
     ax2.set_title(f"{moment} per unit width", fontsize=11)
     for a in axes:

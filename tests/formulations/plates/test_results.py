@@ -90,9 +90,9 @@ def test_drawing_is_written_and_refused_when_not_ok(windy, tmp_path):
         bad.ok = bad_ok
 
 
-def test_a_raft_on_a_mesh_of_its_own():
+def test_a_raft_on_a_mesh_of_its_own(tmp_path):
     """A distorted 4 x 3 mesh: loads on its nodes, soil everywhere, the answer
-    certified and in equilibrium."""
+    certified and in equilibrium, and drawn."""
     base = grid(np.linspace(0, 4, 5), np.linspace(0, 3, 4))
     nodes = base.nodes.copy()
     inner = (nodes[:, 0] > 0) & (nodes[:, 0] < 4) & (nodes[:, 1] > 0) & (nodes[:, 1] < 3)
@@ -104,6 +104,8 @@ def test_a_raft_on_a_mesh_of_its_own():
     r = raft.solve()
     assert r.ok and r.lifted.any()
     assert abs(r.support_force.sum() - (50 + 12)) < 1e-8 * 62
+    r.plot(tmp_path / "own.png")
+    assert (tmp_path / "own.png").stat().st_size > 10_000
     with pytest.raises(InvalidProblemError, match="not on a node"):
         raft.add_point_load(2.05, 1.5, 1.0)
         raft.solve()
