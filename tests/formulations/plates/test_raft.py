@@ -205,3 +205,26 @@ def test_infinite_plate_converges_on_a_finer_raft():
     assert res.ok, res.message
     centre = res.mesh.nearest_node(5.0, 5.0)
     assert abs((res.w[centre] - 0.0125 / k) * 8 * np.sqrt(k * D) - 1) < 5e-3
+
+
+def test_a_stiff_raft_on_two_soil_zones_tilts_as_statics_says():
+    """k = 1e4 under the left half, 3e4 under the right (a later zone
+    overrides): a rigid raft under a uniform load settles along
+    w = a + b x with ∫k(a + bx) dA = qA and ∫k(a + bx) x dA = qA B/2,
+    solved here by hand."""
+    B, W, q, k1, k2 = 8.0, 4.0, 10.0, 1e4, 3e4
+    raft = Raft(B, W, thickness=3.0, E=1e9, nu=0.2, cells=(32, 16))
+    raft.add_soil(k1)
+    raft.add_soil(k2, zone=(B / 2, 0.0, B, W))
+    raft.add_area_load(q)
+    r = raft.solve()
+    assert r.ok and not r.lifted.any(), r.message
+    h = B / 2
+    # ∫_0^h k1 (a + b x) dx + ∫_h^B k2 (a + b x) dx = q B   (per unit width), and its moment
+    A = np.array([[k1 * h + k2 * h, k1 * h ** 2 / 2 + k2 * (B ** 2 - h ** 2) / 2],
+                  [k1 * h ** 2 / 2 + k2 * (B ** 2 - h ** 2) / 2,
+                   k1 * h ** 3 / 3 + k2 * (B ** 3 - h ** 3) / 3]])
+    a, b = np.linalg.solve(A, [q * B, q * B * B / 2])
+    x = r.mesh.nodes[:, 0]
+    assert np.max(np.abs(r.w - (a + b * x))) < 0.01 * np.max(np.abs(a + b * x))
+    assert b < 0                                   # the soft side settles more
