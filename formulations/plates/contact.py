@@ -373,7 +373,7 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
     if qp.supported.size == 0:
         return _linear(qp, f, accuracy, start)
     need = qp.unrestrained(nodes).shape[1]
-    if need:
+    if qp.fixed.size == 0:               # supports that only push: statics decides first
         _statics(qp, nodes, f)
     forces = _bilateral_forces(qp, f)
     if forces is None:                   # singular: the loads themselves rank the nodes
@@ -401,7 +401,8 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
                 sol, x_full = _solve_pinned(qp, f, pinned, method, accuracy, time_limit)
             except InvalidProblemError:   # the pins leave a rigid motion free
                 sol, x_full = None, None
-                why = "the pins left the raft's stiffness singular"
+                why = ("pinning the pressed nodes leaves a rigid motion free: the loads may "
+                       "have no equilibrium on these supports (or they touch along a line)")
                 break
             if x_full is None:
                 break

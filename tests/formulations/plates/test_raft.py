@@ -228,3 +228,26 @@ def test_a_stiff_raft_on_two_soil_zones_tilts_as_statics_says():
     x = r.mesh.nodes[:, 0]
     assert np.max(np.abs(r.w - (a + b * x))) < 0.01 * np.max(np.abs(a + b * x))
     assert b < 0                                   # the soft side settles more
+
+
+def test_a_pile_that_pulls_holds_a_raft_statics_alone_would_refuse():
+    """The loads' resultant points up — no soil can hold that — but a
+    bilateral pile under the centre can: the raft is a lever on it, the pull
+    on one side lifts that side and presses the soil on the other; the pile
+    pulls down on the raft.  Statics of the whole is checked here."""
+    raft = Raft(6.0, 4.0, thickness=0.4, E=3e7, nu=0.2, cells=(12, 8))
+    raft.add_soil(2e4)
+    raft.add_support(lambda x, y: (x == 3) & (y == 2), fix=("w",))     # a pile
+    raft.add_self_weight(25.0)                                           # 240 kN
+    raft.add_line_load(6.0, 0.0, 6.0, 4.0, -75.0)        # 300 kN up along the right edge
+    r = raft.solve()
+    assert r.ok, r.message
+    total = r.loads[0::3].sum()
+    assert total < 0                                     # net upward: 60 kN
+    pile = r.reactions[3 * r.mesh.nearest_node(3.0, 2.0)]   # upward on the raft
+    assert pile < 0
+    assert abs(pile + r.support_force.sum() - total) < 1e-8 * 300
+    # moments about y = const through the pile: the soil's balance the loads'
+    x = r.mesh.nodes[:, 0] - 3.0
+    assert abs(np.sum(r.support_force * x) - np.sum(r.loads[0::3] * x)) < 1e-8 * 900
+    assert r.lifted[r.mesh.nearest_node(6.0, 2.0)] and r.contact[r.mesh.nearest_node(0.0, 2.0)]
