@@ -251,3 +251,17 @@ def test_a_pile_that_pulls_holds_a_raft_statics_alone_would_refuse():
     x = r.mesh.nodes[:, 0] - 3.0
     assert abs(np.sum(r.support_force * x) - np.sum(r.loads[0::3] * x)) < 1e-8 * 900
     assert r.lifted[r.mesh.nearest_node(6.0, 2.0)] and r.contact[r.mesh.nearest_node(0.0, 2.0)]
+
+
+def test_a_raft_that_turns_about_its_pile_is_not_ok():
+    """A pull at the far corner beyond what the weight balances about a
+    corner pile: no equilibrium (the soil only adds to the pull's moment);
+    the answer is not ok and says so, with no numbers to believe."""
+    raft = Raft(6.0, 4.0, thickness=0.4, E=3e7, nu=0.2, cells=(12, 8))
+    raft.add_soil(2e4)
+    raft.add_support(lambda x, y: (x == 0) & (y == 0), fix=("w",))
+    raft.add_self_weight(25.0)
+    raft.add_point_load(6.0, 4.0, -400.0)
+    r = raft.solve()
+    assert not r.ok and "no equilibrium" in r.message
+    assert np.all(np.isnan(r.w[1:]))                    # all but the pile's fixed w
