@@ -12,9 +12,10 @@ stretch the bottom face.  See docs/plates.md.
 
 from .contact import NoEquilibriumError
 from .element import DOFS, rigidity
+from .examples import demo
 from .mesh import PlateMesh, grid, grid_lines
 from .model import Raft
 from .results import RaftCombinations, RaftResult
 
 __all__ = ["Raft", "RaftResult", "RaftCombinations", "PlateMesh", "grid", "grid_lines",
-           "NoEquilibriumError", "DOFS", "rigidity"]
+           "NoEquilibriumError", "DOFS", "rigidity", "demo"]

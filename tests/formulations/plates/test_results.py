@@ -132,3 +132,18 @@ def test_a_patch_over_an_opening_and_an_unknown_case_are_refused():
         raft.solve()
     with pytest.raises(InvalidProblemError, match="cases"):
         raft.solve({"L": 1.0})
+
+
+def test_the_demo_checks_pass():
+    """``qpcontact demo``'s plates part: its closed-form checks and the worked
+    raft's combinations, zero failures, printed."""
+    import io
+
+    from rich.console import Console
+
+    from formulations.plates import demo
+
+    out = io.StringIO()
+    assert demo(Console(file=out, width=160)) == 0
+    text = out.getvalue()
+    assert "closed form" in text and "1.0D+1.5W" in text
