@@ -99,17 +99,22 @@ def _solve_condensed(problem, method, accuracy, time_limit):
     # (P = LU with U = DLᵀ; S = P_BB − L_BU U_UB = L_BB U_BB), no solves with
     # m right-hand sides; diagonal pivots in a fixed order (SPD: Sylvester)
     opts = {"SymmetricMode": True}
-    lu_U = spla.splu(P[U][:, U].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                     options=opts)
-    order = np.concatenate([U[np.argsort(lu_U.perm_c)], B])
-    lu = spla.splu(P[order][:, order].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0,
-                   options=opts)
+    try:
+        lu_U = spla.splu(P[U][:, U].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                         options=opts)
+        order = np.concatenate([U[np.argsort(lu_U.perm_c)], B])
+        lu = spla.splu(P[order][:, order].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=0.0,
+                       options=opts)
+    except RuntimeError:                # exactly singular
+        raise InvalidProblemError("the raft's pinned stiffness is singular: its supports leave "
+                                  "a rigid motion free") from None
     k = U.size
     if not (np.array_equal(lu.perm_r, np.arange(c.size))
             and np.array_equal(lu.perm_c, np.arange(c.size)) and np.all(lu.U.diagonal() > 0)):
         raise InvalidProblemError("the raft's pinned stiffness is not positive definite: its "
                                   "supports leave a rigid motion free")
-    S = lu.L.tocsc()[k:, k:].toarray() @ lu.U.tocsc()[k:, k:].toarray()   # dense: the trailing block fills in
+    # multiplied dense: the trailing block fills in (a sparse product took half the time)
+    S = lu.L.tocsc()[k:, k:].toarray() @ lu.U.tocsc()[k:, k:].toarray()
     S = 0.5 * (S + S.T)
     q = c[B] - P[B][:, U] @ lu_U.solve(c[U])       # q_S = c_B − P_BU P_UU⁻¹ c_U
     lcp = LCP(S, q)
@@ -317,14 +322,19 @@ def _linear(qp, f, accuracy, start):
     from qpsolvers import Problem
 
     problem = Problem(qp.P, qp.c(f))
-    x = spla.splu(problem.P.tocsc()).solve(-problem.q)
+    try:
+        x = spla.splu(problem.P.tocsc()).solve(-problem.q)
+    except RuntimeError:                # exactly singular
+        raise InvalidProblemError("the plate has no soil and its supports leave a rigid motion "
+                                  "free: add soil, a floor or supports") from None
     cert = qpcontact.certify(problem, x)
     tol = resolve_accuracy(accuracy)[1]      # what qpcontact.solve's certificate must meet
     ok = bool(cert.ok(tol))
-    return ContactAnswer(x, ok, "solved" if ok else "inaccurate",
-                         f"{'certified' if ok else 'not certified'}: error {cert.error:.2e} "
-                         "(no contact: the linear system)", "splu", [], float(cert.error),
-                         time.perf_counter() - start)
+    message = (f"certified: error {cert.error:.2e} (no contact: the linear system)" if ok else
+               f"not certified: error {cert.error:.2e}, but no digit is guaranteed (the "
+               "supports leave the plate singular or nearly so)")
+    return ContactAnswer(x, ok, "solved" if ok else "inaccurate", message, "splu", [],
+                         float(cert.error), time.perf_counter() - start)
 
 
 class _NoGap:
@@ -348,7 +358,10 @@ def _solve_pinned(qp, f, pinned, method, accuracy, time_limit):
         import scipy.sparse.linalg as spla
 
         sol = _NoGap(resolve_accuracy(accuracy)[1])
-        x = spla.splu(problem.P.tocsc()).solve(-problem.q)
+        try:
+            x = spla.splu(problem.P.tocsc()).solve(-problem.q)
+        except RuntimeError:            # exactly singular
+            raise InvalidProblemError("the raft's pinned stiffness is singular") from None
     elif gaps <= CONDENSE_MAX:
         sol, x = _solve_condensed(problem, method, accuracy, time_limit)
     else:
@@ -370,9 +383,12 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
     import qpcontact
 
     start = time.perf_counter()
-    if qp.supported.size == 0:
-        return _linear(qp, f, accuracy, start)
     need = qp.unrestrained(nodes).shape[1]
+    if qp.supported.size == 0:
+        if need:
+            raise InvalidProblemError("the plate has no soil and its supports leave a rigid "
+                                      "motion free: add soil, a floor or supports")
+        return _linear(qp, f, accuracy, start)
     if qp.fixed.size == 0:               # supports that only push: statics decides first
         _statics(qp, nodes, f)
     forces = _bilateral_forces(qp, f)

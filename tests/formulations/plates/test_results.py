@@ -124,6 +124,14 @@ def test_bad_input_is_refused_naming_the_value(build, match):
         build()
 
 
+def test_a_plate_held_by_nothing_is_refused():
+    raft = Raft(4, 4, thickness=0.3, E=3e7, cells=(4, 4))
+    raft.add_support(lambda x, y: (x == 0) & (y == 0), fix=("w",))
+    raft.add_area_load(1.0)
+    with pytest.raises(InvalidProblemError, match="rigid motion free"):
+        raft.solve()
+
+
 def test_a_patch_over_an_opening_and_an_unknown_case_are_refused():
     raft = Raft(4, 4, thickness=0.3, E=3e7, cells=(8, 8), openings=[(1, 1, 2, 2)])
     raft.add_soil(1e4)
