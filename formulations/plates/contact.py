@@ -55,10 +55,21 @@ then checks on the unpinned QP from its data; ``ok`` needs that and the
 pinned solve's certificate.  Nothing is pinned where bilateral supports
 already fix the rigid motions and no node presses.
 
-A raft whose loads push it up or tip it over the edge of its footprint has
-no equilibrium on tensionless supports (statics: the soil only pushes, so
-the loads' resultant must be downward and inside the convex hull of the
-supported nodes); that is refused before any solve, with the reason.
+How the pinned QP is solved
+---------------------------
+Condensed onto its gaps (at most ``CONDENSE_MAX``): one sparse LDLᵀ of P
+with the gaps ordered last gives the Schur complement S as its trailing
+block, and the dense LCP g ≥ 0, S g + q_S ≥ 0 (S symmetric positive
+definite) goes to ``qpcontact.solve``; with no gap left, one linear solve;
+above ``CONDENSE_MAX`` the mixed QP goes to "auto" whole.  Not the mixed QP
+through "ip-bpp" at every size: its condensed branch (up to 3000 bounds)
+returns wrong answers on these QPs, which the certificate rejects
+(docs/dev-notes.md, "Plates: rafts and slabs on tensionless soil").
+
+A raft on supports that all push, whose loads push it up or tip it over the
+edge of its footprint, has no equilibrium (statics: the loads' resultant
+must be downward and inside the convex hull of the supported nodes); that
+is refused before any solve, with the reason.
 """
 
 from __future__ import annotations
