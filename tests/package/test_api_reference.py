@@ -26,7 +26,7 @@ PUBLIC_MODULES = (
     "qpcontact.io", "qpcontact.plots.trace",
     "formulations.drum", "formulations.drum2d", "formulations.frames", "formulations.mechanisms",
     "formulations.meshes", "formulations.multibody", "formulations.mechanisms.penalty",
-    "formulations.stepping.contact_step", "formulations.rods",
+    "formulations.stepping.contact_step", "formulations.rods", "formulations.plates",
 )
 # Public names of modules without an __all__.
 EXTRA_NAMES = {"qpcontact.plots.figures": ("save_figure",)}

@@ -1,0 +1,342 @@
+r"""Rafts and slabs on tensionless soil: the :class:`Raft` model.
+
+A rectangular plate (width along x, length along y [m]; thickness t [m],
+Young's modulus E and Poisson's ratio ν) meshed with MITC4 elements
+(:mod:`.element`) on a structured grid whose lines pass through every column,
+patch edge, line load, edge beam, opening edge and soil-zone edge, with
+edge beams along grid lines, resting on
+
+* tensionless Winkler soil: a modulus of subgrade reaction k [force/length³]
+  per zone, lumped to nodal springs by tributary area, that pushes and never
+  pulls (:mod:`.contact`), or
+* a rigid floor (the limit k → ∞: the slab cannot go down, may lift off),
+
+and bilateral supports where the user fixes dofs (walls, piles; the classic
+plates of the tests).  Loads belong to named cases; a combination {case:
+factor} is solved as its own contact problem — lift-off makes the answers
+of two combinations non-superposable — through ``qpcontact.solve``, whose
+certificate every answer carries (``ok`` is never set on an uncertified one).
+
+Units are the user's and consistent (``Raft(units=("kN", "m"))`` only names
+them): k in kN/m³, E in kN/m², loads in kN, pressures in kN/m².  Signs: z and
+w point **down** (into the soil); loads positive downward (gravity); the soil
+pressure is positive when it pushes up; moments positive when they stretch
+the bottom face (see :mod:`.element`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.errors import InvalidProblemError
+
+from .assembly import (area_load, assemble_stiffness, beam_stiffness, element_dofs, line_load,
+                       segment_edges)
+from .contact import ContactQP, solve_contact
+from .element import DOFS, rigidity
+from .mesh import PlateMesh, grid, grid_lines
+
+__all__ = ["Raft"]
+
+
+def _positive(name, value):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) \
+            or not np.isfinite(value) or value <= 0:
+        raise InvalidProblemError(f"{name} must be a positive finite number; got {value!r}")
+    return float(value)
+
+
+def _rect(name, r):
+    try:
+        x0, y0, x1, y1 = (float(v) for v in r)
+    except (TypeError, ValueError):
+        raise InvalidProblemError(f"{name} must be a rectangle (x0, y0, x1, y1); got {r!r}") from None
+    if not (x1 > x0 and y1 > y0) or not np.all(np.isfinite([x0, y0, x1, y1])):
+        raise InvalidProblemError(f"{name} needs finite x0 < x1 and y0 < y1; got {r!r}")
+    return x0, y0, x1, y1
+
+
+class Raft:
+    """A rectangular raft or slab; see the module docstring.
+
+    Parameters
+    ----------
+    width, length : float
+        Sides along x and y [length].
+    thickness, E : float
+        Plate thickness [length] and Young's modulus [force/length²].
+    nu : float
+        Poisson's ratio, in [0, 0.5).
+    cells : (int, int)
+        About how many cells along x and y (lines are moved or added to pass
+        through the loads' and openings' coordinates).
+    openings : rectangles (x0, y0, x1, y1)
+        Cells whose centre lies inside are removed.
+    mesh : PlateMesh, optional
+        A mesh of the user's own instead of the grid (then point loads must
+        sit on nodes and patches on element edges).
+    units : (force, length)
+        Names on tables and drawings.
+    """
+
+    def __init__(self, width=None, length=None, *, thickness, E, nu=0.2, cells=(20, 20),
+                 openings=(), mesh: PlateMesh | None = None, units=("kN", "m")):
+        self.thickness = _positive("thickness", thickness)
+        self.E = _positive("E", E)
+        if not (isinstance(nu, (int, float)) and 0 <= nu < 0.5):
+            raise InvalidProblemError(f"Poisson's ratio must be in [0, 0.5); got {nu!r}")
+        self.nu = float(nu)
+        self.units = tuple(units)
+        self._user_mesh = mesh
+        if mesh is None:
+            self.width = _positive("width", width)
+            self.length = _positive("length", length)
+            try:
+                nx, ny = cells
+            except (TypeError, ValueError):
+                raise InvalidProblemError(f"cells must be (nx, ny); got {cells!r}") from None
+            self.cells = (nx, ny)
+        else:
+            lo, hi = mesh.nodes.min(axis=0), mesh.nodes.max(axis=0)
+            self.width, self.length = float(hi[0] - lo[0]), float(hi[1] - lo[1])
+        self.openings = [_rect("an opening", o) for o in openings]
+        self.soil_zones = []            # (k, rectangle or None), later ones override
+        self.supports = []              # (predicate or node list, dofs)
+        self.loads = []                 # (case, kind, data)
+        self.beams = []                 # (x0, y0, x1, y1, EI, GJ)
+        self._built = None
+
+    # -- model building ---------------------------------------------------
+    @property
+    def D(self) -> float:
+        """Bending stiffness E t³ / (12 (1 − ν²)) [force·length]."""
+        return rigidity(self.E, self.thickness, self.nu)
+
+    def add_soil(self, k: float, zone=None) -> None:
+        """Tensionless Winkler soil of modulus k [force/length³] under the
+        whole raft or a zone (x0, y0, x1, y1); a later zone overrides an
+        earlier one where they overlap."""
+        self.soil_zones.append((_positive("the modulus of subgrade reaction k", k),
+                                None if zone is None else _rect("a soil zone", zone)))
+        self._built = None
+
+    def add_rigid_floor(self, zone=None) -> None:
+        """A rigid floor under the raft or a zone: the slab cannot go down there
+        and may lift off (the limit k → ∞)."""
+        self.soil_zones.append((np.inf, None if zone is None else _rect("a floor zone", zone)))
+        self._built = None
+
+    def add_support(self, where, fix=("w",)) -> None:
+        """Bilateral supports: ``fix`` among ("w", "theta_x", "theta_y") at the
+        nodes ``where`` selects — a callable (x, y) -> bool array, or node numbers."""
+        bad = [d for d in fix if d not in DOFS]
+        if bad or not fix:
+            raise InvalidProblemError(f"fix must name dofs among {DOFS}; got {fix!r}")
+        self.supports.append((where, tuple(fix)))
+        self._built = None
+
+    def _case(self, case):
+        if not isinstance(case, str) or not case:
+            raise InvalidProblemError(f"a load case is a non-empty name; got {case!r}")
+        return case
+
+    def add_point_load(self, x: float, y: float, P: float, case: str = "D") -> None:
+        """A column load P [force], downward positive, at (x, y)."""
+        self._inside(x, y)
+        if not np.isfinite(P):
+            raise InvalidProblemError(f"a point load must be finite; got {P!r}")
+        self.loads.append((self._case(case), "point", (float(x), float(y), float(P))))
+        self._built = None
+
+    def add_column(self, x: float, y: float, P: float, size, case: str = "D") -> None:
+        """A column load P [force] spread over its section size = (bx, by)
+        [length] centred at (x, y): a patch load of P / (bx by)."""
+        bx, by = (_positive("a column's size", s) for s in size)
+        self.add_patch_load(x - bx / 2, y - by / 2, x + bx / 2, y + by / 2, P / (bx * by), case)
+
+    def add_patch_load(self, x0, y0, x1, y1, p: float, case: str = "D") -> None:
+        """A uniform pressure p [force/length²], downward positive, over a rectangle."""
+        r = _rect("a patch", (x0, y0, x1, y1))
+        self._inside(r[0], r[1])
+        self._inside(r[2], r[3])
+        if not np.isfinite(p):
+            raise InvalidProblemError(f"a pressure must be finite; got {p!r}")
+        self.loads.append((self._case(case), "patch", (*r, float(p))))
+        self._built = None
+
+    def add_line_load(self, x0, y0, x1, y1, q: float, case: str = "D") -> None:
+        """A line load q [force/length], downward positive, along a segment
+        parallel to x or y (a wall); on a mesh of the user's, along element edges."""
+        self._segment("a line load", x0, y0, x1, y1)
+        if not np.isfinite(q):
+            raise InvalidProblemError(f"a line load must be finite; got {q!r}")
+        self.loads.append((self._case(case), "line", (float(x0), float(y0), float(x1),
+                                                       float(y1), float(q))))
+        self._built = None
+
+    def add_edge_beam(self, x0, y0, x1, y1, EI: float, GJ: float = 0.0) -> None:
+        """A beam along a segment parallel to x or y (an edge beam, a ground
+        beam under a wall), fixed to the plate: bending stiffness EI and
+        torsional stiffness GJ [force·length²] about the plate's mid-surface
+        (:func:`.assembly.beam_stiffness`)."""
+        self._segment("an edge beam", x0, y0, x1, y1)
+        EI = _positive("a beam's EI", EI)
+        if not (np.isfinite(GJ) and GJ >= 0):
+            raise InvalidProblemError(f"a beam's GJ must be a finite number >= 0; got {GJ!r}")
+        self.beams.append((float(x0), float(y0), float(x1), float(y1), EI, float(GJ)))
+        self._built = None
+
+    def _segment(self, what, x0, y0, x1, y1):
+        self._inside(x0, y0)
+        self._inside(x1, y1)
+        if (x0, y0) == (x1, y1):
+            raise InvalidProblemError(f"{what} needs two different ends; got ({x0}, {y0}) twice")
+        if self._user_mesh is None and x0 != x1 and y0 != y1:
+            raise InvalidProblemError(f"{what} on the grid runs along x or along y; got "
+                                      f"({x0}, {y0}) to ({x1}, {y1})")
+
+    def add_area_load(self, p: float, case: str = "D") -> None:
+        """A uniform pressure p [force/length²] over the whole raft."""
+        if not np.isfinite(p):
+            raise InvalidProblemError(f"a pressure must be finite; got {p!r}")
+        self.loads.append((self._case(case), "area", float(p)))
+        self._built = None
+
+    def add_self_weight(self, unit_weight: float, case: str = "D") -> None:
+        """The plate's weight: unit_weight [force/length³] × thickness, over its area."""
+        self.add_area_load(_positive("unit_weight", unit_weight) * self.thickness, case)
+
+    def _inside(self, x, y):
+        if not (np.isfinite(x) and np.isfinite(y)):
+            raise InvalidProblemError(f"coordinates must be finite; got ({x!r}, {y!r})")
+        if self._user_mesh is None and not (0 <= x <= self.width and 0 <= y <= self.length):
+            raise InvalidProblemError(f"point ({x}, {y}) is outside the raft [0, {self.width}] x "
+                                      f"[0, {self.length}]")
+
+    @property
+    def cases(self) -> list:
+        return sorted({c for c, _, _ in self.loads})
+
+    # -- the mesh and the matrices (built once per model) --------------------
+    def build(self):
+        """The mesh, stiffness, soil and contact QP (cached until the model changes)."""
+        if self._built is not None:
+            return self._built
+        if self._user_mesh is not None:
+            mesh = self._user_mesh
+        else:
+            xs, ys = [], []
+            for _, kind, d in self.loads:
+                if kind == "point":
+                    xs.append(d[0])
+                    ys.append(d[1])
+                elif kind in ("patch", "line"):
+                    xs += [d[0], d[2]]
+                    ys += [d[1], d[3]]
+            for d in self.beams:
+                xs += [d[0], d[2]]
+                ys += [d[1], d[3]]
+            for r in self.openings + [z for _, z in self.soil_zones if z is not None]:
+                xs += [min(max(r[0], 0), self.width), min(max(r[2], 0), self.width)]
+                ys += [min(max(r[1], 0), self.length), min(max(r[3], 0), self.length)]
+            mesh = grid(grid_lines(self.width, self.cells[0], xs),
+                        grid_lines(self.length, self.cells[1], ys), self.openings)
+        K = assemble_stiffness(mesh, self.E, self.nu, self.thickness)
+        for x0, y0, x1, y1, EI, GJ in self.beams:
+            K = K + beam_stiffness(mesh, segment_edges(mesh, x0, y0, x1, y1, "an edge beam"),
+                                   EI, GJ)
+        K = K.tocsr()
+        ke = np.zeros(mesh.elements.shape[0])
+        centres = mesh.centres
+        for k, zone in self.soil_zones:
+            inside = np.ones(ke.size, bool) if zone is None else (
+                (centres[:, 0] > zone[0]) & (centres[:, 0] < zone[2])
+                & (centres[:, 1] > zone[1]) & (centres[:, 1] < zone[3]))
+            ke[inside] = k
+        floor_nodes = np.unique(mesh.elements[np.isinf(ke)])
+        ks = mesh.tributary_areas(np.where(np.isinf(ke), 0.0, ke))
+        ks[floor_nodes] = np.inf
+        area = mesh.tributary_areas(np.where(ke > 0, 1.0, 0.0))    # the supported area per node
+        fixed = []
+        X, Y = mesh.nodes[:, 0], mesh.nodes[:, 1]
+        for where, dofs in self.supports:
+            nodes = np.flatnonzero(np.asarray(where(X, Y), bool)) if callable(where) \
+                else np.asarray(where, dtype=np.int64)
+            for d in dofs:
+                fixed += list(3 * nodes + DOFS.index(d))
+        fixed = np.unique(np.asarray(fixed, dtype=np.int64))
+        qp = ContactQP(K, ks, fixed)
+        self._built = dict(mesh=mesh, K=K, ks=ks, ke=ke, area=area, qp=qp,
+                           dofs=element_dofs(mesh.elements))
+        return self._built
+
+    @property
+    def mesh(self) -> PlateMesh:
+        return self.build()["mesh"]
+
+    def load_vector(self, combination: dict) -> np.ndarray:
+        """Nodal loads (3n,) [force] of a combination {case: factor}."""
+        b = self.build()
+        mesh = b["mesh"]
+        unknown = [c for c in combination if c not in self.cases]
+        if unknown:
+            raise InvalidProblemError(f"combination names cases {unknown} that have no load; this "
+                                      f"raft's cases are {self.cases}")
+        f = np.zeros(3 * mesh.nodes.shape[0])
+        size = max(self.width, self.length)
+        centres = mesh.centres
+        for case, kind, d in self.loads:
+            factor = float(combination.get(case, 0.0))
+            if factor == 0.0:
+                continue
+            if kind == "point":
+                node = mesh.nearest_node(d[0], d[1])
+                if np.hypot(*(mesh.nodes[node] - d[:2])) > 1e-9 * size:
+                    raise InvalidProblemError(
+                        f"the point load at ({d[0]}, {d[1]}) is not on a node of the mesh "
+                        "(the grid passes through it unless it falls in an opening): move it "
+                        "onto the slab or onto a node")
+                f[3 * node] += factor * d[2]
+            elif kind == "patch":
+                x0, y0, x1, y1, p = d
+                inside = ((centres[:, 0] > x0) & (centres[:, 0] < x1)
+                          & (centres[:, 1] > y0) & (centres[:, 1] < y1))
+                covered = mesh.areas[inside].sum()
+                if abs(covered - (x1 - x0) * (y1 - y0)) > 1e-9 * (x1 - x0) * (y1 - y0):
+                    raise InvalidProblemError(
+                        f"the patch ({x0}, {y0}, {x1}, {y1}) covers {covered:.6g} of the slab, "
+                        f"not its {(x1 - x0) * (y1 - y0):.6g}: it overlaps an opening or the "
+                        "edge, or its edges are not element edges")
+                f[0::3] += factor * area_load(mesh, np.where(inside, p, 0.0))
+            elif kind == "line":
+                edges = segment_edges(mesh, *d[:4], "a line load")
+                f[0::3] += factor * line_load(mesh, edges, d[4])
+            else:
+                f[0::3] += factor * area_load(mesh, np.full(mesh.elements.shape[0], d))
+        return f
+
+    # -- analysis -------------------------------------------------------------
+    def solve(self, combination: dict | None = None, *, name: str | None = None,
+              method: str = "auto", accuracy="default", time_limit=None):
+        """Solve one combination {case: factor} (default: every case × 1)."""
+        from .results import RaftResult
+
+        if combination is None:
+            combination = {c: 1.0 for c in self.cases}
+        if not combination:
+            raise InvalidProblemError("the raft has no load: add loads to a case first")
+        b = self.build()
+        f = self.load_vector(combination)
+        answer = solve_contact(b["qp"], b["mesh"].nodes, f, method=method, accuracy=accuracy,
+                               time_limit=time_limit)
+        title = name or " + ".join(f"{v:g} × {k}" for k, v in combination.items())
+        return RaftResult(self, dict(combination), title, f, answer)
+
+    def solve_combinations(self, combinations: dict, **kw):
+        """Solve each combination {name: {case: factor}} as its own problem."""
+        from .results import RaftCombinations
+
+        if not combinations:
+            raise InvalidProblemError("no combination given")
+        return RaftCombinations({name: self.solve(c, name=name, **kw)
+                                 for name, c in combinations.items()})

@@ -1,0 +1,284 @@
+"""Rafts on tensionless Winkler soil and slabs on a rigid floor, against
+independent references: the infinite plate on Winkler soil under a point
+load (w = P / (8 √(k D))), a rigid raft loaded beyond its kern (the
+triangular pressure block of statics), the linear solution when all the soil
+is pressed (a plain sparse solve written here), and a beam-like strip that
+lifts off against a fine 1-D beam on compression-only springs solved here by
+its own active-set iteration."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from formulations.plates import NoEquilibriumError, Raft
+
+
+def _winkler_square(N=40, L=10.0, lam=1.0, q=0.0):
+    """A raft L x L on soil whose elastic length (D/k)^¼ is ``lam``, a unit
+    point load at the centre and a pressure q."""
+    E, nu, t = 1.0e7, 0.2, 0.02 * lam       # thin: Mindlin's shear term under a point load is
+    #                                         log-singular; at t/λ = 0.02 it is ~2e-4 of w
+    raft = Raft(L, L, thickness=t, E=E, nu=nu, cells=(N, N))
+    D = raft.D
+    k = D / lam ** 4
+    raft.add_soil(k)
+    raft.add_point_load(L / 2, L / 2, 1.0, case="P")
+    if q:
+        raft.add_area_load(q, case="q")
+    return raft, D, k
+
+
+def test_infinite_plate_on_winkler_soil_under_a_point_load():
+    """Westergaard / Hetényi: w = P/(8√(kD)) under the load; a raft 10 elastic
+    lengths wide is infinite for it.  A pressure q keeps the ring where the
+    infinite plate rises (about 3 % of the peak) pressed, adding q/k = 10 %
+    of the peak; the point load's part is compared."""
+    raft, D, k = _winkler_square(q=0.0125)
+    res = raft.solve()
+    assert res.ok, res.message
+    assert not res.lifted.any()
+    centre = res.mesh.nearest_node(5.0, 5.0)
+    w_point = res.w[centre] - 0.0125 / k
+    assert abs(w_point * 8 * np.sqrt(k * D) - 1) < 0.02
+    assert abs(res.support_force.sum() - (1.0 + 0.0125 * 100)) < 1e-9 * 2.25
+
+
+def test_all_soil_pressed_equals_the_bilateral_springs():
+    """With every node pressed, the tensionless answer is the linear one:
+    (K + K_s) u = f by a plain sparse solve, K_s the lumped springs."""
+    raft, D, k = _winkler_square(N=16, q=0.0125)
+    res = raft.solve()
+    assert res.ok and not res.lifted.any()
+    mesh = res.mesh
+    b = raft.build()
+    springs = np.zeros(3 * mesh.nodes.shape[0])
+    springs[0::3] = k * mesh.tributary_areas()
+    u = spla.spsolve((b["K"] + sp.diags(springs)).tocsc(), raft.load_vector({"P": 1, "q": 1}))
+    assert np.max(np.abs(res.u - u)) <= 1e-10 * np.max(np.abs(u))
+    # and a point load alone lifts the ring: the answers part
+    alone = raft.solve({"P": 1.0})
+    assert alone.ok and alone.lifted.any()
+
+
+def test_rigid_raft_beyond_the_kern_has_the_triangular_pressure_block():
+    """A very stiff strip B x L, a line load P across it at eccentricity
+    e > B/6: contact over 3(B/2 − e) from the far edge, peak 2P/(3 L (B/2 − e))."""
+    B, L, P, e = 4.0, 1.0, 100.0, 1.0
+    raft = Raft(B, L, thickness=2.0, E=1e9, nu=0.0, cells=(80, 2))
+    raft.add_soil(1e3)
+    x = B / 2 + e
+    raft.add_patch_load(x - 0.025, 0.0, x + 0.025, L, P / (0.05 * L))
+    res = raft.solve()
+    assert res.ok, res.message
+    edge = np.isclose(res.mesh.nodes[:, 0], B)
+    peak = res.pressure[edge].mean()
+    ref_peak = 2 * P / (3 * L * (B / 2 - e))
+    assert abs(peak / ref_peak - 1) < 0.01
+    xs = res.mesh.nodes[res.contact, 0]
+    assert abs((B - xs.min()) - 3 * (B / 2 - e)) <= 0.05 + 1e-9      # one cell
+    # to the certificate's accuracy: the stiff plate (D/(k B⁴) = 2.6e3) is ill-conditioned
+    assert abs(res.support_force.sum() - P) < 1e-6 * P
+
+
+def _beam_on_tensionless_springs(length, EI, k_line, P, n=400):
+    """Euler–Bernoulli beam (Hermite cubics), free ends, springs k_line [N/m²]
+    lumped to the nodes, compression only; central load P.  Solved by the
+    classic iteration on the pressed set, ended when the set repeats, and
+    checked for complementarity here."""
+    h = length / n
+    ke = EI / h ** 3 * np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
+                                 [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
+    K = np.zeros((2 * n + 2, 2 * n + 2))
+    for i in range(n):
+        K[2 * i:2 * i + 4, 2 * i:2 * i + 4] += ke
+    ks = np.full(n + 1, k_line * h)
+    ks[[0, -1]] *= 0.5
+    f = np.zeros(2 * n + 2)
+    f[2 * (n // 2)] = P
+    pressed = np.ones(n + 1, bool)
+    for _ in range(200):
+        A = K.copy()
+        A[0::2, 0::2] += np.diag(ks * pressed)
+        u = np.linalg.solve(A, f)
+        new = u[0::2] > 0
+        if np.array_equal(new, pressed):
+            break
+        pressed = new
+    w = u[0::2]
+    force = ks * np.maximum(w, 0)
+    assert np.all(force[~pressed] == 0) and np.all(w[pressed] >= 0)
+    assert abs(force.sum() - P) < 1e-9 * P
+    return np.linspace(0, length, n + 1), w
+
+
+def test_beam_strip_lifting_off_matches_a_fine_beam_on_tensionless_springs():
+    length, width, t, E = 12.0, 0.5, 0.3, 3e7
+    k = 2e4
+    raft = Raft(length, width, thickness=t, E=E, nu=0.0, cells=(120, 1))
+    raft.add_soil(k)
+    P = 100.0
+    raft.add_point_load(length / 2, 0.0, P / 2)
+    raft.add_point_load(length / 2, width, P / 2)
+    res = raft.solve()
+    assert res.ok, res.message
+    EI = E * width * t ** 3 / 12
+    x, w = _beam_on_tensionless_springs(length, EI, k * width, P)
+    assert w.min() < 0                                      # the ends lift in the reference too
+    mid = np.argmin(np.abs(x - length / 2))
+    plate_mid = res.w[res.mesh.nearest_node(length / 2, 0.0)]
+    assert abs(plate_mid / w[mid] - 1) < 0.01
+    lift_ref = x[(w <= 0) & (x > length / 2)].min()
+    lifted_x = res.mesh.nodes[res.lifted, 0]
+    lift_plate = lifted_x[lifted_x > length / 2].min()
+    assert abs(lift_plate - lift_ref) <= 0.1 + 1e-9          # one plate cell
+
+
+def test_slab_on_a_rigid_floor_lifts_where_the_load_pulls():
+    """A weightless square slab on a rigid floor, self-weight plus an upward
+    corner pull: the pull's corner lifts, the floor's reactions carry
+    exactly the net load, and no reaction pulls."""
+    raft = Raft(6.0, 6.0, thickness=0.2, E=3e7, nu=0.2, cells=(12, 12))
+    raft.add_rigid_floor()
+    raft.add_self_weight(25.0)
+    raft.add_point_load(6.0, 6.0, -20.0, case="pull")
+    res = raft.solve()
+    assert res.ok, res.message
+    corner = res.mesh.nearest_node(6.0, 6.0)
+    assert res.lifted[corner] and res.w[corner] < 0
+    assert res.support_force.min() >= -1e-9 * res.support_force.max()
+    assert abs(res.support_force.sum() - (25 * 0.2 * 36 - 20)) < 1e-9 * 200
+
+
+def test_loads_without_equilibrium_are_refused():
+    raft = Raft(4.0, 4.0, thickness=0.3, E=3e7, cells=(4, 4))
+    raft.add_soil(1e4)
+    raft.add_point_load(2.0, 2.0, -10.0)
+    with pytest.raises(NoEquilibriumError, match="lift off"):
+        raft.solve()
+
+
+def test_pins_the_answer_pulls_on_are_released_and_the_answer_is_the_same(monkeypatch):
+    """Every node the bilateral answer presses is pinned first: the wind
+    lifts more than the bilateral answer's tension zone, so the first answer
+    pulls on pins, which are released and the LCP solved again.
+    The answer equals the three-pin route's — forced, with its first three
+    pins put on a node that lifts, which is released and replaced — and
+    both are certified on the unpinned QP."""
+    import formulations.plates.contact as contact
+
+    from formulations.plates.examples import COMBINATIONS, raft_example
+
+    raft = raft_example(cells=(16, 12))             # wind lifts the windward third
+    wind = COMBINATIONS["1.0D+1.5W"]
+    plain = raft.solve(wind)
+    assert plain.ok and plain.uplift_fraction > 0.2, plain.message
+    assert "; 1 solve(s)" not in plain.message      # the pressed pins needed a release
+    qp = raft.build()["qp"]
+    lifted_pos = [int(np.flatnonzero(qp.supported == n)[0]) for n in np.flatnonzero(plain.lifted)]
+    real = contact._choose_pins
+    calls = []
+
+    def first_bad(qp_, nodes, forces, count, exclude=()):
+        calls.append(1)
+        if len(calls) == 1:
+            return real(qp_, nodes, forces, count - 1, exclude) + [lifted_pos[0]]
+        return real(qp_, nodes, forces, count, exclude)
+
+    monkeypatch.setattr(contact, "MAX_ROUNDS", 0)   # the pressed pins get one solve only
+    monkeypatch.setattr(contact, "_choose_pins", first_bad)
+    detour = raft.solve(wind)
+    assert len(calls) >= 2 and detour.ok, detour.message
+    assert "3 of" in detour.message
+    assert np.max(np.abs(detour.w - plain.w)) <= 1e-9 * np.max(np.abs(plain.w))
+
+
+@pytest.mark.slow
+def test_infinite_plate_converges_on_a_finer_raft():
+    """80 x 80 cells (h = λ/8, 6561 soil nodes): 0.9724, 0.9947, 1.0010 of the
+    closed form at h = λ/2, λ/4, λ/8 — the mesh's error gone below the
+    finite raft's and Mindlin's shear term's."""
+    raft, D, k = _winkler_square(N=80, q=0.0125)
+    res = raft.solve()
+    assert res.ok, res.message
+    centre = res.mesh.nearest_node(5.0, 5.0)
+    assert abs((res.w[centre] - 0.0125 / k) * 8 * np.sqrt(k * D) - 1) < 5e-3
+
+
+def test_a_stiff_raft_on_two_soil_zones_tilts_as_statics_says():
+    """k = 1e4 under the left half, 3e4 under the right (a later zone
+    overrides): a rigid raft under a uniform load settles along
+    w = a + b x with ∫k(a + bx) dA = qA and ∫k(a + bx) x dA = qA B/2,
+    solved here by hand."""
+    B, W, q, k1, k2 = 8.0, 4.0, 10.0, 1e4, 3e4
+    raft = Raft(B, W, thickness=3.0, E=1e9, nu=0.2, cells=(32, 16))
+    raft.add_soil(k1)
+    raft.add_soil(k2, zone=(B / 2, 0.0, B, W))
+    raft.add_area_load(q)
+    r = raft.solve()
+    assert r.ok and not r.lifted.any(), r.message
+    h = B / 2
+    # ∫_0^h k1 (a + b x) dx + ∫_h^B k2 (a + b x) dx = q B   (per unit width), and its moment
+    A = np.array([[k1 * h + k2 * h, k1 * h ** 2 / 2 + k2 * (B ** 2 - h ** 2) / 2],
+                  [k1 * h ** 2 / 2 + k2 * (B ** 2 - h ** 2) / 2,
+                   k1 * h ** 3 / 3 + k2 * (B ** 3 - h ** 3) / 3]])
+    a, b = np.linalg.solve(A, [q * B, q * B * B / 2])
+    x = r.mesh.nodes[:, 0]
+    assert np.max(np.abs(r.w - (a + b * x))) < 0.01 * np.max(np.abs(a + b * x))
+    assert b < 0                                   # the soft side settles more
+
+
+def test_a_pile_that_pulls_holds_a_raft_statics_alone_would_refuse():
+    """The loads' resultant points up — no soil can hold that — but a
+    bilateral pile under the centre can: the raft is a lever on it, the pull
+    on one side lifts that side and presses the soil on the other; the pile
+    pulls down on the raft.  Statics of the whole is checked here."""
+    raft = Raft(6.0, 4.0, thickness=0.4, E=3e7, nu=0.2, cells=(12, 8))
+    raft.add_soil(2e4)
+    raft.add_support(lambda x, y: (x == 3) & (y == 2), fix=("w",))     # a pile
+    raft.add_self_weight(25.0)                                           # 240 kN
+    raft.add_line_load(6.0, 0.0, 6.0, 4.0, -75.0)        # 300 kN up along the right edge
+    r = raft.solve()
+    assert r.ok, r.message
+    total = r.loads[0::3].sum()
+    assert total < 0                                     # net upward: 60 kN
+    pile = r.reactions[3 * r.mesh.nearest_node(3.0, 2.0)]   # upward on the raft
+    assert pile < 0
+    assert abs(pile + r.support_force.sum() - total) < 1e-8 * 300
+    # moments about y = const through the pile: the soil's balance the loads'
+    x = r.mesh.nodes[:, 0] - 3.0
+    assert abs(np.sum(r.support_force * x) - np.sum(r.loads[0::3] * x)) < 1e-8 * 900
+    assert r.lifted[r.mesh.nearest_node(6.0, 2.0)] and r.contact[r.mesh.nearest_node(0.0, 2.0)]
+
+
+def test_a_raft_that_turns_about_its_pile_is_not_ok():
+    """A pull at the far corner beyond what the weight balances about a
+    corner pile: no equilibrium (the soil only adds to the pull's moment);
+    the answer is not ok and says so, with no numbers to believe."""
+    raft = Raft(6.0, 4.0, thickness=0.4, E=3e7, nu=0.2, cells=(12, 8))
+    raft.add_soil(2e4)
+    raft.add_support(lambda x, y: (x == 0) & (y == 0), fix=("w",))
+    raft.add_self_weight(25.0)
+    raft.add_point_load(6.0, 4.0, -400.0)
+    r = raft.solve()
+    assert not r.ok and "no equilibrium" in r.message
+    assert np.all(np.isnan(r.w[1:]))                    # all but the pile's fixed w
+
+
+@pytest.mark.slow
+def test_a_100_by_100_raft_lifting_at_a_corner():
+    """10 201 soil nodes, 40 804 unknowns (14 s of CPU for the solve):
+    certified, in equilibrium, the pulled corner lifted, no soil force pulls."""
+    raft = Raft(16.0, 16.0, thickness=0.5, E=30e6, nu=0.2, cells=(100, 100))
+    raft.add_soil(2e4)
+    raft.add_self_weight(25.0)
+    raft.add_point_load(2.0, 2.0, 3000.0)
+    raft.add_point_load(8.0, 8.0, 1000.0)
+    raft.add_point_load(14.0, 14.0, -300.0)
+    r = raft.solve()
+    assert r.ok, r.message
+    total = r.loads[0::3].sum()
+    assert abs(r.support_force.sum() - total) < 1e-8 * total
+    assert r.lifted[r.mesh.nearest_node(16.0, 16.0)] and r.support_force.min() >= 0

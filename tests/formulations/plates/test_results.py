@@ -1,0 +1,157 @@
+"""The raft's results over combinations, its tables, drawing and refusals:
+each combination solved on its own (lift-off is not superposable), the
+envelope against a brute-force pass over the combinations, the tables'
+values against the result they print, the drawing written and refused for a
+result that is not ok, and bad input refused with the value named."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+from formulations.plates import PlateMesh, Raft, grid
+from qpcontact.core.errors import InvalidProblemError
+
+
+@pytest.fixture(scope="module")
+def windy():
+    raft = Raft(8.0, 6.0, thickness=0.4, E=30e6, nu=0.2, cells=(16, 12),
+                openings=[(3.0, 2.0, 4.0, 3.0)])
+    raft.add_soil(2e4)
+    raft.add_self_weight(25.0)
+    for x in (1.0, 7.0):
+        for y in (1.0, 5.0):
+            raft.add_column(x, y, 300.0, size=(0.4, 0.4), case="D")
+            raft.add_point_load(x, y, 200.0 * (x - 4.0) / 3.0, case="W")
+    combos = {"D": {"D": 1.0}, "D+W": {"D": 1.0, "W": 1.5}, "D-W": {"D": 1.0, "W": -1.5}}
+    return raft, raft.solve_combinations(combos)
+
+
+def test_each_combination_is_its_own_contact_problem(windy):
+    raft, res = windy
+    assert not res.failed
+    assert not res["D"].lifted.any() and res["D+W"].lifted.any() and res["D-W"].lifted.any()
+    # not superposable once a part lifts: were it linear, D−W would mirror D+W about D
+    mirrored = res["D"].w - (res["D+W"].w - res["D"].w)
+    assert np.max(np.abs(mirrored - res["D-W"].w)) > 1e-3 * np.max(np.abs(res["D"].w))
+    for r in res.values():
+        load = r.loads[0::3].sum()
+        assert abs(r.support_force.sum() - load) < 1e-8 * load
+        assert r.support_force.min() >= 0.0
+        assert np.all(r.support_force[r.lifted] == 0) and np.all(r.w[r.lifted] < 0)
+
+
+def test_the_envelope_is_the_brute_force_max_and_min(windy):
+    _, res = windy
+    env = res.envelope()
+    for q in ("mx", "my", "mxy", "qx", "qy"):
+        values = {k: r.element_values(q) for k, r in res.items()}
+        top = max(values, key=lambda k: values[k].max())
+        low = min(values, key=lambda k: values[k].min())
+        assert env[q]["max"][0] == values[top].max() and env[q]["max"][3] == top
+        assert env[q]["min"][0] == values[low].min() and env[q]["min"][3] == low
+    assert env["pressure"]["max"][0] == max(r.pressure.max() for r in res.values())
+    assert env["uplift"]["D"] == 0.0 and env["uplift"]["D+W"] > 0.0
+
+
+def test_tables_print_the_result(windy, tmp_path):
+    _, res = windy
+    r = res["D+W"]
+    rows = r.rows("nodes", digits=None)
+    assert [row["w [m]"] for row in rows] == list(r.w)
+    states = {row["state"] for row in rows}
+    assert states == {"contact", "lifted"}
+    ext = {(row["quantity"], row["extreme"]): row for row in r.rows("extremes", digits=None)}
+    assert ext[("mx", "max")]["value"] == r.moments[:, 0].max()
+    rounded = r.rows("extremes")                      # 5 digits on the largest of each unit
+    raw = [row["value"] for row in r.rows("extremes", digits=None) if row["unit"] == "kN·m/m"]
+    m = [row["value"] for row in rounded if row["unit"] == "kN·m/m"]
+    decimals = 4 - int(np.floor(np.log10(max(abs(v) for v in raw))))
+    assert m == [round(v, decimals) + 0.0 for v in raw]
+    res.to_csv(tmp_path)
+    with open(tmp_path / "envelope.csv") as fh:
+        read = list(csv.DictReader(fh))
+    assert {row["quantity"] for row in read} == {"w", "pressure", "mx", "my", "mxy", "qx", "qy"}
+    assert "0 × D" not in r.table("summary") and "D+W" in res.table("combinations")
+
+
+def test_drawing_is_written_and_refused_when_not_ok(windy, tmp_path):
+    _, res = windy
+    path = res["D-W"].plot(tmp_path / "raft.png")
+    assert (tmp_path / "raft.png").stat().st_size > 10_000 and path.endswith("raft.png")
+    bad = res["D"]
+    bad_ok, bad.ok = bad.ok, False
+    try:
+        with pytest.raises(InvalidProblemError, match="not ok"):
+            bad.plot(tmp_path / "bad.png")
+    finally:
+        bad.ok = bad_ok
+
+
+def test_a_raft_on_a_mesh_of_its_own(tmp_path):
+    """A distorted 4 x 3 mesh: loads on its nodes, soil everywhere, the answer
+    certified and in equilibrium, and drawn."""
+    base = grid(np.linspace(0, 4, 5), np.linspace(0, 3, 4))
+    nodes = base.nodes.copy()
+    inner = (nodes[:, 0] > 0) & (nodes[:, 0] < 4) & (nodes[:, 1] > 0) & (nodes[:, 1] < 3)
+    nodes[inner] += np.random.default_rng(0).uniform(-0.2, 0.2, (inner.sum(), 2))
+    raft = Raft(thickness=0.3, E=3e7, mesh=PlateMesh(nodes, base.elements))
+    raft.add_soil(1e4)
+    raft.add_point_load(*nodes[0], 50.0)
+    raft.add_area_load(1.0)
+    r = raft.solve()
+    assert r.ok and r.lifted.any()
+    assert abs(r.support_force.sum() - (50 + 12)) < 1e-8 * 62
+    r.plot(tmp_path / "own.png")
+    assert (tmp_path / "own.png").stat().st_size > 10_000
+    with pytest.raises(InvalidProblemError, match="not on a node"):
+        raft.add_point_load(2.05, 1.5, 1.0)
+        raft.solve()
+
+
+@pytest.mark.parametrize("build, match", [
+    (lambda: Raft(4, 4, thickness=-0.3, E=3e7), "thickness must be a positive"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7, nu=0.5), "Poisson"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_soil(0.0), "subgrade reaction k"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_point_load(5.0, 1.0, 1.0), "outside the raft"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_support(lambda x, y: x == 0, fix=("uz",)),
+     "fix must name dofs"),
+])
+def test_bad_input_is_refused_naming_the_value(build, match):
+    with pytest.raises(InvalidProblemError, match=match):
+        build()
+
+
+def test_a_plate_held_by_nothing_is_refused():
+    raft = Raft(4, 4, thickness=0.3, E=3e7, cells=(4, 4))
+    raft.add_support(lambda x, y: (x == 0) & (y == 0), fix=("w",))
+    raft.add_area_load(1.0)
+    with pytest.raises(InvalidProblemError, match="rigid motion free"):
+        raft.solve()
+
+
+def test_a_patch_over_an_opening_and_an_unknown_case_are_refused():
+    raft = Raft(4, 4, thickness=0.3, E=3e7, cells=(8, 8), openings=[(1, 1, 2, 2)])
+    raft.add_soil(1e4)
+    raft.add_patch_load(0.5, 0.5, 1.5, 1.5, 10.0)
+    with pytest.raises(InvalidProblemError, match="overlaps an opening"):
+        raft.solve()
+    with pytest.raises(InvalidProblemError, match="cases"):
+        raft.solve({"L": 1.0})
+
+
+def test_the_demo_checks_pass():
+    """``qpcontact demo``'s plates part: its closed-form checks and the worked
+    raft's combinations, zero failures, printed."""
+    import io
+
+    from rich.console import Console
+
+    from formulations.plates import demo
+
+    out = io.StringIO()
+    assert demo(Console(file=out, width=160)) == 0
+    text = out.getvalue()
+    assert "closed form" in text and "1.0D+1.5W" in text
