@@ -234,8 +234,6 @@ class LoadFamily:
         terms), q1'y <= 0; a negative optimum is a Farkas vector.  It is polished
         on its support and checked by :meth:`_farkas_check`.
         """
-        from scipy.optimize import lsq_linear
-
         n = self.q0.size
         J = np.flatnonzero(~Z0)
         Ms, qs, q1s = self.Ms, self.rs * (self.q0 + p_lo * self.q1), self.rs * self.q1
@@ -245,8 +243,23 @@ class LoadFamily:
         # Where M'y = 0 is an identity its rounding decides the sign, so the LP
         # gets a little slack: with none it was infeasible or not depending on
         # the number of BLAS threads.  What the slack lets through is bounded
-        # in _farkas_check.
-        slack = min(0.5 * tol, 1e-10)
+        # in _farkas_check; where that bound (z_bound) is too small to prove
+        # anything, a smaller slack is tried — near a collapse load the gap
+        # y'q shrinks with p - p_limit, and a four-legged table's corner push
+        # 5e-7 above its path's end had a vector with δ at the slack (1e-10)
+        # bounding z by 0.28, and at a slack of 1e-14 by 2 700 (557 needed)
+        for slack in dict.fromkeys((min(0.5 * tol, 1e-10), min(0.5 * tol, 1e-12),
+                                    min(0.5 * tol, 1e-14))):
+            best = self._farkas_with(J, W0, p_lo, z_scale, slack, Ms, qs, q1s, a, b, c, n)
+            if best is not None and best[1] <= tol:
+                return best
+        return None
+
+    def _farkas_with(self, J, W0, p_lo, z_scale, slack, Ms, qs, q1s, a, b, c, n):
+        """:meth:`_farkas`'s LP with ``slack`` on M'y <= 0, its vector
+        polished and checked: (y, backward, z_bound) or None."""
+        from scipy.optimize import lsq_linear
+
         rows = [(Ms[:, J].T - slack * np.abs(Ms[:, J]).T) / a] if J.size else []
         rows.append((q1s - slack * np.abs(q1s))[None, :] / b)
         bounds = [(-1, 1) if W0[i] else (0, 1) for i in range(n)]
@@ -274,8 +287,6 @@ class LoadFamily:
             polished = self._farkas_check(y, J, W0, p_lo, z_scale)
             if polished is not None and (best is None or polished[2] > best[2]):
                 best = polished
-        if best is None or not best[1] <= tol:
-            return None
         return best
 
     def _farkas_check(self, y, J, W0, p_lo, z_scale):

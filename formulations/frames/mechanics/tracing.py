@@ -400,7 +400,7 @@ def limit_proof(frame, b, ft, tr, fric):
 
 #: where the engine's collapse proof lies further above the path's end than
 #: BRACKET, the proof is tried again at these fractions of BRACKET above it
-NARROWER = (0.5, 0.1)
+NARROWER = (1.0, 0.5, 0.1)
 
 
 def narrowed(path, tr, tol):
