@@ -399,7 +399,7 @@ class Frame:
         return solving.solve_combinations(self, combinations, **kw)
 
     def trace(self, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
-              variable=None, second_order: bool = False):
+              variable=None, second_order: bool = False, _built=None):
         """Osipova–Popov–Lovtsov's increasing-load analysis: ``constant``,
         then ``variable`` times p from 0 to ``p_max``, as a FrameTrace
         (:func:`..mechanics.tracing.trace`); ``second_order``: on the
@@ -407,7 +407,8 @@ class Frame:
         if second_order:
             return second_order_analysis.trace_second_order(self, p_max, accuracy,
                                                             constant=constant, variable=variable)
-        return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable)
+        return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable,
+                             _built=_built)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a 2-D
