@@ -22,37 +22,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from formulations.frames import Frame  # noqa: E402
+from formulations.frames.plane.plane_examples import tower  # noqa: E402
 from formulations.frames.mechanics.equilibrium_checks import LargeDisplacementWarning  # noqa: E402
-
-
-def tower(storeys: int = 20, bays: int = 3) -> Frame:
-    """Columns 6 m apart, storeys x 3.5 m, 30 kN/m on every beam (constant),
-    a foundation beam 3 m beyond the outer columns on pads every 1.5 m
-    (μ = 0.5, k = 5e5 kN/m), 10 kN x p at every floor of the left column."""
-    fr = Frame(units=("kN", "m"))
-    col, beam = (210e6, 1.5e-2, 5e-4), (210e6, 8e-3, 2e-4)
-    xs = [6.0 * j for j in range(bays + 1)]
-    for s in range(storeys + 1):
-        for j, x in enumerate(xs):
-            fr.add_node(f"N{s}_{j}", x, 3.5 * s)
-    for s in range(storeys):
-        for j in range(bays + 1):
-            fr.add_beam(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
-    for s in range(1, storeys + 1):
-        for j in range(bays):
-            fr.add_distributed_load(fr.add_beam(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
-    base = []
-    for k, x in enumerate(np.arange(-3.0, xs[-1] + 3.01, 1.5)):
-        hit = [j for j, xx in enumerate(xs) if abs(x - xx) < 1e-9]
-        base.append(f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0))
-    for a, b in zip(base[:-1], base[1:]):
-        fr.add_beam(a, b, 30e6, 1.2, 0.36)
-    for name in base:
-        fr.add_contact(name, normal=(0.0, 1.0), friction=0.5, stiffness=5e5)
-    for s in range(1, storeys + 1):
-        fr.add_load(f"N{s}_0", fx=10.0, case="variable")
-    return fr
 
 
 def path(ft, node, limit):
@@ -67,7 +38,7 @@ def main() -> None:
     ap.add_argument("--out", default="frame_tower_second_order.png", help="the figure (PNG)")
     args = ap.parse_args()
     warnings.simplefilter("ignore", LargeDisplacementWarning)
-    fr = tower()
+    fr, _ = tower()
     top = "N20_0"
     weight = fr.solve(p=0.0, second_order=True)
     crit = fr.critical_load_factor(weight)

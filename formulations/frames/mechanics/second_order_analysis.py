@@ -79,7 +79,8 @@ def bending(frame) -> tuple[np.ndarray, np.ndarray]:
     return np.array(EI, float), np.array(L, float)
 
 
-def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options):
+def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options,
+                       _built=None):
     """The second-order answer of one combination (:func:`frame.solve` with
     ``second_order=True``): the first-order answer's axial forces, then the
     fixed point described above, then the answer's stability with its
@@ -96,6 +97,8 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                                      LargeDisplacementWarning, how_far)
     from .loads import describe
 
+    if _built is not None:
+        raise InvalidOptionError("second_order=True builds its own stiffness; do not pass _built")
     _, tol = resolve_accuracy(accuracy)
 
     def solve_on(b):

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
@@ -379,11 +379,8 @@ class Frame:
         p·variable.  ``second_order``: equilibrium on the deformed frame (P-Δ
         and P-δ, :mod:`..mechanics.second_order_analysis`)."""
         if second_order:
-            if _built is not None:
-                raise InvalidOptionError("second_order=True builds its own stiffness; do not "
-                                         "pass _built")
             return second_order_analysis.solve_second_order(
-                self, p, method, accuracy, raise_on_failure, combination, options)
+                self, p, method, accuracy, raise_on_failure, combination, options, _built)
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
 

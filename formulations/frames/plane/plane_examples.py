@@ -1,6 +1,6 @@
-"""Worked plane frames: the demo's beam and portal, and the plane frames'
-instances that ``qpcontact compare`` runs (all of the frames' instances:
-:func:`..catalogue.instances`)."""
+"""Worked plane frames: the demo's beam and portal, a tower on a foundation
+beam, and the plane frames' instances that ``qpcontact compare`` runs (all
+of the frames' instances: :func:`..catalogue.instances`)."""
 
 from __future__ import annotations
 
@@ -134,3 +134,36 @@ def plane_instances(size: str = "small", hardness: str = "easy", seed: int = 0) 
     name = f"frames/{spans}-supports" + ("-friction" if friction else "")
     return [Instance(name, "frames", f"{spans}-supports", ParametricLCP(M, qc, qv).at(1.0),
                      forces=("w", spans))]
+
+
+def tower(storeys: int = 20, bays: int = 3) -> tuple:
+    """(frame, foundation nodes): bays + 1 columns 6 m apart, ``storeys`` x
+    3.5 m (HEB-like columns E = 210e6 kN/m², A = 1.5e-2 m², I = 5e-4 m⁴;
+    beams A = 8e-3, I = 2e-4), 30 kN/m on every beam (the case "constant"),
+    a foundation beam (E = 30e6, A = 1.2, I = 0.36) from 3 m beyond the
+    outer columns on elastic frictional pads every 1.5 m (μ = 0.5, k = 5e5
+    kN/m), and 10 kN x p at every floor of the left column (the case
+    "variable")."""
+    fr = Frame(units=("kN", "m"))
+    col, beam = (210e6, 1.5e-2, 5e-4), (210e6, 8e-3, 2e-4)
+    xs = tuple(6.0 * j for j in range(bays + 1))
+    for s in range(storeys + 1):
+        for j, x in enumerate(xs):
+            fr.add_node(f"N{s}_{j}", x, 3.5 * s)
+    for s in range(storeys):
+        for j in range(bays + 1):
+            fr.add_beam(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
+    for s in range(1, storeys + 1):
+        for j in range(bays):
+            fr.add_distributed_load(fr.add_beam(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
+    base = []
+    for k, x in enumerate(np.arange(-3.0, xs[-1] + 3.01, 1.5)):
+        hit = [j for j, xx in enumerate(xs) if abs(x - xx) < 1e-9]
+        base.append(f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0))
+    for a, b in zip(base[:-1], base[1:]):
+        fr.add_beam(a, b, 30e6, 1.2, 0.36)
+    for name in base:
+        fr.add_contact(name, normal=(0.0, 1.0), friction=0.5, stiffness=5e5)
+    for s in range(1, storeys + 1):
+        fr.add_load(f"N{s}_0", fx=10.0, case="variable")
+    return fr, base

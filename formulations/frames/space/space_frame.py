@@ -45,7 +45,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
@@ -308,11 +308,8 @@ class SpaceFrame:
         ``second_order``: on the deformed frame
         (:func:`..mechanics.second_order_analysis.solve_second_order`)."""
         if second_order:
-            if _built is not None:
-                raise InvalidOptionError("second_order=True builds its own stiffness; do not "
-                                         "pass _built")
             return second_order_analysis.solve_second_order(
-                self, p, method, accuracy, raise_on_failure, combination, options)
+                self, p, method, accuracy, raise_on_failure, combination, options, _built)
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
 

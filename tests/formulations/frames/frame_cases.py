@@ -6,36 +6,16 @@ from __future__ import annotations
 import numpy as np
 
 from formulations.frames import Frame
+from formulations.frames.plane import plane_examples
 
 
 def tower(storeys, bays=2):
     """bays + 1 columns 6 m apart, `storeys` x 3.5 m, 30 kN/m on every beam, a
     foundation beam from x = -3 to 6 bays + 3 on elastic frictional contacts
     (f = 0.5, k = 5e5) every 1.5 m, 10 kN x p at every floor of the left
-    column.  (:func:`three_bay_tower` is its 3-bay, 20-storey case.)"""
-    fr = Frame()
-    col, beam = (210e6, 1.5e-2, 5e-4), (210e6, 8e-3, 2e-4)
-    xs = tuple(6.0 * j for j in range(bays + 1))
-    for s in range(storeys + 1):
-        for j, x in enumerate(xs):
-            fr.add_node(f"N{s}_{j}", x, 3.5 * s)
-    for s in range(storeys):
-        for j in range(bays + 1):
-            fr.add_beam(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
-    for s in range(1, storeys + 1):
-        for j in range(bays):
-            fr.add_distributed_load(fr.add_beam(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
-    base = []
-    for k, x in enumerate(np.arange(-3.0, xs[-1] + 3.01, 1.5)):
-        hit = [j for j, xx in enumerate(xs) if abs(x - xx) < 1e-9]
-        base.append(f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0))
-    for a, b in zip(base[:-1], base[1:]):
-        fr.add_beam(a, b, 30e6, 1.2, 0.36)
-    for name in base:
-        fr.add_contact(name, normal=(0.0, 1.0), friction=0.5, stiffness=5e5)
-    for s in range(1, storeys + 1):
-        fr.add_load(f"N{s}_0", fx=10.0, case="variable")
-    return fr, base
+    column (:func:`formulations.frames.plane.plane_examples.tower`;
+    :func:`three_bay_tower` is its 3-bay, 20-storey case)."""
+    return plane_examples.tower(storeys, bays)
 
 
 def three_bay_tower(storeys=20):
