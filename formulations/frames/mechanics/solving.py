@@ -16,10 +16,10 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
                                    QpcontactError, SolverFailedError)
 
 from . import contact_lcp
-from .analysis_results import CombinationResults
+from .analysis_results import CombinationResults, FrameTrace
 from .equilibrium_checks import (SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning,
                                  how_far)
-from .load_combinations import load_combination
+from .load_combinations import load_combination, trace_combinations
 from .loads import describe
 from .no_equilibrium import proved, raise_no_equilibrium, raise_rigid_motion
 from .tracing import trace_to
@@ -51,6 +51,10 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     friction: a fixed point of convex QPs with Tresca bounds, stopped on
     the full LCP certificate; falls back to Lemke).
 
+    A frame without contacts is linear: it is solved by one sparse LU of
+    its stiffness (route "linear", whatever ``method`` names) and checked
+    for equilibrium like any other answer (:func:`solve_linear_frame`).
+
     Raises NoSolutionError when no equilibrium exists (proved), saying
     how the frame fails; SolverFailedError when no method found one and
     nothing was proved; with ``raise_on_failure`` also for a result whose
@@ -58,13 +62,83 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     leave small-displacement theory (``displacement_ratio``,
     ``max_rotation`` of the result).
     """
-    res = frame.kind.solve_one(frame, p, method, accuracy, raise_on_failure, combination,
-                               _built, options)
+    if frame.contacts:
+        res = frame.kind.solve_one(frame, p, method, accuracy, raise_on_failure, combination,
+                                   _built, options)
+    else:
+        res = solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
+                                 _built)
     if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
                    or res.max_rotation > SMALL_ROTATION):
         warnings.warn(f"frame under {describe(res.combination)}: {how_far(frame, res._u)[2]}",
                       LargeDisplacementWarning, stacklevel=3)
     return res
+
+
+def solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination, _built):
+    """A frame without contacts: K u = F on its bilateral supports and
+    springs, through the same basic system (with no links) and the same
+    checked result as a contact problem's answer, route "linear".  A
+    mechanism is refused in build (its message names the free motion)."""
+    if not isinstance(method, str):
+        raise InvalidOptionError(f"method must be a string; got {method!r}")
+    from qpcontact import methods as registry
+    from qpcontact.core.accuracy import resolve_accuracy
+
+    if method not in frame.kind.routes + ("linear",) and method not in registry():
+        raise InvalidOptionError(
+            f"unknown method {method!r}: this frame has no contacts, so it is linear and "
+            "method='auto' (or 'linear') solves it")
+    _, tol = resolve_accuracy(accuracy)
+    b = _built if _built is not None else frame.build()
+    combo = load_combination(frame, p, combination, b)
+    res = frame.kind.result_from_z(frame, np.zeros(0), combo, "linear", b=b, tol=tol)
+    if raise_on_failure and not res.ok:
+        raise SolverFailedError(f"frame: {res.message}")
+    return res
+
+
+class NoContactPath:
+    """The load path of a frame without contacts: one working scheme for
+    every p (no contact unknowns: z is empty), what
+    :meth:`FrameTrace.result_at` reads."""
+
+    ok = True
+    restarts = ()
+
+    @staticmethod
+    def z_at(p):
+        return np.zeros(0)
+
+
+def linear_trace(frame, p_max, accuracy, constant, variable) -> FrameTrace:
+    """The increasing-load analysis of a frame without contacts: nothing
+    changes state, so there is one interval and no event; it ends "p_max"
+    where ``p_max`` is given, else "unbounded" (a linear frame carries any
+    load in small-displacement theory, and the message says that this is
+    all the answer claims).  The middle state is checked as a solve is."""
+    from qpcontact.core.accuracy import resolve_accuracy
+
+    _, tol = resolve_accuracy(accuracy)
+    b = frame.build()
+    const, var = trace_combinations(b, constant, variable)
+    end = np.inf if p_max is None else float(p_max)
+    ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[(0.0, end)], events=[],
+                    ended="unbounded" if p_max is None else "p_max", message="", ok=False,
+                    trace=NoContactPath(), frame=frame, _built=b, constant=const,
+                    variable=var)
+    mid = 0.5 * (end if np.isfinite(end) else 1.0)
+    state = frame.kind.result_from_z(frame, np.zeros(0), ft.combination_at(mid), "linear",
+                                     b=b, tol=tol)
+    ft.states = [state]
+    ft.ok = bool(state.ok)
+    reach = "up to p_max" if p_max is not None else "for every p >= 0"
+    ft.message = (f"the frame has no contacts: it is linear, its response proportional to the "
+                  f"load {reach}, with no limit in small-displacement theory (check "
+                  f"result_at(p).displacement_ratio for where that theory stops describing "
+                  f"it); {'' if state.ok else 'CHECK FAILED: '}{state.message}; "
+                  "0 change(s) of the working scheme")
+    return ft
 
 
 def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built, options):

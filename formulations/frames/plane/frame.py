@@ -402,11 +402,15 @@ class Frame:
               variable=None, second_order: bool = False):
         """Osipova–Popov–Lovtsov's increasing-load analysis: ``constant``,
         then ``variable`` times p from 0 to ``p_max``, as a FrameTrace
-        (:func:`..mechanics.tracing.trace`); ``second_order``: on the
-        deformed frame (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
+        (:func:`..mechanics.tracing.trace`; without contacts the linear
+        frame's single interval, :func:`..mechanics.solving.linear_trace`);
+        ``second_order``: on the deformed frame
+        (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
         if second_order:
             return second_order_analysis.trace_second_order(self, p_max, accuracy,
                                                             constant=constant, variable=variable)
+        if not self.contacts:
+            return solving.linear_trace(self, p_max, accuracy, constant, variable)
         return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):

@@ -53,6 +53,7 @@ from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_
                                combination, known_node, no_member_between, no_same_contact,
                                number)
 from ..mechanics.space_element import axes
+from ..reporting.free_motion import mechanism_message
 from . import circular_cone, circular_trace, space_assembly, space_recovery
 from .space_results import DOFS, SpaceFrameResult
 
@@ -277,10 +278,12 @@ class SpaceFrame:
         combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
         f = F @ np.array([combo.get(c, 0.0) for c in cases])
         free = np.flatnonzero(~fixed)
-        lu = contact_lcp.regular_lu(K[free][:, free].tocsc())
+        Kf = K[free][:, free].tocsc()
+        lu = contact_lcp.regular_lu(Kf)
         if lu is None:
-            raise InvalidProblemError("the space frame is a mechanism on its bilateral supports "
-                                      "and springs: add supports or members")
+            raise InvalidProblemError(mechanism_message(
+                Kf, free, free.size, list(self.nodes), DOFS, list(self.nodes.values()),
+                contacts=False))
         u = np.zeros(K.shape[0])
         u[free] = lu.solve(f[free])
         return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
@@ -313,6 +316,11 @@ class SpaceFrame:
         cone by certified solves, events and the limit as brackets
         (:func:`.circular_trace.trace`; option ``samples``); on a polygon
         the LCP's exact path (:func:`..mechanics.tracing.trace`)."""
+        if not self.contacts:
+            if options:
+                raise InvalidProblemError(f"a frame without contacts is traced with no "
+                                          f"options; got {sorted(options)}")
+            return solving.linear_trace(self, p_max, accuracy, constant, variable)
         if self.cone == "circular":
             return circular_trace.trace(self, p_max, accuracy, constant=constant,
                                         variable=variable, **options)
