@@ -20,10 +20,11 @@ from .analysis_results import CombinationResults, FrameTrace
 from .equilibrium_checks import (SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning,
                                  how_far)
 from .load_combinations import load_combination, trace_combinations
-from .loads import describe
+from .loads import CONSTANT, VARIABLE, describe
 from .no_equilibrium import proved, raise_no_equilibrium, raise_rigid_motion
 from .tracing import trace_to
 from .tresca import tresca_fixed_point
+from ..reporting.normal_hint import normal_hint
 
 
 #: seconds each QP backend may take inside a frame's "auto" route (Lemke's
@@ -33,7 +34,7 @@ BACKEND_TIME_LIMIT = 10.0
 
 
 def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
-          raise_on_failure: bool = False, *, combination: dict | None = None,
+          raise_on_failure: bool | None = None, *, combination: dict | None = None,
           _built=None, **options):
     """Analyse one load combination of ``frame``: ``combination`` = {case:
     factor}, or by default Osipova–Popov–Lovtsov's split constant +
@@ -55,24 +56,91 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     its stiffness (route "linear", whatever ``method`` names) and checked
     for equilibrium like any other answer (:func:`solve_linear_frame`).
 
-    Raises NoSolutionError when no equilibrium exists (proved), saying
-    how the frame fails; SolverFailedError when no method found one and
-    nothing was proved; with ``raise_on_failure`` also for a result whose
-    checks fail.  Warns (LargeDisplacementWarning) when the displacements
+    ``raise_on_failure`` says what a load without a certified answer
+    does.  By default (None) a proved "no equilibrium" raises
+    NoSolutionError, saying how the frame fails, and a result whose checks
+    fail comes back with ``ok`` False ("CHECK FAILED" in its message).
+    With False nothing raises for the load itself: a proved "no
+    equilibrium" comes back as a result with ``ok`` False, ``status``
+    "infeasible" and ``proof`` (the words and the proof).  With True both
+    raise (SolverFailedError for a failed check).  SolverFailedError is
+    raised when no method found an equilibrium and nothing was proved, and
+    InvalidProblemError/InvalidOptionError for misuse, whatever the flag.
+    Warns (LargeDisplacementWarning) when the displacements
     leave small-displacement theory (``displacement_ratio``,
     ``max_rotation`` of the result).
     """
+    if raise_on_failure not in (None, True, False):
+        raise InvalidOptionError(f"raise_on_failure must be True, False or None; got "
+                                 f"{raise_on_failure!r}")
+    strict = bool(raise_on_failure)
     if frame.contacts:
-        res = frame.kind.solve_one(frame, p, method, accuracy, raise_on_failure, combination,
-                                   _built, options)
+        try:
+            res = frame.kind.solve_one(frame, p, method, accuracy, strict, combination,
+                                       _built, options)
+        except NoSolutionError as exc:
+            exc = with_normal_hint(frame, p, combination, _built, exc)
+            if raise_on_failure is not False:
+                raise exc from None
+            return infeasible(frame, p, combination, exc)
     else:
-        res = solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
-                                 _built)
+        res = solve_linear_frame(frame, p, method, accuracy, strict, combination, _built)
     if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
                    or res.max_rotation > SMALL_ROTATION):
         warnings.warn(f"frame under {describe(res.combination)}: {how_far(frame, res._u)[2]}",
                       LargeDisplacementWarning, stacklevel=3)
     return res
+
+
+def with_normal_hint(frame, p, combination, _built, exc):
+    """The NoSolutionError, its message ending with what a contact's normal
+    means where the normals point along the loads
+    (:func:`..reporting.normal_hint.normal_hint`)."""
+    try:
+        b = _built if _built is not None else frame.build()
+        hint = normal_hint(frame, b, load_combination(frame, p, combination, b))
+    except QpcontactError:
+        return exc
+    return NoSolutionError(str(exc) + hint) if hint else exc
+
+
+def hinted_trace(frame, run, constant, variable):
+    """``run()``, a trace of ``frame``, with the normals' hint
+    (:func:`..reporting.normal_hint.normal_hint`) on a path that ends in a
+    proof that no equilibrium exists ("collapse", "bounded") or cannot
+    start (NoSolutionError at p = 0), judged on the constant loads plus
+    the variable ones."""
+    def hint(b):
+        const, var = trace_combinations(b, constant, variable)
+        combo = dict(const)
+        for case, f in var.items():
+            combo[case] = combo.get(case, 0.0) + f
+        return normal_hint(frame, b, combo)
+
+    try:
+        ft = run()
+    except NoSolutionError as exc:
+        try:
+            words = hint(frame.build())
+        except QpcontactError:
+            raise exc from None
+        if words:
+            raise NoSolutionError(str(exc) + words) from None
+        raise
+    if ft.ended in ("collapse", "bounded"):
+        ft.message += hint(ft._built if ft._built is not None else frame.build())
+    return ft
+
+
+def infeasible(frame, p, combination, exc):
+    """The result of a load that no equilibrium carries, proved: ok False,
+    ``proof`` and ``message`` the NoSolutionError's words, no fields."""
+    combo = dict(combination) if isinstance(combination, dict) else {
+        CONSTANT: 1.0, VARIABLE: float(p)}
+    return frame.kind.result_type(
+        p=float(combo.get(VARIABLE, 0.0)), supports={}, displacements={}, member_forces={},
+        reactions={}, equilibrium_residual=float("nan"), lcp_error=float("nan"), route="",
+        ok=False, message=str(exc), frame=frame, combination=combo, proof=str(exc))
 
 
 def solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination, _built):
@@ -265,9 +333,12 @@ def solve_combinations(frame, combinations: dict, **kw) -> CombinationResults:
             args["combination"] = combo
         else:
             args["p"] = combo
+        args.setdefault("raise_on_failure", False)
         try:
             res = frame.solve(**args)
-        except (NoSolutionError, SolverFailedError) as exc:
+        except NoSolutionError as exc:
+            res = infeasible(frame, args.get("p", 1.0), args.get("combination"), exc)
+        except SolverFailedError as exc:
             res = frame.kind.result_type(
                 p=float("nan"), supports={}, displacements={}, member_forces={}, reactions={},
                 equilibrium_residual=float("nan"), lcp_error=float("nan"), route="", ok=False,

@@ -371,7 +371,7 @@ class Frame:
 
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
-              raise_on_failure: bool = False, *, combination: dict | None = None,
+              raise_on_failure: bool | None = None, *, combination: dict | None = None,
               second_order: bool = False, _built=None, **options) -> FrameResult:
         """Analyse one load combination (:func:`..mechanics.solving.solve`,
         which says what ``method``, the errors and the warning are):
@@ -411,7 +411,9 @@ class Frame:
                                                             constant=constant, variable=variable)
         if not self.contacts:
             return solving.linear_trace(self, p_max, accuracy, constant, variable)
-        return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable)
+        return solving.hinted_trace(
+            self, lambda: tracing.trace(self, p_max, accuracy, constant=constant,
+                                        variable=variable), constant, variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a 2-D

@@ -297,7 +297,7 @@ class SpaceFrame:
 
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
-              raise_on_failure: bool = False, *, combination: dict | None = None,
+              raise_on_failure: bool | None = None, *, combination: dict | None = None,
               _built=None, **options) -> SpaceFrameResult:
         """Analyse one load combination (:func:`..mechanics.solving.solve`)
         on the frame's ``cone``: the circular one by the friction solvers
@@ -322,12 +322,14 @@ class SpaceFrame:
                                           f"options; got {sorted(options)}")
             return solving.linear_trace(self, p_max, accuracy, constant, variable)
         if self.cone == "circular":
-            return circular_trace.trace(self, p_max, accuracy, constant=constant,
-                                        variable=variable, **options)
+            return solving.hinted_trace(self, lambda: circular_trace.trace(
+                self, p_max, accuracy, constant=constant, variable=variable, **options),
+                constant, variable)
         if options:
             raise InvalidProblemError(f"trace on a polygon takes no options {sorted(options)} "
                                       "(samples is the circular cone's)")
-        return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable)
+        return solving.hinted_trace(self, lambda: tracing.trace(
+            self, p_max, accuracy, constant=constant, variable=variable), constant, variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a 3-D
