@@ -133,7 +133,15 @@ def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:
             state = "closed"
         else:
             state = "slip" if moving else "stick"
-        out[key] = SpaceSupportResult(state, xn, xt, float(z[ci]), slip, t1=c.t1, t2=c.t2)
+        use = None
+        if c.friction > 0 and state != "separated":
+            # the polygon's own measure: the most loaded facet, w_k = reach f X_n + d_k·X_t
+            a = facet_angles(frame, c)
+            use = float(np.max(-(np.cos(a) * xt[0] + np.sin(a) * xt[1]))
+                        / (reach(frame, c) * c.friction * xn))
+            use = max(use, 0.0)
+        out[key] = SpaceSupportResult(state, xn, xt, float(z[ci]), slip, t1=c.t1, t2=c.t2,
+                                      cone_use=use)
     return out
 
 
