@@ -191,8 +191,10 @@ def node_at(p, coords, names, size):
     return names[k] if gap[k] <= 1e-6 * size else None
 
 
-def rigid_words(a, dim, coords, c, names, size) -> str:
-    """One rigid motion (translation t at the centroid c, turn θ or ω) in words."""
+def rigid_words(a, dim, coords, c, names, size) -> tuple:
+    """One rigid motion (translation t at the centroid c, turn θ or ω) as a
+    reading (kind, subject, dof, words) that :func:`merged` may join with
+    others: kind "translation" or "turn" (about a node), else None."""
     t, w = a[:dim], a[dim:]
     small = np.linalg.norm(w) * size <= 1e-9 * max(np.linalg.norm(t), 1e-300)
     if small:
@@ -246,8 +248,9 @@ def local_motions(V, G, rigid, weight):
 
 
 def local_words(v, names, dofs, size, G, weight, coords, centre):
-    """A local mechanism: the nodes that move and their dofs — a part that
-    moves as a rigid body named by its turn (about a hinge, a roller)."""
+    """A local mechanism as a reading (kind, subject, dof, words): the nodes
+    that move and their dofs — a part that moves as a rigid body named by
+    its turn (about a hinge) or translation."""
     nd = len(dofs)
     rot = np.array([d.startswith("r") for d in dofs] * len(names))
     mag = np.abs(v) * np.where(rot, size, 1.0)
@@ -257,29 +260,27 @@ def local_words(v, names, dofs, size, G, weight, coords, centre):
         by_node.setdefault(names[i // nd], []).append(dofs[i % nd])
     if len(by_node) == 1:
         node, ds = next(iter(by_node.items()))
+        held = "(add_support, add_spring)"
         if all(d.startswith("r") for d in ds):
-            return (None, None, None, f"node {node} turns freely ({', '.join(ds)}): every member end there is "
+            return (None, None, None,
+                    f"node {node} turns freely ({', '.join(ds)}): every member end there is "
                     f"hinged and nothing holds its rotation; fix {ds[0]} at {node} or make one "
                     "member end rigid there")
-        if len(ds) == 1:
-            return ("node", node, ds[0], f"node {node} is free in {ds[0]} (no member, support "
-                    "or spring holds it there); connect it with a member or hold it "
-                    "(add_support, add_spring)")
-        return (None, None, None, f"node {node} is free in {', '.join(ds)} (no member, support or spring holds "
-                f"it there); connect it with a member or hold it (add_support, add_spring)")
-    rows = np.flatnonzero(np.isin(np.arange(v.size) // nd,
-                                  [names.index(n) for n in by_node]))
+        words = (f"node {node} is free in {', '.join(ds)} (no member, support or spring holds "
+                 f"it there); connect it with a member or hold it {held}")
+        return ("node", node, ds[0], words) if len(ds) == 1 else (None, None, None, words)
+    # a part of the frame moving as a rigid body (about a hinge, on a roller)
+    rows = np.flatnonzero(np.isin(np.arange(v.size) // nd, [names.index(n) for n in by_node]))
     Gw, vw = G[rows] * weight[rows, None], v[rows] * weight[rows]
     a = np.linalg.lstsq(Gw, vw, rcond=None)[0]
+    part = list(by_node)
+    who = ", ".join(part[:6]) + ("..." if len(part) > 6 else "")
     if np.linalg.norm(Gw @ a - vw) <= 1e-6 * np.linalg.norm(vw):
-        part = list(by_node)
-        who = ", ".join(part[:6]) + ("..." if len(part) > 6 else "")
         words = rigid_words(a, coords.shape[1], coords, centre, names, size)[3]
-        return (None, None, None, f"the part of the frame with nodes {who} "
-                + words.replace("it turns", "turns").replace("it translates", "translates")
-                + " (other members' ends hinged or free there: a local mechanism)")
+        words = words.replace("it turns", "turns").replace("it translates", "translates")
+        return (None, None, None, f"the part of the frame with nodes {who} {words} (other "
+                "members' ends hinged or free there: a local mechanism)")
     shown = "; ".join(f"{n} in {', '.join(ds)}" for n, ds in list(by_node.items())[:4])
     more = f" and {len(by_node) - 4} more nodes" if len(by_node) > 4 else ""
-    return (None, None, None, f"a part of the frame moves freely ({shown}{more}: nodes {', '.join(list(by_node)[:4])}"
-            f"{'...' if len(by_node) > 4 else ''} together, e.g. turning about a hinge); add a "
-            "support, a member or a rigid joint that holds it")
+    return (None, None, None, f"a part of the frame moves freely ({shown}{more}: nodes {who} "
+            "together); add a support, a member or a rigid joint that holds it")
