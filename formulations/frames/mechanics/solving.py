@@ -3,7 +3,11 @@ frame: one combination (:func:`solve`: the "auto" route, a named method, or
 the Tresca fixed point), many (:func:`solve_combinations`).  What differs
 between the kinds of frame (their results, their first route) comes from
 ``frame.kind`` (:class:`~.frame_kind.FrameKind`); when no equilibrium
-exists, :mod:`.no_equilibrium` proves it and says how the frame fails."""
+exists, :mod:`.no_equilibrium` proves it and says how the frame fails (and
+:mod:`..reporting.normal_hint` adds a word where the contacts' normals point
+along the loads).  A frame without contacts is linear: one solve of the
+basic system with no links (:func:`solve_linear_frame`), and a trace of one
+interval (:func:`linear_trace`)."""
 
 from __future__ import annotations
 
