@@ -188,7 +188,8 @@ def build(frame, axial=None):
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], names, DOFS,
-            [frame.nodes[n] for n in names], Tn, contacts=bool(frame.contacts)))
+            [frame.nodes[n] for n in names], Tn, contacts=bool(frame.contacts),
+            members=[(m.name, m.i, m.j) for m in frame.members.values()]))
     springs = np.zeros(N)
     for node, ks in frame.springs.items():
         for d, kval in ks.items():

@@ -30,12 +30,15 @@ import scipy.linalg
 SMALL = 1e-7
 
 
-def mechanism_message(S, free, nf, names, dofs, coords, Tn=None, contacts=True) -> str:
+def mechanism_message(S, free, nf, names, dofs, coords, Tn=None, contacts=True,
+                      members=()) -> str:
     """The message for a frame whose basic system S is singular: the free
     motions (module docstring) and what to do.  ``free``: the free dofs
     (nf of them, first in S); ``names``/``coords``: the nodes; ``dofs``:
     a node's dof names; ``Tn``: turned node axes (None: global);
-    ``contacts``: whether the frame has contact links (fixed in S)."""
+    ``contacts``: whether the frame has contact links (fixed in S);
+    ``members``: (name, i, j) of each member, which names the rigid parts of
+    a plane mechanism (a portal's sway)."""
     where = ("even with every contact closed" if contacts
              else "on its supports and springs (it has no contacts)")
     head = f"the frame is a mechanism {where}"
@@ -80,7 +83,7 @@ def mechanism_message(S, free, nf, names, dofs, coords, Tn=None, contacts=True) 
     else:
         parts += merged([rigid_words(a, dim, coords, centre, names, size)
                          for a in nice_basis(rigid, dim)])
-    local = [local_words(v, names, dofs, size, G, weight, coords, centre)
+    local = [local_words(v, names, dofs, size, G, weight, coords, centre, members)
              for v in local_motions(V, G, rigid, weight)]
     local = merged(local)
     parts += local[:3]
@@ -247,7 +250,7 @@ def local_motions(V, G, rigid, weight):
     return [U[:, k] / weight for k in np.flatnonzero(keepers)]
 
 
-def local_words(v, names, dofs, size, G, weight, coords, centre):
+def local_words(v, names, dofs, size, G, weight, coords, centre, members=()):
     """A local mechanism as a reading (kind, subject, dof, words): the nodes
     that move and their dofs — a part that moves as a rigid body named by
     its turn (about a hinge) or translation."""
@@ -280,7 +283,46 @@ def local_words(v, names, dofs, size, G, weight, coords, centre):
         words = words.replace("it turns", "turns").replace("it translates", "translates")
         return (None, None, None, f"the part of the frame with nodes {who} {words} (other "
                 "members' ends hinged or free there: a local mechanism)")
+    parts = rigid_parts(v, names, nd, size, G, members) if coords.shape[1] == 2 else None
+    if parts:
+        said = "; ".join(part_words(a, ms, coords, centre, names, size) for a, ms in parts[:4])
+        more = f"; and {len(parts) - 4} more parts" if len(parts) > 4 else ""
+        return (None, None, None, f"a mechanism of {len(parts)} rigid parts moving together "
+                f"({said}{more}); hold one of them (a support, a brace or a rigid joint)")
     shown = "; ".join(f"{n} in {', '.join(ds)}" for n, ds in list(by_node.items())[:4])
     more = f" and {len(by_node) - 4} more nodes" if len(by_node) > 4 else ""
     return (None, None, None, f"a part of the frame moves freely ({shown}{more}: nodes {who} "
             "together); add a support, a member or a rigid joint that holds it")
+
+
+def rigid_parts(v, names, nd, size, G, members):
+    """A plane mechanism as rigid parts: each moving member's rigid motion
+    (translation and turn, from its ends' translations: a mechanism strains
+    no member), members moving alike grouped — [(motion, [member names])],
+    or None where a member does not move rigidly or no member moves."""
+    parts = []
+    for name, i, j in members:
+        rows = np.r_[[names.index(i) * nd + k for k in (0, 1)],
+                     [names.index(j) * nd + k for k in (0, 1)]]
+        if np.abs(v[rows]).max() <= SMALL * np.abs(v).max():
+            continue
+        a, *_ = np.linalg.lstsq(G[rows], v[rows], rcond=None)
+        if np.linalg.norm(G[rows] @ a - v[rows]) > 1e-6 * np.linalg.norm(v[rows]):
+            return None
+        scale = np.abs(a[:2]).max() + abs(a[2]) * size
+        for motion, group in parts:
+            if np.abs(motion[:2] - a[:2]).max() + abs(motion[2] - a[2]) * size <= 1e-6 * scale:
+                group.append(name)
+                break
+        else:
+            parts.append((a, [name]))
+    return parts or None
+
+
+def part_words(a, members, coords, centre, names, size) -> str:
+    """"M1 turns rigidly about node A", "M2, M3 translate rigidly along x"."""
+    words = rigid_words(a, 2, coords, centre, names, size)[3]
+    words = words.split(" (a rigid rotation)")[0].split(";")[0].replace("it ", "", 1)
+    if len(members) > 1:
+        words = words.replace("turns", "turn", 1).replace("translates", "translate", 1)
+    return f"{', '.join(members[:4])}{'...' if len(members) > 4 else ''} {words}"

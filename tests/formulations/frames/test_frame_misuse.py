@@ -141,6 +141,24 @@ def test_a_loose_node_and_a_hinge_are_named():
         fr.solve()
 
 
+def test_a_portal_that_sways_is_named_by_its_rigid_parts():
+    """Pinned bases and a beam hinged at both ends: the columns turn about
+    their feet and the beam translates along x (a sway)."""
+    fr = Frame()
+    for name, xy in (("A", (0.0, 0.0)), ("B", (0.0, L)), ("C", (6.0, L)), ("D", (6.0, 0.0))):
+        fr.add_node(name, *xy)
+    fr.add_beam("A", "B", E, A, I, name="left")
+    fr.add_beam("B", "C", E, A, I, hinge_i=True, hinge_j=True, name="beam")
+    fr.add_beam("C", "D", E, A, I, name="right")
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_support("D", fix=("ux", "uy"))
+    fr.add_load("B", fx=P)
+    with pytest.raises(InvalidProblemError, match=r"a mechanism of 3 rigid parts moving together "
+                       r"\(left turns rigidly about node A; beam translates rigidly along x; "
+                       r"right turns rigidly about node D\)"):
+        fr.solve()
+
+
 def test_a_space_beam_pinned_at_one_end_turns_about_three_axes():
     fr = space_cantilever()
     fr.fixed.clear()
