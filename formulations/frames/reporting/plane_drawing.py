@@ -389,8 +389,8 @@ def _beam_diagram(ax, view, values, kind, unit):
 
 def _value_labels(ax, placer, view, values, kind, dscale, ref, unit):
     """Values where they matter, largest first, where they fit: each
-    member's extremes (its largest and smallest value, ends included) on a
-    small frame or a straight beam; on a frame of more than
+    member's end values and span extremes on a small frame or a straight
+    beam (the moments at the joints); on a frame of more than
     :data:`GROUPED` members only the largest |value| of each member group
     (:func:`member_groups`: the columns of a storey, the beams of a level),
     so that a 20-storey tower reads at its saved size.  The panel says what
@@ -401,7 +401,7 @@ def _value_labels(ax, placer, view, values, kind, dscale, ref, unit):
     for name, d in view.members.items():
         v = values[name]
         n = np.array([-d["s"], d["c"]])
-        for k in {int(np.argmax(v)), int(np.argmin(v))}:
+        for k in {0, len(v) - 1, int(np.argmax(v)), int(np.argmin(v))}:
             if abs(v[k]) <= 1e-3 * ref:
                 continue
             if view.straight:
@@ -432,7 +432,7 @@ def _value_labels(ax, placer, view, values, kind, dscale, ref, unit):
         placer.note(ax, f"{shown} of {len(cands)} groups' largest values labelled\n{where}",
                     _FONT + 0.5, bbox=_BOX)
     elif shown < len(cands):
-        placer.note(ax, f"{shown} of {len(cands)} member extremes labelled [{unit}], the "
+        placer.note(ax, f"{shown} of {len(cands)} end and span values labelled [{unit}], the "
                     f"largest that fit\n{where}", _FONT + 0.5, bbox=_BOX)
 
 
