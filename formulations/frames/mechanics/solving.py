@@ -216,6 +216,9 @@ def linear_trace(frame, p_max, accuracy, constant, variable) -> FrameTrace:
 def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
     """One combination solved on the contact LCP (the faceted cone for a
     space frame) by the frame's routes: :func:`solve` without its warning."""
+    if not frame.contacts:      # reached by callers of kind.solve_one (the second order)
+        return solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
+                                  _built)
     if not isinstance(method, str):
         raise InvalidOptionError(f"method must be a string; got {method!r}")
     from qpcontact import methods as registry

@@ -86,6 +86,28 @@ def test_combinations_and_the_trace_of_a_linear_frame():
     assert s.ok and s.ended == "p_max" and s.events == []
 
 
+def test_a_linear_column_to_second_order():
+    """A cantilever column without contacts, P = 500 kN down and H = 1 kN
+    across at its top: the beam-column's closed form δ = H L³/3EI ·
+    3(tan kL − kL)/(kL)³, k² = P/EI, and α_cr = π²EI/(4L²)/P."""
+    import math
+
+    Pc, H = 500.0, 1.0
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_beam("A", "B", E, A, I)
+    fr.add_support("A")
+    fr.add_load("B", fx=H, fy=-Pc)
+    first, second = fr.solve(), fr.solve(second_order=True)
+    assert first.ok and second.ok and second.route == "linear", second.message
+    kl = math.sqrt(Pc / (E * I)) * L
+    hand = H * L ** 3 / (3 * E * I) * 3 * (math.tan(kl) - kl) / kl ** 3
+    assert second.displacements["B"][0] == pytest.approx(hand, rel=1e-10)
+    assert fr.critical_load_factor(first)["alpha"] == pytest.approx(
+        math.pi ** 2 * E * I / (4 * L ** 2) / Pc, rel=1e-8)
+
+
 def test_a_linear_frame_still_refuses_a_misspelt_method():
     with pytest.raises(Exception, match="unknown method 'lemk'"):
         cantilever().solve(method="lemk")
