@@ -74,19 +74,13 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     leave small-displacement theory (``displacement_ratio``,
     ``max_rotation`` of the result).
     """
-    if raise_on_failure not in (None, True, False):
-        raise InvalidOptionError(f"raise_on_failure must be True, False or None; got "
-                                 f"{raise_on_failure!r}")
-    strict = bool(raise_on_failure)
+    strict = bool(check_raise(raise_on_failure))
     if frame.contacts:
-        try:
-            res = frame.kind.solve_one(frame, p, method, accuracy, strict, combination,
-                                       _built, options)
-        except NoSolutionError as exc:
-            exc = with_normal_hint(frame, p, combination, _built, exc)
-            if raise_on_failure is not False:
-                raise exc from None
-            return infeasible(frame, p, combination, exc)
+        res = answered(frame, p, combination, _built, raise_on_failure,
+                       lambda: frame.kind.solve_one(frame, p, method, accuracy, strict,
+                                                    combination, _built, options))
+        if res.proof:
+            return res
     else:
         res = solve_linear_frame(frame, p, method, accuracy, strict, combination, _built)
     if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
@@ -94,6 +88,27 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
         warnings.warn(f"frame under {describe(res.combination)}: {how_far(frame, res._u)[2]}",
                       LargeDisplacementWarning, stacklevel=3)
     return res
+
+
+def check_raise(raise_on_failure):
+    if raise_on_failure not in (None, True, False):
+        raise InvalidOptionError(f"raise_on_failure must be True, False or None; got "
+                                 f"{raise_on_failure!r}")
+    return raise_on_failure
+
+
+def answered(frame, p, combination, _built, raise_on_failure, run):
+    """``run()``, one combination's analysis; a proof that no equilibrium
+    exists (NoSolutionError) gets the normals' hint where it applies and is
+    raised, or with ``raise_on_failure=False`` returned as a result
+    (:func:`infeasible`)."""
+    try:
+        return run()
+    except NoSolutionError as exc:
+        exc = with_normal_hint(frame, p, combination, _built, exc)
+        if check_raise(raise_on_failure) is not False:
+            raise exc from None
+        return infeasible(frame, p, combination, exc)
 
 
 def with_normal_hint(frame, p, combination, _built, exc):

@@ -382,8 +382,11 @@ class Frame:
             if _built is not None:
                 raise InvalidOptionError("second_order=True builds its own stiffness; do not "
                                          "pass _built")
-            return second_order_analysis.solve_second_order(
-                self, p, method, accuracy, raise_on_failure, combination, options)
+            return solving.answered(
+                self, p, combination, None, raise_on_failure,
+                lambda: second_order_analysis.solve_second_order(
+                    self, p, method, accuracy, bool(solving.check_raise(raise_on_failure)),
+                    combination, options))
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
 
@@ -407,8 +410,8 @@ class Frame:
         ``second_order``: on the deformed frame
         (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
         if second_order:
-            return second_order_analysis.trace_second_order(self, p_max, accuracy,
-                                                            constant=constant, variable=variable)
+            return solving.hinted_trace(self, lambda: second_order_analysis.trace_second_order(
+                self, p_max, accuracy, constant=constant, variable=variable), constant, variable)
         if not self.contacts:
             return solving.linear_trace(self, p_max, accuracy, constant, variable)
         return solving.hinted_trace(

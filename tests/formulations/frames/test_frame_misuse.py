@@ -219,6 +219,8 @@ def test_raise_on_failure_false_returns_the_proof():
         fr.solve(p=1.01 * MU * W)                         # the default raises, as documented
     with pytest.raises(NoSolutionError, match="slides away"):
         fr.solve(p=1.01 * MU * W, raise_on_failure=True)
+    second = fr.solve(p=1.01 * MU * W, raise_on_failure=False, second_order=True)
+    assert second.status == "infeasible" and "slides away" in second.proof
     both = fr.solve_combinations({"below": 0.99 * MU * W, "beyond": 1.01 * MU * W})
     assert both["below"].status == "solved" and both["beyond"].status == "infeasible"
     with pytest.raises(Exception, match="raise_on_failure must be True, False or None"):
@@ -238,6 +240,8 @@ def test_pads_with_normals_pointing_down_get_the_hint():
     assert HINT in r.proof
     with pytest.raises(NoSolutionError, match=HINT):
         on_pads(normal=(0.0, -1.0)).trace(p_max=1.0)
+    with pytest.raises(NoSolutionError, match=HINT):
+        on_pads(normal=(0.0, -1.0)).solve(p=0.0, second_order=True)
 
 
 def test_normals_given_right_get_no_hint():
