@@ -669,6 +669,8 @@ def main(argv=None) -> int:
         space_trace_row(args.space_storeys, args, failures)
         if "PyNite" in peers:
             space_pynite_table(args.space_storeys, args, failures, "OpenSees" in peers)
+    from benchmarks.frames_second_order import table as second_order_table
+    failures += ["second order"] * second_order_table(repeat=args.repeat)
     if not args.no_cold:
         t_import, t_first, ok = cold_start()
         print(f"\ncold start (fresh interpreter): import formulations.frames {1e3 * t_import:.0f} "

@@ -75,11 +75,9 @@ def how_far(frame, u, always=False, second_order=False):
                                 "analysis writes equilibrium on the deformed frame to first order "
                                 "in its rotations (P-Δ, P-δ): large rotations (a corotational "
                                 "analysis) are not in it")
-        route = ("solve(..., second_order=True) writes it" if frame.kind.name == "plane"
-                 else "second-order analysis is written for plane frames so far")
         return ratio, rot, (f"{moved}: beyond small-displacement theory {limits}, which this "
                             "analysis assumes — the deformed frame's equilibrium (second-order "
-                            f"effects) is not in it: {route}")
+                            "effects) is not in it: solve(..., second_order=True) writes it")
     return ratio, rot, (moved if always else "")
 
 

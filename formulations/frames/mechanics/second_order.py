@@ -1,4 +1,4 @@
-"""Second-order analysis of plane frames: equilibrium written on the
+"""Second-order analysis of frames: equilibrium written on the
 deformed frame (P-Δ between the members' ends, P-δ along them), solved
 together with the contact states.
 
@@ -135,8 +135,17 @@ def pdelta_couples(frame, b, u) -> np.ndarray:
     forces make in the undeformed frame, from the axial forces that built
     its stiffness (``b["axial"]``) and the transverse displacements of its
     flexible ends (v' = v ± the rigid arm times θ) in its own axes; ``u``
-    the global displacements."""
+    the global displacements.  A space frame's (m, 3), global: N e_x ×
+    (u_j − u_i), e_x the member's axis (the same identity in each bending
+    plane)."""
     _, T, dofs, _ = b["local"]
+    if dofs.shape[1] == 12:
+        xyz = np.asarray(b["coords"], float)
+        axis = xyz[dofs[:, 6] // 6] - xyz[dofs[:, 0] // 6]
+        axis /= np.linalg.norm(axis, axis=1)[:, None]
+        u = np.asarray(u, float)
+        du = u[dofs[:, 6:9]] - u[dofs[:, 0:3]]
+        return b["axial"][:, None] * np.cross(axis, du)
     d = (T @ np.asarray(u, float)[dofs][..., None])[..., 0]
     oi = np.array([m.offset_i for m in frame.members.values()], float)
     oj = np.array([m.offset_j for m in frame.members.values()], float)

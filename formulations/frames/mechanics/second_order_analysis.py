@@ -1,4 +1,4 @@
-"""Second-order answers of a frame on its contacts: the fixed point of the
+"""Second-order answers of a frame (plane or space) on its contacts: the fixed point of the
 axial forces (:func:`solve_second_order`) and the elastic critical load
 factor α_cr (:func:`critical_load_factor`).  The members' second-order
 stiffness is :mod:`.second_order`'s.
@@ -56,11 +56,27 @@ def axial_forces(b, res) -> tuple[np.ndarray, np.ndarray]:
     from .contact_lcp import factors
 
     k, T, dofs, Fe = b["local"]
+    j = dofs.shape[1] // 2                     # end j's axial dof: 3 (plane), 6 (space)
     d = (T @ np.asarray(res._u, float)[dofs][..., None])[..., 0]
     fe = Fe @ factors(b, res.combination)
-    ea = k[:, 3, 3]
-    N = ea * (d[:, 3] - d[:, 0]) - 0.5 * (fe[:, 3] - fe[:, 0])
-    return N, ea * (np.abs(d[:, 3]) + np.abs(d[:, 0])) + 0.5 * (np.abs(fe[:, 3]) + np.abs(fe[:, 0]))
+    ea = k[:, j, j]
+    N = ea * (d[:, j] - d[:, 0]) - 0.5 * (fe[:, j] - fe[:, 0])
+    return N, ea * (np.abs(d[:, j]) + np.abs(d[:, 0])) + 0.5 * (np.abs(fe[:, j]) + np.abs(fe[:, 0]))
+
+
+def bending(frame) -> tuple[np.ndarray, np.ndarray]:
+    """(EI, L) per member: its weaker bending stiffness and its flexible
+    length (a plane member's less its rigid end zones)."""
+    EI, L = [], []
+    for m in frame.members.values():
+        if isinstance(m, dict):          # a space frame's member
+            EI.append(m["E"] * min(m["Iy"], m["Iz"]))
+            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))))
+        else:
+            EI.append(m.E * m.I)
+            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i])))
+                     - m.offset_i - m.offset_j)
+    return np.array(EI, float), np.array(L, float)
 
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options):
@@ -80,9 +96,6 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                                      LargeDisplacementWarning, how_far)
     from .loads import describe
 
-    if frame.kind.name != "plane":
-        raise InvalidOptionError("second_order=True is written for plane frames (Frame); a "
-                                 "SpaceFrame is analysed to first order")
     _, tol = resolve_accuracy(accuracy)
 
     def solve_on(b):
@@ -137,16 +150,12 @@ def critical_load_factor(frame, result) -> dict:
     buckling shape, global displacements per node, largest 1), ``members``
     (the compressed members' N L²/EI at α = 1) and ``limited_by`` (None, or
     the member whose own clamped–clamped buckling bounds the search)."""
-    if frame.kind.name != "plane":
-        raise InvalidOptionError("critical_load_factor is written for plane frames (Frame)")
     b = frame.build()
     if getattr(result, "second_order", None):
         N = np.array([result.second_order["axial"][m] for m in frame.members], float)
     else:
         N = axial_forces(b, result)[0]
-    EI = np.array([m.E * m.I for m in frame.members.values()], float)
-    L = np.array([np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
-                  - m.offset_i - m.offset_j for m in frame.members.values()], float)
+    EI, L = bending(frame)
     t1 = -N * L ** 2 / EI                      # compression positive, at α = 1
     if not np.any(t1 > 0):
         return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
@@ -228,10 +237,11 @@ def buckling_mode(frame, b, N, held) -> dict:
     v = np.zeros(b["K"].shape[0])
     v[b["free"]] = Z @ V[:, 0]
     v /= np.abs(v).max() or 1.0
-    return dict(zip(b["names"], map(tuple, v.reshape(-1, 3).tolist())))
+    return dict(zip(b["names"], map(tuple, v.reshape(-1, len(frame.DOFS)).tolist())))
 
 
-def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, variable=None):
+def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
+                       **options):
     """The load path on the deformed frame, and where the frame stops
     following it.
 
@@ -263,11 +273,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     from qpcontact.core.accuracy import resolve_accuracy
 
     from .load_combinations import trace_combinations
-    from .tracing import trace
 
-    if frame.kind.name != "plane":
-        raise InvalidOptionError("second_order=True is written for plane frames (Frame); a "
-                                 "SpaceFrame is traced to first order")
     _, tol = resolve_accuracy(accuracy)
     const, var = trace_combinations(frame.build(), constant, variable)
     start = solve_second_order(frame, 1.0, "auto", accuracy, False, const, {})
@@ -275,7 +281,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     error, ft, unstable = np.inf, None, None
     for rounds in range(1, ROUNDS + 1):
         b = frame.build(axial=N)
-        ft = trace(frame, p_max, accuracy, constant=const, variable=var, _built=b)
+        ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
         unstable = first_unstable_piece(frame, b, ft, N)
         p_last, inside = stable_end(ft, unstable)
         N_new, terms = axial_forces(b, ft.result_at(inside))
@@ -286,9 +292,8 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     b = ft._built
     # how far the path's axial forces are from N, as a share of each
     # member's Euler load π²EI/L² (what they change in its stiffness)
-    euler = np.array([np.pi ** 2 * m.E * m.I for m in frame.members.values()]) / \
-        np.array([np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
-                  - m.offset_i - m.offset_j for m in frame.members.values()]) ** 2
+    EI, L = bending(frame)
+    euler = np.pi ** 2 * EI / L ** 2
     change = 0.0
     for lo, hi in ft.intervals:
         if lo >= p_last:
@@ -313,11 +318,12 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
                       "contact states held the deformed frame's tangent stiffness, P-Δ, has a "
                       "negative eigenvalue): it tips over or buckles at that load" + bound)
     elif fold is not None:
-        them = "it" if len(fold) == 1 else "them"
+        one = len(fold) == 1
+        they, them = ("it", "it") if one else ("they", "them")
         ft.ended, ft.limit, ft.bound, ft.ok = "stability", (p_last, p_last), None, True
         ft.message = (f"the deformed frame's load path ends at p = {p_last:.10g}, where "
-                      f"{', '.join(fold)} carr{'ies' if len(fold) == 1 else 'y'} nothing: held, "
-                      f"{them} would have to pull; lifted, more load closes {them} again (on "
+                      f"{', '.join(fold)} carr{'ies' if one else 'y'} nothing: held, "
+                      f"{they} would have to pull; lifted, more load closes {them} again (on "
                       "the deformed frame's stiffness, the other contacts as they are, du/dp "
                       f"opens {them} at a negative rate: that stiffness has a negative "
                       "eigenvalue) — no equilibrium continues the path beyond: it tips over "

@@ -29,12 +29,17 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
+from .second_order import stability_functions
 
-def stiffness(E, G, A, Iy, Iz, J, L) -> np.ndarray:
+
+def stiffness(E, G, A, Iy, Iz, J, L, N=None) -> np.ndarray:
     """Local stiffness of space-frame members, (m, 12, 12) (or (12, 12) for
-    scalars); dofs (u, v, w, θx, θy, θz) at i then j."""
-    E, G, A, Iy, Iz, J, L = np.broadcast_arrays(
-        *(np.asarray(v, float) for v in (E, G, A, Iy, Iz, J, L)))
+    scalars); dofs (u, v, w, θx, θy, θz) at i then j.  ``N``: the members'
+    axial forces (tension positive) for the second-order stiffness — each
+    bending plane's block from Livesley's stability functions
+    (:mod:`.second_order`), torsion and the axial row as first order."""
+    E, G, A, Iy, Iz, J, L, N = np.broadcast_arrays(
+        *(np.asarray(v, float) for v in (E, G, A, Iy, Iz, J, L, 0.0 if N is None else N)))
     k = np.zeros(E.shape + (12, 12))
 
     def put(a, b, value):
@@ -49,7 +54,10 @@ def stiffness(E, G, A, Iy, Iz, J, L) -> np.ndarray:
     # bending: (translation, rotation) dofs of each plane and the sign that
     # relates the rotation to the slope (+θz = dv/dx, -θy = dw/dx)
     for EI, t, r, sign in ((E * Iz, 1, 5, 1.0), (E * Iy, 2, 4, -1.0)):
-        b12, b6, b4, b2 = 12 * EI / L ** 3, 6 * EI / L ** 2, 4 * EI / L, 2 * EI / L
+        tt = -N * L ** 2 / EI
+        s_, sc = stability_functions(tt)
+        b12, b6 = (2 * (s_ + sc) - tt) * EI / L ** 3, (s_ + sc) * EI / L ** 2
+        b4, b2 = s_ * EI / L, sc * EI / L
         ti, tj, ri, rj = t, t + 6, r, r + 6
         put(ti, ti, b12)
         put(tj, tj, b12)

@@ -402,7 +402,7 @@ class Frame:
         return solving.solve_combinations(self, combinations, **kw)
 
     def trace(self, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
-              variable=None, second_order: bool = False):
+              variable=None, second_order: bool = False, _built=None):
         """Osipova–Popov–Lovtsov's increasing-load analysis: ``constant``,
         then ``variable`` times p from 0 to ``p_max``, as a FrameTrace
         (:func:`..mechanics.tracing.trace`; without contacts the linear
@@ -416,7 +416,7 @@ class Frame:
             return solving.linear_trace(self, p_max, accuracy, constant, variable)
         return solving.hinted_trace(
             self, lambda: tracing.trace(self, p_max, accuracy, constant=constant,
-                                        variable=variable), constant, variable)
+                                        variable=variable, _built=_built), constant, variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a 2-D

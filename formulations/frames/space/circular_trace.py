@@ -101,14 +101,14 @@ class CircularTrace(FrameTrace):
 
 
 def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
-          samples: int = SAMPLES) -> CircularTrace:
+          samples: int = SAMPLES, _built=None) -> CircularTrace:
     """The increasing-load analysis on the circular cone (module
     docstring): ``constant`` (default the case "constant"), then
     ``variable`` x p from 0 to ``p_max`` (None: to the frame's limit,
     where it rests on its contacts alone)."""
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
         raise InvalidOptionError(f"samples must be an integer >= 2; got {samples!r}")
-    b = frame.build()
+    b = _built if _built is not None else frame.build()
     const, var = trace_combinations(b, constant, variable)
     ft = CircularTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
                        ended="", message="", ok=False, trace=CircularPath(), frame=frame,

@@ -17,10 +17,11 @@ from ..reporting.free_motion import mechanism_message
 from .space_results import DOFS
 
 
-def assemble(frame):
+def assemble(frame, axial=None):
     """(K (CSR), F (dofs x cases), fixed mask, cases, idx, local): local =
     the members' (k (m, 12, 12), T, dofs (m, 12), Fe (m, 12, cases):
-    their fixed-end forces in member axes), as the plane frame's."""
+    their fixed-end forces in member axes), as the plane frame's;
+    ``axial``: the members' axial forces of a second-order stiffness."""
     names = list(frame.nodes)
     idx = {nm: 6 * k for k, nm in enumerate(names)}
     N = 6 * len(names)
@@ -40,7 +41,7 @@ def assemble(frame):
         T = rotation(R)
         L = np.linalg.norm(xj - xi, axis=1)
         k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
-                              ("E", "G", "A", "Iy", "Iz", "J")), L)
+                              ("E", "G", "A", "Iy", "Iz", "J")), L, axial)
         kg = T.transpose(0, 2, 1) @ k_local @ T
         dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
                          for m_ in ms])
@@ -63,12 +64,13 @@ def assemble(frame):
     return K, F, fixed, cases, idx, (k_local, T, dofs, Fe)
 
 
-def build(frame):
+def build(frame, axial=None):
     """The assembly the solving routes share with the plane frame (an
     :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic system's LU,
-    the faceted cones' maps; R and R_F on first use."""
+    the faceted cones' maps; R and R_F on first use.  ``axial``: the
+    members' axial forces of a second-order stiffness (``b["axial"]``)."""
     check_conflicts(frame)
-    K, F, fixed, cases, idx, local = assemble(frame)
+    K, F, fixed, cases, idx, local = assemble(frame, axial)
     N = K.shape[0]
     H, info = links(frame, idx, N)
     flex = np.array([0.0 if frame.contacts[ci].stiffness is None
@@ -85,7 +87,8 @@ def build(frame):
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
                           coords=np.array(list(frame.nodes.values()), float),
                           U=np.zeros_like(F), cases=cases, fixed=fixed, H=H, info=info,
-                          flex=flex, local=local, Tn=None, **basic)
+                          flex=flex, local=local, Tn=None,
+                          axial=None if axial is None else np.asarray(axial, float), **basic)
     b["maps"] = lcp_maps(frame, info)
     return b
 

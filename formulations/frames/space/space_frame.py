@@ -45,9 +45,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError
 
-from ..mechanics import contact_lcp, friction_export, solving, tracing
+from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_units,
                                combination, known_node, no_member_between, no_same_contact,
@@ -288,22 +288,45 @@ class SpaceFrame:
         u[free] = lu.solve(f[free])
         return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
 
-    def build(self):
+    def build(self, axial=None):
         """The assembly the solving routes share with the plane frame (an
         :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic
         system's LU, the faceted cones' maps; R and R_F on first use
-        (:func:`.space_assembly.build`)."""
-        return space_assembly.build(self)
+        (:func:`.space_assembly.build`); ``axial``: the members' axial
+        forces of a second-order stiffness."""
+        return space_assembly.build(self, axial)
+
+    def stiffness(self, axial=None):
+        """The frame's stiffness K (all dofs, CSR) alone, first order or
+        (``axial``) second order: what α_cr's eigenvalue count reads."""
+        return space_assembly.assemble(self, axial)[0]
 
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
               raise_on_failure: bool | None = None, *, combination: dict | None = None,
-              _built=None, **options) -> SpaceFrameResult:
+              second_order: bool = False, _built=None, **options) -> SpaceFrameResult:
         """Analyse one load combination (:func:`..mechanics.solving.solve`)
         on the frame's ``cone``: the circular one by the friction solvers
-        (:mod:`.circular_cone`), a polygon as the LCP of its facets."""
+        (:mod:`.circular_cone`), a polygon as the LCP of its facets;
+        ``second_order``: on the deformed frame
+        (:func:`..mechanics.second_order_analysis.solve_second_order`)."""
+        if second_order:
+            if _built is not None:
+                raise InvalidOptionError("second_order=True builds its own stiffness; do not "
+                                         "pass _built")
+            return solving.answered(
+                self, p, combination, None, raise_on_failure,
+                lambda: second_order_analysis.solve_second_order(
+                    self, p, method, accuracy, bool(solving.check_raise(raise_on_failure)),
+                    combination, options))
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
+
+    def critical_load_factor(self, result) -> dict:
+        """The elastic critical load factor α_cr of ``result``'s combination,
+        its contact states held
+        (:func:`..mechanics.second_order_analysis.critical_load_factor`)."""
+        return second_order_analysis.critical_load_factor(self, result)
 
     def solve_combinations(self, combinations: dict, **kw):
         """Each named combination solved on its own, as a CombinationResults
@@ -311,11 +334,18 @@ class SpaceFrame:
         return solving.solve_combinations(self, combinations, **kw)
 
     def trace(self, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
-              variable=None, **options):
+              variable=None, second_order: bool = False, _built=None, **options):
         """The increasing-load analysis, as a FrameTrace: on the circular
         cone by certified solves, events and the limit as brackets
         (:func:`.circular_trace.trace`; option ``samples``); on a polygon
-        the LCP's exact path (:func:`..mechanics.tracing.trace`)."""
+        the LCP's exact path (:func:`..mechanics.tracing.trace`); without
+        contacts the linear frame's single interval
+        (:func:`..mechanics.solving.linear_trace`); ``second_order``: on the
+        deformed frame (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
+        if second_order:
+            return solving.hinted_trace(self, lambda: second_order_analysis.trace_second_order(
+                self, p_max, accuracy, constant=constant, variable=variable, **options),
+                constant, variable)
         if not self.contacts:
             if options:
                 raise InvalidProblemError(f"a frame without contacts is traced with no "
@@ -323,13 +353,14 @@ class SpaceFrame:
             return solving.linear_trace(self, p_max, accuracy, constant, variable)
         if self.cone == "circular":
             return solving.hinted_trace(self, lambda: circular_trace.trace(
-                self, p_max, accuracy, constant=constant, variable=variable, **options),
-                constant, variable)
+                self, p_max, accuracy, constant=constant, variable=variable, _built=_built,
+                **options), constant, variable)
         if options:
             raise InvalidProblemError(f"trace on a polygon takes no options {sorted(options)} "
                                       "(samples is the circular cone's)")
         return solving.hinted_trace(self, lambda: tracing.trace(
-            self, p_max, accuracy, constant=constant, variable=variable), constant, variable)
+            self, p_max, accuracy, constant=constant, variable=variable, _built=_built),
+            constant, variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a 3-D

@@ -14,7 +14,7 @@ import numpy as np
 from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
-from ..mechanics import contact_lcp, extended_refinement
+from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
                                             equilibrium, how_far, mechanical_certificate)
 from ..mechanics.loads import CONSTANT, VARIABLE
@@ -90,7 +90,7 @@ def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, check
     ok = bool(error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR))
     msg = f"{route}: {checked}, equilibrium residual {eq:.1e}" + ("" if ok else
                                                                   " — CHECK FAILED")
-    ratio, rot, words = how_far(frame, u)
+    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None)
     if words:
         msg += "; " + words
     msg += cone_words(frame)
@@ -162,6 +162,12 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
             + np.abs(spring)).reshape(-1, 6)
     force = total[:, :3].sum(axis=0)
     moment = (total[:, 3:] + np.cross(xyz, total[:, :3])).sum(axis=0)
+    couples = None
+    if b.get("axial") is not None:
+        # second order: the members' end forces are in equilibrium on the
+        # deformed frame, so the undeformed moments sum to their P-Δ couples
+        couples = second_order.pdelta_couples(frame, b, u)
+        moment = moment - couples.sum(axis=0)
     lever = np.abs(xyz)
     f_size = size[:, :3]
     # |r x f| component by component is at most the sum of |r_a||f_b| over the other two axes
@@ -169,6 +175,8 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
                                      lever[:, 2] * f_size[:, 0] + lever[:, 0] * f_size[:, 2],
                                      lever[:, 0] * f_size[:, 1] + lever[:, 1] * f_size[:, 0]],
                                     axis=1)
+    if couples is not None:
+        m_size = np.vstack([m_size, np.abs(couples)])
     span = max(float(np.linalg.norm(np.ptp(xyz, axis=0))), 1e-300)
     big_f = max(f_size.max(initial=0.0), m_size.max(initial=0.0) / span)
     n_f = max(np.count_nonzero(f_size), 1)

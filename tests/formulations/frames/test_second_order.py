@@ -226,3 +226,97 @@ def test_the_second_order_trace_of_a_column_on_pads_ends_where_it_tips():
     assert second.limit[0] == pytest.approx(W * a / (h + (np.tan(k * h) - k * h) / k), rel=1e-9)
     assert "L carries nothing" in second.message
     assert second.second_order["path_axial_change"] < 1e-9
+
+
+def space_cantilever(L, P, Hx, Hy, Iy=2e-5, Iz=5e-5):
+    from formulations.frames import SpaceFrame
+
+    fr = SpaceFrame(units=("kN", "m"), cone="inscribed")
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", 0.0, 0.0, L)
+    fr.add_node("C", 2.0, 0.0, 0.0)
+    section = dict(E=E, G=8e7, A=A, Iy=Iy, Iz=Iz, J=1e-5)
+    fr.add_member("A", "B", **section, name="column")
+    fr.add_member("A", "C", **section, name="stub")
+    fr.add_support("A")
+    fr.add_contact("C", normal=(0.0, 0.0, 1.0))
+    fr.add_load("B", fx=Hx, fy=Hy, fz=-P)
+    return fr
+
+
+def test_a_space_cantilever_sways_in_each_plane_with_its_own_stiffness():
+    """A vertical column's member axes put its x-z bending on Iy and its
+    y-z bending on Iz: each sway is the beam-column's closed form with
+    that plane's EI, and it buckles about the weaker axis."""
+    L, Iy, Iz = 5.0, 2e-5, 5e-5
+    P = 0.5 * np.pi ** 2 * E * Iy / (4 * L ** 2)
+    fr = space_cantilever(L, P, 7.0, 10.0, Iy, Iz)
+    res = fr.solve(second_order=True)
+    assert res.ok, res.message
+
+    def sway(H, EI):
+        k = np.sqrt(P / EI)
+        return H * (np.tan(k * L) - k * L) / (P * k)
+
+    assert res.displacements["B"][0] == pytest.approx(sway(7.0, E * Iy), rel=1e-9)
+    assert res.displacements["B"][1] == pytest.approx(sway(10.0, E * Iz), rel=1e-9)
+    assert fr.critical_load_factor(res)["alpha"] == pytest.approx(2.0, rel=1e-8)
+
+
+def test_a_space_frame_in_one_plane_gives_the_plane_frames_second_order_answer():
+    """The sway portal built in the x-z plane of a space frame (its
+    out-of-plane axis the strong one): the same sway and axial forces as
+    the plane frame's, to 1e-9."""
+    from formulations.frames import SpaceFrame
+
+    h, span, P, H = 4.0, 6.0, 500.0, 20.0
+    plane = portal(P, H, h, span)
+    sp_ = SpaceFrame(units=("kN", "m"), cone="inscribed")
+    for n, (x, z) in {"A": (0, 0), "B": (0, h), "C": (span, h), "D": (span, 0),
+                      "S": (-2.0, 0.0)}.items():
+        sp_.add_node(n, x, 0.0, z)
+    col = dict(E=E, G=8e7, A=A * 1e4, Iy=I, Iz=I * 1e3, J=I)
+    sp_.add_member("A", "B", **col, name="AB")
+    sp_.add_member("D", "C", **col, name="DC")
+    sp_.add_member("B", "C", E=E, G=8e7, A=A * 1e4, Iy=I * 1e8, Iz=I * 1e8, J=I * 1e8, name="BC")
+    sp_.add_member("A", "S", E=E, G=8e7, A=A, Iy=I, Iz=I, J=I)
+    sp_.add_support("A")
+    sp_.add_support("D")
+    sp_.add_contact("S", normal=(0.0, 0.0, 1.0))
+    sp_.add_load("B", fz=-P)
+    sp_.add_load("C", fz=-P)
+    sp_.add_load("B", fx=H)
+    a, b = plane.solve(second_order=True), sp_.solve(second_order=True)
+    assert a.ok and b.ok, (a.message, b.message)
+    assert b.displacements["B"][0] == pytest.approx(a.displacements["B"][0], rel=1e-9)
+    for m in ("AB", "DC"):
+        assert b.second_order["axial"][m] == pytest.approx(a.second_order["axial"][m], rel=1e-9)
+
+
+def test_a_space_column_on_four_pads_tips_at_its_second_order_load():
+    """The 2-D column on pads in 3-D: a stiff cross on four rigid pads at
+    (±a, ±a), pushed along x; on inscribed squares (μ = 1: it tips
+    before it slides) the path ends where P0 and P3 unload, at the plane
+    hand value W a / (h + (tan kh − kh)/k)."""
+    from formulations.frames import SpaceFrame
+
+    h, a = 6.0, 1.0
+    W = 0.3 * np.pi ** 2 * E * I / (4 * h ** 2)
+    fr = SpaceFrame(units=("kN", "m"), cone="inscribed")
+    fr.add_node("O", 0.0, 0.0, 0.0)
+    fr.add_node("T", 0.0, 0.0, h)
+    cross = dict(E=E * 1e4, G=8e11, A=A * 10, Iy=I * 1e4, Iz=I * 1e4, J=I * 1e4)
+    for k, (x, y) in enumerate([(-a, -a), (a, -a), (a, a), (-a, a)]):
+        fr.add_node(f"P{k}", x, y, 0.0)
+        fr.add_member("O", f"P{k}", **cross)
+        fr.add_contact(f"P{k}", normal=(0.0, 0.0, 1.0), friction=1.0, facets=4)
+    fr.add_member("O", "T", E=E, G=8e7, A=A, Iy=I, Iz=I, J=I, name="column")
+    fr.add_load("T", fz=-W)
+    fr.add_load("T", fx=1.0, case="variable")
+    k = np.sqrt(W / (E * I))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = fr.trace(second_order=True)
+    assert ft.ended == "stability" and ft.ok, ft.message
+    assert ft.limit[0] == pytest.approx(W * a / (h + (np.tan(k * h) - k * h) / k), rel=1e-9)
+    assert "P0, P3 carry nothing" in ft.message
