@@ -185,6 +185,19 @@ def solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination
     return res
 
 
+def unless_linear(solve_one):
+    """A kind's ``solve_one`` that answers a frame without contacts by
+    :func:`solve_linear_frame`: what every caller of ``kind.solve_one``
+    (solve, the second order) then gets for a linear frame."""
+    def run(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
+        if not frame.contacts:
+            return solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
+                                      _built)
+        return solve_one(frame, p, method, accuracy, raise_on_failure, combination, _built,
+                         options)
+    return run
+
+
 class NoContactPath:
     """The load path of a frame without contacts: one working scheme for
     every p (no contact unknowns: z is empty), what
@@ -231,9 +244,6 @@ def linear_trace(frame, p_max, accuracy, constant, variable) -> FrameTrace:
 def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
     """One combination solved on the contact LCP (the faceted cone for a
     space frame) by the frame's routes: :func:`solve` without its warning."""
-    if not frame.contacts:      # reached by callers of kind.solve_one (the second order)
-        return solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
-                                  _built)
     if not isinstance(method, str):
         raise InvalidOptionError(f"method must be a string; got {method!r}")
     from qpcontact import methods as registry

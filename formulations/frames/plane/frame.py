@@ -29,7 +29,7 @@ from .sparse_active_set import solve_active_set
 #: The plane frame's hooks of the shared analysis (:class:`FrameKind`).
 PLANE = FrameKind(
     name="plane", routes=("auto", "active-set", "lemke", "tresca"), result_type=FrameResult,
-    solve_one=solving.solve_lcp, result_from_z=plane_recovery.result_from_z,
+    solve_one=solving.unless_linear(solving.solve_lcp), result_from_z=plane_recovery.result_from_z,
     release_directions=plane_assembly.release_directions,
     support_keys=plane_recovery.support_keys, collapse_words=plane_recovery.collapse_words,
     slide_words=plane_recovery.slide_words, active_set=solve_active_set)

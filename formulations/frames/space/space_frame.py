@@ -61,7 +61,8 @@ from .space_results import DOFS, SpaceFrameResult
 #: on the faceted cone, or the friction solvers on the circular one.
 SPACE = FrameKind(
     name="space", routes=("auto", "lemke"), result_type=SpaceFrameResult,
-    solve_one=circular_trace.solve_on_path, result_from_z=space_recovery.result_from_z,
+    solve_one=solving.unless_linear(circular_trace.solve_on_path),
+    result_from_z=space_recovery.result_from_z,
     release_directions=space_assembly.release_directions,
     support_keys=space_recovery.support_keys, collapse_words=space_recovery.collapse_words,
     slide_words=space_recovery.slide_words)

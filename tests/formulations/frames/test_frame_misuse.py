@@ -106,6 +106,15 @@ def test_a_linear_column_to_second_order():
     assert second.displacements["B"][0] == pytest.approx(hand, rel=1e-10)
     assert fr.critical_load_factor(first)["alpha"] == pytest.approx(
         math.pi ** 2 * E * I / (4 * L ** 2) / Pc, rel=1e-8)
+    column = SpaceFrame()
+    column.add_node("A", 0.0, 0.0, 0.0)
+    column.add_node("B", 0.0, 0.0, L)
+    column.add_member("A", "B", E, G, A, I, I, 2 * I)
+    column.add_support("A")
+    column.add_load("B", fx=H, fz=-Pc)
+    second = column.solve(second_order=True)
+    assert second.ok and second.route == "linear", second.message
+    assert second.displacements["B"][0] == pytest.approx(hand, rel=1e-10)
 
 
 def test_a_linear_frame_still_refuses_a_misspelt_method():
