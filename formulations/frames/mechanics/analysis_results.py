@@ -51,6 +51,17 @@ class AnalysisResult:
     #: a second-order answer's fixed point ({"rounds", "axial_error",
     #: "axial"}: mechanics.second_order_analysis); None for first order
     second_order: dict | None = None
+    #: where no equilibrium exists, proved (solve(raise_on_failure=False)
+    #: returns it, solve_combinations keeps it): how the frame fails and
+    #: the proof, as the NoSolutionError's message would say; else None
+    proof: str | None = None
+
+    @property
+    def status(self) -> str:
+        """"solved" (ok), "infeasible" (no equilibrium exists: ``proof``
+        says why) or "failed" (no certified answer: ``message`` says what
+        was tried or which check failed)."""
+        return "solved" if self.ok else ("infeasible" if self.proof else "failed")
 
 
 class CombinationResults(dict):

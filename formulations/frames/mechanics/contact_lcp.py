@@ -287,33 +287,6 @@ def load_vector(b, combo: dict):
     return b["F"] @ f, b["U"] @ f
 
 
-def mechanism_message(S, free, names, nf, dofs) -> str:
-    """Name the free motion of a singular basic system (its null vector);
-    ``dofs``: the dof names of a node."""
-    if S.shape[0] > 4000:
-        return ("the basic system (every contact link fixed) is singular: the frame is a "
-                "mechanism even with every contact closed, or two contacts constrain the same "
-                "displacement; add supports or remove a redundant contact")
-    S = S.toarray()
-    try:
-        null = scipy.linalg.null_space(S, rcond=1e-12)
-    except (ValueError, np.linalg.LinAlgError):
-        null = np.zeros((S.shape[0], 0))
-    if null.shape[1] == 0:
-        return ("the basic system (every contact link fixed) is singular: check supports, "
-                "hinges and that no two contacts constrain the same displacement")
-    v = null[:nf, 0]
-    if np.max(np.abs(v)) <= 1e-9 * np.max(np.abs(null[:, 0])):
-        return ("two or more contact links constrain the same displacement (redundant links): "
-                "remove one of them")
-    order = np.argsort(-np.abs(v))[:3]
-    moves = ", ".join(f"{names[free[i] // len(dofs)]} {dofs[free[i] % len(dofs)]}" for i in order
-                      if abs(v[i]) > 0.1 * abs(v[order[0]]))
-    together = "move together" if "," in moves else "alone"
-    return (f"the frame is a mechanism even with every contact closed: it can move freely "
-            f"({moves} {together}); add supports, contacts or friction that prevent it")
-
-
 def layout(b):
     """Per contact: the link positions of n and t (cached in b)."""
     if "layout" not in b:

@@ -206,7 +206,8 @@ def held_links(frame, b, result) -> np.ndarray:
     """The links held in α_cr: a contact's normal unless it lifted off,
     its tangent too (stick and slip alike)."""
     keys = list(result.supports)
-    return np.array([result.supports[keys[ci]].state != "separated" for ci, _ in b["info"]])
+    return np.array([result.supports[keys[ci]].state != "separated" for ci, _ in b["info"]],
+                    bool)       # a frame without contacts: no links, an empty mask
 
 
 def reduced_tangent(frame, b, N, held, basis=False):

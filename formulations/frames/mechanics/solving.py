@@ -3,7 +3,11 @@ frame: one combination (:func:`solve`: the "auto" route, a named method, or
 the Tresca fixed point), many (:func:`solve_combinations`).  What differs
 between the kinds of frame (their results, their first route) comes from
 ``frame.kind`` (:class:`~.frame_kind.FrameKind`); when no equilibrium
-exists, :mod:`.no_equilibrium` proves it and says how the frame fails."""
+exists, :mod:`.no_equilibrium` proves it and says how the frame fails (and
+:mod:`..reporting.normal_hint` adds a word where the contacts' normals point
+along the loads).  A frame without contacts is linear: one solve of the
+basic system with no links (:func:`solve_linear_frame`), and a trace of one
+interval (:func:`linear_trace`)."""
 
 from __future__ import annotations
 
@@ -16,14 +20,15 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
                                    QpcontactError, SolverFailedError)
 
 from . import contact_lcp
-from .analysis_results import CombinationResults
+from .analysis_results import CombinationResults, FrameTrace
 from .equilibrium_checks import (SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning,
                                  how_far)
-from .load_combinations import load_combination
-from .loads import describe
+from .load_combinations import load_combination, trace_combinations
+from .loads import CONSTANT, VARIABLE, describe
 from .no_equilibrium import proved, raise_no_equilibrium, raise_rigid_motion
 from .tracing import trace_to
 from .tresca import tresca_fixed_point
+from ..reporting.normal_hint import normal_hint
 
 
 #: seconds each QP backend may take inside a frame's "auto" route (Lemke's
@@ -33,7 +38,7 @@ BACKEND_TIME_LIMIT = 10.0
 
 
 def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
-          raise_on_failure: bool = False, *, combination: dict | None = None,
+          raise_on_failure: bool | None = None, *, combination: dict | None = None,
           _built=None, **options):
     """Analyse one load combination of ``frame``: ``combination`` = {case:
     factor}, or by default Osipova–Popov–Lovtsov's split constant +
@@ -51,20 +56,189 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     friction: a fixed point of convex QPs with Tresca bounds, stopped on
     the full LCP certificate; falls back to Lemke).
 
-    Raises NoSolutionError when no equilibrium exists (proved), saying
-    how the frame fails; SolverFailedError when no method found one and
-    nothing was proved; with ``raise_on_failure`` also for a result whose
-    checks fail.  Warns (LargeDisplacementWarning) when the displacements
+    A frame without contacts is linear: it is solved by one sparse LU of
+    its stiffness (route "linear", whatever ``method`` names) and checked
+    for equilibrium like any other answer (:func:`solve_linear_frame`).
+
+    ``raise_on_failure`` says what a load without a certified answer
+    does.  By default (None) a proved "no equilibrium" raises
+    NoSolutionError, saying how the frame fails, and a result whose checks
+    fail comes back with ``ok`` False ("CHECK FAILED" in its message).
+    With False nothing raises for the load itself: a proved "no
+    equilibrium" comes back as a result with ``ok`` False, ``status``
+    "infeasible" and ``proof`` (the words and the proof).  With True both
+    raise (SolverFailedError for a failed check).  SolverFailedError is
+    raised when no method found an equilibrium and nothing was proved, and
+    InvalidProblemError/InvalidOptionError for misuse, whatever the flag.
+    Warns (LargeDisplacementWarning) when the displacements
     leave small-displacement theory (``displacement_ratio``,
     ``max_rotation`` of the result).
     """
-    res = frame.kind.solve_one(frame, p, method, accuracy, raise_on_failure, combination,
-                               _built, options)
+    strict = bool(check_raise(raise_on_failure))
+    if frame.contacts:
+        res = answered(frame, p, combination, _built, raise_on_failure,
+                       lambda: frame.kind.solve_one(frame, p, method, accuracy, strict,
+                                                    combination, _built, options))
+        if res.proof:
+            return res
+    else:
+        res = solve_linear_frame(frame, p, method, accuracy, strict, combination, _built)
     if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
                    or res.max_rotation > SMALL_ROTATION):
         warnings.warn(f"frame under {describe(res.combination)}: {how_far(frame, res._u)[2]}",
                       LargeDisplacementWarning, stacklevel=3)
     return res
+
+
+def check_raise(raise_on_failure):
+    if raise_on_failure not in (None, True, False):
+        raise InvalidOptionError(f"raise_on_failure must be True, False or None; got "
+                                 f"{raise_on_failure!r}")
+    return raise_on_failure
+
+
+def answered(frame, p, combination, _built, raise_on_failure, run):
+    """``run()``, one combination's analysis; a proof that no equilibrium
+    exists (NoSolutionError) gets the normals' hint where it applies and is
+    raised, or with ``raise_on_failure=False`` returned as a result
+    (:func:`infeasible`)."""
+    try:
+        return run()
+    except NoSolutionError as exc:
+        exc = with_normal_hint(frame, p, combination, _built, exc)
+        if check_raise(raise_on_failure) is not False:
+            raise exc from None
+        return infeasible(frame, p, combination, exc)
+
+
+def with_normal_hint(frame, p, combination, _built, exc):
+    """The NoSolutionError, its message ending with what a contact's normal
+    means where the normals point along the loads
+    (:func:`..reporting.normal_hint.normal_hint`)."""
+    try:
+        b = _built if _built is not None else frame.build()
+        hint = normal_hint(frame, b, load_combination(frame, p, combination, b))
+    except QpcontactError:
+        return exc
+    return NoSolutionError(str(exc) + hint) if hint else exc
+
+
+def hinted_trace(frame, run, constant, variable):
+    """``run()``, a trace of ``frame``, with the normals' hint
+    (:func:`..reporting.normal_hint.normal_hint`) on a path that ends in a
+    proof that no equilibrium exists ("collapse", "bounded") or cannot
+    start (NoSolutionError at p = 0), judged on the constant loads plus
+    the variable ones."""
+    def hint(b):
+        const, var = trace_combinations(b, constant, variable)
+        combo = dict(const)
+        for case, f in var.items():
+            combo[case] = combo.get(case, 0.0) + f
+        return normal_hint(frame, b, combo)
+
+    try:
+        ft = run()
+    except NoSolutionError as exc:
+        try:
+            words = hint(frame.build())
+        except QpcontactError:
+            raise exc from None
+        if words:
+            raise NoSolutionError(str(exc) + words) from None
+        raise
+    if ft.ended in ("collapse", "bounded"):
+        ft.message += hint(ft._built if ft._built is not None else frame.build())
+    return ft
+
+
+def infeasible(frame, p, combination, exc):
+    """The result of a load that no equilibrium carries, proved: ok False,
+    ``proof`` and ``message`` the NoSolutionError's words, no fields."""
+    combo = dict(combination) if isinstance(combination, dict) else {
+        CONSTANT: 1.0, VARIABLE: float(p)}
+    return frame.kind.result_type(
+        p=float(combo.get(VARIABLE, 0.0)), supports={}, displacements={}, member_forces={},
+        reactions={}, equilibrium_residual=float("nan"), lcp_error=float("nan"), route="",
+        ok=False, message=str(exc), frame=frame, combination=combo, proof=str(exc))
+
+
+def solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination, _built):
+    """A frame without contacts: K u = F on its bilateral supports and
+    springs, through the same basic system (with no links) and the same
+    checked result as a contact problem's answer, route "linear".  A
+    mechanism is refused in build (its message names the free motion)."""
+    if not isinstance(method, str):
+        raise InvalidOptionError(f"method must be a string; got {method!r}")
+    from qpcontact import methods as registry
+    from qpcontact.core.accuracy import resolve_accuracy
+
+    if method not in frame.kind.routes + ("linear",) and method not in registry():
+        raise InvalidOptionError(
+            f"unknown method {method!r}: this frame has no contacts, so it is linear and "
+            "method='auto' (or 'linear') solves it")
+    _, tol = resolve_accuracy(accuracy)
+    b = _built if _built is not None else frame.build()
+    combo = load_combination(frame, p, combination, b)
+    res = frame.kind.result_from_z(frame, np.zeros(0), combo, "linear", b=b, tol=tol)
+    if raise_on_failure and not res.ok:
+        raise SolverFailedError(f"frame: {res.message}")
+    return res
+
+
+def unless_linear(solve_one):
+    """A kind's ``solve_one`` that answers a frame without contacts by
+    :func:`solve_linear_frame`: what every caller of ``kind.solve_one``
+    (solve, the second order) then gets for a linear frame."""
+    def run(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
+        if not frame.contacts:
+            return solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
+                                      _built)
+        return solve_one(frame, p, method, accuracy, raise_on_failure, combination, _built,
+                         options)
+    return run
+
+
+class NoContactPath:
+    """The load path of a frame without contacts: one working scheme for
+    every p (no contact unknowns: z is empty), what
+    :meth:`FrameTrace.result_at` reads."""
+
+    ok = True
+    restarts = ()
+
+    @staticmethod
+    def z_at(p):
+        return np.zeros(0)
+
+
+def linear_trace(frame, p_max, accuracy, constant, variable) -> FrameTrace:
+    """The increasing-load analysis of a frame without contacts: nothing
+    changes state, so there is one interval and no event; it ends "p_max"
+    where ``p_max`` is given, else "unbounded" (a linear frame carries any
+    load in small-displacement theory, and the message says that this is
+    all the answer claims).  The middle state is checked as a solve is."""
+    from qpcontact.core.accuracy import resolve_accuracy
+
+    _, tol = resolve_accuracy(accuracy)
+    b = frame.build()
+    const, var = trace_combinations(b, constant, variable)
+    end = np.inf if p_max is None else float(p_max)
+    ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[(0.0, end)], events=[],
+                    ended="unbounded" if p_max is None else "p_max", message="", ok=False,
+                    trace=NoContactPath(), frame=frame, _built=b, constant=const,
+                    variable=var)
+    mid = 0.5 * (end if np.isfinite(end) else 1.0)
+    state = frame.kind.result_from_z(frame, np.zeros(0), ft.combination_at(mid), "linear",
+                                     b=b, tol=tol)
+    ft.states = [state]
+    ft.ok = bool(state.ok)
+    reach = "up to p_max" if p_max is not None else "for every p >= 0"
+    ft.message = (f"the frame has no contacts: it is linear, its response proportional to the "
+                  f"load {reach}, with no limit in small-displacement theory (check "
+                  f"result_at(p).displacement_ratio for where that theory stops describing "
+                  f"it); {'' if state.ok else 'CHECK FAILED: '}{state.message}; "
+                  "0 change(s) of the working scheme")
+    return ft
 
 
 def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
@@ -191,9 +365,12 @@ def solve_combinations(frame, combinations: dict, **kw) -> CombinationResults:
             args["combination"] = combo
         else:
             args["p"] = combo
+        args.setdefault("raise_on_failure", False)
         try:
             res = frame.solve(**args)
-        except (NoSolutionError, SolverFailedError) as exc:
+        except NoSolutionError as exc:
+            res = infeasible(frame, args.get("p", 1.0), args.get("combination"), exc)
+        except SolverFailedError as exc:
             res = frame.kind.result_type(
                 p=float("nan"), supports={}, displacements={}, member_forces={}, reactions={},
                 equilibrium_residual=float("nan"), lcp_error=float("nan"), route="", ok=False,

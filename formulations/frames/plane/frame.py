@@ -29,7 +29,7 @@ from .sparse_active_set import solve_active_set
 #: The plane frame's hooks of the shared analysis (:class:`FrameKind`).
 PLANE = FrameKind(
     name="plane", routes=("auto", "active-set", "lemke", "tresca"), result_type=FrameResult,
-    solve_one=solving.solve_lcp, result_from_z=plane_recovery.result_from_z,
+    solve_one=solving.unless_linear(solving.solve_lcp), result_from_z=plane_recovery.result_from_z,
     release_directions=plane_assembly.release_directions,
     support_keys=plane_recovery.support_keys, collapse_words=plane_recovery.collapse_words,
     slide_words=plane_recovery.slide_words, active_set=solve_active_set)
@@ -371,7 +371,7 @@ class Frame:
 
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
-              raise_on_failure: bool = False, *, combination: dict | None = None,
+              raise_on_failure: bool | None = None, *, combination: dict | None = None,
               second_order: bool = False, _built=None, **options) -> FrameResult:
         """Analyse one load combination (:func:`..mechanics.solving.solve`,
         which says what ``method``, the errors and the warning are):
@@ -379,8 +379,11 @@ class Frame:
         p·variable.  ``second_order``: equilibrium on the deformed frame (P-Δ
         and P-δ, :mod:`..mechanics.second_order_analysis`)."""
         if second_order:
-            return second_order_analysis.solve_second_order(
-                self, p, method, accuracy, raise_on_failure, combination, options, _built)
+            return solving.answered(
+                self, p, combination, None, raise_on_failure,
+                lambda: second_order_analysis.solve_second_order(
+                    self, p, method, accuracy, bool(solving.check_raise(raise_on_failure)),
+                    combination, options, _built))
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
 
@@ -399,13 +402,18 @@ class Frame:
               variable=None, second_order: bool = False, _built=None):
         """Osipova–Popov–Lovtsov's increasing-load analysis: ``constant``,
         then ``variable`` times p from 0 to ``p_max``, as a FrameTrace
-        (:func:`..mechanics.tracing.trace`); ``second_order``: on the
-        deformed frame (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
+        (:func:`..mechanics.tracing.trace`; without contacts the linear
+        frame's single interval, :func:`..mechanics.solving.linear_trace`);
+        ``second_order``: on the deformed frame
+        (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
         if second_order:
-            return second_order_analysis.trace_second_order(self, p_max, accuracy,
-                                                            constant=constant, variable=variable)
-        return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable,
-                             _built=_built)
+            return solving.hinted_trace(self, lambda: second_order_analysis.trace_second_order(
+                self, p_max, accuracy, constant=constant, variable=variable), constant, variable)
+        if not self.contacts:
+            return solving.linear_trace(self, p_max, accuracy, constant, variable)
+        return solving.hinted_trace(
+            self, lambda: tracing.trace(self, p_max, accuracy, constant=constant,
+                                        variable=variable, _built=_built), constant, variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a 2-D

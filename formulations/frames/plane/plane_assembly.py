@@ -12,10 +12,11 @@ import scipy.sparse as sp
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics.contact_lcp import (Built, basic_system, layout, mechanism_message,
+from ..mechanics.contact_lcp import (Built, basic_system, layout,
                                      stiffness_matrix)
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.plane_element import DOFS, member_locals
+from ..reporting.free_motion import mechanism_message
 
 
 def cases(frame) -> list:
@@ -171,9 +172,6 @@ def build(frame, axial=None):
     results need; R and R_F come on first use.  ``axial``: the members'
     axial forces (tension positive, in the order of ``frame.members``) of
     a second-order stiffness, kept as ``b["axial"]``; None: first order."""
-    if not frame.contacts:
-        raise InvalidProblemError("the frame has no contacts: it is a linear problem; "
-                                  "add_contact() defines the unilateral supports")
     check_conflicts(frame)
     names, idx, K, F, U, case_list, fixed, local, Tn = assemble(frame, axial)
     N = K.shape[0]
@@ -188,8 +186,10 @@ def build(frame, axial=None):
                      else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
     basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2)
     if basic["lu"] is None:
-        raise InvalidProblemError(mechanism_message(basic["S"], basic["free"], names,
-                                                    basic["nf"], DOFS))
+        raise InvalidProblemError(mechanism_message(
+            basic["S"], basic["free"], basic["nf"], names, DOFS,
+            [frame.nodes[n] for n in names], Tn, contacts=bool(frame.contacts),
+            members=[(m.name, m.i, m.j) for m in frame.members.values()]))
     springs = np.zeros(N)
     for node, ks in frame.springs.items():
         for d, kval in ks.items():

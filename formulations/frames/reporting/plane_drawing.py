@@ -36,6 +36,8 @@ _NAMES = {"M": "bending moment M", "V": "shear force V", "N": "axial force N"}
 #: heavily loaded member (a foundation beam) does not flatten all the others
 _TYPICAL = 75
 _FONT = 6.5
+#: the diagrams' values: read at the drawing's saved size (110 dpi)
+_VALUES = 8.0
 _DPI = 110   # save_figure's: labels are placed at the resolution they print at
 
 
@@ -308,7 +310,10 @@ def _diagram(ax, view, kind):
     ax.set_xlabel(f"x [{view.length}]", fontsize=8)
     ax.grid(True, alpha=0.25)
     side = ", drawn on the tension side" if kind == "M" else ", + blue, − red"
-    ax.set_title(f"{_NAMES[kind]} [{unit}]{side}", fontsize=9)
+    grouped = not view.straight and len(view.members) > GROUPED
+    ax.set_title(f"{_NAMES[kind]} [{unit}]{side}" + (
+        f"\nlabelled: the largest |{kind}| of each storey's columns, each level's beams"
+        if grouped else ""), fontsize=9)
 
     def finish(placer):
         if ref == 0.0:
@@ -383,9 +388,15 @@ def _beam_diagram(ax, view, values, kind, unit):
 
 
 def _value_labels(ax, placer, view, values, kind, dscale, ref, unit):
-    """Each member's end values and span extremes, largest first, where
-    they fit; how many are shown is noted on the panel."""
+    """Values where they matter, largest first, where they fit: each
+    member's end values and span extremes on a small frame or a straight
+    beam (the moments at the joints); on a frame of more than
+    :data:`GROUPED` members only the largest |value| of each member group
+    (:func:`member_groups`: the columns of a storey, the beams of a level),
+    so that a 20-storey tower reads at its saved size.  The panel says what
+    is shown and where every value is."""
     sign = -1.0 if kind == "M" else 1.0
+    groups = member_groups(view) if not view.straight and len(view.members) > GROUPED else None
     cands, seen = [], set()
     for name, d in view.members.items():
         v = values[name]
@@ -404,17 +415,43 @@ def _value_labels(ax, placer, view, values, kind, dscale, ref, unit):
             spot = (text, *np.round(at / (1e-6 * view.size)).astype(int))
             if spot not in seen:   # two members' ends at one joint of a continuous beam
                 seen.add(spot)
-                cands.append((abs(v[k]), text, at, out))
+                cands.append((abs(v[k]), text, at, out, groups[name] if groups else name))
     cands.sort(key=lambda t: -t[0])
+    if groups:
+        first = {}
+        for c in cands:
+            first.setdefault(c[4], c)
+        cands = sorted(first.values(), key=lambda t: -t[0])
     shown = 0
-    for _, text, at, out in cands:
-        if placer.label(ax, text, at, around(out, 1.5), fontsize=_FONT,
+    for _, text, at, out, _ in cands:
+        if placer.label(ax, text, at, around(out, 1.5) + around(out, 6.0), fontsize=_VALUES,
                         color="k", bbox=_BOX):
             shown += 1
-    if shown < len(cands):
+    where = "(all: res.rows('members'), res.extremes(member))"
+    if groups and shown < len(cands):
+        placer.note(ax, f"{shown} of {len(cands)} groups' largest values labelled\n{where}",
+                    _FONT + 0.5, bbox=_BOX)
+    elif shown < len(cands):
         placer.note(ax, f"{shown} of {len(cands)} end and span values labelled [{unit}], the "
-                    f"largest that fit\n(all: res.rows('members'), res.extremes(member))",
-                    _FONT, bbox=_BOX)
+                    f"largest that fit\n{where}", _FONT + 0.5, bbox=_BOX)
+
+
+#: a frame with more members than this is labelled by member groups
+GROUPED = 24
+
+
+def member_groups(view) -> dict:
+    """{member: group}: members grouped by direction (nearer vertical:
+    "columns", else "beams") and height (a column by its mid-height, a beam
+    by its level), so that the columns of one storey and the beams of one
+    level form a group each."""
+    tol = 1e-3 * view.size
+    out = {}
+    for name, d in view.members.items():
+        kind = "columns" if abs(d["s"]) > abs(d["c"]) else "beams"
+        mid = float(d["a"][1] + 0.5 * d["L"] * d["s"])
+        out[name] = (kind, int(round(mid / tol)))
+    return out
 
 
 def _scale_bar(ax, placer, per_unit, unit):

@@ -178,8 +178,8 @@ def plot_space_result(frame, res, path, *, scale=None, title=None, azimuth=None,
 
     view = SpaceView(frame, res, scale, az, el)
     fig, ax = _figure(plt, view)
-    markers = _draw_frame(ax, view)
-    handles = _legend_handles(view, loads)
+    markers = draw_frame(ax, view)
+    handles = legend_handles(view, loads)
     fig.legend(handles=handles, loc="outside lower center",
                ncols=len(handles) if len(handles) <= 6 else math.ceil(len(handles) / 2),
                fontsize=7.5, frameon=False)
@@ -189,12 +189,12 @@ def plot_space_result(frame, res, path, *, scale=None, title=None, azimuth=None,
     placer.freeze()
     for marker in markers:
         placer.block(marker)
-    _triad(ax, placer, view)
-    slips = _slip_arrows(ax, placer, view)
-    shown = _contact_labels(ax, placer, view)
+    triad(ax, placer, view)
+    slips = slip_arrows(ax, placer, view)
+    shown = contact_labels(ax, placer, view)
     if loads:
-        _load_arrows(ax, placer, view)
-    _peak_label(ax, placer, view)
+        draw_space_loads(ax, placer, view)
+    peak_label(ax, placer, view)
     if shown < len(res.supports) or slips < sum(s.state == "slip" for s in res.supports.values()):
         placer.note(ax, f"{shown} of {len(res.supports)} contacts labelled (the rest overprint; "
                     "all: res.rows('supports'))", _FONT, bbox=_BOX)
@@ -222,7 +222,7 @@ def _figure(plt, view):
     return fig, ax
 
 
-def _draw_frame(ax, view):
+def draw_frame(ax, view):
     """Members undeformed and deformed, support plates, contact and support
     markers; returns the markers (labels keep clear of them)."""
     from matplotlib.collections import LineCollection, PolyCollection
@@ -247,7 +247,7 @@ def _draw_frame(ax, view):
     return markers
 
 
-def _legend_handles(view, loads):
+def legend_handles(view, loads):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -288,7 +288,7 @@ def _subtitle(view) -> str:
             f"frame {ext} {L} (x × y × z); {moved}")
 
 
-def _triad(ax, placer, view):
+def triad(ax, placer, view):
     """The global axes x, y, z from one corner of the panel, in the corner
     where the drawing leaves most room; an axis pointing at the viewer (or
     away) is a circle."""
@@ -330,7 +330,7 @@ def _triad(ax, placer, view):
         placer.block(text)
 
 
-def _slip_arrows(ax, placer, view) -> int:
+def slip_arrows(ax, placer, view) -> int:
     """An arrow along each slipping contact's slip, from its node."""
     drawn = 0
     for s, c in zip(view.res.supports.values(), view.frame.contacts):
@@ -346,7 +346,7 @@ def _slip_arrows(ax, placer, view) -> int:
     return drawn
 
 
-def _contact_labels(ax, placer, view) -> int:
+def contact_labels(ax, placer, view) -> int:
     """Each contact's name and force (its opening where separated, its slip
     where slipping), beside it on the side of its support."""
     F, L = view.force, view.length
@@ -379,7 +379,7 @@ def _has_loads(view) -> bool:
         any(combo.get(case, 0.0) and any(w) for _, w, _, case in view.frame.member_loads)
 
 
-def _load_arrows(ax, placer, view):
+def draw_space_loads(ax, placer, view):
     """The combination's nodal forces (one arrow per node, with its value)
     and uniform member loads (a band of arrows on the member, one value); a
     load along the line of sight is a circle (⊙ towards the viewer, ⊗ away)."""
@@ -472,7 +472,7 @@ def force_text(v, unit: str) -> str:
         f")\u2009{unit}"
 
 
-def _peak_label(ax, placer, view):
+def peak_label(ax, placer, view):
     node = view.peak_node
     u = float(np.linalg.norm(np.asarray(view.res.displacements[node][:3])))
     if view.umax > 0:

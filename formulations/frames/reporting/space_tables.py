@@ -6,7 +6,8 @@ Tables of one result:
 
 * ``supports``: each contact — state, X_n, the friction force along the
   contact's tangents (X_t1, X_t2) and its size |X_t|, the share of the
-  friction cone it uses |X_t| / (f X_n), the contact's whole force on the
+  model's own friction cone it uses (at most 1; 1 where it slips), its
+  friction against Coulomb's circle |X_t| / (f X_n), the contact's whole force on the
   structure in global components (Fx, Fy, Fz), the opening, the slip along
   (t1, t2) and its size, and the tangents themselves;
 * ``reactions``: one row per node the ground holds — the total force and
@@ -26,11 +27,14 @@ over the combinations that are ok, each with its combination),
 ``envelope_supports`` (each contact's largest and smallest X_n, largest |X_t|,
 utilisation, opening and slip, and the states it takes) and ``combinations``.
 
-The utilisation is NaN where there is no cone to use (a separated contact, or
-f = 0).  It is measured against the circular cone, while the contact obeys
-the faceted one (m facets), which lets |X_t| reach f X_n / cos(π/m) between
-its facet directions: a sticking contact reads up to 1/cos(π/m) (1.082 for
-m = 8), a slipping one between 1 and 1/cos(π/m).
+Both shares are NaN where there is no cone to use (a separated contact, or
+f = 0).  The cone use is the model's: on Coulomb's circle |X_t| / (f X_n),
+on a polygon the most loaded facet's share max_k(-d_k·X_t) / (reach f X_n)
+— at most 1 by construction, 1 where the contact slips.  The ratio to
+Coulomb's circle is reported beside it, because a circumscribed m-gon lets
+|X_t| reach f X_n / cos(π/m) between its facet directions: a slipping pad
+reads up to 1/cos(π/m) there (1.0196 for m = 16) — the polygon's extra
+friction over Coulomb's, not a violation of the model.
 """
 
 from __future__ import annotations
@@ -45,8 +49,12 @@ COMBINED = ("envelope", "envelope_reactions", "envelope_supports", "combinations
 FORCES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 #: the contact quantities whose extremes envelope_supports gives, and which side
 CONTACT_EXTREMES = (("X_n", "max"), ("X_n", "min"), ("|X_t|", "max"), ("use", "max"),
-                    ("opening", "max"), ("|slip|", "max"))
-USE = "|X_t|/(f X_n)"
+                    ("circle", "max"), ("opening", "max"), ("|slip|", "max"))
+#: the share of the model's own cone used (<= 1), and the friction against
+#: Coulomb's circle (up to 1/cos(π/m) on a circumscribed m-gon)
+USE = "cone use (the model's cone)"
+CIRCLE = "|X_t|/(f X_n) on Coulomb's circle"
+NAMES = {"use": USE, "circle": CIRCLE}
 
 
 def units(frame) -> dict:
@@ -69,9 +77,11 @@ def contact_values(c, s) -> dict:
     """A contact's numbers (full precision) under the supports table's names."""
     xt = float(np.hypot(*s.tangential))
     cone = c.friction * s.normal
+    circle = xt / cone if cone > 0 else float("nan")
+    use = circle if s.cone_use is None or not cone > 0 else float(s.cone_use)
     return {"X_n": float(s.normal), "X_t1": float(s.tangential[0]),
-            "X_t2": float(s.tangential[1]), "|X_t|": xt,
-            "use": xt / cone if cone > 0 else float("nan"), "opening": float(s.opening),
+            "X_t2": float(s.tangential[1]), "|X_t|": xt, "use": use, "circle": circle,
+            "opening": float(s.opening),
             "slip_t1": float(s.slip[0]), "slip_t2": float(s.slip[1]),
             "|slip|": float(np.hypot(*s.slip))}
 
@@ -123,7 +133,7 @@ def _support_rows(frame, result, u) -> list:
         out.append({"support": key, "node": c.node, "state": s.state,
                     f"X_n {u['F']}": v["X_n"], f"X_t1 {u['F']}": v["X_t1"],
                     f"X_t2 {u['F']}": v["X_t2"], f"|X_t| {u['F']}": v["|X_t|"],
-                    f"{USE} {u['-']}": v["use"],
+                    f"{USE} {u['-']}": v["use"], f"{CIRCLE} {u['-']}": v["circle"],
                     **{f"{a} {u['F']}": float(f) for a, f in zip(FORCES, force)},
                     f"opening {u['L']}": v["opening"], f"slip_t1 {u['L']}": v["slip_t1"],
                     f"slip_t2 {u['L']}": v["slip_t2"], f"|slip| {u['L']}": v["|slip|"],
@@ -228,13 +238,14 @@ def envelope_rows(frame, env: dict, table: str) -> list:
     if table == "envelope_reactions":
         return reaction_envelope_rows(env.get("supports", {}), FORCES,
                                       lambda f: u["F"] if f[0] == "F" else u["M"])
-    heads = {"X_n": u["F"], "|X_t|": u["F"], "use": u["-"], "opening": u["L"], "|slip|": u["L"]}
+    heads = {"X_n": u["F"], "|X_t|": u["F"], "use": u["-"], "circle": u["-"], "opening": u["L"],
+             "|slip|": u["L"]}
     for key, per in env.get("contacts", {}).items():
         row = {"support": key,
                "states": "; ".join(f"{st}: {', '.join(names)}"
                                    for st, names in per["states"].items())}
         for q, side in CONTACT_EXTREMES:
-            label = f"{USE if q == 'use' else q}_{side}"
+            label = f"{NAMES.get(q, q)}_{side}"
             value, name = per.get(q, {}).get(side, (float("nan"), ""))
             row[f"{label} {heads[q]}"] = value
             row[f"combination({label})"] = name

@@ -13,6 +13,7 @@ from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp
 from ..mechanics.space_element import axes, rotation, stiffness
+from ..reporting.free_motion import mechanism_message
 from .space_results import DOFS
 
 
@@ -68,9 +69,6 @@ def build(frame, axial=None):
     :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic system's LU,
     the faceted cones' maps; R and R_F on first use.  ``axial``: the
     members' axial forces of a second-order stiffness (``b["axial"]``)."""
-    if not frame.contacts:
-        raise InvalidProblemError("the space frame has no contacts: it is a linear problem "
-                                  "(solve_linear); add_contact() defines unilateral supports")
     check_conflicts(frame)
     K, F, fixed, cases, idx, local = assemble(frame, axial)
     N = K.shape[0]
@@ -79,8 +77,9 @@ def build(frame, axial=None):
                      else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
     basic = contact_lcp.basic_system(K, H, fixed, flex, np.arange(N) % 6 < 3)
     if basic["lu"] is None:
-        raise InvalidProblemError(contact_lcp.mechanism_message(
-            basic["S"], basic["free"], list(frame.nodes), basic["nf"], DOFS))
+        raise InvalidProblemError(mechanism_message(
+            basic["S"], basic["free"], basic["nf"], list(frame.nodes), DOFS,
+            list(frame.nodes.values()), contacts=bool(frame.contacts)))
     springs = np.zeros(N)
     for node, ks in frame.springs.items():
         for d, kval in ks.items():

@@ -53,6 +53,7 @@ from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_
                                combination, known_node, no_member_between, no_same_contact,
                                number)
 from ..mechanics.space_element import axes
+from ..reporting.free_motion import mechanism_message
 from . import circular_cone, circular_trace, space_assembly, space_recovery
 from .space_results import DOFS, SpaceFrameResult
 
@@ -60,7 +61,8 @@ from .space_results import DOFS, SpaceFrameResult
 #: on the faceted cone, or the friction solvers on the circular one.
 SPACE = FrameKind(
     name="space", routes=("auto", "lemke"), result_type=SpaceFrameResult,
-    solve_one=circular_trace.solve_on_path, result_from_z=space_recovery.result_from_z,
+    solve_one=solving.unless_linear(circular_trace.solve_on_path),
+    result_from_z=space_recovery.result_from_z,
     release_directions=space_assembly.release_directions,
     support_keys=space_recovery.support_keys, collapse_words=space_recovery.collapse_words,
     slide_words=space_recovery.slide_words)
@@ -277,10 +279,12 @@ class SpaceFrame:
         combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
         f = F @ np.array([combo.get(c, 0.0) for c in cases])
         free = np.flatnonzero(~fixed)
-        lu = contact_lcp.regular_lu(K[free][:, free].tocsc())
+        Kf = K[free][:, free].tocsc()
+        lu = contact_lcp.regular_lu(Kf)
         if lu is None:
-            raise InvalidProblemError("the space frame is a mechanism on its bilateral supports "
-                                      "and springs: add supports or members")
+            raise InvalidProblemError(mechanism_message(
+                Kf, free, free.size, list(self.nodes), DOFS, list(self.nodes.values()),
+                contacts=False))
         u = np.zeros(K.shape[0])
         u[free] = lu.solve(f[free])
         return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
@@ -300,7 +304,7 @@ class SpaceFrame:
 
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",
-              raise_on_failure: bool = False, *, combination: dict | None = None,
+              raise_on_failure: bool | None = None, *, combination: dict | None = None,
               second_order: bool = False, _built=None, **options) -> SpaceFrameResult:
         """Analyse one load combination (:func:`..mechanics.solving.solve`)
         on the frame's ``cone``: the circular one by the friction solvers
@@ -308,8 +312,11 @@ class SpaceFrame:
         ``second_order``: on the deformed frame
         (:func:`..mechanics.second_order_analysis.solve_second_order`)."""
         if second_order:
-            return second_order_analysis.solve_second_order(
-                self, p, method, accuracy, raise_on_failure, combination, options, _built)
+            return solving.answered(
+                self, p, combination, None, raise_on_failure,
+                lambda: second_order_analysis.solve_second_order(
+                    self, p, method, accuracy, bool(solving.check_raise(raise_on_failure)),
+                    combination, options, _built))
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, _built=_built, **options)
 
@@ -329,20 +336,29 @@ class SpaceFrame:
         """The increasing-load analysis, as a FrameTrace: on the circular
         cone by certified solves, events and the limit as brackets
         (:func:`.circular_trace.trace`; option ``samples``); on a polygon
-        the LCP's exact path (:func:`..mechanics.tracing.trace`);
-        ``second_order``: on the deformed frame
-        (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
+        the LCP's exact path (:func:`..mechanics.tracing.trace`); without
+        contacts the linear frame's single interval
+        (:func:`..mechanics.solving.linear_trace`); ``second_order``: on the
+        deformed frame (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
         if second_order:
-            return second_order_analysis.trace_second_order(
-                self, p_max, accuracy, constant=constant, variable=variable, **options)
+            return solving.hinted_trace(self, lambda: second_order_analysis.trace_second_order(
+                self, p_max, accuracy, constant=constant, variable=variable, **options),
+                constant, variable)
+        if not self.contacts:
+            if options:
+                raise InvalidProblemError(f"a frame without contacts is traced with no "
+                                          f"options; got {sorted(options)}")
+            return solving.linear_trace(self, p_max, accuracy, constant, variable)
         if self.cone == "circular":
-            return circular_trace.trace(self, p_max, accuracy, constant=constant,
-                                        variable=variable, _built=_built, **options)
+            return solving.hinted_trace(self, lambda: circular_trace.trace(
+                self, p_max, accuracy, constant=constant, variable=variable, _built=_built,
+                **options), constant, variable)
         if options:
             raise InvalidProblemError(f"trace on a polygon takes no options {sorted(options)} "
                                       "(samples is the circular cone's)")
-        return tracing.trace(self, p_max, accuracy, constant=constant, variable=variable,
-                             _built=_built)
+        return solving.hinted_trace(self, lambda: tracing.trace(
+            self, p_max, accuracy, constant=constant, variable=variable, _built=_built),
+            constant, variable)
 
     def friction_problem(self, p: float = 1.0, *, combination: dict | None = None, _built=None):
         """The frame's contact problem for one load combination as a 3-D

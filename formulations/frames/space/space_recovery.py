@@ -40,16 +40,21 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
     # the forces from the same solve as u (as the plane frame's: R Δ + R_F
     # has R's rounding-level entries dropped)
     X = -b["kappa"] * sol[nf:]
-    if lcp is None:
-        M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
-        lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
-    cert_error = certify_lcp(lcp, z).error
-    zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
-    # the answer refined on its states in extended precision, kept where it
-    # checks at least as well (a stiff deck's forces: mechanics/extended_refinement)
-    Ku = None
-    refined = extended_refinement.polished(b, z, F, np.zeros(F.size), u, X, lcp.M @ z + lcp.q,
-                                           zeta, sigma, cert_error)
+    Ku, refined = None, None
+    if not frame.contacts:
+        # a linear frame (solving.solve_linear_frame): no contact unknowns
+        # to certify; its equilibrium is checked below as any answer's
+        cert_error, zeta, sigma = 0.0, np.zeros(0), np.zeros(0)
+    else:
+        if lcp is None:
+            M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+            lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+        cert_error = certify_lcp(lcp, z).error
+        zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
+        # the answer refined on its states in extended precision, kept where it
+        # checks at least as well (a stiff deck's forces: mechanics/extended_refinement)
+        refined = extended_refinement.polished(b, z, F, np.zeros(F.size), u, X,
+                                               lcp.M @ z + lcp.q, zeta, sigma, cert_error)
     if refined is not None:
         z2, u2, X2 = refined
         # judged on the mechanics: the LCP's matrix carries the rounding of
@@ -128,7 +133,15 @@ def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:
             state = "closed"
         else:
             state = "slip" if moving else "stick"
-        out[key] = SpaceSupportResult(state, xn, xt, float(z[ci]), slip, t1=c.t1, t2=c.t2)
+        use = None
+        if c.friction > 0 and state != "separated":
+            # the polygon's own measure: the most loaded facet, w_k = reach f X_n + d_k·X_t
+            a = facet_angles(frame, c)
+            use = float(np.max(-(np.cos(a) * xt[0] + np.sin(a) * xt[1]))
+                        / (reach(frame, c) * c.friction * xn))
+            use = max(use, 0.0)
+        out[key] = SpaceSupportResult(state, xn, xt, float(z[ci]), slip, t1=c.t1, t2=c.t2,
+                                      cone_use=use)
     return out
 
 

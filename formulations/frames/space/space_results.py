@@ -45,6 +45,11 @@ class SpaceSupportResult:
     slip: np.ndarray
     t1: np.ndarray = field(repr=False, default=None)
     t2: np.ndarray = field(repr=False, default=None)
+    #: the share of the model's own friction cone the friction uses, at
+    #: most 1 by construction (1 where the contact slips): on a polygon the
+    #: largest facet's load max_k(-d_k·X_t) / (reach f X_n); None where the
+    #: model is Coulomb's circle itself, whose share is |X_t| / (f X_n)
+    cone_use: float | None = None
 
     @property
     def tangential_global(self) -> np.ndarray:
@@ -121,9 +126,17 @@ class SpaceFrameResult(AnalysisResult):
         """Draw the result (PNG, :mod:`.space_drawing`): the frame and its
         deformed shape (displacements x ``scale``, default the largest drawn
         as 8 % of the frame) in an orthographic view (default isometric), the
-        contacts by state, the slip directions, the loads.  Raises
-        SolverFailedError for a result that is not ok."""
+        contacts by state, the slip directions, the loads.  Seen from above
+        (``elevation=90``) a frame of more than one level is drawn as a
+        plan, one panel per level, x to the right and y up
+        (:mod:`..reporting.space_plan`).  Raises SolverFailedError for a
+        result that is not ok."""
         from ..reporting.space_drawing import plot_space_result
+        from ..reporting.space_plan import levels, plot_plan
 
+        if elevation == 90 and len(levels(self.frame)) > 1:
+            if not self.ok:
+                plot_space_result(self.frame, self, path)    # refuses, saying why
+            return plot_plan(self.frame, self, path, scale=scale, title=title, loads=loads)
         return plot_space_result(self.frame, self, path, scale=scale, title=title,
                                  azimuth=azimuth, elevation=elevation, loads=loads)

@@ -71,9 +71,34 @@ def beam_drawing():
 
 
 def test_tower_drawing_labels_do_not_overprint(tower_drawing):
-    assert len(_texts(tower_drawing)) > 200      # the labels are there, not dropped wholesale
+    assert len(_texts(tower_drawing)) > 100      # the labels are there, not dropped wholesale
     assert _overlaps(tower_drawing) == []
     _axes_have_units(tower_drawing)
+
+
+def test_tower_moments_label_each_storey_and_level_once_at_a_readable_size(tower_drawing, tower):
+    """The 20-storey tower labels where it matters: the largest |M| of each
+    storey's columns and of each level's beams, at 8 pt (before: 248 of 307
+    end and span values at 6.5 pt).  The groups and their largest moments
+    are found here from the frame's geometry and res.extremes."""
+    fr, res = tower
+    moment = tower_drawing.axes[1]
+    values = [t for t in moment.texts if t.get_gid() != "scale bar label"
+              and re.fullmatch(r"-?[\d.]+", t.get_text())]
+    assert values and min(t.get_fontsize() for t in values) >= 8.0
+    groups = {}
+    for name, m in fr.members.items():
+        (xi, yi), (xj, yj) = fr.nodes[m.i], fr.nodes[m.j]
+        kind = "column" if abs(yj - yi) > abs(xj - xi) else "beam"
+        ext = res.extremes(name)["M"]
+        peak = max((abs(v), v) for v, _ in ext.values())
+        key = (kind, round((yi + yj) / 2, 6))
+        groups[key] = max(groups.get(key, (0.0, 0.0)), peak)
+    assert len(values) == len(groups) == 41          # 20 storeys, 20 levels, the foundation
+    expected = sorted(v for _, v in groups.values())
+    shown = sorted(float(t.get_text()) for t in values)
+    np.testing.assert_allclose(shown, expected, rtol=5e-3)
+    assert "the largest |M| of each storey's columns" in moment.get_title()
 
 
 def test_tower_drawing_has_scale_bars_loads_reactions_and_the_users_words(tower_drawing):

@@ -98,7 +98,7 @@ def test_supports_table_is_the_contacts_and_obeys_coulomb(res):
             assert row["|X_t| [kN]"] == pytest.approx(xt, abs=1e-12)
             assert row["opening [m]"] == s.opening
             assert row["|slip| [m]"] == pytest.approx(math.hypot(*s.slip), abs=1e-15)
-            use = row["|X_t|/(f X_n) [-]"]
+            use = row["|X_t|/(f X_n) on Coulomb's circle [-]"]
             if key == "T21" or s.state == "separated":
                 assert math.isnan(use)              # no friction cone to use
             else:
@@ -121,8 +121,13 @@ def _coulomb_on_the_facets(s, row):
     fxn = F_PAD * s.normal
     w = fxn + dirs @ np.array([row["X_t1 [kN]"], row["X_t2 [kN]"]])
     assert w.min() >= -1e-9 * fxn
-    use = row["|X_t|/(f X_n) [-]"]
+    use = row["|X_t|/(f X_n) on Coulomb's circle [-]"]
     assert use <= 1.0 / math.cos(math.pi / 8) + 1e-9
+    # the model's own cone: its most loaded facet, -d_k·X_t / (f X_n), at
+    # most 1 (1 where the pad slips) even where the circle's ratio is above 1
+    facet = float(np.max(-(dirs @ np.array([row["X_t1 [kN]"], row["X_t2 [kN]"]])))) / fxn
+    assert row["cone use (the model's cone) [-]"] == pytest.approx(max(facet, 0.0), abs=1e-9)
+    assert row["cone use (the model's cone) [-]"] <= 1.0 + 1e-9
     slip = np.array([row["slip_t1 [m]"], row["slip_t2 [m]"]])
     if s.state == "stick":
         assert np.linalg.norm(slip) <= 1e-12
@@ -323,7 +328,9 @@ def test_envelopes_against_every_combination(res):
         assert normals[row["combination(X_n_min)"]] == row["X_n_min [kN]"]
         slips = [math.hypot(*r.supports[key].slip) for r in ok.values()]
         assert row["|slip|_max [m]"] == pytest.approx(max(slips), abs=1e-15)
-    assert sup["T21"]["X_n_min [kN]"] == 0.0 and math.isnan(sup["T21"]["|X_t|/(f X_n)_max [-]"])
+    assert sup["T21"]["X_n_min [kN]"] == 0.0
+    assert math.isnan(sup["T21"]["|X_t|/(f X_n) on Coulomb's circle_max [-]"])
+    assert math.isnan(sup["T21"]["cone use (the model's cone)_max [-]"])
     assert sup["P00"]["X_n_min [kN]"] == 0.0 and sup["P00"]["combination(X_n_min)"] == "D+W+U"
     # the failed combination is in no envelope, and listed as failed
     texts = {v for t in ("envelope", "envelope_reactions", "envelope_supports")
@@ -422,12 +429,20 @@ def test_drawing_shows_states_slips_scale_loads_and_axes(drawing, res):
     assert any(w.startswith("P20: X_n") and "slip" in w for w in words)
 
 
-def test_a_top_view_draws_the_vertical_loads_end_on_without_overprinting(res):
+def test_a_top_view_is_a_plan_one_panel_per_level(res):
+    """Seen from above, the roof beams lay over the pads (T21's bumper over
+    P21's guide): the plan draws the pads' level z = 0 and the roof's
+    z = 3.5 m in panels of their own, the vertical loads end on."""
     fig = drawn(res["D+3W"].plot, azimuth=-90.0, elevation=90.0)
     assert _overlaps(fig) == []
-    words = [t.get_text() for t in fig.axes[0].texts]
-    assert "40\u2009kN ⊗" in words and "view from azimuth -90°, elevation 90°" in \
-        fig.axes[0].get_title()
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title() for ax in panels] == ["level z = 0\u2009m: 0 members, 6 contacts",
+                                                 "level z = 3.5\u2009m: 7 members, 1 contact"]
+    base, roof = ([t.get_text() for t in ax.texts] for ax in panels)
+    assert "40\u2009kN ⊗" in roof and not any("kN ⊗" in w for w in base)
+    assert sum(w.startswith("P") and "X_n" in w or "open" in w for w in base) >= 5
+    assert any(w.startswith("T21:") for w in roof) and not any(w.startswith("T21") for w in base)
+    assert "plan, one panel per level" in fig._suptitle.get_text()
 
 
 def _grid(nx=4, ny=3, storeys=2, push=60.0):
