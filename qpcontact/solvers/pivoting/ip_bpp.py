@@ -438,13 +438,16 @@ def _free_block_solver(S, solve_P, B, active_B):
 def _refined(P, c, x, active, solve_F, steps=3):
     """Iterative refinement of the final active set's KKT system, x_A held at
     its bound and (Px + c)_F = 0 solved on the free block F; a step is kept
-    only while it lowers max |(Px + c)_F|, so the answer never gets worse."""
+    only while it lowers max |(Px + c)_F|, so the answer never gets worse,
+    and none is taken once that is at the rounding of computing it (each
+    step costs two solves with P's factor)."""
     F = np.ones(c.size, bool)
     F[active] = False
+    rounding = 4 * np.finfo(float).eps * np.max((abs(P) @ np.abs(x) + np.abs(c))[F], initial=0.0)
     g = np.where(F, P @ x + c, 0.0)
     rn = np.max(np.abs(g), initial=0.0)
     for _ in range(steps):
-        if rn == 0.0:
+        if rn <= rounding:
             break
         x_new = x - solve_F(g)
         g_new = np.where(F, P @ x_new + c, 0.0)
