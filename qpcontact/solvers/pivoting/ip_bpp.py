@@ -14,7 +14,8 @@ Two routes, chosen by the number m of bounded components:
   dense trailing block — no solves with m right-hand sides — and the reduced
   problem min ½ y'Sy + c_S'y, y >= l_B, is solved by the two phases below on
   dense m × m matrices.  The same factor then gives x = P⁻¹(−c + E λ),
-  refined against P.  The elastic block with 441 contact dofs among 13 230
+  refined on the final active set's free block (solves with P_FF from the
+  factor of P and S).  The elastic block with 441 contact dofs among 13 230
   unknowns: 3.8 s for the whole solve (2.3 s in the method, 3.0 LDLᵀs)
   against 9.9 s on the full route (measured in docs/pivoting.md).  S is never formed when m is large (m² memory, m³/3 per
   interior step); then the full route below.
@@ -461,7 +462,12 @@ def _refined(P, c, x, active, solve_F, steps=3):
 def _solve_condensed(P, c, lb, bounded, max_ip, drop, max_iter, patience, stats, progress):
     """The mixed problem through its Schur complement on the bounded
     components: the dense bound-constrained QP min ½ y'Sy + c_S'y, y >= l_B,
-    by the same two phases, then x = P⁻¹(−c + E λ) with the full factor."""
+    by the same two phases, then x = P⁻¹(−c + E λ) with the full factor,
+    refined on the free block F of the final active set A: x_A = l_A held,
+    (Px + c)_F = 0.  Not with P itself and x_B reset after each step: that
+    step's matrix on the free unknowns is (P⁻¹)_UU, the inverse of P_UU with
+    the bounded unknowns' coupling removed, and where that coupling is stiff
+    (soil springs under a soft plate) the iteration diverges."""
     B = np.flatnonzero(bounded)
     S, solve_P = _condensed(P, bounded)
     stats["factorizations"] += 2
