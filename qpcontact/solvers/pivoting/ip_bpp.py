@@ -478,7 +478,7 @@ def _solve_condensed(P, c, lb, bounded, max_ip, drop, max_iter, patience, stats,
     all_bounded = np.ones(B.size, bool)
     active = _interior_point(S, c_S, lb[B], all_bounded, fac, max_ip, drop, stats, progress)
     stats["initial_active"] = int(active.sum())
-    y, lam_B, status = _pivoting(S, c_S, lb[B], all_bounded, active, fac, max_iter, patience,
+    _, lam_B, status = _pivoting(S, c_S, lb[B], all_bounded, active, fac, max_iter, patience,
                                  stats, progress)
     lam = np.zeros(c.size)
     lam[B] = lam_B
