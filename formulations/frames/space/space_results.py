@@ -48,7 +48,7 @@ class SpaceSupportResult:
     #: the share of the model's own friction cone the friction uses, at
     #: most 1 by construction (1 where the contact slips): on a polygon the
     #: largest facet's load max_k(-d_k·X_t) / (reach f X_n); None where the
-    #: model is Coulomb's circle itself, whose share is |X_t| / (f X_n)
+    #: model is Coulomb's circle itself, whose share is ``|X_t| / (f X_n)``
     cone_use: float | None = None
 
     @property
