@@ -61,10 +61,11 @@ Condensed onto its gaps (at most ``CONDENSE_MAX``): one sparse LDLᵀ of P
 with the gaps ordered last gives the Schur complement S as its trailing
 block, and the dense LCP g ≥ 0, S g + q_S ≥ 0 (S symmetric positive
 definite) goes to ``qpcontact.solve``; with no gap left, one linear solve;
-above ``CONDENSE_MAX`` the mixed QP goes to "auto" whole.  Not the mixed QP
-through "ip-bpp" at every size: its condensed branch (up to 3000 bounds)
-returns wrong answers on these QPs, which the certificate rejects
-(docs/dev-notes.md, "Plates: rafts and slabs on tensionless soil").
+above ``CONDENSE_MAX`` the mixed QP goes to "auto" whole.  (The condensed
+LCP was chosen while "ip-bpp"'s condensed branch returned wrong answers on
+these QPs, which the certificate rejected; that branch is mended —
+docs/dev-notes.md, "ip-bpp: the condensed branch's refinement" — and which
+route is faster on rafts was not measured again.)
 
 A raft on supports that all push, whose loads push it up or tip it over the
 edge of its footprint, has no equilibrium (statics: the loads' resultant
