@@ -39,7 +39,7 @@ BACKEND_TIME_LIMIT = 10.0
 
 def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
           raise_on_failure: bool | None = None, *, combination: dict | None = None,
-          _built=None, **options):
+          second_order: bool = False, _built=None, **options):
     """Analyse one load combination of ``frame``: ``combination`` = {case:
     factor}, or by default Osipova–Popov–Lovtsov's split constant +
     p·variable (``Frame.solve`` and ``SpaceFrame.solve`` call this).
@@ -55,6 +55,9 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     method or QP backend name (frictionless), "lemke", or "tresca" (with
     friction: a fixed point of convex QPs with Tresca bounds, stopped on
     the full LCP certificate; falls back to Lemke).
+
+    ``second_order``: equilibrium on the deformed frame (P-Δ and P-δ,
+    :func:`.second_order_analysis.solve_second_order`).
 
     A frame without contacts is linear: it is solved by one sparse LU of
     its stiffness (route "linear", whatever ``method`` names) and checked
@@ -74,6 +77,13 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     leave small-displacement theory (``displacement_ratio``,
     ``max_rotation`` of the result).
     """
+    if second_order:          # equilibrium on the deformed frame: its own rounds and checks
+        from .second_order_analysis import solve_second_order
+
+        return answered(frame, p, combination, None, raise_on_failure,
+                        lambda: solve_second_order(frame, p, method, accuracy,
+                                                   bool(check_raise(raise_on_failure)),
+                                                   combination, options, _built))
     strict = bool(check_raise(raise_on_failure))
     if frame.contacts:
         res = answered(frame, p, combination, _built, raise_on_failure,

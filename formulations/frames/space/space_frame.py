@@ -311,14 +311,9 @@ class SpaceFrame:
         (:mod:`.circular_cone`), a polygon as the LCP of its facets;
         ``second_order``: on the deformed frame
         (:func:`..mechanics.second_order_analysis.solve_second_order`)."""
-        if second_order:
-            return solving.answered(
-                self, p, combination, None, raise_on_failure,
-                lambda: second_order_analysis.solve_second_order(
-                    self, p, method, accuracy, bool(solving.check_raise(raise_on_failure)),
-                    combination, options, _built))
         return solving.solve(self, p, method, accuracy, raise_on_failure,
-                             combination=combination, _built=_built, **options)
+                             combination=combination, second_order=second_order,
+                             _built=_built, **options)
 
     def critical_load_factor(self, result) -> dict:
         """The elastic critical load factor α_cr of ``result``'s combination,
