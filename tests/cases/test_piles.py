@@ -176,8 +176,10 @@ def test_nsgs_newton_and_auto_keep_the_time_limit():
     p = disc_pile(5000, seed=0, agitation=0.1, polydispersity=0.005).problem
     # first use of every kernel on the way: at 0.1 s no Newton try was reached
     # (20 sweeps), so the timed call paid the Newton step's first use and ran
-    # 1.61 s of a 1 s limit (grace 0.6 s) in a test run beside two others
-    qpcontact.solve(p, "nsgs-newton", accuracy=1e-12, time_limit=1.0)
+    # 1.61 s of a 1 s limit (grace 0.6 s) in a test run beside two others;
+    # on a fresh clone (numba's cache empty) at a load of 4 on 2 cores a warm-up
+    # of 1 s did not reach it either (2.0 s): the warm-up gets 5 s
+    qpcontact.solve(p, "nsgs-newton", accuracy=1e-12, time_limit=5.0)
     s, took = timed(qpcontact.solve, p, "nsgs-newton", accuracy=1e-12, time_limit=1.0)
     assert kept(1.0, took), took
     assert not s.ok and "time limit of 1 s" in s.message, s.message
