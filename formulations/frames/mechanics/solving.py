@@ -85,14 +85,12 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
                                                    bool(check_raise(raise_on_failure)),
                                                    combination, options, _built))
     strict = bool(check_raise(raise_on_failure))
-    if frame.contacts:
-        res = answered(frame, p, combination, _built, raise_on_failure,
-                       lambda: frame.kind.solve_one(frame, p, method, accuracy, strict,
-                                                    combination, _built, options))
-        if res.proof:
-            return res
-    else:
-        res = solve_linear_frame(frame, p, method, accuracy, strict, combination, _built)
+    # a kind's solve_one answers a frame without contacts linearly (unless_linear)
+    res = answered(frame, p, combination, _built, raise_on_failure,
+                   lambda: frame.kind.solve_one(frame, p, method, accuracy, strict,
+                                                combination, _built, options))
+    if res.proof:
+        return res
     if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
                    or res.max_rotation > SMALL_ROTATION):
         warnings.warn(f"frame under {describe(res.combination)}: {how_far(frame, res._u)[2]}",
@@ -221,7 +219,7 @@ class NoContactPath:
         return np.zeros(0)
 
 
-def linear_trace(frame, p_max, accuracy, constant, variable) -> FrameTrace:
+def linear_trace(frame, p_max, accuracy, constant, variable, _built=None) -> FrameTrace:
     """The increasing-load analysis of a frame without contacts: nothing
     changes state, so there is one interval and no event; it ends "p_max"
     where ``p_max`` is given, else "unbounded" (a linear frame carries any
@@ -230,7 +228,7 @@ def linear_trace(frame, p_max, accuracy, constant, variable) -> FrameTrace:
     from qpcontact.core.accuracy import resolve_accuracy
 
     _, tol = resolve_accuracy(accuracy)
-    b = frame.build()
+    b = _built if _built is not None else frame.build()
     const, var = trace_combinations(b, constant, variable)
     end = np.inf if p_max is None else float(p_max)
     ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[(0.0, end)], events=[],

@@ -401,11 +401,11 @@ class Frame:
         frame's single interval, :func:`..mechanics.solving.linear_trace`);
         ``second_order``: on the deformed frame
         (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
-        if second_order:
-            return solving.hinted_trace(self, lambda: second_order_analysis.trace_second_order(
-                self, p_max, accuracy, constant=constant, variable=variable), constant, variable)
+        if second_order:       # its rounds are traces of this method: hinted there
+            return second_order_analysis.trace_second_order(
+                self, p_max, accuracy, constant=constant, variable=variable)
         if not self.contacts:
-            return solving.linear_trace(self, p_max, accuracy, constant, variable)
+            return solving.linear_trace(self, p_max, accuracy, constant, variable, _built)
         return solving.hinted_trace(
             self, lambda: tracing.trace(self, p_max, accuracy, constant=constant,
                                         variable=variable, _built=_built), constant, variable)

@@ -335,15 +335,14 @@ class SpaceFrame:
         contacts the linear frame's single interval
         (:func:`..mechanics.solving.linear_trace`); ``second_order``: on the
         deformed frame (:func:`..mechanics.second_order_analysis.trace_second_order`)."""
-        if second_order:
-            return solving.hinted_trace(self, lambda: second_order_analysis.trace_second_order(
-                self, p_max, accuracy, constant=constant, variable=variable, **options),
-                constant, variable)
+        if second_order:       # its rounds are traces of this method: hinted there
+            return second_order_analysis.trace_second_order(
+                self, p_max, accuracy, constant=constant, variable=variable, **options)
         if not self.contacts:
             if options:
                 raise InvalidProblemError(f"a frame without contacts is traced with no "
                                           f"options; got {sorted(options)}")
-            return solving.linear_trace(self, p_max, accuracy, constant, variable)
+            return solving.linear_trace(self, p_max, accuracy, constant, variable, _built)
         if self.cone == "circular":
             return solving.hinted_trace(self, lambda: circular_trace.trace(
                 self, p_max, accuracy, constant=constant, variable=variable, _built=_built,
