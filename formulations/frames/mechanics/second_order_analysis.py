@@ -119,7 +119,8 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         N = N_new
     stable = None
     if b["free"].size <= DENSE_DOFS:
-        stable = negative_eigenvalues(reduced_tangent(frame, b, N, held_links(frame, b, res))) == 0
+        stable = negative_eigenvalues(
+            reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))) == 0
     res.second_order = {"rounds": rounds, "axial_error": error,
                         "axial": dict(zip(frame.members, N)), "stable": stable}
     words = (f"second order (P-Δ and P-δ): the axial forces that built the stiffness agree "
@@ -163,24 +164,24 @@ def critical_load_factor(frame, result) -> dict:
     if not np.any(t1 > 0):
         return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
     pole = clamped_buckling_t() / t1.max()
-    held = held_links(frame, b, result)
+    held = restraint(b, held_links(frame, b, result))
 
     def negatives(alpha):
-        return negative_eigenvalues(reduced_tangent(frame, b, alpha * N, held)), None
+        return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=alpha * N), b, held))
 
-    if negatives(0.0)[0]:
+    if negatives(0.0):
         raise InvalidOptionError("critical_load_factor: the frame with its contact states held "
                                  "is not stable at zero load (a mechanism); no α_cr")
     lo, hi = 0.0, min(1.0, 0.5 * pole)
-    while negatives(hi)[0] == 0:
+    while negatives(hi) == 0:
         lo, hi = hi, min(2.0 * hi, pole * (1 - 1e-9))
-        if hi >= pole * (1 - 1e-9) and negatives(hi)[0] == 0:
+        if hi >= pole * (1 - 1e-9) and negatives(hi) == 0:
             worst = list(frame.members)[int(np.argmax(t1))]
             return {"alpha": float(pole), "mode": None, "limited_by": worst,
                     "members": dict(zip(frame.members, t1))}
     while hi - lo > ALPHA_RTOL * hi:
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if negatives(mid)[0] == 0 else (lo, mid)
+        lo, hi = (mid, hi) if negatives(mid) == 0 else (lo, mid)
     return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held),
             "members": dict(zip(frame.members, t1)), "limited_by": None}
 
@@ -210,33 +211,39 @@ def held_links(frame, b, result) -> np.ndarray:
                     bool)       # a frame without contacts: no links, an empty mask
 
 
-def reduced_tangent(frame, b, N, held, basis=False):
-    """K(N) on the free dofs, elastic held links as springs, rigid ones as
-    constraints (projected out: Z' K Z over their null space), dense; with
-    ``basis`` also Z (free dofs x reduced)."""
-    K = frame.stiffness(axial=N)
+def restraint(b, held) -> tuple[np.ndarray, np.ndarray]:
+    """(Z, S) of the links ``held`` (a mask over b's links) on the free
+    dofs: Z an orthonormal basis of the motions the rigid ones allow, S the
+    elastic ones' springs (H diag(1/flex) H'), both dense — what the
+    tangent stiffness of any K is reduced with (:func:`reduced_tangent`)."""
     free = b["free"]
     if free.size > DENSE_DOFS:
         raise InvalidOptionError(f"critical_load_factor: {free.size} free dofs; written for "
                                  f"frames of up to {DENSE_DOFS} (a dense eigendecomposition)")
-    Kf = K[free][:, free].toarray()
     H = b["H"][free].toarray()[:, held]
     flex = b["flex"][held]
     soft = flex > 0
-    if soft.any():
-        Kf = Kf + (H[:, soft] / flex[soft]) @ H[:, soft].T
     rigid = H[:, ~soft]
     Z = la.null_space(rigid.T) if rigid.shape[1] else np.eye(free.size)
-    Kf = Z.T @ Kf @ Z
-    Kf = 0.5 * (Kf + Kf.T)
-    return (Kf, Z) if basis else Kf
+    return Z, (H[:, soft] / flex[soft]) @ H[:, soft].T
+
+
+def reduced_tangent(K, b, held) -> np.ndarray:
+    """The stiffness K (all dofs) on b's free dofs with the links ``held``
+    (a :func:`restraint`): elastic ones as springs, rigid ones as
+    constraints (projected out: Z'(K_ff + S)Z), dense and symmetric."""
+    Z, S = held
+    free = b["free"]
+    Kr = Z.T @ (K[free][:, free].toarray() + S) @ Z
+    return 0.5 * (Kr + Kr.T)
 
 
 def buckling_mode(frame, b, N, held) -> dict:
     """The eigenvector of the smallest eigenvalue of K(N) with the held
-    links (at α_cr: the buckling shape), per node, scaled to largest 1."""
-    Kr, Z = reduced_tangent(frame, b, N, held, basis=True)
-    _, V = la.eigh(Kr)
+    links (``held``: a :func:`restraint`; at α_cr: the buckling shape),
+    per node, scaled to largest 1."""
+    Z = held[0]
+    _, V = la.eigh(reduced_tangent(frame.stiffness(axial=N), b, held))
     v = np.zeros(b["K"].shape[0])
     v[b["free"]] = Z @ V[:, 0]
     v /= np.abs(v).max() or 1.0
@@ -279,13 +286,15 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
 
     _, tol = resolve_accuracy(accuracy)
     const, var = trace_combinations(frame.build(), constant, variable)
-    start = solve_second_order(frame, 1.0, "auto", accuracy, False, const, {})
+    # through the frame's solve: a start with no equilibrium raises as a
+    # solve does, with the normals' hint
+    start = frame.solve(accuracy=accuracy, combination=const, second_order=True)
     N = np.array([start.second_order["axial"][m] for m in frame.members], float)
     error, ft, unstable = np.inf, None, None
     for rounds in range(1, ROUNDS + 1):
         b = frame.build(axial=N)
         ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
-        unstable = first_unstable_piece(frame, b, ft, N)
+        unstable = first_unstable_piece(frame, b, ft)
         p_last, inside = stable_end(ft, unstable)
         N_new, terms = axial_forces(b, ft.result_at(inside))
         error = relative_change(N_new, N, terms)
@@ -305,12 +314,12 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
         change = max(change, float(np.max(np.abs(N_mid - N) / euler, initial=0.0)))
     fold = None
     if unstable is None and ft.limit is None and p_last > 0 and b["free"].size <= DENSE_DOFS:
-        fold = fold_at_end(frame, b, ft, N, inside, p_last,
+        fold = fold_at_end(frame, b, ft, inside, p_last,
                            held_links(frame, b, ft.result_at(inside)))
     ft.second_order = {"rounds": rounds, "axial_error": error, "axial": dict(zip(frame.members, N)),
                        "path_axial_change": change,
                        "stable": None if b["free"].size > DENSE_DOFS else True}
-    bound = (f" (the first-order path's own end, on the same stiffness: {ft.message})")
+    bound = f" (where the path itself ends, on the same stiffness: {ft.message})"
     if unstable is not None:
         changed = [ev for ev in ft.events if abs(ev.p - p_last) <= 1e-12 * max(abs(p_last), 1.0)]
         what = ("; ".join(f"{k}: {a} → {c}" for ev in changed for k, (a, c) in ev.changes.items())
@@ -344,17 +353,17 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     return ft
 
 
-def first_unstable_piece(frame, b, ft, N):
-    """The index of the first interval of ``ft`` whose equilibria (at its
-    middle; stability is the same all along it) are unstable with their
-    contact states held, or None (also where the frame is too large to
-    check)."""
+def first_unstable_piece(frame, b, ft):
+    """The index of the first interval of ``ft`` (traced on ``b``'s
+    second-order stiffness) whose equilibria (at its middle; stability is
+    the same all along it) are unstable with their contact states held, or
+    None (also where the frame is too large to check)."""
     if b["free"].size > DENSE_DOFS:
         return None
     for k, (lo, hi) in enumerate(ft.intervals):
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)
-        held = held_links(frame, b, ft.result_at(0.5 * (lo + top)))
-        if negative_eigenvalues(reduced_tangent(frame, b, N, held)):
+        held = restraint(b, held_links(frame, b, ft.result_at(0.5 * (lo + top))))
+        if negative_eigenvalues(reduced_tangent(b["K"], b, held)):
             return k
     return None
 
@@ -392,7 +401,7 @@ def relative_change(new, old, terms) -> float:
                         initial=0.0))
 
 
-def fold_at_end(frame, b, ft, N, inside, p_last, held):
+def fold_at_end(frame, b, ft, inside, p_last, held):
     """The contacts whose normal force falls to zero at the path's end
     ``p_last`` (from ``inside`` the last interval) where neither holding
     them nor releasing them continues the path: held, their normal force
@@ -417,11 +426,13 @@ def fold_at_end(frame, b, ft, N, inside, p_last, held):
         if keys[ci] in falling:
             released[i] = False
             lifting[i] = kind == "n"
-    Kr, Z = reduced_tangent(frame, b, N, released, basis=True)
+    kept = restraint(b, released)
+    Kr = reduced_tangent(b["K"], b, kept)
     if negative_eigenvalues(Kr) == 0:
         return None
     free = b["free"]
     dF = load_vector(b, ft.variable)[0][free]
+    Z = kept[0]
     du = Z @ la.solve(Kr, Z.T @ dF, assume_a="sym")
     opening = b["H"][free][:, lifting].T @ du
     if not np.all(opening < 0):
