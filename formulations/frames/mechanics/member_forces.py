@@ -70,9 +70,9 @@ def rigid_part(b, d, dofs):
         # a second-order member's P-Δ shear N θ is a real force, though
         # under 1e-9 of a stiff member's k (a rigid beam's N of 10 kN
         # beside EA/L of 3e9 kN/m): its chord rotation stays in d
-        kept[:, nd - 1 if nd == 3 else 3:] &= (np.asarray(b["axial"]) == 0.0)[:, None]
-    kept = kept[:, :, None]
-    return np.einsum("mij,mjc->mic", unit.astype(EXTENDED), c * kept)
+        translations = 2 if nd == 3 else 3          # the modes before the rotations
+        kept[:, translations:] &= (np.asarray(b["axial"]) == 0.0)[:, None]
+    return np.einsum("mij,mjc->mic", unit.astype(EXTENDED), c * kept[:, :, None])
 
 
 def rigid_basis(L, nd):

@@ -14,7 +14,7 @@ import numpy as np
 from qpcontact.core.errors import InvalidProblemError
 
 from .loads import equivalent_nodal_many, offset_parts
-from .second_order import beam_column_k, consistent_geometric_k
+from .second_order import stability_functions
 
 #: A plane frame node's degrees of freedom, in the order of its rows.
 DOFS = ("ux", "uy", "rz")
@@ -25,18 +25,47 @@ def beam_k(E, A, I, L, phi=0.0) -> np.ndarray:
     Euler-Bernoulli for φ = 0, Timoshenko (shear deformation, φ =
     12EI/(G A_s L²)) otherwise."""
     E, A, I, L, phi = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, phi)))
-    a = E * A / L
     f = E * I / (L * (1.0 + phi))
-    b, c, d, e = 12 * f / L ** 2, 6 * f / L, (4 + phi) * f, (2 - phi) * f
-    k = np.zeros(E.shape + (6, 6))
+    return beam_layout(E * A / L, 12 * f / L ** 2, 6 * f / L, (4 + phi) * f, (2 - phi) * f)
+
+
+def beam_column_k(E, A, I, L, N) -> np.ndarray:
+    """Local stiffness (m, 6, 6) of Euler–Bernoulli members carrying axial
+    forces N (tension positive): Livesley's stability functions s, s c of
+    t = −N L²/EI (:mod:`.second_order`) in place of 4, 2 and the P-Δ shear
+    in the transverse term."""
+    E, A, I, L, N = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, N)))
+    f = E * I / L
+    t = -N * L ** 2 / (E * I)
+    s, sc = stability_functions(t)
+    return beam_layout(E * A / L, (2.0 * (s + sc) - t) * f / L ** 2, (s + sc) * f / L, s * f,
+                       sc * f)
+
+
+def consistent_geometric_k(L, N) -> np.ndarray:
+    """The consistent geometric stiffness (m, 6, 6) of cubic shape
+    functions, N tension positive: the stability functions' first-order
+    term, for members whose own stiffness is not Euler–Bernoulli."""
+    L, N = np.broadcast_arrays(np.asarray(L, float), np.asarray(N, float))
+    g = N / L
+    return beam_layout(np.zeros_like(g), 1.2 * g, 0.1 * g * L, 2.0 / 15.0 * g * L ** 2,
+                       -g * L ** 2 / 30.0)
+
+
+def beam_layout(a, vv, vt, tt, tc) -> np.ndarray:
+    """The (…, 6, 6) matrix of a plane member in its axes, end dofs (u, v,
+    θ) at i then j, from its axial term a, transverse vv, transverse-to-
+    rotation vt, rotation tt and carried-over rotation tc (first order:
+    EA/L, 12EI/L³, 6EI/L², 4EI/L, 2EI/L)."""
+    k = np.zeros(np.shape(a) + (6, 6))
     k[..., 0, 0] = k[..., 3, 3] = a
     k[..., 0, 3] = k[..., 3, 0] = -a
-    k[..., 1, 1] = k[..., 4, 4] = b
-    k[..., 1, 4] = k[..., 4, 1] = -b
-    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = c
-    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -c
-    k[..., 2, 2] = k[..., 5, 5] = d
-    k[..., 2, 5] = k[..., 5, 2] = e
+    k[..., 1, 1] = k[..., 4, 4] = vv
+    k[..., 1, 4] = k[..., 4, 1] = -vv
+    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = vt
+    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -vt
+    k[..., 2, 2] = k[..., 5, 5] = tt
+    k[..., 2, 5] = k[..., 5, 2] = tc
     return k
 
 

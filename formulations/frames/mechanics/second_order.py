@@ -35,6 +35,11 @@ beam-column is not written here, and its error is the consistent matrix's
 (P-δ to O(t²)).  Fixed-end forces of member loads stay first-order (their
 span moments are not amplified by N).
 
+The matrices are the elements': a plane member's in
+:func:`.plane_element.beam_column_k` (and its consistent geometric one,
+:func:`.plane_element.consistent_geometric_k`), a space member's in
+:func:`.space_element.stiffness`; this module gives them s and s c.
+
 Statics.  Each member's end forces satisfy, in its undeformed axes,
 Σ moments about end i = N (v_j − v_i) exactly (the column v_i of k sums to
 t f / L = P); so the frame's moment resultant is the members' P-Δ
@@ -85,43 +90,6 @@ def stability_functions(t) -> tuple[np.ndarray, np.ndarray]:
         s[ten] = psi * (psi * ch - sh) / den
         sc[ten] = psi * (sh - psi) / den
     return s, sc
-
-
-def beam_column_k(E, A, I, L, N) -> np.ndarray:
-    """Local stiffness (m, 6, 6) of Euler–Bernoulli members carrying axial
-    forces N (tension positive), end dofs (u, v, θ) at i then j."""
-    E, A, I, L, N = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, N)))
-    f = E * I / L
-    t = -N * L ** 2 / (E * I)
-    s, sc = stability_functions(t)
-    a = E * A / L
-    vv, vt = (2.0 * (s + sc) - t) * f / L ** 2, (s + sc) * f / L
-    k = np.zeros(E.shape + (6, 6))
-    k[..., 0, 0] = k[..., 3, 3] = a
-    k[..., 0, 3] = k[..., 3, 0] = -a
-    k[..., 1, 1] = k[..., 4, 4] = vv
-    k[..., 1, 4] = k[..., 4, 1] = -vv
-    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = vt
-    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -vt
-    k[..., 2, 2] = k[..., 5, 5] = s * f
-    k[..., 2, 5] = k[..., 5, 2] = sc * f
-    return k
-
-
-def consistent_geometric_k(L, N) -> np.ndarray:
-    """The consistent geometric stiffness (m, 6, 6) of cubic shape
-    functions, N tension positive: the first-order term of the stability
-    functions, for members whose own stiffness is not Euler–Bernoulli."""
-    L, N = np.broadcast_arrays(np.asarray(L, float), np.asarray(N, float))
-    g = N / L
-    k = np.zeros(L.shape + (6, 6))
-    k[..., 1, 1] = k[..., 4, 4] = 1.2 * g
-    k[..., 1, 4] = k[..., 4, 1] = -1.2 * g
-    k[..., 1, 2] = k[..., 2, 1] = k[..., 1, 5] = k[..., 5, 1] = 0.1 * g * L
-    k[..., 2, 4] = k[..., 4, 2] = k[..., 4, 5] = k[..., 5, 4] = -0.1 * g * L
-    k[..., 2, 2] = k[..., 5, 5] = 2.0 / 15.0 * g * L ** 2
-    k[..., 2, 5] = k[..., 5, 2] = -g * L ** 2 / 30.0
-    return k
 
 
 def clamped_buckling_t() -> float:
