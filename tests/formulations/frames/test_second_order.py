@@ -320,3 +320,18 @@ def test_a_space_column_on_four_pads_tips_at_its_second_order_load():
     assert ft.ended == "stability" and ft.ok, ft.message
     assert ft.limit[0] == pytest.approx(W * a / (h + (np.tan(k * h) - k * h) / k), rel=1e-9)
     assert "P0, P3 carry nothing" in ft.message
+
+
+def test_the_second_order_trace_of_a_frame_without_contacts_is_second_order():
+    """A linear frame's trace is one interval; on the deformed frame its
+    sway at p is the beam-column's closed form (its rounds once got a
+    first-order assembly: half the sway, called second order)."""
+    L = 5.0
+    P = 0.5 * np.pi ** 2 * E * I / (4 * L ** 2)
+    fr = cantilever(L, P, 0.0, stub=False)
+    fr.add_load("B", fx=1.0, case="variable")
+    ft = fr.trace(p_max=10.0, second_order=True)
+    assert ft.ok, ft.message
+    k = np.sqrt(P / (E * I))
+    assert ft.result_at(10.0).displacements["B"][0] == pytest.approx(
+        10.0 * (np.tan(k * L) - k * L) / (P * k), rel=1e-9)
