@@ -32,7 +32,7 @@ import scipy.sparse as sp
 
 __all__ = ["Proof", "EXACT_WORK", "candidates", "snap", "exact_farkas", "exact_ray",
            "FarkasCheck", "RayCheck", "IntMatrix", "ints", "over_common_denominator",
-           "exactly_within"]
+           "exactly_within", "solve_integer"]
 
 
 #: nonzero products an exact check may take; beyond it no proof is claimed
@@ -444,3 +444,38 @@ def exactly_within(M, x, rhs, equal: bool, deadline=None) -> bool:
     e0 = min(Mi.exp + ex, er)
     diff = v * (1 << (Mi.exp + ex - e0)) - R * (1 << (er - e0))
     return all(d == 0 for d in diff) if equal else all(d <= 0 for d in diff)
+
+
+def solve_integer(A: np.ndarray, b: np.ndarray, deadline=None) -> list[Fraction] | None:
+    """x with A x = b exactly, A a square object array of Python integers and
+    b a vector of them; None when A is singular or ``deadline`` passes first.
+
+    Fraction-free (Bareiss) elimination: each step's entries are minors of
+    A, so the integers grow to n times A's bits and no larger (Fractions
+    would grow their denominators step by step).  A step is one product
+    over the whole trailing block, and the deadline is looked at between
+    steps."""
+    n = A.shape[0]
+    R = np.empty((n, n + 1), dtype=object)
+    R[:, :n], R[:, n] = A, b
+    prev = 1
+    for k in range(n):
+        if deadline is not None and deadline.expired():
+            return None
+        nz = [i for i in range(k, n) if R[i, k] != 0]
+        if not nz:
+            return None
+        if nz[0] != k:
+            R[[k, nz[0]]] = R[[nz[0], k]]
+        piv = R[k, k]
+        if k + 1 < n:
+            R[k + 1:, k + 1:] = (R[k + 1:, k + 1:] * piv
+                                 - np.outer(R[k + 1:, k], R[k, k + 1:])) // prev
+            R[k + 1:, k] = 0
+        prev = piv
+    x = [Fraction(0)] * n
+    for i in range(n - 1, -1, -1):
+        s = Fraction(R[i, n]) - sum((R[i, j] * x[j] for j in range(i + 1, n) if R[i, j]),
+                                    Fraction(0))
+        x[i] = s / R[i, i]
+    return x

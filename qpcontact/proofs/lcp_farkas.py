@@ -8,7 +8,9 @@ Farkas vector from one LP (every column of M'y negative with a margin far
 above rounding, so its doubles check exactly as they are), the QP route's
 LP (:func:`qpcontact.proofs.qp_farkas.find_farkas`: a vertex, snapped to
 short rationals) and, for a symmetric M whose computed null space is wider
-than its exact one, a null vector modulo a prime; each is checked in exact
+than its exact one, a null vector modulo a prime, and for a small symmetric M
+a rounding away from singular on its indefinite side, y = -M⁻¹1 solved
+exactly; each is checked in exact
 arithmetic (:mod:`qpcontact.proofs.exact`) and none runs past the deadline.
 :func:`feasibility` is Lemke's test after a secondary ray, in floating point,
 each component on its own scale (FARKAS_RTOL): its message says "checked from
@@ -24,7 +26,7 @@ from fractions import Fraction
 import numpy as np
 import scipy.sparse as sp
 
-from .exact import FarkasCheck, Proof, candidates, ints
+from .exact import FarkasCheck, Proof, candidates, ints, solve_integer
 from .lp import NULL_SPACE_MAX_N, linprog, null_basis, proof_deadline, row_scale
 from .qp_farkas import find_farkas
 
@@ -69,6 +71,8 @@ def prove_lcp_infeasible(lcp, time_limit=None, hints=(), quick=False) -> Proof |
         # so it lies in M's null space and the interior LP finds no margin
         proof = (_null_space_farkas(M, q, tl, check) if psd and n <= NULL_SPACE_MAX_N
                  else None if psd else _interior_farkas(M, q, tl, check))
+    if proof is None and lcp.is_symmetric and n <= _INVERSE_MAX_N and not tl.expired():
+        proof = _inverse_farkas(M, q, tl, check)
     if quick:
         return proof
     if proof is None and not tl.expired():
@@ -305,6 +309,48 @@ def check_farkas_hint(M, q, y, deadline=None, check=None) -> Proof | None:
         if proof is not None:
             return proof
     return None
+
+
+#: largest n for the exact solve of M y = -1 (fraction-free elimination on
+#: integers growing to n times the data's bits: 0.16 s at n = 30 and 0.6 s
+#: at n = 40 on a loaded core)
+_INVERSE_MAX_N = 40
+
+
+def _inverse_farkas(M, q, deadline, check) -> Proof | None:
+    """For a symmetric M a rounding away from singular on the indefinite
+    side — B Bᵀ of a mechanism d >= 0 (Bᵀd = 0), rounded — the stored
+    doubles have one tiny negative eigenvalue along d, no exact null vector,
+    and Farkas vectors only in a thin cone around d: no LP vertex and no
+    snapping lands in it.  y = -M⁻¹1 does: M y = -1 < 0 exactly, and the
+    eigenvector of the tiny eigenvalue λ < 0 dominates M⁻¹, so y ≈ (1'd /
+    |λ|) d >= 0.  In doubles (condition ~1/eps) y's sign is the rounding's,
+    but whether it is one-signed is not: the solve in doubles, or where it
+    meets an exactly zero pivot the eigenvector of the eigenvalue nearest
+    zero, must be; then the exact solve and the exact check decide."""
+    n = q.size
+    A = M.toarray()
+    if not np.all(np.isfinite(A)):
+        return None
+
+    def one_signed(v):
+        v = v / (np.abs(v).max() or 1.0)
+        return bool(np.all(np.isfinite(v)) and (np.all(v >= -1e-6) or np.all(v <= 1e-6)))
+
+    with np.errstate(all="ignore"):
+        try:
+            guess = np.linalg.solve(A, np.ones(n))
+        except np.linalg.LinAlgError:
+            w, V = np.linalg.eigh(A)
+            guess = V[:, int(np.argmin(np.abs(w)))]
+    if not one_signed(guess):
+        return None
+    I, _ = ints(A.ravel())     # M = I 2^e: I y' = -1 gives y' = 2^e y, the same direction
+    y = solve_integer(I.reshape(n, n), np.full(n, -1, dtype=object), deadline)
+    if y is None or any(v < 0 for v in y):
+        return None
+    top = max(y)
+    return check.check([v / top for v in y], deadline) if top > 0 else None
 
 
 #: largest n for the modular null-vector route (O(n³) integer work mod p)

@@ -12,6 +12,7 @@ import pytest
 from qpcontact import LCP
 from qpcontact.core.deadline import Deadline
 from qpcontact.proofs.lcp_farkas import prove_lcp_infeasible, sign_farkas
+from qpcontact.cases.rounded import build_rounded
 from tests.helpers.no_solution import KINDS, farkas_lcp
 
 
@@ -70,3 +71,22 @@ def test_solvable_lcps_get_no_proof(seed):
 def test_no_proof_is_sought_past_the_deadline():
     lcp, _ = farkas_lcp(60, 0, "general")
     assert prove_lcp_infeasible(lcp, Deadline(end=0.0)) is None
+
+
+@pytest.mark.parametrize("n, seeds", [(8, range(12)), (30, range(6))])
+def test_a_rounded_mechanism_on_the_indefinite_side_is_proved(n, seeds):
+    """M = fl(B Bᵀ) with Bᵀd = 0, d > 0, q'd < 0, whose stored doubles have
+    a tiny negative eigenvalue along d (the cases' reference: y = -M⁻¹1 >= 0
+    with q'y < 0, found by their own exact solve): no LP vertex or snapped
+    vector lands in the thin cone of Farkas vectors; the quick routes must
+    still prove it, and the proof must hold in Fractions."""
+    seen = 0
+    for seed in seeds:
+        case = build_rounded("illposed_psd", n, seed)
+        if "-M⁻¹1" not in case.reference:
+            continue
+        seen += 1
+        proof = prove_lcp_infeasible(case.problem, 20.0, quick=True)
+        assert proof is not None, seed
+        assert _holds_exactly(case.problem.M, case.problem.q, proof.vector["exact"]["z"]), seed
+    assert seen >= 2
