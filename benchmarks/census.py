@@ -140,6 +140,8 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default="/tmp/census", help="folder for stress.csv")
     ap.add_argument("--sizes", default="8,30")
     ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--first-seed", type=int, default=0,
+                    help="seeds first-seed .. first-seed + seeds - 1 (fresh ones for a new census)")
     ap.add_argument("--families", default=",".join(ROUNDED_FAMILIES))
     ap.add_argument("--all", action="store_true",
                     help="every stress family (Siconos files aside), not only the exact ones")
@@ -157,6 +159,7 @@ def main(argv=None) -> int:
     else:
         config = dataclasses.replace(
             QUICK, sizes=tuple(int(s) for s in args.sizes.split(",")), seeds=args.seeds,
+            first_seed=args.first_seed,
             families=(tuple(f for f in FAMILIES if f != "siconos") if args.all
                       else tuple(args.families.split(","))), no_cvxpy=not args.cvxpy,
             methods=tuple(args.methods.split(",")) if args.methods else None,
@@ -169,7 +172,7 @@ def main(argv=None) -> int:
               f"command: python benchmarks/census.py {' '.join(argv or sys.argv[1:])}",
               f"{len(rows)} solves of {len({(r['family'], r['n'], r['seed']) for r in rows})} "
               f"problems; sizes {args.sizes} (exact LCP families capped at n = 40), "
-              f"{args.seeds} seeds, every accuracy (low, default, high), time limit "
+              f"{args.seeds} seeds from {args.first_seed}, every accuracy (low, default, high), time limit "
               f"{args.time_limit:g} s; {time.time() - start:.0f} s wall"]
     print(report(rows, header), end="")
     return 0

@@ -60,6 +60,7 @@ _SICONOS_KNOWN = {
 class StressConfig:
     sizes: tuple = (6, 24)
     seeds: int = 2
+    first_seed: int = 0                   # seeds first_seed .. first_seed + seeds - 1
     accuracies: tuple = ("high",)
     methods: tuple | None = None          # None: every installed method (cvxpy too unless no_cvxpy)
     no_cvxpy: bool = True

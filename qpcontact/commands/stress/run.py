@@ -150,7 +150,8 @@ def tasks(config: StressConfig) -> list[tuple]:
             count = len(list(Path(d).glob("*.dat"))) if d and Path(d).is_dir() else 0
             instances += [(family, 0, i) for i in range(count)]
         else:
-            instances += [(family, n, s) for n in config.sizes for s in range(config.seeds)]
+            instances += [(family, n, s) for n in config.sizes
+                          for s in range(config.first_seed, config.first_seed + config.seeds)]
     # seed by seed, each seed over every family: a long run stopped midway
     # (its CSV is written every 2 000 solves) has counted every family.  A
     # case's solves stay together (each worker keeps its last case), and the
