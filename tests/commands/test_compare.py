@@ -122,6 +122,7 @@ def test_interrupted_sweep_resumes_to_the_same_csv(tmp_path, monkeypatch):
     assert _strip(_rows(resumed)) == _strip(_rows(full))
 
 
+@pytest.mark.slow
 def test_two_dask_workers_give_the_serial_rows(tmp_path):
     pytest.importorskip("distributed", reason="Dask is in the test extra; install qpcontact[dask]")
     insts = _instances()[:3]
@@ -133,6 +134,7 @@ def test_two_dask_workers_give_the_serial_rows(tmp_path):
     assert _strip(rows) == _strip(_rows(serial))
 
 
+@pytest.mark.slow
 def test_formulation_instances_are_named_and_solvable():
     insts = compare.collect_instances(quick=True, formulations=["drum", "frames", "penalty"])
     names = [i.name for i in insts]

@@ -120,6 +120,7 @@ def test_timings_leave_the_first_call_out(demo_output):
     assert timed >= 10
 
 
+@pytest.mark.slow
 def test_halving_tau_cuts_the_numerical_dissipation_by_30_to_50_percent():
     """The claim of DrumSummary.dissipation_note and the drum demo, measured on
     the demo's drop: first order in tau, so each halving cuts the loss by

@@ -151,6 +151,7 @@ def test_lemke_survives_a_basis_singular_to_working_precision():
     assert judge(case, sol)[0] in ("certified", "inaccurate")
 
 
+@pytest.mark.slow
 def test_auto_on_friction_lcps_tries_the_regularised_ladder_before_giving_up():
     # 29 of 90 such LCPs (n = 8, 30, 100; 30 seeds) ended on a secondary ray
     # after 30 covering vectors; the ladder solves 7 of them exactly (these

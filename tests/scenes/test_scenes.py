@@ -48,6 +48,7 @@ def _line_of(text, needle, nth=0):
     return hits[nth]
 
 
+@pytest.mark.slow
 def test_example_scene_equals_the_python_api(tmp_path):
     """The example scene and the same drum written in Python: the same
     forces, gaps and displacements, bit for bit."""
@@ -332,6 +333,7 @@ def test_sweep_command_takes_list_values(tmp_path):
     assert res.exit_code == 2 and "unclosed bracket" in " ".join(res.output.split())
 
 
+@pytest.mark.slow
 def test_sweep_on_dask_equals_the_serial_sweep(tmp_path):
     """Three variants of a short scene, serially and on a local Dask cluster
     of two processes: the same files, array for array, and the same summary."""
@@ -369,6 +371,7 @@ def test_sweep_on_dask_equals_the_serial_sweep(tmp_path):
         sweep(scene, {"effect.damping.ratio": ['"high"']}, tmp_path / "bad", progress=False)
 
 
+@pytest.mark.slow
 def test_ramming_scene_file_equals_the_python_scene():
     """examples/scenes/ramming.toml is the penalty paper's ramming scene written as a
     user-defined mechanism: the same motion and reactions as ramming_scene()."""
@@ -400,6 +403,7 @@ def test_mechanism_springs_without_the_effect_point_at_their_table(tmp_path):
     assert str(info.value).startswith(f"{path}:{_line_of(text, '[[springs]]')}: ")
 
 
+@pytest.mark.slow
 def test_pellet_scene_file_equals_the_python_scene():
     """examples/scenes/pellets.toml (a force pulse given by `until`) is the
     penalty paper's pellet scene: the same motion and reactions as pellet_scene() through the

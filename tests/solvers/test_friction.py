@@ -173,6 +173,7 @@ def test_2d_fixed_points_on_any_qp_backend_by_hand(backend, a):
 
 @needs_data
 @pytest.mark.parametrize("backend", ["osqp", "highs"])
+@pytest.mark.slow
 def test_2d_shared_problem_by_fixed_points_on_qp_backends(backend):
     """89 contacts: De Saxcé's and Tresca's fixed points with each iteration
     a QP (OSQP, HiGHS) certified at 1e-8 by this file's error function, and
@@ -281,6 +282,7 @@ def test_cone_backends_and_options_are_checked():
         qpcontact.solve(p, "nsgs", sweeps=3)
 
 
+@pytest.mark.slow
 def test_auto_reports_what_it_tried_when_the_first_method_stalls():
     lines = []
     p = _read("Capsules-i101-404.dat") if FILES else None
@@ -589,6 +591,7 @@ def test_a_basic_solution_at_rounding_level_contacts_is_polished():
 
 
 @needs_data
+@pytest.mark.slow
 def test_auto_goes_on_to_lemke_where_nsgs_stalls():
     """2020 contacts: NSGS + Newton first (above 200 contacts), which stalls
     near 4e-7 on this file; then the exact route certifies, and the message

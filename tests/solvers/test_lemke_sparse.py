@@ -101,6 +101,7 @@ def test_siconos_lcps_end_as_in_the_dense_form(path, siconos_dir, sparse_form, m
         assert sparse.ok and sparse.certificate.siconos_error < 1e-10, sparse.message
 
 
+@pytest.mark.slow
 def test_beyond_the_dense_limit():
     """An obstacle problem of 6000 unknowns (a sparse SPD stiffness): the
     dense tableau would need 290 MB; the sparse form solves it, equal to

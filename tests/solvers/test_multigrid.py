@@ -141,6 +141,7 @@ def test_the_aggregated_hierarchy_is_kept_for_the_next_lcp_on_the_same_matrix():
     assert again.ok and "setup_time" not in again.stats
 
 
+@pytest.mark.slow
 def test_the_finish_solves_nearby_bases_by_cg_on_one_factorization():
     """bpp started a few components away from the answer: one factorization,
     the rest by CG preconditioned with it — same answer as from nothing."""
@@ -156,6 +157,7 @@ def test_the_finish_solves_nearby_bases_by_cg_on_one_factorization():
     np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-12 * z_ref.max())
 
 
+@pytest.mark.slow
 def test_ip_bpp_pivoting_reuses_its_factorization_for_nearby_bases():
     """ip-bpp's pivoting phase from nothing (max_ip=0) on a plate: the late
     exchanges move few components and are solved by CG on the last factor."""

@@ -312,6 +312,7 @@ def test_tableau_rebuilt_from_data_matches_pivoting_to_it():
     np.testing.assert_allclose(qbar, q2, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_bpp_general_sparse_pattern_uses_ldl_and_agrees():
     """A 2-D grid Laplacian (bandwidth 30 > BANDED_MAX: the QDLDL path)."""
     from qpcontact.core.linalg import BANDED_MAX

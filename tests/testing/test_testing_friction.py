@@ -185,6 +185,7 @@ def test_solve_friction_is_solve():
     assert "r: [" in text and "status: 'solved' (ok)" in text and len(text) < 800
 
 
+@pytest.mark.slow
 def test_the_plugin_selects_friction_methods(pytester):
     pytester.makepyfile("""
         import qpcontact, pytest
@@ -208,6 +209,7 @@ def test_the_plugin_selects_friction_methods(pytester):
     result.stdout.fnmatch_lines(["*test_solves?nsgs?*PASSED*", "*test_lcp?osqp?*PASSED*"])
 
 
+@pytest.mark.slow
 def test_the_docs_example_runs(pytester):
     """docs/testing.md's frictional-model example, as a user's test file."""
     text = (DOCS / "testing.md").read_text()

@@ -153,6 +153,7 @@ def test_planted_cases_reject_a_wrong_answer(kind):
     assert qcase.agrees(qcase.x) and not qcase.agrees(qcase.x + 1e-3)
 
 
+@pytest.mark.slow
 def test_plugin_parametrises_qp_method(pytester):
     pytester.makepyfile("""
         import numpy as np, qpcontact, pytest

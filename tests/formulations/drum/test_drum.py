@@ -69,6 +69,7 @@ def test_elastic_shell_uses_series_stiffness():
     assert rigid.forces[:, 0].max() > res.forces[:, 0].max()
 
 
+@pytest.mark.slow
 def test_damping_lowers_rebound_and_energy_never_grows():
     log = Log.from_wood(0.15, 1.2, damping_ratio=0.1)
     h = 0.02
@@ -102,6 +103,7 @@ def _twenty_logs(seed=0, **kw):
     return logs, rng.uniform(0.0, 0.002, 20), -rng.uniform(0.0, 1.0, 20)
 
 
+@pytest.mark.slow
 def test_twenty_log_drop_every_step_cross_validated():
     logs, gaps, v0 = _twenty_logs()
     drum = Drum(logs, gaps, v0)

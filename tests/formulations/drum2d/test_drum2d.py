@@ -241,6 +241,7 @@ def test_energy_kept_without_friction_damping_or_rotation():
     assert np.all(res.drive == 0.0) and np.all(res.friction_loss == 0.0)
 
 
+@pytest.mark.slow
 def test_energy_balance_closes_with_every_effect():
     pos, dia = hex_fill(1.5, 12, 0.2, spread=0.2, seed=6, clearance=0.01)
     shell = Shell(1.5, omega=1.0, lifter_angles=np.linspace(0, 2 * np.pi, 6, endpoint=False)

@@ -144,6 +144,7 @@ def test_log_dropped_on_an_elastic_shell_matches_the_stack_model():
 
 # -- 2. energy ---------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_resolved_collisions_lose_what_the_implicit_spring_predicts():
     """K + E_el of a gas of discs (no gravity, no friction, e = 1, still
     shell) falls at each collision by (1 − exp(−2π²h/T_k)) ½ m* u_N² — the
@@ -262,6 +263,7 @@ def test_unresolved_elastic_bounces_keep_newtons_energy():
     assert abs(res.energy_summary()["remainder"]) < 1e-9 * above[0]
 
 
+@pytest.mark.slow
 def test_energy_closes_on_a_settling_compliant_bed():
     """40 logs with lifters, e = 1, no friction, still shell, h = 2 ms: with
     rigid contacts K + P is kept to rounding (tests/formulations/drum2d/test_drum2d.py); with

@@ -352,6 +352,7 @@ def test_the_animation_writes_frames_and_a_gif(small, tmp_path, monkeypatch):
             write_animation(h, tmp_path / "x", movie="avi")
 
 
+@pytest.mark.slow
 def test_plot_writes_the_outputs(small, tmp_path):
     from typer.testing import CliRunner
 

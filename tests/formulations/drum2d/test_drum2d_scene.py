@@ -176,6 +176,7 @@ def test_the_file_matches_a_direct_drum2d_run(tiny_run):
         assert float(h["drum/omega"][()]) == 2 * np.pi * 0.2
 
 
+@pytest.mark.slow
 def test_plot_writes_both_figures(tiny_run, tmp_path):
     _, out = tiny_run
     res = _run_cli("plot", out, "--out", tmp_path / "fig")

@@ -41,6 +41,7 @@ def reference():
     return model, steps, model.simulate(2e-3, steps, keep_contacts=False, warm_start=None)
 
 
+@pytest.mark.slow
 def test_warm_route_gives_the_certified_states_of_auto(reference):
     model, steps, old = reference
     new = model.simulate(2e-3, steps, keep_contacts=False, warm_start="nsgs-newton")
@@ -53,6 +54,7 @@ def test_warm_route_gives_the_certified_states_of_auto(reference):
     _same_states(old, new)
 
 
+@pytest.mark.slow
 def test_a_warm_start_that_cannot_certify_falls_back_to_auto(reference):
     model, steps, old = reference
     new = model.simulate(2e-3, steps, keep_contacts=False, warm_start="nsgs",

@@ -36,6 +36,7 @@ pytestmark = pytest.mark.filterwarnings(
 P_TIP = 20 * 3 * 6 * 30.0 * (21.0 - 9.0) / (10.0 * 3.5 * 210)
 
 
+@pytest.mark.slow
 def test_tower_solves_every_load_below_its_tipping_load():
     fr, base = three_bay_tower()
     tr = fr.trace()

@@ -169,6 +169,7 @@ def test_twenty_storey_tower_tips_over():
     assert f"tips over about {base[-1]}" in tr.message
 
 
+@pytest.mark.slow
 def test_every_ending_plots_over_its_default_range(tmp_path):
     for fr, node, p_max in ((_cantilever(), "B", None), (_cantilever(), "B", 12.0),
                             (_portal(), "B", None), (_peer_beam(), "N3", 6.0)):
@@ -301,6 +302,7 @@ def _check_random_frame(seed):
 
 
 @pytest.mark.parametrize("seeds", [range(0, 6)])
+@pytest.mark.slow
 def test_random_frames_agree_with_independent_solves(seeds):
     endings = [_check_random_frame(s) for s in seeds]
     traced = [e for e in endings if e != "skipped"]

@@ -142,6 +142,7 @@ def test_beam_drawing_labels_do_not_overprint_and_arrows_are_thinned(beam_drawin
     assert beam_drawing.axes[1].yaxis_inverted()       # sagging down, on the tension side
 
 
+@pytest.mark.slow
 def test_trace_numbers_do_not_overprint_and_the_key_lists_every_event():
     fr, _ = three_bay_tower()
     tr = fr.trace()

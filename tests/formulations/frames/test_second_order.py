@@ -293,6 +293,7 @@ def test_a_space_frame_in_one_plane_gives_the_plane_frames_second_order_answer()
         assert b.second_order["axial"][m] == pytest.approx(a.second_order["axial"][m], rel=1e-9)
 
 
+@pytest.mark.slow
 def test_a_space_column_on_four_pads_tips_at_its_second_order_load():
     """The 2-D column on pads in 3-D: a stiff cross on four rigid pads at
     (±a, ±a), pushed along x; on inscribed squares (μ = 1: it tips

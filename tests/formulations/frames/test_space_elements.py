@@ -300,6 +300,7 @@ def test_the_docs_space_frame_example_runs_and_says_what_hand_statics_say():
     assert "slides away as a rigid body" in tr.message
 
 
+@pytest.mark.slow
 def test_the_trace_of_a_space_frame_is_plotted_against_any_of_its_six_dofs(tmp_path):
     from qpcontact.core.errors import InvalidOptionError
 

@@ -98,6 +98,7 @@ def test_a_stiff_deck_on_stiff_pads_slides_at_mu_w_with_right_forces(cone):
         assert fx == pytest.approx(-p, rel=1e-9)
 
 
+@pytest.mark.slow
 def test_a_twisted_table_on_inscribed_polygons_is_traced_to_its_limit():
     """Before: a piece failed the frame's checks 3e-5 below the limit
     (equilibrium residual 1.4e-9) and the trace ended "breakdown"; the path
@@ -123,6 +124,7 @@ def test_a_corner_push_says_what_is_known_where_the_path_stops_below_the_lp():
 
 
 @pytest.mark.parametrize("polygon", ["inscribed", "circumscribed"])
+@pytest.mark.slow
 def test_a_pipe_rack_under_uplift_is_solved_below_its_limit(polygon):
     """Lemke at the fixed load can end on a secondary ray (the rack at 90 and
     99 % of its limit raised SolverFailedError); the load path — the pipes'
@@ -157,6 +159,7 @@ def test_a_beam_on_two_pads_is_still_a_mechanism():
         fr.solve(0.0)
 
 
+@pytest.mark.slow
 def test_on_the_circle_solve_follows_the_load_path_where_the_friction_solvers_fail():
     """A slender six-legged table (deck as stiff as its legs) pushed at a
     corner, at 99.9 % of the load where its path on Coulomb's circle ends

@@ -208,6 +208,7 @@ def test_rk4_energy_error_has_order_four():
     assert 3.5 < order < 4.5, (errs, order)
 
 
+@pytest.mark.slow
 def test_four_bar_drift_stays_bounded_with_stabilisation():
     m, loops, q, v = four_bar()
     runs = {}

@@ -45,7 +45,8 @@ route = "{route}"
 """
 
 
-@pytest.mark.parametrize("route", ["penalty", "lcp"])
+# the penalty route takes ~10 s of stepping (make test-all); the LCP route stays here
+@pytest.mark.parametrize("route", [pytest.param("penalty", marks=pytest.mark.slow), "lcp"])
 def test_tripod_falls_freely_then_rests_on_the_statics_reactions(route):
     """Free fall z = z0 - g t²/2 (the step is exact for constant acceleration)
     until the legs touch; at rest the three reactions are the statics
