@@ -144,3 +144,39 @@ def test_a_ray_of_twin_variables_is_proved_before_any_method(n, seed):
     assert all(sum(_F(P[i, j]) * d[j] for j in nz) == 0 for i in range(n))
     assert all(sum(_F(G[i, j]) * d[j] for j in nz) <= 0 for i in range(G.shape[0]))
     assert sum(_F(q[j]) * d[j] for j in nz) < 0
+
+
+def test_a_backend_that_runs_out_of_its_share_is_followed_by_the_proof(monkeypatch):
+    """Every method of the chain stopped by its share of the limit (as PIQP
+    and OSQP on an infeasible QP of n = 1 000 under load): the Farkas search
+    gets half of what is left after the first one, not nothing at the end.
+    The data: a'x <= -1 and -a'x <= -1, no x at all (y = (1, 1) by hand)."""
+    from qpcontact.dispatch import driver
+
+    rng = np.random.default_rng(5)
+    n = 12
+    a = rng.standard_normal(n)
+    G = np.vstack([rng.standard_normal((4, n)), a, -a])
+    h = np.r_[np.ones(4), -1.0, -1.0]
+    problem = Problem(np.eye(n), rng.standard_normal(n), G, h)
+    real = driver.run_lcp_qp
+    shares = []
+
+    def out_of_time(problem, m, options, ctx):
+        sol = real(problem, m, options, ctx)
+        sol.status, sol.ok, sol.x = "time_limit", False, None
+        sol.stats.pop("backend_verdict", None)
+        return sol
+
+    def spy(problem, sol, deadline, *args):
+        shares.append((deadline.left(), sol.status))
+        return prove(problem, sol, deadline, *args)
+
+    prove = driver.prove_no_solution
+    monkeypatch.setattr(driver, "run_lcp_qp", out_of_time)
+    monkeypatch.setattr(driver, "prove_no_solution", spy)
+    sol = qpcontact.solve(problem, "auto", time_limit=60)
+    assert sol.status == "infeasible" and sol.stats.get("proved_infeasible"), sol.message
+    assert shares and shares[0][1] == "time_limit" and shares[0][0] <= 0.5 * 60
+    z = [_F(v) for v in sol.stats["proof"].vector["z"]]
+    assert z[4] > 0 and z[5] > 0 and z[4] == z[5] and not any(z[:4])
