@@ -111,6 +111,9 @@ def call_isolated(fn, args: tuple, time_limit: float | None) -> IsolatedOutcome 
         except (EOFError, OSError):
             proc.join()
             return IsolatedOutcome("crashed", detail=_exit_words(proc.exitcode))
+        # the answer is in hand: the child's orderly exit (multiprocessing's
+        # finalizers in a forked copy of this process) is not waited for
+        proc.kill()
         proc.join()
         return IsolatedOutcome(kind, value, seconds=seconds)
     finally:
