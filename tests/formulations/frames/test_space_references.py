@@ -55,7 +55,7 @@ def _planar(nodes, members, fix, contacts, loads, member_loads):
         space.add_node(name, x, 0.0, y)
         space.add_support(name, fix=("uy", "rx", "rz"))
     for i, j, A, I, name in members:
-        plane.add_beam(i, j, E, A, I, name=name)
+        plane.add_member(i, j, E, A, I, name=name)
         d = np.subtract(nodes[j], nodes[i]) / np.hypot(*np.subtract(nodes[j], nodes[i]))
         # Iz and J are never strained (out-of-plane motion held): any values
         space.add_member(i, j, E, G, A, I, 3.0 * I, 2.0 * I, name=name, ref=(-d[1], 0.0, d[0]))
