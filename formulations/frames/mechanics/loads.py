@@ -385,3 +385,23 @@ def load_points(loads) -> list:
     for load in loads:
         pts += [load.a, load.b]
     return pts
+
+
+def stationary_points(x, V, shear_at, iterations: int = 60) -> np.ndarray:
+    """The sections where a moment is stationary: the zeros of its shear V
+    (V = dM/dx) between consecutive samples x where V changes sign, found
+    by bisection on ``shear_at`` (V at an array of sections) to rounding.
+    A diagram's extremes taken at samples alone miss a span moment between
+    them, on the unsafe side (a continuous beam's 17.00695 for 17.00721
+    kN·m at 201 samples); with these points added they are exact."""
+    x, V = np.asarray(x, float), np.asarray(V, float)
+    k = np.flatnonzero(np.sign(V[:-1]) * np.sign(V[1:]) < 0)
+    if not k.size:
+        return np.zeros(0)
+    lo, hi, v_lo = x[k], x[k + 1], V[k]
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        v_mid = shear_at(mid)
+        left = np.sign(v_mid) == np.sign(v_lo)
+        lo, v_lo, hi = np.where(left, mid, lo), np.where(left, v_mid, v_lo), np.where(left, hi, mid)
+    return 0.5 * (lo + hi)

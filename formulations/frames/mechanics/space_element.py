@@ -31,6 +31,13 @@ from qpcontact.core.errors import InvalidProblemError
 
 from .second_order import stability_functions
 
+#: the internal forces along a space member (member axes), in the order of a
+#: result's ``diagram`` (docs/frames.md, "Conventions")
+QUANTITIES = ("N", "Vy", "Vz", "T", "My", "Mz")
+#: what a result's ``extremes`` gives: the internal forces and the
+#: deflection of the axis across the member along its local y (v) and z (w)
+EXTREMES = QUANTITIES + ("v", "w")
+
 
 def stiffness(E, G, A, Iy, Iz, J, L, N=None) -> np.ndarray:
     """Local stiffness of space-frame members, (m, 12, 12) (or (12, 12) for

@@ -57,7 +57,7 @@ def test_point_load_on_a_simple_beam_matches_statics():
     assert V.max() == pytest.approx(P * b / L, rel=1e-10)
     assert V.min() == pytest.approx(-P * a / L, rel=1e-10)
     ends = r.end_forces(m)
-    assert abs(ends["i"][2]) < 1e-9 and abs(ends["j"][2]) < 1e-9
+    assert abs(ends["i"]["M"]) < 1e-9 and abs(ends["j"]["M"]) < 1e-9
 
 
 def test_point_moment_makes_the_moment_diagram_jump():
@@ -82,8 +82,8 @@ def test_clamped_beam_point_load_matches_textbook_fixed_end_moments():
     r = fr.solve()
     assert r.ok, r.message
     ends = r.end_forces(m)
-    assert ends["i"][2] == pytest.approx(-P * a * b ** 2 / L ** 2, rel=1e-9)
-    assert ends["j"][2] == pytest.approx(-P * a ** 2 * b / L ** 2, rel=1e-9)
+    assert ends["i"]["M"] == pytest.approx(-P * a * b ** 2 / L ** 2, rel=1e-9)
+    assert ends["j"]["M"] == pytest.approx(-P * a ** 2 * b / L ** 2, rel=1e-9)
     assert r.reactions["A"][1] == pytest.approx(P * b ** 2 * (3 * a + b) / L ** 3, rel=1e-9)
 
 
@@ -103,8 +103,8 @@ def test_partial_trapezoidal_load_matches_integrated_influence_lines(w1, w2, sta
     MA = -np.sum(w * mid * (L - mid) ** 2 / L ** 2 * dx)
     MB = -np.sum(w * mid ** 2 * (L - mid) / L ** 2 * dx)
     ends = r.end_forces(m)
-    assert ends["i"][2] == pytest.approx(MA, rel=1e-7)
-    assert ends["j"][2] == pytest.approx(MB, rel=1e-7)
+    assert ends["i"]["M"] == pytest.approx(MA, rel=1e-7)
+    assert ends["j"]["M"] == pytest.approx(MB, rel=1e-7)
     # vertical equilibrium: the reactions carry the resultant
     total = np.sum(w * dx)
     assert r.reactions["A"][1] + r.supports["B"].normal == pytest.approx(total, rel=1e-7)

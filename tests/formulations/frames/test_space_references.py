@@ -146,6 +146,27 @@ def _same_answers(plane, space, r2, r3):
         np.testing.assert_allclose(-f3[[4, 10]], np.asarray(f2)[[2, 5]], rtol=0,
                                    atol=RTOL * force * 10.0)
         assert np.all(np.abs(f3[[1, 3, 5, 7, 9, 11]]) <= RTOL * force * 10.0)
+        # the diagrams: the plane member's N, V, M are the space member's N,
+        # Vz, My (its local z is the plane member's y; both M compress the
+        # fibre on that side, both V = dM/dx), and nothing about its y
+        x2, *q2 = r2.diagram(name, 21)
+        x3, *q3 = r3.diagram(name, 21)
+        np.testing.assert_allclose(x3, x2, rtol=0, atol=RTOL * x2[-1])
+        size = RTOL * force * max(1.0, x2[-1])
+        for a, b in zip(q2, (q3[0], q3[2], q3[4])):
+            np.testing.assert_allclose(b, a, rtol=0, atol=size)
+        for b in (q3[1], q3[3], q3[5]):
+            np.testing.assert_allclose(b, 0.0, rtol=0, atol=size)
+        e2, e3 = r2.end_forces(name), r3.end_forces(name)
+        for end in "ij":
+            np.testing.assert_allclose([e3[end][q] for q in ("N", "Vz", "My")],
+                                       [e2[end][q] for q in ("N", "V", "M")], rtol=0, atol=size)
+        ext2, ext3 = r2.extremes(name), r3.extremes(name)
+        for p2, p3 in (("N", "N"), ("V", "Vz"), ("M", "My"), ("v", "w")):
+            scale = size if p2 != "v" else RTOL * move
+            for side in ("max", "min"):
+                assert ext3[p3][side][0] == pytest.approx(ext2[p2][side][0], abs=scale), \
+                    (p2, side)
     for node, rea in r3.reactions.items():
         want = np.zeros(6)
         if node in r2.reactions:
