@@ -16,12 +16,9 @@ parallel and needs no perspective to read; lengths along the three axes
 are shortened by different factors in a general view, so the drawing gives
 the frame's extents in words instead of a scale bar.
 
-Each member's deflection (:func:`member_deflection`): the end displacements
-and rotations turned into member axes, the cubic Hermite shape functions
-for the two bending planes (dv/dx = θz, dw/dx = -θy), linear axial
-displacement, plus the fixed-end particular solution of the member's
-uniform load (q x² (L - x)² / 24 EI across, q x (L - x) / 2 EA along) —
-exact for this element and its loads.
+Each member's deflection is the result's own (``res.deflection``,
+:func:`..space.space_diagrams.deflection`): integrated from the internal
+forces, exact for the element and its loads.
 """
 
 from __future__ import annotations
@@ -30,7 +27,7 @@ import math
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
+from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
 from ..mechanics.space_element import axes as member_axes
 from .plane_drawing import combination_title
@@ -59,38 +56,6 @@ def view_axes(azimuth: float, elevation: float) -> np.ndarray:
     return np.stack([right, np.cross(camera, right)])
 
 
-def member_deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
-    """(x, d): the displacement d (points, 3) of the member's axis at
-    ``points`` sections x from node i, in member axes (u, v, w) or, with
-    ``axes="global"``, in global ones (module docstring)."""
-    if member not in frame.members:
-        raise InvalidProblemError(f"no member named {member!r}; members: {list(frame.members)}")
-    if axes not in ("member", "global"):
-        raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
-    if isinstance(points, bool) or not isinstance(points, int) or points < 2:
-        raise InvalidOptionError(f"points: an integer >= 2; got {points!r}")
-    m = frame.members[member]
-    xi, xj = frame.nodes[m["i"]], frame.nodes[m["j"]]
-    R = member_axes(xi, xj, m["ref"], m["roll"])[0]
-    L = float(np.linalg.norm(xj - xi))
-    di, dj = (np.asarray(res.displacements[n], float) for n in (m["i"], m["j"]))
-    ui, ri, uj, rj = R @ di[:3], R @ di[3:], R @ dj[:3], R @ dj[3:]
-    q = np.zeros(3)
-    for name, w, ax, case in frame.member_loads:
-        factor = res.combination.get(case, 0.0)
-        if name == member and factor:
-            q += factor * (np.asarray(w) if ax == "member" else R @ np.asarray(w))
-    x = np.linspace(0.0, L, points)
-    s = x / L
-    n1, n2 = 1 - 3 * s ** 2 + 2 * s ** 3, L * (s - 2 * s ** 2 + s ** 3)
-    n3, n4 = 3 * s ** 2 - 2 * s ** 3, L * (s ** 3 - s ** 2)
-    bubble = x ** 2 * (L - x) ** 2 / (24.0 * m["E"])
-    d = np.c_[(1 - s) * ui[0] + s * uj[0] + q[0] * x * (L - x) / (2.0 * m["E"] * m["A"]),
-              n1 * ui[1] + n2 * ri[2] + n3 * uj[1] + n4 * rj[2] + q[1] * bubble / m["Iz"],
-              n1 * ui[2] - n2 * ri[1] + n3 * uj[2] - n4 * rj[1] + q[2] * bubble / m["Iy"]]
-    return x, (d if axes == "member" else d @ R)
-
-
 def _angles(azimuth, elevation):
     az, el = ISOMETRIC[0] if azimuth is None else azimuth, \
         ISOMETRIC[1] if elevation is None else elevation
@@ -117,7 +82,7 @@ class SpaceView:
         self.size = max(float(np.linalg.norm(self.extent)), 1e-12)
         self.curves = {}
         for name, m in frame.members.items():
-            x, d = member_deflection(frame, res, name, 21, "global")
+            x, d = res.deflection(name, 21, axes="global")
             a, b = self.xyz[m["i"]], self.xyz[m["j"]]
             self.curves[name] = (a + np.outer(x / x[-1], b - a), d)
         trans = {n: float(np.linalg.norm(np.asarray(u[:3]))) for n, u in res.displacements.items()}

@@ -14,6 +14,7 @@ from qpcontact.core.errors import InvalidProblemError
 from ..mechanics import contact_lcp
 from ..mechanics.space_element import axes, rotation, stiffness
 from ..reporting.free_motion import mechanism_message
+from . import space_member_loads
 from .space_results import DOFS
 
 
@@ -49,10 +50,14 @@ def assemble(frame, axial=None):
         cols.append(np.tile(dofs, (1, 12)).ravel())
         vals.append(kg.ravel())
         where = {nm: k for k, nm in enumerate(frame.members)}
-        for member, w, ax, case in frame.member_loads:
-            k = where[member]
-            q = np.asarray(w) if ax == "member" else R[k] @ np.asarray(w)
-            Fe[k, :, col[case]] += fixed_end(q, L[k])
+        for load in frame.span_loads:
+            k = where[load.member]
+            if load.whole_uniform(L[k]):
+                w = np.asarray(load.values[:3])
+                q = w if load.axes == "member" else R[k] @ w
+                Fe[k, :, col[load.case]] += fixed_end(q, L[k])
+            else:      # a point load or a part of the member (its own module)
+                Fe[k, :, col[load.case]] += space_member_loads.fixed_end(load, L[k], R[k])
         np.add.at(F, dofs.ravel(), (T.transpose(0, 2, 1) @ Fe).reshape(-1, len(cases)))
     for node, v, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 6, col[case]] += v

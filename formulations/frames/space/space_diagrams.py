@@ -47,6 +47,7 @@ from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, Solve
 from ..mechanics.loads import stationary_points
 from ..mechanics.space_element import EXTREMES, QUANTITIES
 from ..mechanics.space_element import axes as member_axes
+from .space_member_loads import load_points, section_terms
 
 
 def geometry(frame, member: str):
@@ -56,15 +57,10 @@ def geometry(frame, member: str):
     return float(np.linalg.norm(xj - xi)), member_axes(xi, xj, m["ref"], m["roll"])[0]
 
 
-def uniform_load(frame, res, member: str, R) -> np.ndarray:
-    """The member's uniform load per unit length in member axes, summed
-    over the cases of the result's combination with their factors."""
-    q = np.zeros(3)
-    for name, w, ax, case in frame.member_loads:
-        factor = res.combination.get(case, 0.0)
-        if name == member and factor:
-            q += factor * (np.asarray(w, float) if ax == "member" else R @ np.asarray(w, float))
-    return q
+def loads_of(frame, res, member: str) -> list:
+    """[(load, factor)]: the member's loads in the result's combination."""
+    return [(ld, res.combination[ld.case]) for ld in frame.span_loads
+            if ld.member == member and res.combination.get(ld.case)]
 
 
 def checked_member(frame, res, member, points) -> str:
@@ -88,20 +84,30 @@ def checked_member(frame, res, member, points) -> str:
 
 
 def sections(frame, res, member: str, x) -> tuple:
-    """(N, Vy, Vz, T, My, Mz) at the sections x (module docstring)."""
+    """(N, Vy, Vz, T, My, Mz) at the sections x (module docstring): the end
+    actions at i and the loads on [0, x)
+    (:func:`.space_member_loads.section_terms`)."""
     x = np.asarray(x, float)
     _, R = geometry(frame, member)
-    qx, qy, qz = uniform_load(frame, res, member, R)
+    fx, fy, fz, tx, mo_xy, mo_xz = section_terms(loads_of(frame, res, member), x, R)
     f = np.asarray(res.member_forces[member], float)
-    return (-f[0] - qx * x, f[1] + qy * x, f[2] + qz * x, np.full_like(x, -f[3]),
-            f[4] + f[2] * x + 0.5 * qz * x * x, -f[5] + f[1] * x + 0.5 * qy * x * x)
+    return (-f[0] - fx, f[1] + fy, f[2] + fz, -f[3] - tx, f[4] + f[2] * x + mo_xz,
+            -f[5] + f[1] * x + mo_xy)
+
+
+def sample_points(frame, res, member: str, points: int):
+    """``points`` sections from node i, with every load's position and the
+    section just before it (both sides of a jump)."""
+    L, _ = geometry(frame, member)
+    pts = [p for p in load_points(loads_of(frame, res, member)) if 0.0 < p < L]
+    return np.unique(np.r_[np.linspace(0.0, L, int(points)), pts,
+                           np.nextafter(np.array(pts, float), -np.inf)])
 
 
 def diagram(frame, res, member: str, points: int = 21) -> tuple:
     """(x, N, Vy, Vz, T, My, Mz) at ``points`` sections from node i."""
     checked_member(frame, res, member, points)
-    L, _ = geometry(frame, member)
-    x = np.linspace(0.0, L, int(points))
+    x = sample_points(frame, res, member, points)
     return (x, *sections(frame, res, member, x))
 
 
@@ -124,8 +130,7 @@ def extremes(frame, res, member: str, points: int = 201) -> dict:
     them (:func:`..mechanics.loads.stationary_points`), so a span's largest
     moment is exact, not the nearest sample's."""
     checked_member(frame, res, member, points)
-    L, _ = geometry(frame, member)
-    x = np.linspace(0.0, L, int(points))
+    x = sample_points(frame, res, member, points)
     values = dict(zip(QUANTITIES, sections(frame, res, member, x)))
     at = {q: x for q in QUANTITIES}
     # the span moments between the samples: where V = dM/dx changes sign
@@ -136,12 +141,44 @@ def extremes(frame, res, member: str, points: int = 201) -> dict:
         if x_m.size:
             at[M] = np.r_[x, x_m]
             values[M] = np.r_[values[M], sections(frame, res, member, x_m)[km]]
-    from ..reporting.space_drawing import member_deflection
-
-    xd, d = member_deflection(frame, res, member, int(points))
+    xd, d = deflection(frame, res, member, int(points))
     out = {}
     for key, xs, arr in [(k, at[k], v) for k, v in values.items()] + [("v", xd, d[:, 1]),
                                                                       ("w", xd, d[:, 2])]:
         out[key] = {"max": (float(arr.max()), float(xs[arr.argmax()])),
                     "min": (float(arr.min()), float(xs[arr.argmin()]))}
     return out
+
+
+def deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
+    """(x, d): the displacement d (n, 3) of the member's axis at ``points``
+    sections and the load positions, x from node i, in member axes (u, v,
+    w) or with ``axes="global"`` in global ones.  Integrated from the
+    internal forces, as the plane frame's: u' = N/EA, v'' = Mz/EIz, w'' =
+    My/EIy (each M compresses the fibre on its axis' + side, so the member
+    bends towards it), with u at i and v, w at both ends from the nodes —
+    which fixes the slope constants without the end rotations.  Each
+    integral is a 4-point Gauss rule between consecutive sections, which
+    include every load position: the integrand is a polynomial of degree
+    <= 4 on each piece, so the curve is exact to rounding."""
+    if axes not in ("member", "global"):
+        raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
+    checked_member(frame, res, member, points)
+    m = frame.members[member]
+    L, R = geometry(frame, member)
+    x = sample_points(frame, res, member, points)
+    t, wt = np.polynomial.legendre.leggauss(4)
+    lo, hi = x[:-1, None], x[1:, None]
+    gs = (0.5 * (hi - lo) * t + 0.5 * (lo + hi)).ravel()
+    gw = (0.5 * (hi - lo) * wt).ravel()
+    N, _, _, _, My, Mz = sections(frame, res, member, gs)
+    di, dj = (R @ np.asarray(res.displacements[n][:3], float) for n in (m["i"], m["j"]))
+    before = gs[None, :] < x[:, None]
+    lever = before * (x[:, None] - gs[None, :])
+    u = di[0] + (before * gw) @ (N / (m["E"] * m["A"]))
+    d = [u]
+    for k, (M, I_) in enumerate(((Mz, m["Iz"]), (My, m["Iy"])), start=1):
+        bend = lever @ (gw * M / (m["E"] * I_))
+        d.append(di[k] + bend + (dj[k] - di[k] - bend[-1]) * x / L)
+    d = np.stack(d, axis=1)
+    return x, (d if axes == "member" else d @ R)

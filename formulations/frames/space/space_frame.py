@@ -31,12 +31,14 @@ the node's bilateral supports hold one tangent, that tangent has no link
 and the cone is the segment along the other, two facets: a planar frame
 built in space has exactly the plane frame's LCP.
 
-Member loads: a uniform load per unit length over the whole member, in
-global or member axes.  Its equivalent nodal loads are the fixed-end forces,
-exact for this element: w L / 2 at each end along each axis, and the
-end moments w L² / 12 — in the x-y plane +q_y L²/12 about z at i and minus
-that at j; in the x-z plane the signs reversed (a positive θy turns +z
-towards -x).
+Member loads (the plane frame's options with the third axis): point forces
+and moments, and distributed loads, uniform or trapezoidal over the whole
+member or part of it, and self-weight, in global or member axes
+(:mod:`.space_member_loads`).  Their equivalent nodal loads are the
+element's exact fixed-end forces: for a uniform load w over the whole
+member w L / 2 at each end along each axis, and the end moments w L² / 12 —
+in the x-y plane +q_y L²/12 about z at i and minus that at j; in the x-z
+plane the signs reversed (a positive θy turns +z towards -x).
 """
 
 from __future__ import annotations
@@ -50,11 +52,12 @@ from qpcontact.core.errors import InvalidProblemError
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_units,
-                               combination, known_node, no_member_between, no_same_contact,
-                               number)
+                               combination, known_member, known_node, no_member_between,
+                               no_same_contact, number)
 from ..mechanics.space_element import axes
 from ..reporting.free_motion import mechanism_message
 from . import circular_cone, circular_trace, space_assembly, space_recovery
+from .space_member_loads import SpanLoad, position
 from .space_results import DOFS, SpaceFrameResult
 
 #: The space frame's hooks of the shared analysis (:class:`FrameKind`): Lemke
@@ -120,7 +123,7 @@ class SpaceFrame:
         self.fixed: dict[str, set] = {}
         self.springs: dict[str, dict] = {}
         self.nodal_loads: list = []   # (node, 6 values, case)
-        self.member_loads: list = []  # (member, (wx, wy, wz), axes, case)
+        self.span_loads: list = []    # SpanLoad: point and distributed member loads
         self.contacts: list = []      # SpaceContact
 
     def add_node(self, name: str, x: float, y: float, z: float) -> str:
@@ -192,14 +195,71 @@ class SpaceFrame:
                      zip((fx, fy, fz, mx, my, mz), ("fx", "fy", "fz", "mx", "my", "mz")))
         self.nodal_loads.append((node, vals, case_name(case)))
 
+    def _member_length(self, member: str) -> float:
+        m = known_member(self, member)
+        return float(np.linalg.norm(self.nodes[m["j"]] - self.nodes[m["i"]]))
+
+    def add_point_load(self, member: str, a: float, fx=0.0, fy=0.0, fz=0.0, mx=0.0, my=0.0,
+                       mz=0.0, *, axes: str = "global", case: str = CONSTANT,
+                       relative: bool = False) -> None:
+        """A force (fx, fy, fz) and a moment (mx, my, mz) at distance ``a``
+        from node i (a fraction of the length with ``relative=True``), in
+        global or member axes (:mod:`.space_member_loads`)."""
+        L = self._member_length(member)
+        a = position(L, a, "a", relative, member)
+        vals = tuple(number(v, f"point load on {member}: {c}") for v, c in
+                     zip((fx, fy, fz, mx, my, mz), ("fx", "fy", "fz", "mx", "my", "mz")))
+        self.span_loads.append(SpanLoad(member, "point", case_name(case), check_axes(axes), a, a,
+                                        vals))
+
     def add_distributed_load(self, member: str, wx=0.0, wy=0.0, wz=0.0, case: str = CONSTANT,
-                             *, axes: str = "global") -> None:
-        """A uniform load per unit length over the whole member."""
-        if member not in self.members:
-            raise InvalidProblemError(f"no member named {member!r}; members: {list(self.members)}")
+                             *, wx2=None, wy2=None, wz2=None, start: float = 0.0,
+                             end: float | None = None, axes: str = "global",
+                             relative: bool = False) -> None:
+        """A load per unit length of the member, (wx, wy, wz) at ``start``
+        varying linearly to (wx2, wy2, wz2) at ``end`` (defaults: uniform
+        over the whole member), in global or member axes — the plane
+        frame's keywords with the third axis."""
+        L = self._member_length(member)
+        a = position(L, start, "start", relative, member)
+        b = position(L, L if end is None else end, "end", relative and end is not None, member)
+        if b < a:
+            raise InvalidProblemError(f"member {member}: end ({b:g}) before start ({a:g})")
         w = tuple(number(v, f"distributed load on {member}: {c}")
                   for v, c in zip((wx, wy, wz), ("wx", "wy", "wz")))
-        self.member_loads.append((member, w, check_axes(axes), case_name(case)))
+        w2 = tuple(w[k] if v is None else number(v, f"distributed load on {member}: {c}")
+                   for k, (v, c) in enumerate(zip((wx2, wy2, wz2), ("wx2", "wy2", "wz2"))))
+        self.span_loads.append(SpanLoad(member, "distributed", case_name(case), check_axes(axes),
+                                        a, b, w + w2))
+
+    def add_self_weight(self, case: str = "D", *, unit_weight: float | None = None,
+                        weight_per_length: float | None = None, members=None,
+                        direction=(0.0, 0.0, -1.0)) -> None:
+        """Self-weight as a uniform global load: ``weight_per_length``
+        (force/length) or ``unit_weight`` (force/volume, e.g. 78.5 kN/m³ for
+        steel) times each member's A, along ``direction`` (default -z)."""
+        if (unit_weight is None) == (weight_per_length is None):
+            raise InvalidProblemError("give exactly one of unit_weight (force/volume, times A) "
+                                      "or weight_per_length (force/length)")
+        try:
+            d = np.array(direction, float)
+        except (TypeError, ValueError):
+            d = np.zeros(0)
+        if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.linalg.norm(d) > 0:
+            raise InvalidProblemError(f"direction must be a nonzero 3-vector; got {direction!r}")
+        d = d / np.linalg.norm(d)
+        for name in (list(self.members) if members is None else list(members)):
+            m = known_member(self, name)
+            w = (number(weight_per_length, "weight_per_length") if unit_weight is None
+                 else number(unit_weight, "unit_weight") * m["A"])
+            self.add_distributed_load(name, *(w * d), case)
+
+    @property
+    def member_loads(self) -> list:
+        """The uniform loads over whole members as (member, (wx, wy, wz),
+        axes, case) — what the drawings and the benchmarks' exports read."""
+        return [(ld.member, ld.values[:3], ld.axes, ld.case) for ld in self.span_loads
+                if ld.whole_uniform(self._member_length(ld.member))]
 
     def add_contact(self, node: str, normal=(0.0, 0.0, 1.0), friction: float = 0.0,
                     gap: float = 0.0, stiffness: float | None = None,
@@ -257,7 +317,7 @@ class SpaceFrame:
     def load_cases(self) -> list:
         names = {CONSTANT, VARIABLE}
         names.update(c for *_, c in self.nodal_loads)
-        names.update(c for *_, c in self.member_loads)
+        names.update(ld.case for ld in self.span_loads)
         return sorted(names)
 
     @property

@@ -125,13 +125,11 @@ class SpaceFrameResult(AnalysisResult):
         return tables.dataframe(self.rows(table, digits))
 
     def deflection(self, member: str, points: int = 21, axes: str = "member"):
-        """(x, u (points, 3)): the displacement of the member's axis at
-        ``points`` sections, x from node i; in member axes (u, v, w) or
-        ``axes="global"`` (ux, uy, uz).  Exact for the element's uniform
-        loads (:func:`.space_drawing.member_deflection`)."""
-        from ..reporting.space_drawing import member_deflection
-
-        return member_deflection(self.frame, self, member, points, axes)
+        """(x, u (n, 3)): the displacement of the member's axis at
+        ``points`` sections and the load positions, x from node i; in member
+        axes (u, v, w) or ``axes="global"`` (ux, uy, uz).  Exact for the
+        element and its loads (:func:`.space_diagrams.deflection`)."""
+        return space_diagrams.deflection(self.frame, self, member, points, axes)
 
     def plot(self, path, scale: float | None = None, title: str | None = None, *,
              azimuth: float | None = None, elevation: float | None = None,

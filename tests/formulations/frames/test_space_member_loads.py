@@ -1,0 +1,188 @@
+"""Member loads on space frames — point forces and moments, partial and
+trapezoidal distributed loads, self-weight, in global and member axes —
+against PyNite 3-D (nodal displacements, reactions and the members'
+deflection along their length, on a frame with members in four
+orientations, two of them rolled) and against statics by hand (a
+cantilever under a point load and a moment inside its span, a partial
+load; the diagrams' jumps at the load)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from formulations.frames import SpaceFrame
+from qpcontact.core.errors import InvalidProblemError
+
+E, G = 2.1e8, 8.1e7                    # kN/m²
+A, IY, IZ, J = 0.012, 3e-4, 8e-4, 1.2e-4
+L = 4.0
+
+
+def _cantilever():
+    fr = SpaceFrame()
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", L, 0.0, 0.0)
+    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M")
+    fr.add_support("A")
+    return fr
+
+
+def test_a_point_force_and_moment_inside_a_cantilever_by_hand():
+    """At a = 1.5 m: F = (2, -3, 5) kN, M = (0.7, -1.1, 0.4) kN·m (member
+    axes = global here).  Beyond a nothing; before it the section carries
+    the load: N = Fx, Vy = -Fy, Vz = -Fz, T = Mx, Mz = Fy (a - x) + Mz_load,
+    My = Fz (a - x) - My_load (module space_diagrams' reading of the face's
+    forces); the tip deflections from the clamp's curvature by hand."""
+    a, F, M = 1.5, np.array([2.0, -3.0, 5.0]), np.array([0.7, -1.1, 0.4])
+    fr = _cantilever()
+    fr.add_point_load("M", a, *F, *M)
+    r = fr.solve()
+    assert r.ok, r.message
+    x, N, Vy, Vz, T, My, Mz = r.diagram("M", 9)
+    assert a in x and np.nextafter(a, 0.0) in x               # both sides of the jump
+    left = x < a
+    hand = {"N": np.where(left, F[0], 0.0), "Vy": np.where(left, -F[1], 0.0),
+            "Vz": np.where(left, -F[2], 0.0), "T": np.where(left, M[0], 0.0),
+            "My": np.where(left, F[2] * (a - x) - M[1], 0.0),
+            "Mz": np.where(left, F[1] * (a - x) + M[2], 0.0)}
+    for q, got in zip(hand, (N, Vy, Vz, T, My, Mz)):
+        np.testing.assert_allclose(got, hand[q], rtol=0, atol=1e-12, err_msg=q)
+    # the tip: w(L) = ∫ (L - s) My/EIy ds over [0, a], v(L) likewise with Mz
+    v_tip = (F[1] * a ** 2 * (3 * L - a) / 6 + M[2] * a * (L - a / 2)) / (E * IZ)
+    w_tip = (F[2] * a ** 2 * (3 * L - a) / 6 - M[1] * a * (L - a / 2)) / (E * IY)
+    assert r.displacements["B"][1] == pytest.approx(v_tip, rel=1e-12)
+    assert r.displacements["B"][2] == pytest.approx(w_tip, rel=1e-12)
+    xd, d = r.deflection("M", 5)
+    assert d[-1, 1] == pytest.approx(v_tip, rel=1e-12) and d[-1, 2] == pytest.approx(w_tip,
+                                                                                    rel=1e-12)
+    assert r.displacements["B"][3] == pytest.approx(M[0] * a / (G * J), rel=1e-12)
+
+
+def test_a_partial_trapezoidal_load_on_a_cantilever_by_hand():
+    """wz from -4 at x = 1 to -10 kN/m at x = 3 (global): the clamp carries
+    the resultant R = -14 kN at its centroid x̄ = 1 + 2(2·10 + 4)/(3·14)...
+    written as ∫ w and ∫ w s: My(0) = ∫ w(s) s ds, Vz(0) = -∫ w ds."""
+    fr = _cantilever()
+    fr.add_distributed_load("M", wz=-4.0, wz2=-10.0, start=1.0, end=3.0)
+    r = fr.solve()
+    s = np.linspace(1.0, 3.0, 200001)
+    w = -4.0 - 3.0 * (s - 1.0)
+    R, Ms = np.trapezoid(w, s), np.trapezoid(w * s, s)
+    ends = r.end_forces("M")
+    assert ends["i"]["Vz"] == pytest.approx(-R, rel=1e-9)
+    assert ends["i"]["My"] == pytest.approx(Ms, rel=1e-9)
+    assert ends["j"]["My"] == pytest.approx(0.0, abs=1e-12)
+    x, *_, My, _ = r.diagram("M", 41)
+    beyond = x >= 3.0
+    assert np.all(np.abs(My[beyond]) <= 1e-12)
+
+
+def test_self_weight_is_unit_weight_times_area_along_its_direction():
+    """A simply supported member, 78.5 kN/m³ x A along -z: My = wL²/8 at
+    midspan with w = 78.5 A; the same by weight_per_length."""
+    for kw in ({"unit_weight": 78.5}, {"weight_per_length": 78.5 * A}):
+        fr = SpaceFrame()
+        fr.add_node("A", 0.0, 0.0, 0.0)
+        fr.add_node("B", 0.0, L, 0.0)
+        fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M")
+        fr.add_support("A", fix=("ux", "uy", "uz", "ry"))
+        fr.add_support("B", fix=("ux", "uz"))
+        fr.add_self_weight(**kw)
+        r = fr.solve(combination={"D": 1.0})
+        assert r.extremes("M")["My"]["max"] == pytest.approx((78.5 * A * L * L / 8, L / 2),
+                                                             rel=1e-12)
+        assert sum(rea[2] for rea in r.reactions.values()) == pytest.approx(78.5 * A * L,
+                                                                            rel=1e-12)
+
+
+def test_misplaced_member_loads_are_named():
+    fr = _cantilever()
+    with pytest.raises(InvalidProblemError, match="lies outside the member"):
+        fr.add_point_load("M", 4.5, fz=-1.0)
+    with pytest.raises(InvalidProblemError, match="end .* before start"):
+        fr.add_distributed_load("M", wz=-1.0, start=3.0, end=1.0)
+    with pytest.raises(InvalidProblemError, match="no member named 'Q'"):
+        fr.add_point_load("Q", 1.0, fz=-1.0)
+    with pytest.raises(InvalidProblemError, match="exactly one of unit_weight"):
+        fr.add_self_weight()
+    with pytest.raises(InvalidProblemError, match="nonzero 3-vector"):
+        fr.add_self_weight(unit_weight=1.0, direction=(0.0, -1.0))
+
+
+# -- against PyNite 3-D -------------------------------------------------------------------
+
+NODES = {"A": (0.0, 0.0, 0.0), "B": (3.0, 0.0, 0.0), "C": (3.0, 2.5, 0.5),
+         "D": (3.0, 2.5, 3.0), "E": (1.0, 4.0, 3.5)}
+MEMBERS = [("A", "B", 0.0), ("B", "C", 25.0), ("C", "D", 0.0), ("D", "E", -40.0)]
+#: (member, PyNite direction, value, x) point loads; lower case: member axes
+POINT = [("M0", "Fy", -6.0, 1.0), ("M0", "FZ", 4.0, 2.2), ("M1", "Mz", 2.5, 1.0),
+         ("M1", "MX", -1.5, 0.8), ("M2", "Fz", 3.0, 1.25), ("M2", "My", -2.0, 2.0),
+         ("M3", "FX", 5.0, 0.6), ("M3", "Mx", 0.9, 1.7)]
+#: (member, direction, w1, w2, x1, x2) distributed loads
+DIST = [("M0", "Fz", -3.0, -7.0, 0.5, 2.5), ("M1", "FY", 2.0, 2.0, 0.0, None),
+        ("M2", "Fy", -4.0, 1.0, 0.3, 2.2), ("M3", "FZ", -5.0, -2.0, 1.0, None)]
+PYNITE_TO_OURS = {"FX": "fx", "FY": "fy", "FZ": "fz", "MX": "mx", "MY": "my", "MZ": "mz"}
+
+
+def _length(i, j):
+    return float(np.linalg.norm(np.subtract(NODES[j], NODES[i])))
+
+
+def test_point_partial_and_trapezoidal_loads_against_pynite():
+    """Every kind of member load, in member and global axes, on members in
+    four orientations (two rolled): nodal displacements and the clamp's
+    reactions to 1e-9, and each member's deflection along its local y and
+    z at seven sections (PyNite's ``deflection``) to 1e-8 of the largest."""
+    pytest.importorskip("Pynite", reason="PyNite is in the test extra (PyNiteFEA)")
+    from Pynite import FEModel3D
+
+    m, fr = FEModel3D(), SpaceFrame()
+    m.add_material("s", E, G, 0.3, 0.0)
+    m.add_section("x", A, IY, IZ, J)
+    for n, xyz in NODES.items():
+        m.add_node(n, *xyz)
+        fr.add_node(n, *xyz)
+    m.def_support("A", True, True, True, True, True, True)
+    fr.add_support("A")
+    for k, (i, j, roll) in enumerate(MEMBERS):
+        m.add_member(f"M{k}", i, j, "s", "x", rotation=roll)
+        fr.add_member(i, j, E, G, A, IY, IZ, J, name=f"M{k}",
+                      ref=m.members[f"M{k}"].T()[2, :3])
+    for member, direction, value, x in POINT:
+        m.add_member_pt_load(member, direction, value, x, case="D")
+        axes = "global" if direction.isupper() else "member"
+        fr.add_point_load(member, x, **{PYNITE_TO_OURS[direction.upper()]: value}, axes=axes,
+                          case="D")
+    for member, direction, w1, w2, x1, x2 in DIST:
+        i, j, _ = MEMBERS[int(member[1])]
+        x2 = _length(i, j) if x2 is None else x2
+        m.add_member_dist_load(member, direction, w1, w2, x1, x2, case="D")
+        comp = PYNITE_TO_OURS[direction.upper()][1]
+        fr.add_distributed_load(member, **{f"w{comp}": w1, f"w{comp}2": w2}, start=x1,
+                                end=x2, axes="global" if direction.isupper() else "member",
+                                case="D")
+    m.add_load_combo("C", {"D": 1.0})
+    m.analyze(check_statics=False)
+    r = fr.solve(combination={"D": 1.0})
+    assert r.ok, r.message
+    big = 0.0
+    for n in NODES:
+        nd = m.nodes[n]
+        theirs = np.array([getattr(nd, d)["C"] for d in ("DX", "DY", "DZ", "RX", "RY", "RZ")])
+        big = max(big, np.abs(theirs).max())
+        np.testing.assert_allclose(r.displacements[n], theirs, rtol=1e-9, atol=1e-10 * big,
+                                   err_msg=n)
+    a = m.nodes["A"]
+    theirs = [getattr(a, f"Rxn{c}")["C"] for c in ("FX", "FY", "FZ", "MX", "MY", "MZ")]
+    np.testing.assert_allclose(r.reactions["A"], theirs, rtol=1e-9,
+                               atol=1e-9 * np.abs(theirs).max())
+    for k, (i, j, _) in enumerate(MEMBERS):
+        name = f"M{k}"
+        x, d = r.deflection(name, 7)
+        for xs, dd in zip(x[1:-1], d[1:-1]):
+            theirs = [m.members[name].deflection(c, xs, "C") for c in ("dy", "dz")]
+            np.testing.assert_allclose(dd[1:], theirs, rtol=0, atol=1e-8 * big * _length(i, j),
+                                       err_msg=f"{name} at {xs}")
