@@ -117,3 +117,24 @@ def rotation(R) -> np.ndarray:
     for o in range(0, 12, 3):
         T[..., o:o + 3, o:o + 3] = R
     return T
+
+
+#: a member end's rotations by name, and their rows in the member's 12 dofs
+END_ROTATIONS = {"rx": 3, "ry": 4, "rz": 5}
+
+
+def condense(k, fe, released) -> tuple:
+    """A member's stiffness (12, 12) and loads (12, cases) with the end
+    dofs ``released`` (their rows) condensed out — a hinge: the member's
+    own end rotation is free of its node, its moment zero, and the rows
+    and columns of the node's rotation get nothing from this member.
+    Static condensation, one dof at a time: k' = k - k_r k_rᵀ / k_rr,
+    f' = f - k_r f_r / k_rr."""
+    k, fe = np.array(k, float), np.array(fe, float)
+    for r in released:
+        col = k[:, r].copy()
+        fe = fe - np.outer(col, fe[r]) / k[r, r]
+        k = k - np.outer(col, col) / k[r, r]
+        k[r, :] = k[:, r] = 0.0
+        fe[r] = 0.0
+    return k, fe

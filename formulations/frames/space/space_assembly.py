@@ -12,7 +12,7 @@ import scipy.sparse as sp
 from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp
-from ..mechanics.space_element import axes, rotation, stiffness
+from ..mechanics.space_element import axes, condense, rotation, stiffness
 from ..reporting.free_motion import mechanism_message
 from . import space_member_loads
 from .space_results import DOFS
@@ -43,12 +43,8 @@ def assemble(frame, axial=None):
         L = np.linalg.norm(xj - xi, axis=1)
         k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
                               ("E", "G", "A", "Iy", "Iz", "J")), L, axial)
-        kg = T.transpose(0, 2, 1) @ k_local @ T
         dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
                          for m_ in ms])
-        rows.append(np.repeat(dofs, 12, axis=1).ravel())
-        cols.append(np.tile(dofs, (1, 12)).ravel())
-        vals.append(kg.ravel())
         where = {nm: k for k, nm in enumerate(frame.members)}
         for load in frame.span_loads:
             k = where[load.member]
@@ -58,6 +54,15 @@ def assemble(frame, axial=None):
                 Fe[k, :, col[load.case]] += fixed_end(q, L[k])
             else:      # a point load or a part of the member (its own module)
                 Fe[k, :, col[load.case]] += space_member_loads.fixed_end(load, L[k], R[k])
+        # end releases: the member's own end rotations condensed out, its
+        # loads with them (the released end moments are zero)
+        for k, m_ in enumerate(ms):
+            if m_["releases"]:
+                k_local[k], Fe[k] = condense(k_local[k], Fe[k], m_["releases"])
+        kg = T.transpose(0, 2, 1) @ k_local @ T
+        rows.append(np.repeat(dofs, 12, axis=1).ravel())
+        cols.append(np.tile(dofs, (1, 12)).ravel())
+        vals.append(kg.ravel())
         np.add.at(F, dofs.ravel(), (T.transpose(0, 2, 1) @ Fe).reshape(-1, len(cases)))
     for node, v, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 6, col[case]] += v

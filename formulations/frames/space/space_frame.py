@@ -54,7 +54,7 @@ from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_units,
                                combination, known_member, known_node, no_member_between,
                                no_same_contact, number)
-from ..mechanics.space_element import axes
+from ..mechanics.space_element import END_ROTATIONS, axes
 from ..reporting.free_motion import mechanism_message
 from . import circular_cone, circular_trace, space_assembly, space_recovery
 from .space_member_loads import SpanLoad, position
@@ -93,6 +93,26 @@ class SpaceContact:
     stiffness: float | None
     facets: int
     other: None = None
+
+
+def released(hinge, what: str) -> tuple:
+    """The member-axis rotations a ``hinge_i``/``hinge_j`` value releases:
+    False none, True both bending moments, or names among rx, ry, rz."""
+    if hinge is False or hinge is None:
+        return ()
+    if hinge is True:
+        return ("ry", "rz")
+    names = (hinge,) if isinstance(hinge, str) else hinge
+    try:
+        names = tuple(names)
+    except TypeError:
+        names = (hinge,)
+    bad = [r for r in names if r not in END_ROTATIONS]
+    if bad or not names or len(set(names)) != len(names):
+        raise InvalidProblemError(
+            f"{what}: True (both bending moments), False, or the rotations to release among "
+            f"{tuple(END_ROTATIONS)} in member axes, each once, e.g. ('rz',); got {hinge!r}")
+    return names
 
 
 class SpaceFrame:
@@ -134,10 +154,18 @@ class SpaceFrame:
         return name
 
     def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
-                   J: float, *, name: str | None = None, ref=None, roll: float = 0.0) -> str:
+                   J: float, *, name: str | None = None, ref=None, roll: float = 0.0,
+                   hinge_i=False, hinge_j=False) -> str:
         """A member from node i to node j: E, G, A, Iy, Iz (about the local y
         and z axes), J; its local x-z plane contains ``ref`` (default global
-        Z, or X for a vertical member), turned by ``roll`` (radians) about x."""
+        Z, or X for a vertical member), turned by ``roll`` (radians) about x.
+        Returns its name.
+
+        End releases, as the plane frame's: ``hinge_i``/``hinge_j`` True
+        releases both bending moments at that end (My and Mz: a ball joint
+        that still carries the twist), or name the member-axis rotations to
+        release, e.g. ``hinge_j=("rz",)`` (a hinge about the local z only)
+        or ``("rx",)`` (a torsion release)."""
         known_node(self, i), known_node(self, j)
         if i == j:
             raise InvalidProblemError("a member needs two different nodes")
@@ -160,14 +188,24 @@ class SpaceFrame:
             raise InvalidProblemError(
                 f"{what}: its reference vector {tuple(map(float, ref))} is parallel to the "
                 "member; give one in the plane of the member's local x-z axes") from exc
+        releases = []
+        for hinge, end, at in ((hinge_i, "i", 0), (hinge_j, "j", 6)):
+            releases += [at + END_ROTATIONS[r] for r in released(hinge, f"{what}: hinge_{end}")]
+        if {3, 9} <= set(releases):
+            raise InvalidProblemError(
+                f"{what}: its twist is released at both ends (rx in hinge_i and hinge_j), so "
+                "nothing holds it from spinning about its axis; release rx at one end at most")
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
             raise InvalidProblemError(f"member {name!r} exists already; give another name")
         no_member_between(((k, m["i"], m["j"]) for k, m in self.members.items()), i, j, what)
-        self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, **props)
+        self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, releases=tuple(releases),
+                                  **props)
         return name
 
     def add_support(self, node: str, fix=DOFS) -> None:
+        """Bilateral support: the listed degrees of freedom (global axes)
+        are fixed."""
         known_node(self, node)
         fix = (fix,) if isinstance(fix, str) else tuple(fix)
         bad = [d for d in fix if d not in DOFS]

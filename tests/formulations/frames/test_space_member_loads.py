@@ -186,3 +186,100 @@ def test_point_partial_and_trapezoidal_loads_against_pynite():
             theirs = [m.members[name].deflection(c, xs, "C") for c in ("dy", "dz")]
             np.testing.assert_allclose(dd[1:], theirs, rtol=0, atol=1e-8 * big * _length(i, j),
                                        err_msg=f"{name} at {xs}")
+
+
+# -- end releases -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("axis, hinge", [("z", True), ("z", ("ry",)), ("y", ("rz",)),
+                                         ("y", ("ry",))])
+def test_a_hinge_at_a_members_end_carries_no_moment(axis, hinge):
+    """A clamp at A, a roller at C, the member A-B hinged at B (about the
+    loaded plane's axis), w = 5 kN/m down both members of 3 m: B-C is a
+    simply supported span hung from the cantilever's tip, which carries
+    its wL/2 — so M = 0 at the hinge, wL²/8 in the span B-C, and the clamp
+    -(wL²/2 + wL/2·L) = -wL²; a hinge about the other axis alone leaves
+    the frame as if continuous (its moment at B nonzero)."""
+    w, span = 5.0, 3.0
+    fr = SpaceFrame()
+    for n, x in (("A", 0.0), ("B", span), ("C", 2 * span)):
+        fr.add_node(n, x, 0.0, 0.0)
+    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="AB", hinge_j=hinge)
+    fr.add_member("B", "C", E, G, A, IY, IZ, J, name="BC")
+    fr.add_support("A")
+    fr.add_support("C", fix=("uy", "uz", "rx"))
+    M, V = ("My", "Vz") if axis == "z" else ("Mz", "Vy")
+    for m in ("AB", "BC"):
+        fr.add_distributed_load(m, **{f"w{axis}": -w})
+    r = fr.solve()
+    assert r.ok, r.message
+    released = hinge is True or ("ry" if axis == "z" else "rz") in hinge
+    if not released:
+        assert abs(r.end_forces("AB")["j"][M]) > 0.1 * w * span ** 2
+        return
+    assert r.end_forces("AB")["j"][M] == pytest.approx(0.0, abs=1e-9)
+    assert r.end_forces("BC")["i"][M] == pytest.approx(0.0, abs=1e-9)
+    assert r.end_forces("AB")["i"][M] == pytest.approx(-w * span ** 2, rel=1e-12)
+    assert r.extremes("BC")[M]["max"] == pytest.approx((w * span ** 2 / 8, span / 2), rel=1e-12)
+    assert r.end_forces("BC")["i"][V] == pytest.approx(w * span / 2, rel=1e-12)
+
+
+def test_releases_against_pynite():
+    """The frame of four orientations with member loads, and releases at
+    member ends in member axes — about z at one end, both bending moments
+    at another, the twist at a third (its far node's rotations held):
+    nodal displacements and reactions as PyNite's ``def_releases``."""
+    pytest.importorskip("Pynite", reason="PyNite is in the test extra (PyNiteFEA)")
+    from Pynite import FEModel3D
+
+    releases = {"M1": {"hinge_i": ("rz",)}, "M2": {"hinge_j": True}, "M3": {"hinge_i": ("rx",)}}
+    pynite = {"M1": {"Rzi": True}, "M2": {"Ryj": True, "Rzj": True}, "M3": {"Rxi": True}}
+    m, fr = FEModel3D(), SpaceFrame()
+    m.add_material("s", E, G, 0.3, 0.0)
+    m.add_section("x", A, IY, IZ, J)
+    for n, xyz in NODES.items():
+        m.add_node(n, *xyz)
+        fr.add_node(n, *xyz)
+    m.def_support("A", True, True, True, True, True, True)
+    fr.add_support("A")
+    m.def_support("E", False, False, True, True, True, True)
+    fr.add_support("E", fix=("uz", "rx", "ry", "rz"))
+    for k, (i, j, roll) in enumerate(MEMBERS):
+        name = f"M{k}"
+        m.add_member(name, i, j, "s", "x", rotation=roll)
+        if name in pynite:
+            m.def_releases(name, **pynite[name])
+        fr.add_member(i, j, E, G, A, IY, IZ, J, name=name, ref=m.members[name].T()[2, :3],
+                      **releases.get(name, {}))
+    for member, direction, value, x in POINT:
+        m.add_member_pt_load(member, direction, value, x, case="D")
+        fr.add_point_load(member, x, **{PYNITE_TO_OURS[direction.upper()]: value},
+                          axes="global" if direction.isupper() else "member", case="D")
+    m.add_node_load("C", "FY", 3.0, case="D")
+    fr.add_load("C", fy=3.0, case="D")
+    m.add_load_combo("C", {"D": 1.0})
+    m.analyze(check_statics=False)
+    r = fr.solve(combination={"D": 1.0})
+    assert r.ok, r.message
+    big = max(abs(getattr(m.nodes[n], d)["C"]) for n in NODES for d in ("DX", "DY", "DZ"))
+    for n in NODES:
+        nd = m.nodes[n]
+        theirs = np.array([getattr(nd, d)["C"] for d in ("DX", "DY", "DZ", "RX", "RY", "RZ")])
+        np.testing.assert_allclose(r.displacements[n], theirs, rtol=1e-9, atol=1e-9 * big,
+                                   err_msg=n)
+    for n in ("A", "E"):
+        theirs = [getattr(m.nodes[n], f"Rxn{c}")["C"] for c in ("FX", "FY", "FZ", "MX", "MY",
+                                                                "MZ")]
+        np.testing.assert_allclose(r.reactions[n], theirs, rtol=1e-9, atol=1e-9 * 10.0)
+    # the released ends carry no moment
+    ends = {name: r.end_forces(name) for name in releases}
+    assert abs(ends["M1"]["i"]["Mz"]) <= 1e-9 and abs(ends["M3"]["i"]["T"]) <= 1e-9
+    assert max(abs(ends["M2"]["j"]["My"]), abs(ends["M2"]["j"]["Mz"])) <= 1e-9
+
+
+def test_a_twist_released_at_both_ends_is_refused():
+    fr = _cantilever()
+    fr.add_node("C", L, 2.0, 0.0)
+    with pytest.raises(InvalidProblemError, match="twist is released at both ends"):
+        fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_i=("rx",), hinge_j=("rx", "ry"))
+    with pytest.raises(InvalidProblemError, match="hinge_j: True .* among"):
+        fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_j="x")
