@@ -96,11 +96,21 @@ def build(frame, axial=None):
             springs[idx[node] + DOFS.index(d)] += kval
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
                           coords=np.array(list(frame.nodes.values()), float),
-                          U=np.zeros_like(F), cases=cases, fixed=fixed, H=H, info=info,
+                          U=settlements(frame, idx, cases, F.shape), cases=cases, fixed=fixed, H=H, info=info,
                           flex=flex, local=local, Tn=None,
                           axial=None if axial is None else np.asarray(axial, float), **basic)
     b["maps"] = lcp_maps(frame, info)
     return b
+
+
+def settlements(frame, idx, cases, shape) -> np.ndarray:
+    """U (dofs x cases): the prescribed displacements of fixed dofs, per
+    case (zero elsewhere)."""
+    col = {c: k for k, c in enumerate(cases)}
+    U = np.zeros(shape)
+    for node, dof, case, value in frame.settlements:
+        U[idx[node] + DOFS.index(dof), col[case]] += value
+    return U
 
 
 def held(frame, c, vec) -> bool:

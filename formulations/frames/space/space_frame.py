@@ -144,6 +144,7 @@ class SpaceFrame:
         self.springs: dict[str, dict] = {}
         self.nodal_loads: list = []   # (node, 6 values, case)
         self.span_loads: list = []    # SpanLoad: point and distributed member loads
+        self.settlements: list = []   # (node, dof, case, value)
         self.contacts: list = []      # SpaceContact
 
     def add_node(self, name: str, x: float, y: float, z: float) -> str:
@@ -212,6 +213,25 @@ class SpaceFrame:
         if bad:
             raise InvalidProblemError(f"fix must name dofs among {DOFS}; got {bad}")
         self.fixed.setdefault(node, set()).update(fix)
+
+    def add_settlement(self, node: str, case: str = CONSTANT, **displacements) -> None:
+        """Prescribed displacement of bilateral supports (a settlement, in
+        load case ``case``), global axes: add_settlement("A", "S", uz=-0.01);
+        each dof given must be fixed by add_support."""
+        known_node(self, node)
+        if not displacements:
+            raise InvalidProblemError(f"settlement at {node!r}: give displacements among "
+                                      f"{DOFS}, e.g. uz=-0.01")
+        for d, v in displacements.items():
+            if d not in DOFS:
+                raise InvalidProblemError(f"settlement at {node!r}: dofs among {DOFS}; got {d!r}")
+            if d not in self.fixed.get(node, set()):
+                raise InvalidProblemError(
+                    f"settlement at {node!r}: {d} is not fixed by a bilateral support there "
+                    f"(fixed: {sorted(self.fixed.get(node, set())) or 'none'}); add_support("
+                    f"{node!r}, fix=(..., {d!r})) first — a settlement moves a support")
+            self.settlements.append((node, d, case_name(case),
+                                     number(v, f"settlement at {node!r}: {d}")))
 
     def add_spring(self, node: str, **stiffnesses) -> None:
         """Springs to the ground on the named dofs: add_spring("A", uz=1e5)."""
@@ -356,6 +376,7 @@ class SpaceFrame:
         names = {CONSTANT, VARIABLE}
         names.update(c for *_, c in self.nodal_loads)
         names.update(ld.case for ld in self.span_loads)
+        names.update(st[2] for st in self.settlements)
         return sorted(names)
 
     @property
@@ -375,15 +396,16 @@ class SpaceFrame:
         (default the case "constant")."""
         K, F, fixed, cases, idx, _ = space_assembly.assemble(self)
         combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
-        f = F @ np.array([combo.get(c, 0.0) for c in cases])
+        factors = np.array([combo.get(c, 0.0) for c in cases])
+        u = space_assembly.settlements(self, idx, cases, F.shape) @ factors
         free = np.flatnonzero(~fixed)
+        f = F @ factors - K[:, fixed] @ u[fixed]
         Kf = K[free][:, free].tocsc()
         lu = contact_lcp.regular_lu(Kf)
         if lu is None:
             raise InvalidProblemError(mechanism_message(
                 Kf, free, free.size, list(self.nodes), DOFS, list(self.nodes.values()),
                 contacts=False))
-        u = np.zeros(K.shape[0])
         u[free] = lu.solve(f[free])
         return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
 

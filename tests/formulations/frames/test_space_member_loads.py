@@ -283,3 +283,41 @@ def test_a_twist_released_at_both_ends_is_refused():
         fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_i=("rx",), hinge_j=("rx", "ry"))
     with pytest.raises(InvalidProblemError, match="hinge_j: True .* among"):
         fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_j="x")
+
+
+# -- settlements --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("dof, axis", [("uz", "y"), ("uy", "z")])
+def test_a_clamped_beams_support_settles(dof, axis):
+    """Both ends clamped, B settles by δ = -5 mm across the member (case
+    "S"): the fixed-end actions of a sway by hand, M = ∓6EIδ/L² at A and B
+    (the end that stays hogs when B drops: the +side fibre in tension),
+    V = 12EIδ/L³ — about y for a settlement along z, about z along y;
+    nothing else moves."""
+    delta = -5e-3
+    fr = SpaceFrame()
+    for n, x in (("A", 0.0), ("C", L / 2), ("B", L)):     # C: a free node between
+        fr.add_node(n, x, 0.0, 0.0)
+    fr.add_member("A", "C", E, G, A, IY, IZ, J, name="M")
+    fr.add_member("C", "B", E, G, A, IY, IZ, J, name="N")
+    fr.add_support("A")
+    fr.add_support("B")
+    fr.add_settlement("B", "S", **{dof: delta})
+    r = fr.solve(combination={"S": 1.0})
+    assert r.ok, r.message
+    I_ = IY if axis == "y" else IZ
+    M, V = f"M{axis}", f"V{'z' if axis == 'y' else 'y'}"
+    at_a, at_b = r.end_forces("M")["i"], r.end_forces("N")["j"]
+    assert at_a[M] == pytest.approx(6 * E * I_ * delta / L ** 2, rel=1e-12)
+    assert at_b[M] == pytest.approx(-6 * E * I_ * delta / L ** 2, rel=1e-12)
+    assert at_a[V] == pytest.approx(-12 * E * I_ * delta / L ** 3, rel=1e-12)
+    assert r.displacements["B"][("ux", "uy", "uz").index(dof)] == delta
+    assert fr.solve_linear({"S": 1.0})["B"][("ux", "uy", "uz").index(dof)] == delta
+
+
+def test_a_settlement_needs_a_support_there():
+    fr = _cantilever()
+    with pytest.raises(InvalidProblemError, match="uz is not fixed by a bilateral support"):
+        fr.add_settlement("B", uz=-0.01)
+    with pytest.raises(InvalidProblemError, match="dofs among"):
+        fr.add_settlement("A", wz=-0.01)

@@ -210,6 +210,26 @@ def test_a_planar_frame_built_in_space_solves_and_traces_as_the_plane_frame(mode
     assert _words(t3.message) == _words(t2.message)
 
 
+def test_a_settlement_on_a_beam_on_pads_as_the_plane_frame():
+    """The continuous beam's horizontal hold at N0 is pushed 8 mm along the
+    beam (case "S"), dragging it over its frictional pads: the same states,
+    forces, displacements, diagrams and reactions in space as in the plane,
+    to 1e-10."""
+    (plane, space), _ = _continuous_beam()
+    plane.add_settlement("N0", "S", ux=8e-3)
+    space.add_settlement("N0", "S", ux=8e-3)
+    states = set()
+    for combo in ({"constant": 1.0, "S": 1.0}, {"constant": 1.0, "variable": 2.0, "S": 1.0}):
+        r2 = plane.solve(combination=combo)
+        for cone in ("circumscribed", "circular"):      # the LCP and the friction solvers
+            space.cone = cone
+            r3 = space.solve(combination=combo)
+            assert r2.displacements["N0"][0] == r3.displacements["N0"][0] == 8e-3
+            _same_answers(plane, space, r2, r3)
+        states |= {s.state for s in r2.supports.values()}
+    assert "slip+" in states, states          # the pads are dragged along
+
+
 def test_the_portal_in_space_at_the_plane_frames_hand_values():
     """The portal's references by hand (force method, statics) hold in space
     too: D slips at P = 25.4363 kN, the frame slides away at f w L = 36 kN."""
