@@ -41,19 +41,21 @@ def assemble(frame, axial=None):
         R = axes(xi, xj, ref, np.array([m_["roll"] for m_ in ms]))
         T = rotation(R)
         L = np.linalg.norm(xj - xi, axis=1)
+        phi = shear_parameters(ms, L)
         k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
-                              ("E", "G", "A", "Iy", "Iz", "J")), L, axial)
+                              ("E", "G", "A", "Iy", "Iz", "J")), L, axial, *phi.T)
         dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
                          for m_ in ms])
         where = {nm: k for k, nm in enumerate(frame.members)}
         for load in frame.span_loads:
             k = where[load.member]
-            if load.whole_uniform(L[k]):
+            if load.whole_uniform(L[k]) and not phi[k].any():
                 w = np.asarray(load.values[:3])
                 q = w if load.axes == "member" else R[k] @ w
                 Fe[k, :, col[load.case]] += fixed_end(q, L[k])
             else:      # a point load or a part of the member (its own module)
-                Fe[k, :, col[load.case]] += space_member_loads.fixed_end(load, L[k], R[k])
+                Fe[k, :, col[load.case]] += space_member_loads.fixed_end(load, L[k], R[k],
+                                                                         phi[k])
         # end releases: the member's own end rotations condensed out, its
         # loads with them (the released end moments are zero)
         for k, m_ in enumerate(ms):
@@ -101,6 +103,18 @@ def build(frame, axial=None):
                           axial=None if axial is None else np.asarray(axial, float), **basic)
     b["maps"] = lcp_maps(frame, info)
     return b
+
+
+def shear_parameters(members, L) -> np.ndarray:
+    """(m, 2): each member's φ = 12 EI / (G A_s L²) for shear along its
+    local y (with Iz) and along z (with Iy); 0 where it has no shear area
+    (Euler–Bernoulli)."""
+    out = np.zeros((len(members), 2))
+    for k, m in enumerate(members):
+        for a, (GAs, I_) in enumerate(zip(m["GAs"], (m["Iz"], m["Iy"]))):
+            if GAs is not None:
+                out[k, a] = 12.0 * m["E"] * I_ / (GAs * L[k] ** 2)
+    return out
 
 
 def settlements(frame, idx, cases, shape) -> np.ndarray:

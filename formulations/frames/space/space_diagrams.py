@@ -160,7 +160,9 @@ def deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
     which fixes the slope constants without the end rotations.  Each
     integral is a 4-point Gauss rule between consecutive sections, which
     include every load position: the integrand is a polynomial of degree
-    <= 4 on each piece, so the curve is exact to rounding."""
+    <= 4 on each piece, so the curve is exact to rounding.  A Timoshenko
+    member adds its shear strain, the face's force along +y (or +z) over
+    G A_s, -Vy/(G A_sy) (or -Vz/(G A_sz)), to the slope."""
     if axes not in ("member", "global"):
         raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
     checked_member(frame, res, member, points)
@@ -171,14 +173,17 @@ def deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
     lo, hi = x[:-1, None], x[1:, None]
     gs = (0.5 * (hi - lo) * t + 0.5 * (lo + hi)).ravel()
     gw = (0.5 * (hi - lo) * wt).ravel()
-    N, _, _, _, My, Mz = sections(frame, res, member, gs)
+    N, Vy, Vz, _, My, Mz = sections(frame, res, member, gs)
     di, dj = (R @ np.asarray(res.displacements[n][:3], float) for n in (m["i"], m["j"]))
     before = gs[None, :] < x[:, None]
     lever = before * (x[:, None] - gs[None, :])
     u = di[0] + (before * gw) @ (N / (m["E"] * m["A"]))
     d = [u]
-    for k, (M, I_) in enumerate(((Mz, m["Iz"]), (My, m["Iy"])), start=1):
+    for k, (M, I_, V, GAs) in enumerate(((Mz, m["Iz"], Vy, m["GAs"][0]),
+                                         (My, m["Iy"], Vz, m["GAs"][1])), start=1):
         bend = lever @ (gw * M / (m["E"] * I_))
+        if GAs is not None:          # a Timoshenko member's shear strain -V/(G A_s)
+            bend = bend - (before * gw) @ (V / GAs)
         d.append(di[k] + bend + (dj[k] - di[k] - bend[-1]) * x / L)
     d = np.stack(d, axis=1)
     return x, (d if axes == "member" else d @ R)

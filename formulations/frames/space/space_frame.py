@@ -95,6 +95,27 @@ class SpaceContact:
     other: None = None
 
 
+def shear_areas(shear_area, G: float, what: str) -> tuple:
+    """(G A_sy, G A_sz), None for a plane without shear deformation."""
+    if shear_area is None:
+        return (None, None)
+    pair = (shear_area, shear_area) if not isinstance(shear_area, (tuple, list)) \
+        else tuple(shear_area)
+    if len(pair) != 2:
+        raise InvalidProblemError(f"{what}: shear_area is one area or a pair (A_sy, A_sz); "
+                                  f"got {shear_area!r}")
+    out = []
+    for v, axis in zip(pair, "yz"):
+        if v is not None:
+            v = number(v, f"{what}: shear_area along {axis}")
+            if not v > 0:
+                raise InvalidProblemError(f"{what}: shear_area along {axis} must be positive "
+                                          f"(or None: no shear deformation); got {v}")
+            v = G * v
+        out.append(v)
+    return tuple(out)
+
+
 def released(hinge, what: str) -> tuple:
     """The member-axis rotations a ``hinge_i``/``hinge_j`` value releases:
     False none, True both bending moments, or names among rx, ry, rz."""
@@ -156,7 +177,7 @@ class SpaceFrame:
 
     def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
                    J: float, *, name: str | None = None, ref=None, roll: float = 0.0,
-                   hinge_i=False, hinge_j=False) -> str:
+                   hinge_i=False, hinge_j=False, shear_area=None) -> str:
         """A member from node i to node j: E, G, A, Iy, Iz (about the local y
         and z axes), J; its local x-z plane contains ``ref`` (default global
         Z, or X for a vertical member), turned by ``roll`` (radians) about x.
@@ -166,7 +187,13 @@ class SpaceFrame:
         releases both bending moments at that end (My and Mz: a ball joint
         that still carries the twist), or name the member-axis rotations to
         release, e.g. ``hinge_j=("rz",)`` (a hinge about the local z only)
-        or ``("rx",)`` (a torsion release)."""
+        or ``("rx",)`` (a torsion release).
+
+        Shear deformation, as the plane frame's ``shear_area``: the shear
+        areas (A_sy, A_sz) for shear along the local y and z axes (e.g. 5/6
+        A each for a rectangle; one number for both) make it a Timoshenko
+        member in each plane given (None in the pair: that plane
+        Euler-Bernoulli); G is the member's own."""
         known_node(self, i), known_node(self, j)
         if i == j:
             raise InvalidProblemError("a member needs two different nodes")
@@ -189,6 +216,7 @@ class SpaceFrame:
             raise InvalidProblemError(
                 f"{what}: its reference vector {tuple(map(float, ref))} is parallel to the "
                 "member; give one in the plane of the member's local x-z axes") from exc
+        GAs = shear_areas(shear_area, props["G"], what)
         releases = []
         for hinge, end, at in ((hinge_i, "i", 0), (hinge_j, "j", 6)):
             releases += [at + END_ROTATIONS[r] for r in released(hinge, f"{what}: hinge_{end}")]
@@ -201,7 +229,7 @@ class SpaceFrame:
             raise InvalidProblemError(f"member {name!r} exists already; give another name")
         no_member_between(((k, m["i"], m["j"]) for k, m in self.members.items()), i, j, what)
         self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, releases=tuple(releases),
-                                  **props)
+                                  GAs=GAs, **props)
         return name
 
     def add_support(self, node: str, fix=DOFS) -> None:

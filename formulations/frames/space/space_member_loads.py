@@ -95,12 +95,14 @@ def plane_parts(load: SpanLoad, R):
     return xy, xz, 0.0
 
 
-def fixed_end(load: SpanLoad, L: float, R) -> np.ndarray:
+def fixed_end(load: SpanLoad, L: float, R, phi=(0.0, 0.0)) -> np.ndarray:
     """The load's equivalent nodal loads in member axes, 12 (u, v, w, θx,
-    θy, θz at i then j): the exact fixed-end forces of the element."""
+    θy, θz at i then j): the exact fixed-end forces of the element —
+    against each plane's own interpolation, the Timoshenko one where
+    ``phi`` (shear along y, along z) is not 0."""
     xy, xz, mx = plane_parts(load, R)
-    e = equivalent_nodal(xy, L, 1.0, 0.0)
-    g = equivalent_nodal(xz, L, 1.0, 0.0)
+    e = equivalent_nodal(xy, L, 1.0, 0.0, phi[0])
+    g = equivalent_nodal(xz, L, 1.0, 0.0, phi[1])
     out = np.zeros(12)
     out[[0, 1, 5, 6, 7, 11]] = e
     out[[2, 8]] = g[[1, 4]]
