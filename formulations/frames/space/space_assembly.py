@@ -41,15 +41,23 @@ def assemble(frame, axial=None):
         R = axes(xi, xj, ref, np.array([m_["roll"] for m_ in ms]))
         T = rotation(R)
         L = np.linalg.norm(xj - xi, axis=1)
-        phi = shear_parameters(ms, L)
+        offsets = np.array([m_["offsets"] for m_ in ms], float).reshape(m, 2)
+        Lf = L - offsets.sum(axis=1)                     # the flexible lengths
+        phi = shear_parameters(ms, Lf)
         k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
-                              ("E", "G", "A", "Iy", "Iz", "J")), L, axial, *phi.T)
+                              ("E", "G", "A", "Iy", "Iz", "J")), Lf, axial, *phi.T)
+        rigid = np.zeros_like(Fe)                        # loads on the rigid zones
         dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
                          for m_ in ms])
         where = {nm: k for k, nm in enumerate(frame.members)}
         for load in frame.span_loads:
             k = where[load.member]
-            if load.whole_uniform(L[k]) and not phi[k].any():
+            if offsets[k].any():
+                fe, at_nodes = space_member_loads.offset_fixed_end(load, L[k], R[k], phi[k],
+                                                                   offsets[k])
+                Fe[k, :, col[load.case]] += fe
+                rigid[k, :, col[load.case]] += at_nodes
+            elif load.whole_uniform(L[k]) and not phi[k].any():
                 w = np.asarray(load.values[:3])
                 q = w if load.axes == "member" else R[k] @ w
                 Fe[k, :, col[load.case]] += fixed_end(q, L[k])
@@ -61,6 +69,12 @@ def assemble(frame, axial=None):
         for k, m_ in enumerate(ms):
             if m_["releases"]:
                 k_local[k], Fe[k] = condense(k_local[k], Fe[k], m_["releases"])
+        # rigid end zones: the arms carry the flexible ends to the nodes
+        # (after the releases, which act at the faces)
+        for k in np.flatnonzero(offsets.any(axis=1)):
+            A_ = space_member_loads.offset_map(*offsets[k])
+            k_local[k] = A_.T @ k_local[k] @ A_
+            Fe[k] = A_.T @ Fe[k] + rigid[k]
         kg = T.transpose(0, 2, 1) @ k_local @ T
         rows.append(np.repeat(dofs, 12, axis=1).ravel())
         cols.append(np.tile(dofs, (1, 12)).ravel())

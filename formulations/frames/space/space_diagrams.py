@@ -154,36 +154,47 @@ def deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
     """(x, d): the displacement d (n, 3) of the member's axis at ``points``
     sections and the load positions, x from node i, in member axes (u, v,
     w) or with ``axes="global"`` in global ones.  Integrated from the
-    internal forces, as the plane frame's: u' = N/EA, v'' = Mz/EIz, w'' =
-    My/EIy (each M compresses the fibre on its axis' + side, so the member
-    bends towards it), with u at i and v, w at both ends from the nodes —
-    which fixes the slope constants without the end rotations.  Each
-    integral is a 4-point Gauss rule between consecutive sections, which
-    include every load position: the integrand is a polynomial of degree
-    <= 4 on each piece, so the curve is exact to rounding.  A Timoshenko
-    member adds its shear strain, the face's force along +y (or +z) over
-    G A_s, -Vy/(G A_sy) (or -Vz/(G A_sz)), to the slope."""
+    internal forces, as the plane frame's: on the flexible length u' =
+    N/EA, v'' = Mz/EIz, w'' = My/EIy (each M compresses the fibre on its
+    axis' + side, so the member bends towards it), with u at its start and
+    v, w at both its ends given by the nodes through the rigid arms — which
+    fixes the slope constants without the end rotations, so a released end
+    needs nothing special; a rigid zone moves with its node (v = v_i + x
+    θz_i, w = w_i - x θy_i).  Each integral is a 4-point Gauss rule between
+    consecutive sections, which include every load position and the faces
+    of the rigid zones: the integrand is a polynomial of degree <= 4 on
+    each piece, so the curve is exact to rounding.  A Timoshenko member
+    adds its shear strain, the face's force along +y (or +z) over G A_s,
+    -Vy/(G A_sy) (or -Vz/(G A_sz)), to the slope."""
     if axes not in ("member", "global"):
         raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
     checked_member(frame, res, member, points)
     m = frame.members[member]
     L, R = geometry(frame, member)
-    x = sample_points(frame, res, member, points)
+    a, e = m["offsets"][0], L - m["offsets"][1]          # the flexible length [a, e]
+    x = np.unique(np.r_[sample_points(frame, res, member, points), [p for p in (a, e)
+                                                                    if 0.0 < p < L]])
     t, wt = np.polynomial.legendre.leggauss(4)
-    lo, hi = x[:-1, None], x[1:, None]
+    lo, hi = np.maximum(x[:-1, None], a), np.minimum(x[1:, None], e)
     gs = (0.5 * (hi - lo) * t + 0.5 * (lo + hi)).ravel()
-    gw = (0.5 * (hi - lo) * wt).ravel()
+    gw = (0.5 * np.maximum(hi - lo, 0.0) * wt).ravel()
     N, Vy, Vz, _, My, Mz = sections(frame, res, member, gs)
-    di, dj = (R @ np.asarray(res.displacements[n][:3], float) for n in (m["i"], m["j"]))
-    before = gs[None, :] < x[:, None]
-    lever = before * (x[:, None] - gs[None, :])
-    u = di[0] + (before * gw) @ (N / (m["E"] * m["A"]))
-    d = [u]
-    for k, (M, I_, V, GAs) in enumerate(((Mz, m["Iz"], Vy, m["GAs"][0]),
-                                         (My, m["Iy"], Vz, m["GAs"][1])), start=1):
+    di, dj = (np.r_[R @ np.asarray(res.displacements[n][:3], float),
+                    R @ np.asarray(res.displacements[n][3:], float)] for n in (m["i"], m["j"]))
+    xf = np.clip(x, a, e)
+    before = gs[None, :] < xf[:, None]
+    lever = before * (xf[:, None] - gs[None, :])
+    d = [di[0] + (before * gw) @ (N / (m["E"] * m["A"]))]
+    # across y: a rotation θz carries the axis along +y; across z: θy along -z
+    for k, (M, I_, V, GAs, turn, sign) in enumerate(
+            ((Mz, m["Iz"], Vy, m["GAs"][0], 5, 1.0), (My, m["Iy"], Vz, m["GAs"][1], 4, -1.0)),
+            start=1):
         bend = lever @ (gw * M / (m["E"] * I_))
         if GAs is not None:          # a Timoshenko member's shear strain -V/(G A_s)
             bend = bend - (before * gw) @ (V / GAs)
-        d.append(di[k] + bend + (dj[k] - di[k] - bend[-1]) * x / L)
+        start, end = di[k] + sign * a * di[turn], dj[k] - sign * (L - e) * dj[turn]
+        curve = start + bend + (end - start - bend[-1]) * (xf - a) / (e - a)
+        d.append(np.where(x < a, di[k] + sign * x * di[turn],
+                          np.where(x > e, dj[k] - sign * (L - x) * dj[turn], curve)))
     d = np.stack(d, axis=1)
     return x, (d if axes == "member" else d @ R)

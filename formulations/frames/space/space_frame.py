@@ -177,7 +177,8 @@ class SpaceFrame:
 
     def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
                    J: float, *, name: str | None = None, ref=None, roll: float = 0.0,
-                   hinge_i=False, hinge_j=False, shear_area=None) -> str:
+                   hinge_i=False, hinge_j=False, shear_area=None, offset_i: float = 0.0,
+                   offset_j: float = 0.0) -> str:
         """A member from node i to node j: E, G, A, Iy, Iz (about the local y
         and z axes), J; its local x-z plane contains ``ref`` (default global
         Z, or X for a vertical member), turned by ``roll`` (radians) about x.
@@ -193,7 +194,12 @@ class SpaceFrame:
         areas (A_sy, A_sz) for shear along the local y and z axes (e.g. 5/6
         A each for a rectangle; one number for both) make it a Timoshenko
         member in each plane given (None in the pair: that plane
-        Euler-Bernoulli); G is the member's own."""
+        Euler-Bernoulli); G is the member's own.
+
+        Rigid end zones, as the plane frame's: ``offset_i``/``offset_j``
+        (lengths along the member from each node) are rigid; releases act
+        at the faces of the zones; member loads are still placed from node
+        i along the whole member."""
         known_node(self, i), known_node(self, j)
         if i == j:
             raise InvalidProblemError("a member needs two different nodes")
@@ -217,6 +223,12 @@ class SpaceFrame:
                 f"{what}: its reference vector {tuple(map(float, ref))} is parallel to the "
                 "member; give one in the plane of the member's local x-z axes") from exc
         GAs = shear_areas(shear_area, props["G"], what)
+        L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+        offs = [number(offset_i, f"{what}: offset_i"), number(offset_j, f"{what}: offset_j")]
+        if min(offs) < 0 or not sum(offs) < L:
+            raise InvalidProblemError(
+                f"{what}: rigid end offsets must be >= 0 and leave a flexible length "
+                f"(offset_i + offset_j < L = {L:g}); got {offs[0]:g} and {offs[1]:g}")
         releases = []
         for hinge, end, at in ((hinge_i, "i", 0), (hinge_j, "j", 6)):
             releases += [at + END_ROTATIONS[r] for r in released(hinge, f"{what}: hinge_{end}")]
@@ -229,7 +241,7 @@ class SpaceFrame:
             raise InvalidProblemError(f"member {name!r} exists already; give another name")
         no_member_between(((k, m["i"], m["j"]) for k, m in self.members.items()), i, j, what)
         self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, releases=tuple(releases),
-                                  GAs=GAs, **props)
+                                  GAs=GAs, offsets=tuple(offs), **props)
         return name
 
     def add_support(self, node: str, fix=DOFS) -> None:

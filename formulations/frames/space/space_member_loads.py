@@ -32,7 +32,7 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics.loads import MemberLoad, equivalent_nodal, section_sums
+from ..mechanics.loads import MemberLoad, equivalent_nodal, offset_parts, section_sums
 
 
 @dataclass(frozen=True)
@@ -101,14 +101,55 @@ def fixed_end(load: SpanLoad, L: float, R, phi=(0.0, 0.0)) -> np.ndarray:
     against each plane's own interpolation, the Timoshenko one where
     ``phi`` (shear along y, along z) is not 0."""
     xy, xz, mx = plane_parts(load, R)
-    e = equivalent_nodal(xy, L, 1.0, 0.0, phi[0])
-    g = equivalent_nodal(xz, L, 1.0, 0.0, phi[1])
-    out = np.zeros(12)
-    out[[0, 1, 5, 6, 7, 11]] = e
-    out[[2, 8]] = g[[1, 4]]
-    out[[4, 10]] = -g[[2, 5]]
+    out = to_member(equivalent_nodal(xy, L, 1.0, 0.0, phi[0]),
+                    equivalent_nodal(xz, L, 1.0, 0.0, phi[1]))
     out[[3, 9]] = mx * (1.0 - load.a / L), mx * load.a / L
     return out
+
+
+def to_member(xy, xz) -> np.ndarray:
+    """The two plane elements' end numbers (u, v, θ at i then j, 6 each) as
+    the member's 12: the x-y plane's on (u, v, θz), the x-z plane's on (w,
+    θy) with the rotation's sign reversed (its θ' = dw/dx is -θy)."""
+    out = np.zeros(12)
+    out[[0, 1, 5, 6, 7, 11]] = xy
+    out[[2, 8]] = xz[[1, 4]]
+    out[[4, 10]] = -xz[[2, 5]]
+    return out
+
+
+def offset_fixed_end(load: SpanLoad, L: float, R, phi, offsets):
+    """A load on a member with rigid end zones of lengths ``offsets``, as
+    the plane frame's :func:`..mechanics.loads.offset_parts` in each plane:
+    (the consistent loads of the part on the flexible length, on its own
+    end dofs; the parts on the rigid zones moved statically to their
+    nodes), both 12 in member axes.  A point torque on the flexible length
+    goes to its ends linearly, on a rigid zone to the zone's node."""
+    xy, xz, mx = plane_parts(load, R)
+    fe_xy, rigid_xy = offset_parts(xy, L, 1.0, 0.0, phi[0], offsets)
+    fe_xz, rigid_xz = offset_parts(xz, L, 1.0, 0.0, phi[1], offsets)
+    fe, rigid = to_member(fe_xy, fe_xz), to_member(rigid_xy, rigid_xz)
+    if mx:
+        oi, oj = offsets
+        if load.a < oi:
+            rigid[3] += mx
+        elif load.a > L - oj:
+            rigid[9] += mx
+        else:
+            s = (load.a - oi) / (L - oi - oj)
+            fe[3] += mx * (1.0 - s)
+            fe[9] += mx * s
+    return fe, rigid
+
+
+def offset_map(oi: float, oj: float) -> np.ndarray:
+    """(12, 12): the nodes' displacements (member axes) to the flexible
+    ends': a rigid arm oi e_x at i moves its end by θ × (oi e_x) = oi (0,
+    θz, -θy), at j by -oj (0, θz, -θy)."""
+    A = np.eye(12)
+    A[1, 5], A[2, 4] = oi, -oi
+    A[7, 11], A[8, 10] = -oj, oj
+    return A
 
 
 def section_terms(loads, x, R):

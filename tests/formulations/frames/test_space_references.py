@@ -41,7 +41,7 @@ RTOL = 1e-10
 
 # -- planar frames, built twice ------------------------------------------------
 
-def _planar(nodes, members, fix, contacts, loads, member_loads, shear_area=None):
+def _planar(nodes, members, fix, contacts, loads, member_loads, shear_area=None, options=None):
     """The same plane frame as a Frame and in the x-z plane of a SpaceFrame:
     (x, y) -> (x, 0, z = y), rz -> -ry (a counterclockwise turn in x-y takes
     x to y, in x-z it takes x to z: a negative turn about y), each member's
@@ -50,7 +50,9 @@ def _planar(nodes, members, fix, contacts, loads, member_loads, shear_area=None)
     contacts: (node, 2-D normal, friction, gap, stiffness); loads: (node, fx,
     fy, mz, case); member_loads: (member, wx, wy, case, axes); shear_area:
     every member Timoshenko, the plane member's A_s the space member's A_sz
-    (and twice it along y, never strained)."""
+    (and twice it along y, never strained); options: {member: the plane
+    member's hinge_i/hinge_j/offset_i/offset_j}, a plane hinge (about z) the
+    space member's release about y."""
     plane, space = Frame(), SpaceFrame(cone="circumscribed")
     for name, (x, y) in nodes.items():
         plane.add_node(name, x, y)
@@ -58,12 +60,14 @@ def _planar(nodes, members, fix, contacts, loads, member_loads, shear_area=None)
         space.add_support(name, fix=("uy", "rx", "rz"))
     shear = {} if shear_area is None else {"G": G, "shear_area": shear_area}
     for i, j, A, I, name in members:
-        plane.add_member(i, j, E, A, I, name=name, **shear)
+        extra = (options or {}).get(name, {})
+        plane.add_member(i, j, E, A, I, name=name, **shear, **extra)
+        extra = {k: (("ry",) if v is True else v) for k, v in extra.items()}
         d = np.subtract(nodes[j], nodes[i]) / np.hypot(*np.subtract(nodes[j], nodes[i]))
         # Iz and J are never strained (out-of-plane motion held): any values
         space.add_member(i, j, E, G, A, I, 3.0 * I, 2.0 * I, name=name, ref=(-d[1], 0.0, d[0]),
                          shear_area=None if shear_area is None else (2 * shear_area,
-                                                                     shear_area))
+                                                                     shear_area), **extra)
     to3 = {"ux": "ux", "uy": "uz", "rz": "ry"}
     for node, dofs in fix.items():
         plane.add_support(node, fix=dofs)
@@ -235,21 +239,25 @@ def test_a_settlement_on_a_beam_on_pads_as_the_plane_frame():
     assert "slip+" in states, states          # the pads are dragged along
 
 
-def test_a_timoshenko_portal_with_point_and_partial_loads_as_the_plane_frame():
+def test_a_portal_with_every_member_option_as_the_plane_frame():
     """The portal with shear-deformable members (A_s = 4e-4 m²: φ ~ 0.1 on
-    the 4 m columns), a point force and moment and a partial trapezoid on
-    the beam: every answer and diagram in space as in the plane, to 1e-10."""
+    the 4 m columns), rigid end zones at the beam's ends and the left
+    column's top, a hinge at the beam's face at C, a point force and moment
+    and a partial trapezoid: every answer and diagram in space as in the
+    plane, to 1e-10."""
     nodes = {"A": (0.0, 0.0), "B": (0.0, 4.0), "C": (6.0, 4.0), "D": (6.0, 0.0)}
     A, I = 5.381e-3, 8.356e-5
     members = [("A", "B", A, I, "M1"), ("B", "C", A, I, "M2"), ("D", "C", A, I, "M3")]
     contacts = [("A", (0.0, 1.0), 0.3, 0.0, None), ("D", (0.0, 1.0), 0.3, 0.0, None)]
     plane, space = _planar(nodes, members, {}, contacts, [("B", 1.0, 0.0, 0.0, "variable")],
-                           [("M2", 0.0, -20.0, "constant", "global")], shear_area=4e-4)
+                           [("M2", 0.0, -20.0, "constant", "global")], shear_area=4e-4,
+                           options={"M2": {"offset_i": 0.3, "offset_j": 0.5, "hinge_j": True},
+                                    "M1": {"offset_j": 0.25}})
     plane.add_point_load("M2", 2.0, fy=-15.0, mz=6.0)
     space.add_point_load("M2", 2.0, fz=-15.0, my=-6.0)
     plane.add_distributed_load("M1", wx=3.0, wx2=1.0, start=1.0, end=3.5, case="variable")
     space.add_distributed_load("M1", wx=3.0, wx2=1.0, start=1.0, end=3.5, case="variable")
-    for p in (2.0, 6.0):
+    for p in (1.5, 3.0):
         _same_answers(plane, space, plane.solve(p), space.solve(p))
 
 
