@@ -403,5 +403,6 @@ def stationary_points(x, V, shear_at, iterations: int = 60) -> np.ndarray:
         mid = 0.5 * (lo + hi)
         v_mid = shear_at(mid)
         left = np.sign(v_mid) == np.sign(v_lo)
-        lo, v_lo, hi = np.where(left, mid, lo), np.where(left, v_mid, v_lo), np.where(left, hi, mid)
+        lo, v_lo = np.where(left, mid, lo), np.where(left, v_mid, v_lo)
+        hi = np.where(left, hi, mid)
     return 0.5 * (lo + hi)

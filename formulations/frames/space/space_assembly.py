@@ -112,8 +112,8 @@ def build(frame, axial=None):
             springs[idx[node] + DOFS.index(d)] += kval
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
                           coords=np.array(list(frame.nodes.values()), float),
-                          U=settlements(frame, idx, cases, F.shape), cases=cases, fixed=fixed, H=H, info=info,
-                          flex=flex, local=local, Tn=None,
+                          U=settlements(frame, idx, cases, F.shape), cases=cases,
+                          fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=None,
                           axial=None if axial is None else np.asarray(axial, float), **basic)
     b["maps"] = lcp_maps(frame, info)
     return b

@@ -3,7 +3,7 @@ in three dimensions.
 
 Six dofs per node, (ux, uy, uz, rx, ry, rz) in global axes (right-handed,
 rotations counterclockwise about each axis); members are the 3-D
-beam-column elements of :mod:`.elements3d`; bilateral supports fix any
+beam-column elements of :mod:`..mechanics.space_element`; bilateral supports fix any
 subset of the six dofs; springs resist -k·u on any dof; loads belong to
 named cases as in 2-D (:mod:`.loads`).  Units the user's, consistent.
 

@@ -340,7 +340,8 @@ def test_envelopes_against_every_combination(res):
     assert [row["member"] for row in rows] == list(fr.members)
     for row in rows:
         name = row["member"]
-        L = float(np.linalg.norm(fr.nodes[fr.members[name]["j"]] - fr.nodes[fr.members[name]["i"]]))
+        ends = fr.members[name]
+        L = float(np.linalg.norm(fr.nodes[ends["j"]] - fr.nodes[ends["i"]]))
         x = np.linspace(0.0, L, 4001)
         along = {n: _sections_by_hand(r, name, x) for n, r in ok.items()}
         for q in ("N", "Vy", "Vz", "T", "My", "Mz"):
