@@ -138,17 +138,26 @@ END_ROTATIONS = {"rx": 3, "ry": 4, "rz": 5}
 
 
 def condense(k, fe, released) -> tuple:
-    """A member's stiffness (12, 12) and loads (12, cases) with the end
-    dofs ``released`` (their rows) condensed out — a hinge: the member's
-    own end rotation is free of its node, its moment zero, and the rows
-    and columns of the node's rotation get nothing from this member.
-    Static condensation, one dof at a time: k' = k - k_r k_rᵀ / k_rr,
-    f' = f - k_r f_r / k_rr."""
+    """A member's stiffness (12, 12) and loads (12, cases) with its end
+    rotations ``released`` — (row, spring) pairs — joined to their nodes
+    through rotational springs (moment per radian; 0: a hinge), as the
+    plane frame's releases: the member's own end rotation is an extra dof
+    between the member and the spring, condensed out (static condensation:
+    k' = k - k_r k_rᵀ / k_rr, f' = f - k_r f_r / k_rr), after which row r
+    belongs to the node's rotation again.  A hinge leaves that row empty:
+    the node's rotation gets nothing from this member, its moment is zero."""
     k, fe = np.array(k, float), np.array(fe, float)
-    for r in released:
-        col = k[:, r].copy()
-        fe = fe - np.outer(col, fe[r]) / k[r, r]
-        k = k - np.outer(col, col) / k[r, r]
-        k[r, :] = k[:, r] = 0.0
-        fe[r] = 0.0
+    for r, spring in released:
+        n = k.shape[0]
+        big = np.zeros((n + 1, n + 1))
+        big[:n, :n] = k
+        big[r, r] += spring
+        big[r, n] = big[n, r] = -spring
+        big[n, n] = spring
+        col = big[:, r].copy()
+        fb = np.vstack([fe, np.zeros((1, fe.shape[1]))])
+        fb = fb - np.outer(col, fb[r]) / big[r, r]
+        big = big - np.outer(col, col) / big[r, r]
+        keep = [n if d == r else d for d in range(n)]     # the node's rotation in r's place
+        k, fe = big[np.ix_(keep, keep)], fb[keep]
     return k, fe

@@ -116,6 +116,25 @@ def shear_areas(shear_area, G: float, what: str) -> tuple:
     return tuple(out)
 
 
+def end_springs(spring, what: str) -> dict:
+    """{rotation: stiffness} of a ``spring_i``/``spring_j`` value: None
+    none, a number both bending rotations, or a dict by member-axis
+    rotation."""
+    if spring is None:
+        return {}
+    given = spring if isinstance(spring, dict) else {"ry": spring, "rz": spring}
+    out = {}
+    for r, v in given.items():
+        if r not in END_ROTATIONS:
+            raise InvalidProblemError(f"{what}: rotations among {tuple(END_ROTATIONS)} in member "
+                                      f"axes; got {r!r}")
+        out[r] = number(v, f"{what}: {r}")
+        if out[r] < 0:
+            raise InvalidProblemError(f"{what}: {r} must be >= 0 (moment per radian); got "
+                                      f"{out[r]}")
+    return out
+
+
 def released(hinge, what: str) -> tuple:
     """The member-axis rotations a ``hinge_i``/``hinge_j`` value releases:
     False none, True both bending moments, or names among rx, ry, rz."""
@@ -177,8 +196,8 @@ class SpaceFrame:
 
     def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
                    J: float, *, name: str | None = None, ref=None, roll: float = 0.0,
-                   hinge_i=False, hinge_j=False, shear_area=None, offset_i: float = 0.0,
-                   offset_j: float = 0.0) -> str:
+                   hinge_i=False, hinge_j=False, spring_i=None, spring_j=None,
+                   shear_area=None, offset_i: float = 0.0, offset_j: float = 0.0) -> str:
         """A member from node i to node j: E, G, A, Iy, Iz (about the local y
         and z axes), J; its local x-z plane contains ``ref`` (default global
         Z, or X for a vertical member), turned by ``roll`` (radians) about x.
@@ -188,7 +207,10 @@ class SpaceFrame:
         releases both bending moments at that end (My and Mz: a ball joint
         that still carries the twist), or name the member-axis rotations to
         release, e.g. ``hinge_j=("rz",)`` (a hinge about the local z only)
-        or ``("rx",)`` (a torsion release).
+        or ``("rx",)`` (a torsion release).  ``spring_i``/``spring_j`` make
+        the joint semi-rigid: a rotational spring (moment per radian)
+        between the member's end and its node, one number for both bending
+        rotations or {"rx"|"ry"|"rz": k} (a hinge is a spring of 0).
 
         Shear deformation, as the plane frame's ``shear_area``: the shear
         areas (A_sy, A_sz) for shear along the local y and z axes (e.g. 5/6
@@ -230,9 +252,16 @@ class SpaceFrame:
                 f"{what}: rigid end offsets must be >= 0 and leave a flexible length "
                 f"(offset_i + offset_j < L = {L:g}); got {offs[0]:g} and {offs[1]:g}")
         releases = []
-        for hinge, end, at in ((hinge_i, "i", 0), (hinge_j, "j", 6)):
-            releases += [at + END_ROTATIONS[r] for r in released(hinge, f"{what}: hinge_{end}")]
-        if {3, 9} <= set(releases):
+        for hinge, spring, end, at in ((hinge_i, spring_i, "i", 0), (hinge_j, spring_j, "j", 6)):
+            hinged = released(hinge, f"{what}: hinge_{end}")
+            springs = end_springs(spring, f"{what}: spring_{end}")
+            both = sorted(set(hinged) & set(springs))
+            if both:
+                raise InvalidProblemError(f"{what}: give hinge_{end} or spring_{end} for {both}, "
+                                          "not both (a hinge is a spring of 0)")
+            releases += [(at + END_ROTATIONS[r], 0.0) for r in hinged]
+            releases += [(at + END_ROTATIONS[r], k) for r, k in springs.items()]
+        if {3, 9} <= {r for r, k in releases if k == 0.0}:
             raise InvalidProblemError(
                 f"{what}: its twist is released at both ends (rx in hinge_i and hinge_j), so "
                 "nothing holds it from spinning about its axis; release rx at one end at most")

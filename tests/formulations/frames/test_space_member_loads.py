@@ -508,3 +508,35 @@ def test_rigid_zones_with_a_face_hinge_and_loads_match_nearly_rigid_members():
     xf, df = r2.deflection("F", 9)
     np.testing.assert_allclose(d[at[-1]], df[np.flatnonzero(np.isclose(xf, 2.0 - oi))[-1]], rtol=0,
                                atol=1e-4 * np.abs(d).max())
+
+
+@pytest.mark.parametrize("ratio_y, ratio_z", [(0.5, 3.0), (1e9, 0.0)])
+def test_a_semi_rigid_clamp_of_a_propped_beam_about_each_axis(ratio_y, ratio_z):
+    """A member clamped at A through rotational springs k = ratio EI/L
+    about its y and z, propped at B, w = 6 kN/m across both axes: the
+    clamp's moment (wL²/8)/(1 + 3EI/(kL)) in each plane (0 for a spring of
+    0, the hinge; wL²/8 for a stiff one)."""
+    w = 6.0
+    fr = SpaceFrame()
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", L, 0.0, 0.0)
+    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M",
+                  spring_i={"ry": ratio_y * E * IY / L, "rz": ratio_z * E * IZ / L})
+    fr.add_support("A")
+    fr.add_support("B", fix=("uy", "uz"))
+    fr.add_distributed_load("M", wy=-w, wz=-w)
+    r = fr.solve()
+    assert r.ok, r.message
+    ends = r.end_forces("M")["i"]
+    for q, ratio in (("My", ratio_y), ("Mz", ratio_z)):
+        hand = 0.0 if ratio == 0 else -(w * L * L / 8) / (1 + 3 / ratio)
+        assert ends[q] == pytest.approx(hand, rel=1e-9, abs=1e-12), q
+
+
+def test_a_spring_and_a_hinge_on_one_rotation_are_refused():
+    fr = _cantilever()
+    fr.add_node("C", L, 2.0, 0.0)
+    with pytest.raises(InvalidProblemError, match="give hinge_i or spring_i for \\['rz'\\]"):
+        fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_i=("rz",), spring_i={"rz": 1e3})
+    with pytest.raises(InvalidProblemError, match="ry must be >= 0"):
+        fr.add_member("B", "C", E, G, A, IY, IZ, J, spring_j=-1.0)

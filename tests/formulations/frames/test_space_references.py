@@ -51,8 +51,8 @@ def _planar(nodes, members, fix, contacts, loads, member_loads, shear_area=None,
     fy, mz, case); member_loads: (member, wx, wy, case, axes); shear_area:
     every member Timoshenko, the plane member's A_s the space member's A_sz
     (and twice it along y, never strained); options: {member: the plane
-    member's hinge_i/hinge_j/offset_i/offset_j}, a plane hinge (about z) the
-    space member's release about y."""
+    member's hinge_i/hinge_j/spring_i/spring_j/offset_i/offset_j}, a plane
+    hinge or spring (about z) the space member's about y."""
     plane, space = Frame(), SpaceFrame(cone="circumscribed")
     for name, (x, y) in nodes.items():
         plane.add_node(name, x, y)
@@ -62,7 +62,9 @@ def _planar(nodes, members, fix, contacts, loads, member_loads, shear_area=None,
     for i, j, A, I, name in members:
         extra = (options or {}).get(name, {})
         plane.add_member(i, j, E, A, I, name=name, **shear, **extra)
-        extra = {k: (("ry",) if v is True else v) for k, v in extra.items()}
+        # a plane hinge or spring (about z) is the space member's about y
+        extra = {k: (("ry",) if v is True else {"ry": v} if k.startswith("spring") else v)
+                 for k, v in extra.items()}
         d = np.subtract(nodes[j], nodes[i]) / np.hypot(*np.subtract(nodes[j], nodes[i]))
         # Iz and J are never strained (out-of-plane motion held): any values
         space.add_member(i, j, E, G, A, I, 3.0 * I, 2.0 * I, name=name, ref=(-d[1], 0.0, d[0]),
@@ -242,7 +244,8 @@ def test_a_settlement_on_a_beam_on_pads_as_the_plane_frame():
 def test_a_portal_with_every_member_option_as_the_plane_frame():
     """The portal with shear-deformable members (A_s = 4e-4 m²: φ ~ 0.1 on
     the 4 m columns), rigid end zones at the beam's ends and the left
-    column's top, a hinge at the beam's face at C, a point force and moment
+    column's top, a hinge at the beam's face at C, semi-rigid column ends
+    (a spring at A's base, at the right column's top), a point force and moment
     and a partial trapezoid: every answer and diagram in space as in the
     plane, to 1e-10."""
     nodes = {"A": (0.0, 0.0), "B": (0.0, 4.0), "C": (6.0, 4.0), "D": (6.0, 0.0)}
@@ -252,7 +255,8 @@ def test_a_portal_with_every_member_option_as_the_plane_frame():
     plane, space = _planar(nodes, members, {}, contacts, [("B", 1.0, 0.0, 0.0, "variable")],
                            [("M2", 0.0, -20.0, "constant", "global")], shear_area=4e-4,
                            options={"M2": {"offset_i": 0.3, "offset_j": 0.5, "hinge_j": True},
-                                    "M1": {"offset_j": 0.25}})
+                                    "M1": {"offset_j": 0.25, "spring_i": 3e4},
+                                    "M3": {"spring_j": 1.5e4}})
     plane.add_point_load("M2", 2.0, fy=-15.0, mz=6.0)
     space.add_point_load("M2", 2.0, fz=-15.0, my=-6.0)
     plane.add_distributed_load("M1", wx=3.0, wx2=1.0, start=1.0, end=3.5, case="variable")
