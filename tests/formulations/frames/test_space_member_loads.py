@@ -540,3 +540,26 @@ def test_a_spring_and_a_hinge_on_one_rotation_are_refused():
         fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_i=("rz",), spring_i={"rz": 1e3})
     with pytest.raises(InvalidProblemError, match="ry must be >= 0"):
         fr.add_member("B", "C", E, G, A, IY, IZ, J, spring_j=-1.0)
+
+
+def test_point_and_partial_member_loads_are_drawn_with_their_values():
+    """The drawing shows a member's point force where it acts and a partial
+    trapezoid with its end values, besides the uniform load (the texts on
+    the rendered figure)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from tests.helpers.figures import drawn, overlapping
+
+    fr = _cantilever()
+    fr.add_point_load("M", 1.5, fz=-12.0)
+    fr.add_distributed_load("M", wy=-2.0, wy2=-6.0, start=2.0, end=3.5)
+    fr.add_distributed_load("M", wz=-1.0)
+    r = fr.solve()
+    fig = drawn(r.plot)
+    texts = [t for ax in fig.axes for t in ax.texts if t.get_text().strip()]
+    words = [t.get_text() for t in texts]
+    assert any("12" in w and "kN" in w and "/" not in w for w in words), words
+    assert any("→" in w and "2" in w and "6" in w for w in words), words
+    assert any("kN/m" in w and "1" in w and "→" not in w for w in words), words
+    assert not overlapping(fig, texts)
