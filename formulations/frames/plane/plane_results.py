@@ -87,9 +87,11 @@ class FrameResult(AnalysisResult):
         """{"N"|"V"|"M"|"v": {"max": (value, x), "min": (value, x)}} along a
         member; "v" is the deflection across its axis (member axes,
         :meth:`deflection`).  N, V and v are taken at 201 sections and the
-        load positions (N and V are extreme there: at a load's edge or an
-        end); M also at the zeros of V between them, where a span moment is
-        largest, so M's extremes are exact."""
+        load positions — exact for N and V, whose extremes lie at a load's
+        edge or an end, unless a trapezoidal load changes sign within its
+        stretch (then V's is the nearest sample's); M also at the zeros of V
+        between them, where a span moment is largest, so M's extremes are
+        exact."""
         x, N, V, M = self.diagram(member, 201)
         # the span moments between the samples, where V = dM/dx changes sign
         m = self.frame.members[member]

@@ -126,9 +126,11 @@ def end_forces(frame, res, member: str) -> dict:
 def extremes(frame, res, member: str, points: int = 201) -> dict:
     """{quantity: {"max": (value, x), "min": (value, x)}} for the internal
     forces and the deflections v, w across the member, at ``points``
-    sections; the moments also where their shear changes sign between
-    them (:func:`..mechanics.loads.stationary_points`), so a span's largest
-    moment is exact, not the nearest sample's."""
+    sections and the load positions; the moments also where their shear
+    changes sign between them (:func:`..mechanics.loads.stationary_points`),
+    so a span's largest moment is exact, not the nearest sample's (N, V and
+    T are extreme at a load's edge or an end, unless a trapezoidal load
+    changes sign within its stretch; v and w are the samples')."""
     checked_member(frame, res, member, points)
     x = sample_points(frame, res, member, points)
     values = dict(zip(QUANTITIES, sections(frame, res, member, x)))
