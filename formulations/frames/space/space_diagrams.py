@@ -47,7 +47,7 @@ from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, Solve
 from ..mechanics.loads import stationary_points
 from ..mechanics.space_element import EXTREMES, QUANTITIES
 from ..mechanics.space_element import axes as member_axes
-from .space_member_loads import load_points, section_terms
+from .space_member_loads import load_points, section_terms, split
 
 
 def geometry(frame, member: str):
@@ -61,6 +61,39 @@ def loads_of(frame, res, member: str) -> list:
     """[(load, factor)]: the member's loads in the result's combination."""
     return [(ld, res.combination[ld.case]) for ld in frame.span_loads
             if ld.member == member and res.combination.get(ld.case)]
+
+
+#: the 4-point Gauss rule (exact to degree 7) of the deflection's integrals
+GAUSS = np.polynomial.legendre.leggauss(4)
+
+
+class Along:
+    """What the sections of one member in one result read, gathered once:
+    its length, axes, end actions at i and loads split into the planes
+    (a members table asks for 400 members' sections hundreds of times)."""
+
+    def __init__(self, frame, res, member: str):
+        self.L, self.R = geometry(frame, member)
+        self.f = np.asarray(res.member_forces[member], float)
+        self.loads = loads_of(frame, res, member)
+        self.parts = split(self.loads, self.R)
+
+    def sections(self, x) -> tuple:
+        """(N, Vy, Vz, T, My, Mz) at the sections x (module docstring): the
+        end actions at i and the loads on [0, x)
+        (:func:`.space_member_loads.section_terms`)."""
+        x = np.asarray(x, float)
+        f = self.f
+        fx, fy, fz, tx, mo_xy, mo_xz = section_terms(self.parts, x)
+        return (-f[0] - fx, f[1] + fy, f[2] + fz, -f[3] - tx, f[4] + f[2] * x + mo_xz,
+                -f[5] + f[1] * x + mo_xy)
+
+    def sample_points(self, points: int):
+        """``points`` sections from node i, with every load's position and
+        the section just before it (both sides of a jump)."""
+        pts = [p for p in load_points(self.loads) if 0.0 < p < self.L]
+        return np.unique(np.r_[np.linspace(0.0, self.L, int(points)), pts,
+                               np.nextafter(np.array(pts, float), -np.inf)])
 
 
 def checked_member(frame, res, member, points) -> str:
@@ -83,32 +116,12 @@ def checked_member(frame, res, member, points) -> str:
     return member
 
 
-def sections(frame, res, member: str, x) -> tuple:
-    """(N, Vy, Vz, T, My, Mz) at the sections x (module docstring): the end
-    actions at i and the loads on [0, x)
-    (:func:`.space_member_loads.section_terms`)."""
-    x = np.asarray(x, float)
-    _, R = geometry(frame, member)
-    fx, fy, fz, tx, mo_xy, mo_xz = section_terms(loads_of(frame, res, member), x, R)
-    f = np.asarray(res.member_forces[member], float)
-    return (-f[0] - fx, f[1] + fy, f[2] + fz, -f[3] - tx, f[4] + f[2] * x + mo_xz,
-            -f[5] + f[1] * x + mo_xy)
-
-
-def sample_points(frame, res, member: str, points: int):
-    """``points`` sections from node i, with every load's position and the
-    section just before it (both sides of a jump)."""
-    L, _ = geometry(frame, member)
-    pts = [p for p in load_points(loads_of(frame, res, member)) if 0.0 < p < L]
-    return np.unique(np.r_[np.linspace(0.0, L, int(points)), pts,
-                           np.nextafter(np.array(pts, float), -np.inf)])
-
-
 def diagram(frame, res, member: str, points: int = 21) -> tuple:
     """(x, N, Vy, Vz, T, My, Mz) at ``points`` sections from node i."""
     checked_member(frame, res, member, points)
-    x = sample_points(frame, res, member, points)
-    return (x, *sections(frame, res, member, x))
+    along = Along(frame, res, member)
+    x = along.sample_points(points)
+    return (x, *along.sections(x))
 
 
 def end_forces(frame, res, member: str) -> dict:
@@ -132,18 +145,18 @@ def extremes(frame, res, member: str, points: int = 201) -> dict:
     T are extreme at a load's edge or an end, unless a trapezoidal load
     changes sign within its stretch; v and w are the samples')."""
     checked_member(frame, res, member, points)
-    x = sample_points(frame, res, member, points)
-    values = dict(zip(QUANTITIES, sections(frame, res, member, x)))
+    along = Along(frame, res, member)
+    x = along.sample_points(points)
+    values = dict(zip(QUANTITIES, along.sections(x)))
     at = {q: x for q in QUANTITIES}
     # the span moments between the samples: where V = dM/dx changes sign
     for V, M in (("Vz", "My"), ("Vy", "Mz")):
         k, km = QUANTITIES.index(V), QUANTITIES.index(M)
-        x_m = stationary_points(x, values[V],
-                                lambda s, k=k: sections(frame, res, member, s)[k])
+        x_m = stationary_points(x, values[V], lambda s, k=k: along.sections(s)[k])
         if x_m.size:
             at[M] = np.r_[x, x_m]
-            values[M] = np.r_[values[M], sections(frame, res, member, x_m)[km]]
-    xd, d = deflection(frame, res, member, int(points))
+            values[M] = np.r_[values[M], along.sections(x_m)[km]]
+    xd, d = deflection(frame, res, member, int(points), along=along)
     out = {}
     for key, xs, arr in [(k, at[k], v) for k, v in values.items()] + [("v", xd, d[:, 1]),
                                                                       ("w", xd, d[:, 2])]:
@@ -152,7 +165,7 @@ def extremes(frame, res, member: str, points: int = 201) -> dict:
     return out
 
 
-def deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
+def deflection(frame, res, member: str, points: int = 21, axes: str = "member", along=None):
     """(x, d): the displacement d (n, 3) of the member's axis at ``points``
     sections and the load positions, x from node i, in member axes (u, v,
     w) or with ``axes="global"`` in global ones.  Integrated from the
@@ -172,28 +185,35 @@ def deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
         raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
     checked_member(frame, res, member, points)
     m = frame.members[member]
-    L, R = geometry(frame, member)
+    along = along or Along(frame, res, member)
+    L, R = along.L, along.R
     a, e = m["offsets"][0], L - m["offsets"][1]          # the flexible length [a, e]
-    x = np.unique(np.r_[sample_points(frame, res, member, points), [p for p in (a, e)
-                                                                    if 0.0 < p < L]])
-    t, wt = np.polynomial.legendre.leggauss(4)
+    x = np.unique(np.r_[along.sample_points(points), [p for p in (a, e) if 0.0 < p < L]])
+    t, wt = GAUSS
     lo, hi = np.maximum(x[:-1, None], a), np.minimum(x[1:, None], e)
-    gs = (0.5 * (hi - lo) * t + 0.5 * (lo + hi)).ravel()
-    gw = (0.5 * np.maximum(hi - lo, 0.0) * wt).ravel()
-    N, Vy, Vz, _, My, Mz = sections(frame, res, member, gs)
+    h = np.maximum(hi - lo, 0.0)[:, 0]
+    gs = 0.5 * (hi - lo) * t + 0.5 * (lo + hi)               # (pieces, 4)
+    gw = 0.5 * h[:, None] * wt
+    N, Vy, Vz, _, My, Mz = (v.reshape(gs.shape) for v in along.sections(gs.ravel()))
     di, dj = (np.r_[R @ np.asarray(res.displacements[n][:3], float),
                     R @ np.asarray(res.displacements[n][3:], float)] for n in (m["i"], m["j"]))
     xf = np.clip(x, a, e)
-    before = gs[None, :] < xf[:, None]
-    lever = before * (xf[:, None] - gs[None, :])
-    d = [di[0] + (before * gw) @ (N / (m["E"] * m["A"]))]
+
+    def running(per_piece):          # the integral from the first section to each
+        return np.r_[0.0, np.cumsum(per_piece)]
+
+    d = [di[0] + running((gw * N).sum(axis=1)) / (m["E"] * m["A"])]
     # across y: a rotation θz carries the axis along +y; across z: θy along -z
     for k, (M, I_, V, GAs, turn, sign) in enumerate(
             ((Mz, m["Iz"], Vy, m["GAs"][0], 5, 1.0), (My, m["Iy"], Vz, m["GAs"][1], 4, -1.0)),
             start=1):
-        bend = lever @ (gw * M / (m["E"] * I_))
+        # piece by piece: the slope gains ∫ κ, the deflection the slope at the
+        # piece's start times its length and ∫ (end - s) κ ds (exact, O(n))
+        kappa = M / (m["E"] * I_)
+        slope = running((gw * kappa).sum(axis=1))
+        bend = running(slope[:-1] * h + (gw * (hi - gs) * kappa).sum(axis=1))
         if GAs is not None:          # a Timoshenko member's shear strain -V/(G A_s)
-            bend = bend - (before * gw) @ (V / GAs)
+            bend = bend - running((gw * V).sum(axis=1)) / GAs
         start, end = di[k] + sign * a * di[turn], dj[k] - sign * (L - e) * dj[turn]
         curve = start + bend + (end - start - bend[-1]) * (xf - a) / (e - a)
         d.append(np.where(x < a, di[k] + sign * x * di[turn],

@@ -152,18 +152,24 @@ def offset_map(oi: float, oj: float) -> np.ndarray:
     return A
 
 
-def section_terms(loads, x, R):
-    """For sections at x: the loads on [0, x) (each already times its
-    combination factor) summed as (Fx, Fy, Fz, the torques, the x-y
-    plane's moment about the section, the x-z plane's) in member axes — a
-    point load exactly at a section counts as left of it."""
+def split(loads, R) -> list:
+    """[(x-y part, x-z part, point torque, its position, factor)] of
+    (load, factor) pairs (:func:`plane_parts`), for :func:`section_terms`."""
+    return [(*plane_parts(load, R), load.a if load.kind == "point" else None, factor)
+            for load, factor in loads]
+
+
+def section_terms(parts, x):
+    """For sections at x: the loads (:func:`split`, each times its
+    combination factor) on [0, x) summed as (Fx, Fy, Fz, the torques, the
+    x-y plane's moment about the section, the x-z plane's) in member axes —
+    a point load exactly at a section counts as left of it."""
     x = np.asarray(x, float)
     out = [np.zeros_like(x) for _ in range(6)]
-    for load, factor in loads:
-        xy, xz, mx = plane_parts(load, R)
+    for xy, xz, mx, a, factor in parts:
         fx, fy, mo_xy = section_sums([xy], x, 1.0, 0.0)
         _, fz, mo_xz = section_sums([xz], x, 1.0, 0.0)
-        tx = np.where(x >= load.a, mx, 0.0) if load.kind == "point" else np.zeros_like(x)
+        tx = np.where(x >= a, mx, 0.0) if a is not None else np.zeros_like(x)
         for k, term in enumerate((fx, fy, fz, tx, mo_xy, mo_xz)):
             out[k] += factor * term
     return out
