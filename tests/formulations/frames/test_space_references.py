@@ -631,3 +631,40 @@ def test_combinations_keep_what_the_frame_carries_and_say_what_it_cannot():
     np.testing.assert_allclose(res["D+11W"].supports["P0"].tangential_global[0],
                                -f * (10.0 - 11.0 * h / 4), rtol=1e-10)
 
+
+
+@pytest.mark.parametrize("option", ["none", "offset", "hinge", "spring", "shear"])
+def test_second_order_with_each_member_option_as_the_plane_frame(option):
+    """A column under 800 kN and 10 kN across, its top tied to a beam on a
+    roller, solved on the deformed frame (P-Δ, P-δ) with the column given
+    a rigid zone at its base, a hinge or a spring at its top, or shear
+    deformation: the sway of the plane frame and of the same frame built in
+    the x-z plane of a SpaceFrame agree to 1e-10."""
+    plane_opts = {"none": {}, "offset": {"offset_i": 0.5}, "hinge": {"hinge_j": True},
+                  "spring": {"spring_j": 2e4}, "shear": {"G": G, "shear_area": 0.005}}[option]
+    space_opts = {"none": {}, "offset": {"offset_i": 0.5}, "hinge": {"hinge_j": ("ry",)},
+                  "spring": {"spring_j": {"ry": 2e4}},
+                  "shear": {"shear_area": (0.01, 0.005)}}[option]
+    A, I = 0.01, 1e-4
+    plane, space = Frame(), SpaceFrame()
+    for n, (x, y) in {"A": (0.0, 0.0), "B": (0.0, 4.0), "C": (3.0, 4.0)}.items():
+        plane.add_node(n, x, y)
+        space.add_node(n, x, 0.0, y)
+        space.add_support(n, fix=("uy", "rx", "rz"))
+    plane.add_member("A", "B", E, A, I, name="c", **plane_opts)
+    space.add_member("A", "B", E, G, A, I, 2 * I, 2 * I, name="c", ref=(-1.0, 0.0, 0.0),
+                     **space_opts)
+    plane.add_member("B", "C", E, A, I, name="b")
+    space.add_member("B", "C", E, G, A, I, 2 * I, 2 * I, name="b", ref=(0.0, 0.0, 1.0))
+    plane.add_support("A")
+    space.add_support("A")
+    plane.add_support("C", fix=("uy",))
+    space.add_support("C", fix=("uz",))
+    plane.add_load("B", fx=10.0, fy=-800.0)
+    space.add_load("B", fx=10.0, fz=-800.0)
+    r2, r3 = plane.solve(second_order=True), space.solve(second_order=True)
+    first = plane.solve()
+    assert r2.ok and r3.ok, (r2.message, r3.message)
+    assert r2.displacements["B"][0] > 1.05 * first.displacements["B"][0]   # P-Δ matters here
+    np.testing.assert_allclose(r3.displacements["B"][0], r2.displacements["B"][0], rtol=1e-10)
+    np.testing.assert_allclose(-r3.displacements["B"][4], r2.displacements["B"][2], rtol=1e-9)
