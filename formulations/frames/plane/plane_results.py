@@ -114,7 +114,7 @@ class FrameResult(AnalysisResult):
         {"i": {"N": ..., "V": ..., "M": ...}, "j": {...}} (a space frame's
         has its six quantities under the same keys' scheme)."""
         x, *qs = self.diagram(member, 2)
-        return {end: {q: float(v[k]) for q, v in zip(("N", "V", "M"), qs)}
+        return {end: {q: float(v[k]) + 0.0 for q, v in zip(("N", "V", "M"), qs)}
                 for end, k in (("i", 0), ("j", -1))}
 
     @property
