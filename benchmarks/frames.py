@@ -197,7 +197,7 @@ def ours_build(m: Model) -> Frame:
     for name, (x, y) in m.nodes.items():
         fr.add_node(name, x, y)
     for name, i, j, E, A, I in m.members:
-        fr.add_beam(i, j, E, A, I, name=name)
+        fr.add_member(i, j, E, A, I, name=name)
     for name, w in m.member_wy.items():
         fr.add_distributed_load(name, wy=w, case="D")
     for node, fx, fy in m.node_loads:

@@ -68,8 +68,8 @@ def ours(model):
         fr.add_node(n, x, y)
     fr.add_node("S", -2.0, 0.0)
     for i, j, a, ii in members:
-        fr.add_beam(i, j, E, a, ii)
-    fr.add_beam(fixed[0], "S", E, A, I)        # a stub on a pad: the frame's one contact
+        fr.add_member(i, j, E, a, ii)
+    fr.add_member(fixed[0], "S", E, A, I)        # a stub on a pad: the frame's one contact
     fr.add_contact("S", normal=(0.0, 1.0))
     for n in fixed:
         fr.add_support(n)

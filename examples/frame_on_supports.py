@@ -28,9 +28,9 @@ def two_span_portal() -> Frame:
                        ("D", 0, 4), ("E", 6, 4), ("F", 12, 4)):
         fr.add_node(name, x, y)
     for i, j in (("A", "D"), ("B", "E"), ("C", "F")):
-        fr.add_beam(i, j, E=E, A=A, I=I, name=f"col {i}{j}")
+        fr.add_member(i, j, E=E, A=A, I=I, name=f"col {i}{j}")
     for i, j in (("D", "E"), ("E", "F")):
-        m = fr.add_beam(i, j, E=E, A=A, I=I, name=f"beam {i}{j}")
+        m = fr.add_member(i, j, E=E, A=A, I=I, name=f"beam {i}{j}")
         fr.add_distributed_load(m, wy=-20.0, case="G")             # dead load, kN/m
     for base in ("A", "B", "C"):                                     # column bases on the ground
         fr.add_contact(base, normal=(0.0, 1.0), friction=0.4)

@@ -25,7 +25,7 @@ def grade_beam() -> Frame:
     # concrete 0.4 m x 0.8 m: E = 30 GPa
     E, A, I = 30e6, 0.32, 0.4 * 0.8 ** 3 / 12
     for k in range(len(xs) - 1):
-        fr.add_beam(f"S{k}", f"S{k + 1}", E, A, I, name=f"B{k + 1}")
+        fr.add_member(f"S{k}", f"S{k + 1}", E, A, I, name=f"B{k + 1}")
     fr.add_self_weight("D", unit_weight=25.0)                     # kN/m³
     fr.add_support("S0", fix=("ux",))                              # horizontal restraint only
     for k in range(len(xs)):                                       # soil: elastic, compression only

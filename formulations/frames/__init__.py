@@ -23,7 +23,8 @@ forces act on ``other`` with the opposite sign.  ``member_forces`` are end
 actions in member axes; diagrams and ``end_forces``: axial N tension
 positive, bending moment M positive when it compresses the member's +y fibre
 (sagging for a beam drawn left to right), shear V = dM/dx (see
-:mod:`.plane.plane_results`).
+:mod:`.plane.plane_results`); a space frame's the same about each of its
+member's axes (:mod:`.space.space_diagrams`; docs/frames.md, "Conventions").
 
 Layout, in wings: :mod:`.plane` (the plane :class:`Frame`, one model whose
 analysis is functions taking it; its assembly, results, member diagrams,

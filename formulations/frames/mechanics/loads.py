@@ -385,3 +385,36 @@ def load_points(loads) -> list:
     for load in loads:
         pts += [load.a, load.b]
     return pts
+
+
+def stationary_points(x, V, shear_at, iterations: int = 60) -> np.ndarray:
+    """The sections where a moment is stationary: the zeros of its shear V
+    (V = dM/dx) between consecutive samples x where V changes sign, found
+    by false position with the Illinois step on ``shear_at`` (V at an
+    array of sections) — exact in one step where V is linear (a uniform
+    load), a few where it is quadratic — until V is rounding of the
+    samples' or the bracket 1e-9 of the span (M is flat there: a section
+    δ off moves it by w δ²/2).  A diagram's extremes taken at samples alone
+    miss a span moment between them, on the unsafe side (a continuous
+    beam's 7.977632 for 7.977839 kN·m at 201 samples); with these points
+    added they are exact."""
+    x, V = np.asarray(x, float), np.asarray(V, float)
+    k = np.flatnonzero(np.sign(V[:-1]) * np.sign(V[1:]) < 0)
+    if not k.size:
+        return np.zeros(0)
+    lo, hi, v_lo, v_hi = x[k], x[k + 1], V[k], V[k + 1]
+    small, narrow = 1e-13 * np.abs(V).max(), 1e-9 * (x[-1] - x[0])
+    at = lo - v_lo * (hi - lo) / (v_hi - v_lo)
+    side = np.zeros(k.size)
+    for _ in range(iterations):
+        at = lo - v_lo * (hi - lo) / (v_hi - v_lo)
+        v_at = shear_at(at)
+        if np.all((np.abs(v_at) <= small) | (hi - lo <= narrow)):
+            break
+        left = np.sign(v_at) == np.sign(v_lo)
+        # Illinois: halve the end that stays twice running, so both ends move
+        v_hi = np.where(left, np.where(side > 0, 0.5 * v_hi, v_hi), v_at)
+        v_lo = np.where(left, v_at, np.where(side < 0, 0.5 * v_lo, v_lo))
+        lo, hi = np.where(left, at, lo), np.where(left, hi, at)
+        side = np.where(left, 1.0, -1.0)
+    return at

@@ -31,15 +31,29 @@ from qpcontact.core.errors import InvalidProblemError
 
 from .second_order import stability_functions
 
+#: the internal forces along a space member (member axes), in the order of a
+#: result's ``diagram`` (docs/frames.md, "Conventions")
+QUANTITIES = ("N", "Vy", "Vz", "T", "My", "Mz")
+#: what a result's ``extremes`` gives: the internal forces and the
+#: deflection of the axis across the member along its local y (v) and z (w)
+EXTREMES = QUANTITIES + ("v", "w")
 
-def stiffness(E, G, A, Iy, Iz, J, L, N=None) -> np.ndarray:
+
+def stiffness(E, G, A, Iy, Iz, J, L, N=None, phi_y=0.0, phi_z=0.0) -> np.ndarray:
     """Local stiffness of space-frame members, (m, 12, 12) (or (12, 12) for
     scalars); dofs (u, v, w, θx, θy, θz) at i then j.  ``N``: the members'
     axial forces (tension positive) for the second-order stiffness — each
     bending plane's block from Livesley's stability functions
-    (:mod:`.second_order`), torsion and the axial row as first order."""
-    E, G, A, Iy, Iz, J, L, N = np.broadcast_arrays(
-        *(np.asarray(v, float) for v in (E, G, A, Iy, Iz, J, L, 0.0 if N is None else N)))
+    (:mod:`.second_order`), torsion and the axial row as first order.
+    ``phi_y``, ``phi_z``: shear deformation along local y (bending about z)
+    and along z (about y), φ = 12 EI / (G A_s L²): the exact two-node
+    Timoshenko block of each plane, the plane frame's (12EI/(L³(1+φ)),
+    6EI/(L²(1+φ)), (4+φ)EI/(L(1+φ)), (2−φ)EI/(L(1+φ))); with ``N`` it gets
+    the consistent geometric stiffness of the cubic shape functions, as the
+    plane frame's Timoshenko members."""
+    E, G, A, Iy, Iz, J, L, N, phi_y, phi_z = np.broadcast_arrays(
+        *(np.asarray(v, float) for v in (E, G, A, Iy, Iz, J, L, 0.0 if N is None else N,
+                                         phi_y, phi_z)))
     k = np.zeros(E.shape + (12, 12))
 
     def put(a, b, value):
@@ -53,11 +67,18 @@ def stiffness(E, G, A, Iy, Iz, J, L, N=None) -> np.ndarray:
         put(a, b, s * gj)
     # bending: (translation, rotation) dofs of each plane and the sign that
     # relates the rotation to the slope (+θz = dv/dx, -θy = dw/dx)
-    for EI, t, r, sign in ((E * Iz, 1, 5, 1.0), (E * Iy, 2, 4, -1.0)):
+    for EI, t, r, sign, phi in ((E * Iz, 1, 5, 1.0, phi_y), (E * Iy, 2, 4, -1.0, phi_z)):
         tt = -N * L ** 2 / EI
         s_, sc = stability_functions(tt)
         b12, b6 = (2 * (s_ + sc) - tt) * EI / L ** 3, (s_ + sc) * EI / L ** 2
         b4, b2 = s_ * EI / L, sc * EI / L
+        if np.any(phi > 0):
+            f = EI / (L * (1.0 + phi))
+            shear = phi > 0
+            b12 = np.where(shear, 12 * f / L ** 2 + 1.2 * N / L, b12)
+            b6 = np.where(shear, 6 * f / L + 0.1 * N, b6)
+            b4 = np.where(shear, (4 + phi) * f + 2.0 / 15.0 * N * L, b4)
+            b2 = np.where(shear, (2 - phi) * f - N * L / 30.0, b2)
         ti, tj, ri, rj = t, t + 6, r, r + 6
         put(ti, ti, b12)
         put(tj, tj, b12)
@@ -110,3 +131,33 @@ def rotation(R) -> np.ndarray:
     for o in range(0, 12, 3):
         T[..., o:o + 3, o:o + 3] = R
     return T
+
+
+#: a member end's rotations by name, and their rows in the member's 12 dofs
+END_ROTATIONS = {"rx": 3, "ry": 4, "rz": 5}
+
+
+def condense(k, fe, released) -> tuple:
+    """A member's stiffness (12, 12) and loads (12, cases) with its end
+    rotations ``released`` — (row, spring) pairs — joined to their nodes
+    through rotational springs (moment per radian; 0: a hinge), as the
+    plane frame's releases: the member's own end rotation is an extra dof
+    between the member and the spring, condensed out (static condensation:
+    k' = k - k_r k_rᵀ / k_rr, f' = f - k_r f_r / k_rr), after which row r
+    belongs to the node's rotation again.  A hinge leaves that row empty:
+    the node's rotation gets nothing from this member, its moment is zero."""
+    k, fe = np.array(k, float), np.array(fe, float)
+    for r, spring in released:
+        n = k.shape[0]
+        big = np.zeros((n + 1, n + 1))
+        big[:n, :n] = k
+        big[r, r] += spring
+        big[r, n] = big[n, r] = -spring
+        big[n, n] = spring
+        col = big[:, r].copy()
+        fb = np.vstack([fe, np.zeros((1, fe.shape[1]))])
+        fb = fb - np.outer(col, fb[r]) / big[r, r]
+        big = big - np.outer(col, col) / big[r, r]
+        keep = [n if d == r else d for d in range(n)]     # the node's rotation in r's place
+        k, fe = big[np.ix_(keep, keep)], fb[keep]
+    return k, fe

@@ -37,7 +37,7 @@ PLANE = FrameKind(
 
 @dataclass
 class Member:
-    """A plane frame member (``Frame.add_beam``): its nodes, section, end
+    """A plane frame member (``Frame.add_member``): its nodes, section, end
     releases, shear deformation, rigid end zones and member loads."""
 
     name: str
@@ -110,7 +110,7 @@ class Frame:
                                      number(y, f"node {name!r}: y")])
         return name
 
-    def add_beam(self, i: str, j: str, E: float, A: float, I: float, *, name: str | None = None,
+    def add_member(self, i: str, j: str, E: float, A: float, I: float, *, name: str | None = None,
                  hinge_i: bool = False, hinge_j: bool = False, spring_i: float | None = None,
                  spring_j: float | None = None, G: float | None = None,
                  shear_area: float | None = None, offset_i: float = 0.0,

@@ -72,7 +72,8 @@ def deflection(frame, res, member: str, points: int):
     positions and the faces of rigid end zones.  Integrated from the
     internal forces, not interpolated from the nodes: on the flexible
     length u' = N/EA and v'' = M/EI (sagging M bends the axis towards
-    +y), plus the shear strain V/(G A_s) in v' for a Timoshenko member,
+    +y), plus the shear strain -V/(G A_s) in v' for a Timoshenko member
+    (V = dM/dx is minus the shear force on the face at x along +y),
     with v at both flexible ends given by the nodes through the rigid
     arms — which fixes the slope constant without the end rotations, so
     a released end needs nothing special; a rigid zone moves with its
@@ -102,7 +103,10 @@ def deflection(frame, res, member: str, points: int):
     bend = gw * M / (m.E * m.I)
     v = (before * (xf[:, None] - gs[None, :]) * bend) @ np.ones_like(gs)
     if m.GAs is not None:
-        v = v + (before * (gw * V / m.GAs)) @ np.ones_like(gs)
+        # the shear strain is the face's force along +y, -V, over G A_s (a
+        # constant V is absorbed by the end values' line: only a load in
+        # the span shows its sign)
+        v = v - (before * (gw * V / m.GAs)) @ np.ones_like(gs)
     v_e = v[np.searchsorted(x, e)]
     v = va + v + (ve - va - v_e) * (xf - a) / (e - a)
     v = np.where(x < a, di[1] + x * di[2], np.where(x > e, dj[1] - (L - x) * dj[2], v))

@@ -25,8 +25,8 @@ def demo(console) -> int:
         fr = Frame()
         for nm, x in (("A", 0.0), ("C", 2.0), ("B", 4.0)):
             fr.add_node(nm, x, 0.0)
-        fr.add_beam("A", "C", E=2e8, A=0.01, I=1e-4)
-        fr.add_beam("C", "B", E=2e8, A=0.01, I=1e-4)
+        fr.add_member("A", "C", E=2e8, A=0.01, I=1e-4)
+        fr.add_member("C", "B", E=2e8, A=0.01, I=1e-4)
         fr.add_support("A", fix=("ux", "uy"))
         fr.add_contact("B", normal=(0.0, 1.0), friction=0.3)
         fr.add_load("C", fy=-100.0)
@@ -96,9 +96,9 @@ def portal_example() -> Frame:
     for name, x, y in (("A", 0.0, 0.0), ("B", 0.0, 4.0), ("C", 6.0, 4.0), ("D", 6.0, 0.0)):
         fr.add_node(name, x, y)
     E, A, I = 210e6, 5.381e-3, 8.356e-5
-    fr.add_beam("A", "B", E, A, I)
-    beam = fr.add_beam("B", "C", E, A, I)
-    fr.add_beam("D", "C", E, A, I)
+    fr.add_member("A", "B", E, A, I)
+    beam = fr.add_member("B", "C", E, A, I)
+    fr.add_member("D", "C", E, A, I)
     fr.add_contact("A", normal=(0.0, 1.0), friction=0.3)
     fr.add_contact("D", normal=(0.0, 1.0), friction=0.3)
     fr.add_distributed_load(beam, wy=-20.0)
@@ -122,7 +122,7 @@ def plane_instances(size: str = "small", hardness: str = "easy", seed: int = 0) 
     for k, x in enumerate(xs):
         fr.add_node(f"N{k}", float(x), 0.0)
     for k in range(spans):
-        m = fr.add_beam(f"N{k}", f"N{k + 1}", E=2.1e8, A=5.4e-3, I=5.7e-5)
+        m = fr.add_member(f"N{k}", f"N{k + 1}", E=2.1e8, A=5.4e-3, I=5.7e-5)
         fr.add_distributed_load(m, wy=-20.0)
     friction = 0.3 if hardness == "hard" else 0.0
     fr.add_support("N0", fix=("ux", "uy", "rz"))
@@ -152,16 +152,16 @@ def tower(storeys: int = 20, bays: int = 3) -> tuple:
             fr.add_node(f"N{s}_{j}", x, 3.5 * s)
     for s in range(storeys):
         for j in range(bays + 1):
-            fr.add_beam(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
+            fr.add_member(f"N{s}_{j}", f"N{s + 1}_{j}", *col)
     for s in range(1, storeys + 1):
         for j in range(bays):
-            fr.add_distributed_load(fr.add_beam(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
+            fr.add_distributed_load(fr.add_member(f"N{s}_{j}", f"N{s}_{j + 1}", *beam), wy=-30.0)
     base = []
     for k, x in enumerate(np.arange(-3.0, xs[-1] + 3.01, 1.5)):
         hit = [j for j, xx in enumerate(xs) if abs(x - xx) < 1e-9]
         base.append(f"N0_{hit[0]}" if hit else fr.add_node(f"F{k}", float(x), 0.0))
     for a, b in zip(base[:-1], base[1:]):
-        fr.add_beam(a, b, 30e6, 1.2, 0.36)
+        fr.add_member(a, b, 30e6, 1.2, 0.36)
     for name in base:
         fr.add_contact(name, normal=(0.0, 1.0), friction=0.5, stiffness=5e5)
     for s in range(1, storeys + 1):

@@ -16,7 +16,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..mechanics.analysis_results import AnalysisResult
+from ..mechanics.loads import stationary_points
 from ..reporting import tables
 from ..reporting.notation import DIGITS
 from ..reporting.tables import TABLES
@@ -83,21 +86,36 @@ class FrameResult(AnalysisResult):
     def extremes(self, member: str) -> dict:
         """{"N"|"V"|"M"|"v": {"max": (value, x), "min": (value, x)}} along a
         member; "v" is the deflection across its axis (member axes,
-        :meth:`deflection`)."""
+        :meth:`deflection`).  N, V and v are taken at 201 sections and the
+        load positions — exact for N and V, whose extremes lie at a load's
+        edge or an end, unless a trapezoidal load changes sign within its
+        stretch (then V's is the nearest sample's); M also at the zeros of V
+        between them, where a span moment is largest, so M's extremes are
+        exact."""
         x, N, V, M = self.diagram(member, 201)
+        # the span moments between the samples, where V = dM/dx changes sign
+        m = self.frame.members[member]
+        x_m = stationary_points(x, V, lambda s: member_diagrams.sections(self.frame, self, m,
+                                                                         s)[1])
+        if x_m.size:
+            M = np.r_[M, member_diagrams.sections(self.frame, self, m, x_m)[2]]
+            x_all = np.r_[x, x_m]
+        else:
+            x_all = x
         xv, _, v = self.deflection(member, 201)
         out = {}
-        for key, at, arr in (("N", x, N), ("V", x, V), ("M", x, M), ("v", xv, v)):
+        for key, at, arr in (("N", x, N), ("V", x, V), ("M", x_all, M), ("v", xv, v)):
             out[key] = {"max": (float(arr.max()), float(at[arr.argmax()])),
                         "min": (float(arr.min()), float(at[arr.argmin()]))}
         return out
 
     def end_forces(self, member: str) -> dict:
         """Internal forces at the member's ends in the diagrams' convention:
-        {"i": (N, V, M), "j": (N, V, M)}."""
-        x, N, V, M = self.diagram(member, 2)
-        return {"i": (float(N[0]), float(V[0]), float(M[0])),
-                "j": (float(N[-1]), float(V[-1]), float(M[-1]))}
+        {"i": {"N": ..., "V": ..., "M": ...}, "j": {...}} (a space frame's
+        has its six quantities under the same keys' scheme)."""
+        x, *qs = self.diagram(member, 2)
+        return {end: {q: float(v[k]) + 0.0 for q, v in zip(("N", "V", "M"), qs)}
+                for end, k in (("i", 0), ("j", -1))}
 
     @property
     def support_reactions(self) -> dict:

@@ -16,12 +16,9 @@ parallel and needs no perspective to read; lengths along the three axes
 are shortened by different factors in a general view, so the drawing gives
 the frame's extents in words instead of a scale bar.
 
-Each member's deflection (:func:`member_deflection`): the end displacements
-and rotations turned into member axes, the cubic Hermite shape functions
-for the two bending planes (dv/dx = θz, dw/dx = -θy), linear axial
-displacement, plus the fixed-end particular solution of the member's
-uniform load (q x² (L - x)² / 24 EI across, q x (L - x) / 2 EA along) —
-exact for this element and its loads.
+Each member's deflection is the result's own (``res.deflection``,
+:func:`..space.space_diagrams.deflection`): integrated from the internal
+forces, exact for the element and its loads.
 """
 
 from __future__ import annotations
@@ -30,7 +27,7 @@ import math
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
+from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
 from ..mechanics.space_element import axes as member_axes
 from .plane_drawing import combination_title
@@ -59,38 +56,6 @@ def view_axes(azimuth: float, elevation: float) -> np.ndarray:
     return np.stack([right, np.cross(camera, right)])
 
 
-def member_deflection(frame, res, member: str, points: int = 21, axes: str = "member"):
-    """(x, d): the displacement d (points, 3) of the member's axis at
-    ``points`` sections x from node i, in member axes (u, v, w) or, with
-    ``axes="global"``, in global ones (module docstring)."""
-    if member not in frame.members:
-        raise InvalidProblemError(f"no member named {member!r}; members: {list(frame.members)}")
-    if axes not in ("member", "global"):
-        raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
-    if isinstance(points, bool) or not isinstance(points, int) or points < 2:
-        raise InvalidOptionError(f"points: an integer >= 2; got {points!r}")
-    m = frame.members[member]
-    xi, xj = frame.nodes[m["i"]], frame.nodes[m["j"]]
-    R = member_axes(xi, xj, m["ref"], m["roll"])[0]
-    L = float(np.linalg.norm(xj - xi))
-    di, dj = (np.asarray(res.displacements[n], float) for n in (m["i"], m["j"]))
-    ui, ri, uj, rj = R @ di[:3], R @ di[3:], R @ dj[:3], R @ dj[3:]
-    q = np.zeros(3)
-    for name, w, ax, case in frame.member_loads:
-        factor = res.combination.get(case, 0.0)
-        if name == member and factor:
-            q += factor * (np.asarray(w) if ax == "member" else R @ np.asarray(w))
-    x = np.linspace(0.0, L, points)
-    s = x / L
-    n1, n2 = 1 - 3 * s ** 2 + 2 * s ** 3, L * (s - 2 * s ** 2 + s ** 3)
-    n3, n4 = 3 * s ** 2 - 2 * s ** 3, L * (s ** 3 - s ** 2)
-    bubble = x ** 2 * (L - x) ** 2 / (24.0 * m["E"])
-    d = np.c_[(1 - s) * ui[0] + s * uj[0] + q[0] * x * (L - x) / (2.0 * m["E"] * m["A"]),
-              n1 * ui[1] + n2 * ri[2] + n3 * uj[1] + n4 * rj[2] + q[1] * bubble / m["Iz"],
-              n1 * ui[2] - n2 * ri[1] + n3 * uj[2] - n4 * rj[1] + q[2] * bubble / m["Iy"]]
-    return x, (d if axes == "member" else d @ R)
-
-
 def _angles(azimuth, elevation):
     az, el = ISOMETRIC[0] if azimuth is None else azimuth, \
         ISOMETRIC[1] if elevation is None else elevation
@@ -117,7 +82,7 @@ class SpaceView:
         self.size = max(float(np.linalg.norm(self.extent)), 1e-12)
         self.curves = {}
         for name, m in frame.members.items():
-            x, d = member_deflection(frame, res, name, 21, "global")
+            x, d = res.deflection(name, 21, axes="global")
             a, b = self.xyz[m["i"]], self.xyz[m["j"]]
             self.curves[name] = (a + np.outer(x / x[-1], b - a), d)
         trans = {n: float(np.linalg.norm(np.asarray(u[:3]))) for n, u in res.displacements.items()}
@@ -141,10 +106,10 @@ class SpaceView:
     def member_point(self, name, s) -> np.ndarray:
         """The drawn point at fraction s of member ``name``'s deflected axis."""
         base, d = self.curves[name]
-        k = s * (len(base) - 1)
-        lo = min(int(k), len(base) - 2)
-        t = k - lo
-        p = (1 - t) * (base[lo] + self.scale * d[lo]) + t * (base[lo + 1] + self.scale * d[lo + 1])
+        # the sections are not evenly spaced (a member load's positions are among them)
+        along = np.linalg.norm(base - base[0], axis=1) / np.linalg.norm(base[-1] - base[0])
+        drawn = base + self.scale * d
+        p = np.array([np.interp(s, along, drawn[:, c]) for c in range(3)])
         return self.project(p)[0]
 
     def words(self) -> str:
@@ -376,14 +341,15 @@ def contact_labels(ax, placer, view) -> int:
 def _has_loads(view) -> bool:
     combo = view.res.combination
     return any(combo.get(case, 0.0) and any(v) for _, v, case in view.frame.nodal_loads) or \
-        any(combo.get(case, 0.0) and any(w) for _, w, _, case in view.frame.member_loads)
+        any(combo.get(ld.case, 0.0) and any(ld.values) for ld in view.frame.span_loads)
 
 
 def draw_space_loads(ax, placer, view):
-    """The combination's nodal forces (one arrow per node, with its value)
-    and uniform member loads (a band of arrows on the member, one value); a
-    load along the line of sight is a circle (⊙ towards the viewer, ⊗ away)."""
-    F, L = view.force, view.length
+    """The combination's nodal forces (one arrow per node, with its value),
+    uniform member loads (a band of arrows on the member, one value), point
+    loads on members (an arrow where they act) and partial or trapezoidal
+    ones (a band over their stretch, its end values); a load along the line
+    of sight is a circle (⊙ towards the viewer, ⊗ away)."""
     combo = view.res.combination
     per_node: dict = {}
     for node, v, case in view.frame.nodal_loads:
@@ -391,25 +357,7 @@ def draw_space_loads(ax, placer, view):
         if f:
             per_node[node] = per_node.get(node, np.zeros(6)) + f * np.asarray(v, float)
     for node, v in per_node.items():
-        at = view.at(node)
-        if np.any(v[:3]):
-            d, sight = _screen(view, v[:3])
-            if sight:
-                _sight_mark(ax, at, sight, 9.0)
-                placer.label(ax, f"{force_text(v[:3], F)} {sight}", at,
-                             around((1.0, 1.0), 7.0), fontsize=_FONT, color=LOAD_COLOR,
-                             bbox=_BOX)
-            else:
-                tail = placer.arrow(ax, at, d, 34.0, back=5.0, group="loads",
-                                    color=LOAD_COLOR, lw=1.3)
-                if tail is not None:
-                    placer.label(ax, force_text(v[:3], F), tail,
-                                 around(-d, 6.0) + around(-d, 12.0), fontsize=_FONT,
-                                 color=LOAD_COLOR, bbox=_BOX)
-        if np.any(v[3:]):
-            words = ", ".join(value_text(x, "", np.abs(v[3:]).max()) for x in v[3:])
-            placer.label(ax, f"M = ({words}) {F}·{L}", at, around((1.0, 1.0), 8.0),
-                         fontsize=_FONT, color=LOAD_COLOR, bbox=_BOX)
+        _point_load(ax, placer, view, view.at(node), v)
     for name, m in view.frame.members.items():
         q = np.zeros(3)
         R = member_axes(view.xyz[m["i"]], view.xyz[m["j"]], m["ref"], m["roll"])[0]
@@ -419,12 +367,54 @@ def draw_space_loads(ax, placer, view):
                 q += f * (np.asarray(w) if axes == "global" else R.T @ np.asarray(w))
         if np.any(q):
             _band(ax, placer, view, name, q)
+    for ld in view.frame.span_loads:
+        f = combo.get(ld.case, 0.0)
+        m = view.frame.members[ld.member]
+        a, b = view.xyz[m["i"]], view.xyz[m["j"]]
+        length = float(np.linalg.norm(b - a))
+        if not f or ld.whole_uniform(length):
+            continue
+        R = member_axes(a, b, m["ref"], m["roll"])[0]
+        v = f * np.asarray(ld.values, float)
+        v = v if ld.axes == "global" else np.r_[R.T @ v[:3], R.T @ v[3:]]
+        if ld.kind == "point":
+            _point_load(ax, placer, view, view.member_point(ld.member, ld.a / length), v)
+        elif np.any(v):
+            _band(ax, placer, view, ld.member, v[:3], (ld.a / length, ld.b / length), v[3:])
 
 
-def _band(ax, placer, view, name, q):
-    """A uniform member load: arrows at five points joined at their tails."""
-    d, sight = _screen(view, q)
-    spots = [view.member_point(name, s) for s in np.linspace(0.1, 0.9, 5)]
+def _point_load(ax, placer, view, at, v):
+    """A force (an arrow with its value) and a moment (its components) at
+    the drawn point ``at``; v = (fx, fy, fz, mx, my, mz), global."""
+    F, L = view.force, view.length
+    if np.any(v[:3]):
+        d, sight = _screen(view, v[:3])
+        if sight:
+            _sight_mark(ax, at, sight, 9.0)
+            placer.label(ax, f"{force_text(v[:3], F)} {sight}", at,
+                         around((1.0, 1.0), 7.0), fontsize=_FONT, color=LOAD_COLOR,
+                         bbox=_BOX)
+        else:
+            tail = placer.arrow(ax, at, d, 34.0, back=5.0, group="loads",
+                                color=LOAD_COLOR, lw=1.3)
+            if tail is not None:
+                placer.label(ax, force_text(v[:3], F), tail,
+                             around(-d, 6.0) + around(-d, 12.0), fontsize=_FONT,
+                             color=LOAD_COLOR, bbox=_BOX)
+    if np.any(v[3:]):
+        words = ", ".join(value_text(x, "", np.abs(v[3:]).max()) for x in v[3:])
+        placer.label(ax, f"M = ({words}) {F}·{L}", at, around((1.0, 1.0), 8.0),
+                     fontsize=_FONT, color=LOAD_COLOR, bbox=_BOX)
+
+
+def _band(ax, placer, view, name, q, stretch=(0.0, 1.0), q2=None):
+    """A member load per unit length over the fraction ``stretch`` of the
+    member: arrows at five points joined at their tails, one value (or the
+    values at its start and end, q then q2, for a trapezoid)."""
+    mean = q if q2 is None else 0.5 * (q + q2)
+    d, sight = _screen(view, mean if np.any(mean) else q)
+    lo, hi = stretch
+    spots = [view.member_point(name, s) for s in lo + (hi - lo) * np.linspace(0.1, 0.9, 5)]
     if sight:
         for p in spots:
             _sight_mark(ax, p, sight, 5.0)
@@ -440,7 +430,10 @@ def _band(ax, placer, view, name, q):
         ax.plot(tails[:, 0], tails[:, 1], color=LOAD_COLOR, lw=0.6)
         placer.keep_clear(ax, tails[0], tails[-1])
         where = tails[2]
-    text = force_text(q, f"{view.force}/{view.length}") + (f" {sight}" if sight else "")
+    unit = f"{view.force}/{view.length}"
+    text = force_text(q, unit) if q2 is None or np.allclose(q, q2, rtol=1e-12, atol=0.0) \
+        else f"{force_text(q, unit)} → {force_text(q2, unit)}"
+    text += f" {sight}" if sight else ""
     placer.label(ax, text, where, around(-d, 3.5) + around(-d, 8.0), fontsize=_FONT - 0.5,
                  color=LOAD_COLOR, bbox=_BOX)
 

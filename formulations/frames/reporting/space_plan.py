@@ -61,7 +61,8 @@ def level_view(view, z, tol):
         fixed={n: d for n, d in frame.fixed.items() if n in at},
         springs={n: d for n, d in frame.springs.items() if n in at},
         nodal_loads=[ld for ld in frame.nodal_loads if ld[0] in at],
-        member_loads=[ld for ld in frame.member_loads if ld[0] in members])
+        member_loads=[ld for ld in frame.member_loads if ld[0] in members],
+        span_loads=[ld for ld in frame.span_loads if ld.member in members])
     sub.res = SimpleNamespace(supports={keys[k]: res.supports[keys[k]] for k in keep},
                               displacements=res.displacements, combination=res.combination)
     sub.curves = {k: c for k, c in view.curves.items() if k in members}

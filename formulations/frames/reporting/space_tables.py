@@ -14,15 +14,18 @@ Tables of one result:
   moment of its bilateral support, spring and contacts on the structure
   (global axes, six components), with each kind's part when the frame has
   more than one kind;
-* ``members``: the end actions (N, Vy, Vz, T, My, Mz at i and at j) in
-  member axes — the forces the nodes exert on the member, ``member_forces``
-  as they are — with the member's ends, length and local y and z axes;
+* ``members``: the plane frame's columns in its order
+  (:func:`.tables.member_rows`) — the member's ends, length and local y and
+  z axes, the internal forces N, Vy, Vz, T, My, Mz at i and at j (N tension
+  positive: ``end_forces``), and the max and min along the member of each
+  and of the deflections v, w, with where they occur (``extremes``);
 * ``displacements``: ux, uy, uz, rx, ry, rz per node.
 
 Over combinations (:class:`~.results.CombinationResults`, which takes its
 table functions from the result's ``table_kit``): the same tables with a
-"combination" column, ``envelope`` (each member's end actions: max and min
-over the combinations that are ok, each with its combination),
+"combination" column, ``envelope`` (each member's internal forces and
+deflections: max and min along it over the combinations that are ok, each
+with its x and its combination, as the plane frame's),
 ``envelope_reactions`` (each node's six total reaction components, likewise),
 ``envelope_supports`` (each contact's largest and smallest X_n, largest |X_t|,
 utilisation, opening and slip, and the states it takes) and ``combinations``.
@@ -41,7 +44,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .tables import KINDS, check_table, reaction_envelope_rows, with_totals
+from .tables import (KINDS, check_table, member_envelope, member_envelope_rows, member_rows,
+                     reaction_envelope_rows, with_totals)
 
 TABLES = ("supports", "reactions", "members", "displacements")
 #: the tables of a CombinationResults besides TABLES
@@ -163,26 +167,29 @@ def _reaction_rows(frame, result, u) -> list:
     return out
 
 
-def _member_rows(frame, result, u) -> list:
-    from ..mechanics.space_element import axes
+def _quantity_unit(frame):
+    """The header unit of a space member's quantity: forces, moments, lengths."""
+    u = units(frame)
+    return lambda q: u["M"] if q in ("T", "My", "Mz") else u["L"] if q in ("v", "w") else u["F"]
 
-    out = []
-    for name, m in frame.members.items():
+
+def _member_rows(frame, result, u) -> list:
+    from ..mechanics.space_element import EXTREMES, QUANTITIES, axes
+
+    def geometry(name):
+        m = frame.members[name]
         xi, xj = frame.nodes[m["i"]], frame.nodes[m["j"]]
         R = axes(xi, xj, m["ref"], m["roll"])[0]
-        row = {"member": name, "i": m["i"], "j": m["j"],
-               f"L {u['L']}": float(np.linalg.norm(xj - xi)),
-               "y axis": vector_text(R[1]), "z axis": vector_text(R[2])}
-        for end, acts in result.end_forces(name).items():
-            for q, v in acts.items():
-                row[f"{q}_{end} {u['M'] if q in ('T', 'My', 'Mz') else u['F']}"] = v
-        out.append(row)
-    return out
+        return {"i": m["i"], "j": m["j"], f"L {u['L']}": float(np.linalg.norm(xj - xi)),
+                "y axis": vector_text(R[1]), "z axis": vector_text(R[2])}
+
+    return member_rows(frame, result, QUANTITIES, EXTREMES, _quantity_unit(frame), geometry)
 
 
 def envelope(results: dict) -> dict:
     """Max/min over the results that are ok, full precision: per member
-    {"N_i"|...|"Mz_j": {"max": (value, combination), "min": ...}}; under
+    {"N"|...|"Mz"|"v"|"w": {"max": (value, x, combination), "min": ...}}
+    (:func:`.tables.member_envelope`); under
     "supports" per node {"Fx"|...|"Mz": ...} of its total reaction; under
     "contacts" per contact {"X_n"|"|X_t|"|"use"|"opening"|"|slip|": ...} and
     "states" {state: [combinations]}."""
@@ -197,11 +204,7 @@ def envelope(results: dict) -> dict:
             if side not in s or (value > s[side][0] if side == "max" else value < s[side][0]):
                 s[side] = (value, name)
 
-    for name, r in good.items():
-        for member in r.member_forces:
-            for end, acts in r.end_forces(member).items():
-                for q, v in acts.items():
-                    put(env.setdefault(member, {}), f"{q}_{end}", v, name)
+    env.update(member_envelope(good))
     sup, con = {}, {}
     for name, r in good.items():
         for node, parts in reactions_by_node(r.frame, r).items():
@@ -224,17 +227,7 @@ def envelope_rows(frame, env: dict, table: str) -> list:
     u = units(frame)
     out = []
     if table == "envelope":
-        for member, per in env.items():
-            if member in ("supports", "contacts"):
-                continue
-            row = {"member": member}
-            for key, sides in per.items():
-                unit = u["M"] if key.split("_")[0] in ("T", "My", "Mz") else u["F"]
-                for side in ("max", "min"):
-                    row[f"{key}_{side} {unit}"] = sides[side][0]
-                    row[f"combination({key}_{side})"] = sides[side][1]
-            out.append(row)
-        return out
+        return member_envelope_rows(frame, env, _quantity_unit(frame))
     if table == "envelope_reactions":
         return reaction_envelope_rows(env.get("supports", {}), FORCES,
                                       lambda f: u["F"] if f[0] == "F" else u["M"])

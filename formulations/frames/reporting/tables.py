@@ -128,8 +128,7 @@ def rows(frame, result, table: str) -> list:
     if not result.displacements:
         return []
     force, length = frame.units
-    unit = {"F": f"[{force}]", "M": f"[{force}·{length}]", "L": f"[{length}]",
-            "N": f"[{force}]", "V": f"[{force}]", "v": f"[{length}]"}
+    unit = {"F": f"[{force}]", "M": f"[{force}·{length}]", "L": f"[{length}]"}
     if table == "supports":
         return [{"support": k, "state": s.state, f"X_n {unit['F']}": s.normal,
                  f"X_t {unit['F']}": s.tangential, f"opening {unit['L']}": s.opening,
@@ -137,19 +136,8 @@ def rows(frame, result, table: str) -> list:
     if table == "reactions":
         return _reaction_rows(frame, result, unit)
     if table == "members":
-        out = []
-        for name in frame.members:
-            ends, ext = result.end_forces(name), result.extremes(name)
-            row = {"member": name}
-            for end in ("i", "j"):
-                for q, v in zip(QUANTITIES, ends[end]):
-                    row[f"{q}_{end} {unit[q]}"] = v
-            for q in EXTREMES:
-                for side in ("max", "min"):
-                    row[f"{q}_{side} {unit[q]}"] = ext[q][side][0]
-                    row[f"x({q}_{side}) {unit['L']}"] = ext[q][side][1]
-            out.append(row)
-        return out
+        return member_rows(frame, result, QUANTITIES, EXTREMES, _plane_unit(frame),
+                           lambda name: plane_geometry(frame, name))
     return [{"node": nd, f"ux {unit['L']}": d[0], f"uy {unit['L']}": d[1], "rz [rad]": d[2]}
             for nd, d in result.displacements.items()]
 
@@ -178,12 +166,47 @@ def _reaction_rows(frame, result, unit) -> list:
     return out
 
 
-def envelope(results: dict) -> dict:
-    """Max/min over the results that are ok (see CombinationResults.envelope)."""
-    good = {name: r for name, r in results.items() if r.ok}
+def _plane_unit(frame):
+    """The header unit of a plane member's quantity ("[kN]", "[kN·m]", "[m]")."""
+    force, length = frame.units
+    units = {"N": force, "V": force, "M": f"{force}·{length}", "v": length}
+    return lambda q: f"[{units[q]}]"
+
+
+def plane_geometry(frame, name) -> dict:
+    """A plane member's columns before its forces: its nodes and length."""
+    m = frame.members[name]
+    length = float(np.hypot(*(frame.nodes[m.j] - frame.nodes[m.i])))
+    return {"i": m.i, "j": m.j, f"L [{frame.units[1]}]": length}
+
+
+def member_rows(frame, result, quantities, extremes, unit_of, geometry) -> list:
+    """The members table of either kind, one row per member: its
+    ``geometry`` columns, the internal forces at i and at j (the diagrams'
+    convention: ``end_forces``), then each of ``extremes`` — max and min
+    along the member with the x where they occur (``extremes``).  The same
+    columns in the same order for plane and space frames, the space frame
+    having more quantities."""
+    length = frame.units[1]
+    out = []
+    for name in frame.members:
+        ends, ext = result.end_forces(name), result.extremes(name)
+        row = {"member": name, **geometry(name)}
+        for end in ("i", "j"):
+            for q in quantities:
+                row[f"{q}_{end} {unit_of(q)}"] = ends[end][q]
+        for q in extremes:
+            for side in ("max", "min"):
+                row[f"{q}_{side} {unit_of(q)}"] = ext[q][side][0]
+                row[f"x({q}_{side}) [{length}]"] = ext[q][side][1]
+        out.append(row)
+    return out
+
+
+def member_envelope(good: dict) -> dict:
+    """{member: {quantity: {"max": (value, x, combination), "min": ...}}}
+    over the results ``good`` (all ok), from each one's ``extremes``."""
     env: dict = {}
-    if not good:
-        return env
     first = next(iter(good.values()))
     for member in first.member_forces:
         env[member] = {}
@@ -195,6 +218,34 @@ def envelope(results: dict) -> dict:
                     slot["max"] = (*ext["max"], name)
                 if ext["min"][0] < slot["min"][0]:
                     slot["min"] = (*ext["min"], name)
+    return env
+
+
+def member_envelope_rows(frame, env: dict, unit_of) -> list:
+    """The rows of ``member_envelope``: per quantity its max and min, each
+    with its x and its combination (plane and space frames alike)."""
+    length = frame.units[1]
+    out = []
+    for member, per in env.items():
+        if member in ("supports", "contacts"):
+            continue
+        row = {"member": member}
+        for q, sides in per.items():
+            for side in ("max", "min"):
+                value, x, name = sides[side]
+                row[f"{q}_{side} {unit_of(q)}"] = value
+                row[f"x({q}_{side}) [{length}]"] = x
+                row[f"combination({q}_{side})"] = name
+        out.append(row)
+    return out
+
+
+def envelope(results: dict) -> dict:
+    """Max/min over the results that are ok (see CombinationResults.envelope)."""
+    good = {name: r for name, r in results.items() if r.ok}
+    if not good:
+        return {}
+    env = member_envelope(good)
     sup: dict = {}
     for name, r in good.items():
         for node, parts in reactions_by_node(r.frame, r).items():
@@ -212,22 +263,9 @@ def envelope(results: dict) -> dict:
 def envelope_rows(frame, env: dict, table: str) -> list:
     """Raw rows of ``envelope`` (members) or ``envelope_reactions`` (nodes)."""
     force, length = frame.units
-    unit = {"N": force, "V": force, "M": f"{force}·{length}", "v": length, "Fx": force,
-            "Fy": force, "Mz": f"{force}·{length}"}
-    out = []
     if table == "envelope":
-        for member, per in env.items():
-            if member == "supports":
-                continue
-            row = {"member": member}
-            for q in EXTREMES:
-                for side in ("max", "min"):
-                    value, x, name = per[q][side]
-                    row[f"{q}_{side} [{unit[q]}]"] = value
-                    row[f"x({q}_{side}) [{length}]"] = x
-                    row[f"combination({q}_{side})"] = name
-            out.append(row)
-        return out
+        return member_envelope_rows(frame, env, _plane_unit(frame))
+    unit = {"Fx": force, "Fy": force, "Mz": f"{force}·{length}"}
     return reaction_envelope_rows(env.get("supports", {}), FORCES, lambda f: f"[{unit[f]}]")
 
 

@@ -12,8 +12,9 @@ import scipy.sparse as sp
 from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp
-from ..mechanics.space_element import axes, rotation, stiffness
+from ..mechanics.space_element import axes, condense, rotation, stiffness
 from ..reporting.free_motion import mechanism_message
+from . import space_member_loads
 from .space_results import DOFS
 
 
@@ -40,19 +41,44 @@ def assemble(frame, axial=None):
         R = axes(xi, xj, ref, np.array([m_["roll"] for m_ in ms]))
         T = rotation(R)
         L = np.linalg.norm(xj - xi, axis=1)
+        offsets = np.array([m_["offsets"] for m_ in ms], float).reshape(m, 2)
+        Lf = L - offsets.sum(axis=1)                     # the flexible lengths
+        phi = shear_parameters(ms, Lf)
         k_local = stiffness(*(np.array([m_[p] for m_ in ms]) for p in
-                              ("E", "G", "A", "Iy", "Iz", "J")), L, axial)
-        kg = T.transpose(0, 2, 1) @ k_local @ T
+                              ("E", "G", "A", "Iy", "Iz", "J")), Lf, axial, *phi.T)
+        rigid = np.zeros_like(Fe)                        # loads on the rigid zones
         dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
                          for m_ in ms])
+        where = {nm: k for k, nm in enumerate(frame.members)}
+        for load in frame.span_loads:
+            k = where[load.member]
+            if offsets[k].any():
+                fe, at_nodes = space_member_loads.offset_fixed_end(load, L[k], R[k], phi[k],
+                                                                   offsets[k])
+                Fe[k, :, col[load.case]] += fe
+                rigid[k, :, col[load.case]] += at_nodes
+            elif load.whole_uniform(L[k]) and not phi[k].any():
+                w = np.asarray(load.values[:3])
+                q = w if load.axes == "member" else R[k] @ w
+                Fe[k, :, col[load.case]] += fixed_end(q, L[k])
+            else:      # a point load or a part of the member (its own module)
+                Fe[k, :, col[load.case]] += space_member_loads.fixed_end(load, L[k], R[k],
+                                                                         phi[k])
+        # end releases: the member's own end rotations condensed out, its
+        # loads with them (the released end moments are zero)
+        for k, m_ in enumerate(ms):
+            if m_["releases"]:
+                k_local[k], Fe[k] = condense(k_local[k], Fe[k], m_["releases"])
+        # rigid end zones: the arms carry the flexible ends to the nodes
+        # (after the releases, which act at the faces)
+        for k in np.flatnonzero(offsets.any(axis=1)):
+            A_ = space_member_loads.offset_map(*offsets[k])
+            k_local[k] = A_.T @ k_local[k] @ A_
+            Fe[k] = A_.T @ Fe[k] + rigid[k]
+        kg = T.transpose(0, 2, 1) @ k_local @ T
         rows.append(np.repeat(dofs, 12, axis=1).ravel())
         cols.append(np.tile(dofs, (1, 12)).ravel())
         vals.append(kg.ravel())
-        where = {nm: k for k, nm in enumerate(frame.members)}
-        for member, w, ax, case in frame.member_loads:
-            k = where[member]
-            q = np.asarray(w) if ax == "member" else R[k] @ np.asarray(w)
-            Fe[k, :, col[case]] += fixed_end(q, L[k])
         np.add.at(F, dofs.ravel(), (T.transpose(0, 2, 1) @ Fe).reshape(-1, len(cases)))
     for node, v, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 6, col[case]] += v
@@ -86,11 +112,33 @@ def build(frame, axial=None):
             springs[idx[node] + DOFS.index(d)] += kval
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
                           coords=np.array(list(frame.nodes.values()), float),
-                          U=np.zeros_like(F), cases=cases, fixed=fixed, H=H, info=info,
-                          flex=flex, local=local, Tn=None,
+                          U=settlements(frame, idx, cases, F.shape), cases=cases,
+                          fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=None,
                           axial=None if axial is None else np.asarray(axial, float), **basic)
     b["maps"] = lcp_maps(frame, info)
     return b
+
+
+def shear_parameters(members, L) -> np.ndarray:
+    """(m, 2): each member's φ = 12 EI / (G A_s L²) for shear along its
+    local y (with Iz) and along z (with Iy); 0 where it has no shear area
+    (Euler–Bernoulli)."""
+    out = np.zeros((len(members), 2))
+    for k, m in enumerate(members):
+        for a, (GAs, I_) in enumerate(zip(m["GAs"], (m["Iz"], m["Iy"]))):
+            if GAs is not None:
+                out[k, a] = 12.0 * m["E"] * I_ / (GAs * L[k] ** 2)
+    return out
+
+
+def settlements(frame, idx, cases, shape) -> np.ndarray:
+    """U (dofs x cases): the prescribed displacements of fixed dofs, per
+    case (zero elsewhere)."""
+    col = {c: k for k, c in enumerate(cases)}
+    U = np.zeros(shape)
+    for node, dof, case, value in frame.settlements:
+        U[idx[node] + DOFS.index(dof), col[case]] += value
+    return U
 
 
 def held(frame, c, vec) -> bool:

@@ -3,7 +3,7 @@ in three dimensions.
 
 Six dofs per node, (ux, uy, uz, rx, ry, rz) in global axes (right-handed,
 rotations counterclockwise about each axis); members are the 3-D
-beam-column elements of :mod:`.elements3d`; bilateral supports fix any
+beam-column elements of :mod:`..mechanics.space_element`; bilateral supports fix any
 subset of the six dofs; springs resist -k·u on any dof; loads belong to
 named cases as in 2-D (:mod:`.loads`).  Units the user's, consistent.
 
@@ -31,12 +31,14 @@ the node's bilateral supports hold one tangent, that tangent has no link
 and the cone is the segment along the other, two facets: a planar frame
 built in space has exactly the plane frame's LCP.
 
-Member loads: a uniform load per unit length over the whole member, in
-global or member axes.  Its equivalent nodal loads are the fixed-end forces,
-exact for this element: w L / 2 at each end along each axis, and the
-end moments w L² / 12 — in the x-y plane +q_y L²/12 about z at i and minus
-that at j; in the x-z plane the signs reversed (a positive θy turns +z
-towards -x).
+Member loads (the plane frame's options with the third axis): point forces
+and moments, and distributed loads, uniform or trapezoidal over the whole
+member or part of it, and self-weight, in global or member axes
+(:mod:`.space_member_loads`).  Their equivalent nodal loads are the
+element's exact fixed-end forces: for a uniform load w over the whole
+member w L / 2 at each end along each axis, and the end moments w L² / 12 —
+in the x-y plane +q_y L²/12 about z at i and minus that at j; in the x-z
+plane the signs reversed (a positive θy turns +z towards -x).
 """
 
 from __future__ import annotations
@@ -50,11 +52,12 @@ from qpcontact.core.errors import InvalidProblemError
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_units,
-                               combination, known_node, no_member_between, no_same_contact,
-                               number)
-from ..mechanics.space_element import axes
+                               combination, known_member, known_node, no_member_between,
+                               no_same_contact, number)
+from ..mechanics.space_element import END_ROTATIONS, axes
 from ..reporting.free_motion import mechanism_message
 from . import circular_cone, circular_trace, space_assembly, space_recovery
+from .space_member_loads import SpanLoad, position
 from .space_results import DOFS, SpaceFrameResult
 
 #: The space frame's hooks of the shared analysis (:class:`FrameKind`): Lemke
@@ -92,6 +95,66 @@ class SpaceContact:
     other: None = None
 
 
+def shear_areas(shear_area, G: float, what: str) -> tuple:
+    """(G A_sy, G A_sz), None for a plane without shear deformation."""
+    if shear_area is None:
+        return (None, None)
+    pair = (shear_area, shear_area) if not isinstance(shear_area, (tuple, list)) \
+        else tuple(shear_area)
+    if len(pair) != 2:
+        raise InvalidProblemError(f"{what}: shear_area is one area or a pair (A_sy, A_sz); "
+                                  f"got {shear_area!r}")
+    out = []
+    for v, axis in zip(pair, "yz"):
+        if v is not None:
+            v = number(v, f"{what}: shear_area along {axis}")
+            if not v > 0:
+                raise InvalidProblemError(f"{what}: shear_area along {axis} must be positive "
+                                          f"(or None: no shear deformation); got {v}")
+            v = G * v
+        out.append(v)
+    return tuple(out)
+
+
+def end_springs(spring, what: str) -> dict:
+    """{rotation: stiffness} of a ``spring_i``/``spring_j`` value: None
+    none, a number both bending rotations, or a dict by member-axis
+    rotation."""
+    if spring is None:
+        return {}
+    given = spring if isinstance(spring, dict) else {"ry": spring, "rz": spring}
+    out = {}
+    for r, v in given.items():
+        if r not in END_ROTATIONS:
+            raise InvalidProblemError(f"{what}: rotations among {tuple(END_ROTATIONS)} in member "
+                                      f"axes; got {r!r}")
+        out[r] = number(v, f"{what}: {r}")
+        if out[r] < 0:
+            raise InvalidProblemError(f"{what}: {r} must be >= 0 (moment per radian); got "
+                                      f"{out[r]}")
+    return out
+
+
+def released(hinge, what: str) -> tuple:
+    """The member-axis rotations a ``hinge_i``/``hinge_j`` value releases:
+    False none, True both bending moments, or names among rx, ry, rz."""
+    if hinge is False or hinge is None:
+        return ()
+    if hinge is True:
+        return ("ry", "rz")
+    names = (hinge,) if isinstance(hinge, str) else hinge
+    try:
+        names = tuple(names)
+    except TypeError:
+        names = (hinge,)
+    bad = [r for r in names if r not in END_ROTATIONS]
+    if bad or not names or len(set(names)) != len(names):
+        raise InvalidProblemError(
+            f"{what}: True (both bending moments), False, or the rotations to release among "
+            f"{tuple(END_ROTATIONS)} in member axes, each once, e.g. ('rz',); got {hinge!r}")
+    return names
+
+
 class SpaceFrame:
     """A space frame (see the module docstring); ``units`` = (force, length)
     names, for tables and drawings only.
@@ -120,7 +183,8 @@ class SpaceFrame:
         self.fixed: dict[str, set] = {}
         self.springs: dict[str, dict] = {}
         self.nodal_loads: list = []   # (node, 6 values, case)
-        self.member_loads: list = []  # (member, (wx, wy, wz), axes, case)
+        self.span_loads: list = []    # SpanLoad: point and distributed member loads
+        self.settlements: list = []   # (node, dof, case, value)
         self.contacts: list = []      # SpaceContact
 
     def add_node(self, name: str, x: float, y: float, z: float) -> str:
@@ -131,10 +195,33 @@ class SpaceFrame:
         return name
 
     def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
-                   J: float, *, name: str | None = None, ref=None, roll: float = 0.0) -> str:
+                   J: float, *, name: str | None = None, ref=None, roll: float = 0.0,
+                   hinge_i=False, hinge_j=False, spring_i=None, spring_j=None,
+                   shear_area=None, offset_i: float = 0.0, offset_j: float = 0.0) -> str:
         """A member from node i to node j: E, G, A, Iy, Iz (about the local y
         and z axes), J; its local x-z plane contains ``ref`` (default global
-        Z, or X for a vertical member), turned by ``roll`` (radians) about x."""
+        Z, or X for a vertical member), turned by ``roll`` (radians) about x.
+        Returns its name.
+
+        End releases, as the plane frame's: ``hinge_i``/``hinge_j`` True
+        releases both bending moments at that end (My and Mz: a ball joint
+        that still carries the twist), or name the member-axis rotations to
+        release, e.g. ``hinge_j=("rz",)`` (a hinge about the local z only)
+        or ``("rx",)`` (a torsion release).  ``spring_i``/``spring_j`` make
+        the joint semi-rigid: a rotational spring (moment per radian)
+        between the member's end and its node, one number for both bending
+        rotations or {"rx"|"ry"|"rz": k} (a hinge is a spring of 0).
+
+        Shear deformation, as the plane frame's ``shear_area``: the shear
+        areas (A_sy, A_sz) for shear along the local y and z axes (e.g. 5/6
+        A each for a rectangle; one number for both) make it a Timoshenko
+        member in each plane given (None in the pair: that plane
+        Euler-Bernoulli); G is the member's own.
+
+        Rigid end zones, as the plane frame's: ``offset_i``/``offset_j``
+        (lengths along the member from each node) are rigid; releases act
+        at the faces of the zones; member loads are still placed from node
+        i along the whole member."""
         known_node(self, i), known_node(self, j)
         if i == j:
             raise InvalidProblemError("a member needs two different nodes")
@@ -157,20 +244,63 @@ class SpaceFrame:
             raise InvalidProblemError(
                 f"{what}: its reference vector {tuple(map(float, ref))} is parallel to the "
                 "member; give one in the plane of the member's local x-z axes") from exc
+        GAs = shear_areas(shear_area, props["G"], what)
+        L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+        offs = [number(offset_i, f"{what}: offset_i"), number(offset_j, f"{what}: offset_j")]
+        if min(offs) < 0 or not sum(offs) < L:
+            raise InvalidProblemError(
+                f"{what}: rigid end offsets must be >= 0 and leave a flexible length "
+                f"(offset_i + offset_j < L = {L:g}); got {offs[0]:g} and {offs[1]:g}")
+        releases = []
+        for hinge, spring, end, at in ((hinge_i, spring_i, "i", 0), (hinge_j, spring_j, "j", 6)):
+            hinged = released(hinge, f"{what}: hinge_{end}")
+            springs = end_springs(spring, f"{what}: spring_{end}")
+            both = sorted(set(hinged) & set(springs))
+            if both:
+                raise InvalidProblemError(f"{what}: give hinge_{end} or spring_{end} for {both}, "
+                                          "not both (a hinge is a spring of 0)")
+            releases += [(at + END_ROTATIONS[r], 0.0) for r in hinged]
+            releases += [(at + END_ROTATIONS[r], k) for r, k in springs.items()]
+        if {3, 9} <= {r for r, k in releases if k == 0.0}:
+            raise InvalidProblemError(
+                f"{what}: its twist is released at both ends (rx in hinge_i and hinge_j), so "
+                "nothing holds it from spinning about its axis; release rx at one end at most")
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
             raise InvalidProblemError(f"member {name!r} exists already; give another name")
         no_member_between(((k, m["i"], m["j"]) for k, m in self.members.items()), i, j, what)
-        self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, **props)
+        self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, releases=tuple(releases),
+                                  GAs=GAs, offsets=tuple(offs), **props)
         return name
 
     def add_support(self, node: str, fix=DOFS) -> None:
+        """Bilateral support: the listed degrees of freedom (global axes)
+        are fixed."""
         known_node(self, node)
         fix = (fix,) if isinstance(fix, str) else tuple(fix)
         bad = [d for d in fix if d not in DOFS]
         if bad:
             raise InvalidProblemError(f"fix must name dofs among {DOFS}; got {bad}")
         self.fixed.setdefault(node, set()).update(fix)
+
+    def add_settlement(self, node: str, case: str = CONSTANT, **displacements) -> None:
+        """Prescribed displacement of bilateral supports (a settlement, in
+        load case ``case``), global axes: add_settlement("A", "S", uz=-0.01);
+        each dof given must be fixed by add_support."""
+        known_node(self, node)
+        if not displacements:
+            raise InvalidProblemError(f"settlement at {node!r}: give displacements among "
+                                      f"{DOFS}, e.g. uz=-0.01")
+        for d, v in displacements.items():
+            if d not in DOFS:
+                raise InvalidProblemError(f"settlement at {node!r}: dofs among {DOFS}; got {d!r}")
+            if d not in self.fixed.get(node, set()):
+                raise InvalidProblemError(
+                    f"settlement at {node!r}: {d} is not fixed by a bilateral support there "
+                    f"(fixed: {sorted(self.fixed.get(node, set())) or 'none'}); add_support("
+                    f"{node!r}, fix=(..., {d!r})) first — a settlement moves a support")
+            self.settlements.append((node, d, case_name(case),
+                                     number(v, f"settlement at {node!r}: {d}")))
 
     def add_spring(self, node: str, **stiffnesses) -> None:
         """Springs to the ground on the named dofs: add_spring("A", uz=1e5)."""
@@ -192,14 +322,71 @@ class SpaceFrame:
                      zip((fx, fy, fz, mx, my, mz), ("fx", "fy", "fz", "mx", "my", "mz")))
         self.nodal_loads.append((node, vals, case_name(case)))
 
+    def _member_length(self, member: str) -> float:
+        m = known_member(self, member)
+        return float(np.linalg.norm(self.nodes[m["j"]] - self.nodes[m["i"]]))
+
+    def add_point_load(self, member: str, a: float, fx=0.0, fy=0.0, fz=0.0, mx=0.0, my=0.0,
+                       mz=0.0, *, axes: str = "global", case: str = CONSTANT,
+                       relative: bool = False) -> None:
+        """A force (fx, fy, fz) and a moment (mx, my, mz) at distance ``a``
+        from node i (a fraction of the length with ``relative=True``), in
+        global or member axes (:mod:`.space_member_loads`)."""
+        L = self._member_length(member)
+        a = position(L, a, "a", relative, member)
+        vals = tuple(number(v, f"point load on {member}: {c}") for v, c in
+                     zip((fx, fy, fz, mx, my, mz), ("fx", "fy", "fz", "mx", "my", "mz")))
+        self.span_loads.append(SpanLoad(member, "point", case_name(case), check_axes(axes), a, a,
+                                        vals))
+
     def add_distributed_load(self, member: str, wx=0.0, wy=0.0, wz=0.0, case: str = CONSTANT,
-                             *, axes: str = "global") -> None:
-        """A uniform load per unit length over the whole member."""
-        if member not in self.members:
-            raise InvalidProblemError(f"no member named {member!r}; members: {list(self.members)}")
+                             *, wx2=None, wy2=None, wz2=None, start: float = 0.0,
+                             end: float | None = None, axes: str = "global",
+                             relative: bool = False) -> None:
+        """A load per unit length of the member, (wx, wy, wz) at ``start``
+        varying linearly to (wx2, wy2, wz2) at ``end`` (defaults: uniform
+        over the whole member), in global or member axes — the plane
+        frame's keywords with the third axis."""
+        L = self._member_length(member)
+        a = position(L, start, "start", relative, member)
+        b = position(L, L if end is None else end, "end", relative and end is not None, member)
+        if b < a:
+            raise InvalidProblemError(f"member {member}: end ({b:g}) before start ({a:g})")
         w = tuple(number(v, f"distributed load on {member}: {c}")
                   for v, c in zip((wx, wy, wz), ("wx", "wy", "wz")))
-        self.member_loads.append((member, w, check_axes(axes), case_name(case)))
+        w2 = tuple(w[k] if v is None else number(v, f"distributed load on {member}: {c}")
+                   for k, (v, c) in enumerate(zip((wx2, wy2, wz2), ("wx2", "wy2", "wz2"))))
+        self.span_loads.append(SpanLoad(member, "distributed", case_name(case), check_axes(axes),
+                                        a, b, w + w2))
+
+    def add_self_weight(self, case: str = "D", *, unit_weight: float | None = None,
+                        weight_per_length: float | None = None, members=None,
+                        direction=(0.0, 0.0, -1.0)) -> None:
+        """Self-weight as a uniform global load: ``weight_per_length``
+        (force/length) or ``unit_weight`` (force/volume, e.g. 78.5 kN/m³ for
+        steel) times each member's A, along ``direction`` (default -z)."""
+        if (unit_weight is None) == (weight_per_length is None):
+            raise InvalidProblemError("give exactly one of unit_weight (force/volume, times A) "
+                                      "or weight_per_length (force/length)")
+        try:
+            d = np.array(direction, float)
+        except (TypeError, ValueError):
+            d = np.zeros(0)
+        if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.linalg.norm(d) > 0:
+            raise InvalidProblemError(f"direction must be a nonzero 3-vector; got {direction!r}")
+        d = d / np.linalg.norm(d)
+        for name in (list(self.members) if members is None else list(members)):
+            m = known_member(self, name)
+            w = (number(weight_per_length, "weight_per_length") if unit_weight is None
+                 else number(unit_weight, "unit_weight") * m["A"])
+            self.add_distributed_load(name, *(w * d), case)
+
+    @property
+    def member_loads(self) -> list:
+        """The uniform loads over whole members as (member, (wx, wy, wz),
+        axes, case) — what the drawings and the benchmarks' exports read."""
+        return [(ld.member, ld.values[:3], ld.axes, ld.case) for ld in self.span_loads
+                if ld.whole_uniform(self._member_length(ld.member))]
 
     def add_contact(self, node: str, normal=(0.0, 0.0, 1.0), friction: float = 0.0,
                     gap: float = 0.0, stiffness: float | None = None,
@@ -257,7 +444,8 @@ class SpaceFrame:
     def load_cases(self) -> list:
         names = {CONSTANT, VARIABLE}
         names.update(c for *_, c in self.nodal_loads)
-        names.update(c for *_, c in self.member_loads)
+        names.update(ld.case for ld in self.span_loads)
+        names.update(st[2] for st in self.settlements)
         return sorted(names)
 
     @property
@@ -277,15 +465,16 @@ class SpaceFrame:
         (default the case "constant")."""
         K, F, fixed, cases, idx, _ = space_assembly.assemble(self)
         combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
-        f = F @ np.array([combo.get(c, 0.0) for c in cases])
+        factors = np.array([combo.get(c, 0.0) for c in cases])
+        u = space_assembly.settlements(self, idx, cases, F.shape) @ factors
         free = np.flatnonzero(~fixed)
+        f = F @ factors - K[:, fixed] @ u[fixed]
         Kf = K[free][:, free].tocsc()
         lu = contact_lcp.regular_lu(Kf)
         if lu is None:
             raise InvalidProblemError(mechanism_message(
                 Kf, free, free.size, list(self.nodes), DOFS, list(self.nodes.values()),
                 contacts=False))
-        u = np.zeros(K.shape[0])
         u[free] = lu.solve(f[free])
         return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
 

@@ -31,11 +31,12 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
     P, W, g, fric = b["maps"]
     z = np.maximum(np.asarray(z, float), 0.0)
     factors = contact_lcp.factors(b, combo)
-    F = b["F"] @ factors
+    F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g
-    nf, free = b["nf"], b["free"]
-    sol = b["lu"].solve(np.r_[F[free], b["kappa"] * delta])
-    u = np.zeros(F.size)
+    nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
+    sol = b["lu"].solve(np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
+                              b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])])
+    u = ua.copy()
     u[free] = sol[:nf]
     # the forces from the same solve as u (as the plane frame's: R Δ + R_F
     # has R's rounding-level entries dropped)
@@ -53,7 +54,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
         zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
         # the answer refined on its states in extended precision, kept where it
         # checks at least as well (a stiff deck's forces: mechanics/extended_refinement)
-        refined = extended_refinement.polished(b, z, F, np.zeros(F.size), u, X,
+        refined = extended_refinement.polished(b, z, F, ua, u, X,
                                                lcp.M @ z + lcp.q, zeta, sigma, cert_error)
     if refined is not None:
         z2, u2, X2 = refined

@@ -6,7 +6,11 @@ Sign conventions: global axes x, y, z right-handed, rotations
 counterclockwise about each axis (right-hand rule).  ``member_forces`` are
 **end actions** in member axes (x from node i to j, y and z the section's
 principal axes): the forces and moments the nodes exert on the member,
-(N, Vy, Vz, T, My, Mz) at i then at j — the element's K u - f.  A contact's
+(N, Vy, Vz, T, My, Mz) at i then at j — the element's K u - f.  The
+**diagrams**, ``end_forces``, ``extremes`` and the tables give internal
+forces in the plane frame's convention (:mod:`.space_diagrams`; docs/frames.md,
+"Conventions"): N tension positive, My and Mz positive when they compress
+the +z and +y fibre, Vz = dMy/dx, Vy = dMz/dx.  A contact's
 ``tangential`` force and ``slip`` are given along its tangents (t1, t2) and,
 as ``tangential_global`` / ``slip_global``, in global components.
 """
@@ -22,13 +26,12 @@ from qpcontact.core.errors import InvalidProblemError
 from ..mechanics.analysis_results import AnalysisResult
 from ..reporting import space_tables, tables
 from ..reporting.notation import DIGITS
+from . import space_diagrams
 
 DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
 #: a space frame's contact states: a slip has a direction in the contact's
 #: plane (``slip_global``), not a sign
 STATES = ("separated", "closed", "stick", "slip")
-#: the names of a member's end actions, at i then j (member axes)
-END_ACTIONS = ("N", "Vy", "Vz", "T", "My", "Mz")
 
 
 @dataclass
@@ -72,15 +75,25 @@ class SpaceFrameResult(AnalysisResult):
     #: the tables of this kind of result (CombinationResults asks for them)
     table_kit = space_tables
 
+    def diagram(self, member: str, points: int = 21):
+        """(x, N, Vy, Vz, T, My, Mz) along a member at ``points`` sections, x
+        from node i (member axes; the convention of docs/frames.md,
+        "Conventions": N tension positive, My and Mz positive when they
+        compress the +z and +y fibre, V = dM/dx; :mod:`.space_diagrams`)."""
+        return space_diagrams.diagram(self.frame, self, member, points)
+
+    def extremes(self, member: str) -> dict:
+        """{"N"|"Vy"|"Vz"|"T"|"My"|"Mz"|"v"|"w": {"max": (value, x), "min":
+        (value, x)}} along a member; "v" and "w" are the deflections across
+        it along its local y and z (:meth:`deflection`)."""
+        return space_diagrams.extremes(self.frame, self, member)
+
     def end_forces(self, member: str) -> dict:
-        """The member's end actions by name: {"i": {"N": ..., ...}, "j": {...}}
-        (member axes, the forces the nodes exert on the member)."""
-        if member not in self.member_forces:
-            raise InvalidProblemError(f"no member named {member!r}; members: "
-                                      f"{list(self.member_forces)}")
-        f = self.member_forces[member]
-        return {"i": dict(zip(END_ACTIONS, map(float, f[:6]))),
-                "j": dict(zip(END_ACTIONS, map(float, f[6:])))}
+        """Internal forces at the member's ends in the diagrams' convention:
+        {"i": {"N": ..., "Vy": ..., ..., "Mz": ...}, "j": {...}} (a column in
+        compression has N < 0 at both ends).  ``member_forces`` keeps the
+        end actions, the forces the nodes exert on the member."""
+        return space_diagrams.end_forces(self.frame, self, member)
 
     @property
     def support_reactions(self) -> dict:
@@ -112,13 +125,11 @@ class SpaceFrameResult(AnalysisResult):
         return tables.dataframe(self.rows(table, digits))
 
     def deflection(self, member: str, points: int = 21, axes: str = "member"):
-        """(x, u (points, 3)): the displacement of the member's axis at
-        ``points`` sections, x from node i; in member axes (u, v, w) or
-        ``axes="global"`` (ux, uy, uz).  Exact for the element's uniform
-        loads (:func:`.space_drawing.member_deflection`)."""
-        from ..reporting.space_drawing import member_deflection
-
-        return member_deflection(self.frame, self, member, points, axes)
+        """(x, u (n, 3)): the displacement of the member's axis at
+        ``points`` sections and the load positions, x from node i; in member
+        axes (u, v, w) or ``axes="global"`` (ux, uy, uz).  Exact for the
+        element and its loads (:func:`.space_diagrams.deflection`)."""
+        return space_diagrams.deflection(self.frame, self, member, points, axes)
 
     def plot(self, path, scale: float | None = None, title: str | None = None, *,
              azimuth: float | None = None, elevation: float | None = None,

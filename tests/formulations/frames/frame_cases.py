@@ -33,7 +33,7 @@ def beam_on_supports(spans, every=10, P=250.0):
     for k in range(spans + 1):
         fr.add_node(f"N{k}", 6.0 * k, 0.0)
     for k in range(spans):
-        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.32, 1e-4, name=f"M{k}")
+        fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.32, 1e-4, name=f"M{k}")
         fr.add_distributed_load(f"M{k}", wy=-(25.0 * 0.32 + 10.0))
     fr.add_support("N0", fix=("ux",))
     for k in range(spans + 1):

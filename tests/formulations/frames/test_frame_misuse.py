@@ -32,7 +32,7 @@ def cantilever():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", L, 0.0)
-    fr.add_beam("A", "B", E, A, I)
+    fr.add_member("A", "B", E, A, I)
     fr.add_support("A")
     fr.add_load("B", fy=-P, case="variable")
     return fr
@@ -96,7 +96,7 @@ def test_a_linear_column_to_second_order():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", 0.0, L)
-    fr.add_beam("A", "B", E, A, I)
+    fr.add_member("A", "B", E, A, I)
     fr.add_support("A")
     fr.add_load("B", fx=H, fy=-Pc)
     first, second = fr.solve(), fr.solve(second_order=True)
@@ -128,7 +128,7 @@ def _beam():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", L, 0.0)
-    fr.add_beam("A", "B", E, A, I)
+    fr.add_member("A", "B", E, A, I)
     fr.add_load("B", fy=-P)
     return fr
 
@@ -162,8 +162,8 @@ def test_a_loose_node_and_a_hinge_are_named():
     fr = Frame()
     for name, x in (("A", 0.0), ("B", L), ("C", 2 * L)):
         fr.add_node(name, x, 0.0)
-    fr.add_beam("A", "B", E, A, I, hinge_j=True)
-    fr.add_beam("B", "C", E, A, I)
+    fr.add_member("A", "B", E, A, I, hinge_j=True)
+    fr.add_member("B", "C", E, A, I)
     fr.add_support("A")
     fr.add_support("C", fix=("ux",))
     fr.add_load("B", fy=-P)
@@ -178,9 +178,9 @@ def test_a_portal_that_sways_is_named_by_its_rigid_parts():
     fr = Frame()
     for name, xy in (("A", (0.0, 0.0)), ("B", (0.0, L)), ("C", (6.0, L)), ("D", (6.0, 0.0))):
         fr.add_node(name, *xy)
-    fr.add_beam("A", "B", E, A, I, name="left")
-    fr.add_beam("B", "C", E, A, I, hinge_i=True, hinge_j=True, name="beam")
-    fr.add_beam("C", "D", E, A, I, name="right")
+    fr.add_member("A", "B", E, A, I, name="left")
+    fr.add_member("B", "C", E, A, I, hinge_i=True, hinge_j=True, name="beam")
+    fr.add_member("C", "D", E, A, I, name="right")
     fr.add_support("A", fix=("ux", "uy"))
     fr.add_support("D", fix=("ux", "uy"))
     fr.add_load("B", fx=P)
@@ -210,7 +210,7 @@ def on_pads(normal=(0.0, 1.0)):
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", L, 0.0)
-    fr.add_beam("A", "B", E, A, I)
+    fr.add_member("A", "B", E, A, I)
     for n in ("A", "B"):
         fr.add_contact(n, normal=normal, friction=MU)
         fr.add_load(n, fy=-W / 2)

@@ -29,7 +29,7 @@ def _beam(spans, seed, friction=0.3):
     for k in range(n):
         fr.add_node(f"N{k}", 3.0 * k, 0.0)
     for k in range(n - 1):
-        fr.add_distributed_load(fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017), wy=-18.0)
+        fr.add_distributed_load(fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017), wy=-18.0)
     fr.add_support("N0", fix=("ux",))
     for k in range(0, n, 2):
         fr.add_contact(f"N{k}", normal=(0.0, 1.0), friction=friction if k else 0.0,
@@ -112,7 +112,7 @@ def test_badly_scaled_units_give_the_same_states():
         for k in range(9):
             fr.add_node(f"N{k}", 3.0 * k * length, 0.0)
         for k in range(8):
-            m = fr.add_beam(f"N{k}", f"N{k + 1}", 30e6 * force / length ** 2, 0.32 * length ** 2,
+            m = fr.add_member(f"N{k}", f"N{k + 1}", 30e6 * force / length ** 2, 0.32 * length ** 2,
                             0.017 * length ** 4)
             fr.add_distributed_load(m, wy=-18.0 * force / length)
         fr.add_support("N0", fix=("ux",))
@@ -138,7 +138,7 @@ def _lever(slope):
     for k in range(5):
         fr.add_node(f"N{k}", 2.0 * k * np.cos(slope), 2.0 * k * np.sin(slope))
     for k in range(4):
-        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02, hinge_i=(k == 1))
+        fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02, hinge_i=(k == 1))
     fr.add_support("N0", fix=("ux", "uy"), angle=25.0)
     fr.add_contact("N2", normal=(0.22, 1), gap=1e-3, stiffness=1e5)
     fr.add_contact("N3", normal=(-0.04, 1), gap=1e-3, stiffness=1e5)
@@ -173,8 +173,8 @@ def test_mechanical_certificate_refuses_a_lifted_tip_beside_a_stub():
         fr.add_node(f"N{k}", float(k), 0.0)
     fr.add_node("T", 10.01, 0.0)
     for k in range(10):
-        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02)
-    fr.add_beam("N10", "T", 30e6, 0.3, 0.02)
+        fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02)
+    fr.add_member("N10", "T", 30e6, 0.3, 0.02)
     fr.add_support("N0")
     fr.add_contact("T")
     fr.add_load("T", fy=-10.0)

@@ -157,9 +157,9 @@ def _ground_beam(n=30):
     for i in range(n + 1):
         fr.add_node(f"S{i}", 2.0 * i, 0.0)
     for i in range(n):
-        fr.add_distributed_load(fr.add_beam(f"S{i}", f"S{i + 1}", 30e6, 0.24, 0.0072), wy=-6.0)
+        fr.add_distributed_load(fr.add_member(f"S{i}", f"S{i + 1}", 30e6, 0.24, 0.0072), wy=-6.0)
     fr.add_node("T", n * 1.0, 3.0)
-    fr.add_beam(f"S{n // 2}", "T", 30e6, 0.09, 6.75e-4)
+    fr.add_member(f"S{n // 2}", "T", 30e6, 0.09, 6.75e-4)
     for i in range(n + 1):
         fr.add_contact(f"S{i}", normal=(0.0, 1.0), friction=0.4, stiffness=1e5)
     fr.add_load("T", fy=-200.0)
@@ -200,8 +200,8 @@ def _cased_frame():
     fr = Frame()
     for k, x in enumerate([0, 3, 6]):
         fr.add_node(f"S{k}", x, 0.0)
-    fr.add_beam("S0", "S1", E=30e6, A=0.32, I=0.017, name="B1")
-    fr.add_beam("S1", "S2", E=30e6, A=0.32, I=0.017, name="B2")
+    fr.add_member("S0", "S1", E=30e6, A=0.32, I=0.017, name="B1")
+    fr.add_member("S1", "S2", E=30e6, A=0.32, I=0.017, name="B2")
     fr.add_support("S0", fix=("ux",))
     for k in range(3):
         fr.add_contact(f"S{k}", normal=(0, 1))
@@ -226,7 +226,7 @@ def test_a_frame_whose_loads_are_all_in_cases_says_what_to_pass():
     plain = Frame()
     for k, x in enumerate([0, 3]):
         plain.add_node(f"S{k}", x, 0.0)
-    plain.add_beam("S0", "S1", E=30e6, A=0.32, I=0.017)
+    plain.add_member("S0", "S1", E=30e6, A=0.32, I=0.017)
     plain.add_support("S0", fix=("ux",))
     for k in range(2):
         plain.add_contact(f"S{k}", normal=(0, 1))

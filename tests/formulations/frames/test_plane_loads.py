@@ -22,7 +22,7 @@ def _simple_beam(L=6.0, n_inner=0):
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", L, 0.0)
-    m = fr.add_beam("A", "B", E, A, I)
+    m = fr.add_member("A", "B", E, A, I)
     fr.add_support("A", fix=("ux", "uy"))
     fr.add_contact("B", normal=(0.0, 1.0))
     return fr, m
@@ -34,7 +34,7 @@ def _clamped_beam(L=6.0):
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", L, 0.0)
-    m = fr.add_beam("A", "B", E, A, I)
+    m = fr.add_member("A", "B", E, A, I)
     fr.add_support("A")
     fr.add_support("B", fix=("ux", "rz"))
     fr.add_contact("B", normal=(0.0, 1.0))
@@ -57,7 +57,7 @@ def test_point_load_on_a_simple_beam_matches_statics():
     assert V.max() == pytest.approx(P * b / L, rel=1e-10)
     assert V.min() == pytest.approx(-P * a / L, rel=1e-10)
     ends = r.end_forces(m)
-    assert abs(ends["i"][2]) < 1e-9 and abs(ends["j"][2]) < 1e-9
+    assert abs(ends["i"]["M"]) < 1e-9 and abs(ends["j"]["M"]) < 1e-9
 
 
 def test_point_moment_makes_the_moment_diagram_jump():
@@ -82,8 +82,8 @@ def test_clamped_beam_point_load_matches_textbook_fixed_end_moments():
     r = fr.solve()
     assert r.ok, r.message
     ends = r.end_forces(m)
-    assert ends["i"][2] == pytest.approx(-P * a * b ** 2 / L ** 2, rel=1e-9)
-    assert ends["j"][2] == pytest.approx(-P * a ** 2 * b / L ** 2, rel=1e-9)
+    assert ends["i"]["M"] == pytest.approx(-P * a * b ** 2 / L ** 2, rel=1e-9)
+    assert ends["j"]["M"] == pytest.approx(-P * a ** 2 * b / L ** 2, rel=1e-9)
     assert r.reactions["A"][1] == pytest.approx(P * b ** 2 * (3 * a + b) / L ** 3, rel=1e-9)
 
 
@@ -103,8 +103,8 @@ def test_partial_trapezoidal_load_matches_integrated_influence_lines(w1, w2, sta
     MA = -np.sum(w * mid * (L - mid) ** 2 / L ** 2 * dx)
     MB = -np.sum(w * mid ** 2 * (L - mid) / L ** 2 * dx)
     ends = r.end_forces(m)
-    assert ends["i"][2] == pytest.approx(MA, rel=1e-7)
-    assert ends["j"][2] == pytest.approx(MB, rel=1e-7)
+    assert ends["i"]["M"] == pytest.approx(MA, rel=1e-7)
+    assert ends["j"]["M"] == pytest.approx(MB, rel=1e-7)
     # vertical equilibrium: the reactions carry the resultant
     total = np.sum(w * dx)
     assert r.reactions["A"][1] + r.supports["B"].normal == pytest.approx(total, rel=1e-7)
@@ -115,7 +115,7 @@ def test_member_axes_load_on_an_inclined_member_equals_its_global_components():
         fr = Frame()
         fr.add_node("A", 0.0, 0.0)
         fr.add_node("B", 3.0, 4.0)
-        m = fr.add_beam("A", "B", E, A, I)
+        m = fr.add_member("A", "B", E, A, I)
         fr.add_support("A", fix=("ux", "uy"))
         fr.add_contact("B", normal=(-0.8, 0.6))   # the member's own y axis
         if axes == "member":
@@ -151,7 +151,7 @@ def _grade_beam():
     for k, x in enumerate(xs):
         fr.add_node(f"N{k}", float(x), 0.0)
     for k in range(len(xs) - 1):
-        m = fr.add_beam(f"N{k}", f"N{k + 1}", E=2e4 / 1e-4, A=1.0, I=1e-4)
+        m = fr.add_member(f"N{k}", f"N{k + 1}", E=2e4 / 1e-4, A=1.0, I=1e-4)
         fr.add_distributed_load(m, wy=-5.0, case="D")
     fr.add_support("N0", fix=("ux",))
     for k in range(len(xs)):
@@ -225,7 +225,7 @@ def test_elastic_beam_under_an_uplift_it_cannot_carry_fails_fast_and_says_how():
     for k in range(6):
         fr.add_node(f"N{k}", 2.0 * k, 0.0)
     for k in range(5):
-        fr.add_beam(f"N{k}", f"N{k + 1}", E, A, I)
+        fr.add_member(f"N{k}", f"N{k + 1}", E, A, I)
     fr.add_support("N0", fix=("ux",))
     for k in range(1, 6):
         fr.add_contact(f"N{k}", normal=(0.0, 1.0), stiffness=5e3)
@@ -242,7 +242,7 @@ def test_spring_support_gives_the_textbook_tip_deflection():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", L, 0.0)
-    fr.add_beam("A", "B", E, A, I)
+    fr.add_member("A", "B", E, A, I)
     fr.add_support("A")
     fr.add_spring("B", uy=k)
     fr.add_contact("B", normal=(-1.0, 0.0), gap=1.0)   # never touched
@@ -271,7 +271,7 @@ def test_contact_on_a_direction_a_support_fixes_names_the_node_and_dofs():
     (lambda fr, m: fr.add_load("A", fy=-1.0, case=""), "load case"),
     (lambda fr, m: fr.solve(method="nope"), "unknown method 'nope'"),
     (lambda fr, m: fr.solve(combination={"X": 1.0}), "load case 'X'"),
-    (lambda fr, m: fr.add_beam("A", "B", "2e8", A, I), "E must be a number"),
+    (lambda fr, m: fr.add_member("A", "B", "2e8", A, I), "E must be a number"),
 ])
 def test_bad_input_names_the_culprit(call, match):
     fr, m = _simple_beam()
@@ -304,7 +304,7 @@ def test_a_load_that_lifts_a_frame_off_elastic_supports_is_proved_by_a_rigid_mot
     for k, x in enumerate([0, 1.5, 3, 4.5, 6]):
         fr.add_node(f"S{k}", x, 0.0)
     for k in range(4):
-        fr.add_beam(f"S{k}", f"S{k + 1}", E=30e6, A=0.32, I=0.017)
+        fr.add_member(f"S{k}", f"S{k + 1}", E=30e6, A=0.32, I=0.017)
     fr.add_support("S0", fix=("ux",))
     fr.add_spring("S4", rz=5e3)
     for k in range(5):
@@ -328,7 +328,7 @@ def test_settlement_of_a_middle_support_matches_the_force_method():
     for k, x in enumerate((0.0, L, 2 * L)):
         fr.add_node(f"N{k}", x, 0.0)
     for k in range(2):
-        fr.add_distributed_load(fr.add_beam(f"N{k}", f"N{k + 1}", E, A, I), wy=w)
+        fr.add_distributed_load(fr.add_member(f"N{k}", f"N{k + 1}", E, A, I), wy=w)
     fr.add_support("N0", fix=("ux", "uy"))
     fr.add_support("N2", fix=("uy",))
     fr.add_contact("N1", normal=(0.0, 1.0))
@@ -388,7 +388,7 @@ def test_moment_labels_do_not_overprint(monkeypatch):
     for k in range(n + 1):
         fr.add_node(f"N{k}", 6.0 * k, 0.0)
     for k in range(n):
-        fr.add_beam(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017, name=f"M{k}")
+        fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017, name=f"M{k}")
         fr.add_distributed_load(f"M{k}", wy=-18.0, case="D")
     fr.add_support("N0", fix=("ux",))
     for k in range(n + 1):

@@ -42,7 +42,7 @@ def _ours(uplift, push):
     for k, x in enumerate(xs):
         fr.add_node(f"N{k}", x, 0.0)
     for k in range(len(xs) - 1):
-        fr.add_beam(f"N{k}", f"N{k + 1}", E, A, I, name=f"M{k}")
+        fr.add_member(f"N{k}", f"N{k + 1}", E, A, I, name=f"M{k}")
         fr.add_distributed_load(f"M{k}", wy=W, case="D")
     fr.add_support("N0", fix=("ux",))
     for s in range(SPANS + 1):

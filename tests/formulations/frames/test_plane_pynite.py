@@ -21,7 +21,7 @@ def _ours(uplift):
     for k, x in enumerate(XS):
         fr.add_node(f"N{k}", x, 0.0)
     for k in range(len(XS) - 1):
-        fr.add_beam(f"N{k}", f"N{k + 1}", E, A, I, name=f"M{k}")
+        fr.add_member(f"N{k}", f"N{k + 1}", E, A, I, name=f"M{k}")
         fr.add_distributed_load(f"M{k}", wy=-8.0, case="D")
     fr.add_support("N0", fix=("ux",))
     for k in range(len(XS)):

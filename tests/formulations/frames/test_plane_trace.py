@@ -34,7 +34,7 @@ def _cantilever():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", 2.0, 0.0)
-    fr.add_beam("A", "B", E=1.0, A=1.0, I=1.0)
+    fr.add_member("A", "B", E=1.0, A=1.0, I=1.0)
     fr.add_support("A")
     fr.add_contact("B", normal=(0.0, 1.0), friction=0.3)
     fr.add_load("B", fy=-10.0)
@@ -49,7 +49,7 @@ def _peer_beam():
     for k in range(5):
         fr.add_node(f"N{k}", float(k), 0.0)
     for k in range(4):
-        fr.add_beam(f"N{k}", f"N{k + 1}", E=1.0, A=1.0, I=1.0)
+        fr.add_member(f"N{k}", f"N{k + 1}", E=1.0, A=1.0, I=1.0)
     for k in (0, 2, 4):
         fr.add_contact(f"N{k}", normal=(0.0, 1.0), friction=0.9)
     fr.add_load("N1", fy=-1.0)
@@ -142,9 +142,9 @@ def test_ground_beam_with_a_column_on_five_frictional_supports_slides_at_f_W():
     for k in range(5):
         fr.add_node(f"S{k}", 2.0 * k, 0.0)
     for k in range(4):
-        fr.add_distributed_load(fr.add_beam(f"S{k}", f"S{k + 1}", 30e6, 0.24, 0.0072), wy=-6.0)
+        fr.add_distributed_load(fr.add_member(f"S{k}", f"S{k + 1}", 30e6, 0.24, 0.0072), wy=-6.0)
     fr.add_node("T", 4.0, 3.0)
-    fr.add_beam("S2", "T", 30e6, 0.09, 6.75e-4)
+    fr.add_member("S2", "T", 30e6, 0.09, 6.75e-4)
     for k in range(5):
         fr.add_contact(f"S{k}", normal=(0.0, 1.0), friction=0.4)
     fr.add_load("T", fy=-200.0)
@@ -204,7 +204,7 @@ def _random_frame(seed):
         for k, x in enumerate(xs):
             nodes.append(fr.add_node(f"N{k}", x, 0.0))
         for k in range(nn - 1):
-            fr.add_distributed_load(fr.add_beam(nodes[k], nodes[k + 1], E, A, I),
+            fr.add_distributed_load(fr.add_member(nodes[k], nodes[k + 1], E, A, I),
                                     wy=-float(rng.uniform(5, 20)))
         if rng.random() < 0.4:
             fr.add_support(nodes[0], fix=("ux", "uy", "rz")[: int(rng.integers(1, 4))])
@@ -213,17 +213,17 @@ def _random_frame(seed):
         h, L = float(rng.uniform(3, 5)), float(rng.uniform(4, 8))
         for name, x, y in (("A", 0, 0), ("B", 0, h), ("C", L, h), ("D", L, 0), ("M", L / 2, h)):
             nodes.append(fr.add_node(name, x, y))
-        fr.add_beam("A", "B", E, A, I)
+        fr.add_member("A", "B", E, A, I)
         w = -float(rng.uniform(10, 30))
-        fr.add_distributed_load(fr.add_beam("B", "M", E, A, I), wy=w)
-        fr.add_distributed_load(fr.add_beam("M", "C", E, A, I), wy=w)
-        fr.add_beam("D", "C", E, A, I)
+        fr.add_distributed_load(fr.add_member("B", "M", E, A, I), wy=w)
+        fr.add_distributed_load(fr.add_member("M", "C", E, A, I), wy=w)
+        fr.add_member("D", "C", E, A, I)
         contacts = ["A", "D"]
         if rng.random() < 0.5:
             fr.add_node("E", L + 3.0, 0.0)
             fr.add_node("F", -3.0, 0.0)
-            fr.add_beam("D", "E", E, A, I)
-            fr.add_beam("F", "A", E, A, I)
+            fr.add_member("D", "E", E, A, I)
+            fr.add_member("F", "A", E, A, I)
             contacts += ["E", "F"]
         if rng.random() < 0.3:
             fr.add_support("A", fix=("ux",))

@@ -21,7 +21,7 @@ def _continuous_beam(xs, EI, w, loads):
     for k, x in enumerate(xs):
         fr.add_node(f"N{k}", x, 0.0)
     for k in range(len(xs) - 1):
-        m = fr.add_beam(f"N{k}", f"N{k + 1}", E=EI / 1e-4, A=1.0, I=1e-4)
+        m = fr.add_member(f"N{k}", f"N{k + 1}", E=EI / 1e-4, A=1.0, I=1e-4)
         fr.add_distributed_load(m, wy=w)
     fr.add_support("N0", fix=("ux",))
     for k in range(len(xs)):
@@ -60,8 +60,8 @@ def _cantilever_with_two_contacts(upper_second: bool, f=0.3, gap=0.0, stiffness=
     fr = Frame()
     for k, x in enumerate((0.0, 3.0, 6.0)):
         fr.add_node(f"N{k}", x, 0.0)
-    m1 = fr.add_beam("N0", "N1", E=2e8, A=0.01, I=1e-4)
-    m2 = fr.add_beam("N1", "N2", E=2e8, A=0.01, I=1e-4)
+    m1 = fr.add_member("N0", "N1", E=2e8, A=0.01, I=1e-4)
+    m2 = fr.add_member("N1", "N2", E=2e8, A=0.01, I=1e-4)
     fr.add_support("N0", fix=("ux", "uy", "rz"))
     fr.add_contact("N1", normal=(0.0, 1.0), friction=f, gap=gap, stiffness=stiffness)
     fr.add_contact("N2", normal=(0.0, -1.0) if upper_second else (0.0, 1.0), friction=f)
@@ -90,8 +90,8 @@ def _pinned_beam_on_friction_support(H, f=0.3, P=100.0):
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("C", 2.0, 0.0)
     fr.add_node("B", 4.0, 0.0)
-    fr.add_beam("A", "C", E=2e8, A=0.01, I=1e-4)
-    fr.add_beam("C", "B", E=2e8, A=0.01, I=1e-4)
+    fr.add_member("A", "C", E=2e8, A=0.01, I=1e-4)
+    fr.add_member("C", "B", E=2e8, A=0.01, I=1e-4)
     fr.add_support("A", fix=("ux", "uy"))
     fr.add_contact("B", normal=(0.0, 1.0), friction=f)
     fr.add_load("C", fy=-P)
@@ -124,9 +124,9 @@ def test_badly_scaled_data_give_the_same_states():
         fr.add_node("B", 0.0, 3 * length)
         fr.add_node("C", 4 * length, 3 * length)
         fr.add_node("D", 4 * length, 0.0)
-        fr.add_beam("A", "B", E=E, A=4e-3 * length ** 2, I=2e-5 * length ** 4)
-        fr.add_beam("B", "C", E=E, A=4e-3 * length ** 2, I=2e-5 * length ** 4)
-        fr.add_beam("C", "D", E=E, A=4e-3 * length ** 2, I=2e-5 * length ** 4)
+        fr.add_member("A", "B", E=E, A=4e-3 * length ** 2, I=2e-5 * length ** 4)
+        fr.add_member("B", "C", E=E, A=4e-3 * length ** 2, I=2e-5 * length ** 4)
+        fr.add_member("C", "D", E=E, A=4e-3 * length ** 2, I=2e-5 * length ** 4)
         fr.add_support("A", fix=("ux", "uy", "rz"))
         fr.add_contact("D", normal=(0.0, 1.0), friction=0.25, gap=gap)
         fr.add_contact("C", normal=(-1.0, 0.0), friction=0.1, gap=2 * gap)
@@ -146,7 +146,7 @@ def test_badly_scaled_data_give_the_same_states():
 def _trace_frame():
     fr = _pinned_beam_on_friction_support(0.0)
     fr.add_node("E", 4.0, 2.0)
-    fr.add_beam("B", "E", E=2e8, A=0.01, I=1e-4)
+    fr.add_member("B", "E", E=2e8, A=0.01, I=1e-4)
     fr.add_contact("E", normal=(-1.0, 0.0), friction=0.2, gap=1e-5)   # a wall to the right
     fr.add_load("E", fx=10.0, case="variable")
     return fr
@@ -179,7 +179,7 @@ def test_trace_case_without_constant_load_has_no_pre_force():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", 3.0, 0.0)
-    fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4)
+    fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4)
     fr.add_support("A", fix=("ux", "uy", "rz"))
     fr.add_contact("B", normal=(0.0, 1.0), friction=0.3)
     fr.add_load("B", fy=-10.0, fx=2.0, case="variable")   # only variable loads: case (a)
@@ -196,7 +196,7 @@ def test_frictionless_same_answer_through_every_route():
     for k, x in enumerate((0.0, 2.0, 4.0, 6.0)):
         fr.add_node(f"N{k}", x, 0.0)
     for k in range(3):
-        fr.add_beam(f"N{k}", f"N{k + 1}", E=2e8, A=0.01, I=1e-4)
+        fr.add_member(f"N{k}", f"N{k + 1}", E=2e8, A=0.01, I=1e-4)
     fr.add_support("N0", fix=("ux", "uy", "rz"))   # stable without contacts: R_nn positive definite
     for k in (1, 2, 3):
         fr.add_contact(f"N{k}", normal=(0.0, 1.0), gap=1e-4 * k)
@@ -236,7 +236,7 @@ def test_checks_flag_and_errors_name_the_problem(tmp_path):
     tr = fr.trace(p_max=2.0)
     assert tr.plot(tmp_path / "trace.png", node="B").endswith("trace.png")
     with pytest.raises(InvalidProblemError, match="no node"):
-        fr.add_beam("A", "Z", E=1.0, A=1.0, I=1.0)
+        fr.add_member("A", "Z", E=1.0, A=1.0, I=1.0)
     with pytest.raises(InvalidProblemError, match="gap"):
         fr.add_contact("B", gap=-1.0)
     with pytest.raises(qpcontact.InvalidOptionError, match="lemke"):
@@ -244,7 +244,7 @@ def test_checks_flag_and_errors_name_the_problem(tmp_path):
     lone = Frame()
     lone.add_node("A", 0, 0)
     lone.add_node("B", 1, 0)
-    lone.add_beam("A", "B", E=1.0, A=1.0, I=1.0)
+    lone.add_member("A", "B", E=1.0, A=1.0, I=1.0)
     lone.add_contact("B", normal=(0, 1))
     with pytest.raises(InvalidProblemError, match="mechanism"):
         lone.solve()
@@ -257,7 +257,7 @@ def test_elastic_contact_and_hinge_against_hand_formulas():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", L, 0.0)
-    fr.add_beam("A", "B", E=E, A=0.01, I=I)
+    fr.add_member("A", "B", E=E, A=0.01, I=I)
     fr.add_support("A", fix=("ux", "uy", "rz"))
     fr.add_contact("B", normal=(0.0, 1.0), stiffness=k)
     fr.add_load("B", fy=-P)
@@ -268,8 +268,8 @@ def test_elastic_contact_and_hinge_against_hand_formulas():
     fr2 = Frame()
     for nm, x in (("A", 0.0), ("B", 2.0), ("C", 4.0)):
         fr2.add_node(nm, x, 0.0)
-    m1 = fr2.add_beam("A", "B", E=E, A=0.01, I=I, hinge_j=True)
-    fr2.add_beam("B", "C", E=E, A=0.01, I=I)
+    m1 = fr2.add_member("A", "B", E=E, A=0.01, I=I, hinge_j=True)
+    fr2.add_member("B", "C", E=E, A=0.01, I=I)
     fr2.add_support("A", fix=("ux", "uy", "rz"))
     fr2.add_contact("C", normal=(0.0, 1.0))
     fr2.add_distributed_load(m1, wy=-4.0)
@@ -312,7 +312,7 @@ def test_a_frame_that_is_a_mechanism_without_contacts_is_exported_unreduced(tmp_
         fr = Frame()
         fr.add_node("A", 0.0, 0.0)
         fr.add_node("B", 4.0, 0.0)
-        fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4)
+        fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4)
         fr.add_support("A", fix=("ux", "uy"))
         fr.add_contact("B", normal=(0.0, 1.0), friction=0.3, stiffness=stiffness)
         fr.add_load("B", fx=2.0, fy=-10.0)
@@ -343,16 +343,16 @@ def _two_nodes():
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", 4.0, 0.0)
-    fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4, name="M1")
+    fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4, name="M1")
     return fr
 
 
 @pytest.mark.parametrize("add, words", [
-    (lambda fr: fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4, name="M1"),
+    (lambda fr: fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4, name="M1"),
      "member 'M1' exists already; give another name"),
-    (lambda fr: fr.add_beam("B", "A", E=2e8, A=0.01, I=1e-4),
+    (lambda fr: fr.add_member("B", "A", E=2e8, A=0.01, I=1e-4),
      "member B-A: nodes 'B' and 'A' are joined already by member 'M1'.*combined section"),
-    (lambda fr: fr.add_beam("A", "B", E=2e8, A=0.01, I=1e-4, name="M2"),
+    (lambda fr: fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4, name="M2"),
      "member 'M2': nodes 'A' and 'B' are joined already by member 'M1'"),
     (lambda fr: (fr.add_contact("B"), fr.add_contact("B", normal=(0.0, 3.0), friction=0.2)),
      r"contact at 'B': the node has contact 0 with the same normal \(0.0, 1.0\) already.*"

@@ -161,9 +161,9 @@ def _portal():
     fr = Frame(units=("kN", "m"))
     for name, x, y in (("A", 0, 0), ("B", 0, 4), ("C", 6, 4), ("D", 6, 0)):
         fr.add_node(name, x, y)
-    fr.add_beam("A", "B", 2e8, 0.01, 1e-4, name="L")
-    fr.add_beam("B", "C", 2e8, 0.01, 1e-4, name="T")
-    fr.add_beam("C", "D", 2e8, 0.01, 1e-4, name="R")
+    fr.add_member("A", "B", 2e8, 0.01, 1e-4, name="L")
+    fr.add_member("B", "C", 2e8, 0.01, 1e-4, name="T")
+    fr.add_member("C", "D", 2e8, 0.01, 1e-4, name="R")
     fr.add_support("A")
     fr.add_contact("D", normal=(0.0, 1.0), friction=0.4)
     fr.add_distributed_load("T", wy=-20.0, case="D")

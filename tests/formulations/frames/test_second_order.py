@@ -27,11 +27,11 @@ def cantilever(L, P, H, stub=True) -> Frame:
     fr = Frame(units=("kN", "m"))
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", 0.0, L)
-    fr.add_beam("A", "B", E, A, I, name="column")
+    fr.add_member("A", "B", E, A, I, name="column")
     fr.add_support("A")
     if stub:
         fr.add_node("C", 2.0, 0.0)
-        fr.add_beam("A", "C", E, A, I, name="stub")
+        fr.add_member("A", "C", E, A, I, name="stub")
         fr.add_contact("C", normal=(0.0, 1.0))
     fr.add_load("B", fx=H, fy=-P)
     return fr
@@ -103,10 +103,10 @@ def portal(P, H, h=4.0, span=6.0) -> Frame:
     for n, (x, y) in {"A": (0, 0), "B": (0, h), "C": (span, h), "D": (span, 0),
                       "S": (-2.0, 0.0)}.items():
         fr.add_node(n, x, y)
-    fr.add_beam("A", "B", E, A * 1e4, I, name="AB")
-    fr.add_beam("D", "C", E, A * 1e4, I, name="DC")
-    fr.add_beam("B", "C", E, A * 1e4, I * 1e8, name="BC")
-    fr.add_beam("A", "S", E, A, I)
+    fr.add_member("A", "B", E, A * 1e4, I, name="AB")
+    fr.add_member("D", "C", E, A * 1e4, I, name="DC")
+    fr.add_member("B", "C", E, A * 1e4, I * 1e8, name="BC")
+    fr.add_member("A", "S", E, A, I)
     fr.add_support("A")
     fr.add_support("D")
     fr.add_contact("S", normal=(0.0, 1.0))
@@ -159,9 +159,9 @@ def column_on_pads(W, a=1.0, h=6.0) -> Frame:
     for n, x in (("L", -a), ("O", 0.0), ("R", a)):
         fr.add_node(n, x, 0.0)
     fr.add_node("T", 0.0, h)
-    fr.add_beam("L", "O", E * 1e4, A * 10, I * 1e4)
-    fr.add_beam("O", "R", E * 1e4, A * 10, I * 1e4)
-    fr.add_beam("O", "T", E, A, I, name="column")
+    fr.add_member("L", "O", E * 1e4, A * 10, I * 1e4)
+    fr.add_member("O", "R", E * 1e4, A * 10, I * 1e4)
+    fr.add_member("O", "T", E, A, I, name="column")
     fr.add_contact("L", normal=(0.0, 1.0), friction=1.0)
     fr.add_contact("R", normal=(0.0, 1.0), friction=1.0)
     fr.add_load("T", fy=-W)

@@ -198,7 +198,7 @@ def test_a_planar_frame_built_in_space_gives_the_plane_frame_answers():
         space.add_node(f"N{n}", x, 0.0, 0.0)
         space.add_support(f"N{n}", fix=("uy", "rx", "rz"))
     for n in range(len(xs) - 1):
-        plane.add_beam(f"N{n}", f"N{n + 1}", Ep, Ap, Ip, name=f"M{n}")
+        plane.add_member(f"N{n}", f"N{n + 1}", Ep, Ap, Ip, name=f"M{n}")
         plane.add_distributed_load(f"M{n}", wy=-18.0)
         # bending in x-z is about local y: Iy = Ip (ref Z puts local z up)
         space.add_member(f"N{n}", f"N{n + 1}", Ep, Ep / 2.4, Ap, Ip, 2 * Ip, 2 * Ip,

@@ -41,24 +41,35 @@ RTOL = 1e-10
 
 # -- planar frames, built twice ------------------------------------------------
 
-def _planar(nodes, members, fix, contacts, loads, member_loads):
+def _planar(nodes, members, fix, contacts, loads, member_loads, shear_area=None, options=None):
     """The same plane frame as a Frame and in the x-z plane of a SpaceFrame:
     (x, y) -> (x, 0, z = y), rz -> -ry (a counterclockwise turn in x-y takes
     x to y, in x-z it takes x to z: a negative turn about y), each member's
     local z the plane member's local y (ref), so that V and M of the plane
     member are Vz and -My of the space one; uy, rx and rz held at every node.
     contacts: (node, 2-D normal, friction, gap, stiffness); loads: (node, fx,
-    fy, mz, case); member_loads: (member, wx, wy, case, axes)."""
+    fy, mz, case); member_loads: (member, wx, wy, case, axes); shear_area:
+    every member Timoshenko, the plane member's A_s the space member's A_sz
+    (and twice it along y, never strained); options: {member: the plane
+    member's hinge_i/hinge_j/spring_i/spring_j/offset_i/offset_j}, a plane
+    hinge or spring (about z) the space member's about y."""
     plane, space = Frame(), SpaceFrame(cone="circumscribed")
     for name, (x, y) in nodes.items():
         plane.add_node(name, x, y)
         space.add_node(name, x, 0.0, y)
         space.add_support(name, fix=("uy", "rx", "rz"))
+    shear = {} if shear_area is None else {"G": G, "shear_area": shear_area}
     for i, j, A, I, name in members:
-        plane.add_beam(i, j, E, A, I, name=name)
+        extra = (options or {}).get(name, {})
+        plane.add_member(i, j, E, A, I, name=name, **shear, **extra)
+        # a plane hinge or spring (about z) is the space member's about y
+        extra = {k: (("ry",) if v is True else {"ry": v} if k.startswith("spring") else v)
+                 for k, v in extra.items()}
         d = np.subtract(nodes[j], nodes[i]) / np.hypot(*np.subtract(nodes[j], nodes[i]))
         # Iz and J are never strained (out-of-plane motion held): any values
-        space.add_member(i, j, E, G, A, I, 3.0 * I, 2.0 * I, name=name, ref=(-d[1], 0.0, d[0]))
+        space.add_member(i, j, E, G, A, I, 3.0 * I, 2.0 * I, name=name, ref=(-d[1], 0.0, d[0]),
+                         shear_area=None if shear_area is None else (2 * shear_area,
+                                                                     shear_area), **extra)
     to3 = {"ux": "ux", "uy": "uz", "rz": "ry"}
     for node, dofs in fix.items():
         plane.add_support(node, fix=dofs)
@@ -146,6 +157,27 @@ def _same_answers(plane, space, r2, r3):
         np.testing.assert_allclose(-f3[[4, 10]], np.asarray(f2)[[2, 5]], rtol=0,
                                    atol=RTOL * force * 10.0)
         assert np.all(np.abs(f3[[1, 3, 5, 7, 9, 11]]) <= RTOL * force * 10.0)
+        # the diagrams: the plane member's N, V, M are the space member's N,
+        # Vz, My (its local z is the plane member's y; both M compress the
+        # fibre on that side, both V = dM/dx), and nothing about its y
+        x2, *q2 = r2.diagram(name, 21)
+        x3, *q3 = r3.diagram(name, 21)
+        np.testing.assert_allclose(x3, x2, rtol=0, atol=RTOL * x2[-1])
+        size = RTOL * force * max(1.0, x2[-1])
+        for a, b in zip(q2, (q3[0], q3[2], q3[4])):
+            np.testing.assert_allclose(b, a, rtol=0, atol=size)
+        for b in (q3[1], q3[3], q3[5]):
+            np.testing.assert_allclose(b, 0.0, rtol=0, atol=size)
+        e2, e3 = r2.end_forces(name), r3.end_forces(name)
+        for end in "ij":
+            np.testing.assert_allclose([e3[end][q] for q in ("N", "Vz", "My")],
+                                       [e2[end][q] for q in ("N", "V", "M")], rtol=0, atol=size)
+        ext2, ext3 = r2.extremes(name), r3.extremes(name)
+        for p2, p3 in (("N", "N"), ("V", "Vz"), ("M", "My"), ("v", "w")):
+            scale = size if p2 != "v" else RTOL * move
+            for side in ("max", "min"):
+                assert ext3[p3][side][0] == pytest.approx(ext2[p2][side][0], abs=scale), \
+                    (p2, side)
     for node, rea in r3.reactions.items():
         want = np.zeros(6)
         if node in r2.reactions:
@@ -187,6 +219,50 @@ def test_a_planar_frame_built_in_space_solves_and_traces_as_the_plane_frame(mode
     for a, b in zip(t2.states, t3.states):
         _same_answers(plane, space, a, b)
     assert _words(t3.message) == _words(t2.message)
+
+
+def test_a_settlement_on_a_beam_on_pads_as_the_plane_frame():
+    """The continuous beam's horizontal hold at N0 is pushed 8 mm along the
+    beam (case "S"), dragging it over its frictional pads: the same states,
+    forces, displacements, diagrams and reactions in space as in the plane,
+    to 1e-10."""
+    (plane, space), _ = _continuous_beam()
+    plane.add_settlement("N0", "S", ux=8e-3)
+    space.add_settlement("N0", "S", ux=8e-3)
+    states = set()
+    for combo in ({"constant": 1.0, "S": 1.0}, {"constant": 1.0, "variable": 2.0, "S": 1.0}):
+        r2 = plane.solve(combination=combo)
+        for cone in ("circumscribed", "circular"):      # the LCP and the friction solvers
+            space.cone = cone
+            r3 = space.solve(combination=combo)
+            assert r2.displacements["N0"][0] == r3.displacements["N0"][0] == 8e-3
+            _same_answers(plane, space, r2, r3)
+        states |= {s.state for s in r2.supports.values()}
+    assert "slip+" in states, states          # the pads are dragged along
+
+
+def test_a_portal_with_every_member_option_as_the_plane_frame():
+    """The portal with shear-deformable members (A_s = 4e-4 m²: φ ~ 0.1 on
+    the 4 m columns), rigid end zones at the beam's ends and the left
+    column's top, a hinge at the beam's face at C, semi-rigid column ends
+    (a spring at A's base, at the right column's top), a point force and moment
+    and a partial trapezoid: every answer and diagram in space as in the
+    plane, to 1e-10."""
+    nodes = {"A": (0.0, 0.0), "B": (0.0, 4.0), "C": (6.0, 4.0), "D": (6.0, 0.0)}
+    A, I = 5.381e-3, 8.356e-5
+    members = [("A", "B", A, I, "M1"), ("B", "C", A, I, "M2"), ("D", "C", A, I, "M3")]
+    contacts = [("A", (0.0, 1.0), 0.3, 0.0, None), ("D", (0.0, 1.0), 0.3, 0.0, None)]
+    plane, space = _planar(nodes, members, {}, contacts, [("B", 1.0, 0.0, 0.0, "variable")],
+                           [("M2", 0.0, -20.0, "constant", "global")], shear_area=4e-4,
+                           options={"M2": {"offset_i": 0.3, "offset_j": 0.5, "hinge_j": True},
+                                    "M1": {"offset_j": 0.25, "spring_i": 3e4},
+                                    "M3": {"spring_j": 1.5e4}})
+    plane.add_point_load("M2", 2.0, fy=-15.0, mz=6.0)
+    space.add_point_load("M2", 2.0, fz=-15.0, my=-6.0)
+    plane.add_distributed_load("M1", wx=3.0, wx2=1.0, start=1.0, end=3.5, case="variable")
+    space.add_distributed_load("M1", wx=3.0, wx2=1.0, start=1.0, end=3.5, case="variable")
+    for p in (1.5, 3.0):
+        _same_answers(plane, space, plane.solve(p), space.solve(p))
 
 
 def test_the_portal_in_space_at_the_plane_frames_hand_values():
@@ -555,3 +631,40 @@ def test_combinations_keep_what_the_frame_carries_and_say_what_it_cannot():
     np.testing.assert_allclose(res["D+11W"].supports["P0"].tangential_global[0],
                                -f * (10.0 - 11.0 * h / 4), rtol=1e-10)
 
+
+
+@pytest.mark.parametrize("option", ["none", "offset", "hinge", "spring", "shear"])
+def test_second_order_with_each_member_option_as_the_plane_frame(option):
+    """A column under 800 kN and 10 kN across, its top tied to a beam on a
+    roller, solved on the deformed frame (P-Δ, P-δ) with the column given
+    a rigid zone at its base, a hinge or a spring at its top, or shear
+    deformation: the sway of the plane frame and of the same frame built in
+    the x-z plane of a SpaceFrame agree to 1e-10."""
+    plane_opts = {"none": {}, "offset": {"offset_i": 0.5}, "hinge": {"hinge_j": True},
+                  "spring": {"spring_j": 2e4}, "shear": {"G": G, "shear_area": 0.005}}[option]
+    space_opts = {"none": {}, "offset": {"offset_i": 0.5}, "hinge": {"hinge_j": ("ry",)},
+                  "spring": {"spring_j": {"ry": 2e4}},
+                  "shear": {"shear_area": (0.01, 0.005)}}[option]
+    A, I = 0.01, 1e-4
+    plane, space = Frame(), SpaceFrame()
+    for n, (x, y) in {"A": (0.0, 0.0), "B": (0.0, 4.0), "C": (3.0, 4.0)}.items():
+        plane.add_node(n, x, y)
+        space.add_node(n, x, 0.0, y)
+        space.add_support(n, fix=("uy", "rx", "rz"))
+    plane.add_member("A", "B", E, A, I, name="c", **plane_opts)
+    space.add_member("A", "B", E, G, A, I, 2 * I, 2 * I, name="c", ref=(-1.0, 0.0, 0.0),
+                     **space_opts)
+    plane.add_member("B", "C", E, A, I, name="b")
+    space.add_member("B", "C", E, G, A, I, 2 * I, 2 * I, name="b", ref=(0.0, 0.0, 1.0))
+    plane.add_support("A")
+    space.add_support("A")
+    plane.add_support("C", fix=("uy",))
+    space.add_support("C", fix=("uz",))
+    plane.add_load("B", fx=10.0, fy=-800.0)
+    space.add_load("B", fx=10.0, fz=-800.0)
+    r2, r3 = plane.solve(second_order=True), space.solve(second_order=True)
+    first = plane.solve()
+    assert r2.ok and r3.ok, (r2.message, r3.message)
+    assert r2.displacements["B"][0] > 1.05 * first.displacements["B"][0]   # P-Δ matters here
+    np.testing.assert_allclose(r3.displacements["B"][0], r2.displacements["B"][0], rtol=1e-10)
+    np.testing.assert_allclose(-r3.displacements["B"][4], r2.displacements["B"][2], rtol=1e-9)

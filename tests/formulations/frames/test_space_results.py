@@ -181,6 +181,11 @@ def test_reactions_balance_the_loads_by_hand(res):
     assert res["D+W+U"].rows("reactions")[6]["Fx [kN]"] < 0         # the bumper pushes back
 
 
+#: the end actions at i from the internal forces at x = 0: (-N, Vy, Vz, -T,
+#: My, -Mz); at j, from those at x = L, the opposite signs
+I_END = np.array([-1.0, 1.0, 1.0, -1.0, 1.0, -1.0])
+
+
 def _axes_of(row):
     y, z = (np.array(eval(row[k])) for k in ("y axis", "z axis"))
     return np.cross(y, z), y, z
@@ -205,9 +210,12 @@ def test_member_end_actions_balance_each_member_and_each_pad(res):
             np.testing.assert_allclose(x, (b - a) / L, atol=1e-4)   # axes printed to 4 digits
             assert abs(x @ y) < 1e-4 and abs(x @ z) < 1e-4
             R = np.array([x, y, z])
-            ends = {e: (np.array([row[f"{q}_{e} [kN]"] for q in ("N", "Vy", "Vz")]),
-                        np.array([row[f"{q}_{e} [kN·m]"] for q in ("T", "My", "Mz")]))
-                    for e in "ij"}
+            # the table's internal forces (N tension positive, My and Mz
+            # compressing the +z and +y fibre, V = dM/dx: docs/frames.md,
+            # "Conventions") back to the end actions the nodes exert
+            ends = {e: (np.array([row[f"{q}_{e} [kN]"] for q in ("N", "Vy", "Vz")]) * sign[:3],
+                        np.array([row[f"{q}_{e} [kN·m]"] for q in ("T", "My", "Mz")]) * sign[3:])
+                    for e, sign in (("i", I_END), ("j", -I_END))}
             np.testing.assert_allclose(np.r_[ends["i"][0], ends["i"][1], ends["j"][0],
                                              ends["j"][1]], r.member_forces[row["member"]],
                                        rtol=0, atol=0)
@@ -223,7 +231,7 @@ def test_member_end_actions_balance_each_member_and_each_pad(res):
                 R = np.array(_axes_of(row))
                 force = _hand_reactions(r)[key][:3] if key not in ("P10", "P21") else \
                     s.normal * np.array([0, 0, 1.0]) + s.tangential_global
-                base = np.array([row[f"{q}_i [kN]"] for q in ("N", "Vy", "Vz")])
+                base = np.array([row[f"{q}_i [kN]"] for q in ("N", "Vy", "Vz")]) * I_END[:3]
                 spring = np.zeros(3)
                 if key == "P10":
                     spring[0] = -K_SPRING * r.displacements["P10"][0]
@@ -235,6 +243,34 @@ def test_member_end_actions_balance_each_member_and_each_pad(res):
     # the column on the lifted pad carries nothing at its base
     row = res["D+W+U"].rows("members")[0]
     assert row["member"] == "C00" and row["N_i [kN]"] == 0.0 and row["Mz_i [kN·m]"] == 0.0
+
+
+def test_a_column_in_compression_reads_negative_at_both_ends(res):
+    """Tension positive, as the plane frame's table: the columns carry the
+    deck's weight, so N < 0 at i and at j, with the pad's force at i."""
+    r = res["D"]
+    for row in r.rows("members", None):
+        if row["member"].startswith("C"):
+            assert row["N_i [kN]"] < 0 and row["N_j [kN]"] < 0, row
+            pad = r.supports[row["i"]]
+            assert row["N_i [kN]"] == pytest.approx(-pad.normal, rel=1e-12)
+
+
+def _sections_by_hand(r, member, x):
+    """The internal forces along a member of the six pads from its end
+    actions at i and its load — statics of the part [0, x] written out for
+    this frame: the beams Bx carry 10 kN/m down (times D) and lie
+    horizontal with their local z up, the other members carry nothing."""
+    f = np.asarray(r.member_forces[member])
+    qz = -10.0 * COMBOS[r_name(r)]["D"] if member.startswith("Bx") else 0.0
+    return {"N": -f[0] + 0.0 * x, "Vy": f[1] + 0.0 * x, "Vz": f[2] + qz * x,
+            "T": -f[3] + 0.0 * x, "My": f[4] + f[2] * x + qz * x * x / 2,
+            "Mz": -f[5] + f[1] * x}
+
+
+def r_name(r):
+    """The combination's name of a result (its factors are COMBOS')."""
+    return next(n for n, c in COMBOS.items() if c == r.combination)
 
 
 def test_displacements_table(res):
@@ -303,14 +339,22 @@ def test_envelopes_against_every_combination(res):
     rows = res.rows("envelope", None)
     assert [row["member"] for row in rows] == list(fr.members)
     for row in rows:
-        for k, q in enumerate(("N", "Vy", "Vz", "T", "My", "Mz") * 2):
-            end = "i" if k < 6 else "j"
+        name = row["member"]
+        ends = fr.members[name]
+        L = float(np.linalg.norm(fr.nodes[ends["j"]] - fr.nodes[ends["i"]]))
+        x = np.linspace(0.0, L, 4001)
+        along = {n: _sections_by_hand(r, name, x) for n, r in ok.items()}
+        for q in ("N", "Vy", "Vz", "T", "My", "Mz"):
             unit = "kN·m" if q in ("T", "My", "Mz") else "kN"
-            vals = {n: r.member_forces[row["member"]][k] for n, r in ok.items()}
-            for side, pick in (("max", max), ("min", min)):
-                best = pick(vals.values())
-                assert row[f"{q}_{end}_{side} [{unit}]"] == best
-                assert vals[row[f"combination({q}_{end}_{side})"]] == best
+            for side, pick in (("max", np.max), ("min", np.min)):
+                best = pick([pick(v[q]) for v in along.values()])
+                got = row[f"{q}_{side} [{unit}]"]
+                # a parabola between samples 1e-3 m apart moves by q h²/8 at most
+                assert got == pytest.approx(best, abs=1e-9 * max(1.0, abs(best)) + 2e-6)
+                # the combination named attains it at the x given
+                there = _sections_by_hand(ok[row[f"combination({q}_{side})"]], name,
+                                          np.array([row[f"x({q}_{side}) [m]"]]))[q][0]
+                assert there == pytest.approx(got, abs=1e-9 * max(1.0, abs(got)))
     hand = {n: _hand_reactions(r) for n, r in ok.items()}
     heads = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
     for row in res.rows("envelope_reactions", None):

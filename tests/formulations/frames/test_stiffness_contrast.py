@@ -50,9 +50,9 @@ def portal(ratio):
     for name, x, y in (("F0", 0, 0), ("F1", A, 0), ("T0", 0, H), ("T1", A, H), ("C", A / 2, H)):
         fr.add_node(name, x, y)
     for i, j in (("F0", "T0"), ("F1", "T1")):
-        fr.add_beam(i, j, E=2e8, A=1e-3, I=1e-6)
+        fr.add_member(i, j, E=2e8, A=1e-3, I=1e-6)
     for i, j in (("T0", "C"), ("C", "T1")):
-        fr.add_beam(i, j, E=2e8, A=1e-3 * ratio, I=1e-6 * ratio)
+        fr.add_member(i, j, E=2e8, A=1e-3 * ratio, I=1e-6 * ratio)
     for n in ("F0", "F1"):
         fr.add_contact(n, normal=(0, 1), friction=MU)
     fr.add_load("C", fy=-W)

@@ -1,0 +1,222 @@
+"""What a space frame's result reads back along a member: the internal
+forces N, Vy, Vz, T, My, Mz at any section, their extremes, and the values
+at the member's ends — in the plane frame's convention, extended to the
+member's second bending plane (docs/frames.md, "Conventions").
+
+Derivation.  Cut the member at x (member axes, x from node i).  The part
+[0, x] is held by the end actions at i, f_i = (F, M) — the forces and
+moment the node exerts on the member, ``member_forces[:6]`` — by the
+member loads on [0, x), and by the force S and moment S_m the rest of the
+member exerts on its face at x, whose outward normal is +x.  Equilibrium
+of that part about the section's centre, with uniform loads q = (qx, qy,
+qz) per unit length (member axes):
+
+    S   = -(F + q x)
+    S_m = -(M + (-x e_x) × F + ∫_0^x (s - x) e_x × q ds)
+
+The engineering values are S and S_m read the way a plane frame reads
+its single bending plane:
+
+* N = S_x, tension positive;  T = S_mx, the twist of the face at x about +x;
+* Mz = S_mz, positive when it compresses the +y fibre (σ = -Mz y / Iz), and
+  Vy = dMz/dx = -S_y: the plane frame's M and V, so a frame in the x-y plane
+  gives the plane API's numbers;
+* My = -S_my, positive when it compresses the +z fibre (S_my = ∫ σ z dA puts
+  +z in tension), and Vz = dMy/dx = -S_z: the same reading in the x-z plane.
+  A horizontal member's default local z points up (global Z), so My is
+  positive in sagging, as Mz of a plane beam drawn left to right.
+
+Written out, with f_i = (f0, ..., f5):
+
+    N  = -f0 - qx x           Vy = f1 + qy x            Vz = f2 + qz x
+    T  = -f3                  My = f4 + f2 x + qz x²/2  Mz = -f5 + f1 x + qy x²/2
+
+At x = L the face is node j's: N(L) = N_j, Vy(L) = -Vy_j, Vz(L) = -Vz_j,
+T(L) = T_j, My(L) = -My_j, Mz(L) = Mz_j of the end actions at j
+(``member_forces[6:]``); at x = 0, N(0) = -N_i, Vy(0) = Vy_i, Vz(0) = Vz_i,
+T(0) = -T_i, My(0) = My_i, Mz(0) = -Mz_i.  Units: forces, and moments in
+force·length, the frame's own.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
+
+from ..mechanics.loads import stationary_points
+from ..mechanics.space_element import EXTREMES, QUANTITIES
+from ..mechanics.space_element import axes as member_axes
+from .space_member_loads import load_points, section_terms, split
+
+
+def geometry(frame, member: str):
+    """(L, R) of a member: its length and the rows of its local x, y, z."""
+    m = frame.members[member]
+    xi, xj = frame.nodes[m["i"]], frame.nodes[m["j"]]
+    return float(np.linalg.norm(xj - xi)), member_axes(xi, xj, m["ref"], m["roll"])[0]
+
+
+def loads_of(frame, res, member: str) -> list:
+    """[(load, factor)]: the member's loads in the result's combination."""
+    return [(ld, res.combination[ld.case]) for ld in frame.span_loads
+            if ld.member == member and res.combination.get(ld.case)]
+
+
+#: the 4-point Gauss rule (exact to degree 7) of the deflection's integrals
+GAUSS = np.polynomial.legendre.leggauss(4)
+
+
+class Along:
+    """What the sections of one member in one result read, gathered once:
+    its length, axes, end actions at i and loads split into the planes
+    (a members table asks for 400 members' sections hundreds of times)."""
+
+    def __init__(self, frame, res, member: str):
+        self.L, self.R = geometry(frame, member)
+        self.f = np.asarray(res.member_forces[member], float)
+        self.loads = loads_of(frame, res, member)
+        self.parts = split(self.loads, self.R)
+
+    def sections(self, x) -> tuple:
+        """(N, Vy, Vz, T, My, Mz) at the sections x (module docstring): the
+        end actions at i and the loads on [0, x)
+        (:func:`.space_member_loads.section_terms`)."""
+        x = np.asarray(x, float)
+        f = self.f
+        fx, fy, fz, tx, mo_xy, mo_xz = section_terms(self.parts, x)
+        return (-f[0] - fx, f[1] + fy, f[2] + fz, -f[3] - tx, f[4] + f[2] * x + mo_xz,
+                -f[5] + f[1] * x + mo_xy)
+
+    def sample_points(self, points: int):
+        """``points`` sections from node i, with every load's position and
+        the section just before it (both sides of a jump)."""
+        pts = [p for p in load_points(self.loads) if 0.0 < p < self.L]
+        return np.unique(np.r_[np.linspace(0.0, self.L, int(points)), pts,
+                               np.nextafter(np.array(pts, float), -np.inf)])
+
+
+def checked_member(frame, res, member, points) -> str:
+    """``member`` if the result can draw it; errors that say what to give."""
+    if not isinstance(member, str):
+        raise InvalidOptionError(f"member: a member's name, one of {list(frame.members)}; "
+                                 f"got {member!r}")
+    if member not in frame.members:
+        raise InvalidProblemError(f"no member named {member!r}; members: {list(frame.members)}")
+    if isinstance(points, str) and points in EXTREMES:
+        raise InvalidOptionError(
+            f"points: the number of sample points, not the quantity {points!r}; diagram "
+            f"returns all of them, x, N, Vy, Vz, T, My, Mz = result.diagram({member!r}), or "
+            f"give points=, e.g. result.diagram({member!r}, 41)")
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 2:
+        raise InvalidOptionError(f"points: the number of sample points along the member, an "
+                                 f"integer >= 2 (default 21); got {points!r}")
+    if not res.member_forces:
+        raise SolverFailedError(f"no diagram: this result is not an equilibrium ({res.message})")
+    return member
+
+
+def diagram(frame, res, member: str, points: int = 21) -> tuple:
+    """(x, N, Vy, Vz, T, My, Mz) at ``points`` sections from node i."""
+    checked_member(frame, res, member, points)
+    along = Along(frame, res, member)
+    x = along.sample_points(points)
+    return (x, *along.sections(x))
+
+
+def end_forces(frame, res, member: str) -> dict:
+    """{"i": {"N": ..., ..., "Mz": ...}, "j": {...}}: the internal forces at
+    the member's ends in the diagrams' convention — each end's from its own
+    end actions (at j: N_j, -Vy_j, -Vz_j, T_j, -My_j, Mz_j), not carried
+    along the member from i, which would add the rounding of the loads."""
+    checked_member(frame, res, member, 2)
+    f = np.asarray(res.member_forces[member], float)
+    sign = np.array([-1.0, 1.0, 1.0, -1.0, 1.0, -1.0])
+    return {end: {q: float(v) + 0.0 for q, v in zip(QUANTITIES, s * f[o:o + 6])}
+            for end, o, s in (("i", 0, sign), ("j", 6, -sign))}
+
+
+def extremes(frame, res, member: str, points: int = 201) -> dict:
+    """{quantity: {"max": (value, x), "min": (value, x)}} for the internal
+    forces and the deflections v, w across the member, at ``points``
+    sections and the load positions; the moments also where their shear
+    changes sign between them (:func:`..mechanics.loads.stationary_points`),
+    so a span's largest moment is exact, not the nearest sample's (N, V and
+    T are extreme at a load's edge or an end, unless a trapezoidal load
+    changes sign within its stretch; v and w are the samples')."""
+    checked_member(frame, res, member, points)
+    along = Along(frame, res, member)
+    x = along.sample_points(points)
+    values = dict(zip(QUANTITIES, along.sections(x)))
+    at = {q: x for q in QUANTITIES}
+    # the span moments between the samples: where V = dM/dx changes sign
+    for V, M in (("Vz", "My"), ("Vy", "Mz")):
+        k, km = QUANTITIES.index(V), QUANTITIES.index(M)
+        x_m = stationary_points(x, values[V], lambda s, k=k: along.sections(s)[k])
+        if x_m.size:
+            at[M] = np.r_[x, x_m]
+            values[M] = np.r_[values[M], along.sections(x_m)[km]]
+    xd, d = deflection(frame, res, member, int(points), along=along)
+    out = {}
+    for key, xs, arr in [(k, at[k], v) for k, v in values.items()] + [("v", xd, d[:, 1]),
+                                                                      ("w", xd, d[:, 2])]:
+        out[key] = {"max": (float(arr.max()), float(xs[arr.argmax()])),
+                    "min": (float(arr.min()), float(xs[arr.argmin()]))}
+    return out
+
+
+def deflection(frame, res, member: str, points: int = 21, axes: str = "member", along=None):
+    """(x, d): the displacement d (n, 3) of the member's axis at ``points``
+    sections and the load positions, x from node i, in member axes (u, v,
+    w) or with ``axes="global"`` in global ones.  Integrated from the
+    internal forces, as the plane frame's: on the flexible length u' =
+    N/EA, v'' = Mz/EIz, w'' = My/EIy (each M compresses the fibre on its
+    axis' + side, so the member bends towards it), with u at its start and
+    v, w at both its ends given by the nodes through the rigid arms — which
+    fixes the slope constants without the end rotations, so a released end
+    needs nothing special; a rigid zone moves with its node (v = v_i + x
+    θz_i, w = w_i - x θy_i).  Each integral is a 4-point Gauss rule between
+    consecutive sections, which include every load position and the faces
+    of the rigid zones: the integrand is a polynomial of degree <= 4 on
+    each piece, so the curve is exact to rounding.  A Timoshenko member
+    adds its shear strain, the face's force along +y (or +z) over G A_s,
+    -Vy/(G A_sy) (or -Vz/(G A_sz)), to the slope."""
+    if axes not in ("member", "global"):
+        raise InvalidOptionError(f"axes: 'member' or 'global'; got {axes!r}")
+    checked_member(frame, res, member, points)
+    m = frame.members[member]
+    along = along or Along(frame, res, member)
+    L, R = along.L, along.R
+    a, e = m["offsets"][0], L - m["offsets"][1]          # the flexible length [a, e]
+    x = np.unique(np.r_[along.sample_points(points), [p for p in (a, e) if 0.0 < p < L]])
+    t, wt = GAUSS
+    lo, hi = np.maximum(x[:-1, None], a), np.minimum(x[1:, None], e)
+    h = np.maximum(hi - lo, 0.0)[:, 0]
+    gs = 0.5 * (hi - lo) * t + 0.5 * (lo + hi)               # (pieces, 4)
+    gw = 0.5 * h[:, None] * wt
+    N, Vy, Vz, _, My, Mz = (v.reshape(gs.shape) for v in along.sections(gs.ravel()))
+    di, dj = (np.r_[R @ np.asarray(res.displacements[n][:3], float),
+                    R @ np.asarray(res.displacements[n][3:], float)] for n in (m["i"], m["j"]))
+    xf = np.clip(x, a, e)
+
+    def running(per_piece):          # the integral from the first section to each
+        return np.r_[0.0, np.cumsum(per_piece)]
+
+    d = [di[0] + running((gw * N).sum(axis=1)) / (m["E"] * m["A"])]
+    # across y: a rotation θz carries the axis along +y; across z: θy along -z
+    for k, (M, I_, V, GAs, turn, sign) in enumerate(
+            ((Mz, m["Iz"], Vy, m["GAs"][0], 5, 1.0), (My, m["Iy"], Vz, m["GAs"][1], 4, -1.0)),
+            start=1):
+        # piece by piece: the slope gains ∫ κ, the deflection the slope at the
+        # piece's start times its length and ∫ (end - s) κ ds (exact, O(n))
+        kappa = M / (m["E"] * I_)
+        slope = running((gw * kappa).sum(axis=1))
+        bend = running(slope[:-1] * h + (gw * (hi - gs) * kappa).sum(axis=1))
+        if GAs is not None:          # a Timoshenko member's shear strain -V/(G A_s)
+            bend = bend - running((gw * V).sum(axis=1)) / GAs
+        start, end = di[k] + sign * a * di[turn], dj[k] - sign * (L - e) * dj[turn]
+        curve = start + bend + (end - start - bend[-1]) * (xf - a) / (e - a)
+        d.append(np.where(x < a, di[k] + sign * x * di[turn],
+                          np.where(x > e, dj[k] - sign * (L - x) * dj[turn], curve)))
+    d = np.stack(d, axis=1)
+    return x, (d if axes == "member" else d @ R)
