@@ -71,6 +71,9 @@ def _combined(fr, combination, R=None):
     the members' axes (:func:`member_axes`)."""
     R = member_axes(fr) if R is None else R
     member_q = []
+    if len(fr.member_loads) != len(fr.span_loads):
+        # member_loads lists the whole-member uniform loads only
+        raise ValueError("the peers' exports read uniform whole-member loads only")
     for member, w, ax, case in fr.member_loads:
         factor = combination.get(case, 0.0)
         if not factor:
@@ -230,6 +233,9 @@ def pynite_build(fr, combination):
             fe.add_material(sections[key], m["E"], m["G"], m["E"] / (2 * m["G"]) - 1, 0.0)
             fe.add_section(sections[key], m["A"], m["Iy"], m["Iz"], m["J"])
         fe.add_member(name, m["i"], m["j"], sections[key], sections[key])
+    if len(fr.member_loads) != len(fr.span_loads):
+        # member_loads lists the whole-member uniform loads only
+        raise ValueError("the peers' exports read uniform whole-member loads only")
     for member, w, ax, case in fr.member_loads:
         factor = combination.get(case, 0.0)
         if not factor:

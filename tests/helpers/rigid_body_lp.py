@@ -36,6 +36,10 @@ def resultants(frame, combo: dict):
             x = frame.nodes[node]
             force += f * np.asarray(vals[:3])
             moment += f * (np.asarray(vals[3:]) + np.cross(x, vals[:3]))
+    if len(frame.member_loads) != len(frame.span_loads):
+        # member_loads lists the whole-member uniform loads only: a point or
+        # partial load would be left out of the resultant without a word
+        raise ValueError("the rigid-body LP reads uniform whole-member loads only")
     for member, w, axes, case in frame.member_loads:
         f = combo.get(case, 0.0)
         if not f:
