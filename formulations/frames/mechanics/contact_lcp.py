@@ -125,11 +125,8 @@ def regular_lu(S):
     # each row's largest entry, and D S D entry by entry (d_i s_ij d_j,
     # exact in powers of two): the sparse products D @ S @ D cost more than
     # the factorization itself (1.5 against 1.4 ms at 1600 unknowns)
-    rows = S.tocsr()
     big = np.zeros(S.shape[0])
-    filled = np.diff(rows.indptr) > 0
-    if rows.nnz:
-        big[filled] = np.maximum.reduceat(np.abs(rows.data), rows.indptr[:-1][filled])
+    np.maximum.at(big, S.indices, np.abs(S.data))
     if not np.all(big > 0):
         return None            # an empty row: exactly singular
     d = 2.0 ** -np.round(0.5 * np.log2(big))
