@@ -143,7 +143,9 @@ def polished(b, z, F, ua, u, X, w, zeta, sigma, error):
     # the basis) or a resting one's reserve below zero (it moves: into the
     # basis) — a few exact pivots at the degenerate vertex
     dropped = 0
+    seen = set()
     for _ in range(6):
+        seen.add(basis.tobytes())
         refined = refine(b, z, F, ua, basis, u, X)
         if refined is None:
             # singular where an unknown Lemke left at rounding level closes a
@@ -169,6 +171,12 @@ def polished(b, z, F, ua, u, X, w, zeta, sigma, error):
             break
         turned = lifted_turns(b, basis, refined[0], below)
         basis = turned if turned is not None else (basis & ~below) | short
+        if basis.tobytes() in seen:
+            # a basis met before: the pivots go round (a lifted contact
+            # whose slip is zero to 1e-37 turns from one facet to the other
+            # and back, 6 refinements on a 1000-span beam for one answer);
+            # its refinement is the one just made
+            break
     if np.any(refined[0] < -STATE_RTOL * zeta):
         return None
     return (np.maximum(refined[0], 0.0), *refined[1:])
@@ -191,19 +199,12 @@ def lifted_turns(b, basis, z, below):
     (global statics off by 7e-4, "CHECK FAILED" on a right answer).  No
     reserve tells which facet to take instead (they are all zero), the
     direction does."""
-    P = sp.csc_matrix(b["maps"][0])
-    info = b["info"]
-    owner, kind = [], []
-    for j in range(P.shape[1]):
-        rows = P.indices[P.indptr[j]:P.indptr[j + 1]]
-        owner.append(info[rows[0]][0] if rows.size else -1)
-        kind.append("n" if rows.size and all(info[r][1] == "n" for r in rows) else "t")
-    normal_of = {owner[j]: j for j in range(len(owner)) if kind[j] == "n"}
+    P, owner, kind, normal_of = unknown_owners(b)
     out, changed = basis.copy(), False
     for c in sorted({owner[j] for j in np.flatnonzero(below) if kind[j] == "t"}):
         if c not in normal_of or not basis[normal_of[c]]:
             continue                      # not lifted: the reserves decide
-        facets = [j for j in range(len(owner)) if owner[j] == c and kind[j] == "t"]
+        facets = np.flatnonzero((owner == c) & (kind == "t")).tolist()
         links = sorted({int(r) for j in facets
                         for r in P.indices[P.indptr[j]:P.indptr[j + 1]]})
         D = np.array([[P[r, j] for r in links] for j in facets])    # facets x tangents
@@ -215,6 +216,29 @@ def lifted_turns(b, basis, z, below):
         out[[facets[k] for k in pair]] = True
         changed = True
     return out if changed else None
+
+
+def unknown_owners(b):
+    """(P as CSC, the contact of each unknown of z, its kind "n" or "t",
+    {contact: its normal unknown}), read off the link map P once per
+    assembly (cached in b: a Python loop over 4000 unknowns)."""
+    if "unknown_owners" not in b:
+        P = sp.csc_matrix(b["maps"][0])
+        info = b["info"]
+        link_owner = np.array([ci for ci, _ in info], int)
+        link_normal = np.array([k == "n" for _, k in info], bool)
+        counts = np.diff(P.indptr)
+        has = counts > 0
+        owner = np.full(P.shape[1], -1)
+        owner[has] = link_owner[P.indices[P.indptr[:-1][has]]]
+        # "n" where every link of the unknown is a normal one
+        tangential = np.zeros(P.shape[1], int)
+        np.add.at(tangential, np.repeat(np.arange(P.shape[1]), counts),
+                  ~link_normal[P.indices])
+        kind = np.where((counts > 0) & (tangential == 0), "n", "t")
+        normal_of = {int(owner[j]): j for j in np.flatnonzero(kind == "n")}
+        b["unknown_owners"] = (P, owner, kind, normal_of)
+    return b["unknown_owners"]
 
 
 def bracketing(D, s):

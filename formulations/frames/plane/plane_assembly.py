@@ -12,8 +12,7 @@ import scipy.sparse as sp
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics.contact_lcp import (Built, basic_system, layout,
-                                     stiffness_matrix)
+from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.plane_element import DOFS, member_locals
 from ..reporting.free_motion import mechanism_message
@@ -25,8 +24,7 @@ def cases(frame) -> list:
     names = {CONSTANT, VARIABLE}
     names.update(ld[4] for ld in frame.nodal_loads)
     names.update(st[2] for st in frame.settlements)
-    for m in frame.members.values():
-        names.update(ld.case for ld in m.loads)
+    names.update(ld.case for m in frame.members.values() for ld in m.loads)
     return sorted(names)
 
 
@@ -206,12 +204,16 @@ def contact_arrays(frame, b) -> dict:
     """The contacts as arrays (cached in b): link of n and of t (-1 without
     friction), friction, gap, unit normal, node and other node (-1)."""
     if "contact_arrays" not in b:
-        pos = layout(b)
         cs = frame.contacts
         idx = b["idx"]
+        # each contact's n and t links, read off b["info"] in one pass
+        owner = np.array([ci for ci, _ in b["info"]], int)
+        normal = np.array([kind == "n" for _, kind in b["info"]], bool)
+        n_link, t_link = np.zeros(len(cs), int), np.full(len(cs), -1)
+        n_link[owner[normal]] = np.flatnonzero(normal)
+        t_link[owner[~normal]] = np.flatnonzero(~normal)
         b["contact_arrays"] = dict(
-            n_link=np.array([pos[ci]["n"] for ci in range(len(cs))], int),
-            t_link=np.array([pos[ci].get("t", -1) for ci in range(len(cs))], int),
+            n_link=n_link, t_link=t_link,
             mu=np.array([c.friction for c in cs]), gap=np.array([c.gap for c in cs]),
             normal=np.array([c.normal for c in cs]).reshape(len(cs), 2),
             node=np.array([idx[c.node] // 3 for c in cs], int),

@@ -23,13 +23,24 @@ from . import plane_assembly
 from .plane_results import FrameResult, SupportResult
 
 
+#: an answer in double that passes its contact certificate and its statics
+#: checks by this factor (1e-12 at "high") is not polished in extended
+#: precision: the polish is for answers whose digits double precision
+#: cannot carry (a portal whose deck is 1e2 to 1e8 times stiffer than its
+#: legs has statics residuals of 1e-12 to 1e-6 in double, 0 refined),
+#: and it cost a third of a 200-span beam's solve where it changed nothing
+#: that is checked
+CLEAR = 1e-3
+
+
 def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameResult:
     """The frame's result for the LCP point z, checked: the contact
     certificate (the LCP's when its matrix is at hand, else the same
     componentwise measure on the contact quantities' mechanical scales:
     :func:`..mechanics.equilibrium_checks.mechanical_certificate`) and
-    equilibrium; a right answer's digits refined on its states in extended
-    precision (:mod:`..mechanics.extended_refinement`)."""
+    equilibrium; an answer that does not pass those by a margin of CLEAR
+    in double has its digits refined on its states in extended precision
+    (:mod:`..mechanics.extended_refinement`) and is judged again."""
     b = b or frame.build()
     if not isinstance(combo, dict):   # a number p: the Osipova–Popov–Lovtsov split
         combo = {CONSTANT: 1.0, VARIABLE: float(combo)}
@@ -63,32 +74,35 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         return (certify_lcp(lcp, z).error, *ComponentScales(lcp.M, lcp.q_terms).at(z), ends, ft)
 
     cert_error, zeta, sigma, ends, ft = checked(z, u, X)
-    # the answer refined on its states in extended precision, kept where it
-    # checks at least as well (a stiff member's forces: mechanics/extended_refinement)
-    w = W @ X if lcp is None else lcp.M @ z + lcp.q
-    refined = extended_refinement.polished(b, z, F, ua, u, X, w, zeta, sigma, cert_error)
-    Ku = None
-    if refined is not None:
-        z2, u2, X2 = refined[0], *(np.asarray(v, float) for v in refined[1:])
-        # judged on the mechanics: the LCP's matrix carries the rounding of
-        # the basic system's solve that the refinement has removed
-        again = checked(z2, u2, X2, mechanical=True)
-        if again[0] <= max(cert_error, tol):
-            Ku = stiffness_times(b, refined[1])
-            z, u, X = z2, u2, X2
-            cert_error, zeta, sigma, ends, ft = again
-            delta = P @ z - g
     # reactions at the fixed dofs: K u - F - H X on them (member loads
     # included), reported in global axes (a node's axes may be turned)
-    if Ku is None:
-        r_all = b["K"] @ u - F - b["H"] @ X
-    else:
-        r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
-                           - b["H"].astype(Ku.dtype) @ np.asarray(refined[2], Ku.dtype), float)
+    r_all = b["K"] @ u - F - b["H"] @ X
+    eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
+    if not (cert_error <= CLEAR * tol and eq <= CLEAR * max(tol, EQUILIBRIUM_FLOOR)):
+        # the answer refined on its states in extended precision, kept where
+        # it checks at least as well (a stiff member's forces:
+        # mechanics/extended_refinement) — where the answer in double does
+        # not pass its checks by a margin of CLEAR already
+        w = W @ X if lcp is None else lcp.M @ z + lcp.q
+        refined = extended_refinement.polished(b, z, F, ua, u, X, w, zeta, sigma, cert_error)
+        if refined is not None:
+            z2, u2, X2 = refined[0], *(np.asarray(v, float) for v in refined[1:])
+            # judged on the mechanics: the LCP's matrix carries the rounding of
+            # the basic system's solve that the refinement has removed
+            again = checked(z2, u2, X2, mechanical=True)
+            if again[0] <= max(cert_error, tol):
+                Ku = stiffness_times(b, refined[1])
+                z, u, X = z2, u2, X2
+                cert_error, zeta, sigma, ends, ft = again
+                delta = P @ z - g
+                r_all = np.asarray(Ku - np.asarray(F, Ku.dtype) - b["H"].astype(Ku.dtype)
+                                   @ np.asarray(refined[2], Ku.dtype), float)
+                eq = max(equilibrium(frame, b, F, X, u),
+                         resultant(frame, b, F, X, r_all, u, ft))
     r_glob = contact_lcp.to_global(b, np.where(b["fixed"], r_all, 0.0))
     reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
                  for node in b["names"] if node in frame.fixed}
-    u_axes, u = u, contact_lcp.to_global(b, u)
+    u = contact_lcp.to_global(b, u)
     ca = plane_assembly.contact_arrays(frame, b)
     nc = len(frame.contacts)
     has_t = ca["t_link"] >= 0
@@ -113,7 +127,6 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     supports = {key: SupportResult(str(st), float(a), float(t_), float(o), float(sp_))
                 for key, st, a, t_, o, sp_ in zip(support_keys(frame), states, xn, xt,
                                                   z[:nc], slip)}
-    eq = max(equilibrium(frame, b, F, X, u_axes), resultant(frame, b, F, X, r_all, u_axes, ft))
     displacements = dict(zip(b["names"], map(tuple, u.reshape(-1, 3).tolist())))
     member_forces = dict(zip(frame.members, ends))
     ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
@@ -189,10 +202,11 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
 
 def support_keys(frame) -> list:
     """The key of each contact in FrameResult.supports, in contact order."""
-    keys = []
+    keys, taken = [], set()       # a set beside the list: 1000 contacts in 0.5 ms, not 18
     for c in frame.contacts:
         key = c.node if c.other is None else f"{c.node}-{c.other}"
-        keys.append(f"{key}#{len(keys)}" if key in keys else key)
+        keys.append(f"{key}#{len(keys)}" if key in taken else key)
+        taken.add(keys[-1])
     return keys
 
 
