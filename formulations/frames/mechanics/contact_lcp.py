@@ -105,6 +105,8 @@ class ScaledLU:
 
     def solve(self, rhs):
         rhs = np.asarray(rhs)
+        if self.lu is None:                    # the empty system
+            return np.zeros(rhs.shape)
         d = self.d if rhs.ndim == 1 else self.d[:, None]
         return d * self.lu.solve(d * rhs)
 
@@ -120,6 +122,8 @@ def regular_lu(S):
     4e24 beside the legs' 1e3), and unscaled the pivots of a sound table
     spanned 4e-24 — "a mechanism even with every contact closed"."""
     S = sp.csc_matrix(S, copy=True)
+    if S.shape[0] == 0:
+        return ScaledLU(None, np.zeros(0))     # every dof held and no link: nothing to solve
     S.sum_duplicates()
     S.eliminate_zeros()        # exact zeros (a level member's k) are no structure
     # each row's largest entry, and D S D entry by entry (d_i s_ij d_j,

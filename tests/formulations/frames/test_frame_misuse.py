@@ -277,3 +277,32 @@ def test_a_space_table_with_normals_down_gets_the_hint():
     assert r.status == "infeasible" and HINT in r.message
     assert "normal=(0.0, 0.0, 1.0) instead of (0.0, 0.0, -1.0)" in r.message
     assert table((0.0, 0.0, 1.0)).solve().ok
+
+
+def test_a_frame_with_every_dof_held_is_solved_by_statics():
+    """A beam clamped at both ends has no free dof: its reactions are the
+    fixed-end forces, wL/2 and wL²/12 by hand (the empty system once
+    crashed in the LU with scipy's "zero-size array")."""
+    w = 10.0
+    plane = Frame()
+    plane.add_node("A", 0.0, 0.0)
+    plane.add_node("B", L, 0.0)
+    plane.add_member("A", "B", E=E, A=A, I=I, name="AB")
+    plane.add_support("A")
+    plane.add_support("B")
+    plane.add_distributed_load("AB", wy=-w)
+    r = plane.solve()
+    assert r.status == "solved"
+    np.testing.assert_allclose(r.reactions["A"], (0.0, w * L / 2, w * L ** 2 / 12), atol=1e-12)
+    np.testing.assert_allclose(r.reactions["B"], (0.0, w * L / 2, -w * L ** 2 / 12), atol=1e-12)
+    space = SpaceFrame()
+    space.add_node("A", 0.0, 0.0, 0.0)
+    space.add_node("B", L, 0.0, 0.0)
+    space.add_member("A", "B", E=E, G=G, A=A, Iy=I, Iz=I, J=I, name="AB")
+    space.add_support("A")
+    space.add_support("B")
+    space.add_distributed_load("AB", wz=-w)
+    r = space.solve()
+    assert r.status == "solved"
+    np.testing.assert_allclose(r.reactions["A"], (0, 0, w * L / 2, 0, -w * L ** 2 / 12, 0),
+                               atol=1e-12)
