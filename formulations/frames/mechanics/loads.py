@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
 #: the two cases of the Osipova–Popov–Lovtsov split (constant + p x variable)
 CONSTANT, VARIABLE = "constant", "variable"
@@ -126,6 +126,44 @@ def known_member(frame, name):
     if name not in frame.members:
         raise InvalidProblemError(f"no member named {name!r}; members: {list(frame.members)}")
     return frame.members[name]
+
+
+def add_settlements(frame, node: str, given: dict, case) -> None:
+    """Append ``given`` {dof: displacement} at ``node`` to the frame's
+    settlements (load case ``case``): each dof must be fixed there by a
+    bilateral support, since a settlement moves a support."""
+    held = frame.fixed.get(node, set())
+    for d in given:
+        if d not in held:
+            raise InvalidProblemError(
+                f"settlement at {node!r}: {d} is not fixed by a bilateral support there "
+                f"(fixed: {sorted(held) or 'none'}); add_support({node!r}, fix=(..., {d!r})) "
+                "first — a settlement moves a support")
+    # all checked before any is kept: a refused call leaves the frame as it was
+    rows = [(node, d, case_name(case), number(v, f"settlement at {node!r}: {d}"))
+            for d, v in given.items()]
+    frame.settlements.extend(rows)
+
+
+def check_diagram(frame, res, member: str, points, quantities) -> None:
+    """The checks a result's ``diagram(member, points)`` makes of its
+    arguments (``quantities``: the names it returns, which a user may pass
+    as ``points`` by mistake): errors that say what to give."""
+    if not isinstance(member, str):
+        raise InvalidOptionError(f"member: a member's name, one of {list(frame.members)}; "
+                                 f"got {member!r}")
+    known_member(frame, member)
+    if isinstance(points, str) and points in quantities:
+        names = ", ".join(("x",) + tuple(quantities))
+        raise InvalidOptionError(
+            f"points: the number of sample points, not the quantity {points!r}; diagram "
+            f"returns all of them, {names} = result.diagram({member!r}), or give "
+            f"points=, e.g. result.diagram({member!r}, 41)")
+    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 2:
+        raise InvalidOptionError(f"points: the number of sample points along the member, an "
+                                 f"integer >= 2 (default 21); got {points!r}")
+    if not res.member_forces:
+        raise SolverFailedError(f"no diagram: this result is not an equilibrium ({res.message})")
 
 
 def case_name(case) -> str:

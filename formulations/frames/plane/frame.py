@@ -18,9 +18,9 @@ from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
-from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, case_name, check_axes,
-                               check_units, known_member, known_node, no_member_between,
-                               no_same_contact, number)
+from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, add_settlements, case_name,
+                               check_axes, check_units, known_member, known_node,
+                               no_member_between, no_same_contact, number)
 from ..mechanics.plane_element import DOFS, geometry
 from . import plane_assembly, plane_recovery
 from .plane_results import FrameResult
@@ -212,14 +212,7 @@ class Frame:
         given = {d: v for d, v in (("ux", ux), ("uy", uy), ("rz", rz)) if v is not None}
         if not given:
             raise InvalidProblemError(f"settlement at {node!r}: give ux=, uy= and/or rz=")
-        for d, v in given.items():
-            if d not in self.fixed.get(node, set()):
-                raise InvalidProblemError(
-                    f"settlement at {node!r}: {d} is not fixed by a bilateral support there "
-                    f"(fixed: {sorted(self.fixed.get(node, set())) or 'none'}); add_support("
-                    f"{node!r}, fix=(..., {d!r})) first — a settlement moves a support")
-            self.settlements.append((node, d, case_name(case),
-                                     number(v, f"settlement at {node!r}: {d}")))
+        add_settlements(self, node, given, case)
 
     def add_spring(self, node: str, ux: float = 0.0, uy: float = 0.0, rz: float = 0.0) -> None:
         """Bilateral elastic support to the ground: stiffnesses (force/length,

@@ -9,7 +9,7 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
-from ..mechanics.loads import known_member, load_points, section_sums
+from ..mechanics.loads import check_diagram, known_member, load_points, section_sums
 from ..mechanics.plane_element import geometry, rotation
 
 
@@ -24,21 +24,8 @@ def diagram(frame, res, member: str, points: int):
 
 
 def diagram_member(frame, res, member, points):
-    if not isinstance(member, str):
-        raise InvalidOptionError(f"member: a member's name, one of {list(frame.members)}; "
-                                 f"got {member!r}")
-    m = known_member(frame, member)
-    if isinstance(points, str) and points in ("N", "V", "M"):
-        raise InvalidOptionError(
-            f"points: the number of sample points, not the quantity {points!r}; diagram "
-            f"returns all of them, x, N, V, M = result.diagram({member!r}), or give "
-            f"points=, e.g. result.diagram({member!r}, 41)")
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 2:
-        raise InvalidOptionError(f"points: the number of sample points along the member, an "
-                                 f"integer >= 2 (default 21); got {points!r}")
-    if not res.member_forces:
-        raise SolverFailedError(f"no diagram: this result is not an equilibrium ({res.message})")
-    return m
+    check_diagram(frame, res, member, points, ("N", "V", "M"))
+    return frame.members[member]
 
 
 def direction(frame, member):

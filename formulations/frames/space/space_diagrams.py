@@ -44,7 +44,7 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
-from ..mechanics.loads import stationary_points
+from ..mechanics.loads import check_diagram, stationary_points
 from ..mechanics.space_element import EXTREMES, QUANTITIES
 from ..mechanics.space_element import axes as member_axes
 from .space_member_loads import load_points, section_terms, split
@@ -98,21 +98,7 @@ class Along:
 
 def checked_member(frame, res, member, points) -> str:
     """``member`` if the result can draw it; errors that say what to give."""
-    if not isinstance(member, str):
-        raise InvalidOptionError(f"member: a member's name, one of {list(frame.members)}; "
-                                 f"got {member!r}")
-    if member not in frame.members:
-        raise InvalidProblemError(f"no member named {member!r}; members: {list(frame.members)}")
-    if isinstance(points, str) and points in EXTREMES:
-        raise InvalidOptionError(
-            f"points: the number of sample points, not the quantity {points!r}; diagram "
-            f"returns all of them, x, N, Vy, Vz, T, My, Mz = result.diagram({member!r}), or "
-            f"give points=, e.g. result.diagram({member!r}, 41)")
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 2:
-        raise InvalidOptionError(f"points: the number of sample points along the member, an "
-                                 f"integer >= 2 (default 21); got {points!r}")
-    if not res.member_forces:
-        raise SolverFailedError(f"no diagram: this result is not an equilibrium ({res.message})")
+    check_diagram(frame, res, member, points, EXTREMES)
     return member
 
 

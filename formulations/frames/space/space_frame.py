@@ -51,9 +51,9 @@ from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
-from ..mechanics.loads import (CONSTANT, VARIABLE, case_name, check_axes, check_units,
-                               combination, known_member, known_node, no_member_between,
-                               no_same_contact, number)
+from ..mechanics.loads import (CONSTANT, VARIABLE, add_settlements, case_name, check_axes,
+                               check_units, combination, known_member, known_node,
+                               no_member_between, no_same_contact, number)
 from ..mechanics.space_element import END_ROTATIONS, axes
 from ..reporting.free_motion import mechanism_message
 from . import circular_cone, circular_trace, space_assembly, space_recovery
@@ -291,16 +291,10 @@ class SpaceFrame:
         if not displacements:
             raise InvalidProblemError(f"settlement at {node!r}: give displacements among "
                                       f"{DOFS}, e.g. uz=-0.01")
-        for d, v in displacements.items():
-            if d not in DOFS:
-                raise InvalidProblemError(f"settlement at {node!r}: dofs among {DOFS}; got {d!r}")
-            if d not in self.fixed.get(node, set()):
-                raise InvalidProblemError(
-                    f"settlement at {node!r}: {d} is not fixed by a bilateral support there "
-                    f"(fixed: {sorted(self.fixed.get(node, set())) or 'none'}); add_support("
-                    f"{node!r}, fix=(..., {d!r})) first — a settlement moves a support")
-            self.settlements.append((node, d, case_name(case),
-                                     number(v, f"settlement at {node!r}: {d}")))
+        bad = [d for d in displacements if d not in DOFS]
+        if bad:
+            raise InvalidProblemError(f"settlement at {node!r}: dofs among {DOFS}; got {bad[0]!r}")
+        add_settlements(self, node, displacements, case)
 
     def add_spring(self, node: str, **stiffnesses) -> None:
         """Springs to the ground on the named dofs: add_spring("A", uz=1e5)."""
