@@ -13,24 +13,15 @@ from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
 from ..mechanics import contact_lcp, extended_refinement, second_order
-from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
-                                            equilibrium, how_far, mechanical_certificate)
+from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL,
+                                            beyond_rounding, equilibrium, how_far,
+                                            mechanical_certificate)
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.member_forces import stiffness_times
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.plane_element import DOFS
 from . import plane_assembly
 from .plane_results import FrameResult, SupportResult
-
-
-#: an answer in double that passes its contact certificate and its statics
-#: checks by this factor (1e-12 at "high") is not polished in extended
-#: precision: the polish is for answers whose digits double precision
-#: cannot carry (a portal whose deck is 1e2 to 1e8 times stiffer than its
-#: legs has statics residuals of 1e-12 to 1e-6 in double, 0 refined),
-#: and it cost a third of a 200-span beam's solve where it changed nothing
-#: that is checked
-CLEAR = 1e-3
 
 
 def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameResult:
