@@ -17,7 +17,7 @@ from qpcontact.judge.scales import ComponentScales
 from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL,
                                             beyond_rounding, equilibrium, how_far,
-                                            mechanical_certificate)
+                                            mechanical_certificate, member_balance)
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.member_forces import elastic_end_actions, stiffness_times
 from ..mechanics.no_equilibrium import motion_words
@@ -94,7 +94,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
 def statics(frame, b, F, u, X, exact, factors):
     """(all dofs' K u − F − H X, the reactions at the fixed ones; the
     members' end actions; the equilibrium residual: dof by dof and the
-    frame's global statics) of an answer (u, X), K u and the end actions
+    frame's global statics; for a linear frame the balance of the end
+    actions returned, :func:`..mechanics.equilibrium_checks.member_balance`)
+    of an answer (u, X), K u and the end actions
     from ``exact`` (u in extended precision, member by member:
     :mod:`..mechanics.member_forces`) where the answer was refined, else in
     double.  A stiff member's end actions k T u in double carry ε|k||u|: a
@@ -110,6 +112,11 @@ def statics(frame, b, F, u, X, exact, factors):
                 - b["local"][3] @ factors)
     ft = contact_lcp.force_terms(b, u, F, ends)
     eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
+    if not frame.contacts:
+        # the end actions returned balance at every node (a contact frame's
+        # answers are not judged on it yet: its gate and cost are the
+        # contact routes')
+        eq = max(eq, member_balance(frame, b, F, X, u, ends, factors))
     return r_all, ends, eq
 
 
