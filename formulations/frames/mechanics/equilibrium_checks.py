@@ -160,6 +160,7 @@ def member_balance(frame, b, F, X, u, ends, factors):
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))
 
+
 def mechanical_certificate(b, z, X, u, force_terms):
     """(error, ζ, σ): the LCP certificate's componentwise measure,
     max_i |min(z_i/ζ_i, w_i/σ_i)| with w = W X, where the LCP's matrix is

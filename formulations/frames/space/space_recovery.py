@@ -79,10 +79,10 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
         refined = extended_refinement.polished(b, z, F, ua, u, X, np.zeros(0), zeta, sigma,
                                                cert_error)
         if refined is not None:
-            u2, X2 = refined[1], refined[2].astype(float)
-            again = statics(frame, b, F, u2.astype(float), X2, u2, factors)
+            uf, Xf = refined[1].astype(float), refined[2].astype(float)
+            again = statics(frame, b, F, uf, Xf, refined[1], factors)
             if again[2] <= eq:
-                u, X = u2.astype(float), X2
+                u, X = uf, Xf
                 r_all, ends, eq = again
     reactions = {node: tuple(float(v) for v in r_all[b["idx"][node]:b["idx"][node] + 6])
                  for node in b["names"] if node in frame.fixed}
