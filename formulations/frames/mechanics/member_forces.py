@@ -28,22 +28,31 @@ def stiffness_times(b, u) -> np.ndarray:
     """K u in extended precision, member by member: Σ Tᵀ k (T u_e − r_e)
     plus the springs, in the system's (node) axes; u (all dofs, the same
     axes) a vector or a matrix of columns."""
-    k, T, dofs, _ = b["local"]
+    _, T, dofs, _ = b["local"]
     u = np.asarray(u, EXTENDED)
     vector = u.ndim == 1
     u = u.reshape(u.shape[0], -1)
     Tn = b["Tn"]
     ug = u if Tn is None else Tn.T.astype(EXTENDED) @ u
-    kl, Tl = k.astype(EXTENDED), T.astype(EXTENDED)
-    d = np.einsum("mij,mjc->mic", Tl, ug[dofs])
-    d = d - rigid_part(b, d, dofs)
-    ends = np.einsum("mij,mjc->mic", kl, d)
-    back = np.einsum("mji,mjc->mic", Tl, ends)
+    ends = elastic_end_actions(b, ug)
+    back = np.einsum("mji,mjc->mic", T.astype(EXTENDED), ends)
     f = np.zeros(ug.shape, EXTENDED)
     np.add.at(f, dofs.ravel(), back.reshape(-1, back.shape[2]))
     f += np.asarray(b["springs"], EXTENDED)[:, None] * ug
     f = f if Tn is None else Tn.astype(EXTENDED) @ f
     return f[:, 0] if vector else f
+
+
+def elastic_end_actions(b, ug) -> np.ndarray:
+    """Every member's end actions k (T u_e − r_e) in its own axes, in
+    extended precision, (m, 2 nd, columns), from ``ug`` (all dofs in
+    global axes, one column per vector): the elastic part of what
+    :func:`..contact_lcp.member_end_actions` gives in double, without the
+    ε|k||u| a stiff member's rigid motion leaves there."""
+    k, T, dofs, _ = b["local"]
+    d = np.einsum("mij,mjc->mic", T.astype(EXTENDED), np.asarray(ug, EXTENDED)[dofs])
+    d = d - rigid_part(b, d, dofs)
+    return np.einsum("mij,mjc->mic", k.astype(EXTENDED), d)
 
 
 def rigid_part(b, d, dofs):

@@ -13,24 +13,15 @@ from qpcontact.judge.lcp_certificate import certify_lcp
 from qpcontact.judge.scales import ComponentScales
 
 from ..mechanics import contact_lcp, extended_refinement, second_order
-from ..mechanics.equilibrium_checks import (EQUILIBRIUM_FLOOR, STATE_RTOL, beyond_rounding,
-                                            equilibrium, how_far, mechanical_certificate)
+from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL,
+                                            beyond_rounding, equilibrium, how_far,
+                                            mechanical_certificate, member_balance)
 from ..mechanics.loads import CONSTANT, VARIABLE
-from ..mechanics.member_forces import stiffness_times
+from ..mechanics.member_forces import EXTENDED, elastic_end_actions, stiffness_times
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.plane_element import DOFS
 from . import plane_assembly
 from .plane_results import FrameResult, SupportResult
-
-
-#: an answer in double that passes its contact certificate and its statics
-#: checks by this factor (1e-12 at "high") is not polished in extended
-#: precision: the polish is for answers whose digits double precision
-#: cannot carry (a portal whose deck is 1e2 to 1e8 times stiffer than its
-#: legs has statics residuals of 1e-12 to 1e-6 in double, 0 refined),
-#: and it cost a third of a 200-span beam's solve where it changed nothing
-#: that is checked
-CLEAR = 1e-3
 
 
 def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameResult:
@@ -65,9 +56,16 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
     combo_factors = contact_lcp.factors(b, combo)
 
-    def checked(z, u, X, mechanical=lcp is None):
-        """(certificate error, ζ, σ, member ends, force terms) of an answer"""
-        ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), combo_factors)
+    def checked(z, u, X, mechanical=lcp is None, exact=None):
+        """(certificate error, ζ, σ, member ends, force terms) of an answer;
+        the ends member by member in extended precision from ``exact`` (u
+        refined) where given: in double a stiff member's carry ε|k||u|"""
+        if exact is None:
+            ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), combo_factors)
+        else:
+            ug = contact_lcp.to_global(b, np.asarray(exact, EXTENDED)[:, None])[:, 0]
+            ends = (np.asarray(elastic_end_actions(b, ug[:, None])[..., 0], float)
+                    - b["local"][3] @ combo_factors)
         ft = contact_lcp.force_terms(b, u, F, ends)
         if mechanical:
             return (*mechanical_certificate(b, z, X, u, ft), ends, ft)
@@ -77,7 +75,18 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     # reactions at the fixed dofs: K u - F - H X on them (member loads
     # included), reported in global axes (a node's axes may be turned)
     r_all = b["K"] @ u - F - b["H"] @ X
-    eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
+
+    def statics(u, X, r_all, ends, ft):
+        """the equilibrium residual: dof by dof, the global statics, and for
+        a linear frame the balance of the member end actions returned"""
+        eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
+        if not frame.contacts:
+            # (a contact frame's answers are not judged on it yet: its own
+            # gate and cost are the contact routes')
+            eq = max(eq, member_balance(frame, b, F, X, u, ends, combo_factors))
+        return eq
+
+    eq = statics(u, X, r_all, ends, ft)
     if not (cert_error <= CLEAR * tol and eq <= CLEAR * max(tol, EQUILIBRIUM_FLOOR)):
         # the answer refined on its states in extended precision, kept where
         # it checks at least as well (a stiff member's forces:
@@ -89,7 +98,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
             z2, u2, X2 = refined[0], *(np.asarray(v, float) for v in refined[1:])
             # judged on the mechanics: the LCP's matrix carries the rounding of
             # the basic system's solve that the refinement has removed
-            again = checked(z2, u2, X2, mechanical=True)
+            again = checked(z2, u2, X2, mechanical=True, exact=refined[1])
             if again[0] <= max(cert_error, tol):
                 Ku = stiffness_times(b, refined[1])
                 z, u, X = z2, u2, X2
@@ -97,8 +106,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                 delta = P @ z - g
                 r_all = np.asarray(Ku - np.asarray(F, Ku.dtype) - b["H"].astype(Ku.dtype)
                                    @ np.asarray(refined[2], Ku.dtype), float)
-                eq = max(equilibrium(frame, b, F, X, u),
-                         resultant(frame, b, F, X, r_all, u, ft))
+                eq = statics(u, X, r_all, ends, ft)
     r_glob = contact_lcp.to_global(b, np.where(b["fixed"], r_all, 0.0))
     reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
                  for node in b["names"] if node in frame.fixed}
