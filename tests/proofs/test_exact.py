@@ -7,6 +7,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 
 from qpcontact.proofs.exact import FarkasCheck, IntMatrix, RayCheck, ints, over_common_denominator
@@ -99,3 +100,26 @@ def test_a_ray_is_checked_exactly():
     assert ray.check([Fraction(1), Fraction(1)])
     assert not ray.check([Fraction(1), Fraction(np.nextafter(1.0, 2.0))])
     assert not ray.check([Fraction(1), Fraction(1)], _Expiring(looks=0))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_integer_solve_is_exact(seed):
+    """A x = b for integer A (entries of 1 to 60 bits, rows swapped by a zero
+    leading pivot) and b, checked by substitution in Fractions; a singular A
+    gives None."""
+    from qpcontact.proofs.exact import solve_integer
+
+    rng = np.random.default_rng(seed)
+    n = 12
+    A = np.empty((n, n), dtype=object)
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = int(rng.integers(-2 ** 20, 2 ** 20)) << int(rng.integers(0, 40))
+    A[0, 0] = 0
+    b = np.array([int(v) for v in rng.integers(-1000, 1000, n)], dtype=object)
+    x = solve_integer(A, b)
+    assert x is not None
+    assert all(sum((Fraction(A[i, j]) * x[j] for j in range(n)), Fraction(0)) == b[i]
+               for i in range(n))
+    A[:, 3] = 2 * A[:, 5]
+    assert solve_integer(A, b) is None
