@@ -121,11 +121,15 @@ def regular_lu(S):
     kappa²/k (soft pads under a deck 1e8 times stiffer than the legs:
     4e24 beside the legs' 1e3), and unscaled the pivots of a sound table
     spanned 4e-24 — "a mechanism even with every contact closed"."""
-    S = sp.csc_matrix(S, copy=True)
     if S.shape[0] == 0:
         return ScaledLU(None, np.zeros(0))     # every dof held and no link: nothing to solve
-    S.sum_duplicates()
-    S.eliminate_zeros()        # exact zeros (a level member's k) are no structure
+    # read only: a canonical CSC without stored zeros (the basic system's S,
+    # a state set's matrix) is used as it is; anything else is copied and
+    # made so — a copy and its checks are a tenth of a small factorization
+    if not (S.format == "csc" and S.has_canonical_format and np.all(S.data != 0.0)):
+        S = sp.csc_matrix(S, copy=True)
+        S.sum_duplicates()
+        S.eliminate_zeros()    # exact zeros (a level member's k) are no structure
     # each row's largest entry, and D S D entry by entry (d_i s_ij d_j,
     # exact in powers of two): the sparse products D @ S @ D cost more than
     # the factorization itself (1.5 against 1.4 ms at 1600 unknowns)
@@ -178,7 +182,6 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
     Kc = K.tocoo()
     r, c = at[Kc.row], at[Kc.col]
     ff, fa = (r >= 0) & (c >= 0), (r >= 0) & (c < 0)
-    Kf = sp.csr_matrix((Kc.data[ff], (r[ff], c[ff])), shape=(nf, nf))
     fixed_idx = np.flatnonzero(fixed)
     at_fixed = np.full(N, -1)
     at_fixed[fixed_idx] = np.arange(fixed_idx.size)
@@ -191,7 +194,8 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
     # of all is a rotation's (moment per radian), which in N and mm is 1e5
     # times a translation's, and kappa² / k on an elastic contact's diagonal
     # then made a sound beam look like a mechanism (pivots 3e-14 apart).
-    diag = np.abs(Kf.diagonal())
+    # K_ff's diagonal, K's at the free dofs (K is summed: CSR, no duplicates)
+    diag = np.abs(K.diagonal()[free])
     moves = translational[free]
     kappa = float(np.max(diag[moves] if moves.any() else diag)) if free.size else 1.0
     # no stiffness on those dofs at all (a node on a contact, no member):
@@ -199,18 +203,20 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
     kappa = kappa if kappa > 0 else 1.0
     Hc = H.tocoo()
     hk = at[Hc.row] >= 0
-    Hf = sp.csr_matrix((kappa * Hc.data[hk], (at[Hc.row[hk]], Hc.col[hk])), shape=(nf, H.shape[1]))
+    hv, hr, hc = kappa * Hc.data[hk], at[Hc.row[hk]], Hc.col[hk]
+    Hf = sp.csr_matrix((hv, (hr, hc)), shape=(nf, H.shape[1]))
     nl = H.shape[1]
-    Hfc = Hf.tocoo()
     links_ = np.arange(nl)
-    S = sp.csc_matrix((np.r_[Kc.data[ff], Hfc.data, Hfc.data, -kappa ** 2 * flex],
-                       (np.r_[r[ff], Hfc.row, nf + Hfc.col, nf + links_],
-                        np.r_[c[ff], nf + Hfc.col, Hfc.row, nf + links_])),
+    # the saddle matrix from the blocks' triplets (K and H are summed, so no
+    # entry is repeated and the order does not matter); a member's k has
+    # exact zeros (a level beam's axial-bending terms): nearly half of a
+    # beam's entries, which every state set's matrix and factorization
+    # would carry, so they are left out here
+    vals = np.r_[Kc.data[ff], hv, hv, -kappa ** 2 * flex]
+    nz = vals != 0.0
+    S = sp.csc_matrix((vals[nz], (np.r_[r[ff], hr, nf + hc, nf + links_][nz],
+                                  np.r_[c[ff], nf + hc, hr, nf + links_][nz])),
                       shape=(nf + nl, nf + nl))
-    # a member's k has exact zeros (a level beam's axial-bending terms):
-    # nearly half of a beam's entries, which every state set's matrix and
-    # factorization would carry
-    S.eliminate_zeros()
     # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
     # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
     return dict(free=free, nf=nf, fixed_idx=fixed_idx, K_fa=K_fa, kappa=kappa, Hf=Hf, S=S,

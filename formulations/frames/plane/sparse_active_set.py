@@ -153,7 +153,8 @@ def _sparse(b, combo, required):
     top_r, top_c, top_v = S.row[top], S.col[top], S.data[top]
     link_r, link_c, link_v = S.row[~top] - nf, S.col[~top], S.data[~top]
     factors = contact_lcp.factors(b, combo)
-    absH = abs(H)
+    # the transposes once, not three per state set
+    HT, absHT = H.T.tocsr(), abs(H).T.tocsr()
 
     def solve(kin, sliding, n_link, t_link, f_slip):
         rhs = np.r_[rhs_top, np.where(kin, kappa * (required + shift), 0.0)]
@@ -180,9 +181,9 @@ def _sparse(b, combo, required):
         u = ua.copy()
         u[free] = sol[:nf]
         X = -kappa * sol[nf:]
-        return (X, H.T @ u + flex * X, absH.T @ contact_lcp.force_terms(
+        return (X, HT @ u + flex * X, absHT @ contact_lcp.force_terms(
             b, u, F, contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), factors)),
-                absH.T @ np.abs(u) + np.abs(flex * X) + np.abs(required))
+                absHT @ np.abs(u) + np.abs(flex * X) + np.abs(required))
 
     return solve
 
