@@ -77,6 +77,18 @@ SPACE = FrameKind(
 CONES = ("circular", "inscribed", "circumscribed")
 
 
+def unit_vector(value, message: str) -> np.ndarray:
+    """``value`` as a unit 3-vector; InvalidProblemError(``message``) where it
+    is not a finite nonzero 3-vector."""
+    try:
+        v = np.array(value, float)
+    except (TypeError, ValueError):
+        v = np.zeros(0)
+    if v.shape != (3,) or not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
+        raise InvalidProblemError(message)
+    return v / np.linalg.norm(v)
+
+
 @dataclass
 class SpaceContact:
     """A unilateral support at a node: unit normal n (from the support into
@@ -362,13 +374,7 @@ class SpaceFrame:
         if (unit_weight is None) == (weight_per_length is None):
             raise InvalidProblemError("give exactly one of unit_weight (force/volume, times A) "
                                       "or weight_per_length (force/length)")
-        try:
-            d = np.array(direction, float)
-        except (TypeError, ValueError):
-            d = np.zeros(0)
-        if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.linalg.norm(d) > 0:
-            raise InvalidProblemError(f"direction must be a nonzero 3-vector; got {direction!r}")
-        d = d / np.linalg.norm(d)
+        d = unit_vector(direction, f"direction must be a nonzero 3-vector; got {direction!r}")
         for name in (list(self.members) if members is None else list(members)):
             m = known_member(self, name)
             w = (number(weight_per_length, "weight_per_length") if unit_weight is None
@@ -391,13 +397,7 @@ class SpaceFrame:
         where the frame's ``cone`` is one ("inscribed" or "circumscribed":
         docs/frames.md)."""
         known_node(self, node)
-        try:
-            n = np.asarray(normal, float)
-        except (TypeError, ValueError):
-            n = np.zeros(0)
-        if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.linalg.norm(n) > 0:
-            raise InvalidProblemError(f"contact at {node!r}: normal must be a nonzero 3-vector")
-        n = n / np.linalg.norm(n)
+        n = unit_vector(normal, f"contact at {node!r}: normal must be a nonzero 3-vector")
         friction, gap = number(friction, "friction"), number(gap, "gap")
         if friction < 0 or gap < 0:
             raise InvalidProblemError(f"contact at {node!r}: friction and gap must be >= 0")
