@@ -212,12 +212,13 @@ def test_plot_command_draws_from_the_file_alone(tmp_path):
 @pytest.mark.parametrize("example, edit, steps, must_hold", [
     # the drum: its state is two displacement vectors, the forces (damped set,
     # bpp's warm start), the dissipation, the methods, the fallbacks
-    # (the drum's and the tree's runs take 2-3 minutes: make test-all; the
-    # mechanism's stands for them in make test)
+    # (each takes minutes of subprocess runs: make test-all)
     pytest.param("drum.toml", ("steps = 5000", "steps = 8000"), 8000, ("forces", "energy/viscous"),
                  marks=pytest.mark.slow),
     # a mechanism on the shared contact stepper: (q, v) and the penalty mu in use
-    ("pellets.toml", ("steps = 800", "steps = 500"), 500, ("reactions", "mu")),
+    # (five runs of a subprocess: 70-200 s on a shared machine, make test-all too)
+    pytest.param("pellets.toml", ("steps = 800", "steps = 500"), 500, ("reactions", "mu"),
+                 marks=pytest.mark.slow),
     # a tree with compliant contacts: the automatic mu (c / 2 max|A|, A changing with
     # the configuration) must be restored, not re-chosen, for the bits to agree
     pytest.param("chain.toml", ('effects = ["gravity", "joint_damping"]',

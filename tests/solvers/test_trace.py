@@ -196,8 +196,9 @@ def _strict_solutions(M, q):
 
 
 # the first 100 seeds hold every kind of ending (59 unbounded, 40 collapses,
-# one fold); the other 300 (20 s more of enumeration) run in make test-all
-@pytest.mark.parametrize("seeds", [range(100), pytest.param(range(100, 400), marks=pytest.mark.slow)],
+# one fold): 15 s, and the other 300 20 s more, both in make test-all
+@pytest.mark.parametrize("seeds", [pytest.param(range(100), marks=pytest.mark.slow),
+                                   pytest.param(range(100, 400), marks=pytest.mark.slow)],
                          ids=["first-100", "next-300"])
 def test_nonP_traces_end_as_proved(seeds):
     """Random non-P matrices (n = 2, 3): every ending checked by enumerating all

@@ -41,6 +41,7 @@ def test_engineering_helpers():
         Log.from_wood(-0.1, 1.2)
 
 
+@pytest.mark.slow
 def test_single_log_drop_peak_force_converges_at_first_order(record_property):
     log = Log.from_wood(0.15, 1.2)
     h = 0.002
@@ -58,6 +59,7 @@ def test_single_log_drop_peak_force_converges_at_first_order(record_property):
     assert errors[-1] < 0.04
 
 
+@pytest.mark.slow
 def test_elastic_shell_uses_series_stiffness():
     log = Log.from_wood(0.12, 1.2)
     k_shell = 0.5 * log.stiffness

@@ -193,6 +193,7 @@ def test_ramming_scene_no_penetration_momentum_and_backend_independence():
     np.testing.assert_allclose(a.reactions[-1], [spring, spring], rtol=1e-6)
 
 
+@pytest.mark.slow
 def test_penalty_and_exact_lcp_routes_give_the_same_trajectory():
     mech, h, steps, dt = ramming_scene()
     pen = mech.simulate(h, 600, lookahead=dt, method="daqp")

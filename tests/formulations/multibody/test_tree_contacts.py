@@ -188,6 +188,7 @@ def test_tree_scene_errors_point_at_the_body(edit, needle, message):
     assert message in str(info.value)
 
 
+@pytest.mark.slow
 def test_chain_example_runs_writes_and_plots(tmp_path):
     """examples/scenes/chain.toml (shortened): the results file holds the
     energy, the per-step certificate and the reactions; plot draws from it."""
