@@ -28,10 +28,25 @@ def stiffness_times(b, u) -> np.ndarray:
     """K u in extended precision, member by member: Σ Tᵀ k (T u_e − r_e)
     plus the springs, in the system's (node) axes; u (all dofs, the same
     axes) a vector or a matrix of columns."""
-    _, T, dofs, _ = b["local"]
     u = np.asarray(u, EXTENDED)
     vector = u.ndim == 1
-    u = u.reshape(u.shape[0], -1)
+    f, _ = _stiffness_and_ends(b, u.reshape(u.shape[0], -1))
+    return f[:, 0] if vector else f
+
+
+def refined_actions(b, u, factors) -> tuple[np.ndarray, np.ndarray]:
+    """(K u in extended precision, the members' end actions net of the
+    fixed-end forces of the load combination ``factors``, in double) of a
+    refined u (a vector in the system's axes): the end actions computed
+    once for both, what a recovery reads off an answer refined in
+    extended precision (in double a stiff member's carry ε|k||u|)."""
+    f, ends = _stiffness_and_ends(b, np.asarray(u, EXTENDED)[:, None])
+    return f[:, 0], np.asarray(ends[..., 0], float) - b["local"][3] @ factors
+
+
+def _stiffness_and_ends(b, u):
+    """(K u, the elastic end actions) for u a matrix of columns."""
+    _, T, dofs, _ = b["local"]
     Tn = b["Tn"]
     ug = u if Tn is None else Tn.T.astype(EXTENDED) @ u
     ends = elastic_end_actions(b, ug)
@@ -39,8 +54,7 @@ def stiffness_times(b, u) -> np.ndarray:
     f = np.zeros(ug.shape, EXTENDED)
     np.add.at(f, dofs.ravel(), back.reshape(-1, back.shape[2]))
     f += np.asarray(b["springs"], EXTENDED)[:, None] * ug
-    f = f if Tn is None else Tn.astype(EXTENDED) @ f
-    return f[:, 0] if vector else f
+    return (f if Tn is None else Tn.astype(EXTENDED) @ f), ends
 
 
 def elastic_end_actions(b, ug) -> np.ndarray:

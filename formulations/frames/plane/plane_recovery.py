@@ -17,7 +17,7 @@ from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL
                                             beyond_rounding, equilibrium, how_far,
                                             mechanical_certificate, member_balance)
 from ..mechanics.loads import CONSTANT, VARIABLE
-from ..mechanics.member_forces import EXTENDED, elastic_end_actions, stiffness_times
+from ..mechanics.member_forces import refined_actions
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.plane_element import DOFS
 from . import plane_assembly
@@ -56,16 +56,12 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
     combo_factors = contact_lcp.factors(b, combo)
 
-    def checked(z, u, X, mechanical=lcp is None, exact=None):
+    def checked(z, u, X, mechanical=lcp is None, ends=None):
         """(certificate error, ζ, σ, member ends, force terms) of an answer;
-        the ends member by member in extended precision from ``exact`` (u
-        refined) where given: in double a stiff member's carry ε|k||u|"""
-        if exact is None:
+        ``ends`` where given (an answer refined in extended precision: in
+        double a stiff member's carry ε|k||u|), else from u in double"""
+        if ends is None:
             ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), combo_factors)
-        else:
-            ug = contact_lcp.to_global(b, np.asarray(exact, EXTENDED)[:, None])[:, 0]
-            ends = (np.asarray(elastic_end_actions(b, ug[:, None])[..., 0], float)
-                    - b["local"][3] @ combo_factors)
         ft = contact_lcp.force_terms(b, u, F, ends)
         if mechanical:
             return (*mechanical_certificate(b, z, X, u, ft), ends, ft)
@@ -98,9 +94,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
             z2, u2, X2 = refined[0], *(np.asarray(v, float) for v in refined[1:])
             # judged on the mechanics: the LCP's matrix carries the rounding of
             # the basic system's solve that the refinement has removed
-            again = checked(z2, u2, X2, mechanical=True, exact=refined[1])
+            Ku, ends2 = refined_actions(b, refined[1], combo_factors)
+            again = checked(z2, u2, X2, mechanical=True, ends=ends2)
             if again[0] <= max(cert_error, tol):
-                Ku = stiffness_times(b, refined[1])
                 z, u, X = z2, u2, X2
                 cert_error, zeta, sigma, ends, ft = again
                 delta = P @ z - g

@@ -19,7 +19,7 @@ from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL
                                             beyond_rounding, equilibrium, how_far,
                                             mechanical_certificate, member_balance)
 from ..mechanics.loads import CONSTANT, VARIABLE
-from ..mechanics.member_forces import elastic_end_actions, stiffness_times
+from ..mechanics.member_forces import refined_actions
 from ..mechanics.no_equilibrium import motion_words
 from .space_assembly import facet_angles, reach
 from .space_results import SpaceFrameResult, SpaceSupportResult
@@ -105,11 +105,9 @@ def statics(frame, b, F, u, X, exact, factors):
         r_all = b["K"] @ u - F - b["H"] @ X
         ends = contact_lcp.member_end_actions(b, u, factors)
     else:
-        Ku = stiffness_times(b, exact)
+        Ku, ends = refined_actions(b, exact, factors)
         r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
                            - b["H"].astype(Ku.dtype) @ np.asarray(X, Ku.dtype), float)
-        ends = (np.asarray(elastic_end_actions(b, exact[:, None])[..., 0], float)
-                - b["local"][3] @ factors)
     ft = contact_lcp.force_terms(b, u, F, ends)
     eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
     if not frame.contacts:
