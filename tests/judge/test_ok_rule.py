@@ -88,7 +88,7 @@ def test_an_exactly_definite_matrix_is_never_proved_infeasible():
     assert seen >= 2
 
 
-@pytest.mark.parametrize("accuracy", ["low", "default", "high"])
+@pytest.mark.parametrize("accuracy", [pytest.param("low", marks=pytest.mark.slow), "default", "high"])
 def test_near_unbounded_qps_are_not_solved(accuracy):
     for seed in range(3):
         for n in (8, 30):

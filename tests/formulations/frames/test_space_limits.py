@@ -104,7 +104,7 @@ def test_a_slender_deck_on_a_polygon_slides_at_mu_W():
     assert_bracket(tr, 0.3 * W)
 
 
-@pytest.mark.parametrize("ratio", [1e2, 1e4, 1e8])
+@pytest.mark.parametrize("ratio", [1e2, pytest.param(1e4, marks=pytest.mark.slow), 1e8])
 @pytest.mark.parametrize("cone", ["circular", "inscribed"])
 def test_a_tall_table_tips_about_its_far_legs_at_W_a_over_2h(ratio, cone):
     tr = table(ratio, mu=0.9, h=2.0, cone=cone).trace()
@@ -127,7 +127,8 @@ def test_a_twisted_table_turns_at_the_polygons_rigid_body_limit(ratio, polygon):
     assert "turns about" in tr.message or "slides" in tr.message
 
 
-@pytest.mark.parametrize("ratio", [1.0, 1e2, 1e4, 1e8])
+@pytest.mark.parametrize("ratio", [1.0, pytest.param(1e2, marks=pytest.mark.slow),
+                                   pytest.param(1e4, marks=pytest.mark.slow), 1e8])
 def test_by_default_a_twisted_table_turns_at_coulombs_mu_W_r(ratio):
     """On Coulomb's circle (the default) every pad gives its full friction
     μW/4 perpendicular to its radius r = √(a² + b²)/2 from the centre: the
