@@ -15,7 +15,7 @@ from ..judge.lcp_certificate import certify_lcp
 from ..judge.qp_certificate import certify_qp
 from ..core.matrices import MatrixStructure
 from ..proofs.candidates import cheap_lcp_farkas
-from ..proofs.lcp_farkas import prove_lcp_infeasible, sign_farkas
+from ..proofs.lcp_farkas import inverse_farkas, prove_lcp_infeasible, sign_farkas
 from ..proofs.lp import NULL_SPACE_MAX_N
 from ..proofs.qp_farkas import prove_no_minimiser, x_size
 from ..solvers.method import Method
@@ -219,8 +219,11 @@ def prove_no_solution(problem, sol, deadline, extra_hints=()):
         # the cheap candidates (one row, all ones, null directions, the
         # hints) exactly, before any LP: an LP misses qᵀ1 = -1 beside |q| ~ 1e13
         near = getattr(sol.certificate, "near_farkas", None)
-        proof = cheap_lcp_farkas(problem.M, problem.q, deadline,
-                                 ([] if near is None else [near]) + tried)
+        # the rounded mechanism's exact inverse first: 0.06 s at n = 30,
+        # where the candidates' snapping costs 0.35 s and, at a machine's
+        # load of 3, a 2 s call's share ran out on them
+        proof = inverse_farkas(problem, deadline) or cheap_lcp_farkas(
+            problem.M, problem.q, deadline, ([] if near is None else [near]) + tried)
         if proof is None:
             proof = prove_lcp_infeasible(problem, deadline, tried)
     else:
