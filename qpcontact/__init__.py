@@ -28,6 +28,7 @@ _DEFINED_IN = {
     "FrictionProblem": "core.friction_problem",
     "qp_to_lcp": "core.conversions", "DualLCP": "core.conversions",
     "solve": "dispatch.driver", "solve_friction": "dispatch.driver",
+    "unique_reactions": "solvers.friction.unique_reactions",
     "certify": "judge.certify",
     "methods": "solvers.registry", "all_methods": "solvers.registry",
     "get_method": "solvers.registry", "register": "solvers.registry",

@@ -215,6 +215,14 @@ class FrictionSolution(Solution):
     def _measure(self, name: str) -> float:
         return getattr(self.certificate, name) if self.certificate is not None else float("inf")
 
+    def __repr__(self) -> str:
+        text = super().__repr__()
+        if self.ok and self.certificate is not None and self.certificate.isolated is False:
+            text += ("\n  not unique: the reactions are one point of a set (redundant contacts: "
+                     "the forward error is unbounded); qpcontact.unique_reactions(problem, sol) "
+                     "gives the minimum-norm one")
+        return text
+
     @property
     def natural_map_error(self) -> float:
         """Siconos's error ‖r − proj_K(r − û)‖ / (1 + ‖q‖) (over 1 + ‖f‖ globally)."""

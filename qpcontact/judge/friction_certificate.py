@@ -280,6 +280,20 @@ class FrictionCertificate(ForwardErrorMixin):
     overflow: bool = False
     _forward: object = field(default=None, repr=False, compare=False)
 
+    @property
+    def isolated(self) -> bool | None:
+        """Whether the reactions are pinned by the data: the forward error
+        bounds each contact's reaction to a digit (forward_error < 1).  False
+        where the natural map's Jacobian is singular or nearly so — redundant
+        contacts (a table on four legs), whose reactions are a whole set:
+        the answer is one point of it, and
+        :func:`qpcontact.unique_reactions` gives a unique representative
+        (the minimum-norm or the elastic split).  None for a global problem
+        kept without W (no estimate)."""
+        if not np.isnan(self.equilibrium_error):
+            return None
+        return bool(self.forward_error < 1.0)
+
 
 def certify_friction(problem: FrictionProblem, r, v=None, *, u=None) -> FrictionCertificate:
     """The certificate of reactions ``r`` (and, for a global problem kept
