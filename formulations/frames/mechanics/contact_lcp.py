@@ -90,6 +90,12 @@ def to_global(b, v):
     return v if b["Tn"] is None else b["Tn"].T @ v
 
 
+def to_nodes(b, v):
+    """A vector of dofs from global axes to the nodes' own (a result's
+    displacements back into the system's axes, to start a solve from)."""
+    return v if b["Tn"] is None else b["Tn"] @ v
+
+
 #: a saddle matrix whose LU pivots span more than this is singular: a
 #: mechanism, which rounding would otherwise answer with a rigid motion of
 #: 1e11 m that every scaled check passes

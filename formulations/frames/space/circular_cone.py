@@ -55,7 +55,7 @@ from ..mechanics.solving import solve_lcp
 from .space_assembly import held, release_directions
 from .circular_limit import prove_no_equilibrium
 from .circular_polish import solve_on_states
-from .space_recovery import resultant, space_result, support_keys
+from .space_recovery import global_reactions, resultant, space_result, support_keys
 from .space_results import SpaceSupportResult
 
 #: a contact's force or slip within this many times the certificate's error
@@ -215,7 +215,8 @@ def polygon_start(frame, b, combo, accuracy, method="auto"):
         return None
     if res._u is None:
         return None
-    return res._u, contact_forces(res), [s.state for s in res.supports.values()]
+    return (contact_lcp.to_nodes(b, res._u), contact_forces(res),
+            [s.state for s in res.supports.values()])
 
 
 def contact_forces(res) -> np.ndarray:
@@ -250,9 +251,8 @@ def judged(frame, prob, b, combo, u, r, Ku, route, tol):
     else:
         r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
                            - b["H"].astype(Ku.dtype) @ np.asarray(X, Ku.dtype), float)
-    reactions = {node: tuple(float(x) for x in r_all[b["idx"][node]:b["idx"][node] + 6])
-                 for node in b["names"] if node in frame.fixed}
-    ends = contact_lcp.member_end_actions(b, u, factors)
+    reactions = global_reactions(frame, b, r_all)
+    ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), factors)
     ft = contact_lcp.force_terms(b, u, F, ends)
     # each contact's opening and slip from the frame's displacements
     local = Hc.T @ u + gap + flex * r
