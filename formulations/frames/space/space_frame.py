@@ -233,14 +233,17 @@ class SpaceFrame:
                                      for v, c in zip((x, y, z), "xyz")])
         return name
 
-    def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
-                   J: float, *, name: str | None = None, ref=None, roll: float = 0.0,
+    def add_member(self, i: str, j: str, E: float, A: float, Iy: float, Iz: float, *,
+                   G: float, J: float, name: str | None = None, ref=None, roll: float = 0.0,
                    hinge_i=False, hinge_j=False, spring_i=None, spring_j=None,
                    shear_area=None, offset_i: float = 0.0, offset_j: float = 0.0) -> str:
-        """A member from node i to node j: E, G, A, Iy, Iz (about the local y
-        and z axes), J; its local x-z plane contains ``ref`` (default global
-        Z, or X for a vertical member), turned by ``roll`` (radians) about x.
-        Returns its name.
+        """A member from node i to node j: E, A, Iy, Iz (about the local y
+        and z axes) in the plane frame's order (E, A, I), and its torsion,
+        the shear modulus ``G`` and torsion constant ``J`` (keywords: ``G``
+        is the plane frame's, which there comes with ``shear_area``); its
+        local x-z plane contains ``ref`` (default global Z, or X for a
+        vertical member), turned by ``roll`` (radians) about x.  Returns
+        its name.
 
         End releases, as the plane frame's: ``hinge_i``/``hinge_j`` True
         releases both bending moments at that end (My and Mz: a ball joint
@@ -266,7 +269,7 @@ class SpaceFrame:
             raise InvalidProblemError("a member needs two different nodes")
         what = f"member {i}-{j}" if name is None else f"member {name!r}"
         props = {}
-        for v, nm in ((E, "E"), (G, "G"), (A, "A"), (Iy, "Iy"), (Iz, "Iz"), (J, "J")):
+        for v, nm in ((E, "E"), (A, "A"), (Iy, "Iy"), (Iz, "Iz"), (G, "G"), (J, "J")):
             props[nm] = number(v, f"{what}: {nm}")
             if not props[nm] > 0:
                 raise InvalidProblemError(f"{what}: {nm} must be positive; got {v}")
