@@ -41,7 +41,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     delta = P @ z - g                      # link displacements incl. contact flexibility
     nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
     rhs = np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
-                b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])]
+                b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])]
     sol = b["lu"].solve(rhs)
     u = ua.copy()
     u[free] = sol[:nf]
@@ -166,7 +166,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     of 1e11 m had its wrong pin reaction pass."""
     xy = np.array([frame.nodes[nd] for nd in b["names"]])
     xy = xy - xy.mean(axis=0)
-    absHX = abs(b["H"]) @ np.abs(X)
+    absHX = b["abs_H"] @ np.abs(X)
     terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0)]
     # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
     # H X at its dof) by the forces meeting there and |H||X|

@@ -36,7 +36,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
     delta = P @ z - g
     nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
     sol = b["lu"].solve(np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
-                              b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])])
+                              b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])])
     u = ua.copy()
     u[free] = sol[:nf]
     # the forces from the same solve as u (as the plane frame's: R Δ + R_F
@@ -200,7 +200,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     per-dof check cannot replace it)."""
     xyz = np.array([frame.nodes[nd] for nd in b["names"]])
     xyz = xyz - xyz.mean(axis=0)
-    absHX = abs(b["H"]) @ np.abs(X)
+    absHX = b["abs_H"] @ np.abs(X)
     terms = F + b["H"] @ X + np.where(b["fixed"], r_all, 0.0)
     size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
     if b["Tn"] is not None:   # sums of forces are taken in global axes
