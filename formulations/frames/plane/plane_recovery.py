@@ -40,7 +40,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g                      # link displacements incl. contact flexibility
     nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
-    rhs = np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
+    rhs = np.r_[contact_lcp.free_loads(b, F, ua),
                 b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])]
     sol = b["lu"].solve(rhs)
     u = ua.copy()

@@ -143,7 +143,7 @@ def _sparse(b, combo, required):
     kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
     nl = len(required)
     F, ua = contact_lcp.load_vector(b, combo)
-    rhs_top = F[free] - b["K_fa"] @ ua[fixed_idx]
+    rhs_top = contact_lcp.free_loads(b, F, ua)
     shift = -(b["H_fixed_T"] @ ua[fixed_idx])   # what settlements do to the links
     H, flex = b["H"], b["flex"]
     # the saddle matrix as triplets: the top rows, and the link rows that are

@@ -35,7 +35,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g
     nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
-    sol = b["lu"].solve(np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
+    sol = b["lu"].solve(np.r_[contact_lcp.free_loads(b, F, ua),
                               b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])])
     u = ua.copy()
     u[free] = sol[:nf]
