@@ -62,12 +62,14 @@ def beyond_rounding(res, scale, largest=None) -> float:
     return float(ratio.max())
 
 
-def how_far(frame, u, always=False, second_order=False):
+def how_far(frame, u, always=False, second_order=False, coords=None):
     """(largest translation / frame size, largest rotation, words): the
     words say where small-displacement theory stops holding (or, with
     ``always``, how far the frame has moved in any case); a
-    ``second_order`` answer's words say what its theory leaves out."""
-    xy = np.array(list(frame.nodes.values()))
+    ``second_order`` answer's words say what its theory leaves out.
+    ``coords``: the nodes' coordinates where an assembly has them (else
+    read off the frame)."""
+    xy = np.array(list(frame.nodes.values())) if coords is None else coords
     size = float(np.linalg.norm(np.ptp(xy, axis=0))) or 1.0
     spin = np.array([d.startswith("r") for d in frame.DOFS])   # a node's rotations
     per_node = np.asarray(u).reshape(-1, len(frame.DOFS))

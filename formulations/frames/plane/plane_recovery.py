@@ -138,7 +138,8 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
     msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
            + ("" if ok else " — CHECK FAILED"))
-    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None)
+    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None,
+                                coords=b["coords"])
     if words:
         msg += "; " + words
     return FrameResult(p=float(combo.get(VARIABLE, 0.0)), supports=supports,
@@ -164,8 +165,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     that meet at its dof (``force_terms``: members' end forces, springs,
     loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
     of 1e11 m had its wrong pin reaction pass."""
-    xy = np.array([frame.nodes[nd] for nd in b["names"]])
-    xy = xy - xy.mean(axis=0)
+    xy = b["coords"] - b["coords"].mean(axis=0)
     absHX = b["abs_H"] @ np.abs(X)
     terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0)]
     # each term by what it is made of: H X by |H||X|, a reaction (K u - F -

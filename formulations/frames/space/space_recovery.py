@@ -136,7 +136,8 @@ def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, check
     msg = f"{route}: {checked}, equilibrium residual {eq:.1e}" + ("" if ok else
                                                                   " — CHECK FAILED")
     u = contact_lcp.to_global(b, u)           # reported in global axes
-    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None)
+    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None,
+                                coords=b["coords"])
     if words:
         msg += "; " + words
     msg += cone_words(frame)
@@ -198,8 +199,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     sized by the forces that meet at its dof (as the plane frame's
     :func:`~..plane.plane_recovery.resultant`, which says why the
     per-dof check cannot replace it)."""
-    xyz = np.array([frame.nodes[nd] for nd in b["names"]])
-    xyz = xyz - xyz.mean(axis=0)
+    xyz = b["coords"] - b["coords"].mean(axis=0)
     absHX = b["abs_H"] @ np.abs(X)
     terms = F + b["H"] @ X + np.where(b["fixed"], r_all, 0.0)
     size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
