@@ -39,6 +39,7 @@ import numpy as np
 
 from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
                                    SolverFailedError)
+from qpcontact.core.accuracy import resolve_accuracy
 from qpcontact.core.results import PROVED
 from qpcontact.dispatch.context import RunContext
 from qpcontact.dispatch.driver import Engine
@@ -89,7 +90,6 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
     module docstring)."""
     from qpcontact import methods as registry
     from qpcontact import solve
-    from qpcontact.core.accuracy import resolve_accuracy
 
     _, tol = resolve_accuracy(accuracy)
     friction_methods = [n for n, m in registry().items() if m.family == "friction"]
@@ -202,18 +202,27 @@ def polygon_start(frame, b, combo, accuracy, method="auto"):
     for a proof that the polygon has none, which the circle's callers do
     not use (55 searches, a quarter of the 16-pad tower's trace)."""
     try:
-        if method == "lemke":
-            M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
-            lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
-            sol = Engine(RunContext.start(accuracy)).solve(lcp, "lemke", prove=False)
-            if sol.z is None or not np.all(np.isfinite(sol.z)):
-                return None
-            res = frame.kind.result_from_z(frame, sol.z, combo, "lemke", b=b, lcp=lcp)
-        else:
-            res = solve_lcp(frame, 1.0, method, accuracy, False, combo, b, {})
+        M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+        lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+        sol = Engine(RunContext.start(accuracy)).solve(lcp, "lemke", prove=False)
+        res = None
+        if sol.z is not None and np.all(np.isfinite(sol.z)):
+            # judged as "auto" judges it (its tolerance); the probe alone as before
+            tol = {} if method == "lemke" else {"tol": resolve_accuracy(accuracy)[1]}
+            res = frame.kind.result_from_z(frame, sol.z, combo, "lemke", b=b, lcp=lcp, **tol)
     except QpcontactError:
-        return None
-    if res._u is None:
+        res = None
+    if method != "lemke" and (res is None or not res.ok):
+        # "auto" where Lemke's point alone is no checked answer: the
+        # polygon's whole solve (the load path, a proof that it has none).
+        # Where it is one, "auto" would return that same point, after a
+        # search for a proof that the polygon has no solution (half the
+        # 10-storey tower's solve), whose outcome a start does not use
+        try:
+            res = solve_lcp(frame, 1.0, method, accuracy, False, combo, b, {})
+        except QpcontactError:
+            return None
+    if res is None or res._u is None:
         return None
     return (contact_lcp.to_nodes(b, res._u), contact_forces(res),
             [s.state for s in res.supports.values()])
