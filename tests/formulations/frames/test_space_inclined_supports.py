@@ -185,3 +185,40 @@ def test_turned_axes_misuse_is_named():
         fr.add_support("A", ("uz",), angle=(1.0, 2.0))
     fr.add_support("B", ("rx",), angle=(0.0, -30.0, 0.0))      # the same axes: fine
     assert fr.fixed["B"] == {"uy", "uz", "rx"}
+
+
+def _pad_held_across(turned: bool):
+    """A cantilever A-B on a frictional pad at B, B held across the beam
+    (global y): by ux turned 90° about z, or by uy itself."""
+    fr = SpaceFrame()
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", 4.0, 0.0, 0.0)
+    fr.add_member("A", "B", E, A, I, 2 * I, G=G, J=I, name="AB")
+    fr.add_support("A", ("ux", "uy", "uz", "rx"))
+    if turned:
+        fr.add_support("B", ("ux",), angle=(0.0, 0.0, 90.0))
+    else:
+        fr.add_support("B", ("uy",))
+    fr.add_contact("B", normal=(0.0, 0.0, 1.0), friction=0.3)
+    fr.add_load("B", fx=-2.0, fy=1.5, fz=-10.0)
+    return fr
+
+
+def test_a_pads_tangent_held_by_turned_axes_is_held():
+    """The pad's tangent along y is held by the turned support (its ux' is
+    global y): no friction link along it — as with uy held unturned, the
+    same answer; read in global axes the held dof would be taken for a
+    free one, and the link beside the support would make the frame a
+    mechanism of redundant links."""
+    turned, plain = _pad_held_across(True).solve(), _pad_held_across(False).solve()
+    assert turned.ok and plain.ok, (turned.message, plain.message)
+    for key, s in plain.supports.items():
+        t = turned.supports[key]
+        assert t.state == s.state and abs(t.normal - s.normal) <= 1e-12 * abs(s.normal)
+        np.testing.assert_allclose(t.tangential_global, s.tangential_global, rtol=0, atol=1e-12)
+    for n in ("A", "B"):
+        np.testing.assert_allclose(turned.reactions[n], plain.reactions[n], rtol=0, atol=1e-10)
+        np.testing.assert_allclose(turned.displacements[n], plain.displacements[n], rtol=0,
+                                   atol=1e-14)
+    # B's support carries the 1.5 kN across; the pad the weight and the push along x
+    assert abs(turned.reactions["B"][1] + 1.5) <= 1e-10
