@@ -90,6 +90,12 @@ def to_global(b, v):
     return v if b["Tn"] is None else b["Tn"].T @ v
 
 
+def to_nodes(b, v):
+    """A vector of dofs from global axes to the nodes' own (a result's
+    displacements back into the system's axes, to start a solve from)."""
+    return v if b["Tn"] is None else b["Tn"] @ v
+
+
 #: a saddle matrix whose LU pivots span more than this is singular: a
 #: mechanism, which rounding would otherwise answer with a rigid motion of
 #: 1e11 m that every scaled check passes
@@ -158,10 +164,32 @@ class Built(dict):
     the LCP's matrix (the sparse active set) never pays for them."""
 
     def __missing__(self, key):
+        if key in DERIVED:
+            self[key] = DERIVED[key](self)
+            return self[key]
         if key not in ("R", "RF", "R_solve"):
             raise KeyError(key)
         self.update(contact_stiffness(self))
         return self[key]
+
+
+#: matrices read off the assembly by every check and state set, made once
+#: per assembly on first use (each was a scipy.sparse construction per use:
+#: |K| and |H| for every equilibrium check, Hᵀ and |H|ᵀ per solve, the
+#: fixed dofs' rows of H per recovery — 27 to 57 constructions of 30-150 µs
+#: in a solve); the same values, bit for bit
+DERIVED = {
+    "abs_K": lambda b: abs(b["K"]),
+    "abs_H": lambda b: abs(b["H"]),
+    "HT": lambda b: b["H"].T.tocsr(),
+    "abs_HT": lambda b: b["abs_H"].T.tocsr(),
+    "abs_P": lambda b: abs(b["maps"][0]),
+    "abs_W": lambda b: abs(b["maps"][1]),
+    # the links' displacement by the settlements: Hᵀ at the fixed dofs
+    "H_fixed_T": lambda b: b["H"][b["fixed_idx"]].T,
+    "K_fa": lambda b: _coupling(b),
+    "Hf": lambda b: _scaled_free_links(b),
+}
 
 
 def basic_system(K, H, fixed, flex, translational) -> dict:
@@ -181,12 +209,8 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
     at[free] = np.arange(nf)
     Kc = K.tocoo()
     r, c = at[Kc.row], at[Kc.col]
-    ff, fa = (r >= 0) & (c >= 0), (r >= 0) & (c < 0)
+    ff = (r >= 0) & (c >= 0)
     fixed_idx = np.flatnonzero(fixed)
-    at_fixed = np.full(N, -1)
-    at_fixed[fixed_idx] = np.arange(fixed_idx.size)
-    K_fa = sp.csr_matrix((Kc.data[fa], (r[fa], at_fixed[Kc.col[fa]])),
-                         shape=(nf, fixed_idx.size))
     # The links enter scaled by a typical stiffness kappa, so that the saddle
     # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
     # the singularity test is meaningful: X = -kappa y.  Links push nodes
@@ -201,10 +225,7 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
     # no stiffness on those dofs at all (a node on a contact, no member):
     # kappa = 0 would drop the links and name a held dof as the free one
     kappa = kappa if kappa > 0 else 1.0
-    Hc = H.tocoo()
-    hk = at[Hc.row] >= 0
-    hv, hr, hc = kappa * Hc.data[hk], at[Hc.row[hk]], Hc.col[hk]
-    Hf = sp.csr_matrix((hv, (hr, hc)), shape=(nf, H.shape[1]))
+    hv, hr, hc = free_links(H, at, kappa)
     nl = H.shape[1]
     links_ = np.arange(nl)
     # the saddle matrix from the blocks' triplets (K and H are summed, so no
@@ -219,8 +240,53 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
                       shape=(nf + nl, nf + nl))
     # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
     # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
-    return dict(free=free, nf=nf, fixed_idx=fixed_idx, K_fa=K_fa, kappa=kappa, Hf=Hf, S=S,
-                lu=regular_lu(S))
+    # (K_fa, the free rows' coupling to the fixed dofs, and κ H_f are made
+    # where used: settlements, a stiffness contrast's refinement)
+    return dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, S=S, lu=regular_lu(S))
+
+
+def free_links(H, at, kappa):
+    """(values, rows, columns) of κ H at the free dofs (``at``: each dof's
+    row among the free ones, -1 where fixed)."""
+    Hc = H.tocoo()
+    hk = at[Hc.row] >= 0
+    return kappa * Hc.data[hk], at[Hc.row[hk]], Hc.col[hk]
+
+
+def _positions(b):
+    """Each dof's row among the free dofs (-1 where fixed)."""
+    at = np.full(b["K"].shape[0], -1)
+    at[b["free"]] = np.arange(b["nf"])
+    return at
+
+
+def _coupling(b):
+    """K_fa: the free dofs' rows of K at the fixed dofs' columns (what
+    settlements load the free dofs with)."""
+    at, fixed_idx = _positions(b), b["fixed_idx"]
+    at_fixed = np.full(at.size, -1)
+    at_fixed[fixed_idx] = np.arange(fixed_idx.size)
+    Kc = b["K"].tocoo()
+    r, c = at[Kc.row], at[Kc.col]
+    fa = (r >= 0) & (c < 0)
+    return sp.csr_matrix((Kc.data[fa], (r[fa], at_fixed[Kc.col[fa]])),
+                         shape=(b["nf"], fixed_idx.size))
+
+
+def _scaled_free_links(b):
+    """κ H_f: the links at the free dofs, scaled as in the saddle matrix."""
+    hv, hr, hc = free_links(b["H"], _positions(b), b["kappa"])
+    return sp.csr_matrix((hv, (hr, hc)), shape=(b["nf"], b["H"].shape[1]))
+
+
+def free_loads(b, F, ua):
+    """F at the free dofs less what the settlements ``ua`` (at the fixed
+    dofs; a vector or one column per case) put on them, K_fa u_a — left
+    out, exactly, where nothing settles (x − 0 is x)."""
+    ua_fixed = ua[b["fixed_idx"]]
+    if not ua_fixed.any():
+        return F[b["free"]]
+    return F[b["free"]] - b["K_fa"] @ ua_fixed
 
 
 def contact_stiffness(b) -> dict:
@@ -233,8 +299,8 @@ def contact_stiffness(b) -> dict:
     rhs[nf:, :nl] = kappa * np.eye(nl)
     # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
     U, H = b["U"], b["H"]
-    rhs[:nf, nl:] = b["F"][b["free"]] - b["K_fa"] @ U[fixed_idx]
-    rhs[nf:, nl:] = -kappa * (H[fixed_idx].T @ U[fixed_idx])
+    rhs[:nf, nl:] = free_loads(b, b["F"], U)
+    rhs[nf:, nl:] = -kappa * (b["H_fixed_T"] @ U[fixed_idx])
     sol = b["lu"].solve(rhs)
     if contrast(b) > CONTRAST:
         sol = refined_columns(b, rhs, sol)

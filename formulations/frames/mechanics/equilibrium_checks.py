@@ -62,12 +62,14 @@ def beyond_rounding(res, scale, largest=None) -> float:
     return float(ratio.max())
 
 
-def how_far(frame, u, always=False, second_order=False):
+def how_far(frame, u, always=False, second_order=False, coords=None):
     """(largest translation / frame size, largest rotation, words): the
     words say where small-displacement theory stops holding (or, with
     ``always``, how far the frame has moved in any case); a
-    ``second_order`` answer's words say what its theory leaves out."""
-    xy = np.array(list(frame.nodes.values()))
+    ``second_order`` answer's words say what its theory leaves out.
+    ``coords``: the nodes' coordinates where an assembly has them (else
+    read off the frame)."""
+    xy = np.array(list(frame.nodes.values())) if coords is None else coords
     size = float(np.linalg.norm(np.ptp(xy, axis=0))) or 1.0
     spin = np.array([d.startswith("r") for d in frame.DOFS])   # a node's rotations
     per_node = np.asarray(u).reshape(-1, len(frame.DOFS))
@@ -112,7 +114,7 @@ def equilibrium(frame, b, F, X, u):
     free = b["free"]
     K = b["K"]
     res = np.abs(K @ u - F - b["H"] @ X)[free]
-    scale = (abs(K) @ np.abs(u) + np.abs(F) + abs(b["H"]) @ np.abs(X))[free]
+    scale = (b["abs_K"] @ np.abs(u) + np.abs(F) + b["abs_H"] @ np.abs(X))[free]
     moment = np.array([d.startswith("r") for d in frame.DOFS])[free % len(frame.DOFS)]
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))
@@ -155,7 +157,7 @@ def member_balance(frame, b, F, X, u, ends, factors):
         total, terms = b["Tn"] @ total, abs(b["Tn"]) @ terms
     free = b["free"]
     res = np.abs(total - F - b["H"] @ X)[free]
-    scale = (terms + np.abs(F) + abs(b["H"]) @ np.abs(X))[free]
+    scale = (terms + np.abs(F) + b["abs_H"] @ np.abs(X))[free]
     moment = np.array([d.startswith("r") for d in frame.DOFS])[free % len(frame.DOFS)]
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))
@@ -174,14 +176,14 @@ def mechanical_certificate(b, z, X, u, force_terms):
     resultants).  The links' kinematics Δ = H'u + D X = P z - g are the
     answer's by construction (u solved for them), not judged here."""
     P, W, g, _ = b["maps"]
-    absH = abs(b["H"])
+    absH = b["abs_H"]
     forces = absH.T @ force_terms
     lengths = absH.T @ np.abs(u) + np.abs(b["flex"] * X) + np.abs(g)
     forces = forces + R_ROUNDING * forces.max(initial=0.0)
     lengths = lengths + R_ROUNDING * lengths.max(initial=0.0)
-    zeta = abs(P).T @ lengths
+    zeta = b["abs_P"].T @ lengths
     w = W @ X
-    e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
+    e, sigma = complementarity(z, w, zeta, b["abs_W"] @ forces)
     # the LCP's scale of a link force also holds the force its own link
     # displacement makes, R_ll |Δ_l|, which the rounding of the solve
     # follows: a lifted stretch of a foundation beam had X_n = -4e-10
@@ -193,7 +195,7 @@ def mechanical_certificate(b, z, X, u, force_terms):
     # out elsewhere can only overstate the error
     delta = P @ z - g
     rows = np.flatnonzero(e > 64 * np.finfo(float).eps)
-    touched = np.asarray(abs(W)[rows].sum(axis=0)).ravel() > 0
+    touched = np.asarray(b["abs_W"][rows].sum(axis=0)).ravel() > 0
     moving = np.flatnonzero(touched & (delta != 0))
     if moving.size:
         nf, kappa = b["nf"], b["kappa"]
@@ -201,5 +203,5 @@ def mechanical_certificate(b, z, X, u, force_terms):
         unit[nf + moving, np.arange(moving.size)] = kappa
         R_ll = np.abs(kappa * b["lu"].solve(unit)[nf + moving, np.arange(moving.size)])
         forces[moving] += R_ll * np.abs(delta[moving])
-        e, sigma = complementarity(z, w, zeta, abs(W) @ forces)
+        e, sigma = complementarity(z, w, zeta, b["abs_W"] @ forces)
     return (float(e.max(initial=0.0)), zeta, sigma)

@@ -296,12 +296,13 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     if not loads:
         return out
     L, c, s, phi = (np.asarray(v, float) for v in (L, c, s, phi))
-    local = np.array([ld.axes == "member" for ld in loads])
-    point = np.array([ld.kind == "point" for ld in loads])
-    a = np.array([ld.a for ld in loads])
-    b = np.array([ld.b for ld in loads])
-    vals = np.array([ld.values if ld.kind == "distributed" else (*ld.values, 0.0)
-                     for ld in loads])
+    # one pass over the loads: their axes, kind, stretch and four values
+    # (a point load's (fx, fy, mz, 0)) as the columns of one array
+    table = np.array([(ld.axes == "member", ld.kind == "point", ld.a, ld.b,
+                       *(ld.values if ld.kind == "distributed" else (*ld.values, 0.0)))
+                      for ld in loads], float)
+    local, point = table[:, 0] > 0, table[:, 1] > 0
+    a, b, vals = table[:, 2], table[:, 3], table[:, 4:]
 
     def to_member(fx, fy):
         return (np.where(local, fx, c * fx + s * fy), np.where(local, fy, -s * fx + c * fy))

@@ -280,6 +280,7 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
                 "path)")
     M, Q, q_gap, P, g, fric = contact_lcp.lcp_matrices(b)
     lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+    judged = None           # Lemke's point judged on the frame, where it was
     if method == "tresca":
         if not fric:
             raise InvalidOptionError("'tresca' is for frictional frames; this one has no friction")
@@ -294,7 +295,6 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
         else:
             sol = solve_problem(lcp, method=method, accuracy=accuracy, **options)
         z, route = sol.z, sol.method
-        judged = None
         if not sol.ok and not proved(sol) and sol.z is not None and np.all(np.isfinite(sol.z)):
             # Lemke's point doubted for its digits only (a degenerate basis:
             # rigid pads, four legs — the same forces written with other
@@ -310,7 +310,10 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
             if found is None:
                 raise_no_equilibrium(frame, sol, fric, b, combo, hint=method != "auto")
             z, route = found
-    res = frame.kind.result_from_z(frame, z, combo, route, b=b, lcp=lcp, tol=tol)
+    if judged is not None and judged.ok and z is sol.z:
+        res = judged     # the same point, route and data: not recovered and checked twice
+    else:
+        res = frame.kind.result_from_z(frame, z, combo, route, b=b, lcp=lcp, tol=tol)
     if not res.ok and method == "auto" and not route.startswith("trace"):
         # an LCP answer that is no equilibrium of the frame: the load path
         # may still reach one (a table on rigid frictional pads: Lemke's

@@ -214,7 +214,7 @@ class Frame:
             raise InvalidProblemError(f"settlement at {node!r}: give ux=, uy= and/or rz=")
         add_settlements(self, node, given, case)
 
-    def add_spring(self, node: str, ux: float = 0.0, uy: float = 0.0, rz: float = 0.0) -> None:
+    def add_spring(self, node: str, *, ux: float = 0.0, uy: float = 0.0, rz: float = 0.0) -> None:
         """Bilateral elastic support to the ground: stiffnesses (force/length,
         moment/radian) along the global dofs; its reaction is -k u."""
         known_node(self, node)

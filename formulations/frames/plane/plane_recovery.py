@@ -40,8 +40,8 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g                      # link displacements incl. contact flexibility
     nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
-    rhs = np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
-                b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])]
+    rhs = np.r_[contact_lcp.free_loads(b, F, ua),
+                b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])]
     sol = b["lu"].solve(rhs)
     u = ua.copy()
     u[free] = sol[:nf]
@@ -138,7 +138,8 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
     msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
            + ("" if ok else " — CHECK FAILED"))
-    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None)
+    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None,
+                                coords=b["coords"])
     if words:
         msg += "; " + words
     return FrameResult(p=float(combo.get(VARIABLE, 0.0)), supports=supports,
@@ -164,9 +165,8 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     that meet at its dof (``force_terms``: members' end forces, springs,
     loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
     of 1e11 m had its wrong pin reaction pass."""
-    xy = np.array([frame.nodes[nd] for nd in b["names"]])
-    xy = xy - xy.mean(axis=0)
-    absHX = abs(b["H"]) @ np.abs(X)
+    xy = b["coords"] - b["coords"].mean(axis=0)
+    absHX = b["abs_H"] @ np.abs(X)
     terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0)]
     # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
     # H X at its dof) by the forces meeting there and |H||X|

@@ -143,8 +143,8 @@ def _sparse(b, combo, required):
     kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
     nl = len(required)
     F, ua = contact_lcp.load_vector(b, combo)
-    rhs_top = F[free] - b["K_fa"] @ ua[fixed_idx]
-    shift = -(b["H"][fixed_idx].T @ ua[fixed_idx])   # what settlements do to the links
+    rhs_top = contact_lcp.free_loads(b, F, ua)
+    shift = -(b["H_fixed_T"] @ ua[fixed_idx])   # what settlements do to the links
     H, flex = b["H"], b["flex"]
     # the saddle matrix as triplets: the top rows, and the link rows that are
     # kept where a link holds (each state set's matrix is one COO -> CSC)
@@ -153,8 +153,8 @@ def _sparse(b, combo, required):
     top_r, top_c, top_v = S.row[top], S.col[top], S.data[top]
     link_r, link_c, link_v = S.row[~top] - nf, S.col[~top], S.data[~top]
     factors = contact_lcp.factors(b, combo)
-    # the transposes once, not three per state set
-    HT, absHT = H.T.tocsr(), abs(H).T.tocsr()
+    # the transposes once per assembly, not three per state set
+    HT, absHT = b["HT"], b["abs_HT"]
 
     def solve(kin, sliding, n_link, t_link, f_slip):
         rhs = np.r_[rhs_top, np.where(kin, kappa * (required + shift), 0.0)]

@@ -44,8 +44,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .tables import (KINDS, check_table, member_envelope, member_envelope_rows, member_rows,
-                     reaction_envelope_rows, with_totals)
+from .tables import (KINDS, USE, check_table, contact_envelope, contact_envelope_rows,
+                     member_envelope, member_envelope_rows, member_rows, reaction_envelope_rows,
+                     with_totals)
 
 TABLES = ("supports", "reactions", "members", "displacements")
 #: the tables of a CombinationResults besides TABLES
@@ -56,7 +57,6 @@ CONTACT_EXTREMES = (("X_n", "max"), ("X_n", "min"), ("|X_t|", "max"), ("use", "m
                     ("circle", "max"), ("opening", "max"), ("|slip|", "max"))
 #: the share of the model's own cone used (<= 1), and the friction against
 #: Coulomb's circle (up to 1/cos(π/m) on a circumscribed m-gon)
-USE = "cone use (the model's cone)"
 CIRCLE = "|X_t|/(f X_n) on Coulomb's circle"
 NAMES = {"use": USE, "circle": CIRCLE}
 
@@ -205,19 +205,13 @@ def envelope(results: dict) -> dict:
                 s[side] = (value, name)
 
     env.update(member_envelope(good))
-    sup, con = {}, {}
+    sup = {}
     for name, r in good.items():
         for node, parts in reactions_by_node(r.frame, r).items():
             for f, v in zip(FORCES, parts["total"]):
                 put(sup.setdefault(node, {}), f, v, name)
-        for (key, s), c in zip(r.supports.items(), r.frame.contacts):
-            slot = con.setdefault(key, {"states": {}})
-            slot["states"].setdefault(s.state, []).append(name)
-            values = contact_values(c, s)
-            for q, side in CONTACT_EXTREMES:
-                if not np.isnan(values[q]):
-                    put(slot, q, values[q], name, (side,))
-    env["supports"], env["contacts"] = sup, con
+    env["supports"] = sup
+    env["contacts"] = contact_envelope(good, contact_values, CONTACT_EXTREMES)
     return env
 
 
@@ -225,7 +219,6 @@ def envelope_rows(frame, env: dict, table: str) -> list:
     """Raw rows of ``envelope`` (members), ``envelope_reactions`` (nodes) or
     ``envelope_supports`` (contacts)."""
     u = units(frame)
-    out = []
     if table == "envelope":
         return member_envelope_rows(frame, env, _quantity_unit(frame))
     if table == "envelope_reactions":
@@ -233,14 +226,4 @@ def envelope_rows(frame, env: dict, table: str) -> list:
                                       lambda f: u["F"] if f[0] == "F" else u["M"])
     heads = {"X_n": u["F"], "|X_t|": u["F"], "use": u["-"], "circle": u["-"], "opening": u["L"],
              "|slip|": u["L"]}
-    for key, per in env.get("contacts", {}).items():
-        row = {"support": key,
-               "states": "; ".join(f"{st}: {', '.join(names)}"
-                                   for st, names in per["states"].items())}
-        for q, side in CONTACT_EXTREMES:
-            label = f"{NAMES.get(q, q)}_{side}"
-            value, name = per.get(q, {}).get(side, (float("nan"), ""))
-            row[f"{label} {heads[q]}"] = value
-            row[f"combination({label})"] = name
-        out.append(row)
-    return out
+    return contact_envelope_rows(env.get("contacts", {}), CONTACT_EXTREMES, heads, NAMES)

@@ -5,7 +5,9 @@ Every table is a list of dicts, one per row, the same keys in every row;
 every numeric column names its unit in its header ("Fy [kN]", "M_i [kN·m]",
 "x(M_max) [m]", "rz [rad]").  Tables of one result:
 
-* ``supports``: each contact (state, X_n, X_t, opening, slip);
+* ``supports``: each contact (node, state, X_n, X_t, the share of its
+  friction cone used, its force in global components, opening, slip) —
+  the space frame's columns with one tangent;
 * ``reactions``: one row per supported node, the total force of its
   bilateral support, spring and contacts on the structure (global axes),
   with each kind's part when the frame has more than one kind;
@@ -16,8 +18,10 @@ every numeric column names its unit in its header ("Fy [kN]", "M_i [kN·m]",
 
 Over combinations: the same tables with a "combination" column, the
 envelopes of the members (``envelope``: max/min of N, V, M with where and in
-which combination) and of the reactions (``envelope_reactions``), and
-``combinations`` (each one's status).
+which combination), of the reactions (``envelope_reactions``) and of the
+contacts (``envelope_supports``: each one's states and the extremes of its
+X_n, |X_t|, cone use, opening and |slip|), and ``combinations`` (each
+one's status).
 
 **Rounding happens here and only here**: the result objects keep full
 precision, the tables are for reading and are rounded by default
@@ -28,7 +32,8 @@ a quantity is the largest value of every column of the table in the same
 unit (a column of 1e-14 axial forces beside shears of 50 kN is zero, not
 "1e-14"); a moment's is at least the force scale times the frame's size, a
 rotation's at least the displacement scale over it (a cantilever pulled
-along its axis has a clamp moment of rounding size, alone in its column).
+along its axis has a clamp moment of rounding size, alone in its column),
+a share's ("[-]", the cone use) at least 1.
 ``digits=None`` returns the raw floats.
 """
 
@@ -47,13 +52,19 @@ from .notation import DIGITS, NOISE, round_column
 
 TABLES = ("supports", "reactions", "members", "displacements")
 #: the tables of a CombinationResults besides TABLES
-COMBINED = ("envelope", "envelope_reactions", "combinations")
+COMBINED = ("envelope", "envelope_reactions", "envelope_supports", "combinations")
 KINDS = ("support", "spring", "contact")
 QUANTITIES = ("N", "V", "M")
 #: what the members' tables give extremes of: the internal forces and the
 #: deflection across the member (v, a length)
 EXTREMES = QUANTITIES + ("v",)
 FORCES = ("Fx", "Fy", "Mz")
+#: the share of the contact's friction cone used: |X_t| / (f X_n), <= 1, 1
+#: where it slips (NaN where there is no cone: separated, or f = 0)
+USE = "cone use (the model's cone)"
+#: the contact quantities whose extremes envelope_supports gives, and which side
+CONTACT_EXTREMES = (("X_n", "max"), ("X_n", "min"), ("|X_t|", "max"), ("use", "max"),
+                    ("opening", "max"), ("|slip|", "max"))
 
 _UNIT = re.compile(r"\[([^\]]+)\]$")
 
@@ -121,6 +132,53 @@ def _contact_force(c, s):
     return float(fxy[0]), float(fxy[1]), 0.0
 
 
+def contact_values(c, s) -> dict:
+    """A plane contact's numbers (full precision) under the supports
+    table's names."""
+    xt = abs(float(s.tangential))
+    cone = c.friction * s.normal
+    return {"X_n": float(s.normal), "X_t": float(s.tangential), "|X_t|": xt,
+            "use": xt / cone if cone > 0 else float("nan"), "opening": float(s.opening),
+            "slip": float(s.slip), "|slip|": abs(float(s.slip))}
+
+
+def contact_envelope(good: dict, values, extremes) -> dict:
+    """Per contact {"states": {state: [combinations]}, quantity: {side:
+    (value, combination)}} over the results ``good`` that are ok;
+    ``values(c, s)`` a contact's numbers, ``extremes`` (quantity, side)
+    pairs — plane and space frames alike."""
+    con: dict = {}
+    for name, r in good.items():
+        for (key, s), c in zip(r.supports.items(), r.frame.contacts):
+            slot = con.setdefault(key, {"states": {}})
+            slot["states"].setdefault(s.state, []).append(name)
+            v = values(c, s)
+            for q, side in extremes:
+                best = slot.setdefault(q, {}).get(side)
+                if not np.isnan(v[q]) and (best is None or (
+                        v[q] > best[0] if side == "max" else v[q] < best[0])):
+                    slot[q][side] = (v[q], name)
+    return con
+
+
+def contact_envelope_rows(contacts: dict, extremes, heads: dict, names: dict) -> list:
+    """Rows of ``envelope_supports``: each contact's states and its
+    quantities' extremes with their combinations (``heads``: quantity ->
+    header unit; ``names``: quantity -> its header name where not itself)."""
+    out = []
+    for key, per in contacts.items():
+        row = {"support": key,
+               "states": "; ".join(f"{st}: {', '.join(names_)}"
+                                   for st, names_ in per["states"].items())}
+        for q, side in extremes:
+            label = f"{names.get(q, q)}_{side}"
+            value, name = per.get(q, {}).get(side, (float("nan"), ""))
+            row[f"{label} {heads[q]}"] = value
+            row[f"combination({label})"] = name
+        out.append(row)
+    return out
+
+
 def rows(frame, result, table: str) -> list:
     """The raw rows (full precision) of one of TABLES for one result; none
     for a result that is no equilibrium."""
@@ -130,9 +188,16 @@ def rows(frame, result, table: str) -> list:
     force, length = frame.units
     unit = {"F": f"[{force}]", "M": f"[{force}·{length}]", "L": f"[{length}]"}
     if table == "supports":
-        return [{"support": k, "state": s.state, f"X_n {unit['F']}": s.normal,
-                 f"X_t {unit['F']}": s.tangential, f"opening {unit['L']}": s.opening,
-                 f"slip {unit['L']}": s.slip} for k, s in result.supports.items()]
+        out = []
+        for (k, s), c in zip(result.supports.items(), frame.contacts):
+            v = contact_values(c, s)
+            out.append({"support": k, "node": c.node, "state": s.state,
+                        f"X_n {unit['F']}": v["X_n"], f"X_t {unit['F']}": v["X_t"],
+                        f"{USE} [-]": v["use"],
+                        **{f"{a} {unit['F']}": f
+                           for a, f in zip(("Fx", "Fy"), _contact_force(c, s))},
+                        f"opening {unit['L']}": v["opening"], f"slip {unit['L']}": v["slip"]})
+        return out
     if table == "reactions":
         return _reaction_rows(frame, result, unit)
     if table == "members":
@@ -257,14 +322,21 @@ def envelope(results: dict) -> dict:
                 if v < slot["min"][0]:
                     slot["min"] = (v, name)
     env["supports"] = sup
+    env["contacts"] = contact_envelope(good, contact_values, CONTACT_EXTREMES)
     return env
 
 
 def envelope_rows(frame, env: dict, table: str) -> list:
-    """Raw rows of ``envelope`` (members) or ``envelope_reactions`` (nodes)."""
+    """Raw rows of ``envelope`` (members), ``envelope_reactions`` (nodes)
+    or ``envelope_supports`` (contacts)."""
     force, length = frame.units
     if table == "envelope":
         return member_envelope_rows(frame, env, _plane_unit(frame))
+    if table == "envelope_supports":
+        f, L = f"[{force}]", f"[{length}]"
+        return contact_envelope_rows(env.get("contacts", {}), CONTACT_EXTREMES,
+                                     {"X_n": f, "|X_t|": f, "use": "[-]", "opening": L,
+                                      "|slip|": L}, {"use": USE})
     unit = {"Fx": force, "Fy": force, "Mz": f"{force}·{length}"}
     return reaction_envelope_rows(env.get("supports", {}), FORCES, lambda f: f"[{unit[f]}]")
 
@@ -306,6 +378,8 @@ def engineering(table_rows: list, frame, digits: int | None = DIGITS) -> list:
                                          scale.get(force, 0.0) * size)
     if "rad" in scale and size > 0:
         scale["rad"] = max(scale["rad"], scale.get(length, 0.0) / size)
+    if "-" in scale:      # a share (of a friction cone): its whole is 1
+        scale["-"] = max(scale["-"], 1.0)
     out = [dict(r) for r in table_rows]
     for key, (unit, vals) in columns.items():
         vals = np.where(np.abs(vals) <= NOISE * scale[unit], 0.0, vals)

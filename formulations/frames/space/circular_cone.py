@@ -39,6 +39,7 @@ import numpy as np
 
 from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
                                    SolverFailedError)
+from qpcontact.core.accuracy import resolve_accuracy
 from qpcontact.core.results import PROVED
 from qpcontact.dispatch.context import RunContext
 from qpcontact.dispatch.driver import Engine
@@ -55,7 +56,7 @@ from ..mechanics.solving import solve_lcp
 from .space_assembly import held, release_directions
 from .circular_limit import prove_no_equilibrium
 from .circular_polish import solve_on_states
-from .space_recovery import resultant, space_result, support_keys
+from .space_recovery import global_reactions, resultant, space_result, support_keys
 from .space_results import SpaceSupportResult
 
 #: a contact's force or slip within this many times the certificate's error
@@ -89,7 +90,6 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
     module docstring)."""
     from qpcontact import methods as registry
     from qpcontact import solve
-    from qpcontact.core.accuracy import resolve_accuracy
 
     _, tol = resolve_accuracy(accuracy)
     friction_methods = [n for n, m in registry().items() if m.family == "friction"]
@@ -202,20 +202,30 @@ def polygon_start(frame, b, combo, accuracy, method="auto"):
     for a proof that the polygon has none, which the circle's callers do
     not use (55 searches, a quarter of the 16-pad tower's trace)."""
     try:
-        if method == "lemke":
-            M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
-            lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
-            sol = Engine(RunContext.start(accuracy)).solve(lcp, "lemke", prove=False)
-            if sol.z is None or not np.all(np.isfinite(sol.z)):
-                return None
-            res = frame.kind.result_from_z(frame, sol.z, combo, "lemke", b=b, lcp=lcp)
-        else:
-            res = solve_lcp(frame, 1.0, method, accuracy, False, combo, b, {})
+        M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+        lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
+        sol = Engine(RunContext.start(accuracy)).solve(lcp, "lemke", prove=False)
+        res = None
+        if sol.z is not None and np.all(np.isfinite(sol.z)):
+            # judged as "auto" judges it (its tolerance); the probe alone as before
+            tol = {} if method == "lemke" else {"tol": resolve_accuracy(accuracy)[1]}
+            res = frame.kind.result_from_z(frame, sol.z, combo, "lemke", b=b, lcp=lcp, **tol)
     except QpcontactError:
+        res = None
+    if method != "lemke" and (res is None or not res.ok):
+        # "auto" where Lemke's point alone is no checked answer: the
+        # polygon's whole solve (the load path, a proof that it has none).
+        # Where it is one, "auto" would return that same point, after a
+        # search for a proof that the polygon has no solution (half the
+        # 10-storey tower's solve), whose outcome a start does not use
+        try:
+            res = solve_lcp(frame, 1.0, method, accuracy, False, combo, b, {})
+        except QpcontactError:
+            return None
+    if res is None or res._u is None:
         return None
-    if res._u is None:
-        return None
-    return res._u, contact_forces(res), [s.state for s in res.supports.values()]
+    return (contact_lcp.to_nodes(b, res._u), contact_forces(res),
+            [s.state for s in res.supports.values()])
 
 
 def contact_forces(res) -> np.ndarray:
@@ -250,9 +260,8 @@ def judged(frame, prob, b, combo, u, r, Ku, route, tol):
     else:
         r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
                            - b["H"].astype(Ku.dtype) @ np.asarray(X, Ku.dtype), float)
-    reactions = {node: tuple(float(x) for x in r_all[b["idx"][node]:b["idx"][node] + 6])
-                 for node in b["names"] if node in frame.fixed}
-    ends = contact_lcp.member_end_actions(b, u, factors)
+    reactions = global_reactions(frame, b, r_all)
+    ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), factors)
     ft = contact_lcp.force_terms(b, u, F, ends)
     # each contact's opening and slip from the frame's displacements
     local = Hc.T @ u + gap + flex * r

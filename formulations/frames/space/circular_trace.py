@@ -43,6 +43,7 @@ from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, Qpcontac
                                    SolverFailedError)
 
 from ..mechanics.analysis_results import FrameEvent, FrameTrace
+from ..mechanics.contact_lcp import to_nodes
 from ..mechanics.equilibrium_checks import LargeDisplacementWarning, how_far
 from ..mechanics.load_combinations import (constant_first, load_combination,
                                            trace_combinations)
@@ -144,7 +145,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
             prob = frame.friction_problem(combination=combo, _built=b)
             if below:
                 near = path.results[max(below)]
-                res = on_states(frame, prob, b, combo, near._u, contact_forces(near),
+                res = on_states(frame, prob, b, combo, to_nodes(b, near._u), contact_forces(near),
                                 [s.state for s in near.supports.values()],
                                 "circular cone (continued from the path)", tol)
             if (res is None or not res.ok) and not full:
@@ -178,8 +179,9 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
         F, Hc, gap, flex, mu = contact_data(frame, b, combo)
         states = [s.state for s in near.supports.values()]
         r0 = contact_forces(near)
-        lam = start_rates(near._u, r0, Hc, gap, flex, states, held_t)
-        out = newton(b, F, np.asarray(near._u, EXTENDED), np.asarray(r0, EXTENDED), lam, Hc,
+        u0 = to_nodes(b, near._u)          # the result's u is global
+        lam = start_rates(u0, r0, Hc, gap, flex, states, held_t)
+        out = newton(b, F, np.asarray(u0, EXTENDED), np.asarray(r0, EXTENDED), lam, Hc,
                      gap, flex, mu, states, held_t)
         if out is None:
             return None
@@ -290,7 +292,8 @@ def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _bu
                 # the path is certified on both sides: continued from below
                 near = ft.trace.results[max(below)]
                 prob = frame.friction_problem(combination=combo, _built=b)
-                found = on_states(frame, prob, b, combo, near._u, contact_forces(near),
+                found = on_states(frame, prob, b, combo, to_nodes(b, near._u),
+                                  contact_forces(near),
                                   [s_.state for s_ in near.supports.values()],
                                   "circular cone (continued from the path)",
                                   resolve_accuracy(accuracy)[1])

@@ -83,11 +83,32 @@ def assemble(frame, axial=None):
     for node, v, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 6, col[case]] += v
     K = contact_lcp.stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
+    Tn = node_axes(frame, idx, N)
+    if Tn is not None:     # turned node axes: the system is written in them
+        K = (Tn @ K @ Tn.T).tocsr()
+        F = Tn @ F
     fixed = np.zeros(N, bool)
     for node, fx in frame.fixed.items():
         for d in fx:
             fixed[idx[node] + DOFS.index(d)] = True
-    return K, F, fixed, cases, idx, (k_local, T, dofs, Fe)
+    return K, F, fixed, cases, idx, (k_local, T, dofs, Fe), Tn
+
+
+def node_axes(frame, idx, N):
+    """Tn (sparse, orthogonal) turning global dofs into the nodes' own axes
+    (u' = Tn u: a turned node's translations and rotations alike), or None
+    where no node's axes are turned."""
+    if not frame.node_axes:
+        return None
+    turned = list(frame.node_axes.items())
+    blocks = np.array([np.kron(np.eye(2), turn) for _, turn in turned])      # (n, 6, 6)
+    first = np.array([idx[node] for node, _ in turned])
+    at = first[:, None] + np.arange(6)
+    rows = np.repeat(at, 6, axis=1).ravel()
+    cols = np.tile(at, (1, 6)).ravel()
+    rest = np.setdiff1d(np.arange(N), at.ravel())
+    return sp.csr_matrix((np.r_[blocks.ravel(), np.ones(rest.size)],
+                          (np.r_[rows, rest], np.r_[cols, rest])), shape=(N, N))
 
 
 def build(frame, axial=None):
@@ -96,16 +117,18 @@ def build(frame, axial=None):
     the faceted cones' maps; R and R_F on first use.  ``axial``: the
     members' axial forces of a second-order stiffness (``b["axial"]``)."""
     check_conflicts(frame)
-    K, F, fixed, cases, idx, local = assemble(frame, axial)
+    K, F, fixed, cases, idx, local, Tn = assemble(frame, axial)
     N = K.shape[0]
     H, info = links(frame, idx, N)
+    if Tn is not None:
+        H = (Tn @ H).tocsr()
     flex = np.array([0.0 if frame.contacts[ci].stiffness is None
                      else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
     basic = contact_lcp.basic_system(K, H, fixed, flex, np.arange(N) % 6 < 3)
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], list(frame.nodes), DOFS,
-            list(frame.nodes.values()), contacts=bool(frame.contacts)))
+            list(frame.nodes.values()), Tn, contacts=bool(frame.contacts)))
     springs = np.zeros(N)
     for node, ks in frame.springs.items():
         for d, kval in ks.items():
@@ -113,7 +136,7 @@ def build(frame, axial=None):
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
                           coords=np.array(list(frame.nodes.values()), float),
                           U=settlements(frame, idx, cases, F.shape), cases=cases,
-                          fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=None,
+                          fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,
                           axial=None if axial is None else np.asarray(axial, float), **basic)
     b["maps"] = lcp_maps(frame, info)
     return b
@@ -142,8 +165,11 @@ def settlements(frame, idx, cases, shape) -> np.ndarray:
 
 
 def held(frame, c, vec) -> bool:
-    """Whether the bilateral supports at c's node fix the direction vec."""
+    """Whether the bilateral supports at c's node fix the direction vec
+    (global axes; the support's dofs are along the node's axes)."""
     held = frame.fixed.get(c.node, set())
+    if c.node in frame.node_axes:
+        vec = frame.node_axes[c.node] @ np.asarray(vec, float)
     return all(d in held for d, comp in zip(DOFS[:3], vec) if abs(comp) > 1e-12)
 
 
@@ -251,7 +277,7 @@ def release_directions(frame, b):
         h = np.zeros((N, len(frame.contacts)))
         for ci, c in enumerate(frame.contacts):
             h[b["idx"][c.node]:b["idx"][c.node] + 3, ci] = getattr(c, vec)
-        cols.append(h)
+        cols.append(h if b["Tn"] is None else b["Tn"] @ h)
     return cols[0], cols[1:], np.array([c.friction for c in frame.contacts])
 
 

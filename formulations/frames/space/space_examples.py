@@ -10,9 +10,9 @@ import numpy as np
 
 from .space_frame import SpaceFrame
 
-#: the steel sections of the examples (kN, m): E, G, A, Iy, Iz, J
-COLUMN = (2.1e8, 8.1e7, 1.5e-2, 1.2e-4, 1.2e-4, 2.0e-6)
-BEAM = (2.1e8, 8.1e7, 1.0e-2, 2.3e-4, 1.6e-5, 1.0e-6)
+#: the steel sections of the examples (kN, m): add_member's keywords
+COLUMN = dict(E=2.1e8, A=1.5e-2, Iy=1.2e-4, Iz=1.2e-4, G=8.1e7, J=2.0e-6)
+BEAM = dict(E=2.1e8, A=1.0e-2, Iy=2.3e-4, Iz=1.6e-5, G=8.1e7, J=1.0e-6)
 
 
 def pad_example(push: float, angle: float, *, weight: float = 100.0, friction: float = 0.4,
@@ -30,7 +30,7 @@ def pad_example(push: float, angle: float, *, weight: float = 100.0, friction: f
     fr = SpaceFrame(cone=cone)
     fr.add_node("P", 0.0, 0.0, 0.0)
     fr.add_node("Q", 0.0, 0.0, 1.0)
-    fr.add_member("P", "Q", *COLUMN)
+    fr.add_member("P", "Q", **COLUMN)
     fr.add_support("P", fix=("rx", "ry", "rz"))
     fr.add_spring("P", ux=spring, uy=spring)
     c = fr.contacts[fr.add_contact("P", friction=friction, stiffness=stiffness, facets=facets)]
@@ -55,15 +55,15 @@ def six_pads(*, friction: float = 0.4, spring: float = 5e3, facets: int = 16,
         for b, y in enumerate((0.0, 5.0)):
             fr.add_node(f"P{a}{b}", x, y, 0.0)
             fr.add_node(f"T{a}{b}", x, y, 3.5)
-            fr.add_member(f"P{a}{b}", f"T{a}{b}", E, G, 0.01, 8e-5, 8e-5, 1e-5, name=f"C{a}{b}")
+            fr.add_member(f"P{a}{b}", f"T{a}{b}", E, 0.01, 8e-5, 8e-5, G=G, J=1e-5, name=f"C{a}{b}")
             fr.add_contact(f"P{a}{b}", friction=friction, facets=facets)
     for b in range(2):
         for a in range(2):
-            fr.add_member(f"T{a}{b}", f"T{a + 1}{b}", E, G, 0.01, 2e-4, 1e-4, 2e-5,
+            fr.add_member(f"T{a}{b}", f"T{a + 1}{b}", E, 0.01, 2e-4, 1e-4, G=G, J=2e-5,
                           name=f"Bx{a}{b}")
             fr.add_distributed_load(f"Bx{a}{b}", wz=-10.0, case="D")
     for a in range(3):
-        fr.add_member(f"T{a}0", f"T{a}1", E, G, 0.01, 2e-4, 1e-4, 2e-5, name=f"By{a}")
+        fr.add_member(f"T{a}0", f"T{a}1", E, 0.01, 2e-4, 1e-4, G=G, J=2e-5, name=f"By{a}")
     fr.add_load("T00", fz=-5.0, case="D")
     fr.add_load("T21", fz=-40.0, case="D")
     fr.add_load("T20", fx=20.0, fy=20.0, case="W")
@@ -94,7 +94,7 @@ def bays_on_pads(bays: int = 2, *, span: float = 5.0, height: float = 3.5,
             base, top = f"B{i}{j}", f"T{i}{j}"
             fr.add_node(base, i * span, j * span, 0.0)
             fr.add_node(top, i * span, j * span, height)
-            fr.add_member(base, top, *COLUMN, name=f"C{i}{j}")
+            fr.add_member(base, top, **COLUMN, name=f"C{i}{j}")
             if pinned_corners and i in (0, bays) and j in (0, bays):
                 fr.add_support(base, fix=("ux", "uy", "uz"))
             else:
@@ -104,7 +104,7 @@ def bays_on_pads(bays: int = 2, *, span: float = 5.0, height: float = 3.5,
         for j in range(n):
             for di, dj, axis in ((1, 0, "x"), (0, 1, "y")):
                 if i + di < n and j + dj < n:
-                    m = fr.add_member(f"T{i}{j}", f"T{i + di}{j + dj}", *BEAM,
+                    m = fr.add_member(f"T{i}{j}", f"T{i + di}{j + dj}", **BEAM,
                                       name=f"{axis}{i}{j}")
                     fr.add_distributed_load(m, wz=-gravity)
     return fr

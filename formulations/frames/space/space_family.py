@@ -20,7 +20,7 @@ import numpy as np
 
 from .space_frame import SpaceFrame
 
-#: a steel leg (kN, m): E, G, A, Iy, Iz, J — axial stiffness E A / 0.8 m =
+#: a steel leg (kN, m): E, A, Iy, Iz, G, J — axial stiffness E A / 0.8 m =
 #: 2.5e5 kN/m, bending 3 E I / h³ = 1.2e3 kN/m at 0.8 m
 LEG = dict(E=2e8, G=8e7, A=1e-3, Iy=1e-6, Iz=1e-6, J=2e-6)
 

@@ -7,9 +7,9 @@ beam-column elements of :mod:`..mechanics.space_element`; bilateral supports fix
 subset of the six dofs; springs resist -k·u on any dof; loads belong to
 named cases as in 2-D (:mod:`.loads`).  Units the user's, consistent.
 
-What is here: the model, K and the load columns, the linear solution of a
-frame held by bilateral supports and springs (``solve_linear``), and the
-assembly of its contact problem (``build``).  Solving, combinations and the
+What is here: the model and the assembly of its problem (``build``: K,
+the load columns, the links); a frame without contacts is solved
+linearly by ``solve`` as any other.  Solving, combinations and the
 trace are the plane frame's (:mod:`.solving`, :mod:`.tracing`: the LCP is
 the same in any dimension once the links and the cone's facets are laid
 out); the results are built in :mod:`.space_recovery` (the circular cone's
@@ -49,13 +49,12 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
+from ..mechanics import friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, add_settlements, case_name, check_axes,
-                               check_units, combination, known_member, known_node,
+                               check_units, known_member, known_node,
                                no_member_between, no_same_contact, number)
 from ..mechanics.space_element import END_ROTATIONS, axes
-from ..reporting.free_motion import mechanism_message
 from . import circular_cone, circular_trace, space_assembly, space_recovery
 from .space_member_loads import SpanLoad, position
 from .space_results import DOFS, SpaceFrameResult
@@ -87,6 +86,32 @@ def unit_vector(value, message: str) -> np.ndarray:
     if v.shape != (3,) or not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
         raise InvalidProblemError(message)
     return v / np.linalg.norm(v)
+
+
+def turned_axes(angle, what: str) -> np.ndarray:
+    """The turned axes of a rotation vector ``angle`` (degrees) as the rows
+    of a 3 x 3 matrix (Rodrigues: the node's axis e'_k = Rot e_k, the rows
+    are Rotᵀ, so u' = Rotᵀ u); InvalidProblemError(``what``) unless a
+    finite 3-vector."""
+    if isinstance(angle, (int, float, np.number)) and not isinstance(angle, bool):
+        raise InvalidProblemError(
+            f"{what}: in space a rotation vector (ax, ay, az) in degrees — the axes turned "
+            f"about its direction by its length; got the number {angle!r} (the plane frame's "
+            f"angle={angle!r} is (0, 0, {angle!r}))")
+    try:
+        v = np.array(angle, float)
+    except (TypeError, ValueError):
+        v = np.zeros(0)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise InvalidProblemError(f"{what}: a rotation vector (ax, ay, az) in degrees; got "
+                                  f"{angle!r}")
+    theta = float(np.radians(np.linalg.norm(v)))
+    if theta % (2 * np.pi) == 0.0:
+        return np.eye(3)
+    k = v / np.linalg.norm(v)
+    cross = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    rot = np.eye(3) + np.sin(theta) * cross + (1.0 - np.cos(theta)) * cross @ cross
+    return rot.T
 
 
 @dataclass
@@ -193,6 +218,8 @@ class SpaceFrame:
         self.nodes: dict[str, np.ndarray] = {}
         self.members: dict[str, dict] = {}
         self.fixed: dict[str, set] = {}
+        # turned node axes: rows the node's x', y', z' in global axes (add_support's angle)
+        self.node_axes: dict[str, np.ndarray] = {}
         self.springs: dict[str, dict] = {}
         self.nodal_loads: list = []   # (node, 6 values, case)
         self.span_loads: list = []    # SpanLoad: point and distributed member loads
@@ -206,14 +233,17 @@ class SpaceFrame:
                                      for v, c in zip((x, y, z), "xyz")])
         return name
 
-    def add_member(self, i: str, j: str, E: float, G: float, A: float, Iy: float, Iz: float,
-                   J: float, *, name: str | None = None, ref=None, roll: float = 0.0,
+    def add_member(self, i: str, j: str, E: float, A: float, Iy: float, Iz: float, *,
+                   G: float, J: float, name: str | None = None, ref=None, roll: float = 0.0,
                    hinge_i=False, hinge_j=False, spring_i=None, spring_j=None,
                    shear_area=None, offset_i: float = 0.0, offset_j: float = 0.0) -> str:
-        """A member from node i to node j: E, G, A, Iy, Iz (about the local y
-        and z axes), J; its local x-z plane contains ``ref`` (default global
-        Z, or X for a vertical member), turned by ``roll`` (radians) about x.
-        Returns its name.
+        """A member from node i to node j: E, A, Iy, Iz (about the local y
+        and z axes) in the plane frame's order (E, A, I), and its torsion,
+        the shear modulus ``G`` and torsion constant ``J`` (keywords: ``G``
+        is the plane frame's, which there comes with ``shear_area``); its
+        local x-z plane contains ``ref`` (default global Z, or X for a
+        vertical member), turned by ``roll`` (radians) about x.  Returns
+        its name.
 
         End releases, as the plane frame's: ``hinge_i``/``hinge_j`` True
         releases both bending moments at that end (My and Mz: a ball joint
@@ -239,7 +269,7 @@ class SpaceFrame:
             raise InvalidProblemError("a member needs two different nodes")
         what = f"member {i}-{j}" if name is None else f"member {name!r}"
         props = {}
-        for v, nm in ((E, "E"), (G, "G"), (A, "A"), (Iy, "Iy"), (Iz, "Iz"), (J, "J")):
+        for v, nm in ((E, "E"), (A, "A"), (Iy, "Iy"), (Iz, "Iz"), (G, "G"), (J, "J")):
             props[nm] = number(v, f"{what}: {nm}")
             if not props[nm] > 0:
                 raise InvalidProblemError(f"{what}: {nm} must be positive; got {v}")
@@ -285,14 +315,35 @@ class SpaceFrame:
                                   GAs=GAs, offsets=tuple(offs), **props)
         return name
 
-    def add_support(self, node: str, fix=DOFS) -> None:
-        """Bilateral support: the listed degrees of freedom (global axes)
-        are fixed."""
+    def add_support(self, node: str, fix=DOFS, *, angle=None) -> None:
+        """Bilateral support: the listed degrees of freedom are fixed.
+
+        ``angle`` (degrees) turns the node's axes, as the plane frame's:
+        a rotation vector (ax, ay, az) — the axes turned by its length
+        about its direction, counterclockwise seen from its tip; (0, 0, θ)
+        is the plane frame's ``angle=θ``.  The dofs fixed and the node's
+        settlements are then along the turned axes; its displacements and
+        reactions are reported in global axes.  A roller on a slope rising
+        at 30° along +x (its normal turned from +z towards -x) is
+        ``fix=("uz",), angle=(0, -30, 0)``."""
         known_node(self, node)
         fix = (fix,) if isinstance(fix, str) else tuple(fix)
         bad = [d for d in fix if d not in DOFS]
         if bad:
             raise InvalidProblemError(f"fix must name dofs among {DOFS}; got {bad}")
+        if angle is not None:
+            turn = turned_axes(angle, f"support at {node!r}: angle")
+            before = self.node_axes.get(node, np.eye(3) if node in self.fixed else None)
+            if before is not None and not np.allclose(turn, before, rtol=0.0, atol=1e-15):
+                raise InvalidProblemError(
+                    f"support at {node!r}: the node's axes are already turned otherwise; a node "
+                    "has one set of axes — give all its fixed dofs in one add_support")
+            if not np.array_equal(turn, np.eye(3)):
+                self.node_axes[node] = turn
+        elif node in self.node_axes:
+            raise InvalidProblemError(
+                f"support at {node!r}: the node's axes are turned; pass the same angle= again "
+                "(a node has one set of axes)")
         self.fixed.setdefault(node, set()).update(fix)
 
     def add_settlement(self, node: str, case: str = CONSTANT, **displacements) -> None:
@@ -445,32 +496,6 @@ class SpaceFrame:
     @property
     def has_friction(self) -> bool:
         return any(c.friction > 0 for c in self.contacts)
-
-    def assemble(self):
-        """(K (CSR), F (dofs x cases), fixed mask, cases, idx, local): local =
-        the members' (k (m, 12, 12), T, dofs (m, 12), Fe (m, 12, cases):
-        their fixed-end forces in member axes), as the plane frame's
-        (:func:`.space_assembly.assemble`)."""
-        return space_assembly.assemble(self)
-
-    def solve_linear(self, combination_: dict | None = None) -> dict:
-        """Displacements {node: 6-tuple} of a frame held by its bilateral
-        supports and springs alone, under ``combination_`` {case: factor}
-        (default the case "constant")."""
-        K, F, fixed, cases, idx, _ = space_assembly.assemble(self)
-        combo = combination(combination_ or {CONSTANT: 1.0}, set(cases))
-        factors = np.array([combo.get(c, 0.0) for c in cases])
-        u = space_assembly.settlements(self, idx, cases, F.shape) @ factors
-        free = np.flatnonzero(~fixed)
-        f = F @ factors - K[:, fixed] @ u[fixed]
-        Kf = K[free][:, free].tocsc()
-        lu = contact_lcp.regular_lu(Kf)
-        if lu is None:
-            raise InvalidProblemError(mechanism_message(
-                Kf, free, free.size, list(self.nodes), DOFS, list(self.nodes.values()),
-                contacts=False))
-        u[free] = lu.solve(f[free])
-        return {nd: tuple(u[idx[nd]:idx[nd] + 6]) for nd in self.nodes}
 
     def build(self, axial=None):
         """The assembly the solving routes share with the plane frame (an

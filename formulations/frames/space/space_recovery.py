@@ -35,8 +35,8 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g
     nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
-    sol = b["lu"].solve(np.r_[F[free] - b["K_fa"] @ ua[fixed_idx],
-                              b["kappa"] * (delta - b["H"][fixed_idx].T @ ua[fixed_idx])])
+    sol = b["lu"].solve(np.r_[contact_lcp.free_loads(b, F, ua),
+                              b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])])
     u = ua.copy()
     u[free] = sol[:nf]
     # the forces from the same solve as u (as the plane frame's: R Δ + R_F
@@ -62,7 +62,8 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
         # judged on the mechanics: the LCP's matrix carries the rounding of
         # the basic system's solve that the refinement has removed
         uf, Xf = u2.astype(float), X2.astype(float)
-        ft2 = contact_lcp.force_terms(b, uf, F, contact_lcp.member_end_actions(b, uf, factors))
+        ft2 = contact_lcp.force_terms(b, uf, F, contact_lcp.member_end_actions(
+            b, contact_lcp.to_global(b, uf), factors))
         error2, zeta2, sigma2 = mechanical_certificate(b, z2, X2, u2, ft2)
         if error2 <= max(cert_error, tol):
             z, cert_error, zeta, sigma = z2, error2, zeta2, sigma2
@@ -84,11 +85,19 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
             if again[2] <= eq:
                 u, X = uf, Xf
                 r_all, ends, eq = again
-    reactions = {node: tuple(float(v) for v in r_all[b["idx"][node]:b["idx"][node] + 6])
-                 for node in b["names"] if node in frame.fixed}
-    supports = contact_states(frame, b, z, X, u, delta, zeta, sigma)
-    return space_result(frame, b, combo, u, ends, reactions, supports, eq, cert_error,
-                        f"contact certificate {cert_error:.1e}", route, tol)
+    supports = contact_states(frame, b, z, X, contact_lcp.to_global(b, u), delta, zeta, sigma)
+    return space_result(frame, b, combo, u, ends, global_reactions(frame, b, r_all), supports,
+                        eq, cert_error, f"contact certificate {cert_error:.1e}", route, tol)
+
+
+def global_reactions(frame, b, r_all) -> dict:
+    """{node: its six reactions in global axes} at the supported nodes, from
+    K u − F − H X over all dofs (the system's axes: a node's may be turned)."""
+    # (a turned node's free dofs hold rounding noise, which the turn back
+    # would mix into its reactions)
+    r = r_all if b["Tn"] is None else b["Tn"].T @ np.where(b["fixed"], r_all, 0.0)
+    return {node: tuple(float(v) for v in r[b["idx"][node]:b["idx"][node] + 6])
+            for node in b["names"] if node in frame.fixed}
 
 
 def statics(frame, b, F, u, X, exact, factors):
@@ -103,7 +112,7 @@ def statics(frame, b, F, u, X, exact, factors):
     piece 1e7 times stiffer than its neighbour read 5e-6 off."""
     if exact is None:
         r_all = b["K"] @ u - F - b["H"] @ X
-        ends = contact_lcp.member_end_actions(b, u, factors)
+        ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), factors)
     else:
         Ku, ends = refined_actions(b, exact, factors)
         r_all = np.asarray(Ku - np.asarray(F, Ku.dtype)
@@ -126,7 +135,9 @@ def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, check
     ok = bool(error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR))
     msg = f"{route}: {checked}, equilibrium residual {eq:.1e}" + ("" if ok else
                                                                   " — CHECK FAILED")
-    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None)
+    u = contact_lcp.to_global(b, u)           # reported in global axes
+    ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None,
+                                coords=b["coords"])
     if words:
         msg += "; " + words
     msg += cone_words(frame)
@@ -188,14 +199,15 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     sized by the forces that meet at its dof (as the plane frame's
     :func:`~..plane.plane_recovery.resultant`, which says why the
     per-dof check cannot replace it)."""
-    xyz = np.array([frame.nodes[nd] for nd in b["names"]])
-    xyz = xyz - xyz.mean(axis=0)
-    HX = b["H"] @ X
-    absHX = abs(b["H"]) @ np.abs(X)
+    xyz = b["coords"] - b["coords"].mean(axis=0)
+    absHX = b["abs_H"] @ np.abs(X)
+    terms = F + b["H"] @ X + np.where(b["fixed"], r_all, 0.0)
+    size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
+    if b["Tn"] is not None:   # sums of forces are taken in global axes
+        terms, size, u = b["Tn"].T @ terms, abs(b["Tn"]).T @ size, b["Tn"].T @ u
     spring = -b["springs"] * u
-    total = (F + HX + np.where(b["fixed"], r_all, 0.0) + spring).reshape(-1, 6)
-    size = (np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
-            + np.abs(spring)).reshape(-1, 6)
+    total = (terms + spring).reshape(-1, 6)
+    size = (size + np.abs(spring)).reshape(-1, 6)
     force = total[:, :3].sum(axis=0)
     moment = (total[:, 3:] + np.cross(xyz, total[:, :3])).sum(axis=0)
     couples = None

@@ -131,7 +131,7 @@ class SpaceFrameResult(AnalysisResult):
         element and its loads (:func:`.space_diagrams.deflection`)."""
         return space_diagrams.deflection(self.frame, self, member, points, axes)
 
-    def plot(self, path, scale: float | None = None, title: str | None = None, *,
+    def plot(self, path, *, scale: float | None = None, title: str = "",
              azimuth: float | None = None, elevation: float | None = None,
              loads: bool = True) -> str:
         """Draw the result (PNG, :mod:`.space_drawing`): the frame and its

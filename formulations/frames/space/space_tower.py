@@ -47,9 +47,9 @@ from .space_frame import SpaceFrame
 
 E_CONCRETE = 30e6                       # kN/m²
 G_CONCRETE = E_CONCRETE / 2.4           # Poisson's ratio 0.2
-#: (A, Iy, Iz, J) in m² and m⁴: square column 0.7 m, beam 0.4 x 0.7 m
-COLUMN = (0.49, 0.7 ** 4 / 12, 0.7 ** 4 / 12, 0.141 * 0.7 ** 4)
-BEAM = (0.28, 0.4 * 0.7 ** 3 / 12, 0.7 * 0.4 ** 3 / 12, 0.2125 * 0.7 * 0.4 ** 3)
+#: A, Iy, Iz, J in m² and m⁴: square column 0.7 m, beam 0.4 x 0.7 m
+COLUMN = dict(A=0.49, Iy=0.7 ** 4 / 12, Iz=0.7 ** 4 / 12, J=0.141 * 0.7 ** 4)
+BEAM = dict(A=0.28, Iy=0.4 * 0.7 ** 3 / 12, Iz=0.7 * 0.4 ** 3 / 12, J=0.2125 * 0.7 * 0.4 ** 3)
 FLOOR, BEAM_WEIGHT, FACADE, CONCRETE = 7.0, 5.0, 5.0, 25.0    # kN/m², kN/m, kN/m, kN/m³
 WINDWARD, LEEWARD = 0.8, 0.5            # pressure coefficients (suction on the leeward side)
 
@@ -88,9 +88,9 @@ def space_tower(storeys: int = 10, bays: int = 3, *, bay: float = 6.0, storey: f
     for s in range(storeys):
         for i in lines:
             for j in lines:
-                c = fr.add_member(node(s, i, j), node(s + 1, i, j), E_CONCRETE, G_CONCRETE,
-                                  *COLUMN, name=f"C{s}_{i}_{j}")
-                fr.add_distributed_load(c, wz=-CONCRETE * COLUMN[0], case="D")
+                c = fr.add_member(node(s, i, j), node(s + 1, i, j), E_CONCRETE, **COLUMN,
+                                  G=G_CONCRETE, name=f"C{s}_{i}_{j}")
+                fr.add_distributed_load(c, wz=-CONCRETE * COLUMN["A"], case="D")
     panel_share = FLOOR * bay / 4     # a quarter of a square panel's load per unit length
     for s in range(1, storeys + 1):
         for i in lines:
@@ -100,7 +100,7 @@ def space_tower(storeys: int = 10, bays: int = 3, *, bay: float = 6.0, storey: f
                         continue
                     edge = across in (0, bays)
                     m = fr.add_member(node(s, i, j), node(s, i + di, j + dj), E_CONCRETE,
-                                      G_CONCRETE, *BEAM, name=f"{name}{s}_{i}_{j}")
+                                      **BEAM, G=G_CONCRETE, name=f"{name}{s}_{i}_{j}")
                     w = BEAM_WEIGHT + (panel_share + FACADE if edge else 2 * panel_share)
                     fr.add_distributed_load(m, wz=-w, case="D")
     _wind(fr, storeys, bays, bay, storey, wind, angle)

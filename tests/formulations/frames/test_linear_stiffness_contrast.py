@@ -42,7 +42,7 @@ def space_zones(stiff):
         return fr
 
     one = base()
-    one.add_member("A", "B", E, G, A, IY, IZ, J, name="M", roll=0.4, offset_i=OI, offset_j=OJ,
+    one.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M", roll=0.4, offset_i=OI, offset_j=OJ,
                    hinge_j=("ry",))
     one.add_distributed_load("M", wz=-6.0, wz2=-2.0, wy=1.0, start=0.1, end=3.9)
     cut = base()
@@ -50,7 +50,7 @@ def space_zones(stiff):
     cut.add_node("Q", LS - OJ, 0.0, 0.0)
     for name, i, j, s, hinge in (("R1", "A", "P", stiff, False), ("F", "P", "Q", 1.0, ("ry",)),
                                  ("R2", "Q", "B", stiff, False)):
-        cut.add_member(i, j, E, G, s * A, s * IY, s * IZ, s * J, name=name, roll=0.4,
+        cut.add_member(i, j, E, s * A, s * IY, s * IZ, G=G, J=s * J, name=name, roll=0.4,
                        hinge_j=hinge)
     pieces = {"R1": (0.0, OI), "F": (OI, LS - OJ), "R2": (LS - OJ, LS)}
     for a, kw in ((0.2, dict(fy=-5.0, mx=1.5)), (2.0, dict(fz=-8.0, my=2.0)),
@@ -158,8 +158,8 @@ def test_a_space_cantilever_with_a_stiff_piece_by_hand(stiff, stiff_at):
     fr.add_node("R", L1, 0.0, 0.0)
     fr.add_node("T", L1 + L2, 0.0, 0.0)
     fr.add_support("A")
-    fr.add_member("A", "R", E, G, s1 * A, s1 * IZ, s1 * IZ, s1 * J, name="M1")
-    fr.add_member("R", "T", E, G, s2 * A, s2 * IZ, s2 * IZ, s2 * J, name="M2")
+    fr.add_member("A", "R", E, s1 * A, s1 * IZ, s1 * IZ, G=G, J=s1 * J, name="M1")
+    fr.add_member("R", "T", E, s2 * A, s2 * IZ, s2 * IZ, G=G, J=s2 * J, name="M2")
     fr.add_load("T", fz=-P, fy=Q, mx=T)
     r = fr.solve()
     assert r.ok, r.message
@@ -196,7 +196,7 @@ def test_an_ordinary_frame_is_not_refined(kind, monkeypatch):
         for n, x, z in (("A", 0, 0), ("B", 6, 0), ("C", 0, 3), ("D", 6, 3)):
             fr.add_node(n, x, 0.0, z)
         for i, j in (("A", "C"), ("C", "D"), ("B", "D")):
-            fr.add_member(i, j, E, G, A, IY, IZ, J)
+            fr.add_member(i, j, E, A, IY, IZ, G=G, J=J)
         fr.add_load("C", fx=10.0, fy=2.0, fz=-50.0)
     fr.add_support("A")
     fr.add_support("B")

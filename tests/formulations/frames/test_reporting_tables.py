@@ -26,7 +26,7 @@ XY = {"A": (0.0, 0.0), "B": (4.0, 0.0), "C": (8.0, 0.0), "D": (8.0, 3.0)}
 SIZE = math.hypot(8.0, 3.0)        # the nodes' bounding-box diagonal
 COMBOS = {"D": {"D": 1.0}, "1.2D+1.6L": {"D": 1.2, "L": 1.6}, "0.9D+1.6W": {"D": 0.9, "W": 1.6},
           "uplift": {"D": 0.1, "W": 10.0}}
-UNIT = re.compile(r"\[(kN|kN·m|m|rad)\]$")
+UNIT = re.compile(r"\[(kN|kN·m|m|rad|-)\]$")
 LABELS = {"member", "node", "support", "state", "kinds", "combination", "ok", "route", "message",
           "i", "j"}
 
@@ -117,8 +117,13 @@ def _expected(fr, r, table):
     if table == "displacements":
         return [{"node": n, "ux [m]": d[0], "uy [m]": d[1], "rz [rad]": d[2]}
                 for n, d in r.displacements.items()]
-    return [{"support": k, "X_n [kN]": s.normal, "X_t [kN]": s.tangential,
-             "opening [m]": s.opening, "slip [m]": s.slip} for k, s in r.supports.items()]
+    # the contact force in global components, X_n n + X_t t with t = (n_y, -n_x)
+    # (the cone use's column, NaN where there is no cone, is checked by itself)
+    return [{"support": k, "node": c.node, "X_n [kN]": s.normal, "X_t [kN]": s.tangential,
+             "Fx [kN]": s.normal * c.normal[0] + s.tangential * c.normal[1],
+             "Fy [kN]": s.normal * c.normal[1] - s.tangential * c.normal[0],
+             "opening [m]": s.opening, "slip [m]": s.slip}
+            for (k, s), c in zip(r.supports.items(), fr.contacts)]
 
 
 def _moment_extreme(r, m, side):
@@ -311,9 +316,9 @@ def test_csv_text_has_no_minus_zero_no_noise_and_reads_back(res, tmp_path):
     paths = res.to_csv(tmp_path)
     assert sorted(p.split("/")[-1] for p in paths) == sorted(
         f"{t}.csv" for t in ("supports", "reactions", "members", "displacements", "envelope",
-                             "envelope_reactions", "combinations"))
+                             "envelope_reactions", "envelope_supports", "combinations"))
     assert not list(tmp_path.glob("*.tmp"))
-    csv_reads_back(res, paths, floor=1e-6)
+    csv_reads_back(res, paths, nan=True, floor=1e-6)   # nan: the cone use without a cone
     assert "uplift,False" in (tmp_path / "combinations.csv").read_text()
     # full precision on request: the raw floats, read back to the bit
     raw_dir = tmp_path / "raw"
@@ -356,3 +361,35 @@ def test_unknown_table_names_the_tables(res):
         res.rows("nope")
     with pytest.raises(InvalidOptionError, match="displacements"):
         res["uplift"].rows("nope")
+
+
+def test_the_contacts_cone_use_and_envelope_as_the_space_frames(res):
+    """The plane supports table has the space frame's cone-use column
+    (|X_t| / (f X_n), NaN without a cone) and the combinations an
+    ``envelope_supports`` table: each contact's states and extremes, by
+    hand from the results."""
+    use = "cone use (the model's cone) [-]"
+    good = {n: r for n, r in res.items() if r.ok}
+    for r in good.values():
+        for row, (key, s), c in zip(r.rows("supports", None), r.supports.items(),
+                                    r.frame.contacts):
+            if c.friction > 0 and s.normal > 0:
+                assert row[use] == abs(s.tangential) / (c.friction * s.normal)
+                assert row[use] <= 1.0 + 1e-12
+            else:
+                assert math.isnan(row[use])
+    rows = {row["support"]: row for row in res.rows("envelope_supports", None)}
+    assert set(rows) == {"A", "B", "C"}
+    for key, row in rows.items():
+        normals = {n: r.supports[key].normal for n, r in good.items()}
+        top, low = max(normals, key=normals.get), min(normals, key=normals.get)
+        assert row["X_n_max [kN]"] == normals[top] and row["combination(X_n_max)"] == top
+        assert row["X_n_min [kN]"] == normals[low] and row["combination(X_n_min)"] == low
+        states = {}
+        for n, r in good.items():
+            states.setdefault(r.supports[key].state, []).append(n)
+        assert row["states"] == "; ".join(f"{st}: {', '.join(ns)}" for st, ns in states.items())
+    b = {n: abs(r.supports["B"].tangential) / (0.3 * r.supports["B"].normal)
+         for n, r in good.items() if r.supports["B"].normal > 0}
+    assert rows["B"][f"{use[:-4]}_max [-]"] == max(b.values())
+    assert math.isnan(rows["C"][f"{use[:-4]}_max [-]"])       # frictionless: no cone

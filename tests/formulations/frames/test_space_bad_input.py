@@ -21,8 +21,8 @@ def _beam():
     fr = SpaceFrame()
     for name, xyz in (("A", (0.0, 0.0, 0.0)), ("B", (4.0, 0.0, 0.0)), ("C", (4.0, 0.0, 3.0))):
         fr.add_node(name, *xyz)
-    fr.add_member("A", "B", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="M1")
-    fr.add_member("B", "C", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="M2")
+    fr.add_member("A", "B", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4, name="M1")
+    fr.add_member("B", "C", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4, name="M2")
     return fr
 
 
@@ -32,7 +32,7 @@ def _column_twisted():
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", 0.0, 0.0, 3.0)
-    fr.add_member("A", "B", E, G, 0.01, 1e-4, 1e-4, 2e-4)
+    fr.add_member("A", "B", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4)
     fr.add_contact("A", friction=0.5)
     fr.add_support("B", fix=("ux", "uy"))
     fr.add_load("B", fz=-10.0, mz=2.0)
@@ -99,14 +99,14 @@ BAD = [
     (lambda: _beam().add_spring("A", uw=1.0), r"spring at 'A'.*\['uw'\]"),
     (lambda: _beam().add_distributed_load("M9", wz=1.0), "no member named 'M9'"),
     (lambda: _beam().add_load("A", fx=np.inf), "load at 'A': fx must be finite"),
-    (lambda: _beam().add_member("A", "C", -E, G, 0.01, 1e-4, 1e-4, 2e-4),
+    (lambda: _beam().add_member("A", "C", -E, 0.01, 1e-4, 1e-4, G=G, J=2e-4),
      "member A-C: E must be positive"),
-    (lambda: _beam().add_member("B", "A", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="M1"),
+    (lambda: _beam().add_member("B", "A", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4, name="M1"),
      "member 'M1' exists already"),
     (lambda: (lambda fr: (fr.add_node("A2", 0.0, 0.0, 0.0),
-                          fr.add_member("A", "A2", E, G, 0.01, 1e-4, 1e-4, 2e-4)))(_beam()),
+                          fr.add_member("A", "A2", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4)))(_beam()),
      "member A-A2: nodes A and A2 coincide"),
-    (lambda: _beam().add_member("A", "C", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="X",
+    (lambda: _beam().add_member("A", "C", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4, name="X",
                                 ref=(4.0, 0.0, 3.0)),
      r"member 'X': its reference vector \(4.0, 0.0, 3.0\) is parallel to the member"),
     (_normal_held, "node 'A': the contact's normal direction is already fixed by its "
@@ -119,7 +119,7 @@ BAD = [
                          r"axis through node [AB] along x"),
     (_twice_the_same_contact, r"contact at 'C': the node has contact 0 with the same normal "
                               r"\(0.0, 0.0, 1.0\) already"),
-    (lambda: _beam().solve_linear(), "mechanism on its supports and springs .*it is free as a "
+    (lambda: _beam().solve(), "mechanism on its supports and springs .*it is free as a "
                                      "rigid body"),
     (lambda: _frictional().solve(combination={"wind": 1.0}),
      "names the load case 'wind', which has no loads"),
@@ -128,9 +128,9 @@ BAD = [
     (lambda: _frictional().solve_combinations({}), "combinations: a non-empty dict"),
     (lambda: _frictional().solve().end_forces("M9"), "no member named 'M9'"),
     # a second member between the same nodes, by its name or by its node pair
-    (lambda: _beam().add_member("A", "C", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="M1"),
+    (lambda: _beam().add_member("A", "C", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4, name="M1"),
      "member 'M1' exists already; give another name"),
-    (lambda: _beam().add_member("B", "A", E, G, 0.01, 1e-4, 1e-4, 2e-4, name="M3"),
+    (lambda: _beam().add_member("B", "A", E, 0.01, 1e-4, 1e-4, G=G, J=2e-4, name="M3"),
      "member 'M3': nodes 'B' and 'A' are joined already by member 'M1'.*combined section"),
     (lambda: SpaceFrame(units=("kN",)), r"units must be \(force, length\) names.*\('kN',\)"),
     (lambda: SpaceFrame(units=("m", "kN")),

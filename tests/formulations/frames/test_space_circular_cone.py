@@ -51,7 +51,7 @@ def test_the_friction_problem_in_3d_by_hand():
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", 2.0, 1.0, 0.5)
-    fr.add_member("A", "B", *COLUMN)
+    fr.add_member("A", "B", **COLUMN)
     fr.add_support("A", fix=("rx", "ry", "rz"))
     fr.add_spring("A", ux=1e4, uy=1e4, uz=1e4)
     c = fr.contacts[fr.add_contact("B", normal=n, friction=0.3, gap=2e-3)]
@@ -114,14 +114,14 @@ def test_a_cantilever_tip_over_a_gap_separates_or_closes_as_by_hand():
     B with gap g: the tip deflects P L³/(3 E Iy); below g the contact stays
     open (state separated, no force, opening g − δ), beyond it closes with
     X_n = P − 3 E Iy g / L³ and sticks with no friction."""
-    E, Gm, A, Iy, Iz, J = COLUMN
+    E, Gm, A, Iy, Iz, J = (COLUMN[k] for k in ("E", "G", "A", "Iy", "Iz", "J"))
     L, P = 3.0, 20.0
     delta = P * L ** 3 / (3 * E * Iy)
     for gap in (2 * delta, 0.5 * delta):
         fr = SpaceFrame()
         fr.add_node("A", 0.0, 0.0, 0.0)
         fr.add_node("B", L, 0.0, 0.0)
-        fr.add_member("A", "B", E, Gm, A, Iy, Iz, J)
+        fr.add_member("A", "B", E, A, Iy, Iz, G=Gm, J=J)
         fr.add_support("A")
         fr.add_contact("B", friction=0.3, gap=gap)
         fr.add_load("B", fz=-P)

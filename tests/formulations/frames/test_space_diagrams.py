@@ -27,7 +27,7 @@ def _cantilever(end, load, ref=None, roll=0.0):
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", *end)
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M", ref=ref, roll=roll)
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M", ref=ref, roll=roll)
     fr.add_support("A")
     fr.add_load("B", *load)
     r = fr.solve()
@@ -98,7 +98,7 @@ def _simply_supported(w, axis, along=(1.0, 0.0, 0.0), axes="global"):
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", *(L * np.asarray(along, float)))
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M")
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M")
     fr.add_support("A", fix=("ux", "uy", "uz", "rx"))
     fr.add_support("B", fix=("uy", "uz") if along[0] else ("ux", "uz"))
     load = {"wx": 0.0, "wy": 0.0, "wz": 0.0}
@@ -141,7 +141,7 @@ def test_the_largest_moment_between_samples_is_found():
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", L, 0.0, 0.0)
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M")
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M")
     fr.add_support("A")
     fr.add_support("B", fix=("uy", "uz"))
     w = 7.0
@@ -159,7 +159,7 @@ def test_a_load_in_member_axes_on_an_inclined_member():
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", 3.0, 0.0, 4.0)
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M")
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M")
     fr.add_support("A", fix=("ux", "uy", "uz", "rx"))
     fr.add_support("B", fix=("ux", "uy", "uz"))    # a pin: no axial force in linear theory
     fr.add_distributed_load("M", wz=-5.0, axes="member")

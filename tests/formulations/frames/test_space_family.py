@@ -151,7 +151,7 @@ def test_a_beam_on_two_pads_is_still_a_mechanism():
     fr = SpaceFrame()
     fr.add_node("A", 0, 0, 0)
     fr.add_node("B", 1, 0, 0)
-    fr.add_member("A", "B", 2e8, 8e7, 1e-3, 1e-6, 1e-6, 2e-6)
+    fr.add_member("A", "B", 2e8, 1e-3, 1e-6, 1e-6, G=8e7, J=2e-6)
     fr.add_contact("A", friction=0.3)
     fr.add_contact("B", friction=0.3)
     fr.add_load("B", fz=-1.0)

@@ -25,7 +25,7 @@ def _cantilever():
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", L, 0.0, 0.0)
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M")
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M")
     fr.add_support("A")
     return fr
 
@@ -87,7 +87,7 @@ def test_self_weight_is_unit_weight_times_area_along_its_direction():
         fr = SpaceFrame()
         fr.add_node("A", 0.0, 0.0, 0.0)
         fr.add_node("B", 0.0, L, 0.0)
-        fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M")
+        fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M")
         fr.add_support("A", fix=("ux", "uy", "uz", "ry"))
         fr.add_support("B", fix=("ux", "uz"))
         fr.add_self_weight(**kw)
@@ -149,7 +149,7 @@ def test_point_partial_and_trapezoidal_loads_against_pynite():
     fr.add_support("A")
     for k, (i, j, roll) in enumerate(MEMBERS):
         m.add_member(f"M{k}", i, j, "s", "x", rotation=roll)
-        fr.add_member(i, j, E, G, A, IY, IZ, J, name=f"M{k}",
+        fr.add_member(i, j, E, A, IY, IZ, G=G, J=J, name=f"M{k}",
                       ref=m.members[f"M{k}"].T()[2, :3])
     for member, direction, value, x in POINT:
         m.add_member_pt_load(member, direction, value, x, case="D")
@@ -203,8 +203,8 @@ def test_a_hinge_at_a_members_end_carries_no_moment(axis, hinge):
     fr = SpaceFrame()
     for n, x in (("A", 0.0), ("B", span), ("C", 2 * span)):
         fr.add_node(n, x, 0.0, 0.0)
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="AB", hinge_j=hinge)
-    fr.add_member("B", "C", E, G, A, IY, IZ, J, name="BC")
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="AB", hinge_j=hinge)
+    fr.add_member("B", "C", E, A, IY, IZ, G=G, J=J, name="BC")
     fr.add_support("A")
     fr.add_support("C", fix=("uy", "uz", "rx"))
     M, V = ("My", "Vz") if axis == "z" else ("Mz", "Vy")
@@ -248,7 +248,7 @@ def test_releases_against_pynite():
         m.add_member(name, i, j, "s", "x", rotation=roll)
         if name in pynite:
             m.def_releases(name, **pynite[name])
-        fr.add_member(i, j, E, G, A, IY, IZ, J, name=name, ref=m.members[name].T()[2, :3],
+        fr.add_member(i, j, E, A, IY, IZ, G=G, J=J, name=name, ref=m.members[name].T()[2, :3],
                       **releases.get(name, {}))
     for member, direction, value, x in POINT:
         m.add_member_pt_load(member, direction, value, x, case="D")
@@ -280,9 +280,9 @@ def test_a_twist_released_at_both_ends_is_refused():
     fr = _cantilever()
     fr.add_node("C", L, 2.0, 0.0)
     with pytest.raises(InvalidProblemError, match="twist is released at both ends"):
-        fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_i=("rx",), hinge_j=("rx", "ry"))
+        fr.add_member("B", "C", E, A, IY, IZ, G=G, J=J, hinge_i=("rx",), hinge_j=("rx", "ry"))
     with pytest.raises(InvalidProblemError, match="hinge_j: True .* among"):
-        fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_j="x")
+        fr.add_member("B", "C", E, A, IY, IZ, G=G, J=J, hinge_j="x")
 
 
 # -- settlements --------------------------------------------------------------------------
@@ -298,8 +298,8 @@ def test_a_clamped_beams_support_settles(dof, axis):
     fr = SpaceFrame()
     for n, x in (("A", 0.0), ("C", L / 2), ("B", L)):     # C: a free node between
         fr.add_node(n, x, 0.0, 0.0)
-    fr.add_member("A", "C", E, G, A, IY, IZ, J, name="M")
-    fr.add_member("C", "B", E, G, A, IY, IZ, J, name="N")
+    fr.add_member("A", "C", E, A, IY, IZ, G=G, J=J, name="M")
+    fr.add_member("C", "B", E, A, IY, IZ, G=G, J=J, name="N")
     fr.add_support("A")
     fr.add_support("B")
     fr.add_settlement("B", "S", **{dof: delta})
@@ -312,7 +312,6 @@ def test_a_clamped_beams_support_settles(dof, axis):
     assert at_b[M] == pytest.approx(-6 * E * I_ * delta / L ** 2, rel=1e-12)
     assert at_a[V] == pytest.approx(-12 * E * I_ * delta / L ** 3, rel=1e-12)
     assert r.displacements["B"][("ux", "uy", "uz").index(dof)] == delta
-    assert fr.solve_linear({"S": 1.0})["B"][("ux", "uy", "uz").index(dof)] == delta
 
 
 def test_a_settlement_needs_a_support_there():
@@ -336,7 +335,7 @@ def test_a_timoshenko_cantilever_bends_and_shears_along_both_axes():
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", Ls, 0.0, 0.0)
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M", shear_area=(AS_Y, AS_Z))
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M", shear_area=(AS_Y, AS_Z))
     fr.add_support("A")
     fr.add_load("B", fy=py, fz=pz)
     r = fr.solve()
@@ -350,7 +349,7 @@ def test_a_timoshenko_cantilever_bends_and_shears_along_both_axes():
     fr2 = SpaceFrame()
     fr2.add_node("A", 0.0, 0.0, 0.0)
     fr2.add_node("B", Ls, 0.0, 0.0)
-    fr2.add_member("A", "B", E, G, A, IY, IZ, J, name="M", shear_area=AS_Y)
+    fr2.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M", shear_area=AS_Y)
     fr2.add_support("A")
     fr2.add_load("B", fz=pz)
     assert fr2.solve().displacements["B"][2] == pytest.approx(
@@ -373,7 +372,7 @@ def test_timoshenko_member_loads_are_its_exact_fixed_end_forces(load):
         for k, x in enumerate(xs):
             fr.add_node(f"N{k}", x, 0.0, 0.0)
         for k in range(len(xs) - 1):
-            fr.add_member(f"N{k}", f"N{k + 1}", E, G, A, IY, IZ, J, name=f"M{k}",
+            fr.add_member(f"N{k}", f"N{k + 1}", E, A, IY, IZ, G=G, J=J, name=f"M{k}",
                           shear_area=(AS_Y, AS_Z))
         fr.add_support("N0")
         # the far end clamped but for its twist, which no load here strains (a frame
@@ -426,7 +425,7 @@ def test_rigid_end_zones_against_hand_formulas():
         fr = SpaceFrame()
         fr.add_node("A", 0.0, 0.0, 0.0)
         fr.add_node("B", Ls, 0.0, 0.0)
-        fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M", **offsets)
+        fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M", **offsets)
         fr.add_support("A")
         fr.add_load("B", fy=py, fz=pz)
         r = fr.solve()
@@ -476,17 +475,17 @@ def test_rigid_zones_with_a_face_hinge_and_loads_match_nearly_rigid_members():
         return fr
 
     one = base()
-    one.add_member("A", "B", E, G, A, IY, IZ, J, name="M", roll=0.4, offset_i=oi,
+    one.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M", roll=0.4, offset_i=oi,
                    offset_j=oj, hinge_j=("ry",))
     one.add_distributed_load("M", wz=-6.0, wz2=-2.0, wy=1.0, start=0.1, end=3.9)
     cut = base()
     cut.add_node("P", oi, 0.0, 0.0)
     cut.add_node("Q", Ls - oj, 0.0, 0.0)
     stiff = 1e6
-    cut.add_member("A", "P", E, G, stiff * A, stiff * IY, stiff * IZ, stiff * J, name="R1",
+    cut.add_member("A", "P", E, stiff * A, stiff * IY, stiff * IZ, G=G, J=stiff * J, name="R1",
                    roll=0.4)
-    cut.add_member("P", "Q", E, G, A, IY, IZ, J, name="F", roll=0.4, hinge_j=("ry",))
-    cut.add_member("Q", "B", E, G, stiff * A, stiff * IY, stiff * IZ, stiff * J, name="R2",
+    cut.add_member("P", "Q", E, A, IY, IZ, G=G, J=J, name="F", roll=0.4, hinge_j=("ry",))
+    cut.add_member("Q", "B", E, stiff * A, stiff * IY, stiff * IZ, G=G, J=stiff * J, name="R2",
                    roll=0.4)
     pieces = {"R1": (0.0, oi), "F": (oi, Ls - oj), "R2": (Ls - oj, Ls)}
     for kind, a, kw in loads:
@@ -520,7 +519,7 @@ def test_a_semi_rigid_clamp_of_a_propped_beam_about_each_axis(ratio_y, ratio_z):
     fr = SpaceFrame()
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", L, 0.0, 0.0)
-    fr.add_member("A", "B", E, G, A, IY, IZ, J, name="M",
+    fr.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M",
                   spring_i={"ry": ratio_y * E * IY / L, "rz": ratio_z * E * IZ / L})
     fr.add_support("A")
     fr.add_support("B", fix=("uy", "uz"))
@@ -537,9 +536,9 @@ def test_a_spring_and_a_hinge_on_one_rotation_are_refused():
     fr = _cantilever()
     fr.add_node("C", L, 2.0, 0.0)
     with pytest.raises(InvalidProblemError, match="give hinge_i or spring_i for \\['rz'\\]"):
-        fr.add_member("B", "C", E, G, A, IY, IZ, J, hinge_i=("rz",), spring_i={"rz": 1e3})
+        fr.add_member("B", "C", E, A, IY, IZ, G=G, J=J, hinge_i=("rz",), spring_i={"rz": 1e3})
     with pytest.raises(InvalidProblemError, match="ry must be >= 0"):
-        fr.add_member("B", "C", E, G, A, IY, IZ, J, spring_j=-1.0)
+        fr.add_member("B", "C", E, A, IY, IZ, G=G, J=J, spring_j=-1.0)
 
 
 def test_point_and_partial_member_loads_are_drawn_with_their_values():

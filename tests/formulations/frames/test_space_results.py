@@ -498,19 +498,19 @@ def _grid(nx=4, ny=3, storeys=2, push=60.0):
             for b in range(ny + 1):
                 fr.add_node(f"N{k}_{a}_{b}", 5.0 * a, 4.0 * b, 3.2 * k)
                 if k:
-                    fr.add_member(f"N{k - 1}_{a}_{b}", f"N{k}_{a}_{b}", E, G, 0.01, 8e-5, 8e-5,
-                                  1e-5)
+                    fr.add_member(f"N{k - 1}_{a}_{b}", f"N{k}_{a}_{b}", E, 0.01, 8e-5, 8e-5,
+                                  G=G, J=1e-5)
                 else:
                     fr.add_contact(f"N0_{a}_{b}", friction=0.35)
         for a in range(nx + 1):
             for b in range(ny + 1):
                 if k and a < nx:
-                    m = fr.add_member(f"N{k}_{a}_{b}", f"N{k}_{a + 1}_{b}", E, G, 0.01, 2e-4,
-                                      1e-4, 2e-5)
+                    m = fr.add_member(f"N{k}_{a}_{b}", f"N{k}_{a + 1}_{b}", E, 0.01, 2e-4, 1e-4,
+                                      G=G, J=2e-5)
                     fr.add_distributed_load(m, wz=-12.0, case="D")
                 if k and b < ny:
-                    fr.add_member(f"N{k}_{a}_{b}", f"N{k}_{a}_{b + 1}", E, G, 0.01, 2e-4, 1e-4,
-                                  2e-5)
+                    fr.add_member(f"N{k}_{a}_{b}", f"N{k}_{a}_{b + 1}", E, 0.01, 2e-4, 1e-4,
+                                  G=G, J=2e-5)
     for b in range(ny + 1):
         fr.add_load(f"N{storeys}_0_{b}", fx=push, fy=0.3 * push, case="W")
     return fr
@@ -557,7 +557,7 @@ def test_member_deflection_is_the_cantilevers_exact_curve():
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", 3.0, 4.0, 12.0)
     A_, Iy, Iz = 0.02, 3e-4, 1e-4
-    fr.add_member("A", "B", E, G, A_, Iy, Iz, 2e-4, name="AB")
+    fr.add_member("A", "B", E, A_, Iy, Iz, G=G, J=2e-4, name="AB")
     fr.add_support("A")
     fr.add_contact("B", normal=(0.0, 0.0, 1.0), gap=10.0)
     q = np.array([0.1, -0.15, 0.25])
@@ -588,7 +588,7 @@ def test_the_frames_own_units_head_the_tables_and_label_the_drawing():
     fr = SpaceFrame(units=("N", "mm"))
     fr.add_node("A", 0.0, 0.0, 0.0)
     fr.add_node("B", 2000.0, 0.0, 0.0)
-    fr.add_member("A", "B", 2.1e5, 8.1e4, 5e3, 4e7, 2e7, 6e7, name="AB")
+    fr.add_member("A", "B", 2.1e5, 5e3, 4e7, 2e7, G=8.1e4, J=6e7, name="AB")
     fr.add_support("A")
     fr.add_contact("B", friction=0.3, stiffness=1e3)
     fr.add_load("B", fx=300.0, fz=-1e3)
@@ -599,7 +599,7 @@ def test_the_frames_own_units_head_the_tables_and_label_the_drawing():
     rigid = SpaceFrame(units=("N", "mm"))
     for name, x in (("A", 0.0), ("B", 2000.0)):
         rigid.add_node(name, x, 0.0, 0.0)
-    rigid.add_member("A", "B", 2.1e5, 8.1e4, 5e3, 4e7, 2e7, 6e7, name="AB")
+    rigid.add_member("A", "B", 2.1e5, 5e3, 4e7, 2e7, G=8.1e4, J=6e7, name="AB")
     rigid.add_support("A")
     rigid.add_contact("B", friction=0.3)
     rigid.add_load("B", fx=300.0, fz=-1e3)
