@@ -105,6 +105,22 @@ def test_a_poor_hierarchy_costs_cycles_not_the_answer():
     np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-10 * np.abs(z_ref).max())
 
 
+def test_a_plate_stops_cycling_once_its_contact_set_holds():
+    """On a plate (4th order) the truncated cycles stall at a residual near
+    1e-4 of ‖q‖ once the contact set is found (the ridge on 50 x 50: the set
+    held, 506 cycles to the 500-cycle limit); the set held for HELD_STOP
+    cycles ends them, and the exact finish from it is the answer plain block
+    pivoting finds from nothing."""
+    lcp = meshes.plate(50, obstacle="ridge")
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok, sol.message
+    assert sol.stats["mg_cycles"] < 150
+    ref = qpcontact.solve(lcp, method="bpp")
+    assert ref.ok
+    np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-10 * np.abs(ref.z).max())
+
+
 @pytest.mark.parametrize("make,needle", [
     (lambda n: [sp.random(n + 1, 30, density=0.3, format="csr")], "level 0: the prolongation has"),
     (lambda n: [sp.eye(n, 50, format="csr"), sp.eye(40, 10, format="csr")],
