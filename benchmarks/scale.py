@@ -194,7 +194,7 @@ def job(family, size, method, progress, queue, rigidity=1.0):
     wall = time.perf_counter() - t
     is_lcp = hasattr(problem, "n")
     x = sol.z if is_lcp else sol.x
-    block = (_final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp", "mg-bpp")
+    block = (_final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp", "mg-bpp", "auto")
              else None)
     n = problem.n if is_lcp else problem.P.shape[0]
     queue.put(dict(family=family, n=n, method=method, time=wall, method_time=sol.wall_time,
