@@ -1,13 +1,17 @@
 """The exact oracle at mesh scale: membrane and plate obstacle
-problems (obstacle shapes "dome", "ridge", "bumps") and a 3-D elastic block on
-a rigid foundation (the mixed problem), n = 1e4 .. 1e6, every method in its
-own process (time, peak memory, killed at the time limit), measured side by
-side in one run.
+problems (obstacle shapes "dome", "ridge", "bumps", "terraces", "crate"; the
+operator's scale by --rigidity: K = rigidity · L² for the plate), a 3-D
+elastic block on a rigid foundation (the mixed problem), and MITC4 rafts on
+tensionless soil against PyNite's and OpenSees's compression-only spring
+iterations, n = 1e4 .. 1e6, every method in its own process (time, peak
+memory, killed at the time limit), measured side by side in one run.
 
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 .venv/bin/python benchmarks/scale.py
     .venv/bin/python benchmarks/scale.py --quick          # n ~ 1e3 .. 1e4, a minute
     .venv/bin/python benchmarks/scale.py --membrane 1000 --methods mg-bpp   # n = 1e6
     .venv/bin/python benchmarks/scale.py --membrane 100,316 --shapes dome,bumps,ridge
+    .venv/bin/python benchmarks/scale.py --plate 100,200 --rigidity 0.05 --shapes terraces,crate
+    .venv/bin/python benchmarks/scale.py --raft 57,115 --methods qpcontact,pynite,opensees
 
 Per family and n: each method's wall time (solve() included: conversion,
 certificate), iterations, certificate error, the ratio to **one sparse LDLᵀ
@@ -22,6 +26,14 @@ and saves a log-log plot of time against n with the LDLᵀ floor drawn
 (out/scale/scale.png) and the rows (out/scale/scale.csv).  The QP backends
 run up to ``--backends-max`` unknowns (default 2e5: at 1e6 none finishes in
 any limit worth waiting for).
+
+Raft rows (``--raft``: cells per side of a square raft, n = 3 (cells+1)²
+dofs): "qpcontact" is ``Raft.solve`` (one certified contact problem; the
+floor is one LDLᵀ of the answer's own linear system: the stiffness on the
+free dofs plus the springs of the nodes in contact); "pynite" and
+"opensees" are the engineers' route (tests/helpers/raft_peers.py), with
+"status" saying whether their iteration converged and, where it did, how
+far their deflections and lifted set are from ours.
 """
 
 from __future__ import annotations
@@ -40,17 +52,96 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 BACKENDS = ("piqp", "clarabel", "proxqp", "osqp")
+RAFT_METHODS = ("qpcontact", "pynite", "opensees")
 
 
-def build(family: str, size: int):
+def build(family: str, size: int, rigidity: float = 1.0):
     """``family`` is "membrane", "plate" (optionally "-<shape>", a key of
-    meshes.OBSTACLES) or "signorini"."""
+    meshes.OBSTACLES) or "signorini"; ``rigidity`` scales the membrane's
+    tension or the plate's D."""
     from formulations import meshes
 
     kind, _, shape = family.partition("-")
-    if kind in ("membrane", "plate"):
-        return getattr(meshes, kind)(size, obstacle=shape or "dome")
+    if kind == "membrane":
+        return meshes.membrane(size, obstacle=shape or "dome", tension=rigidity)
+    if kind == "plate":
+        return meshes.plate(size, obstacle=shape or "dome", rigidity=rigidity)
     return meshes.signorini(size)[0]
+
+
+RAFT_K = 2.0e4          # kN/m³, the soil
+
+
+def raft_model(cells: int):
+    """A square raft of 0.5 m cells (kN, m): 0.5 m thick on tensionless
+    soil k = 2e4 kN/m³, self weight and 5 kN/m² on it, a 4 x 4 grid of
+    columns carrying 6 kN/m² of the raft's area each, and wind pulling the
+    windward row up by 9 kN/m² each: the windward strip lifts (17 % of the
+    area at 20 x 20 cells), at every size."""
+    from formulations.plates import Raft
+
+    side = 0.5 * cells
+    raft = Raft(side, side, thickness=0.5, E=30e6, nu=0.2, cells=(cells, cells))
+    raft.add_soil(RAFT_K)
+    raft.add_self_weight(25.0)
+    raft.add_area_load(5.0)
+    grid = [side * (0.5 + k) / 4 for k in range(4)]
+    for x in grid:
+        for y in grid:
+            raft.add_point_load(x, y, side ** 2 * (6.0 - (9.0 if x == grid[0] else 0.0)))
+    return raft
+
+
+def _raft_floor(raft, result) -> float:
+    """Seconds for one LDLᵀ of the answer's own linear system: the
+    stiffness on the free dofs plus the springs of the nodes in contact."""
+    import numpy as np
+    import qdldl
+    import scipy.sparse as sp
+
+    b = raft.build()
+    qp = b["qp"]
+    springs = np.zeros(qp.K.shape[0])
+    pressing = result.contact & np.isfinite(b["ks"])
+    springs[3 * np.flatnonzero(pressing)] = b["ks"][pressing]
+    A = (qp.K + sp.diags(springs)).tocsc()[qp.free][:, qp.free]
+    t = time.perf_counter()
+    qdldl.Solver(sp.triu(A, format="csc"), upper=True)
+    return time.perf_counter() - t
+
+
+def raft_job(size, method, queue):
+    import resource
+
+    import numpy as np
+
+    from tests.helpers.raft_peers import opensees_raft, pynite_raft
+
+    raft_model(4).solve()              # warm-up: imports, compiled kernels
+    raft = raft_model(size)
+    raft.build()
+    n = 3 * raft.mesh.nodes.shape[0]
+    row = dict(family="raft", n=n, method=method, iterations=None, error=None, ldlt=None)
+    t = time.perf_counter()
+    if method == "qpcontact":
+        r = raft.solve()
+        wall = time.perf_counter() - t
+        row.update(time=wall, method_time=r.wall_time, ok=r.ok,
+                   status=f"certified ({r.method})" if r.ok else r.message,
+                   error=r.error,
+                   ldlt=_raft_floor(raft, r) if r.ok else None)
+    else:
+        peer = pynite_raft if method == "pynite" else opensees_raft
+        w, _, converged, iterations = peer(raft, RAFT_K)
+        wall = time.perf_counter() - t
+        status = "converged" if converged else "did not converge"
+        if converged:      # how far from the certified answer
+            ours = raft.solve()
+            status += (f"; Δw {np.max(np.abs(w - ours.w)) / np.max(np.abs(ours.w)):.1e} of max w, "
+                       f"{int(np.count_nonzero((w < 0) != ours.lifted))} nodes lifted differently")
+        row.update(time=wall, method_time=wall, ok=converged, status=status, iterations=iterations)
+    row["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    queue.put(row)
 
 
 def _final_block_ldlt(problem, x) -> float:
@@ -86,15 +177,17 @@ def _final_block_ldlt(problem, x) -> float:
     return min(t_q, t_s)
 
 
-def job(family, size, method, progress, queue):
+def job(family, size, method, progress, queue, rigidity=1.0):
     import resource
 
     from qpcontact import solve
 
+    if family == "raft":
+        return raft_job(size, method, queue)
     # warm-up on a tiny instance: imports, compiled kernels, the registry —
     # costs paid once per process, not per problem
     solve(build(family, 9 if family != "signorini" else 2), method=method)
-    problem = build(family, size)
+    problem = build(family, size, rigidity)
     opts = {"progress": lambda line: print(f"    {line}", flush=True)} \
         if progress and method in ("ip-bpp", "mg-bpp") else {}
     t = time.perf_counter()
@@ -102,7 +195,7 @@ def job(family, size, method, progress, queue):
     wall = time.perf_counter() - t
     is_lcp = hasattr(problem, "n")
     x = sol.z if is_lcp else sol.x
-    block = (_final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp", "mg-bpp")
+    block = (_final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp", "mg-bpp", "auto")
              else None)
     n = problem.n if is_lcp else problem.P.shape[0]
     queue.put(dict(family=family, n=n, method=method, time=wall, method_time=sol.wall_time,
@@ -113,10 +206,10 @@ def job(family, size, method, progress, queue):
                    peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024))
 
 
-def run_one(family, size, method, limit, progress):
+def run_one(family, size, method, limit, progress, rigidity=1.0):
     ctx = mp.get_context("spawn")
     queue = ctx.Queue()
-    p = ctx.Process(target=job, args=(family, size, method, progress, queue))
+    p = ctx.Process(target=job, args=(family, size, method, progress, queue, rigidity))
     t = time.perf_counter()
     p.start()
     p.join(limit)
@@ -160,7 +253,11 @@ def main(argv=None) -> int:
     ap.add_argument("--membrane", default=None, help="grid sides, e.g. 100,316")
     ap.add_argument("--plate", default=None)
     ap.add_argument("--block", default=None, help="3-D block: elements per side, e.g. 16,20")
-    ap.add_argument("--methods", default="bpp,ip-bpp,mg-bpp," + ",".join(BACKENDS))
+    ap.add_argument("--raft", default=None, help="raft: cells per side, e.g. 57,115 (n = 3 (c+1)²)")
+    ap.add_argument("--rigidity", type=float, default=1.0,
+                    help="the membrane's tension or the plate's D (K = D L²), e.g. 0.05")
+    ap.add_argument("--methods", default="bpp,ip-bpp,mg-bpp," + ",".join(BACKENDS),
+                    help="solve() methods; on rafts qpcontact, pynite, opensees")
     ap.add_argument("--shapes", default="dome",
                     help="obstacle shapes for membrane and plate, e.g. dome,bumps,ridge")
     ap.add_argument("--backends-max", type=float, default=2e5,
@@ -181,29 +278,34 @@ def main(argv=None) -> int:
     sizes = {"membrane": args.membrane or ("30,100" if quick else "100,316"),
              "plate": args.plate or ("30,100" if quick else "100,316"),
              "signorini": args.block or ("8,16" if quick else "16,20")}
-    if any(v is not None for v in (args.membrane, args.plate, args.block)):
+    if any(v is not None for v in (args.membrane, args.plate, args.block, args.raft)):
         sizes = {k: v for k, v, given in (("membrane", sizes["membrane"], args.membrane),
                                           ("plate", sizes["plate"], args.plate),
-                                          ("signorini", sizes["signorini"], args.block)) if given}
+                                          ("signorini", sizes["signorini"], args.block),
+                                          ("raft", args.raft, args.raft)) if given}
     methods = [m for m in args.methods.split(",") if m]
     shapes = [s for s in args.shapes.split(",") if s]
     families = []
     for family, spec in sizes.items():
-        for shape in (shapes if family != "signorini" else [""]):
+        for shape in (shapes if family in ("membrane", "plate") else [""]):
             name = family if shape in ("", "dome") else f"{family}-{shape}"
             families.append((name, spec))
     rows = []
     for family, spec in families:
         for size in (int(s) for s in spec.split(",") if s):
             group = []
-            unknowns = size ** 2 if family != "signorini" else 3 * size ** 3
+            unknowns = {"signorini": 3 * size ** 3, "raft": 3 * (size + 1) ** 2}.get(family,
+                                                                                  size ** 2)
             for method in methods:
                 if method in ("bpp", "mg-bpp") and family == "signorini":
                     continue   # they take LCPs: the block's LCP would be its dense Schur complement
+                if (method in RAFT_METHODS) != (family == "raft"):
+                    continue
                 if method in BACKENDS and unknowns > args.backends_max:
                     continue
                 print(f"{family} {size}: {method} ...", flush=True)
-                r = run_one(family, size, method, args.limit, progress=size >= 500)
+                r = run_one(family, size, method, args.limit, progress=size >= 500,
+                            rigidity=args.rigidity)
                 r["size"] = size
                 group.append(r)
             n = next((r["n"] for r in group if r["n"]), None)
@@ -215,11 +317,16 @@ def main(argv=None) -> int:
                 r["method_vs_ldlt"] = r["method_time"] / r["ldlt"] if r.get("ldlt") else None
                 r["vs_backend"] = (r["time"] / best_backend if best_backend and r["ok"]
                                    and r["method"] not in BACKENDS else None)
+                if family == "raft" and r["method"] != "qpcontact":   # theirs against ours
+                    ours = next((o for o in group if o["method"] == "qpcontact" and o["ok"]), None)
+                    r["vs_backend"] = ours["time"] / r["time"] if ours and r["ok"] else None
             rows += group
     fmt = (lambda v, f: "" if v is None else format(v, f))
+    if args.rigidity != 1.0:
+        print(f"\n(membrane tension / plate rigidity {args.rigidity:g})")
     print("\n| family | n | method | time s | status | iterations | certificate | "
           "time / one LDLᵀ of final block | method's own time / LDLᵀ | "
-          "time / fastest certified backend | peak MB |")
+          "time / fastest certified backend (rafts: ours / theirs) | peak MB |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['family']} | {r['n'] or ''} | {r['method']} | {r['time']:.3f} | {r['status']} | "

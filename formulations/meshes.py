@@ -143,6 +143,14 @@ OBSTACLES = {
         0.15 - 8.0 * ((x - 0.3) ** 2 + (y - 0.3) ** 2),
         0.20 - 8.0 * ((x - 0.7) ** 2 + (y - 0.4) ** 2),
         0.10 - 8.0 * ((x - 0.5) ** 2 + (y - 0.75) ** 2)]),
+    # skew terraces with a pit: flat steps (contact on whole treads or
+    # only their edges) and a hole where nothing touches — a shape the
+    # multigrid's stopping rule was checked on, not tuned on
+    "terraces": lambda x, y: np.where((x - 0.3) ** 2 + (y - 0.7) ** 2 < 0.01, -0.6,
+                                      0.08 * np.floor(4.0 * (0.6 * x + 0.8 * y)) - 0.15),
+    # a tilted egg-crate: many small contact patches on a slope
+    "crate": lambda x, y: (0.1 * np.sin(5.0 * np.pi * (0.9 * x + 0.44 * y))
+                           * np.sin(5.0 * np.pi * (0.9 * y - 0.44 * x)) + 0.05 * (x - 0.5)),
 }
 
 

@@ -43,22 +43,34 @@ AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel
 
 #: "auto" on a sparse SPD LCP (checked by the driver: a method whose
 #: requirement fails is skipped) goes by structure, measured on this 2-core
-#: machine (docs/pivoting.md, "Routing"):
+#: machine (docs/pivoting.md, "Routing"; ratios to one LDLᵀ of the final
+#: free block):
 #:
 #: * banded (bandwidth <= 16: contact chains, stacks): "bpp" first — 3-4
 #:   exchanges, each a banded Cholesky (n = 3000: 2 ms, where "energy", first
 #:   in AUTO_ORDER, densified the matrix and took 13 s);
 #: * otherwise (meshes), from AUTO_MG_MIN unknowns: "mg-bpp" first where M is
 #:   a Z-matrix (off-diagonal entries <= 0: a membrane, any M-matrix
-#:   stiffness; n = 1e5: 2.1-2.7 x one LDLᵀ of the final block, ip-bpp
-#:   22-42 x) or below AUTO_IP_BPP_MIN unknowns; "ip-bpp" first above it
-#:   where M has off-diagonal entries of both signs (the plate: mg-bpp 3.6 s
-#:   against ip-bpp's 6.4 s at n = 4e4, but not done in 150 s at 1e5, where
-#:   ip-bpp takes 29 s: its search needs hundreds of cycles there);
+#:   stiffness; n = 1e4: 2.8-3.3 x, ip-bpp 11-23 x, bpp 16-17 x);
+#: * M with off-diagonal entries of both signs (a plate's 13-point
+#:   operator) goes to "mg-bpp" only with a hierarchy of its own (the mesh's
+#:   grids, ``LCP(..., hierarchy=)``) and below AUTO_IP_BPP_MIN unknowns
+#:   (n = 1e4, six shapes, D = 1 and 0.05: mg-bpp best on 9 of 12; at
+#:   4e4 the plate with D = 1 under a dome: mg-bpp 32 x, ip-bpp 70 x; at
+#:   1e5 mg-bpp was not done in 150 s where ip-bpp took 29 s).  Without one,
+#:   mg-bpp would coarsen by smoothed aggregation, which is built for
+#:   M-matrices (its prolongation is nonnegative only there): on plates
+#:   built without a hierarchy it took 56-66 x at n = 3600 where bpp took
+#:   17-31 x, and 503 x (1282 exchanges) on a dome at 1e4 where ip-bpp
+#:   took 43 x.  Those go to "bpp" below AUTO_BPP_MAX unknowns (n = 3600,
+#:   twelve plates: geometric mean 28 x, ip-bpp 47 x) and to "ip-bpp"
+#:   above (n = 1e4: 44 x against bpp's 66 x, whose exchanges grow with the
+#:   grid: 182 x on a dome);
 #: * a QP whose only constraints are lower bounds (the mixed problem of
 #:   finite-element contact): "ip-bpp" first.
 AUTO_MG_MIN = 1000
 AUTO_IP_BPP_MIN = 50_000
+AUTO_BPP_MAX = 5000
 
 
 # Dense-only backends densify sparse input; beyond this size that costs more
@@ -136,9 +148,11 @@ def _lcp_first(problem: LCP) -> tuple:
     structure = problem.structure
     if structure.bandwidth <= BANDED_MAX or problem.n < AUTO_MG_MIN:
         return ("bpp",)
-    if structure.is_z_matrix or problem.n < AUTO_IP_BPP_MIN:
+    if structure.is_z_matrix:
         return ("mg-bpp",)
-    return ("ip-bpp",)
+    if structure.hierarchy is not None and problem.n < AUTO_IP_BPP_MIN:
+        return ("mg-bpp",)
+    return ("bpp",) if problem.n < AUTO_BPP_MAX else ("ip-bpp",)
 
 
 def lower_bounds_only(problem: Problem) -> bool:

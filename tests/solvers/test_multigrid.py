@@ -105,6 +105,22 @@ def test_a_poor_hierarchy_costs_cycles_not_the_answer():
     np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-10 * np.abs(z_ref).max())
 
 
+def test_a_plate_stops_cycling_once_its_contact_set_holds():
+    """On a plate (4th order) the truncated cycles stall at a residual near
+    1e-4 of ‖q‖ once the contact set is found (the ridge on 50 x 50: the set
+    held, 506 cycles to the 500-cycle limit); the set held for HELD_STOP
+    cycles ends them, and the exact finish from it is the answer plain block
+    pivoting finds from nothing."""
+    lcp = meshes.plate(50, obstacle="ridge")
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok, sol.message
+    assert sol.stats["mg_cycles"] < 150
+    ref = qpcontact.solve(lcp, method="bpp")
+    assert ref.ok
+    np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-10 * np.abs(ref.z).max())
+
+
 @pytest.mark.parametrize("make,needle", [
     (lambda n: [sp.random(n + 1, 30, density=0.3, format="csr")], "level 0: the prolongation has"),
     (lambda n: [sp.eye(n, 50, format="csr"), sp.eye(40, 10, format="csr")],
@@ -186,18 +202,25 @@ def test_mg_bpp_refuses_what_it_cannot_solve():
 
 def test_auto_routes_by_structure():
     """Mesh-like Z-matrices (the membrane) to "mg-bpp" at every size from
-    AUTO_MG_MIN; other mesh-like SPD matrices (the plate: off-diagonal
-    entries of both signs) to "mg-bpp" below AUTO_IP_BPP_MIN and "ip-bpp"
-    above; banded chains and small sparse meshes to "bpp"; dense and tiny
-    problems to the plain order ("energy" first)."""
-    from qpcontact.dispatch.routes import AUTO_IP_BPP_MIN, AUTO_MG_MIN
+    AUTO_MG_MIN, with or without a hierarchy (aggregation suits M-matrices);
+    other mesh-like SPD matrices (the plate: off-diagonal entries of both
+    signs) to "mg-bpp" below AUTO_IP_BPP_MIN and "ip-bpp" above when they
+    carry a hierarchy, and without one to "bpp" below AUTO_BPP_MAX and
+    "ip-bpp" above; banded chains and small sparse meshes to "bpp"; dense
+    and tiny problems to the plain order ("energy" first)."""
+    from qpcontact.dispatch.routes import AUTO_BPP_MAX, AUTO_IP_BPP_MIN, AUTO_MG_MIN
 
     small = int(np.ceil(np.sqrt(AUTO_MG_MIN)))
     large = int(np.ceil(np.sqrt(AUTO_IP_BPP_MIN)))
     assert auto_order(meshes.membrane(small))[0] == "mg-bpp"
     assert auto_order(meshes.membrane(large))[0] == "mg-bpp"
+    assert auto_order(_without_hierarchy(meshes.membrane(large)))[0] == "mg-bpp"
     assert auto_order(meshes.plate(small))[0] == "mg-bpp"
     assert auto_order(meshes.plate(large))[0] == "ip-bpp"
+    below = int(np.sqrt(AUTO_BPP_MAX)) - 1
+    above = int(np.ceil(np.sqrt(AUTO_BPP_MAX))) + 1
+    assert auto_order(_without_hierarchy(meshes.plate(below)))[0] == "bpp"
+    assert auto_order(_without_hierarchy(meshes.plate(above)))[0] == "ip-bpp"
     assert auto_order(meshes.membrane(small - 2))[0] == "bpp"
     n = 3000
     chain = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1],
