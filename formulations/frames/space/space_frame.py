@@ -233,8 +233,9 @@ class SpaceFrame:
                                      for v, c in zip((x, y, z), "xyz")])
         return name
 
-    def add_member(self, i: str, j: str, E: float, A: float, Iy: float, Iz: float, *,
-                   G: float, J: float, name: str | None = None, ref=None, roll: float = 0.0,
+    def add_member(self, i: str, j: str, E: float, A: float, Iy: float, Iz: float, *more,
+                   G: float | None = None, J: float | None = None, name: str | None = None,
+                   ref=None, roll: float = 0.0,
                    hinge_i=False, hinge_j=False, spring_i=None, spring_j=None,
                    shear_area=None, offset_i: float = 0.0, offset_j: float = 0.0) -> str:
         """A member from node i to node j: E, A, Iy, Iz (about the local y
@@ -264,10 +265,19 @@ class SpaceFrame:
         (lengths along the member from each node) are rigid; releases act
         at the faces of the zones; member loads are still placed from node
         i along the whole member."""
+        what = f"member {i}-{j}" if name is None else f"member {name!r}"
+        if more or G is None or J is None:
+            # the space frame's constants once came in the order E, G, A,
+            # Iy, Iz, J: such a call would bind G to A, so it is refused
+            got = f"{4 + len(more)} section constants by position" if more else \
+                "no " + " and no ".join(k for k, v in (("G", G), ("J", J)) if v is None)
+            raise InvalidProblemError(
+                f"{what}: add_member takes E, A, Iy, Iz by position (the plane frame's order "
+                f"E, A, I) and the torsion's G and J by keyword; got {got} — write e.g. "
+                "add_member(i, j, E, A, Iy, Iz, G=G, J=J)")
         known_node(self, i), known_node(self, j)
         if i == j:
             raise InvalidProblemError("a member needs two different nodes")
-        what = f"member {i}-{j}" if name is None else f"member {name!r}"
         props = {}
         for v, nm in ((E, "E"), (A, "A"), (Iy, "Iy"), (Iz, "Iz"), (G, "G"), (J, "J")):
             props[nm] = number(v, f"{what}: {nm}")

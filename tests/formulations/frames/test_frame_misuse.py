@@ -304,3 +304,16 @@ def test_a_frame_with_every_dof_held_is_solved_by_statics():
     assert r.status == "solved"
     np.testing.assert_allclose(r.reactions["A"], (0, 0, w * L / 2, 0, -w * L ** 2 / 12, 0),
                                atol=1e-12)
+
+
+def test_a_space_member_in_the_old_order_of_section_constants_is_refused_by_name():
+    """E, G, A, Iy, Iz, J by position (the space frame's old order) would bind
+    G to A; the call is refused with the order to write, as is a missing G or J."""
+    fr = SpaceFrame()
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", L, 0.0, 0.0)
+    with pytest.raises(InvalidProblemError, match=r"E, A, Iy, Iz by position .* got 6 section"):
+        fr.add_member("A", "B", E, G, A, I, I, 2 * I)
+    with pytest.raises(InvalidProblemError, match="got no J"):
+        fr.add_member("A", "B", E, A, I, I, G=G)
+    assert fr.add_member("A", "B", E, A, I, I, G=G, J=2 * I)
