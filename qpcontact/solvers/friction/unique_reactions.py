@@ -144,7 +144,8 @@ def unique_reactions(problem: FrictionProblem, solution: FrictionSolution,
     what = "minimum-norm" if compliance is None else "least complementary energy"
     if N.shape[1] == 0:
         return FrictionSolution(status=solution.status, ok=solution.ok,
-                                message=f"the reactions are unique (W is regular): {solution.message}",
+                                message="the reactions are unique (W is regular): "
+                                        + solution.message,
                                 certificate=solution.certificate, r=r0, u=solution.u,
                                 v=solution.v, wall_time=time.perf_counter() - start,
                                 stats={"null_dimension": 0, "representative": what}, **common)
@@ -158,8 +159,9 @@ def unique_reactions(problem: FrictionProblem, solution: FrictionSolution,
                                 certificate=None, r=None, u=None,
                                 wall_time=time.perf_counter() - start,
                                 stats={"null_dimension": k, "representative": what}, **common)
-    v = None if problem.is_reduced else solution.v
-    cert = certify_friction(problem, r, v)
+    # u = W r + q once, for the certificate and the answer (run_friction's way)
+    v, u = (None, problem.velocities(r)) if problem.is_reduced else (solution.v, solution.u)
+    cert = certify_friction(problem, r, v, u=u if problem.is_reduced else None)
     ok = cert.ok(solution.tol)
     words = (f"the {what} reactions among those sharing {solution.method}'s velocities "
              f"({k} independent direction{'s' if k > 1 else ''} the reactions could move along): "
@@ -168,11 +170,11 @@ def unique_reactions(problem: FrictionProblem, solution: FrictionSolution,
     return FrictionSolution(status="solved" if ok else "inaccurate", ok=ok,
                             message=words if ok else words + ": not certified, keep the method's "
                             "own answer",
-                            certificate=cert, r=r,
-                            u=problem.velocities(r) if problem.is_reduced else solution.u, v=v,
+                            certificate=cert, r=r, u=u, v=v,
                             wall_time=time.perf_counter() - start,
                             stats={"null_dimension": k, "representative": what,
-                                   "open": np.flatnonzero(opened), "sliding": np.flatnonzero(sliding)},
+                                   "open": np.flatnonzero(opened),
+                                   "sliding": np.flatnonzero(sliding)},
                             **common)
 
 
