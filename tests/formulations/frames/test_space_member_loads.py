@@ -15,9 +15,8 @@ import pytest
 
 from formulations.frames import SpaceFrame
 from qpcontact.core.errors import InvalidProblemError
+from tests.helpers.frame_twins import A, E, G, IY, IZ, J, OI, pynite_twins, space_zones
 
-E, G = 2.1e8, 8.1e7                    # kN/m²
-A, IY, IZ, J = 0.012, 3e-4, 8e-4, 1.2e-4
 L = 4.0
 
 
@@ -137,20 +136,7 @@ def test_point_partial_and_trapezoidal_loads_against_pynite():
     reactions to 1e-9, and each member's deflection along its local y and
     z at seven sections (PyNite's ``deflection``) to 1e-8 of the largest."""
     pytest.importorskip("Pynite", reason="PyNite is in the test extra (PyNiteFEA)")
-    from Pynite import FEModel3D
-
-    m, fr = FEModel3D(), SpaceFrame()
-    m.add_material("s", E, G, 0.3, 0.0)
-    m.add_section("x", A, IY, IZ, J)
-    for n, xyz in NODES.items():
-        m.add_node(n, *xyz)
-        fr.add_node(n, *xyz)
-    m.def_support("A", True, True, True, True, True, True)
-    fr.add_support("A")
-    for k, (i, j, roll) in enumerate(MEMBERS):
-        m.add_member(f"M{k}", i, j, "s", "x", rotation=roll)
-        fr.add_member(i, j, E, A, IY, IZ, G=G, J=J, name=f"M{k}",
-                      ref=m.members[f"M{k}"].T()[2, :3])
+    m, fr = pynite_twins(NODES, MEMBERS, E, G, A, IY, IZ, J)
     for member, direction, value, x in POINT:
         m.add_member_pt_load(member, direction, value, x, case="D")
         axes = "global" if direction.isupper() else "member"
@@ -229,27 +215,13 @@ def test_releases_against_pynite():
     at another, the twist at a third (its far node's rotations held):
     nodal displacements and reactions as PyNite's ``def_releases``."""
     pytest.importorskip("Pynite", reason="PyNite is in the test extra (PyNiteFEA)")
-    from Pynite import FEModel3D
-
-    releases = {"M1": {"hinge_i": ("rz",)}, "M2": {"hinge_j": True}, "M3": {"hinge_i": ("rx",)}}
-    pynite = {"M1": {"Rzi": True}, "M2": {"Ryj": True, "Rzj": True}, "M3": {"Rxi": True}}
-    m, fr = FEModel3D(), SpaceFrame()
-    m.add_material("s", E, G, 0.3, 0.0)
-    m.add_section("x", A, IY, IZ, J)
-    for n, xyz in NODES.items():
-        m.add_node(n, *xyz)
-        fr.add_node(n, *xyz)
-    m.def_support("A", True, True, True, True, True, True)
-    fr.add_support("A")
+    # (PyNite's def_releases, our add_member keywords) per member
+    releases = {"M1": ({"Rzi": True}, {"hinge_i": ("rz",)}),
+                "M2": ({"Ryj": True, "Rzj": True}, {"hinge_j": True}),
+                "M3": ({"Rxi": True}, {"hinge_i": ("rx",)})}
+    m, fr = pynite_twins(NODES, MEMBERS, E, G, A, IY, IZ, J, releases=releases)
     m.def_support("E", False, False, True, True, True, True)
     fr.add_support("E", fix=("uz", "rx", "ry", "rz"))
-    for k, (i, j, roll) in enumerate(MEMBERS):
-        name = f"M{k}"
-        m.add_member(name, i, j, "s", "x", rotation=roll)
-        if name in pynite:
-            m.def_releases(name, **pynite[name])
-        fr.add_member(i, j, E, A, IY, IZ, G=G, J=J, name=name, ref=m.members[name].T()[2, :3],
-                      **releases.get(name, {}))
     for member, direction, value, x in POINT:
         m.add_member_pt_load(member, direction, value, x, case="D")
         fr.add_point_load(member, x, **{PYNITE_TO_OURS[direction.upper()]: value},
@@ -462,41 +434,7 @@ def test_rigid_zones_with_a_face_hinge_and_loads_match_nearly_rigid_members():
     check passing to 1e7: dev-notes, "Frames: the linear route's check at
     high stiffness contrast"): the reactions and the deflection at the point
     load in the span to 1e-5, the stiff zones' own flexibility being 1e-6."""
-    Ls, oi, oj = 4.0, 0.4, 0.7
-    loads = [("point", 0.2, dict(fy=-5.0, mx=1.5)), ("point", 2.0, dict(fz=-8.0, my=2.0)),
-             ("point", 3.6, dict(fy=3.0, fz=2.0, mx=-0.8))]
-
-    def base():
-        fr = SpaceFrame()
-        fr.add_node("A", 0.0, 0.0, 0.0)
-        fr.add_node("B", Ls, 0.0, 0.0)
-        fr.add_support("A")
-        fr.add_support("B", fix=("uz", "uy", "rx"))
-        return fr
-
-    one = base()
-    one.add_member("A", "B", E, A, IY, IZ, G=G, J=J, name="M", roll=0.4, offset_i=oi,
-                   offset_j=oj, hinge_j=("ry",))
-    one.add_distributed_load("M", wz=-6.0, wz2=-2.0, wy=1.0, start=0.1, end=3.9)
-    cut = base()
-    cut.add_node("P", oi, 0.0, 0.0)
-    cut.add_node("Q", Ls - oj, 0.0, 0.0)
-    stiff = 1e6
-    cut.add_member("A", "P", E, stiff * A, stiff * IY, stiff * IZ, G=G, J=stiff * J, name="R1",
-                   roll=0.4)
-    cut.add_member("P", "Q", E, A, IY, IZ, G=G, J=J, name="F", roll=0.4, hinge_j=("ry",))
-    cut.add_member("Q", "B", E, stiff * A, stiff * IY, stiff * IZ, G=G, J=stiff * J, name="R2",
-                   roll=0.4)
-    pieces = {"R1": (0.0, oi), "F": (oi, Ls - oj), "R2": (Ls - oj, Ls)}
-    for kind, a, kw in loads:
-        one.add_point_load("M", a, **kw)
-        name = next(n for n, (lo, hi) in pieces.items() if lo <= a < hi)
-        cut.add_point_load(name, a - pieces[name][0], **kw)
-    for name, (lo, hi) in pieces.items():
-        s, e = max(lo, 0.1), min(hi, 3.9)
-        t = lambda x: (x - 0.1) / 3.8
-        cut.add_distributed_load(name, wz=-6.0 + 4.0 * t(s), wz2=-6.0 + 4.0 * t(e), wy=1.0,
-                                 start=s - lo, end=e - lo)
+    one, cut = space_zones(1e6)
     r1, r2 = one.solve(), cut.solve()
     assert r1.ok and r2.ok, (r1.message, r2.message)
     big = np.abs(r2.reactions["A"]).max()
@@ -505,7 +443,7 @@ def test_rigid_zones_with_a_face_hinge_and_loads_match_nearly_rigid_members():
     x, d = r1.deflection("M", 9)
     at = np.flatnonzero(x == 2.0)
     xf, df = r2.deflection("F", 9)
-    np.testing.assert_allclose(d[at[-1]], df[np.flatnonzero(np.isclose(xf, 2.0 - oi))[-1]], rtol=0,
+    np.testing.assert_allclose(d[at[-1]], df[np.flatnonzero(np.isclose(xf, 2.0 - OI))[-1]], rtol=0,
                                atol=1e-5 * np.abs(d).max())
 
 

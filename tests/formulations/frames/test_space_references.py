@@ -29,6 +29,7 @@ import pytest
 from formulations.frames import Frame
 from formulations.frames import SpaceFrame
 from qpcontact.core.errors import NoSolutionError
+from tests.helpers.frame_twins import pynite_twins
 
 # near their collapse loads some of these frames sway beyond small-displacement
 # theory (said and warned elsewhere: tests/formulations/frames/test_plane_features.py)
@@ -498,26 +499,12 @@ def test_a_cantilever_space_frame_with_unequal_stiffnesses_against_pynite():
     bend the same section about the same axes); nodal forces and moments:
     every nodal displacement to 1e-9."""
     pytest.importorskip("Pynite", reason="PyNite is in the test extra (PyNiteFEA)")
-    from Pynite import FEModel3D
-
-    A, Iy, Iz, J = 0.012, 3e-5, 8e-5, 1.2e-5
     nodes = {"A": (0.0, 0.0, 0.0), "B": (3.0, 0.0, 0.0), "C": (3.0, 2.5, 0.5),
              "D": (3.0, 2.5, 3.0), "E": (1.0, 4.0, 3.5)}
     members = [("A", "B", 0.0), ("B", "C", 25.0), ("C", "D", 0.0), ("D", "E", -40.0)]
     loads = {"C": (2.0, 0.0, 0.0, 0.0, 3.0, 0.0), "D": (4.0, -6.0, -10.0, 1.5, -2.0, 0.8),
              "E": (0.0, 3.0, -5.0, 0.0, 0.0, 1.0)}
-    m, fr = FEModel3D(), SpaceFrame()
-    m.add_material("s", E, G, 0.3, 0.0)
-    m.add_section("x", A, Iy, Iz, J)
-    for n, xyz in nodes.items():
-        m.add_node(n, *xyz)
-        fr.add_node(n, *xyz)
-    m.def_support("A", True, True, True, True, True, True)
-    fr.add_support("A")
-    for k, (i, j, roll) in enumerate(members):
-        m.add_member(f"M{k}", i, j, "s", "x", rotation=roll)
-        local_z = m.members[f"M{k}"].T()[2, :3]
-        fr.add_member(i, j, E, A, Iy, Iz, G=G, J=J, name=f"M{k}", ref=local_z)
+    m, fr = pynite_twins(nodes, members, E, G, 0.012, 3e-5, 8e-5, 1.2e-5)
     for n, f in loads.items():
         for comp, v in zip(("FX", "FY", "FZ", "MX", "MY", "MZ"), f):
             if v:
