@@ -93,20 +93,20 @@ def minimum_norm_newton(problem, r, tol, max_steps=6, square=None):
     d, W, q, mu = problem.dim, problem.W, problem.q, problem.mu
     rho = np.repeat(contact_scales(problem), d)
     best_r, best = r, certified_error(problem, r)
-    start = current = best
+    start = best
     steps = 0
     for steps in range(1, max_steps + 1):
         F = r - project_cone(r - rho * modified_velocity(np.asarray(W @ r).ravel() + q, mu, d),
                              mu, d)
         J = sp.csc_matrix(natural_map_jacobian(problem, r))
-        step, err = _square_step(problem, r, J, F, current) if square["on"] else (None, None)
+        step, err = _square_step(problem, r, J, F) if square["on"] else (None, None)
         if step is None:
-            square["on"] = square["on"] and err is not None    # off where J is singular
+            square["on"] = False           # J is singular: off for the rest of the solve
             step = _minimum_norm_step(J, F)
             if step is None:   # exactly singular even regularized: give up this try
                 break
             err = _error_at(problem, r + step)
-        r, current = r + step, err
+        r = r + step
         if err > 100 * start:     # a first step may worsen the error, then converge
             break
         if err < best:
@@ -120,14 +120,18 @@ def _error_at(problem, r):
     return certified_error(problem, r) if np.all(np.isfinite(r)) else np.inf
 
 
-def _square_step(problem, r, J, F, current):
+def _square_step(problem, r, J, F):
     """The plain Newton step J d = −F and the certified error at r + d;
-    (None, None) where J is singular, (None, that error) where the step does
-    not bring the error below ``current`` (r's: a near-singular J's step may be huge along
-    directions the minimum-norm step leaves alone).  Where J is regular this
-    is the minimum-norm step (the only solution), and its LU has a tenth of
-    the augmented system's fill: 5-10 ms against 45-100 ms on a 1 170-contact
-    drum bed
+    (None, None) where J is singular (no LU, or a step :data:`_SINGULAR`
+    times ‖r‖ + ‖F‖ long: huge along directions the minimum-norm step leaves
+    alone).  Where J is regular this is the minimum-norm step (the only
+    solution; the augmented system's differs from it by its λ alone, 1e-5 of
+    the step on the drum's beds), and its LU has a tenth of the augmented
+    system's fill: 5-10 ms against 45-100 ms on a 1 170-contact drum bed.  It
+    is kept whether or not it lowers the error, as the minimum-norm step is
+    (the caller judges the point): re-solving a regular J by the augmented
+    system where the square step did not help gave the same step at ten
+    times the cost, a sixth of the drum's step
     (docs/dev-notes.md, "The drum's step: where the time goes")."""
     try:
         # J's pattern is W's, symmetric: a minimum-degree order on J + Jᵀ with
@@ -139,8 +143,7 @@ def _square_step(problem, r, J, F, current):
         return None, None
     if not np.linalg.norm(step) <= _SINGULAR * (np.linalg.norm(r) + np.linalg.norm(F)):
         return None, None         # numerically singular: a rigid pile's 7e13 × ‖r‖
-    err = _error_at(problem, r + step)
-    return (step, err) if err < current else (None, err)
+    return step, _error_at(problem, r + step)
 
 
 def _minimum_norm_step(J, F):
