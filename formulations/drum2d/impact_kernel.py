@@ -14,8 +14,8 @@ __all__ = ["cluster_peaks"]
 
 
 @njit(fastmath=True)
-def _forces(px, py, vx, vy, spin, gap_lin, inv_m, inv_i, g, radii, a, b, kind, nrm_x, nrm_y, wn, wt, stiff,
-            eta, mu, gam, R, ax, ay, alpha, F):
+def _forces(px, py, vx, vy, spin, gap_lin, inv_m, inv_i, g, radii, a, b, kind, nrm_x, nrm_y,
+            wn, wt, stiff, eta, mu, gam, R, ax, ay, alpha, F):
     nd = px.size
     for d in range(nd):
         ax[d] = 0.0
@@ -102,8 +102,8 @@ def cluster_peaks(pos, vel, spin, gap_lin, inv_m, inv_i, g, radii, a, b, kind, n
     ax, ay, alpha = np.zeros(nd), np.zeros(nd), np.zeros(nd)
     pvx, pvy, ps = np.zeros(nd), np.zeros(nd), np.zeros(nd)
     F, peak = np.zeros(m), np.zeros(m)
-    _forces(px, py, vx, vy, spin, gap_lin, inv_m, inv_i, g, radii, a, b, kind, nrm_x, nrm_y, wn, wt, stiff,
-            eta, mu, gam, R, ax, ay, alpha, F)
+    _forces(px, py, vx, vy, spin, gap_lin, inv_m, inv_i, g, radii, a, b, kind, nrm_x, nrm_y,
+            wn, wt, stiff, eta, mu, gam, R, ax, ay, alpha, F)
     for k in range(m):
         peak[k] = F[k]
     ht = 0.5 * tau
@@ -121,8 +121,8 @@ def cluster_peaks(pos, vel, spin, gap_lin, inv_m, inv_i, g, radii, a, b, kind, n
             if kind[k] == 2:
                 i = a[k]
                 gap_lin[k] += tau * (nrm_x[k] * vx[i] + nrm_y[k] * vy[i] + wn[k])
-        _forces(px, py, pvx, pvy, ps, gap_lin, inv_m, inv_i, g, radii, a, b, kind, nrm_x, nrm_y, wn, wt,
-                stiff, eta, mu, gam, R, ax, ay, alpha, F)
+        _forces(px, py, pvx, pvy, ps, gap_lin, inv_m, inv_i, g, radii, a, b, kind, nrm_x,
+                nrm_y, wn, wt, stiff, eta, mu, gam, R, ax, ay, alpha, F)
         for d in range(nd):
             vx[d] += ht * ax[d]
             vy[d] += ht * ay[d]
