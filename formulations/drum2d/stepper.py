@@ -87,8 +87,9 @@ pushes it out within the step; the run reports the largest penetration.
 Warm starts
 -----------
 With friction the step's problem is first solved by ``warm_start`` (NSGS +
-Newton by default) from the previous step's impulses, matched contact by
-contact (disc i, other body j, kind); where that answer is not certified at
+Newton by default; with compliant contacts Newton's square step first and the
+sweeps over-relaxed at :data:`COMPLIANT_OMEGA`) from the previous step's
+impulses, matched contact by contact (disc i, other body j, kind); where that answer is not certified at
 ``accuracy`` the step is solved again by ``method`` ("auto") and flagged in
 ``fallback``.  The certificate judges either way.
 """
@@ -124,6 +125,12 @@ EFFECTS = ("gravity", "friction", "rotation", "damping", "log_elasticity", "shel
 WARM_START = "nsgs-newton"
 #: the friction methods that start from a given r0
 WARM_METHODS = ("nsgs", "nsgs-newton", "newton")
+#: NSGS's over-relaxation in the warm start where the contacts are compliant:
+#: the sweeps to 1e-3 on 20 steps of the 500-log bed, median 125 at 1.3 (the
+#: method's default, set for rigid piles), 85 at 1.5; whole steps 5-18 %
+#: faster at 100 and 500 logs, on stretches other than those measured; 1.7
+#: was slower than 1.5 (docs/dev-notes.md, "The drum's step")
+COMPLIANT_OMEGA = 1.5
 
 
 class UncertifiedStepWarning(UserWarning):
@@ -398,6 +405,7 @@ class _WarmStart:
             # compliant contacts make J regular: Newton's step by J's own LU
             # (a tenth of the minimum-norm system's fill; hybrid.py)
             self.options.setdefault("square_first", True)
+            self.options.setdefault("omega", COMPLIANT_OMEGA)
         if "r0" in self.options:
             raise InvalidOptionError("warm_options must not set r0: the warm start sets it")
         self.n = n_discs
