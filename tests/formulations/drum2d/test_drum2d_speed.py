@@ -109,3 +109,32 @@ def test_nsgs_diagonal_blocks_are_those_of_w():
     dense = W.toarray()
     for i in range(nc):
         assert np.array_equal(gs.blocks[i], dense[d * i:d * i + d, d * i:d * i + d])
+
+
+
+
+def test_a_regular_newton_step_is_kept_without_the_augmented_system(monkeypatch):
+    """Where J is regular (W positive definite: compliant contacts) J's own
+    LU step is the minimum-norm step.  From a start whose contact states are
+    wrong the full step raises the error; it is still taken as it is, not
+    solved again through the augmented system (the same step at ten times
+    the fill), and the iteration goes on from it."""
+    import qpcontact.solvers.friction.hybrid as hybrid
+
+    rng = np.random.default_rng(5)
+    nc, d = 40, 2
+    A = sp.random(d * nc, 3 * d * nc, 0.05, random_state=5) + sp.eye(d * nc, 3 * d * nc)
+    W = (A @ A.T + 0.1 * sp.eye(d * nc)).tocsc()
+    p = FrictionProblem(W, rng.normal(size=d * nc), np.full(nc, 0.8), d)
+    augmented = hybrid._minimum_norm_step
+    calls = []
+    monkeypatch.setattr(hybrid, "_minimum_norm_step",
+                        lambda *a: calls.append(1) or augmented(*a))
+    square = {"on": True}
+    errors = []
+    error_at = hybrid._error_at
+    monkeypatch.setattr(hybrid, "_error_at", lambda *a: errors.append(error_at(*a)) or errors[-1])
+    hybrid.minimum_norm_newton(p, 3 * rng.normal(size=d * nc), 1e-12, max_steps=6,
+                               square=square)
+    assert any(b > a for a, b in zip(errors, errors[1:])), errors   # a step that did not help
+    assert not calls and square["on"]
