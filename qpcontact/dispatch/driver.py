@@ -21,6 +21,7 @@ from ..core.conversions import check_convex, is_qp, validate_qp
 from ..core.errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
                            NoApplicableMethodError, NoSolutionError, NotConvexError,
                            NotSymmetricError, SolverFailedError, UnknownMethodError)
+from ..core.options import PROGRESS, read_options
 from ..core.problems import LCP, ParametricLCP
 from ..core.results import PROVED
 from ..core.friction_problem import FrictionProblem
@@ -30,7 +31,7 @@ from .calls import DEFAULT_TIME_LIMIT
 from .context import RunContext
 from .friction_run import check_friction_method, run_friction, run_friction_auto
 from .lcp_qp_run import doubtful, hints, proof_first, prove_no_solution, run_lcp_qp
-from .routes import applicable, auto_order, kind_of
+from .routes import PROGRESS_LINKS, applicable, auto_order, kind_of
 
 __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]
 
@@ -164,11 +165,18 @@ def _solve_lcp_qp(problem, method, ctx, options):
         if not ctx.prove or not doubtful(problem, sol):
             return sol
         return prove_no_solution(problem, sol, ctx.deadline)
+    # ``progress`` goes to the links that report progress, and "auto" says
+    # which link runs: passed on to every link, Lemke refused it mid-chain
+    options = dict(options)
+    progress = read_options("auto", {"progress": options.pop("progress", None)},
+                            (PROGRESS,))["progress"]
     # where no solution may exist, its proof first (an LP of milliseconds,
     # where the methods can loop for the whole time limit)
     proved = proof_first(problem, ctx)
     if proved is not None:
         proved.stats["auto_tried"] = [(proved.method, proved.status, proved.error)]
+        if progress is not None:
+            progress(f"auto: {proved.message}")
         return proved
     learned, seen = [], {"proofs": 0, "evidence": 0}
 
@@ -177,7 +185,14 @@ def _solve_lcp_qp(problem, method, ctx, options):
         # and a backend looping at its iteration cap cannot take it all
         link = ctx.share(0.5)
         share = link.left()
-        sol = run_lcp_qp(problem, m, options, link)
+        opts = dict(options)
+        if progress is not None:
+            if m.name in PROGRESS_LINKS:
+                opts["progress"] = progress
+            progress(f"auto: {m.name}" + ("" if share is None else f" (up to {share:.3g} s)"))
+        sol = run_lcp_qp(problem, m, opts, link)
+        if progress is not None:
+            progress(f"auto: {m.name}: {sol.status} in {sol.wall_time or 0:.2f} s")
         if share is not None:
             sol.stats["time_share"] = share
         if ctx.prove and doubtful(problem, sol):

@@ -97,8 +97,10 @@ LEMKE_FIRST_MAX_CONTACTS = 200
 #: 225-contact Capsules-i101: NSGS + Newton stalls at 7.8e-7 there)
 NSGS_FIRST_3D = 500
 
-#: the friction methods that report each iteration to ``progress``
-PROGRESS_LINKS = ("nsgs-newton", "newton", "desaxce-fp", "tresca-fp", "desaxce-global")
+#: the methods of "auto"'s chains that report each iteration to ``progress``
+#: ("auto" hands it to these only: the others refuse the option)
+PROGRESS_LINKS = ("nsgs-newton", "newton", "desaxce-fp", "tresca-fp", "desaxce-global",
+                  "mg-bpp", "ip-bpp")
 
 
 def auto_chain(problem) -> tuple:

@@ -76,6 +76,23 @@ def test_auto_certifies_and_records_attempts():
         np.testing.assert_allclose(sol.z, ex.z, atol=1e-8)
 
 
+def test_auto_hands_progress_only_to_the_links_that_report_it():
+    """Before: "auto" passed ``progress`` to every link, and an LCP that
+    reached Lemke raised "'lemke' does not take progress" after the first
+    links had run.  A nonsymmetric M with M + M' positive definite: Lemke
+    first, which takes no progress; the lines say which link ran."""
+    rng = np.random.default_rng(0)
+    B = rng.normal(size=(12, 12))
+    M = B @ B.T + np.eye(12)
+    M[0, 1] += 3.0
+    lines = []
+    sol = qpcontact.solve(LCP(M, rng.normal(size=12)), "auto", progress=lines.append)
+    assert sol.ok and sol.method == "lemke"
+    assert lines[0].startswith("auto: lemke") and lines[-1].startswith("auto: lemke: solved")
+    with pytest.raises(InvalidOptionError, match="'auto': option progress must be a callable"):
+        qpcontact.solve(LCP(M, np.ones(12)), "auto", progress="lines")
+
+
 def test_qp_input_returns_duals_in_qpsolvers_convention():
     qp = EX1.lcp.to_qp()
     for name in ("clarabel", "daqp", "cvxpy:CLARABEL"):
