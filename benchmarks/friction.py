@@ -27,6 +27,17 @@ piles_time.png (time against contacts) and success.png (the fraction of all
 problems certified at 1e-8 within t seconds, per method).
 
     .venv/bin/python benchmarks/friction.py --only-piles --piles 1000,10000
+
+Dense rows (``--dense``: only these): the nearly closed piles of the issue
+"dense packings certified", each at its own tolerance — 3-D compact piles of
+540 and 982 contacts, seeds 0–9, and 3-D sphere and compact piles of about
+2 000 contacts at 1e-6; 2-D compact piles of 2 000, 5 000 and 10 000 at
+1e-8 — by "auto" on its 60 s budget, each in its own process: time, peak
+memory, the error reached, the link that answered and each link's share of
+the time (``stats["auto_link_times"]``).  Saves dense.csv and
+dense_success.png (the fraction of the rows certified within t).
+
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/friction.py --dense
 """
 
 from __future__ import annotations
@@ -71,6 +82,16 @@ FAMILIES = [("2-D granular", 2, {}, 10**9), ("2-D compact", 2, COMPACT, 5000),
             ("3-D spheres", 3, {}, 10**9), ("3-D compact", 3, COMPACT, 1000)]
 
 
+#: the dense rows: (family, dimension, size asked of the generator, parameters, seeds, tol)
+DENSE = [("3-D compact", 3, 500, COMPACT, range(10), 1e-6),
+         ("3-D compact", 3, 1000, COMPACT, range(10), 1e-6),
+         ("2-D compact", 2, 2000, COMPACT, (0,), 1e-8),
+         ("2-D compact", 2, 5000, COMPACT, (0,), 1e-8),
+         ("2-D compact", 2, 10000, COMPACT, (0,), 1e-8),
+         ("3-D spheres", 3, 2000, {}, (0,), 1e-6),
+         ("3-D compact", 3, 2000, COMPACT, (0,), 1e-6)]
+
+
 def pile(dim, n, params, seed=0):
     from qpcontact.cases.piles import disc_pile, sphere_pile
 
@@ -105,6 +126,121 @@ def job(path, method, options):
     return dict(time=time.perf_counter() - t, siconos_error=s.natural_map_error,
                 error=s.error, status=s.status, memory_mb=max(peak - before, 0.0),
                 iterations=s.stats.get("iterations"), by=s.method)
+
+
+def dense_job(dim, n, params, seed, tol):
+    """"auto" on one dense row at its own tolerance: time, peak memory above
+    the built problem, the error reached and each link's seconds."""
+    import resource
+
+    import qpcontact
+
+    p = pile(dim, n, params, seed)
+    qpcontact.methods()
+    before = rss_mb()
+    t = time.perf_counter()
+    s = qpcontact.solve(p, "auto", accuracy=tol)
+    wall = time.perf_counter() - t
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    links = s.stats.get("auto_link_times", [])
+    return dict(time=wall, error=s.error, status=s.status, ok=s.ok, by=s.method,
+                contacts=p.n_contacts, memory_mb=max(peak - before, 0.0),
+                links="; ".join(f"{m} {sec:.1f} s" for m, sec in links),
+                link_times=links)
+
+
+def run_dense(args):
+    """The dense rows (module docstring), each "auto" in its own process,
+    killed at ``--limit`` (auto stops itself at its 60 s budget)."""
+    import qpcontact
+    from qpcontact.dispatch.isolation import call_isolated
+
+    qpcontact.solve(pile(2, 100, {}), "nsgs-newton")   # compiled sweeps loaded once
+    qpcontact.solve(pile(3, 100, {}), "nsgs-newton")
+    rows = []
+    for family, dim, n, params, seeds, tol in DENSE:
+        for seed in seeds:
+            t = time.perf_counter()
+            out = call_isolated(dense_job, (dim, n, params, seed, tol), args.limit)
+            if out is None:
+                r = dense_job(dim, n, params, seed, tol)
+            elif out.kind == "ok":
+                r = out.value
+            elif out.kind == "error":
+                raise out.value
+            else:
+                r = dict(time=time.perf_counter() - t, error=float("inf"), ok=False,
+                         status=f"killed at {args.limit:.0f} s", by="",
+                         contacts=pile(dim, n, params, seed).n_contacts,
+                         links="", link_times=[])
+            r.update(family=family, size=n, seed=seed, tol=tol,
+                     problem=f"{family} {n} seed {seed}")
+            rows.append(r)
+            print(f"{family} {n} seed {seed}: {r['contacts']} contacts, {r['time']:6.2f} s, "
+                  f"error {r['error']:.1e} at {tol:.0e} {'certified' if r['ok'] else 'NOT'}"
+                  f" (by {r['by']}; {r['links']}), {r.get('memory_mb', float('nan')):.0f} MB",
+                  flush=True)
+    print("\n| pile | contacts | seed | tol | time s | error | certified | by | links (s) "
+          "| peak memory MB |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['family']} | {r['contacts']} | {r['seed']} | {r['tol']:.0e} | "
+              f"{r['time']:.2f} | {r['error']:.1e} | {'yes' if r['ok'] else 'no'} | {r['by']} | "
+              f"{r['links']} | {r.get('memory_mb', float('nan')):.0f} |")
+    total = sum(r["time"] for r in rows)
+    shares = {}
+    for r in rows:
+        for m, sec in r["link_times"]:
+            shares[m] = shares.get(m, 0.0) + sec
+    print(f"\ncertified: {sum(r['ok'] for r in rows)} of {len(rows)} rows; "
+          f"total {total:.0f} s; each route's share of it: "
+          + ", ".join(f"{m} {sec / total:.0%}" for m, sec in
+                      sorted(shares.items(), key=lambda kv: -kv[1])))
+    answered = {}
+    for r in rows:
+        if r["ok"]:
+            answered[r["by"]] = answered.get(r["by"], 0) + 1
+    if answered:
+        print("certified rows by route: " + ", ".join(f"{m} {k}" for m, k in answered.items()))
+    return rows
+
+
+def dense_success_plot(rows, path):
+    """The fraction of the dense rows "auto" certified (each at its own
+    tolerance) within t seconds, per family and size."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from qpcontact.plots.figures import save_figure
+
+    groups = {}
+    for r in rows:
+        groups.setdefault(f"{r['family']} {r['size']} ({r['tol']:.0e})", []).append(r)
+    ts = np.logspace(0, np.log10(120), 300)
+    fig, ax = plt.subplots(figsize=(7, 4.8))
+    fig.subplots_adjust(bottom=0.3)
+    for j, (label, mine) in enumerate(groups.items()):
+        times = [r["time"] for r in mine if r["ok"]]
+        # the groups that certify nothing share the zero line: the legend says so
+        ax.step(ts, [sum(t <= x for t in times) / len(mine) for x in ts], where="post",
+                color=f"C{j % 10}", label=f"{label}: {len(times)} of {len(mine)}")
+    everything = [r["time"] for r in rows if r["ok"]]
+    ax.step(ts, [sum(t <= x for t in everything) / len(rows) for x in ts], where="post",
+            color="k", lw=2.2, label=f"all rows: {len(everything)} of {len(rows)}")
+    ax.axvline(60, color="gray", ls=":", lw=1)
+    ax.text(63, 0.8, "\"auto\"'s\nbudget,\n60 s", color="gray", fontsize=8, ha="left",
+            va="center")
+    ax.set_xscale("log")
+    ax.set_xlabel("time limit t [s]")
+    ax.set_ylabel('fraction certified by "auto" within t')
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_title('Dense piles: "auto" on its 60 s budget (2-core machine, one BLAS thread)',
+                 fontsize=10)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2,
+              frameon=False)
+    save_figure(fig, path)
 
 
 def run_one(path, method, options, limit):
@@ -283,10 +419,21 @@ def main(argv=None) -> int:
     ap.add_argument("--piles-3d", default="500,1000,2000", help="3-D pile sizes in contacts")
     ap.add_argument("--seeds", default="0", help="pile seeds, comma-separated")
     ap.add_argument("--only-piles", action="store_true", help="leave the shared collection out")
+    ap.add_argument("--dense", action="store_true",
+                    help="only the dense rows (3-D compact seeds 0-9, 2-D compact to 10 000)")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     from qpcontact.core.files import write_csv_atomic
+
+    if args.dense:
+        rows = run_dense(args)
+        write_csv_atomic(out / "dense.csv", rows,
+                         ["problem", "family", "size", "contacts", "seed", "tol", "time", "error",
+                          "ok", "status", "by", "links", "memory_mb"])
+        dense_success_plot(rows, out / "dense_success.png")
+        print(f"wrote {out / 'dense.csv'} and {out / 'dense_success.png'}")
+        return 0
 
     pile_rows = run_piles(args) if (args.piles or args.piles_3d) else []
     if pile_rows:

@@ -181,6 +181,8 @@ def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:
     if others:
         best.message += " — also tried " + "; ".join(f"{r.method}: {r.message}" for r in others)
     best.message += " — links: " + "; ".join(lines)
+    # each link's seconds beside auto_tried: where a budget went (benchmarks/friction.py --dense)
     best.stats.update(auto_tried=[(r.method, r.status, r.error) for r in runs],
+                      auto_link_times=[(r.method, r.wall_time or 0.0) for r in runs],
                       total_time=time.perf_counter() - start)
     return best
