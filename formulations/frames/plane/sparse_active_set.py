@@ -338,7 +338,8 @@ def _link_space(b, combo, required):
             if info != 0 or scipy.linalg.lapack.dgecon(
                     lu, np.abs(A).sum(axis=0).max(), norm="1")[0] < RCOND_MIN:
                 return None
-            delta[S] = scipy.linalg.lu_solve((lu, piv), -C @ (R @ delta + RF))
+            delta[S] = scipy.linalg.lu_solve((lu, piv), -C @ (R @ delta + RF),
+                                             check_finite=False)
         X = R @ delta + RF
         if not (np.all(np.isfinite(X)) and np.all(np.isfinite(delta))):
             return None
