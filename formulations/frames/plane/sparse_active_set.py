@@ -186,15 +186,6 @@ def _sparse(b, combo, required):
             held["partner"][t_link[has_t]] = n_link[has_t]
         return held["partner"]
 
-    def times(kin, coef, x):
-        """B x for the state set (kin, coef): the saddle matrix's product with
-        the static rows put in (κ x_l, plus κ f x_n on a slipping tangent)."""
-        y = b["S"] @ x
-        static = np.flatnonzero(~kin)
-        y[nf + static] = kappa * x[nf + static] + kappa * coef[static] * x[
-            nf + held["partner"][static]]
-        return y
-
     factors = contact_lcp.factors(b, combo)
     # the transposes once per assembly, not three per state set
     HT, absHT = b["HT"], b["abs_HT"]
@@ -212,7 +203,7 @@ def _sparse(b, combo, required):
             sol = b["lu"].solve(rhs)
         else:
             sol = _bordered(held, kin, coef, partners(n_link, t_link), rhs, nf, kappa,
-                            link_rows, times)
+                            link_rows)
             if sol is None:
                 # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
                 static = np.flatnonzero(~kin)
@@ -246,21 +237,24 @@ def _sparse(b, combo, required):
 #: a state set that changes at most this many link rows of the last
 #: factorized one is solved against its LU with the changed rows as a
 #: border (one solve with this many right-hand sides and a small dense
-#: system) — cheaper than a fresh factorization up to about 40 rows on a
-#: 200-span beam and 30 on a 1000-span beam (dev-notes, round four)
-BORDERED_MAX = 24
-#: the border's dense system with a smaller reciprocal condition is not
-#: trusted: the state set is factorized afresh (and judged singular or not
-#: on its own pivots, as every state set was)
-BORDER_RCOND = 1e-6
+#: system): a SuperLU solve costs a fifth of a factorization, and each
+#: further right-hand side adds a little; measured even with a fresh
+#: factorization at about 20 rows on 200- and 1000-span beams
+BORDERED_MAX = 12
+#: the border's dense system (rows equilibrated) with a smaller reciprocal
+#: condition is not trusted: the state set is factorized afresh (and judged
+#: singular or not on its own pivots, as every state set was)
+BORDER_RCOND = 1e-8
 
 
-def _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times):
+def _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows):
     """The state set's system B x = rhs solved against the LU of the last
     factorized one, A, where they differ in at most BORDERED_MAX link rows
-    (Sherman–Morrison–Woodbury: B = A + E Dᵀ, E the unit columns of the
-    changed rows, Dᵀ their new rows less their old ones; x = A⁻¹ rhs −
-    Y C⁻¹ Dᵀ A⁻¹ rhs, Y = A⁻¹ E, C = I + Dᵀ Y).  None where more rows
+    R: with Y = A⁻¹ E (E the unit columns of R) and the border C = B_R Y
+    (B's rows R times Y; A_R Y = I, so this is I + (B_R − A_R) Y of
+    Sherman–Morrison–Woodbury without its cancellation), x = A⁻¹ rhs −
+    Y C⁻¹ (B_R A⁻¹ rhs − rhs_R): B's rows outside R are A's, which Y does
+    not move, and its rows R hold by construction.  None where more rows
     changed or C is ill-conditioned (a state set that leaves a mechanism
     makes C singular): the caller factorizes B.  What this changes is the
     rounding of the state set's openings and slips; the answer's u and X
@@ -270,41 +264,33 @@ def _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times):
         return None
     if changed.size == 0:
         return held["lu"].solve(rhs)
-
-    def rows(kin_, coef_):
-        # a held link's row is the saddle matrix's; a static one is κ on its
-        # diagonal and, for a slipping tangent, κ f on its normal link
-        out = link_rows(changed) * kin_[changed][:, None]
-        static = ~kin_[changed]
-        k = np.arange(changed.size)[static]
-        out[k, nf + changed[static]] = kappa
-        slides = static & (coef_[changed] != 0.0)
-        out[np.arange(changed.size)[slides], nf + partner[changed[slides]]] = (
-            kappa * coef_[changed[slides]])
-        return out
-
-    D = rows(kin, coef) - rows(held["kin"], held["coef"])
+    # B's rows R: a held link's row is the saddle matrix's; a static one is
+    # κ on its diagonal and, for a slipping tangent, κ f on its normal link
+    BR = link_rows(changed) * kin[changed][:, None]
+    static = ~kin[changed]
+    BR[np.flatnonzero(static), nf + changed[static]] = kappa
+    slides = static & (coef[changed] != 0.0)
+    BR[np.flatnonzero(slides), nf + partner[changed[slides]]] = kappa * coef[changed[slides]]
     E = np.zeros((rhs.size, changed.size + 1))
     E[:, 0] = rhs
     E[nf + changed, np.arange(1, changed.size + 1)] = 1.0
     sol = held["lu"].solve(E)
     x, Y = sol[:, 0], sol[:, 1:]
-    C = np.eye(changed.size) + D @ Y
+    C = BR @ Y
+    big = np.abs(C).max(axis=1)
+    if not np.all(big > 0):
+        return None
+    C /= big[:, None]                        # rows equilibrated: rcond measures C, not units
     lu, piv, info = scipy.linalg.lapack.dgetrf(C)
     if info != 0 or scipy.linalg.lapack.dgecon(
             lu, np.abs(C).sum(axis=0).max(), norm="1")[0] < BORDER_RCOND:
         return None
 
-    def solved(r):
-        """B⁻¹ r through A's LU for A⁻¹ r and the border."""
-        return r - Y @ scipy.linalg.lu_solve((lu, piv), D @ r, check_finite=False)
-
-    x = solved(x)
-    # one step of refinement on B's own residual (B x from the saddle matrix
-    # with the static rows put in): the border's rounding then matches a
-    # fresh factorization's (3e-13 against 1e-13 of the displacements
-    # without it, 200-span beam)
-    return x + solved(held["lu"].solve(rhs - times(kin, coef, x)))
+    # (a step of refinement on B's residual took the 200-span beam's
+    # openings from 9e-14 to 1e-14 of the extended-precision answer's, at
+    # the cost of one more solve: not kept, a fresh LU's are 9e-14 too)
+    return x - Y @ scipy.linalg.lu_solve((lu, piv), (BR @ x - rhs[nf + changed]) / big,
+                                         check_finite=False)
 
 
 def _link_space(b, combo, required):
