@@ -296,7 +296,6 @@ def _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times):
             lu, np.abs(C).sum(axis=0).max(), norm="1")[0] < BORDER_RCOND:
         return None
 
-
     def solved(v, target):
         """B⁻¹ target from v = A⁻¹ target and the border."""
         return v - Y @ scipy.linalg.lu_solve((lu, piv), (BR @ v - target[nf + changed]) / big,
@@ -307,7 +306,8 @@ def _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times):
     # product with the static rows put in), for one more solve: without it
     # a bordered answer was up to 8 times farther from the extended-precision
     # one than a fresh LU's (4e-12 against 5e-13 of the forces, a 153-span
-    # beam); with it as near or nearer
+    # beam); with it within a factor 4 either way, nearer on three of the
+    # four beams that differed most (dev-notes, round four)
     res = rhs - times(x)
     return x + solved(held["lu"].solve(res), res)
 
