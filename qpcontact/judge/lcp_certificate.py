@@ -40,7 +40,7 @@ from .forward import ForwardErrorMixin
 from .near_farkas import near_farkas
 from .scales import ComponentScales, abs_matvec, divide, inf_norm, safe_norm2
 
-__all__ = ["LCPCertificate", "certify_lcp"]
+__all__ = ["LCPCertificate", "certify_lcp", "componentwise_error"]
 
 _EPS = np.finfo(float).eps
 
@@ -324,13 +324,9 @@ def _lcp_condition(M, z, w, zeta, sigma, level: float, structure=None, error: fl
     return max(kappa_z, kappa_w), kappa_z, kappa_w, float(by.max(initial=0.0))
 
 
-def certify_lcp(lcp: LCP, z) -> LCPCertificate:
-    """Certificate of z for ``lcp`` (see the module docstring)."""
-    z = np.asarray(z, dtype=float).ravel()
-    if z.shape != (lcp.n,):
-        raise InvalidProblemError(f"z has shape {z.shape}; the LCP has n = {lcp.n} unknowns")
-    if not np.all(np.isfinite(z)):
-        return _bad_lcp_certificate()
+def _componentwise(lcp: LCP, z):
+    """(M z, w, ζ, σ, z/ζ, w/σ, |min(z/ζ, w/σ)|) of a finite z, or None
+    where a product overflows."""
     with np.errstate(over="ignore", invalid="ignore"):
         Mz = np.asarray(lcp.M @ z).ravel()
         w = Mz + lcp.q
@@ -338,10 +334,40 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     with np.errstate(over="ignore", invalid="ignore"):
         terms = np.asarray(scales.absM @ np.abs(z)).ravel() + lcp.q_terms   # σ: |M||z| + |q|
     if not (np.all(np.isfinite(w)) and np.all(np.isfinite(terms))):
-        return _bad_lcp_certificate(overflow=True)
+        return None
     zeta, sigma = scales.at(z)
     Z, W = divide(z, zeta), divide(w, sigma)
-    e = np.abs(np.minimum(Z, W))
+    return Mz, w, zeta, sigma, Z, W, np.abs(np.minimum(Z, W))
+
+
+def componentwise_error(lcp: LCP, z) -> tuple[float, np.ndarray, np.ndarray]:
+    """(error, ζ, σ): the componentwise error of z (``certify_lcp(lcp,
+    z).error``, the same number) and the scales it is measured on, without
+    the certificate's forward-error estimate (a basis factorized per probe:
+    most of its cost on a small LCP) — for a caller that judges on the
+    error alone.  inf (and ζ, σ of inf) where z is not finite or a product
+    overflows."""
+    z = np.asarray(z, dtype=float).ravel()
+    if z.shape != (lcp.n,):
+        raise InvalidProblemError(f"z has shape {z.shape}; the LCP has n = {lcp.n} unknowns")
+    parts = _componentwise(lcp, z) if np.all(np.isfinite(z)) else None
+    if parts is None:
+        return np.inf, np.full(lcp.n, np.inf), np.full(lcp.n, np.inf)
+    e = parts[-1]
+    return float(e[int(np.argmax(e))]) if e.size else 0.0, parts[2], parts[3]
+
+
+def certify_lcp(lcp: LCP, z) -> LCPCertificate:
+    """Certificate of z for ``lcp`` (see the module docstring)."""
+    z = np.asarray(z, dtype=float).ravel()
+    if z.shape != (lcp.n,):
+        raise InvalidProblemError(f"z has shape {z.shape}; the LCP has n = {lcp.n} unknowns")
+    if not np.all(np.isfinite(z)):
+        return _bad_lcp_certificate()
+    parts = _componentwise(lcp, z)
+    if parts is None:
+        return _bad_lcp_certificate(overflow=True)
+    Mz, w, zeta, sigma, Z, W, e = parts
     worst = int(np.argmax(e))
     r = np.minimum(z, w)
     qn = safe_norm2(lcp.q)

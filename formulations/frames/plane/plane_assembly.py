@@ -116,14 +116,14 @@ def links(frame, idx, N):
     node = np.array([idx[c.node] for c in cs], int)
     other = np.array([-1 if c.other is None else idx[c.other] for c in cs], int)
     # links in contact order: n, then t where there is friction
-    n_link = np.arange(nc) + np.r_[0, np.cumsum(fric)[:-1]]
+    n_link = np.arange(nc) + np.concatenate(([0], np.cumsum(fric)[:-1]))
     t_link = n_link + 1
     info = []
     for ci in range(nc):
         info.append((ci, "n"))
         if fric[ci]:
             info.append((ci, "t"))
-    tangent = np.c_[normal[:, 1], -normal[:, 0]]
+    tangent = np.column_stack((normal[:, 1], -normal[:, 0]))
     rows, cols, vals = [], [], []
     for links_, vecs, keep in ((n_link, normal, np.ones(nc, bool)), (t_link, tangent, fric)):
         for at, sign in ((node, 1.0), (other, -1.0)):
@@ -243,7 +243,9 @@ def link_maps(frame, b):
     # ascending: a contact's t link follows its n link, Z⁻ follows Z⁺), not
     # from triplets: two COO -> CSR conversions were a tenth of a tower's build
     # P's rows: an n link takes its contact's Z_n, a t link Z⁺ − Z⁻
-    p_ptr = np.r_[0, np.cumsum(np.where(np.isin(np.arange(nl), tl), 2, 1))]
+    twice = np.ones(nl, int)
+    twice[tl] = 2
+    p_ptr = np.concatenate(([0], np.cumsum(twice)))
     p_ind, p_val = np.empty(p_ptr[-1], int), np.ones(p_ptr[-1])
     p_ind[p_ptr[ca["n_link"]]] = np.arange(nc)
     p_ind[p_ptr[tl]], p_ind[p_ptr[tl] + 1], p_val[p_ptr[tl] + 1] = plus, plus + 1, -1.0
@@ -251,11 +253,11 @@ def link_maps(frame, b):
     g = np.zeros(nl)
     g[ca["n_link"]] = ca["gap"]
     # rows of w as combinations of the link forces X: X_n; f X_n + X_t; f X_n - X_t
-    w_ptr = np.r_[0, np.arange(1, nc + 1), nc + 2 * np.arange(1, 2 * len(fric) + 1)]
-    pair = np.c_[n_of_t, tl, n_of_t, tl].ravel()
-    W = sp.csr_matrix((np.r_[np.ones(nc), np.c_[mu, np.ones(len(fric)), mu,
-                                                 -np.ones(len(fric))].ravel()],
-                       np.r_[ca["n_link"], pair], w_ptr), shape=(nz, nl))
+    w_ptr = np.concatenate((np.arange(nc + 1), nc + 2 * np.arange(1, 2 * len(fric) + 1)))
+    pair = np.column_stack((n_of_t, tl, n_of_t, tl)).ravel()
+    W = sp.csr_matrix((np.concatenate((np.ones(nc), np.column_stack(
+        (mu, np.ones(len(fric)), mu, -np.ones(len(fric)))).ravel())),
+                       np.concatenate((ca["n_link"], pair)), w_ptr), shape=(nz, nl))
     b["maps"] = (P, W, g, fric)
     return b["maps"]
 

@@ -9,8 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from qpcontact.judge.lcp_certificate import certify_lcp
-from qpcontact.judge.scales import ComponentScales
+from qpcontact.judge.lcp_certificate import componentwise_error
 
 from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL,
@@ -40,8 +39,8 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g                      # link displacements incl. contact flexibility
     nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
-    rhs = np.r_[contact_lcp.free_loads(b, F, ua),
-                b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])]
+    rhs = np.concatenate((contact_lcp.free_loads(b, F, ua),
+                          b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])))
     sol = b["lu"].solve(rhs)
     u = ua.copy()
     u[free] = sol[:nf]
@@ -65,7 +64,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         ft = contact_lcp.force_terms(b, u, F, ends)
         if mechanical:
             return (*mechanical_certificate(b, z, X, u, ft), ends, ft)
-        return (certify_lcp(lcp, z).error, *ComponentScales(lcp.M, lcp.q_terms).at(z), ends, ft)
+        # the certificate's error and scales alone: its forward-error estimate
+        # (a basis inverted per probe) was a quarter of a tower's recovery
+        return (*componentwise_error(lcp, z), ends, ft)
 
     cert_error, zeta, sigma, ends, ft = checked(z, u, X)
     # reactions at the fixed dofs: K u - F - H X on them (member loads
@@ -115,7 +116,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     # frictionless: no tangential link, the node slides freely (t·relative motion)
     u2 = u.reshape(-1, 3)[:, :2]
     rel = u2[ca["node"]] - np.where(ca["other"][:, None] >= 0, u2[ca["other"]], 0.0)
-    tangent = np.c_[ca["normal"][:, 1], -ca["normal"][:, 0]]
+    tangent = np.column_stack((ca["normal"][:, 1], -ca["normal"][:, 0]))
     slip = np.where(has_t, delta[ca["t_link"]], np.einsum("ij,ij->i", tangent, rel))
     # each state decided on the component's own scale (the certificate's):
     # X_n against the terms it is made of, a slip part against its own size

@@ -92,18 +92,19 @@ def solve_active_set(frame, b, combo):
             # rests on them opened at once): back to the last state set, and
             # from there one contact at a time
             one_at_a_time = True
-            closed, slip, proposal, how_much = last
+            closed, slip, proposal, _ = last
             seen = {closed.tobytes() + slip.tobytes()}
         else:
-            proposal, how_much = _proposal(found, closed, slip, n_link, tl, has_t, mu, gap)
+            proposal = _proposal(found, closed, slip, n_link, tl, has_t, mu, gap)
             if not ((proposal[0] != closed) | (proposal[1] != slip)).any():
                 delta = found[1]
                 return _point(frame, b, closed, slip, delta[n_link] + gap, delta, t_link,
                               has_t), it
-            last = (closed, slip, proposal, how_much)
+            last = (closed, slip, proposal, found)
         new_closed, new_slip = proposal
         if one_at_a_time:
             changed = (new_closed != closed) | (new_slip != slip)
+            how_much = _how_much(last[3], closed, slip, new_closed, n_link, tl, mu, gap)
             worst = int(np.argmax(np.where(changed, how_much, -np.inf)))
             new_closed, new_slip = closed.copy(), slip.copy()
             new_closed[worst], new_slip[worst] = proposal[0][worst], proposal[1][worst]
@@ -112,27 +113,41 @@ def solve_active_set(frame, b, combo):
 
 
 def _proposal(found, closed, slip, n_link, tl, has_t, mu, gap):
-    """The states the solution of a state set calls for, and how far each
-    contact is from its present state (a pull, an overlap, a friction force
-    beyond f X_n, a slip running backwards — each against its own scale)."""
+    """The states the solution of a state set calls for: a closed contact
+    opens where it pulls, an open one closes where it overlaps, a sticking
+    one slips beyond f X_n, a slipping one sticks again when it moves
+    backwards (each beyond VIOLATION of its own scale)."""
+    X, delta, force_scale, length_scale = found
+    Xn = X[n_link]
+    fn = force_scale[n_link]
+    new_closed = np.where(closed, Xn >= -VIOLATION * fn,
+                          delta[n_link] + gap < -VIOLATION * length_scale[n_link])
+    # friction where the contact was and stays closed (a newly closed one
+    # starts sticking)
+    xt = X[tl]
+    bound = mu * np.maximum(Xn, 0.0)
+    ft = VIOLATION * force_scale[tl]
+    starts = (xt < -bound - ft).astype(slip.dtype) - (xt > bound + ft)
+    goes_on = np.where(slip * delta[tl] >= -VIOLATION * length_scale[tl], slip, 0)
+    new_slip = np.where(new_closed & closed & has_t, np.where(slip == 0, starts, goes_on), 0)
+    return new_closed, new_slip
+
+
+def _how_much(found, closed, slip, new_closed, n_link, tl, mu, gap):
+    """How far each contact is from its present state (a pull, an overlap,
+    a friction force beyond f X_n, a slip running backwards — each against
+    its own scale): the order in which one contact at a time changes.
+    Read only on that path (it was a tenth of a millisecond per state set)."""
     X, delta, force_scale, length_scale = found
     Xn, Zn = X[n_link], delta[n_link] + gap
     fn, ln = force_scale[n_link], length_scale[n_link]
-    new_closed = np.where(closed, Xn >= -VIOLATION * fn, Zn < -VIOLATION * ln)
-    # friction where the contact was and stays closed (a newly closed one
-    # starts sticking): a sticking one slips beyond f X_n, a slipping one
-    # sticks again when it moves backwards
     xt, dt = X[tl], delta[tl]
     bound = mu * np.maximum(Xn, 0.0)
     ft, lt = force_scale[tl], length_scale[tl]
-    starts = np.where(xt < -bound - VIOLATION * ft, 1,
-                      np.where(xt > bound + VIOLATION * ft, -1, 0))
-    goes_on = np.where(slip * dt >= -VIOLATION * lt, slip, 0)
-    new_slip = np.where(new_closed & closed & has_t, np.where(slip == 0, starts, goes_on), 0)
     with np.errstate(divide="ignore", invalid="ignore"):
         how_much = np.where(new_closed != closed, np.where(closed, -Xn / fn, -Zn / ln),
                             np.where(slip == 0, (np.abs(xt) - bound) / ft, -slip * dt / lt))
-    return (new_closed, new_slip), np.nan_to_num(how_much, nan=0.0, posinf=1e300)
+    return np.nan_to_num(how_much, nan=0.0, posinf=1e300)
 
 
 def _sparse(b, combo, required):
@@ -152,30 +167,71 @@ def _sparse(b, combo, required):
     top = S.row < nf
     top_r, top_c, top_v = S.row[top], S.col[top], S.data[top]
     link_r, link_c, link_v = S.row[~top] - nf, S.col[~top], S.data[~top]
+
+    def link_rows(links):
+        """The saddle matrix's rows of the given links where they hold
+        (dense, one row per link)."""
+        out = np.zeros((links.size, nf + nl))
+        at = np.full(nl, -1)
+        at[links] = np.arange(links.size)
+        k = at[link_r] >= 0
+        out[at[link_r[k]], link_c[k]] = link_v[k]
+        return out
+
+    def partners(n_link, t_link):
+        """Each tangent link's normal link (what a slipping row couples to)."""
+        if "partner" not in held:
+            has_t = t_link >= 0
+            held["partner"] = np.zeros(nl, int)
+            held["partner"][t_link[has_t]] = n_link[has_t]
+        return held["partner"]
+
     factors = contact_lcp.factors(b, combo)
     # the transposes once per assembly, not three per state set
     HT, absHT = b["HT"], b["abs_HT"]
 
+    # the last factorized state set (its LU, which rows hold, the slip rows'
+    # coefficients): a state set that differs from it in few link rows is
+    # solved against that LU (:func:`_bordered`), not factorized afresh
+    held = {"lu": b["lu"], "kin": np.ones(nl, bool), "coef": np.zeros(nl)}
+
     def solve(kin, sliding, n_link, t_link, f_slip):
-        rhs = np.r_[rhs_top, np.where(kin, kappa * (required + shift), 0.0)]
+        rhs = np.concatenate((rhs_top, np.where(kin, kappa * (required + shift), 0.0)))
+        coef = np.zeros(nl)
+        coef[t_link[sliding]] = f_slip[sliding]
         if kin.all():             # every link holds: the basic system, factorized by build
             sol = b["lu"].solve(rhs)
         else:
-            # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
-            static = np.flatnonzero(~kin)
-            keep = kin[link_r]
-            rows = np.concatenate([top_r, nf + link_r[keep], nf + static, nf + t_link[sliding]])
-            cols = np.concatenate([top_c, link_c[keep], nf + static, nf + n_link[sliding]])
-            vals = np.concatenate([top_v, link_v[keep], np.full(static.size, kappa),
-                                   kappa * f_slip[sliding]])
-            # a state set that leaves a mechanism is singular — to rounding
-            # only, where the frame is not square to the axes: solved anyway
-            # it gave rigid motions of 1e11 m that passed every scaled check
-            lu = contact_lcp.regular_lu(sp.csc_matrix((vals, (rows, cols)),
-                                                   shape=(nf + nl, nf + nl)))
-            if lu is None:
-                return None
-            sol = lu.solve(rhs)
+            partner = partners(n_link, t_link)
+
+            def times(x):
+                """B x: the saddle matrix's product with this state set's
+                static rows put in (κ x_l, plus κ f x_n on a slipping tangent)."""
+                y = b["S"] @ x
+                static = np.flatnonzero(~kin)
+                y[nf + static] = kappa * x[nf + static] + kappa * coef[static] * x[
+                    nf + partner[static]]
+                return y
+
+            sol = _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times)
+            if sol is None:
+                # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
+                static = np.flatnonzero(~kin)
+                keep = kin[link_r]
+                rows = np.concatenate([top_r, nf + link_r[keep], nf + static,
+                                       nf + t_link[sliding]])
+                cols = np.concatenate([top_c, link_c[keep], nf + static, nf + n_link[sliding]])
+                vals = np.concatenate([top_v, link_v[keep], np.full(static.size, kappa),
+                                       kappa * f_slip[sliding]])
+                # a state set that leaves a mechanism is singular — to rounding
+                # only, where the frame is not square to the axes: solved anyway
+                # it gave rigid motions of 1e11 m that passed every scaled check
+                lu = contact_lcp.regular_lu(sp.csc_matrix((vals, (rows, cols)),
+                                                       shape=(nf + nl, nf + nl)))
+                if lu is None:
+                    return None
+                held.update(lu=lu, kin=kin.copy(), coef=coef)
+                sol = lu.solve(rhs)
         if not np.all(np.isfinite(sol)):
             return None
         u = ua.copy()
@@ -186,6 +242,74 @@ def _sparse(b, combo, required):
                 absHT @ np.abs(u) + np.abs(flex * X) + np.abs(required))
 
     return solve
+
+
+#: a state set that changes at most this many link rows of the last
+#: factorized one is solved against its LU with the changed rows as a
+#: border (one solve with this many right-hand sides and a small dense
+#: system): a SuperLU solve costs a fifth of a factorization, and each
+#: further right-hand side adds a little; measured even with a fresh
+#: factorization at about 20 rows on 200- and 1000-span beams
+BORDERED_MAX = 12
+#: the border's dense system (rows equilibrated) with a smaller reciprocal
+#: condition is not trusted: the state set is factorized afresh (and judged
+#: singular or not on its own pivots, as every state set was)
+BORDER_RCOND = 1e-8
+
+
+def _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times):
+    """The state set's system B x = rhs solved against the LU of the last
+    factorized one, A, where they differ in at most BORDERED_MAX link rows
+    R: with Y = A⁻¹ E (E the unit columns of R) and the border C = B_R Y
+    (B's rows R times Y; A_R Y = I, so this is I + (B_R − A_R) Y of
+    Sherman–Morrison–Woodbury without its cancellation), x = A⁻¹ rhs −
+    Y C⁻¹ (B_R A⁻¹ rhs − rhs_R): B's rows outside R are A's, which Y does
+    not move, and its rows R hold by construction.  None where more rows
+    changed or C is ill-conditioned (a state set that leaves a mechanism
+    makes C singular): the caller factorizes B.  What this changes is the
+    rounding of the state set's openings and slips; the answer's u and X
+    are recovered and checked from them as before."""
+    changed = np.flatnonzero((kin != held["kin"]) | (~kin & (coef != held["coef"])))
+    if changed.size > BORDERED_MAX:
+        return None
+    if changed.size == 0:
+        return held["lu"].solve(rhs)
+    # B's rows R: a held link's row is the saddle matrix's; a static one is
+    # κ on its diagonal and, for a slipping tangent, κ f on its normal link
+    BR = link_rows(changed) * kin[changed][:, None]
+    static = ~kin[changed]
+    BR[np.flatnonzero(static), nf + changed[static]] = kappa
+    slides = static & (coef[changed] != 0.0)
+    BR[np.flatnonzero(slides), nf + partner[changed[slides]]] = kappa * coef[changed[slides]]
+    E = np.zeros((rhs.size, changed.size + 1))
+    E[:, 0] = rhs
+    E[nf + changed, np.arange(1, changed.size + 1)] = 1.0
+    sol = held["lu"].solve(E)
+    x, Y = sol[:, 0], sol[:, 1:]
+    C = BR @ Y
+    big = np.abs(C).max(axis=1)
+    if not np.all(big > 0):
+        return None
+    C /= big[:, None]                        # rows equilibrated: rcond measures C, not units
+    lu, piv, info = scipy.linalg.lapack.dgetrf(C)
+    if info != 0 or scipy.linalg.lapack.dgecon(
+            lu, np.abs(C).sum(axis=0).max(), norm="1")[0] < BORDER_RCOND:
+        return None
+
+    def solved(v, target):
+        """B⁻¹ target from v = A⁻¹ target and the border."""
+        return v - Y @ scipy.linalg.lu_solve((lu, piv), (BR @ v - target[nf + changed]) / big,
+                                             check_finite=False)
+
+    x = solved(x, rhs)
+    # one step of refinement on B's own residual (B x: the saddle matrix's
+    # product with the static rows put in), for one more solve: without it
+    # a bordered answer was up to 8 times farther from the extended-precision
+    # one than a fresh LU's (4e-12 against 5e-13 of the forces, a 153-span
+    # beam); with it within a factor 4 either way, nearer on three of the
+    # four beams that differed most (dev-notes, round four)
+    res = rhs - times(x)
+    return x + solved(held["lu"].solve(res), res)
 
 
 def _link_space(b, combo, required):
@@ -219,7 +343,8 @@ def _link_space(b, combo, required):
             if info != 0 or scipy.linalg.lapack.dgecon(
                     lu, np.abs(A).sum(axis=0).max(), norm="1")[0] < RCOND_MIN:
                 return None
-            delta[S] = scipy.linalg.lu_solve((lu, piv), -C @ (R @ delta + RF))
+            delta[S] = scipy.linalg.lu_solve((lu, piv), -C @ (R @ delta + RF),
+                                             check_finite=False)
         X = R @ delta + RF
         if not (np.all(np.isfinite(X)) and np.all(np.isfinite(delta))):
             return None

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from qpcontact.judge.lcp_certificate import certify_lcp
-from qpcontact.judge.scales import ComponentScales
+from qpcontact.judge.lcp_certificate import componentwise_error
 
 from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL,
@@ -51,8 +50,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
         if lcp is None:
             M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
             lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
-        cert_error = certify_lcp(lcp, z).error
-        zeta, sigma = ComponentScales(lcp.M, lcp.q_terms).at(z)
+        # the certificate's error and scales alone (its forward-error estimate
+        # is not read here)
+        cert_error, zeta, sigma = componentwise_error(lcp, z)
         # the answer refined on its states in extended precision, kept where it
         # checks at least as well (a stiff deck's forces: mechanics/extended_refinement)
         refined = extended_refinement.polished(b, z, F, ua, u, X,

@@ -61,6 +61,37 @@ def test_both_spaces_agree_with_lemke(seed, monkeypatch):
         _same(r, ref)
 
 
+@pytest.mark.parametrize("seed, friction", [(0, 0.1), (1, 0.1), (2, 0.3), (3, 0.3)])
+def test_state_sets_solved_on_the_last_factorization_agree_with_lemke(seed, friction,
+                                                                     monkeypatch):
+    """A state set that changes few link rows of the last factorized one is
+    solved against that LU with the changed rows as a border (fewer sparse
+    LUs than one per state set); the states and forces are Lemke's on the
+    dense LCP, as with a fresh LU per state set (contacts closing, opening
+    and starting to slip among the bordered rows)."""
+    monkeypatch.setattr(active_set, "LINK_SPACE_MAX", 0)
+    calls = []
+    real = active_set.contact_lcp.regular_lu
+
+    def counted(S):
+        calls.append(S.shape)
+        return real(S)
+
+    monkeypatch.setattr(active_set.contact_lcp, "regular_lu", counted)
+    fr = _beam(30, seed, friction=friction)
+    ref = fr.solve(method="lemke")
+    assert ref.ok, ref.message
+    lus, border = {}, active_set.BORDERED_MAX
+    for limit in (0, border):                 # a fresh LU per state set; the border
+        monkeypatch.setattr(active_set, "BORDERED_MAX", limit)
+        calls.clear()
+        r = fr.solve(method="active-set")
+        assert r.ok and r.route.startswith("active set"), r.message
+        _same(r, ref)
+        lus[limit] = len(calls)
+    assert lus[border] < lus[0], lus
+
+
 def test_tower_states_and_forces_agree_with_lemke_below_tipping():
     fr, _ = three_bay_tower()
     for p in (4.0, 10.0, 14.0):
