@@ -49,6 +49,8 @@ its total, mean over logs, maximum and the log (index) that takes it.
 
 from __future__ import annotations
 
+import os
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -207,9 +209,18 @@ def histogram_quantile(counts, q: float, peak: float) -> float:
 
 def run_arrays(source, omega=None) -> dict:
     """The arrays the statistics need, from a Drum2DResult (``omega`` [rad/s]
-    given: the model's ``Drum2D.omega``) or a drum2d results file / mapping
-    (datasets ``t``, ``force_peak``, ``force_counts``, ``sliding_work``,
-    ``drum/omega``; ``omega`` overrides the file's)."""
+    given: the model's ``Drum2D.omega``), a drum2d results file's path or an
+    open file / mapping (datasets ``t``, ``force_peak``, ``force_counts``,
+    ``sliding_work``, ``drum/omega``; ``omega`` overrides the file's)."""
+    if isinstance(source, (str, os.PathLike)):
+        # a path: read as the open file (a string's ``in`` would test its
+        # characters, and "t" is in most paths)
+        import h5py
+
+        if not os.path.isfile(source):
+            raise InvalidOptionError(f"no drum2d results file at {os.fspath(source)!r}")
+        with h5py.File(source, "r") as h:
+            return run_arrays(h, omega)
     if hasattr(source, "force_counts") and hasattr(source, "t"):
         if omega is None:
             raise InvalidOptionError("a Drum2DResult does not hold the shell's speed: pass "
@@ -238,9 +249,9 @@ def _kind(counts, peaks, quantiles, seconds, step) -> KindForces:
 
 def revolutions(source, omega=None, quantiles=QUANTILES) -> list:
     """Per-revolution statistics (Revolution, one per window) of a run: a
-    Drum2DResult with ``omega`` [rad/s], or a results file (run_arrays);
-    force histograms, peaks [N] and ``quantiles`` per kind (KIND_NAMES), the
-    sliding work per log [J] (module docstring)."""
+    Drum2DResult with ``omega`` [rad/s], or a results file, by its path or
+    open (run_arrays); force histograms, peaks [N] and ``quantiles`` per kind
+    (KIND_NAMES), the sliding work per log [J] (module docstring)."""
     a = run_arrays(source, omega)
     S = a["t"].size - 1
     if a["force_peak"].shape[0] != S or a["force_counts"].shape[:2] != (S, 3):

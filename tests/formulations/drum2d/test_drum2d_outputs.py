@@ -7,6 +7,8 @@ the estimate drawn) and the animation's frames."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -165,6 +167,12 @@ def test_revolution_sums_match_the_kept_contacts(small):
         [(0, 25, True), (25, 50, True), (50, 60, False)]
     with h5py.File(path) as h:
         from_file = revolutions(h, omega=omega)
+    # by its path, as a string or a Path: the same (a string was read as a
+    # mapping, and "t" in the path passed for the dataset t)
+    for given in (str(path), Path(path)):
+        by_path = revolutions(given, omega=omega)
+        assert [r.forces["log-log"].peak_N for r in by_path] == \
+            [r.forces["log-log"].peak_N for r in from_file]
     seen = 0
     for rev, again in zip(revs, from_file):
         counts, peaks, work = _by_hand(res, rev.window.first, rev.window.stop, 20)
@@ -209,6 +217,8 @@ def test_a_result_needs_omega_and_a_file_its_statistics(small, tmp_path):
         h["t"] = np.arange(3.0)
     with h5py.File(old) as h, pytest.raises(InvalidOptionError, match="run the scene again"):
         revolutions(h)
+    with pytest.raises(InvalidOptionError, match="no drum2d results file at"):
+        revolutions(str(tmp_path / "missing.h5"))
 
 
 # -- the stack model's estimate ----------------------------------------------------------
