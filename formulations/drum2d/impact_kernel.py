@@ -42,7 +42,8 @@ def _forces(px, py, vx, vy, spin, gap_lin, inv_m, inv_i, g, radii, a, b, kind, n
         elif kk == 1:
             d2 = px[i] * px[i] + py[i] * py[i]
             lim = R - radii[i]
-            if lim <= 0.0 or d2 <= lim * lim:
+            # out of touch: dist + r <= R (a disc as wide as the shell never is)
+            if lim >= 0.0 and d2 <= lim * lim:
                 F[k] = 0.0
                 continue
             dist = np.sqrt(d2)
