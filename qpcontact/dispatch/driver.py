@@ -21,7 +21,6 @@ from ..core.conversions import check_convex, is_qp, validate_qp
 from ..core.errors import (BackendUnavailableError, InvalidOptionError, InvalidProblemError,
                            NoApplicableMethodError, NoSolutionError, NotConvexError,
                            NotSymmetricError, SolverFailedError, UnknownMethodError)
-from ..core.options import PROGRESS, read_options
 from ..core.problems import LCP, ParametricLCP
 from ..core.results import PROVED
 from ..core.friction_problem import FrictionProblem
@@ -31,7 +30,7 @@ from .calls import DEFAULT_TIME_LIMIT
 from .context import RunContext
 from .friction_run import check_friction_method, run_friction, run_friction_auto
 from .lcp_qp_run import doubtful, hints, proof_first, prove_no_solution, run_lcp_qp
-from .routes import PROGRESS_LINKS, applicable, auto_order, kind_of
+from .routes import applicable, auto_order, auto_progress, kind_of, link_options
 
 __all__ = ["solve", "solve_friction", "Engine", "DEFAULT_TIME_LIMIT"]
 
@@ -165,11 +164,7 @@ def _solve_lcp_qp(problem, method, ctx, options):
         if not ctx.prove or not doubtful(problem, sol):
             return sol
         return prove_no_solution(problem, sol, ctx.deadline)
-    # ``progress`` goes to the links that report progress, and "auto" says
-    # which link runs: passed on to every link, Lemke refused it mid-chain
-    options = dict(options)
-    progress = read_options("auto", {"progress": options.pop("progress", None)},
-                            (PROGRESS,))["progress"]
+    options, progress = auto_progress(options)
     # where no solution may exist, its proof first (an LP of milliseconds,
     # where the methods can loop for the whole time limit)
     proved = proof_first(problem, ctx)
@@ -185,12 +180,7 @@ def _solve_lcp_qp(problem, method, ctx, options):
         # and a backend looping at its iteration cap cannot take it all
         link = ctx.share(0.5)
         share = link.left()
-        opts = dict(options)
-        if progress is not None:
-            if m.name in PROGRESS_LINKS:
-                opts["progress"] = progress
-            progress(f"auto: {m.name}" + ("" if share is None else f" (up to {share:.3g} s)"))
-        sol = run_lcp_qp(problem, m, opts, link)
+        sol = run_lcp_qp(problem, m, link_options(options, m.name, progress, share), link)
         if progress is not None:
             progress(f"auto: {m.name}: {sol.status} in {sol.wall_time or 0:.2f} s")
         if share is not None:

@@ -19,7 +19,6 @@ import time
 import numpy as np
 
 from ..core.errors import InvalidOptionError
-from ..core.options import PROGRESS, read_options
 from ..core.results import PROVED, FrictionSolution, MethodResult
 from ..solvers.friction.lcp_route import LCP_ACCURACY, from_lcp, lcp_of
 from ..judge.friction_certificate import certify_friction
@@ -29,7 +28,7 @@ from ..proofs.exact import Proof
 from ..solvers.method import PROBLEM_KINDS, Method
 from ..solvers.registry import get_method
 from .calls import call
-from .routes import PROGRESS_LINKS, auto_chain, kind_of
+from .routes import auto_chain, auto_progress, kind_of, link_options
 
 __all__ = ["run_friction", "run_friction_auto", "check_friction_method"]
 
@@ -148,9 +147,7 @@ def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:
     """"auto" on a frictional problem within the run context ``ctx`` (module
     docstring)."""
     start = time.perf_counter()
-    options = dict(options)
-    progress = read_options("auto", {"progress": options.pop("progress", None)},
-                            (PROGRESS,))["progress"]
+    options, progress = auto_progress(options)
     chain = [get_method(name) for name in auto_chain(problem)]
     runs, best, lines = [], None, []
     for k, m in enumerate(chain):
@@ -160,13 +157,9 @@ def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:
             continue
         link = ctx.share(1.0 if k == len(chain) - 1 else 0.5)
         share = link.left()
-        opts = dict(options)
+        opts = link_options(options, m.name, progress, share)
         if m.name == "newton" and best is not None and best.r is not None:
             opts.setdefault("r0", best.r)   # polish the best point so far
-        if progress is not None:
-            if m.name in PROGRESS_LINKS:
-                opts.setdefault("progress", progress)
-            progress(f"auto: {m.name}" + ("" if share is None else f" (up to {share:.3g} s)"))
         sol = run_friction(problem, m, opts, link, engine)
         runs.append(sol)
         where = f"error {sol.error:.1e}" if sol.certificate is not None else sol.status

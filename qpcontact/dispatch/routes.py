@@ -16,6 +16,7 @@ import scipy.sparse as sp
 from ..core.conversions import is_qp
 from ..core.errors import NotConvexError, NotSymmetricError
 from ..core.linalg import BANDED_MAX
+from ..core.options import PROGRESS, read_options
 from ..core.problems import LCP, ParametricLCP
 from ..core.friction_problem import FrictionProblem
 from ..solvers.method import Method
@@ -24,7 +25,8 @@ if TYPE_CHECKING:
     from qpsolvers import Problem
 
 __all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
-           "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS",
+           "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS", "auto_progress",
+           "link_options",
            "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
@@ -101,6 +103,29 @@ NSGS_FIRST_3D = 500
 #: ("auto" hands it to these only: the others refuse the option)
 PROGRESS_LINKS = ("nsgs-newton", "newton", "desaxce-fp", "tresca-fp", "desaxce-global",
                   "mg-bpp", "ip-bpp")
+
+
+def auto_progress(options: dict) -> tuple[dict, object]:
+    """"auto"'s options without ``progress``, and ``progress`` checked (a
+    callable or None): "auto" hands it only to the links that report their
+    iterations (:func:`link_options`) — passed on to every link, Lemke
+    refused it mid-chain."""
+    options = dict(options)
+    progress = read_options("auto", {"progress": options.pop("progress", None)},
+                            (PROGRESS,))["progress"]
+    return options, progress
+
+
+def link_options(options: dict, name: str, progress, share) -> dict:
+    """One link's options: ``options``, with ``progress`` where the link is
+    one of PROGRESS_LINKS, and a line to ``progress`` saying the link starts
+    (with up to ``share`` seconds)."""
+    opts = dict(options)
+    if progress is not None:
+        if name in PROGRESS_LINKS:
+            opts["progress"] = progress
+        progress(f"auto: {name}" + ("" if share is None else f" (up to {share:.3g} s)"))
+    return opts
 
 
 def auto_chain(problem) -> tuple:
