@@ -153,26 +153,16 @@ def run_dense(args):
     """The dense rows (module docstring), each "auto" in its own process,
     killed at ``--limit`` (auto stops itself at its 60 s budget)."""
     import qpcontact
-    from qpcontact.dispatch.isolation import call_isolated
 
     qpcontact.solve(pile(2, 100, {}), "nsgs-newton")   # compiled sweeps loaded once
     qpcontact.solve(pile(3, 100, {}), "nsgs-newton")
     rows = []
     for family, dim, n, params, seeds, tol in DENSE:
         for seed in seeds:
-            t = time.perf_counter()
-            out = call_isolated(dense_job, (dim, n, params, seed, tol), args.limit)
-            if out is None:
-                r = dense_job(dim, n, params, seed, tol)
-            elif out.kind == "ok":
-                r = out.value
-            elif out.kind == "error":
-                raise out.value
-            else:
-                r = dict(time=time.perf_counter() - t, error=float("inf"), ok=False,
-                         status=f"killed at {args.limit:.0f} s", by="",
-                         contacts=pile(dim, n, params, seed).n_contacts,
-                         links="", link_times=[])
+            r = isolated(dense_job, (dim, n, params, seed, tol), args.limit)
+            if "contacts" not in r:      # killed or died: no row from the child
+                r.update(contacts=pile(dim, n, params, seed).n_contacts, links="",
+                         link_times=[])
             r.update(family=family, size=n, seed=seed, tol=tol,
                      problem=f"{family} {n} seed {seed}")
             rows.append(r)
@@ -243,22 +233,28 @@ def dense_success_plot(rows, path):
     save_figure(fig, path)
 
 
-def run_one(path, method, options, limit):
-    """``job`` in a child process killed at ``limit`` seconds (qpcontact's
-    own isolation, which also survives a crashing backend)."""
+def isolated(fn, args, limit):
+    """``fn(*args)`` (a row's dict) in a child process killed at ``limit``
+    seconds (qpcontact's own isolation, which also survives a crashing
+    backend); where the child gave no row, one with its time and status."""
     from qpcontact.dispatch.isolation import call_isolated
 
     t = time.perf_counter()
-    out = call_isolated(job, (path, method, options), limit)
+    out = call_isolated(fn, args, limit)
     if out is None:   # no child process possible here: run in-process
-        return job(path, method, options)
+        return fn(*args)
     if out.kind == "ok":
         return out.value
     if out.kind == "error":
         raise out.value
     status = f"killed at {limit:.0f} s" if out.kind == "time_limit" else f"died ({out.detail})"
-    return dict(time=time.perf_counter() - t, error=float("inf"), status=status,
-                iterations=None, by="")
+    return dict(time=time.perf_counter() - t, error=float("inf"), ok=False, status=status,
+                by="")
+
+
+def run_one(path, method, options, limit):
+    """``job`` in its own process (:func:`isolated`)."""
+    return {"iterations": None, **isolated(job, (path, method, options), limit)}
 
 
 def profile(rows, labels, path):
