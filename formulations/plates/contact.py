@@ -31,6 +31,17 @@ The rigid floor (k → ∞): the node cannot go down, w_i = −g_i ≤ 0; the sa
 QP with w_i replaced by −g_i and no spring; the bound's multiplier
 ∂Π/∂g_i = (f − Ku)_{w_i} is the floor's upward reaction.
 
+Newton's method first
+---------------------
+Where "auto" is asked, the gaps are minimised out — Π(u) = ½ u'Ku − f'u +
+½ Σ k_i max(w_i, 0)², convex and C¹, with w_i ≤ 0 at floor nodes — and
+Newton's method on it (:mod:`.newton`: the nodes that press as an active
+set, one sparse LDLᵀ of the raft on their springs and floor supports per
+step) answers in a few steps; its x = (u, g = max(−w, 0)) is certified on this
+QP like every other answer.  Where it does not end, or its answer is not
+certified, the pinned QP below answers; a named method always takes the
+pinned QP.
+
 Why nodes are pinned first
 --------------------------
 A raft held by nothing but the soil can lift off as a rigid body: u = r
@@ -82,6 +93,8 @@ import scipy.sparse as sp
 
 from qpcontact.core.accuracy import resolve_accuracy
 from qpcontact.core.errors import InvalidProblemError
+
+from .newton import solve_supports
 
 __all__ = ["ContactQP", "ContactAnswer", "solve_contact", "rigid_motions", "NoEquilibriumError"]
 
@@ -201,6 +214,9 @@ class ContactQP:
         self.lb = np.concatenate([np.full(nf, -np.inf), np.zeros(ns + nr)])
         #: the supported nodes in the order of the gaps in x
         self.supported = np.concatenate([self.soil, self.floor])
+        #: K and its LDLᵀ for Newton's method (:mod:`.newton`), made on first
+        #: use and kept for every combination
+        self.newton = None
 
     def c(self, f):
         return -(self.T.T @ f)
@@ -410,6 +426,30 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
         return _linear(qp, f, accuracy, start)
     if qp.fixed.size == 0:               # supports that only push: statics decides first
         _statics(qp, nodes, f)
+    tol = resolve_accuracy(accuracy)[1]      # what qpcontact.solve's certificate must meet
+    if method == "auto":
+        # Newton's method on the energy (:mod:`.newton`): a few LDLᵀ of the
+        # raft on its pressing nodes; where it does not end, or its answer is
+        # not certified, the pinned QP below answers
+        deadline = None if time_limit is None else start + float(time_limit)
+        found = solve_supports(qp, f, deadline)
+        if found is not None:
+            x_full, steps = found
+            cert = _unpinned_certificate(qp, f, x_full)
+            if cert.ok(tol):
+                return ContactAnswer(
+                    x_full, True, "solved",
+                    f"certified: error {cert.error:.2e} <= {tol:.0e} on the unpinned QP (active "
+                    f"set: Newton's method on the energy, {steps} LDLᵀ of the raft on its "
+                    "pressing nodes)", "active-set", [], float(cert.error),
+                    time.perf_counter() - start)
+        if time_limit is not None:
+            time_limit = float(time_limit) - (time.perf_counter() - start)
+            if time_limit <= 0.0:
+                return ContactAnswer(np.full(qp.nx, np.nan), False, "time_limit",
+                                     "not solved: the time limit ran out in Newton's method, "
+                                     "before the pinned QP could answer", "active-set", [],
+                                     wall_time=time.perf_counter() - start)
     forces = _bilateral_forces(qp, f)
     if forces is None:                   # singular: the loads themselves rank the nodes
         forces = np.zeros(nodes.shape[0])
@@ -469,12 +509,7 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
                              f"not solved: {why}" if failed else sol.message,
                              sol.method if sol else "", list(pinned or []), wall_time=wall,
                              repins=len(released))
-    # the certificate on the unpinned QP: the bound multipliers from its gradient
-    full = qp.problem(f)
-    grad = qp.P @ x_full + full.q
-    z_box = np.zeros(qp.nx)
-    z_box[qp.free.size:] = -grad[qp.free.size:]
-    cert = qpcontact.certify(full, x_full, z_box=z_box)
+    cert = _unpinned_certificate(qp, f, x_full)
     tol = sol.tol
     ok = bool(sol.ok and cert.ok(tol))
     if ok:
@@ -490,6 +525,18 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
         status, message = sol.status, sol.message
     return ContactAnswer(x_full, ok, status, message, sol.method, list(pinned),
                          float(cert.error), wall, len(released))
+
+
+def _unpinned_certificate(qp, f, x_full):
+    """The certificate of x on the unpinned QP, the bound multipliers read
+    from its gradient (the supports' forces)."""
+    import qpcontact
+
+    full = qp.problem(f)
+    grad = qp.P @ x_full + full.q
+    z_box = np.zeros(qp.nx)
+    z_box[qp.free.size:] = -grad[qp.free.size:]
+    return qpcontact.certify(full, x_full, z_box=z_box)
 
 
 def _choose_pins_with(qp, nodes, forces, keep, need, released):

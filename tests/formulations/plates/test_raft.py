@@ -166,14 +166,16 @@ def test_pins_the_answer_pulls_on_are_released_and_the_answer_is_the_same(monkey
     pulls on pins, which are released and the LCP solved again.
     The answer equals the three-pin route's — forced, with its first three
     pins put on a node that lifts, which is released and replaced — and
-    both are certified on the unpinned QP."""
+    both are certified on the unpinned QP.  (A named method takes the
+    pinned QP; "auto" answers soil by Newton's method first, tested in
+    test_soil_newton.py.)"""
     import formulations.plates.contact as contact
 
     from formulations.plates.examples import COMBINATIONS, raft_example
 
     raft = raft_example(cells=(16, 12))             # wind lifts the windward third
     wind = COMBINATIONS["1.0D+1.5W"]
-    plain = raft.solve(wind)
+    plain = raft.solve(wind, method="bpp")
     assert plain.ok and plain.uplift_fraction > 0.2, plain.message
     assert "; 1 solve(s)" not in plain.message      # the pressed pins needed a release
     qp = raft.build()["qp"]
@@ -189,7 +191,7 @@ def test_pins_the_answer_pulls_on_are_released_and_the_answer_is_the_same(monkey
 
     monkeypatch.setattr(contact, "MAX_ROUNDS", 0)   # the pressed pins get one solve only
     monkeypatch.setattr(contact, "_choose_pins", first_bad)
-    detour = raft.solve(wind)
+    detour = raft.solve(wind, method="bpp")
     assert len(calls) >= 2 and detour.ok, detour.message
     assert "3 of" in detour.message
     assert np.max(np.abs(detour.w - plain.w)) <= 1e-9 * np.max(np.abs(plain.w))

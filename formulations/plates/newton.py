@@ -1,0 +1,168 @@
+r"""A raft on tensionless soil or a rigid floor by Newton's method on its
+energy: the supported nodes that press as an active set, one sparse LDLᵀ
+per step.
+
+The energy over the displacements alone
+----------------------------------------
+With w_i [m, downward] the deflection of supported node i, k_i [N/m] a soil
+node's spring (modulus of subgrade reaction times tributary area,
+:mod:`.contact`), K the plate's stiffness on the dofs no bilateral support
+holds and f the nodal loads [N], the soil pushes with k_i max(w_i, 0) and
+never pulls, and a floor node cannot go down (w_i ≤ 0).  The total
+potential energy ::
+
+    Π(u) = ½ u'K u − f'u + ½ Σ_soil k_i max(w_i, 0)²,    w_i ≤ 0 on the floor
+
+[N m] is :mod:`.contact`'s QP with its gaps minimised out (g_i = max(−w_i,
+0)): convex, continuously differentiable on the soil, its gradient
+K u − f + Σ k_i max(w_i, 0) e_i piecewise linear.  Its minimiser is the
+equilibrium, with the floor's upward reactions λ_i ≥ 0 as the bounds'
+multipliers: K u − f + Σ_soil k_i max(w_i, 0) e_i + Σ_floor λ_i e_i = 0,
+λ_i w_i = 0.
+
+Newton's step
+-------------
+On the set A of pressing nodes (soil: w_i > 0; floor: held at w_i = 0) the
+generalised Hessian is K plus the springs of A's soil nodes with A's floor
+nodes held: the raft on springs and supports at the pressing nodes only.
+A step lands on the minimiser of that quadratic, so the iteration is:
+solve it, read each node's state off the answer — a soil node presses
+where w_i > 0; a held floor node lets go where its reaction λ_i = (f − K u −
+soil forces)_i pulls (λ_i < 0), a free one is caught where it goes below
+the floor (w_i > 0) — and repeat until no state changes: the primal–dual
+active-set method, and what engineers do by hand with compression-only
+springs.  When no state changes, every soil node on its spring is pushed,
+every lifted one off the soil, every held floor node pushed up and every
+free one above the floor, up to rounding: the optimality conditions, which
+:mod:`.contact` checks again on the QP from its data before anything is
+called solved.
+
+Every step's matrix has one pattern: K's, whose diagonal the springs change
+and whose rows and columns of held floor dofs are set to zero but for the
+diagonal (w_i = 0 exactly; the stored zeros keep the pattern).  So one
+symbolic analysis (a fill-reducing ordering) serves every step and every
+combination of the raft, and a step is a numeric refactorisation.  Started
+from every node pressing, rafts whose windward strip or corner lifts took
+2–11 steps at 1 300–26 000 dofs (docs/plates.md).
+
+Not guaranteed to end: a node on the verge can flip back and forth, and a
+step whose pressing nodes leave a rigid motion free is singular.  A set seen
+before, a step limit, a zero pivot or a step that is not finite returns None,
+and the pinned QP of :mod:`.contact` answers instead.  A node changes state
+only beyond rounding on the other side (``FLIP`` of the largest |w| or
+|λ|), so a node on the verge keeps its state.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+#: a node changes state only beyond this fraction of the largest |w| (or
+#: floor reaction) on the other side: rounding of the solve, not a lift
+FLIP = 1e-13
+#: Newton steps before the pinned QP answers
+MAX_STEPS = 60
+
+
+class SupportSystem:
+    """K on the dofs no bilateral support holds, in upper-triangular CSC,
+    with the supported nodes' w entries located, and the LDLᵀ solver that
+    keeps its symbolic analysis (made once per raft, on first use)."""
+
+    def __init__(self, qp):
+        n = qp.K.shape[0]
+        held = np.zeros(n, bool)
+        held[qp.fixed] = True
+        self.dofs = np.flatnonzero(~held)          # the soil's w are free dofs, the floor's too
+        at = np.full(n, -1)
+        at[self.dofs] = np.arange(self.dofs.size)
+        self.free_at = at[qp.free]                 # the QP's free dofs among these
+        self.soil_w, self.floor_w = at[3 * qp.soil], at[3 * qp.floor]
+        self.k = qp.ks[qp.soil]
+        K = qp.K.tocsc()[self.dofs][:, self.dofs]
+        self.K = K.tocsr()
+        upper = sp.triu(K, format="csc")
+        upper.sort_indices()
+        col = np.repeat(np.arange(upper.shape[1]), np.diff(upper.indptr))
+        last = upper.indptr[1:] - 1
+        supported = np.concatenate((self.soil_w, self.floor_w))
+        if not np.array_equal(upper.indices[last[supported]], supported):
+            raise ValueError("a supported node's w has no diagonal entry in K")
+        self.upper, self.base = upper, upper.data.copy()
+        self.soil_diag = last[self.soil_w]
+        # the entries in a floor dof's row or column, its diagonal apart
+        on_floor = np.full(self.dofs.size, -1)
+        on_floor[self.floor_w] = np.arange(self.floor_w.size)
+        self.entry_floor = np.where(upper.indices != col,
+                                    np.maximum(on_floor[upper.indices], on_floor[col]), -1)
+        second = np.where(upper.indices != col,
+                          np.minimum(on_floor[upper.indices], on_floor[col]), -1)
+        # an entry joining two floor dofs is cleared when either is held
+        self.entry_floor2 = second
+        self.solver = None
+
+    def factorize(self, soil_pressing, floor_held):
+        """LDLᵀ of K plus the pressing soil nodes' springs, the held floor
+        dofs' rows and columns cleared (a numeric refactorisation after the
+        first)."""
+        import qdldl
+
+        data = self.base.copy()
+        data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
+        held = np.append(floor_held, False)        # index -1: no floor dof
+        data[held[self.entry_floor] | held[self.entry_floor2]] = 0.0
+        self.upper.data = data
+        if self.solver is None:
+            self.solver = qdldl.Solver(self.upper, upper=True)
+        else:
+            self.solver.update(self.upper, upper=True)
+        return self.solver
+
+
+def solve_supports(qp, f, deadline=None):
+    """(x of :mod:`.contact`'s QP — free displacements, then the gaps —,
+    Newton steps) for nodal loads f, or None where the iteration does not
+    end (module docstring).  ``deadline``: a ``time.perf_counter`` value
+    past which it gives up."""
+    if qp.newton is None:                   # once per raft: every combination shares it
+        qp.newton = SupportSystem(qp)
+    system = qp.newton
+    load = np.asarray(f, float)[system.dofs]
+    soil = np.ones(qp.soil.size, bool)       # every node pressing first
+    floor = np.ones(qp.floor.size, bool)
+    seen = set()
+    for step in range(1, MAX_STEPS + 1):
+        rhs = load.copy()
+        rhs[system.floor_w[floor]] = 0.0     # a held floor node: w = 0
+        try:
+            u = system.factorize(soil, floor).solve(rhs)
+        except ValueError:           # a zero pivot: the pressing nodes leave a rigid motion
+            return None
+        if not np.all(np.isfinite(u)):
+            return None
+        w_soil, w_floor = u[system.soil_w], u[system.floor_w]
+        # the floor's reactions: what K u and the springs leave of the load
+        spring = np.zeros(u.size)
+        spring[system.soil_w] = np.where(soil, system.k * w_soil, 0.0)
+        lam = (load - system.K @ u - spring)[system.floor_w]
+        w_flip = FLIP * float(np.abs(u[np.concatenate((system.soil_w, system.floor_w))])
+                              .max(initial=0.0))
+        lam_flip = FLIP * float(np.abs(lam[floor]).max(initial=0.0))
+        now_soil = np.where(soil, w_soil > -w_flip, w_soil > w_flip)
+        now_floor = np.where(floor, lam > -lam_flip, w_floor > w_flip)
+        if np.array_equal(now_soil, soil) and np.array_equal(now_floor, floor):
+            x = np.zeros(qp.nx)
+            nf, ns = qp.free.size, qp.soil.size
+            x[:nf] = u[system.free_at]
+            x[nf:nf + ns] = np.where(soil, 0.0, np.maximum(-w_soil, 0.0))
+            x[nf + ns:] = np.where(floor, 0.0, np.maximum(-w_floor, 0.0))
+            return x, step
+        key = now_soil.tobytes() + now_floor.tobytes()
+        if key in seen or (deadline is not None and time.perf_counter() > deadline):
+            return None
+        seen.add(key)
+        soil, floor = now_soil, now_floor
+    return None
