@@ -2,8 +2,9 @@ r"""Rafts and slabs on tensionless soil: MITC4 plates (:mod:`.element`) on
 structured or user-given quadrilateral meshes (:mod:`.mesh`), resting on
 Winkler soil that only pushes or on a rigid floor, under load cases and
 combinations (:class:`Raft`, :mod:`.model`); each combination's contact is
-one convex QP with lower bounds (:mod:`.contact`) solved and certified by
-``qpcontact.solve``; results, tables and envelopes in :mod:`.results`.
+one convex QP with lower bounds (:mod:`.contact`), solved by Newton's method
+on the energy (:mod:`.newton`) or through ``qpcontact.solve``, and certified
+from its data; results, tables and envelopes in :mod:`.results`.
 
 Units are the user's (consistent); z and w point down, loads are positive
 downward, soil pressure positive when it pushes, moments positive when they

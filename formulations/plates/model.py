@@ -14,8 +14,9 @@ edge beams along grid lines, resting on
 and bilateral supports where the user fixes dofs (walls, piles; the classic
 plates of the tests).  Loads belong to named cases; a combination {case:
 factor} is solved as its own contact problem — lift-off makes the answers
-of two combinations non-superposable — through ``qpcontact.solve``, whose
-certificate every answer carries (``ok`` is never set on an uncertified one).
+of two combinations non-superposable — by Newton's method on the energy or
+through ``qpcontact.solve``, with the certificate every answer carries
+(``ok`` is never set on an uncertified one).
 
 Units are the user's and consistent (``Raft(units=("kN", "m"))`` only names
 them): k in kN/m³, E in kN/m², loads in kN, pressures in kN/m².  Signs: z and

@@ -47,10 +47,12 @@ def round_column(values, digits=5):
 
 
 class RaftResult:
-    """One combination's answer.  ``ok`` only when ``qpcontact.solve``
-    certified the pinned QP and ``qpcontact.certify`` the answer on the
-    unpinned one (:mod:`.contact`); otherwise the fields are what the solver
-    returned and ``message`` says why it is not certified."""
+    """One combination's answer.  ``ok`` only when ``qpcontact.certify``
+    certified it on the unpinned QP (:mod:`.contact`) — and, where the pinned
+    QP answered, ``qpcontact.solve`` certified that too; otherwise the fields
+    are what the solver returned and ``message`` says why it is not
+    certified.  ``method``: "active-set" (Newton's method, :mod:`.newton`)
+    or the pinned QP's method."""
 
     def __init__(self, raft, combination, name, f, answer):
         b = raft.build()
