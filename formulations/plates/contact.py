@@ -410,9 +410,12 @@ def _solve_pinned(qp, f, pinned, method, accuracy, time_limit):
 
 
 def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
-                  time_limit=None) -> ContactAnswer:
-    """Solve one combination's QP (module docstring): pin, solve, release
-    the pins the answer pulls on, certify on the unpinned QP."""
+                  time_limit=None, guess=None) -> ContactAnswer:
+    """Solve one combination's QP (module docstring): Newton's method
+    (``guess(deadline)``: its first step's states or None, called once
+    statics has passed — :func:`.newton.start_from`), else
+    pin, solve, release the pins the answer pulls on; certify on the
+    unpinned QP."""
     import time
 
     import qpcontact
@@ -432,7 +435,11 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
         # raft on its pressing nodes; where it does not end, or its answer is
         # not certified, the pinned QP below answers
         deadline = None if time_limit is None else start + float(time_limit)
-        found = solve_supports(qp, f, deadline)
+        first = None if guess is None else guess(deadline)
+        found = solve_supports(qp, f, deadline, first)
+        how = "" if first is None else ", started from a coarser grid's answer"
+        if found is None and first is not None:      # the guess misled it: from every node
+            found, how = solve_supports(qp, f, deadline), ""
         if found is not None:
             x_full, steps = found
             cert = _unpinned_certificate(qp, f, x_full)
@@ -441,7 +448,7 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
                     x_full, True, "solved",
                     f"certified: error {cert.error:.2e} <= {tol:.0e} on the unpinned QP (active "
                     f"set: Newton's method on the energy, {steps} LDLᵀ of the raft on its "
-                    "pressing nodes)", "active-set", [], float(cert.error),
+                    f"pressing nodes{how})", "active-set", [], float(cert.error),
                     time.perf_counter() - start)
         if time_limit is not None:
             time_limit = float(time_limit) - (time.perf_counter() - start)

@@ -34,10 +34,16 @@ from qpcontact.core.errors import InvalidProblemError
 from .assembly import (area_load, assemble_stiffness, beam_stiffness, element_dofs, line_load,
                        segment_edges)
 from .contact import ContactQP, solve_contact
+from .newton import solve_supports, start_from
 from .element import DOFS, rigidity
 from .mesh import PlateMesh, grid, grid_lines
 
 __all__ = ["Raft"]
+
+#: a grid raft with at least twice this many cells a side starts Newton's
+#: method from its twin's answer on half the cells (nested iteration,
+#: :func:`.newton.start_from`), down to twins of this many cells
+NESTED_CELLS = 16
 
 
 def _positive(name, value):
@@ -329,9 +335,38 @@ class Raft:
         b = self.build()
         f = self.load_vector(combination)
         answer = solve_contact(b["qp"], b["mesh"].nodes, f, method=method, accuracy=accuracy,
-                               time_limit=time_limit)
+                               time_limit=time_limit,
+                               guess=lambda deadline: self._nested_start(combination, deadline))
         title = name or " + ".join(f"{v:g} × {k}" for k, v in combination.items())
         return RaftResult(self, dict(combination), title, f, answer)
+
+    def _nested_start(self, combination, deadline=None):
+        """Newton's first states from this raft's deflections on half the
+        cells (Newton's method alone there, itself started from its own twin:
+        a guess, not an answer — the fine raft's answer is certified), or
+        None: a mesh of the user's, supports given as node numbers (they
+        name no node of another grid), fewer than 2 NESTED_CELLS cells a
+        side, or Newton's method not ending on the twin."""
+        import copy
+
+        b = self.build()
+        if "twin" not in b:
+            b["twin"] = None
+            nx, ny = self.cells if self._user_mesh is None else (0, 0)
+            if min(nx, ny) >= 2 * NESTED_CELLS and all(callable(w) for w, _ in self.supports):
+                twin = copy.copy(self)     # the same inputs (read only), its own mesh
+                twin.cells, twin._built = (nx // 2, ny // 2), None
+                b["twin"] = twin
+        twin = b["twin"]
+        if twin is None:
+            return None
+        tb = twin.build()
+        found = solve_supports(tb["qp"], twin.load_vector(combination), deadline,
+                               twin._nested_start(combination, deadline))
+        if found is None:
+            return None
+        w = (tb["qp"].T @ found[0])[0::3]
+        return start_from(tb["mesh"].nodes, w, b["qp"], b["mesh"].nodes)
 
     def solve_combinations(self, combinations: dict, **kw):
         """Solve each combination {name: {case: factor}} as its own problem."""
