@@ -98,6 +98,7 @@ class FrictionProblem:
         self.solution = None
         self.guesses: list = []
         diag = np.asarray(self.W.diagonal()) if m else np.zeros(0)
+        self._diagonal = diag
         if np.any(diag[0::self.dim] < 0):
             i = int(np.flatnonzero(diag[0::self.dim] < 0)[0])
             raise InvalidProblemError(
@@ -201,6 +202,22 @@ class FrictionProblem:
     @property
     def n_contacts(self) -> int:
         return self.mu.size
+
+    @property
+    def W_diagonal(self) -> np.ndarray:
+        """W's diagonal, read once (the certificate's contact scales take it
+        at every check of an iterate)."""
+        if getattr(self, "_diagonal", None) is None:      # a problem built without __init__
+            self._diagonal = np.asarray(self.W.diagonal())
+        return self._diagonal
+
+    @property
+    def abs_W(self):
+        """|W| entrywise, formed on first use and kept (the certificate's
+        contact sizes take |W||r| at every check of an iterate)."""
+        if getattr(self, "_abs_W", None) is None:
+            self._abs_W = abs(self.W)
+        return self._abs_W
 
     def velocities(self, r) -> np.ndarray:
         if self.W is None:

@@ -48,7 +48,7 @@ def contact_scales(problem: FrictionProblem) -> np.ndarray:
     """ρ_i = 1 / W_nn,i per contact (force per velocity): what turns a
     contact's velocity into a force on its own scale (a contact W says
     nothing about: 1 / the largest normal entry)."""
-    return scales_from_diagonal(np.abs(np.asarray(problem.W.diagonal(), dtype=float)[0::problem.dim]))
+    return scales_from_diagonal(np.abs(np.asarray(problem.W_diagonal, dtype=float)[0::problem.dim]))
 
 
 def scales_from_diagonal(wn) -> np.ndarray:
@@ -94,7 +94,7 @@ def contact_sizes(problem: FrictionProblem, r, rho=None) -> np.ndarray:
     """s_i = ‖r_i‖ + ρ_i(‖q_i‖ + ‖(|W||r|)_i‖), floored at eps · max_j s_j:
     the force scale each contact's residual is judged against."""
     rho = contact_scales(problem) if rho is None else rho
-    return sizes(r, rho, problem.q, np.asarray(abs(problem.W) @ np.abs(r)).ravel(),
+    return sizes(r, rho, problem.q, np.asarray(problem.abs_W @ np.abs(r)).ravel(),
                   problem.dim)
 
 
@@ -193,6 +193,11 @@ def natural_map_jacobian(problem: FrictionProblem, r, slip_rtol: float = SLIP_RT
     T = np.broadcast_to(np.eye(d), (nc, d, d)).copy()
     T[slip, 0, 1:] += mu[slip, None] * g
     B = rho_c[:, None, None] * np.einsum("kij,kjl->kil", JP, T)
+    if sp.issparse(W) and d == 2:
+        from ._certify_kernels import blocks_2d, jacobian_2d_csr   # numba: where it runs
+        Wr = W.tocsr()
+        ptr, idx, val = jacobian_2d_csr(*blocks_2d(Wr.indptr, Wr.indices, Wr.data), JP, B)
+        return sp.csr_matrix((val, idx, ptr), shape=(m, m)).tocsc()
     blocks = dict(shape=(m, m), blocksize=(d, d))
     diag = (np.arange(nc), np.arange(nc + 1))
     J = sp.identity(m, format="csr") - sp.bsr_matrix((JP, *diag), **blocks).tocsr()
