@@ -212,6 +212,22 @@ class FrictionProblem:
         return self._diagonal
 
     @property
+    def W_blocks(self):
+        """A 2-D problem's W by its 2 × 2 blocks, formed once: (the diagonal
+        blocks (nc, 2, 2), the others as (bptr, bcols, bdata (nb, 2, 2)) by
+        block row, columns sorted) — NSGS's sweeps and Newton's Jacobians read
+        them."""
+        if getattr(self, "_blocks", None) is None:
+            from ._block_kernels import blocks_2d   # numba: imported where it runs
+
+            if self.dim != 2:
+                raise InvalidOptionError("W_blocks: 2-D problems only")
+            W = sp.csr_matrix(self.W)
+            self._blocks = blocks_2d(W.indptr.astype(np.int64), W.indices.astype(np.int64),
+                                     W.data.astype(float))
+        return self._blocks
+
+    @property
     def abs_W(self):
         """|W| entrywise, formed on first use and kept (the certificate's
         contact sizes take |W||r| at every check of an iterate)."""

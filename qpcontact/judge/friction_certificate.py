@@ -135,7 +135,15 @@ def global_errors(problem: FrictionProblem, r, v) -> tuple[float, float, float]:
 
 def certified_error(problem: FrictionProblem, r, u=None) -> float:
     """What an answer is held to: the larger of Siconos's natural-map error
-    and the componentwise one."""
+    and the componentwise one.  A sparse 2-D problem's (the methods check it
+    at every few sweeps and Newton steps) in one compiled pass over W's
+    blocks, the same value to rounding (:func:`certify_friction`, which an
+    answer is finally judged by, keeps the formulas below)."""
+    if u is None and problem.dim == 2 and sp.issparse(problem.W):
+        r = np.asarray(r, float)
+        if np.all(np.isfinite(r)):
+            from ._certify_kernels import certified_error_2d   # numba: where it runs
+            return float(certified_error_2d(*problem.W_blocks, problem.q, problem.mu, r))
     u = problem.velocities(r) if u is None else u   # once for both measures
     return max(natural_map_error(problem, r, u), componentwise_error(problem, r, u))
 
@@ -194,9 +202,8 @@ def natural_map_jacobian(problem: FrictionProblem, r, slip_rtol: float = SLIP_RT
     T[slip, 0, 1:] += mu[slip, None] * g
     B = rho_c[:, None, None] * np.einsum("kij,kjl->kil", JP, T)
     if sp.issparse(W) and d == 2:
-        from ._certify_kernels import blocks_2d, jacobian_2d_csr   # numba: where it runs
-        Wr = W.tocsr()
-        ptr, idx, val = jacobian_2d_csr(*blocks_2d(Wr.indptr, Wr.indices, Wr.data), JP, B)
+        from ._certify_kernels import jacobian_2d_csr   # numba: imported where it runs
+        ptr, idx, val = jacobian_2d_csr(*problem.W_blocks, JP, B)
         return sp.csr_matrix((val, idx, ptr), shape=(m, m)).tocsc()
     blocks = dict(shape=(m, m), blocksize=(d, d))
     diag = (np.arange(nc), np.arange(nc + 1))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import time
 
 import numpy as np
@@ -38,31 +40,44 @@ def starting_point(method: str, problem, r0):
 
 
 class NSGS:
-    """The sweeps' state on one problem: W in CSR, its diagonal blocks, the
-    iterate ``r`` and the sweeps ``done``; ``omega`` over-relaxes each local
-    solution (then projected back onto the cone)."""
+    """The sweeps' state on one problem: W in CSR (formed on first use; a
+    2-D problem's sweeps read its off-diagonal 2 x 2 blocks, ``bsr``), its
+    diagonal blocks, the iterate ``r`` and the sweeps ``done``; ``omega``
+    over-relaxes each local solution (then projected back onto the cone)."""
 
     def __init__(self, problem, r0=None, *, omega=1.0, local_rtol=1e-14, max_local=200):
         d, nc = problem.dim, problem.n_contacts
         if not 0.0 < omega < 2.0:
             raise InvalidOptionError(f"'nsgs': omega must be in (0, 2); got {omega}")
-        W = sp.csr_matrix(problem.W)
-        W.sum_duplicates()
-        self.W, self.indices = W, W.indices.astype(np.int64)
-        if d == 2:
-            self.blocks, self.bsr = _blocks_2d(W, nc)
+        self.problem = problem
+        if d == 2:        # W's 2 x 2 blocks, formed once per problem
+            self.blocks, *bsr = problem.W_blocks
+            self.bsr = tuple(bsr)
         else:
             # the diagonal blocks gathered in one pass: slicing W per contact
             # cost 9 ms a step on a 120-contact drum pile, more than its sweeps
+            W = self.W
             rows = np.repeat(np.arange(W.shape[0]), np.diff(W.indptr))
             own = rows // d == W.indices // d
             self.blocks = np.zeros((nc, d, d))
             self.blocks[rows[own] // d, rows[own] % d, W.indices[own] % d] = W.data[own]
             self.bsr = None
-        self.problem, self.omega = problem, float(omega)
+        self.omega = float(omega)
         self.local_rtol, self.max_local = float(local_rtol), int(max_local)
         self.done = 0
         self.restart(np.zeros(d * nc) if r0 is None else r0)
+
+    @functools.cached_property
+    def W(self):
+        """W in CSR, duplicates summed (the general sweep's; the 2-D sweep reads
+        the blocks)."""
+        W = sp.csr_matrix(self.problem.W)
+        W.sum_duplicates()
+        return W
+
+    @functools.cached_property
+    def indices(self):
+        return self.W.indices.astype(np.int64)
 
     def restart(self, r):
         r = np.array(r, float).ravel()
@@ -84,20 +99,6 @@ class NSGS:
                    self.blocks, int(n), self.local_rtol, self.max_local, self.omega)
         self.done += int(n)
         return self.r
-
-
-def _blocks_2d(W, nc):
-    """W's diagonal 2 x 2 blocks (nc, 2, 2), and the others as (indptr, columns,
-    data (nb, 2, 2)), from one compiled pass over W's CSR (scipy's BSR
-    conversion and the diagonal's gathering cost 1 ms a step on a
-    1 170-contact drum bed)."""
-    from ...judge._certify_kernels import blocks_2d   # numba: imported where it runs
-
-    bptr, bcols, bdata = blocks_2d(W.indptr, W.indices, W.data)
-    rows = np.repeat(np.arange(nc), np.diff(bptr))
-    own = bcols == rows
-    ptr = np.concatenate([[0], np.cumsum(np.bincount(rows[~own], minlength=nc))])
-    return bdata[own], (ptr.astype(np.int64), bcols[~own], np.ascontiguousarray(bdata[~own]))
 
 
 def solve_nsgs(problem, tol, options):
