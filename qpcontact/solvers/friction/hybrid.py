@@ -135,27 +135,44 @@ def _square_step(problem, r, J, F, square=None):
     times the cost, a sixth of the drum's step
     (docs/dev-notes.md, "The drum's step: where the time goes").
 
-    ``square`` (the caller's dict, kept across the steps and tries of one
-    solve) keeps the first LU's column order under "order": J's pattern is
-    W's (less the entries that are zero in a state), so the later LUs of the
-    solve take that order instead of computing one — the ordering was half of
-    each LU's time (1.5 of 3 ms on a 1 170-contact drum bed)."""
-    order = None if square is None else square.get("order")
+    Where the projection opens a contact (J_P = 0) J's rows are e_iᵀ: d_i =
+    −F_i, and the LU is of the system on the other unknowns — half of them
+    on a settled drum bed, its LU 3.5 -> 1.4 ms.  ``square`` (the caller's
+    dict, kept across the steps and tries of one solve) keeps the first LU's
+    order under "order": J's pattern is W's (less a state's zeros), so the
+    later LUs of the solve take it (restricted to their unknowns, the others
+    after them) instead of computing one — the ordering was half of each
+    LU's time."""
+    from ._newton_kernels import restricted_system   # numba: imported where it runs
+
+    J = sp.csc_matrix(J)
+    n = F.size
+    fixed = (np.bincount(J.indices, minlength=n) == 1) & (J.diagonal() == 1.0)
+    known = None if square is None else square.get("order")
+    if known is None:
+        order = np.flatnonzero(~fixed)
+    else:        # the first LU's order, then the unknowns it did not have
+        order = known[~fixed[known]]
+        seen = np.zeros(n, bool)
+        seen[order] = True
+        order = np.concatenate([order, np.flatnonzero(~fixed & ~seen)])
+    ptr, idx, val, rhs = restricted_system(J.indptr, J.indices.astype(np.int64), J.data, order,
+                                           F, fixed)
+    J_r = sp.csc_matrix((val, idx, ptr), shape=(order.size, order.size))
     lu_options = dict(diag_pivot_thresh=0.1, options={"SymmetricMode": True})
+    step = np.empty_like(F)
+    step[fixed] = -F[fixed]
     try:
-        if order is None:
+        if order.size and known is None:
             # J's pattern is W's, symmetric: a minimum-degree order on J + Jᵀ
             # with pivots kept on the diagonal where they are a tenth of the
             # column's largest has 0.55-0.65 of COLAMD's fill on the drum's beds
-            lu = spla.splu(J, permc_spec="MMD_AT_PLUS_A", **lu_options)
-            step = lu.solve(-F)
+            lu = spla.splu(J_r, permc_spec="MMD_AT_PLUS_A", **lu_options)
+            step[order] = lu.solve(rhs)
             if square is not None:
-                square["order"] = np.argsort(lu.perm_c)
-        else:
-            # J[order][:, order] = Pᵀ J P: SuperLU's own ordering step skipped
-            Jp = sp.csc_matrix(J[order][:, order])
-            step = np.empty_like(F)
-            step[order] = spla.splu(Jp, permc_spec="NATURAL", **lu_options).solve(-F[order])
+                square["order"] = order[np.argsort(lu.perm_c)]
+        elif order.size:       # SuperLU's own ordering skipped
+            step[order] = spla.splu(J_r, permc_spec="NATURAL", **lu_options).solve(rhs)
     except RuntimeError:          # singular: the augmented system's step
         return None, None
     if not np.linalg.norm(step) <= _SINGULAR * (np.linalg.norm(r) + np.linalg.norm(F)):
