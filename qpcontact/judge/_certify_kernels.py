@@ -34,13 +34,19 @@ def csc_column_max_ratio(indptr: np.ndarray, indices: np.ndarray, data: np.ndarr
 
 @njit
 def jacobian_2d_csr(diag: np.ndarray, bptr: np.ndarray, bcols: np.ndarray, bdata: np.ndarray,
-                    jp: np.ndarray, b: np.ndarray):
-    """(indptr, indices, data) of J = I − blockdiag(jp) + blockdiag(b) W in CSR
+                    jp: np.ndarray, rho: np.ndarray, t01: np.ndarray):
+    """(indptr, indices, data) of J = I − blockdiag(jp) + blockdiag(B) W in CSR
     for 2-D contacts, W by its 2 × 2 blocks (FrictionProblem.W_blocks: the
-    diagonal ones, the others by block row), jp and b (nc, 2, 2): J's entries
-    in the sparse products' order of summation, exact zeros left out as they
-    leave them — the same J bit for bit once in CSC, at a fraction of their
-    cost (scipy's per-operation overhead was most of it)."""
+    diagonal ones, the others by block row), B_i = ρ_i jp_i T_i with T_i =
+    [[1, t01_i], [0, 1]]: J's entries in the order of summation of the array
+    products they replace, exact zeros left out as those leave them — the
+    same J bit for bit once in CSC, at a fraction of their cost (scipy's
+    per-operation overhead was most of it)."""
+    b = np.empty((jp.shape[0], 2, 2))
+    for i in range(jp.shape[0]):
+        for a in range(2):
+            b[i, a, 0] = rho[i] * (jp[i, a, 0] * 1.0 + jp[i, a, 1] * 0.0)
+            b[i, a, 1] = rho[i] * (jp[i, a, 0] * t01[i] + jp[i, a, 1] * 1.0)
     nc = jp.shape[0]
     nb = bptr[nc] + nc
     out_ptr = np.zeros(2 * nc + 1, np.int64)

@@ -198,13 +198,15 @@ def natural_map_jacobian(problem: FrictionProblem, r, slip_rtol: float = SLIP_RT
     # product, where forming T, A and J_P A as matrices cost 3.6 ms a call on
     # a 120-contact pile (mostly scipy's per-operation overhead)
     JP = projection_jacobian(x, mu, d)
+    if sp.issparse(W) and d == 2:     # T_i's one entry off the identity, B_i in the kernel
+        from ._certify_kernels import jacobian_2d_csr   # numba: imported where it runs
+        t01 = np.zeros(nc)
+        t01[slip] = mu[slip] * g[:, 0]
+        ptr, idx, val = jacobian_2d_csr(*problem.W_blocks, JP, rho_c, t01)
+        return sp.csr_matrix((val, idx, ptr), shape=(m, m)).tocsc()
     T = np.broadcast_to(np.eye(d), (nc, d, d)).copy()
     T[slip, 0, 1:] += mu[slip, None] * g
     B = rho_c[:, None, None] * np.einsum("kij,kjl->kil", JP, T)
-    if sp.issparse(W) and d == 2:
-        from ._certify_kernels import jacobian_2d_csr   # numba: imported where it runs
-        ptr, idx, val = jacobian_2d_csr(*problem.W_blocks, JP, B)
-        return sp.csr_matrix((val, idx, ptr), shape=(m, m)).tocsc()
     blocks = dict(shape=(m, m), blocksize=(d, d))
     diag = (np.arange(nc), np.arange(nc + 1))
     J = sp.identity(m, format="csr") - sp.bsr_matrix((JP, *diag), **blocks).tocsr()
