@@ -229,8 +229,9 @@ class FrictionProblem:
 
     @property
     def abs_W(self):
-        """|W| entrywise, formed on first use and kept (the certificate's
-        contact sizes take |W||r| at every check of an iterate)."""
+        """W's entries' absolute values, formed on first use and kept (the
+        certificate's contact sizes take ``abs(W) @ abs(r)`` at every check of
+        an iterate)."""
         if getattr(self, "_abs_W", None) is None:
             self._abs_W = abs(self.W)
         return self._abs_W
