@@ -41,50 +41,46 @@ def delassus(indptr, indices, data, n_rows, minv, diag):
             row_col[fill[r]] = a
             row_val[fill[r]] = data[p]
             fill[r] += 1
-    acc = np.zeros(m)
-    seen = np.full(m, -1, np.int64)
+    slot = np.full(m, -1, np.int64)       # where column b's sum sits in this column's list
     cols = np.empty(m, np.int64)
+    sums = np.empty(m)
     out_ptr = np.zeros(m + 1, np.int64)
     cap = 16 * m + 16
     out_idx = np.empty(cap, np.int64)
     out_val = np.empty(cap)
     nnz = 0
     for a in range(m):
-        k = 0
+        slot[a] = 0                       # the diagonal first
+        cols[0] = a
+        sums[0] = 0.0
+        k = 1
         # rows of column a in increasing order: W_ab and W_ba sum the same terms in the same order
         for p in range(indptr[a], indptr[a + 1]):
             r = indices[p]
-            h_ra = data[p]
             for s in range(row_ptr[r], row_ptr[r + 1]):
                 b = row_col[s]
-                if seen[b] != a:
-                    seen[b] = a
-                    acc[b] = 0.0
-                    cols[k] = b
+                if slot[b] < 0:
+                    slot[b], cols[k], sums[k] = k, b, 0.0
                     k += 1
-                acc[b] += minv[r] * (h_ra * row_val[s])     # h_ra h_rb = h_rb h_ra exactly
-        if seen[a] != a:
-            seen[a] = a
-            acc[a] = 0.0
-            cols[k] = a
-            k += 1
-        acc[a] += diag[a]
+                sums[slot[b]] += minv[r] * (data[p] * row_val[s])   # h_ra h_rb = h_rb h_ra exactly
+        sums[0] += diag[a]
+        for s in range(k):
+            slot[cols[s]] = -1
         for s in range(1, k):        # a few dozen rows at most: insertion sort
-            c = cols[s]
+            c, v = cols[s], sums[s]
             t = s - 1
             while t >= 0 and cols[t] > c:
-                cols[t + 1] = cols[t]
+                cols[t + 1], sums[t + 1] = cols[t], sums[t]
                 t -= 1
-            cols[t + 1] = c
+            cols[t + 1], sums[t + 1] = c, v
         if nnz + k > cap:
             cap = 2 * (nnz + k)
             out_idx = _grow_int(out_idx, cap)
             out_val = _grow_float(out_val, cap)
         for s in range(k):
-            v = acc[cols[s]]
-            if v != 0.0:
+            if sums[s] != 0.0:
                 out_idx[nnz] = cols[s]
-                out_val[nnz] = v
+                out_val[nnz] = sums[s]
                 nnz += 1
         out_ptr[a + 1] = nnz
     return out_ptr, out_idx[:nnz], out_val[:nnz]

@@ -1,8 +1,9 @@
-"""A 2-D contact problem's W by its 2 × 2 blocks, in one compiled pass, and
-a block row's product with r (numba).
+"""A 2-D contact problem's W by its 2 × 2 blocks, in one compiled pass (numba).
 
-Imported only where they run (FrictionProblem.W_blocks, the compiled sweeps
-and certificate), so that importing qpcontact does not load numba.
+Imported only by FrictionProblem.W_blocks, where it runs, so that importing
+qpcontact does not load numba.  (No other module's kernel calls into this
+one: numba's on-disk cache keys a kernel by its own file, so a kernel
+calling a helper of another file would keep a stale copy of it.)
 """
 
 from __future__ import annotations
@@ -66,27 +67,3 @@ def blocks_2d(indptr: np.ndarray, indices: np.ndarray, data: np.ndarray):
                     bdata[slot[cb], a, indices[p] % 2] += data[p]
     return diag, bptr, bcols, bdata
 
-
-@njit
-def block_row_product(bptr, bcols, bdata, r, i, s0, s1):
-    """(s0, s1) + Σ_p bdata[p] r_j over block row i's off-diagonal blocks (j =
-    bcols[p]; r holds (r_N, r_T) pairs), summed in the row's order."""
-    for p in range(bptr[i], bptr[i + 1]):
-        j = bcols[p]
-        x0 = r[2 * j]
-        x1 = r[2 * j + 1]
-        s0 += bdata[p, 0, 0] * x0 + bdata[p, 0, 1] * x1
-        s1 += bdata[p, 1, 0] * x0 + bdata[p, 1, 1] * x1
-    return s0, s1
-
-
-@njit
-def block_row_abs_product(bptr, bcols, bdata, r, i, s0, s1):
-    """:func:`block_row_product` of |bdata| and |r|."""
-    for p in range(bptr[i], bptr[i + 1]):
-        j = bcols[p]
-        x0 = abs(r[2 * j])
-        x1 = abs(r[2 * j + 1])
-        s0 += abs(bdata[p, 0, 0]) * x0 + abs(bdata[p, 0, 1]) * x1
-        s1 += abs(bdata[p, 1, 0]) * x0 + abs(bdata[p, 1, 1]) * x1
-    return s0, s1

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 from ..core.compiled import njit
-from ..core._block_kernels import block_row_abs_product, block_row_product
 
 
 @njit
@@ -114,8 +113,13 @@ def certified_error_2d(diag, bptr, bcols, bdata, q, mu, r):
         u1 = q[2 * i + 1] + diag[i, 1, 0] * r[2 * i] + diag[i, 1, 1] * r[2 * i + 1]
         t0 = abs(diag[i, 0, 0]) * abs(r[2 * i]) + abs(diag[i, 0, 1]) * abs(r[2 * i + 1])
         t1 = abs(diag[i, 1, 0]) * abs(r[2 * i]) + abs(diag[i, 1, 1]) * abs(r[2 * i + 1])
-        u0, u1 = block_row_product(bptr, bcols, bdata, r, i, u0, u1)        # W r + q
-        t0, t1 = block_row_abs_product(bptr, bcols, bdata, r, i, t0, t1)    # |W||r|
+        for p in range(bptr[i], bptr[i + 1]):     # u = W r + q and |W||r| together
+            w = bdata[p]
+            x = r[2 * bcols[p]:2 * bcols[p] + 2]
+            u0 += w[0, 0] * x[0] + w[0, 1] * x[1]
+            u1 += w[1, 0] * x[0] + w[1, 1] * x[1]
+            t0 += abs(w[0, 0]) * abs(x[0]) + abs(w[0, 1]) * abs(x[1])
+            t1 += abs(w[1, 0]) * abs(x[0]) + abs(w[1, 1]) * abs(x[1])
         m = mu[i]
         un_hat = u0 + m * abs(u1)          # De Saxcé's modified velocity
         wn = abs(diag[i, 0, 0])

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 from ...core.compiled import njit
-from ...core._block_kernels import block_row_product
 
 
 @njit
@@ -185,7 +184,14 @@ def sweeps_2d(bptr, bcols, bdata, q, mu, r, blocks, n_sweeps, local_rtol, max_lo
     for _ in range(n_sweeps):
         change = 0.0
         for i in range(nc):
-            b0, b1 = block_row_product(bptr, bcols, bdata, r, i, q[2 * i], q[2 * i + 1])
+            b0 = q[2 * i]
+            b1 = q[2 * i + 1]
+            for p in range(bptr[i], bptr[i + 1]):
+                j = bcols[p]
+                x0 = r[2 * j]
+                x1 = r[2 * j + 1]
+                b0 += bdata[p, 0, 0] * x0 + bdata[p, 0, 1] * x1
+                b1 += bdata[p, 1, 0] * x0 + bdata[p, 1, 1] * x1
             old0 = r[2 * i]
             old1 = r[2 * i + 1]
             found, n0, n1 = _local_2d_scalars(blocks[i, 0, 0], blocks[i, 0, 1], blocks[i, 1, 0],
