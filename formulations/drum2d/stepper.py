@@ -350,15 +350,20 @@ class Drum2D:
     def _assemble(self, c, u_minus, u_free, minv, h):
         """(problem, compliance, impact) of the step problem for the active
         contacts c, from their velocities u⁻ and u^free (module docstring)."""
-        W = (c.H.T @ sp.diags(minv) @ c.H).tocsc()
-        W = 0.5 * (W + W.T)
+        from .delassus_kernel import delassus   # numba: imported where it runs
+
         qv = u_free.copy()
         D, offset, comp, impact = self.law.normal_terms(c, h, u_minus[0::2], u_free[0::2])
         qv[0::2] += offset
+        diag = np.zeros(2 * c.m)
         if self.law.compliant:
-            diag = np.zeros(2 * c.m)
             diag[0::2] = D
-            W = (W + sp.diags(diag)).tocsc()
+        H = c.H
+        H.sort_indices()
+        # W = Hᵀ M⁻¹ H + D, exactly symmetric (delassus_kernel)
+        W = sp.csc_matrix(delassus(H.indptr.astype(np.int64), H.indices.astype(np.int64),
+                                   H.data.astype(float), H.shape[0], minv, diag)[::-1],
+                          shape=(2 * c.m, 2 * c.m))
         mu = self.mu[c.kind] if "friction" in self.effects else np.zeros(c.m)
         return FrictionProblem(W, qv, mu, 2), comp, impact
 

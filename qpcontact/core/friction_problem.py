@@ -98,6 +98,7 @@ class FrictionProblem:
         self.solution = None
         self.guesses: list = []
         diag = np.asarray(self.W.diagonal()) if m else np.zeros(0)
+        self._diagonal = diag
         if np.any(diag[0::self.dim] < 0):
             i = int(np.flatnonzero(diag[0::self.dim] < 0)[0])
             raise InvalidProblemError(
@@ -201,6 +202,39 @@ class FrictionProblem:
     @property
     def n_contacts(self) -> int:
         return self.mu.size
+
+    @property
+    def W_diagonal(self) -> np.ndarray:
+        """W's diagonal, read once (the certificate's contact scales take it
+        at every check of an iterate)."""
+        if getattr(self, "_diagonal", None) is None:      # a problem built without __init__
+            self._diagonal = np.asarray(self.W.diagonal())
+        return self._diagonal
+
+    @property
+    def W_blocks(self):
+        """A 2-D problem's W by its 2 × 2 blocks, formed once: (the diagonal
+        blocks (nc, 2, 2), the others as (bptr, bcols, bdata (nb, 2, 2)) by
+        block row, columns sorted) — NSGS's sweeps and Newton's Jacobians read
+        them."""
+        if getattr(self, "_blocks", None) is None:
+            from ._block_kernels import blocks_2d   # numba: imported where it runs
+
+            if self.dim != 2:
+                raise InvalidOptionError("W_blocks: 2-D problems only")
+            W = sp.csr_matrix(self.W)
+            self._blocks = blocks_2d(W.indptr.astype(np.int64), W.indices.astype(np.int64),
+                                     W.data.astype(float))
+        return self._blocks
+
+    @property
+    def abs_W(self):
+        """W's entries' absolute values, formed on first use and kept (the
+        certificate's contact sizes take ``abs(W) @ abs(r)`` at every check of
+        an iterate)."""
+        if getattr(self, "_abs_W", None) is None:
+            self._abs_W = abs(self.W)
+        return self._abs_W
 
     def velocities(self, r) -> np.ndarray:
         if self.W is None:

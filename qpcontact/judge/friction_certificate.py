@@ -48,7 +48,7 @@ def contact_scales(problem: FrictionProblem) -> np.ndarray:
     """ρ_i = 1 / W_nn,i per contact (force per velocity): what turns a
     contact's velocity into a force on its own scale (a contact W says
     nothing about: 1 / the largest normal entry)."""
-    return scales_from_diagonal(np.abs(np.asarray(problem.W.diagonal(), dtype=float)[0::problem.dim]))
+    return scales_from_diagonal(np.abs(np.asarray(problem.W_diagonal, dtype=float)[0::problem.dim]))
 
 
 def scales_from_diagonal(wn) -> np.ndarray:
@@ -94,7 +94,7 @@ def contact_sizes(problem: FrictionProblem, r, rho=None) -> np.ndarray:
     """s_i = ‖r_i‖ + ρ_i(‖q_i‖ + ‖(|W||r|)_i‖), floored at eps · max_j s_j:
     the force scale each contact's residual is judged against."""
     rho = contact_scales(problem) if rho is None else rho
-    return sizes(r, rho, problem.q, np.asarray(abs(problem.W) @ np.abs(r)).ravel(),
+    return sizes(r, rho, problem.q, np.asarray(problem.abs_W @ np.abs(r)).ravel(),
                   problem.dim)
 
 
@@ -135,7 +135,15 @@ def global_errors(problem: FrictionProblem, r, v) -> tuple[float, float, float]:
 
 def certified_error(problem: FrictionProblem, r, u=None) -> float:
     """What an answer is held to: the larger of Siconos's natural-map error
-    and the componentwise one."""
+    and the componentwise one.  A sparse 2-D problem's (the methods check it
+    at every few sweeps and Newton steps) in one compiled pass over W's
+    blocks, the same value to rounding (:func:`certify_friction`, which an
+    answer is finally judged by, keeps the formulas below)."""
+    if u is None and problem.dim == 2 and sp.issparse(problem.W):
+        r = np.asarray(r, float)
+        if np.all(np.isfinite(r)):
+            from ._certify_kernels import certified_error_2d   # numba: where it runs
+            return float(certified_error_2d(*problem.W_blocks, problem.q, problem.mu, r))
     u = problem.velocities(r) if u is None else u   # once for both measures
     return max(natural_map_error(problem, r, u), componentwise_error(problem, r, u))
 
@@ -190,6 +198,12 @@ def natural_map_jacobian(problem: FrictionProblem, r, slip_rtol: float = SLIP_RT
     # product, where forming T, A and J_P A as matrices cost 3.6 ms a call on
     # a 120-contact pile (mostly scipy's per-operation overhead)
     JP = projection_jacobian(x, mu, d)
+    if sp.issparse(W) and d == 2:     # T_i's one entry off the identity, B_i in the kernel
+        from ._certify_kernels import jacobian_2d_csr   # numba: imported where it runs
+        t01 = np.zeros(nc)
+        t01[slip] = mu[slip] * g[:, 0]
+        ptr, idx, val = jacobian_2d_csr(*problem.W_blocks, JP, rho_c, t01)
+        return sp.csr_matrix((val, idx, ptr), shape=(m, m)).tocsc()
     T = np.broadcast_to(np.eye(d), (nc, d, d)).copy()
     T[slip, 0, 1:] += mu[slip, None] * g
     B = rho_c[:, None, None] * np.einsum("kij,kjl->kil", JP, T)

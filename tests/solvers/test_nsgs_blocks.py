@@ -52,3 +52,58 @@ def test_square_newton_step_gives_a_certified_answer():
     scale = np.abs(plain.r).max()
     # a regular problem (D > 0 on the normals, H of full column rank): one answer
     assert np.abs(square.r - plain.r).max() <= 1e-6 * scale
+
+
+def test_w_blocks_are_those_of_w():
+    """FrictionProblem.W_blocks (one compiled pass) against W's dense 2 x 2 slices."""
+    p = _problem(seed=4)
+    dense = p.W.toarray()
+    diag, bptr, bcols, bdata = p.W_blocks
+    nc = p.n_contacts
+    for i in range(nc):
+        assert np.array_equal(diag[i], dense[2 * i:2 * i + 2, 2 * i:2 * i + 2])
+        cols = bcols[bptr[i]:bptr[i + 1]]
+        assert np.all(np.diff(cols) > 0) and i not in cols
+        for c, blk in zip(cols, bdata[bptr[i]:bptr[i + 1]]):
+            assert np.array_equal(blk, dense[2 * i:2 * i + 2, 2 * c:2 * c + 2])
+        others = [c for c in range(nc) if c != i and c not in cols]
+        assert not np.any(dense[2 * i:2 * i + 2][:, [2 * c + k for c in others for k in (0, 1)]])
+
+
+def test_compiled_2d_certified_error_equals_the_formulas():
+    """certified_error's compiled pass for sparse 2-D problems against the
+    certificate's array formulas (natural_map_error, componentwise_error):
+    random, zero and sweep-made impulses, open, sticking and sliding contacts."""
+    from qpcontact.judge.friction_certificate import (certified_error, componentwise_error,
+                                                      natural_map_error)
+
+    for seed in range(6):
+        p = _problem(n_bodies=20 + 10 * seed, m=10 + 30 * seed, seed=seed)
+        gs = NSGS(p, omega=1.3)
+        rng = np.random.default_rng(seed)
+        for r in (rng.normal(size=p.q.size), np.zeros(p.q.size), gs.sweep(5).copy(),
+                  gs.sweep(200).copy()):
+            u = p.velocities(r)
+            want = max(natural_map_error(p, r, u), componentwise_error(p, r, u))
+            # both relative measures: below 1e-15 they are rounding either way
+            assert abs(certified_error(p, r) - want) <= 1e-13 * want + 1e-15
+
+
+def test_the_square_step_with_a_reused_order_is_the_fresh_one():
+    """nsgs-newton's square step takes the solve's first column order for its
+    later LUs: the step equals a fresh minimum-degree LU's."""
+    import scipy.sparse.linalg as spla
+    from qpcontact.judge.friction_certificate import natural_map_jacobian
+    from qpcontact.solvers.friction import hybrid
+
+    p = _problem(seed=2)
+    gs = NSGS(p, omega=1.3)
+    r1, r2 = gs.sweep(3).copy(), gs.sweep(30).copy()
+    square = {"on": True}
+    for r in (r1, r2):            # the second LU reuses the first one's order
+        J = sp.csc_matrix(natural_map_jacobian(p, r))
+        F = np.random.default_rng(0).normal(size=r.size)
+        step, _ = hybrid._square_step(p, r, J, F, square)
+        fresh = spla.splu(J).solve(-F)
+        assert np.abs(step - fresh).max() <= 1e-10 * np.abs(fresh).max()
+    assert "order" in square

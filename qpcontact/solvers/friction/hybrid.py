@@ -79,7 +79,7 @@ _LAMBDA = 1e-12
 _SINGULAR = 1e6
 
 
-def minimum_norm_newton(problem, r, tol, max_steps=6, square=None):
+def minimum_norm_newton(problem, r, tol, max_steps=6, square=None, error=None):
     """Up to ``max_steps`` full minimum-norm Newton steps from ``r`` (module
     docstring), stopped at tol or once the certified error is 100 times the
     start's; (the best point, its error, steps taken).  With ``square`` =
@@ -88,18 +88,19 @@ def minimum_norm_newton(problem, r, tol, max_steps=6, square=None):
     that is the minimum-norm step at a tenth of the fill; once J is found
     singular it is off.  Off by default: on a rigid pile J is singular and
     the extra LU only costs (0.17 s beside the augmented system's 1.1 s on
-    5 000 contacts, which broke nsgs-newton's time limit there)."""
+    5 000 contacts, which broke nsgs-newton's time limit there).  ``error``:
+    the certified error at ``r`` where the caller has computed it."""
     square = {"on": False} if square is None else square
     d, W, q, mu = problem.dim, problem.W, problem.q, problem.mu
     rho = np.repeat(contact_scales(problem), d)
-    best_r, best = r, certified_error(problem, r)
+    best_r, best = r, certified_error(problem, r) if error is None else error
     start = best
     steps = 0
     for steps in range(1, max_steps + 1):
         F = r - project_cone(r - rho * modified_velocity(np.asarray(W @ r).ravel() + q, mu, d),
                              mu, d)
         J = sp.csc_matrix(natural_map_jacobian(problem, r))
-        step, err = _square_step(problem, r, J, F) if square["on"] else (None, None)
+        step, err = _square_step(problem, r, J, F, square) if square["on"] else (None, None)
         if step is None:
             square["on"] = False           # J is singular: off for the rest of the solve
             step = _minimum_norm_step(J, F)
@@ -120,7 +121,7 @@ def _error_at(problem, r):
     return certified_error(problem, r) if np.all(np.isfinite(r)) else np.inf
 
 
-def _square_step(problem, r, J, F):
+def _square_step(problem, r, J, F, square=None):
     """The plain Newton step J d = −F and the certified error at r + d;
     (None, None) where J is singular (no LU, or a step :data:`_SINGULAR`
     times ‖r‖ + ‖F‖ long: huge along directions the minimum-norm step leaves
@@ -132,13 +133,46 @@ def _square_step(problem, r, J, F):
     (the caller judges the point): re-solving a regular J by the augmented
     system where the square step did not help gave the same step at ten
     times the cost, a sixth of the drum's step
-    (docs/dev-notes.md, "The drum's step: where the time goes")."""
+    (docs/dev-notes.md, "The drum's step: where the time goes").
+
+    Where the projection opens a contact (J_P = 0) J's rows are e_iᵀ: d_i =
+    −F_i, and the LU is of the system on the other unknowns — half of them
+    on a settled drum bed, its LU 3.5 -> 1.4 ms.  ``square`` (the caller's
+    dict, kept across the steps and tries of one solve) keeps the first LU's
+    order under "order": J's pattern is W's (less a state's zeros), so the
+    later LUs of the solve take it (restricted to their unknowns, the others
+    after them) instead of computing one — the ordering was half of each
+    LU's time."""
+    from ._newton_kernels import restricted_system   # numba: imported where it runs
+
+    J = sp.csc_matrix(J)
+    n = F.size
+    fixed = (np.bincount(J.indices, minlength=n) == 1) & (J.diagonal() == 1.0)
+    known = None if square is None else square.get("order")
+    if known is None:
+        order = np.flatnonzero(~fixed)
+    else:        # the first LU's order, then the unknowns it did not have
+        order = known[~fixed[known]]
+        seen = np.zeros(n, bool)
+        seen[order] = True
+        order = np.concatenate([order, np.flatnonzero(~fixed & ~seen)])
+    ptr, idx, val, rhs = restricted_system(J.indptr, J.indices.astype(np.int64), J.data, order,
+                                           F, fixed)
+    J_r = sp.csc_matrix((val, idx, ptr), shape=(order.size, order.size))
+    lu_options = dict(diag_pivot_thresh=0.1, options={"SymmetricMode": True})
+    step = np.empty_like(F)
+    step[fixed] = -F[fixed]
     try:
-        # J's pattern is W's, symmetric: a minimum-degree order on J + Jᵀ with
-        # pivots kept on the diagonal where they are a tenth of the column's
-        # largest has 0.55-0.65 of COLAMD's fill on the drum's beds
-        step = spla.splu(J, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1,
-                         options={"SymmetricMode": True}).solve(-F)
+        if order.size and known is None:
+            # J's pattern is W's, symmetric: a minimum-degree order on J + Jᵀ
+            # with pivots kept on the diagonal where they are a tenth of the
+            # column's largest has 0.55-0.65 of COLAMD's fill on the drum's beds
+            lu = spla.splu(J_r, permc_spec="MMD_AT_PLUS_A", **lu_options)
+            step[order] = lu.solve(rhs)
+            if square is not None:
+                square["order"] = order[np.argsort(lu.perm_c)]
+        elif order.size:       # SuperLU's own ordering skipped
+            step[order] = spla.splu(J_r, permc_spec="NATURAL", **lu_options).solve(rhs)
     except RuntimeError:          # singular: the augmented system's step
         return None, None
     if not np.linalg.norm(step) <= _SINGULAR * (np.linalg.norm(r) + np.linalg.norm(F)):
@@ -209,7 +243,7 @@ def solve_nsgs_newton(problem, tol, options):
         if (best < next_try or (since and quiet >= wait)) and (left is None or left > need):
             tries += 1
             t_try = time.perf_counter()
-            rn, en, k = minimum_norm_newton(problem, r.copy(), tol, square=square)
+            rn, en, k = minimum_norm_newton(problem, r.copy(), tol, square=square, error=err)
             longest_try = max(longest_try, time.perf_counter() - t_try)
             newton_steps += k
             next_try = min(next_try, best / 10.0)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import time
 
 import numpy as np
@@ -38,28 +40,44 @@ def starting_point(method: str, problem, r0):
 
 
 class NSGS:
-    """The sweeps' state on one problem: W in CSR, its diagonal blocks, the
-    iterate ``r`` and the sweeps ``done``; ``omega`` over-relaxes each local
-    solution (then projected back onto the cone)."""
+    """The sweeps' state on one problem: W in CSR (formed on first use; a
+    2-D problem's sweeps read its off-diagonal 2 x 2 blocks, ``bsr``), its
+    diagonal blocks, the iterate ``r`` and the sweeps ``done``; ``omega``
+    over-relaxes each local solution (then projected back onto the cone)."""
 
     def __init__(self, problem, r0=None, *, omega=1.0, local_rtol=1e-14, max_local=200):
         d, nc = problem.dim, problem.n_contacts
         if not 0.0 < omega < 2.0:
             raise InvalidOptionError(f"'nsgs': omega must be in (0, 2); got {omega}")
-        W = sp.csr_matrix(problem.W)
-        W.sum_duplicates()
-        # the diagonal blocks gathered in one pass: slicing W per contact cost
-        # 9 ms a step on a 120-contact drum pile, more than its sweeps
-        rows = np.repeat(np.arange(W.shape[0]), np.diff(W.indptr))
-        own = rows // d == W.indices // d
-        self.blocks = np.zeros((nc, d, d))
-        self.blocks[rows[own] // d, rows[own] % d, W.indices[own] % d] = W.data[own]
-        self.W, self.indices = W, W.indices.astype(np.int64)
-        self.bsr = _off_diagonal_blocks(W, nc) if d == 2 else None
-        self.problem, self.omega = problem, float(omega)
+        self.problem = problem
+        if d == 2:        # W's 2 x 2 blocks, formed once per problem
+            self.blocks, *bsr = problem.W_blocks
+            self.bsr = tuple(bsr)
+        else:
+            # the diagonal blocks gathered in one pass: slicing W per contact
+            # cost 9 ms a step on a 120-contact drum pile, more than its sweeps
+            W = self.W
+            rows = np.repeat(np.arange(W.shape[0]), np.diff(W.indptr))
+            own = rows // d == W.indices // d
+            self.blocks = np.zeros((nc, d, d))
+            self.blocks[rows[own] // d, rows[own] % d, W.indices[own] % d] = W.data[own]
+            self.bsr = None
+        self.omega = float(omega)
         self.local_rtol, self.max_local = float(local_rtol), int(max_local)
         self.done = 0
         self.restart(np.zeros(d * nc) if r0 is None else r0)
+
+    @functools.cached_property
+    def W(self):
+        """W in CSR, duplicates summed (the general sweep's; the 2-D sweep reads
+        the blocks)."""
+        W = sp.csr_matrix(self.problem.W)
+        W.sum_duplicates()
+        return W
+
+    @functools.cached_property
+    def indices(self):
+        return self.W.indices.astype(np.int64)
 
     def restart(self, r):
         r = np.array(r, float).ravel()
@@ -81,17 +99,6 @@ class NSGS:
                    self.blocks, int(n), self.local_rtol, self.max_local, self.omega)
         self.done += int(n)
         return self.r
-
-
-def _off_diagonal_blocks(W, nc):
-    """W's 2 x 2 blocks off the diagonal as (indptr, columns, data (nb, 2, 2))."""
-    B = sp.bsr_matrix(W, blocksize=(2, 2))
-    B.sort_indices()
-    rows = np.repeat(np.arange(nc), np.diff(B.indptr))
-    off = B.indices != rows
-    ptr = np.concatenate([[0], np.cumsum(np.bincount(rows[off], minlength=nc))])
-    return (ptr.astype(np.int64), B.indices[off].astype(np.int64),
-            np.ascontiguousarray(B.data[off]))
 
 
 def solve_nsgs(problem, tol, options):

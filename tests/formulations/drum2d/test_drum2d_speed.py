@@ -138,3 +138,32 @@ def test_a_regular_newton_step_is_kept_without_the_augmented_system(monkeypatch)
                                square=square)
     assert any(b > a for a, b in zip(errors, errors[1:])), errors   # a step that did not help
     assert not calls and square["on"]
+
+
+def test_step_problem_w_is_h_t_minv_h_plus_the_springs_exactly_symmetric():
+    """The stepper's W (delassus_kernel) against scipy's Hᵀ M⁻¹ H + D on
+    random two-body contacts: equal to rounding, symmetric bit for bit."""
+    from formulations.drum2d.delassus_kernel import delassus
+
+    rng = np.random.default_rng(7)
+    n, m = 30, 50
+    rows, cols, vals = [], [], []
+    for k in range(m):                 # two bodies a contact, three freedoms a body
+        for body in rng.choice(n, 2, replace=False):
+            for col in (2 * k, 2 * k + 1):
+                for dof in range(3):
+                    rows.append(3 * body + dof)
+                    cols.append(col)
+                    vals.append(rng.normal())
+    H = sp.csc_matrix((vals, (rows, cols)), shape=(3 * n, 2 * m))
+    H.sort_indices()
+    minv = rng.uniform(0.5, 2.0, 3 * n)
+    minv[5] = 0.0                      # a disc held from rolling
+    diag = np.zeros(2 * m)
+    diag[0::2] = rng.uniform(0, 1e-2, m)
+    ptr, idx, val = delassus(H.indptr.astype(np.int64), H.indices.astype(np.int64), H.data,
+                             3 * n, minv, diag)
+    W = sp.csc_matrix((val, idx, ptr), shape=(2 * m, 2 * m)).toarray()
+    ref = (H.T @ sp.diags(minv) @ H).toarray() + np.diag(diag)
+    assert np.array_equal(W, W.T)
+    assert np.abs(W - ref).max() <= 1e-14 * np.abs(ref).max()
