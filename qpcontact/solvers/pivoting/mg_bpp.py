@@ -35,8 +35,8 @@ settled — plate n = 4e4: 40 cycles left 280 exchanges, 20 s; 400 cycles
 none, 6.3 s), ``max_iter``
 (pivoting steps, 10 n + 100), ``patience`` (3), ``progress`` (a callable
 taking one line per cycle and exchange).  ``stats``: ``mg_levels``,
-``mg_cycles`` (all levels), ``mg_rebuilds`` (truncated coarse operators
-built), ``hierarchy`` ("given" or "aggregation"), ``initial_active``,
+``mg_cycles`` (all levels), ``mg_rebuilds`` (cycles whose truncated coarse
+operators moved), ``hierarchy`` ("given" or "aggregation"), ``initial_active``,
 ``factorizations``, ``krylov_solves``, ``block_exchanges``, ...
 """
 
