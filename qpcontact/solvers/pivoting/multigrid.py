@@ -269,8 +269,10 @@ def _tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, p
         active = z > 0.0
         changed = n if previous is None else int(np.count_nonzero(active != previous))
         held = held + 1 if changed == 0 else 0
-        res = _residual(z, A @ z + q, d, q_scale)
         stats["mg_cycles"] += 1
+        # the residual (a product with M) decides only once the set has held
+        res = (_residual(z, A @ z + q, d, q_scale) if held >= 2 or progress is not None
+               else np.inf)
         if progress is not None:
             progress(f"mg-bpp: {label} cycle {cycle + 1}: residual {res:.1e}, "
                      f"{n - int(active.sum())} at the obstacle, {changed} changed")
