@@ -11,8 +11,9 @@ tolerance, and nobody certifies their iterates.  So:
 1. **Nested TNNMG** (:mod:`.multigrid`): the obstacle problem solved on the
    coarsest level exactly, then on each finer level from the interpolated
    coarser answer by truncated nonsmooth Newton multigrid cycles, until the
-   finest level's contact set has held for two cycles with its natural-map
-   residual at 1e-8 of ‖q‖∞ (or ``max_cycles``, default 500).  The coarse levels are the
+   level's contact set has held for two cycles with its natural-map residual
+   at 1e-8 of ‖q‖∞ (1e-3 below the finest), or for five whatever the
+   residual (or ``max_cycles``, default 500, on each level).  The coarse levels are the
    problem's own (``LCP(..., hierarchy=[P_0, P_1, ...])``: a mesh knows its
    coarser grids; :mod:`formulations.meshes` passes them) or, when it
    carries none, built by smoothed aggregation and kept on M's structure for

@@ -235,12 +235,11 @@ def _residual(z, w, diag, q_scale) -> float:
     return float(np.max(np.abs(np.minimum(diag * z, w)), initial=0.0)) / q_scale
 
 
-def _tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, progress, label,
-           held_stop=None):
+def _tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, progress, label):
     """TNNMG cycles on LCP(A, q) (with at least one coarser level) from z
     (in place) until the contact set has held for two cycles with the
-    natural-map residual at ``tol``, or for ``held_stop`` cycles whatever
-    the residual, or ``cycles`` cycles."""
+    natural-map residual at ``tol``, or for HELD_STOP cycles whatever the
+    residual, or ``cycles`` cycles."""
     d = A.diagonal()
     q_scale = max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
     correction = None
@@ -277,17 +276,18 @@ def _tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, p
             progress(f"mg-bpp: {label} cycle {cycle + 1}: residual {res:.1e}, "
                      f"{n - int(active.sum())} at the obstacle, {changed} changed")
         previous = active
-        if (held >= 2 and res <= tol) or (held_stop is not None and held >= held_stop):
+        if (held >= 2 and res <= tol) or held >= HELD_STOP:
             break
     return z
 
 
-def multilevel_guess(M, q, prolongations, *, cycles: int, coarse_cycles: int = 3,
-                     tol: float = 1e-8, stats: dict, progress=None) -> np.ndarray:
+def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, stats: dict,
+                     progress=None) -> np.ndarray:
     """The nested TNNMG iterate for LCP(M, q) on the hierarchy
     ``prolongations`` (finest first; may be empty): coarsest level solved
-    exactly by block pivoting, then ``coarse_cycles`` cycles on each
-    intermediate level and up to ``cycles`` on the finest."""
+    exactly by block pivoting, then on each finer level up to ``cycles``
+    cycles, ended by the same rule (``tol`` on the finest, 1e-3 on the
+    others)."""
     stats.setdefault("mg_cycles", 0)
     stats.setdefault("mg_rebuilds", 0)
     As, qs = [_csr(M)], [np.asarray(q, dtype=float)]
@@ -306,8 +306,7 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, coarse_cycles: int = 3
     for l in range(L - 1, -1, -1):
         z = np.maximum(prolongations[l] @ z, 0.0)
         finest = l == 0
-        z = _tnnmg(As[l], qs[l], prolongations[l:], Rs[l:], As[l + 1:], z,
-                   cycles if finest else coarse_cycles, tol if finest else 1e-3, stats,
-                   progress if finest else None, "level 0" if finest else f"level {l}",
-                   held_stop=HELD_STOP if finest else None)
+        z = _tnnmg(As[l], qs[l], prolongations[l:], Rs[l:], As[l + 1:], z, cycles,
+                   tol if finest else 1e-3, stats, progress if finest else None,
+                   "level 0" if finest else f"level {l}")
     return z
