@@ -46,6 +46,34 @@ def gauss_seidel(indptr, indices, data, diag, b, x, free, forward):
 
 
 @njit
+def _galerkin_row(I, r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val, keep,
+                  acc, mark, cols):
+    """Row I of R diag(keep) A diag(keep) P into the accumulator ``acc``: the
+    columns it reaches, in the order first reached, go to ``cols`` (their
+    count returned) and are marked I in ``mark``; acc holds their values."""
+    m = 0
+    for a in range(r_ptr[I], r_ptr[I + 1]):
+        i = r_idx[a]
+        if not keep[i]:
+            continue
+        wi = r_val[a]
+        for b in range(a_ptr[i], a_ptr[i + 1]):
+            k = a_idx[b]
+            if not keep[k]:
+                continue
+            wik = wi * a_val[b]
+            for c in range(p_ptr[k], p_ptr[k + 1]):
+                J = p_idx[c]
+                if mark[J] != I:
+                    mark[J] = I
+                    acc[J] = 0.0
+                    cols[m] = J
+                    m += 1
+                acc[J] += wik * p_val[c]
+    return m
+
+
+@njit
 def galerkin(r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val, keep, nc):
     """C = R diag(keep) A diag(keep) P in CSR (R = P', all CSR), rows of C in
     order, columns unsorted.  ``keep`` truncates the fine level."""
@@ -58,25 +86,8 @@ def galerkin(r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val, keep
     out_ptr = np.zeros(nc + 1, dtype=np.int64)
     nnz = 0
     for I in range(nc):
-        m = 0
-        for a in range(r_ptr[I], r_ptr[I + 1]):
-            i = r_idx[a]
-            if not keep[i]:
-                continue
-            wi = r_val[a]
-            for b in range(a_ptr[i], a_ptr[i + 1]):
-                k = a_idx[b]
-                if not keep[k]:
-                    continue
-                wik = wi * a_val[b]
-                for c in range(p_ptr[k], p_ptr[k + 1]):
-                    J = p_idx[c]
-                    if mark[J] != I:
-                        mark[J] = I
-                        acc[J] = 0.0
-                        cols[m] = J
-                        m += 1
-                    acc[J] += wik * p_val[c]
+        m = _galerkin_row(I, r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val,
+                          keep, acc, mark, cols)
         if nnz + m > cap:
             cap = max(2 * cap, nnz + m)
             grown_idx = np.empty(cap, dtype=np.int64)
@@ -99,27 +110,18 @@ def galerkin_values(r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_va
     """The rows ``rows`` of C = R diag(keep) A diag(keep) P written into
     c_val, in place, on C's pattern (c_ptr, c_idx): the untruncated
     product's, which holds every truncated one (a truncated entry is stored
-    as 0).  Each entry sums the same terms in the same order as
-    :func:`galerkin`, so the values are its values."""
-    acc = np.zeros(c_ptr.size - 1)
+    as 0).  The same sums in the same order as :func:`galerkin`."""
+    nc = c_ptr.size - 1
+    acc = np.zeros(nc)
+    mark = np.full(nc, -1, dtype=np.int64)
+    cols = np.empty(nc, dtype=np.int64)
     for t in range(rows.size):
         I = rows[t]
+        _galerkin_row(I, r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val, keep,
+                      acc, mark, cols)
         for c in range(c_ptr[I], c_ptr[I + 1]):
-            acc[c_idx[c]] = 0.0
-        for a in range(r_ptr[I], r_ptr[I + 1]):
-            i = r_idx[a]
-            if not keep[i]:
-                continue
-            wi = r_val[a]
-            for b in range(a_ptr[i], a_ptr[i + 1]):
-                k = a_idx[b]
-                if not keep[k]:
-                    continue
-                wik = wi * a_val[b]
-                for c in range(p_ptr[k], p_ptr[k + 1]):
-                    acc[p_idx[c]] += wik * p_val[c]
-        for c in range(c_ptr[I], c_ptr[I + 1]):
-            c_val[c] = acc[c_idx[c]]
+            J = c_idx[c]
+            c_val[c] = acc[J] if mark[J] == I else 0.0
 
 
 @njit
