@@ -94,7 +94,9 @@ def run_mg_bpp(problem, tol, options) -> MethodResult:
                                   f"{diag[i]:g} is not positive — use 'lemke'")
     stats: dict = {}
     t = time.perf_counter()
+    # a plate (not a Z-matrix) starts from the shifted coarse answers
     z = multilevel_guess(M, problem.q, _hierarchy(problem, stats), cycles=cycles, stats=stats,
+                         shifted=not problem.structure.is_z_matrix,
                          progress=progress)
     stats["multigrid_time"] = time.perf_counter() - t
     F = z > 0.0
