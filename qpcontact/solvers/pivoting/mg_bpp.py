@@ -11,8 +11,9 @@ tolerance, and nobody certifies their iterates.  So:
 1. **Nested TNNMG** (:mod:`.multigrid`): the obstacle problem solved on the
    coarsest level exactly, then on each finer level from the interpolated
    coarser answer by truncated nonsmooth Newton multigrid cycles, until the
-   finest level's contact set has held for two cycles with its natural-map
-   residual at 1e-8 of ‖q‖∞ (or ``max_cycles``, default 500).  The coarse levels are the
+   level's contact set has held for two cycles with its natural-map residual
+   at 1e-8 of ‖q‖∞ (1e-3 below the finest), or for five whatever the
+   residual (or ``max_cycles``, default 500, on each level).  The coarse levels are the
    problem's own (``LCP(..., hierarchy=[P_0, P_1, ...])``: a mesh knows its
    coarser grids; :mod:`formulations.meshes` passes them) or, when it
    carries none, built by smoothed aggregation and kept on M's structure for
@@ -35,8 +36,8 @@ settled — plate n = 4e4: 40 cycles left 280 exchanges, 20 s; 400 cycles
 none, 6.3 s), ``max_iter``
 (pivoting steps, 10 n + 100), ``patience`` (3), ``progress`` (a callable
 taking one line per cycle and exchange).  ``stats``: ``mg_levels``,
-``mg_cycles`` (all levels), ``mg_rebuilds`` (truncated coarse operators
-built), ``hierarchy`` ("given" or "aggregation"), ``initial_active``,
+``mg_cycles`` (all levels), ``mg_rebuilds`` (cycles whose truncated coarse
+operators moved), ``hierarchy`` ("given" or "aggregation"), ``initial_active``,
 ``factorizations``, ``krylov_solves``, ``block_exchanges``, ...
 """
 
@@ -93,7 +94,9 @@ def run_mg_bpp(problem, tol, options) -> MethodResult:
                                   f"{diag[i]:g} is not positive — use 'lemke'")
     stats: dict = {}
     t = time.perf_counter()
+    # a plate (not a Z-matrix) starts from the shifted coarse answers
     z = multilevel_guess(M, problem.q, _hierarchy(problem, stats), cycles=cycles, stats=stats,
+                         shifted=not problem.structure.is_z_matrix,
                          progress=progress)
     stats["multigrid_time"] = time.perf_counter() - t
     F = z > 0.0
