@@ -69,27 +69,14 @@ def build(family: str, size: int, rigidity: float = 1.0):
     return meshes.signorini(size)[0]
 
 
-RAFT_K = 2.0e4          # kN/m³, the soil
 
 
 def raft_model(cells: int):
-    """A square raft of 0.5 m cells (kN, m): 0.5 m thick on tensionless
-    soil k = 2e4 kN/m³, self weight and 5 kN/m² on it, a 4 x 4 grid of
-    columns carrying 6 kN/m² of the raft's area each, and wind pulling the
-    windward row up by 9 kN/m² each: the windward strip lifts (17 % of the
-    area at 20 x 20 cells), at every size."""
-    from formulations.plates import Raft
+    """formulations.plates.examples.windward_raft: a square raft of 0.5 m
+    cells under a 4 x 4 grid of columns, the windward row pulled up."""
+    from formulations.plates.examples import windward_raft
 
-    side = 0.5 * cells
-    raft = Raft(side, side, thickness=0.5, E=30e6, nu=0.2, cells=(cells, cells))
-    raft.add_soil(RAFT_K)
-    raft.add_self_weight(25.0)
-    raft.add_area_load(5.0)
-    grid = [side * (0.5 + k) / 4 for k in range(4)]
-    for x in grid:
-        for y in grid:
-            raft.add_point_load(x, y, side ** 2 * (6.0 - (9.0 if x == grid[0] else 0.0)))
-    return raft
+    return windward_raft(cells)
 
 
 def _raft_floor(raft, result) -> float:
@@ -115,6 +102,7 @@ def raft_job(size, method, queue):
 
     import numpy as np
 
+    from formulations.plates.examples import WINDWARD_K
     from tests.helpers.raft_peers import opensees_raft, pynite_raft
 
     raft_model(4).solve()              # warm-up: imports, compiled kernels
@@ -132,7 +120,7 @@ def raft_job(size, method, queue):
                    ldlt=_raft_floor(raft, r) if r.ok else None)
     else:
         peer = pynite_raft if method == "pynite" else opensees_raft
-        w, _, converged, iterations = peer(raft, RAFT_K)
+        w, _, converged, iterations = peer(raft, WINDWARD_K)
         wall = time.perf_counter() - t
         status = "converged" if converged else "did not converge"
         if converged:      # how far from the certified answer

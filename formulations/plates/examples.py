@@ -11,7 +11,10 @@ from __future__ import annotations
 
 from .model import Raft
 
-__all__ = ["raft_example", "COMBINATIONS", "demo"]
+__all__ = ["raft_example", "windward_raft", "COMBINATIONS", "demo"]
+
+#: the soil under :func:`windward_raft`, kN/m³ (medium dense sand)
+WINDWARD_K = 2.0e4
 
 #: design combinations (EN 1990's STR set, wind both ways)
 COMBINATIONS = {
@@ -28,6 +31,25 @@ def _certificate(r) -> str:
     from rich.markup import escape
 
     return f"{r.error:.1e} ({r.method})" if r.ok else escape(r.message)
+
+
+def windward_raft(cells: int) -> Raft:
+    """A square raft of 0.5 m cells per side (kN, m): 0.5 m thick on
+    tensionless soil k = WINDWARD_K, self weight and 5 kN/m² on it, a 4 x 4
+    grid of columns carrying 6 kN/m² of the raft's area each, and wind
+    pulling the windward row up by 9 kN/m² each: the windward strip lifts
+    (17 % of the area at 20 x 20 cells), at every size — the raft of
+    ``benchmarks/scale.py --raft``."""
+    side = 0.5 * cells
+    raft = Raft(side, side, thickness=0.5, E=30e6, nu=0.2, cells=(cells, cells))
+    raft.add_soil(WINDWARD_K)
+    raft.add_self_weight(25.0)
+    raft.add_area_load(5.0)
+    grid = [side * (0.5 + k) / 4 for k in range(4)]
+    for x in grid:
+        for y in grid:
+            raft.add_point_load(x, y, side ** 2 * (6.0 - (9.0 if x == grid[0] else 0.0)))
+    return raft
 
 
 def raft_example(cells=(32, 24)) -> Raft:

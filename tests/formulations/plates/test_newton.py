@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from formulations.plates import Raft
-from formulations.plates.examples import COMBINATIONS, raft_example
+from formulations.plates.examples import COMBINATIONS, raft_example, windward_raft
 
 
 def _corner_raft():
@@ -124,22 +124,7 @@ def test_a_time_limit_spent_in_newton_is_reported_not_answered():
     assert "time limit" in r.message
 
 
-def _strip_raft(cells):
-    """A square raft of 0.5 m cells, a 4 x 4 grid of columns, the windward
-    row pulled up: a lift-off line across the raft."""
-    side = 0.5 * cells
-    raft = Raft(side, side, thickness=0.5, E=30e6, nu=0.2, cells=(cells, cells))
-    raft.add_soil(2e4)
-    raft.add_self_weight(25.0)
-    raft.add_area_load(5.0)
-    grid = [side * (0.5 + k) / 4 for k in range(4)]
-    for x in grid:
-        for y in grid:
-            raft.add_point_load(x, y, side ** 2 * (6.0 - (9.0 if x == grid[0] else 0.0)))
-    return raft
-
-
-@pytest.mark.parametrize("make", [lambda: _strip_raft(40), lambda: raft_example(cells=(36, 32))])
+@pytest.mark.parametrize("make", [lambda: windward_raft(40), lambda: raft_example(cells=(36, 32))])
 def test_a_start_from_the_coarser_grid_gives_the_same_answer(make, monkeypatch):
     """Nested iteration: the twin on half the cells only guesses the first
     states; the answer is the one Newton finds from every node pressing."""
@@ -155,7 +140,7 @@ def test_a_start_from_the_coarser_grid_gives_the_same_answer(make, monkeypatch):
 
 
 def test_no_coarser_grid_for_supports_given_as_nodes():
-    raft = _strip_raft(32)
+    raft = windward_raft(32)
     raft.add_support([0], fix=("w",))          # a node number names no node of another grid
     r = raft.solve()
     assert r.ok and "coarser grid" not in r.message, r.message
