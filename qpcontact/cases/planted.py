@@ -197,7 +197,12 @@ def build_qp(kind: str, n: int, seed: int, *, cond: float = 1e4) -> Case:
             P = P - U @ (U.T @ P @ U) @ U.T
             P = 0.5 * (P + P.T)
             ev = np.linalg.eigvalsh(P)
-            P = P - min(ev[0], 0.0) * np.eye(n)
+            # lifted to semidefinite with a margin of the projection's own
+            # rounding (normwise, n eps |P|): lifted to exactly 0, a stored P
+            # could read as indefinite in its Jacobi scaling (-6e-14: 6 draws
+            # in 40 000 at n = 3-4), and solve() rightly refused it as
+            # nonconvex where the case promised "solved"
+            P = P + (max(-ev[0], 0.0) + 64 * n * np.finfo(float).eps * ev[-1]) * np.eye(n)
         x = rng.standard_normal(n)
         state = rng.choice(3, size=m, p=[0.4, 0.4, 0.2] if kind == "degenerate" else [0.5, 0.5, 0.0])
         zmult = np.where(state == 0, rng.uniform(0.1, 2.0, m), 0.0)
