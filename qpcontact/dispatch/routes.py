@@ -24,7 +24,7 @@ from ..solvers.method import Method
 if TYPE_CHECKING:
     from qpsolvers import Problem
 
-__all__ = ["AUTO_ORDER", "AUTO_IP_BPP_MIN", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
+__all__ = ["AUTO_ORDER", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
            "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS", "auto_progress",
            "link_options",
            "auto_order", "auto_chain", "kind_of",
@@ -56,10 +56,12 @@ AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel
 #:   stiffness; n = 1e4: 2.8-3.3 x, ip-bpp 11-23 x, bpp 16-17 x);
 #: * M with off-diagonal entries of both signs (a plate's 13-point
 #:   operator) goes to "mg-bpp" only with a hierarchy of its own (the mesh's
-#:   grids, ``LCP(..., hierarchy=)``) and below AUTO_IP_BPP_MIN unknowns
-#:   (n = 1e4, six shapes, D = 1 and 0.05: mg-bpp best on 9 of 12; at
-#:   4e4 the plate with D = 1 under a dome: mg-bpp 32 x, ip-bpp 70 x; at
-#:   1e5 mg-bpp was not done in 150 s where ip-bpp took 29 s).  Without one,
+#:   grids, ``LCP(..., hierarchy=)``), at every size (n = 1e4, fourteen
+#:   plates: mg-bpp 3.2-17.6 x, ip-bpp 9.9-118 x, bpp 23-640 x; 4e4: mg-bpp
+#:   ahead on 10 of 10; 1e5, seven shapes after the coarse operators were
+#:   kept current: mg-bpp 6.5-17.7 s, ip-bpp 29-149 s or killed at 200 s —
+#:   docs/pivoting.md; until then ip-bpp took plates above 50 000 unknowns,
+#:   where mg-bpp had not finished the dome in 150 s).  Without one,
 #:   mg-bpp would coarsen by smoothed aggregation, which is built for
 #:   M-matrices (its prolongation is nonnegative only there): on plates
 #:   built without a hierarchy it took 56-66 x at n = 3600 where bpp took
@@ -71,7 +73,6 @@ AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel
 #: * a QP whose only constraints are lower bounds (the mixed problem of
 #:   finite-element contact): "ip-bpp" first.
 AUTO_MG_MIN = 1000
-AUTO_IP_BPP_MIN = 50_000
 AUTO_BPP_MAX = 5000
 
 
@@ -177,7 +178,7 @@ def _lcp_first(problem: LCP) -> tuple:
         return ("bpp",)
     if structure.is_z_matrix:
         return ("mg-bpp",)
-    if structure.hierarchy is not None and problem.n < AUTO_IP_BPP_MIN:
+    if structure.hierarchy is not None:
         return ("mg-bpp",)
     return ("bpp",) if problem.n < AUTO_BPP_MAX else ("ip-bpp",)
 

@@ -281,19 +281,19 @@ def test_auto_routes_by_structure():
     """Mesh-like Z-matrices (the membrane) to "mg-bpp" at every size from
     AUTO_MG_MIN, with or without a hierarchy (aggregation suits M-matrices);
     other mesh-like SPD matrices (the plate: off-diagonal entries of both
-    signs) to "mg-bpp" below AUTO_IP_BPP_MIN and "ip-bpp" above when they
-    carry a hierarchy, and without one to "bpp" below AUTO_BPP_MAX and
+    signs) to "mg-bpp" at every size when they carry a hierarchy, and
+    without one to "bpp" below AUTO_BPP_MAX and
     "ip-bpp" above; banded chains and small sparse meshes to "bpp"; dense
     and tiny problems to the plain order ("energy" first)."""
-    from qpcontact.dispatch.routes import AUTO_BPP_MAX, AUTO_IP_BPP_MIN, AUTO_MG_MIN
+    from qpcontact.dispatch.routes import AUTO_BPP_MAX, AUTO_MG_MIN
 
     small = int(np.ceil(np.sqrt(AUTO_MG_MIN)))
-    large = int(np.ceil(np.sqrt(AUTO_IP_BPP_MIN)))
+    large = 224                    # 50 176 unknowns: above the old cut to ip-bpp
     assert auto_order(meshes.membrane(small))[0] == "mg-bpp"
     assert auto_order(meshes.membrane(large))[0] == "mg-bpp"
     assert auto_order(_without_hierarchy(meshes.membrane(large)))[0] == "mg-bpp"
     assert auto_order(meshes.plate(small))[0] == "mg-bpp"
-    assert auto_order(meshes.plate(large))[0] == "ip-bpp"
+    assert auto_order(meshes.plate(large))[0] == "mg-bpp"
     below = int(np.sqrt(AUTO_BPP_MAX)) - 1
     above = int(np.ceil(np.sqrt(AUTO_BPP_MAX))) + 1
     assert auto_order(_without_hierarchy(meshes.plate(below)))[0] == "bpp"
