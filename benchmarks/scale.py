@@ -69,8 +69,6 @@ def build(family: str, size: int, rigidity: float = 1.0):
     return meshes.signorini(size)[0]
 
 
-
-
 def raft_model(cells: int):
     """formulations.plates.examples.windward_raft: a square raft of 0.5 m
     cells under a 4 x 4 grid of columns, the windward row pulled up."""

@@ -116,16 +116,15 @@ class SupportSystem:
             bordered = self._bordered(soil_pressing)
             if bordered is not None:
                 return bordered
-            self.upper.data = self.base.copy()
-            self.upper.data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
+        self.upper.data = self.base.copy()
+        self.upper.data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
+        if not floor_held.any():
             if self.solver is None:
                 self.solver = qdldl.Solver(self.upper, upper=True)
             else:
                 self.solver.update(self.upper, upper=True)
             self.factored = soil_pressing.copy()
             return self.solver.solve
-        self.upper.data = self.base.copy()
-        self.upper.data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
         keep = np.ones(self.dofs.size, bool)
         keep[self.floor_w[floor_held]] = False
         idx = np.flatnonzero(keep)

@@ -36,7 +36,7 @@ SLACKS = (1e-10, 1e-12, 1e-14)
 #: the slack tried last where a pattern's LP finds it empty but no vector at
 #: SLACKS[0] checks: where M'y = 0 is an identity its rounding can exceed
 #: 1e-10 of its terms (a table's corner push on soft pads ended "bounded",
-#: 9e-3 short of its collapse, on one machine's BLAS and not another's);
+#: 9e-3 short of its collapse, on one machine and not another);
 #: what the larger slack lets through is bounded by the same check
 #: (z_bound >= Z_BOUND x the solution's size), so it proves no more than
 #: that check allows (the slack is capped at half the accuracy's tolerance)
@@ -160,15 +160,13 @@ class LoadFamily:
                 return None
             Z0, W0 = stack.pop()
             cert = self._farkas(Z0, W0, p_lo, z_scale, tol, slacks)
-            if cert is not None:
-                leaves.append((np.flatnonzero(Z0), np.flatnonzero(W0)) + cert)
-                continue
-            found = self._pattern_point(Z0, W0, p_lo, unit)
-            if found is None:
+            found = None if cert is not None else self._pattern_point(Z0, W0, p_lo, unit)
+            if cert is None and found is None:
                 # empty by the LP, but no vector at the first slack: a larger one
                 cert = self._farkas(Z0, W0, p_lo, z_scale, tol, (LOOSE_SLACK,))
                 if cert is None:
                     return None   # without a certificate that checks
+            if cert is not None:
                 leaves.append((np.flatnonzero(Z0), np.flatnonzero(W0)) + cert)
                 continue
             z, pp = found
