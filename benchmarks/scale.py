@@ -79,17 +79,26 @@ def raft_model(cells: int):
 
 def _raft_floor(raft, result) -> float:
     """Seconds for one LDLᵀ of the answer's own linear system: the
-    stiffness on the free dofs plus the springs of the nodes in contact."""
+    stiffness on the dofs no bilateral support holds, plus the springs of
+    the soil nodes in contact, less the w of the floor nodes held (a lifted
+    floor node's w is an unknown of that system: ``qp.free`` leaves every
+    floor node's w out, which made a floor raft's floor the smaller system
+    of a raft held everywhere)."""
     import numpy as np
     import qdldl
     import scipy.sparse as sp
 
     b = raft.build()
     qp = b["qp"]
-    springs = np.zeros(qp.K.shape[0])
+    n = qp.K.shape[0]
+    springs = np.zeros(n)
     pressing = result.contact & np.isfinite(b["ks"])
     springs[3 * np.flatnonzero(pressing)] = b["ks"][pressing]
-    A = (qp.K + sp.diags(springs)).tocsc()[qp.free][:, qp.free]
+    keep = np.ones(n, bool)
+    keep[qp.fixed] = False
+    keep[3 * np.flatnonzero(result.contact & ~np.isfinite(b["ks"]))] = False
+    idx = np.flatnonzero(keep)
+    A = (qp.K + sp.diags(springs)).tocsc()[idx][:, idx]
     t = time.perf_counter()
     qdldl.Solver(sp.triu(A, format="csc"), upper=True)
     return time.perf_counter() - t

@@ -71,8 +71,17 @@ AUTO_ORDER = ("energy", "bpp", "lemke", "enumeration", "piqp", "osqp", "clarabel
 #:   above (n = 1e4: 44 x against bpp's 66 x, whose exchanges grow with the
 #:   grid: 182 x on a dome);
 #: * a QP whose only constraints are lower bounds (the mixed problem of
-#:   finite-element contact): "ip-bpp" first.
+#:   finite-element contact): "ip-bpp" first;
+#: * a dense LCP of AUTO_DENSE_BPP_MIN unknowns or more: "bpp" first, then
+#:   the plain order ("energy" next where bpp misses).  A dense SPD LCP
+#:   needs 3-5 block exchanges (20-24 at condition 1e8), each one Cholesky
+#:   of the free block, where energy's ~n/2 principal pivots cost O(n²)
+#:   each: CPU, one thread, random SPD M, bpp against energy: n = 100
+#:   1.0/2.0 ms, 400 11.8/23.2 ms, 800 60/151 ms, 3000 1.7/11.8 s (what
+#:   "auto" took then); condition 1e8: 1.8/2.4, 22/31, 79/189 ms.  Below
+#:   it the order is the one the hard cases were measured with.
 AUTO_MG_MIN = 1000
+AUTO_DENSE_BPP_MIN = 100
 AUTO_BPP_MAX = 5000
 
 
@@ -171,7 +180,9 @@ def auto_order(problem) -> tuple:
 def _lcp_first(problem: LCP) -> tuple:
     """The exact methods "auto" puts first for this LCP's structure (see
     AUTO_MG_MIN)."""
-    if not problem.is_sparse or problem.n < 100:
+    if not problem.is_sparse:
+        return ("bpp",) if problem.n >= AUTO_DENSE_BPP_MIN else ()
+    if problem.n < 100:
         return ()
     structure = problem.structure
     if structure.bandwidth <= BANDED_MAX or problem.n < AUTO_MG_MIN:

@@ -284,7 +284,7 @@ def test_auto_routes_by_structure():
     signs) to "mg-bpp" at every size when they carry a hierarchy, and
     without one to "bpp" below AUTO_BPP_MAX and
     "ip-bpp" above; banded chains and small sparse meshes to "bpp"; dense
-    and tiny problems to the plain order ("energy" first)."""
+    problems to "bpp" too, tiny ones to the plain order ("energy" first)."""
     from qpcontact.dispatch.routes import AUTO_BPP_MAX, AUTO_MG_MIN
 
     small = int(np.ceil(np.sqrt(AUTO_MG_MIN)))
@@ -305,7 +305,8 @@ def test_auto_routes_by_structure():
     order = auto_order(LCP(chain, -np.ones(n)))
     assert order[0] == "bpp" and order.count("bpp") == 1
     assert auto_order(meshes.membrane(8))[0] == "energy"
-    assert auto_order(LCP(chain.toarray(), -np.ones(n)))[0] == "energy"
+    assert auto_order(LCP(chain.toarray(), -np.ones(n)))[0] == "bpp"
+    assert auto_order(LCP(chain.toarray()[:50, :50], -np.ones(50)))[0] == "energy"
     sol = qpcontact.solve(meshes.membrane(small), method="auto")
     assert sol.ok and sol.method == "mg-bpp"
 

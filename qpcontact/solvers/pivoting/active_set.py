@@ -15,7 +15,8 @@ import numpy as np
 from ...core.errors import InvalidProblemError, NotConvexError
 from ...judge.scales import ComponentScales
 
-__all__ = ["sign_tolerances", "negative_components", "overflow_result", "check_dense_size",
+__all__ = ["sign_tolerances", "negative_components", "overflow_result", "time_limit_result",
+           "check_dense_size",
            "not_positive_definite", "DENSE_TABLEAU_LIMIT", "ExchangeRule", "SIGN_RTOL",
            "pivot_kernels"]
 
@@ -47,6 +48,17 @@ def overflow_result(method: str, exc: Exception):
 
     return MethodResult(x=None, backend_status="overflow",
                         backend_message=f"{method}: {exc}")
+
+
+def time_limit_result(method: str, steps: int, what: str, stats: dict):
+    """The MethodResult of a method stopped at its deadline (``solve``'s
+    ``time_limit=``, checked once per pivot, exchange or cycle): no point —
+    an intermediate basis is no answer — and how far it got."""
+    from ...core.results import MethodResult
+
+    return MethodResult(x=None, status="time_limit", backend_status="time_limit",
+                        backend_message=f"{method}: stopped at the time limit after {steps} "
+                        f"{what}", iterations=steps, stats=stats)
 
 
 class ExchangeRule:

@@ -29,11 +29,13 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ...core.deadline import Deadline
 from ...core.errors import InvalidOptionError
 from ...core.results import MethodResult
 from ...core.linalg import BANDED_MAX, SolutionOverflow
 from ...judge.scales import ComponentScales
-from .active_set import ExchangeRule, negative_components, not_positive_definite, overflow_result
+from .active_set import (ExchangeRule, negative_components, not_positive_definite,
+                         overflow_result, time_limit_result)
 from .finish import NearbyBases
 from ...core.options import BySize, Option, read_options
 
@@ -63,9 +65,12 @@ def _as_mask(active, n: int) -> np.ndarray:
     return mask
 
 
-def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=None):
+def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=None,
+                   deadline: Deadline | None = None):
     """Iterate from the basis F; returns (z, F, stats, status).  ``stats``
-    (a dict, updated in place) lets a caller count its own work beside."""
+    (a dict, updated in place) lets a caller count its own work beside;
+    past ``deadline`` (checked at every exchange) the status is
+    "time_limit" and z is None."""
     M, q = problem.M, problem.q
     scales = ComponentScales.of(problem)
     # Per-matrix analysis, cached on the problem (a time stepper reuses it).
@@ -89,24 +94,30 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=N
             return z, F, stats, "solved"
         if stats["iterations"] >= max_iter:
             return z, F, stats, "max_pivots"
+        if deadline is not None and deadline.expired():
+            return None, F, stats, "time_limit"
         stats["iterations"] += 1
         rule.step(F, infeasible)
 
 
-def run_bpp(problem, tol, options) -> MethodResult:
+def run_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     """The "bpp" method (module docstring).  Options (:data:`BPP_OPTIONS`):
-    ``initial_active``, ``max_iter`` (10 n + 100), ``patience`` (3)."""
+    ``initial_active``, ``max_iter`` (10 n + 100), ``patience`` (3).
+    ``time_limit`` (s): the deadline, checked at every exchange."""
+    deadline = Deadline(time_limit)
     n = problem.n
     opts = read_options("bpp", options, BPP_OPTIONS, size=n)
     F = (_as_mask(opts["initial_active"], n) if opts["initial_active"] is not None
          else np.zeros(n, dtype=bool))
     max_iter, patience = opts["max_iter"], opts["patience"]
     try:
-        z, F, stats, status = block_pivoting(problem, F, max_iter, patience)
+        z, F, stats, status = block_pivoting(problem, F, max_iter, patience, deadline=deadline)
     except np.linalg.LinAlgError as exc:
         raise not_positive_definite("bpp", exc) from None
     except SolutionOverflow as exc:
         return overflow_result("bpp", exc)
+    if status == "time_limit":
+        return time_limit_result("bpp", stats["iterations"], "exchanges", stats)
     stats["active"] = int(F.sum())
     return MethodResult(
         x=z, backend_status=status, iterations=stats["iterations"],

@@ -19,17 +19,20 @@ from itertools import combinations
 import numpy as np
 import scipy.linalg
 
+from ...core.deadline import Deadline
 from ...core.errors import InvalidProblemError
 from ...core.options import read_options
 from ...core.results import MethodResult
 from ...core.linalg import dense_matrix
+from .active_set import time_limit_result
 
 #: 2^16 = 65 536 sets of at most 16 x 16: about a second in the worst case.
 ENUMERATION_MAX = 16
 
 
-def run_enumeration(problem, tol, options) -> MethodResult:
-    """The "enumeration" method (module docstring); it takes no options."""
+def run_enumeration(problem, tol, options, time_limit=None) -> MethodResult:
+    """The "enumeration" method (module docstring); it takes no options.
+    ``time_limit`` (s): the deadline, checked every 256 bases."""
     read_options("enumeration", options, ())
     n = problem.n
     if n > ENUMERATION_MAX:
@@ -39,14 +42,17 @@ def run_enumeration(problem, tol, options) -> MethodResult:
     with warnings.catch_warnings():
         # an exactly singular M_FF is skipped below, not worth a warning per set
         warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-        return _enumerate(M, q, n)
+        return _enumerate(M, q, n, Deadline(time_limit))
 
 
-def _enumerate(M, q, n) -> MethodResult:
+def _enumerate(M, q, n, deadline) -> MethodResult:
     tried = 0
     for size in range(n + 1):
         for F in combinations(range(n), size):
             tried += 1
+            if tried % 256 == 0 and deadline.expired():
+                return time_limit_result("enumeration", tried, "bases",
+                                         {"bases_tried": tried})
             F = list(F)
             z = np.zeros(n)
             if F:

@@ -68,9 +68,10 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
+from ...core.deadline import Deadline
 from ...core.errors import InvalidProblemError
 from ...core.results import MethodResult
-from .active_set import SIGN_RTOL, ExchangeRule, not_positive_definite
+from .active_set import SIGN_RTOL, ExchangeRule, not_positive_definite, time_limit_result
 from .finish import preconditioned_cg, restricted_preconditioner, reusable
 from ...core.options import PROGRESS, BySize, Option, read_options
 
@@ -215,8 +216,9 @@ def _step_to_boundary(v, dv) -> float:
     return min(1.0, float(np.min(-v[neg] / dv[neg]))) if np.any(neg) else 1.0
 
 
-def _interior_point(P, c, lb, bounded, fac, max_ip, drop, stats, progress):
-    """Phase 1: returns the active-set guess (mask over all components)."""
+def _interior_point(P, c, lb, bounded, fac, max_ip, drop, stats, progress, deadline):
+    """Phase 1: returns the active-set guess (mask over all components);
+    past ``deadline`` the guess so far (the pivoting then stops at once)."""
     n = c.size
     B = np.flatnonzero(bounded)
     d = fac.diag[B]
@@ -234,6 +236,8 @@ def _interior_point(P, c, lb, bounded, fac, max_ip, drop, stats, progress):
     mu0 = (s @ lam) / B.size
     guess_prev, moved, still = None, False, 0
     for k in range(max_ip):
+        if deadline.expired():
+            break
         r_d = P @ x + c
         r_d[B] -= lam
         sigma_diag = lam / s
@@ -302,7 +306,7 @@ def _nearby_solver(P, absP, F, factored, diag, max_steps, stats):
     return solve
 
 
-def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progress):
+def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progress, deadline):
     """Phase 2: block pivoting from the active set ``active``; returns (x, λ,
     status) and counts the final active set in ``stats["active"]``."""
     absP = abs(P)
@@ -365,6 +369,8 @@ def _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats, progres
             return x, lam, "solved"
         if stats["iterations"] >= max_iter:
             return x, lam, "max_pivots"
+        if deadline.expired():
+            return None, None, "time_limit"
         stats["iterations"] += 1
         rule.step(F, bad)
 
@@ -459,7 +465,8 @@ def _refined(P, c, x, active, solve_F, steps=3):
     return x
 
 
-def _solve_condensed(P, c, lb, bounded, max_ip, drop, max_iter, patience, stats, progress):
+def _solve_condensed(P, c, lb, bounded, max_ip, drop, max_iter, patience, stats, progress,
+                     deadline):
     """The mixed problem through its Schur complement on the bounded
     components: the dense bound-constrained QP min ½ y'Sy + c_S'y, y >= l_B,
     by the same two phases, then x = P⁻¹(−c + E λ) with the full factor,
@@ -476,10 +483,13 @@ def _solve_condensed(P, c, lb, bounded, max_ip, drop, max_iter, patience, stats,
     c_S = S @ solve_P(c)[B]
     fac = _Factor(S)
     all_bounded = np.ones(B.size, bool)
-    active = _interior_point(S, c_S, lb[B], all_bounded, fac, max_ip, drop, stats, progress)
+    active = _interior_point(S, c_S, lb[B], all_bounded, fac, max_ip, drop, stats, progress,
+                             deadline)
     stats["initial_active"] = int(active.sum())
     _, lam_B, status = _pivoting(S, c_S, lb[B], all_bounded, active, fac, max_iter, patience,
-                                 stats, progress)
+                                 stats, progress, deadline)
+    if status == "time_limit":
+        return None, None, status
     lam = np.zeros(c.size)
     lam[B] = lam_B
     x = solve_P(lam - c)
@@ -493,8 +503,11 @@ def _solve_condensed(P, c, lb, bounded, max_ip, drop, max_iter, patience, stats,
     return x, lam, status
 
 
-def run_ip_bpp(problem, tol, options) -> MethodResult:
-    """The "ip-bpp" method (module docstring; options :data:`IP_BPP_OPTIONS`)."""
+def run_ip_bpp(problem, tol, options, time_limit=None) -> MethodResult:
+    """The "ip-bpp" method (module docstring; options :data:`IP_BPP_OPTIONS`).
+    ``time_limit`` (s): the deadline, checked at every interior step and
+    exchange."""
+    deadline = Deadline(time_limit)
     P, c, lb = _problem_data(problem)
     n = c.size
     opts = read_options("ip-bpp", options, IP_BPP_OPTIONS, size=n)
@@ -506,20 +519,24 @@ def run_ip_bpp(problem, tol, options) -> MethodResult:
     try:
         if sp.issparse(P) and 0 < m <= CONDENSE_MAX and 4 * m <= n:
             x, lam, status = _solve_condensed(P, c, lb, bounded, max_ip, float(drop), max_iter,
-                                              patience, stats, progress)
+                                              patience, stats, progress, deadline)
             return _result(x, lam, bounded, status, max_iter, stats)
         fac = _Factor(P)
-        active = (_interior_point(P, c, lb, bounded, fac, max_ip, float(drop), stats, progress)
+        active = (_interior_point(P, c, lb, bounded, fac, max_ip, float(drop), stats, progress,
+                                  deadline)
                   if bounded.any() else np.zeros(n, bool))
         stats["initial_active"] = int(active.sum())
         x, lam, status = _pivoting(P, c, lb, bounded, active, fac, max_iter, patience, stats,
-                                   progress)
+                                   progress, deadline)
     except np.linalg.LinAlgError as exc:
         raise not_positive_definite("ip-bpp", exc) from None
     return _result(x, lam, bounded, status, max_iter, stats)
 
 
 def _result(x, lam, bounded, status, max_iter, stats) -> MethodResult:
+    if status == "time_limit":
+        return time_limit_result("ip-bpp", stats["iterations"] + stats["ip_steps"],
+                                 "interior steps and exchanges", stats)
     return MethodResult(
         x=x, z_box=np.where(bounded, -lam, 0.0), backend_status=status,
         iterations=stats["iterations"] + stats["ip_steps"],

@@ -48,11 +48,12 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from ...core.deadline import Deadline
 from ...core.errors import InvalidProblemError
 from ...core.linalg import SolutionOverflow
 from ...core.options import PROGRESS, BySize, Option, read_options
 from ...core.results import MethodResult
-from .active_set import not_positive_definite, overflow_result
+from .active_set import not_positive_definite, overflow_result, time_limit_result
 from .bpp import block_pivoting
 from .multigrid import aggregation_hierarchy, multilevel_guess
 
@@ -80,8 +81,11 @@ def _hierarchy(problem, stats) -> tuple:
     return structure.aggregated_hierarchy
 
 
-def run_mg_bpp(problem, tol, options) -> MethodResult:
-    """The "mg-bpp" method (module docstring; options :data:`MG_BPP_OPTIONS`)."""
+def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
+    """The "mg-bpp" method (module docstring; options :data:`MG_BPP_OPTIONS`).
+    ``time_limit`` (s): the deadline, checked after the multilevel guess
+    and at every exchange of the exact finish."""
+    deadline = Deadline(time_limit)
     n = problem.n
     opts = read_options("mg-bpp", options, MG_BPP_OPTIONS, size=n)
     cycles, max_iter = opts["max_cycles"], opts["max_iter"]
@@ -99,13 +103,18 @@ def run_mg_bpp(problem, tol, options) -> MethodResult:
                          shifted=not problem.structure.is_z_matrix,
                          progress=progress)
     stats["multigrid_time"] = time.perf_counter() - t
+    if deadline.expired():
+        return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)
     F = z > 0.0
     try:
-        z, F, stats, status = block_pivoting(problem, F, max_iter, patience, stats)
+        z, F, stats, status = block_pivoting(problem, F, max_iter, patience, stats, deadline)
     except np.linalg.LinAlgError as exc:
         raise not_positive_definite("mg-bpp", exc) from None
     except SolutionOverflow as exc:
         return overflow_result("mg-bpp", exc)
+    if status == "time_limit":
+        return time_limit_result("mg-bpp", stats["mg_cycles"] + stats["iterations"],
+                                 "cycles and exchanges", stats)
     stats["active"] = int(F.sum())
     if progress is not None:
         progress(f"mg-bpp: exact finish: {stats['iterations']} exchanges, "
