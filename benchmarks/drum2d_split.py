@@ -158,8 +158,8 @@ def main(argv=None):
         report(n, got[n])
     if len(sizes) > 1:
         lo, hi = got[sizes[0]], got[sizes[-1]]
-        print(f"\n{sizes[-1]} logs over {sizes[0]}: contacts × {hi['contacts'] / lo['contacts']:.2f}, "
-              f"the step × {hi['step'] / lo['step']:.1f}")
+        print(f"\n{sizes[-1]} logs over {sizes[0]}: contacts × "
+              f"{hi['contacts'] / lo['contacts']:.2f}, the step × {hi['step'] / lo['step']:.1f}")
         print("| piece | × time | × calls |\n|---|---|---|")
         for _, _, label in PIECES:
             if label in lo["cpu"] and label in hi["cpu"] and lo["cpu"][label] > 0:
