@@ -139,8 +139,11 @@ class _Levels:
     def __init__(self, operators, prolongations, restrictions):
         self.As = operators
         self.sizes = [A.shape[0] for A in operators]
-        diagonal = [np.flatnonzero(C.indices == np.repeat(np.arange(C.shape[0]), np.diff(C.indptr)))
-                    for C in operators]
+        # where each coarse row's diagonal entry is stored (the finest
+        # level is never coarse: an empty segment)
+        diagonal = [np.zeros(0, dtype=np.int64)] + [
+            np.flatnonzero(C.indices == np.repeat(np.arange(C.shape[0]), np.diff(C.indptr)))
+            for C in operators[1:]]
         rofs = np.cumsum([0] + self.sizes)
         dofs = np.cumsum([0] + [d.size for d in diagonal])
         self.H = _pack(operators) + _pack(prolongations) + _pack(restrictions) + (
