@@ -65,10 +65,11 @@ def _kernels():
 #: directly, by a dense Cholesky factorization).
 COARSEST_MAX = 400
 
-#: A coarsest level above this many unknowns (aggregation stopped early:
-#: nothing strong left to aggregate, a diagonally dominant operator) is
-#: solved by Gauss–Seidel sweeps (:data:`._mg_kernels.COARSE_SWEEPS`), not
-#: factorized; and the first coarse LCP there goes to sparse block pivoting.
+#: A coarsest level above this many unknowns (aggregation stopped early,
+#: typically with nothing strong left: a diagonally dominant operator) is
+#: smoothed by Gauss–Seidel sweeps (:data:`._mg_kernels.COARSE_SWEEPS`), not
+#: factorized: elsewhere a weaker coarse solve, more cycles, the same answer;
+#: and the first coarse LCP there goes to sparse block pivoting.
 DENSE_COARSEST = 800
 
 #: Stop a level's cycles once its contact set has not changed for
