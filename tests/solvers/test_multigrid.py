@@ -366,6 +366,33 @@ def test_auto_routes_by_structure():
     assert sol.ok and sol.method == "mg-bpp"
 
 
+def test_dependent_coarsest_functions_cost_cycles_not_the_answer():
+    """Two coarsest functions the same make the coarsest operator singular
+    (to rounding; its Cholesky factor, or the regularized one's, or else
+    Gauss–Seidel sweeps): the V-cycle stays finite, and the answer is block
+    pivoting's."""
+    from qpcontact.solvers.pivoting import _mg_kernels as K
+    from qpcontact.solvers.pivoting.multigrid import _Levels
+
+    lcp = meshes.membrane(24)
+    Ps = list(lcp.structure.hierarchy)
+    last = Ps[-1].tocsc()
+    Ps[-1] = sp.hstack([last, last[:, :1]]).tocsr()
+    A, _, Rs, patterns = _hierarchy_of(LCP(lcp.M, lcp.q, hierarchy=Ps), "grid")
+    assert np.linalg.matrix_rank(patterns[-1].toarray()) < patterns[-1].shape[0]
+    levels = _Levels([A] + patterns, Ps, Rs)
+    H, S = levels.below(0)
+    levels.truncation(0)[:] = True
+    assert K.retruncate(H, S, np.ones(A.shape[0], dtype=bool))
+    assert np.all(np.isfinite(K.vcycle(H, S, np.ones(A.shape[0]))))
+    dup = LCP(lcp.M, lcp.q, q_terms=lcp.q_terms, hierarchy=Ps)
+    dup.structure.declare_spd()
+    sol = qpcontact.solve(dup, method="mg-bpp")
+    ref = qpcontact.solve(lcp, method="bpp")
+    assert sol.ok
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-10 * np.abs(ref.z).max())
+
+
 def test_a_large_coarsest_level_is_swept_not_factorized():
     """A strongly diagonally dominant chain coarsens once by aggregation
     and stops with nothing strong left: a coarsest level of thousands of

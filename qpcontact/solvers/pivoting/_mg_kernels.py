@@ -35,7 +35,7 @@ def projected_gauss_seidel(indptr, indices, data, inv_diag, q, z, sweeps):
                 _projected_row(indptr, indices, data, inv_diag, q, z, i)
 
 
-@njit(inline="always")
+@njit
 def _projected_row(indptr, indices, data, inv_diag, q, z, i):
     r = q[i]
     for p in range(indptr[i], indptr[i + 1]):
@@ -59,7 +59,7 @@ def gauss_seidel(indptr, indices, data, inv_diag, b, x, free, forward):
                 _row(indptr, indices, data, inv_diag, b, x, i)
 
 
-@njit(inline="always")
+@njit
 def _row(indptr, indices, data, inv_diag, b, x, i):
     r = b[i]
     for p in range(indptr[i], indptr[i + 1]):
@@ -242,10 +242,12 @@ def _matvec(ptr, idx, val, x, y):
 
 @njit
 def _coarsest_factor(ptr, idx, val, keep, factor, kept):
-    """The dense solver of the coarsest operator on its kept rows, into
-    ``factor`` (Cholesky's lower factor, or the pseudo-inverse where the
-    truncated coarse functions are dependent) and ``kept`` (their indices,
-    their count in kept[-1]).  Returns 0 (Cholesky) or 1 (pseudo-inverse)."""
+    """Cholesky's lower factor of the coarsest operator on its kept rows,
+    into ``factor``, and their indices into ``kept`` (their count in
+    kept[-1]).  Where the truncated coarse functions are dependent, the
+    factor of the operator plus 1e-10 of its diagonal; where even that
+    fails, none.  Returns 0 (a factor) or 1 (none: the V-cycle sweeps the
+    level instead)."""
     n = keep.size
     m = 0
     where = np.full(n, -1, dtype=np.int64)
@@ -262,16 +264,18 @@ def _coarsest_factor(ptr, idx, val, keep, factor, kept):
                 j = where[idx[p]]
                 if j >= 0:
                     B[where[i], j] = val[p]
-    try:
-        factor[:m, :m] = np.linalg.cholesky(B)
-        return 0
-    except Exception:   # truncated coarse functions dependent
-        factor[:m, :m] = np.linalg.pinv(B)
-        return 1
+    for attempt in range(2):
+        try:
+            factor[:m, :m] = np.linalg.cholesky(B)
+            return 0
+        except Exception:   # truncated coarse functions dependent: regularize once
+            for a in range(m):
+                B[a, a] *= 1.0 + 1e-10
+    return 1
 
 
 @njit
-def _coarsest_solve(factor, kept, mode, b, x):
+def _coarsest_solve(factor, kept, b, x):
     """x = the coarsest operator's solve of b on the kept rows (0 elsewhere)."""
     x[:] = 0.0
     n = x.size
@@ -279,13 +283,6 @@ def _coarsest_solve(factor, kept, mode, b, x):
     y = np.empty(m)
     for a in range(m):
         y[a] = b[kept[a]]
-    if mode == 1:
-        for a in range(m):
-            s = 0.0
-            for c in range(m):
-                s += factor[a, c] * y[c]
-            x[kept[a]] = s
-        return
     for a in range(m):                 # L y' = y
         s = y[a]
         for c in range(a):
@@ -380,13 +377,13 @@ def vcycle(H, S, b0):
         rp, ri, rv = _segment(r_ptr, r_idx, r_val, rpofs, rnofs, k)
         _matvec(rp, ri, rv, tk, b[rofs[k + 1]:rofs[k + 2]])
     lo, hi = rofs[m], rofs[m + 1]
-    if mode[0] == 2:        # a large coarsest level: symmetric Gauss–Seidel sweeps
+    if mode[0] == 0:
+        _coarsest_solve(factor, kept, b[lo:hi], x[lo:hi])
+    else:                   # no factor (too large, or singular): Gauss–Seidel sweeps
         ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, m)
         x[lo:hi] = 0.0
         for s in range(COARSE_SWEEPS):
             gauss_seidel(ap, ai, av, inv_diag[lo:hi], b[lo:hi], x[lo:hi], free[lo:hi], s % 2 == 0)
-    else:
-        _coarsest_solve(factor, kept, mode[0], b[lo:hi], x[lo:hi])
     for k in range(m - 1, -1, -1):
         lo, hi = rofs[k], rofs[k + 1]
         pp, pi, pv = _segment(p_ptr, p_idx, p_val, ppofs, pnofs, k)
