@@ -27,9 +27,10 @@ On each level, a TNNMG cycle (Gräser & Kornhuber 2009; Gräser, Sack, Sander
 
 The cycle is one compiled call (:func:`._mg_kernels.tnnmg_cycle`, the
 hierarchy packed once per solve by :class:`_Levels`); the loop over cycles,
-the stop and the progress lines stay in Python.  Every step decreases f, so the iteration converges whatever the hierarchy;
-the hierarchy decides only how fast.  The iterate is a guess: "mg-bpp"
-hands its contact set to the exact block-pivoting finish.
+the stop and the progress lines stay in Python.  Every step decreases f,
+so the iteration converges whatever the hierarchy; the hierarchy decides
+only how fast.  The iterate is a guess: "mg-bpp" hands its contact set to
+the exact block-pivoting finish.
 
 References: Kornhuber, R. (1994), Monotone multigrid methods for elliptic
 variational inequalities I, Numer. Math. 69, 167–184; Gräser, C., Kornhuber,
@@ -162,8 +163,9 @@ class _Levels:
         H = self.H
         rofs = H[17]
         self.S[1][rofs[l]:rofs[l + 1]] = 1.0 / self.As[l].diagonal()
-        # each offset array keeps its entry for the level's end: the last
-        # level's segment starts at index l, its end one past
+        # the segment starts from level l on (they stay absolute): level l is
+        # the view's level 0; the diagonal positions start at its first
+        # coarse level, l + 1
         return (H[:3] + (H[3][l:], H[4][l:]) + H[5:8] + (H[8][l:], H[9][l:])
                 + H[10:13] + (H[13][l:], H[14][l:]) + (H[15], H[16][l + 1:], rofs[l:])), self.S
 
