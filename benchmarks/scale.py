@@ -8,7 +8,9 @@ memory, killed at the time limit), measured side by side in one run.
 
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 .venv/bin/python benchmarks/scale.py
     .venv/bin/python benchmarks/scale.py --quick          # n ~ 1e3 .. 1e4, a minute
-    .venv/bin/python benchmarks/scale.py --membrane 1000 --methods mg-bpp   # n = 1e6
+    .venv/bin/python benchmarks/scale.py --membrane 1000 --methods mg-bpp   # n = 1e6, 1.3 GB
+    .venv/bin/python benchmarks/scale.py --plate 1000 --shapes crate --methods mg-bpp \
+        --limit 1800                                # n = 1e6: ~17 min, 6.6 GB (opt-in)
     .venv/bin/python benchmarks/scale.py --membrane 100,316 --shapes dome,bumps,ridge
     .venv/bin/python benchmarks/scale.py --plate 100,200 --rigidity 0.05 --shapes terraces,crate
     .venv/bin/python benchmarks/scale.py --raft 57,115 --methods qpcontact,pynite,opensees

@@ -121,21 +121,10 @@ def test_a_plate_stops_cycling_once_its_contact_set_holds():
     np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-10 * np.abs(ref.z).max())
 
 
-@pytest.mark.parametrize("family,N,hierarchy", [("plate", 37, "grid"), ("membrane", 40, "grid"),
-                                                 ("plate", 30, "aggregation"),
-                                                 ("membrane", 45, "aggregation")])
-def test_truncated_coarse_operators_follow_the_contact_set(family, N, hierarchy):
-    """The cycles keep P'TMTP current by recomputing only the coarse rows a
-    moved unknown reaches: after moves of 1 to n/3 unknowns every level's
-    operator equals SciPy's product R T A T P of the moved truncation (to
-    rounding: the sums run in another order), bit for bit a build from
-    nothing, and so does the V-cycle."""
-    from qpcontact.solvers.pivoting.multigrid import (_Correction, _nonzero_rows, _product,
-                                                      aggregation_hierarchy)
+def _hierarchy_of(lcp, hierarchy):
+    from qpcontact.solvers.pivoting.multigrid import _product, aggregation_hierarchy
 
-    lcp = getattr(meshes, family)(N)
     A = sp.csr_matrix(lcp.M)
-    n = A.shape[0]
     Ps = (list(lcp.structure.hierarchy) if hierarchy == "grid"
           else list(aggregation_hierarchy(lcp.M)))
     Rs = [P.T.tocsr() for P in Ps]
@@ -143,27 +132,94 @@ def test_truncated_coarse_operators_follow_the_contact_set(family, N, hierarchy)
     for P, R in zip(Ps, Rs):
         B = _product(R, B, P, None)
         patterns.append(B)
+    return A, Ps, Rs, patterns
+
+
+@pytest.mark.parametrize("family,N,hierarchy", [("plate", 37, "grid"), ("membrane", 40, "grid"),
+                                                 ("plate", 30, "aggregation"),
+                                                 ("membrane", 45, "aggregation")])
+def test_truncated_coarse_operators_follow_the_contact_set(family, N, hierarchy):
+    """The compiled cycle keeps P'TMTP current by recomputing only the
+    coarse rows a moved unknown reaches: after moves of 1 to n/3 unknowns
+    every level's operator equals SciPy's product R T A T P of the moved
+    truncation (to rounding: the sums run in another order), bit for bit a
+    build from nothing, and so does the V-cycle; the V-cycle equals the
+    Python one (tests/helpers/multigrid_reference.py) to rounding."""
+    from qpcontact.solvers.pivoting import _mg_kernels as K
+    from qpcontact.solvers.pivoting.multigrid import _Levels
+    from tests.helpers.multigrid_reference import Correction, nonzero_rows
+
+    lcp = getattr(meshes, family)(N)
+    A, Ps, Rs, patterns = _hierarchy_of(lcp, hierarchy)
+    n = A.shape[0]
+
+    def truncated(free, levels=None):
+        first = levels is None
+        levels = levels or _Levels([A] + patterns, Ps, Rs)
+        H, S = levels.below(0)
+        changed = (free != levels.truncation(0)) | first
+        levels.truncation(0)[:] = free
+        K.retruncate(H, S, changed)
+        return levels
+
     rng = np.random.default_rng(1)
     free = rng.random(n) < 0.6
-    kept = _Correction(A, A.diagonal(), Ps, Rs, free, patterns)
+    kept = truncated(free)
     for step in range(15):
         moved = rng.choice(n, [1, 3, 10, 50, n // 3][step % 5], replace=False)
         free = free.copy()
         free[moved] = ~free[moved]
-        kept.update(free)
-        fresh = _Correction(A, A.diagonal(), Ps, Rs, free, patterns)
+        truncated(free, kept)
+        fresh = truncated(free)
         keep, B = free, A
-        for (C, d, k), (C0, d0, k0), P, R in zip(kept.ops, fresh.ops, Ps, Rs):
+        for k, (P, R) in enumerate(zip(Ps, Rs), start=1):
             T = sp.diags(keep.astype(float))
             B = (R @ T @ B @ T @ P).tocsr()
+            C = kept.operator(k)
             np.testing.assert_allclose(C.toarray(), B.toarray(), rtol=0,
                                        atol=1e-14 * np.abs(B.data).max())
-            keep = _nonzero_rows(B.diagonal())
-            np.testing.assert_array_equal(k, keep)
-            np.testing.assert_array_equal(C.data, C0.data)
-            np.testing.assert_array_equal(d, d0)
-        b = rng.standard_normal(n)
-        np.testing.assert_array_equal(kept.vcycle(b), fresh.vcycle(b))
+            keep = nonzero_rows(B.diagonal())
+            np.testing.assert_array_equal(kept.truncation(k), keep)
+            np.testing.assert_array_equal(C.data, fresh.operator(k).data)
+        b = np.where(free, rng.standard_normal(n), 0.0)
+        c = K.vcycle(*kept.below(0), b).copy()
+        np.testing.assert_array_equal(c, K.vcycle(*fresh.below(0), b))
+        python = Correction(A, A.diagonal(), Ps, Rs, free, patterns).vcycle(b)
+        np.testing.assert_allclose(c, python, rtol=0, atol=1e-10 * np.abs(python).max())
+
+
+@pytest.mark.parametrize("family,N,hierarchy,D", [("membrane", 31, "grid", 1.0),
+                                                   ("plate", 31, "grid", 0.05),
+                                                   ("plate", 27, "aggregation", 1.0),
+                                                   ("membrane", 33, "aggregation", 1.0)])
+def test_the_compiled_cycle_repeats_the_python_cycle(family, N, hierarchy, D):
+    """The whole cycle compiled (smoothing, truncation, V-cycle, line search,
+    the held-set count) gives the Python cycle's iterates
+    (tests/helpers/multigrid_reference.py) to rounding after every cycle,
+    and stops after the same number of cycles."""
+    from qpcontact.solvers.pivoting.multigrid import _Levels, _tnnmg
+    from tests.helpers.multigrid_reference import tnnmg
+
+    kw = {"tension": D} if family == "membrane" else {"rigidity": D}
+    lcp = getattr(meshes, family)(N, obstacle="bumps", **kw)
+    A, Ps, Rs, patterns = _hierarchy_of(lcp, hierarchy)
+    q = np.asarray(lcp.q, dtype=float)
+    start = np.maximum(Ps[0] @ np.abs(np.random.default_rng(2).standard_normal(Ps[0].shape[1])),
+                       0.0)
+    runs = {}
+    for cycles in (1, 2, 3, 5, 8, 500):
+        for name in ("compiled", "python"):
+            stats = {"mg_cycles": 0, "mg_rebuilds": 0}
+            z = (_tnnmg(_Levels([A] + patterns, Ps, Rs), 0, q, start.copy(), cycles, 1e-8, stats,
+                        None, "level 0") if name == "compiled"
+                 else tnnmg(A, q, Ps, Rs, patterns, start.copy(), cycles, 1e-8, stats, None,
+                            "level 0"))
+            runs[name] = z, stats
+        (z, stats), (z_ref, stats_ref) = runs["compiled"], runs["python"]
+        np.testing.assert_allclose(z, z_ref, rtol=0, atol=1e-9 * np.abs(z_ref).max())
+        np.testing.assert_array_equal(z > 0, z_ref > 0)
+        assert stats == stats_ref
+    assert stats["mg_cycles"] < 500
 
 
 def test_a_plate_starts_from_the_shifted_coarse_answers():
@@ -309,6 +365,52 @@ def test_auto_routes_by_structure():
     assert auto_order(LCP(chain.toarray()[:50, :50], -np.ones(50)))[0] == "energy"
     sol = qpcontact.solve(meshes.membrane(small), method="auto")
     assert sol.ok and sol.method == "mg-bpp"
+
+
+def test_dependent_coarsest_functions_cost_cycles_not_the_answer():
+    """Two coarsest functions the same make the coarsest operator singular
+    (to rounding; its Cholesky factor, or the regularized one's, or else
+    Gauss–Seidel sweeps): the V-cycle stays finite, and the answer is block
+    pivoting's."""
+    from qpcontact.solvers.pivoting import _mg_kernels as K
+    from qpcontact.solvers.pivoting.multigrid import _Levels
+
+    lcp = meshes.membrane(24)
+    Ps = list(lcp.structure.hierarchy)
+    last = Ps[-1].tocsc()
+    Ps[-1] = sp.hstack([last, last[:, :1]]).tocsr()
+    A, _, Rs, patterns = _hierarchy_of(LCP(lcp.M, lcp.q, hierarchy=Ps), "grid")
+    assert np.linalg.matrix_rank(patterns[-1].toarray()) < patterns[-1].shape[0]
+    levels = _Levels([A] + patterns, Ps, Rs)
+    H, S = levels.below(0)
+    levels.truncation(0)[:] = True
+    assert K.retruncate(H, S, np.ones(A.shape[0], dtype=bool))
+    assert np.all(np.isfinite(K.vcycle(H, S, np.ones(A.shape[0]))))
+    dup = LCP(lcp.M, lcp.q, q_terms=lcp.q_terms, hierarchy=Ps)
+    dup.structure.declare_spd()
+    sol = qpcontact.solve(dup, method="mg-bpp")
+    ref = qpcontact.solve(lcp, method="bpp")
+    assert sol.ok
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-10 * np.abs(ref.z).max())
+
+
+def test_a_large_coarsest_level_is_swept_not_factorized():
+    """A strongly diagonally dominant chain coarsens once by aggregation
+    and stops with nothing strong left: a coarsest level of thousands of
+    unknowns, which the cycle smooths by Gauss–Seidel sweeps instead of a
+    dense factorization; the answer is block pivoting's."""
+    from qpcontact.solvers.pivoting.multigrid import DENSE_COARSEST
+
+    n = 20_000
+    chain = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1],
+                     format="csc")
+    q = np.random.default_rng(0).standard_normal(n)
+    lcp = LCP(chain, q)
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok and sol.stats["mg_levels"] == 2
+    assert lcp.structure.aggregated_hierarchy[-1].shape[1] > DENSE_COARSEST
+    ref = qpcontact.solve(LCP(chain, q), method="bpp")
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * np.abs(ref.z).max())
 
 
 @pytest.mark.parametrize("N", [15, 16, 31, 40])

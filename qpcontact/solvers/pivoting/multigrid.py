@@ -23,11 +23,14 @@ On each level, a TNNMG cycle (Gräser & Kornhuber 2009; Gräser, Sack, Sander
    the coarse rows the moved unknowns touch are recomputed each cycle);
 4. projection onto the feasible set (c_i >= −z_i) and an exact line search
    for the quadratic along c, capped where a component would turn negative;
-5. one projected Gauss–Seidel sweep (backwards).
+5. two projected Gauss–Seidel sweeps, forward then backward.
 
-Every step decreases f, so the iteration converges whatever the hierarchy;
-the hierarchy decides only how fast.  The iterate is a guess: "mg-bpp"
-hands its contact set to the exact block-pivoting finish.
+The cycle is one compiled call (:func:`._mg_kernels.tnnmg_cycle`, the
+hierarchy packed once per solve by :class:`_Levels`); the loop over cycles,
+the stop and the progress lines stay in Python.  Every step decreases f,
+so the iteration converges whatever the hierarchy; the hierarchy decides
+only how fast.  The iterate is a guess: "mg-bpp" hands its contact set to
+the exact block-pivoting finish.
 
 References: Kornhuber, R. (1994), Monotone multigrid methods for elliptic
 variational inequalities I, Numer. Math. 69, 167–184; Gräser, C., Kornhuber,
@@ -41,7 +44,6 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sp
 
 from ...core.linalg import ActiveBlock
@@ -61,10 +63,14 @@ def _kernels():
 
 
 #: Aggregation stops at this many unknowns (the coarsest level is solved
-#: directly: densely up to DENSE_COARSEST, sparse above).
+#: directly, by a dense Cholesky factorization).
 COARSEST_MAX = 400
 
-#: Above this many unknowns the coarsest level is factorized sparse.
+#: A coarsest level above this many unknowns (aggregation stopped early,
+#: typically with nothing strong left: a diagonally dominant operator) is
+#: smoothed by Gauss–Seidel sweeps (:data:`._mg_kernels.COARSE_SWEEPS`), not
+#: factorized: elsewhere a weaker coarse solve, more cycles, the same answer;
+#: and the first coarse LCP there goes to sparse block pivoting.
 DENSE_COARSEST = 800
 
 #: Stop a level's cycles once its contact set has not changed for
@@ -112,12 +118,6 @@ def aggregation_hierarchy(M) -> tuple:
     return tuple(out)
 
 
-def _nonzero_rows(d: np.ndarray) -> np.ndarray:
-    """The rows of a truncated Galerkin operator (PSD: a zero diagonal entry
-    means a zero row) that some unfrozen fine unknown still reaches."""
-    return d > 1e-13 * max(d.max(initial=0.0), 1e-300)
-
-
 def _product(R, A, P, keep) -> sp.csr_matrix:
     """R diag(keep) A diag(keep) P (keep None: no truncation)."""
     if keep is None:
@@ -127,155 +127,98 @@ def _product(R, A, P, keep) -> sp.csr_matrix:
     return sp.csr_matrix((val, idx, ptr), shape=(P.shape[1], P.shape[1]))
 
 
-class _Coarsest:
-    """A solver for the coarsest operator on its nonzero rows: dense
-    Cholesky up to DENSE_COARSEST unknowns, a sparse LDLᵀ above (aggregation
-    stops early on strongly diagonally dominant matrices, which have no
-    strong connections to aggregate)."""
+class _Levels:
+    """The whole hierarchy packed once for the compiled cycle
+    (:func:`._mg_kernels.tnnmg_cycle`): the levels' operators (``operators``:
+    M and its untruncated Galerkin products, finest first; below the level
+    being cycled they are rewritten as its truncated products, on the same
+    patterns), the prolongations and restrictions, each kind in flat arrays
+    with one segment per level; and the cycles' state (the truncations, the
+    inverse diagonals, work vectors, the coarsest level's dense factor).
+    :meth:`below` gives level l's view: its operator and every level under
+    it, the segments' starts being absolute."""
 
-    def __init__(self, A, keep):
-        d = A.diagonal()
-        self.keep = np.flatnonzero(keep)
-        self.c = self.pinv = self.block = None
-        if self.keep.size > DENSE_COARSEST:
-            A = sp.csc_matrix(A)
-            try:
-                self.block = ActiveBlock(A, keep, symmetric=True)
-            except np.linalg.LinAlgError:   # dependent truncated functions: regularize
-                A = (A + sp.diags(1e-10 * d)).tocsc()
-                self.block = ActiveBlock(A, keep, symmetric=True)
-            return
-        B = A.toarray()[self.keep][:, self.keep]   # small: dense indexing beats sparse
-        try:
-            self.c = scipy.linalg.cho_factor(B, lower=True, check_finite=False)
-        except np.linalg.LinAlgError:   # truncated coarse functions dependent
-            self.pinv = np.linalg.pinv(B, hermitian=True)
+    def __init__(self, operators, prolongations, restrictions):
+        self.As = operators
+        self.sizes = [A.shape[0] for A in operators]
+        # where each coarse row's diagonal entry is stored (the finest
+        # level is never coarse: an empty segment)
+        diagonal = [np.zeros(0, dtype=np.int64)] + [
+            np.flatnonzero(C.indices == np.repeat(np.arange(C.shape[0]), np.diff(C.indptr)))
+            for C in operators[1:]]
+        rofs = np.cumsum([0] + self.sizes)
+        dofs = np.cumsum([0] + [d.size for d in diagonal])
+        self.H = _pack(operators) + _pack(prolongations) + _pack(restrictions) + (
+            np.concatenate(diagonal), dofs, rofs)
+        nc = self.sizes[-1]
+        large = nc > DENSE_COARSEST
+        self.S = (np.zeros(rofs[-1], dtype=np.bool_), np.ones(rofs[-1]), np.zeros(rofs[-1]),
+                  np.zeros(rofs[-1]), np.zeros(rofs[-1]),
+                  np.zeros((1, 1) if large else (nc, nc)), np.zeros(nc + 1, dtype=np.int64),
+                  np.array([2 if large else 0]))
 
-    def solve(self, b):
-        x = np.zeros_like(b)
-        if self.keep.size:
-            r = b[self.keep]
-            if self.block is not None:
-                x[self.keep] = self.block.factor_solve(r)
-            elif self.c is not None:
-                x[self.keep] = scipy.linalg.cho_solve(self.c, r, check_finite=False)
-            else:
-                x[self.keep] = self.pinv @ r
-        return x
+    def below(self, l) -> tuple:
+        """(H, S) for cycles on level l, its inverse diagonal set (the
+        cycles on the level above, if any ran, left its truncated one)."""
+        H = self.H
+        rofs = H[17]
+        self.S[1][rofs[l]:rofs[l + 1]] = 1.0 / self.As[l].diagonal()
+        # the segment starts from level l on (they stay absolute): level l is
+        # the view's level 0; the diagonal positions start at its first
+        # coarse level, l + 1
+        return (H[:3] + (H[3][l:], H[4][l:]) + H[5:8] + (H[8][l:], H[9][l:])
+                + H[10:13] + (H[13][l:], H[14][l:]) + (H[15], H[16][l + 1:], rofs[l:])), self.S
 
+    def operator(self, k) -> sp.csr_matrix:
+        """Level k's operator as it stands (truncated below the level last
+        cycled)."""
+        ptr, idx, val, pofs, nofs = self.H[:5]
+        return sp.csr_matrix((val[nofs[k]:nofs[k + 1]], idx[nofs[k]:nofs[k + 1]],
+                              ptr[pofs[k]:pofs[k + 1]]), shape=(self.sizes[k],) * 2)
 
-class _Correction:
-    """The truncated linear hierarchy of one level: V-cycles for
-    (T M T) c = T r with T = diag(free), kept current as ``free`` moves
-    (:meth:`update`).  ``patterns``: the coarse levels' untruncated Galerkin
-    operators, whose patterns hold the truncated ones'."""
-
-    def __init__(self, A, diag, prolongations, restrictions, free, patterns):
-        self.fine, self.diag, self.free = A, diag, ~free
-        self.P, self.R = prolongations, restrictions
-        self.ops = []           # (A_k, diag_k, free_k) of the coarse levels
-        self.diagonal = []      # where each coarse row's diagonal entry is stored
-        for C in patterns:
-            rows = np.repeat(np.arange(C.shape[0]), np.diff(C.indptr))
-            self.diagonal.append(np.flatnonzero(C.indices == rows))
-            C = sp.csr_matrix((np.zeros(C.nnz), C.indices, C.indptr), shape=C.shape)
-            self.ops.append((C, None, np.zeros(C.shape[0], dtype=bool)))
-        self.update(free)
-
-    def update(self, free) -> bool:
-        """Truncate at ``free``: only the coarse rows that the unknowns whose
-        truncation changed reach are recomputed (:func:`._mg_kernels.touched_rows`),
-        the same values a whole product gives, at a cost that follows the
-        move (plate, n = 1e4: 0.1–0.4 ms for a move of 1–100 unknowns, a
-        whole build 1.4–1.9 ms).  Returns whether anything moved."""
-        changed = free != self.free
-        if not changed.any():
-            return False
-        self.free = free.copy()
-        K = _kernels()
-        B, keep = self.fine, self.free
-        for k, (P, R) in enumerate(zip(self.P, self.R)):
-            C, _, old_keep = self.ops[k]
-            touched = K.touched_rows(B.indptr, B.indices, P.indptr, P.indices, changed,
-                                     C.shape[0])
-            rows = np.flatnonzero(touched)
-            if rows.size == 0:
-                return True     # nothing below this level moved
-            K.galerkin_values(R.indptr, R.indices, R.data, B.indptr, B.indices, B.data,
-                              P.indptr, P.indices, P.data, keep, C.indptr, C.indices, C.data,
-                              rows)
-            d = C.data[self.diagonal[k]]
-            keep = _nonzero_rows(d)
-            changed = touched | (keep != old_keep)
-            self.ops[k] = (C, np.where(keep, d, 1.0), keep)
-            B = C
-        self.coarsest = _Coarsest(B, keep)
-        return True
-
-    def vcycle(self, b):
-        return self._cycle(0, b)
-
-    def _cycle(self, k, b):
-        if k == len(self.P):
-            return self.coarsest.solve(b)
-        A, d, free = (self.fine, self.diag, self.free) if k == 0 else self.ops[k - 1]
-        x = np.zeros_like(b)
-        _kernels().gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, True)
-        r = b - A @ x
-        r[~free] = 0.0
-        e = self.P[k] @ self._cycle(k + 1, self.R[k] @ r)
-        e[~free] = 0.0
-        x += e
-        _kernels().gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, False)
-        return x
+    def truncation(self, k) -> np.ndarray:
+        """Level k's kept unknowns (the level cycled: its free set)."""
+        rofs = self.H[17]
+        return self.S[0][rofs[k]:rofs[k + 1]]
 
 
-def _residual(z, w, diag, q_scale) -> float:
-    """max_i |min(M_ii z_i, w_i)| / ‖q‖∞: the natural map in w's units."""
-    return float(np.max(np.abs(np.minimum(diag * z, w)), initial=0.0)) / q_scale
+def _pack(matrices) -> tuple:
+    """CSR matrices as (row pointers, indices, values, pointer segment
+    starts, entry segment starts): each matrix's arrays one segment, its row
+    pointers local to its own entries."""
+    return (np.concatenate([M.indptr for M in matrices]).astype(np.int64, copy=False),
+            np.concatenate([M.indices for M in matrices]).astype(np.int64, copy=False),
+            np.concatenate([M.data for M in matrices]).astype(float, copy=False),
+            np.cumsum([0] + [M.shape[0] + 1 for M in matrices]),
+            np.cumsum([0] + [M.nnz for M in matrices]))
 
 
-def _tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, progress, label):
-    """TNNMG cycles on LCP(A, q) (with at least one coarser level) from z
-    (in place) until the contact set has held for two cycles with the
-    natural-map residual at ``tol``, or for HELD_STOP cycles whatever the
-    residual, or ``cycles`` cycles."""
-    d = A.diagonal()
+def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label):
+    """TNNMG cycles on level l of ``levels`` (a :class:`_Levels`; with at
+    least one coarser level), LCP(A_l, q), from z (in place) until the
+    contact set has held for two cycles with the natural-map residual at
+    ``tol``, or for HELD_STOP cycles whatever the residual, or ``cycles``
+    cycles.  Each cycle is one compiled call
+    (:func:`._mg_kernels.tnnmg_cycle`); the loop, the stop and the progress
+    lines stay here."""
+    cycle_once = _kernels().tnnmg_cycle
+    H, S = levels.below(l)
+    q = np.ascontiguousarray(q, dtype=float)
     q_scale = max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
-    correction = None
-    previous, held = None, 0
-    n = q.size
+    previous = np.zeros(q.size, dtype=np.bool_)
+    held = 0
+    # the residual (a product with M) decides only once the set has held
+    wanted = 2 if progress is not None else 1
     for cycle in range(cycles):
-        _kernels().projected_gauss_seidel(A.indptr, A.indices, A.data, d, q, z, 1)
-        free = z > 0.0
-        r = -(A @ z + q)
-        if correction is None:
-            correction = _Correction(A, d, prolongations, restrictions, free, patterns)
-            stats["mg_rebuilds"] += 1
-        elif correction.update(free):
-            stats["mg_rebuilds"] += 1
-        c = correction.vcycle(np.where(free, r, 0.0))
-        c = np.maximum(c, -z)
-        den = c @ (A @ c)
-        alpha = (r @ c) / den if den > 0 else 0.0
-        shrinking = c < 0
-        if np.any(shrinking):
-            alpha = min(alpha, float(np.min(z[shrinking] / -c[shrinking])))
-        if alpha > 0:
-            z += alpha * c
-            np.maximum(z, 0.0, out=z)
-        _kernels().projected_gauss_seidel(A.indptr, A.indices, A.data, d, q, z, 2)
-        active = z > 0.0
-        changed = n if previous is None else int(np.count_nonzero(active != previous))
-        held = held + 1 if changed == 0 else 0
+        changed, at, moved, res = cycle_once(H, S, q, z, previous, cycle == 0,
+                                             wanted if held >= 1 or progress is not None else 0)
+        stats["mg_rebuilds"] += int(moved)
         stats["mg_cycles"] += 1
-        # the residual (a product with M) decides only once the set has held
-        res = (_residual(z, A @ z + q, d, q_scale) if held >= 2 or progress is not None
-               else np.inf)
+        held = held + 1 if changed == 0 else 0
+        res /= q_scale
         if progress is not None:
             progress(f"mg-bpp: {label} cycle {cycle + 1}: residual {res:.1e}, "
-                     f"{n - int(active.sum())} at the obstacle, {changed} changed")
-        previous = active
+                     f"{at} at the obstacle, {changed} changed")
         if (held >= 2 and res <= tol) or held >= HELD_STOP:
             break
     return z
@@ -342,10 +285,10 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         z, _, _, _ = block_pivoting(coarse, np.zeros(qs[L].size, bool), 10 * qs[L].size + 100, 3)
     except np.linalg.LinAlgError:   # dependent coarse functions: start from nothing
         z = np.zeros(qs[L].size)
+    levels = _Levels(As, prolongations, Rs) if L else None
     for l in range(L - 1, -1, -1):
         z = np.maximum(prolongations[l] @ (z - shifts[l + 1]) + shifts[l], 0.0)
         finest = l == 0
-        z = _tnnmg(As[l], qs[l], prolongations[l:], Rs[l:], As[l + 1:], z, cycles,
-                   tol if finest else 1e-3, stats, progress if finest else None,
-                   "level 0" if finest else f"level {l}")
+        z = _tnnmg(levels, l, qs[l], z, cycles, tol if finest else 1e-3, stats,
+                   progress if finest else None, "level 0" if finest else f"level {l}")
     return z
