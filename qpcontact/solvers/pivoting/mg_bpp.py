@@ -83,7 +83,7 @@ def _hierarchy(problem, stats) -> tuple:
 
 def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     """The "mg-bpp" method (module docstring; options :data:`MG_BPP_OPTIONS`).
-    ``time_limit`` (s): the deadline, checked after the multilevel guess
+    ``time_limit`` (s): the deadline, read before every multigrid cycle
     and at every exchange of the exact finish."""
     deadline = Deadline(time_limit)
     n = problem.n
@@ -101,7 +101,7 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     # a plate (not a Z-matrix) starts from the shifted coarse answers
     z = multilevel_guess(M, problem.q, _hierarchy(problem, stats), cycles=cycles, stats=stats,
                          shifted=not problem.structure.is_z_matrix,
-                         progress=progress)
+                         progress=progress, deadline=deadline)
     stats["multigrid_time"] = time.perf_counter() - t
     if deadline.expired():
         return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)

@@ -193,14 +193,15 @@ def _pack(matrices) -> tuple:
             np.cumsum([0] + [M.nnz for M in matrices]))
 
 
-def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label):
+def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None):
     """TNNMG cycles on level l of ``levels`` (a :class:`_Levels`; with at
     least one coarser level), LCP(A_l, q), from z (in place) until the
     contact set has held for two cycles with the natural-map residual at
     ``tol``, or for HELD_STOP cycles whatever the residual, or ``cycles``
     cycles.  Each cycle is one compiled call
     (:func:`._mg_kernels.tnnmg_cycle`); the loop, the stop and the progress
-    lines stay here."""
+    lines stay here.  Past ``deadline`` (read before each cycle) the
+    iterate so far."""
     cycle_once = _kernels().tnnmg_cycle
     H, S = levels.below(l)
     q = np.ascontiguousarray(q, dtype=float)
@@ -210,6 +211,8 @@ def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label):
     # the residual (a product with M) decides only once the set has held
     wanted = 2 if progress is not None else 1
     for cycle in range(cycles):
+        if deadline is not None and deadline.expired():
+            break
         changed, at, moved, res = cycle_once(H, S, q, z, previous, cycle == 0,
                                              wanted if held >= 1 or progress is not None else 0)
         stats["mg_rebuilds"] += int(moved)
@@ -245,12 +248,13 @@ def _unconstrained_gap(M, q) -> np.ndarray | None:
 
 
 def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, stats: dict,
-                     progress=None, shifted: bool = False) -> np.ndarray:
+                     progress=None, shifted: bool = False, deadline=None) -> np.ndarray:
     """The nested TNNMG iterate for LCP(M, q) on the hierarchy
     ``prolongations`` (finest first; may be empty): coarsest level solved
     exactly by block pivoting, then on each finer level up to ``cycles``
     cycles, ended by the same rule (``tol`` on the finest, 1e-3 on the
-    others).
+    others); past ``deadline`` (a :class:`~qpcontact.core.deadline.Deadline`,
+    read before each cycle) the iterate so far.
 
     ``shifted``: the coarse levels approximate d = z − z_u, z_u = −M⁻¹q the
     gap with no contact, instead of z.  Md = Mz + q is the contact force
@@ -271,6 +275,8 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         qs.append(R @ qs[-1])
     L = len(prolongations)
     stats["mg_levels"] = L + 1
+    if deadline is not None and deadline.expired():
+        return np.zeros(qs[0].size)     # no guess: the caller reads the deadline too
     shift = _unconstrained_gap(M, qs[0]) if shifted and L else None
     stats["shifted"] = shift is not None
     shifts = [np.zeros(q.size) for q in qs]
@@ -290,5 +296,5 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         z = np.maximum(prolongations[l] @ (z - shifts[l + 1]) + shifts[l], 0.0)
         finest = l == 0
         z = _tnnmg(levels, l, qs[l], z, cycles, tol if finest else 1e-3, stats,
-                   progress if finest else None, "level 0" if finest else f"level {l}")
+                   progress if finest else None, "level 0" if finest else f"level {l}", deadline)
     return z
