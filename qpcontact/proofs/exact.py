@@ -263,6 +263,16 @@ def _as_float(v: int, e: int, D: int) -> float:
         return math.copysign(math.inf, v)
 
 
+def _scientific(x: Fraction) -> str:
+    """A rational in scientific notation, three digits, also below the
+    doubles' range (where float() would print a negative as -0)."""
+    f = float(x)
+    if f != 0.0 or x == 0:
+        return f"{f:.3e}"
+    k = math.floor(math.log10(abs(x.numerator)) - math.log10(x.denominator))
+    return f"{float(x / Fraction(10) ** k):.3f}e{k:+d}"
+
+
 class FarkasCheck:
     """Farkas vectors of {Gx <= h, Ax = b, lo <= x <= hi}, checked exactly
     (the data turned into integers once, for every candidate): r = G'z + A'y,
@@ -314,17 +324,17 @@ class FarkasCheck:
         neg = np.array([v < 0 for v in r], dtype=bool)
         if np.any(pos & ~np.isfinite(self.lo)) or np.any(neg & ~np.isfinite(self.hi)):
             return None
-        c = _scaled_sum([(int(np.dot(hI, Wz)) if Wz.size else 0, eh),
-                         (int(np.dot(bI, Wy)) if Wy.size else 0, eb),
-                         (-int(np.dot(loI[pos], r[pos])) if pos.any() else 0, elo + e0),
-                         (-int(np.dot(hiI[neg], r[neg])) if neg.any() else 0, ehi + e0)])
-        if not c < 0:
+        terms = [(int(np.dot(hI, Wz)) if Wz.size else 0, eh),
+                 (int(np.dot(bI, Wy)) if Wy.size else 0, eb),
+                 (-int(np.dot(loI[pos], r[pos])) if pos.any() else 0, elo + e0),
+                 (-int(np.dot(hiI[neg], r[neg])) if neg.any() else 0, ehi + e0)]
+        if not _scaled_sum(terms) < 0:
             return None
         rf = np.array([_as_float(int(v), e0, D) for v in r])
-        cf = (float(self.h[np.isfinite(self.h)] @ zf[np.isfinite(self.h)])
-              + float(self.b[np.isfinite(self.b)] @ yf[np.isfinite(self.b)])
-              - float(np.where(pos, np.where(np.isfinite(self.lo), self.lo, 0.0), 0.0) @ rf)
-              - float(np.where(neg, np.where(np.isfinite(self.hi), self.hi, 0.0), 0.0) @ rf))
+        # the right-hand side the message shows is the exact one (each term
+        # v 2^e / D): recomputed in floating point it cancels, and a
+        # rank-deficient M's proof read "0 <= 0.000e+00"
+        c_exact = sum(Fraction(v) * Fraction(2) ** e for v, e in terms if v) / D
         parts = [f"{name}: {count}" for name, count in
                  (("inequality rows", int(np.count_nonzero(zf))),
                   ("equality rows", int(np.count_nonzero(yf))),
@@ -332,8 +342,8 @@ class FarkasCheck:
         return Proof(
             kind="infeasible",
             message=("no x satisfies the constraints: the weighted sum of " + ", ".join(parts)
-                     + f" reads 0 <= {cf:.3e} (a Farkas vector, checked from the data in exact "
-                     "rational arithmetic)"),
+                     + f" reads 0 <= {_scientific(c_exact)} (a Farkas vector, checked from the "
+                     "data in exact rational arithmetic)"),
             vector={"z": zf, "y": yf, "lower": np.maximum(rf, 0.0), "upper": np.maximum(-rf, 0.0),
                     # the weights as checked (rationals; the floats above may round them)
                     "exact": {"z": z, "y": y}},

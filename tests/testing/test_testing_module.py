@@ -114,12 +114,20 @@ def test_cross_validate_requires_certified_answers():
 # solvable, but Lemke ends on a secondary ray with 31 covering vectors: "auto"
 # must go on to "enumeration" (hypothesis found it on 2026-11-23)
 @example(build_lcp("friction", 12, 1604))
+# a rank-one M = fl(b b') with q = fl(w - Mz): the stored data admit no z at
+# all (an exact Farkas vector, 0 <= -1.7e-20; found by hypothesis 2026-12-06)
+@example(build_lcp("psd_singular", 2, 25))
 def test_strategy_lcps_reach_their_built_in_status(case):
     sol = qpcontact.solve(case.problem, "auto")
     if case.status == "infeasible":
         # one status for a proof checked from the data, whoever found it
         # (Lemke's Farkas vector, or the proof search after another method)
         assert sol.status == "infeasible" and sol.stats.get("proved_infeasible"), sol.message
+    elif case.kind == "psd_singular" and sol.status == "infeasible":
+        # q = fl(w - Mz) may fall off M's range by rounding: then the data as
+        # stored have no solution, and an exact proof of that outranks the
+        # planted z (which holds for nearby data only)
+        assert sol.stats.get("proved_infeasible"), sol.message
     elif case.kind == "psd_singular" and sol.status == "ill_posed":
         # q = fl(w - Mz) is solvable only up to rounding: where a null vector
         # y >= 0 of the singular M carries q'y within rounding of zero, the
@@ -131,6 +139,15 @@ def test_strategy_lcps_reach_their_built_in_status(case):
         assert sol.ok, (case.kind, sol.message)
         assert case.agrees(sol.z), case.kind
         assert_lcp_solution(case.problem, sol.z)
+
+
+def test_a_farkas_proof_reads_its_exact_sum():
+    """The proof's message shows the weighted sum's right-hand side as it
+    was checked, exactly: recomputed in floating point it cancelled, and a
+    sound proof read "0 <= 0.000e+00"."""
+    sol = qpcontact.solve(build_lcp("psd_singular", 2, 25).problem, "auto")
+    assert sol.status == "infeasible" and sol.stats.get("proved_infeasible")
+    assert "reads 0 <= -1.689e-20" in sol.message, sol.message
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
