@@ -61,8 +61,13 @@ def aggregates(problem, rounds=2):
     times on the graph of the aggregates."""
     _, bptr, bcols, _ = problem.W_blocks
     n = problem.n_contacts
-    G = sp.csr_matrix((np.ones(bcols.size), bcols, bptr), shape=(n, n))
-    label = np.arange(n)
+    return _aggregate(sp.csr_matrix((np.ones(bcols.size), bcols, bptr), shape=(n, n)), rounds)
+
+
+def _aggregate(G, rounds):
+    """Node → aggregate id after ``rounds`` rounds of :func:`_greedy`, each
+    on the graph of the last round's aggregates."""
+    label = np.arange(G.shape[0])
     for _ in range(rounds):
         agg = _greedy(G)
         label = agg[label]
@@ -172,16 +177,7 @@ def body_basis(Ht, rounds=2, smooth=1, omega=2.0 / 3.0):
     Kb.data[:] = 1.0
     Kb.setdiag(0)
     Kb.eliminate_zeros()
-    label = np.arange(nb)
-    G = Kb
-    for _ in range(rounds):
-        agg = _greedy(G)
-        label = agg[label]
-        m = agg.max() + 1
-        S = sp.csr_matrix((np.ones(agg.size), (np.arange(agg.size), agg)), shape=(agg.size, m))
-        G = (S.T @ G @ S).tocsr()
-        G.setdiag(0)
-        G.eliminate_zeros()
+    label = _aggregate(Kb, rounds)
     na = label.max() + 1
     P = sp.csr_matrix((np.ones(nd), (np.arange(nd), 3 * label[body] + np.arange(nd) % 3)),
                       shape=(nd, 3 * na))
