@@ -181,14 +181,14 @@ def over_common_denominator(weights) -> tuple[np.ndarray, int]:
                     dtype=object)[:len(fr)], D
 
 
-def _scaled_sum(terms) -> int:
-    """Σ v·2^e over (v, e) pairs of Python integers, times 2^-min(e): its sign
-    is the sum's."""
+def _scaled_sum(terms) -> tuple[int, int]:
+    """(s, e0) with Σ v·2^e = s·2^e0 over (v, e) pairs of Python integers,
+    e0 the smallest e of a nonzero v: s has the sum's sign."""
     terms = [(v, e) for v, e in terms if v]
     if not terms:
-        return 0
+        return 0, 0
     e0 = min(e for _, e in terms)
-    return sum(v << (e - e0) for v, e in terms)
+    return sum(v << (e - e0) for v, e in terms), e0
 
 
 class IntMatrix:
@@ -328,13 +328,14 @@ class FarkasCheck:
                  (int(np.dot(bI, Wy)) if Wy.size else 0, eb),
                  (-int(np.dot(loI[pos], r[pos])) if pos.any() else 0, elo + e0),
                  (-int(np.dot(hiI[neg], r[neg])) if neg.any() else 0, ehi + e0)]
-        if not _scaled_sum(terms) < 0:
+        s, es = _scaled_sum(terms)
+        if not s < 0:
             return None
         rf = np.array([_as_float(int(v), e0, D) for v in r])
-        # the right-hand side the message shows is the exact one (each term
-        # v 2^e / D): recomputed in floating point it cancels, and a
-        # rank-deficient M's proof read "0 <= 0.000e+00"
-        c_exact = sum(Fraction(v) * Fraction(2) ** e for v, e in terms if v) / D
+        # the right-hand side the message shows is the exact one, s 2^es / D:
+        # recomputed in floating point it cancels, and a rank-deficient M's
+        # proof read "0 <= 0.000e+00"
+        c_exact = Fraction(s) * Fraction(2) ** es / D
         parts = [f"{name}: {count}" for name, count in
                  (("inequality rows", int(np.count_nonzero(zf))),
                   ("equality rows", int(np.count_nonzero(yf))),

@@ -14,6 +14,7 @@ import scipy.sparse as sp
 from qpsolvers import Problem
 
 import qpcontact
+from formulations import meshes
 from qpcontact import LCP
 from qpcontact.core.errors import InvalidOptionError, NoSolutionError
 from qpcontact.dispatch.isolation import call_isolated
@@ -338,17 +339,11 @@ def test_a_backend_killed_at_the_deadline_says_time_limit():
     assert sol.status == "time_limit" and not sol.ok, sol.message
 
 
-def _membrane_lcp(side):
-    from formulations import meshes
-
-    return meshes.membrane(side)
-
-
 @pytest.mark.parametrize("method, problem, limit", [
     ("energy", lambda: _spd_lcp(1500), 0.05),     # ~700 pivots of 1-2 ms: over a second
     ("bpp", lambda: _spd_lcp(1500), 1e-3),        # each exchange a 1 500 x 1 500 Cholesky
     ("ip-bpp", lambda: _spd_lcp(1500), 1e-3),
-    ("mg-bpp", lambda: _membrane_lcp(100), 1e-3),  # n = 1e4: the guess alone takes longer
+    ("mg-bpp", lambda: meshes.membrane(100), 1e-3),  # n = 1e4: the guess alone takes longer
 ])
 def test_the_exact_methods_keep_the_time_limit(method, problem, limit):
     """The in-house pivoting methods read the deadline at every pivot,
