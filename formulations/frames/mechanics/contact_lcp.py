@@ -36,6 +36,7 @@ import scipy.sparse.linalg as spla
 
 from qpcontact.core.problems import LCP
 
+from . import banded_saddle
 from .member_forces import EXTENDED, contrast, stiffness_times
 
 
@@ -192,13 +193,14 @@ DERIVED = {
 }
 
 
-def basic_system(K, H, fixed, flex, translational) -> dict:
+def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
     """The basic system (every link fixed) of a structure with stiffness K
     (all dofs), links H and contact flexibilities ``flex``, any number of
     dofs per node: the free/fixed blocks of K, the scaled saddle matrix
     S = [K_ff kappa H_f; kappa H_f' -kappa² D] and its LU (None where S is
     singular: a mechanism).  ``translational`` marks the dofs that links
-    push along, which set kappa."""
+    push along, which set kappa; ``pairs`` (t, n): each frictional
+    contact's tangent and normal link (:func:`.banded_saddle.layout`)."""
     N = K.shape[0]
     free = np.flatnonzero(~fixed)
     nf = free.size
@@ -242,7 +244,14 @@ def basic_system(K, H, fixed, flex, translational) -> dict:
     # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
     # (K_fa, the free rows' coupling to the fixed dofs, and κ H_f are made
     # where used: settlements, a stiffness contrast's refinement)
-    return dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, S=S, lu=regular_lu(S))
+    # on elastic contacts the saddle matrix is solved through its condensed
+    # stiffness, banded (:mod:`.banded_saddle`); else, and where that reads
+    # singular, by SuperLU, whose pivots decide
+    band = banded_saddle.layout(S, nf, kappa, flex, pairs)
+    lu = (banded_saddle.factor(band, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))
+          if band is not None else None)
+    return dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, S=S, band=band,
+                lu=lu if lu is not None else regular_lu(S))
 
 
 def free_links(H, at, kappa):

@@ -185,7 +185,9 @@ def build(frame, axial=None):
     per_contact = np.array([0.0 if c.stiffness is None else 1.0 / c.stiffness
                             for c in frame.contacts])
     flex = per_contact[np.array([ci for ci, _ in info], int)] if info else np.zeros(0)
-    basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2)
+    # each tangent link follows its contact's normal link (:func:`links`)
+    t_links = np.array([li for li, (_, kind) in enumerate(info) if kind == "t"], int)
+    basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2, (t_links, t_links - 1))
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], names, DOFS,

@@ -36,7 +36,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-from ..mechanics import contact_lcp
+from ..mechanics import banded_saddle, contact_lcp
 from . import plane_assembly
 
 #: a state changes on a violation beyond this fraction of its own scale
@@ -161,17 +161,24 @@ def _sparse(b, combo, required):
     rhs_top = contact_lcp.free_loads(b, F, ua)
     shift = -(b["H_fixed_T"] @ ua[fixed_idx])   # what settlements do to the links
     H, flex = b["H"], b["flex"]
-    # the saddle matrix as triplets: the top rows, and the link rows that are
-    # kept where a link holds (each state set's matrix is one COO -> CSC)
-    S = b["S"].tocoo()
-    top = S.row < nf
-    top_r, top_c, top_v = S.row[top], S.col[top], S.data[top]
-    link_r, link_c, link_v = S.row[~top] - nf, S.col[~top], S.data[~top]
+    held = {}
+
+    def triplets():
+        """The saddle matrix as triplets: the top rows, and the link rows
+        that are kept where a link holds (each state set's matrix is one
+        COO -> CSC); made where a state set is factorized by SuperLU."""
+        if "top" not in held:
+            S = b["S"].tocoo()
+            top = S.row < nf
+            held["top"] = S.row[top], S.col[top], S.data[top]
+            held["link"] = S.row[~top] - nf, S.col[~top], S.data[~top]
+        return held["top"], held["link"]
 
     def link_rows(links):
         """The saddle matrix's rows of the given links where they hold
         (dense, one row per link)."""
         out = np.zeros((links.size, nf + nl))
+        link_r, link_c, link_v = triplets()[1]
         at = np.full(nl, -1)
         at[links] = np.arange(links.size)
         k = at[link_r] >= 0
@@ -193,7 +200,7 @@ def _sparse(b, combo, required):
     # the last factorized state set (its LU, which rows hold, the slip rows'
     # coefficients): a state set that differs from it in few link rows is
     # solved against that LU (:func:`_bordered`), not factorized afresh
-    held = {"lu": b["lu"], "kin": np.ones(nl, bool), "coef": np.zeros(nl)}
+    held.update(lu=b["lu"], kin=np.ones(nl, bool), coef=np.zeros(nl))
 
     def solve(kin, sliding, n_link, t_link, f_slip):
         rhs = np.concatenate((rhs_top, np.where(kin, kappa * (required + shift), 0.0)))
@@ -213,10 +220,17 @@ def _sparse(b, combo, required):
                     nf + partner[static]]
                 return y
 
-            sol = _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times)
+            if b["band"] is not None:
+                # elastic contacts: a fresh banded LU of the condensed
+                # stiffness costs less than a bordered solve against the last
+                lu = banded_saddle.factor(b["band"], kin, coef, partner)
+                sol = None if lu is None else lu.solve(rhs)
+            else:
+                sol = _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times)
             if sol is None:
                 # static rows: X = 0 (open), X_t ± f X_n = 0 (slip±), scaled like the links
                 static = np.flatnonzero(~kin)
+                (top_r, top_c, top_v), (link_r, link_c, link_v) = triplets()
                 keep = kin[link_r]
                 rows = np.concatenate([top_r, nf + link_r[keep], nf + static,
                                        nf + t_link[sliding]])

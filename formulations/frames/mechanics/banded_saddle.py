@@ -1,0 +1,222 @@
+"""The saddle system of a frame on elastic contacts, solved through its
+condensed stiffness with LAPACK's banded LU (as OpenSees' band solvers
+factor K with the contact springs in it).
+
+The basic system and every state set of the sparse active set
+(:mod:`.contact_lcp`, :mod:`..plane.sparse_active_set`) solve
+
+    [K_ff  κH_f] [x]   [r_1]
+    [B     C   ] [y] = [r_2],          X = −κ y,
+
+one row of (B, C) per link (κ: the largest translational stiffness of K,
+which scales the link rows).  Where the link holds, B's row is κh' and C's
+entry −κ²/k: the link's displacement h'u plus its spring's compression
+X/k is prescribed.  Where it does not, B's row is zero and C's row is
+static: κ on its diagonal (an open link: X = 0), and κf on its normal
+link's column for a slipping tangent (X_t = ∓f X_n).  Where every contact
+is elastic (k finite), C is invertible and its inverse explicit: diagonal,
+plus for a slipping tangent t on its normal n the entry −C_tt⁻¹ C_tn C_nn⁻¹
+(a normal link's row of C has no off-diagonal entry, so C's off-diagonal
+part is nilpotent).  Eliminating y,
+
+    (K_ff − κH_f C⁻¹ B) x = r_1 − κH_f C⁻¹ r_2,     y = C⁻¹ (r_2 − B x),
+
+where K_ff − κH_f C⁻¹ B is K_ff with each holding link's spring k h h' [kN/m]
+and each slipping contact's friction coupling (f k h_t h_n', unsymmetric)
+added: a matrix with K's own sparsity, banded in a reverse Cuthill–McKee
+order (a continuous beam: 4 wide in its own order).  LAPACK factors it in
+a sixth of SuperLU's time on the saddle matrix (0.10 against 0.61 ms at
+1 202 dofs, 0.47 against 2.6 at 6 002): SuperLU's cost at these sizes is
+its set-up per unknown, not arithmetic.
+
+What eliminating y costs in accuracy: the link force comes out as
+X = k (Δ − h'u), a difference of displacements times k, with an error of
+about eps·k·|u| where the saddle solve has eps·κ|u|.  So the route is
+taken only where every contact's k is at most CONDENSE_MAX·κ; a contact
+much stiffer than the frame, and a rigid one (no spring to condense), keep
+the saddle matrix's SuperLU (:func:`.contact_lcp.regular_lu`), as does a
+frame whose band is wider than BAND_MAX (a banded LU's work grows as the
+band's square).  Singular pivots (a mechanism) send the caller to the
+saddle matrix's SuperLU too, which decides as before.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.linalg.lapack import dgbtrf, dgbtrs
+from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+#: contacts at most this many times stiffer than the frame's largest
+#: translational stiffness κ are condensed (X's error eps·k|u| within
+#: CONDENSE_MAX of the saddle solve's)
+CONDENSE_MAX = 1e3
+#: the widest band factorized (half-bandwidth, dofs): a band LU's work
+#: and a solve's grow as the width's square and the width, SuperLU's here
+#: hardly with either.  The 20-storey tower's 29 gained nothing (its LU
+#: 0.15 against 0.57 ms, but the contact stiffness's 36-column solve 0.7
+#: against 0.28 ms); a beam's 4 is 3–6 times faster at every step
+BAND_MAX = 16
+#: a band this narrow in the dofs' own order is kept (no reordering)
+NARROW = 12
+#: a frame with fewer free dofs is not reordered to try for a band: its
+#: SuperLU costs ~0.6 ms, the order's search ~0.4 (a 20-storey tower's 291
+#: dofs, whose reordered band is 29 wide anyway)
+REORDER_MIN = 1000
+#: the same singularity test as the saddle matrix's LU
+SINGULAR_PIVOTS = 1e-13
+
+
+def layout(S, nf, kappa, flex, pairs=None):
+    """What every factorization of one assembly shares: K_ff's triplets,
+    the links' columns of κH_f (padded to the widest), the band order and
+    its width — or None where the route does not apply (a rigid or a very
+    stiff contact, no link, a band wider than BAND_MAX).  ``pairs``: (t, n),
+    the links a slipping tangent couples (its contact's normal): a level
+    beam's axial and bending dofs are two chains K does not join, which the
+    order must keep near each other where friction joins them."""
+    nl = S.shape[0] - nf
+    flex = np.asarray(flex, float)
+    if nf == 0 or nl == 0 or not np.all(flex > 0) or 1.0 / flex.min() > CONDENSE_MAX * kappa:
+        return None
+    S = S.tocsc()
+    col = np.repeat(np.arange(S.shape[1]), np.diff(S.indptr))
+    row, val = S.indices, S.data
+    k = (row < nf) & (col < nf)
+    kr, kc, kv = row[k], col[k], val[k]
+    if nf < REORDER_MIN and np.abs(kr - kc).max(initial=0) > NARROW:
+        return None                  # too wide in its own order, too small to reorder
+    h = (row < nf) & (col >= nf)              # κH_f: (dof, link) in link order (CSC)
+    h_dof, h_link, h_val = row[h], col[h] - nf, val[h]
+    count = np.bincount(h_link, minlength=nl)
+    width = max(int(count.max(initial=0)), 1)
+    start = np.concatenate(([0], np.cumsum(count)[:-1]))
+    slot = np.arange(h_link.size) - start[h_link]
+    # padded with the link's own first dof (and a zero), which keeps the
+    # padding inside the band
+    first = np.zeros(nl, int)
+    first[h_link[::-1]] = h_dof[::-1]
+    dof = np.repeat(first[:, None], width, axis=1)
+    hv = np.zeros((nl, width))
+    dof[h_link, slot], hv[h_link, slot] = h_dof, h_val
+    # the pattern: K's, and each link's dofs among themselves (its spring)
+    # and with its contact's other link (friction's coupling: same dofs)
+    t, n = (np.zeros(0, int), np.zeros(0, int)) if pairs is None else pairs
+    left, right = np.concatenate((dof, dof[t])), np.concatenate((dof, dof[n]))
+    pr = np.concatenate((kr, np.repeat(left, width, axis=1).ravel()))
+    pc = np.concatenate((kc, np.tile(right, (1, width)).ravel()))
+    # the dofs' own order where it is narrow already (a beam numbered
+    # along its length: 5), else a reverse Cuthill–McKee order, whichever
+    # is narrower (a beam's RCM order interleaves its axial and bending
+    # chains 8 wide; the work goes as the width's square)
+    perm = np.arange(nf)
+    bw = int(np.abs(pr - pc).max(initial=0))
+    if bw > NARROW and nf >= REORDER_MIN:
+        pattern = sp.csr_matrix((np.ones(pr.size), (pr, pc)), shape=(nf, nf))
+        rcm = reverse_cuthill_mckee(pattern, symmetric_mode=True)
+        pos = np.empty(nf, int)
+        pos[rcm] = np.arange(nf)
+        rcm_bw = int(np.abs(pos[pr] - pos[pc]).max(initial=0))
+        if rcm_bw < bw:
+            perm, bw = rcm, rcm_bw
+    if bw > BAND_MAX:
+        return None
+    pos = np.empty(nf, int)
+    pos[perm] = np.arange(nf)
+    # κH_f as S holds it (CSC, a column per link), and its transpose as CSR
+    # without a conversion
+    Hf = sp.csc_matrix((h_val, h_dof, np.concatenate(([0], np.cumsum(count)))), shape=(nf, nl))
+    lay = dict(nf=nf, nl=nl, kappa=kappa, flex=flex, pos_dof=pos[dof], hv=hv, perm=perm, bw=bw,
+               Hf=Hf, HfT=Hf.T)
+    # K's part of the band, once per assembly, scaled by powers of two
+    # (exact), row and column i by the square root of the basic system's
+    # diagonal entry (K's with every spring in), so that the pivots measure
+    # singularity, not units: K plus springs is positive definite, so
+    # |a_ij| <= sqrt(a_ii a_jj) and its scaled entries are at most 1.  A
+    # state set's matrix has fewer springs: its entries are at most 1 too.
+    r, c, v = _link_terms(lay, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))[:3]
+    on_diag = r == c
+    diag = np.bincount(r[on_diag], weights=v[on_diag], minlength=nf)
+    kd = pos[kr] == pos[kc]
+    diag += np.bincount(pos[kr[kd]], weights=kv[kd], minlength=nf)
+    if not np.all(diag > 0):
+        return None
+    d = 2.0 ** -np.round(0.5 * np.log2(diag))
+    kr, kc = pos[kr], pos[kc]
+    rows = 3 * bw + 1
+    lay.update(d=d, band_K=np.bincount((2 * bw + kr - kc) * nf + kc, weights=kv * d[kr] * d[kc],
+                                       minlength=rows * nf).reshape(rows, nf))
+    return lay
+
+
+def _link_terms(lay, kin, coef, partner):
+    """(rows, columns, values) of −κH_f C⁻¹ B in the band's order — each
+    holding link's spring and each slipping tangent's coupling to its
+    normal — and C⁻¹'s parts (diagonal, the slipping tangents, their
+    normals, their entries)."""
+    kappa = lay["kappa"]
+    cinv = 1.0 / np.where(kin, -kappa ** 2 * lay["flex"], kappa)
+    slip = np.flatnonzero(~kin & (coef != 0.0))
+    on = partner[slip]
+    off = -cinv[slip] * (kappa * coef[slip]) * cinv[on]
+    held = np.flatnonzero(kin)
+    pd, hv = lay["pos_dof"], lay["hv"]
+    w = hv.shape[1]
+    left = np.concatenate((pd[held], pd[slip]))
+    right = np.concatenate((pd[held], pd[on]))
+    outer = (np.concatenate((hv[held] * -cinv[held, None], hv[slip] * -off[:, None]))[:, :, None]
+             * np.concatenate((hv[held], hv[on]))[:, None, :])
+    return (np.repeat(left, w, axis=1).ravel(), np.tile(right, (1, w)).ravel(), outer.ravel(),
+            cinv, slip, on, off)
+
+
+def factor(lay, kin, coef, partner):
+    """The condensed LU of the state set whose links ``kin`` hold (the
+    others static; ``coef``: f·slip on a slipping tangent, coupling it to
+    its normal link ``partner``), or None where its pivots say singular."""
+    nf, bw, d = lay["nf"], lay["bw"], lay["d"]
+    r, c, v, cinv, slip, on, off = _link_terms(lay, kin, coef, partner)
+    if r.size and np.abs(r - c).max() > bw:     # a coupling the layout's pairs did not name
+        return None
+    ab = lay["band_K"].copy()
+    np.add.at(ab.reshape(-1), (2 * bw + r - c) * nf + c, v * d[r] * d[c])
+    lu, piv, info = dgbtrf(ab, bw, bw, overwrite_ab=1)
+    if info != 0:
+        return None
+    pivots = np.abs(lu[2 * bw])
+    if not pivots.min() > SINGULAR_PIVOTS * pivots.max():
+        return None
+    return CondensedLU(lay, lu, piv, cinv, slip, on, off, kin)
+
+
+class CondensedLU:
+    """Solves the state set's saddle system S x = rhs (one vector or a
+    column per right-hand side) through the condensed banded LU: the
+    interface of :class:`.contact_lcp.ScaledLU`."""
+
+    def __init__(self, lay, lu, piv, cinv, slip, on, off, kin):
+        self.lay, self.lu, self.piv, self.bw, self.d = lay, lu, piv, lay["bw"], lay["d"]
+        self.cinv, self.slip, self.on, self.off, self.kin = cinv, slip, on, off, kin
+
+    def _cinv(self, r):
+        """C⁻¹ r (r: links, one column per right-hand side)."""
+        out = self.cinv.reshape(-1, *([1] * (r.ndim - 1))) * r
+        if self.slip.size:
+            off = self.off.reshape(-1, *([1] * (r.ndim - 1)))
+            out[self.slip] += off * r[self.on]
+        return out
+
+    def solve(self, rhs):
+        rhs = np.asarray(rhs, float)
+        lay, nf = self.lay, self.lay["nf"]
+        one = rhs.ndim == 1
+        r1, r2 = rhs[:nf], rhs[nf:]
+        z = self._cinv(r2)
+        t = r1 - lay["Hf"] @ z
+        d = self.d if one else self.d[:, None]
+        x_perm, info = dgbtrs(self.lu, self.bw, self.bw, d * t[lay["perm"]], self.piv)
+        x = np.empty_like(t)
+        x[lay["perm"]] = d * x_perm
+        bx = lay["HfT"] @ x
+        bx[~self.kin] = 0.0                    # a static row has no B
+        return np.concatenate((x, z - self._cinv(bx)))
