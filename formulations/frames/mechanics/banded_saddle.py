@@ -67,27 +67,25 @@ REORDER_MIN = 1000
 SINGULAR_PIVOTS = 1e-13
 
 
-def layout(S, nf, kappa, flex, pairs=None):
-    """What every factorization of one assembly shares: K_ff's triplets,
-    the links' columns of κH_f (padded to the widest), the band order and
-    its width — or None where the route does not apply (a rigid or a very
-    stiff contact, no link, a band wider than BAND_MAX).  ``pairs``: (t, n),
-    the links a slipping tangent couples (its contact's normal): a level
-    beam's axial and bending dofs are two chains K does not join, which the
-    order must keep near each other where friction joins them."""
-    nl = S.shape[0] - nf
+def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
+    """What every factorization of one assembly shares: K_ff's part of the
+    band, the links' columns of κH_f (padded to the widest), the band order
+    and its width, the scaling — or None where the route does not apply (a
+    rigid or a very stiff contact, no link, a band wider than BAND_MAX).
+    ``k_triplets``: K_ff's (rows, columns, values), summed; ``h_triplets``:
+    κH_f's (dofs, links, values); ``pairs``: (t, n), the links a slipping
+    tangent couples (its contact's normal): a level beam's axial and
+    bending dofs are two chains K does not join, which the order must keep
+    near each other where friction joins them."""
     flex = np.asarray(flex, float)
     if nf == 0 or nl == 0 or not np.all(flex > 0) or 1.0 / flex.min() > CONDENSE_MAX * kappa:
         return None
-    S = S.tocsc()
-    col = np.repeat(np.arange(S.shape[1]), np.diff(S.indptr))
-    row, val = S.indices, S.data
-    k = (row < nf) & (col < nf)
-    kr, kc, kv = row[k], col[k], val[k]
+    kr, kc, kv = k_triplets
     if nf < REORDER_MIN and np.abs(kr - kc).max(initial=0) > NARROW:
         return None                  # too wide in its own order, too small to reorder
-    h = (row < nf) & (col >= nf)              # κH_f: (dof, link) in link order (CSC)
-    h_dof, h_link, h_val = row[h], col[h] - nf, val[h]
+    h_dof, h_link, h_val = h_triplets
+    by_link = np.argsort(h_link, kind="stable")
+    h_dof, h_link, h_val = h_dof[by_link], h_link[by_link], h_val[by_link]
     count = np.bincount(h_link, minlength=nl)
     width = max(int(count.max(initial=0)), 1)
     start = np.concatenate(([0], np.cumsum(count)[:-1]))

@@ -190,6 +190,7 @@ DERIVED = {
     "H_fixed_T": lambda b: b["H"][b["fixed_idx"]].T,
     "K_fa": lambda b: _coupling(b),
     "Hf": lambda b: _scaled_free_links(b),
+    "S": lambda b: saddle_matrix(b),
 }
 
 
@@ -229,29 +230,51 @@ def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
     kappa = kappa if kappa > 0 else 1.0
     hv, hr, hc = free_links(H, at, kappa)
     nl = H.shape[1]
-    links_ = np.arange(nl)
-    # the saddle matrix from the blocks' triplets (K and H are summed, so no
-    # entry is repeated and the order does not matter); a member's k has
-    # exact zeros (a level beam's axial-bending terms): nearly half of a
-    # beam's entries, which every state set's matrix and factorization
-    # would carry, so they are left out here
-    vals = np.concatenate((k_val[ff], hv, hv, -kappa ** 2 * flex))
-    nz = vals != 0.0
-    S = sp.csc_matrix((vals[nz], (np.concatenate((r[ff], hr, nf + hc, nf + links_))[nz],
-                                  np.concatenate((c[ff], nf + hc, hr, nf + links_))[nz])),
-                      shape=(nf + nl, nf + nl))
-    # one sparse LU of the saddle matrix (a 1000-span beam: 4000 unknowns,
-    # 1.7 s dense, milliseconds sparse); its pivots say whether it is singular
-    # (K_fa, the free rows' coupling to the fixed dofs, and κ H_f are made
-    # where used: settlements, a stiffness contrast's refinement)
+    k_nz = ff & (k_val != 0.0)
     # on elastic contacts the saddle matrix is solved through its condensed
-    # stiffness, banded (:mod:`.banded_saddle`); else, and where that reads
-    # singular, by SuperLU, whose pivots decide
-    band = banded_saddle.layout(S, nf, kappa, flex, pairs)
+    # stiffness, banded (:mod:`.banded_saddle`), and S itself is made only
+    # where something reads it; else, and where that reads singular, by
+    # SuperLU, whose pivots decide
+    band = banded_saddle.layout(nf, nl, kappa, flex, (r[k_nz], c[k_nz], k_val[k_nz]),
+                                (hr, hc, hv), pairs)
     lu = (banded_saddle.factor(band, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))
           if band is not None else None)
-    return dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, S=S, band=band,
-                lu=lu if lu is not None else regular_lu(S))
+    out = dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, band=band, lu=lu)
+    if lu is None:
+        # one sparse LU of the saddle matrix (a 1000-span beam: 4000
+        # unknowns, 1.7 s dense, milliseconds sparse); its pivots say whether
+        # it is singular
+        out["S"] = _saddle((r[k_nz], c[k_nz], k_val[k_nz]), (hv, hr, hc), flex, nf, kappa)
+        out["lu"] = regular_lu(out["S"])
+    return out
+
+
+def saddle_matrix(b):
+    """S = [K_ff κH_f; κH_f' −κ² D] of an assembly (CSC, canonical, without
+    stored zeros), made on first use where the basic system's LU is the
+    condensed banded one."""
+    at = _positions(b)
+    k_row, k_col, k_val = csr_triplets(b["K"])
+    r, c = at[k_row], at[k_col]
+    k_nz = (r >= 0) & (c >= 0) & (k_val != 0.0)
+    return _saddle((r[k_nz], c[k_nz], k_val[k_nz]), free_links(b["H"], at, b["kappa"]),
+                   b["flex"], b["nf"], b["kappa"])
+
+
+def _saddle(k_triplets, h_triplets, flex, nf, kappa):
+    """The saddle matrix from the blocks' triplets (K and H are summed, so
+    no entry is repeated and the order does not matter); a member's k has
+    exact zeros (a level beam's axial-bending terms): nearly half of a
+    beam's entries, which every state set's matrix and factorization would
+    carry, so they are left out (K's by the caller)."""
+    (kr, kc, kv), (hv, hr, hc) = k_triplets, h_triplets
+    nl = len(flex)
+    links_ = np.arange(nl)
+    vals = np.concatenate((kv, hv, hv, -kappa ** 2 * np.asarray(flex, float)))
+    nz = vals != 0.0
+    return sp.csc_matrix((vals[nz], (np.concatenate((kr, hr, nf + hc, nf + links_))[nz],
+                                     np.concatenate((kc, nf + hc, hr, nf + links_))[nz])),
+                         shape=(nf + nl, nf + nl))
 
 
 def free_links(H, at, kappa):
