@@ -137,3 +137,31 @@ def test_rigid_or_very_stiff_contacts_keep_the_saddle_matrix():
     for k in (0, 2, 4):
         fr.add_contact(f"N{k}", normal=(0.0, 1.0))          # rigid
     assert fr.build()["band"] is None
+
+
+@pytest.mark.parametrize("k", [1e2, 1e4, 1e7, 1e9, 1e11, 1e13])
+def test_a_cantilever_on_a_spring_beside_a_stub_by_hand(k, monkeypatch):
+    """The frame on which the saddle matrix's banded LU was dropped (a 1 cm
+    stub at a cantilever's tip on a contact, the load straight into it),
+    here on an elastic contact of stiffness k from soft to 100 times the
+    stub's own EA/L: the contact force is the hand statics' of a spring in
+    series with the cantilever, X = P kδ/(1 + kδ), δ = L³/(3EI) — by the
+    condensed banded LU where k <= CONDENSE_MAX κ, by SuperLU beyond."""
+    fr = Frame()
+    for i in range(11):
+        fr.add_node(f"N{i}", float(i), 0.0)
+    fr.add_node("T", 10.01, 0.0)
+    for i in range(10):
+        fr.add_member(f"N{i}", f"N{i + 1}", 30e6, 0.3, 0.02)
+    fr.add_member("N10", "T", 30e6, 0.3, 0.02)
+    fr.add_support("N0")
+    fr.add_contact("T", stiffness=k)
+    fr.add_load("T", fy=-10.0)
+    b = fr.build()
+    assert (b["band"] is not None) == (k <= banded_saddle.CONDENSE_MAX * b["kappa"])
+    delta = 10.01 ** 3 / (3 * 30e6 * 0.02)
+    r = fr.solve()
+    assert r.ok and r.supports["T"].state == "closed", r.message
+    assert abs(r.supports["T"].normal - 10.0 * k * delta / (1 + k * delta)) <= 1e-12 * 10.0
+    u = -10.0 * delta / (1 + k * delta)
+    assert abs(r.displacements["T"][1] - u) <= 1e-10 * abs(u)
