@@ -91,7 +91,7 @@ class Split:
             c["LU size"].append(out.shape[0])
             c["LU fill (nnz L + U)"].append(out.L.nnz + out.U.nnz)
         elif name == "cluster_peaks":
-            c["cluster contacts"].append(args[8].size)
+            c["cluster contacts"].append(args[9].size)
             c["cluster sub-steps"].append(args[-1])
         elif name == "solve":
             c["sweeps a step"].append(out.iterations or 0)
