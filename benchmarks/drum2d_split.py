@@ -56,7 +56,7 @@ PIECES = (
     (hybrid, "natural_map_jacobian", "    Jacobians"),
     (hybrid, "certified_error", "  error checks"),
     (stepper, "step_forces", "peak forces"),
-    (impact_kernel, "cluster_peaks", "  cluster runs (kernel)"),
+    (impact_kernel, "cluster_run", "  cluster runs (kernel)"),
 )
 
 
@@ -90,9 +90,9 @@ class Split:
         if name == "splu":
             c["LU size"].append(out.shape[0])
             c["LU fill (nnz L + U)"].append(out.L.nnz + out.U.nnz)
-        elif name == "cluster_peaks":
-            c["cluster contacts"].append(args[9].size)
-            c["cluster sub-steps"].append(args[-1])
+        elif name == "cluster_run":
+            c["cluster contacts"].append(args[1].size)
+            c["cluster sub-steps"].append(out[2])
         elif name == "solve":
             c["sweeps a step"].append(out.iterations or 0)
             c["Newton tries a step"].append(out.stats.get("newton_tries", 0))
