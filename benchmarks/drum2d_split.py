@@ -19,6 +19,16 @@ largest size over the smallest, against the ratio of contacts.
 
 (2 000 logs: about 10 s once the bed is cached; settling it, ~10 minutes.)
 docs/dev-notes.md, "The drum's step ... fourth round", has its output.
+
+With --scene FILE the scene's own run instead (from its start state, as
+`qpcontact simulate` runs it, without the results file), split by windows
+of --window steps, --scene-steps of them (default: the whole run; the
+500-log example's revolution takes ~2 min of CPU):
+
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/drum2d_split.py \\
+        --scene examples/scenes/drum2d_500.toml
+
+docs/dev-notes.md, "The revolution's CPU", has its output.
 """
 
 from __future__ import annotations
@@ -56,7 +66,7 @@ PIECES = (
     (hybrid, "natural_map_jacobian", "    Jacobians"),
     (hybrid, "certified_error", "  error checks"),
     (stepper, "step_forces", "peak forces"),
-    (impact_kernel, "cluster_peaks", "  cluster runs (kernel)"),
+    (impact_kernel, "cluster_run", "  cluster runs (kernel)"),
 )
 
 
@@ -90,9 +100,9 @@ class Split:
         if name == "splu":
             c["LU size"].append(out.shape[0])
             c["LU fill (nnz L + U)"].append(out.L.nnz + out.U.nnz)
-        elif name == "cluster_peaks":
-            c["cluster contacts"].append(args[8].size)
-            c["cluster sub-steps"].append(args[-1])
+        elif name == "cluster_run":
+            c["cluster contacts"].append(args[1].size)
+            c["cluster sub-steps"].append(out[2])
         elif name == "solve":
             c["sweeps a step"].append(out.iterations or 0)
             c["Newton tries a step"].append(out.stats.get("newton_tries", 0))
@@ -129,6 +139,40 @@ def measure(n, args, split):
                 fallbacks=int(res.fallback[timed].sum()))
 
 
+def measure_scene(args, split):
+    """The scene's run split by windows of --window steps: one row a window."""
+    from formulations.drum2d.scene import scene_model
+    from qpcontact.scenes.schema import load_scene
+
+    scene = load_scene(args.scene)
+    model, h, steps = scene_model(scene)
+    steps = args.scene_steps or steps
+    solver = scene.data["solver"]
+    start = [time.process_time(), 0]
+    print("| steps | ms a step | " + " | ".join(label.strip() for _, _, label in PIECES)
+          + " | sweeps | LUs |\n" + "|---" * (len(PIECES) + 4) + "|")
+
+    def after(k, contacts, r):
+        if k % args.window and k != steps:
+            return
+        n = k - start[1]
+        cpu = time.process_time() - start[0]
+        cells = [f"{1e3 * split.cpu.get(label, 0.0) / n:.2f}" for _, _, label in PIECES]
+        sweeps = np.mean(split.counts["sweeps a step"]) if split.counts["sweeps a step"] else 0
+        print(f"| {start[1]}–{k} | {1e3 * cpu / n:.1f} | " + " | ".join(cells)
+              + f" | {sweeps:.0f} | {len(split.counts['LU size']) / n:.1f} |", flush=True)
+        split.clear()
+        start[:] = [time.process_time(), k]
+
+    t = time.process_time()
+    res = model.simulate(h, steps, method=solver["method"], accuracy=solver["accuracy"],
+                         keep_contacts=scene.data["output"]["contacts_every"], on_step=after)
+    print(f"\n{args.scene}: {steps} steps, {time.process_time() - t:.1f} s of CPU in "
+          f"simulate; every step certified: {bool(res.certified.all())} (worst "
+          f"{res.certificate_error.max():.1e}, fallbacks {int(res.fallback.sum())}); "
+          f"load {os.getloadavg()[0]:.1f}")
+
+
 def report(n, m):
     print(f"\n{n} logs: {m['contacts']:.0f} contacts, {1e3 * m['step']:.1f} ms of CPU a step, "
           f"every step certified: {m['certified']} (worst {m['worst']:.1e}, fallbacks "
@@ -149,7 +193,13 @@ def main(argv=None):
     ap.add_argument("--warmup", type=int, default=5)
     ap.add_argument("--steps", type=int, default=12)
     ap.add_argument("--cache", default=os.path.join(ROOT, "out", "bench", "drum2d"))
+    ap.add_argument("--scene", help="split this drum2d scene's run instead of the beds")
+    ap.add_argument("--scene-steps", type=int, default=0, help="with --scene: steps (0: all)")
+    ap.add_argument("--window", type=int, default=500, help="with --scene: steps a row")
     args = ap.parse_args(argv)
+    if args.scene:
+        measure_scene(args, Split())
+        return
     sizes = [int(x) for x in args.logs.split(",")]
     split = Split()
     got = {}

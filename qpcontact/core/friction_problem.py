@@ -260,6 +260,10 @@ class FrictionProblem:
 
 def project_cone(r: np.ndarray, mu: np.ndarray, dim: int) -> np.ndarray:
     """Projection of each contact's r onto K_i = {‖r_T‖ <= μ_i r_N}."""
+    if dim == 2:
+        from ._cone_kernels import project_cone_2d   # numba: imported where it runs
+        return project_cone_2d(np.ascontiguousarray(r, float).ravel(),
+                               np.ascontiguousarray(mu, float))
     R = np.asarray(r, float).reshape(-1, dim)
     rn, rt = R[:, 0], R[:, 1:]
     t = np.linalg.norm(rt, axis=1)

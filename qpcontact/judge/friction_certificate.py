@@ -187,23 +187,25 @@ def natural_map_jacobian(problem: FrictionProblem, r, slip_rtol: float = SLIP_RT
     r = np.asarray(r, float)
     u = np.asarray(W @ r).ravel() + problem.q
     rho_c = contact_scales(problem)
+    if sp.issparse(W) and d == 2:
+        # the sizes, x, the slip, J_P and J's blocks in one compiled pass, J
+        # in CSC: the same matrix bit for bit (_certify_kernels)
+        from ._certify_kernels import natural_map_jacobian_2d   # numba: where it runs
+        terms = np.asarray(problem.abs_W @ np.abs(r)).ravel()
+        ptr, idx, val = natural_map_jacobian_2d(u, r, np.asarray(problem.q, float), terms, mu,
+                                                rho_c, float(slip_rtol), *problem.W_blocks)
+        return sp.csc_matrix((val, idx, ptr), shape=(m, m))
+    size = contact_sizes(problem, r, rho_c)
     rho = np.repeat(rho_c, d)
     x = r - rho * modified_velocity(u, mu, d)
     U = u.reshape(-1, d)
     tn = np.linalg.norm(U[:, 1:], axis=1)
-    size = contact_sizes(problem, r, rho_c)
     slip = np.flatnonzero(rho_c * tn > slip_rtol * size)
     g = U[slip, 1:] / tn[slip, None]
     # block by block, J = I − J_P + B W with B_i = ρ_i J_P,i T_i: one sparse
     # product, where forming T, A and J_P A as matrices cost 3.6 ms a call on
     # a 120-contact pile (mostly scipy's per-operation overhead)
     JP = projection_jacobian(x, mu, d)
-    if sp.issparse(W) and d == 2:     # T_i's one entry off the identity, B_i in the kernel
-        from ._certify_kernels import jacobian_2d_csr   # numba: imported where it runs
-        t01 = np.zeros(nc)
-        t01[slip] = mu[slip] * g[:, 0]
-        ptr, idx, val = jacobian_2d_csr(*problem.W_blocks, JP, rho_c, t01)
-        return sp.csr_matrix((val, idx, ptr), shape=(m, m)).tocsc()
     T = np.broadcast_to(np.eye(d), (nc, d, d)).copy()
     T[slip, 0, 1:] += mu[slip, None] * g
     B = rho_c[:, None, None] * np.einsum("kij,kjl->kil", JP, T)
