@@ -27,6 +27,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from itertools import chain
+
 import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
@@ -294,20 +296,28 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     flexible element of length L[k], direction (c[k], s[k]), parameter
     phi[k] — the assembly's path for members without rigid end zones (one
     array expression instead of a Python call per load: a 400-member beam
-    spent 12 ms there)."""
+    spent 12 ms there).  The same arithmetic as :func:`equivalent_nodal`,
+    load by load."""
     out = np.zeros((len(loads), 6))
     if not loads:
         return out
     L, c, s, phi = (np.asarray(v, float) for v in (L, c, s, phi))
     # one pass over the loads: their axes, kind, stretch and four values
-    # (a point load's (fx, fy, mz, 0)) as the columns of one array
-    table = np.array([(ld.axes == "member", ld.kind == "point", ld.a, ld.b,
-                       *(ld.values if ld.kind == "distributed" else (*ld.values, 0.0)))
-                      for ld in loads], float)
+    # (a point load's (fx, fy, mz, 0)) as the rows of one array, read by
+    # fromiter (np.array of 400 tuples: a third of this function's time)
+    table = np.fromiter(chain.from_iterable(
+        (ld.axes == "member", ld.kind == "point", ld.a, ld.b, *ld.values, 0.0)[:8]
+        for ld in loads), float, 8 * len(loads)).reshape(-1, 8)
     local, point = table[:, 0] > 0, table[:, 1] > 0
     a, b, vals = table[:, 2], table[:, 3], table[:, 4:]
+    some_local, all_local = local.any(), local.all()
 
     def to_member(fx, fy):
+        # np.where's choice, without it where every load is in one kind of axes
+        if not some_local:
+            return c * fx + s * fy, -s * fx + c * fy
+        if all_local:
+            return fx, fy
         return (np.where(local, fx, c * fx + s * fy), np.where(local, fy, -s * fx + c * fy))
 
     if point.any():
@@ -321,18 +331,25 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     if k.any():
         w1x, w1y = to_member(vals[:, 0], vals[:, 1])
         w2x, w2y = to_member(vals[:, 2], vals[:, 3])
+        if not k.all():
+            w1x, w1y, w2x, w2y, a, b, L, phi = (v[k] for v in (w1x, w1y, w2x, w2y, a, b, L,
+                                                               phi))
         t, wg = _GAUSS
-        half = 0.5 * (b[k] - a[k])[:, None]
-        xs = half * t + 0.5 * (a[k] + b[k])[:, None]
+        half = 0.5 * (b - a)[:, None]
+        xs = half * t + 0.5 * (a + b)[:, None]
         ws = half * wg
         u = (t + 1.0) / 2.0
-        qx = w1x[k, None] + u * (w2x - w1x)[k, None]
-        qy = w1y[k, None] + u * (w2y - w1y)[k, None]
-        Nv, _ = _timoshenko(xs, L[k, None], phi[k, None])
+        qx = w1x[:, None] + u * (w2x - w1x)[:, None]
+        qy = w1y[:, None] + u * (w2y - w1y)[:, None]
+        Nv, _ = _timoshenko(xs, L[:, None], phi[:, None])
         trans = np.einsum("inj,nj->ni", Nv, qy * ws)
-        xi = xs / L[k, None]
-        out[k] = np.c_[(qx * (1 - xi) * ws).sum(1), trans[:, :2], (qx * xi * ws).sum(1),
-                       trans[:, 2:]]
+        xi = xs / L[:, None]
+        dist = np.empty((len(a), 6))
+        dist[:, 0] = (qx * (1 - xi) * ws).sum(1)
+        dist[:, 1:3] = trans[:, :2]
+        dist[:, 3] = (qx * xi * ws).sum(1)
+        dist[:, 4:] = trans[:, 2:]
+        out[k] = dist
     return out
 
 
