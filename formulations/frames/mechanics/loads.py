@@ -25,8 +25,8 @@ polynomial integrands.  Units: the user's, consistent.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass, replace
+
 from itertools import chain
 
 import numpy as np
@@ -291,51 +291,66 @@ def equivalent_nodal(load: MemberLoad, L: float, c: float, s: float,
                      trans[3]])
 
 
-@functools.cache
-def plane_kernels():
-    """The plane frame's compiled assembly loops (:mod:`._plane_kernels`),
-    imported on first use: numba costs 0.2 s to import, which a frame that
-    is only described never pays."""
-    from . import _plane_kernels
-
-    return _plane_kernels
-
-
 def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     """:func:`equivalent_nodal` of many loads at once, (n, 6): load k on a
     flexible element of length L[k], direction (c[k], s[k]), parameter
-    phi[k] — the assembly's path for members without rigid end zones, in
-    one compiled loop (:func:`._plane_kernels.equivalent_loads`, the
-    arithmetic of :func:`equivalent_nodal` load by load; as array
-    expressions it was 0.5 ms of a 400-member beam's assembly)."""
+    phi[k] — the assembly's path for members without rigid end zones (one
+    array expression instead of a Python call per load: a 400-member beam
+    spent 12 ms there).  The same arithmetic as :func:`equivalent_nodal`,
+    load by load."""
+    out = np.zeros((len(loads), 6))
     if not loads:
-        return np.zeros((0, 6))
+        return out
     L, c, s, phi = (np.asarray(v, float) for v in (L, c, s, phi))
     # one pass over the loads: their axes, kind, stretch and four values
     # (a point load's (fx, fy, mz, 0)) as the rows of one array, read by
-    # fromiter (np.array of 400 tuples: a third of the array expressions' time)
+    # fromiter (np.array of 400 tuples: a third of this function's time)
     table = np.fromiter(chain.from_iterable(
         (ld.axes == "member", ld.kind == "point", ld.a, ld.b, *ld.values, 0.0)[:8]
         for ld in loads), float, 8 * len(loads)).reshape(-1, 8)
-    point = table[:, 1] > 0
-    a, b = table[:, 2], table[:, 3]
-    # the points' ξ = x/L and ξ³ by NumPy, as the interpolation
-    # (_timoshenko) takes them: its power is NumPy's own, which the kernel
-    # would not round alike — on the same arrays (a point load's x, a
-    # distributed load's four Gauss points)
-    t, wg = _GAUSS
-    xi = np.zeros((len(loads), 4))
-    xi3 = np.zeros((len(loads), 4))
+    local, point = table[:, 0] > 0, table[:, 1] > 0
+    a, b, vals = table[:, 2], table[:, 3], table[:, 4:]
+    some_local, all_local = local.any(), local.all()
+
+    def to_member(fx, fy):
+        # np.where's choice, without it where every load is in one kind of axes
+        if not some_local:
+            return c * fx + s * fy, -s * fx + c * fy
+        if all_local:
+            return fx, fy
+        return (np.where(local, fx, c * fx + s * fy), np.where(local, fy, -s * fx + c * fy))
+
     if point.any():
-        x = a[point, None] / L[point, None]
-        xi[point, :1], xi3[point, :1] = x, x ** 3
-    dist = ~point & (b > a)
-    if dist.any():
-        half = 0.5 * (b[dist] - a[dist])[:, None]
-        x = (half * t + 0.5 * (a[dist] + b[dist])[:, None]) / L[dist, None]
-        xi[dist], xi3[dist] = x, x ** 3
-    return plane_kernels().equivalent_loads(table, L, c, s, phi, xi, xi3, t, wg,
-                                            (t + 1.0) / 2.0)
+        k = point
+        px, py = to_member(vals[:, 0], vals[:, 1])
+        Nv, Nt = _timoshenko(a[k, None], L[k, None], phi[k, None])
+        trans = py[k, None] * Nv[..., 0].T + vals[k, 2, None] * Nt[..., 0].T
+        xi = a[k] / L[k]
+        out[k] = np.c_[px[k] * (1 - xi), trans[:, :2], px[k] * xi, trans[:, 2:]]
+    k = ~point & (b > a)
+    if k.any():
+        w1x, w1y = to_member(vals[:, 0], vals[:, 1])
+        w2x, w2y = to_member(vals[:, 2], vals[:, 3])
+        if not k.all():
+            w1x, w1y, w2x, w2y, a, b, L, phi = (v[k] for v in (w1x, w1y, w2x, w2y, a, b, L,
+                                                               phi))
+        t, wg = _GAUSS
+        half = 0.5 * (b - a)[:, None]
+        xs = half * t + 0.5 * (a + b)[:, None]
+        ws = half * wg
+        u = (t + 1.0) / 2.0
+        qx = w1x[:, None] + u * (w2x - w1x)[:, None]
+        qy = w1y[:, None] + u * (w2y - w1y)[:, None]
+        Nv, _ = _timoshenko(xs, L[:, None], phi[:, None])
+        trans = np.einsum("inj,nj->ni", Nv, qy * ws)
+        xi = xs / L[:, None]
+        dist = np.empty((len(a), 6))
+        dist[:, 0] = (qx * (1 - xi) * ws).sum(1)
+        dist[:, 1:3] = trans[:, :2]
+        dist[:, 3] = (qx * xi * ws).sum(1)
+        dist[:, 4:] = trans[:, 2:]
+        out[k] = dist
+    return out
 
 
 def _clip(load: MemberLoad, lo: float, hi: float, shift: float = 0.0):
