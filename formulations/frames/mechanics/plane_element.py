@@ -145,7 +145,7 @@ def member_locals(frame, xy, idx, col, axial=None):
                          beam_k(E, A, I, Lf, phi) + consistent_geometric_k(Lf, axial),
                          beam_column_k(E, A, I, Lf, axial))
     T = rotation(c, s)
-    dofs = np.c_[3 * ii[:, None] + np.arange(3), 3 * jj[:, None] + np.arange(3)]
+    dofs = 3 * np.repeat(np.column_stack((ii, jj)), 3, axis=1) + np.array([0, 1, 2, 0, 1, 2])
     has_offset = (oi > 0) | (oj > 0)
     offset = np.flatnonzero(has_offset).tolist()
     Fe = np.zeros((nm, 6, len(col)))

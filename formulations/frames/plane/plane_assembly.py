@@ -141,28 +141,31 @@ def links(frame, idx, N, table=None):
     # links in contact order: n, then t where there is friction
     n_link = np.arange(nc) + np.concatenate(([0], np.cumsum(fric)[:-1])).astype(int)
     t_link = np.where(fric, n_link + 1, -1)
-    info = [(ci, kind) for ci, f in enumerate(fric.tolist()) for kind in ("n", "t")[:1 + f]]
-    tangent = np.column_stack((normal[:, 1], -normal[:, 0]))
-    # H column by column (a link's node dofs, then its other node's with the
-    # sign turned), its exact zeros left out, then to CSR: the matrix the
-    # triplets made, with one scipy conversion fewer
+    info = []
+    for ci, f in enumerate(fric.tolist()):
+        info.append((ci, "n"))
+        if f:
+            info.append((ci, "t"))
+    # H's entries (a link's direction at its node's ux, uy; turned at its
+    # other node's), its exact zeros left out, in row then column order:
+    # the canonical CSR the triplets' conversion made, with one scipy
+    # construction instead of three
     nl = len(info)
     link_dir = np.empty((nl, 2))
-    link_dir[n_link], link_dir[t_link[fric]] = normal, tangent[fric]
+    link_dir[n_link] = normal
+    link_dir[t_link[fric], 0], link_dir[t_link[fric], 1] = normal[fric, 1], -normal[fric, 0]
     owner = np.empty(nl, int)
     owner[n_link], owner[t_link[fric]] = np.arange(nc), np.flatnonzero(fric)
     at, away = node[owner], other[owner]
-    paired = away >= 0
-    rows = np.column_stack((at, at + 1, np.where(paired, away, at), np.where(paired, away + 1, at)))
-    vals = np.column_stack((link_dir, np.where(paired[:, None], -link_dir, 0.0)))
-    keep = vals != 0.0
-    counts = keep.sum(axis=1)
-    order = np.argsort(rows, axis=1, kind="stable")   # rows ascending in each column
-    rows = np.take_along_axis(rows, order, 1)
-    vals = np.take_along_axis(vals, order, 1)
-    keep = np.take_along_axis(keep, order, 1)
-    H = sp.csc_matrix((vals[keep], rows[keep], np.concatenate(([0], np.cumsum(counts)))),
-                      shape=(N, nl)).tocsr()
+    rows = np.concatenate((at, at + 1, away, away + 1))
+    vals = np.concatenate((link_dir[:, 0], link_dir[:, 1], -link_dir[:, 0], -link_dir[:, 1]))
+    keep = (vals != 0.0) & (rows >= 0)
+    keep[2 * nl:] &= np.tile(away >= 0, 2)      # (away + 1 of no other node is 0)
+    rows, cols, vals = rows[keep], np.tile(np.arange(nl), 4)[keep], vals[keep]
+    order = np.argsort(rows * max(nl, 1) + cols, kind="stable")
+    H = sp.csr_matrix((vals[order], cols[order],
+                       np.concatenate(([0], np.cumsum(np.bincount(rows, minlength=N))))),
+                      shape=(N, nl))
     arrays = dict(n_link=n_link, t_link=t_link, mu=mu, gap=table[:, 5], normal=normal,
                   node=node // 3, other=np.where(other >= 0, other // 3, -1))
     return H, info, arrays
