@@ -249,20 +249,34 @@ def _timoshenko(x, L, phi):
     Timoshenko element (interdependent interpolation, Reddy): rows v_i, θ_i,
     v_j, θ_j; columns the points x.  φ = 12EI/(G A_s L²); φ = 0 gives the
     Hermite cubics and their derivatives."""
+    powers = _powers(x, L, phi)
+    return _deflections(*powers, L, phi), _rotations(*powers, L, phi)
+
+
+def _powers(x, L, phi):
+    """(ξ, ξ², ξ³, 1/(1 + φ)) at the points x: the powers once (the same
+    numbers: each was evaluated six times, a third of the member loads'
+    share of a 400-member beam's assembly)."""
     xi = np.atleast_1d(np.asarray(x, float)) / L
-    f = 1.0 / (1.0 + phi)
-    # the powers once (the same numbers: each was evaluated six times, a
-    # third of the member loads' share of a 400-member beam's assembly)
-    xi2, xi3 = xi ** 2, xi ** 3
-    Nv = f * np.array([1 - 3 * xi2 + 2 * xi3 + phi * (1 - xi),
-                       L * (xi - 2 * xi2 + xi3 + 0.5 * phi * (xi - xi2)),
-                       3 * xi2 - 2 * xi3 + phi * xi,
-                       L * (-xi2 + xi3 - 0.5 * phi * (xi - xi2))])
-    Nt = f * np.array([6 * (xi2 - xi) / L,
-                       1 - 4 * xi + 3 * xi2 + phi * (1 - xi),
-                       6 * (xi - xi2) / L,
-                       -2 * xi + 3 * xi2 + phi * xi])
-    return Nv, Nt
+    return xi, xi ** 2, xi ** 3, 1.0 / (1.0 + phi)
+
+
+def _deflections(xi, xi2, xi3, f, L, phi):
+    """:func:`_timoshenko`'s displacement interpolation Nv alone (what a
+    distributed load is integrated against: its rotations were made and
+    dropped, a fifth of the equivalent loads' array expressions)."""
+    return f * np.array([1 - 3 * xi2 + 2 * xi3 + phi * (1 - xi),
+                         L * (xi - 2 * xi2 + xi3 + 0.5 * phi * (xi - xi2)),
+                         3 * xi2 - 2 * xi3 + phi * xi,
+                         L * (-xi2 + xi3 - 0.5 * phi * (xi - xi2))])
+
+
+def _rotations(xi, xi2, xi3, f, L, phi):
+    """:func:`_timoshenko`'s rotation interpolation Nt."""
+    return f * np.array([6 * (xi2 - xi) / L,
+                         1 - 4 * xi + 3 * xi2 + phi * (1 - xi),
+                         6 * (xi - xi2) / L,
+                         -2 * xi + 3 * xi2 + phi * xi])
 
 
 def equivalent_nodal(load: MemberLoad, L: float, c: float, s: float,
@@ -284,7 +298,7 @@ def equivalent_nodal(load: MemberLoad, L: float, c: float, s: float,
     xs, ws = _gauss(load.a, load.b)
     t = (xs - load.a) / (load.b - load.a)
     qx, qy = wx1 + t * (wx2 - wx1), wy1 + t * (wy2 - wy1)
-    Nv, _ = _timoshenko(xs, L, phi)
+    Nv = _deflections(*_powers(xs, L, phi), L, phi)
     trans = (Nv * qy) @ ws
     xi = xs / L
     return np.array([(qx * (1 - xi)) @ ws, trans[0], trans[1], (qx * xi) @ ws, trans[2],
@@ -341,7 +355,7 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
         u = (t + 1.0) / 2.0
         qx = w1x[:, None] + u * (w2x - w1x)[:, None]
         qy = w1y[:, None] + u * (w2y - w1y)[:, None]
-        Nv, _ = _timoshenko(xs, L[:, None], phi[:, None])
+        Nv = _deflections(*_powers(xs, L[:, None], phi[:, None]), L[:, None], phi[:, None])
         trans = np.einsum("inj,nj->ni", Nv, qy * ws)
         xi = xs / L[:, None]
         dist = np.empty((len(a), 6))
