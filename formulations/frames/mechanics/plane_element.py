@@ -8,6 +8,7 @@ counterclockwise; end dofs (u, v, θ) at i then j; units the user's."""
 from __future__ import annotations
 
 import math
+from itertools import chain
 
 import numpy as np
 
@@ -128,9 +129,9 @@ def member_locals(frame, xy, idx, col, axial=None):
     # one pass over the members for their numbers, their nodes' first dofs
     # among them (a Python call per member and property cost 2 ms on a
     # 400-member beam; three passes, a tenth of its assembly)
-    i3, j3, E, A, I, oi, oj, GAs = np.array(
+    i3, j3, E, A, I, oi, oj, GAs = np.fromiter(chain.from_iterable(
         [(idx[m.i], idx[m.j], m.E, m.A, m.I, m.offset_i, m.offset_j,
-          0.0 if m.GAs is None else m.GAs) for m in ms], float).reshape(nm, 8).T
+          0.0 if m.GAs is None else m.GAs) for m in ms]), float, 8 * nm).reshape(nm, 8).T
     ii, jj = i3.astype(int) // 3, j3.astype(int) // 3
     d = xy[jj] - xy[ii]
     L = np.hypot(d[:, 0], d[:, 1])
