@@ -26,7 +26,6 @@ polynomial integrands.  Units: the user's, consistent.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-
 from itertools import chain
 
 import numpy as np

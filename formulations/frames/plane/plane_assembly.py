@@ -117,7 +117,7 @@ def contact_column(idx, N, c, vec) -> np.ndarray:
 
 
 def contact_table(frame, idx) -> np.ndarray:
-    """The contacts' numbers in one pass, (nc, 8): the node's first dof, the
+    """The contacts' numbers in one pass, (nc, 7): the node's first dof, the
     other node's (-1 for none), the unit normal, the friction coefficient,
     the gap and the flexibility 1/k (0 for a rigid contact) — what the
     links, their maps and the results read (four passes over the contacts
@@ -154,8 +154,7 @@ def links(frame, idx, N, table=None):
     link_dir = np.empty((nl, 2))
     link_dir[n_link] = normal
     link_dir[t_link[fric], 0], link_dir[t_link[fric], 1] = normal[fric, 1], -normal[fric, 0]
-    owner = np.empty(nl, int)
-    owner[n_link], owner[t_link[fric]] = np.arange(nc), np.flatnonzero(fric)
+    owner = np.repeat(np.arange(nc), 1 + fric)
     at, away = node[owner], other[owner]
     rows = np.concatenate((at, at + 1, away, away + 1))
     vals = np.concatenate((link_dir[:, 0], link_dir[:, 1], -link_dir[:, 0], -link_dir[:, 1]))
@@ -216,7 +215,7 @@ def build(frame, axial=None):
     # (I + R D)⁻¹ on nl x nl.
     # one number per contact, then spread to its links (a lookup per link
     # through frame.contacts cost half a millisecond on a 200-span beam)
-    flex = table[np.array([ci for ci, _ in info], int), 6] if info else np.zeros(0)
+    flex = np.repeat(table[:, 6], 1 + (table[:, 4] > 0))   # a contact's links follow it
     basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2)
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
