@@ -6,6 +6,7 @@ itself are the shared :mod:`..mechanics.contact_lcp`'s."""
 from __future__ import annotations
 
 import math
+from itertools import chain
 
 import numpy as np
 import scipy.sparse as sp
@@ -30,26 +31,33 @@ def cases(frame) -> list:
 
 def assemble(frame, axial=None):
     """K (CSR), loads F and settlements U (one column per case), the fixed
-    dofs, and the members' local data for the results (k, T, dofs, Fe):
-    all members at once (K from one COO array)."""
+    dofs, the members' local data for the results (k, T, dofs, Fe) and the
+    nodes' coordinates: all members at once (K from one COO array)."""
     names = list(frame.nodes)
     idx = {nm: 3 * i for i, nm in enumerate(names)}
     N = 3 * len(names)
+    # the nodes' coordinates once, for the members and the checks
+    xy = (np.concatenate(list(frame.nodes.values())).reshape(-1, 2) if names
+          else np.zeros((0, 2)))
     case_list = cases(frame)
     col = {c: k for k, c in enumerate(case_list)}
-    F = np.zeros((N, len(case_list)))
+    nc = len(case_list)
     if frame.members:
-        k_all, T, dofs, Fe = member_locals(frame, names, idx, col, axial)
+        k_all, T, dofs, Fe = member_locals(frame, xy, idx, col, axial)
         Tt = T.transpose(0, 2, 1)
         kg = Tt @ k_all @ T          # batched matmul: 10x einsum's three-operand path
         rows = [np.repeat(dofs, 6, axis=1).ravel()]
         cols = [np.tile(dofs, (1, 6)).ravel()]
         vals = [kg.ravel()]
-        np.add.at(F, dofs.ravel(), (Tt @ Fe).reshape(-1, len(col)))
+        # the members' loads summed dof by dof in member order, as np.add.at
+        # did (bincount: the same sums, a tenth of its time)
+        F = np.bincount((dofs[..., None] * nc + np.arange(nc)).ravel(),
+                        (Tt @ Fe).ravel(), N * nc).reshape(N, nc)
     else:
         k_all, T = np.zeros((0, 6, 6)), np.zeros((0, 6, 6))
-        dofs, Fe = np.zeros((0, 6), int), np.zeros((0, 6, len(col)))
+        dofs, Fe = np.zeros((0, 6), int), np.zeros((0, 6, nc))
         rows, cols, vals = [], [], []
+        F = np.zeros((N, nc))
     for node, fx, fy, mz, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
     U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
@@ -69,18 +77,19 @@ def assemble(frame, axial=None):
     # rotational spring is a spring.  A moment applied there has nothing to
     # act on; it is refused rather than lost
     free_spin = (K.diagonal() == 0.0) & (np.arange(N) % 3 == 2) & ~fixed
-    lost = np.flatnonzero(free_spin & np.any(F != 0.0, axis=1))
-    if lost.size:
-        node = names[lost[0] // 3]
-        raise InvalidProblemError(
-            f"node {node!r}: a moment is applied where no member and no support resists "
-            "rotation (only released ends meet there), so it would act on nothing; put it "
-            "on a member end that is not released (add_point_load(member, a, mz=...)) or "
-            "release one end fewer")
-    fixed |= free_spin
+    if free_spin.any():
+        lost = np.flatnonzero(free_spin & np.any(F != 0.0, axis=1))
+        if lost.size:
+            node = names[lost[0] // 3]
+            raise InvalidProblemError(
+                f"node {node!r}: a moment is applied where no member and no support resists "
+                "rotation (only released ends meet there), so it would act on nothing; put "
+                "it on a member end that is not released (add_point_load(member, a, mz=...)) "
+                "or release one end fewer")
+        fixed |= free_spin
     # per member, for the results: stiffness, rotation, dofs, and the
     # equivalent nodal loads of every case (member axes), (m, 6, cases)
-    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn
+    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn, xy
 
 
 def node_axes(frame, idx, N):
@@ -107,35 +116,58 @@ def contact_column(idx, N, c, vec) -> np.ndarray:
     return h
 
 
-def links(frame, idx, N):
-    """H (N x links, sparse CSR) and, per link: contact index, kind 'n'/'t'."""
+def contact_table(frame, idx) -> np.ndarray:
+    """The contacts' numbers in one pass, (nc, 7): the node's first dof, the
+    other node's (-1 for none), the unit normal, the friction coefficient,
+    the gap and the flexibility 1/k (0 for a rigid contact) — what the
+    links, their maps and the results read (four passes over the contacts
+    before: a tenth of a 200-span beam's assembly)."""
     cs = frame.contacts
-    nc = len(cs)
-    normal = np.array([c.normal for c in cs]).reshape(nc, 2)
-    fric = np.array([c.friction > 0 for c in cs], bool)
-    node = np.array([idx[c.node] for c in cs], int)
-    other = np.array([-1 if c.other is None else idx[c.other] for c in cs], int)
+    return np.fromiter(chain.from_iterable(
+        (idx[c.node], -1 if c.other is None else idx[c.other], c.normal[0], c.normal[1],
+         c.friction, c.gap, 0.0 if c.stiffness is None else 1.0 / c.stiffness)
+        for c in cs), float, 7 * len(cs)).reshape(len(cs), 7)
+
+
+def links(frame, idx, N, table=None):
+    """H (N x links, sparse CSR), per link its contact index and kind
+    'n'/'t', and the contacts as arrays (:func:`contact_arrays`);
+    ``table``: :func:`contact_table`'s, where made already."""
+    table = contact_table(frame, idx) if table is None else table
+    nc = len(table)
+    node, other = table[:, 0].astype(int), table[:, 1].astype(int)
+    normal, mu = table[:, 2:4], table[:, 4]
+    fric = mu > 0
     # links in contact order: n, then t where there is friction
-    n_link = np.arange(nc) + np.concatenate(([0], np.cumsum(fric)[:-1]))
-    t_link = n_link + 1
+    n_link = np.arange(nc) + np.concatenate(([0], np.cumsum(fric)[:-1])).astype(int)
+    t_link = np.where(fric, n_link + 1, -1)
     info = []
-    for ci in range(nc):
+    for ci, f in enumerate(fric.tolist()):
         info.append((ci, "n"))
-        if fric[ci]:
+        if f:
             info.append((ci, "t"))
-    tangent = np.column_stack((normal[:, 1], -normal[:, 0]))
-    rows, cols, vals = [], [], []
-    for links_, vecs, keep in ((n_link, normal, np.ones(nc, bool)), (t_link, tangent, fric)):
-        for at, sign in ((node, 1.0), (other, -1.0)):
-            k = keep & (at >= 0)
-            for d in (0, 1):
-                rows.append(at[k] + d)
-                cols.append(links_[k])
-                vals.append(sign * vecs[k, d])
-    H = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(N, len(info)))
-    H.eliminate_zeros()
-    return H, info
+    # H's entries (a link's direction at its node's ux, uy; turned at its
+    # other node's), its exact zeros left out, in row then column order:
+    # the canonical CSR the triplets' conversion made, with one scipy
+    # construction instead of three
+    nl = len(info)
+    link_dir = np.empty((nl, 2))
+    link_dir[n_link] = normal
+    link_dir[t_link[fric], 0], link_dir[t_link[fric], 1] = normal[fric, 1], -normal[fric, 0]
+    owner = np.repeat(np.arange(nc), 1 + fric)
+    at, away = node[owner], other[owner]
+    rows = np.concatenate((at, at + 1, away, away + 1))
+    vals = np.concatenate((link_dir[:, 0], link_dir[:, 1], -link_dir[:, 0], -link_dir[:, 1]))
+    keep = (vals != 0.0) & (rows >= 0)
+    keep[2 * nl:] &= np.tile(away >= 0, 2)      # (away + 1 of no other node is 0)
+    rows, cols, vals = rows[keep], np.tile(np.arange(nl), 4)[keep], vals[keep]
+    order = np.argsort(rows * max(nl, 1) + cols, kind="stable")
+    H = sp.csr_matrix((vals[order], cols[order],
+                       np.concatenate(([0], np.cumsum(np.bincount(rows, minlength=N))))),
+                      shape=(N, nl))
+    arrays = dict(n_link=n_link, t_link=t_link, mu=mu, gap=table[:, 5], normal=normal,
+                  node=node // 3, other=np.where(other >= 0, other // 3, -1))
+    return H, info, arrays
 
 
 def check_conflicts(frame):
@@ -171,9 +203,10 @@ def build(frame, axial=None):
     axial forces (tension positive, in the order of ``frame.members``) of
     a second-order stiffness, kept as ``b["axial"]``; None: first order."""
     check_conflicts(frame)
-    names, idx, K, F, U, case_list, fixed, local, Tn = assemble(frame, axial)
+    names, idx, K, F, U, case_list, fixed, local, Tn, coords = assemble(frame, axial)
     N = K.shape[0]
-    H, info = links(frame, idx, N)
+    table = contact_table(frame, idx)
+    H, info, arrays = links(frame, idx, N, table)
     if Tn is not None:
         H = (Tn @ H).tocsr()
     # Elastic contacts: the link's displacement is the structure's plus the
@@ -182,9 +215,7 @@ def build(frame, axial=None):
     # (I + R D)⁻¹ on nl x nl.
     # one number per contact, then spread to its links (a lookup per link
     # through frame.contacts cost half a millisecond on a 200-span beam)
-    per_contact = np.array([0.0 if c.stiffness is None else 1.0 / c.stiffness
-                            for c in frame.contacts])
-    flex = per_contact[np.array([ci for ci, _ in info], int)] if info else np.zeros(0)
+    flex = np.repeat(table[:, 6], 1 + (table[:, 4] > 0))   # a contact's links follow it
     # each tangent link follows its contact's normal link (:func:`links`)
     t_links = np.array([li for li, (_, kind) in enumerate(info) if kind == "t"], int)
     basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2, (t_links, t_links - 1))
@@ -198,31 +229,20 @@ def build(frame, axial=None):
         for d, kval in ks.items():
             springs[idx[node] + DOFS.index(d)] += kval
     b = Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
-              coords=np.array([frame.nodes[n] for n in names], float),
+              coords=coords,
               fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,
               axial=None if axial is None else np.asarray(axial, float), **basic)
+    b["contact_arrays"] = arrays
     link_maps(frame, b)      # b["maps"], which the shared LCP reads
     return b
 
 
 def contact_arrays(frame, b) -> dict:
-    """The contacts as arrays (cached in b): link of n and of t (-1 without
-    friction), friction, gap, unit normal, node and other node (-1)."""
+    """The contacts as arrays (cached in b; :func:`build` puts them there):
+    link of n and of t (-1 without friction), friction, gap, unit normal,
+    node and other node (-1)."""
     if "contact_arrays" not in b:
-        cs = frame.contacts
-        idx = b["idx"]
-        # each contact's n and t links, read off b["info"] in one pass
-        owner = np.array([ci for ci, _ in b["info"]], int)
-        normal = np.array([kind == "n" for _, kind in b["info"]], bool)
-        n_link, t_link = np.zeros(len(cs), int), np.full(len(cs), -1)
-        n_link[owner[normal]] = np.flatnonzero(normal)
-        t_link[owner[~normal]] = np.flatnonzero(~normal)
-        b["contact_arrays"] = dict(
-            n_link=n_link, t_link=t_link,
-            mu=np.array([c.friction for c in cs]), gap=np.array([c.gap for c in cs]),
-            normal=np.array([c.normal for c in cs]).reshape(len(cs), 2),
-            node=np.array([idx[c.node] // 3 for c in cs], int),
-            other=np.array([-1 if c.other is None else idx[c.other] // 3 for c in cs], int))
+        b["contact_arrays"] = links(frame, b["idx"], b["K"].shape[0])[2]
     return b["contact_arrays"]
 
 

@@ -71,19 +71,25 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     cert_error, zeta, sigma, ends, ft = checked(z, u, X)
     # reactions at the fixed dofs: K u - F - H X on them (member loads
     # included), reported in global axes (a node's axes may be turned)
-    r_all = b["K"] @ u - F - b["H"] @ X
+    HX = b["H"] @ X
+    r_all = b["K"] @ u - F - HX
 
-    def statics(u, X, r_all, ends, ft):
+    def statics(u, X, r_all, ends, ft, HX=None):
         """the equilibrium residual: dof by dof, the global statics, and for
-        a linear frame the balance of the member end actions returned"""
-        eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
+        a linear frame the balance of the member end actions returned; |H||X|
+        made once for both, and where ``HX`` is given (r_all is then K u - F
+        - H X in double, the per-dof residual) that residual"""
+        abs_hx = b["abs_H"] @ np.abs(X)
+        eq = max(equilibrium(frame, b, F, X, u, residual=None if HX is None else r_all,
+                             abs_hx=abs_hx),
+                 resultant(frame, b, F, X, r_all, u, ft, HX=HX, abs_hx=abs_hx))
         if not frame.contacts:
             # (a contact frame's answers are not judged on it yet: its own
             # gate and cost are the contact routes')
             eq = max(eq, member_balance(frame, b, F, X, u, ends, combo_factors))
         return eq
 
-    eq = statics(u, X, r_all, ends, ft)
+    eq = statics(u, X, r_all, ends, ft, HX)
     if not (cert_error <= CLEAR * tol and eq <= CLEAR * max(tol, EQUILIBRIUM_FLOOR)):
         # the answer refined on its states in extended precision, kept where
         # it checks at least as well (a stiff member's forces:
@@ -131,9 +137,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     xt = np.where(separated, 0.0, xt)
     # Python numbers by tolist (one numpy scalar converted at a time cost
     # a millisecond on a 200-contact beam)
-    supports = {key: SupportResult(*row) for key, *row in zip(
-        support_keys(frame), states.tolist(), xn.tolist(), xt.tolist(),
-        np.asarray(z[:nc], float).tolist(), np.asarray(slip, float).tolist())}
+    supports = dict(zip(support_keys(frame), map(
+        SupportResult, states.tolist(), xn.tolist(), xt.tolist(),
+        np.asarray(z[:nc], float).tolist(), np.asarray(slip, float).tolist())))
     displacements = dict(zip(b["names"], map(tuple, u.reshape(-1, 3).tolist())))
     member_forces = dict(zip(frame.members, ends))
     ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
@@ -151,7 +157,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                        max_rotation=rot)
 
 
-def resultant(frame, b, F, X, r_all, u, force_terms):
+def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     """The frame's global statics: Σ forces and Σ moments (about the nodes'
     centroid) of the loads, contact forces, bilateral reactions and
     springs, each equation against the sum of the absolute values of its
@@ -165,10 +171,11 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     do not carry.  For the same reason a reaction is sized by the forces
     that meet at its dof (``force_terms``: members' end forces, springs,
     loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
-    of 1e11 m had its wrong pin reaction pass."""
+    of 1e11 m had its wrong pin reaction pass.  ``HX`` and ``abs_hx``:
+    H X and |H||X| where the caller has them."""
     xy = b["coords"] - b["coords"].mean(axis=0)
-    absHX = b["abs_H"] @ np.abs(X)
-    terms = [F, b["H"] @ X, np.where(b["fixed"], r_all, 0.0)]
+    absHX = b["abs_H"] @ np.abs(X) if abs_hx is None else abs_hx
+    terms = [F, b["H"] @ X if HX is None else HX, np.where(b["fixed"], r_all, 0.0)]
     # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
     # H X at its dof) by the forces meeting there and |H||X|
     size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)

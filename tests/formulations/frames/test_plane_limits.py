@@ -117,7 +117,7 @@ def test_equilibrium_limit_follows_the_requested_accuracy(monkeypatch):
     from formulations.frames.plane import plane_recovery
 
     fr = beam_on_supports(20)
-    monkeypatch.setattr(plane_recovery, "equilibrium", lambda frame, b, F, X, u: 2e-6)
+    monkeypatch.setattr(plane_recovery, "equilibrium", lambda frame, b, F, X, u, **kw: 2e-6)
     assert fr.solve(10.0, accuracy="low").ok
     r = fr.solve(10.0, accuracy="high")
     assert not r.ok and "CHECK FAILED" in r.message
@@ -133,8 +133,9 @@ def test_breakdown_message_names_the_piece_that_failed(monkeypatch):
     second = tr.trace.pieces[1]
     real = plane_recovery.equilibrium
 
-    def fails_inside_the_second_piece(frame, b, F, X, u):
-        return 1.0 if (second.p_start < frame._p_now < second.p_end) else real(frame, b, F, X, u)
+    def fails_inside_the_second_piece(frame, b, F, X, u, **kw):
+        return (1.0 if (second.p_start < frame._p_now < second.p_end)
+                else real(frame, b, F, X, u, **kw))
 
     orig = plane_recovery.result_from_z
 
