@@ -125,7 +125,7 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     # without a conversion
     Hf = sp.csc_matrix((h_val, h_dof, np.concatenate(([0], np.cumsum(count)))), shape=(nf, nl))
     lay = dict(nf=nf, nl=nl, kappa=kappa, flex=flex, pos_dof=pos[dof], hv=hv, perm=perm, bw=bw,
-               Hf=Hf, HfT=Hf.T)
+               Hf=Hf, HfT=Hf.T, K=sp.csr_matrix((kv, (kr, kc)), shape=(nf, nf)))
     # K's part of the band, once per assembly, scaled by powers of two
     # (exact), row and column i by the square root of the basic system's
     # diagonal entry (K's with every spring in), so that the pivots measure
@@ -195,6 +195,9 @@ class CondensedLU:
     def __init__(self, lay, lu, piv, cinv, slip, on, off, kin):
         self.lay, self.lu, self.piv, self.bw, self.d = lay, lu, piv, lay["bw"], lay["d"]
         self.cinv, self.slip, self.on, self.off, self.kin = cinv, slip, on, off, kin
+        # C itself, for the residual: its diagonal and a slipping tangent's κf
+        self.cdiag = 1.0 / cinv
+        self.c_off = -off / (cinv[slip] * cinv[on])
 
     def _cinv(self, r):
         """C⁻¹ r (r: links, one column per right-hand side)."""
@@ -205,7 +208,33 @@ class CondensedLU:
         return out
 
     def solve(self, rhs):
+        """x with S x = rhs, and one step of refinement on S's own residual.
+        Eliminating y loses what the saddle solve keeps where the frame is
+        nearly free: a beam sliding 459 m on a few sticking contacts had its
+        forces 2.3e-9 of the largest off the extended-precision answer
+        (SuperLU on S: 5.5e-10), and its checks, which that error does not
+        reach, let it through unpolished; refined, the answer satisfies S
+        to rounding, and its equilibrium residual sends it to the polish as
+        the saddle route's did.  Over 79 random frames on elastic contacts
+        the refined answers are never farther from the polished ones than
+        SuperLU's (worst 2.9e-10 both), for a second solve (0.04 ms at 1 202
+        dofs)."""
         rhs = np.asarray(rhs, float)
+        x = self._solve(rhs)
+        return x + self._solve(rhs - self._times(x))
+
+    def _times(self, x):
+        """S x, from K_ff, κH_f and C (x: one vector or a column each)."""
+        lay, nf = self.lay, self.lay["nf"]
+        xu, y = x[:nf], x[nf:]
+        bx = lay["HfT"] @ xu
+        bx[~self.kin] = 0.0
+        cy = self.cdiag.reshape(-1, *([1] * (y.ndim - 1))) * y
+        if self.slip.size:
+            cy[self.slip] += self.c_off.reshape(-1, *([1] * (y.ndim - 1))) * y[self.on]
+        return np.concatenate((lay["K"] @ xu + lay["Hf"] @ y, bx + cy))
+
+    def _solve(self, rhs):
         lay, nf = self.lay, self.lay["nf"]
         one = rhs.ndim == 1
         r1, r2 = rhs[:nf], rhs[nf:]
