@@ -70,9 +70,11 @@ def force_terms(b, u, F, ends):
     end actions (:func:`member_end_actions`), which the results need too."""
     ug = to_global(b, u)
     k, T, dofs, Fe = b["local"]
-    terms = np.zeros(ug.size)
-    np.add.at(terms, dofs.ravel(),
-              np.abs((T.transpose(0, 2, 1) @ ends[..., None])[..., 0]).ravel())
+    # summed by bincount, in np.add.at's order from zero: the same sums, a
+    # third of the time (five calls a beam solve: 1.1 ms at 1000 spans)
+    terms = np.bincount(dofs.ravel(),
+                        np.abs((T.transpose(0, 2, 1) @ ends[..., None])[..., 0]).ravel(),
+                        minlength=ug.size)
     terms += np.abs(b["springs"] * ug)
     if b["Tn"] is not None:
         terms = abs(b["Tn"]) @ terms
