@@ -65,3 +65,43 @@ def beam_solve(xs, EI, w, point_loads, held):
     u[free] = np.linalg.solve(K[np.ix_(free, free)], F[free])
     r = K @ u - F
     return u[0::2], r[0::2]
+
+
+def frictional_beam(spans, seed, friction=0.3, stiffness=6e4, inclined=False):
+    """Two elements per 6 m span on elastic frictional supports (every other
+    one tilted by 0.3 rad where ``inclined``; the left end's frictionless,
+    pinned in ux), weight 18 kN/m, uplift at a few nodes drawn from
+    ``seed``, and a push of 100 kN at the right end."""
+    rng = np.random.default_rng(seed)
+    fr = Frame()
+    n = 2 * spans + 1
+    for k in range(n):
+        fr.add_node(f"N{k}", 3.0 * k, 0.0)
+    for k in range(n - 1):
+        fr.add_distributed_load(fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017), wy=-18.0)
+    fr.add_support("N0", fix=("ux",))
+    for k in range(0, n, 2):
+        a = 0.3 * (k % 4 == 2) if inclined else 0.0
+        fr.add_contact(f"N{k}", normal=(float(np.sin(a)), float(np.cos(a))),
+                       friction=friction if k else 0.0, stiffness=stiffness)
+    for k in rng.choice(np.arange(1, n - 1), size=max(1, spans // 5), replace=False):
+        fr.add_load(f"N{k}", fy=float(rng.uniform(150.0, 300.0)))
+    fr.add_load(f"N{n - 1}", fx=-100.0)
+    return fr
+
+
+def stub_cantilever(stiffness=None):
+    """A 10 m cantilever (E = 30e6, A = 0.3, I = 0.02, ten 1 m members,
+    clamped at N0) ending in a 1 cm stub to T, on a contact at T (rigid, or
+    elastic of ``stiffness``), 10 kN down at T, straight into the contact."""
+    fr = Frame()
+    for k in range(11):
+        fr.add_node(f"N{k}", float(k), 0.0)
+    fr.add_node("T", 10.01, 0.0)
+    for k in range(10):
+        fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02)
+    fr.add_member("N10", "T", 30e6, 0.3, 0.02)
+    fr.add_support("N0")
+    fr.add_contact("T", stiffness=stiffness)
+    fr.add_load("T", fy=-10.0)
+    return fr

@@ -17,26 +17,7 @@ from formulations.frames.mechanics import banded_saddle, contact_lcp
 from formulations.frames.plane import plane_assembly
 from formulations.frames.plane import sparse_active_set as active_set
 
-
-def _beam(spans, seed, friction=0.3, stiffness=6e4, inclined=False):
-    """Two elements per span on elastic frictional supports (every other
-    one tilted where ``inclined``), weight, uplift at a few nodes, a push."""
-    rng = np.random.default_rng(seed)
-    fr = Frame()
-    n = 2 * spans + 1
-    for k in range(n):
-        fr.add_node(f"N{k}", 3.0 * k, 0.0)
-    for k in range(n - 1):
-        fr.add_distributed_load(fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017), wy=-18.0)
-    fr.add_support("N0", fix=("ux",))
-    for k in range(0, n, 2):
-        a = 0.3 * (k % 4 == 2) if inclined else 0.0
-        fr.add_contact(f"N{k}", normal=(float(np.sin(a)), float(np.cos(a))),
-                       friction=friction if k else 0.0, stiffness=stiffness)
-    for k in rng.choice(np.arange(1, n - 1), size=max(1, spans // 5), replace=False):
-        fr.add_load(f"N{k}", fy=float(rng.uniform(150.0, 300.0)))
-    fr.add_load(f"N{n - 1}", fx=-100.0)
-    return fr
+from .frame_cases import frictional_beam, stub_cantilever
 
 
 def _state_set_matrix(b, kin, coef, partner):
@@ -55,7 +36,7 @@ def _state_set_matrix(b, kin, coef, partner):
 
 @pytest.mark.parametrize("seed, inclined", [(0, False), (1, False), (2, True), (3, True)])
 def test_condensed_solves_are_the_saddle_matrix_solves(seed, inclined):
-    fr = _beam(40, seed, inclined=inclined)
+    fr = frictional_beam(40, seed, inclined=inclined)
     b = fr.build()
     assert b["band"] is not None and b["band"]["bw"] <= banded_saddle.BAND_MAX
     ca = plane_assembly.contact_arrays(fr, b)
@@ -99,7 +80,7 @@ def test_condensed_state_sets_agree_with_the_saddle_route(seed, friction, monkey
     real = banded_saddle.factor
     monkeypatch.setattr(banded_saddle, "factor",
                         lambda *a: calls.append(1) or real(*a))
-    fr = _beam(35, seed, friction=friction)
+    fr = frictional_beam(35, seed, friction=friction)
     band = fr.solve(method="active-set")
     assert band.ok and len(calls) > 1            # the basic system and state sets
     monkeypatch.setattr(banded_saddle, "CONDENSE_MAX", 0.0)
@@ -114,7 +95,7 @@ def test_condensed_state_sets_agree_with_the_saddle_route(seed, friction, monkey
 
 
 def test_a_state_set_that_leaves_a_mechanism_has_no_factor():
-    fr = _beam(10, 0)
+    fr = frictional_beam(10, 0)
     b = fr.build()
     nl = len(b["info"])
     ca = plane_assembly.contact_arrays(fr, b)
@@ -127,8 +108,8 @@ def test_a_state_set_that_leaves_a_mechanism_has_no_factor():
 
 
 def test_rigid_or_very_stiff_contacts_keep_the_saddle_matrix():
-    assert _beam(10, 0).build()["band"] is not None
-    b = _beam(10, 0, stiffness=1e14).build()     # 1e7 times the beam's largest stiffness
+    assert frictional_beam(10, 0).build()["band"] is not None
+    b = frictional_beam(10, 0, stiffness=1e14).build()     # 1e7 times the beam's largest stiffness
     assert b["band"] is None and isinstance(b["lu"], contact_lcp.ScaledLU)
     fr = Frame()
     for k in range(5):
@@ -149,16 +130,7 @@ def test_a_cantilever_on_a_spring_beside_a_stub_by_hand(k, monkeypatch):
     stub's own EA/L: the contact force is the hand statics' of a spring in
     series with the cantilever, X = P kδ/(1 + kδ), δ = L³/(3EI), to 1e-11 — by the
     condensed banded LU where k <= CONDENSE_MAX κ, by SuperLU beyond."""
-    fr = Frame()
-    for i in range(11):
-        fr.add_node(f"N{i}", float(i), 0.0)
-    fr.add_node("T", 10.01, 0.0)
-    for i in range(10):
-        fr.add_member(f"N{i}", f"N{i + 1}", 30e6, 0.3, 0.02)
-    fr.add_member("N10", "T", 30e6, 0.3, 0.02)
-    fr.add_support("N0")
-    fr.add_contact("T", stiffness=k)
-    fr.add_load("T", fy=-10.0)
+    fr = stub_cantilever(k)
     b = fr.build()
     assert (b["band"] is not None) == (k <= banded_saddle.CONDENSE_MAX * b["kappa"])
     delta = 10.01 ** 3 / (3 * 30e6 * 0.02)

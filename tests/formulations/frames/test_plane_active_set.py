@@ -18,27 +18,7 @@ from formulations.frames.plane import plane_recovery
 from formulations.frames.plane import sparse_active_set as active_set
 from qpcontact.core.errors import NoSolutionError, SolverFailedError
 
-from .frame_cases import three_bay_tower
-
-
-def _beam(spans, seed, friction=0.3):
-    """Two elements per 6 m span on elastic frictional supports, weight,
-    uplift at a few nodes and a push at the right end."""
-    rng = np.random.default_rng(seed)
-    fr = Frame()
-    n = 2 * spans + 1
-    for k in range(n):
-        fr.add_node(f"N{k}", 3.0 * k, 0.0)
-    for k in range(n - 1):
-        fr.add_distributed_load(fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.32, 0.017), wy=-18.0)
-    fr.add_support("N0", fix=("ux",))
-    for k in range(0, n, 2):
-        fr.add_contact(f"N{k}", normal=(0.0, 1.0), friction=friction if k else 0.0,
-                       stiffness=6e4)
-    for k in rng.choice(np.arange(1, n - 1), size=max(1, spans // 5), replace=False):
-        fr.add_load(f"N{k}", fy=float(rng.uniform(150.0, 300.0)))
-    fr.add_load(f"N{n - 1}", fx=-100.0)
-    return fr
+from .frame_cases import frictional_beam, stub_cantilever, three_bay_tower
 
 
 def _same(a, b, rtol=1e-9):
@@ -52,7 +32,7 @@ def _same(a, b, rtol=1e-9):
 
 @pytest.mark.parametrize("seed", range(4))
 def test_both_spaces_agree_with_lemke(seed, monkeypatch):
-    fr = _beam(12, seed)
+    fr = frictional_beam(12, seed)
     ref = fr.solve(method="lemke")
     assert ref.ok, ref.message
     for limit in (0, 10_000):            # the sparse saddle system, the links' space
@@ -82,7 +62,7 @@ def test_state_sets_solved_on_the_last_factorization_agree_with_lemke(seed, fric
         return real(S)
 
     monkeypatch.setattr(active_set.contact_lcp, "regular_lu", counted)
-    fr = _beam(30, seed, friction=friction)
+    fr = frictional_beam(30, seed, friction=friction)
     ref = fr.solve(method="lemke")
     assert ref.ok, ref.message
     lus, border = {}, active_set.BORDERED_MAX
@@ -109,7 +89,7 @@ def test_mechanical_certificate_tracks_the_lcp_one(monkeypatch):
     mechanical one (R not formed): both at rounding level, and a point made
     wrong by moving one contact's opening is refused by both."""
     monkeypatch.setattr(active_set, "LINK_SPACE_MAX", 0)
-    fr = _beam(20, 7)
+    fr = frictional_beam(20, 7)
     b = fr.build()
     combo = load_combination(fr, 1.0, None, b)
     z, _ = active_set.solve_active_set(fr, b, combo)
@@ -130,7 +110,7 @@ def test_mechanical_certificate_tracks_the_lcp_one(monkeypatch):
 
 
 def test_no_consistent_states_hands_over_to_the_lcp(monkeypatch):
-    fr = _beam(6, 3)
+    fr = frictional_beam(6, 3)
     ref = fr.solve(method="lemke")
     monkeypatch.setattr(active_set, "MAX_ITERATIONS", 1)    # stops before it settles
     r = fr.solve()
@@ -203,16 +183,7 @@ def test_mechanical_certificate_refuses_a_lifted_tip_beside_a_stub():
     with the tip lifted 1 m: the LCP's certificate says 1.0; the mechanical
     one, with a link stiffness bounded by the node's h'|K|h (1e9 times the
     true R_ll beside the stub), said 2.5e-10.  With R_ll it refuses it."""
-    fr = Frame()
-    for k in range(11):
-        fr.add_node(f"N{k}", float(k), 0.0)
-    fr.add_node("T", 10.01, 0.0)
-    for k in range(10):
-        fr.add_member(f"N{k}", f"N{k + 1}", 30e6, 0.3, 0.02)
-    fr.add_member("N10", "T", 30e6, 0.3, 0.02)
-    fr.add_support("N0")
-    fr.add_contact("T")
-    fr.add_load("T", fy=-10.0)
+    fr = stub_cantilever()
     right = fr.solve()
     assert right.ok and right.supports["T"].state == "closed"
     b = fr.build()
