@@ -181,9 +181,11 @@ def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:
         else:
             state = "slip" if moving else "stick"
         use = None
-        if c.friction > 0 and state != "separated":
+        a = facet_angles(frame, c)
+        # (no facet where bilateral supports hold both tangents: friction
+        # carries nothing there, and there is no use to report)
+        if a.size and state != "separated":
             # the polygon's own measure: the most loaded facet, w_k = reach f X_n + d_k·X_t
-            a = facet_angles(frame, c)
             use = float(np.max(-(np.cos(a) * xt[0] + np.sin(a) * xt[1]))
                         / (reach(frame, c) * c.friction * xn))
             use = max(use, 0.0)

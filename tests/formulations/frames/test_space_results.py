@@ -619,3 +619,28 @@ def test_the_frames_own_units_head_the_tables_and_label_the_drawing():
     assert "2000 × 0 × 0 mm" in fig.axes[0].get_title()
     assert any(w.startswith("B: X_n") and w.endswith("\u2009N") for w in words)
     assert _overlaps(fig) == []
+
+
+@pytest.mark.parametrize("cone", ["circular", "inscribed"])
+def test_a_frictional_pad_whose_tangents_supports_hold_is_solved(cone):
+    """A pad at a node whose ux and uy a bilateral support holds has no
+    friction facet (the support carries the tangential force): the frame
+    is solved, the pad's cone use is None (numpy's max of an empty array
+    raised before, on the polygon and in the circle's start from it); the
+    normal forces are the hand statics' (equal loads at the two pads)."""
+    fr = SpaceFrame(cone=cone)
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", 6.0, 0.0, 0.0)
+    fr.add_member("A", "B", 30e6, 0.32, 0.017, 0.01, G=12e6, J=0.02)
+    fr.add_support("A", fix=("ux", "uy", "rx"))
+    for node in ("A", "B"):
+        fr.add_contact(node, friction=0.5, stiffness=6e4, facets=8)
+        fr.add_load(node, fz=-10.0)
+    fr.add_load("B", fy=2.0)
+    res = fr.solve()
+    assert res.ok, res.message
+    assert res.supports["A"].cone_use is None
+    if cone == "inscribed":
+        assert 0.0 < res.supports["B"].cone_use < 1.0
+    for node in ("A", "B"):
+        assert abs(res.supports[node].normal - 10.0) <= 1e-9 * 10.0
