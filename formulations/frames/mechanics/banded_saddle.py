@@ -23,8 +23,9 @@ part is nilpotent).  Eliminating y,
 
 where K_ff − κH_f C⁻¹ B is K_ff with each holding link's spring k h h' [kN/m]
 and each slipping contact's friction coupling (f k h_t h_n', unsymmetric)
-added: a matrix with K's own sparsity, banded in a reverse Cuthill–McKee
-order (a continuous beam: 4 wide in its own order).  LAPACK factors it in
+added: a matrix with K's own sparsity, banded in the dofs' own order or a
+reverse Cuthill–McKee one (a continuous beam: 4 wide in its own).  LAPACK
+factors it in
 a sixth of SuperLU's time on the saddle matrix (0.10 against 0.61 ms at
 1 202 dofs, 0.47 against 2.6 at 6 002): SuperLU's cost at these sizes is
 its set-up per unknown, not arithmetic.
@@ -37,7 +38,9 @@ much stiffer than the frame, and a rigid one (no spring to condense), keep
 the saddle matrix's SuperLU (:func:`.contact_lcp.regular_lu`), as does a
 frame whose band is wider than BAND_MAX (a banded LU's work grows as the
 band's square).  Singular pivots (a mechanism) send the caller to the
-saddle matrix's SuperLU too, which decides as before.
+saddle matrix's SuperLU too, which decides as before.  A single right-hand
+side is refined once on the saddle matrix's own residual
+(:meth:`CondensedLU.solve` says why).
 """
 
 from __future__ import annotations
