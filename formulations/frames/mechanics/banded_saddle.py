@@ -107,7 +107,7 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     pr = np.concatenate((kr, np.repeat(left, width, axis=1).ravel()))
     pc = np.concatenate((kc, np.tile(right, (1, width)).ravel()))
     # the dofs' own order where it is narrow already (a beam numbered
-    # along its length: 5), else a reverse Cuthill–McKee order, whichever
+    # along its length: 4), else a reverse Cuthill–McKee order, whichever
     # is narrower (a beam's RCM order interleaves its axial and bending
     # chains 8 wide; the work goes as the width's square)
     perm = np.arange(nf)
@@ -127,7 +127,7 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     # κH_f as S holds it (CSC, a column per link), and its transpose as CSR
     # without a conversion
     Hf = sp.csc_matrix((h_val, h_dof, np.concatenate(([0], np.cumsum(count)))), shape=(nf, nl))
-    lay = dict(nf=nf, nl=nl, kappa=kappa, flex=flex, pos_dof=pos[dof], hv=hv, perm=perm, bw=bw,
+    lay = dict(nf=nf, kappa=kappa, flex=flex, pos_dof=pos[dof], hv=hv, perm=perm, bw=bw,
                Hf=Hf, HfT=Hf.T, K=sp.csr_matrix((kv, (kr, kc)), shape=(nf, nf)))
     # K's part of the band, once per assembly, scaled by powers of two
     # (exact), row and column i by the square root of the basic system's
@@ -138,7 +138,7 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     r, c, v = _link_terms(lay, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))[:3]
     on_diag = r == c
     diag = np.bincount(r[on_diag], weights=v[on_diag], minlength=nf)
-    kd = pos[kr] == pos[kc]
+    kd = kr == kc
     diag += np.bincount(pos[kr[kd]], weights=kv[kd], minlength=nf)
     if not np.all(diag > 0):
         return None
@@ -229,16 +229,19 @@ class CondensedLU:
         x = self._solve(rhs)
         return x if rhs.ndim > 1 else x + self._solve(rhs - self._times(x))
 
-    def _times(self, x):
-        """S x, from K_ff, κH_f and C (x: one vector or a column each)."""
-        lay, nf = self.lay, self.lay["nf"]
-        xu, y = x[:nf], x[nf:]
-        bx = lay["HfT"] @ xu
+    def _b(self, xu):
+        """B x_u: κh'x_u on a holding link's row, nothing on a static one."""
+        bx = self.lay["HfT"] @ xu
         bx[~self.kin] = 0.0
-        cy = self.cdiag.reshape(-1, *([1] * (y.ndim - 1))) * y
-        if self.slip.size:
-            cy[self.slip] += self.c_off.reshape(-1, *([1] * (y.ndim - 1))) * y[self.on]
-        return np.concatenate((lay["K"] @ xu + lay["Hf"] @ y, bx + cy))
+        return bx
+
+    def _times(self, x):
+        """S x (one vector), from K_ff, κH_f, B and C."""
+        nf = self.lay["nf"]
+        xu, y = x[:nf], x[nf:]
+        cy = self.cdiag * y
+        cy[self.slip] += self.c_off * y[self.on]
+        return np.concatenate((self.lay["K"] @ xu + self.lay["Hf"] @ y, self._b(xu) + cy))
 
     def _solve(self, rhs):
         lay, nf = self.lay, self.lay["nf"]
@@ -250,6 +253,4 @@ class CondensedLU:
         x_perm, info = dgbtrs(self.lu, self.bw, self.bw, d * t[lay["perm"]], self.piv)
         x = np.empty_like(t)
         x[lay["perm"]] = d * x_perm
-        bx = lay["HfT"] @ x
-        bx[~self.kin] = 0.0                    # a static row has no B
-        return np.concatenate((x, z - self._cinv(bx)))
+        return np.concatenate((x, z - self._cinv(self._b(x))))

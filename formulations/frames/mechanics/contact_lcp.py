@@ -212,9 +212,6 @@ def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
     # 20-storey frame a few)
     at = np.full(N, -1)
     at[free] = np.arange(nf)
-    k_row, k_col, k_val = csr_triplets(K)
-    r, c = at[k_row], at[k_col]
-    ff = (r >= 0) & (c >= 0)
     fixed_idx = np.flatnonzero(fixed)
     # The links enter scaled by a typical stiffness kappa, so that the saddle
     # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
@@ -230,15 +227,14 @@ def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
     # no stiffness on those dofs at all (a node on a contact, no member):
     # kappa = 0 would drop the links and name a held dof as the free one
     kappa = kappa if kappa > 0 else 1.0
+    k_ff = free_stiffness(K, at)
     hv, hr, hc = free_links(H, at, kappa)
     nl = H.shape[1]
-    k_nz = ff & (k_val != 0.0)
     # on elastic contacts the saddle matrix is solved through its condensed
     # stiffness, banded (:mod:`.banded_saddle`), and S itself is made only
     # where something reads it; else, and where that reads singular, by
     # SuperLU, whose pivots decide
-    band = banded_saddle.layout(nf, nl, kappa, flex, (r[k_nz], c[k_nz], k_val[k_nz]),
-                                (hr, hc, hv), pairs)
+    band = banded_saddle.layout(nf, nl, kappa, flex, k_ff, (hr, hc, hv), pairs)
     lu = (banded_saddle.factor(band, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))
           if band is not None else None)
     out = dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, band=band, lu=lu)
@@ -246,7 +242,7 @@ def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
         # one sparse LU of the saddle matrix (a 1000-span beam: 4000
         # unknowns, 1.7 s dense, milliseconds sparse); its pivots say whether
         # it is singular
-        out["S"] = _saddle((r[k_nz], c[k_nz], k_val[k_nz]), (hv, hr, hc), flex, nf, kappa)
+        out["S"] = _saddle(k_ff, (hv, hr, hc), flex, nf, kappa)
         out["lu"] = regular_lu(out["S"])
     return out
 
@@ -256,19 +252,26 @@ def saddle_matrix(b):
     stored zeros), made on first use where the basic system's LU is the
     condensed banded one."""
     at = _positions(b)
-    k_row, k_col, k_val = csr_triplets(b["K"])
-    r, c = at[k_row], at[k_col]
-    k_nz = (r >= 0) & (c >= 0) & (k_val != 0.0)
-    return _saddle((r[k_nz], c[k_nz], k_val[k_nz]), free_links(b["H"], at, b["kappa"]),
+    return _saddle(free_stiffness(b["K"], at), free_links(b["H"], at, b["kappa"]),
                    b["flex"], b["nf"], b["kappa"])
+
+
+def free_stiffness(K, at):
+    """(rows, columns, values) of K_ff's stored entries but its exact zeros
+    (``at``: each dof's row among the free ones, -1 where fixed): a
+    member's k has exact zeros (a level beam's axial-bending terms), nearly
+    half of a beam's entries, which every state set's matrix and
+    factorization would carry."""
+    k_row, k_col, k_val = csr_triplets(K)
+    r, c = at[k_row], at[k_col]
+    keep = (r >= 0) & (c >= 0) & (k_val != 0.0)
+    return r[keep], c[keep], k_val[keep]
 
 
 def _saddle(k_triplets, h_triplets, flex, nf, kappa):
     """The saddle matrix from the blocks' triplets (K and H are summed, so
-    no entry is repeated and the order does not matter); a member's k has
-    exact zeros (a level beam's axial-bending terms): nearly half of a
-    beam's entries, which every state set's matrix and factorization would
-    carry, so they are left out (K's by the caller)."""
+    no entry is repeated and the order does not matter), without stored
+    zeros."""
     (kr, kc, kv), (hv, hr, hc) = k_triplets, h_triplets
     nl = len(flex)
     links_ = np.arange(nl)

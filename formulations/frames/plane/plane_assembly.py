@@ -216,9 +216,9 @@ def build(frame, axial=None):
     # one number per contact, then spread to its links (a lookup per link
     # through frame.contacts cost half a millisecond on a 200-span beam)
     flex = np.repeat(table[:, 6], 1 + (table[:, 4] > 0))   # a contact's links follow it
-    # each tangent link follows its contact's normal link (:func:`links`)
-    t_links = np.array([li for li, (_, kind) in enumerate(info) if kind == "t"], int)
-    basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2, (t_links, t_links - 1))
+    has_t = arrays["t_link"] >= 0     # each frictional contact's tangent and normal link
+    basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2,
+                         (arrays["t_link"][has_t], arrays["n_link"][has_t]))
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], names, DOFS,
