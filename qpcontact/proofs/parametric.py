@@ -80,7 +80,7 @@ class LoadFamily:
         return max(abs(p), q0 / q1 if q0 > 0 and q1 > 0 else 1.0)
 
     def collapse_proof(self, p: float, z_scale: float, tol: float,
-                       max_nodes: int = COLLAPSE_NODES):
+                       max_nodes: int = COLLAPSE_NODES, expired=None):
         """Prove that no solution exists for any load p' >= p_limit, p_limit a
         hair above p (1e-9, else 1e-6, else 1e-4 of the load scale): a dict with
         ``p_limit`` and the Farkas vectors; {"solution": (z, p')} when an
@@ -111,6 +111,10 @@ class LoadFamily:
         below 1000 times those at the last one".  A bound that small relative
         to the solution (seed 17 of the random frames: 4e-4 against slips of
         0.25, and Lemke found an equilibrium just beyond) proves nothing.
+
+        ``expired() -> bool`` (optional): the caller's deadline; the
+        branches stop there with None (nothing proved), each node being an
+        LP or two (a 117-contact frame's 400 nodes ran for minutes).
         """
         unit = self.load_unit(p)
         z_scale = self.solution_scale(p, z_scale)
@@ -121,7 +125,8 @@ class LoadFamily:
         # the tolerances; it is believed only if the proof fails further out too.
         found = None
         for rel in (1e-9, 1e-6, 1e-4):
-            out = self._branch_and_bound(p + rel * unit, unit, z_scale, tol, max_nodes)
+            out = self._branch_and_bound(p + rel * unit, unit, z_scale, tol, max_nodes,
+                                         expired=expired)
             if out is not None and "solution" not in out:
                 return out
             found = out or found
@@ -150,13 +155,14 @@ class LoadFamily:
                                      slacks=SLACKS)
         return None if out is None or "solution" in out else out
 
-    def _branch_and_bound(self, p_lo, unit, z_scale, tol, max_nodes, slacks=SLACKS[:1]):
+    def _branch_and_bound(self, p_lo, unit, z_scale, tol, max_nodes, slacks=SLACKS[:1],
+                          expired=None):
         n = self.q0.size
         stack = [(np.zeros(n, bool), np.zeros(n, bool))]
         leaves, nodes = [], 0
         while stack:
             nodes += 1
-            if nodes > max_nodes:
+            if nodes > max_nodes or (expired is not None and expired()):
                 return None
             Z0, W0 = stack.pop()
             cert = self._farkas(Z0, W0, p_lo, z_scale, tol, slacks)

@@ -255,6 +255,19 @@ def test_collapse_proof_checks_from_the_data():
     assert tr.proof["p_limit"] <= 1e-6 and tr.proof["z_bound"] >= 1e3 * 0.5
 
 
+def test_the_collapse_proof_stops_at_the_callers_deadline():
+    """The branch and bound behind a collapse proof (an LP or two a node: a
+    117-contact frame's ran for minutes) stops where the caller's deadline
+    has passed, proving nothing; the same family without a deadline is
+    proved (the spring pair pushed apart, as above)."""
+    from qpcontact.proofs.parametric import LoadFamily
+
+    family = LoadFamily(ParametricLCP(np.array([[1.0, -1.0], [-1.0, 1.0]]), np.zeros(2),
+                                      np.array([-1.0, 0.5])))
+    assert family.collapse_proof(0.0, 1.0, 1e-9)["p_limit"] <= 1e-6
+    assert family.collapse_proof(0.0, 1.0, 1e-9, expired=lambda: True) is None
+
+
 @pytest.mark.parametrize("seed", range(3))
 def test_trace_psd_singular_matrix_w_matches_independent_solves(seed):
     """Symmetric PSD but singular M (a frictionless frame resting on its

@@ -16,8 +16,10 @@ import warnings
 import numpy as np
 
 from qpcontact import solve as solve_problem
+from qpcontact.core.deadline import Deadline, check_time_limit
 from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
                                    QpcontactError, SolverFailedError)
+from qpcontact.core.options import check_options
 
 from . import contact_lcp
 from .analysis_results import CombinationResults, FrameTrace
@@ -26,6 +28,7 @@ from .equilibrium_checks import (SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDispla
 from .load_combinations import load_combination, trace_combinations
 from .loads import CONSTANT, VARIABLE, describe
 from .no_equilibrium import proved, raise_no_equilibrium, raise_rigid_motion
+from .time_limits import TIME_LIMIT, deadline_of, out_of_time, seconds_left
 from .tracing import trace_to
 from .tresca import tresca_fixed_point
 from ..reporting.normal_hint import normal_hint
@@ -35,6 +38,10 @@ from ..reporting.normal_hint import normal_hint
 #: proof comes first; a backend loop on a load the frame cannot carry took
 #: 40 s in ProxQP before)
 BACKEND_TIME_LIMIT = 10.0
+#: the options "auto" and "active-set" take: Lemke's, which "auto" runs where
+#: the active set finds no certified states (checked up front, so that a
+#: misspelled name is refused even where the active set answers)
+AUTO_OPTIONS = ("covering", "max_pivots", "restarts", "seed")
 
 
 def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
@@ -63,6 +70,12 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     its stiffness (route "linear", whatever ``method`` names) and checked
     for equilibrium like any other answer (:func:`solve_linear_frame`).
 
+    ``time_limit``: seconds of wall time for the whole analysis (default
+    :data:`.time_limits.TIME_LIMIT`; None: no limit), shared by every route and proof
+    after the active set; where it ends the analysis before an answer or a
+    proof, SolverFailedError says so.  Other keywords are the method's
+    options ("auto", "active-set": Lemke's, :data:`AUTO_OPTIONS`).
+
     ``raise_on_failure`` says what a load without a certified answer
     does.  By default (None) a proved "no equilibrium" raises
     NoSolutionError, saying how the frame fails, and a result whose checks
@@ -77,6 +90,9 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
     leave small-displacement theory (``displacement_ratio``,
     ``max_rotation`` of the result).
     """
+    # one deadline for the whole analysis (every round of a second-order one)
+    options = dict(options, time_limit=Deadline(check_time_limit(
+        options.get("time_limit", TIME_LIMIT))))
     if second_order:          # equilibrium on the deformed frame: its own rounds and checks
         from .second_order_analysis import solve_second_order
 
@@ -199,6 +215,9 @@ def unless_linear(solve_one):
     (solve, the second order) then gets for a linear frame."""
     def run(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
         if not frame.contacts:
+            if method in ("auto", "active-set"):    # nothing reads them: not ignored silently
+                check_options(method, {k: v for k, v in options.items() if k != "time_limit"},
+                              AUTO_OPTIONS)
             return solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
                                       _built)
         return solve_one(frame, p, method, accuracy, raise_on_failure, combination, _built,
@@ -263,6 +282,10 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
         raise InvalidOptionError(
             f"unknown method {method!r}: {', '.join(repr(r) for r in routes)} or a name "
             f"from qpcontact.methods(): {', '.join(registry())}")
+    options = dict(options)
+    deadline = deadline_of(options)
+    if method in ("auto", "active-set"):
+        check_options(method, options, AUTO_OPTIONS)
     b = _built if _built is not None else frame.build()
     combo = load_combination(frame, p, combination, b)
     if method in ("auto", "active-set") and frame.kind.active_set is not None:
@@ -278,22 +301,26 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
                 "frame: the active set found no consistent contact states (a cycle or a "
                 "singular state set); method='auto' goes on with the LCP (Lemke, the load "
                 "path)")
+    out_of_time(frame, combo, deadline, "the active set found no certified contact states"
+                if method == "auto" else f"it ended before {method!r} started")
     M, Q, q_gap, P, g, fric = contact_lcp.lcp_matrices(b)
     lcp = contact_lcp.combination_lcp(M, Q, q_gap, b, combo)
     judged = None           # Lemke's point judged on the frame, where it was
     if method == "tresca":
         if not fric:
             raise InvalidOptionError("'tresca' is for frictional frames; this one has no friction")
-        z, route = tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options)
+        z, route = tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options,
+                                      deadline)
     else:
         if fric and method not in ("auto", "lemke"):
             raise InvalidOptionError(
                 f"with friction the LCP is not symmetric; use method='lemke' or 'tresca', "
                 f"not {method!r}")
         if method == "auto":
-            sol = auto_lcp(lcp, fric, accuracy, options)
+            sol = auto_lcp(lcp, fric, accuracy, options, deadline)
         else:
-            sol = solve_problem(lcp, method=method, accuracy=accuracy, **options)
+            sol = solve_problem(lcp, method=method, accuracy=accuracy,
+                                time_limit=seconds_left(deadline), **options)
         z, route = sol.z, sol.method
         if not sol.ok and not proved(sol) and sol.z is not None and np.all(np.isfinite(sol.z)):
             # Lemke's point doubted for its digits only (a degenerate basis:
@@ -305,9 +332,11 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
         if judged is not None and judged.ok:
             z, route = sol.z, judged.route
         elif not sol.ok:
-            found = (trace_to(frame, b, combo, lcp, accuracy, tol)
+            found = (trace_to(frame, b, combo, lcp, accuracy, tol, deadline)
                      if method == "auto" and not proved(sol) else None)
             if found is None:
+                out_of_time(frame, combo, deadline, f"{sol.method}: {sol.message}; the load "
+                            "path to it did not reach it in time")
                 raise_no_equilibrium(frame, sol, fric, b, combo, hint=method != "auto")
             z, route = found
     if judged is not None and judged.ok and z is sol.z:
@@ -319,7 +348,7 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
         # may still reach one (a table on rigid frictional pads: Lemke's
         # faceted-cone answer rotated it freely by 3.5e9 m, rounding
         # spoiling its forces; the path from the unloaded table sticks)
-        found = trace_to(frame, b, combo, lcp, accuracy, tol)
+        found = trace_to(frame, b, combo, lcp, accuracy, tol, deadline)
         if found is not None:
             again = frame.kind.result_from_z(frame, found[0], combo, found[1], b=b, lcp=lcp,
                                              tol=tol)
@@ -335,19 +364,24 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
     return res
 
 
-def auto_lcp(lcp, fric, accuracy, options):
+def auto_lcp(lcp, fric, accuracy, options, deadline):
     """"auto" on the contact LCP: "bpp" where it is frictionless and
     positive definite; else Lemke, then (frictionless) the QP backends with a
-    time limit each."""
+    time limit each — all within ``deadline``."""
     if not fric and lcp.is_positive_definite:
-        return solve_problem(lcp, method="bpp", accuracy=accuracy)
-    sol = solve_problem(lcp, method="lemke", accuracy=accuracy, **options)
+        return solve_problem(lcp, method="bpp", accuracy=accuracy,
+                             time_limit=seconds_left(deadline))
+    sol = solve_problem(lcp, method="lemke", accuracy=accuracy,
+                        time_limit=seconds_left(deadline), **options)
     if sol.ok or fric or proved(sol):
         return sol     # with friction, solve follows the load path where this is not ok
     best = sol
     for name in ("clarabel", "piqp", "osqp", "highs"):
+        if deadline.expired():
+            break
         try:
-            s = solve_problem(lcp, method=name, accuracy=accuracy, time_limit=BACKEND_TIME_LIMIT)
+            s = solve_problem(lcp, method=name, accuracy=accuracy,
+                              time_limit=seconds_left(deadline.within(BACKEND_TIME_LIMIT)))
         except QpcontactError:
             continue
         if s.ok or s.stats.get("proof") is not None:

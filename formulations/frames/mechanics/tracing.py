@@ -20,10 +20,11 @@ from .joined_trace import RESTART, RESTARTS, JoinedTrace
 from .load_combinations import constant_first, trace_combinations
 from .loads import VARIABLE, describe
 from .no_equilibrium import motion_words
+from .time_limits import seconds_left
 
 
 def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
-          variable=None, _built=None) -> FrameTrace:
+          variable=None, _built=None, _deadline=None) -> FrameTrace:
     """Osipova–Popov–Lovtsov's increasing-load analysis: the ``constant`` combination (default
     the case "constant"), then the ``variable`` loads (a case name or a
     combination; default the case "variable") scaled by p from 0 to
@@ -35,6 +36,8 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     fails is not returned and the trace ends "breakdown".  Breakpoints where
     only the LCP's bookkeeping changes (a separated contact's slip changing
     sign) are merged: ``breakpoints`` are where a support changes state.
+    ``_deadline``: a solve's (:mod:`.time_limits`), where it follows the
+    path to its load; a trace of its own has none.
     """
     from qpcontact.core.accuracy import resolve_accuracy
 
@@ -46,10 +49,12 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     qv, _ = contact_lcp.combination_q(Q, np.zeros_like(q_gap), b, var)
     # followed to its end: solve's time_limit would bound the whole path,
     # and a frame's trace has no limit to raise (its probes keep their caps)
+    # — unless a solve follows the path to its load within its own
+    limit = (lambda: None) if _deadline is None else (lambda: seconds_left(_deadline))
     upto = np.inf if p_max is None else p_max
     try:
         tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
-                           p_max=upto, time_limit=None)
+                           p_max=upto, time_limit=limit())
     except NoSolutionError:
         # Lemke's point at p = 0 doubted for its digits (a degenerate basis:
         # rigid pads under a frame that rests on four legs) may still be the
@@ -58,9 +63,10 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         if start is None:
             raise
         tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
-                           p_max=upto, time_limit=None, start=start)
+                           p_max=upto, time_limit=limit(), start=start)
     tr = JoinedTrace(tr)
-    path = dict(M=M, qc=qc, qv=qv, const=const, var=var, upto=upto, accuracy=accuracy, tol=tol)
+    path = dict(M=M, qc=qc, qv=qv, const=const, var=var, upto=upto, accuracy=accuracy, tol=tol,
+                limit=limit)
     follow(frame, b, tr, path)
     ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[], events=[],
                     ended=tr.end, message="", ok=False, trace=tr, frame=frame, _built=b,
@@ -210,7 +216,8 @@ def restart(frame, b, tr, path, p_from, cut=False) -> bool:
             more = solve_problem(ParametricLCP(path["M"], path["qc"] + p_next * path["qv"],
                                                path["qv"]),
                                  method="trace", accuracy=path["accuracy"],
-                                 p_max=path["upto"] - p_next, time_limit=None, start=start)
+                                 p_max=path["upto"] - p_next, time_limit=path["limit"](),
+                                 start=start)
         except QpcontactError:
             continue
         if more.end in ("breakdown", "fold") and not more.pieces:
@@ -272,7 +279,7 @@ def check_piece(frame, b, ft, tr, piece, last, runs, tol):
     return None, None
 
 
-def trace_to(frame, b, combo, lcp, accuracy, tol):
+def trace_to(frame, b, combo, lcp, accuracy, tol, deadline):
     """The equilibrium at ``combo`` found by following the load path to it
     — the route ``trace`` takes, which Lemke's method at a fixed load does
     not: near a collapse Lemke can end on a secondary ray (which proves
@@ -283,13 +290,14 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
     load growing in proportion from the unloaded frame.  Returns (z,
     route words) certified on ``lcp`` itself, or None; raises
     NoSolutionError with the trace's proof when the path collapses
-    before the requested load."""
+    before the requested load.  Within ``deadline`` (:mod:`.time_limits`):
+    None once it has passed."""
     M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
     first = constant_first(combo)
     paths = [] if first is None else [first]
     paths.append(({}, dict(combo), 1.0, "every load in proportion from zero"))
-    found = engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths)
-    if found is not None or not paths[0][0]:
+    found = engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadline)
+    if found is not None or not paths[0][0] or deadline.expired():
         return found
     # the frame's own trace of the first path: it restarts beyond degenerate
     # vertices and beyond pieces that fail its checks, where the engine's
@@ -297,7 +305,7 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
     # 90 and 99 % of the limit that the frame's trace proved)
     const, var, target, words = paths[0]
     try:
-        ft = trace(frame, target, accuracy, constant=const, variable=var)
+        ft = trace(frame, target, accuracy, constant=const, variable=var, _deadline=deadline)
     except QpcontactError:
         return None
     if ft.ended == "p_max" and ft.ok:
@@ -307,14 +315,16 @@ def trace_to(frame, b, combo, lcp, accuracy, tol):
     return None
 
 
-def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths):
+def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadline):
     """:func:`trace_to` along each of ``paths`` by the engine's trace alone."""
     for const, var, target, words in paths:
+        if deadline.expired():
+            return None
         qc, _ = contact_lcp.combination_q(Q, q_gap, b, const)
         qv, _ = contact_lcp.combination_q(Q, np.zeros_like(q_gap), b, var)
         try:
             tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
-                               p_max=target, time_limit=None)
+                               p_max=target, time_limit=seconds_left(deadline))
         except NoSolutionError:
             continue        # no equilibrium to start this path from
         except QpcontactError:

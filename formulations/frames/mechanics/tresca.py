@@ -15,13 +15,15 @@ from qpcontact.judge.lcp_certificate import certify_lcp
 
 from . import contact_lcp
 from .no_equilibrium import proved, raise_no_equilibrium
+from .time_limits import out_of_time, seconds_left
 from .tracing import trace_to
 
 
-def tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options):
+def tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options, deadline):
     """Fixed point on Tresca bounds s = f X_n: each iteration the convex QP
     min ½(Pz-g)'R(Pz-g) + R_F'(Pz-g) + s'(Z⁺ + Z⁻), z >= 0 (its KKT system is
-    the LCP with the bounds frozen); stopped when z solves the full LCP."""
+    the LCP with the bounds frozen); stopped when z solves the full LCP —
+    all within ``deadline`` (:mod:`.time_limits`)."""
     from qpsolvers import Problem
 
     check_options("tresca", options, ("qp_method", "max_iter"))
@@ -35,12 +37,14 @@ def tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options)
     base = P.T @ (RF - R @ g)
     xn = np.zeros(nc)
     for it in range(max_iter):
+        if deadline.expired():
+            break
         s = np.zeros(P.shape[1])
         for k, ci in enumerate(fric):
             s[nc + 2 * k] = s[nc + 2 * k + 1] = frame.contacts[ci].friction * max(xn[ci], 0.0)
         try:
             sol = solve_problem(Problem(H, base + s, lb=np.zeros(H.shape[0])), method=qp_method,
-                                accuracy=accuracy)
+                                accuracy=accuracy, time_limit=seconds_left(deadline))
         except NotConvexError as exc:
             raise InvalidProblemError(
                 f"frame: the Tresca fixed point needs the contact stiffness matrix to be "
@@ -57,11 +61,13 @@ def tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options)
             return z, f"tresca fixed point ({sol.method}, {it + 1} iterations)"
         X = R @ (P @ z - g) + RF
         xn = np.array([X[pos[ci]["n"]] for ci in range(nc)])
-    sol = solve_problem(lcp, method="lemke", accuracy=accuracy)
+    out_of_time(frame, combo, deadline, "the Tresca fixed point did not converge")
+    sol = solve_problem(lcp, method="lemke", accuracy=accuracy, time_limit=seconds_left(deadline))
     if sol.ok:
         return sol.z, f"lemke (Tresca fixed point did not converge in {max_iter} iterations)"
-    found = None if proved(sol) else trace_to(frame, b, combo, lcp, accuracy, tol)
+    found = None if proved(sol) else trace_to(frame, b, combo, lcp, accuracy, tol, deadline)
     if found is None:
+        out_of_time(frame, combo, deadline, f"{sol.method}: {sol.message}")
         raise_no_equilibrium(frame, sol, fric, b, combo)
     return found[0], f"{found[1]} (Tresca fixed point did not converge in {max_iter} iterations)"
 

@@ -53,6 +53,7 @@ from ..mechanics.load_combinations import load_combination
 from ..mechanics.loads import describe
 from ..mechanics.no_equilibrium import motion_words, raise_rigid_motion
 from ..mechanics.solving import solve_lcp
+from ..mechanics.time_limits import TIME_LIMIT, deadline_of, seconds_left
 from .space_assembly import held, release_directions
 from .circular_limit import prove_no_equilibrium
 from .circular_polish import solve_on_states
@@ -105,7 +106,7 @@ def solve_circular(frame, p, method, accuracy, raise_on_failure, combination, _b
     options = dict(options)
     # the call's wall-time limit is the friction solvers'; it is not a
     # method's setting that would replace the polygon's start
-    limit = {"time_limit": options.pop("time_limit")} if "time_limit" in options else {}
+    limit = {"time_limit": seconds_left(deadline_of(options))}
     if method == "auto" and not options:
         # first the faceted cone's exact answer (Lemke on the circumscribed
         # polygon) carried to the circle by the active set: on the 16-pad
@@ -219,7 +220,8 @@ def polygon_start(frame, b, combo, accuracy, method="auto"):
         # search for a proof that the polygon has no solution (half the
         # 10-storey tower's solve), whose outcome a start does not use
         try:
-            res = solve_lcp(frame, 1.0, method, accuracy, False, combo, b, {})
+            res = solve_lcp(frame, 1.0, method, accuracy, False, combo, b,
+                            {"time_limit": TIME_LIMIT})
         except QpcontactError:
             return None
     if res is None or res._u is None:

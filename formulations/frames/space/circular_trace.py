@@ -266,7 +266,12 @@ def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _bu
         res = solve_either_cone(frame, p, method, accuracy, False, combination, _built, options)
     except SolverFailedError as exc:
         res, failed = None, exc
-    if (res is not None and res.ok) or frame.cone != "circular" or method != "auto" or options:
+    # the path is followed where "auto" was asked with no option but a time
+    # limit: a solve made along a path itself (time_limit=None) does not
+    # follow one again
+    limited = getattr(options.get("time_limit"), "limited", False)
+    if ((res is not None and res.ok) or frame.cone != "circular" or method != "auto"
+            or set(options) - {"time_limit"} or not limited):
         if res is None:
             raise failed
         if raise_on_failure and not res.ok:

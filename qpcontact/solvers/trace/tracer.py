@@ -193,7 +193,8 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
         if accepted is None:
             zeta_end, _ = path.values.at(z, path.q_terms(p))
             found_y = path.collapse_proof(p, max(float(np.abs(z).max(initial=0.0)),
-                                                 float(zeta_end.max(initial=0.0)), 1e-300), tol)
+                                                 float(zeta_end.max(initial=0.0)), 1e-300), tol,
+                                          expired=expired)
             if found_y is not None and "solution" in found_y:
                 # an equilibrium just beyond p that the vertex's schemes did not
                 # reach (M's null vectors): continue from its scheme if it holds at p
@@ -206,6 +207,8 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
             if found_y is not None:
                 end = "collapse"
                 proof = found_y
+            elif expired is not None and expired():
+                end = "time_limit"     # the proof's branches stopped at the deadline
             elif exhaustive and path.unique:
                 end = "fold"
                 proof = {"p": p, "schemes_checked": "all"}

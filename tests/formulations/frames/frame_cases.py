@@ -105,3 +105,49 @@ def stub_cantilever(stiffness=None):
     fr.add_contact("T", stiffness=stiffness)
     fr.add_load("T", fy=-10.0)
     return fr
+
+
+def random_beam(seed):
+    """A random beam on elastic contacts (20–120 spans of 2–5 m, hinges,
+    Timoshenko members, tilted and frictional contacts, gaps, and in two
+    of five a second beam resting on it through paired contacts), as the
+    stress runs of the frames' routes draw them; seed 36 (117 contacts) is
+    one where the active set and Lemke find nothing and the load path's
+    collapse proof branches for minutes."""
+    rng = np.random.default_rng(seed)
+    fr = Frame()
+    spans = int(rng.integers(20, 120))
+    n = 2 * spans + 1
+    L = rng.uniform(2.0, 5.0)
+    for k in range(n):
+        fr.add_node(f"A{k}", L * k, 0.0)
+    twin = rng.random() < 0.4
+    if twin:
+        for k in range(n):
+            fr.add_node(f"B{k}", L * k, 1.0)
+    E = 30e6 if rng.random() < 0.5 else 2.1e8
+    for k in range(n - 1):
+        m = fr.add_member(f"A{k}", f"A{k + 1}", E, rng.uniform(0.01, 0.4),
+                          rng.uniform(1e-4, 0.05), hinge_i=bool(rng.random() < 0.05),
+                          **({"G": E / 2.5, "shear_area": 0.1} if rng.random() < 0.2 else {}))
+        fr.add_distributed_load(m, wy=-rng.uniform(5, 30))
+        if twin:
+            fr.add_member(f"B{k}", f"B{k + 1}", E, 0.2, 0.01)
+    fr.add_support("A0", fix=("ux",))
+    if twin:
+        fr.add_support(f"B{n - 1}", fix=("ux",))
+    kbase = 10 ** rng.uniform(3, 6)
+    for k in range(0, n, int(rng.integers(1, 4))):
+        a = rng.uniform(-0.4, 0.4) if rng.random() < 0.3 else 0.0
+        f = float(rng.choice([0.0, 0.2, 0.5]))
+        fr.add_contact(f"A{k}", normal=(float(np.sin(a)), float(np.cos(a))),
+                       friction=f if k else 0.0, stiffness=kbase * rng.uniform(0.5, 2),
+                       gap=float(rng.choice([0.0, 0.0, 1e-3])))
+        if twin and k % 4 == 0:
+            fr.add_contact(f"B{k}", normal=(0.0, 1.0), other=f"A{k}", friction=0.3,
+                           stiffness=kbase)
+            fr.add_load(f"B{k}", fy=-rng.uniform(10, 100))
+    for k in rng.choice(np.arange(1, n - 1), size=max(1, spans // 5), replace=False):
+        fr.add_load(f"A{k}", fy=float(rng.uniform(50.0, 400.0)))
+    fr.add_load(f"A{n - 1}", fx=-rng.uniform(0, 200))
+    return fr

@@ -10,6 +10,11 @@
 - ``raise_on_failure=False`` returns a proved "no equilibrium" as a result
   (status "infeasible", the proof in ``proof``); by default and with True
   it raises.  The reference is the rigid body's friction limit μW by hand.
+- Options a frame's route does not take are refused by name (``route=``
+  beside "auto", where the active set answers and Lemke never runs), on
+  linear frames too; ``time_limit`` bounds the whole analysis: a random
+  117-contact beam whose collapse proof ran for minutes stops at 2 s with
+  SolverFailedError saying that nothing was proved.
 - Contacts whose normals point along the load (a pad "under" a beam with
   normal (0, -1)) get a hint that the normal points from the ground into
   the frame; normals given right get none.
@@ -17,11 +22,16 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
 from formulations.frames import Frame, SpaceFrame
-from qpcontact.core.errors import InvalidProblemError, NoSolutionError
+from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
+                                   SolverFailedError)
+from tests.formulations.frames.frame_cases import frictional_beam, random_beam
+from tests.helpers.limits import kept
 
 E, A, I = 2.0e8, 1.0e-2, 1.0e-4      # kN/m², m², m⁴
 G = 8.0e7
@@ -120,6 +130,33 @@ def test_a_linear_column_to_second_order():
 def test_a_linear_frame_still_refuses_a_misspelt_method():
     with pytest.raises(Exception, match="unknown method 'lemk'"):
         cantilever().solve(method="lemk")
+
+
+def test_options_no_route_takes_are_refused_by_name():
+    beam = frictional_beam(10, 4, friction=0.1)
+    assert beam.solve().ok                               # the active set answers
+    with pytest.raises(InvalidOptionError, match="does not take route"):
+        beam.solve(route="lemke")
+    with pytest.raises(InvalidOptionError, match="does not take max_pivot .*max_pivots"):
+        beam.solve(max_pivot=10)
+    assert beam.solve(max_pivots=10, time_limit=30).ok   # Lemke's, and the call's
+    with pytest.raises(InvalidOptionError, match="time_limit must be a positive"):
+        beam.solve(time_limit="10 s")
+    with pytest.raises(InvalidOptionError, match="does not take route"):
+        cantilever().solve(route="lemke")               # linear: nothing would read it
+
+
+def test_the_time_limit_bounds_the_whole_analysis():
+    """The active set and Lemke find nothing on this beam, and the load
+    path's collapse proof branched for minutes: the limit ends it, and the
+    error says that nothing was proved (no answer is made up)."""
+    beam = random_beam(36)
+    start = time.perf_counter()
+    with pytest.raises(SolverFailedError, match="within the time limit.*nothing was proved"):
+        beam.solve(time_limit=2.0)
+    assert kept(2.0, time.perf_counter() - start)
+    with pytest.raises(SolverFailedError, match="within the time limit.*before 'lemke'"):
+        beam.solve(method="lemke", time_limit=1e-9)
 
 
 # -- a mechanism is named by its motion ----------------------------------------
