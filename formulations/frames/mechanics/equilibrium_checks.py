@@ -47,6 +47,29 @@ class LargeDisplacementWarning(UserWarning):
     """A result's displacements are beyond small-displacement theory."""
 
 
+
+def loose_forces(cert_error, sigma, xn, tol) -> bool:
+    """Whether a contact certificate of ``cert_error`` leaves the normal
+    forces ``xn`` that the supports carry (those above STATE_RTOL of their
+    row's σ, the rule that names a support separated) less than a margin of
+    CLEAR below tol of the largest, once each row's allowance cert_error·σ
+    is read in force units: the certificate measures each row on its own σ
+    (|M||z| + |q|, or the mechanical terms; normal rows first), which where
+    part of a frame moves far is many times the forces.  Such an answer is
+    refined on its states (:mod:`.extended_refinement`) as one that fails
+    its checks by that margin is.  A trigger, not a bound: the forces come
+    from z through the basic system, and on a nearly free part z's own
+    error is larger still — Lemke's answer on a beam whose lifted end rises
+    188 m about the few contacts still holding it (frictional_beam(35, 4,
+    f = 0.1)), certified to 4.6e-14 with cert_error·σ 4.7e-10 of the
+    largest force, had its forces 7e-7 of it off (the LCP's own forward
+    error estimate: no digit, 2e27, z not isolated); refined, they are the
+    active set's to the last digit."""
+    carried = xn > STATE_RTOL * sigma[:xn.size]
+    return bool(carried.any()) and \
+        cert_error * float(sigma.max()) > CLEAR * tol * float(xn[carried].max())
+
+
 def beyond_rounding(res, scale, largest=None) -> float:
     """max |res| / scale, not counting what rounding of the largest term of the
     same kind leaves (R_ROUNDING of it): a force that is zero in exact

@@ -76,6 +76,23 @@ def test_state_sets_solved_on_the_last_factorization_agree_with_lemke(seed, fric
     assert lus[border] < lus[0], lus
 
 
+def test_lemke_on_a_beam_lifted_far_has_the_forces_digits():
+    """This beam's right part lifts off (its end rises 188 m in
+    small-displacement theory, turning about the few contacts that still
+    hold it): the LCP's rows are measured on terms 1e7 times the forces,
+    and Lemke's answer, certified to 4.6e-14, had its forces 7e-7 of the
+    largest off the active set's (whose own extended-precision polish
+    changes nothing).  Where the certificate allows the forces more than
+    tol, the answer is refined on its states, and the two routes agree to
+    the last digits."""
+    fr = frictional_beam(35, 4, friction=0.1)
+    ref = fr.solve(method="active-set")
+    r = fr.solve(method="lemke")
+    assert ref.ok and r.ok and r.route == "lemke", r.message
+    assert max(abs(d[1]) for d in r.displacements.values()) > 100.0  # its end lifts far
+    _same(r, ref, rtol=1e-12)
+
+
 def test_tower_states_and_forces_agree_with_lemke_below_tipping():
     fr, _ = three_bay_tower()
     for p in (4.0, 10.0, 14.0):
