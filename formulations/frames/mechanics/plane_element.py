@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from itertools import chain
+from operator import attrgetter
 
 import numpy as np
 
@@ -129,9 +130,13 @@ def member_locals(frame, xy, idx, col, axial=None):
     # one pass over the members for their numbers, their nodes' first dofs
     # among them (a Python call per member and property cost 2 ms on a
     # 400-member beam; three passes, a tenth of its assembly)
-    i3, j3, E, A, I, oi, oj, GAs = np.fromiter(chain.from_iterable(
+    # (and whether an end is released, how many loads it carries: two more
+    # passes before, a sixth of a 400-member beam's assembly)
+    i3, j3, E, A, I, oi, oj, GAs, released, n_loads = np.fromiter(chain.from_iterable(
         [(idx[m.i], idx[m.j], m.E, m.A, m.I, m.offset_i, m.offset_j,
-          0.0 if m.GAs is None else m.GAs) for m in ms]), float, 8 * nm).reshape(nm, 8).T
+          0.0 if m.GAs is None else m.GAs,
+          m.hinge_i or m.hinge_j or m.spring_i is not None or m.spring_j is not None,
+          len(m.loads)) for m in ms]), float, 10 * nm).reshape(nm, 10).T
     ii, jj = i3.astype(int) // 3, j3.astype(int) // 3
     d = xy[jj] - xy[ii]
     L = np.hypot(d[:, 0], d[:, 1])
@@ -150,17 +155,19 @@ def member_locals(frame, xy, idx, col, axial=None):
     has_offset = (oi > 0) | (oj > 0)
     offset = np.flatnonzero(has_offset).tolist()
     Fe = np.zeros((nm, 6, len(col)))
-    loaded = [(k, ld) for k, m in enumerate(ms) if m.loads for ld in m.loads]
-    plain = [(k, ld) for k, ld in loaded if not has_offset[k]] if offset else loaded
+    # every load with its member's index, in member order
+    plain = list(chain.from_iterable(m.loads for m in ms))
+    rows = np.repeat(np.arange(nm), n_loads.astype(int))
+    if offset:
+        plain = [ld for k, ld in zip(rows.tolist(), plain) if not has_offset[k]]
+        rows = rows[~has_offset[rows]]
     if plain:
-        rows = np.array([k for k, _ in plain])
-        loads = equivalent_nodal_many([ld for _, ld in plain], L[rows], c[rows], s[rows],
-                                      phi[rows])
+        loads = equivalent_nodal_many(plain, L[rows], c[rows], s[rows], phi[rows])
         # summed into Fe entry by entry in the loads' order, as np.add.at
         # (bincount: a third of add.at's time with three index arrays)
         nc = len(col)
-        at = ((rows * 6)[:, None] + np.arange(6)) * nc \
-            + np.array([col[ld.case] for _, ld in plain])[:, None]
+        case = np.fromiter(map(col.__getitem__, map(attrgetter("case"), plain)), int, len(plain))
+        at = ((rows * 6)[:, None] + np.arange(6)) * nc + case[:, None]
         Fe = np.bincount(at.ravel(), loads.ravel(), nm * 6 * nc).reshape(nm, 6, nc)
     rigid = {k: np.zeros((6, len(col))) for k in offset}
     for k in offset:
@@ -171,11 +178,10 @@ def member_locals(frame, xy, idx, col, axial=None):
             rigid[k][:, col[ld.case]] += at_nodes
     # releases act at the flexible ends (the face of the rigid zone), so
     # they come before the rigid arms carry the end to the node
-    for k, m in enumerate(ms):
-        if m.hinge_i or m.hinge_j or m.spring_i is not None or m.spring_j is not None:
-            for r, spring in zip((2, 5), m.end_springs):
-                if spring is not None:
-                    k_all[k], Fe[k] = _release(k_all[k], Fe[k], r, spring)
+    for k in np.flatnonzero(released).tolist():
+        for r, spring in zip((2, 5), ms[k].end_springs):
+            if spring is not None:
+                k_all[k], Fe[k] = _release(k_all[k], Fe[k], r, spring)
     for k in offset:
         Aoff = _offset_map(ms[k].offset_i, ms[k].offset_j)
         k_all[k] = Aoff.T @ k_all[k] @ Aoff
