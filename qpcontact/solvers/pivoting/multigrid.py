@@ -227,15 +227,15 @@ def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None):
     return z
 
 
-def _coincident(P) -> np.ndarray:
+def _coincident(R) -> np.ndarray:
     """For each coarse unknown, the fine unknown it weighs most (a grid's
     coarse node's own fine node, weight 1): where a coarse level reads a
-    fine vector by injection."""
-    C = sp.csc_matrix(P)
-    column = np.repeat(np.arange(C.shape[1]), np.diff(C.indptr))
-    top = np.flatnonzero(C.data == np.maximum.reduceat(C.data, C.indptr[:-1])[column])
+    fine vector by injection.  R = P' in CSR (P's columns as its rows: the
+    restriction the cycles use, no conversion of P)."""
+    column = np.repeat(np.arange(R.shape[0]), np.diff(R.indptr))
+    top = np.flatnonzero(R.data == np.maximum.reduceat(R.data, R.indptr[:-1])[column])
     _, first = np.unique(column[top], return_index=True)
-    return C.indices[top[first]]
+    return R.indices[top[first]]
 
 
 def _unconstrained_gap(M, q) -> np.ndarray | None:
@@ -282,8 +282,8 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
     shifts = [np.zeros(q.size) for q in qs]
     if shift is not None:
         shifts[0] = shift
-        for l, P in enumerate(prolongations, start=1):
-            shifts[l] = shifts[l - 1][_coincident(P)]
+        for l, R in enumerate(Rs, start=1):
+            shifts[l] = shifts[l - 1][_coincident(R)]
             qs[l] = -(As[l] @ shifts[l])
     coarse = LCP(As[L].toarray() if qs[L].size <= DENSE_COARSEST else As[L].tocsc(), qs[L])
     coarse.structure.declare_spd()
