@@ -22,8 +22,8 @@ import scipy.sparse as sp
 # scipy.linalg and scipy.sparse.linalg are imported where a block is factorized:
 # they cost more than the rest of `import qpcontact` (tests/package/test_import_cost.py).
 
-__all__ = ["ActiveBlock", "SolutionOverflow", "upper_block", "refined", "sub_bands", "symmetric_scaling",
-           "ruiz_scaling", "dense_matrix", "BANDED_MAX"]
+__all__ = ["ActiveBlock", "SolutionOverflow", "upper_block", "refined", "sub_bands",
+           "symmetric_scaling", "ruiz_scaling", "dense_matrix", "BANDED_MAX"]
 
 _EPS = np.finfo(float).eps
 
@@ -163,10 +163,11 @@ class ActiveBlock:
 
     ``symmetric`` selects Cholesky / LDL' (SPD blocks) over LU.  For sparse
     symmetric M, QDLDL factorizes the upper triangle of M_FF, gathered from M
-    in one pass (:func:`upper_block`).  For banded M pass ``bands``, M's LAPACK upper band storage: the block's
-    bands are gathered from it (:func:`sub_bands`) and factorized by LAPACK's
-    banded Cholesky, which up to BANDED_MAX beats any general sparse ordering
-    (a contact stack is banded).
+    in one pass (:func:`upper_block`).  For banded M pass ``bands``, M's
+    LAPACK upper band storage: the block's bands are gathered from it
+    (:func:`sub_bands`) and factorized by LAPACK's banded Cholesky, which up
+    to BANDED_MAX beats any general sparse ordering (a contact stack is
+    banded).
     Raises ``np.linalg.LinAlgError`` when the block is numerically singular
     (or, for ``symmetric=True``, not positive definite).
     """

@@ -283,6 +283,8 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         H, S = levels.below(0)
         shift, steps, residual = _kernels().unconstrained_gap(H, S, qs[0], GAP_STEPS, GAP_RTOL)
         stats.update(gap_steps=int(steps), gap_residual=float(residual))
+        if not np.all(np.isfinite(shift)):    # a hierarchy whose V-cycle broke CG
+            shift = None
     stats["shifted"] = shift is not None
     shifts = [np.zeros(q.size) for q in qs]
     if shift is not None:
