@@ -22,8 +22,8 @@ import scipy.sparse as sp
 # scipy.linalg and scipy.sparse.linalg are imported where a block is factorized:
 # they cost more than the rest of `import qpcontact` (tests/package/test_import_cost.py).
 
-__all__ = ["ActiveBlock", "SolutionOverflow", "refined", "sub_bands", "symmetric_scaling",
-           "ruiz_scaling", "dense_matrix", "BANDED_MAX"]
+__all__ = ["ActiveBlock", "SolutionOverflow", "upper_block", "refined", "sub_bands",
+           "symmetric_scaling", "ruiz_scaling", "dense_matrix", "BANDED_MAX"]
 
 _EPS = np.finfo(float).eps
 
@@ -138,21 +138,45 @@ def _banded_cholesky(ab_block: np.ndarray):
     return solve
 
 
+def upper_block(M, F: np.ndarray) -> sp.csc_matrix:
+    """The upper triangle of M_FF in CSC (M sparse; F the block's unknowns
+    in M's order): what QDLDL factorizes.  Gathered from M's CSC arrays in
+    one compiled pass where F is increasing (a bool mask's unknowns always
+    are); a permuted block by SciPy's selections."""
+    k = F.size
+    if M.nnz >= 2 ** 31 or (k > 1 and not np.all(F[1:] > F[:-1])):
+        return sp.triu(M, format="csc")[:, F][F, :].tocsc()
+    if M.format != "csc":
+        M = sp.csc_matrix(M)
+    if not M.has_canonical_format:      # sorted, without duplicates: as triu makes it
+        M = M.copy()
+        M.sum_duplicates()
+    from ._upper_kernels import upper_block as gather
+
+    ptr, idx, val = gather(M.indptr, M.indices, M.data, F.astype(np.int64, copy=False),
+                           M.shape[0])
+    return sp.csc_matrix((val, idx, ptr), shape=(k, k))
+
+
 class ActiveBlock:
     """Factorization of M_FF for one basis F, with refined solves.
 
     ``symmetric`` selects Cholesky / LDL' (SPD blocks) over LU.  For sparse
-    symmetric M, pass ``triu = sp.triu(M, format="csc")`` computed once: the
-    upper triangle of M_FF is then sliced from it directly (what QDLDL takes).
-    For banded M pass ``bands``, M's LAPACK upper band storage: the block's
-    bands are gathered from it (:func:`sub_bands`) and factorized by LAPACK's
-    banded Cholesky, which up to BANDED_MAX beats any general sparse ordering
-    (a contact stack is banded).
+    symmetric M, QDLDL factorizes the upper triangle of M_FF, gathered from M
+    in one pass (:func:`upper_block`).  For banded M pass ``bands``, M's
+    LAPACK upper band storage: the block's bands are gathered from it
+    (:func:`sub_bands`) and factorized by LAPACK's banded Cholesky, which up
+    to BANDED_MAX beats any general sparse ordering (a contact stack is
+    banded).
     Raises ``np.linalg.LinAlgError`` when the block is numerically singular
     (or, for ``symmetric=True``, not positive definite).
     """
 
-    def __init__(self, M, F: np.ndarray, *, symmetric: bool, triu=None, bands=None):
+    #: (z, w) of the last unrefined basic solution (``basic_solution(...,
+    #: refine=0)``), before w_F was zeroed
+    unrefined = None
+
+    def __init__(self, M, F: np.ndarray, *, symmetric: bool, bands=None):
         import scipy.linalg
         import scipy.sparse.linalg as spla
 
@@ -170,11 +194,8 @@ class ActiveBlock:
                 else:
                     import qdldl
 
-                    if triu is None:
-                        triu = sp.triu(M, format="csc")
-                    upper = triu[:, self.F][self.F, :]
                     try:
-                        fac = qdldl.Solver(upper.tocsc(), upper=True)
+                        fac = qdldl.Solver(upper_block(M, self.F), upper=True)
                     except (ValueError, RuntimeError) as exc:  # QDLDL's zero pivot
                         raise np.linalg.LinAlgError(str(exc)) from None
                     self._solve = fac.solve
@@ -225,8 +246,10 @@ class ActiveBlock:
         """(z, w) with z_F = -M_FF^{-1} q_F, z elsewhere 0, w = Mz + q.
 
         Refined against the full product M z (w_F is the residual), which the
-        caller needs anyway: no copy of M_FF is formed.  ``start``: an earlier
-        unrefined solution for this block, refined instead of solving again.
+        caller needs anyway: no copy of M_FF is formed.  ``start``: the
+        unrefined (z, w) of an earlier call with ``refine=0``
+        (``self.unrefined``, its residual w_F kept), refined instead of
+        solving and multiplying again.
         """
         n = q.size
         F = self.F
@@ -235,9 +258,9 @@ class ActiveBlock:
         if start is None:
             z = np.zeros(n)
             z[F] = self._checked(self._solve(-q[F]))
+            w = np.asarray(M @ z).ravel() + q
         else:
-            z = start.copy()
-        w = np.asarray(M @ z).ravel() + q
+            z, w = start[0].copy(), start[1].copy()
         rn = np.max(np.abs(w[F]))
         for _ in range(refine):
             if rn == 0.0:
@@ -249,5 +272,7 @@ class ActiveBlock:
             if not rn_new < rn:
                 break
             z, w, rn = z_new, w_new, rn_new
+        if refine == 0:   # kept for a later call to refine (``start``)
+            self.unrefined = (z, w.copy())
         w[F] = 0.0  # exactly zero by definition of the basis; keeps signs clean
         return z, w

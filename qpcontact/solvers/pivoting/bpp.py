@@ -76,11 +76,10 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=N
     # Per-matrix analysis, cached on the problem (a time stepper reuses it).
     structure = problem.structure
     bands = structure.upper_bands(BANDED_MAX) if sp.issparse(M) else None
-    triu = structure.upper if bands is None else None
     stats = {} if stats is None else stats
     stats.update(iterations=0, initial_active=int(F.sum()))
     # A banded Cholesky costs a few products with M: nothing to reuse.
-    bases = NearbyBases(M, q, stats, triu=triu, bands=bands, reuse=bands is None)
+    bases = NearbyBases(M, q, stats, bands=bands, reuse=bands is None)
     rule = ExchangeRule(q.size, patience, stats)
     while True:
         # Intermediate bases only need signs: refine once the signs look final.

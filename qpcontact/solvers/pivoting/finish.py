@@ -53,20 +53,19 @@ class NearbyBases:
     factorization of M_FF for bases that differ from it by a few components.
 
     ``stats`` counts ``factorizations`` and ``krylov_solves`` / ``krylov_steps``.
-    ``triu``, ``bands``: as for :class:`ActiveBlock`.  ``reuse=False``
+    ``bands``: as for :class:`ActiveBlock`.  ``reuse=False``
     factorizes every basis (banded blocks: a banded Cholesky costs a few
     products with M, so there is nothing to save).
     """
 
-    def __init__(self, M, q: np.ndarray, stats: dict, *, triu=None, bands=None, reuse=True):
+    def __init__(self, M, q: np.ndarray, stats: dict, *, bands=None, reuse=True):
         self.M, self.q, self.stats = M, q, stats
-        self.triu, self.bands = triu, bands
+        self.bands = bands
         self.reuse = reuse
         self.diag = np.asarray(M.diagonal() if sp.issparse(M) else np.diag(M), dtype=float)
         self.absM = None
         self.block: ActiveBlock | None = None
         self.F0: np.ndarray | None = None
-        self.z0: np.ndarray | None = None    # the factorized basis's solution
         self.krylov = None                   # (F, z, w) of the last CG solve
         stats.setdefault("factorizations", 0)
         stats.setdefault("krylov_solves", 0)
@@ -82,7 +81,8 @@ class NearbyBases:
         if self.block is not None:
             changed = int(np.count_nonzero(F != self.F0))
             if changed == 0:   # the same basis, now to be refined
-                return self.block.basic_solution(self.M, self.q, refine=refine, start=self.z0)
+                return self.block.basic_solution(self.M, self.q, refine=refine,
+                                                 start=self.block.unrefined)
             if self.reuse and reusable(changed, F.size):
                 z = self._krylov(F, changed)
                 if z is not None:
@@ -90,12 +90,10 @@ class NearbyBases:
                     w[F] = 0.0
                     self.krylov = (F.copy(), z, w)
                     return z.copy(), w.copy()
-        self.block = ActiveBlock(self.M, F, symmetric=True, triu=self.triu, bands=self.bands)
+        self.block = ActiveBlock(self.M, F, symmetric=True, bands=self.bands)
         self.F0 = F.copy()
         self.stats["factorizations"] += 1
-        z, w = self.block.basic_solution(self.M, self.q, refine=refine)
-        self.z0 = z
-        return z, w
+        return self.block.basic_solution(self.M, self.q, refine=refine)
 
     def _krylov(self, F: np.ndarray, changed: int) -> np.ndarray | None:
         """CG on M_FF z_F = −q_F preconditioned by the old factor, or None

@@ -37,7 +37,9 @@ none, 6.3 s), ``max_iter``
 (pivoting steps, 10 n + 100), ``patience`` (3), ``progress`` (a callable
 taking one line per cycle and exchange).  ``stats``: ``mg_levels``,
 ``mg_cycles`` (all levels), ``mg_rebuilds`` (cycles whose truncated coarse
-operators moved), ``hierarchy`` ("given" or "aggregation"), ``initial_active``,
+operators moved), ``hierarchy`` ("given" or "aggregation"), ``shifted``,
+``gap_steps`` and ``gap_residual`` (a plate's z_u: conjugate-gradient steps and
+the residual over ‖q‖∞ they reached), ``initial_active``,
 ``factorizations``, ``krylov_solves``, ``block_exchanges``, ...
 """
 
