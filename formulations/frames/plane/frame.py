@@ -370,7 +370,10 @@ class Frame:
         which says what ``method``, the errors and the warning are):
         ``combination`` = {case: factor}, or by default constant +
         p·variable.  ``second_order``: equilibrium on the deformed frame (P-Δ
-        and P-δ, :mod:`..mechanics.second_order_analysis`)."""
+        and P-δ, :mod:`..mechanics.second_order_analysis`).  ``time_limit``:
+        wall seconds for the whole analysis (default 60; None: none); other
+        keywords are the method's options, refused by name where no route
+        reads them."""
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, second_order=second_order,
                              _built=_built, **options)

@@ -528,7 +528,9 @@ class SpaceFrame:
         on the frame's ``cone``: the circular one by the friction solvers
         (:mod:`.circular_cone`), a polygon as the LCP of its facets;
         ``second_order``: on the deformed frame
-        (:func:`..mechanics.second_order_analysis.solve_second_order`)."""
+        (:func:`..mechanics.second_order_analysis.solve_second_order`);
+        ``time_limit``: wall seconds for the whole analysis (default 60;
+        None: none; the circle's load path is not bounded by it)."""
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, second_order=second_order,
                              _built=_built, **options)

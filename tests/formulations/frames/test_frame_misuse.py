@@ -144,6 +144,11 @@ def test_options_no_route_takes_are_refused_by_name():
         beam.solve(time_limit="10 s")
     with pytest.raises(InvalidOptionError, match="does not take route"):
         cantilever().solve(route="lemke")               # linear: nothing would read it
+    circle, polygon = table((0.0, 0.0, 1.0)), table((0.0, 0.0, 1.0))
+    polygon.cone = "inscribed"
+    for space in (circle, polygon):                     # the friction solvers', Lemke's
+        with pytest.raises(InvalidOptionError, match="does not take route"):
+            space.solve(route="lemke")
 
 
 def test_the_time_limit_bounds_the_whole_analysis():
