@@ -49,6 +49,7 @@ from ..mechanics.load_combinations import (constant_first, load_combination,
                                            trace_combinations)
 from ..mechanics.loads import describe
 from ..mechanics.no_equilibrium import motion_words
+from ..mechanics.time_limits import out_of_time
 from ..mechanics.tracing import BRACKET
 from ..mechanics.member_forces import EXTENDED
 from .circular_cone import (contact_data, contact_forces, from_polygon, on_states,
@@ -93,20 +94,27 @@ class CircularTrace(FrameTrace):
         with warnings.catch_warnings():
             # how far the frame has moved is in the trace's message
             warnings.simplefilter("ignore", LargeDisplacementWarning)
-            # no wall-time limit, as the trace's own solves (and no path
-            # followed again from inside a path)
+            # no wall-time limit, as the trace's own solves, and no path
+            # followed again from inside a path
             res = self.frame.solve(combination=self.combination_at(p), accuracy=self.accuracy,
-                                   _built=self._built, time_limit=None)
+                                   _built=self._built, time_limit=None, _on_path=True)
         res.p = p
         return res
 
 
 def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
-          samples: int = SAMPLES, _built=None) -> CircularTrace:
+          samples: int = SAMPLES, _built=None, _deadline=None) -> CircularTrace:
     """The increasing-load analysis on the circular cone (module
     docstring): ``constant`` (default the case "constant"), then
     ``variable`` x p from 0 to ``p_max`` (None: to the frame's limit,
-    where it rests on its contacts alone)."""
+    where it rests on its contacts alone).  ``_deadline``: a solve's
+    (:mod:`..mechanics.time_limits`) where it follows the path to its
+    load, read before each of the path's solves (SolverFailedError once it
+    has passed); the solves themselves run without a limit, so that the
+    path does not depend on the machine's load (the friction solvers cut
+    at 60 s on a loaded machine once ended the tower's path 5 % early, and
+    a limit sends some of them to a child process).  A trace of its own
+    has no deadline."""
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
         raise InvalidOptionError(f"samples must be an integer >= 2; got {samples!r}")
     b = _built if _built is not None else frame.build()
@@ -137,6 +145,9 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
         p = float(p)
         if p in path.results:
             return path.results[p]
+        if _deadline is not None and _deadline.expired():
+            raise SolverFailedError(f"the load path on the circle stopped at its time limit, "
+                                    f"at p = {p:.10g}")
         combo = ft.combination_at(p)
         below = [q for q in path.results if q < p]
         res = None
@@ -160,7 +171,7 @@ def trace(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
                     # busy the machine is (the friction solvers cut at 60 s
                     # on a loaded machine ended the tower's path 5 % early)
                     res = frame.solve(combination=combo, accuracy=accuracy, _built=b,
-                                      time_limit=None)
+                                      time_limit=None, _on_path=True)
                 except NoSolutionError as exc:
                     return exc
                 except QpcontactError:
@@ -261,17 +272,18 @@ def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _bu
     last certified load: the friction solvers' answer lifted five pads off,
     its certificate 7e-4, where the path's continuation certifies the
     equilibrium).  A path that collapses first raises its proof."""
+    options = dict(options)
+    on_path = options.pop("_on_path", False)     # a solve made along a path
+    deadline = options.get("time_limit")
     failed = None
     try:
         res = solve_either_cone(frame, p, method, accuracy, False, combination, _built, options)
     except SolverFailedError as exc:
         res, failed = None, exc
-    # the path is followed where "auto" was asked with no option but a time
-    # limit: a solve made along a path itself (time_limit=None) does not
-    # follow one again
-    limited = getattr(options.get("time_limit"), "limited", False)
+    # the path is followed where "auto" was asked with no option but the
+    # time limit, and not from inside a path
     if ((res is not None and res.ok) or frame.cone != "circular" or method != "auto"
-            or set(options) - {"time_limit"} or not limited):
+            or set(options) - {"time_limit"} or on_path):
         if res is None:
             raise failed
         if raise_on_failure and not res.ok:
@@ -284,7 +296,8 @@ def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _bu
     if path is not None:
         const, var, target, _ = path
         try:
-            ft = trace(frame, target, accuracy, constant=const, variable=var)
+            ft = trace(frame, target, accuracy, constant=const, variable=var,
+                       _deadline=deadline)
         except QpcontactError:
             ft = None
         if ft is not None and ft.ended == "collapse":
@@ -308,6 +321,9 @@ def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _bu
         found.route = ("circular cone (the load path followed to it: the constant loads, "
                        "then the rest in proportion)")
         return found
+    if deadline is not None:
+        out_of_time(frame, combo, deadline, "the friction solvers certified no answer on the "
+                    "circle, and the load path to it did not reach it in time")
     if res is None:
         raise failed
     if raise_on_failure:

@@ -530,7 +530,7 @@ class SpaceFrame:
         ``second_order``: on the deformed frame
         (:func:`..mechanics.second_order_analysis.solve_second_order`);
         ``time_limit``: wall seconds for the whole analysis (default 60;
-        None: none; the circle's load path is not bounded by it)."""
+        None: none; the circle's load path reads it between its solves)."""
         return solving.solve(self, p, method, accuracy, raise_on_failure,
                              combination=combination, second_order=second_order,
                              _built=_built, **options)

@@ -15,7 +15,8 @@ import pytest
 from formulations.frames import SpaceFrame
 from formulations.frames.mechanics.rigid_limit import limit_bracket
 from formulations.frames.space.space_family import pipe_rack, skid, table
-from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError, SolverFailedError
+from tests.helpers.limits import kept, timed
 from tests.helpers.rigid_body_lp import bounded_at_the_lp, coulomb_limits, static_limit
 
 CONST = {"constant": 1.0}
@@ -157,6 +158,26 @@ def test_a_beam_on_two_pads_is_still_a_mechanism():
     fr.add_load("B", fz=-1.0)
     with pytest.raises(InvalidProblemError, match="mechanism"):
         fr.solve(0.0)
+
+
+def test_on_the_circle_the_load_path_keeps_the_time_limit():
+    """The path that solve() follows where the friction solvers fail (the
+    table below: ~3 s on an idle machine) reads the call's deadline before
+    each of its solves: with 1 s it stops, and says that nothing was
+    proved."""
+    fr = table(6, 1.0)
+
+    def refused():
+        with pytest.raises(SolverFailedError) as info, warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            fr.solve(combination={"constant": 1.0, "corner": 0.999 * 7.1162938026},
+                     time_limit=1.0)
+        return str(info.value)
+
+    refused()                         # one-time costs first (imports, numba's cache)
+    words, took = timed(refused)
+    assert "within the time limit" in words and "nothing was proved" in words, words
+    assert kept(1.0, took), took
 
 
 @pytest.mark.slow
