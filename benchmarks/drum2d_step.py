@@ -229,7 +229,8 @@ def main(argv=None):
         for key, v in dem.items():
             cell = f"{v:.4g}"
             h_ms = key.rsplit("windows of ", 1)[-1].split(" ms")[0] if "windows" in key else None
-            at_h = next((g for g in got if h_ms and f"{g['h [ms]']:g}" == f"{float(h_ms):g}"), None)
+            at_h = next((g for g in got
+                         if h_ms and f"{g['h [ms]']:g}" == f"{float(h_ms):g}"), None)
             twin = key.split(", windows")[0] + " [kN]" if at_h else key
             ref = at_h if at_h else base
             if twin in ref and key != "cpu" and ref[twin]:
