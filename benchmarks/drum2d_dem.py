@@ -14,8 +14,15 @@ contact).  Candidate disc pairs by the drum's own grid broad phase
 before the list is rebuilt (a Verlet list); the shell and the lifters are
 tested for every disc at every step (vectorized).
 
-It is a benchmark's reference for cost, not a test's reference for the
-mechanics: the tests' resolved DEMs live in tests/ (written there).
+It keeps the books a drum engineer reads, as a resolved reference for the
+2-D route's run-level figures (benchmarks/drum2d_step.py): the drive work
+Σ F·V Δt of the shell and lifters on the logs (V = Ω ẑ × p at the contact
+point) [J], the friction work Σ |F_t||u_t| Δt [J] and its part at the cone
+(|F_t| = μ F_n: sliding; the rest is the capped dashpot's creep of stuck
+contacts, which a DEM without a tangential spring books as friction too),
+and the largest log–log and log–steel normal force [N] in each window of
+``window`` seconds.  It is not a test's reference for the mechanics: the
+tests' resolved DEMs live in tests/ (written there).
 """
 
 from __future__ import annotations
@@ -32,24 +39,34 @@ from qpcontact.core.compiled import njit
 
 @njit
 def _contact(nx, ny, ov, vx, vy, wa, ra, k, c, mu):
-    """(fx, fy, torque, 1) on a disc of radius ra spinning at wa from a
-    contact of overlap ov, normal (nx, ny) into it, the relative velocity
-    (vx, vy) of its centre against the other body's point (that body's
-    rolling part already in it); (0, 0, 0, 0) where the contact pulls."""
+    """(fx, fy, torque, F_n, |F_t u_t|, at the cone) on a disc of radius ra
+    spinning at wa from a contact of overlap ov, normal (nx, ny) into it, the
+    relative velocity (vx, vy) of its centre against the other body's point
+    (that body's rolling part already in it); zeros where the contact pulls."""
     tx, ty = -ny, nx
     un = vx * nx + vy * ny
     ut = vx * tx + vy * ty - ra * wa
     fn = k * ov - c * un
     if fn <= 0.0:
-        return 0.0, 0.0, 0.0, 0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, False
+    cone = c * abs(ut) >= mu * fn
     ft = -min(c * abs(ut), mu * fn) * (1.0 if ut > 0 else -1.0)
-    return fn * nx + ft * tx, fn * ny + ft * ty, -ra * ft, 1
+    return fn * nx + ft * tx, fn * ny + ft * ty, -ra * ft, fn, abs(ft * ut), cone
+
+
+@njit
+def _books(drive, rubbed, slid, top, fn, work, cone, power):
+    """A contact's step added to the step's sums: the drive (the wall's
+    ``power`` on the disc), friction, friction at the cone, the largest F_n."""
+    return drive + power, rubbed + work, slid + (work if cone else 0.0), max(top, fn)
 
 
 @njit
 def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height, b, t0, dt,
-             nsteps):
-    """``nsteps`` symplectic Euler steps in place; returns (the largest
+             nsteps, books, peaks, window, start):
+    """``nsteps`` symplectic Euler steps in place, adding to ``books`` (3,)
+    and ``peaks`` (windows of ``window`` from ``start``, 2) (module
+    docstring); returns (the largest
     distance two discs can have closed, contact-steps in force)."""
     n = x.shape[0]
     F = np.zeros((n, 2))
@@ -59,6 +76,8 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
     seg = np.zeros((nl, 2))                 # the lifters' directions at t
     for k in range(nsteps):
         t = t0 + k * dt
+        # the books of this step, in registers (stored at its end)
+        drive, rubbed, slid, top_ll, top_st = 0.0, 0.0, 0.0, 0.0, 0.0
         for a in range(n):
             F[a, 0] = 0.0
             F[a, 1] = -m[a] * g
@@ -76,8 +95,8 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
             # the other disc's rolling part moved into the relative velocity
             vx = v[i, 0] - v[j, 0] + rad[j] * w[j] * ny
             vy = v[i, 1] - v[j, 1] - rad[j] * w[j] * nx
-            fx, fy, ti, hit = _contact(nx, ny, ov, vx, vy, w[i], rad[i], kc, c, mu[0])
-            if hit:
+            fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, vx, vy, w[i], rad[i], kc, c, mu[0])
+            if fn > 0.0:
                 F[i, 0] += fx
                 F[i, 1] += fy
                 F[j, 0] -= fx
@@ -85,6 +104,7 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                 T[i] += ti
                 T[j] += ti * rad[j] / rad[i]
                 counted += 1
+                _, rubbed, slid, top_ll = _books(0.0, rubbed, slid, top_ll, fn, work, cone, 0.0)
         for q in range(nl):
             ang = angles[q] + omega * t
             seg[q, 0], seg[q, 1] = np.cos(ang), np.sin(ang)
@@ -95,12 +115,16 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                 nx, ny = -x[a, 0] / rr, -x[a, 1] / rr
                 px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
                 c = 2 * zeta * np.sqrt(m[a] * s[a])
-                fx, fy, ti, hit = _contact(nx, ny, ov, v[a, 0] + omega * py,
-                                           v[a, 1] - omega * px, w[a], rad[a], s[a], c, mu[1])
+                fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, v[a, 0] + omega * py,
+                                                      v[a, 1] - omega * px, w[a], rad[a], s[a],
+                                                      c, mu[1])
                 F[a, 0] += fx
                 F[a, 1] += fy
                 T[a] += ti
-                counted += hit
+                if fn > 0.0:
+                    counted += 1
+                    drive, rubbed, slid, top_st = _books(drive, rubbed, slid, top_st, fn, work,
+                                                         cone, omega * (fy * px - fx * py))
             for q in range(nl):
                 ux, uy = seg[q, 0], seg[q, 1]
                 ax, ay = (R - height) * ux, (R - height) * uy
@@ -114,13 +138,23 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                     nx, ny = qx / dist, qy / dist
                     px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
                     c = 2 * zeta * np.sqrt(m[a] * s[a])
-                    fx, fy, ti, hit = _contact(nx, ny, ov,
-                                               v[a, 0] + omega * py, v[a, 1] - omega * px,
-                                               w[a], rad[a], s[a], c, mu[2])
+                    fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, v[a, 0] + omega * py,
+                                                          v[a, 1] - omega * px, w[a], rad[a],
+                                                          s[a], c, mu[2])
                     F[a, 0] += fx
                     F[a, 1] += fy
                     T[a] += ti
-                    counted += hit
+                    if fn > 0.0:
+                        counted += 1
+                        drive, rubbed, slid, top_st = _books(drive, rubbed, slid, top_st, fn,
+                                                             work, cone,
+                                                             omega * (fy * px - fx * py))
+        books[0] += drive * dt
+        books[1] += rubbed * dt
+        books[2] += slid * dt
+        win = min(int((t - start) / window), peaks.shape[0] - 1)
+        peaks[win, 0] = max(peaks[win, 0], top_ll)
+        peaks[win, 1] = max(peaks[win, 1], top_st)
         vmax = 0.0
         for a in range(n):
             v[a, 0] += dt * F[a, 0] / m[a]
@@ -133,11 +167,17 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
     return reach, counted
 
 
-def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=0.5):
+def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=0.5,
+                window: float | None = None, t0: float = 0.0):
     """Run ``model`` (a Drum2D: its discs' state, shell, μ, e, modulus,
-    gravity, Ω) for ``duration`` [s] of simulated time by the penalty DEM of
-    the module docstring; returns dict(cpu [s], steps, dt [s], contacts (mean
-    disc–disc + wall contacts in force))."""
+    gravity, Ω) from time ``t0`` [s] (the lifters at Ω t0) for ``duration``
+    [s] of simulated time by the penalty DEM of the module docstring; returns
+    dict(cpu [s], steps, dt [s], contacts (mean disc–disc + wall contacts in
+    force), the final positions, velocities and spins, drive, friction,
+    sliding (the friction at the cone) [J], peaks (windows, 2): the largest
+    log–log and log–steel normal force [N] in each ``window`` [s] from t0
+    (default: the whole run), centroids (the discs' mass centre [m] every
+    20 steps))."""
     d, sh = model.discs, model.shell
     n = d.n
     m, I, rad = d.masses, d.masses * d.diameters ** 2 / 8.0, d.radii
@@ -159,10 +199,14 @@ def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=
     pairs, since, reach = np.zeros((0, 2), np.int64), np.inf, 0.0
     counted, done = 0, 0
     chunk = 20                           # steps between checks of the Verlet list
+    centroids = []
     mu = np.array([mu_d, mu_s, mu_l], float)
     angles = np.asarray(sh.lifter_angles, float)
+    window = duration if window is None else window
+    books, peaks = np.zeros(3), np.zeros((int(np.ceil(steps * dt / window)) + 1, 2))
     _advance(x.copy(), v.copy(), w.copy(), grid_pairs(x, rad, margin)[0], m, I, rad, s, zeta,
-             mu, omega, g, R, angles, sh.lifter_height, b, 0.0, dt, 1)    # compiled
+             mu, omega, g, R, angles, sh.lifter_height, b, t0, dt, 1, books.copy(),
+             peaks.copy(), window, t0)    # compiled
     start = time.process_time()
     while done < steps:
         if reach >= 0.5 * margin or since > 0 and not pairs.size or done == 0:
@@ -170,11 +214,14 @@ def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=
             reach, since = 0.0, 0
         step = min(chunk, steps - done)
         closed, hits = _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles,
-                                sh.lifter_height, b, done * dt, dt, step)
+                                sh.lifter_height, b, t0 + done * dt, dt, step, books, peaks,
+                                window, t0)
+        centroids.append(m @ x / m.sum())
         reach += closed
         counted += hits
         done += step
         since += step
     cpu = time.process_time() - start
     return dict(cpu=cpu, steps=steps, dt=dt, contacts=counted / max(steps, 1),
-                positions=x, velocities=v, spins=w)
+                positions=x, velocities=v, spins=w, drive=books[0], friction=books[1],
+                sliding=books[2], peaks=peaks, centroids=np.array(centroids))
