@@ -22,6 +22,10 @@ from qpcontact.core.compiled import njit
 
 __all__ = ["cluster_run", "cluster_peaks"]
 
+#: a force this many times its contact's largest so far is a rise: the run
+#: goes on while one happened within the last quiet sub-steps
+RISE_ABOVE = 1.01
+
 
 @njit(fastmath=True, inline="always")
 def _law(spring, dashpot, viscous, mu):
@@ -114,8 +118,11 @@ def _forces(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, i
 
 @njit(fastmath=True)
 def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia,
-                  iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps):
-    """Velocity Verlet over ``steps`` sub-steps of ``tau`` (all arrays are
+                  iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps, most, quiet):
+    """Velocity Verlet over ``steps`` sub-steps of ``tau``, and on, up to
+    ``most`` in all, while a contact's force has risen by RISE above its
+    largest within the last ``quiet`` sub-steps (a wave still on its way
+    through the cluster) (all arrays are
     modified): discs at (``px``, ``py``) with velocities (``vx``, ``vy``) and
     ``spin``; contacts 0 .. n0 − 1 from disc a[k] to disc b[k], n0 .. n1 − 1
     to the shell of radius R, n1 .. to a lifter (the gap ``gap_lin``
@@ -126,8 +133,8 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     max(0, stiff δ − eta u_N) where the overlap δ > 0, tangential −gam u_T
     capped at mu times it.  The velocity-dependent forces at the end of a
     sub-step use the velocity predicted with the last acceleration (the
-    half-step velocity would lag: first order).  Returns each contact's
-    largest normal force [N]."""
+    half-step velocity would lag: first order).  Returns (each contact's
+    largest normal force [N], the sub-steps run)."""
     nd, m = px.size, a.size
     ax, ay, alpha = np.zeros(nd), np.zeros(nd), np.zeros(nd)
     pvx, pvy, ps = np.zeros(nd), np.zeros(nd), np.zeros(nd)
@@ -137,7 +144,9 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     for k in range(m):
         peak[k] = F[k]
     ht = 0.5 * tau
-    for _ in range(steps):
+    done, rose = 0, 0
+    while done < steps or (done < most and done - rose < quiet):
+        done += 1
         for d in range(nd):
             vx[d] += ht * ax[d]
             vy[d] += ht * ay[d]
@@ -158,22 +167,27 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
             spin[d] += ht * alpha[d]
         for k in range(m):
             if F[k] > peak[k]:
+                if F[k] > RISE_ABOVE * peak[k]:
+                    rose = done
                 peak[k] = F[k]
-    return peak
+    return peak, done
 
 
 @njit
 def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, positions,
-                velocities, masses, radii, inverse_inertia, zeta, g, R, span, omega_tau):
+                velocities, masses, radii, inverse_inertia, zeta, g, R, span, span_max,
+                quiet_time, omega_tau):
     """The resolved run of one cluster (impacts.py's docstring): its
     ``discs`` (global numbers, increasing) and contacts ``ks`` (indices into
     the step's contact arrays ``ci``, ``cj``, ``kind``, ``gap``, ``normal``,
     ``w`` (2m: normal, tangential), ``comp``, ``m_star``, ``mu``), the
     step's start ``positions`` (n, 2), generalized ``velocities`` (3n,),
     ``masses``, ``radii``, ``inverse_inertia``; dashpot ratio ``zeta``,
-    gravity ``g``, shell radius ``R``, run length ``span`` [s], ω_max τ =
-    ``omega_tau``.  Returns (each contact's largest normal force [N] in the
-    order of ``ks``, τ, sub-steps)."""
+    gravity ``g``, shell radius ``R``, run length ``span`` [s], continued
+    up to ``span_max`` while a force still rises within ``quiet_time`` [s]
+    (:func:`cluster_peaks`), ω_max τ = ``omega_tau``.  Returns (each
+    contact's largest normal force [N] in the order of ``ks``, τ, sub-steps
+    run)."""
     nd, m = discs.size, ks.size
     local = np.full(masses.size, -1, np.int64)
     for d in range(nd):
@@ -241,10 +255,11 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
         # a contact's slip a sub-step (a disc's tangential inverse mass 1/m + r²/I)
         w_t = ima[p] + ra[p] * iia[p] + imb[p] + rb[p] * iib[p]
         gam[p] = 0.2 / (tau * w_t)
-    peak = cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima,
-                         imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu_k, gam, R, tau,
-                         steps)
+    peak, done = cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb,
+                               ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu_k, gam,
+                               R, tau, steps, int(np.ceil(span_max / tau)),
+                               int(np.ceil(quiet_time / tau)))
     out = np.empty(m)
     for p in range(m):
         out[order[p]] = peak[p]
-    return out, tau, steps
+    return out, tau, done

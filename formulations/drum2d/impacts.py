@@ -33,7 +33,8 @@ on the cluster's stiffness: at least 63 sub-steps a period of its fastest
 mode; a dashpot's force jumps at the touch, which makes the peak first order
 in τ: +1.5 % on a binary impact with e = 0.2 at 0.1 and at 0.05 / ω_max,
 +8 % at 0.2, +0.4 % at 0.025), over
-h + T_max/2 (an impact starting at the step's end still reaches its peak).
+h + T_max/2 (an impact starting at the step's end still reaches its peak),
+and on while a force still rises (below).
 Each cluster contact's force is the largest of that run; every other
 contact's the step's mean r_N/h.
 
@@ -48,15 +49,16 @@ at 3 m/s +0.7 % (e = 1: 0.0 %), a pile of 6 struck obliquely −0.2 to −0.1 %
 
 What it leaves out: contacts to discs outside the cluster (they carried no
 impulse in the step) and the bodies outside it (frozen); the lifters'
-curvature of motion within the step; and a wave that outlasts the run.
-The run ends at h + T_max/2 from the step's start, so an impact late in
-the step reaches its own contact's peak but not a far one's: a column of 8
-struck at 3 m/s records its shell peak within 1 % where the top log
-touches 10–45 % into a 2 ms step, −12 % at 60 %, −72 % at 80 %; a column
-of 5 with e = 1 −8 % at 70 %, −57 % at 80 % (the struck contact within 4 %
-at every phase; the DEM above as reference).  The next step's contacts are
-closed — no impact there to run again — so that peak is lost (test_drum2d_peaks.py
-keeps the case as an expected failure).  Its cost: a cluster is the connected
+curvature of motion within the step; and a wave that outlasts 2h + T_max/2.
+The run goes on past h + T_max/2 while a contact's force still rises (by
+RISE_ABOVE over its largest within the last T_max/2: a wave on its way
+through the chain), up to 2h + T_max/2: an impact late in the step reaches
+its own contact's peak by h + T/2, but a far one's comes later, and the
+next step's contacts are closed — no impact there to run again.  Ended at
+h + T_max/2, a column of 8 struck at 3 m/s read its shell peak −12 % where
+the top log touched 60 % into a 2 ms step, −72 % at 80 %, −89 % at 90 %;
+continued, within 1.1 % at every phase (0.9 % at h = 1 ms, 2.7 % at 4 ms;
+test_drum2d_peaks.py).  Its cost: a cluster is the connected
 part of the bed, so a settled bed's every step with an impact runs the bed
 (compiled; measured in docs/drum2d.md, "Peak forces").  It is not cut to the
 logs the impact's wave reaches: within h + T/2 that is ~15 contacts from
@@ -131,5 +133,5 @@ def _cluster_run(c, mine, inside, comp, T_max, m_star, mu, h, positions, velocit
         np.asarray(m_star, float), np.asarray(mu, float), np.ascontiguousarray(positions, float),
         np.asarray(velocities, float), np.asarray(masses, float), np.asarray(radii, float),
         np.asarray(inverse_inertia, float), damping_ratio(restitution), float(gravity),
-        float(shell_radius), h + 0.5 * T_max, OMEGA_TAU)
+        float(shell_radius), h + 0.5 * T_max, 2.0 * h + 0.5 * T_max, 0.5 * T_max, OMEGA_TAU)
     return peak
