@@ -25,6 +25,9 @@ __all__ = ["cluster_run", "cluster_peaks"]
 #: a force this many times its contact's largest so far is a rise: the run
 #: goes on while one happened within the last quiet sub-steps
 RISE_ABOVE = 1.01
+#: ... where that force is at least this fraction of the run's largest: a
+#: wave worth resolving, not a settling contact of a bed-wide cluster
+SIGNIFICANT = 0.1
 
 
 @njit(fastmath=True, inline="always")
@@ -120,10 +123,10 @@ def _forces(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, i
 def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia,
                   iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps, most, quiet):
     """Velocity Verlet over ``steps`` sub-steps of ``tau``, and on, up to
-    ``most`` in all, while a contact's force has risen by RISE above its
-    largest within the last ``quiet`` sub-steps (a wave still on its way
-    through the cluster) (all arrays are
-    modified): discs at (``px``, ``py``) with velocities (``vx``, ``vy``) and
+    ``most`` in all, while a contact's force has risen to RISE_ABOVE times
+    its largest, and to at least SIGNIFICANT of the run's largest, within
+    the last ``quiet`` sub-steps (a wave still on its way through the
+    cluster) (all arrays are modified): discs at (``px``, ``py``) with velocities (``vx``, ``vy``) and
     ``spin``; contacts 0 .. n0 − 1 from disc a[k] to disc b[k], n0 .. n1 − 1
     to the shell of radius R, n1 .. to a lifter (the gap ``gap_lin``
     advanced along the fixed normal (``nrm_x``, ``nrm_y``), the wall's
@@ -145,6 +148,10 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
         peak[k] = F[k]
     ht = 0.5 * tau
     done, rose = 0, 0
+    largest = 0.0
+    for k in range(m):
+        if peak[k] > largest:
+            largest = peak[k]
     while done < steps or (done < most and done - rose < quiet):
         done += 1
         for d in range(nd):
@@ -167,9 +174,11 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
             spin[d] += ht * alpha[d]
         for k in range(m):
             if F[k] > peak[k]:
-                if F[k] > RISE_ABOVE * peak[k]:
+                if F[k] > RISE_ABOVE * peak[k] and F[k] > SIGNIFICANT * largest:
                     rose = done
                 peak[k] = F[k]
+                if F[k] > largest:
+                    largest = F[k]
     return peak, done
 
 

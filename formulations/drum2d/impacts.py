@@ -51,8 +51,9 @@ What it leaves out: contacts to discs outside the cluster (they carried no
 impulse in the step) and the bodies outside it (frozen); the lifters'
 curvature of motion within the step; and a wave that outlasts 2h + T_max/2.
 The run goes on past h + T_max/2 while a contact's force still rises (by
-RISE_ABOVE over its largest within the last T_max/2: a wave on its way
-through the chain), up to 2h + T_max/2: an impact late in the step reaches
+RISE_ABOVE over its largest within the last T_max/2, and at least
+SIGNIFICANT of the run's largest force: a wave on its way through the
+chain, not a settling contact of a bed-wide cluster), up to 2h + T_max/2: an impact late in the step reaches
 its own contact's peak by h + T/2, but a far one's comes later, and the
 next step's contacts are closed — no impact there to run again.  Ended at
 h + T_max/2, a column of 8 struck at 3 m/s read its shell peak −12 % where
