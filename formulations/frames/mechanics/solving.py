@@ -215,9 +215,7 @@ def unless_linear(solve_one):
     (solve, the second order) then gets for a linear frame."""
     def run(frame, p, method, accuracy, raise_on_failure, combination, _built, options):
         if not frame.contacts:
-            if method in ("auto", "active-set"):    # nothing reads them: not ignored silently
-                check_options(method, {k: v for k, v in options.items() if k != "time_limit"},
-                              AUTO_OPTIONS)
+            check_auto_options(method, options)    # nothing reads them: not ignored silently
             return solve_linear_frame(frame, p, method, accuracy, raise_on_failure, combination,
                                       _built)
         return solve_one(frame, p, method, accuracy, raise_on_failure, combination, _built,
@@ -284,8 +282,7 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
             f"from qpcontact.methods(): {', '.join(registry())}")
     options = dict(options)
     deadline = deadline_of(options)
-    if method in ("auto", "active-set"):
-        check_options(method, options, AUTO_OPTIONS)
+    check_auto_options(method, options)
     b = _built if _built is not None else frame.build()
     combo = load_combination(frame, p, combination, b)
     if method in ("auto", "active-set") and frame.kind.active_set is not None:
@@ -362,6 +359,14 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
     if raise_on_failure and not res.ok:
         raise SolverFailedError(f"frame: {res.message}")
     return res
+
+
+def check_auto_options(method, options) -> None:
+    """InvalidOptionError for a keyword that "auto" or "active-set" would
+    not read (Lemke's options and the call's time limit are read)."""
+    if method in ("auto", "active-set"):
+        check_options(method, {k: v for k, v in options.items() if k != "time_limit"},
+                      AUTO_OPTIONS)
 
 
 def auto_lcp(lcp, fric, accuracy, options, deadline):

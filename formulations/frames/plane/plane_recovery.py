@@ -90,9 +90,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         return eq
 
     eq = statics(u, X, r_all, ends, ft, HX)
+    ca = plane_assembly.contact_arrays(frame, b)
     if not (cert_error <= CLEAR * tol and eq <= CLEAR * max(tol, EQUILIBRIUM_FLOOR)) \
-            or loose_forces(cert_error, sigma, X[plane_assembly.contact_arrays(frame, b)[
-                "n_link"]], tol):
+            or loose_forces(cert_error, sigma, X[ca["n_link"]], tol):
         # the answer refined on its states in extended precision, kept where
         # it checks at least as well (a stiff member's forces:
         # mechanics/extended_refinement) — where the answer in double does
@@ -116,7 +116,6 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
                  for node in b["names"] if node in frame.fixed}
     u = contact_lcp.to_global(b, u)
-    ca = plane_assembly.contact_arrays(frame, b)
     nc = len(frame.contacts)
     has_t = ca["t_link"] >= 0
     xn = X[ca["n_link"]]
