@@ -109,3 +109,29 @@ def sure_negatives(values: np.ndarray, is_z: np.ndarray, z: np.ndarray, q_terms:
         elif v < -lo:
             unsure = True
     return out[:m], unsure
+
+
+@njit
+def lex_smallest(V: np.ndarray, floor: float) -> int:
+    """Index of the lexicographically smallest row of V, entries within
+    ``floor`` of a column's smallest counting as equal (lemke_tableau's
+    lex_smallest, whose docstring says why): column by column, the rows
+    still tied narrowed to those within ``floor`` of their minimum."""
+    k, n = V.shape
+    alive = np.arange(k)
+    m = k
+    for j in range(n):
+        low = np.inf
+        for t in range(m):
+            v = V[alive[t], j]
+            if v < low:
+                low = v
+        kept = 0
+        for t in range(m):
+            if V[alive[t], j] <= low + floor:
+                alive[kept] = alive[t]
+                kept += 1
+        m = kept
+        if m == 1:
+            break
+    return alive[0]

@@ -149,13 +149,10 @@ def lex_smallest(V: np.ndarray) -> int:
     rows (an exact 0 computed as 1e-18 must still tie with another 0), and
     any tied row is a correct minimum ratio."""
     floor = 1e-10 * max(float(np.max(np.abs(V))), 1e-300)
-    alive = np.arange(V.shape[0])
-    for j in range(V.shape[1]):
-        vals = V[alive, j]
-        alive = alive[vals <= vals.min() + floor]
-        if alive.size == 1:
-            break
-    return int(alive[0])
+    # compiled: rows of B⁻¹ tie on long runs of zeros, and column by column
+    # in NumPy a 128-row block of the 667-contact granular file's LCP took
+    # 20 ms
+    return int(pivot_kernels().lex_smallest(np.ascontiguousarray(V, dtype=float), floor))
 
 
 def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int,
