@@ -80,7 +80,7 @@ from scipy.sparse.csgraph import connected_components
 __all__ = ["step_forces", "damping_ratio"]
 
 #: ω_max τ of the cluster runs (module docstring)
-OMEGA_TAU = 0.1
+OMEGA_TAU = 0.3
 
 
 def damping_ratio(e: float) -> float:
