@@ -22,9 +22,11 @@ from qpcontact.core.compiled import njit
 
 __all__ = ["cluster_run", "cluster_peaks"]
 
-#: a force this many times its contact's largest so far is a rise: the run
-#: goes on while one happened within the last quiet sub-steps
-RISE_ABOVE = 1.01
+#: a force above its contact's largest so far by this fraction per 0.1/ω_max
+#: of sub-step is a rise (1 % a sub-step at 0.1/ω_max, where it was set: a
+#: rate, so that the same rises count at any sub-step): the run goes on
+#: while one happened within the last quiet sub-steps
+RISE = 0.01
 #: ... where that force is at least this fraction of the run's largest: a
 #: wave worth resolving, not a settling contact of a bed-wide cluster
 SIGNIFICANT = 0.1
@@ -230,10 +232,11 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
 
 @njit(fastmath=True)
 def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia,
-                  iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps, most, quiet):
+                  iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps, most, quiet,
+                  rise_above):
     """Velocity Verlet over ``steps`` sub-steps of ``tau``, and on, up to
-    ``most`` in all, while a contact's force has risen to RISE_ABOVE times
-    its largest, and to at least SIGNIFICANT of the run's largest, within
+    ``most`` in all, while a contact's force has risen to ``rise_above``
+    times its largest, and to at least SIGNIFICANT of the run's largest, within
     the last ``quiet`` sub-steps (a wave still on its way through the
     cluster) (all arrays are modified): discs at (``px``, ``py``) with velocities (``vx``, ``vy``) and
     ``spin``; contacts 0 .. n0 − 1 from disc a[k] to disc b[k], n0 .. n1 − 1
@@ -306,7 +309,7 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
                     peak[k] = Fc[t]
         for k in range(m):
             if F[k] > peak[k]:
-                if F[k] > RISE_ABOVE * peak[k] and F[k] > SIGNIFICANT * largest:
+                if F[k] > rise_above * peak[k] and F[k] > SIGNIFICANT * largest:
                     rose = done
                 peak[k] = F[k]
                 if F[k] > largest:
@@ -400,7 +403,8 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     peak, done = cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb,
                                ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu_k, gam,
                                R, tau, steps, int(np.ceil(span_max / tau)),
-                               int(np.ceil(quiet_time / tau)))
+                               int(np.ceil(quiet_time / tau)),
+                               1.0 + RISE * omega_tau / 0.1)
     out = np.empty(m)
     for p in range(m):
         out[order[p]] = peak[p]
