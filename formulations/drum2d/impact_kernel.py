@@ -55,7 +55,7 @@ def _law(spring, dashpot, viscous, mu):
 
 @njit(fastmath=True)
 def _touch(k, i, j, nx, ny, over, over_prev, un, ut, wall_n, vx, vy, pvx, pvy, ima, imb, iia,
-           iib, stiff, eta, mu, gam, tau, cx, cy, cs, qx, qy):
+           iib, stiff, eta, mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt):
     """A contact that touched within the sub-step (overlap ``over`` > 0 at
     its end, ``over_prev`` <= 0 at its start): its (normal, tangential)
     force at the sub-step's end with its own impulse since the touch, and
@@ -64,8 +64,9 @@ def _touch(k, i, j, nx, ny, over, over_prev, un, ut, wall_n, vx, vy, pvx, pvy, i
     trapezoid from the touch (impacts.py's docstring derives them).
     ``un``: the predicted normal separation velocity, which lacks the
     contact's own force (``wall_n`` the wall's part of it); ``ut`` the
-    tangential one.  Returns (normal force, tangential force, normal force
-    at the touch)."""
+    tangential one.  The touch is the ``nt``-th of the sub-step: k goes to
+    touched[nt], the normal force at the touch to Fc[nt].  Returns (normal
+    force, tangential force) at the sub-step's end."""
     theta = over_prev / (over_prev - over)      # the touch's fraction of the sub-step
     s = (1.0 - theta) * tau
     # the separation velocity at the touch, between the start's (v_n = 2 v_half − v_pred)
@@ -109,7 +110,9 @@ def _touch(k, i, j, nx, ny, over, over_prev, un, ut, wall_n, vx, vy, pvx, pvy, i
         cs[j] -= dt * iib[k]
         qx[j] -= q * nx * imb[k]
         qy[j] -= q * ny * imb[k]
-    return f, ft, fc
+    touched[nt] = k
+    Fc[nt] = fc
+    return f, ft
 
 
 @njit(fastmath=True)
@@ -154,10 +157,9 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
             ey = dy - tau * (vy[i] - vy[j])
             touch = ex * ex + ey * ey >= rs * rs
         if touch:
-            f, ft, Fc[nt] = _touch(k, i, j, nx, ny, over, rs - np.sqrt(ex * ex + ey * ey), un,
+            f, ft = _touch(k, i, j, nx, ny, over, rs - np.sqrt(ex * ex + ey * ey), un,
                                    ut, 0.0, vx, vy, pvx, pvy, ima, imb, iia, iib, stiff, eta,
-                                   mu, gam, tau, cx, cy, cs, qx, qy)
-            touched[nt] = k
+                                   mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
             f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
@@ -192,10 +194,9 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
             ey = py[i] - tau * vy[i]
             touch = lim >= 0.0 and ex * ex + ey * ey <= lim * lim
         if touch:
-            f, ft, Fc[nt] = _touch(k, i, -1, nx, ny, over, np.sqrt(ex * ex + ey * ey) - lim, un,
+            f, ft = _touch(k, i, -1, nx, ny, over, np.sqrt(ex * ex + ey * ey) - lim, un,
                                    ut, 0.0, vx, vy, pvx, pvy, ima, imb, iia, iib, stiff, eta,
-                                   mu, gam, tau, cx, cy, cs, qx, qy)
-            touched[nt] = k
+                                   mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
             f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
@@ -216,10 +217,9 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
         # the gap a sub-step back (cluster_peaks advanced it by τ (n·v_half + w_n))
         over_prev = over + tau * (nx * vx[i] + ny * vy[i] + wn[k])
         if F[k] == 0.0 and over_prev <= 0.0:
-            f, ft, Fc[nt] = _touch(k, i, -1, nx, ny, over, over_prev, un, ut, wn[k], vx, vy,
+            f, ft = _touch(k, i, -1, nx, ny, over, over_prev, un, ut, wn[k], vx, vy,
                                    pvx, pvy, ima, imb, iia, iib, stiff, eta, mu, gam, tau, cx,
-                                   cy, cs, qx, qy)
-            touched[nt] = k
+                                   cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
             f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
