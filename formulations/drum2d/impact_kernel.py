@@ -22,10 +22,13 @@ from qpcontact.core.compiled import njit
 
 __all__ = ["cluster_run", "cluster_peaks"]
 
-#: a force above its contact's largest so far by this fraction per 0.1/ω_max
-#: of sub-step is a rise (1 % a sub-step at 0.1/ω_max, where it was set: a
-#: rate, so that the same rises count at any sub-step): the run goes on
-#: while one happened within the last quiet sub-steps
+#: a force above its contact's largest so far by this fraction per 0.3/ω_max
+#: of run is a rise: the run goes on while one happened within the last
+#: quiet sub-steps.  A rate, so that the same rises count at any sub-step.
+#: (1 % per 0.1/ω_max, the old 1 % a sub-step as a rate, held a quarter of
+#: the 500-log bed's runs open against 30 % before, whose first-order
+#: touches made rises: the log–steel force exceeded 50 times a second fell
+#: from −3.7 to −6.4 % of the penalty DEM's; at this rate 33 %, −3.8 %.)
 RISE = 0.01
 #: ... where that force is at least this fraction of the run's largest: a
 #: wave worth resolving, not a settling contact of a bed-wide cluster
@@ -404,7 +407,7 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
                                ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu_k, gam,
                                R, tau, steps, int(np.ceil(span_max / tau)),
                                int(np.ceil(quiet_time / tau)),
-                               1.0 + RISE * omega_tau / 0.1)
+                               1.0 + RISE * omega_tau / 0.3)
     out = np.empty(m)
     for p in range(m):
         out[order[p]] = peak[p]
