@@ -12,7 +12,9 @@ tenth of the run's time.  The contacts are taken kind by kind — disc–disc,
 shell, lifter — each loop without a test of the kind, with its ends' inverse
 masses and radii gathered once per run: 8–9 % of the kernel's time on the
 500-log bed, the peaks within 5e-11 of the largest of the contact-ordered
-loop's (other sums' order)."""
+loop's (other sums' order).  A contact that touches within a sub-step is
+integrated from its touch (:func:`_touch`), which makes a run's peaks
+second order in τ (impacts.py derives it)."""
 
 from __future__ import annotations
 
