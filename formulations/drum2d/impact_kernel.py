@@ -12,7 +12,9 @@ tenth of the run's time.  The contacts are taken kind by kind — disc–disc,
 shell, lifter — each loop without a test of the kind, with its ends' inverse
 masses and radii gathered once per run: 8–9 % of the kernel's time on the
 500-log bed, the peaks within 5e-11 of the largest of the contact-ordered
-loop's (other sums' order)."""
+loop's (other sums' order).  A contact that touches within a sub-step is
+integrated from its touch (:func:`_touch`), which makes a run's peaks
+second order in τ (impacts.py derives it)."""
 
 from __future__ import annotations
 
@@ -22,12 +24,21 @@ from qpcontact.core.compiled import njit
 
 __all__ = ["cluster_run", "cluster_peaks"]
 
-#: a force this many times its contact's largest so far is a rise: the run
-#: goes on while one happened within the last quiet sub-steps
-RISE_ABOVE = 1.01
+#: a force above its contact's largest so far by this fraction per 0.3/ω_max
+#: of run is a rise: the run goes on while one happened within the last
+#: quiet sub-steps.  A rate, so that the same rises count at any sub-step.
+#: (1 % per 0.1/ω_max, the old 1 % a sub-step as a rate, held a quarter of
+#: the 500-log bed's runs open against 30 % before, whose first-order
+#: touches made rises: the log–steel force exceeded 50 times a second fell
+#: from −3.7 to −6.4 % of the penalty DEM's; at this rate 33 %, −3.8 %.)
+RISE = 0.01
 #: ... where that force is at least this fraction of the run's largest: a
 #: wave worth resolving, not a settling contact of a bed-wide cluster
 SIGNIFICANT = 0.1
+#: the viscous friction's rate over ω_max, γ w_T / ω_max: a fifth of a slip
+#: taken in 0.1/ω_max (the law that sub-step had, now kept at any sub-step;
+#: γ w_T τ = STICK ω_max τ must stay under 2, cluster_peaks)
+STICK = 2.0
 
 
 @njit(fastmath=True, inline="always")
@@ -48,13 +59,84 @@ def _law(spring, dashpot, viscous, mu):
 
 
 @njit(fastmath=True)
-def _forces(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia, iib,
-            nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, ax, ay, alpha, F):
+def _touch(k, i, j, nx, ny, over, over_prev, un, ut, wall_n, vx, vy, pvx, pvy, ima, imb, iia,
+           iib, stiff, eta, mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt):
+    """A contact that touched within the sub-step (overlap ``over`` > 0 at
+    its end, ``over_prev`` <= 0 at its start): its (normal, tangential)
+    force at the sub-step's end with its own impulse since the touch, and
+    the corrections of its ends' velocities (cx, cy, cs) and positions
+    (qx, qy) that make its impulse and displacement over the sub-step the
+    trapezoid from the touch (impacts.py's docstring derives them).
+    ``un``: the predicted normal separation velocity, which lacks the
+    contact's own force (``wall_n`` the wall's part of it); ``ut`` the
+    tangential one.  The touch is the ``nt``-th of the sub-step: k goes to
+    touched[nt], the normal force at the touch to Fc[nt].  Returns (normal
+    force, tangential force) at the sub-step's end."""
+    theta = over_prev / (over_prev - over)      # the touch's fraction of the sub-step
+    s = (1.0 - theta) * tau
+    # the separation velocity at the touch, between the start's (v_n = 2 v_half − v_pred)
+    # and the predicted end's
+    u0 = nx * (2.0 * vx[i] - pvx[i]) + ny * (2.0 * vy[i] - pvy[i]) + wall_n
+    if j >= 0:
+        u0 -= nx * (2.0 * vx[j] - pvx[j]) + ny * (2.0 * vy[j] - pvy[j])
+    fc = -eta[k] * (u0 + theta * (un - u0))
+    if fc < 0.0:
+        fc = 0.0
+    w = ima[k] + imb[k]
+    kk = stiff[k]
+    ek = eta[k]
+    # F = k (δ − w s² (2 F_c + F)/6) − η (u + w s (F_c + F)/2)
+    f = (kk * (over - w * s * s * fc / 3.0) - ek * (un + 0.5 * w * s * fc)) / (
+        1.0 + 0.5 * ek * w * s + kk * w * s * s / 6.0)
+    if f < 0.0:
+        f = 0.0
+    ft = -gam[k] * ut
+    cap = mu[k] * f
+    if ft > cap:
+        ft = cap
+    elif ft < -cap:
+        ft = -cap
+    imp = 0.5 * s * (fc + f)                    # the trapezoid from the touch
+    dn = imp - 0.5 * tau * f                    # less velocity Verlet's end half-kick
+    dt = 0.0
+    if f > 0.0:
+        dt = (imp / (0.5 * tau * f) - 1.0) * 0.5 * tau * ft
+    jx = dn * nx - dt * ny
+    jy = dn * ny + dt * nx
+    q = s * s * (2.0 * fc + f) / 6.0            # its displacement since the touch, × mass
+    cx[i] += jx * ima[k]
+    cy[i] += jy * ima[k]
+    cs[i] -= dt * iia[k]
+    qx[i] += q * nx * ima[k]
+    qy[i] += q * ny * ima[k]
+    if j >= 0:
+        cx[j] -= jx * imb[k]
+        cy[j] -= jy * imb[k]
+        cs[j] -= dt * iib[k]
+        qx[j] -= q * nx * imb[k]
+        qy[j] -= q * ny * imb[k]
+    touched[nt] = k
+    Fc[nt] = fc
+    return f, ft
+
+
+@njit(fastmath=True)
+def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima,
+            imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, ax, ay, alpha,
+            F, cx, cy, cs, qx, qy, touched, Fc):
+    """The accelerations (ax, ay, alpha) and normal forces F at positions
+    (px, py): the dashpots at the predicted velocities (pvx, pvy, ps), the
+    viscous friction at the half-step ones (vx, vy, spin).  A contact in
+    touch whose force in F (the last call's) is 0 and whose overlap a
+    sub-step back (x − τ v_half) is not positive touched within the
+    sub-step (:func:`_touch`): its number goes to ``touched``, its force at
+    the touch to Fc.  Returns the number of touches."""
     nd = px.size
     for d in range(nd):
         ax[d] = 0.0
         ay[d] = -g
         alpha[d] = 0.0
+    nt = 0
     for k in range(n0):                         # disc–disc
         i = a[k]
         j = b[k]
@@ -69,11 +151,23 @@ def _forces(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, i
         inv = 1.0 / dist
         nx = dx * inv
         ny = dy * inv
-        rvx = vx[i] - vx[j]
-        rvy = vy[i] - vy[j]
-        un = nx * rvx + ny * rvy
-        ut = -ny * rvx + nx * rvy - ra[k] * spin[i] - rb[k] * spin[j]
-        f, ft = _law(stiff[k] * (rs - dist), eta[k] * un, gam[k] * ut, mu[k])
+        un = nx * (pvx[i] - pvx[j]) + ny * (pvy[i] - pvy[j])
+        ut = (-ny * (vx[i] - vx[j]) + nx * (vy[i] - vy[j]) - ra[k] * spin[i]
+              - rb[k] * spin[j])
+        over = rs - dist
+        touch = False
+        ex = ey = 0.0
+        if F[k] == 0.0:
+            ex = dx - tau * (vx[i] - vx[j])
+            ey = dy - tau * (vy[i] - vy[j])
+            touch = ex * ex + ey * ey >= rs * rs
+        if touch:
+            f, ft = _touch(k, i, j, nx, ny, over, rs - np.sqrt(ex * ex + ey * ey), un,
+                                   ut, 0.0, vx, vy, pvx, pvy, ima, imb, iia, iib, stiff, eta,
+                                   mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
+            nt += 1
+        else:
+            f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
         F[k] = f
         fx = f * nx - ft * ny
         fy = f * ny + ft * nx
@@ -95,9 +189,22 @@ def _forces(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, i
         inv = 1.0 / dist
         nx = -px[i] * inv
         ny = -py[i] * inv
-        un = nx * vx[i] + ny * vy[i]
+        un = nx * pvx[i] + ny * pvy[i]
         ut = -ny * vx[i] + nx * vy[i] - ra[k] * spin[i] + wt[k]
-        f, ft = _law(stiff[k] * (dist + ra[k] - R), eta[k] * un, gam[k] * ut, mu[k])
+        over = dist + ra[k] - R
+        touch = False
+        ex = ey = 0.0
+        if F[k] == 0.0:
+            ex = px[i] - tau * vx[i]
+            ey = py[i] - tau * vy[i]
+            touch = lim >= 0.0 and ex * ex + ey * ey <= lim * lim
+        if touch:
+            f, ft = _touch(k, i, -1, nx, ny, over, np.sqrt(ex * ex + ey * ey) - lim, un,
+                                   ut, 0.0, vx, vy, pvx, pvy, ima, imb, iia, iib, stiff, eta,
+                                   mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
+            nt += 1
+        else:
+            f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
         F[k] = f
         ax[i] += (f * nx - ft * ny) * ima[k]
         ay[i] += (f * ny + ft * nx) * ima[k]
@@ -110,21 +217,31 @@ def _forces(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, i
         i = a[k]
         nx = nrm_x[k]
         ny = nrm_y[k]
-        un = nx * vx[i] + ny * vy[i] + wn[k]
+        un = nx * pvx[i] + ny * pvy[i] + wn[k]
         ut = -ny * vx[i] + nx * vy[i] - ra[k] * spin[i] + wt[k]
-        f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
+        # the gap a sub-step back (cluster_peaks advanced it by τ (n·v_half + w_n))
+        over_prev = over + tau * (nx * vx[i] + ny * vy[i] + wn[k])
+        if F[k] == 0.0 and over_prev <= 0.0:
+            f, ft = _touch(k, i, -1, nx, ny, over, over_prev, un, ut, wn[k], vx, vy,
+                                   pvx, pvy, ima, imb, iia, iib, stiff, eta, mu, gam, tau, cx,
+                                   cy, cs, qx, qy, touched, Fc, nt)
+            nt += 1
+        else:
+            f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
         F[k] = f
         ax[i] += (f * nx - ft * ny) * ima[k]
         ay[i] += (f * ny + ft * nx) * ima[k]
         alpha[i] -= ft * iia[k]
+    return nt
 
 
 @njit(fastmath=True)
 def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia,
-                  iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps, most, quiet):
+                  iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps, most, quiet,
+                  rise_above):
     """Velocity Verlet over ``steps`` sub-steps of ``tau``, and on, up to
-    ``most`` in all, while a contact's force has risen to RISE_ABOVE times
-    its largest, and to at least SIGNIFICANT of the run's largest, within
+    ``most`` in all, while a contact's force has risen to ``rise_above``
+    times its largest, and to at least SIGNIFICANT of the run's largest, within
     the last ``quiet`` sub-steps (a wave still on its way through the
     cluster) (all arrays are modified): discs at (``px``, ``py``) with velocities (``vx``, ``vy``) and
     ``spin``; contacts 0 .. n0 − 1 from disc a[k] to disc b[k], n0 .. n1 − 1
@@ -134,16 +251,22 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     its ends' radii ``ra``, ``rb``, inverse masses ``ima``, ``imb`` and
     radius over inertia ``iia``, ``iib`` (0 at a wall); normal force
     max(0, stiff δ − eta u_N) where the overlap δ > 0, tangential −gam u_T
-    capped at mu times it.  The velocity-dependent forces at the end of a
-    sub-step use the velocity predicted with the last acceleration (the
-    half-step velocity would lag: first order).  Returns (each contact's
-    largest normal force [N], the sub-steps run)."""
+    capped at mu times it.  The dashpots at the end of a sub-step use the
+    velocity predicted with the last acceleration (the half-step velocity
+    would lag: first order); the viscous friction, a regularization of
+    stick, the half-step velocity (stable to gam w_T τ < 2 instead of 1).
+    A contact that touches within a sub-step has its impulse from the touch
+    (:func:`_touch`), and its force at the touch is a sample of its force.
+    Returns (each contact's largest normal force [N], the sub-steps run)."""
     nd, m = px.size, a.size
     ax, ay, alpha = np.zeros(nd), np.zeros(nd), np.zeros(nd)
-    pvx, pvy, ps = np.zeros(nd), np.zeros(nd), np.zeros(nd)
-    F, peak = np.zeros(m), np.zeros(m)
-    _forces(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia, iib,
-            nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, ax, ay, alpha, F)
+    pvx, pvy, ps = vx.copy(), vy.copy(), spin.copy()
+    cx, cy, cs, qx, qy = np.zeros(nd), np.zeros(nd), np.zeros(nd), np.zeros(nd), np.zeros(nd)
+    touched, Fc = np.zeros(m, np.int64), np.zeros(m)
+    F, peak = np.ones(m), np.zeros(m)         # F ≠ 0: no touch in the first call
+    _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima,
+            imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, ax, ay, alpha, F,
+            cx, cy, cs, qx, qy, touched, Fc)
     for k in range(m):
         peak[k] = F[k]
     ht = 0.5 * tau
@@ -166,15 +289,32 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
         for k in range(n1, m):
             i = a[k]
             gap_lin[k] += tau * (nrm_x[k] * vx[i] + nrm_y[k] * vy[i] + wn[k])
-        _forces(px, py, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia,
-                iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, ax, ay, alpha, F)
+        nt = _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra,
+                     rb, ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau,
+                     ax, ay, alpha, F, cx, cy, cs, qx, qy, touched, Fc)
         for d in range(nd):
             vx[d] += ht * ax[d]
             vy[d] += ht * ay[d]
             spin[d] += ht * alpha[d]
+        if nt:
+            for k in range(n1, m):              # the lifters' gaps follow their discs
+                i = a[k]
+                gap_lin[k] += nrm_x[k] * qx[i] + nrm_y[k] * qy[i]
+            for t in range(nt):
+                k = touched[t]
+                for i in (a[k], b[k]):
+                    if i >= 0:
+                        vx[i] += cx[i]
+                        vy[i] += cy[i]
+                        spin[i] += cs[i]
+                        px[i] += qx[i]
+                        py[i] += qy[i]
+                        cx[i] = cy[i] = cs[i] = qx[i] = qy[i] = 0.0
+                if Fc[t] > peak[k]:             # the touch is a sample
+                    peak[k] = Fc[t]
         for k in range(m):
             if F[k] > peak[k]:
-                if F[k] > RISE_ABOVE * peak[k] and F[k] > SIGNIFICANT * largest:
+                if F[k] > rise_above * peak[k] and F[k] > SIGNIFICANT * largest:
                     rose = done
                 peak[k] = F[k]
                 if F[k] > largest:
@@ -257,17 +397,19 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
             rb[p], imb[p], iib[p] = 0.0, 0.0, 0.0
             row[i] += stiff[p] * (2.0 / mi)
         rsum[p] = ra[p] + rb[p]
-    tau = omega_tau / np.sqrt(row.max())
+    omega_max = np.sqrt(row.max())
+    tau = omega_tau / omega_max
     steps = int(np.ceil(span / tau))
     for p in range(m):
-        # Coulomb's stick, regularized: a viscous law that would take 0.2 of
-        # a contact's slip a sub-step (a disc's tangential inverse mass 1/m + r²/I)
+        # Coulomb's stick, regularized: a viscous law that relaxes a contact's
+        # slip at the rate STICK ω_max (a disc's tangential inverse mass 1/m + r²/I)
         w_t = ima[p] + ra[p] * iia[p] + imb[p] + rb[p] * iib[p]
-        gam[p] = 0.2 / (tau * w_t)
+        gam[p] = STICK * omega_max / w_t
     peak, done = cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb,
                                ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu_k, gam,
                                R, tau, steps, int(np.ceil(span_max / tau)),
-                               int(np.ceil(quiet_time / tau)))
+                               int(np.ceil(quiet_time / tau)),
+                               1.0 + RISE * omega_tau / 0.3)
     out = np.empty(m)
     for p in range(m):
         out[order[p]] = peak[p]
