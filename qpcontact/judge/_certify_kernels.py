@@ -46,32 +46,6 @@ def natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcol
     leave them; formed by rows and transposed here, rows ascending: the CSR
     form's tocsc() bit for bit, without scipy's conversion and the NumPy
     passes (0.6 -> 0.3 ms a call on the drum's 1 100-contact beds)."""
-    rptr, ridx, rval = jacobian_rows_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols,
-                                        bdata)
-    # transposed, rows ascending within each column
-    n = 2 * mu.shape[0]
-    nnz = rptr[n]
-    count = np.zeros(n + 1, np.int64)
-    for k in range(nnz):
-        count[ridx[k] + 1] += 1
-    for c in range(n):
-        count[c + 1] += count[c]
-    cptr = count.copy()
-    cidx = np.empty(nnz, np.int64)
-    cval = np.empty(nnz)
-    for row in range(n):
-        for k in range(rptr[row], rptr[row + 1]):
-            c = ridx[k]
-            cidx[count[c]] = row
-            cval[count[c]] = rval[k]
-            count[c] += 1
-    return cptr, cidx, cval
-
-
-@njit
-def jacobian_rows_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols, bdata):
-    """natural_map_jacobian_2d's J by rows (CSR: indptr, indices, data): each
-    row's diagonal-block entries first, then its other blocks' by column."""
     nc = mu.shape[0]
     size = np.empty(nc)
     big = 0.0
@@ -112,6 +86,7 @@ def jacobian_rows_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols, bdat
     rptr = np.zeros(2 * nc + 1, np.int64)
     ridx = np.empty(4 * (nb + nc), np.int64)
     rval = np.empty(4 * (nb + nc))
+    count = np.zeros(2 * nc + 1, np.int64)
     nnz = 0
     for i in range(nc):
         for a in range(2):
@@ -121,6 +96,7 @@ def jacobian_rows_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols, bdat
                 if v != 0.0:          # exact zeros left out, as the sparse products do
                     ridx[nnz] = 2 * i + e
                     rval[nnz] = v
+                    count[2 * i + e + 1] += 1
                     nnz += 1
             for s in range(bptr[i], bptr[i + 1]):
                 cb = bcols[s]
@@ -129,9 +105,22 @@ def jacobian_rows_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols, bdat
                     if v != 0.0:
                         ridx[nnz] = 2 * cb + e
                         rval[nnz] = v
+                        count[2 * cb + e + 1] += 1
                         nnz += 1
             rptr[2 * i + a + 1] = nnz
-    return rptr, ridx[:nnz], rval[:nnz]
+    # transposed, rows ascending within each column
+    for c in range(2 * nc):
+        count[c + 1] += count[c]
+    cptr = count.copy()
+    cidx = np.empty(nnz, np.int64)
+    cval = np.empty(nnz)
+    for row in range(2 * nc):
+        for k in range(rptr[row], rptr[row + 1]):
+            c = ridx[k]
+            cidx[count[c]] = row
+            cval[count[c]] = rval[k]
+            count[c] += 1
+    return cptr, cidx, cval
 
 
 @njit

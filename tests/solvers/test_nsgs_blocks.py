@@ -110,9 +110,9 @@ def test_the_square_step_with_a_reused_order_is_the_fresh_one():
 
 
 def test_the_compiled_square_system_is_the_array_route():
-    """nsgs-newton's square step on a sparse 2-D problem forms F, the fixed
-    unknowns, the order and the restricted system in one compiled call from
-    J's rows; against the array formulas and scipy (natural_map_jacobian, the
+    """nsgs-newton's square step on a sparse 2-D problem forms F, J, the
+    fixed unknowns, the order and the restricted system in one compiled
+    call; against the array formulas and scipy (natural_map_jacobian, the
     cone projection, restricted_system on J's CSC), the same numbers bit for
     bit: from sweeps that leave contacts open, sticking and sliding, with and
     without a first LU's order."""
@@ -144,7 +144,7 @@ def test_the_compiled_square_system_is_the_array_route():
                                        SLIP_RTOL, *p.W_blocks,
                                        np.zeros(0, np.int64) if known is None else known,
                                        known is not None)
-                for a, b in zip(got, (F, fixed, order) + want):
+                for a, b in zip(got, (F, J.indptr, J.indices, J.data, fixed, order) + want):
                     assert a.shape == b.shape and np.array_equal(a, b)
                 kinds.add(int(fixed.sum() > 0))
         assert 1 in kinds                 # open contacts (fixed unknowns) were met

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from ...core._cone_kernels import project_cone_2d
 from ...core.compiled import njit
-from ...judge._certify_kernels import jacobian_rows_2d
+from ...judge._certify_kernels import natural_map_jacobian_2d
 
 
 @njit
@@ -71,15 +71,12 @@ def square_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
     ``rho`` ρ per contact, W's 2 x 2 blocks ``diag``, ``bptr``, ``bcols``,
     ``bdata``), as hybrid.py forms it through NumPy and scipy, bit for bit:
     u = W r + q and |W||r| summed as scipy's CSC product sums them, the
-    natural map F = r − proj_K(r − ρ û) (friction_problem's formulas), J
-    (natural_map_jacobian_2d's entries, read by rows), the unknowns J fixes
-    by itself (a row with its one entry, 1, on the diagonal), the order (the
-    first LU's ``known`` order where ``has_known``, then the unknowns it
-    lacks) and :func:`restricted_system`'s arrays, formed from J's rows
-    without J's CSC: the restriction's columns filled row by row in the new
-    order (so each column's rows ascend), the right-hand side's fixed
-    columns summed in ascending order as restricted_system sums them.
-    Returns (F, fixed, order, the restriction's indptr, indices, data,
+    natural map F = r − proj_K(r − ρ û) (friction_problem's formulas), J in
+    CSC (natural_map_jacobian_2d), the unknowns J fixes by itself (a row
+    with its one entry, 1, on the diagonal), the order (the first LU's
+    ``known`` order where ``has_known``, then the unknowns it lacks) and the
+    restricted system (:func:`restricted_system`).  Returns (F, J's indptr,
+    indices, data, fixed, order, the restriction's indptr, indices, data,
     right-hand side)."""
     n = r.shape[0]
     nc = n // 2
@@ -99,12 +96,18 @@ def square_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
         x[2 * i] = r[2 * i] - rho[i] * (u[2 * i] + mu[i] * np.sqrt(ut * ut))
         x[2 * i + 1] = r[2 * i + 1] - rho[i] * ut
     F = r - project_cone_2d(x, mu)
-    jptr, jidx, jval = jacobian_rows_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols,
-                                        bdata)
-    fixed = np.zeros(n, np.bool_)
-    for row in range(n):
-        p = jptr[row]
-        fixed[row] = jptr[row + 1] - p == 1 and jidx[p] == row and jval[p] == 1.0
+    jptr, jidx, jval = natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr,
+                                               bcols, bdata)
+    count = np.zeros(n, np.int64)
+    dvals = np.zeros(n)
+    for c in range(n):
+        for p in range(jptr[c], jptr[c + 1]):
+            count[jidx[p]] += 1
+            if jidx[p] == c:
+                dvals[c] = jval[p]
+    fixed = np.empty(n, np.bool_)
+    for c in range(n):
+        fixed[c] = count[c] == 1 and dvals[c] == 1.0
     seen = np.zeros(n, np.bool_)
     order = np.empty(n, np.int64)
     k = 0
@@ -119,43 +122,5 @@ def square_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
             order[k] = c
             k += 1
     order = order[:k]
-    pos = np.full(n, -1, np.int64)
-    for c in range(k):
-        pos[order[c]] = c
-    out_ptr = np.zeros(k + 1, np.int64)
-    for row in range(n):
-        if pos[row] >= 0:
-            for p in range(jptr[row], jptr[row + 1]):
-                if pos[jidx[p]] >= 0:
-                    out_ptr[pos[jidx[p]] + 1] += 1
-    for c in range(k):
-        out_ptr[c + 1] += out_ptr[c]
-    fill = out_ptr[:k].copy()
-    out_idx = np.empty(out_ptr[k], np.int64)
-    out_val = np.empty(out_ptr[k])
-    rhs = np.empty(k)
-    for t in range(k):
-        row = order[t]
-        rhs[t] = -F[row]
-        start, end = jptr[row], jptr[row + 1]
-        # the row's diagonal-block entries come first (jacobian_rows_2d):
-        # merged into the others' ascending columns for the fixed ones' sum
-        nd = 0
-        while start + nd < end and jidx[start + nd] // 2 == row // 2:
-            nd += 1
-        d = 0
-        for p in range(start + nd, end + 1):
-            while d < nd and (p == end or jidx[start + d] < jidx[p]):
-                col = jidx[start + d]
-                if fixed[col]:
-                    rhs[t] += jval[start + d] * F[col]
-                d += 1
-            if p < end and fixed[jidx[p]]:
-                rhs[t] += jval[p] * F[jidx[p]]
-        for p in range(start, end):
-            c = pos[jidx[p]]
-            if c >= 0:
-                out_idx[fill[c]] = t
-                out_val[fill[c]] = jval[p]
-                fill[c] += 1
-    return F, fixed, order, out_ptr, out_idx, out_val, rhs
+    rptr, ridx, rval, rhs = restricted_system(jptr, jidx, jval, order, F, fixed)
+    return F, jptr, jidx, jval, fixed, order, rptr, ridx, rval, rhs

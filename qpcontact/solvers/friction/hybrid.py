@@ -109,8 +109,8 @@ def minimum_norm_newton(problem, r, tol, max_steps=6, square=None, error=None):
             step, err = _square_step(problem, r, J, F, square) if square["on"] else (None, None)
         if step is None:
             square["on"] = False           # J is singular: off for the rest of the solve
-            if J is None:              # the compiled square route formed no J
-                J = sp.csc_matrix(natural_map_jacobian(problem, r))
+            if not sp.issparse(J):     # the compiled route's (data, indices, indptr)
+                J = sp.csc_matrix(J, shape=(F.size, F.size))
             step = _minimum_norm_step(J, F)
             if step is None:   # exactly singular even regularized: give up this try
                 break
@@ -170,21 +170,20 @@ def _square_step(problem, r, J, F, square=None):
 
 def _square_step_2d(problem, r, rho_c, square):
     """:func:`_square_step` at r for a sparse 2-D problem, its system formed
-    in one compiled call from J's rows (_newton_kernels.square_system_2d: F,
-    the fixed unknowns, the order and the restriction, the same numbers as
-    the NumPy and scipy route, which cost ~1 ms of overhead a step on the
-    drum's beds); (F, None: J is formed only where the augmented step needs
-    it, the step, its certified error)."""
+    in one compiled call (_newton_kernels.square_system_2d: F, J, the fixed
+    unknowns, the order and the restriction, the same numbers as the NumPy
+    and scipy route, which cost ~1 ms of overhead a step on the drum's
+    beds); (F, J's CSC (data, indices, indptr), the step, its certified error)."""
     from ._newton_kernels import square_system_2d   # numba: imported where it runs
 
     W = problem.W if problem.W.format == "csc" else sp.csc_matrix(problem.W)
     known = square.get("order")
-    F, fixed, order, *system = square_system_2d(
+    F, jptr, jidx, jval, fixed, order, *system = square_system_2d(
         W.indptr, W.indices, W.data, np.asarray(problem.q, float), problem.mu, rho_c,
         np.asarray(r, float), SLIP_RTOL, *problem.W_blocks,
         np.zeros(0, np.int64) if known is None else known, known is not None)
-    return (F, None) + _restricted_step(problem, r, F, fixed, order, tuple(system),
-                                        known is None, square)
+    return (F, (jval, jidx, jptr)) + _restricted_step(problem, r, F, fixed, order, tuple(system), known is None,
+                                     square)
 
 
 def _restricted_step(problem, r, F, fixed, order, system, fresh, square):
