@@ -28,10 +28,14 @@ _DY = np.array([0, 1, 1, 1], np.int64)
 
 
 @njit
-def _grow_pairs(x, n):
-    y = np.empty((n, 2), np.int64)
-    y[:x.shape[0]] = x
-    return y
+def _append_pair(out, m, i, j):
+    """(out, m + 1) with the pair (min, max) at row m, out doubled when full."""
+    if m == out.shape[0]:
+        grown = np.empty((2 * m, 2), np.int64)
+        grown[:m] = out
+        out = grown
+    out[m, 0], out[m, 1] = min(i, j), max(i, j)
+    return out, m + 1
 
 
 @njit
@@ -63,19 +67,13 @@ def candidate_pairs(pos, rad, margin):
             cells[nc], starts[nc] = skey[k], k
             nc += 1
         counts[nc - 1] += 1
-    cap = 16 * n
-    out = np.empty((cap, 2), np.int64)
+    out = np.empty((16 * n, 2), np.int64)
     m = 0
     # the same cell: a < b within the block, a-major
     for c in range(nc):
         for a in range(counts[c]):
             for b in range(a + 1, counts[c]):
-                if m == cap:
-                    cap *= 2
-                    out = _grow_pairs(out, cap)
-                i, j = order[starts[c] + a], order[starts[c] + b]
-                out[m, 0], out[m, 1] = min(i, j), max(i, j)
-                m += 1
+                out, m = _append_pair(out, m, order[starts[c] + a], order[starts[c] + b])
     for o in range(4):
         for c in range(nc):
             target = cells[c] + _DY[o] * width + _DX[o]
@@ -84,12 +82,7 @@ def candidate_pairs(pos, rad, margin):
                 continue
             for a in range(counts[c]):
                 for b in range(counts[t]):
-                    if m == cap:
-                        cap *= 2
-                        out = _grow_pairs(out, cap)
-                    i, j = order[starts[c] + a], order[starts[t] + b]
-                    out[m, 0], out[m, 1] = min(i, j), max(i, j)
-                    m += 1
+                    out, m = _append_pair(out, m, order[starts[c] + a], order[starts[t] + b])
     return out[:m]
 
 
