@@ -28,17 +28,6 @@ _DY = np.array([0, 1, 1, 1], np.int64)
 
 
 @njit
-def _append_pair(out, m, i, j):
-    """(out, m + 1) with the pair (min, max) at row m, out doubled when full."""
-    if m == out.shape[0]:
-        grown = np.empty((2 * m, 2), np.int64)
-        grown[:m] = out
-        out = grown
-    out[m, 0], out[m, 1] = min(i, j), max(i, j)
-    return out, m + 1
-
-
-@njit
 def candidate_pairs(pos, rad, margin):
     """broadphase.grid_pairs' candidate pairs (a, b) in its order, as (min, max)."""
     n = pos.shape[0]
@@ -67,23 +56,36 @@ def candidate_pairs(pos, rad, margin):
             cells[nc], starts[nc] = skey[k], k
             nc += 1
         counts[nc - 1] += 1
-    out = np.empty((16 * n, 2), np.int64)
+    # the neighbour cells first, to size the list (a growing list cost seconds of compiling)
+    nbr = np.full((4, nc), -1, np.int64)
+    total = 0
+    for c in range(nc):
+        total += counts[c] * (counts[c] - 1) // 2
+    for o in range(4):
+        for c in range(nc):
+            target = cells[c] + _DY[o] * width + _DX[o]
+            t = np.searchsorted(cells[:nc], target)
+            if t < nc and cells[t] == target:
+                nbr[o, c] = t
+                total += counts[c] * counts[t]
+    out = np.empty((total, 2), np.int64)
     m = 0
     # the same cell: a < b within the block, a-major
     for c in range(nc):
         for a in range(counts[c]):
             for b in range(a + 1, counts[c]):
-                out, m = _append_pair(out, m, order[starts[c] + a], order[starts[c] + b])
+                i, j = order[starts[c] + a], order[starts[c] + b]
+                out[m, 0], out[m, 1] = min(i, j), max(i, j)
+                m += 1
     for o in range(4):
         for c in range(nc):
-            target = cells[c] + _DY[o] * width + _DX[o]
-            t = np.searchsorted(cells[:nc], target)
-            if t >= nc or cells[t] != target:
-                continue
-            for a in range(counts[c]):
+            t = nbr[o, c]
+            for a in range(counts[c] if t >= 0 else 0):
                 for b in range(counts[t]):
-                    out, m = _append_pair(out, m, order[starts[c] + a], order[starts[t] + b])
-    return out[:m]
+                    i, j = order[starts[c] + a], order[starts[t] + b]
+                    out[m, 0], out[m, 1] = min(i, j), max(i, j)
+                    m += 1
+    return out
 
 
 @njit
