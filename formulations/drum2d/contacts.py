@@ -24,6 +24,8 @@ Gaps [m]: between discs |c_i − c_j| − r_i − r_j; to the shell R − |c_i| 
 (normal −c_i/|c_i|, towards the axis); to a lifter, the distance from c_i to
 the lifter's segment minus r_i + b (normal from the segment's nearest point).
 Contacts are listed when the gap is at most the margin δ the stepper asks for.
+The detection and H's arrays are formed in one compiled pass
+(formulations.drum2d.contact_kernel).
 """
 
 from __future__ import annotations
