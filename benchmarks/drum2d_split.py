@@ -49,6 +49,7 @@ ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 sys.path.insert(0, ROOT)
 import formulations.drum2d.impact_kernel as impact_kernel  # noqa: E402
 import formulations.drum2d.stepper as stepper  # noqa: E402
+import qpcontact.solvers.friction._newton_kernels as newton_kernels  # noqa: E402
 import qpcontact.solvers.friction.hybrid as hybrid  # noqa: E402
 import qpcontact.solvers.friction.nsgs as nsgs  # noqa: E402
 from benchmarks.drum import (EFFECTS_2D, H2D, RESTITUTION, drum2d_shell,  # noqa: E402
@@ -64,6 +65,7 @@ PIECES = (
     (hybrid, "minimum_norm_newton", "  Newton tries"),
     (spla, "splu", "    SuperLU"),
     (hybrid, "natural_map_jacobian", "    Jacobians"),
+    (newton_kernels, "square_system_2d", "    F, J, restriction (2-D kernel)"),
     (hybrid, "certified_error", "  error checks"),
     (stepper, "step_forces", "peak forces"),
     (impact_kernel, "cluster_run", "  cluster runs (kernel)"),

@@ -21,58 +21,15 @@ import numpy as np
 
 __all__ = ["grid_pairs", "all_pairs"]
 
-# Half of the 3 x 3 stencil: each unordered pair of adjacent cells is seen once.
-_OFFSETS = ((1, 0), (-1, 1), (0, 1), (1, 1))
-
-
-def _ranges_pairs(starts_a, counts_a, starts_b, counts_b):
-    """All (a, b) index pairs of the sorted order, for blocks a = starts_a[k] +
-    [0, counts_a[k]) against b = starts_b[k] + [0, counts_b[k])."""
-    sizes = counts_a * counts_b
-    total = int(sizes.sum())
-    if total == 0:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    block = np.repeat(np.arange(sizes.size), sizes)
-    local = np.arange(total) - np.repeat(np.cumsum(sizes) - sizes, sizes)
-    cb = counts_b[block]
-    return starts_a[block] + local // cb, starts_b[block] + local % cb
-
-
 def grid_pairs(positions: np.ndarray, radii: np.ndarray, margin: float = 0.0):
     """Candidate pairs (i, j), i < j, of discs that may be within ``margin`` [m]
-    of each other, and the number of pairs examined (their count: O(n))."""
-    n = positions.shape[0]
-    if n < 2:
-        return np.zeros((0, 2), np.int64), 0
-    cell = 2.0 * float(radii.max()) + float(margin)
-    ij = np.floor((positions - positions.min(axis=0)) / cell).astype(np.int64)
-    width = int(ij[:, 0].max()) + 3       # a neighbour column never wraps into the next row
-    key = (ij[:, 1] + 1) * width + (ij[:, 0] + 1)
-    order = np.argsort(key, kind="stable")
-    skey = key[order]
-    cells, starts, counts = np.unique(skey, return_index=True, return_counts=True)
-    # the same cell: i < j within the block
-    sizes = counts * (counts - 1) // 2
-    pa, pb = [], []
-    if sizes.sum():
-        a, b = _ranges_pairs(starts, counts, starts, counts)
-        keep = a < b
-        pa.append(a[keep])
-        pb.append(b[keep])
-    for dx, dy in _OFFSETS:
-        target = cells + dy * width + dx
-        pos = np.searchsorted(cells, target)
-        pos_c = np.minimum(pos, cells.size - 1)
-        hit = cells[pos_c] == target
-        if hit.any():
-            a, b = _ranges_pairs(starts[hit], counts[hit], starts[pos_c[hit]], counts[pos_c[hit]])
-            pa.append(a)
-            pb.append(b)
-    if not pa:
-        return np.zeros((0, 2), np.int64), 0
-    i = order[np.concatenate(pa)]
-    j = order[np.concatenate(pb)]
-    pairs = np.column_stack([np.minimum(i, j), np.maximum(i, j)])
+    of each other, and the number of pairs examined (their count: O(n)).  The
+    grid's pass is compiled (contact_kernel.candidate_pairs: the cells in key
+    order, the same cell's pairs first, then the four offsets' cell by cell)."""
+    from .contact_kernel import candidate_pairs   # numba: imported where it runs
+
+    pairs = candidate_pairs(np.ascontiguousarray(positions, float),
+                            np.ascontiguousarray(radii, float), float(margin))
     return pairs, int(pairs.shape[0])
 
 

@@ -159,19 +159,10 @@ class Recorder:
         """The step's force statistics from its active contacts c, impulses r,
         mean sliding speeds (:func:`sliding_speed`) and forces F [N] (impacts.step_forces; module
         docstring)."""
-        carrying = F >= FORCE_BINS[0]
-        for k in range(3):
-            mine = carrying & (c.kind == k)
-            if mine.any():
-                self.force_peak[s, k] = F[mine].max()
-                at = np.clip(np.searchsorted(FORCE_BINS, F[mine], side="right") - 1, 0,
-                             FORCE_BINS.size - 2)
-                self.force_counts[s, k] = np.bincount(at, minlength=FORCE_BINS.size - 1)
-        work = np.abs(r[1::2]) * slip
-        share = np.where(c.kind == DISC, 0.5, 1.0) * work
-        np.add.at(self.sliding_work[s], c.i, share)
-        pair = c.j >= 0
-        np.add.at(self.sliding_work[s], c.j[pair], share[pair])
+        from .records_kernel import force_books   # numba: imported where it runs
+
+        force_books(np.asarray(F, float), c.kind, c.i, c.j, r[1::2], slip, FORCE_BINS,
+                    DISC, self.force_peak[s], self.force_counts[s], self.sliding_work[s])
         if self.keep_every and s % self.keep_every == 0:
             self.contacts[s] = dict(i=c.i, j=c.j, kind=c.kind, r_n=r[0::2], r_t=r[1::2],
                                     slip=slip, gap=c.gap, normal=c.normal)

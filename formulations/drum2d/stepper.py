@@ -229,6 +229,8 @@ class Drum2D:
         if every < 0:
             raise InvalidOptionError(f"keep_contacts must be True, False or a step count >= 1; "
                                      f"got {keep_contacts}")
+        from .contact_kernel import impulses, velocities   # numba: imported where it runs
+
         S, d = int(steps), self.discs
         n = d.n
         minv, mdiag, f = d.inverse_mass(), d.mass_diagonal(), self._gravity_forces()
@@ -261,8 +263,8 @@ class Drum2D:
             rec.counts["n_contacts"][s], rec.counts["pairs_checked"][s] = c.m, c.pairs_checked
             rec.worst_pen = max(rec.worst_pen, float(-c.gap.min(initial=0.0)))
             v_free = v + h * minv * f
-            u_minus = c.H.T @ v + c.w
-            u_free = c.H.T @ v_free + c.w
+            u_minus = velocities(c.H.indptr, c.H.indices, c.H.data, c.w, v)
+            u_free = velocities(c.H.indptr, c.H.indices, c.H.data, c.w, v_free)
             active = c.gap + 0.5 * h * (u_minus[0::2] + u_free[0::2]) <= 0.0
             if self.law.compliant:
                 active |= self.law.compliance(c) > 0
@@ -284,7 +286,8 @@ class Drum2D:
                         raise SolverFailedError(msg)
                     warnings.warn(msg, UncertifiedStepWarning, stacklevel=2)
                 new_elastic = self.law.elastic_energy(comp, r[0::2], h)
-            v_new = v_free + minv * (c.H @ r) if c.m else v_free
+            v_new = (v_free + minv * impulses(c.H.indptr, c.H.indices, c.H.data, r, 3 * n)
+                     if c.m else v_free)
             th = self.theta
             q_start = q
             q = q + h * ((1 - th) * v.reshape(n, 3)[:, :2] + th * v_new.reshape(n, 3)[:, :2])
@@ -298,7 +301,7 @@ class Drum2D:
             rec.state_at(s + 1, q, v_new, mdiag, d.masses, self.gravity, new_elastic)
             per = rec.per
             if c.m:
-                u_plus = c.H.T @ v_step + c.w
+                u_plus = velocities(c.H.indptr, c.H.indices, c.H.data, c.w, v_step)
                 # the step's mean sliding speed, slip stopped within the step
                 # included; its work |r_T| times that (module docstring)
                 slip = sliding_speed(u_minus[1::2], u_plus[1::2])

@@ -107,3 +107,44 @@ def test_the_square_step_with_a_reused_order_is_the_fresh_one():
         fresh = spla.splu(J).solve(-F)
         assert np.abs(step - fresh).max() <= 1e-10 * np.abs(fresh).max()
     assert "order" in square
+
+
+def test_the_compiled_square_system_is_the_array_route():
+    """nsgs-newton's square step on a sparse 2-D problem forms F, J, the
+    fixed unknowns, the order and the restricted system in one compiled
+    call; against the array formulas and scipy (natural_map_jacobian, the
+    cone projection, restricted_system on J's CSC), the same numbers bit for
+    bit: from sweeps that leave contacts open, sticking and sliding, with and
+    without a first LU's order."""
+    from qpcontact.core.friction_problem import modified_velocity, project_cone
+    from qpcontact.judge.friction_certificate import (SLIP_RTOL, contact_scales,
+                                                      natural_map_jacobian)
+    from qpcontact.solvers.friction._newton_kernels import (restricted_system,
+                                                            square_system_2d)
+
+    for seed in range(4):
+        p = _problem(n_bodies=30 + 10 * seed, m=40 + 30 * seed, seed=seed)
+        gs = NSGS(p, omega=1.3)
+        rng = np.random.default_rng(seed)
+        rho_c = contact_scales(p)
+        rho = np.repeat(rho_c, 2)
+        n = p.q.size
+        kinds = set()
+        for r in (gs.sweep(3).copy(), gs.sweep(40).copy(), rng.normal(size=n)):
+            for known in (None, rng.permutation(n)):
+                F = r - project_cone(r - rho * modified_velocity(p.W @ r + p.q, p.mu, 2), p.mu, 2)
+                J = sp.csc_matrix(natural_map_jacobian(p, r))
+                fixed = (np.bincount(J.indices, minlength=n) == 1) & (J.diagonal() == 1.0)
+                order = np.flatnonzero(~fixed)
+                if known is not None:
+                    order = np.concatenate([known[~fixed[known]], order[~np.isin(order, known)]])
+                want = restricted_system(J.indptr, J.indices.astype(np.int64), J.data, order, F,
+                                         fixed)
+                got = square_system_2d(p.W.indptr, p.W.indices, p.W.data, p.q, p.mu, rho_c, r,
+                                       SLIP_RTOL, *p.W_blocks,
+                                       np.zeros(0, np.int64) if known is None else known,
+                                       known is not None)
+                for a, b in zip(got, (F, J.indptr, J.indices, J.data, fixed, order) + want):
+                    assert a.shape == b.shape and np.array_equal(a, b)
+                kinds.add(int(fixed.sum() > 0))
+        assert 1 in kinds                 # open contacts (fixed unknowns) were met

@@ -47,7 +47,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
-from ...judge.friction_certificate import certified_error, contact_scales, natural_map_jacobian
+from ...judge.friction_certificate import (SLIP_RTOL, certified_error, contact_scales,
+                                           natural_map_jacobian)
 from .nsgs import NSGS, R0, starting_point
 from ...core.friction_problem import modified_velocity, project_cone
 
@@ -92,17 +93,24 @@ def minimum_norm_newton(problem, r, tol, max_steps=6, square=None, error=None):
     the certified error at ``r`` where the caller has computed it."""
     square = {"on": False} if square is None else square
     d, W, q, mu = problem.dim, problem.W, problem.q, problem.mu
-    rho = np.repeat(contact_scales(problem), d)
+    rho_c = contact_scales(problem)
+    rho = np.repeat(rho_c, d)
     best_r, best = r, certified_error(problem, r) if error is None else error
     start = best
     steps = 0
     for steps in range(1, max_steps + 1):
-        F = r - project_cone(r - rho * modified_velocity(np.asarray(W @ r).ravel() + q, mu, d),
-                             mu, d)
-        J = sp.csc_matrix(natural_map_jacobian(problem, r))
-        step, err = _square_step(problem, r, J, F, square) if square["on"] else (None, None)
+        if square["on"] and d == 2 and sp.issparse(W):
+            # F, J and the restricted system in one compiled call, the same numbers
+            F, J, step, err = _square_step_2d(problem, r, rho_c, square)
+        else:
+            F = r - project_cone(r - rho * modified_velocity(np.asarray(W @ r).ravel() + q, mu, d),
+                                 mu, d)
+            J = sp.csc_matrix(natural_map_jacobian(problem, r))
+            step, err = _square_step(problem, r, J, F, square) if square["on"] else (None, None)
         if step is None:
             square["on"] = False           # J is singular: off for the rest of the solve
+            if not sp.issparse(J):     # the compiled route's (data, indices, indptr)
+                J = sp.csc_matrix(J, shape=(F.size, F.size))
             step = _minimum_norm_step(J, F)
             if step is None:   # exactly singular even regularized: give up this try
                 break
@@ -156,14 +164,39 @@ def _square_step(problem, r, J, F, square=None):
         seen = np.zeros(n, bool)
         seen[order] = True
         order = np.concatenate([order, np.flatnonzero(~fixed & ~seen)])
-    ptr, idx, val, rhs = restricted_system(J.indptr, J.indices.astype(np.int64), J.data, order,
-                                           F, fixed)
+    system = restricted_system(J.indptr, J.indices.astype(np.int64), J.data, order, F, fixed)
+    return _restricted_step(problem, r, F, fixed, order, system, known is None, square)
+
+
+def _square_step_2d(problem, r, rho_c, square):
+    """:func:`_square_step` at r for a sparse 2-D problem, its system formed
+    in one compiled call (_newton_kernels.square_system_2d: F, J, the fixed
+    unknowns, the order and the restriction, the same numbers as the NumPy
+    and scipy route, which cost ~1 ms of overhead a step on the drum's
+    beds); (F, J's CSC (data, indices, indptr), the step, its certified error)."""
+    from ._newton_kernels import square_system_2d   # numba: imported where it runs
+
+    W = problem.W if problem.W.format == "csc" else sp.csc_matrix(problem.W)
+    known = square.get("order")
+    F, jptr, jidx, jval, fixed, order, *system = square_system_2d(
+        W.indptr, W.indices, W.data, np.asarray(problem.q, float), problem.mu, rho_c,
+        np.asarray(r, float), SLIP_RTOL, *problem.W_blocks,
+        np.zeros(0, np.int64) if known is None else known, known is not None)
+    return (F, (jval, jidx, jptr)) + _restricted_step(problem, r, F, fixed, order, tuple(system), known is None,
+                                     square)
+
+
+def _restricted_step(problem, r, F, fixed, order, system, fresh, square):
+    """The square step from the restricted system (ptr, idx, val, rhs) on the
+    unknowns ``order`` (``fresh``: SuperLU orders them, else their order is
+    kept), −F on the ``fixed`` ones; (None, None) where J is singular."""
+    ptr, idx, val, rhs = system
     J_r = sp.csc_matrix((val, idx, ptr), shape=(order.size, order.size))
     lu_options = dict(diag_pivot_thresh=0.1, options={"SymmetricMode": True})
     step = np.empty_like(F)
     step[fixed] = -F[fixed]
     try:
-        if order.size and known is None:
+        if order.size and fresh:
             # J's pattern is W's, symmetric: a minimum-degree order on J + Jᵀ
             # with pivots kept on the diagonal where they are a tenth of the
             # column's largest has 0.55-0.65 of COLAMD's fill on the drum's beds

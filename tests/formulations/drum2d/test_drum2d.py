@@ -73,6 +73,75 @@ def test_grid_work_is_linear_in_the_number_of_discs():
     assert checked[-1] < 0.01 * 8000 * 7999 / 2
 
 
+def _contacts_by_brute_force(pos, rad, shell, t, omega, margin):
+    """Every contact within ``margin`` from all pairs and every disc against
+    the shell and each lifter segment (contacts.py's module docstring): rows
+    (i, j, kind) with normal, gap, wall point, w (u = Hᵀν + w) and H's two
+    dense columns."""
+    n = rad.size
+    rows = []
+
+    def add(i, j, kind, nrm, gap, point):
+        V = np.zeros(2) if j >= 0 else omega * np.array([-point[1], point[0]])
+        tan = np.array([-nrm[1], nrm[0]])
+        H = np.zeros((3 * n, 2))
+        H[3 * i:3 * i + 2, 0], H[3 * i:3 * i + 2, 1], H[3 * i + 2, 1] = nrm, tan, -rad[i]
+        if j >= 0:
+            H[3 * j:3 * j + 2, 0], H[3 * j:3 * j + 2, 1], H[3 * j + 2, 1] = -nrm, -tan, -rad[j]
+        rows.append(((i, j, kind), nrm, gap, point, -np.array([nrm @ V, tan @ V]), H))
+
+    for a in range(n):
+        for b in range(a + 1, n):
+            d = pos[b] - pos[a]
+            gap = np.hypot(*d) - rad[a] - rad[b]
+            if gap <= margin:
+                add(b, a, 0, d / np.hypot(*d), gap, np.zeros(2))
+        dist = np.hypot(*pos[a])
+        if shell.radius - dist - rad[a] <= margin:
+            add(a, -1, SHELL, -pos[a] / dist, shell.radius - dist - rad[a],
+                shell.radius * pos[a] / dist)
+    inner, outer = shell.lifter_segments(t, omega)
+    for a in range(n):
+        for p0, p1 in zip(inner, outer):
+            s = np.clip((pos[a] - p0) @ (p1 - p0) / ((p1 - p0) @ (p1 - p0)), 0.0, 1.0)
+            near = p0 + s * (p1 - p0)
+            d = pos[a] - near
+            gap = np.hypot(*d) - rad[a] - shell.lifter_half_width
+            if gap <= margin:
+                nrm = d / np.hypot(*d)
+                add(a, -1, LIFTER, nrm, gap, near + shell.lifter_half_width * nrm)
+    return rows
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_compiled_detection_finds_the_brute_force_contacts(seed):
+    """find_contacts (one compiled pass: grid, narrow phase, H and w) against
+    all pairs, the shell and every lifter checked in plain NumPy: the same
+    contacts, gaps, normals, wall points, w and H's columns."""
+    from formulations.drum2d import find_contacts
+
+    rng = np.random.default_rng(seed)
+    shell = Shell(2.0, 0.9, np.linspace(0, 2 * np.pi, 6, endpoint=False), 0.15, 0.025)
+    n = 150
+    ang, rr = rng.uniform(0, 2 * np.pi, n), 1.95 * np.sqrt(rng.uniform(0, 1, n))
+    discs = Discs(rng.uniform(0.08, 0.3, n), np.column_stack([rr * np.cos(ang), rr * np.sin(ang)]))
+    t, omega, margin = rng.uniform(0, 3), 0.9, 0.02
+    c = find_contacts(discs, shell, t, omega, margin)
+    ref = _contacts_by_brute_force(discs.positions, discs.radii, shell, t, omega, margin)
+    got = {(int(c.i[k]), int(c.j[k]), int(c.kind[k])): k for k in range(c.m)}
+    assert len(ref) > 100 and {r[0] for r in ref} == set(got) and c.m == len(got)
+    assert {r[0][2] for r in ref} == {0, SHELL, LIFTER}
+    H = c.H.toarray()
+    for key, nrm, gap, point, w, Hk in ref:
+        k = got[key]
+        assert np.allclose(c.normal[k], nrm, rtol=0, atol=1e-14)
+        assert abs(c.gap[k] - gap) <= 1e-14
+        if key[1] < 0:
+            assert np.allclose(c.wall_point[k], point, rtol=0, atol=1e-13)
+        assert np.allclose(c.w[2 * k:2 * k + 2], w, rtol=0, atol=1e-13)
+        assert np.allclose(H[:, 2 * k:2 * k + 2], Hk, rtol=0, atol=1e-14)
+
+
 # -- validation --------------------------------------------------------------------------
 
 def test_bad_input_is_named():
