@@ -458,6 +458,27 @@ def test_grid_hierarchy_interpolates_linear_functions_exactly(N):
     assert np.all(P.data > 0)   # nonnegative: coarse feasible points are fine feasible points
 
 
+@pytest.mark.parametrize("N", [50, 100, 101, 316])
+def test_coarser_grids_interpolate_in_their_nodes_true_positions(N):
+    """Below the first level the grids are not uniform where a count was
+    even (the last cell one finer cell wide).  With x the true position in
+    fine grid steps (the boundary at 0 and N + 1), every level's
+    prolongation takes (N + 1 − x)(N + 1 − y), sampled at the coarse nodes,
+    to its values at the fine nodes exactly wherever the left and bottom
+    boundary do not enter (right of and above the first coarse node), and
+    x y likewise left of and below the last one.  Weights of ½ next to the
+    narrow cell, as on a uniform grid, fail at all four N."""
+    x = np.arange(1.0, N + 1.0)
+    for P in meshes.grid_hierarchy(N):
+        xc = x[1::2]
+        for f, inside in ((lambda t: N + 1.0 - t, x >= xc[0]), (lambda t: t, x <= xc[-1])):
+            got = (P @ np.outer(f(xc), f(xc)).ravel()).reshape(x.size, x.size)
+            want = np.outer(f(x), f(x))
+            mask = np.outer(inside, inside)
+            np.testing.assert_allclose(got[mask], want[mask], rtol=0, atol=1e-12 * N * N)
+        x = xc
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("hierarchy", ["grid", "aggregation"])
 def test_a_hundred_thousand_unknowns_equal_ip_bpp(hierarchy):
