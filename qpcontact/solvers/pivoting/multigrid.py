@@ -34,11 +34,13 @@ independent of h; here = 2m): on the 13-point biharmonic the V-cycle with
 one Gauss–Seidel sweep each way barely converges by itself, and as the
 preconditioner of z_u's conjugate gradients (below) it took 22–30 steps at
 n = 1e4 and 52–78 at 1e5.  The W-cycle (on a grid coarsened by 4, about 1.8
-V-cycles of work) takes 10–16 and 23–28, and cuts the TNNMG cycles by a
-quarter to a half.  On a membrane (2nd order: 2 + 2 > 2) the V-cycle is as
-good, and W-cycles there cost 5–15 % for no cycle saved.  Cubic
-interpolation (orders 4 + 4) cut the steps too, but its Galerkin operators
-carry 81–121 entries a row against 25: dearer per cycle than it saved.
+V-cycles of work) takes 7–10 at both sizes (with the coarse grids
+interpolating in their nodes' true positions: formulations/meshes.py), and
+cuts the TNNMG cycles by 17–52 % at 1e4, 51–87 % at 1e5.  On a membrane
+(2nd order: 2 + 2 > 2) the V-cycle is as good, and W-cycles there cost
+5–15 % for no cycle saved.  Cubic interpolation (orders 4 + 4) cut the
+steps too, but its Galerkin operators carry 81–121 entries a row against
+25: dearer per cycle than it saved.
 
 The cycle is one compiled call (:func:`._mg_kernels.tnnmg_cycle`, the
 hierarchy packed once per solve by :class:`_Levels`); the loop over cycles,
