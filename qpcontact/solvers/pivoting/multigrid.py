@@ -38,7 +38,7 @@ V-cycles of work) takes 7–10 at both sizes (with the coarse grids
 interpolating in their nodes' true positions: formulations/meshes.py), and
 cuts the TNNMG cycles by 17–52 % at 1e4, 51–87 % at 1e5.  On a membrane
 (2nd order: 2 + 2 > 2) the V-cycle is as good, and W-cycles there cost
-5–15 % for no cycle saved.  Cubic interpolation (orders 4 + 4) cut the
+1–19 % for no cycle saved.  Cubic interpolation (orders 4 + 4) cut the
 steps too, but its Galerkin operators carry 81–121 entries a row against
 25: dearer per cycle than it saved.
 
