@@ -9,8 +9,8 @@ memory, killed at the time limit), measured side by side in one run.
     OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 .venv/bin/python benchmarks/scale.py
     .venv/bin/python benchmarks/scale.py --quick          # n ~ 1e3 .. 1e4, a minute
     .venv/bin/python benchmarks/scale.py --membrane 1000 --methods mg-bpp   # n = 1e6, 1.3 GB
-    .venv/bin/python benchmarks/scale.py --plate 1000 --shapes crate --methods mg-bpp \
-        --limit 1800                                # n = 1e6: ~17 min, 6.6 GB (opt-in)
+    .venv/bin/python benchmarks/scale.py --plate 1000 --methods mg-bpp \
+        --limit 900                                 # n = 1e6: 1-2 min CPU, 3 GB (opt-in)
     .venv/bin/python benchmarks/scale.py --membrane 100,316 --shapes dome,bumps,ridge
     .venv/bin/python benchmarks/scale.py --plate 100,200 --rigidity 0.05 --shapes terraces,crate
     .venv/bin/python benchmarks/scale.py --raft 57,115 --methods qpcontact,pynite,opensees
@@ -189,8 +189,8 @@ def job(family, size, method, progress, queue, rigidity=1.0):
         if progress and method in ("ip-bpp", "mg-bpp") else {}
     t = time.perf_counter()
     # the row's limit is the parent's kill (run_one); solve's own default
-    # of 60 s would end the 1e6 rows (the plate at D = 1: 1 020 s), now that
-    # the exact methods keep it
+    # of 60 s would end the 1e6 rows (the plate at D = 1: 71 s of CPU, 1 020 s
+    # of wall before its W-cycles), now that the exact methods keep it
     sol = solve(problem, method=method, accuracy="high", time_limit=None, **opts)
     wall = time.perf_counter() - t
     is_lcp = hasattr(problem, "n")

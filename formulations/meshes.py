@@ -71,40 +71,52 @@ def laplacian(N: int) -> sp.csr_matrix:
     return (sp.kron(E, T) + sp.kron(T, E)).tocsr()
 
 
-def _interpolation_1d(N: int) -> sp.csr_matrix:
-    """Linear interpolation onto an N-node interior grid from the coarse grid
-    of its odd-numbered nodes (0-based 1, 3, ...; N // 2 of them), with zero
-    Dirichlet values beyond both ends: a coarse node keeps its value (weight
-    1), a fine node between two coarse ones takes their mean, one between a
-    coarse node and the boundary half of it.  Nested for every N (for even N
-    the last coarse cell is one fine cell wide)."""
+def _interpolation_1d(x, end: float) -> sp.csr_matrix:
+    """Linear interpolation onto interior nodes at the sorted positions ``x``
+    (0 < x < end) from the coarse grid of their odd-numbered nodes (0-based
+    1, 3, ...; x.size // 2 of them), with zero Dirichlet values at 0 and
+    ``end``: a coarse node keeps its value (weight 1), a fine node between
+    two coarse ones or a coarse one and the boundary takes the linear
+    interpolant in the true positions.  On a uniform grid of an odd count
+    the weights are ½; where the count is even the last coarse cell is one
+    fine cell wide, and every coarser grid keeps that narrower cell: its
+    nodes between the last coarse node and the boundary get the weight of
+    their true distances (⅓, ⅕, ...), not ½ as if the grid were uniform.
+    Nested for every count."""
+    N = x.size
     i = np.arange(N)
     odd = i % 2 == 1
-    rows = [i[odd]]
-    cols = [i[odd] // 2]
-    vals = [np.ones(odd.sum())]
-    for side in (-1, 1):
-        j = i[~odd] + side
-        ok = (j >= 0) & (j <= N - 1)
-        rows.append(i[~odd][ok])
-        cols.append(j[ok] // 2)
-        vals.append(np.full(ok.sum(), 0.5))
+    even = i[~odd]
+    left = np.where(even > 0, x[np.maximum(even - 1, 0)], 0.0)
+    right = np.where(even < N - 1, x[np.minimum(even + 1, N - 1)], end)
+    width = right - left
+    rows, cols, vals = [i[odd]], [i[odd] // 2], [np.ones(odd.sum())]
+    for ok, col, weight in ((even > 0, (even - 1) // 2, (right - x[even]) / width),
+                            (even < N - 1, (even + 1) // 2, (x[even] - left) / width)):
+        rows.append(even[ok])
+        cols.append(col[ok])
+        vals.append(weight[ok])
     return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                          shape=(N, N // 2))
 
 
 def grid_hierarchy(N: int, coarsest: int = 7) -> list:
     """Prolongations of the N x N interior grid's hierarchy, finest first:
-    bilinear interpolation (the tensor product of :func:`_interpolation_1d`),
-    each level on the odd-numbered nodes of the one above, down to a grid of
-    fewer than ``coarsest`` nodes a side.  What ``LCP(..., hierarchy=...)``
-    takes: the multilevel method's coarse grids."""
+    bilinear interpolation in the nodes' true positions (the tensor product
+    of :func:`_interpolation_1d`), each level on the odd-numbered nodes of
+    the one above, down to a grid of fewer than ``coarsest`` nodes a side.
+    What ``LCP(..., hierarchy=...)`` takes: the multilevel method's coarse
+    grids.  (Weights of ½ next to a narrower last cell, as if the coarse
+    grids were uniform, cost the plate's multigrid dearly where N is not
+    2^k − 1: CG on its W-cycle took 28 steps at N = 316 and 36 at 1000
+    against 9–11 with the true weights; docs/dev-notes.md.)"""
     N = _grid_size(N)
+    x = np.arange(1.0, N + 1.0)      # in fine grid steps; the boundary at 0 and N + 1
     out = []
-    while N >= coarsest:
-        p = _interpolation_1d(N)
+    while x.size >= coarsest:
+        p = _interpolation_1d(x, N + 1.0)
         out.append(sp.kron(p, p, format="csr"))
-        N //= 2
+        x = x[1::2]
     return out
 
 

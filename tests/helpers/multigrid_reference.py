@@ -141,18 +141,25 @@ class Correction:
         self.coarsest = Coarsest(B, keep)
         return True
 
-    def vcycle(self, b):
-        return self._cycle(0, b)
+    def vcycle(self, b, visits=1):
+        """One cycle for (T A T) c = T b: ``visits`` recursive calls of the
+        level below on each level (1 a V-cycle, 2 a W-cycle), the textbook
+        recursion the compiled loop (:func:`._mg_kernels.cycle`) unrolls."""
+        return self._cycle(0, b, np.zeros_like(b), visits)
 
-    def _cycle(self, k, b):
+    def _cycle(self, k, b, x, visits):
         if k == len(self.P):
             return self.coarsest.solve(b)
         A, d, free = (self.fine, self.diag, self.free) if k == 0 else self.ops[k - 1]
-        x = np.zeros_like(b)
+        x = x.copy()
         gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, True)
         r = b - A @ x
         r[~free] = 0.0
-        e = self.P[k] @ self._cycle(k + 1, self.R[k] @ r)
+        b_c = self.R[k] @ r
+        y = np.zeros(b_c.size)
+        for _ in range(visits if k + 1 < len(self.P) else 1):   # an exact solve once
+            y = self._cycle(k + 1, b_c, y, visits)
+        e = self.P[k] @ y
         e[~free] = 0.0
         x += e
         gauss_seidel(A.indptr, A.indices, A.data, d, b, x, free, False)
@@ -164,11 +171,12 @@ def residual(z, w, diag, q_scale) -> float:
     return float(np.max(np.abs(np.minimum(diag * z, w)), initial=0.0)) / q_scale
 
 
-def tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, progress, label):
+def tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, progress, label,
+          visits=1):
     """TNNMG cycles on LCP(A, q) (with at least one coarser level) from z
     (in place) until the contact set has held for two cycles with the
     natural-map residual at ``tol``, or for HELD_STOP cycles whatever the
-    residual, or ``cycles`` cycles."""
+    residual, or ``cycles`` cycles; ``visits`` 2: W-cycles."""
     d = A.diagonal()
     q_scale = max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
     correction = None
@@ -183,7 +191,7 @@ def tnnmg(A, q, prolongations, restrictions, patterns, z, cycles, tol, stats, pr
             stats["mg_rebuilds"] += 1
         elif correction.update(free):
             stats["mg_rebuilds"] += 1
-        c = correction.vcycle(np.where(free, r, 0.0))
+        c = correction.vcycle(np.where(free, r, 0.0), visits)
         c = np.maximum(c, -z)
         den = c @ (A @ c)
         alpha = (r @ c) / den if den > 0 else 0.0

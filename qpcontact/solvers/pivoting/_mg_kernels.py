@@ -246,7 +246,7 @@ def _coarsest_factor(ptr, idx, val, keep, factor, kept):
     into ``factor``, and their indices into ``kept`` (their count in
     kept[-1]).  Where the truncated coarse functions are dependent, the
     factor of the operator plus 1e-10 of its diagonal; where even that
-    fails, none.  Returns 0 (a factor) or 1 (none: the V-cycle sweeps the
+    fails, none.  Returns 0 (a factor) or 1 (none: the cycle sweeps the
     level instead)."""
     n = keep.size
     m = 0
@@ -355,54 +355,74 @@ def retruncate(H, S, changed):
 
 
 @njit
-def vcycle(H, S, b0):
-    """One V-cycle for (T A T) c = T b0 (T the truncations of S's free):
-    a forward Gauss–Seidel sweep, the residual restricted, down to the
-    coarsest level's dense solve, then each level's prolonged correction
-    and a backward sweep.  Returns level 0's c."""
+def cycle(H, S, b0, visits):
+    """One multigrid cycle for (T A T) c = T b0 (T the truncations of S's
+    free): on each level a forward Gauss–Seidel sweep, the residual
+    restricted, ``visits`` visits of the level below (1: a V-cycle, 2: a
+    W-cycle; the coarsest level's dense solve once), each level's prolonged
+    correction and a backward sweep.  Symmetric for every ``visits``.
+    Returns level 0's c."""
     a_ptr, a_idx, a_val, pofs, nofs, p_ptr, p_idx, p_val, ppofs, pnofs, \
         r_ptr, r_idx, r_val, rpofs, rnofs, diagpos, dofs, rofs = H
     free, inv_diag, x, b, t, factor, kept, mode = S[0], S[1], S[2], S[3], S[4], S[5], S[6], S[7]
     m = pofs.size - 2
+    done = np.zeros(m + 1, dtype=np.int64)      # visits of the level below, per level
     b[rofs[0]:rofs[1]] = b0
-    for k in range(m):
-        lo, hi = rofs[k], rofs[k + 1]
-        ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, k)
-        xk, bk, tk, fk = x[lo:hi], b[lo:hi], t[lo:hi], free[lo:hi]
-        xk[:] = 0.0
-        gauss_seidel(ap, ai, av, inv_diag[lo:hi], bk, xk, fk, True)
-        _matvec(ap, ai, av, xk, tk)
-        for i in range(hi - lo):
-            tk[i] = bk[i] - tk[i] if fk[i] else 0.0
-        rp, ri, rv = _segment(r_ptr, r_idx, r_val, rpofs, rnofs, k)
-        _matvec(rp, ri, rv, tk, b[rofs[k + 1]:rofs[k + 2]])
-    lo, hi = rofs[m], rofs[m + 1]
-    if mode[0] == 0:
-        _coarsest_solve(factor, kept, b[lo:hi], x[lo:hi])
-    else:                   # no factor (too large, or singular): Gauss–Seidel sweeps
-        ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, m)
-        x[lo:hi] = 0.0
-        for s in range(COARSE_SWEEPS):
-            gauss_seidel(ap, ai, av, inv_diag[lo:hi], b[lo:hi], x[lo:hi], free[lo:hi], s % 2 == 0)
-    for k in range(m - 1, -1, -1):
-        lo, hi = rofs[k], rofs[k + 1]
-        pp, pi, pv = _segment(p_ptr, p_idx, p_val, ppofs, pnofs, k)
-        tk, xk, fk = t[lo:hi], x[lo:hi], free[lo:hi]
-        _matvec(pp, pi, pv, x[rofs[k + 1]:rofs[k + 2]], tk)
-        for i in range(hi - lo):
-            if fk[i]:
-                xk[i] += tk[i]
-        ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, k)
-        gauss_seidel(ap, ai, av, inv_diag[lo:hi], b[lo:hi], xk, fk, False)
-    return x[rofs[0]:rofs[1]]
+    x[rofs[0]:rofs[1]] = 0.0
+    k = 0
+    while True:
+        # down from level k: a sweep from its current x, the residual restricted
+        while k < m:
+            lo, hi = rofs[k], rofs[k + 1]
+            ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, k)
+            xk, bk, tk, fk = x[lo:hi], b[lo:hi], t[lo:hi], free[lo:hi]
+            gauss_seidel(ap, ai, av, inv_diag[lo:hi], bk, xk, fk, True)
+            _matvec(ap, ai, av, xk, tk)
+            for i in range(hi - lo):
+                tk[i] = bk[i] - tk[i] if fk[i] else 0.0
+            rp, ri, rv = _segment(r_ptr, r_idx, r_val, rpofs, rnofs, k)
+            _matvec(rp, ri, rv, tk, b[rofs[k + 1]:rofs[k + 2]])
+            x[rofs[k + 1]:rofs[k + 2]] = 0.0
+            done[k] = 0
+            k += 1
+        lo, hi = rofs[m], rofs[m + 1]
+        if mode[0] == 0:
+            _coarsest_solve(factor, kept, b[lo:hi], x[lo:hi])
+        else:               # no factor (too large, or singular): Gauss–Seidel sweeps
+            ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, m)
+            for s in range(COARSE_SWEEPS):
+                gauss_seidel(ap, ai, av, inv_diag[lo:hi], b[lo:hi], x[lo:hi], free[lo:hi],
+                             s % 2 == 0)
+        # up: each level adds its coarse correction and sweeps back, unless
+        # it visits the level below again (the coarsest is solved once)
+        again = False
+        while k > 0 and not again:
+            k -= 1
+            done[k] += 1
+            if done[k] < visits and k + 1 < m:
+                k += 1
+                again = True
+                continue
+            lo, hi = rofs[k], rofs[k + 1]
+            pp, pi, pv = _segment(p_ptr, p_idx, p_val, ppofs, pnofs, k)
+            tk, xk, fk = t[lo:hi], x[lo:hi], free[lo:hi]
+            _matvec(pp, pi, pv, x[rofs[k + 1]:rofs[k + 2]], tk)
+            for i in range(hi - lo):
+                if fk[i]:
+                    xk[i] += tk[i]
+            ap, ai, av = _segment(a_ptr, a_idx, a_val, pofs, nofs, k)
+            gauss_seidel(ap, ai, av, inv_diag[lo:hi], b[lo:hi], xk, fk, False)
+        if not again:
+            return x[rofs[0]:rofs[1]]
 
 
 @njit
-def unconstrained_gap(H, S, q, steps, rtol):
+def unconstrained_gap(H, S, q, steps, rtol, visits):
     """(x, steps taken, max|A x + q| / max|q|): x ≈ −A⁻¹q, A level 0 of
     the packed hierarchy H, by conjugate gradients preconditioned with one
-    untruncated V-cycle (:func:`vcycle` with every unknown free: symmetric,
-    forward sweeps down and backward sweeps up, an exact coarsest solve),
+    untruncated cycle (:func:`cycle` with every unknown free, ``visits`` 1 a
+    V-cycle, 2 a W-cycle: symmetric, forward sweeps down and backward sweeps
+    up, an exact coarsest solve),
     until the residual is at ``rtol`` of q or after ``steps`` steps.  Leaves
     S untruncated; the first TNNMG cycle on any level truncates it afresh."""
     a_ptr, a_idx, a_val, pofs, nofs, rofs = H[0], H[1], H[2], H[3], H[4], H[17]
@@ -430,7 +450,7 @@ def unconstrained_gap(H, S, q, steps, rtol):
         scale = max(scale, abs(q[i]))
     if scale == 0.0:
         return x, 0, 0.0
-    z = vcycle(H, S, r).copy()
+    z = cycle(H, S, r, visits).copy()
     p = z.copy()
     rz = 0.0
     for i in range(n):
@@ -454,7 +474,7 @@ def unconstrained_gap(H, S, q, steps, rtol):
         res /= scale
         if res <= rtol:
             break
-        z[:] = vcycle(H, S, r)
+        z[:] = cycle(H, S, r, visits)
         rz_new = 0.0
         for i in range(n):
             rz_new += r[i] * z[i]
@@ -474,11 +494,12 @@ COARSE_SWEEPS = 8
 
 
 @njit
-def tnnmg_cycle(H, S, q, z, previous, first, residual_wanted):
+def tnnmg_cycle(H, S, q, z, previous, first, residual_wanted, visits):
     """One TNNMG cycle on LCP(A, q), A level 0 of the packed hierarchy H,
     from z (in place): a projected Gauss–Seidel sweep, the truncation at
-    the unknowns left free, the coarse operators brought to it, one V-cycle
-    for the truncated Newton correction, its projection and exact line
+    the unknowns left free, the coarse operators brought to it, one cycle
+    (``visits`` 1: a V-cycle, 2: a W-cycle; :func:`cycle`) for the
+    truncated Newton correction, its projection and exact line
     search, two projected sweeps (forward, then backward).  ``previous``
     (the set free after the last cycle) is updated.  Returns (unknowns whose
     membership in the free set changed, unknowns at the obstacle, whether the
@@ -511,7 +532,7 @@ def tnnmg_cycle(H, S, q, z, previous, first, residual_wanted):
     b0 = np.empty(n)
     for i in range(n):
         b0[i] = r[i] if f0[i] else 0.0
-    c = vcycle(H, S, b0)
+    c = cycle(H, S, b0, visits)
     num = 0.0
     cap = np.inf
     for i in range(n):

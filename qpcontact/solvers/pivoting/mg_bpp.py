@@ -39,7 +39,8 @@ taking one line per cycle and exchange).  ``stats``: ``mg_levels``,
 ``mg_cycles`` (all levels), ``mg_rebuilds`` (cycles whose truncated coarse
 operators moved), ``hierarchy`` ("given" or "aggregation"), ``shifted``,
 ``gap_steps`` and ``gap_residual`` (a plate's z_u: conjugate-gradient steps and
-the residual over ‖q‖∞ they reached), ``initial_active``,
+the residual over ‖q‖∞ they reached), ``w_cycles`` (a plate's corrections
+are W-cycles), ``initial_active``,
 ``factorizations``, ``krylov_solves``, ``block_exchanges``, ...
 """
 
@@ -100,10 +101,11 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
                                   f"{diag[i]:g} is not positive — use 'lemke'")
     stats: dict = {}
     t = time.perf_counter()
-    # a plate (not a Z-matrix) starts from the shifted coarse answers
+    # a plate (not a Z-matrix) starts from the shifted coarse answers, and
+    # its linear corrections are W-cycles (multigrid's docstring says why)
+    plate = not problem.structure.is_z_matrix
     z = multilevel_guess(M, problem.q, _hierarchy(problem, stats), cycles=cycles, stats=stats,
-                         shifted=not problem.structure.is_z_matrix,
-                         progress=progress, deadline=deadline)
+                         shifted=plate, w_cycles=plate, progress=progress, deadline=deadline)
     stats["multigrid_time"] = time.perf_counter() - t
     if deadline.expired():
         return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)

@@ -18,12 +18,29 @@ On each level, a TNNMG cycle (Gräser & Kornhuber 2009; Gräser, Sack, Sander
    converges, and it puts every component it can at the obstacle);
 2. truncation: components at the obstacle (z_i = 0) are frozen;
 3. a linear correction c for the frozen-out (truncated) Newton system
-   M_TT c_T = −(Mz + q)_T: one V-cycle whose coarse operators are the
-   Galerkin products of the *truncated* prolongations, P'TMTP (kept current:
-   the coarse rows the moved unknowns touch are recomputed each cycle);
+   M_TT c_T = −(Mz + q)_T: one V-cycle (a W-cycle on a plate, below) whose
+   coarse operators are the Galerkin products of the *truncated*
+   prolongations, P'TMTP (kept current: the coarse rows the moved unknowns
+   touch are recomputed each cycle);
 4. projection onto the feasible set (c_i >= −z_i) and an exact line search
    for the quadratic along c, capped where a component would turn negative;
 5. two projected Gauss–Seidel sweeps, forward then backward.
+
+On a plate (M not a Z-matrix) the correction of step 3 is a W-cycle: each
+coarser level visited twice.  Bilinear coarse functions with their
+transposes as restrictions have the orders 2 + 2 = 4 that a 4th-order
+operator needs, and no more (Hemker's rule asks m_P + m_R > 2m for a rate
+independent of h; here = 2m): on the 13-point biharmonic the V-cycle with
+one Gauss–Seidel sweep each way barely converges by itself, and as the
+preconditioner of z_u's conjugate gradients (below) it took 22–30 steps at
+n = 1e4 and 52–78 at 1e5.  The W-cycle (on a grid coarsened by 4, about 1.8
+V-cycles of work) takes 7–10 at both sizes (with the coarse grids
+interpolating in their nodes' true positions: formulations/meshes.py), and
+cuts the TNNMG cycles by 17–52 % at 1e4, 51–87 % at 1e5.  On a membrane
+(2nd order: 2 + 2 > 2) the V-cycle is as good, and W-cycles there cost
+1–19 % for no cycle saved.  Cubic interpolation (orders 4 + 4) cut the
+steps too, but its Galerkin operators carry 81–121 entries a row against
+25: dearer per cycle than it saved.
 
 The cycle is one compiled call (:func:`._mg_kernels.tnnmg_cycle`, the
 hierarchy packed once per solve by :class:`_Levels`); the loop over cycles,
@@ -32,7 +49,9 @@ so the iteration converges whatever the hierarchy; the hierarchy decides
 only how fast.  The iterate is a guess: "mg-bpp" hands its contact set to
 the exact block-pivoting finish.
 
-References: Kornhuber, R. (1994), Monotone multigrid methods for elliptic
+References: Hemker, P. W. (1990), On the order of prolongations and
+restrictions in multigrid procedures, J. Comput. Appl. Math. 32, 423–429;
+Kornhuber, R. (1994), Monotone multigrid methods for elliptic
 variational inequalities I, Numer. Math. 69, 167–184; Gräser, C., Kornhuber,
 R. (2009), Multigrid methods for obstacle problems, J. Comput. Math. 27,
 1–44; Vaněk, P., Mandel, J., Brezina, M. (1996), Algebraic multigrid by
@@ -82,11 +101,11 @@ DENSE_COARSEST = 800
 HELD_STOP = 5
 
 #: The shifted start's z_u = −M⁻¹q (:func:`multilevel_guess`) is solved by
-#: conjugate gradients preconditioned with the hierarchy's V-cycle
-#: (:func:`._mg_kernels.unconstrained_gap`) to GAP_RTOL of ‖q‖∞ in the
-#: residual, GAP_STEPS steps at most: a start needs no more (plates at n =
-#: 1e4: the exact z_u's cycle counts to within ±7, in 22–30 steps of ~1 ms
-#: against the LDLᵀ of M's 40–70 ms).
+#: conjugate gradients preconditioned with the hierarchy's cycle (a plate's
+#: W-cycle; :func:`._mg_kernels.unconstrained_gap`) to GAP_RTOL of ‖q‖∞ in
+#: the residual, GAP_STEPS steps at most: a start needs no more (plates at
+#: n = 1e4: the exact z_u's cycle counts to within ±7; 7–10 steps of ~1.3 ms
+#: from 1e4 to 1e5 against the LDLᵀ of M's 40–70 ms at 1e4).
 GAP_RTOL = 1e-4
 GAP_STEPS = 150
 
@@ -143,11 +162,14 @@ class _Levels:
     patterns), the prolongations and restrictions, each kind in flat arrays
     with one segment per level; and the cycles' state (the truncations, the
     inverse diagonals, work vectors, the coarsest level's dense factor).
-    :meth:`below` gives level l's view: its operator and every level under
-    it, the segments' starts being absolute."""
+    ``visits``: how many times a cycle visits each coarser level (1: V-cycles,
+    2: W-cycles; :func:`._mg_kernels.cycle`).  :meth:`below` gives level l's
+    view: its operator and every level under it, the segments' starts being
+    absolute."""
 
-    def __init__(self, operators, prolongations, restrictions):
+    def __init__(self, operators, prolongations, restrictions, visits=1):
         self.As = operators
+        self.visits = visits
         self.sizes = [A.shape[0] for A in operators]
         # where each coarse row's diagonal entry is stored (the finest
         # level is never coarse: an empty segment)
@@ -222,7 +244,8 @@ def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None):
         if deadline is not None and deadline.expired():
             break
         changed, at, moved, res = cycle_once(H, S, q, z, previous, cycle == 0,
-                                             wanted if held >= 1 or progress is not None else 0)
+                                             wanted if held >= 1 or progress is not None else 0,
+                                             levels.visits)
         stats["mg_rebuilds"] += int(moved)
         stats["mg_cycles"] += 1
         held = held + 1 if changed == 0 else 0
@@ -247,7 +270,8 @@ def _coincident(R) -> np.ndarray:
 
 
 def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, stats: dict,
-                     progress=None, shifted: bool = False, deadline=None) -> np.ndarray:
+                     progress=None, shifted: bool = False, w_cycles: bool = False,
+                     deadline=None) -> np.ndarray:
     """The nested TNNMG iterate for LCP(M, q) on the hierarchy
     ``prolongations`` (finest first; may be empty): coarsest level solved
     exactly by block pivoting, then on each finer level up to ``cycles``
@@ -265,7 +289,11 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
     answer (plate D = 1, dome, n = 1e5: no coarse answer touched the
     obstacle).  Level l solves LCP(A_l, −A_l s_l) for e_l = d_l + s_l, s_l
     the injection of z_u (:func:`_coincident`); up a level,
-    e = P(e_c − s_c) + s; on the finest level e = z."""
+    e = P(e_c − s_c) + s; on the finest level e = z.
+
+    ``w_cycles``: every linear correction (the TNNMG cycles' and z_u's
+    preconditioner) a W-cycle, each coarser level visited twice, instead of
+    a V-cycle (the module docstring says why a plate wants them)."""
     stats.setdefault("mg_cycles", 0)
     stats.setdefault("mg_rebuilds", 0)
     As, qs = [_csr(M)], [np.asarray(q, dtype=float)]
@@ -277,15 +305,17 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
     stats["mg_levels"] = L + 1
     if deadline is not None and deadline.expired():
         return np.zeros(qs[0].size)     # no guess: the caller reads the deadline too
-    levels = _Levels(As, prolongations, Rs) if L else None
+    levels = _Levels(As, prolongations, Rs, 2 if w_cycles else 1) if L else None
     shift = None
     if shifted and L:
         H, S = levels.below(0)
-        shift, steps, residual = _kernels().unconstrained_gap(H, S, qs[0], GAP_STEPS, GAP_RTOL)
+        shift, steps, residual = _kernels().unconstrained_gap(H, S, qs[0], GAP_STEPS, GAP_RTOL,
+                                                              levels.visits)
         stats.update(gap_steps=int(steps), gap_residual=float(residual))
         if not np.all(np.isfinite(shift)):    # a hierarchy whose V-cycle broke CG
             shift = None
     stats["shifted"] = shift is not None
+    stats["w_cycles"] = bool(L and w_cycles)
     shifts = [np.zeros(q.size) for q in qs]
     if shift is not None:
         shifts[0] = shift
