@@ -273,14 +273,15 @@ class _Path:
         stretches."""
         M, q, n = self.M, self.q, self.n
         mu0 = x @ s / n
-        rp0 = np.abs(s - (M @ x + q)).max()
+        # the infeasibility's scale: the start's, or the data's where the start is feasible
+        rp0 = max(np.abs(s - (M @ x + q)).max(), np.abs(q).max())
         pace = Pace(time_limit)
         short, k = 0, 0
         why = f"stopped at {max_iter} iterations"
         for k in range(1, max_iter + 1):
             rp = s - (M @ x + q)
             mu = x @ s / n
-            if mu <= CONVERGED * mu0 and np.abs(rp).max() <= CONVERGED * max(rp0, 1.0):
+            if mu <= CONVERGED * mu0 and np.abs(rp).max() <= CONVERGED * rp0:
                 why = f"converged in {k - 1} iterations"
                 break
             if not pace.fits():
