@@ -17,6 +17,7 @@ from ..method import Method
 from .fixed_points import solve_anitescu, solve_desaxce_fp, solve_desaxce_global, solve_tresca_fp
 from .newton import solve_natural_newton
 from .hybrid import solve_nsgs_newton
+from .interior_lcp import solve_ip_lcp
 from .nsgs import solve_nsgs
 
 __all__ = ["specs"]
@@ -60,6 +61,9 @@ def specs() -> list[Method]:
                algorithm="fixed point of Tresca SOCPs", **common),
         Method("newton", _run(solve_natural_newton), takes="friction",
                algorithm="semismooth Newton on the natural map", **common),
+        Method("ip-lcp", _run(solve_ip_lcp), takes="friction", problems=("friction-2d",),
+               algorithm="interior point on the 2-D LCP, its path followed past folds; "
+                         "Newton's polish", **common),
         Method("desaxce-global", _run(solve_desaxce_global, True), takes="friction-global",
                algorithm="fixed point of SOCPs in the velocities (De Saxce)", **common),
     ]

@@ -1,0 +1,419 @@
+r"""Frictional contact in 2-D by an interior-point method on its LCP, the
+central path followed past its folds ("ip-lcp").
+
+**The problem.**  In 2-D Coulomb's law is an LCP
+(:func:`qpcontact.core.friction_problem.faceted_lcp` with k = 2): per contact
+z = (r_N, β⁺, β⁻, λ) — the normal impulse and the two friction parts
+(N·s, or N·s/m in 2-D: r_T = β⁺ − β⁻), the slip speed λ (m/s) — and
+
+    w = (u_N,  λ + u_T,  λ − u_T,  μ r_N − β⁺ − β⁻) = M z + q,   z, w >= 0,   z ∘ w = 0,
+
+u = W r + q the local velocities (m/s).  Each product z_i w_i is an impulse
+times a speed (N·s · m/s, J per step).
+
+**The path.**  From a start (x⁰, s⁰) > 0 (the z's and w's; below), the
+infeasible central path is, for θ in (0, 1],
+
+    x ∘ s = θ c,   s = M x + q + θ r⁰,   x, s > 0,    c = x⁰ ∘ s⁰,  r⁰ = s⁰ − M x⁰ − q:
+
+at θ = 1 the start, and every limit point as θ → 0 solves the LCP.
+Mehrotra's predictor–corrector steps along it (Wright, *Primal-dual
+interior-point methods*, 1997, ch. 10 and 11): per iteration one sparse LU of
+M + X⁻¹S (SuperLU, COLAMD: the contact graph's sparsity, four unknowns per
+contact) and two solves; the step stays in the neighbourhood x_i s_i >=
+10⁻³ mean(x ∘ s).  The infeasibility falls by exactly 1 − α at a step of
+length α, so every iterate lies *on* the path of its own weights
+c = x ∘ s / θ.  The start is the problem's own scale: impulses F = ‖q‖∞ /
+median(W_nn), speeds V = ‖q‖∞ (x⁰ = F for r_N, β±, V for λ; s⁰ = V for the
+velocity rows, F for the friction-limit row), so that c = F V for every
+pair and the path does not depend on the units.
+
+**Why the path folds.**  For a monotone M (the frictionless pile: M = PSD +
+skew) the path goes to θ = 0 without turning back, and Mehrotra needs 20–40
+iterations whatever the pile's size.  M is not monotone, and where the pile is
+hyperstatic it is not even P0: for contacts i, j the principal minor on
+(r_N,i, r_N,j, β⁺_j, λ_j) is
+
+    (W_ii W_jj − W_ij²) + μ_j (W_ii W_j,tj − W_ij W_i,tj)
+
+(normal entries W_ii, W_ij; W_j,tj the coupling of j's normal to its own
+tangent, W_i,tj to i's normal), whose first term vanishes for contacts that
+the pile couples rigidly, the second has either sign.  Then the path can turn
+back — θ has a local minimum along it, a *fold* — and Mehrotra's long steps
+land beyond it: its steps collapse (on the 1 941-contact compact pile of seed
+0 to 1e-5 of the way to the boundary, at a mean complementarity of 4e-6 from
+two different starts).  Centring steps do not help there: below the fold the
+path has no point near the iterate.
+
+**Past a fold.**  Where two steps in a row go less than 5 % of the way, the
+path through the current iterate is followed by pseudo-arclength continuation
+(Keller) in y = (log x, log θ) — log x keeps x > 0 whatever the step, and on
+the path s = θ c / x > 0 — on
+
+    F(y) = x ∘ s / (θ c) − 1 = 0:
+
+the predictor along the unit tangent, the corrector Newton's method on F with
+the arclength condition, both through the bordered matrix
+[[∂F/∂log x, ∂F/∂log θ], [tangentᵀ]] solved by block elimination on the LU of
+∂F/∂log x = diag(1/θc) (S + X M) X (the sparsity of M + X⁻¹S; the bordered
+matrix's dense row and column made its own LU ten times dearer) with one
+step of refinement.  The corrector stops inside the neighbourhood
+‖F‖∞ <= 0.3, not on the path: a path-following method needs no more, and a
+looser one (0.5) let the tracker jump between branches.  The step grows by
+1.5 after a one-iteration corrector and halves where the corrector fails.
+θ may rise (the fold) and fall again; once it is 0.3 of where the stretch
+began, Mehrotra takes over.  A stretch gives up where θ grows past RUNAWAY
+times its start (the path running away: a 361-contact pile of seed 1 did)
+or after MAX_PATH_STEPS steps.  Measured on the 1 941-contact compact pile of
+seed 0 (docs/dev-notes.md, "Dense 2-D piles by interior point"): two
+stretches, 474 steps, 12 turns, 32 s of CPU; most piles need none.
+
+**The linear algebra.**  Every system is (M + diag(d)) u = g, d = s/x > 0.
+Per contact, with (a, b) the normal and tangent rows of W dr (dr = (dr_N,
+dr_T), dr_T = dβ⁺ − dβ⁻), the rows read a + d_N dr_N = g_N, ±b + dλ + d_±
+dβ± = g_±, μ dr_N − dβ⁺ − dβ⁻ + d_λ dλ = g_λ; eliminating dβ±, dλ leaves
+(W + L) dr = rhs with L block-diagonal, per contact [[d_N, 0], [−μ Δ/(K G),
+1/G]] (P = 1/d_+, Q = 1/d_−, Δ = P − Q, K = d_λ + P + Q, G = ((P + Q) d_λ +
+4PQ)/K > 0): one LU of W's pattern, half the unknowns of M's (15.9 s of CPU
+against 32.8 s on the 1 941-contact pile of seed 2, the same 263 path
+steps).  The eliminated parts come back from whichever of their rows is
+well conditioned (a part's own row where its d is at least W's tangent
+diagonal, else β⁺ + β⁻ from the λ row and β⁺ − β⁻ = dr_T), and one step of
+refinement on M + diag(d) follows: backward errors 1e-16 for d spread over
+1e±12, as the full LU's.
+
+**The answer.**  r = (r_N, β⁺ − β⁻) from the last iterate, entries below
+1e-10 of the largest set to zero (the interior point's zeros are θ-sized),
+r_T clipped to the cone, then semismooth Newton
+(:func:`~qpcontact.solvers.friction.newton.solve_natural_newton`) polishes
+it; the better-certified of the two points is returned.  On a hyperstatic
+pile the forces are not unique: the interior point tends to a point inside
+the solution set, not to a vertex as Lemke's method does.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from ...core.deadline import Pace
+from ...core.errors import InvalidOptionError
+from ...core.friction_problem import faceted_lcp
+from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
+from ...judge.friction_certificate import certified_error
+from .newton import solve_natural_newton
+
+__all__ = ["solve_ip_lcp", "IP_LCP_OPTIONS", "CENTRALITY", "SHORT_STEP", "NEIGHBOURHOOD",
+           "STRETCH_GOAL", "RUNAWAY", "MAX_PATH_STEPS"]
+
+IP_LCP_OPTIONS = (
+    Option("max_iter", 200, "int", low=1,
+           doc="Mehrotra iterations at most (the followed stretches of the path not counted)"),
+    PROGRESS, TIME_LIMIT,
+)
+
+#: Mehrotra's steps keep x_i s_i >= CENTRALITY · mean(x ∘ s)
+CENTRALITY = 1e-3
+#: a Mehrotra step shorter than this (of the way to the boundary) is short;
+#: two in a row start a followed stretch of the path
+SHORT_STEP = 0.05
+#: the followed path's corrector stops at ‖x ∘ s / (θ c) − 1‖∞ <= NEIGHBOURHOOD
+NEIGHBOURHOOD = 0.3
+#: a followed stretch ends where θ is this fraction of where it began
+STRETCH_GOAL = 0.3
+#: a followed stretch gives up where θ exceeds this multiple of where it began
+RUNAWAY = 1e3
+#: or after this many steps
+MAX_PATH_STEPS = 2000
+#: the interior point's converged measure: mean(x ∘ s) and the infeasibility
+#: below this fraction of their starting values
+CONVERGED = 1e-13
+
+
+def solve_ip_lcp(problem, tol, options):
+    """The 2-D frictional problem by interior point on its LCP, folds of the
+    central path followed by arclength, Newton's polish (module docstring).
+    Options (:data:`IP_LCP_OPTIONS`): ``max_iter`` (200 Mehrotra
+    iterations), ``progress``, ``time_limit`` (s).  Returns (r, status,
+    message, stats)."""
+    opts = read_options("ip-lcp", options, IP_LCP_OPTIONS)
+    if problem.dim != 2:
+        raise InvalidOptionError("ip-lcp solves 2-D problems (their exact LCP); 3-D cones are "
+                                 "not polyhedral")
+    start = time.perf_counter()
+    time_limit, progress = opts["time_limit"], opts["progress"]
+    nc = problem.n_contacts
+    stats = {"iterations": 0, "path_stretches": 0, "path_steps": 0, "folds": 0,
+             "factorizations": 0}
+    if nc == 0:
+        return np.zeros(0), "solved", "no contacts", stats
+    lcp, D = faceted_lcp(problem, 2)
+    M, q = sp.csc_matrix(lcp.M), np.asarray(lcp.q, float)
+    x, s = _start(problem, q)
+    path = _Path(M, q, sp.csr_matrix(problem.W), problem.mu, stats, progress)
+    x, s, why = path.follow(x, s, opts["max_iter"], time_limit)
+    r = np.asarray(D @ x[nc:3 * nc]).ravel()
+    r[0::2] = x[:nc]
+    if not np.all(np.isfinite(r)):
+        return None, "stopped", f"interior point on the 2-D LCP: {why}, at no finite point", stats
+    r[np.abs(r) < 1e-10 * np.abs(r).max(initial=0.0)] = 0.0
+    bound = problem.mu * r[0::2]
+    r[1::2] = np.clip(r[1::2], -bound, bound)
+    before = certified_error(problem, r)
+    message = f"interior point on the 2-D LCP: {why}"
+    left = None if time_limit is None else time_limit - (time.perf_counter() - start)
+    if before > tol and (left is None or left > 0):
+        rn, _, _, nstats = solve_natural_newton(problem, tol, {"r0": r, "max_iter": 30,
+                                                               "time_limit": left})
+        stats["polish_iterations"] = nstats.get("iterations")
+        after = certified_error(problem, rn) if rn is not None else np.inf
+        if after < before:
+            r, before = rn, after
+            message += (f"; polished by Newton from its purified point "
+                        f"({nstats.get('iterations')} iterations)")
+        else:
+            message += f"; a Newton polish did not improve it (error {after:.1e})"
+    return r, "solved" if before <= tol else "stopped", message, stats
+
+
+def _start(problem, q):
+    """(x⁰, s⁰) on the problem's scale (module docstring): every pair's
+    product F V."""
+    nc = problem.n_contacts
+    V = float(np.abs(q).max()) or 1.0
+    wn = np.abs(np.asarray(problem.W_diagonal, float)[0::2])
+    F = V / (float(np.median(wn[wn > 0])) if np.any(wn > 0) else 1.0)
+    x = np.concatenate([np.full(3 * nc, F), np.full(nc, V)])
+    s = np.concatenate([np.full(3 * nc, V), np.full(nc, F)])
+    return x, s
+
+
+def _max_step(x, s, dx, ds) -> float:
+    """The largest α with x + α dx >= 0 and s + α ds >= 0 (inf if none
+    bounds it)."""
+    a = np.inf
+    for v, d in ((x, dx), (s, ds)):
+        neg = d < 0
+        if neg.any():
+            a = min(a, float(np.min(-v[neg] / d[neg])))
+    return a
+
+
+class _Condensed:
+    """(M + diag(d)) u = g for the 2-D LCP's M, d > 0, by eliminating each
+    contact's β±, λ (module docstring, "The linear algebra"): one LU of
+    W + L, L block-diagonal 2 × 2, then one step of refinement on M + diag(d)."""
+
+    def __init__(self, M, W, mu, d, stats):
+        import scipy.sparse.linalg as spla   # here: `import qpcontact` stays cheap
+
+        nc = mu.size
+        self.M, self.W, self.mu, self.d, self.nc = M, W, mu, d, nc
+        dn, dp, dm, dl = d[:nc], d[nc:3 * nc:2], d[nc + 1:3 * nc:2], d[3 * nc:]
+        P, Q = 1.0 / dp, 1.0 / dm
+        K = dl + P + Q
+        G = ((P + Q) * dl + 4.0 * P * Q) / K
+        self.P, self.Q, self.K, self.G, self.dl = P, Q, K, G, dl
+        # the coefficients of h_t, each a quotient of positive sums (no cancellation)
+        self.cp, self.cm, self.cl = P * (dl + 2.0 * Q) / K, Q * (dl + 2.0 * P) / K, (P - Q) / K
+        # which friction part is found from its own row: the one whose pivot d is large
+        wt = np.abs(np.asarray(W.diagonal())[1::2])
+        self.p_own, self.m_own = dp >= wt, dm >= wt
+        blocks = np.zeros((nc, 2, 2))
+        blocks[:, 0, 0] = dn
+        blocks[:, 1, 0] = -self.cl * mu / G
+        blocks[:, 1, 1] = 1.0 / G
+        L = sp.bsr_matrix((blocks, np.arange(nc), np.arange(nc + 1)), shape=(2 * nc, 2 * nc))
+        stats["factorizations"] += 1
+        self.lu = spla.splu(sp.csc_matrix(W + L), permc_spec="COLAMD")
+
+    def _once(self, g):
+        nc, mu = self.nc, self.mu
+        gn, gp, gm, gl = g[:nc], g[nc:3 * nc:2], g[nc + 1:3 * nc:2], g[3 * nc:]
+        rhs = np.empty(2 * nc)
+        rhs[0::2] = gn
+        rhs[1::2] = (self.cp * gp - self.cm * gm - self.cl * gl) / self.G
+        dr = self.lu.solve(rhs)
+        n, t = dr[0::2], dr[1::2]
+        b = np.asarray(self.W @ dr).ravel()[1::2]
+        l = (gl - mu * n - (self.P - self.Q) * b) / self.K + (self.P / self.K) * gp \
+            + (self.Q / self.K) * gm
+        total = mu * n + self.dl * l - gl           # β⁺ + β⁻, from the λ row
+        p, m = 0.5 * (total + t), 0.5 * (total - t)
+        own_p = (gp - b - l) * self.P
+        own_m = (gm + b - l) * self.Q
+        p = np.where(self.p_own, own_p, np.where(self.m_own, t + own_m, p))
+        m = np.where(self.m_own, own_m, np.where(self.p_own, own_p - t, m))
+        u = np.empty(4 * nc)
+        u[:nc], u[nc:3 * nc:2], u[nc + 1:3 * nc:2], u[3 * nc:] = n, p, m, l
+        return u
+
+    def solve(self, g):
+        u = self._once(g)
+        return u + self._once(g - (self.M @ u + self.d * u))
+
+
+class _Path:
+    """Mehrotra's steps, and the stretches of path followed by arclength
+    where they collapse (module docstring)."""
+
+    def __init__(self, M, q, W, mu, stats, progress):
+        self.M, self.q, self.n = M, q, q.size
+        self.W, self.mu = W, mu
+        self.stats, self.progress = stats, progress
+
+    def _lu(self, d):
+        """The solver of (M + diag(d)) u = g."""
+        return _Condensed(self.M, self.W, self.mu, d, self.stats)
+
+    def follow(self, x, s, max_iter, time_limit):
+        """(x, s, why it stopped) after Mehrotra's steps and the followed
+        stretches."""
+        M, q, n = self.M, self.q, self.n
+        mu0 = x @ s / n
+        # the infeasibility's scale: the start's, or the data's where the start is feasible
+        rp0 = max(np.abs(s - (M @ x + q)).max(), np.abs(q).max())
+        pace = Pace(time_limit)
+        short, k = 0, 0
+        why = f"stopped at {max_iter} iterations"
+        for k in range(1, max_iter + 1):
+            rp = s - (M @ x + q)
+            mu = x @ s / n
+            if mu <= CONVERGED * mu0 and np.abs(rp).max() <= CONVERGED * rp0:
+                why = f"converged in {k - 1} iterations"
+                break
+            if not pace.fits():
+                why = "stopped at its time limit"
+                break
+            if short >= 2:
+                # a fold: follow the path through this point past it
+                x, s = self._stretch(x, s, pace)
+                short = 0
+                pace.step_done()
+                continue
+            a, x, s = self._mehrotra(x, s, rp, mu)
+            short = short + 1 if a < SHORT_STEP else 0
+            pace.step_done()
+            if self.progress is not None:
+                self.progress(f"ip-lcp: iteration {k}: mean complementarity {mu:.2e}, "
+                              f"infeasibility {np.abs(rp).max():.2e}, step {a:.2g}")
+        self.stats["iterations"] = k
+        self.stats["complementarity"] = float(x @ s / n)
+        return x, s, why
+
+    def _mehrotra(self, x, s, rp, mu):
+        """One predictor–corrector step (falling back to centring steps of
+        σ = 0.3 and 0.8 where the corrected one is short): (α, x, s)."""
+        M, n = self.M, self.n
+        lu = self._lu(s / x)
+
+        def direction(rc):
+            dx = lu.solve(rc / x + rp)
+            return dx, M @ dx - rp
+
+        dx, ds = direction(-x * s)
+        a_aff = min(1.0, _max_step(x, s, dx, ds))
+        mu_aff = (x + a_aff * dx) @ (s + a_aff * ds) / n
+        sigma = min(1.0, (mu_aff / mu) ** 3)
+        ex, es = direction(sigma * mu - x * s - dx * ds)
+        a = 0.0
+        for fallback in (None, 0.3, 0.8):
+            if fallback is not None:
+                ex, es = direction(fallback * mu - x * s)
+            a = min(1.0, 0.99 * _max_step(x, s, ex, es))
+            while a > 1e-8:
+                xn, sn = x + a * ex, s + a * es
+                if (xn * sn).min() >= CENTRALITY * (xn @ sn) / n:
+                    break
+                a *= 0.7
+            if a >= SHORT_STEP:
+                break
+        if a <= 1e-8:
+            return 0.0, x, s
+        return a, x + a * ex, s + a * es
+
+    def _stretch(self, x, s, pace):
+        """Pseudo-arclength continuation of x ∘ s = θ c, s = M x + q + θ r⁰
+        through (x, s) at θ = 1, in y = (log x, log θ), until θ <=
+        STRETCH_GOAL (module docstring): the point where it ends."""
+        M, q, n, stats = self.M, self.q, self.n, self.stats
+        c = x * s
+        r0 = s - (M @ x + q)
+        e = np.zeros(n + 1)
+        e[n] = 1.0
+        goal = np.log(STRETCH_GOAL)
+
+        def residual(y):
+            xx, th = np.exp(y[:n]), np.exp(y[n])
+            ss = M @ xx + q + th * r0
+            return xx * ss / (th * c) - 1.0, xx, ss, th
+
+        lu_of = self._lu
+
+        class Bordered:
+            """[[A, b], [tᵀ, t_n]] (A = ∂F/∂log x, b = ∂F/∂log θ) by block
+            elimination on the LU of M + X⁻¹S: A = diag(1/θc) X (M + X⁻¹S) X."""
+
+            def __init__(self, y, t):
+                f, xx, ss, th = residual(y)
+                self.xx, self.scale, self.t = xx, th * c, t
+                self.lu = lu_of(ss / xx)
+                self.A = sp.diags(xx / self.scale) @ (M + sp.diags(ss / xx)) @ sp.diags(xx)
+                self.b = xx * r0 / c - (f + 1.0)
+                self.w = self._a(self.b)
+                self.den = t[n] - t[:n] @ self.w
+
+            def _a(self, f):
+                return self.lu.solve(f * self.scale / self.xx) / self.xx
+
+            def _once(self, rhs):
+                u = self._a(rhs[:n])
+                v = (rhs[n] - self.t[:n] @ u) / self.den
+                return np.concatenate([u - v * self.w, [v]])
+
+            def solve(self, rhs):
+                u = self._once(rhs)
+                res = rhs - np.concatenate([self.A @ u[:n] + self.b * u[n], [self.t @ u]])
+                return u + self._once(res)
+
+        y = np.concatenate([np.log(x), [0.0]])
+        t = -e
+        tangent = Bordered(y, t).solve(e)
+        t = tangent / np.linalg.norm(tangent)
+        if t[n] > 0:
+            t = -t
+        h, steps, folds, falling = 1.0, 0, 0, True
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            # the path may also run away (θ growing without a turn: no
+            # solution reached this way); a stretch is bounded in steps and θ
+            while (y[n] > goal and y[n] < np.log(RUNAWAY) and steps < MAX_PATH_STEPS
+                   and h >= 1e-6 and pace.fits()):
+                yp = y + h * t
+                B = Bordered(yp, t)
+                z, (f, *_), it = yp.copy(), residual(yp), 0
+                while not np.abs(f).max() <= NEIGHBOURHOOD and it < 4:
+                    z = z + B.solve(-np.concatenate([f, [t @ (z - yp)]]))
+                    f, it = residual(z)[0], it + 1
+                pace.step_done()
+                if not np.abs(f).max() <= NEIGHBOURHOOD:
+                    h *= 0.5
+                    continue
+                tangent = B.solve(e)
+                tn = tangent / np.linalg.norm(tangent)
+                if tn @ t < 0:
+                    tn = -tn
+                if (tn[n] < 0) != falling:
+                    folds += 1
+                    falling = tn[n] < 0
+                y, t, steps = z, tn, steps + 1
+                h *= 1.5 if it <= 1 else 1.0 if it == 2 else 0.7
+        _, xx, ss, th = residual(y)
+        stats["path_stretches"] += 1
+        stats["path_steps"] += steps
+        stats["folds"] += folds
+        if self.progress is not None:
+            self.progress(f"ip-lcp: followed the path past a fold: {steps} steps, {folds} "
+                          f"turns, θ {th:.2g} of where it began")
+        return xx, ss

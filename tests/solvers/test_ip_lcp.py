@@ -1,0 +1,77 @@
+"""ip-lcp: the 2-D frictional LCP by interior point, its central path followed
+past its folds (qpcontact/solvers/friction/interior_lcp.py).  References from
+outside the method: planted solutions, Lemke's exact answer, Coulomb's law
+written out here."""
+
+import numpy as np
+import pytest
+
+import qpcontact
+from qpcontact.cases.piles import disc_pile
+from qpcontact.cases.planted_friction import build_friction
+from qpcontact.core.errors import InvalidOptionError, QpcontactError
+
+
+def _coulomb_violation(p, r, scale):
+    """The largest violation of Coulomb's law and Signorini's condition over
+    the contacts, in force units relative to ``scale`` (written out here,
+    not the judge's)."""
+    u = np.asarray(p.W @ r).ravel() + p.q
+    rn, rt, un, ut = r[0::2], r[1::2], u[0::2], u[1::2]
+    wn = p.W.diagonal()[0::2]
+    vn, vt = un / wn, ut / wn                       # speeds as forces, each contact's scale
+    worst = [np.maximum(-rn, 0), np.maximum(np.abs(rt) - p.mu * rn, 0),
+             np.maximum(-vn, 0), np.minimum(rn, np.maximum(vn, 0)),
+             # sliding: friction at the cone's edge, against the slip
+             np.where(np.abs(vt) > 1e-9 * scale, np.abs(rt + p.mu * rn * np.sign(vt)), 0.0)]
+    return max(float(w.max()) for w in worst) / scale
+
+
+def test_a_compact_pile_whose_path_folds_is_certified():
+    """182 contacts, hyperstatic: Mehrotra's steps collapse and the path is
+    followed past its turns; the answer satisfies Coulomb's law."""
+    p = disc_pile(200, seed=7, agitation=0.1, polydispersity=0.005).problem
+    s = qpcontact.solve(p, "ip-lcp", accuracy=1e-8)
+    assert s.ok, s.message
+    assert s.stats["path_stretches"] >= 1 and s.stats["folds"] >= 1
+    scale = np.abs(s.r).max()
+    assert _coulomb_violation(p, s.r, scale) <= 1e-8
+
+
+def test_a_loose_pile_needs_no_followed_path():
+    p = disc_pile(400, seed=3, agitation=0.1, polydispersity=0.02).problem
+    s = qpcontact.solve(p, "ip-lcp", accuracy=1e-8)
+    assert s.ok, s.message
+    assert s.stats["path_stretches"] == 0 and s.stats["iterations"] <= 60
+    assert _coulomb_violation(p, s.r, np.abs(s.r).max()) <= 1e-8
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_unique_forces_match_the_planted_ones_and_lemkes(seed):
+    """Decoupled contacts: the solution is unique, planted; Lemke's exact
+    answer is the second reference."""
+    case = build_friction("decoupled", 30, seed, dim=2)
+    s = qpcontact.solve(case.problem, "ip-lcp", accuracy=1e-10)
+    lemke = qpcontact.solve(case.problem, "lemke", accuracy=1e-10)
+    assert s.ok and lemke.ok, (s.message, lemke.message)
+    assert case.agrees(s.r, rtol=1e-8)
+    np.testing.assert_allclose(s.r, lemke.r, atol=1e-9 * np.abs(lemke.r).max())
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_coupled_planted_problems_satisfy_coulombs_law(seed):
+    case = build_friction("mixed", 40, seed, dim=2)
+    s = qpcontact.solve(case.problem, "ip-lcp", accuracy=1e-9)
+    assert s.ok, s.message
+    assert case.agrees(s.r)
+
+
+def test_3d_problems_and_unknown_options_are_refused():
+    p3 = build_friction("mixed", 5, 0, dim=3).problem
+    with pytest.raises(QpcontactError):
+        qpcontact.solve(p3, "ip-lcp")
+    p2 = build_friction("mixed", 5, 0, dim=2).problem
+    with pytest.raises(InvalidOptionError, match="does not take sweeps"):
+        qpcontact.solve(p2, "ip-lcp", sweeps=3)
+    with pytest.raises(InvalidOptionError, match="max_iter"):
+        qpcontact.solve(p2, "ip-lcp", max_iter=0)
