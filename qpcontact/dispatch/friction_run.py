@@ -3,7 +3,8 @@ problem's faceted LCP), certify the reactions from the data, name the outcome;
 and "auto"'s chain of such runs on one time budget.
 
 "auto" (:func:`run_friction_auto`) tries :func:`~.routes.auto_chain`'s links in
-order.  Each link gets half of the time left (the last one all of it), a
+order.  Each link gets half of the time left (the last one all of it; 2-D
+chains above 200 contacts: :func:`~.routes.link_share`), a
 share of the run context's deadline: the iterative links check it between
 iterations, Lemke at each pivot.  Every link's answer is
 certified; the first certified one is returned, else the best-certified
@@ -28,7 +29,7 @@ from ..proofs.exact import Proof
 from ..solvers.method import PROBLEM_KINDS, Method
 from ..solvers.registry import get_method
 from .calls import call
-from .routes import auto_chain, auto_progress, kind_of, link_options
+from .routes import auto_chain, auto_progress, kind_of, link_options, link_share
 
 __all__ = ["run_friction", "run_friction_auto", "check_friction_method"]
 
@@ -155,7 +156,7 @@ def run_friction_auto(problem, options: dict, ctx, engine) -> FrictionSolution:
             lines.append(f"{m.name}: not run ({max(ctx.left(), 0.0):.2g} s of the time limit of "
                          f"{ctx.time_limit:g} s was left)")
             continue
-        link = ctx.share(1.0 if k == len(chain) - 1 else 0.5)
+        link = ctx.share(link_share(problem, m.name, k == len(chain) - 1))
         share = link.left()
         opts = link_options(options, m.name, progress, share)
         if m.name == "newton" and best is not None and best.r is not None:

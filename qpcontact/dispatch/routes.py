@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 
 __all__ = ["AUTO_ORDER", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
            "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS", "auto_progress",
-           "link_options",
+           "link_options", "link_share", "SHARES_2D",
            "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
@@ -148,9 +148,29 @@ def auto_chain(problem) -> tuple:
         # in 3-D Newton from NSGS's best point next: it certified the
         # 540-contact compact sphere pile where NSGS + Newton stopped at 2e-5,
         # and De Saxcé's SOCPs stall on piles (9.5e-4 at 540 contacts)
-        head = ("nsgs-newton",) if problem.dim == 2 else ("nsgs-newton", "newton")
+        # in 2-D the interior point on the exact LCP next (link_share): it
+        # certifies dense piles where the sweeps stall
+        head = ("nsgs-newton", "ip-lcp") if problem.dim == 2 else ("nsgs-newton", "newton")
         chain = head + tuple(m for m in chain if m not in head)
     return chain
+
+
+#: the shares of the time left that "auto" gives a 2-D chain's first two
+#: links above LEMKE_FIRST_MAX_CONTACTS (the others: half, the last all):
+#: NSGS + Newton certifies loose piles and the collection's granular files in
+#: 0.01-2.3 s and otherwise stalls (the 1 941-contact compact pile: 2.4e-5
+#: after its 30 s); ip-lcp's path past its folds takes 16-32 s of CPU there
+#: (docs/dev-notes.md, "Dense 2-D piles by interior point")
+SHARES_2D = {"nsgs-newton": 0.1, "ip-lcp": 0.8}
+
+
+def link_share(problem, name: str, last: bool) -> float:
+    """The fraction of the time left that "auto" gives its link ``name``."""
+    if last:
+        return 1.0
+    if problem.dim == 2 and problem.n_contacts > LEMKE_FIRST_MAX_CONTACTS:
+        return SHARES_2D.get(name, 0.5)
+    return 0.5
 
 
 def kind_of(problem) -> str:

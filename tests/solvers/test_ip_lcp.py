@@ -75,3 +75,20 @@ def test_3d_problems_and_unknown_options_are_refused():
         qpcontact.solve(p2, "ip-lcp", sweeps=3)
     with pytest.raises(InvalidOptionError, match="max_iter"):
         qpcontact.solve(p2, "ip-lcp", max_iter=0)
+
+
+def test_auto_certifies_a_dense_pile_its_sweeps_do_not():
+    """A 662-contact compact pile: NSGS + Newton stops short of 1e-8 within
+    its tenth of "auto"'s budget, and "auto" goes on to ip-lcp, whose answer
+    satisfies Coulomb's law."""
+    from qpcontact.dispatch.routes import auto_chain, link_share
+
+    p = disc_pile(700, seed=0, agitation=0.1, polydispersity=0.005).problem
+    assert auto_chain(p)[:2] == ("nsgs-newton", "ip-lcp")
+    assert link_share(p, "nsgs-newton", False) < link_share(p, "ip-lcp", False)
+    sweeps = qpcontact.solve(p, "nsgs-newton", accuracy=1e-8, time_limit=6)
+    s = qpcontact.solve(p, "auto", accuracy=1e-8)
+    assert s.ok, s.message
+    assert _coulomb_violation(p, s.r, np.abs(s.r).max()) <= 1e-8
+    if not sweeps.ok:       # the route this test is about
+        assert s.method == "ip-lcp", s.message
