@@ -551,8 +551,8 @@ def test_a_load_on_a_free_motion_without_contacts_has_no_equilibrium():
 
 
 # the two granular-flow files take 17-30 s of Lemke each (make test-all);
-# "auto" reaches Lemke on the 2 020-contact one in make test
-# (test_auto_goes_on_to_lemke_where_nsgs_stalls)
+# Lemke on the 2 020-contact one also runs in
+# test_auto_goes_on_to_the_interior_point_where_nsgs_stalls
 TWO_D = SMALL_2D + [pytest.param("fc2d_granularflowonwall_00667_00000.dat", marks=pytest.mark.slow),
                     pytest.param("fc2d_granularflowonwall_02020_00213.dat", marks=pytest.mark.slow),
                     "gfc2d_granularflowonwall_00000_00117.dat"]
@@ -574,7 +574,7 @@ def test_every_2d_shared_problem_is_solved_by_lemke(name):
 
 @needs_data
 @pytest.mark.slow   # two Lemke solves of 8 080 unknowns (33 s); the polish itself runs in
-# make test inside test_auto_goes_on_to_lemke_where_nsgs_stalls
+# test_auto_goes_on_to_the_interior_point_where_nsgs_stalls
 def test_a_basic_solution_at_rounding_level_contacts_is_polished():
     """On the 2020-contact file q holds rounding residues (1e-17) beside
     forces of 1e-3; Lemke's basic solution, exact in the natural-map measure,
@@ -596,13 +596,16 @@ def test_a_basic_solution_at_rounding_level_contacts_is_polished():
 
 @needs_data
 @pytest.mark.slow
-def test_auto_goes_on_to_lemke_where_nsgs_stalls():
+def test_auto_goes_on_to_the_interior_point_where_nsgs_stalls():
     """2020 contacts: NSGS + Newton first (above 200 contacts), which stalls
-    near 4e-7 on this file; then the exact route certifies, and the message
-    names both links with their times."""
+    near 4e-7 on this file; then ip-lcp certifies (the answer checked by the
+    error function written here), and the message names both links with
+    their times.  Lemke, the exact route "auto" took here before, certifies
+    it too, its basic solution polished."""
     p, s, _ = _solved_by_auto("fc2d_granularflowonwall_02020_00213.dat")
-    assert s.method == "lemke" and _tried(s) == ["nsgs-newton", "lemke"], s.message
-    assert "links: nsgs-newton: error" in s.message and "lemke: error" in s.message
+    assert s.method == "ip-lcp" and _tried(s) == ["nsgs-newton", "ip-lcp"], s.message
+    assert "links: nsgs-newton: error" in s.message and "ip-lcp: error" in s.message
     # Lemke's basic solution misses the rounding-level contacts and is polished
     # (the polish's must-fail half is test_a_basic_solution_..._is_polished, slow)
-    assert "polished by Newton" in s.message, s.message
+    lemke = qpcontact.solve(p, "lemke", accuracy=1e-8, time_limit=None)
+    assert lemke.ok and "polished by Newton" in lemke.message, lemke.message
