@@ -107,7 +107,6 @@ class _ProductFormBasis:
         self.other = np.flatnonzero(~covered)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", sp.SparseEfficiencyWarning)
-            B = sp.csc_matrix(columns[:, basis])
             C = sp.csc_matrix(columns[:, basis[self.rest]])
             self.C1 = sp.csr_matrix(C[self.covered, :])
             self.C1T = self.C1.T.tocsr()
@@ -118,7 +117,6 @@ class _ProductFormBasis:
                 self.lu = spla.splu(C2)
             except RuntimeError as exc:   # "exactly singular", or SuperLU's panel failure on one
                 raise SingularBasis(str(exc)) from None
-        self.B = B
         self.etas: list[tuple[int, np.ndarray]] = []
 
     def _solve0(self, v: np.ndarray) -> np.ndarray:
@@ -273,9 +271,12 @@ def _finish(columns, basis, q, n, pivots) -> LemkeOutcome:
     """The complementary basis's values from a fresh factorization, refined
     twice against w - M z = q."""
     F = _ProductFormBasis(columns, basis)
+    with warnings.catch_warnings():       # the residual's basis, made here only
+        warnings.simplefilter("ignore", sp.SparseEfficiencyWarning)
+        B = sp.csc_matrix(columns[:, basis])
     x = F.solve(q)
     for _ in range(2):
-        x += F.solve(q - F.B @ x)
+        x += F.solve(q - B @ x)
     is_z = basis >= n
     z = np.zeros(n)
     z[basis[is_z] - n] = np.maximum(x[is_z], 0.0)
