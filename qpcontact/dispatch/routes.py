@@ -143,8 +143,7 @@ def auto_chain(problem) -> tuple:
     if not problem.is_reduced:
         return GLOBAL_CHAIN
     chain = AUTO_CHAIN[problem.dim]
-    first = LEMKE_FIRST_MAX_CONTACTS + 1 if problem.dim == 2 else NSGS_FIRST_3D
-    if problem.n_contacts >= first:
+    if _sweeps_first(problem):
         # in 3-D Newton from NSGS's best point next: it certified the
         # 540-contact compact sphere pile where NSGS + Newton stopped at 2e-5,
         # and De Saxcé's SOCPs stall on piles (9.5e-4 at 540 contacts)
@@ -168,9 +167,16 @@ def link_share(problem, name: str, last: bool) -> float:
     """The fraction of the time left that "auto" gives its link ``name``."""
     if last:
         return 1.0
-    if problem.dim == 2 and problem.n_contacts > LEMKE_FIRST_MAX_CONTACTS:
+    if problem.dim == 2 and _sweeps_first(problem):
         return SHARES_2D.get(name, 0.5)
     return 0.5
+
+
+def _sweeps_first(problem) -> bool:
+    """Whether "auto"'s chain for a reduced problem starts with NSGS + Newton
+    (above LEMKE_FIRST_MAX_CONTACTS contacts in 2-D, from NSGS_FIRST_3D in 3-D)."""
+    first = LEMKE_FIRST_MAX_CONTACTS + 1 if problem.dim == 2 else NSGS_FIRST_3D
+    return problem.n_contacts >= first
 
 
 def kind_of(problem) -> str:
