@@ -103,6 +103,7 @@ from ...core.errors import InvalidOptionError
 from ...core.friction_problem import faceted_lcp
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...judge.friction_certificate import certified_error
+from .lcp_route import purified, reactions_of
 from .newton import solve_natural_newton
 
 __all__ = ["solve_ip_lcp", "IP_LCP_OPTIONS", "CENTRALITY", "SHORT_STEP", "NEIGHBOURHOOD",
@@ -154,13 +155,10 @@ def solve_ip_lcp(problem, tol, options):
     x, s = _start(problem, q)
     path = _Path(M, q, sp.csr_matrix(problem.W), problem.mu, stats, progress)
     x, s, why = path.follow(x, s, opts["max_iter"], time_limit)
-    r = np.asarray(D @ x[nc:3 * nc]).ravel()
-    r[0::2] = x[:nc]
+    r = reactions_of(problem, x, D)
     if not np.all(np.isfinite(r)):
         return None, "stopped", f"interior point on the 2-D LCP: {why}, at no finite point", stats
-    r[np.abs(r) < 1e-10 * np.abs(r).max(initial=0.0)] = 0.0
-    bound = problem.mu * r[0::2]
-    r[1::2] = np.clip(r[1::2], -bound, bound)
+    r = purified(problem, r, 1e-10)
     before = certified_error(problem, r)
     message = f"interior point on the 2-D LCP: {why}"
     left = None if time_limit is None else time_limit - (time.perf_counter() - start)

@@ -30,7 +30,7 @@ from ...judge.friction_certificate import certified_error
 from .newton import solve_natural_newton
 from ...core.friction_problem import faceted_lcp
 
-__all__ = ["lcp_of", "from_lcp", "LCP_ACCURACY", "FACETS"]
+__all__ = ["lcp_of", "from_lcp", "reactions_of", "purified", "LCP_ACCURACY", "FACETS"]
 
 #: the LCP is solved at least this tightly: its answer is the exact oracle of 2-D
 LCP_ACCURACY = 1e-9
@@ -65,8 +65,7 @@ def from_lcp(problem, method: str, sol, D, facets: int, tol: float) -> MethodRes
                             status="time_limit" if sol.status == "time_limit" else None,
                             backend_message=f"{name} {sol.status}: {sol.message}",
                             iterations=sol.iterations, stats=stats)
-    r = np.asarray(D @ sol.z[nc:-nc]).ravel()
-    r[0::problem.dim] = sol.z[:nc]
+    r = reactions_of(problem, sol.z, D)
     cone = "exact 2-D LCP" if problem.dim == 2 else f"{facets}-faceted cone"
     message = (f"{cone}, {name}: {sol.iterations} pivots, LCP certificate "
                f"{sol.certificate.error:.1e}")
@@ -78,15 +77,31 @@ def from_lcp(problem, method: str, sol, D, facets: int, tol: float) -> MethodRes
                         iterations=sol.iterations, stats=stats)
 
 
+def reactions_of(problem, z, D):
+    """The reactions r from the faceted LCP's z = (r_N, the facets' parts,
+    the slip speeds): r_N, and r_T = D times the facets' parts."""
+    nc = problem.n_contacts
+    r = np.asarray(D @ z[nc:-nc]).ravel()
+    r[0::problem.dim] = z[:nc]
+    return r
+
+
+def purified(problem, r, rtol):
+    """A 2-D point's copy with the entries below ``rtol`` of its largest
+    set to zero (rounding-level values that are zero in exact arithmetic)
+    and r_T clipped to |r_T| <= μ r_N: where Newton's polish starts."""
+    start = r.copy()
+    start[np.abs(start) < rtol * np.abs(start).max(initial=0.0)] = 0.0
+    bound = problem.mu * start[0::2]
+    start[1::2] = np.clip(start[1::2], -bound, bound)
+    return start
+
+
 def _polished(problem, r, before, tol, message, stats):
     """A 2-D basic solution (certified error ``before``) polished by Newton
     from its purified point (module docstring); the better-certified of the
     two."""
-    start = r.copy()
-    start[np.abs(start) < 1e-13 * np.abs(start).max(initial=0.0)] = 0.0
-    bound = problem.mu * start[0::2]
-    start[1::2] = np.clip(start[1::2], -bound, bound)
-    rn, _, _, nstats = solve_natural_newton(problem, tol, {"r0": start})
+    rn, _, _, nstats = solve_natural_newton(problem, tol, {"r0": purified(problem, r, 1e-13)})
     after = certified_error(problem, rn) if rn is not None else np.inf
     stats["polish_iterations"] = nstats.get("iterations")
     if after < before:
