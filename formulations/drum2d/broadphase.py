@@ -21,6 +21,7 @@ import numpy as np
 
 __all__ = ["grid_pairs", "all_pairs"]
 
+
 def grid_pairs(positions: np.ndarray, radii: np.ndarray, margin: float = 0.0):
     """Candidate pairs (i, j), i < j, of discs that may be within ``margin`` [m]
     of each other, and the number of pairs examined (their count: O(n)).  The

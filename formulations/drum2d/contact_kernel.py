@@ -23,7 +23,7 @@ from qpcontact.core.compiled import njit
 
 __all__ = ["candidate_pairs", "detect", "velocities", "impulses", "keep_columns"]
 
-# Half of the 3 x 3 stencil, as broadphase._OFFSETS
+# Half of the 3 x 3 stencil (broadphase's docstring): each pair of adjacent cells once
 _DX = np.array([1, -1, 0, 1], np.int64)
 _DY = np.array([0, 1, 1, 1], np.int64)
 
