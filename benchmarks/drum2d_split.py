@@ -65,7 +65,7 @@ PIECES = (
     (hybrid, "minimum_norm_newton", "  Newton tries"),
     (spla, "splu", "    SuperLU"),
     (hybrid, "natural_map_jacobian", "    Jacobians"),
-    (newton_kernels, "square_system_2d", "    F, J, restriction (2-D kernel)"),
+    (newton_kernels, "closed_system_2d", "    F and the closed contacts' system (2-D kernel)"),
     (hybrid, "certified_error", "  error checks"),
     (stepper, "step_forces", "peak forces"),
     (impact_kernel, "cluster_run", "  cluster runs (kernel)"),

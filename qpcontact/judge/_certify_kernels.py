@@ -33,19 +33,10 @@ def csc_column_max_ratio(indptr: np.ndarray, indices: np.ndarray, data: np.ndarr
 
 
 @njit
-def natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols, bdata):
-    """(indptr, indices, data) of the natural map's Jacobian
-    J = I − blockdiag(J_P) + blockdiag(B) W in CSC for 2-D contacts at r
-    (friction_certificate.natural_map_jacobian: u = W r + q, ``terms`` =
-    |W| |r|, ρ per contact; W by its 2 × 2 blocks, FrictionProblem.W_blocks),
-    B_i = ρ_i J_P,i T_i, T_i = [[1, μ_i g_i], [0, 1]] on a sliding contact
-    (g_i = u_T,i/|u_T,i|, sliding where ρ_i |u_T,i| > slip_rtol s_i, s_i
-    contact_sizes'), J_P the cone projection's Jacobian at x = r − ρ û.
-    Every entry is the array formulas' (contact_sizes', projection_jacobian's,
-    the sparse products' order of summation), exact zeros left out as those
-    leave them; formed by rows and transposed here, rows ascending: the CSR
-    form's tocsc() bit for bit, without scipy's conversion and the NumPy
-    passes (0.6 -> 0.3 ms a call on the drum's 1 100-contact beds)."""
+def jacobian_blocks_2d(u, r, q, terms, mu, rho, slip_rtol):
+    """Per 2-D contact at r, the blocks of :func:`natural_map_jacobian_2d`'s
+    J = I − blockdiag(J_P) + blockdiag(B) W: (J_P, B, x_N, x_T), (nc, 2, 2)
+    twice and x = r − ρ û (u = W r + q, ``terms`` = |W| |r|, ρ per contact)."""
     nc = mu.shape[0]
     size = np.empty(nc)
     big = 0.0
@@ -58,11 +49,13 @@ def natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcol
     floor = np.finfo(np.float64).eps * big
     b = np.empty((nc, 2, 2))
     jp = np.zeros((nc, 2, 2))
+    xs = np.empty((nc, 2))
     for i in range(nc):
         un, ut = u[2 * i], u[2 * i + 1]
         tn = np.sqrt(ut * ut)
         xn = r[2 * i] - rho[i] * (un + mu[i] * tn)
         xt = r[2 * i + 1] - rho[i] * ut
+        xs[i, 0], xs[i, 1] = xn, xt
         t01 = mu[i] * (ut / tn) if rho[i] * tn > slip_rtol * max(size[i], floor) else 0.0
         m = mu[i]
         t = np.sqrt(xt * xt)
@@ -81,6 +74,26 @@ def natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcol
         for a in range(2):
             b[i, a, 0] = rho[i] * (jp[i, a, 0] * 1.0 + jp[i, a, 1] * 0.0)
             b[i, a, 1] = rho[i] * (jp[i, a, 0] * t01 + jp[i, a, 1] * 1.0)
+    return jp, b, xs
+
+
+@njit
+def natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcols, bdata):
+    """(indptr, indices, data) of the natural map's Jacobian
+    J = I − blockdiag(J_P) + blockdiag(B) W in CSC for 2-D contacts at r
+    (friction_certificate.natural_map_jacobian: u = W r + q, ``terms`` =
+    |W| |r|, ρ per contact; W by its 2 × 2 blocks, FrictionProblem.W_blocks),
+    B_i = ρ_i J_P,i T_i, T_i = [[1, μ_i g_i], [0, 1]] on a sliding contact
+    (g_i = u_T,i/|u_T,i|, sliding where ρ_i |u_T,i| > slip_rtol s_i, s_i
+    contact_sizes'), J_P the cone projection's Jacobian at x = r − ρ û
+    (:func:`jacobian_blocks_2d`).
+    Every entry is the array formulas' (contact_sizes', projection_jacobian's,
+    the sparse products' order of summation), exact zeros left out as those
+    leave them; formed by rows and transposed here, rows ascending: the CSR
+    form's tocsc() bit for bit, without scipy's conversion and the NumPy
+    passes (0.6 -> 0.3 ms a call on the drum's 1 100-contact beds)."""
+    nc = mu.shape[0]
+    jp, b, _ = jacobian_blocks_2d(u, r, q, terms, mu, rho, slip_rtol)
     # by rows: the diagonal block, then the row's others
     nb = bptr[nc]
     rptr = np.zeros(2 * nc + 1, np.int64)

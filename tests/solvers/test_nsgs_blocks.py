@@ -5,6 +5,7 @@ minimum-norm route on a regular problem: both certified by the judge."""
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 import qpcontact
 from qpcontact.core.friction_problem import FrictionProblem
@@ -109,19 +110,22 @@ def test_the_square_step_with_a_reused_order_is_the_fresh_one():
     assert "order" in square
 
 
-def test_the_compiled_square_system_is_the_array_route():
-    """nsgs-newton's square step on a sparse 2-D problem forms F, J, the
-    fixed unknowns, the order and the restricted system in one compiled
-    call; against the array formulas and scipy (natural_map_jacobian, the
-    cone projection, restricted_system on J's CSC), the same numbers bit for
-    bit: from sweeps that leave contacts open, sticking and sliding, with and
-    without a first LU's order."""
+def test_the_compiled_closed_system_gives_the_array_routes_step():
+    """nsgs-newton's square step on a sparse 2-D problem forms F and the
+    system on the closed contacts in one compiled call, a sliding contact's
+    tangential unknown tied to its normal one (d_T = v_T d_N − (F_T − v_T F_N),
+    J_P of rank one on the cone's side); against the array formulas and
+    scipy (natural_map_jacobian, the cone projection, restricted_system on
+    J's CSC): F bit for bit, the step to rounding — from sweeps that leave
+    contacts open, sticking and sliding, with and without a first LU's order.
+    A tie of the wrong sign, or the tangential row kept, changes the step."""
     from qpcontact.core.friction_problem import modified_velocity, project_cone
     from qpcontact.judge.friction_certificate import (SLIP_RTOL, contact_scales,
                                                       natural_map_jacobian)
-    from qpcontact.solvers.friction._newton_kernels import (restricted_system,
-                                                            square_system_2d)
+    from qpcontact.solvers.friction import hybrid
+    from qpcontact.solvers.friction._newton_kernels import closed_system_2d
 
+    kinds = set()
     for seed in range(4):
         p = _problem(n_bodies=30 + 10 * seed, m=40 + 30 * seed, seed=seed)
         gs = NSGS(p, omega=1.3)
@@ -129,22 +133,26 @@ def test_the_compiled_square_system_is_the_array_route():
         rho_c = contact_scales(p)
         rho = np.repeat(rho_c, 2)
         n = p.q.size
-        kinds = set()
         for r in (gs.sweep(3).copy(), gs.sweep(40).copy(), rng.normal(size=n)):
             for known in (None, rng.permutation(n)):
                 F = r - project_cone(r - rho * modified_velocity(p.W @ r + p.q, p.mu, 2), p.mu, 2)
                 J = sp.csc_matrix(natural_map_jacobian(p, r))
-                fixed = (np.bincount(J.indices, minlength=n) == 1) & (J.diagonal() == 1.0)
-                order = np.flatnonzero(~fixed)
-                if known is not None:
-                    order = np.concatenate([known[~fixed[known]], order[~np.isin(order, known)]])
-                want = restricted_system(J.indptr, J.indices.astype(np.int64), J.data, order, F,
-                                         fixed)
-                got = square_system_2d(p.W.indptr, p.W.indices, p.W.data, p.q, p.mu, rho_c, r,
+                want, _ = hybrid._square_step(p, r, J, F)
+                got = closed_system_2d(p.W.indptr, p.W.indices, p.W.data, p.q, p.mu, rho_c, r,
                                        SLIP_RTOL, *p.W_blocks,
                                        np.zeros(0, np.int64) if known is None else known,
                                        known is not None)
-                for a, b in zip(got, (F, J.indptr, J.indices, J.data, fixed, order) + want):
-                    assert a.shape == b.shape and np.array_equal(a, b)
-                kinds.add(int(fixed.sum() > 0))
-        assert 1 in kinds                 # open contacts (fixed unknowns) were met
+                assert np.array_equal(got[0], F)
+                F_, base, tie, order, ptr, idx, val, rhs = got
+                assert np.all(np.diff(idx[ptr[0]:ptr[1]]) > 0)       # rows ascending
+                if known is not None:     # the known order kept for the unknowns it has
+                    kept = known[np.isin(known, order)]
+                    assert np.array_equal(order[:kept.size], kept)
+                step = base.copy()
+                step[order] = spla.spsolve(sp.csc_matrix((val, idx, ptr), shape=(order.size,) * 2),
+                                           rhs)
+                step[1::2] += tie * step[0::2]
+                assert np.abs(step - want).max() <= 1e-9 * np.abs(want).max()
+                open_ = np.flatnonzero(~np.isin(np.arange(n), order) & (np.repeat(tie, 2) == 0))
+                kinds.update({"open": open_.size > 0, "sliding": np.any(tie != 0)}.items())
+    assert ("open", True) in kinds and ("sliding", True) in kinds

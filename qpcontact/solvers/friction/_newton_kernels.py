@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from ...core._cone_kernels import project_cone_2d
 from ...core.compiled import njit
-from ...judge._certify_kernels import natural_map_jacobian_2d
+from ...judge._certify_kernels import jacobian_blocks_2d
 
 
 @njit
@@ -65,19 +65,25 @@ def restricted_system(indptr, indices, data, order, F, fixed):
 
 
 @njit
-def square_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bcols, bdata,
+def closed_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bcols, bdata,
                      known, has_known):
     """The square step's system at r for a sparse 2-D problem (W in CSC,
     ``rho`` ρ per contact, W's 2 x 2 blocks ``diag``, ``bptr``, ``bcols``,
-    ``bdata``), as hybrid.py forms it through NumPy and scipy, bit for bit:
-    u = W r + q and |W||r| summed as scipy's CSC product sums them, the
-    natural map F = r − proj_K(r − ρ û) (friction_problem's formulas), J in
-    CSC (natural_map_jacobian_2d), the unknowns J fixes by itself (a row
-    with its one entry, 1, on the diagonal), the order (the first LU's
-    ``known`` order where ``has_known``, then the unknowns it lacks) and the
-    restricted system (:func:`restricted_system`).  Returns (F, J's indptr,
-    indices, data, fixed, order, the restriction's indptr, indices, data,
-    right-hand side)."""
+    ``bdata``) on the unknowns the step does not give by itself.  u = W r + q
+    and |W||r| summed as scipy's CSC product sums them, the natural map
+    F = r − proj_K(r − ρ û) (friction_problem's formulas) and J's blocks
+    (_certify_kernels.jacobian_blocks_2d).  Where the projection opens a
+    contact (J_P = 0) its rows of J are e_iᵀ: d = −F there.  Where it puts x
+    on the cone's side, J_P = v vᵀ/(1 + μ²), v = (1, μ sign x_T), has rank
+    one in 2-D, so J's tangential row less v_T times its normal row is
+    e_Tᵀ − v_T e_Nᵀ: d_T = v_T d_N − (F_T − v_T F_N), and the contact keeps
+    one unknown, d_N, and its normal row.  The others keep both.  The kept
+    unknowns (full indices) in ``order``: the first LU's ``known`` order
+    where ``has_known`` (those still kept), then the rest ascending.
+    Returns (F, base, tie, order, indptr, indices, data, rhs): d = base
+    outside ``order``, d[order] the restricted system's solution (CSC, rows
+    ascending), then d_T += tie d_N on the contacts on the cone's side
+    (``tie`` v_T there, 0 elsewhere)."""
     n = r.shape[0]
     nc = n // 2
     y = np.zeros(n)
@@ -88,39 +94,101 @@ def square_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
             y[Widx[p]] += Wval[p] * rc
             terms[Widx[p]] += abs(Wval[p]) * ac
     u = np.empty(n)
-    x = np.empty(n)
+    for c in range(n):
+        u[c] = y[c] + q[c]
+    jp, b, xs = jacobian_blocks_2d(u, r, q, terms, mu, rho, slip_rtol)
+    F = r - project_cone_2d(xs.ravel(), mu)
+    # 0 open, 1 inside the cone, 2 on its side
+    state = np.empty(nc, np.int64)
+    tie = np.zeros(nc)
+    base = np.zeros(n)
     for i in range(nc):
-        u[2 * i] = y[2 * i] + q[2 * i]
-        u[2 * i + 1] = y[2 * i + 1] + q[2 * i + 1]
-        ut = u[2 * i + 1]
-        x[2 * i] = r[2 * i] - rho[i] * (u[2 * i] + mu[i] * np.sqrt(ut * ut))
-        x[2 * i + 1] = r[2 * i + 1] - rho[i] * ut
-    F = r - project_cone_2d(x, mu)
-    jptr, jidx, jval = natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr,
-                                               bcols, bdata)
-    count = np.zeros(n, np.int64)
-    dvals = np.zeros(n)
-    for c in range(n):
-        for p in range(jptr[c], jptr[c + 1]):
-            count[jidx[p]] += 1
-            if jidx[p] == c:
-                dvals[c] = jval[p]
-    fixed = np.empty(n, np.bool_)
-    for c in range(n):
-        fixed[c] = count[c] == 1 and dvals[c] == 1.0
+        xn, xt = xs[i, 0], xs[i, 1]
+        t = abs(xt)
+        if t <= mu[i] * xn:
+            state[i] = 1
+        elif mu[i] * t <= -xn:
+            state[i] = 0
+            base[2 * i], base[2 * i + 1] = -F[2 * i], -F[2 * i + 1]
+        else:
+            state[i] = 2
+            tie[i] = mu[i] if xt > 0 else -mu[i]
+            base[2 * i + 1] = -(F[2 * i + 1] - tie[i] * F[2 * i])
+    kept = np.zeros(n, np.bool_)
+    for i in range(nc):
+        kept[2 * i] = state[i] != 0
+        kept[2 * i + 1] = state[i] == 1
     seen = np.zeros(n, np.bool_)
     order = np.empty(n, np.int64)
     k = 0
     if has_known:
         for c in known:
-            if not fixed[c]:
+            if kept[c] and not seen[c]:
                 order[k] = c
                 seen[c] = True
                 k += 1
     for c in range(n):
-        if not fixed[c] and not seen[c]:
+        if kept[c] and not seen[c]:
             order[k] = c
             k += 1
     order = order[:k]
-    rptr, ridx, rval, rhs = restricted_system(jptr, jidx, jval, order, F, fixed)
-    return F, jptr, jidx, jval, fixed, order, rptr, ridx, rval, rhs
+    pos = np.full(n, -1, np.int64)
+    for p in range(k):
+        pos[order[p]] = p
+    # the restricted rows in order (CSR), then transposed: rows ascending
+    rptr = np.zeros(k + 1, np.int64)
+    ridx = np.empty(2 * (bptr[nc] + nc) * 2 + 1, np.int64)
+    rval = np.empty(ridx.shape[0])
+    rhs = np.empty(k)
+    count = np.zeros(k + 1, np.int64)
+    nnz = 0
+    w = np.empty((2, 2))
+    for p in range(k):
+        g = order[p]
+        i, a = g // 2, g % 2
+        acc = -F[g]
+        nb = bptr[i + 1] - bptr[i]
+        for s in range(-1, nb):
+            if s < 0:
+                j = i
+                for e in range(2):
+                    v = b[i, a, 0] * diag[i, 0, e] + b[i, a, 1] * diag[i, 1, e]
+                    w[0, e] = ((1.0 if a == e else 0.0) - jp[i, a, e]) + v
+            else:
+                j = bcols[bptr[i] + s]
+                for e in range(2):
+                    w[0, e] = (b[i, a, 0] * bdata[bptr[i] + s, 0, e]
+                               + b[i, a, 1] * bdata[bptr[i] + s, 1, e])
+            sj = state[j]
+            if sj == 0:
+                acc -= w[0, 0] * base[2 * j] + w[0, 1] * base[2 * j + 1]
+                continue
+            if sj == 2:
+                acc -= w[0, 1] * base[2 * j + 1]
+                v = w[0, 0] + tie[j] * w[0, 1]
+                if v != 0.0:
+                    ridx[nnz] = pos[2 * j]
+                    rval[nnz] = v
+                    count[pos[2 * j] + 1] += 1
+                    nnz += 1
+                continue
+            for e in range(2):
+                if w[0, e] != 0.0:
+                    ridx[nnz] = pos[2 * j + e]
+                    rval[nnz] = w[0, e]
+                    count[pos[2 * j + e] + 1] += 1
+                    nnz += 1
+        rhs[p] = acc
+        rptr[p + 1] = nnz
+    for c in range(k):
+        count[c + 1] += count[c]
+    cptr = count.copy()
+    cidx = np.empty(nnz, np.int64)
+    cval = np.empty(nnz)
+    for row in range(k):
+        for t in range(rptr[row], rptr[row + 1]):
+            c = ridx[t]
+            cidx[count[c]] = row
+            cval[count[c]] = rval[t]
+            count[c] += 1
+    return F, base, tie, order, cptr, cidx, cval, rhs
