@@ -44,6 +44,26 @@ def test_block_sweeps_equal_the_csr_sweeps():
     assert np.abs(a.r).max() > 0      # the sweeps did something
 
 
+def test_open_contacts_passed_over_leave_the_iterates_unchanged():
+    """The 2-D sweep passes over an open contact while its b_N provably stays
+    >= 0; with the bound's row sums infinite it visits every contact.  The
+    same iterates bit for bit, chunk after chunk, on problems where about
+    half the contacts open (q_N > 0 on them), from a start that pushes every
+    other contact; a bound without the neighbours' changes (reach 0) gives
+    other iterates."""
+    for seed in range(5):
+        p = _problem(n_bodies=40 + 10 * seed, m=80 + 20 * seed, seed=seed)
+        p.q[0::2] = np.abs(p.q[0::2]) * np.where(np.arange(p.n_contacts) % 2, 1.0, -1.0)
+        r0 = np.where(np.arange(p.q.size) % 4 == 0, 1.0, 0.0)      # every other contact pushed
+        skip, visit = NSGS(p, r0, omega=1.5), NSGS(p, r0, omega=1.5)
+        visit.held[:, 1] = np.inf
+        for chunk in (1, 1, 1, 1, 5, 20, 40):
+            skip.sweep(chunk)
+            visit.sweep(chunk)
+            assert np.array_equal(skip.r, visit.r)
+        assert np.count_nonzero(skip.held[:, 0] >= 0) > 0.2 * p.n_contacts   # open ones held
+
+
 def test_square_newton_step_gives_a_certified_answer():
     p = _problem(seed=3)
     plain = qpcontact.solve(p, method="nsgs-newton", accuracy="high")

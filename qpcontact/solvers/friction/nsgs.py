@@ -51,8 +51,14 @@ class NSGS:
             raise InvalidOptionError(f"'nsgs': omega must be in (0, 2); got {omega}")
         self.problem = problem
         if d == 2:        # W's 2 x 2 blocks, formed once per problem
+            from ._nsgs_kernels import row_sums_2d   # numba: imported where it runs
+
             self.blocks, *bsr = problem.W_blocks
             self.bsr = tuple(bsr)
+            # per contact: b_N when last found open, |W|'s normal row sum, the
+            # changes' running sum then (_nsgs_kernels.sweeps_2d)
+            self.held = np.zeros((nc, 3))
+            self.held[:, 1] = row_sums_2d(bsr[0], bsr[2])
         else:
             # the diagonal blocks gathered in one pass: slicing W per contact
             # cost 9 ms a step on a 120-contact drum pile, more than its sweeps
@@ -85,6 +91,9 @@ class NSGS:
         if r.shape != (size,):
             raise InvalidOptionError(f"'nsgs': r0 must have {size} entries; got {r.size}")
         self.r = r
+        if self.bsr is not None:      # the 2-D sweep's open contacts, none known yet
+            self.held[:, 0] = -1.0
+            self.moved = np.zeros(1)
 
     def sweep(self, n: int) -> np.ndarray:
         from ._nsgs_kernels import sweeps   # numba: imported when a sweep runs, not with the registry
@@ -93,7 +102,7 @@ class NSGS:
         if self.bsr is not None:
             from ._nsgs_kernels import sweeps_2d
             sweeps_2d(*self.bsr, p.q, p.mu, self.r, self.blocks, int(n), self.local_rtol,
-                      self.max_local, self.omega)
+                      self.max_local, self.omega, self.held, self.moved)
         else:
             sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r,
                    self.blocks, int(n), self.local_rtol, self.max_local, self.omega)
