@@ -121,13 +121,21 @@ def natural_map_jacobian_2d(u, r, q, terms, mu, rho, slip_rtol, diag, bptr, bcol
                         count[2 * cb + e + 1] += 1
                         nnz += 1
             rptr[2 * i + a + 1] = nnz
-    # transposed, rows ascending within each column
-    for c in range(2 * nc):
+    return csr_transposed(rptr, ridx, rval, count)
+
+
+@njit
+def csr_transposed(rptr, ridx, rval, count):
+    """The CSC arrays (indptr, indices, data) of a square matrix given by rows
+    (``rptr``, ``ridx``, ``rval``), each column's rows ascending; ``count``
+    [c + 1] holds column c's entries (changed here)."""
+    n = rptr.shape[0] - 1
+    for c in range(n):
         count[c + 1] += count[c]
     cptr = count.copy()
-    cidx = np.empty(nnz, np.int64)
-    cval = np.empty(nnz)
-    for row in range(2 * nc):
+    cidx = np.empty(rptr[n], np.int64)
+    cval = np.empty(rptr[n])
+    for row in range(n):
         for k in range(rptr[row], rptr[row + 1]):
             c = ridx[k]
             cidx[count[c]] = row

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from ...core._cone_kernels import project_cone_2d
 from ...core.compiled import njit
-from ...judge._certify_kernels import jacobian_blocks_2d
+from ...judge._certify_kernels import csr_transposed, jacobian_blocks_2d
 
 
 @njit
@@ -180,15 +180,5 @@ def closed_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
                     nnz += 1
         rhs[p] = acc
         rptr[p + 1] = nnz
-    for c in range(k):
-        count[c + 1] += count[c]
-    cptr = count.copy()
-    cidx = np.empty(nnz, np.int64)
-    cval = np.empty(nnz)
-    for row in range(k):
-        for t in range(rptr[row], rptr[row + 1]):
-            c = ridx[t]
-            cidx[count[c]] = row
-            cval[count[c]] = rval[t]
-            count[c] += 1
+    cptr, cidx, cval = csr_transposed(rptr, ridx, rval, count)
     return F, base, tie, order, cptr, cidx, cval, rhs
