@@ -9,8 +9,8 @@ set F of basic z's (w_F = 0, z_N = 0) the point is
 computed by one factorization of M_FF (dense Cholesky; for sparse M, LAPACK's
 banded Cholesky when M's bandwidth is at most 16 — contact stacks — and QDLDL's
 LDL' with AMD ordering otherwise).  A basis a few components away from the
-last factorized one is solved by CG preconditioned with that factorization
-(:class:`.finish.NearbyBases`).  Intermediate bases only need signs; the
+last factorized one is solved on that factorization bordered by the
+components that moved (:class:`.finish.NearbyBases`).  Intermediate bases only need signs; the
 basis that looks final is refined iteratively before it is accepted.  The infeasible set
 I = {i in F: z_i < 0} ∪ {i in N: w_i < 0} is exchanged as a whole while |I|
 keeps decreasing; after ``patience`` exchanges (default 3) without a new smallest

@@ -13,7 +13,9 @@ tolerance, and nobody certifies their iterates.  So:
    coarser answer by truncated nonsmooth Newton multigrid cycles, until the
    level's contact set has held for two cycles with its natural-map residual
    at 1e-8 of ‖q‖∞ (1e-3 below the finest), or for five whatever the
-   residual (or ``max_cycles``, default 500, on each level).  The coarse levels are the
+   residual (or ``max_cycles``, default 500, on each level); on a finest
+   level of at most 2·10⁴ unknowns the first cycle that leaves the set as
+   it was ends the search (:data:`.multigrid.FIRST_HOLD_MAX`).  The coarse levels are the
    problem's own (``LCP(..., hierarchy=[P_0, P_1, ...])``: a mesh knows its
    coarser grids; :mod:`formulations.meshes` passes them) or, when it
    carries none, built by smoothed aggregation and kept on M's structure for
@@ -23,8 +25,8 @@ tolerance, and nobody certifies their iterates.  So:
    infeasible set exchanged with the Júdice–Pires safeguard and Murty's
    least-index pivots — finite for every SPD M from any basis, so a poor
    guess costs exchanges, never the answer.  The first basis is factorized
-   (QDLDL, AMD ordering); a basis a few components away is solved by CG
-   preconditioned with that factorization (:mod:`.finish`).
+   (QDLDL, AMD ordering); a basis a few components away is solved on that
+   factorization bordered by them (:mod:`.finish`).
 
 The answer is the exact basic solution of the final basis, certified from M
 and q by :func:`qpcontact.solve` like every answer; the multigrid iterate is
@@ -41,7 +43,7 @@ operators moved), ``hierarchy`` ("given" or "aggregation"), ``shifted``,
 ``gap_steps`` and ``gap_residual`` (a plate's z_u: conjugate-gradient steps and
 the residual over ‖q‖∞ they reached), ``w_cycles`` (a plate's corrections
 are W-cycles), ``initial_active``,
-``factorizations``, ``krylov_solves``, ``block_exchanges``, ...
+``factorizations``, ``bordered_solves``, ``block_exchanges``, ...
 """
 
 from __future__ import annotations
@@ -122,7 +124,7 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     stats["active"] = int(F.sum())
     if progress is not None:
         progress(f"mg-bpp: exact finish: {stats['iterations']} exchanges, "
-                 f"{stats['factorizations']} factorizations, {stats['krylov_solves']} CG solves")
+                 f"{stats['factorizations']} factorizations, {stats['bordered_solves']} bordered solves")
     return MethodResult(
         x=z, backend_status=status, iterations=stats["mg_cycles"] + stats["iterations"],
         status="max_pivots" if status == "max_pivots" else None,
