@@ -467,6 +467,34 @@ def test_the_finest_level_of_a_small_mesh_stops_at_its_first_held_cycle():
     assert len([line for line in held if "level 0 cycle" in line]) == len(finest)
 
 
+def test_a_held_set_whose_basis_breaks_many_bounds_sends_the_search_back_to_the_cycles():
+    """The 140 x 140 plate at D = 1 under the terraces: its finest level
+    holds a set 5 components off whose exact basic solution puts hundreds
+    of free nodes below the obstacle (more than the factor can border).
+    Block pivoting from it took 82 exchanges and 44 factorizations; the
+    cycles resumed from that basic solution (projected) find the final set,
+    and the finish is one more factorization and no exchange."""
+    lcp = meshes.plate(140, obstacle="terraces", rigidity=1.0)
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok, sol.message
+    assert sol.stats["restarts"] == 1
+    assert sol.stats["factorizations"] == 2 and sol.stats["iterations"] == 0
+
+
+@pytest.mark.slow
+def test_the_resumed_search_ends_at_interior_point_block_pivotings_answer():
+    """The plate of the test above: mg-bpp (its search resumed once) and
+    ip-bpp (an interior point and its own pivoting: another route) end on
+    the same contact set and z."""
+    lcp = meshes.plate(140, obstacle="terraces", rigidity=1.0)
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    ref = qpcontact.solve(lcp, method="ip-bpp")
+    assert sol.ok and ref.ok
+    assert sol.stats["restarts"] == 1
+    np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-9 * np.abs(ref.z).max())
+
+
 def test_progress_reports_cycles_and_the_finish():
     lines = []
     qpcontact.solve(meshes.membrane(31), method="mg-bpp", progress=lines.append)

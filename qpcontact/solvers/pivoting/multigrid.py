@@ -286,7 +286,7 @@ def _coincident(R) -> np.ndarray:
 
 def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, stats: dict,
                      progress=None, shifted: bool = False, w_cycles: bool = False,
-                     deadline=None) -> np.ndarray:
+                     deadline=None, start=None) -> np.ndarray:
     """The nested TNNMG iterate for LCP(M, q) on the hierarchy
     ``prolongations`` (finest first; may be empty): coarsest level solved
     exactly by block pivoting, then on each finer level up to ``cycles``
@@ -308,7 +308,11 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
 
     ``w_cycles``: every linear correction (the TNNMG cycles' and z_u's
     preconditioner) a W-cycle, each coarser level visited twice, instead of
-    a V-cycle (the module docstring says why a plate wants them)."""
+    a V-cycle (the module docstring says why a plate wants them).
+
+    ``start``: cycle the finest level only, from ``start`` (no coarse
+    levels' answers, no z_u): the search resumed from a point it did not
+    reach by itself."""
     stats.setdefault("mg_cycles", 0)
     stats.setdefault("mg_rebuilds", 0)
     As, qs = [_csr(M)], [np.asarray(q, dtype=float)]
@@ -321,6 +325,12 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
     if deadline is not None and deadline.expired():
         return np.zeros(qs[0].size)     # no guess: the caller reads the deadline too
     levels = _Levels(As, prolongations, Rs, 2 if w_cycles else 1) if L else None
+    held_stop = 1 if qs[0].size <= FIRST_HOLD_MAX else HELD_STOP
+    if start is not None:
+        if not L:
+            return np.array(start, dtype=float)
+        return _tnnmg(levels, 0, qs[0], np.array(start, dtype=float), cycles, tol, stats,
+                      progress, "level 0", deadline, held_stop)
     shift = None
     if shifted and L:
         H, S = levels.below(0)
@@ -348,5 +358,5 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         finest = l == 0
         z = _tnnmg(levels, l, qs[l], z, cycles, tol if finest else 1e-3, stats,
                    progress if finest else None, "level 0" if finest else f"level {l}", deadline,
-                   1 if finest and qs[0].size <= FIRST_HOLD_MAX else HELD_STOP)
+                   held_stop if finest else HELD_STOP)
     return z
