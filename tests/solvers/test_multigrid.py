@@ -380,9 +380,9 @@ def test_the_aggregated_hierarchy_is_kept_for_the_next_lcp_on_the_same_matrix():
 
 
 @pytest.mark.slow
-def test_the_finish_solves_nearby_bases_by_cg_on_one_factorization():
+def test_the_finish_solves_nearby_bases_on_one_factorization():
     """bpp started a few components away from the answer: one factorization,
-    the rest by CG preconditioned with it — same answer as from nothing."""
+    the rest on it, bordered — same answer as from nothing."""
     lcp = meshes.membrane(40)
     z_ref = _energy(lcp)   # the tableau method: no factorization shared with bpp
     guess = z_ref > 0
@@ -391,7 +391,7 @@ def test_the_finish_solves_nearby_bases_by_cg_on_one_factorization():
     sol = qpcontact.solve(lcp, method="bpp", initial_active=guess)
     assert sol.ok, sol.message
     assert sol.stats["factorizations"] == 1
-    assert sol.stats["krylov_solves"] >= 1
+    assert sol.stats["bordered_solves"] >= 1
     np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-12 * z_ref.max())
 
 
@@ -406,6 +406,93 @@ def test_ip_bpp_pivoting_reuses_its_factorization_for_nearby_bases():
     assert sol.stats["factorizations"] < sol.stats["iterations"]
     z_ref = _energy(lcp)
     np.testing.assert_allclose(sol.z, z_ref, rtol=0, atol=1e-10 * z_ref.max())
+
+
+@pytest.mark.parametrize("rigidity", [0.05, 1.0])
+def test_a_basis_near_the_factorized_one_is_solved_on_its_border(rigidity):
+    """NearbyBases on a plate (entries of both signs): a basis with unknowns
+    added to and removed from the factorized one, solved on the old factor
+    bordered by them, equals SciPy's sparse solve of its own block (an LU
+    of M_FF, not our factor) to rounding; one factorization, a solve per
+    border column, and a second basis sharing part of the border reuses
+    those columns.  Fails if a removed unknown's row kept its equation (its
+    multiplier dropped) or an added column were left out."""
+    import scipy.sparse.linalg as spla
+
+    from qpcontact.solvers.pivoting.finish import NearbyBases
+
+    lcp = meshes.plate(45, rigidity=rigidity)      # n / REUSE_SHARE = 10 >= the 5 moved
+    M, q = lcp.M, lcp.q
+    F0 = qpcontact.solve(lcp, method="bpp").z > 0
+    stats = {}
+    bases = NearbyBases(M, q, stats)
+    bases.basic_solution(F0, refine=0)
+    free, held = np.flatnonzero(F0), np.flatnonzero(~F0)
+    F = F0.copy()
+    F[free[::97][:3]] = False          # removed: held at zero by a multiplier
+    F[held[::89][:2]] = True           # added: their columns border the factor
+    for basis in (F, np.where(np.arange(F.size) == free[::97][0], True, F)):
+        z, w = bases.basic_solution(basis)
+        idx = np.flatnonzero(basis)
+        ref = np.zeros(q.size)
+        ref[idx] = spla.spsolve(sp.csc_matrix(M)[idx][:, idx], -q[idx])
+        np.testing.assert_allclose(z, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+        assert np.all(z[~basis] == 0) and np.all(w[basis] == 0)
+        np.testing.assert_allclose(w[~basis], (M @ ref + q)[~basis], rtol=0,
+                                   atol=1e-10 * np.abs(q).max())
+    assert stats["factorizations"] == 1 and stats["bordered_solves"] == 2
+    assert stats["border_columns"] == 5          # the second basis: one column fewer, all kept
+
+
+def test_the_finest_level_of_a_small_mesh_stops_at_its_first_held_cycle():
+    """Below FIRST_HOLD_MAX unknowns the finest level's cycles end at the
+    first that leaves the contact set unchanged (its exact finish checks
+    the set); on the coarser levels, and above FIRST_HOLD_MAX on the finest,
+    the set holds for more cycles.  The answer is block pivoting's."""
+    from qpcontact.solvers.pivoting import multigrid
+
+    lcp = meshes.plate(40, obstacle="crate", rigidity=0.05)
+    lines = []
+    sol = qpcontact.solve(lcp, method="mg-bpp", progress=lines.append)
+    assert sol.ok, sol.message
+    finest = [line for line in lines if "level 0 cycle" in line]
+    assert finest[-1].endswith(" 0 changed") and not finest[-2].endswith(" 0 changed")
+    ref = qpcontact.solve(lcp, method="bpp")
+    np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-10 * np.abs(ref.z).max())
+    held = []
+    stats = {}
+    multigrid.multilevel_guess(lcp.M, lcp.q, lcp.structure.hierarchy, cycles=500, stats=stats,
+                               shifted=True, w_cycles=True, progress=held.append)
+    assert len([line for line in held if "level 0 cycle" in line]) == len(finest)
+
+
+def test_a_held_set_whose_basis_breaks_many_bounds_sends_the_search_back_to_the_cycles():
+    """The 140 x 140 plate at D = 1 under the terraces: its finest level
+    holds a set 5 components off whose exact basic solution puts hundreds
+    of free nodes below the obstacle (more than the factor can border).
+    Block pivoting from it took 82 exchanges and 44 factorizations; the
+    cycles resumed from that basic solution (projected) find the final set,
+    and the finish is one more factorization and no exchange."""
+    lcp = meshes.plate(140, obstacle="terraces", rigidity=1.0)
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok, sol.message
+    assert sol.stats["restarts"] == 1
+    assert sol.stats["factorizations"] == 2 and sol.stats["iterations"] == 0
+
+
+@pytest.mark.slow
+def test_the_resumed_search_ends_at_interior_point_block_pivotings_answer():
+    """The plate of the test above: mg-bpp (its search resumed once) and
+    ip-bpp (an interior point and its own pivoting: another route) end on
+    the same contact set and z."""
+    lcp = meshes.plate(140, obstacle="terraces", rigidity=1.0)
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    ref = qpcontact.solve(lcp, method="ip-bpp")
+    assert sol.ok and ref.ok
+    assert sol.stats["restarts"] == 1
+    np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-9 * np.abs(ref.z).max())
 
 
 def test_progress_reports_cycles_and_the_finish():

@@ -9,8 +9,8 @@ set F of basic z's (w_F = 0, z_N = 0) the point is
 computed by one factorization of M_FF (dense Cholesky; for sparse M, LAPACK's
 banded Cholesky when M's bandwidth is at most 16 — contact stacks — and QDLDL's
 LDL' with AMD ordering otherwise).  A basis a few components away from the
-last factorized one is solved by CG preconditioned with that factorization
-(:class:`.finish.NearbyBases`).  Intermediate bases only need signs; the
+last factorized one is solved on that factorization bordered by the
+components that moved (:class:`.finish.NearbyBases`).  Intermediate bases only need signs; the
 basis that looks final is refined iteratively before it is accepted.  The infeasible set
 I = {i in F: z_i < 0} ∪ {i in N: w_i < 0} is exchanged as a whole while |I|
 keeps decreasing; after ``patience`` exchanges (default 3) without a new smallest
@@ -66,11 +66,13 @@ def _as_mask(active, n: int) -> np.ndarray:
 
 
 def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=None,
-                   deadline: Deadline | None = None):
+                   deadline: Deadline | None = None, far: int | None = None):
     """Iterate from the basis F; returns (z, F, stats, status).  ``stats``
     (a dict, updated in place) lets a caller count its own work beside;
     past ``deadline`` (checked at every exchange) the status is
-    "time_limit" and z is None."""
+    "time_limit" and z is None.  ``far``: where the first basis has more
+    infeasible components than that, the status is "far" and z its basic
+    solution (unrefined), before any exchange."""
     M, q = problem.M, problem.q
     scales = ComponentScales.of(problem)
     # Per-matrix analysis, cached on the problem (a time stepper reuses it).
@@ -91,6 +93,8 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=N
         if infeasible.size == 0:
             z[F] = np.maximum(z[F], 0.0)
             return z, F, stats, "solved"
+        if far is not None and stats["iterations"] == 0 and infeasible.size > far:
+            return z, F, stats, "far"
         if stats["iterations"] >= max_iter:
             return z, F, stats, "max_pivots"
         if deadline is not None and deadline.expired():

@@ -4,19 +4,22 @@ Block pivoting solves M_FF z_F = −q_F for a basis F that changes by a few
 components per exchange once it is close ("bpp" near the end, "mg-bpp"'s
 finish from a multilevel guess).  Refactorizing for each costs a whole sparse
 LDLᵀ per exchange.  When F differs from the last factorized basis F₀ by k
-components (k <= 64 and k <= n/200: :func:`reusable`), M_FF differs from the block matrix
+components (k <= 64 and k <= n/200: :func:`reusable`), M_FF z_F = −q_F is
+solved on M_F₀F₀'s factor bordered by those k components
+(:meth:`NearbyBases._bordered`): an unknown added to F₀ brings its column of
+M, one removed is held at zero by a multiplier, and the k x k Schur
+complement of the bordered matrix takes one solve with the factor per
+border column (kept while the factor is).  A basic solution is then one
+solve with the factor and one with the small complement, refined against M
+itself as a factorized block is; if it does not reach rounding level the
+basis is factorized instead.
 
-    [ M_{F∩F₀} (preconditioned by M_F₀F₀⁻¹ restricted to F∩F₀)     0      ]
-    [                  0                                    diag(M)_{F∖F₀} ]
-
-by a matrix of rank at most 2k + |F₀∖F|, so conjugate gradients
-preconditioned by the old factor converge in about that many steps (exact
-arithmetic; the restriction of an SPD inverse to a principal block is SPD, so
-the preconditioner is).  Each step is one product with M and one solve with
-the old factor: much cheaper than a new factorization when k is small.  The
-iteration runs until its residual stops shrinking (it then sits at rounding
-level: the same accuracy as a refined direct solve); if it has not reached
-rounding level within 3k + 20 steps the basis is factorized instead.
+Conjugate gradients preconditioned with the old factor did this job before
+(:func:`preconditioned_cg`, which "ip-bpp" still uses on its own bases):
+about 2k + 1 steps of a solve and a product each against the border's k
+solves, and it gave up more often where k neared the limit (a 150 x 150
+plate's finish from a held set 7 components off: 85 exchanges, 35
+factorizations with CG, 12 bordered; docs/dev-notes.md).
 
 Both routes return the basic solution recomputed from the data, as
 :meth:`qpcontact.core.linalg.ActiveBlock.basic_solution` does.
@@ -34,26 +37,34 @@ __all__ = ["NearbyBases", "reusable", "preconditioned_cg", "restricted_precondit
 _EPS = np.finfo(float).eps
 
 #: A basis that differs from the factorized one by more than this many
-#: components, or by more than n / REUSE_SHARE, is factorized afresh: CG's
-#: steps grow with the change (about 2k + 1), a factorization does not, and on
-#: small blocks a factorization is cheap (plate, n = 900: CG at k <= n/20
-#: cost 1.7 x refactorizing; n = 3600: 0.7 x).
+#: components, or by more than n / REUSE_SHARE, is factorized afresh: the
+#: solves grow with the change, a factorization does not, and on small blocks
+#: a factorization is cheap (measured for CG, which takes about twice the
+#: border's solves: plate, n = 900: CG at k <= n/20 cost 1.7 x
+#: refactorizing; n = 3600: 0.7 x).
 REUSE_MAX = 64
 REUSE_SHARE = 200
+
+#: At most this many entries (k columns of the factorized block's size) in a
+#: border: 256 MB.  Beyond (k near REUSE_MAX on a block of millions) the
+#: basis is factorized: there the border's k solves cost about as much.
+BORDER_ENTRIES = 2 ** 25
 
 
 def reusable(changed: int, n: int) -> bool:
     """Whether a basis ``changed`` components from the factorized one (of
-    n unknowns) is solved by CG on the old factor rather than refactorized."""
+    n unknowns) is solved on the old factor rather than refactorized."""
     return 0 < changed <= min(REUSE_MAX, n // REUSE_SHARE)
 
 
 class NearbyBases:
     """Basic solutions (z, w) of LCP(M, q) for bases F, reusing the last
-    factorization of M_FF for bases that differ from it by a few components.
+    factorization of M_FF for bases that differ from it by a few components
+    (:meth:`_bordered`).
 
-    ``stats`` counts ``factorizations`` and ``krylov_solves`` / ``krylov_steps``.
-    ``bands``: as for :class:`ActiveBlock`.  ``reuse=False``
+    ``stats`` counts ``factorizations``, ``bordered_solves`` (bases solved on
+    an older factor) and ``border_columns`` (the factor's solves their
+    borders took).  ``bands``: as for :class:`ActiveBlock`.  ``reuse=False``
     factorizes every basis (banded blocks: a banded Cholesky costs a few
     products with M, so there is nothing to save).
     """
@@ -62,51 +73,135 @@ class NearbyBases:
         self.M, self.q, self.stats = M, q, stats
         self.bands = bands
         self.reuse = reuse
-        self.diag = np.asarray(M.diagonal() if sp.issparse(M) else np.diag(M), dtype=float)
         self.absM = None
         self.block: ActiveBlock | None = None
         self.F0: np.ndarray | None = None
-        self.krylov = None                   # (F, z, w) of the last CG solve
+        self.border = np.zeros(0, dtype=np.intp)   # the unknowns bordering the factor,
+        self.W = None                              # and M_F0F0⁻¹ of their columns
+        self.nearby = None                   # (F, z, w) of the last bordered solve
         stats.setdefault("factorizations", 0)
-        stats.setdefault("krylov_solves", 0)
-        stats.setdefault("krylov_steps", 0)
+        stats.setdefault("bordered_solves", 0)
+        stats.setdefault("border_columns", 0)
 
     def basic_solution(self, F: np.ndarray, refine: int = 3) -> tuple[np.ndarray, np.ndarray]:
         """(z, w): z_F = −M_FF⁻¹ q_F, z = 0 elsewhere, w = M z + q (w_F = 0).
 
         ``refine`` > 0 asks for a solution refined to rounding level (the
         basis that looks final); 0 for one whose signs are all that matters."""
-        if self.krylov is not None and np.array_equal(F, self.krylov[0]):
-            return self.krylov[1].copy(), self.krylov[2].copy()   # already at rounding level
+        if self.nearby is not None and np.array_equal(F, self.nearby[0]):
+            return self.nearby[1].copy(), self.nearby[2].copy()   # already at rounding level
         if self.block is not None:
             changed = int(np.count_nonzero(F != self.F0))
             if changed == 0:   # the same basis, now to be refined
                 return self.block.basic_solution(self.M, self.q, refine=refine,
                                                  start=self.block.unrefined)
             if self.reuse and reusable(changed, F.size):
-                z = self._krylov(F, changed)
-                if z is not None:
-                    w = np.asarray(self.M @ z).ravel() + self.q
-                    w[F] = 0.0
-                    self.krylov = (F.copy(), z, w)
-                    return z.copy(), w.copy()
+                zw = self._bordered(F)
+                if zw is not None:
+                    self.nearby = (F.copy(), *zw)
+                    return zw[0].copy(), zw[1].copy()
         self.block = ActiveBlock(self.M, F, symmetric=True, bands=self.bands)
         self.F0 = F.copy()
+        self.border, self.W = np.zeros(0, dtype=np.intp), None
         self.stats["factorizations"] += 1
         return self.block.basic_solution(self.M, self.q, refine=refine)
 
-    def _krylov(self, F: np.ndarray, changed: int) -> np.ndarray | None:
-        """CG on M_FF z_F = −q_F preconditioned by the old factor, or None
-        when it does not reach rounding level in 3 k + 20 steps."""
+    def _bordered(self, F: np.ndarray):
+        """(z, w) for the basis F on the factor of M_F0F0 (F₀ = ``self.F0``),
+        refined to rounding level, or None where it does not get there (the
+        caller then factorizes).  The unknowns added to F₀ border the
+        factorized block with their columns of M; those removed are held at
+        zero by a multiplier each (their rows of M_F0F0 then hold whatever
+        that multiplier takes up):
+
+            [ M_00    M_0A   E ] [z_0]   [r_0]
+            [ M_A0    M_AA   0 ] [z_A] = [r_A]
+            [ E'      0      0 ] [ λ ]   [ 0 ]
+
+        (E the unit columns of the removed unknowns).  With W = M_00⁻¹ [M_0A E]
+        (a solve per border column, kept for the next basis on this factor)
+        and the k x k
+        Schur complement S = [M_AA 0; 0 0] − [M_0A E]' W, a solve is one
+        solve with the factor and one with S: y = M_00⁻¹ r_0,
+        (z_A, λ) = S⁻¹([r_A; 0] − [M_0A E]' y), z_0 = y − W (z_A, λ); S is
+        nonsingular where M_FF is.  Refined against M itself, as a
+        factorized block is."""
+        M, q, idx0 = self.M, self.q, self.block.F
+        added = np.flatnonzero(F & ~self.F0)
+        removed = np.flatnonzero(self.F0 & ~F)
+        border = np.concatenate([added, removed])
+        if border.size * idx0.size > BORDER_ENTRIES:
+            return None
+        where = np.cumsum(self.F0) - 1               # each unknown of F₀: its place in idx0
+        at_removed = where[removed]
+        if sp.issparse(M):
+            M_A = sp.csc_matrix(M[:, added])
+            M_AA, M_0A = M_A[added].toarray(), M_A[idx0]
+        else:
+            M_A = np.asarray(M)[:, added]
+            M_AA, M_0A = M_A[added], M_A[idx0]
+        kept = dict(zip(self.border.tolist(), range(self.border.size)))
+        W = np.empty((idx0.size, border.size))
+        for c, j in enumerate(border.tolist()):
+            if j in kept:
+                W[:, c] = self.W[:, kept[j]]
+                continue
+            if c < added.size:                       # a new border column: one solve
+                column = M_0A[:, [c]]
+                column = column.toarray().ravel() if sp.issparse(column) else column.ravel()
+            else:
+                column = np.zeros(idx0.size)
+                column[where[j]] = 1.0
+            W[:, c] = self.block.factor_solve(column)
+            self.stats["border_columns"] += 1
+        self.border, self.W = border, W
+        a = added.size
+        S = -np.vstack([np.asarray(M_0A.T @ W), W[at_removed]])
+        S[:a, :a] += M_AA
+        import warnings
+
+        import scipy.linalg
+
+        with warnings.catch_warnings():     # a singular S ends in the finiteness test below
+            warnings.simplefilter("ignore")
+            try:
+                lu = scipy.linalg.lu_factor(S)
+            except (ValueError, np.linalg.LinAlgError):
+                return None
+
+        def solve(r_0, r_A):
+            y = self.block.factor_solve(r_0)
+            u = scipy.linalg.lu_solve(lu, np.concatenate([r_A - np.asarray(M_0A.T @ y).ravel(),
+                                                          -y[at_removed]]), check_finite=False)
+            return y - W @ u, u[:a]
+
+        n = q.size
+        z = np.zeros(n)
+        z[idx0], z[added] = solve(-q[idx0], -q[added])
+        z[removed] = 0.0
+        w = np.asarray(M @ z).ravel() + q
+        rn = np.max(np.abs(w[F]))
+        for _ in range(3):          # refined while the residual shrinks, as a factorized block is
+            if not rn > 0.0:
+                break
+            z_new = z.copy()
+            d_0, d_A = solve(-w[idx0], -w[added])
+            z_new[idx0] += d_0
+            z_new[added] += d_A
+            z_new[removed] = 0.0
+            w_new = np.asarray(M @ z_new).ravel() + q
+            rn_new = np.max(np.abs(w_new[F]))
+            if not rn_new < rn:
+                break
+            z, w, rn = z_new, w_new, rn_new
+        self.stats["bordered_solves"] += 1
         if self.absM is None:
-            self.absM = abs(self.M)
-        precondition = restricted_preconditioner(self.block.factor_solve, self.block.F, self.F0,
-                                                 F, self.diag)
-        x, steps = preconditioned_cg(self.M, self.absM, F, np.where(F, -self.q, 0.0),
-                                     precondition, 3 * changed + 20)
-        self.stats["krylov_solves"] += 1
-        self.stats["krylov_steps"] += steps
-        return x
+            self.absM = abs(M)
+        size = np.max((np.asarray(self.absM @ np.abs(z)).ravel() + np.abs(q))[F])
+        if not (np.all(np.isfinite(z)) and rn <= 1e3 * _EPS * size):
+            return None
+        w[F] = 0.0
+        return z, w
 
 
 def restricted_preconditioner(solve0, idx0: np.ndarray, F0: np.ndarray, F: np.ndarray,

@@ -100,6 +100,19 @@ DENSE_COARSEST = 800
 #: components costs the finish a few exchanges, never the answer.
 HELD_STOP = 5
 
+#: Up to this many unknowns the finest level stops at its first cycle that
+#: leaves the contact set as it was: the finish's first factorization then
+#: checks that set, and the four further held cycles are insurance that
+#: costs more than what it insures there.  At n = 1e4 a W-cycle on a plate
+#: is ~2 ms (four of them ~1.3 factorizations of a D = 0.05 plate's final
+#: block), and the first held set was the final one on 41 of 42 plates
+#: measured from 38² to 100² (the other: 3 components off, one bordered
+#: exchange on the factor, a few of its solves at ~0.3-1 ms each).  At
+#: 200² and 316² a held set was off by 1-9 components on 8 of 28 plates and
+#: a solve with the factor costs more than a cycle (316², D = 1: 50 ms
+#: against 35): the held cycles stay.
+FIRST_HOLD_MAX = 20_000
+
 #: The shifted start's z_u = −M⁻¹q (:func:`multilevel_guess`) is solved by
 #: conjugate gradients preconditioned with the hierarchy's cycle (a plate's
 #: W-cycle; :func:`._mg_kernels.unconstrained_gap`) to GAP_RTOL of ‖q‖∞ in
@@ -223,11 +236,12 @@ def _pack(matrices) -> tuple:
             np.cumsum([0] + [M.nnz for M in matrices]))
 
 
-def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None):
+def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None,
+           held_stop=HELD_STOP):
     """TNNMG cycles on level l of ``levels`` (a :class:`_Levels`; with at
     least one coarser level), LCP(A_l, q), from z (in place) until the
     contact set has held for two cycles with the natural-map residual at
-    ``tol``, or for HELD_STOP cycles whatever the residual, or ``cycles``
+    ``tol``, or for ``held_stop`` cycles whatever the residual, or ``cycles``
     cycles.  Each cycle is one compiled call
     (:func:`._mg_kernels.tnnmg_cycle`); the loop, the stop and the progress
     lines stay here.  Past ``deadline`` (read before each cycle) the
@@ -238,8 +252,9 @@ def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None):
     q_scale = max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
     previous = np.zeros(q.size, dtype=np.bool_)
     held = 0
-    # the residual (a product with M) decides only once the set has held
-    wanted = 2 if progress is not None else 1
+    # the residual (a product with M) decides only once the set has held,
+    # and never where one held cycle ends the level
+    wanted = 2 if progress is not None else int(held_stop > 1)
     for cycle in range(cycles):
         if deadline is not None and deadline.expired():
             break
@@ -253,7 +268,7 @@ def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None):
         if progress is not None:
             progress(f"mg-bpp: {label} cycle {cycle + 1}: residual {res:.1e}, "
                      f"{at} at the obstacle, {changed} changed")
-        if (held >= 2 and res <= tol) or held >= HELD_STOP:
+        if (held >= 2 and res <= tol) or held >= held_stop:
             break
     return z
 
@@ -271,7 +286,7 @@ def _coincident(R) -> np.ndarray:
 
 def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, stats: dict,
                      progress=None, shifted: bool = False, w_cycles: bool = False,
-                     deadline=None) -> np.ndarray:
+                     deadline=None, start=None) -> np.ndarray:
     """The nested TNNMG iterate for LCP(M, q) on the hierarchy
     ``prolongations`` (finest first; may be empty): coarsest level solved
     exactly by block pivoting, then on each finer level up to ``cycles``
@@ -293,7 +308,11 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
 
     ``w_cycles``: every linear correction (the TNNMG cycles' and z_u's
     preconditioner) a W-cycle, each coarser level visited twice, instead of
-    a V-cycle (the module docstring says why a plate wants them)."""
+    a V-cycle (the module docstring says why a plate wants them).
+
+    ``start``: cycle the finest level only, from ``start`` (no coarse
+    levels' answers, no z_u): the search resumed from a point it did not
+    reach by itself."""
     stats.setdefault("mg_cycles", 0)
     stats.setdefault("mg_rebuilds", 0)
     As, qs = [_csr(M)], [np.asarray(q, dtype=float)]
@@ -306,6 +325,12 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
     if deadline is not None and deadline.expired():
         return np.zeros(qs[0].size)     # no guess: the caller reads the deadline too
     levels = _Levels(As, prolongations, Rs, 2 if w_cycles else 1) if L else None
+    held_stop = 1 if qs[0].size <= FIRST_HOLD_MAX else HELD_STOP
+    if start is not None:
+        if not L:
+            return np.array(start, dtype=float)
+        return _tnnmg(levels, 0, qs[0], np.array(start, dtype=float), cycles, tol, stats,
+                      progress, "level 0", deadline, held_stop)
     shift = None
     if shifted and L:
         H, S = levels.below(0)
@@ -332,5 +357,6 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         z = np.maximum(prolongations[l] @ (z - shifts[l + 1]) + shifts[l], 0.0)
         finest = l == 0
         z = _tnnmg(levels, l, qs[l], z, cycles, tol if finest else 1e-3, stats,
-                   progress if finest else None, "level 0" if finest else f"level {l}", deadline)
+                   progress if finest else None, "level 0" if finest else f"level {l}", deadline,
+                   held_stop if finest else HELD_STOP)
     return z
