@@ -413,7 +413,7 @@ class _Path:
                 f, xx, ss, th = residual(y)
                 self.xx, self.scale, self.t = xx, th * c, t
                 self.lu = lu_of(ss / xx)
-                self.A = sp.diags(xx / self.scale) @ (M + sp.diags(ss / xx)) @ sp.diags(xx)
+                self.ss = ss
                 self.b = xx * r0 / c - (f + 1.0)
                 self.w = self._a(self.b)
                 self.den = t[n] - t[:n] @ self.w
@@ -428,7 +428,9 @@ class _Path:
 
             def solve(self, rhs):
                 u = self._once(rhs)
-                res = rhs - np.concatenate([self.A @ u[:n] + self.b * u[n], [self.t @ u]])
+                # A u = diag(x/θc) (M (x ∘ u) + s ∘ u), not A formed: two sparse products a step
+                au = (self.xx / self.scale) * (M @ (self.xx * u[:n]) + self.ss * u[:n])
+                res = rhs - np.concatenate([au + self.b * u[n], [self.t @ u]])
                 return u + self._once(res)
 
         y = np.concatenate([np.log(x), [0.0]])
@@ -462,6 +464,9 @@ class _Path:
                     falling = tn[n] < 0
                 y, t, steps = z, tn, steps + 1
                 h *= 1.5 if it <= 1 else 1.0 if it == 2 else 0.7
+                if self.progress is not None:
+                    self.progress(f"ip-lcp: path step {steps}: θ {np.exp(y[n]):.3g} of where the "
+                                  f"stretch began, {it} corrector iterations, next step {h:.2g}")
         _, xx, ss, th = residual(y)
         stats["path_stretches"] += 1
         stats["path_steps"] += steps
