@@ -4,7 +4,10 @@ forces, Coulomb friction regularized by a stiff viscous law, the discs'
 spins.  SI units: m, s, kg, N.  Imported only by the function that calls it,
 so that importing the drum does not load numba.
 
-:func:`cluster_run` forms the run's data from the step's arrays (the
+:func:`cluster_forces` finds the step's clusters (impacts.py) and runs
+each; as scipy's connected_components and a NumPy mask per cluster they
+were 0.2–0.3 ms a step of the 500-log bed.  :func:`cluster_run` forms a
+run's data from the step's arrays (the
 cluster's discs numbered locally, each contact's spring, dashpot, friction
 law and masses, the sub-step from Gershgorin's bound: impacts.py's docstring
 derives them) and runs :func:`cluster_peaks`; formed in Python they took a
