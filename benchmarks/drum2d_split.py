@@ -10,8 +10,7 @@ the step = contact detection + the problem's assembly + the solve + the
 peak forces' cluster runs + the books; the solve = NSGS's sweeps + Newton's
 tries (their LUs, Jacobians, checks) + the error checks between chunks.
 Beside the times, per step: sweeps, Newton tries and steps, SuperLU
-factorizations with their size and fill (nnz of L + U), and the cluster
-runs' contacts and sub-steps.  Last, each piece's time and count at the
+factorizations with their size and fill (nnz of L + U).  Last, each piece's time and count at the
 largest size over the smallest, against the ratio of contacts.
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/drum2d_split.py \\
@@ -68,7 +67,7 @@ PIECES = (
     (newton_kernels, "closed_system_2d", "    F and the closed contacts' system (2-D kernel)"),
     (hybrid, "certified_error", "  error checks"),
     (stepper, "step_forces", "peak forces"),
-    (impact_kernel, "cluster_run", "  cluster runs (kernel)"),
+    (impact_kernel, "cluster_forces", "  cluster runs (kernel)"),
 )
 
 
@@ -102,9 +101,6 @@ class Split:
         if name == "splu":
             c["LU size"].append(out.shape[0])
             c["LU fill (nnz L + U)"].append(out.L.nnz + out.U.nnz)
-        elif name == "cluster_run":
-            c["cluster contacts"].append(args[1].size)
-            c["cluster sub-steps"].append(out[2])
         elif name == "solve":
             c["sweeps a step"].append(out.iterations or 0)
             c["Newton tries a step"].append(out.stats.get("newton_tries", 0))

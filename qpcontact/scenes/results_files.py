@@ -4,6 +4,7 @@ bit and to draw the formulation's figures without running anything."""
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 from .schema import Scene, SceneError, schemas
@@ -11,7 +12,10 @@ from .schema import Scene, SceneError, schemas
 __all__ = ["write_results", "read_state", "plot_results"]
 
 
+@functools.cache
 def _versions() -> dict:
+    """The packages' versions, read once a process: each read parses the
+    packages' metadata (~3 ms), and a long run writes dozens of checkpoints."""
     from importlib.metadata import PackageNotFoundError, version
 
     out = {}
