@@ -59,7 +59,7 @@ def jacobian_blocks_2d(u, r, q, terms, mu, rho, slip_rtol):
         t01 = mu[i] * (ut / tn) if rho[i] * tn > slip_rtol * max(size[i], floor) else 0.0
         m = mu[i]
         t = np.sqrt(xt * xt)
-        if t <= m * xn:                 # inside the cone
+        if t <= m * xn and xn >= 0.0:   # inside the cone (μ = 0: not at xn < 0)
             jp[i, 0, 0] = 1.0
             jp[i, 1, 1] = 1.0
         elif not m * t <= -xn:          # on its side (the polar cone: 0)
@@ -148,7 +148,7 @@ def csr_transposed(rptr, ridx, rval, count):
 def _cone_residual_2d(rn, rt, xn, xt, mu):
     """(r − proj_K(x)) for one 2-D contact, proj_K as friction_problem.project_cone."""
     t = abs(xt)
-    if t <= mu * xn:
+    if t <= mu * xn and xn >= 0.0:
         pn, pt = xn, xt
     elif mu * t <= -xn:
         pn, pt = 0.0, 0.0

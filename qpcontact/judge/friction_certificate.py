@@ -154,7 +154,7 @@ def projection_jacobian(x, mu, dim):
     J = np.zeros((mu.size, dim, dim))
     xn, xt = X[:, 0], X[:, 1:]
     t = np.linalg.norm(xt, axis=1)
-    inside = t <= mu * xn
+    inside = (t <= mu * xn) & (xn >= 0)     # μ = 0: t = 0 <= −0.0 is not inside at xn < 0
     J[inside] = np.eye(dim)
     mid = np.flatnonzero(~inside & ~(mu * t <= -xn))
     m, tm = mu[mid], t[mid]

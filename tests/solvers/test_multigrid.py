@@ -657,3 +657,23 @@ def test_obstacle_shapes_are_named_and_checked():
         assert 0 < np.count_nonzero(z == 0) < z.size, shape   # some contact, some free
     with pytest.raises(InvalidProblemError, match="unknown obstacle 'volcano'.*dome"):
         meshes.plate(10, obstacle="volcano")
+
+
+def test_a_warm_start_whose_every_unknown_leaves_the_basis():
+    """q > 0: z = 0 by hand.  Started from two unknowns in the basis, block
+    pivoting's next basis is empty, which the bordered finish (a few
+    components from the factorized basis) once met with a reduction over
+    nothing."""
+    n = 400
+    A = sp.random(n, n, density=0.02, random_state=1)
+    M = (A @ A.T + 5.0 * sp.identity(n)).tocsc()
+    q = np.abs(np.random.default_rng(0).normal(size=n)) + 0.1
+    res = qpcontact.solve(LCP(M, q), method="bpp", initial_active=[0, 1])
+    assert res.status == "solved" and np.all(res.z == 0.0)
+
+
+def test_a_small_plate_is_not_restarted():
+    """Below 200 unknowns nothing is bordered, so a first basis with a bound
+    broken is block pivoting's to mend, not a reason to resume the cycles."""
+    res = qpcontact.solve(meshes.plate(13, obstacle="terraces", rigidity=1.0), method="mg-bpp")
+    assert res.ok and res.stats["restarts"] == 0

@@ -10,6 +10,7 @@ import scipy.sparse.linalg as spla
 import qpcontact
 from qpcontact.core.friction_problem import FrictionProblem
 from qpcontact.solvers.friction.nsgs import NSGS
+from qpcontact.judge.friction_certificate import certified_error
 
 
 def _problem(n_bodies=60, m=90, seed=0, compliance=1e-2):
@@ -176,3 +177,27 @@ def test_the_compiled_closed_system_gives_the_array_routes_step():
                 open_ = np.flatnonzero(~np.isin(np.arange(n), order) & (np.repeat(tie, 2) == 0))
                 kinds.update({"open": open_.size > 0, "sliding": np.any(tie != 0)}.items())
     assert ("open", True) in kinds and ("sliding", True) in kinds
+
+
+def _frictionless_pair():
+    """Two frictionless 2-D contacts whose tangential rows are decoupled:
+    the normal rows are the LCP W_NN = [[2, 1], [1, 2]], q_N = (1, −1),
+    solved by hand: r_N = (0, 1/2), u_N = (3/2, 0)."""
+    W = sp.csc_matrix(np.array([[2.0, 0, 1, 0], [0, 1, 0, 0], [1, 0, 2, 0], [0, 0, 0, 1.0]]))
+    return FrictionProblem(W, np.array([1.0, 0.0, -1.0, 0.0]), [0.0, 0.0], 2), \
+        np.array([0.0, 0.0, 0.5, 0.0])
+
+
+def test_without_friction_a_negative_normal_is_in_the_polar_cone_not_inside():
+    """μ = 0 and r_T = 0: the test |r_T| <= μ r_N reads 0 <= −0.0 for r_N < 0,
+    which once put such points inside the cone (the compiled measure read the
+    exact answer as error 1, Newton kept both unknowns, and over-relaxed NSGS
+    left r_N < 0)."""
+    p, exact = _frictionless_pair()
+    assert certified_error(p, exact) == 0.0
+    assert certified_error(p, exact, u=p.velocities(exact)) == 0.0
+    res = qpcontact.solve(p, method="nsgs-newton")
+    assert res.ok and np.allclose(res.r, exact, atol=1e-14)
+    gs = NSGS(p, omega=1.3)
+    for _ in range(10):
+        assert gs.sweep(1)[0::2].min() >= 0.0

@@ -105,7 +105,7 @@ def closed_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
     for i in range(nc):
         xn, xt = xs[i, 0], xs[i, 1]
         t = abs(xt)
-        if t <= mu[i] * xn:
+        if t <= mu[i] * xn and xn >= 0.0:
             state[i] = 1
         elif mu[i] * t <= -xn:
             state[i] = 0

@@ -22,7 +22,7 @@ def _project(r, mu, d):
         t += r[k] * r[k]
     t = np.sqrt(t)
     rn = r[0]
-    if t <= mu * rn:
+    if t <= mu * rn and rn >= 0.0:     # μ = 0: t = 0 <= −0.0 is not inside at rn < 0
         return
     if mu * t <= -rn:
         for k in range(d):
@@ -140,7 +140,7 @@ def _project_2d(rn, rt, mu):
     """:func:`_project` for d = 2 on scalars, the same operations in the same
     order (so the same bits)."""
     t = np.sqrt(rt * rt)
-    if t <= mu * rn:
+    if t <= mu * rn and rn >= 0.0:
         return rn, rt
     if mu * t <= -rn:
         return 0.0, 0.0

@@ -127,6 +127,8 @@ class NearbyBases:
         nonsingular where M_FF is.  Refined against M itself, as a
         factorized block is."""
         M, q, idx0 = self.M, self.q, self.block.F
+        if not F.any():             # every unknown left the basis: z = 0, w = q exactly
+            return np.zeros(q.size), np.array(q, dtype=float)
         added = np.flatnonzero(F & ~self.F0)
         removed = np.flatnonzero(self.F0 & ~F)
         border = np.concatenate([added, removed])

@@ -123,7 +123,8 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     stats["restarts"] = 0
     try:
         z, F, stats, status = block_pivoting(problem, z > 0.0, max_iter, patience, stats, deadline,
-                                             far=min(REUSE_MAX, n // REUSE_SHARE))
+                                             # below REUSE_SHARE unknowns nothing is bordered
+                                             far=min(REUSE_MAX, n // REUSE_SHARE) or None)
         if status == "far":
             # the held set's exact solution breaks more bounds than the factor
             # can border: the cycles, resumed from it, find the set where
