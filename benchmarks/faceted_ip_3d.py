@@ -49,7 +49,10 @@ the polygon already, up to the iterate's θ-sized rounding); then the
 package's Newton steps on the true cone: minimum-norm Newton (nsgs-newton's
 steps, :func:`qpcontact.solvers.friction.hybrid.minimum_norm_newton`) and
 semismooth Newton on the natural map (method "newton",
-:func:`~qpcontact.solvers.friction.newton.solve_natural_newton`).  Every
+:func:`~qpcontact.solvers.friction.newton.solve_natural_newton`); and, unless
+``--no-tries``, a 20-iteration semismooth Newton try from each iterate where
+the mean complementarity first falls below a decade of its start (from 1e-3
+down), the path stopped at the first certified try.  Every
 error quoted is the package's certificate (:func:`certified_error`, the
 larger of the natural-map and componentwise measures) against the *true*
 cone; "certified" below means that at 1e-6, re-judged by
