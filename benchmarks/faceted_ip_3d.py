@@ -180,8 +180,11 @@ class CondensedK:
 
 
 class Path:
-    """ip-lcp's Mehrotra steps and followed stretches (copied from
-    interior_lcp._Path; the linear algebra by :class:`CondensedK`)."""
+    """ip-lcp's Mehrotra steps and followed stretches, copied from
+    interior_lcp._Path (private, and edited elsewhere while this was
+    measured); only the linear algebra differs (:class:`CondensedK`).  Were
+    this route integrated, _Path would take the condensed solver as a
+    parameter and this copy would go."""
 
     def __init__(self, M, q, W, mu, k, stats):
         self.M, self.q, self.n = M, q, q.size
