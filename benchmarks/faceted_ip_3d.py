@@ -428,9 +428,31 @@ def run_one(problem, k, tol, ip_limit, newton_limit, log=None, with_tries=True):
     row.update(nt_err=float(en), nt_iters=nst.get("iterations"), nt_cpu=time.process_time() - t2,
                nt_msg=msg)
     best = rm if em <= en else rn
+    # nsgs-newton (the package's method, its own stopping rules) from the faceted point
+    t3 = time.process_time()
+    res = qpcontact.solve(problem, method="nsgs-newton", accuracy=tol, time_limit=30, r0=r.copy())
+    row.update(ns_status=res.status, ns_err=float(res.error), ns_cpu=time.process_time() - t3)
     row["status"], row["judged_err"] = judged(problem, best, tol)
     row["total_cpu"] = time.process_time() - t0
     return row
+
+
+def random_starts(problem, tol, count):
+    """The control: nsgs-newton from ``count`` random points of the cone
+    (r_N uniform up to the largest impulse of a first nsgs-newton answer,
+    r_T up to 0.3 of it, signs random)."""
+    first = qpcontact.solve(problem, method="nsgs-newton", accuracy=tol, time_limit=30)
+    scale = float(np.abs(first.r).max()) if first.r is not None else 1.0
+    rows = [("zero", first.status, float(first.error))]
+    m = 3 * problem.n_contacts
+    for rs in range(count):
+        rng = np.random.default_rng(rs)
+        r0 = rng.uniform(0, 1, m) * scale * np.tile([1.0, 0.3, 0.3], problem.n_contacts)
+        r0 *= np.where(np.arange(m) % 3 == 0, 1.0, np.sign(rng.standard_normal(m)))
+        res = qpcontact.solve(problem, method="nsgs-newton", accuracy=tol, time_limit=30,
+                              r0=purified_3d(problem, r0))
+        rows.append((f"random {rs}", res.status, float(res.error)))
+    return rows
 
 
 def main(argv=None):
@@ -445,6 +467,8 @@ def main(argv=None):
     ap.add_argument("--check", action="store_true", help="only check the condensed solve")
     ap.add_argument("--no-tries", action="store_true",
                     help="no Newton tries at the decades of the complementarity")
+    ap.add_argument("--random-starts", type=int, default=0,
+                    help="only the control: nsgs-newton from this many random starts")
     ap.add_argument("--verbose", action="store_true")
     ap.add_argument("--out", default=None, help="append JSON rows here")
     args = ap.parse_args(argv)
@@ -455,6 +479,9 @@ def main(argv=None):
     for seed in seeds:
         problem = sphere_pile(args.n, seed=seed, **params).problem
         for k in (int(f) for f in args.facets.split(",")):
+            if args.random_starts:
+                print(seed, random_starts(problem, args.tol, args.random_starts), flush=True)
+                break
             if args.check:
                 print(seed, k, check_condensed(problem, k, seed), flush=True)
                 continue
