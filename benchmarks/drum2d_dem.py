@@ -5,9 +5,30 @@ SI units.  The same discs, shell and lifters as formulations.drum2d, the
 same contact stiffness as its springs: per contact k = 1/c, c = 1/s_i + 1/s_j
 (s = 2 E ℓ, the stack model's half stiffness; 1/s_i at the steel), a
 dashpot 2 ζ √(m* k) with ζ = −ln e / √(π² + ln² e) (the restitution e of
-a binary collision), Coulomb friction as a tangential dashpot of the same
-coefficient capped at μ F_n (no tangential spring: the DEM needs no contact
-history).  Explicit symplectic Euler with Δt = T_min/``per_period``, T_min
+a binary collision), and Coulomb friction in one of two forms:
+
+- ``spring=0`` (the yardstick's): a tangential dashpot of the same
+  coefficient capped at μ F_n, no tangential spring and so no contact
+  history; a stuck contact creeps at the speed its dashpot needs to carry
+  the tangential load (2ζ√(m k) ≈ 6e4 N·s/m carries 1 kN at 17 mm/s).
+- ``spring=ρ > 0`` (Cundall–Strack): an elastic tangential displacement δ
+  per contact, δ += u_t Δt while the contact lasts, a spring k_t = ρ k and
+  a dashpot c_t = c √(ρ/3).  Where the spring's trial force k_t |δ| exceeds
+  μ F_n the contact slides: F_t = μ F_n against δ, δ is set back to
+  μ F_n/k_t, and what it lost is the step's slip (it dissipates μ F_n |slip|
+  exactly: the spring's store is ½ k_t δ²).  Within the cone the dashpot
+  acts, clipped to what the cone leaves.  ρ = 1/3
+  (benchmarks/drum2d_step.py's ``spring``): a disc's tangential effective mass is a third of the normal one
+  (1/m_t = 1/m* + Σ r²/I = 3/m* with I = m r²/2, for any two discs and at
+  the steel), so k_t = k/3 gives the tangential period the normal one and
+  c_t = c/3 the same damping ratio (the spheres' 2/7 is this ratio for
+  I = 2 m r²/5).  A stuck contact holds without creep: its elastic δ ≤
+  μ F_n/k_t (3μ times the normal overlap at ρ = 1/3), and only Coulomb
+  slip is booked as sliding.  The history is keyed by pair on the Verlet
+  list (carried over by key when the list is rebuilt), by disc at the shell
+  and by (disc, lifter) at the lifters.
+
+Explicit symplectic Euler with Δt = T_min/``per_period``, T_min
 = 2π √(m*/k) the shortest contact period (50 steps a period: a resolved
 contact).  Candidate disc pairs by the drum's own grid broad phase
 (broadphase.grid_pairs) within a margin that the fastest disc cannot cross
@@ -17,9 +38,12 @@ tested for every disc at every step (vectorized).
 It keeps the books a drum engineer reads, as a resolved reference for the
 2-D route's run-level figures (benchmarks/drum2d_step.py): the drive work
 Σ F·V Δt of the shell and lifters on the logs (V = Ω ẑ × p at the contact
-point) [J], the friction work Σ |F_t||u_t| Δt [J] and its part at the cone
-(|F_t| = μ F_n: sliding; the rest is the capped dashpot's creep of stuck
-contacts, which a DEM without a tangential spring books as friction too),
+point) [J], the tangential loss [J] — the friction work Σ |F_t||u_t| Δt of
+the capped dashpot, or with the spring the slip's μ F_n |slip| plus the
+tangential dashpot's work within the cone — and its sliding part: the
+capped dashpot's work at the cone (|F_t| = μ F_n; the rest is the creep of
+stuck contacts, which a DEM without a tangential spring books as friction
+too), or the spring's slip work,
 and the largest log–log and log–steel normal force [N] in each window of
 ``window`` seconds.  It is not a test's reference for the mechanics: the
 tests' resolved DEMs live in tests/ (written there).
@@ -55,6 +79,36 @@ def _contact(nx, ny, ov, vx, vy, wa, ra, k, c, mu):
 
 
 @njit
+def _contact_spring(nx, ny, ov, vx, vy, wa, ra, k, c, mu, dt, held, ratio):
+    """_contact's (fx, fy, torque, F_n, tangential loss rate, slides) by
+    Cundall–Strack's tangential spring k_t = ``ratio`` k and dashpot
+    c_t = c √(ratio/3) (module docstring), and the contact's elastic
+    tangential displacement after the step [m] (``held`` before it; 0 where
+    the contact is open or pulls).  The spring's trial force −k_t (δ + u_t Δt)
+    beyond μ F_n slides: F_t = μ F_n, δ = −F_t/k_t, and the slip (the rest of
+    δ + u_t Δt) dissipates μ F_n |slip| in the step; within the cone the
+    dashpot acts, clipped to what the cone leaves, and dissipates its own
+    force times u_t."""
+    tx, ty = -ny, nx
+    un = vx * nx + vy * ny
+    ut = vx * tx + vy * ty - ra * wa
+    fn = k * ov - c * un
+    if fn <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, False, 0.0
+    kt, ct = ratio * k, c * np.sqrt(ratio / 3.0)
+    held = held + ut * dt
+    fs = -kt * held
+    cap = mu * fn
+    if abs(fs) > cap:                  # slides: the spring holds the cap
+        ft = cap if fs > 0 else -cap
+        return (fn * nx + ft * tx, fn * ny + ft * ty, -ra * ft, fn,
+                cap * (abs(held) - cap / kt) / dt, True, -ft / kt)
+    ft = min(max(fs - ct * ut, -cap), cap)
+    return (fn * nx + ft * tx, fn * ny + ft * ty, -ra * ft, fn, abs((ft - fs) * ut), False,
+            held)
+
+
+@njit
 def _books(drive, rubbed, slid, top, fn, work, cone, power):
     """A contact's step added to the step's sums: the drive (the wall's
     ``power`` on the disc), friction, friction at the cone, the largest F_n."""
@@ -63,10 +117,12 @@ def _books(drive, rubbed, slid, top, fn, work, cone, power):
 
 @njit
 def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height, b, t0, dt,
-             nsteps, books, peaks, window, start):
+             nsteps, books, peaks, window, start, ratio, held_pair, held_shell, held_lift):
     """``nsteps`` symplectic Euler steps in place, adding to ``books`` (3,)
     and ``peaks`` (windows of ``window`` from ``start``, 2) (module
-    docstring); returns (the largest
+    docstring); with ``spring`` the tangential springs' displacements by
+    pair, disc at the shell and (disc, lifter) are kept in ``held_*`` (in
+    place); returns (the largest
     distance two discs can have closed, contact-steps in force)."""
     n = x.shape[0]
     F = np.zeros((n, 2))
@@ -88,6 +144,7 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
             dist = np.sqrt(dx * dx + dy * dy)
             ov = rad[i] + rad[j] - dist
             if ov <= 0.0:
+                held_pair[p] = 0.0
                 continue
             nx, ny = dx / dist, dy / dist
             kc = 1.0 / (1.0 / s[i] + 1.0 / s[j])
@@ -95,7 +152,12 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
             # the other disc's rolling part moved into the relative velocity
             vx = v[i, 0] - v[j, 0] + rad[j] * w[j] * ny
             vy = v[i, 1] - v[j, 1] - rad[j] * w[j] * nx
-            fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, vx, vy, w[i], rad[i], kc, c, mu[0])
+            if ratio > 0.0:
+                fx, fy, ti, fn, work, cone, held_pair[p] = _contact_spring(
+                    nx, ny, ov, vx, vy, w[i], rad[i], kc, c, mu[0], dt, held_pair[p], ratio)
+            else:
+                fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, vx, vy, w[i], rad[i], kc, c,
+                                                      mu[0])
             if fn > 0.0:
                 F[i, 0] += fx
                 F[i, 1] += fy
@@ -115,9 +177,14 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                 nx, ny = -x[a, 0] / rr, -x[a, 1] / rr
                 px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
                 c = 2 * zeta * np.sqrt(m[a] * s[a])
-                fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, v[a, 0] + omega * py,
-                                                      v[a, 1] - omega * px, w[a], rad[a], s[a],
-                                                      c, mu[1])
+                if ratio > 0.0:
+                    fx, fy, ti, fn, work, cone, held_shell[a] = _contact_spring(
+                        nx, ny, ov, v[a, 0] + omega * py, v[a, 1] - omega * px, w[a], rad[a],
+                        s[a], c, mu[1], dt, held_shell[a], ratio)
+                else:
+                    fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, v[a, 0] + omega * py,
+                                                          v[a, 1] - omega * px, w[a], rad[a],
+                                                          s[a], c, mu[1])
                 F[a, 0] += fx
                 F[a, 1] += fy
                 T[a] += ti
@@ -125,6 +192,8 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                     counted += 1
                     drive, rubbed, slid, top_st = _books(drive, rubbed, slid, top_st, fn, work,
                                                          cone, omega * (fy * px - fx * py))
+            else:
+                held_shell[a] = 0.0
             for q in range(nl):
                 ux, uy = seg[q, 0], seg[q, 1]
                 ax, ay = (R - height) * ux, (R - height) * uy
@@ -138,9 +207,14 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                     nx, ny = qx / dist, qy / dist
                     px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
                     c = 2 * zeta * np.sqrt(m[a] * s[a])
-                    fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, v[a, 0] + omega * py,
-                                                          v[a, 1] - omega * px, w[a], rad[a],
-                                                          s[a], c, mu[2])
+                    if ratio > 0.0:
+                        fx, fy, ti, fn, work, cone, held_lift[a, q] = _contact_spring(
+                            nx, ny, ov, v[a, 0] + omega * py, v[a, 1] - omega * px, w[a],
+                            rad[a], s[a], c, mu[2], dt, held_lift[a, q], ratio)
+                    else:
+                        fx, fy, ti, fn, work, cone = _contact(
+                            nx, ny, ov, v[a, 0] + omega * py, v[a, 1] - omega * px, w[a],
+                            rad[a], s[a], c, mu[2])
                     F[a, 0] += fx
                     F[a, 1] += fy
                     T[a] += ti
@@ -149,6 +223,8 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                         drive, rubbed, slid, top_st = _books(drive, rubbed, slid, top_st, fn,
                                                              work, cone,
                                                              omega * (fy * px - fx * py))
+                else:
+                    held_lift[a, q] = 0.0
         books[0] += drive * dt
         books[1] += rubbed * dt
         books[2] += slid * dt
@@ -167,8 +243,23 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
     return reach, counted
 
 
+def _carried(old, held, new, n: int):
+    """The tangential springs of the pairs ``new`` (k, 2) where ``old`` had
+    them; a pair new to the list starts unloaded (it was beyond the margin,
+    so not in contact)."""
+    out = np.zeros(new.shape[0])
+    if old.shape[0] and new.shape[0]:
+        key_old, key_new = old[:, 0] * n + old[:, 1], new[:, 0] * n + new[:, 1]
+        order = np.argsort(key_old)
+        at = np.minimum(np.searchsorted(key_old[order], key_new), old.shape[0] - 1)
+        hit = key_old[order][at] == key_new
+        out[hit] = held[order][at[hit]]
+    return out
+
+
 def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=0.5,
-                window: float | None = None, t0: float = 0.0):
+                window: float | None = None, t0: float = 0.0, spring: float = 0.0,
+                springs=None):
     """Run ``model`` (a Drum2D: its discs' state, shell, μ, e, modulus,
     gravity, Ω) from time ``t0`` [s] (the lifters at Ω t0) for ``duration``
     [s] of simulated time by the penalty DEM of the module docstring; returns
@@ -177,7 +268,8 @@ def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=
     sliding (the friction at the cone) [J], peaks (windows, 2): the largest
     log–log and log–steel normal force [N] in each ``window`` [s] from t0
     (default: the whole run), centroids (the discs' mass centre [m] every
-    20 steps))."""
+    20 steps), springs (with ``spring``: the tangential springs' state, to
+    pass as ``springs`` to a run that goes on from this one's end))."""
     d, sh = model.discs, model.shell
     n = d.n
     m, I, rad = d.masses, d.masses * d.diameters ** 2 / 8.0, d.radii
@@ -204,18 +296,25 @@ def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=
     angles = np.asarray(sh.lifter_angles, float)
     window = duration if window is None else window
     books, peaks = np.zeros(3), np.zeros((int(np.ceil(steps * dt / window)) + 1, 2))
-    _advance(x.copy(), v.copy(), w.copy(), grid_pairs(x, rad, margin)[0], m, I, rad, s, zeta,
+    if springs is None:                  # (pairs, by pair, at the shell, at the lifters)
+        springs = (pairs, np.zeros(0), np.zeros(n), np.zeros((n, angles.size)))
+    held_pair, held_shell, held_lift = (a.copy() for a in springs[1:])
+    first = grid_pairs(x, rad, margin)[0]
+    _advance(x.copy(), v.copy(), w.copy(), first, m, I, rad, s, zeta,
              mu, omega, g, R, angles, sh.lifter_height, b, t0, dt, 1, books.copy(),
-             peaks.copy(), window, t0)    # compiled
+             peaks.copy(), window, t0, float(spring), np.zeros(first.shape[0]), held_shell.copy(),
+             held_lift.copy())    # compiled
+    pairs = springs[0]
     start = time.process_time()
     while done < steps:
         if reach >= 0.5 * margin or since > 0 and not pairs.size or done == 0:
-            pairs, _ = grid_pairs(x, rad, margin)
-            reach, since = 0.0, 0
+            fresh, _ = grid_pairs(x, rad, margin)
+            held_pair = _carried(pairs, held_pair, fresh, n)
+            pairs, reach, since = fresh, 0.0, 0
         step = min(chunk, steps - done)
         closed, hits = _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles,
                                 sh.lifter_height, b, t0 + done * dt, dt, step, books, peaks,
-                                window, t0)
+                                window, t0, float(spring), held_pair, held_shell, held_lift)
         centroids.append(m @ x / m.sum())
         reach += closed
         counted += hits
@@ -224,4 +323,5 @@ def penalty_dem(model, duration: float, per_period: float = 50.0, margin_factor=
     cpu = time.process_time() - start
     return dict(cpu=cpu, steps=steps, dt=dt, contacts=counted / max(steps, 1),
                 positions=x, velocities=v, spins=w, drive=books[0], friction=books[1],
-                sliding=books[2], peaks=peaks, centroids=np.array(centroids))
+                sliding=books[2], peaks=peaks, centroids=np.array(centroids),
+                springs=(pairs, held_pair, held_shell, held_lift))

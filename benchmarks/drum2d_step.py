@@ -27,9 +27,13 @@ per metre of drum where the cross-section's length ℓ enters):
 
 With --dem P1,P2 the same scene from the same start is also run by the
 resolved explicit penalty DEM of benchmarks/drum2d_dem.py at Δt = T_min/P
-(in this process, one after the other): its drive, friction (and the part
-at the cone: sliding; the rest is its capped dashpot's creep of stuck
-contacts) and the bed's angle beside the 2-D runs', and its log–log and
+(in this process, one after the other; --dem-friction dashpot,spring runs
+each P with its capped tangential dashpot and with Cundall–Strack's
+tangential spring, spring:R with k_t = R k): its drive, tangential loss,
+its sliding part (beside the 2-D's sliding work: its share of the drive and
+per log per revolution; the dashpot's work at the cone, or the spring's
+slip; the rest is the dashpot's creep of stuck contacts, or the spring's
+dashpot) and the bed's angle beside the 2-D runs', and its log–log and
 log–steel forces exceeded 1, 10 and 50 times a second by the largest force
 of each window of h, for each h (the 2-D's steps' peaks are windows of h).
 
@@ -146,28 +150,40 @@ def figures(path: Path, t0: float) -> dict:
     return r
 
 
-def dem_figures(scene_text: str, per_period: float, t0: float, steps_ms: list) -> dict:
-    """The penalty DEM's figures (module docstring) of the scene from t >= t0."""
+def spring_ratio(friction: str) -> float:
+    """k_t/k of --dem-friction's ``spring`` (1/3) or ``spring:R`` (R); 0 for ``dashpot``."""
+    if friction == "dashpot":
+        return 0.0
+    return float(friction.split(":")[1]) if ":" in friction else 1.0 / 3.0
+
+
+def dem_figures(scene_text: str, per_period: float, t0: float, steps_ms: list,
+                spring: float = 0.0) -> dict:
+    """The penalty DEM's figures (module docstring) of the scene from t >= t0
+    (``spring``: Cundall–Strack's tangential spring, carried across t0)."""
     from benchmarks.drum2d_dem import penalty_dem
     from formulations.drum2d.scene import scene_model
     from qpcontact.scenes.schema import parse_scene
 
     model, h, n = scene_model(parse_scene(scene_text, "the scene"))
     base = 0.5e-3                        # windows of h are made of these [s]
-    cpu, start = 0.0, 0.0
+    cpu, start, springs = 0.0, 0.0, None
     if t0 > 0:                           # to t0 without books, then on from its state
-        early = penalty_dem(model, t0, per_period)
+        early = penalty_dem(model, t0, per_period, spring=spring)
         d = model.discs
         d.positions[:], d.velocities[:], d.spins[:] = (early["positions"], early["velocities"],
                                                        early["spins"])
-        cpu, start = early["cpu"], early["steps"] * early["dt"]
+        cpu, start, springs = early["cpu"], early["steps"] * early["dt"], early["springs"]
     span = h * n - start
-    run = penalty_dem(model, span, per_period, window=base, t0=start)
+    run = penalty_dem(model, span, per_period, window=base, t0=start, spring=spring,
+                      springs=springs)
     c = run["centroids"]
+    revs = span * model.omega / (2 * np.pi)
     r = {"cpu": cpu + run["cpu"], "dt [µs]": 1e6 * run["dt"],
          "drive power [kW/m]": run["drive"] / span / model.discs.length / 1e3,
-         "sliding / drive [%]": 100 * run["friction"] / run["drive"],
-         "of it at the cone [%]": 100 * run["sliding"] / run["drive"],
+         "tangential loss / drive [%]": 100 * run["friction"] / run["drive"],
+         "sliding / drive [%]": 100 * run["sliding"] / run["drive"],
+         "sliding work [J/log/rev]": run["sliding"] / revs / model.discs.n,
          "bed angle [°]": float(np.degrees(np.arctan2(c[:, 0], -c[:, 1])).mean())}
     for ms in steps_ms:
         k = int(round(float(ms) * 1e-3 / base))
@@ -188,6 +204,9 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "out" / "bench" / "drum2d_step"))
     ap.add_argument("--fresh", action="store_true")
     ap.add_argument("--dem", default="", help="T_min/Δt of penalty DEM runs, comma-separated")
+    ap.add_argument("--dem-friction", default="dashpot",
+                    help="the DEM's friction, comma-separated: dashpot (capped, no "
+                         "history), spring (Cundall–Strack, k_t = k/3), spring:R (k_t = R k)")
     args = ap.parse_args(argv)
     text = Path(args.scene).read_text()
     for kv in args.vary:
@@ -223,9 +242,11 @@ def main(argv=None):
         label = {"cpu": "CPU, user + system [s]", "load": "load at the end"}.get(key, key)
         print(f"| {label} | " + " | ".join(cells) + " |")
     steps_ms = args.steps.split(",")
-    for per in filter(None, args.dem.split(",")):
-        dem = dem_figures(text, float(per), args.t0, steps_ms)
-        print(f"\npenalty DEM at T_min/{per} (load {os.getloadavg()[0]:.1f}):")
+    for per, friction in ((p, f) for p in filter(None, args.dem.split(","))
+                          for f in args.dem_friction.split(",")):
+        dem = dem_figures(text, float(per), args.t0, steps_ms, spring=spring_ratio(friction))
+        print(f"\npenalty DEM at T_min/{per}, friction by the {friction} "
+              f"(load {os.getloadavg()[0]:.1f}):")
         for key, v in dem.items():
             cell = f"{v:.4g}"
             h_ms = key.rsplit("windows of ", 1)[-1].split(" ms")[0] if "windows" in key else None
