@@ -1,12 +1,31 @@
-"""The 2-D cone projection in one compiled pass (numba).
+"""The 2-D cone projection in one compiled pass, and the test of where a
+point lies against the cone that the compiled sweeps, Newton steps and
+certificates share (numba).
 
-Imported only by friction_problem.project_cone, where it runs, so that
-importing qpcontact does not load numba."""
+Imported only by friction_problem.project_cone and by other compiled
+kernels, where they run, so that importing qpcontact does not load numba."""
 
 from __future__ import annotations
 
 import numpy as np
 from .compiled import njit
+
+#: :func:`cone_region`'s answers
+POLAR, INSIDE, SIDE = 0, 1, 2
+
+
+@njit
+def cone_region(xn, t, mu):
+    """Where a point of normal part ``xn`` and tangential norm ``t`` lies
+    against the cone {t <= μ x_N}: INSIDE (tested first, so the apex is
+    inside: the projection's Jacobian there is the identity), POLAR (its
+    projection is 0), else SIDE.  Inside needs x_N >= 0 as well: with μ = 0
+    and t = 0, t <= μ x_N reads 0 <= −0.0, true for x_N < 0."""
+    if t <= mu * xn and xn >= 0.0:
+        return INSIDE
+    if mu * t <= -xn:
+        return POLAR
+    return SIDE
 
 
 @njit

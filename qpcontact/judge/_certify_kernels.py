@@ -8,6 +8,7 @@ a 3e5-nonzero chain, a tenth of a bpp solve; as one loop, a few hundred µs.
 from __future__ import annotations
 
 import numpy as np
+from ..core._cone_kernels import INSIDE, POLAR, cone_region
 from ..core.compiled import njit
 
 
@@ -59,10 +60,11 @@ def jacobian_blocks_2d(u, r, q, terms, mu, rho, slip_rtol):
         t01 = mu[i] * (ut / tn) if rho[i] * tn > slip_rtol * max(size[i], floor) else 0.0
         m = mu[i]
         t = np.sqrt(xt * xt)
-        if t <= m * xn and xn >= 0.0:   # inside the cone (μ = 0: not at xn < 0)
+        region = cone_region(xn, t, m)
+        if region == INSIDE:
             jp[i, 0, 0] = 1.0
             jp[i, 1, 1] = 1.0
-        elif not m * t <= -xn:          # on its side (the polar cone: 0)
+        elif region != POLAR:           # on its side (the polar cone: 0)
             that = xt / t
             alpha = (xn + m * t) / (1 + m * m)
             v1 = m * that
@@ -148,9 +150,10 @@ def csr_transposed(rptr, ridx, rval, count):
 def _cone_residual_2d(rn, rt, xn, xt, mu):
     """(r − proj_K(x)) for one 2-D contact, proj_K as friction_problem.project_cone."""
     t = abs(xt)
-    if t <= mu * xn and xn >= 0.0:
+    region = cone_region(xn, t, mu)
+    if region == INSIDE:
         pn, pt = xn, xt
-    elif mu * t <= -xn:
+    elif region == POLAR:
         pn, pt = 0.0, 0.0
     else:
         alpha = (mu * t + xn) / (1.0 + mu * mu)

@@ -10,7 +10,7 @@ load numba.
 from __future__ import annotations
 
 import numpy as np
-from ...core._cone_kernels import project_cone_2d
+from ...core._cone_kernels import INSIDE, POLAR, SIDE, cone_region, project_cone_2d
 from ...core.compiled import njit
 from ...judge._certify_kernels import csr_transposed, jacobian_blocks_2d
 
@@ -98,26 +98,22 @@ def closed_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
         u[c] = y[c] + q[c]
     jp, b, xs = jacobian_blocks_2d(u, r, q, terms, mu, rho, slip_rtol)
     F = r - project_cone_2d(xs.ravel(), mu)
-    # 0 open, 1 inside the cone, 2 on its side
+    # each contact's region: POLAR opens it, on the cone's SIDE its unknowns are tied
     state = np.empty(nc, np.int64)
     tie = np.zeros(nc)
     base = np.zeros(n)
     for i in range(nc):
         xn, xt = xs[i, 0], xs[i, 1]
-        t = abs(xt)
-        if t <= mu[i] * xn and xn >= 0.0:
-            state[i] = 1
-        elif mu[i] * t <= -xn:
-            state[i] = 0
+        state[i] = cone_region(xn, abs(xt), mu[i])
+        if state[i] == POLAR:
             base[2 * i], base[2 * i + 1] = -F[2 * i], -F[2 * i + 1]
-        else:
-            state[i] = 2
+        elif state[i] == SIDE:
             tie[i] = mu[i] if xt > 0 else -mu[i]
             base[2 * i + 1] = -(F[2 * i + 1] - tie[i] * F[2 * i])
     kept = np.zeros(n, np.bool_)
     for i in range(nc):
-        kept[2 * i] = state[i] != 0
-        kept[2 * i + 1] = state[i] == 1
+        kept[2 * i] = state[i] != POLAR
+        kept[2 * i + 1] = state[i] == INSIDE
     seen = np.zeros(n, np.bool_)
     order = np.empty(n, np.int64)
     k = 0
@@ -160,10 +156,10 @@ def closed_system_2d(Wptr, Widx, Wval, q, mu, rho, r, slip_rtol, diag, bptr, bco
                     w[0, e] = (b[i, a, 0] * bdata[bptr[i] + s, 0, e]
                                + b[i, a, 1] * bdata[bptr[i] + s, 1, e])
             sj = state[j]
-            if sj == 0:
+            if sj == POLAR:
                 acc -= w[0, 0] * base[2 * j] + w[0, 1] * base[2 * j + 1]
                 continue
-            if sj == 2:
+            if sj == SIDE:
                 acc -= w[0, 1] * base[2 * j + 1]
                 v = w[0, 0] + tie[j] * w[0, 1]
                 if v != 0.0:

@@ -11,6 +11,7 @@ LCP solved exactly by enumeration (open, sticking, sliding either way); in
 from __future__ import annotations
 
 import numpy as np
+from ...core._cone_kernels import INSIDE, POLAR, cone_region
 from ...core.compiled import njit
 
 
@@ -22,9 +23,10 @@ def _project(r, mu, d):
         t += r[k] * r[k]
     t = np.sqrt(t)
     rn = r[0]
-    if t <= mu * rn and rn >= 0.0:     # μ = 0: t = 0 <= −0.0 is not inside at rn < 0
+    region = cone_region(rn, t, mu)
+    if region == INSIDE:
         return
-    if mu * t <= -rn:
+    if region == POLAR:
         for k in range(d):
             r[k] = 0.0
         return
@@ -140,9 +142,10 @@ def _project_2d(rn, rt, mu):
     """:func:`_project` for d = 2 on scalars, the same operations in the same
     order (so the same bits)."""
     t = np.sqrt(rt * rt)
-    if t <= mu * rn and rn >= 0.0:
+    region = cone_region(rn, t, mu)
+    if region == INSIDE:
         return rn, rt
-    if mu * t <= -rn:
+    if region == POLAR:
         return 0.0, 0.0
     a = (mu * t + rn) / (1.0 + mu * mu)
     return a, (rt * mu * a / t if t > 0.0 else 0.0)
