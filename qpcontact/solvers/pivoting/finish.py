@@ -27,7 +27,10 @@ Both routes return the basic solution recomputed from the data, as
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 
 from ...core.linalg import ActiveBlock
@@ -160,10 +163,6 @@ class NearbyBases:
         a = added.size
         S = -np.vstack([np.asarray(M_0A.T @ W), W[at_removed]])
         S[:a, :a] += M_AA
-        import warnings
-
-        import scipy.linalg
-
         with warnings.catch_warnings():     # a singular S ends in the finiteness test below
             warnings.simplefilter("ignore")
             try:
