@@ -98,9 +98,10 @@ the cluster runs"): the piles struck from above within 1.8 % of a
 penalty DEM (the step's own booking −95 %), struck obliquely −16.5 and
 −13.8 % (−32, −30 %; the striker's contact, which leaves the top log
 within the run: both linear estimates read its slip after it left); the
-drums of 40, 200 and 500 logs at h = 2 ms +4.7, +1.3, +8.2 % against the
-penalty DEM's capped dashpot (before −6.6, −8.7, −6.0 %), −0.6, −1.0,
-+2.7 % against its Cundall–Strack spring at k_t = 3k.  The
+drums of 40 (with lifters, smooth), 200 and 500 logs at h = 2 ms +4.7,
+−3.3, +1.8, +7.1 % against the penalty DEM's capped dashpot (before −6.6,
+−7.9, −8.3, −7.1 %), −0.6, −3.5, −0.5, +1.6 % against its Cundall–Strack
+spring at k_t = 3k.  The
 runs' viscous stick (STICK) creeps: their Coulomb sliding on the piles
 read 7–8 % below the DEM's at a near-exact stick (3 % on a struck disc
 sliding on the shell), −5 … +3 % at STICK = 3, which chattered at 4.
