@@ -24,11 +24,14 @@ part is nilpotent).  Eliminating y,
 where K_ff − κH_f C⁻¹ B is K_ff with each holding link's spring k h h' [kN/m]
 and each slipping contact's friction coupling (f k h_t h_n', unsymmetric)
 added: a matrix with K's own sparsity, banded in the dofs' own order or a
-reverse Cuthill–McKee one (a continuous beam: 4 wide in its own).  LAPACK
-factors it in
-a sixth of SuperLU's time on the saddle matrix (0.10 against 0.61 ms at
-1 202 dofs, 0.47 against 2.6 at 6 002): SuperLU's cost at these sizes is
-its set-up per unknown, not arithmetic.
+reverse Cuthill–McKee one (a continuous beam: 4 wide in its own, a
+20-storey tower 29 in RCM's).  LAPACK factors it in a sixth of SuperLU's
+time on the saddle matrix (0.10 against 0.61 ms at 1 202 dofs, 0.47
+against 2.6 at 6 002): SuperLU's cost at these sizes is its set-up per
+unknown, not arithmetic.  Every link holding (the basic system), it is
+symmetric positive definite: a band wider than NARROW is then factorized
+by Cholesky, whose link rows (the contact stiffness R) take one forward
+solve per link (:func:`factor`, :meth:`CondensedLU.link_rows`).
 
 What eliminating y costs in accuracy: the link force comes out as
 X = k (Δ − h'u), a difference of displacements times k, with an error of
@@ -56,9 +59,11 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 CONDENSE_MAX = 1e3
 #: the widest band factorized (half-bandwidth, dofs): a band LU's work
 #: and a solve's grow as the width's square and the width, SuperLU's here
-#: hardly with either.  The 20-storey tower's 29 gained nothing (its LU
-#: 0.15 against 0.57 ms, but the contact stiffness's 36-column solve 0.7
-#: against 0.28 ms); a beam's 4 is 3–6 times faster at every step
+#: hardly with either.  A beam's 4 is 3–6 times faster at every step; the
+#: 20-storey tower's 29 (reverse Cuthill–McKee), with its basic system by
+#: Cholesky and R by forward solves (:func:`factor`), takes 0.09 ms to
+#: factor against SuperLU's 0.58 and 0.33 ms for R against 0.45; the
+#: 10-storey space tower's 100 stays with SuperLU
 BAND_MAX = 32
 #: a band this narrow in the dofs' own order is kept (no reordering)
 NARROW = 12
