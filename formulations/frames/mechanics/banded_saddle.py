@@ -191,10 +191,10 @@ def factor(lay, kin, coef, partner):
     slipping: K plus springs, symmetric positive definite) of a band wider
     than NARROW, which is factorized by Cholesky (dpbtrf, as OpenSees'
     BandSPD): the contact stiffness R then takes one forward solve per
-    link (:meth:`CondensedLU.link_rows`), where the LU took a forward and
-    a backward one over a band half again as wide (a 20-storey tower, 29
-    wide: R 0.10 against 0.23 ms, more than SuperLU's 0.28 with the LU's
-    0.7).  A narrow band keeps the LU, and with it today's digits: a
+    link (:meth:`CondensedLU.link_rows`), where the LU takes a forward and
+    a backward one per column over a band half again as wide (a 20-storey
+    tower, 29 wide: R's solves 0.10 ms, the LU's 0.7, SuperLU's on the
+    saddle matrix 0.28).  A narrow band keeps the LU, and with it today's digits: a
     beam's R costs little either way, and a random beam whose LCP Lemke
     ends on a secondary ray (tests' random_beam(10)) proved "no
     equilibrium" with the LU's rounding of R and ran out of time with the
