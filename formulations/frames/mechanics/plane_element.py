@@ -117,15 +117,6 @@ def _release(k, fe, r, spring):
     return kc[np.ix_(keep, keep)], fc[keep]
 
 
-def plane_kernels():
-    """The plane frame's compiled assembly loops (:mod:`._plane_kernels`),
-    imported on first use: numba costs 0.2 s to import, which a frame that
-    is only described never pays."""
-    from . import _plane_kernels
-
-    return _plane_kernels
-
-
 def member_locals(frame, xy, idx, col, axial=None):
     """Every member's local stiffness (node dofs, member axes), rotation,
     dofs and equivalent nodal loads per case, computed for all members at
@@ -152,15 +143,15 @@ def member_locals(frame, xy, idx, col, axial=None):
     c, s = d[:, 0] / L, d[:, 1] / L
     Lf = L - oi - oj
     phi = np.divide(12.0 * E * I, GAs * Lf ** 2, out=np.zeros(nm), where=GAs > 0)
-    # k (first order: beam_k's arithmetic), T (rotation's) and the dofs in
-    # one compiled loop: as array expressions, 0.5 ms of a 2000-member beam
-    k_all, T, dofs = plane_kernels().member_arrays(ii, jj, E, A, I, Lf, phi, c, s,
-                                                   axial is None)
-    if axial is not None:
+    if axial is None:
+        k_all = beam_k(E, A, I, Lf, phi)
+    else:
         axial = np.asarray(axial, float)
         k_all = np.where((phi > 0)[:, None, None],
                          beam_k(E, A, I, Lf, phi) + consistent_geometric_k(Lf, axial),
                          beam_column_k(E, A, I, Lf, axial))
+    T = rotation(c, s)
+    dofs = 3 * np.repeat(np.column_stack((ii, jj)), 3, axis=1) + np.array([0, 1, 2, 0, 1, 2])
     has_offset = (oi > 0) | (oj > 0)
     offset = np.flatnonzero(has_offset).tolist()
     Fe = np.zeros((nm, 6, len(col)))

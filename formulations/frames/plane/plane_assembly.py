@@ -15,7 +15,7 @@ from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix
 from ..mechanics.loads import CONSTANT, VARIABLE
-from ..mechanics.plane_element import DOFS, member_locals, plane_kernels
+from ..mechanics.plane_element import DOFS, member_locals
 from ..reporting.free_motion import mechanism_message
 
 
@@ -46,17 +46,9 @@ def assemble(frame, axial=None):
         k_all, T, dofs, Fe = member_locals(frame, xy, idx, col, axial)
         Tt = T.transpose(0, 2, 1)
         kg = Tt @ k_all @ T          # batched matmul: 10x einsum's three-operand path
-        # K's CSR straight from the blocks, the springs after them, each sum
-        # in the triplets' order (scipy's conversion from 14 400 triplets:
-        # a tenth of a 200-span beam's assembly)
-        at = [(idx[node] + DOFS.index(d), kval) for node, ks in frame.springs.items()
-              for d, kval in ks.items()]
-        ok, *csr = plane_kernels().csr_of_blocks(dofs, kg, N,
-                                                 np.array([r for r, _ in at], np.int64),
-                                                 np.array([v for _, v in at], float))
-        K = (sp.csr_matrix(tuple(csr), shape=(N, N)) if ok else stiffness_matrix(
-            [np.repeat(dofs, 6, axis=1).ravel()], [np.tile(dofs, (1, 6)).ravel()],
-            [kg.ravel()], frame.springs, idx, DOFS, N))
+        rows = [np.repeat(dofs, 6, axis=1).ravel()]
+        cols = [np.tile(dofs, (1, 6)).ravel()]
+        vals = [kg.ravel()]
         # the members' loads summed dof by dof in member order, as np.add.at
         # did (bincount: the same sums, a tenth of its time)
         F = np.bincount((dofs[..., None] * nc + np.arange(nc)).ravel(),
@@ -64,13 +56,14 @@ def assemble(frame, axial=None):
     else:
         k_all, T = np.zeros((0, 6, 6)), np.zeros((0, 6, 6))
         dofs, Fe = np.zeros((0, 6), int), np.zeros((0, 6, nc))
-        K = stiffness_matrix([], [], [], frame.springs, idx, DOFS, N)
+        rows, cols, vals = [], [], []
         F = np.zeros((N, nc))
     for node, fx, fy, mz, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 3, col[case]] += (fx, fy, mz)
     U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
     for node, dof, case, value in frame.settlements:
         U[idx[node] + DOFS.index(dof), col[case]] += value
+    K = stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
     Tn = node_axes(frame, idx, N)
     if Tn is not None:     # turned node axes: the system is written in them
         K = (Tn @ K @ Tn.T).tocsr()
