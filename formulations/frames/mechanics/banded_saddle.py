@@ -24,11 +24,14 @@ part is nilpotent).  Eliminating y,
 where K_ff − κH_f C⁻¹ B is K_ff with each holding link's spring k h h' [kN/m]
 and each slipping contact's friction coupling (f k h_t h_n', unsymmetric)
 added: a matrix with K's own sparsity, banded in the dofs' own order or a
-reverse Cuthill–McKee one (a continuous beam: 4 wide in its own).  LAPACK
-factors it in
-a sixth of SuperLU's time on the saddle matrix (0.10 against 0.61 ms at
-1 202 dofs, 0.47 against 2.6 at 6 002): SuperLU's cost at these sizes is
-its set-up per unknown, not arithmetic.
+reverse Cuthill–McKee one (a continuous beam: 4 wide in its own, a
+20-storey tower 29 in RCM's).  LAPACK factors it in a sixth of SuperLU's
+time on the saddle matrix (0.10 against 0.61 ms at 1 202 dofs, 0.47
+against 2.6 at 6 002): SuperLU's cost at these sizes is its set-up per
+unknown, not arithmetic.  Every link holding (the basic system), it is
+symmetric positive definite: a band wider than NARROW is then factorized
+by Cholesky, whose link rows (the contact stiffness R) take one forward
+solve per link (:func:`factor`, :meth:`CondensedLU.link_rows`).
 
 What eliminating y costs in accuracy: the link force comes out as
 X = k (Δ − h'u), a difference of displacements times k, with an error of
@@ -47,7 +50,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg.lapack import dgbtrf, dgbtrs
+from scipy.linalg.lapack import dgbtrf, dgbtrs, dpbtrf, dpbtrs, dtbtrs
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 #: contacts at most this many times stiffer than the frame's largest
@@ -56,16 +59,14 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 CONDENSE_MAX = 1e3
 #: the widest band factorized (half-bandwidth, dofs): a band LU's work
 #: and a solve's grow as the width's square and the width, SuperLU's here
-#: hardly with either.  The 20-storey tower's 29 gained nothing (its LU
-#: 0.15 against 0.57 ms, but the contact stiffness's 36-column solve 0.7
-#: against 0.28 ms); a beam's 4 is 3–6 times faster at every step
-BAND_MAX = 16
+#: hardly with either.  A beam's 4 is 3–6 times faster at every step; the
+#: 20-storey tower's 29 (reverse Cuthill–McKee), with its basic system by
+#: Cholesky and R by forward solves (:func:`factor`), takes 0.09 ms to
+#: factor against SuperLU's 0.58 and 0.33 ms for R against 0.45; the
+#: 10-storey space tower's 100 stays with SuperLU
+BAND_MAX = 32
 #: a band this narrow in the dofs' own order is kept (no reordering)
 NARROW = 12
-#: a frame with fewer free dofs is not reordered to try for a band: its
-#: SuperLU costs ~0.6 ms, the order's search ~0.4 (a 20-storey tower's 291
-#: dofs, whose reordered band is 29 wide anyway)
-REORDER_MIN = 1000
 #: the same singularity test as the saddle matrix's LU
 SINGULAR_PIVOTS = 1e-13
 
@@ -84,8 +85,6 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     if nf == 0 or nl == 0 or not np.all(flex > 0) or 1.0 / flex.min() > CONDENSE_MAX * kappa:
         return None
     kr, kc, kv = k_triplets
-    if nf < REORDER_MIN and np.abs(kr - kc).max(initial=0) > NARROW:
-        return None                  # too wide in its own order, too small to reorder
     h_dof, h_link, h_val = h_triplets
     by_link = np.argsort(h_link, kind="stable")
     h_dof, h_link, h_val = h_dof[by_link], h_link[by_link], h_val[by_link]
@@ -112,7 +111,7 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     # chains 8 wide; the work goes as the width's square)
     perm = np.arange(nf)
     bw = int(np.abs(pr - pc).max(initial=0))
-    if bw > NARROW and nf >= REORDER_MIN:
+    if bw > NARROW:
         pattern = sp.csr_matrix((np.ones(pr.size), (pr, pc)), shape=(nf, nf))
         rcm = reverse_cuthill_mckee(pattern, symmetric_mode=True)
         pos = np.empty(nf, int)
@@ -184,22 +183,46 @@ def _link_terms(lay, kin, coef, partner):
 
 
 def factor(lay, kin, coef, partner):
-    """The condensed LU of the state set whose links ``kin`` hold (the
-    others static; ``coef``: f·slip on a slipping tangent, coupling it to
-    its normal link ``partner``), or None where its pivots say singular."""
+    """The condensed factorization of the state set whose links ``kin``
+    hold (the others static; ``coef``: f·slip on a slipping tangent,
+    coupling it to its normal link ``partner``), or None where its pivots
+    say singular.  By LU (dgbtrf: a slipping contact's coupling is
+    unsymmetric), but for the basic system (every link holding, none
+    slipping: K plus springs, symmetric positive definite) of a band wider
+    than NARROW, which is factorized by Cholesky (dpbtrf, as OpenSees'
+    BandSPD): the contact stiffness R then takes one forward solve per
+    link (:meth:`CondensedLU.link_rows`), where the LU takes a forward and
+    a backward one per column over a band half again as wide (a 20-storey
+    tower, 29 wide: R's solves 0.10 ms, the LU's 0.7, SuperLU's on the
+    saddle matrix 0.28).  A narrow band keeps the LU, and with it today's digits: a
+    beam's R costs little either way, and a random beam whose LCP Lemke
+    ends on a secondary ray (tests' random_beam(10)) proved "no
+    equilibrium" with the LU's rounding of R and ran out of time with the
+    Cholesky's."""
     nf, bw, d = lay["nf"], lay["bw"], lay["d"]
     r, c, v, cinv, slip, on, off = _link_terms(lay, kin, coef, partner)
     if r.size and np.abs(r - c).max() > bw:     # a coupling the layout's pairs did not name
         return None
     ab = lay["band_K"].copy()
     np.add.at(ab.reshape(-1), (2 * bw + r - c) * nf + c, v * d[r] * d[c])
-    lu, piv, info = dgbtrf(ab, bw, bw, overwrite_ab=1)
-    if info != 0:
-        return None
-    pivots = np.abs(lu[2 * bw])
+    if bw > NARROW and kin.all() and not slip.size:
+        # the upper triangle, rows bw..2bw of the LU's storage, as dpbtrf
+        # stores it (K_ff is symmetric to rounding; the one solve of an
+        # answer is refined on S itself)
+        chol, info = dpbtrf(ab[bw:2 * bw + 1], lower=0, overwrite_ab=1)
+        if info != 0:
+            return None
+        pivots = chol[bw] ** 2       # an LU's pivots without row exchanges
+        band = (chol, None)
+    else:
+        lu, piv, info = dgbtrf(ab, bw, bw, overwrite_ab=1)
+        if info != 0:
+            return None
+        pivots = np.abs(lu[2 * bw])
+        band = (lu, piv)
     if not pivots.min() > SINGULAR_PIVOTS * pivots.max():
         return None
-    return CondensedLU(lay, lu, piv, cinv, slip, on, off, kin)
+    return CondensedLU(lay, band, cinv, slip, on, off, kin)
 
 
 class CondensedLU:
@@ -207,8 +230,11 @@ class CondensedLU:
     column per right-hand side) through the condensed banded LU: the
     interface of :class:`.contact_lcp.ScaledLU`."""
 
-    def __init__(self, lay, lu, piv, cinv, slip, on, off, kin):
-        self.lay, self.lu, self.piv, self.bw, self.d = lay, lu, piv, lay["bw"], lay["d"]
+    def __init__(self, lay, band, cinv, slip, on, off, kin):
+        # band: (LU, pivots) by dgbtrf, or (Cholesky factor, None) by dpbtrf
+        self.lay, self.bw, self.d = lay, lay["bw"], lay["d"]
+        self.lu, self.piv = band
+        self.g = None
         self.cinv, self.slip, self.on, self.off, self.kin = cinv, slip, on, off, kin
         # C itself, for the residual: its diagonal and a slipping tangent's κf
         self.cdiag = 1.0 / cinv
@@ -241,6 +267,37 @@ class CondensedLU:
         x = self._solve(rhs)
         return x if rhs.ndim > 1 else x + self._solve(rhs - self._times(x))
 
+    def link_rows(self, rhs, nl):
+        """The link rows y (nl) of S⁻¹ rhs (columns) where nothing reads the
+        dofs' rows: the contact stiffness R (a unit dislocation per link)
+        and its load columns.  On the Cholesky factor A = UᵀU of the basic
+        system (every link holding), B x = κH_fᵀ x = Gᵀ U⁻ᵀ D Pᵀ t with
+        G = U⁻ᵀ D Pᵀ κH_f, and t = r_1 − κH_f z, so U⁻ᵀ D Pᵀ t =
+        U⁻ᵀ D Pᵀ r_1 − G z: one forward solve for G's nl columns and for
+        the columns where r_1 is not zero (R's unit columns have none),
+        where solving for x took a forward and a backward solve of every
+        column (a 20-storey tower: 0.10 against 0.23 ms in LAPACK)."""
+        rhs = np.asarray(rhs, float)
+        lay, nf = self.lay, self.lay["nf"]
+        if self.piv is not None or rhs.ndim == 1:
+            return self._solve(rhs)[nf:]
+        r1, r2 = rhs[:nf], rhs[nf:]
+        z = self._cinv(r2)
+        w = -(self._g() @ z)
+        live = np.flatnonzero(np.any(r1 != 0.0, axis=0))
+        if live.size:
+            w[:, live] += dtbtrs(self.lu, self.d[:, None] * r1[lay["perm"]][:, live],
+                                 uplo="U", trans="T")[0]
+        return z - self._cinv(self._g().T @ w)
+
+    def _g(self):
+        """G = U⁻ᵀ D Pᵀ κH_f (dense, dofs x links), once per factor."""
+        if self.g is None:
+            lay = self.lay
+            self.g = dtbtrs(self.lu, self.d[:, None] * lay["Hf"].toarray()[lay["perm"]],
+                            uplo="U", trans="T")[0]
+        return self.g
+
     def _b(self, xu):
         """B x_u: κh'x_u on a holding link's row, nothing on a static one."""
         bx = self.lay["HfT"] @ xu
@@ -262,7 +319,9 @@ class CondensedLU:
         z = self._cinv(r2)
         t = r1 - lay["Hf"] @ z
         d = self.d if one else self.d[:, None]
-        x_perm, info = dgbtrs(self.lu, self.bw, self.bw, d * t[lay["perm"]], self.piv)
+        b = d * t[lay["perm"]]
+        x_perm = (dpbtrs(self.lu, b)[0] if self.piv is None
+                  else dgbtrs(self.lu, self.bw, self.bw, b, self.piv)[0])
         x = np.empty_like(t)
         x[lay["perm"]] = d * x_perm
         return np.concatenate((x, z - self._cinv(self._b(x))))

@@ -119,6 +119,11 @@ class ScaledLU:
         d = self.d if rhs.ndim == 1 else self.d[:, None]
         return d * self.lu.solve(d * rhs)
 
+    def link_rows(self, rhs, nl):
+        """The last nl rows (the links') of S⁻¹ rhs: the whole solve
+        (:meth:`.banded_saddle.CondensedLU.link_rows` saves work there)."""
+        return self.solve(rhs)[len(rhs) - nl:]
+
 
 def regular_lu(S):
     """The LU of S (a :class:`ScaledLU`), or None where S is singular
@@ -346,10 +351,11 @@ def contact_stiffness(b) -> dict:
     U, H = b["U"], b["H"]
     rhs[:nf, nl:] = free_loads(b, b["F"], U)
     rhs[nf:, nl:] = -kappa * (b["H_fixed_T"] @ U[fixed_idx])
-    sol = b["lu"].solve(rhs)
     if contrast(b) > CONTRAST:
-        sol = refined_columns(b, rhs, sol)
-    R = -kappa * sol[nf:, :nl]
+        sol = refined_columns(b, rhs, b["lu"].solve(rhs))[nf:]
+    else:
+        sol = b["lu"].link_rows(rhs, nl)
+    R = -kappa * sol[:, :nl]
     R = 0.5 * (R + R.T)
     # R's entries are sums of terms of size kappa (the stiffness), so each
     # carries a rounding error of a few eps * kappa.  An entry that small is
@@ -364,7 +370,7 @@ def contact_stiffness(b) -> dict:
     # (and the forces its settlements make): a link that a case does not
     # load (a pad under a frame whose bilateral supports carry the push)
     # had -2.7e-15 kN under 1 kN, and Lemke "proved" that it would pull
-    RF = -kappa * sol[nf:, nl:]
+    RF = -kappa * sol[:, nl:]
     load = np.abs(b["F"]).max(axis=0, initial=0.0) + kappa * np.abs(U).max(axis=0, initial=0.0)
     RF[np.abs(RF) <= R_ROUNDING * load] = 0.0
     return {"R": R, "RF": RF, "R_solve": exact}

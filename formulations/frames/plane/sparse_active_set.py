@@ -342,23 +342,30 @@ def _link_space(b, combo, required):
     RF = b["RF"] @ contact_lcp.factors(b, combo)
     absR = np.abs(R)
 
+    at = np.empty(R.shape[0], int)
+
     def solve(kin, sliding, n_link, t_link, f_slip):
         delta = np.where(kin, required, 0.0)
         S = np.flatnonzero(~kin)
         if S.size:
-            C = np.zeros((S.size, R.shape[0]))
-            C[np.arange(S.size), S] = 1.0
-            row = {l: k for k, l in enumerate(S)}
-            for l in sliding:
-                C[row[t_link[l]], n_link[l]] = f_slip[l]
-            A = C @ R[:, S]
+            # C's rows picked out of R, not multiplied: a static link's row
+            # is its own (X_l = 0), a slipping tangent's adds f_slip times
+            # its normal's (X_t ± f X_n = 0) — C @ R[:, S] with C's unit rows
+            # made as a dense product (a tenth of a tower's state set)
+            at[S] = np.arange(S.size)
+            t, n, f = at[t_link[sliding]], n_link[sliding], f_slip[sliding]
+            A = R[np.ix_(S, S)]
+            X0 = R @ delta + RF
+            b_ = -X0[S]
+            if t.size:
+                A[t] += f[:, None] * R[np.ix_(n, S)]
+                b_[t] -= f * X0[n]
             # as in the sparse form: a mechanism's A is singular to rounding
             lu, piv, info = scipy.linalg.lapack.dgetrf(A)
             if info != 0 or scipy.linalg.lapack.dgecon(
                     lu, np.abs(A).sum(axis=0).max(), norm="1")[0] < RCOND_MIN:
                 return None
-            delta[S] = scipy.linalg.lu_solve((lu, piv), -C @ (R @ delta + RF),
-                                             check_finite=False)
+            delta[S] = scipy.linalg.lapack.dgetrs(lu, piv, b_)[0]
         X = R @ delta + RF
         if not (np.all(np.isfinite(X)) and np.all(np.isfinite(delta))):
             return None

@@ -12,12 +12,14 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from qpcontact.core.errors import InvalidProblemError
+
 from formulations.frames import Frame
 from formulations.frames.mechanics import banded_saddle, contact_lcp
 from formulations.frames.plane import plane_assembly
 from formulations.frames.plane import sparse_active_set as active_set
 
-from .frame_cases import frictional_beam, stub_cantilever
+from .frame_cases import frictional_beam, stub_cantilever, three_bay_tower
 
 
 def _state_set_matrix(b, kin, coef, partner):
@@ -141,3 +143,56 @@ def test_a_cantilever_on_a_spring_beside_a_stub_by_hand(k, monkeypatch):
     assert abs(r.supports["T"].normal - 10.0 * k * delta / (1 + k * delta)) <= 1e-11 * 10.0
     u = -10.0 * delta / (1 + k * delta)
     assert abs(r.displacements["T"][1] - u) <= 1e-10 * abs(u)
+
+
+@pytest.mark.parametrize("storeys", [4, 20])
+def test_a_wide_band_basic_system_by_cholesky_solves_the_saddle_matrix(storeys):
+    """A tower (its own order 200+ dofs wide, reordered to a band wider than
+    NARROW): its basic system by banded Cholesky solves the explicitly
+    written saddle matrix as SuperLU does, one right-hand side and many;
+    the link rows alone (R's route: forward solves through G) are those
+    rows of the whole solve; R from them is SuperLU's R."""
+    b = three_bay_tower(storeys)[0].build()
+    lu, nf, nl = b["lu"], b["nf"], len(b["info"])
+    assert b["band"]["bw"] > banded_saddle.NARROW and lu.piv is None   # Cholesky
+    S = b["S"]                                   # the saddle matrix, made from the blocks
+    ref = contact_lcp.regular_lu(S)
+    rng = np.random.default_rng(storeys)
+    rhs = rng.standard_normal((nf + nl, 5))
+    rhs[:nf, :2] = 0.0                           # R's columns: no load on the dofs
+    x, x_ref = lu.solve(rhs), ref.solve(rhs)
+    assert np.abs(x - x_ref).max() <= 1e-9 * np.abs(x_ref).max()
+    one = lu.solve(rhs[:, 3])
+    assert np.abs(S @ one - rhs[:, 3]).max() <= 1e-12 * np.abs(rhs).max() * 1e3
+    assert np.abs(lu.link_rows(rhs, nl) - x_ref[nf:]).max() <= 1e-9 * np.abs(x_ref[nf:]).max()
+    unit = np.zeros((nf + nl, nl))
+    unit[nf:] = b["kappa"] * np.eye(nl)
+    R_ref = -b["kappa"] * ref.solve(unit)[nf:]
+    R = b["R_solve"]
+    assert np.abs(R - 0.5 * (R_ref + R_ref.T)).max() <= 1e-9 * np.abs(R_ref).max()
+
+
+def test_a_wide_band_mechanism_has_no_cholesky_factor():
+    """A tower with a node on two collinear pin-ended bars (free across
+    them to first order) is a mechanism with every contact holding: its
+    banded Cholesky has no factor (dpbtrf finds a pivot not positive), and the frame
+    is refused with the saddle matrix's words; without the node it stands
+    on a Cholesky factor."""
+    fr = three_bay_tower(4)[0]
+    b = fr.build()
+    nl = len(b["info"])
+    assert banded_saddle.factor(b["band"], np.ones(nl, bool), np.zeros(nl),
+                                np.zeros(nl, int)).piv is None
+    fr.add_node("P", 15.0, 12.25)                # midway between N4_3 and N3_2
+    fr.add_member("N4_3", "P", 210e6, 1e-3, 1e-5, hinge_i=True, hinge_j=True)
+    fr.add_member("P", "N3_2", 210e6, 1e-3, 1e-5, hinge_i=True, hinge_j=True)
+    fr.add_spring("P", rz=1e3)
+    with pytest.raises(InvalidProblemError, match="node P is free in ux, uy"):
+        fr.build()
+    calls = []
+    real = banded_saddle.factor
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(banded_saddle, "factor", lambda *a: calls.append(real(*a)) or calls[-1])
+        with pytest.raises(InvalidProblemError):
+            fr.build()
+    assert len(calls) == 1 and calls[0] is None
