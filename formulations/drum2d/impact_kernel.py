@@ -17,7 +17,9 @@ masses and radii gathered once per run: 8–9 % of the kernel's time on the
 500-log bed, the peaks within 5e-11 of the largest of the contact-ordered
 loop's (other sums' order).  A contact that touches within a sub-step is
 integrated from its touch (:func:`_touch`), which makes a run's peaks
-second order in τ (impacts.py derives it)."""
+second order in τ (impacts.py derives it).  A run also keeps, per contact,
+its tangential work, impulse and start and end slips, from which the
+step books the slip within it (impacts.py, "Sliding work")."""
 
 from __future__ import annotations
 
@@ -126,14 +128,16 @@ def _touch(k, i, j, nx, ny, over, over_prev, un, ut, wall_n, vx, vy, pvx, pvy, i
 @njit(fastmath=True)
 def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima,
             imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, ax, ay, alpha,
-            F, cx, cy, cs, qx, qy, touched, Fc):
+            F, cx, cy, cs, qx, qy, touched, Fc, Ft, ut_half):
     """The accelerations (ax, ay, alpha) and normal forces F at positions
     (px, py): the dashpots at the predicted velocities (pvx, pvy, ps), the
     viscous friction at the half-step ones (vx, vy, spin).  A contact in
     touch whose force in F (the last call's) is 0 and whose overlap a
     sub-step back (x − τ v_half) is not positive touched within the
     sub-step (:func:`_touch`): its number goes to ``touched``, its force at
-    the touch to Fc.  Returns the number of touches."""
+    the touch to Fc.  Each contact's tangential force goes to ``Ft`` (0 out
+    of touch) and, in touch, the half-step slip it was found from to
+    ``ut_half``.  Returns the number of touches."""
     nd = px.size
     for d in range(nd):
         ax[d] = 0.0
@@ -149,6 +153,7 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
         rs = rsum[k]
         if d2 >= rs * rs:                       # out of touch: no square root
             F[k] = 0.0
+            Ft[k] = 0.0
             continue
         dist = np.sqrt(d2)
         inv = 1.0 / dist
@@ -172,6 +177,8 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
         else:
             f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
         F[k] = f
+        Ft[k] = ft
+        ut_half[k] = ut
         fx = f * nx - ft * ny
         fy = f * ny + ft * nx
         ax[i] += fx * ima[k]
@@ -187,6 +194,7 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
         # out of touch: dist + r <= R (a disc as wide as the shell never is)
         if lim >= 0.0 and d2 <= lim * lim:
             F[k] = 0.0
+            Ft[k] = 0.0
             continue
         dist = np.sqrt(d2)
         inv = 1.0 / dist
@@ -209,6 +217,8 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
         else:
             f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
         F[k] = f
+        Ft[k] = ft
+        ut_half[k] = ut
         ax[i] += (f * nx - ft * ny) * ima[k]
         ay[i] += (f * ny + ft * nx) * ima[k]
         alpha[i] -= ft * iia[k]
@@ -216,6 +226,7 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
         over = -gap_lin[k]
         if over <= 0.0:
             F[k] = 0.0
+            Ft[k] = 0.0
             continue
         i = a[k]
         nx = nrm_x[k]
@@ -232,6 +243,8 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
         else:
             f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
         F[k] = f
+        Ft[k] = ft
+        ut_half[k] = ut
         ax[i] += (f * nx - ft * ny) * ima[k]
         ay[i] += (f * ny + ft * nx) * ima[k]
         alpha[i] -= ft * iia[k]
@@ -239,9 +252,33 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
 
 
 @njit(fastmath=True)
+def _slips(px, py, vx, vy, spin, n0, n1, a, b, ra, rb, nrm_x, nrm_y, wt, out):
+    """Every contact's tangential slip u_T [m/s] at velocities (vx, vy,
+    spin), in touch or not, as the step reads its u_T⁻ and u_T⁺: the normal
+    through the centres, from the axis, or the lifter's."""
+    for k in range(a.size):
+        i = a[k]
+        if k < n0:
+            j = b[k]
+            dx = px[i] - px[j]
+            dy = py[i] - py[j]
+            inv = 1.0 / np.sqrt(dx * dx + dy * dy)
+            nx, ny = dx * inv, dy * inv
+            out[k] = (-ny * (vx[i] - vx[j]) + nx * (vy[i] - vy[j]) - ra[k] * spin[i]
+                      - rb[k] * spin[j])
+        else:
+            if k < n1:
+                inv = 1.0 / np.sqrt(px[i] * px[i] + py[i] * py[i])
+                nx, ny = -px[i] * inv, -py[i] * inv
+            else:
+                nx, ny = nrm_x[k], nrm_y[k]
+            out[k] = -ny * vx[i] + nx * vy[i] - ra[k] * spin[i] + wt[k]
+
+
+@njit(fastmath=True)
 def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima, imb, iia,
                   iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, steps, most, quiet,
-                  rise_above):
+                  rise_above, books):
     """Velocity Verlet over ``steps`` sub-steps of ``tau``, and on, up to
     ``most`` in all, while a contact's force has risen to ``rise_above``
     times its largest, and to at least SIGNIFICANT of the run's largest, within
@@ -260,6 +297,12 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     stick, the half-step velocity (stable to gam w_T τ < 2 instead of 1).
     A contact that touches within a sub-step has its impulse from the touch
     (:func:`_touch`), and its force at the touch is a sample of its force.
+    Into ``books`` (4, m), per contact over the whole run: the tangential
+    work ∫|F_T||u_T| dt [J] (a sub-step's slip is τ u_T(t + τ/2), Verlet's
+    drift, its force the mean of the sub-step's ends: the force at the end
+    with the half-step slip alone was first order in τ), the tangential
+    impulse ∫F_T dt [N·s], and the slip u_T [m/s] at the run's start and end
+    (impacts.py, "Sliding work").
     Returns (each contact's largest normal force [N], the sub-steps run)."""
     nd, m = px.size, a.size
     ax, ay, alpha = np.zeros(nd), np.zeros(nd), np.zeros(nd)
@@ -267,13 +310,18 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     cx, cy, cs, qx, qy = np.zeros(nd), np.zeros(nd), np.zeros(nd), np.zeros(nd), np.zeros(nd)
     touched, Fc = np.zeros(m, np.int64), np.zeros(m)
     F, peak = np.ones(m), np.zeros(m)         # F ≠ 0: no touch in the first call
+    Ft, Ft_next, ut_half = np.zeros(m), np.zeros(m), np.zeros(m)
     _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima,
             imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, ax, ay, alpha, F,
-            cx, cy, cs, qx, qy, touched, Fc)
+            cx, cy, cs, qx, qy, touched, Fc, Ft, ut_half)
     for k in range(m):
         peak[k] = F[k]
     ht = 0.5 * tau
     done, rose = 0, 0
+    us = np.zeros(m)
+    _slips(px, py, vx, vy, spin, n0, n1, a, b, ra, rb, nrm_x, nrm_y, wt, us)
+    for k in range(m):
+        books[2, k] = us[k]
     largest = 0.0
     for k in range(m):
         if peak[k] > largest:
@@ -294,7 +342,11 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
             gap_lin[k] += tau * (nrm_x[k] * vx[i] + nrm_y[k] * vy[i] + wn[k])
         nt = _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra,
                      rb, ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau,
-                     ax, ay, alpha, F, cx, cy, cs, qx, qy, touched, Fc)
+                     ax, ay, alpha, F, cx, cy, cs, qx, qy, touched, Fc, Ft_next, ut_half)
+        for k in range(m):
+            books[0, k] += tau * 0.5 * (abs(Ft[k]) + abs(Ft_next[k])) * abs(ut_half[k])
+            books[1, k] += tau * 0.5 * (Ft[k] + Ft_next[k])
+            Ft[k] = Ft_next[k]
         for d in range(nd):
             vx[d] += ht * ax[d]
             vy[d] += ht * ay[d]
@@ -322,13 +374,16 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
                 peak[k] = F[k]
                 if F[k] > largest:
                     largest = F[k]
+    _slips(px, py, vx, vy, spin, n0, n1, a, b, ra, rb, nrm_x, nrm_y, wt, us)
+    for k in range(m):
+        books[3, k] = us[k]
     return peak, done
 
 
 @njit
 def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, positions,
                 velocities, masses, radii, inverse_inertia, zeta, g, R, span, span_max,
-                quiet_time, omega_tau):
+                quiet_time, omega_tau, books):
     """The resolved run of one cluster (impacts.py's docstring): its
     ``discs`` (global numbers, increasing) and contacts ``ks`` (indices into
     the step's contact arrays ``ci``, ``cj``, ``kind``, ``gap``, ``normal``,
@@ -339,7 +394,8 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     up to ``span_max`` while a force still rises within ``quiet_time`` [s]
     (:func:`cluster_peaks`), ω_max τ = ``omega_tau``.  Returns (each
     contact's largest normal force [N] in the order of ``ks``, τ, sub-steps
-    run)."""
+    run); into ``books`` (4, len(ks)) the run's tangential work, impulse and
+    start and end slips (:func:`cluster_peaks`)."""
     nd, m = discs.size, ks.size
     local = np.full(masses.size, -1, np.int64)
     for d in range(nd):
@@ -403,6 +459,7 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     omega_max = np.sqrt(row.max())
     tau = omega_tau / omega_max
     steps = int(np.ceil(span / tau))
+    local_books = np.zeros((4, m))
     for p in range(m):
         # Coulomb's stick, regularized: a viscous law that relaxes a contact's
         # slip at the rate STICK ω_max (a disc's tangential inverse mass 1/m + r²/I)
@@ -412,10 +469,12 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
                                ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu_k, gam,
                                R, tau, steps, int(np.ceil(span_max / tau)),
                                int(np.ceil(quiet_time / tau)),
-                               1.0 + RISE * omega_tau / 0.3)
+                               1.0 + RISE * omega_tau / 0.3, local_books)
     out = np.empty(m)
     for p in range(m):
         out[order[p]] = peak[p]
+        for q in range(4):
+            books[q, order[p]] = local_books[q, p]
     return out, tau, done
 
 
@@ -431,7 +490,7 @@ def _root(parent, d):
 @njit
 def cluster_forces(F, r_n, T, pulse, loaded, ci, cj, kind, gap, normal, w, comp, m_star, mu,
                    positions, velocities, masses, radii, inverse_inertia, zeta, g, R, h,
-                   omega_tau):
+                   omega_tau, books):
     """impacts.step_forces' clusters, each run (:func:`cluster_run`) into F
     [N] (the step's mean forces r_N/h on entry): the discs joined by the
     ``loaded`` disc–disc contacts, those with a ``pulse`` contact, each
@@ -439,7 +498,8 @@ def cluster_forces(F, r_n, T, pulse, loaded, ci, cj, kind, gap, normal, w, comp,
     increasing order, as np.flatnonzero lists them); a cluster with a
     rigid contact (comp <= 0) gets the pair's half-sine π r_N/T at its
     pulses instead.  ``T`` the contacts' periods [s], ``h`` the step [s];
-    the rest as cluster_run's."""
+    the rest as cluster_run's; each run's ``books`` (:func:`cluster_peaks`)
+    into its contacts' columns of ``books`` (4, m)."""
     n, m = masses.size, ci.size
     parent = np.arange(n)
     for k in range(m):
@@ -497,9 +557,12 @@ def cluster_forces(F, r_n, T, pulse, loaded, ci, cj, kind, gap, normal, w, comp,
                 if pulse[k]:
                     F[k] = np.pi * r_n[k] / T[k]
             continue
+        run_books = np.zeros((4, mine.size))
         peak, _, _ = cluster_run(discs[size[r]:size[r + 1]], mine, ci, cj, kind, gap, normal, w,
                                  comp, m_star, mu, positions, velocities, masses, radii,
                                  inverse_inertia, zeta, g, R, h + 0.5 * T_max,
-                                 2.0 * h + 0.5 * T_max, 0.5 * T_max, omega_tau)
+                                 2.0 * h + 0.5 * T_max, 0.5 * T_max, omega_tau, run_books)
         for p in range(mine.size):
             F[mine[p]] = peak[p]
+            for q in range(4):
+                books[q, mine[p]] = run_books[q, p]

@@ -16,10 +16,12 @@ Per step s (from t[s] to t[s+1]) the recorder keeps, by contact kind (0 log–lo
   opening, or a touch carrying a thousandth of a light log's weight — not
   counted) — the histograms per revolution are sums of these rows, so no
   contact list is needed for them;
-- ``sliding_work`` (S, n) [J]: the friction work ``|r_T| s̄`` >= 0 of the step
+- ``sliding_work`` (S, n) [J]: the friction work >= 0 of the step, ``|r_T| s̄``
   (s̄ its mean sliding speed, :func:`sliding_speed`: the slip taken linear
   from the step's start to its end, so slip that stops within the step
-  counts) charged to the logs it rubs — half to each log at a log–log
+  counts) and, at the contacts of an impact's cluster run, what that
+  resolved run slid beyond its own linear-slip estimate (impacts.py,
+  "Sliding work"), charged to the logs it rubs — half to each log at a log–log
   contact (both surfaces slide on each other), all to the log at the shell
   or a lifter (the steel loses no bark).  Summed over logs it is the step's
   friction loss (stepper: energy bookkeeping).
@@ -69,8 +71,9 @@ class Drum2DResult:
     gained by θ = 1 positions (stepper), ``remainder``); the force
     statistics ``force_peak``, ``force_counts``, ``sliding_work`` (module
     docstring); ``contacts``: per step a dict of the active contacts' arrays
-    (i, j, kind, r_n, r_t [N·s], slip: the mean sliding speed s̄ >= 0 [m/s],
-    whose work is ``|r_t| s̄``, gap [m], normal) where kept,
+    (i, j, kind, r_n, r_t [N·s], slip: the step's mean sliding speed s̄ >= 0
+    [m/s], whose work is ``|r_t| s̄`` where no cluster run adds to it, gap
+    [m], normal) where kept,
     else None; ``last_contacts``: the last step's contacts and impulses (what
     a resumed run warm-starts from)."""
 
@@ -155,13 +158,13 @@ class Recorder:
         self.energy["potential"][s] = float(gravity * masses @ q[:, 1])
         self.energy["elastic"][s] = elastic
 
-    def forces(self, s, c, r, slip, F):
+    def forces(self, s, c, r, slip, work, F):
         """The step's force statistics from its active contacts c, impulses r,
-        mean sliding speeds (:func:`sliding_speed`) and forces F [N] (impacts.step_forces; module
-        docstring)."""
+        mean sliding speeds (:func:`sliding_speed`), sliding work [J] and
+        forces F [N] (impacts.step_forces; module docstring)."""
         from .records_kernel import force_books   # numba: imported where it runs
 
-        force_books(np.asarray(F, float), c.kind, c.i, c.j, r[1::2], slip, FORCE_BINS,
+        force_books(np.asarray(F, float), c.kind, c.i, c.j, np.asarray(work, float), FORCE_BINS,
                     DISC, self.force_peak[s], self.force_counts[s], self.sliding_work[s])
         if self.keep_every and s % self.keep_every == 0:
             self.contacts[s] = dict(i=c.i, j=c.j, kind=c.kind, r_n=r[0::2], r_t=r[1::2],

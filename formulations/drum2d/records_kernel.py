@@ -15,11 +15,12 @@ __all__ = ["force_books"]
 
 
 @njit
-def force_books(F, kind, i, j, r_t, slip, edges, disc, peak, counts, work):
+def force_books(F, kind, i, j, sliding, edges, disc, peak, counts, work):
     """Into the step's rows: ``peak`` (3,) the largest force F >= edges[0] by
     contact kind, ``counts`` (3, B) the forces' bins (the last edge's excess
-    in the last bin), ``work`` (n,) the friction work |r_T| s̄ charged half
-    to each log at a log–log contact (kind ``disc``), all to the log otherwise —
+    in the last bin), ``work`` (n,) the contacts' friction work ``sliding``
+    [J] charged half to each log at a log–log contact (kind ``disc``), all
+    to the log otherwise —
     summed onto the row in contact order, the i ends first, then the j ends,
     as np.add.at sums."""
     nb = edges.shape[0] - 1
@@ -36,7 +37,7 @@ def force_books(F, kind, i, j, r_t, slip, edges, disc, peak, counts, work):
     m = F.shape[0]
     share = np.empty(m)
     for k in range(m):
-        share[k] = (0.5 if kind[k] == disc else 1.0) * (abs(r_t[k]) * slip[k])
+        share[k] = (0.5 if kind[k] == disc else 1.0) * sliding[k]
     for k in range(m):
         work[i[k]] += share[k]
     for k in range(m):

@@ -64,14 +64,22 @@ or (u⁻² + u⁺²)/(2(|u⁻| + |u⁺|)) where the slip turns), the force |r_T|
 constant — ∫ F_T · slip dt, slip that stops within the step included (a
 log sliding at u_T⁻ that sticks by the step's end rubs |r_T| u_T⁻/2; the end
 slip alone would book 0).  Where r_T opposes the slip throughout this is
-−r_T (u_T⁻ + u_T⁺)/2, the tangential part of the identity above.  The rest,
+−r_T (u_T⁻ + u_T⁺)/2, the tangential part of the identity above.  At the
+contacts of an unresolved impact's cluster D_f adds what the cluster's
+resolved run slid beyond its own linear-slip estimate (impacts.py,
+"Sliding work": the slip an impact's wave or a ringing contact drives
+within the step, which the step's end points do not show).  The rest,
 D_i = −rᵀ(u⁻ + u⁺)/2 − D_f, is what the contacts take: their springs' change
 ΔE_el plus the impacts' loss ``impact_loss`` (reported net of ΔE_el).  A
 step's impact loss can be negative: where the slip turns within the step,
 or sticks with a friction impulse along its starting slip, the one constant
 impulse of the step did less tangential work than Coulomb's ∫ |F_T||u_T|
 charges, and D_i gives the difference back; with springs also the θ = 1
-pairing below (docs/drum2d.md, "Energy books", measures both).  For rigid contacts its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
+pairing below (docs/drum2d.md, "Energy books", measures both); and where a
+cluster run books more sliding than the step's own estimate, the step's
+total −rᵀ(u⁻ + u⁺)/2 stays the model's, so D_i gives that back too: the
+books close exactly, the split between friction and impacts is the
+resolved run's.  For rigid contacts its normal part −r_N (u_N⁻ + u_N⁺)/2 = −r_N (1 − e) u_N⁻/2
 where r_N > 0, so with e = 1 the scheme dissipates nothing at the normal
 impacts (to the certificate's tolerance) and K + P is kept exactly when friction
 is off and the shell still.  The remainder ΔK + ΔP − drive + D_f + D_i is
@@ -307,19 +315,22 @@ class Drum2D:
                 # the step's mean sliding speed, slip stopped within the step
                 # included; its work |r_T| times that (module docstring)
                 slip = sliding_speed(u_minus[1::2], u_plus[1::2])
-                fric = float(np.abs(r[1::2]) @ slip)
-                per["drive"][s], per["friction_loss"][s] = -float(r @ c.w), fric
-                per["impact_loss"][s] = (-float(r @ (u_minus + u_plus)) / 2.0 - fric
-                                         - (new_elastic - elastic))
                 m = d.masses
                 m_star = np.where(c.j >= 0, m[c.i] * m[c.j] / (m[c.i] + m[np.maximum(c.j, 0)]),
                                   m[c.i])
-                rec.forces(s, c, r, slip, step_forces(
+                # the peak forces and, at the contacts of an impact's cluster,
+                # the sliding work from its resolved run (impacts.py)
+                F, work = step_forces(
                     c, r[0::2], h, comp, impact, m_star, positions=q_start, velocities=v,
                     masses=d.masses, radii=d.radii, inverse_inertia=minv[2::3],
                     mu=self.mu[c.kind] if "friction" in self.effects else np.zeros(c.m),
-                    shell_radius=self.shell.radius,
-                    restitution=self.restitution, gravity=self.gravity))
+                    shell_radius=self.shell.radius, restitution=self.restitution,
+                    gravity=self.gravity, sliding_work=np.abs(r[1::2]) * slip)
+                fric = float(work.sum())
+                per["drive"][s], per["friction_loss"][s] = -float(r @ c.w), fric
+                per["impact_loss"][s] = (-float(r @ (u_minus + u_plus)) / 2.0 - fric
+                                         - (new_elastic - elastic))
+                rec.forces(s, c, r, slip, work, F)
             E = rec.energy
             per["remainder"][s] = (E["kinetic"][s + 1] + E["potential"][s + 1]
                                    + E["elastic"][s + 1] - E["kinetic"][s] - E["potential"][s]
