@@ -196,7 +196,10 @@ def _step_problem(centers, radii, a, b, n, gap, dim, mu, h, density, agitation, 
     q = Ht @ v.ravel()
     q[0::dim] += gap / h
     mu_arr = np.full(a.size, float(mu))
-    return FrictionProblem(sp.csc_matrix(W), q, mu_arr, dim, name=name)
+    prob = FrictionProblem(sp.csc_matrix(W), q, mu_arr, dim, name=name)
+    # W in its factors: ip-lcp solves its Newton systems on the bodies' graph
+    prob.delassus_factors = (sp.csr_matrix(Ht), inv)
+    return prob
 
 
 def disc_pile(n_contacts: int = 2000, *, seed: int = 0, mu: float = 0.3, columns=None,

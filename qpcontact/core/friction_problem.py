@@ -74,7 +74,11 @@ class FrictionProblem:
     ``W`` (m x m, m = dim · n_contacts), ``q`` (m,), ``mu`` (n_contacts,),
     ``dim`` 2 or 3.  Global problems (:meth:`global_problem`) keep M, H, f, w
     in ``global_data`` and are reduced to local form.  ``solution`` and
-    ``guesses`` hold what an FCLIB file stores (dicts of r, u, v)."""
+    ``guesses`` hold what an FCLIB file stores (dicts of r, u, v).
+    ``delassus_factors`` (None, or (Hᵀ, m⁻¹): W = Hᵀ diag(m⁻¹) H with Hᵀ
+    sparse m x n_dofs and the inverse masses) is what a generator that forms W
+    so keeps (the piles); a method that can use it checks that it reproduces
+    W (ip-lcp's body-space solves), the others read W."""
 
     def __init__(self, W, q, mu, dim, *, name: str = ""):
         if dim not in (2, 3):
@@ -95,6 +99,7 @@ class FrictionProblem:
         self.mu = mu
         self.name = name
         self.global_data = None
+        self.delassus_factors = None
         self.solution = None
         self.guesses: list = []
         diag = np.asarray(self.W.diagonal()) if m else np.zeros(0)
@@ -156,6 +161,7 @@ class FrictionProblem:
         if reduce is False or why_not is not None:
             prob = cls.__new__(cls)
             prob.dim, prob.mu, prob.name = int(dim), mu, name
+            prob.delassus_factors = None
             if not np.all(np.isfinite(mu)) or np.any(mu < 0):
                 bad = int(np.flatnonzero(~(np.isfinite(mu) & (mu >= 0)))[0])
                 raise InvalidProblemError(

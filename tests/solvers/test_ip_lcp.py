@@ -117,3 +117,81 @@ def test_the_condensed_lu_in_its_order_found_once_solves_the_whole_system(spread
     assert np.abs(A @ u - g).max() <= 1e-14 * scale
     if spread == 0.0:
         np.testing.assert_allclose(u, np.linalg.solve(A, g), rtol=1e-10, atol=1e-12)
+
+
+def _pile_with_factors(n, seed):
+    return disc_pile(n, seed=seed, agitation=0.1, polydispersity=0.005).problem
+
+
+@pytest.mark.parametrize("spread", [0.0, 4.0, 8.0, 12.0])
+def test_the_body_space_solve_solves_the_whole_system(spread):
+    """(M + diag(d)) u = g with W + L solved in body space (Woodbury on the
+    pile's factors W = Hᵀ diag(m⁻¹) H), d spread over 1e±spread: judged on
+    the whole 4-unknown system formed densely here, and against NumPy's dense
+    solve where it is well conditioned."""
+    import scipy.sparse as sp
+
+    from qpcontact.core.friction_problem import faceted_lcp
+    from qpcontact.solvers.friction.body_space import BodySpaceLU
+    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD, _Condensed
+
+    p = _pile_with_factors(200, 7)
+    M, W = sp.csc_matrix(faceted_lcp(p, 2)[0].M), sp.csr_matrix(p.W)
+    body = BodySpaceLU(*p.delassus_factors, pivot_threshold=PIVOT_THRESHOLD)
+    rng = np.random.default_rng(int(spread))
+    d = 10.0 ** rng.uniform(-spread, spread, M.shape[0])
+    g = rng.standard_normal(M.shape[0])
+    u = _Condensed(M, W, body, p.mu, d, {"factorizations": 0}).solve(g)
+    A = M.toarray() + np.diag(d)
+    scale = np.abs(A).max() * np.abs(u).max() + np.abs(g).max()
+    assert np.abs(A @ u - g).max() <= 1e-14 * scale
+    if spread == 0.0:
+        np.testing.assert_allclose(u, np.linalg.solve(A, g), rtol=1e-10, atol=1e-12)
+
+
+def test_the_body_space_lu_has_a_fraction_of_the_contact_spaces_fill():
+    """On a 662-contact compact pile the body-space LU (the bodies' graph)
+    has under half the entries of W + L's in its own order, the same L."""
+    import scipy.sparse as sp
+
+    from qpcontact.solvers.friction.body_space import BodySpaceLU
+    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD, _Ordered
+
+    p = _pile_with_factors(700, 0)
+    nc = p.n_contacts
+    rng = np.random.default_rng(3)
+    l_values = np.concatenate([10.0 ** rng.uniform(-6, 6, nc), rng.uniform(-0.3, 0.3, nc),
+                               10.0 ** rng.uniform(-6, 6, nc)])
+    contact = _Ordered(sp.csr_matrix(p.W)).factor(l_values)
+    body = BodySpaceLU(*p.delassus_factors, pivot_threshold=PIVOT_THRESHOLD).factor(l_values)
+    assert body.lu.L.nnz + body.lu.U.nnz < 0.5 * (contact.L.nnz + contact.U.nnz)
+
+
+def test_factors_that_do_not_reproduce_w_are_not_used():
+    """A problem whose W is not its factors' (here W doubled after the pile
+    kept them) is solved on W's own LU, and certified."""
+    import scipy.sparse as sp
+
+    from qpcontact.solvers.friction.body_space import factors_match
+
+    pile = _pile_with_factors(200, 7)
+    assert factors_match(sp.csr_matrix(pile.W), pile.delassus_factors)
+    p = qpcontact.FrictionProblem(2.0 * sp.csr_matrix(pile.W), pile.q, pile.mu, 2)
+    p.delassus_factors = pile.delassus_factors
+    assert not factors_match(sp.csr_matrix(p.W), p.delassus_factors)
+    s = qpcontact.solve(p, "ip-lcp", accuracy=1e-8)
+    assert s.ok and s.stats["body_space"] is False, s.message
+    assert _coulomb_violation(p, s.r, np.abs(s.r).max()) <= 1e-8
+    assert qpcontact.solve(pile, "ip-lcp", accuracy=1e-8).stats["body_space"] is True
+
+
+@pytest.mark.slow
+def test_auto_certifies_the_5000_contact_pile_whose_path_is_long():
+    """Issue 50's 2-D row of 5 000 contacts, seed 1: ip-lcp's path past its
+    folds takes about 410 steps, which W + L's LU (0.12 s of CPU a step) did
+    not fit into "auto"'s 60 s after NSGS + Newton's share; in body space
+    (0.03 s a step) it does.  The answer satisfies Coulomb's law."""
+    p = _pile_with_factors(5000, 1)
+    s = qpcontact.solve(p, "auto", accuracy=1e-8, time_limit=60)
+    assert s.ok and s.method == "ip-lcp", s.message
+    assert _coulomb_violation(p, s.r, np.abs(s.r).max()) <= 1e-8

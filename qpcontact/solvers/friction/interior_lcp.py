@@ -94,7 +94,12 @@ of CPU with 3.0–3.15 M entries in its factors, against 0.26–0.29 s and
 5.9 M by COLAMD with partial pivoting at every step (at 1 941: 0.010 against
 0.020 s); W + L's symmetric part need not be definite (μ's entries), hence
 the threshold, which on folding piles pivots off the diagonal in 0–60 of
-19 684 columns.
+19 684 columns.  Where W's factors W = J diag(m⁻¹) Jᵀ are known (the piles
+keep them: :attr:`FrictionProblem.delassus_factors`), W + L is solved in body
+space instead (:mod:`~qpcontact.solvers.friction.body_space`: Woodbury's
+identity, one LU on the bodies' graph, a third of the fill): the same path
+steps at 1 941 contacts, 0.006 against 0.013 s of CPU a step; 4 874 contacts
+seed 1, 411 steps, 15 s against 56 s.
 
 **The answer.**  r = (r_N, β⁺ − β⁻) from the last iterate, entries below
 1e-10 of the largest set to zero (the interior point's zeros are θ-sized),
@@ -117,11 +122,12 @@ from ...core.errors import InvalidOptionError
 from ...core.friction_problem import faceted_lcp
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...judge.friction_certificate import certified_error
+from .body_space import BodySpaceLU, factors_match
 from .lcp_route import purified, reactions_of
 from .newton import solve_natural_newton
 
 __all__ = ["solve_ip_lcp", "IP_LCP_OPTIONS", "CENTRALITY", "SHORT_STEP", "NEIGHBOURHOOD",
-           "STRETCH_GOAL", "RUNAWAY", "MAX_PATH_STEPS"]
+           "STRETCH_GOAL", "RUNAWAY", "MAX_PATH_STEPS", "NEAR"]
 
 IP_LCP_OPTIONS = (
     Option("max_iter", 200, "int", low=1,
@@ -149,6 +155,9 @@ PIVOT_THRESHOLD = 1e-3
 #: the interior point's converged measure: mean(x ∘ s) and the infeasibility
 #: below this fraction of their starting values
 CONVERGED = 1e-13
+#: two short steps in a row below this fraction of the start's complementarity
+#: and infeasibility end the interior point; Newton's polish takes over
+NEAR = 1e-10
 
 
 def solve_ip_lcp(problem, tol, options):
@@ -171,7 +180,11 @@ def solve_ip_lcp(problem, tol, options):
     lcp, D = faceted_lcp(problem, 2)
     M, q = sp.csc_matrix(lcp.M), np.asarray(lcp.q, float)
     x, s = _start(problem, q)
-    path = _Path(M, q, sp.csr_matrix(problem.W), problem.mu, stats, progress)
+    W = sp.csr_matrix(problem.W)
+    factors = getattr(problem, "delassus_factors", None)
+    body = factors is not None and factors_match(W, factors)
+    stats["body_space"] = body
+    path = _Path(M, q, W, problem.mu, stats, progress, factors if body else None)
     x, s, why = path.follow(x, s, opts["max_iter"], time_limit)
     r = reactions_of(problem, x, D)
     if not np.all(np.isfinite(r)):
@@ -291,8 +304,9 @@ class _Condensed:
         wt = np.abs(np.asarray(W.diagonal())[1::2])
         self.p_own, self.m_own = dp >= wt, dm >= wt
         stats["factorizations"] += 1
-        self.p = ordered.p
         self.lu = ordered.factor(np.concatenate([dn, -self.cl * mu / G, 1.0 / G]))
+        # W + L's LU solves in its own order, the body-space solver in the contacts'
+        self.p = ordered.p if isinstance(ordered, _Ordered) else None
 
     def _once(self, g):
         nc, mu = self.nc, self.mu
@@ -300,8 +314,11 @@ class _Condensed:
         rhs = np.empty(2 * nc)
         rhs[0::2] = gn
         rhs[1::2] = (self.cp * gp - self.cm * gm - self.cl * gl) / self.G
-        dr = np.empty(2 * nc)
-        dr[self.p] = self.lu.solve(rhs[self.p])
+        if self.p is None:
+            dr = self.lu.solve(rhs)
+        else:
+            dr = np.empty(2 * nc)
+            dr[self.p] = self.lu.solve(rhs[self.p])
         n, t = dr[0::2], dr[1::2]
         b = np.asarray(self.W @ dr).ravel()[1::2]
         l = (gl - mu * n - (self.P - self.Q) * b) / self.K + (self.P / self.K) * gp \
@@ -325,10 +342,12 @@ class _Path:
     """Mehrotra's steps, and the stretches of path followed by arclength
     where they collapse (module docstring)."""
 
-    def __init__(self, M, q, W, mu, stats, progress):
+    def __init__(self, M, q, W, mu, stats, progress, factors=None):
         self.M, self.q, self.n = M, q, q.size
         self.W, self.mu = W, mu
-        self.ordered = _Ordered(W)
+        # W + L's LU on W's pattern, or in body space where W's factors are known
+        self.ordered = (_Ordered(W) if factors is None
+                        else BodySpaceLU(*factors, pivot_threshold=PIVOT_THRESHOLD))
         self.stats, self.progress = stats, progress
 
     def _lu(self, d):
@@ -353,6 +372,11 @@ class _Path:
                 break
             if not pace.fits():
                 why = "stopped at its time limit"
+                break
+            if short >= 2 and mu <= NEAR * mu0 and np.abs(rp).max() <= NEAR * rp0:
+                # short steps this near the end are the solves' rounding, not a fold
+                # (the body-space solves' at 1e-11 of the start): Newton's polish ends it
+                why = f"its steps stalled at {mu / mu0:.1e} of the start's complementarity"
                 break
             if short >= 2:
                 # a fold: follow the path through this point past it
