@@ -149,6 +149,43 @@ def test_the_body_space_solve_solves_the_whole_system(spread):
         np.testing.assert_allclose(u, np.linalg.solve(A, g), rtol=1e-10, atol=1e-12)
 
 
+@pytest.mark.parametrize("drop_zeros", [False, True])
+def test_the_body_space_solve_where_a_contacts_rows_store_other_dofs(drop_zeros):
+    """A stack of three discs on a floor along y: each contact's normal row
+    touches the discs' y only, its tangent row x and the rotation, so with
+    J's zeros not stored the two rows share no column, and B's
+    tangent-normal entries lie outside any one row's pattern.  (W + L) u = g
+    by the body-space LU against NumPy's dense solve of W + L formed here."""
+    import scipy.sparse as sp
+
+    from qpcontact.solvers.friction.body_space import BodySpaceLU, factors_match
+    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD
+
+    radius, nb = 0.5, 3
+    rows, cols, vals = [], [], []
+    for c, (a, b) in enumerate([(0, -1), (1, 0), (2, 1)]):   # (upper, lower) disc
+        for body, sign in ((a, 1.0), (b, -1.0)):
+            if body >= 0:
+                rows += [2 * c, 2 * c, 2 * c + 1, 2 * c + 1, 2 * c + 1]
+                cols += [3 * body + 1, 3 * body, 3 * body, 3 * body + 1, 3 * body + 2]
+                vals += [sign, 0.0, -sign, 0.0, -radius]
+    J = sp.csr_matrix((vals, (rows, cols)), shape=(6, 3 * nb))
+    if drop_zeros:
+        J.eliminate_zeros()
+    inverse_mass = np.tile([1.0, 1.0, 2.0 / radius ** 2], nb)
+    W = (J @ sp.diags(inverse_mass) @ J.T).toarray()
+    assert factors_match(sp.csr_matrix(W), (J, inverse_mass))
+    rng = np.random.default_rng(1)
+    dn, low, inv_g = rng.uniform(0.5, 2, 3), rng.uniform(-1, 1, 3), rng.uniform(0.5, 2, 3)
+    L = np.zeros((6, 6))
+    for c in range(3):
+        L[2 * c, 2 * c], L[2 * c + 1, 2 * c], L[2 * c + 1, 2 * c + 1] = dn[c], low[c], inv_g[c]
+    g = rng.standard_normal(6)
+    u = BodySpaceLU(J, inverse_mass, PIVOT_THRESHOLD).factor(
+        np.concatenate([dn, low, inv_g])).solve(g)
+    np.testing.assert_allclose(u, np.linalg.solve(W + L, g), rtol=1e-12, atol=1e-14)
+
+
 def test_the_body_space_lu_has_a_fraction_of_the_contact_spaces_fill():
     """On a 662-contact compact pile the body-space LU (the bodies' graph)
     has under half the entries of W + L's in its own order, the same L."""

@@ -75,18 +75,25 @@ class BodySpaceLU:
         nc = m2 // 2
         self.J, self.JT, self.nc, self.nd = J, sp.csr_matrix(J.T), nc, nd
         self.pivot_threshold = pivot_threshold
-        # each row's nonzeros padded to one width (a padding entry is 0 at column 0)
+        # each row's nonzeros padded to one width; a padding entry is 0 at a
+        # column of its own contact, so that its (zero) products land on
+        # entries the pattern holds
         counts = np.diff(J.indptr)
         width = int(counts.max(initial=1))
-        cols = np.zeros((m2, width), dtype=np.int64)
-        vals = np.zeros((m2, width))
         slot = np.arange(J.nnz) - np.repeat(J.indptr[:-1], counts)
         row = np.repeat(np.arange(m2), counts)
+        first = np.zeros(nc, dtype=np.int64)
+        first[(row // 2)[::-1]] = J.indices[::-1]     # one stored column per contact
+        cols = np.repeat(first, 2)[:, None].repeat(width, axis=1)
+        vals = np.zeros((m2, width))
         cols[row, slot], vals[row, slot] = J.indices, J.data
         # the pattern from J's structure, not its values: those can cancel or be
         # stored zeros (a disc's normal row has 0 on its rotation, an axis-aligned
-        # tangent 0 on x), and an entry missing from it would take another's place
-        ones = sp.csr_matrix((np.ones(J.nnz), J.indices, J.indptr), shape=J.shape)
+        # tangent 0 on x), and an entry missing from it would take another's place.
+        # By contact, not by row: the tangent-normal part couples a dof of the
+        # tangent row with one of the normal row, which need not share a row
+        ones = sp.csr_matrix((np.ones(J.nnz), (row // 2, J.indices)), shape=(nc, nd))
+        ones.data[:] = 1.0
         pattern = sp.csc_matrix(sp.identity(nd) + ones.T @ ones)
         dominant = pattern + sp.diags(np.asarray(pattern.sum(axis=1)).ravel())
         lu = spla.splu(sp.csc_matrix(dominant), permc_spec="MMD_AT_PLUS_A",
@@ -101,7 +108,12 @@ class BodySpaceLU:
             + ordered.indices
 
         def position(i, j):
-            return np.searchsorted(keys, where[j] * nd + where[i])
+            target = where[j] * nd + where[i]
+            pos = np.searchsorted(keys, target)
+            # a key not in the pattern would add its value to a neighbour's entry
+            if not np.array_equal(keys[np.minimum(pos, keys.size - 1)], target):
+                raise AssertionError("body-space pattern misses an entry of B")
+            return pos
 
         self.mass_data = np.zeros(keys.size)
         self.mass_data[position(np.arange(nd), np.arange(nd))] = \
