@@ -67,6 +67,14 @@ CONDENSE_MAX = 1e3
 BAND_MAX = 32
 #: a band this narrow in the dofs' own order is kept (no reordering)
 NARROW = 12
+#: a frame with fewer free dofs keeps the saddle matrix's SuperLU when its
+#: own order is wider than NARROW: SuperLU costs little there, and a
+#: 60-dof space table on soft pads, reordered (band 29), had its collapse
+#: bracket widen from 1e-7 to 2.5e-4 of the load — the Farkas proofs just
+#: above the last equilibrium read R's rounding (tests'
+#: test_a_corner_push_collapse_is_bracketed_within_1e_6).  The 20-storey
+#: tower (291 free dofs) is reordered
+REORDER_MIN = 200
 #: the same singularity test as the saddle matrix's LU
 SINGULAR_PIVOTS = 1e-13
 
@@ -85,6 +93,8 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     if nf == 0 or nl == 0 or not np.all(flex > 0) or 1.0 / flex.min() > CONDENSE_MAX * kappa:
         return None
     kr, kc, kv = k_triplets
+    if nf < REORDER_MIN and np.abs(kr - kc).max(initial=0) > NARROW:
+        return None                  # too wide in its own order, too small to reorder
     h_dof, h_link, h_val = h_triplets
     by_link = np.argsort(h_link, kind="stable")
     h_dof, h_link, h_val = h_dof[by_link], h_link[by_link], h_val[by_link]
