@@ -43,7 +43,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["BodySpaceLU", "factors_match"]
+__all__ = ["OrderedPattern", "BodySpaceLU", "factors_match"]
 
 
 def factors_match(W, factors, rtol: float = 1e-12) -> bool:
@@ -61,13 +61,46 @@ def factors_match(W, factors, rtol: float = 1e-12) -> bool:
                 <= rtol * max(np.abs(wx).max(), np.finfo(float).tiny))
 
 
+class OrderedPattern:
+    """A square sparse ``pattern`` in one fill-reducing order, found once:
+    SuperLU's minimum degree on A + Aᵀ, symmetric, from one factorization of
+    ``dominant`` (a diagonally dominant matrix of that pattern), so that each
+    later LU of values on the pattern keeps it.  ``p``: row and column k of
+    the ordered matrix is p[k]; ``indices``, ``indptr``: its sorted CSC
+    structure; :meth:`position` finds an entry's place in its data."""
+
+    def __init__(self, pattern, dominant):
+        import scipy.sparse.linalg as spla   # here: `import qpcontact` stays cheap
+
+        n = pattern.shape[0]
+        lu = spla.splu(sp.csc_matrix(dominant), permc_spec="MMD_AT_PLUS_A",
+                       diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        self.p = np.argsort(lu.perm_c)
+        self.where = np.empty(n, dtype=np.int64)
+        self.where[self.p] = np.arange(n)
+        ordered = sp.csc_matrix(pattern[self.p][:, self.p])
+        ordered.sort_indices()
+        self.indices, self.indptr, self.n = ordered.indices, ordered.indptr, n
+        # entry (i, j) of the ordered matrix is at data[key ↦ position] (sorted CSC)
+        self.keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(ordered.indptr)) * n \
+            + ordered.indices
+
+    def position(self, i, j):
+        """Where entries (i, j) (original numbering) sit in the ordered data."""
+        keys, where, n = self.keys, self.where, self.n
+        target = where[j] * n + where[i]
+        pos = np.searchsorted(keys, target)
+        # a key not in the pattern would add its value to a neighbour's entry
+        if not np.array_equal(keys[np.minimum(pos, keys.size - 1)], target):
+            raise AssertionError("an entry outside the ordered pattern")
+        return pos
+
+
 class BodySpaceLU:
     """B = diag(m) + Jᵀ L⁻¹ J on the bodies' pattern in one order, found
     once (module docstring); :meth:`factor` gives a solver of (W + L) u = g."""
 
     def __init__(self, J, inverse_mass, pivot_threshold: float):
-        import scipy.sparse.linalg as spla   # here: `import qpcontact` stays cheap
-
         J = sp.csr_matrix(J, dtype=float)
         J.sum_duplicates()
         J.sort_indices()
@@ -96,24 +129,9 @@ class BodySpaceLU:
         ones.data[:] = 1.0
         pattern = sp.csc_matrix(sp.identity(nd) + ones.T @ ones)
         dominant = pattern + sp.diags(np.asarray(pattern.sum(axis=1)).ravel())
-        lu = spla.splu(sp.csc_matrix(dominant), permc_spec="MMD_AT_PLUS_A",
-                       diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-        self.p = np.argsort(lu.perm_c)          # row and column k of the ordered B: p[k]
-        where = np.empty(nd, dtype=np.int64)
-        where[self.p] = np.arange(nd)
-        ordered = sp.csc_matrix(pattern[self.p][:, self.p])
-        ordered.sort_indices()
-        self.indices, self.indptr = ordered.indices, ordered.indptr
-        keys = np.repeat(np.arange(nd, dtype=np.int64), np.diff(ordered.indptr)) * nd \
-            + ordered.indices
-
-        def position(i, j):
-            target = where[j] * nd + where[i]
-            pos = np.searchsorted(keys, target)
-            # a key not in the pattern would add its value to a neighbour's entry
-            if not np.array_equal(keys[np.minimum(pos, keys.size - 1)], target):
-                raise AssertionError("body-space pattern misses an entry of B")
-            return pos
+        order = OrderedPattern(pattern, dominant)
+        self.p, self.indices, self.indptr = order.p, order.indices, order.indptr
+        position, keys = order.position, order.keys
 
         self.mass_data = np.zeros(keys.size)
         self.mass_data[position(np.arange(nd), np.arange(nd))] = \

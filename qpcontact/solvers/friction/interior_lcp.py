@@ -122,7 +122,7 @@ from ...core.errors import InvalidOptionError
 from ...core.friction_problem import faceted_lcp
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...judge.friction_certificate import certified_error
-from .body_space import BodySpaceLU, factors_match
+from .body_space import BodySpaceLU, OrderedPattern, factors_match
 from .lcp_route import purified, reactions_of
 from .newton import solve_natural_newton
 
@@ -241,8 +241,6 @@ class _Ordered:
     column's largest."""
 
     def __init__(self, W):
-        import scipy.sparse.linalg as spla   # here: `import qpcontact` stays cheap
-
         n = W.shape[0]
         nc = n // 2
         rows = np.concatenate([2 * np.arange(nc), 2 * np.arange(nc) + 1, 2 * np.arange(nc) + 1])
@@ -253,20 +251,9 @@ class _Ordered:
         # W where a disc contact's normal and tangent do not couple) minimum
         # degree's order fills 4.6 M entries against 3.0 M at 9 842 contacts
         dominant = abs(W) + sp.diags(np.asarray(abs(W).sum(axis=1)).ravel() + 1.0)
-        lu = spla.splu(sp.csc_matrix(dominant), permc_spec="MMD_AT_PLUS_A",
-                       diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-        self.p = np.argsort(lu.perm_c)          # row and column k of the ordered matrix: p[k]
-        where = np.empty(n, dtype=np.int64)
-        where[self.p] = np.arange(n)
-        ordered = sp.csc_matrix(pattern[self.p][:, self.p])
-        ordered.sort_indices()
-        self.indices, self.indptr, self.n = ordered.indices, ordered.indptr, n
-        # an entry (i, j) of the ordered matrix is at data[key ↦ position] (sorted CSC)
-        keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(ordered.indptr)) * n \
-            + ordered.indices
-
-        def position(i, j):
-            return np.searchsorted(keys, where[j] * n + where[i])
+        order = OrderedPattern(pattern, dominant)
+        self.p, self.indices, self.indptr, self.n = order.p, order.indices, order.indptr, n
+        position, keys = order.position, order.keys
 
         Wc = sp.coo_matrix(W)
         kept = Wc.data != 0                     # an explicit zero has no place in the pattern
