@@ -94,54 +94,34 @@ def test_auto_certifies_a_dense_pile_its_sweeps_do_not():
         assert s.method == "ip-lcp", s.message
 
 
-@pytest.mark.parametrize("spread", [0.0, 4.0, 8.0])
-def test_the_condensed_lu_in_its_order_found_once_solves_the_whole_system(spread):
-    """(M + diag(d)) u = g by W + L's LU in the order found once (the pattern
-    without the blocks' lower entries, which the LU then carries), d spread
-    over 1e±spread: judged on the whole 4-unknown system, formed densely
-    here, and against NumPy's dense solve where it is well conditioned."""
-    import scipy.sparse as sp
-
-    from qpcontact.core.friction_problem import faceted_lcp
-    from qpcontact.solvers.friction.interior_lcp import _Condensed, _Ordered
-
-    p = disc_pile(200, seed=7, agitation=0.1, polydispersity=0.005).problem
-    M, W = sp.csc_matrix(faceted_lcp(p, 2)[0].M), sp.csr_matrix(p.W)
-    ordered = _Ordered(W)
-    rng = np.random.default_rng(int(spread))
-    d = 10.0 ** rng.uniform(-spread, spread, M.shape[0])
-    g = rng.standard_normal(M.shape[0])
-    u = _Condensed(M, W, ordered, p.mu, d, {"factorizations": 0}).solve(g)
-    A = M.toarray() + np.diag(d)
-    scale = np.abs(A).max() * np.abs(u).max() + np.abs(g).max()
-    assert np.abs(A @ u - g).max() <= 1e-14 * scale
-    if spread == 0.0:
-        np.testing.assert_allclose(u, np.linalg.solve(A, g), rtol=1e-10, atol=1e-12)
-
-
 def _pile_with_factors(n, seed):
     return disc_pile(n, seed=seed, agitation=0.1, polydispersity=0.005).problem
 
 
-@pytest.mark.parametrize("spread", [0.0, 4.0, 8.0, 12.0])
-def test_the_body_space_solve_solves_the_whole_system(spread):
-    """(M + diag(d)) u = g with W + L solved in body space (Woodbury on the
-    pile's factors W = Hᵀ diag(m⁻¹) H), d spread over 1e±spread: judged on
-    the whole 4-unknown system formed densely here, and against NumPy's dense
-    solve where it is well conditioned."""
+@pytest.mark.parametrize("space, spread", [("contacts", 0.0), ("contacts", 4.0),
+                                           ("contacts", 8.0), ("bodies", 0.0),
+                                           ("bodies", 4.0), ("bodies", 8.0), ("bodies", 12.0)])
+def test_the_condensed_system_solves_the_whole_system(space, spread):
+    """(M + diag(d)) u = g with W + L solved by its LU in the order found once
+    (the pattern without the blocks' lower entries, which the LU then
+    carries), or in body space (Woodbury on the pile's factors
+    W = Hᵀ diag(m⁻¹) H), d spread over 1e±spread: judged on the whole
+    4-unknown system, formed densely here, and against NumPy's dense solve
+    where it is well conditioned."""
     import scipy.sparse as sp
 
     from qpcontact.core.friction_problem import faceted_lcp
     from qpcontact.solvers.friction.body_space import BodySpaceLU
-    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD, _Condensed
+    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD, _Condensed, _Ordered
 
     p = _pile_with_factors(200, 7)
     M, W = sp.csc_matrix(faceted_lcp(p, 2)[0].M), sp.csr_matrix(p.W)
-    body = BodySpaceLU(*p.delassus_factors, pivot_threshold=PIVOT_THRESHOLD)
+    solver = (_Ordered(W) if space == "contacts" else
+              BodySpaceLU(*p.delassus_factors, pivot_threshold=PIVOT_THRESHOLD))
     rng = np.random.default_rng(int(spread))
     d = 10.0 ** rng.uniform(-spread, spread, M.shape[0])
     g = rng.standard_normal(M.shape[0])
-    u = _Condensed(M, W, body, p.mu, d, {"factorizations": 0}).solve(g)
+    u = _Condensed(M, W, solver, p.mu, d, {"factorizations": 0}).solve(g)
     A = M.toarray() + np.diag(d)
     scale = np.abs(A).max() * np.abs(u).max() + np.abs(g).max()
     assert np.abs(A @ u - g).max() <= 1e-14 * scale
