@@ -262,14 +262,27 @@ class _Ordered:
         self.l_pos = position(rows, cols)       # L's d_N, lower and 1/G entries, distinct
 
     def factor(self, l_values):
-        """The LU of the ordered W + L, L's entries in the order of l_pos."""
+        """The solver of (W + L) u = g in the contacts' order: the LU of the
+        ordered W + L, L's entries in the order of l_pos."""
         import scipy.sparse.linalg as spla
 
         data = self.w_data.copy()
         data[self.l_pos] += l_values
         A = sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
-        return spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=PIVOT_THRESHOLD,
-                         options={"SymmetricMode": True})
+        return _InOrder(spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=PIVOT_THRESHOLD,
+                                  options={"SymmetricMode": True}), self.p)
+
+
+class _InOrder:
+    """An LU of the matrix ordered by p, solving in the original order."""
+
+    def __init__(self, lu, p):
+        self.lu, self.p = lu, p
+
+    def solve(self, r):
+        x = np.empty(r.size)
+        x[self.p] = self.lu.solve(r[self.p])
+        return x
 
 
 class _Condensed:
@@ -292,8 +305,6 @@ class _Condensed:
         self.p_own, self.m_own = dp >= wt, dm >= wt
         stats["factorizations"] += 1
         self.lu = ordered.factor(np.concatenate([dn, -self.cl * mu / G, 1.0 / G]))
-        # W + L's LU solves in its own order, the body-space solver in the contacts'
-        self.p = ordered.p if isinstance(ordered, _Ordered) else None
 
     def _once(self, g):
         nc, mu = self.nc, self.mu
@@ -301,11 +312,7 @@ class _Condensed:
         rhs = np.empty(2 * nc)
         rhs[0::2] = gn
         rhs[1::2] = (self.cp * gp - self.cm * gm - self.cl * gl) / self.G
-        if self.p is None:
-            dr = self.lu.solve(rhs)
-        else:
-            dr = np.empty(2 * nc)
-            dr[self.p] = self.lu.solve(rhs[self.p])
+        dr = self.lu.solve(rhs)
         n, t = dr[0::2], dr[1::2]
         b = np.asarray(self.W @ dr).ravel()[1::2]
         l = (gl - mu * n - (self.P - self.Q) * b) / self.K + (self.P / self.K) * gp \
