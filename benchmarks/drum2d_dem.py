@@ -26,7 +26,17 @@ a binary collision), and Coulomb friction in one of two forms:
   μ F_n/k_t (3μ times the normal overlap at ρ = 1/3), and only Coulomb
   slip is booked as sliding.  The history is keyed by pair on the Verlet
   list (carried over by key when the list is rebuilt), by disc at the shell
-  and by (disc, lifter) at the lifters.
+  and by (disc, lifter) at the lifters.  The spring's increment u_t Δt is
+  the step's relative slip: the disc's velocity there is the one that
+  brought it here (symplectic Euler is leapfrog, v at t − Δt/2), so the
+  wall's is taken at t − Δt/2 too, Ω ẑ × Rot(−Ω Δt/2) p (_wall_lag).  With
+  V(p) at t a log carried in stick on a lifter's radial face read a slip
+  Ω² ρ Δt/2 along the face that it did not make (1 µm/s at 0.9 m, T/400),
+  and its spring k_t integrated it: 10k at T/400 drove a log wedged between
+  a face and the shell to the face's cone within 0.1 s, whatever Δt
+  (T/1600: 0.15 s), where with the lag its forces are the same at T/400 and
+  T/1600 to 0.2 N (docs/dev-notes.md, "The lifter pocket's force loop").
+  At the shell the two velocities differ along t by a factor cos(Ω Δt/2).
 
 Explicit symplectic Euler with Δt = T_min/``per_period``, T_min
 = 2π √(m*/k) the shortest contact period (50 steps a period: a resolved
@@ -62,14 +72,17 @@ from qpcontact.core.compiled import njit
 
 
 @njit
-def _contact(nx, ny, ov, vx, vy, wa, ra, k, c, mu):
+def _contact(nx, ny, ov, vx, vy, wa, ra, k, c, mu, lag):
     """(fx, fy, torque, F_n, |F_t u_t|, at the cone) on a disc of radius ra
     spinning at wa from a contact of overlap ov, normal (nx, ny) into it, the
     relative velocity (vx, vy) of its centre against the other body's point
-    (that body's rolling part already in it); zeros where the contact pulls."""
+    (that body's rolling part already in it), ``lag`` what the wall's
+    tangential velocity at t exceeds its mean over the step that brought
+    the disc here (_wall_lag; 0 between discs); zeros where the contact
+    pulls."""
     tx, ty = -ny, nx
     un = vx * nx + vy * ny
-    ut = vx * tx + vy * ty - ra * wa
+    ut = vx * tx + vy * ty - ra * wa + lag
     fn = k * ov - c * un
     if fn <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, False
@@ -79,7 +92,7 @@ def _contact(nx, ny, ov, vx, vy, wa, ra, k, c, mu):
 
 
 @njit
-def _contact_spring(nx, ny, ov, vx, vy, wa, ra, k, c, mu, dt, held, ratio):
+def _contact_spring(nx, ny, ov, vx, vy, wa, ra, k, c, mu, dt, held, ratio, lag):
     """_contact's (fx, fy, torque, F_n, tangential loss rate, slides) by
     Cundall–Strack's tangential spring k_t = ``ratio`` k and dashpot
     c_t = c √(ratio/3) (module docstring), and the contact's elastic
@@ -88,10 +101,10 @@ def _contact_spring(nx, ny, ov, vx, vy, wa, ra, k, c, mu, dt, held, ratio):
     beyond μ F_n slides: F_t = μ F_n, δ = −F_t/k_t, and the slip (the rest of
     δ + u_t Δt) dissipates μ F_n |slip| in the step; within the cone the
     dashpot acts, clipped to what the cone leaves, and dissipates its own
-    force times u_t."""
+    force times u_t; ``lag`` as in _contact."""
     tx, ty = -ny, nx
     un = vx * nx + vy * ny
-    ut = vx * tx + vy * ty - ra * wa
+    ut = vx * tx + vy * ty - ra * wa + lag
     fn = k * ov - c * un
     if fn <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, False, 0.0
@@ -106,6 +119,22 @@ def _contact_spring(nx, ny, ov, vx, vy, wa, ra, k, c, mu, dt, held, ratio):
     ft = min(max(fs - ct * ut, -cap), cap)
     return (fn * nx + ft * tx, fn * ny + ft * ty, -ra * ft, fn, abs((ft - fs) * ut), False,
             held)
+
+
+@njit
+def _wall_lag(nx, ny, px, py, omega, dt):
+    """t · (V(p) − V_mid) [m/s]: the wall point p's velocity at t less its
+    mean over the step [t − Δt, t] that brought the disc here (the disc's
+    velocity in the step is that step's: symplectic Euler's leapfrog), so
+    that a disc turning with the wall adds nothing to its tangential spring.
+    V_mid = Ω ẑ × Rot(−Ω Δt/2) p; without it a disc carried on a lifter's
+    radial face reads a slip Ω² ρ Δt/2 along the face (module docstring)."""
+    eps = 0.5 * omega * dt
+    a, b = 1.0 - np.cos(eps), np.sin(eps)
+    # V − V_mid = Ω ((1 − cos ε) ẑ × p − sin ε p)
+    dx = omega * (a * -py - b * px)
+    dy = omega * (a * px - b * py)
+    return -ny * dx + nx * dy
 
 
 @njit
@@ -154,10 +183,11 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
             vy = v[i, 1] - v[j, 1] - rad[j] * w[j] * nx
             if ratio > 0.0:
                 fx, fy, ti, fn, work, cone, held_pair[p] = _contact_spring(
-                    nx, ny, ov, vx, vy, w[i], rad[i], kc, c, mu[0], dt, held_pair[p], ratio)
+                    nx, ny, ov, vx, vy, w[i], rad[i], kc, c, mu[0], dt, held_pair[p], ratio,
+                    0.0)
             else:
                 fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, vx, vy, w[i], rad[i], kc, c,
-                                                      mu[0])
+                                                      mu[0], 0.0)
             if fn > 0.0:
                 F[i, 0] += fx
                 F[i, 1] += fy
@@ -177,14 +207,15 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                 nx, ny = -x[a, 0] / rr, -x[a, 1] / rr
                 px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
                 c = 2 * zeta * np.sqrt(m[a] * s[a])
+                lag = _wall_lag(nx, ny, px, py, omega, dt)
                 if ratio > 0.0:
                     fx, fy, ti, fn, work, cone, held_shell[a] = _contact_spring(
                         nx, ny, ov, v[a, 0] + omega * py, v[a, 1] - omega * px, w[a], rad[a],
-                        s[a], c, mu[1], dt, held_shell[a], ratio)
+                        s[a], c, mu[1], dt, held_shell[a], ratio, lag)
                 else:
                     fx, fy, ti, fn, work, cone = _contact(nx, ny, ov, v[a, 0] + omega * py,
                                                           v[a, 1] - omega * px, w[a], rad[a],
-                                                          s[a], c, mu[1])
+                                                          s[a], c, mu[1], lag)
                 F[a, 0] += fx
                 F[a, 1] += fy
                 T[a] += ti
@@ -207,14 +238,15 @@ def _advance(x, v, w, pairs, m, I, rad, s, zeta, mu, omega, g, R, angles, height
                     nx, ny = qx / dist, qy / dist
                     px, py = x[a, 0] - rad[a] * nx, x[a, 1] - rad[a] * ny
                     c = 2 * zeta * np.sqrt(m[a] * s[a])
+                    lag = _wall_lag(nx, ny, px, py, omega, dt)
                     if ratio > 0.0:
                         fx, fy, ti, fn, work, cone, held_lift[a, q] = _contact_spring(
                             nx, ny, ov, v[a, 0] + omega * py, v[a, 1] - omega * px, w[a],
-                            rad[a], s[a], c, mu[2], dt, held_lift[a, q], ratio)
+                            rad[a], s[a], c, mu[2], dt, held_lift[a, q], ratio, lag)
                     else:
                         fx, fy, ti, fn, work, cone = _contact(
                             nx, ny, ov, v[a, 0] + omega * py, v[a, 1] - omega * px, w[a],
-                            rad[a], s[a], c, mu[2])
+                            rad[a], s[a], c, mu[2], lag)
                     F[a, 0] += fx
                     F[a, 1] += fy
                     T[a] += ti

@@ -90,12 +90,16 @@ def candidate_pairs(pos, rad, margin):
 
 
 @njit
-def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega):
+def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega, step, vel):
     """find_contacts' arrays (contacts.py): (i, j, kind, normal, gap,
     wall_point, w, H's CSC indptr, indices, data, the candidate pairs
     examined) for discs at ``pos`` (n, 2) of radii ``rad``, the shell of
     radius ``shell_radius`` and lifter segments ``inner``–``outer`` (k, 2)
-    of half thickness ``half_width``, contacts with gap <= ``margin``."""
+    of half thickness ``half_width``, contacts with gap <= ``margin``; the
+    walls' tangential velocity their material point's mean over ``step``
+    [s] (0: the velocity at t), and each gap's remainder beyond its linear
+    part after ``step`` along the centres' velocities ``vel`` (n, 2) and
+    the walls' turn (contacts.py; zeros at step 0)."""
     n = pos.shape[0]
     pairs = candidate_pairs(pos, rad, margin)
     nl = inner.shape[0]
@@ -106,6 +110,7 @@ def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega):
     normal = np.empty((cap, 2))
     gap = np.empty(cap)
     point = np.zeros((cap, 2))
+    lifter = np.full(cap, -1, np.int64)
     m = 0
     for p in range(pairs.shape[0]):      # disc-disc: i the larger index, n from j to i
         a, b = pairs[p, 0], pairs[p, 1]
@@ -142,19 +147,50 @@ def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega):
                 d = max(dist, 1e-300)
                 ex, ey = dx / d, dy / d
                 ci[m], cj[m], kind[m], gap[m] = k, -1, 2, g
+                lifter[m] = L
                 normal[m, 0], normal[m, 1] = ex, ey
                 point[m, 0], point[m, 1] = nx + half_width * ex, ny + half_width * ey
                 m += 1
     w = np.empty(2 * m)
+    # the wall point's chord over the step, (Rot(Ω h) − I) p / h (contacts.py)
+    turn = omega * step
+    across = -2.0 * np.sin(0.5 * turn) ** 2 / step if step > 0.0 else 0.0
+    along = np.sin(turn) / step if step > 0.0 else omega
     for k in range(m):
         if k < n_disc:
-            vx, vy = 0.0, 0.0
+            vx, vy, cx, cy = 0.0, 0.0, 0.0, 0.0
         else:
             vx, vy = omega * (-point[k, 1]), omega * point[k, 0]
+            cx = across * point[k, 0] - along * point[k, 1]
+            cy = across * point[k, 1] + along * point[k, 0]
         nx, ny = normal[k, 0], normal[k, 1]
         # NumPy's sum over the two components starts from +0.0 (the signs of zeros kept)
         w[2 * k] = -((0.0 + nx * vx) + ny * vy)
-        w[2 * k + 1] = -((0.0 + (-ny) * vx) + nx * vy)
+        w[2 * k + 1] = -((0.0 + (-ny) * cx) + nx * cy)
+    bend = np.zeros(m)
+    if step > 0.0:
+        turn_c, turn_s = np.cos(turn), np.sin(turn)
+        for k in range(m):
+            i, j = ci[k], cj[k]
+            x, y = pos[i, 0] + step * vel[i, 0], pos[i, 1] + step * vel[i, 1]
+            u = normal[k, 0] * vel[i, 0] + normal[k, 1] * vel[i, 1]
+            if kind[k] == 0:
+                x -= pos[j, 0] + step * vel[j, 0]
+                y -= pos[j, 1] + step * vel[j, 1]
+                after = np.hypot(x, y) - rad[i] - rad[j]
+                u -= normal[k, 0] * vel[j, 0] + normal[k, 1] * vel[j, 1]
+            elif kind[k] == 1:
+                after = shell_radius - np.hypot(x, y) - rad[i]
+            else:
+                L = lifter[k]
+                ax = turn_c * inner[L, 0] - turn_s * inner[L, 1]
+                ay = turn_s * inner[L, 0] + turn_c * inner[L, 1]
+                sx = turn_c * outer[L, 0] - turn_s * outer[L, 1] - ax
+                sy = turn_s * outer[L, 0] + turn_c * outer[L, 1] - ay
+                f = ((x - ax) * sx + (y - ay) * sy) / (sx * sx + sy * sy)
+                f = min(max(f, 0.0), 1.0)
+                after = np.hypot(x - ax - f * sx, y - ay - f * sy) - rad[i] - half_width
+            bend[k] = after - gap[k] - step * (u + w[2 * k])
     # H (3n x 2m) in CSC, rows ascending: (n, 0), (t, −r_i) on disc i, (−n, 0),
     # (−t, −r_j) on disc j (contacts.py's module docstring); j < i
     indptr = np.zeros(2 * m + 1, np.int64)
@@ -184,7 +220,8 @@ def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega):
         e += 3
         indptr[2 * k + 2] = e
     return (ci[:m].copy(), cj[:m].copy(), kind[:m].copy(), normal[:m].copy(), gap[:m].copy(),
-            point[:m].copy(), w, indptr, indices[:e].copy(), data[:e].copy(), pairs.shape[0])
+            point[:m].copy(), w, indptr, indices[:e].copy(), data[:e].copy(), pairs.shape[0],
+            bend)
 
 
 @njit

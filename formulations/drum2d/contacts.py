@@ -26,6 +26,33 @@ the lifter's segment minus r_i + b (normal from the segment's nearest point).
 Contacts are listed when the gap is at most the margin δ the stepper asks for.
 The detection and H's arrays are formed in one compiled pass
 (formulations.drum2d.contact_kernel).
+
+Over a step h (the stepper's θ = 1: each centre moves along the chord h ν⁺,
+the walls turn by Ω h) two of these first-order readings are not what the
+step does, and both are taken over the step instead:
+
+- *Stick is two material points moving together over the step.*  A wall
+  point moves along its arc, by Rot(Ω h) p − p, not by h V(p); so w's
+  tangential part is −t · (Rot(Ω h) − I) p / h, the wall's mean velocity
+  along t.  At the shell the two differ by a factor sin(Ω h)/(Ω h) (1 − 6e-7
+  at the drum's Ω h = 1.9e-3); along a lifter's radial face by the arc's
+  centripetal part, Ω² h (p · e_r)/2 [m/s] (0.8 mm/s at 0.9 m, h = 2 ms), which
+  a log carried in stick on a chord has too: read with V(p) it was slip, so a
+  log stuck on a face crept out along it at that speed, and a log wedged
+  between a face and the shell could stay stuck at both only by rolling into
+  the face, which pumped its indeterminate force loop (the face's push and the
+  shell's backward friction) to the cone (docs/dev-notes.md, "The lifter
+  pocket's force loop").  w's normal part stays −n · V(p), the gap's exact
+  rate: the shell's circle does not move along its normal however it turns.
+- *The gap at the step's end to second order.*  ``bend`` [m] is what the gap
+  after the step, taken along the start motion (centres at c + h v⁻, the
+  walls turned by Ω h), exceeds its linear part g + h u_N⁻: a centre moving
+  straight across the shell's curve closes on it by h² v_⊥²/(2ρ) (1.6 µm a 2
+  ms step for a log carried at 0.9 m, five times its weight's overlap), two
+  logs passing each other open by h² (t · Δv)²/(2|c_i − c_j|).  The springs'
+  law (laws.py) reads the gap at the step's end as g + bend + h u_N⁺, so a
+  carried log sits at its spring's overlap c F instead of deeper by the
+  chord's drift.  Zero at step 0 (``find_contacts`` without a step).
 """
 
 from __future__ import annotations
@@ -53,8 +80,9 @@ LIFTER = 2
 class Contacts:
     """m contacts: disc ``i``, ``j`` (the other disc, −1 for a wall), ``kind``,
     ``normal`` (m, 2), ``gap`` (m,) [m], ``wall_point`` (m, 2) [m] (where the
-    wall's velocity is taken; unused between discs), ``w`` (2m,) [m/s] and ``H``
-    (3n x 2m, sparse)."""
+    wall's velocity is taken; unused between discs), ``w`` (2m,) [m/s], ``H``
+    (3n x 2m, sparse) and ``bend`` (m,) [m] (the gap's second-order part over
+    the step; zeros without one) (module docstring)."""
 
     i: np.ndarray
     j: np.ndarray
@@ -65,6 +93,7 @@ class Contacts:
     w: np.ndarray
     H: sp.csc_matrix
     pairs_checked: int = 0
+    bend: np.ndarray | None = None
 
     @property
     def m(self) -> int:
@@ -80,21 +109,25 @@ class Contacts:
         return Contacts(self.i[keep], self.j[keep], self.kind[keep], self.normal[keep],
                         self.gap[keep], self.wall_point[keep], self.w[cols],
                         sp.csc_matrix((val, idx, ptr), shape=(self.H.shape[0], cols.size)),
-                        self.pairs_checked)
+                        self.pairs_checked, None if self.bend is None else self.bend[keep])
 
 
 def find_contacts(discs: Discs, shell: Shell, t: float, omega: float, margin: float,
-                  positions: np.ndarray | None = None) -> Contacts:
+                  positions: np.ndarray | None = None, step: float = 0.0,
+                  velocities: np.ndarray | None = None) -> Contacts:
     """Every contact with gap <= ``margin`` [m] at time t [s], the shell turning
-    at ``omega`` [rad/s] (module docstring)."""
+    at ``omega`` [rad/s]; over a ``step`` [s] (module docstring; 0: none) w's
+    tangential part the walls' chord and ``bend`` the gaps' second-order
+    remainder along the centres' ``velocities`` (n, 2) [m/s]."""
     from .contact_kernel import detect   # numba: imported where it runs
 
     pos = np.ascontiguousarray(discs.positions if positions is None else positions, float)
     inner, outer = shell.lifter_segments(t, omega)
-    i, j, kind, normal, gap, wall_point, w, indptr, indices, data, checked = detect(
+    vel = np.zeros_like(pos) if velocities is None else np.ascontiguousarray(velocities, float)
+    i, j, kind, normal, gap, wall_point, w, indptr, indices, data, checked, bend = detect(
         pos, np.asarray(discs.radii, float), float(margin), float(shell.radius),
         np.ascontiguousarray(inner, float), np.ascontiguousarray(outer, float),
-        float(shell.lifter_half_width), float(omega))
+        float(shell.lifter_half_width), float(omega), float(step), vel)
     H = sp.csc_matrix((data, indices, indptr), shape=(3 * discs.n, 2 * i.size))
     return Contacts(i, j, kind, normal, gap, wall_point, w, H, checked + discs.n
-                    * (1 + shell.lifter_angles.size))
+                    * (1 + shell.lifter_angles.size), bend)

@@ -98,12 +98,12 @@ the cluster runs"): the piles struck from above within 1.8 % of a
 penalty DEM (the step's own booking −95 %), struck obliquely −16.5 and
 −13.8 % (−32, −30 %; the striker's contact, which leaves the top log
 within the run: both linear estimates read its slip after it left); the
-drums of 40 (with lifters, smooth), 200 and 500 logs at h = 2 ms −6.3,
-−2.2, −1.4, +3.1 % against a DEM of the same contact law (Cundall–Strack,
-converged at k_t = 10k, T/400; before −15.4, −8.1, −13.6, −11.2 %), 6–10
-trajectories a side ("… against the converged stiff-stick DEM"; the
-lifters' gap is in the log–log contacts: "The 40-log drum with
-lifters").  The
+drums of 40 (with lifters, smooth), 200 and 500 logs at h = 2 ms −3.0,
++1.3, −2.9, +0.1 % against a DEM of the same contact law (Cundall–Strack,
+converged at k_t = 10k, T/400; before the cluster runs −15.4, −8.1, −13.6,
+−11.2 %), 6–10 trajectories a side ("The lifter pocket's force loop": with
+both models reading the walls over their steps; −6.3 % on the lifter drum
+before that).  The
 runs' viscous stick (STICK) creeps: their Coulomb sliding on the piles
 read 7–8 % below the DEM's at a near-exact stick (3 % on a struck disc
 sliding on the shell), −5 … +3 % at STICK = 3, which chattered at 4.

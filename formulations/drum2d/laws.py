@@ -31,14 +31,17 @@ rigid bodies' gap (negative: the overlap the halves take up) the force is
 F = max(0, −g)/c, i.e.  0 <= F ⟂ g + c F >= 0.
 
 The stepper advances a compliant run's positions with θ = 1 (q⁺ = q + h ν⁺),
-so the gap at the end of the step is g + h u_N⁺, and the law, with F = r_N/h
-the step's mean force, is the implicit (backward Euler) spring
+so the gap at the end of the step is g + h u_N⁺ + b, b [m] its second-order
+part along the step's start motion (contacts.py, ``bend``: a centre's
+straight chord across the shell's curve, two logs passing each other, a
+lifter turning), and the law, with F = r_N/h the step's mean force, is the
+implicit (backward Euler) spring
 
-    0 <= r_N ⟂ u_N⁺ + g/h + c r_N/h² >= 0                    (closed or open)
+    0 <= r_N ⟂ u_N⁺ + (g + b)/h + c r_N/h² >= 0              (closed or open)
 
 except at an impact — a contact still open (g >= 0) that the free motion
-closes within the step (the rigid law's active set: g + h (u_N⁻ + u_N^free)/2
-<= 0) — which obeys
+closes within the step (the rigid law's active set: g + b + h (u_N⁻ +
+u_N^free)/2 <= 0) — which obeys
 
     0 <= r_N ⟂ u_N⁺ + e u_N⁻ + (1 + e) c r_N/h² >= 0          (impact).
 
@@ -79,8 +82,16 @@ larger; formulations.drum2d.impacts measures it by a resolved run of the
 impact's cluster over the step (the pair's half-sine π r_N/T is right for a
 binary collision only).  A rigid run has only the mean force.
 
+Why b.  Without it the law took the end gap to first order, and a log
+carried on the shell (its centre on a chord, 1.6 µm a 2 ms step into the
+shell's curve at 0.9 m) sat deeper than its spring's c F by that drift —
+five times its weight's overlap — and one carried on a lifter's face,
+whose gaps are a fraction of a micron, read its gap as alternately open and
+closed (impact and spring laws in turn, docs/dev-notes.md, "The lifter
+pocket's force loop").  With b a carried log sits at c F.
+
 So a compliant contact adds c/h² (at an impact (1 + e) c/h²) to W's normal
-diagonal and g/h (at an impact e u_N⁻) to its offset: the same FrictionProblem
+diagonal and (g + b)/h (at an impact e u_N⁻) to its offset: the same FrictionProblem
 or LCP, with W + D, D >= 0 diagonal — positive definite on the normal
 directions wherever every contact has c > 0, which makes the forces on a pile
 unique (the elastic split) and the step problem regular.  A compliant
@@ -145,9 +156,10 @@ class ContactLaw:
         of the free motion (no contact impulses)."""
         comp = self.compliance(c)
         spring = comp > 0
-        impact = spring & (c.gap >= 0.0) & (c.gap + 0.5 * h * (u_minus_n + u_free_n) <= 0.0)
+        end = c.gap if c.bend is None else c.gap + c.bend
+        impact = spring & (c.gap >= 0.0) & (end + 0.5 * h * (u_minus_n + u_free_n) <= 0.0)
         rigid_or_impact = ~spring | impact
-        offset = np.where(rigid_or_impact, self.e * u_minus_n, c.gap / h)
+        offset = np.where(rigid_or_impact, self.e * u_minus_n, end / h)
         D = np.where(impact, 1.0 + self.e, 1.0) * comp / h ** 2
         return D, offset, comp, impact
 

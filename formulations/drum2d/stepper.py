@@ -25,7 +25,11 @@ impact step without the overlap h (1 − e)|u_N⁻|/2 the midpoint would leave
 (1 − e)/2 of the impact speed whatever e (measured: a log dropped with e = 0
 rebounded at 0 to 0.43 of its speed depending on where in a step it struck;
 with θ = 1 at −0.003 every time, e = 0.2 at 0.196).  The spring's law takes
-the gap at the end of the step as g + h u_N⁺, which is what θ = 1 gives.
+the gap at the end of the step as g + h u_N⁺ + b, which is what θ = 1 gives
+(b its second-order part along the start motion, contacts.py's ``bend``).
+A wall's w is its material point's mean velocity along t over the step (its
+arc's chord, contacts.py): stick then holds a log to the turning wall as
+one body.
 
 r (N·s) the contact impulses over the step.  A contact is active when its
 predicted gap g + h (u_N⁻ + u_N^free)/2 is <= 0, u^free = Hᵀ(ν + h M⁻¹ f) + w:
@@ -89,8 +93,9 @@ springs and θ = 1, ΔK + ΔP + ΔE_el − drive + D_f + D_i − S).
 The scheme's own errors are in the positions: an impact is resolved up to one
 step early (a gap of at most h |u_N|) and a contact carried along the curved
 shell drifts into it by about (h v)²/(2ρ) per step (ρ the centre's radius of
-curvature) — a rigid contact keeps that drift, a compliant one's gap term
-pushes it out within the step; the run reports the largest penetration.
+curvature) — a rigid contact keeps that drift (drift.py projects it out), a
+compliant one's law takes it in (b above); the run reports the largest
+penetration.
 
 Warm starts
 -----------
@@ -267,7 +272,7 @@ class Drum2D:
             t = t0 + s * h
             V = v.reshape(n, 3)
             c = find_contacts(d, self.shell, t, self.omega, self._margin(h, V[:, :2], V[:, 2]),
-                              positions=q)
+                              positions=q, step=h, velocities=V[:, :2])
             rec.counts["n_contacts"][s], rec.counts["pairs_checked"][s] = c.m, c.pairs_checked
             rec.worst_pen = max(rec.worst_pen, float(-c.gap.min(initial=0.0)))
             v_free = v + h * minv * f

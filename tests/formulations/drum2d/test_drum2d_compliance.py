@@ -21,7 +21,11 @@ SI units: m, kg, s, N, J.  References (independent of the code under test):
   γ = (1 + e) m* c / h² by hand algebra on one contact;
 - statics of a column: the force at each contact is the weight above it, the
   overlap of each spring c F (c = 1/s_i + 1/s_j between logs, 1/s (+ 1/k_s)
-  at the shell).
+  at the shell);
+- the kinematics of a log stuck to the turning wall (held from rolling,
+  spinning at Ω): it turns with the wall as one rigid body, so its place on
+  a lifter's face does not change, and on the shell its overlap is c times
+  its weight's normal part plus the centripetal m v²/ρ.
 """
 
 import numpy as np
@@ -379,3 +383,55 @@ def test_step_problem_is_the_problem_each_step_solved():
         assert qpcontact.certify(prob, wrong).error > 1e-6
         checked += 1
     assert checked >= 3
+
+
+# -- a log stuck to the turning wall: carried as a rigid body -------------------------------
+
+def _carried(shell, centre, mu, steps=300, h=2e-3, d=0.2):
+    """A log held from rolling, spinning with the shell (Ω) and moving as its
+    material point at ``centre`` [m] would: stuck from the start."""
+    om = shell.omega
+    v = om * np.array([-centre[1], centre[0]])
+    discs = Discs([d], [centre], length=1.0, velocities=[v], spins=[om], spin_locked=True)
+    model = Drum2D(discs, shell, ("friction", "rotation", "damping", "log_elasticity"),
+                   mu_shell=mu, mu_lifter=mu, restitution=0.3, modulus=E_T)
+    res = model.simulate(h, steps)
+    assert res.certified.all()
+    return res, discs.masses[0]
+
+
+def test_a_log_carried_on_the_shell_sits_at_its_springs_overlap():
+    """Carried 30° up the shell (stuck at μ = 0.8), the log's overlap is its
+    spring's c F, F = m g sin(−θ) + m Ω² ρ by hand (θ and ρ its centre's polar
+    angle and radius: it turns with the shell as one body).  The step's gap
+    law taken to first order only left it deeper by the chord's ρ (Ω h)²/2,
+    1.6 µm here against c F = 0.35 µm (5.6 times the hand overlap)."""
+    R, d, om, h = 1.0, 0.2, 0.94, 2e-3
+    rho = R - d / 2
+    th0 = np.radians(-80.0)
+    res, m = _carried(Shell(R, omega=om), rho * np.array([np.cos(th0), np.sin(th0)]), 0.8, d=d)
+    c = 1.0 / (2 * E_T * 1.0)                       # 1/s at the rigid steel, ℓ = 1 m
+    for s in (100, 200, 300):
+        x = res.positions[s, 0]
+        r, th = np.hypot(*x), np.arctan2(x[1], x[0])
+        assert abs(th - (th0 + om * s * h)) < 1e-5     # carried (9 µm), not sliding
+        force = m * G * -np.sin(th) + m * om ** 2 * r
+        assert abs((r + d / 2 - R) - c * force) < 0.01 * c * force
+
+
+def test_a_log_stuck_on_a_lifter_face_is_carried_without_creeping_along_it():
+    """A log resting on a lifter's face (stuck, μ = 0.8, clear of the shell)
+    keeps its place along the face while the drum turns 32°: stick is the two
+    material points moving together over the step.  With the face's velocity
+    at the step's start in place of its chord the log crept out along the face
+    at ρ Ω² h/2 (0.71 mm/s: 0.42 mm over the 0.6 s)."""
+    R, om, d, b = 1.0, 0.94, 0.1, 0.02
+    shell = Shell(R, omega=om, lifter_angles=[0.0], lifter_height=0.4, lifter_half_width=b)
+    res, m = _carried(shell, np.array([0.8, b + d / 2]), 0.8, d=d)
+    for s in (100, 200, 300):
+        a = om * s * 2e-3
+        x = res.positions[s, 0]
+        assert abs(x @ [np.cos(a), np.sin(a)] - 0.8) < 1e-6
+        # pressed onto the face by its weight's normal part: the spring's overlap
+        overlap = b + d / 2 - x @ [-np.sin(a), np.cos(a)]
+        assert 0 < overlap < 2 * m * G / (2 * E_T)
