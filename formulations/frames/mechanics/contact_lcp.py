@@ -329,6 +329,18 @@ def _scaled_free_links(b):
     return sp.csr_matrix((hv, (hr, hc)), shape=(b["nf"], b["H"].shape[1]))
 
 
+def settled_links(b, ua):
+    """The links' displacements by the settlements ``ua`` (at the fixed
+    dofs; a vector or one column per case), Hᵀ at the fixed dofs times ua
+    there — zero where nothing settles, without the sparse slice of H
+    (made on first use: 0.1 ms of a 20-storey tower's solve, which has no
+    fixed dof at all)."""
+    ua_fixed = ua[b["fixed_idx"]]
+    if not ua_fixed.any():
+        return np.zeros((b["H"].shape[1],) + ua.shape[1:])
+    return b["H_fixed_T"] @ ua_fixed
+
+
 def free_loads(b, F, ua):
     """F at the free dofs less what the settlements ``ua`` (at the fixed
     dofs; a vector or one column per case) put on them, K_fa u_a — left
@@ -342,15 +354,15 @@ def free_loads(b, F, ua):
 def contact_stiffness(b) -> dict:
     """R (links x links) and R_F (one column per case) from unit
     dislocations through the basic system's LU (the module docstring)."""
-    nf, kappa, fixed_idx = b["nf"], b["kappa"], b["fixed_idx"]
+    nf, kappa = b["nf"], b["kappa"]
     nl = len(b["info"])
     nc = len(b["cases"])
     rhs = np.zeros((nf + nl, nl + nc))
     rhs[nf:, :nl] = kappa * np.eye(nl)
     # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
-    U, H = b["U"], b["H"]
+    U = b["U"]
     rhs[:nf, nl:] = free_loads(b, b["F"], U)
-    rhs[nf:, nl:] = -kappa * (b["H_fixed_T"] @ U[fixed_idx])
+    rhs[nf:, nl:] = -kappa * settled_links(b, U)
     if contrast(b) > CONTRAST:
         sol = refined_columns(b, rhs, b["lu"].solve(rhs))[nf:]
     else:

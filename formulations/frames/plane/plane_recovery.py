@@ -38,9 +38,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     z = np.maximum(np.asarray(z, float), 0.0)
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g                      # link displacements incl. contact flexibility
-    nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
+    nf, free = b["nf"], b["free"]
     rhs = np.concatenate((contact_lcp.free_loads(b, F, ua),
-                          b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])))
+                          b["kappa"] * (delta - contact_lcp.settled_links(b, ua))))
     sol = b["lu"].solve(rhs)
     u = ua.copy()
     u[free] = sol[:nf]

@@ -155,11 +155,11 @@ def _sparse(b, combo, required):
     set (the first, every link holding, is the basic system's, already
     factorized).  Returns solve(kin, sliding, n_link, t_link, f·slip) ->
     (X, Δ, force scales, length scales) or None (singular)."""
-    kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
+    kappa, nf, free = b["kappa"], b["nf"], b["free"]
     nl = len(required)
     F, ua = contact_lcp.load_vector(b, combo)
     rhs_top = contact_lcp.free_loads(b, F, ua)
-    shift = -(b["H_fixed_T"] @ ua[fixed_idx])   # what settlements do to the links
+    shift = -contact_lcp.settled_links(b, ua)   # what settlements do to the links
     H, flex = b["H"], b["flex"]
     held = {}
 
