@@ -239,7 +239,7 @@ def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
     # stiffness, banded (:mod:`.banded_saddle`), and S itself is made only
     # where something reads it; else, and where that reads singular, by
     # SuperLU, whose pivots decide
-    band = banded_saddle.layout(nf, nl, kappa, flex, k_ff, (hr, hc, hv), pairs)
+    band = banded_saddle.layout(nf, nl, kappa, flex, k_ff, (hr, hc, hv), pairs, (K, free))
     lu = (banded_saddle.factor(band, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))
           if band is not None else None)
     out = dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, band=band, lu=lu)

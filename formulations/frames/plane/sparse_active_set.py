@@ -354,11 +354,11 @@ def _link_space(b, combo, required):
             # made as a dense product (a tenth of a tower's state set)
             at[S] = np.arange(S.size)
             t, n, f = at[t_link[sliding]], n_link[sliding], f_slip[sliding]
-            A = R[np.ix_(S, S)]
+            A = R[S[:, None], S]
             X0 = R @ delta + RF
             b_ = -X0[S]
             if t.size:
-                A[t] += f[:, None] * R[np.ix_(n, S)]
+                A[t] += f[:, None] * R[n[:, None], S]
                 b_[t] -= f * X0[n]
             # as in the sparse form: a mechanism's A is singular to rounding
             lu, piv, info = scipy.linalg.lapack.dgetrf(A)
@@ -367,7 +367,7 @@ def _link_space(b, combo, required):
                 return None
             delta[S] = scipy.linalg.lapack.dgetrs(lu, piv, b_)[0]
         X = R @ delta + RF
-        if not (np.all(np.isfinite(X)) and np.all(np.isfinite(delta))):
+        if not (np.isfinite(X).all() and np.isfinite(delta).all()):
             return None
         return X, delta, absR @ np.abs(delta) + np.abs(RF), np.abs(delta) + np.abs(required)
 
