@@ -54,9 +54,11 @@ def stiffness_matrix(rows, cols, vals, springs, idx, dofs, N):
             rows.append([idx[node] + dofs.index(d)])
             cols.append([idx[node] + dofs.index(d)])
             vals.append([kval])
+    # (int32 indices: scipy keeps them as they are, where int64 ones are
+    # scanned and copied)
     return sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
-                          (np.concatenate(rows) if rows else np.zeros(0, int),
-                           np.concatenate(cols) if cols else np.zeros(0, int))),
+                          (np.concatenate(rows).astype(np.int32) if rows else np.zeros(0, np.int32),
+                           np.concatenate(cols).astype(np.int32) if cols else np.zeros(0, np.int32))),
                          shape=(N, N)).tocsr()
 
 

@@ -172,9 +172,10 @@ def links(frame, idx, N, table=None):
     keep[2 * nl:] &= np.tile(away >= 0, 2)      # (away + 1 of no other node is 0)
     rows, cols, vals = rows[keep], np.tile(np.arange(nl), 4)[keep], vals[keep]
     order = np.argsort(rows * max(nl, 1) + cols, kind="stable")
-    H = sp.csr_matrix((vals[order], cols[order],
-                       np.concatenate(([0], np.cumsum(np.bincount(rows, minlength=N))))),
-                      shape=(N, nl))
+    # (int32 indices here and below: scipy keeps them as they are, where
+    # int64 ones are scanned and copied at every construction)
+    H = sp.csr_matrix((vals[order], cols[order].astype(np.int32), np.concatenate(
+        ([0], np.cumsum(np.bincount(rows, minlength=N)))).astype(np.int32)), shape=(N, nl))
     arrays = dict(n_link=n_link, t_link=t_link, mu=mu, gap=table[:, 5], normal=normal,
                   node=node // 3, other=np.where(other >= 0, other // 3, -1))
     return H, info, arrays
@@ -275,10 +276,10 @@ def link_maps(frame, b):
     # ascending: a contact's t link follows its n link, Z⁻ follows Z⁺), not
     # from triplets: two COO -> CSR conversions were a tenth of a tower's build
     # P's rows: an n link takes its contact's Z_n, a t link Z⁺ − Z⁻
-    twice = np.ones(nl, int)
+    twice = np.ones(nl, np.int32)
     twice[tl] = 2
-    p_ptr = np.concatenate(([0], np.cumsum(twice)))
-    p_ind, p_val = np.empty(p_ptr[-1], int), np.ones(p_ptr[-1])
+    p_ptr = np.concatenate(([0], np.cumsum(twice))).astype(np.int32)
+    p_ind, p_val = np.empty(p_ptr[-1], np.int32), np.ones(p_ptr[-1])
     p_ind[p_ptr[ca["n_link"]]] = np.arange(nc)
     p_ind[p_ptr[tl]], p_ind[p_ptr[tl] + 1], p_val[p_ptr[tl] + 1] = plus, plus + 1, -1.0
     P = sp.csr_matrix((p_val, p_ind, p_ptr), shape=(nl, nz))
@@ -289,7 +290,8 @@ def link_maps(frame, b):
     pair = np.column_stack((n_of_t, tl, n_of_t, tl)).ravel()
     W = sp.csr_matrix((np.concatenate((np.ones(nc), np.column_stack(
         (mu, np.ones(len(fric)), mu, -np.ones(len(fric)))).ravel())),
-                       np.concatenate((ca["n_link"], pair)), w_ptr), shape=(nz, nl))
+                       np.concatenate((ca["n_link"], pair)).astype(np.int32),
+                       w_ptr.astype(np.int32)), shape=(nz, nl))
     b["maps"] = (P, W, g, fric)
     return b["maps"]
 
