@@ -363,9 +363,9 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
 def check_auto_options(method, options) -> None:
     """InvalidOptionError for a keyword that "auto" or "active-set" would
     not read (Lemke's options and the call's time limit are read)."""
-    if method in ("auto", "active-set"):
-        check_options(method, {k: v for k, v in options.items() if k != "time_limit"},
-                      AUTO_OPTIONS)
+    given = {k: v for k, v in options.items() if k != "time_limit"}
+    if given and method in ("auto", "active-set"):     # (nothing given: nothing to refuse)
+        check_options(method, given, AUTO_OPTIONS)
 
 
 def auto_lcp(lcp, fric, accuracy, options, deadline):

@@ -151,11 +151,7 @@ def links(frame, idx, N, table=None):
     # links in contact order: n, then t where there is friction
     n_link = np.arange(nc) + np.concatenate(([0], np.cumsum(fric)[:-1])).astype(int)
     t_link = np.where(fric, n_link + 1, -1)
-    info = []
-    for ci, f in enumerate(fric.tolist()):
-        info.append((ci, "n"))
-        if f:
-            info.append((ci, "t"))
+    info = [(ci, kind) for ci, f in enumerate(fric.tolist()) for kind in ("n", "t")[:1 + f]]
     # H's entries (a link's direction at its node's ux, uy; turned at its
     # other node's), its exact zeros left out, in row then column order:
     # the canonical CSR the triplets' conversion made, with one scipy

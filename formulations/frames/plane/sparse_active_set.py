@@ -340,7 +340,7 @@ def _link_space(b, combo, required):
     PyNite on a 50-span beam, where the sparse route agrees to 3e-13)."""
     R = b["R_solve"]
     RF = b["RF"] @ contact_lcp.factors(b, combo)
-    absR = np.abs(R)
+    absR, absRF, abs_required = np.abs(R), np.abs(RF), np.abs(required)
 
     at = np.empty(R.shape[0], int)
 
@@ -369,7 +369,7 @@ def _link_space(b, combo, required):
         X = R @ delta + RF
         if not (np.isfinite(X).all() and np.isfinite(delta).all()):
             return None
-        return X, delta, absR @ np.abs(delta) + np.abs(RF), np.abs(delta) + np.abs(required)
+        return X, delta, absR @ np.abs(delta) + absRF, np.abs(delta) + abs_required
 
     return solve
 
