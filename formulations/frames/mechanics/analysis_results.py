@@ -48,6 +48,10 @@ class AnalysisResult:
     #: describes the structure, and solve warns
     displacement_ratio: float = 0.0
     max_rotation: float = 0.0
+    #: the words for how far the frame moved where that is beyond those
+    #: limits (equilibrium_checks.how_far's, made by the recovery: what
+    #: solve's warning says), else ""
+    _far: str = field(repr=False, default="")
     #: a second-order answer's fixed point ({"rounds", "axial_error",
     #: "axial"}: mechanics.second_order_analysis); None for first order
     second_order: dict | None = None

@@ -79,7 +79,7 @@ REORDER_MIN = 200
 SINGULAR_PIVOTS = 1e-13
 
 
-def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
+def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
     """What every factorization of one assembly shares: K_ff's part of the
     band, the links' columns of κH_f (padded to the widest), the band order
     and its width, the scaling — or None where the route does not apply (a
@@ -88,7 +88,9 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     κH_f's (dofs, links, values); ``pairs``: (t, n), the links a slipping
     tangent couples (its contact's normal): a level beam's axial and
     bending dofs are two chains K does not join, which the order must keep
-    near each other where friction joins them."""
+    near each other where friction joins them; ``stiffness``: (K, free
+    dofs), K over all dofs, whose product at the free dofs is K_ff's (a
+    refinement's residual: :meth:`CondensedLU.solve`)."""
     flex = np.asarray(flex, float)
     if nf == 0 or nl == 0 or not np.all(flex > 0) or 1.0 / flex.min() > CONDENSE_MAX * kappa:
         return None
@@ -122,7 +124,16 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     perm = np.arange(nf)
     bw = int(np.abs(pr - pc).max(initial=0))
     if bw > NARROW:
-        pattern = sp.csr_matrix((np.ones(pr.size), (pr, pc)), shape=(nf, nf))
+        # the pattern as canonical CSR from its distinct entries (sorted by
+        # row, then column: the structure the triplets' conversion made),
+        # with int32 indices, which scipy keeps without checking and copying
+        # them: one construction of 8 µs where the conversion took 55
+        # (np.unique, hashing in NumPy 2, takes 190)
+        key = np.sort(pr * nf + pc)
+        key = key[np.concatenate(([True], key[1:] != key[:-1]))]
+        pattern = sp.csr_matrix((np.ones(key.size), (key % nf).astype(np.int32), np.concatenate(
+            ([0], np.cumsum(np.bincount(key // nf, minlength=nf)))).astype(np.int32)),
+                                shape=(nf, nf))
         rcm = reverse_cuthill_mckee(pattern, symmetric_mode=True)
         pos = np.empty(nf, int)
         pos[rcm] = np.arange(nf)
@@ -135,16 +146,20 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     pos[perm] = np.arange(nf)
     # κH_f as S holds it (CSC, a column per link), and its transpose as CSR
     # without a conversion
-    Hf = sp.csc_matrix((h_val, h_dof, np.concatenate(([0], np.cumsum(count)))), shape=(nf, nl))
-    lay = dict(nf=nf, kappa=kappa, flex=flex, pos_dof=pos[dof], hv=hv, perm=perm, bw=bw,
-               Hf=Hf, HfT=Hf.T, K=_row_sorted_csr(kv, kr, kc, nf))
+    Hf = sp.csc_matrix((h_val, h_dof.astype(np.int32),
+                        np.concatenate(([0], np.cumsum(count))).astype(np.int32)), shape=(nf, nl))
+    lay = dict(nf=nf, kappa=kappa, flex=flex, pos=pos, pos_dof=pos[dof], hv=hv, perm=perm,
+               bw=bw, Hf=Hf, HfT=Hf.T, K=stiffness)
     # K's part of the band, once per assembly, scaled by powers of two
     # (exact), row and column i by the square root of the basic system's
     # diagonal entry (K's with every spring in), so that the pivots measure
     # singularity, not units: K plus springs is positive definite, so
     # |a_ij| <= sqrt(a_ii a_jj) and its scaled entries are at most 1.  A
     # state set's matrix has fewer springs: its entries are at most 1 too.
-    r, c, v = _link_terms(lay, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))[:3]
+    # (The basic system's link terms, every link holding, are kept for its
+    # factor.)
+    lay["basic_terms"] = _link_terms(lay, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))
+    r, c, v = lay["basic_terms"][:3]
     on_diag = r == c
     diag = np.bincount(r[on_diag], weights=v[on_diag], minlength=nf)
     kd = kr == kc
@@ -157,18 +172,6 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs=None):
     lay.update(d=d, band_K=np.bincount((2 * bw + kr - kc) * nf + kc, weights=kv * d[kr] * d[kc],
                                        minlength=rows * nf).reshape(rows, nf))
     return lay
-
-
-def _row_sorted_csr(v, r, c, n):
-    """The n x n CSR matrix of triplets (v, r, c), taken as they are where
-    they are in CSR order already (rows ascending, each row's columns
-    ascending, no duplicates: K_ff's read off a canonical K), without
-    scipy's sort and duplicate sum (a sixth of a 200-span beam's layout)."""
-    key = r * n + c
-    if not np.all(key[1:] > key[:-1]):
-        return sp.csr_matrix((v, (r, c)), shape=(n, n))
-    return sp.csr_matrix((v, c, np.concatenate(([0], np.cumsum(np.bincount(r, minlength=n))))),
-                         shape=(n, n))
 
 
 def _link_terms(lay, kin, coef, partner):
@@ -210,7 +213,9 @@ def factor(lay, kin, coef, partner):
     equilibrium" with the LU's rounding of R and ran out of time with the
     Cholesky's."""
     nf, bw, d = lay["nf"], lay["bw"], lay["d"]
-    r, c, v, cinv, slip, on, off = _link_terms(lay, kin, coef, partner)
+    # every link holding, none slips, whatever coef says: the layout's terms
+    r, c, v, cinv, slip, on, off = (lay["basic_terms"] if kin.all()
+                                    else _link_terms(lay, kin, coef, partner))
     if r.size and np.abs(r - c).max() > bw:     # a coupling the layout's pairs did not name
         return None
     ab = lay["band_K"].copy()
@@ -293,19 +298,31 @@ class CondensedLU:
             return self._solve(rhs)[nf:]
         r1, r2 = rhs[:nf], rhs[nf:]
         z = self._cinv(r2)
-        w = -(self._g() @ z)
+        first, g = self._g()
+        w = -(g @ z)
         live = np.flatnonzero(np.any(r1 != 0.0, axis=0))
         if live.size:
             w[:, live] += dtbtrs(self.lu, self.d[:, None] * r1[lay["perm"]][:, live],
-                                 uplo="U", trans="T")[0]
-        return z - self._cinv(self._g().T @ w)
+                                 uplo="U", trans="T")[0][first:]
+        return z - self._cinv(g.T @ w)
 
     def _g(self):
-        """G = U⁻ᵀ D Pᵀ κH_f (dense, dofs x links), once per factor."""
+        """(p, G's rows from p on): G = U⁻ᵀ D Pᵀ κH_f (dense, dofs x links),
+        once per factor.  Uᵀ is lower triangular, so G's rows above the
+        first row p that a link pushes on (in the band's order) are zero:
+        the forward solves start at p, on Uᵀ's trailing block — a tower
+        whose foundation the order puts last (rows 176 to 290 of 291) is
+        solved on 115 rows.  Where a whole solve made those rows its sums
+        held exact zeros; the rest are the same sums, in LAPACK's order for
+        the shorter block (the last digit may differ)."""
         if self.g is None:
-            lay = self.lay
-            self.g = dtbtrs(self.lu, self.d[:, None] * lay["Hf"].toarray()[lay["perm"]],
-                            uplo="U", trans="T")[0]
+            lay, hf = self.lay, self.lay["Hf"]
+            rows = lay["pos"][hf.indices]
+            first = int(rows.min())
+            block = np.zeros((lay["nf"] - first, hf.shape[1]), order="F")
+            block[rows - first, np.repeat(np.arange(hf.shape[1]), np.diff(hf.indptr))] = hf.data
+            self.g = first, dtbtrs(self.lu[:, first:], self.d[first:, None] * block,
+                                   uplo="U", trans="T")[0]
         return self.g
 
     def _b(self, xu):
@@ -320,7 +337,16 @@ class CondensedLU:
         xu, y = x[:nf], x[nf:]
         cy = self.cdiag * y
         cy[self.slip] += self.c_off * y[self.on]
-        return np.concatenate((self.lay["K"] @ xu + self.lay["Hf"] @ y, self._b(xu) + cy))
+        return np.concatenate((self._k_times(xu) + self.lay["Hf"] @ y, self._b(xu) + cy))
+
+    def _k_times(self, xu):
+        """K_ff x_u as K's product at the free dofs: K_ff's sums plus exact
+        zeros (the fixed dofs' columns times 0, K's stored zeros), without
+        a CSR of K_ff (a tenth of a 20-storey tower's layout)."""
+        K, free = self.lay["K"]
+        u = np.zeros(K.shape[0])
+        u[free] = xu
+        return (K @ u)[free]
 
     def _solve(self, rhs):
         lay, nf = self.lay, self.lay["nf"]

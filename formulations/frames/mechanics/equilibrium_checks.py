@@ -6,6 +6,8 @@ small-displacement theory stops holding)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .contact_lcp import R_ROUNDING, to_global
@@ -80,8 +82,14 @@ def beyond_rounding(res, scale, largest=None) -> float:
         return 0.0
     floor = R_ROUNDING * (scale.max() if largest is None else largest)
     excess = np.maximum(res - floor, 0.0)
-    ratio = np.divide(excess, scale, out=np.zeros_like(excess), where=scale > 0)
-    ratio[(scale <= 0) & (excess > 0)] = np.inf
+    # only the components beyond the floor (commonly none) are divided:
+    # the others are 0 whatever their scale (a NaN is kept, and read)
+    beyond = excess != 0.0
+    if not beyond.any():
+        return 0.0
+    e, s = excess[beyond], scale[beyond]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(s > 0, e / s, np.where(e > 0, np.inf, 0.0))
     return float(ratio.max())
 
 
@@ -93,7 +101,8 @@ def how_far(frame, u, always=False, second_order=False, coords=None):
     ``coords``: the nodes' coordinates where an assembly has them (else
     read off the frame)."""
     xy = np.array(list(frame.nodes.values())) if coords is None else coords
-    size = float(np.linalg.norm(np.ptp(xy, axis=0))) or 1.0
+    d = xy.max(axis=0) - xy.min(axis=0)
+    size = math.sqrt(d.dot(d)) or 1.0        # np.linalg.norm's sum, without its checks
     spin = np.array([d.startswith("r") for d in frame.DOFS])   # a node's rotations
     per_node = np.asarray(u).reshape(-1, len(frame.DOFS))
     trans = np.linalg.norm(per_node[:, ~spin], axis=1)

@@ -156,7 +156,7 @@ def member_locals(frame, xy, idx, col, axial=None):
     offset = np.flatnonzero(has_offset).tolist()
     Fe = np.zeros((nm, 6, len(col)))
     # every load with its member's index, in member order
-    plain = list(chain.from_iterable(m.loads for m in ms))
+    plain = list(chain.from_iterable(map(attrgetter("loads"), ms)))
     rows = np.repeat(np.arange(nm), n_loads.astype(int))
     if offset:
         plain = [ld for k, ld in zip(rows.tolist(), plain) if not has_offset[k]]

@@ -23,8 +23,7 @@ from qpcontact.core.options import check_options
 
 from . import contact_lcp
 from .analysis_results import CombinationResults, FrameTrace
-from .equilibrium_checks import (SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning,
-                                 how_far)
+from .equilibrium_checks import SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning
 from .load_combinations import load_combination, trace_combinations
 from .loads import CONSTANT, VARIABLE, describe
 from .no_equilibrium import proved, raise_no_equilibrium, raise_rigid_motion
@@ -109,7 +108,7 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
         return res
     if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
                    or res.max_rotation > SMALL_ROTATION):
-        warnings.warn(f"frame under {describe(res.combination)}: {how_far(frame, res._u)[2]}",
+        warnings.warn(f"frame under {describe(res.combination)}: {res._far}",
                       LargeDisplacementWarning, stacklevel=3)
     return res
 
@@ -364,9 +363,9 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
 def check_auto_options(method, options) -> None:
     """InvalidOptionError for a keyword that "auto" or "active-set" would
     not read (Lemke's options and the call's time limit are read)."""
-    if method in ("auto", "active-set"):
-        check_options(method, {k: v for k, v in options.items() if k != "time_limit"},
-                      AUTO_OPTIONS)
+    given = {k: v for k, v in options.items() if k != "time_limit"}
+    if given and method in ("auto", "active-set"):     # (nothing given: nothing to refuse)
+        check_options(method, given, AUTO_OPTIONS)
 
 
 def auto_lcp(lcp, fric, accuracy, options, deadline):

@@ -38,9 +38,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     z = np.maximum(np.asarray(z, float), 0.0)
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g                      # link displacements incl. contact flexibility
-    nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
+    nf, free = b["nf"], b["free"]
     rhs = np.concatenate((contact_lcp.free_loads(b, F, ua),
-                          b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])))
+                          b["kappa"] * (delta - contact_lcp.settled_links(b, ua))))
     sol = b["lu"].solve(rhs)
     u = ua.copy()
     u[free] = sol[:nf]
@@ -155,7 +155,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                        reactions=reactions, equilibrium_residual=eq, lcp_error=cert_error,
                        route=route, ok=ok, message=msg, frame=frame, _u=u,
                        combination=dict(combo), displacement_ratio=ratio,
-                       max_rotation=rot)
+                       max_rotation=rot, _far=words)
 
 
 def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
@@ -174,7 +174,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
     of 1e11 m had its wrong pin reaction pass.  ``HX`` and ``abs_hx``:
     H X and |H||X| where the caller has them."""
-    xy = b["coords"] - b["coords"].mean(axis=0)
+    xy = b["coords"] - b["coords"].sum(axis=0) / len(b["coords"])     # np.mean's sum
     absHX = b["abs_H"] @ np.abs(X) if abs_hx is None else abs_hx
     terms = [F, b["H"] @ X if HX is None else HX, np.where(b["fixed"], r_all, 0.0)]
     # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
@@ -206,7 +206,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     big_m = (am + lx * ay + ly * ax).max(initial=0.0)
     # forces carry the rounding of the moments they balance too (a frame
     # loaded by a moment alone has shears that are zero but for it)
-    size_xy = max(float(np.hypot(*np.ptp(xy, axis=0))), 1e-300)
+    size_xy = max(float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))), 1e-300)
     big_f = max(ax.max(initial=0.0), ay.max(initial=0.0), am.max(initial=0.0) / size_xy)
     # every term of a sum carries its own rounding (R_ROUNDING of the largest)
     n_f = max(np.count_nonzero(ax), np.count_nonzero(ay), 1)

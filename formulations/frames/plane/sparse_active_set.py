@@ -155,11 +155,11 @@ def _sparse(b, combo, required):
     set (the first, every link holding, is the basic system's, already
     factorized).  Returns solve(kin, sliding, n_link, t_link, f·slip) ->
     (X, Δ, force scales, length scales) or None (singular)."""
-    kappa, nf, free, fixed_idx = b["kappa"], b["nf"], b["free"], b["fixed_idx"]
+    kappa, nf, free = b["kappa"], b["nf"], b["free"]
     nl = len(required)
     F, ua = contact_lcp.load_vector(b, combo)
     rhs_top = contact_lcp.free_loads(b, F, ua)
-    shift = -(b["H_fixed_T"] @ ua[fixed_idx])   # what settlements do to the links
+    shift = -contact_lcp.settled_links(b, ua)   # what settlements do to the links
     H, flex = b["H"], b["flex"]
     held = {}
 
@@ -340,7 +340,7 @@ def _link_space(b, combo, required):
     PyNite on a 50-span beam, where the sparse route agrees to 3e-13)."""
     R = b["R_solve"]
     RF = b["RF"] @ contact_lcp.factors(b, combo)
-    absR = np.abs(R)
+    absR, absRF, abs_required = np.abs(R), np.abs(RF), np.abs(required)
 
     at = np.empty(R.shape[0], int)
 
@@ -354,11 +354,11 @@ def _link_space(b, combo, required):
             # made as a dense product (a tenth of a tower's state set)
             at[S] = np.arange(S.size)
             t, n, f = at[t_link[sliding]], n_link[sliding], f_slip[sliding]
-            A = R[np.ix_(S, S)]
+            A = R[S[:, None], S]
             X0 = R @ delta + RF
             b_ = -X0[S]
             if t.size:
-                A[t] += f[:, None] * R[np.ix_(n, S)]
+                A[t] += f[:, None] * R[n[:, None], S]
                 b_[t] -= f * X0[n]
             # as in the sparse form: a mechanism's A is singular to rounding
             lu, piv, info = scipy.linalg.lapack.dgetrf(A)
@@ -367,9 +367,9 @@ def _link_space(b, combo, required):
                 return None
             delta[S] = scipy.linalg.lapack.dgetrs(lu, piv, b_)[0]
         X = R @ delta + RF
-        if not (np.all(np.isfinite(X)) and np.all(np.isfinite(delta))):
+        if not (np.isfinite(X).all() and np.isfinite(delta).all()):
             return None
-        return X, delta, absR @ np.abs(delta) + np.abs(RF), np.abs(delta) + np.abs(required)
+        return X, delta, absR @ np.abs(delta) + absRF, np.abs(delta) + abs_required
 
     return solve
 

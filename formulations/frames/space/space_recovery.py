@@ -33,9 +33,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
     factors = contact_lcp.factors(b, combo)
     F, ua = contact_lcp.load_vector(b, combo)  # ua: settlements (zero at free dofs)
     delta = P @ z - g
-    nf, free, fixed_idx = b["nf"], b["free"], b["fixed_idx"]
+    nf, free = b["nf"], b["free"]
     sol = b["lu"].solve(np.r_[contact_lcp.free_loads(b, F, ua),
-                              b["kappa"] * (delta - b["H_fixed_T"] @ ua[fixed_idx])])
+                              b["kappa"] * (delta - contact_lcp.settled_links(b, ua))])
     u = ua.copy()
     u[free] = sol[:nf]
     # the forces from the same solve as u (as the plane frame's: R Δ + R_F
@@ -147,7 +147,7 @@ def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, check
         member_forces=dict(zip(frame.members, ends)), reactions=reactions,
         equilibrium_residual=eq, lcp_error=float(error), route=route, ok=ok, message=msg,
         frame=frame, _u=u, combination=dict(combo), displacement_ratio=ratio,
-        max_rotation=rot)
+        max_rotation=rot, _far=words)
 
 
 def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:

@@ -13,7 +13,7 @@ import pytest
 
 from formulations.frames import Frame
 from formulations.frames.mechanics import banded_saddle, contact_lcp
-from formulations.frames.mechanics.equilibrium_checks import CLEAR
+from formulations.frames.mechanics.equilibrium_checks import CLEAR, beyond_rounding
 from formulations.frames.mechanics.load_combinations import load_combination
 from formulations.frames.plane import plane_recovery
 from formulations.frames.plane import sparse_active_set as active_set
@@ -278,3 +278,18 @@ def test_mechanical_certificate_refuses_a_lifted_tip_beside_a_stub():
     for lift in (0.01, 1.0):
         r = plane_recovery.result_from_z(fr, np.array([lift]), combo, "wrong", b=b, tol=1e-6)
         assert "R" not in b and not r.ok and r.lcp_error > 0.1, r.message
+
+
+def test_a_check_counts_what_rounding_leaves_as_nothing_and_nan_as_a_failure():
+    """beyond_rounding by hand: with the largest term 1 the floor is
+    R_ROUNDING; residuals below it count 0, one of 3 floors on a scale of 2
+    counts (3 - 1) floors / 2, a residual above the floor on a zero scale
+    is infinite, and a NaN residual is never read as passing."""
+    floor = contact_lcp.R_ROUNDING
+    scale = np.array([1.0, 2.0, 0.0, 4.0])
+    assert beyond_rounding(np.array([0.5, 0.9, 0.0, 1.0]) * floor, scale, 1.0) == 0.0
+    assert beyond_rounding(np.array([0.5, 3.0, 0.0, 1.0]) * floor, scale, 1.0) == \
+        pytest.approx(floor, rel=1e-12)
+    assert beyond_rounding(np.array([0.0, 0.0, 2.0 * floor, 0.0]), scale, 1.0) == np.inf
+    worst = beyond_rounding(np.array([np.nan, 0.0, 0.0, 0.0]), scale, 1.0)
+    assert not worst <= 1e-9
