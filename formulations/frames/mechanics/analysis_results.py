@@ -51,7 +51,7 @@ class AnalysisResult:
     #: the words for how far the frame moved where that is beyond those
     #: limits (equilibrium_checks.how_far's, made by the recovery: what
     #: solve's warning says), else ""
-    _far: str = field(repr=False, default="")
+    displacement_words: str = field(repr=False, default="")
     #: a second-order answer's fixed point ({"rounds", "axial_error",
     #: "axial"}: mechanics.second_order_analysis); None for first order
     second_order: dict | None = None

@@ -108,7 +108,7 @@ def solve(frame, p: float = 1.0, method: str = "auto", accuracy="high",
         return res
     if res.ok and (res.displacement_ratio > SMALL_DISPLACEMENT
                    or res.max_rotation > SMALL_ROTATION):
-        warnings.warn(f"frame under {describe(res.combination)}: {res._far}",
+        warnings.warn(f"frame under {describe(res.combination)}: {res.displacement_words}",
                       LargeDisplacementWarning, stacklevel=3)
     return res
 
