@@ -318,9 +318,12 @@ class CondensedLU:
         if self.g is None:
             lay, hf = self.lay, self.lay["Hf"]
             rows = lay["pos"][hf.indices]
-            first = int(rows.min())
-            block = np.zeros((lay["nf"] - first, hf.shape[1]), order="F")
-            block[rows - first, np.repeat(np.arange(hf.shape[1]), np.diff(hf.indptr))] = hf.data
+            first = int(rows.min()) if rows.size else 0
+            # entries on one dof summed, as Hf's products (and toarray) sum
+            # them: a contact between a node and itself has two, which cancel
+            n, nl = lay["nf"] - first, hf.shape[1]
+            block = np.bincount(np.repeat(np.arange(nl) * n, np.diff(hf.indptr)) + rows - first,
+                                weights=hf.data, minlength=n * nl).reshape((n, nl), order="F")
             self.g = first, dtbtrs(self.lu[:, first:], self.d[first:, None] * block,
                                    uplo="U", trans="T")[0]
         return self.g

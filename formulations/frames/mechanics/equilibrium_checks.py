@@ -83,14 +83,16 @@ def beyond_rounding(res, scale, largest=None) -> float:
     floor = R_ROUNDING * (scale.max() if largest is None else largest)
     excess = np.maximum(res - floor, 0.0)
     # only the components beyond the floor (commonly none) are divided:
-    # the others are 0 whatever their scale (a NaN is kept, and read)
+    # the others are 0 whatever their scale.  A NaN (in the residual, its
+    # scale or the floor) is beyond it and counts infinite: NaN itself
+    # would pass the callers' max(forces, moments) where it came second
     beyond = excess != 0.0
     if not beyond.any():
         return 0.0
     e, s = excess[beyond], scale[beyond]
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(s > 0, e / s, np.where(e > 0, np.inf, 0.0))
-    return float(ratio.max())
+        worst = float(np.where(s > 0, e / s, np.inf).max())
+    return worst if worst == worst else np.inf
 
 
 def how_far(frame, u, always=False, second_order=False, coords=None):

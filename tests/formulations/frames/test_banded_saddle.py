@@ -196,3 +196,24 @@ def test_a_wide_band_mechanism_has_no_cholesky_factor():
         with pytest.raises(InvalidProblemError):
             fr.build()
     assert len(calls) == 1 and calls[0] is None
+
+
+def test_a_contact_of_a_node_with_itself_carries_nothing_and_leaves_r_as_the_saddle_matrix():
+    """A contact between a node and itself (accepted by add_contact) puts its
+    two entries of H on one dof, which cancel: its links never move, and on
+    an elastic contact with gap 0 its force is k·0 = 0 whatever the frame
+    does (by hand).  R's forward solves (link_rows, through G) must sum the
+    two entries as H's products do: R is the dense solve of the saddle
+    matrix written from the blocks (numpy.linalg, not the banded route)."""
+    fr = three_bay_tower(14)[0]
+    fr.add_contact("N7_1", normal=(0.3, 1.0), stiffness=1e5, other="N7_1", friction=0.5)
+    b = fr.build()
+    assert b["band"]["bw"] > banded_saddle.NARROW and b["lu"].piv is None   # Cholesky: G
+    nf, nl, kappa = b["nf"], len(b["info"]), b["kappa"]
+    unit = np.zeros((nf + nl, nl))
+    unit[nf:] = kappa * np.eye(nl)
+    R_ref = -kappa * np.linalg.solve(contact_lcp.saddle_matrix(b).toarray(), unit)[nf:]
+    assert np.abs(b["R_solve"] - 0.5 * (R_ref + R_ref.T)).max() <= 1e-9 * np.abs(R_ref).max()
+    r = fr.solve(combination={"constant": 1.0, "variable": 1.3})
+    own = r.supports[list(r.supports)[-1]]
+    assert r.ok and own.normal == 0.0 and own.tangential == 0.0, own

@@ -293,3 +293,9 @@ def test_a_check_counts_what_rounding_leaves_as_nothing_and_nan_as_a_failure():
     assert beyond_rounding(np.array([0.0, 0.0, 2.0 * floor, 0.0]), scale, 1.0) == np.inf
     worst = beyond_rounding(np.array([np.nan, 0.0, 0.0, 0.0]), scale, 1.0)
     assert not worst <= 1e-9
+    # a NaN answer has NaN residuals on NaN scales (|K||u| of a NaN u): never
+    # 0, and never a NaN that the checks' max(forces, moments) would drop
+    for res, sc, big in (([np.nan], [np.nan], None), ([np.nan, 0.0], [np.nan, 1.0], 1.0),
+                         ([0.0, 1.0], [1.0, np.nan], None)):
+        worst = beyond_rounding(np.array(res), np.array(sc), big)
+        assert worst == np.inf and max(0.0, worst) == np.inf
