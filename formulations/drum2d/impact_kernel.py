@@ -1,7 +1,8 @@
 """The compiled inner loop of formulations.drum2d.impacts: a resolved
 (sub-stepped) run of one impact cluster — linear spring–dashpot normal
-forces, Coulomb friction regularized by a stiff viscous law, the discs'
-spins.  SI units: m, s, kg, N.  Imported only by the function that calls it,
+forces, Coulomb friction with an exact stick at each sub-step
+(stick_kernel.exact_stick), the discs' spins.  SI units: m, s, kg, N.
+Imported only by the function that calls it,
 so that importing the drum does not load numba.
 
 :func:`cluster_forces` finds the step's clusters (impacts.py) and runs
@@ -18,14 +19,17 @@ masses and radii gathered once per run: 8–9 % of the kernel's time on the
 loop's (other sums' order).  A contact that touches within a sub-step is
 integrated from its touch (:func:`_touch`), which makes a run's peaks
 second order in τ (impacts.py derives it).  A run also keeps, per contact,
-its tangential work, impulse and start and end slips, from which the
-step books the slip within it (impacts.py, "Sliding work")."""
+its sliding work at the cone, tangential impulse, start and end slips and
+whether it touched at the start and the end, from which the step books
+the slip within it (impacts.py, "Sliding work")."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from qpcontact.core.compiled import njit
+
+from .stick_kernel import exact_stick
 
 __all__ = ["cluster_forces", "cluster_run", "cluster_peaks"]
 
@@ -40,9 +44,10 @@ RISE = 0.01
 #: ... where that force is at least this fraction of the run's largest: a
 #: wave worth resolving, not a settling contact of a bed-wide cluster
 SIGNIFICANT = 0.1
-#: the viscous friction's rate over ω_max, γ w_T / ω_max: a fifth of a slip
-#: taken in 0.1/ω_max (the law that sub-step had, now kept at any sub-step;
-#: γ w_T τ = STICK ω_max τ must stay under 2, cluster_peaks)
+#: the viscous friction's rate over ω_max, γ w_T / ω_max, at a contact in the
+#: sub-step it touches (its force from the touch, _touch), and the first guess
+#: that stick_kernel.exact_stick corrects everywhere else (γ w_T τ = STICK ω_max τ
+#: under 2)
 STICK = 2.0
 
 
@@ -128,16 +133,18 @@ def _touch(k, i, j, nx, ny, over, over_prev, un, ut, wall_n, vx, vy, pvx, pvy, i
 @njit(fastmath=True)
 def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima,
             imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, ax, ay, alpha,
-            F, cx, cy, cs, qx, qy, touched, Fc, Ft, ut_half):
+            F, cx, cy, cs, qx, qy, touched, Fc, Ft, ut_half, Ft_prev, tx, ty):
     """The accelerations (ax, ay, alpha) and normal forces F at positions
-    (px, py): the dashpots at the predicted velocities (pvx, pvy, ps), the
-    viscous friction at the half-step ones (vx, vy, spin).  A contact in
+    (px, py): the dashpots at the predicted velocities (pvx, pvy, ps); the
+    tangential force the last sub-step's ``Ft_prev``, capped, which
+    stick_kernel.exact_stick then corrects (in the sub-step a contact
+    touches, the viscous law at the half-step velocities).  A contact in
     touch whose force in F (the last call's) is 0 and whose overlap a
     sub-step back (x − τ v_half) is not positive touched within the
     sub-step (:func:`_touch`): its number goes to ``touched``, its force at
     the touch to Fc.  Each contact's tangential force goes to ``Ft`` (0 out
-    of touch) and, in touch, the half-step slip it was found from to
-    ``ut_half``.  Returns the number of touches."""
+    of touch) and, in touch, the half-step slip to ``ut_half`` and the
+    tangent to (``tx``, ``ty``).  Returns the number of touches."""
     nd = px.size
     for d in range(nd):
         ax[d] = 0.0
@@ -175,10 +182,12 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
                                    mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
-            f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
+            f, ft = _law(stiff[k] * over, eta[k] * un, -Ft_prev[k], mu[k])
         F[k] = f
         Ft[k] = ft
         ut_half[k] = ut
+        tx[k] = -ny
+        ty[k] = nx
         fx = f * nx - ft * ny
         fy = f * ny + ft * nx
         ax[i] += fx * ima[k]
@@ -215,10 +224,12 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
                                    mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
-            f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
+            f, ft = _law(stiff[k] * over, eta[k] * un, -Ft_prev[k], mu[k])
         F[k] = f
         Ft[k] = ft
         ut_half[k] = ut
+        tx[k] = -ny
+        ty[k] = nx
         ax[i] += (f * nx - ft * ny) * ima[k]
         ay[i] += (f * ny + ft * nx) * ima[k]
         alpha[i] -= ft * iia[k]
@@ -241,10 +252,12 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
                                    cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
-            f, ft = _law(stiff[k] * over, eta[k] * un, gam[k] * ut, mu[k])
+            f, ft = _law(stiff[k] * over, eta[k] * un, -Ft_prev[k], mu[k])
         F[k] = f
         Ft[k] = ft
         ut_half[k] = ut
+        tx[k] = -ny
+        ty[k] = nx
         ax[i] += (f * nx - ft * ny) * ima[k]
         ay[i] += (f * ny + ft * nx) * ima[k]
         alpha[i] -= ft * iia[k]
@@ -290,19 +303,20 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     velocity terms ``wn``, ``wt``); per contact the sum of radii ``rsum``,
     its ends' radii ``ra``, ``rb``, inverse masses ``ima``, ``imb`` and
     radius over inertia ``iia``, ``iib`` (0 at a wall); normal force
-    max(0, stiff δ − eta u_N) where the overlap δ > 0, tangential −gam u_T
-    capped at mu times it.  The dashpots at the end of a sub-step use the
-    velocity predicted with the last acceleration (the half-step velocity
-    would lag: first order); the viscous friction, a regularization of
-    stick, the half-step velocity (stable to gam w_T τ < 2 instead of 1).
+    max(0, stiff δ − eta u_N) where the overlap δ > 0, tangential the exact
+    stick of stick_kernel.exact_stick capped at mu times it (−gam u_T, the
+    same capped, in the sub-step a contact touches).  The dashpots at the end of a
+    sub-step use the velocity predicted with the last acceleration (the
+    half-step velocity would lag: first order).
     A contact that touches within a sub-step has its impulse from the touch
     (:func:`_touch`), and its force at the touch is a sample of its force.
-    Into ``books`` (4, m), per contact over the whole run: the tangential
-    work ∫|F_T||u_T| dt [J] (a sub-step's slip is τ u_T(t + τ/2), Verlet's
-    drift, its force the mean of the sub-step's ends: the force at the end
-    with the half-step slip alone was first order in τ), the tangential
-    impulse ∫F_T dt [N·s], and the slip u_T [m/s] at the run's start and end
-    (impacts.py, "Sliding work").
+    Into ``books`` (5, m), per contact over the whole run: the sliding work
+    ∫|F_T||u_T| dt [J] where the force is at the cone (a sub-step's slip is
+    τ u_T(t + τ/2), Verlet's drift, its force the mean of the sub-step's
+    ends: the force at the end with the half-step slip alone was first order
+    in τ), the tangential impulse ∫F_T dt [N·s], the slip u_T [m/s] at the
+    run's start and end, and 2 (in touch at the start) + 1 (in touch at the
+    end) (impacts.py, "Sliding work").
     Returns (each contact's largest normal force [N], the sub-steps run)."""
     nd, m = px.size, a.size
     ax, ay, alpha = np.zeros(nd), np.zeros(nd), np.zeros(nd)
@@ -311,11 +325,15 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     touched, Fc = np.zeros(m, np.int64), np.zeros(m)
     F, peak = np.ones(m), np.zeros(m)         # F ≠ 0: no touch in the first call
     Ft, Ft_next, ut_half = np.zeros(m), np.zeros(m), np.zeros(m)
+    tx, ty, skip = np.zeros(m), np.zeros(m), np.zeros(m, np.int64)
     _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra, rb, ima,
             imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau, ax, ay, alpha, F,
-            cx, cy, cs, qx, qy, touched, Fc, Ft, ut_half)
+            cx, cy, cs, qx, qy, touched, Fc, Ft, ut_half, Ft, tx, ty)
+    exact_stick(n0, a, b, ra, rb, ima, imb, iia, iib, mu, tau, F, Ft, ut_half, touched, 0, ax,
+                ay, alpha, tx, ty, skip)
     for k in range(m):
         peak[k] = F[k]
+        books[4, k] = 2.0 if F[k] > 0.0 else 0.0
     ht = 0.5 * tau
     done, rose = 0, 0
     us = np.zeros(m)
@@ -326,7 +344,8 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     for k in range(m):
         if peak[k] > largest:
             largest = peak[k]
-    while done < steps or (done < most and done - rose < quiet):
+    glancing = False
+    while done < steps or (done < most and (done - rose < quiet or glancing)):
         done += 1
         for d in range(nd):
             vx[d] += ht * ax[d]
@@ -342,9 +361,18 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
             gap_lin[k] += tau * (nrm_x[k] * vx[i] + nrm_y[k] * vy[i] + wn[k])
         nt = _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, ra,
                      rb, ima, imb, iia, iib, nrm_x, nrm_y, wn, wt, stiff, eta, mu, gam, R, tau,
-                     ax, ay, alpha, F, cx, cy, cs, qx, qy, touched, Fc, Ft_next, ut_half)
+                     ax, ay, alpha, F, cx, cy, cs, qx, qy, touched, Fc, Ft_next, ut_half, Ft,
+                     tx, ty)
+        exact_stick(n0, a, b, ra, rb, ima, imb, iia, iib, mu, tau, F, Ft_next, ut_half, touched,
+                    nt, ax, ay, alpha, tx, ty, skip)
+        glancing = False
         for k in range(m):
-            books[0, k] += tau * 0.5 * (abs(Ft[k]) + abs(Ft_next[k])) * abs(ut_half[k])
+            # slip work at the cone only: with the exact stick a stuck
+            # contact does not move, and no creep is booked as rubbing
+            if F[k] > 0.0 and abs(Ft_next[k]) >= (1.0 - 1e-9) * mu[k] * F[k]:
+                books[0, k] += tau * 0.5 * (abs(Ft[k]) + abs(Ft_next[k])) * abs(ut_half[k])
+                if books[4, k] == 0.0:      # a touch new in the run, still sliding
+                    glancing = True
             books[1, k] += tau * 0.5 * (Ft[k] + Ft_next[k])
             Ft[k] = Ft_next[k]
         for d in range(nd):
@@ -377,6 +405,7 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
     _slips(px, py, vx, vy, spin, n0, n1, a, b, ra, rb, nrm_x, nrm_y, wt, us)
     for k in range(m):
         books[3, k] = us[k]
+        books[4, k] += 1.0 if F[k] > 0.0 else 0.0
     return peak, done
 
 
@@ -394,8 +423,7 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     up to ``span_max`` while a force still rises within ``quiet_time`` [s]
     (:func:`cluster_peaks`), ω_max τ = ``omega_tau``.  Returns (each
     contact's largest normal force [N] in the order of ``ks``, τ, sub-steps
-    run); into ``books`` (4, len(ks)) the run's tangential work, impulse and
-    start and end slips (:func:`cluster_peaks`)."""
+    run); into ``books`` (5, len(ks)) the run's books (:func:`cluster_peaks`)."""
     nd, m = discs.size, ks.size
     local = np.full(masses.size, -1, np.int64)
     for d in range(nd):
@@ -459,10 +487,11 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     omega_max = np.sqrt(row.max())
     tau = omega_tau / omega_max
     steps = int(np.ceil(span / tau))
-    local_books = np.zeros((4, m))
+    local_books = np.zeros((5, m))
     for p in range(m):
-        # Coulomb's stick, regularized: a viscous law that relaxes a contact's
-        # slip at the rate STICK ω_max (a disc's tangential inverse mass 1/m + r²/I)
+        # the viscous law of a touching sub-step and exact_stick's first guess:
+        # it relaxes a contact's slip at the rate STICK ω_max (a disc's
+        # tangential inverse mass 1/m + r²/I)
         w_t = ima[p] + ra[p] * iia[p] + imb[p] + rb[p] * iib[p]
         gam[p] = STICK * omega_max / w_t
     peak, done = cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb,
@@ -473,7 +502,7 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     out = np.empty(m)
     for p in range(m):
         out[order[p]] = peak[p]
-        for q in range(4):
+        for q in range(5):
             books[q, order[p]] = local_books[q, p]
     return out, tau, done
 
@@ -499,7 +528,7 @@ def cluster_forces(F, r_n, T, pulse, loaded, ci, cj, kind, gap, normal, w, comp,
     rigid contact (comp <= 0) gets the pair's half-sine π r_N/T at its
     pulses instead.  ``T`` the contacts' periods [s], ``h`` the step [s];
     the rest as cluster_run's; each run's ``books`` (:func:`cluster_peaks`)
-    into its contacts' columns of ``books`` (4, m)."""
+    into its contacts' columns of ``books`` (5, m)."""
     n, m = masses.size, ci.size
     parent = np.arange(n)
     for k in range(m):
@@ -557,12 +586,12 @@ def cluster_forces(F, r_n, T, pulse, loaded, ci, cj, kind, gap, normal, w, comp,
                 if pulse[k]:
                     F[k] = np.pi * r_n[k] / T[k]
             continue
-        run_books = np.zeros((4, mine.size))
+        run_books = np.zeros((5, mine.size))
         peak, _, _ = cluster_run(discs[size[r]:size[r + 1]], mine, ci, cj, kind, gap, normal, w,
                                  comp, m_star, mu, positions, velocities, masses, radii,
                                  inverse_inertia, zeta, g, R, h + 0.5 * T_max,
                                  2.0 * h + 0.5 * T_max, 0.5 * T_max, omega_tau, run_books)
         for p in range(mine.size):
             F[mine[p]] = peak[p]
-            for q in range(4):
+            for q in range(5):
                 books[q, mine[p]] = run_books[q, p]

@@ -56,15 +56,19 @@ pair of frequency ω (+0.5 % at ωτ = 0.2), partly cancelled by the samples'
 −(ωτ)²/8 at most.  Separations need nothing: the force goes to zero
 continuously (no pull).
 
-Friction.  Coulomb's stick is regularized by a viscous law, γ w_T =
-2 ω_max (w_T the contact's tangential inverse mass, 1/m + r²/I a disc):
-a slip relaxed in 0.5/ω_max, the law the 0.1/ω_max sub-step had (then
-γ ∝ 1/τ; kept at 0.3/ω_max it took 5 % off the struck pile's log–shell
-peak, which comes through friction, and 11 % off a bed step's largest).
-It reads the half-step velocity: at the predicted one an explicit viscous
-law is stable only to γ w_T τ < 1 (0.6 here, where a disc with several
-stuck contacts rang: the bed's contact peaks 10 % off at the 99th
-percentile), at the half-step one to 2.
+Friction.  Coulomb's stick is exact at each sub-step (impact_kernel._stick):
+a contact in touch takes the tangential force that stops its slip at the
+next half step, u_T(t + τ/2) + τ (a_T,others + w_T F_T) = 0, capped at
+μ F_N (w_T the contact's tangential inverse mass, 1/m + r²/I a disc), by
+projected Gauss–Seidel over the cluster's contacts, one sweep a sub-step
+from the last sub-step's forces (stick_kernel.py).  In the sub-step a contact touches, its force is the
+touch's (above) with a viscous law, γ w_T = 2 ω_max, at the half-step
+velocity (stable to γ w_T τ < 2).  The viscous law alone, the runs'
+stick until 2026-12, creeps under a
+steady tangential load (u_T = F_T/γ): the struck piles' sliding at the
+cone read 7.5–10 % below a converged stiff-stick DEM, against −1.4 …
+−4.3 % with the exact stick; stiffer viscous laws chattered (γ w_T =
+4 ω_max: +6 … +44 %).
 
 Each cluster contact's force is the largest of that run; every other
 contact's the step's mean r_N/h.
@@ -76,37 +80,40 @@ and stops within the step is not in those end points, and where the step
 does not resolve an impact (h > T) its implicit impulse hardly shows the
 slip the impact's wave drives through a pile (a pile struck from above:
 0.34 J booked against a resolved 7.4 J, test_drum2d_sliding.py).  The
-cluster run resolves it.  Per contact it keeps, over the whole run (from
-the step's start to h + T_max/2 and on while a force rises), the
-tangential work W = ∫|F_T||u_T| dt [J] (each sub-step's slip τ u_T(t + τ/2),
-Verlet's drift, times the mean of its ends' forces), the tangential
-impulse R = ∫F_T dt [N·s] and the slips u_T(0), u_T(end) [m/s] read as the
-step reads u_T⁻ and u_T⁺ (the normal through the centres, in touch or not),
-and the contact books
+cluster run resolves it, with Coulomb's stick exact at each sub-step
+(impact_kernel._stick: a rigid stick, the law of the step and of the
+converged DEM; the viscous stick it replaced crept, and its runs' sliding
+on the struck piles read 7.5–10 % low).  Per contact it keeps, over the
+whole run (from the step's start to h + T_max/2 and on while a force
+rises), the sliding work at the cone W = ∫|F_T||u_T| dt [J] (each
+sub-step's slip τ u_T(t + τ/2), Verlet's drift, times the mean of its
+ends' forces), the tangential impulse R = ∫F_T dt [N·s], the slips
+u_T(0), u_T(end) [m/s] read as the step reads u_T⁻ and u_T⁺ (the normal
+through the centres, in touch or not) and whether it touched at the run's
+start and end.  A contact books
 
     |r_T| s̄  +  W − |R| s̄(u_T(0), u_T(end)),        at least 0:
 
 the step's own estimate plus what the resolved run slid beyond the same
 linear-slip estimate of itself.  The bracket is zero where the slip is
-linear in time under a constant force (steady sliding, steady creep of
-the viscous stick: both in W and in |R| s̄), whatever the run's length, so
-that the stretch past h, which the next step's run overlaps, adds only
-the slip that starts and stops in it (an impact late in the step slides
-after h: booked over [0, h] alone, a struck pair at h = 0.5 ms read 0.08
-of 2.68 J).  Measured (docs/dev-notes.md, "The drum's sliding work from
-the cluster runs"): the piles struck from above within 1.8 % of a
-penalty DEM (the step's own booking −95 %), struck obliquely −16.5 and
-−13.8 % (−32, −30 %; the striker's contact, which leaves the top log
-within the run: both linear estimates read its slip after it left); the
-drums of 40 (with lifters, smooth), 200 and 500 logs at h = 2 ms −3.0,
-+1.3, −2.9, +0.1 % against a DEM of the same contact law (Cundall–Strack,
-converged at k_t = 10k, T/400; before the cluster runs −15.4, −8.1, −13.6,
-−11.2 %), 6–10 trajectories a side ("The lifter pocket's force loop": with
-both models reading the walls over their steps; −6.3 % on the lifter drum
-before that).  The
-runs' viscous stick (STICK) creeps: their Coulomb sliding on the piles
-read 7–8 % below the DEM's at a near-exact stick (3 % on a struck disc
-sliding on the shell), −5 … +3 % at STICK = 3, which chattered at 4.
+linear in time under a constant force (steady sliding; a stuck contact
+books nothing), whatever the run's length, so that the stretch past h,
+which the next step's run overlaps, adds only the slip that starts and
+stops in it (an impact late in the step slides after h: booked over
+[0, h] alone, a struck pair at h = 0.5 ms read 0.08 of 2.68 J).  An
+impact's own contact whose whole touch lies within the run — the striker
+that glances off — books the run's W instead: both linear estimates read
+its slip from before the touch and after the discs parted, and nothing
+else books that touch.  So that a glancing touch ends within the run, the
+run goes on while a contact that was not in touch at its start slides at
+the cone, up to its longest span (2h + T_max/2).
+Measured (docs/dev-notes.md, "The drum's sliding work, an exact stick in
+the cluster runs"): the piles struck from above and obliquely (seeds
+0–3) −1.4 … −4.8 % against a penalty DEM with a converged stiff stick
+(the step's own booking −95 % and −30 %; before this booking −0.9 … +2.9 %
+from above, a sum whose contacts were −28 … −31 % on the pairs that slide
+and the viscous stick's creep at stuck ones, and −8 … −17 % obliquely);
+the drums: docs/drum2d.md ("Sliding work and the energy books").
 
 Measured (h = 2 ms, spruce 0.4 GPa, 1 m logs, μ = 0.4, e = 0.2 unless
 said) against independent references — the damped pair's closed form for
@@ -226,7 +233,7 @@ def step_forces(c, r_n, h, comp, impact, m_star, *, positions, velocities, masse
     # the clusters (connected through the contacts loaded in the step) found
     # and run in one compiled call: as scipy's connected_components and a
     # NumPy mask per cluster they were 0.2–0.3 ms a step of the 500-log bed
-    books = np.full((4, c.m), np.nan)
+    books = np.full((5, c.m), np.nan)
     cluster_forces(F, np.asarray(r_n, float), T, pulse, (r_n > 0) | impact,
                    np.asarray(c.i, np.int64), np.asarray(c.j, np.int64),
                    np.asarray(c.kind, np.int64), np.asarray(c.gap, float),
@@ -237,7 +244,13 @@ def step_forces(c, r_n, h, comp, impact, m_star, *, positions, velocities, masse
                    np.asarray(inverse_inertia, float), damping_ratio(restitution),
                    float(gravity), float(shell_radius), float(h), OMEGA_TAU, books)
     ran = ~np.isnan(books[0])
-    tangential_work, impulse, slip_start, slip_end = books[:, ran]
-    beyond = tangential_work - np.abs(impulse) * sliding_speed(slip_start, slip_end)
-    work[ran] = np.maximum(0.0, work[ran] + beyond)
+    cone_work, impulse, slip_start, slip_end, touch = books[:, ran]
+    beyond = cone_work - np.abs(impulse) * sliding_speed(slip_start, slip_end)
+    booked = np.maximum(0.0, work[ran] + beyond)
+    # an impact whose whole touch lies within the run books the run's slip:
+    # the linear estimates read slips from before the touch and after the
+    # discs parted, and nothing else books that touch
+    within = (touch == 0) & pulse[ran]
+    booked[within] = cone_work[within]
+    work[ran] = booked
     return F, work
