@@ -368,8 +368,11 @@ def cluster_peaks(px, py, vx, vy, spin, gap_lin, g, n0, n1, a, b, rsum, ra, rb, 
         glancing = False
         for k in range(m):
             # slip work at the cone only: with the exact stick a stuck
-            # contact does not move, and no creep is booked as rubbing
-            if F[k] > 0.0 and abs(Ft_next[k]) >= (1.0 - 1e-9) * mu[k] * F[k]:
+            # contact does not move, and no creep is booked as rubbing (a
+            # frictionless contact has no cone: it would read as sliding at
+            # it, and every new touch would hold the run to ``most``)
+            cap = mu[k] * F[k]
+            if cap > 0.0 and abs(Ft_next[k]) >= (1.0 - 1e-9) * cap:
                 books[0, k] += tau * 0.5 * (abs(Ft[k]) + abs(Ft_next[k])) * abs(ut_half[k])
                 if books[4, k] == 0.0:      # a touch new in the run, still sliding
                     glancing = True

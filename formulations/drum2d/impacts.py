@@ -56,19 +56,22 @@ pair of frequency ω (+0.5 % at ωτ = 0.2), partly cancelled by the samples'
 −(ωτ)²/8 at most.  Separations need nothing: the force goes to zero
 continuously (no pull).
 
-Friction.  Coulomb's stick is exact at each sub-step (impact_kernel._stick):
-a contact in touch takes the tangential force that stops its slip at the
-next half step, u_T(t + τ/2) + τ (a_T,others + w_T F_T) = 0, capped at
-μ F_N (w_T the contact's tangential inverse mass, 1/m + r²/I a disc), by
-projected Gauss–Seidel over the cluster's contacts, one sweep a sub-step
-from the last sub-step's forces (stick_kernel.py).  In the sub-step a contact touches, its force is the
-touch's (above) with a viscous law, γ w_T = 2 ω_max, at the half-step
-velocity (stable to γ w_T τ < 2).  The viscous law alone, the runs'
-stick until 2026-12, creeps under a
-steady tangential load (u_T = F_T/γ): the struck piles' sliding at the
-cone read 7.5–10 % below a converged stiff-stick DEM, against −1.4 …
-−4.3 % with the exact stick; stiffer viscous laws chattered (γ w_T =
-4 ω_max: +6 … +44 %).
+Friction.  Coulomb's stick is exact at each sub-step
+(stick_kernel.exact_stick): a contact in touch takes the tangential force
+that stops its slip at the next half step,
+
+    u_T(t + τ/2) + τ (a_T,others + w_T F_T) = 0,
+
+capped at μ F_N (w_T the contact's tangential inverse mass, 1/m + r²/I a
+disc), by projected Gauss–Seidel over the cluster's contacts, one sweep a
+sub-step from the last sub-step's forces (stick_kernel.py).  In the
+sub-step a contact touches, its force is the touch's (above) with a
+viscous law, γ w_T = 2 ω_max, at the half-step velocity (stable to
+γ w_T τ < 2).  The viscous law alone, the runs' stick until 2026-12,
+creeps under a steady tangential load (u_T = F_T/γ): the struck piles'
+sliding at the cone read 7.5–10 % below a converged stiff-stick DEM,
+against −1.4 … −4.3 % with the exact stick; stiffer viscous laws chattered
+(γ w_T = 4 ω_max: +6 … +44 %).
 
 Each cluster contact's force is the largest of that run; every other
 contact's the step's mean r_N/h.
@@ -81,7 +84,7 @@ does not resolve an impact (h > T) its implicit impulse hardly shows the
 slip the impact's wave drives through a pile (a pile struck from above:
 0.34 J booked against a resolved 7.4 J, test_drum2d_sliding.py).  The
 cluster run resolves it, with Coulomb's stick exact at each sub-step
-(impact_kernel._stick: a rigid stick, the law of the step and of the
+(stick_kernel.exact_stick: a rigid stick, the law of the step and of the
 converged DEM; the viscous stick it replaced crept, and its runs' sliding
 on the struck piles read 7.5–10 % low).  Per contact it keeps, over the
 whole run (from the step's start to h + T_max/2 and on while a force

@@ -79,3 +79,28 @@ def test_a_pile_struck_obliquely_books_the_sliding_its_resolved_dynamics_do(seed
     −30 %): the striker glances off the top log within the run."""
     booked, dem = _booked_and_dem(seed, (1.5, -2.0))
     assert booked == pytest.approx(dem, rel=0.05), (booked, dem)
+
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.4])
+def test_a_landing_that_does_not_slide_does_not_hold_its_run_to_the_longest(mu):
+    """A log rolling along the shell's bottom, 0.01 mm above it, lands
+    within its cluster run and stays, rolling without slip: its run ends
+    where the step's does (h + T/2), not at the longest span (2h + T/2) that
+    a new touch sliding at the cone gets.  Frictionless included: a contact
+    without friction has no cone to slide at (it read as sliding at it, and
+    held every run with a new touch to the longest)."""
+    from formulations.drum2d.impact_kernel import cluster_run
+
+    h, r, mass, comp = 2e-3, 0.1, 20.0, 6e-10       # T = 0.69 ms
+    T = 2.0 * np.pi * np.sqrt(mass * comp)
+    books = np.zeros((5, 1))
+    _, tau, done = cluster_run(
+        np.array([0]), np.array([0]), np.array([0]), np.array([-1]), np.array([1]),
+        np.array([1e-5]), np.array([[0.0, 1.0]]), np.zeros(2), np.array([comp]),
+        np.array([mass]), np.array([mu]), np.array([[0.0, -(1.0 - r) + 1e-5]]),
+        np.array([2.0, -0.02, -2.0 / r]), np.array([mass]), np.array([r]),
+        np.array([2.0 / (mass * r * r)]), 0.5, 9.81, 1.0, h + 0.5 * T, 2.0 * h + 0.5 * T,
+        0.5 * T, 0.4, books)
+    assert books[4, 0] == 1.0                   # it landed within the run and stays
+    assert done * tau < h + 0.5 * T + 2.0 * tau, (done * tau, h, T)
