@@ -52,14 +52,14 @@ STICK = 2.0
 
 
 @njit(fastmath=True, inline="always")
-def _law(spring, dashpot, viscous, mu):
+def _law(spring, dashpot, tangential, mu):
     """(normal, tangential) force of a contact in touch: the spring's push
-    less the dashpot's, no pull; Coulomb's stick regularized, capped at μ
-    times the normal force."""
+    less the dashpot's, no pull; the ``tangential`` force given (the last
+    sub-step's: exact_stick corrects it) capped at μ times the normal one."""
     f = spring - dashpot
     if f < 0.0:
         f = 0.0
-    ft = -viscous
+    ft = tangential
     cap = mu * f
     if ft > cap:
         ft = cap
@@ -182,7 +182,7 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
                                    mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
-            f, ft = _law(stiff[k] * over, eta[k] * un, -Ft_prev[k], mu[k])
+            f, ft = _law(stiff[k] * over, eta[k] * un, Ft_prev[k], mu[k])
         F[k] = f
         Ft[k] = ft
         ut_half[k] = ut
@@ -224,7 +224,7 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
                                    mu, gam, tau, cx, cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
-            f, ft = _law(stiff[k] * over, eta[k] * un, -Ft_prev[k], mu[k])
+            f, ft = _law(stiff[k] * over, eta[k] * un, Ft_prev[k], mu[k])
         F[k] = f
         Ft[k] = ft
         ut_half[k] = ut
@@ -252,7 +252,7 @@ def _forces(px, py, vx, vy, spin, pvx, pvy, ps, gap_lin, g, n0, n1, a, b, rsum, 
                                    cy, cs, qx, qy, touched, Fc, nt)
             nt += 1
         else:
-            f, ft = _law(stiff[k] * over, eta[k] * un, -Ft_prev[k], mu[k])
+            f, ft = _law(stiff[k] * over, eta[k] * un, Ft_prev[k], mu[k])
         F[k] = f
         Ft[k] = ft
         ut_half[k] = ut
