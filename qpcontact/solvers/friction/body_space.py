@@ -43,7 +43,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["OrderedPattern", "BodySpaceLU", "factors_match"]
+__all__ = ["OrderedPattern", "InOrder", "BodySpaceLU", "factors_match"]
 
 
 def factors_match(W, factors, rtol: float = 1e-12) -> bool:
@@ -94,6 +94,19 @@ class OrderedPattern:
         if not np.array_equal(keys[np.minimum(pos, keys.size - 1)], target):
             raise AssertionError("an entry outside the ordered pattern")
         return pos
+
+
+class InOrder:
+    """An LU of a matrix ordered by p (:class:`OrderedPattern`), solving in
+    the original order."""
+
+    def __init__(self, lu, p):
+        self.lu, self.p = lu, p
+
+    def solve(self, r):
+        x = np.empty(r.size)
+        x[self.p] = self.lu.solve(r[self.p])
+        return x
 
 
 class BodySpaceLU:
@@ -171,6 +184,7 @@ class _Woodbury:
 
     def __init__(self, lu, body, a, b, g):
         self.lu, self.body, self.a, self.b, self.g = lu, body, a, b, g
+        self.in_order = InOrder(lu, body.p)     # B's solves in the bodies' own order
 
     def _l_inverse(self, r):
         out = np.empty_like(r)
@@ -181,6 +195,4 @@ class _Woodbury:
     def solve(self, r):
         body = self.body
         z = body.JT @ self._l_inverse(r)
-        v = np.empty(body.nd)
-        v[body.p] = self.lu.solve(z[body.p])
-        return self._l_inverse(r - body.J @ v)
+        return self._l_inverse(r - body.J @ self.in_order.solve(z))

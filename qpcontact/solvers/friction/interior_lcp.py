@@ -122,7 +122,7 @@ from ...core.errors import InvalidOptionError
 from ...core.friction_problem import faceted_lcp
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...judge.friction_certificate import certified_error
-from .body_space import BodySpaceLU, OrderedPattern, factors_match
+from .body_space import BodySpaceLU, InOrder, OrderedPattern, factors_match
 from .lcp_route import purified, reactions_of
 from .newton import solve_natural_newton
 
@@ -269,20 +269,8 @@ class _Ordered:
         data = self.w_data.copy()
         data[self.l_pos] += l_values
         A = sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
-        return _InOrder(spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=PIVOT_THRESHOLD,
+        return InOrder(spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=PIVOT_THRESHOLD,
                                   options={"SymmetricMode": True}), self.p)
-
-
-class _InOrder:
-    """An LU of the matrix ordered by p, solving in the original order."""
-
-    def __init__(self, lu, p):
-        self.lu, self.p = lu, p
-
-    def solve(self, r):
-        x = np.empty(r.size)
-        x[self.p] = self.lu.solve(r[self.p])
-        return x
 
 
 class _Condensed:
