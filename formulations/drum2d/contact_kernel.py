@@ -89,6 +89,14 @@ def candidate_pairs(pos, rad, margin):
     return out
 
 
+@njit(inline="always")
+def _nearest(px, py, ax, ay, sx, sy):
+    """The fraction along the segment from (ax, ay) by (sx, sy) of its point
+    nearest (px, py)."""
+    s = ((px - ax) * sx + (py - ay) * sy) / (sx * sx + sy * sy)
+    return min(max(s, 0.0), 1.0)
+
+
 @njit
 def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega, step, vel):
     """find_contacts' arrays (contacts.py): (i, j, kind, normal, gap,
@@ -136,9 +144,7 @@ def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega, step
     for k in range(n):                   # the lifters: from the segment's nearest point
         for L in range(nl):
             sx, sy = outer[L, 0] - inner[L, 0], outer[L, 1] - inner[L, 1]
-            rx, ry = pos[k, 0] - inner[L, 0], pos[k, 1] - inner[L, 1]
-            s = (rx * sx + ry * sy) / (sx * sx + sy * sy)
-            s = min(max(s, 0.0), 1.0)
+            s = _nearest(pos[k, 0], pos[k, 1], inner[L, 0], inner[L, 1], sx, sy)
             nx, ny = inner[L, 0] + s * sx, inner[L, 1] + s * sy
             dx, dy = pos[k, 0] - nx, pos[k, 1] - ny
             dist = np.hypot(dx, dy)
@@ -187,8 +193,7 @@ def detect(pos, rad, margin, shell_radius, inner, outer, half_width, omega, step
                 ay = turn_s * inner[L, 0] + turn_c * inner[L, 1]
                 sx = turn_c * outer[L, 0] - turn_s * outer[L, 1] - ax
                 sy = turn_s * outer[L, 0] + turn_c * outer[L, 1] - ay
-                f = ((x - ax) * sx + (y - ay) * sy) / (sx * sx + sy * sy)
-                f = min(max(f, 0.0), 1.0)
+                f = _nearest(x, y, ax, ay, sx, sy)
                 after = np.hypot(x - ax - f * sx, y - ay - f * sy) - rad[i] - half_width
             bend[k] = after - gap[k] - step * (u + w[2 * k])
     # H (3n x 2m) in CSC, rows ascending: (n, 0), (t, −r_i) on disc i, (−n, 0),

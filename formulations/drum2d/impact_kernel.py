@@ -490,7 +490,7 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     omega_max = np.sqrt(row.max())
     tau = omega_tau / omega_max
     steps = int(np.ceil(span / tau))
-    local_books = np.zeros((5, m))
+    local_books = np.zeros((books.shape[0], m))
     for p in range(m):
         # the viscous law of a touching sub-step and exact_stick's first guess:
         # it relaxes a contact's slip at the rate STICK ω_max (a disc's
@@ -505,7 +505,7 @@ def cluster_run(discs, ks, ci, cj, kind, gap, normal, w, comp, m_star, mu, posit
     out = np.empty(m)
     for p in range(m):
         out[order[p]] = peak[p]
-        for q in range(5):
+        for q in range(books.shape[0]):
             books[q, order[p]] = local_books[q, p]
     return out, tau, done
 
@@ -589,12 +589,12 @@ def cluster_forces(F, r_n, T, pulse, loaded, ci, cj, kind, gap, normal, w, comp,
                 if pulse[k]:
                     F[k] = np.pi * r_n[k] / T[k]
             continue
-        run_books = np.zeros((5, mine.size))
+        run_books = np.zeros((books.shape[0], mine.size))
         peak, _, _ = cluster_run(discs[size[r]:size[r + 1]], mine, ci, cj, kind, gap, normal, w,
                                  comp, m_star, mu, positions, velocities, masses, radii,
                                  inverse_inertia, zeta, g, R, h + 0.5 * T_max,
                                  2.0 * h + 0.5 * T_max, 0.5 * T_max, omega_tau, run_books)
         for p in range(mine.size):
             F[mine[p]] = peak[p]
-            for q in range(5):
+            for q in range(books.shape[0]):
                 books[q, mine[p]] = run_books[q, p]
