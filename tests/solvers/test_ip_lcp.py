@@ -112,12 +112,12 @@ def test_the_condensed_system_solves_the_whole_system(space, spread):
 
     from qpcontact.core.friction_problem import faceted_lcp
     from qpcontact.solvers.friction.body_space import BodySpaceLU
-    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD, _Condensed, _Ordered
+    from qpcontact.solvers.friction.interior_lcp import _Condensed, _Ordered
 
     p = _pile_with_factors(200, 7)
     M, W = sp.csc_matrix(faceted_lcp(p, 2)[0].M), sp.csr_matrix(p.W)
     solver = (_Ordered(W) if space == "contacts" else
-              BodySpaceLU(*p.delassus_factors, pivot_threshold=PIVOT_THRESHOLD))
+              BodySpaceLU(*p.delassus_factors))
     rng = np.random.default_rng(int(spread))
     d = 10.0 ** rng.uniform(-spread, spread, M.shape[0])
     g = rng.standard_normal(M.shape[0])
@@ -140,7 +140,6 @@ def test_the_body_space_solve_where_a_contacts_rows_store_other_dofs(drop_zeros)
     import scipy.sparse as sp
 
     from qpcontact.solvers.friction.body_space import BodySpaceLU, factors_match
-    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD
 
     radius, nb = 0.5, 3
     rows, cols, vals = [], [], []
@@ -162,7 +161,7 @@ def test_the_body_space_solve_where_a_contacts_rows_store_other_dofs(drop_zeros)
     for c in range(3):
         L[2 * c, 2 * c], L[2 * c + 1, 2 * c], L[2 * c + 1, 2 * c + 1] = dn[c], low[c], inv_g[c]
     g = rng.standard_normal(6)
-    u = BodySpaceLU(J, inverse_mass, PIVOT_THRESHOLD).factor(
+    u = BodySpaceLU(J, inverse_mass).factor(
         np.concatenate([dn, low, inv_g])).solve(g)
     np.testing.assert_allclose(u, np.linalg.solve(W + L, g), rtol=1e-12, atol=1e-14)
 
@@ -173,7 +172,7 @@ def test_the_body_space_lu_has_a_fraction_of_the_contact_spaces_fill():
     import scipy.sparse as sp
 
     from qpcontact.solvers.friction.body_space import BodySpaceLU
-    from qpcontact.solvers.friction.interior_lcp import PIVOT_THRESHOLD, _Ordered
+    from qpcontact.solvers.friction.interior_lcp import _Ordered
 
     p = _pile_with_factors(700, 0)
     nc = p.n_contacts
@@ -181,7 +180,7 @@ def test_the_body_space_lu_has_a_fraction_of_the_contact_spaces_fill():
     l_values = np.concatenate([10.0 ** rng.uniform(-6, 6, nc), rng.uniform(-0.3, 0.3, nc),
                                10.0 ** rng.uniform(-6, 6, nc)])
     contact = _Ordered(sp.csr_matrix(p.W)).factor(l_values)
-    body = BodySpaceLU(*p.delassus_factors, pivot_threshold=PIVOT_THRESHOLD).factor(l_values)
+    body = BodySpaceLU(*p.delassus_factors).factor(l_values)
     assert body.lu.L.nnz + body.lu.U.nnz < 0.5 * (contact.lu.L.nnz + contact.lu.U.nnz)
 
 

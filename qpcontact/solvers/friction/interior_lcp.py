@@ -328,7 +328,7 @@ class _Path:
         self.W, self.mu = W, mu
         # W + L's LU on W's pattern, or in body space where W's factors are known
         self.ordered = (_Ordered(W) if factors is None
-                        else BodySpaceLU(*factors, pivot_threshold=PIVOT_THRESHOLD))
+                        else BodySpaceLU(*factors))
         self.stats, self.progress = stats, progress
         self.tangent_diagonal = np.abs(np.asarray(W.diagonal())[1::2])
 
