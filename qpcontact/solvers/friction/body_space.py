@@ -20,10 +20,13 @@ them, :attr:`FrictionProblem.delassus_factors`), Woodbury's identity gives
 L⁻¹ per contact [[1/d_N, 0], [−ℓ G / d_N, G]].  B lives on the bodies'
 graph (3 unknowns a disc, each coupled to its touching neighbours): at 9 842
 contacts (3 321 discs) 9 963 unknowns, 0.19 M entries against W's 0.40 M,
-and its LU 1.5 M entries in 0.034 s against 0.10 s (docs/dev-notes.md, "The
-dense 2-D piles in body space").  B's pattern is fixed, so as for W + L the
+and its LU 1.42-1.45 M entries in 0.024-0.025 s against 0.10 s
+(docs/dev-notes.md, "The dense 2-D piles in body space" and "The 10 000-
+contact 2-D piles, round two").  B's pattern is fixed, so as for W + L the
 order is found once (minimum degree on B + Bᵀ, symmetric mode, pivots off
-the diagonal only below PIVOT_THRESHOLD of their column) and each step sums
+the diagonal only below PIVOT_THRESHOLD of their column; a nested
+dissection of the bodies' graph by breadth-first level separators filled
+more at 2 000-10 000 contacts) and each step sums
 B's values contact by contact from L⁻¹'s three entries.
 
 **Accuracy.**  The identity is exact; in rounding it loses what L⁻¹'s spread

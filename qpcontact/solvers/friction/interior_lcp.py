@@ -58,7 +58,10 @@ the arclength condition, both through the bordered matrix
 ∂F/∂log x = diag(1/θc) (S + X M) X (the sparsity of M + X⁻¹S; the bordered
 matrix's dense row and column made its own LU ten times dearer) with one
 step of refinement on the bordered system (the condensed solves inside it
-unrefined: the same steps, 10 % less CPU a step at 1 941 contacts).  The
+unrefined: the same steps, 10 % less CPU a step at 1 941 contacts); the
+tangent's first approximation is (−w, 1)/den with w = A⁻¹ b, which the
+elimination already holds, so a step with one corrector iteration costs one
+LU and four solves (w, the corrector's two, the tangent's refinement).  The
 corrector stops inside the neighbourhood ‖F‖∞ <= 0.3, not on the path: a
 path-following method needs no more, and a looser one (0.5) let the tracker
 jump between branches.  The step grows by
