@@ -20,10 +20,13 @@ them, :attr:`FrictionProblem.delassus_factors`), Woodbury's identity gives
 L⁻¹ per contact [[1/d_N, 0], [−ℓ G / d_N, G]].  B lives on the bodies'
 graph (3 unknowns a disc, each coupled to its touching neighbours): at 9 842
 contacts (3 321 discs) 9 963 unknowns, 0.19 M entries against W's 0.40 M,
-and its LU 1.5 M entries in 0.034 s against 0.10 s (docs/dev-notes.md, "The
-dense 2-D piles in body space").  B's pattern is fixed, so as for W + L the
+and its LU 1.42-1.45 M entries in 0.024-0.025 s against 0.10 s
+(docs/dev-notes.md, "The dense 2-D piles in body space" and "The 10 000-
+contact 2-D piles, round two").  B's pattern is fixed, so as for W + L the
 order is found once (minimum degree on B + Bᵀ, symmetric mode, pivots off
-the diagonal only below PIVOT_THRESHOLD of their column) and each step sums
+the diagonal only below PIVOT_THRESHOLD of their column; a nested
+dissection of the bodies' graph by breadth-first level separators filled
+more at 2 000-10 000 contacts) and each step sums
 B's values contact by contact from L⁻¹'s three entries.
 
 **Accuracy.**  The identity is exact; in rounding it loses what L⁻¹'s spread
@@ -43,7 +46,16 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["OrderedPattern", "InOrder", "BodySpaceLU", "factors_match"]
+__all__ = ["OrderedPattern", "InOrder", "BodySpaceLU", "factors_match", "PIVOT_THRESHOLD"]
+
+#: B's LU pivots off the diagonal only where a diagonal entry is below this
+#: fraction of its column's largest.  B's diagonal carries the masses and
+#: every contact's a = 1/d_N and G > 0 (module docstring), so it is rarely
+#: small; at W + L's 1e-3 the LU still pivoted off it on the path and its
+#: fill grew from 1.41 M to 1.64 M entries at 9 842 contacts (31 against
+#: 24 ms), where 1e-6 keeps 1.42-1.45 M at the same backward error
+#: (docs/dev-notes.md, "The 10 000-contact 2-D piles")
+PIVOT_THRESHOLD = 1e-6
 
 
 def factors_match(W, factors, rtol: float = 1e-12) -> bool:
@@ -113,14 +125,13 @@ class BodySpaceLU:
     """B = diag(m) + Jᵀ L⁻¹ J on the bodies' pattern in one order, found
     once (module docstring); :meth:`factor` gives a solver of (W + L) u = g."""
 
-    def __init__(self, J, inverse_mass, pivot_threshold: float):
+    def __init__(self, J, inverse_mass):
         J = sp.csr_matrix(J, dtype=float)
         J.sum_duplicates()
         J.sort_indices()
         m2, nd = J.shape
         nc = m2 // 2
         self.J, self.JT, self.nc, self.nd = J, sp.csr_matrix(J.T), nc, nd
-        self.pivot_threshold = pivot_threshold
         # each row's nonzeros padded to one width; a padding entry is 0 at a
         # column of its own contact, so that its (zero) products land on
         # entries the pattern holds
@@ -174,7 +185,7 @@ class BodySpaceLU:
             data += np.bincount(pos, weights=(products * coefficient[:, None]).ravel(),
                                 minlength=data.size)
         B = sp.csc_matrix((data, self.indices, self.indptr), shape=(self.nd, self.nd))
-        lu = spla.splu(B, permc_spec="NATURAL", diag_pivot_thresh=self.pivot_threshold,
+        lu = spla.splu(B, permc_spec="NATURAL", diag_pivot_thresh=PIVOT_THRESHOLD,
                        options={"SymmetricMode": True})
         return _Woodbury(lu, self, a, b, g)
 

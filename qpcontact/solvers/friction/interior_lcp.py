@@ -58,7 +58,10 @@ the arclength condition, both through the bordered matrix
 ∂F/∂log x = diag(1/θc) (S + X M) X (the sparsity of M + X⁻¹S; the bordered
 matrix's dense row and column made its own LU ten times dearer) with one
 step of refinement on the bordered system (the condensed solves inside it
-unrefined: the same steps, 10 % less CPU a step at 1 941 contacts).  The
+unrefined: the same steps, 10 % less CPU a step at 1 941 contacts); the
+tangent's first approximation is (−w, 1)/den with w = A⁻¹ b, which the
+elimination already holds, so a step with one corrector iteration costs one
+LU and four solves (w, the corrector's two, the tangent's refinement).  The
 corrector stops inside the neighbourhood ‖F‖∞ <= 0.3, not on the path: a
 path-following method needs no more, and a looser one (0.5) let the tracker
 jump between branches.  The step grows by
@@ -278,7 +281,7 @@ class _Condensed:
     contact's β±, λ (module docstring, "The linear algebra"): one LU of
     W + L, L block-diagonal 2 × 2, then one step of refinement on M + diag(d)."""
 
-    def __init__(self, M, W, ordered, mu, d, stats):
+    def __init__(self, M, W, ordered, mu, d, stats, tangent_diagonal):
         nc = mu.size
         self.M, self.W, self.mu, self.d, self.nc = M, W, mu, d, nc
         dn, dp, dm, dl = d[:nc], d[nc:3 * nc:2], d[nc + 1:3 * nc:2], d[3 * nc:]
@@ -289,8 +292,7 @@ class _Condensed:
         # the coefficients of h_t, each a quotient of positive sums (no cancellation)
         self.cp, self.cm, self.cl = P * (dl + 2.0 * Q) / K, Q * (dl + 2.0 * P) / K, (P - Q) / K
         # which friction part is found from its own row: the one whose pivot d is large
-        wt = np.abs(np.asarray(W.diagonal())[1::2])
-        self.p_own, self.m_own = dp >= wt, dm >= wt
+        self.p_own, self.m_own = dp >= tangent_diagonal, dm >= tangent_diagonal
         stats["factorizations"] += 1
         self.lu = ordered.factor(np.concatenate([dn, -self.cl * mu / G, 1.0 / G]))
 
@@ -329,12 +331,14 @@ class _Path:
         self.W, self.mu = W, mu
         # W + L's LU on W's pattern, or in body space where W's factors are known
         self.ordered = (_Ordered(W) if factors is None
-                        else BodySpaceLU(*factors, pivot_threshold=PIVOT_THRESHOLD))
+                        else BodySpaceLU(*factors))
         self.stats, self.progress = stats, progress
+        self.tangent_diagonal = np.abs(np.asarray(W.diagonal())[1::2])
 
     def _lu(self, d):
         """The solver of (M + diag(d)) u = g."""
-        return _Condensed(self.M, self.W, self.ordered, self.mu, d, self.stats)
+        return _Condensed(self.M, self.W, self.ordered, self.mu, d, self.stats,
+                          self.tangent_diagonal)
 
     def follow(self, x, s, max_iter, time_limit):
         """(x, s, why it stopped) after Mehrotra's steps and the followed
@@ -431,7 +435,7 @@ class _Path:
 
             def __init__(self, y, t):
                 f, xx, ss, th = residual(y)
-                self.xx, self.scale, self.t = xx, th * c, t
+                self.f, self.xx, self.scale, self.t = f, xx, th * c, t
                 self.lu = lu_of(ss / xx)
                 self.ss = ss
                 self.b = xx * r0 / c - (f + 1.0)
@@ -446,8 +450,14 @@ class _Path:
                 v = (rhs[n] - self.t[:n] @ u) / self.den
                 return np.concatenate([u - v * self.w, [v]])
 
-            def solve(self, rhs):
-                u = self._once(rhs)
+            def tangent(self):
+                """The solution of [[A, b], [tᵀ, t_n]] v = e_θ: its first
+                approximation (−w, 1)/den needs no solve, then one refinement."""
+                v = 1.0 / self.den
+                return self.solve(e, np.concatenate([-v * self.w, [v]]))
+
+            def solve(self, rhs, u=None):
+                u = self._once(rhs) if u is None else u
                 # A u = diag(x/θc) (M (x ∘ u) + s ∘ u), A not formed (three sparse
                 # matrix products a step)
                 au = (self.xx / self.scale) * (M @ (self.xx * u[:n]) + self.ss * u[:n])
@@ -456,7 +466,7 @@ class _Path:
 
         y = np.concatenate([np.log(x), [0.0]])
         t = -e
-        tangent = Bordered(y, t).solve(e)
+        tangent = Bordered(y, t).tangent()
         t = tangent / np.linalg.norm(tangent)
         if t[n] > 0:
             t = -t
@@ -468,7 +478,7 @@ class _Path:
                    and h >= 1e-6 and pace.fits()):
                 yp = y + h * t
                 B = Bordered(yp, t)
-                z, (f, *_), it = yp.copy(), residual(yp), 0
+                z, f, it = yp.copy(), B.f, 0
                 while not np.abs(f).max() <= NEIGHBOURHOOD and it < 4:
                     z = z + B.solve(-np.concatenate([f, [t @ (z - yp)]]))
                     f, it = residual(z)[0], it + 1
@@ -476,7 +486,7 @@ class _Path:
                 if not np.abs(f).max() <= NEIGHBOURHOOD:
                     h *= 0.5
                     continue
-                tangent = B.solve(e)
+                tangent = B.tangent()
                 tn = tangent / np.linalg.norm(tangent)
                 if tn @ t < 0:
                     tn = -tn
