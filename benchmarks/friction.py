@@ -34,7 +34,10 @@ Dense rows (``--dense``: only these): the nearly closed piles of the issue
 2 000 contacts at 1e-6; 2-D compact piles of 2 000, 5 000 and 10 000 at
 1e-8 — by "auto" on its 60 s budget, each in its own process: time, peak
 memory, the error reached, the link that answered and each link's share of
-the time (``stats["auto_link_times"]``).  Saves dense.csv and
+the time (``stats["auto_link_times"]``); for a row not certified, after the
+clock, whether a solution provably exists
+(:func:`qpcontact.proofs.friction_existence.solution_exists`: "proved", or
+"undecided" — never a claim that none exists).  Saves dense.csv and
 dense_success.png (the fraction of the rows certified within t).
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/friction.py --dense
@@ -143,7 +146,12 @@ def dense_job(dim, n, params, seed, tol):
     wall = time.perf_counter() - t
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     links = s.stats.get("auto_link_times", [])
-    return dict(time=wall, error=s.error, status=s.status, ok=s.ok, by=s.method,
+    exists = "certified"
+    if not s.ok:       # after the clock: whether the answer the methods missed exists
+        from qpcontact.proofs.friction_existence import solution_exists
+
+        exists = "proved" if solution_exists(p, time_limit=30.0) is not None else "undecided"
+    return dict(time=wall, error=s.error, status=s.status, ok=s.ok, by=s.method, exists=exists,
                 contacts=p.n_contacts, memory_mb=max(peak - before, 0.0),
                 links="; ".join(f"{m} {sec:.1f} s" for m, sec in links),
                 link_times=links)
@@ -168,15 +176,17 @@ def run_dense(args):
             rows.append(r)
             print(f"{family} {n} seed {seed}: {r['contacts']} contacts, {r['time']:6.2f} s, "
                   f"error {r['error']:.1e} at {tol:.0e} {'certified' if r['ok'] else 'NOT'}"
-                  f" (by {r['by']}; {r['links']}), {r.get('memory_mb', float('nan')):.0f} MB",
+                  f" (by {r['by']}; {r['links']}), {r.get('memory_mb', float('nan')):.0f} MB"
+                  + ("" if r["ok"] else f"; a solution exists: {r.get('exists', 'undecided')}"),
                   flush=True)
     print("\n| pile | contacts | seed | tol | time s | error | certified | by | links (s) "
-          "| peak memory MB |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "| peak memory MB | a solution exists |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['family']} | {r['contacts']} | {r['seed']} | {r['tol']:.0e} | "
               f"{r['time']:.2f} | {r['error']:.1e} | {'yes' if r['ok'] else 'no'} | {r['by']} | "
-              f"{r['links']} | {r.get('memory_mb', float('nan')):.0f} |")
+              f"{r['links']} | {r.get('memory_mb', float('nan')):.0f} | "
+              f"{'—' if r['ok'] else r.get('exists', 'undecided')} |")
     total = sum(r["time"] for r in rows)
     shares = {}
     for r in rows:
@@ -426,7 +436,7 @@ def main(argv=None) -> int:
         rows = run_dense(args)
         write_csv_atomic(out / "dense.csv", rows,
                          ["problem", "family", "size", "contacts", "seed", "tol", "time", "error",
-                          "ok", "status", "by", "links", "memory_mb"])
+                          "ok", "status", "by", "links", "memory_mb", "exists"])
         dense_success_plot(rows, out / "dense_success.png")
         print(f"wrote {out / 'dense.csv'} and {out / 'dense_success.png'}")
         return 0
