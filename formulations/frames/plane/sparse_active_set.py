@@ -17,6 +17,15 @@ opening Z_n = g + Δ_n = 0; sticking tangent: the slip Δ_t = 0, with Δ =
 H'u + D X, D the contact flexibility), static where it does not (open:
 X = 0; slip±: X_t = ∓f X_n, friction at its bound against the slip).
 
+In the links' own space (few links: a tower's 17 contacts) the state sets
+start from the closed set that single principal pivots on the contact
+stiffness choose, friction left out of the choice (:func:`_held_start`):
+the map X = R Δ + R_F with one contact's link forces and displacements
+exchanged at a time, a rank-2 update where a state set is a dense solve
+and its proposal — a tower's lift-off front moved one or two contacts a
+state set.  The start decides no state: the state sets from it do, and a
+start from which they find nothing gives way to every contact closed.
+
 A state is changed only by a violation beyond rounding (a closed contact
 pulling, an open one overlapping, a sticking one beyond f X_n, a slipping
 one moving backwards), so a degenerate contact keeps its state.  A state
@@ -171,14 +180,17 @@ def _held_start(b, combo, ca, required):
     T = np.empty((nl, nl + 1))
     T[:, :nl], T[:, nl] = R, RF
     x = np.append(required, 1.0)      # the inputs: Δ held, X released (0), and R_F's 1
-    pull_floor = VIOLATION * (np.abs(R) @ np.abs(required) + np.abs(RF))[n_link]
+    floor = VIOLATION * (np.abs(R) @ np.abs(required) + np.abs(RF))[n_link]
+    # X_n + pull is negative where a closed contact pulls beyond the floor
+    # (+inf on an open one: one array sum picks the pulls)
+    pull = floor.copy()
     closed = np.ones(nc, bool)
     for _ in range(START_PIVOTS * nc):
         out = T @ x
         xn = out[n_link]                 # X_n where closed, Δ_n where open
-        pull = np.where(closed, xn + pull_floor, np.inf)
-        c = int(np.argmin(pull))
-        if not pull[c] < 0.0:
+        pulls = xn + pull
+        c = int(np.argmin(pulls))
+        if not pulls[c] < 0.0:
             overlap = np.where(closed, np.inf, xn + gap + VIOLATION * (np.abs(xn) + np.abs(gap)))
             c = int(np.argmin(overlap))
             if not overlap[c] < 0.0:
@@ -190,7 +202,7 @@ def _held_start(b, combo, ca, required):
             det = a * d - b_ * c_
             if not abs(det) > RCOND_MIN * (abs(a * d) + abs(b_ * c_)):
                 return None
-            inv = np.array([[d, -b_], [-c_, a]]) / det
+            inv = np.array([[d / det, -b_ / det], [-c_ / det, a / det]])
         else:
             if not block[0][0] != 0.0:
                 return None
@@ -198,10 +210,13 @@ def _held_start(b, combo, ca, required):
         rows = inv @ T[p]
         cols = T[:, p].copy()
         T -= cols @ rows
-        T[:, p] = cols @ inv
-        T[p] = -rows
+        np.matmul(cols, inv, out=T[:, p])
+        np.negative(rows, out=T[p])
         T[p, p] = inv
-        x[p] = 0.0 if closed[c] else required[p]
+        if closed[c]:
+            x[p], pull[c] = 0.0, np.inf
+        else:
+            x[p], pull[c] = required[p], floor[c]
         closed[c] = not closed[c]
     return None
 
