@@ -270,6 +270,10 @@ def free_stiffness(K, at):
     half of a beam's entries, which every state set's matrix and
     factorization would carry."""
     k_row, k_col, k_val = csr_triplets(K)
+    if at.size and at[-1] == at.size - 1:
+        # nothing fixed (a frame on its contacts alone): ``at`` is the identity
+        keep = k_val != 0.0
+        return k_row[keep], k_col[keep].astype(at.dtype), k_val[keep]
     r, c = at[k_row], at[k_col]
     keep = (r >= 0) & (c >= 0) & (k_val != 0.0)
     return r[keep], c[keep], k_val[keep]

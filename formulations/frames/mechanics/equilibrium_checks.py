@@ -6,6 +6,7 @@ small-displacement theory stops holding)."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -95,6 +96,15 @@ def beyond_rounding(res, scale, largest=None) -> float:
     return worst if worst == worst else np.inf
 
 
+@functools.lru_cache(maxsize=None)
+def rotations(dofs: tuple) -> np.ndarray:
+    """Which of a node's dofs (names, in order) are rotations: once per
+    kind of frame, not per check (read only)."""
+    mask = np.array([d.startswith("r") for d in dofs])
+    mask.flags.writeable = False
+    return mask
+
+
 def how_far(frame, u, always=False, second_order=False, coords=None):
     """(largest translation / frame size, largest rotation, words): the
     words say where small-displacement theory stops holding (or, with
@@ -105,7 +115,7 @@ def how_far(frame, u, always=False, second_order=False, coords=None):
     xy = np.array(list(frame.nodes.values())) if coords is None else coords
     d = xy.max(axis=0) - xy.min(axis=0)
     size = math.sqrt(d.dot(d)) or 1.0        # np.linalg.norm's sum, without its checks
-    spin = np.array([d.startswith("r") for d in frame.DOFS])   # a node's rotations
+    spin = rotations(frame.DOFS)                  # a node's rotations
     per_node = np.asarray(u).reshape(-1, len(frame.DOFS))
     trans = np.linalg.norm(per_node[:, ~spin], axis=1)
     k = int(np.argmax(trans))
@@ -154,7 +164,7 @@ def equilibrium(frame, b, F, X, u, residual=None, abs_hx=None):
         abs_hx = b["abs_H"] @ np.abs(X)
     res = np.abs(residual)[free]
     scale = (b["abs_K"] @ np.abs(u) + np.abs(F) + abs_hx)[free]
-    moment = np.array([d.startswith("r") for d in frame.DOFS])[free % len(frame.DOFS)]
+    moment = rotations(frame.DOFS)[free % len(frame.DOFS)]
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))
 
@@ -197,7 +207,7 @@ def member_balance(frame, b, F, X, u, ends, factors):
     free = b["free"]
     res = np.abs(total - F - b["H"] @ X)[free]
     scale = (terms + np.abs(F) + b["abs_H"] @ np.abs(X))[free]
-    moment = np.array([d.startswith("r") for d in frame.DOFS])[free % len(frame.DOFS)]
+    moment = rotations(frame.DOFS)[free % len(frame.DOFS)]
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))
 

@@ -123,5 +123,5 @@ def contrast(b) -> float:
     k = b["local"][0]
     if not len(k):
         return 1.0
-    big = np.abs(k).max(axis=(1, 2))
+    big = np.abs(k).reshape(len(k), -1).max(axis=1)     # (over two axes: three times slower)
     return float(big.max() / max(big.min(), 1e-300))

@@ -112,19 +112,24 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                 r_all = np.asarray(Ku - np.asarray(F, Ku.dtype) - b["H"].astype(Ku.dtype)
                                    @ np.asarray(refined[2], Ku.dtype), float)
                 eq = statics(u, X, r_all, ends, ft)
-    r_glob = contact_lcp.to_global(b, np.where(b["fixed"], r_all, 0.0))
-    reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
-                 for node in b["names"] if node in frame.fixed}
+    reactions = {}
+    if frame.fixed:             # (a frame on contacts alone has no reaction to report)
+        r_glob = contact_lcp.to_global(b, np.where(b["fixed"], r_all, 0.0))
+        reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
+                     for node in b["names"] if node in frame.fixed}
     u = contact_lcp.to_global(b, u)
     nc = len(frame.contacts)
     has_t = ca["t_link"] >= 0
     xn = X[ca["n_link"]]
     xt = np.where(has_t, X[ca["t_link"]], 0.0)
-    # frictionless: no tangential link, the node slides freely (t·relative motion)
-    u2 = u.reshape(-1, 3)[:, :2]
-    rel = u2[ca["node"]] - np.where(ca["other"][:, None] >= 0, u2[ca["other"]], 0.0)
-    tangent = np.column_stack((ca["normal"][:, 1], -ca["normal"][:, 0]))
-    slip = np.where(has_t, delta[ca["t_link"]], np.einsum("ij,ij->i", tangent, rel))
+    if has_t.all():             # every contact's slip is its tangential link's
+        slip = delta[ca["t_link"]]
+    else:
+        # frictionless: no tangential link, the node slides freely (t·relative motion)
+        u2 = u.reshape(-1, 3)[:, :2]
+        rel = u2[ca["node"]] - np.where(ca["other"][:, None] >= 0, u2[ca["other"]], 0.0)
+        tangent = np.column_stack((ca["normal"][:, 1], -ca["normal"][:, 0]))
+        slip = np.where(has_t, delta[ca["t_link"]], np.einsum("ij,ij->i", tangent, rel))
     # each state decided on the component's own scale (the certificate's):
     # X_n against the terms it is made of, a slip part against its own size
     sl = nc + 2 * np.arange(int(has_t.sum()))      # Z⁺ of each frictional contact

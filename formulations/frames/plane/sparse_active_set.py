@@ -17,6 +17,15 @@ opening Z_n = g + Δ_n = 0; sticking tangent: the slip Δ_t = 0, with Δ =
 H'u + D X, D the contact flexibility), static where it does not (open:
 X = 0; slip±: X_t = ∓f X_n, friction at its bound against the slip).
 
+In the links' own space (few links: a tower's 17 contacts) the state sets
+start from the closed set that single principal pivots on the contact
+stiffness choose, friction left out of the choice (:func:`_held_start`):
+the map X = R Δ + R_F with one contact's link forces and displacements
+exchanged at a time, a rank-2 update where a state set is a dense solve
+and its proposal — a tower's lift-off front moved one or two contacts a
+state set.  The start decides no state: the state sets from it do, and a
+start from which they find nothing gives way to every contact closed.
+
 A state is changed only by a violation beyond rounding (a closed contact
 pulling, an open one overlapping, a sticking one beyond f X_n, a slipping
 one moving backwards), so a degenerate contact keeps its state.  A state
@@ -57,17 +66,34 @@ def solve_active_set(frame, b, combo):
     """(z, iterations) of an equilibrium with consistent contact states, or
     None (a cycle, the iteration limit, a singular system).  Few links
     (at most LINK_SPACE_MAX): the states are solved in the links' own space
-    on the contact stiffness R (:func:`_link_space`); many: on the sparse
-    saddle system (:func:`_sparse`)."""
+    on the contact stiffness R (:func:`_link_space`), from the closed set
+    that single pivots on R choose (:func:`_held_start`); many: on the
+    sparse saddle system (:func:`_sparse`), from every contact closed.
+    ``iterations``: the state sets solved (the start's pivots are not
+    state sets).  A start whose state sets end without an answer (a cycle,
+    the limit, a mechanism) is dropped, and the state sets begin again
+    from every contact closed, as they did before there was a start."""
     ca = plane_assembly.contact_arrays(frame, b)
+    nc = len(frame.contacts)
+    required = np.zeros(len(b["info"]))
+    required[ca["n_link"]] = -ca["gap"]                # a closed link: Δ_n = -g
+    link_space = len(b["info"]) <= LINK_SPACE_MAX
+    states = (_link_space if link_space else _sparse)(b, combo, required)
+    start = _held_start(b, combo, ca, required) if link_space else None
+    if start is not None and not start.all():
+        found = _state_sets(frame, b, ca, states, start)
+        if found is not None:
+            return found
+    return _state_sets(frame, b, ca, states, np.ones(nc, bool))
+
+
+def _state_sets(frame, b, ca, states, closed):
+    """The state sets from the closed contacts ``closed`` (all sticking):
+    (z, iterations) or None (:func:`solve_active_set`)."""
     nc = len(frame.contacts)
     n_link, t_link, mu, gap = ca["n_link"], ca["t_link"], ca["mu"], ca["gap"]
     has_t = t_link >= 0
     tl = np.where(has_t, t_link, 0)
-    required = np.zeros(len(b["info"]))
-    required[n_link] = -gap                           # a closed link: Δ_n = -g
-    states = (_link_space if len(b["info"]) <= LINK_SPACE_MAX else _sparse)(b, combo, required)
-    closed = np.ones(nc, bool)
     slip = np.zeros(nc, int)          # 0 stick, +1 slip+, -1 slip-
     seen, one_at_a_time, last = set(), False, None
     for it in range(1, MAX_ITERATIONS + 1):
@@ -80,7 +106,7 @@ def solve_active_set(frame, b, combo):
             # only the most violated contact each time
             one_at_a_time, seen = True, set()
         seen.add(key)
-        kin = np.zeros(len(required), bool)
+        kin = np.zeros(len(b["info"]), bool)
         kin[n_link[closed]] = True
         kin[t_link[closed & has_t & (slip == 0)]] = True
         sliding = np.flatnonzero(closed & has_t & (slip != 0))
@@ -109,6 +135,89 @@ def solve_active_set(frame, b, combo):
             new_closed, new_slip = closed.copy(), slip.copy()
             new_closed[worst], new_slip[worst] = proposal[0][worst], proposal[1][worst]
         closed, slip = new_closed, new_slip
+    return None
+
+
+#: the start's single pivots, per contact, before it is given up
+START_PIVOTS = 2
+
+
+def _held_start(b, combo, ca, required):
+    """Which contacts to close first in the links' space: the closed set of
+    the contact problem with friction left out of the choice — a closed
+    contact holds its links (Δ = −g normal, 0 tangential: it sticks), an
+    open one releases them (X = 0) — found one contact at a time by
+    principal pivots on the map of the links, X = R Δ + R_F [kN].
+
+    The map's inputs are the held links' displacements Δ [m] and the
+    released links' forces X (zero), its outputs the held links' forces
+    and the released links' displacements.  Releasing contact c exchanges
+    its links' input and output: with T the map (links x links, and R_F's
+    column), p c's links and r the others, Δ_p = T_pp⁻¹ (X_p − T_pr x_r),
+    so T_pp⁻¹ becomes the pp block, −T_pp⁻¹ T_pr the p rows, T_rp T_pp⁻¹
+    the p columns and T_rr − T_rp T_pp⁻¹ T_pr the rest; closing it again
+    is the same exchange back.  Each step takes the closed contact that
+    pulls hardest (X_n < 0 beyond VIOLATION of the forces with every link
+    held), else the open one that overlaps most (Z_n = Δ_n + g < 0 beyond
+    VIOLATION of |Δ_n| + |g|).  A pivot is a rank-2 update of a 34 x 35
+    array on a 20-storey tower (some 15 NumPy calls), where a state set
+    and its proposal are some 70: its lift-off front moves one or two
+    contacts a state set (seven sets), one a pivot (eleven), and the state
+    sets then start from the closed set they end on (one set).
+
+    Only a start: the state sets from it decide every state (friction's
+    too) and solve the answer as from any start; a start is never an
+    answer.  None where the pivots run out (START_PIVOTS per contact: a
+    cycle), where a pivot block is singular (a release that leaves a
+    mechanism), or where the map stops being finite."""
+    R = b["R_solve"]
+    RF = b["RF"] @ contact_lcp.factors(b, combo)
+    n_link, t_link, gap = ca["n_link"], ca["t_link"], ca["gap"]
+    nl, nc = R.shape[0], n_link.size
+    # a contact's links are its normal and, with friction, the next one
+    # (plane_assembly.links): a slice, whose blocks are views
+    links = [slice(n, n + 1 + (t >= 0)) for n, t in zip(n_link.tolist(), t_link.tolist())]
+    T = np.empty((nl, nl + 1))
+    T[:, :nl], T[:, nl] = R, RF
+    x = np.append(required, 1.0)      # the inputs: Δ held, X released (0), and R_F's 1
+    floor = VIOLATION * (np.abs(R) @ np.abs(required) + np.abs(RF))[n_link]
+    # X_n + pull is negative where a closed contact pulls beyond the floor
+    # (+inf on an open one: one array sum picks the pulls)
+    pull = floor.copy()
+    closed = np.ones(nc, bool)
+    for _ in range(START_PIVOTS * nc):
+        out = T @ x
+        xn = out[n_link]                 # X_n where closed, Δ_n where open
+        pulls = xn + pull
+        c = int(np.argmin(pulls))
+        if not pulls[c] < 0.0:
+            overlap = np.where(closed, np.inf, xn + gap + VIOLATION * (np.abs(xn) + np.abs(gap)))
+            c = int(np.argmin(overlap))
+            if not overlap[c] < 0.0:
+                return closed if np.isfinite(out).all() else None
+        p = links[c]
+        block = T[p, p].tolist()
+        if len(block) == 2:
+            (a, b_), (c_, d) = block
+            det = a * d - b_ * c_
+            if not abs(det) > RCOND_MIN * (abs(a * d) + abs(b_ * c_)):
+                return None
+            inv = np.array([[d / det, -b_ / det], [-c_ / det, a / det]])
+        else:
+            if not block[0][0] != 0.0:
+                return None
+            inv = np.array([[1.0 / block[0][0]]])
+        rows = inv @ T[p]
+        cols = T[:, p].copy()
+        T -= cols @ rows
+        np.matmul(cols, inv, out=T[:, p])
+        np.negative(rows, out=T[p])
+        T[p, p] = inv
+        if closed[c]:
+            x[p], pull[c] = 0.0, np.inf
+        else:
+            x[p], pull[c] = required[p], floor[c]
+        closed[c] = not closed[c]
     return None
 
 

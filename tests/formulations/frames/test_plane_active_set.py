@@ -171,6 +171,50 @@ def test_tower_states_and_forces_agree_with_lemke_below_tipping():
         _same(r, ref)
 
 
+def _sets(route):
+    """The number of state sets in an active-set route's name."""
+    assert route.startswith("active set ("), route
+    return int(route.split("(")[1].split()[0])
+
+
+def test_the_towers_state_sets_start_where_lemke_ends_and_answer_as_without_a_start(
+        monkeypatch):
+    """The link-space state sets start from the closed set that single
+    pivots on the contact stiffness choose (friction left out of the
+    choice): on the tower, whose lift-off front the state sets moved one or
+    two contacts at a time, that is Lemke's closed set, and two state sets
+    (one fixing friction, one confirming) answer with Lemke's states and
+    forces.  Without the start (no pivots allowed) the state sets run from
+    every contact closed, five to seven of them, to the same answer bit for
+    bit: the start decides no state."""
+    fr, _ = three_bay_tower()
+    for p in (10.0, 12.0, 14.0):
+        r, ref = fr.solve(p, method="active-set"), fr.solve(p, method="lemke")
+        assert r.ok and ref.ok and _sets(r.route) <= 2, r.route
+        _same(r, ref)
+        with monkeypatch.context() as m:
+            m.setattr(active_set, "START_PIVOTS", 0)
+            plain = fr.solve(p, method="active-set")
+        assert _sets(plain.route) >= 5, plain.route
+        assert plain.supports == r.supports and plain.displacements == r.displacements
+        assert all(np.array_equal(plain.member_forces[k], v) for k, v in r.member_forces.items())
+
+
+def test_a_start_that_leaves_a_mechanism_gives_way_to_every_contact_closed(monkeypatch):
+    """A start is only a start: where its first state set is singular (every
+    contact open: the tower floats) the state sets run again from every
+    contact closed, as without one, to the same answer."""
+    fr, _ = three_bay_tower()
+    with monkeypatch.context() as m:
+        m.setattr(active_set, "START_PIVOTS", 0)
+        plain = fr.solve(12.0, method="active-set")
+    monkeypatch.setattr(active_set, "_held_start",
+                        lambda b, combo, ca, required: np.zeros(len(ca["n_link"]), bool))
+    r = fr.solve(12.0, method="active-set")
+    assert r.route == plain.route and _sets(r.route) >= 5
+    assert r.supports == plain.supports and r.displacements == plain.displacements
+
+
 def test_mechanical_certificate_tracks_the_lcp_one(monkeypatch):
     """The same points judged by the LCP's certificate (R formed) and by the
     mechanical one (R not formed): both at rounding level, and a point made
