@@ -123,7 +123,8 @@ def _velocity_map(problem):
         if not _definite(M):
             return None
         return sp.csr_matrix(sp.csc_matrix(g["H"]).T), np.asarray(g["w"], float), \
-            "M positive definite (its Cholesky factorization)"
+            "M shown positive definite (a diagonal by its entries, else the Cholesky " \
+            "factorization of M less its rounding bound)"
     if problem.is_reduced and problem.W.shape[0] <= EXISTENCE_MAX_W:
         W = sp.csr_matrix(problem.W)
         if not np.all(np.isfinite(W.data)) or not _definite(W):
