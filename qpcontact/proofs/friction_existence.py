@@ -43,8 +43,10 @@ does not show M definite: M = [[7, 1], [1, fl(1/7)]] has det = −5.6e−17 and
 factors.  If the factorization of M − c I succeeds, G Gᵀ = M − c I + E with
 |E| <= γ_{n+1} |G| |G|ᵀ, whose 2-norm is at most γ_{n+1}/(1 − γ_{n+1}) tr(M)
 (Demmel), so c = (n + 2) ε tr(M) (ε the machine epsilon, twice the unit
-roundoff: it covers that and the shift's own rounding) leaves λ_min(M) > 0.
-A diagonal M needs no factorization: its entries are its eigenvalues.
+roundoff: it covers that and the shift's own rounding) leaves λ_min(M) > 0;
+M is first scaled by powers of two (exact, and definiteness is kept by the
+congruence) to a diagonal near one.  A diagonal M needs no factorization:
+its entries are its eigenvalues.
 
 **The search.**  An LP on the inscribed square (3-D) or the segment (2-D):
 u_N − μ (|u_T1| + |u_T2|) >= t at every contact, t maximised, each velocity
@@ -169,9 +171,14 @@ def _definite(M: sp.csr_matrix) -> bool:
         return bool(np.all(d > 0))
     if n > EXISTENCE_MAX_W or not np.all(d > 0):
         return False
-    shift = (n + 2) * np.finfo(float).eps * float(d.sum())
+    # scaled by powers of two (exact) to a diagonal near one: the same
+    # definiteness, and a shift by the trace that a wide spread of masses
+    # and inertias does not make larger than the smallest eigenvalue
+    two = np.exp2(-np.round(np.log2(d) / 2.0))
+    A = two[:, None] * M.toarray() * two[None, :]
+    shift = (n + 2) * np.finfo(float).eps * float(np.trace(A))
     try:
-        np.linalg.cholesky(M.toarray() - shift * np.eye(n))
+        np.linalg.cholesky(A - shift * np.eye(n))
     except np.linalg.LinAlgError:
         return False
     return True

@@ -125,3 +125,22 @@ def test_factors_that_do_not_form_w_prove_nothing():
     assert solution_exists(p) is None
     p.delassus_factors = (sp.identity(4, format="csr"), np.ones(4))
     assert solution_exists(p) is None
+
+
+def test_a_definite_mass_matrix_over_eight_decades_is_still_shown_definite():
+    """The shift that makes the Cholesky test a proof is taken after scaling
+    M by powers of two to a unit-sized diagonal: a definite, non-diagonal M
+    whose entries span 1e±4 (masses and inertias) is still decided, its
+    contact opened."""
+    rng = np.random.default_rng(0)
+    n = 60
+    Q = np.linalg.qr(rng.standard_normal((n, n)))[0]
+    S = np.diag(10.0 ** rng.uniform(-4, 4, n))
+    M = S @ Q @ np.diag(rng.uniform(0.5, 2.0, n)) @ Q.T @ S
+    M = 0.5 * (M + M.T)
+    H = np.zeros((n, 2))
+    H[0, 0], H[1, 1] = 1.0, 1.0
+    p = FrictionProblem.global_problem(M, H, np.zeros(n), np.array([-1.0, 0.0]), [0.3], 2,
+                                       reduce=False)
+    proof = solution_exists(p)
+    assert proof is not None and "M shown positive definite" in proof[0]
