@@ -31,8 +31,22 @@ Hᵀ v + q that v can make are q + range(W) (range(Hᵀ M⁻¹ H) = range(Hᵀ) 
 definite): the condition is that W y + q lies strictly inside every dual cone
 for some y, with W positive semidefinite.  The piles keep W's factors
 (``FrictionProblem.delassus_factors``: Hᵀ and m⁻¹ > 0), where the condition
-is read in body velocities; for another W, symmetric and small enough, its
-eigenvalues are checked (to rounding: that is what the statement says).
+is read in body velocities — only where the factors' product is W to the
+rounding of forming it, entry by entry (factors that are not W's prove
+nothing about W); for another W, symmetric and small enough, W is shown
+definite as M is below (a singular W, semidefinite or not, is undecided:
+no floating-point test tells a zero eigenvalue from a slightly negative
+one, and a slightly negative one can leave the problem without a solution).
+
+**Definiteness.**  A Cholesky factorization that succeeds in floating point
+does not show M definite: M = [[7, 1], [1, fl(1/7)]] has det = −5.6e−17 and
+factors.  If the factorization of M − c I succeeds, G Gᵀ = M − c I + E with
+|E| <= γ_{n+1} |G| |G|ᵀ, whose 2-norm is at most γ_{n+1}/(1 − γ_{n+1}) tr(M)
+(Demmel), so c = (n + 2) ε tr(M) (ε the machine epsilon, twice the unit
+roundoff: it covers that and the shift's own rounding) leaves λ_min(M) > 0;
+M is first scaled by powers of two (exact, and definiteness is kept by the
+congruence) to a diagonal near one.  A diagonal M needs no factorization:
+its entries are its eigenvalues.
 
 **The search.**  An LP on the inscribed square (3-D) or the segment (2-D):
 u_N − μ (|u_T1| + |u_T2|) >= t at every contact, t maximised, each velocity
@@ -65,8 +79,8 @@ def solution_exists(problem, time_limit: float = 30.0):
     where the theorem in this module's docstring applies and its hypothesis
     is checked from the data; None where it is not decided — no strictly
     opening velocity was found (the LP is conservative), M or W could not be
-    shown definite or semidefinite, or the LP ran out of ``time_limit``
-    seconds.  None never means that no solution exists."""
+    shown definite (module docstring, "Definiteness"), or the LP ran out of
+    ``time_limit`` seconds.  None never means that no solution exists."""
     data = _velocity_map(problem)
     if data is None:
         return None
@@ -99,44 +113,72 @@ def _velocity_map(problem):
     factors = getattr(problem, "delassus_factors", None)
     if problem.is_reduced and factors is not None:
         HT, minv = factors
-        minv = np.asarray(minv, float)
-        if minv.size and np.all(np.isfinite(minv)) and np.all(minv > 0):
-            return sp.csr_matrix(HT), np.asarray(problem.q, float), \
-                "W = Hᵀ diag(m⁻¹) H from the bodies' positive masses"
-        return None
+        HT, minv = sp.csr_matrix(HT), np.asarray(minv, float)
+        if (minv.size and np.all(np.isfinite(minv)) and np.all(minv > 0)
+                and np.all(np.isfinite(HT.data)) and _factors_form(problem.W, HT, minv)):
+            return HT, np.asarray(problem.q, float), \
+                "W = Hᵀ diag(m⁻¹) H (to its product's rounding) from the bodies' positive masses"
+        # factors that are not this W's: W itself is judged below
     g = problem.global_data
     if g is not None and g.get("M") is not None:
         M = sp.csr_matrix(g["M"])
         if not _definite(M):
             return None
         return sp.csr_matrix(sp.csc_matrix(g["H"]).T), np.asarray(g["w"], float), \
-            "M positive definite (its Cholesky factorization)"
+            "M shown positive definite (a diagonal by its entries, else the Cholesky " \
+            "factorization of M less its rounding bound)"
     if problem.is_reduced and problem.W.shape[0] <= EXISTENCE_MAX_W:
-        W = problem.W.toarray() if sp.issparse(problem.W) else np.asarray(problem.W, float)
-        if not np.all(np.isfinite(W)) or np.abs(W - W.T).max(initial=0.0) > 0:
+        W = sp.csr_matrix(problem.W)
+        if not np.all(np.isfinite(W.data)) or not _definite(W):
             return None
-        lam = np.linalg.eigvalsh(W)
-        if lam.size and lam.min() < -W.shape[0] * np.finfo(float).eps * max(lam.max(), 0.0):
-            return None
-        return sp.csr_matrix(W), np.asarray(problem.q, float), \
-            "W symmetric, its eigenvalues nonnegative to rounding"
+        return W, np.asarray(problem.q, float), \
+            "W positive definite (the Cholesky factorization of W less its rounding bound)"
     return None
 
 
-def _definite(M: sp.csr_matrix) -> bool:
-    """M symmetric with a Cholesky factorization (a diagonal: positive
-    entries); dense up to EXISTENCE_MAX_W, undecided above."""
-    if M.shape[0] == 0:
+def _factors_form(W, HT, minv) -> bool:
+    """Whether Hᵀ diag(m⁻¹) H is W entry by entry to the rounding of
+    forming it (rows of k entries: γ_k |Hᵀ| diag(m⁻¹) |H| each way, so twice
+    (k + 2) ε of it), W's pattern included."""
+    if HT.shape != (W.shape[0], minv.size):
+        return False
+    D = sp.diags(minv)
+    product = (HT @ D @ HT.T).tocsr()
+    size = (abs(HT) @ D @ abs(HT).T).tocsr()
+    k = int(np.diff(HT.indptr).max(initial=0))
+    gap = abs(sp.csr_matrix(W) - product)
+    if gap.nnz == 0:
         return True
-    if abs(M - M.T).max() > 0:
+    if not np.all(np.isfinite(gap.data)):
         return False
-    off = M - sp.diags(M.diagonal())
+    allowed = 2.0 * (k + 2) * np.finfo(float).eps * size
+    return bool((gap > allowed).nnz == 0)
+
+
+def _definite(M: sp.csr_matrix) -> bool:
+    """M symmetric and shown positive definite (module docstring,
+    "Definiteness": a diagonal by its entries, else by the Cholesky
+    factorization of M − (n + 2) ε tr(M) I); dense up to EXISTENCE_MAX_W,
+    undecided above."""
+    n = M.shape[0]
+    if n == 0:
+        return True
+    if not np.all(np.isfinite(M.data)) or abs(M - M.T).max() > 0:
+        return False
+    d = M.diagonal()
+    off = M - sp.diags(d)
     if off.nnz == 0 or not np.any(off.data):
-        return bool(np.all(M.diagonal() > 0))
-    if M.shape[0] > EXISTENCE_MAX_W:
+        return bool(np.all(d > 0))
+    if n > EXISTENCE_MAX_W or not np.all(d > 0):
         return False
+    # scaled by powers of two (exact) to a diagonal near one: the same
+    # definiteness, and a shift by the trace that a wide spread of masses
+    # and inertias does not make larger than the smallest eigenvalue
+    two = np.exp2(-np.round(np.log2(d) / 2.0))
+    A = two[:, None] * M.toarray() * two[None, :]
+    shift = (n + 2) * np.finfo(float).eps * float(np.trace(A))
     try:
-        np.linalg.cholesky(M.toarray())
+        np.linalg.cholesky(A - shift * np.eye(n))
     except np.linalg.LinAlgError:
         return False
     return True

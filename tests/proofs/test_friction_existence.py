@@ -74,3 +74,73 @@ def test_a_nearly_closed_sphere_pile_has_a_solution():
     HT, _ = p.delassus_factors
     U = (HT @ proof[1] + p.q).reshape(-1, 3)
     assert np.all(U[:, 0] > p.mu * np.linalg.norm(U[:, 1:], axis=1))
+
+
+def _no_solution_on_an_indefinite_mass():
+    """One body, two dofs, M = [[7, 1], [1, fl(1/7)]]: fl(1/7) lies below 1/7,
+    so det M = 7 fl(1/7) − 1 < 0 exactly, yet NumPy's Cholesky factorization
+    of M succeeds.  One frictionless 2-D contact, normal row (0, 1), w_N = −1,
+    f = 0: M v = h_N r_N gives u_N = r_N h_Nᵀ M⁻¹ h_N − 1 = 7 r_N / det M − 1
+    < 0 for every r_N >= 0, so no solution exists — while v = (0, 2) opens
+    the contact (u_N = 1)."""
+    from fractions import Fraction
+
+    M = np.array([[7.0, 1.0], [1.0, 1.0 / 7.0]])
+    assert Fraction(M[0, 0]) * Fraction(M[1, 1]) - Fraction(M[0, 1]) ** 2 < 0
+    np.linalg.cholesky(M)                           # no error: rounding hides the sign
+    HT = np.array([[0.0, 1.0], [1.0, 0.0]])
+    return FrictionProblem.global_problem(M, HT.T, np.zeros(2), np.array([-1.0, 0.0]), [0.0], 2,
+                                          reduce=False)
+
+
+def test_an_indefinite_mass_matrix_that_factors_in_rounding_is_not_decided():
+    """A successful floating-point Cholesky factorization is not a proof of
+    definiteness (module docstring, "Definiteness"): on the problem above,
+    which has no solution, nothing is claimed."""
+    assert solution_exists(_no_solution_on_an_indefinite_mass()) is None
+
+
+def test_a_local_w_not_shown_definite_is_not_decided():
+    """The same 2 x 2 matrix as one contact's W (normal diagonal 7 > 0, so
+    the problem is accepted): its eigenvalue −8e−18 is below zero, which no
+    test to rounding can tell from zero, so nothing is claimed; a W shown
+    definite still is."""
+    W = np.array([[7.0, 1.0], [1.0, 1.0 / 7.0]])
+    assert solution_exists(FrictionProblem(W, np.array([-1.0, 0.0]), [0.5], 2)) is None
+    W = np.array([[7.0, 1.0], [1.0, 0.5]])
+    assert solution_exists(FrictionProblem(W, np.array([-1.0, 0.0]), [0.5], 2)) is not None
+
+
+def test_factors_that_do_not_form_w_prove_nothing():
+    """Two frictionless 2-D contacts whose normal velocities sum to
+    q_N1 + q_N2 = −2 whatever the impulses (W_N = [[1, −1], [−1, 1]]): no
+    solution.  Factors that are not W's (identity bodies: W would be the
+    identity) must not stand in for W: nothing is claimed, as without them."""
+    import scipy.sparse as sp
+
+    W = np.zeros((4, 4))
+    W[np.ix_([0, 2], [0, 2])] = [[1.0, -1.0], [-1.0, 1.0]]
+    W[1, 1] = W[3, 3] = 1.0
+    p = FrictionProblem(W, np.array([-1.0, 0.0, -1.0, 0.0]), [0.0, 0.0], 2)
+    assert solution_exists(p) is None
+    p.delassus_factors = (sp.identity(4, format="csr"), np.ones(4))
+    assert solution_exists(p) is None
+
+
+def test_a_definite_mass_matrix_over_eight_decades_is_still_shown_definite():
+    """The shift that makes the Cholesky test a proof is taken after scaling
+    M by powers of two to a unit-sized diagonal: a definite, non-diagonal M
+    whose entries span 1e±4 (masses and inertias) is still decided, its
+    contact opened."""
+    rng = np.random.default_rng(0)
+    n = 60
+    Q = np.linalg.qr(rng.standard_normal((n, n)))[0]
+    S = np.diag(10.0 ** rng.uniform(-4, 4, n))
+    M = S @ Q @ np.diag(rng.uniform(0.5, 2.0, n)) @ Q.T @ S
+    M = 0.5 * (M + M.T)
+    H = np.zeros((n, 2))
+    H[0, 0], H[1, 1] = 1.0, 1.0
+    p = FrictionProblem.global_problem(M, H, np.zeros(n), np.array([-1.0, 0.0]), [0.3], 2,
+                                       reduce=False)
+    proof = solution_exists(p)
+    assert proof is not None and "M shown positive definite" in proof[0]
