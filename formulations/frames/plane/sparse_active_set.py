@@ -69,10 +69,12 @@ def solve_active_set(frame, b, combo):
     on the contact stiffness R (:func:`_link_space`), from the closed set
     that single pivots on R choose (:func:`_held_start`); many: on the
     sparse saddle system (:func:`_sparse`), from every contact closed.
-    ``iterations``: the state sets solved (the start's pivots are not
-    state sets).  A start whose state sets end without an answer (a cycle,
-    the limit, a mechanism) is dropped, and the state sets begin again
-    from every contact closed, as they did before there was a start."""
+    ``iterations``: the state sets of the series that answered (the
+    start's pivots are not state sets).  A start whose state sets end
+    without an answer (a cycle, the limit, a mechanism) is dropped — its
+    sets are not counted, so a solve may run up to twice MAX_ITERATIONS
+    sets — and the state sets begin again from every contact closed, as
+    they did before there was a start."""
     ca = plane_assembly.contact_arrays(frame, b)
     nc = len(frame.contacts)
     required = np.zeros(len(b["info"]))
