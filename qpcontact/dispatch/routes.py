@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 
 __all__ = ["AUTO_ORDER", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
            "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS", "auto_progress",
-           "link_options", "link_share", "SHARES_2D",
+           "link_options", "link_share", "SHARES_2D", "SHARE_RESTARTS_3D",
            "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
@@ -111,8 +111,8 @@ NSGS_FIRST_3D = 500
 
 #: the methods of "auto"'s chains that report each iteration to ``progress``
 #: ("auto" hands it to these only: the others refuse the option)
-PROGRESS_LINKS = ("nsgs-newton", "newton", "desaxce-fp", "tresca-fp", "desaxce-global",
-                  "mg-bpp", "ip-bpp")
+PROGRESS_LINKS = ("nsgs-newton", "nsgs-restarts", "newton", "desaxce-fp", "tresca-fp",
+                  "desaxce-global", "mg-bpp", "ip-bpp")
 
 
 def auto_progress(options: dict) -> tuple[dict, object]:
@@ -144,12 +144,14 @@ def auto_chain(problem) -> tuple:
         return GLOBAL_CHAIN
     chain = AUTO_CHAIN[problem.dim]
     if _sweeps_first(problem):
-        # in 3-D Newton from NSGS's best point next: it certified the
-        # 540-contact compact sphere pile where NSGS + Newton stopped at 2e-5,
-        # and De Saxcé's SOCPs stall on piles (9.5e-4 at 540 contacts)
-        # in 2-D the interior point on the exact LCP next (link_share): it
-        # certifies dense piles where the sweeps stall
-        head = ("nsgs-newton", "ip-lcp") if problem.dim == 2 else ("nsgs-newton", "newton")
+        # in 3-D NSGS + Newton from zero, then from random reactions within
+        # the cones (nsgs-restarts, most of the time: link_share): where the
+        # sweeps stall on a compact pile depends on where they start
+        # (docs/dev-notes.md, "The 3-D compact piles by restarts"); then
+        # Newton from the best point; De Saxcé's SOCPs stall on piles (9.5e-4
+        # at 540 contacts).  In 2-D the interior point on the exact LCP next
+        # (link_share): it certifies dense piles where the sweeps stall
+        head = ("nsgs-newton", "ip-lcp") if problem.dim == 2 else ("nsgs-restarts", "newton")
         chain = head + tuple(m for m in chain if m not in head)
     return chain
 
@@ -161,6 +163,13 @@ def auto_chain(problem) -> tuple:
 #: after its 30 s); ip-lcp's path past its folds takes 16-32 s of CPU there
 #: (docs/dev-notes.md, "Dense 2-D piles by interior point")
 SHARES_2D = {"nsgs-newton": 0.1, "ip-lcp": 0.8}
+#: the share of the time left that "auto" gives nsgs-restarts in a 3-D chain
+#: from NSGS_FIRST_3D contacts: each start on the 540-contact compact piles
+#: takes 1.5-5.3 s of CPU and certifies some seeds a first start misses; Newton
+#: from the best point gets half of the rest, and De Saxcé's and Tresca's
+#: SOCPs, which certified none of those piles, what is left (docs/dev-notes.md,
+#: "Dense piles: where every iterative route stops")
+SHARE_RESTARTS_3D = 0.8
 
 
 def link_share(problem, name: str, last: bool) -> float:
@@ -169,6 +178,8 @@ def link_share(problem, name: str, last: bool) -> float:
         return 1.0
     if problem.dim == 2 and _sweeps_first(problem):
         return SHARES_2D.get(name, 0.5)
+    if name == "nsgs-restarts":
+        return SHARE_RESTARTS_3D
     return 0.5
 
 

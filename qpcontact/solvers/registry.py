@@ -28,8 +28,8 @@ PROVIDERS = ("pivoting", "trace", "friction", "qpsolvers", "cvxpy")
 IN_HOUSE = {
     "pivoting": ("energy", "bpp", "ip-bpp", "mg-bpp", "lemke", "enumeration"),
     "trace": ("trace",),
-    "friction": ("nsgs", "nsgs-newton", "anitescu", "desaxce-fp", "tresca-fp", "newton", "ip-lcp",
-                 "desaxce-global"),
+    "friction": ("nsgs", "nsgs-newton", "nsgs-restarts", "anitescu", "desaxce-fp", "tresca-fp",
+                 "newton", "ip-lcp", "desaxce-global"),
 }
 _loaded: set = set()
 

@@ -19,6 +19,7 @@ from .newton import solve_natural_newton
 from .hybrid import solve_nsgs_newton
 from .interior_lcp import solve_ip_lcp
 from .nsgs import solve_nsgs
+from .restarts import solve_nsgs_restarts
 
 __all__ = ["specs"]
 
@@ -53,6 +54,9 @@ def specs() -> list[Method]:
                algorithm="nonsmooth Gauss-Seidel (Siconos NSGS)", **common),
         Method("nsgs-newton", _run(solve_nsgs_newton), takes="friction",
                algorithm="NSGS, then minimum-norm semismooth Newton steps", **common),
+        Method("nsgs-restarts", _run(solve_nsgs_restarts), takes="friction",
+               algorithm="NSGS + Newton, restarted from random reactions within the cones",
+               **common),
         Method("anitescu", _run(solve_anitescu, True, timed=False), takes="friction",
                algorithm="convex relaxation: one SOCP (Anitescu)", **common),
         Method("desaxce-fp", _run(solve_desaxce_fp, True), takes="friction",

@@ -1,0 +1,83 @@
+""""nsgs-restarts": NSGS + Newton from r0, then from random reactions within
+the cones — the starts checked against the cone written out here, the first
+start against nsgs-newton (its peer: where that certifies, this is it), and
+a later start's answer against the natural map written out here."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import qpcontact
+from qpcontact.cases.piles import sphere_pile
+from qpcontact.core.friction_problem import FrictionProblem
+from qpcontact.solvers.friction.restarts import random_cone_point
+
+
+def _natural_map_here(p, r):
+    """Siconos's natural-map error, contact by contact, De Saxcé's velocity
+    and the cone's projection written out (not the package's)."""
+    u = np.asarray(p.W @ r).ravel() + p.q
+    out = np.zeros_like(r)
+    for i, mu in enumerate(p.mu):
+        ri, ui = r[3 * i:3 * i + 3], u[3 * i:3 * i + 3]
+        x = ri - np.array([ui[0] + mu * np.hypot(ui[1], ui[2]), ui[1], ui[2]])
+        t = np.hypot(x[1], x[2])
+        if t <= mu * x[0]:
+            proj = x
+        elif mu * t <= -x[0]:
+            proj = np.zeros(3)
+        else:
+            a = (x[0] + mu * t) / (1 + mu * mu)
+            proj = np.array([a, mu * a * x[1] / t, mu * a * x[2] / t])
+        out[3 * i:3 * i + 3] = ri - proj
+    return np.linalg.norm(out) / (1 + np.linalg.norm(p.q))
+
+
+def test_the_random_starts_lie_in_the_cones_and_repeat():
+    rng = np.random.default_rng(0)
+    nc = 200
+    mu = rng.uniform(0.0, 1.0, nc)          # below 0.3·√2 the projection acts
+    p = FrictionProblem(np.eye(3 * nc), -np.ones(3 * nc), mu, 3)
+    r = random_cone_point(p, 2.5, 3)
+    rn, rt = r[0::3], np.hypot(r[1::3], r[2::3])
+    assert np.all(rn >= 0) and np.all(rt <= mu * rn * (1 + 1e-12) + 1e-300)
+    assert r.max() <= 2.5 and rn.max() > 2.0       # the scale is spread, not shrunk
+    assert np.any(rt < mu * rn * (1 - 1e-6))          # not all pushed onto the cones' sides
+    assert np.array_equal(r, random_cone_point(p, 2.5, 3))
+    assert not np.array_equal(r, random_cone_point(p, 2.5, 4))
+
+
+def test_where_nsgs_newton_certifies_the_first_start_is_its_answer():
+    """A loose 3-D pile: nsgs-newton certifies it from zero; nsgs-restarts
+    returns the same reactions, bit for bit, from one start."""
+    p = sphere_pile(300, seed=1).problem
+    ref = qpcontact.solve(p, "nsgs-newton", accuracy=1e-8)
+    assert ref.ok, ref.message
+    s = qpcontact.solve(p, "nsgs-restarts", accuracy=1e-8)
+    assert s.ok and np.array_equal(s.r, ref.r), s.message
+    assert "from 1 start:" in s.message, s.message
+
+
+def test_auto_in_3d_from_500_contacts_starts_with_the_restarts():
+    """The loose 540-contact pile: "auto"'s first link, nsgs-restarts,
+    certifies it from its first start (nsgs-newton's answer)."""
+    p = sphere_pile(500, seed=0).problem
+    s = qpcontact.solve(p, "auto", accuracy=1e-6)
+    assert s.ok and s.method == "nsgs-restarts", s.message
+    assert [m for m, _, _ in s.stats["auto_tried"]] == ["nsgs-restarts"]
+    assert _natural_map_here(p, s.r) <= 1e-6
+
+
+@pytest.mark.slow
+def test_a_later_start_certifies_a_compact_pile_the_first_does_not():
+    """The 540-contact compact pile of seed 9: nsgs-newton and Newton from
+    its best point stop above 1e-6 from zero; a start from random reactions
+    certifies it (docs/dev-notes.md, "The 3-D compact piles by restarts")."""
+    p = sphere_pile(500, seed=9, agitation=0.1, polydispersity=0.005).problem
+    first = qpcontact.solve(p, "nsgs-restarts", accuracy=1e-6, starts=1, time_limit=300)
+    assert not first.ok, first.message
+    s = qpcontact.solve(p, "nsgs-restarts", accuracy=1e-6, starts=6, time_limit=300)
+    assert s.ok, s.message
+    assert "start 0:" in s.message and "from 1 start:" not in s.message, s.message
+    assert _natural_map_here(p, s.r) <= 1e-6
