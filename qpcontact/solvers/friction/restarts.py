@@ -109,7 +109,7 @@ def solve_nsgs_restarts(problem, tol, options):
         lines.append(where)
         if progress is not None:
             progress(f"nsgs-restarts: {where}")
-        if err < best:
+        if best_r is None or err < best:     # a first start's non-finite error still gives a scale
             best_r, best = r, err
         if best <= tol:
             break
