@@ -66,6 +66,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ..judge.scales import abs_matvec
 
 __all__ = ["solution_exists", "EXISTENCE_MAX_W"]
 
@@ -94,7 +95,7 @@ def solution_exists(problem, time_limit: float = 30.0):
         return None
     u = np.asarray(A @ x).ravel() + w
     k = np.diff(A.indptr).max(initial=0)
-    bound = (k + 2) * np.finfo(float).eps * (np.asarray(abs(A) @ np.abs(x)).ravel() + np.abs(w))
+    bound = (k + 2) * np.finfo(float).eps * (abs_matvec(A, x) + np.abs(w))
     U, B = u.reshape(m, dim), bound.reshape(m, dim).max(axis=1)
     margin = U[:, 0] - mu * np.linalg.norm(U[:, 1:], axis=1)
     if not np.all(margin > (1.0 + mu * np.sqrt(dim - 1.0)) * B):
@@ -191,12 +192,16 @@ def _opening_velocity(A, w, mu, dim, time_limit):
     m = mu.size
     N = np.arange(m) * dim
     patterns = [(1.0,), (-1.0,)] if dim == 2 else [(1, 1), (1, -1), (-1, 1), (-1, -1)]
+    # each contact's normal row and its tangential rows scaled by μ, sliced
+    # once for every sign pattern
+    normal = A[N]
+    tangents = [(sp.diags(mu) @ A[N + 1 + j], mu * w[N + 1 + j]) for j in range(dim - 1)]
     rows, rhs = [], []
     for signs in patterns:
-        G, b = -A[N], w[N].copy()
-        for j, sj in enumerate(signs):
-            G = G + sp.diags(mu * sj) @ A[N + 1 + j]
-            b = b - mu * sj * w[N + 1 + j]
+        G, b = -normal, w[N].copy()
+        for sj, (At, wt) in zip(signs, tangents):
+            G = G + sj * At
+            b = b - sj * wt
         rows.append(G)
         rhs.append(b)
     G = sp.hstack([sp.vstack(rows), np.ones((len(patterns) * m, 1))]).tocsr()
