@@ -79,9 +79,13 @@ def solve_active_set(frame, b, combo):
     nc = len(frame.contacts)
     required = np.zeros(len(b["info"]))
     required[ca["n_link"]] = -ca["gap"]                # a closed link: Δ_n = -g
-    link_space = len(b["info"]) <= LINK_SPACE_MAX
-    states = (_link_space if link_space else _sparse)(b, combo, required)
-    start = _held_start(b, combo, ca, required) if link_space else None
+    if len(b["info"]) <= LINK_SPACE_MAX:
+        # the combination's link forces with every link held, for the state
+        # sets' solver and the start alike
+        RF = b["RF"] @ contact_lcp.factors(b, combo)
+        states, start = _link_space(b, RF, required), _held_start(b, RF, ca, required)
+    else:
+        states, start = _sparse(b, combo, required), None
     if start is not None and not start.all():
         found = _state_sets(frame, b, ca, states, start)
         if found is not None:
@@ -144,7 +148,7 @@ def _state_sets(frame, b, ca, states, closed):
 START_PIVOTS = 2
 
 
-def _held_start(b, combo, ca, required):
+def _held_start(b, RF, ca, required):
     """Which contacts to close first in the links' space: the closed set of
     the contact problem with friction left out of the choice — a closed
     contact holds its links (Δ = −g normal, 0 tangential: it sticks), an
@@ -171,9 +175,9 @@ def _held_start(b, combo, ca, required):
     too) and solve the answer as from any start; a start is never an
     answer.  None where the pivots run out (START_PIVOTS per contact: a
     cycle), where a pivot block is singular (a release that leaves a
-    mechanism), or where the map stops being finite."""
+    mechanism), or where the map stops being finite.  ``RF``: R_F [kN] of
+    the combination."""
     R = b["R_solve"]
-    RF = b["RF"] @ contact_lcp.factors(b, combo)
     n_link, t_link, gap = ca["n_link"], ca["t_link"], ca["gap"]
     nl, nc = R.shape[0], n_link.size
     # a contact's links are its normal and, with friction, the next one
@@ -437,7 +441,7 @@ def _bordered(held, kin, coef, partner, rhs, nf, kappa, link_rows, times):
     return x + solved(held["lu"].solve(res), res)
 
 
-def _link_space(b, combo, required):
+def _link_space(b, RF, required):
     """The states' solver in the links' space, for few links on many dofs
     (a tower on 17 contacts: 34 links, 291 dofs): the contact stiffness R
     (one solve of the basic system per link, from its LU) condenses the
@@ -448,9 +452,9 @@ def _link_space(b, combo, required):
     solves use R before its rounding-level entries are dropped (those are
     dropped for the trace's proofs; here, times the large openings of a
     lifted stretch, they put the support forces 1.7e-9 off OpenSees and
-    PyNite on a 50-span beam, where the sparse route agrees to 3e-13)."""
+    PyNite on a 50-span beam, where the sparse route agrees to 3e-13).
+    ``RF``: R_F [kN] of the combination."""
     R = b["R_solve"]
-    RF = b["RF"] @ contact_lcp.factors(b, combo)
     absR, absRF, abs_required = np.abs(R), np.abs(RF), np.abs(required)
 
     at = np.empty(R.shape[0], int)

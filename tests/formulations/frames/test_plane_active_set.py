@@ -209,7 +209,7 @@ def test_a_start_that_leaves_a_mechanism_gives_way_to_every_contact_closed(monke
         m.setattr(active_set, "START_PIVOTS", 0)
         plain = fr.solve(12.0, method="active-set")
     monkeypatch.setattr(active_set, "_held_start",
-                        lambda b, combo, ca, required: np.zeros(len(ca["n_link"]), bool))
+                        lambda b, RF, ca, required: np.zeros(len(ca["n_link"]), bool))
     r = fr.solve(12.0, method="active-set")
     assert r.route == plain.route and _sets(r.route) >= 5
     assert r.supports == plain.supports and r.displacements == plain.displacements
