@@ -40,6 +40,7 @@ import time
 
 import numpy as np
 
+from ...core.deadline import Deadline
 from ...core.friction_problem import project_cone
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...judge.friction_certificate import certified_error
@@ -78,20 +79,16 @@ def solve_nsgs_restarts(problem, tol, options):
     opts = read_options("nsgs-restarts", options, NSGS_RESTARTS_OPTIONS)
     time_limit, progress = opts["time_limit"], opts["progress"]
     r0 = starting_point("nsgs-restarts", problem, opts["r0"])
-    begin = time.perf_counter()
-
-    def left():
-        return None if time_limit is None else time_limit - (time.perf_counter() - begin)
-
+    deadline = Deadline(time_limit)
     best_r, best = None, np.inf
     lines = []
     for k in range(opts["starts"]):
-        if left() is not None and left() <= 0:
+        if deadline.expired():
             break
         start = r0 if k == 0 else random_cone_point(problem, float(np.abs(best_r).max()) or 1.0, k)
         t_start = time.perf_counter()
-        r, _, _, stats = solve_nsgs_newton(problem, tol, {"r0": start, "time_limit": left(),
-                                                          "progress": progress})
+        r, _, _, stats = solve_nsgs_newton(
+            problem, tol, {"r0": start, "time_limit": deadline.left(), "progress": progress})
         err = certified_error(problem, r)
         took = time.perf_counter() - t_start
         where = f"start {k}: {err:.1e} ({stats['iterations']} sweeps, {took:.2g} s)"
@@ -100,7 +97,7 @@ def solve_nsgs_restarts(problem, tol, options):
             # took: what "auto" did before the restarts (the loose 982-contact
             # pile of seed 2 is certified so, 5.7e-8; Newton from the best
             # of ten starts stopped at 1.8e-6)
-            limit = took if left() is None else min(took, left())
+            limit = took if not deadline.limited else min(took, deadline.left())
             polished, _, _, _ = solve_natural_newton(problem, tol, {"r0": r, "time_limit": limit})
             polished_err = certified_error(problem, polished)
             where += f", then Newton {polished_err:.1e}"
