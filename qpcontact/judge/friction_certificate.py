@@ -18,6 +18,7 @@ import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
 from .forward import ForwardErrorMixin
+from .scales import row_rounding
 from ..core.friction_problem import FrictionProblem, modified_velocity, project_cone
 
 __all__ = ["FrictionCertificate", "certify_friction", "natural_map_error", "componentwise_error",
@@ -346,9 +347,7 @@ def certify_friction(problem: FrictionProblem, r, v=None, *, u=None) -> Friction
                                  contact_sizes(problem, r, rho))
     cw = float(per_contact.max())
     error = max(nat, cw)
-    W = problem.W
-    row_nnz = (int(np.diff(sp.csr_matrix(W).indptr).max()) if sp.issparse(W) else W.shape[1])
-    level = (row_nnz + 1) * _EPS     # the rounding of evaluating one row of W r + q
+    level = row_rounding(problem.W)     # the rounding of evaluating one row of W r + q
 
     def forward_pair():
         kappa = _friction_condition(problem, r)

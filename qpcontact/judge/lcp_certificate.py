@@ -38,7 +38,7 @@ from ..core.errors import InvalidProblemError
 from ..core.problems import LCP
 from .forward import ForwardErrorMixin
 from .near_farkas import near_farkas
-from .scales import ComponentScales, abs_matvec, divide, inf_norm, safe_norm2
+from .scales import ComponentScales, abs_matvec, divide, inf_norm, row_rounding, safe_norm2
 
 __all__ = ["LCPCertificate", "certify_lcp", "componentwise_error"]
 
@@ -118,21 +118,6 @@ def _lcp_normwise(lcp: LCP, z, Mz, w) -> float:
     sigma_z = max(inf_norm(z), inf_norm(lcp.q) / scale_M if scale_M > 0 else 0.0)
     sigma_w = max(inf_norm(Mz), inf_norm(lcp.q))
     return inf_norm(np.minimum(divide(z, sigma_z), divide(w, sigma_w)))
-
-
-def _rounding_level(M) -> float:
-    """(row nonzeros + 1) eps: the rounding of evaluating one row of Mz + q."""
-    if not sp.issparse(M):
-        row_nnz = M.shape[1]
-    elif M.nnz == 0:
-        row_nnz = 0
-    elif M.format == "csr":
-        row_nnz = int(np.diff(M.indptr).max())
-    else:
-        # counted from the row indices: a CSC -> CSR copy costs a solve's worth
-        rows = M.indices if M.format == "csc" else M.tocoo().row
-        row_nnz = int(np.bincount(rows, minlength=M.shape[0]).max())
-    return (row_nnz + 1) * _EPS
 
 
 #: Active blocks up to this size get |M_FF⁻¹| formed exactly; larger ones a
@@ -375,7 +360,7 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
         zw = float(z @ w)
     # Below the rounding of evaluating a row (LAPACK's FERR convention) no
     # backward error can be seen.
-    level = _rounding_level(lcp.M)
+    level = row_rounding(lcp.M)
     error = float(e[worst])
 
     def forward_pair(M=lcp.M, structure=lcp.structure):

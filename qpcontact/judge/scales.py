@@ -15,7 +15,8 @@ import numpy as np
 import scipy.sparse as sp
 
 __all__ = ["ComponentScales", "Rows", "componentwise_scales", "row_scales", "column_influence",
-           "column_max_ratio", "ratio", "divide", "inf_norm", "max_abs", "abs_matvec", "safe_norm2"]
+           "column_max_ratio", "ratio", "divide", "inf_norm", "max_abs", "abs_matvec", "safe_norm2",
+           "row_rounding"]
 
 _EPS = np.finfo(float).eps
 
@@ -51,6 +52,22 @@ def max_abs(M) -> float:
     if sp.issparse(M):
         return float(abs(M).max()) if M.nnz else 0.0
     return float(np.max(np.abs(M))) if M.size else 0.0
+
+
+def row_rounding(M) -> float:
+    """(row nonzeros + 1) eps: the rounding of evaluating one row of M z + q
+    (the most nonzeros of any row; a dense M's every column)."""
+    if not sp.issparse(M):
+        row_nnz = M.shape[1]
+    elif M.nnz == 0:
+        row_nnz = 0
+    elif M.format == "csr":
+        row_nnz = int(np.diff(M.indptr).max())
+    else:
+        # counted from the row indices: a CSC -> CSR copy costs a solve's worth
+        rows = M.indices if M.format == "csc" else M.tocoo().row
+        row_nnz = int(np.bincount(rows, minlength=M.shape[0]).max())
+    return (row_nnz + 1) * _EPS
 
 
 def abs_matvec(M, v) -> np.ndarray:
