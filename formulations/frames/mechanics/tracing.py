@@ -177,7 +177,9 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                                    for p0, p1 in tr.gaps)
                        + " of p before each not traced)")
     ft.ended = ended
-    ft.ok = bool((tr.ok or ft.limit is not None) and failed is None)
+    # a bound is not a limit: the path stopped unproved inside it (a fold
+    # that the rigid body's bound then brackets was called ok)
+    ft.ok = bool((tr.ok or ft.limit is not None) and failed is None and ended != "bounded")
     ft.message += f"; {len(ft.events)} change(s) of the working scheme"
     return ft
 
