@@ -36,6 +36,7 @@ import scipy.linalg as la
 from qpcontact.core.errors import InvalidOptionError
 
 from .second_order import clamped_buckling_t
+from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
 ROUNDS = 30
@@ -474,9 +475,15 @@ def fold_at_end(frame, b, ft, inside, p_last, held):
 
     before, end = ft.result_at(inside), ft.result_at(p_last)
     keys = list(end.supports)
+    # a pad's force is linear in p along the last piece: where the path
+    # stopped a hair before it reaches zero (a degenerate vertex: the pad
+    # slipping at f N as N falls, its three reserves vanishing together),
+    # it falls to zero within BRACKET of p_last
+    rate = {k: (before.supports[k].normal - end.supports[k].normal) / max(p_last - inside, 1e-300)
+            for k in keys}
     falling = [k for k in keys
-               if end.supports[k].normal <= 1e-9 * max(abs(before.supports[k].normal), 1e-300)
-               and before.supports[k].normal > end.supports[k].normal]
+               if rate[k] > 0 and (end.supports[k].normal <= 1e-9 * before.supports[k].normal
+                                   or end.supports[k].normal / rate[k] <= BRACKET * abs(p_last))]
     if not falling:
         return None
     released = held.copy()
