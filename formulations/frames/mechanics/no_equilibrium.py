@@ -112,7 +112,8 @@ def raise_rigid_motion(frame, b, combo, before: str):
         return
     raise NoSolutionError(
         f"frame under {describe(combo)}: no equilibrium exists — {motion_words(frame, *motion, None)} "
-        f"(a rigid motion of the frame with its contacts released, in which the loads do "
+        f"(a motion of the frame with its contacts released that strains no member — rigid, "
+        f"or a mechanism of its hinges — in which the loads do "
         f"positive work while every contact opens or slides within its friction cone; "
         f"found by LP, checked to rounding; {before})")
 
