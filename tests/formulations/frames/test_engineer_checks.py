@@ -495,3 +495,35 @@ def test_a_column_that_stands_is_never_proved_to_fall():
         except SolverFailedError:
             return
     assert tr.ended != "collapse", tr.message
+
+
+@pytest.mark.parametrize("f", [0.5, 0.3])
+def test_a_beam_on_a_slope_sticks_or_slides_up_by_hand(f):
+    """A beam along a 20° slope on two frictional pads (normals across the
+    slope), W at its middle: it sticks under its weight iff f ≥ tan α, each
+    pad carrying W cos α/2; pushed horizontally at its middle (no
+    overturning: the push acts on the slope's line) it slides up the slope
+    when P cos α − W sin α = f (W cos α + P sin α)."""
+    W, L, alpha = 20.0, 4.0, np.radians(20.0)
+    c, s = np.cos(alpha), np.sin(alpha)
+    fr = Frame()
+    for n, k in (("A", 0.0), ("M", 0.5), ("B", 1.0)):
+        fr.add_node(n, k * L * c, k * L * s)
+    fr.add_member("A", "M", E, A, I)
+    fr.add_member("M", "B", E, A, I)
+    for n in ("A", "B"):
+        fr.add_contact(n, normal=(-s, c), friction=f)
+    fr.add_load("M", fy=-W)
+    fr.add_load("M", fx=1.0, case="variable")
+    if f < np.tan(alpha):
+        with pytest.raises(NoSolutionError, match="slides away as a rigid body"):
+            fr.solve(p=0.0)
+        return
+    r = fr.solve(p=0.0)
+    assert [r.supports[n].normal for n in ("A", "B")] == pytest.approx([W * c / 2] * 2, rel=1e-10)
+    # the friction holds the weight's component along the slope (t = (cos α, sin α))
+    assert sum(r.supports[n].tangential for n in ("A", "B")) == pytest.approx(W * s, rel=1e-10)
+    tr = fr.trace()
+    ref = W * (s + f * c) / (c - f * s)
+    assert tr.ok and tr.ended == "collapse", tr.message
+    assert tr.limit[0] <= ref * (1 + 1e-12) and ref <= tr.limit[1] * (1 + 1e-12)
