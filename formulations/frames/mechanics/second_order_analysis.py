@@ -359,6 +359,12 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
                       f"opens {them} at a negative rate: that stiffness has a negative "
                       "eigenvalue) — no equilibrium continues the path beyond: it tips over "
                       "here (a fold; equilibria farther from the path are unstable)" + bound)
+    if ft.ended == "bounded":
+        # the bound's upper end is tracing's rigid-body proof: virtual work
+        # with every member annihilating rigid motions, which K(N) does not
+        ft.message += ("; that bound's upper end is the rigid body's limit on the undeformed "
+                       "frame (first order): its proof does not hold on the deformed one, "
+                       "where P-Δ lowers the limit")
     words = (f"second order (P-Δ and P-δ): the stiffness is built from the axial forces of the "
              f"path's last stable equilibrium (p = {p_last:.10g}), which they agree with to "
              f"{error:.1e} after {rounds} round(s); along the path the axial forces differ "

@@ -213,6 +213,9 @@ def test_a_second_order_path_that_stops_short_is_not_ok():
     else:
         assert tr.ended == "bounded" and not tr.ok, (tr.ended, tr.ok, tr.message)
         assert tr.bound[0] == pytest.approx(H_tip, rel=2e-5), tr.message
+        # its upper end, W b/(2h), is the undeformed frame's: said so
+        assert tr.bound[1] == pytest.approx(W * b / (2 * h), rel=1e-9)
+        assert "undeformed" in tr.message and "P-Δ lowers the limit" in tr.message
 
 
 # -- continuous beams: lift-off, a gap at its verge, a raised support ------------
