@@ -112,7 +112,8 @@ def raise_rigid_motion(frame, b, combo, before: str):
         return
     raise NoSolutionError(
         f"frame under {describe(combo)}: no equilibrium exists — {motion_words(frame, *motion, None)} "
-        f"(a rigid motion of the frame with its contacts released, in which the loads do "
+        f"(a motion of the frame with its contacts released that strains no member — rigid, "
+        f"or a mechanism of its hinges — in which the loads do "
         f"positive work while every contact opens or slides within its friction cone; "
         f"found by LP, checked to rounding; {before})")
 
@@ -143,6 +144,11 @@ def motion_words(frame, A, T, carrying) -> str:
                     + ", ".join(slide))
         whole = carrying is None or all(any(s.startswith(k + " ") for s in slide)
                                         for k in carrying)
+        if not moves_rigidly(frame, A, T, slide_or_stay=[ci for ci in range(nc)
+                                                         if keys[ci] not in lift]):
+            # a three-hinged frame on pads spreads: its feet slide apart
+            return ("it gives way as a mechanism, its parts moving apart (not as a rigid "
+                    "body): friction exhausted at " + ", ".join(slide))
         return (("the frame slides away as a rigid body: " if whole else "it slides: ")
                 + "friction exhausted at " + ", ".join(slide))
     if lift and not slide:
@@ -150,3 +156,42 @@ def motion_words(frame, A, T, carrying) -> str:
             return f"it tips over about {', '.join(stay)}: {', '.join(lift)} lift off"
         return "it lifts off: " + ", ".join(lift) + " would have to pull"
     return ("it lifts off at " + ", ".join(lift) + " and slides at " + ", ".join(slide))
+
+
+def moves_rigidly(frame, A, T, slide_or_stay) -> bool:
+    """Whether the tangential motions T of the contacts ``slide_or_stay``
+    (those that do not lift off), and no motion at all where one stays,
+    are those of one rigid motion of the whole frame: v(x) = t + θ × x,
+    whose component along a direction d at x is d·t + θ·(x × d) (in the
+    plane d_x t_x + d_y t_y + θ (x d_y − y d_x)) — least squares over the
+    3 (6) parameters, rigid where the misfit is rounding.  A pair
+    (``other=``) moves with the whole frame only where it does not slip.
+    The Farkas vector's motion is the frame's only up to its members'
+    deformation: two feet of a three-hinged frame sliding apart are not
+    a rigid body sliding away."""
+    nc = len(frame.contacts)
+    T = np.asarray(T, float).reshape(nc, -1)
+    rows, rhs = [], []
+    for ci in slide_or_stay:
+        c = frame.contacts[ci]
+        x = np.asarray(frame.nodes[c.node], float)
+        n = np.asarray(c.normal, float)
+        dirs = ([np.asarray(c.t1, float), np.asarray(c.t2, float)] if x.size == 3
+                else [np.array([n[1], -n[0]])])
+        still = A[ci] == 0.0 and not np.any(T[ci])
+        for k, d in enumerate(dirs[:T.shape[1]] + ([n] if still else [])):
+            if c.other is not None:
+                row = np.zeros(3 * x.size - 3)
+            elif x.size == 3:
+                row = np.concatenate([d, np.cross(x, d)])
+            else:
+                row = np.array([d[0], d[1], x[0] * d[1] - x[1] * d[0]])
+            rows.append(row)
+            rhs.append(T[ci, k] if k < T.shape[1] and k < len(dirs) else 0.0)
+    rhs = np.array(rhs, float)
+    scale = float(np.abs(rhs).max(initial=0.0))
+    if not rows or scale == 0.0:
+        return True
+    G = np.array(rows)
+    c, *_ = np.linalg.lstsq(G, rhs, rcond=None)
+    return bool(np.abs(G @ c - rhs).max() <= 1e-6 * scale)

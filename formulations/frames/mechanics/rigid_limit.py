@@ -282,6 +282,11 @@ def motion_words(frame, b, rays, phi, per_ray, c) -> dict:
     rays' works)."""
     Hd = sp.csc_matrix(b["H"])
     pos = contact_lcp.layout(b)
+    # a frictionless contact has no tangential link, but the motion slides
+    # along it all the same (a beam riding up a frictionless V-groove's
+    # faces translates along them: it does not tip over about them)
+    _, tangents, _ = frame.kind.release_directions(frame, b)
+    along = [np.asarray(t.T @ phi, float) for t in tangents]
     opening, sliding = [], []
     size = float(np.abs(phi).max(initial=0.0)) or 1.0
     for ci, ((links, _), ws) in enumerate(zip(rays, per_ray)):
@@ -291,6 +296,8 @@ def motion_words(frame, b, rays, phi, per_ray, c) -> dict:
         kinds = [k for k in ("t1", "t2") if k in pos[ci]]
         s = ([m[1 + kinds.index(k)] if k in kinds else 0.0 for k in ("t1", "t2")]
              if kinds else m[1:] + [0.0] * (2 - len(m[1:])))
+        if len(links) == 1:
+            s = [float(a[ci]) for a in along] + [0.0] * (2 - len(along))
         # a contact whose tightest ray does no work slides on its polygon
         # (or stays): its opening read as Coulomb's f|s| for the words
         tight = float(min(ws)) <= 1e-9 * size

@@ -36,6 +36,7 @@ import scipy.linalg as la
 from qpcontact.core.errors import InvalidOptionError
 
 from .second_order import clamped_buckling_t
+from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
 ROUNDS = 30
@@ -290,6 +291,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     # solve does, with the normals' hint
     start = frame.solve(accuracy=accuracy, combination=const, second_order=True)
     N = np.array([start.second_order["axial"][m] for m in frame.members], float)
+    N_start = N.copy()
     error, ft, unstable = np.inf, None, None
     for rounds in range(1, ROUNDS + 1):
         b = frame.build(axial=N)
@@ -316,11 +318,28 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if unstable is None and ft.limit is None and p_last > 0 and b["free"].size <= DENSE_DOFS:
         fold = fold_at_end(frame, b, ft, inside, p_last,
                            held_links(frame, b, ft.result_at(inside)))
+    # the stiffness is one for the whole path: where the variable loads
+    # raise the compression, the path cannot be unbounded, and an end
+    # past buckling makes every piece look unstable (a column under a
+    # growing vertical load was "unbounded", ok; traced to 1.1 P_cr it
+    # "stood up to p = 0")
+    grows = b["free"].size <= DENSE_DOFS and start.ok and (
+        (unstable is None and fold is None and ft.ended == "unbounded")
+        or (unstable == 0 and p_last <= 0.0))
+    buckle = buckling_along_path(frame, b, ft, N_start) if grows else None
     ft.second_order = {"rounds": rounds, "axial_error": error, "axial": dict(zip(frame.members, N)),
                        "path_axial_change": change,
                        "stable": None if b["free"].size > DENSE_DOFS else True}
     bound = f" (where the path itself ends, on the same stiffness: {ft.message})"
-    if unstable is not None:
+    if buckle is not None:
+        p_cr, what = buckle
+        ft.ended, ft.limit, ft.bound, ft.ok = "breakdown", None, None, False
+        ft.message = ("the variable loads raise the members' compression along the path, which "
+                      "one second-order stiffness for the whole path does not follow (it ended "
+                      f"at p = {p_last:.10g}{bound}); with the axial forces growing as along "
+                      f"the path {what} — solve(p, second_order=True) and its "
+                      "critical_load_factor below that load")
+    elif unstable is not None:
         changed = [ev for ev in ft.events if abs(ev.p - p_last) <= 1e-12 * max(abs(p_last), 1.0)]
         what = ("; ".join(f"{k}: {a} → {c}" for ev in changed for k, (a, c) in ev.changes.items())
                 or "the working scheme changes")
@@ -340,6 +359,12 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
                       f"opens {them} at a negative rate: that stiffness has a negative "
                       "eigenvalue) — no equilibrium continues the path beyond: it tips over "
                       "here (a fold; equilibria farther from the path are unstable)" + bound)
+    if ft.ended == "bounded":
+        # the bound's upper end is tracing's rigid-body proof: virtual work
+        # with every member annihilating rigid motions, which K(N) does not
+        ft.message += ("; that bound's upper end is the rigid body's limit on the undeformed "
+                       "frame (first order): its proof does not hold on the deformed one, "
+                       "where P-Δ lowers the limit")
     words = (f"second order (P-Δ and P-δ): the stiffness is built from the axial forces of the "
              f"path's last stable equilibrium (p = {p_last:.10g}), which they agree with to "
              f"{error:.1e} after {rounds} round(s); along the path the axial forces differ "
@@ -351,6 +376,47 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
         words += f" — NOT CONVERGED (asked {tol:.0e})"
     ft.message = f"{ft.message}; {words}"
     return ft
+
+
+def buckling_along_path(frame, b, ft, N_start):
+    """(p_cr, words) where compression grows with p along ``ft`` (traced on
+    ``b``): N(p) = N_start + p dN, N_start the constant loads' axial forces
+    and dN their growth per unit p read at a point of the last piece; p_cr
+    the smallest p at which the tangent stiffness K(N(p)), that piece's
+    contact states held, has a negative eigenvalue (bisection on the
+    count, as α_cr's).  None where no member's compression grows."""
+    lo, hi = ft.intervals[-1] if ft.intervals else (0.0, np.inf)
+    p_read = hi if np.isfinite(hi) and hi > 0 else lo + max(1.0, lo)
+    res = ft.result_at(p_read)
+    N_read, terms = axial_forces(b, res)
+    dN = (N_read - N_start) / p_read
+    rounding = 1e-9 * (np.abs(N_read) + terms) / p_read
+    if not np.any(dN < -rounding):
+        return None
+    held = restraint(b, held_links(frame, b, res))
+
+    def negatives(p):
+        return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=N_start + p * dN),
+                                                    b, held))
+
+    EI, L = bending(frame)
+    growing = dN < -rounding
+    own = (clamped_buckling_t() * EI[growing] / L[growing] ** 2 + N_start[growing]) / -dN[growing]
+    pole = float(own.min())
+    if negatives(0.0):
+        return 0.0, "the frame is unstable under the constant loads alone"
+    a, c = 0.0, min(p_read, 0.5 * pole)
+    while negatives(c) == 0:
+        if c >= pole * (1 - 1e-9):
+            worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
+            return pole, (f"no sway buckles it before member {worst} buckles on its own "
+                          f"(clamped at both ends) at p = {pole:.10g}")
+        a, c = c, min(2.0 * c, pole * (1 - 1e-9))
+    while c - a > ALPHA_RTOL * c:
+        mid = 0.5 * (a + c)
+        a, c = (mid, c) if negatives(mid) == 0 else (a, mid)
+    return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact states "
+               "held, turns singular there)")
 
 
 def first_unstable_piece(frame, b, ft):
@@ -415,9 +481,15 @@ def fold_at_end(frame, b, ft, inside, p_last, held):
 
     before, end = ft.result_at(inside), ft.result_at(p_last)
     keys = list(end.supports)
+    # a pad's force is linear in p along the last piece: where the path
+    # stopped a hair before it reaches zero (a degenerate vertex: the pad
+    # slipping at f N as N falls, its three reserves vanishing together),
+    # it falls to zero within BRACKET of p_last
+    rate = {k: (before.supports[k].normal - end.supports[k].normal) / max(p_last - inside, 1e-300)
+            for k in keys}
     falling = [k for k in keys
-               if end.supports[k].normal <= 1e-9 * max(abs(before.supports[k].normal), 1e-300)
-               and before.supports[k].normal > end.supports[k].normal]
+               if rate[k] > 0 and (end.supports[k].normal <= 1e-9 * before.supports[k].normal
+                                   or end.supports[k].normal / rate[k] <= BRACKET * abs(p_last))]
     if not falling:
         return None
     released = held.copy()

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from qpcontact import solve as solve_problem
-from qpcontact.core.errors import NoSolutionError, QpcontactError
+from qpcontact.core.errors import NoSolutionError, QpcontactError, SolverFailedError
 from qpcontact.core.problems import ParametricLCP
 from qpcontact.judge.lcp_certificate import certify_lcp
 
@@ -55,7 +55,7 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     try:
         tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
                            p_max=upto, time_limit=limit())
-    except NoSolutionError:
+    except (NoSolutionError, SolverFailedError):
         # Lemke's point at p = 0 doubted for its digits (a degenerate basis:
         # rigid pads under a frame that rests on four legs) may still be the
         # frame's equilibrium: judged on the mechanics, it starts the path
@@ -177,7 +177,9 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
                                    for p0, p1 in tr.gaps)
                        + " of p before each not traced)")
     ft.ended = ended
-    ft.ok = bool((tr.ok or ft.limit is not None) and failed is None)
+    # a bound is not a limit: the path stopped unproved inside it (a fold
+    # that the rigid body's bound then brackets was called ok)
+    ft.ok = bool((tr.ok or ft.limit is not None) and failed is None and ended != "bounded")
     ft.message += f"; {len(ft.events)} change(s) of the working scheme"
     return ft
 

@@ -72,7 +72,7 @@ import time
 import numpy as np
 
 from ...core.accuracy import resolve_accuracy
-from ...core.errors import InvalidOptionError, InvalidProblemError, NoSolutionError
+from ...core.errors import InvalidOptionError, InvalidProblemError, NoSolutionError, SolverFailedError
 from ...core.options import BySize, Option, names_only, read_options
 from ...core.problems import ParametricLCP
 from ...judge.doubt import doubt, no_digit
@@ -112,7 +112,9 @@ def _start(plcp: ParametricLCP, solve_lcp, given=None, tol=None):
     if sol.ok:
         return sol.z
     proved = sol.stats.get("proved_infeasible", False)
-    raise NoSolutionError(
+    # NoSolutionError only for what was proved: Lemke's secondary ray on a
+    # matrix that is not copositive-plus proves nothing
+    raise (NoSolutionError if proved else SolverFailedError)(
         "the constant load alone (p = 0) has no equilibrium"
         + (" (proved: " if proved else " that Lemke's method can find (")
         + f"{sol.message}); a load trace needs an equilibrium to start from"
@@ -149,7 +151,10 @@ def trace_load(plcp: ParametricLCP, solve_lcp, *, accuracy="high", p_max: float 
     Raises
     ------
     NoSolutionError
-        The constant load alone has no solution (nothing to start from).
+        The constant load alone has no solution (nothing to start from), proved.
+    SolverFailedError
+        Lemke's method found no solution under the constant load alone and
+        proved none impossible.
     """
     if not isinstance(plcp, ParametricLCP):
         raise InvalidProblemError(f"'trace' takes a ParametricLCP; got {type(plcp).__name__}")
