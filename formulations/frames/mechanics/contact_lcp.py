@@ -369,8 +369,10 @@ def contact_stiffness(b) -> dict:
     U = b["U"]
     rhs[:nf, nl:] = free_loads(b, b["F"], U)
     rhs[nf:, nl:] = -kappa * settled_links(b, U)
-    if contrast(b) > CONTRAST:
-        sol = refined_columns(b, rhs, b["lu"].solve(rhs))[nf:]
+    refined = contrast(b) > CONTRAST
+    if refined:
+        sol, last = refined_columns(b, rhs, b["lu"].solve(rhs))
+        sol = sol[nf:]
     else:
         sol = b["lu"].link_rows(rhs, nl)
     R = -kappa * sol[:, :nl]
@@ -383,7 +385,18 @@ def contact_stiffness(b) -> dict:
     # trace's collapse proof (a Farkas vector, M'y <= 0 column by column)
     # and the support states would read as data.
     exact = R.copy()
-    R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
+    if refined:
+        # refined in extended precision, an entry is known to about its
+        # column's size times eps, or the last correction where that is
+        # larger — not to eps kappa: with a deck 1e12 times stiffer than
+        # its columns, kappa eps (R_ROUNDING kappa = 101 kN/m) is above the
+        # frame's sway stiffness (48 kN/m), which zeroing as noise left
+        # M = 0 and a "proof" that no equilibrium exists where one does
+        noise = np.maximum(R_ROUNDING * np.abs(R).max(axis=0, initial=0.0),
+                           kappa * last[:nl])
+        R[np.abs(R) <= np.maximum(noise[:, None], noise[None, :])] = 0.0
+    else:
+        R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
     # the same for the loads' link forces, against each case's own loads
     # (and the forces its settlements make): a link that a case does not
     # load (a pad under a frame whose bilateral supports carry the push)
@@ -403,12 +416,16 @@ CONTRAST = 1e6
 def refined_columns(b, rhs, sol, steps=2, chunk=256):
     """Solutions of the basic system S x = rhs (columns) refined by
     ``steps`` steps with the residual in extended precision (K's part
-    member by member: :func:`.member_forces.stiffness_times`)."""
+    member by member: :func:`.member_forces.stiffness_times`), and each
+    column's last correction on the link rows, max |dx[nf:]|: what is left
+    of their error is at most about that (the corrections shrink by about
+    cond(S) eps a step where the refinement converges)."""
     nf, free, kappa = b["nf"], b["free"], b["kappa"]
     N = b["K"].shape[0]
     Hf = b["Hf"].astype(EXTENDED)
     flex = np.asarray(b["flex"], EXTENDED)[:, None]
     out = np.empty_like(sol)
+    last = np.zeros(rhs.shape[1])
     for at in range(0, rhs.shape[1], chunk):
         cols = slice(at, min(at + chunk, rhs.shape[1]))
         x = np.asarray(sol[:, cols], EXTENDED)
@@ -418,9 +435,11 @@ def refined_columns(b, rhs, sol, steps=2, chunk=256):
             U[free] = x[:nf]
             top = stiffness_times(b, U)[free] + Hf @ x[nf:]
             bottom = Hf.T @ x[:nf] - kappa ** 2 * flex * x[nf:]
-            x += b["lu"].solve(np.asarray(r_ - np.vstack([top, bottom]), float))
+            dx = b["lu"].solve(np.asarray(r_ - np.vstack([top, bottom]), float))
+            x += dx
+            last[cols] = np.abs(dx[nf:]).max(axis=0, initial=0.0)
         out[:, cols] = np.asarray(x, float)
-    return out
+    return out, last
 
 
 def factors(b, combo: dict) -> np.ndarray:

@@ -530,3 +530,36 @@ def test_a_beam_on_a_slope_sticks_or_slides_up_by_hand(f):
     ref = W * (s + f * c) / (c - f * s)
     assert tr.ok and tr.ended == "collapse", tr.message
     assert tr.limit[0] <= ref * (1 + 1e-12) and ref <= tr.limit[1] * (1 + 1e-12)
+
+
+# -- a deck 1e12 times stiffer than its columns ----------------------------------
+
+@pytest.mark.parametrize("deck", [1e4, 1e6, 3e6])
+def test_a_portal_with_a_rigid_deck_slides_and_tips_by_hand(deck):
+    """The portal on two rigid pads (pinned feet, f 0.9) with its deck's E
+    and I both ``deck`` times the columns' (EI contrast deck²): moments
+    about the leeward foot give N_A = W/2 − p h/b, and it tips at
+    W b/(2h).  At deck 1e6 the contact stiffness R, refined in extended
+    precision, had its entries zeroed below eps·κ (κ: the deck's axial
+    stiffness, 1.8e15 kN/m), which is above the frame's sway stiffness
+    (48 kN/m): M was zero and "no equilibrium exists" was "proved" at
+    p = 30, below the limit 35.52."""
+    W, h, b, f = 118.4, 5.0, 3.0, 0.9
+    fr = Frame()
+    for n, x, y in (("A", 0, 0), ("B", 0, h), ("C", b, h), ("D", b, 0)):
+        fr.add_node(n, x, y)
+    fr.add_member("A", "B", E, 10 * A, I)
+    fr.add_member("B", "C", deck * E, 10 * A, deck * I)
+    fr.add_member("D", "C", E, 10 * A, I)
+    fr.add_contact("A", friction=f)
+    fr.add_contact("D", friction=f)
+    fr.add_load("B", fy=-W / 2)
+    fr.add_load("C", fy=-W / 2)
+    fr.add_load("B", fx=1.0, case="variable")
+    limit = W * b / (2 * h)
+    for p in (20.0, 30.0, 0.999 * limit):
+        res = fr.solve(p=p)
+        assert res.ok, res.message
+        assert res.supports["A"].normal == pytest.approx(W / 2 - p * h / b, abs=1e-9 * W)
+    with pytest.raises(NoSolutionError, match="tips over about D"):
+        fr.solve(p=1.001 * limit)
