@@ -97,9 +97,10 @@ def _raft_floor(raft, result):
     floor the smaller system of a raft held everywhere).  The first is the
     factorisation a Newton step makes (formulations/plates/newton.py:
     SuperLU in the mesh's nested-dissection order, its matrix's values
-    set); the second the same system by qdldl under its own AMD, the
-    factorisation of the rows published before 2026-12-06's 10⁶ row, up to
-    QDLDL_FLOOR_MAX dofs."""
+    set; below newton.SUPERNODAL_DOFS qdldl under its AMD, as before); the
+    second the same system by qdldl under its own AMD, the factorisation of
+    the rows published before 2026-12-06's 10⁶ row, up to QDLDL_FLOOR_MAX
+    dofs."""
     import numpy as np
     import qdldl
     import scipy.sparse as sp
@@ -107,7 +108,11 @@ def _raft_floor(raft, result):
     b = raft.build()
     qp = b["qp"]
     contact = result.contact
-    qp.newton.solver = qp.newton.factored = None     # the solve's last LDLᵀ freed: the peak is the solve's
+    # the solve's last LDLᵀ freed (the peak is the solve's) and qdldl's kept
+    # analysis too: below newton.SUPERNODAL_DOFS the floor is a fresh qdldl
+    # LDLᵀ, its AMD included, as before; above, SuperLU in the order made once
+    # per raft (the order itself not timed: 1–2 s at 1e6 dofs)
+    qp.newton.solver = qp.newton.factored = qp.newton.analysis = None
     t = time.perf_counter()
     qp.newton.factor(contact[qp.soil], contact[qp.floor])
     floor = time.perf_counter() - t
@@ -148,7 +153,9 @@ def raft_job(size, method, queue):
         status = f"certified ({r.method})" if r.ok else r.message
         status += f"; CPU {cpu:.3g} s"
         if r.ok:
-            status += (f"; floor {floor:.3g} s (SuperLU, nested dissection), qdldl+AMD "
+            how = "SuperLU, nested dissection" if raft.build()["qp"].newton.supernodal \
+                else "qdldl+AMD"
+            status += (f"; floor {floor:.3g} s ({how}), qdldl+AMD "
                        + ("not measured" if qdldl_floor is None else f"{qdldl_floor:.3g} s"))
         row.update(time=wall, method_time=r.wall_time, ok=r.ok, status=status, error=r.error,
                    ldlt=floor)

@@ -63,6 +63,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import scipy.sparse as sp
 
 from .ordering import dof_order
 
@@ -80,14 +81,22 @@ BORDER_MAX = 32
 #: the border's matrix with a larger condition number sends the step to a
 #: refactorisation
 BORDER_RCOND = 1e-10
+#: from this many dofs on a step is SuperLU in the mesh's nested-dissection
+#: order, below it qdldl under its own AMD refactorised on its kept analysis
+#: (CPU, one factorisation of the windward raft: 10 092 dofs 34 against
+#: 33 ms, a solve 2.0 against 0.9 ms; 19 683 dofs 78 against 95 ms; 100 467
+#: dofs 0.66 against 2.5–3.0 s)
+SUPERNODAL_DOFS = 15_000
 
 
 class SupportSystem:
-    """K on the dofs no bilateral support holds, in nested-dissection order
-    (:mod:`.ordering`, made once per raft from the mesh's coordinates),
-    with the soil nodes' w diagonals located, and the last sparse LDLᵀ of
-    it with springs (SuperLU, supernodal, in that order: LU with diagonal
-    pivots on a symmetric matrix, U = D Lᵀ)."""
+    """K on the dofs no bilateral support holds, with the soil nodes' w
+    diagonals located, and the last sparse LDLᵀ of it with springs: from
+    ``SUPERNODAL_DOFS`` dofs on SuperLU (supernodal: LU with diagonal
+    pivots on a symmetric matrix, U = D Lᵀ) in the mesh's nested-dissection
+    order (:mod:`.ordering`, made once per raft from the node coordinates),
+    below it qdldl under its own AMD, refactorised numerically on the
+    analysis it keeps."""
 
     def __init__(self, qp, points):
         n = qp.K.shape[0]
@@ -100,21 +109,28 @@ class SupportSystem:
         self.soil_w, self.floor_w = at[3 * qp.soil], at[3 * qp.floor]
         self.k = qp.ks[qp.soil]
         K = qp.K.tocsc()[self.dofs][:, self.dofs]
-        self.K = K.tocsr()
-        #: the factorisation's order: position p of the ordered system is dof order[p]
-        self.order = dof_order(K, self.dofs // 3, points)
+        self.K = K                                  # (CSC: K u per step, as fast as CSR)
+        self.supernodal = self.dofs.size >= SUPERNODAL_DOFS
+        #: the factorised matrix's order: its position p is dof order[p]
+        #: (qdldl reads the upper triangle as it is and orders it itself)
+        if self.supernodal:
+            self.order = dof_order(K, self.dofs // 3, points)
+            matrix = K[self.order][:, self.order].tocsc()
+        else:
+            self.order = np.arange(self.dofs.size)
+            matrix = sp.triu(K, format="csc")
+        matrix.sort_indices()
         self.rank = np.empty_like(self.order)
         self.rank[self.order] = np.arange(self.order.size)
-        ordered = K[self.order][:, self.order].tocsc()
-        ordered.sort_indices()
-        cols = np.repeat(np.arange(ordered.shape[1]), np.diff(ordered.indptr))
-        diagonal = np.full(ordered.shape[1], -1)
-        on = np.flatnonzero(ordered.indices == cols)
+        cols = np.repeat(np.arange(matrix.shape[1]), np.diff(matrix.indptr))
+        diagonal = np.full(matrix.shape[1], -1)
+        on = np.flatnonzero(matrix.indices == cols)
         diagonal[cols[on]] = on
         self.soil_diag = diagonal[self.rank[self.soil_w]]     # where the springs go in its data
         if np.any(self.soil_diag < 0):
             raise ValueError("a soil node's w has no diagonal entry in K")
-        self.ordered, self.base = ordered, ordered.data.copy()
+        self.matrix, self.base = matrix, matrix.data.copy()
+        self.analysis = None                        # qdldl's, of the whole matrix
         self.solver, self.factored = None, None     # the last LDLᵀ without floor dofs held, its springs
 
     def factorize(self, soil_pressing, floor_held):
@@ -122,8 +138,8 @@ class SupportSystem:
         with the held floor dofs at zero.  Where no floor dof is held: from
         the last LDLᵀ with the springs that changed since as a border
         (:meth:`_bordered`), or a fresh one; where some are, an LDLᵀ of the
-        block without them, in the same order.  A singular matrix raises
-        RuntimeError."""
+        block without them.  A zero pivot raises RuntimeError or
+        ValueError (SuperLU, qdldl)."""
         if floor_held.any():
             return self.factor(soil_pressing, floor_held)
         bordered = self._bordered(soil_pressing)
@@ -138,14 +154,25 @@ class SupportSystem:
         """A fresh LDLᵀ of (K + the pressing soil nodes' springs) without
         the held floor dofs, as a solve (one step's factorisation: what
         ``benchmarks/scale.py`` times as the floor)."""
-        self.ordered.data = self.base.copy()
-        self.ordered.data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
-        if not floor_held.any():
-            return _ldlt(self.ordered, self.order)
-        keep = np.ones(self.dofs.size, bool)
-        keep[self.rank[self.floor_w[floor_held]]] = False
-        kept = np.flatnonzero(keep)
-        return _ldlt(self.ordered[kept][:, kept], self.order[kept])
+        import qdldl
+
+        self.matrix.data = self.base.copy()
+        self.matrix.data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
+        matrix, dofs = self.matrix, self.order
+        if floor_held.any():
+            keep = np.ones(self.dofs.size, bool)
+            keep[self.rank[self.floor_w[floor_held]]] = False
+            kept = np.flatnonzero(keep)
+            matrix, dofs = matrix[kept][:, kept], dofs[kept]
+        if self.supernodal:
+            return _superlu(matrix, dofs)
+        if floor_held.any():        # the block's own AMD (the held rows carry fill it has not)
+            return _on(dofs, qdldl.Solver(matrix, upper=True).solve)
+        if self.analysis is None:
+            self.analysis = qdldl.Solver(matrix, upper=True)
+        else:
+            self.analysis.update(matrix, upper=True)
+        return _on(dofs, self.analysis.solve)
 
     def _bordered(self, soil_pressing):
         """The solve for springs that differ from the last factorised ones
@@ -185,20 +212,35 @@ class SupportSystem:
         return solve
 
 
-def _ldlt(ordered, dofs):
+def _on(dofs, solve):
+    """rhs ↦ u, zero outside ``dofs``, u[dofs] = solve(rhs[dofs]); rhs (n,)
+    or (n, m), the m columns one by one (qdldl solves one)."""
+    def on(rhs):
+        rhs = np.asarray(rhs, float)
+        u = np.zeros(rhs.shape)
+        part = rhs[dofs]
+        u[dofs] = solve(part) if part.ndim == 1 else np.column_stack(
+            [solve(np.ascontiguousarray(c)) for c in part.T])
+        return u
+
+    return on
+
+
+def _superlu(ordered, dofs):
     """rhs ↦ u, zero outside ``dofs``, where ``ordered`` u[dofs] = rhs[dofs]
-    (``ordered``: the matrix on ``dofs`` in that order; rhs (n,) or (n, m)):
-    SuperLU's supernodal LU in the given order (``NATURAL``: no ordering of
-    its own) with diagonal pivots (symmetric mode: U = D Lᵀ, an LDLᵀ).
-    Its ``relax`` and ``panel_size`` are left at SuperLU's own: other
-    values were measured 0–25 % faster and corrupted the heap twice."""
+    (``ordered``: the matrix on ``dofs`` in that order; rhs (n,) or (n, m),
+    the m columns in one solve): SuperLU's supernodal LU in the given order
+    (``NATURAL``: no ordering of its own) with diagonal pivots (symmetric
+    mode: U = D Lᵀ, an LDLᵀ).  Its ``relax`` and ``panel_size`` are left at
+    SuperLU's own: other values were measured 0–25 % faster and corrupted
+    the heap twice."""
     import scipy.sparse.linalg as spla
 
     lu = spla.splu(ordered, permc_spec="NATURAL", diag_pivot_thresh=0.0,
                    options={"SymmetricMode": True})
 
     def solve(rhs):
-        u = np.zeros(rhs.shape)
+        u = np.zeros(np.shape(rhs))
         u[dofs] = lu.solve(np.asarray(rhs, float)[dofs])
         return u
 
@@ -225,8 +267,8 @@ def solve_supports(qp, nodes, f, deadline=None, guess=None):
     for step in range(1, MAX_STEPS + 1):
         try:
             u = system.factorize(soil, floor)(load)
-        except RuntimeError:         # a zero pivot: the pressing nodes leave a rigid motion
-            return None
+        except (RuntimeError, ValueError):      # a zero pivot: the pressing nodes leave a
+            return None                          # rigid motion free
         if not np.all(np.isfinite(u)):
             return None
         w_soil, w_floor = u[system.soil_w], u[system.floor_w]

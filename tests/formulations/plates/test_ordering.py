@@ -49,7 +49,9 @@ def _dense_fill(A, order):
     return int(np.count_nonzero(np.abs(L) > 1e-14 * np.abs(np.diag(L))[None, :]))
 
 
-def test_the_order_is_a_permutation():
+def test_the_order_is_a_permutation(monkeypatch):
+    import formulations.plates.newton as newton_module
+
     for nx, ny in [(1, 1), (7, 3), (40, 25)]:
         graph, points = _grid_graph(nx, ny)
         order = nested_dissection(points, graph)
@@ -57,6 +59,10 @@ def test_the_order_is_a_permutation():
     raft = _opening_raft()
     b = raft.build()
     system = SupportSystem(b["qp"], b["mesh"].nodes)
+    assert not system.supernodal        # too small: qdldl orders it itself
+    monkeypatch.setattr(newton_module, "SUPERNODAL_DOFS", 0)
+    system = SupportSystem(b["qp"], b["mesh"].nodes)
+    assert system.supernodal
     assert np.array_equal(np.sort(system.order), np.arange(system.dofs.size))
     nodes_in_order = system.dofs[system.order] // 3      # each node's dofs together
     assert np.unique(nodes_in_order).size == np.count_nonzero(np.diff(nodes_in_order)) + 1
@@ -95,14 +101,20 @@ def test_fill_far_below_a_banded_order():
 
 
 @pytest.mark.parametrize("held", [False, True])
-def test_a_step_equals_spsolve(held):
-    """One Newton step's solve (the LDLᵀ in nested-dissection order, floor
-    dofs held or not) against SciPy's spsolve (SuperLU's own ordering) of
-    the same system built here from K, the springs and the held dofs."""
+@pytest.mark.parametrize("supernodal", [False, True])
+def test_a_step_equals_spsolve(held, supernodal, monkeypatch):
+    """One Newton step's solve (SuperLU in nested-dissection order, or
+    qdldl under its AMD; floor dofs held or not) against SciPy's spsolve
+    (SuperLU's own ordering) of the same system built here from K, the
+    springs and the held dofs."""
+    import formulations.plates.newton as newton_module
+
+    monkeypatch.setattr(newton_module, "SUPERNODAL_DOFS", 0 if supernodal else 10 ** 9)
     raft = _opening_raft()
     b = raft.build()
     qp = b["qp"]
     system = SupportSystem(qp, b["mesh"].nodes)
+    assert system.supernodal == supernodal
     rng = np.random.default_rng(3)
     pressing = rng.random(qp.soil.size) < 0.7
     floor_held = (rng.random(qp.floor.size) < 0.5) if held else np.zeros(qp.floor.size, bool)
