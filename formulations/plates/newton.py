@@ -38,15 +38,16 @@ free one above the floor, up to rounding: the optimality conditions, which
 called solved.
 
 On soil every step's matrix has one pattern, K's, whose diagonal the
-springs change, so one fill-reducing order — nested dissection of the
-mesh (:mod:`.ordering`) — serves every step and every combination of the
-raft, and a step is a supernodal LDLᵀ in that order — or, where its
-springs differ from the last factorised ones at few nodes, that
-factorisation with the changed springs as a border; with floor nodes
-held, a step factors the block of the dofs that are not held (w_i = 0
-exactly), in the same order.  (Until 2026-12-06 a step was qdldl's
-up-looking LDLᵀ under its own AMD: 2.5 s against 0.7 s at 1e5 dofs, and
-not done in minutes at 1e6; docs/dev-notes.md, "The 10⁶-dof raft".)  Started
+springs change, so one fill-reducing order serves every step and every
+combination of the raft: from ``SUPERNODAL_DOFS`` on, nested dissection
+of the mesh (:mod:`.ordering`), each step a supernodal LDLᵀ in that order
+(SuperLU); below it qdldl's AMD, each step a numeric refactorisation on
+qdldl's kept analysis.  Where a step's springs differ from the last
+factorised ones at few nodes, it is that factorisation with the changed
+springs as a border; with floor nodes held, a step factors the block of
+the dofs that are not held (w_i = 0 exactly).  (Until 2026-12-06 every
+step was qdldl's: 2.5–3.0 s against 0.66 s at 1e5 dofs, and not done in
+minutes at 1e6; docs/dev-notes.md, "The 10⁶-dof raft".)  Started
 from every node pressing, rafts whose windward strip or corner lifts took
 2–11 steps at 1 300–26 000 dofs (docs/plates.md).
 
