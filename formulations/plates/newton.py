@@ -153,8 +153,8 @@ class SupportSystem:
 
     def factor(self, soil_pressing, floor_held):
         """A fresh LDLᵀ of (K + the pressing soil nodes' springs) without
-        the held floor dofs, as a solve (one step's factorisation: what
-        ``benchmarks/scale.py`` times as the floor)."""
+        the held floor dofs, a :class:`Factorisation` (one step's
+        factorisation: what ``benchmarks/scale.py`` times as the floor)."""
         import qdldl
 
         self.matrix.data = self.base.copy()
@@ -168,12 +168,12 @@ class SupportSystem:
         if self.supernodal:
             return _superlu(matrix, dofs)
         if floor_held.any():        # the block's own AMD (the held rows carry fill it has not)
-            return _on(dofs, qdldl.Solver(matrix, upper=True).solve)
+            return Factorisation(dofs, qdldl=qdldl.Solver(matrix, upper=True))
         if self.analysis is None:
             self.analysis = qdldl.Solver(matrix, upper=True)
         else:
             self.analysis.update(matrix, upper=True)
-        return _on(dofs, self.analysis.solve)
+        return Factorisation(dofs, qdldl=self.analysis)
 
     def _bordered(self, soil_pressing):
         """The solve for springs that differ from the last factorised ones
@@ -213,25 +213,41 @@ class SupportSystem:
         return solve
 
 
-def _on(dofs, solve):
-    """rhs ↦ u, zero outside ``dofs``, u[dofs] = solve(rhs[dofs]); rhs (n,)
-    or (n, m), the m columns one by one (qdldl solves one)."""
-    def on(rhs):
+class Factorisation:
+    """One LDLᵀ of a step's matrix on ``dofs`` (its rows and columns, in
+    the matrix's order) as a solve, rhs ↦ u zero outside ``dofs`` (rhs
+    (n,) or (n, m)), and the factor itself, for a border built on it:
+
+    * ``lu``: SuperLU's, in the order ``dofs`` (``NATURAL``: no order of
+      its own), diagonal pivots in symmetric mode — ``perm_r`` and
+      ``perm_c`` the identity (checked: anything else raises as a zero
+      pivot does), ``lu.L`` unit lower triangular, ``lu.U`` = D Lᵀ with
+      D = diag(``lu.U``); or
+    * ``qdldl``: qdldl's Solver of the matrix on ``dofs`` in that order
+      (``factors()``: its L, d and its own AMD order p; below
+      ``SUPERNODAL_DOFS``; the kept analysis is refactorised in place by
+      the next step's update)."""
+
+    def __init__(self, dofs, lu=None, qdldl=None):
+        self.dofs, self.lu, self.qdldl = dofs, lu, qdldl
+
+    def __call__(self, rhs):
         rhs = np.asarray(rhs, float)
         u = np.zeros(rhs.shape)
-        part = rhs[dofs]
-        u[dofs] = solve(part) if part.ndim == 1 else np.column_stack(
-            [solve(np.ascontiguousarray(c)) for c in part.T])
+        part = rhs[self.dofs]
+        if self.lu is not None:                 # m columns: one solve
+            u[self.dofs] = self.lu.solve(part)
+        elif part.ndim == 1:
+            u[self.dofs] = self.qdldl.solve(part)
+        else:                                   # qdldl solves one column at a time
+            u[self.dofs] = np.column_stack([self.qdldl.solve(np.ascontiguousarray(c))
+                                            for c in part.T])
         return u
-
-    return on
 
 
 def _superlu(ordered, dofs):
-    """rhs ↦ u, zero outside ``dofs``, where ``ordered`` u[dofs] = rhs[dofs]
-    (``ordered``: the matrix on ``dofs`` in that order; rhs (n,) or (n, m),
-    the m columns in one solve): SuperLU's supernodal LU in the given order
-    (``NATURAL``: no ordering of its own) with diagonal pivots (symmetric
+    """The :class:`Factorisation` of ``ordered`` (the matrix on ``dofs`` in
+    that order) by SuperLU's supernodal LU with diagonal pivots (symmetric
     mode: U = D Lᵀ, an LDLᵀ).  Its ``relax`` and ``panel_size`` are left at
     SuperLU's own: other values were measured 0–25 % faster and corrupted
     the heap twice."""
@@ -239,13 +255,11 @@ def _superlu(ordered, dofs):
 
     lu = spla.splu(ordered, permc_spec="NATURAL", diag_pivot_thresh=0.0,
                    options={"SymmetricMode": True})
-
-    def solve(rhs):
-        u = np.zeros(np.shape(rhs))
-        u[dofs] = lu.solve(np.asarray(rhs, float)[dofs])
-        return u
-
-    return solve
+    identity = np.arange(ordered.shape[0])
+    if not (np.array_equal(lu.perm_r, identity) and np.array_equal(lu.perm_c, identity)):
+        # a zero diagonal pivot made SuperLU pivot off the diagonal: not an LDLᵀ
+        raise RuntimeError("a zero pivot: the matrix is not positive definite")
+    return Factorisation(dofs, lu=lu)
 
 
 def solve_supports(qp, nodes, f, deadline=None, guess=None):

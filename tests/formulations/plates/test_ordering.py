@@ -141,3 +141,34 @@ def test_dof_order_groups_a_nodes_dofs():
     order = dof_order(K, node_of, points)
     assert np.array_equal(np.sort(order), np.arange(K.shape[0]))
     assert np.all(node_of[order].reshape(-1, 3) == node_of[order][::3, None])
+
+
+def test_the_supernodal_factor_is_an_ldlt_in_the_order(monkeypatch):
+    """What a border built on a step's factor reads (newton.Factorisation):
+    SuperLU in the given order with diagonal pivots — perm_r and perm_c the
+    identity, U = D Lᵀ with L unit lower triangular — and L D Lᵀ is the
+    step's matrix in that order (floor dofs held or not)."""
+    import formulations.plates.newton as newton_module
+
+    monkeypatch.setattr(newton_module, "SUPERNODAL_DOFS", 0)
+    raft = _opening_raft()
+    b = raft.build()
+    qp = b["qp"]
+    system = SupportSystem(qp, b["mesh"].nodes)
+    rng = np.random.default_rng(5)
+    pressing = rng.random(qp.soil.size) < 0.7
+    for held in (np.zeros(qp.floor.size, bool), rng.random(qp.floor.size) < 0.5):
+        factor = system.factor(pressing, held)
+        lu, dofs = factor.lu, factor.dofs
+        identity = np.arange(dofs.size)
+        assert np.array_equal(lu.perm_r, identity) and np.array_equal(lu.perm_c, identity)
+        L, U = lu.L.tocsc(), lu.U.tocsc()
+        assert np.all(L.diagonal() == 1.0) and sp.triu(L, 1).nnz == 0
+        d = U.diagonal()
+        assert np.all(d > 0)
+        assert abs(U - sp.diags(d) @ L.T).max() <= 1e-12 * abs(U).max()
+        # L D Lᵀ is K + the pressing springs on dofs, in the order dofs
+        A = (system.K + sp.diags(np.bincount(system.soil_w, np.where(pressing, system.k, 0.0),
+                                             system.dofs.size))).tocsc()[dofs][:, dofs]
+        assert abs(L @ sp.diags(d) @ L.T - A).max() <= 1e-10 * abs(A).max()
+        assert np.setdiff1d(np.arange(system.dofs.size), dofs).size == held.sum()
