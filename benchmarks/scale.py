@@ -89,8 +89,8 @@ QDLDL_FLOOR_MAX = 300_000
 
 
 def _raft_floor(raft, result):
-    """(seconds, qdldl's seconds or None) for one LDLᵀ of the answer's own
-    linear system: the stiffness on the dofs no bilateral support holds,
+    """(seconds, CPU seconds, qdldl's seconds or None) for one LDLᵀ of the
+    answer's own linear system: the stiffness on the dofs no bilateral support holds,
     plus the springs of the soil nodes in contact, less the w of the floor
     nodes held (a lifted floor node's w is an unknown of that system:
     ``qp.free`` leaves every floor node's w out, which made a floor raft's
@@ -113,12 +113,12 @@ def _raft_floor(raft, result):
     # LDLᵀ, its AMD included, as before; above, SuperLU in the order made once
     # per raft (the order itself not timed: 1–2 s at 1e6 dofs)
     qp.newton.solver = qp.newton.factored = qp.newton.analysis = None
-    t = time.perf_counter()
+    t, cpu = time.perf_counter(), time.process_time()
     qp.newton.factor(contact[qp.soil], contact[qp.floor])
-    floor = time.perf_counter() - t
+    floor, floor_cpu = time.perf_counter() - t, time.process_time() - cpu
     n = qp.K.shape[0]
     if n - qp.fixed.size > QDLDL_FLOOR_MAX:
-        return floor, None
+        return floor, floor_cpu, None
     springs = np.zeros(n)
     pressing = contact & np.isfinite(b["ks"])
     springs[3 * np.flatnonzero(pressing)] = b["ks"][pressing]
@@ -129,7 +129,7 @@ def _raft_floor(raft, result):
     A = (qp.K + sp.diags(springs)).tocsc()[idx][:, idx]
     t = time.perf_counter()
     qdldl.Solver(sp.triu(A, format="csc"), upper=True)
-    return floor, time.perf_counter() - t
+    return floor, floor_cpu, time.perf_counter() - t
 
 
 def raft_job(size, method, queue):
@@ -149,13 +149,13 @@ def raft_job(size, method, queue):
     if method == "qpcontact":
         r = raft.solve()
         wall, cpu = time.perf_counter() - t, time.process_time() - cpu
-        floor, qdldl_floor = _raft_floor(raft, r) if r.ok else (None, None)
+        floor, floor_cpu, qdldl_floor = _raft_floor(raft, r) if r.ok else (None, None, None)
         status = f"certified ({r.method})" if r.ok else r.message
         status += f"; CPU {cpu:.3g} s"
         if r.ok:
             how = "SuperLU, nested dissection" if raft.build()["qp"].newton.supernodal \
                 else "qdldl+AMD"
-            status += (f"; floor {floor:.3g} s ({how}), qdldl+AMD "
+            status += (f"; floor {floor:.3g} s, CPU {floor_cpu:.3g} s ({how}), qdldl+AMD "
                        + ("not measured" if qdldl_floor is None else f"{qdldl_floor:.3g} s"))
         row.update(time=wall, method_time=r.wall_time, ok=r.ok, status=status, error=r.error,
                    ldlt=floor)
