@@ -84,7 +84,7 @@ def raft_model(cells: int):
 
 #: the raft's qdldl floor (its own AMD ordering: the factorisation Newton's
 #: steps used before the nested-dissection order) is measured up to this
-#: many dofs (2.5e5: 11 s CPU; 1e6 did not end in minutes)
+#: many dofs (2.5e5: 11 s CPU; 1e6: 186.5 s CPU and 4.6 GB, longer than the solve)
 QDLDL_FLOOR_MAX = 300_000
 
 
