@@ -132,7 +132,7 @@ class SupportSystem:
             raise ValueError("a soil node's w has no diagonal entry in K")
         self.matrix, self.base = matrix, matrix.data.copy()
         self.analysis = None                        # qdldl's, of the whole matrix
-        self.solver, self.factored = None, None     # the last LDLᵀ without floor dofs held, its springs
+        self.solver, self.factored = None, None     # the last whole LDLᵀ, its springs
 
     def factorize(self, soil_pressing, floor_held):
         """u ↦ the solution of (K + the pressing soil nodes' springs) u = rhs
