@@ -62,18 +62,13 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from .border import FactoredBlock
+
 #: a node changes state only beyond this fraction of the largest |w| (or
 #: floor reaction) on the other side: rounding of the solve, not a lift
 FLIP = 1e-13
 #: Newton steps before the pinned QP answers
 MAX_STEPS = 60
-#: a step whose springs differ from the last factorised ones at up to this
-#: many nodes is solved by that LDLᵀ and a border (a solve costs about 1/35
-#: of a factorisation here, a border of m nodes m + 2 solves)
-BORDER_MAX = 32
-#: the border's matrix with a larger condition number sends the step to a
-#: refactorisation
-BORDER_RCOND = 1e-10
 
 
 class SupportSystem:
@@ -100,82 +95,42 @@ class SupportSystem:
             raise ValueError("a soil node's w has no diagonal entry in K")
         self.upper, self.base = upper, upper.data.copy()
         self.soil_diag = last[self.soil_w]
-        self.solver, self.factored = None, None     # the LDLᵀ of K's pattern, its springs
+        self.solver = None                          # the LDLᵀ of K's pattern (qdldl)
+        self.soil_block = None                      # it with its springs (.border), and
+        self.floor_block = None                     # the last LDLᵀ of a block with floor dofs held
 
     def factorize(self, soil_pressing, floor_held):
         """u ↦ the solution of (K + the pressing soil nodes' springs) u = rhs
-        with the held floor dofs at zero.  Where no floor dof is held: from
-        the last LDLᵀ of K's pattern with the springs that changed since as
-        a border (:meth:`_bordered`), or a numeric refactorisation (the
-        symbolic analysis kept); where some are, a fresh LDLᵀ of the block
-        without them (their rows carry fill that the block does not: 55
-        against 19 ms on a 57 x 57 floor raft)."""
+        with the held floor dofs at zero: from the last LDLᵀ with what
+        changed since as a border (:class:`.border.FactoredBlock`), else
+        factorised.  Where no floor dof is held, K's pattern is factorised
+        (numerically: the symbolic analysis kept); where some are, the block
+        without them afresh (their rows carry fill that the block does not:
+        55 against 19 ms on a 57 x 57 floor raft)."""
         import qdldl
 
-        if not floor_held.any():
-            bordered = self._bordered(soil_pressing)
-            if bordered is not None:
-                return bordered
+        springs = np.zeros(self.dofs.size)
+        springs[self.soil_w] = np.where(soil_pressing, self.k, 0.0)
+        keep = np.ones(self.dofs.size, bool)
+        keep[self.floor_w[floor_held]] = False
+        last = self.floor_block if floor_held.any() else self.soil_block
+        if last is not None:
+            solve = last.near(keep, springs)
+            if solve is not None:
+                return solve
         self.upper.data = self.base.copy()
-        self.upper.data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
+        self.upper.data[self.soil_diag] += springs[self.soil_w]
         if not floor_held.any():
             if self.solver is None:
                 self.solver = qdldl.Solver(self.upper, upper=True)
             else:
                 self.solver.update(self.upper, upper=True)
-            self.factored = soil_pressing.copy()
-            return self.solver.solve
-        keep = np.ones(self.dofs.size, bool)
-        keep[self.floor_w[floor_held]] = False
+            self.soil_block = FactoredBlock(self.K, self.solver, keep, springs)
+            return self.soil_block.solve
         idx = np.flatnonzero(keep)
-        block = qdldl.Solver(self.upper[idx][:, idx], upper=True)
-
-        def solve(rhs):
-            u = np.zeros(self.dofs.size)
-            u[idx] = block.solve(rhs[idx])
-            return u
-
-        return solve
-
-    def _bordered(self, soil_pressing):
-        """The solve for springs that differ from the last factorised ones
-        at m ≤ BORDER_MAX nodes, by that LDLᵀ and the border (Sherman–
-        Morrison–Woodbury: A + E Δ Eᵀ with Δ = ±k_i at the changed w dofs E;
-        Z = A⁻¹E, C = Δ⁻¹ + EᵀZ, u = y − Z C⁻¹ Eᵀy for y = A⁻¹ rhs), with one
-        step of refinement on the new matrix's own residual; None where
-        more changed or C is ill-conditioned (a spring whose removal leaves
-        its node nearly free): the caller refactorises.  A Newton step from
-        a coarser twin's guess changes 2–64 nodes on 57–115 cells, where a
-        solve costs 1/35 of a factorisation."""
-        if self.solver is None or self.factored is None:
-            return None
-        changed = np.flatnonzero(soil_pressing != self.factored)
-        if changed.size == 0:
-            return self.solver.solve
-        if changed.size > BORDER_MAX:
-            return None
-        at = self.soil_w[changed]
-        delta = np.where(soil_pressing[changed], self.k[changed], -self.k[changed])
-        Z = np.empty((self.dofs.size, changed.size))
-        for col, dof in enumerate(at):
-            e = np.zeros(self.dofs.size)
-            e[dof] = 1.0
-            Z[:, col] = self.solver.solve(e)
-        C = np.diag(1.0 / delta) + Z[at]
-        if np.linalg.cond(C) > 1.0 / BORDER_RCOND:
-            return None
-        springs = np.zeros(self.dofs.size)
-        springs[self.soil_w] = np.where(soil_pressing, self.k, 0.0)
-
-        def once(rhs):
-            y = self.solver.solve(rhs)
-            return y - Z @ np.linalg.solve(C, y[at])
-
-        def solve(rhs):
-            u = once(rhs)
-            return u + once(rhs - (self.K @ u + springs * u))
-
-        return solve
+        self.floor_block = FactoredBlock(
+            self.K, qdldl.Solver(self.upper[idx][:, idx], upper=True), keep, springs)
+        return self.floor_block.solve
 
 
 def solve_supports(qp, f, deadline=None, guess=None):

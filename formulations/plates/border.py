@@ -1,0 +1,155 @@
+r"""A raft's linear system solved on the LDLᵀ of a nearby one: the bordered
+system, for the Newton steps on a rigid floor (:mod:`.newton`).
+
+A step on a rigid floor solves the raft with its held floor nodes' w [m]
+removed and springs k_i [N/m] on its pressing soil nodes: (K + S₁) u = f
+[N] on the dofs D₁ that are not held.  The next step's D₂ differs from D₁ at
+the nodes whose state changed — a few dozen to a few hundred, along the
+lift-off line — and factorising afresh costs the same whatever the change.
+Instead, keep A₀ = (K + S₀) on D₀ factorised (A₀ = P (I + L) D (I + L)' P'
+by qdldl) and border it: a dof held now but free in D₀ is held at zero by a
+multiplier μ (the unit column e_j), a dof free now but not in D₀ brings its
+column of K, and a soil dof whose spring changed is both (its copy in D₀
+held, a fresh copy with the new spring added):
+
+    [ A₀   B   E ] [u₀]   [f₀]
+    [ B'   C   0 ] [u_N] = [f_N]          B = K[D₀, N],  C = (K + S₁)[N, N]
+    [ E'   0   0 ] [ μ ]   [ 0 ]
+
+— the pinned rows' equations are taken up by μ, so u on D₂ is the new
+step's answer exactly.  With V = [B E] and the k x k Schur complement
+S = [C 0; 0 0] − V' A₀⁻¹ V, a solve is y = A₀⁻¹ f₀, S [u_N; μ] =
+[f_N; 0] − V'y, u₀ = y − A₀⁻¹ V [u_N; μ]: two solves with the factor and
+one with S, plus one step of refinement on the new system's own residual.
+
+The border's k columns are not k solves: V' A₀⁻¹ V = W' D⁻¹ W with
+W = (I + L)⁻¹ P' V, and a column of V has a node's few entries, so its
+column of W lives on their paths to the elimination tree's root
+(:mod:`._border_kernels`): 1/7 of L's entries on a 115 x 115 floor raft,
+where a full solve reads L twice.  S costs k forward solves on paths and a
+dense k x k product; a border larger than ``BORDER_MAX`` dofs, or an S
+whose condition is above 1/``BORDER_RCOND`` (a node held whose release left
+the plate nearly free), sends the step to a fresh factorisation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+#: a step whose dofs and springs differ from the factorised block's at more
+#: than BORDER_SHARE √n dofs (n the block's) is factorised afresh: a border
+#: column costs a path of the elimination tree, about √n of L's columns, a
+#: factorisation about n^1.5 (measured: docs/dev-notes.md)
+BORDER_SHARE = 3.0
+#: at most this many entries in the border's forward solves (256 MB)
+BORDER_ENTRIES = 2 ** 25
+#: S with a larger condition number (1-norm estimate, equilibrated) sends the
+#: step to a fresh factorisation
+BORDER_RCOND = 1e-10
+
+
+class FactoredBlock:
+    """The LDLᵀ ``solver`` (qdldl) of (K + diag(springs)) on the dofs
+    ``keep`` (a mask over K's rows), and solves on it of systems nearby
+    (module docstring).  ``K``: the stiffness (CSR, symmetric, no springs)."""
+
+    def __init__(self, K, solver, keep, springs):
+        self.K, self.solver = K, solver
+        self.keep, self.springs = keep.copy(), springs.copy()
+        self.idx = np.flatnonzero(keep)
+        self.factors = None                      # (L's arrays, 1/D, p⁻¹, parent), on first border
+
+    def solve(self, rhs):
+        """u with (K + S) u = rhs on ``keep``, zero elsewhere."""
+        u = np.zeros(self.keep.size)
+        u[self.idx] = self.solver.solve(rhs[self.idx])
+        return u
+
+    def near(self, keep, springs):
+        """The solve u ↦ ... of (K + diag(springs)) on ``keep`` by this
+        block's factor and a border, or None where the border would be
+        larger than BORDER_SHARE √n or its Schur complement ill-conditioned.
+        A dof free now but not in the block brings its column; one in the
+        block but held now is held by a multiplier; one whose spring changed
+        by Δ is bordered by e_j with −1/Δ on the diagonal (Sherman–Morrison–
+        Woodbury: A₀ + Δ e_j e_j')."""
+        import scipy.linalg
+
+        both = self.keep & keep
+        respring = np.flatnonzero(both & (springs != self.springs))
+        new = np.flatnonzero(keep & ~self.keep)
+        pinned = np.flatnonzero(self.keep & ~keep)
+        k = new.size + pinned.size + respring.size
+        if k == 0:
+            return self.solve
+        if k > BORDER_SHARE * np.sqrt(self.idx.size):
+            return None
+        at = np.full(keep.size, -1)
+        at[self.idx] = np.arange(self.idx.size)
+        rows = self.K[new]                           # K symmetric: the new dofs' columns
+        units = np.concatenate((at[pinned], at[respring]))
+        V = sp.hstack([rows[:, self.idx].T,
+                       sp.csc_matrix((np.ones(units.size), (units, np.arange(units.size))),
+                                     shape=(self.idx.size, units.size))], format="csc")
+        G = self._inverse_form(V)                    # V' A₀⁻¹ V
+        if G is None:
+            return None
+        S = -G
+        S[:new.size, :new.size] += rows[:, new].toarray() + np.diag(springs[new])
+        tail = np.arange(new.size + pinned.size, k)
+        S[tail, tail] -= 1.0 / (springs[respring] - self.springs[respring])
+        # stiffnesses [N/m] on the new dofs, flexibilities [m/N] on the
+        # multipliers: equilibrated before its condition is judged
+        with np.errstate(divide="ignore"):
+            scale = 1.0 / np.sqrt(np.abs(np.diag(S)))
+        if not np.all(np.isfinite(scale)):
+            return None
+        S *= scale[:, None] * scale[None, :]
+        lu = scipy.linalg.lu_factor(S, check_finite=False)
+        rcond = scipy.linalg.lapack.dgecon(lu[0], np.abs(S).sum(axis=0).max(), norm="1")[0]
+        if not rcond > BORDER_RCOND:
+            return None
+        Vt = V.T.tocsr()
+        gone = ~keep
+
+        def once(rhs):
+            y = self.solver.solve(rhs[self.idx])
+            z = scale * scipy.linalg.lu_solve(
+                lu, scale * (np.concatenate((rhs[new], np.zeros(k - new.size))) - Vt @ y),
+                check_finite=False)
+            u = np.zeros(keep.size)
+            u[self.idx] = y - self.solver.solve(V @ z)
+            u[gone] = 0.0
+            u[new] = z[:new.size]
+            return u
+
+        def solve(rhs):
+            u = once(rhs)
+            residual = np.where(keep, rhs - (self.K @ u + springs * u), 0.0)
+            return u + once(residual)
+
+        return solve
+
+    def _inverse_form(self, V):
+        """V' A₀⁻¹ V (dense) = W' D⁻¹ W, W = (I + L)⁻¹ P' V, by forward
+        solves on the union of the columns' reaches (:mod:`._border_kernels`);
+        None where that union holds more than BORDER_ENTRIES entries."""
+        from ._border_kernels import forward_block, parents, reach_union
+
+        if self.factors is None:
+            L, d, p = self.solver.factors()
+            L = L.tocsc()
+            Lp, Li = L.indptr.astype(np.int64), L.indices.astype(np.int64)
+            pinv = np.empty(p.size, np.int64)
+            pinv[p] = np.arange(p.size)
+            self.factors = (Lp, Li, L.data, 1.0 / d, pinv, parents(Lp, Li, p.size))
+        Lp, Li, Lx, dinv, pinv, parent = self.factors
+        Vi = pinv[V.indices]
+        rows = reach_union(parent, Vi, pinv.size)
+        if rows.size * V.shape[1] > BORDER_ENTRIES:
+            return None
+        X = np.zeros((rows.size, V.shape[1]))
+        X[np.searchsorted(rows, Vi), np.repeat(np.arange(V.shape[1]), np.diff(V.indptr))] = V.data
+        forward_block(Lp, Li, Lx, rows, X)
+        return X.T @ (X * dinv[rows, None])
