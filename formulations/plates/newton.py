@@ -40,10 +40,12 @@ called solved.
 On soil every step's matrix has one pattern, K's, whose diagonal the
 springs change, so one symbolic analysis (a fill-reducing ordering) serves
 every step and every combination of the raft, and a step is a numeric
-refactorisation — or, where its springs differ from the last factorised
-ones at few nodes, that factorisation with the changed springs as a
-border; with floor nodes held, a step factors the block of the dofs that
-are not held (w_i = 0 exactly).  Started
+refactorisation; with floor nodes held, a step factors the block of the
+dofs that are not held (w_i = 0 exactly).  Where a step differs from the
+last factorised one at few dofs — springs changed, floor nodes released
+or caught — it is that factorisation with the change as a border
+(:mod:`.border`): a floor raft's contact line creeps a row of nodes a
+step, so most of its steps are borders.  Started
 from every node pressing, rafts whose windward strip or corner lifts took
 2–11 steps at 1 300–26 000 dofs (docs/plates.md).
 

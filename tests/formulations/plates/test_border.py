@@ -13,6 +13,7 @@ import scipy.sparse.linalg as spl
 
 import formulations.plates.border as border
 from formulations.plates import Raft
+from formulations.plates.examples import windward_raft
 from formulations.plates.newton import SupportSystem
 
 
@@ -87,21 +88,6 @@ def _keep_springs(system, soil_pressing, floor_held):
     return keep, springs
 
 
-def _floor_strip(cells):
-    """benchmarks/scale.py's windward raft on a rigid floor instead of soil:
-    the windward strip lifts off the floor."""
-    side = 0.5 * cells
-    raft = Raft(side, side, thickness=0.5, E=30e6, nu=0.2, cells=(cells, cells))
-    raft.add_rigid_floor()
-    raft.add_self_weight(25.0)
-    raft.add_area_load(5.0)
-    grid = [side * (0.5 + k) / 4 for k in range(4)]
-    for x in grid:
-        for y in grid:
-            raft.add_point_load(x, y, side ** 2 * (6.0 - (9.0 if x == grid[0] else 0.0)))
-    return raft
-
-
 def test_a_floor_rafts_answer_on_borders_is_the_answer_factorised_every_step(monkeypatch):
     bordered_steps = []
     near = border.FactoredBlock.near
@@ -112,11 +98,11 @@ def test_a_floor_rafts_answer_on_borders_is_the_answer_factorised_every_step(mon
         return solve
 
     monkeypatch.setattr(border.FactoredBlock, "near", counted)
-    raft = _floor_strip(40)
+    raft = windward_raft(40, floor=True)
     bordered = raft.solve()
     assert sum(bordered_steps) >= 3                 # the borders ran, at both grids
     monkeypatch.setattr(border, "BORDER_SHARE", 0.0)
-    factorised = _floor_strip(40).solve()
+    factorised = windward_raft(40, floor=True).solve()
     for r in (bordered, factorised):
         assert r.ok and r.method == "active-set", r.message
         # statics: the floor carries the net load, and nothing pulls on it
