@@ -71,6 +71,14 @@ from .border import FactoredBlock
 FLIP = 1e-13
 #: Newton steps before the pinned QP answers
 MAX_STEPS = 60
+#: a floor node whose coarser twin lifts it by less than this fraction of the
+#: twin's largest |w| starts held (:func:`start_from`): next to the twin's
+#: contact line the plate hovers — lifted by 1e-8 to 5e-5 of the largest |w|
+#: on the 115 x 115 floor raft — and the fine line lies up to two coarse
+#: cells into that band; started released there, the first step catches
+#: twice the band (the plate sags through it) and the rest creep back a row
+#: a step (docs/dev-notes.md)
+HOVER = 1e-4
 
 
 class SupportSystem:
@@ -190,7 +198,10 @@ def start_from(coarse_nodes, coarse_w, qp, nodes):
     mostly a matter of the raft's global shape, which the coarse grid
     resolves; a node presses (or is held) where the coarse deflection,
     interpolated bilinearly in its cell, goes down (or is not up); a node
-    in a cell with a corner missing (an opening's edge) presses.  Measured:
+    in a cell with a corner missing (an opening's edge) presses.  On a
+    floor, a coarse lift below HOVER of the largest |w| counts as held: the
+    twin's plate hovers there, and the fine contact line lies in that band
+    (:data:`HOVER`).  Measured:
     9 and 11 Newton steps from every node pressing, 2 and 3 from the 40 x 40
     twin's answer on 80 x 80 rafts (docs/dev-notes.md)."""
     xs, ys = np.unique(coarse_nodes[:, 0]), np.unique(coarse_nodes[:, 1])
@@ -203,7 +214,7 @@ def start_from(coarse_nodes, coarse_w, qp, nodes):
     b = (p[:, 1] - ys[j]) / (ys[j + 1] - ys[j])
     w = ((1 - a) * (1 - b) * W[i, j] + a * (1 - b) * W[i + 1, j]
          + a * b * W[i + 1, j + 1] + (1 - a) * b * W[i, j + 1])
-    small = 1e-12 * float(np.nanmax(np.abs(coarse_w), initial=0.0))
-    soil = ~(w[:qp.soil.size] <= small)           # NaN (a corner missing): pressing
-    floor = ~(w[qp.soil.size:] < -small)
+    largest = float(np.nanmax(np.abs(coarse_w), initial=0.0))
+    soil = ~(w[:qp.soil.size] <= 1e-12 * largest)     # NaN (a corner missing): pressing
+    floor = ~(w[qp.soil.size:] < -HOVER * largest)
     return soil, floor
