@@ -1,35 +1,38 @@
 r"""A raft's linear system solved on the LDLᵀ of a nearby one: the bordered
-system, for the Newton steps on a rigid floor (:mod:`.newton`).
+system, for Newton's steps on soil and a rigid floor (:mod:`.newton`).
 
-A step on a rigid floor solves the raft with its held floor nodes' w [m]
-removed and springs k_i [N/m] on its pressing soil nodes: (K + S₁) u = f
-[N] on the dofs D₁ that are not held.  The next step's D₂ differs from D₁ at
-the nodes whose state changed — a few dozen to a few hundred, along the
-lift-off line — and factorising afresh costs the same whatever the change.
-Instead, keep A₀ = (K + S₀) on D₀ factorised (A₀ = P (I + L) D (I + L)' P'
-by qdldl) and border it: a dof held now but free in D₀ is held at zero by a
-multiplier μ (the unit column e_j), a dof free now but not in D₀ brings its
-column of K, and a soil dof whose spring changed is both (its copy in D₀
-held, a fresh copy with the new spring added):
+A step solves the raft with its held floor nodes' w [m] removed and
+springs k_i [N/m] on its pressing soil nodes: (K + S₁) u = f [N] on the
+dofs D₁ that are not held.  The next step's differs at the nodes whose
+state changed — a few dozen to a few hundred, along the lift-off line —
+and factorising afresh costs the same whatever the change.  Instead, keep
+A₀ = (K + S₀) on D₀ factorised (A₀ = P (I + L) D (I + L)' P' by qdldl) and
+border it: a dof held now but free in D₀ is held at zero by a multiplier μ
+(the unit column e_j); a dof free now but not in D₀ brings its column of
+K; a dof whose spring changed by Δ_j gets a multiplier ν_j = Δ_j u_j
+(Sherman–Morrison–Woodbury, A₀ + Δ_j e_j e_j'):
 
-    [ A₀   B   E ] [u₀]   [f₀]
-    [ B'   C   0 ] [u_N] = [f_N]          B = K[D₀, N],  C = (K + S₁)[N, N]
-    [ E'   0   0 ] [ μ ]   [ 0 ]
+    [ A₀   B   E   F      ] [u₀]   [f₀]
+    [ B'   C   0   0      ] [u_N] = [f_N]      B = K[D₀, N],  C = (K + S₁)[N, N]
+    [ E'   0   0   0      ] [ μ ]   [ 0 ]
+    [ F'   0   0   −Δ⁻¹   ] [ ν ]   [ 0 ]
 
-— the pinned rows' equations are taken up by μ, so u on D₂ is the new
-step's answer exactly.  With V = [B E] and the k x k Schur complement
-S = [C 0; 0 0] − V' A₀⁻¹ V, a solve is y = A₀⁻¹ f₀, S [u_N; μ] =
-[f_N; 0] − V'y, u₀ = y − A₀⁻¹ V [u_N; μ]: two solves with the factor and
-one with S, plus one step of refinement on the new system's own residual.
+— a held dof's row is taken up by μ, so u is the new step's answer
+exactly.  With V = [B E F] and the k x k Schur complement
+S = diag(C, 0, −Δ⁻¹) − V' A₀⁻¹ V, a solve is y = A₀⁻¹ f₀, S [u_N; μ; ν] =
+[f_N; 0; 0] − V'y, u₀ = y − A₀⁻¹ V [u_N; μ; ν]: two solves with the factor
+and one with S, plus one step of refinement on the new system's own
+residual (on a 115 x 115 floor raft it moves u by 1e-10 of its largest,
+more than a state's FLIP).
 
 The border's k columns are not k solves: V' A₀⁻¹ V = W' D⁻¹ W with
 W = (I + L)⁻¹ P' V, and a column of V has a node's few entries, so its
 column of W lives on their paths to the elimination tree's root
 (:mod:`._border_kernels`): 1/7 of L's entries on a 115 x 115 floor raft,
-where a full solve reads L twice.  S costs k forward solves on paths and a
-dense k x k product; a border larger than ``BORDER_MAX`` dofs, or an S
-whose condition is above 1/``BORDER_RCOND`` (a node held whose release left
-the plate nearly free), sends the step to a fresh factorisation.
+where a full solve reads all of L twice.  A border of more than
+BORDER_SHARE √n dofs, or an S whose condition is above 1/BORDER_RCOND (a
+release that leaves the plate nearly free), sends the step to a fresh
+factorisation.
 """
 
 from __future__ import annotations
@@ -39,8 +42,10 @@ import scipy.sparse as sp
 
 #: a step whose dofs and springs differ from the factorised block's at more
 #: than BORDER_SHARE √n dofs (n the block's) is factorised afresh: a border
-#: column costs a path of the elimination tree, about √n of L's columns, a
-#: factorisation about n^1.5 (measured: docs/dev-notes.md)
+#: column costs a path of the elimination tree (a cost that grows about as
+#: n on a plate, a factorisation's as n^1.5); one border matched one
+#: factorisation at 2.7 √n (57 x 57 floor raft) to 4.4 √n (115 x 115),
+#: and 1.5, 2, 3 √n timed alike within the machine's noise (docs/dev-notes.md)
 BORDER_SHARE = 3.0
 #: at most this many entries in the border's forward solves (256 MB)
 BORDER_ENTRIES = 2 ** 25
