@@ -47,6 +47,11 @@ import scipy.sparse as sp
 #: factorisation at 2.7 √n (57 x 57 floor raft) to 4.4 √n (115 x 115),
 #: and 1.5, 2, 3 √n timed alike within the machine's noise (docs/dev-notes.md)
 BORDER_SHARE = 3.0
+#: a border of at most this many columns on a factor not yet read takes a
+#: full solve per column instead: reading L out of qdldl (``factors()``, a
+#: copy) cost 1–5 solves on the worked raft at 96 x 72 cells, where its
+#: soil steps end on borders of 1–6 springs
+FEW_COLUMNS = 4
 #: at most this many entries in the border's forward solves (256 MB)
 BORDER_ENTRIES = 2 ** 25
 #: S with a larger condition number (1-norm estimate, equilibrated) sends the
@@ -138,10 +143,14 @@ class FactoredBlock:
 
     def _inverse_form(self, V):
         """V' A₀⁻¹ V (dense) = W' D⁻¹ W, W = (I + L)⁻¹ P' V, by forward
-        solves on the union of the columns' reaches (:mod:`._border_kernels`);
-        None where that union holds more than BORDER_ENTRIES entries."""
+        solves on the union of the columns' reaches (:mod:`._border_kernels`)
+        — or, for FEW_COLUMNS on a factor not yet read, a solve each; None
+        where that union holds more than BORDER_ENTRIES entries."""
         from ._border_kernels import forward_block, parents, reach_union
 
+        if self.factors is None and V.shape[1] <= FEW_COLUMNS:
+            return V.T @ np.column_stack([self.solver.solve(V[:, [j]].toarray().ravel())
+                                          for j in range(V.shape[1])])
         if self.factors is None:
             L, d, p = self.solver.factors()
             L = L.tocsc()
