@@ -40,7 +40,10 @@ def _reference(system, soil_pressing, floor_held, rhs):
     return u
 
 
-def test_a_bordered_step_solves_the_new_steps_own_system():
+@pytest.mark.parametrize("released, caught, changed", [(6, 5, 7), (1, 1, 1)])
+def test_a_bordered_step_solves_the_new_steps_own_system(released, caught, changed):
+    """18 border columns go through the factor's paths, 3 through a solve
+    each (FEW_COLUMNS)."""
     system = _mixed_system()
     rng = np.random.default_rng(7)
     soil = rng.random(system.soil_w.size) < 0.7
@@ -49,9 +52,9 @@ def test_a_bordered_step_solves_the_new_steps_own_system():
     block = system.floor_block
     assert block is not None
     # release some held floor nodes, catch some free ones, change some springs
-    released = rng.choice(np.flatnonzero(floor), 6, replace=False)
-    caught = rng.choice(np.flatnonzero(~floor), 5, replace=False)
-    changed = rng.choice(system.soil_w.size, 7, replace=False)
+    released = rng.choice(np.flatnonzero(floor), released, replace=False)
+    caught = rng.choice(np.flatnonzero(~floor), caught, replace=False)
+    changed = rng.choice(system.soil_w.size, changed, replace=False)
     floor2, soil2 = floor.copy(), soil.copy()
     floor2[released], floor2[caught] = False, True
     soil2[changed] = ~soil2[changed]
