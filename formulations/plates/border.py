@@ -68,7 +68,7 @@ class FactoredBlock:
         self.K, self.solver = K, solver
         self.keep, self.springs = keep.copy(), springs.copy()
         self.idx = np.flatnonzero(keep)
-        self.factors = None                      # (L's arrays, 1/D, p⁻¹, parent), on first border
+        self.factors = None                      # L's arrays, 1/D, p⁻¹, parent: on first use
 
     def solve(self, rhs):
         """u with (K + S) u = rhs on ``keep``, zero elsewhere."""
@@ -77,8 +77,8 @@ class FactoredBlock:
         return u
 
     def near(self, keep, springs):
-        """The solve u ↦ ... of (K + diag(springs)) on ``keep`` by this
-        block's factor and a border, or None where the border would be
+        """The solve rhs ↦ u of (K + diag(springs)) u = rhs on ``keep`` by
+        this block's factor and a border, or None where the border would be
         larger than BORDER_SHARE √n or its Schur complement ill-conditioned.
         A dof free now but not in the block brings its column; one in the
         block but held now is held by a multiplier; one whose spring changed

@@ -74,7 +74,7 @@ MAX_STEPS = 60
 #: a floor node whose coarser twin lifts it by less than this fraction of the
 #: twin's largest |w| starts held (:func:`start_from`): next to the twin's
 #: contact line the plate hovers — lifted by 1e-8 to 5e-5 of the largest |w|
-#: on the 115 x 115 floor raft — and the fine line lies up to two coarse
+#: on the 115 x 115 floor raft — and the fine line lies up to 1.3 coarse
 #: cells into that band; started released there, the first step catches
 #: twice the band (the plate sags through it) and the rest creep back a row
 #: a step (docs/dev-notes.md)
@@ -107,7 +107,7 @@ class SupportSystem:
         self.soil_diag = last[self.soil_w]
         self.solver = None                          # the LDLᵀ of K's pattern (qdldl)
         self.soil_block = None                      # it with its springs (.border), and
-        self.floor_block = None                     # the last LDLᵀ of a block with floor dofs held
+        self.floor_block = None                     # the last block with floor dofs held
 
     def factorize(self, soil_pressing, floor_held):
         """u ↦ the solution of (K + the pressing soil nodes' springs) u = rhs
