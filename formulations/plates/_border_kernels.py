@@ -1,7 +1,7 @@
 """Compiled forward solves with sparse right-hand sides on an LDLᵀ factor
 (numba), for :mod:`.border`.
 
-With A = P (I + L) D (I + L)' P' (qdldl's factors: L strictly lower, in
+With A = P (I + L) D (I + L)' P' (any LDLᵀ: L strictly lower, in
 CSC), the entry L_ij is nonzero only where i is an ancestor of j in the
 elimination tree (parent(j) = the least row of column j).  So (I + L)⁻¹ b
 for a b with few nonzeros is nonzero only on their paths to the root, the

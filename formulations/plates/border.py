@@ -6,7 +6,7 @@ springs k_i [N/m] on its pressing soil nodes: (K + S₁) u = f [N] on the
 dofs D₁ that are not held.  The next step's differs at the nodes whose
 state changed — a few dozen to a few hundred, along the lift-off line —
 and factorising afresh costs the same whatever the change.  Instead, keep
-A₀ = (K + S₀) on D₀ factorised (A₀ = P (I + L) D (I + L)' P' by qdldl) and
+A₀ = (K + S₀) on D₀ factorised (A₀ = P (I + L) D (I + L)' P', any LDLᵀ) and
 border it: a dof held now but free in D₀ is held at zero by a multiplier μ
 (the unit column e_j); a dof free now but not in D₀ brings its column of
 K; a dof whose spring changed by Δ_j gets a multiplier ν_j = Δ_j u_j
@@ -60,21 +60,25 @@ BORDER_RCOND = 1e-10
 
 
 class FactoredBlock:
-    """The LDLᵀ ``solver`` (qdldl) of (K + diag(springs)) on the dofs
-    ``keep`` (a mask over K's rows), and solves on it of systems nearby
-    (module docstring).  ``K``: the stiffness (CSR, symmetric, no springs)."""
+    """A factorisation of (K + diag(springs)) on the dofs ``keep`` (a mask
+    over K's rows), and solves on it of systems nearby (module docstring).
+    Any LDLᵀ will do, given as
 
-    def __init__(self, K, solver, keep, springs):
-        self.K, self.solver = K, solver
+    * ``solve``: rhs (n,) ↦ u (n,), the block's solution, zero off ``keep``;
+    * ``factors``: () ↦ (L, d, p), read on the first border that needs it:
+      L strictly lower (CSC) and d such that the block in the order p
+      (p[i] the dof at the factor's position i) is (I + L) diag(d) (I + L)'
+      — qdldl's ``factors()`` with p taken to dofs, or SuperLU's symmetric
+      mode with diagonal pivots (L = ``lu.L`` − I, d = diag(``lu.U``), p the
+      order it was given).
+
+    ``K``: the stiffness (CSR or CSC, symmetric, no springs)."""
+
+    def __init__(self, K, keep, springs, solve, factors):
+        self.K, self.solve, self.read = K, solve, factors
         self.keep, self.springs = keep.copy(), springs.copy()
-        self.idx = np.flatnonzero(keep)
-        self.factors = None                      # L's arrays, 1/D, p⁻¹, parent: on first use
-
-    def solve(self, rhs):
-        """u with (K + S) u = rhs on ``keep``, zero elsewhere."""
-        u = np.zeros(self.keep.size)
-        u[self.idx] = self.solver.solve(rhs[self.idx])
-        return u
+        self.n = int(keep.sum())
+        self.factors = None                 # L's arrays, 1/d, the dofs' positions, parent
 
     def near(self, keep, springs):
         """The solve rhs ↦ u of (K + diag(springs)) u = rhs on ``keep`` by
@@ -93,15 +97,14 @@ class FactoredBlock:
         k = new.size + pinned.size + respring.size
         if k == 0:
             return self.solve
-        if k > BORDER_SHARE * np.sqrt(self.idx.size):
+        if k > BORDER_SHARE * np.sqrt(self.n):
             return None
-        at = np.full(keep.size, -1)
-        at[self.idx] = np.arange(self.idx.size)
-        rows = self.K[new]                           # K symmetric: the new dofs' columns
-        units = np.concatenate((at[pinned], at[respring]))
-        V = sp.hstack([rows[:, self.idx].T,
-                       sp.csc_matrix((np.ones(units.size), (units, np.arange(units.size))),
-                                     shape=(self.idx.size, units.size))], format="csc")
+        rows = sp.csr_matrix(self.K[new])            # K symmetric: the new dofs' columns
+        units = np.concatenate((pinned, respring))
+        B = rows.multiply(self.keep[None, :]).T     # on the block's dofs only
+        V = sp.hstack([B, sp.csc_matrix((np.ones(units.size), (units, np.arange(units.size))),
+                                        shape=(keep.size, units.size))], format="csc")
+        V.eliminate_zeros()
         G = self._inverse_form(V)                    # V' A₀⁻¹ V
         if G is None:
             return None
@@ -124,12 +127,11 @@ class FactoredBlock:
         gone = ~keep
 
         def once(rhs):
-            y = self.solver.solve(rhs[self.idx])
+            y = self.solve(rhs)
             z = scale * scipy.linalg.lu_solve(
                 lu, scale * (np.concatenate((rhs[new], np.zeros(k - new.size))) - Vt @ y),
                 check_finite=False)
-            u = np.zeros(keep.size)
-            u[self.idx] = y - self.solver.solve(V @ z)
+            u = y - self.solve(V @ z)
             u[gone] = 0.0
             u[new] = z[:new.size]
             return u
@@ -149,18 +151,18 @@ class FactoredBlock:
         from ._border_kernels import forward_block, parents, reach_union
 
         if self.factors is None and V.shape[1] <= FEW_COLUMNS:
-            return V.T @ np.column_stack([self.solver.solve(V[:, [j]].toarray().ravel())
+            return V.T @ np.column_stack([self.solve(V[:, [j]].toarray().ravel())
                                           for j in range(V.shape[1])])
         if self.factors is None:
-            L, d, p = self.solver.factors()
-            L = L.tocsc()
+            L, d, p = self.read()
+            L = sp.csc_matrix(L)
             Lp, Li = L.indptr.astype(np.int64), L.indices.astype(np.int64)
-            pinv = np.empty(p.size, np.int64)
-            pinv[p] = np.arange(p.size)
-            self.factors = (Lp, Li, L.data, 1.0 / d, pinv, parents(Lp, Li, p.size))
-        Lp, Li, Lx, dinv, pinv, parent = self.factors
-        Vi = pinv[V.indices]
-        rows = reach_union(parent, Vi, pinv.size)
+            position = np.full(self.keep.size, -1, np.int64)
+            position[p] = np.arange(p.size)
+            self.factors = (Lp, Li, L.data, 1.0 / d, position, parents(Lp, Li, p.size))
+        Lp, Li, Lx, dinv, position, parent = self.factors
+        Vi = position[V.indices]
+        rows = reach_union(parent, Vi, parent.size)
         if rows.size * V.shape[1] > BORDER_ENTRIES:
             return None
         X = np.zeros((rows.size, V.shape[1]))

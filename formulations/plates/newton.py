@@ -135,12 +135,23 @@ class SupportSystem:
                 self.solver = qdldl.Solver(self.upper, upper=True)
             else:
                 self.solver.update(self.upper, upper=True)
-            self.soil_block = FactoredBlock(self.K, self.solver, keep, springs)
+            self.soil_block = FactoredBlock(self.K, keep, springs, self.solver.solve,
+                                            self.solver.factors)
             return self.soil_block.solve
         idx = np.flatnonzero(keep)
-        self.floor_block = FactoredBlock(
-            self.K, qdldl.Solver(self.upper[idx][:, idx], upper=True), keep, springs)
-        return self.floor_block.solve
+        block = qdldl.Solver(self.upper[idx][:, idx], upper=True)
+
+        def solve(rhs):
+            u = np.zeros(self.dofs.size)
+            u[idx] = block.solve(rhs[idx])
+            return u
+
+        def factors():
+            L, d, p = block.factors()
+            return L, d, idx[p]
+
+        self.floor_block = FactoredBlock(self.K, keep, springs, solve, factors)
+        return solve
 
 
 def solve_supports(qp, f, deadline=None, guess=None):

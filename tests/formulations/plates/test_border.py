@@ -133,3 +133,47 @@ def test_the_floor_raft_of_the_raft_tests_agrees_with_the_pinned_qp_either_way(s
     assert newton.ok and pinned.ok and newton.method == "active-set", newton.message
     assert np.array_equal(newton.lifted, pinned.lifted)
     assert np.max(np.abs(newton.w - pinned.w)) <= 1e-9 * np.max(np.abs(pinned.w))
+
+
+def _splu_block(system, keep, springs):
+    """The block's LDLᵀ by SuperLU (symmetric mode, diagonal pivots, its
+    rows in reverse Cuthill–McKee order given, none of its own), as the
+    border reads a factor: L = lu.L − I, d = diag(lu.U), p = that order."""
+    from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+    idx = np.flatnonzero(keep)
+    A = (system.K + sp.diags(springs)).tocsr()[idx][:, idx]
+    order = idx[reverse_cuthill_mckee(A, symmetric_mode=True)]
+    lu = spl.splu((system.K + sp.diags(springs)).tocsc()[order][:, order], permc_spec="NATURAL",
+                  diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    assert np.array_equal(lu.perm_r, np.arange(order.size))
+
+    def solve(rhs):
+        u = np.zeros(keep.size)
+        u[order] = lu.solve(rhs[order])
+        return u
+
+    def factors():
+        return lu.L - sp.eye(order.size, format="csc"), lu.U.diagonal(), order
+
+    return border.FactoredBlock(system.K, keep, springs, solve, factors)
+
+
+@pytest.mark.parametrize("released, caught, changed", [(6, 5, 7), (1, 1, 1)])
+def test_a_border_on_superlus_factor_solves_the_new_steps_own_system(released, caught,
+                                                                       changed):
+    """The border reads any LDLᵀ given as (L, d, order): SuperLU's here."""
+    system = _mixed_system()
+    rng = np.random.default_rng(11)
+    soil = rng.random(system.soil_w.size) < 0.7
+    floor = rng.random(system.floor_w.size) < 0.6
+    block = _splu_block(system, *_keep_springs(system, soil, floor))
+    floor2, soil2 = floor.copy(), soil.copy()
+    floor2[rng.choice(np.flatnonzero(floor), released, replace=False)] = False
+    floor2[rng.choice(np.flatnonzero(~floor), caught, replace=False)] = True
+    flip = rng.choice(system.soil_w.size, changed, replace=False)
+    soil2[flip] = ~soil2[flip]
+    rhs = rng.standard_normal(system.dofs.size)
+    u = block.near(*_keep_springs(system, soil2, floor2))(rhs)
+    ref = _reference(system, soil2, floor2, rhs)
+    assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
