@@ -99,9 +99,10 @@ class FactoredBlock:
             return self.solve
         if k > BORDER_SHARE * np.sqrt(self.n):
             return None
-        rows = sp.csr_matrix(self.K[new])            # K symmetric: the new dofs' columns
+        # the new dofs' columns of K (symmetric: rows of a CSR K)
+        cols = sp.csc_matrix(self.K[:, new] if self.K.format == "csc" else self.K[new].T)
         units = np.concatenate((pinned, respring))
-        B = rows.multiply(self.keep[None, :]).T     # on the block's dofs only
+        B = cols.multiply(self.keep[:, None])        # on the block's dofs only
         V = sp.hstack([B, sp.csc_matrix((np.ones(units.size), (units, np.arange(units.size))),
                                         shape=(keep.size, units.size))], format="csc")
         V.eliminate_zeros()
@@ -109,7 +110,7 @@ class FactoredBlock:
         if G is None:
             return None
         S = -G
-        S[:new.size, :new.size] += rows[:, new].toarray() + np.diag(springs[new])
+        S[:new.size, :new.size] += cols[new].toarray() + np.diag(springs[new])
         tail = np.arange(new.size + pinned.size, k)
         S[tail, tail] -= 1.0 / (springs[respring] - self.springs[respring])
         # stiffnesses [N/m] on the new dofs, flexibilities [m/N] on the
