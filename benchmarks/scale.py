@@ -32,7 +32,10 @@ any limit worth waiting for).
 Raft rows (``--raft``: cells per side of a square raft, n = 3 (cells+1)²
 dofs): "qpcontact" is ``Raft.solve`` (one certified contact problem; the
 floor is one LDLᵀ of the answer's own linear system: the stiffness on the
-free dofs plus the springs of the nodes in contact); "pynite" and
+free dofs plus the springs of the nodes in contact, factorised as a Newton
+step does it — SuperLU in the mesh's nested-dissection order — with
+qdldl's under its own AMD, the factorisation before, in the status up to
+3e5 dofs, and the solve's CPU time); "pynite" and
 "opensees" are the engineers' route (tests/helpers/raft_peers.py), with
 "status" saying whether their iteration converged and, where it did, how
 far their deflections and lifted set are from ours.
@@ -79,31 +82,54 @@ def raft_model(cells: int):
     return windward_raft(cells)
 
 
-def _raft_floor(raft, result) -> float:
-    """Seconds for one LDLᵀ of the answer's own linear system: the
-    stiffness on the dofs no bilateral support holds, plus the springs of
-    the soil nodes in contact, less the w of the floor nodes held (a lifted
-    floor node's w is an unknown of that system: ``qp.free`` leaves every
-    floor node's w out, which made a floor raft's floor the smaller system
-    of a raft held everywhere)."""
+#: the raft's qdldl floor (its own AMD ordering: the factorisation Newton's
+#: steps used before the nested-dissection order) is measured up to this
+#: many dofs (2.5e5: 11 s CPU; 1e6: 186.5 s CPU and 4.6 GB, longer than the solve)
+QDLDL_FLOOR_MAX = 300_000
+
+
+def _raft_floor(raft, result):
+    """(seconds, CPU seconds, qdldl's seconds or None) for one LDLᵀ of the
+    answer's own linear system: the stiffness on the dofs no bilateral support holds,
+    plus the springs of the soil nodes in contact, less the w of the floor
+    nodes held (a lifted floor node's w is an unknown of that system:
+    ``qp.free`` leaves every floor node's w out, which made a floor raft's
+    floor the smaller system of a raft held everywhere).  The first is the
+    factorisation a Newton step makes (formulations/plates/newton.py:
+    SuperLU in the mesh's nested-dissection order, its matrix's values
+    set; below newton.SUPERNODAL_DOFS qdldl under its AMD, as before); the
+    second the same system by qdldl under its own AMD, the factorisation of
+    the rows published before 2026-12-06's 10⁶ row, up to QDLDL_FLOOR_MAX
+    dofs."""
     import numpy as np
     import qdldl
     import scipy.sparse as sp
 
     b = raft.build()
     qp = b["qp"]
+    contact = result.contact
+    # the solve's last LDLᵀ freed (the peak is the solve's) and qdldl's kept
+    # analysis too: below newton.SUPERNODAL_DOFS the floor is a fresh qdldl
+    # LDLᵀ, its AMD included, as before; above, SuperLU in the order made once
+    # per raft (the order itself not timed: 1–2 s at 1e6 dofs)
+    qp.newton.solver = qp.newton.factored = qp.newton.analysis = None
+    t, cpu = time.perf_counter(), time.process_time()
+    qp.newton.factor(contact[qp.soil], contact[qp.floor])
+    floor, floor_cpu = time.perf_counter() - t, time.process_time() - cpu
     n = qp.K.shape[0]
+    if n - qp.fixed.size > QDLDL_FLOOR_MAX:
+        return floor, floor_cpu, None
     springs = np.zeros(n)
-    pressing = result.contact & np.isfinite(b["ks"])
+    pressing = contact & np.isfinite(b["ks"])
     springs[3 * np.flatnonzero(pressing)] = b["ks"][pressing]
     keep = np.ones(n, bool)
     keep[qp.fixed] = False
-    keep[3 * np.flatnonzero(result.contact & ~np.isfinite(b["ks"]))] = False
+    keep[3 * np.flatnonzero(contact & ~np.isfinite(b["ks"]))] = False
     idx = np.flatnonzero(keep)
     A = (qp.K + sp.diags(springs)).tocsc()[idx][:, idx]
     t = time.perf_counter()
     qdldl.Solver(sp.triu(A, format="csc"), upper=True)
-    return time.perf_counter() - t
+    return floor, floor_cpu, time.perf_counter() - t
 
 
 def raft_job(size, method, queue):
@@ -119,14 +145,20 @@ def raft_job(size, method, queue):
     raft.build()
     n = 3 * raft.mesh.nodes.shape[0]
     row = dict(family="raft", n=n, method=method, iterations=None, error=None, ldlt=None)
-    t = time.perf_counter()
+    t, cpu = time.perf_counter(), time.process_time()
     if method == "qpcontact":
         r = raft.solve()
-        wall = time.perf_counter() - t
-        row.update(time=wall, method_time=r.wall_time, ok=r.ok,
-                   status=f"certified ({r.method})" if r.ok else r.message,
-                   error=r.error,
-                   ldlt=_raft_floor(raft, r) if r.ok else None)
+        wall, cpu = time.perf_counter() - t, time.process_time() - cpu
+        floor, floor_cpu, qdldl_floor = _raft_floor(raft, r) if r.ok else (None, None, None)
+        status = f"certified ({r.method})" if r.ok else r.message
+        status += f"; CPU {cpu:.3g} s"
+        if r.ok:
+            how = "SuperLU, nested dissection" if raft.build()["qp"].newton.supernodal \
+                else "qdldl+AMD"
+            status += (f"; floor {floor:.3g} s, CPU {floor_cpu:.3g} s ({how}), qdldl+AMD "
+                       + ("not measured" if qdldl_floor is None else f"{qdldl_floor:.3g} s"))
+        row.update(time=wall, method_time=r.wall_time, ok=r.ok, status=status, error=r.error,
+                   ldlt=floor)
     else:
         peer = pynite_raft if method == "pynite" else opensees_raft
         w, _, converged, iterations = peer(raft, WINDWARD_K)

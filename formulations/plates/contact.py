@@ -436,10 +436,10 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
         # not certified, the pinned QP below answers
         deadline = None if time_limit is None else start + float(time_limit)
         first = None if guess is None else guess(deadline)
-        found = solve_supports(qp, f, deadline, first)
+        found = solve_supports(qp, nodes, f, deadline, first)
         how = "" if first is None else ", started from a coarser grid's answer"
         if found is None and first is not None:      # the guess misled it: from every node
-            found, how = solve_supports(qp, f, deadline), ""
+            found, how = solve_supports(qp, nodes, f, deadline), ""
         if found is not None:
             x_full, steps = found
             cert = _unpinned_certificate(qp, f, x_full)

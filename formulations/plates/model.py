@@ -376,7 +376,7 @@ class Raft:
         if twin is None:
             return None
         tb = twin.build()
-        found = solve_supports(tb["qp"], twin.load_vector(combination), deadline,
+        found = solve_supports(tb["qp"], tb["mesh"].nodes, twin.load_vector(combination), deadline,
                                twin._nested_start(combination, deadline))
         if found is None:
             return None

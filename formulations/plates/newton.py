@@ -38,14 +38,18 @@ free one above the floor, up to rounding: the optimality conditions, which
 called solved.
 
 On soil every step's matrix has one pattern, K's, whose diagonal the
-springs change, so one symbolic analysis (a fill-reducing ordering) serves
-every step and every combination of the raft, and a step is a numeric
-refactorisation; with floor nodes held, a step factors the block of the
-dofs that are not held (w_i = 0 exactly).  Where a step differs from the
-last factorised one at few dofs — springs changed, floor nodes released
-or caught — it is that factorisation with the change as a border
-(:mod:`.border`): a floor raft's contact line creeps a row of nodes a
-step, so most of its steps are borders.  Started
+springs change, so one fill-reducing order serves every step and every
+combination of the raft: from ``SUPERNODAL_DOFS`` on, nested dissection
+of the mesh (:mod:`.ordering`), each step a supernodal LDLᵀ in that order
+(SuperLU); below it qdldl's AMD, each step a numeric refactorisation on
+qdldl's kept analysis.  Where a step's springs differ from the last
+factorised ones at few dofs — springs changed, floor nodes released or
+caught — it is that factorisation with the change as a border
+(:mod:`.border`: a floor raft's contact line creeps a row of nodes a step,
+so most of its steps are borders); with floor nodes held, a step factors
+the block of the dofs that are not held (w_i = 0 exactly).  (Until 2026-12-06 every
+step was qdldl's: 2.5–3.0 s against 0.66 s at 1e5 dofs, and not done in
+minutes at 1e6; docs/dev-notes.md, "The 10⁶-dof raft".)  Started
 from every node pressing, rafts whose windward strip or corner lifts took
 2–11 steps at 1 300–26 000 dofs (docs/plates.md).
 
@@ -65,6 +69,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .border import FactoredBlock
+from .ordering import dof_order
 
 #: a node changes state only beyond this fraction of the largest |w| (or
 #: floor reaction) on the other side: rounding of the solve, not a lift
@@ -79,14 +84,24 @@ MAX_STEPS = 60
 #: twice the band (the plate sags through it) and the rest creep back a row
 #: a step (docs/dev-notes.md)
 HOVER = 1e-4
+#: from this many dofs on a step is SuperLU in the mesh's nested-dissection
+#: order, below it qdldl under its own AMD refactorised on its kept analysis
+#: (CPU, one factorisation of the windward raft: 10 092 dofs 34 against
+#: 33 ms, a solve 2.0 against 0.9 ms; 19 683 dofs 78 against 95 ms; 100 467
+#: dofs 0.66 against 2.5–3.0 s)
+SUPERNODAL_DOFS = 15_000
 
 
 class SupportSystem:
-    """K on the dofs no bilateral support holds, in upper-triangular CSC,
-    with the soil nodes' w diagonals located, and the LDLᵀ solver that
-    keeps its symbolic analysis (made once per raft, on first use)."""
+    """K on the dofs no bilateral support holds, with the soil nodes' w
+    diagonals located, and the last sparse LDLᵀ of it with springs: from
+    ``SUPERNODAL_DOFS`` dofs on SuperLU (supernodal: LU with diagonal
+    pivots on a symmetric matrix, U = D Lᵀ) in the mesh's nested-dissection
+    order (:mod:`.ordering`, made once per raft from the node coordinates),
+    below it qdldl under its own AMD, refactorised numerically on the
+    analysis it keeps."""
 
-    def __init__(self, qp):
+    def __init__(self, qp, points):
         n = qp.K.shape[0]
         held = np.zeros(n, bool)
         held[qp.fixed] = True
@@ -97,28 +112,38 @@ class SupportSystem:
         self.soil_w, self.floor_w = at[3 * qp.soil], at[3 * qp.floor]
         self.k = qp.ks[qp.soil]
         K = qp.K.tocsc()[self.dofs][:, self.dofs]
-        self.K = K.tocsr()
-        upper = sp.triu(K, format="csc")
-        upper.sort_indices()
-        last = upper.indptr[1:] - 1
-        if not np.array_equal(upper.indices[last[self.soil_w]], self.soil_w):
+        self.K = K                                  # (CSC: K u per step, as fast as CSR)
+        self.supernodal = self.dofs.size >= SUPERNODAL_DOFS
+        #: the factorised matrix's order: its position p is dof order[p]
+        #: (qdldl reads the upper triangle as it is and orders it itself)
+        if self.supernodal:
+            self.order = dof_order(K, self.dofs // 3, points)
+            matrix = K[self.order][:, self.order].tocsc()
+        else:
+            self.order = np.arange(self.dofs.size)
+            matrix = sp.triu(K, format="csc")
+        matrix.sort_indices()
+        self.rank = np.empty_like(self.order)
+        self.rank[self.order] = np.arange(self.order.size)
+        cols = np.repeat(np.arange(matrix.shape[1]), np.diff(matrix.indptr))
+        diagonal = np.full(matrix.shape[1], -1)
+        on = np.flatnonzero(matrix.indices == cols)
+        diagonal[cols[on]] = on
+        self.soil_diag = diagonal[self.rank[self.soil_w]]     # where the springs go in its data
+        if np.any(self.soil_diag < 0):
             raise ValueError("a soil node's w has no diagonal entry in K")
-        self.upper, self.base = upper, upper.data.copy()
-        self.soil_diag = last[self.soil_w]
-        self.solver = None                          # the LDLᵀ of K's pattern (qdldl)
-        self.soil_block = None                      # it with its springs (.border), and
+        self.matrix, self.base = matrix, matrix.data.copy()
+        self.analysis = None                        # qdldl's, of the whole matrix
+        self.soil_block = None                      # the last whole LDLᵀ, its springs, and
         self.floor_block = None                     # the last block with floor dofs held
 
     def factorize(self, soil_pressing, floor_held):
         """u ↦ the solution of (K + the pressing soil nodes' springs) u = rhs
         with the held floor dofs at zero: from the last LDLᵀ with what
-        changed since as a border (:class:`.border.FactoredBlock`), else
-        factorised.  Where no floor dof is held, K's pattern is factorised
-        (numerically: the symbolic analysis kept); where some are, the block
-        without them afresh (their rows carry fill that the block does not:
-        55 against 19 ms on a 57 x 57 floor raft)."""
-        import qdldl
-
+        changed since as a border (:class:`.border.FactoredBlock`), else a
+        fresh one (:meth:`factor`): of the whole matrix where no floor dof
+        is held, of the block without them where some are.  A zero pivot
+        raises RuntimeError or ValueError (SuperLU, qdldl)."""
         springs = np.zeros(self.dofs.size)
         springs[self.soil_w] = np.where(soil_pressing, self.k, 0.0)
         keep = np.ones(self.dofs.size, bool)
@@ -128,41 +153,112 @@ class SupportSystem:
             solve = last.near(keep, springs)
             if solve is not None:
                 return solve
-        self.upper.data = self.base.copy()
-        self.upper.data[self.soil_diag] += springs[self.soil_w]
-        if not floor_held.any():
-            if self.solver is None:
-                self.solver = qdldl.Solver(self.upper, upper=True)
-            else:
-                self.solver.update(self.upper, upper=True)
-            self.soil_block = FactoredBlock(self.K, keep, springs, self.solver.solve,
-                                            self.solver.factors)
-            return self.soil_block.solve
-        idx = np.flatnonzero(keep)
-        block = qdldl.Solver(self.upper[idx][:, idx], upper=True)
+        if floor_held.any():
+            self.floor_block = None         # its memory before the next one's
+        else:
+            self.soil_block = None
+        factorisation = self.factor(soil_pressing, floor_held)
+        block = FactoredBlock(self.K, keep, springs, factorisation, factorisation.factors)
+        if floor_held.any():
+            self.floor_block = block
+        else:
+            self.soil_block = block
+        return factorisation
 
-        def solve(rhs):
-            u = np.zeros(self.dofs.size)
-            u[idx] = block.solve(rhs[idx])
-            return u
+    def factor(self, soil_pressing, floor_held):
+        """A fresh LDLᵀ of (K + the pressing soil nodes' springs) without
+        the held floor dofs, a :class:`Factorisation` (one step's
+        factorisation: what ``benchmarks/scale.py`` times as the floor)."""
+        import qdldl
 
-        def factors():
-            L, d, p = block.factors()
-            return L, d, idx[p]
+        self.matrix.data = self.base.copy()
+        self.matrix.data[self.soil_diag] += np.where(soil_pressing, self.k, 0.0)
+        matrix, dofs = self.matrix, self.order
+        if floor_held.any():
+            keep = np.ones(self.dofs.size, bool)
+            keep[self.rank[self.floor_w[floor_held]]] = False
+            kept = np.flatnonzero(keep)
+            matrix, dofs = matrix[kept][:, kept], dofs[kept]
+        if self.supernodal:
+            return _superlu(matrix, dofs)
+        if floor_held.any():        # the block's own AMD (the held rows carry fill it has not)
+            return Factorisation(dofs, qdldl=qdldl.Solver(matrix, upper=True))
+        if self.analysis is None:
+            self.analysis = qdldl.Solver(matrix, upper=True)
+        else:
+            self.analysis.update(matrix, upper=True)
+        return Factorisation(dofs, qdldl=self.analysis)
 
-        self.floor_block = FactoredBlock(self.K, keep, springs, solve, factors)
-        return solve
+
+class Factorisation:
+    """One LDLᵀ of a step's matrix on ``dofs`` (its rows and columns, in
+    the matrix's order) as a solve, rhs ↦ u zero outside ``dofs`` (rhs
+    (n,) or (n, m)), and the factor itself, for a border built on it:
+
+    * ``lu``: SuperLU's, in the order ``dofs`` (``NATURAL``: no order of
+      its own), diagonal pivots in symmetric mode — ``perm_r`` and
+      ``perm_c`` the identity (checked: anything else raises as a zero
+      pivot does), ``lu.L`` unit lower triangular, ``lu.U`` = D Lᵀ with
+      D = diag(``lu.U``); or
+    * ``qdldl``: qdldl's Solver of the matrix on ``dofs`` in that order
+      (``factors()``: its L, d and its own AMD order p; below
+      ``SUPERNODAL_DOFS``; the kept analysis is refactorised in place by
+      the next step's update)."""
+
+    def __init__(self, dofs, lu=None, qdldl=None):
+        self.dofs, self.lu, self.qdldl = dofs, lu, qdldl
+
+    def __call__(self, rhs):
+        rhs = np.asarray(rhs, float)
+        u = np.zeros(rhs.shape)
+        part = rhs[self.dofs]
+        if self.lu is not None:                 # m columns: one solve
+            u[self.dofs] = self.lu.solve(part)
+        elif part.ndim == 1:
+            u[self.dofs] = self.qdldl.solve(part)
+        else:                                   # qdldl solves one column at a time
+            u[self.dofs] = np.column_stack([self.qdldl.solve(np.ascontiguousarray(c))
+                                            for c in part.T])
+        return u
+
+    def factors(self):
+        """(L, d, p) for a border (:class:`.border.FactoredBlock`): L
+        strictly lower (CSC) and d with the matrix in the order p (p[i] the
+        dof at position i) = (I + L) diag(d) (I + L)'."""
+        if self.lu is not None:
+            return (self.lu.L - sp.eye(self.dofs.size, format="csc"), self.lu.U.diagonal(),
+                    self.dofs)
+        L, d, p = self.qdldl.factors()
+        return L, d, self.dofs[p]
 
 
-def solve_supports(qp, f, deadline=None, guess=None):
+def _superlu(ordered, dofs):
+    """The :class:`Factorisation` of ``ordered`` (the matrix on ``dofs`` in
+    that order) by SuperLU's supernodal LU with diagonal pivots (symmetric
+    mode: U = D Lᵀ, an LDLᵀ).  Its ``relax`` and ``panel_size`` are left at
+    SuperLU's own: other values were measured 0–25 % faster and corrupted
+    the heap twice."""
+    import scipy.sparse.linalg as spla
+
+    lu = spla.splu(ordered, permc_spec="NATURAL", diag_pivot_thresh=0.0,
+                   options={"SymmetricMode": True})
+    identity = np.arange(ordered.shape[0])
+    if not (np.array_equal(lu.perm_r, identity) and np.array_equal(lu.perm_c, identity)):
+        # a zero diagonal pivot made SuperLU pivot off the diagonal: not an LDLᵀ
+        raise RuntimeError("a zero pivot: the matrix is not positive definite")
+    return Factorisation(dofs, lu=lu)
+
+
+def solve_supports(qp, nodes, f, deadline=None, guess=None):
     """(x of :mod:`.contact`'s QP — free displacements, then the gaps —,
-    Newton steps) for nodal loads f, or None where the iteration does not
-    end (module docstring).  ``deadline``: a ``time.perf_counter`` value
+    Newton steps) for nodal loads f on the raft whose mesh has the node
+    coordinates ``nodes`` [m], or None where the iteration does not end
+    (module docstring).  ``deadline``: a ``time.perf_counter`` value
     past which it gives up.  ``guess``: the first step's (pressing soil
     nodes, held floor nodes) — :func:`start_from`, a coarser twin's answer —
     else every node presses first."""
     if qp.newton is None:                   # once per raft: every combination shares it
-        qp.newton = SupportSystem(qp)
+        qp.newton = SupportSystem(qp, nodes)
     system = qp.newton
     load = np.asarray(f, float)[system.dofs]
     if guess is None:
@@ -173,8 +269,8 @@ def solve_supports(qp, f, deadline=None, guess=None):
     for step in range(1, MAX_STEPS + 1):
         try:
             u = system.factorize(soil, floor)(load)
-        except ValueError:           # a zero pivot: the pressing nodes leave a rigid motion
-            return None
+        except (RuntimeError, ValueError):      # a zero pivot: the pressing nodes leave a
+            return None                          # rigid motion free
         if not np.all(np.isfinite(u)):
             return None
         w_soil, w_floor = u[system.soil_w], u[system.floor_w]

@@ -23,8 +23,8 @@ def _mixed_system():
     raft.add_soil(3e4)
     raft.add_rigid_floor(zone=(0.0, 0.0, 2.5, 4.0))
     raft.add_self_weight(25.0)
-    qp = raft.build()["qp"]
-    return SupportSystem(qp)
+    b = raft.build()
+    return SupportSystem(b["qp"], b["mesh"].nodes)
 
 
 def _reference(system, soil_pressing, floor_held, rhs):
@@ -91,7 +91,13 @@ def _keep_springs(system, soil_pressing, floor_held):
     return keep, springs
 
 
-def test_a_floor_rafts_answer_on_borders_is_the_answer_factorised_every_step(monkeypatch):
+@pytest.mark.parametrize("supernodal", [False, True])
+def test_a_floor_rafts_answer_on_borders_is_the_answer_factorised_every_step(supernodal,
+                                                                              monkeypatch):
+    """On qdldl's factors and on SuperLU's (newton.SUPERNODAL_DOFS)."""
+    import formulations.plates.newton as newton_module
+
+    monkeypatch.setattr(newton_module, "SUPERNODAL_DOFS", 0 if supernodal else 10 ** 9)
     bordered_steps = []
     near = border.FactoredBlock.near
 

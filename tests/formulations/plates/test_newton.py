@@ -69,6 +69,18 @@ def _mixed_raft():
     return raft
 
 
+@pytest.fixture(params=["qdldl", "superlu"])
+def factorisation(request, monkeypatch):
+    """Both of Newton's factorisations (formulations/plates/newton.py): qdldl
+    under its own AMD on small rafts, SuperLU in nested-dissection order
+    from SUPERNODAL_DOFS on — here each on every raft."""
+    import formulations.plates.newton as newton_module
+
+    monkeypatch.setattr(newton_module, "SUPERNODAL_DOFS",
+                        10 ** 9 if request.param == "qdldl" else 0)
+    return request.param
+
+
 def _agree(newton, pinned):
     assert newton.ok and pinned.ok, (newton.message, pinned.message)
     assert newton.method == "active-set" and pinned.method != "active-set"
@@ -78,7 +90,7 @@ def _agree(newton, pinned):
 
 
 @pytest.mark.parametrize("combination", list(COMBINATIONS))
-def test_the_example_raft_agrees_with_the_pinned_qp(combination):
+def test_the_example_raft_agrees_with_the_pinned_qp(combination, factorisation):
     raft = raft_example(cells=(16, 12))
     combo = COMBINATIONS[combination]
     _agree(raft.solve(combo), raft.solve(combo, method="bpp"))
@@ -86,7 +98,7 @@ def test_the_example_raft_agrees_with_the_pinned_qp(combination):
 
 @pytest.mark.parametrize("make", [_corner_raft, _zoned_raft, _held_raft, _floor_raft,
                                   _mixed_raft])
-def test_other_rafts_agree_with_the_pinned_qp(make):
+def test_other_rafts_agree_with_the_pinned_qp(make, factorisation):
     raft = make()
     newton, pinned = raft.solve(), raft.solve(method="bpp")
     _agree(newton, pinned)
@@ -126,7 +138,7 @@ def test_a_time_limit_spent_in_newton_is_reported_not_answered():
 
 @pytest.mark.parametrize("make", [lambda: windward_raft(40), lambda: windward_raft(40, floor=True),
                                   lambda: raft_example(cells=(36, 32))])
-def test_a_start_from_the_coarser_grid_gives_the_same_answer(make, monkeypatch):
+def test_a_start_from_the_coarser_grid_gives_the_same_answer(make, monkeypatch, factorisation):
     """Nested iteration: the twin on half the cells only guesses the first
     states; the answer is the one Newton finds from every node pressing."""
     import formulations.plates.model as model
