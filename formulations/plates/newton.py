@@ -43,11 +43,13 @@ combination of the raft: from ``SUPERNODAL_DOFS`` on, nested dissection
 of the mesh (:mod:`.ordering`), each step a supernodal LDLᵀ in that order
 (SuperLU); below it qdldl's AMD, each step a numeric refactorisation on
 qdldl's kept analysis.  Where a step's springs differ from the last
-factorised ones at few dofs — springs changed, floor nodes released or
-caught — it is that factorisation with the change as a border
-(:mod:`.border`: a floor raft's contact line creeps a row of nodes a step,
-so most of its steps are borders); with floor nodes held, a step factors
-the block of the dofs that are not held (w_i = 0 exactly).  (Until 2026-12-06 every
+factorised ones at few nodes, it is that factorisation with the changed
+springs as a border; with floor nodes held, a step factors the block of
+the dofs that are not held (w_i = 0 exactly) — or, where it differs from
+the last such block at few dofs (floor nodes released or caught, springs
+changed), borders that block's LDLᵀ (:mod:`.border`: a floor raft's
+contact line creeps a row of nodes a step, so most of its steps are
+borders).  (Until 2026-12-06 every
 step was qdldl's: 2.5–3.0 s against 0.66 s at 1e5 dofs, and not done in
 minutes at 1e6; docs/dev-notes.md, "The 10⁶-dof raft".)  Started
 from every node pressing, rafts whose windward strip or corner lifts took
@@ -76,6 +78,15 @@ from .ordering import dof_order
 FLIP = 1e-13
 #: Newton steps before the pinned QP answers
 MAX_STEPS = 60
+#: a step whose springs differ from the last factorised ones at up to this
+#: many nodes is solved by that LDLᵀ and a border (chosen when a solve cost
+#: 1/35 of a factorisation and a border of m nodes m + 2 solves; in the
+#: nested-dissection order a solve costs 1/20–1/40, but the border's m
+#: columns are one solve with m right-hand sides, 11–21 solves' time for 32)
+BORDER_MAX = 32
+#: the border's matrix with a larger condition number sends the step to a
+#: refactorisation
+BORDER_RCOND = 1e-10
 #: a floor node whose coarser twin lifts it by less than this fraction of the
 #: twin's largest |w| starts held (:func:`start_from`): next to the twin's
 #: contact line the plate hovers — lifted by 1e-8 to 5e-5 of the largest |w|
@@ -134,35 +145,43 @@ class SupportSystem:
             raise ValueError("a soil node's w has no diagonal entry in K")
         self.matrix, self.base = matrix, matrix.data.copy()
         self.analysis = None                        # qdldl's, of the whole matrix
-        self.soil_block = None                      # the last whole LDLᵀ, its springs, and
+        self.solver, self.factored = None, None     # the last whole LDLᵀ, its springs
         self.floor_block = None                     # the last block with floor dofs held
 
     def factorize(self, soil_pressing, floor_held):
         """u ↦ the solution of (K + the pressing soil nodes' springs) u = rhs
-        with the held floor dofs at zero: from the last LDLᵀ with what
-        changed since as a border (:class:`.border.FactoredBlock`), else a
-        fresh one (:meth:`factor`): of the whole matrix where no floor dof
-        is held, of the block without them where some are.  A zero pivot
-        raises RuntimeError or ValueError (SuperLU, qdldl)."""
+        with the held floor dofs at zero.  Where no floor dof is held: from
+        the last LDLᵀ with the springs that changed since as a border
+        (:meth:`_bordered`), or a fresh one; where some are, from the last
+        LDLᵀ of a block with floor dofs held and what changed since as a
+        border (:class:`.border.FactoredBlock`), or an LDLᵀ of the block
+        without them.  A zero pivot raises RuntimeError or ValueError
+        (SuperLU, qdldl)."""
+        if floor_held.any():
+            return self._floor_step(soil_pressing, floor_held)
+        bordered = self._bordered(soil_pressing)
+        if bordered is not None:
+            return bordered
+        self.solver = None                  # its memory before the next one's
+        self.solver = self.factor(soil_pressing, floor_held)
+        self.factored = soil_pressing.copy()
+        return self.solver
+
+    def _floor_step(self, soil_pressing, floor_held):
+        """A step with floor dofs held: on the last such step's LDLᵀ with the
+        change as a border, or factorised afresh and kept for the next."""
         springs = np.zeros(self.dofs.size)
         springs[self.soil_w] = np.where(soil_pressing, self.k, 0.0)
         keep = np.ones(self.dofs.size, bool)
         keep[self.floor_w[floor_held]] = False
-        last = self.floor_block if floor_held.any() else self.soil_block
-        if last is not None:
-            solve = last.near(keep, springs)
+        if self.floor_block is not None:
+            solve = self.floor_block.near(keep, springs)
             if solve is not None:
                 return solve
-        if floor_held.any():
-            self.floor_block = None         # its memory before the next one's
-        else:
-            self.soil_block = None
+        self.floor_block = None             # its memory before the next one's
         factorisation = self.factor(soil_pressing, floor_held)
-        block = FactoredBlock(self.K, keep, springs, factorisation, factorisation.factors)
-        if floor_held.any():
-            self.floor_block = block
-        else:
-            self.soil_block = block
+        self.floor_block = FactoredBlock(self.K, keep, springs, factorisation,
+                                         factorisation.factors)
         return factorisation
 
     def factor(self, soil_pressing, floor_held):
@@ -188,6 +207,43 @@ class SupportSystem:
         else:
             self.analysis.update(matrix, upper=True)
         return Factorisation(dofs, qdldl=self.analysis)
+
+    def _bordered(self, soil_pressing):
+        """The solve for springs that differ from the last factorised ones
+        at m ≤ BORDER_MAX nodes, by that LDLᵀ and the border (Sherman–
+        Morrison–Woodbury: A + E Δ Eᵀ with Δ = ±k_i at the changed w dofs E;
+        Z = A⁻¹E, C = Δ⁻¹ + EᵀZ, u = y − Z C⁻¹ Eᵀy for y = A⁻¹ rhs), with one
+        step of refinement on the new matrix's own residual; None where
+        more changed or C is ill-conditioned (a spring whose removal leaves
+        its node nearly free): the caller refactorises.  A Newton step from
+        a coarser twin's guess changes 2–64 nodes on 57–115 cells."""
+        if self.solver is None or self.factored is None:
+            return None
+        changed = np.flatnonzero(soil_pressing != self.factored)
+        if changed.size == 0:
+            return self.solver
+        if changed.size > BORDER_MAX:
+            return None
+        at = self.soil_w[changed]
+        delta = np.where(soil_pressing[changed], self.k[changed], -self.k[changed])
+        E = np.zeros((self.dofs.size, changed.size))
+        E[at, np.arange(changed.size)] = 1.0
+        Z = self.solver(E)                          # one solve with m right-hand sides
+        C = np.diag(1.0 / delta) + Z[at]
+        if np.linalg.cond(C) > 1.0 / BORDER_RCOND:
+            return None
+        springs = np.zeros(self.dofs.size)
+        springs[self.soil_w] = np.where(soil_pressing, self.k, 0.0)
+
+        def once(rhs):
+            y = self.solver(rhs)
+            return y - Z @ np.linalg.solve(C, y[at])
+
+        def solve(rhs):
+            u = once(rhs)
+            return u + once(rhs - (self.K @ u + springs * u))
+
+        return solve
 
 
 class Factorisation:
