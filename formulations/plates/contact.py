@@ -447,7 +447,7 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
                 return ContactAnswer(
                     x_full, True, "solved",
                     f"certified: error {cert.error:.2e} <= {tol:.0e} on the unpinned QP (active "
-                    f"set: Newton's method on the energy, {steps} LDLᵀ of the raft on its "
+                    f"set: Newton's method on the energy, {steps} steps on the raft's "
                     f"pressing nodes{how})", "active-set", [], float(cert.error),
                     time.perf_counter() - start)
         if time_limit is not None:

@@ -45,7 +45,11 @@ of the mesh (:mod:`.ordering`), each step a supernodal LDLᵀ in that order
 qdldl's kept analysis.  Where a step's springs differ from the last
 factorised ones at few nodes, it is that factorisation with the changed
 springs as a border; with floor nodes held, a step factors the block of
-the dofs that are not held (w_i = 0 exactly).  (Until 2026-12-06 every
+the dofs that are not held (w_i = 0 exactly) — or, where it differs from
+the last such block at few dofs (floor nodes released or caught, springs
+changed), borders that block's LDLᵀ (:mod:`.border`: a floor raft's
+contact line creeps a row of nodes a step, so most of its steps are
+borders).  (Until 2026-12-06 every
 step was qdldl's: 2.5–3.0 s against 0.66 s at 1e5 dofs, and not done in
 minutes at 1e6; docs/dev-notes.md, "The 10⁶-dof raft".)  Started
 from every node pressing, rafts whose windward strip or corner lifts took
@@ -66,6 +70,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
+from .border import FactoredBlock
 from .ordering import dof_order
 
 #: a node changes state only beyond this fraction of the largest |w| (or
@@ -82,6 +87,14 @@ BORDER_MAX = 32
 #: the border's matrix with a larger condition number sends the step to a
 #: refactorisation
 BORDER_RCOND = 1e-10
+#: a floor node whose coarser twin lifts it by less than this fraction of the
+#: twin's largest |w| starts held (:func:`start_from`): next to the twin's
+#: contact line the plate hovers — lifted by 1e-8 to 5e-5 of the largest |w|
+#: on the 115 x 115 floor raft — and the fine line lies up to 1.3 coarse
+#: cells into that band; started released there, the first step catches
+#: twice the band (the plate sags through it) and the rest creep back a row
+#: a step (docs/dev-notes.md)
+HOVER = 1e-4
 #: from this many dofs on a step is SuperLU in the mesh's nested-dissection
 #: order, below it qdldl under its own AMD refactorised on its kept analysis
 #: (CPU, one factorisation of the windward raft: 10 092 dofs 34 against
@@ -133,16 +146,19 @@ class SupportSystem:
         self.matrix, self.base = matrix, matrix.data.copy()
         self.analysis = None                        # qdldl's, of the whole matrix
         self.solver, self.factored = None, None     # the last whole LDLᵀ, its springs
+        self.floor_block = None                     # the last block with floor dofs held
 
     def factorize(self, soil_pressing, floor_held):
         """u ↦ the solution of (K + the pressing soil nodes' springs) u = rhs
         with the held floor dofs at zero.  Where no floor dof is held: from
         the last LDLᵀ with the springs that changed since as a border
-        (:meth:`_bordered`), or a fresh one; where some are, an LDLᵀ of the
-        block without them.  A zero pivot raises RuntimeError or
-        ValueError (SuperLU, qdldl)."""
+        (:meth:`_bordered`), or a fresh one; where some are, from the last
+        LDLᵀ of a block with floor dofs held and what changed since as a
+        border (:class:`.border.FactoredBlock`), or an LDLᵀ of the block
+        without them.  A zero pivot raises RuntimeError or ValueError
+        (SuperLU, qdldl)."""
         if floor_held.any():
-            return self.factor(soil_pressing, floor_held)
+            return self._floor_step(soil_pressing, floor_held)
         bordered = self._bordered(soil_pressing)
         if bordered is not None:
             return bordered
@@ -150,6 +166,23 @@ class SupportSystem:
         self.solver = self.factor(soil_pressing, floor_held)
         self.factored = soil_pressing.copy()
         return self.solver
+
+    def _floor_step(self, soil_pressing, floor_held):
+        """A step with floor dofs held: on the last such step's LDLᵀ with the
+        change as a border, or factorised afresh and kept for the next."""
+        springs = np.zeros(self.dofs.size)
+        springs[self.soil_w] = np.where(soil_pressing, self.k, 0.0)
+        keep = np.ones(self.dofs.size, bool)
+        keep[self.floor_w[floor_held]] = False
+        if self.floor_block is not None:
+            solve = self.floor_block.near(keep, springs)
+            if solve is not None:
+                return solve
+        self.floor_block = None             # its memory before the next one's
+        factorisation = self.factor(soil_pressing, floor_held)
+        self.floor_block = FactoredBlock(self.K, keep, springs, factorisation,
+                                         factorisation.factors)
+        return factorisation
 
     def factor(self, soil_pressing, floor_held):
         """A fresh LDLᵀ of (K + the pressing soil nodes' springs) without
@@ -244,6 +277,16 @@ class Factorisation:
                                             for c in part.T])
         return u
 
+    def factors(self):
+        """(L, d, p) for a border (:class:`.border.FactoredBlock`): L
+        strictly lower (CSC) and d with the matrix in the order p (p[i] the
+        dof at position i) = (I + L) diag(d) (I + L)'."""
+        if self.lu is not None:
+            return (self.lu.L - sp.eye(self.dofs.size, format="csc"), self.lu.U.diagonal(),
+                    self.dofs)
+        L, d, p = self.qdldl.factors()
+        return L, d, self.dofs[p]
+
 
 def _superlu(ordered, dofs):
     """The :class:`Factorisation` of ``ordered`` (the matrix on ``dofs`` in
@@ -318,7 +361,10 @@ def start_from(coarse_nodes, coarse_w, qp, nodes):
     mostly a matter of the raft's global shape, which the coarse grid
     resolves; a node presses (or is held) where the coarse deflection,
     interpolated bilinearly in its cell, goes down (or is not up); a node
-    in a cell with a corner missing (an opening's edge) presses.  Measured:
+    in a cell with a corner missing (an opening's edge) presses.  On a
+    floor, a coarse lift below HOVER of the largest |w| counts as held: the
+    twin's plate hovers there, and the fine contact line lies in that band
+    (:data:`HOVER`).  Measured:
     9 and 11 Newton steps from every node pressing, 2 and 3 from the 40 x 40
     twin's answer on 80 x 80 rafts (docs/dev-notes.md)."""
     xs, ys = np.unique(coarse_nodes[:, 0]), np.unique(coarse_nodes[:, 1])
@@ -331,7 +377,7 @@ def start_from(coarse_nodes, coarse_w, qp, nodes):
     b = (p[:, 1] - ys[j]) / (ys[j + 1] - ys[j])
     w = ((1 - a) * (1 - b) * W[i, j] + a * (1 - b) * W[i + 1, j]
          + a * b * W[i + 1, j + 1] + (1 - a) * b * W[i, j + 1])
-    small = 1e-12 * float(np.nanmax(np.abs(coarse_w), initial=0.0))
-    soil = ~(w[:qp.soil.size] <= small)           # NaN (a corner missing): pressing
-    floor = ~(w[qp.soil.size:] < -small)
+    largest = float(np.nanmax(np.abs(coarse_w), initial=0.0))
+    soil = ~(w[:qp.soil.size] <= 1e-12 * largest)     # NaN (a corner missing): pressing
+    floor = ~(w[qp.soil.size:] < -HOVER * largest)
     return soil, floor

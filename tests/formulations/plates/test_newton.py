@@ -136,7 +136,8 @@ def test_a_time_limit_spent_in_newton_is_reported_not_answered():
     assert "time limit" in r.message
 
 
-@pytest.mark.parametrize("make", [lambda: windward_raft(40), lambda: raft_example(cells=(36, 32))])
+@pytest.mark.parametrize("make", [lambda: windward_raft(40), lambda: windward_raft(40, floor=True),
+                                  lambda: raft_example(cells=(36, 32))])
 def test_a_start_from_the_coarser_grid_gives_the_same_answer(make, monkeypatch, factorisation):
     """Nested iteration: the twin on half the cells only guesses the first
     states; the answer is the one Newton finds from every node pressing."""

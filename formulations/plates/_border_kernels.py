@@ -1,0 +1,77 @@
+"""Compiled forward solves with sparse right-hand sides on an LDLᵀ factor
+(numba), for :mod:`.border`.
+
+With A = P (I + L) D (I + L)' P' (any LDLᵀ: L strictly lower, in
+CSC), the entry L_ij is nonzero only where i is an ancestor of j in the
+elimination tree (parent(j) = the least row of column j).  So (I + L)⁻¹ b
+for a b with few nonzeros is nonzero only on their paths to the root, the
+reach (Gilbert and Peierls), and the border's k right-hand sides are
+solved together on the union of their reaches, in increasing order, as a
+dense block whose rows are the union's: the top of the tree, which every
+path crosses, is most of the work — on a 115 x 115 floor raft's factor a
+path holds 1 238 of 33 188 columns and 1/7 of L's entries.  Run one
+column at a time, the same solves took twice as long.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from qpcontact.core.compiled import njit
+
+
+@njit
+def parents(Lp, Li, n):
+    """The elimination tree of L (CSC, strictly lower): parent[j] = the
+    least row of column j, −1 for a root."""
+    parent = np.full(n, -1, np.int64)
+    for j in range(n):
+        for t in range(Lp[j], Lp[j + 1]):
+            i = Li[t]
+            if parent[j] == -1 or i < parent[j]:
+                parent[j] = i
+    return parent
+
+
+@njit
+def reach_union(parent, Bi, n):
+    """The union of the paths to the root from the rows Bi, ascending."""
+    mark = np.zeros(n, np.bool_)
+    out = np.empty(n, np.int64)
+    k = 0
+    for t in range(Bi.size):
+        j = Bi[t]
+        while j != -1 and not mark[j]:
+            mark[j] = True
+            out[k] = j
+            k += 1
+            j = parent[j]
+    return np.sort(out[:k])
+
+
+@njit
+def forward_block(Lp, Li, Lx, rows, X):
+    """X ← (I + L)⁻¹ X in place on the rows ``rows`` (ascending, closed
+    under the elimination tree's parent: every row of L's columns there is
+    among them), X dense (len(rows), m) with the right-hand sides in the
+    factor's order."""
+    n = Lp.size - 1
+    local = np.full(n, -1, np.int64)
+    for a in range(rows.size):
+        local[rows[a]] = a
+    m = X.shape[1]
+    for a in range(rows.size):
+        j = rows[a]
+        xj = X[a]
+        nonzero = False
+        for c in range(m):
+            if xj[c] != 0.0:
+                nonzero = True
+                break
+        if not nonzero:
+            continue
+        for t in range(Lp[j], Lp[j + 1]):
+            row = X[local[Li[t]]]
+            v = Lx[t]
+            for c in range(m):
+                row[c] -= v * xj[c]

@@ -1,0 +1,172 @@
+r"""A raft's linear system solved on the LDLᵀ of a nearby one: the bordered
+system, for Newton's steps on soil and a rigid floor (:mod:`.newton`).
+
+A step solves the raft with its held floor nodes' w [m] removed and
+springs k_i [N/m] on its pressing soil nodes: (K + S₁) u = f [N] on the
+dofs D₁ that are not held.  The next step's differs at the nodes whose
+state changed — a few dozen to a few hundred, along the lift-off line —
+and factorising afresh costs the same whatever the change.  Instead, keep
+A₀ = (K + S₀) on D₀ factorised (A₀ = P (I + L) D (I + L)' P', any LDLᵀ) and
+border it: a dof held now but free in D₀ is held at zero by a multiplier μ
+(the unit column e_j); a dof free now but not in D₀ brings its column of
+K; a dof whose spring changed by Δ_j gets a multiplier ν_j = Δ_j u_j
+(Sherman–Morrison–Woodbury, A₀ + Δ_j e_j e_j'):
+
+    [ A₀   B   E   F      ] [u₀]   [f₀]
+    [ B'   C   0   0      ] [u_N] = [f_N]      B = K[D₀, N],  C = (K + S₁)[N, N]
+    [ E'   0   0   0      ] [ μ ]   [ 0 ]
+    [ F'   0   0   −Δ⁻¹   ] [ ν ]   [ 0 ]
+
+— a held dof's row is taken up by μ, so u is the new step's answer
+exactly.  With V = [B E F] and the k x k Schur complement
+S = diag(C, 0, −Δ⁻¹) − V' A₀⁻¹ V, a solve is y = A₀⁻¹ f₀, S [u_N; μ; ν] =
+[f_N; 0; 0] − V'y, u₀ = y − A₀⁻¹ V [u_N; μ; ν]: two solves with the factor
+and one with S, plus one step of refinement on the new system's own
+residual (on a 115 x 115 floor raft it moves u by 1e-10 of its largest,
+more than a state's FLIP).
+
+The border's k columns are not k solves: V' A₀⁻¹ V = W' D⁻¹ W with
+W = (I + L)⁻¹ P' V, and a column of V has a node's few entries, so its
+column of W lives on their paths to the elimination tree's root
+(:mod:`._border_kernels`): 1/7 of L's entries on a 115 x 115 floor raft,
+where a full solve reads all of L twice.  A border of more than
+BORDER_SHARE √n dofs, or an S whose condition is above 1/BORDER_RCOND (a
+release that leaves the plate nearly free), sends the step to a fresh
+factorisation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+#: a step whose dofs and springs differ from the factorised block's at more
+#: than BORDER_SHARE √n dofs (n the block's) is factorised afresh: a border
+#: column costs a path of the elimination tree (a cost that grows about as
+#: n on a plate, a factorisation's as n^1.5); one border matched one
+#: factorisation at 2.7 √n (57 x 57 floor raft) to 4.4 √n (115 x 115),
+#: and 1.5, 2, 3 √n timed alike within the machine's noise (docs/dev-notes.md)
+BORDER_SHARE = 3.0
+#: a border of at most this many columns on a factor not yet read takes a
+#: full solve per column instead: reading L out of qdldl (``factors()``, a
+#: copy) cost 1–5 solves on the worked raft at 96 x 72 cells, where its
+#: soil steps end on borders of 1–6 springs
+FEW_COLUMNS = 4
+#: at most this many entries in the border's forward solves (256 MB)
+BORDER_ENTRIES = 2 ** 25
+#: S with a larger condition number (1-norm estimate, equilibrated) sends the
+#: step to a fresh factorisation
+BORDER_RCOND = 1e-10
+
+
+class FactoredBlock:
+    """A factorisation of (K + diag(springs)) on the dofs ``keep`` (a mask
+    over K's rows), and solves on it of systems nearby (module docstring).
+    Any LDLᵀ will do, given as
+
+    * ``solve``: rhs (n,) ↦ u (n,), the block's solution, zero off ``keep``;
+    * ``factors``: () ↦ (L, d, p), read on the first border that needs it:
+      L strictly lower (CSC) and d such that the block in the order p
+      (p[i] the dof at the factor's position i) is (I + L) diag(d) (I + L)'
+      — qdldl's ``factors()`` with p taken to dofs, or SuperLU's symmetric
+      mode with diagonal pivots (L = ``lu.L`` − I, d = diag(``lu.U``), p the
+      order it was given).
+
+    ``K``: the stiffness (CSR or CSC, symmetric, no springs)."""
+
+    def __init__(self, K, keep, springs, solve, factors):
+        self.K, self.solve, self.read = K, solve, factors
+        self.keep, self.springs = keep.copy(), springs.copy()
+        self.n = int(keep.sum())
+        self.factors = None                 # L's arrays, 1/d, the dofs' positions, parent
+
+    def near(self, keep, springs):
+        """The solve rhs ↦ u of (K + diag(springs)) u = rhs on ``keep`` by
+        this block's factor and a border, or None where the border would be
+        larger than BORDER_SHARE √n or its Schur complement ill-conditioned.
+        A dof free now but not in the block brings its column; one in the
+        block but held now is held by a multiplier; one whose spring changed
+        by Δ is bordered by e_j with −1/Δ on the diagonal (Sherman–Morrison–
+        Woodbury: A₀ + Δ e_j e_j')."""
+        import scipy.linalg
+
+        both = self.keep & keep
+        respring = np.flatnonzero(both & (springs != self.springs))
+        new = np.flatnonzero(keep & ~self.keep)
+        pinned = np.flatnonzero(self.keep & ~keep)
+        k = new.size + pinned.size + respring.size
+        if k == 0:
+            return self.solve
+        if k > BORDER_SHARE * np.sqrt(self.n):
+            return None
+        # the new dofs' columns of K (symmetric: rows of a CSR K)
+        cols = sp.csc_matrix(self.K[:, new] if self.K.format == "csc" else self.K[new].T)
+        units = np.concatenate((pinned, respring))
+        B = cols.multiply(self.keep[:, None])        # on the block's dofs only
+        V = sp.hstack([B, sp.csc_matrix((np.ones(units.size), (units, np.arange(units.size))),
+                                        shape=(keep.size, units.size))], format="csc")
+        V.eliminate_zeros()
+        G = self._inverse_form(V)                    # V' A₀⁻¹ V
+        if G is None:
+            return None
+        S = -G
+        S[:new.size, :new.size] += cols[new].toarray() + np.diag(springs[new])
+        tail = np.arange(new.size + pinned.size, k)
+        S[tail, tail] -= 1.0 / (springs[respring] - self.springs[respring])
+        # stiffnesses [N/m] on the new dofs, flexibilities [m/N] on the
+        # multipliers: equilibrated before its condition is judged
+        with np.errstate(divide="ignore"):
+            scale = 1.0 / np.sqrt(np.abs(np.diag(S)))
+        if not np.all(np.isfinite(scale)):
+            return None
+        S *= scale[:, None] * scale[None, :]
+        lu = scipy.linalg.lu_factor(S, check_finite=False)
+        rcond = scipy.linalg.lapack.dgecon(lu[0], np.abs(S).sum(axis=0).max(), norm="1")[0]
+        if not rcond > BORDER_RCOND:
+            return None
+        Vt = V.T.tocsr()
+        gone = ~keep
+
+        def once(rhs):
+            y = self.solve(rhs)
+            z = scale * scipy.linalg.lu_solve(
+                lu, scale * (np.concatenate((rhs[new], np.zeros(k - new.size))) - Vt @ y),
+                check_finite=False)
+            u = y - self.solve(V @ z)
+            u[gone] = 0.0
+            u[new] = z[:new.size]
+            return u
+
+        def solve(rhs):
+            u = once(rhs)
+            residual = np.where(keep, rhs - (self.K @ u + springs * u), 0.0)
+            return u + once(residual)
+
+        return solve
+
+    def _inverse_form(self, V):
+        """V' A₀⁻¹ V (dense) = W' D⁻¹ W, W = (I + L)⁻¹ P' V, by forward
+        solves on the union of the columns' reaches (:mod:`._border_kernels`)
+        — or, for FEW_COLUMNS on a factor not yet read, a solve each; None
+        where that union holds more than BORDER_ENTRIES entries."""
+        from ._border_kernels import forward_block, parents, reach_union
+
+        if self.factors is None and V.shape[1] <= FEW_COLUMNS:
+            return V.T @ np.column_stack([self.solve(V[:, [j]].toarray().ravel())
+                                          for j in range(V.shape[1])])
+        if self.factors is None:
+            L, d, p = self.read()
+            L = sp.csc_matrix(L)
+            Lp, Li = L.indptr.astype(np.int64), L.indices.astype(np.int64)
+            position = np.full(self.keep.size, -1, np.int64)
+            position[p] = np.arange(p.size)
+            self.factors = (Lp, Li, L.data, 1.0 / d, position, parents(Lp, Li, p.size))
+        Lp, Li, Lx, dinv, position, parent = self.factors
+        Vi = position[V.indices]
+        rows = reach_union(parent, Vi, parent.size)
+        if rows.size * V.shape[1] > BORDER_ENTRIES:
+            return None
+        X = np.zeros((rows.size, V.shape[1]))
+        X[np.searchsorted(rows, Vi), np.repeat(np.arange(V.shape[1]), np.diff(V.indptr))] = V.data
+        forward_block(Lp, Li, Lx, rows, X)
+        return X.T @ (X * dinv[rows, None])
