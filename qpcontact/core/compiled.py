@@ -16,9 +16,41 @@ from __future__ import annotations
 import os
 import tempfile
 
+import threading
+import time
+
 import numba
+from numba.core import event
+
+from .deadline import exclude_one_time
 
 __all__ = ["njit", "fallback_cache_dir"]
+
+
+class _CompileClock(event.Listener):
+    """numba's compile events (a kernel and the kernels it calls: nested)
+    timed from the outermost one's start to its end and left out of every
+    deadline (:func:`.deadline.exclude_one_time`): a time limit does not
+    cover compiling.  Loading a kernel from the on-disk cache is not a
+    compile event."""
+
+    def __init__(self):
+        self.depth = threading.local()
+
+    def on_start(self, ev):
+        depth = getattr(self.depth, "n", 0)
+        if depth == 0:
+            self.depth.started = (time.perf_counter(), time.process_time())
+        self.depth.n = depth + 1
+
+    def on_end(self, ev):
+        self.depth.n -= 1
+        if self.depth.n == 0:
+            wall, cpu = self.depth.started
+            exclude_one_time(time.perf_counter() - wall, time.process_time() - cpu)
+
+
+event.register("numba:compile", _CompileClock())
 
 
 def fallback_cache_dir() -> str:

@@ -15,7 +15,33 @@ import time
 
 from .errors import InvalidOptionError
 
-__all__ = ["Deadline", "CpuShare", "Pace", "check_time_limit", "grace"]
+__all__ = ["Deadline", "CpuShare", "Pace", "check_time_limit", "grace", "exclude_one_time"]
+
+#: (wall, CPU) seconds this process has spent on what no time limit covers
+#: (:func:`grace`): numba compiling kernels, which :mod:`.compiled` reports.
+#: Deadlines run on clocks that leave them out, so that a first call's
+#: compiling (16 s of CPU for the multigrid's kernels on a cold cache, a
+#: minute of wall time at load 8) does not eat a link's share of "auto" and
+#: hand the problem to a slower method — it delays the answer instead, as
+#: grace's docstring states.
+_ONE_TIME = [0.0, 0.0]
+
+
+def exclude_one_time(wall: float, cpu: float) -> None:
+    """Leave ``wall`` and ``cpu`` seconds just spent on one-time work out of
+    every deadline's clock."""
+    _ONE_TIME[0] += wall
+    _ONE_TIME[1] += cpu
+
+
+def _clock() -> float:
+    """The wall clock less the one-time work (``time.perf_counter`` scale)."""
+    return time.perf_counter() - _ONE_TIME[0]
+
+
+def _cpu() -> float:
+    """This process's CPU time less the one-time work."""
+    return time.process_time() - _ONE_TIME[1]
 
 
 def grace(time_limit: float | None) -> float:
@@ -25,7 +51,8 @@ def grace(time_limit: float | None) -> float:
     limit, of work at a full core's speed (a process that gets a share of
     a core takes that much longer).  Not covered: the one-time costs of a process's first use of a
     method — importing its backend (up to a second or two) and numba
-    compiling its kernels into the on-disk cache (once per machine)."""
+    compiling its kernels into the on-disk cache (once per machine; the
+    deadlines' clocks leave compiling out: :func:`exclude_one_time`)."""
     return 0.0 if time_limit is None else 0.5 + 0.1 * time_limit
 
 
@@ -52,7 +79,8 @@ def check_time_limit(time_limit) -> float | None:
 
 
 class Deadline:
-    """A point on the monotonic wall clock (``time.perf_counter``), or none.
+    """A point on the monotonic wall clock (``time.perf_counter``, less the
+    one-time work: :func:`exclude_one_time`), or none.
 
     ``Deadline(seconds)`` ends that many seconds from now (None: never).
     :meth:`share` gives a part of the work a deadline of its own, never later
@@ -61,7 +89,7 @@ class Deadline:
     __slots__ = ("end",)
 
     def __init__(self, seconds: float | None = None, *, end: float | None = None):
-        self.end = end if seconds is None else time.perf_counter() + float(seconds)
+        self.end = end if seconds is None else _clock() + float(seconds)
 
     @property
     def limited(self) -> bool:
@@ -69,24 +97,24 @@ class Deadline:
 
     def left(self) -> float | None:
         """Seconds left (negative once passed), or None without a deadline."""
-        return None if self.end is None else self.end - time.perf_counter()
+        return None if self.end is None else self.end - _clock()
 
     def expired(self) -> bool:
-        return self.end is not None and time.perf_counter() >= self.end
+        return self.end is not None and _clock() >= self.end
 
     def share(self, fraction: float) -> "Deadline":
         """A deadline ``fraction`` of what is left from now (this one's when
         ``fraction`` >= 1)."""
         if self.end is None or fraction >= 1.0:
             return Deadline(end=self.end)
-        now = time.perf_counter()
+        now = _clock()
         return Deadline(end=now + max(self.end - now, 0.0) * fraction)
 
     def within(self, seconds: float | None) -> "Deadline":
         """The earlier of this deadline and ``seconds`` from now."""
         if seconds is None:
             return Deadline(end=self.end)
-        end = time.perf_counter() + seconds
+        end = _clock() + seconds
         return Deadline(end=end if self.end is None else min(end, self.end))
 
     def cpu_share(self, fraction: float, wall_fraction: float) -> "Deadline":
@@ -100,9 +128,9 @@ class Deadline:
         it.  Without a deadline: none."""
         if self.end is None:
             return Deadline()
-        now = time.perf_counter()
+        now = _clock()
         left = max(self.end - now, 0.0)
-        return CpuShare(now + left * min(wall_fraction, 1.0), time.process_time() + left * fraction)
+        return CpuShare(now + left * min(wall_fraction, 1.0), _cpu() + left * fraction)
 
     def __repr__(self) -> str:
         left = self.left()
@@ -122,18 +150,18 @@ class CpuShare(Deadline):
         self.cpu_end = cpu_end
 
     def left(self) -> float:
-        return min(self.end - time.perf_counter(), self.cpu_end - time.process_time())
+        return min(self.end - _clock(), self.cpu_end - _cpu())
 
     def expired(self) -> bool:
-        return time.perf_counter() >= self.end or time.process_time() >= self.cpu_end
+        return _clock() >= self.end or _cpu() >= self.cpu_end
 
     def share(self, fraction: float) -> "Deadline":
-        return Deadline(end=time.perf_counter() + max(self.left(), 0.0) * min(fraction, 1.0))
+        return Deadline(end=_clock() + max(self.left(), 0.0) * min(fraction, 1.0))
 
     def within(self, seconds: float | None) -> "Deadline":
         if seconds is None:
             return CpuShare(self.end, self.cpu_end)
-        return CpuShare(min(self.end, time.perf_counter() + seconds), self.cpu_end)
+        return CpuShare(min(self.end, _clock() + seconds), self.cpu_end)
 
 
 class Pace:
@@ -148,10 +176,10 @@ class Pace:
     def __init__(self, time_limit: float | None):
         self.deadline = Deadline(time_limit)
         self.longest = 0.0
-        self._since = time.perf_counter()
+        self._since = _clock()
 
     def step_done(self) -> None:
-        now = time.perf_counter()
+        now = _clock()
         self.longest = max(self.longest, now - self._since)
         self._since = now
 
