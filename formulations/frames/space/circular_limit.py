@@ -54,11 +54,14 @@ START = 16
 
 
 def contact_frames(frame, b, G):
-    """Per contact: the rigid motions' (n, t1, t2) components at its node,
-    (3, params) in floats, and the contact's f."""
+    """Per contact: the rigid motions' (n, t1, t2) components at its node
+    (relative to its other node's for a pair), (3, params) in floats, and
+    the contact's f."""
     out = []
     for c in frame.contacts:
         rows = G[:, b["idx"][c.node]:b["idx"][c.node] + 3]      # (params, 3): φ at the node
+        if c.other is not None:
+            rows = rows - G[:, b["idx"][c.other]:b["idx"][c.other] + 3]
         out.append((np.array([rows @ c.normal, rows @ c.t1, rows @ c.t2]), c.friction))
     return out
 
