@@ -84,6 +84,10 @@ def rays(cf, angles):
     vertex)."""
     cols, owner = [], []
     for ci, ((A, f), ang) in enumerate(zip(cf, angles)):
+        if not A.any():
+            # no rigid motion moves it (a pair whose nodes coincide): its
+            # force does no work in any, and is left out of the LP
+            continue
         if f == 0:
             cols.append(A[0]), owner.append((ci, None))
             continue
@@ -193,10 +197,12 @@ def exact_check(frame, G, cf, F, c):
     if not all(holds(a, (s1, s2), f) for (a, s1, s2), (_, f) in zip(m, cf)):
         # lift: the rigid motion that opens every contact at unit rate
         # (least squares), added just enough to cover the rounding
-        lift, *_ = np.linalg.lstsq(np.array([A[0] for A, _ in cf]),
-                                   np.ones(len(cf)), rcond=None)
+        # (a contact no rigid motion moves holds in every one: left out)
+        moved = [(A, f) for A, f in cf if A.any()]
+        lift, *_ = np.linalg.lstsq(np.array([A[0] for A, _ in moved]),
+                                   np.ones(len(moved)), rcond=None)
         gain = [float(A[0] @ lift) - f * float(np.hypot(A[1] @ lift, A[2] @ lift))
-                for A, f in cf]
+                for A, f in moved]
         if min(gain) <= 0:
             return None
         short = [max(f * float(np.hypot(float(s1), float(s2))) - float(a), 0.0)

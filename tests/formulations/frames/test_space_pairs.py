@@ -283,3 +283,58 @@ def test_a_pair_whose_normal_both_nodes_fix_is_refused_by_name():
     fr.add_support("B", fix=("uz",))
     with pytest.raises(InvalidProblemError, match=r"contact pair 'D'-'B'.*both its nodes"):
         fr.solve()
+
+
+# -- collapse with pairs: a table whose top rests on its legs ------------------
+
+SQUARE = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)]
+
+
+def _table_on_pairs(f_pads, f_pairs, cone, h=0.5, W=40.0):
+    """Legs P_k-T_k of height h on pads with friction ``f_pads``, braced by a
+    ring T; the top, a ring K over the legs' tops (the same points), rests on
+    them through pairs K_k-T_k (normal +z, friction ``f_pairs``); W on the
+    top's corners, p pushing the top along x (p/4 a corner)."""
+    fr = SpaceFrame(cone=cone)
+    for k, (x, y) in enumerate(SQUARE):
+        fr.add_node(f"P{k}", x, y, 0.0)
+        fr.add_node(f"T{k}", x, y, h)
+        fr.add_node(f"K{k}", x, y, h)
+        fr.add_member(f"P{k}", f"T{k}", 2e8, 0.01, 1e-4, 1e-4, G=8e7, J=2e-4)
+        fr.add_contact(f"P{k}", friction=f_pads, facets=8)
+        fr.add_contact(f"K{k}", friction=f_pairs, facets=8, other=f"T{k}")
+        fr.add_load(f"K{k}", fz=-W / 4)
+        fr.add_load(f"K{k}", fx=0.25, case="variable")
+    for k in range(4):
+        for ring in "TK":
+            fr.add_member(f"{ring}{k}", f"{ring}{(k + 1) % 4}", 2e8, 0.01, 1e-4, 1e-4, G=8e7,
+                          J=2e-4)
+    return fr
+
+
+@pytest.mark.parametrize("cone", ["circumscribed", "circular"])
+def test_a_table_on_pairs_slides_away_at_f_W_when_its_pads_are_weaker(cone):
+    """f_pads = 0.3 < f_pairs = 0.5: the pairs stick, so the table is the one
+    piece it would be without them — its back pads slip at f W/(1 + f h)
+    (their load W/4 − P h/4 against the push's quarter P/4), and it slides
+    away as a rigid body at f W = 12 kN: the pairs are internal forces, no
+    pivots (the rigid limit leaves them out: their nodes coincide)."""
+    f, W, h = 0.3, 40.0, 0.5
+    tr = _table_on_pairs(f, 0.5, cone).trace()
+    assert tr.ok and tr.ended == "collapse", tr.message
+    rtol = 1e-10 if cone != "circular" else 1e-6       # the circle's events are brackets
+    np.testing.assert_allclose(tr.breakpoints, [f * W / (1 + f * h)], rtol=rtol)
+    np.testing.assert_allclose(tr.p_end, f * W, rtol=rtol)
+    assert "the frame slides away as a rigid body: friction exhausted at P0" in tr.message
+    assert "K0-T0" not in tr.message.split("no equilibrium exists")[1].split("(proved")[0]
+
+
+def test_a_table_whose_top_slides_on_its_legs_is_proved_to_at_f_W():
+    """f_pairs = 0.3 < f_pads = 0.5: the top slides off its legs at f_pairs W
+    = 12 kN (before the pads' 20): a part sliding on another, proved by the
+    polygon's Farkas certificate, its words naming the pairs."""
+    tr = _table_on_pairs(0.5, 0.3, "circumscribed").trace()
+    assert tr.ok and tr.ended == "collapse", tr.message
+    np.testing.assert_allclose(tr.p_end, 0.3 * 40.0, rtol=1e-10)
+    assert ("a part of the frame slides on another: friction exhausted at K0-T0 (along "
+            "(1, 0, 0)), K1-T1") in tr.message
