@@ -29,7 +29,10 @@ is the plane frame's 2-D LCP; along the directions d_k the faceted and circular 
 agree, between them the facets allow up to 1/cos(π/m) more friction.  Where
 the node's bilateral supports hold one tangent, that tangent has no link
 and the cone is the segment along the other, two facets: a planar frame
-built in space has exactly the plane frame's LCP.
+built in space has exactly the plane frame's LCP.  A node-to-node pair
+(``other``) reads the relative motion u_node − u_other in place of u (its
+links +n at the node, −n at the other): equal and opposite forces, and a
+tangent is held only where both nodes' supports fix it.
 
 Member loads (the plane frame's options with the third axis): point forces
 and moments, and distributed loads, uniform or trapezoidal over the whole
