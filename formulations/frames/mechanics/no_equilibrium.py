@@ -126,7 +126,7 @@ def motion_words(frame, A, T, carrying) -> str:
     T = np.asarray(T, float).reshape(nc, -1)
     size = np.linalg.norm(T, axis=1)
     big = max(A.max(initial=0.0), size.max(initial=0.0))
-    lift, slide, stay, inner = [], [], [], []
+    lift, slide, stay, inner, slid = [], [], [], [], []
     for ci in range(nc):
         f = frame.contacts[ci].friction
         if A[ci] <= 1e-9 * big and size[ci] <= 1e-9 * big:
@@ -137,10 +137,9 @@ def motion_words(frame, A, T, carrying) -> str:
             lift.append(keys[ci])
         else:
             slide.append(f"{keys[ci]} ({frame.kind.slide_words(frame, ci, T[ci])})")
+            slid.append(ci)
     if slide and not lift:
-        pairs_only = all(frame.contacts[keys.index(s.split(" (")[0])].other is not None
-                         for s in slide)
-        if pairs_only:
+        if all(frame.contacts[ci].other is not None for ci in slid):
             # only pairs slide: one part of the frame on another, the
             # supports that stay hold the part that does not move
             return "a part of the frame slides on another: friction exhausted at " + \

@@ -198,15 +198,17 @@ def exact_check(frame, G, cf, F, c):
         # lift: the rigid motion that opens every contact at unit rate
         # (least squares), added just enough to cover the rounding
         # (a contact no rigid motion moves holds in every one: left out)
-        moved = [(A, f) for A, f in cf if A.any()]
-        lift, *_ = np.linalg.lstsq(np.array([A[0] for A, _ in moved]),
+        moved = [k for k, (A, _) in enumerate(cf) if A.any()]
+        if not moved:
+            return None
+        lift, *_ = np.linalg.lstsq(np.array([cf[k][0][0] for k in moved]),
                                    np.ones(len(moved)), rcond=None)
         gain = [float(A[0] @ lift) - f * float(np.hypot(A[1] @ lift, A[2] @ lift))
-                for A, f in moved]
+                for A, f in (cf[k] for k in moved)]
         if min(gain) <= 0:
             return None
-        short = [max(f * float(np.hypot(float(s1), float(s2))) - float(a), 0.0)
-                 for (a, s1, s2), (_, f) in zip(m, cf)]
+        short = [max(cf[k][1] * float(np.hypot(float(m[k][1]), float(m[k][2])))
+                     - float(m[k][0]), 0.0) for k in moved]
         size = max(float(np.abs(c).max()), 1e-300)
         delta = 2.0 * max(s / g for s, g in zip(short, gain)) + 1e-15 * size
         c = c + delta * lift
