@@ -126,16 +126,24 @@ def motion_words(frame, A, T, carrying) -> str:
     T = np.asarray(T, float).reshape(nc, -1)
     size = np.linalg.norm(T, axis=1)
     big = max(A.max(initial=0.0), size.max(initial=0.0))
-    lift, slide, stay = [], [], []
+    lift, slide, stay, inner, slid = [], [], [], [], []
     for ci in range(nc):
         f = frame.contacts[ci].friction
         if A[ci] <= 1e-9 * big and size[ci] <= 1e-9 * big:
-            stay.append(keys[ci])
+            # a pair (other=) that stays moves with both its parts: no pivot,
+            # and no part left behind
+            (stay if frame.contacts[ci].other is None else inner).append(keys[ci])
         elif A[ci] > f * size[ci] * (1 + 1e-6) + 1e-9 * big:
             lift.append(keys[ci])
         else:
             slide.append(f"{keys[ci]} ({frame.kind.slide_words(frame, ci, T[ci])})")
+            slid.append(ci)
     if slide and not lift:
+        if all(frame.contacts[ci].other is not None for ci in slid):
+            # only pairs slide: one part of the frame on another, the
+            # supports that stay hold the part that does not move
+            return "a part of the frame slides on another: friction exhausted at " + \
+                ", ".join(slide)
         # a carrying support that stays is a pivot (a table on a floor
         # turning about one leg)
         pivots = [k for k in stay if carrying is not None and k in carrying]
@@ -143,7 +151,7 @@ def motion_words(frame, A, T, carrying) -> str:
             return (f"it turns about {', '.join(pivots)}: friction exhausted at "
                     + ", ".join(slide))
         whole = carrying is None or all(any(s.startswith(k + " ") for s in slide)
-                                        for k in carrying)
+                                        for k in carrying if k not in inner)
         if not moves_rigidly(frame, A, T, slide_or_stay=[ci for ci in range(nc)
                                                          if keys[ci] not in lift]):
             # a three-hinged frame on pads spreads: its feet slide apart

@@ -102,6 +102,8 @@ def reactions_by_node(frame, result) -> dict:
         parts.setdefault(node, {})["spring"] = tuple(
             -ks.get(d, 0.0) * float(result.displacements[node][k]) for k, d in enumerate(dofs))
     for s, c in zip(result.supports.values(), frame.contacts):
+        if c.other is not None:     # a pair: a force between two parts, not a reaction
+            continue
         slot = parts.setdefault(c.node, {})
         before = slot.get("contact", (0.0,) * 6)
         slot["contact"] = tuple(float(a + b) for a, b in
@@ -146,7 +148,9 @@ def _support_rows(frame, result, u) -> list:
 
 
 def _reaction_rows(frame, result, u) -> list:
-    present = [k for k, has in zip(KINDS, (frame.fixed, frame.springs, frame.contacts)) if has]
+    present = [k for k, has in zip(KINDS, (frame.fixed, frame.springs,
+                                          [c for c in frame.contacts if c.other is None]))
+               if has]
     heads = [f"{f} {u['F'] if f[0] == 'F' else u['M']}" for f in FORCES]
     out = []
     for node, parts in reactions_by_node(frame, result).items():

@@ -54,11 +54,14 @@ START = 16
 
 
 def contact_frames(frame, b, G):
-    """Per contact: the rigid motions' (n, t1, t2) components at its node,
-    (3, params) in floats, and the contact's f."""
+    """Per contact: the rigid motions' (n, t1, t2) components at its node
+    (relative to its other node's for a pair), (3, params) in floats, and
+    the contact's f."""
     out = []
     for c in frame.contacts:
         rows = G[:, b["idx"][c.node]:b["idx"][c.node] + 3]      # (params, 3): φ at the node
+        if c.other is not None:
+            rows = rows - G[:, b["idx"][c.other]:b["idx"][c.other] + 3]
         out.append((np.array([rows @ c.normal, rows @ c.t1, rows @ c.t2]), c.friction))
     return out
 
@@ -81,6 +84,10 @@ def rays(cf, angles):
     vertex)."""
     cols, owner = [], []
     for ci, ((A, f), ang) in enumerate(zip(cf, angles)):
+        if not A.any():
+            # no rigid motion moves it (a pair whose nodes coincide): its
+            # force does no work in any, and is left out of the LP
+            continue
         if f == 0:
             cols.append(A[0]), owner.append((ci, None))
             continue
@@ -190,14 +197,18 @@ def exact_check(frame, G, cf, F, c):
     if not all(holds(a, (s1, s2), f) for (a, s1, s2), (_, f) in zip(m, cf)):
         # lift: the rigid motion that opens every contact at unit rate
         # (least squares), added just enough to cover the rounding
-        lift, *_ = np.linalg.lstsq(np.array([A[0] for A, _ in cf]),
-                                   np.ones(len(cf)), rcond=None)
+        # (a contact no rigid motion moves holds in every one: left out)
+        moved = [k for k, (A, _) in enumerate(cf) if A.any()]
+        if not moved:
+            return None
+        lift, *_ = np.linalg.lstsq(np.array([cf[k][0][0] for k in moved]),
+                                   np.ones(len(moved)), rcond=None)
         gain = [float(A[0] @ lift) - f * float(np.hypot(A[1] @ lift, A[2] @ lift))
-                for A, f in cf]
+                for A, f in (cf[k] for k in moved)]
         if min(gain) <= 0:
             return None
-        short = [max(f * float(np.hypot(float(s1), float(s2))) - float(a), 0.0)
-                 for (a, s1, s2), (_, f) in zip(m, cf)]
+        short = [max(cf[k][1] * float(np.hypot(float(m[k][1]), float(m[k][2])))
+                     - float(m[k][0]), 0.0) for k in moved]
         size = max(float(np.abs(c).max()), 1e-300)
         delta = 2.0 * max(s / g for s, g in zip(short, gain)) + 1e-15 * size
         c = c + delta * lift

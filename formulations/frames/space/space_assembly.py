@@ -164,42 +164,60 @@ def settlements(frame, idx, cases, shape) -> np.ndarray:
     return U
 
 
-def held(frame, c, vec) -> bool:
-    """Whether the bilateral supports at c's node fix the direction vec
+def held_at(frame, node, vec) -> bool:
+    """Whether the bilateral supports at ``node`` fix the direction vec
     (global axes; the support's dofs are along the node's axes)."""
-    held = frame.fixed.get(c.node, set())
-    if c.node in frame.node_axes:
-        vec = frame.node_axes[c.node] @ np.asarray(vec, float)
-    return all(d in held for d, comp in zip(DOFS[:3], vec) if abs(comp) > 1e-12)
+    fixed = frame.fixed.get(node, set())
+    if node in frame.node_axes:
+        vec = frame.node_axes[node] @ np.asarray(vec, float)
+    return all(d in fixed for d, comp in zip(DOFS[:3], vec) if abs(comp) > 1e-12)
+
+
+def held(frame, c, vec) -> bool:
+    """Whether bilateral supports fix c's relative motion along vec: at
+    its node, and for a pair at its other node too (held at one end only,
+    the pair still opens or slides by the other's motion)."""
+    return held_at(frame, c.node, vec) and (c.other is None or held_at(frame, c.other, vec))
 
 
 def check_conflicts(frame):
-    """A contact's normal that bilateral supports fix makes the basic
-    system singular: name it instead.  (A tangent they fix is no link:
-    the support carries that part of the friction, :meth:`_links`.)"""
+    """A contact's normal that bilateral supports fix (for a pair, at both
+    its nodes) makes the basic system singular: name it instead.  (A
+    tangent they fix is no link: the support carries that part of the
+    friction, :func:`links`.)"""
     for c in frame.contacts:
-        if held(frame, c, c.normal):
+        if not held(frame, c, c.normal):
+            continue
+        if c.other is None:
             raise InvalidProblemError(
                 f"node {c.node!r}: the contact's normal direction is already fixed by its "
                 "bilateral support; a contact and a support may share a node only where "
                 "they constrain different directions — remove one of them")
+        raise InvalidProblemError(
+            f"contact pair {c.node!r}-{c.other!r}: the pair's normal direction is fixed by "
+            "the bilateral supports at both its nodes, so it can neither open nor close — "
+            "remove the pair, or free that direction at one of its nodes")
 
 
 def links(frame, idx, N):
-    """H (N x links) and per link (contact, kind "n" | "t1" | "t2").  A
-    tangent that the node's bilateral supports hold gets no link (its
-    slip is zero, its friction the support's reaction): a planar frame
-    built in space, out-of-plane motion held, has the plane frame's
-    links and, through the facets along the plane, its LCP."""
+    """H (N x links) and per link (contact, kind "n" | "t1" | "t2"): a
+    link's direction at its node's translations, and opposite at its other
+    node's for a pair (the pair pushes the two apart; its opening and slip
+    are the relative motion).  A tangent that the node's bilateral
+    supports hold gets no link (its slip is zero, its friction the
+    support's reaction): a planar frame built in space, out-of-plane
+    motion held, has the plane frame's links and, through the facets
+    along the plane, its LCP."""
     rows, cols, vals, info = [], [], [], []
     for ci, c in enumerate(frame.contacts):
         kinds = ("n", "t1", "t2") if c.friction > 0 else ("n",)
         for kind, vec in zip(kinds, (c.normal, c.t1, c.t2)):
             if kind != "n" and held(frame, c, vec):
                 continue
-            rows += [idx[c.node] + d for d in range(3)]
-            cols += [len(info)] * 3
-            vals += list(vec)
+            for node, sign in ((c.node, 1.0), (c.other, -1.0))[:1 + (c.other is not None)]:
+                rows += [idx[node] + d for d in range(3)]
+                cols += [len(info)] * 3
+                vals += list(sign * vec)
             info.append((ci, kind))
     H = sp.csr_matrix((vals, (rows, cols)), shape=(N, len(info)))
     H.eliminate_zeros()
@@ -271,12 +289,17 @@ def reach(frame, c) -> float:
 
 
 def release_directions(frame, b):
+    """Each contact's normal and tangents as columns over the dofs, in the
+    system's (the nodes') axes, minus at ``other`` for a pair: (normals
+    N x nc, [t1s, t2s], friction per contact)."""
     N = b["K"].shape[0]
     cols = []
     for vec in ("normal", "t1", "t2"):
         h = np.zeros((N, len(frame.contacts)))
         for ci, c in enumerate(frame.contacts):
             h[b["idx"][c.node]:b["idx"][c.node] + 3, ci] = getattr(c, vec)
+            if c.other is not None:
+                h[b["idx"][c.other]:b["idx"][c.other] + 3, ci] -= getattr(c, vec)
         cols.append(h if b["Tn"] is None else b["Tn"] @ h)
     return cols[0], cols[1:], np.array([c.friction for c in frame.contacts])
 

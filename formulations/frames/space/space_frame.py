@@ -29,7 +29,10 @@ is the plane frame's 2-D LCP; along the directions d_k the faceted and circular 
 agree, between them the facets allow up to 1/cos(π/m) more friction.  Where
 the node's bilateral supports hold one tangent, that tangent has no link
 and the cone is the segment along the other, two facets: a planar frame
-built in space has exactly the plane frame's LCP.
+built in space has exactly the plane frame's LCP.  A node-to-node pair
+(``other``) reads the relative motion u_node − u_other in place of u (its
+links +n at the node, −n at the other): equal and opposite forces, and a
+tangent is held only where both nodes' supports fix it.
 
 Member loads (the plane frame's options with the third axis): point forces
 and moments, and distributed loads, uniform or trapezoidal over the whole
@@ -119,7 +122,8 @@ class SpaceContact:
     """A unilateral support at a node: unit normal n (from the support into
     the structure), tangents t1, t2, Coulomb coefficient, initial gap,
     stiffness (None: rigid), facets of the friction cone's polygon (where
-    the frame's cone is one)."""
+    the frame's cone is one); ``other``: the second node of a node-to-node
+    pair (None: the ground)."""
 
     node: str
     normal: np.ndarray
@@ -129,7 +133,7 @@ class SpaceContact:
     gap: float
     stiffness: float | None
     facets: int
-    other: None = None
+    other: str | None = None
 
 
 def shear_areas(shear_area, G: float, what: str) -> tuple:
@@ -451,13 +455,23 @@ class SpaceFrame:
 
     def add_contact(self, node: str, normal=(0.0, 0.0, 1.0), friction: float = 0.0,
                     gap: float = 0.0, stiffness: float | None = None,
-                    facets: int = 16) -> int:
+                    facets: int = 16, other: str | None = None) -> int:
         """A unilateral support at ``node`` (the module docstring): its
         normal, Coulomb coefficient, initial gap, spring (None: rigid), and
         the number of facets (even, >= 4) of its friction cone's polygon
         where the frame's ``cone`` is one ("inscribed" or "circumscribed":
-        docs/frames.md)."""
+        docs/frames.md).  ``other``: a node-to-node pair, as the plane
+        frame's — the contact acts on ``node`` along n and on ``other``
+        opposite; its opening and slip are the relative motion of ``node``
+        from ``other``."""
         known_node(self, node)
+        if other is not None:
+            known_node(self, other)
+            if other == node:
+                raise InvalidProblemError(
+                    f"contact at {node!r}: other={other!r} is the contact's own node; a pair "
+                    "acts between two different nodes — name the node it presses against, "
+                    "or leave other out for a support on the ground")
         n = unit_vector(normal, f"contact at {node!r}: normal must be a nonzero 3-vector")
         friction, gap = number(friction, "friction"), number(gap, "gap")
         if friction < 0 or gap < 0:
@@ -467,13 +481,13 @@ class SpaceFrame:
         if isinstance(facets, bool) or not isinstance(facets, int) or facets < 4 or facets % 2:
             raise InvalidProblemError(f"contact at {node!r}: facets must be an even integer "
                                       f">= 4 (opposite directions both facets); got {facets!r}")
-        no_same_contact(self.contacts, node, n)
+        no_same_contact(self.contacts, node, n, other)
         e = np.eye(3)[int(np.argmin(np.abs(n)))]
         t1 = np.cross(n, e)
         t1 /= np.linalg.norm(t1)
         self.contacts.append(SpaceContact(node, n, t1, np.cross(n, t1), friction, gap,
                                           None if stiffness is None else float(stiffness),
-                                          facets))
+                                          facets, other))
         return len(self.contacts) - 1
 
     @property

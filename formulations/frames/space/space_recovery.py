@@ -171,8 +171,10 @@ def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:
             moving = bool(np.any(z[facets] > STATE_RTOL * zeta[facets]))
         else:
             # frictionless: the node slides freely; its slip is the
-            # tangential part of its motion
+            # tangential part of its motion (relative to ``other``'s for a pair)
             d = u[b["idx"][c.node]:b["idx"][c.node] + 3]
+            if c.other is not None:
+                d = d - u[b["idx"][c.other]:b["idx"][c.other] + 3]
             xt, slip, moving = np.zeros(2), np.array([c.t1 @ d, c.t2 @ d]), False
         if xn <= STATE_RTOL * sigma[ci]:
             state, xn, xt = "separated", 0.0, np.zeros(2)
@@ -271,9 +273,14 @@ def slide_words(frame, ci, t) -> str:
 
 
 def support_keys(frame) -> list:
-    keys = []
+    """The key of each contact in the result's supports, in contact order,
+    as the plane frame's: its node, "node-other" for a pair, "#k" added
+    (k the contact's index) where the key is taken."""
+    keys, taken = [], set()
     for c in frame.contacts:
-        keys.append(f"{c.node}#{len(keys)}" if c.node in keys else c.node)
+        key = c.node if c.other is None else f"{c.node}-{c.other}"
+        keys.append(f"{key}#{len(keys)}" if key in taken else key)
+        taken.add(keys[-1])
     return keys
 
 
