@@ -236,6 +236,11 @@ class Frame:
         known_node(self, node)
         if other is not None:
             known_node(self, other)
+            if other == node:
+                raise InvalidProblemError(
+                    f"contact at {node!r}: other={other!r} is the contact's own node; a pair "
+                    "acts between two different nodes — name the node it presses against, "
+                    "or leave other out for a support on the ground")
         try:
             n = np.array(normal, float)
         except (TypeError, ValueError):

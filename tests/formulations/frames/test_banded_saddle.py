@@ -15,6 +15,7 @@ import scipy.sparse as sp
 from qpcontact.core.errors import InvalidProblemError
 
 from formulations.frames import Frame
+from formulations.frames.plane.frame import Contact
 from formulations.frames.mechanics import banded_saddle, contact_lcp
 from formulations.frames.plane import plane_assembly
 from formulations.frames.plane import sparse_active_set as active_set
@@ -199,14 +200,19 @@ def test_a_wide_band_mechanism_has_no_cholesky_factor():
 
 
 def test_a_contact_of_a_node_with_itself_carries_nothing_and_leaves_r_as_the_saddle_matrix():
-    """A contact between a node and itself (accepted by add_contact) puts its
-    two entries of H on one dof, which cancel: its links never move, and on
-    an elastic contact with gap 0 its force is k·0 = 0 whatever the frame
-    does (by hand).  R's forward solves (link_rows, through G) must sum the
-    two entries as H's products do: R is the dense solve of the saddle
-    matrix written from the blocks (numpy.linalg, not the banded route)."""
+    """A contact between a node and itself (add_contact refuses it; made
+    here around it, as a degenerate pair the kernels must still handle)
+    puts its two entries of H on one dof, which cancel: its links never
+    move, and on an elastic contact with gap 0 its force is k·0 = 0 whatever
+    the frame does (by hand).  R's forward solves (link_rows, through G)
+    must sum the two entries as H's products do: R is the dense solve of
+    the saddle matrix written from the blocks (numpy.linalg, not the banded
+    route)."""
     fr = three_bay_tower(14)[0]
-    fr.add_contact("N7_1", normal=(0.3, 1.0), stiffness=1e5, other="N7_1", friction=0.5)
+    with pytest.raises(InvalidProblemError, match="the contact's own node"):
+        fr.add_contact("N7_1", normal=(0.3, 1.0), stiffness=1e5, other="N7_1", friction=0.5)
+    n = np.array([0.3, 1.0]) / np.hypot(0.3, 1.0)
+    fr.contacts.append(Contact("N7_1", n, 0.5, 0.0, 1e5, "N7_1"))
     b = fr.build()
     assert b["band"]["bw"] > banded_saddle.NARROW and b["lu"].piv is None   # Cholesky: G
     nf, nl, kappa = b["nf"], len(b["info"]), b["kappa"]
