@@ -3,7 +3,8 @@
 
 With A = P (I + L) D (I + L)' P' (any LDLᵀ: L strictly lower, in
 CSC), the entry L_ij is nonzero only where i is an ancestor of j in the
-elimination tree (parent(j) = the least row of column j).  So (I + L)⁻¹ b
+elimination tree (parent(j) = the least row of column j of L's full
+pattern; :func:`parents` reads it from the entries stored).  So (I + L)⁻¹ b
 for a b with few nonzeros is nonzero only on their paths to the root, the
 reach (Gilbert and Peierls), and the border's k right-hand sides are
 solved together on the union of their reaches, in increasing order, as a
@@ -21,15 +22,25 @@ from qpcontact.core.compiled import njit
 
 
 @njit
-def parents(Lp, Li, n):
-    """The elimination tree of L (CSC, strictly lower): parent[j] = the
-    least row of column j, −1 for a root."""
+def parents(Rp, Ri, n):
+    """The elimination tree of L (its rows: CSR, strictly lower), −1 for a
+    root, by Liu's algorithm on L + L' rather than as the least row of each
+    column: a factor may leave out an entry that cancelled to exactly zero
+    (SciPy's ``SuperLU.L`` does), and the least stored row is then a wrong
+    parent, with rows of a column off its path to the root, which
+    :func:`forward_block` needs on it.  Every stored entry of L is on a
+    path in this tree; with L's full pattern it is the least-row tree."""
     parent = np.full(n, -1, np.int64)
-    for j in range(n):
-        for t in range(Lp[j], Lp[j + 1]):
-            i = Li[t]
-            if parent[j] == -1 or i < parent[j]:
-                parent[j] = i
+    ancestor = np.full(n, -1, np.int64)
+    for i in range(n):
+        for t in range(Rp[i], Rp[i + 1]):
+            k = Ri[t]
+            while k != -1 and k < i:
+                up = ancestor[k]
+                ancestor[k] = i
+                if up == -1:
+                    parent[k] = i
+                k = up
     return parent
 
 

@@ -160,7 +160,9 @@ class FactoredBlock:
             Lp, Li = L.indptr.astype(np.int64), L.indices.astype(np.int64)
             position = np.full(self.keep.size, -1, np.int64)
             position[p] = np.arange(p.size)
-            self.factors = (Lp, Li, L.data, 1.0 / d, position, parents(Lp, Li, p.size))
+            rows = L.tocsr()
+            tree = parents(rows.indptr.astype(np.int64), rows.indices.astype(np.int64), p.size)
+            self.factors = (Lp, Li, L.data, 1.0 / d, position, tree)
         Lp, Li, Lx, dinv, position, parent = self.factors
         Vi = position[V.indices]
         rows = reach_union(parent, Vi, parent.size)

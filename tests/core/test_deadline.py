@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
 import pytest
 
 from qpcontact.core.deadline import CpuShare, Deadline
@@ -55,3 +56,29 @@ def test_a_deadline_leaves_numba_compiling_out():
     start, left = time.perf_counter(), d.left()
     time.sleep(0.05)
     assert left - d.left() == pytest.approx(time.perf_counter() - start, abs=0.02)
+
+
+def test_lemkes_proofs_keep_its_time_limit_after_compiling_elsewhere(monkeypatch):
+    """lemke's deadline is a raw time.perf_counter value; handed on as
+    Deadline(end=...), whose clock leaves compiling out, its infeasibility
+    LP ran on for every second this process had compiled before (1 000 s
+    here for a 5 s limit)."""
+    import qpcontact
+    import qpcontact.solvers.pivoting.lemke as lemke_module
+    from qpcontact import LCP
+    from qpcontact.core.deadline import exclude_one_time
+
+    seen, feasibility = [], lemke_module.feasibility
+
+    def timed_feasibility(M, q, rs, cs, deadline):
+        seen.append(deadline.left())
+        return feasibility(M, q, rs, cs, deadline)
+
+    monkeypatch.setattr(lemke_module, "feasibility", timed_feasibility)
+    exclude_one_time(1000.0, 1000.0)               # as if compiled for 1 000 s before
+    try:
+        qpcontact.solve(LCP(np.array([[1.0, -1.0], [-1.0, 1.0]]), np.array([-1.0, -1.0])),
+                        method="lemke", time_limit=5.0)
+    finally:
+        exclude_one_time(-1000.0, -1000.0)
+    assert seen and all(left <= 5.0 for left in seen), seen

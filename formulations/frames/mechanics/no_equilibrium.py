@@ -101,9 +101,35 @@ def rigid_motion(frame, b, combo):
     tol = 1e-9 * size
     if not (Ff @ phi > 1e-6 * w_scale and np.all(a - f * np.linalg.norm(sl, axis=1) >= -tol)):
         return None
+    if strains(b, free, phi):
+        return None
     a = np.where(np.abs(a) <= tol, 0.0, a)
     sl = np.where(np.abs(sl) <= tol, 0.0, sl)
     return a, sl
+
+
+def strains(b, free, phi) -> bool:
+    """Whether the motion ``phi`` (on the free dofs) strains a member or a
+    spring beyond rounding of that one's own stiffness.  The null space
+    above is read off K scaled by its diagonal, where a soft member's
+    bending next to a stiff one has an eigenvalue of about the contrast
+    squared (a beam 1.5e6 times stiffer than its neighbour: 3e-13, under
+    1e-10): that member's bending read as a rigid motion, and a beam on a
+    pin and pads, whose pads carry it by statics, "proved" to have no
+    equilibrium.  Member by member, rounding is ε of its own k."""
+    from .member_forces import elastic_end_actions
+
+    u = np.zeros(b["K"].shape[0])
+    u[free] = phi
+    ug = u if b["Tn"] is None else b["Tn"].T @ u
+    k, _, dofs, _ = b["local"]
+    if len(k):
+        ends = np.abs(np.asarray(elastic_end_actions(b, ug[:, None])[..., 0], float))
+        own = np.abs(k).reshape(len(k), -1).max(axis=1) * np.abs(ug[dofs]).max(axis=1)
+        if np.any(ends.max(axis=1) > 1e-6 * own):
+            return True
+    springs = np.asarray(b["springs"], float)
+    return bool(np.any(np.abs(springs * ug) > 1e-6 * springs * np.abs(ug).max(initial=0.0)))
 
 
 def raise_rigid_motion(frame, b, combo, before: str):

@@ -146,6 +146,15 @@ SPARSE_FROM = 700
 DENSE_FALLBACK_MAX = 2000
 
 
+def _seconds_left(deadline) -> Deadline:
+    """The Deadline of ``deadline``, a raw ``time.perf_counter`` value (the
+    pivoting kernels read that clock), by the seconds left to it: a
+    Deadline's clock leaves numba's compiling out
+    (:func:`~qpcontact.core.deadline.exclude_one_time`), so ``end=`` with a
+    raw value would outlast it by every second compiled in this process."""
+    return Deadline(None if deadline is None else deadline - time.perf_counter())
+
+
 def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     """The "lemke" method: the sparse form for a sparse M from SPARSE_FROM
     unknowns and any M above DENSE_TABLEAU_LIMIT, the dense form otherwise.
@@ -239,7 +248,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
             break
         if problem.is_psd:
             if proof is None:
-                proof = feasibility(M, q, rs, cs, Deadline(end=deadline))
+                proof = feasibility(M, q, rs, cs, _seconds_left(deadline))
             if proof[0] is False:
                 break
         rng = rng or np.random.default_rng(seed)
@@ -274,7 +283,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
     ray = out.ray
     stats["ray"] = {"z": ray["z"] * cs, "dz": ray["dz"] * cs, "z0": ray["z0"], "dz0": ray["dz0"]}
     feasible, evidence = (proof if proof is not None
-                          else feasibility(M, q, rs, cs, Deadline(end=deadline)))
+                          else feasibility(M, q, rs, cs, _seconds_left(deadline)))
     stats["feasible"] = feasible
     stats.update(evidence)
     monotone = problem.is_psd
@@ -283,7 +292,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
         # the LP's vector holds to 1e-12 of each component's terms; only the
         # rational check makes it a proof (on an exactly positive definite M
         # within rounding of a singular one it held to 1e-12 and failed exactly)
-        exact = check_farkas_hint(M, q, evidence["farkas"], Deadline(end=deadline))
+        exact = check_farkas_hint(M, q, evidence["farkas"], _seconds_left(deadline))
     if exact is not None:
         stats["proof"] = exact
         why = ("no solution exists: no z >= 0 has Mz + q >= 0 (a Farkas vector y >= 0 with "

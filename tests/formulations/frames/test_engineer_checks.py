@@ -563,3 +563,29 @@ def test_a_portal_with_a_rigid_deck_slides_and_tips_by_hand(deck):
         assert res.supports["A"].normal == pytest.approx(W / 2 - p * h / b, abs=1e-9 * W)
     with pytest.raises(NoSolutionError, match="tips over about D"):
         fr.solve(p=1.001 * limit)
+
+
+# -- stiff members beside soft ones: statics, not rounding, decides ---------------
+
+def test_a_soft_span_beside_a_stiff_one_is_not_a_mechanism():
+    """A beam on a pin (settled 1 cm) and three pads, hinged at N2 after a
+    span 1.5e6 times stiffer than the first: N1's pad carries
+    (0.713·3 − 0.26·6)/3 = 0.193 kN by moments about the pin, N3's 10 kN.
+    The first span's bending, next to the stiff one, has an eigenvalue of
+    K scaled by its diagonal of 3e-13 (the contrast squared), under the
+    null space's 1e-10: it was read as a rigid motion, and "no
+    equilibrium exists" proved.  An answer or an honest doubt, not that."""
+    fr = Frame()
+    for k in range(4):
+        fr.add_node(f"N{k}", 3.0 * k, 0.0)
+    for k, (s, hinge) in enumerate([(1.0, False), (1.5e6, True), (1.8, False)]):
+        fr.add_member(f"N{k}", f"N{k + 1}", s * E, A, s * I, hinge_j=hinge)
+    fr.add_support("N0", fix=("ux", "uy"))
+    for k in range(1, 4):
+        fr.add_contact(f"N{k}")
+    fr.add_settlement("N0", uy=-0.01)
+    for k, q in zip(range(1, 4), (-0.713, 0.26, -10.0)):
+        fr.add_load(f"N{k}", fy=q)
+    res = fr.solve()
+    assert res.supports["N1"].normal == pytest.approx((0.713 * 3 - 0.26 * 6) / 3, rel=0.02)
+    assert res.supports["N3"].normal == pytest.approx(10.0, rel=1e-6)

@@ -183,3 +183,28 @@ def test_a_border_on_superlus_factor_solves_the_new_steps_own_system(released, c
     u = block.near(*_keep_springs(system, soil2, floor2))(rhs)
     ref = _reference(system, soil2, floor2, rhs)
     assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(monkeypatch):
+    """SciPy's SuperLU.L leaves out an entry of L that cancelled to exactly
+    zero: here L₃₂ = 1 − 1·1 = 0, so column 2 stores no row and the least
+    stored row of each column made 2 a root with column 1's row 3 off its
+    path — the forward solve wrote row 3's update into another row (a
+    Schur complement of 5 for A⁻¹₁₁ = 2.5, the bordered solve far off)."""
+    import scipy.sparse.linalg as spla
+
+    from formulations.plates.newton import Factorisation
+
+    A = sp.csc_matrix(np.array([[1.0, 1.0, 1.0], [1.0, 2.0, 1.0], [1.0, 1.0, 3.0]]))
+    lu = spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=0.0,
+                   options={"SymmetricMode": True})
+    factorisation = Factorisation(np.arange(3), lu=lu)
+    assert factorisation.factors()[0].nnz == 2              # L₃₂ left out
+    monkeypatch.setattr(border, "FEW_COLUMNS", 0)           # through the factor's paths
+    keep = np.ones(3, bool)
+    block = border.FactoredBlock(A, keep, np.zeros(3), factorisation, factorisation.factors)
+    springs = np.array([5.0, 0.0, 0.0])                     # a spring changed at dof 1
+    rhs = np.array([1.0, 2.0, 3.0])
+    u = block.near(keep, springs)(rhs)
+    ref = np.linalg.solve(A.toarray() + np.diag(springs), rhs)
+    assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
