@@ -338,6 +338,11 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadli
             if rigid is not None:
                 raise NoSolutionError(f"frame under {describe(combo)}: no equilibrium exists "
                                       f"— {rigid} (the load path, {words}, ends below it)")
+            if contact_lcp.contrast(b) > contact_lcp.CONTRAST:
+                # the certificates are exact on M and q, whose R past this
+                # contrast carries rounding in its small entries: not a
+                # proof about the frame (no_equilibrium.raise_no_equilibrium)
+                return None
             fric = contact_lcp.lcp_matrices(b)[5]
             how = (frame.kind.collapse_words(frame, tr.proof, fric, None)
                    if tr.proof["farkas"] is not None

@@ -589,3 +589,32 @@ def test_a_soft_span_beside_a_stiff_one_is_not_a_mechanism():
     res = fr.solve()
     assert res.supports["N1"].normal == pytest.approx((0.713 * 3 - 0.26 * 6) / 3, rel=0.02)
     assert res.supports["N3"].normal == pytest.approx(10.0, rel=1e-6)
+
+
+def test_past_a_stiffness_contrast_of_1e6_a_farkas_vector_is_no_proof():
+    """A beam pinned at N0 (settled 10 mm down) on frictionless pads at
+    N1–N4, spans E·I scaled by 7.1e6, 2.1e2, 18 (hinged at its right end)
+    and 3.3e8: by hand the right span takes N4's 10 kN (no shear through
+    the hinge) and the left part balances with N1 = 14.34 kN — the same
+    beam with equal spans is certified so.  At this contrast R is refined
+    and its small entries carry rounding; Lemke's Farkas vector on them
+    "proved" that it tips.  It is not called a proof: SolverFailedError,
+    never NoSolutionError (or an answer, which must then be right)."""
+    fr = Frame()
+    for k in range(5):
+        fr.add_node(f"N{k}", 3.0 * k, 0.0)
+    for k, (s, hinge) in enumerate([(7.1e6, False), (2.1e2, False), (18.0, True),
+                                    (3.3e8, False)]):
+        fr.add_member(f"N{k}", f"N{k + 1}", s * E, A, s * I, hinge_j=hinge)
+    fr.add_support("N0", fix=("ux", "uy"))
+    for k in range(1, 5):
+        fr.add_contact(f"N{k}")
+    fr.add_settlement("N0", uy=-0.01)
+    for k, q in ((1, -9.117), (2, -5.863), (3, 2.167), (4, -10.0)):
+        fr.add_load(f"N{k}", fy=q)
+    try:
+        res = fr.solve()
+    except SolverFailedError as exc:
+        assert "not a proof" in str(exc) or "nothing was proved" in str(exc), str(exc)
+        return
+    assert res.ok and res.supports["N4"].normal == pytest.approx(10.0, rel=1e-6), res.message
