@@ -169,9 +169,13 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
         return None
     d = 2.0 ** -np.round(0.5 * np.log2(diag))
     kr, kc = pos[kr], pos[kc]
+    # in LAPACK's band storage (entry i, j in row 2bw + i − j of column j),
+    # held column by column — the Fortran array LAPACK reads, as the C
+    # array of its transpose — so that a factorization hands it over
+    # without f2py's transposing copy (a tenth of the tower's Cholesky)
     rows = 3 * bw + 1
-    lay.update(d=d, band_K=np.bincount((2 * bw + kr - kc) * nf + kc, weights=kv * d[kr] * d[kc],
-                                       minlength=rows * nf).reshape(rows, nf))
+    lay.update(d=d, band_K=np.bincount(kc * rows + 2 * bw + kr - kc, weights=kv * d[kr] * d[kc],
+                                       minlength=rows * nf).reshape(nf, rows))
     return lay
 
 
@@ -219,19 +223,24 @@ def factor(lay, kin, coef, partner):
                                     else _link_terms(lay, kin, coef, partner))
     if r.size and np.abs(r - c).max() > bw:     # a coupling the layout's pairs did not name
         return None
-    ab = lay["band_K"].copy()
-    np.add.at(ab.reshape(-1), (2 * bw + r - c) * nf + c, v * d[r] * d[c])
+    v = v * d[r] * d[c]
     if bw > NARROW and kin.all() and not slip.size:
         # the upper triangle, rows bw..2bw of the LU's storage, as dpbtrf
         # stores it (K_ff is symmetric to rounding; the one solve of an
-        # answer is refined on S itself)
-        chol, info = dpbtrf(ab[bw:2 * bw + 1], lower=0, overwrite_ab=1)
+        # answer is refined on S itself): those rows alone copied, and the
+        # link terms on or above the diagonal added to them
+        up = r <= c
+        ab = lay["band_K"][:, bw:2 * bw + 1].copy()
+        np.add.at(ab.reshape(-1), c[up] * (bw + 1) + bw + r[up] - c[up], v[up])
+        chol, info = dpbtrf(ab.T, lower=0, overwrite_ab=1)
         if info != 0:
             return None
         pivots = chol[bw] ** 2       # an LU's pivots without row exchanges
         band = (chol, None)
     else:
-        lu, piv, info = dgbtrf(ab, bw, bw, overwrite_ab=1)
+        ab = lay["band_K"].copy()
+        np.add.at(ab.reshape(-1), c * (3 * bw + 1) + 2 * bw + r - c, v)
+        lu, piv, info = dgbtrf(ab.T, bw, bw, overwrite_ab=1)
         if info != 0:
             return None
         pivots = np.abs(lu[2 * bw])
