@@ -55,11 +55,13 @@ def stiffness_matrix(rows, cols, vals, springs, idx, dofs, N):
             cols.append([idx[node] + dofs.index(d)])
             vals.append([kval])
     # (int32 indices: scipy keeps them as they are, where int64 ones are
-    # scanned and copied)
-    index = (lambda parts: np.concatenate(parts).astype(np.int32) if parts
-             else np.zeros(0, np.int32))
-    return sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
-                          (index(rows), index(cols))), shape=(N, N)).tocsr()
+    # scanned and copied; one part, the members' alone, is taken as it is:
+    # concatenating it copied 5 600 entries three times for a tower)
+    join = (lambda parts, dtype: parts[0] if len(parts) == 1 else
+            np.concatenate(parts) if parts else np.zeros(0, dtype))
+    return sp.coo_matrix((join(vals, float), (join(rows, int).astype(np.int32),
+                                              join(cols, int).astype(np.int32))),
+                         shape=(N, N)).tocsr()
 
 
 def force_terms(b, u, F, ends):
