@@ -20,7 +20,10 @@ Their equivalent nodal loads are the consistent ones, ∫ Nᵀ w dx with the
 element's own shape functions (linear axially, cubic Hermite transversely),
 which for an Euler–Bernoulli element are the exact fixed-end forces; the
 integrals are computed by Gauss–Legendre quadrature exact for these
-polynomial integrands.  Units: the user's, consistent.
+polynomial integrands, and for a uniform load w [force/length] over a
+whole member of length L in closed form, w L/2 at each end and ±w L²/12
+[force·length] as the end moments (the Timoshenko element's too).  Units:
+the user's, consistent.
 """
 
 from __future__ import annotations
