@@ -20,10 +20,7 @@ Their equivalent nodal loads are the consistent ones, ∫ Nᵀ w dx with the
 element's own shape functions (linear axially, cubic Hermite transversely),
 which for an Euler–Bernoulli element are the exact fixed-end forces; the
 integrals are computed by Gauss–Legendre quadrature exact for these
-polynomial integrands, and for a uniform load w [force/length] over a
-whole member of length L in closed form, w L/2 at each end and ±w L²/12
-[force·length] as the end moments (the Timoshenko element's too).  Units:
-the user's, consistent.
+polynomial integrands.  Units: the user's, consistent.
 """
 
 from __future__ import annotations
@@ -323,8 +320,7 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     phi[k] — the assembly's path for members without rigid end zones (one
     array expression instead of a Python call per load: a 400-member beam
     spent 12 ms there).  The same arithmetic as :func:`equivalent_nodal`,
-    load by load, but for uniform loads over whole members, which
-    :func:`uniform_whole` writes in closed form."""
+    load by load."""
     out = np.zeros((len(loads), 6))
     if not loads:
         return out
@@ -357,22 +353,18 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     if k.any():
         w1x, w1y = to_member(vals[:, 0], vals[:, 1])
         w2x, w2y = to_member(vals[:, 2], vals[:, 3])
-        # a uniform load over the whole member (self-weight, a floor's load)
-        # in closed form: Gauss's four points in array expressions were a
-        # quarter of the members' local data (a 20-storey tower's 60 floor
-        # loads, a 200-span beam's 400 self-weights); the same numbers to
-        # rounding (a few units in the last place)
-        whole = k & (a == 0.0) & (b == L) & (w1x == w2x) & (w1y == w2y)
-        if whole.all():
-            return uniform_whole(w1x, w1y, L)
-        if whole.any():
-            out[whole] = uniform_whole(w1x[whole], w1y[whole], L[whole])
-            k &= ~whole
-    if k.any():
         if not k.all():
             w1x, w1y, w2x, w2y, a, b, L, phi = (v[k] for v in (w1x, w1y, w2x, w2y, a, b, L,
                                                                phi))
         n = len(a)
+        # where every load has the same stretch on members of one length
+        # and φ (a uniform mesh under full-length loads: the benchmark's
+        # beams, a tower's floors), the Gauss points, weights and shapes
+        # are the same numbers for all: made once and repeated (NumPy's
+        # power gives a value's cube wherever it stands in an array)
+        geo = a, b, L, phi
+        one = slice(0, 1) if all((v == v[0]).all() for v in geo) else slice(None)
+        a, b, L, phi = (v[one] for v in geo)
         t, wg = _GAUSS
         half = 0.5 * (b - a)[:, None]
         xs = half * t + 0.5 * (a + b)[:, None]
@@ -382,6 +374,8 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
         qy = w1y[:, None] + u * (w2y - w1y)[:, None]
         Nv = _deflections(*_powers(xs, L[:, None], phi[:, None]), L[:, None], phi[:, None])
         xi = xs / L[:, None]
+        if len(a) < n:    # the einsum below on the same layout as the loads'
+            Nv = np.repeat(Nv, n, axis=1)
         trans = np.einsum("inj,nj->ni", Nv, qy * ws)
         dist = np.empty((n, 6))
         dist[:, 0] = (qx * (1 - xi) * ws).sum(1)
@@ -390,19 +384,6 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
         dist[:, 4:] = trans[:, 2:]
         out[k] = dist
     return out
-
-
-def uniform_whole(wx, wy, L) -> np.ndarray:
-    """Consistent nodal loads (n, 6) of uniform loads (wx, wy) [force/length,
-    member axes] over whole members of length L: ∫₀ᴸ Nᵀ w dx in closed form,
-    w L/2 at each end along and across the axis and ±w L²/12 as the end
-    moments.  The Timoshenko element's interpolation (:func:`_deflections`)
-    gives the same: its φ terms, φ(1 − ξ) and φ(ξ − ξ²)/2 · L, integrate to
-    φ/2 and φL/12, which its factor 1/(1 + φ) takes out again — so φ does
-    not enter.  Gauss's four points give these numbers to rounding."""
-    half = 0.5 * L
-    moment = wy * L * L / 12.0
-    return np.column_stack((wx * half, wy * half, moment, wx * half, wy * half, -moment))
 
 
 def _clip(load: MemberLoad, lo: float, hi: float, shift: float = 0.0):

@@ -95,8 +95,7 @@ def test_a_uniform_load_over_a_whole_inclined_member_gives_its_fixed_end_forces(
     forces do not depend on shear) carries it by its fixed-end forces alone,
     by hand: w∥ L/2 along the axis and w⊥ L/2 across it at each end, ∓w⊥ L²/12
     as the end moments; beside it (the same assembly) a clamped level beam
-    with a point load at midspan, P/2 and PL/8 (a point load and a partial
-    load among whole-member ones keep their own consistent loads)."""
+    with a point load at midspan, P/2 and PL/8."""
     dx, dy, w = 3.0, 4.0, (1.5, -6.0)
     L = np.hypot(dx, dy)
     c, s = dx / L, dy / L
