@@ -129,7 +129,10 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
         # with int32 indices, which scipy keeps without checking and copying
         # them: one construction of 8 µs where the conversion took 55
         # (np.unique, hashing in NumPy 2, takes 190)
-        key = np.sort(pr * nf + pc)
+        # (K_ff's entries come in row then column order, the links' after
+        # them: a stable sort (timsort) merges the two runs, a third of the
+        # default's time)
+        key = np.sort(pr * nf + pc, kind="stable")
         key = key[np.concatenate(([True], key[1:] != key[:-1]))]
         pattern = sp.csr_matrix((np.ones(key.size), (key % nf).astype(np.int32), np.concatenate(
             ([0], np.cumsum(np.bincount(key // nf, minlength=nf)))).astype(np.int32)),
@@ -144,12 +147,10 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
         return None
     pos = np.empty(nf, int)
     pos[perm] = np.arange(nf)
-    # κH_f as S holds it (CSC, a column per link), and its transpose as CSR
-    # without a conversion
-    Hf = sp.csc_matrix((h_val, h_dof.astype(np.int32),
-                        np.concatenate(([0], np.cumsum(count))).astype(np.int32)), shape=(nf, nl))
-    lay = dict(nf=nf, kappa=kappa, flex=flex, pos=pos, pos_dof=pos[dof], hv=hv, perm=perm,
-               bw=bw, Hf=Hf, HfT=Hf.T, K=stiffness)
+    # κH_f's entries link by link (its CSC order), which its products read
+    # (:func:`_links_to_dofs`, :func:`_dofs_to_links`)
+    lay = dict(nf=nf, nl=nl, kappa=kappa, flex=flex, pos=pos, pos_dof=pos[dof], hv=hv,
+               perm=perm, bw=bw, h=(h_dof, h_link.astype(np.intp), h_val), K=stiffness)
     # K's part of the band, once per assembly, scaled by powers of two
     # (exact), row and column i by the square root of the basic system's
     # diagonal entry (K's with every spring in), so that the pivots measure
@@ -168,9 +169,13 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
         return None
     d = 2.0 ** -np.round(0.5 * np.log2(diag))
     kr, kc = pos[kr], pos[kc]
+    # in LAPACK's band storage (entry i, j in row 2bw + i − j of column j),
+    # held column by column — the Fortran array LAPACK reads, as the C
+    # array of its transpose — so that a factorization hands it over
+    # without f2py's transposing copy (a tenth of the tower's Cholesky)
     rows = 3 * bw + 1
-    lay.update(d=d, band_K=np.bincount((2 * bw + kr - kc) * nf + kc, weights=kv * d[kr] * d[kc],
-                                       minlength=rows * nf).reshape(rows, nf))
+    lay.update(d=d, band_K=np.bincount(kc * rows + 2 * bw + kr - kc, weights=kv * d[kr] * d[kc],
+                                       minlength=rows * nf).reshape(nf, rows))
     return lay
 
 
@@ -218,19 +223,24 @@ def factor(lay, kin, coef, partner):
                                     else _link_terms(lay, kin, coef, partner))
     if r.size and np.abs(r - c).max() > bw:     # a coupling the layout's pairs did not name
         return None
-    ab = lay["band_K"].copy()
-    np.add.at(ab.reshape(-1), (2 * bw + r - c) * nf + c, v * d[r] * d[c])
+    v = v * d[r] * d[c]
     if bw > NARROW and kin.all() and not slip.size:
         # the upper triangle, rows bw..2bw of the LU's storage, as dpbtrf
         # stores it (K_ff is symmetric to rounding; the one solve of an
-        # answer is refined on S itself)
-        chol, info = dpbtrf(ab[bw:2 * bw + 1], lower=0, overwrite_ab=1)
+        # answer is refined on S itself): those rows alone copied, and the
+        # link terms on or above the diagonal added to them
+        up = r <= c
+        ab = lay["band_K"][:, bw:2 * bw + 1].copy()
+        np.add.at(ab.reshape(-1), c[up] * (bw + 1) + bw + r[up] - c[up], v[up])
+        chol, info = dpbtrf(ab.T, lower=0, overwrite_ab=1)
         if info != 0:
             return None
         pivots = chol[bw] ** 2       # an LU's pivots without row exchanges
         band = (chol, None)
     else:
-        lu, piv, info = dgbtrf(ab, bw, bw, overwrite_ab=1)
+        ab = lay["band_K"].copy()
+        np.add.at(ab.reshape(-1), c * (3 * bw + 1) + 2 * bw + r - c, v)
+        lu, piv, info = dgbtrf(ab.T, bw, bw, overwrite_ab=1)
         if info != 0:
             return None
         pivots = np.abs(lu[2 * bw])
@@ -316,21 +326,22 @@ class CondensedLU:
         held exact zeros; the rest are the same sums, in LAPACK's order for
         the shorter block (the last digit may differ)."""
         if self.g is None:
-            lay, hf = self.lay, self.lay["Hf"]
-            rows = lay["pos"][hf.indices]
+            lay = self.lay
+            h_dof, h_link, h_val = lay["h"]
+            rows = lay["pos"][h_dof]
             first = int(rows.min()) if rows.size else 0
-            # entries on one dof summed, as Hf's products (and toarray) sum
-            # them: a contact between a node and itself has two, which cancel
-            n, nl = lay["nf"] - first, hf.shape[1]
-            block = np.bincount(np.repeat(np.arange(nl) * n, np.diff(hf.indptr)) + rows - first,
-                                weights=hf.data, minlength=n * nl).reshape((n, nl), order="F")
+            # entries on one dof summed, as κH_f's products sum them: a
+            # contact between a node and itself has two, which cancel
+            n, nl = lay["nf"] - first, lay["nl"]
+            block = np.bincount(h_link * n + rows - first, weights=h_val,
+                                minlength=n * nl).reshape((n, nl), order="F")
             self.g = first, dtbtrs(self.lu[:, first:], self.d[first:, None] * block,
                                    uplo="U", trans="T")[0]
         return self.g
 
     def _b(self, xu):
         """B x_u: κh'x_u on a holding link's row, nothing on a static one."""
-        bx = self.lay["HfT"] @ xu
+        bx = _dofs_to_links(self.lay, xu)
         bx[~self.kin] = 0.0
         return bx
 
@@ -340,7 +351,7 @@ class CondensedLU:
         xu, y = x[:nf], x[nf:]
         cy = self.cdiag * y
         cy[self.slip] += self.c_off * y[self.on]
-        return np.concatenate((self._k_times(xu) + self.lay["Hf"] @ y, self._b(xu) + cy))
+        return np.concatenate((self._k_times(xu) + _links_to_dofs(self.lay, y), self._b(xu) + cy))
 
     def _k_times(self, xu):
         """K_ff x_u as K's product at the free dofs: K_ff's sums plus exact
@@ -356,7 +367,7 @@ class CondensedLU:
         one = rhs.ndim == 1
         r1, r2 = rhs[:nf], rhs[nf:]
         z = self._cinv(r2)
-        t = r1 - lay["Hf"] @ z
+        t = r1 - _links_to_dofs(lay, z)
         d = self.d if one else self.d[:, None]
         b = d * t[lay["perm"]]
         x_perm = (dpbtrs(self.lu, b)[0] if self.piv is None
@@ -364,3 +375,30 @@ class CondensedLU:
         x = np.empty_like(t)
         x[lay["perm"]] = d * x_perm
         return np.concatenate((x, z - self._cinv(self._b(x))))
+
+
+def _links_to_dofs(lay, y):
+    """κH_f y (y: links, one column per right-hand side) from κH_f's
+    entries link by link, without a sparse matrix: a construction and a
+    product of scipy's cost 10–30 and 3–6 µs of set-up where a tower's 34
+    links have 34 entries."""
+    h_dof, h_link, h_val = lay["h"]
+    return _summed(h_dof, h_val, y, h_link, lay["nf"])
+
+
+def _dofs_to_links(lay, x):
+    """κH_fᵀ x (x: free dofs, one column per right-hand side)."""
+    h_dof, h_link, h_val = lay["h"]
+    return _summed(h_link, h_val, x, h_dof, lay["nl"])
+
+
+def _summed(to, val, x, at, n):
+    """Σ val·x[at] into rows ``to`` (n of them), each row's terms added from
+    zero in the entries' order — the sums, in their order, of scipy's
+    sparse product over these entries (CSC's for κH_f, CSR's for its
+    transpose), so the same bits."""
+    if x.ndim == 1:
+        return np.bincount(to, weights=val * x[at], minlength=n)
+    out = np.zeros((n,) + x.shape[1:])
+    np.add.at(out, to, val[:, None] * x[at])
+    return out

@@ -55,11 +55,13 @@ def stiffness_matrix(rows, cols, vals, springs, idx, dofs, N):
             cols.append([idx[node] + dofs.index(d)])
             vals.append([kval])
     # (int32 indices: scipy keeps them as they are, where int64 ones are
-    # scanned and copied)
-    index = (lambda parts: np.concatenate(parts).astype(np.int32) if parts
-             else np.zeros(0, np.int32))
-    return sp.coo_matrix((np.concatenate(vals) if vals else np.zeros(0),
-                          (index(rows), index(cols))), shape=(N, N)).tocsr()
+    # scanned and copied; one part, the members' alone, is taken as it is:
+    # concatenating it copied 5 600 entries three times for a tower)
+    join = (lambda parts, dtype: parts[0] if len(parts) == 1 else
+            np.concatenate(parts) if parts else np.zeros(0, dtype))
+    return sp.coo_matrix((join(vals, float), (join(rows, int).astype(np.int32),
+                                              join(cols, int).astype(np.int32))),
+                         shape=(N, N)).tocsr()
 
 
 def force_terms(b, u, F, ends):
@@ -189,10 +191,14 @@ class Built(dict):
 #: fixed dofs' rows of H per recovery — 27 to 57 constructions of 30-150 µs
 #: in a solve); the same values, bit for bit
 DERIVED = {
-    "abs_K": lambda b: abs(b["K"]),
-    "abs_H": lambda b: abs(b["H"]),
+    # |K| on K's own index arrays (abs() copies them)
+    "abs_K": lambda b: sp.csr_matrix((np.abs(b["K"].data), b["K"].indices, b["K"].indptr),
+                                     shape=b["K"].shape),
+    # H's entries (rows, columns, values) in its CSR order, which H X and
+    # |H||X| read (:func:`link_forces`, :func:`link_force_sizes`)
+    "H_entries": lambda b: csr_triplets(b["H"]),
     "HT": lambda b: b["H"].T.tocsr(),
-    "abs_HT": lambda b: b["abs_H"].T.tocsr(),
+    "abs_HT": lambda b: abs(b["HT"]),
     "abs_P": lambda b: abs(b["maps"][0]),
     "abs_W": lambda b: abs(b["maps"][1]),
     # the links' displacement by the settlements: Hᵀ at the fixed dofs
@@ -201,6 +207,23 @@ DERIVED = {
     "Hf": lambda b: _scaled_free_links(b),
     "S": lambda b: saddle_matrix(b),
 }
+
+
+def link_forces(b, X) -> np.ndarray:
+    """H X: the link forces X (one vector) as forces on the dofs, each dof's
+    terms summed from zero in H's CSR order — scipy's product's sums in its
+    order, without its set-up (a few µs a product, where a tower's H has 34
+    entries)."""
+    rows, cols, vals = b["H_entries"]
+    return np.bincount(rows, vals * X[cols], b["H"].shape[0])
+
+
+def link_force_sizes(b, X) -> np.ndarray:
+    """|H||X|: the sizes of the link forces' terms at each dof, summed as
+    :func:`link_forces` sums them (|H| was a sparse matrix made per
+    assembly for one product)."""
+    rows, cols, vals = b["H_entries"]
+    return np.bincount(rows, np.abs(vals) * np.abs(X)[cols], b["H"].shape[0])
 
 
 def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .contact_lcp import R_ROUNDING, to_global
+from .contact_lcp import R_ROUNDING, link_force_sizes, link_forces, to_global
 
 
 #: A normal force or slip below STATE_RTOL of its own componentwise scale is zero
@@ -159,9 +159,9 @@ def equilibrium(frame, b, F, X, u, residual=None, abs_hx=None):
     residual at the fixed dofs; the resultant check sizes by |H||X| too)."""
     free = b["free"]
     if residual is None:
-        residual = b["K"] @ u - F - b["H"] @ X
+        residual = b["K"] @ u - F - link_forces(b, X)
     if abs_hx is None:
-        abs_hx = b["abs_H"] @ np.abs(X)
+        abs_hx = link_force_sizes(b, X)
     res = np.abs(residual)[free]
     scale = (b["abs_K"] @ np.abs(u) + np.abs(F) + abs_hx)[free]
     moment = rotations(frame.DOFS)[free % len(frame.DOFS)]
@@ -205,8 +205,8 @@ def member_balance(frame, b, F, X, u, ends, factors):
     if b["Tn"] is not None:
         total, terms = b["Tn"] @ total, abs(b["Tn"]) @ terms
     free = b["free"]
-    res = np.abs(total - F - b["H"] @ X)[free]
-    scale = (terms + np.abs(F) + b["abs_H"] @ np.abs(X))[free]
+    res = np.abs(total - F - link_forces(b, X))[free]
+    scale = (terms + np.abs(F) + link_force_sizes(b, X))[free]
     moment = rotations(frame.DOFS)[free % len(frame.DOFS)]
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))

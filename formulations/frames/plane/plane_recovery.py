@@ -71,7 +71,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     cert_error, zeta, sigma, ends, ft = checked(z, u, X)
     # reactions at the fixed dofs: K u - F - H X on them (member loads
     # included), reported in global axes (a node's axes may be turned)
-    HX = b["H"] @ X
+    HX = contact_lcp.link_forces(b, X)
     r_all = b["K"] @ u - F - HX
 
     def statics(u, X, r_all, ends, ft, HX=None):
@@ -79,7 +79,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         a linear frame the balance of the member end actions returned; |H||X|
         made once for both, and where ``HX`` is given (r_all is then K u - F
         - H X in double, the per-dof residual) that residual"""
-        abs_hx = b["abs_H"] @ np.abs(X)
+        abs_hx = contact_lcp.link_force_sizes(b, X)
         eq = max(equilibrium(frame, b, F, X, u, residual=None if HX is None else r_all,
                              abs_hx=abs_hx),
                  resultant(frame, b, F, X, r_all, u, ft, HX=HX, abs_hx=abs_hx))
@@ -180,8 +180,9 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     of 1e11 m had its wrong pin reaction pass.  ``HX`` and ``abs_hx``:
     H X and |H||X| where the caller has them."""
     xy = b["coords"] - b["coords"].sum(axis=0) / len(b["coords"])     # np.mean's sum
-    absHX = b["abs_H"] @ np.abs(X) if abs_hx is None else abs_hx
-    terms = [F, b["H"] @ X if HX is None else HX, np.where(b["fixed"], r_all, 0.0)]
+    absHX = contact_lcp.link_force_sizes(b, X) if abs_hx is None else abs_hx
+    terms = [F, contact_lcp.link_forces(b, X) if HX is None else HX,
+             np.where(b["fixed"], r_all, 0.0)]
     # each term by what it is made of: H X by |H||X|, a reaction (K u - F -
     # H X at its dof) by the forces meeting there and |H||X|
     size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)

@@ -111,7 +111,7 @@ def statics(frame, b, F, u, X, exact, factors):
     double.  A stiff member's end actions k T u in double carry ε|k||u|: a
     piece 1e7 times stiffer than its neighbour read 5e-6 off."""
     if exact is None:
-        r_all = b["K"] @ u - F - b["H"] @ X
+        r_all = b["K"] @ u - F - contact_lcp.link_forces(b, X)
         ends = contact_lcp.member_end_actions(b, contact_lcp.to_global(b, u), factors)
     else:
         Ku, ends = refined_actions(b, exact, factors)
@@ -204,8 +204,8 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     :func:`~..plane.plane_recovery.resultant`, which says why the
     per-dof check cannot replace it)."""
     xyz = b["coords"] - b["coords"].mean(axis=0)
-    absHX = b["abs_H"] @ np.abs(X)
-    terms = F + b["H"] @ X + np.where(b["fixed"], r_all, 0.0)
+    absHX = contact_lcp.link_force_sizes(b, X)
+    terms = F + contact_lcp.link_forces(b, X) + np.where(b["fixed"], r_all, 0.0)
     size = np.abs(F) + absHX + np.where(b["fixed"], force_terms + absHX, 0.0)
     if b["Tn"] is not None:   # sums of forces are taken in global axes
         terms, size, u = b["Tn"].T @ terms, abs(b["Tn"]).T @ size, b["Tn"].T @ u

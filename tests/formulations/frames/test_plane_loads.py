@@ -87,6 +87,42 @@ def test_clamped_beam_point_load_matches_textbook_fixed_end_moments():
     assert r.reactions["A"][1] == pytest.approx(P * b ** 2 * (3 * a + b) / L ** 3, rel=1e-9)
 
 
+@pytest.mark.parametrize("shear, axes", [(None, "global"), (None, "member"),
+                                         ((8e7, 0.004), "global"), ((8e7, 0.004), "member")])
+def test_a_uniform_load_over_a_whole_inclined_member_gives_its_fixed_end_forces(shear, axes):
+    """An inclined member clamped at both ends under a uniform load over its
+    whole length (Euler–Bernoulli or Timoshenko: a symmetric load's fixed-end
+    forces do not depend on shear) carries it by its fixed-end forces alone,
+    by hand: w∥ L/2 along the axis and w⊥ L/2 across it at each end, ∓w⊥ L²/12
+    as the end moments; beside it (the same assembly) a clamped level beam
+    with a point load at midspan, P/2 and PL/8."""
+    dx, dy, w = 3.0, 4.0, (1.5, -6.0)
+    L = np.hypot(dx, dy)
+    c, s = dx / L, dy / L
+    fr = Frame()
+    for name, x, y in (("A", 0.0, 0.0), ("B", dx, dy), ("C", 10.0, 0.0), ("D", 16.0, 0.0)):
+        fr.add_node(name, x, y)
+        fr.add_support(name)
+    g = {} if shear is None else dict(G=shear[0], shear_area=shear[1])
+    fr.add_member("A", "B", E, A, I, name="AB", **g)
+    fr.add_member("C", "D", E, A, I, name="CD", **g)
+    fr.add_distributed_load("AB", wx=w[0], wy=w[1], axes=axes)
+    fr.add_point_load("CD", 3.0, fy=-12.0)
+    r = fr.solve()
+    assert r.status == "solved"
+    along, across = (w if axes == "member" else (c * w[0] + s * w[1], -s * w[0] + c * w[1]))
+    # the member's end forces, back in global axes (x, y) and reversed: the reactions
+    fx, fy = c * along - s * across, s * along + c * across
+    np.testing.assert_allclose(r.reactions["A"], (-fx * L / 2, -fy * L / 2, -across * L ** 2 / 12),
+                               rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(r.reactions["B"], (-fx * L / 2, -fy * L / 2, across * L ** 2 / 12),
+                               rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(r.reactions["C"], (0.0, 6.0, 12.0 * 6.0 / 8), rtol=1e-12,
+                               atol=1e-12)
+    np.testing.assert_allclose(r.reactions["D"], (0.0, 6.0, -12.0 * 6.0 / 8), rtol=1e-12,
+                               atol=1e-12)
+
+
 @pytest.mark.parametrize("w1, w2, start, end", [(-4.0, -4.0, 0.0, 6.0), (-2.0, -8.0, 1.0, 4.5),
                                                 (-6.0, 0.0, 2.0, 6.0)])
 def test_partial_trapezoidal_load_matches_integrated_influence_lines(w1, w2, start, end):
