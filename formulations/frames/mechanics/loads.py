@@ -132,6 +132,20 @@ def known_node(frame, name) -> str:
     return name
 
 
+def pair_node(frame, node: str, other) -> None:
+    """InvalidProblemError unless ``other`` (a contact pair's second node,
+    or None for a support on the ground) is a node of the frame other than
+    ``node``."""
+    if other is None:
+        return
+    known_node(frame, other)
+    if other == node:
+        raise InvalidProblemError(
+            f"contact at {node!r}: other={other!r} is the contact's own node; a pair "
+            "acts between two different nodes — name the node it presses against, "
+            "or leave other out for a support on the ground")
+
+
 def known_member(frame, name):
     """The frame's member of that name; else the error lists them."""
     if name not in frame.members:

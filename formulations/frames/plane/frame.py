@@ -20,7 +20,7 @@ from ..mechanics import contact_lcp, friction_export, second_order_analysis, sol
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, add_settlements, case_name,
                                check_axes, check_units, known_member, known_node,
-                               no_member_between, no_same_contact, number)
+                               no_member_between, no_same_contact, number, pair_node)
 from ..mechanics.plane_element import DOFS, geometry
 from . import plane_assembly, plane_recovery
 from .plane_results import FrameResult
@@ -234,13 +234,7 @@ class Frame:
         ``friction`` (0: no tangential link), initial ``gap`` >= 0, rigid unless
         ``stiffness`` is given.  Returns the contact's index."""
         known_node(self, node)
-        if other is not None:
-            known_node(self, other)
-            if other == node:
-                raise InvalidProblemError(
-                    f"contact at {node!r}: other={other!r} is the contact's own node; a pair "
-                    "acts between two different nodes — name the node it presses against, "
-                    "or leave other out for a support on the ground")
+        pair_node(self, node, other)
         try:
             n = np.array(normal, float)
         except (TypeError, ValueError):

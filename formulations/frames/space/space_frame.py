@@ -56,7 +56,7 @@ from ..mechanics import friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, add_settlements, case_name, check_axes,
                                check_units, known_member, known_node,
-                               no_member_between, no_same_contact, number)
+                               no_member_between, no_same_contact, number, pair_node)
 from ..mechanics.space_element import END_ROTATIONS, axes
 from . import circular_cone, circular_trace, space_assembly, space_recovery
 from .space_member_loads import SpanLoad, position
@@ -465,13 +465,7 @@ class SpaceFrame:
         opposite; its opening and slip are the relative motion of ``node``
         from ``other``."""
         known_node(self, node)
-        if other is not None:
-            known_node(self, other)
-            if other == node:
-                raise InvalidProblemError(
-                    f"contact at {node!r}: other={other!r} is the contact's own node; a pair "
-                    "acts between two different nodes — name the node it presses against, "
-                    "or leave other out for a support on the ground")
+        pair_node(self, node, other)
         n = unit_vector(normal, f"contact at {node!r}: normal must be a nonzero 3-vector")
         friction, gap = number(friction, "friction"), number(gap, "gap")
         if friction < 0 or gap < 0:
