@@ -122,6 +122,17 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = (f"the piece from p = {piece.p_start:.10g} to {piece.p_end:.10g} failed "
                       f"the frame's checks at p = {p_bad:.10g} ({bad.message}); the trace "
                       f"stops at p = {ft.p_end:.10g}")
+    elif ended == "collapse" and contact_lcp.contrast(b) > contact_lcp.CONTRAST:
+        # the certificates are exact on M and q, whose R past this contrast
+        # carries rounding in its small entries (no_equilibrium.
+        # raise_no_equilibrium): no proof about the frame, and no limit
+        ended = "breakdown"
+        ft.message = (f"the load path is certified up to p = {tr.p_end:.10g}; beyond it the "
+                      "contact LCP has no solution, but its Farkas certificates are not a proof "
+                      f"here: the members' stiffnesses differ by {contact_lcp.contrast(b):.1e}, "
+                      "beyond which the contact matrix's small entries carry rounding (model the "
+                      "stiff part as rigid, or bring the contrast under "
+                      f"{contact_lcp.CONTRAST:.0e}); nothing was proved beyond it")
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                     if ft.states else None)
@@ -179,7 +190,8 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     ft.ended = ended
     # a bound is not a limit: the path stopped unproved inside it (a fold
     # that the rigid body's bound then brackets was called ok)
-    ft.ok = bool((tr.ok or ft.limit is not None) and failed is None and ended != "bounded")
+    ft.ok = bool((tr.ok or ft.limit is not None) and failed is None
+                 and ended not in ("bounded", "breakdown"))
     ft.message += f"; {len(ft.events)} change(s) of the working scheme"
     return ft
 

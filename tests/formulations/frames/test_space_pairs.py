@@ -338,3 +338,20 @@ def test_a_table_whose_top_slides_on_its_legs_is_proved_to_at_f_W():
     np.testing.assert_allclose(tr.p_end, 0.3 * 40.0, rtol=1e-10)
     assert ("a part of the frame slides on another: friction exhausted at K0-T0 (along "
             "(1, 0, 0)), K1-T1") in tr.message
+
+
+def test_past_the_contrast_where_r_is_refined_a_farkas_end_is_no_limit(monkeypatch):
+    """The same trace, with the contrast beyond which R is refined (and its
+    small entries carry rounding) set below this frame's: its end, proved
+    only by the LCP's Farkas certificate (no rigid motion moves the top on
+    its legs alone), is no proof about the frame — the trace is not ok and
+    names no limit: "bounded" between its last certified load and the
+    rigid body's proved 20 kN (the pads sliding), and it says why."""
+    from formulations.frames.mechanics import contact_lcp
+
+    monkeypatch.setattr(contact_lcp, "CONTRAST", 0.5)
+    tr = _table_on_pairs(0.5, 0.3, "circumscribed").trace()
+    assert tr.ended == "bounded" and not tr.ok and tr.limit is None, tr.message
+    assert tr.bound[1] == pytest.approx(0.5 * 40.0, rel=1e-9)
+    assert "not a proof" in tr.message
+    np.testing.assert_allclose(tr.p_end, 0.3 * 40.0, rtol=1e-10)   # certified up to it
