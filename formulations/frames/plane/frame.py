@@ -20,7 +20,8 @@ from ..mechanics import contact_lcp, friction_export, second_order_analysis, sol
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, add_settlements, case_name,
                                check_axes, check_units, known_member, known_node,
-                               no_member_between, no_same_contact, number, pair_node)
+                               no_member_between, no_same_contact, number, pair_node,
+                               support_keys)
 from ..mechanics.plane_element import DOFS, geometry
 from . import plane_assembly, plane_recovery
 from .plane_results import FrameResult
@@ -31,7 +32,7 @@ PLANE = FrameKind(
     name="plane", routes=("auto", "active-set", "lemke", "tresca"), result_type=FrameResult,
     solve_one=solving.unless_linear(solving.solve_lcp), result_from_z=plane_recovery.result_from_z,
     release_directions=plane_assembly.release_directions,
-    support_keys=plane_recovery.support_keys, collapse_words=plane_recovery.collapse_words,
+    support_keys=support_keys, collapse_words=plane_recovery.collapse_words,
     slide_words=plane_recovery.slide_words, active_set=solve_active_set)
 
 

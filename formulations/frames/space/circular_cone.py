@@ -50,14 +50,14 @@ from ..mechanics import contact_lcp
 from ..mechanics.equilibrium_checks import STATE_RTOL, equilibrium
 from ..mechanics.member_forces import stiffness_times
 from ..mechanics.load_combinations import load_combination
-from ..mechanics.loads import describe
+from ..mechanics.loads import describe, support_keys
 from ..mechanics.no_equilibrium import motion_words, raise_rigid_motion
 from ..mechanics.solving import solve_lcp
 from ..mechanics.time_limits import TIME_LIMIT, deadline_of, seconds_left
 from .space_assembly import held, release_directions
 from .circular_limit import prove_no_equilibrium
 from .circular_polish import solve_on_states
-from .space_recovery import global_reactions, resultant, space_result, support_keys
+from .space_recovery import global_reactions, resultant, space_result
 from .space_results import SpaceSupportResult
 
 #: a contact's force or slip within this many times the certificate's error

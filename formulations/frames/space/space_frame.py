@@ -56,7 +56,8 @@ from ..mechanics import friction_export, second_order_analysis, solving, tracing
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, add_settlements, case_name, check_axes,
                                check_units, known_member, known_node,
-                               no_member_between, no_same_contact, number, pair_node)
+                               no_member_between, no_same_contact, number, pair_node,
+                               support_keys)
 from ..mechanics.space_element import END_ROTATIONS, axes
 from . import circular_cone, circular_trace, space_assembly, space_recovery
 from .space_member_loads import SpanLoad, position
@@ -69,7 +70,7 @@ SPACE = FrameKind(
     solve_one=solving.unless_linear(circular_trace.solve_on_path),
     result_from_z=space_recovery.result_from_z,
     release_directions=space_assembly.release_directions,
-    support_keys=space_recovery.support_keys, collapse_words=space_recovery.collapse_words,
+    support_keys=support_keys, collapse_words=space_recovery.collapse_words,
     slide_words=space_recovery.slide_words)
 
 

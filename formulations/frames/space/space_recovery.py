@@ -17,7 +17,7 @@ from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL,
                                             beyond_rounding, equilibrium, how_far,
                                             mechanical_certificate, member_balance)
-from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.loads import CONSTANT, VARIABLE, support_keys
 from ..mechanics.member_forces import refined_actions
 from ..mechanics.no_equilibrium import motion_words
 from .space_assembly import facet_angles, reach
@@ -270,18 +270,6 @@ def slide_words(frame, ci, t) -> str:
     d = t[0] * c.t1 + t[1] * c.t2 if len(t) == 2 else t[0] * c.t1
     d = d / max(np.linalg.norm(d), 1e-300)
     return "along (" + ", ".join(f"{v + 0.0:.3g}" for v in np.round(d, 3)) + ")"
-
-
-def support_keys(frame) -> list:
-    """The key of each contact in the result's supports, in contact order,
-    as the plane frame's: its node, "node-other" for a pair, "#k" added
-    (k the contact's index) where the key is taken."""
-    keys, taken = [], set()
-    for c in frame.contacts:
-        key = c.node if c.other is None else f"{c.node}-{c.other}"
-        keys.append(f"{key}#{len(keys)}" if key in taken else key)
-        taken.add(keys[-1])
-    return keys
 
 
 def cone_words(frame) -> str:
