@@ -34,20 +34,12 @@ def raise_no_equilibrium(frame, sol, fric, b, combo, hint=False):
     if y is None and proof is not None and proof.kind == "infeasible":
         y = proof.vector["z"]
     what = describe(combo)
-    if y is not None and contact_lcp.contrast(b) > contact_lcp.CONTRAST:
-        # the vector is exact for the LCP's M and q, but past this stiffness
-        # contrast R is refined and its small entries are known only to its
-        # rounding: a deck 1e12 times stiffer than its columns (R's entries
-        # zeroed) and a beam of spans 18 to 3.3e8 apart (noise kept) each had
-        # a "proof" where an equilibrium exists.  Only the rigid motion,
-        # checked on K itself, proves anything here
+    if y is not None and contact_lcp.is_refined(b):
+        # only the rigid motion, checked on K itself, proves anything here
         raise_rigid_motion(frame, b, combo, f"{sol.method}: {sol.message}")
         raise SolverFailedError(
-            f"frame under {what}: {sol.method} found no contact state, and its Farkas vector "
-            f"is not a proof here: the members' stiffnesses differ by "
-            f"{contact_lcp.contrast(b):.1e}, beyond which the contact matrix's small entries "
-            "carry rounding (model the stiff part as rigid, or bring the contrast under "
-            f"{contact_lcp.CONTRAST:.0e}); nothing was proved either way")
+            f"frame under {what}: {sol.method} found no contact state, and "
+            f"{contact_lcp.no_farkas_proof(b)}; nothing was proved either way")
     if y is not None:
         words = frame.kind.collapse_words(frame, {"farkas": np.asarray(y, float)}, fric,
                                           carrying=None)

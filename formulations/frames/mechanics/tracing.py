@@ -122,17 +122,12 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = (f"the piece from p = {piece.p_start:.10g} to {piece.p_end:.10g} failed "
                       f"the frame's checks at p = {p_bad:.10g} ({bad.message}); the trace "
                       f"stops at p = {ft.p_end:.10g}")
-    elif ended == "collapse" and contact_lcp.contrast(b) > contact_lcp.CONTRAST:
-        # the certificates are exact on M and q, whose R past this contrast
-        # carries rounding in its small entries (no_equilibrium.
-        # raise_no_equilibrium): no proof about the frame, and no limit
+    elif ended == "collapse" and contact_lcp.is_refined(b):
+        # no proof about the frame, and no limit
         ended = "breakdown"
         ft.message = (f"the load path is certified up to p = {tr.p_end:.10g}; beyond it the "
-                      "contact LCP has no solution, but its Farkas certificates are not a proof "
-                      f"here: the members' stiffnesses differ by {contact_lcp.contrast(b):.1e}, "
-                      "beyond which the contact matrix's small entries carry rounding (model the "
-                      "stiff part as rigid, or bring the contrast under "
-                      f"{contact_lcp.CONTRAST:.0e}); nothing was proved beyond it")
+                      f"contact LCP has no solution, but {contact_lcp.no_farkas_proof(b)}; "
+                      "nothing was proved beyond it")
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                     if ft.states else None)
@@ -350,11 +345,8 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadli
             if rigid is not None:
                 raise NoSolutionError(f"frame under {describe(combo)}: no equilibrium exists "
                                       f"— {rigid} (the load path, {words}, ends below it)")
-            if contact_lcp.contrast(b) > contact_lcp.CONTRAST:
-                # the certificates are exact on M and q, whose R past this
-                # contrast carries rounding in its small entries: not a
-                # proof about the frame (no_equilibrium.raise_no_equilibrium)
-                return None
+            if contact_lcp.is_refined(b):
+                return None         # the certificates prove nothing about the frame
             fric = contact_lcp.lcp_matrices(b)[5]
             how = (frame.kind.collapse_words(frame, tr.proof, fric, None)
                    if tr.proof["farkas"] is not None
