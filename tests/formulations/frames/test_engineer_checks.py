@@ -152,15 +152,15 @@ def test_a_three_hinged_portal_below_its_friction_spreads():
 
 # -- a portal on two rigid pads, to second order --------------------------------
 
-def portal_on_pads(W, h, b, f=0.9, area=10.0) -> Frame:
+def portal_on_pads(W, h, b, f=0.9, area=10.0, deck=1e4) -> Frame:
     """Columns (E, area × A, I) of height h with pinned feet on two rigid
-    pads b apart, a beam 1e4 times stiffer (E and I) between their tops,
-    W/2 on each top, a unit push at the windward top (variable)."""
+    pads b apart, a beam ``deck`` times stiffer (E and I) between their
+    tops, W/2 on each top, a unit push at the windward top (variable)."""
     fr = Frame()
     for n, x, y in (("A", 0, 0), ("B", 0, h), ("C", b, h), ("D", b, 0)):
         fr.add_node(n, x, y)
     fr.add_member("A", "B", E, area * A, I, name="L")
-    fr.add_member("B", "C", 1e4 * E, area * A, 1e4 * I, name="T")
+    fr.add_member("B", "C", deck * E, area * A, deck * I, name="T")
     fr.add_member("D", "C", E, area * A, I, name="R")
     fr.add_contact("A", friction=f)
     fr.add_contact("D", friction=f)
@@ -168,6 +168,14 @@ def portal_on_pads(W, h, b, f=0.9, area=10.0) -> Frame:
     fr.add_load("C", fy=-W / 2)
     fr.add_load("B", fx=1.0, case="variable")
     return fr
+
+
+def second_order_tipping_push(W, h, b):
+    """The push H at which the portal on pads tips on its deformed frame
+    (the next test's docstring derives it): W b/2 = H h + W Δ, with the
+    leeward column's sway Δ = H (tan kh − kh)/(W k), k = √(W/EI)."""
+    k = np.sqrt(W / (E * I))
+    return W * b / 2 / (h + (np.tan(k * h) - k * h) / k)
 
 
 def test_a_portal_on_pads_tips_on_the_deformed_frame():
@@ -184,8 +192,7 @@ def test_a_portal_on_pads_tips_on_the_deformed_frame():
     1e-6 of that load, a fold, and the frame tips there."""
     h, b = 5.0, 3.0
     W = 0.05 * np.pi ** 2 * E * I / (4 * h ** 2)
-    k = np.sqrt(W / (E * I))
-    H_tip = W * b / 2 / (h + (np.tan(k * h) - k * h) / k)
+    H_tip = second_order_tipping_push(W, h, b)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         tr = portal_on_pads(W, h, b).trace(second_order=True)
@@ -203,8 +210,7 @@ def test_a_second_order_path_that_stops_short_is_not_ok():
     end within the hand value's 2e-5."""
     h, b = 5.0, 3.0
     W = 0.1 * np.pi ** 2 * E * I / (4 * h ** 2)
-    k = np.sqrt(W / (E * I))
-    H_tip = W * b / 2 / (h + (np.tan(k * h) - k * h) / k)
+    H_tip = second_order_tipping_push(W, h, b)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         tr = portal_on_pads(W, h, b, area=1e3).trace(second_order=True)
@@ -544,18 +550,8 @@ def test_a_portal_with_a_rigid_deck_slides_and_tips_by_hand(deck):
     stiffness, 1.8e15 kN/m), which is above the frame's sway stiffness
     (48 kN/m): M was zero and "no equilibrium exists" was "proved" at
     p = 30, below the limit 35.52."""
-    W, h, b, f = 118.4, 5.0, 3.0, 0.9
-    fr = Frame()
-    for n, x, y in (("A", 0, 0), ("B", 0, h), ("C", b, h), ("D", b, 0)):
-        fr.add_node(n, x, y)
-    fr.add_member("A", "B", E, 10 * A, I)
-    fr.add_member("B", "C", deck * E, 10 * A, deck * I)
-    fr.add_member("D", "C", E, 10 * A, I)
-    fr.add_contact("A", friction=f)
-    fr.add_contact("D", friction=f)
-    fr.add_load("B", fy=-W / 2)
-    fr.add_load("C", fy=-W / 2)
-    fr.add_load("B", fx=1.0, case="variable")
+    W, h, b = 118.4, 5.0, 3.0
+    fr = portal_on_pads(W, h, b, deck=deck)
     limit = W * b / (2 * h)
     for p in (20.0, 30.0, 0.999 * limit):
         res = fr.solve(p=p)
