@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import os
 import tempfile
-
 import threading
 import time
 

@@ -14,6 +14,7 @@ from qpcontact.core.errors import NoSolutionError, SolverFailedError
 
 from . import contact_lcp
 from .loads import describe
+from .member_forces import elastic_end_actions
 
 
 def proved(sol) -> bool:
@@ -123,8 +124,6 @@ def strains(b, free, phi) -> bool:
     1e-10): that member's bending read as a rigid motion, and a beam on a
     pin and pads, whose pads carry it by statics, "proved" to have no
     equilibrium.  Member by member, rounding is ε of its own k."""
-    from .member_forces import elastic_end_actions
-
     u = np.zeros(b["K"].shape[0])
     u[free] = phi
     ug = u if b["Tn"] is None else b["Tn"].T @ u
