@@ -70,7 +70,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from .border import FactoredBlock
+from .border import BORDER_RCOND, FactoredBlock
 from .ordering import dof_order
 
 #: a node changes state only beyond this fraction of the largest |w| (or
@@ -82,11 +82,10 @@ MAX_STEPS = 60
 #: many nodes is solved by that LDLᵀ and a border (chosen when a solve cost
 #: 1/35 of a factorisation and a border of m nodes m + 2 solves; in the
 #: nested-dissection order a solve costs 1/20–1/40, but the border's m
-#: columns are one solve with m right-hand sides, 11–21 solves' time for 32)
+#: columns are one solve with m right-hand sides, 11–21 solves' time for 32);
+#: its matrix with a condition number above 1/:data:`.border.BORDER_RCOND`
+#: sends the step to a refactorisation, as the floor's border does
 BORDER_MAX = 32
-#: the border's matrix with a larger condition number sends the step to a
-#: refactorisation
-BORDER_RCOND = 1e-10
 #: a floor node whose coarser twin lifts it by less than this fraction of the
 #: twin's largest |w| starts held (:func:`start_from`): next to the twin's
 #: contact line the plate hovers — lifted by 1e-8 to 5e-5 of the largest |w|
