@@ -173,18 +173,31 @@ def critical_load_factor(frame, result) -> dict:
     if negatives(0.0):
         raise InvalidOptionError("critical_load_factor: the frame with its contact states held "
                                  "is not stable at zero load (a mechanism); no α_cr")
-    lo, hi = 0.0, min(1.0, 0.5 * pole)
+    hi = first_negative(negatives, min(1.0, 0.5 * pole), pole)
+    if hi is None:
+        worst = list(frame.members)[int(np.argmax(t1))]
+        return {"alpha": float(pole), "mode": None, "limited_by": worst,
+                "members": dict(zip(frame.members, t1))}
+    return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held),
+            "members": dict(zip(frame.members, t1)), "limited_by": None}
+
+
+def first_negative(negatives, start, pole):
+    """The least x in (0, pole) at which the count ``negatives(x)`` of a
+    tangent stiffness's negative eigenvalues leaves zero, to ALPHA_RTOL:
+    bracketed by doubling from ``start``, then bisected (Sylvester's law
+    of inertia: the count grows with the load).  None where it stays zero
+    up to just below ``pole`` (a member's own clamped–clamped buckling,
+    where the stability functions have their pole)."""
+    lo, hi = 0.0, start
     while negatives(hi) == 0:
+        if hi >= pole * (1 - 1e-9):
+            return None
         lo, hi = hi, min(2.0 * hi, pole * (1 - 1e-9))
-        if hi >= pole * (1 - 1e-9) and negatives(hi) == 0:
-            worst = list(frame.members)[int(np.argmax(t1))]
-            return {"alpha": float(pole), "mode": None, "limited_by": worst,
-                    "members": dict(zip(frame.members, t1))}
     while hi - lo > ALPHA_RTOL * hi:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if negatives(mid) == 0 else (lo, mid)
-    return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held),
-            "members": dict(zip(frame.members, t1)), "limited_by": None}
+    return hi
 
 
 def negative_eigenvalues(K) -> int:
@@ -405,16 +418,11 @@ def buckling_along_path(frame, b, ft, N_start):
     pole = float(own.min())
     if negatives(0.0):
         return 0.0, "the frame is unstable under the constant loads alone"
-    a, c = 0.0, min(p_read, 0.5 * pole)
-    while negatives(c) == 0:
-        if c >= pole * (1 - 1e-9):
-            worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
-            return pole, (f"no sway buckles it before member {worst} buckles on its own "
-                          f"(clamped at both ends) at p = {pole:.10g}")
-        a, c = c, min(2.0 * c, pole * (1 - 1e-9))
-    while c - a > ALPHA_RTOL * c:
-        mid = 0.5 * (a + c)
-        a, c = (mid, c) if negatives(mid) == 0 else (a, mid)
+    c = first_negative(negatives, min(p_read, 0.5 * pole), pole)
+    if c is None:
+        worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
+        return pole, (f"no sway buckles it before member {worst} buckles on its own "
+                      f"(clamped at both ends) at p = {pole:.10g}")
     return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact states "
                "held, turns singular there)")
 
