@@ -16,6 +16,7 @@ from qpcontact.judge.lcp_certificate import certify_lcp
 from . import contact_lcp
 from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
+from .farkas_rounding import beyond_rounding, collapse_rounding
 from .joined_trace import RESTART, RESTARTS, JoinedTrace
 from .load_combinations import constant_first, trace_combinations
 from .loads import VARIABLE, describe
@@ -114,6 +115,12 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     # tip, 26.6666667)
     proved = (limit_proof(frame, b, ft, tr, fric)
               if ended not in ("p_max", "unbounded") else None)
+    verge = None
+    if ended == "collapse" and not proved and failed is None and not contact_lcp.is_refined(b):
+        # the engine's proof, from the load at which its margin clears the
+        # rounding of the LCP's data (:mod:`.farkas_rounding`), or the words
+        # for a load at the limit to rounding
+        proof, verge = beyond_rounding(b, const, var, narrowed(path, tr, tol) or tr.proof)
     if proved:
         ended, failed = "collapse", None
         ft.message = proved
@@ -128,10 +135,13 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = (f"the load path is certified up to p = {tr.p_end:.10g}; beyond it the "
                       f"contact LCP has no solution, but {contact_lcp.no_farkas_proof(b)}; "
                       "nothing was proved beyond it")
+    elif ended == "collapse" and verge:
+        # the Farkas certificates' margin is within the data's rounding
+        ended = "breakdown"
+        ft.message = f"the load path is certified up to p = {tr.p_end:.10g}; beyond it {verge}"
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                     if ft.states else None)
-        proof = narrowed(path, tr, tol) or tr.proof
         words = (frame.kind.collapse_words(frame, proof, fric, carrying)
                  if proof["farkas"] is not None
                  else "no combination of support states carries the load")
@@ -347,6 +357,8 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadli
                                       f"— {rigid} (the load path, {words}, ends below it)")
             if contact_lcp.is_refined(b):
                 return None         # the certificates prove nothing about the frame
+            if collapse_rounding(b, const, var, tr.proof) is not None:
+                continue            # at the limit to rounding: nothing proved
             fric = contact_lcp.lcp_matrices(b)[5]
             how = (frame.kind.collapse_words(frame, tr.proof, fric, None)
                    if tr.proof["farkas"] is not None
