@@ -132,9 +132,9 @@ def verge_words(r: dict, bracket=None, unit="p") -> str:
     where = ""
     if bracket is not None:
         lo, hi = bracket
-        where = (f"; with this vector the loads from {unit} = {lo:.12g} to {hi:.12g} are at "
+        where = (f"; with this vector the loads from {unit} = {lo:.15g} to {hi:.15g} are at "
                  "the limit to rounding" if np.isfinite(hi) else
-                 f"; with this vector every load from {unit} = {lo:.12g} on is at the limit "
+                 f"; with this vector every load from {unit} = {lo:.15g} on is at the limit "
                  "to rounding (the margin grows no faster than its rounding)")
     why = (f"not beyond the bound {r['bound']:.2e} on the rounding of the data it is "
            "computed from (R, R_F and their products)")

@@ -104,3 +104,27 @@ def test_a_portal_pushed_exactly_to_its_tipping_load_is_not_proved_to_tip():
     tr = pushed_portal(f, h, b, W).trace()
     assert tr.ok and tr.ended == "collapse", tr.message
     assert tr.limit[0] <= ref * (1 + 1e-13) and ref * (1 - 1e-13) <= tr.limit[1], tr.limit
+
+
+def test_the_loads_at_the_limit_to_rounding_bracket_the_hand_limit():
+    """Lemke's Farkas vector at p = 50 exactly (the portal's tipping and
+    sliding load by hand) holds exactly on the rounded LCP, but its margin
+    is within the rounding bound; the loads at which that vector's margin is
+    within its rounding bracket 50 and are a few eps of it wide."""
+    from formulations.frames.mechanics import contact_lcp
+    from formulations.frames.mechanics.farkas_rounding import (lcp_proof_vector, proof_rounding,
+                                                               rounding_bracket)
+    from qpcontact import solve
+
+    fr = pushed_portal(0.5, 4.0, 4.0, 100.0)
+    b = fr.build()
+    M, Q, q_gap, *_ = contact_lcp.lcp_matrices(b)
+    combo = {"constant": 1.0, "variable": 50.0}
+    sol = solve(contact_lcp.combination_lcp(M, Q, q_gap, b, combo), method="lemke")
+    y = lcp_proof_vector(sol)
+    assert y is not None          # the rounded LCP has no solution: a proof about it
+    r = proof_rounding(b, combo, y)
+    assert 0 < r["margin"] < r["bound"] and not r["proves"], r
+    lo, hi = rounding_bracket(b, {"constant": 1.0}, {"variable": 1.0}, y)
+    assert lo <= 50.0 <= hi and hi - lo < 1e-11 * 50.0, (lo, hi)
+    assert proof_rounding(b, {"constant": 1.0, "variable": hi * (1 + 1e-14)}, y)["proves"]
