@@ -162,8 +162,8 @@ def judge_proof(sol, b, combo: dict) -> None:
     none was made, or where no Farkas vector is a proof at all
     (:func:`.contact_lcp.is_refined`)."""
     y = lcp_proof_vector(sol)
-    if y is None or contact_lcp.is_refined(b):
-        return
+    if y is None or contact_lcp.is_refined(b) or len(y) != contact_lcp.lcp_matrices(b)[0].shape[0]:
+        return      # (a vector of another form than the LCP's rows: not read here)
     r = proof_rounding(b, combo, y)
     if r["proves"]:
         return
@@ -178,9 +178,10 @@ def collapse_rounding(b, const: dict, var: dict, proof: dict) -> dict | None:
     """A load path's collapse proof (:mod:`qpcontact.proofs.parametric`:
     Farkas vectors, one per pattern of the branch and bound, each proving
     its pattern empty for every p >= ``proof["p_limit"]`` on the rounded
-    data) judged by the same bound (:func:`proof_rounding`): None where every leaf proves beyond the rounding at
-    p_limit; else the worst leaf's rounding and "p_clear", the load from
-    which every leaf does (inf where some leaf's margin never clears)."""
+    data) judged by the same bound (:func:`proof_rounding`): None where
+    every leaf proves beyond the rounding at p_limit; else the worst leaf's
+    rounding and "p_clear", the load from which every leaf does (inf where
+    some leaf's margin never clears)."""
     leaves = proof.get("leaves") or [{"y": proof["farkas"]}]
     p = float(proof["p_limit"])
     combo = {k: const.get(k, 0.0) + p * var.get(k, 0.0) for k in set(const) | set(var)}
