@@ -36,8 +36,8 @@ import scipy.linalg as la
 from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
                                    SolverFailedError)
 
-from .second_order import clamped_buckling_t
 from . import tracing
+from .second_order import clamped_buckling_t
 from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
@@ -310,17 +310,26 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     error, ft, unstable, p_from, inside = np.inf, None, None, 0.0, None
     for rounds in range(1, ROUNDS + 1):
         b = frame.build(axial=N)
+        p_from = 0.0
         try:
             ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
-        except (NoSolutionError, SolverFailedError):
+        except (NoSolutionError, SolverFailedError) as exc:
+            if inside is None:
+                raise       # the constant loads' own stiffness: about the frame
             # on the end's stiffness at p = 0 the P-Δ terms of the end's
             # compression act without the loads that make it (a column's 200
             # kN, which also hold its footing down): that frame may stand
-            # nowhere near p = 0, and the path on it starts where it stands
-            p_from = None if inside is None or getattr(frame, "cone", None) == "circular" \
-                else first_standing(frame, b, const, var, inside, accuracy, tol)
+            # nowhere near p = 0 — nothing about the frame — and the path on
+            # it starts where it stands
+            p_from = (None if getattr(frame, "cone", None) == "circular"
+                      else first_standing(frame, b, const, var, inside, accuracy, tol))
             if p_from is None:
-                raise
+                raise SolverFailedError(
+                    f"frame: the second-order trace's round {rounds}, on the stiffness of the "
+                    f"axial forces at p = {inside:.10g}, has no certified equilibrium to start "
+                    f"from at p = 0 ({exc}) nor found one below that load; nothing was proved "
+                    "about the frame, whose constant loads stand (solve(second_order=True))"
+                ) from None
             ft = tracing.trace(frame, p_max, accuracy, constant=const, variable=var, _built=b,
                                _from=p_from)
         unstable = first_unstable_piece(frame, b, ft)
