@@ -139,7 +139,7 @@ def verge_words(r: dict, bracket=None, unit="p") -> str:
     why = (f"not beyond the bound {r['bound']:.2e} on the rounding of the data it is "
            "computed from (R, R_F and their products)")
     return (f"the load is at the frame's limit to rounding: a Farkas vector of the contact LCP "
-            f"(y >= 0, M'y <= 0, q'y < 0, exact on its rounded data) has the margin -q'y = "
+            f"(y >= 0, M'y <= 0, q'y < 0), which holds on its rounded data, has the margin -q'y = "
             f"{r['margin']:.2e}, {why}; nothing is proved either way{where}")
 
 
