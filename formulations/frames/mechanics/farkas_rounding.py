@@ -126,15 +126,15 @@ def rounding_bracket(b, const: dict, var: dict, y) -> tuple[float, float]:
     return max(lo, 0.0), max(hi, 0.0)
 
 
-def verge_words(r: dict, bracket=None, unit="p") -> str:
+def verge_words(r: dict, bracket=None) -> str:
     """The words for a Farkas vector within its rounding (``r`` from
     :func:`proof_rounding`; ``bracket`` from :func:`rounding_bracket`)."""
     where = ""
     if bracket is not None:
         lo, hi = bracket
-        where = (f"; with this vector the loads from {unit} = {lo:.15g} to {hi:.15g} are at "
+        where = (f"; with this vector the loads from p = {lo:.15g} to {hi:.15g} are at "
                  "the limit to rounding" if np.isfinite(hi) else
-                 f"; with this vector every load from {unit} = {lo:.15g} on is at the limit "
+                 f"; with this vector every load from p = {lo:.15g} on is at the limit "
                  "to rounding (the margin grows no faster than its rounding)")
     why = (f"not beyond the bound {r['bound']:.2e} on the rounding of the data it is "
            "computed from (R, R_F and their products)")
