@@ -172,18 +172,31 @@ def galerkin_values(r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_va
     """The rows ``rows`` of C = R diag(keep) A diag(keep) P written into
     c_val, in place, on C's pattern (c_ptr, c_idx): the untruncated
     product's, which holds every truncated one (a truncated entry is stored
-    as 0).  The same sums in the same order as :func:`galerkin`."""
+    as 0).  The same sums in the same order as :func:`galerkin`, so the same
+    bits; but as the pattern holds every column a row can reach, the
+    accumulator is cleared on it before the row, and the innermost loop
+    adds without asking whether a column is new (the truncated rows are
+    most of what the cycles recompute: docs/dev-notes.md, round seven)."""
     nc = c_ptr.size - 1
     acc = np.zeros(nc)
-    mark = np.full(nc, -1, dtype=np.int64)
-    cols = np.empty(nc, dtype=np.int64)
     for t in range(rows.size):
         I = rows[t]
-        _galerkin_row(I, r_ptr, r_idx, r_val, a_ptr, a_idx, a_val, p_ptr, p_idx, p_val, keep,
-                      acc, mark, cols)
         for c in range(c_ptr[I], c_ptr[I + 1]):
-            J = c_idx[c]
-            c_val[c] = acc[J] if mark[J] == I else 0.0
+            acc[c_idx[c]] = 0.0
+        for a in range(r_ptr[I], r_ptr[I + 1]):
+            i = r_idx[a]
+            if not keep[i]:
+                continue
+            wi = r_val[a]
+            for b in range(a_ptr[i], a_ptr[i + 1]):
+                k = a_idx[b]
+                if not keep[k]:
+                    continue
+                wik = wi * a_val[b]
+                for c in range(p_ptr[k], p_ptr[k + 1]):
+                    acc[p_idx[c]] += wik * p_val[c]
+        for c in range(c_ptr[I], c_ptr[I + 1]):
+            c_val[c] = acc[c_idx[c]]
 
 
 @njit
