@@ -28,9 +28,10 @@ from ...core.compiled import njit
 # chain.  A plate's fine-level sweep (10⁴ unknowns) 0.17 → 0.10 ms, a
 # Galerkin level's (25 a row) 0.051 → 0.036 ms; docs/dev-notes.md, round
 # seven.  The other terms' order is unchanged, so a sweep differs from the
-# plain column-order sum in rounding only.  The two directions are written
-# out: one loop with the direction as a variable, or a shared row helper,
-# measured as slow as the plain sum.
+# plain column-order sum in rounding only (``last`` adds, so a row that
+# stored that neighbour twice still sums both).  The two directions are
+# written out: one loop with the direction as a variable, or a shared row
+# helper, measured as slow as the plain sum.
 
 
 @njit
@@ -49,7 +50,7 @@ def projected_gauss_seidel(indptr, indices, data, inv_diag, q, z, sweeps):
                 for p in range(indptr[i], indptr[i + 1]):
                     j = indices[p]
                     if j == i - 1:
-                        last = data[p]
+                        last += data[p]
                     else:
                         r += data[p] * z[j]
                 if i > 0:
@@ -63,7 +64,7 @@ def projected_gauss_seidel(indptr, indices, data, inv_diag, q, z, sweeps):
                 for p in range(indptr[i], indptr[i + 1]):
                     j = indices[p]
                     if j == i + 1:
-                        last = data[p]
+                        last += data[p]
                     else:
                         r += data[p] * z[j]
                 if i < n - 1:
@@ -85,7 +86,7 @@ def gauss_seidel(indptr, indices, data, inv_diag, b, x, free, forward):
                 for p in range(indptr[i], indptr[i + 1]):
                     j = indices[p]
                     if j == i - 1:
-                        last = data[p]
+                        last += data[p]
                     else:
                         r -= data[p] * x[j]
                 if i > 0:
@@ -99,7 +100,7 @@ def gauss_seidel(indptr, indices, data, inv_diag, b, x, free, forward):
                 for p in range(indptr[i], indptr[i + 1]):
                     j = indices[p]
                     if j == i + 1:
-                        last = data[p]
+                        last += data[p]
                     else:
                         r -= data[p] * x[j]
                 if i < n - 1:
