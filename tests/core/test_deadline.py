@@ -59,10 +59,10 @@ def test_a_deadline_leaves_numba_compiling_out():
 
 
 def test_lemkes_proofs_keep_its_time_limit_after_compiling_elsewhere(monkeypatch):
-    """lemke's deadline is a raw time.perf_counter value; handed on as
+    """lemke's deadline was a raw time.perf_counter value; handed on as
     Deadline(end=...), whose clock leaves compiling out, its infeasibility
     LP ran on for every second this process had compiled before (1 000 s
-    here for a 5 s limit)."""
+    here for a 5 s limit).  It is now a Deadline from the start."""
     import qpcontact
     import qpcontact.solvers.pivoting.lemke as lemke_module
     from qpcontact import LCP
