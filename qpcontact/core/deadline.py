@@ -109,9 +109,10 @@ class Deadline:
         return time.process_time() - self.spent[1]
 
     def _on_my_clock(self, end: float | None) -> "Deadline":
-        """A Deadline ending at ``end`` on this one's clock (made on any thread)."""
-        part = Deadline(end=end)
-        part.spent = self.spent
+        """A Deadline ending at ``end`` on this one's clock, whichever thread
+        asks."""
+        part = object.__new__(Deadline)
+        part.end, part.spent = end, self.spent
         return part
 
     @property
@@ -153,9 +154,8 @@ class Deadline:
             return self._on_my_clock(None)
         now = self.now()
         left = max(self.end - now, 0.0)
-        share = CpuShare(now + left * min(wall_fraction, 1.0), self.cpu_now() + left * fraction)
-        share.spent = self.spent
-        return share
+        return CpuShare(now + left * min(wall_fraction, 1.0), self.cpu_now() + left * fraction,
+                        self.spent)
 
     def __repr__(self) -> str:
         left = self.left()
@@ -166,14 +166,15 @@ class CpuShare(Deadline):
     """A :class:`Deadline` that also ends once this process's CPU time
     (``time.process_time``, every thread of it, less the one-time work of
     the thread it was made on) reaches ``cpu_end``; made by
-    :meth:`Deadline.cpu_share`.  ``left()`` is the smaller of the two, so a
-    part handing it on as wall seconds stops no later than either."""
+    :meth:`Deadline.cpu_share`, on the clocks of the deadline it shares
+    (``spent``: its thread's one-time work).  ``left()`` is the smaller of
+    the two, so a part handing it on as wall seconds stops no later than
+    either."""
 
     __slots__ = ("cpu_end",)
 
-    def __init__(self, end: float, cpu_end: float):
-        super().__init__(end=end)
-        self.cpu_end = cpu_end
+    def __init__(self, end: float, cpu_end: float, spent: list):
+        self.end, self.cpu_end, self.spent = end, cpu_end, spent
 
     def left(self) -> float:
         return min(self.end - self.now(), self.cpu_end - self.cpu_now())
@@ -186,9 +187,7 @@ class CpuShare(Deadline):
 
     def within(self, seconds: float | None) -> "Deadline":
         end = self.end if seconds is None else min(self.end, self.now() + seconds)
-        part = CpuShare(end, self.cpu_end)
-        part.spent = self.spent
-        return part
+        return CpuShare(end, self.cpu_end, self.spent)
 
 
 class Pace:
