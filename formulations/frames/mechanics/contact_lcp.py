@@ -420,13 +420,23 @@ def contact_stiffness(b) -> dict:
         R[np.abs(R) <= np.maximum(noise[:, None], noise[None, :])] = 0.0
     else:
         R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
-    # the same for the loads' link forces, against each case's own loads
-    # (and the forces its settlements make): a link that a case does not
+    # the same for the loads' link forces: a link that a case does not
     # load (a pad under a frame whose bilateral supports carry the push)
-    # had -2.7e-15 kN under 1 kN, and Lemke "proved" that it would pull
+    # had -2.7e-15 kN under 1 kN, and Lemke "proved" that it would pull.
+    # Unrefined, against each case's own loads and the forces its
+    # settlements make at the scale the solve sees them, κ|U|; refined, at
+    # the column's own rounding as R is — κ|U| is the link rows' size in
+    # the solve, not the forces a settlement makes: with a pin settled 1 cm
+    # beside a bar whose κ is 4e16 kN/m, R_ROUNDING κ|U| = 25 kN zeroed
+    # the whole column, the 4.13 kN load at a pad beyond the bar was lost,
+    # and the beam, which has no equilibrium, was "ok" on that LCP
     RF = -kappa * sol[:, nl:]
-    load = np.abs(b["F"]).max(axis=0, initial=0.0) + kappa * np.abs(U).max(axis=0, initial=0.0)
-    RF[np.abs(RF) <= R_ROUNDING * load] = 0.0
+    if refined:
+        noise = np.maximum(R_ROUNDING * np.abs(RF).max(axis=0, initial=0.0), kappa * last[nl:])
+    else:
+        noise = R_ROUNDING * (np.abs(b["F"]).max(axis=0, initial=0.0)
+                              + kappa * np.abs(U).max(axis=0, initial=0.0))
+    RF[np.abs(RF) <= noise] = 0.0
     return {"R": R, "RF": RF, "R_solve": exact}
 
 
