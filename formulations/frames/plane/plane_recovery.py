@@ -87,8 +87,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         made once for both, and where ``HX`` is given (r_all is then K u - F
         - H X in double, the per-dof residual) that residual"""
         abs_hx = contact_lcp.link_force_sizes(b, X)
+        abs_ku = b["abs_K"] @ np.abs(u)
         eq = max(equilibrium(frame, b, F, X, u, residual=None if HX is None else r_all,
-                             abs_hx=abs_hx),
+                             abs_hx=abs_hx, abs_ku=abs_ku),
                  resultant(frame, b, F, X, r_all, u, ft, HX=HX, abs_hx=abs_hx))
         if not frame.contacts:
             # (a contact frame's answers are not judged on it yet: its own
@@ -98,9 +99,9 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         separated = X[ca["n_link"]] <= STATE_RTOL * sigma[:nc]     # the states' rule below
         reported[ca["n_link"][separated]] = 0.0
         reported[ca["t_link"][separated & has_t]] = 0.0
-        off, where = reported_balance(frame, b, F, u, X, reported, r_all)
-        if off > 0.0:
-            off = max(off, resultant(frame, b, F, reported, r_all, u, ft))
+        off, where = reported_balance(frame, b, F, u, X, reported, r_all,
+                                      lambda rep: resultant(frame, b, F, rep, r_all, u, ft), tol,
+                                      abs_ku)
         return max(eq, off), (where if off > max(tol, EQUILIBRIUM_FLOOR) else "")
 
     nc = len(frame.contacts)

@@ -97,7 +97,7 @@ def as_reported(frame, b, F, u, X, r_all, supports, ends, tol):
     """(ratio, words) of the frame's balance with its contact forces as
     ``supports`` report them (a separated contact's set to zero):
     :func:`..mechanics.equilibrium_checks.reported_balance` dof by dof,
-    then the global statics (:func:`resultant`) where something is out;
+    with the global statics (:func:`resultant`) where something is out;
     the words where the ratio is beyond ``tol``."""
     pos = contact_lcp.layout(b)
     reported = np.zeros_like(X)
@@ -105,10 +105,10 @@ def as_reported(frame, b, F, u, X, r_all, supports, ends, tol):
         for kind, value in zip(("n", "t1", "t2"), (s.normal, *s.tangential)):
             if kind in pos[ci]:
                 reported[pos[ci][kind]] = value
-    off, where = reported_balance(frame, b, F, u, X, reported, r_all)
-    if off > 0.0:
-        off = max(off, resultant(frame, b, F, reported, r_all, u,
-                                 contact_lcp.force_terms(b, u, F, ends)))
+    off, where = reported_balance(
+        frame, b, F, u, X, reported, r_all,
+        lambda rep: resultant(frame, b, F, rep, r_all, u, contact_lcp.force_terms(b, u, F, ends)),
+        tol)
     return off, (where if off > max(tol, EQUILIBRIUM_FLOOR) else "")
 
 
