@@ -129,9 +129,10 @@ class ScaledLU:
         return self.solve(rhs)[len(rhs) - nl:]
 
 
-def regular_lu(S):
+def regular_lu(S, pivots=True):
     """The LU of S (a :class:`ScaledLU`), or None where S is singular
-    (exactly, or its pivots spanning more than 1/SINGULAR_PIVOTS).
+    (exactly, or, with ``pivots``, its pivots spanning more than
+    1/SINGULAR_PIVOTS).
 
     S is first scaled symmetrically by powers of two, each row and column
     by the square root of its largest entry, so that the pivots measure
@@ -163,8 +164,8 @@ def regular_lu(S):
     except RuntimeError:   # exactly singular
         return None
     piv = np.abs(lu.U.diagonal())
-    return (ScaledLU(lu, d) if piv.size and piv.min() > SINGULAR_PIVOTS * piv.max()
-            else None)
+    return (ScaledLU(lu, d) if piv.size and (piv.min() > SINGULAR_PIVOTS * piv.max()
+                                             or not pivots and piv.min() > 0) else None)
 
 
 class Built(dict):
@@ -226,14 +227,22 @@ def link_force_sizes(b, X) -> np.ndarray:
     return np.bincount(rows, np.abs(vals) * np.abs(X)[cols], b["H"].shape[0])
 
 
-def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
+def basic_system(K, H, fixed, flex, translational, pairs=None, strain_free=None) -> dict:
     """The basic system (every link fixed) of a structure with stiffness K
     (all dofs), links H and contact flexibilities ``flex``, any number of
     dofs per node: the free/fixed blocks of K, the scaled saddle matrix
     S = [K_ff kappa H_f; kappa H_f' -kappa² D] and its LU (None where S is
     singular: a mechanism).  ``translational`` marks the dofs that links
     push along, which set kappa; ``pairs`` (t, n): each frictional
-    contact's tangent and normal link (:func:`.banded_saddle.layout`)."""
+    contact's tangent and normal link (:func:`.banded_saddle.layout`).
+
+    ``strain_free(free)``: the motions of the free dofs that strain no member
+    with every link held (:func:`.member_forces.strain_free_motions`).
+    Where the pivots alone call S singular, it decides: no such motion —
+    the spread is the members' contrast, not a mechanism (a portal whose
+    deck is 1e9 times stiffer than its columns: pivots 1e-14 apart), and
+    the LU is kept; the answers' checks and the refinement in extended
+    precision (R past :data:`CONTRAST`) judge what it gives."""
     N = K.shape[0]
     free = np.flatnonzero(~fixed)
     nf = free.size
@@ -274,7 +283,27 @@ def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
         # it is singular
         out["S"] = _saddle(k_ff, (hv, hr, hc), flex, nf, kappa)
         out["lu"] = regular_lu(out["S"])
+        if out["lu"] is None and strain_free is not None and 0 < nf <= KINEMATIC_MAX \
+                and strain_free(free).shape[1] == 0:
+            out["lu"] = regular_lu(out["S"], pivots=False)
+            if out["lu"] is None:
+                out["no_mechanism"] = True     # singular in double, not in the mechanics
     return out
+
+
+def unsolvable(local) -> str:
+    """The words for a basic system that no motion leaves unstrained but
+    that is singular in double: the stiffnesses' contrast is beyond it."""
+    from .member_forces import contrast
+    return (f"the frame is no mechanism (no motion with every contact closed leaves every "
+            f"member unstrained), but its stiffnesses differ by {contrast({'local': local}):.1e}, "
+            "beyond what its basic system solves in double precision (singular to rounding); "
+            "model the stiff part as rigid or as less stiff")
+
+
+#: the most free dofs whose strain-free motions are looked for (a dense SVD)
+#: where the pivots call the basic system singular
+KINEMATIC_MAX = 3000
 
 
 def saddle_matrix(b):
@@ -420,13 +449,23 @@ def contact_stiffness(b) -> dict:
         R[np.abs(R) <= np.maximum(noise[:, None], noise[None, :])] = 0.0
     else:
         R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
-    # the same for the loads' link forces, against each case's own loads
-    # (and the forces its settlements make): a link that a case does not
+    # the same for the loads' link forces: a link that a case does not
     # load (a pad under a frame whose bilateral supports carry the push)
-    # had -2.7e-15 kN under 1 kN, and Lemke "proved" that it would pull
+    # had -2.7e-15 kN under 1 kN, and Lemke "proved" that it would pull.
+    # Unrefined, against each case's own loads and the forces its
+    # settlements make at the scale the solve sees them, κ|U|; refined, at
+    # the column's own rounding as R is — κ|U| is the link rows' size in
+    # the solve, not the forces a settlement makes: with a pin settled 1 cm
+    # beside a bar whose κ is 4e16 kN/m, R_ROUNDING κ|U| = 25 kN zeroed
+    # the whole column, the 4.13 kN load at a pad beyond the bar was lost,
+    # and the beam, which has no equilibrium, was "ok" on that LCP
     RF = -kappa * sol[:, nl:]
-    load = np.abs(b["F"]).max(axis=0, initial=0.0) + kappa * np.abs(U).max(axis=0, initial=0.0)
-    RF[np.abs(RF) <= R_ROUNDING * load] = 0.0
+    if refined:
+        noise = np.maximum(R_ROUNDING * np.abs(RF).max(axis=0, initial=0.0), kappa * last[nl:])
+    else:
+        noise = R_ROUNDING * (np.abs(b["F"]).max(axis=0, initial=0.0)
+                              + kappa * np.abs(U).max(axis=0, initial=0.0))
+    RF[np.abs(RF) <= noise] = 0.0
     return {"R": R, "RF": RF, "R_solve": exact}
 
 
