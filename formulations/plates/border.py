@@ -65,12 +65,14 @@ class FactoredBlock:
     Any LDLᵀ will do, given as
 
     * ``solve``: rhs (n,) ↦ u (n,), the block's solution, zero off ``keep``;
-    * ``factors``: () ↦ (L, d, p), read on the first border that needs it:
-      L strictly lower (CSC) and d such that the block in the order p
+    * ``factors``: () ↦ (L, d, p, parent), read on the first border that
+      needs it: L lower triangular (CSC; a stored diagonal is taken as the
+      unit one and passed over) and d such that the block in the order p
       (p[i] the dof at the factor's position i) is (I + L) diag(d) (I + L)'
       — qdldl's ``factors()`` with p taken to dofs, or SuperLU's symmetric
-      mode with diagonal pivots (L = ``lu.L`` − I, d = diag(``lu.U``), p the
-      order it was given).
+      mode with diagonal pivots (L = ``lu.L`` as it is, d = diag(``lu.U``),
+      p the order it was given); ``parent`` the elimination tree, or None
+      to have it read off L's rows.
 
     ``K``: the stiffness (CSR or CSC, symmetric, no springs)."""
 
@@ -155,14 +157,14 @@ class FactoredBlock:
             return V.T @ np.column_stack([self.solve(V[:, [j]].toarray().ravel())
                                           for j in range(V.shape[1])])
         if self.factors is None:
-            L, d, p = self.read()
+            L, d, p, tree = self.read()
             L = sp.csc_matrix(L)
-            Lp, Li = L.indptr.astype(np.int64), L.indices.astype(np.int64)
             position = np.full(self.keep.size, -1, np.int64)
             position[p] = np.arange(p.size)
-            rows = L.tocsr()
-            tree = parents(rows.indptr.astype(np.int64), rows.indices.astype(np.int64), p.size)
-            self.factors = (Lp, Li, L.data, 1.0 / d, position, tree)
+            if tree is None:
+                rows = L.tocsr()
+                tree = parents(rows.indptr, rows.indices, p.size)
+            self.factors = (L.indptr, L.indices, L.data, 1.0 / d, position, tree)
         Lp, Li, Lx, dinv, position, parent = self.factors
         Vi = position[V.indices]
         rows = reach_union(parent, Vi, parent.size)

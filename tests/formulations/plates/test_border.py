@@ -144,7 +144,8 @@ def test_the_floor_raft_of_the_raft_tests_agrees_with_the_pinned_qp_either_way(s
 def _splu_block(system, keep, springs):
     """The block's LDLᵀ by SuperLU (symmetric mode, diagonal pivots, its
     rows in reverse Cuthill–McKee order given, none of its own), as the
-    border reads a factor: L = lu.L − I, d = diag(lu.U), p = that order."""
+    border reads a factor: L = lu.L (its unit diagonal stored), d =
+    diag(lu.U), p = that order, the tree read off L."""
     from scipy.sparse.csgraph import reverse_cuthill_mckee
 
     idx = np.flatnonzero(keep)
@@ -160,7 +161,7 @@ def _splu_block(system, keep, springs):
         return u
 
     def factors():
-        return lu.L - sp.eye(order.size, format="csc"), lu.U.diagonal(), order
+        return lu.L, lu.U.diagonal(), order, None
 
     return border.FactoredBlock(system.K, keep, springs, solve, factors)
 
@@ -185,12 +186,15 @@ def test_a_border_on_superlus_factor_solves_the_new_steps_own_system(released, c
     assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
 
 
-def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(monkeypatch):
+@pytest.mark.parametrize("tree_of", ["L", "A"])
+def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(tree_of, monkeypatch):
     """SciPy's SuperLU.L leaves out an entry of L that cancelled to exactly
     zero: here L₃₂ = 1 − 1·1 = 0, so column 2 stores no row and the least
     stored row of each column made 2 a root with column 1's row 3 off its
     path — the forward solve wrote row 3's update into another row (a
-    Schur complement of 5 for A⁻¹₁₁ = 2.5, the bordered solve far off)."""
+    Schur complement of 5 for A⁻¹₁₁ = 2.5, the bordered solve far off).
+    The elimination tree read off L's rows and off the factorised matrix
+    (what a step's Factorisation gives) both keep it exact."""
     import scipy.sparse.linalg as spla
 
     from formulations.plates.newton import Factorisation
@@ -198,8 +202,12 @@ def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(monkeypatch)
     A = sp.csc_matrix(np.array([[1.0, 1.0, 1.0], [1.0, 2.0, 1.0], [1.0, 1.0, 3.0]]))
     lu = spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=0.0,
                    options={"SymmetricMode": True})
-    factorisation = Factorisation(np.arange(3), lu=lu)
-    assert factorisation.factors()[0].nnz == 2              # L₃₂ left out
+    factorisation = Factorisation(np.arange(3), lu=lu, matrix=A if tree_of == "A" else None)
+    L, _, _, tree = factorisation.factors()
+    assert sp.tril(L, -1).nnz == 2                          # L₃₂ left out
+    assert (tree is None) == (tree_of == "L")
+    if tree is not None:
+        assert list(tree) == [1, 2, -1]
     monkeypatch.setattr(border, "FEW_COLUMNS", 0)           # through the factor's paths
     keep = np.ones(3, bool)
     block = border.FactoredBlock(A, keep, np.zeros(3), factorisation, factorisation.factors)
