@@ -101,18 +101,30 @@ class FactoredBlock:
             return self.solve
         if k > BORDER_SHARE * np.sqrt(self.n):
             return None
-        # the new dofs' columns of K (symmetric: rows of a CSR K)
-        cols = sp.csc_matrix(self.K[:, new] if self.K.format == "csc" else self.K[new].T)
+        # V's entries (row, column, value), column by column: the new dofs'
+        # columns of K on the block's dofs (K symmetric: a CSR K's rows are
+        # its columns), then a unit column per multiplier — built from K's
+        # arrays, not by SciPy's slicing and stacking, whose overhead was
+        # most of a border's cost on a 28 x 28 floor raft
+        Kp, Ki, Kx = self.K.indptr, self.K.indices, self.K.data
+        counts = Kp[new + 1] - Kp[new]
+        at = np.repeat(Kp[new] - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+        rows, vals, column = Ki[at], Kx[at], np.repeat(np.arange(new.size), counts)
+        local = np.full(keep.size, -1)
+        local[new] = np.arange(new.size)
+        among = local[rows] >= 0                     # K's entries among the new dofs
+        C = np.zeros((new.size, new.size))
+        np.add.at(C, (column[among], local[rows[among]]), vals[among])
+        on = self.keep[rows] & (vals != 0.0)         # on the block's dofs only
         units = np.concatenate((pinned, respring))
-        B = cols.multiply(self.keep[:, None])        # on the block's dofs only
-        V = sp.hstack([B, sp.csc_matrix((np.ones(units.size), (units, np.arange(units.size))),
-                                        shape=(keep.size, units.size))], format="csc")
-        V.eliminate_zeros()
-        G = self._inverse_form(V)                    # V' A₀⁻¹ V
+        V = (np.concatenate((rows[on], units)),
+             np.concatenate((column[on], new.size + np.arange(units.size))),
+             np.concatenate((vals[on], np.ones(units.size))))
+        G = self._inverse_form(V, k)                 # V' A₀⁻¹ V
         if G is None:
             return None
         S = -G
-        S[:new.size, :new.size] += cols[new].toarray() + np.diag(springs[new])
+        S[:new.size, :new.size] += C + np.diag(springs[new])
         tail = np.arange(new.size + pinned.size, k)
         S[tail, tail] -= 1.0 / (springs[respring] - self.springs[respring])
         # stiffnesses [N/m] on the new dofs, flexibilities [m/N] on the
@@ -126,15 +138,16 @@ class FactoredBlock:
         rcond = scipy.linalg.lapack.dgecon(lu[0], np.abs(S).sum(axis=0).max(), norm="1")[0]
         if not rcond > BORDER_RCOND:
             return None
-        Vt = V.T.tocsr()
+        Vr, Vc, Vx = V
         gone = ~keep
 
         def once(rhs):
             y = self.solve(rhs)
             z = scale * scipy.linalg.lu_solve(
-                lu, scale * (np.concatenate((rhs[new], np.zeros(k - new.size))) - Vt @ y),
+                lu, scale * (np.concatenate((rhs[new], np.zeros(k - new.size)))
+                             - np.bincount(Vc, Vx * y[Vr], minlength=k)),
                 check_finite=False)
-            u = y - self.solve(V @ z)
+            u = y - self.solve(np.bincount(Vr, Vx * z[Vc], minlength=keep.size))
             u[gone] = 0.0
             u[new] = z[:new.size]
             return u
@@ -146,16 +159,19 @@ class FactoredBlock:
 
         return solve
 
-    def _inverse_form(self, V):
-        """V' A₀⁻¹ V (dense) = W' D⁻¹ W, W = (I + L)⁻¹ P' V, by forward
-        solves on the union of the columns' reaches (:mod:`._border_kernels`)
-        — or, for FEW_COLUMNS on a factor not yet read, a solve each; None
-        where that union holds more than BORDER_ENTRIES entries."""
+    def _inverse_form(self, V, k):
+        """V' A₀⁻¹ V (dense k x k; V as its entries (rows, columns, values),
+        column by column) = W' D⁻¹ W, W = (I + L)⁻¹ P' V, by forward solves
+        on the union of the columns' reaches (:mod:`._border_kernels`) — or,
+        for FEW_COLUMNS on a factor not yet read, a solve each; None where
+        that union holds more than BORDER_ENTRIES entries."""
         from ._border_kernels import forward_block, parents, reach_union
 
-        if self.factors is None and V.shape[1] <= FEW_COLUMNS:
-            return V.T @ np.column_stack([self.solve(V[:, [j]].toarray().ravel())
-                                          for j in range(V.shape[1])])
+        Vr, Vc, Vx = V
+        if self.factors is None and k <= FEW_COLUMNS:
+            dense = np.zeros((self.keep.size, k))
+            dense[Vr, Vc] = Vx
+            return dense.T @ np.column_stack([self.solve(dense[:, j]) for j in range(k)])
         if self.factors is None:
             L, d, p, tree = self.read()
             L = sp.csc_matrix(L)
@@ -166,11 +182,11 @@ class FactoredBlock:
                 tree = parents(rows.indptr, rows.indices, p.size)
             self.factors = (L.indptr, L.indices, L.data, 1.0 / d, position, tree)
         Lp, Li, Lx, dinv, position, parent = self.factors
-        Vi = position[V.indices]
+        Vi = position[Vr]
         rows = reach_union(parent, Vi, parent.size)
-        if rows.size * V.shape[1] > BORDER_ENTRIES:
+        if rows.size * k > BORDER_ENTRIES:
             return None
-        X = np.zeros((rows.size, V.shape[1]))
-        X[np.searchsorted(rows, Vi), np.repeat(np.arange(V.shape[1]), np.diff(V.indptr))] = V.data
+        X = np.zeros((rows.size, k))
+        X[np.searchsorted(rows, Vi), Vc] = Vx
         forward_block(Lp, Li, Lx, rows, X)
         return X.T @ (X * dinv[rows, None])
