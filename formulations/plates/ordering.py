@@ -49,42 +49,15 @@ LEAF = 32
 def nested_dissection(points: np.ndarray, graph: sp.csr_matrix, leaf: int = LEAF) -> np.ndarray:
     """A permutation of the nodes (``points`` (n, 2) [m], ``graph`` their
     (n, n) adjacency, symmetric): each part's two halves first, the
-    separator between them after (module docstring)."""
+    separator between them after (module docstring; compiled in
+    :mod:`._ordering_kernels`)."""
+    from ._ordering_kernels import dissect
+
     n = points.shape[0]
     graph = (sp.csr_matrix(graph) + sp.identity(n, format="csr")).tocsr()   # no empty row
-    degree = np.diff(graph.indptr)
-    in_a = np.zeros(n, bool)
-    order, stack = [], [(False, np.arange(n))]
-    while stack:            # depth first: A, then B \ S, then S
-        placed, idx = stack.pop()
-        split = None if placed or idx.size <= leaf else _bisect(points, graph, degree, idx, in_a)
-        if split is None:
-            order.append(idx)
-        else:
-            a, b, s = split
-            stack += [(True, s), (False, b), (False, a)]
-    return np.concatenate(order)
-
-
-def _bisect(points, graph, degree, idx, in_a):
-    """(A, B \\ S, S) of the nodes ``idx``, or None where they cannot be cut
-    (all on one line across the longer side)."""
-    p = points[idx]
-    axis = 0 if np.ptp(p[:, 0]) >= np.ptp(p[:, 1]) else 1
-    values = np.unique(p[:, axis])
-    if values.size < 2:
-        return None
-    below = p[:, axis] < values[values.size // 2]
-    a, b = idx[below], idx[~below]
-    # S: the nodes of B with a neighbour in A (their rows of the graph
-    # gathered, none empty)
-    start, count = graph.indptr[b], degree[b]
-    first = np.cumsum(count) - count
-    entries = np.repeat(start - first, count) + np.arange(count.sum())
-    in_a[a] = True
-    touches = np.logical_or.reduceat(in_a[graph.indices[entries]], first)
-    in_a[a] = False
-    return a, b[~touches], b[touches]
+    points = np.asarray(points, float)
+    return dissect(np.ascontiguousarray(points[:, 0]), np.ascontiguousarray(points[:, 1]),
+                   graph.indptr.astype(np.int64), graph.indices.astype(np.int64), leaf)
 
 
 def dof_order(pattern: sp.spmatrix, node_of: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -92,10 +65,16 @@ def dof_order(pattern: sp.spmatrix, node_of: np.ndarray, points: np.ndarray) -> 
     on some of a mesh's dofs; ``node_of`` the node of each, ``points`` the
     mesh's node coordinates): the nodes in nested-dissection order, each
     node's dofs together in their own order."""
-    coo = sp.coo_matrix(pattern)
+    from ._ordering_kernels import dissect, node_graph
+
+    pattern = pattern if pattern.format in ("csc", "csr") else sp.csc_matrix(pattern)
     used, local = np.unique(node_of, return_inverse=True)
-    graph = sp.csr_matrix((np.ones(coo.nnz), (local[coo.row], local[coo.col])),
-                          shape=(used.size, used.size))
+    node_dofs = np.argsort(local, kind="stable")
+    node_first = np.concatenate(([0], np.cumsum(np.bincount(local, minlength=used.size))))
+    Gp, Gi = node_graph(pattern.indptr, pattern.indices, local.astype(np.int64), node_first,
+                        node_dofs, used.size)
+    p = np.asarray(points, float)[used]
     rank = np.empty(used.size, np.int64)
-    rank[nested_dissection(points[used], graph)] = np.arange(used.size)
+    rank[dissect(np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]), Gp, Gi,
+                 LEAF)] = np.arange(used.size)
     return np.lexsort((np.arange(node_of.size), rank[local]))
