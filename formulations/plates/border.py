@@ -81,6 +81,12 @@ class FactoredBlock:
         self.keep, self.springs = keep.copy(), springs.copy()
         self.n = int(keep.sum())
         self.factors = None                 # L's arrays, 1/d, the dofs' positions, parent
+        # the border columns solved so far (:meth:`_inverse_form`): their keys
+        # (2 dof for a dof's column of K, 2 dof + 1 for a unit column) → their
+        # place in W (dense on the union of their reaches, ``rows``) and in
+        # the Gram matrix W' D⁻¹ W
+        self.solved, self.rows = {}, np.zeros(0, np.int64)
+        self.W, self.gram = np.zeros((0, 0)), np.zeros((0, 0))
 
     def near(self, keep, springs):
         """The solve rhs ↦ u of (K + diag(springs)) u = rhs on ``keep`` by
@@ -120,7 +126,8 @@ class FactoredBlock:
         V = (np.concatenate((rows[on], units)),
              np.concatenate((column[on], new.size + np.arange(units.size))),
              np.concatenate((vals[on], np.ones(units.size))))
-        G = self._inverse_form(V, k)                 # V' A₀⁻¹ V
+        keys = np.concatenate((2 * new, 2 * units + 1))
+        G = self._inverse_form(V, keys)              # V' A₀⁻¹ V
         if G is None:
             return None
         S = -G
@@ -159,15 +166,21 @@ class FactoredBlock:
 
         return solve
 
-    def _inverse_form(self, V, k):
+    def _inverse_form(self, V, keys):
         """V' A₀⁻¹ V (dense k x k; V as its entries (rows, columns, values),
-        column by column) = W' D⁻¹ W, W = (I + L)⁻¹ P' V, by forward solves
-        on the union of the columns' reaches (:mod:`._border_kernels`) — or,
-        for FEW_COLUMNS on a factor not yet read, a solve each; None where
-        that union holds more than BORDER_ENTRIES entries."""
-        from ._border_kernels import forward_block, parents, reach_union
+        column by column, column c named ``keys[c]``) = W' D⁻¹ W,
+        W = (I + L)⁻¹ P' V, by forward solves on the union of the columns'
+        reaches (:mod:`._border_kernels`) — or, for FEW_COLUMNS on a factor
+        not yet read, a solve each; None where that union holds more than
+        BORDER_ENTRIES entries.  A column solved for an earlier border on
+        this factor is not solved again: a floor raft's contact line creeps
+        a row a step, so each step's border is most of the last one's (at
+        100 467 dofs 154, 280, 298, 334, 352 columns), and the forward
+        solves were two thirds of a border's cost."""
+        from ._border_kernels import parents
 
         Vr, Vc, Vx = V
+        k = keys.size
         if self.factors is None and k <= FEW_COLUMNS:
             dense = np.zeros((self.keep.size, k))
             dense[Vr, Vc] = Vx
@@ -181,12 +194,47 @@ class FactoredBlock:
                 rows = L.tocsr()
                 tree = parents(rows.indptr, rows.indices, p.size)
             self.factors = (L.indptr, L.indices, L.data, 1.0 / d, position, tree)
+        missing = np.array([c for c in range(k) if int(keys[c]) not in self.solved], np.int64)
+        if missing.size and not self._solve_columns(Vr, Vc, Vx, keys, missing):
+            # more than BORDER_ENTRIES with the columns kept: these alone
+            self.solved, self.rows = {}, np.zeros(0, np.int64)
+            self.W, self.gram = np.zeros((0, 0)), np.zeros((0, 0))
+            if not self._solve_columns(Vr, Vc, Vx, keys, np.arange(k)):
+                return None
+        at = np.array([self.solved[int(key)] for key in keys], np.int64)
+        return self.gram[np.ix_(at, at)]
+
+    def _solve_columns(self, Vr, Vc, Vx, keys, missing):
+        """W's columns ``missing`` of V (forward solves on the union of their
+        reaches) added to those kept, and the Gram matrix's rows and columns
+        for them; False where W would hold more than BORDER_ENTRIES entries.
+        A kept column is zero off its own reach, so on the rows the new ones
+        add it stays zero."""
+        from ._border_kernels import forward_block, reach_union
+
         Lp, Li, Lx, dinv, position, parent = self.factors
-        Vi = position[Vr]
-        rows = reach_union(parent, Vi, parent.size)
-        if rows.size * k > BORDER_ENTRIES:
-            return None
-        X = np.zeros((rows.size, k))
-        X[np.searchsorted(rows, Vi), Vc] = Vx
-        forward_block(Lp, Li, Lx, rows, X)
-        return X.T @ (X * dinv[rows, None])
+        local = np.full(keys.size, -1, np.int64)
+        local[missing] = np.arange(missing.size)
+        picked = local[Vc] >= 0
+        Vi = position[Vr[picked]]
+        reach = reach_union(parent, Vi, parent.size)
+        rows = np.union1d(self.rows, reach)
+        kept = self.W.shape[1]
+        if rows.size * (kept + missing.size) > BORDER_ENTRIES:
+            return False
+        X = np.zeros((reach.size, missing.size))
+        X[np.searchsorted(reach, Vi), local[Vc[picked]]] = Vx[picked]
+        forward_block(Lp, Li, Lx, reach, X)
+        W = np.zeros((rows.size, kept + missing.size))
+        W[np.searchsorted(rows, self.rows), :kept] = self.W
+        W[np.searchsorted(rows, reach), kept:] = X
+        cross = W.T @ (X * dinv[reach, None]) if kept == 0 else \
+            W.T @ (W[:, kept:] * dinv[rows, None])
+        gram = np.zeros((kept + missing.size,) * 2)
+        gram[:kept, :kept] = self.gram
+        gram[:, kept:] = cross
+        gram[kept:, :kept] = cross[:kept].T
+        for j, c in enumerate(missing):
+            self.solved[int(keys[c])] = kept + j
+        self.rows, self.W, self.gram = rows, W, gram
+        return True

@@ -216,3 +216,49 @@ def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(tree_of, mon
     u = block.near(keep, springs)(rhs)
     ref = np.linalg.solve(A.toarray() + np.diag(springs), rhs)
     assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+@pytest.mark.parametrize("entries", [border.BORDER_ENTRIES, "tight"])
+def test_a_border_solves_only_the_columns_the_last_border_on_its_factor_had_not(entries,
+                                                                                 monkeypatch):
+    """Two steps on one factor: the first releases five floor nodes and
+    changes three springs, the second holds those five again and releases
+    three others, the springs as in the first.  The second forward-solves
+    only its three new columns (counted), and both solve their own systems
+    (SciPy's LU); with BORDER_ENTRIES too small for the columns kept and the
+    new ones together, the kept ones are dropped and the second border
+    solved alone (its six columns), as exactly."""
+    import formulations.plates._border_kernels as kernels
+
+    system = _mixed_system()
+    rng = np.random.default_rng(5)
+    soil = rng.random(system.soil_w.size) < 0.7
+    floor = rng.random(system.floor_w.size) < 0.6
+    system.factorize(soil, floor)
+    block = system.floor_block
+    solved = []
+    forward = kernels.forward_block
+
+    def counted(Lp, Li, Lx, rows, X):
+        solved.append(X.shape[1])
+        forward(Lp, Li, Lx, rows, X)
+
+    monkeypatch.setattr(kernels, "forward_block", counted)
+    released = rng.choice(np.flatnonzero(floor), 8, replace=False)
+    soil1 = soil.copy()
+    soil1[rng.choice(np.flatnonzero(soil), 3, replace=False)] = False
+    floor1, floor2 = floor.copy(), floor.copy()
+    floor1[released[:5]] = False
+    floor2[released[5:]] = False
+    rhs = rng.standard_normal(system.dofs.size)
+    u1 = system.factorize(soil1, floor1)(rhs)
+    assert solved == [8]
+    if entries == "tight":
+        monkeypatch.setattr(border, "BORDER_ENTRIES", block.rows.size * 11 - 1)
+    u2 = system.factorize(soil1, floor2)(rhs)
+    assert system.floor_block is block              # a border, not a factorisation
+    for u, f in ((u1, floor1), (u2, floor2)):
+        ref = _reference(system, soil1, f, rhs)
+        assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
+    assert solved[1:] == ([6] if entries == "tight" else [3])
+    assert block.W.shape[1] == (6 if entries == "tight" else 11)
