@@ -29,7 +29,10 @@ The border's k columns are not k solves: V' A₀⁻¹ V = W' D⁻¹ W with
 W = (I + L)⁻¹ P' V, and a column of V has a node's few entries, so its
 column of W lives on their paths to the elimination tree's root
 (:mod:`._border_kernels`): 1/7 of L's entries on a 115 x 115 floor raft,
-where a full solve reads all of L twice.  A border of more than
+where a full solve reads all of L twice.  The columns of W stay with the
+factor: the next step's border, mostly the same dofs (a floor's contact
+line creeps a row a step), solves only its new columns, and W' D⁻¹ W only
+their rows and columns.  A border of more than
 BORDER_SHARE √n dofs, or an S whose condition is above 1/BORDER_RCOND (a
 release that leaves the plate nearly free), sends the step to a fresh
 factorisation.

@@ -31,7 +31,10 @@ spring; nnz(L) with its diagonal, SuperLU's count in this order against
 qdldl's under its AMD): 57 x 57 cells (10 092 dofs) 0.80 M against 0.84 M;
 115 x 115 (40 368) 4.06 M against 4.49 M; 182 x 182 (100 467) 11.6 M
 against 14.6 M; 577 x 577 (1 002 252) 160 M (docs/dev-notes.md, "The
-10⁶-dof raft").
+10⁶-dof raft").  The bisections and the node graph are compiled
+(:mod:`._ordering_kernels`): the same order, made in 0.023 s instead of
+0.069 s at 182 x 182 cells (docs/dev-notes.md, "Rafts at their floor,
+round two").
 """
 
 from __future__ import annotations
