@@ -65,8 +65,6 @@ only beyond rounding on the other side (``FLIP`` of the largest |w| or
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import scipy.sparse as sp
 
@@ -308,10 +306,11 @@ def solve_supports(qp, nodes, f, deadline=None, guess=None):
     """(x of :mod:`.contact`'s QP — free displacements, then the gaps —,
     Newton steps) for nodal loads f on the raft whose mesh has the node
     coordinates ``nodes`` [m], or None where the iteration does not end
-    (module docstring).  ``deadline``: a ``time.perf_counter`` value
-    past which it gives up.  ``guess``: the first step's (pressing soil
-    nodes, held floor nodes) — :func:`start_from`, a coarser twin's answer —
-    else every node presses first."""
+    (module docstring).  ``deadline``: a
+    :class:`~qpcontact.core.deadline.Deadline` (or None) past which it gives
+    up.  ``guess``: the first step's (pressing soil nodes, held floor nodes)
+    — :func:`start_from`, a coarser twin's answer — else every node presses
+    first."""
     if qp.newton is None:                   # once per raft: every combination shares it
         qp.newton = SupportSystem(qp, nodes)
     system = qp.newton
@@ -346,7 +345,7 @@ def solve_supports(qp, nodes, f, deadline=None, guess=None):
             x[nf + ns:] = np.where(floor, 0.0, np.maximum(-w_floor, 0.0))
             return x, step
         key = now_soil.tobytes() + now_floor.tobytes()
-        if key in seen or (deadline is not None and time.perf_counter() > deadline):
+        if key in seen or (deadline is not None and deadline.expired()):
             return None
         seen.add(key)
         soil, floor = now_soil, now_floor
