@@ -89,7 +89,10 @@ def member_end_actions(b, u, combo_factors) -> np.ndarray:
     """Every member's end actions k T u - f (member axes), (m, 6), from the
     global displacements u."""
     k, T, dofs, Fe = b["local"]
-    return (k @ (T @ u[dofs][..., None]))[..., 0] - Fe @ combo_factors
+    # the fixed-end forces as one matrix-vector product (a member's rows
+    # are the same dot products as the stack's, one BLAS call for all)
+    fixed_end = (Fe.reshape(-1, Fe.shape[2]) @ combo_factors).reshape(Fe.shape[:2])
+    return (k @ (T @ u[dofs][..., None]))[..., 0] - fixed_end
 
 
 def to_global(b, v):
@@ -127,6 +130,11 @@ class ScaledLU:
         """The last nl rows (the links') of S⁻¹ rhs: the whole solve
         (:meth:`.banded_saddle.CondensedLU.link_rows` saves work there)."""
         return self.solve(rhs)[len(rhs) - nl:]
+
+    def contact_rows(self, kappa, r1, r2):
+        """The link rows of S⁻¹ [0 r1; κI r2]
+        (:meth:`.banded_saddle.CondensedLU.contact_rows`)."""
+        return self.link_rows(banded_saddle.dislocations(kappa, r1, r2), r2.shape[0])
 
 
 def regular_lu(S, pivots=True):
@@ -202,12 +210,21 @@ DERIVED = {
     "abs_HT": lambda b: abs(b["HT"]),
     "abs_P": lambda b: abs(b["maps"][0]),
     "abs_W": lambda b: abs(b["maps"][1]),
+    # the nodes about their centroid (np.mean's sum), the arms' sizes and
+    # the frame's extent: what a plane frame's resultant check reads
+    "moment_arms": lambda b: _moment_arms(b["coords"]),
     # the links' displacement by the settlements: Hᵀ at the fixed dofs
     "H_fixed_T": lambda b: b["H"][b["fixed_idx"]].T,
     "K_fa": lambda b: _coupling(b),
     "Hf": lambda b: _scaled_free_links(b),
     "S": lambda b: saddle_matrix(b),
 }
+
+
+def _moment_arms(coords):
+    xy = coords - coords.sum(axis=0) / len(coords)
+    extent = max(float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))), 1e-300)
+    return xy, np.abs(xy[:, 0]), np.abs(xy[:, 1]), extent
 
 
 def link_forces(b, X) -> np.ndarray:
@@ -415,18 +432,16 @@ def contact_stiffness(b) -> dict:
     nf, kappa = b["nf"], b["kappa"]
     nl = len(b["info"])
     nc = len(b["cases"])
-    rhs = np.zeros((nf + nl, nl + nc))
-    rhs[nf:, :nl] = kappa * np.eye(nl)
     # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
     U = b["U"]
-    rhs[:nf, nl:] = free_loads(b, b["F"], U)
-    rhs[nf:, nl:] = -kappa * settled_links(b, U)
+    loads, settled = free_loads(b, b["F"], U), -kappa * settled_links(b, U)
     refined = is_refined(b)
     if refined:
+        rhs = banded_saddle.dislocations(kappa, loads, settled)
         sol, last = refined_columns(b, rhs, b["lu"].solve(rhs))
         sol = sol[nf:]
     else:
-        sol = b["lu"].link_rows(rhs, nl)
+        sol = b["lu"].contact_rows(kappa, loads, settled)
     R = -kappa * sol[:, :nl]
     R = 0.5 * (R + R.T)
     # R's entries are sums of terms of size kappa (the stiffness), so each
@@ -561,10 +576,25 @@ def lcp_matrices(b):
         return b["lcp"]
     P, W, g, fric = b["maps"]
     R = b["R"]
-    M = np.asarray((P.T @ (W @ R).T).T) if P.shape[1] else np.zeros((0, 0))
+    nl, nz = P.shape
+    # W's three products as one (its rows' sums, column by column, are the
+    # same): W R, W R_F and W R g
+    WX = W @ np.column_stack((R, b["RF"], R @ g))
+    # M = (W R) P: where each column of P has one entry (a plane frame's z
+    # each moves one link) M's column is that entry times W R's column, as
+    # the sparse product sums it (from +0); else the product
+    rows = np.repeat(np.arange(nl), np.diff(P.indptr))
+    if np.bincount(P.indices, minlength=nz).max(initial=1) == 1:
+        link, entry = np.zeros(nz, int), np.zeros(nz)
+        link[P.indices], entry[P.indices] = rows, P.data
+        M = WX[:, link] * entry + 0.0
+    else:
+        M = np.asarray((P.T @ WX[:, :nl].T).T)
     if not fric:
         M = 0.5 * (M + M.T)  # = R_nn exactly; remove rounding asymmetry
-    b["lcp"] = (M, np.asarray(W @ b["RF"]), -np.asarray(W @ (R @ g)), P.toarray(), g, fric)
+    dense_P = np.zeros((nl, nz))
+    dense_P[rows, P.indices] = P.data          # (P has no repeated entry)
+    b["lcp"] = (M, WX[:, nl:-1], -WX[:, -1], dense_P, g, fric)
     return b["lcp"]
 
 

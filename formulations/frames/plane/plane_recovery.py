@@ -192,7 +192,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
     of 1e11 m had its wrong pin reaction pass.  ``HX`` and ``abs_hx``:
     H X and |H||X| where the caller has them."""
-    xy = b["coords"] - b["coords"].sum(axis=0) / len(b["coords"])     # np.mean's sum
+    xy, lx, ly, size_xy = b["moment_arms"]
     absHX = contact_lcp.link_force_sizes(b, X) if abs_hx is None else abs_hx
     terms = [F, contact_lcp.link_forces(b, X) if HX is None else HX,
              np.where(b["fixed"], r_all, 0.0)]
@@ -213,7 +213,6 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     total = sum(terms)
     fx, fy, mz = total[0::3], total[1::3], total[2::3]
     ax, ay, am = size[0::3], size[1::3], size[2::3]
-    lx, ly = np.abs(xy[:, 0]), np.abs(xy[:, 1])
     res = np.abs([fx.sum(), fy.sum(), (mz + xy[:, 0] * fy - xy[:, 1] * fx).sum()])
     scale = np.array([ax.sum(), ay.sum(), (am + lx * ay + ly * ax).sum()])
     if b.get("axial") is not None:
@@ -225,7 +224,6 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     big_m = (am + lx * ay + ly * ax).max(initial=0.0)
     # forces carry the rounding of the moments they balance too (a frame
     # loaded by a moment alone has shears that are zero but for it)
-    size_xy = max(float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))), 1e-300)
     big_f = max(ax.max(initial=0.0), ay.max(initial=0.0), am.max(initial=0.0) / size_xy)
     # every term of a sum carries its own rounding (R_ROUNDING of the largest)
     n_f = max(np.count_nonzero(ax), np.count_nonzero(ay), 1)
