@@ -12,7 +12,7 @@ import numpy as np
 
 from qpcontact.core.errors import NoSolutionError, SolverFailedError
 
-from . import contact_lcp
+from . import contact_lcp, refinement
 from .loads import describe
 from .member_forces import elastic_end_actions, strain_free_motions
 
@@ -35,12 +35,12 @@ def raise_no_equilibrium(frame, sol, fric, b, combo, hint=False):
     if y is None and proof is not None and proof.kind == "infeasible":
         y = proof.vector["z"]
     what = describe(combo)
-    if y is not None and contact_lcp.is_refined(b):
+    if y is not None and refinement.is_refined(b):
         # only the rigid motion, checked on K itself, proves anything here
         raise_rigid_motion(frame, b, combo, f"{sol.method}: {sol.message}")
         raise SolverFailedError(
             f"frame under {what}: {sol.method} found no contact state, and "
-            f"{contact_lcp.no_farkas_proof(b)}; nothing was proved either way")
+            f"{refinement.no_farkas_proof(b)}; nothing was proved either way")
     if y is not None:
         words = frame.kind.collapse_words(frame, {"farkas": np.asarray(y, float)}, fric,
                                           carrying=None)

@@ -13,7 +13,7 @@ from qpcontact.core.errors import NoSolutionError, QpcontactError, SolverFailedE
 from qpcontact.core.problems import ParametricLCP
 from qpcontact.judge.lcp_certificate import certify_lcp
 
-from . import contact_lcp
+from . import contact_lcp, refinement
 from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
 from .joined_trace import RESTART, RESTARTS, JoinedTrace
@@ -122,11 +122,11 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = (f"the piece from p = {piece.p_start:.10g} to {piece.p_end:.10g} failed "
                       f"the frame's checks at p = {p_bad:.10g} ({bad.message}); the trace "
                       f"stops at p = {ft.p_end:.10g}")
-    elif ended == "collapse" and contact_lcp.is_refined(b):
+    elif ended == "collapse" and refinement.is_refined(b):
         # no proof about the frame, and no limit
         ended = "breakdown"
         ft.message = (f"the load path is certified up to p = {tr.p_end:.10g}; beyond it the "
-                      f"contact LCP has no solution, but {contact_lcp.no_farkas_proof(b)}; "
+                      f"contact LCP has no solution, but {refinement.no_farkas_proof(b)}; "
                       "nothing was proved beyond it")
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
@@ -345,7 +345,7 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadli
             if rigid is not None:
                 raise NoSolutionError(f"frame under {describe(combo)}: no equilibrium exists "
                                       f"— {rigid} (the load path, {words}, ends below it)")
-            if contact_lcp.is_refined(b):
+            if refinement.is_refined(b):
                 return None         # the certificates prove nothing about the frame
             fric = contact_lcp.lcp_matrices(b)[5]
             how = (frame.kind.collapse_words(frame, tr.proof, fric, None)
