@@ -6,9 +6,15 @@ LDLᵀ of the answer's own linear system (the floor).
 prints one JSON row: the least CPU time (``time.process_time``) of REPS
 solves (default 2), each on a fresh raft whose build is not timed, after a
 warm-up (imports, numba's cached kernels); the Newton steps; the lifted
-nodes; whether certified; and the floor — qdldl's LDLᵀ, ordering included,
-of the stiffness on the dofs no bilateral support holds plus the pressing
-soil nodes' springs, less the held floor nodes' w, the least of three.  The
+nodes; whether certified; and two floors, each the least of three: qdldl's
+LDLᵀ, ordering included, of the stiffness on the dofs no bilateral support
+holds plus the pressing soil nodes' springs, less the held floor nodes' w
+(``floor``, ``ratio``: the rows published before 2026-12-06's
+nested-dissection order), and the same system factorised as the solve's
+own steps do (``floor_own``, ``ratio_own``: SuperLU in the mesh's
+nested-dissection order from newton.SUPERNODAL_DOFS on, the order made
+once per raft and not timed; qdldl under its AMD below — as
+benchmarks/scale.py's floor).  The
 rafts are defined here (not through examples.windward_raft's ``floor``) so
 that the same script times an older commit.  KIND:
 
@@ -101,6 +107,21 @@ def floor_seconds(raft, result) -> float:
     return best
 
 
+def own_floor_seconds(raft, result) -> float:
+    """CPU seconds of the solve's own factorisation of the answer's system
+    (``SupportSystem.factor``, its kept factors freed first), least of three."""
+    qp = raft.build()["qp"]
+    system = qp.newton
+    for kept in ("solver", "factored", "analysis", "floor_block"):
+        setattr(system, kept, None)
+    best = np.inf
+    for _ in range(3):
+        t = time.process_time()
+        system.factor(result.contact[qp.soil], result.contact[qp.floor])
+        best = min(best, time.process_time() - t)
+    return best
+
+
 def main(argv):
     kind, cells = argv[0], int(argv[1])
     reps = int(argv[2]) if len(argv) > 2 else 2
@@ -114,11 +135,13 @@ def main(argv):
         r = raft.solve()
         times.append(time.process_time() - t)
     floor = floor_seconds(raft, r)
+    own = own_floor_seconds(raft, r)
     steps = re.search(r"(\d+) (?:LDLᵀ|steps)", r.message)
     print(json.dumps(dict(kind=kind, cells=cells, dofs=3 * r.mesh.nodes.shape[0], ok=bool(r.ok),
                           lifted=int(r.lifted.sum()), steps=int(steps.group(1)) if steps else None,
                           cpu=round(min(times), 4), floor=round(floor, 4),
-                          ratio=round(min(times) / floor, 2), method=r.method)))
+                          ratio=round(min(times) / floor, 2), floor_own=round(own, 4),
+                          ratio_own=round(min(times) / own, 2), method=r.method)))
 
 
 if __name__ == "__main__":

@@ -2,7 +2,8 @@
 (numba), for :mod:`.border`.
 
 With A = P (I + L) D (I + L)' P' (any LDLᵀ: L strictly lower, in
-CSC), the entry L_ij is nonzero only where i is an ancestor of j in the
+CSC; a unit diagonal stored with it, as SuperLU's ``L`` has, is passed
+over, so that L is read without a copy), the entry L_ij is nonzero only where i is an ancestor of j in the
 elimination tree (parent(j) = the least row of column j of L's full
 pattern; :func:`parents` reads it from the entries stored).  So (I + L)⁻¹ b
 for a b with few nonzeros is nonzero only on their paths to the root, the
@@ -23,13 +24,16 @@ from qpcontact.core.compiled import njit
 
 @njit
 def parents(Rp, Ri, n):
-    """The elimination tree of L (its rows: CSR, strictly lower), −1 for a
-    root, by Liu's algorithm on L + L' rather than as the least row of each
-    column: a factor may leave out an entry that cancelled to exactly zero
-    (SciPy's ``SuperLU.L`` does), and the least stored row is then a wrong
-    parent, with rows of a column off its path to the root, which
-    :func:`forward_block` needs on it.  Every stored entry of L is on a
-    path in this tree; with L's full pattern it is the least-row tree."""
+    """The elimination tree of L, −1 for a root, by Liu's algorithm from
+    the rows of L (CSR; entries on or above the diagonal passed over) — or
+    of the factorised matrix itself (symmetric, its CSC read as rows: the
+    tree of A is the tree of L's full pattern, and needs no transpose of
+    L) — rather than as the least row of each column: a factor may leave
+    out an entry that cancelled to exactly zero (SciPy's ``SuperLU.L``
+    does), and the least stored row is then a wrong parent, with rows of a
+    column off its path to the root, which :func:`forward_block` needs on
+    it.  Every stored entry of L is on a path in this tree; with L's full
+    pattern it is the least-row tree."""
     parent = np.full(n, -1, np.int64)
     ancestor = np.full(n, -1, np.int64)
     for i in range(n):
@@ -65,7 +69,7 @@ def forward_block(Lp, Li, Lx, rows, X):
     """X ← (I + L)⁻¹ X in place on the rows ``rows`` (ascending, closed
     under the elimination tree's parent: every row of L's columns there is
     among them), X dense (len(rows), m) with the right-hand sides in the
-    factor's order."""
+    factor's order; L's stored diagonal, if any, passed over."""
     n = Lp.size - 1
     local = np.full(n, -1, np.int64)
     for a in range(rows.size):
@@ -82,6 +86,8 @@ def forward_block(Lp, Li, Lx, rows, X):
         if not nonzero:
             continue
         for t in range(Lp[j], Lp[j + 1]):
+            if Li[t] == j:
+                continue
             row = X[local[Li[t]]]
             v = Lx[t]
             for c in range(m):

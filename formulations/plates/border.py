@@ -29,7 +29,10 @@ The border's k columns are not k solves: V' A₀⁻¹ V = W' D⁻¹ W with
 W = (I + L)⁻¹ P' V, and a column of V has a node's few entries, so its
 column of W lives on their paths to the elimination tree's root
 (:mod:`._border_kernels`): 1/7 of L's entries on a 115 x 115 floor raft,
-where a full solve reads all of L twice.  A border of more than
+where a full solve reads all of L twice.  The columns of W stay with the
+factor: the next step's border, mostly the same dofs (a floor's contact
+line creeps a row a step), solves only its new columns, and W' D⁻¹ W only
+their rows and columns.  A border of more than
 BORDER_SHARE √n dofs, or an S whose condition is above 1/BORDER_RCOND (a
 release that leaves the plate nearly free), sends the step to a fresh
 factorisation.
@@ -65,12 +68,14 @@ class FactoredBlock:
     Any LDLᵀ will do, given as
 
     * ``solve``: rhs (n,) ↦ u (n,), the block's solution, zero off ``keep``;
-    * ``factors``: () ↦ (L, d, p), read on the first border that needs it:
-      L strictly lower (CSC) and d such that the block in the order p
+    * ``factors``: () ↦ (L, d, p, parent), read on the first border that
+      needs it: L lower triangular (CSC; a stored diagonal is taken as the
+      unit one and passed over) and d such that the block in the order p
       (p[i] the dof at the factor's position i) is (I + L) diag(d) (I + L)'
       — qdldl's ``factors()`` with p taken to dofs, or SuperLU's symmetric
-      mode with diagonal pivots (L = ``lu.L`` − I, d = diag(``lu.U``), p the
-      order it was given).
+      mode with diagonal pivots (L = ``lu.L`` as it is, d = diag(``lu.U``),
+      p the order it was given); ``parent`` the elimination tree, or None
+      to have it read off L's rows.
 
     ``K``: the stiffness (CSR or CSC, symmetric, no springs)."""
 
@@ -79,6 +84,12 @@ class FactoredBlock:
         self.keep, self.springs = keep.copy(), springs.copy()
         self.n = int(keep.sum())
         self.factors = None                 # L's arrays, 1/d, the dofs' positions, parent
+        # the border columns solved so far (:meth:`_inverse_form`): their keys
+        # (2 dof for a dof's column of K, 2 dof + 1 for a unit column) → their
+        # place in W (dense on the union of their reaches, ``rows``) and in
+        # the Gram matrix W' D⁻¹ W
+        self.solved, self.rows = {}, np.zeros(0, np.int64)
+        self.W, self.gram = np.zeros((0, 0)), np.zeros((0, 0))
 
     def near(self, keep, springs):
         """The solve rhs ↦ u of (K + diag(springs)) u = rhs on ``keep`` by
@@ -99,18 +110,31 @@ class FactoredBlock:
             return self.solve
         if k > BORDER_SHARE * np.sqrt(self.n):
             return None
-        # the new dofs' columns of K (symmetric: rows of a CSR K)
-        cols = sp.csc_matrix(self.K[:, new] if self.K.format == "csc" else self.K[new].T)
+        # V's entries (row, column, value), column by column: the new dofs'
+        # columns of K on the block's dofs (K symmetric: a CSR K's rows are
+        # its columns), then a unit column per multiplier — built from K's
+        # arrays, not by SciPy's slicing and stacking, whose overhead was
+        # half of a border's cost on the 57 x 57 floor raft and its twins
+        Kp, Ki, Kx = self.K.indptr, self.K.indices, self.K.data
+        counts = Kp[new + 1] - Kp[new]
+        at = np.repeat(Kp[new] - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+        rows, vals, column = Ki[at], Kx[at], np.repeat(np.arange(new.size), counts)
+        local = np.full(keep.size, -1)
+        local[new] = np.arange(new.size)
+        among = local[rows] >= 0                     # K's entries among the new dofs
+        C = np.zeros((new.size, new.size))
+        np.add.at(C, (column[among], local[rows[among]]), vals[among])
+        on = self.keep[rows] & (vals != 0.0)         # on the block's dofs only
         units = np.concatenate((pinned, respring))
-        B = cols.multiply(self.keep[:, None])        # on the block's dofs only
-        V = sp.hstack([B, sp.csc_matrix((np.ones(units.size), (units, np.arange(units.size))),
-                                        shape=(keep.size, units.size))], format="csc")
-        V.eliminate_zeros()
-        G = self._inverse_form(V)                    # V' A₀⁻¹ V
+        V = (np.concatenate((rows[on], units)),
+             np.concatenate((column[on], new.size + np.arange(units.size))),
+             np.concatenate((vals[on], np.ones(units.size))))
+        keys = np.concatenate((2 * new, 2 * units + 1))
+        G = self._inverse_form(V, keys)              # V' A₀⁻¹ V
         if G is None:
             return None
         S = -G
-        S[:new.size, :new.size] += cols[new].toarray() + np.diag(springs[new])
+        S[:new.size, :new.size] += C + np.diag(springs[new])
         tail = np.arange(new.size + pinned.size, k)
         S[tail, tail] -= 1.0 / (springs[respring] - self.springs[respring])
         # stiffnesses [N/m] on the new dofs, flexibilities [m/N] on the
@@ -124,15 +148,16 @@ class FactoredBlock:
         rcond = scipy.linalg.lapack.dgecon(lu[0], np.abs(S).sum(axis=0).max(), norm="1")[0]
         if not rcond > BORDER_RCOND:
             return None
-        Vt = V.T.tocsr()
+        Vr, Vc, Vx = V
         gone = ~keep
 
         def once(rhs):
             y = self.solve(rhs)
             z = scale * scipy.linalg.lu_solve(
-                lu, scale * (np.concatenate((rhs[new], np.zeros(k - new.size))) - Vt @ y),
+                lu, scale * (np.concatenate((rhs[new], np.zeros(k - new.size)))
+                             - np.bincount(Vc, Vx * y[Vr], minlength=k)),
                 check_finite=False)
-            u = y - self.solve(V @ z)
+            u = y - self.solve(np.bincount(Vr, Vx * z[Vc], minlength=keep.size))
             u[gone] = 0.0
             u[new] = z[:new.size]
             return u
@@ -144,31 +169,74 @@ class FactoredBlock:
 
         return solve
 
-    def _inverse_form(self, V):
-        """V' A₀⁻¹ V (dense) = W' D⁻¹ W, W = (I + L)⁻¹ P' V, by forward
-        solves on the union of the columns' reaches (:mod:`._border_kernels`)
-        — or, for FEW_COLUMNS on a factor not yet read, a solve each; None
-        where that union holds more than BORDER_ENTRIES entries."""
-        from ._border_kernels import forward_block, parents, reach_union
+    def _inverse_form(self, V, keys):
+        """V' A₀⁻¹ V (dense k x k; V as its entries (rows, columns, values),
+        column by column, column c named ``keys[c]``) = W' D⁻¹ W,
+        W = (I + L)⁻¹ P' V, by forward solves on the union of the columns'
+        reaches (:mod:`._border_kernels`) — or, for FEW_COLUMNS on a factor
+        not yet read, a solve each; None where that union holds more than
+        BORDER_ENTRIES entries.  A column solved for an earlier border on
+        this factor is not solved again: a floor raft's contact line creeps
+        a row a step, so each step's border is most of the last one's (at
+        100 467 dofs 154, 280, 298, 334, 352 columns), and the forward
+        solves were two thirds of a border's cost."""
+        from ._border_kernels import parents
 
-        if self.factors is None and V.shape[1] <= FEW_COLUMNS:
-            return V.T @ np.column_stack([self.solve(V[:, [j]].toarray().ravel())
-                                          for j in range(V.shape[1])])
+        Vr, Vc, Vx = V
+        k = keys.size
+        if self.factors is None and k <= FEW_COLUMNS:
+            dense = np.zeros((self.keep.size, k))
+            dense[Vr, Vc] = Vx
+            return dense.T @ np.column_stack([self.solve(dense[:, j]) for j in range(k)])
         if self.factors is None:
-            L, d, p = self.read()
+            L, d, p, tree = self.read()
             L = sp.csc_matrix(L)
-            Lp, Li = L.indptr.astype(np.int64), L.indices.astype(np.int64)
             position = np.full(self.keep.size, -1, np.int64)
             position[p] = np.arange(p.size)
-            rows = L.tocsr()
-            tree = parents(rows.indptr.astype(np.int64), rows.indices.astype(np.int64), p.size)
-            self.factors = (Lp, Li, L.data, 1.0 / d, position, tree)
+            if tree is None:
+                rows = L.tocsr()
+                tree = parents(rows.indptr, rows.indices, p.size)
+            self.factors = (L.indptr, L.indices, L.data, 1.0 / d, position, tree)
+        missing = np.array([c for c in range(k) if int(keys[c]) not in self.solved], np.int64)
+        if missing.size and not self._solve_columns(Vr, Vc, Vx, keys, missing):
+            # more than BORDER_ENTRIES with the columns kept: these alone
+            self.solved, self.rows = {}, np.zeros(0, np.int64)
+            self.W, self.gram = np.zeros((0, 0)), np.zeros((0, 0))
+            if not self._solve_columns(Vr, Vc, Vx, keys, np.arange(k)):
+                return None
+        at = np.array([self.solved[int(key)] for key in keys], np.int64)
+        return self.gram[np.ix_(at, at)]
+
+    def _solve_columns(self, Vr, Vc, Vx, keys, missing):
+        """W's columns ``missing`` of V (forward solves on the union of their
+        reaches) added to those kept, and the Gram matrix's rows and columns
+        for them; False where W would hold more than BORDER_ENTRIES entries.
+        A kept column is zero off its own reach, so on the rows the new ones
+        add it stays zero."""
+        from ._border_kernels import forward_block, reach_union
+
         Lp, Li, Lx, dinv, position, parent = self.factors
-        Vi = position[V.indices]
-        rows = reach_union(parent, Vi, parent.size)
-        if rows.size * V.shape[1] > BORDER_ENTRIES:
-            return None
-        X = np.zeros((rows.size, V.shape[1]))
-        X[np.searchsorted(rows, Vi), np.repeat(np.arange(V.shape[1]), np.diff(V.indptr))] = V.data
-        forward_block(Lp, Li, Lx, rows, X)
-        return X.T @ (X * dinv[rows, None])
+        local = np.full(keys.size, -1, np.int64)
+        local[missing] = np.arange(missing.size)
+        picked = local[Vc] >= 0
+        Vi = position[Vr[picked]]
+        reach = reach_union(parent, Vi, parent.size)
+        rows = np.union1d(self.rows, reach)
+        kept = self.W.shape[1]
+        if rows.size * (kept + missing.size) > BORDER_ENTRIES:
+            return False
+        X = np.zeros((reach.size, missing.size))
+        X[np.searchsorted(reach, Vi), local[Vc[picked]]] = Vx[picked]
+        forward_block(Lp, Li, Lx, reach, X)
+        W = np.zeros((rows.size, kept + missing.size))
+        W[np.searchsorted(rows, self.rows), :kept] = self.W
+        W[np.searchsorted(rows, reach), kept:] = X
+        cross = W.T @ (W[:, kept:] * dinv[rows, None])
+        gram = np.zeros((kept + missing.size,) * 2)
+        gram[:kept, :kept] = self.gram
+        gram[:, kept:] = cross
+        gram[kept:, :kept] = cross[:kept].T
+        for j, c in enumerate(missing):
+            self.solved[int(keys[c])] = kept + j
+        self.rows, self.W, self.gram = rows, W, gram
+        return True

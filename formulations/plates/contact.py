@@ -419,8 +419,11 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
     import time
 
     import qpcontact
+    from qpcontact.core.deadline import Deadline
 
     start = time.perf_counter()
+    # one clock for every part, compiling left out as in every time limit
+    deadline = Deadline(None if time_limit is None else float(time_limit))
     need = qp.unrestrained(nodes).shape[1]
     if qp.supported.size == 0:
         if need:
@@ -434,7 +437,6 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
         # Newton's method on the energy (:mod:`.newton`): a few LDLᵀ of the
         # raft on its pressing nodes; where it does not end, or its answer is
         # not certified, the pinned QP below answers
-        deadline = None if time_limit is None else start + float(time_limit)
         first = None if guess is None else guess(deadline)
         found = solve_supports(qp, nodes, f, deadline, first)
         how = "" if first is None else ", started from a coarser grid's answer"
@@ -451,7 +453,7 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
                     f"pressing nodes{how})", "active-set", [], float(cert.error),
                     time.perf_counter() - start)
         if time_limit is not None:
-            time_limit = float(time_limit) - (time.perf_counter() - start)
+            time_limit = deadline.left()
             if time_limit <= 0.0:
                 return ContactAnswer(np.full(qp.nx, np.nan), False, "time_limit",
                                      "not solved: the time limit ran out in Newton's method, "

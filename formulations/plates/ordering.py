@@ -31,7 +31,10 @@ spring; nnz(L) with its diagonal, SuperLU's count in this order against
 qdldl's under its AMD): 57 x 57 cells (10 092 dofs) 0.80 M against 0.84 M;
 115 x 115 (40 368) 4.06 M against 4.49 M; 182 x 182 (100 467) 11.6 M
 against 14.6 M; 577 x 577 (1 002 252) 160 M (docs/dev-notes.md, "The
-10⁶-dof raft").
+10⁶-dof raft").  The bisections and the node graph are compiled
+(:mod:`._ordering_kernels`): the same order, made in 0.023 s instead of
+0.069 s at 182 x 182 cells (docs/dev-notes.md, "Rafts at their floor,
+round two").
 """
 
 from __future__ import annotations
@@ -49,42 +52,15 @@ LEAF = 32
 def nested_dissection(points: np.ndarray, graph: sp.csr_matrix, leaf: int = LEAF) -> np.ndarray:
     """A permutation of the nodes (``points`` (n, 2) [m], ``graph`` their
     (n, n) adjacency, symmetric): each part's two halves first, the
-    separator between them after (module docstring)."""
+    separator between them after (module docstring; compiled in
+    :mod:`._ordering_kernels`)."""
+    from ._ordering_kernels import dissect
+
     n = points.shape[0]
     graph = (sp.csr_matrix(graph) + sp.identity(n, format="csr")).tocsr()   # no empty row
-    degree = np.diff(graph.indptr)
-    in_a = np.zeros(n, bool)
-    order, stack = [], [(False, np.arange(n))]
-    while stack:            # depth first: A, then B \ S, then S
-        placed, idx = stack.pop()
-        split = None if placed or idx.size <= leaf else _bisect(points, graph, degree, idx, in_a)
-        if split is None:
-            order.append(idx)
-        else:
-            a, b, s = split
-            stack += [(True, s), (False, b), (False, a)]
-    return np.concatenate(order)
-
-
-def _bisect(points, graph, degree, idx, in_a):
-    """(A, B \\ S, S) of the nodes ``idx``, or None where they cannot be cut
-    (all on one line across the longer side)."""
-    p = points[idx]
-    axis = 0 if np.ptp(p[:, 0]) >= np.ptp(p[:, 1]) else 1
-    values = np.unique(p[:, axis])
-    if values.size < 2:
-        return None
-    below = p[:, axis] < values[values.size // 2]
-    a, b = idx[below], idx[~below]
-    # S: the nodes of B with a neighbour in A (their rows of the graph
-    # gathered, none empty)
-    start, count = graph.indptr[b], degree[b]
-    first = np.cumsum(count) - count
-    entries = np.repeat(start - first, count) + np.arange(count.sum())
-    in_a[a] = True
-    touches = np.logical_or.reduceat(in_a[graph.indices[entries]], first)
-    in_a[a] = False
-    return a, b[~touches], b[touches]
+    points = np.asarray(points, float)
+    return dissect(np.ascontiguousarray(points[:, 0]), np.ascontiguousarray(points[:, 1]),
+                   graph.indptr.astype(np.int64), graph.indices.astype(np.int64), leaf)
 
 
 def dof_order(pattern: sp.spmatrix, node_of: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -92,10 +68,16 @@ def dof_order(pattern: sp.spmatrix, node_of: np.ndarray, points: np.ndarray) -> 
     on some of a mesh's dofs; ``node_of`` the node of each, ``points`` the
     mesh's node coordinates): the nodes in nested-dissection order, each
     node's dofs together in their own order."""
-    coo = sp.coo_matrix(pattern)
+    from ._ordering_kernels import dissect, node_graph
+
+    pattern = pattern if pattern.format in ("csc", "csr") else sp.csc_matrix(pattern)
     used, local = np.unique(node_of, return_inverse=True)
-    graph = sp.csr_matrix((np.ones(coo.nnz), (local[coo.row], local[coo.col])),
-                          shape=(used.size, used.size))
+    node_dofs = np.argsort(local, kind="stable")
+    node_first = np.concatenate(([0], np.cumsum(np.bincount(local, minlength=used.size))))
+    Gp, Gi = node_graph(pattern.indptr, pattern.indices, local.astype(np.int64), node_first,
+                        node_dofs, used.size)
+    p = np.asarray(points, float)[used]
     rank = np.empty(used.size, np.int64)
-    rank[nested_dissection(points[used], graph)] = np.arange(used.size)
+    rank[dissect(np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]), Gp, Gi,
+                 LEAF)] = np.arange(used.size)
     return np.lexsort((np.arange(node_of.size), rank[local]))

@@ -12,10 +12,11 @@ solve; the work grows like n³ on integers of n·(bits of the data) digits.
 
 from __future__ import annotations
 
-import time
 from fractions import Fraction
 
 import numpy as np
+
+from ..core.deadline import Deadline
 
 __all__ = ["ExactLCP", "dyadic_integers", "leading_minors_positive", "solve_exact",
            "lcp_farkas_holds", "dot_exact", "round_down", "round_up"]
@@ -162,7 +163,7 @@ class ExactLCP:
         one exact block solve.  Returns (z, w) exactly, or None when the step
         or time budget runs out or a block is singular."""
         F = set(int(i) for i in start)
-        t0 = time.perf_counter()
+        deadline = Deadline(budget_s)
         for _ in range(max_steps):
             sol = self.basis_solution(F)
             if sol is None:
@@ -173,7 +174,7 @@ class ExactLCP:
             if bad is None:
                 return z, w
             F ^= {bad}
-            if time.perf_counter() - t0 > budget_s:
+            if deadline.expired():
                 return None
         return None
 

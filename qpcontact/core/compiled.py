@@ -28,10 +28,13 @@ __all__ = ["njit", "fallback_cache_dir"]
 
 class _CompileClock(event.Listener):
     """numba's compile events (a kernel and the kernels it calls: nested)
-    timed from the outermost one's start to its end and left out of every
-    deadline (:func:`.deadline.exclude_one_time`): a time limit does not
-    cover compiling.  Loading a kernel from the on-disk cache is not a
-    compile event."""
+    timed from the outermost one's start to its end and left out of the
+    compiling thread's deadlines (:func:`.deadline.exclude_one_time`): a
+    time limit does not cover compiling.  numba calls a listener on the
+    thread that compiles, so each thread's compiling moves only its own
+    deadlines; its CPU is that thread's (``time.thread_time``), not the
+    process's, which would take another thread's work meanwhile off too.
+    Loading a kernel from the on-disk cache is not a compile event."""
 
     def __init__(self):
         self.depth = threading.local()
@@ -39,14 +42,14 @@ class _CompileClock(event.Listener):
     def on_start(self, ev):
         depth = getattr(self.depth, "n", 0)
         if depth == 0:
-            self.depth.started = (time.perf_counter(), time.process_time())
+            self.depth.started = (time.perf_counter(), time.thread_time())
         self.depth.n = depth + 1
 
     def on_end(self, ev):
         self.depth.n -= 1
         if self.depth.n == 0:
             wall, cpu = self.depth.started
-            exclude_one_time(time.perf_counter() - wall, time.process_time() - cpu)
+            exclude_one_time(time.perf_counter() - wall, time.thread_time() - cpu)
 
 
 event.register("numba:compile", _CompileClock())

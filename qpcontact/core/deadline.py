@@ -11,37 +11,43 @@ no later than its caller's.
 from __future__ import annotations
 
 import math
+import threading
 import time
 
 from .errors import InvalidOptionError
 
 __all__ = ["Deadline", "CpuShare", "Pace", "check_time_limit", "grace", "exclude_one_time"]
 
-#: (wall, CPU) seconds this process has spent on what no time limit covers
-#: (:func:`grace`): numba compiling kernels, which :mod:`.compiled` reports.
-#: Deadlines run on clocks that leave them out, so that a first call's
-#: compiling (16 s of CPU for the multigrid's kernels on a cold cache, a
-#: minute of wall time at load 8) does not eat a link's share of "auto" and
-#: hand the problem to a slower method — it delays the answer instead, as
-#: grace's docstring states.
-_ONE_TIME = [0.0, 0.0]
+#: Per thread, the (wall, CPU) seconds it has spent on what no time limit
+#: covers (:func:`grace`): numba compiling kernels, which :mod:`.compiled`
+#: reports from the thread that compiles.  Deadlines run on clocks that leave
+#: them out, so that a first call's compiling (16 s of CPU for the
+#: multigrid's kernels on a cold cache, a minute of wall time at load 8) does
+#: not eat a link's share of "auto" and hand the problem to a slower method —
+#: it delays the answer instead, as grace's docstring states.  Per thread: a
+#: deadline is moved only by its own thread's compiling, not by a kernel
+#: another thread compiles meanwhile (the process-wide sum extended every
+#: thread's deadlines by every thread's compiling).
+_THREAD = threading.local()
+
+
+def _one_time() -> list:
+    """This thread's [wall, CPU] seconds of one-time work: one list per
+    thread, which every Deadline made on the thread keeps (its clock reads it
+    from any thread)."""
+    try:
+        return _THREAD.spent
+    except AttributeError:
+        _THREAD.spent = spent = [0.0, 0.0]
+        return spent
 
 
 def exclude_one_time(wall: float, cpu: float) -> None:
-    """Leave ``wall`` and ``cpu`` seconds just spent on one-time work out of
-    every deadline's clock."""
-    _ONE_TIME[0] += wall
-    _ONE_TIME[1] += cpu
-
-
-def _clock() -> float:
-    """The wall clock less the one-time work (``time.perf_counter`` scale)."""
-    return time.perf_counter() - _ONE_TIME[0]
-
-
-def _cpu() -> float:
-    """This process's CPU time less the one-time work."""
-    return time.process_time() - _ONE_TIME[1]
+    """Leave ``wall`` and ``cpu`` seconds just spent on one-time work by this
+    thread out of the clocks of this thread's deadlines."""
+    spent = _one_time()
+    spent[0] += wall
+    spent[1] += cpu
 
 
 def grace(time_limit: float | None) -> float:
@@ -80,16 +86,34 @@ def check_time_limit(time_limit) -> float | None:
 
 class Deadline:
     """A point on the monotonic wall clock (``time.perf_counter``, less the
-    one-time work: :func:`exclude_one_time`), or none.
+    one-time work of the thread it was made on: :func:`exclude_one_time`),
+    or none.
 
     ``Deadline(seconds)`` ends that many seconds from now (None: never).
     :meth:`share` gives a part of the work a deadline of its own, never later
-    than this one."""
+    than this one, on the same thread's clock."""
 
-    __slots__ = ("end",)
+    __slots__ = ("end", "spent")
 
     def __init__(self, seconds: float | None = None, *, end: float | None = None):
-        self.end = end if seconds is None else _clock() + float(seconds)
+        self.spent = _one_time()
+        self.end = end if seconds is None else self.now() + float(seconds)
+
+    def now(self) -> float:
+        """This deadline's clock: the wall clock less the one-time work of
+        the thread it was made on."""
+        return time.perf_counter() - self.spent[0]
+
+    def cpu_now(self) -> float:
+        """This process's CPU time less that thread's one-time work."""
+        return time.process_time() - self.spent[1]
+
+    def _on_my_clock(self, end: float | None) -> "Deadline":
+        """A Deadline ending at ``end`` on this one's clock, whichever thread
+        asks."""
+        part = object.__new__(Deadline)
+        part.end, part.spent = end, self.spent
+        return part
 
     @property
     def limited(self) -> bool:
@@ -97,25 +121,25 @@ class Deadline:
 
     def left(self) -> float | None:
         """Seconds left (negative once passed), or None without a deadline."""
-        return None if self.end is None else self.end - _clock()
+        return None if self.end is None else self.end - self.now()
 
     def expired(self) -> bool:
-        return self.end is not None and _clock() >= self.end
+        return self.end is not None and self.now() >= self.end
 
     def share(self, fraction: float) -> "Deadline":
         """A deadline ``fraction`` of what is left from now (this one's when
         ``fraction`` >= 1)."""
         if self.end is None or fraction >= 1.0:
-            return Deadline(end=self.end)
-        now = _clock()
-        return Deadline(end=now + max(self.end - now, 0.0) * fraction)
+            return self._on_my_clock(self.end)
+        now = self.now()
+        return self._on_my_clock(now + max(self.end - now, 0.0) * fraction)
 
     def within(self, seconds: float | None) -> "Deadline":
         """The earlier of this deadline and ``seconds`` from now."""
         if seconds is None:
-            return Deadline(end=self.end)
-        end = _clock() + seconds
-        return Deadline(end=end if self.end is None else min(end, self.end))
+            return self._on_my_clock(self.end)
+        end = self.now() + seconds
+        return self._on_my_clock(end if self.end is None else min(end, self.end))
 
     def cpu_share(self, fraction: float, wall_fraction: float) -> "Deadline":
         """A share of the work measured in this process's CPU time: it ends
@@ -127,10 +151,11 @@ class Deadline:
         s of CPU is not cut off at 0.5 s of wall time that held 0.04 s of
         it.  Without a deadline: none."""
         if self.end is None:
-            return Deadline()
-        now = _clock()
+            return self._on_my_clock(None)
+        now = self.now()
         left = max(self.end - now, 0.0)
-        return CpuShare(now + left * min(wall_fraction, 1.0), _cpu() + left * fraction)
+        return CpuShare(now + left * min(wall_fraction, 1.0), self.cpu_now() + left * fraction,
+                        self.spent)
 
     def __repr__(self) -> str:
         left = self.left()
@@ -139,29 +164,30 @@ class Deadline:
 
 class CpuShare(Deadline):
     """A :class:`Deadline` that also ends once this process's CPU time
-    (``time.process_time``, every thread of it) reaches ``cpu_end``; made by
-    :meth:`Deadline.cpu_share`.  ``left()`` is the smaller of the two, so a
-    part handing it on as wall seconds stops no later than either."""
+    (``time.process_time``, every thread of it, less the one-time work of
+    the thread it was made on) reaches ``cpu_end``; made by
+    :meth:`Deadline.cpu_share`, on the clocks of the deadline it shares
+    (``spent``: its thread's one-time work).  ``left()`` is the smaller of
+    the two, so a part handing it on as wall seconds stops no later than
+    either."""
 
     __slots__ = ("cpu_end",)
 
-    def __init__(self, end: float, cpu_end: float):
-        super().__init__(end=end)
-        self.cpu_end = cpu_end
+    def __init__(self, end: float, cpu_end: float, spent: list):
+        self.end, self.cpu_end, self.spent = end, cpu_end, spent
 
     def left(self) -> float:
-        return min(self.end - _clock(), self.cpu_end - _cpu())
+        return min(self.end - self.now(), self.cpu_end - self.cpu_now())
 
     def expired(self) -> bool:
-        return _clock() >= self.end or _cpu() >= self.cpu_end
+        return self.now() >= self.end or self.cpu_now() >= self.cpu_end
 
     def share(self, fraction: float) -> "Deadline":
-        return Deadline(end=_clock() + max(self.left(), 0.0) * min(fraction, 1.0))
+        return self._on_my_clock(self.now() + max(self.left(), 0.0) * min(fraction, 1.0))
 
     def within(self, seconds: float | None) -> "Deadline":
-        if seconds is None:
-            return CpuShare(self.end, self.cpu_end)
-        return CpuShare(min(self.end, _clock() + seconds), self.cpu_end)
+        end = self.end if seconds is None else min(self.end, self.now() + seconds)
+        return CpuShare(end, self.cpu_end, self.spent)
 
 
 class Pace:
@@ -169,17 +195,18 @@ class Pace:
     now, judged by the longest step so far: a step that cannot be stopped
     halfway (a Newton iteration's factorization, one SOCP) is not started
     where the last one would not have fitted (a 5 000-contact pile's Newton
-    step took 0.8 s, started with 0.13 s left).  ``time_limit`` None: always."""
+    step took 0.8 s, started with 0.13 s left).  ``time_limit`` None: always.
+    Steps are timed on the deadline's clock (compiling left out)."""
 
     __slots__ = ("deadline", "longest", "_since")
 
     def __init__(self, time_limit: float | None):
         self.deadline = Deadline(time_limit)
         self.longest = 0.0
-        self._since = _clock()
+        self._since = self.deadline.now()
 
     def step_done(self) -> None:
-        now = _clock()
+        now = self.deadline.now()
         self.longest = max(self.longest, now - self._since)
         self._since = now
 

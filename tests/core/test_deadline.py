@@ -59,10 +59,10 @@ def test_a_deadline_leaves_numba_compiling_out():
 
 
 def test_lemkes_proofs_keep_its_time_limit_after_compiling_elsewhere(monkeypatch):
-    """lemke's deadline is a raw time.perf_counter value; handed on as
+    """lemke's deadline was a raw time.perf_counter value; handed on as
     Deadline(end=...), whose clock leaves compiling out, its infeasibility
     LP ran on for every second this process had compiled before (1 000 s
-    here for a 5 s limit)."""
+    here for a 5 s limit).  It is now a Deadline from the start."""
     import qpcontact
     import qpcontact.solvers.pivoting.lemke as lemke_module
     from qpcontact import LCP
@@ -82,3 +82,42 @@ def test_lemkes_proofs_keep_its_time_limit_after_compiling_elsewhere(monkeypatch
     finally:
         exclude_one_time(-1000.0, -1000.0)
     assert seen and all(left <= 5.0 for left in seen), seen
+
+
+def test_a_deadline_is_moved_by_its_own_threads_compiling_only():
+    """Compiling is left out of the deadlines of the thread that compiles,
+    not of every thread's: while a kernel compiles on another thread, a
+    deadline here runs on second for second, and the process's CPU spent
+    there counts against a CPU share here (the process-wide sum extended
+    every thread's deadlines by every thread's compiling).  The compiling
+    thread's own deadline still leaves it out."""
+    import threading
+
+    from qpcontact.core.compiled import njit
+
+    @njit(cache=False)
+    def once(x):             # compiled on its first call, on the other thread
+        return x * 3.0 - 1.0
+
+    there = {}
+
+    def compile_there():
+        d = Deadline(100.0)
+        before, start = d.left(), time.perf_counter()
+        there["result"] = once(1.0)
+        there["took"] = time.perf_counter() - start
+        there["moved"] = before - d.left()
+
+    mine = Deadline(100.0)
+    cpu_share = Deadline(100.0).cpu_share(0.05, 1.0)     # 5 s of CPU: its left() is the CPU's
+    before, cpu_before = mine.left(), cpu_share.left()
+    start, cpu_start = time.perf_counter(), time.process_time()
+    worker = threading.Thread(target=compile_there)
+    worker.start()
+    worker.join()
+    elapsed, cpu_used = time.perf_counter() - start, time.process_time() - cpu_start
+    assert there["result"] == 2.0 and there["took"] > 0.005, there      # it did compile
+    assert there["moved"] < 0.5 * there["took"], there                  # left out there
+    assert before - mine.left() >= elapsed - 0.1 * there["took"], (before - mine.left(), there)
+    cpu_moved = cpu_before - cpu_share.left()
+    assert cpu_moved >= cpu_used - 0.5 * there["took"], (cpu_moved, cpu_used, there)

@@ -135,6 +135,43 @@ def _hierarchy_of(lcp, hierarchy):
     return A, Ps, Rs, patterns
 
 
+@pytest.mark.parametrize("family,N", [("plate", 37), ("membrane", 40)])
+def test_the_sweeps_add_the_neighbour_just_written_last_and_stay_gauss_seidel(family, N):
+    """The compiled sweeps sum each row's terms with the neighbour the
+    previous row just wrote (i − 1 forward, i + 1 backward) last, off the
+    dependency chain (_mg_kernels' comment says why): still Gauss–Seidel —
+    each row reads that neighbour's new value — equal to the column-order
+    sweeps of tests/helpers/multigrid_reference.py to rounding, on the
+    fine operator (sorted columns) and on its Galerkin product (unsorted),
+    with truncated rows, both directions; and the projected sweeps too.
+    Fails where the neighbour's term is dropped or read before it is
+    written (a Jacobi term): both differ by far more than rounding."""
+    from qpcontact.solvers.pivoting import _mg_kernels as K
+    from tests.helpers.multigrid_reference import gauss_seidel, projected_gauss_seidel
+
+    lcp = getattr(meshes, family)(N)
+    A, _, _, patterns = _hierarchy_of(lcp, "grid")
+    rng = np.random.default_rng(3)
+    for B in (A, patterns[0]):
+        n = B.shape[0]
+        ptr, idx = B.indptr.astype(np.int64), B.indices.astype(np.int64)
+        d = B.diagonal()
+        free = rng.random(n) < 0.8
+        b, x0 = rng.standard_normal(n), rng.standard_normal(n)
+        for forward in (True, False):
+            ours, ref = x0.copy(), x0.copy()
+            K.gauss_seidel(ptr, idx, B.data, 1.0 / d, b, ours, free, forward)
+            gauss_seidel(ptr, idx, B.data, d, b, ref, free, forward)
+            np.testing.assert_allclose(ours, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+            jacobi = x0 + np.where(free, (b - B @ x0) / d, 0.0)
+            assert np.abs(ours - jacobi).max() > 1e-3 * np.abs(ref).max()
+        q = rng.standard_normal(n) * np.abs(d)
+        ours, ref = np.abs(x0), np.abs(x0)
+        K.projected_gauss_seidel(ptr, idx, B.data, 1.0 / d, q, ours, 3)
+        projected_gauss_seidel(ptr, idx, B.data, d, q, ref, 3)
+        np.testing.assert_allclose(ours, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+
+
 @pytest.mark.parametrize("family,N,hierarchy", [("plate", 37, "grid"), ("membrane", 40, "grid"),
                                                  ("plate", 30, "aggregation"),
                                                  ("membrane", 45, "aggregation")])

@@ -123,6 +123,7 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
     # chains 8 wide; the work goes as the width's square)
     perm = np.arange(nf)
     bw = int(np.abs(pr - pc).max(initial=0))
+    band_r, band_c = pr, pc          # the pattern's entries in the band's order
     if bw > NARROW:
         # the pattern as canonical CSR from its distinct entries (sorted by
         # row, then column: the structure the triplets' conversion made),
@@ -132,17 +133,22 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
         # (K_ff's entries come in row then column order, the links' after
         # them: a stable sort (timsort) merges the two runs, a third of the
         # default's time)
-        key = np.sort(pr * nf + pc, kind="stable")
+        # (row and column in one key by a shift, not times nf: the same
+        # order, and no integer division to take them apart)
+        shift = int(nf).bit_length()
+        key = np.sort((pr << shift) | pc, kind="stable")
         key = key[np.concatenate(([True], key[1:] != key[:-1]))]
-        pattern = sp.csr_matrix((np.ones(key.size), (key % nf).astype(np.int32), np.concatenate(
-            ([0], np.cumsum(np.bincount(key // nf, minlength=nf)))).astype(np.int32)),
+        pattern = sp.csr_matrix((np.ones(key.size), (key & ((1 << shift) - 1)).astype(np.int32),
+                                 np.concatenate(([0], np.cumsum(np.bincount(
+                                     key >> shift, minlength=nf)))).astype(np.int32)),
                                 shape=(nf, nf))
         rcm = reverse_cuthill_mckee(pattern, symmetric_mode=True)
         pos = np.empty(nf, int)
         pos[rcm] = np.arange(nf)
-        rcm_bw = int(np.abs(pos[pr] - pos[pc]).max(initial=0))
+        rcm_r, rcm_c = pos[pr], pos[pc]
+        rcm_bw = int(np.abs(rcm_r - rcm_c).max(initial=0))
         if rcm_bw < bw:
-            perm, bw = rcm, rcm_bw
+            perm, bw, band_r, band_c = rcm, rcm_bw, rcm_r, rcm_c
     if bw > BAND_MAX:
         return None
     pos = np.empty(nf, int)
@@ -163,20 +169,39 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
     r, c, v = lay["basic_terms"][:3]
     on_diag = r == c
     diag = np.bincount(r[on_diag], weights=v[on_diag], minlength=nf)
+    kr, kc = band_r[:kv.size], band_c[:kv.size]
     kd = kr == kc
-    diag += np.bincount(pos[kr[kd]], weights=kv[kd], minlength=nf)
+    diag += np.bincount(kr[kd], weights=kv[kd], minlength=nf)
     if not np.all(diag > 0):
         return None
     d = 2.0 ** -np.round(0.5 * np.log2(diag))
-    kr, kc = pos[kr], pos[kc]
-    # in LAPACK's band storage (entry i, j in row 2bw + i − j of column j),
-    # held column by column — the Fortran array LAPACK reads, as the C
-    # array of its transpose — so that a factorization hands it over
-    # without f2py's transposing copy (a tenth of the tower's Cholesky)
-    rows = 3 * bw + 1
-    lay.update(d=d, band_K=np.bincount(kc * rows + 2 * bw + kr - kc, weights=kv * d[kr] * d[kc],
-                                       minlength=rows * nf).reshape(nf, rows))
+    # K's scaled entries in the band's order, which a factorization lays
+    # out in LAPACK's band storage (:func:`_band`)
+    lay.update(d=d, K_band=(kr, kc, kv * d[kr] * d[kc]))
     return lay
+
+
+def _band(lay, upper):
+    """K's part of the band in LAPACK's storage, held column by column —
+    the Fortran array LAPACK reads, as the C array of its transpose — so
+    that a factorization hands it over without f2py's transposing copy (a
+    tenth of the tower's Cholesky): with ``upper``, dpbtrf's (entry i ≤ j
+    in row bw + i − j of column j: bw + 1 rows, made for the basic
+    system's Cholesky, once), else dgbtrf's (entry i, j in row 2bw + i − j:
+    3bw + 1 rows, made on the first LU and kept — a 20-storey tower whose
+    state sets are solved on R never makes it).  K's entries are distinct,
+    so each of the band's is one of them, whichever storage."""
+    kr, kc, kv = lay["K_band"]
+    nf, bw = lay["nf"], lay["bw"]
+    if upper:
+        up = kr <= kc
+        return np.bincount(kc[up] * (bw + 1) + bw + kr[up] - kc[up], weights=kv[up],
+                           minlength=(bw + 1) * nf).reshape(nf, bw + 1)
+    if "band_K" not in lay:
+        rows = 3 * bw + 1
+        lay["band_K"] = np.bincount(kc * rows + 2 * bw + kr - kc, weights=kv,
+                                    minlength=rows * nf).reshape(nf, rows)
+    return lay["band_K"]
 
 
 def _link_terms(lay, kin, coef, partner):
@@ -225,12 +250,12 @@ def factor(lay, kin, coef, partner):
         return None
     v = v * d[r] * d[c]
     if bw > NARROW and kin.all() and not slip.size:
-        # the upper triangle, rows bw..2bw of the LU's storage, as dpbtrf
-        # stores it (K_ff is symmetric to rounding; the one solve of an
-        # answer is refined on S itself): those rows alone copied, and the
-        # link terms on or above the diagonal added to them
+        # the upper triangle as dpbtrf stores it (K_ff is symmetric to
+        # rounding; the one solve of an answer is refined on S itself):
+        # K's entries on or above the diagonal, and the link terms there
+        # added to them
         up = r <= c
-        ab = lay["band_K"][:, bw:2 * bw + 1].copy()
+        ab = _band(lay, upper=True)
         np.add.at(ab.reshape(-1), c[up] * (bw + 1) + bw + r[up] - c[up], v[up])
         chol, info = dpbtrf(ab.T, lower=0, overwrite_ab=1)
         if info != 0:
@@ -238,7 +263,7 @@ def factor(lay, kin, coef, partner):
         pivots = chol[bw] ** 2       # an LU's pivots without row exchanges
         band = (chol, None)
     else:
-        ab = lay["band_K"].copy()
+        ab = _band(lay, upper=False).copy()
         np.add.at(ab.reshape(-1), c * (3 * bw + 1) + 2 * bw + r - c, v)
         lu, piv, info = dgbtrf(ab.T, bw, bw, overwrite_ab=1)
         if info != 0:
@@ -316,6 +341,33 @@ class CondensedLU:
                                  uplo="U", trans="T")[0][first:]
         return z - self._cinv(g.T @ w)
 
+    def contact_rows(self, kappa, r1, r2):
+        """The link rows of S⁻¹ [0 r1; κI r2]: the links' unit
+        dislocations (scaled by κ), then the columns r1 (dofs), r2 (links)
+        — what the contact stiffness R and its load columns R_F are read
+        from (:func:`.contact_lcp.contact_stiffness`).  On the Cholesky
+        factor (:meth:`link_rows`) a unit column has C⁻¹ r_2 = κ C⁻¹_jj e_j
+        and no load on the dofs: its G z is G's column j times κ C⁻¹_jj (the
+        product's one nonzero term, the same number) and its forward solve
+        is none — no (dofs + links) x (links + cases) right-hand side made,
+        scanned for loads and multiplied."""
+        nl = self.lay["nl"]
+        if self.piv is not None:
+            return self.link_rows(dislocations(kappa, r1, r2), nl)
+        first, g = self._g()
+        unit = self.cinv * kappa              # C⁻¹ κ e_j's one entry (no link slips)
+        z = np.zeros((nl, nl + r1.shape[1]))
+        z[np.arange(nl), np.arange(nl)] = unit
+        z[:, nl:] = self._cinv(r2)
+        w = np.empty((g.shape[0], z.shape[1]))
+        np.multiply(g, -unit, out=w[:, :nl])
+        w[:, nl:] = -(g @ z[:, nl:])
+        live = np.flatnonzero(np.any(r1 != 0.0, axis=0))
+        if live.size:
+            w[:, nl + live] += dtbtrs(self.lu, self.d[:, None] * r1[self.lay["perm"]][:, live],
+                                      uplo="U", trans="T")[0][first:]
+        return z - self._cinv(g.T @ w)
+
     def _g(self):
         """(p, G's rows from p on): G = U⁻ᵀ D Pᵀ κH_f (dense, dofs x links),
         once per factor.  Uᵀ is lower triangular, so G's rows above the
@@ -358,6 +410,8 @@ class CondensedLU:
         zeros (the fixed dofs' columns times 0, K's stored zeros), without
         a CSR of K_ff (a tenth of a 20-storey tower's layout)."""
         K, free = self.lay["K"]
+        if free.size == K.shape[0]:          # nothing fixed: K_ff is K
+            return K @ xu
         u = np.zeros(K.shape[0])
         u[free] = xu
         return (K @ u)[free]
@@ -375,6 +429,17 @@ class CondensedLU:
         x = np.empty_like(t)
         x[lay["perm"]] = d * x_perm
         return np.concatenate((x, z - self._cinv(self._b(x))))
+
+
+def dislocations(kappa, r1, r2):
+    """[0 r1; κI r2]: the basic system's right-hand sides for the contact
+    stiffness (a unit dislocation of each link, scaled by κ) and its load
+    columns (r1 at the dofs, r2 at the links)."""
+    nf, nl = r1.shape[0], r2.shape[0]
+    rhs = np.zeros((nf + nl, nl + r1.shape[1]))
+    rhs[nf:, :nl] = kappa * np.eye(nl)
+    rhs[:nf, nl:], rhs[nf:, nl:] = r1, r2
+    return rhs
 
 
 def _links_to_dofs(lay, y):

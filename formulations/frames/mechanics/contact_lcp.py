@@ -37,7 +37,8 @@ import scipy.sparse.linalg as spla
 from qpcontact.core.problems import LCP
 
 from . import banded_saddle
-from .member_forces import EXTENDED, contrast, stiffness_times
+from .member_forces import contrast
+from .refinement import is_refined, refined_columns
 
 
 #: Entries of the contact stiffness R below R_ROUNDING x (largest stiffness
@@ -89,7 +90,10 @@ def member_end_actions(b, u, combo_factors) -> np.ndarray:
     """Every member's end actions k T u - f (member axes), (m, 6), from the
     global displacements u."""
     k, T, dofs, Fe = b["local"]
-    return (k @ (T @ u[dofs][..., None]))[..., 0] - Fe @ combo_factors
+    # the fixed-end forces as one matrix-vector product (a member's rows
+    # are the same dot products as the stack's, one BLAS call for all)
+    fixed_end = (Fe.reshape(-1, Fe.shape[2]) @ combo_factors).reshape(Fe.shape[:2])
+    return (k @ (T @ u[dofs][..., None]))[..., 0] - fixed_end
 
 
 def to_global(b, v):
@@ -128,10 +132,16 @@ class ScaledLU:
         (:meth:`.banded_saddle.CondensedLU.link_rows` saves work there)."""
         return self.solve(rhs)[len(rhs) - nl:]
 
+    def contact_rows(self, kappa, r1, r2):
+        """The link rows of S⁻¹ [0 r1; κI r2]
+        (:meth:`.banded_saddle.CondensedLU.contact_rows`)."""
+        return self.link_rows(banded_saddle.dislocations(kappa, r1, r2), r2.shape[0])
 
-def regular_lu(S):
+
+def regular_lu(S, pivots=True):
     """The LU of S (a :class:`ScaledLU`), or None where S is singular
-    (exactly, or its pivots spanning more than 1/SINGULAR_PIVOTS).
+    (exactly, or, with ``pivots``, its pivots spanning more than
+    1/SINGULAR_PIVOTS).
 
     S is first scaled symmetrically by powers of two, each row and column
     by the square root of its largest entry, so that the pivots measure
@@ -163,8 +173,8 @@ def regular_lu(S):
     except RuntimeError:   # exactly singular
         return None
     piv = np.abs(lu.U.diagonal())
-    return (ScaledLU(lu, d) if piv.size and piv.min() > SINGULAR_PIVOTS * piv.max()
-            else None)
+    return (ScaledLU(lu, d) if piv.size and (piv.min() > SINGULAR_PIVOTS * piv.max()
+                                             or not pivots and piv.min() > 0) else None)
 
 
 class Built(dict):
@@ -201,12 +211,21 @@ DERIVED = {
     "abs_HT": lambda b: abs(b["HT"]),
     "abs_P": lambda b: abs(b["maps"][0]),
     "abs_W": lambda b: abs(b["maps"][1]),
+    # the nodes about their centroid (np.mean's sum), the arms' sizes and
+    # the frame's extent: what a plane frame's resultant check reads
+    "moment_arms": lambda b: _moment_arms(b["coords"]),
     # the links' displacement by the settlements: Hᵀ at the fixed dofs
     "H_fixed_T": lambda b: b["H"][b["fixed_idx"]].T,
     "K_fa": lambda b: _coupling(b),
     "Hf": lambda b: _scaled_free_links(b),
     "S": lambda b: saddle_matrix(b),
 }
+
+
+def _moment_arms(coords):
+    xy = coords - coords.sum(axis=0) / len(coords)
+    extent = max(float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))), 1e-300)
+    return xy, np.abs(xy[:, 0]), np.abs(xy[:, 1]), extent
 
 
 def link_forces(b, X) -> np.ndarray:
@@ -226,14 +245,22 @@ def link_force_sizes(b, X) -> np.ndarray:
     return np.bincount(rows, np.abs(vals) * np.abs(X)[cols], b["H"].shape[0])
 
 
-def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
+def basic_system(K, H, fixed, flex, translational, pairs=None, strain_free=None) -> dict:
     """The basic system (every link fixed) of a structure with stiffness K
     (all dofs), links H and contact flexibilities ``flex``, any number of
     dofs per node: the free/fixed blocks of K, the scaled saddle matrix
     S = [K_ff kappa H_f; kappa H_f' -kappa² D] and its LU (None where S is
     singular: a mechanism).  ``translational`` marks the dofs that links
     push along, which set kappa; ``pairs`` (t, n): each frictional
-    contact's tangent and normal link (:func:`.banded_saddle.layout`)."""
+    contact's tangent and normal link (:func:`.banded_saddle.layout`).
+
+    ``strain_free(free)``: the motions of the free dofs that strain no member
+    with every link held (:func:`.member_forces.strain_free_motions`).
+    Where the pivots alone call S singular, it decides: no such motion —
+    the spread is the members' contrast, not a mechanism (a portal whose
+    deck is 1e9 times stiffer than its columns: pivots 1e-14 apart), and
+    the LU is kept; the answers' checks and the refinement in extended
+    precision (R past :data:`.refinement.CONTRAST`) judge what it gives."""
     N = K.shape[0]
     free = np.flatnonzero(~fixed)
     nf = free.size
@@ -274,7 +301,27 @@ def basic_system(K, H, fixed, flex, translational, pairs=None) -> dict:
         # it is singular
         out["S"] = _saddle(k_ff, (hv, hr, hc), flex, nf, kappa)
         out["lu"] = regular_lu(out["S"])
+        if out["lu"] is None and strain_free is not None and 0 < nf <= KINEMATIC_MAX \
+                and strain_free(free).shape[1] == 0:
+            out["lu"] = regular_lu(out["S"], pivots=False)
+            if out["lu"] is None:
+                out["no_mechanism"] = True     # singular in double, not in the mechanics
     return out
+
+
+def unsolvable(local) -> str:
+    """The words for a basic system that no motion leaves unstrained but
+    that is singular in double: the stiffnesses' contrast is beyond it."""
+    from .member_forces import contrast
+    return (f"the frame is no mechanism (no motion with every contact closed leaves every "
+            f"member unstrained), but its stiffnesses differ by {contrast({'local': local}):.1e}, "
+            "beyond what its basic system solves in double precision (singular to rounding); "
+            "model the stiff part as rigid or as less stiff")
+
+
+#: the most free dofs whose strain-free motions are looked for (a dense SVD)
+#: where the pivots call the basic system singular
+KINEMATIC_MAX = 3000
 
 
 def saddle_matrix(b):
@@ -386,18 +433,16 @@ def contact_stiffness(b) -> dict:
     nf, kappa = b["nf"], b["kappa"]
     nl = len(b["info"])
     nc = len(b["cases"])
-    rhs = np.zeros((nf + nl, nl + nc))
-    rhs[nf:, :nl] = kappa * np.eye(nl)
     # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
     U = b["U"]
-    rhs[:nf, nl:] = free_loads(b, b["F"], U)
-    rhs[nf:, nl:] = -kappa * settled_links(b, U)
+    loads, settled = free_loads(b, b["F"], U), -kappa * settled_links(b, U)
     refined = is_refined(b)
     if refined:
+        rhs = banded_saddle.dislocations(kappa, loads, settled)
         sol, last = refined_columns(b, rhs, b["lu"].solve(rhs))
         sol = sol[nf:]
     else:
-        sol = b["lu"].link_rows(rhs, nl)
+        sol = b["lu"].contact_rows(kappa, loads, settled)
     R = -kappa * sol[:, :nl]
     R = 0.5 * (R + R.T)
     # R's entries are sums of terms of size kappa (the stiffness), so each
@@ -420,67 +465,24 @@ def contact_stiffness(b) -> dict:
         R[np.abs(R) <= np.maximum(noise[:, None], noise[None, :])] = 0.0
     else:
         R[np.abs(R) <= R_ROUNDING * kappa] = 0.0
-    # the same for the loads' link forces, against each case's own loads
-    # (and the forces its settlements make): a link that a case does not
+    # the same for the loads' link forces: a link that a case does not
     # load (a pad under a frame whose bilateral supports carry the push)
-    # had -2.7e-15 kN under 1 kN, and Lemke "proved" that it would pull
+    # had -2.7e-15 kN under 1 kN, and Lemke "proved" that it would pull.
+    # Unrefined, against each case's own loads and the forces its
+    # settlements make at the scale the solve sees them, κ|U|; refined, at
+    # the column's own rounding as R is — κ|U| is the link rows' size in
+    # the solve, not the forces a settlement makes: with a pin settled 1 cm
+    # beside a bar whose κ is 4e16 kN/m, R_ROUNDING κ|U| = 25 kN zeroed
+    # the whole column, the 4.13 kN load at a pad beyond the bar was lost,
+    # and the beam, which has no equilibrium, was "ok" on that LCP
     RF = -kappa * sol[:, nl:]
-    load = np.abs(b["F"]).max(axis=0, initial=0.0) + kappa * np.abs(U).max(axis=0, initial=0.0)
-    RF[np.abs(RF) <= R_ROUNDING * load] = 0.0
+    if refined:
+        noise = np.maximum(R_ROUNDING * np.abs(RF).max(axis=0, initial=0.0), kappa * last[nl:])
+    else:
+        noise = R_ROUNDING * (np.abs(b["F"]).max(axis=0, initial=0.0)
+                              + kappa * np.abs(U).max(axis=0, initial=0.0))
+    RF[np.abs(RF) <= noise] = 0.0
     return {"R": R, "RF": RF, "R_solve": exact}
-
-
-#: members whose stiffness differs by more than this get R refined in
-#: extended precision (a deck 1e8 times stiffer than its legs had R, and so
-#: the LCP's matrix, 1e-8 off: the load path chose wrong states from it)
-CONTRAST = 1e6
-
-
-def is_refined(b) -> bool:
-    """Whether R is refined in extended precision (:data:`CONTRAST`): its
-    small entries are then known only to its rounding, so a Farkas vector,
-    exact on the LCP's M and q, is no proof about the frame — a deck 1e12
-    times stiffer than its columns (R's entries zeroed) and a beam of spans
-    18 to 3.3e8 apart (noise kept) each had a "proof" where an equilibrium
-    exists."""
-    return contrast(b) > CONTRAST
-
-
-def no_farkas_proof(b) -> str:
-    """The words for why, where :func:`is_refined`, the LCP's Farkas
-    certificates prove nothing about the frame, and what to do."""
-    return (f"its Farkas certificates are not a proof here: the members' stiffnesses differ by "
-            f"{contrast(b):.1e}, beyond which the contact matrix's small entries carry rounding "
-            f"(model the stiff part as rigid, or bring the contrast under {CONTRAST:.0e})")
-
-
-def refined_columns(b, rhs, sol, steps=2, chunk=256):
-    """Solutions of the basic system S x = rhs (columns) refined by
-    ``steps`` steps with the residual in extended precision (K's part
-    member by member: :func:`.member_forces.stiffness_times`), and each
-    column's last correction on the link rows, max |dx[nf:]|: what is left
-    of their error is at most about that (the corrections shrink by about
-    cond(S) eps a step where the refinement converges)."""
-    nf, free, kappa = b["nf"], b["free"], b["kappa"]
-    N = b["K"].shape[0]
-    Hf = b["Hf"].astype(EXTENDED)
-    flex = np.asarray(b["flex"], EXTENDED)[:, None]
-    out = np.empty_like(sol)
-    last = np.zeros(rhs.shape[1])
-    for at in range(0, rhs.shape[1], chunk):
-        cols = slice(at, min(at + chunk, rhs.shape[1]))
-        x = np.asarray(sol[:, cols], EXTENDED)
-        r_ = np.asarray(rhs[:, cols], EXTENDED)
-        for _ in range(steps):
-            U = np.zeros((N, x.shape[1]), EXTENDED)
-            U[free] = x[:nf]
-            top = stiffness_times(b, U)[free] + Hf @ x[nf:]
-            bottom = Hf.T @ x[:nf] - kappa ** 2 * flex * x[nf:]
-            dx = b["lu"].solve(np.asarray(r_ - np.vstack([top, bottom]), float))
-            x += dx
-            last[cols] = np.abs(dx[nf:]).max(axis=0, initial=0.0)
-        out[:, cols] = np.asarray(x, float)
-    return out, last
 
 
 def factors(b, combo: dict) -> np.ndarray:
@@ -522,10 +524,25 @@ def lcp_matrices(b):
         return b["lcp"]
     P, W, g, fric = b["maps"]
     R = b["R"]
-    M = np.asarray((P.T @ (W @ R).T).T) if P.shape[1] else np.zeros((0, 0))
+    nl, nz = P.shape
+    # W's three products as one (its rows' sums, column by column, are the
+    # same): W R, W R_F and W R g
+    WX = W @ np.column_stack((R, b["RF"], R @ g))
+    # M = (W R) P: where each column of P has one entry (a plane frame's z
+    # each moves one link) M's column is that entry times W R's column, as
+    # the sparse product sums it (from +0); else the product
+    rows = np.repeat(np.arange(nl), np.diff(P.indptr))
+    if np.bincount(P.indices, minlength=nz).max(initial=1) == 1:
+        link, entry = np.zeros(nz, int), np.zeros(nz)
+        link[P.indices], entry[P.indices] = rows, P.data
+        M = WX[:, link] * entry + 0.0
+    else:
+        M = np.asarray((P.T @ WX[:, :nl].T).T)
     if not fric:
         M = 0.5 * (M + M.T)  # = R_nn exactly; remove rounding asymmetry
-    b["lcp"] = (M, np.asarray(W @ b["RF"]), -np.asarray(W @ (R @ g)), P.toarray(), g, fric)
+    dense_P = np.zeros((nl, nz))
+    dense_P[rows, P.indices] = P.data          # (P has no repeated entry)
+    b["lcp"] = (M, WX[:, nl:-1], -WX[:, -1], dense_P, g, fric)
     return b["lcp"]
 
 

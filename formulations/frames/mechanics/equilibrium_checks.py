@@ -146,7 +146,7 @@ def complementarity(z, w, zeta, sigma):
     return np.abs(np.minimum(Z, Wr)), sigma
 
 
-def equilibrium(frame, b, F, X, u, residual=None, abs_hx=None):
+def equilibrium(frame, b, F, X, u, residual=None, abs_hx=None, abs_ku=None):
     """Equilibrium judged dof by dof, each on its own scale: the residual of
     K u = F + H X at every free dof against the sum of the absolute values
     of the terms that make it, |K||u| + |F| + |H||X| (a componentwise
@@ -156,17 +156,78 @@ def equilibrium(frame, b, F, X, u, residual=None, abs_hx=None):
     right answers on long beams (200 spans: 1.1-2.5e-8 where independent
     statics agree to 1e-9).  ``residual`` (K u - F - H X) and ``abs_hx``
     (|H||X|) where the caller has them already (the reactions are that
-    residual at the fixed dofs; the resultant check sizes by |H||X| too)."""
+    residual at the fixed dofs; the resultant check sizes by |H||X| too);
+    ``abs_ku`` (|K||u|) where the caller makes it for
+    :func:`reported_balance` too."""
     free = b["free"]
     if residual is None:
         residual = b["K"] @ u - F - link_forces(b, X)
     if abs_hx is None:
         abs_hx = link_force_sizes(b, X)
+    if abs_ku is None:
+        abs_ku = b["abs_K"] @ np.abs(u)
     res = np.abs(residual)[free]
-    scale = (b["abs_K"] @ np.abs(u) + np.abs(F) + abs_hx)[free]
+    scale = (abs_ku + np.abs(F) + abs_hx)[free]
     moment = rotations(frame.DOFS)[free % len(frame.DOFS)]
     return max(beyond_rounding(res[~moment], scale[~moment]),
                beyond_rounding(res[moment], scale[moment]))
+
+
+def reported_balance(frame, b, F, u, X, reported, r_all, resultant_of, tol, abs_ku=None):
+    """(ratio, words): the frame's equilibrium with its contact forces as
+    the result reports them (``reported``: X with the forces of the
+    contacts named separated set to zero), dof by dof: K u − F − H X_rep
+    at every free dof against |K||u| + |F| + |H||X_rep| there, beyond the
+    rounding of the largest of its kind (forces, moments); ``words`` name
+    the worst dof and what is left there, where that is beyond rounding.
+
+    Why beside :func:`equilibrium`: that one judges the solve's own link
+    forces X, which balance K u − F by construction.  A contact is named
+    separated, and its force reported as zero, by the certificate's scale,
+    read off the condensed LCP; where that LCP has lost a load (its load
+    column's entries zeroed as rounding), the solve's X pulls at a
+    "separated" pad with the whole load and every check on X passes — a
+    beam's pads reported 24.875 kN against 20.745 of load, "equilibrium
+    residual 0.0".  Only forces the report leaves out can break it, so it
+    costs nothing where nothing is left out.  r_all: K u − F − H X;
+    ``resultant_of(X_rep)``: the frame's global statics with those forces
+    (the kind's ``resultant``), judged where a dof is out or the dropped
+    forces sum to more than CLEAR × ``tol`` of all the link forces' sizes
+    (less cannot move the resultant by tol; a tower's separated pads drop
+    3e-13 of them) — a dof's scale holds |K||u|, which a stiff member's
+    rigid motion makes large enough to hide a load.  ``abs_ku``: |K||u|
+    where the caller has it (:func:`equilibrium`'s)."""
+    dropped = X - reported
+    if not dropped.any():
+        return 0.0, ""
+    free = b["free"]
+    residual = (r_all + link_forces(b, dropped))[free]
+    abs_ku = b["abs_K"] @ np.abs(u) if abs_ku is None else abs_ku
+    scale = (abs_ku + np.abs(F) + link_force_sizes(b, reported))[free]
+    moment = rotations(frame.DOFS)[free % len(frame.DOFS)]
+    worst, words = 0.0, ""
+    for kind in (~moment, moment):
+        res, size = np.abs(residual[kind]), scale[kind]
+        ratio = beyond_rounding(res, size)
+        if ratio > worst:
+            excess = np.maximum(res - R_ROUNDING * size.max(), 0.0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                k = int(np.argmax(np.where(excess > 0, np.where(size > 0, excess / size, np.inf),
+                                           0.0)))
+            dof = int(free[kind][k])
+            n = len(frame.DOFS)
+            node, name = b["names"][dof // n], frame.DOFS[dof % n]
+            unit = frame.units[0] if name.startswith("u") else "·".join(frame.units)
+            worst, words = ratio, (f"the reported contact forces leave {residual[kind][k]:.4g} "
+                                   f"{unit} unbalanced at {node} ({name}; {ratio:.1e} of the "
+                                   "forces there)")
+    if worst > 0.0 or np.abs(dropped).sum() > CLEAR * max(tol, EQUILIBRIUM_FLOOR) * \
+            np.abs(X).sum():
+        whole = resultant_of(reported)
+        if whole > worst:
+            worst, words = whole, (f"the reported contact forces, reactions and loads are out of "
+                                   f"balance by {whole:.1e} of their terms")
+    return worst, words
 
 
 def member_balance(frame, b, F, X, u, ends, factors):

@@ -33,7 +33,7 @@ largest translational stiffness κ (kN/m) for R, R_ROUNDING times the case's
 largest load (kN) for R_F: the thresholds below which their entries are
 zeroed as noise — or, where larger, the correction one step of refinement
 with the residual in extended precision makes to them (κ |Δx| on the link
-rows: :func:`.contact_lcp.refined_columns`), which is what a basic system
+rows: :func:`.refinement.refined_columns`), which is what a basic system
 of condition above 1/R_ROUNDING leaves.  γ = (n_terms + 4) u covers the
 formation of M, q_gap and q from R and R_F (each entry a sum of at most
 that many products).
@@ -62,7 +62,7 @@ rounding with that vector (:func:`rounding_bracket`), and a load path's
 collapse proof is moved to where its margin clears
 (:func:`beyond_rounding`).  What this does not bound: the stiffness and the
 loads as formed from the members' and loads' data are taken as exact to
-the same R_ROUNDING (a contrast above :data:`.contact_lcp.CONTRAST` gets
+the same R_ROUNDING (a contrast above :data:`.refinement.CONTRAST` gets
 no Farkas proof at all).
 """
 
@@ -72,7 +72,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from . import contact_lcp
+from . import banded_saddle, contact_lcp, refinement
 from .loads import VARIABLE
 
 #: the unit roundoff of a double
@@ -160,9 +160,9 @@ def judge_proof(sol, b, combo: dict) -> None:
     go on (the load path may still certify an equilibrium) and what they
     cannot settle is no proof.  Unchanged where the proof stands, or where
     none was made, or where no Farkas vector is a proof at all
-    (:func:`.contact_lcp.is_refined`)."""
+    (:func:`.refinement.is_refined`)."""
     y = lcp_proof_vector(sol)
-    if y is None or contact_lcp.is_refined(b) or len(y) != contact_lcp.lcp_matrices(b)[0].shape[0]:
+    if y is None or refinement.is_refined(b) or len(y) != contact_lcp.lcp_matrices(b)[0].shape[0]:
         return      # (a vector of another form than the LCP's rows: not read here)
     r = proof_rounding(b, combo, y)
     if r["proves"]:
@@ -224,14 +224,11 @@ def data_accuracy(b) -> tuple[np.ndarray, np.ndarray]:
         return b["R_accuracy"]
     nf, kappa = b["nf"], b["kappa"]
     nl = b["R"].shape[0]
-    nc = len(b["cases"])
-    rhs = np.zeros((nf + nl, nl + nc))
-    rhs[nf:, :nl] = kappa * np.eye(nl)
     U = b["U"]
-    rhs[:nf, nl:] = contact_lcp.free_loads(b, b["F"], U)
-    rhs[nf:, nl:] = -kappa * contact_lcp.settled_links(b, U)
+    rhs = banded_saddle.dislocations(kappa, contact_lcp.free_loads(b, b["F"], U),
+                                     -kappa * contact_lcp.settled_links(b, U))
     x = b["lu"].solve(rhs)
-    x1, _ = contact_lcp.refined_columns(b, rhs, x, steps=1)
+    x1, _ = refinement.refined_columns(b, rhs, x, steps=1)
     change = kappa * np.abs(x1[nf:] - x[nf:])
     load = (np.abs(b["F"]).max(axis=0, initial=0.0)
             + kappa * np.abs(U).max(axis=0, initial=0.0))

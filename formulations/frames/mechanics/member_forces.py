@@ -125,3 +125,67 @@ def contrast(b) -> float:
         return 1.0
     big = np.abs(k).reshape(len(k), -1).max(axis=1)     # (over two axes: three times slower)
     return float(big.max() / max(big.min(), 1e-300))
+
+
+#: a motion whose deformations are below this fraction of the largest a
+#: unit motion can make strains nothing (:func:`strain_free_motions`)
+KINEMATIC_RCOND = 1e-10
+
+
+def strain_free_motions(local, coords, springs, Tn, free, H=None) -> np.ndarray:
+    """An orthonormal basis (free dofs x k, the system's axes) of the
+    motions that strain no member and stretch no spring — with the links
+    ``H`` (the system's axes), that also move no contact link (every
+    contact closed) — read off the
+    members' geometry, not their stiffness.  A member's deformations are
+    its end displacements (member axes) along the range of its own k (its
+    rigid motions and a hinge's released rotation are k's null space);
+    each member's rows are orthonormal, so a deck 1e12 times stiffer than
+    its columns weighs as much as they do.  K's own null space, read with
+    its eigenvalues against the largest, mixes a soft member's bending
+    (eigenvalue about 1/contrast) into the rigid motions at that contrast.
+    Rotations are weighed against translations by the frame's size.
+    ``local``, ``coords``, ``springs``, ``Tn``, ``free``: an assembly's
+    (:class:`.contact_lcp.Built`)."""
+    k, T, dofs, _ = local
+    xyz = np.asarray(coords, float)
+    N = np.asarray(springs).size
+    size = float(np.ptp(xyz, axis=0).max()) if len(xyz) > 1 else 1.0
+    size = size if size > 0 else 1.0
+    nd = N // len(xyz)
+    spin = np.array([d >= (2 if nd == 3 else 3) for d in range(nd)])   # rotations last
+    weight = np.where(np.tile(spin, len(xyz)), 1.0 / size, 1.0)   # u = weight * (scaled u)
+    rows = []
+    if len(k):
+        w = weight[dofs]                                        # (m, 2 nd)
+        ks = k * w[:, :, None] * w[:, None, :]
+        ks = ks / np.maximum(np.abs(ks).max(axis=(1, 2)), 1e-300)[:, None, None]
+        U, s, _ = np.linalg.svd(ks)
+        keep = s > 1e-12 * s[:, :1]       # k's null space: rounding of its max (1e-16)
+        # deformations: the range of W k W against T v (u = W v, and T
+        # turns translations into translations, rotations into rotations:
+        # T W = W T, so k T u = 0 where (W k W) T v = 0)
+        C = np.einsum("mia,mij->maj", U, T) * keep[:, :, None]
+        n2 = dofs.shape[1]
+        row = np.broadcast_to(np.arange(len(k))[:, None, None] * n2
+                              + np.arange(n2)[None, :, None], C.shape)    # (m, a, j): m n2 + a
+        dense = np.zeros((len(k) * n2, N))
+        np.add.at(dense, (row, np.broadcast_to(dofs[:, None, :], C.shape)), C)
+        rows.append(dense)
+    spring = np.flatnonzero(np.asarray(springs) > 0)
+    if spring.size:
+        rows.append(np.eye(N)[spring] * weight[spring][:, None])
+    C = np.vstack(rows) if rows else np.zeros((0, N))
+    if Tn is not None:                                        # node axes -> global
+        C = C @ (Tn.T.toarray() if hasattr(Tn, "toarray") else Tn.T)
+    if H is not None:
+        h = H.toarray().T
+        h = h / np.maximum(np.abs(h).max(axis=1, keepdims=True), 1e-300)
+        C = np.vstack([C, h * weight[None, :]])
+    C = C[:, free]
+    if C.shape[0] == 0:
+        return np.eye(free.size) * weight[free][:, None]
+    _, s, Vt = np.linalg.svd(C, full_matrices=True)
+    rank = int(np.count_nonzero(s > KINEMATIC_RCOND * max(s.max(initial=0.0), 1e-300)))
+    null = Vt[rank:].T * weight[free][:, None]
+    return np.linalg.qr(null)[0] if null.shape[1] else null

@@ -12,9 +12,9 @@ import numpy as np
 
 from qpcontact.core.errors import NoSolutionError, SolverFailedError
 
-from . import contact_lcp
+from . import contact_lcp, refinement
 from .loads import describe
-from .member_forces import elastic_end_actions
+from .member_forces import elastic_end_actions, strain_free_motions
 
 
 def proved(sol) -> bool:
@@ -35,12 +35,12 @@ def raise_no_equilibrium(frame, sol, fric, b, combo, hint=False):
     if y is None and proof is not None and proof.kind == "infeasible":
         y = proof.vector["z"]
     what = describe(combo)
-    if y is not None and contact_lcp.is_refined(b):
+    if y is not None and refinement.is_refined(b):
         # only the rigid motion, checked on K itself, proves anything here
         raise_rigid_motion(frame, b, combo, f"{sol.method}: {sol.message}")
         raise SolverFailedError(
             f"frame under {what}: {sol.method} found no contact state, and "
-            f"{contact_lcp.no_farkas_proof(b)}; nothing was proved either way")
+            f"{refinement.no_farkas_proof(b)}; nothing was proved either way")
     if y is not None:
         words = frame.kind.collapse_words(frame, {"farkas": np.asarray(y, float)}, fric,
                                           carrying=None)
@@ -76,11 +76,18 @@ def rigid_motion(frame, b, combo):
     free = b["free"]
     if free.size > 3000:
         return None
-    Kf = b["K"][free][:, free].toarray()
-    d = np.sqrt(np.abs(np.diag(Kf)))
-    d[d == 0] = 1.0
-    lam, V = np.linalg.eigh(Kf / d[:, None] / d[None, :])
-    null = V[:, lam <= 1e-10 * max(lam.max(initial=0.0), 1e-300)] / d[:, None]
+    if b.get("axial") is None:
+        # first order: the motions that strain no member, from the members'
+        # geometry (K's eigenvectors at a contrast of 1e7 mixed a soft
+        # member's stretch into them at 3e-7: every motion "strained", and
+        # a beam's part beyond a stiff bar tipping went unproved)
+        null = strain_free_motions(b["local"], b["coords"], b["springs"], b["Tn"], free)
+    else:
+        Kf = b["K"][free][:, free].toarray()
+        d = np.sqrt(np.abs(np.diag(Kf)))
+        d[d == 0] = 1.0
+        lam, V = np.linalg.eigh(Kf / d[:, None] / d[None, :])
+        null = V[:, lam <= 1e-10 * max(lam.max(initial=0.0), 1e-300)] / d[:, None]
     if null.shape[1] == 0:
         return None
     F, _ = contact_lcp.load_vector(b, combo)
@@ -117,6 +124,12 @@ def rigid_motion(frame, b, combo):
     return a, sl
 
 
+#: a member that moves less than this fraction of the largest motion is
+#: judged on that fraction (:func:`strains`): the null space is known to
+#: about ε of its largest entry, so a member at rest moves by noise
+MOTION_ROUNDING = 1e-6
+
+
 def strains(b, free, phi) -> bool:
     """Whether the motion ``phi`` (on the free dofs) strains a member or a
     spring beyond rounding of that one's own stiffness.  The null space
@@ -125,14 +138,19 @@ def strains(b, free, phi) -> bool:
     squared (a beam 1.5e6 times stiffer than its neighbour: 3e-13, under
     1e-10): that member's bending read as a rigid motion, and a beam on a
     pin and pads, whose pads carry it by statics, "proved" to have no
-    equilibrium.  Member by member, rounding is ε of its own k."""
+    equilibrium.  Member by member, rounding is ε of its own k times its
+    own motion — or MOTION_ROUNDING of the whole motion's, where the
+    member hardly moves: a member at rest has ends of rounding noise
+    (1e-15 of φ), which against that noise alone read as a strain and
+    refused a beam's tipping part its proof."""
     u = np.zeros(b["K"].shape[0])
     u[free] = phi
     ug = u if b["Tn"] is None else b["Tn"].T @ u
     k, _, dofs, _ = b["local"]
     if len(k):
         ends = np.abs(np.asarray(elastic_end_actions(b, ug[:, None])[..., 0], float))
-        own = np.abs(k).reshape(len(k), -1).max(axis=1) * np.abs(ug[dofs]).max(axis=1)
+        moved = np.maximum(np.abs(ug[dofs]).max(axis=1), MOTION_ROUNDING * np.abs(ug).max())
+        own = np.abs(k).reshape(len(k), -1).max(axis=1) * moved
         if np.any(ends.max(axis=1) > 1e-6 * own):
             return True
     springs = np.asarray(b["springs"], float)

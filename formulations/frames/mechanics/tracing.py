@@ -13,7 +13,7 @@ from qpcontact.core.errors import NoSolutionError, QpcontactError, SolverFailedE
 from qpcontact.core.problems import ParametricLCP
 from qpcontact.judge.lcp_certificate import certify_lcp
 
-from . import contact_lcp
+from . import contact_lcp, refinement
 from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
 from .farkas_rounding import beyond_rounding, collapse_rounding
@@ -128,7 +128,7 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     proved = (limit_proof(frame, b, ft, tr, fric)
               if ended not in ("p_max", "unbounded") else None)
     verge = None
-    if ended == "collapse" and not proved and failed is None and not contact_lcp.is_refined(b):
+    if ended == "collapse" and not proved and failed is None and not refinement.is_refined(b):
         # the engine's proof, from the load at which its margin clears the
         # rounding of the LCP's data (:mod:`.farkas_rounding`), or the words
         # for a load at the limit to rounding
@@ -141,11 +141,11 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = (f"the piece from p = {piece.p_start:.10g} to {piece.p_end:.10g} failed "
                       f"the frame's checks at p = {p_bad:.10g} ({bad.message}); the trace "
                       f"stops at p = {ft.p_end:.10g}")
-    elif ended == "collapse" and contact_lcp.is_refined(b):
+    elif ended == "collapse" and refinement.is_refined(b):
         # no proof about the frame, and no limit
         ended = "breakdown"
         ft.message = (f"the load path is certified up to p = {tr.p_end:.10g}; beyond it the "
-                      f"contact LCP has no solution, but {contact_lcp.no_farkas_proof(b)}; "
+                      f"contact LCP has no solution, but {refinement.no_farkas_proof(b)}; "
                       "nothing was proved beyond it")
     elif ended == "collapse" and verge:
         # the Farkas certificates' margin is within the data's rounding
@@ -370,7 +370,7 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadli
             if rigid is not None:
                 raise NoSolutionError(f"frame under {describe(combo)}: no equilibrium exists "
                                       f"— {rigid} (the load path, {words}, ends below it)")
-            if contact_lcp.is_refined(b):
+            if refinement.is_refined(b):
                 return None         # the certificates prove nothing about the frame
             if collapse_rounding(b, const, var, tr.proof) is not None:
                 continue            # at the limit to rounding: nothing proved

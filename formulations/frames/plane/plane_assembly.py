@@ -12,10 +12,11 @@ from operator import attrgetter
 import numpy as np
 import scipy.sparse as sp
 
-from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError, SolverFailedError
 
-from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix
+from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix, unsolvable
 from ..mechanics.loads import CONSTANT, VARIABLE
+from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.plane_element import DOFS, member_locals
 from ..reporting.free_motion import mechanism_message
 
@@ -224,17 +225,21 @@ def build(frame, axial=None):
     # through frame.contacts cost half a millisecond on a 200-span beam)
     flex = np.repeat(table[:, 6], 1 + (table[:, 4] > 0))   # a contact's links follow it
     has_t = arrays["t_link"] >= 0     # each frictional contact's tangent and normal link
+    springs = np.zeros(N)
+    for node, ks in frame.springs.items():
+        for d, kval in ks.items():
+            springs[idx[node] + DOFS.index(d)] += kval
     basic = basic_system(K, H, fixed, flex, np.arange(N) % 3 != 2,
-                         (arrays["t_link"][has_t], arrays["n_link"][has_t]))
+                         (arrays["t_link"][has_t], arrays["n_link"][has_t]),
+                         strain_free=None if axial is not None else
+                         lambda free: strain_free_motions(local, coords, springs, Tn, free, H))
+    if basic.get("no_mechanism"):
+        raise SolverFailedError(unsolvable(local))
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], names, DOFS,
             [frame.nodes[n] for n in names], Tn, contacts=bool(frame.contacts),
             members=[(m.name, m.i, m.j) for m in frame.members.values()]))
-    springs = np.zeros(N)
-    for node, ks in frame.springs.items():
-        for d, kval in ks.items():
-            springs[idx[node] + DOFS.index(d)] += kval
     b = Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
               coords=coords,
               fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,

@@ -14,7 +14,8 @@ from qpcontact.judge.lcp_certificate import componentwise_error
 from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL, loose_forces,
                                             beyond_rounding, equilibrium, how_far,
-                                            mechanical_certificate, member_balance)
+                                            mechanical_certificate, member_balance,
+                                            reported_balance)
 from ..mechanics.loads import CONSTANT, VARIABLE, support_keys
 from ..mechanics.member_forces import refined_actions
 from ..mechanics.no_equilibrium import motion_words
@@ -74,23 +75,37 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     HX = contact_lcp.link_forces(b, X)
     r_all = b["K"] @ u - F - HX
 
-    def statics(u, X, r_all, ends, ft, HX=None):
-        """the equilibrium residual: dof by dof, the global statics, and for
+    ca = plane_assembly.contact_arrays(frame, b)
+    has_t = ca["t_link"] >= 0
+
+    def statics(u, X, r_all, ends, ft, sigma, HX=None):
+        """(the equilibrium residual, words where the reported forces are
+        out): dof by dof, the global statics, the balance with the contact
+        forces as they will be reported (a separated contact's zero:
+        :func:`..mechanics.equilibrium_checks.reported_balance`), and for
         a linear frame the balance of the member end actions returned; |H||X|
         made once for both, and where ``HX`` is given (r_all is then K u - F
         - H X in double, the per-dof residual) that residual"""
         abs_hx = contact_lcp.link_force_sizes(b, X)
+        abs_ku = b["abs_K"] @ np.abs(u)
         eq = max(equilibrium(frame, b, F, X, u, residual=None if HX is None else r_all,
-                             abs_hx=abs_hx),
+                             abs_hx=abs_hx, abs_ku=abs_ku),
                  resultant(frame, b, F, X, r_all, u, ft, HX=HX, abs_hx=abs_hx))
         if not frame.contacts:
             # (a contact frame's answers are not judged on it yet: its own
             # gate and cost are the contact routes')
-            eq = max(eq, member_balance(frame, b, F, X, u, ends, combo_factors))
-        return eq
+            return max(eq, member_balance(frame, b, F, X, u, ends, combo_factors)), ""
+        reported = X.copy()
+        separated = X[ca["n_link"]] <= STATE_RTOL * sigma[:nc]     # the states' rule below
+        reported[ca["n_link"][separated]] = 0.0
+        reported[ca["t_link"][separated & has_t]] = 0.0
+        off, where = reported_balance(frame, b, F, u, X, reported, r_all,
+                                      lambda rep: resultant(frame, b, F, rep, r_all, u, ft), tol,
+                                      abs_ku)
+        return max(eq, off), (where if off > max(tol, EQUILIBRIUM_FLOOR) else "")
 
-    eq = statics(u, X, r_all, ends, ft, HX)
-    ca = plane_assembly.contact_arrays(frame, b)
+    nc = len(frame.contacts)
+    eq, where = statics(u, X, r_all, ends, ft, sigma, HX)
     if not (cert_error <= CLEAR * tol and eq <= CLEAR * max(tol, EQUILIBRIUM_FLOOR)) \
             or loose_forces(cert_error, sigma, X[ca["n_link"]], tol):
         # the answer refined on its states in extended precision, kept where
@@ -111,15 +126,13 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                 delta = P @ z - g
                 r_all = np.asarray(Ku - np.asarray(F, Ku.dtype) - b["H"].astype(Ku.dtype)
                                    @ np.asarray(refined[2], Ku.dtype), float)
-                eq = statics(u, X, r_all, ends, ft)
+                eq, where = statics(u, X, r_all, ends, ft, sigma)
     reactions = {}
     if frame.fixed:             # (a frame on contacts alone has no reaction to report)
         r_glob = contact_lcp.to_global(b, np.where(b["fixed"], r_all, 0.0))
         reactions = {node: tuple(float(v) for v in r_glob[b["idx"][node]:b["idx"][node] + 3])
                      for node in b["names"] if node in frame.fixed}
     u = contact_lcp.to_global(b, u)
-    nc = len(frame.contacts)
-    has_t = ca["t_link"] >= 0
     xn = X[ca["n_link"]]
     xt = np.where(has_t, X[ca["t_link"]], 0.0)
     if has_t.all():             # every contact's slip is its tangential link's
@@ -150,7 +163,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
     member_forces = dict(zip(frame.members, ends))
     ok = cert_error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR)
     msg = (f"{route}: contact certificate {cert_error:.1e}, equilibrium residual {eq:.1e}"
-           + ("" if ok else " — CHECK FAILED"))
+           + ("" if ok else " — CHECK FAILED") + (f" ({where})" if where and not ok else ""))
     ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None,
                                 coords=b["coords"])
     if words:
@@ -179,7 +192,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     loads), not by |K||u|: sized so, a lever lifted off as a rigid motion
     of 1e11 m had its wrong pin reaction pass.  ``HX`` and ``abs_hx``:
     H X and |H||X| where the caller has them."""
-    xy = b["coords"] - b["coords"].sum(axis=0) / len(b["coords"])     # np.mean's sum
+    xy, lx, ly, size_xy = b["moment_arms"]
     absHX = contact_lcp.link_force_sizes(b, X) if abs_hx is None else abs_hx
     terms = [F, contact_lcp.link_forces(b, X) if HX is None else HX,
              np.where(b["fixed"], r_all, 0.0)]
@@ -200,7 +213,6 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     total = sum(terms)
     fx, fy, mz = total[0::3], total[1::3], total[2::3]
     ax, ay, am = size[0::3], size[1::3], size[2::3]
-    lx, ly = np.abs(xy[:, 0]), np.abs(xy[:, 1])
     res = np.abs([fx.sum(), fy.sum(), (mz + xy[:, 0] * fy - xy[:, 1] * fx).sum()])
     scale = np.array([ax.sum(), ay.sum(), (am + lx * ay + ly * ax).sum()])
     if b.get("axial") is not None:
@@ -212,7 +224,6 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     big_m = (am + lx * ay + ly * ax).max(initial=0.0)
     # forces carry the rounding of the moments they balance too (a frame
     # loaded by a moment alone has shears that are zero but for it)
-    size_xy = max(float(np.hypot(*(xy.max(axis=0) - xy.min(axis=0)))), 1e-300)
     big_f = max(ax.max(initial=0.0), ay.max(initial=0.0), am.max(initial=0.0) / size_xy)
     # every term of a sum carries its own rounding (R_ROUNDING of the largest)
     n_f = max(np.count_nonzero(ax), np.count_nonzero(ay), 1)

@@ -47,6 +47,7 @@ from qpcontact.judge.friction_certificate import (certify_friction, contact_scal
                                          scales_from_diagonal, sizes)
 
 from ..mechanics import contact_lcp
+from ..mechanics.contact_lcp import R_ROUNDING
 from ..mechanics.equilibrium_checks import STATE_RTOL, equilibrium
 from ..mechanics.member_forces import stiffness_times
 from ..mechanics.load_combinations import load_combination
@@ -57,7 +58,7 @@ from ..mechanics.time_limits import TIME_LIMIT, deadline_of, seconds_left
 from .space_assembly import held, release_directions
 from .circular_limit import prove_no_equilibrium
 from .circular_polish import solve_on_states
-from .space_recovery import global_reactions, resultant, space_result
+from .space_recovery import as_reported, global_reactions, resultant, space_result
 from .space_results import SpaceSupportResult
 
 #: a contact's force or slip within this many times the certificate's error
@@ -279,10 +280,11 @@ def judged(frame, prob, b, combo, u, r, Ku, route, tol):
         rho, size = _global_scales(prob, r, v)
     eq = max(equilibrium(frame, b, F, X, u), resultant(frame, b, F, X, r_all, u, ft))
     supports = circular_supports(frame, r, local, rho, size, cert.error)
+    off, where = as_reported(frame, b, F, u, X, r_all, supports, ends, tol)
     checked = (f"friction certificate {cert.error:.1e} (natural map "
                f"{cert.natural_map_error:.1e}, componentwise {cert.componentwise_error:.1e})")
-    res = space_result(frame, b, combo, u, ends, reactions, supports, eq, cert.error, checked,
-                       route, tol)
+    res = space_result(frame, b, combo, u, ends, reactions, supports, max(eq, off), cert.error,
+                       checked, route, tol, where)
     return res, supports
 
 
@@ -294,9 +296,15 @@ def circular_supports(frame, r, local, rho, size, error) -> dict:
     ρ_i|slip| below UNDECIDED x the certificate's error (at least
     STATE_RTOL) of s_i is zero: a sticking contact's residual is ρ_i|û_i|,
     so an answer certified to ε leaves slips up to ε s_i / ρ_i
-    undecided."""
+    undecided.  A normal force is zero below UNDECIDED x the error only
+    (at least rounding, R_ROUNDING): s_i holds ρ_i times the frame's
+    motion, and a table tipping about two legs (turned 0.1 rad) had the
+    other two legs' 5e-6 kN, certified to 2e-11, named separated below
+    STATE_RTOL s_i = 1e-4 kN and its pads' forces reported 1e-5 kN short
+    of its weight."""
     R, L = r.reshape(-1, 3), local.reshape(-1, 3)
     undecided = max(STATE_RTOL, UNDECIDED * float(error))
+    unloaded = max(R_ROUNDING, UNDECIDED * float(error))
     out = {}
     for ci, (key, c) in enumerate(zip(support_keys(frame), frame.contacts)):
         # a tangent the bilateral supports hold carries no friction (the
@@ -305,7 +313,7 @@ def circular_supports(frame, r, local, rho, size, error) -> dict:
         xt = np.where(is_held, 0.0, R[ci, 1:])
         slip = np.where(is_held, 0.0, L[ci, 1:])
         xn = float(R[ci, 0])
-        if xn <= undecided * size[ci]:
+        if xn <= unloaded * size[ci]:
             state, xn, xt = "separated", 0.0, np.zeros(2)
         elif c.friction == 0:
             state = "closed"

@@ -9,9 +9,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from qpcontact.core.errors import InvalidProblemError
+from qpcontact.core.errors import InvalidProblemError, SolverFailedError
 
 from ..mechanics import contact_lcp
+from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.space_element import axes, condense, rotation, stiffness
 from ..reporting.free_motion import mechanism_message
 from . import space_member_loads
@@ -124,17 +125,23 @@ def build(frame, axial=None):
         H = (Tn @ H).tocsr()
     flex = np.array([0.0 if frame.contacts[ci].stiffness is None
                      else 1.0 / frame.contacts[ci].stiffness for ci, _ in info])
-    basic = contact_lcp.basic_system(K, H, fixed, flex, np.arange(N) % 6 < 3)
-    if basic["lu"] is None:
-        raise InvalidProblemError(mechanism_message(
-            basic["S"], basic["free"], basic["nf"], list(frame.nodes), DOFS,
-            list(frame.nodes.values()), Tn, contacts=bool(frame.contacts)))
     springs = np.zeros(N)
     for node, ks in frame.springs.items():
         for d, kval in ks.items():
             springs[idx[node] + DOFS.index(d)] += kval
+    coords = np.array(list(frame.nodes.values()), float)
+    basic = contact_lcp.basic_system(
+        K, H, fixed, flex, np.arange(N) % 6 < 3,
+        strain_free=None if axial is not None else
+        lambda free: strain_free_motions(local, coords, springs, Tn, free, H))
+    if basic.get("no_mechanism"):
+        raise SolverFailedError(contact_lcp.unsolvable(local))
+    if basic["lu"] is None:
+        raise InvalidProblemError(mechanism_message(
+            basic["S"], basic["free"], basic["nf"], list(frame.nodes), DOFS,
+            list(frame.nodes.values()), Tn, contacts=bool(frame.contacts)))
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
-                          coords=np.array(list(frame.nodes.values()), float),
+                          coords=coords,
                           U=settlements(frame, idx, cases, F.shape), cases=cases,
                           fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,
                           axial=None if axial is None else np.asarray(axial, float), **basic)

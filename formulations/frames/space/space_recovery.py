@@ -16,7 +16,8 @@ from qpcontact.judge.lcp_certificate import componentwise_error
 from ..mechanics import contact_lcp, extended_refinement, second_order
 from ..mechanics.equilibrium_checks import (CLEAR, EQUILIBRIUM_FLOOR, STATE_RTOL,
                                             beyond_rounding, equilibrium, how_far,
-                                            mechanical_certificate, member_balance)
+                                            mechanical_certificate, member_balance,
+                                            reported_balance)
 from ..mechanics.loads import CONSTANT, VARIABLE, support_keys
 from ..mechanics.member_forces import refined_actions
 from ..mechanics.no_equilibrium import motion_words
@@ -86,8 +87,29 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFr
                 u, X = uf, Xf
                 r_all, ends, eq = again
     supports = contact_states(frame, b, z, X, contact_lcp.to_global(b, u), delta, zeta, sigma)
+    off, where = as_reported(frame, b, F, u, X, r_all, supports, ends, tol)
     return space_result(frame, b, combo, u, ends, global_reactions(frame, b, r_all), supports,
-                        eq, cert_error, f"contact certificate {cert_error:.1e}", route, tol)
+                        max(eq, off), cert_error, f"contact certificate {cert_error:.1e}", route,
+                        tol, where)
+
+
+def as_reported(frame, b, F, u, X, r_all, supports, ends, tol):
+    """(ratio, words) of the frame's balance with its contact forces as
+    ``supports`` report them (a separated contact's set to zero):
+    :func:`..mechanics.equilibrium_checks.reported_balance` dof by dof,
+    with the global statics (:func:`resultant`) where something is out;
+    the words where the ratio is beyond ``tol``."""
+    pos = contact_lcp.layout(b)
+    reported = np.zeros_like(X)
+    for ci, s in enumerate(supports.values()):
+        for kind, value in zip(("n", "t1", "t2"), (s.normal, *s.tangential)):
+            if kind in pos[ci]:
+                reported[pos[ci][kind]] = value
+    off, where = reported_balance(
+        frame, b, F, u, X, reported, r_all,
+        lambda rep: resultant(frame, b, F, rep, r_all, u, contact_lcp.force_terms(b, u, F, ends)),
+        tol)
+    return off, (where if off > max(tol, EQUILIBRIUM_FLOOR) else "")
 
 
 def global_reactions(frame, b, r_all) -> dict:
@@ -128,13 +150,14 @@ def statics(frame, b, F, u, X, exact, factors):
 
 
 def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, checked, route,
-                  tol) -> SpaceFrameResult:
+                  tol, where="") -> SpaceFrameResult:
     """The result of either cone: ok when the contact certificate's
     ``error`` and the equilibrium residual ``eq`` meet the tolerance;
-    ``checked`` words the certificate for the message."""
+    ``checked`` words the certificate for the message, ``where`` the
+    reported forces' imbalance (:func:`as_reported`) if the check fails."""
     ok = bool(error <= tol and eq <= max(tol, EQUILIBRIUM_FLOOR))
-    msg = f"{route}: {checked}, equilibrium residual {eq:.1e}" + ("" if ok else
-                                                                  " — CHECK FAILED")
+    msg = f"{route}: {checked}, equilibrium residual {eq:.1e}" + (
+        "" if ok else " — CHECK FAILED" + (f" ({where})" if where else ""))
     u = contact_lcp.to_global(b, u)           # reported in global axes
     ratio, rot, words = how_far(frame, u, second_order=b.get("axial") is not None,
                                 coords=b["coords"])

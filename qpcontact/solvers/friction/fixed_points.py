@@ -28,8 +28,6 @@ measures of :mod:`qpcontact.judge.friction_certificate`.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import scipy.sparse as sp
 
@@ -78,15 +76,14 @@ def _fixed_point(method, problem, tol, options, update, subproblem=None, measure
                                      componentwise_error(problem, r)))
     max_outer, progress, time_limit = options["max_outer"], options["progress"], \
         options["time_limit"]
-    start, timed_out = time.perf_counter(), False
+    timed_out = False
     pace = Pace(time_limit)
     r = np.zeros(sub.size)
     best_key, best_r, lowest, since, errors = (np.inf, np.inf), None, [np.inf, np.inf], 0, []
     status = "not started"
     for k in range(1, max_outer + 1):
         c, tresca = update(r)
-        r_new, status = sub.solve(c, tresca, None if time_limit is None else
-                                  time_limit - (time.perf_counter() - start))
+        r_new, status = sub.solve(c, tresca, pace.deadline.left())
         if r_new is None:
             break
         r = r_new

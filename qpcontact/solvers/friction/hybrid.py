@@ -40,12 +40,11 @@ judged by the certified error (both measures), and the best is returned.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ...core.deadline import Deadline
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from ...judge.friction_certificate import (SLIP_RTOL, certified_error, contact_scales,
                                            natural_map_jacobian)
@@ -250,7 +249,7 @@ def solve_nsgs_newton(problem, tol, options):
     omega, max_sweeps = opts["omega"], opts["max_sweeps"]
     time_limit, progress = opts["time_limit"], opts["progress"]
     r0 = starting_point("nsgs-newton", problem, opts["r0"])
-    start = time.perf_counter()
+    deadline = Deadline(time_limit)
     gs = NSGS(problem, r0, omega=omega)
     r = gs.r.copy()
     best, best_r = certified_error(problem, r), r.copy()
@@ -265,7 +264,7 @@ def solve_nsgs_newton(problem, tol, options):
         if best <= tol:
             why = "reached the tolerance"
             break
-        if time_limit is not None and time.perf_counter() - start > time_limit:
+        if deadline.expired():
             why = f"stopped at its time limit of {time_limit:.3g} s"
             break
         # the 3-D local problems solved only as tightly as the whole is
@@ -280,16 +279,16 @@ def solve_nsgs_newton(problem, tol, options):
         if best <= tol:
             continue
         quiet += 1
-        left = None if time_limit is None else time_limit - (time.perf_counter() - start)
+        left = deadline.left()
         # before any try its cost is unknown (one uninterruptible LU: ~1 s on a
         # 5 000-contact pile, which a first try started 0.9 s into a 1 s limit
         # overran by 0.9 s): the first starts only while half the limit is left
         need = longest_try if tries else 0.5 * (time_limit or 0.0)
         if (best < next_try or (since and quiet >= wait)) and (left is None or left > need):
             tries += 1
-            t_try = time.perf_counter()
+            t_try = deadline.now()
             rn, en, k = minimum_norm_newton(problem, r.copy(), tol, square=square, error=err)
-            longest_try = max(longest_try, time.perf_counter() - t_try)
+            longest_try = max(longest_try, deadline.now() - t_try)
             newton_steps += k
             next_try = min(next_try, best / 10.0)
             quiet = 0

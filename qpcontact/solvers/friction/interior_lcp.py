@@ -115,12 +115,10 @@ the solution set, not to a vertex as Lemke's method does.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import scipy.sparse as sp
 
-from ...core.deadline import Pace
+from ...core.deadline import Deadline, Pace
 from ...core.errors import InvalidOptionError
 from ...core.friction_problem import faceted_lcp
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
@@ -173,8 +171,8 @@ def solve_ip_lcp(problem, tol, options):
     if problem.dim != 2:
         raise InvalidOptionError("ip-lcp solves 2-D problems (their exact LCP); 3-D cones are "
                                  "not polyhedral")
-    start = time.perf_counter()
     time_limit, progress = opts["time_limit"], opts["progress"]
+    deadline = Deadline(time_limit)
     nc = problem.n_contacts
     stats = {"iterations": 0, "path_stretches": 0, "path_steps": 0, "folds": 0,
              "factorizations": 0}
@@ -188,14 +186,14 @@ def solve_ip_lcp(problem, tol, options):
     body = factors is not None and factors_match(W, factors)
     stats["body_space"] = body
     path = _Path(M, q, W, problem.mu, stats, progress, factors if body else None)
-    x, s, why = path.follow(x, s, opts["max_iter"], time_limit)
+    x, s, why = path.follow(x, s, opts["max_iter"], deadline.left())
     r = reactions_of(problem, x, D)
     if not np.all(np.isfinite(r)):
         return None, "stopped", f"interior point on the 2-D LCP: {why}, at no finite point", stats
     r = purified(problem, r, 1e-10)
     before = certified_error(problem, r)
     message = f"interior point on the 2-D LCP: {why}"
-    left = None if time_limit is None else time_limit - (time.perf_counter() - start)
+    left = deadline.left()
     if before > tol and (left is None or left > 0):
         rn, _, _, nstats = solve_natural_newton(problem, tol, {"r0": r, "max_iter": 30,
                                                                "time_limit": left})

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import scipy.sparse as sp
 
-from ...core.deadline import Pace
+from ...core.deadline import Deadline, Pace
 from ...core.options import PROGRESS, TIME_LIMIT, Option, read_options
 from .fixed_points import solve_anitescu
 from .nsgs import starting_point
@@ -49,7 +47,7 @@ def solve_natural_newton(problem, tol, options):
     opts = read_options("newton", options, NEWTON_OPTIONS)
     r0 = starting_point("newton", problem, opts["r0"])
     max_iter, progress, time_limit = opts["max_iter"], opts["progress"], opts["time_limit"]
-    start = time.perf_counter()
+    deadline = Deadline(time_limit)
     p, d = problem, problem.dim
     nc, mu = p.n_contacts, p.mu
     stats = {"inner_iterations": 0}
@@ -99,7 +97,7 @@ def solve_natural_newton(problem, tol, options):
     phi = 0.5 * np.sum((D * Fr) ** 2)
     best_err, best_r = certified_error(p, r), r.copy()
     k, why = 0, f"stopped at {max_iter} iterations"
-    pace = Pace(None if time_limit is None else time_limit - (time.perf_counter() - start))
+    pace = Pace(deadline.left())
     for k in range(1, max_iter + 1):
         if k > 1:
             pace.step_done()

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import functools
 
-import time
 
 import numpy as np
 import scipy.sparse as sp
 
+from ...core.deadline import Deadline
 from ...core.errors import InvalidOptionError
 from ...core.options import TIME_LIMIT, Option, check_length, read_options
 from ...judge.friction_certificate import certified_error
@@ -125,7 +125,7 @@ def solve_nsgs(problem, tol, options):
     max_sweeps, every, time_limit = opts["max_sweeps"], opts["check_every"], opts["time_limit"]
     local = {key: opts[key] for key in ("local_rtol", "max_local", "omega")}
     r0 = starting_point("nsgs", problem, opts["r0"])
-    start = time.perf_counter()
+    deadline = Deadline(time_limit)
     gs = NSGS(problem, r0, **local)
     best, best_r, since = np.inf, gs.r.copy(), 0
     why = f"stopped at {max_sweeps} sweeps"
@@ -142,7 +142,7 @@ def solve_nsgs(problem, tol, options):
             why = "stalled (no better iterate in 100 checks)"
         elif not np.all(np.isfinite(r)):
             why = "stopped: the iterate is no longer finite"
-        elif time_limit is not None and time.perf_counter() - start > time_limit:
+        elif deadline.expired():
             why = f"stopped at its time limit of {time_limit:.3g} s"
         else:
             continue

@@ -32,7 +32,6 @@ form took 44 000 pivots (529 s) to a secondary ray.
 
 from __future__ import annotations
 
-import time
 import warnings
 
 import numpy as np
@@ -146,15 +145,6 @@ SPARSE_FROM = 700
 DENSE_FALLBACK_MAX = 2000
 
 
-def _seconds_left(deadline) -> Deadline:
-    """The Deadline of ``deadline``, a raw ``time.perf_counter`` value (the
-    pivoting kernels read that clock), by the seconds left to it: a
-    Deadline's clock leaves numba's compiling out
-    (:func:`~qpcontact.core.deadline.exclude_one_time`), so ``end=`` with a
-    raw value would outlast it by every second compiled in this process."""
-    return Deadline(None if deadline is None else deadline - time.perf_counter())
-
-
 def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     """The "lemke" method: the sparse form for a sparse M from SPARSE_FROM
     unknowns and any M above DENSE_TABLEAU_LIMIT, the dense form otherwise.
@@ -174,7 +164,7 @@ def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
 
     n = problem.n
     options = read_options("lemke", options, LEMKE_OPTIONS, size=n)
-    deadline = None if time_limit is None else time.perf_counter() + time_limit
+    deadline = Deadline(time_limit)
     if not (n > DENSE_TABLEAU_LIMIT or (problem.is_sparse and n >= SPARSE_FROM)):
         return _run_lemke(problem, options, sparse=False, deadline=deadline)
     res = _run_lemke(problem, options, sparse=True, deadline=deadline)
@@ -194,7 +184,7 @@ def run_lemke(problem, tol, options, time_limit=None) -> MethodResult:
     return dense
 
 
-def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
+def _run_lemke(problem, options, sparse: bool, deadline: Deadline) -> MethodResult:
     n = problem.n
     M = sp.csc_matrix(problem.M) if sparse else dense_matrix(problem.M)
     q = problem.q
@@ -248,7 +238,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
             break
         if problem.is_psd:
             if proof is None:
-                proof = feasibility(M, q, rs, cs, _seconds_left(deadline))
+                proof = feasibility(M, q, rs, cs, deadline)
             if proof[0] is False:
                 break
         rng = rng or np.random.default_rng(seed)
@@ -283,7 +273,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
     ray = out.ray
     stats["ray"] = {"z": ray["z"] * cs, "dz": ray["dz"] * cs, "z0": ray["z0"], "dz0": ray["dz0"]}
     feasible, evidence = (proof if proof is not None
-                          else feasibility(M, q, rs, cs, _seconds_left(deadline)))
+                          else feasibility(M, q, rs, cs, deadline))
     stats["feasible"] = feasible
     stats.update(evidence)
     monotone = problem.is_psd
@@ -292,7 +282,7 @@ def _run_lemke(problem, options, sparse: bool, deadline=None) -> MethodResult:
         # the LP's vector holds to 1e-12 of each component's terms; only the
         # rational check makes it a proof (on an exactly positive definite M
         # within rounding of a singular one it held to 1e-12 and failed exactly)
-        exact = check_farkas_hint(M, q, evidence["farkas"], _seconds_left(deadline))
+        exact = check_farkas_hint(M, q, evidence["farkas"], deadline)
     if exact is not None:
         stats["proof"] = exact
         why = ("no solution exists: no z >= 0 has Mz + q >= 0 (a Farkas vector y >= 0 with "

@@ -58,7 +58,6 @@ it is then re-estimated from |x_i| and two solves with random signs
 
 from __future__ import annotations
 
-import time
 import warnings
 
 import numpy as np
@@ -186,7 +185,8 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int, deadline=None
                  ) -> LemkeOutcome:
     """Lemke's method on (already scaled) sparse data with covering vector
     d > 0; see the module docstring.  Stops with status "time_limit" once
-    time.perf_counter() passes ``deadline`` (None: never).  Raises
+    ``deadline`` (a :class:`~qpcontact.core.deadline.Deadline`; None: never)
+    has passed.  Raises
     SingularBasis when SuperLU finds a basis singular."""
     ratio_ties, scales_pivot = pivot_kernels().ratio_ties, pivot_kernels().scales_pivot
     n = q.size
@@ -240,7 +240,7 @@ def sparse_lemke(M, q: np.ndarray, d: np.ndarray, max_pivots: int, deadline=None
             return ray_outcome(basis, x, a, entering, pivots)
         if pivots >= max_pivots:
             return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
-        if deadline is not None and time.perf_counter() > deadline:
+        if deadline is not None and deadline.expired():
             return LemkeOutcome("time_limit", None, np.zeros(n, bool), pivots)
         r = int(ties[0]) if ties.size == 1 else _lex_leaving(ties, a, F, z0_row)
         leaving = pivot(a, r, entering)

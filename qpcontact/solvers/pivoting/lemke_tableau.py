@@ -8,7 +8,6 @@ The driver, with the method's outcomes and guarantees, is :mod:`.lemke`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-import time
 import warnings
 
 import numpy as np
@@ -158,7 +157,8 @@ def lex_smallest(V: np.ndarray) -> int:
 def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int,
           deadline=None) -> LemkeOutcome:
     """Lemke's method on dense (already scaled) data; see the module docstring.
-    Stops with "time_limit" once time.perf_counter() passes ``deadline``.
+    Stops with "time_limit" once ``deadline`` (a :class:`~qpcontact.core.deadline.Deadline`,
+    or None) has passed.
 
     Revised form: T = [B^-1 | x] (n x (n + 1)) holds the basis inverse and the
     basic values; each entering column is B^-1 times a column of [I, -M, -d],
@@ -240,7 +240,7 @@ def lemke(M: np.ndarray, q: np.ndarray, d: np.ndarray, max_pivots: int,
             return ray_outcome(basis, x, col, entering, pivots, anchors=scales.anchors)
         if pivots >= max_pivots:
             return LemkeOutcome("max_pivots", None, np.zeros(n, bool), pivots)
-        if deadline is not None and time.perf_counter() > deadline:
+        if deadline is not None and deadline.expired():
             return LemkeOutcome("time_limit", None, np.zeros(n, bool), pivots)
         pivot(col, r)
         leaving = int(basis[r])

@@ -610,7 +610,10 @@ def test_past_a_stiffness_contrast_of_1e6_a_farkas_vector_is_no_proof():
     beam with equal spans is certified so.  At this contrast R is refined
     and its small entries carry rounding; Lemke's Farkas vector on them
     "proved" that it tips.  It is not called a proof: SolverFailedError,
-    never NoSolutionError (or an answer, which must then be right)."""
+    never NoSolutionError (or an answer, which must then be right, or is
+    not ok: since the load columns R_F are zeroed at their own rounding,
+    Lemke answers this LCP, and the frame's recovery in double does not
+    carry its digits — "CHECK FAILED", no claim)."""
     fr = Frame()
     for k in range(5):
         fr.add_node(f"N{k}", 3.0 * k, 0.0)
@@ -628,4 +631,5 @@ def test_past_a_stiffness_contrast_of_1e6_a_farkas_vector_is_no_proof():
     except SolverFailedError as exc:
         assert "not a proof" in str(exc) or "nothing was proved" in str(exc), str(exc)
         return
-    assert res.ok and res.supports["N4"].normal == pytest.approx(10.0, rel=1e-6), res.message
+    assert not res.ok and "CHECK FAILED" in res.message \
+        or res.ok and res.supports["N4"].normal == pytest.approx(10.0, rel=1e-6), res.message

@@ -168,12 +168,15 @@ def test_a_pipe_rack_is_solved_at_999_per_mille_of_its_limit():
     the load path, which reaches it by restarting beyond a degenerate
     vertex at 43.3, was judged "not ok" for that stop.  By hand: the pads
     carry the pipes (6 kN/m on two 12 m lines) less the uplift, and the
-    sideways 0.2 p by friction."""
+    sideways 0.2 p by friction.  No time limit: the test checks the answer,
+    not the time (solve's default 60 s of wall time held its ~30 s of CPU
+    alone and ran out at load 5-6, as a time limit should on a busy machine;
+    docs/dev-notes.md, "Time limits per thread")."""
     fr = pipe_rack(cone="inscribed")
     p = 0.999 * static_limit(fr, CONST, {"uplift": 1.0})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")     # the corner lifts: large displacements
-        res = fr.solve(combination={"constant": 1.0, "uplift": p})
+        res = fr.solve(combination={"constant": 1.0, "uplift": p}, time_limit=None)
     assert res.ok, res.message
     assert sum(v.normal for v in res.supports.values()) == pytest.approx(2 * 12.0 * 6.0 - p,
                                                                           rel=1e-9)

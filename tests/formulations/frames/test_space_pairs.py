@@ -347,9 +347,9 @@ def test_past_the_contrast_where_r_is_refined_a_farkas_end_is_no_limit(monkeypat
     its legs alone), is no proof about the frame — the trace is not ok and
     names no limit: "bounded" between its last certified load and the
     rigid body's proved 20 kN (the pads sliding), and it says why."""
-    from formulations.frames.mechanics import contact_lcp
+    from formulations.frames.mechanics import refinement
 
-    monkeypatch.setattr(contact_lcp, "CONTRAST", 0.5)
+    monkeypatch.setattr(refinement, "CONTRAST", 0.5)
     tr = _table_on_pairs(0.5, 0.3, "circumscribed").trace()
     assert tr.ended == "bounded" and not tr.ok and tr.limit is None, tr.message
     assert tr.bound[1] == pytest.approx(0.5 * 40.0, rel=1e-9)

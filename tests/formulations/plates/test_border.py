@@ -144,7 +144,8 @@ def test_the_floor_raft_of_the_raft_tests_agrees_with_the_pinned_qp_either_way(s
 def _splu_block(system, keep, springs):
     """The block's LDLᵀ by SuperLU (symmetric mode, diagonal pivots, its
     rows in reverse Cuthill–McKee order given, none of its own), as the
-    border reads a factor: L = lu.L − I, d = diag(lu.U), p = that order."""
+    border reads a factor: L = lu.L (its unit diagonal stored), d =
+    diag(lu.U), p = that order, the tree read off L."""
     from scipy.sparse.csgraph import reverse_cuthill_mckee
 
     idx = np.flatnonzero(keep)
@@ -160,7 +161,7 @@ def _splu_block(system, keep, springs):
         return u
 
     def factors():
-        return lu.L - sp.eye(order.size, format="csc"), lu.U.diagonal(), order
+        return lu.L, lu.U.diagonal(), order, None
 
     return border.FactoredBlock(system.K, keep, springs, solve, factors)
 
@@ -185,12 +186,15 @@ def test_a_border_on_superlus_factor_solves_the_new_steps_own_system(released, c
     assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
 
 
-def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(monkeypatch):
+@pytest.mark.parametrize("tree_of", ["L", "A"])
+def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(tree_of, monkeypatch):
     """SciPy's SuperLU.L leaves out an entry of L that cancelled to exactly
     zero: here L₃₂ = 1 − 1·1 = 0, so column 2 stores no row and the least
     stored row of each column made 2 a root with column 1's row 3 off its
     path — the forward solve wrote row 3's update into another row (a
-    Schur complement of 5 for A⁻¹₁₁ = 2.5, the bordered solve far off)."""
+    Schur complement of 5 for A⁻¹₁₁ = 2.5, the bordered solve far off).
+    The elimination tree read off L's rows and off the factorised matrix
+    (what a step's Factorisation gives) both keep it exact."""
     import scipy.sparse.linalg as spla
 
     from formulations.plates.newton import Factorisation
@@ -198,8 +202,12 @@ def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(monkeypatch)
     A = sp.csc_matrix(np.array([[1.0, 1.0, 1.0], [1.0, 2.0, 1.0], [1.0, 1.0, 3.0]]))
     lu = spla.splu(A, permc_spec="NATURAL", diag_pivot_thresh=0.0,
                    options={"SymmetricMode": True})
-    factorisation = Factorisation(np.arange(3), lu=lu)
-    assert factorisation.factors()[0].nnz == 2              # L₃₂ left out
+    factorisation = Factorisation(np.arange(3), lu=lu, matrix=A if tree_of == "A" else None)
+    L, _, _, tree = factorisation.factors()
+    assert sp.tril(L, -1).nnz == 2                          # L₃₂ left out
+    assert (tree is None) == (tree_of == "L")
+    if tree is not None:
+        assert list(tree) == [1, 2, -1]
     monkeypatch.setattr(border, "FEW_COLUMNS", 0)           # through the factor's paths
     keep = np.ones(3, bool)
     block = border.FactoredBlock(A, keep, np.zeros(3), factorisation, factorisation.factors)
@@ -208,3 +216,49 @@ def test_a_factor_entry_that_cancels_to_zero_keeps_the_border_exact(monkeypatch)
     u = block.near(keep, springs)(rhs)
     ref = np.linalg.solve(A.toarray() + np.diag(springs), rhs)
     assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+@pytest.mark.parametrize("entries", [border.BORDER_ENTRIES, "tight"])
+def test_a_border_solves_only_the_columns_the_last_border_on_its_factor_had_not(entries,
+                                                                                 monkeypatch):
+    """Two steps on one factor: the first releases five floor nodes and
+    changes three springs, the second holds those five again and releases
+    three others, the springs as in the first.  The second forward-solves
+    only its three new columns (counted), and both solve their own systems
+    (SciPy's LU); with BORDER_ENTRIES too small for the columns kept and the
+    new ones together, the kept ones are dropped and the second border
+    solved alone (its six columns), as exactly."""
+    import formulations.plates._border_kernels as kernels
+
+    system = _mixed_system()
+    rng = np.random.default_rng(5)
+    soil = rng.random(system.soil_w.size) < 0.7
+    floor = rng.random(system.floor_w.size) < 0.6
+    system.factorize(soil, floor)
+    block = system.floor_block
+    solved = []
+    forward = kernels.forward_block
+
+    def counted(Lp, Li, Lx, rows, X):
+        solved.append(X.shape[1])
+        forward(Lp, Li, Lx, rows, X)
+
+    monkeypatch.setattr(kernels, "forward_block", counted)
+    released = rng.choice(np.flatnonzero(floor), 8, replace=False)
+    soil1 = soil.copy()
+    soil1[rng.choice(np.flatnonzero(soil), 3, replace=False)] = False
+    floor1, floor2 = floor.copy(), floor.copy()
+    floor1[released[:5]] = False
+    floor2[released[5:]] = False
+    rhs = rng.standard_normal(system.dofs.size)
+    u1 = system.factorize(soil1, floor1)(rhs)
+    assert solved == [8]
+    if entries == "tight":
+        monkeypatch.setattr(border, "BORDER_ENTRIES", block.rows.size * 11 - 1)
+    u2 = system.factorize(soil1, floor2)(rhs)
+    assert system.floor_block is block              # a border, not a factorisation
+    for u, f in ((u1, floor1), (u2, floor2)):
+        ref = _reference(system, soil1, f, rhs)
+        assert np.max(np.abs(u - ref)) <= 1e-12 * np.max(np.abs(ref))
+    assert solved[1:] == ([6] if entries == "tight" else [3])
+    assert block.W.shape[1] == (6 if entries == "tight" else 11)

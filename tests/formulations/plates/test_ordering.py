@@ -172,3 +172,49 @@ def test_the_supernodal_factor_is_an_ldlt_in_the_order(monkeypatch):
                                              system.dofs.size))).tocsc()[dofs][:, dofs]
         assert abs(L @ sp.diags(d) @ L.T - A).max() <= 1e-10 * abs(A).max()
         assert np.setdiff1d(np.arange(system.dofs.size), dofs).size == held.sum()
+
+
+def _bisection_order(points, graph, leaf):
+    """Nested dissection written plainly (the NumPy version the compiled
+    kernel replaced): halves at the median distinct coordinate across the
+    longer side, the far side's nodes with a neighbour across as the
+    separator, halves first, separator last."""
+    graph = sp.csr_matrix(graph)
+    order, stack = [], [(False, np.arange(points.shape[0]))]
+    while stack:
+        placed, idx = stack.pop()
+        p = points[idx]
+        axis = 0 if np.ptp(p[:, 0]) >= np.ptp(p[:, 1]) else 1
+        values = np.unique(p[:, axis])
+        if placed or idx.size <= leaf or values.size < 2:
+            order.append(idx)
+            continue
+        below = p[:, axis] < values[values.size // 2]
+        a, b = idx[below], idx[~below]
+        in_a = np.zeros(points.shape[0], bool)
+        in_a[a] = True
+        touches = np.array([in_a[graph[i].indices].any() for i in b], bool)
+        stack += [(True, b[touches]), (False, b[~touches]), (False, a)]
+    return np.concatenate(order)
+
+
+def test_the_compiled_order_is_the_plain_bisections_on_a_mesh_with_an_opening_and_a_wall():
+    raft = _opening_raft()
+    b = raft.build()
+    qp = b["qp"]
+    held = np.zeros(qp.K.shape[0], bool)
+    held[qp.fixed] = True
+    dofs = np.flatnonzero(~held)
+    K = qp.K.tocsc()[dofs][:, dofs]
+    nodes = b["mesh"].nodes
+    used, local = np.unique(dofs // 3, return_inverse=True)
+    coo = K.tocoo()
+    graph = sp.csr_matrix((np.ones(coo.nnz), (local[coo.row], local[coo.col])),
+                          shape=(used.size, used.size))
+    for leaf in (4, 32):
+        plain = _bisection_order(nodes[used], graph, leaf)
+        assert np.array_equal(nested_dissection(nodes[used], graph, leaf), plain)
+    rank = np.empty(used.size, np.int64)
+    rank[_bisection_order(nodes[used], graph, 32)] = np.arange(used.size)
+    assert np.array_equal(dof_order(K, dofs // 3, nodes),
+                          np.lexsort((np.arange(dofs.size), rank[local])))
