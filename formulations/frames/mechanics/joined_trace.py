@@ -51,8 +51,8 @@ class JoinedTrace:
     the LoadTrace interface the frame's trace reads (pieces, end, proof,
     p_end, ok, message, z_at, plot_range) in the whole path's p."""
 
-    def __init__(self, first):
-        self.segments = [(0.0, first)]
+    def __init__(self, first, offset: float = 0.0):
+        self.segments = [(float(offset), first)]
         #: per segment, where the path leaves it (None: at its end)
         self.cuts = [None]
 
@@ -128,7 +128,8 @@ class JoinedTrace:
         for off, tr in reversed(self.segments):
             if p >= off:
                 return tr.z_at(p - off)
-        return self.segments[0][1].z_at(p)
+        off, tr = self.segments[0]
+        return tr.z_at(p - off)
 
     def plot_range(self) -> float:
         off, tr = self.last

@@ -48,6 +48,8 @@ def raise_no_equilibrium(frame, sol, fric, b, combo, hint=False):
             f"frame under {what}: no equilibrium exists — {words} (proved by a Farkas "
             f"vector checked from the data: y >= 0, M'y <= 0, q'y < 0)")
     raise_rigid_motion(frame, b, combo, f"{sol.method}: {sol.message}")
+    if sol.stats.get("verge"):
+        raise SolverFailedError(f"frame under {what}: {sol.stats['verge']}")
     raise SolverFailedError(
         f"frame under {what}: {sol.method} found no contact state ({sol.message}); nothing "
         "was proved either way" + ("; method='auto' also follows the load path to this "

@@ -33,8 +33,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as la
 
-from qpcontact.core.errors import InvalidOptionError
+from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
+                                   SolverFailedError)
 
+from . import tracing
 from .second_order import clamped_buckling_t
 from .tracing import BRACKET
 
@@ -305,10 +307,31 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     start = frame.solve(accuracy=accuracy, combination=const, second_order=True)
     N = np.array([start.second_order["axial"][m] for m in frame.members], float)
     N_start = N.copy()
-    error, ft, unstable = np.inf, None, None
+    error, ft, unstable, p_from, inside = np.inf, None, None, 0.0, None
     for rounds in range(1, ROUNDS + 1):
         b = frame.build(axial=N)
-        ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
+        p_from = 0.0
+        try:
+            ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
+        except (NoSolutionError, SolverFailedError) as exc:
+            if inside is None:
+                raise       # the constant loads' own stiffness: about the frame
+            # on the end's stiffness at p = 0 the P-Δ terms of the end's
+            # compression act without the loads that make it (a column's 200
+            # kN, which also hold its footing down): that frame may stand
+            # nowhere near p = 0 — nothing about the frame — and the path on
+            # it starts where it stands
+            p_from = (None if getattr(frame, "cone", None) == "circular"
+                      else first_standing(frame, b, const, var, inside, accuracy, tol))
+            if p_from is None:
+                raise SolverFailedError(
+                    f"frame: the second-order trace's round {rounds}, on the stiffness of the "
+                    f"axial forces at p = {inside:.10g}, has no certified equilibrium to start "
+                    f"from at p = 0 ({exc}) nor found one below that load; nothing was proved "
+                    "about the frame, whose constant loads stand (solve(second_order=True))"
+                ) from None
+            ft = tracing.trace(frame, p_max, accuracy, constant=const, variable=var, _built=b,
+                               _from=p_from)
         unstable = first_unstable_piece(frame, b, ft)
         p_last, inside = stable_end(ft, unstable)
         N_new, terms = axial_forces(b, ft.result_at(inside))
@@ -382,6 +405,10 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
              f"path's last stable equilibrium (p = {p_last:.10g}), which they agree with to "
              f"{error:.1e} after {rounds} round(s); along the path the axial forces differ "
              f"from these by up to {change:.1e} of the members' Euler loads")
+    if p_from:
+        words += (f"; on that stiffness the path starts at p = {p_from:.10g}, its first "
+                  "certified equilibrium (below it the end's compression without its loads "
+                  "stands nowhere: the constant loads' own second-order answer stands at p = 0)")
     if b["free"].size > DENSE_DOFS:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
     if error > tol:
@@ -389,6 +416,32 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
         words += f" — NOT CONVERGED (asked {tol:.0e})"
     ft.message = f"{ft.message}; {words}"
     return ft
+
+
+#: the relative bracket to which :func:`first_standing` finds a path's start
+START_BRACKET = 1e-6
+
+
+def first_standing(frame, b, const, var, hi, accuracy, tol):
+    """The smallest p (to START_BRACKET of ``hi``) at which the frame on the
+    assembly ``b`` has a certified equilibrium (:func:`.tracing.frame_start`)
+    under ``const`` + p ``var``, bisecting between p = 0 (none) and ``hi``
+    (the previous round's end, where one is expected); None where ``hi``
+    has none either."""
+    def stands(p):
+        try:
+            return tracing.frame_start(frame, b, tracing.combination_at(const, var, p),
+                                       accuracy, tol) is not None
+        except QpcontactError:
+            return False
+
+    if not (hi > 0 and stands(hi)):
+        return None
+    lo = 0.0
+    while hi - lo > START_BRACKET * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if stands(mid) else (mid, hi)
+    return hi
 
 
 def buckling_along_path(frame, b, ft, N_start):

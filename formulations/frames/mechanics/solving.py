@@ -22,6 +22,7 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 from qpcontact.core.options import check_options
 
 from . import contact_lcp
+from .farkas_rounding import judge_proof
 from .analysis_results import CombinationResults, FrameTrace
 from .equilibrium_checks import SMALL_DISPLACEMENT, SMALL_ROTATION, LargeDisplacementWarning
 from .load_combinations import load_combination, trace_combinations
@@ -317,6 +318,9 @@ def solve_lcp(frame, p, method, accuracy, raise_on_failure, combination, _built,
         else:
             sol = solve_problem(lcp, method=method, accuracy=accuracy,
                                 time_limit=seconds_left(deadline), **options)
+        # a proof exact on the LCP's rounded data but within their rounding
+        # proves nothing about the frame (the load at its verge)
+        judge_proof(sol, b, combo)
         z, route = sol.z, sol.method
         if not sol.ok and not proved(sol) and sol.z is not None and np.all(np.isfinite(sol.z)):
             # Lemke's point doubted for its digits only (a degenerate basis:

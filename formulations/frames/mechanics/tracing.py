@@ -16,6 +16,7 @@ from qpcontact.judge.lcp_certificate import certify_lcp
 from . import contact_lcp, refinement
 from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
+from .farkas_rounding import beyond_rounding, collapse_rounding
 from .joined_trace import RESTART, RESTARTS, JoinedTrace
 from .load_combinations import constant_first, trace_combinations
 from .loads import VARIABLE, describe
@@ -24,7 +25,7 @@ from .time_limits import seconds_left
 
 
 def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict | None = None,
-          variable=None, _built=None, _deadline=None) -> FrameTrace:
+          variable=None, _built=None, _deadline=None, _from: float = 0.0) -> FrameTrace:
     """Osipova–Popov–Lovtsov's increasing-load analysis: the ``constant`` combination (default
     the case "constant"), then the ``variable`` loads (a case name or a
     combination; default the case "variable") scaled by p from 0 to
@@ -37,7 +38,10 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     only the LCP's bookkeeping changes (a separated contact's slip changing
     sign) are merged: ``breakpoints`` are where a support changes state.
     ``_deadline``: a solve's (:mod:`.time_limits`), where it follows the
-    path to its load; a trace of its own has none.
+    path to its load; a trace of its own has none.  ``_from``: the path
+    starts at that p, from the frame's own equilibrium there
+    (:func:`frame_start`) — a second-order round on the end's stiffness,
+    whose P-Δ terms without their loads stand nowhere near p = 0.
     """
     from qpcontact.core.accuracy import resolve_accuracy
 
@@ -52,19 +56,28 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     # — unless a solve follows the path to its load within its own
     limit = (lambda: None) if _deadline is None else (lambda: seconds_left(_deadline))
     upto = np.inf if p_max is None else p_max
+    first = ParametricLCP(M, qc + _from * qv, qv)
     try:
-        tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
-                           p_max=upto, time_limit=limit())
+        if _from:
+            start = frame_start(frame, b, combination_at(const, var, _from), accuracy, tol)
+            if start is None:
+                raise SolverFailedError(f"frame: no certified equilibrium at p = {_from:.10g} "
+                                        "to start the load path from")
+            tr = solve_problem(first, method="trace", accuracy=accuracy, p_max=upto - _from,
+                               time_limit=limit(), start=start)
+        else:
+            tr = solve_problem(first, method="trace", accuracy=accuracy, p_max=upto,
+                               time_limit=limit())
     except (NoSolutionError, SolverFailedError):
         # Lemke's point at p = 0 doubted for its digits (a degenerate basis:
         # rigid pads under a frame that rests on four legs) may still be the
         # frame's equilibrium: judged on the mechanics, it starts the path
-        start = judged_start(frame, b, const, accuracy, tol)
+        start = None if _from else judged_start(frame, b, const, accuracy, tol)
         if start is None:
             raise
-        tr = solve_problem(ParametricLCP(M, qc, qv), method="trace", accuracy=accuracy,
+        tr = solve_problem(first, method="trace", accuracy=accuracy,
                            p_max=upto, time_limit=limit(), start=start)
-    tr = JoinedTrace(tr)
+    tr = JoinedTrace(tr, _from)
     path = dict(M=M, qc=qc, qv=qv, const=const, var=var, upto=upto, accuracy=accuracy, tol=tol,
                 limit=limit)
     follow(frame, b, tr, path)
@@ -114,6 +127,12 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     # tip, 26.6666667)
     proved = (limit_proof(frame, b, ft, tr, fric)
               if ended not in ("p_max", "unbounded") else None)
+    verge = None
+    if ended == "collapse" and not proved and failed is None and not refinement.is_refined(b):
+        # the engine's proof, from the load at which its margin clears the
+        # rounding of the LCP's data (:mod:`.farkas_rounding`), or the words
+        # for a load at the limit to rounding
+        proof, verge = beyond_rounding(b, const, var, narrowed(path, tr, tol) or tr.proof)
     if proved:
         ended, failed = "collapse", None
         ft.message = proved
@@ -128,10 +147,13 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
         ft.message = (f"the load path is certified up to p = {tr.p_end:.10g}; beyond it the "
                       f"contact LCP has no solution, but {refinement.no_farkas_proof(b)}; "
                       "nothing was proved beyond it")
+    elif ended == "collapse" and verge:
+        # the Farkas certificates' margin is within the data's rounding
+        ended = "breakdown"
+        ft.message = f"the load path is certified up to p = {tr.p_end:.10g}; beyond it {verge}"
     elif ended == "collapse":
         carrying = ([k for k, v in ft.states[-1].supports.items() if v.state != "separated"]
                     if ft.states else None)
-        proof = narrowed(path, tr, tol) or tr.proof
         words = (frame.kind.collapse_words(frame, proof, fric, carrying)
                  if proof["farkas"] is not None
                  else "no combination of support states carries the load")
@@ -147,6 +169,9 @@ def trace(frame, p_max: float | None = None, accuracy="high", *, constant: dict 
     elif ended == "unbounded":
         ft.message = (f"no support changes state for p >= {tr.proof['from']:g}: the frame "
                       "carries any larger load in its last working scheme")
+    elif ended == "p_max" and tr.last[0]:
+        # the engine's words count p from its segment's start
+        ft.message = f"traced to p = {tr.p_end:.10g}"
     else:
         ft.message = tr.message
     if ft.limit is not None:
@@ -347,6 +372,8 @@ def engine_paths(frame, b, combo, lcp, accuracy, tol, M, Q, q_gap, paths, deadli
                                       f"— {rigid} (the load path, {words}, ends below it)")
             if refinement.is_refined(b):
                 return None         # the certificates prove nothing about the frame
+            if collapse_rounding(b, const, var, tr.proof) is not None:
+                continue            # at the limit to rounding: nothing proved
             fric = contact_lcp.lcp_matrices(b)[5]
             how = (frame.kind.collapse_words(frame, tr.proof, fric, None)
                    if tr.proof["farkas"] is not None
@@ -516,6 +543,23 @@ def judged_start(frame, b, const, accuracy, tol):
         return None
     res = frame.kind.result_from_z(frame, sol.z, const, "start", b=b, lcp=lcp, tol=tol)
     return np.maximum(sol.z, 0.0) if res.ok else None
+
+
+def frame_start(frame, b, combo, accuracy, tol):
+    """The contact LCP's z of the frame's own equilibrium under ``combo``
+    — its active set's (plane frames), else Lemke's point — where the
+    frame's checks certify it; else None."""
+    if frame.kind.active_set is not None:
+        found = frame.kind.active_set(frame, b, combo)
+        if found is not None and frame.kind.result_from_z(frame, found[0], combo, "start", b=b,
+                                                          tol=tol).ok:
+            return np.maximum(found[0], 0.0)
+    return judged_start(frame, b, combo, accuracy, tol)
+
+
+def combination_at(const, var, p) -> dict:
+    """The combination ``const`` + p ``var``."""
+    return {c: const.get(c, 0.0) + p * var.get(c, 0.0) for c in set(const) | set(var)}
 
 
 def last_certified(frame, b, ft, piece, points, checks, tol):

@@ -14,6 +14,7 @@ from qpcontact.core.options import check_options
 from qpcontact.judge.lcp_certificate import certify_lcp
 
 from . import contact_lcp
+from .farkas_rounding import judge_proof
 from .no_equilibrium import proved, raise_no_equilibrium
 from .time_limits import out_of_time, seconds_left
 from .tracing import trace_to
@@ -63,6 +64,7 @@ def tresca_fixed_point(frame, b, lcp, P, g, fric, combo, tol, accuracy, options,
         xn = np.array([X[pos[ci]["n"]] for ci in range(nc)])
     out_of_time(frame, combo, deadline, "the Tresca fixed point did not converge")
     sol = solve_problem(lcp, method="lemke", accuracy=accuracy, time_limit=seconds_left(deadline))
+    judge_proof(sol, b, combo)
     if sol.ok:
         return sol.z, f"lemke (Tresca fixed point did not converge in {max_iter} iterations)"
     found = None if proved(sol) else trace_to(frame, b, combo, lcp, accuracy, tol, deadline)

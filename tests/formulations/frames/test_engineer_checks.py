@@ -491,19 +491,34 @@ def test_a_column_that_stands_is_never_proved_to_fall():
     its buckling load) on the end's second-order stiffness, Lemke's method
     found no start at p = 0 and the trace raised NoSolutionError — a proof
     that nothing stands — with "does not prove there is no solution" in
-    its words.  Whatever the route finds, it is never that."""
-    fr = column_on_footing(0.5)
+    its words; later it raised SolverFailedError: on the end's stiffness
+    at p = 0 the P-Δ terms of the end's compression act without the load
+    that makes it (and holds the footing down), and there the column tips.
+    The path on that stiffness starts where it stands: the windward pad's
+    force 1 + p/2 − M/(2a) reaches zero, M = H h + N Δ the moment of a
+    cantilever beam-column under N and H, Δ = H (tan kh − kh)/(k N),
+    k² = N/EI, so p₀ = M/a − 2 (N the end's compression the stiffness is
+    built from, which the trace reports; the footing's flexibility moves it
+    by 1.3e-4)."""
+    H, h, a = 0.5, 6.0, 3.0
+    fr = column_on_footing(H, h, a)
     r = fr.solve(p=0.0, second_order=True)
-    assert r.ok and r.supports["L"].normal == pytest.approx(1.0 - 0.5 * 6.0 / (2 * 3.0), rel=1e-6)
+    assert r.ok and r.supports["L"].normal == pytest.approx(1.0 - H * h / (2 * a), rel=1e-6)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        try:
-            tr = fr.trace(200.0, second_order=True)
-        except NoSolutionError as exc:      # pragma: no cover - the failure this guards
-            pytest.fail(f"an equilibrium that stands was 'proved' impossible: {exc}")
-        except SolverFailedError:
-            return
-    assert tr.ended != "collapse", tr.message
+        tr = fr.trace(200.0, second_order=True)
+    assert tr.ok and tr.ended == "p_max" and tr.p_end == 200.0, tr.message
+    N = -tr.second_order["axial"]["column"]
+    k = np.sqrt(N / (E * I))
+    M = H * h + N * H * (np.tan(k * h) - k * h) / (k * N)
+    p0 = float(tr.message.split("the path starts at p = ")[1].split(",")[0])
+    assert p0 == pytest.approx(M / a - 2.0, rel=5e-4)
+    assert tr.intervals[0][0] == pytest.approx(p0, rel=1e-9)
+    # at 200 the windward pad's force by the same statics, N = 200
+    k = np.sqrt(200.0 / (E * I))
+    M = H * h + H * (np.tan(k * h) - k * h) / k
+    assert tr.result_at(200.0).supports["L"].normal == pytest.approx(1.0 + 100.0 - M / (2 * a),
+                                                                     rel=1e-4)
 
 
 @pytest.mark.parametrize("f", [0.5, 0.3])
