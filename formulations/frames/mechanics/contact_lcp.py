@@ -305,8 +305,12 @@ def basic_system(K, H, fixed, flex, translational, pairs=None, strain_free=None)
         # with no motion free either: that is no contrast, and the caller
         # names them — a node between two opposite pads)
         if out["lu"] is None and strain_free is not None and 0 < nf <= KINEMATIC_MAX \
-                and not dependent_links((hv, hr, hc), nf, nl, flex) \
-                and strain_free(free).shape[1] == 0:
+                and not dependent_links((hv, hr, hc), nf, nl, flex):
+            # (kept for the mechanism's words where it finds a motion: S's
+            # null space to rounding mixes a soft member's stretch into it)
+            out["strain_free"] = strain_free(free)
+        if out["lu"] is None and out.get("strain_free") is not None \
+                and out["strain_free"].shape[1] == 0:
             out["lu"] = regular_lu(out["S"], pivots=False)
             if out["lu"] is None:
                 out["no_mechanism"] = True     # singular in double, not in the mechanics

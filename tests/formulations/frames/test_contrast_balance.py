@@ -153,6 +153,30 @@ def test_a_true_mechanism_is_still_refused_as_one():
         fr.solve()
 
 
+@pytest.mark.parametrize("deck", [1.0, 1e7, 1e8])
+def test_a_sway_mechanism_is_named_as_its_one_motion_at_any_contrast(deck):
+    """The portal on two pinned bars (hinged at both ends) has one free
+    motion, the deck's sway along x: the bars hold B and C vertically.
+    Named from the members' geometry, not from the basic system's null
+    space to rounding, which from a deck 1e7 times stiffer also held the
+    bars' stretch — "turns rigidly about (1.5, 4)" and "translates rigidly
+    along y; hold uy at one node", both false."""
+    fr = Frame()
+    for n, x, y in (("A", 0, 0), ("B", 0, 4), ("C", 3, 4), ("D", 3, 0)):
+        fr.add_node(n, x, y)
+    fr.add_member("A", "B", E, A, I, hinge_i=True, hinge_j=True)
+    fr.add_member("B", "C", deck * E, A, deck * I)
+    fr.add_member("D", "C", E, A, I, hinge_i=True, hinge_j=True)
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_support("D", fix=("ux", "uy"))
+    fr.add_load("B", fx=1.0)
+    with pytest.raises(InvalidProblemError, match="the frame is a mechanism") as err:
+        fr.solve()
+    words = str(err.value)
+    assert "translates rigidly along x" in words, words
+    assert "along y" not in words and "turns" not in words, words
+
+
 @pytest.mark.parametrize("angle", [90.0, 17.0, 30.0, 45.0])
 def test_a_node_between_two_opposite_pads_is_refused_as_redundant(angle):
     """A node between two pads of opposite normals: with every contact
