@@ -301,12 +301,38 @@ def basic_system(K, H, fixed, flex, translational, pairs=None, strain_free=None)
         # it is singular
         out["S"] = _saddle(k_ff, (hv, hr, hc), flex, nf, kappa)
         out["lu"] = regular_lu(out["S"])
+        # (rigid links that constrain the same displacement make S singular
+        # with no motion free either: that is no contrast, and the caller
+        # names them — a node between two opposite pads)
         if out["lu"] is None and strain_free is not None and 0 < nf <= KINEMATIC_MAX \
-                and strain_free(free).shape[1] == 0:
+                and not dependent_links((hv, hr, hc), nf, nl, flex):
+            # (kept for the mechanism's words where it finds a motion: S's
+            # null space to rounding mixes a soft member's stretch into it)
+            out["strain_free"] = strain_free(free)
+        if out["lu"] is None and out.get("strain_free") is not None \
+                and out["strain_free"].shape[1] == 0:
             out["lu"] = regular_lu(out["S"], pivots=False)
             if out["lu"] is None:
                 out["no_mechanism"] = True     # singular in double, not in the mechanics
     return out
+
+
+def dependent_links(h_triplets, nf, nl, flex) -> bool:
+    """Whether the rigid links' columns of H_f (``h_triplets``: κH_f's
+    values, rows, columns) are linearly dependent: two or more of them
+    constrain the same displacement, and S is singular whatever the
+    members' stiffnesses."""
+    rigid = np.asarray(flex, float) == 0.0
+    if not rigid.any():
+        return False
+    hv, hr, hc = h_triplets
+    Hf = np.zeros((nf, nl))
+    np.add.at(Hf, (hr, hc), hv)
+    Hf = Hf[:, rigid]
+    if Hf.shape[1] > Hf.shape[0]:
+        return True
+    s = np.linalg.svd(Hf, compute_uv=False)
+    return bool(s.size and s.min() <= 1e-10 * max(s.max(), 1e-300))
 
 
 def unsolvable(local) -> str:

@@ -239,7 +239,8 @@ def build(frame, axial=None):
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], names, DOFS,
             [frame.nodes[n] for n in names], Tn, contacts=bool(frame.contacts),
-            members=[(m.name, m.i, m.j) for m in frame.members.values()]))
+            members=[(m.name, m.i, m.j) for m in frame.members.values()],
+            motions=basic.get("strain_free")))
     b = Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
               coords=coords,
               fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,

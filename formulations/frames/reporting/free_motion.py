@@ -31,14 +31,19 @@ SMALL = 1e-7
 
 
 def mechanism_message(S, free, nf, names, dofs, coords, Tn=None, contacts=True,
-                      members=()) -> str:
+                      members=(), motions=None) -> str:
     """The message for a frame whose basic system S is singular: the free
     motions (module docstring) and what to do.  ``free``: the free dofs
     (nf of them, first in S); ``names``/``coords``: the nodes; ``dofs``:
     a node's dof names; ``Tn``: turned node axes (None: global);
     ``contacts``: whether the frame has contact links (fixed in S);
     ``members``: (name, i, j) of each member, which names the rigid parts of
-    a plane mechanism (a portal's sway)."""
+    a plane mechanism (a portal's sway); ``motions``: where given (free dofs
+    x k, k > 0), the motions that strain no member, read off the members'
+    geometry (:func:`..mechanics.member_forces.strain_free_motions`) —
+    named instead of S's null space, which at a stiffness contrast of 1e7
+    holds a soft member's stretch too (a sway frame on pinned bars "turned
+    rigidly" and "translated along y" as well)."""
     where = ("even with every contact closed" if contacts
              else "on its supports and springs (it has no contacts)")
     head = f"the frame is a mechanism {where}"
@@ -46,10 +51,13 @@ def mechanism_message(S, free, nf, names, dofs, coords, Tn=None, contacts=True,
         return (f"{head}, or two contacts constrain the same displacement (the basic system is "
                 "singular; too large to name the motion); add supports or remove a redundant "
                 "contact")
-    try:
-        null = scipy.linalg.null_space(S.toarray(), rcond=1e-12)
-    except (ValueError, np.linalg.LinAlgError):
-        null = np.zeros((S.shape[0], 0))
+    if motions is not None and motions.shape[1]:
+        null = motions
+    else:
+        try:
+            null = scipy.linalg.null_space(S.toarray(), rcond=1e-12)
+        except (ValueError, np.linalg.LinAlgError):
+            null = np.zeros((S.shape[0], 0))
     if null.shape[1] == 0:
         return (f"{head}: the basic system is singular to rounding; check supports, hinges and "
                 "that no two contacts constrain the same displacement")

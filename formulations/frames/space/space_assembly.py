@@ -139,7 +139,8 @@ def build(frame, axial=None):
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], list(frame.nodes), DOFS,
-            list(frame.nodes.values()), Tn, contacts=bool(frame.contacts)))
+            list(frame.nodes.values()), Tn, contacts=bool(frame.contacts),
+            motions=basic.get("strain_free")))
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
                           coords=coords,
                           U=settlements(frame, idx, cases, F.shape), cases=cases,

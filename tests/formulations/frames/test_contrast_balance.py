@@ -26,7 +26,7 @@ import pytest
 from formulations.frames import Frame, SpaceFrame
 from formulations.frames.mechanics import contact_lcp
 from formulations.frames.mechanics.load_combinations import load_combination
-from qpcontact.core.errors import NoSolutionError, SolverFailedError
+from qpcontact.core.errors import InvalidProblemError, NoSolutionError, SolverFailedError
 
 from .test_engineer_checks import portal_on_pads
 
@@ -147,7 +147,76 @@ def test_a_true_mechanism_is_still_refused_as_one():
     fr.add_support("A", fix=("ux", "uy"))
     fr.add_support("D", fix=("ux", "uy"))
     fr.add_load("B", fx=1.0)
-    with pytest.raises(Exception, match="mechanism"):
+    # ("is a mechanism": the words "no mechanism" of a frame beyond double
+    # precision hold "mechanism" too)
+    with pytest.raises(InvalidProblemError, match="the frame is a mechanism"):
+        fr.solve()
+
+
+@pytest.mark.parametrize("deck", [1.0, 1e7, 1e8])
+def test_a_sway_mechanism_is_named_as_its_one_motion_at_any_contrast(deck):
+    """The portal on two pinned bars (hinged at both ends) has one free
+    motion, the deck's sway along x: the bars hold B and C vertically.
+    Named from the members' geometry, not from the basic system's null
+    space to rounding, which from a deck 1e7 times stiffer also held the
+    bars' stretch — "turns rigidly about (1.5, 4)" and "translates rigidly
+    along y; hold uy at one node", both false."""
+    fr = Frame()
+    for n, x, y in (("A", 0, 0), ("B", 0, 4), ("C", 3, 4), ("D", 3, 0)):
+        fr.add_node(n, x, y)
+    fr.add_member("A", "B", E, A, I, hinge_i=True, hinge_j=True)
+    fr.add_member("B", "C", deck * E, A, deck * I)
+    fr.add_member("D", "C", E, A, I, hinge_i=True, hinge_j=True)
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_support("D", fix=("ux", "uy"))
+    fr.add_load("B", fx=1.0)
+    with pytest.raises(InvalidProblemError, match="the frame is a mechanism") as err:
+        fr.solve()
+    words = str(err.value)
+    assert "translates rigidly along x" in words, words
+    assert "along y" not in words and "turns" not in words, words
+
+
+@pytest.mark.parametrize("angle", [90.0, 17.0, 30.0, 45.0])
+def test_a_node_between_two_opposite_pads_is_refused_as_redundant(angle):
+    """A node between two pads of opposite normals: with every contact
+    closed both links hold the same displacement, so the basic system is
+    singular whatever the stiffnesses — refused, by name, as before the
+    kinematic test (which finds no free motion there).  After it and
+    before this guard: "no mechanism, but its stiffnesses differ by
+    1.2e+00, beyond double precision", or at 90° and 17° the singular LU
+    kept and the pads reported at 4e31 and 3e15 kN."""
+    t = np.radians(angle)
+    n = (float(np.cos(t)), float(np.sin(t)))
+    fr = Frame()
+    fr.add_node("A", 0, 0)
+    fr.add_node("B", 4, 0)
+    fr.add_node("C", 7, 1.3)
+    fr.add_member("A", "B", E, A, I)
+    fr.add_member("B", "C", E, A, I)
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_contact("C", normal=n)
+    fr.add_contact("C", normal=(-n[0], -n[1]))
+    fr.add_contact("B")
+    fr.add_load("B", fy=-1.0)
+    fr.add_load("C", fx=0.3)
+    with pytest.raises(InvalidProblemError, match="redundant links"):
+        fr.solve()
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.4])
+def test_a_space_node_between_two_opposite_pads_is_refused_as_redundant(friction):
+    """The same on a space cantilever's tip (normal and tangent links both
+    doubled where the pads have friction)."""
+    fr = SpaceFrame(cone="circumscribed")
+    fr.add_node("A", 0, 0, 0)
+    fr.add_node("B", 3, 0, 0)
+    fr.add_member("A", "B", 2e8, 1e-2, 2e-5, 2e-5, G=8e7, J=4e-5)
+    fr.add_support("A")
+    fr.add_contact("B", normal=(0, 0, 1), friction=friction)
+    fr.add_contact("B", normal=(0, 0, -1), friction=friction)
+    fr.add_load("B", fz=-1.0)
+    with pytest.raises(InvalidProblemError, match="redundant links"):
         fr.solve()
 
 
