@@ -91,7 +91,10 @@ class Deadline:
 
     ``Deadline(seconds)`` ends that many seconds from now (None: never).
     :meth:`share` gives a part of the work a deadline of its own, never later
-    than this one, on the same thread's clock."""
+    than this one; a part made on another thread runs on that thread's
+    clock from the hand-over (its own compiling left out).  A deadline
+    waited on by one thread while another compiles for it is not extended.
+    """
 
     __slots__ = ("end", "spent")
 
@@ -109,11 +112,20 @@ class Deadline:
         return time.process_time() - self.spent[1]
 
     def _on_my_clock(self, end: float | None) -> "Deadline":
-        """A Deadline ending at ``end`` on this one's clock, whichever thread
-        asks."""
+        """A Deadline ending at ``end`` (on this one's clock), moved to the
+        clock of the thread that asks: the seconds left are the same at the
+        hand-over, and from then on the part leaves out the compiling of
+        the thread that does its work (a worker given a share of the main
+        thread's limit would otherwise be charged for its own compiling)."""
         part = object.__new__(Deadline)
-        part.end, part.spent = end, self.spent
+        part.end, part.spent = self._moved(end, 0)
         return part
+
+    def _moved(self, end, which):
+        mine = _one_time()
+        if end is None or mine is self.spent:
+            return end, mine
+        return end + self.spent[which] - mine[which], mine
 
     @property
     def limited(self) -> bool:
@@ -154,8 +166,8 @@ class Deadline:
             return self._on_my_clock(None)
         now = self.now()
         left = max(self.end - now, 0.0)
-        return CpuShare(now + left * min(wall_fraction, 1.0), self.cpu_now() + left * fraction,
-                        self.spent)
+        return _cpu_part(self, now + left * min(wall_fraction, 1.0),
+                         self.cpu_now() + left * fraction)
 
     def __repr__(self) -> str:
         left = self.left()
@@ -187,7 +199,15 @@ class CpuShare(Deadline):
 
     def within(self, seconds: float | None) -> "Deadline":
         end = self.end if seconds is None else min(self.end, self.now() + seconds)
-        return CpuShare(end, self.cpu_end, self.spent)
+        return _cpu_part(self, end, self.cpu_end)
+
+
+def _cpu_part(parent: Deadline, end: float, cpu_end: float) -> CpuShare:
+    """A :class:`CpuShare` ending at ``end`` and ``cpu_end`` on ``parent``'s
+    clocks, moved to the asking thread's (:meth:`Deadline._on_my_clock`)."""
+    end, spent = parent._moved(end, 0)
+    cpu_end, _ = parent._moved(cpu_end, 1)
+    return CpuShare(end, cpu_end, spent)
 
 
 class Pace:

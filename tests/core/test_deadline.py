@@ -121,3 +121,41 @@ def test_a_deadline_is_moved_by_its_own_threads_compiling_only():
     assert before - mine.left() >= elapsed - 0.1 * there["took"], (before - mine.left(), there)
     cpu_moved = cpu_before - cpu_share.left()
     assert cpu_moved >= cpu_used - 0.5 * there["took"], (cpu_moved, cpu_used, there)
+
+
+def test_a_share_handed_to_a_worker_leaves_out_the_workers_compiling():
+    """A share of this thread's deadline made on a worker thread runs on the
+    worker's clock from the hand-over: the seconds left are the same then,
+    and the worker's own compiling is left out of it, as it would be had
+    the worker made its own deadline (the share kept the maker's clock and
+    a 0.77 s compile took 0.77 s of a 1 s share).  Wall and CPU shares
+    alike."""
+    import threading
+
+    from qpcontact.core.compiled import njit
+
+    @njit(cache=False)
+    def once(x):             # compiled on its first call, on the worker
+        return x * 5.0 + 2.0
+
+    parent = Deadline(100.0)
+    there = {}
+
+    def work():
+        share, cpu = parent.share(1.0), parent.cpu_share(1.0, 1.0)
+        there["at_hand_over"] = (parent.left(), share.left())
+        before, cpu_before = share.left(), cpu.left()
+        start = time.perf_counter()
+        there["result"] = once(1.0)
+        there["took"] = time.perf_counter() - start
+        there["moved"] = before - share.left()
+        there["cpu_moved"] = cpu_before - cpu.left()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    worker.join()
+    assert there["result"] == 7.0 and there["took"] > 0.005, there        # it did compile
+    p_left, s_left = there["at_hand_over"]
+    assert abs(p_left - s_left) < 0.05, there                           # the same seconds left
+    assert there["moved"] < 0.5 * there["took"], there                  # compiling left out
+    assert there["cpu_moved"] < 0.5 * there["took"] + 0.05, there
