@@ -300,7 +300,8 @@ def solve_on_path(frame, p, method, accuracy, raise_on_failure, combination, _bu
                        _deadline=deadline)
         except QpcontactError:
             ft = None
-        if ft is not None and ft.ended == "collapse":
+        if ft is not None and ft.ended == "collapse" and ft.limit[1] <= target:
+            # a proof at a load above the one asked says nothing about it
             raise NoSolutionError(f"frame under {describe(combo)}: along the load path (the constant "
                                   f"loads, then the rest in proportion) {ft.message}")
         if ft is not None:

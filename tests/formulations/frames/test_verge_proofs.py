@@ -128,3 +128,36 @@ def test_the_loads_at_the_limit_to_rounding_bracket_the_hand_limit():
     lo, hi = rounding_bracket(b, {"constant": 1.0}, {"variable": 1.0}, y)
     assert lo <= 50.0 <= hi and hi - lo < 1e-11 * 50.0, (lo, hi)
     assert proof_rounding(b, {"constant": 1.0, "variable": hi * (1 + 1e-14)}, y)["proves"]
+
+
+def _table_on_four_pads(W=40.0, h=0.5, a=2.0, f=0.5):
+    from formulations.frames import SpaceFrame
+
+    fr = SpaceFrame(cone="circular")
+    for k, (x, y) in enumerate([(0.0, 0.0), (a, 0.0), (a, a), (0.0, a)]):
+        fr.add_node(f"P{k}", x, y, 0.0)
+        fr.add_node(f"T{k}", x, y, h)
+        fr.add_member(f"P{k}", f"T{k}", 2e8, 0.01, 1e-4, 1e-4, G=8e7, J=2e-4)
+        fr.add_contact(f"P{k}", friction=f)
+        fr.add_load(f"T{k}", fz=-W / 4)
+        fr.add_load(f"T{k}", fx=0.25, case="variable")
+    for k in range(4):
+        fr.add_member(f"T{k}", f"T{(k + 1) % 4}", 2e8, 0.01, 1e-4, 1e-4, G=8e7, J=2e-4)
+    return fr
+
+
+def test_a_load_path_proof_above_the_load_asked_proves_nothing_about_it():
+    """A table on four pads (circular cone, f 0.5, W 40) slides at p = f W =
+    20 by hand.  Asked p = 20 (1 + 1e-12), the circle's solvers certify
+    nothing and the load path to it ends in a collapse proved from p =
+    20.00000002 up — above the load asked, so no proof of it: the answer is
+    not ok (it raised NoSolutionError citing that proof).  Beyond the
+    proof's load it is proved; below the limit it stands."""
+    assert _table_on_four_pads().solve(19.99).ok
+    try:
+        res = _table_on_four_pads().solve(20.0 * (1 + 1e-12))
+        assert not res.ok, res.message
+    except SolverFailedError:
+        pass
+    with pytest.raises(NoSolutionError, match="slides away"):
+        _table_on_four_pads().solve(20.001)
