@@ -174,7 +174,17 @@ def test_on_the_circle_the_load_path_keeps_the_time_limit():
                      time_limit=1.0)
         return str(info.value)
 
-    refused()                         # one-time costs first (imports, numba's cache)
+    # One-time costs first (imports, numba's cache).  Its outcome is not what
+    # is tested: compiling is left out of the time limit, so on a cold cache
+    # the friction solvers get further and once certified the answer (a
+    # fresh clone's make test).
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            fr.solve(combination={"constant": 1.0, "corner": 0.999 * 7.1162938026},
+                     time_limit=1.0)
+    except SolverFailedError:
+        pass
     words, took = timed(refused)
     assert "within the time limit" in words and "nothing was proved" in words, words
     assert kept(1.0, took), took
