@@ -288,8 +288,9 @@ def main(argv=None) -> int:
     ap.add_argument("--raft", default=None, help="raft: cells per side, e.g. 57,115 (n = 3 (c+1)²)")
     ap.add_argument("--rigidity", type=float, default=1.0,
                     help="the membrane's tension or the plate's D (K = D L²), e.g. 0.05")
-    ap.add_argument("--methods", default="bpp,ip-bpp,mg-bpp," + ",".join(BACKENDS),
-                    help="solve() methods; on rafts qpcontact, pynite, opensees")
+    ap.add_argument("--methods", default=None,
+                    help="solve() methods (default bpp, ip-bpp, mg-bpp and the QP backends); "
+                         "on rafts qpcontact, pynite, opensees (default all three)")
     ap.add_argument("--shapes", default="dome",
                     help="obstacle shapes for membrane and plate, e.g. dome,bumps,ridge")
     ap.add_argument("--backends-max", type=float, default=2e5,
@@ -315,7 +316,9 @@ def main(argv=None) -> int:
                                           ("plate", sizes["plate"], args.plate),
                                           ("signorini", sizes["signorini"], args.block),
                                           ("raft", args.raft, args.raft)) if given}
-    methods = [m for m in args.methods.split(",") if m]
+    lcp_methods = ("bpp", "ip-bpp", "mg-bpp") + tuple(BACKENDS)
+    methods = ([m for m in args.methods.split(",") if m] if args.methods is not None
+               else list(lcp_methods) + list(RAFT_METHODS))
     shapes = [s for s in args.shapes.split(",") if s]
     families = []
     for family, spec in sizes.items():
@@ -353,6 +356,11 @@ def main(argv=None) -> int:
                     ours = next((o for o in group if o["method"] == "qpcontact" and o["ok"]), None)
                     r["vs_backend"] = ours["time"] / r["time"] if ours and r["ok"] else None
             rows += group
+    if not rows:
+        print(f"scale.py: no run matched: --methods {args.methods} names none for "
+              f"{', '.join(sizes)} (rafts take {', '.join(RAFT_METHODS)}; the obstacle "
+              "problems solve()'s methods)", file=sys.stderr)
+        return 2
     fmt = (lambda v, f: "" if v is None else format(v, f))
     if args.rigidity != 1.0:
         print(f"\n(membrane tension / plate rigidity {args.rigidity:g})")
