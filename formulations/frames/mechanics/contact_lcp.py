@@ -37,7 +37,6 @@ import scipy.sparse.linalg as spla
 from qpcontact.core.problems import LCP
 
 from . import banded_saddle
-from .member_forces import contrast
 from .refinement import is_refined, refined_columns
 
 
@@ -335,16 +334,6 @@ def dependent_links(h_triplets, nf, nl, flex) -> bool:
     return bool(s.size and s.min() <= 1e-10 * max(s.max(), 1e-300))
 
 
-def unsolvable(local) -> str:
-    """The words for a basic system that no motion leaves unstrained but
-    that is singular in double: the stiffnesses' contrast is beyond it."""
-    from .member_forces import contrast
-    return (f"the frame is no mechanism (no motion with every contact closed leaves every "
-            f"member unstrained), but its stiffnesses differ by {contrast({'local': local}):.1e}, "
-            "beyond what its basic system solves in double precision (singular to rounding); "
-            "model the stiff part as rigid or as less stiff")
-
-
 #: the most free dofs whose strain-free motions are looked for (a dense SVD)
 #: where the pivots call the basic system singular
 KINEMATIC_MAX = 3000
@@ -453,6 +442,23 @@ def free_loads(b, F, ua):
     return F[b["free"]] - b["K_fa"] @ ua_fixed
 
 
+def basic_columns(b):
+    """The right-hand sides of the basic system whose link rows are R_F (the
+    columns next to R's unit dislocations, one per load case): the free
+    dofs' loads less what the settlements put on them, and −κ times the
+    links' settled displacement."""
+    U = b["U"]
+    return free_loads(b, b["F"], U), -b["kappa"] * settled_links(b, U)
+
+
+def load_sizes(b) -> np.ndarray:
+    """Per load case, the largest load and settlement force (kN) at the scale
+    the basic system's solve sees them, max |F| + κ max |U|: what R_F's
+    entries are rounded against."""
+    return (np.abs(b["F"]).max(axis=0, initial=0.0)
+            + b["kappa"] * np.abs(b["U"]).max(axis=0, initial=0.0))
+
+
 def contact_stiffness(b) -> dict:
     """R (links x links) and R_F (one column per case) from unit
     dislocations through the basic system's LU (the module docstring)."""
@@ -460,8 +466,7 @@ def contact_stiffness(b) -> dict:
     nl = len(b["info"])
     nc = len(b["cases"])
     # settlements: the free dofs feel -K_fa u_a, the links see H_a' u_a already done
-    U = b["U"]
-    loads, settled = free_loads(b, b["F"], U), -kappa * settled_links(b, U)
+    loads, settled = basic_columns(b)
     refined = is_refined(b)
     if refined:
         rhs = banded_saddle.dislocations(kappa, loads, settled)
@@ -505,8 +510,7 @@ def contact_stiffness(b) -> dict:
     if refined:
         noise = np.maximum(R_ROUNDING * np.abs(RF).max(axis=0, initial=0.0), kappa * last[nl:])
     else:
-        noise = R_ROUNDING * (np.abs(b["F"]).max(axis=0, initial=0.0)
-                              + kappa * np.abs(U).max(axis=0, initial=0.0))
+        noise = R_ROUNDING * load_sizes(b)
     RF[np.abs(RF) <= noise] = 0.0
     return {"R": R, "RF": RF, "R_solve": exact}
 

@@ -179,7 +179,8 @@ def reported_balance(frame, b, F, u, X, reported, r_all, resultant_of, tol, abs_
     contacts named separated set to zero), dof by dof: K u − F − H X_rep
     at every free dof against |K||u| + |F| + |H||X_rep| there, beyond the
     rounding of the largest of its kind (forces, moments); ``words`` name
-    the worst dof and what is left there, where that is beyond rounding.
+    the worst dof and what is left there, where the ratio fails the
+    answer (beyond ``tol``, at least EQUILIBRIUM_FLOOR).
 
     Why beside :func:`equilibrium`: that one judges the solve's own link
     forces X, which balance K u − F by construction.  A contact is named
@@ -227,7 +228,7 @@ def reported_balance(frame, b, F, u, X, reported, r_all, resultant_of, tol, abs_
         if whole > worst:
             worst, words = whole, (f"the reported contact forces, reactions and loads are out of "
                                    f"balance by {whole:.1e} of their terms")
-    return worst, words
+    return worst, (words if worst > max(tol, EQUILIBRIUM_FLOOR) else "")
 
 
 def member_balance(frame, b, F, X, u, ends, factors):

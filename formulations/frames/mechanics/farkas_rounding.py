@@ -73,6 +73,7 @@ from fractions import Fraction
 import numpy as np
 
 from . import banded_saddle, contact_lcp, refinement
+from .load_combinations import combination_at
 from .loads import VARIABLE
 
 #: the unit roundoff of a double
@@ -99,7 +100,7 @@ def proof_rounding(b, combo: dict, y) -> dict:
                         Fraction(0)))
     d_R, d_F = data_accuracy(b)
     R = b["R"]
-    Wy = np.asarray(abs(b["maps"][1]).T @ ay).ravel()      # |y|'|W|, per link
+    Wy = np.asarray(b["abs_W"].T @ ay).ravel()             # |y|'|W|, per link
     c = np.abs(contact_lcp.factors(b, combo))
     n_terms = R.shape[0] + c.size + 4
     bound = float(Wy @ (d_F @ c) + Wy @ (d_R @ np.abs(g))
@@ -114,7 +115,7 @@ def rounding_bracket(b, const: dict, var: dict, y) -> tuple[float, float]:
     linear in p (the bound through |c| = |const + p var|, linear where no
     case is in both with opposite signs, as in the frame's split)."""
     def at(p):
-        combo = {k: const.get(k, 0.0) + p * var.get(k, 0.0) for k in set(const) | set(var)}
+        combo = combination_at(const, var, p)
         r = proof_rounding(b, combo, y)
         return r["margin"], r["bound"]
 
@@ -184,7 +185,7 @@ def collapse_rounding(b, const: dict, var: dict, proof: dict) -> dict | None:
     some leaf's margin never clears)."""
     leaves = proof.get("leaves") or [{"y": proof["farkas"]}]
     p = float(proof["p_limit"])
-    combo = {k: const.get(k, 0.0) + p * var.get(k, 0.0) for k in set(const) | set(var)}
+    combo = combination_at(const, var, p)
     worst, clear = None, p
     for leaf in leaves:
         r = proof_rounding(b, combo, leaf["y"])
@@ -224,16 +225,13 @@ def data_accuracy(b) -> tuple[np.ndarray, np.ndarray]:
         return b["R_accuracy"]
     nf, kappa = b["nf"], b["kappa"]
     nl = b["R"].shape[0]
-    U = b["U"]
-    rhs = banded_saddle.dislocations(kappa, contact_lcp.free_loads(b, b["F"], U),
-                                     -kappa * contact_lcp.settled_links(b, U))
+    rhs = banded_saddle.dislocations(kappa, *contact_lcp.basic_columns(b))
     x = b["lu"].solve(rhs)
     x1, _ = refinement.refined_columns(b, rhs, x, steps=1)
     change = kappa * np.abs(x1[nf:] - x[nf:])
-    load = (np.abs(b["F"]).max(axis=0, initial=0.0)
-            + kappa * np.abs(U).max(axis=0, initial=0.0))
     d_R = np.maximum(contact_lcp.R_ROUNDING * kappa, change[:, :nl])
     d_R = np.maximum(d_R, d_R.T)
-    d_F = np.maximum(contact_lcp.R_ROUNDING * load[None, :], change[:, nl:])
+    d_F = np.maximum(contact_lcp.R_ROUNDING * contact_lcp.load_sizes(b)[None, :],
+                     change[:, nl:])
     b["R_accuracy"] = (d_R, d_F)
     return b["R_accuracy"]

@@ -70,3 +70,9 @@ def constant_first(combo: dict):
         return ({CONSTANT: combo[CONSTANT]}, {c: f for c, f in combo.items() if c != CONSTANT},
                 1.0, "constant, then the other loads in proportion")
     return None
+
+
+def combination_at(const: dict, var: dict, p: float) -> dict:
+    """The combination ``const`` + p ``var`` ({case: factor}): the load at p
+    along a frame's path."""
+    return {c: const.get(c, 0.0) + p * var.get(c, 0.0) for c in set(const) | set(var)}

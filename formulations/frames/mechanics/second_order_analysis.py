@@ -37,6 +37,7 @@ from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, Qpcontac
                                    SolverFailedError)
 
 from . import tracing
+from .load_combinations import combination_at
 from .second_order import clamped_buckling_t
 from .tracing import BRACKET
 
@@ -196,9 +197,15 @@ def first_negative(negatives, start, pole):
         if hi >= pole * (1 - 1e-9):
             return None
         lo, hi = hi, min(2.0 * hi, pole * (1 - 1e-9))
-    while hi - lo > ALPHA_RTOL * hi:
+    return first_holding(lambda x: negatives(x) != 0, lo, hi, ALPHA_RTOL)
+
+
+def first_holding(holds, lo, hi, rtol):
+    """Bisection of (lo, hi], ``holds`` false at lo and true at hi (and
+    monotone between): the least x found to hold, to ``rtol`` of it."""
+    while hi - lo > rtol * hi:
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if negatives(mid) == 0 else (lo, mid)
+        lo, hi = (lo, mid) if holds(mid) else (mid, hi)
     return hi
 
 
@@ -430,18 +437,14 @@ def first_standing(frame, b, const, var, hi, accuracy, tol):
     has none either."""
     def stands(p):
         try:
-            return tracing.frame_start(frame, b, tracing.combination_at(const, var, p),
+            return tracing.frame_start(frame, b, combination_at(const, var, p),
                                        accuracy, tol) is not None
         except QpcontactError:
             return False
 
     if not (hi > 0 and stands(hi)):
         return None
-    lo = 0.0
-    while hi - lo > START_BRACKET * hi:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if stands(mid) else (mid, hi)
-    return hi
+    return first_holding(stands, 0.0, hi, START_BRACKET)
 
 
 def buckling_along_path(frame, b, ft, N_start):

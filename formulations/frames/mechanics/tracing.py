@@ -18,7 +18,7 @@ from .analysis_results import FrameEvent, FrameTrace
 from .equilibrium_checks import how_far
 from .farkas_rounding import beyond_rounding, collapse_rounding
 from .joined_trace import RESTART, RESTARTS, JoinedTrace
-from .load_combinations import constant_first, trace_combinations
+from .load_combinations import combination_at, constant_first, trace_combinations
 from .loads import VARIABLE, describe
 from .no_equilibrium import motion_words
 from .time_limits import seconds_left
@@ -242,7 +242,7 @@ def restart(frame, b, tr, path, p_from, cut=False) -> bool:
         p_next = p_from * (1.0 + step) + step
         if p_next >= path["upto"]:
             return False
-        at = {c: const.get(c, 0.0) + p_next * var.get(c, 0.0) for c in set(const) | set(var)}
+        at = combination_at(const, var, p_next)
         start = judged_start(frame, b, at, path["accuracy"], path["tol"])
         if start is None:
             continue
@@ -555,11 +555,6 @@ def frame_start(frame, b, combo, accuracy, tol):
                                                           tol=tol).ok:
             return np.maximum(found[0], 0.0)
     return judged_start(frame, b, combo, accuracy, tol)
-
-
-def combination_at(const, var, p) -> dict:
-    """The combination ``const`` + p ``var``."""
-    return {c: const.get(c, 0.0) + p * var.get(c, 0.0) for c in set(const) | set(var)}
 
 
 def last_certified(frame, b, ft, piece, points, checks, tol):

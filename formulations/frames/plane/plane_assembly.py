@@ -14,11 +14,11 @@ import scipy.sparse as sp
 
 from qpcontact.core.errors import InvalidProblemError, SolverFailedError
 
-from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix, unsolvable
+from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.plane_element import DOFS, member_locals
-from ..reporting.free_motion import mechanism_message
+from ..reporting.free_motion import mechanism_message, unsolvable
 
 
 def cases(frame) -> list:

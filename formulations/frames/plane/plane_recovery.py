@@ -102,7 +102,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
         off, where = reported_balance(frame, b, F, u, X, reported, r_all,
                                       lambda rep: resultant(frame, b, F, rep, r_all, u, ft), tol,
                                       abs_ku)
-        return max(eq, off), (where if off > max(tol, EQUILIBRIUM_FLOOR) else "")
+        return max(eq, off), where
 
     nc = len(frame.contacts)
     eq, where = statics(u, X, r_all, ends, ft, sigma, HX)

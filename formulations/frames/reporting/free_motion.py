@@ -26,6 +26,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from ..mechanics.member_forces import contrast
+
 #: a null vector's component below this fraction of its largest is zero
 SMALL = 1e-7
 
@@ -334,3 +336,12 @@ def part_words(a, members, coords, centre, names, size) -> str:
     if len(members) > 1:
         words = words.replace("turns", "turn", 1).replace("translates", "translate", 1)
     return f"{', '.join(members[:4])}{'...' if len(members) > 4 else ''} {words}"
+
+
+def unsolvable(local) -> str:
+    """The words for a basic system that no motion leaves unstrained but
+    that is singular in double: the stiffnesses' contrast is beyond it."""
+    return (f"the frame is no mechanism (no motion with every contact closed leaves every "
+            f"member unstrained), but its stiffnesses differ by {contrast({'local': local}):.1e}, "
+            "beyond what its basic system solves in double precision (singular to rounding); "
+            "model the stiff part as rigid or as less stiff")

@@ -47,7 +47,6 @@ from qpcontact.judge.friction_certificate import (certify_friction, contact_scal
                                          scales_from_diagonal, sizes)
 
 from ..mechanics import contact_lcp
-from ..mechanics.contact_lcp import R_ROUNDING
 from ..mechanics.equilibrium_checks import STATE_RTOL, equilibrium
 from ..mechanics.member_forces import stiffness_times
 from ..mechanics.load_combinations import load_combination
@@ -304,7 +303,7 @@ def circular_supports(frame, r, local, rho, size, error) -> dict:
     of its weight."""
     R, L = r.reshape(-1, 3), local.reshape(-1, 3)
     undecided = max(STATE_RTOL, UNDECIDED * float(error))
-    unloaded = max(R_ROUNDING, UNDECIDED * float(error))
+    unloaded = max(contact_lcp.R_ROUNDING, UNDECIDED * float(error))
     out = {}
     for ci, (key, c) in enumerate(zip(support_keys(frame), frame.contacts)):
         # a tangent the bilateral supports hold carries no friction (the

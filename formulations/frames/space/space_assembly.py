@@ -14,7 +14,7 @@ from qpcontact.core.errors import InvalidProblemError, SolverFailedError
 from ..mechanics import contact_lcp
 from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.space_element import axes, condense, rotation, stiffness
-from ..reporting.free_motion import mechanism_message
+from ..reporting.free_motion import mechanism_message, unsolvable
 from . import space_member_loads
 from .space_results import DOFS
 
@@ -135,7 +135,7 @@ def build(frame, axial=None):
         strain_free=None if axial is not None else
         lambda free: strain_free_motions(local, coords, springs, Tn, free, H))
     if basic.get("no_mechanism"):
-        raise SolverFailedError(contact_lcp.unsolvable(local))
+        raise SolverFailedError(unsolvable(local))
     if basic["lu"] is None:
         raise InvalidProblemError(mechanism_message(
             basic["S"], basic["free"], basic["nf"], list(frame.nodes), DOFS,

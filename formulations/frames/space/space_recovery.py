@@ -98,18 +98,17 @@ def as_reported(frame, b, F, u, X, r_all, supports, ends, tol):
     ``supports`` report them (a separated contact's set to zero):
     :func:`..mechanics.equilibrium_checks.reported_balance` dof by dof,
     with the global statics (:func:`resultant`) where something is out;
-    the words where the ratio is beyond ``tol``."""
+    the words where the ratio fails the answer."""
     pos = contact_lcp.layout(b)
     reported = np.zeros_like(X)
     for ci, s in enumerate(supports.values()):
         for kind, value in zip(("n", "t1", "t2"), (s.normal, *s.tangential)):
             if kind in pos[ci]:
                 reported[pos[ci][kind]] = value
-    off, where = reported_balance(
+    return reported_balance(
         frame, b, F, u, X, reported, r_all,
         lambda rep: resultant(frame, b, F, rep, r_all, u, contact_lcp.force_terms(b, u, F, ends)),
         tol)
-    return off, (where if off > max(tol, EQUILIBRIUM_FLOOR) else "")
 
 
 def global_reactions(frame, b, r_all) -> dict:
