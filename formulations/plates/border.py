@@ -84,10 +84,13 @@ class FactoredBlock:
         self.keep, self.springs = keep.copy(), springs.copy()
         self.n = int(keep.sum())
         self.factors = None                 # L's arrays, 1/d, the dofs' positions, parent
-        # the border columns solved so far (:meth:`_inverse_form`): their keys
-        # (2 dof for a dof's column of K, 2 dof + 1 for a unit column) → their
-        # place in W (dense on the union of their reaches, ``rows``) and in
-        # the Gram matrix W' D⁻¹ W
+        self._forget()
+
+    def _forget(self):
+        """No border column kept.  Kept (:meth:`_inverse_form`): the columns
+        solved so far, by key (2 dof for a dof's column of K, 2 dof + 1 for
+        a unit column) → their place in W (dense on the union of their
+        reaches, ``rows``) and in the Gram matrix W' D⁻¹ W."""
         self.solved, self.rows = {}, np.zeros(0, np.int64)
         self.W, self.gram = np.zeros((0, 0)), np.zeros((0, 0))
 
@@ -200,8 +203,7 @@ class FactoredBlock:
         missing = np.array([c for c in range(k) if int(keys[c]) not in self.solved], np.int64)
         if missing.size and not self._solve_columns(Vr, Vc, Vx, keys, missing):
             # more than BORDER_ENTRIES with the columns kept: these alone
-            self.solved, self.rows = {}, np.zeros(0, np.int64)
-            self.W, self.gram = np.zeros((0, 0)), np.zeros((0, 0))
+            self._forget()
             if not self._solve_columns(Vr, Vc, Vx, keys, np.arange(k)):
                 return None
         at = np.array([self.solved[int(key)] for key in keys], np.int64)

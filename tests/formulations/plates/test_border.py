@@ -27,6 +27,14 @@ def _mixed_system():
     return SupportSystem(b["qp"], b["mesh"].nodes)
 
 
+def _random_states(system, seed):
+    """A generator seeded ``seed`` and the states it draws: 70 % of the soil
+    pressing, 60 % of the floor held."""
+    rng = np.random.default_rng(seed)
+    return (rng, rng.random(system.soil_w.size) < 0.7,
+            rng.random(system.floor_w.size) < 0.6)
+
+
 def _reference(system, soil_pressing, floor_held, rhs):
     """SciPy's LU of (K + the pressing springs) on the dofs not held."""
     springs = np.zeros(system.dofs.size)
@@ -45,9 +53,7 @@ def test_a_bordered_step_solves_the_new_steps_own_system(released, caught, chang
     """18 border columns go through the factor's paths, 3 through a solve
     each (FEW_COLUMNS)."""
     system = _mixed_system()
-    rng = np.random.default_rng(7)
-    soil = rng.random(system.soil_w.size) < 0.7
-    floor = rng.random(system.floor_w.size) < 0.6
+    rng, soil, floor = _random_states(system, 7)
     system.factorize(soil, floor)
     block = system.floor_block
     assert block is not None
@@ -171,9 +177,7 @@ def test_a_border_on_superlus_factor_solves_the_new_steps_own_system(released, c
                                                                        changed):
     """The border reads any LDLᵀ given as (L, d, order): SuperLU's here."""
     system = _mixed_system()
-    rng = np.random.default_rng(11)
-    soil = rng.random(system.soil_w.size) < 0.7
-    floor = rng.random(system.floor_w.size) < 0.6
+    rng, soil, floor = _random_states(system, 11)
     block = _splu_block(system, *_keep_springs(system, soil, floor))
     floor2, soil2 = floor.copy(), soil.copy()
     floor2[rng.choice(np.flatnonzero(floor), released, replace=False)] = False
@@ -231,9 +235,7 @@ def test_a_border_solves_only_the_columns_the_last_border_on_its_factor_had_not(
     import formulations.plates._border_kernels as kernels
 
     system = _mixed_system()
-    rng = np.random.default_rng(5)
-    soil = rng.random(system.soil_w.size) < 0.7
-    floor = rng.random(system.floor_w.size) < 0.6
+    rng, soil, floor = _random_states(system, 5)
     system.factorize(soil, floor)
     block = system.floor_block
     solved = []
