@@ -12,13 +12,13 @@ from operator import attrgetter
 import numpy as np
 import scipy.sparse as sp
 
-from qpcontact.core.errors import InvalidProblemError, SolverFailedError
+from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.plane_element import DOFS, member_locals
-from ..reporting.free_motion import mechanism_message, unsolvable
+from ..reporting.free_motion import refuse_singular
 
 
 def cases(frame) -> list:
@@ -233,14 +233,9 @@ def build(frame, axial=None):
                          (arrays["t_link"][has_t], arrays["n_link"][has_t]),
                          strain_free=None if axial is not None else
                          lambda free: strain_free_motions(local, coords, springs, Tn, free, H))
-    if basic.get("no_mechanism"):
-        raise SolverFailedError(unsolvable(local))
-    if basic["lu"] is None:
-        raise InvalidProblemError(mechanism_message(
-            basic["S"], basic["free"], basic["nf"], names, DOFS,
-            [frame.nodes[n] for n in names], Tn, contacts=bool(frame.contacts),
-            members=[(m.name, m.i, m.j) for m in frame.members.values()],
-            motions=basic.get("strain_free")))
+    refuse_singular(basic, local, names, DOFS, [frame.nodes[n] for n in names], Tn,
+                    contacts=bool(frame.contacts),
+                    members=[(m.name, m.i, m.j) for m in frame.members.values()])
     b = Built(springs=springs, names=names, idx=idx, K=K, F=F, U=U, cases=case_list,
               coords=coords,
               fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,

@@ -26,6 +26,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from qpcontact.core.errors import InvalidProblemError, SolverFailedError
+
 from ..mechanics.member_forces import contrast
 
 #: a null vector's component below this fraction of its largest is zero
@@ -345,3 +347,19 @@ def unsolvable(local) -> str:
             f"member unstrained), but its stiffnesses differ by {contrast({'local': local}):.1e}, "
             "beyond what its basic system solves in double precision (singular to rounding); "
             "model the stiff part as rigid or as less stiff")
+
+
+def refuse_singular(basic, local, names, dofs, coords, Tn=None, contacts=True,
+                    members=()) -> None:
+    """Raise where an assembly's basic system (``basic``:
+    :func:`..mechanics.contact_lcp.basic_system`'s) has no LU:
+    SolverFailedError where no motion leaves every member unstrained but S
+    is singular in double (:func:`unsolvable`), else InvalidProblemError
+    naming the mechanism (:func:`mechanism_message`, by the strain-free
+    motions where they were read)."""
+    if basic.get("no_mechanism"):
+        raise SolverFailedError(unsolvable(local))
+    if basic["lu"] is None:
+        raise InvalidProblemError(mechanism_message(
+            basic["S"], basic["free"], basic["nf"], names, dofs, coords, Tn, contacts=contacts,
+            members=members, motions=basic.get("strain_free")))

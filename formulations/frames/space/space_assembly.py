@@ -9,12 +9,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from qpcontact.core.errors import InvalidProblemError, SolverFailedError
+from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp
 from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.space_element import axes, condense, rotation, stiffness
-from ..reporting.free_motion import mechanism_message, unsolvable
+from ..reporting.free_motion import refuse_singular
 from . import space_member_loads
 from .space_results import DOFS
 
@@ -134,13 +134,8 @@ def build(frame, axial=None):
         K, H, fixed, flex, np.arange(N) % 6 < 3,
         strain_free=None if axial is not None else
         lambda free: strain_free_motions(local, coords, springs, Tn, free, H))
-    if basic.get("no_mechanism"):
-        raise SolverFailedError(unsolvable(local))
-    if basic["lu"] is None:
-        raise InvalidProblemError(mechanism_message(
-            basic["S"], basic["free"], basic["nf"], list(frame.nodes), DOFS,
-            list(frame.nodes.values()), Tn, contacts=bool(frame.contacts),
-            motions=basic.get("strain_free")))
+    refuse_singular(basic, local, list(frame.nodes), DOFS, list(frame.nodes.values()), Tn,
+                    contacts=bool(frame.contacts))
     b = contact_lcp.Built(springs=springs, names=list(frame.nodes), idx=idx, K=K, F=F,
                           coords=coords,
                           U=settlements(frame, idx, cases, F.shape), cases=cases,
