@@ -93,6 +93,7 @@ import scipy.sparse as sp
 
 from qpcontact.core.accuracy import resolve_accuracy
 from qpcontact.core.errors import InvalidProblemError
+from qpcontact.judge.doubt import doubt
 
 from .newton import solve_supports
 
@@ -529,11 +530,33 @@ def solve_contact(qp: ContactQP, nodes, f, method="auto", accuracy="default",
     elif sol.ok:
         status = "inaccurate"
         message = (f"not certified: the pinned QP was solved ({sol.message}) but on the unpinned "
-                   f"QP the error is {cert.error:.2e} > {tol:.0e}")
+                   f"QP {_why_not(qp, cert, tol)}")
     else:
         status, message = sol.status, sol.message
     return ContactAnswer(x_full, ok, status, message, sol.method, list(pinned),
                          float(cert.error), wall, len(released))
+
+
+def _why_not(qp, cert, tol) -> str:
+    """Why the unpinned QP's certificate refuses an answer: its error, or —
+    where the error meets ``tol`` — the doubt rule's reason.  On a raft that
+    only rests on its supports statics has already found an equilibrium
+    (:func:`_statics`), so the doubt is not that none exists: a plate far
+    stiffer than its soil moves nearly rigidly, K u is a sum of terms that
+    cancel, and rounding of that sum hides whether the forces balance
+    (a 4 m strip with D/(k B⁴) = 2.6e3 loaded 1.3 m off centre: error
+    1.2e-16 against terms 1e12 times the loads, normwise 1.9e-6)."""
+    if cert.error > tol:
+        return f"the error is {cert.error:.2e} > {tol:.0e}"
+    if qp.fixed.size == 0:
+        return (f"its residuals are small only against terms that cancel (componentwise error "
+                f"{cert.error:.1e}, normwise {cert.normwise_error:.1e} > {tol:.0e}): the plate "
+                "is so stiff against its soil that it moves nearly rigidly, and rounding of K u "
+                "hides whether the forces balance. Statics puts the loads' resultant inside the "
+                "footprint, so an equilibrium exists, but this answer's digits are not "
+                "guaranteed: take the rigid raft's statics, or a plate 10 to 100 times softer "
+                "that is still rigid against the soil")
+    return f"the answer is in doubt: {doubt(cert, tol)}"
 
 
 def _unpinned_certificate(qp, f, x_full):
