@@ -332,8 +332,8 @@ def test_a_stiff_strip_at_the_kerns_edge(kern):
 
 
 def test_a_raft_too_stiff_for_its_soil_says_why_it_is_not_certified():
-    """A strip with D/(k B⁴) = 2.6e3 loaded 0.97 m off its centre (2.9 × the
-    kern): the certificate's error is 1e-10 but its residuals are small only
+    """A strip with D/(k B⁴) = 2.6e3 loaded 1.93 m off its centre (2.9 × the
+    kern, 67 mm from its edge): the certificate's error is 3e-10 but its residuals are small only
     against terms that cancel — a nearly rigid motion of a stiff plate —
     and the answer is not ok.  The message said "the error is 2.74e-10 >
     1e-06", which is false; it now says what the doubt is and what to do."""
