@@ -346,3 +346,30 @@ def test_a_raft_too_stiff_for_its_soil_says_why_it_is_not_certified():
     assert not res.ok
     assert "the error is" not in res.message
     assert "so stiff against its soil" in res.message and "rigid raft's statics" in res.message
+
+
+@pytest.mark.parametrize("pull", [-50.0, -150.0, -200.0])
+def test_an_opening_across_the_raft_leaves_parts_that_stand_alone(pull):
+    """An opening across an 8 m x 4 m raft cuts off a 3.5 m part weighing
+    140 kN; a column on the other part.  Pulled up by 50 kN at x = 1 the
+    part stands (resultant 90 kN at x = 2.17 inside 0..3.5); by 150 kN its
+    resultant points up, by 200 kN too — no equilibrium, by statics of the
+    part (the whole raft's resultant, 360-410 kN down, stands).  Before,
+    those two went to the solver and came back "not solved: ... the loads
+    may have no equilibrium"; now NoEquilibriumError names the part."""
+    raft = Raft(8.0, 4.0, thickness=0.4, E=3e7, cells=(16, 8), openings=[(3.5, -1.0, 4.5, 5.0)])
+    raft.add_soil(2e4)
+    raft.add_self_weight(25.0)
+    raft.add_point_load(1.0, 2.0, pull)
+    raft.add_point_load(7.0, 2.0, 500.0)
+    if 140.0 + pull > 0:
+        r = raft.solve()
+        assert r.ok, r.message
+        left = r.mesh.nodes[:, 0] < 4.0
+        assert r.support_force[left].sum() == pytest.approx(140.0 + pull, rel=1e-9)
+        x = r.mesh.nodes[left, 0]
+        assert r.support_force[left] @ x == pytest.approx(140.0 * 1.75 + pull * 1.0, rel=1e-9)
+    else:
+        with pytest.raises(NoEquilibriumError, match=r"part of the raft over x 0..3.5, y 0..4 .*"
+                                                     "resultant is -?[0-9.]+ downward"):
+            raft.solve()
