@@ -62,6 +62,12 @@ def _positive(name, value):
     return float(value)
 
 
+def _number(value) -> bool:
+    """A real, finite number (not a bool, a string or an array)."""
+    return (not isinstance(value, bool) and isinstance(value, (int, float, np.floating, np.integer))
+            and bool(np.isfinite(value)))
+
+
 def _rect(name, r):
     try:
         x0, y0, x1, y1 = (float(v) for v in r)
@@ -160,8 +166,8 @@ class Raft:
     def add_point_load(self, x: float, y: float, P: float, case: str = "D") -> None:
         """A column load P [force], downward positive, at (x, y)."""
         self._inside(x, y)
-        if not np.isfinite(P):
-            raise InvalidProblemError(f"a point load must be finite; got {P!r}")
+        if not _number(P):
+            raise InvalidProblemError(f"a point load must be a finite number; got {P!r}")
         self.loads.append((self._case(case), "point", (float(x), float(y), float(P))))
         self._built = None
 
@@ -170,6 +176,8 @@ class Raft:
         [length] centred at (x, y): a patch load of P / (bx by)."""
         bx, by = (_positive("a column's size", s) for s in size)
         self._inside(x, y)
+        if not _number(P):
+            raise InvalidProblemError(f"a column's load must be a finite number; got {P!r}")
         if self._user_mesh is None and not (0 <= x - bx / 2 and x + bx / 2 <= self.width
                                             and 0 <= y - by / 2 and y + by / 2 <= self.length):
             raise InvalidProblemError(
@@ -184,8 +192,8 @@ class Raft:
         r = _rect("a patch", (x0, y0, x1, y1))
         self._inside(r[0], r[1])
         self._inside(r[2], r[3])
-        if not np.isfinite(p):
-            raise InvalidProblemError(f"a pressure must be finite; got {p!r}")
+        if not _number(p):
+            raise InvalidProblemError(f"a pressure must be a finite number; got {p!r}")
         self.loads.append((self._case(case), "patch", (*r, float(p))))
         self._built = None
 
@@ -193,8 +201,8 @@ class Raft:
         """A line load q [force/length], downward positive, along a segment
         parallel to x or y (a wall); on a mesh of the user's, along element edges."""
         self._segment("a line load", x0, y0, x1, y1)
-        if not np.isfinite(q):
-            raise InvalidProblemError(f"a line load must be finite; got {q!r}")
+        if not _number(q):
+            raise InvalidProblemError(f"a line load must be a finite number; got {q!r}")
         self.loads.append((self._case(case), "line", (float(x0), float(y0), float(x1),
                                                        float(y1), float(q))))
         self._built = None
@@ -222,8 +230,8 @@ class Raft:
 
     def add_area_load(self, p: float, case: str = "D") -> None:
         """A uniform pressure p [force/length²] over the whole raft."""
-        if not np.isfinite(p):
-            raise InvalidProblemError(f"a pressure must be finite; got {p!r}")
+        if not _number(p):
+            raise InvalidProblemError(f"a pressure must be a finite number; got {p!r}")
         self.loads.append((self._case(case), "area", float(p)))
         self._built = None
 
@@ -232,8 +240,8 @@ class Raft:
         self.add_area_load(_positive("unit_weight", unit_weight) * self.thickness, case)
 
     def _inside(self, x, y):
-        if not (np.isfinite(x) and np.isfinite(y)):
-            raise InvalidProblemError(f"coordinates must be finite; got ({x!r}, {y!r})")
+        if not (_number(x) and _number(y)):
+            raise InvalidProblemError(f"coordinates must be finite numbers; got ({x!r}, {y!r})")
         if self._user_mesh is None and not (0 <= x <= self.width and 0 <= y <= self.length):
             raise InvalidProblemError(f"point ({x}, {y}) is outside the raft [0, {self.width}] x "
                                       f"[0, {self.length}]")
@@ -280,6 +288,12 @@ class Raft:
             inside = np.ones(ke.size, bool) if zone is None else (
                 (centres[:, 0] > zone[0]) & (centres[:, 0] < zone[2])
                 & (centres[:, 1] > zone[1]) & (centres[:, 1] < zone[3]))
+            if not inside.any():
+                raise InvalidProblemError(
+                    f"the {'floor' if np.isinf(k) else 'soil'} zone {zone} covers no element of "
+                    f"the raft (an element is in a zone where its centre is): the raft spans "
+                    f"x {mesh.nodes[:, 0].min():.6g}..{mesh.nodes[:, 0].max():.6g}, y "
+                    f"{mesh.nodes[:, 1].min():.6g}..{mesh.nodes[:, 1].max():.6g}")
             ke[inside] = k
         floor_nodes = np.unique(mesh.elements[np.isinf(ke)])
         ks = mesh.tributary_areas(np.where(np.isinf(ke), 0.0, ke))

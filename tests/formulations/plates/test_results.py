@@ -118,6 +118,13 @@ def test_a_raft_on_a_mesh_of_its_own(tmp_path):
     (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_point_load(5.0, 1.0, 1.0), "outside the raft"),
     (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_support(lambda x, y: x == 0, fix=("uz",)),
      "fix must name dofs"),
+    # a column whose section crosses the edge: named as a column, not as a corner point
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_column(0.1, 2.0, 100.0, size=(0.4, 0.4)),
+     r"column at \(0.1, 2.0\) of section 0.4 x 0.4 overhangs"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_point_load(1.0, 1.0, "10"),
+     "a point load must be a finite number; got '10'"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_column(1.0, 1.0, None, size=(0.4, 0.4)),
+     "a column's load must be a finite number"),
 ])
 def test_bad_input_is_refused_naming_the_value(build, match):
     with pytest.raises(InvalidProblemError, match=match):
@@ -155,3 +162,15 @@ def test_the_demo_checks_pass():
     assert demo(Console(file=out, width=160)) == 0
     text = out.getvalue()
     assert "closed form" in text and "1.0D+1.5W" in text
+
+
+def test_a_soil_zone_off_the_raft_is_named():
+    """A zone that covers no element was "the plate has no soil and its
+    supports leave a rigid motion free"; now the zone and the raft's extent."""
+    raft = Raft(8, 4, thickness=0.4, E=3e7, cells=(8, 4))
+    raft.add_soil(2e4)
+    raft.add_soil(5e4, zone=(10.0, 10.0, 12.0, 12.0))
+    raft.add_self_weight(25.0)
+    with pytest.raises(InvalidProblemError, match=r"soil zone \(10.0, 10.0, 12.0, 12.0\) covers no "
+                       r"element of the raft .* x 0..8, y 0..4"):
+        raft.solve()
