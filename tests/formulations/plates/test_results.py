@@ -174,3 +174,29 @@ def test_a_soil_zone_off_the_raft_is_named():
     with pytest.raises(InvalidProblemError, match=r"soil zone \(10.0, 10.0, 12.0, 12.0\) covers no "
                        r"element of the raft .* x 0..8, y 0..4"):
         raft.solve()
+
+
+def test_the_tables_mark_the_values_of_the_mesh():
+    """A slab on a rigid floor, its corner pulled up by a point load: the
+    shear extreme at the pull and the floor's largest pressure are values
+    of the mesh — each grows as the cells halve (checked here on two
+    meshes) — and the extremes and envelope tables say so beside them; the
+    deflections are the plate's and carry no note."""
+    found = {}
+    for n in (12, 24):
+        raft = Raft(6.0, 6.0, thickness=0.2, E=3e7, nu=0.2, cells=(n, n))
+        raft.add_rigid_floor()
+        raft.add_self_weight(25.0)
+        raft.add_point_load(6.0, 6.0, -20.0, case="pull")
+        res = raft.solve_combinations({"D+pull": {"D": 1.0, "pull": 1.0}})
+        r = res["D+pull"]
+        assert r.ok, r.message
+        rows = {(row["quantity"], row["extreme"]): row for row in r.rows("extremes", digits=None)}
+        env = {(row["quantity"], row["extreme"]): row for row in res.rows("envelope", digits=None)}
+        for table in (rows, env):
+            assert "point load" in table[("qx", "min")]["note"]
+            assert "rigid floor" in table[("pressure", "max")]["note"]
+            assert table[("w", "max")]["note"] == table[("w", "min")]["note"] == ""
+        found[n] = rows[("qx", "min")]["value"], rows[("pressure", "max")]["value"]
+    assert found[24][0] < 1.3 * found[12][0]          # the shear at the pull: more negative
+    assert found[24][1] > 1.3 * found[12][1]          # the floor's peak pressure: larger
