@@ -3,7 +3,10 @@ r"""Rafts and slabs on tensionless soil: the :class:`Raft` model.
 A rectangular plate (width along x, length along y [m]; thickness t [m],
 Young's modulus E and Poisson's ratio ν) meshed with MITC4 elements
 (:mod:`.element`) on a structured grid whose lines pass through every column,
-patch edge, line load, edge beam, opening edge and soil-zone edge, with
+patch edge, line load, edge beam, opening edge and soil-zone edge — a
+column's section divided into COLUMN_CELLS cells each way and a wall inside
+the raft flanked by graded lines (WALL_LINES), where the plate moment
+peaks and the element-centre moments must sample it — with
 edge beams along grid lines, resting on
 
 * tensionless Winkler soil: a modulus of subgrade reaction k [force/length³]
@@ -48,6 +51,16 @@ __all__ = ["Raft"]
 #: test_column_moments.py), a 0.4 m column on 0.5 m cells: the patch one
 #: element, 0.77 of the peak mx; 2, 4, 8 cells across: 0.87, 0.96, 0.98
 COLUMN_CELLS = 8
+
+#: grid lines beside a line load (a wall), in the raft's nominal cells: the
+#: plate moment has a kink under it (its peak: M0 = P/(4β) on an infinite
+#: strip, β = (k/4D)^¼), which element-centre moments sampled up to half a
+#: cell off — 0.885 (t = 0.6 m) and 0.889 (thin) of M0 on 0.5 m cells,
+#: β h = 0.155; with these lines the nearest centres are a thirty-second of
+#: a cell off: 0.984 and 0.9875 (tests/formulations/plates/
+#: test_raft_closed_forms.py).  A wall on the outline has none: the free
+#: edge's moment is zero
+WALL_LINES = np.array([-0.5, -0.25, -0.125, -0.0625, 0.0625, 0.125, 0.25, 0.5])
 
 #: a grid raft with at least twice this many cells a side starts Newton's
 #: method from its twin's answer on half the cells (nested iteration,
@@ -269,6 +282,12 @@ class Raft:
             for x, y, bx, by in self.columns:
                 xs += list(x + bx * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
                 ys += list(y + by * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
+            hx, hy = self.width / self.cells[0], self.length / self.cells[1]
+            for _, kind, d in self.loads:        # a wall inside: lines beside it, graded
+                if kind == "line" and d[1] == d[3] and 0 < d[1] < self.length:
+                    ys += [y for y in d[1] + hy * WALL_LINES if 0 < y < self.length]
+                elif kind == "line" and d[0] == d[2] and 0 < d[0] < self.width:
+                    xs += [x for x in d[0] + hx * WALL_LINES if 0 < x < self.width]
             for d in self.beams:
                 xs += [d[0], d[2]]
                 ys += [d[1], d[3]]

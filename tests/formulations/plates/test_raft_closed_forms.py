@@ -107,3 +107,26 @@ def test_a_rigid_raft_with_an_opening_under_moments_about_both_axes():
         X = r.mesh.nodes
         p = N / A + My * (X[:, 0] - xb) / Iy + Mx * (X[:, 1] - yb) / Ix
         assert np.max(np.abs(r.pressure - p)) < 1e-3 * p.max()
+
+
+def test_the_moment_under_a_wall_against_the_infinite_beams():
+    """A wall (a line load P per unit length) across a long strip on soil:
+    the beam on an elastic foundation's M0 = P/(4β), β = (k/4D)^¼ — a kink,
+    the moment's peak.  60 m long (β L/2 = 9.3: infinite), thin (t = 0.06
+    m, E = 3e10: Mindlin's shear left out, D as a 0.6 m concrete raft's),
+    self-weight keeping it pressed (a uniform settlement, no moment), the
+    wall off the nominal grid lines, on 0.5 m cells.  Measured 0.9875; the
+    element centres were half a cell off the kink before the lines beside a
+    wall: 0.889)."""
+    t, E, k, P, L = 0.06, 3e10, 2e4, 200.0, 60.0
+    raft = Raft(L, 1.0, thickness=t, E=E, nu=0.0, cells=(120, 1))
+    raft.add_soil(k)
+    raft.add_self_weight(25.0)
+    x0 = L / 2 + 0.13
+    raft.add_line_load(x0, 0.0, x0, 1.0, P)
+    r = raft.solve()
+    assert r.ok and not r.lifted.any(), r.message
+    beta = (k / (4 * raft.D)) ** 0.25
+    value, x, _ = r.extremes()["mx"]["max"]
+    assert 0.98 * P / (4 * beta) <= value <= P / (4 * beta)
+    assert abs(x - x0) < 0.05
