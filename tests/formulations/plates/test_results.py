@@ -200,3 +200,24 @@ def test_the_tables_mark_the_values_of_the_mesh():
         found[n] = rows[("qx", "min")]["value"], rows[("pressure", "max")]["value"]
     assert found[24][0] < 1.3 * found[12][0]          # the shear at the pull: more negative
     assert found[24][1] > 1.3 * found[12][1]          # the floor's peak pressure: larger
+
+
+def test_cells_coarse_against_the_elastic_length_are_marked():
+    """An 8 m slab, t = 0.15 m, on k = 5e4 (elastic length (D/k)^¼ = 0.65
+    m) under a corner column: on 0.5 m cells (0.77 ℓ) its extremes are low
+    — the largest hogging mx 14 % below the 64-cell answer (0.125 m, ℓ/5.2;
+    measured −47.3 against −54.5 kN·m/m) — and every row says the cells are
+    coarse; on 0.125 m cells no row does."""
+    found = {}
+    for n in (16, 64):
+        raft = Raft(8.0, 8.0, thickness=0.15, E=30e6, nu=0.2, cells=(n, n))
+        raft.add_soil(5e4)
+        raft.add_self_weight(25.0)
+        raft.add_column(0.15, 0.15, 300.0, size=(0.3, 0.3))
+        r = raft.solve()
+        assert r.ok, r.message
+        rows = {(row["quantity"], row["extreme"]): row for row in r.rows("extremes", digits=None)}
+        coarse = ["coarse cells" in row["note"] for row in rows.values()]
+        assert all(coarse) if n == 16 else not any(coarse)
+        found[n] = rows[("mx", "min")]["value"]
+    assert found[16] > 0.9 * found[64]               # hogging: 14 % smaller in size
