@@ -221,3 +221,21 @@ def test_cells_coarse_against_the_elastic_length_are_marked():
         assert all(coarse) if n == 16 else not any(coarse)
         found[n] = rows[("mx", "min")]["value"]
     assert found[16] > 0.9 * found[64]               # hogging: 14 % smaller in size
+
+
+def test_parts_that_meet_at_a_point_are_refused():
+    """Two openings whose corners touch leave the slab's halves joined at a
+    node: a real slab carries nothing through a point, the elements pass
+    moments through it (173, 258, 443 kN·m/m beside it on 0.5, 0.25, 0.125
+    m cells, each answer certified).  Refused, naming the point; a gap of a
+    cell between the openings is a slab."""
+    with pytest.raises(InvalidProblemError, match=r"meet at a point only, at \(4, 2\)"):
+        Raft(8, 4, thickness=0.4, E=3e7, cells=(16, 8),
+             openings=[(4, 0, 8, 2), (0, 2, 4, 4)]).build()
+    base = grid(np.linspace(0, 2, 3), np.linspace(0, 2, 3))
+    with pytest.raises(InvalidProblemError, match=r"at \(1, 1\)"):
+        PlateMesh(base.nodes, base.elements[[0, 3]])         # two diagonal cells of four
+    raft = Raft(8, 4, thickness=0.4, E=3e7, cells=(16, 8), openings=[(4.5, 0, 8, 2), (0, 2, 4, 4)])
+    raft.add_soil(2e4)
+    raft.add_self_weight(25.0)
+    assert raft.solve().ok
