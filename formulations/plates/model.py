@@ -118,7 +118,7 @@ class Raft:
                  openings=(), mesh: PlateMesh | None = None, units=("kN", "m")):
         self.thickness = _positive("thickness", thickness)
         self.E = _positive("E", E)
-        if not (isinstance(nu, (int, float)) and 0 <= nu < 0.5):
+        if not (_number(nu) and 0 <= nu < 0.5):
             raise InvalidProblemError(f"Poisson's ratio must be in [0, 0.5); got {nu!r}")
         self.nu = float(nu)
         self.units = tuple(units)

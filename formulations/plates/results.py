@@ -302,10 +302,15 @@ class RaftCombinations(dict):
             first = next(iter(self.values()))
             u = first._units()
             env = self.envelope()
+            notes = {name: self[name].notes() for name in env["uplift"]}
+            # a combination left out is said on every row: the one that
+            # failed may be the one that governs
+            left_out = ("without " + ", ".join(self.failed) + " (not ok)") if self.failed else ""
             rows = [{"quantity": q, "extreme": which, "value": env[q][which][0], "unit": u[q],
                      f"x [{u['x']}]": env[q][which][1], f"y [{u['y']}]": env[q][which][2],
                      "combination": env[q][which][3],
-                     "note": self[env[q][which][3]].notes()[q][which]}
+                     "note": "; ".join(n for n in (left_out, notes[env[q][which][3]][q][which])
+                                       if n)}
                     for q in env if q != "uplift" for which in ("max", "min")]
             _round_coordinates(rows, u["x"], first.raft, digits)
             for unit in {r["unit"] for r in rows}:

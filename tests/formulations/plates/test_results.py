@@ -56,6 +56,21 @@ def test_the_envelope_is_the_brute_force_max_and_min(windy):
     assert env["uplift"]["D"] == 0.0 and env["uplift"]["D+W"] > 0.0
 
 
+def test_the_envelope_says_which_combinations_it_leaves_out(windy):
+    """A combination that is not ok is left out of the envelope — it may be
+    the one that governs — and every envelope row says so."""
+    _, res = windy
+    assert all("without" not in row["note"] for row in res.rows("envelope"))
+    bad = res["D-W"]
+    bad_ok, bad.ok = bad.ok, False
+    try:
+        rows = res.rows("envelope")
+        assert all(row["note"].startswith("without D-W (not ok)") for row in rows)
+        assert all(row["combination"] != "D-W" for row in rows)
+    finally:
+        bad.ok = bad_ok
+
+
 def test_tables_print_the_result(windy, tmp_path):
     _, res = windy
     r = res["D+W"]
