@@ -97,11 +97,11 @@ def _refuse_pinches(nodes, elements):
     0.125 m cells), each answer certified.  Around a node its elements
     form fans; a fan of k elements has k edges at the node (inside) or
     k + 1 (on the outline): two fans or more, k + 2 or more."""
-    edges = np.sort(np.stack([elements, np.roll(elements, -1, axis=1)], axis=2).reshape(-1, 2),
-                    axis=1)
-    edges = np.unique(edges, axis=0)
-    at_edges = np.bincount(edges.ravel(), minlength=nodes.shape[0])
-    at_elements = np.bincount(elements.ravel(), minlength=nodes.shape[0])
+    a, b = elements.ravel(), np.roll(elements, -1, axis=1).ravel()
+    n = nodes.shape[0]
+    codes = np.unique(np.minimum(a, b).astype(np.int64) * n + np.maximum(a, b))    # each edge once
+    at_edges = np.bincount(np.concatenate([codes // n, codes % n]), minlength=n)
+    at_elements = np.bincount(elements.ravel(), minlength=n)
     pinched = np.flatnonzero(at_edges - at_elements >= 2)
     if pinched.size:
         x, y = nodes[pinched[0]]
