@@ -151,9 +151,13 @@ class RaftResult:
         plate's bending varies over ℓ, and on such cells it came out low —
         an 8 m slab, t = 0.15 m, k = 5e4 (ℓ = 0.65 m) under a corner column:
         on cells of ℓ/1.3 w and the peak pressure 5 % low, mx 14 %; on ℓ/2.6
-        1.5 %; on ℓ/5.2 under 0.5 % (the reference: ℓ/21)."""
+        1.5 %; on ℓ/5.2 under 0.5 % (the reference: ℓ/21).  And every
+        extreme of a result that is not ok: "NOT OK" first."""
         b = self.raft.build()
         coarse = self._coarse_mesh(b)
+        if not self.ok:             # its numbers are no answer: every row says so first
+            coarse = "; ".join(n for n in ("NOT OK (no certified answer: see the summary)",
+                                           coarse) if n)
         points = np.zeros(self.mesh.nodes.shape[0], bool)
         for case, kind, d in self.raft.loads:
             if kind == "point" and d[2] != 0 and self.combination.get(case, 0.0):

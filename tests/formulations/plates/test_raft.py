@@ -346,6 +346,8 @@ def test_a_raft_too_stiff_for_its_soil_says_why_it_is_not_certified():
     assert not res.ok
     assert "the error is" not in res.message
     assert "so stiff against its soil" in res.message and "rigid raft's statics" in res.message
+    # its numbers are no answer: the extremes table says so on every row
+    assert all(row["note"].startswith("NOT OK") for row in res.rows("extremes"))
 
 
 @pytest.mark.parametrize("pull", [-50.0, -150.0, -200.0])
