@@ -139,7 +139,7 @@ class Raft:
         self.supports = []              # (predicate or node list, dofs)
         self.loads = []                 # (case, kind, data)
         self.beams = []                 # (x0, y0, x1, y1, EI, GJ)
-        self.columns = []               # (x, y, bx, by): their sections are meshed finer
+        self.columns = []               # (x, y, bx, by, case): their sections are meshed finer
         self._built = None
 
     # -- model building ---------------------------------------------------
@@ -198,7 +198,7 @@ class Raft:
                 f"{self.width}] x [0, {self.length}]: move it inward by the overhang or give "
                 "the part of its load on the raft")
         self.add_patch_load(x - bx / 2, y - by / 2, x + bx / 2, y + by / 2, P / (bx * by), case)
-        self.columns.append((float(x), float(y), bx, by))
+        self.columns.append((float(x), float(y), bx, by, case))
 
     def add_patch_load(self, x0, y0, x1, y1, p: float, case: str = "D") -> None:
         """A uniform pressure p [force/length²], downward positive, over a rectangle."""
@@ -279,7 +279,7 @@ class Raft:
                 elif kind in ("patch", "line"):
                     xs += [d[0], d[2]]
                     ys += [d[1], d[3]]
-            for x, y, bx, by in self.columns:
+            for x, y, bx, by, _ in self.columns:
                 xs += list(x + bx * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
                 ys += list(y + by * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
             hx, hy = self.width / self.cells[0], self.length / self.cells[1]
