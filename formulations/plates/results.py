@@ -9,7 +9,11 @@ moments (mx, my, mxy) [force·length/length] and shears (qx, qy)
 moments are most accurate), and averaged to the nodes for drawings.  Under a
 point load the plate moment is singular (it grows like log 1/r): its
 extreme there depends on the mesh — spread a column over its section
-(``Raft.add_column``) for design moments.
+(``Raft.add_column``, which meshes the section finer) for design moments.
+Where an extreme is a value of the mesh rather than of the plate — at a
+point load, under a column (from below), a rigid floor's peak pressure,
+cells coarse against the elastic length, a result that is not ok — the
+extremes and envelope tables say so in a ``note`` (:meth:`RaftResult.notes`).
 """
 
 from __future__ import annotations
