@@ -114,6 +114,11 @@ class Raft:
         Names on tables and drawings.
     """
 
+    #: the cells a column's section is divided into each way on the grid
+    #: (:data:`COLUMN_CELLS`; a mesh of the user's is not refined): the
+    #: results' notes compare a column's elements across with it
+    column_cells = COLUMN_CELLS
+
     def __init__(self, width=None, length=None, *, thickness, E, nu=0.2, cells=(20, 20),
                  openings=(), mesh: PlateMesh | None = None, units=("kN", "m")):
         self.thickness = _positive("thickness", thickness)

@@ -375,3 +375,23 @@ def test_an_opening_across_the_raft_leaves_parts_that_stand_alone(pull):
         with pytest.raises(NoEquilibriumError, match=r"part of the raft over x 0..3.5, y 0..4 .*"
                                                      "resultant is -?[0-9.]+ downward"):
             raft.solve()
+
+
+def test_a_column_does_not_make_every_later_coordinate_a_sliver():
+    """grid_lines moves the nearest line onto a coordinate where the cells
+    beside it keep a third of the nominal size.  It checked every cell of
+    the grid instead: once a column's section (COLUMN_CELLS lines, 0.05 m
+    apart on 0.5 m cells) was in, no line moved again, and a point load 1
+    mm off a line made a cell 1 mm wide across the raft (its shear extreme
+    864 kN/m against 193 without the column)."""
+    raft = Raft(10.0, 10.0, thickness=0.4, E=3e7, nu=0.2, cells=(20, 20))
+    raft.add_soil(3e4)
+    raft.add_self_weight(25.0)
+    raft.add_column(2.0, 2.0, 800.0, (0.4, 0.4))
+    raft.add_point_load(5.001, 5.001, 500.0)
+    for k in (0, 1):
+        lines = np.unique(raft.mesh.nodes[:, k])
+        outside = (lines < 1.8 - 1e-9) | (lines > 2.2 + 1e-9)
+        assert np.diff(lines[outside]).min() >= 0.5 / 3     # no sliver beside the load
+        assert np.isclose(lines, 5.001).any() and not np.isclose(lines, 5.0).any()
+    assert raft.solve().ok
