@@ -192,7 +192,12 @@ class Raft:
     def add_column(self, x: float, y: float, P: float, size, case: str = "D") -> None:
         """A column load P [force] spread over its section size = (bx, by)
         [length] centred at (x, y): a patch load of P / (bx by)."""
-        bx, by = (_positive("a column's size", s) for s in size)
+        try:
+            bx, by = size
+        except (TypeError, ValueError):     # a scalar, or three sides: not a TypeError's words
+            raise InvalidProblemError(f"a column's size is its section (bx, by); got {size!r}") \
+                from None
+        bx, by = (_positive("a column's size", s) for s in (bx, by))
         self._inside(x, y)
         if not _number(P):
             raise InvalidProblemError(f"a column's load must be a finite number; got {P!r}")

@@ -140,6 +140,10 @@ def test_a_raft_on_a_mesh_of_its_own(tmp_path):
      "a point load must be a finite number; got '10'"),
     (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_column(1.0, 1.0, None, size=(0.4, 0.4)),
      "a column's load must be a finite number"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_column(1.0, 1.0, 10.0, size=0.4),
+     r"a column's size is its section \(bx, by\); got 0.4"),
+    (lambda: Raft(4, 4, thickness=0.3, E=3e7).add_column(1.0, 1.0, 10.0, size=(0.4, 0.4, 1)),
+     r"a column's size is its section \(bx, by\); got \(0.4, 0.4, 1\)"),
 ])
 def test_bad_input_is_refused_naming_the_value(build, match):
     with pytest.raises(InvalidProblemError, match=match):
