@@ -289,9 +289,24 @@ class Raft:
                 elif kind in ("patch", "line"):
                     xs += [d[0], d[2]]
                     ys += [d[1], d[3]]
+            # a column's edges and centre are lines (its load's total, the
+            # peak's place); an inner line only where no column's line lies
+            # within half an inner cell: each line crosses the whole raft, and
+            # 36 columns placed ±5 cm off a 6 m grid made 152 881 nodes (24 s
+            # CPU to solve) with 9 lines each, 44 521 (4 s) sharing them —
+            # the moments under columns whose inner lines were a neighbour's
+            # 0.983-0.988 of the infinite plate's, against 0.985-0.988
+            near = ([], [])
             for x, y, bx, by, _ in self.columns:
-                xs += list(x + bx * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
-                ys += list(y + by * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
+                for axis, c, b in ((0, x, bx), (1, y, by)):
+                    have = np.asarray(near[axis])
+                    for k, v in enumerate(c + b * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS
+                                                   - 0.5)):
+                        if k in (0, COLUMN_CELLS // 2, COLUMN_CELLS) or not have.size \
+                                or np.abs(have - v).min() >= b / (2 * COLUMN_CELLS):
+                            near[axis].append(v)
+            xs += near[0]
+            ys += near[1]
             hx, hy = self.width / self.cells[0], self.length / self.cells[1]
             for _, kind, d in self.loads:        # a wall inside: lines beside it, graded
                 if kind == "line" and d[1] == d[3] and 0 < d[1] < self.length:
