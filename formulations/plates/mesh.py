@@ -132,7 +132,12 @@ def grid_lines(length: float, n: int, through=()) -> np.ndarray:
         moved = lines.copy()
         moved[k] = c
         pinned = [0.0, length] + [float(v) for v in through]
-        if 0 < k < lines.size - 1 and np.all(np.diff(moved) >= h / 3) \
+        # only the two cells beside the moved line: a cell elsewhere already
+        # under h/3 (a column's section in COLUMN_CELLS) must not stop every
+        # later coordinate from being snapped, each then added beside a line
+        # as a sliver (a point load 1 mm off a line: a cell 1 mm wide)
+        if 0 < k < lines.size - 1 and moved[k] - moved[k - 1] >= h / 3 \
+                and moved[k + 1] - moved[k] >= h / 3 \
                 and not any(abs(lines[k] - p) < 1e-12 * length for p in pinned):
             lines = moved
         else:

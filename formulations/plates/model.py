@@ -114,6 +114,11 @@ class Raft:
         Names on tables and drawings.
     """
 
+    #: the cells a column's section is divided into each way on the grid
+    #: (:data:`COLUMN_CELLS`; a mesh of the user's is not refined): the
+    #: results' notes compare a column's elements across with it
+    column_cells = COLUMN_CELLS
+
     def __init__(self, width=None, length=None, *, thickness, E, nu=0.2, cells=(20, 20),
                  openings=(), mesh: PlateMesh | None = None, units=("kN", "m")):
         self.thickness = _positive("thickness", thickness)
@@ -187,7 +192,12 @@ class Raft:
     def add_column(self, x: float, y: float, P: float, size, case: str = "D") -> None:
         """A column load P [force] spread over its section size = (bx, by)
         [length] centred at (x, y): a patch load of P / (bx by)."""
-        bx, by = (_positive("a column's size", s) for s in size)
+        try:
+            bx, by = size
+        except (TypeError, ValueError):     # a scalar, or three sides: not a TypeError's words
+            raise InvalidProblemError(f"a column's size is its section (bx, by); got {size!r}") \
+                from None
+        bx, by = (_positive("a column's size", s) for s in (bx, by))
         self._inside(x, y)
         if not _number(P):
             raise InvalidProblemError(f"a column's load must be a finite number; got {P!r}")
@@ -279,9 +289,24 @@ class Raft:
                 elif kind in ("patch", "line"):
                     xs += [d[0], d[2]]
                     ys += [d[1], d[3]]
+            # a column's edges and centre are lines (its load's total, the
+            # peak's place); an inner line only where no column's line lies
+            # within half an inner cell: each line crosses the whole raft, and
+            # 36 columns placed ±5 cm off a 6 m grid made 152 881 nodes (24 s
+            # CPU to solve) with 9 lines each, 44 521 (4 s) sharing them —
+            # the moments under columns whose inner lines were a neighbour's
+            # 0.983-0.988 of the infinite plate's, against 0.985-0.988
+            near = ([], [])
             for x, y, bx, by, _ in self.columns:
-                xs += list(x + bx * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
-                ys += list(y + by * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS - 0.5))
+                for axis, c, b in ((0, x, bx), (1, y, by)):
+                    have = np.asarray(near[axis])
+                    for k, v in enumerate(c + b * (np.arange(COLUMN_CELLS + 1) / COLUMN_CELLS
+                                                   - 0.5)):
+                        if k in (0, COLUMN_CELLS // 2, COLUMN_CELLS) or not have.size \
+                                or np.abs(have - v).min() >= b / (2 * COLUMN_CELLS):
+                            near[axis].append(v)
+            xs += near[0]
+            ys += near[1]
             hx, hy = self.width / self.cells[0], self.length / self.cells[1]
             for _, kind, d in self.loads:        # a wall inside: lines beside it, graded
                 if kind == "line" and d[1] == d[3] and 0 < d[1] < self.length:
