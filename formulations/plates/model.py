@@ -30,6 +30,8 @@ the bottom face (see :mod:`.element`).
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
@@ -272,6 +274,21 @@ class Raft:
     @property
     def cases(self) -> list:
         return sorted({c for c, _, _ in self.loads})
+
+    def as_solved(self) -> "Raft":
+        """The model as it is now, built: a copy whose lists are its own and
+        whose build is this one's, for a result to keep.  A result that read
+        the raft itself went stale when the model changed after the solve
+        (a column added: its contact area read off the new mesh's node
+        areas — a wrong number on the old mesh's sizes, an IndexError on
+        others)."""
+        built = self.build()
+        twin = copy.copy(self)
+        for name, value in vars(self).items():
+            if isinstance(value, (list, dict, set)):
+                setattr(twin, name, copy.copy(value))
+        twin._built = built
+        return twin
 
     # -- the mesh and the matrices (built once per model) --------------------
     def build(self):

@@ -59,6 +59,7 @@ class RaftResult:
     or the pinned QP's method."""
 
     def __init__(self, raft, combination, name, f, answer):
+        raft = raft.as_solved()          # later changes to the model leave this answer alone
         b = raft.build()
         self.raft, self.combination, self.name = raft, combination, name
         self.ok, self.status, self.message = answer.ok, answer.status, answer.message

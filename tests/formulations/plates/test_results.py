@@ -280,3 +280,24 @@ def test_a_column_on_a_mesh_of_the_users_is_not_said_two_percent_low():
     assert own_mx < 0.85 * grid_mx
     assert "2 % low" in grid_note and "2 % low" not in own_note
     assert "meshed 1 element(s) across" in own_note
+
+
+def test_an_answer_is_not_changed_by_later_changes_to_its_raft():
+    """A result keeps the model it solved: adding a column after the solve
+    re-meshes the raft, and an answer that read the raft itself then took
+    its node areas (and notes) off the new mesh."""
+    raft = Raft(8.0, 6.0, thickness=0.4, E=30e6, nu=0.2, cells=(16, 12))
+    raft.add_soil(2e4)
+    raft.add_self_weight(25.0)
+    raft.add_point_load(1.0, 1.0, 300.0)
+    raft.add_point_load(7.0, 5.0, -150.0)
+    r = raft.solve()
+    assert r.ok and r.lifted.any()
+    by_hand = 48.0 - sum(  # the lifted nodes' tributary areas on the 0.5 m grid
+        (0.5 if x in (0.0, 8.0) else 1.0) * (0.5 if y in (0.0, 6.0) else 1.0) * 0.25
+        for x, y in r.mesh.nodes[r.lifted])
+    before = (r.contact_area, r.uplift_fraction, r.notes())
+    assert r.contact_area == pytest.approx(by_hand, rel=1e-12)
+    raft.add_column(4.3, 2.7, 500.0, size=(0.4, 0.4))
+    assert (r.contact_area, r.uplift_fraction, r.notes()) == before
+    assert raft.build()["mesh"].nodes.shape[0] > r.mesh.nodes.shape[0]
