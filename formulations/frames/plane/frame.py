@@ -17,6 +17,7 @@ import numpy as np
 from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
+from ..mechanics.analysis_results import keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, add_settlements, case_name,
                                check_axes, check_units, known_member, known_node,
@@ -77,6 +78,7 @@ class Contact:
     other: str | None
 
 
+@keeps_its_answers
 class Frame:
     """A plane frame with bilateral supports and springs, unilateral
     (possibly frictional) contacts, and loads in named cases (package

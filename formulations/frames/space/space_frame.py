@@ -53,6 +53,7 @@ import numpy as np
 from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import friction_export, second_order_analysis, solving, tracing
+from ..mechanics.analysis_results import hand_over, keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, add_settlements, case_name, check_axes,
                                check_units, known_member, known_node,
@@ -197,6 +198,7 @@ def released(hinge, what: str) -> tuple:
     return names
 
 
+@keeps_its_answers
 class SpaceFrame:
     """A space frame (see the module docstring); ``units`` = (force, length)
     names, for tables and drawings only.
@@ -507,6 +509,7 @@ class SpaceFrame:
                 f"cone must be one of {CONES}; got {value!r} (\"circular\": Coulomb's law; a "
                 "polygon only on request: \"inscribed\" never gives more friction than "
                 "Coulomb, the safe side)")
+        hand_over(self)
         self._cone = value
 
     @property
