@@ -33,8 +33,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as la
 
-from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
-                                   SolverFailedError)
+from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
+                                   QpcontactError, SolverFailedError)
 
 from . import tracing
 from .load_combinations import combination_at
@@ -114,7 +114,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     N, _ = axial_forces(b, res)
     error = np.inf
     for rounds in range(1, ROUNDS + 1):
-        b = frame.build(axial=N)
+        b = built_on(frame, N)
         res = solve_on(b)
         N_new, terms = axial_forces(b, res)
         error = relative_change(N_new, N, terms)
@@ -150,6 +150,30 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                       f"{how_far(frame, res._u, second_order=True)[2]}",
                       LargeDisplacementWarning, stacklevel=3)
     return res
+
+
+def built_on(frame, N):
+    """The frame's assembly on K(N).  Its first-order one stands (built
+    first), so a basic system K(N) leaves singular is no mechanism: N puts
+    the frame at its elastic critical load to rounding (a cantilever within
+    1e-12 of π²EI/(4L²)).  That loss of stiffness is named, not the
+    assembly's "node B is free: no member holds it", which sent the
+    engineer to look for a missing member."""
+    try:
+        return frame.build(axial=N)
+    except InvalidProblemError:
+        EI, L = bending(frame)
+        t = -np.asarray(N, float) * L ** 2 / EI
+        names = list(frame.members)
+        words = ", ".join(f"{names[k]} N = {N[k]:.6g} {frame.units[0]} (-N L²/EI = {t[k]:.6g})"
+                          for k in np.argsort(-t)[:3] if t[k] > 0)
+        raise SolverFailedError(
+            f"frame: the second-order stiffness is singular with the axial forces "
+            f"{words or 'of this load'}: with every contact closed the frame is at its elastic "
+            "critical load to rounding "
+            "(α_cr = 1, it buckles there; P-Δ theory has no equilibrium at that load for one "
+            "that sways it).  Below it, critical_load_factor of a second-order solve says how "
+            "far; above it the answer is UNSTABLE") from None
 
 
 def critical_load_factor(frame, result) -> dict:
@@ -316,7 +340,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     N_start = N.copy()
     error, ft, unstable, p_from, inside = np.inf, None, None, 0.0, None
     for rounds in range(1, ROUNDS + 1):
-        b = frame.build(axial=N)
+        b = built_on(frame, N)
         p_from = 0.0
         try:
             ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from formulations.frames import Frame
-from qpcontact.core.errors import NoSolutionError
+from qpcontact.core.errors import NoSolutionError, SolverFailedError
 
 E, A, I = 2e8, 1e-2, 2e-5       # kN/m², m², m⁴: a steel column
 
@@ -336,3 +336,35 @@ def test_the_second_order_trace_of_a_frame_without_contacts_is_second_order():
     k = np.sqrt(P / (E * I))
     assert ft.result_at(10.0).displacements["B"][0] == pytest.approx(
         10.0 * (np.tan(k * L) - k * L) / (P * k), rel=1e-9)
+
+
+@pytest.mark.parametrize("share", [1 - 1e-12, 1.0, 1 + 1e-12])
+def test_a_column_at_its_buckling_load_is_named_as_buckling_not_as_a_mechanism(share):
+    """At P_cr = π²EI/(4L²) to rounding the column's stability functions
+    cancel its sway stiffness: K(N) is singular with the column in place.
+    The answer must name that loss of stiffness (its elastic critical load),
+    not call the frame a mechanism whose node "no member holds" (the words
+    of a missing member, which sent the engineer to look for one); plane,
+    space and the trace alike.  Either side of it, 1e-6 of P_cr away, the
+    answer is the beam-column's amplified sway (ok below, UNSTABLE above)."""
+    L = 5.0
+    P_cr = np.pi ** 2 * E * I / (4 * L ** 2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for fr in (cantilever(L, share * P_cr, 10.0), space_cantilever(L, share * P_cr, 10.0, 0.0)):
+            with pytest.raises(SolverFailedError, match="elastic critical load") as err:
+                fr.solve(second_order=True)
+            assert "column N = -394.784" in str(err.value)
+            assert "no member" not in str(err.value)
+        fr = cantilever(L, share * P_cr, 0.0)
+        fr.add_load("B", fx=1.0, case="variable")
+        with pytest.raises(SolverFailedError, match="elastic critical load"):
+            fr.trace(1.0, second_order=True)
+        for side, stable in ((1 - 1e-6, True), (1 + 1e-6, False)):
+            P = side * P_cr
+            res = cantilever(L, P, 10.0).solve(second_order=True)
+            k = np.sqrt(P / (E * I))
+            assert res.ok is stable and res.second_order["stable"] is stable
+            # the closed form's conditioning, 1/(1 - P/P_cr) = 1e6, costs digits
+            assert res.displacements["B"][0] == pytest.approx(
+                10.0 * (np.tan(k * L) - k * L) / (P * k), rel=1e-8)
