@@ -120,3 +120,94 @@ def pdelta_couples(frame, b, u) -> np.ndarray:
     vi = d[:, 1] + oi * d[:, 2]
     vj = d[:, 4] - oj * d[:, 5]
     return b["axial"] * (vj - vi)
+
+
+def bending(frame) -> tuple[np.ndarray, np.ndarray]:
+    """(EI, L) per member: its weaker bending stiffness and its flexible
+    length (a plane member's less its rigid end zones)."""
+    EI, L = [], []
+    for m in frame.members.values():
+        if isinstance(m, dict):          # a space frame's member
+            EI.append(m["E"] * min(m["Iy"], m["Iz"]))
+            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))))
+        else:
+            EI.append(m.E * m.I)
+            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i])))
+                     - m.offset_i - m.offset_j)
+    return np.array(EI, float), np.array(L, float)
+
+
+def own_buckling(frame) -> np.ndarray:
+    """Each member's own buckling load [F] (a compression, > 0): the least
+    one at which it buckles between its nodes with them held, over its
+    bending planes t* EI/L² (L its flexible length).  A member rigidly
+    joined at both ends has no rotation of its own to lose: t* = 4π², the
+    stability functions' pole (clamped–clamped).  Where an end is hinged
+    or semi-rigid (a spring k), the member's rotation there is its own,
+    condensed behind k: the block of those rotations, EI/L [[s, s c],
+    [s c, s]] with k L/EI added on the diagonal, loses its positive
+    definiteness at t* < 4π² — π² hinged at both ends (s = s c), 20.19
+    (ψ = 4.4934, s = 0) at one; the condensed frame stiffness passes
+    through a pole there and its negative eigenvalues no longer count the
+    member's buckling (Wittrick–Williams' member term), so the frame's
+    count alone calls a buckled strut stable.  Timoshenko members' blocks
+    are their consistent ones ((4+φ)/(1+φ) − 2t/15, (2−φ)/(1+φ) + t/30)."""
+    out = []
+    for m in frame.members.values():
+        if isinstance(m, dict):          # a space frame's: bending about z (rz), about y (ry)
+            L = float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))
+                      - sum(m["offsets"]))
+            rel = dict(m["releases"])
+            planes = [(m["E"] * I_, rel.get(r), rel.get(r + 6), GAs)
+                      for I_, r, GAs in ((m["Iz"], 5, m["GAs"][0]), (m["Iy"], 4, m["GAs"][1]))]
+        else:
+            L = float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
+                      - m.offset_i - m.offset_j)
+            planes = [(m.E * m.I, *m.end_springs, m.GAs)]
+        out.append(min(released_buckling_t(
+            *(None if k is None else k * L / EI for k in (ki, kj)),
+            0.0 if not GAs else 12.0 * EI / (GAs * L ** 2)) * EI / L ** 2
+            for EI, ki, kj, GAs in planes))
+    return np.array(out, float)
+
+
+def released_buckling_t(ki, kj, phi) -> float:
+    """t* of :func:`own_buckling` for one bending plane: ``ki``, ``kj`` the
+    end springs on the scale EI/L (None: a rigid joint), ``phi`` the
+    shear parameter; the first t on a grid of (0, 4π²) where the released
+    block's least eigenvalue is ≤ 0, then bisection to 1e-13 of it."""
+    if ki is None and kj is None:
+        return clamped_buckling_t()
+
+    def least(t):
+        t = np.atleast_1d(np.asarray(t, float))
+        if phi > 0:
+            s, sc = (4 + phi) / (1 + phi) - 2 * t / 15, (2 - phi) / (1 + phi) + t / 30
+        else:
+            s, sc = stability_functions(t)
+        if ki is None or kj is None:
+            return s + (kj if ki is None else ki)
+        a, d = s + ki, s + kj
+        return 0.5 * (a + d) - np.sqrt(0.25 * (a - d) ** 2 + sc ** 2)
+
+    grid = np.linspace(0.0, clamped_buckling_t(), 4001)[1:-1]
+    below = np.flatnonzero(least(grid) <= 0)
+    if not below.size:
+        return clamped_buckling_t()
+    lo, hi = (grid[below[0] - 1] if below[0] else 0.0), grid[below[0]]
+    while hi - lo > 1e-13 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if least(mid)[0] <= 0 else (mid, hi)
+    return float(hi)
+
+
+def past_own_buckling(frame, N) -> str:
+    """Words naming the members that the axial forces ``N`` (those that
+    built a second-order stiffness) compress to or past their own buckling
+    load (:func:`own_buckling`), or "": a strut hinged at both ends at
+    1.5 π²EI/L² has a condensed stiffness with no negative eigenvalue."""
+    names = [f"{m} (N = {n:.6g}, its own buckling at N = {-o:.6g})"
+             for m, n, o in zip(frame.members, np.asarray(N, float), own_buckling(frame))
+             if -n >= o]
+    return (f"member(s) {', '.join(names)} compressed past their own buckling load between "
+            "their nodes") if names else ""

@@ -23,8 +23,11 @@ sway it allows is the sliding limit, which the load path finds), has a
 zero eigenvalue.  With the stability functions K(α N) is exact for
 Euler–Bernoulli members, so α_cr is found by bisection on the count of
 K's negative eigenvalues (Sylvester's inertia; the Wittrick–Williams
-count without its member term, which is zero below the first member's
-clamped–clamped load α N L²/EI = 4π², where the search stops).
+count without its member term, which is zero below the first member's own
+buckling load with its nodes held, where the search stops: 4π²EI/L² for a
+member rigidly joined at both ends, less where its ends are hinged or
+semi-rigid, :func:`.second_order.own_buckling`).  A member compressed past
+its own buckling load makes an answer UNSTABLE whatever the count says.
 Eurocode 3 (5.2.1) asks for second-order analysis where α_cr < 10.
 """
 
@@ -38,7 +41,7 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 
 from . import tracing
 from .load_combinations import combination_at
-from .second_order import clamped_buckling_t
+from .second_order import bending, own_buckling, past_own_buckling
 from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
@@ -66,21 +69,6 @@ def axial_forces(b, res) -> tuple[np.ndarray, np.ndarray]:
     ea = k[:, j, j]
     N = ea * (d[:, j] - d[:, 0]) - 0.5 * (fe[:, j] - fe[:, 0])
     return N, ea * (np.abs(d[:, j]) + np.abs(d[:, 0])) + 0.5 * (np.abs(fe[:, j]) + np.abs(fe[:, 0]))
-
-
-def bending(frame) -> tuple[np.ndarray, np.ndarray]:
-    """(EI, L) per member: its weaker bending stiffness and its flexible
-    length (a plane member's less its rigid end zones)."""
-    EI, L = [], []
-    for m in frame.members.values():
-        if isinstance(m, dict):          # a space frame's member
-            EI.append(m["E"] * min(m["Iy"], m["Iz"]))
-            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))))
-        else:
-            EI.append(m.E * m.I)
-            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i])))
-                     - m.offset_i - m.offset_j)
-    return np.array(EI, float), np.array(L, float)
 
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options,
@@ -121,10 +109,11 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         if error <= tol:
             break
         N = N_new
-    stable = None
+    stable, buckled = None, past_own_buckling(frame, b["axial"])
     if b["free"].size <= DENSE_DOFS:
         stable = negative_eigenvalues(
             reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))) == 0
+    stable = False if buckled else stable
     res.second_order = {"rounds": rounds, "axial_error": error,
                         "axial": dict(zip(frame.members, N)), "stable": stable}
     words = (f"second order (P-Δ and P-δ): the axial forces that built the stiffness agree "
@@ -137,7 +126,8 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         res.ok = False
         words += (" — UNSTABLE: with its contact states held the frame's tangent stiffness "
                   "has a negative eigenvalue, so it cannot rest in this equilibrium (past a "
-                  "tipping or buckling load of the deformed frame)")
+                  "tipping or buckling load of the deformed frame)" if not buckled else
+                  f" — UNSTABLE: {buckled}")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
     res.message = f"{res.message}; {words}"
@@ -181,7 +171,8 @@ def critical_load_factor(frame, result) -> dict:
     with ``alpha`` (inf where no member is in compression), ``mode`` (the
     buckling shape, global displacements per node, largest 1), ``members``
     (the compressed members' N L²/EI at α = 1) and ``limited_by`` (None, or
-    the member whose own clamped–clamped buckling bounds the search)."""
+    the member whose own buckling load, its nodes held, bounds the search
+    and is then α_cr: :func:`.second_order.own_buckling`)."""
     b = frame.build()
     if getattr(result, "second_order", None):
         N = np.array([result.second_order["axial"][m] for m in frame.members], float)
@@ -191,7 +182,8 @@ def critical_load_factor(frame, result) -> dict:
     t1 = -N * L ** 2 / EI                      # compression positive, at α = 1
     if not np.any(t1 > 0):
         return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
-    pole = clamped_buckling_t() / t1.max()
+    ratio = np.divide(own_buckling(frame), -N, out=np.full(N.size, np.inf), where=N < 0)
+    pole = float(ratio.min())
     held = restraint(b, held_links(frame, b, result))
 
     def negatives(alpha):
@@ -202,8 +194,8 @@ def critical_load_factor(frame, result) -> dict:
                                  "is not stable at zero load (a mechanism); no α_cr")
     hi = first_negative(negatives, min(1.0, 0.5 * pole), pole)
     if hi is None:
-        worst = list(frame.members)[int(np.argmax(t1))]
-        return {"alpha": float(pole), "mode": None, "limited_by": worst,
+        worst = list(frame.members)[int(np.argmin(ratio))]
+        return {"alpha": pole, "mode": None, "limited_by": worst,
                 "members": dict(zip(frame.members, t1))}
     return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held),
             "members": dict(zip(frame.members, t1)), "limited_by": None}
@@ -492,9 +484,8 @@ def buckling_along_path(frame, b, ft, N_start):
         return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=N_start + p * dN),
                                                     b, held))
 
-    EI, L = bending(frame)
     growing = dN < -rounding
-    own = (clamped_buckling_t() * EI[growing] / L[growing] ** 2 + N_start[growing]) / -dN[growing]
+    own = (own_buckling(frame)[growing] + N_start[growing]) / -dN[growing]
     pole = float(own.min())
     if negatives(0.0):
         return 0.0, "the frame is unstable under the constant loads alone"
@@ -502,7 +493,7 @@ def buckling_along_path(frame, b, ft, N_start):
     if c is None:
         worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
         return pole, (f"no sway buckles it before member {worst} buckles on its own "
-                      f"(clamped at both ends) at p = {pole:.10g}")
+                      f"(its nodes held) at p = {pole:.10g}")
     return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact states "
                "held, turns singular there)")
 
@@ -514,6 +505,8 @@ def first_unstable_piece(frame, b, ft):
     None (also where the frame is too large to check)."""
     if b["free"].size > DENSE_DOFS:
         return None
+    if past_own_buckling(frame, b["axial"]):      # one stiffness for the whole round
+        return 0 if ft.intervals else None
     for k, (lo, hi) in enumerate(ft.intervals):
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)
         held = restraint(b, held_links(frame, b, ft.result_at(0.5 * (lo + top))))

@@ -368,3 +368,108 @@ def test_a_column_at_its_buckling_load_is_named_as_buckling_not_as_a_mechanism(s
             # the closed form's conditioning, 1/(1 - P/P_cr) = 1e6, costs digits
             assert res.displacements["B"][0] == pytest.approx(
                 10.0 * (np.tan(k * L) - k * L) / (P * k), rel=1e-8)
+
+
+def strut(P, hinge_i, hinge_j, L=5.0):
+    """A vertical member A-B under P at B: A held in ux, uy (and rz where
+    the member is rigidly joined there), B in ux (and rz likewise)."""
+    fr = Frame(units=("kN", "m"))
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", E, A, I, name="strut", hinge_i=hinge_i, hinge_j=hinge_j)
+    fr.add_support("A", fix=("ux", "uy") if hinge_i else ("ux", "uy", "rz"))
+    fr.add_support("B", fix=("ux",) if hinge_j else ("ux", "rz"))
+    fr.add_load("B", fy=-P)
+    return fr
+
+
+# ψ² at a member's own buckling with its nodes held: hinged at both ends π²;
+# clamped at one, hinged at the other, the root of tan ψ = ψ (4.493409457909064)
+# squared; clamped at both 4π²
+OWN_T = {(True, True): np.pi ** 2, (False, True): 4.493409457909064 ** 2,
+         (False, False): 4 * np.pi ** 2}
+
+
+@pytest.mark.parametrize("ends", list(OWN_T))
+def test_a_strut_buckles_at_its_own_euler_load_whatever_its_ends(ends):
+    """A member with hinged ends has end rotations of its own, condensed
+    out of the frame's stiffness; at its Euler load that condensation has a
+    pole and the frame's count of negative eigenvalues no longer sees the
+    member buckle (before: α_cr raised ValueError on a NaN, and the strut at
+    1.1–3.9 P_e was answered ok, "stable").  α_cr = ψ² EI/(L² P); past it
+    the second-order answer is UNSTABLE, naming the member."""
+    L, P = 5.0, 100.0
+    own = OWN_T[ends] * E * I / L ** 2
+    fr = strut(P, *ends, L=L)
+    crit = fr.critical_load_factor(fr.solve())
+    assert crit["alpha"] == pytest.approx(own / P, rel=1e-10)
+    assert crit["limited_by"] == "strut"
+    below = strut(0.9 * own, *ends, L=L).solve(second_order=True)
+    assert below.ok and below.second_order["stable"] is True, below.message
+    for share in (1.1, 3.9):
+        res = strut(share * own, *ends, L=L).solve(second_order=True)
+        assert not res.ok and res.second_order["stable"] is False
+        assert "strut" in res.message and "own buckling" in res.message
+    # the load path under a growing load: before, "p_max", ok, at 2 P_e
+    fr = strut(0.0, *ends, L=L)
+    fr.add_load("B", fy=-1.0, case="variable")
+    tr = fr.trace(2 * own, second_order=True)
+    assert not tr.ok and tr.ended == "breakdown"
+    assert f"strut buckles on its own (its nodes held) at p = {own:.10g}" in tr.message
+
+
+def test_a_space_strut_hinged_about_one_axis_buckles_about_it():
+    """Hinged about its local y at both ends (ry released), clamped about
+    z: it buckles at min(π² E Iy, 4π² E Iz)/L² — here about y, though Iy is
+    2.5 times Iz."""
+    from formulations.frames import SpaceFrame
+
+    L, Iy, Iz, P = 5.0, 5e-5, 2e-5, 100.0
+    fr = SpaceFrame(units=("kN", "m"))
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", 0.0, 0.0, L)
+    fr.add_member("A", "B", E, A, Iy, Iz, G=8e7, J=1e-5, name="strut",
+                  hinge_i=("ry",), hinge_j=("ry",))
+    fr.add_support("A")
+    fr.add_support("B", fix=("ux", "uy", "rx", "ry", "rz"))
+    fr.add_load("B", fz=-P)
+    own = min(np.pi ** 2 * E * Iy, 4 * np.pi ** 2 * E * Iz) / L ** 2
+    assert own == pytest.approx(np.pi ** 2 * E * Iy / L ** 2)
+    crit = fr.critical_load_factor(fr.solve())
+    assert crit["alpha"] == pytest.approx(own / P, rel=1e-10)
+    fr.add_load("B", fz=-1.05 * own + P)
+    res = fr.solve(second_order=True)
+    assert not res.ok and "strut" in res.message
+
+
+def test_a_leaning_column_that_buckles_on_its_own_limits_the_frame():
+    """A cantilever (EI, h) holds a leaning column (hinged at both ends,
+    EI_l) by a hinged link (EA/3 axially) at the top.  The sway buckles
+    where the cantilever's tip flexibility under P, (tan kh − kh)/(P k),
+    plus the link's equals the leaning load's h/Q (the link carries
+    Q Δ_D/h); a slender leaning column buckles first on its own, at
+    π² EI_l/h²: α_cr is the smaller of the two."""
+    from scipy.optimize import brentq
+
+    h, P = 4.0, 200.0
+    for I_lean, Q in ((2e-5, 600.0), (1e-7, 600.0)):
+        fr = Frame(units=("kN", "m"))
+        for n, x, y in (("A", 0, 0), ("B", 0, h), ("C", 3, 0), ("D", 3, h)):
+            fr.add_node(n, x, y)
+        fr.add_member("A", "B", E, A, I, name="column")
+        fr.add_member("C", "D", E, A, I_lean, name="leaning", hinge_i=True, hinge_j=True)
+        fr.add_member("B", "D", E, A, I, name="link", hinge_i=True, hinge_j=True)
+        fr.add_support("A")
+        fr.add_support("C", fix=("ux", "uy"))
+        fr.add_load("B", fy=-P)
+        fr.add_load("D", fy=-Q)
+
+        def sway(a):
+            k = np.sqrt(a * P / (E * I))
+            return (np.tan(k * h) - k * h) / (a * P * k) + 3.0 / (E * A) - h / (a * Q)
+
+        frame_alpha = brentq(sway, 1e-3, (np.pi / 2) ** 2 * E * I / (h ** 2 * P) * (1 - 1e-12))
+        own_alpha = np.pi ** 2 * E * I_lean / (h ** 2 * Q)
+        crit = fr.critical_load_factor(fr.solve())
+        assert crit["alpha"] == pytest.approx(min(frame_alpha, own_alpha), rel=1e-8)
+        assert crit["limited_by"] == (None if frame_alpha < own_alpha else "leaning")
