@@ -175,7 +175,8 @@ def released_buckling_t(ki, kj, phi) -> float:
     """t* of :func:`own_buckling` for one bending plane: ``ki``, ``kj`` the
     end springs on the scale EI/L (None: a rigid joint), ``phi`` the
     shear parameter; the first t on a grid of (0, 4π²) where the released
-    block's least eigenvalue is ≤ 0, then bisection to 1e-13 of it."""
+    block's least eigenvalue is ≤ 0, then bisection to 1e-13 of it (4π²
+    where it stays positive: a Timoshenko member's consistent block)."""
     if ki is None and kj is None:
         return clamped_buckling_t()
 
@@ -190,7 +191,9 @@ def released_buckling_t(ki, kj, phi) -> float:
         a, d = s + ki, s + kj
         return 0.5 * (a + d) - np.sqrt(0.25 * (a - d) ** 2 + sc ** 2)
 
-    grid = np.linspace(0.0, clamped_buckling_t(), 4001)[1:-1]
+    # the last point a hair below the pole, where s → −∞: a stiff spring's root
+    grid = np.r_[np.linspace(0.0, clamped_buckling_t(), 4001)[1:-1],
+                 clamped_buckling_t() * (1 - 1e-12)]
     below = np.flatnonzero(least(grid) <= 0)
     if not below.size:
         return clamped_buckling_t()

@@ -473,3 +473,26 @@ def test_a_leaning_column_that_buckles_on_its_own_limits_the_frame():
         crit = fr.critical_load_factor(fr.solve())
         assert crit["alpha"] == pytest.approx(min(frame_alpha, own_alpha), rel=1e-8)
         assert crit["limited_by"] == (None if frame_alpha < own_alpha else "leaning")
+
+
+@pytest.mark.parametrize("kappa", [1.0, 10.0, 1e4])
+def test_a_strut_between_rotational_springs_buckles_at_its_closed_form(kappa):
+    """Both ends held in translation and rotation, the member joined to
+    them by springs k = κ EI/L: its symmetric half-wave, v = cos(ψ(x/L −
+    1/2)) − cos(ψ/2), meets the springs' M = k v' where κ = −ψ cot(ψ/2),
+    ψ in (π, 2π) (π hinged, 2π clamped); α_cr = ψ² EI/(L² P)."""
+    from scipy.optimize import brentq
+
+    L, P = 5.0, 100.0
+    psi = brentq(lambda p: -p / np.tan(p / 2) - kappa, np.pi + 1e-12, 2 * np.pi - 1e-12,
+                 xtol=1e-15)
+    fr = Frame(units=("kN", "m"))
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    k = kappa * E * I / L
+    fr.add_member("A", "B", E, A, I, name="strut", spring_i=k, spring_j=k)
+    fr.add_support("A")
+    fr.add_support("B", fix=("ux", "rz"))
+    fr.add_load("B", fy=-P)
+    crit = fr.critical_load_factor(fr.solve())
+    assert crit["alpha"] == pytest.approx(psi ** 2 * E * I / (L ** 2 * P), rel=1e-9)
