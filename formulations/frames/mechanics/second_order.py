@@ -51,7 +51,10 @@ give, to the accuracy asked for
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
+from scipy.optimize import brentq
 
 #: |t| = |N| L² / EI below which the stability functions come from their
 #: series (the closed forms' denominators cancel to ψ⁴/12 near 0)
@@ -171,12 +174,14 @@ def own_buckling(frame) -> np.ndarray:
     return np.array(out, float)
 
 
+@lru_cache(maxsize=4096)      # a frame's hinged members share one value; solves repeat them
 def released_buckling_t(ki, kj, phi) -> float:
     """t* of :func:`own_buckling` for one bending plane: ``ki``, ``kj`` the
     end springs on the scale EI/L (None: a rigid joint), ``phi`` the
     shear parameter; the first t on a grid of (0, 4π²) where the released
-    block's least eigenvalue is ≤ 0, then bisection to 1e-13 of it (4π²
-    where it stays positive: a Timoshenko member's consistent block)."""
+    block's least eigenvalue is ≤ 0, then Brent's root between the grid
+    points (4π² where it stays positive: a Timoshenko member's consistent
+    block)."""
     if ki is None and kj is None:
         return clamped_buckling_t()
 
@@ -198,10 +203,7 @@ def released_buckling_t(ki, kj, phi) -> float:
     if not below.size:
         return clamped_buckling_t()
     lo, hi = (grid[below[0] - 1] if below[0] else 0.0), grid[below[0]]
-    while hi - lo > 1e-13 * hi:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if least(mid)[0] <= 0 else (mid, hi)
-    return float(hi)
+    return float(brentq(lambda t: least(t)[0], lo, hi, xtol=1e-14, rtol=1e-15))
 
 
 def past_own_buckling(frame, N) -> str:
