@@ -496,3 +496,30 @@ def test_a_strut_between_rotational_springs_buckles_at_its_closed_form(kappa):
     fr.add_load("B", fy=-P)
     crit = fr.critical_load_factor(fr.solve())
     assert crit["alpha"] == pytest.approx(psi ** 2 * E * I / (L ** 2 * P), rel=1e-9)
+
+
+def test_combinations_are_each_solved_to_second_order():
+    """`solve_combinations(..., second_order=True)`: each combination on
+    its own deformed frame — the windward pad's W/2 − (H h + W Δ)/(2a)
+    (statics on the deformed column) for each H, the envelope over them;
+    one past the second-order tipping load is not ok and the others are
+    kept.  Before: InvalidOptionError "do not pass _built", which the user
+    had not."""
+    h, a = 6.0, 1.0
+    W = 0.3 * np.pi ** 2 * E * I / (4 * h ** 2)
+    k = np.sqrt(W / (E * I))
+    H_tip = W * a / (h + (np.tan(k * h) - k * h) / k)
+    fr = column_on_pads(W, a, h)
+    shares = {"a": 0.3, "b": 0.9, "past": 1.2}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve_combinations({n: {"constant": 1.0, "variable": s * H_tip}
+                                     for n, s in shares.items()}, second_order=True)
+    assert res.failed == ["past"]
+    for name in ("a", "b"):
+        H = shares[name] * H_tip
+        delta = H * (np.tan(k * h) - k * h) / (W * k)
+        assert res[name].second_order["stable"] is True
+        assert res[name].supports["L"].normal == pytest.approx(
+            W / 2 - (H * h + W * delta) / (2 * a), abs=1e-9 * W)
+    assert res.envelope()["supports"]["L"]["Fy"]["min"] == (res["b"].supports["L"].normal, "b")
