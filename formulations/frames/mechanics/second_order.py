@@ -102,13 +102,16 @@ def clamped_buckling_t() -> float:
 
 
 def pdelta_couples(frame, b, u) -> np.ndarray:
-    """Each member's P-Δ couple N (v'_j − v'_i) (m,): the moment its end
+    """Each member's P-Δ couple N (v_j − v_i) (m,): the moment its end
     forces make in the undeformed frame, from the axial forces that built
     its stiffness (``b["axial"]``) and the transverse displacements of its
-    flexible ends (v' = v ± the rigid arm times θ) in its own axes; ``u``
-    the global displacements.  A space frame's (m, 3), global: N e_x ×
-    (u_j − u_i), e_x the member's axis (the same identity in each bending
-    plane)."""
+    nodes in its own axes; ``u`` the global displacements.  Node to node,
+    rigid end zones included: the flexible part's N (v'_j − v'_i) (v' = v ±
+    the arm o times θ) plus each arm's own N o θ, which the assemblies add
+    to K(N) (a cantilever with a rigid top zone buckled at its flexible
+    part's load without it, 54 % high).  A space frame's (m, 3), global:
+    N e_x × (u_j − u_i), e_x the member's axis (the same identity in each
+    bending plane)."""
     _, T, dofs, _ = b["local"]
     if dofs.shape[1] == 12:
         xyz = np.asarray(b["coords"], float)
@@ -118,11 +121,7 @@ def pdelta_couples(frame, b, u) -> np.ndarray:
         du = u[dofs[:, 6:9]] - u[dofs[:, 0:3]]
         return b["axial"][:, None] * np.cross(axis, du)
     d = (T @ np.asarray(u, float)[dofs][..., None])[..., 0]
-    oi = np.array([m.offset_i for m in frame.members.values()], float)
-    oj = np.array([m.offset_j for m in frame.members.values()], float)
-    vi = d[:, 1] + oi * d[:, 2]
-    vj = d[:, 4] - oj * d[:, 5]
-    return b["axial"] * (vj - vi)
+    return b["axial"] * (d[:, 4] - d[:, 1])
 
 
 def bending(frame) -> tuple[np.ndarray, np.ndarray]:
