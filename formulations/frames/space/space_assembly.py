@@ -76,6 +76,9 @@ def assemble(frame, axial=None):
             A_ = space_member_loads.offset_map(*offsets[k])
             k_local[k] = A_.T @ k_local[k] @ A_
             Fe[k] = A_.T @ Fe[k] + rigid[k]
+            if axial is not None:    # each rigid arm's own P-Δ, N o (θy² + θz²)/2
+                for at, o in ((4, offsets[k, 0]), (10, offsets[k, 1])):
+                    k_local[k][[at, at + 1], [at, at + 1]] += axial[k] * o
         kg = T.transpose(0, 2, 1) @ k_local @ T
         rows.append(np.repeat(dofs, 12, axis=1).ravel())
         cols.append(np.tile(dofs, (1, 12)).ravel())
