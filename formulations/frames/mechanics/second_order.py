@@ -33,7 +33,8 @@ Members with shear deformation (Timoshenko, φ > 0) take the consistent
 geometric matrix beside their own stiffness: the exact Timoshenko
 beam-column is not written here, and its error is the consistent matrix's
 (P-δ to O(t²)).  Fixed-end forces of member loads stay first-order (their
-span moments are not amplified by N).
+span moments are not amplified by N): an answer where that is off by more
+than the accuracy asked is not ok (:func:`first_order_span_loads`).
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k` (and its consistent geometric one,
@@ -215,3 +216,74 @@ def past_own_buckling(frame, N) -> str:
              if -n >= o]
     return (f"member(s) {', '.join(names)} compressed past their own buckling load between "
             "their nodes") if names else ""
+
+
+
+def _bending_load(values, axis, local: bool, point: bool) -> float:
+    """A bound on the simply supported span moment one member load gives,
+    per unit length of span (× L): L/4 times the force across the axis
+    (any distribution on a simple span: M ≤ |W| L/4), plus a point
+    moment about a bending axis (not the twist) as |M|/L."""
+    v = np.asarray(values, float)
+    n = axis.size                                    # 2: a plane member, 3: a space one
+    if point:
+        forces, moments = [v[:n]], (v[2:3] if n == 2 else v[3:6])
+    else:                              # its ends' intensities: |W| ≤ L max |w|
+        forces, moments = [v[:n], v[n:2 * n]], np.zeros(0)
+    across = max(float(np.linalg.norm(f[1:] if local else f - (f @ axis) * axis))
+                 for f in forces)
+    if n == 3 and moments.size:
+        moments = moments[1:] if local else moments - (moments @ axis) * axis
+    return across / 4.0, float(np.linalg.norm(moments))
+
+
+def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
+    """Words naming the members whose span loads act with first-order
+    fixed-end forces and diagrams (module docstring) where that is off by
+    more than ``tol`` of the member's moments, or "".  Under an axial
+    force N a member's loads bend it more (compression) or less (tension)
+    than first order says, by up to about its beam-column amplification
+    ρ/(1 − ρ) (ρ in tension), ρ = |N| L²/(π² EI) — the pinned member's
+    Euler load on its weaker EI, the largest amplification of any end
+    condition (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m
+    against wL²/8 = 31.25) — of the span moment M₀ its loads alone make on
+    a simple span, bounded by |W| L/4 + |M|.  Judged on the member's own
+    moments (its ends' in ``member_forces``, and M₀): a member cut into
+    short pieces has small M₀ and small ρ per piece, so the cut that the
+    words advise clears it."""
+    EI, L = bending(frame)
+    N = np.asarray(N, float)
+    m0 = np.zeros(len(frame.members))
+    index = {name: k for k, name in enumerate(frame.members)}
+    active = {c for c, f in combination.items() if f}
+    if hasattr(frame, "span_loads"):                   # a space frame's loads
+        pairs = [(ld.member, ld) for ld in frame.span_loads]
+    else:
+        pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
+    for name, ld in pairs:
+        if ld.case not in active:
+            continue
+        k, m = index[name], frame.members[name]
+        i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
+        d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
+        force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
+                                      ld.kind == "point")
+        m0[k] += abs(combination[ld.case]) * (force * (1.0 if ld.kind == "point" else L[k])
+                                              * L[k] + moment)
+    rho = np.abs(N) * L ** 2 / (np.pi ** 2 * EI)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        amplification = np.where(N < 0, rho / np.maximum(1.0 - rho, 0.0), rho)
+        ends = np.array([np.abs(np.asarray(member_forces[name])[
+            [2, 5] if np.size(member_forces[name]) == 6 else [4, 5, 10, 11]]).max()
+            for name in frame.members])
+        off = amplification * m0 / np.maximum(np.maximum(ends, m0), 1e-300)
+    hit = [k for k in np.argsort(-off, kind="stable") if m0[k] > 0 and off[k] > tol]
+    if not hit:
+        return ""
+    members = list(frame.members)
+    names = ", ".join(f"{members[k]} (N = {N[k]:.4g}, up to {off[k]:.1e} of its moments)"
+                      for k in hit[:5]) + (f" and {len(hit) - 5} more" if len(hit) > 5 else "")
+    return (f"the span loads of member(s) {names} act with first-order fixed-end "
+            "forces and diagrams, not the beam-column's (P-δ along a loaded member is not in "
+            "the element) — add nodes along those members, whose stability functions then "
+            "carry the P-δ (docs/frames.md, 'What stays first order')")

@@ -41,7 +41,7 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 
 from . import tracing
 from .load_combinations import combination_at
-from .second_order import bending, own_buckling, past_own_buckling
+from .second_order import bending, first_order_span_loads, own_buckling, past_own_buckling
 from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
@@ -130,6 +130,9 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                   f" — UNSTABLE: {buckled}")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
+    span = first_order_span_loads(frame, b["axial"], res.combination, tol, res.member_forces)
+    if span and res.ok:
+        res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
     if raise_on_failure and not res.ok:
         from qpcontact.core.errors import SolverFailedError
@@ -437,6 +440,10 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if error > tol:
         ft.ok = False
         words += f" — NOT CONVERGED (asked {tol:.0e})"
+    at = ft.result_at(inside)
+    span = first_order_span_loads(frame, b["axial"], at.combination, tol, at.member_forces)
+    if span and ft.ok:
+        ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"
     return ft
 
