@@ -34,7 +34,24 @@ def keeps_its_answers(cls):
     for name, method in list(vars(cls).items()):
         if name.startswith("add_") and callable(method):
             setattr(cls, name, _handing_over(method))
+    cls.__getstate__ = _without_register
     return cls
+
+
+def _without_register(frame) -> dict:
+    """A frame's state to pickle or copy: the register of its answers (weak
+    references, which do not pickle: a solved frame or its answer sent to
+    another process raised TypeError) is not part of the model."""
+    state = dict(frame.__dict__)
+    state.pop("_answers", None)
+    return state
+
+
+def _registered_again(answer, state) -> None:
+    """An answer unpickled or copied: its own frame (copied with it) keeps
+    it as solved, as the original's keeps the original."""
+    answer.__dict__.update(state)
+    kept(answer)
 
 
 def _handing_over(method):
@@ -110,6 +127,8 @@ class AnalysisResult:
 
     def __post_init__(self):
         kept(self)
+
+    __setstate__ = _registered_again
 
     @property
     def status(self) -> str:
@@ -249,6 +268,8 @@ class FrameTrace:
 
     def __post_init__(self):
         kept(self)
+
+    __setstate__ = _registered_again
 
     @property
     def p_end(self) -> float:
