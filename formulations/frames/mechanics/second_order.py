@@ -287,3 +287,24 @@ def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
             "forces and diagrams, not the beam-column's (P-δ along a loaded member is not in "
             "the element) — add nodes along those members, whose stability functions then "
             "carry the P-δ (docs/frames.md, 'What stays first order')")
+
+
+def first_order_span_loads_along(frame, N, ft, inside, tol) -> str:
+    """:func:`first_order_span_loads` of a second-order trace ``ft`` built
+    on the axial forces ``N``, judged at each stable piece's ends up to
+    ``inside`` (its last stable state), and on an unbounded last piece one
+    point past its start: the span loads may be the variable ones, and a
+    strut under a constant half Euler load traced to "unbounded" (one piece
+    from p = 0, where none acts yet) was ok, its moment at p = 1 half the
+    beam-column's."""
+    points = {float(inside)}
+    for lo, hi in ft.intervals:
+        if lo > inside:
+            break
+        points |= {float(lo), min(float(hi), inside) if np.isfinite(hi) else lo + max(1.0, lo)}
+    for p in sorted(points):
+        at = ft.result_at(p)
+        words = first_order_span_loads(frame, N, at.combination, tol, at.member_forces)
+        if words:
+            return f"at p = {p:.10g} on the path, {words}"
+    return ""
