@@ -105,3 +105,26 @@ def test_a_trace_whose_variable_loads_bend_a_compressed_member_is_not_ok(p_max):
     assert "span loads of member(s) S" in ft.message
     assert _midspan(fr, ft.result_at(1.0)) == pytest.approx(W * L ** 2 / 8, rel=1e-9)
     assert _closed_form(0.5) > 2 * W * L ** 2 / 8
+
+
+@pytest.mark.parametrize("a", [0.0, L])
+def test_a_force_at_a_members_end_is_left_alone(a):
+    # it goes to the node whatever N (no span moment): the same answer as
+    # the nodal load, ok; it was not ok, and no cut of the member cleared it
+    def column(on_member):
+        fr = Frame()
+        fr.add_node("A", 0.0, 0.0)
+        fr.add_node("B", 0.0, L)
+        fr.add_member("A", "B", E, 0.01, I, name="C")
+        fr.add_support("A", fix=("ux", "uy", "rz"))
+        fr.add_load("B", fy=-0.1 * P_E, fx=1.0, case="D")
+        if on_member:
+            fr.add_point_load("C", a, fx=5.0, case="D")
+        else:
+            fr.add_load("B" if a else "A", fx=5.0, case="D")
+        return fr
+    fr, nodal = column(True), column(False)
+    res, ref = _solve(fr, "high"), _solve(nodal, "high")
+    assert res.ok and ref.ok, res.message
+    for node in ("A", "B"):
+        assert res.displacements[node] == pytest.approx(ref.displacements[node], rel=1e-9)
