@@ -34,7 +34,24 @@ def keeps_its_answers(cls):
     for name, method in list(vars(cls).items()):
         if name.startswith("add_") and callable(method):
             setattr(cls, name, _handing_over(method))
+    cls.__getstate__ = _without_register
     return cls
+
+
+def _without_register(frame) -> dict:
+    """A frame's state to pickle or copy: the register of its answers (weak
+    references, which do not pickle: a solved frame or its answer sent to
+    another process raised TypeError) is not part of the model."""
+    state = dict(frame.__dict__)
+    state.pop("_answers", None)
+    return state
+
+
+def _registered_again(answer, state) -> None:
+    """An answer unpickled or copied: its own frame (copied with it) keeps
+    it as solved, as the original's keeps the original."""
+    answer.__dict__.update(state)
+    kept(answer)
 
 
 def _handing_over(method):
@@ -49,7 +66,7 @@ def hand_over(frame) -> None:
     """Give every live answer of ``frame`` (:func:`kept`) a deep copy of it
     as it is now, before the caller changes it."""
     answers = frame.__dict__.pop("_answers", None)
-    live = [a for a in (ref() for ref in answers or ()) if a is not None]
+    live = list(answers.values()) if answers is not None else []
     if live:
         as_solved = copy.deepcopy(frame)
         for answer in live:
@@ -58,14 +75,13 @@ def hand_over(frame) -> None:
 
 def kept(answer) -> None:
     """Register ``answer`` (a result or trace) with its frame, weakly, for
-    :func:`hand_over`; dead ones are dropped as the list grows."""
+    :func:`hand_over`; a dead one leaves the register as it dies (a list
+    swept of dead ones as it grew cost each answer a pass over the live
+    ones: 8000 states of a trace kept for a plot, a third more each)."""
     frame = answer.frame
     if frame is None or not hasattr(frame, "__dict__"):
         return
-    answers = frame.__dict__.setdefault("_answers", [])
-    if len(answers) >= 64:
-        answers[:] = [ref for ref in answers if ref() is not None]
-    answers.append(weakref.ref(answer))
+    frame.__dict__.setdefault("_answers", weakref.WeakValueDictionary())[id(answer)] = answer
 
 
 @dataclass
@@ -110,6 +126,8 @@ class AnalysisResult:
 
     def __post_init__(self):
         kept(self)
+
+    __setstate__ = _registered_again
 
     @property
     def status(self) -> str:
@@ -249,6 +267,8 @@ class FrameTrace:
 
     def __post_init__(self):
         kept(self)
+
+    __setstate__ = _registered_again
 
     @property
     def p_end(self) -> float:

@@ -220,10 +220,11 @@ def past_own_buckling(frame, N) -> str:
 
 
 def _bending_load(values, axis, local: bool, point: bool) -> float:
-    """A bound on the simply supported span moment one member load gives,
-    per unit length of span (× L): L/4 times the force across the axis
-    (any distribution on a simple span: M ≤ |W| L/4), plus a point
-    moment about a bending axis (not the twist) as |M|/L."""
+    """(F/4, |M|) of one member load: F the force across the axis (a
+    distributed load's per unit length, times L² for |W| L/4: any
+    distribution on a simple span; a point force's times 4a(L − a)/L for
+    P a (L − a)/L), |M| a point moment about a bending axis (not the
+    twist), which makes at most |M| on a simple span."""
     v = np.asarray(values, float)
     n = axis.size                                    # 2: a plane member, 3: a space one
     if point:
@@ -247,7 +248,7 @@ def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
     Euler load on its weaker EI, the largest amplification of any end
     condition (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m
     against wL²/8 = 31.25) — of the span moment M₀ its loads alone make on
-    a simple span, bounded by |W| L/4 + |M|.  Judged on the member's own
+    a simple span, bounded by |W| L/4 (a point force's P a (L − a)/L) + |M|.  Judged on the member's own
     moments (its ends' in ``member_forces``, and M₀): a member cut into
     short pieces has small M₀ and small ρ per piece, so the cut that the
     words advise clears it."""
@@ -268,8 +269,15 @@ def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
         d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
         force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
                                       ld.kind == "point")
-        m0[k] += abs(combination[ld.case]) * (force * (1.0 if ld.kind == "point" else L[k])
-                                              * L[k] + moment)
+        span = L[k] * L[k]
+        if ld.kind == "point":     # a force at a on the flexible part: P a (L − a)/L ≤ P L/4,
+            # none at its ends, where it goes to the node whatever N (a load at
+            # a node's end of a member was not ok, and cutting it never cleared it)
+            oi, oj = m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)
+            flexible = float(np.linalg.norm(d)) - oi - oj
+            a = min(max(ld.a - oi, 0.0), flexible)
+            span = 4.0 * a * (flexible - a) / flexible
+        m0[k] += abs(combination[ld.case]) * (force * span + moment)
     rho = np.abs(N) * L ** 2 / (np.pi ** 2 * EI)
     with np.errstate(divide="ignore", invalid="ignore"):
         amplification = np.where(N < 0, rho / np.maximum(1.0 - rho, 0.0), rho)
@@ -287,3 +295,24 @@ def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
             "forces and diagrams, not the beam-column's (P-δ along a loaded member is not in "
             "the element) — add nodes along those members, whose stability functions then "
             "carry the P-δ (docs/frames.md, 'What stays first order')")
+
+
+def first_order_span_loads_along(frame, N, ft, inside, tol) -> str:
+    """:func:`first_order_span_loads` of a second-order trace ``ft`` built
+    on the axial forces ``N``, judged at each stable piece's ends up to
+    ``inside`` (its last stable state), and on an unbounded last piece one
+    point past its start: the span loads may be the variable ones, and a
+    strut under a constant half Euler load traced to "unbounded" (one piece
+    from p = 0, where none acts yet) was ok, its moment at p = 1 half the
+    beam-column's."""
+    points = {float(inside)}
+    for lo, hi in ft.intervals:
+        if lo > inside:
+            break
+        points |= {float(lo), min(float(hi), inside) if np.isfinite(hi) else lo + max(1.0, lo)}
+    for p in sorted(points):
+        at = ft.result_at(p)
+        words = first_order_span_loads(frame, N, at.combination, tol, at.member_forces)
+        if words:
+            return f"at p = {p:.10g} on the path, {words}"
+    return ""

@@ -41,7 +41,8 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 
 from . import tracing
 from .load_combinations import combination_at
-from .second_order import bending, first_order_span_loads, own_buckling, past_own_buckling
+from .second_order import (bending, first_order_span_loads, first_order_span_loads_along,
+                           own_buckling, past_own_buckling)
 from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
@@ -440,8 +441,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if error > tol:
         ft.ok = False
         words += f" — NOT CONVERGED (asked {tol:.0e})"
-    at = ft.result_at(inside)
-    span = first_order_span_loads(frame, b["axial"], at.combination, tol, at.member_forces)
+    span = first_order_span_loads_along(frame, b["axial"], ft, inside, tol)
     if span and ft.ok:
         ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"

@@ -85,3 +85,23 @@ def test_a_space_answer_reads_the_frame_it_solved():
         np.testing.assert_array_equal(_readings(res, [member]), _readings(reference, [member]))
         assert res.rows("members") == reference.rows("members")
         assert isinstance(res.frame, SpaceFrame) and res.frame.cone == "circular"
+
+
+def test_a_solved_frame_and_its_answers_still_pickle_and_copy():
+    # the answers' register (weak references) is no part of the model: a
+    # frame or an answer sent to another process (pickle) or copied must
+    # travel without it, and the copy keeps its own frame as solved
+    import copy
+    import pickle
+
+    fr = _beam()
+    res = fr.solve(combination={"D": 1.0})
+    fr.trace(2.0, constant={"D": 1.0}, variable={"W": 1.0})   # more answers registered
+    for obj in (fr, res):
+        pickle.loads(pickle.dumps(obj))
+    sent = pickle.loads(pickle.dumps(res))
+    np.testing.assert_array_equal(_readings(sent, ["M1", "M2"]), _readings(res, ["M1", "M2"]))
+    twin = copy.deepcopy(res)
+    before = _readings(twin, ["M1", "M2"])
+    twin.frame.add_distributed_load("M1", wy=-50.0, case="D")
+    np.testing.assert_array_equal(_readings(twin, ["M1", "M2"]), before)

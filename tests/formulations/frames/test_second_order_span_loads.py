@@ -82,3 +82,49 @@ def test_span_loads_without_axial_force_are_left_alone():
     res = _solve(fr, "high")
     assert res.ok, res.message
     assert _midspan(fr, res) == pytest.approx(W * L ** 2 / 8, rel=1e-9)
+
+
+@pytest.mark.parametrize("p_max", [None, 1.0])
+def test_a_trace_whose_variable_loads_bend_a_compressed_member_is_not_ok(p_max):
+    # a constant compression at half the Euler load, the span load the
+    # variable one: traced without p_max the path is one unbounded piece
+    # starting at p = 0, where no span load acts yet; it was ok, its moment
+    # at p = 1 first order, half the beam-column's
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", L, 0.0)
+    fr.add_member("A", "B", E, 0.01, I, name="S")
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_support("B", fix=("uy",))
+    fr.add_load("B", fx=-0.5 * P_E, case="D")
+    fr.add_distributed_load("S", wy=-W, case="V")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = fr.trace(p_max, "low", constant={"D": 1.0}, variable={"V": 1.0}, second_order=True)
+    assert not ft.ok
+    assert "span loads of member(s) S" in ft.message
+    assert _midspan(fr, ft.result_at(1.0)) == pytest.approx(W * L ** 2 / 8, rel=1e-9)
+    assert _closed_form(0.5) > 2 * W * L ** 2 / 8
+
+
+@pytest.mark.parametrize("a", [0.0, L])
+def test_a_force_at_a_members_end_is_left_alone(a):
+    # it goes to the node whatever N (no span moment): the same answer as
+    # the nodal load, ok; it was not ok, and no cut of the member cleared it
+    def column(on_member):
+        fr = Frame()
+        fr.add_node("A", 0.0, 0.0)
+        fr.add_node("B", 0.0, L)
+        fr.add_member("A", "B", E, 0.01, I, name="C")
+        fr.add_support("A", fix=("ux", "uy", "rz"))
+        fr.add_load("B", fy=-0.1 * P_E, fx=1.0, case="D")
+        if on_member:
+            fr.add_point_load("C", a, fx=5.0, case="D")
+        else:
+            fr.add_load("B" if a else "A", fx=5.0, case="D")
+        return fr
+    fr, nodal = column(True), column(False)
+    res, ref = _solve(fr, "high"), _solve(nodal, "high")
+    assert res.ok and ref.ok, res.message
+    for node in ("A", "B"):
+        assert res.displacements[node] == pytest.approx(ref.displacements[node], rel=1e-9)
