@@ -34,7 +34,7 @@ geometric matrix beside their own stiffness: the exact Timoshenko
 beam-column is not written here, and its error is the consistent matrix's
 (P-δ to O(t²)).  Fixed-end forces of member loads stay first-order (their
 span moments are not amplified by N): an answer where that is off by more
-than the accuracy asked is not ok (:func:`first_order_span_loads`).
+than the accuracy asked is not ok (:func:`first_order_parts`).
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k` (and its consistent geometric one,
@@ -238,10 +238,12 @@ def _bending_load(values, axis, local: bool, point: bool) -> float:
     return across / 4.0, float(np.linalg.norm(moments))
 
 
-def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
-    """Words naming the members whose span loads act with first-order
-    fixed-end forces and diagrams (module docstring) where that is off by
-    more than ``tol`` of the member's moments, or "".  Under an axial
+def first_order_parts(frame, N, combination, tol, member_forces) -> str:
+    """Words naming the members whose second-order answer stays first
+    order in part (module docstring) by more than ``tol``, or "": their
+    span loads' fixed-end forces and diagrams (on the member's moments),
+    and a Timoshenko member's consistent geometric matrix (on its
+    response, by the same amplification bound).  Under an axial
     force N a member's loads bend it more (compression) or less (tension)
     than first order says, by up to about its beam-column amplification
     ρ/(1 − ρ) (ρ in tension), ρ = |N| L²/(π² EI) — the pinned member's
@@ -285,20 +287,39 @@ def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
             [2, 5] if np.size(member_forces[name]) == 6 else [4, 5, 10, 11]]).max()
             for name in frame.members])
         off = amplification * m0 / np.maximum(np.maximum(ends, m0), 1e-300)
+    words = []
     hit = [k for k in np.argsort(-off, kind="stable") if m0[k] > 0 and off[k] > tol]
-    if not hit:
-        return ""
+    if hit:
+        words.append(f"the span loads of member(s) {_worst(frame, N, off, hit, 'its moments')} "
+                     "act with first-order fixed-end forces and diagrams, not the "
+                     "beam-column's (P-δ along a loaded member is not in the element)")
+    # a Timoshenko member's P-δ is the consistent geometric matrix's (module
+    # docstring), O(t²) off the beam-column: a pinned strut buckles at
+    # t = 12, not π² — its response off by up to the amplification bound
+    shear = np.array([any(g is not None for g in m["GAs"]) if isinstance(m, dict)
+                      else m.GAs is not None for m in frame.members.values()])
+    hit = [k for k in np.argsort(-amplification, kind="stable")
+           if shear[k] and amplification[k] > tol]
+    if hit:
+        words.append(f"member(s) {_worst(frame, N, amplification, hit, 'its response')} bend "
+                     "with shear deformation, whose second-order stiffness is the consistent "
+                     "geometric matrix's, not the beam-column's (a pinned strut's buckling load "
+                     "22 % high)")
+    return "; ".join(words) + (" — add nodes along those members, whose pieces then carry the "
+                               "P-δ closer (docs/frames.md, 'What stays first order')"
+                               if words else "")
+
+
+def _worst(frame, N, off, hit, what) -> str:
+    """The first five of ``hit`` (the members' indices, worst first) with
+    their axial force and bound, and how many more."""
     members = list(frame.members)
-    names = ", ".join(f"{members[k]} (N = {N[k]:.4g}, up to {off[k]:.1e} of its moments)"
-                      for k in hit[:5]) + (f" and {len(hit) - 5} more" if len(hit) > 5 else "")
-    return (f"the span loads of member(s) {names} act with first-order fixed-end "
-            "forces and diagrams, not the beam-column's (P-δ along a loaded member is not in "
-            "the element) — add nodes along those members, whose stability functions then "
-            "carry the P-δ (docs/frames.md, 'What stays first order')")
+    return ", ".join(f"{members[k]} (N = {N[k]:.4g}, up to {off[k]:.1e} of {what})"
+                     for k in hit[:5]) + (f" and {len(hit) - 5} more" if len(hit) > 5 else "")
 
 
-def first_order_span_loads_along(frame, N, ft, inside, tol) -> str:
-    """:func:`first_order_span_loads` of a second-order trace ``ft`` built
+def first_order_parts_along(frame, N, ft, inside, tol) -> str:
+    """:func:`first_order_parts` of a second-order trace ``ft`` built
     on the axial forces ``N``, judged at each stable piece's ends up to
     ``inside`` (its last stable state), and on an unbounded last piece one
     point past its start: the span loads may be the variable ones, and a
@@ -312,7 +333,7 @@ def first_order_span_loads_along(frame, N, ft, inside, tol) -> str:
         points |= {float(lo), min(float(hi), inside) if np.isfinite(hi) else lo + max(1.0, lo)}
     for p in sorted(points):
         at = ft.result_at(p)
-        words = first_order_span_loads(frame, N, at.combination, tol, at.member_forces)
+        words = first_order_parts(frame, N, at.combination, tol, at.member_forces)
         if words:
             return f"at p = {p:.10g} on the path, {words}"
     return ""

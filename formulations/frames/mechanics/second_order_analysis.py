@@ -41,7 +41,7 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 
 from . import tracing
 from .load_combinations import combination_at
-from .second_order import (bending, first_order_span_loads, first_order_span_loads_along,
+from .second_order import (bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling)
 from .tracing import BRACKET
 
@@ -131,7 +131,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                   f" — UNSTABLE: {buckled}")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
-    span = first_order_span_loads(frame, b["axial"], res.combination, tol, res.member_forces)
+    span = first_order_parts(frame, b["axial"], res.combination, tol, res.member_forces)
     if span and res.ok:
         res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
@@ -441,7 +441,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if error > tol:
         ft.ok = False
         words += f" — NOT CONVERGED (asked {tol:.0e})"
-    span = first_order_span_loads_along(frame, b["axial"], ft, inside, tol)
+    span = first_order_parts_along(frame, b["axial"], ft, inside, tol)
     if span and ft.ok:
         ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"
