@@ -49,9 +49,7 @@ side is refined once on the saddle matrix's own residual
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.linalg.lapack import dgbtrf, dgbtrs, dpbtrf, dpbtrs, dtbtrs
-from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 #: contacts at most this many times stiffer than the frame's largest
 #: translational stiffness κ are condensed (X's error eps·k|u| within
@@ -97,66 +95,33 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
     kr, kc, kv = k_triplets
     if nf < REORDER_MIN and np.abs(kr - kc).max(initial=0) > NARROW:
         return None                  # too wide in its own order, too small to reorder
-    h_dof, h_link, h_val = h_triplets
-    by_link = np.argsort(h_link, kind="stable")
-    h_dof, h_link, h_val = h_dof[by_link], h_link[by_link], h_val[by_link]
-    count = np.bincount(h_link, minlength=nl)
-    width = max(int(count.max(initial=0)), 1)
-    start = np.concatenate(([0], np.cumsum(count)[:-1]))
-    slot = np.arange(h_link.size) - start[h_link]
-    # padded with the link's own first dof (and a zero), which keeps the
-    # padding inside the band
-    first = np.zeros(nl, int)
-    first[h_link[::-1]] = h_dof[::-1]
-    dof = np.repeat(first[:, None], width, axis=1)
-    hv = np.zeros((nl, width))
-    dof[h_link, slot], hv[h_link, slot] = h_dof, h_val
+    from ._frame_kernels import band_pattern, cuthill_mckee, link_slots
+    # κH_f's entries link by link (its CSC order), and each link's dofs
+    # padded with its own first dof (and a zero), which keeps the padding
+    # inside the band
+    h_dof, h_link, h_val, dof, hv = link_slots(nl, *h_triplets)
     # the pattern: K's, and each link's dofs among themselves (its spring)
     # and with its contact's other link (friction's coupling: same dofs)
     t, n = (np.zeros(0, int), np.zeros(0, int)) if pairs is None else pairs
-    left, right = np.concatenate((dof, dof[t])), np.concatenate((dof, dof[n]))
-    pr = np.concatenate((kr, np.repeat(left, width, axis=1).ravel()))
-    pc = np.concatenate((kc, np.tile(right, (1, width)).ravel()))
+    bw, indptr, indices, degree = band_pattern(nf, kr, kc, dof, t, n)
     # the dofs' own order where it is narrow already (a beam numbered
     # along its length: 4), else a reverse Cuthill–McKee order, whichever
     # is narrower (a beam's RCM order interleaves its axial and bending
-    # chains 8 wide; the work goes as the width's square)
-    perm = np.arange(nf)
-    bw = int(np.abs(pr - pc).max(initial=0))
-    band_r, band_c = pr, pc          # the pattern's entries in the band's order
+    # chains 8 wide; the work goes as the width's square): scipy's, step
+    # for step and from its own seeds (np.argsort of the degrees), in one
+    # compiled pass with the pattern (as array expressions and scipy's
+    # call: a sixth of a 20-storey tower's build)
+    perm, pos = np.arange(nf), np.arange(nf)
     if bw > NARROW:
-        # the pattern as canonical CSR from its distinct entries (sorted by
-        # row, then column: the structure the triplets' conversion made),
-        # with int32 indices, which scipy keeps without checking and copying
-        # them: one construction of 8 µs where the conversion took 55
-        # (np.unique, hashing in NumPy 2, takes 190)
-        # (K_ff's entries come in row then column order, the links' after
-        # them: a stable sort (timsort) merges the two runs, a third of the
-        # default's time)
-        # (row and column in one key by a shift, not times nf: the same
-        # order, and no integer division to take them apart)
-        shift = int(nf).bit_length()
-        key = np.sort((pr << shift) | pc, kind="stable")
-        key = key[np.concatenate(([True], key[1:] != key[:-1]))]
-        pattern = sp.csr_matrix((np.ones(key.size), (key & ((1 << shift) - 1)).astype(np.int32),
-                                 np.concatenate(([0], np.cumsum(np.bincount(
-                                     key >> shift, minlength=nf)))).astype(np.int32)),
-                                shape=(nf, nf))
-        rcm = reverse_cuthill_mckee(pattern, symmetric_mode=True)
-        pos = np.empty(nf, int)
-        pos[rcm] = np.arange(nf)
-        rcm_r, rcm_c = pos[pr], pos[pc]
-        rcm_bw = int(np.abs(rcm_r - rcm_c).max(initial=0))
+        rcm, rcm_pos, rcm_bw = cuthill_mckee(indptr, indices, degree, np.argsort(degree))
         if rcm_bw < bw:
-            perm, bw, band_r, band_c = rcm, rcm_bw, rcm_r, rcm_c
+            perm, pos, bw = rcm, rcm_pos, rcm_bw
     if bw > BAND_MAX:
         return None
-    pos = np.empty(nf, int)
-    pos[perm] = np.arange(nf)
     # κH_f's entries link by link (its CSC order), which its products read
     # (:func:`_links_to_dofs`, :func:`_dofs_to_links`)
     lay = dict(nf=nf, nl=nl, kappa=kappa, flex=flex, pos=pos, pos_dof=pos[dof], hv=hv,
-               perm=perm, bw=bw, h=(h_dof, h_link.astype(np.intp), h_val), K=stiffness)
+               perm=perm, bw=bw, h=(h_dof, h_link, h_val), K=stiffness)
     # K's part of the band, once per assembly, scaled by powers of two
     # (exact), row and column i by the square root of the basic system's
     # diagonal entry (K's with every spring in), so that the pivots measure
@@ -169,7 +134,7 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
     r, c, v = lay["basic_terms"][:3]
     on_diag = r == c
     diag = np.bincount(r[on_diag], weights=v[on_diag], minlength=nf)
-    kr, kc = band_r[:kv.size], band_c[:kv.size]
+    kr, kc = pos[kr], pos[kc]        # K's entries in the band's order
     kd = kr == kc
     diag += np.bincount(kr[kd], weights=kv[kd], minlength=nf)
     if not np.all(diag > 0):

@@ -45,23 +45,24 @@ from .refinement import is_refined, refined_columns
 R_ROUNDING = 256 * np.finfo(float).eps
 
 
-def stiffness_matrix(rows, cols, vals, springs, idx, dofs, N):
-    """K (CSR, N x N) from the members' triplets (lists of arrays) and the
-    springs to the ground {node: {dof: k}} (``dofs``: the dof names of a
-    node, in order; ``idx``: each node's first dof)."""
-    for node, ks in springs.items():
-        for d, kval in ks.items():
-            rows.append([idx[node] + dofs.index(d)])
-            cols.append([idx[node] + dofs.index(d)])
-            vals.append([kval])
-    # (int32 indices: scipy keeps them as they are, where int64 ones are
-    # scanned and copied; one part, the members' alone, is taken as it is:
-    # concatenating it copied 5 600 entries three times for a tower)
-    join = (lambda parts, dtype: parts[0] if len(parts) == 1 else
-            np.concatenate(parts) if parts else np.zeros(0, dtype))
-    return sp.coo_matrix((join(vals, float), (join(rows, int).astype(np.int32),
-                                              join(cols, int).astype(np.int32))),
-                         shape=(N, N)).tocsr()
+def global_stiffness(local, springs, idx, dofs, N):
+    """K (CSR, N x N) and the members' loads F (N x cases) from their
+    blocks ``local`` = (k, T, dofs, Fe) (:func:`.plane_element.member_locals`,
+    the space assembly's): Tᵀ k T and Tᵀ Fe scattered to the members' dofs,
+    then the springs to the ground {node: {dof: k}} (``dofs``: the dof
+    names of a node, in order; ``idx``: each node's first dof), in one
+    compiled pass (:func:`._frame_kernels.global_stiffness`: each entry
+    summed in member order).  As array expressions it was two stacks of
+    BLAS calls, a scipy COO → CSR conversion and a bincount."""
+    from ._frame_kernels import global_stiffness as compiled
+    k, T, at, Fe = local
+    spring = [(idx[node] + dofs.index(d), kval) for node, ks in springs.items()
+              for d, kval in ks.items()]
+    data, indices, indptr, F = compiled(k, T, at, Fe, np.array([r for r, _ in spring], np.int64),
+                                        np.array([v for _, v in spring], float), N)
+    K = sp.csr_matrix((data, indices, indptr), shape=(N, N))
+    K.has_canonical_format = True       # each row's columns distinct and ascending
+    return K, F
 
 
 def force_terms(b, u, F, ends):

@@ -14,7 +14,7 @@ import scipy.sparse as sp
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix
+from ..mechanics.contact_lcp import Built, basic_system, global_stiffness
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.plane_element import DOFS, member_locals
@@ -37,7 +37,8 @@ def cases(frame) -> list:
 def assemble(frame, axial=None):
     """K (CSR), loads F and settlements U (one column per case), the fixed
     dofs, the members' local data for the results (k, T, dofs, Fe) and the
-    nodes' coordinates: all members at once (K from one COO array)."""
+    nodes' coordinates: all members at once (K and the members' loads F
+    in one compiled pass: :func:`..mechanics.contact_lcp.global_stiffness`)."""
     names = list(frame.nodes)
     idx = dict(zip(names, range(0, 3 * len(names), 3)))
     N = 3 * len(names)
@@ -48,21 +49,11 @@ def assemble(frame, axial=None):
     col = {c: k for k, c in enumerate(case_list)}
     nc = len(case_list)
     if frame.members:
-        k_all, T, dofs, Fe = member_locals(frame, xy, idx, col, axial)
-        Tt = T.transpose(0, 2, 1)
-        kg = Tt @ k_all @ T          # batched matmul: 10x einsum's three-operand path
-        rows = [np.repeat(dofs, 6, axis=1).ravel()]
-        cols = [np.broadcast_to(dofs[:, None, :], kg.shape).ravel()]
-        vals = [kg.ravel()]
-        # the members' loads summed dof by dof in member order, as np.add.at
-        # did (bincount: the same sums, a tenth of its time)
-        F = np.bincount((dofs[..., None] * nc + np.arange(nc)).ravel(),
-                        (Tt @ Fe).ravel(), N * nc).reshape(N, nc)
+        local = member_locals(frame, xy, idx, col, axial)
     else:
-        k_all, T = np.zeros((0, 6, 6)), np.zeros((0, 6, 6))
-        dofs, Fe = np.zeros((0, 6), int), np.zeros((0, 6, nc))
-        rows, cols, vals = [], [], []
-        F = np.zeros((N, nc))
+        local = (np.zeros((0, 6, 6)), np.zeros((0, 6, 6)), np.zeros((0, 6), np.int64),
+                 np.zeros((0, 6, nc)))
+    K, F = global_stiffness(local, frame.springs, idx, DOFS, N)
     if frame.nodal_loads:
         # added one by one in the loads' order, as a loop over them did
         # (np.add.at's order; the loop cost 2 µs a load)
@@ -74,7 +65,6 @@ def assemble(frame, axial=None):
     U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
     for node, dof, case, value in frame.settlements:
         U[idx[node] + DOFS.index(dof), col[case]] += value
-    K = stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
     Tn = node_axes(frame, idx, N)
     if Tn is not None:     # turned node axes: the system is written in them
         K = (Tn @ K @ Tn.T).tocsr()
@@ -100,7 +90,7 @@ def assemble(frame, axial=None):
         fixed |= free_spin
     # per member, for the results: stiffness, rotation, dofs, and the
     # equivalent nodal loads of every case (member axes), (m, 6, cases)
-    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn, xy
+    return names, idx, K, F, U, case_list, fixed, local, Tn, xy
 
 
 def node_axes(frame, idx, N):
