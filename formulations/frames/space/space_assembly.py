@@ -221,7 +221,7 @@ def links(frame, idx, N):
 
 
 def lcp_maps(frame, info):
-    """(P, W, g, fric) as :func:`..plane.plane_assembly.link_maps` gives the plane
+    """(P, W, g, fric) as :func:`..plane.plane_assembly.links` gives the plane
     frame's: Δ = P z - g, w = W X; z = Z_n per contact, then the slips
     along each facet direction of each frictional contact."""
     nl = len(info)
