@@ -318,3 +318,76 @@ def cuthill_mckee(indptr, indices, degree, inds):
         for p in range(indptr[r], indptr[r + 1]):
             bw = max(bw, abs(pos[r] - pos[indices[p]]))
     return perm, pos, bw
+
+
+@njit
+def equivalent_loads(table, L, c, s, phi, xi3, t, wg):
+    """The consistent nodal loads (n, 6: member axes, ux, uy, rz at i then
+    j) of n member loads, one a row of ``table`` (member axes?, a point
+    load?, a, b, then (px, py, mz, 0) or a trapezoid's (wx1, wy1, wx2,
+    wy2): :attr:`.loads.MemberLoad.row`), load k on a flexible element of
+    length L[k], direction (c[k], s[k]) and φ[k]: a force against the
+    element's displacement interpolation Nv, a moment against its
+    rotation Nt — the interdependent interpolation of the exact
+    Timoshenko element (Reddy; f = 1/(1 + φ)), the Hermite cubics for
+    φ = 0 —, linear axially; a trapezoid on [a, b] by Gauss–Legendre
+    points t with weights wg (four: exact for a cubic times a linear
+    load).  ``xi3``: ξ³ = (x/L)³ at each load's points (a point load's in
+    column 0), NumPy's power, which rounds as its vector library does.
+    The sums in the order NumPy's expressions took them: the transverse
+    terms' four points as einsum adds them (the even points' and the odd
+    points' products apart, then together), the axial ones in order — so
+    the same bits, which decide a frame exactly at its friction's verge
+    (tests' three-hinged portal at f = L/4h)."""
+    n = table.shape[0]
+    out = np.zeros((n, 6))
+    nv = np.empty(4)
+    terms = np.empty((4, 4))
+    for k in range(n):
+        member_axes, a, b = table[k, 0] > 0, table[k, 2], table[k, 3]
+        ck, sk, Lk, p = c[k], s[k], L[k], phi[k]
+        f = 1.0 / (1.0 + p)
+        if table[k, 1] > 0:                       # a point load (px, py, mz) at a
+            px, py = table[k, 4], table[k, 5]
+            if not member_axes:
+                px, py = ck * px + sk * py, -sk * px + ck * py
+            mz = table[k, 6]
+            xi = a / Lk
+            xi2 = xi * xi
+            _deflections(nv, xi, xi2, xi3[k, 0], f, Lk, p)
+            out[k, 0] = px * (1 - xi)
+            out[k, 3] = px * xi
+            out[k, 1] = py * nv[0] + mz * (f * (6 * (xi2 - xi) / Lk))
+            out[k, 2] = py * nv[1] + mz * (f * (1 - 4 * xi + 3 * xi2 + p * (1 - xi)))
+            out[k, 4] = py * nv[2] + mz * (f * (6 * (xi - xi2) / Lk))
+            out[k, 5] = py * nv[3] + mz * (f * (-2 * xi + 3 * xi2 + p * xi))
+        elif b > a:                               # a trapezoid on [a, b]
+            w1x, w1y, w2x, w2y = table[k, 4], table[k, 5], table[k, 6], table[k, 7]
+            if not member_axes:
+                w1x, w1y = ck * w1x + sk * w1y, -sk * w1x + ck * w1y
+                w2x, w2y = ck * w2x + sk * w2y, -sk * w2x + ck * w2y
+            half = 0.5 * (b - a)
+            for j in range(4):
+                x = half * t[j] + 0.5 * (a + b)
+                w = half * wg[j]
+                u = (t[j] + 1.0) / 2.0
+                qx = w1x + u * (w2x - w1x)
+                qy = (w1y + u * (w2y - w1y)) * w
+                xi = x / Lk
+                _deflections(nv, xi, xi * xi, xi3[k, j], f, Lk, p)
+                out[k, 0] += qx * (1 - xi) * w
+                out[k, 3] += qx * xi * w
+                for i in range(4):
+                    terms[i, j] = nv[i] * qy
+            for i in range(4):
+                out[k, (1, 2, 4, 5)[i]] = (terms[i, 0] + terms[i, 2]) + (terms[i, 1] + terms[i, 3])
+    return out
+
+
+@njit
+def _deflections(nv, xi, xi2, xi3, f, L, p):
+    """Nv (v_i, θ_i, v_j, θ_j) at ξ = x/L into ``nv``."""
+    nv[0] = f * (1 - 3 * xi2 + 2 * xi3 + p * (1 - xi))
+    nv[1] = f * (L * (xi - 2 * xi2 + xi3 + 0.5 * p * (xi - xi2)))
+    nv[2] = f * (3 * xi2 - 2 * xi3 + p * xi)
+    nv[3] = f * (L * (-xi2 + xi3 - 0.5 * p * (xi - xi2)))
