@@ -391,3 +391,73 @@ def _deflections(nv, xi, xi2, xi3, f, L, p):
     nv[1] = f * (L * (xi - 2 * xi2 + xi3 + 0.5 * p * (xi - xi2)))
     nv[2] = f * (3 * xi2 - 2 * xi3 + p * xi)
     nv[3] = f * (L * (-xi2 + xi3 - 0.5 * p * (xi - xi2)))
+
+
+@njit
+def free_blocks(k_ptr, k_ind, k_val, h_ptr, h_ind, h_val, fixed, translational):
+    """The basic system's blocks on the free dofs, from K's and H's CSR
+    arrays (stored order) and the fixed dofs: (free dofs, fixed dofs, κ —
+    the largest |K_ii| over the free translational dofs, over all free
+    ones where none is translational, 1 where that is 0 or nothing is
+    free —, K_ff's entries (rows, columns, values: its exact zeros left
+    out — a level member's axial-bending terms, nearly half of a beam's),
+    κH_f's (values, rows, columns)), rows and columns counted among the
+    free dofs."""
+    N = fixed.shape[0]
+    at = np.full(N, -1, np.int64)
+    nf = 0
+    for i in range(N):
+        if not fixed[i]:
+            at[i] = nf
+            nf += 1
+    free = np.empty(nf, np.int64)
+    fixed_idx = np.empty(N - nf, np.int64)
+    big_t, big, any_t = 0.0, 0.0, False
+    q = 0
+    for i in range(N):
+        if fixed[i]:
+            fixed_idx[q] = i
+            q += 1
+            continue
+        free[at[i]] = i
+        d = 0.0
+        for p in range(k_ptr[i], k_ptr[i + 1]):
+            if k_ind[p] == i:
+                d += k_val[p]
+        d = abs(d)
+        big = max(big, d)
+        if translational[i]:
+            big_t = max(big_t, d)
+            any_t = True
+    kappa = (big_t if any_t else big) if nf else 1.0
+    kappa = kappa if kappa > 0 else 1.0
+    n = 0
+    for i in range(N):
+        if at[i] >= 0:
+            for p in range(k_ptr[i], k_ptr[i + 1]):
+                if at[k_ind[p]] >= 0 and k_val[p] != 0.0:
+                    n += 1
+    kr = np.empty(n, np.int64)
+    kc = np.empty(n, np.int64)
+    kv = np.empty(n)
+    n = 0
+    for i in range(N):
+        if at[i] >= 0:
+            for p in range(k_ptr[i], k_ptr[i + 1]):
+                if at[k_ind[p]] >= 0 and k_val[p] != 0.0:
+                    kr[n], kc[n], kv[n] = at[i], at[k_ind[p]], k_val[p]
+                    n += 1
+    m = 0
+    for i in range(N):
+        if at[i] >= 0:
+            m += h_ptr[i + 1] - h_ptr[i]
+    hv = np.empty(m)
+    hr = np.empty(m, np.int64)
+    hc = np.empty(m, np.int64)
+    m = 0
+    for i in range(N):
+        if at[i] >= 0:
+            for p in range(h_ptr[i], h_ptr[i + 1]):
+                hv[m], hr[m], hc[m] = kappa * h_val[p], at[i], h_ind[p]
+                m += 1
+    return free, fixed_idx, kappa, (kr, kc, kv), (hv, hr, hc)
