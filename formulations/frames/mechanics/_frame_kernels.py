@@ -461,3 +461,73 @@ def free_blocks(k_ptr, k_ind, k_val, h_ptr, h_ind, h_val, fixed, translational):
                 hv[m], hr[m], hc[m] = kappa * h_val[p], at[i], h_ind[p]
                 m += 1
     return free, fixed_idx, kappa, (kr, kc, kv), (hv, hr, hc)
+
+
+@njit
+def link_terms(pos_dof, hv, flex, kappa, kin, coef, partner):
+    """(rows, columns, values) of −κH_f C⁻¹ B in the band's order — each
+    holding link's spring (its dofs ``pos_dof`` and values ``hv``, padded
+    rows) and each slipping tangent's coupling to its normal link — and
+    C⁻¹'s parts (diagonal, the slipping tangents, their normals, their
+    entries): :func:`.banded_saddle._link_terms`, each product as NumPy's
+    expressions made it (the same bits)."""
+    nl, w = hv.shape
+    cinv = np.empty(nl)
+    for j in range(nl):
+        cinv[j] = 1.0 / ((-(kappa * kappa)) * flex[j] if kin[j] else kappa)
+    ns, nh = 0, 0
+    for j in range(nl):
+        if kin[j]:
+            nh += 1
+        elif coef[j] != 0.0:
+            ns += 1
+    slip = np.empty(ns, np.int64)
+    held = np.empty(nh, np.int64)
+    ns, nh = 0, 0
+    for j in range(nl):
+        if kin[j]:
+            held[nh] = j
+            nh += 1
+        elif coef[j] != 0.0:
+            slip[ns] = j
+            ns += 1
+    on = np.empty(ns, np.int64)
+    off = np.empty(ns)
+    for q in range(ns):
+        on[q] = partner[slip[q]]
+        off[q] = -cinv[slip[q]] * (kappa * coef[slip[q]]) * cinv[on[q]]
+    n = (nh + ns) * w * w
+    rows = np.empty(n, np.int64)
+    cols = np.empty(n, np.int64)
+    vals = np.empty(n)
+    e = 0
+    for q in range(nh + ns):
+        left = held[q] if q < nh else slip[q - nh]
+        right = held[q] if q < nh else on[q - nh]
+        scale = -cinv[left] if q < nh else -off[q - nh]
+        for a in range(w):
+            x = hv[left, a] * scale
+            for b in range(w):
+                rows[e], cols[e], vals[e] = pos_dof[left, a], pos_dof[right, b], x * hv[right, b]
+                e += 1
+    return rows, cols, vals, cinv, slip, on, off
+
+
+@njit
+def band_storage(nf, bw, upper, kr, kc, kv, r, c, v):
+    """K's scaled entries (kr, kc, kv: distinct) and the link terms (r, c, v)
+    in LAPACK's band storage, held column by column (the C array of the
+    transpose of the Fortran array LAPACK reads): with ``upper`` dpbtrf's
+    (entries i ≤ j, row bw + i − j of column j: bw + 1 rows), else dgbtrf's
+    (row 2bw + i − j: 3bw + 1 rows); each entry summed from zero, K's
+    first, then the link terms in order."""
+    rows = bw + 1 if upper else 3 * bw + 1
+    shift = bw if upper else 2 * bw
+    ab = np.zeros((nf, rows))
+    for e in range(kr.shape[0]):
+        if not upper or kr[e] <= kc[e]:
+            ab[kc[e], shift + kr[e] - kc[e]] += kv[e]
+    for e in range(r.shape[0]):
+        if not upper or r[e] <= c[e]:
+            ab[c[e], shift + r[e] - c[e]] += v[e]
+    return ab

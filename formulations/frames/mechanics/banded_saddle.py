@@ -141,53 +141,20 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
         return None
     d = 2.0 ** -np.round(0.5 * np.log2(diag))
     # K's scaled entries in the band's order, which a factorization lays
-    # out in LAPACK's band storage (:func:`_band`)
+    # out in LAPACK's band storage (:func:`._frame_kernels.band_storage`)
     lay.update(d=d, K_band=(kr, kc, kv * d[kr] * d[kc]))
     return lay
-
-
-def _band(lay, upper):
-    """K's part of the band in LAPACK's storage, held column by column —
-    the Fortran array LAPACK reads, as the C array of its transpose — so
-    that a factorization hands it over without f2py's transposing copy (a
-    tenth of the tower's Cholesky): with ``upper``, dpbtrf's (entry i ≤ j
-    in row bw + i − j of column j: bw + 1 rows, made for the basic
-    system's Cholesky, once), else dgbtrf's (entry i, j in row 2bw + i − j:
-    3bw + 1 rows, made on the first LU and kept — a 20-storey tower whose
-    state sets are solved on R never makes it).  K's entries are distinct,
-    so each of the band's is one of them, whichever storage."""
-    kr, kc, kv = lay["K_band"]
-    nf, bw = lay["nf"], lay["bw"]
-    if upper:
-        up = kr <= kc
-        return np.bincount(kc[up] * (bw + 1) + bw + kr[up] - kc[up], weights=kv[up],
-                           minlength=(bw + 1) * nf).reshape(nf, bw + 1)
-    if "band_K" not in lay:
-        rows = 3 * bw + 1
-        lay["band_K"] = np.bincount(kc * rows + 2 * bw + kr - kc, weights=kv,
-                                    minlength=rows * nf).reshape(nf, rows)
-    return lay["band_K"]
 
 
 def _link_terms(lay, kin, coef, partner):
     """(rows, columns, values) of −κH_f C⁻¹ B in the band's order — each
     holding link's spring and each slipping tangent's coupling to its
     normal — and C⁻¹'s parts (diagonal, the slipping tangents, their
-    normals, their entries)."""
-    kappa = lay["kappa"]
-    cinv = 1.0 / np.where(kin, -kappa ** 2 * lay["flex"], kappa)
-    slip = np.flatnonzero(~kin & (coef != 0.0))
-    on = partner[slip]
-    off = -cinv[slip] * (kappa * coef[slip]) * cinv[on]
-    held = np.flatnonzero(kin)
-    pd, hv = lay["pos_dof"], lay["hv"]
-    w = hv.shape[1]
-    left = np.concatenate((pd[held], pd[slip]))
-    right = np.concatenate((pd[held], pd[on]))
-    outer = (np.concatenate((hv[held] * -cinv[held, None], hv[slip] * -off[:, None]))[:, :, None]
-             * np.concatenate((hv[held], hv[on]))[:, None, :])
-    return (np.repeat(left, w, axis=1).ravel(), np.tile(right, (1, w)).ravel(), outer.ravel(),
-            cinv, slip, on, off)
+    normals, their entries), in one compiled pass
+    (:func:`._frame_kernels.link_terms`)."""
+    from ._frame_kernels import link_terms
+    return link_terms(lay["pos_dof"], lay["hv"], lay["flex"], lay["kappa"],
+                      np.asarray(kin, bool), np.asarray(coef, float), np.asarray(partner, np.int64))
 
 
 def factor(lay, kin, coef, partner):
@@ -214,22 +181,22 @@ def factor(lay, kin, coef, partner):
     if r.size and np.abs(r - c).max() > bw:     # a coupling the layout's pairs did not name
         return None
     v = v * d[r] * d[c]
+    from ._frame_kernels import band_storage
+    kr, kc, kv = lay["K_band"]
     if bw > NARROW and kin.all() and not slip.size:
         # the upper triangle as dpbtrf stores it (K_ff is symmetric to
         # rounding; the one solve of an answer is refined on S itself):
         # K's entries on or above the diagonal, and the link terms there
-        # added to them
-        up = r <= c
-        ab = _band(lay, upper=True)
-        np.add.at(ab.reshape(-1), c[up] * (bw + 1) + bw + r[up] - c[up], v[up])
+        # added to them; in LAPACK's storage held column by column, which
+        # f2py hands over without a transposing copy
+        ab = band_storage(nf, bw, True, kr, kc, kv, r, c, v)
         chol, info = dpbtrf(ab.T, lower=0, overwrite_ab=1)
         if info != 0:
             return None
         pivots = chol[bw] ** 2       # an LU's pivots without row exchanges
         band = (chol, None)
     else:
-        ab = _band(lay, upper=False).copy()
-        np.add.at(ab.reshape(-1), c * (3 * bw + 1) + 2 * bw + r - c, v)
+        ab = band_storage(nf, bw, False, kr, kc, kv, r, c, v)
         lu, piv, info = dgbtrf(ab.T, bw, bw, overwrite_ab=1)
         if info != 0:
             return None
