@@ -1,12 +1,19 @@
-"""A frame's assembly loops, compiled (numba): the plane members' stiffness
-in their axes and their rotations, and K's CSR and the load columns F from
-the members' blocks (plane and space alike).
+"""A frame's assembly loops, compiled (numba): the plane members'
+stiffness in their axes and their rotations, their loads' consistent nodal
+loads, K's CSR and the load columns F from the members' blocks (plane and
+space alike), the basic system's blocks on the free dofs, and the condensed
+band's layout — the links' slots, the pattern, its reverse Cuthill–McKee
+order, the link terms and LAPACK's band storage.
 
-Imported only by the functions that run them (:func:`.plane_element.
-member_locals`, :func:`.contact_lcp.global_stiffness`), so that importing
-the frames does not load numba.  As array expressions these were some forty
-NumPy calls and a scipy COO → CSR conversion on a 20-storey tower's 156
-members, each call a few µs of set-up for a fraction of a µs of arithmetic.
+Imported only by the functions that run them (:mod:`.plane_element`,
+:mod:`.loads`, :mod:`.contact_lcp`, :mod:`.banded_saddle`), so that
+importing the frames does not load numba.  As array expressions each was
+dozens of NumPy calls (and a scipy COO → CSR conversion, scipy's RCM) on a
+20-storey tower's 156 members and 34 links, each call a few µs of set-up
+for a fraction of a µs of arithmetic.  Where the NumPy expressions they
+replace fixed an order of sums or a rounding (the loads' Gauss sums, ξ³,
+scipy's RCM seeds), the kernels keep it, and the frames' answers their
+bits (dev-notes, "compiled passes in the plane path, round eleven").
 """
 
 from __future__ import annotations
