@@ -263,7 +263,7 @@ def basic_system(K, H, fixed, flex, translational, pairs=None, strain_free=None)
     precision (R past :data:`.refinement.CONTRAST`) judge what it gives."""
     # the free dofs, kappa and the blocks on the free dofs in one compiled
     # pass over K's and H's entries (as array expressions and fancy
-    # indexing: a fifth of the basic system's set-up on a 20-storey tower)
+    # indexing, a few dozen NumPy calls)
     free, fixed_idx, kappa, k_ff, (hv, hr, hc) = free_blocks(K, H, fixed, translational)
     nf = free.size
     nl = H.shape[1]

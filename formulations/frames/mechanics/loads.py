@@ -294,9 +294,8 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     """:func:`equivalent_nodal` of many loads at once, (n, 6): load k on a
     flexible element of length L[k], direction (c[k], s[k]), parameter
     phi[k], in one compiled pass (:func:`._frame_kernels.equivalent_loads`:
-    as array expressions some forty NumPy calls, the largest part left of
-    a 20-storey tower's assembly; a Python call per load before that: a
-    400-member beam spent 12 ms there)."""
+    as array expressions dozens of NumPy calls; a Python call per load
+    before that: a 400-member beam spent 12 ms there)."""
     from ._frame_kernels import equivalent_loads
     # one pass over the loads: their axes, kind, stretch and four values
     # (a point load's (fx, fy, mz, 0)) as the rows of one array, read by

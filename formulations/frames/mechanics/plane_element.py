@@ -130,7 +130,7 @@ def member_locals(frame, xy, idx, col, axial=None):
           m.hinge_i or m.hinge_j or m.spring_i is not None or m.spring_j is not None,
           len(m.loads)) for m in ms]), float, 10 * nm).reshape(nm, 10).T
     # the members' geometry, first-order stiffness, rotations and dofs in
-    # one compiled loop (as array expressions: some thirty NumPy calls)
+    # one compiled loop (as array expressions: dozens of NumPy calls)
     from ._frame_kernels import plane_members
     L, c, s, Lf, phi, k_all, T, dofs = plane_members(i3, j3, E, A, I, oi, oj, GAs, xy)
     if axial is not None:

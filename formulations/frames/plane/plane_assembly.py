@@ -138,7 +138,7 @@ def links(frame, idx, N, table=None):
     per contact, then Z⁺, Z⁻ per frictional contact; ``fric`` the
     frictional contacts' indices) — all in one compiled pass over the
     contacts (:func:`._plane_kernels.contact_links`; as array expressions
-    some fifty NumPy calls on a tower's 17 contacts); ``table``:
+    dozens of NumPy calls on a tower's 17 contacts); ``table``:
     :func:`contact_table`'s, where made already."""
     from ._plane_kernels import contact_links
     table = contact_table(frame, idx) if table is None else table
