@@ -54,7 +54,9 @@ def main() -> None:
           f"({second.second_order['rounds']} rounds, {time.perf_counter() - t:.0f} s); the "
           f"path's axial forces within {second.second_order['path_axial_change']:.1e} of the "
           "members' Euler loads of its end's")
-    print(f"  {second.message[:400]}")
+    print(f"  ok: {second.ok}; {second.message[:400]}")
+    if not second.ok:
+        print(f"  … {second.message[second.message.find('NOT OK'):][:300]}")
 
     import matplotlib
     matplotlib.use("Agg")

@@ -11,12 +11,12 @@ downward, soil pressure positive when it pushes, moments positive when they
 stretch the bottom face.  See docs/plates.md.
 """
 
-from .contact import NoEquilibriumError
 from .element import DOFS, rigidity
 from .examples import demo
 from .mesh import PlateMesh, grid, grid_lines
 from .model import Raft
 from .results import RaftCombinations, RaftResult
+from .statics import NoEquilibriumError
 
 __all__ = ["Raft", "RaftResult", "RaftCombinations", "PlateMesh", "grid", "grid_lines",
            "NoEquilibriumError", "DOFS", "rigidity", "demo"]

@@ -9,7 +9,11 @@ moments (mx, my, mxy) [force·length/length] and shears (qx, qy)
 moments are most accurate), and averaged to the nodes for drawings.  Under a
 point load the plate moment is singular (it grows like log 1/r): its
 extreme there depends on the mesh — spread a column over its section
-(``Raft.add_column``) for design moments.
+(``Raft.add_column``, which meshes the section finer) for design moments.
+Where an extreme is a value of the mesh rather than of the plate — at a
+point load, under a column (from below), a rigid floor's peak pressure,
+cells coarse against the elastic length, a result that is not ok — the
+extremes and envelope tables say so in a ``note`` (:meth:`RaftResult.notes`).
 """
 
 from __future__ import annotations
@@ -55,6 +59,7 @@ class RaftResult:
     or the pinned QP's method."""
 
     def __init__(self, raft, combination, name, f, answer):
+        raft = raft.as_solved()          # later changes to the model leave this answer alone
         b = raft.build()
         self.raft, self.combination, self.name = raft, combination, name
         self.ok, self.status, self.message = answer.ok, answer.status, answer.message
@@ -117,22 +122,113 @@ class RaftResult:
         np.add.at(cnt, self.mesh.elements, 1.0)
         return acc / np.maximum(cnt, 1)
 
+    def _extreme_places(self):
+        """{quantity: (values, places (k, 2), "node" or "element")}."""
+        out = {"w": (self.w, self.mesh.nodes, "node"),
+               "pressure": (self.pressure, self.mesh.nodes, "node")}
+        for name in QUANTITIES:
+            out[name] = (self.element_values(name), self.mesh.centres, "element")
+        return out
+
     def extremes(self) -> dict:
         """{quantity: {"max": (value, x, y), "min": (value, x, y)}} for w and the
         soil pressure (nodes) and mx, my, mxy, qx, qy (element centres)."""
         out = {}
-        at_nodes = {"w": self.w, "pressure": self.pressure}
-        for name, v in at_nodes.items():
+        for name, (v, at, _) in self._extreme_places().items():
             i, j = int(np.argmax(v)), int(np.argmin(v))
-            out[name] = {"max": (float(v[i]), *map(float, self.mesh.nodes[i])),
-                         "min": (float(v[j]), *map(float, self.mesh.nodes[j]))}
-        c = self.mesh.centres
-        for name in QUANTITIES:
-            v = self.element_values(name)
-            i, j = int(np.argmax(v)), int(np.argmin(v))
-            out[name] = {"max": (float(v[i]), *map(float, c[i])),
-                         "min": (float(v[j]), *map(float, c[j]))}
+            out[name] = {"max": (float(v[i]), *map(float, at[i])),
+                         "min": (float(v[j]), *map(float, at[j]))}
         return out
+
+    def notes(self) -> dict:
+        """{quantity: {"max": words, "min": words}}: where an extreme is a
+        value of the mesh rather than of the plate, and why ("" where not).
+        A moment or shear extreme in an element with a corner at a point
+        load: the plate's moment grows like log 1/r there, its shear like
+        1/r — the value grows as the mesh is refined.  The largest pressure
+        at a node of a rigid floor: where the plate leaves the floor the
+        floor pushes along the contact edge as a line force (over about a
+        thickness, Mindlin), and under a point load as the load itself,
+        which the node's tributary area smears — on a 6 m slab, t = 0.2 m,
+        its corner pulled up: 20.3, 31.6, 41.2, 48.2 kN/m² on 0.5, 0.25,
+        0.125, 0.0625 m cells.  Every extreme, where the cells are coarser
+        than half the elastic length ℓ = (D/k)^¼ of the stiffest soil: the
+        plate's bending varies over ℓ, and on such cells it came out low —
+        an 8 m slab, t = 0.15 m, k = 5e4 (ℓ = 0.65 m) under a corner column:
+        on cells of ℓ/1.3 w and the peak pressure 5 % low, mx 14 %; on ℓ/2.6
+        1.5 %; on ℓ/5.2 under 0.5 % (the reference: ℓ/21).  A moment
+        extreme under a column (its section meshed, :data:`.model.
+        COLUMN_CELLS`): from below, 2 % on cells of ℓ/4.6 against the
+        infinite plate's; a shear extreme inside a column: its peak is on
+        the face, the element centres 1/16 of the column inside (0.88 of
+        it) — where the column has fewer elements across (a mesh of the
+        user's), the note says how many instead (one: 0.77 of the moment).  And every extreme of a result that is not ok: "NOT OK" first."""
+        b = self.raft.build()
+        coarse = self._coarse_mesh(b)
+        if not self.ok:             # its numbers are no answer: every row says so first
+            coarse = "; ".join(n for n in ("NOT OK (no certified answer: see the summary)",
+                                           coarse) if n)
+        points = np.zeros(self.mesh.nodes.shape[0], bool)
+        for case, kind, d in self.raft.loads:
+            if kind == "point" and d[2] != 0 and self.combination.get(case, 0.0):
+                points[self.mesh.nearest_node(d[0], d[1])] = True
+        at_point = points[self.mesh.elements].any(axis=1)
+        c = self.mesh.centres
+        under = np.zeros(c.shape[0], bool)           # element centres inside a loaded column
+        # the fewest elements across a column over each element: the
+        # figures of the notes below were measured on the grid's
+        # model.COLUMN_CELLS; a mesh of the user's is not refined under a
+        # column, and on one element the moment came out 0.77 of the
+        # plate's, not 0.98
+        across = np.full(c.shape[0], np.inf)
+        for x, y, bx, by, case in self.raft.columns:
+            if self.combination.get(case, 0.0):
+                inside = (np.abs(c[:, 0] - x) < bx / 2) & (np.abs(c[:, 1] - y) < by / 2)
+                under |= inside
+                n = min(np.unique(np.round(c[inside, k] / max(bx, by), 9)).size for k in (0, 1))
+                across[inside] = np.minimum(across[inside], n)
+        floor = np.isinf(b["ks"])
+        cells = self.raft.column_cells
+        out = {}
+        for name, (v, _, where) in self._extreme_places().items():
+            out[name] = {}
+            for which, index in (("max", int(np.argmax(v))), ("min", int(np.argmin(v)))):
+                note = ""
+                if where == "element" and at_point[index]:
+                    note = ("at a point load: singular there, a mesh value that grows as the "
+                            "mesh is refined (give the column its section)")
+                elif where == "element" and under[index] and across[index] < cells:
+                    note = (f"under a column meshed {int(across[index])} element(s) across, "
+                            f"fewer than the grid's {cells}: the mesh's value, far from "
+                            "the plate's (one element: a moment 0.77 of it, a shear 0.48 of the "
+                            "face's) — refine the mesh under the column")
+                elif where == "element" and under[index] and name in ("mx", "my"):
+                    note = ("under a column: the mesh's value, from below (on cells of "
+                            "(D/k)^¼/4.6 2 % low, /9 1 %)")
+                elif where == "element" and under[index]:
+                    note = ("in a column: a shear peaks on its face, sampled 1/16 of the column "
+                            "inside (0.88 of it in the test)")
+                elif name == "pressure" and which == "max" and floor[index]:
+                    note = ("on the rigid floor: its reaction concentrates (along the contact "
+                            "edge, under a point load); over a node's area it is a mesh value "
+                            "that grows as the mesh is refined")
+                out[name][which] = "; ".join(n for n in (note, coarse) if n)
+        return out
+
+    def _coarse_mesh(self, b) -> str:
+        """The words of :meth:`notes` where the cells are coarser than half
+        the elastic length, else ""."""
+        k = b["ke"][np.isfinite(b["ke"]) & (b["ke"] > 0)]
+        if k.size == 0:
+            return ""
+        ell = (self.raft.D / k.max()) ** 0.25
+        X = self.mesh.corners
+        h = float(np.max(np.hypot(*(np.roll(X, -1, axis=1) - X).transpose(2, 0, 1))))
+        if h <= ell / 2:
+            return ""
+        L = self.raft.units[1]
+        return (f"coarse cells: up to {h:.3g} {L}, over half the elastic length (D/k)^¼ = "
+                f"{ell:.3g} {L}, where bending comes out low (5-14 % at 0.77 of it): refine")
 
     # -- tables ---------------------------------------------------------------
     def _units(self):
@@ -162,11 +258,13 @@ class RaftResult:
                     for e in range(c.shape[0])]
         if table == "extremes":
             rows = []
+            notes = self.notes()
             for q, ext in self.extremes().items():
                 for which in ("max", "min"):
                     v, x, y = ext[which]
                     rows.append({"quantity": q, "extreme": which, "value": v, "unit": u[q],
-                                 f"x [{u['x']}]": x, f"y [{u['y']}]": y})
+                                 f"x [{u['x']}]": x, f"y [{u['y']}]": y,
+                                 "note": notes[q][which]})
             _round_coordinates(rows, u["x"], self.raft, digits)
             vals = {}
             for r in rows:          # round per unit (quantities of one unit share a scale)
@@ -244,9 +342,15 @@ class RaftCombinations(dict):
             first = next(iter(self.values()))
             u = first._units()
             env = self.envelope()
+            notes = {name: self[name].notes() for name in env["uplift"]}
+            # a combination left out is said on every row: the one that
+            # failed may be the one that governs
+            left_out = ("without " + ", ".join(self.failed) + " (not ok)") if self.failed else ""
             rows = [{"quantity": q, "extreme": which, "value": env[q][which][0], "unit": u[q],
                      f"x [{u['x']}]": env[q][which][1], f"y [{u['y']}]": env[q][which][2],
-                     "combination": env[q][which][3]}
+                     "combination": env[q][which][3],
+                     "note": "; ".join(n for n in (left_out, notes[env[q][which][3]][q][which])
+                                       if n)}
                     for q in env if q != "uplift" for which in ("max", "min")]
             _round_coordinates(rows, u["x"], first.raft, digits)
             for unit in {r["unit"] for r in rows}:

@@ -10,6 +10,9 @@ increasing-load trace's objects (:class:`FrameTrace`, :class:`FrameEvent`).
 
 from __future__ import annotations
 
+import copy
+import functools
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -18,6 +21,51 @@ from qpcontact.core.errors import InvalidOptionError
 
 from ..reporting import tables
 from ..reporting.notation import DIGITS
+
+
+def keeps_its_answers(cls):
+    """Class decorator of a frame model: each ``add_*`` method first hands
+    the answers given so far a copy of the model as they solved it.  An
+    answer reads its frame again for diagrams, extremes, tables and
+    drawings; a load added after a solve made an earlier answer's member
+    diagram put the new load on the old displacements (a shear of −330 kN
+    at the end of a span whose reaction is 30), silently.  The copy is made
+    once, at the first edit after a solve, so a solve costs nothing more."""
+    for name, method in list(vars(cls).items()):
+        if name.startswith("add_") and callable(method):
+            setattr(cls, name, _handing_over(method))
+    return cls
+
+
+def _handing_over(method):
+    @functools.wraps(method)
+    def edit(self, *args, **kwargs):
+        hand_over(self)
+        return method(self, *args, **kwargs)
+    return edit
+
+
+def hand_over(frame) -> None:
+    """Give every live answer of ``frame`` (:func:`kept`) a deep copy of it
+    as it is now, before the caller changes it."""
+    answers = frame.__dict__.pop("_answers", None)
+    live = [a for a in (ref() for ref in answers or ()) if a is not None]
+    if live:
+        as_solved = copy.deepcopy(frame)
+        for answer in live:
+            answer.frame = as_solved
+
+
+def kept(answer) -> None:
+    """Register ``answer`` (a result or trace) with its frame, weakly, for
+    :func:`hand_over`; dead ones are dropped as the list grows."""
+    frame = answer.frame
+    if frame is None or not hasattr(frame, "__dict__"):
+        return
+    answers = frame.__dict__.setdefault("_answers", [])
+    if len(answers) >= 64:
+        answers[:] = [ref for ref in answers if ref() is not None]
+    answers.append(weakref.ref(answer))
 
 
 @dataclass
@@ -59,6 +107,9 @@ class AnalysisResult:
     #: returns it, solve_combinations keeps it): how the frame fails and
     #: the proof, as the NoSolutionError's message would say; else None
     proof: str | None = None
+
+    def __post_init__(self):
+        kept(self)
 
     @property
     def status(self) -> str:
@@ -195,6 +246,9 @@ class FrameTrace:
     #: "axial", "path_axial_change", "stable"}:
     #: mechanics.second_order_analysis.trace_second_order); None for first order
     second_order: dict | None = None
+
+    def __post_init__(self):
+        kept(self)
 
     @property
     def p_end(self) -> float:

@@ -173,4 +173,7 @@ def member_locals(frame, xy, idx, col, axial=None):
         Aoff = _offset_map(ms[k].offset_i, ms[k].offset_j)
         k_all[k] = Aoff.T @ k_all[k] @ Aoff
         Fe[k] = Aoff.T @ Fe[k] + rigid[k]
+        if axial is not None:        # each rigid arm's own P-Δ, N o θ²/2 (second_order)
+            k_all[k][2, 2] += axial[k] * ms[k].offset_i
+            k_all[k][5, 5] += axial[k] * ms[k].offset_j
     return k_all, T, dofs, Fe

@@ -33,7 +33,8 @@ Members with shear deformation (Timoshenko, φ > 0) take the consistent
 geometric matrix beside their own stiffness: the exact Timoshenko
 beam-column is not written here, and its error is the consistent matrix's
 (P-δ to O(t²)).  Fixed-end forces of member loads stay first-order (their
-span moments are not amplified by N).
+span moments are not amplified by N): an answer where that is off by more
+than the accuracy asked is not ok (:func:`first_order_span_loads`).
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k` (and its consistent geometric one,
@@ -51,7 +52,10 @@ give, to the accuracy asked for
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
+from scipy.optimize import brentq
 
 #: |t| = |N| L² / EI below which the stability functions come from their
 #: series (the closed forms' denominators cancel to ψ⁴/12 near 0)
@@ -99,13 +103,16 @@ def clamped_buckling_t() -> float:
 
 
 def pdelta_couples(frame, b, u) -> np.ndarray:
-    """Each member's P-Δ couple N (v'_j − v'_i) (m,): the moment its end
+    """Each member's P-Δ couple N (v_j − v_i) (m,): the moment its end
     forces make in the undeformed frame, from the axial forces that built
     its stiffness (``b["axial"]``) and the transverse displacements of its
-    flexible ends (v' = v ± the rigid arm times θ) in its own axes; ``u``
-    the global displacements.  A space frame's (m, 3), global: N e_x ×
-    (u_j − u_i), e_x the member's axis (the same identity in each bending
-    plane)."""
+    nodes in its own axes; ``u`` the global displacements.  Node to node,
+    rigid end zones included: the flexible part's N (v'_j − v'_i) (v' = v ±
+    the arm o times θ) plus each arm's own N o θ, which the assemblies add
+    to K(N) (a cantilever with a rigid top zone buckled at its flexible
+    part's load without it, 54 % high).  A space frame's (m, 3), global:
+    N e_x × (u_j − u_i), e_x the member's axis (the same identity in each
+    bending plane)."""
     _, T, dofs, _ = b["local"]
     if dofs.shape[1] == 12:
         xyz = np.asarray(b["coords"], float)
@@ -115,8 +122,168 @@ def pdelta_couples(frame, b, u) -> np.ndarray:
         du = u[dofs[:, 6:9]] - u[dofs[:, 0:3]]
         return b["axial"][:, None] * np.cross(axis, du)
     d = (T @ np.asarray(u, float)[dofs][..., None])[..., 0]
-    oi = np.array([m.offset_i for m in frame.members.values()], float)
-    oj = np.array([m.offset_j for m in frame.members.values()], float)
-    vi = d[:, 1] + oi * d[:, 2]
-    vj = d[:, 4] - oj * d[:, 5]
-    return b["axial"] * (vj - vi)
+    return b["axial"] * (d[:, 4] - d[:, 1])
+
+
+def bending(frame) -> tuple[np.ndarray, np.ndarray]:
+    """(EI, L) per member: its weaker bending stiffness and its flexible
+    length (a plane member's less its rigid end zones)."""
+    EI, L = [], []
+    for m in frame.members.values():
+        if isinstance(m, dict):          # a space frame's member
+            EI.append(m["E"] * min(m["Iy"], m["Iz"]))
+            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))))
+        else:
+            EI.append(m.E * m.I)
+            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i])))
+                     - m.offset_i - m.offset_j)
+    return np.array(EI, float), np.array(L, float)
+
+
+def own_buckling(frame) -> np.ndarray:
+    """Each member's own buckling load [F] (a compression, > 0): the least
+    one at which it buckles between its nodes with them held, over its
+    bending planes t* EI/L² (L its flexible length).  A member rigidly
+    joined at both ends has no rotation of its own to lose: t* = 4π², the
+    stability functions' pole (clamped–clamped).  Where an end is hinged
+    or semi-rigid (a spring k), the member's rotation there is its own,
+    condensed behind k: the block of those rotations, EI/L [[s, s c],
+    [s c, s]] with k L/EI added on the diagonal, loses its positive
+    definiteness at t* < 4π² — π² hinged at both ends (s = s c), 20.19
+    (ψ = 4.4934, s = 0) at one; the condensed frame stiffness passes
+    through a pole there and its negative eigenvalues no longer count the
+    member's buckling (Wittrick–Williams' member term), so the frame's
+    count alone calls a buckled strut stable.  Timoshenko members' blocks
+    are their consistent ones ((4+φ)/(1+φ) − 2t/15, (2−φ)/(1+φ) + t/30)."""
+    out = []
+    for m in frame.members.values():
+        if isinstance(m, dict):          # a space frame's: bending about z (rz), about y (ry)
+            L = float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))
+                      - sum(m["offsets"]))
+            rel = dict(m["releases"])
+            planes = [(m["E"] * I_, rel.get(r), rel.get(r + 6), GAs)
+                      for I_, r, GAs in ((m["Iz"], 5, m["GAs"][0]), (m["Iy"], 4, m["GAs"][1]))]
+        else:
+            L = float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
+                      - m.offset_i - m.offset_j)
+            planes = [(m.E * m.I, *m.end_springs, m.GAs)]
+        out.append(min(released_buckling_t(
+            *(None if k is None else k * L / EI for k in (ki, kj)),
+            0.0 if not GAs else 12.0 * EI / (GAs * L ** 2)) * EI / L ** 2
+            for EI, ki, kj, GAs in planes))
+    return np.array(out, float)
+
+
+@lru_cache(maxsize=4096)      # a frame's hinged members share one value; solves repeat them
+def released_buckling_t(ki, kj, phi) -> float:
+    """t* of :func:`own_buckling` for one bending plane: ``ki``, ``kj`` the
+    end springs on the scale EI/L (None: a rigid joint), ``phi`` the
+    shear parameter; the first t on a grid of (0, 4π²) where the released
+    block's least eigenvalue is ≤ 0, then Brent's root between the grid
+    points (4π² where it stays positive: a Timoshenko member's consistent
+    block)."""
+    if ki is None and kj is None:
+        return clamped_buckling_t()
+
+    def least(t):
+        t = np.atleast_1d(np.asarray(t, float))
+        if phi > 0:
+            s, sc = (4 + phi) / (1 + phi) - 2 * t / 15, (2 - phi) / (1 + phi) + t / 30
+        else:
+            s, sc = stability_functions(t)
+        if ki is None or kj is None:
+            return s + (kj if ki is None else ki)
+        a, d = s + ki, s + kj
+        return 0.5 * (a + d) - np.sqrt(0.25 * (a - d) ** 2 + sc ** 2)
+
+    # the last point a hair below the pole, where s → −∞: a stiff spring's root
+    grid = np.r_[np.linspace(0.0, clamped_buckling_t(), 4001)[1:-1],
+                 clamped_buckling_t() * (1 - 1e-12)]
+    below = np.flatnonzero(least(grid) <= 0)
+    if not below.size:
+        return clamped_buckling_t()
+    lo, hi = (grid[below[0] - 1] if below[0] else 0.0), grid[below[0]]
+    return float(brentq(lambda t: least(t)[0], lo, hi, xtol=1e-14, rtol=1e-15))
+
+
+def past_own_buckling(frame, N) -> str:
+    """Words naming the members that the axial forces ``N`` (those that
+    built a second-order stiffness) compress to or past their own buckling
+    load (:func:`own_buckling`), or "": a strut hinged at both ends at
+    1.5 π²EI/L² has a condensed stiffness with no negative eigenvalue."""
+    names = [f"{m} (N = {n:.6g}, its own buckling at N = {-o:.6g})"
+             for m, n, o in zip(frame.members, np.asarray(N, float), own_buckling(frame))
+             if -n >= o]
+    return (f"member(s) {', '.join(names)} compressed past their own buckling load between "
+            "their nodes") if names else ""
+
+
+
+def _bending_load(values, axis, local: bool, point: bool) -> float:
+    """A bound on the simply supported span moment one member load gives,
+    per unit length of span (× L): L/4 times the force across the axis
+    (any distribution on a simple span: M ≤ |W| L/4), plus a point
+    moment about a bending axis (not the twist) as |M|/L."""
+    v = np.asarray(values, float)
+    n = axis.size                                    # 2: a plane member, 3: a space one
+    if point:
+        forces, moments = [v[:n]], (v[2:3] if n == 2 else v[3:6])
+    else:                              # its ends' intensities: |W| ≤ L max |w|
+        forces, moments = [v[:n], v[n:2 * n]], np.zeros(0)
+    across = max(float(np.linalg.norm(f[1:] if local else f - (f @ axis) * axis))
+                 for f in forces)
+    if n == 3 and moments.size:
+        moments = moments[1:] if local else moments - (moments @ axis) * axis
+    return across / 4.0, float(np.linalg.norm(moments))
+
+
+def first_order_span_loads(frame, N, combination, tol, member_forces) -> str:
+    """Words naming the members whose span loads act with first-order
+    fixed-end forces and diagrams (module docstring) where that is off by
+    more than ``tol`` of the member's moments, or "".  Under an axial
+    force N a member's loads bend it more (compression) or less (tension)
+    than first order says, by up to about its beam-column amplification
+    ρ/(1 − ρ) (ρ in tension), ρ = |N| L²/(π² EI) — the pinned member's
+    Euler load on its weaker EI, the largest amplification of any end
+    condition (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m
+    against wL²/8 = 31.25) — of the span moment M₀ its loads alone make on
+    a simple span, bounded by |W| L/4 + |M|.  Judged on the member's own
+    moments (its ends' in ``member_forces``, and M₀): a member cut into
+    short pieces has small M₀ and small ρ per piece, so the cut that the
+    words advise clears it."""
+    EI, L = bending(frame)
+    N = np.asarray(N, float)
+    m0 = np.zeros(len(frame.members))
+    index = {name: k for k, name in enumerate(frame.members)}
+    active = {c for c, f in combination.items() if f}
+    if hasattr(frame, "span_loads"):                   # a space frame's loads
+        pairs = [(ld.member, ld) for ld in frame.span_loads]
+    else:
+        pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
+    for name, ld in pairs:
+        if ld.case not in active:
+            continue
+        k, m = index[name], frame.members[name]
+        i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
+        d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
+        force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
+                                      ld.kind == "point")
+        m0[k] += abs(combination[ld.case]) * (force * (1.0 if ld.kind == "point" else L[k])
+                                              * L[k] + moment)
+    rho = np.abs(N) * L ** 2 / (np.pi ** 2 * EI)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        amplification = np.where(N < 0, rho / np.maximum(1.0 - rho, 0.0), rho)
+        ends = np.array([np.abs(np.asarray(member_forces[name])[
+            [2, 5] if np.size(member_forces[name]) == 6 else [4, 5, 10, 11]]).max()
+            for name in frame.members])
+        off = amplification * m0 / np.maximum(np.maximum(ends, m0), 1e-300)
+    hit = [k for k in np.argsort(-off, kind="stable") if m0[k] > 0 and off[k] > tol]
+    if not hit:
+        return ""
+    members = list(frame.members)
+    names = ", ".join(f"{members[k]} (N = {N[k]:.4g}, up to {off[k]:.1e} of its moments)"
+                      for k in hit[:5]) + (f" and {len(hit) - 5} more" if len(hit) > 5 else "")
+    return (f"the span loads of member(s) {names} act with first-order fixed-end "
+            "forces and diagrams, not the beam-column's (P-δ along a loaded member is not in "
+            "the element) — add nodes along those members, whose stability functions then "
+            "carry the P-δ (docs/frames.md, 'What stays first order')")

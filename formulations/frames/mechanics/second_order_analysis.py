@@ -23,8 +23,11 @@ sway it allows is the sliding limit, which the load path finds), has a
 zero eigenvalue.  With the stability functions K(α N) is exact for
 Euler–Bernoulli members, so α_cr is found by bisection on the count of
 K's negative eigenvalues (Sylvester's inertia; the Wittrick–Williams
-count without its member term, which is zero below the first member's
-clamped–clamped load α N L²/EI = 4π², where the search stops).
+count without its member term, which is zero below the first member's own
+buckling load with its nodes held, where the search stops: 4π²EI/L² for a
+member rigidly joined at both ends, less where its ends are hinged or
+semi-rigid, :func:`.second_order.own_buckling`).  A member compressed past
+its own buckling load makes an answer UNSTABLE whatever the count says.
 Eurocode 3 (5.2.1) asks for second-order analysis where α_cr < 10.
 """
 
@@ -33,12 +36,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as la
 
-from qpcontact.core.errors import (InvalidOptionError, NoSolutionError, QpcontactError,
-                                   SolverFailedError)
+from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSolutionError,
+                                   QpcontactError, SolverFailedError)
 
 from . import tracing
 from .load_combinations import combination_at
-from .second_order import clamped_buckling_t
+from .second_order import bending, first_order_span_loads, own_buckling, past_own_buckling
 from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
@@ -66,21 +69,6 @@ def axial_forces(b, res) -> tuple[np.ndarray, np.ndarray]:
     ea = k[:, j, j]
     N = ea * (d[:, j] - d[:, 0]) - 0.5 * (fe[:, j] - fe[:, 0])
     return N, ea * (np.abs(d[:, j]) + np.abs(d[:, 0])) + 0.5 * (np.abs(fe[:, j]) + np.abs(fe[:, 0]))
-
-
-def bending(frame) -> tuple[np.ndarray, np.ndarray]:
-    """(EI, L) per member: its weaker bending stiffness and its flexible
-    length (a plane member's less its rigid end zones)."""
-    EI, L = [], []
-    for m in frame.members.values():
-        if isinstance(m, dict):          # a space frame's member
-            EI.append(m["E"] * min(m["Iy"], m["Iz"]))
-            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))))
-        else:
-            EI.append(m.E * m.I)
-            L.append(float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i])))
-                     - m.offset_i - m.offset_j)
-    return np.array(EI, float), np.array(L, float)
 
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options,
@@ -114,17 +102,18 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     N, _ = axial_forces(b, res)
     error = np.inf
     for rounds in range(1, ROUNDS + 1):
-        b = frame.build(axial=N)
+        b = built_on(frame, N)
         res = solve_on(b)
         N_new, terms = axial_forces(b, res)
         error = relative_change(N_new, N, terms)
         if error <= tol:
             break
         N = N_new
-    stable = None
+    stable, buckled = None, past_own_buckling(frame, b["axial"])
     if b["free"].size <= DENSE_DOFS:
         stable = negative_eigenvalues(
             reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))) == 0
+    stable = False if buckled else stable
     res.second_order = {"rounds": rounds, "axial_error": error,
                         "axial": dict(zip(frame.members, N)), "stable": stable}
     words = (f"second order (P-Δ and P-δ): the axial forces that built the stiffness agree "
@@ -137,9 +126,13 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         res.ok = False
         words += (" — UNSTABLE: with its contact states held the frame's tangent stiffness "
                   "has a negative eigenvalue, so it cannot rest in this equilibrium (past a "
-                  "tipping or buckling load of the deformed frame)")
+                  "tipping or buckling load of the deformed frame)" if not buckled else
+                  f" — UNSTABLE: {buckled}")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
+    span = first_order_span_loads(frame, b["axial"], res.combination, tol, res.member_forces)
+    if span and res.ok:
+        res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
     if raise_on_failure and not res.ok:
         from qpcontact.core.errors import SolverFailedError
@@ -152,12 +145,37 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     return res
 
 
+def built_on(frame, N):
+    """The frame's assembly on K(N).  Its first-order one stands (built
+    first), so a basic system K(N) leaves singular is no mechanism: N puts
+    the frame at its elastic critical load to rounding (a cantilever within
+    1e-12 of π²EI/(4L²)).  That loss of stiffness is named, not the
+    assembly's "node B is free: no member holds it", which sent the
+    engineer to look for a missing member."""
+    try:
+        return frame.build(axial=N)
+    except InvalidProblemError:
+        EI, L = bending(frame)
+        t = -np.asarray(N, float) * L ** 2 / EI
+        names = list(frame.members)
+        words = ", ".join(f"{names[k]} N = {N[k]:.6g} {frame.units[0]} (-N L²/EI = {t[k]:.6g})"
+                          for k in np.argsort(-t)[:3] if t[k] > 0)
+        raise SolverFailedError(
+            f"frame: the second-order stiffness is singular with the axial forces "
+            f"{words or 'of this load'}: with every contact closed the frame is at its elastic "
+            "critical load to rounding "
+            "(α_cr = 1, it buckles there; P-Δ theory has no equilibrium at that load for one "
+            "that sways it).  Below it, critical_load_factor of a second-order solve says how "
+            "far; above it the answer is UNSTABLE") from None
+
+
 def critical_load_factor(frame, result) -> dict:
     """α_cr of ``result``'s combination (see the module's docstring): a dict
     with ``alpha`` (inf where no member is in compression), ``mode`` (the
     buckling shape, global displacements per node, largest 1), ``members``
     (the compressed members' N L²/EI at α = 1) and ``limited_by`` (None, or
-    the member whose own clamped–clamped buckling bounds the search)."""
+    the member whose own buckling load, its nodes held, bounds the search
+    and is then α_cr: :func:`.second_order.own_buckling`)."""
     b = frame.build()
     if getattr(result, "second_order", None):
         N = np.array([result.second_order["axial"][m] for m in frame.members], float)
@@ -167,7 +185,8 @@ def critical_load_factor(frame, result) -> dict:
     t1 = -N * L ** 2 / EI                      # compression positive, at α = 1
     if not np.any(t1 > 0):
         return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
-    pole = clamped_buckling_t() / t1.max()
+    ratio = np.divide(own_buckling(frame), -N, out=np.full(N.size, np.inf), where=N < 0)
+    pole = float(ratio.min())
     held = restraint(b, held_links(frame, b, result))
 
     def negatives(alpha):
@@ -178,8 +197,8 @@ def critical_load_factor(frame, result) -> dict:
                                  "is not stable at zero load (a mechanism); no α_cr")
     hi = first_negative(negatives, min(1.0, 0.5 * pole), pole)
     if hi is None:
-        worst = list(frame.members)[int(np.argmax(t1))]
-        return {"alpha": float(pole), "mode": None, "limited_by": worst,
+        worst = list(frame.members)[int(np.argmin(ratio))]
+        return {"alpha": pole, "mode": None, "limited_by": worst,
                 "members": dict(zip(frame.members, t1))}
     return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held),
             "members": dict(zip(frame.members, t1)), "limited_by": None}
@@ -316,7 +335,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     N_start = N.copy()
     error, ft, unstable, p_from, inside = np.inf, None, None, 0.0, None
     for rounds in range(1, ROUNDS + 1):
-        b = frame.build(axial=N)
+        b = built_on(frame, N)
         p_from = 0.0
         try:
             ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
@@ -421,6 +440,10 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if error > tol:
         ft.ok = False
         words += f" — NOT CONVERGED (asked {tol:.0e})"
+    at = ft.result_at(inside)
+    span = first_order_span_loads(frame, b["axial"], at.combination, tol, at.member_forces)
+    if span and ft.ok:
+        ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"
     return ft
 
@@ -468,9 +491,8 @@ def buckling_along_path(frame, b, ft, N_start):
         return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=N_start + p * dN),
                                                     b, held))
 
-    EI, L = bending(frame)
     growing = dN < -rounding
-    own = (clamped_buckling_t() * EI[growing] / L[growing] ** 2 + N_start[growing]) / -dN[growing]
+    own = (own_buckling(frame)[growing] + N_start[growing]) / -dN[growing]
     pole = float(own.min())
     if negatives(0.0):
         return 0.0, "the frame is unstable under the constant loads alone"
@@ -478,7 +500,7 @@ def buckling_along_path(frame, b, ft, N_start):
     if c is None:
         worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
         return pole, (f"no sway buckles it before member {worst} buckles on its own "
-                      f"(clamped at both ends) at p = {pole:.10g}")
+                      f"(its nodes held) at p = {pole:.10g}")
     return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact states "
                "held, turns singular there)")
 
@@ -490,6 +512,8 @@ def first_unstable_piece(frame, b, ft):
     None (also where the frame is too large to check)."""
     if b["free"].size > DENSE_DOFS:
         return None
+    if past_own_buckling(frame, b["axial"]):      # one stiffness for the whole round
+        return 0 if ft.intervals else None
     for k, (lo, hi) in enumerate(ft.intervals):
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)
         held = restraint(b, held_links(frame, b, ft.result_at(0.5 * (lo + top))))

@@ -410,8 +410,10 @@ def solve_combinations(frame, combinations: dict, **kw) -> CombinationResults:
         raise InvalidProblemError("combinations: a non-empty dict {name: {case: factor}}")
     out = CombinationResults()
     # one assembly and one factorization of the basic system for all
-    # combinations (and R, formed once if a combination needs the LCP)
-    kw["_built"] = frame.build()
+    # combinations (and R, formed once if a combination needs the LCP);
+    # to second order each combination builds its own K(N), its axial forces'
+    if not kw.get("second_order"):
+        kw["_built"] = frame.build()
     for name, combo in combinations.items():
         args = dict(kw)
         if isinstance(combo, dict):

@@ -17,6 +17,7 @@ import numpy as np
 from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
+from ..mechanics.analysis_results import keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, add_settlements, case_name,
                                check_axes, check_units, known_member, known_node,
@@ -77,6 +78,7 @@ class Contact:
     other: str | None
 
 
+@keeps_its_answers
 class Frame:
     """A plane frame with bilateral supports and springs, unilateral
     (possibly frictional) contacts, and loads in named cases (package
@@ -96,6 +98,8 @@ class Frame:
         self.units = check_units(units)
         self.nodes: dict[str, np.ndarray] = {}
         self.members: dict[str, Member] = {}
+        self._joined: dict[frozenset, str] = {}   # node pair -> member (no_member_between)
+        self._contacts_at: dict[str, list] = {}   # node -> its contacts' indices
         self.fixed: dict[str, set] = {}
         self.node_angles: dict[str, float] = {}   # turned node axes (radians)
         self.springs: dict[str, dict] = {}
@@ -169,10 +173,11 @@ class Frame:
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
             raise InvalidProblemError(f"member {name!r} exists already; give another name")
-        no_member_between(((m.name, m.i, m.j) for m in self.members.values()), i, j, what)
+        no_member_between(self._joined, i, j, what)
         self.members[name] = Member(name, i, j, vals["E"], vals["A"], vals["I"], bool(hinge_i),
                                      bool(hinge_j), spring_i=springs[0], spring_j=springs[1],
                                      GAs=GAs, offset_i=offs[0], offset_j=offs[1])
+        self._joined[frozenset((i, j))] = name
         return name
 
     def add_support(self, node: str, fix=("ux", "uy", "rz"), *, angle: float | None = None) -> None:
@@ -254,7 +259,9 @@ class Frame:
                 raise InvalidProblemError(
                     f"contact at {node!r}: stiffness must be > 0 or None (rigid)")
         n = n / np.linalg.norm(n)
-        no_same_contact(self.contacts, node, n, other)
+        here = self._contacts_at.setdefault(node, [])
+        no_same_contact(self.contacts, here, node, n, other)
+        here.append(len(self.contacts))
         self.contacts.append(Contact(node, n, friction, gap, stiffness, other))
         return len(self.contacts) - 1
 

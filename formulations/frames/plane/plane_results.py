@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mechanics.analysis_results import AnalysisResult
-from ..mechanics.loads import stationary_points
+from ..mechanics.loads import stationary_points, turning_points
 from ..reporting import tables
 from ..reporting.notation import DIGITS
 from ..reporting.tables import TABLES
@@ -87,16 +87,22 @@ class FrameResult(AnalysisResult):
         """{"N"|"V"|"M"|"v": {"max": (value, x), "min": (value, x)}} along a
         member; "v" is the deflection across its axis (member axes,
         :meth:`deflection`).  N, V and v are taken at 201 sections and the
-        load positions — exact for N and V, whose extremes lie at a load's
-        edge or an end, unless a trapezoidal load changes sign within its
-        stretch (then V's is the nearest sample's); M also at the zeros of V
-        between them, where a span moment is largest, so M's extremes are
-        exact."""
+        load positions, N and V also where they turn between them (a
+        trapezoidal load that changes sign: :func:`..mechanics.loads.turning_points`),
+        M also at the zeros of V between them, where a span moment is
+        largest, so the extremes of N, V and M are exact."""
         x, N, V, M = self.diagram(member, 201)
-        # the span moments between the samples, where V = dM/dx changes sign
         m = self.frame.members[member]
-        x_m = stationary_points(x, V, lambda s: member_diagrams.sections(self.frame, self, m,
-                                                                         s)[1])
+        at = {"N": x, "V": x}
+        for key, k in (("N", 0), ("V", 1)):
+            x_t = turning_points(x, (N, V)[k])
+            if x_t.size:
+                at[key] = np.r_[x, x_t]
+                turned = member_diagrams.sections(self.frame, self, m, x_t)[k]
+                N, V = (np.r_[N, turned], V) if k == 0 else (N, np.r_[V, turned])
+        # the span moments between the samples, where V = dM/dx changes sign
+        x_m = stationary_points(x, V[:x.size], lambda s: member_diagrams.sections(
+            self.frame, self, m, s)[1])
         if x_m.size:
             M = np.r_[M, member_diagrams.sections(self.frame, self, m, x_m)[2]]
             x_all = np.r_[x, x_m]
@@ -104,9 +110,10 @@ class FrameResult(AnalysisResult):
             x_all = x
         xv, _, v = self.deflection(member, 201)
         out = {}
-        for key, at, arr in (("N", x, N), ("V", x, V), ("M", x_all, M), ("v", xv, v)):
-            out[key] = {"max": (float(arr.max()), float(at[arr.argmax()])),
-                        "min": (float(arr.min()), float(at[arr.argmin()]))}
+        for key, xs, arr in (("N", at["N"], N), ("V", at["V"], V), ("M", x_all, M),
+                             ("v", xv, v)):
+            out[key] = {"max": (float(arr.max()), float(xs[arr.argmax()])),
+                        "min": (float(arr.min()), float(xs[arr.argmin()]))}
         return out
 
     def end_forces(self, member: str) -> dict:

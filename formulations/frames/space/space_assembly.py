@@ -74,6 +74,9 @@ def assemble(frame, axial=None):
             A_ = space_member_loads.offset_map(*offsets[k])
             k_local[k] = A_.T @ k_local[k] @ A_
             Fe[k] = A_.T @ Fe[k] + rigid[k]
+            if axial is not None:    # each rigid arm's own P-Δ, N o (θy² + θz²)/2
+                for at, o in ((4, offsets[k, 0]), (10, offsets[k, 1])):
+                    k_local[k][[at, at + 1], [at, at + 1]] += axial[k] * o
     K, F = contact_lcp.global_stiffness((k_local, T, dofs, Fe), frame.springs, idx, DOFS, N)
     for node, v, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 6, col[case]] += v

@@ -44,7 +44,7 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
-from ..mechanics.loads import check_diagram, stationary_points
+from ..mechanics.loads import check_diagram, stationary_points, turning_points
 from ..mechanics.space_element import EXTREMES, QUANTITIES
 from ..mechanics.space_element import axes as member_axes
 from .space_member_loads import load_points, section_terms, split
@@ -127,18 +127,25 @@ def extremes(frame, res, member: str, points: int = 201) -> dict:
     forces and the deflections v, w across the member, at ``points``
     sections and the load positions; the moments also where their shear
     changes sign between them (:func:`..mechanics.loads.stationary_points`),
-    so a span's largest moment is exact, not the nearest sample's (N, V and
-    T are extreme at a load's edge or an end, unless a trapezoidal load
-    changes sign within its stretch; v and w are the samples')."""
+    so a span's largest moment is exact, not the nearest sample's; N, V and
+    T also where they turn between samples (a trapezoidal load that changes
+    sign: :func:`..mechanics.loads.turning_points`), so theirs are exact
+    too; v and w are the samples')."""
     checked_member(frame, res, member, points)
     along = Along(frame, res, member)
     x = along.sample_points(points)
     values = dict(zip(QUANTITIES, along.sections(x)))
     at = {q: x for q in QUANTITIES}
+    # where N, V and T turn between the samples (a load that changes sign)
+    for q in ("N", "Vy", "Vz", "T"):
+        x_t = turning_points(x, values[q])
+        if x_t.size:
+            at[q] = np.r_[x, x_t]
+            values[q] = np.r_[values[q], along.sections(x_t)[QUANTITIES.index(q)]]
     # the span moments between the samples: where V = dM/dx changes sign
     for V, M in (("Vz", "My"), ("Vy", "Mz")):
         k, km = QUANTITIES.index(V), QUANTITIES.index(M)
-        x_m = stationary_points(x, values[V], lambda s, k=k: along.sections(s)[k])
+        x_m = stationary_points(x, values[V][:x.size], lambda s, k=k: along.sections(s)[k])
         if x_m.size:
             at[M] = np.r_[x, x_m]
             values[M] = np.r_[values[M], along.sections(x_m)[km]]

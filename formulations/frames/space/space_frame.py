@@ -53,6 +53,7 @@ import numpy as np
 from qpcontact.core.errors import InvalidProblemError
 
 from ..mechanics import friction_export, second_order_analysis, solving, tracing
+from ..mechanics.analysis_results import hand_over, keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, VARIABLE, add_settlements, case_name, check_axes,
                                check_units, known_member, known_node,
@@ -197,6 +198,7 @@ def released(hinge, what: str) -> tuple:
     return names
 
 
+@keeps_its_answers
 class SpaceFrame:
     """A space frame (see the module docstring); ``units`` = (force, length)
     names, for tables and drawings only.
@@ -222,6 +224,8 @@ class SpaceFrame:
         self.cone = cone
         self.nodes: dict[str, np.ndarray] = {}
         self.members: dict[str, dict] = {}
+        self._joined: dict[frozenset, str] = {}   # node pair -> member (no_member_between)
+        self._contacts_at: dict[str, list] = {}   # node -> its contacts' indices
         self.fixed: dict[str, set] = {}
         # turned node axes: rows the node's x', y', z' in global axes (add_support's angle)
         self.node_axes: dict[str, np.ndarray] = {}
@@ -325,9 +329,10 @@ class SpaceFrame:
         name = name or f"M{len(self.members) + 1}"
         if name in self.members:
             raise InvalidProblemError(f"member {name!r} exists already; give another name")
-        no_member_between(((k, m["i"], m["j"]) for k, m in self.members.items()), i, j, what)
+        no_member_between(self._joined, i, j, what)
         self.members[name] = dict(i=i, j=j, ref=ref, roll=roll, releases=tuple(releases),
                                   GAs=GAs, offsets=tuple(offs), **props)
+        self._joined[frozenset((i, j))] = name
         return name
 
     def add_support(self, node: str, fix=DOFS, *, angle=None) -> None:
@@ -476,7 +481,9 @@ class SpaceFrame:
         if isinstance(facets, bool) or not isinstance(facets, int) or facets < 4 or facets % 2:
             raise InvalidProblemError(f"contact at {node!r}: facets must be an even integer "
                                       f">= 4 (opposite directions both facets); got {facets!r}")
-        no_same_contact(self.contacts, node, n, other)
+        here = self._contacts_at.setdefault(node, [])
+        no_same_contact(self.contacts, here, node, n, other)
+        here.append(len(self.contacts))
         e = np.eye(3)[int(np.argmin(np.abs(n)))]
         t1 = np.cross(n, e)
         t1 /= np.linalg.norm(t1)
@@ -502,6 +509,7 @@ class SpaceFrame:
                 f"cone must be one of {CONES}; got {value!r} (\"circular\": Coulomb's law; a "
                 "polygon only on request: \"inscribed\" never gives more friction than "
                 "Coulomb, the safe side)")
+        hand_over(self)
         self._cone = value
 
     @property

@@ -393,3 +393,44 @@ def test_the_contacts_cone_use_and_envelope_as_the_space_frames(res):
          for n, r in good.items() if r.supports["B"].normal > 0}
     assert rows["B"][f"{use[:-4]}_max [-]"] == max(b.values())
     assert math.isnan(rows["C"][f"{use[:-4]}_max [-]"])       # frictionless: no cone
+
+
+@pytest.mark.parametrize("kind", ["plane", "space"])
+def test_a_shear_extreme_inside_a_load_that_changes_sign_is_exact(kind):
+    """A simply supported span L under w(x) = w1 + (w2 − w1) x/L (w1 < 0 <
+    w2): V = R_A + ∫w is least where w = 0, at x0 = L w1/(w1 − w2), with
+    R_A = −L (2 w1 + w2)/6 (moments about B).  x0 falls between the 201
+    samples: before, the extreme was the nearest sample's, 1e-5 of V short
+    of it (the unsafe side), in `extremes` and the envelope alike."""
+    from formulations.frames import SpaceFrame
+
+    L, w1, w2 = 7.3, -20.0, 10.0
+    x0 = L * w1 / (w1 - w2)
+    R_A = -L * (2 * w1 + w2) / 6
+    V_min = R_A + w1 * x0 + (w2 - w1) * x0 ** 2 / (2 * L)
+    if kind == "plane":
+        fr = Frame()
+        fr.add_node("A", 0.0, 0.0)
+        fr.add_node("B", L, 0.0)
+        fr.add_member("A", "B", E, A, I, name="AB")
+        fr.add_support("A", fix=("ux", "uy"))
+        fr.add_support("B", fix=("uy",))
+        fr.add_distributed_load("AB", wy=w1, wy2=w2, case="D")
+        V = "V"
+    else:
+        fr = SpaceFrame()
+        fr.add_node("A", 0.0, 0.0, 0.0)
+        fr.add_node("B", L, 0.0, 0.0)
+        fr.add_member("A", "B", E, A, I, I, G=8e7, J=I, name="AB")
+        fr.add_support("A", fix=("ux", "uy", "uz", "rx", "rz"))
+        fr.add_support("B", fix=("uy", "uz"))
+        fr.add_distributed_load("AB", wz=w1, wz2=w2, case="D")
+        V = "Vz"
+    res = fr.solve_combinations({"D": {"D": 1.0}})
+    value, at = res["D"].extremes("AB")[V]["min"]
+    assert value == pytest.approx(V_min, rel=1e-12)
+    assert at == pytest.approx(x0, rel=1e-12)
+    assert res.envelope()["AB"][V]["min"][:2] == (value, at)
+    # V's largest is at an end: R_A, or R_A + (w1 + w2) L/2 = −R_B
+    assert res["D"].extremes("AB")[V]["max"][0] == pytest.approx(
+        max(R_A, R_A + (w1 + w2) * L / 2), rel=1e-12)

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from formulations.frames import Frame
-from qpcontact.core.errors import NoSolutionError
+from qpcontact.core.errors import NoSolutionError, SolverFailedError
 
 E, A, I = 2e8, 1e-2, 2e-5       # kN/m², m², m⁴: a steel column
 
@@ -336,3 +336,232 @@ def test_the_second_order_trace_of_a_frame_without_contacts_is_second_order():
     k = np.sqrt(P / (E * I))
     assert ft.result_at(10.0).displacements["B"][0] == pytest.approx(
         10.0 * (np.tan(k * L) - k * L) / (P * k), rel=1e-9)
+
+
+@pytest.mark.parametrize("share", [1 - 1e-12, 1.0, 1 + 1e-12])
+def test_a_column_at_its_buckling_load_is_named_as_buckling_not_as_a_mechanism(share):
+    """At P_cr = π²EI/(4L²) to rounding the column's stability functions
+    cancel its sway stiffness: K(N) is singular with the column in place.
+    The answer must name that loss of stiffness (its elastic critical load),
+    not call the frame a mechanism whose node "no member holds" (the words
+    of a missing member, which sent the engineer to look for one); plane,
+    space and the trace alike.  Either side of it, 1e-6 of P_cr away, the
+    answer is the beam-column's amplified sway (ok below, UNSTABLE above)."""
+    L = 5.0
+    P_cr = np.pi ** 2 * E * I / (4 * L ** 2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for fr in (cantilever(L, share * P_cr, 10.0), space_cantilever(L, share * P_cr, 10.0, 0.0)):
+            with pytest.raises(SolverFailedError, match="elastic critical load") as err:
+                fr.solve(second_order=True)
+            assert "column N = -394.784" in str(err.value)
+            assert "no member" not in str(err.value)
+        fr = cantilever(L, share * P_cr, 0.0)
+        fr.add_load("B", fx=1.0, case="variable")
+        with pytest.raises(SolverFailedError, match="elastic critical load"):
+            fr.trace(1.0, second_order=True)
+        for side, stable in ((1 - 1e-6, True), (1 + 1e-6, False)):
+            P = side * P_cr
+            res = cantilever(L, P, 10.0).solve(second_order=True)
+            k = np.sqrt(P / (E * I))
+            assert res.ok is stable and res.second_order["stable"] is stable
+            # the closed form's conditioning, 1/(1 - P/P_cr) = 1e6, costs digits
+            assert res.displacements["B"][0] == pytest.approx(
+                10.0 * (np.tan(k * L) - k * L) / (P * k), rel=1e-8)
+
+
+def strut(P, hinge_i, hinge_j, L=5.0):
+    """A vertical member A-B under P at B: A held in ux, uy (and rz where
+    the member is rigidly joined there), B in ux (and rz likewise)."""
+    fr = Frame(units=("kN", "m"))
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", E, A, I, name="strut", hinge_i=hinge_i, hinge_j=hinge_j)
+    fr.add_support("A", fix=("ux", "uy") if hinge_i else ("ux", "uy", "rz"))
+    fr.add_support("B", fix=("ux",) if hinge_j else ("ux", "rz"))
+    fr.add_load("B", fy=-P)
+    return fr
+
+
+# ψ² at a member's own buckling with its nodes held: hinged at both ends π²;
+# clamped at one, hinged at the other, the root of tan ψ = ψ (4.493409457909064)
+# squared; clamped at both 4π²
+OWN_T = {(True, True): np.pi ** 2, (False, True): 4.493409457909064 ** 2,
+         (False, False): 4 * np.pi ** 2}
+
+
+@pytest.mark.parametrize("ends", list(OWN_T))
+def test_a_strut_buckles_at_its_own_euler_load_whatever_its_ends(ends):
+    """A member with hinged ends has end rotations of its own, condensed
+    out of the frame's stiffness; at its Euler load that condensation has a
+    pole and the frame's count of negative eigenvalues no longer sees the
+    member buckle (before: α_cr raised ValueError on a NaN, and the strut at
+    1.1–3.9 P_e was answered ok, "stable").  α_cr = ψ² EI/(L² P); past it
+    the second-order answer is UNSTABLE, naming the member."""
+    L, P = 5.0, 100.0
+    own = OWN_T[ends] * E * I / L ** 2
+    fr = strut(P, *ends, L=L)
+    crit = fr.critical_load_factor(fr.solve())
+    assert crit["alpha"] == pytest.approx(own / P, rel=1e-10)
+    assert crit["limited_by"] == "strut"
+    below = strut(0.9 * own, *ends, L=L).solve(second_order=True)
+    assert below.ok and below.second_order["stable"] is True, below.message
+    for share in (1.1, 3.9):
+        res = strut(share * own, *ends, L=L).solve(second_order=True)
+        assert not res.ok and res.second_order["stable"] is False
+        assert "strut" in res.message and "own buckling" in res.message
+    # the load path under a growing load: before, "p_max", ok, at 2 P_e
+    fr = strut(0.0, *ends, L=L)
+    fr.add_load("B", fy=-1.0, case="variable")
+    tr = fr.trace(2 * own, second_order=True)
+    assert not tr.ok and tr.ended == "breakdown"
+    assert f"strut buckles on its own (its nodes held) at p = {own:.10g}" in tr.message
+
+
+def test_a_space_strut_hinged_about_one_axis_buckles_about_it():
+    """Hinged about its local y at both ends (ry released), clamped about
+    z: it buckles at min(π² E Iy, 4π² E Iz)/L² — here about y, though Iy is
+    2.5 times Iz."""
+    from formulations.frames import SpaceFrame
+
+    L, Iy, Iz, P = 5.0, 5e-5, 2e-5, 100.0
+    fr = SpaceFrame(units=("kN", "m"))
+    fr.add_node("A", 0.0, 0.0, 0.0)
+    fr.add_node("B", 0.0, 0.0, L)
+    fr.add_member("A", "B", E, A, Iy, Iz, G=8e7, J=1e-5, name="strut",
+                  hinge_i=("ry",), hinge_j=("ry",))
+    fr.add_support("A")
+    fr.add_support("B", fix=("ux", "uy", "rx", "ry", "rz"))
+    fr.add_load("B", fz=-P)
+    own = min(np.pi ** 2 * E * Iy, 4 * np.pi ** 2 * E * Iz) / L ** 2
+    assert own == pytest.approx(np.pi ** 2 * E * Iy / L ** 2)
+    crit = fr.critical_load_factor(fr.solve())
+    assert crit["alpha"] == pytest.approx(own / P, rel=1e-10)
+    fr.add_load("B", fz=-1.05 * own + P)
+    res = fr.solve(second_order=True)
+    assert not res.ok and "strut" in res.message
+
+
+def test_a_leaning_column_that_buckles_on_its_own_limits_the_frame():
+    """A cantilever (EI, h) holds a leaning column (hinged at both ends,
+    EI_l) by a hinged link (EA/3 axially) at the top.  The sway buckles
+    where the cantilever's tip flexibility under P, (tan kh − kh)/(P k),
+    plus the link's equals the leaning load's h/Q (the link carries
+    Q Δ_D/h); a slender leaning column buckles first on its own, at
+    π² EI_l/h²: α_cr is the smaller of the two."""
+    from scipy.optimize import brentq
+
+    h, P = 4.0, 200.0
+    for I_lean, Q in ((2e-5, 600.0), (1e-7, 600.0)):
+        fr = Frame(units=("kN", "m"))
+        for n, x, y in (("A", 0, 0), ("B", 0, h), ("C", 3, 0), ("D", 3, h)):
+            fr.add_node(n, x, y)
+        fr.add_member("A", "B", E, A, I, name="column")
+        fr.add_member("C", "D", E, A, I_lean, name="leaning", hinge_i=True, hinge_j=True)
+        fr.add_member("B", "D", E, A, I, name="link", hinge_i=True, hinge_j=True)
+        fr.add_support("A")
+        fr.add_support("C", fix=("ux", "uy"))
+        fr.add_load("B", fy=-P)
+        fr.add_load("D", fy=-Q)
+
+        def sway(a):
+            k = np.sqrt(a * P / (E * I))
+            return (np.tan(k * h) - k * h) / (a * P * k) + 3.0 / (E * A) - h / (a * Q)
+
+        frame_alpha = brentq(sway, 1e-3, (np.pi / 2) ** 2 * E * I / (h ** 2 * P) * (1 - 1e-12))
+        own_alpha = np.pi ** 2 * E * I_lean / (h ** 2 * Q)
+        crit = fr.critical_load_factor(fr.solve())
+        assert crit["alpha"] == pytest.approx(min(frame_alpha, own_alpha), rel=1e-8)
+        assert crit["limited_by"] == (None if frame_alpha < own_alpha else "leaning")
+
+
+@pytest.mark.parametrize("kappa", [1.0, 10.0, 1e4])
+def test_a_strut_between_rotational_springs_buckles_at_its_closed_form(kappa):
+    """Both ends held in translation and rotation, the member joined to
+    them by springs k = κ EI/L: its symmetric half-wave, v = cos(ψ(x/L −
+    1/2)) − cos(ψ/2), meets the springs' M = k v' where κ = −ψ cot(ψ/2),
+    ψ in (π, 2π) (π hinged, 2π clamped); α_cr = ψ² EI/(L² P)."""
+    from scipy.optimize import brentq
+
+    L, P = 5.0, 100.0
+    psi = brentq(lambda p: -p / np.tan(p / 2) - kappa, np.pi + 1e-12, 2 * np.pi - 1e-12,
+                 xtol=1e-15)
+    fr = Frame(units=("kN", "m"))
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    k = kappa * E * I / L
+    fr.add_member("A", "B", E, A, I, name="strut", spring_i=k, spring_j=k)
+    fr.add_support("A")
+    fr.add_support("B", fix=("ux", "rz"))
+    fr.add_load("B", fy=-P)
+    crit = fr.critical_load_factor(fr.solve())
+    assert crit["alpha"] == pytest.approx(psi ** 2 * E * I / (L ** 2 * P), rel=1e-9)
+
+
+def test_combinations_are_each_solved_to_second_order():
+    """`solve_combinations(..., second_order=True)`: each combination on
+    its own deformed frame — the windward pad's W/2 − (H h + W Δ)/(2a)
+    (statics on the deformed column) for each H, the envelope over them;
+    one past the second-order tipping load is not ok and the others are
+    kept.  Before: InvalidOptionError "do not pass _built", which the user
+    had not."""
+    h, a = 6.0, 1.0
+    W = 0.3 * np.pi ** 2 * E * I / (4 * h ** 2)
+    k = np.sqrt(W / (E * I))
+    H_tip = W * a / (h + (np.tan(k * h) - k * h) / k)
+    fr = column_on_pads(W, a, h)
+    shares = {"a": 0.3, "b": 0.9, "past": 1.2}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve_combinations({n: {"constant": 1.0, "variable": s * H_tip}
+                                     for n, s in shares.items()}, second_order=True)
+    assert res.failed == ["past"]
+    for name in ("a", "b"):
+        H = shares[name] * H_tip
+        delta = H * (np.tan(k * h) - k * h) / (W * k)
+        assert res[name].second_order["stable"] is True
+        assert res[name].supports["L"].normal == pytest.approx(
+            W / 2 - (H * h + W * delta) / (2 * a), abs=1e-9 * W)
+    assert res.envelope()["supports"]["L"]["Fy"]["min"] == (res["b"].supports["L"].normal, "b")
+
+
+@pytest.mark.parametrize("kind", ["plane", "space"])
+@pytest.mark.parametrize("a, b", [(4.0, 1.0), (3.0, 2.0)])
+def test_a_rigid_zone_at_the_loaded_end_carries_its_own_p_delta(kind, a, b):
+    """A cantilever whose top b is a rigid end zone over a flexible length
+    a, P and H at the top.  The zone turns with the flexible part's top and
+    carries P sideways by b θ: EI v'' = H (L − x) + P (δ − v) with δ =
+    v(a) + b v'(a) gives δ = c / (cos ka − b k sin ka), c = (H/P) (−L cos ka
+    + sin(ka)/k + b + b (L k sin ka + cos ka − 1)), and buckling where
+    tan ka = 1/(bk).  Before, the zone's own P-Δ was missing: α_cr 54 %
+    (a = 4, b = 1) and 2.5 times (3, 2) high, the plane sway 10 % low and
+    ok, the space one CHECK FAILED."""
+    from scipy.optimize import brentq
+
+    from formulations.frames import SpaceFrame
+
+    L, P, H = a + b, 100.0, 1.0
+    if kind == "plane":
+        fr = Frame()
+        fr.add_node("A", 0.0, 0.0)
+        fr.add_node("B", 0.0, L)
+        fr.add_member("A", "B", E, A, I, name="column", offset_j=b)
+        fr.add_load("B", fx=H, fy=-P)
+    else:
+        fr = SpaceFrame()
+        fr.add_node("A", 0.0, 0.0, 0.0)
+        fr.add_node("B", 0.0, 0.0, L)
+        fr.add_member("A", "B", E, A, I, I, G=8e7, J=1e-5, name="column", offset_j=b)
+        fr.add_load("B", fx=H, fz=-P)
+    fr.add_support("A")
+    k = np.sqrt(P / (E * I))
+    c = H / P * (-L * np.cos(k * a) + np.sin(k * a) / k + b
+                 + b * (L * k * np.sin(k * a) + np.cos(k * a) - 1))
+    delta = c / (np.cos(k * a) - b * k * np.sin(k * a))
+    k_cr = brentq(lambda q: np.tan(q * a) - 1 / (b * q), 1e-6, np.pi / (2 * a) * (1 - 1e-12),
+                  xtol=1e-15)
+    res = fr.solve(second_order=True)
+    assert res.ok, res.message
+    assert res.displacements["B"][0] == pytest.approx(delta, rel=1e-9)
+    assert fr.critical_load_factor(fr.solve())["alpha"] == pytest.approx(
+        k_cr ** 2 * E * I / P, rel=1e-8)

@@ -22,6 +22,7 @@ def test_a_line_load_across_a_strip_is_its_two_point_loads():
     a.add_line_load(6.0, 0.0, 6.0, 0.5, 200.0)             # 200 kN/m over 0.5 m
     b.add_point_load(6.0, 0.0, 50.0)
     b.add_point_load(6.0, 0.5, 50.0)
+    b.add_line_load(6.0, 0.0, 6.0, 0.5, 0.0)      # no load: the grid lines beside a wall, as a's
     ra, rb = a.solve(), b.solve()
     assert ra.ok and rb.ok and ra.lifted.any()
     assert np.max(np.abs(ra.w - rb.w)) <= 1e-12 * np.max(np.abs(rb.w))
