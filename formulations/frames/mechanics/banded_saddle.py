@@ -49,9 +49,7 @@ side is refined once on the saddle matrix's own residual
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.linalg.lapack import dgbtrf, dgbtrs, dpbtrf, dpbtrs, dtbtrs
-from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 #: contacts at most this many times stiffer than the frame's largest
 #: translational stiffness κ are condensed (X's error eps·k|u| within
@@ -97,66 +95,33 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
     kr, kc, kv = k_triplets
     if nf < REORDER_MIN and np.abs(kr - kc).max(initial=0) > NARROW:
         return None                  # too wide in its own order, too small to reorder
-    h_dof, h_link, h_val = h_triplets
-    by_link = np.argsort(h_link, kind="stable")
-    h_dof, h_link, h_val = h_dof[by_link], h_link[by_link], h_val[by_link]
-    count = np.bincount(h_link, minlength=nl)
-    width = max(int(count.max(initial=0)), 1)
-    start = np.concatenate(([0], np.cumsum(count)[:-1]))
-    slot = np.arange(h_link.size) - start[h_link]
-    # padded with the link's own first dof (and a zero), which keeps the
-    # padding inside the band
-    first = np.zeros(nl, int)
-    first[h_link[::-1]] = h_dof[::-1]
-    dof = np.repeat(first[:, None], width, axis=1)
-    hv = np.zeros((nl, width))
-    dof[h_link, slot], hv[h_link, slot] = h_dof, h_val
+    from ._frame_kernels import band_pattern, cuthill_mckee, link_slots
+    # κH_f's entries link by link (its CSC order), and each link's dofs
+    # padded with its own first dof (and a zero), which keeps the padding
+    # inside the band
+    h_dof, h_link, h_val, dof, hv = link_slots(nl, *h_triplets)
     # the pattern: K's, and each link's dofs among themselves (its spring)
     # and with its contact's other link (friction's coupling: same dofs)
     t, n = (np.zeros(0, int), np.zeros(0, int)) if pairs is None else pairs
-    left, right = np.concatenate((dof, dof[t])), np.concatenate((dof, dof[n]))
-    pr = np.concatenate((kr, np.repeat(left, width, axis=1).ravel()))
-    pc = np.concatenate((kc, np.tile(right, (1, width)).ravel()))
+    bw, indptr, indices, degree = band_pattern(nf, kr, kc, dof, t, n)
     # the dofs' own order where it is narrow already (a beam numbered
     # along its length: 4), else a reverse Cuthill–McKee order, whichever
     # is narrower (a beam's RCM order interleaves its axial and bending
-    # chains 8 wide; the work goes as the width's square)
-    perm = np.arange(nf)
-    bw = int(np.abs(pr - pc).max(initial=0))
-    band_r, band_c = pr, pc          # the pattern's entries in the band's order
+    # chains 8 wide; the work goes as the width's square): scipy's, step
+    # for step and from its own seeds (np.argsort of the degrees), in one
+    # compiled pass with the pattern (as array expressions and scipy's
+    # call: the layout was 182 µs of a 20-storey tower's 1 025 µs build)
+    perm, pos = np.arange(nf), np.arange(nf)
     if bw > NARROW:
-        # the pattern as canonical CSR from its distinct entries (sorted by
-        # row, then column: the structure the triplets' conversion made),
-        # with int32 indices, which scipy keeps without checking and copying
-        # them: one construction of 8 µs where the conversion took 55
-        # (np.unique, hashing in NumPy 2, takes 190)
-        # (K_ff's entries come in row then column order, the links' after
-        # them: a stable sort (timsort) merges the two runs, a third of the
-        # default's time)
-        # (row and column in one key by a shift, not times nf: the same
-        # order, and no integer division to take them apart)
-        shift = int(nf).bit_length()
-        key = np.sort((pr << shift) | pc, kind="stable")
-        key = key[np.concatenate(([True], key[1:] != key[:-1]))]
-        pattern = sp.csr_matrix((np.ones(key.size), (key & ((1 << shift) - 1)).astype(np.int32),
-                                 np.concatenate(([0], np.cumsum(np.bincount(
-                                     key >> shift, minlength=nf)))).astype(np.int32)),
-                                shape=(nf, nf))
-        rcm = reverse_cuthill_mckee(pattern, symmetric_mode=True)
-        pos = np.empty(nf, int)
-        pos[rcm] = np.arange(nf)
-        rcm_r, rcm_c = pos[pr], pos[pc]
-        rcm_bw = int(np.abs(rcm_r - rcm_c).max(initial=0))
+        rcm, rcm_pos, rcm_bw = cuthill_mckee(indptr, indices, degree, np.argsort(degree))
         if rcm_bw < bw:
-            perm, bw, band_r, band_c = rcm, rcm_bw, rcm_r, rcm_c
+            perm, pos, bw = rcm, rcm_pos, rcm_bw
     if bw > BAND_MAX:
         return None
-    pos = np.empty(nf, int)
-    pos[perm] = np.arange(nf)
     # κH_f's entries link by link (its CSC order), which its products read
     # (:func:`_links_to_dofs`, :func:`_dofs_to_links`)
     lay = dict(nf=nf, nl=nl, kappa=kappa, flex=flex, pos=pos, pos_dof=pos[dof], hv=hv,
-               perm=perm, bw=bw, h=(h_dof, h_link.astype(np.intp), h_val), K=stiffness)
+               perm=perm, bw=bw, h=(h_dof, h_link, h_val), K=stiffness)
     # K's part of the band, once per assembly, scaled by powers of two
     # (exact), row and column i by the square root of the basic system's
     # diagonal entry (K's with every spring in), so that the pivots measure
@@ -169,60 +134,27 @@ def layout(nf, nl, kappa, flex, k_triplets, h_triplets, pairs, stiffness):
     r, c, v = lay["basic_terms"][:3]
     on_diag = r == c
     diag = np.bincount(r[on_diag], weights=v[on_diag], minlength=nf)
-    kr, kc = band_r[:kv.size], band_c[:kv.size]
+    kr, kc = pos[kr], pos[kc]        # K's entries in the band's order
     kd = kr == kc
     diag += np.bincount(kr[kd], weights=kv[kd], minlength=nf)
     if not np.all(diag > 0):
         return None
     d = 2.0 ** -np.round(0.5 * np.log2(diag))
     # K's scaled entries in the band's order, which a factorization lays
-    # out in LAPACK's band storage (:func:`_band`)
+    # out in LAPACK's band storage (:func:`._frame_kernels.band_storage`)
     lay.update(d=d, K_band=(kr, kc, kv * d[kr] * d[kc]))
     return lay
-
-
-def _band(lay, upper):
-    """K's part of the band in LAPACK's storage, held column by column —
-    the Fortran array LAPACK reads, as the C array of its transpose — so
-    that a factorization hands it over without f2py's transposing copy (a
-    tenth of the tower's Cholesky): with ``upper``, dpbtrf's (entry i ≤ j
-    in row bw + i − j of column j: bw + 1 rows, made for the basic
-    system's Cholesky, once), else dgbtrf's (entry i, j in row 2bw + i − j:
-    3bw + 1 rows, made on the first LU and kept — a 20-storey tower whose
-    state sets are solved on R never makes it).  K's entries are distinct,
-    so each of the band's is one of them, whichever storage."""
-    kr, kc, kv = lay["K_band"]
-    nf, bw = lay["nf"], lay["bw"]
-    if upper:
-        up = kr <= kc
-        return np.bincount(kc[up] * (bw + 1) + bw + kr[up] - kc[up], weights=kv[up],
-                           minlength=(bw + 1) * nf).reshape(nf, bw + 1)
-    if "band_K" not in lay:
-        rows = 3 * bw + 1
-        lay["band_K"] = np.bincount(kc * rows + 2 * bw + kr - kc, weights=kv,
-                                    minlength=rows * nf).reshape(nf, rows)
-    return lay["band_K"]
 
 
 def _link_terms(lay, kin, coef, partner):
     """(rows, columns, values) of −κH_f C⁻¹ B in the band's order — each
     holding link's spring and each slipping tangent's coupling to its
     normal — and C⁻¹'s parts (diagonal, the slipping tangents, their
-    normals, their entries)."""
-    kappa = lay["kappa"]
-    cinv = 1.0 / np.where(kin, -kappa ** 2 * lay["flex"], kappa)
-    slip = np.flatnonzero(~kin & (coef != 0.0))
-    on = partner[slip]
-    off = -cinv[slip] * (kappa * coef[slip]) * cinv[on]
-    held = np.flatnonzero(kin)
-    pd, hv = lay["pos_dof"], lay["hv"]
-    w = hv.shape[1]
-    left = np.concatenate((pd[held], pd[slip]))
-    right = np.concatenate((pd[held], pd[on]))
-    outer = (np.concatenate((hv[held] * -cinv[held, None], hv[slip] * -off[:, None]))[:, :, None]
-             * np.concatenate((hv[held], hv[on]))[:, None, :])
-    return (np.repeat(left, w, axis=1).ravel(), np.tile(right, (1, w)).ravel(), outer.ravel(),
-            cinv, slip, on, off)
+    normals, their entries), in one compiled pass
+    (:func:`._frame_kernels.link_terms`)."""
+    from ._frame_kernels import link_terms
+    return link_terms(lay["pos_dof"], lay["hv"], lay["flex"], lay["kappa"],
+                      np.asarray(kin, bool), np.asarray(coef, float), np.asarray(partner, np.int64))
 
 
 def factor(lay, kin, coef, partner):
@@ -249,22 +181,22 @@ def factor(lay, kin, coef, partner):
     if r.size and np.abs(r - c).max() > bw:     # a coupling the layout's pairs did not name
         return None
     v = v * d[r] * d[c]
+    from ._frame_kernels import band_storage
+    kr, kc, kv = lay["K_band"]
     if bw > NARROW and kin.all() and not slip.size:
         # the upper triangle as dpbtrf stores it (K_ff is symmetric to
         # rounding; the one solve of an answer is refined on S itself):
         # K's entries on or above the diagonal, and the link terms there
-        # added to them
-        up = r <= c
-        ab = _band(lay, upper=True)
-        np.add.at(ab.reshape(-1), c[up] * (bw + 1) + bw + r[up] - c[up], v[up])
+        # added to them; in LAPACK's storage held column by column, which
+        # f2py hands over without a transposing copy
+        ab = band_storage(nf, bw, True, kr, kc, kv, r, c, v)
         chol, info = dpbtrf(ab.T, lower=0, overwrite_ab=1)
         if info != 0:
             return None
         pivots = chol[bw] ** 2       # an LU's pivots without row exchanges
         band = (chol, None)
     else:
-        ab = _band(lay, upper=False).copy()
-        np.add.at(ab.reshape(-1), c * (3 * bw + 1) + 2 * bw + r - c, v)
+        ab = band_storage(nf, bw, False, kr, kc, kv, r, c, v)
         lu, piv, info = dgbtrf(ab.T, bw, bw, overwrite_ab=1)
         if info != 0:
             return None

@@ -45,23 +45,24 @@ from .refinement import is_refined, refined_columns
 R_ROUNDING = 256 * np.finfo(float).eps
 
 
-def stiffness_matrix(rows, cols, vals, springs, idx, dofs, N):
-    """K (CSR, N x N) from the members' triplets (lists of arrays) and the
-    springs to the ground {node: {dof: k}} (``dofs``: the dof names of a
-    node, in order; ``idx``: each node's first dof)."""
-    for node, ks in springs.items():
-        for d, kval in ks.items():
-            rows.append([idx[node] + dofs.index(d)])
-            cols.append([idx[node] + dofs.index(d)])
-            vals.append([kval])
-    # (int32 indices: scipy keeps them as they are, where int64 ones are
-    # scanned and copied; one part, the members' alone, is taken as it is:
-    # concatenating it copied 5 600 entries three times for a tower)
-    join = (lambda parts, dtype: parts[0] if len(parts) == 1 else
-            np.concatenate(parts) if parts else np.zeros(0, dtype))
-    return sp.coo_matrix((join(vals, float), (join(rows, int).astype(np.int32),
-                                              join(cols, int).astype(np.int32))),
-                         shape=(N, N)).tocsr()
+def global_stiffness(local, springs, idx, dofs, N):
+    """K (CSR, N x N) and the members' loads F (N x cases) from their
+    blocks ``local`` = (k, T, dofs, Fe) (:func:`.plane_element.member_locals`,
+    the space assembly's): Tᵀ k T and Tᵀ Fe scattered to the members' dofs,
+    then the springs to the ground {node: {dof: k}} (``dofs``: the dof
+    names of a node, in order; ``idx``: each node's first dof), in one
+    compiled pass (:func:`._frame_kernels.global_stiffness`: each entry
+    summed in member order).  As array expressions it was two stacks of
+    BLAS calls, a scipy COO → CSR conversion and a bincount."""
+    from ._frame_kernels import global_stiffness as compiled
+    k, T, at, Fe = local
+    spring = [(idx[node] + dofs.index(d), kval) for node, ks in springs.items()
+              for d, kval in ks.items()]
+    data, indices, indptr, F = compiled(k, T, at, Fe, np.array([r for r, _ in spring], np.int64),
+                                        np.array([v for _, v in spring], float), N)
+    K = sp.csr_matrix((data, indices, indptr), shape=(N, N))
+    K.has_canonical_format = True       # each row's columns distinct and ascending
+    return K, F
 
 
 def force_terms(b, u, F, ends):
@@ -260,31 +261,11 @@ def basic_system(K, H, fixed, flex, translational, pairs=None, strain_free=None)
     deck is 1e9 times stiffer than its columns: pivots 1e-14 apart), and
     the LU is kept; the answers' checks and the refinement in extended
     precision (R past :data:`.refinement.CONTRAST`) judge what it gives."""
-    N = K.shape[0]
-    free = np.flatnonzero(~fixed)
+    # the free dofs, kappa and the blocks on the free dofs in one compiled
+    # pass over K's and H's entries (as array expressions and fancy
+    # indexing, a few dozen NumPy calls)
+    free, fixed_idx, kappa, k_ff, (hv, hr, hc) = free_blocks(K, H, fixed, translational)
     nf = free.size
-    # the blocks on the free dofs from triplets, not by fancy indexing (a
-    # sparse slice costs a tenth of a millisecond, the whole solve of a
-    # 20-storey frame a few)
-    at = np.full(N, -1)
-    at[free] = np.arange(nf)
-    fixed_idx = np.flatnonzero(fixed)
-    # The links enter scaled by a typical stiffness kappa, so that the saddle
-    # matrix is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
-    # the singularity test is meaningful: X = -kappa y.  Links push nodes
-    # along, so kappa is the largest *translational* stiffness: the largest
-    # of all is a rotation's (moment per radian), which in N and mm is 1e5
-    # times a translation's, and kappa² / k on an elastic contact's diagonal
-    # then made a sound beam look like a mechanism (pivots 3e-14 apart).
-    # K_ff's diagonal, K's at the free dofs (K is summed: CSR, no duplicates)
-    diag = np.abs(K.diagonal()[free])
-    moves = translational[free]
-    kappa = float(np.max(diag[moves] if moves.any() else diag)) if free.size else 1.0
-    # no stiffness on those dofs at all (a node on a contact, no member):
-    # kappa = 0 would drop the links and name a held dof as the free one
-    kappa = kappa if kappa > 0 else 1.0
-    k_ff = free_stiffness(K, at)
-    hv, hr, hc = free_links(H, at, kappa)
     nl = H.shape[1]
     # on elastic contacts the saddle matrix is solved through its condensed
     # stiffness, banded (:mod:`.banded_saddle`), and S itself is made only
@@ -293,7 +274,8 @@ def basic_system(K, H, fixed, flex, translational, pairs=None, strain_free=None)
     band = banded_saddle.layout(nf, nl, kappa, flex, k_ff, (hr, hc, hv), pairs, (K, free))
     lu = (banded_saddle.factor(band, np.ones(nl, bool), np.zeros(nl), np.zeros(nl, int))
           if band is not None else None)
-    out = dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, band=band, lu=lu)
+    out = dict(free=free, nf=nf, fixed_idx=fixed_idx, kappa=kappa, band=band, lu=lu,
+               translational=translational)
     if lu is None:
         # one sparse LU of the saddle matrix (a 1000-span beam: 4000
         # unknowns, 1.7 s dense, milliseconds sparse); its pivots say whether
@@ -343,25 +325,32 @@ def saddle_matrix(b):
     """S = [K_ff κH_f; κH_f' −κ² D] of an assembly (CSC, canonical, without
     stored zeros), made on first use where the basic system's LU is the
     condensed banded one."""
-    at = _positions(b)
-    return _saddle(free_stiffness(b["K"], at), free_links(b["H"], at, b["kappa"]),
-                   b["flex"], b["nf"], b["kappa"])
+    _, _, kappa, k_ff, h_f = free_blocks(b["K"], b["H"], b["fixed"], b["translational"])
+    return _saddle(k_ff, h_f, b["flex"], b["nf"], kappa)
 
 
-def free_stiffness(K, at):
-    """(rows, columns, values) of K_ff's stored entries but its exact zeros
-    (``at``: each dof's row among the free ones, -1 where fixed): a
-    member's k has exact zeros (a level beam's axial-bending terms), nearly
-    half of a beam's entries, which every state set's matrix and
-    factorization would carry."""
-    k_row, k_col, k_val = csr_triplets(K)
-    if at.size and at[-1] == at.size - 1:
-        # nothing fixed (a frame on its contacts alone): ``at`` is the identity
-        keep = k_val != 0.0
-        return k_row[keep], k_col[keep].astype(at.dtype), k_val[keep]
-    r, c = at[k_row], at[k_col]
-    keep = (r >= 0) & (c >= 0) & (k_val != 0.0)
-    return r[keep], c[keep], k_val[keep]
+def free_blocks(K, H, fixed, translational):
+    """(free dofs, fixed dofs, κ, K_ff's (rows, columns, values) but its
+    exact zeros, κH_f's (values, rows, columns)), rows and columns among
+    the free dofs, in one compiled pass (:func:`._frame_kernels.free_blocks`).
+
+    The links enter the saddle matrix scaled by a typical stiffness κ, so
+    that it is balanced (steel in N and m has K ~ 1e8 against H ~ 1) and
+    the singularity test is meaningful: X = −κ y.  Links push nodes along,
+    so κ is the largest *translational* stiffness on K's diagonal at the
+    free dofs: the largest of all is a rotation's (moment per radian),
+    which in N and mm is 1e5 times a translation's, and κ²/k on an elastic
+    contact's diagonal then made a sound beam look like a mechanism
+    (pivots 3e-14 apart).  No stiffness on those dofs at all (a node on a
+    contact, no member): κ = 1, where 0 would drop the links and name a
+    held dof as the free one.  K_ff's exact zeros — a level member's
+    axial-bending terms, nearly half of a beam's entries — are no
+    structure that every state set's matrix and factorization should
+    carry."""
+    from ._frame_kernels import free_blocks as compiled
+    K, H = K.tocsr(), H.tocsr()
+    return compiled(K.indptr, K.indices, K.data, H.indptr, H.indices, H.data,
+                    np.asarray(fixed, bool), np.asarray(translational, bool))
 
 
 def _saddle(k_triplets, h_triplets, flex, nf, kappa):
@@ -376,14 +365,6 @@ def _saddle(k_triplets, h_triplets, flex, nf, kappa):
     return sp.csc_matrix((vals[nz], (np.concatenate((kr, hr, nf + hc, nf + links_))[nz],
                                      np.concatenate((kc, nf + hc, hr, nf + links_))[nz])),
                          shape=(nf + nl, nf + nl))
-
-
-def free_links(H, at, kappa):
-    """(values, rows, columns) of κ H at the free dofs (``at``: each dof's
-    row among the free ones, -1 where fixed)."""
-    h_row, h_col, h_val = csr_triplets(H)
-    hk = at[h_row] >= 0
-    return kappa * h_val[hk], at[h_row[hk]], h_col[hk]
 
 
 def csr_triplets(A):
@@ -416,7 +397,7 @@ def _coupling(b):
 
 def _scaled_free_links(b):
     """κ H_f: the links at the free dofs, scaled as in the saddle matrix."""
-    hv, hr, hc = free_links(b["H"], _positions(b), b["kappa"])
+    hv, hr, hc = free_blocks(b["K"], b["H"], b["fixed"], b["translational"])[4]
     return sp.csr_matrix((hv, (hr, hc)), shape=(b["nf"], b["H"].shape[1]))
 
 

@@ -285,137 +285,38 @@ def _trapezoid(load, c, s):
     return a1[0], a1[1], a2[0], a2[1]
 
 
-def _timoshenko(x, L, phi):
-    """The transverse displacement and rotation interpolations of the exact
-    Timoshenko element (interdependent interpolation, Reddy): rows v_i, θ_i,
-    v_j, θ_j; columns the points x.  φ = 12EI/(G A_s L²); φ = 0 gives the
-    Hermite cubics and their derivatives."""
-    powers = _powers(x, L, phi)
-    return _deflections(*powers, L, phi), _rotations(*powers, L, phi)
-
-
-def _powers(x, L, phi):
-    """(ξ, ξ², ξ³, 1/(1 + φ)) at the points x: the powers once (the same
-    numbers: each was evaluated six times, a third of the member loads'
-    share of a 400-member beam's assembly)."""
-    xi = np.atleast_1d(np.asarray(x, float)) / L
-    return xi, xi ** 2, xi ** 3, 1.0 / (1.0 + phi)
-
-
-def _deflections(xi, xi2, xi3, f, L, phi):
-    """:func:`_timoshenko`'s displacement interpolation Nv alone (what a
-    distributed load is integrated against: its rotations were made and
-    dropped, a fifth of the equivalent loads' array expressions)."""
-    return f * np.array([1 - 3 * xi2 + 2 * xi3 + phi * (1 - xi),
-                         L * (xi - 2 * xi2 + xi3 + 0.5 * phi * (xi - xi2)),
-                         3 * xi2 - 2 * xi3 + phi * xi,
-                         L * (-xi2 + xi3 - 0.5 * phi * (xi - xi2))])
-
-
-def _rotations(xi, xi2, xi3, f, L, phi):
-    """:func:`_timoshenko`'s rotation interpolation Nt."""
-    return f * np.array([6 * (xi2 - xi) / L,
-                         1 - 4 * xi + 3 * xi2 + phi * (1 - xi),
-                         6 * (xi - xi2) / L,
-                         -2 * xi + 3 * xi2 + phi * xi])
-
-
 def equivalent_nodal(load: MemberLoad, L: float, c: float, s: float,
                      phi: float = 0.0) -> np.ndarray:
     """Consistent nodal loads (member axes, order ux, uy, rz at i then j) of
     a load on a flexible element of length L: forces against the element's
     own displacement interpolation, a moment against its rotation — for the
     Timoshenko element (φ > 0) the interdependent interpolation, which makes
-    them its exact fixed-end forces as the Hermite cubics do for φ = 0."""
-    if load.kind == "point":
-        px, py = _local(load.axes, c, s, *load.values[:2])
-        Nv, Nt = (a[:, 0] for a in _timoshenko(load.a, L, phi))
-        xi = load.a / L
-        trans = py * Nv + load.values[2] * Nt
-        return np.array([px * (1 - xi), trans[0], trans[1], px * xi, trans[2], trans[3]])
-    wx1, wy1, wx2, wy2 = _trapezoid(load, c, s)
-    if load.b <= load.a:
-        return np.zeros(6)
-    xs, ws = _gauss(load.a, load.b)
-    t = (xs - load.a) / (load.b - load.a)
-    qx, qy = wx1 + t * (wx2 - wx1), wy1 + t * (wy2 - wy1)
-    Nv = _deflections(*_powers(xs, L, phi), L, phi)
-    trans = (Nv * qy) @ ws
-    xi = xs / L
-    return np.array([(qx * (1 - xi)) @ ws, trans[0], trans[1], (qx * xi) @ ws, trans[2],
-                     trans[3]])
+    them its exact fixed-end forces as the Hermite cubics do for φ = 0
+    (:func:`equivalent_nodal_many` of the one load)."""
+    return equivalent_nodal_many([load], [L], [c], [s], [phi])[0]
 
 
 def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     """:func:`equivalent_nodal` of many loads at once, (n, 6): load k on a
     flexible element of length L[k], direction (c[k], s[k]), parameter
-    phi[k] — the assembly's path for members without rigid end zones (one
-    array expression instead of a Python call per load: a 400-member beam
-    spent 12 ms there).  The same arithmetic as :func:`equivalent_nodal`,
-    load by load."""
-    out = np.zeros((len(loads), 6))
-    if not loads:
-        return out
-    L, c, s, phi = (np.asarray(v, float) for v in (L, c, s, phi))
+    phi[k], in one compiled pass (:func:`._frame_kernels.equivalent_loads`:
+    as array expressions dozens of NumPy calls; a Python call per load
+    before that: a 400-member beam spent 12 ms there)."""
+    from ._frame_kernels import equivalent_loads
     # one pass over the loads: their axes, kind, stretch and four values
     # (a point load's (fx, fy, mz, 0)) as the rows of one array, read by
     # fromiter (np.array of 400 tuples: a third of this function's time)
     table = np.fromiter(chain.from_iterable(map(attrgetter("row"), loads)), float,
                         8 * len(loads)).reshape(-1, 8)
-    local, point = table[:, 0] > 0, table[:, 1] > 0
-    a, b, vals = table[:, 2], table[:, 3], table[:, 4:]
-    some_local, all_local = local.any(), local.all()
-
-    def to_member(fx, fy):
-        # np.where's choice, without it where every load is in one kind of axes
-        if not some_local:
-            return c * fx + s * fy, -s * fx + c * fy
-        if all_local:
-            return fx, fy
-        return (np.where(local, fx, c * fx + s * fy), np.where(local, fy, -s * fx + c * fy))
-
-    if point.any():
-        k = point
-        px, py = to_member(vals[:, 0], vals[:, 1])
-        Nv, Nt = _timoshenko(a[k, None], L[k, None], phi[k, None])
-        trans = py[k, None] * Nv[..., 0].T + vals[k, 2, None] * Nt[..., 0].T
-        xi = a[k] / L[k]
-        out[k] = np.c_[px[k] * (1 - xi), trans[:, :2], px[k] * xi, trans[:, 2:]]
-    k = ~point & (b > a)
-    if k.any():
-        w1x, w1y = to_member(vals[:, 0], vals[:, 1])
-        w2x, w2y = to_member(vals[:, 2], vals[:, 3])
-        if not k.all():
-            w1x, w1y, w2x, w2y, a, b, L, phi = (v[k] for v in (w1x, w1y, w2x, w2y, a, b, L,
-                                                               phi))
-        n = len(a)
-        # where every load has the same stretch on members of one length
-        # and φ (a uniform mesh under full-length loads: the benchmark's
-        # beams, a tower's floors), the Gauss points, weights and shapes
-        # are the same numbers for all: made once and repeated (NumPy's
-        # power gives a value's cube wherever it stands in an array)
-        geo = a, b, L, phi
-        one = slice(0, 1) if all((v == v[0]).all() for v in geo) else slice(None)
-        a, b, L, phi = (v[one] for v in geo)
-        t, wg = _GAUSS
-        half = 0.5 * (b - a)[:, None]
-        xs = half * t + 0.5 * (a + b)[:, None]
-        ws = half * wg
-        u = (t + 1.0) / 2.0
-        qx = w1x[:, None] + u * (w2x - w1x)[:, None]
-        qy = w1y[:, None] + u * (w2y - w1y)[:, None]
-        Nv = _deflections(*_powers(xs, L[:, None], phi[:, None]), L[:, None], phi[:, None])
-        xi = xs / L[:, None]
-        if len(a) < n:    # the einsum below on the same layout as the loads'
-            Nv = np.repeat(Nv, n, axis=1)
-        trans = np.einsum("inj,nj->ni", Nv, qy * ws)
-        dist = np.empty((n, 6))
-        dist[:, 0] = (qx * (1 - xi) * ws).sum(1)
-        dist[:, 1:3] = trans[:, :2]
-        dist[:, 3] = (qx * xi * ws).sum(1)
-        dist[:, 4:] = trans[:, 2:]
-        out[k] = dist
-    return out
+    L, c, s, phi = (np.asarray(v, float) for v in (L, c, s, phi))
+    # ξ³ at a point load's position and a trapezoid's Gauss points by
+    # NumPy's power (its vector library's rounding, which the kernel's
+    # x·x·x and libm's pow do not give bit for bit)
+    t, wg = _GAUSS
+    a, b = table[:, 2:3], table[:, 3:4]
+    half = 0.5 * (b - a)
+    x = np.where(table[:, 1:2] > 0, a, half * t + 0.5 * (a + b))
+    return equivalent_loads(table, L, c, s, phi, (x / L[:, None]) ** 3, t, wg)
 
 
 def _clip(load: MemberLoad, lo: float, hi: float, shift: float = 0.0):

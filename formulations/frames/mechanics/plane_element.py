@@ -22,15 +22,6 @@ from .second_order import stability_functions
 DOFS = ("ux", "uy", "rz")
 
 
-def beam_k(E, A, I, L, phi=0.0) -> np.ndarray:
-    """Local stiffness of 2-D frame elements, (6, 6) or (m, 6, 6) for arrays:
-    Euler-Bernoulli for φ = 0, Timoshenko (shear deformation, φ =
-    12EI/(G A_s L²)) otherwise."""
-    E, A, I, L, phi = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, phi)))
-    f = E * I / (L * (1.0 + phi))
-    return beam_layout(E * A / L, 12 * f / L ** 2, 6 * f / L, (4 + phi) * f, (2 - phi) * f)
-
-
 def beam_column_k(E, A, I, L, N) -> np.ndarray:
     """Local stiffness (m, 6, 6) of Euler–Bernoulli members carrying axial
     forces N (tension positive): Livesley's stability functions s, s c of
@@ -58,7 +49,8 @@ def beam_layout(a, vv, vt, tt, tc) -> np.ndarray:
     """The (…, 6, 6) matrix of a plane member in its axes, end dofs (u, v,
     θ) at i then j, from its axial term a, transverse vv, transverse-to-
     rotation vt, rotation tt and carried-over rotation tc (first order:
-    EA/L, 12EI/L³, 6EI/L², 4EI/L, 2EI/L)."""
+    EA/L, 12EI/L³, 6EI/L², 4EI/L, 2EI/L, which the compiled
+    :func:`._frame_kernels.plane_members` lays out the same way)."""
     k = np.zeros(np.shape(a) + (6, 6))
     k[..., 0, 0] = k[..., 3, 3] = a
     k[..., 0, 3] = k[..., 3, 0] = -a
@@ -137,21 +129,16 @@ def member_locals(frame, xy, idx, col, axial=None):
           0.0 if m.GAs is None else m.GAs,
           m.hinge_i or m.hinge_j or m.spring_i is not None or m.spring_j is not None,
           len(m.loads)) for m in ms]), float, 10 * nm).reshape(nm, 10).T
-    ii, jj = i3.astype(int) // 3, j3.astype(int) // 3
-    d = xy[jj] - xy[ii]
-    L = np.hypot(d[:, 0], d[:, 1])
-    c, s = d[:, 0] / L, d[:, 1] / L
-    Lf = L - oi - oj
-    phi = np.divide(12.0 * E * I, GAs * Lf ** 2, out=np.zeros(nm), where=GAs > 0)
-    if axial is None:
-        k_all = beam_k(E, A, I, Lf, phi)
-    else:
+    # the members' geometry, first-order stiffness, rotations and dofs in
+    # one compiled loop (as array expressions: dozens of NumPy calls)
+    from ._frame_kernels import plane_members
+    L, c, s, Lf, phi, k_all, T, dofs = plane_members(i3, j3, E, A, I, oi, oj, GAs, xy)
+    if axial is not None:
+        # Timoshenko members: the first-order k plus the consistent geometric
+        # stiffness; Euler–Bernoulli ones: the stability functions
         axial = np.asarray(axial, float)
-        k_all = np.where((phi > 0)[:, None, None],
-                         beam_k(E, A, I, Lf, phi) + consistent_geometric_k(Lf, axial),
+        k_all = np.where((phi > 0)[:, None, None], k_all + consistent_geometric_k(Lf, axial),
                          beam_column_k(E, A, I, Lf, axial))
-    T = rotation(c, s)
-    dofs = 3 * np.repeat(np.column_stack((ii, jj)), 3, axis=1) + np.array([0, 1, 2, 0, 1, 2])
     has_offset = (oi > 0) | (oj > 0)
     offset = np.flatnonzero(has_offset).tolist()
     Fe = np.zeros((nm, 6, len(col)))

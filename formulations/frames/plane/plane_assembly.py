@@ -14,7 +14,7 @@ import scipy.sparse as sp
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics.contact_lcp import Built, basic_system, stiffness_matrix
+from ..mechanics.contact_lcp import Built, basic_system, global_stiffness
 from ..mechanics.loads import CONSTANT, VARIABLE
 from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.plane_element import DOFS, member_locals
@@ -37,7 +37,8 @@ def cases(frame) -> list:
 def assemble(frame, axial=None):
     """K (CSR), loads F and settlements U (one column per case), the fixed
     dofs, the members' local data for the results (k, T, dofs, Fe) and the
-    nodes' coordinates: all members at once (K from one COO array)."""
+    nodes' coordinates: all members at once (K and the members' loads F
+    in one compiled pass: :func:`..mechanics.contact_lcp.global_stiffness`)."""
     names = list(frame.nodes)
     idx = dict(zip(names, range(0, 3 * len(names), 3)))
     N = 3 * len(names)
@@ -48,21 +49,11 @@ def assemble(frame, axial=None):
     col = {c: k for k, c in enumerate(case_list)}
     nc = len(case_list)
     if frame.members:
-        k_all, T, dofs, Fe = member_locals(frame, xy, idx, col, axial)
-        Tt = T.transpose(0, 2, 1)
-        kg = Tt @ k_all @ T          # batched matmul: 10x einsum's three-operand path
-        rows = [np.repeat(dofs, 6, axis=1).ravel()]
-        cols = [np.broadcast_to(dofs[:, None, :], kg.shape).ravel()]
-        vals = [kg.ravel()]
-        # the members' loads summed dof by dof in member order, as np.add.at
-        # did (bincount: the same sums, a tenth of its time)
-        F = np.bincount((dofs[..., None] * nc + np.arange(nc)).ravel(),
-                        (Tt @ Fe).ravel(), N * nc).reshape(N, nc)
+        local = member_locals(frame, xy, idx, col, axial)
     else:
-        k_all, T = np.zeros((0, 6, 6)), np.zeros((0, 6, 6))
-        dofs, Fe = np.zeros((0, 6), int), np.zeros((0, 6, nc))
-        rows, cols, vals = [], [], []
-        F = np.zeros((N, nc))
+        local = (np.zeros((0, 6, 6)), np.zeros((0, 6, 6)), np.zeros((0, 6), np.int64),
+                 np.zeros((0, 6, nc)))
+    K, F = global_stiffness(local, frame.springs, idx, DOFS, N)
     if frame.nodal_loads:
         # added one by one in the loads' order, as a loop over them did
         # (np.add.at's order; the loop cost 2 µs a load)
@@ -74,7 +65,6 @@ def assemble(frame, axial=None):
     U = np.zeros_like(F)   # prescribed displacements (settlements) of fixed dofs, per case
     for node, dof, case, value in frame.settlements:
         U[idx[node] + DOFS.index(dof), col[case]] += value
-    K = stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
     Tn = node_axes(frame, idx, N)
     if Tn is not None:     # turned node axes: the system is written in them
         K = (Tn @ K @ Tn.T).tocsr()
@@ -100,7 +90,7 @@ def assemble(frame, axial=None):
         fixed |= free_spin
     # per member, for the results: stiffness, rotation, dofs, and the
     # equivalent nodal loads of every case (member axes), (m, 6, cases)
-    return names, idx, K, F, U, case_list, fixed, (k_all, T, dofs, Fe), Tn, xy
+    return names, idx, K, F, U, case_list, fixed, local, Tn, xy
 
 
 def node_axes(frame, idx, N):
@@ -142,40 +132,30 @@ def contact_table(frame, idx) -> np.ndarray:
 
 def links(frame, idx, N, table=None):
     """H (N x links, sparse CSR), per link its contact index and kind
-    'n'/'t', and the contacts as arrays (:func:`contact_arrays`);
-    ``table``: :func:`contact_table`'s, where made already."""
+    'n'/'t', the contacts as arrays (:func:`contact_arrays`) and the LCP's
+    maps (P, W, g, fric): the link displacements Δ = P z − g and the LCP's
+    w = W X as sparse selections with the friction coefficients (z = Z_n
+    per contact, then Z⁺, Z⁻ per frictional contact; ``fric`` the
+    frictional contacts' indices) — all in one compiled pass over the
+    contacts (:func:`._plane_kernels.contact_links`; as array expressions
+    dozens of NumPy calls on a tower's 17 contacts); ``table``:
+    :func:`contact_table`'s, where made already."""
+    from ._plane_kernels import contact_links
     table = contact_table(frame, idx) if table is None else table
-    nc = len(table)
-    node, other = table[:, 0].astype(int), table[:, 1].astype(int)
-    normal, mu = table[:, 2:4], table[:, 4]
-    fric = mu > 0
-    # links in contact order: n, then t where there is friction
-    n_link = np.arange(nc) + np.concatenate(([0], np.cumsum(fric)[:-1])).astype(int)
-    t_link = np.where(fric, n_link + 1, -1)
+    (n_link, t_link, h_ptr, h_ind, h_val, p_ptr, p_ind, p_val, w_ptr, w_ind, w_val,
+     g) = contact_links(table, N)
+    nl, nz = len(p_ptr) - 1, len(w_ptr) - 1
+    fric = t_link >= 0
     info = [(ci, kind) for ci, f in enumerate(fric.tolist()) for kind in ("n", "t")[:1 + f]]
-    # H's entries (a link's direction at its node's ux, uy; turned at its
-    # other node's), its exact zeros left out, in row then column order:
-    # the canonical CSR the triplets' conversion made, with one scipy
-    # construction instead of three
-    nl = len(info)
-    link_dir = np.empty((nl, 2))
-    link_dir[n_link] = normal
-    link_dir[t_link[fric], 0], link_dir[t_link[fric], 1] = normal[fric, 1], -normal[fric, 0]
-    owner = np.repeat(np.arange(nc), 1 + fric)
-    at, away = node[owner], other[owner]
-    rows = np.concatenate((at, at + 1, away, away + 1))
-    vals = np.concatenate((link_dir[:, 0], link_dir[:, 1], -link_dir[:, 0], -link_dir[:, 1]))
-    keep = (vals != 0.0) & (rows >= 0)
-    keep[2 * nl:] &= np.tile(away >= 0, 2)      # (away + 1 of no other node is 0)
-    rows, cols, vals = rows[keep], np.tile(np.arange(nl), 4)[keep], vals[keep]
-    order = np.argsort(rows * max(nl, 1) + cols, kind="stable")
-    # (int32 indices here and below: scipy keeps them as they are, where
-    # int64 ones are scanned and copied at every construction)
-    H = sp.csr_matrix((vals[order], cols[order].astype(np.int32), np.concatenate(
-        ([0], np.cumsum(np.bincount(rows, minlength=N)))).astype(np.int32)), shape=(N, nl))
-    arrays = dict(n_link=n_link, t_link=t_link, mu=mu, gap=table[:, 5], normal=normal,
-                  node=node // 3, other=np.where(other >= 0, other // 3, -1))
-    return H, info, arrays
+    # (int32 indices: scipy keeps them as they are, where int64 ones are
+    # scanned and copied at every construction)
+    H = sp.csr_matrix((h_val, h_ind, h_ptr), shape=(N, nl))
+    maps = (sp.csr_matrix((p_val, p_ind, p_ptr), shape=(nl, nz)),
+            sp.csr_matrix((w_val, w_ind, w_ptr), shape=(nz, nl)), g, np.flatnonzero(fric).tolist())
+    node, other = table[:, 0].astype(int), table[:, 1].astype(int)
+    arrays = dict(n_link=n_link, t_link=t_link, mu=table[:, 4], gap=table[:, 5],
+                  normal=table[:, 2:4], node=node // 3, other=np.where(other >= 0, other // 3, -1))
+    return H, info, arrays, maps
 
 
 def check_conflicts(frame):
@@ -214,7 +194,7 @@ def build(frame, axial=None):
     names, idx, K, F, U, case_list, fixed, local, Tn, coords = assemble(frame, axial)
     N = K.shape[0]
     table = contact_table(frame, idx)
-    H, info, arrays = links(frame, idx, N, table)
+    H, info, arrays, maps = links(frame, idx, N, table)
     if Tn is not None:
         H = (Tn @ H).tocsr()
     # Elastic contacts: the link's displacement is the structure's plus the
@@ -241,7 +221,7 @@ def build(frame, axial=None):
               fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,
               axial=None if axial is None else np.asarray(axial, float), **basic)
     b["contact_arrays"] = arrays
-    link_maps(frame, b)      # b["maps"], which the shared LCP reads
+    b["maps"] = maps         # which the shared LCP reads
     return b
 
 
@@ -252,45 +232,6 @@ def contact_arrays(frame, b) -> dict:
     if "contact_arrays" not in b:
         b["contact_arrays"] = links(frame, b["idx"], b["K"].shape[0])[2]
     return b["contact_arrays"]
-
-
-def link_maps(frame, b):
-    """(P, W, g, fric): the link displacements Δ = P z - g and the LCP's w =
-    W X as sparse selections with the friction coefficients (z = Z_n per
-    contact, then Z⁺, Z⁻ per frictional contact; ``fric`` the frictional
-    contacts' indices).  Cheap: no R.  Cached in b."""
-    if "maps" in b:
-        return b["maps"]
-    ca = contact_arrays(frame, b)
-    nc = len(frame.contacts)
-    has_t = ca["t_link"] >= 0
-    fric = np.flatnonzero(has_t).tolist()
-    nl = len(b["info"])
-    nz = nc + 2 * len(fric)
-    tl, n_of_t, mu = ca["t_link"][has_t], ca["n_link"][has_t], ca["mu"][has_t]
-    plus = nc + 2 * np.arange(len(fric))
-    # both written as canonical CSR straight away (each row's columns
-    # ascending: a contact's t link follows its n link, Z⁻ follows Z⁺), not
-    # from triplets: two COO -> CSR conversions were a tenth of a tower's build
-    # P's rows: an n link takes its contact's Z_n, a t link Z⁺ − Z⁻
-    twice = np.ones(nl, np.int32)
-    twice[tl] = 2
-    p_ptr = np.concatenate(([0], np.cumsum(twice))).astype(np.int32)
-    p_ind, p_val = np.empty(p_ptr[-1], np.int32), np.ones(p_ptr[-1])
-    p_ind[p_ptr[ca["n_link"]]] = np.arange(nc)
-    p_ind[p_ptr[tl]], p_ind[p_ptr[tl] + 1], p_val[p_ptr[tl] + 1] = plus, plus + 1, -1.0
-    P = sp.csr_matrix((p_val, p_ind, p_ptr), shape=(nl, nz))
-    g = np.zeros(nl)
-    g[ca["n_link"]] = ca["gap"]
-    # rows of w as combinations of the link forces X: X_n; f X_n + X_t; f X_n - X_t
-    w_ptr = np.concatenate((np.arange(nc + 1), nc + 2 * np.arange(1, 2 * len(fric) + 1)))
-    pair = np.column_stack((n_of_t, tl, n_of_t, tl)).ravel()
-    W = sp.csr_matrix((np.concatenate((np.ones(nc), np.column_stack(
-        (mu, np.ones(len(fric)), mu, -np.ones(len(fric)))).ravel())),
-                       np.concatenate((ca["n_link"], pair)).astype(np.int32),
-                       w_ptr.astype(np.int32)), shape=(nz, nl))
-    b["maps"] = (P, W, g, fric)
-    return b["maps"]
 
 
 def release_directions(frame, b):

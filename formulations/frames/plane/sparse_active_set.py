@@ -166,10 +166,11 @@ def _held_start(b, RF, ca, required):
     pulls hardest (X_n < 0 beyond VIOLATION of the forces with every link
     held), else the open one that overlaps most (Z_n = Δ_n + g < 0 beyond
     VIOLATION of |Δ_n| + |g|).  A pivot is a rank-2 update of a 34 x 35
-    array on a 20-storey tower (some 15 NumPy calls), where a state set
-    and its proposal are some 70: its lift-off front moves one or two
-    contacts a state set (seven sets), one a pivot (eleven), and the state
-    sets then start from the closed set they end on (one set).
+    array on a 20-storey tower (:func:`._plane_kernels.held_start`), where
+    a state set and its proposal are some 70 NumPy calls: its lift-off
+    front moves one or two contacts a state set (seven sets), one a pivot
+    (eleven), and the state sets then start from the closed set they end
+    on (one set).
 
     Only a start: the state sets from it decide every state (friction's
     too) and solve the answer as from any start; a start is never an
@@ -177,54 +178,12 @@ def _held_start(b, RF, ca, required):
     cycle), where a pivot block is singular (a release that leaves a
     mechanism), or where the map stops being finite.  ``RF``: R_F [kN] of
     the combination."""
-    R = b["R_solve"]
-    n_link, t_link, gap = ca["n_link"], ca["t_link"], ca["gap"]
-    nl, nc = R.shape[0], n_link.size
-    # a contact's links are its normal and, with friction, the next one
-    # (plane_assembly.links): a slice, whose blocks are views
-    links = [slice(n, n + 1 + (t >= 0)) for n, t in zip(n_link.tolist(), t_link.tolist())]
-    T = np.empty((nl, nl + 1))
-    T[:, :nl], T[:, nl] = R, RF
-    x = np.append(required, 1.0)      # the inputs: Δ held, X released (0), and R_F's 1
-    floor = VIOLATION * (np.abs(R) @ np.abs(required) + np.abs(RF))[n_link]
-    # X_n + pull is negative where a closed contact pulls beyond the floor
-    # (+inf on an open one: one array sum picks the pulls)
-    pull = floor.copy()
-    closed = np.ones(nc, bool)
-    for _ in range(START_PIVOTS * nc):
-        out = T @ x
-        xn = out[n_link]                 # X_n where closed, Δ_n where open
-        pulls = xn + pull
-        c = int(np.argmin(pulls))
-        if not pulls[c] < 0.0:
-            overlap = np.where(closed, np.inf, xn + gap + VIOLATION * (np.abs(xn) + np.abs(gap)))
-            c = int(np.argmin(overlap))
-            if not overlap[c] < 0.0:
-                return closed if np.isfinite(out).all() else None
-        p = links[c]
-        block = T[p, p].tolist()
-        if len(block) == 2:
-            (a, b_), (c_, d) = block
-            det = a * d - b_ * c_
-            if not abs(det) > RCOND_MIN * (abs(a * d) + abs(b_ * c_)):
-                return None
-            inv = np.array([[d / det, -b_ / det], [-c_ / det, a / det]])
-        else:
-            if not block[0][0] != 0.0:
-                return None
-            inv = np.array([[1.0 / block[0][0]]])
-        rows = inv @ T[p]
-        cols = T[:, p].copy()
-        T -= cols @ rows
-        np.matmul(cols, inv, out=T[:, p])
-        np.negative(rows, out=T[p])
-        T[p, p] = inv
-        if closed[c]:
-            x[p], pull[c] = 0.0, np.inf
-        else:
-            x[p], pull[c] = required[p], floor[c]
-        closed[c] = not closed[c]
-    return None
+    from ._plane_kernels import held_start
+    # the pivots in one compiled loop (as array expressions: a sixteenth of
+    # a 20-storey tower's solve)
+    found, closed = held_start(b["R_solve"], RF, required, ca["n_link"], ca["t_link"], ca["gap"],
+                               VIOLATION, RCOND_MIN, START_PIVOTS)
+    return closed if found else None
 
 
 def _proposal(found, closed, slip, n_link, tl, has_t, mu, gap):

@@ -29,9 +29,7 @@ def assemble(frame, axial=None):
     N = 6 * len(names)
     cases = frame.load_cases
     col = {c: k for k, c in enumerate(cases)}
-    F = np.zeros((N, len(cases)))
     ms = list(frame.members.values())
-    rows, cols, vals = [], [], []
     m = len(ms)
     k_local, T = np.zeros((m, 12, 12)), np.zeros((m, 12, 12))
     dofs, Fe = np.zeros((m, 12), int), np.zeros((m, 12, len(cases)))
@@ -79,14 +77,9 @@ def assemble(frame, axial=None):
             if axial is not None:    # each rigid arm's own P-Δ, N o (θy² + θz²)/2
                 for at, o in ((4, offsets[k, 0]), (10, offsets[k, 1])):
                     k_local[k][[at, at + 1], [at, at + 1]] += axial[k] * o
-        kg = T.transpose(0, 2, 1) @ k_local @ T
-        rows.append(np.repeat(dofs, 12, axis=1).ravel())
-        cols.append(np.tile(dofs, (1, 12)).ravel())
-        vals.append(kg.ravel())
-        np.add.at(F, dofs.ravel(), (T.transpose(0, 2, 1) @ Fe).reshape(-1, len(cases)))
+    K, F = contact_lcp.global_stiffness((k_local, T, dofs, Fe), frame.springs, idx, DOFS, N)
     for node, v, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 6, col[case]] += v
-    K = contact_lcp.stiffness_matrix(rows, cols, vals, frame.springs, idx, DOFS, N)
     Tn = node_axes(frame, idx, N)
     if Tn is not None:     # turned node axes: the system is written in them
         K = (Tn @ K @ Tn.T).tocsr()
@@ -231,7 +224,7 @@ def links(frame, idx, N):
 
 
 def lcp_maps(frame, info):
-    """(P, W, g, fric) as :func:`..plane.plane_assembly.link_maps` gives the plane
+    """(P, W, g, fric) as :func:`..plane.plane_assembly.links` gives the plane
     frame's: Δ = P z - g, w = W X; z = Z_n per contact, then the slips
     along each facet direction of each frictional contact."""
     nl = len(info)
