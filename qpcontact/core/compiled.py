@@ -34,7 +34,14 @@ class _CompileClock(event.Listener):
     thread that compiles, so each thread's compiling moves only its own
     deadlines; its CPU is that thread's (``time.thread_time``), not the
     process's, which would take another thread's work meanwhile off too.
-    Loading a kernel from the on-disk cache is not a compile event."""
+    Timed from the thread's asking for numba's compiler lock, not from its
+    compile event, which starts once the lock is held: a thread that needs
+    a kernel while another thread compiles waits for the lock, and that
+    wait is its own kernel's one-time cost too (two threads solving plane
+    frames on a cold cache each compiled some of the frames' kernels and
+    waited out the other's: both stopped at a 3 s limit that either met
+    alone).  numba loads a kernel from the on-disk cache under the lock
+    too, so that load is left out with it."""
 
     def __init__(self):
         self.depth = threading.local()
@@ -46,13 +53,22 @@ class _CompileClock(event.Listener):
         self.depth.n = depth + 1
 
     def on_end(self, ev):
-        self.depth.n -= 1
-        if self.depth.n == 0:
+        # an end without its start: the clock was registered while this
+        # thread held the lock (another library's compiling), nothing to time
+        depth = getattr(self.depth, "n", 0)
+        if depth == 0:
+            return
+        self.depth.n = depth - 1
+        if depth == 1:
             wall, cpu = self.depth.started
             exclude_one_time(time.perf_counter() - wall, time.thread_time() - cpu)
 
 
-event.register("numba:compile", _CompileClock())
+_CLOCK = _CompileClock()
+# the compiler lock's events span the wait for it and the compiling inside
+# it (the compile events nest in them: the clock times the outermost)
+event.register("numba:compiler_lock", _CLOCK)
+event.register("numba:compile", _CLOCK)
 
 
 def fallback_cache_dir() -> str:

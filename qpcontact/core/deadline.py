@@ -27,7 +27,9 @@ __all__ = ["Deadline", "CpuShare", "Pace", "check_time_limit", "grace", "exclude
 #: it delays the answer instead, as grace's docstring states.  Per thread: a
 #: deadline is moved only by its own thread's compiling, not by a kernel
 #: another thread compiles meanwhile (the process-wide sum extended every
-#: thread's deadlines by every thread's compiling).
+#: thread's deadlines by every thread's compiling).  A thread that needs a
+#: kernel while another thread compiles waits for numba's compiler lock:
+#: that wait is its own kernel's one-time cost, left out with its compiling.
 _THREAD = threading.local()
 
 

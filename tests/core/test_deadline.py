@@ -123,6 +123,43 @@ def test_a_deadline_is_moved_by_its_own_threads_compiling_only():
     assert cpu_moved >= cpu_used - 0.5 * there["took"], (cpu_moved, cpu_used, there)
 
 
+def test_a_thread_waiting_for_the_compiler_lock_leaves_the_wait_out():
+    """A thread that needs a kernel while another thread holds numba's
+    compiler lock waits for it, then compiles: the wait is its kernel's
+    one-time cost as much as the compiling, and its deadlines leave both
+    out (timed from its compile event alone, a second's wait ate a second
+    of its limit: two threads solving plane frames on a cold cache each
+    compiled some of the frames' kernels, waited out the other's, and both
+    stopped at a 3 s limit that either met alone).  The thread holding the
+    lock here stands for the other thread's compiling."""
+    import threading
+
+    from numba.core.compiler_lock import global_compiler_lock
+
+    from qpcontact.core.compiled import njit
+
+    @njit(cache=False)
+    def once(x):             # compiled on its first call, on the worker, after the wait
+        return x * 7.0 - 4.0
+
+    there = {}
+
+    def work():
+        d = Deadline(100.0)
+        before, start = d.left(), time.perf_counter()
+        there["result"] = once(1.0)
+        there["took"] = time.perf_counter() - start
+        there["moved"] = before - d.left()
+
+    worker = threading.Thread(target=work)
+    with global_compiler_lock:
+        worker.start()
+        time.sleep(1.0)
+    worker.join()
+    assert there["result"] == 3.0 and there["took"] >= 1.0, there       # it waited
+    assert there["moved"] < 0.5, there                                  # wait and compile left out
+
+
 def test_a_share_handed_to_a_worker_leaves_out_the_workers_compiling():
     """A share of this thread's deadline made on a worker thread runs on the
     worker's clock from the hand-over: the seconds left are the same then,

@@ -375,3 +375,31 @@ def test_a_moment_on_a_pin_joint_is_refused():
     fr.add_load("B", mz=50.0)
     with pytest.raises(InvalidProblemError, match="node 'B': a moment is applied where no"):
         fr.solve()
+
+
+@pytest.mark.parametrize("rigid", [False, True])
+def test_a_node_on_springs_and_a_contact_alone_is_solved(rigid):
+    """A frame of no member — a node on springs to the ground and a
+    contact, rigid or elastic — is a sound model: the load goes into the
+    spring and the contact by hand.  The contact checks' force scale was
+    summed by a bincount of no weights, integers, which the springs' terms
+    could not be added to (UFuncTypeError, plane and space frames alike)."""
+    from formulations.frames.space.space_frame import SpaceFrame
+
+    fr = Frame()
+    fr.add_node("a", 0.0, 0.0)
+    fr.add_spring("a", ux=1e3, rz=1e3)
+    fr.add_contact("a", normal=(0.0, 1.0), stiffness=None if rigid else 1e4)
+    fr.add_load("a", fx=0.5, fy=-1.0)
+    r = fr.solve()
+    assert r.ok, r.message
+    _close(r.displacements["a"], (0.5 / 1e3, 0.0 if rigid else -1.0 / 1e4, 0.0))
+    assert r.supports["a"].normal == pytest.approx(1.0, rel=1e-12)
+    sf = SpaceFrame()
+    sf.add_node("a", 0.0, 0.0, 0.0)
+    sf.add_spring("a", ux=1e3, uy=1e3, rx=1e3, ry=1e3, rz=1e3)
+    sf.add_contact("a", stiffness=None if rigid else 1e4)
+    sf.add_load("a", fz=-1.0)
+    r = sf.solve()
+    assert r.ok, r.message
+    _close(r.displacements["a"], (0.0, 0.0, 0.0 if rigid else -1.0 / 1e4, 0.0, 0.0, 0.0), scale=1e-4)
