@@ -98,6 +98,11 @@ def check_units(units) -> tuple:
     return tuple(units)
 
 
+#: the stiffest semi-rigid end spring taken [moment per radian]: its
+#: condensation squares it, which overflows past ~1.3e154 into a NaN
+#: stiffness; any joint near this is rigid (leave the spring out)
+SPRING_MAX = 1e100
+
 def no_member_between(joined: dict, i: str, j: str, what: str) -> None:
     """InvalidProblemError if a member joins the nodes i and j already, in
     either direction.  ``joined`` maps each member's node pair (a

@@ -19,8 +19,8 @@ from qpcontact.core.errors import InvalidProblemError
 from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
 from ..mechanics.analysis_results import keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
-from ..mechanics.loads import (CONSTANT, VARIABLE, MemberLoad, add_settlements, case_name,
-                               check_axes, check_units, known_member, known_node,
+from ..mechanics.loads import (CONSTANT, SPRING_MAX, VARIABLE, MemberLoad, add_settlements,
+                               case_name, check_axes, check_units, known_member, known_node,
                                no_member_between, no_same_contact, number, pair_node,
                                support_keys)
 from ..mechanics.plane_element import DOFS, geometry
@@ -145,9 +145,10 @@ class Frame:
         for v, hinged, end in ((spring_i, hinge_i, "i"), (spring_j, hinge_j, "j")):
             if v is not None:
                 v = number(v, f"{what}: spring_{end}")
-                if v < 0:
-                    raise InvalidProblemError(f"{what}: spring_{end} must be >= 0 (moment per "
-                                              f"radian); got {v}")
+                if not 0 <= v <= SPRING_MAX:
+                    raise InvalidProblemError(
+                        f"{what}: spring_{end} must be in [0, {SPRING_MAX:g}] (moment per "
+                        f"radian; stiffer is rigid: leave it out); got {v}")
                 if hinged:
                     raise InvalidProblemError(f"{what}: give hinge_{end}=True or spring_{end}=, "
                                               "not both (a hinge is a spring of 0)")

@@ -55,8 +55,8 @@ from qpcontact.core.errors import InvalidProblemError
 from ..mechanics import friction_export, second_order_analysis, solving, tracing
 from ..mechanics.analysis_results import hand_over, keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
-from ..mechanics.loads import (CONSTANT, VARIABLE, add_settlements, case_name, check_axes,
-                               check_units, known_member, known_node,
+from ..mechanics.loads import (CONSTANT, SPRING_MAX, VARIABLE, add_settlements, case_name,
+                               check_axes, check_units, known_member, known_node,
                                no_member_between, no_same_contact, number, pair_node,
                                support_keys)
 from ..mechanics.space_element import END_ROTATIONS, axes
@@ -172,9 +172,9 @@ def end_springs(spring, what: str) -> dict:
             raise InvalidProblemError(f"{what}: rotations among {tuple(END_ROTATIONS)} in member "
                                       f"axes; got {r!r}")
         out[r] = number(v, f"{what}: {r}")
-        if out[r] < 0:
-            raise InvalidProblemError(f"{what}: {r} must be >= 0 (moment per radian); got "
-                                      f"{out[r]}")
+        if not 0 <= out[r] <= SPRING_MAX:
+            raise InvalidProblemError(f"{what}: {r} must be in [0, {SPRING_MAX:g}] (moment per "
+                                      f"radian; stiffer is rigid: leave it out); got {out[r]}")
     return out
 
 

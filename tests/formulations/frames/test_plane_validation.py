@@ -350,6 +350,11 @@ def _two_nodes():
 @pytest.mark.parametrize("add, words", [
     (lambda fr: fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4, name="M1"),
      "member 'M1' exists already; give another name"),
+    # a spring whose condensation overflows (its square: ~1.3e154) made the
+    # member's stiffness NaN: an internal matrix's refusal, or an answer
+    # with an infinite residual
+    (lambda fr: fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4, name="M2", spring_j=1e155),
+     r"member 'M2': spring_j must be in \[0, 1e\+100\].*rigid: leave it out\); got 1e\+155"),
     (lambda fr: fr.add_member("B", "A", E=2e8, A=0.01, I=1e-4),
      "member B-A: nodes 'B' and 'A' are joined already by member 'M1'.*combined section"),
     (lambda fr: fr.add_member("A", "B", E=2e8, A=0.01, I=1e-4, name="M2"),
