@@ -218,8 +218,7 @@ def past_own_buckling(frame, N) -> str:
             "their nodes") if names else ""
 
 
-
-def _bending_load(values, axis, local: bool, point: bool) -> float:
+def _bending_load(values, axis, local: bool, point: bool) -> tuple[float, float]:
     """(F/4, |M|) of one member load: F the force across the axis (a
     distributed load's per unit length, times L² for |W| L/4: any
     distribution on a simple span; a point force's times 4a(L − a)/L for

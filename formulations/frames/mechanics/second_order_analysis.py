@@ -110,11 +110,11 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         if error <= tol:
             break
         N = N_new
-    stable, buckled = None, past_own_buckling(frame, b["axial"])
-    if b["free"].size <= DENSE_DOFS:
+    buckled = past_own_buckling(frame, b["axial"])
+    stable = False if buckled else None     # a member past its own buckling: no count needed
+    if stable is None and b["free"].size <= DENSE_DOFS:
         stable = negative_eigenvalues(
             reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))) == 0
-    stable = False if buckled else stable
     res.second_order = {"rounds": rounds, "axial_error": error,
                         "axial": dict(zip(frame.members, N)), "stable": stable}
     words = (f"second order (P-Δ and P-δ): the axial forces that built the stiffness agree "
