@@ -63,15 +63,21 @@ def test_all_soil_pressed_equals_the_bilateral_springs():
     assert alone.ok and alone.lifted.any()
 
 
+def _stiff_strip(e, cells=80, B=4.0, L=1.0, P=100.0):
+    """A strip B x L, 2 m thick (E = 1e9: D/(k B⁴) = 2.6e3), on k = 1e3, under a
+    line load P across it at eccentricity e (a 50 mm patch), solved."""
+    raft = Raft(B, L, thickness=2.0, E=1e9, nu=0.0, cells=(cells, 2))
+    raft.add_soil(1e3)
+    x = B / 2 + e
+    raft.add_patch_load(x - 0.025, 0.0, x + 0.025, L, P / (0.05 * L))
+    return raft.solve()
+
+
 def test_rigid_raft_beyond_the_kern_has_the_triangular_pressure_block():
     """A very stiff strip B x L, a line load P across it at eccentricity
     e > B/6: contact over 3(B/2 − e) from the far edge, peak 2P/(3 L (B/2 − e))."""
     B, L, P, e = 4.0, 1.0, 100.0, 1.0
-    raft = Raft(B, L, thickness=2.0, E=1e9, nu=0.0, cells=(80, 2))
-    raft.add_soil(1e3)
-    x = B / 2 + e
-    raft.add_patch_load(x - 0.025, 0.0, x + 0.025, L, P / (0.05 * L))
-    res = raft.solve()
+    res = _stiff_strip(e)
     assert res.ok, res.message
     edge = np.isclose(res.mesh.nodes[:, 0], B)
     peak = res.pressure[edge].mean()
@@ -318,11 +324,7 @@ def test_a_stiff_strip_at_the_kerns_edge(kern):
     3(B/2 − e) = 3.8 m to one cell.  The largest pressure is the edge's."""
     B, L, P = 4.0, 1.0, 100.0
     e = kern * B / 6
-    raft = Raft(B, L, thickness=2.0, E=1e9, nu=0.0, cells=(80, 2))
-    raft.add_soil(1e3)
-    x = B / 2 + e
-    raft.add_patch_load(x - 0.025, 0.0, x + 0.025, L, P / (0.05 * L))
-    res = raft.solve()
+    res = _stiff_strip(e)
     assert res.ok, res.message
     peak = 2 * P / (3 * L * (B / 2 - e)) if kern > 1 else P / (B * L) * (1 + 6 * e / B)
     assert res.pressure.max() == pytest.approx(peak, rel=5e-4)
@@ -337,12 +339,7 @@ def test_a_raft_too_stiff_for_its_soil_says_why_it_is_not_certified():
     against terms that cancel — a nearly rigid motion of a stiff plate —
     and the answer is not ok.  The message said "the error is 2.74e-10 >
     1e-06", which is false; it now says what the doubt is and what to do."""
-    B, L, P = 4.0, 1.0, 100.0
-    raft = Raft(B, L, thickness=2.0, E=1e9, nu=0.0, cells=(20, 2))
-    raft.add_soil(1e3)
-    x = B / 2 + 2.9 * B / 6
-    raft.add_patch_load(x - 0.025, 0.0, x + 0.025, L, P / (0.05 * L))
-    res = raft.solve()
+    res = _stiff_strip(2.9 * 4.0 / 6, cells=20)
     assert not res.ok
     assert "the error is" not in res.message
     assert "so stiff against its soil" in res.message and "rigid raft's statics" in res.message
