@@ -259,24 +259,6 @@ def _local(axes, c, s, fx, fy):
     return c * fx + s * fy, -s * fx + c * fy
 
 
-# Hermite/linear shape functions as polynomials in xi = x/L (columns: 1, xi,
-# xi², xi³); the rotation rows (2, 5) carry a factor L.
-_N_POLY = np.array([[1, -1, 0, 0], [1, 0, -3, 2], [0, 1, -2, 1],
-                    [0, 1, 0, 0], [0, 0, 3, -2], [0, 0, -1, 1]], float)
-_DN_POLY = np.c_[_N_POLY[:, 1:] * (1, 2, 3), np.zeros(6)]
-
-
-def shape_functions(x, L):
-    """Shape functions and their x-derivatives at x (member axes): (6,) for
-    a number, (6, len(x)) for an array."""
-    xi = np.asarray(x, float) / L
-    powers = xi[..., None] ** np.arange(4)      # (..., 4)
-    scale = np.array([1, 1, L, 1, 1, L])
-    N = scale[:, None] * (_N_POLY @ powers.T) if xi.ndim else scale * (_N_POLY @ powers)
-    dN = (scale[:, None] * (_DN_POLY @ powers.T) if xi.ndim else scale * (_DN_POLY @ powers)) / L
-    return N, dN
-
-
 def _gauss(a, b):
     t, w = _GAUSS
     return 0.5 * (b - a) * t + 0.5 * (a + b), 0.5 * (b - a) * w
