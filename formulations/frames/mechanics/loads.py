@@ -306,7 +306,7 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     return equivalent_loads(table, L, c, s, phi, (x / L[:, None]) ** 3, t, wg)
 
 
-def _clip(load: MemberLoad, lo: float, hi: float, shift: float = 0.0):
+def clipped(load: MemberLoad, lo: float, hi: float, shift: float = 0.0):
     """The part of a load on [lo, hi], positions moved by -shift (None if
     nothing lies there); a trapezoid's values interpolated at the cuts."""
     if load.kind == "point":
@@ -348,10 +348,10 @@ def offset_parts(load: MemberLoad, L: float, c: float, s: float, phi: float, off
     at the node)."""
     oi, oj = offsets
     rigid = np.zeros(6)
-    flex = _clip(load, oi, L - oj, shift=oi)
+    flex = clipped(load, oi, L - oj, shift=oi)
     fe = np.zeros(6) if flex is None else equivalent_nodal(flex, L - oi - oj, c, s, phi)
     for lo, hi, node, about in ((0.0, oi, 0, 0.0), (L - oj, L, 3, L)):
-        part = _clip(load, lo, hi) if hi > lo else None
+        part = clipped(load, lo, hi) if hi > lo else None
         # a point load exactly at the face is the flexible element's
         if part is not None and not (part.kind == "point" and flex is not None):
             rigid[node:node + 3] += _rigid_transfer(part, c, s, about)

@@ -237,6 +237,21 @@ def _bending_load(values, axis, local: bool, point: bool) -> tuple[float, float]
     return across / 4.0, float(np.linalg.norm(moments))
 
 
+def _axial_load(load, d, oi, oj) -> float:
+    """|ΔN| of one member load on a plane member (node i to j along d,
+    rigid end zones oi, oj) over its flexible length: its force along the
+    axis (a distributed one's largest |w| times its stretch there, at
+    most; a point force at a zone's face or on it none)."""
+    length = float(np.linalg.norm(d))
+    axis = d / length
+    v = np.asarray(load.values, float)
+    along = [v[0:2]] if load.kind == "point" else [v[0:2], v[2:4]]
+    size = max(abs(f[0]) if load.axes == "member" else abs(float(f @ axis)) for f in along)
+    if load.kind == "point":
+        return size if oi < load.a < length - oj else 0.0
+    return size * max(0.0, min(load.b, length - oj) - max(load.a, oi))
+
+
 def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     """Words naming the members whose second-order answer stays first
     order in part (module docstring) by more than ``tol``, or "": their
@@ -262,12 +277,21 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         pairs = [(ld.member, ld) for ld in frame.span_loads]
     else:
         pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
+    # a plane Euler–Bernoulli member carries its loads as the beam-column
+    # (mechanics.beam_column) but for their axial parts, which make N vary
+    # along it about the mean its element takes: their sum ΔN per member
+    beam_column = np.array([not isinstance(m, dict) and m.GAs is None
+                            for m in frame.members.values()])
+    spread = np.zeros(len(frame.members))
     for name, ld in pairs:
         if ld.case not in active:
             continue
         k, m = index[name], frame.members[name]
         i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
         d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
+        if beam_column[k]:
+            spread[k] += abs(combination[ld.case]) * _axial_load(ld, d, m.offset_i, m.offset_j)
+            continue
         force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
                                       ld.kind == "point")
         span = L[k] * L[k]
@@ -292,6 +316,19 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         words.append(f"the span loads of member(s) {_worst(frame, N, off, hit, 'its moments')} "
                      "act with first-order fixed-end forces and diagrams, not the "
                      "beam-column's (P-δ along a loaded member is not in the element)")
+    # N(x) departs from the element's mean by up to ΔN/2: as an axial force
+    # of its own on the member's deflection it changes the moments by up to
+    # its amplification, ρ_Δ/(1 − ρ) with ρ_Δ = (ΔN/2) L²/(π² EI) and ρ the
+    # largest compression's (N's mean less ΔN/2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho_spread = 0.5 * spread * L ** 2 / (np.pi ** 2 * EI)
+        worst = np.maximum(-N, 0.0) * L ** 2 / (np.pi ** 2 * EI) + rho_spread
+        varying = np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
+    hit = [k for k in np.argsort(-varying, kind="stable") if varying[k] > tol]
+    if hit:
+        words.append(f"the member loads of member(s) {_worst(frame, N, varying, hit, 'its moments')} "
+                     "have axial parts, which make N vary along the member about the mean its "
+                     "element takes")
     # a Timoshenko member's P-δ is the consistent geometric matrix's (module
     # docstring), O(t²) off the beam-column: a pinned strut buckles at
     # t = 12, not π² — its response off by up to the amplification bound

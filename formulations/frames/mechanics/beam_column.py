@@ -1,0 +1,260 @@
+"""The Euler–Bernoulli beam-column between a member's ends: its member
+loads' fixed-end forces and the solution along it, under the constant
+axial force N that built its second-order stiffness (:mod:`.second_order`).
+
+The mechanics.  A straight member of flexible length L [L], bending
+stiffness EI [F·L²] and axial force N [F] (tension positive), loaded across
+its axis by q(x) [F/L] (member axes: x from end i, y its normal turned
+counterclockwise), deflects by v(x) [L] with, equilibrium written on the
+deformed axis (the section moment is the first-order statics' plus
+N (v(x) − v(0)), so its second derivative adds N v''),
+
+    EI v'''' − N v'' = q(x).
+
+With μ = N/EI [1/L²] (t = −μ L², compression positive, as the stability
+functions') its homogeneous solutions are 1, x, φ₂(x), φ₃(x) with
+
+    φ_n(x) = Σ_j μ^j x^(n+2j) / (n+2j)!        [L^n],
+
+entire in μ — one series for tension and compression: (1 − cos kx)/k²,
+(kx − sin kx)/k³ in compression (k² = −μ), (cosh kx − 1)/k², … in
+tension, x²/2, x³/6 at N = 0; φ_n' = φ_(n−1) and φ_n'' = μ φ_n +
+x^(n−2)/(n−2)!.  A unit force at a makes the jump in EI v''' of 1: its
+particular solution is g(x − a)/EI, g(r) = φ₃(r) for r > 0 and 0 before
+(a counterclockwise couple C at a: −C g'(x − a)/EI, the moment diagram's
+jump −C; a distributed load ∫ q(s) g(x − s) ds/EI).
+
+Near N = 0 the closed forms cancel (their numerators are x^n/n! to
+leading order), so φ_n come from their series where |μ x²| ≤ 1 (φ₄, φ₅,
+whose closed forms cancel even at |μ x²| = 4π², from their series in all
+of compression); in tension the series have positive terms.  In strong
+tension (t < −T_EXP) cosh and sinh grow like e^(kL) while v stays of the
+size of the load's: the solution there is written in e^(−kx) and
+e^(−k(L−x)) (each end's boundary layer) and the free beam's Green's
+function g(r) = −(e^(−k|r|) + k|r|)/(2k³), bounded by |r|/(2k²).
+
+Fixed-end forces.  The operator is self-adjoint (its energy ∫ EI v''² +
+N v'² is symmetric), so by Betti's theorem the clamped member's end
+forces under a unit force at a are its exact shape functions ψ_k(a) —
+the solutions of the homogeneous equation with unit end displacement k
+(v_i, θ_i, v_j, θ_j) and the others zero; under a couple C, C ψ_k'(a);
+under q, ∫ q ψ_k.  These are the member's consistent nodal loads with
+the element's own (exact) shape functions, as the Hermite cubics' are at
+N = 0; the integrals by Gauss–Legendre rules of GAUSS points on pieces
+with k h ≤ 2π, exact to rounding (the rule's error there is below 1e-18
+of the integrand; exact for the cubics at N = 0).  The transverse end
+forces are across the undeformed axis, as the stability-function
+stiffness's (its end shear EI v''' − N v').
+
+Along the member.  v(x) = Σ ψ_k(x) u_k + the clamped member's deflection
+under its loads (a particular solution less its end values and slopes
+carried by the ψ_k); the section moment M(x) = M₁(x) + N (v(x) − v(0))
+(M₁ the first-order statics from end i, in the diagrams' convention,
+sagging positive), and the diagrams' V = dM/dx = V₁(x) + N v'(x): the
+shear across the deformed axis, which at end i differs from the end
+action across the undeformed one by N θ_i.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: −t beyond which (tension) the solution is written in each end's
+#: boundary layer e^(−kx), e^(−k(L−x)) (below it cosh kL ≤ 3.8: the φ
+#: basis loses at most that factor)
+T_EXP = 4.0
+
+#: |μ x²| up to which φ₀ … φ₃ come from their series
+SERIES = 1.0
+
+#: terms of the series (|μ x²| ≤ 40 sums to 1e-40 of its first term)
+TERMS = 40
+
+#: Gauss–Legendre points per piece of a distributed load (pieces k h ≤ 2π)
+GAUSS = 12
+
+_T, _W = np.polynomial.legendre.leggauss(GAUSS)
+# 1/(n+2j)! for n = 0..5, j < TERMS
+_INV_FACT = np.array([[1.0 / math.factorial(n + 2 * j) for j in range(TERMS)] for n in range(6)])
+
+
+def phis(mu: float, x) -> np.ndarray:
+    """(6, *x.shape): φ₀ … φ₅ at x (module docstring), μ = N/EI."""
+    x = np.asarray(x, float)
+    z = mu * x * x
+    out = np.empty((6,) + x.shape)
+    for n in range(6):                              # Horner on the series in z
+        acc = np.full(x.shape, _INV_FACT[n, -1])
+        for c in _INV_FACT[n, -2::-1]:
+            acc = acc * z + c
+        out[n] = acc * x ** n
+    far = z < -SERIES                               # compression, closed forms
+    if np.any(far):
+        k = math.sqrt(-mu)
+        y = k * x[far]
+        sn = np.sin(y)
+        out[0][far] = np.cos(y)
+        out[1][far] = sn / k
+        out[2][far] = 2.0 * np.sin(0.5 * y) ** 2 / k ** 2
+        out[3][far] = (y - sn) / k ** 3
+    return out
+
+
+def _regime(EI, N, L):
+    """(μ, k or 0): k = √μ where the member is in strong tension."""
+    mu = N / EI
+    return mu, (math.sqrt(mu) if -mu * L * L < -T_EXP else 0.0)
+
+
+def _basis(mu, k, L, x):
+    """(b, b'): the homogeneous solutions at x, each scaled to O(1) on
+    [0, L] (1, x/L, φ₂/L², φ₃/L³; or 1, x/L, e^(−kx), e^(−k(L−x))), and
+    their x-derivatives times L; (4, *x.shape) each."""
+    x = np.asarray(x, float)
+    one, zero = np.ones_like(x), np.zeros_like(x)
+    if k:
+        e0, e1 = np.exp(-k * x), np.exp(-k * (L - x))
+        return (np.array([one, x / L, e0, e1]),
+                np.array([zero, one, -k * L * e0, k * L * e1]))
+    p = phis(mu, x)
+    return (np.array([one, x / L, p[2] / L ** 2, p[3] / L ** 3]),
+            np.array([zero, one, p[1] / L, p[2] / L ** 2]))
+
+
+def shape_functions(EI, N, L, x) -> tuple[np.ndarray, np.ndarray]:
+    """(ψ, ψ'): the exact shape functions at x (…, 4) for the end dofs
+    (v_i, θ_i, v_j, θ_j), and their slopes."""
+    mu, k = _regime(EI, N, L)
+    ends = np.array([0.0, L])
+    b, db = _basis(mu, k, L, ends)
+    B = np.array([b[:, 0], db[:, 0], b[:, 1], db[:, 1]])   # rows: v, L θ at i then j
+    C = np.linalg.solve(B, np.eye(4))
+    bx, dbx = _basis(mu, k, L, x)
+    scale = np.array([1.0, L, 1.0, L])                      # L θ → θ
+    psi = np.moveaxis(np.tensordot(C.T, bx, axes=1), 0, -1) * scale
+    dpsi = np.moveaxis(np.tensordot(C.T, dbx, axes=1), 0, -1) * scale / L
+    return psi, dpsi
+
+
+def _green(mu, k, r, order):
+    """g (order 0) or g' (order 1) of the module docstring at r [per unit
+    force and EI]."""
+    r = np.asarray(r, float)
+    if k:
+        e = np.exp(-k * np.abs(r))
+        return (-(e + k * np.abs(r)) / (2 * k ** 3) if order == 0
+                else -np.sign(r) * -np.expm1(-k * np.abs(r)) / (2 * k * k))
+    rp = np.maximum(r, 0.0)
+    return np.where(r > 0, phis(mu, rp)[3 - order], 0.0)
+
+
+def _pieces(a, b, k):
+    """Gauss points and weights covering [a, b] in pieces with k h ≤ 2π."""
+    n = max(1, int(math.ceil(k * (b - a) / (2 * math.pi))))
+    e = np.linspace(a, b, n + 1)
+    half = 0.5 * np.diff(e)[:, None]
+    return (half * _T + 0.5 * (e[1:] + e[:-1])[:, None]).ravel(), (half * _W).ravel()
+
+
+def across(load, c, s):
+    """A member load's parts across the axis, member axes: ("point", a,
+    py, mz) or ("distributed", a, b, wy1, wy2)."""
+    v = load.values
+    def turn(fx, fy):
+        return fy if load.axes == "member" else -s * fx + c * fy
+    if load.kind == "point":
+        return ("point", load.a, turn(v[0], v[1]), v[2])
+    return ("distributed", load.a, load.b, turn(v[0], v[1]), turn(v[2], v[3]))
+
+
+def nodal_loads(parts, EI, N, L) -> np.ndarray:
+    """The consistent nodal loads (4: v_i, θ_i, v_j, θ_j, member axes) of
+    the loads ``parts`` (:func:`across`, positions on the flexible length
+    L) on the beam-column under N: minus its clamped ends' forces."""
+    _, k = _regime(EI, N, L)
+    out = np.zeros(4)
+    for part in parts:
+        if part[0] == "point":
+            _, a, py, mz = part
+            psi, dpsi = shape_functions(EI, N, L, np.array([a]))
+            out += py * psi[0] + mz * dpsi[0]
+            continue
+        _, a, b, w1, w2 = part
+        if b <= a:
+            continue
+        xs, ws = _pieces(a, b, k)
+        q = w1 + (w2 - w1) * (xs - a) / (b - a)
+        psi, _ = shape_functions(EI, N, L, xs)
+        out += (q * ws) @ psi
+    return out
+
+
+def deflection(parts, EI, N, L, ends, x) -> tuple[np.ndarray, np.ndarray]:
+    """(v, v') at x on the flexible length L: the beam-column's deflection
+    with end displacements ``ends`` (v_i, θ_i, v_j, θ_j, member axes) under
+    the loads ``parts`` (:func:`across`)."""
+    mu, k = _regime(EI, N, L)
+    x = np.asarray(x, float)
+    at = np.r_[x, 0.0, L]            # the particular solution's end values too
+    vp, dvp = np.zeros_like(at), np.zeros_like(at)
+    for part in parts:
+        if part[0] == "point":
+            _, a, py, mz = part
+            vp += py * _green(mu, k, at - a, 0) - mz * _green(mu, k, at - a, 1)
+            dvp += py * _green(mu, k, at - a, 1) - mz * _second(mu, k, at - a)
+            continue
+        _, a, b, w1, w2 = part
+        if b <= a:
+            continue
+        # each section's own two pieces, [a, x] and [x, b], on which g(x − s)
+        # is smooth (its third derivative jumps at s = x)
+        mid = np.clip(at, a, b)[:, None]
+        n = max(1, int(math.ceil(k * (b - a) / (2 * math.pi))))
+        edges = np.linspace(0.0, 1.0, n + 1)
+        t = ((0.5 * np.diff(edges)[:, None] * (_T + 1.0) + edges[:-1, None]).ravel())[None, :]
+        w = (0.5 * np.diff(edges)[:, None] * _W).ravel()[None, :]
+        for lo, hi in ((a, mid), (mid, b)):
+            xs = lo + (hi - lo) * t
+            q = (w1 + (w2 - w1) * (xs - a) / (b - a)) * w * (hi - lo)
+            r = at[:, None] - xs
+            vp += (_green(mu, k, r, 0) * q).sum(axis=1)
+            dvp += (_green(mu, k, r, 1) * q).sum(axis=1)
+    vp, dvp = vp / EI, dvp / EI
+    d = np.array([vp[-2], dvp[-2], vp[-1], dvp[-1]])
+    psi, dpsi = shape_functions(EI, N, L, x)
+    u = np.asarray(ends, float) - d
+    return psi @ u + vp[:-2], dpsi @ u + dvp[:-2]
+
+
+def _second(mu, k, r):
+    """g'' at r."""
+    r = np.asarray(r, float)
+    if k:
+        return -np.exp(-k * np.abs(r)) / (2 * k)
+    return np.where(r > 0, phis(mu, np.maximum(r, 0.0))[1], 0.0)
+
+
+def member_nodal_loads(loads, factor_of, L, c, s, offsets, EI, N) -> np.ndarray:
+    """The transverse consistent nodal loads (v_i, θ_i, v_j, θ_j) on the
+    flexible element of a plane member (length L node to node, direction
+    (c, s), rigid end zones ``offsets``) of its ``loads``, one column per
+    entry of ``factor_of`` (case → column), under N: :func:`nodal_loads` of
+    each load's part on the flexible length."""
+    oi, oj = offsets
+    out = np.zeros((4, max(factor_of.values(), default=-1) + 1))
+    for ld in loads:
+        part = flexible_part(ld, L, c, s, oi, oj)
+        if part is not None:
+            out[:, factor_of[ld.case]] += nodal_loads([part], EI, N, L - oi - oj)
+    return out
+
+
+def flexible_part(load, L, c, s, oi, oj):
+    """:func:`across` of a load's part on the flexible length (positions
+    from its start), or None where none lies there."""
+    from .loads import clipped
+
+    flex = clipped(load, oi, L - oj, shift=oi)
+    return None if flex is None else across(flex, c, s)
