@@ -1,0 +1,241 @@
+"""The Euler–Bernoulli beam-column in a second-order answer: member loads'
+fixed-end forces and the diagrams between the ends, against references
+that do not use the code under test — the closed forms of Timoshenko &
+Gere (evaluated in 50-digit arithmetic, where their cancellation costs
+nothing), the cantilever's solved symbolically (sympy, once: its formula is
+written out below), and a member cut at its point load into two elements
+whose stiffness is the stability functions' (no member load)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+from formulations.frames import Frame
+from formulations.frames.mechanics import beam_column
+from formulations.frames.mechanics.second_order import stability_functions
+
+E, I, L, W = 2e8, 1e-5, 5.0, 10.0
+EI = E * I
+P_E = np.pi ** 2 * EI / L ** 2
+mp.mp.dps = 50
+
+# t = −N L²/EI, compression positive: across the series switch (|t| = 1),
+# the strong-tension switch (t = −4), near 0, and up to the clamped pole
+T_VALUES = [1e-8, -1e-8, 0.2, -0.2, 0.3, -0.3, 0.99, 1.01, -0.99, -1.01, 3.9, -3.9, 4.1, -4.1,
+            10.0, -10.0, 30.0, 39.0, -100.0, -1e4, 4 * np.pi ** 2 * (1 - 1e-9)]
+
+
+def _clamped_uniform_end_moment(t):
+    """wL²/12 · 3(tan u − u)/(u² tan u), u = kL/2 (tanh in tension)."""
+    u = mp.sqrt(abs(mp.mpf(t))) / 2
+    if t > 0:
+        f = 3 * (mp.tan(u) - u) / (u ** 2 * mp.tan(u))
+    else:
+        f = 3 * (u - mp.tanh(u)) / (u ** 2 * mp.tanh(u))
+    return float(W * L ** 2 / 12 * f)
+
+
+@pytest.mark.parametrize("t", T_VALUES)
+def test_clamped_uniform_load_fixed_end_forces_are_the_closed_forms(t):
+    N = -t * EI / L ** 2
+    fe = beam_column.nodal_loads([("distributed", 0.0, L, -W, -W)], EI, N, L)
+    ref = _clamped_uniform_end_moment(t)
+    # the fixed-end moment grows without bound at the pole: its rounding
+    # there is the 4 × 4 solve's, 1/(1 − t/4π²) times ε
+    rel = 1e-13 / max(1e-9, 1 - t / (4 * np.pi ** 2)) ** 0.0 if t < 39.4 else 1e-6
+    assert fe[1] == pytest.approx(-ref, rel=max(rel, 2e-14))
+    assert fe[3] == pytest.approx(ref, rel=max(rel, 2e-14))
+    assert fe[0] == pytest.approx(-W * L / 2, rel=1e-14)
+    assert fe[2] == pytest.approx(-W * L / 2, rel=1e-14)
+
+
+def _two_elements(t, a, P):
+    """The clamped member's end forces under a force P at a: cut there
+    into two elements with the stability functions' stiffness (the
+    middle node free, its v and θ solved), the reactions at the ends."""
+    N = -t * EI / L ** 2
+    K = np.zeros((6, 6))
+    for n, (x0, x1) in enumerate(((0.0, a), (a, L))):
+        h = x1 - x0
+        s, sc = (float(v[0]) for v in stability_functions(np.array([-N * h ** 2 / EI])))
+        f = EI / h
+        k = np.array([[(2 * (s + sc) + N * h ** 2 / EI) * f / h ** 2, (s + sc) * f / h,
+                       -(2 * (s + sc) + N * h ** 2 / EI) * f / h ** 2, (s + sc) * f / h],
+                      [(s + sc) * f / h, s * f, -(s + sc) * f / h, sc * f],
+                      [-(2 * (s + sc) + N * h ** 2 / EI) * f / h ** 2, -(s + sc) * f / h,
+                       (2 * (s + sc) + N * h ** 2 / EI) * f / h ** 2, -(s + sc) * f / h],
+                      [(s + sc) * f / h, sc * f, -(s + sc) * f / h, s * f]])
+        K[2 * n:2 * n + 4, 2 * n:2 * n + 4] += k
+    u = np.zeros(6)
+    u[2:4] = np.linalg.solve(K[2:4, 2:4], [P, 0.0])
+    return K @ u          # the ends' reactions: minus the consistent loads
+
+
+@pytest.mark.parametrize("t", [1e-8, -0.3, 0.3, 5.0, -5.0, 25.0, -400.0])
+@pytest.mark.parametrize("a", [0.3, 1.7, 2.5, 4.1])
+def test_point_force_fixed_end_forces_are_the_cut_members_reactions(t, a):
+    fe = beam_column.nodal_loads([("point", a, -3.0, 0.0)], EI, -t * EI / L ** 2, L)
+    ends = _two_elements(t, a, -3.0)[[0, 1, 4, 5]]
+    assert fe == pytest.approx(-ends, rel=1e-11, abs=1e-13 * 3.0 * L)
+
+
+def _solve(fr):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fr.solve(combination={"D": 1.0}, second_order=True, raise_on_failure=False,
+                        accuracy="high")
+
+
+def _strut(share, *, w=0.0, point=0.0, moments=0.0, hinged=False, offset=0.0):
+    """A strut of flexible length L on pins (or on fixed nodes, hinged at
+    the faces of rigid end zones ``offset`` long) under an axial force
+    share × P_E (compression positive) and span loads."""
+    fr = Frame()
+    fr.add_node("A", -offset, 0.0)
+    fr.add_node("B", L + offset, 0.0)
+    fr.add_member("A", "B", E, 0.01, I, name="S", hinge_i=hinged, hinge_j=hinged,
+                  offset_i=offset, offset_j=offset)
+    if hinged:
+        fr.add_support("A", fix=("ux", "uy", "rz"))
+        fr.add_support("B", fix=("uy", "rz"))
+    else:
+        fr.add_support("A", fix=("ux", "uy"))
+        fr.add_support("B", fix=("uy",))
+    fr.add_load("B", fx=-share * P_E, case="D")
+    if w:
+        fr.add_distributed_load("S", wy=-w, case="D")
+    if point:
+        fr.add_point_load("S", offset + L / 2, fy=-point, case="D")
+    if moments:
+        fr.add_load("A", mz=moments, case="D")
+        fr.add_load("B", mz=-moments, case="D")
+    return fr
+
+
+def _k(share):
+    return math.sqrt(abs(share) * P_E / EI)
+
+
+SHARES = [1e-8, -1e-8, 0.03, -0.03, 0.1, 0.5, 0.9, -0.5, -3.0, -50.0]
+
+
+@pytest.mark.parametrize("share", SHARES)
+def test_pinned_uniform_load_midspan_moment_and_deflection(share):
+    fr = _strut(share, w=W)
+    res = _solve(fr)
+    assert res.ok, res.message
+    k = mp.sqrt(mp.mpf(abs(share)) * P_E / EI)
+    c = 1 / mp.cos(k * L / 2) if share > 0 else 1 / mp.cosh(k * L / 2)
+    sign = 1 if share > 0 else -1
+    m_mid = float(sign * W / k ** 2 * (c - 1))
+    # k² → −k² in tension: its terms' signs as k⁴'s and k²'s
+    v_mid = float(W / (EI * k ** 4) * (c - 1) - sign * W * L ** 2 / (8 * EI * k ** 2))
+    ext = res.extremes("S")
+    assert ext["M"]["max"][0] == pytest.approx(m_mid, rel=1e-10)
+    assert ext["M"]["max"][1] == pytest.approx(L / 2, abs=1e-6)
+    assert ext["v"]["min"][0] == pytest.approx(-v_mid, rel=1e-10)
+    if share == 0.5:
+        assert m_mid == pytest.approx(63.435770, abs=1e-6)      # the docs' figure
+
+
+@pytest.mark.parametrize("share", SHARES)
+def test_pinned_midspan_point_force(share):
+    P = 7.0
+    res = _solve(_strut(share, point=P))
+    assert res.ok, res.message
+    k = mp.sqrt(mp.mpf(abs(share)) * P_E / EI)
+    ref = float(P / (2 * k) * (mp.tan(k * L / 2) if share > 0 else mp.tanh(k * L / 2)))
+    assert res.extremes("S")["M"]["max"][0] == pytest.approx(ref, rel=1e-10)
+
+
+@pytest.mark.parametrize("share", [0.1, 0.5, 0.9, -0.5, -20.0])
+def test_equal_end_moments_in_single_curvature(share):
+    m = 10.0
+    res = _solve(_strut(share, moments=m))
+    assert res.ok, res.message
+    k = mp.sqrt(mp.mpf(abs(share)) * P_E / EI)
+    ref = float(m / (mp.cos(k * L / 2) if share > 0 else mp.cosh(k * L / 2)))
+    # the ends' moment is m, midspan's m sec(kL/2): 2.25 m at half P_E
+    x, _, _, M = res.diagram("S", 41)
+    assert abs(M[20]) == pytest.approx(ref, rel=1e-10)
+    assert abs(M[0]) == pytest.approx(m, rel=1e-12)
+    ext = res.extremes("S")["M"]
+    assert max(abs(ext["max"][0]), abs(ext["min"][0])) == pytest.approx(max(ref, m), rel=1e-10)
+
+
+@pytest.mark.parametrize("share", [0.05, 0.2, 0.24, -0.5])
+def test_cantilever_with_a_tip_force_and_a_uniform_load(share):
+    """Base moment of a cantilever under compression P = k²EI, a uniform
+    load w and a tip force H across it (sympy's solution of EI v'''' +
+    P v'' = w, clamped at the base, free at the tip):
+    w (kL tan kL + 1 − sec kL)/k² + H tan(kL)/k (tension: tanh, and
+    w (1 + sech kL − kL tanh kL)/k² … sign-flipped k², here by mpmath)."""
+    H, w = 3.0, 2.0
+    P = share * P_E
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", E, 0.01, I, name="C")
+    fr.add_support("A", fix=("ux", "uy", "rz"))
+    fr.add_load("B", fy=-P, fx=H, case="D")
+    fr.add_distributed_load("C", wx=w, case="D")
+    res = _solve(fr)
+    assert res.ok, res.message
+    k = mp.sqrt(mp.mpf(abs(share)) * P_E / EI)
+    kL = k * L
+    if share > 0:
+        ref = w * (kL * mp.tan(kL) + 1 - 1 / mp.cos(kL)) / k ** 2 + H * mp.tan(kL) / k
+    else:   # k → i k: tan → i tanh, cos → cosh
+        ref = w * (-kL * mp.tanh(kL) + 1 - 1 / mp.cosh(kL)) / -k ** 2 + H * mp.tanh(kL) / k
+    assert abs(res.end_forces("C")["i"]["M"]) == pytest.approx(float(ref), rel=1e-10)
+
+
+@pytest.mark.parametrize("share", [0.3, 0.8, -2.0])
+def test_hinges_at_the_faces_of_rigid_end_zones(share):
+    # fixed nodes, rigid zones 0.4 long, the member hinged at their faces:
+    # its flexible length L is a pinned strut under the uniform load
+    res = _solve(_strut(share, w=W, hinged=True, offset=0.4))
+    assert res.ok, res.message
+    k = mp.sqrt(mp.mpf(abs(share)) * P_E / EI)
+    c = 1 / mp.cos(k * L / 2) if share > 0 else 1 / mp.cosh(k * L / 2)
+    ref = float((1 if share > 0 else -1) * W / k ** 2 * (c - 1))
+    ext = res.extremes("S")["M"]["max"]
+    assert ext[0] == pytest.approx(ref, rel=1e-10)
+    assert ext[1] == pytest.approx(0.4 + L / 2, abs=1e-6)
+
+
+def test_extremes_match_dense_sampling_of_an_unsymmetric_member():
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 4.0, 3.0)
+    fr.add_member("A", "B", E, 0.01, I, name="S", spring_j=2e3)
+    fr.add_support("A", fix=("ux", "uy", "rz"))
+    fr.add_support("B", fix=("uy",))
+    fr.add_load("B", fx=-0.3 * P_E * 0.8, fy=-0.3 * P_E * 0.6, case="D")
+    fr.add_distributed_load("S", wy=-8.0, wy2=3.0, start=0.5, end=3.9, axes="member", case="D")
+    fr.add_point_load("S", 1.2, fy=-5.0, mz=2.0, axes="member", case="D")
+    res = _solve(fr)
+    assert res.ok, res.message
+    x, N, V, M = res.diagram("S", 20001)
+    ext = res.extremes("S")
+    for key, arr in (("M", M), ("V", V)):
+        assert ext[key]["max"][0] >= arr.max() - 1e-12 * np.abs(arr).max()
+        assert ext[key]["max"][0] == pytest.approx(arr.max(), rel=1e-7)
+        assert ext[key]["min"][0] == pytest.approx(arr.min(), rel=1e-7)
+    # V = dM/dx: the moment's slope by central differences
+    mid = (x[2:] - x[:-2]) > 0
+    slope = (M[2:] - M[:-2])[mid] / (x[2:] - x[:-2])[mid]
+    assert np.median(np.abs(slope - V[1:-1][mid])) < 1e-6 * np.abs(V).max()
+
+
+def test_no_axial_force_leaves_the_first_order_answer_bit_for_bit():
+    fr = _strut(0.0, w=W, point=3.0)
+    second, first = _solve(fr), fr.solve(combination={"D": 1.0}, accuracy="high")
+    assert second.member_forces["S"].tolist() == first.member_forces["S"].tolist()
+    assert [a.tolist() for a in second.diagram("S", 21)] == \
+        [a.tolist() for a in first.diagram("S", 21)]
