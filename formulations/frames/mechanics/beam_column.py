@@ -61,6 +61,8 @@ import math
 
 import numpy as np
 
+from .second_order import stability_functions
+
 #: −t beyond which (tension) the solution is written in each end's
 #: boundary layer e^(−kx), e^(−k(L−x)) (below it cosh kL ≤ 3.8: the φ
 #: basis loses at most that factor)
@@ -258,3 +260,40 @@ def flexible_part(load, L, c, s, oi, oj):
 
     flex = clipped(load, oi, L - oj, shift=oi)
     return None if flex is None else across(flex, c, s)
+
+
+def end_block(EI, N, L) -> np.ndarray:
+    """The transverse end stiffness (4 × 4 on v_i, θ_i, v_j, θ_j) of the
+    beam-column: the stability functions' (:mod:`.second_order`)."""
+    t = -N * L * L / EI
+    s, sc = (float(v[0]) for v in stability_functions(np.array([t])))
+    f = EI / L
+    vv, vt = (2.0 * (s + sc) - t) * f / L ** 2, (s + sc) * f / L
+    return np.array([[vv, vt, -vv, vt], [vt, s * f, -vt, sc * f],
+                     [-vv, -vt, vv, -vt], [vt, sc * f, -vt, s * f]])
+
+
+def axis(parts, EI, N, L, ends, springs, x) -> tuple[np.ndarray, np.ndarray]:
+    """(v, v') at x on the flexible length L of a member under N with the
+    loads ``parts`` (:func:`across`, each times its factor): its flexible
+    ends' displacements and their nodes' rotations ``ends`` (v_i, θ_i,
+    v_j, θ_j), ``springs`` (i, j) each None for a rigid joint, 0 for a
+    hinge, else a rotational spring.  A released end's own rotation θ_r
+    comes from the element's moment row, the spring's moment k (θ_node −
+    θ_r) on it: (k_rr + k) θ_r + Σ k_rc u_c = f_r + k θ_node, f the
+    consistent loads — singular only where the member buckles with its
+    nodes held (second_order.own_buckling)."""
+    ends = np.array(ends, float)
+    own = [r for r, k in zip((1, 3), springs) if k is not None]
+    if own:
+        kb = end_block(EI, N, L)
+        fe = nodal_loads(parts, EI, N, L)
+        rest = [r for r in range(4) if r not in own]
+        rhs = fe[own] - kb[np.ix_(own, rest)] @ ends[rest]
+        A = kb[np.ix_(own, own)].copy()
+        for n, r in enumerate(own):
+            k = springs[(r - 1) // 2]
+            A[n, n] += k
+            rhs[n] += k * ends[r]
+        ends[own] = np.linalg.solve(A, rhs)
+    return deflection(parts, EI, N, L, ends, x)

@@ -238,14 +238,15 @@ def _bending_load(values, axis, local: bool, point: bool) -> tuple[float, float]
 
 
 def _axial_load(load, d, oi, oj) -> float:
-    """|ΔN| of one member load on a plane member (node i to j along d,
-    rigid end zones oi, oj) over its flexible length: its force along the
-    axis (a distributed one's largest |w| times its stretch there, at
+    """|ΔN| of one member load on a member (node i to j along d, rigid end
+    zones oi, oj; plane or space) over its flexible length: its force along
+    the axis (a distributed one's largest |w| times its stretch there, at
     most; a point force at a zone's face or on it none)."""
     length = float(np.linalg.norm(d))
     axis = d / length
+    n = axis.size
     v = np.asarray(load.values, float)
-    along = [v[0:2]] if load.kind == "point" else [v[0:2], v[2:4]]
+    along = [v[0:n]] if load.kind == "point" else [v[0:n], v[n:2 * n]]
     size = max(abs(f[0]) if load.axes == "member" else abs(float(f @ axis)) for f in along)
     if load.kind == "point":
         return size if oi < load.a < length - oj else 0.0
@@ -277,11 +278,12 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         pairs = [(ld.member, ld) for ld in frame.span_loads]
     else:
         pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
-    # a plane Euler–Bernoulli member carries its loads as the beam-column
-    # (mechanics.beam_column) but for their axial parts, which make N vary
-    # along it about the mean its element takes: their sum ΔN per member
-    beam_column = np.array([not isinstance(m, dict) and m.GAs is None
-                            for m in frame.members.values()])
+    # an Euler–Bernoulli member carries its loads as the beam-column
+    # (mechanics.beam_column; a space member in both bending planes) but for
+    # their axial parts, which make N vary along it about the mean its
+    # element takes: their sum ΔN per member
+    beam_column = np.array([all(g is None for g in m["GAs"]) if isinstance(m, dict)
+                            else m.GAs is None for m in frame.members.values()])
     spread = np.zeros(len(frame.members))
     for name, ld in pairs:
         if ld.case not in active:
@@ -290,7 +292,8 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
         d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
         if beam_column[k]:
-            spread[k] += abs(combination[ld.case]) * _axial_load(ld, d, m.offset_i, m.offset_j)
+            spread[k] += abs(combination[ld.case]) * _axial_load(
+                ld, d, *(m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)))
             continue
         force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
                                       ld.kind == "point")

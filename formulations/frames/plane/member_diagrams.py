@@ -11,7 +11,7 @@ from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
 from ..mechanics.loads import check_diagram, known_member, load_points, section_sums
 from ..mechanics import beam_column
-from ..mechanics.plane_element import beam_column_k, geometry, rotation
+from ..mechanics.plane_element import geometry, rotation
 
 
 def diagram(frame, res, member: str, points: int):
@@ -84,28 +84,12 @@ def beam_column_axis(frame, res, m, x):
     T = rotation(c, s)[:3, :3]
     di = T @ res._u[idx[m.i]:idx[m.i] + 3]
     dj = T @ res._u[idx[m.j]:idx[m.j] + 3]
-    loads = loads_of(res, m)
-    col = {case: k for k, case in enumerate(sorted({ld.case for ld in loads}))}
-    factors = np.array([res.combination[case] for case in col])
-    fe = (beam_column.member_nodal_loads(loads, col, L, c, s, (oi, oj), EI, axial) @ factors
-          if loads else np.zeros(4))
     ends = np.array([di[1] + oi * di[2], di[2], dj[1] - oj * dj[2], dj[2]])
-    springs = m.end_springs
-    own = [r for r, k in zip((1, 3), springs) if k is not None]
-    if own:
-        kb = beam_column_k(m.E, m.A, m.I, Lf, axial)[[1, 2, 4, 5]][:, [1, 2, 4, 5]]
-        rest = [r for r in range(4) if r not in own]
-        rhs = fe[own] - kb[np.ix_(own, rest)] @ ends[rest]
-        A = kb[np.ix_(own, own)].copy()
-        for n, r in enumerate(own):
-            k = springs[(r - 1) // 2]
-            A[n, n] += k
-            rhs[n] += k * ends[r]
-        ends[own] = np.linalg.solve(A, rhs)
     parts = [part[:-2] + tuple(res.combination[ld.case] * np.array(part[-2:]))
-             for ld in loads for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
+             for ld in loads_of(res, m)
+             for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
     xf = np.clip(x, oi, L - oj) - oi
-    v, dv = beam_column.deflection(parts, EI, axial, Lf, ends, xf)
+    v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
     return axial, di[1], v, dv

@@ -15,7 +15,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from formulations.frames import Frame
+from formulations.frames import Frame, SpaceFrame
 from formulations.frames.mechanics import beam_column
 from formulations.frames.mechanics.second_order import stability_functions
 
@@ -239,3 +239,55 @@ def test_no_axial_force_leaves_the_first_order_answer_bit_for_bit():
     assert second.member_forces["S"].tolist() == first.member_forces["S"].tolist()
     assert [a.tolist() for a in second.diagram("S", 21)] == \
         [a.tolist() for a in first.diagram("S", 21)]
+
+
+def _plane_and_space(share, I_, loads, space_loads, spring=None, offset=0.0):
+    """The same strut (a rigid zone at each end, a semi-rigid joint at
+    j) as a plane frame (I_, ``loads`` across y) and as a space frame
+    along X whose two bending planes carry ``space_loads``."""
+    plane, space = Frame(), SpaceFrame()
+    for fr, extra in ((plane, []), (space, [0.0])):
+        fr.add_node("A", 0.0, 0.0, *extra)
+        fr.add_node("B", L + 2 * offset, 0.0, *extra)
+    plane.add_member("A", "B", E, 0.01, I_, name="S", spring_j=spring, offset_i=offset,
+                     offset_j=offset)
+    space.add_member("A", "B", E, 0.01, I, 2 * I, G=8e7, J=1e-5, name="S", spring_j=spring,
+                     offset_i=offset, offset_j=offset)
+    plane.add_support("A", fix=("ux", "uy"))
+    plane.add_support("B", fix=("uy",))
+    space.add_support("A", fix=("ux", "uy", "uz", "rx"))
+    space.add_support("B", fix=("uy", "uz"))
+    for fr in (plane, space):
+        fr.add_load("B", fx=-share * P_E, case="D")
+    for w, (a, p) in loads:
+        plane.add_distributed_load("S", wy=w, case="D")
+        plane.add_point_load("S", a, fy=p, case="D")
+    for kwargs, point in space_loads:
+        space.add_distributed_load("S", case="D", **kwargs)
+        space.add_point_load("S", point[0], case="D", **point[1])
+    return plane, space
+
+
+@pytest.mark.parametrize("share", [0.4, -3.0])
+@pytest.mark.parametrize("spring, offset", [(None, 0.0), (2e3, 0.3)])
+def test_a_plane_strut_built_in_space_gives_the_plane_answers(share, spring, offset):
+    # bending about y (Iy = I) under wz and fz; about z (Iz = 2I) under
+    # wy and fy: each plane is the plane frame's with its own I
+    space_loads = [({"wz": -10.0, "wy": -3.0}, (1.3, {"fz": -4.0, "fy": 2.0}))]
+    res = {}
+    for key, I_, loads in (("My", I, [(-10.0, (1.3, -4.0))]), ("Mz", 2 * I, [(-3.0, (1.3, 2.0))])):
+        plane, space = _plane_and_space(share, I_, loads, space_loads, spring, offset)
+        p, s = _solve(plane), _solve(space)
+        assert p.ok and s.ok, (p.message, s.message)
+        res[key] = (p, s)
+        pe, se = p.extremes("S"), s.extremes("S")
+        for side in ("max", "min"):
+            assert se[key][side][0] == pytest.approx(pe["M"][side][0], rel=1e-10, abs=1e-10)
+        x, _, _, M = p.diagram("S", 31)
+        xs, *q = s.diagram("S", 31)
+        assert q[4 if key == "My" else 5] == pytest.approx(M, rel=1e-10, abs=1e-9)
+        xp, _, v = p.deflection("S", 31)
+        xd, d = s.deflection("S", 31)
+        _, ip, isp = np.intersect1d(xp, xd, return_indices=True)
+        assert ip.size >= 31
+        assert d[isp, 2 if key == "My" else 1] == pytest.approx(v[ip], rel=1e-10, abs=1e-13)
