@@ -174,8 +174,17 @@ def end_forces(frame, res, member: str) -> dict:
     checked_member(frame, res, member, 2)
     f = np.asarray(res.member_forces[member], float)
     sign = np.array([-1.0, 1.0, 1.0, -1.0, 1.0, -1.0])
-    return {end: {q: float(v) + 0.0 for q, v in zip(QUANTITIES, s * f[o:o + 6])}
-            for end, o, s in (("i", 0, sign), ("j", 6, -sign))}
+    ends = {"i": sign * f[:6], "j": -sign * f[6:]}
+    # a second-order answer's V = dM/dx adds N times the axis' slope there,
+    # as its diagrams do (the end actions are across the undeformed axis)
+    L, R = geometry(frame, member)
+    for plane, (axial, _, solution) in bent_planes(frame, res, member, L, R,
+                                                   loads_of(frame, res, member)).items():
+        slope = solution(np.array([0.0, L]))[1]
+        ends["i"][plane] += axial * slope[0]
+        ends["j"][plane] += axial * slope[1]
+    return {end: {q: float(v) + 0.0 for q, v in zip(QUANTITIES, vals)}
+            for end, vals in ends.items()}
 
 
 def extremes(frame, res, member: str, points: int = 201) -> dict:

@@ -291,3 +291,22 @@ def test_a_plane_strut_built_in_space_gives_the_plane_answers(share, spring, off
         _, ip, isp = np.intersect1d(xp, xd, return_indices=True)
         assert ip.size >= 31
         assert d[isp, 2 if key == "My" else 1] == pytest.approx(v[ip], rel=1e-10, abs=1e-13)
+
+
+@pytest.mark.parametrize("space", [False, True])
+def test_end_forces_are_the_diagrams_ends(space):
+    # V = dM/dx at the ends too: the end action across the undeformed axis
+    # plus N times the axis' slope there
+    plane, sp = _plane_and_space(0.4, 2 * I, [(-3.0, (1.3, 2.0))],
+                                 [({"wy": -3.0}, (1.3, {"fy": 2.0}))], 2e3, 0.3)
+    res = _solve(sp if space else plane)
+    assert res.ok, res.message
+    x, *q = res.diagram("S", 11)
+    names = ("N", "Vy", "Vz", "T", "My", "Mz") if space else ("N", "V", "M")
+    ends = res.end_forces("S")
+    scale = max(np.abs(v).max() for v in q)
+    for k, name in enumerate(names):
+        assert ends["i"][name] == pytest.approx(q[k][0], abs=1e-12 * scale)
+        assert ends["j"][name] == pytest.approx(q[k][-1], abs=1e-12 * scale)
+    v_end = res.member_forces["S"][1]
+    assert abs(ends["i"]["Vy" if space else "V"] - v_end) > 1e-3     # N θ_i
