@@ -105,8 +105,8 @@ def test_a_portal_with_span_loads_under_compression_is_opensees_cut_fine():
         _, m32 = coarse[1][name]
         x64, m64 = fine[1][name]
         extrapolated = (4 * m64[::2] - m32) / 3
-        x, _, _, M = res.diagram(name, 33)             # the same 33 sections
-        assert x == pytest.approx(x64[::2], abs=1e-12)
+        x, _, _, M = res.diagram(name, 33)    # the same 33 sections (and a load's side)
+        M = M[[int(np.flatnonzero(np.abs(x - xx) <= 1e-12)[-1]) for xx in x64[::2]]]
         scale = np.abs(extrapolated).max()
         # 3e-8 … 1.3e-7 of the largest measured (the cut at 64 alone: 3e-5 … 1.2e-4)
         assert np.abs(M - extrapolated).max() < 1e-6 * scale, name
