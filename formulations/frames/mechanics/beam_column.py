@@ -25,9 +25,9 @@ particular solution is g(x − a)/EI, g(r) = φ₃(r) for r > 0 and 0 before
 jump −C; a distributed load ∫ q(s) g(x − s) ds/EI).
 
 Near N = 0 the closed forms cancel (their numerators are x^n/n! to
-leading order), so φ_n come from their series where |μ x²| ≤ 1 (φ₄, φ₅,
-whose closed forms cancel even at |μ x²| = 4π², from their series in all
-of compression); in tension the series have positive terms.  In strong
+leading order), so φ₀ … φ₃ come from their series where |μ x²| ≤ 1 and
+from closed forms written without cancellation beyond (2 sin²(kx/2)/k² for
+φ₂; φ₃'s (kx − sin kx)/k³ loses at most a factor 6 there).  In strong
 tension (t < −T_EXP) cosh and sinh grow like e^(kL) while v stays of the
 size of the load's: the solution there is written in e^(−kx) and
 e^(−k(L−x)) (each end's boundary layer) and the free beam's Green's
@@ -71,36 +71,39 @@ T_EXP = 4.0
 #: |μ x²| up to which φ₀ … φ₃ come from their series
 SERIES = 1.0
 
-#: terms of the series (|μ x²| ≤ 40 sums to 1e-40 of its first term)
-TERMS = 40
+#: terms of the series (at |μ x²| ≤ SERIES the last one is 1e-19 of the first)
+TERMS = 10
 
 #: Gauss–Legendre points per piece of a distributed load (pieces k h ≤ 2π)
 GAUSS = 12
 
 _T, _W = np.polynomial.legendre.leggauss(GAUSS)
-# 1/(n+2j)! for n = 0..5, j < TERMS
-_INV_FACT = np.array([[1.0 / math.factorial(n + 2 * j) for j in range(TERMS)] for n in range(6)])
+# 1/(n+2j)! for n = 0..3, j < TERMS
+_INV_FACT = np.array([[1.0 / math.factorial(n + 2 * j) for j in range(TERMS)] for n in range(4)])
 
 
-def phis(mu: float, x) -> np.ndarray:
-    """(6, *x.shape): φ₀ … φ₅ at x (module docstring), μ = N/EI."""
-    x = np.asarray(x, float)
+def phis(mu, x) -> np.ndarray:
+    """(4, *shape): φ₀ … φ₃ at x (module docstring), μ = N/EI (a number,
+    or an array broadcast with x)."""
+    x, mu = np.broadcast_arrays(np.asarray(x, float), np.asarray(mu, float))
     z = mu * x * x
-    out = np.empty((6,) + x.shape)
-    for n in range(6):                              # Horner on the series in z
+    out = np.empty((4,) + x.shape)
+    for n in range(4):                              # Horner on the series in z
         acc = np.full(x.shape, _INV_FACT[n, -1])
         for c in _INV_FACT[n, -2::-1]:
             acc = acc * z + c
         out[n] = acc * x ** n
-    far = z < -SERIES                               # compression, closed forms
+    far = np.abs(z) > SERIES                        # closed forms, no cancellation
     if np.any(far):
-        k = math.sqrt(-mu)
-        y = k * x[far]
-        sn = np.sin(y)
-        out[0][far] = np.cos(y)
+        m, xf = mu[far], x[far]
+        k = np.sqrt(np.abs(m))
+        y = k * xf
+        press = m < 0
+        sn = np.where(press, np.sin(y), np.sinh(np.where(press, 0.0, y)))
+        out[0][far] = np.where(press, np.cos(y), np.cosh(np.where(press, 0.0, y)))
         out[1][far] = sn / k
-        out[2][far] = 2.0 * np.sin(0.5 * y) ** 2 / k ** 2
-        out[3][far] = (y - sn) / k ** 3
+        out[2][far] = 2.0 * np.where(press, np.sin(0.5 * y), np.sinh(np.where(press, 0.0, 0.5 * y))) ** 2 / k ** 2
+        out[3][far] = np.where(press, y - sn, sn - y) / k ** 3
     return out
 
 
@@ -236,6 +239,75 @@ def _second(mu, k, r):
     if k:
         return -np.exp(-k * np.abs(r)) / (2 * k)
     return np.where(r > 0, phis(mu, np.maximum(r, 0.0))[1], 0.0)
+
+
+def nodal_loads_many(parts, EI, N, L) -> np.ndarray:
+    """:func:`nodal_loads` of many loads at once, (n, 4): ``parts[r]``
+    (:func:`across`) on a member of EI[r], N[r], L[r].  Where the member is
+    not in strong tension (kL ≤ 2π: one Gauss piece a load) all in one
+    pass, its basis and shape functions as arrays; the others one by one."""
+    EI, N, L = (np.asarray(v, float) for v in (EI, N, L))
+    out = np.zeros((len(parts), 4))
+    mu = N / EI
+    strong = -mu * L * L < -T_EXP
+    for r in np.flatnonzero(strong).tolist():
+        out[r] = nodal_loads([parts[r]], EI[r], N[r], L[r])
+    rows = np.flatnonzero(~strong)
+    if not rows.size:
+        return out
+    mu, L = mu[rows], L[rows]
+    # each load's points and weights: a point force at a (weight py, a
+    # couple mz on the slope there), a trapezoid's GAUSS points
+    x = np.zeros((rows.size, GAUSS))
+    wq = np.zeros((rows.size, GAUSS))
+    mz = np.zeros(rows.size)
+    for n, r in enumerate(rows.tolist()):
+        part = parts[r]
+        if part[0] == "point":
+            x[n, 0], wq[n, 0], mz[n] = part[1], part[2], part[3]
+            continue
+        _, a, b, w1, w2 = part
+        if b > a:
+            half = 0.5 * (b - a)
+            x[n] = half * _T + 0.5 * (a + b)
+            wq[n] = (w1 + (w2 - w1) * (x[n] - a) / (b - a)) * half * _W
+    one, zero = np.ones_like(L), np.zeros_like(L)
+    pe = phis(mu, L)
+    # rows v, L θ at i then j; columns 1, x/L, φ₂/L², φ₃/L³
+    B = np.zeros((rows.size, 4, 4))
+    B[:, 0, 0] = 1.0
+    B[:, 1, 1] = 1.0
+    B[:, 2] = np.stack([one, one, pe[2] / L ** 2, pe[3] / L ** 3], axis=1)
+    B[:, 3] = np.stack([zero, one, pe[1] / L, pe[2] / L ** 2], axis=1)
+    C = np.linalg.solve(B, np.broadcast_to(np.eye(4), B.shape))
+    scale = np.stack([one, L, one, L], axis=1)                        # L θ → θ
+    Lc = L[:, None]
+    px = phis(mu[:, None], x)
+    basis = np.stack([np.ones_like(x), x / Lc, px[2] / Lc ** 2, px[3] / Lc ** 3], axis=1)
+    slope = np.stack([np.zeros_like(x), np.ones_like(x) / Lc, px[1] / Lc ** 2,
+                      px[2] / Lc ** 3], axis=1)
+    # ψ_k(x_p) = Σ_j C_jk b_j(x_p)
+    psi = np.einsum("njk,njp->nkp", C, basis)
+    out[rows] = (np.einsum("nkp,np->nk", psi, wq)
+                 + mz[:, None] * np.einsum("njk,nj->nk", C, slope[:, :, 0])) * scale
+    return out
+
+
+def into_loads(Fe, items, EI, N, Lf, rows, signs=(1.0, 1.0, 1.0, 1.0)) -> None:
+    """Fe's ``rows`` (the v_i, θ_i, v_j, θ_j of a bending plane, each times
+    its sign) of every member k named in ``items`` — (k, case column, the
+    load's part on the flexible length: :func:`flexible_part`) — replaced by
+    the beam-column's consistent loads of its parts under N[k]
+    (:func:`nodal_loads_many`, one pass)."""
+    members = sorted({k for k, _, _ in items})
+    for k in members:
+        Fe[k, list(rows)] = 0.0
+    if not items:
+        return
+    at = np.array([k for k, _, _ in items])
+    cases = np.array([c for _, c, _ in items])
+    f = nodal_loads_many([p for _, _, p in items], EI[at], N[at], Lf[at]) * np.asarray(signs)
+    np.add.at(Fe, (at[:, None], np.asarray(rows)[None, :], cases[:, None]), f)
 
 
 def member_nodal_loads(loads, factor_of, L, c, s, offsets, EI, N) -> np.ndarray:

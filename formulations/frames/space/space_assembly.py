@@ -308,26 +308,26 @@ def release_directions(frame, b):
 def beam_column_loads(frame, ms, axial, col, L, R, offsets, phi, Fe) -> None:
     """Fe's bending rows of the members under axial force, in each bending
     plane without shear deformation: the beam-column's consistent loads of
-    the flexible length (:func:`..mechanics.beam_column.member_nodal_loads`,
-    the plane element's) — x-y with EIz on (v, θz), x-z with EIy on (w, θ'
+    the flexible length (:func:`..mechanics.beam_column.into_loads`, the
+    plane element's) — x-y with EIz on (v, θz), x-z with EIy on (w, θ'
     = −θy) — in place of the first-order element's."""
-    from ..mechanics.beam_column import member_nodal_loads
+    from ..mechanics.beam_column import flexible_part, into_loads
 
-    loads = {}
-    for load in frame.span_loads:
-        loads.setdefault(load.member, []).append(load)
-    for k, (name, m_) in enumerate(zip(frame.members, ms)):
-        mine = loads.get(name)
-        if not mine or axial[k] == 0.0:
-            continue
-        parts = [space_member_loads.plane_parts(ld, R[k])[:2] for ld in mine]
-        for plane, (I_, rows, sign) in enumerate((("Iz", (1, 5, 7, 11), 1.0),
-                                                  ("Iy", (2, 4, 8, 10), -1.0))):
-            if phi[k, plane] > 0:          # a Timoshenko plane keeps its own
+    where = {nm: k for k, nm in enumerate(frame.members)}
+    Lf = L - offsets.sum(axis=1)
+    for plane, (I_, rows, signs) in enumerate((("Iz", (1, 5, 7, 11), (1.0, 1.0, 1.0, 1.0)),
+                                               ("Iy", (2, 4, 8, 10), (1.0, -1.0, 1.0, -1.0)))):
+        items = []
+        for load in frame.span_loads:
+            k = where[load.member]
+            if axial[k] == 0.0 or phi[k, plane] > 0:    # a Timoshenko plane keeps its own
                 continue
-            fe = member_nodal_loads([p[plane] for p in parts], col, L[k], 1.0, 0.0,
-                                    offsets[k], m_["E"] * m_[I_], axial[k])
-            Fe[k, list(rows)] = fe * np.array([1.0, sign, 1.0, sign])[:, None]
+            part = flexible_part(space_member_loads.plane_parts(load, R[k])[plane], L[k], 1.0,
+                                 0.0, *offsets[k])
+            if part is not None:
+                items.append((k, col[load.case], part))
+        EI = np.array([m_["E"] * m_[I_] for m_ in ms])
+        into_loads(Fe, items, EI, np.asarray(axial, float), Lf, rows, signs)
 
 
 def fixed_end(q, L) -> np.ndarray:
