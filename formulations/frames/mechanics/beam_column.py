@@ -98,11 +98,13 @@ def phis(mu, x) -> np.ndarray:
         m, xf = mu[far], x[far]
         k = np.sqrt(np.abs(m))
         y = k * xf
-        press = m < 0
-        sn = np.where(press, np.sin(y), np.sinh(np.where(press, 0.0, y)))
-        out[0][far] = np.where(press, np.cos(y), np.cosh(np.where(press, 0.0, y)))
+        press = m < 0                               # compression: trigonometric
+        yt = np.where(press, 0.0, y)                # (tension's, hyperbolic, kept finite)
+        sn = np.where(press, np.sin(y), np.sinh(yt))
+        half = np.where(press, np.sin(0.5 * y), np.sinh(0.5 * yt))
+        out[0][far] = np.where(press, np.cos(y), np.cosh(yt))
         out[1][far] = sn / k
-        out[2][far] = 2.0 * np.where(press, np.sin(0.5 * y), np.sinh(np.where(press, 0.0, 0.5 * y))) ** 2 / k ** 2
+        out[2][far] = 2.0 * half ** 2 / k ** 2
         out[3][far] = np.where(press, y - sn, sn - y) / k ** 3
     return out
 
@@ -167,6 +169,7 @@ def across(load, c, s):
     """A member load's parts across the axis, member axes: ("point", a,
     py, mz) or ("distributed", a, b, wy1, wy2)."""
     v = load.values
+
     def turn(fx, fy):
         return fy if load.axes == "member" else -s * fx + c * fy
     if load.kind == "point":
@@ -308,21 +311,6 @@ def into_loads(Fe, items, EI, N, Lf, rows, signs=(1.0, 1.0, 1.0, 1.0)) -> None:
     cases = np.array([c for _, c, _ in items])
     f = nodal_loads_many([p for _, _, p in items], EI[at], N[at], Lf[at]) * np.asarray(signs)
     np.add.at(Fe, (at[:, None], np.asarray(rows)[None, :], cases[:, None]), f)
-
-
-def member_nodal_loads(loads, factor_of, L, c, s, offsets, EI, N) -> np.ndarray:
-    """The transverse consistent nodal loads (v_i, θ_i, v_j, θ_j) on the
-    flexible element of a plane member (length L node to node, direction
-    (c, s), rigid end zones ``offsets``) of its ``loads``, one column per
-    entry of ``factor_of`` (case → column), under N: :func:`nodal_loads` of
-    each load's part on the flexible length."""
-    oi, oj = offsets
-    out = np.zeros((4, max(factor_of.values(), default=-1) + 1))
-    for ld in loads:
-        part = flexible_part(ld, L, c, s, oi, oj)
-        if part is not None:
-            out[:, factor_of[ld.case]] += nodal_loads([part], EI, N, L - oi - oj)
-    return out
 
 
 def flexible_part(load, L, c, s, oi, oj):

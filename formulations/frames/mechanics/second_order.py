@@ -32,9 +32,12 @@ EA/L as before (no bowing): the axial force comes from the axial strain.
 Members with shear deformation (Timoshenko, φ > 0) take the consistent
 geometric matrix beside their own stiffness: the exact Timoshenko
 beam-column is not written here, and its error is the consistent matrix's
-(P-δ to O(t²)).  Fixed-end forces of member loads stay first-order (their
-span moments are not amplified by N): an answer where that is off by more
-than the accuracy asked is not ok (:func:`first_order_parts`).
+(P-δ to O(t²)), and its member loads keep their first-order fixed-end
+forces and diagrams; an Euler–Bernoulli member's are the beam-column's
+(:mod:`.beam_column`), with N constant along it.  Where what stays first
+order (those, and member loads' axial parts, which make N vary along a
+member) is off by more than the accuracy asked the answer is not ok
+(:func:`first_order_parts`).
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k` (and its consistent geometric one,
@@ -255,10 +258,12 @@ def _axial_load(load, d, oi, oj) -> float:
 
 def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     """Words naming the members whose second-order answer stays first
-    order in part (module docstring) by more than ``tol``, or "": their
-    span loads' fixed-end forces and diagrams (on the member's moments),
-    and a Timoshenko member's consistent geometric matrix (on its
-    response, by the same amplification bound).  Under an axial
+    order in part (module docstring) by more than ``tol``, or "": a
+    Timoshenko member's span loads' fixed-end forces and diagrams (on the
+    member's moments) and its consistent geometric matrix (on its
+    response, by the same amplification bound); any member's loads' axial
+    parts, which make N vary along it (below).  An Euler–Bernoulli
+    member's loads are the beam-column's (:mod:`.beam_column`).  Under an axial
     force N a member's loads bend it more (compression) or less (tension)
     than first order says, by up to about its beam-column amplification
     ρ/(1 − ρ) (ρ in tension), ρ = |N| L²/(π² EI) — the pinned member's
@@ -329,9 +334,9 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         varying = np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
     hit = [k for k in np.argsort(-varying, kind="stable") if varying[k] > tol]
     if hit:
-        words.append(f"the member loads of member(s) {_worst(frame, N, varying, hit, 'its moments')} "
-                     "have axial parts, which make N vary along the member about the mean its "
-                     "element takes")
+        names = _worst(frame, N, varying, hit, "its moments")
+        words.append(f"the member loads of member(s) {names} have axial parts, which make N "
+                     "vary along the member about the mean its element takes")
     # a Timoshenko member's P-δ is the consistent geometric matrix's (module
     # docstring), O(t²) off the beam-column: a pinned strut buckles at
     # t = 12, not π² — its response off by up to the amplification bound
