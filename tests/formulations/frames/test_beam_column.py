@@ -310,3 +310,38 @@ def test_end_forces_are_the_diagrams_ends(space):
         assert ends["j"][name] == pytest.approx(q[k][-1], abs=1e-12 * scale)
     v_end = res.member_forces["S"][1]
     assert abs(ends["i"]["Vy" if space else "V"] - v_end) > 1e-3     # N θ_i
+
+
+@pytest.mark.parametrize("share", [0.3, 0.8, -2.0])
+@pytest.mark.parametrize("spring", [0.5, 5.0])
+def test_semi_rigid_ends_under_a_uniform_load(share, spring):
+    """Fixed nodes, the member joined to them by rotational springs
+    k_s = spring EI/L: the end moment M from compatibility with the pinned
+    beam-column's end rotations, w (tan u − u)/(EI k³) under the load and
+    M tan u/(EI k) under equal end moments M, so
+    M = w (tan u − u)/(EI k³) / (1/k_s + tan u/(EI k)), and midspan
+    (w/k²)(sec u − 1) − M sec u (tension: tanh, sech, k² → −k²)."""
+    k_s = spring * EI / L
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", L, 0.0)
+    fr.add_member("A", "B", E, 0.01, I, name="S", spring_i=k_s, spring_j=k_s)
+    fr.add_support("A", fix=("ux", "uy", "rz"))
+    fr.add_support("B", fix=("uy", "rz"))
+    fr.add_load("B", fx=-share * P_E, case="D")
+    fr.add_distributed_load("S", wy=-W, case="D")
+    res = _solve(fr)
+    assert res.ok, res.message
+    k = mp.sqrt(mp.mpf(abs(share)) * P_E / EI)
+    u = k * L / 2
+    if share > 0:
+        rot_w, rot_m, sec = W * (mp.tan(u) - u) / (EI * k ** 3), mp.tan(u) / (EI * k), 1 / mp.cos(u)
+        mid_w = W / k ** 2 * (sec - 1)
+    else:
+        rot_w, rot_m, sec = W * (u - mp.tanh(u)) / (EI * k ** 3), mp.tanh(u) / (EI * k), 1 / mp.cosh(u)
+        mid_w = W / k ** 2 * (1 - sec)
+    M = rot_w / (1 / k_s + rot_m)
+    ends = res.end_forces("S")
+    assert ends["i"]["M"] == pytest.approx(-float(M), rel=1e-10)
+    assert ends["j"]["M"] == pytest.approx(-float(M), rel=1e-10)
+    assert res.extremes("S")["M"]["max"][0] == pytest.approx(float(mid_w - M * sec), rel=1e-10)
