@@ -451,3 +451,27 @@ def stationary_points(x, V, shear_at, iterations: int = 60) -> np.ndarray:
         lo, hi = np.where(left, at, lo), np.where(left, hi, at)
         side = np.where(left, 1.0, -1.0)
     return at
+
+
+def turning_sections(x, F, F_at) -> np.ndarray:
+    """Where a diagram F (sampled at x) that is no polynomial between its
+    samples — a beam-column's V, with N v' in it — turns: for each sample
+    whose neighbours' differences change sign, the extreme of ``F_at`` (F
+    at an array of sections) between those neighbours by Brent's bounded
+    search to 1e-12 of the span, started from nothing but the bracket
+    (:func:`turning_points`' parabola vertex is exact only where F is a
+    parabola)."""
+    from scipy.optimize import minimize_scalar
+
+    x, F = np.asarray(x, float), np.asarray(F, float)
+    d = np.diff(F)
+    out = []
+    for k in np.flatnonzero(d[:-1] * d[1:] < 0).tolist():
+        if not x[k] < x[k + 2]:
+            continue
+        sign = -1.0 if d[k] > 0 else 1.0           # a maximum: minimise −F
+        found = minimize_scalar(lambda s: sign * float(F_at(np.array([s]))[0]),
+                                bounds=(x[k], x[k + 2]), method="bounded",
+                                options={"xatol": 1e-12 * (x[-1] - x[0])})
+        out.append(found.x)
+    return np.array(out, float)

@@ -44,7 +44,7 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
-from ..mechanics.loads import check_diagram, stationary_points, turning_points
+from ..mechanics.loads import check_diagram, stationary_points, turning_points, turning_sections
 from ..mechanics.space_element import EXTREMES, QUANTITIES
 from ..mechanics.space_element import axes as member_axes
 from ..mechanics import beam_column
@@ -203,7 +203,9 @@ def extremes(frame, res, member: str, points: int = 201) -> dict:
     at = {q: x for q in QUANTITIES}
     # where N, V and T turn between the samples (a load that changes sign)
     for q in ("N", "Vy", "Vz", "T"):
-        x_t = turning_points(x, values[q])
+        plane = {"Vy": 1, "Vz": 2}.get(q)
+        x_t = (turning_sections(x, values[q], lambda s, q=q: along.sections(s)[
+            QUANTITIES.index(q)]) if plane in along.planes else turning_points(x, values[q]))
         if x_t.size:
             at[q] = np.r_[x, x_t]
             values[q] = np.r_[values[q], along.sections(x_t)[QUANTITIES.index(q)]]
