@@ -241,6 +241,16 @@ def own_buckling(frame) -> np.ndarray:
         for EI, ki, kj, GAs in planes) for L, planes in bending_planes(frame)], float)
 
 
+def pinned_buckling(frame) -> np.ndarray:
+    """Each member's buckling load [F] hinged at both ends, the least over
+    its bending planes: π²EI/L² (L its flexible length), Engesser's
+    P_E/(1 + P_E/(G A_s)) with shear deformation."""
+    return np.array([min(np.pi ** 2 * EI / L ** 2 / (1.0 + (np.pi ** 2 * EI / (L ** 2 * GAs)
+                                                            if GAs else 0.0))
+                         for EI, _, _, GAs in planes) for L, planes in bending_planes(frame)],
+                    float)
+
+
 def bending_planes(frame):
     """Per member (L, [(EI, k_i, k_j, G A_s), …]): its flexible length and
     each bending plane's EI, end springs (None: rigid) and shear stiffness
@@ -325,15 +335,18 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     Under an axial
     force N a member's loads bend it more (compression) or less (tension)
     than first order says, by up to about its beam-column amplification
-    ρ/(1 − ρ) (ρ in tension), ρ = |N| L²/(π² EI) — the pinned member's
-    Euler load on its weaker EI, the largest amplification of any end
+    ρ/(1 − ρ) (ρ in tension), ρ = |N|/P_p — P_p the pinned member's
+    buckling load over its bending planes, π²EI/L² and with shear
+    deformation Engesser's P_E/(1 + P_E/(G A_s)) (:func:`pinned_buckling`:
+    on π²EI/L² alone a shear-flexible member's bound was 1 + P_E/(G A_s)
+    times too small), the largest amplification of any end
     condition (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m
     against wL²/8 = 31.25) — of the span moment M₀ its loads alone make on
     a simple span, bounded by |W| L/4 (a point force's P a (L − a)/L) + |M|.  Judged on the member's own
     moments (its ends' in ``member_forces``, and M₀): a member cut into
     short pieces has small M₀ and small ρ per piece, so the cut that the
     words advise clears it."""
-    EI, L = bending(frame)
+    _, L = bending(frame)
     N = np.asarray(N, float)
     m0 = np.zeros(len(frame.members))
     index = {name: k for k, name in enumerate(frame.members)}
@@ -359,7 +372,7 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
             a = min(max(ld.a - oi, 0.0), flexible)
             span = 4.0 * a * (flexible - a) / flexible
         m0[k] += abs(combination[ld.case]) * (force * span + moment)
-    rho = np.abs(N) * L ** 2 / (np.pi ** 2 * EI)
+    rho = np.abs(N) / pinned_buckling(frame)
     with np.errstate(divide="ignore", invalid="ignore"):
         amplification = np.where(N < 0, rho / np.maximum(1.0 - rho, 0.0), rho)
         ends = np.array([np.abs(np.asarray(member_forces[name])[

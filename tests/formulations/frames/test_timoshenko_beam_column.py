@@ -424,3 +424,31 @@ def test_the_cantilevers_sway_is_opensees_cut_fine():
     assert theirs == pytest.approx(ours.displacements["B"][0], rel=1e-4)
     assert abs(theirs / ours.displacements["B"][0] - 1.0) > 1e-6     # a cut, not the same
 
+
+def test_a_shear_flexible_span_with_loads_is_judged_on_its_own_buckling_load():
+    """A pinned span (φ = 3) under a uniform load w and a compression at
+    2e-4 of its Engesser load P_p = P_E/(1 + P_E/(G A_s)): its loads'
+    fixed-end forces and diagram are first order (wL²/8 at midspan),
+    while the beam-column's midspan moment is (w EI/P)(sec(kL/2) − 1),
+    k² = P/(β EI) (M'' + k² M = w/β from M' = N v' − V, V' = −w and
+    β v'' = M/EI − w/(G A_s)) — 2.1e-4 above it, more than the 1e-4 asked.
+    The span-load bound on π²EI/L² (5.8e-5) called it ok; on P_p it is not."""
+    w, EI = 10.0, E * I
+    As = 12 * EI / (G * 3.0 * L ** 2)
+    P_E = np.pi ** 2 * EI / L ** 2
+    P = 2e-4 * P_E / (1 + P_E / (G * As))
+    beta = 1 - P / (G * As)
+    k = np.sqrt(P / (beta * EI))
+    exact = w * EI / P * (1 / np.cos(k * L / 2) - 1)
+    assert exact / (w * L ** 2 / 8) - 1 > 2e-4          # the first-order moment's error
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", L, 0.0)
+    fr.add_member("A", "B", E, A, I, name="S", G=G, shear_area=As)
+    fr.add_distributed_load("S", wy=-w, case="D")
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_support("B", fix=("uy",))
+    fr.add_load("B", fx=-P, case="D")
+    res = fr.solve(combination={"D": 1.0}, second_order=True, raise_on_failure=False,
+                   accuracy="low")
+    assert not res.ok and "span loads of member(s) S" in res.message, res.message
