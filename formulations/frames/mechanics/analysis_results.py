@@ -119,6 +119,10 @@ class AnalysisResult:
     #: a second-order answer's fixed point ({"rounds", "axial_error",
     #: "axial"}: mechanics.second_order_analysis); None for first order
     second_order: dict | None = None
+    #: the members' axial forces (tension positive, member order) its
+    #: second-order stiffness and member loads were built from, which its
+    #: diagrams read (the beam-column between the ends); None for first order
+    stiffness_axial: np.ndarray | None = field(repr=False, default=None)
     #: where no equilibrium exists, proved (solve(raise_on_failure=False)
     #: returns it, solve_combinations keeps it): how the frame fails and
     #: the proof, as the NoSolutionError's message would say; else None

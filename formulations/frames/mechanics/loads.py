@@ -306,7 +306,7 @@ def equivalent_nodal_many(loads, L, c, s, phi) -> np.ndarray:
     return equivalent_loads(table, L, c, s, phi, (x / L[:, None]) ** 3, t, wg)
 
 
-def _clip(load: MemberLoad, lo: float, hi: float, shift: float = 0.0):
+def clipped(load: MemberLoad, lo: float, hi: float, shift: float = 0.0):
     """The part of a load on [lo, hi], positions moved by -shift (None if
     nothing lies there); a trapezoid's values interpolated at the cuts."""
     if load.kind == "point":
@@ -348,10 +348,10 @@ def offset_parts(load: MemberLoad, L: float, c: float, s: float, phi: float, off
     at the node)."""
     oi, oj = offsets
     rigid = np.zeros(6)
-    flex = _clip(load, oi, L - oj, shift=oi)
+    flex = clipped(load, oi, L - oj, shift=oi)
     fe = np.zeros(6) if flex is None else equivalent_nodal(flex, L - oi - oj, c, s, phi)
     for lo, hi, node, about in ((0.0, oi, 0, 0.0), (L - oj, L, 3, L)):
-        part = _clip(load, lo, hi) if hi > lo else None
+        part = clipped(load, lo, hi) if hi > lo else None
         # a point load exactly at the face is the flexible element's
         if part is not None and not (part.kind == "point" and flex is not None):
             rigid[node:node + 3] += _rigid_transfer(part, c, s, about)
@@ -451,3 +451,27 @@ def stationary_points(x, V, shear_at, iterations: int = 60) -> np.ndarray:
         lo, hi = np.where(left, at, lo), np.where(left, hi, at)
         side = np.where(left, 1.0, -1.0)
     return at
+
+
+def turning_sections(x, F, F_at) -> np.ndarray:
+    """Where a diagram F (sampled at x) that is no polynomial between its
+    samples — a beam-column's V, with N v' in it — turns: for each sample
+    whose neighbours' differences change sign, the extreme of ``F_at`` (F
+    at an array of sections) between those neighbours by Brent's bounded
+    search to 1e-12 of the span, started from nothing but the bracket
+    (:func:`turning_points`' parabola vertex is exact only where F is a
+    parabola)."""
+    from scipy.optimize import minimize_scalar
+
+    x, F = np.asarray(x, float), np.asarray(F, float)
+    d = np.diff(F)
+    out = []
+    for k in np.flatnonzero(d[:-1] * d[1:] < 0).tolist():
+        if not x[k] < x[k + 2]:
+            continue
+        sign = -1.0 if d[k] > 0 else 1.0           # a maximum: minimise −F
+        found = minimize_scalar(lambda s: sign * float(F_at(np.array([s]))[0]),
+                                bounds=(x[k], x[k + 2]), method="bounded",
+                                options={"xatol": 1e-12 * (x[-1] - x[0])})
+        out.append(found.x)
+    return np.array(out, float)

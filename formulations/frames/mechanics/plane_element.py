@@ -153,6 +153,17 @@ def member_locals(frame, xy, idx, col, axial=None):
                                         (ms[k].offset_i, ms[k].offset_j))
             Fe[k, :, col[ld.case]] += fe
             rigid[k][:, col[ld.case]] += at_nodes
+    if axial is not None:
+        # Euler–Bernoulli members' loads under N: the beam-column's fixed-end
+        # forces (:mod:`.beam_column`) across the axis; a Timoshenko member's
+        # stay its first-order element's (second_order.first_order_parts)
+        from .beam_column import flexible_part, into_loads
+        items = [(k, col[ld.case], part)
+                 for k in np.flatnonzero((n_loads > 0) & (phi == 0) & (axial != 0)).tolist()
+                 for ld in ms[k].loads
+                 for part in [flexible_part(ld, L[k], c[k], s[k], ms[k].offset_i,
+                                            ms[k].offset_j)] if part is not None]
+        into_loads(Fe, items, E * I, axial, Lf, (1, 2, 4, 5))
     # releases act at the flexible ends (the face of the rigid zone), so
     # they come before the rigid arms carry the end to the node
     for k in np.flatnonzero(released).tolist():

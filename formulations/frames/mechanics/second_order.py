@@ -88,9 +88,12 @@ clamped, P and H at its free tip) sways H L/P (tan μ/(β μ) − 1), which is
 H L³/(3EI) + H L/(G A_s) as P → 0, and buckles at μ = π/2:
 P_c/(1 + P_c/(G A_s)), P_c = π²EI/(4L²).
 
-Fixed-end forces of member loads stay first-order (their
-span moments are not amplified by N): an answer where that is off by more
-than the accuracy asked is not ok (:func:`first_order_parts`).
+A Timoshenko member's loads keep their first-order fixed-end forces and
+diagrams; an Euler–Bernoulli member's are the beam-column's
+(:mod:`.beam_column`), with N constant along it.  Where what stays first
+order (those, and member loads' axial parts, which make N vary along a
+member) is off by more than the accuracy asked the answer is not ok
+(:func:`first_order_parts`).
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k`, a space member's in
@@ -328,11 +331,29 @@ def _bending_load(values, axis, local: bool, point: bool) -> tuple[float, float]
     return across / 4.0, float(np.linalg.norm(moments))
 
 
+def _axial_load(load, d, oi, oj) -> float:
+    """|ΔN| of one member load on a member (node i to j along d, rigid end
+    zones oi, oj; plane or space) over its flexible length: its force along
+    the axis (a distributed one's largest |w| times its stretch there, at
+    most; a point force at a zone's face or on it none)."""
+    length = float(np.linalg.norm(d))
+    axis = d / length
+    n = axis.size
+    v = np.asarray(load.values, float)
+    along = [v[0:n]] if load.kind == "point" else [v[0:n], v[n:2 * n]]
+    size = max(abs(f[0]) if load.axes == "member" else abs(float(f @ axis)) for f in along)
+    if load.kind == "point":
+        return size if oi < load.a < length - oj else 0.0
+    return size * max(0.0, min(load.b, length - oj) - max(load.a, oi))
+
+
 def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     """Words naming the members whose second-order answer stays first
-    order in part (module docstring) by more than ``tol``, or "": their
-    span loads' fixed-end forces and diagrams (on the member's moments).
-    Under an axial
+    order in part (module docstring) by more than ``tol``, or "": a
+    Timoshenko member's span loads' fixed-end forces and diagrams (on the
+    member's moments), and any member's loads' axial parts, which make N
+    vary along it (below); an Euler–Bernoulli member's loads are the
+    beam-column's (:mod:`.beam_column`).  Under an axial
     force N a member's loads bend it more (compression) or less (tension)
     than first order says, by up to about its beam-column amplification
     ρ/(1 − ρ) (ρ in tension), ρ = |N|/P_p — P_p the pinned member's
@@ -355,12 +376,23 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         pairs = [(ld.member, ld) for ld in frame.span_loads]
     else:
         pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
+    # an Euler–Bernoulli member carries its loads as the beam-column
+    # (mechanics.beam_column; a space member in both bending planes) but for
+    # their axial parts, which make N vary along it about the mean its
+    # element takes: their sum ΔN per member
+    beam_column = np.array([all(g is None for g in m["GAs"]) if isinstance(m, dict)
+                            else m.GAs is None for m in frame.members.values()])
+    spread = np.zeros(len(frame.members))
     for name, ld in pairs:
         if ld.case not in active:
             continue
         k, m = index[name], frame.members[name]
         i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
         d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
+        if beam_column[k]:
+            spread[k] += abs(combination[ld.case]) * _axial_load(
+                ld, d, *(m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)))
+            continue
         force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
                                       ld.kind == "point")
         span = L[k] * L[k]
@@ -372,7 +404,8 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
             a = min(max(ld.a - oi, 0.0), flexible)
             span = 4.0 * a * (flexible - a) / flexible
         m0[k] += abs(combination[ld.case]) * (force * span + moment)
-    rho = np.abs(N) / pinned_buckling(frame)
+    pinned = pinned_buckling(frame)
+    rho = np.abs(N) / pinned
     with np.errstate(divide="ignore", invalid="ignore"):
         amplification = np.where(N < 0, rho / np.maximum(1.0 - rho, 0.0), rho)
         ends = np.array([np.abs(np.asarray(member_forces[name])[
@@ -385,6 +418,19 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         words.append(f"the span loads of member(s) {_worst(frame, N, off, hit, 'its moments')} "
                      "act with first-order fixed-end forces and diagrams, not the "
                      "beam-column's (P-δ along a loaded member is not in the element)")
+    # N(x) departs from the element's mean by up to ΔN/2: as an axial force
+    # of its own on the member's deflection it changes the moments by up to
+    # its amplification, ρ_Δ/(1 − ρ) with ρ_Δ = (ΔN/2)/P_p and ρ the
+    # largest compression's (N's mean less ΔN/2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho_spread = 0.5 * spread / pinned
+        worst = np.maximum(-N, 0.0) / pinned + rho_spread
+        varying = np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
+    hit = [k for k in np.argsort(-varying, kind="stable") if varying[k] > tol]
+    if hit:
+        names = _worst(frame, N, varying, hit, "its moments")
+        words.append(f"the member loads of member(s) {names} have axial parts, which make N "
+                     "vary along the member about the mean its element takes")
     return "; ".join(words) + (" — add nodes along those members, whose pieces then carry the "
                                "P-δ closer (docs/frames.md, 'What stays first order')"
                                if words else "")

@@ -10,6 +10,7 @@ import numpy as np
 from qpcontact.core.errors import InvalidOptionError, SolverFailedError
 
 from ..mechanics.loads import check_diagram, known_member, load_points, section_sums
+from ..mechanics import beam_column
 from ..mechanics.plane_element import geometry, rotation
 
 
@@ -37,9 +38,11 @@ def loads_of(res, m):
     return [ld for ld in m.loads if res.combination.get(ld.case)]
 
 
-def sections(frame, res, m, x):
+def sections(frame, res, m, x, deformed: bool = True):
     """(N, V, M) at the sections x (member axes, engineering convention):
-    the end actions at node i plus the member loads on [0, x)."""
+    the end actions at node i plus the member loads on [0, x) — and, in a
+    second-order answer (``deformed``), N times the member's own deflection
+    (:func:`beam_column_axis`)."""
     L, c, s = geometry(frame, m)
     f = res.member_forces[m.name]
     loads = loads_of(res, m)
@@ -50,7 +53,46 @@ def sections(frame, res, m, x):
         fx += factor * ax_
         fy += factor * ay_
         mo += factor * am_
-    return -f[0] - fx, f[1] + fy, -f[2] + f[1] * x + mo
+    N, V, M = -f[0] - fx, f[1] + fy, -f[2] + f[1] * x + mo
+    bent = beam_column_axis(frame, res, m, x) if deformed else None
+    if bent is not None:
+        # on the deformed axis: the section moment adds N (v(x) − v(0)),
+        # V = dM/dx adds N v' (mechanics.beam_column)
+        axial, v0, v, dv = bent
+        V, M = V + axial * dv, M + axial * (v - v0)
+    return N, V, M
+
+
+def beam_column_axis(frame, res, m, x):
+    """(N, v(0), v(x), v'(x)) of a member of a second-order answer whose
+    element is the beam-column (Euler–Bernoulli, N ≠ 0: the stiffness's
+    axial force), member axes, node to node (a rigid zone moves with its
+    node); None for first order and Timoshenko members.  The flexible
+    part's by :func:`..mechanics.beam_column.deflection` from its ends'
+    displacements through the rigid arms and their own rotations — a
+    released end's from the element's moment row (hinge: the moment 0;
+    spring k: k (θ_node − θ_end)), its consistent loads the beam-column's."""
+    if res.stiffness_axial is None or m.GAs is not None:
+        return None
+    axial = float(res.stiffness_axial[list(frame.members).index(m.name)])
+    if axial == 0.0:
+        return None
+    L, c, s = geometry(frame, m)
+    oi, oj = m.offset_i, m.offset_j
+    Lf, EI = L - oi - oj, m.E * m.I
+    idx = {nm: 3 * k for k, nm in enumerate(frame.nodes)}
+    T = rotation(c, s)[:3, :3]
+    di = T @ res._u[idx[m.i]:idx[m.i] + 3]
+    dj = T @ res._u[idx[m.j]:idx[m.j] + 3]
+    ends = np.array([di[1] + oi * di[2], di[2], dj[1] - oj * dj[2], dj[2]])
+    parts = [part[:-2] + tuple(res.combination[ld.case] * np.array(part[-2:]))
+             for ld in loads_of(res, m)
+             for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
+    xf = np.clip(x, oi, L - oj) - oi
+    v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
+    v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
+    dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
+    return axial, di[1], v, dv
 
 
 def deflection(frame, res, member: str, points: int):
@@ -74,6 +116,9 @@ def deflection(frame, res, member: str, points: int):
     a, e = m.offset_i, L - m.offset_j          # the flexible length [a, e]
     pts = [p for p in load_points(loads_of(res, m)) + [a, e] if 0.0 < p < L]
     x = np.unique(np.r_[np.linspace(0.0, L, int(points)), pts])
+    bent = beam_column_axis(frame, res, m, x)
+    if bent is not None:        # a second-order answer's: the beam-column's own
+        return x, axial_displacement(frame, res, m, x), bent[2]
     t, w = np.polynomial.legendre.leggauss(4)
     lo, hi = np.maximum(x[:-1, None], a), np.minimum(x[1:, None], e)
     gs = (0.5 * (hi - lo) * t + 0.5 * (lo + hi)).ravel()
@@ -98,3 +143,20 @@ def deflection(frame, res, member: str, points: int):
     v = va + v + (ve - va - v_e) * (xf - a) / (e - a)
     v = np.where(x < a, di[1] + x * di[2], np.where(x > e, dj[1] - (L - x) * dj[2], v))
     return x, u, v
+
+
+def axial_displacement(frame, res, m, x):
+    """The displacement along the axis at x: node i's plus ∫ N/EA over the
+    flexible length (N linear between load edges: 4-point Gauss rules exact)."""
+    L, c, s = geometry(frame, m)
+    a, e = m.offset_i, L - m.offset_j
+    grid = np.unique(np.r_[x, [p for p in load_points(loads_of(res, m)) + [a, e] if 0 < p < L]])
+    t, w = np.polynomial.legendre.leggauss(4)
+    lo, hi = np.maximum(grid[:-1, None], a), np.minimum(grid[1:, None], e)
+    gs = (0.5 * (hi - lo) * t + 0.5 * (lo + hi)).ravel()
+    gw = (0.5 * np.maximum(hi - lo, 0.0) * w).ravel()
+    N = sections(frame, res, m, gs, deformed=False)[0]
+    idx = {nm: 3 * k for k, nm in enumerate(frame.nodes)}
+    di = rotation(c, s)[:3, :3] @ res._u[idx[m.i]:idx[m.i] + 3]
+    before = gs[None, :] < np.clip(x, a, e)[:, None]
+    return di[0] + (before * (gw * N / (m.E * m.A))) @ np.ones_like(gs)

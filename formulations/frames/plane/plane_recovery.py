@@ -173,7 +173,8 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                        reactions=reactions, equilibrium_residual=eq, lcp_error=cert_error,
                        route=route, ok=ok, message=msg, frame=frame, _u=u,
                        combination=dict(combo), displacement_ratio=ratio,
-                       max_rotation=rot, displacement_words=words)
+                       max_rotation=rot, displacement_words=words,
+                       stiffness_axial=b.get("axial"))
 
 
 def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..mechanics.analysis_results import AnalysisResult
-from ..mechanics.loads import stationary_points, turning_points
+from ..mechanics.loads import stationary_points, turning_points, turning_sections
 from ..reporting import tables
 from ..reporting.notation import DIGITS
 from ..reporting.tables import TABLES
@@ -94,8 +94,11 @@ class FrameResult(AnalysisResult):
         x, N, V, M = self.diagram(member, 201)
         m = self.frame.members[member]
         at = {"N": x, "V": x}
+        bent = member_diagrams.beam_column_axis(self.frame, self, m, x[:1]) is not None
         for key, k in (("N", 0), ("V", 1)):
-            x_t = turning_points(x, (N, V)[k])
+            x_t = (turning_sections(x, V, lambda s: member_diagrams.sections(
+                self.frame, self, m, s)[1]) if bent and key == "V"
+                else turning_points(x, (N, V)[k]))
             if x_t.size:
                 at[key] = np.r_[x, x_t]
                 turned = member_diagrams.sections(self.frame, self, m, x_t)[k]

@@ -63,6 +63,8 @@ def assemble(frame, axial=None):
             else:      # a point load or a part of the member (its own module)
                 Fe[k, :, col[load.case]] += space_member_loads.fixed_end(load, L[k], R[k],
                                                                          phi[k])
+        if axial is not None:
+            beam_column_loads(frame, ms, axial, col, L, R, offsets, phi, Fe)
         # end releases: the member's own end rotations condensed out, its
         # loads with them (the released end moments are zero)
         for k, m_ in enumerate(ms):
@@ -301,6 +303,31 @@ def release_directions(frame, b):
                 h[b["idx"][c.other]:b["idx"][c.other] + 3, ci] -= getattr(c, vec)
         cols.append(h if b["Tn"] is None else b["Tn"] @ h)
     return cols[0], cols[1:], np.array([c.friction for c in frame.contacts])
+
+
+def beam_column_loads(frame, ms, axial, col, L, R, offsets, phi, Fe) -> None:
+    """Fe's bending rows of the members under axial force, in each bending
+    plane without shear deformation: the beam-column's consistent loads of
+    the flexible length (:func:`..mechanics.beam_column.into_loads`, the
+    plane element's) — x-y with EIz on (v, θz), x-z with EIy on (w, θ'
+    = −θy) — in place of the first-order element's."""
+    from ..mechanics.beam_column import flexible_part, into_loads
+
+    where = {nm: k for k, nm in enumerate(frame.members)}
+    Lf = L - offsets.sum(axis=1)
+    for plane, (I_, rows, signs) in enumerate((("Iz", (1, 5, 7, 11), (1.0, 1.0, 1.0, 1.0)),
+                                               ("Iy", (2, 4, 8, 10), (1.0, -1.0, 1.0, -1.0)))):
+        items = []
+        for load in frame.span_loads:
+            k = where[load.member]
+            if axial[k] == 0.0 or phi[k, plane] > 0:    # a Timoshenko plane keeps its own
+                continue
+            part = flexible_part(space_member_loads.plane_parts(load, R[k])[plane], L[k], 1.0,
+                                 0.0, *offsets[k])
+            if part is not None:
+                items.append((k, col[load.case], part))
+        EI = np.array([m_["E"] * m_[I_] for m_ in ms])
+        into_loads(Fe, items, EI, np.asarray(axial, float), Lf, rows, signs)
 
 
 def fixed_end(q, L) -> np.ndarray:

@@ -44,10 +44,11 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, SolverFailedError
 
-from ..mechanics.loads import check_diagram, stationary_points, turning_points
+from ..mechanics.loads import check_diagram, stationary_points, turning_points, turning_sections
 from ..mechanics.space_element import EXTREMES, QUANTITIES
 from ..mechanics.space_element import axes as member_axes
-from .space_member_loads import load_points, section_terms, split
+from ..mechanics import beam_column
+from .space_member_loads import load_points, plane_parts, section_terms, split
 
 
 def geometry(frame, member: str):
@@ -77,6 +78,7 @@ class Along:
         self.f = np.asarray(res.member_forces[member], float)
         self.loads = loads_of(frame, res, member)
         self.parts = split(self.loads, self.R)
+        self.planes = bent_planes(frame, res, member, self.L, self.R, self.loads)
 
     def sections(self, x) -> tuple:
         """(N, Vy, Vz, T, My, Mz) at the sections x (module docstring): the
@@ -85,8 +87,17 @@ class Along:
         x = np.asarray(x, float)
         f = self.f
         fx, fy, fz, tx, mo_xy, mo_xz = section_terms(self.parts, x)
-        return (-f[0] - fx, f[1] + fy, f[2] + fz, -f[3] - tx, f[4] + f[2] * x + mo_xz,
-                -f[5] + f[1] * x + mo_xy)
+        N, Vy, Vz, T = -f[0] - fx, f[1] + fy, f[2] + fz, -f[3] - tx
+        My, Mz = f[4] + f[2] * x + mo_xz, -f[5] + f[1] * x + mo_xy
+        # a second-order answer's: N times the member's own deflection in
+        # each bending plane (the plane frame's member_diagrams.sections)
+        for plane, (axial, d0, solution) in self.planes.items():
+            d, dd = solution(x)
+            if plane == 1:
+                Vy, Mz = Vy + axial * dd, Mz + axial * (d - d0)
+            else:
+                Vz, My = Vz + axial * dd, My + axial * (d - d0)
+        return N, Vy, Vz, T, My, Mz
 
     def sample_points(self, points: int):
         """``points`` sections from node i, with every load's position and
@@ -94,6 +105,51 @@ class Along:
         pts = [p for p in load_points(self.loads) if 0.0 < p < self.L]
         return np.unique(np.r_[np.linspace(0.0, self.L, int(points)), pts,
                                np.nextafter(np.array(pts, float), -np.inf)])
+
+
+def bent_planes(frame, res, member, L, R, loads) -> dict:
+    """{1 (across y) | 2 (across z): (N, d(0), x ↦ (d(x), d'(x)))}: the
+    beam-column's deflection of each bending plane without shear
+    deformation of a second-order answer's member under N ≠ 0, member axes,
+    node to node (a rigid zone moves with its node): the x-y plane with EIz
+    on (v, θz), the x-z plane with EIy on (w, θ' = −θy), each as the plane
+    frame's (:func:`..mechanics.beam_column.axis`); {} for first order."""
+    if res.stiffness_axial is None:
+        return {}
+    axial = float(res.stiffness_axial[list(frame.members).index(member)])
+    m = frame.members[member]
+    if axial == 0.0:
+        return {}
+    oi, oj = m["offsets"]
+    Lf = L - oi - oj
+    di, dj = (np.r_[R @ np.asarray(res.displacements[n][:3], float),
+                    R @ np.asarray(res.displacements[n][3:], float)] for n in (m["i"], m["j"]))
+    rel = dict(m["releases"])
+    out = {}
+    for plane, (I_, GAs, turn, sign) in ((1, (m["Iz"], m["GAs"][0], 5, 1.0)),
+                                         (2, (m["Iy"], m["GAs"][1], 4, -1.0))):
+        if GAs is not None:
+            continue
+        # the plane's slope θ' = sign θ: +θz = dv/dx, −θy = dw/dx
+        ti, tj = sign * di[turn], sign * dj[turn]
+        ends = (di[plane] + oi * ti, ti, dj[plane] - oj * tj, tj)
+        parts = []
+        for load, factor in loads:
+            part = beam_column.flexible_part(plane_parts(load, R)[plane - 1], L, 1.0, 0.0, oi, oj)
+            if part is not None:
+                parts.append(part[:-2] + tuple(factor * np.array(part[-2:])))
+        springs = (rel.get(turn), rel.get(turn + 6))
+
+        def solution(x, ends=ends, parts=parts, springs=springs, EI=m["E"] * I_, plane=plane,
+                     ti=ti, tj=tj):
+            x = np.asarray(x, float)
+            d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs,
+                                     np.clip(x, oi, L - oj) - oi)
+            d = np.where(x < oi, di[plane] + x * ti,
+                         np.where(x > L - oj, dj[plane] - (L - x) * tj, d))
+            return d, np.where(x < oi, ti, np.where(x > L - oj, tj, dd))
+        out[plane] = (axial, di[plane], solution)
+    return out
 
 
 def checked_member(frame, res, member, points) -> str:
@@ -118,8 +174,17 @@ def end_forces(frame, res, member: str) -> dict:
     checked_member(frame, res, member, 2)
     f = np.asarray(res.member_forces[member], float)
     sign = np.array([-1.0, 1.0, 1.0, -1.0, 1.0, -1.0])
-    return {end: {q: float(v) + 0.0 for q, v in zip(QUANTITIES, s * f[o:o + 6])}
-            for end, o, s in (("i", 0, sign), ("j", 6, -sign))}
+    ends = {"i": sign * f[:6], "j": -sign * f[6:]}
+    # a second-order answer's V = dM/dx adds N times the axis' slope there,
+    # as its diagrams do (the end actions are across the undeformed axis)
+    L, R = geometry(frame, member)
+    for plane, (axial, _, solution) in bent_planes(frame, res, member, L, R,
+                                                   loads_of(frame, res, member)).items():
+        slope = solution(np.array([0.0, L]))[1]
+        ends["i"][plane] += axial * slope[0]
+        ends["j"][plane] += axial * slope[1]
+    return {end: {q: float(v) + 0.0 for q, v in zip(QUANTITIES, vals)}
+            for end, vals in ends.items()}
 
 
 def extremes(frame, res, member: str, points: int = 201) -> dict:
@@ -138,7 +203,9 @@ def extremes(frame, res, member: str, points: int = 201) -> dict:
     at = {q: x for q in QUANTITIES}
     # where N, V and T turn between the samples (a load that changes sign)
     for q in ("N", "Vy", "Vz", "T"):
-        x_t = turning_points(x, values[q])
+        plane = {"Vy": 1, "Vz": 2}.get(q)
+        x_t = (turning_sections(x, values[q], lambda s, q=q: along.sections(s)[
+            QUANTITIES.index(q)]) if plane in along.planes else turning_points(x, values[q]))
         if x_t.size:
             at[q] = np.r_[x, x_t]
             values[q] = np.r_[values[q], along.sections(x_t)[QUANTITIES.index(q)]]
@@ -211,5 +278,7 @@ def deflection(frame, res, member: str, points: int = 21, axes: str = "member", 
         curve = start + bend + (end - start - bend[-1]) * (xf - a) / (e - a)
         d.append(np.where(x < a, di[k] + sign * x * di[turn],
                           np.where(x > e, dj[k] - sign * (L - x) * dj[turn], curve)))
+    for plane, (_, _, solution) in along.planes.items():     # second order: the beam-column's
+        d[plane] = solution(x)[0]
     d = np.stack(d, axis=1)
     return x, (d if axes == "member" else d @ R)

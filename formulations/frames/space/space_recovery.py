@@ -169,7 +169,7 @@ def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, check
         member_forces=dict(zip(frame.members, ends)), reactions=reactions,
         equilibrium_residual=eq, lcp_error=float(error), route=route, ok=ok, message=msg,
         frame=frame, _u=u, combination=dict(combo), displacement_ratio=ratio,
-        max_rotation=rot, displacement_words=words)
+        max_rotation=rot, displacement_words=words, stiffness_axial=b.get("axial"))
 
 
 def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:
