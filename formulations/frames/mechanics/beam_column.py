@@ -357,3 +357,51 @@ def axis(parts, EI, N, L, ends, springs, x) -> tuple[np.ndarray, np.ndarray]:
             rhs[n] += k * ends[r]
         ends[own] = np.linalg.solve(A, rhs)
     return deflection(parts, EI, N, L, ends, x)
+
+
+def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x) -> tuple[np.ndarray, np.ndarray]:
+    """(v, v') at x on the flexible length L of a shear-flexible member
+    (G A_s [F]) under N without span loads, from its flexible ends'
+    transverse displacements v_a, v_e, its moment at the flexible end a,
+    M_a (the diagrams' convention, with the rigid arm's N (v_a − v(0)))
+    and its statics' shear V_1: M₁(x) = M_a + V_1 x, the moment less
+    N (v(x) − v_a).
+
+    Engesser's beam-column (:mod:`.second_order`): the section moment on
+    the deformed axis is M = M₁ + N (v − v(0)) and the shear across the
+    deformed axis, V = dM/dx (minus the force on the face at x along +y),
+    shears the member by −V/(G A_s), so v'' = M/EI − M''/(G A_s); with no
+    span load M₁'' = 0, so M'' = N v'' and M'' = μ M,
+    μ = N / (EI (1 + N/(G A_s))) [1/L²] (in compression k² = −μ, and kL = π
+    at Engesser's P_E/(1 + P_E/(G A_s))) — the Euler–Bernoulli equation's
+    with that μ, and v'' = M''/N.  So
+    M = A φ₀ + B φ₁ (φ of μ) with A = M_a and B from M(L); written as
+    v − v_a = D x + c (A φ₂ + B φ₃), c = μ/N =
+    1/(EI (1 + N/(G A_s))) and D = (B − V_1)/N = [(v_e − v_a) −
+    c (A φ₂(L) + V_1 φ₃(L))]/(L + μ φ₃(L)): no term cancels as N → 0
+    (φ₂ → x²/2, φ₃ → x³/6: the first-order member with its shear
+    strain).  Where |μ| L² > SERIES the two-point form is used instead,
+    M = (A sin k(L − x) + M_L sin kx)/sin kL (sinh in tension, written in
+    e^(−kx), e^(−k(L−x)): no growth), and v = v_a + (M − M₁)/N."""
+    x = np.asarray(x, float)
+    c = 1.0 / (EI * (1.0 + N / GAs))
+    mu = N * c
+    A = M_a
+    if abs(mu) * L * L <= SERIES:
+        pL, px = phis(mu, L), phis(mu, x)
+        D = ((v_e - v_a) - c * (A * pL[2] + V_1 * pL[3])) / (L + mu * pL[3])
+        B = V_1 + N * D
+        return v_a + D * x + c * (A * px[2] + B * px[3]), D + c * (A * px[1] + B * px[2])
+    k = math.sqrt(abs(mu))
+    M_L = M_a + V_1 * L + N * (v_e - v_a)
+    if mu < 0:
+        sL = math.sin(k * L)
+        M = (A * np.sin(k * (L - x)) + M_L * np.sin(k * x)) / sL
+        dM = k * (-A * np.cos(k * (L - x)) + M_L * np.cos(k * x)) / sL
+    else:
+        d = -math.expm1(-2.0 * k * L)
+        ea, eb = np.exp(-k * x), np.exp(-k * (L - x))
+        M = (A * ea * -np.expm1(-2.0 * k * (L - x)) + M_L * eb * -np.expm1(-2.0 * k * x)) / d
+        dM = k * (-A * ea * (1.0 + np.exp(-2.0 * k * (L - x)))
+                  + M_L * eb * (1.0 + np.exp(-2.0 * k * x))) / d
+    return v_a + (M - (M_a + V_1 * x)) / N, (dM - V_1) / N

@@ -350,23 +350,21 @@ def _axial_load(load, d, oi, oj) -> float:
 def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     """Words naming the members whose second-order answer stays first
     order in part (module docstring) by more than ``tol``, or "": a
-    Timoshenko member's span loads' fixed-end forces and diagrams (on the
-    member's moments), and any member's loads' axial parts, which make N
-    vary along it (below); an Euler–Bernoulli member's loads are the
-    beam-column's (:mod:`.beam_column`).  Under an axial
-    force N a member's loads bend it more (compression) or less (tension)
-    than first order says, by up to about its beam-column amplification
-    ρ/(1 − ρ) (ρ in tension), ρ = |N|/P_p — P_p the pinned member's
-    buckling load over its bending planes, π²EI/L² and with shear
-    deformation Engesser's P_E/(1 + P_E/(G A_s)) (:func:`pinned_buckling`:
-    on π²EI/L² alone a shear-flexible member's bound was 1 + P_E/(G A_s)
-    times too small), the largest amplification of any end
-    condition (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m
-    against wL²/8 = 31.25) — of the span moment M₀ its loads alone make on
-    a simple span, bounded by |W| L/4 (a point force's P a (L − a)/L) + |M|.  Judged on the member's own
-    moments (its ends' in ``member_forces``, and M₀): a member cut into
-    short pieces has small M₀ and small ρ per piece, so the cut that the
-    words advise clears it."""
+    Timoshenko member's span loads' fixed-end forces and, with them, its
+    diagram between the ends, and any member's loads' axial parts, which
+    make N vary along it (below); an Euler–Bernoulli member's loads and
+    diagrams are the beam-column's (:mod:`.beam_column`), a Timoshenko
+    member's diagram without span loads Engesser's.  A shear-flexible
+    member that span loads bend (M₀ > 0 on a simple span) under
+    an axial force N is judged by sec(π√ρ/2) − 1 in compression (π²ρ/8 in
+    tension), ρ = |N|/P_p — P_p the pinned member's buckling load over its
+    bending planes, Engesser's P_E/(1 + P_E/(G A_s)) with shear deformation
+    (:func:`pinned_buckling`): the exact excess of the largest moment over
+    the ends' for equal end moments in single curvature, the worst for
+    given end moments, and above the span loads' beam-column amplification
+    (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m against
+    wL²/8 = 31.25, excess 1.03 against sec's 1.25).  Cut into pieces,
+    each piece's ρ shrinks, so the cut that the words advise clears it."""
     _, L = bending(frame)
     N = np.asarray(N, float)
     m0 = np.zeros(len(frame.members))
@@ -389,9 +387,9 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         k, m = index[name], frame.members[name]
         i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
         d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
+        spread[k] += abs(combination[ld.case]) * _axial_load(
+            ld, d, *(m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)))
         if beam_column[k]:
-            spread[k] += abs(combination[ld.case]) * _axial_load(
-                ld, d, *(m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)))
             continue
         force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
                                       ld.kind == "point")
@@ -406,18 +404,26 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         m0[k] += abs(combination[ld.case]) * (force * span + moment)
     pinned = pinned_buckling(frame)
     rho = np.abs(N) / pinned
-    with np.errstate(divide="ignore", invalid="ignore"):
-        amplification = np.where(N < 0, rho / np.maximum(1.0 - rho, 0.0), rho)
-        ends = np.array([np.abs(np.asarray(member_forces[name])[
-            [2, 5] if np.size(member_forces[name]) == 6 else [4, 5, 10, 11]]).max()
-            for name in frame.members])
-        off = amplification * m0 / np.maximum(np.maximum(ends, m0), 1e-300)
+    # a shear-flexible member whose span loads bend it keeps their
+    # first-order fixed-end forces and its whole diagram between the ends
+    # (without them its diagram is Engesser's: beam_column.engesser_axis).
+    # Its end moments alone, equal and in single curvature (the worst for
+    # given end moments), make M cos(k(x − L/2))/cos(kL/2) in Engesser's
+    # model too (M'' = N/(EI (1 − N/(G A_s))) M): sec(π√ρ/2) − 1 of the
+    # ends', which also covers the span loads' amplification (a pinned span
+    # under a uniform load at ρ = 0.5: 1.03 of wL²/8, where ρ/(1 − ρ) said
+    # 1.0; sec's 1.25); in tension 1 − sech ≤ π²ρ/8
+    with np.errstate(invalid="ignore", over="ignore"):
+        secant = np.where(rho < 1.0, 1.0 / np.cos(0.5 * np.pi * np.sqrt(np.minimum(rho, 1.0)))
+                          - 1.0, np.inf)
+    off = np.where(beam_column | (m0 == 0), 0.0, np.where(N < 0, secant, np.pi ** 2 / 8 * rho))
     words = []
-    hit = [k for k in np.argsort(-off, kind="stable") if m0[k] > 0 and off[k] > tol]
+    hit = [k for k in np.argsort(-off, kind="stable") if off[k] > tol]
     if hit:
         words.append(f"the span loads of member(s) {_worst(frame, N, off, hit, 'its moments')} "
-                     "act with first-order fixed-end forces and diagrams, not the "
-                     "beam-column's (P-δ along a loaded member is not in the element)")
+                     "bend a member with shear deformation: their fixed-end forces and its "
+                     "diagram between the ends are first order (N times its own deflection is "
+                     "not in them)")
     # N(x) departs from the element's mean by up to ΔN/2: as an axial force
     # of its own on the member's deflection it changes the moments by up to
     # its amplification, ρ_Δ/(1 − ρ) with ρ_Δ = (ΔN/2)/P_p and ρ the

@@ -67,12 +67,14 @@ def beam_column_axis(frame, res, m, x):
     """(N, v(0), v(x), v'(x)) of a member of a second-order answer whose
     element is the beam-column (Euler–Bernoulli, N ≠ 0: the stiffness's
     axial force), member axes, node to node (a rigid zone moves with its
-    node); None for first order and Timoshenko members.  The flexible
+    node); None for first order and for a shear-flexible member with span
+    loads (a shear-flexible member's without: Engesser's,
+    :func:`..mechanics.beam_column.engesser_axis`).  The flexible
     part's by :func:`..mechanics.beam_column.deflection` from its ends'
     displacements through the rigid arms and their own rotations — a
     released end's from the element's moment row (hinge: the moment 0;
     spring k: k (θ_node − θ_end)), its consistent loads the beam-column's."""
-    if res.stiffness_axial is None or m.GAs is not None:
+    if res.stiffness_axial is None:
         return None
     axial = float(res.stiffness_axial[list(frame.members).index(m.name)])
     if axial == 0.0:
@@ -89,7 +91,14 @@ def beam_column_axis(frame, res, m, x):
              for ld in loads_of(res, m)
              for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
     xf = np.clip(x, oi, L - oj) - oi
-    v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
+    if m.GAs is None:
+        v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
+    elif parts:       # first order, judged by second_order.first_order_parts
+        return None
+    else:             # Engesser's, from its end forces' statics
+        f = res.member_forces[m.name]
+        v, dv = beam_column.engesser_axis(EI, m.GAs, axial, Lf, ends[0], ends[2],
+                                          -f[2] + f[1] * oi + axial * oi * di[2], f[1], xf)
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
     return axial, di[1], v, dv

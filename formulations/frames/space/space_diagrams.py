@@ -109,8 +109,9 @@ class Along:
 
 def bent_planes(frame, res, member, L, R, loads) -> dict:
     """{1 (across y) | 2 (across z): (N, d(0), x ↦ (d(x), d'(x)))}: the
-    beam-column's deflection of each bending plane without shear
-    deformation of a second-order answer's member under N ≠ 0, member axes,
+    beam-column's deflection of each bending plane (with shear
+    deformation: Engesser's, where no span load bends it, else left out)
+    of a second-order answer's member under N ≠ 0, member axes,
     node to node (a rigid zone moves with its node): the x-y plane with EIz
     on (v, θz), the x-z plane with EIy on (w, θ' = −θy), each as the plane
     frame's (:func:`..mechanics.beam_column.axis`); {} for first order."""
@@ -128,8 +129,6 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
     out = {}
     for plane, (I_, GAs, turn, sign) in ((1, (m["Iz"], m["GAs"][0], 5, 1.0)),
                                          (2, (m["Iy"], m["GAs"][1], 4, -1.0))):
-        if GAs is not None:
-            continue
         # the plane's slope θ' = sign θ: +θz = dv/dx, −θy = dw/dx
         ti, tj = sign * di[turn], sign * dj[turn]
         ends = (di[plane] + oi * ti, ti, dj[plane] - oj * tj, tj)
@@ -138,13 +137,22 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
             part = beam_column.flexible_part(plane_parts(load, R)[plane - 1], L, 1.0, 0.0, oi, oj)
             if part is not None:
                 parts.append(part[:-2] + tuple(factor * np.array(part[-2:])))
+        if GAs is not None and parts:     # first order, judged by first_order_parts
+            continue
         springs = (rel.get(turn), rel.get(turn + 6))
+        # the plane's first-order statics M₁ = M₁(0) + V₁ x (Along.sections)
+        f = np.asarray(res.member_forces[member], float)
+        M0, V1 = (-f[5], f[1]) if plane == 1 else (f[4], f[2])
 
         def solution(x, ends=ends, parts=parts, springs=springs, EI=m["E"] * I_, plane=plane,
-                     ti=ti, tj=tj):
+                     ti=ti, tj=tj, GAs=GAs, M0=M0, V1=V1):
             x = np.asarray(x, float)
-            d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs,
-                                     np.clip(x, oi, L - oj) - oi)
+            xf = np.clip(x, oi, L - oj) - oi
+            if GAs is None:
+                d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs, xf)
+            else:       # Engesser's, from the end forces' statics
+                d, dd = beam_column.engesser_axis(EI, GAs, axial, Lf, ends[0], ends[2],
+                                                  M0 + V1 * oi + axial * oi * ti, V1, xf)
             d = np.where(x < oi, di[plane] + x * ti,
                          np.where(x > L - oj, dj[plane] - (L - x) * tj, d))
             return d, np.where(x < oi, ti, np.where(x > L - oj, tj, dd))

@@ -17,6 +17,8 @@ elastic section with shear, PDelta, cut) where it is installed."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import scipy.linalg as la
@@ -452,3 +454,51 @@ def test_a_shear_flexible_span_with_loads_is_judged_on_its_own_buckling_load():
     res = fr.solve(combination={"D": 1.0}, second_order=True, raise_on_failure=False,
                    accuracy="low")
     assert not res.ok and "span loads of member(s) S" in res.message, res.message
+
+
+@pytest.mark.parametrize("share", [0.9, 0.5, 1e-3, 1e-9, -0.5, -30.0])
+def test_a_shear_flexible_members_diagram_between_its_ends_is_engessers(share):
+    """Two equal end moments M in single curvature on a pinned member with
+    shear deformation under N = −P: Engesser's moment obeys
+    M'' = N/(EI (1 + N/(G A_s))) M, so M(x) = M cos(k(x − L/2))/cos(kL/2),
+    k² = P/(EI (1 − P/(G A_s))) (cosh in tension), and by statics on the
+    deformed axis the deflection is (M(x) − M)/N.  The plane member and a
+    space one bent about both axes give it; before, the diagram was the
+    first-order M, ok (2.04 M at 0.5 of Engesser's load)."""
+    E_, I_, A_, L, M = 2e8, 1e-5, 1e-2, 5.0, 10.0
+    P_E = np.pi ** 2 * E_ * I_ / L ** 2
+    GAs = 5.0 * P_E
+    P = share * P_E / (1.0 + P_E / GAs)
+    k2 = P / (E_ * I_ * (1.0 - P / GAs))
+    x = np.linspace(0.0, L, 11)
+    exact = M * (np.cos(np.sqrt(k2) * (x - L / 2)) / np.cos(np.sqrt(k2) * L / 2) if k2 > 0
+                 else np.cosh(np.sqrt(-k2) * (x - L / 2)) / np.cosh(np.sqrt(-k2) * L / 2))
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", E_, A_, I_, name="c", G=GAs / (0.8 * A_), shear_area=0.8 * A_)
+    fr.add_support("A", fix=("ux", "uy"))
+    fr.add_support("B", fix=("ux",))
+    fr.add_load("B", fy=-P, mz=-M)
+    fr.add_load("A", mz=M)
+    sf = SpaceFrame()
+    sf.add_node("A", 0.0, 0.0, 0.0)
+    sf.add_node("B", 0.0, 0.0, L)
+    sf.add_member("A", "B", E_, A_, I_, I_, G=GAs / (0.8 * A_), J=1e-5, name="c",
+                  shear_area=(0.8 * A_, 0.8 * A_))
+    sf.add_support("A", fix=("ux", "uy", "uz", "rz"))
+    sf.add_support("B", fix=("ux", "uy"))
+    sf.add_load("B", fz=-P, my=-M, mx=M)
+    sf.add_load("A", my=M, mx=-M)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res, space = fr.solve(second_order=True), sf.solve(second_order=True)
+    assert res.ok and space.ok, (res.message, space.message)
+    xs, _, _, Mx = res.diagram("c", 11)
+    np.testing.assert_allclose(np.abs(Mx), exact, rtol=1e-9)
+    _, v = res.deflection("c", 11)[1:]
+    np.testing.assert_allclose(np.abs(v), np.abs(exact - M) / abs(P), rtol=1e-7,
+                               atol=1e-12 * M / abs(P))
+    d = space.diagram("c", 11)
+    for My_or_Mz in d[-2:]:
+        np.testing.assert_allclose(np.abs(My_or_Mz), exact, rtol=1e-9)
