@@ -275,10 +275,12 @@ def os_answer(m, sub, transformation="PDelta"):
         p, q, _ = geometry(m, mem)
         c, s = (q - p) / L
         v = np.array([-s * ops.nodeDisp(t, 1) + c * ops.nodeDisp(t, 2) for t in chain])
+        slope = np.array([ops.nodeDisp(t, 3) for t in chain])      # v' = θ (Euler–Bernoulli)
         at = {round(a / L * sub) for nm2, a, *_ in m["point"] if nm2 == nm}
         out["grid"][nm] = M[[t * sub // GRID for t in range(GRID + 1)]]
         out["ext"][nm] = {"M_max": peak(M, at, 1), "M_min": peak(M, at, -1),
-                          "v_max": peak(v, at, 1), "v_min": peak(v, at, -1)}
+                          "v_max": hermite_peak(v, slope, L / sub, 1),
+                          "v_min": hermite_peak(v, slope, L / sub, -1)}
         out["chains"][nm] = M
     return out
 
@@ -309,16 +311,41 @@ def turn(R, f):
 def peak(y, kinks, sgn):
     """The largest (sgn = 1) or smallest value of a smooth curve sampled at
     equal steps: the best sample, polished by the parabola through it and its
-    neighbours (not at a point load, where the curve has a kink)."""
+    neighbours (not at a point load, where the curve has a kink); where the
+    best sample is an end, by the parabola through the last three, whose
+    vertex may lie in the last step (a peak close to the end)."""
     k = int(np.argmax(sgn * y))
-    if 0 < k < y.size - 1 and k not in kinks:
-        a, b, c = y[k - 1], y[k], y[k + 1]
-        den = a - 2 * b + c
-        if den != 0:
-            t = 0.5 * (a - c) / den
-            if abs(t) <= 1:
-                return float(b - 0.25 * (a - c) * t)
-    return float(y[k])
+    n = y.size - 1
+    if k in kinks or n < 2:
+        return float(y[k])
+    j = min(max(k, 1), n - 1)                 # the middle of the three samples
+    a, b, c = y[j - 1], y[j], y[j + 1]
+    den = a - 2 * b + c
+    best = float(y[k])
+    if den != 0 and not ({j - 1, j + 1} & kinks):
+        t = 0.5 * (a - c) / den               # the vertex, in steps from sample j
+        if (k == j and abs(t) <= 1) or (k == 0 and -1 <= t <= 0) or (k == n and 0 <= t <= 1):
+            best = sgn * max(sgn * best, sgn * float(b - 0.25 * (a - c) * t))
+    return best
+
+
+def hermite_peak(v, slope, h, sgn):
+    """The largest (sgn = 1) or smallest deflection along a chain of cut
+    pieces: each piece's cubic through its nodes' v and v' (exact for a
+    piece's own cubic, O(h⁴) otherwise), its stationary points inside."""
+    best = sgn * v.max() if sgn > 0 else sgn * v.min()
+    for va, vb, ta, tb in zip(v[:-1], v[1:], slope[:-1] * h, slope[1:] * h):
+        # v(ξ) = va H1 + ta H2 + vb H3 + tb H4, ξ ∈ [0, 1]; v'(ξ) = a ξ² + b ξ + c
+        a = 6 * va + 3 * ta - 6 * vb + 3 * tb
+        b = -6 * va - 4 * ta + 6 * vb - 2 * tb
+        c = ta
+        roots = np.roots([a, b, c]) if abs(a) > 0 or abs(b) > 0 else []
+        for r in np.real(roots[np.isreal(roots)]) if len(roots) else []:
+            if 0 < r < 1:
+                H = (1 - 3 * r ** 2 + 2 * r ** 3, r - 2 * r ** 2 + r ** 3, 3 * r ** 2 - 2 * r ** 3,
+                     -r ** 2 + r ** 3)
+                best = max(best, sgn * (va * H[0] + ta * H[1] + vb * H[2] + tb * H[3]))
+    return float(sgn * best)
 
 
 # -- α_cr of the cut model (plane), written here ----------------------------------------
