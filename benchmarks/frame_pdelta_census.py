@@ -55,8 +55,9 @@ References
 
 Each quantity is judged on its own scale: displacements against the
 largest translation (rotations against the largest rotation), a member's
-end moments, its diagram M(x) at x = kL/8 and its M extremes against the
-member's largest |M|, its N and V against its largest end force, α_cr
+end moments, its diagram M(x) at x = kL/8 (a space member's My(x), Mz(x))
+and its M extremes (space: the largest |My|, |Mz|) against the member's
+largest |M|, its N and V against its largest end force, α_cr
 relatively.  Tolerance: the accuracy asked of qpcontact (``--accuracy``,
 default "low" = 1e-4), or the reference's own error bar where larger; the
 extremes of the deflection v also get the error of the 201-section
@@ -164,6 +165,10 @@ def qp_answer(m, accuracy):
             e = res.extremes(nm)
             out["ext"][nm] = {f"|{q}|": max(abs(e[q]["max"][0]), abs(e[q]["min"][0]))
                               for q in ("My", "Mz")}
+            x, *_, My, Mz = res.diagram(nm, GRID + 1)
+            L = geometry(m, mem)[2]
+            at = [int(np.argmin(abs(x - L * t / GRID))) for t in range(GRID + 1)]
+            out["grid"][nm] = {"My": My[at], "Mz": Mz[at]}
     return out
 
 
@@ -236,6 +241,11 @@ def compare(m, q, ref, coarse, acc):
             for k in ("|My|", "|Mz|"):
                 rows.append((f"{nm} extreme {k}", abs(q["ext"][nm][k] - ref["ext"][nm][k]) / sM,
                              max(acc, rounding, abs(coarse["ext"][nm][k] - ref["ext"][nm][k]) / sM)))
+            for k in ("My", "Mz"):
+                rows.append((f"{nm} diagram {k}(x)",
+                             abs(q["grid"][nm][k] - ref["grid"][nm][k]).max() / sM,
+                             max(acc, rounding,
+                                 abs(coarse["grid"][nm][k] - ref["grid"][nm][k]).max() / sM)))
     return rows
 
 
@@ -294,7 +304,7 @@ def run_case(m, acc_name, use_os=True):
             if co is not None:      # how far large rotations move the same quantities
                 what, d, _ = max((r for r in compare(m, co, r64, r32, acc)
                                   if not r[0].endswith(("diagram M(x)", "extremes v", "|My|",
-                                                        "|Mz|", "extremes M"))),
+                                                        "|Mz|", "extremes M", "My(x)", "Mz(x)"))),
                                  key=lambda r: r[1])
                 note = f"Corotational vs PDelta: {d:.1e} ({what})"
             else:

@@ -264,11 +264,15 @@ def os_answer(m, sub, transformation="PDelta"):
             # nodes, one sign along the chain (−M at each piece's i end, +M at the
             # last j end), polished between nodes as the plane's extremes are
             kinks = {round(a / L * sub) for nm2, a, *_ in m["point"] if nm2 == nm}
-            ext = {}
-            for key, k in (("|My|", 4), ("|Mz|", 5)):
+            ext, grid = {}, {}
+            for key, k, sign in (("My", 4, 1.0), ("Mz", 5, -1.0)):
                 M = np.r_[[-f[k] for f in forces], forces[-1][k + 6]]
-                ext[key] = max(peak(M, kinks, 1), -peak(M, kinks, -1))
+                ext[f"|{key}|"] = max(peak(M, kinks, 1), -peak(M, kinks, -1))
+                # the diagrams' signs (docs/frames.md, "Conventions": My compresses
+                # the +z fibre, Mz the +y fibre): My(0) = +My_i, Mz(0) = −Mz_i
+                grid[key] = -sign * M[[t * sub // GRID for t in range(GRID + 1)]]
             out["ext"][nm] = ext
+            out["grid"][nm] = grid
             continue
         # M(x) at the cut's nodes in the diagrams' convention: M(0) = −M_i, M(L) = M_j
         M = np.r_[[-f[2] for f in forces], forces[-1][5]]
