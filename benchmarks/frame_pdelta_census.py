@@ -283,7 +283,7 @@ def judge(rows):
     return all(r[1] <= r[2] for r in rows), worst
 
 
-def run_case(m, acc_name, use_os=True):
+def run_case(m, acc_name):
     acc = ACCURACY[acc_name]
     t = time.perf_counter()
     try:
@@ -294,7 +294,7 @@ def run_case(m, acc_name, use_os=True):
     rows, note = [], ""
     if m["closed"]:
         rows += compare_closed(m, q, acc)
-    if use_os and HAVE_OPENSEES:
+    if HAVE_OPENSEES:
         r64, r32 = os_answer(m, 64), os_answer(m, 32)
         if r64 is None or r32 is None:
             note = "OpenSees did not converge"
