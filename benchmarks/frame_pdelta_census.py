@@ -34,7 +34,9 @@ References
   elasticBeamColumn pieces under the PDelta transformation (one piece has
   P-Δ only; the cut carries the P-δ, its error falls as 1/n²), span loads as
   ``eleLoad -beamUniform / -beamPoint`` on the pieces, hinged ends as a node
-  of their own tied by equalDOF, linear-elastic supports; loads in 10
+  of their own tied by equalDOF, linear-elastic supports (and pads held
+  along y where qpcontact's answer has every pad closed: the frames "on
+  pads", whose answers go through the contact LCP); loads in 10
   LoadControl steps, Newton, NormDispIncr 1e-12.  The 64-cut answer is the
   reference, |64 − 32| its error bar (≈ 3× its own error).  The same 64-cut
   model under Corotational is printed beside: large-rotation terms that a
@@ -99,8 +101,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.append(os.path.join(HERE, ".."))
 sys.path.insert(0, HERE)
 from formulations.frames import Frame, SpaceFrame  # noqa: E402
-from pdelta_cases import (hand_cases, in_3d, lumped, portal_leaning, random_frame,  # noqa: E402
-                          space_cases, sway_portal, tower)
+from pdelta_cases import (hand_cases, in_3d, lumped, on_pads, portal_leaning,  # noqa: E402
+                          random_frame, space_cases, sway_portal, tower)
 from pdelta_references import (E, G, GRID, HAVE_OPENSEES, geometry, os_answer,  # noqa: E402
                                reference_alpha)
 
@@ -125,6 +127,8 @@ def qp_frame(m):
     names = ("ux", "uy", "uz", "rx", "ry", "rz") if space else ("ux", "uy", "rz")
     for n, ds in m["fixed"].items():
         fr.add_support(n, fix=tuple(names[d] for d in ds))
+    for n in m.get("pads", ()):               # a rigid frictionless pad under the node
+        fr.add_contact(n, normal=(0.0, 1.0))
     for n, f in m["loads"].items():
         if space:
             fr.add_load(n, *f)
@@ -147,6 +151,8 @@ def qp_answer(m, accuracy):
             alpha = float(fr.critical_load_factor(res)["alpha"])
         except Exception as exc:          # noqa: BLE001 - recorded, judged as an error
             alpha = f"{type(exc).__name__}: {exc}"
+    if not res.displacements:     # no equilibrium (a frame that lifts off its pads)
+        return dict(ok=False, message=res.message, res=res, no_equilibrium=True)
     out = dict(ok=bool(res.ok), message=res.message, alpha=alpha,
                disp={n: np.array(res.displacements[n], float) for n in m["nodes"]},
                ends={}, grid={}, ext={}, res=res, frame=fr)
@@ -292,6 +298,13 @@ def run_case(m, acc_name):
         return dict(name=m["name"], family=m["family"], cls="error", ok=None,
                     worst=(f"{type(exc).__name__}: {str(exc)[:120]}", np.nan, acc), note="")
     rows, note = [], ""
+    opened = [] if q.get("no_equilibrium") else \
+        [k for k, sup in q["res"].supports.items() if sup.state != "closed"]
+    if opened or q.get("no_equilibrium"):  # OpenSees holds every pad: not this frame
+        note = f"pads {opened} not closed" if opened else q["message"][:90]
+        return dict(name=m["name"], family=m["family"], cls="no reference", ok=q["ok"],
+                    worst=("-", 0.0, acc), note=note, groups={},
+                    seconds=time.perf_counter() - t, message=q["message"])
     if m["closed"]:
         rows += compare_closed(m, q, acc)
     if HAVE_OPENSEES:
@@ -392,6 +405,8 @@ def main(argv=None) -> int:
     if not args.no_random:
         frames = [random_frame(s, args.storeys, args.bays) for s in parse_seeds(args.seeds)]
         cases += frames + [lumped(m) for m in frames]
+        # on pads: the frames whose loads press them down (turned up, they lift off)
+        cases += [on_pads(m) for m in frames if "tension" not in m["name"]][:4]
     if args.tower:
         cases += [tower(args.tower, p=1.0)]
     results = []

@@ -180,6 +180,20 @@ def lumped(m):
     return out
 
 
+def on_pads(m):
+    """The frame with each base standing on a rigid frictionless pad (a
+    contact along y) instead of its vertical support: the answer goes
+    through the contact LCP; OpenSees holds the pads, so it is the reference
+    only where every pad stays closed (the census checks qpcontact's states)."""
+    fixed = {n: tuple(d for d in ds if d != 1) if n.endswith("_0") else ds
+             for n, ds in m["fixed"].items()}
+    out = dict(m, fixed={n: ds for n, ds in fixed.items() if ds},
+               pads=[n for n in m["fixed"] if n.endswith("_0")])
+    out["name"] = m["name"] + ", on pads"
+    out["family"] = m["family"] + " (on pads)"
+    return out
+
+
 def random_frame(seed, max_storeys=3, max_bays=2):
     """1..bays bays of 3–8 m, 1..storeys storeys of 2.8–4.5 m, fixed or
     pinned bases, random sections; a uniform load on every beam, a wind

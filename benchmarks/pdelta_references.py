@@ -174,6 +174,8 @@ def os_answer(m, sub, transformation="PDelta"):
     rotations = range(3, 6) if space else (2,)
     for n in m["nodes"]:
         held = set(m["fixed"].get(n, ()))
+        if n in m.get("pads", ()):            # a pad the answer has closed: held along y
+            held.add(1)
         if meets[n] and all(meets[n]):
             held |= set(rotations)
         if held:
@@ -400,6 +402,7 @@ def cut_alpha(m, axial, cut):
         K[np.ix_(ix, ix)] += T.T @ _k_local(mem["A"], mem["I"], l) @ T
         KG[np.ix_(ix, ix)] += T.T @ _g_local(axial[mem["name"]], l) @ T
     held = {dof[n][d] for n, ds in m["fixed"].items() for d in ds}
+    held |= {dof[n][1] for n in m.get("pads", ())}     # closed pads hold y
     held |= {k for k in range(nd) if K[k, k] == 0.0}
     free = np.array([k for k in range(nd) if k not in held])
     mu = la.eigh(-KG[np.ix_(free, free)], K[np.ix_(free, free)], eigvals_only=True)
@@ -454,6 +457,7 @@ def linear_axial(m):
         F[ix] += T.T @ fe
         fixed_end[mem["name"]] = fe
     held = {dof[n][d] for n, ds in m["fixed"].items() for d in ds}
+    held |= {dof[n][1] for n in m.get("pads", ())}     # closed pads hold y
     held |= {k for k in range(nd) if K[k, k] == 0.0}
     free = np.array([k for k in range(nd) if k not in held])
     u = np.zeros(nd)
