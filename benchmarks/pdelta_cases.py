@@ -12,9 +12,9 @@ from __future__ import annotations
 import mpmath as mp
 import numpy as np
 
-from pdelta_references import (E, axes, cantilever, clamped_udl, end_moments, geometry,
+from pdelta_references import (E, G, axes, cantilever, clamped_udl, end_moments, geometry,
                                linear_axial, member, model, pinned_midpoint, pinned_udl,
-                               reference_alpha)
+                               reference_alpha, shear_cantilever, shear_pinned)
 
 
 # -- the cases --------------------------------------------------------------------------
@@ -114,6 +114,44 @@ def hand_cases():
                        ("M_base", "end", ("C", 2), r["M_base"], abs(r["M_base"])),
                        ("M_base (diagram)", "ext", ("C", "M_min"), -r["M_base"], abs(r["M_base"])),
                        ("M_tip (diagram) = 0", "ext", ("C", "M_max"), 0.0, abs(r["M_base"])),
+                       ("alpha", "alpha", None, alpha, alpha if np.isfinite(alpha) else 1)]
+        out.append(c)
+    return out
+
+
+def shear_cases():
+    """Members with shear deformation (GA_s = 4000 kN, P_e/GA_s = 0.2),
+    Engesser's closed forms: a pinned span under w, a midspan force, equal
+    end moments; a cantilever with a tip force; at 0.5 of Engesser's
+    buckling load P/(1 + P/GA_s) in compression and 0.5 P_e in tension."""
+    As = 5e-5
+    GAs = G * As
+    out = []
+    for share, sign in ((0.5, -1), (0.9, -1), (0.5, 1)):
+        tag = f"{'C' if sign < 0 else 'T'}{share:g}"
+        Pcr = P_E / (1 + P_E / GAs)
+        N = sign * share * (Pcr if sign < 0 else P_E)
+        alpha = 1 / share if sign < 0 else np.inf
+        for label, w, Q, Me in (("udl", -10.0, 0.0, 0.0), ("midpoint force", 0.0, -20.0, 0.0),
+                                ("equal end moments", 0.0, 0.0, 10.0)):
+            c = span(f"shear: pinned {label} {tag}·P_cr", False, N, udl=w or None,
+                     point=Q or None, mz=(-Me, Me))
+            c["members"][0]["As"] = As
+            c["family"] = "hand, shear"
+            M = shear_pinned(w, Q, Me, N, EI0, GAs, L0)
+            c["closed"] = [("M_mid", "ext", ("S", "M_max"), M, abs(M)),
+                           ("alpha", "alpha", None, alpha, alpha if np.isfinite(alpha) else 1)]
+            out.append(c)
+        Pc = P_E / 4 / (1 + P_E / 4 / GAs)                   # the cantilever's, with shear
+        Nc = sign * share * (Pc if sign < 0 else P_E / 4)
+        base, delta = shear_cantilever(5.0, Nc, EI0, GAs, L0)
+        c = model(f"shear: cantilever H only {tag}·P_cr", "hand, shear",
+                  {"A": (0.0, 0.0), "B": (0.0, L0)}, [member("C", "A", "B", A0, I0, As=As)],
+                  {"A": (0, 1, 2)}, {"B": (5.0, Nc, 0.0)})
+        c["closed"] = [("tip sway", "disp", ("B", 0), delta, abs(delta)),
+                       ("M_base", "end", ("C", 2), base, abs(base)),
+                       ("M_base (diagram)", "ext", ("C", "M_min"), -base, abs(base)),
+                       ("M_tip (diagram) = 0", "ext", ("C", "M_max"), 0.0, abs(base)),
                        ("alpha", "alpha", None, alpha, alpha if np.isfinite(alpha) else 1)]
         out.append(c)
     return out

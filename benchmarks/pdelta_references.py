@@ -133,11 +133,47 @@ def cantilever(H, w, N, EI, L):
     return {"delta": delta, "theta_tip": dv, "M_base": H * L + P * delta + w * L ** 2 / 2}
 
 
+def engesser(N, EI, GAs):
+    """(k, μ, compression?) of a shear-flexible member under N, Engesser's
+    model (the shear deformation driven by V = dM/dx with M on the deformed
+    member): μ = 1 + N/GA_s, k² = |N|/(EI μ); then M'' ± k² M = M₀''/μ."""
+    N = mp.mpf(N)
+    mu = 1 + N / GAs
+    return mp.sqrt(abs(N) / (EI * mu)), mu, N < 0
+
+
+def shear_pinned(w, Q, Me, N, EI, GAs, L):
+    """Pinned span with shear deformation (Engesser), under N and one of a
+    uniform w, a midspan force Q (both along local +y) or equal sagging end
+    moments Me: the midspan moment (sagging positive)."""
+    k, mu, comp = engesser(N, EI, GAs)
+    u = k * L / 2
+    sec, tan = (mp.sec, mp.tan) if comp else (mp.sech, mp.tanh)
+    if w:         # M'' ± k²M = −w/μ: (w/(μk²))(sec u − 1), tension (w/(μk²))(1 − sech u)
+        return -w / (mu * k ** 2) * ((sec(u) - 1) if comp else (1 - sec(u)))
+    if Q:         # a kink of Q/μ at midspan: (Q/(2μk)) tan u
+        return -Q / (2 * mu * k) * tan(u)
+    return Me * sec(u)
+
+
+def shear_cantilever(H, N, EI, GAs, L):
+    """Cantilever with shear deformation (Engesser), tip force H, axial N:
+    (M at the clamp, tip sway) — M = A sin k(L − x), M'(0) = −H/μ (the clamp
+    holds the bending slope, the shear slope is free), δ = (M(0) − HL)/P."""
+    k, mu, comp = engesser(N, EI, GAs)
+    L = mp.mpf(L)
+    base = H * (mp.tan(k * L) if comp else mp.tanh(k * L)) / (mu * k)
+    return base, (base - H * L) / (-mp.mpf(N))
+
+
 # -- the plain model --------------------------------------------------------------------
 
-def member(name, i, j, A, I, hinge_i=False, hinge_j=False, Iy=None, ref=None):
+def member(name, i, j, A, I, hinge_i=False, hinge_j=False, Iy=None, ref=None, As=None):
+    """A member's data (E and G are the module's); ``As``: a plane member's
+    shear area (Timoshenko), None for Euler–Bernoulli; such members have
+    closed forms only (the census does not build them in OpenSees)."""
     return dict(name=name, i=i, j=j, A=A, I=I, hinge_i=hinge_i, hinge_j=hinge_j,
-                Iy=I if Iy is None else Iy, ref=ref)
+                Iy=I if Iy is None else Iy, ref=ref, As=As)
 
 
 def model(name, family, nodes, members, fixed, loads, udl=(), point=(), closed=None, dim=2):

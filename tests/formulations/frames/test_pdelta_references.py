@@ -322,6 +322,40 @@ def test_space_strut_loaded_about_both_axes():
         assert got == pytest.approx(closed, rel=REL)
 
 
+SHEAR_TODAY = ("main: members with shear deformation take the consistent geometric matrix "
+               "and are refused as not ok (issue 52 item 1: the Timoshenko beam-column)")
+
+
+@pytest.mark.xfail(strict=True, reason=SHEAR_TODAY)
+@pytest.mark.parametrize("share", [0.5, 0.9, -0.5])
+def test_shear_flexible_cantilever_as_engesser(share):
+    """A cantilever with GA_s = 4000 kN (P_e/GA_s ≈ 0.05 for its own
+    buckling), tip force 5 kN, N a share of Engesser's buckling load
+    P_c/(1 + P_c/GA_s), P_c = π²EI/(4L²) (−0.5: tension of 0.5 P_c).
+    Engesser (shear driven by V = dM/dx): M'' + k²M = 0, k² = P/(EI μ),
+    μ = 1 − P/GA_s; the clamp holds the bending slope only, so
+    M'(0) = −H/μ and the clamp's moment is H tan(kL)/(μk); δ = (M(0) − HL)/P."""
+    GAs = 8e7 * 5e-5
+    Pc = float(mp.pi ** 2) * EI / (4 * L ** 2)
+    N = -share * Pc / (1 + Pc / GAs) if share > 0 else -share * Pc
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", E, A, I, name="C", G=8e7, shear_area=5e-5)
+    fr.add_support("A")
+    fr.add_load("B", fx=5.0, fy=N)
+    res = _solve(fr)
+    assert res.ok, res.message
+    mu = 1 + mp.mpf(N) / GAs
+    k = mp.sqrt(abs(mp.mpf(N)) / (EI * mu))
+    base = 5 * (mp.tan(k * L) if N < 0 else mp.tanh(k * L)) / (mu * k)
+    assert res.member_forces["C"][2] == pytest.approx(float(base), rel=REL)
+    assert res.displacements["B"][0] == pytest.approx(float((base - 5 * L) / -N), rel=REL)
+    if N < 0:
+        alpha = fr.critical_load_factor(res)["alpha"]
+        assert alpha == pytest.approx(1 / share, rel=REL)
+
+
 # -- against OpenSees (slow; skipped without openseespy) -------------------------------
 
 def _portal_opensees(sub, P, H):
