@@ -22,27 +22,20 @@ from .second_order import stability_functions
 DOFS = ("ux", "uy", "rz")
 
 
-def beam_column_k(E, A, I, L, N) -> np.ndarray:
-    """Local stiffness (m, 6, 6) of Euler–Bernoulli members carrying axial
-    forces N (tension positive): Livesley's stability functions s, s c of
-    t = −N L²/EI (:mod:`.second_order`) in place of 4, 2 and the P-Δ shear
-    in the transverse term."""
-    E, A, I, L, N = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, A, I, L, N)))
+def beam_column_k(E, A, I, L, N, phi=0.0) -> np.ndarray:
+    """Local stiffness (m, 6, 6) of members carrying axial forces N
+    (tension positive): the stability functions s, s c of t = −N L²/EI
+    and the shear parameter φ (:mod:`.second_order`: Livesley's for
+    Euler–Bernoulli members, φ = 0; Engesser's Timoshenko beam-column for
+    φ > 0) in place of 4, 2 (or (4 + φ)/(1 + φ), (2 − φ)/(1 + φ)) and the
+    P-Δ shear in the transverse term."""
+    E, A, I, L, N, phi = np.broadcast_arrays(
+        *(np.asarray(v, float) for v in (E, A, I, L, N, phi)))
     f = E * I / L
     t = -N * L ** 2 / (E * I)
-    s, sc = stability_functions(t)
+    s, sc = stability_functions(t, phi)
     return beam_layout(E * A / L, (2.0 * (s + sc) - t) * f / L ** 2, (s + sc) * f / L, s * f,
                        sc * f)
-
-
-def consistent_geometric_k(L, N) -> np.ndarray:
-    """The consistent geometric stiffness (m, 6, 6) of cubic shape
-    functions, N tension positive: the stability functions' first-order
-    term, for members whose own stiffness is not Euler–Bernoulli."""
-    L, N = np.broadcast_arrays(np.asarray(L, float), np.asarray(N, float))
-    g = N / L
-    return beam_layout(np.zeros_like(g), 1.2 * g, 0.1 * g * L, 2.0 / 15.0 * g * L ** 2,
-                       -g * L ** 2 / 30.0)
 
 
 def beam_layout(a, vv, vt, tt, tc) -> np.ndarray:
@@ -133,12 +126,9 @@ def member_locals(frame, xy, idx, col, axial=None):
     # one compiled loop (as array expressions: dozens of NumPy calls)
     from ._frame_kernels import plane_members
     L, c, s, Lf, phi, k_all, T, dofs = plane_members(i3, j3, E, A, I, oi, oj, GAs, xy)
-    if axial is not None:
-        # Timoshenko members: the first-order k plus the consistent geometric
-        # stiffness; Euler–Bernoulli ones: the stability functions
+    if axial is not None:          # the beam-column's, Timoshenko members' with their φ
         axial = np.asarray(axial, float)
-        k_all = np.where((phi > 0)[:, None, None], k_all + consistent_geometric_k(Lf, axial),
-                         beam_column_k(E, A, I, Lf, axial))
+        k_all = beam_column_k(E, A, I, Lf, axial, phi)
     has_offset = (oi > 0) | (oj > 0)
     offset = np.flatnonzero(has_offset).tolist()
     Fe = np.zeros((nm, 6, len(col)))

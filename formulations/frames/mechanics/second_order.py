@@ -29,17 +29,73 @@ element per member with it puts a cantilever's buckling load 0.75 % high,
 the stability functions put it at π²EI/(4L²) exactly.  The axial row is
 EA/L as before (no bowing): the axial force comes from the axial strain.
 
-Members with shear deformation (Timoshenko, φ > 0) take the consistent
-geometric matrix beside their own stiffness: the exact Timoshenko
-beam-column is not written here, and its error is the consistent matrix's
-(P-δ to O(t²)).  Fixed-end forces of member loads stay first-order (their
+Members with shear deformation (Timoshenko: G A_s [F], the shear
+parameter φ = 12 EI/(G A_s L²) [-]).  The section turns by θ, the axis
+slopes by v', the shear strain is γ = v' − θ and M = EI θ' [F·L].  Under
+an axial force the shear force Q [F] that strains the section needs a
+direction, and the two classical beam-columns differ only there:
+Engesser's takes Q across the deformed *axis* (Q = V − N v', V [F] the
+end shear in member axes), Haringx's across the deformed *section*
+(Q = V − N θ).  With M' = N v' − V (moments on the deformed axis) and
+Q = G A_s γ:
+
+    Engesser:  β EI v'''' − N v'' = 0,  β = 1 + N/(G A_s) = 1 − φ t/12,
+               a pinned strut buckles at P_E/(1 + P_E/(G A_s));
+    Haringx:   EI v'''' − N (1 − N/(G A_s)) v'' = 0,
+               at (√(1 + 4 P_E/(G A_s)) − 1) G A_s/2;
+
+P_E = π²EI/L².  **Engesser's is the one here.**  It is the
+shear-flexible and built-up column of Timoshenko & Gere (§2.17) and the
+textbooks, and of the design rules for built-up members (EN 1993-1-1,
+6.4: 1/N_cr,eff = 1/N_cr + 1/S_v, S_v the shear stiffness G A_s); a
+frame program's P-Δ on shear-flexible pieces turns N with each piece's
+chord, the axis, so a member cut fine in it converges to Engesser's
+(OpenSees' forceBeamColumn on an elastic section with shear under its
+PDelta transformation: tests/formulations/frames/
+test_timoshenko_beam_column.py).  Haringx's is the
+elastomeric bearing's and the helical spring's, whose shear stiffness is
+measured across their plates (Kelly, "Shear deformation and the buckling
+of columns, revisited", 2017, compares them).  And it reads G A_s as the
+first-order element does: the shear it carries is the one across the
+member's axis.
+
+Engesser's member is Livesley's with two changes.  Its solution is
+v = a + b x + c sin kx + d cos kx with k² L² = μ² = t/β, its section
+turns by θ = b + β k (c cos kx − d sin kx), and its rotation stiffness
+with both ends on the chord (v_i = v_j = 0) is
+
+    s   = μ (sin μ − β μ cos μ) / (2 − 2 cos μ − β μ sin μ),
+    s c = μ (β μ − sin μ) / (2 − 2 cos μ − β μ sin μ)
+
+(hyperbolic in tension, as Livesley's).  A rigid turn of the member
+(v = ρ x, θ = ρ) strains nothing, and the end shears follow from moments
+about end i, so its 4 × 4 block is laid out from s, s c as the
+Euler–Bernoulli one (k_vθ = (s + s c) f/L, k_vv = (2 (s + s c) − t) f/L²,
+t and f = EI/L as above).  With Livesley's s₀, s₀c₀ at μ² (their series
+near 0), q = 2 (s₀ + s₀c₀) − μ² (= μ³ sin μ/(2 − 2 cos μ − μ sin μ), 12 at
+μ = 0) and ε = φ q/12, the same functions are
+
+    s = β (s₀ + ε) / (1 + β ε),   s c = β (s₀c₀ − ε) / (1 + β ε)
+
+— exact algebra (1 − β = φ β μ²/12 cancels the closed forms' μ⁴ against
+μ⁴, which is what keeps them accurate near N = 0): at N = 0 they are
+(4 + φ)/(1 + φ) and (2 − φ)/(1 + φ), the first-order Timoshenko element's;
+at φ = 0 Livesley's.  Their first pole is μ = 2π, a member clamped at both
+ends buckling on its own (the antisymmetric mode, tan(μ/2) = β μ/2, comes
+later for β ≤ 1): t* = 4π²/(1 + π²φ/3) (:func:`clamped_buckling_t`), below
+t = 12/φ where β = 0, and 1 + β ε > 0 below it.  A cantilever (base
+clamped, P and H at its free tip) sways H L/P (tan μ/(β μ) − 1), which is
+H L³/(3EI) + H L/(G A_s) as P → 0, and buckles at μ = π/2:
+P_c/(1 + P_c/(G A_s)), P_c = π²EI/(4L²).
+
+Fixed-end forces of member loads stay first-order (their
 span moments are not amplified by N): an answer where that is off by more
 than the accuracy asked is not ok (:func:`first_order_parts`).
 
 The matrices are the elements': a plane member's in
-:func:`.plane_element.beam_column_k` (and its consistent geometric one,
-:func:`.plane_element.consistent_geometric_k`), a space member's in
-:func:`.space_element.stiffness`; this module gives them s and s c.
+:func:`.plane_element.beam_column_k`, a space member's in
+:func:`.space_element.stiffness`; this module gives them s and s c
+(:func:`stability_functions`, both kinds of member).
 
 Statics.  Each member's end forces satisfy, in its undeformed axes,
 Σ moments about end i = N (v_j − v_i) exactly (the column v_i of k sums to
@@ -69,9 +125,31 @@ _SC = (2.0, 1 / 30, 13 / 12600, 11 / 378000, 907 / 1164240000, 27641 / 136216080
        298183 / 572107536000000, 184697 / 13894040160000000)
 
 
-def stability_functions(t) -> tuple[np.ndarray, np.ndarray]:
-    """(s, s c) for t = −N L²/EI (arrays); inf where a compressed member
-    is at its own clamped-clamped buckling load (t = 4π²)."""
+def stability_functions(t, phi=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(s, s c) for t = −N L²/EI (arrays) of members with the shear
+    parameter ``phi`` (0: Euler–Bernoulli, Livesley's; > 0: Engesser's
+    Timoshenko beam-column, module docstring); inf where a compressed
+    member is at its own clamped–clamped buckling load
+    (:func:`clamped_buckling_t`)."""
+    t, phi = np.broadcast_arrays(np.asarray(t, float), np.asarray(phi, float))
+    shear = phi > 0
+    if not shear.any():
+        return livesley(t)
+    s, sc = livesley(np.where(shear, 0.0, t))
+    t, phi = t[shear], phi[shear]
+    beta = 1.0 - phi * t / 12.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mu2 = t / beta
+        s0, sc0 = livesley(mu2)
+        eps = phi * (2.0 * (s0 + sc0) - mu2) / 12.0
+        s[shear] = beta * (s0 + eps) / (1.0 + beta * eps)
+        sc[shear] = beta * (sc0 - eps) / (1.0 + beta * eps)
+    return s, sc
+
+
+def livesley(t) -> tuple[np.ndarray, np.ndarray]:
+    """Livesley's (s, s c) of Euler–Bernoulli members at t (arrays): the
+    series below T_SERIES, the closed forms above."""
     t = np.asarray(t, float)
     s, sc = np.zeros_like(t), np.zeros_like(t)
     small = np.abs(t) < T_SERIES
@@ -96,10 +174,11 @@ def stability_functions(t) -> tuple[np.ndarray, np.ndarray]:
     return s, sc
 
 
-def clamped_buckling_t() -> float:
-    """t at which a member clamped at both ends buckles on its own (4π²):
-    the stability functions' pole, which no load factor may pass."""
-    return 4.0 * np.pi ** 2
+def clamped_buckling_t(phi=0.0) -> float:
+    """t at which a member clamped at both ends buckles on its own,
+    4π²/(1 + π²φ/3) (4π² without shear deformation): the stability
+    functions' pole (μ = 2π), which no load factor may pass."""
+    return 4.0 * np.pi ** 2 / (1.0 + np.pi ** 2 * phi / 3.0)
 
 
 def pdelta_couples(frame, b, u) -> np.ndarray:
@@ -153,55 +232,67 @@ def own_buckling(frame) -> np.ndarray:
     (ψ = 4.4934, s = 0) at one; the condensed frame stiffness passes
     through a pole there and its negative eigenvalues no longer count the
     member's buckling (Wittrick–Williams' member term), so the frame's
-    count alone calls a buckled strut stable.  Timoshenko members' blocks
-    are their consistent ones ((4+φ)/(1+φ) − 2t/15, (2−φ)/(1+φ) + t/30)."""
-    out = []
+    count alone calls a buckled strut stable.  With shear deformation (φ)
+    the functions are Engesser's and every t* falls with φ: 4π²/(1 +
+    π²φ/3) clamped, π²/(1 + π²φ/12) hinged at both ends."""
+    return np.array([min(released_buckling_t(
+        *(None if k is None else k * L / EI for k in (ki, kj)),
+        0.0 if not GAs else 12.0 * EI / (GAs * L ** 2)) * EI / L ** 2
+        for EI, ki, kj, GAs in planes) for L, planes in bending_planes(frame)], float)
+
+
+def pinned_buckling(frame) -> np.ndarray:
+    """Each member's buckling load [F] hinged at both ends, the least over
+    its bending planes: π²EI/L² (L its flexible length), Engesser's
+    P_E/(1 + P_E/(G A_s)) with shear deformation."""
+    return np.array([min(np.pi ** 2 * EI / L ** 2 / (1.0 + (np.pi ** 2 * EI / (L ** 2 * GAs)
+                                                            if GAs else 0.0))
+                         for EI, _, _, GAs in planes) for L, planes in bending_planes(frame)],
+                    float)
+
+
+def bending_planes(frame):
+    """Per member (L, [(EI, k_i, k_j, G A_s), …]): its flexible length and
+    each bending plane's EI, end springs (None: rigid) and shear stiffness
+    (None: none) — a space member's about z (rz, shear along y), then
+    about y (ry, along z)."""
     for m in frame.members.values():
-        if isinstance(m, dict):          # a space frame's: bending about z (rz), about y (ry)
+        if isinstance(m, dict):
             L = float(np.linalg.norm(np.subtract(frame.nodes[m["j"]], frame.nodes[m["i"]]))
                       - sum(m["offsets"]))
             rel = dict(m["releases"])
-            planes = [(m["E"] * I_, rel.get(r), rel.get(r + 6), GAs)
+            yield L, [(m["E"] * I_, rel.get(r), rel.get(r + 6), GAs)
                       for I_, r, GAs in ((m["Iz"], 5, m["GAs"][0]), (m["Iy"], 4, m["GAs"][1]))]
         else:
-            L = float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
-                      - m.offset_i - m.offset_j)
-            planes = [(m.E * m.I, *m.end_springs, m.GAs)]
-        out.append(min(released_buckling_t(
-            *(None if k is None else k * L / EI for k in (ki, kj)),
-            0.0 if not GAs else 12.0 * EI / (GAs * L ** 2)) * EI / L ** 2
-            for EI, ki, kj, GAs in planes))
-    return np.array(out, float)
+            yield (float(np.linalg.norm(np.subtract(frame.nodes[m.j], frame.nodes[m.i]))
+                         - m.offset_i - m.offset_j), [(m.E * m.I, *m.end_springs, m.GAs)])
 
 
 @lru_cache(maxsize=4096)      # a frame's hinged members share one value; solves repeat them
 def released_buckling_t(ki, kj, phi) -> float:
     """t* of :func:`own_buckling` for one bending plane: ``ki``, ``kj`` the
     end springs on the scale EI/L (None: a rigid joint), ``phi`` the
-    shear parameter; the first t on a grid of (0, 4π²) where the released
-    block's least eigenvalue is ≤ 0, then Brent's root between the grid
-    points (4π² where it stays positive: a Timoshenko member's consistent
-    block)."""
+    shear parameter; the first t on a grid of (0, t_c), t_c the clamped
+    member's (:func:`clamped_buckling_t`, the functions' pole), where the
+    released block's least eigenvalue is ≤ 0, then Brent's root between
+    the grid points."""
+    pole = clamped_buckling_t(phi)
     if ki is None and kj is None:
-        return clamped_buckling_t()
+        return pole
 
     def least(t):
         t = np.atleast_1d(np.asarray(t, float))
-        if phi > 0:
-            s, sc = (4 + phi) / (1 + phi) - 2 * t / 15, (2 - phi) / (1 + phi) + t / 30
-        else:
-            s, sc = stability_functions(t)
+        s, sc = stability_functions(t, phi)
         if ki is None or kj is None:
             return s + (kj if ki is None else ki)
         a, d = s + ki, s + kj
         return 0.5 * (a + d) - np.sqrt(0.25 * (a - d) ** 2 + sc ** 2)
 
     # the last point a hair below the pole, where s → −∞: a stiff spring's root
-    grid = np.r_[np.linspace(0.0, clamped_buckling_t(), 4001)[1:-1],
-                 clamped_buckling_t() * (1 - 1e-12)]
+    grid = np.r_[np.linspace(0.0, pole, 4001)[1:-1], pole * (1 - 1e-12)]
     below = np.flatnonzero(least(grid) <= 0)
     if not below.size:
-        return clamped_buckling_t()
+        return pole
     lo, hi = (grid[below[0] - 1] if below[0] else 0.0), grid[below[0]]
     return float(brentq(lambda t: least(t)[0], lo, hi, xtol=1e-14, rtol=1e-15))
 
@@ -240,20 +331,22 @@ def _bending_load(values, axis, local: bool, point: bool) -> tuple[float, float]
 def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     """Words naming the members whose second-order answer stays first
     order in part (module docstring) by more than ``tol``, or "": their
-    span loads' fixed-end forces and diagrams (on the member's moments),
-    and a Timoshenko member's consistent geometric matrix (on its
-    response, by the same amplification bound).  Under an axial
+    span loads' fixed-end forces and diagrams (on the member's moments).
+    Under an axial
     force N a member's loads bend it more (compression) or less (tension)
     than first order says, by up to about its beam-column amplification
-    ρ/(1 − ρ) (ρ in tension), ρ = |N| L²/(π² EI) — the pinned member's
-    Euler load on its weaker EI, the largest amplification of any end
+    ρ/(1 − ρ) (ρ in tension), ρ = |N|/P_p — P_p the pinned member's
+    buckling load over its bending planes, π²EI/L² and with shear
+    deformation Engesser's P_E/(1 + P_E/(G A_s)) (:func:`pinned_buckling`:
+    on π²EI/L² alone a shear-flexible member's bound was 1 + P_E/(G A_s)
+    times too small), the largest amplification of any end
     condition (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m
     against wL²/8 = 31.25) — of the span moment M₀ its loads alone make on
     a simple span, bounded by |W| L/4 (a point force's P a (L − a)/L) + |M|.  Judged on the member's own
     moments (its ends' in ``member_forces``, and M₀): a member cut into
     short pieces has small M₀ and small ρ per piece, so the cut that the
     words advise clears it."""
-    EI, L = bending(frame)
+    _, L = bending(frame)
     N = np.asarray(N, float)
     m0 = np.zeros(len(frame.members))
     index = {name: k for k, name in enumerate(frame.members)}
@@ -279,7 +372,7 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
             a = min(max(ld.a - oi, 0.0), flexible)
             span = 4.0 * a * (flexible - a) / flexible
         m0[k] += abs(combination[ld.case]) * (force * span + moment)
-    rho = np.abs(N) * L ** 2 / (np.pi ** 2 * EI)
+    rho = np.abs(N) / pinned_buckling(frame)
     with np.errstate(divide="ignore", invalid="ignore"):
         amplification = np.where(N < 0, rho / np.maximum(1.0 - rho, 0.0), rho)
         ends = np.array([np.abs(np.asarray(member_forces[name])[
@@ -292,18 +385,6 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
         words.append(f"the span loads of member(s) {_worst(frame, N, off, hit, 'its moments')} "
                      "act with first-order fixed-end forces and diagrams, not the "
                      "beam-column's (P-δ along a loaded member is not in the element)")
-    # a Timoshenko member's P-δ is the consistent geometric matrix's (module
-    # docstring), O(t²) off the beam-column: a pinned strut buckles at
-    # t = 12, not π² — its response off by up to the amplification bound
-    shear = np.array([any(g is not None for g in m["GAs"]) if isinstance(m, dict)
-                      else m.GAs is not None for m in frame.members.values()])
-    hit = [k for k in np.argsort(-amplification, kind="stable")
-           if shear[k] and amplification[k] > tol]
-    if hit:
-        words.append(f"member(s) {_worst(frame, N, amplification, hit, 'its response')} bend "
-                     "with shear deformation, whose second-order stiffness is the consistent "
-                     "geometric matrix's, not the beam-column's (a pinned strut's buckling load "
-                     "22 % high)")
     return "; ".join(words) + (" — add nodes along those members, whose pieces then carry the "
                                "P-δ closer (docs/frames.md, 'What stays first order')"
                                if words else "")

@@ -20,12 +20,12 @@ the frame's tangent stiffness K(α N), with its contact states held (open
 contacts free, closed ones fixed along their normals, sticking and slipping
 ones also along their tangents: a slip's tangent stiffness is zero, and the
 sway it allows is the sliding limit, which the load path finds), has a
-zero eigenvalue.  With the stability functions K(α N) is exact for
-Euler–Bernoulli members, so α_cr is found by bisection on the count of
+zero eigenvalue.  With the stability functions K(α N) is exact (Livesley's
+members, Engesser's with shear), so α_cr is found by bisection on the count of
 K's negative eigenvalues (Sylvester's inertia; the Wittrick–Williams
 count without its member term, which is zero below the first member's own
 buckling load with its nodes held, where the search stops: 4π²EI/L² for a
-member rigidly joined at both ends, less where its ends are hinged or
+member rigidly joined at both ends (less with shear), less where hinged or
 semi-rigid, :func:`.second_order.own_buckling`).  A member compressed past
 its own buckling load makes an answer UNSTABLE whatever the count says.
 Eurocode 3 (5.2.1) asks for second-order analysis where α_cr < 10.
@@ -40,6 +40,7 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
                                    QpcontactError, SolverFailedError)
 
 from . import tracing
+from .analysis_results import SecondOrderTrace
 from .load_combinations import combination_at
 from .second_order import (bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling)
@@ -431,7 +432,8 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     words = (f"second order (P-Δ and P-δ): the stiffness is built from the axial forces of the "
              f"path's last stable equilibrium (p = {p_last:.10g}), which they agree with to "
              f"{error:.1e} after {rounds} round(s); along the path the axial forces differ "
-             f"from these by up to {change:.1e} of the members' Euler loads")
+             f"from these by up to {change:.1e} of the members' Euler loads (result_at(p) "
+             "solves at p on its own)")
     if p_from:
         words += (f"; on that stiffness the path starts at p = {p_from:.10g}, its first "
                   "certified equilibrium (below it the end's compression without its loads "
@@ -445,7 +447,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if span and ft.ok:
         ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"
-    return ft
+    return SecondOrderTrace.of(ft, accuracy)
 
 
 #: the relative bracket to which :func:`first_standing` finds a path's start
@@ -549,10 +551,8 @@ def last_equilibrium(ft) -> float:
 
 def relative_change(new, old, terms) -> float:
     """max over members of |new − old| on each one's own scale."""
-    scale = np.abs(new) + terms
-    diff = np.abs(new - old)
-    return float(np.max(np.divide(diff, scale, out=np.zeros_like(diff), where=scale > 0),
-                        initial=0.0))
+    scale, diff = np.abs(new) + terms, np.abs(new - old)
+    return float(np.divide(diff, scale, out=np.zeros_like(diff), where=scale > 0).max(initial=0))
 
 
 def fold_at_end(frame, b, ft, inside, p_last, held):

@@ -43,14 +43,14 @@ def stiffness(E, G, A, Iy, Iz, J, L, N=None, phi_y=0.0, phi_z=0.0) -> np.ndarray
     """Local stiffness of space-frame members, (m, 12, 12) (or (12, 12) for
     scalars); dofs (u, v, w, θx, θy, θz) at i then j.  ``N``: the members'
     axial forces (tension positive) for the second-order stiffness — each
-    bending plane's block from Livesley's stability functions
+    bending plane's block from its stability functions
     (:mod:`.second_order`), torsion and the axial row as first order.
     ``phi_y``, ``phi_z``: shear deformation along local y (bending about z)
     and along z (about y), φ = 12 EI / (G A_s L²): the exact two-node
     Timoshenko block of each plane, the plane frame's (12EI/(L³(1+φ)),
-    6EI/(L²(1+φ)), (4+φ)EI/(L(1+φ)), (2−φ)EI/(L(1+φ))); with ``N`` it gets
-    the consistent geometric stiffness of the cubic shape functions, as the
-    plane frame's Timoshenko members."""
+    6EI/(L²(1+φ)), (4+φ)EI/(L(1+φ)), (2−φ)EI/(L(1+φ))); with ``N``
+    Engesser's Timoshenko beam-column of that plane's φ, as the plane
+    frame's."""
     E, G, A, Iy, Iz, J, L, N, phi_y, phi_z = np.broadcast_arrays(
         *(np.asarray(v, float) for v in (E, G, A, Iy, Iz, J, L, 0.0 if N is None else N,
                                          phi_y, phi_z)))
@@ -69,16 +69,9 @@ def stiffness(E, G, A, Iy, Iz, J, L, N=None, phi_y=0.0, phi_z=0.0) -> np.ndarray
     # relates the rotation to the slope (+θz = dv/dx, -θy = dw/dx)
     for EI, t, r, sign, phi in ((E * Iz, 1, 5, 1.0, phi_y), (E * Iy, 2, 4, -1.0, phi_z)):
         tt = -N * L ** 2 / EI
-        s_, sc = stability_functions(tt)
+        s_, sc = stability_functions(tt, phi)
         b12, b6 = (2 * (s_ + sc) - tt) * EI / L ** 3, (s_ + sc) * EI / L ** 2
         b4, b2 = s_ * EI / L, sc * EI / L
-        if np.any(phi > 0):
-            f = EI / (L * (1.0 + phi))
-            shear = phi > 0
-            b12 = np.where(shear, 12 * f / L ** 2 + 1.2 * N / L, b12)
-            b6 = np.where(shear, 6 * f / L + 0.1 * N, b6)
-            b4 = np.where(shear, (4 + phi) * f + 2.0 / 15.0 * N * L, b4)
-            b2 = np.where(shear, (2 - phi) * f - N * L / 30.0, b2)
         ti, tj, ri, rj = t, t + 6, r, r + 6
         put(ti, ti, b12)
         put(tj, tj, b12)

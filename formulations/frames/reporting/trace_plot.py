@@ -33,7 +33,9 @@ def plot_trace(frame, ft, path, node, dof, p_max):
         raise InvalidOptionError(f"dof must be one of {dofs}; got {dof!r}")
     known_node(frame, node)
     k = dofs.index(dof)
-    top = ft.trace.plot_range()
+    # never past the traced range: a second-order trace's answers beyond
+    # its stability limit are solves at loads the frame does not carry
+    top = min(ft.trace.plot_range(), ft.p_end)
     if p_max is not None:
         top = min(float(p_max), ft.p_end)
     ps = np.unique(np.r_[0.0, ft.breakpoints[ft.breakpoints <= top], np.linspace(0, top, 60)])

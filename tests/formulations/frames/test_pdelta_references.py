@@ -7,7 +7,9 @@ transformation.  The fast subset of benchmarks/frame_pdelta_census.py.
 
 k = √(|N|/EI), u = kL/2; a 5 m member, EI = 2000 kN·m², P_e = π²EI/L².
 
-Where main answers wrong today the test is ``xfail(strict=True)``: the
+Members with shear deformation are Engesser's beam-column (merged from
+timobc) and pass.  Where main answers wrong today the test is
+``xfail(strict=True)``: the
 diagrams between a member's ends are the statics of its end forces on the
 undeformed axis without N·v(x) (so a member bent in single curvature shows
 its end moment as its largest, and a swaying member's diagram does not
@@ -322,11 +324,6 @@ def test_space_strut_loaded_about_both_axes():
         assert got == pytest.approx(closed, rel=REL)
 
 
-SHEAR_TODAY = ("main: members with shear deformation take the consistent geometric matrix "
-               "and are refused as not ok (issue 52 item 1: the Timoshenko beam-column)")
-
-
-@pytest.mark.xfail(strict=True, reason=SHEAR_TODAY)
 @pytest.mark.parametrize("share", [0.5, 0.9, -0.5])
 def test_shear_flexible_cantilever_as_engesser(share):
     """A cantilever with GA_s = 4000 kN (P_e/GA_s ≈ 0.05 for its own

@@ -565,3 +565,37 @@ def test_a_rigid_zone_at_the_loaded_end_carries_its_own_p_delta(kind, a, b):
     assert res.displacements["B"][0] == pytest.approx(delta, rel=1e-9)
     assert fr.critical_load_factor(fr.solve())["alpha"] == pytest.approx(
         k_cr ** 2 * E * I / P, rel=1e-8)
+
+
+def test_a_second_order_trace_read_between_its_ends_is_the_answer_at_that_load():
+    """Wind on a portal redistributes its columns' compression (the
+    windward one unloads): the path is traced on the end's axial forces,
+    and reading its point at p off that stiffness gave displacements 1e-3
+    and a joint rotation 9 % off the frame's own second-order equilibrium
+    at p, ok.  ``result_at(p)`` is that equilibrium: the solve at p, whose
+    axial forces are its own, and whose sway lies between the two
+    columns' guided-column bounds."""
+    E_, A_, I_, h, b = 2.1e8, 5e-3, 2e-5, 6.0, 4.0
+    fr = Frame()
+    for n, x, y in (("A", 0, 0), ("B", b, 0), ("C", 0, h), ("D", b, h)):
+        fr.add_node(n, x, y)
+    fr.add_member("A", "C", E_, A_, I_, name="c1")
+    fr.add_member("B", "D", E_, A_, I_, name="c2")
+    fr.add_member("C", "D", E_, A_, 10 * I_, name="beam")
+    fr.add_support("A")
+    fr.add_support("B")
+    P = 0.3 * np.pi ** 2 * E_ * I_ / (4 * h * h)
+    fr.add_load("C", fy=-P, case="D")
+    fr.add_load("D", fy=-P, case="D")
+    fr.add_load("C", fx=1.0, case="W")
+    ft = fr.trace(400.0, constant={"D": 1.0}, variable="W", second_order=True)
+    assert ft.ok, ft.message
+    assert ft.second_order["path_axial_change"] > 0.05      # the path's N move
+    for p in (50.0, 200.0):
+        at = ft.result_at(p)
+        alone = fr.solve(combination={"D": 1.0, "W": p}, second_order=True)
+        assert at.ok and at.second_order["axial_error"] <= 1e-9
+        for node in ("C", "D"):
+            np.testing.assert_allclose(at.displacements[node], alone.displacements[node],
+                                       rtol=1e-10, atol=1e-14)
+        assert at.member_forces["c1"] == pytest.approx(alone.member_forces["c1"], rel=1e-10)
