@@ -7,17 +7,12 @@ transformation.  The fast subset of benchmarks/frame_pdelta_census.py.
 
 k = √(|N|/EI), u = kL/2; a 5 m member, EI = 2000 kN·m², P_e = π²EI/L².
 
-Members with shear deformation are Engesser's beam-column (merged from
-timobc) and pass.  Where main answers wrong today the test is
-``xfail(strict=True)``: the
-diagrams between a member's ends are the statics of its end forces on the
-undeformed axis without N·v(x) (so a member bent in single curvature shows
-its end moment as its largest, and a swaying member's diagram does not
-close at its far end), and span loads keep first-order fixed-end forces
-(those answers are refused as not ok).  When the beam-column element
-lands these turn into passes and the marks go.  Where main is right today
-(the nodes and the end actions of members without span loads) the test
-passes.
+Members with shear deformation are Engesser's beam-column.  These were
+written before the beam-column element's member loads and diagrams landed
+(the diagrams between a member's ends were the statics of its end forces on
+the undeformed axis, without N·v(x), and span loads kept first-order
+fixed-end forces), as ``xfail(strict=True)`` where the answer was wrong:
+each now passes.
 """
 
 from __future__ import annotations
@@ -35,11 +30,6 @@ E, A, I, L = 2e8, 1e-2, 1e-5, 5.0
 EI = E * I
 P_E = float(mp.pi ** 2 * EI / L ** 2)
 REL = 1e-8             # the closed forms are exact; the element should be too
-
-DIAGRAM_TODAY = ("main: the diagram between the ends is the statics of the end forces on the "
-                 "undeformed axis, without N·v(x) (issue 52 item 1: the beam-column's diagrams)")
-SPAN_LOAD_TODAY = ("main: span loads on a member under N keep first-order fixed-end forces; the "
-                   "answer is refused as not ok (issue 52 item 1: the beam-column's member loads)")
 
 
 def _k(N, EI_=EI):
@@ -171,7 +161,6 @@ def test_a_plane_frame_built_in_3d_gives_the_plane_answer():
 
 # -- where main is wrong today: the diagrams between the ends --------------------------
 
-@pytest.mark.xfail(strict=True, reason=DIAGRAM_TODAY)
 @pytest.mark.parametrize("share", [0.1, 0.5, 0.95])
 def test_equal_end_moments_peak_at_midspan_as_M_sec_u(share):
     # single curvature, no span load: main answers ok with M (the end moment) as the largest
@@ -186,7 +175,6 @@ def test_equal_end_moments_peak_at_midspan_as_M_sec_u(share):
     assert v == pytest.approx(float(-10 / (share * P_E) * (mp.sec(u) - 1)), rel=REL)
 
 
-@pytest.mark.xfail(strict=True, reason=DIAGRAM_TODAY)
 @pytest.mark.parametrize("Mb", [5.0, -5.0])
 def test_unequal_end_moments_diagram(Mb):
     N = -0.5 * P_E
@@ -197,7 +185,6 @@ def test_unequal_end_moments_diagram(Mb):
     assert got == pytest.approx([M(xx) for xx in x], rel=REL, abs=REL * 10)
 
 
-@pytest.mark.xfail(strict=True, reason=DIAGRAM_TODAY)
 @pytest.mark.parametrize("share", [0.5, -0.5])
 def test_a_swaying_cantilevers_diagram_closes_at_its_free_tip(share):
     # main: end_forces (and the members table) give the tip N·δ instead of 0
@@ -210,7 +197,6 @@ def test_a_swaying_cantilevers_diagram_closes_at_its_free_tip(share):
     assert ends["j"]["M"] == pytest.approx(0.0, abs=REL * base)
 
 
-@pytest.mark.xfail(strict=True, reason=DIAGRAM_TODAY + "; in space as in the plane")
 def test_a_swaying_space_cantilevers_diagrams():
     """A vertical cantilever pushed along x and y under 0.5 of its weaker
     buckling load: in each bending plane (its own EI) the moment is
@@ -235,7 +221,6 @@ def test_a_swaying_space_cantilevers_diagrams():
 
 # -- where main refuses today: span loads on members under N ---------------------------
 
-@pytest.mark.xfail(strict=True, reason=SPAN_LOAD_TODAY)
 @pytest.mark.parametrize("share", [0.1, 0.5, 0.95, -0.5])
 def test_pinned_span_under_uniform_load(share):
     N, w = -share * P_E, -10.0
@@ -257,7 +242,6 @@ def test_the_pinned_spans_reference_is_the_documented_figure():
     assert float(10 / k ** 2 * (mp.sec(k * L / 2) - 1)) == pytest.approx(63.435770, abs=5e-7)
 
 
-@pytest.mark.xfail(strict=True, reason=SPAN_LOAD_TODAY)
 @pytest.mark.parametrize("share", [0.1, 0.5, 0.95, -0.5])
 def test_clamped_span_under_uniform_load(share):
     # share of its own buckling load 4 P_e; end moment (wL²/12)·3(tan u − u)/(u² tan u)
@@ -277,7 +261,6 @@ def test_clamped_span_under_uniform_load(share):
     assert _largest_M(res, "S")[0] == pytest.approx(float(-w * mid), rel=REL)
 
 
-@pytest.mark.xfail(strict=True, reason=SPAN_LOAD_TODAY)
 @pytest.mark.parametrize("share", [0.5, -0.5])
 def test_pinned_span_under_a_midspan_force(share):
     N, Q = -share * P_E, -20.0
@@ -289,7 +272,6 @@ def test_pinned_span_under_a_midspan_force(share):
     assert _largest_M(res, "S")[0] == pytest.approx(float(-Q * m), rel=REL)
 
 
-@pytest.mark.xfail(strict=True, reason=SPAN_LOAD_TODAY)
 @pytest.mark.parametrize("share", [0.5, -0.5])
 def test_cantilever_with_a_tip_force_and_a_uniform_load(share):
     N = -share * P_E / 4
@@ -300,7 +282,6 @@ def test_cantilever_with_a_tip_force_and_a_uniform_load(share):
     assert res.member_forces["C"][2] == pytest.approx(base, rel=REL)
 
 
-@pytest.mark.xfail(strict=True, reason=SPAN_LOAD_TODAY + "; in space as in the plane")
 def test_space_strut_loaded_about_both_axes():
     """A pinned strut along x, Iy = 2 Iz, uniform wy and wz, N = 0.3 of its
     weaker Euler load: each bending plane is its own pinned beam-column."""
@@ -353,8 +334,6 @@ def test_shear_flexible_cantilever_as_engesser(share):
         assert alpha == pytest.approx(1 / share, rel=REL)
 
 
-@pytest.mark.xfail(strict=True, reason=DIAGRAM_TODAY + "; for members with shear deformation "
-                   "on the beam-column branch too")
 def test_shear_flexible_span_under_equal_end_moments_peaks_as_M_sec_u():
     """Engesser: M'' + k²M = 0, k² = P/(EI μ), μ = 1 − P/GA_s, so two equal
     end moments peak at M sec(kL/2) at midspan (ok today, shown as M)."""
@@ -449,7 +428,6 @@ def test_pinned_portal_nodes_against_opensees():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=DIAGRAM_TODAY)
 def test_pinned_portal_column_diagram_against_opensees():
     ours = _solve(_portal(600.0, 10.0))
     assert ours.ok, ours.message
