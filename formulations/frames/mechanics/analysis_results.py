@@ -13,7 +13,7 @@ from __future__ import annotations
 import copy
 import functools
 import weakref
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -315,29 +315,3 @@ class FrameTrace:
 
         return plot_trace(self.frame, self, path, node, dof, p_max)
 
-
-@dataclass
-class SecondOrderTrace(FrameTrace):
-    """A second-order :class:`FrameTrace`: ``result_at(p)`` is the frame's
-    own second-order answer at p (``solve(second_order=True)`` at the
-    trace's ``accuracy``: its stiffness built from its own axial forces,
-    certified and judged as such).  The path's pieces, events and limit are
-    traced on one stiffness, that of the axial forces at its last stable
-    equilibrium (``second_order["path_axial_change"]`` says how far the
-    path's own are from them); reading the path's point at p off that
-    stiffness instead gave a portal under wind displacements 1e-3 and a
-    rotation 9 % off its equilibrium at p, ok
-    (docs/dev-notes.md, "A second-order trace read between its ends")."""
-
-    accuracy: object = "high"
-
-    @classmethod
-    def of(cls, ft: FrameTrace, accuracy) -> "SecondOrderTrace":
-        """``ft``'s fields (a first-order trace's, or a circular cone's)
-        as a second-order trace at ``accuracy``."""
-        return cls(**{f.name: getattr(ft, f.name) for f in fields(FrameTrace)},
-                   accuracy=accuracy)
-
-    def result_at(self, p: float):
-        return self.frame.solve(combination=self.combination_at(float(p)),
-                                accuracy=self.accuracy, second_order=True, time_limit=None)

@@ -40,8 +40,8 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
                                    QpcontactError, SolverFailedError)
 
 from . import tracing
-from .analysis_results import SecondOrderTrace
 from .load_combinations import combination_at
+from .second_order_path import SecondOrderTrace, axial_forces, relative_change
 from .second_order import (bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling)
 from .tracing import BRACKET
@@ -54,23 +54,6 @@ ALPHA_RTOL = 1e-10
 
 #: largest number of free dofs whose tangent stiffness is decomposed densely
 DENSE_DOFS = 3000
-
-
-def axial_forces(b, res) -> tuple[np.ndarray, np.ndarray]:
-    """(N, scale): each member's axial force (tension positive; the mean
-    of its ends' where member loads have an axial part, as a column's own
-    weight does) in the answer ``res`` on the assembly ``b``, and the terms
-    it is made of (EA/L (|u_i| + |u_j|) along the axis, the member loads'
-    axial parts)."""
-    from .contact_lcp import factors
-
-    k, T, dofs, Fe = b["local"]
-    j = dofs.shape[1] // 2                     # end j's axial dof: 3 (plane), 6 (space)
-    d = (T @ np.asarray(res._u, float)[dofs][..., None])[..., 0]
-    fe = Fe @ factors(b, res.combination)
-    ea = k[:, j, j]
-    N = ea * (d[:, j] - d[:, 0]) - 0.5 * (fe[:, j] - fe[:, 0])
-    return N, ea * (np.abs(d[:, j]) + np.abs(d[:, 0])) + 0.5 * (np.abs(fe[:, j]) + np.abs(fe[:, 0]))
 
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options,
@@ -99,9 +82,10 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         return frame.kind.solve_one(frame, p, method, accuracy, raise_on_failure, combination,
                                     b, options)
 
-    b = frame.build()
-    res = solve_on(b)
-    N, _ = axial_forces(b, res)
+    N = options.pop("_axial", None)      # a trace's answer at p: from its path's axial forces
+    if N is None:
+        b = frame.build()
+        N, _ = axial_forces(b, solve_on(b))
     error = np.inf
     for rounds in range(1, ROUNDS + 1):
         b = built_on(frame, N)
@@ -547,12 +531,6 @@ def last_equilibrium(ft) -> float:
         lo, hi = ft.intervals[-1]
         return float(hi if np.isfinite(hi) else lo)
     return 0.0
-
-
-def relative_change(new, old, terms) -> float:
-    """max over members of |new − old| on each one's own scale."""
-    scale, diff = np.abs(new) + terms, np.abs(new - old)
-    return float(np.divide(diff, scale, out=np.zeros_like(diff), where=scale > 0).max(initial=0))
 
 
 def fold_at_end(frame, b, ft, inside, p_last, held):
