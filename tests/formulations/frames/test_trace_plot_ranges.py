@@ -1,0 +1,72 @@
+"""What a trace's plot samples: the traced range, never past a proved
+limit, and a frame without contacts too (review 5a)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from formulations.frames import Frame
+
+E, A, I = 2.1e8, 5e-3, 2e-5
+
+
+def column_on_three_pads(W, a=1.0, h=6.0) -> Frame:
+    """A column of height h on a base beam (100 times stiffer) resting on
+    three pads (μ = 1), W on its top, the case "variable" a unit push."""
+    fr = Frame(units=("kN", "m"))
+    for n, x in (("L", -a), ("M", -0.3 * a), ("O", 0.0), ("R", a)):
+        fr.add_node(n, x, 0.0)
+    fr.add_node("T", 0.0, h)
+    for i, j in (("L", "M"), ("M", "O"), ("O", "R")):
+        fr.add_member(i, j, E * 1e2, A * 10, I * 1e2)
+    fr.add_member("O", "T", E, A, I, name="column")
+    for n in ("L", "M", "R"):
+        fr.add_contact(n, normal=(0.0, 1.0), friction=1.0)
+    fr.add_load("T", fy=-W)
+    fr.add_load("T", fx=1.0, case="variable")
+    return fr
+
+
+def test_a_second_order_trace_plots_up_to_its_stability_limit_only(tmp_path):
+    """Its path goes on through unstable pieces past the limit (p_end 82
+    against a limit of 10.1); the plot sampled up to p_end, where
+    result_at(p) is a solve at a load the frame does not carry: it raised
+    NoSolutionError ("it tips over about R") instead of drawing."""
+    fr = column_on_three_pads(0.3 * np.pi ** 2 * E * I / (4 * 6.0 ** 2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")           # the column sways 0.26 m
+        ft = fr.trace(second_order=True)
+        assert ft.ended == "stability" and ft.ok, ft.message
+        assert ft.p_end > 2 * ft.limit[1]         # what made the plot go past it
+        asked = []
+        read = ft.result_at
+
+        def result_at(p):
+            asked.append(p)
+            return read(p)
+
+        ft.result_at = result_at
+        ft.plot(tmp_path / "stability.png", "T")
+        ft.plot(tmp_path / "asked_past.png", "T", p_max=ft.p_end)
+    assert (tmp_path / "stability.png").stat().st_size > 1000
+    assert max(asked) == ft.limit[1]
+
+
+def test_the_trace_of_a_frame_without_contacts_plots(tmp_path):
+    """A linear frame's trace (one interval, first or second order) had
+    no plot range: AttributeError on 'NoContactPath'."""
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, 4.0)
+    fr.add_member("A", "B", E, A, I)
+    fr.add_support("A")
+    fr.add_load("B", fy=-100.0, case="D")
+    fr.add_load("B", fx=1.0, case="W")
+    for name, ft in (("unbounded", fr.trace(constant={"D": 1.0}, variable="W")),
+                     ("p_max", fr.trace(50.0, constant={"D": 1.0}, variable="W")),
+                     ("second", fr.trace(50.0, constant={"D": 1.0}, variable="W",
+                                         second_order=True))):
+        ft.plot(tmp_path / f"{name}.png", "B")
+        assert (tmp_path / f"{name}.png").stat().st_size > 1000, name
