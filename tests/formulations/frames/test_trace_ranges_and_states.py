@@ -1,5 +1,7 @@
-"""What a trace's plot samples: the traced range, never past a proved
-limit, and a frame without contacts too (review 5a)."""
+"""What a trace gives to read: its plot over the traced range, never past
+a proved limit, and a frame without contacts too; a second-order trace's
+pieces and states up to its stability limit, each state the frame's own
+answer at its load (review 5a)."""
 
 from __future__ import annotations
 
@@ -30,7 +32,7 @@ def column_on_three_pads(W, a=1.0, h=6.0) -> Frame:
 
 
 def test_a_second_order_trace_plots_up_to_its_stability_limit_only(tmp_path):
-    """Its path goes on through unstable pieces past the limit (p_end 82
+    """Its path went on through unstable pieces past the limit (p_end 82
     against a limit of 10.1); the plot sampled up to p_end, where
     result_at(p) is a solve at a load the frame does not carry: it raised
     NoSolutionError ("it tips over about R") instead of drawing."""
@@ -39,7 +41,6 @@ def test_a_second_order_trace_plots_up_to_its_stability_limit_only(tmp_path):
         warnings.simplefilter("ignore")           # the column sways 0.26 m
         ft = fr.trace(second_order=True)
         assert ft.ended == "stability" and ft.ok, ft.message
-        assert ft.p_end > 2 * ft.limit[1]         # what made the plot go past it
         asked = []
         read = ft.result_at
 
@@ -70,3 +71,42 @@ def test_the_trace_of_a_frame_without_contacts_plots(tmp_path):
                                          second_order=True))):
         ft.plot(tmp_path / f"{name}.png", "B")
         assert (tmp_path / f"{name}.png").stat().st_size > 1000, name
+
+
+def test_a_second_order_traces_states_are_its_answers_up_to_its_limit():
+    """Each state was the path's point on the end's stiffness, ok: past
+    the limit too (a state at p = 46.2, ok, where no equilibrium exists
+    from p = 13.7 on, proved), and below it off the answer at its load (a
+    portal's joint rotation 5 % off).  The pieces stop at the limit; each
+    state is the solve at its piece's middle."""
+    fr = column_on_three_pads(0.3 * np.pi ** 2 * E * I / (4 * 6.0 ** 2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = fr.trace(second_order=True)
+        assert ft.ended == "stability" and ft.ok, ft.message
+        assert ft.p_end == ft.limit[0] and all(p < ft.limit[0] for p in ft.breakpoints)
+        assert len(ft.states) == len(ft.intervals) == len(ft.events) + 1
+        for (lo, hi), state in zip(ft.intervals, ft.states):
+            alone = fr.solve(p=0.5 * (lo + hi), second_order=True)
+            assert state.ok and state.second_order is not None, state.message
+            np.testing.assert_allclose(state.displacements["T"], alone.displacements["T"],
+                                       rtol=1e-12)
+    fr = Frame()
+    for n, x, y in (("A", 0, 0), ("B", 4.0, 0), ("C", 0, 6.0), ("D", 4.0, 6.0)):
+        fr.add_node(n, x, y)
+    fr.add_member("A", "C", E, A, I)
+    fr.add_member("B", "D", E, A, I)
+    fr.add_member("C", "D", E, A, 10 * I)
+    fr.add_support("A")
+    fr.add_support("B")
+    P = 0.3 * np.pi ** 2 * E * I / (4 * 36.0)
+    fr.add_load("C", fy=-P, case="D")
+    fr.add_load("D", fy=-P, case="D")
+    fr.add_load("C", fx=1.0, case="W")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = fr.trace(400.0, constant={"D": 1.0}, variable="W", second_order=True)
+        alone = fr.solve(combination={"D": 1.0, "W": 200.0}, second_order=True)
+    assert ft.ok and ft.states[0].second_order is not None
+    np.testing.assert_allclose(ft.states[0].displacements["C"], alone.displacements["C"],
+                               rtol=1e-10)
