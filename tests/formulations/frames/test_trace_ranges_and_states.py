@@ -8,6 +8,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pytest
 
 from formulations.frames import Frame
 
@@ -110,3 +111,27 @@ def test_a_second_order_traces_states_are_its_answers_up_to_its_limit():
     assert ft.ok and ft.states[0].second_order is not None
     np.testing.assert_allclose(ft.states[0].displacements["C"], alone.displacements["C"],
                                rtol=1e-10)
+
+
+def test_a_second_order_traces_answer_at_its_limit_is_its_last_equilibrium():
+    """At the stability limit the solve sits on the limit: for the column
+    on two pads it answered "failed", for the 20-storey tower NOT
+    CONVERGED with its top 35 m the wrong way, which the plot drew as the
+    curve's end.  There the answer is the path's last stable equilibrium,
+    whose axial forces built the trace's stiffness: the sway by hand,
+    H (tan kh − kh)/(W k) at H = W a / (h + (tan kh − kh)/k)."""
+    from .test_second_order import E as E_, I as I_, column_on_pads
+
+    h, a = 6.0, 1.0
+    W = 0.3 * np.pi ** 2 * E_ * I_ / (4 * h ** 2)
+    k = np.sqrt(W / (E_ * I_))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = column_on_pads(W, a, h).trace(second_order=True)
+        assert ft.ended == "stability" and ft.ok, ft.message
+        res = ft.result_at(ft.limit[0])
+    H = ft.limit[0]
+    assert H == pytest.approx(W * a / (h + (np.tan(k * h) - k * h) / k), rel=1e-9)
+    assert res.ok and res.second_order["axial_error"] <= 1e-9, res.message
+    assert res.displacements["T"][0] == pytest.approx(
+        H * (np.tan(k * h) - k * h) / (W * k), rel=1e-6)
