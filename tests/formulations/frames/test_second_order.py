@@ -614,6 +614,11 @@ def test_a_slender_tie_in_tension_keeps_a_finite_stiffness():
     for phi in (0.0, 1e-8):
         s, sc = stability_functions(np.array([-1e6, -1e12]), phi)
         assert np.all(np.isfinite(s)) and np.all(np.isfinite(sc))
+    # Engesser's member compressed a hair past N = −G A_s (β < 0: μ² = t/β
+    # → −inf) read the same overflow: refused as "the frame at its critical
+    # load", not UNSTABLE past its own buckling load
+    s, sc = stability_functions(12.0 / 17.5 * (1 + 1e-9), 17.5)
+    assert np.isfinite(s) and np.isfinite(sc)
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", 0.0, 4.0)
