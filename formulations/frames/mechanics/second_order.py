@@ -169,11 +169,15 @@ def livesley(t) -> tuple[np.ndarray, np.ndarray]:
             sc[comp] = psi * (psi - sn) / den
     ten = (t <= -T_SERIES)
     if ten.any():
+        # the closed forms divided through by cosh ψ: as written they
+        # overflow to inf/inf past ψ ≈ 710 (t < −5.04e5: a tie of small EI
+        # in tension gave NaN, refused as "the frame at its critical load")
         psi = np.sqrt(-t[ten])
-        sh, ch = np.sinh(psi), np.cosh(psi)
-        den = 2.0 - 2.0 * ch + psi * sh
-        s[ten] = psi * (psi * ch - sh) / den
-        sc[ten] = psi * (sh - psi) / den
+        decay = np.exp(-psi)
+        sech, th = 2.0 * decay / (1.0 + decay * decay), np.tanh(psi)
+        den = 2.0 * sech - 2.0 + psi * th
+        s[ten] = psi * (psi - th) / den
+        sc[ten] = psi * (th - psi * sech) / den
     return s, sc
 
 

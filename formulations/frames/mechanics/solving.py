@@ -231,9 +231,18 @@ class NoContactPath:
     ok = True
     restarts = ()
 
+    def __init__(self, end: float = np.inf):
+        self.end = end
+
     @staticmethod
     def z_at(p):
         return np.zeros(0)
+
+    def plot_range(self) -> float:
+        """The top of a plot's default range: the traced end, or 1 where
+        the path is unbounded (the trace engine's with no breakpoint; a
+        frame without contacts had no range to plot: AttributeError)."""
+        return self.end if np.isfinite(self.end) and self.end > 0 else 1.0
 
 
 def linear_trace(frame, p_max, accuracy, constant, variable, _built=None) -> FrameTrace:
@@ -250,7 +259,7 @@ def linear_trace(frame, p_max, accuracy, constant, variable, _built=None) -> Fra
     end = np.inf if p_max is None else float(p_max)
     ft = FrameTrace(breakpoints=np.zeros(0), states=[], intervals=[(0.0, end)], events=[],
                     ended="unbounded" if p_max is None else "p_max", message="", ok=False,
-                    trace=NoContactPath(), frame=frame, _built=b, constant=const,
+                    trace=NoContactPath(end), frame=frame, _built=b, constant=const,
                     variable=var)
     mid = 0.5 * (end if np.isfinite(end) else 1.0)
     state = frame.kind.result_from_z(frame, np.zeros(0), ft.combination_at(mid), "linear",

@@ -33,11 +33,13 @@ def plot_trace(frame, ft, path, node, dof, p_max):
         raise InvalidOptionError(f"dof must be one of {dofs}; got {dof!r}")
     known_node(frame, node)
     k = dofs.index(dof)
-    # never past the traced range: a second-order trace's answers beyond
-    # its stability limit are solves at loads the frame does not carry
-    top = min(ft.trace.plot_range(), ft.p_end)
+    # never past the traced range nor a proved limit: a second-order trace
+    # ended "stability" goes on through unstable pieces past it, where its
+    # answers are solves at loads the frame does not carry (NoSolutionError)
+    end = min(ft.p_end, ft.limit[1]) if ft.limit is not None else ft.p_end
+    top = min(ft.trace.plot_range(), end)
     if p_max is not None:
-        top = min(float(p_max), ft.p_end)
+        top = min(float(p_max), end)
     ps = np.unique(np.r_[0.0, ft.breakpoints[ft.breakpoints <= top], np.linspace(0, top, 60)])
     disp = np.array([ft.result_at(p).displacements[node][k] for p in ps])
     events = [ev for ev in ft.events if ev.p <= top]

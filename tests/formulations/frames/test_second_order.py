@@ -625,3 +625,37 @@ def test_the_towers_second_order_trace_read_near_its_limit_is_on_its_path():
     assert at.ok and at.second_order["stable"], at.message
     assert at.displacements["N20_0"][0] == pytest.approx(path.displacements["N20_0"][0],
                                                          rel=1e-4)
+
+
+def test_a_slender_tie_in_tension_keeps_a_finite_stiffness():
+    """A tie of small EI (a bar modelled as a member: EI = 0.021 kN·m²)
+    pulled by 488 kN has t = −N L²/EI ≈ −9.5e5: the hyperbolic closed
+    forms overflowed past ψ ≈ 710 (inf/inf, NaN), and the second-order
+    solve was refused as "the frame at its elastic critical load (α_cr =
+    1)", α_cr raising ValueError on a NaN.  Divided through by cosh ψ they
+    stay finite: s → ψ − 1 + …, s c → 1 (against the closed forms in 400
+    digits: 5e-16 up to t = −1e12, Engesser's too)."""
+    from formulations.frames.mechanics.second_order import stability_functions
+
+    for phi in (0.0, 1e-8):
+        s, sc = stability_functions(np.array([-1e6, -1e12]), phi)
+        assert np.all(np.isfinite(s)) and np.all(np.isfinite(sc))
+    # Engesser's member compressed a hair past N = −G A_s (β < 0: μ² = t/β
+    # → −inf) read the same overflow: refused as "the frame at its critical
+    # load", not UNSTABLE past its own buckling load
+    s, sc = stability_functions(12.0 / 17.5 * (1 + 1e-9), 17.5)
+    assert np.isfinite(s) and np.isfinite(sc)
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, 4.0)
+    fr.add_node("C", 5.0, 0.0)
+    fr.add_member("A", "B", 2.1e8, 1e-2, 1e-4, name="column")
+    fr.add_member("C", "B", 2.1e8, 1e-3, 1e-10, name="tie")
+    fr.add_support("A")
+    fr.add_support("C")
+    fr.add_load("B", fx=-400.0)
+    res = fr.solve(second_order=True)
+    assert res.ok, res.message
+    assert res.second_order["axial"]["tie"] > 480.0
+    crit = fr.critical_load_factor(res)
+    assert np.isfinite(crit["alpha"]) and crit["alpha"] > 10.0
