@@ -139,7 +139,10 @@ def shear_cases():
             c["members"][0]["As"] = As
             c["family"] = "hand, shear"
             M = shear_pinned(w, Q, Me, N, EI0, GAs, L0)
-            c["closed"] = [("M_mid", "ext", ("S", "M_max"), M, abs(M)),
+            # equal end moments in tension: M sech u at midspan is the least
+            # (the ends' M the largest), in compression M sec u the largest
+            peak = "M_min" if Me and sign > 0 else "M_max"
+            c["closed"] = [("M_mid", "ext", ("S", peak), M, abs(M)),
                            ("alpha", "alpha", None, alpha, alpha if np.isfinite(alpha) else 1)]
             out.append(c)
         Pc = P_E / 4 / (1 + P_E / 4 / GAs)                   # the cantilever's, with shear

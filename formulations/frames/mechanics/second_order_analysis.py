@@ -163,10 +163,10 @@ def critical_load_factor(frame, result) -> dict:
     the member whose own buckling load, its nodes held, bounds the search
     and is then α_cr: :func:`.second_order.own_buckling`)."""
     b = frame.build()
-    if getattr(result, "second_order", None):
-        N = np.array([result.second_order["axial"][m] for m in frame.members], float)
-    else:
-        N = axial_forces(b, result)[0]
+    # the answer's own axial forces, not second_order["axial"] (those that built
+    # its stiffness, a round behind and converged only to the accuracy asked on
+    # a scale of EA/L |u|: a lightly compressed beam's N 1e-3 off at "low")
+    N = axial_forces(b, result)[0]
     EI, L = bending(frame)
     t1 = -N * L ** 2 / EI                      # compression positive, at α = 1
     if not np.any(t1 > 0):

@@ -86,6 +86,32 @@ def test_the_critical_load_factor_of_a_cantilever_is_eulers(share):
     assert abs(crit["mode"]["B"][0]) == pytest.approx(1.0)
 
 
+def test_the_critical_load_factor_at_low_accuracy_reads_the_answers_own_axial_forces():
+    """A portal lifted at its joints (columns in tension) whose beam, lightly
+    compressed by the sway, sets α_cr: the axial forces that built the last
+    stiffness are converged only to "low"'s 1e-4 on the scale EA/L |u|, so
+    the beam's N was 2e-3 off and α_cr with it; the answer's own N is
+    a round further on, α_cr to 1e-6 of "high"'s."""
+    fr = Frame(units=("kN", "m"))
+    for name, x, y in (("A", 0, 0), ("B", 0, 4), ("C", 6, 4), ("D", 6, 0)):
+        fr.add_node(name, x, y)
+    fr.add_member("A", "B", E, 1e-2, 1e-5, name="L")
+    fr.add_member("B", "C", E, 5e-3, 4e-5, name="T")
+    fr.add_member("D", "C", E, 1e-2, 1e-5, name="R")
+    fr.add_support("A")
+    fr.add_support("D")
+    fr.add_load("B", fx=50.0, fy=300.0)
+    fr.add_load("C", fy=300.0)
+    fr.add_distributed_load("T", 0.0, -5.0, axes="member")
+    alpha = {}
+    for accuracy in ("low", "high"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = fr.solve(second_order=True, accuracy=accuracy)
+        alpha[accuracy] = fr.critical_load_factor(res)["alpha"]
+    assert alpha["low"] == pytest.approx(alpha["high"], rel=1e-5)
+
+
 def test_a_frame_in_tension_only_has_no_critical_load():
     fr = cantilever(5.0, -100.0, 1.0)
     res = fr.solve(second_order=True)
