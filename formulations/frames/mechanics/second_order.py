@@ -351,6 +351,66 @@ def _axial_load(load, d, oi, oj) -> float:
     return size * max(0.0, min(load.b, length - oj) - max(load.a, oi))
 
 
+def axial_spreads(frame, combination) -> np.ndarray:
+    """ΔN per member [F]: the sum of its member loads' axial parts in
+    ``combination`` (:func:`_axial_load`), by which N varies along it
+    about the mean its element takes."""
+    index = {name: k for k, name in enumerate(frame.members)}
+    if hasattr(frame, "span_loads"):                   # a space frame's loads
+        pairs = [(ld.member, ld) for ld in frame.span_loads]
+    else:
+        pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
+    spread = np.zeros(len(frame.members))
+    for name, ld in pairs:
+        if combination.get(ld.case):
+            m = frame.members[name]
+            i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
+            d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
+            spread[index[name]] += abs(combination[ld.case]) * _axial_load(
+                ld, d, *(m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)))
+    return spread
+
+
+def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:
+    """Per member, how far N varying along it (by ΔN ``spread`` about the
+    mean N its element takes) moves the answer, on the member's moments.
+    N − N̄ (|·| ≤ ΔN/2), an axial force of its own on the member's
+    deflection, changes it by up to its amplification ρ_Δ/(1 − ρ), ρ_Δ =
+    (ΔN/2)/P_s and ρ the largest compression's (|N̄| + ΔN/2)/P_s, on the
+    member's sway buckling load P_s = P_p/4 (``pinned`` P_p: a cantilever's,
+    effective length 2L) — and at least the frame's own amplification,
+    ρ ≥ 1/α_cr (``alpha``), where other members make it sway more: on the
+    pinned load alone a cantilever at 0.24 P_p (α_cr 1.04) under a
+    self-weight of 1e-4 P_p was ok at "low" with its base moment 2.0e-3 off
+    (bound 1e-5; now 5e-3; the column cut into 64 pieces the reference).
+    Cut into pieces, each piece's P_s grows as 1/h² and its ΔN shrinks as
+    h."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho_spread = 2.0 * spread / pinned
+        worst = np.maximum(4.0 * np.maximum(-N, 0.0) / pinned + rho_spread, 1.0 / alpha)
+        return np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
+
+
+def spread_through_frame(frame, N, combination, tol, alpha) -> str:
+    """:func:`spread_bound`'s words with the frame's α_cr (``alpha``:
+    called only where some member has ΔN > 0), or "": the member-level
+    bound of :func:`first_order_parts` has no α_cr, and a frame whose
+    leaning columns lean on a member sways it more than its own P_s says."""
+    spread = axial_spreads(frame, combination)
+    if not (spread > 0).any():
+        return ""
+    N = np.asarray(N, float)
+    a = float(alpha())
+    off = spread_bound(N, spread, pinned_buckling(frame), a)
+    hit = [k for k in np.argsort(-off, kind="stable") if off[k] > tol]
+    if not hit:
+        return ""
+    return (f"the member loads of member(s) {_worst(frame, N, off, hit, 'its moments')} have "
+            "axial parts, which make N vary along the member about the mean its element takes, "
+            f"amplified by the frame's sway (α_cr = {a:.6g}) — add nodes along those members "
+            "(docs/frames.md, 'What stays first order')")
+
+
 def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     """Words naming the members whose second-order answer stays first
     order in part (module docstring) by more than ``tol``, or "": a
@@ -384,17 +444,15 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     # element takes: their sum ΔN per member
     beam_column = np.array([all(g is None for g in m["GAs"]) if isinstance(m, dict)
                             else m.GAs is None for m in frame.members.values()])
-    spread = np.zeros(len(frame.members))
+    spread = axial_spreads(frame, combination)
     for name, ld in pairs:
         if ld.case not in active:
             continue
         k, m = index[name], frame.members[name]
-        i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
-        d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
-        spread[k] += abs(combination[ld.case]) * _axial_load(
-            ld, d, *(m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)))
         if beam_column[k]:
             continue
+        i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
+        d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
         force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
                                       ld.kind == "point")
         span = L[k] * L[k]
@@ -428,14 +486,7 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
                      "bend a member with shear deformation: their fixed-end forces and its "
                      "diagram between the ends are first order (N times its own deflection is "
                      "not in them)")
-    # N(x) departs from the element's mean by up to ΔN/2: as an axial force
-    # of its own on the member's deflection it changes the moments by up to
-    # its amplification, ρ_Δ/(1 − ρ) with ρ_Δ = (ΔN/2)/P_p and ρ the
-    # largest compression's (N's mean less ΔN/2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rho_spread = 0.5 * spread / pinned
-        worst = np.maximum(-N, 0.0) / pinned + rho_spread
-        varying = np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
+    varying = spread_bound(N, spread, pinned)
     hit = [k for k in np.argsort(-varying, kind="stable") if varying[k] > tol]
     if hit:
         names = _worst(frame, N, varying, hit, "its moments")

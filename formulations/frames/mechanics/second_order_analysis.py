@@ -43,7 +43,7 @@ from . import tracing
 from .load_combinations import combination_at
 from .second_order_path import SecondOrderTrace, axial_forces, relative_change
 from .second_order import (bending, first_order_parts, first_order_parts_along,
-                           own_buckling, past_own_buckling)
+                           own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
 
 #: rounds of the axial forces' fixed point at most
@@ -117,6 +117,9 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
     span = first_order_parts(frame, b["axial"], res.combination, tol, res.member_forces)
+    if not span and res.ok and stable:          # through the frame's amplification
+        span = spread_through_frame(frame, b["axial"], res.combination, tol,
+                                    lambda: critical_load_factor(frame, res)["alpha"])
     if span and res.ok:
         res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
