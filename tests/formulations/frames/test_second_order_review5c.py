@@ -94,3 +94,42 @@ def test_a_second_order_trace_on_the_circular_cone():
     assert at.ok
     np.testing.assert_allclose(at.displacements["Q"], alone.displacements["Q"], rtol=1e-9,
                                atol=1e-15)
+
+
+def test_a_column_that_the_frame_sways_more_than_its_own_load_says_is_refused():
+    """spread_through_frame (no test reached it: the cantilever's is
+    refused by the member's own bound): the hinged-base portal at 0.9 of
+    its α_cr, its columns under a self-weight of 3e-5 of their Euler load.
+    The member bound alone passes it at "low"; the uncut answer's column
+    moment is 2.4e-4 off the columns cut into 64 pieces (32 and 64 agree
+    to 2e-7), so the frame's α_cr refuses it."""
+    P1 = critical_load_factor(pinned_portal(1.0), pinned_portal(1.0).solve(
+        second_order=True))["alpha"]
+    q = 3e-5 * np.pi ** 2 * E * I / h ** 3
+
+    def portal(n):
+        fr = Frame()
+        for name, x, y in (("A", 0, 0), ("B", 4, 0), ("C", 0, h), ("D", 4, h)):
+            fr.add_node(name, x, y)
+        for col, (i, j, x) in {"c1": ("A", "C", 0.0), "c2": ("B", "D", 4.0)}.items():
+            pts = [i] + [f"{col}_{k}" for k in range(1, n)] + [j]
+            for k in range(1, n):
+                fr.add_node(pts[k], x, h * k / n)
+            for k in range(n):
+                fr.add_distributed_load(fr.add_member(pts[k], pts[k + 1], E, A, I,
+                                                      name=f"{col}#{k}"), 0.0, -q)
+        fr.add_member("C", "D", E, A, 0.1 * I, name="beam")
+        fr.add_support("A", ("ux", "uy"))
+        fr.add_support("B", ("ux", "uy"))
+        fr.add_load("C", fx=1e-4 * np.pi ** 2 * E * I / h ** 2, fy=-0.9 * P1)
+        fr.add_load("D", fy=-0.9 * P1)
+        return fr
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        low = portal(1).solve(second_order=True, accuracy="low", raise_on_failure=False)
+        one = portal(1).solve(second_order=True, raise_on_failure=False)
+        ref = portal(64).solve(second_order=True)
+    assert not low.ok and "amplified by the frame's sway" in low.message, low.message
+    top = ref.member_forces["c1#63"][5]
+    assert abs(one.member_forces["c1#0"][5] / top - 1) > 1e-4
