@@ -8,8 +8,10 @@ which depend on the answer: N⁰ from the first-order answer, then for
 k = 0, 1, …  solve the contact problem with K(N^k) (its own contact states,
 certified as a first-order answer is, its statics on the deformed frame)
 and read N^{k+1} off it, until every member's N^{k+1} agrees with N^k on
-its own scale (|N| plus the terms EA/L |u_a| it is made of) to the
-accuracy asked for.  The answer returned is the last solve's, whose K was
+its own scale (|N| plus the terms EA/L |u_a| it is made of, those at
+most its Euler load and the share rounding needs: a frame's rigid sway is
+in u_a, :func:`.second_order_path.member_scale`) to the accuracy asked
+for.  The answer returned is the last solve's, whose K was
 built from N^k: ``second_order["axial_error"]`` says how far its own axial
 forces are from those.  Axial forces move little with the sway (the
 iteration contracts by about the sway's share of them), so a few rounds
@@ -41,7 +43,8 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 
 from . import tracing
 from .load_combinations import combination_at
-from .second_order_path import SecondOrderTrace, axial_forces, relative_change
+from .second_order_path import (SecondOrderTrace, axial_forces, member_scale,
+                                relative_change)
 from .second_order import (bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
@@ -91,7 +94,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         b = built_on(frame, N)
         res = solve_on(b)
         N_new, terms = axial_forces(b, res)
-        error = relative_change(N_new, N, terms)
+        error = relative_change(N_new, N, member_scale(frame, terms, tol))
         if error <= tol:
             break
         N = N_new
@@ -350,7 +353,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
         unstable = first_unstable_piece(frame, b, ft)
         p_last, inside = stable_end(ft, unstable)
         N_new, terms = axial_forces(b, ft.result_at(inside))
-        error = relative_change(N_new, N, terms)
+        error = relative_change(N_new, N, member_scale(frame, terms, tol))
         if error <= tol:
             break
         N = N_new
