@@ -377,14 +377,19 @@ def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:
     N − N̄ (|·| ≤ ΔN/2), an axial force of its own on the member's
     deflection, changes it by up to its amplification ρ_Δ/(1 − ρ), ρ_Δ =
     (ΔN/2)/P_s and ρ the largest compression's (|N̄| + ΔN/2)/P_s, on the
-    member's sway buckling load P_s = P_p/4 (``pinned`` P_p: a cantilever's,
-    effective length 2L) — and at least the frame's own amplification,
-    ρ ≥ 1/α_cr (``alpha``), where other members make it sway more: on the
-    pinned load alone a cantilever at 0.24 P_p (α_cr 1.04) under a
-    self-weight of 1e-4 P_p was ok at "low" with its base moment 2.0e-3 off
-    (bound 1e-5; now 5e-3; the column cut into 64 pieces the reference).
-    Cut into pieces, each piece's P_s grows as 1/h² and its ΔN shrinks as
-    h."""
+    member's sway load P_s = P_p/4 (``pinned`` P_p: a cantilever's,
+    effective length 2L), and ρ at least 1/α_cr (``alpha``, where the
+    frame's is known: a frame whose beams or leaning columns sway a member
+    more than its own P_s says).  On the pinned load alone a cantilever at
+    0.24 P_p (α_cr 1.04) under a self-weight of 1e-4 P_p was ok at "low"
+    with its base moment 2.0e-3 off (bound 1e-5; now 5e-3; the column cut
+    into 64 pieces the reference).  Not sharper: on the member's load at
+    the frame's buckling, α_cr |N̄|, alone it does not shrink as the
+    member is cut (a pinned column in 64 pieces under its weight refused),
+    and the smaller of the two passed a hinged-base portal at 0.9 of α_cr
+    2.4e-4 off at "low" (review 5c).  A braced column above P_p/4 is
+    refused at any accuracy (ρ ≥ 1) until it is cut: each piece's P_s
+    grows as 1/h², its ΔN shrinks as h."""
     with np.errstate(divide="ignore", invalid="ignore"):
         rho_spread = 2.0 * spread / pinned
         worst = np.maximum(4.0 * np.maximum(-N, 0.0) / pinned + rho_spread, 1.0 / alpha)
@@ -392,10 +397,11 @@ def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:
 
 
 def spread_through_frame(frame, N, combination, tol, alpha) -> str:
-    """:func:`spread_bound`'s words with the frame's α_cr (``alpha``:
-    called only where some member has ΔN > 0), or "": the member-level
-    bound of :func:`first_order_parts` has no α_cr, and a frame whose
-    leaning columns lean on a member sways it more than its own P_s says."""
+    """Words naming the members whose loads' axial parts (N varying along
+    the member about the mean its element takes) move the answer by more
+    than ``tol`` (:func:`spread_bound`), or "".  ``alpha``: the frame's
+    α_cr, called only where some member has ΔN > 0 (inf where it is not
+    known: a trace's pieces, a frame too large for its stability check)."""
     spread = axial_spreads(frame, combination)
     if not (spread > 0).any():
         return ""
@@ -406,9 +412,9 @@ def spread_through_frame(frame, N, combination, tol, alpha) -> str:
     if not hit:
         return ""
     return (f"the member loads of member(s) {_worst(frame, N, off, hit, 'its moments')} have "
-            "axial parts, which make N vary along the member about the mean its element takes, "
-            f"amplified by the frame's sway (α_cr = {a:.6g}) — add nodes along those members "
-            "(docs/frames.md, 'What stays first order')")
+            "axial parts, which make N vary along the member about the mean its element takes"
+            + (f" (judged with the frame's α_cr = {a:.6g})" if np.isfinite(a) else "")
+            + " — add nodes along those members (docs/frames.md, 'What stays first order')")
 
 
 def first_order_parts(frame, N, combination, tol, member_forces) -> str:
@@ -444,7 +450,6 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     # element takes: their sum ΔN per member
     beam_column = np.array([all(g is None for g in m["GAs"]) if isinstance(m, dict)
                             else m.GAs is None for m in frame.members.values()])
-    spread = axial_spreads(frame, combination)
     for name, ld in pairs:
         if ld.case not in active:
             continue
@@ -486,12 +491,6 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
                      "bend a member with shear deformation: their fixed-end forces and its "
                      "diagram between the ends are first order (N times its own deflection is "
                      "not in them)")
-    varying = spread_bound(N, spread, pinned)
-    hit = [k for k in np.argsort(-varying, kind="stable") if varying[k] > tol]
-    if hit:
-        names = _worst(frame, N, varying, hit, "its moments")
-        words.append(f"the member loads of member(s) {names} have axial parts, which make N "
-                     "vary along the member about the mean its element takes")
     return "; ".join(words) + (" — add nodes along those members, whose pieces then carry the "
                                "P-δ closer (docs/frames.md, 'What stays first order')"
                                if words else "")
@@ -520,7 +519,8 @@ def first_order_parts_along(frame, N, ft, inside, tol) -> str:
         points |= {float(lo), min(float(hi), inside) if np.isfinite(hi) else lo + max(1.0, lo)}
     for p in sorted(points):
         at = ft.result_at(p)
-        words = first_order_parts(frame, N, at.combination, tol, at.member_forces)
+        words = (first_order_parts(frame, N, at.combination, tol, at.member_forces)
+                 or spread_through_frame(frame, N, at.combination, tol, lambda: np.inf))
         if words:
             return f"at p = {p:.10g} on the path, {words}"
     return ""

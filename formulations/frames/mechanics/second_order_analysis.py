@@ -120,9 +120,9 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
     span = first_order_parts(frame, b["axial"], res.combination, tol, res.member_forces)
-    if not span and res.ok and stable:          # through the frame's amplification
-        span = spread_through_frame(frame, b["axial"], res.combination, tol,
-                                    lambda: critical_load_factor(frame, res)["alpha"])
+    if not span and res.ok:     # member loads' axial parts, on α_cr where it is known
+        span = spread_through_frame(frame, b["axial"], res.combination, tol, lambda: (
+            critical_load_factor(frame, res)["alpha"] if stable else np.inf))
     if span and res.ok:
         res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
