@@ -77,6 +77,20 @@ def relative_change(new, old, terms) -> float:
     return float(np.divide(diff, scale, out=np.zeros_like(diff), where=scale > 0).max(initial=0))
 
 
+def answer_change(frame, u, before) -> float:
+    """How far the displacements ``u`` moved from the previous round's
+    ``before`` (inf where there is none), translations and rotations each
+    on their own largest."""
+    if before is None:
+        return np.inf
+    from .equilibrium_checks import rotations
+
+    spin = np.tile(rotations(frame.DOFS), len(u) // len(frame.DOFS))
+    u, diff = np.asarray(u, float), np.abs(np.asarray(u, float) - before)
+    return max(float(diff[k].max(initial=0.0)) / (float(np.abs(u[k]).max(initial=0.0)) or 1.0)
+               for k in (spin, ~spin))
+
+
 @dataclass
 class SecondOrderTrace(FrameTrace):
     """A second-order :class:`FrameTrace`: ``result_at(p)`` is the frame's
