@@ -351,23 +351,31 @@ def _axial_load(load, d, oi, oj) -> float:
     return size * max(0.0, min(load.b, length - oj) - max(load.a, oi))
 
 
-def axial_spreads(frame, combination) -> np.ndarray:
-    """ΔN per member [F]: the sum of its member loads' axial parts in
-    ``combination`` (:func:`_axial_load`), by which N varies along it
-    about the mean its element takes."""
+def _active_loads(frame, combination):
+    """(k, member, load, |factor|, d, (o_i, o_j)) for each member load of
+    ``combination``: the member's index, the load, its factor's size, the
+    member's vector node i → j and its rigid end zones (plane or space)."""
     index = {name: k for k, name in enumerate(frame.members)}
     if hasattr(frame, "span_loads"):                   # a space frame's loads
         pairs = [(ld.member, ld) for ld in frame.span_loads]
     else:
         pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
-    spread = np.zeros(len(frame.members))
     for name, ld in pairs:
         if combination.get(ld.case):
             m = frame.members[name]
             i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
-            d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
-            spread[index[name]] += abs(combination[ld.case]) * _axial_load(
-                ld, d, *(m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)))
+            yield (index[name], m, ld, abs(combination[ld.case]),
+                   np.subtract(frame.nodes[j], frame.nodes[i]).astype(float),
+                   m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j))
+
+
+def axial_spreads(frame, combination) -> np.ndarray:
+    """ΔN per member [F]: the sum of its member loads' axial parts in
+    ``combination`` (:func:`_axial_load`), by which N varies along it
+    about the mean its element takes."""
+    spread = np.zeros(len(frame.members))
+    for k, _, ld, factor, d, offsets in _active_loads(frame, combination):
+        spread[k] += factor * _axial_load(ld, d, *offsets)
     return spread
 
 
@@ -417,14 +425,14 @@ def spread_through_frame(frame, N, combination, tol, alpha) -> str:
             + " — add nodes along those members (docs/frames.md, 'What stays first order')")
 
 
-def first_order_parts(frame, N, combination, tol, member_forces) -> str:
+def first_order_parts(frame, N, combination, tol) -> str:
     """Words naming the members whose second-order answer stays first
     order in part (module docstring) by more than ``tol``, or "": a
     Timoshenko member's span loads' fixed-end forces and, with them, its
-    diagram between the ends, and any member's loads' axial parts, which
-    make N vary along it (below); an Euler–Bernoulli member's loads and
+    diagram between the ends; an Euler–Bernoulli member's loads and
     diagrams are the beam-column's (:mod:`.beam_column`), a Timoshenko
-    member's diagram without span loads Engesser's.  A shear-flexible
+    member's diagram without span loads Engesser's (the loads' axial parts
+    are judged by :func:`spread_through_frame`).  A shear-flexible
     member that span loads bend (M₀ > 0 on a simple span) under
     an axial force N is judged by sec(π√ρ/2) − 1 in compression (π²ρ/8 in
     tension), ρ = |N|/P_p — P_p the pinned member's buckling load over its
@@ -438,37 +446,23 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     _, L = bending(frame)
     N = np.asarray(N, float)
     m0 = np.zeros(len(frame.members))
-    index = {name: k for k, name in enumerate(frame.members)}
-    active = {c for c, f in combination.items() if f}
-    if hasattr(frame, "span_loads"):                   # a space frame's loads
-        pairs = [(ld.member, ld) for ld in frame.span_loads]
-    else:
-        pairs = [(name, ld) for name, m in frame.members.items() for ld in m.loads]
     # an Euler–Bernoulli member carries its loads as the beam-column
-    # (mechanics.beam_column; a space member in both bending planes) but for
-    # their axial parts, which make N vary along it about the mean its
-    # element takes: their sum ΔN per member
+    # (mechanics.beam_column; a space member in both bending planes)
     beam_column = np.array([all(g is None for g in m["GAs"]) if isinstance(m, dict)
                             else m.GAs is None for m in frame.members.values()])
-    for name, ld in pairs:
-        if ld.case not in active:
-            continue
-        k, m = index[name], frame.members[name]
+    for k, m, ld, factor, d, (oi, oj) in _active_loads(frame, combination):
         if beam_column[k]:
             continue
-        i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
-        d = np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
         force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
                                       ld.kind == "point")
         span = L[k] * L[k]
         if ld.kind == "point":     # a force at a on the flexible part: P a (L − a)/L ≤ P L/4,
             # none at its ends, where it goes to the node whatever N (a load at
             # a node's end of a member was not ok, and cutting it never cleared it)
-            oi, oj = m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j)
             flexible = float(np.linalg.norm(d)) - oi - oj
             a = min(max(ld.a - oi, 0.0), flexible)
             span = 4.0 * a * (flexible - a) / flexible
-        m0[k] += abs(combination[ld.case]) * (force * span + moment)
+        m0[k] += factor * (force * span + moment)
     pinned = pinned_buckling(frame)
     rho = np.abs(N) / pinned
     # a shear-flexible member whose span loads bend it keeps their
@@ -476,7 +470,7 @@ def first_order_parts(frame, N, combination, tol, member_forces) -> str:
     # (without them its diagram is Engesser's: beam_column.engesser_axis).
     # Its end moments alone, equal and in single curvature (the worst for
     # given end moments), make M cos(k(x − L/2))/cos(kL/2) in Engesser's
-    # model too (M'' = N/(EI (1 − N/(G A_s))) M): sec(π√ρ/2) − 1 of the
+    # model too (M'' = N/(EI (1 + N/(G A_s))) M): sec(π√ρ/2) − 1 of the
     # ends', which also covers the span loads' amplification (a pinned span
     # under a uniform load at ρ = 0.5: 1.03 of wL²/8, where ρ/(1 − ρ) said
     # 1.0; sec's 1.25); in tension 1 − sech ≤ π²ρ/8
@@ -519,7 +513,7 @@ def first_order_parts_along(frame, N, ft, inside, tol) -> str:
         points |= {float(lo), min(float(hi), inside) if np.isfinite(hi) else lo + max(1.0, lo)}
     for p in sorted(points):
         at = ft.result_at(p)
-        words = (first_order_parts(frame, N, at.combination, tol, at.member_forces)
+        words = (first_order_parts(frame, N, at.combination, tol)
                  or spread_through_frame(frame, N, at.combination, tol, lambda: np.inf))
         if words:
             return f"at p = {p:.10g} on the path, {words}"

@@ -124,7 +124,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                   f" — UNSTABLE: {buckled}")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
-    span = first_order_parts(frame, b["axial"], res.combination, tol, res.member_forces)
+    span = first_order_parts(frame, b["axial"], res.combination, tol)
     if not span and res.ok:     # member loads' axial parts, on α_cr where it is known
         span = spread_through_frame(frame, b["axial"], res.combination, tol, lambda: (
             critical_load_factor(frame, res)["alpha"] if stable else np.inf))

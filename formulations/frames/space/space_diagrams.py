@@ -126,6 +126,7 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
     di, dj = (np.r_[R @ np.asarray(res.displacements[n][:3], float),
                     R @ np.asarray(res.displacements[n][3:], float)] for n in (m["i"], m["j"]))
     rel = dict(m["releases"])
+    f = np.asarray(res.member_forces[member], float)
     out = {}
     for plane, (I_, GAs, turn, sign) in ((1, (m["Iz"], m["GAs"][0], 5, 1.0)),
                                          (2, (m["Iy"], m["GAs"][1], 4, -1.0))):
@@ -141,7 +142,6 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
             continue
         springs = (rel.get(turn), rel.get(turn + 6))
         # the plane's first-order statics M₁ = M₁(0) + V₁ x (Along.sections)
-        f = np.asarray(res.member_forces[member], float)
         M0, V1 = (-f[5], f[1]) if plane == 1 else (f[4], f[2])
 
         def solution(x, ends=ends, parts=parts, springs=springs, EI=m["E"] * I_, plane=plane,
