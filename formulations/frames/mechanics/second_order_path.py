@@ -86,7 +86,8 @@ def answer_change(frame, u, before) -> float:
     from .equilibrium_checks import rotations
 
     spin = np.tile(rotations(frame.DOFS), len(u) // len(frame.DOFS))
-    u, diff = np.asarray(u, float), np.abs(np.asarray(u, float) - before)
+    u = np.asarray(u, float)
+    diff = np.abs(u - before)
     return max(float(diff[k].max(initial=0.0)) / (float(np.abs(u[k]).max(initial=0.0)) or 1.0)
                for k in (spin, ~spin))
 
