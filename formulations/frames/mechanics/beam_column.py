@@ -71,6 +71,11 @@ T_EXP = 4.0
 #: |μ x²| up to which φ₀ … φ₃ come from their series
 SERIES = 1.0
 
+#: |sin kL| below which Engesser's diagram starts from a joined end's
+#: rotation instead of both end moments (the two-point form loses up to
+#: 1/|sin kL| of its digits: at most 4× here)
+NEAR_NODE = 0.25
+
 #: terms of the series (at |μ x²| ≤ SERIES the last one is 1e-19 of the first)
 TERMS = 10
 
@@ -359,7 +364,8 @@ def axis(parts, EI, N, L, ends, springs, x) -> tuple[np.ndarray, np.ndarray]:
     return deflection(parts, EI, N, L, ends, x)
 
 
-def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x) -> tuple[np.ndarray, np.ndarray]:
+def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x,
+                  slopes=(None, None)) -> tuple[np.ndarray, np.ndarray]:
     """(v, v') at x on the flexible length L of a shear-flexible member
     (G A_s [F]) under N without span loads, from its flexible ends'
     transverse displacements v_a, v_e, its moment at the flexible end a,
@@ -382,7 +388,16 @@ def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x) -> tuple[np.ndarray, np.
     (φ₂ → x²/2, φ₃ → x³/6: the first-order member with its shear
     strain).  Where |μ| L² > SERIES the two-point form is used instead,
     M = (A sin k(L − x) + M_L sin kx)/sin kL (sinh in tension, written in
-    e^(−kx), e^(−k(L−x)): no growth), and v = v_a + (M − M₁)/N."""
+    e^(−kx), e^(−k(L−x)): no growth), and v = v_a + (M − M₁)/N.
+
+    Near kL = nπ in compression (a restrained member there is not at its
+    critical load) the end moments no longer fix the sin kx part: the
+    two-point form divides by sin kL → 0 (2.1 M off within 1e-12 of π).
+    There the form starts from an end whose section rotation θ is given
+    (``slopes``: the flexible ends' θ where the member is rigidly joined,
+    None where released): v' = θ − V/(G A_s), V = M' = V_1 + N v', so
+    v' = (θ − V_1/(G A_s))/(1 + N/(G A_s)) and M = M_end cos ks + (V/k)
+    sin ks, s measured from that end into the member."""
     x = np.asarray(x, float)
     c = 1.0 / (EI * (1.0 + N / GAs))
     mu = N * c
@@ -396,8 +411,16 @@ def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x) -> tuple[np.ndarray, np.
     M_L = M_a + V_1 * L + N * (v_e - v_a)
     if mu < 0:
         sL = math.sin(k * L)
-        M = (A * np.sin(k * (L - x)) + M_L * np.sin(k * x)) / sL
-        dM = k * (-A * np.cos(k * (L - x)) + M_L * np.cos(k * x)) / sL
+        joined = [end for end, th in enumerate(slopes) if th is not None]
+        if abs(sL) < NEAR_NODE and joined:
+            end = joined[0]
+            V = V_1 + N * (slopes[end] - V_1 / GAs) / (1.0 + N / GAs)
+            s, Me, sign = (x, A, 1.0) if end == 0 else (L - x, M_L, -1.0)
+            M = Me * np.cos(k * s) + sign * V / k * np.sin(k * s)
+            dM = -sign * k * Me * np.sin(k * s) + V * np.cos(k * s)
+        else:
+            M = (A * np.sin(k * (L - x)) + M_L * np.sin(k * x)) / sL
+            dM = k * (-A * np.cos(k * (L - x)) + M_L * np.cos(k * x)) / sL
     else:
         d = -math.expm1(-2.0 * k * L)
         ea, eb = np.exp(-k * x), np.exp(-k * (L - x))

@@ -502,3 +502,56 @@ def test_a_shear_flexible_members_diagram_between_its_ends_is_engessers(share):
     d = space.diagram("c", 11)
     for My_or_Mz in d[-2:]:
         np.testing.assert_allclose(np.abs(My_or_Mz), exact, rtol=1e-9)
+
+
+@pytest.mark.parametrize("shift", [0.0, 1e-13, -1e-13, 1e-9, -1e-4, 0.2])
+def test_engessers_diagram_of_a_restrained_member_at_kl_pi(shift):
+    """A column fixed at A and pinned at B, a moment M_e at B, N = −P with
+    kL = π (1 + shift): below its own critical load (kL ≈ 4.49), so the
+    answer is regular, but the end moments alone no longer fix the
+    sin kx part (the two-point form divides by sin kL).  By hand, from
+    M = M_a cos kx + B sin kx, v(L) = v(0) (statics on the deformed axis:
+    V_1 = (M_e − M_a)/L) and the fixed end's section rotation
+    θ(0) = v'(0) + M'(0)/(G A_s) = 0, v' = (M' − V_1)/N:
+    B = (M_e − M_a)/(kL (1 + N/(G A_s))) and
+    M_a = M_e (1 − β sin kL)/(cos kL − β sin kL), β = 1/(kL (1 + N/(G A_s))).
+    Before, within 1e-12 of π the diagram was 2.1 M_e off, ok."""
+    E_, I_, A_, L, Me = 2e8, 1e-5, 1e-2, 5.0, 10.0
+    GAs = 5.0 * np.pi ** 2 * E_ * I_ / L ** 2
+    Q = (np.pi * (1.0 + shift) / L) ** 2 * E_ * I_       # k² EI (1 − P/GAs) = P
+    P = Q / (1.0 + Q / GAs)
+    k = np.sqrt(P / (E_ * I_ * (1.0 - P / GAs)))
+    beta = 1.0 / (k * L * (1.0 - P / GAs))
+    c, s = np.cos(k * L), np.sin(k * L)
+    Ma = Me * (1.0 - beta * s) / (c - beta * s)
+    B = (Me - Ma) * beta
+    x = np.linspace(0.0, L, 11)
+    exact = Ma * np.cos(k * x) + B * np.sin(k * x)
+    v = (exact - (Ma + (Me - Ma) / L * x)) / -P
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", E_, A_, I_, name="c", G=GAs / (0.8 * A_), shear_area=0.8 * A_)
+    fr.add_support("A", fix=("ux", "uy", "rz"))
+    fr.add_support("B", fix=("ux",))
+    fr.add_load("B", fy=-P, mz=Me)
+    sf = SpaceFrame()
+    sf.add_node("A", 0.0, 0.0, 0.0)
+    sf.add_node("B", 0.0, 0.0, L)
+    sf.add_member("A", "B", E_, A_, I_, I_, G=GAs / (0.8 * A_), J=1e-5, name="c",
+                  shear_area=(0.8 * A_, 0.8 * A_))
+    sf.add_support("A", fix=("ux", "uy", "uz", "rx", "ry", "rz"))
+    sf.add_support("B", fix=("ux", "uy", "rz"))
+    sf.add_load("B", fz=-P, my=Me, mx=Me)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res, space = fr.solve(second_order=True), sf.solve(second_order=True)
+    assert res.ok and space.ok, (res.message, space.message)
+    Mx = res.diagram("c", 11)[3]
+    np.testing.assert_allclose(Mx / Mx[-1], exact / Me, atol=1e-8)
+    np.testing.assert_allclose(np.abs(Mx[-1]), Me, rtol=1e-9)
+    dv = res.deflection("c", 11)[2]
+    np.testing.assert_allclose(np.abs(dv), np.abs(v), rtol=1e-6, atol=1e-9 * Me / P)
+    d = space.diagram("c", 11)
+    for M_plane in d[-2:]:
+        np.testing.assert_allclose(M_plane / M_plane[-1], exact / Me, atol=1e-8)
