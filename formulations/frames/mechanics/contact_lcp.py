@@ -117,10 +117,21 @@ SINGULAR_PIVOTS = 1e-13
 
 class ScaledLU:
     """The LU of D S D (D diagonal, powers of two: exact) solving S x = r as
-    x = D (DSD)⁻¹ D r — what :func:`regular_lu` returns."""
+    x = D (DSD)⁻¹ D r — what :func:`regular_lu` returns.  Pickled without
+    its factors (SciPy's SuperLU does not pickle: a trace, which keeps its
+    assembly for ``result_at``, could not be sent to another process): S
+    goes instead, factorized again on loading — the same call on the same
+    matrix, so the same factors and solves bit for bit."""
 
-    def __init__(self, lu, d):
-        self.lu, self.d = lu, d
+    def __init__(self, lu, d, S=None):
+        self.lu, self.d, self.S = lu, d, S
+
+    def __getstate__(self) -> dict:
+        return {"d": self.d, "S": self.S}
+
+    def __setstate__(self, state) -> None:
+        self.d, self.S = state["d"], state["S"]
+        self.lu = None if self.S is None else spla.splu(_scaled(self.S, self.d))
 
     def solve(self, rhs):
         rhs = np.asarray(rhs)
@@ -160,23 +171,27 @@ def regular_lu(S, pivots=True):
         S = sp.csc_matrix(S, copy=True)
         S.sum_duplicates()
         S.eliminate_zeros()    # exact zeros (a level member's k) are no structure
-    # each row's largest entry, and D S D entry by entry (d_i s_ij d_j,
-    # exact in powers of two): the sparse products D @ S @ D cost more than
-    # the factorization itself (1.5 against 1.4 ms at 1600 unknowns)
+    # each row's largest entry, and D S D entry by entry (_scaled)
     big = np.zeros(S.shape[0])
     np.maximum.at(big, S.indices, np.abs(S.data))
     if not np.all(big > 0):
         return None            # an empty row: exactly singular
     d = 2.0 ** -np.round(0.5 * np.log2(big))
-    cols = np.repeat(np.arange(S.shape[1]), np.diff(S.indptr))
     try:
-        lu = spla.splu(sp.csc_matrix((S.data * d[S.indices] * d[cols], S.indices, S.indptr),
-                                     shape=S.shape))
+        lu = spla.splu(_scaled(S, d))
     except RuntimeError:   # exactly singular
         return None
     piv = np.abs(lu.U.diagonal())
-    return (ScaledLU(lu, d) if piv.size and (piv.min() > SINGULAR_PIVOTS * piv.max()
-                                             or not pivots and piv.min() > 0) else None)
+    return (ScaledLU(lu, d, S) if piv.size and (piv.min() > SINGULAR_PIVOTS * piv.max()
+                                                or not pivots and piv.min() > 0) else None)
+
+
+def _scaled(S, d):
+    """D S D of a canonical CSC S, entry by entry (d_i s_ij d_j: exact in
+    powers of two; the sparse products D @ S @ D cost more than the
+    factorization itself, 1.5 against 1.4 ms at 1600 unknowns)."""
+    cols = np.repeat(np.arange(S.shape[1]), np.diff(S.indptr))
+    return sp.csc_matrix((S.data * d[S.indices] * d[cols], S.indices, S.indptr), shape=S.shape)
 
 
 class Built(dict):

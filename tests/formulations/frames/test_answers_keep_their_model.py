@@ -105,3 +105,23 @@ def test_a_solved_frame_and_its_answers_still_pickle_and_copy():
     before = _readings(twin, ["M1", "M2"])
     twin.frame.add_distributed_load("M1", wy=-50.0, case="D")
     np.testing.assert_array_equal(_readings(twin, ["M1", "M2"]), before)
+
+
+@pytest.mark.parametrize("second_order", [False, True])
+def test_a_trace_pickles_and_reads_the_same_after(second_order):
+    """A trace keeps its assembly for ``result_at``, and with it SciPy's
+    SuperLU, which does not pickle: a trace sent to another process
+    (multiprocessing over load cases) raised TypeError.  Sent, it must give
+    the same states and answers between its breakpoints, bit for bit (the
+    reference: the trace that was not sent)."""
+    import pickle
+
+    fr = _beam()
+    tr = fr.trace(2.0, constant={"D": 1.0}, variable={"W": 1.0}, second_order=second_order)
+    sent = pickle.loads(pickle.dumps(tr))
+    assert type(sent) is type(tr) and sent.ended == tr.ended
+    np.testing.assert_array_equal(sent.breakpoints, tr.breakpoints)
+    for p in (0.3, 1.5, 2.0):
+        a, b = sent.result_at(p), tr.result_at(p)
+        assert a.ok == b.ok
+        np.testing.assert_array_equal(_readings(a, ["M1", "M2"]), _readings(b, ["M1", "M2"]))
