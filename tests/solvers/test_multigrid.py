@@ -532,6 +532,48 @@ def test_the_resumed_search_ends_at_interior_point_block_pivotings_answer():
     np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-9 * np.abs(ref.z).max())
 
 
+def _finest_cycles(lines):
+    """(free, changed) of each finest-level cycle in mg-bpp's progress lines."""
+    out = []
+    for line in lines:
+        if "level 0 cycle" in line:
+            words = line.replace(",", "").split()
+            at, changed = int(words[-6]), int(words[-2])
+            out.append((at, changed))
+    return out
+
+
+def test_a_membranes_finest_level_ends_where_its_cycles_have_settled(monkeypatch):
+    """On a Z-matrix the finest level ends at its first held cycle at every
+    size (150² is above FIRST_HOLD_MAX, where a plate's holds five times),
+    and, where at most a third of the nodes are free, at its first cycle
+    that flips at most SETTLED components: the finish borders the rest.
+    The answers are plain block pivoting's from nothing."""
+    from qpcontact.solvers.pivoting import multigrid
+
+    assert 150 ** 2 > multigrid.FIRST_HOLD_MAX
+    monkeypatch.setitem(meshes.OBSTACLES, "ripple", HELD_OUT["ripple"])
+    for shape, small in (("ripple", True), ("dome", False)):
+        lcp = meshes.membrane(150, obstacle=shape)
+        lines = []
+        sol = qpcontact.solve(lcp, method="mg-bpp", progress=lines.append)
+        assert sol.ok, sol.message
+        cycles = _finest_cycles(lines)
+        n = lcp.n
+        assert ((n - cycles[-1][0]) * multigrid.SETTLED_SHARE <= n) == small
+        flips = [changed for _, changed in cycles]
+        if small:       # the first cycle that flips a few ends it, not a held one
+            assert 0 < flips[-1] <= multigrid.SETTLED
+            assert all(f > multigrid.SETTLED for f in flips[:-1])
+        else:           # the first held cycle ends it, a few flips do not
+            assert flips[-1] == 0 and all(f > 0 for f in flips[:-1])
+            assert any(0 < f <= multigrid.SETTLED for f in flips[:-1])
+        ref = qpcontact.solve(lcp, method="bpp")
+        assert ref.ok, ref.message
+        np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+        np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * np.abs(ref.z).max())
+
+
 def test_progress_reports_cycles_and_the_finish():
     lines = []
     qpcontact.solve(meshes.membrane(31), method="mg-bpp", progress=lines.append)

@@ -81,7 +81,7 @@ def block_pivoting(problem, F: np.ndarray, max_iter: int, patience: int, stats=N
     stats = {} if stats is None else stats
     stats.update(iterations=0, initial_active=int(F.sum()))
     # A banded Cholesky costs a few products with M: nothing to reuse.
-    bases = NearbyBases(M, q, stats, bands=bands, reuse=bands is None)
+    bases = NearbyBases(M, q, stats, bands=bands, reuse=bands is None, absM=scales.absM)
     rule = ExchangeRule(q.size, patience, stats)
     while True:
         # Intermediate bases only need signs: refine once the signs look final.

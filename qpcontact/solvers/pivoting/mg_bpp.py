@@ -15,7 +15,11 @@ tolerance, and nobody certifies their iterates.  So:
    at 1e-8 of ‖q‖∞ (1e-3 below the finest), or for five whatever the
    residual (or ``max_cycles``, default 500, on each level); on a finest
    level of at most 2·10⁴ unknowns the first cycle that leaves the set as
-   it was ends the search (:data:`.multigrid.FIRST_HOLD_MAX`).  The coarse levels are the
+   it was ends the search (:data:`.multigrid.FIRST_HOLD_MAX`), on a
+   Z-matrix's (a membrane) at every size, or where at most a third of its
+   nodes are free the first cycle that flips at most four components
+   (:data:`.multigrid.SETTLED`: the finish borders them on its factor of a
+   small block for less than a cycle over every node).  The coarse levels are the
    problem's own (``LCP(..., hierarchy=[P_0, P_1, ...])``: a mesh knows its
    coarser grids; :mod:`formulations.meshes` passes them) or, when it
    carries none, built by smoothed aggregation and kept on M's structure for
@@ -69,7 +73,7 @@ from ...core.results import MethodResult
 from .active_set import not_positive_definite, overflow_result, time_limit_result
 from .bpp import block_pivoting
 from .finish import REUSE_MAX, REUSE_SHARE
-from .multigrid import aggregation_hierarchy, multilevel_guess
+from .multigrid import SETTLED, aggregation_hierarchy, multilevel_guess
 
 __all__ = ["run_mg_bpp", "MG_BPP_OPTIONS"]
 
@@ -115,8 +119,16 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     # a plate (not a Z-matrix) starts from the shifted coarse answers, and
     # its linear corrections are W-cycles (multigrid's docstring says why)
     plate = not problem.structure.is_z_matrix
-    z = multilevel_guess(M, problem.q, _hierarchy(problem, stats), cycles=cycles, stats=stats,
-                         shifted=plate, w_cycles=plate, progress=progress, deadline=deadline)
+    settled = None if plate else SETTLED
+    # a symmetric M stored by columns is, read by rows, itself: the cycles
+    # take it as it is instead of a converted copy (1.0-1.3 ms of a 10⁵
+    # membrane's 80-100); within SYMMETRY_RTOL of symmetric, they search on
+    # Mᵀ, a guess for data that close — the finish solves M's own LCP
+    rows = (M.T if sp.issparse(M) and M.format == "csc" and M.has_canonical_format
+            and problem.is_symmetric else M)
+    z = multilevel_guess(rows, problem.q, _hierarchy(problem, stats), cycles=cycles, stats=stats,
+                         shifted=plate, w_cycles=plate, settled=settled, progress=progress,
+                         deadline=deadline)
     stats["multigrid_time"] = time.perf_counter() - t
     if deadline.expired():
         return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)
@@ -131,9 +143,10 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
             # block pivoting would wander (a plate's exchanges move
             # components all over the block)
             stats["restarts"] += 1
-            z = multilevel_guess(M, problem.q, _hierarchy(problem, stats), cycles=cycles,
-                                 stats=stats, w_cycles=plate, progress=progress,
-                                 deadline=deadline, start=np.maximum(z, 0.0))
+            z = multilevel_guess(rows, problem.q, _hierarchy(problem, stats), cycles=cycles,
+                                 stats=stats, w_cycles=plate, settled=settled,
+                                 progress=progress, deadline=deadline,
+                                 start=np.maximum(z, 0.0))
             if deadline.expired():
                 return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)
             z, F, stats, status = block_pivoting(problem, z > 0.0, max_iter, patience, stats,

@@ -113,6 +113,23 @@ HELD_STOP = 5
 #: against 35): the held cycles stay.
 FIRST_HOLD_MAX = 20_000
 
+#: On a Z-matrix (a membrane: V-cycles) the finest level ends, at every
+#: size, at its first held cycle — or, where at most 1/SETTLED_SHARE of its
+#: nodes are free, at its first cycle that flips at most SETTLED components
+#: between the free set and the obstacle (``settled``).  On a membrane a
+#: cycle that flipped k components left a set at most k off the final one
+#: (the seven shapes at 100² and 316², every cycle: 0-9 off after the
+#: first), and the finish borders those on its factor: a few solves with
+#: the factor of a small free block, against a cycle over every node (316²
+#: ripple: 14 662 free of 99 856, a cycle ~6 ms, a solve ~0.3 ms).  On a
+#: large free block a bordered exchange costs more than the cycle it saves
+#: (100² crate, 7 784 free: one exchange for two cycles, +10 %).  A plate's
+#: cycles flip a few components while hundreds are still off (it creeps:
+#: 316², D = 0.05, terraces: 3 flipped with 116 off), so a plate keeps
+#: FIRST_HOLD_MAX and HELD_STOP.
+SETTLED = 4
+SETTLED_SHARE = 3
+
 #: The shifted start's z_u = −M⁻¹q (:func:`multilevel_guess`) is solved by
 #: conjugate gradients preconditioned with the hierarchy's cycle (a plate's
 #: W-cycle; :func:`._mg_kernels.unconstrained_gap`) to GAP_RTOL of ‖q‖∞ in
@@ -228,21 +245,27 @@ class _Levels:
 def _pack(matrices) -> tuple:
     """CSR matrices as (row pointers, indices, values, pointer segment
     starts, entry segment starts): each matrix's arrays one segment, its row
-    pointers local to its own entries."""
-    return (np.concatenate([M.indptr for M in matrices]).astype(np.int64, copy=False),
-            np.concatenate([M.indices for M in matrices]).astype(np.int64, copy=False),
-            np.concatenate([M.data for M in matrices]).astype(float, copy=False),
+    pointers local to its own entries.  Concatenated into the kernels' types
+    at once: a converted copy of the concatenation is one more fresh array
+    the size of the hierarchy to fault in (1.5 ms of a 10⁵ membrane's
+    packing).  (32-bit indices, half the bytes, made a 10⁴ plate's solve
+    3-10 % slower: docs/dev-notes.md, "small free blocks".)"""
+    return (np.concatenate([M.indptr for M in matrices], dtype=np.int64),
+            np.concatenate([M.indices for M in matrices], dtype=np.int64),
+            np.concatenate([M.data for M in matrices], dtype=float),
             np.cumsum([0] + [M.shape[0] + 1 for M in matrices]),
             np.cumsum([0] + [M.nnz for M in matrices]))
 
 
 def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None,
-           held_stop=HELD_STOP):
+           held_stop=HELD_STOP, settled=0):
     """TNNMG cycles on level l of ``levels`` (a :class:`_Levels`; with at
     least one coarser level), LCP(A_l, q), from z (in place) until the
     contact set has held for two cycles with the natural-map residual at
     ``tol``, or for ``held_stop`` cycles whatever the residual, or ``cycles``
-    cycles.  Each cycle is one compiled call
+    cycles; a cycle that flips at most ``settled`` components, with at
+    most 1/SETTLED_SHARE of the unknowns free, counts as one that held the
+    set.  Each cycle is one compiled call
     (:func:`._mg_kernels.tnnmg_cycle`); the loop, the stop and the progress
     lines stay here.  Past ``deadline`` (read before each cycle) the
     iterate so far."""
@@ -263,7 +286,8 @@ def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None,
                                              levels.visits)
         stats["mg_rebuilds"] += int(moved)
         stats["mg_cycles"] += 1
-        held = held + 1 if changed == 0 else 0
+        settles = changed == 0 or (changed <= settled and (q.size - at) * SETTLED_SHARE <= q.size)
+        held = held + 1 if settles else 0
         res /= q_scale
         if progress is not None:
             progress(f"mg-bpp: {label} cycle {cycle + 1}: residual {res:.1e}, "
@@ -286,7 +310,7 @@ def _coincident(R) -> np.ndarray:
 
 def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, stats: dict,
                      progress=None, shifted: bool = False, w_cycles: bool = False,
-                     deadline=None, start=None) -> np.ndarray:
+                     settled: int | None = None, deadline=None, start=None) -> np.ndarray:
     """The nested TNNMG iterate for LCP(M, q) on the hierarchy
     ``prolongations`` (finest first; may be empty): coarsest level solved
     exactly by block pivoting, then on each finer level up to ``cycles``
@@ -310,6 +334,12 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
     preconditioner) a W-cycle, each coarser level visited twice, instead of
     a V-cycle (the module docstring says why a plate wants them).
 
+    ``settled``: the finest level ends at its first held cycle whatever
+    its size, or at its first that flips at most that many components
+    where at most 1/SETTLED_SHARE of its unknowns are free (a Z-matrix's:
+    :data:`SETTLED`); None, at its first held cycle up to FIRST_HOLD_MAX
+    unknowns, by HELD_STOP above.
+
     ``start``: cycle the finest level only, from ``start`` (no coarse
     levels' answers, no z_u): the search resumed from a point it did not
     reach by itself."""
@@ -325,12 +355,13 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
     if deadline is not None and deadline.expired():
         return np.zeros(qs[0].size)     # no guess: the caller reads the deadline too
     levels = _Levels(As, prolongations, Rs, 2 if w_cycles else 1) if L else None
-    held_stop = 1 if qs[0].size <= FIRST_HOLD_MAX else HELD_STOP
+    held_stop = 1 if settled is not None or qs[0].size <= FIRST_HOLD_MAX else HELD_STOP
+    settled = settled or 0
     if start is not None:
         if not L:
             return np.array(start, dtype=float)
         return _tnnmg(levels, 0, qs[0], np.array(start, dtype=float), cycles, tol, stats,
-                      progress, "level 0", deadline, held_stop)
+                      progress, "level 0", deadline, held_stop, settled)
     shift = None
     if shifted and L:
         H, S = levels.below(0)
@@ -358,5 +389,5 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         finest = l == 0
         z = _tnnmg(levels, l, qs[l], z, cycles, tol if finest else 1e-3, stats,
                    progress if finest else None, "level 0" if finest else f"level {l}", deadline,
-                   held_stop if finest else HELD_STOP)
+                   held_stop if finest else HELD_STOP, settled if finest else 0)
     return z
