@@ -90,12 +90,13 @@ def solve_nsgs_restarts(problem, tol, options):
         err = certified_error(problem, r)
         took = deadline.now() - t_start
         where = f"start {k}: {err:.1e} ({stats['iterations']} sweeps, {took:.2g} s)"
-        if k == 0 and err > tol:
+        # the sweeps stop at the deadline, a little past it: no time left then
+        limit = took if not deadline.limited else min(took, max(deadline.left(), 0.0))
+        if k == 0 and err > tol and limit > 0:
             # Newton from the first start's point, for as long as its sweeps
             # took: what "auto" did before the restarts (the loose 982-contact
             # pile of seed 2 is certified so, 5.7e-8; Newton from the best
             # of ten starts stopped at 1.8e-6)
-            limit = took if not deadline.limited else min(took, deadline.left())
             polished, _, _, _ = solve_natural_newton(problem, tol, {"r0": r, "time_limit": limit})
             polished_err = certified_error(problem, polished)
             where += f", then Newton {polished_err:.1e}"
