@@ -84,9 +84,12 @@ def solve_nsgs_restarts(problem, tol, options):
         if deadline.expired():
             break
         start = r0 if k == 0 else random_cone_point(problem, float(np.abs(best_r).max()) or 1.0, k)
+        left = deadline.left()
+        if left is not None and left <= 0:      # the draw took the last of the time
+            break
         t_start = deadline.now()
         r, _, _, stats = solve_nsgs_newton(
-            problem, tol, {"r0": start, "time_limit": deadline.left(), "progress": progress})
+            problem, tol, {"r0": start, "time_limit": left, "progress": progress})
         err = certified_error(problem, r)
         took = deadline.now() - t_start
         where = f"start {k}: {err:.1e} ({stats['iterations']} sweeps, {took:.2g} s)"
