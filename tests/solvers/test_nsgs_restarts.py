@@ -81,3 +81,37 @@ def test_a_later_start_certifies_a_compact_pile_the_first_does_not():
     assert s.ok, s.message
     assert "start 0:" in s.message and "from 1 start:" not in s.message, s.message
     assert _natural_map_here(p, s.r) <= 1e-6
+
+
+def test_a_first_start_cut_off_by_the_time_limit_returns_its_point():
+    """The first start's sweeps stop at the time limit, a little past it:
+    Newton from its point then had a negative time limit and "nsgs-restarts"
+    raised InvalidOptionError (found on a 982-contact compact pile under
+    "auto" at a load of 6).  Now the start's point comes back, judged."""
+    p = sphere_pile(300, seed=2, agitation=0.1, polydispersity=0.005).problem
+    for limit in (0.05, 0.2):
+        s = qpcontact.solve(p, "nsgs-restarts", accuracy=1e-12, time_limit=limit)
+        assert not s.ok and np.isfinite(s.error) and "start 0:" in s.message, s.message
+
+
+def test_a_draw_that_outlasts_the_time_limit_ends_the_starts(monkeypatch):
+    """Between the loop's check of the deadline and a start's call the
+    random draw takes time; where the deadline passes there, the start got
+    a negative time limit and raised.  Here the draw is made to outlast it
+    (the sweeps cut to 20 so that the first start ends well before)."""
+    import time
+
+    from qpcontact.solvers.friction import restarts
+    from qpcontact.solvers.friction.hybrid import solve_nsgs_newton
+
+    def slow_draw(problem, scale, k):
+        time.sleep(1.0)
+        return random_cone_point(problem, scale, k)
+
+    monkeypatch.setattr(restarts, "random_cone_point", slow_draw)
+    monkeypatch.setattr(restarts, "solve_nsgs_newton",
+                        lambda p, tol, opts: solve_nsgs_newton(p, tol, {**opts, "max_sweeps": 20}))
+    p = sphere_pile(300, seed=2, agitation=0.1, polydispersity=0.005).problem
+    r, status, message, stats = restarts.solve_nsgs_restarts(
+        p, 1e-12, {"time_limit": 1.0, "starts": 3})
+    assert status == "stopped" and stats["starts"] == 1 and r is not None, message

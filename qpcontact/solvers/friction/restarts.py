@@ -84,18 +84,22 @@ def solve_nsgs_restarts(problem, tol, options):
         if deadline.expired():
             break
         start = r0 if k == 0 else random_cone_point(problem, float(np.abs(best_r).max()) or 1.0, k)
+        left = deadline.left()
+        if left is not None and left <= 0:      # the draw took the last of the time
+            break
         t_start = deadline.now()
         r, _, _, stats = solve_nsgs_newton(
-            problem, tol, {"r0": start, "time_limit": deadline.left(), "progress": progress})
+            problem, tol, {"r0": start, "time_limit": left, "progress": progress})
         err = certified_error(problem, r)
         took = deadline.now() - t_start
         where = f"start {k}: {err:.1e} ({stats['iterations']} sweeps, {took:.2g} s)"
-        if k == 0 and err > tol:
+        # the sweeps stop at the deadline, a little past it: no time left then
+        limit = took if not deadline.limited else min(took, max(deadline.left(), 0.0))
+        if k == 0 and err > tol and limit > 0:
             # Newton from the first start's point, for as long as its sweeps
             # took: what "auto" did before the restarts (the loose 982-contact
             # pile of seed 2 is certified so, 5.7e-8; Newton from the best
             # of ten starts stopped at 1.8e-6)
-            limit = took if not deadline.limited else min(took, deadline.left())
             polished, _, _, _ = solve_natural_newton(problem, tol, {"r0": r, "time_limit": limit})
             polished_err = certified_error(problem, polished)
             where += f", then Newton {polished_err:.1e}"
