@@ -364,8 +364,8 @@ def axis(parts, EI, N, L, ends, springs, x) -> tuple[np.ndarray, np.ndarray]:
     return deflection(parts, EI, N, L, ends, x)
 
 
-def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x,
-                  slopes=(None, None)) -> tuple[np.ndarray, np.ndarray]:
+def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x, slopes=(None, None),
+                  springs=(None, None)) -> tuple[np.ndarray, np.ndarray]:
     """(v, v') at x on the flexible length L of a shear-flexible member
     (G A_s [F]) under N without span loads, from its flexible ends'
     transverse displacements v_a, v_e, its moment at the flexible end a,
@@ -394,8 +394,12 @@ def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x,
     critical load) the end moments no longer fix the sin kx part: the
     two-point form divides by sin kL → 0 (2.1 M off within 1e-12 of π).
     There the form starts from an end whose section rotation θ is given
-    (``slopes``: the flexible ends' θ where the member is rigidly joined,
-    None where released): v' = θ − V/(G A_s), V = M' = V_1 + N v', so
+    (``slopes``: the rotations of the flexible ends' nodes (their rigid
+    arms), None where unknown; ``springs``: each end's rotational spring,
+    None where rigidly joined — θ the node's there; a spring k carries the
+    end's moment, M_a = k (θ − θ_node) at a and M_L = k (θ_node − θ) at the
+    other end, so θ = θ_node + M_a/k, θ_node − M_L/k; a hinge (k = 0) gives
+    none): v' = θ − V/(G A_s), V = M' = V_1 + N v', so
     v' = (θ − V_1/(G A_s))/(1 + N/(G A_s)) and M = M_end cos ks + (V/k)
     sin ks, s measured from that end into the member."""
     x = np.asarray(x, float)
@@ -411,10 +415,13 @@ def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x,
     M_L = M_a + V_1 * L + N * (v_e - v_a)
     if mu < 0:
         sL = math.sin(k * L)
-        joined = [end for end, th in enumerate(slopes) if th is not None]
+        theta = [None if th is None or (k_ is not None and not k_ > 0)
+                 else th if k_ is None else th + (A if end == 0 else -M_L) / k_
+                 for end, (th, k_) in enumerate(zip(slopes, springs))]
+        joined = [end for end, th in enumerate(theta) if th is not None]
         if abs(sL) < NEAR_NODE and joined:
             end = joined[0]
-            V = V_1 + N * (slopes[end] - V_1 / GAs) / (1.0 + N / GAs)
+            V = V_1 + N * (theta[end] - V_1 / GAs) / (1.0 + N / GAs)
             s, Me, sign = (x, A, 1.0) if end == 0 else (L - x, M_L, -1.0)
             M = Me * np.cos(k * s) + sign * V / k * np.sin(k * s)
             dM = -sign * k * Me * np.sin(k * s) + V * np.cos(k * s)

@@ -97,10 +97,9 @@ def beam_column_axis(frame, res, m, x):
         return None
     else:             # Engesser's, from its end forces' statics
         f = res.member_forces[m.name]
-        slopes = [th if k is None else None for th, k in zip(ends[1::2], m.end_springs)]
         v, dv = beam_column.engesser_axis(EI, m.GAs, axial, Lf, ends[0], ends[2],
                                           -f[2] + f[1] * oi + axial * oi * di[2], f[1], xf,
-                                          slopes)
+                                          ends[1::2], m.end_springs)
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
     return axial, di[1], v, dv

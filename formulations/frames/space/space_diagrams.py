@@ -151,10 +151,9 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
             if GAs is None:
                 d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs, xf)
             else:       # Engesser's, from the end forces' statics
-                slopes = [th if k is None else None for th, k in zip((ti, tj), springs)]
                 d, dd = beam_column.engesser_axis(EI, GAs, axial, Lf, ends[0], ends[2],
                                                   M0 + V1 * oi + axial * oi * ti, V1, xf,
-                                                  slopes)
+                                                  (ti, tj), springs)
             d = np.where(x < oi, di[plane] + x * ti,
                          np.where(x > L - oj, dj[plane] - (L - x) * tj, d))
             return d, np.where(x < oi, ti, np.where(x > L - oj, tj, dd))

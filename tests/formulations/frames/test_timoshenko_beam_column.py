@@ -555,3 +555,148 @@ def test_engessers_diagram_of_a_restrained_member_at_kl_pi(shift):
     d = space.diagram("c", 11)
     for M_plane in d[-2:]:
         np.testing.assert_allclose(M_plane / M_plane[-1], exact / Me, atol=1e-8)
+
+
+def _hinged_joined_column(space, kL, pieces, foot="hinge", head=None):
+    """A shear-flexible column on a fixed foot A, its end i released
+    (``foot``: "hinge" or a rotational spring), joined at its head B
+    (``head``: rigidly, None, or by a spring) to beams that restrain B's
+    rotation, B held laterally, rigid end zones at both ends; P down and
+    moments at B.  ``pieces``: the flexible length cut into that many
+    members (the first and last carry the rigid zones and the ends'
+    releases)."""
+    E_, I_, A_, Lf, oi, oj = 2e8, 1e-5, 1e-2, 5.0, 0.3125, 0.15625
+    GAs = 5.0 * np.pi ** 2 * E_ * I_ / Lf ** 2
+    Q = (kL / Lf) ** 2 * E_ * I_
+    P = Q / (1.0 + Q / GAs)
+    L = oi + Lf + oj
+    fr = SpaceFrame() if space else Frame()
+    at = (lambda h: (0.0, 0.0, h)) if space else (lambda h: (0.0, h))
+    fr.add_node("A", *at(0.0))
+    names = []
+    for k in range(pieces):
+        i = "A" if k == 0 else f"n{k}"
+        j = "B" if k == pieces - 1 else f"n{k + 1}"
+        fr.add_node(j, *at(L if j == "B" else oi + Lf * (k + 1) / pieces))
+        kw = dict(name=f"c{k}", offset_i=oi if k == 0 else 0.0,
+                  offset_j=oj if k == pieces - 1 else 0.0)
+        if k == 0:
+            kw.update(hinge_i=True) if foot == "hinge" else kw.update(spring_i=foot)
+        if k == pieces - 1 and head is not None:
+            kw.update(spring_j=head)
+        if space:
+            fr.add_member(i, j, E_, A_, I_, I_, G=GAs / (0.8 * A_), J=1e-5,
+                          shear_area=(0.8 * A_, 0.8 * A_), **kw)
+        else:
+            fr.add_member(i, j, E_, A_, I_, G=GAs / (0.8 * A_), shear_area=0.8 * A_, **kw)
+        names.append(f"c{k}")
+    if space:
+        fr.add_node("C", 4.0, 0.0, L)
+        fr.add_node("D", 0.0, 3.0, L)
+        fr.add_member("B", "C", E_, A_, 3 * I_, 3 * I_, G=8e7, J=1e-5)
+        fr.add_member("B", "D", E_, A_, 2 * I_, 2 * I_, G=8e7, J=1e-5)
+        fr.add_support("A")
+        fr.add_support("C")
+        fr.add_support("D")
+        fr.add_support("B", fix=("ux", "uy"))
+        fr.add_load("B", fz=-P, mx=3.0, my=-2.1)
+    else:
+        fr.add_node("C", 4.0, L)
+        fr.add_member("B", "C", E_, A_, 3 * I_)
+        fr.add_support("A")
+        fr.add_support("C")
+        fr.add_support("B", fix=("ux",))
+        fr.add_load("B", fy=-P, mz=3.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(second_order=True)
+    assert res.ok, res.message
+    return res, names
+
+
+@pytest.mark.parametrize("space", [False, True])
+@pytest.mark.parametrize("kL", [np.pi - 0.26, np.pi - 0.24, np.pi, np.pi + 0.24, np.pi + 0.26])
+@pytest.mark.parametrize("foot, head", [("hinge", None), (2000.0, None), ("hinge", 3000.0)])
+def test_engessers_diagram_from_a_joined_end_that_turns(space, kL, foot, head):
+    """Near kL = π the diagram starts from the joined end's section
+    rotation.  Here that end is the member's end j (its end i is hinged)
+    and it turns (B is restrained by beams, not fixed), through rigid end
+    zones, in both of a space member's bending planes: the sign of θ and
+    the branch that starts from end j are read (a fixed end, θ = 0, reads
+    neither: the kL = π test above passes with θ's sign flipped).  Either
+    side of |sin kL| = 0.25 (the two forms meet there: no jump).  An end
+    joined by a spring starts it too, from θ_node ± M_end/k (before, a
+    member with a spring at one end and a hinge at the other was ok at
+    kL = π with its diagram 0.38 of max|M| off).  The reference: the same
+    column cut into 32 members, each far from kL = π, read at its nodes —
+    the whole member's diagram sampled there."""
+    one, [m] = _hinged_joined_column(space, kL, 1, foot, head)
+    cut, pieces = _hinged_joined_column(space, kL, 32, foot, head)
+    # 36 sections of the whole member 0.3125 + 5 + 0.15625 m, every 5/32 m:
+    # the cut column's nodes A, n1 … n31 and B are sections 0, 3 … 33, 35
+    d = one.diagram(m, 36)
+    planes = (-2, -1) if space else (3,)
+    for j in planes:
+        ref = [cut.diagram(p, 2)[j][0] for p in pieces] + [cut.diagram(pieces[-1], 2)[j][-1]]
+        ref = np.array(ref)
+        got = d[j][[0] + list(range(3, 34)) + [35]]
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-8 * np.abs(ref).max())
+
+
+def _spring_footed_column(space, shift, pieces, head):
+    """A shear-flexible column on a rotational spring at its foot A (end
+    i), its head B (end j: ``head`` "hinge" or a spring) held laterally by
+    a settlement of 0.01 and turned by nothing else, under P with
+    kL = π (1 + shift) exactly (N statically determinate)."""
+    E_, I_, A_, L = 2e8, 1e-5, 1e-2, 5.0
+    GAs = 5.0 * np.pi ** 2 * E_ * I_ / L ** 2
+    Q = (np.pi * (1.0 + shift) / L) ** 2 * E_ * I_
+    P = Q / (1.0 + Q / GAs)
+    fr = SpaceFrame() if space else Frame()
+    at = (lambda h: (0.0, 0.0, h)) if space else (lambda h: (0.0, h))
+    fr.add_node("A", *at(0.0))
+    for k in range(pieces):
+        i, j = ("A" if k == 0 else f"n{k}"), ("B" if k == pieces - 1 else f"n{k + 1}")
+        fr.add_node(j, *at(L * (k + 1) / pieces))
+        kw = dict(name=f"c{k}")
+        if k == 0:
+            kw["spring_i"] = 2000.0
+        if k == pieces - 1:
+            kw.update(hinge_j=True) if head == "hinge" else kw.update(spring_j=head)
+        if space:
+            fr.add_member(i, j, E_, A_, I_, I_, G=GAs / (0.8 * A_), J=1e-5,
+                          shear_area=(0.8 * A_, 0.8 * A_), **kw)
+        else:
+            fr.add_member(i, j, E_, A_, I_, G=GAs / (0.8 * A_), shear_area=0.8 * A_, **kw)
+    fr.add_support("A")
+    if space:
+        fr.add_support("B", fix=("ux", "uy", "rx", "ry", "rz"))
+        fr.add_settlement("B", ux=0.01, uy=-0.007)
+        fr.add_load("B", fz=-P)
+    else:
+        fr.add_support("B", fix=("ux",) if head == "hinge" else ("ux", "rz"))
+        fr.add_settlement("B", ux=0.01)
+        fr.add_load("B", fy=-P)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(second_order=True)
+    assert res.ok, res.message
+    return res
+
+
+@pytest.mark.parametrize("space", [False, True])
+@pytest.mark.parametrize("head", ["hinge", 3000.0])
+@pytest.mark.parametrize("shift", [0.0, 1e-13, -1e-13])
+def test_engessers_diagram_at_kl_pi_from_an_end_on_a_spring(space, head, shift):
+    """kL = π with no rigidly joined end: a spring at the foot, a hinge or
+    a spring at the head.  The spring's end starts the form (θ = θ_node
+    + M_a/k at end i).  Before, ok with the diagram 0.38 (hinge) and 0.50
+    (spring) of max|M| off.  The reference: the column cut into 32."""
+    one = _spring_footed_column(space, shift, 1, head)
+    cut = _spring_footed_column(space, shift, 32, head)
+    d = one.diagram("c0", 33)
+    planes = (-2, -1) if space else (3,)
+    for j in planes:
+        ref = np.array([cut.diagram(f"c{k}", 2)[j][0] for k in range(32)]
+                       + [cut.diagram("c31", 2)[j][-1]])
+        np.testing.assert_allclose(d[j], ref, rtol=0, atol=1e-8 * np.abs(ref).max())
