@@ -116,10 +116,12 @@ FIRST_HOLD_MAX = 20_000
 #: On a Z-matrix (a membrane: V-cycles) the finest level ends, at every
 #: size, at its first held cycle — or, where at most 1/SETTLED_SHARE of its
 #: nodes are free, at its first cycle that flips at most SETTLED components
-#: between the free set and the obstacle (``settled``).  On a membrane a
-#: cycle that flipped k components left a set at most k off the final one
-#: (the seven shapes at 100² and 316², every cycle: 0-9 off after the
-#: first), and the finish borders those on its factor: a few solves with
+#: between the free set and the obstacle (``settled``).  On the seven
+#: shapes at 100² and 316² a cycle that flipped k components left a set at
+#: most k off the final one (every cycle: 0-9 off after the first) — not a
+#: bound: on anisotropic membranes and aggregated chains a cycle of 0-4
+#: flips left 13-62 off (review 6a; the finish exact all the same, its
+#: exchanges 2-24) — and the finish borders those on its factor: a few solves with
 #: the factor of a small free block, against a cycle over every node (316²
 #: ripple: 14 662 free of 99 856, a cycle ~6 ms, a solve ~0.3 ms).  On a
 #: large free block a bordered exchange costs more than the cycle it saves
