@@ -26,7 +26,8 @@ if TYPE_CHECKING:
 
 __all__ = ["AUTO_ORDER", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
            "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS", "auto_progress",
-           "link_options", "link_share", "SHARES_2D", "SHARE_RESTARTS_3D",
+           "link_options", "link_share", "SHARES_2D", "SWEEPS_LARGE_2D",
+           "SHARE_SWEEPS_LARGE_2D", "SHARE_RESTARTS_3D",
            "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
@@ -163,6 +164,17 @@ def auto_chain(problem) -> tuple:
 #: after its 30 s); ip-lcp's path past its folds takes 16-32 s of CPU there
 #: (docs/dev-notes.md, "Dense 2-D piles by interior point")
 SHARES_2D = {"nsgs-newton": 0.1, "ip-lcp": 0.8}
+#: from this many contacts a 2-D chain gives nsgs-newton half of the time left
+#: (SHARE_SWEEPS_LARGE_2D, every other link's default) instead of a tenth: there
+#: ip-lcp's path does not end within the budget (the 9 842-contact compact
+#: piles: over 2 000 path steps, 110 s of CPU, not done), while NSGS + Newton
+#: certifies some of them after 14 140 and 23 840 sweeps (7-10 s of CPU, seeds 0
+#: and 5; a tenth of 60 s gave 11 000-13 700 on the shared machine) and stops by
+#: itself on the others within 5-9 s; the 4 874-contact piles, where ip-lcp
+#: certifies within its share, keep a tenth (docs/dev-notes.md, "The 9 842-contact
+#: 2-D piles by contact states and LPs")
+SWEEPS_LARGE_2D = 8000
+SHARE_SWEEPS_LARGE_2D = 0.5
 #: the share of the time left that "auto" gives nsgs-restarts in a 3-D chain
 #: from NSGS_FIRST_3D contacts: each start on the 540-contact compact piles
 #: takes 1.5-5.3 s of CPU and certifies some seeds a first start misses; Newton
@@ -177,6 +189,8 @@ def link_share(problem, name: str, last: bool) -> float:
     if last:
         return 1.0
     if problem.dim == 2 and _sweeps_first(problem):
+        if name == "nsgs-newton" and problem.n_contacts >= SWEEPS_LARGE_2D:
+            return SHARE_SWEEPS_LARGE_2D
         return SHARES_2D.get(name, 0.5)
     if name == "nsgs-restarts":
         return SHARE_RESTARTS_3D
