@@ -40,6 +40,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from formulations.frames import Frame  # noqa: E402
+from tests.helpers.opensees_chains import plane_chain, static_analysis  # noqa: E402
 
 E, A, I = 2e8, 1e-2, 2e-5
 
@@ -93,31 +94,16 @@ def opensees(model, transformation, sub):
     ops.geomTransf(transformation, 1)
     nxt, ele = len(nodes) + 1, 1
     for i, j, a, ii in members:
-        (xi, yi), (xj, yj) = nodes[i], nodes[j]
-        chain = [tags[i]]
-        for s in range(1, sub):
-            ops.node(nxt, xi + (xj - xi) * s / sub, yi + (yj - yi) * s / sub)
-            chain.append(nxt)
-            nxt += 1
-        chain.append(tags[j])
-        for a_, b_ in zip(chain[:-1], chain[1:]):
-            ops.element("elasticBeamColumn", ele, a_, b_, a, E, ii, 1)
-            ele += 1
+        _, nxt, ele = plane_chain(ops, tags[i], tags[j], nodes[i], nodes[j], sub, nxt, ele, a, E,
+                                  ii)
     for pattern, part in ((1, 1), (2, 0)):
         ops.timeSeries("Linear", pattern)
         ops.pattern("Plain", pattern, pattern)
         for n, f in loads.items():
             if f[part]:
                 ops.load(tags[n], *((0.0, f[1], 0.0) if part else (f[0], 0.0, 0.0)))
-        if pattern == 1:
-            ops.system("BandGeneral")
-            ops.numberer("RCM")
-            ops.constraints("Plain")
-            ops.test("NormDispIncr", 1e-12, 100)
-            ops.algorithm("Newton")
-            ops.integrator("LoadControl", 0.1)
-            ops.analysis("Static")
-        if ops.analyze(10) != 0:
+        # the gravity pattern sets the analysis up; the push reuses it
+        if not (static_analysis(ops, 1e-12, steps=10) if pattern == 1 else ops.analyze(10) == 0):
             return None
         ops.loadConst("-time", 0.0)
     return ops.nodeDisp(tags[top], 1)

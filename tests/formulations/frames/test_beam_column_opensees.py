@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from formulations.frames import Frame
+from tests.helpers.opensees_chains import plane_chain, static_analysis
 
 try:
     import openseespy.opensees as ops
@@ -57,17 +58,8 @@ def _opensees(sub):
     ops.geomTransf("PDelta", 1)
     nxt, ele, pieces = len(NODES) + 1, 1, {}
     for name, (i, j, (a, i_)) in MEMBERS.items():
-        (xi, yi), (xj, yj) = NODES[i], NODES[j]
-        chain = [tags[i]]
-        for s in range(1, sub):
-            ops.node(nxt, xi + (xj - xi) * s / sub, yi + (yj - yi) * s / sub)
-            chain.append(nxt)
-            nxt += 1
-        chain.append(tags[j])
-        pieces[name] = list(range(ele, ele + sub))
-        for a_, b_ in zip(chain[:-1], chain[1:]):
-            ops.element("elasticBeamColumn", ele, a_, b_, a, E, i_, 1)
-            ele += 1
+        pieces[name], nxt, ele = plane_chain(ops, tags[i], tags[j], NODES[i], NODES[j], sub,
+                                             nxt, ele, a, E, i_)
     ops.timeSeries("Linear", 1)
     ops.pattern("Plain", 1, 1)
     ops.load(tags["B"], PUSH, -P, 0.0)
@@ -76,14 +68,7 @@ def _opensees(sub):
         ops.eleLoad("-ele", e, "-type", "-beamUniform", -W)
     # the column's point force at 1.5 m: a piece's end (sub a multiple of 8)
     ops.load(len(NODES) + int(round(1.5 / H * sub)), 8.0, 0.0, 0.0)
-    ops.system("BandGeneral")
-    ops.numberer("RCM")
-    ops.constraints("Plain")
-    ops.test("NormDispIncr", 1e-13, 100)
-    ops.algorithm("Newton")
-    ops.integrator("LoadControl", 1.0)
-    ops.analysis("Static")
-    assert ops.analyze(1) == 0
+    assert static_analysis(ops, 1e-13)
     moments = {}
     for name, eles in pieces.items():
         L = float(np.hypot(*np.subtract(NODES[MEMBERS[name][1]], NODES[MEMBERS[name][0]])))

@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 from formulations.frames import Frame, SpaceFrame
+from tests.helpers.opensees_chains import plane_chain, static_analysis
 
 mp.mp.dps = 50
 E, A, I, L = 2e8, 1e-2, 1e-5, 5.0
@@ -371,31 +372,13 @@ def _portal_opensees(sub, P, H):
     ops.geomTransf("PDelta", 1)
     nxt, ele, chains = 5, 1, {}
     for name, a, b, Iz in (("C1", 1, 2, 4e-5), ("C2", 4, 3, 4e-5), ("B", 2, 3, 2e-4)):
-        chain = [a]
-        for s in range(1, sub):
-            (xa, ya), (xb, yb) = pts[a], pts[b]
-            ops.node(nxt, xa + (xb - xa) * s / sub, ya + (yb - ya) * s / sub)
-            chain.append(nxt)
-            nxt += 1
-        chain.append(b)
-        pieces = []
-        for p, q in zip(chain[:-1], chain[1:]):
-            ops.element("elasticBeamColumn", ele, p, q, 1e-2, E, Iz, 1)
-            pieces.append(ele)
-            ele += 1
-        chains[name] = pieces
+        chains[name], nxt, ele = plane_chain(ops, a, b, pts[a], pts[b], sub, nxt, ele, 1e-2, E,
+                                             Iz)
     ops.timeSeries("Linear", 1)
     ops.pattern("Plain", 1, 1)
     ops.load(2, H, -P, 0.0)
     ops.load(3, 0.0, -P, 0.0)
-    ops.system("BandGeneral")
-    ops.numberer("RCM")
-    ops.constraints("Plain")
-    ops.test("NormDispIncr", 1e-12, 100)
-    ops.algorithm("Newton")
-    ops.integrator("LoadControl", 0.1)
-    ops.analysis("Static")
-    assert ops.analyze(10) == 0
+    assert static_analysis(ops, 1e-12, steps=10)
     forces = [ops.eleResponse(e, "localForce") for e in chains["C2"]]
     M = np.r_[[-f[2] for f in forces], forces[-1][5]]      # sagging positive along D→C
     return np.array(ops.nodeDisp(2) + ops.nodeDisp(3)), M
