@@ -36,6 +36,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
+from ..core.files import write_text_atomic
 from ..core.problems import LCP
 from ..core.friction_problem import FrictionProblem
 
@@ -383,8 +384,7 @@ def write_siconos_fc(problem, path: str | os.PathLike) -> Path:
         lines.append(" ".join(repr(float(x)) for x in block.ravel(order="F")))   # column-major
     lines.append(" ".join(repr(float(x)) for x in problem.q))
     lines.append(" ".join(repr(float(x)) for x in problem.mu))
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    return write_text_atomic(path, "\n".join(lines) + "\n")
 
 
 def read_siconos(path: str | os.PathLike):

@@ -169,3 +169,25 @@ def test_a_global_problem_without_w_is_refused(tmp_path):
     with pytest.raises(InvalidProblemError, match="write_fclib"):
         write_siconos_fc(problem, tmp_path / "global.dat")
     assert not (tmp_path / "global.dat").exists()
+
+
+def test_an_interrupted_write_leaves_the_old_file(tmp_path, monkeypatch):
+    """write_siconos_fc writes beside the file and renames: a failure at the
+    rename keeps the old file whole and leaves no temporary behind."""
+    import os
+
+    from qpcontact.core.friction_problem import FrictionProblem
+    from qpcontact.io import write_siconos_fc
+
+    path = tmp_path / "kept.dat"
+    path.write_text("the old file\n")
+    problem = FrictionProblem(np.eye(2), np.array([-1.0, 0.0]), np.array([0.5]), 2)
+
+    def fail(*_):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(os, "replace", fail)
+    with pytest.raises(OSError, match="disk full"):
+        write_siconos_fc(problem, path)
+    assert path.read_text() == "the old file\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept.dat"]
