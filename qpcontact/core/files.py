@@ -89,6 +89,24 @@ def write_csv_atomic(path: Path, rows: list[dict], fields) -> None:
     os.replace(tmp, path)
 
 
+def write_text_atomic(path: Path, text: str) -> Path:
+    """``text`` into a temporary file beside ``path``, flushed to disk, then
+    renamed over it: an interrupted write leaves the old file, never half a
+    new one."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with open(tmp, "w") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
 def open_hdf5(path, error, what: str):
     """``h5py.File(path, "r")``, or ``error`` naming the path and saying
     whether the file is missing or not HDF5 (``what``: "an FCLIB file")."""

@@ -7,10 +7,10 @@ import os
 from pathlib import Path
 
 from .fclib import read_fclib, write_fclib
-from .siconos import read_siconos, read_siconos_fc, read_siconos_lcp
+from .siconos import read_siconos, read_siconos_fc, read_siconos_lcp, write_siconos_fc
 
 __all__ = ["read_problem", "read_siconos", "read_siconos_lcp", "read_siconos_fc", "read_fclib",
-           "write_fclib"]
+           "write_fclib", "write_siconos_fc"]
 
 
 def read_problem(path: str | os.PathLike):

@@ -36,10 +36,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.errors import InvalidProblemError
+from ..core.files import write_text_atomic
 from ..core.problems import LCP
 from ..core.friction_problem import FrictionProblem
 
-__all__ = ["read_siconos", "read_siconos_lcp", "read_siconos_fc"]
+__all__ = ["read_siconos", "read_siconos_lcp", "read_siconos_fc", "write_siconos_fc"]
 
 
 def _is_number(tok: str) -> bool:
@@ -353,6 +354,37 @@ def _fc_from(t: _Tokens):
     mu = t.floats(nc, "a friction coefficient")
     t.finish(f"the {nc} friction coefficients", flag_allowed=True)
     return FrictionProblem.global_problem(first, H, f, w, mu, d, name=path.stem)
+
+
+def write_siconos_fc(problem, path: str | os.PathLike) -> Path:
+    """Write a local frictional contact problem (W, q, mu) as a Siconos
+    ``.dat`` file, the layout ``frictionContact_newFromFile`` reads: ``d nc``,
+    W in sparse-block storage (its nonzero d x d blocks), q, mu.  Values are
+    written with 17 significant digits, so :func:`read_siconos_fc` gives back
+    the same numbers.  Sparse-block storage rather than dense because a
+    3-D pile's W of 2 000 contacts would be 40 million values dense, and
+    Siconos's NSGS works on the blocks as they are.  A global problem kept
+    without W has no W to write: use :func:`qpcontact.io.write_fclib`.
+    Returns the path."""
+    if not problem.is_reduced:
+        raise InvalidProblemError("this global problem is kept without W; Siconos's local .dat "
+                                  "layout needs W: write it with qpcontact.io.write_fclib")
+    path = Path(path)
+    d, nc = problem.dim, problem.n_contacts
+    m = d * nc
+    W = sp.bsr_matrix(sp.csr_matrix(problem.W), blocksize=(d, d))
+    W.sum_duplicates()
+    W.sort_indices()
+    ends = " ".join(str(d * (i + 1)) for i in range(nc))
+    lines = [str(d), str(nc), f"1 {m} {m}", str(len(W.indices)), str(nc), str(nc), ends, ends,
+             str(nc + 1), str(len(W.indices)), " ".join(map(str, W.indptr)),
+             " ".join(map(str, W.indices))]
+    for b, block in enumerate(W.data):
+        lines.append(str(b))
+        lines.append(" ".join(repr(float(x)) for x in block.ravel(order="F")))   # column-major
+    lines.append(" ".join(repr(float(x)) for x in problem.q))
+    lines.append(" ".join(repr(float(x)) for x in problem.mu))
+    return write_text_atomic(path, "\n".join(lines) + "\n")
 
 
 def read_siconos(path: str | os.PathLike):

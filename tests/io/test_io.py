@@ -110,3 +110,84 @@ def test_friction_files_keep_their_is_complete_flag_and_nothing_else(tmp_path):
     bad.write_text(body + "1\n0.25 0.25\n")
     with pytest.raises(InvalidProblemError, match=r"fc_bad.dat: line 10: 2 more numbers"):
         read_siconos_fc(bad)
+
+
+def test_written_friction_files_read_back_the_same_problem(tmp_path):
+    """write_siconos_fc's sparse-block layout read by the reader (which the
+    shared Siconos files check): W, q and mu come back bit for bit, blocks
+    that hold zeros included, and the reader takes it as frictional contact."""
+    from qpcontact.cases.piles import sphere_pile
+    from qpcontact.core.friction_problem import FrictionProblem
+    from qpcontact.io import write_siconos_fc
+
+    pile = sphere_pile(40, seed=1).problem
+    # unsymmetric blocks (a row-major writer would transpose them), a zero
+    # inside a stored block, an off-diagonal block
+    W = np.array([[2.0, 0.5, 0.0, 0.0], [-0.2, 1.0, 0.0, 0.25], [0.0, 0.0, 3.0, 0.0],
+                  [0.0, 0.125, 0.0, 1.0]])
+    disc = FrictionProblem(W, np.array([-1.0, 0.1, 1 / 3, -2e-300]), np.array([0.3, 0.7]), 2)
+    for problem in (pile, disc):
+        path = write_siconos_fc(problem, tmp_path / "written.dat")
+        back = read_problem(path)
+        assert (back.dim, back.n_contacts) == (problem.dim, problem.n_contacts)
+        original = problem.W.toarray() if sp.issparse(problem.W) else problem.W
+        np.testing.assert_array_equal(back.W.toarray(), original)
+        np.testing.assert_array_equal(back.q, problem.q)
+        np.testing.assert_array_equal(back.mu, problem.mu)
+
+
+def test_shared_friction_files_written_again_read_the_same(tmp_path):
+    """Siconos's own local files (dense and sparse-block W) through the writer
+    and back: the same W, q and mu."""
+    from tests.helpers.paths import data_dir
+    from qpcontact.io import write_siconos_fc
+
+    folder = data_dir("siconos-fc")
+    if not folder.is_dir():
+        pytest.skip(f"Siconos frictional contact data not found at {folder}")
+    done = 0
+    for path in sorted(folder.glob("*.dat")):
+        original = read_problem(path)
+        if not hasattr(original, "mu") or not original.is_reduced or original.global_data:
+            continue
+        back = read_siconos_fc(write_siconos_fc(original, tmp_path / path.name))
+        W = original.W.toarray() if sp.issparse(original.W) else original.W
+        np.testing.assert_array_equal(back.W.toarray(), W, err_msg=path.name)
+        np.testing.assert_array_equal(back.q, original.q, err_msg=path.name)
+        np.testing.assert_array_equal(back.mu, original.mu, err_msg=path.name)
+        done += 1
+    assert done >= 8
+
+
+def test_a_global_problem_without_w_is_refused(tmp_path):
+    from qpcontact.core.friction_problem import FrictionProblem
+    from qpcontact.io import write_siconos_fc
+
+    problem = FrictionProblem.global_problem(np.eye(2), np.eye(2), np.array([1.0, 0.0]),
+                                             np.zeros(2), np.array([0.5]), 2, reduce=False)
+    assert not problem.is_reduced
+    with pytest.raises(InvalidProblemError, match="write_fclib"):
+        write_siconos_fc(problem, tmp_path / "global.dat")
+    assert not (tmp_path / "global.dat").exists()
+
+
+def test_an_interrupted_write_leaves_the_old_file(tmp_path, monkeypatch):
+    """write_siconos_fc writes beside the file and renames: a failure at the
+    rename keeps the old file whole and leaves no temporary behind."""
+    import os
+
+    from qpcontact.core.friction_problem import FrictionProblem
+    from qpcontact.io import write_siconos_fc
+
+    path = tmp_path / "kept.dat"
+    path.write_text("the old file\n")
+    problem = FrictionProblem(np.eye(2), np.array([-1.0, 0.0]), np.array([0.5]), 2)
+
+    def fail(*_):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(os, "replace", fail)
+    with pytest.raises(OSError, match="disk full"):
+        write_siconos_fc(problem, path)
+    assert path.read_text() == "the old file\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept.dat"]
