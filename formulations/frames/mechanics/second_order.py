@@ -369,13 +369,16 @@ def _active_loads(frame, combination):
                    m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j))
 
 
-def axial_spreads(frame, combination) -> np.ndarray:
+def axial_spreads(frame, combination, exact=False) -> np.ndarray:
     """ΔN per member [F]: the sum of its member loads' axial parts in
     ``combination`` (:func:`_axial_load`), by which N varies along it
-    about the mean its element takes."""
+    about the mean its element takes; with ``exact`` (a stiffness built
+    with N(x): :mod:`.varying_axial`) none on a plane frame's
+    Euler–Bernoulli members, whose element takes N(x) as it is."""
     spread = np.zeros(len(frame.members))
-    for k, _, ld, factor, d, offsets in _active_loads(frame, combination):
-        spread[k] += factor * _axial_load(ld, d, *offsets)
+    for k, m, ld, factor, d, offsets in _active_loads(frame, combination):
+        if not (exact and not isinstance(m, dict) and m.GAs is None):
+            spread[k] += factor * _axial_load(ld, d, *offsets)
     return spread
 
 
@@ -404,13 +407,14 @@ def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:
         return np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
 
 
-def spread_through_frame(frame, N, combination, tol, alpha) -> str:
+def spread_through_frame(frame, N, combination, tol, alpha, exact=False) -> str:
     """Words naming the members whose loads' axial parts (N varying along
     the member about the mean its element takes) move the answer by more
     than ``tol`` (:func:`spread_bound`), or "".  ``alpha``: the frame's
     α_cr, called only where some member has ΔN > 0 (inf where it is not
-    known: a trace's pieces, a frame too large for its stability check)."""
-    spread = axial_spreads(frame, combination)
+    known: a trace's pieces, a frame too large for its stability check);
+    ``exact``: the stiffness took N(x) where it could (:func:`axial_spreads`)."""
+    spread = axial_spreads(frame, combination, exact)
     if not (spread > 0).any():
         return ""
     N = np.asarray(N, float)

@@ -43,21 +43,21 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 
 from . import tracing
 from .load_combinations import combination_at
+from .loads import CONSTANT, VARIABLE
 from .second_order_path import (SecondOrderTrace, answer_change, axial_forces, member_scale,
                                 relative_change)
 from .second_order import (bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
+from .tangent_stiffness import (DENSE_DOFS, held_links, negative_eigenvalues,
+                                reduced_tangent, restraint)
+from .varying_axial import least_axial
 
 #: rounds of the axial forces' fixed point at most
 ROUNDS = 30
 
 #: α_cr's bisection stops at this relative width
 ALPHA_RTOL = 1e-10
-
-#: largest number of free dofs whose tangent stiffness is decomposed densely
-DENSE_DOFS = 3000
-
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options,
                        _built=None):
@@ -89,9 +89,12 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     if N is None:
         b = frame.build()
         N, _ = axial_forces(b, solve_on(b))
+    # the member loads' axial parts in it make N vary along the members
+    # (a plane frame's Euler–Bernoulli members take N(x) as it is)
+    along = combination if combination is not None else {CONSTANT: 1.0, VARIABLE: float(p)}
     error, u = np.inf, None
     for rounds in range(1, ROUNDS + 1):
-        b = built_on(frame, N)
+        b = built_on(frame, N, along)
         res = solve_on(b)
         N_new, terms = axial_forces(b, res)
         # converged in N and in the answer: near α_cr the answer moves by
@@ -127,7 +130,8 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     span = first_order_parts(frame, b["axial"], res.combination, tol)
     if not span and res.ok:     # member loads' axial parts, on α_cr where it is known
         span = spread_through_frame(frame, b["axial"], res.combination, tol, lambda: (
-            critical_load_factor(frame, res)["alpha"] if stable else np.inf))
+            critical_load_factor(frame, res)["alpha"] if stable else np.inf),
+            exact=b.get("along") is not None)
     if span and res.ok:
         res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
@@ -142,15 +146,17 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     return res
 
 
-def built_on(frame, N):
+def built_on(frame, N, along=None):
     """The frame's assembly on K(N).  Its first-order one stands (built
     first), so a basic system K(N) leaves singular is no mechanism: N puts
     the frame at its elastic critical load to rounding (a cantilever within
-    1e-12 of π²EI/(4L²)).  That loss of stiffness is named, not the
+    1e-12 of π²EI/(4L²)).  ``along``: the combination whose member loads
+    make N vary along the members (None: N constant along each).  That loss
+    of stiffness is named, not the
     assembly's "node B is free: no member holds it", which sent the
     engineer to look for a missing member."""
     try:
-        return frame.build(axial=N)
+        return frame.build(axial=N, along=along)
     except InvalidProblemError:
         EI, L = bending(frame)
         t = -np.asarray(N, float) * L ** 2 / EI
@@ -180,14 +186,21 @@ def critical_load_factor(frame, result) -> dict:
     N = axial_forces(b, result)[0]
     EI, L = bending(frame)
     t1 = -N * L ** 2 / EI                      # compression positive, at α = 1
-    if not np.any(t1 > 0):
+    # a member's largest compression where its loads make N vary along it
+    # (what bounds its own buckling with its nodes held: the search's pole)
+    worst = least_axial(frame, N, result.combination)
+    if not np.any(worst < 0):
         return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
-    ratio = np.divide(own_buckling(frame), -N, out=np.full(N.size, np.inf), where=N < 0)
+    ratio = np.divide(own_buckling(frame), -worst, out=np.full(N.size, np.inf), where=worst < 0)
     pole = float(ratio.min())
     held = restraint(b, held_links(frame, b, result))
 
+    def along(alpha):       # the member loads' axial parts grow with α too
+        return {c: alpha * f for c, f in result.combination.items()}
+
     def negatives(alpha):
-        return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=alpha * N), b, held))
+        return negative_eigenvalues(reduced_tangent(
+            frame.stiffness(axial=alpha * N, along=along(alpha)), b, held))
 
     if negatives(0.0):
         raise InvalidOptionError("critical_load_factor: the frame with its contact states held "
@@ -197,7 +210,7 @@ def critical_load_factor(frame, result) -> dict:
         worst = list(frame.members)[int(np.argmin(ratio))]
         return {"alpha": pole, "mode": None, "limited_by": worst,
                 "members": dict(zip(frame.members, t1))}
-    return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held),
+    return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held, along(hi)),
             "members": dict(zip(frame.members, t1)), "limited_by": None}
 
 
@@ -225,66 +238,14 @@ def first_holding(holds, lo, hi, rtol):
     return hi
 
 
-def negative_eigenvalues(K) -> int:
-    """The number of K's negative eigenvalues (symmetric, dense), counted
-    on D K D with D = diag(K_ii)^-1/2 — the same count (Sylvester's law of
-    inertia) on a matrix whose entries are O(1): unscaled, a base 1e4
-    times stiffer than the column on it put the threshold of rounding
-    (1e-13 of the largest eigenvalue) at 3 % of the column's own, and α_cr
-    1 % high."""
-    d = np.abs(np.diag(K))
-    d = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
-    lam = la.eigvalsh(K * d[:, None] * d[None, :])
-    # below zero beyond the eigensolver's rounding (a few n ε of the
-    # largest): a sway mode held by a stiff beam's axial stiffness has a
-    # scaled eigenvalue of 1e-7, and a threshold of 1e-12 put α_cr 1e-5 high
-    floor = 16 * lam.size * np.finfo(float).eps * max(float(np.abs(lam).max(initial=0.0)), 1e-300)
-    return int(np.sum(lam < -floor))
-
-
-def held_links(frame, b, result) -> np.ndarray:
-    """The links held in α_cr: a contact's normal unless it lifted off,
-    its tangent too (stick and slip alike)."""
-    keys = list(result.supports)
-    return np.array([result.supports[keys[ci]].state != "separated" for ci, _ in b["info"]],
-                    bool)       # a frame without contacts: no links, an empty mask
-
-
-def restraint(b, held) -> tuple[np.ndarray, np.ndarray]:
-    """(Z, S) of the links ``held`` (a mask over b's links) on the free
-    dofs: Z an orthonormal basis of the motions the rigid ones allow, S the
-    elastic ones' springs (H diag(1/flex) H'), both dense — what the
-    tangent stiffness of any K is reduced with (:func:`reduced_tangent`)."""
-    free = b["free"]
-    if free.size > DENSE_DOFS:
-        raise InvalidOptionError(f"critical_load_factor: {free.size} free dofs; written for "
-                                 f"frames of up to {DENSE_DOFS} (a dense eigendecomposition)")
-    H = b["H"][free].toarray()[:, held]
-    flex = b["flex"][held]
-    soft = flex > 0
-    rigid = H[:, ~soft]
-    Z = la.null_space(rigid.T) if rigid.shape[1] else np.eye(free.size)
-    return Z, (H[:, soft] / flex[soft]) @ H[:, soft].T
-
-
-def reduced_tangent(K, b, held) -> np.ndarray:
-    """The stiffness K (all dofs) on b's free dofs with the links ``held``
-    (a :func:`restraint`): elastic ones as springs, rigid ones as
-    constraints (projected out: Z'(K_ff + S)Z), dense and symmetric."""
-    Z, S = held
-    free = b["free"]
-    Kr = Z.T @ (K[free][:, free].toarray() + S) @ Z
-    return 0.5 * (Kr + Kr.T)
-
-
-def buckling_mode(frame, b, N, held) -> dict:
+def buckling_mode(frame, b, N, held, along=None) -> dict:
     """The eigenvector of the smallest eigenvalue of K(N) with the held
     links (``held``: a :func:`restraint`; at α_cr: the buckling shape),
     per node, scaled to largest 1."""
     Z = held[0]
-    _, V = la.eigh(reduced_tangent(frame.stiffness(axial=N), b, held))
+    _, V = la.eigh(reduced_tangent(frame.stiffness(axial=N, along=along), b, held))
     v = np.zeros(b["K"].shape[0])
-    v[b["free"]] = Z @ V[:, 0]
+    v[b["free"]] = V[:, 0] if Z is None else Z @ V[:, 0]
     v /= np.abs(v).max() or 1.0
     return dict(zip(b["names"], map(tuple, v.reshape(-1, len(frame.DOFS)).tolist())))
 
@@ -582,7 +543,8 @@ def fold_at_end(frame, b, ft, inside, p_last, held):
     free = b["free"]
     dF = load_vector(b, ft.variable)[0][free]
     Z = kept[0]
-    du = Z @ la.solve(Kr, Z.T @ dF, assume_a="sym")
+    du = (la.solve(Kr, dF, assume_a="sym") if Z is None
+          else Z @ la.solve(Kr, Z.T @ dF, assume_a="sym"))
     opening = b["H"][free][:, lifting].T @ du
     if not np.all(opening < 0):
         return None

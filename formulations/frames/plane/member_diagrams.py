@@ -56,15 +56,16 @@ def sections(frame, res, m, x, deformed: bool = True):
     N, V, M = -f[0] - fx, f[1] + fy, -f[2] + f[1] * x + mo
     bent = beam_column_axis(frame, res, m, x) if deformed else None
     if bent is not None:
-        # on the deformed axis: the section moment adds N (v(x) − v(0)),
-        # V = dM/dx adds N v' (mechanics.beam_column)
-        axial, v0, v, dv = bent
-        V, M = V + axial * dv, M + axial * (v - v0)
+        # on the deformed axis: the section moment adds ∫₀ˣ N v' (N (v(x) −
+        # v(0)) for N constant), V = dM/dx adds N v' (mechanics.beam_column,
+        # mechanics.varying_axial)
+        axial, added, v, dv = bent
+        V, M = V + axial * dv, M + added
     return N, V, M
 
 
 def beam_column_axis(frame, res, m, x):
-    """(N, v(0), v(x), v'(x)) of a member of a second-order answer whose
+    """(N(x), ∫₀ˣ N v', v(x), v'(x)) of a member of a second-order answer whose
     element is the beam-column (Euler–Bernoulli, N ≠ 0: the stiffness's
     axial force), member axes, node to node (a rigid zone moves with its
     node); None for first order and for a shear-flexible member with span
@@ -73,11 +74,14 @@ def beam_column_axis(frame, res, m, x):
     part's by :func:`..mechanics.beam_column.deflection` from its ends'
     displacements through the rigid arms and their own rotations — a
     released end's from the element's moment row (hinge: the moment 0;
-    spring k: k (θ_node − θ_end)), its consistent loads the beam-column's."""
+    spring k: k (θ_node − θ_end)), its consistent loads the beam-column's.
+    Where its loads' axial parts make N vary (``res.stiffness_along``) the
+    member is :class:`..mechanics.varying_axial.Member`, as its element."""
     if res.stiffness_axial is None:
         return None
     axial = float(res.stiffness_axial[list(frame.members).index(m.name)])
-    if axial == 0.0:
+    varying = varying_member(frame, res, m)
+    if axial == 0.0 and varying is None:
         return None
     L, c, s = geometry(frame, m)
     oi, oj = m.offset_i, m.offset_j
@@ -91,7 +95,16 @@ def beam_column_axis(frame, res, m, x):
              for ld in loads_of(res, m)
              for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
     xf = np.clip(x, oi, L - oj) - oi
-    if m.GAs is None:
+    if varying is not None:
+        v, dv, added = varying.axis(parts, ends, m.end_springs, xf)
+        Nx = varying.N(xf)
+        # the rigid arms' own N (v − v at the face), N at the faces
+        v_a, v_e = varying.axis(parts, ends, m.end_springs, np.array([0.0, Lf]))[0]
+        added = (added + varying.N(np.array([0.0]))[0] * (v_a - di[1])
+                 + np.where(x > L - oj, varying.N(np.array([Lf]))[0]
+                            * (dj[1] - (L - x) * dj[2] - v_e), 0.0))
+        added = np.where(x < oi, varying.N(np.array([0.0]))[0] * x * di[2], added)
+    elif m.GAs is None:
         v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
     elif parts:       # first order, judged by second_order.first_order_parts
         return None
@@ -102,7 +115,20 @@ def beam_column_axis(frame, res, m, x):
                                           ends[1::2], m.end_springs)
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
-    return axial, di[1], v, dv
+    if varying is not None:
+        return np.where(x < oi, Nx[0] if Nx.size else 0.0, Nx), added, v, dv
+    return axial, axial * (v - di[1]), v, dv
+
+
+def varying_member(frame, res, m):
+    """The member's :class:`..mechanics.varying_axial.Member` where its
+    answer's stiffness took N(x) (its loads' axial parts in
+    ``res.stiffness_along``; Euler–Bernoulli), else None."""
+    from ..mechanics.varying_axial import of_member
+
+    return of_member(m, *geometry(frame, m),
+                     float(res.stiffness_axial[list(frame.members).index(m.name)]),
+                     getattr(res, "stiffness_along", None))
 
 
 def deflection(frame, res, member: str, points: int):
@@ -170,3 +196,35 @@ def axial_displacement(frame, res, m, x):
     di = rotation(c, s)[:3, :3] @ res._u[idx[m.i]:idx[m.i] + 3]
     before = gs[None, :] < np.clip(x, a, e)[:, None]
     return di[0] + (before * (gw * N / (m.E * m.A))) @ np.ones_like(gs)
+
+
+def varying_couples(frame, b, u, couples) -> np.ndarray:
+    """``couples`` (:func:`..mechanics.second_order.pdelta_couples`, N̄
+    (v_j − v_i) per member) with those of the members whose stiffness took
+    N(x) (``b["along"]``) replaced by their own, ∫ N v' node to node: the
+    moment of their end forces in the undeformed frame (N (v_j − v_i) at j
+    and the axial loads' ∫ p (v − v_i) on the deflected axis) — no longer
+    one of the nodes' displacements alone; ``u`` the global displacements."""
+    along = b.get("along")
+    if not along:
+        return couples
+    from ..mechanics.varying_axial import of_member
+
+    couples = np.array(couples, float)
+    for k, m in enumerate(frame.members.values()):
+        L, c, s = geometry(frame, m)
+        member = (of_member(m, L, c, s, float(b["axial"][k]), along) if m.loads else None)
+        if member is None:
+            continue
+        oi, oj = m.offset_i, m.offset_j
+        T = rotation(c, s)[:3, :3]
+        di = T @ u[b["idx"][m.i]:b["idx"][m.i] + 3]
+        dj = T @ u[b["idx"][m.j]:b["idx"][m.j] + 3]
+        parts = [part[:-2] + tuple(along[ld.case] * np.array(part[-2:]))
+                 for ld in m.loads if along.get(ld.case)
+                 for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
+        ends = [di[1] + oi * di[2], di[2], dj[1] - oj * dj[2], dj[2]]
+        added = member.axis(parts, ends, m.end_springs, np.array([member.L]))[2][0]
+        couples[k] = (added + member.N(np.array([0.0]))[0] * oi * di[2]
+                      + member.N(np.array([member.L]))[0] * oj * dj[2])
+    return couples

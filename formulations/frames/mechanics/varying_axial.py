@@ -1,0 +1,349 @@
+"""The Euler–Bernoulli beam-column whose axial force varies along it: a
+member whose own loads have parts along its axis (a column's self-weight,
+a point load along it) carries N(x), not the constant N of
+:mod:`.beam_column`'s stability functions.
+
+The mechanics.  On the flexible length [0, L] (member axes, as
+:mod:`.beam_column`'s) the deflection v(x) [L] under the transverse load
+q(x) [F/L] obeys, equilibrium on the deformed axis,
+
+    EI v'''' − (N(x) v')' = q(x),
+
+with N(x) [F] (tension positive) = N̄ + n(x) − (n(0) + n(L))/2: N̄ the
+mean of its ends' that the frame's fixed point iterates
+(:func:`.second_order_path.axial_forces`), n(x) = −∫₀ˣ p − Σ_{a<x} P the
+statics of the axial loads p (distributed, along +x) and P (points).  The
+transverse force across the undeformed axis, T = EI v''' − N v', jumps by
+a transverse point force and is continuous where only N jumps (an axial
+point load); EI v'' jumps by minus a point couple.
+
+The solution.  Between load positions N is a polynomial of degree ≤ 2 and
+q of degree ≤ 1, so on each piece [x₀, x₀ + h] the solution is an entire
+function, written as its Taylor series in σ = (x − x₀)/h: with
+w = Σ A_n σⁿ and N = ν₀ + ν₁ σ + ν₂ σ², β_i = h² ν_i / EI,
+
+    (m+1)(m+2)(m+3)(m+4) A_{m+4} = β₁ B_m + 2 β₂ B_{m−1} + β₀ C_m
+                                   + β₁ C_{m−1} + β₂ C_{m−2} + h⁴ q_m / EI,
+
+B_j = (j+1) A_{j+1}, C_j = (j+1)(j+2) A_{j+2} (the coefficients of w' and
+w'').  Pieces are cut so that |N| h² ≤ EI everywhere on them (|β| ≤ 1):
+then |A_n| falls like 1/n!, and TERMS terms are exact to rounding (the
+last one 1e-30 of the first).  Four homogeneous solutions (unit initial
+w, w', w'', w''') and the particular one (zero initial data) give each
+piece's exact stiffness on its ends' (v, θ) and its clamped end forces;
+the pieces are joined as a chain (continuity of v, θ; the forces at the
+joints balanced, a point load there a nodal load of the joint) and the
+joints condensed out: the member's 4 × 4 stiffness on (v_i, θ_i, v_j,
+θ_j), its consistent nodal loads, and, from its end displacements, each
+piece's series — v, v' and the second-order moment ∫₀ˣ N v' dx (the
+section moment on the deformed axis is the first-order statics' plus it;
+N (v(x) − v(0)) for constant N) between the ends.  Nothing is
+interpolated: the series are the solution.  With N constant it is the
+stability functions' member (tests: to ~1e-12), a different route.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .loads import clipped
+
+#: Taylor terms per piece (|β| ≤ 1: the last one below 1e-30 of the first)
+TERMS = 32
+
+#: the largest |N| h² / EI of a piece
+PIECE = 1.0
+
+
+def along_axis(load, L, c, s, oi, oj):
+    """A member load's part along the axis on the flexible length
+    (positions from its start): ("point", a, P) or ("distributed", a, b,
+    p₁, p₂), member axes; None where it has none there."""
+    flex = clipped(load, oi, L - oj, shift=oi)
+    if flex is None:
+        return None
+    v = flex.values
+
+    def axial(fx, fy):
+        return fx if load.axes == "member" else c * fx + s * fy
+    if flex.kind == "point":
+        P = axial(v[0], v[1])
+        return ("point", flex.a, P) if P else None
+    p1, p2 = axial(v[0], v[1]), axial(v[2], v[3])
+    return ("distributed", flex.a, flex.b, p1, p2) if (p1 or p2) and flex.b > flex.a else None
+
+
+def of_member(m, L, c, s, Nbar, along):
+    """The :class:`Member` of a plane member ``m`` (node-to-node length L,
+    direction (c, s)) under N̄ where its loads in the combination ``along``
+    have axial parts on its flexible length; None where none do (or it is
+    shear-flexible: its element keeps the mean N)."""
+    if not along or m.GAs is not None:
+        return None
+    oi, oj = m.offset_i, m.offset_j
+    parts = [part[:-2] + tuple(along[ld.case] * np.array(part[-2:]))
+             if part[0] == "distributed" else part[:2] + (along[ld.case] * part[2],)
+             for ld in m.loads if along.get(ld.case)
+             for part in [along_axis(ld, L, c, s, oi, oj)] if part]
+    if not parts:
+        return None
+    return Member(m.E * m.I, L - oi - oj, Nbar, parts,
+                  [x - oi for ld in m.loads for x in (ld.a, ld.b)])
+
+
+def least_axial(frame, N, along) -> np.ndarray:
+    """Per member its least N along it (its largest compression): N where
+    it is constant (a space member, a shear-flexible one, no axial loads
+    in the combination ``along``), the least of N(x) on its pieces
+    elsewhere — what bounds its own buckling with its nodes held from
+    below (Rayleigh: a member nowhere more compressed than a constant N
+    buckles no earlier than under it)."""
+    out = np.array(N, float)
+    for k, m in enumerate(frame.members.values()):
+        if isinstance(m, dict) or not m.loads:
+            continue
+        d = np.subtract(frame.nodes[m.j], frame.nodes[m.i]).astype(float)
+        L = float(np.hypot(*d))
+        member = of_member(m, L, d[0] / L, d[1] / L, out[k], along)
+        if member is not None:
+            out[k] = member.least()
+    return out
+
+
+def variation(axial_parts, L, x, right=True) -> np.ndarray:
+    """N(x) − N̄ of the axial parts ``axial_parts`` (:func:`along_axis`, each
+    times its factor) at x: n(x) less the mean of its ends' (module
+    docstring); a point load at x counted on the right side (``right``)."""
+    x = np.asarray(x, float)
+
+    def n(at, right):
+        out = np.zeros_like(at)
+        for part in axial_parts:
+            if part[0] == "point":
+                _, a, P = part
+                out -= P * ((at >= a) if right else (at > a))
+                continue
+            _, a, b, p1, p2 = part
+            t = np.clip(at, a, b) - a
+            out -= p1 * t + 0.5 * (p2 - p1) * t * t / (b - a)
+        return out
+    return n(x, right) - 0.5 * (n(np.array([0.0]), False)[0] + n(np.array([L]), True)[0])
+
+
+def _cuts(EI, L, Nbar, axial_parts, points):
+    """The pieces' edges: the load positions ``points`` and cuts that keep
+    |N| h² ≤ PIECE EI (module docstring)."""
+    edges = np.unique(np.r_[0.0, [p for p in points if 0.0 < p < L], L])
+    out = [edges[:1]]
+    for a, b in zip(edges[:-1], edges[1:]):
+        xs = np.linspace(a, b, 9)
+        big = max(float(np.abs(Nbar + variation(axial_parts, L, xs)).max()),
+                  float(np.abs(Nbar + variation(axial_parts, L, xs, False)).max()))
+        n = max(1, int(np.ceil((b - a) * np.sqrt(big / (PIECE * EI)) * 1.05)))
+        out.append(np.linspace(a, b, n + 1)[1:])
+    return np.concatenate(out)
+
+
+def _load_on(parts, lo, hi):
+    """(q₀, q₁): the transverse distributed load on [lo, hi] as q₀ + q₁ (x − lo)."""
+    q0 = q1 = 0.0
+    for part in parts:
+        if part[0] != "distributed":
+            continue
+        _, a, b, w1, w2 = part
+        if a <= lo and hi <= b and b > a:
+            slope = (w2 - w1) / (b - a)
+            q0 += w1 + slope * (lo - a)
+            q1 += slope
+    return q0, q1
+
+
+def _series(beta, qt) -> np.ndarray:
+    """(P, 5, TERMS): each piece's four homogeneous solutions and its
+    particular one (zero initial data) as Taylor coefficients in σ;
+    ``beta`` (P, 3), ``qt`` (P, 2) h⁴ (q₀, q₁ h)/EI."""
+    P = beta.shape[0]
+    A = np.zeros((P, 5, TERMS))
+    for k in range(4):
+        A[:, k, k] = 1.0
+    b0, b1, b2 = (beta[:, i:i + 1] for i in range(3))
+    for m in range(TERMS - 4):
+        rhs = (b1 * (m + 1) * A[..., m + 1] + 2 * b2 * m * A[..., m]
+               + b0 * (m + 2) * (m + 1) * A[..., m + 2] + b1 * (m + 1) * m * A[..., m + 1]
+               + b2 * m * (m - 1) * A[..., m])
+        if m < 2:
+            rhs[:, 4] += qt[:, m]
+        A[..., m + 4] = rhs / ((m + 1) * (m + 2) * (m + 3) * (m + 4))
+    return A
+
+
+_N = np.arange(TERMS, dtype=float)
+
+
+def _ends(A, h):
+    """(w, w', w'', w''') at σ = 0 and 1 of coefficients A (…, TERMS), x-derivatives."""
+    at0 = np.stack([A[..., 0], A[..., 1] / h, 2 * A[..., 2] / h ** 2, 6 * A[..., 3] / h ** 3])
+    d1 = _N
+    d2 = _N * (_N - 1)
+    d3 = d2 * (_N - 2)
+    at1 = np.stack([A.sum(-1), (A * d1).sum(-1) / h, (A * d2).sum(-1) / h ** 2,
+                    (A * d3).sum(-1) / h ** 3])
+    return at0, at1
+
+
+class Member:
+    """One member's chain of pieces under N(x) (module docstring): EI, its
+    flexible length L, N̄, the axial parts (times their factors) and the
+    positions where its loads start, end or act."""
+
+    def __init__(self, EI, L, Nbar, axial_parts, points):
+        self.EI, self.L, self.axial_parts = float(EI), float(L), list(axial_parts)
+        self.x = _cuts(EI, L, Nbar, self.axial_parts, points)
+        lo, hi = self.x[:-1], self.x[1:]
+        self.h = hi - lo
+        self.Nbar = float(Nbar)
+        # N on each piece through σ = 0 (its right limit), ½ and 1 (its left):
+        # a polynomial of degree ≤ 2 there
+        pts = lo[:, None] + self.h[:, None] * np.array([0.0, 0.5, 1.0])
+        Nv = Nbar + np.c_[variation(self.axial_parts, L, pts[:, 0], True),
+                          variation(self.axial_parts, L, pts[:, 1:], False)]
+        # ν₀ + ν₁ σ + ν₂ σ² through σ = 0, ½, 1
+        self.nu = np.stack([Nv[:, 0], -3 * Nv[:, 0] + 4 * Nv[:, 1] - Nv[:, 2],
+                            2 * Nv[:, 0] - 4 * Nv[:, 1] + 2 * Nv[:, 2]], axis=1)
+        self.beta = self.h[:, None] ** 2 * self.nu / self.EI
+        H = _series(self.beta, np.zeros((lo.size, 2)))[:, :4]
+        self.H = H                                           # (P, 4, T)
+        at0, at1 = _ends(H, self.h[:, None])                 # (4 quantities, P, 4 solutions)
+        B = np.stack([at0[0], at0[1], at1[0], at1[1]], axis=1)      # (P, 4 ends, 4 sols)
+        self.C = np.linalg.solve(B, np.broadcast_to(np.eye(4), B.shape))
+        forces = self._forces(at0, at1)                     # (P, 4 forces, 4 sols)
+        k = forces @ self.C
+        self.k = 0.5 * (k + np.swapaxes(k, 1, 2))
+
+    def _forces(self, at0, at1):
+        """The end forces (v_a, θ_a, v_b, θ_b) of solutions whose end
+        values ``at0``, ``at1`` are (w, w', w'', w''') × (P, …)."""
+        EI = self.EI
+        n0 = self.nu[:, 0].reshape((-1,) + (1,) * (at0.ndim - 2))
+        n1 = self.nu.sum(axis=1).reshape(n0.shape)
+        return np.stack([EI * at0[3] - n0 * at0[1], -EI * at0[2],
+                         -(EI * at1[3] - n1 * at1[1]), EI * at1[2]], axis=1)
+
+    def _particular(self, parts):
+        """(A (P, T), clamped consistent loads per piece (P, 4)) of the
+        transverse parts' distributed loads."""
+        P = self.h.size
+        q = np.array([_load_on(parts, a, b) for a, b in zip(self.x[:-1], self.x[1:])]
+                     ).reshape(P, 2)
+        qt = self.h[:, None] ** 4 * q * np.c_[np.ones(P), self.h] / self.EI
+        if not np.any(qt):
+            return np.zeros((P, TERMS)), np.zeros((P, 4))
+        A = _series(self.beta, qt)[:, 4]
+        at0, at1 = _ends(A, self.h)
+        d = np.stack([at0[0], at0[1], at1[0], at1[1]], axis=1)          # (P, 4)
+        R = self._forces(at0, at1) - np.einsum("pij,pj->pi", self.k, d)
+        return A, -R
+
+    def _joints(self, parts):
+        """(K, f): the chain's stiffness and loads on every joint's (v, θ)."""
+        P = self.h.size
+        n = 2 * (P + 1)
+        K = np.zeros((n, n))
+        f = np.zeros(n)
+        _, fe = self._particular(parts)
+        for p in range(P):
+            K[2 * p:2 * p + 4, 2 * p:2 * p + 4] += self.k[p]
+            f[2 * p:2 * p + 4] += fe[p]
+        for part in parts:
+            if part[0] == "point":
+                _, a, py, mz = part
+                j = int(np.argmin(np.abs(self.x - a)))
+                f[2 * j] += py
+                f[2 * j + 1] += mz
+        return K, f
+
+    def stiffness(self) -> np.ndarray:
+        """The member's 4 × 4 bending stiffness on (v_i, θ_i, v_j, θ_j)."""
+        K, _ = self._joints([])
+        return _condensed(K, np.zeros(K.shape[0]))[0]
+
+    def nodal_loads(self, parts) -> np.ndarray:
+        """The consistent nodal loads (4) of the transverse parts ``parts``
+        (:func:`.beam_column.across`)."""
+        K, f = self._joints(parts)
+        return _condensed(K, f)[1]
+
+    def least(self) -> float:
+        """The least N(x) on the member: at a piece's ends or its vertex."""
+        n0, n1, n2 = self.nu.T
+        with np.errstate(divide="ignore", invalid="ignore"):
+            top = np.where(n2 != 0, np.clip(-n1 / (2 * n2), 0.0, 1.0), 0.0)
+        return float(min(n0.min(), (n0 + n1 + n2).min(), (n0 + n1 * top + n2 * top ** 2).min()))
+
+    def N(self, x) -> np.ndarray:
+        """N(x) (the right side at a point load)."""
+        return self.Nbar + variation(self.axial_parts, self.L, x)
+
+    def axis(self, parts, ends, springs, x):
+        """(v, v', ∫₀ˣ N v' dx) at x under ``parts`` (each times its
+        factor): its flexible ends' displacements and their nodes'
+        rotations ``ends`` (v_i, θ_i, v_j, θ_j), ``springs`` (i, j) each
+        None for a rigid joint, 0 for a hinge, else a rotational spring —
+        a released end's own rotation from the element's moment row, as
+        :func:`.beam_column.axis` does."""
+        K, f = self._joints(parts)
+        n = K.shape[0]
+        ends = np.array(ends, float)
+        own = [r for r, k in zip((1, 3), springs) if k is not None]
+        if own:
+            kb, fe = _condensed(K, f)
+            rest = [r for r in range(4) if r not in own]
+            rhs = fe[own] - kb[np.ix_(own, rest)] @ ends[rest]
+            A = kb[np.ix_(own, own)].copy()
+            for m, r in enumerate(own):
+                k = springs[(r - 1) // 2]
+                A[m, m] += k
+                rhs[m] += k * ends[r]
+            ends[own] = np.linalg.solve(A, rhs)
+        e = [0, 1, n - 2, n - 1]
+        i = list(range(2, n - 2))
+        u = np.zeros(n)
+        u[e] = ends
+        if i:
+            u[i] = np.linalg.solve(K[np.ix_(i, i)], f[i] - K[np.ix_(i, e)] @ np.asarray(ends))
+        Ap, _ = self._particular(parts)
+        P = self.h.size
+        A = np.empty((P, TERMS))
+        for p in range(P):
+            up = u[2 * p:2 * p + 4]
+            at0, at1 = _ends(Ap[p], self.h[p])
+            d = np.array([at0[0], at0[1], at1[0], at1[1]])
+            A[p] = (self.C[p] @ (up - d)) @ self.H[p] + Ap[p]
+        # ∫ N w_σ dσ on each piece, as a series in σ, and its totals
+        dA = A[:, 1:] * _N[1:]                                    # w_σ's coefficients
+        prod = np.zeros((P, TERMS + 2))
+        for r in range(3):
+            prod[:, r:r + TERMS - 1] += self.nu[:, r:r + 1] * dA
+        integ = np.c_[np.zeros(P), prod / np.arange(1, TERMS + 3)]   # coefficients of σ^(j+1)
+        start = np.r_[0.0, np.cumsum(integ.sum(axis=1))[:-1]]
+        x = np.asarray(x, float)
+        p = np.clip(np.searchsorted(self.x, x, side="right") - 1, 0, P - 1)
+        s = np.clip((x - self.x[p]) / self.h[p], 0.0, 1.0)
+        powers = s[:, None] ** np.arange(TERMS + 3)
+        v = (A[p] * powers[:, :TERMS]).sum(1)
+        dv = (dA[p] * powers[:, :TERMS - 1]).sum(1) / self.h[p]
+        dM = start[p] + (integ[p] * powers).sum(1)
+        return v, dv, dM
+
+
+def _condensed(K, f):
+    """(4 × 4, 4): K and f on the chain's end joints, the others condensed."""
+    n = K.shape[0]
+    e = [0, 1, n - 2, n - 1]
+    i = list(range(2, n - 2))
+    if not i:
+        return 0.5 * (K + K.T), f
+    Kie = K[np.ix_(i, e)]
+    sol = np.linalg.solve(K[np.ix_(i, i)], np.c_[Kie, f[i]])
+    Kc = K[np.ix_(e, e)] - Kie.T @ sol[:, :4]
+    return 0.5 * (Kc + Kc.T), f[e] - Kie.T @ sol[:, 4]

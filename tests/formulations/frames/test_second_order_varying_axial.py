@@ -1,0 +1,195 @@
+"""Second-order plane members whose own loads make N vary along them (a
+column's self-weight): the element takes N(x) as it is
+(formulations/frames/mechanics/varying_axial.py), so an uncut member is ok
+and right.  References from other routes: the stability functions'
+closed forms (beam_column.py, constant N), Greenhill's heavy column (the
+first zero of the Bessel function J_(−1/3), scipy), and the portal with its
+columns cut into 32 and 64 constant-N elements (their weight lumped at the
+cuts, so no member load has an axial part: the stability functions' route)
+extrapolated by Richardson (the cut converges as 1/n²).  And the inertia
+count that bisects α_cr (an LDLᵀ's) against the eigenvalues'."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+from scipy.special import jv
+
+from formulations.frames import Frame
+from formulations.frames.mechanics import beam_column
+from formulations.frames.mechanics.second_order_analysis import (critical_load_factor,
+                                                                 negative_eigenvalues)
+from formulations.frames.mechanics.varying_axial import Member
+
+E, GAMMA = 210e9, 78.5e3
+A_C, I_C, A_B, I_B = 149e-4, 25170e-8, 84.5e-4, 23130e-8          # HEB 300, IPE 400
+H, SPAN = 6.0, 12.0
+
+
+def _portal(pieces=1, lumped=False, hinged=False):
+    """The sway portal: HEB 300 columns fixed at A and D (hinged at the
+    base by a release where ``hinged``), an IPE 400 beam under 30 kN/m,
+    20 kN sideways at B, self-weight — as member loads, or with the
+    columns cut into ``pieces`` and their weight lumped at the cuts
+    (``lumped``: each piece's half at each of its ends)."""
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("D", SPAN, 0.0)
+    fr.add_node("B", 0.0, H)
+    fr.add_node("C", SPAN, H)
+    w = GAMMA * A_C
+    for side, x, base, top in (("L", 0.0, "A", "B"), ("R", SPAN, "D", "C")):
+        nodes = [base] + [f"{side}{j}" for j in range(1, pieces)] + [top]
+        for j in range(1, pieces):
+            fr.add_node(nodes[j], x, H * j / pieces)
+        for j in range(pieces):
+            fr.add_member(nodes[j], nodes[j + 1], E, A_C, I_C, name=f"c{side}{j + 1}",
+                          **({"hinge_i": True} if hinged and j == 0 else {}))
+            if lumped:
+                for node in nodes[j:j + 2]:
+                    fr.add_load(node, fy=-0.5 * w * H / pieces, case="D")
+            else:
+                fr.add_distributed_load(f"c{side}{j + 1}", wy=-w, case="D")
+    fr.add_member("B", "C", E, A_B, I_B, name="b")
+    fr.add_distributed_load("b", wy=-30e3 - GAMMA * A_B, case="D")
+    fr.add_support("A")
+    fr.add_support("D")
+    fr.add_load("B", fx=20e3, case="D")
+    return fr
+
+
+def _solve(fr, accuracy="high"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fr.solve(combination={"D": 1.0}, second_order=True, accuracy=accuracy,
+                        raise_on_failure=False)
+
+
+@pytest.fixture(scope="module")
+def richardson():
+    """M at the base A, at mid-height of the left column and at its top,
+    and the sway of B, of the lumped cut portal at 32 and 64 pieces
+    extrapolated: (4 f(64) − f(32))/3."""
+    out = []
+    for n in (32, 64):
+        fr = _portal(n, lumped=True)
+        res = _solve(fr)
+        assert res.ok, res.message
+        out.append(np.array([res.diagram("cL1", 2)[3][0], res.diagram(f"cL{n // 2}", 2)[3][-1],
+                             res.diagram(f"cL{n}", 2)[3][-1], res.displacements["B"][0]]))
+    return (4 * out[1] - out[0]) / 3, out[1]
+
+
+def test_the_member_under_constant_N_is_the_stability_functions():
+    EI, L = E * I_C, H
+    parts = [("distributed", 1.0, 4.0, -3e4, 1e4), ("point", 2.5, 5e4, 3e4)]
+    ends = np.array([1e-3, 2e-4, -3e-3, 5e-4])
+    x = np.linspace(0.0, L, 13)
+    for N in (0.0, -1e6, -3e7, -5e7, 2e6, 5e8):      # up to t = 34, and strong tension
+        m = Member(EI, L, N, [], [1.0, 2.5, 4.0])
+        kb = beam_column.end_block(EI, N, L)
+        assert np.abs(m.stiffness() - kb).max() <= 1e-12 * np.abs(kb).max()
+        fe = beam_column.nodal_loads(parts, EI, N, L)
+        assert np.abs(m.nodal_loads(parts) - fe).max() <= 1e-12 * np.abs(fe).max()
+        v, dv, added = m.axis(parts, ends, (None, None), x)
+        v_ref, dv_ref = beam_column.deflection(parts, EI, N, L, ends, x)
+        assert np.abs(v - v_ref).max() <= 1e-12 * np.abs(v_ref).max()
+        assert np.abs(dv - dv_ref).max() <= 1e-12 * np.abs(dv_ref).max()
+        # the second-order moment, ∫ N v', is N (v − v(0)) for N constant
+        assert np.abs(added - N * (v_ref - v_ref[0])).max() <= 1e-12 * abs(N) * np.abs(v_ref).max()
+
+
+def test_greenhills_heavy_column_buckles_at_its_bessel_root():
+    """A cantilever under its own weight q alone buckles at q L³/EI =
+    (9/4) j², j the first zero of J_(−1/3) (7.8373): the element's
+    geometric stiffness with N linear along it.  The mean N put it at
+    2 (π/2)² = 4.93."""
+    j = brentq(lambda z: jv(-1.0 / 3.0, z), 1.0, 2.5)
+    EI, L, q = 210e9 * 1e-5, 5.0, 1e3
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", 210e9, 1e-2, 1e-5, name="c")
+    fr.add_support("A")
+    fr.add_distributed_load("c", wy=-q, case="D")
+    res = _solve(fr)
+    assert res.ok, res.message
+    alpha = critical_load_factor(fr, res)
+    assert alpha["limited_by"] is None
+    assert alpha["alpha"] * q * L ** 3 / EI == pytest.approx(2.25 * j * j, rel=1e-9)
+
+
+@pytest.mark.parametrize("accuracy", ["low", "high"])
+def test_the_sway_portal_under_its_own_weight_is_ok_uncut(accuracy):
+    # it was NOT OK at every accuracy: "the member loads of member(s) cR1,
+    # cL1 have axial parts ... add nodes along those members"
+    res = _solve(_portal(), accuracy)
+    assert res.ok, res.message
+
+
+def test_the_sway_portal_agrees_with_its_columns_cut_fine(richardson):
+    """Its base moment, mid-height and top moments of the column and the
+    sway of B against the cut portal's Richardson limit, which 32 and 64
+    pieces bracket to 1e-7 of M_A; the mean N put M_A 4.6e-5 off."""
+    ref, fine = richardson
+    res = _solve(_portal())
+    got = np.array([res.diagram("cL1", 3)[3][0], res.diagram("cL1", 3)[3][1],
+                    res.diagram("cL1", 3)[3][-1], res.displacements["B"][0]])
+    assert abs(fine[0] - ref[0]) > 1e-8 * abs(ref[0])        # the cut is not yet there
+    np.testing.assert_allclose(got, ref, rtol=1e-9)
+
+
+def test_a_hinged_column_under_its_own_weight_has_no_moment_at_its_hinge():
+    # the released end's rotation from the element's moment row under N(x)
+    res = _solve(_portal(hinged=True))
+    assert res.ok, res.message
+    x, N, V, M = res.diagram("cL1", 5)
+    assert abs(M[0]) <= 1e-9 * np.abs(M).max()
+    # N(x) from the statics, linear: the weight of the column above x
+    assert N[0] - N[-1] == pytest.approx(-GAMMA * A_C * H, rel=1e-12)
+    # the diagram's moment at the top is the member's end moment there
+    assert M[-1] == pytest.approx(res.member_forces["cL1"][5], rel=1e-9)
+
+
+def _tangents():
+    """Tangent stiffnesses of frames near and away from their α_cr, and
+    one whose base is 1e4 times stiffer than the column on it (the scaled
+    case negative_eigenvalues's docstring describes)."""
+    out = []
+    fr = _portal()
+    res = _solve(fr)
+    alpha = critical_load_factor(fr, res)["alpha"]
+    b = fr.build()
+    N = np.array([res.second_order["axial"][m] for m in fr.members])
+    for a in (0.5, 0.999, 1.001, 2.0, 3.5):
+        K = fr.stiffness(axial=a * alpha * N, along={"D": a * alpha})
+        out.append(K[b["free"]][:, b["free"]].toarray())
+    stiff = Frame()
+    stiff.add_node("A", 0.0, 0.0)
+    stiff.add_node("B", 0.0, 1.0)
+    stiff.add_node("C", 0.0, 4.0)
+    stiff.add_member("A", "B", 2e8 * 1e4, 1e-2, 1e-5, name="base")
+    stiff.add_member("B", "C", 2e8, 1e-2, 1e-5, name="col")
+    stiff.add_support("A")
+    b = stiff.build()
+    P = np.pi ** 2 * 2e8 * 1e-5 / (4 * 9.0)
+    for share in (0.5, 0.9, 1.1, 3.0):
+        K = stiff.stiffness(axial=[-share * P, -share * P])
+        out.append(K[b["free"]][:, b["free"]].toarray())
+    return out
+
+
+def test_the_inertia_count_is_the_eigenvalues_count():
+    import scipy.linalg as la
+
+    counts = []
+    for K in _tangents():
+        d = 1.0 / np.sqrt(np.abs(np.diag(K)))
+        lam = la.eigvalsh(K * d[:, None] * d[None, :])
+        floor = 16 * lam.size * np.finfo(float).eps * np.abs(lam).max()
+        counts.append(negative_eigenvalues(K))
+        assert counts[-1] == int(np.sum(lam < -floor))
+    assert counts[:2] == [0, 0] and min(counts[2:5]) >= 1 and counts[5:7] == [0, 0]
