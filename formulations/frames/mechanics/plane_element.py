@@ -108,15 +108,16 @@ def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> set:
     rows of ``Fe`` (each case's loads) set to the beam-column's under N(x)
     (:class:`.varying_axial.Member`, N̄ = ``axial``); their indices."""
     from .beam_column import flexible_part
-    from .varying_axial import of_member
+    from .varying_axial import Member, of_member
 
-    out = set()
     rows = [1, 2, 4, 5]
-    for k, m in enumerate(ms):
-        member = (of_member(m, L[k], c[k], s[k], axial[k], along)
-                  if along and phi[k] == 0 and m.loads else None)
-        if member is None:
-            continue
+    members = {k: member for k, m in enumerate(ms)
+               if along and phi[k] == 0 and m.loads
+               for member in [of_member(m, L[k], c[k], s[k], axial[k], along, False)]
+               if member is not None}
+    Member.in_one_pass(list(members.values()))
+    for k, member in members.items():
+        m = ms[k]
         offsets = (m.offset_i, m.offset_j)
         k_all[k][np.ix_(rows, rows)] = member.stiffness()
         Fe[k][rows] = 0.0
@@ -125,8 +126,7 @@ def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> set:
                      for part in [flexible_part(ld, L[k], c[k], s[k], *offsets)] if part]
             if loads:
                 Fe[k][rows, j] = member.nodal_loads(loads)
-        out.add(k)
-    return out
+    return set(members)
 
 
 def member_locals(frame, xy, idx, col, axial=None, along=None):

@@ -36,25 +36,33 @@ def negative_eigenvalues(K) -> int:
     Ks = K * d[:, None] * d[None, :]
     if not Ks.size:
         return 0
-    lu, piv, info = sytrf(Ks, lower=1)
+    # below zero beyond rounding (a few n ε of the largest eigenvalue, here
+    # of its bound, the largest row sum), as the eigenvalues were counted:
+    # a sway mode held by a stiff beam's axial stiffness has a scaled
+    # eigenvalue of 1e-7, and a threshold of 1e-12 put α_cr 1e-5 high.  The
+    # eigenvalues below −floor are the negative ones of Ks + floor I; the
+    # pivots of Ks itself said "negative" for eigenvalues of −2e-14 within
+    # the floor (Bunch–Kaufman's pivots are no smaller than the eigenvalue
+    # that makes a matrix singular)
+    floor = 16 * Ks.shape[0] * np.finfo(float).eps * max(float(np.abs(Ks).sum(axis=1).max()),
+                                                        1e-300)
+    lu, piv, info = sytrf(Ks + floor * np.eye(Ks.shape[0]), lower=1)
     if info < 0:
         raise SolverFailedError(f"negative_eigenvalues: LAPACK sytrf argument {-info}")
-    # D's 1 × 1 pivots and the eigenvalues of its 2 × 2 blocks (ipiv < 0
-    # on both their rows)
-    diag, off = np.diag(lu).copy(), np.r_[np.diag(lu, -1), 0.0]
-    pair = np.flatnonzero((piv[:-1] < 0) & (piv[1:] == piv[:-1]))
-    pair = pair[np.r_[True, np.diff(pair) > 1]] if pair.size else pair
-    lam = diag.copy()
-    for k in pair.tolist():
-        a, b, c = diag[k], off[k], diag[k + 1]
-        mean, half = 0.5 * (a + c), float(np.hypot(0.5 * (a - c), b))
-        lam[k], lam[k + 1] = mean - half, mean + half
-    # below zero beyond rounding (a few n ε of the largest eigenvalue, here
-    # of its bound, the largest row sum): a sway mode held by a stiff
-    # beam's axial stiffness has a scaled eigenvalue of 1e-7, and a
-    # threshold of 1e-12 put α_cr 1e-5 high
-    floor = 16 * lam.size * np.finfo(float).eps * max(float(np.abs(Ks).sum(axis=1).max()), 1e-300)
-    return int(np.sum(lam < -floor))
+    # D's 1 × 1 pivots, and its 2 × 2 blocks where ipiv is negative on
+    # their first row (LAPACK's lower storage), each by its determinant
+    # and trace
+    diag, off = np.diag(lu), np.diag(lu, -1)
+    count, k, n = 0, 0, diag.size
+    while k < n:
+        if piv[k] < 0 and k + 1 < n:
+            det = diag[k] * diag[k + 1] - off[k] ** 2
+            count += 1 if det < 0 else (2 if det > 0 and diag[k] + diag[k + 1] < 0 else 0)
+            k += 2
+        else:
+            count += int(diag[k] < 0)
+            k += 1
+    return count
 
 
 def held_links(frame, b, result) -> np.ndarray:
