@@ -90,10 +90,14 @@ P_c/(1 + P_c/(G A_s)), P_c = π²EI/(4L²).
 
 A Timoshenko member's loads keep their first-order fixed-end forces and
 diagrams; an Euler–Bernoulli member's are the beam-column's
-(:mod:`.beam_column`), with N constant along it.  Where what stays first
-order (those, and member loads' axial parts, which make N vary along a
-member) is off by more than the accuracy asked the answer is not ok
-(:func:`first_order_parts`).
+(:mod:`.beam_column`), with N constant along it — or, where its loads'
+axial parts make N vary along a plane member, the beam-column under N(x)
+(:mod:`.varying_axial`: its stiffness too).  Where what stays first
+order (a Timoshenko member's span loads; the axial parts of a
+Timoshenko or space member's loads, or of any member's along a trace's
+one stiffness, where the element takes the mean N) is off by more than
+the accuracy asked the answer is not ok (:func:`first_order_parts`,
+:func:`spread_through_frame`).
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k`, a space member's in

@@ -23,12 +23,16 @@ contacts free, closed ones fixed along their normals, sticking and slipping
 ones also along their tangents: a slip's tangent stiffness is zero, and the
 sway it allows is the sliding limit, which the load path finds), has a
 zero eigenvalue.  With the stability functions K(α N) is exact (Livesley's
-members, Engesser's with shear), so α_cr is found by bisection on the count of
-K's negative eigenvalues (Sylvester's inertia; the Wittrick–Williams
+members, Engesser's with shear; a plane member whose loads make N vary
+along it under α N(x), :mod:`.varying_axial`), so α_cr is found by
+bisection on the count of K's negative eigenvalues (Sylvester's inertia,
+an LDLᵀ's: :mod:`.tangent_stiffness`; the Wittrick–Williams
 count without its member term, which is zero below the first member's own
 buckling load with its nodes held, where the search stops: 4π²EI/L² for a
 member rigidly joined at both ends (less with shear), less where hinged or
-semi-rigid, :func:`.second_order.own_buckling`).  A member compressed past
+semi-rigid, :func:`.second_order.own_buckling`, on its largest compression
+where N varies along it: Rayleigh's quotient bounds its own buckling by
+that constant N's).  A member compressed past
 its own buckling load makes an answer UNSTABLE whatever the count says.
 Eurocode 3 (5.2.1) asks for second-order analysis where α_cr < 10.
 """

@@ -204,13 +204,23 @@ def varying_couples(frame, b, u, couples) -> np.ndarray:
     N(x) (``b["along"]``) replaced by their own, ∫ N v' node to node: the
     moment of their end forces in the undeformed frame (N (v_j − v_i) at j
     and the axial loads' ∫ p (v − v_i) on the deflected axis) — no longer
-    one of the nodes' displacements alone; ``u`` the global displacements."""
+    one of the nodes' displacements alone; ``u`` the global displacements.
+    The statics check sums the nodes' loads, the members' consistent ones
+    among them, whose moment is not their span loads' where N varies (a
+    rigid turn of the member is not one of its solutions: (N v')' = N'),
+    so each such couple also carries the difference, ρ·f_e less the span
+    loads' moment about node i (f_e the member's nodal loads as assembled,
+    its releases condensed; ρ the turn about node i, (0, 1, L, 1) on v, θ;
+    by virtual work the end forces' moment is ∫ N v' less the loads')."""
     along = b.get("along")
     if not along:
         return couples
     from ..mechanics.varying_axial import of_member
 
+    from ..mechanics.contact_lcp import factors
+
     couples = np.array(couples, float)
+    fe_all = b["local"][3] @ factors(b, along)
     for k, m in enumerate(frame.members.values()):
         L, c, s = geometry(frame, m)
         member = (of_member(m, L, c, s, float(b["axial"][k]), along) if m.loads else None)
@@ -225,6 +235,21 @@ def varying_couples(frame, b, u, couples) -> np.ndarray:
                  for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
         ends = [di[1] + oi * di[2], di[2], dj[1] - oj * dj[2], dj[2]]
         added = member.axis(parts, ends, m.end_springs, np.array([member.L]))[2][0]
+        turn = np.array([1.0, L, 1.0]) @ fe_all[k, [2, 4, 5]] - sum(
+            along[ld.case] * load_moment(beam_column.across(ld, c, s))
+            for ld in m.loads if along.get(ld.case))
         couples[k] = (added + member.N(np.array([0.0]))[0] * oi * di[2]
-                      + member.N(np.array([member.L]))[0] * oj * dj[2])
+                      + member.N(np.array([member.L]))[0] * oj * dj[2] + turn)
     return couples
+
+
+def load_moment(part) -> float:
+    """The moment about x = 0 of a load part across the axis
+    (:func:`..mechanics.beam_column.across`): a force's p a plus its
+    couple, a trapezoid's ∫ q x dx."""
+    if part[0] == "point":
+        _, a, py, mz = part
+        return py * a + mz
+    _, a, b, w1, w2 = part
+    # ∫ (w1 + (w2 − w1) t) (a + (b − a) t) (b − a) dt over [0, 1]
+    return (b - a) * (w1 * a + (w1 * (b - a) + (w2 - w1) * a) / 2 + (w2 - w1) * (b - a) / 3)
