@@ -373,16 +373,24 @@ def _active_loads(frame, combination):
                    m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j))
 
 
-def axial_spreads(frame, combination, exact=False) -> np.ndarray:
+def axial_spreads(frame, combination, built=None) -> np.ndarray:
     """ΔN per member [F]: the sum of its member loads' axial parts in
     ``combination`` (:func:`_axial_load`), by which N varies along it
-    about the mean its element takes; with ``exact`` (a stiffness built
-    with N(x): :mod:`.varying_axial`) none on a plane frame's
-    Euler–Bernoulli members, whose element takes N(x) as it is."""
+    about what its element takes.  ``built``: the combination whose N(x)
+    the stiffness took (:mod:`.varying_axial`), None where it took the
+    mean N: a plane frame's Euler–Bernoulli members then carry the parts
+    of ``combination`` less ``built`` alone (none in a solve; along a
+    trace, the variable loads' change from the load its stiffness was
+    built at)."""
     spread = np.zeros(len(frame.members))
-    for k, m, ld, factor, d, offsets in _active_loads(frame, combination):
-        if not (exact and not isinstance(m, dict) and m.GAs is None):
-            spread[k] += factor * _axial_load(ld, d, *offsets)
+    built = built or {}
+    cases = {c: 1.0 for c in set(combination) | set(built)
+             if combination.get(c) or built.get(c)}
+    for k, m, ld, _, d, offsets in _active_loads(frame, cases):
+        factor = combination.get(ld.case, 0.0)
+        if built and not isinstance(m, dict) and m.GAs is None:
+            factor -= built.get(ld.case, 0.0)
+        spread[k] += abs(factor) * _axial_load(ld, d, *offsets)
     return spread
 
 
@@ -411,14 +419,15 @@ def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:
         return np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
 
 
-def spread_through_frame(frame, N, combination, tol, alpha, exact=False) -> str:
+def spread_through_frame(frame, N, combination, tol, alpha, built=None) -> str:
     """Words naming the members whose loads' axial parts (N varying along
     the member about the mean its element takes) move the answer by more
     than ``tol`` (:func:`spread_bound`), or "".  ``alpha``: the frame's
     α_cr, called only where some member has ΔN > 0 (inf where it is not
     known: a trace's pieces, a frame too large for its stability check);
-    ``exact``: the stiffness took N(x) where it could (:func:`axial_spreads`)."""
-    spread = axial_spreads(frame, combination, exact)
+    ``built``: the combination whose N(x) the stiffness took where it could
+    (:func:`axial_spreads`)."""
+    spread = axial_spreads(frame, combination, built)
     if not (spread > 0).any():
         return ""
     N = np.asarray(N, float)
@@ -506,14 +515,15 @@ def _worst(frame, N, off, hit, what) -> str:
                      for k in hit[:5]) + (f" and {len(hit) - 5} more" if len(hit) > 5 else "")
 
 
-def first_order_parts_along(frame, N, ft, inside, tol) -> str:
+def first_order_parts_along(frame, N, ft, inside, tol, built=None) -> str:
     """:func:`first_order_parts` of a second-order trace ``ft`` built
     on the axial forces ``N``, judged at each stable piece's ends up to
     ``inside`` (its last stable state), and on an unbounded last piece one
     point past its start: the span loads may be the variable ones, and a
     strut under a constant half Euler load traced to "unbounded" (one piece
     from p = 0, where none acts yet) was ok, its moment at p = 1 half the
-    beam-column's."""
+    beam-column's.  ``built``: the combination whose N(x) the trace's
+    stiffness took (:func:`axial_spreads`)."""
     points = {float(inside)}
     for lo, hi in ft.intervals:
         if lo > inside:
@@ -522,7 +532,7 @@ def first_order_parts_along(frame, N, ft, inside, tol) -> str:
     for p in sorted(points):
         at = ft.result_at(p)
         words = (first_order_parts(frame, N, at.combination, tol)
-                 or spread_through_frame(frame, N, at.combination, tol, lambda: np.inf))
+                 or spread_through_frame(frame, N, at.combination, tol, lambda: np.inf, built))
         if words:
             return f"at p = {p:.10g} on the path, {words}"
     return ""

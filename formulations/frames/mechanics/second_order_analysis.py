@@ -135,7 +135,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     if not span and res.ok:     # member loads' axial parts, on α_cr where it is known
         span = spread_through_frame(frame, b["axial"], res.combination, tol, lambda: (
             critical_load_factor(frame, res)["alpha"] if stable else np.inf),
-            exact=b.get("along") is not None)
+            built=b.get("along"))
     if span and res.ok:
         res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
@@ -297,7 +297,9 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     N_start = N.copy()
     error, ft, unstable, p_from, inside = np.inf, None, None, 0.0, None
     for rounds in range(1, ROUNDS + 1):
-        b = built_on(frame, N)
+        # N(x) of the load the axial forces were read at: the constant
+        # loads' first, then the path's last stable equilibrium's
+        b = built_on(frame, N, combination_at(const, var, 0.0 if inside is None else inside))
         p_from = 0.0
         try:
             ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
@@ -403,7 +405,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if error > tol:
         ft.ok = False
         words += f" — NOT CONVERGED (asked {tol:.0e})"
-    span = first_order_parts_along(frame, b["axial"], ft, inside, tol)
+    span = first_order_parts_along(frame, b["axial"], ft, inside, tol, b.get("along"))
     if span and ft.ok:
         ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"
@@ -450,8 +452,8 @@ def buckling_along_path(frame, b, ft, N_start):
     held = restraint(b, held_links(frame, b, res))
 
     def negatives(p):
-        return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=N_start + p * dN),
-                                                    b, held))
+        return negative_eigenvalues(reduced_tangent(frame.stiffness(
+            axial=N_start + p * dN, along=ft.combination_at(p)), b, held))
 
     growing = dN < -rounding
     own = (own_buckling(frame)[growing] + N_start[growing]) / -dN[growing]

@@ -250,3 +250,39 @@ def test_an_inclined_member_with_loads_along_and_across_it_and_a_hinge():
                              cut.displacements["B"][0]]))
     ref = (4 * out[1] - out[0]) / 3
     np.testing.assert_allclose(got, ref, rtol=1e-8)
+
+
+def _swaying_column(weight_case):
+    """A cantilever at 0.24 of π²EI/L² (α_cr ≈ 1.04) under a self-weight of
+    1e-4 of it in ``weight_case``, pushed sideways by the variable "W"."""
+    E_, A_, I_, L_ = 2e8, 1e-2, 1e-5, 5.0
+    P_p = np.pi ** 2 * E_ * I_ / L_ ** 2
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L_)
+    fr.add_member("A", "B", E_, A_, I_, name="col")
+    fr.add_distributed_load("col", 0.0, -1e-4 * P_p / L_, case=weight_case)
+    fr.add_support("A")
+    fr.add_load("B", fy=-0.24 * P_p, case="D")
+    fr.add_load("B", fx=0.01, case="W")
+    return fr
+
+
+def test_a_trace_takes_the_weight_of_its_columns_as_it_varies_along_them():
+    """The trace's one stiffness takes N(x) of the load it is built at: the
+    sway portal pushed sideways is ok (it was not: "the member loads of
+    member(s) cR1, cL1 have axial parts"); where the variable loads have
+    axial parts, the change of N(x) along the path from that load is
+    still judged, and here refused."""
+    fr = _portal()
+    fr.add_load("B", fx=20e3, case="W")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = fr.trace(3.0, "high", constant={"D": 1.0}, variable={"W": 1.0}, second_order=True)
+        assert ft.ok, ft.message
+        ok = _swaying_column("D").trace(1.0, "low", constant={"D": 1.0}, variable={"W": 1.0},
+                                        second_order=True)
+        assert ok.ok, ok.message
+        refused = _swaying_column("W").trace(1.0, "low", constant={"D": 1.0},
+                                             variable={"W": 1.0}, second_order=True)
+    assert not refused.ok and "axial parts" in refused.message, refused.message
