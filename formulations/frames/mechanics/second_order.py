@@ -94,10 +94,10 @@ diagrams; an Euler–Bernoulli member's are the beam-column's
 axial parts make N vary along a plane member, the beam-column under N(x)
 (:mod:`.varying_axial`: its stiffness too).  Where what stays first
 order (a Timoshenko member's span loads; the axial parts of a
-Timoshenko or space member's loads, or of any member's along a trace's
-one stiffness, where the element takes the mean N) is off by more than
-the accuracy asked the answer is not ok (:func:`first_order_parts`,
-:func:`spread_through_frame`).
+Timoshenko or space member's loads, where the element takes the mean N;
+along a trace's one stiffness, their change from the load it was built
+at) is off by more than the accuracy asked the answer is not ok
+(:func:`first_order_parts`, :func:`spread_through_frame`).
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k`, a space member's in
