@@ -102,11 +102,12 @@ def _release(k, fe, r, spring):
     return kc[np.ix_(keep, keep)], fc[keep]
 
 
-def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> set:
+def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> dict:
     """The Euler–Bernoulli members whose loads in ``along`` (a
     combination) have axial parts: their bending block of ``k_all`` and
     rows of ``Fe`` (each case's loads) set to the beam-column's under N(x)
-    (:class:`.varying_axial.Member`, N̄ = ``axial``); their indices."""
+    (:class:`.varying_axial.Member`, N̄ = ``axial``); {index: (N at the
+    flexible part's start, at its end)}, what their rigid arms carry."""
     from .beam_column import flexible_part
     from .varying_axial import Member, of_member
 
@@ -126,7 +127,7 @@ def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> set:
                      for part in [flexible_part(ld, L[k], c[k], s[k], *offsets)] if part]
             if loads:
                 Fe[k][rows, j] = member.nodal_loads(loads)
-    return set(members)
+    return {k: member.arms() for k, member in members.items()}
 
 
 def member_locals(frame, xy, idx, col, axial=None, along=None):
@@ -207,6 +208,8 @@ def member_locals(frame, xy, idx, col, axial=None, along=None):
         k_all[k] = Aoff.T @ k_all[k] @ Aoff
         Fe[k] = Aoff.T @ Fe[k] + rigid[k]
         if axial is not None:        # each rigid arm's own P-Δ, N o θ²/2 (second_order)
-            k_all[k][2, 2] += axial[k] * ms[k].offset_i
-            k_all[k][5, 5] += axial[k] * ms[k].offset_j
+            # (N at its face where N varies along the member)
+            n_i, n_j = varying.get(k, (axial[k], axial[k]))
+            k_all[k][2, 2] += n_i * ms[k].offset_i
+            k_all[k][5, 5] += n_j * ms[k].offset_j
     return k_all, T, dofs, Fe

@@ -309,6 +309,12 @@ class Member:
             top = np.where(n2 != 0, np.clip(-n1 / (2 * n2), 0.0, 1.0), 0.0)
         return float(min(n0.min(), (n0 + n1 + n2).min(), (n0 + n1 * top + n2 * top ** 2).min()))
 
+    def arms(self) -> tuple[float, float]:
+        """N in the rigid end zones, (N(0⁻), N(L⁺)): the flexible ends'
+        with a point load at a face counted on the zone's side."""
+        return (self.Nbar + float(variation(self.axial_parts, self.L, np.array([0.0]), False)[0]),
+                self.Nbar + float(variation(self.axial_parts, self.L, np.array([self.L]))[0]))
+
     def N(self, x) -> np.ndarray:
         """N(x) (the right side at a point load)."""
         return self.Nbar + variation(self.axial_parts, self.L, x)

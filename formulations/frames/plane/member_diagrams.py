@@ -100,10 +100,10 @@ def beam_column_axis(frame, res, m, x):
         Nx = varying.N(xf)
         # the rigid arms' own N (v − v at the face), N at the faces
         v_a, v_e = varying.axis(parts, ends, m.end_springs, np.array([0.0, Lf]))[0]
-        added = (added + varying.N(np.array([0.0]))[0] * (v_a - di[1])
-                 + np.where(x > L - oj, varying.N(np.array([Lf]))[0]
-                            * (dj[1] - (L - x) * dj[2] - v_e), 0.0))
-        added = np.where(x < oi, varying.N(np.array([0.0]))[0] * x * di[2], added)
+        n_i, n_j = varying.arms()
+        added = (added + n_i * (v_a - di[1])
+                 + np.where(x > L - oj, n_j * (dj[1] - (L - x) * dj[2] - v_e), 0.0))
+        added = np.where(x < oi, n_i * x * di[2], added)
     elif m.GAs is None:
         v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
     elif parts:       # first order, judged by second_order.first_order_parts
@@ -238,8 +238,8 @@ def varying_couples(frame, b, u, couples) -> np.ndarray:
         turn = np.array([1.0, L, 1.0]) @ fe_all[k, [2, 4, 5]] - sum(
             along[ld.case] * load_moment(beam_column.across(ld, c, s))
             for ld in m.loads if along.get(ld.case))
-        couples[k] = (added + member.N(np.array([0.0]))[0] * oi * di[2]
-                      + member.N(np.array([member.L]))[0] * oj * dj[2] + turn)
+        n_i, n_j = member.arms()
+        couples[k] = added + n_i * oi * di[2] + n_j * oj * dj[2] + turn
     return couples
 
 
