@@ -308,14 +308,22 @@ def released_buckling_t(ki, kj, phi) -> float:
     return float(brentq(lambda t: least(t)[0], lo, hi, xtol=1e-14, rtol=1e-15))
 
 
-def past_own_buckling(frame, N) -> str:
+def past_own_buckling(frame, N, along=None) -> str:
     """Words naming the members that the axial forces ``N`` (those that
     built a second-order stiffness) compress to or past their own buckling
     load (:func:`own_buckling`), or "": a strut hinged at both ends at
-    1.5 π²EI/L² has a condensed stiffness with no negative eigenvalue."""
-    names = [f"{m} (N = {n:.6g}, its own buckling at N = {-o:.6g})"
-             for m, n, o in zip(frame.members, np.asarray(N, float), own_buckling(frame))
-             if -n >= o]
+    1.5 π²EI/L² has a condensed stiffness with no negative eigenvalue.  A
+    member whose loads in ``along`` make N vary along it is judged on its
+    own chain (:meth:`.varying_axial.Member.own_negatives`)."""
+    from .varying_axial import members_under
+
+    varying = members_under(frame, N, along) if along else {}
+    springs = [None if isinstance(m, dict) else m.end_springs for m in frame.members.values()]
+    names = [f"{m} (N = {n:.6g}, its own buckling at N = {-o:.6g})" if k not in varying
+             else f"{m} (N = {n:.6g} on average, varying along it)"
+             for k, (m, n, o) in enumerate(zip(frame.members, np.asarray(N, float),
+                                               own_buckling(frame)))
+             if (varying[k].own_negatives(springs[k]) > 0 if k in varying else -n >= o)]
     return (f"member(s) {', '.join(names)} compressed past their own buckling load between "
             "their nodes") if names else ""
 

@@ -55,7 +55,7 @@ from .second_order import (bending, first_order_parts, first_order_parts_along,
 from .tracing import BRACKET
 from .tangent_stiffness import (DENSE_DOFS, held_links, negative_eigenvalues,
                                 reduced_tangent, restraint)
-from .varying_axial import least_axial
+from .varying_axial import least_axial, own_buckling_factors
 
 #: rounds of the axial forces' fixed point at most
 ROUNDS = 30
@@ -109,7 +109,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         if error <= tol:
             break
         N, u = N_new, res._u
-    buckled = past_own_buckling(frame, b["axial"])
+    buckled = past_own_buckling(frame, b["axial"], b.get("along"))
     stable = False if buckled else None     # a member past its own buckling: no count needed
     if stable is None and b["free"].size <= DENSE_DOFS:
         stable = negative_eigenvalues(
@@ -195,7 +195,8 @@ def critical_load_factor(frame, result) -> dict:
     worst = least_axial(frame, N, result.combination)
     if not np.any(worst < 0):
         return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
-    ratio = np.divide(own_buckling(frame), -worst, out=np.full(N.size, np.inf), where=worst < 0)
+    ratio = own_buckling_factors(frame, N, result.combination, np.divide(
+        own_buckling(frame), -worst, out=np.full(N.size, np.inf), where=worst < 0))
     pole = float(ratio.min())
     held = restraint(b, held_links(frame, b, result))
 
@@ -476,7 +477,7 @@ def first_unstable_piece(frame, b, ft):
     None (also where the frame is too large to check)."""
     if b["free"].size > DENSE_DOFS:
         return None
-    if past_own_buckling(frame, b["axial"]):      # one stiffness for the whole round
+    if past_own_buckling(frame, b["axial"], b.get("along")):   # one stiffness for the round
         return 0 if ft.intervals else None
     for k, (lo, hi) in enumerate(ft.intervals):
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)

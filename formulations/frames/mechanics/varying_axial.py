@@ -104,14 +104,66 @@ def least_axial(frame, N, along) -> np.ndarray:
     below (Rayleigh: a member nowhere more compressed than a constant N
     buckles no earlier than under it)."""
     out = np.array(N, float)
+    for k, member in members_under(frame, N, along).items():
+        out[k] = member.least()
+    return out
+
+
+def members_under(frame, N, along):
+    """{index: :class:`Member`} of a plane frame's members whose loads in
+    ``along`` make N vary along them, each under its N̄ = N[index]."""
+    out = {}
     for k, m in enumerate(frame.members.values()):
-        if isinstance(m, dict) or not m.loads:
-            continue
-        d = np.subtract(frame.nodes[m.j], frame.nodes[m.i]).astype(float)
-        L = float(np.hypot(*d))
-        member = of_member(m, L, d[0] / L, d[1] / L, out[k], along)
+        member = member_under(frame, m, float(N[k]), along)
         if member is not None:
-            out[k] = member.least()
+            out[k] = member
+    return out
+
+
+def member_under(frame, m, Nbar, along):
+    """:func:`of_member` of one of a plane frame's members, from its nodes
+    (None for a space member)."""
+    if isinstance(m, dict) or not m.loads or not along:
+        return None
+    d = np.subtract(frame.nodes[m.j], frame.nodes[m.i]).astype(float)
+    L = float(np.hypot(*d))
+    return of_member(m, L, d[0] / L, d[1] / L, Nbar, along)
+
+
+def own_buckling_factors(frame, N, along, bound, rtol=1e-10) -> np.ndarray:
+    """``bound`` (a factor α per member below which it cannot buckle on its
+    own with its nodes held: own_buckling over its largest compression)
+    with each member whose loads make N vary along it given its own factor
+    instead: the least α at which its chain under α N(x), its nodes held
+    (rigid joints' rotations too, a released end's on its spring), has a
+    negative eigenvalue (:meth:`Member.own_negatives`), by doubling from
+    its bound and bisecting to ``rtol``.  Only those whose bound is below
+    the least factor found so far are searched (the frame's search stops
+    at the least)."""
+    out = np.array(bound, float)
+    ms = list(frame.members.values())
+    varying = sorted(members_under(frame, N, along), key=lambda k: out[k])
+    best = np.inf
+    for k in varying:
+        if not out[k] < best:
+            break
+
+        def buckled(alpha):
+            member = member_under(frame, ms[k], alpha * float(N[k]),
+                                  {c: alpha * f for c, f in along.items()})
+            return member is not None and member.own_negatives(ms[k].end_springs) > 0
+        lo = out[k] if np.isfinite(out[k]) else 1.0
+        hi = 2.0 * lo
+        while not buckled(hi):
+            lo, hi = hi, 2.0 * hi
+            if hi > 1e6 * max(out[k], 1.0):
+                hi = np.inf
+                break
+        while np.isfinite(hi) and hi - lo > rtol * hi:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if buckled(mid) else (mid, hi)
+        out[k] = hi
+        best = min(best, hi)
     return out
 
 
@@ -308,6 +360,27 @@ class Member:
         with np.errstate(divide="ignore", invalid="ignore"):
             top = np.where(n2 != 0, np.clip(-n1 / (2 * n2), 0.0, 1.0), 0.0)
         return float(min(n0.min(), (n0 + n1 + n2).min(), (n0 + n1 * top + n2 * top ** 2).min()))
+
+    def own_negatives(self, springs) -> int:
+        """The negative eigenvalues of the chain with its ends held — their
+        transverse displacements, and their rotations where rigidly joined
+        (``springs`` (i, j): None), a released end's rotation on its spring
+        (0: a hinge): the member's own buckling with its nodes held
+        (Wittrick–Williams' member term).  No piece buckles on its own
+        (|N| h² ≤ EI < π² EI), so the chain's modes are the member's."""
+        K, _ = self._joints([])
+        n = K.shape[0]
+        keep = list(range(2, n - 2))
+        for dof, spring in ((1, springs[0]), (n - 1, springs[1])):
+            if spring is not None:
+                K[dof, dof] += spring
+                keep.append(dof)
+        if not keep:
+            return 0
+        Kh = K[np.ix_(keep, keep)]
+        d = 1.0 / np.sqrt(np.abs(np.diag(Kh)))
+        lam = np.linalg.eigvalsh(Kh * d[:, None] * d[None, :])
+        return int(np.sum(lam < -16 * lam.size * np.finfo(float).eps * np.abs(lam).max()))
 
     def arms(self) -> tuple[float, float]:
         """N in the rigid end zones, (N(0⁻), N(L⁺)): the flexible ends'

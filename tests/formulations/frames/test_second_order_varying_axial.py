@@ -315,3 +315,47 @@ def test_rigid_end_zones_and_releases_under_n_varying(ends):
     f = res.member_forces["r"]
     assert abs(M[0] + f[2]) <= 1e-9 * np.abs(M).max()
     assert abs(M[-1] - f[5]) <= 1e-9 * np.abs(M).max()
+
+
+def _pinned_heavy_column_root():
+    """q L³/EI at which a column hinged at both ends buckles under its own
+    weight alone: EI w'''' + (q (L − x) w')' = 0 with w = w'' = 0 at both
+    ends, shot from the base (scipy's DOP853 at 1e-13) — an independent
+    route (18.5687)."""
+    from scipy.integrate import solve_ivp
+
+    def det(lam):
+        ends = []
+        for y0 in ([0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]):
+            sol = solve_ivp(lambda x, y: [y[1], y[2], y[3], lam * y[1] - lam * (1 - x) * y[2]],
+                            (0.0, 1.0), y0, rtol=1e-13, atol=1e-15, method="DOP853")
+            ends.append([sol.y[0, -1], sol.y[2, -1]])
+        return np.linalg.det(np.array(ends))
+    return brentq(det, 15.0, 22.0, xtol=1e-14, rtol=1e-14)
+
+
+def _hinged_column(share):
+    EI, L = 210e9 * 1e-5, 5.0
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", 210e9, 1e-2, 1e-5, name="c", hinge_i=True, hinge_j=True)
+    fr.add_support("A", ("ux", "uy"))
+    fr.add_support("B", ("ux",))
+    fr.add_distributed_load("c", wy=-share * EI / L ** 3, case="D")
+    return fr
+
+
+def test_a_hinged_heavy_column_buckles_on_its_own_where_its_chain_does():
+    """Hinged at both ends, its nodes held, it buckles on its own under its
+    weight at q L³/EI = 18.5687: α_cr is limited by it to 1e-9 (the largest
+    compression's bound alone said π² = 9.87), and a solve at 19 is
+    UNSTABLE (the mean N, 9.5 EI/L², is below π²: it was ok)."""
+    ref = _pinned_heavy_column_root()
+    fr = _hinged_column(1.0)
+    alpha = critical_load_factor(fr, _solve(fr))
+    assert alpha["limited_by"] == "c"
+    assert alpha["alpha"] == pytest.approx(ref, rel=1e-9)
+    assert _solve(_hinged_column(0.98 * ref)).ok
+    res = _solve(_hinged_column(19.0))
+    assert not res.ok and "UNSTABLE" in res.message, res.message
