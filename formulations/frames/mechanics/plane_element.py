@@ -106,8 +106,8 @@ def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> dict:
     """The Euler–Bernoulli members whose loads in ``along`` (a
     combination) have axial parts: their bending block of ``k_all`` and
     rows of ``Fe`` (each case's loads) set to the beam-column's under N(x)
-    (:class:`.varying_axial.Member`, N̄ = ``axial``); {index: (N at the
-    flexible part's start, at its end)}, what their rigid arms carry."""
+    (:class:`.varying_axial.Member`, N̄ = ``axial``); {index: (zone i's
+    ∫ N dx, zone j's)}, their rigid arms' P-Δ per unit rotation."""
     from .beam_column import flexible_part
     from .varying_axial import Member, of_member
 
@@ -208,8 +208,9 @@ def member_locals(frame, xy, idx, col, axial=None, along=None):
         k_all[k] = Aoff.T @ k_all[k] @ Aoff
         Fe[k] = Aoff.T @ Fe[k] + rigid[k]
         if axial is not None:        # each rigid arm's own P-Δ, N o θ²/2 (second_order)
-            # (N at its face where N varies along the member)
-            n_i, n_j = varying.get(k, (axial[k], axial[k]))
-            k_all[k][2, 2] += n_i * ms[k].offset_i
-            k_all[k][5, 5] += n_j * ms[k].offset_j
+            # (θ²/2 ∫ N dx over the zone where N varies along the member)
+            arm_i, arm_j = varying.get(k, (axial[k] * ms[k].offset_i,
+                                           axial[k] * ms[k].offset_j))
+            k_all[k][2, 2] += arm_i
+            k_all[k][5, 5] += arm_j
     return k_all, T, dofs, Fe

@@ -9,10 +9,16 @@ q(x) [F/L] obeys, equilibrium on the deformed axis,
 
     EI v'''' − (N(x) v')' = q(x),
 
-with N(x) [F] (tension positive) = N̄ + n(x) − (n(0) + n(L))/2: N̄ the
-mean of its ends' that the frame's fixed point iterates
-(:func:`.second_order_path.axial_forces`), n(x) = −∫₀ˣ p − Σ_{a<x} P the
-statics of the axial loads p (distributed, along +x) and P (points).  The
+with N(x) [F] (tension positive) = N̄ + n(x) − (n(−o_i) + n(L + o_j))/2:
+N̄ the mean of its nodes' end forces that the frame's fixed point
+iterates (:func:`.second_order_path.axial_forces`), n(x) = −∫ p − Σ P the
+statics of the axial loads p (distributed, along +x) and P (points) from
+node i, x = −o_i, to x — the rigid end zones' (o_i, o_j) loads included:
+a zone under its share of a column's weight carries it to the node, so
+the flexible length's mean is not N̄ (taken on its own ends, a 5 m
+cantilever with a 0.625 m top zone under 0.7 of Greenhill's load had α_cr
+1.68 for 1.43 and its base moment 25 % low).  A zone's own P-Δ is
+θ ∫_zone N dx (:meth:`Member.arms`).  The
 transverse force across the undeformed axis, T = EI v''' − N v', jumps by
 a transverse point force and is continuous where only N jumps (an axial
 point load); EI v'' jumps by minus a point couple.
@@ -61,10 +67,11 @@ PIECE = 1.0
 
 
 def along_axis(load, L, c, s, oi, oj):
-    """A member load's part along the axis on the flexible length
-    (positions from its start): ("point", a, P) or ("distributed", a, b,
-    p₁, p₂), member axes; None where it has none there."""
-    flex = clipped(load, oi, L - oj, shift=oi)
+    """A member load's part along the axis node to node (positions from
+    the flexible length's start, the zones' negative or beyond it):
+    ("point", a, P) or ("distributed", a, b, p₁, p₂), member axes; None
+    where it has none."""
+    flex = clipped(load, 0.0, L, shift=oi)
     if flex is None:
         return None
     v = flex.values
@@ -81,8 +88,9 @@ def along_axis(load, L, c, s, oi, oj):
 def of_member(m, L, c, s, Nbar, along, series=True):
     """The :class:`Member` of a plane member ``m`` (node-to-node length L,
     direction (c, s)) under N̄ where its loads in the combination ``along``
-    have axial parts on its flexible length; None where none do (or it is
-    shear-flexible: its element keeps the mean N)."""
+    have axial parts (on its rigid end zones too: its flexible length's N
+    is then not N̄); None where none do (or it is shear-flexible: its
+    element keeps the mean N)."""
     if not along or m.GAs is not None:
         return None
     oi, oj = m.offset_i, m.offset_j
@@ -93,7 +101,7 @@ def of_member(m, L, c, s, Nbar, along, series=True):
     if not parts:
         return None
     return Member(m.E * m.I, L - oi - oj, Nbar, parts,
-                  [x - oi for ld in m.loads for x in (ld.a, ld.b)], series)
+                  [x - oi for ld in m.loads for x in (ld.a, ld.b)], series, (oi, oj))
 
 
 def least_axial(frame, N, along) -> np.ndarray:
@@ -167,34 +175,64 @@ def own_buckling_factors(frame, N, along, bound, rtol=1e-10) -> np.ndarray:
     return out
 
 
-def variation(axial_parts, L, x, right=True) -> np.ndarray:
+def variation(axial_parts, ends, x, right=True) -> np.ndarray:
     """N(x) − N̄ of the axial parts ``axial_parts`` (:func:`along_axis`, each
-    times its factor) at x: n(x) less the mean of its ends' (module
-    docstring); a point load at x counted on the right side (``right``)."""
+    times its factor) at x: n(x) less the mean of the nodes' (``ends``,
+    their positions; module docstring); a point load at x counted on the
+    right side (``right``)."""
     x = np.asarray(x, float)
-
-    def n(at, right):
-        out = np.zeros_like(at)
-        for part in axial_parts:
-            if part[0] == "point":
-                _, a, P = part
-                out -= P * ((at >= a) if right else (at > a))
-                continue
-            _, a, b, p1, p2 = part
-            t = np.clip(at, a, b) - a
-            out -= p1 * t + 0.5 * (p2 - p1) * t * t / (b - a)
-        return out
-    return n(x, right) - 0.5 * (n(np.array([0.0]), False)[0] + n(np.array([L]), True)[0])
+    return _statics(axial_parts, x, right) - _centre(axial_parts, ends)
 
 
-def _cuts(EI, L, Nbar, axial_parts, points):
+def _statics(axial_parts, at, right):
+    """n(at): minus the axial loads up to ``at`` (a point load there on the
+    right side where ``right``)."""
+    out = np.zeros_like(at)
+    for part in axial_parts:
+        if part[0] == "point":
+            _, a, P = part
+            out -= P * ((at >= a) if right else (at > a))
+            continue
+        _, a, b, p1, p2 = part
+        t = np.clip(at, a, b) - a
+        out -= p1 * t + 0.5 * (p2 - p1) * t * t / (b - a)
+    return out
+
+
+def _centre(axial_parts, ends):
+    """The mean of n at the nodes ``ends``, a point load at a node on the
+    member's side (the node's load: fixed-end forces put it there)."""
+    lo, hi = ends
+    return 0.5 * (_statics(axial_parts, np.array([lo]), False)[0]
+                  + _statics(axial_parts, np.array([hi]), True)[0])
+
+
+def _statics_integral(axial_parts, at) -> np.ndarray:
+    """∫ n dx from below every load to ``at`` (n piecewise quadratic: exact)."""
+    at = np.asarray(at, float)
+    out = np.zeros_like(at)
+    for part in axial_parts:
+        if part[0] == "point":
+            _, a, P = part
+            out -= P * np.maximum(at - a, 0.0)
+            continue
+        _, a, b, p1, p2 = part
+        slope = (p2 - p1) / (b - a)
+        t = np.clip(at, a, b) - a
+        T = b - a
+        out -= (p1 * t * t / 2 + slope * t ** 3 / 6
+                + (p1 * T + 0.5 * slope * T * T) * np.maximum(at - b, 0.0))
+    return out
+
+
+def _cuts(EI, L, Nbar, axial_parts, points, ends):
     """The pieces' edges: the load positions ``points`` and cuts that keep
     |N| h² ≤ PIECE EI (module docstring)."""
     edges = np.unique(np.r_[0.0, [p for p in points if 0.0 < p < L], L])
     # |N| on each stretch from 9 points (both sides of its ends)
     xs = edges[:-1, None] + np.diff(edges)[:, None] * np.linspace(0.0, 1.0, 9)
-    big = np.maximum(np.abs(Nbar + variation(axial_parts, L, xs)),
-                     np.abs(Nbar + variation(axial_parts, L, xs, False))).max(axis=1)
+    big = np.maximum(np.abs(Nbar + variation(axial_parts, ends, xs)),
+                     np.abs(Nbar + variation(axial_parts, ends, xs, False))).max(axis=1)
     n = np.maximum(1, np.ceil(np.diff(edges) * np.sqrt(big / (PIECE * EI)) * 1.05)).astype(int)
     if not np.any(n > 1):
         return edges
@@ -254,20 +292,23 @@ def _ends(A, h):
 
 class Member:
     """One member's chain of pieces under N(x) (module docstring): EI, its
-    flexible length L, N̄, the axial parts (times their factors) and the
-    positions where its loads start, end or act."""
+    flexible length L, N̄, the axial parts (times their factors), the
+    positions where its loads start, end or act and its rigid end zones'
+    lengths ``zones`` (o_i, o_j)."""
 
-    def __init__(self, EI, L, Nbar, axial_parts, points, series=True):
+    def __init__(self, EI, L, Nbar, axial_parts, points, series=True, zones=(0.0, 0.0)):
         self.EI, self.L, self.axial_parts = float(EI), float(L), list(axial_parts)
-        self.x = _cuts(EI, L, Nbar, self.axial_parts, points)
+        self.zones = (float(zones[0]), float(zones[1]))
+        self.ends = (-self.zones[0], self.L + self.zones[1])
+        self.x = _cuts(EI, L, Nbar, self.axial_parts, points, self.ends)
         lo, hi = self.x[:-1], self.x[1:]
         self.h = hi - lo
         self.Nbar = float(Nbar)
         # N on each piece through σ = 0 (its right limit), ½ and 1 (its left):
         # a polynomial of degree ≤ 2 there
         pts = lo[:, None] + self.h[:, None] * np.array([0.0, 0.5, 1.0])
-        Nv = Nbar + np.c_[variation(self.axial_parts, L, pts[:, 0], True),
-                          variation(self.axial_parts, L, pts[:, 1:], False)]
+        Nv = Nbar + np.c_[variation(self.axial_parts, self.ends, pts[:, 0], True),
+                          variation(self.axial_parts, self.ends, pts[:, 1:], False)]
         # ν₀ + ν₁ σ + ν₂ σ² through σ = 0, ½, 1
         self.nu = np.stack([Nv[:, 0], -3 * Nv[:, 0] + 4 * Nv[:, 1] - Nv[:, 2],
                             2 * Nv[:, 0] - 4 * Nv[:, 1] + 2 * Nv[:, 2]], axis=1)
@@ -383,14 +424,23 @@ class Member:
         return int(np.sum(lam < -16 * lam.size * np.finfo(float).eps * np.abs(lam).max()))
 
     def arms(self) -> tuple[float, float]:
-        """N in the rigid end zones, (N(0⁻), N(L⁺)): the flexible ends'
-        with a point load at a face counted on the zone's side."""
-        return (self.Nbar + float(variation(self.axial_parts, self.L, np.array([0.0]), False)[0]),
-                self.Nbar + float(variation(self.axial_parts, self.L, np.array([self.L]))[0]))
+        """The rigid end zones' ∫ N dx, (zone i's, zone j's): each one's P-Δ
+        couple per unit of its rotation (N o for N constant)."""
+        lo, hi = self.ends
+        return (float(self.integral(lo, np.array([0.0]))[0]),
+                float(self.integral(self.L, np.array([hi]))[0]))
+
+    def integral(self, a, x) -> np.ndarray:
+        """∫ₐˣ N dx (positions from the flexible length's start)."""
+        x = np.asarray(x, float)
+        c = self.Nbar - _centre(self.axial_parts, self.ends)
+        return (c * (x - a) + _statics_integral(self.axial_parts, x)
+                - _statics_integral(self.axial_parts, np.array([float(a)]))[0])
 
     def N(self, x) -> np.ndarray:
-        """N(x) (the right side at a point load)."""
-        return self.Nbar + variation(self.axial_parts, self.L, x)
+        """N(x) (the right side at a point load), positions from the
+        flexible length's start (a zone's too)."""
+        return self.Nbar + variation(self.axial_parts, self.ends, x)
 
     def axis(self, parts, ends, springs, x):
         """(v, v', ∫₀ˣ N v' dx) at x under ``parts`` (each times its

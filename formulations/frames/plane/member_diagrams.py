@@ -97,13 +97,14 @@ def beam_column_axis(frame, res, m, x):
     xf = np.clip(x, oi, L - oj) - oi
     if varying is not None:
         v, dv, added = varying.axis(parts, ends, m.end_springs, xf)
-        Nx = varying.N(xf)
-        # the rigid arms' own N (v − v at the face), N at the faces
-        v_a, v_e = varying.axis(parts, ends, m.end_springs, np.array([0.0, Lf]))[0]
-        n_i, n_j = varying.arms()
-        added = (added + n_i * (v_a - di[1])
-                 + np.where(x > L - oj, n_j * (dj[1] - (L - x) * dj[2] - v_e), 0.0))
-        added = np.where(x < oi, n_i * x * di[2], added)
+        # N along the zones too (their own loads change it), and their own
+        # ∫ N v' = θ ∫ N dx (each moves with its node)
+        Nx = varying.N(np.asarray(x, float) - oi)
+        arm_i = varying.arms()[0]
+        beyond = np.maximum(np.asarray(x, float) - oi, Lf)
+        added = added + arm_i * di[2] + dj[2] * varying.integral(Lf, beyond)
+        added = np.where(x < oi, di[2] * varying.integral(-oi, np.minimum(x - oi, 0.0)),
+                         added)
     elif m.GAs is None:
         v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
     elif parts:       # first order, judged by second_order.first_order_parts
@@ -116,7 +117,7 @@ def beam_column_axis(frame, res, m, x):
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
     if varying is not None:
-        return np.where(x < oi, Nx[0] if Nx.size else 0.0, Nx), added, v, dv
+        return Nx, added, v, dv
     return axial, axial * (v - di[1]), v, dv
 
 
@@ -238,8 +239,8 @@ def varying_couples(frame, b, u, couples) -> np.ndarray:
         turn = np.array([1.0, L, 1.0]) @ fe_all[k, [2, 4, 5]] - sum(
             along[ld.case] * load_moment(beam_column.across(ld, c, s))
             for ld in m.loads if along.get(ld.case))
-        n_i, n_j = member.arms()
-        couples[k] = added + n_i * oi * di[2] + n_j * oj * dj[2] + turn
+        arm_i, arm_j = member.arms()
+        couples[k] = added + arm_i * di[2] + arm_j * dj[2] + turn
     return couples
 
 

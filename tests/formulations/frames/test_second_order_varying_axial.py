@@ -294,9 +294,8 @@ def test_a_trace_takes_the_weight_of_its_columns_as_it_varies_along_them():
 def test_rigid_end_zones_and_releases_under_n_varying(ends):
     """An inclined member under its weight and a point load along and
     across it, with rigid end zones and releases: the statics check closes
-    (each rigid arm's P-Δ, N o θ, on the N at its face, which the couple
-    reads too: the arm at B, which turns, on the mean N failed it by 2.5e-6
-    to 5.5e-6) and the diagram's moments at the nodes are the member's end
+    (each rigid arm's P-Δ, θ ∫ N dx over it, which the couple reads too:
+    the arm at B, which turns, on the mean N failed it by 2.5e-6 to 5.5e-6) and the diagram's moments at the nodes are the member's end
     moments."""
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
@@ -359,3 +358,115 @@ def test_a_hinged_heavy_column_buckles_on_its_own_where_its_chain_does():
     assert _solve(_hinged_column(0.98 * ref)).ok
     res = _solve(_hinged_column(19.0))
     assert not res.ok and "UNSTABLE" in res.message, res.message
+
+
+#: Greenhill's heavy cantilever: q L³/EI at which it buckles under its weight
+GREENHILL = 7.837347439
+
+
+def _heavy_cantilever(zone, share, pieces=None):
+    """A 5 m cantilever column (EI 2.1e6) under its weight q, ``share`` of
+    Greenhill's load over its whole length, 100 N sideways at its top, with
+    a rigid zone of 0.625 m at its ``zone`` end ("i": the base, "j": the
+    top) that carries its share of the weight: as ``offset_i``/``offset_j``,
+    or (``pieces``) its flexible length cut into that many members and the
+    zone a member 1e6 times stiffer, all the weight lumped at the nodes
+    (constant N in each piece: the stability functions' route; the zone's
+    weight lumped at its ends keeps its ∫ N dx)."""
+    EI, L, o = 210e9 * 1e-5, 5.0, 0.625
+    q = share * GREENHILL * EI / L ** 3
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    if pieces is None:
+        fr.add_member("A", "B", 210e9, 1e-2, 1e-5, name="c", **{f"offset_{zone}": o})
+        fr.add_distributed_load("c", wy=-q, case="D")
+    else:
+        a, b = (o, L) if zone == "i" else (0.0, L - o)
+        ys = sorted({0.0, L, *(a + (b - a) * np.arange(pieces + 1) / pieces)})
+        names = ["A"] + [f"n{k}" for k in range(1, len(ys) - 1)] + ["B"]
+        for k, y in enumerate(ys[1:-1], 1):
+            fr.add_node(names[k], 0.0, y)
+        for k in range(len(ys) - 1):
+            rigid = k == (0 if zone == "i" else len(ys) - 2)
+            fr.add_member(names[k], names[k + 1], 210e9 * (1e6 if rigid else 1.0), 1e-2, 1e-5,
+                          name="c" if k == 0 else f"c{k}")
+            for node in names[k:k + 2]:
+                fr.add_load(node, fy=-0.5 * q * (ys[k + 1] - ys[k]), case="D")
+    fr.add_support("A")
+    fr.add_load("B", fx=100.0, case="D")
+    return fr, q
+
+
+def _heavy_cantilever_alpha(zone, q):
+    """α at which the column of :func:`_heavy_cantilever` (its weight q)
+    buckles, shot on its rotation φ = w' from the clamp: EI φ'' = N φ with
+    N = −α q (L − x), the whole column's weight above x (the zone's
+    share included); a base zone is a clamp at its face (Greenhill's column
+    on the flexible length), a top zone turns with the face and its weight's
+    P-Δ, θ ∫ N dx, is the face's moment: EI φ' = α q o²/2 φ there (energy:
+    ½ ∫ EI φ'² + ½ ∫ N φ² node to node).  scipy's DOP853 at 1e-13: a route
+    apart from the element's series and the frame's α_cr."""
+    from scipy.integrate import solve_ivp
+
+    EI, L, o = 210e9 * 1e-5, 5.0, 0.625
+    a, b = (o, L) if zone == "i" else (0.0, L - o)
+
+    def end(alpha):
+        sol = solve_ivp(lambda x, y: [y[1], -alpha * q * (L - x) * y[0] / EI], (a, b),
+                        [0.0, 1.0], rtol=1e-13, atol=1e-15, method="DOP853")
+        phi, dphi = sol.y[:, -1]
+        return EI * dphi - (alpha * q * o * o / 2 * phi if zone == "j" else 0.0)
+    grid = np.linspace(0.2, 3.0, 57)
+    k = np.flatnonzero(np.sign([end(g) for g in grid]) != np.sign(end(grid[0])))[0]
+    return brentq(end, grid[k - 1], grid[k], xtol=1e-14, rtol=1e-14)
+
+
+def _measured(fr, res, zone):
+    """(M at the base, the top's sway, M at the zone's face): the member's
+    diagram there, or the cut's stiff member's end moment."""
+    if "n1" not in fr.nodes:
+        x, _, _, M = res.diagram("c", 9)
+        face = M[np.argmin(np.abs(x - (0.625 if zone == "i" else 4.375)))]
+    else:
+        stiff = "c" if zone == "i" else f"c{len(fr.members) - 1}"
+        face = res.end_forces(stiff)["j" if zone == "i" else "i"]["M"]
+    return res.end_forces("c")["i"]["M"], res.displacements["B"][0], face
+
+
+@pytest.mark.parametrize("zone", ["i", "j"])
+def test_a_rigid_end_zone_that_carries_its_share_of_the_weight(zone):
+    """The zone's weight reaches the flexible length's N (its mean is not
+    the node-to-node one) and the zone's own P-Δ is θ ∫ N dx: the member
+    with ``offset_i``/``offset_j`` at 0.7 of Greenhill's load is right at
+    "high" and "low" — its base moment, sway and diagram's moment at the
+    zone's face against the column cut into 32 and 64 constant-N pieces,
+    extrapolated (their own error ~1e-6: the
+    zone as a member 1e6 stiffer), α_cr against the shot (on the flexible
+    length's own mean: a top zone's M_A 25 % low, −1238.5 for −1649.5, α_cr
+    1.6776 for 1.4287; a base zone's α_cr 1.7529 for 2.1324)."""
+    fr, q = _heavy_cantilever(zone, 0.7)
+    cut = [_measured(f, _solve(f), zone) for f, _ in
+           (_heavy_cantilever(zone, 0.7, n) for n in (32, 64))]
+    ref = (4 * np.array(cut[1]) - np.array(cut[0])) / 3
+    for accuracy, rel in (("high", 2e-6), ("low", 1e-3)):
+        res = _solve(fr, accuracy)
+        assert res.ok, res.message
+        assert np.array(_measured(fr, res, zone)) == pytest.approx(ref, rel=rel)
+    assert critical_load_factor(fr, _solve(fr))["alpha"] == pytest.approx(
+        _heavy_cantilever_alpha(zone, q), rel=1e-8)
+
+
+@pytest.mark.parametrize("zone", ["i", "j"])
+def test_a_rigid_end_zone_past_the_columns_buckling_is_unstable(zone):
+    """At 1.1 × Greenhill's load (over the whole length, the zone's share
+    included) the column with a rigid top zone buckles below it (α_cr 0.909,
+    the shot's): UNSTABLE, where the flexible length's own mean said ok
+    with α_cr 1.068; with a base zone it stands (α_cr 1.357)."""
+    fr, q = _heavy_cantilever(zone, 1.1)
+    alpha = _heavy_cantilever_alpha(zone, q)
+    assert critical_load_factor(fr, _solve(fr))["alpha"] == pytest.approx(alpha, rel=1e-8)
+    for accuracy in ("high", "low"):
+        res = _solve(fr, accuracy)
+        assert res.ok == (alpha > 1), res.message
+        assert res.ok or "UNSTABLE" in res.message, res.message
