@@ -94,10 +94,12 @@ diagrams; an Euler–Bernoulli member's are the beam-column's
 axial parts make N vary along a plane member, the beam-column under N(x)
 (:mod:`.varying_axial`: its stiffness too).  Where what stays first
 order (a Timoshenko member's span loads; the axial parts of a
-Timoshenko or space member's loads, where the element takes the mean N;
-along a trace's one stiffness, their change from the load it was built
-at) is off by more than the accuracy asked the answer is not ok
-(:func:`first_order_parts`, :func:`spread_through_frame`).
+Timoshenko or space member's loads, where the element takes the mean N)
+is off by more than the accuracy asked the answer is not ok
+(:func:`first_order_parts`, :func:`spread_through_frame`).  Along a
+trace's one stiffness the change of N(x) from the load it was built at
+is, as N̄'s, the path's change of its axial forces, which it reports
+(:func:`axial_change`): result_at(p) solves at p on its own.
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k`, a space member's in
@@ -384,22 +386,32 @@ def _active_loads(frame, combination):
 def axial_spreads(frame, combination, built=None) -> np.ndarray:
     """ΔN per member [F]: the sum of its member loads' axial parts in
     ``combination`` (:func:`_axial_load`), by which N varies along it
-    about what its element takes.  ``built``: the combination whose N(x)
-    the stiffness took (:mod:`.varying_axial`), None where it took the
-    mean N: a plane frame's Euler–Bernoulli members then carry the parts
-    of ``combination`` less ``built`` alone (none in a solve; along a
-    trace, the variable loads' change from the load its stiffness was
-    built at)."""
+    about the mean N its element takes.  ``built``: the combination whose
+    N(x) the stiffness took (:mod:`.varying_axial`), None where it took the
+    mean N: a plane frame's Euler–Bernoulli members then carry none (their
+    element's N(x) is their own; along a trace, its change from the load
+    the stiffness was built at is the path's change of the axial forces,
+    :func:`axial_change`, as N̄'s is)."""
     spread = np.zeros(len(frame.members))
-    built = built or {}
-    cases = {c: 1.0 for c in set(combination) | set(built)
-             if combination.get(c) or built.get(c)}
-    for k, m, ld, _, d, offsets in _active_loads(frame, cases):
-        factor = combination.get(ld.case, 0.0)
-        if built and not isinstance(m, dict) and m.GAs is None:
-            factor -= built.get(ld.case, 0.0)
-        spread[k] += abs(factor) * _axial_load(ld, d, *offsets)
+    for k, m, ld, factor, d, offsets in _active_loads(frame, combination):
+        if built is None or isinstance(m, dict) or m.GAs is not None:
+            spread[k] += factor * _axial_load(ld, d, *offsets)
     return spread
+
+
+def axial_change(frame, combination, built) -> np.ndarray:
+    """Per member, how far N(x) − N̄ of a plane Euler–Bernoulli member whose
+    stiffness took N(x) of ``built`` (:mod:`.varying_axial`) is from that
+    of ``combination``, at most [F]: half the sum of the axial parts of the
+    loads' change, node to node (N − N̄ of loads ΔN in all is within ±ΔN/2);
+    0 for the others (their element takes the mean)."""
+    out = np.zeros(len(frame.members))
+    cases = {c: 1.0 for c in set(combination) | set(built or {})}
+    for k, m, ld, _, d, _ in _active_loads(frame, cases):
+        if not isinstance(m, dict) and m.GAs is None:
+            factor = combination.get(ld.case, 0.0) - (built or {}).get(ld.case, 0.0)
+            out[k] += 0.5 * abs(factor) * _axial_load(ld, d, 0.0, 0.0)
+    return out
 
 
 def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:

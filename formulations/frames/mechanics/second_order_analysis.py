@@ -50,7 +50,7 @@ from .load_combinations import combination_at
 from .loads import CONSTANT, VARIABLE
 from .second_order_path import (SecondOrderTrace, answer_change, axial_forces, member_scale,
                                 relative_change)
-from .second_order import (bending, first_order_parts, first_order_parts_along,
+from .second_order import (axial_change, bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
 from .tangent_stiffness import (DENSE_DOFS, held_links, negative_eigenvalues,
@@ -281,7 +281,9 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     Before its end the path is written with the end's axial forces;
     ``second_order["path_axial_change"]`` says how far the axial forces
     along it (at each piece's middle) are from them, as a share of each
-    member's Euler load π²EI/L²: zero where the variable loads do not
+    member's Euler load π²EI/L² (N(x) along a plane member whose
+    variable loads have axial parts, at most: :func:`.second_order.axial_change`;
+    result_at(p) solves at p on its own): zero where the variable loads do not
     change the axial forces (a push on a column under its weight), small
     where they redistribute them (wind on a tower: the windward columns'
     compression drops, the leeward's grows, the storey's total stays)."""
@@ -335,12 +337,16 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     # member's Euler load π²EI/L² (what they change in its stiffness)
     EI, L = bending(frame)
     euler = np.pi ** 2 * EI / L ** 2
+    # (N(x)'s where the stiffness took it and the variable loads have axial
+    # parts: its mean's change and, at most, the rest's, axial_change)
     change = 0.0
     for lo, hi in ft.intervals:
         if lo >= p_last:
             break
-        N_mid, _ = axial_forces(b, ft.result_at(0.5 * (lo + min(hi, p_last))))
-        change = max(change, float(np.max(np.abs(N_mid - N) / euler, initial=0.0)))
+        mid = ft.result_at(0.5 * (lo + min(hi, p_last)))
+        N_mid, _ = axial_forces(b, mid)
+        rest = axial_change(frame, mid.combination, b.get("along"))
+        change = max(change, float(np.max((np.abs(N_mid - N) + rest) / euler, initial=0.0)))
     fold = None
     if unstable is None and ft.limit is None and p_last > 0 and b["free"].size <= DENSE_DOFS:
         fold = fold_at_end(frame, b, ft, inside, p_last,
@@ -395,8 +401,8 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     words = (f"second order (P-Δ and P-δ): the stiffness is built from the axial forces of the "
              f"path's last stable equilibrium (p = {p_last:.10g}), which they agree with to "
              f"{error:.1e} after {rounds} round(s); along the path the axial forces differ "
-             f"from these by up to {change:.1e} of the members' Euler loads (result_at(p) "
-             "solves at p on its own)")
+             f"from these by up to {change:.1e} of the members' Euler loads (N(x) along a "
+             "member whose loads' axial parts vary it; result_at(p) solves at p on its own)")
     if p_from:
         words += (f"; on that stiffness the path starts at p = {p_from:.10g}, its first "
                   "certified equilibrium (below it the end's compression without its loads "
