@@ -175,13 +175,12 @@ def own_buckling_factors(frame, N, along, bound, rtol=1e-10) -> np.ndarray:
     return out
 
 
-def variation(axial_parts, ends, x, right=True) -> np.ndarray:
+def variation(axial_parts, centre, x, right=True) -> np.ndarray:
     """N(x) − N̄ of the axial parts ``axial_parts`` (:func:`along_axis`, each
-    times its factor) at x: n(x) less the mean of the nodes' (``ends``,
-    their positions; module docstring); a point load at x counted on the
+    times its factor) at x: n(x) less the mean of the nodes' (``centre``,
+    :func:`_centre`; module docstring); a point load at x counted on the
     right side (``right``)."""
-    x = np.asarray(x, float)
-    return _statics(axial_parts, x, right) - _centre(axial_parts, ends)
+    return _statics(axial_parts, np.asarray(x, float), right) - centre
 
 
 def _statics(axial_parts, at, right):
@@ -225,14 +224,14 @@ def _statics_integral(axial_parts, at) -> np.ndarray:
     return out
 
 
-def _cuts(EI, L, Nbar, axial_parts, points, ends):
+def _cuts(EI, L, Nbar, axial_parts, points, centre):
     """The pieces' edges: the load positions ``points`` and cuts that keep
     |N| h² ≤ PIECE EI (module docstring)."""
     edges = np.unique(np.r_[0.0, [p for p in points if 0.0 < p < L], L])
     # |N| on each stretch from 9 points (both sides of its ends)
     xs = edges[:-1, None] + np.diff(edges)[:, None] * np.linspace(0.0, 1.0, 9)
-    big = np.maximum(np.abs(Nbar + variation(axial_parts, ends, xs)),
-                     np.abs(Nbar + variation(axial_parts, ends, xs, False))).max(axis=1)
+    big = np.maximum(np.abs(Nbar + variation(axial_parts, centre, xs)),
+                     np.abs(Nbar + variation(axial_parts, centre, xs, False))).max(axis=1)
     n = np.maximum(1, np.ceil(np.diff(edges) * np.sqrt(big / (PIECE * EI)) * 1.05)).astype(int)
     if not np.any(n > 1):
         return edges
@@ -300,15 +299,16 @@ class Member:
         self.EI, self.L, self.axial_parts = float(EI), float(L), list(axial_parts)
         self.zones = (float(zones[0]), float(zones[1]))
         self.ends = (-self.zones[0], self.L + self.zones[1])
-        self.x = _cuts(EI, L, Nbar, self.axial_parts, points, self.ends)
+        self.centre = _centre(self.axial_parts, self.ends)
+        self.x = _cuts(EI, L, Nbar, self.axial_parts, points, self.centre)
         lo, hi = self.x[:-1], self.x[1:]
         self.h = hi - lo
         self.Nbar = float(Nbar)
         # N on each piece through σ = 0 (its right limit), ½ and 1 (its left):
         # a polynomial of degree ≤ 2 there
         pts = lo[:, None] + self.h[:, None] * np.array([0.0, 0.5, 1.0])
-        Nv = Nbar + np.c_[variation(self.axial_parts, self.ends, pts[:, 0], True),
-                          variation(self.axial_parts, self.ends, pts[:, 1:], False)]
+        Nv = Nbar + np.c_[variation(self.axial_parts, self.centre, pts[:, 0], True),
+                          variation(self.axial_parts, self.centre, pts[:, 1:], False)]
         # ν₀ + ν₁ σ + ν₂ σ² through σ = 0, ½, 1
         self.nu = np.stack([Nv[:, 0], -3 * Nv[:, 0] + 4 * Nv[:, 1] - Nv[:, 2],
                             2 * Nv[:, 0] - 4 * Nv[:, 1] + 2 * Nv[:, 2]], axis=1)
@@ -427,20 +427,20 @@ class Member:
         """The rigid end zones' ∫ N dx, (zone i's, zone j's): each one's P-Δ
         couple per unit of its rotation (N o for N constant)."""
         lo, hi = self.ends
-        return (float(self.integral(lo, np.array([0.0]))[0]),
-                float(self.integral(self.L, np.array([hi]))[0]))
+        return tuple(float(self.integral(a, np.array([b]))[0]) if b > a else 0.0
+                     for a, b in ((lo, 0.0), (self.L, hi)))
 
     def integral(self, a, x) -> np.ndarray:
         """∫ₐˣ N dx (positions from the flexible length's start)."""
         x = np.asarray(x, float)
-        c = self.Nbar - _centre(self.axial_parts, self.ends)
+        c = self.Nbar - self.centre
         return (c * (x - a) + _statics_integral(self.axial_parts, x)
                 - _statics_integral(self.axial_parts, np.array([float(a)]))[0])
 
     def N(self, x) -> np.ndarray:
         """N(x) (the right side at a point load), positions from the
         flexible length's start (a zone's too)."""
-        return self.Nbar + variation(self.axial_parts, self.ends, x)
+        return self.Nbar + variation(self.axial_parts, self.centre, x)
 
     def axis(self, parts, ends, springs, x):
         """(v, v', ∫₀ˣ N v' dx) at x under ``parts`` (each times its
