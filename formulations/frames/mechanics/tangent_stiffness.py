@@ -31,9 +31,7 @@ def negative_eigenvalues(K) -> int:
     sytrf; Sylvester again: L D Lᵀ has D's inertia), a sixth of the work
     of its eigenvalues, which the bisection of α_cr asked for 40 times
     (a portal in 130 members: 4.9 of its 5.5 s)."""
-    d = np.abs(np.diag(K))
-    d = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
-    Ks = K * d[:, None] * d[None, :]
+    Ks = _scaled(K)
     if not Ks.size:
         return 0
     # below zero beyond rounding (a few n ε of the largest eigenvalue, as
@@ -46,8 +44,7 @@ def negative_eigenvalues(K) -> int:
     # singular).  The largest |eigenvalue| by POWER steps of the power
     # method: the largest row sum, its bound, was up to twice it, and the
     # floor with it put a 64-piece portal's α_cr 1.3e-5 higher still
-    floor = 16 * Ks.shape[0] * np.finfo(float).eps * max(largest_eigenvalue(Ks), 1e-300)
-    lu, piv, info = sytrf(Ks + floor * np.eye(Ks.shape[0]), lower=1)
+    lu, piv, info = sytrf(Ks + _floor(Ks) * np.eye(Ks.shape[0]), lower=1)
     if info < 0:
         raise SolverFailedError(f"negative_eigenvalues: LAPACK sytrf argument {-info}")
     # D's 1 × 1 pivots, and its 2 × 2 blocks where ipiv is negative on
@@ -64,6 +61,28 @@ def negative_eigenvalues(K) -> int:
             count += int(diag[k] < 0)
             k += 1
     return count
+
+
+def least_eigenvalue(K) -> float:
+    """The least eigenvalue of D K D + floor I (:func:`negative_eigenvalues`'
+    scaling and rounding floor): below zero where that count is not zero,
+    and continuous in K — what α_cr's search interpolates on."""
+    Ks = _scaled(K)
+    if not Ks.size:
+        return np.inf
+    return float(la.eigh(Ks, eigvals_only=True, subset_by_index=[0, 0])[0]) + _floor(Ks)
+
+
+def _scaled(K) -> np.ndarray:
+    """D K D, D = diag(|K_ii|)^-1/2 (1 where K_ii = 0)."""
+    d = np.abs(np.diag(K))
+    d = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
+    return K * d[:, None] * d[None, :]
+
+
+def _floor(Ks) -> float:
+    """The rounding floor of the scaled Ks's eigenvalues: 16 n ε max |λ|."""
+    return 16 * Ks.shape[0] * np.finfo(float).eps * max(largest_eigenvalue(Ks), 1e-300)
 
 
 #: power steps for a tangent's largest |eigenvalue| (a lower bound that the

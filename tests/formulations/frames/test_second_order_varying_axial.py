@@ -195,6 +195,32 @@ def test_the_inertia_count_is_the_eigenvalues_count():
     assert counts[:2] == [0, 0] and min(counts[2:5]) >= 1 and counts[5:7] == [0, 0]
 
 
+def test_alpha_cr_narrows_on_the_least_eigenvalue_to_the_bisections_alpha(monkeypatch):
+    """α_cr's bracket is narrowed on the tangent's least eigenvalue (the
+    Illinois rule) and kept where the inertia counts at its ends agree:
+    the sway portal's α_cr is the counts' bisection's to ALPHA_RTOL, from
+    19 tangents (the bisection built 42, each rebuilding the members under
+    N(x))."""
+    from formulations.frames.mechanics import second_order_analysis as so
+
+    fr = _portal()
+    res = _solve(fr)
+    built = []
+    stiffness = fr.stiffness
+
+    def counted(*args, **kwargs):
+        built.append(1)
+        return stiffness(*args, **kwargs)
+    monkeypatch.setattr(fr, "stiffness", counted)
+    alpha = critical_load_factor(fr, res)["alpha"]
+    assert len(built) <= 24
+    first_negative = so.first_negative
+    monkeypatch.setattr(so, "first_negative",
+                        lambda negatives, start, pole, least=None:
+                        first_negative(negatives, start, pole))
+    assert critical_load_factor(fr, res)["alpha"] == pytest.approx(alpha, rel=2 * so.ALPHA_RTOL)
+
+
 def _rafter(pieces=1, lumped=False):
     """An inclined member A (0, 0) → B (4, 3), fixed at A and hinged to a
     strut C–B at B, under a global distributed load (parts along and
@@ -308,7 +334,8 @@ def test_rigid_end_zones_and_releases_under_n_varying(ends):
     """An inclined member under its weight and a point load along and
     across it, with rigid end zones and releases: the statics check closes
     (each rigid arm's P-Δ, θ ∫ N dx over it, which the couple reads too:
-    the arm at B, which turns, on the mean N failed it by 2.5e-6 to 5.5e-6) and the diagram's moments at the nodes are the member's end
+    the arm at B, which turns, on the mean N failed it by 2.5e-6 to
+    5.5e-6) and the diagram's moments at the nodes are the member's end
     moments."""
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
