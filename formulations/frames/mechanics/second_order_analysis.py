@@ -24,8 +24,8 @@ ones also along their tangents: a slip's tangent stiffness is zero, and the
 sway it allows is the sliding limit, which the load path finds), has a
 zero eigenvalue.  With the stability functions K(α N) is exact (Livesley's
 members, Engesser's with shear; a plane member whose loads make N vary
-along it under α N(x), :mod:`.varying_axial`), so α_cr is found by
-bisection on the count of K's negative eigenvalues (Sylvester's inertia,
+along it under α N(x), :mod:`.varying_axial`), so α_cr is found on the
+count of K's negative eigenvalues (:func:`first_negative`; Sylvester's inertia,
 an LDLᵀ's: :mod:`.tangent_stiffness`; the Wittrick–Williams
 count without its member term, which is zero below the first member's own
 buckling load with its nodes held, where the search stops: 4π²EI/L² for a
