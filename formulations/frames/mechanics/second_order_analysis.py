@@ -25,8 +25,8 @@ sway it allows is the sliding limit, which the load path finds), has a
 zero eigenvalue.  With the stability functions K(α N) is exact (Livesley's
 members, Engesser's with shear; a plane member whose loads make N vary
 along it under α N(x), :mod:`.varying_axial`), so α_cr is found on the
-count of K's negative eigenvalues (:func:`first_negative`; Sylvester's inertia,
-an LDLᵀ's: :mod:`.tangent_stiffness`; the Wittrick–Williams
+count of K's negative eigenvalues (Sylvester's inertia, an LDLᵀ's:
+:func:`.tangent_stiffness.first_negative`; the Wittrick–Williams
 count without its member term, which is zero below the first member's own
 buckling load with its nodes held, where the search stops: 4π²EI/L² for a
 member rigidly joined at both ends (less with shear), less where hinged or
@@ -38,6 +38,8 @@ Eurocode 3 (5.2.1) asks for second-order analysis where α_cr < 10.
 """
 
 from __future__ import annotations
+
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as la
@@ -53,15 +55,14 @@ from .second_order_path import (SecondOrderTrace, answer_change, axial_forces, m
 from .second_order import (axial_change, bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
-from .tangent_stiffness import (DENSE_DOFS, held_links, least_eigenvalue,
-                                negative_eigenvalues, reduced_tangent, restraint)
+from .tangent_stiffness import (DENSE_DOFS, first_holding, first_negative,
+                                held_links, least_eigenvalue, negative_eigenvalues,
+                                reduced_tangent, restraint)
 from .varying_axial import least_axial, own_buckling_factors
 
 #: rounds of the axial forces' fixed point at most
 ROUNDS = 30
 
-#: α_cr's bisection stops at this relative width
-ALPHA_RTOL = 1e-10
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options,
                        _built=None):
@@ -203,6 +204,7 @@ def critical_load_factor(frame, result) -> dict:
     def along(alpha):       # the member loads' axial parts grow with α too
         return {c: alpha * f for c, f in result.combination.items()}
 
+    @lru_cache(maxsize=4)      # the bracket's ends are counted, then interpolated on
     def tangent(alpha):
         return reduced_tangent(frame.stiffness(axial=alpha * N, along=along(alpha)), b, held)
 
@@ -220,58 +222,6 @@ def critical_load_factor(frame, result) -> dict:
                 "members": dict(zip(frame.members, t1))}
     return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held, along(hi)),
             "members": dict(zip(frame.members, t1)), "limited_by": None}
-
-
-def first_negative(negatives, start, pole, least=None):
-    """The least x in (0, pole) at which the count ``negatives(x)`` of a
-    tangent stiffness's negative eigenvalues leaves zero, to ALPHA_RTOL:
-    bracketed by doubling from ``start``, then bisected (Sylvester's law
-    of inertia: the count grows with the load).  None where it stays zero
-    up to just below ``pole`` (a member's own clamped–clamped buckling,
-    where the stability functions have their pole).  ``least``: the
-    tangent's least eigenvalue above its floor (:func:`least_eigenvalue`),
-    whose zero the bracket is narrowed to first by the Illinois rule (a
-    tangent under N(x) rebuilds its members at each step: 39 steps of
-    bisection took 0.9 s on a 70-member frame); kept where the counts at
-    its ends agree, else bisected as before."""
-    lo, hi = 0.0, start
-    while negatives(hi) == 0:
-        if hi >= pole * (1 - 1e-9):
-            return None
-        lo, hi = hi, min(2.0 * hi, pole * (1 - 1e-9))
-    if least is not None:
-        a, b = _illinois(least, lo, hi, ALPHA_RTOL)
-        if b - a <= ALPHA_RTOL * b and negatives(b) != 0 and (a == lo or negatives(a) == 0):
-            return b
-    return first_holding(lambda x: negatives(x) != 0, lo, hi, ALPHA_RTOL)
-
-
-def _illinois(f, a, b, rtol, steps=40):
-    """A bracket [a, b] of a zero of f, f(a) > 0 ≥ f(b), narrowed by the
-    Illinois rule (regula falsi halving the end that stays) to rtol of b,
-    or as far as ``steps`` evaluations take it."""
-    fa, fb, side = f(a), f(b), 0
-    for _ in range(steps):
-        if b - a <= rtol * b or not fa > 0 >= fb:
-            break
-        c = (a * fb - b * fa) / (fb - fa)
-        if not a < c < b:
-            c = 0.5 * (a + b)
-        fc = f(c)
-        if fc > 0:
-            a, fa, fb, side = c, fc, fb / 2 if side > 0 else fb, 1
-        else:
-            b, fb, fa, side = c, fc, fa / 2 if side < 0 else fa, -1
-    return a, b
-
-
-def first_holding(holds, lo, hi, rtol):
-    """Bisection of (lo, hi], ``holds`` false at lo and true at hi (and
-    monotone between): the least x found to hold, to ``rtol`` of it."""
-    while hi - lo > rtol * hi:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if holds(mid) else (mid, hi)
-    return hi
 
 
 def buckling_mode(frame, b, N, held, along=None) -> dict:
