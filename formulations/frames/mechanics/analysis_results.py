@@ -123,6 +123,9 @@ class AnalysisResult:
     #: second-order stiffness and member loads were built from, which its
     #: diagrams read (the beam-column between the ends); None for first order
     stiffness_axial: np.ndarray | None = field(repr=False, default=None)
+    #: the combination whose member loads' axial parts made N vary along the
+    #: members in that stiffness (a plane frame's: mechanics.varying_axial), or None
+    stiffness_along: dict | None = field(repr=False, default=None)
     #: where no equilibrium exists, proved (solve(raise_on_failure=False)
     #: returns it, solve_combinations keeps it): how the frame fails and
     #: the proof, as the NoSolutionError's message would say; else None

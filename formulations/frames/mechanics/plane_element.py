@@ -102,14 +102,45 @@ def _release(k, fe, r, spring):
     return kc[np.ix_(keep, keep)], fc[keep]
 
 
-def member_locals(frame, xy, idx, col, axial=None):
+def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> dict:
+    """The Euler–Bernoulli members whose loads in ``along`` (a
+    combination) have axial parts: their bending block of ``k_all`` and
+    rows of ``Fe`` (each case's loads) set to the beam-column's under N(x)
+    (:class:`.varying_axial.Member`, N̄ = ``axial``); {index: (zone i's
+    ∫ N dx, zone j's)}, their rigid arms' P-Δ per unit rotation."""
+    from .beam_column import flexible_part
+    from .varying_axial import Member, of_member
+
+    rows = [1, 2, 4, 5]
+    members = {k: member for k, m in enumerate(ms)
+               if along and phi[k] == 0 and m.loads
+               for member in [of_member(m, L[k], c[k], s[k], axial[k], along, False)]
+               if member is not None}
+    Member.in_one_pass(list(members.values()))
+    for k, member in members.items():
+        m = ms[k]
+        offsets = (m.offset_i, m.offset_j)
+        k_all[k][np.ix_(rows, rows)] = member.stiffness()
+        Fe[k][rows] = 0.0
+        for case, j in col.items():
+            loads = [part for ld in m.loads if ld.case == case
+                     for part in [flexible_part(ld, L[k], c[k], s[k], *offsets)] if part]
+            if loads:
+                Fe[k][rows, j] = member.nodal_loads(loads)
+    return {k: member.arms() for k, member in members.items()}
+
+
+def member_locals(frame, xy, idx, col, axial=None, along=None):
     """Every member's local stiffness (node dofs, member axes), rotation,
     dofs and equivalent nodal loads per case, computed for all members at
     once: (k (m,6,6), T (m,6,6), dofs (m,6), Fe (m,6,cases)); ``xy`` the
     nodes' coordinates (n, 2), ``idx`` each node's first dof, ``col`` maps
     a case to its column.  ``axial`` (m,): the members' axial forces
     (tension positive) for a second-order stiffness
-    (:mod:`.second_order`), None for first order."""
+    (:mod:`.second_order`), None for first order; ``along``: the
+    combination ({case: factor}) whose member loads' axial parts make N
+    vary along the Euler–Bernoulli members that carry them, which then
+    take N(x) as it is (:mod:`.varying_axial`, N̄ = ``axial``)."""
     ms = list(frame.members.values())
     nm = len(ms)
     # one pass over the members for their numbers, their nodes' first dofs
@@ -158,8 +189,10 @@ def member_locals(frame, xy, idx, col, axial=None):
         # forces (:mod:`.beam_column`) across the axis; a Timoshenko member's
         # stay its first-order element's (second_order.first_order_parts)
         from .beam_column import flexible_part, into_loads
+        varying = varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe)
         items = [(k, col[ld.case], part)
                  for k in np.flatnonzero((n_loads > 0) & (phi == 0) & (axial != 0)).tolist()
+                 if k not in varying
                  for ld in ms[k].loads
                  for part in [flexible_part(ld, L[k], c[k], s[k], ms[k].offset_i,
                                             ms[k].offset_j)] if part is not None]
@@ -175,6 +208,9 @@ def member_locals(frame, xy, idx, col, axial=None):
         k_all[k] = Aoff.T @ k_all[k] @ Aoff
         Fe[k] = Aoff.T @ Fe[k] + rigid[k]
         if axial is not None:        # each rigid arm's own P-Δ, N o θ²/2 (second_order)
-            k_all[k][2, 2] += axial[k] * ms[k].offset_i
-            k_all[k][5, 5] += axial[k] * ms[k].offset_j
+            # (θ²/2 ∫ N dx over the zone where N varies along the member)
+            arm_i, arm_j = varying.get(k, (axial[k] * ms[k].offset_i,
+                                           axial[k] * ms[k].offset_j))
+            k_all[k][2, 2] += arm_i
+            k_all[k][5, 5] += arm_j
     return k_all, T, dofs, Fe

@@ -90,10 +90,16 @@ P_c/(1 + P_c/(G A_s)), P_c = π²EI/(4L²).
 
 A Timoshenko member's loads keep their first-order fixed-end forces and
 diagrams; an Euler–Bernoulli member's are the beam-column's
-(:mod:`.beam_column`), with N constant along it.  Where what stays first
-order (those, and member loads' axial parts, which make N vary along a
-member) is off by more than the accuracy asked the answer is not ok
-(:func:`first_order_parts`).
+(:mod:`.beam_column`), with N constant along it — or, where its loads'
+axial parts make N vary along a plane member, the beam-column under N(x)
+(:mod:`.varying_axial`: its stiffness too).  Where what stays first
+order (a Timoshenko member's span loads; the axial parts of a
+Timoshenko or space member's loads, where the element takes the mean N)
+is off by more than the accuracy asked the answer is not ok
+(:func:`first_order_parts`, :func:`spread_through_frame`).  Along a
+trace's one stiffness the change of N(x) from the load it was built at
+is, as N̄'s, the path's change of its axial forces, which it reports
+(:func:`axial_change`): result_at(p) solves at p on its own.
 
 The matrices are the elements': a plane member's in
 :func:`.plane_element.beam_column_k`, a space member's in
@@ -304,14 +310,22 @@ def released_buckling_t(ki, kj, phi) -> float:
     return float(brentq(lambda t: least(t)[0], lo, hi, xtol=1e-14, rtol=1e-15))
 
 
-def past_own_buckling(frame, N) -> str:
+def past_own_buckling(frame, N, along=None) -> str:
     """Words naming the members that the axial forces ``N`` (those that
     built a second-order stiffness) compress to or past their own buckling
     load (:func:`own_buckling`), or "": a strut hinged at both ends at
-    1.5 π²EI/L² has a condensed stiffness with no negative eigenvalue."""
-    names = [f"{m} (N = {n:.6g}, its own buckling at N = {-o:.6g})"
-             for m, n, o in zip(frame.members, np.asarray(N, float), own_buckling(frame))
-             if -n >= o]
+    1.5 π²EI/L² has a condensed stiffness with no negative eigenvalue.  A
+    member whose loads in ``along`` make N vary along it is judged on its
+    own chain (:meth:`.varying_axial.Member.own_negatives`)."""
+    from .varying_axial import members_under
+
+    varying = members_under(frame, N, along) if along else {}
+    springs = [None if isinstance(m, dict) else m.end_springs for m in frame.members.values()]
+    names = [f"{m} (N = {n:.6g}, its own buckling at N = {-o:.6g})" if k not in varying
+             else f"{m} (N = {n:.6g} on average, varying along it)"
+             for k, (m, n, o) in enumerate(zip(frame.members, np.asarray(N, float),
+                                               own_buckling(frame)))
+             if (varying[k].own_negatives(springs[k]) > 0 if k in varying else -n >= o)]
     return (f"member(s) {', '.join(names)} compressed past their own buckling load between "
             "their nodes") if names else ""
 
@@ -369,14 +383,35 @@ def _active_loads(frame, combination):
                    m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j))
 
 
-def axial_spreads(frame, combination) -> np.ndarray:
+def axial_spreads(frame, combination, built=None) -> np.ndarray:
     """ΔN per member [F]: the sum of its member loads' axial parts in
     ``combination`` (:func:`_axial_load`), by which N varies along it
-    about the mean its element takes."""
+    about the mean N its element takes.  ``built``: the combination whose
+    N(x) the stiffness took (:mod:`.varying_axial`), None where it took the
+    mean N: a plane frame's Euler–Bernoulli members then carry none (their
+    element's N(x) is their own; along a trace, its change from the load
+    the stiffness was built at is the path's change of the axial forces,
+    :func:`axial_change`, as N̄'s is)."""
     spread = np.zeros(len(frame.members))
-    for k, _, ld, factor, d, offsets in _active_loads(frame, combination):
-        spread[k] += factor * _axial_load(ld, d, *offsets)
+    for k, m, ld, factor, d, offsets in _active_loads(frame, combination):
+        if built is None or isinstance(m, dict) or m.GAs is not None:
+            spread[k] += factor * _axial_load(ld, d, *offsets)
     return spread
+
+
+def axial_change(frame, combination, built) -> np.ndarray:
+    """Per member, how far N(x) − N̄ of a plane Euler–Bernoulli member whose
+    stiffness took N(x) of ``built`` (:mod:`.varying_axial`) is from that
+    of ``combination``, at most [F]: half the sum of the axial parts of the
+    loads' change, node to node (N − N̄ of loads ΔN in all is within ±ΔN/2);
+    0 for the others (their element takes the mean)."""
+    out = np.zeros(len(frame.members))
+    cases = {c: 1.0 for c in set(combination) | set(built or {})}
+    for k, m, ld, _, d, _ in _active_loads(frame, cases):
+        if not isinstance(m, dict) and m.GAs is None:
+            factor = combination.get(ld.case, 0.0) - (built or {}).get(ld.case, 0.0)
+            out[k] += 0.5 * abs(factor) * _axial_load(ld, d, 0.0, 0.0)
+    return out
 
 
 def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:
@@ -404,13 +439,15 @@ def spread_bound(N, spread, pinned, alpha=np.inf) -> np.ndarray:
         return np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
 
 
-def spread_through_frame(frame, N, combination, tol, alpha) -> str:
+def spread_through_frame(frame, N, combination, tol, alpha, built=None) -> str:
     """Words naming the members whose loads' axial parts (N varying along
     the member about the mean its element takes) move the answer by more
     than ``tol`` (:func:`spread_bound`), or "".  ``alpha``: the frame's
     α_cr, called only where some member has ΔN > 0 (inf where it is not
-    known: a trace's pieces, a frame too large for its stability check)."""
-    spread = axial_spreads(frame, combination)
+    known: a trace's pieces, a frame too large for its stability check);
+    ``built``: the combination whose N(x) the stiffness took where it could
+    (:func:`axial_spreads`)."""
+    spread = axial_spreads(frame, combination, built)
     if not (spread > 0).any():
         return ""
     N = np.asarray(N, float)
@@ -498,14 +535,15 @@ def _worst(frame, N, off, hit, what) -> str:
                      for k in hit[:5]) + (f" and {len(hit) - 5} more" if len(hit) > 5 else "")
 
 
-def first_order_parts_along(frame, N, ft, inside, tol) -> str:
+def first_order_parts_along(frame, N, ft, inside, tol, built=None) -> str:
     """:func:`first_order_parts` of a second-order trace ``ft`` built
     on the axial forces ``N``, judged at each stable piece's ends up to
     ``inside`` (its last stable state), and on an unbounded last piece one
     point past its start: the span loads may be the variable ones, and a
     strut under a constant half Euler load traced to "unbounded" (one piece
     from p = 0, where none acts yet) was ok, its moment at p = 1 half the
-    beam-column's."""
+    beam-column's.  ``built``: the combination whose N(x) the trace's
+    stiffness took (:func:`axial_spreads`)."""
     points = {float(inside)}
     for lo, hi in ft.intervals:
         if lo > inside:
@@ -514,7 +552,7 @@ def first_order_parts_along(frame, N, ft, inside, tol) -> str:
     for p in sorted(points):
         at = ft.result_at(p)
         words = (first_order_parts(frame, N, at.combination, tol)
-                 or spread_through_frame(frame, N, at.combination, tol, lambda: np.inf))
+                 or spread_through_frame(frame, N, at.combination, tol, lambda: np.inf, built))
         if words:
             return f"at p = {p:.10g} on the path, {words}"
     return ""

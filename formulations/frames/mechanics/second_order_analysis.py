@@ -23,17 +23,23 @@ contacts free, closed ones fixed along their normals, sticking and slipping
 ones also along their tangents: a slip's tangent stiffness is zero, and the
 sway it allows is the sliding limit, which the load path finds), has a
 zero eigenvalue.  With the stability functions K(α N) is exact (Livesley's
-members, Engesser's with shear), so α_cr is found by bisection on the count of
-K's negative eigenvalues (Sylvester's inertia; the Wittrick–Williams
+members, Engesser's with shear; a plane member whose loads make N vary
+along it under α N(x), :mod:`.varying_axial`), so α_cr is found on the
+count of K's negative eigenvalues (Sylvester's inertia, an LDLᵀ's:
+:func:`.tangent_stiffness.first_negative`; the Wittrick–Williams
 count without its member term, which is zero below the first member's own
 buckling load with its nodes held, where the search stops: 4π²EI/L² for a
 member rigidly joined at both ends (less with shear), less where hinged or
-semi-rigid, :func:`.second_order.own_buckling`).  A member compressed past
+semi-rigid, :func:`.second_order.own_buckling`, on its largest compression
+where N varies along it: Rayleigh's quotient bounds its own buckling by
+that constant N's).  A member compressed past
 its own buckling load makes an answer UNSTABLE whatever the count says.
 Eurocode 3 (5.2.1) asks for second-order analysis where α_cr < 10.
 """
 
 from __future__ import annotations
+
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as la
@@ -43,20 +49,19 @@ from qpcontact.core.errors import (InvalidOptionError, InvalidProblemError, NoSo
 
 from . import tracing
 from .load_combinations import combination_at
+from .loads import CONSTANT, VARIABLE
 from .second_order_path import (SecondOrderTrace, answer_change, axial_forces, member_scale,
                                 relative_change)
-from .second_order import (bending, first_order_parts, first_order_parts_along,
+from .second_order import (axial_change, bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
+from .tangent_stiffness import (DENSE_DOFS, first_holding, first_negative,
+                                held_links, least_eigenvalue, negative_eigenvalues,
+                                reduced_tangent, restraint)
+from .varying_axial import least_axial, own_buckling_factors
 
 #: rounds of the axial forces' fixed point at most
 ROUNDS = 30
-
-#: α_cr's bisection stops at this relative width
-ALPHA_RTOL = 1e-10
-
-#: largest number of free dofs whose tangent stiffness is decomposed densely
-DENSE_DOFS = 3000
 
 
 def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination, options,
@@ -89,9 +94,12 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     if N is None:
         b = frame.build()
         N, _ = axial_forces(b, solve_on(b))
+    # the member loads' axial parts in it make N vary along the members
+    # (a plane frame's Euler–Bernoulli members take N(x) as it is)
+    along = combination if combination is not None else {CONSTANT: 1.0, VARIABLE: float(p)}
     error, u = np.inf, None
     for rounds in range(1, ROUNDS + 1):
-        b = built_on(frame, N)
+        b = built_on(frame, N, along)
         res = solve_on(b)
         N_new, terms = axial_forces(b, res)
         # converged in N and in the answer: near α_cr the answer moves by
@@ -102,7 +110,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         if error <= tol:
             break
         N, u = N_new, res._u
-    buckled = past_own_buckling(frame, b["axial"])
+    buckled = past_own_buckling(frame, b["axial"], b.get("along"))
     stable = False if buckled else None     # a member past its own buckling: no count needed
     if stable is None and b["free"].size <= DENSE_DOFS:
         stable = negative_eigenvalues(
@@ -127,7 +135,8 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     span = first_order_parts(frame, b["axial"], res.combination, tol)
     if not span and res.ok:     # member loads' axial parts, on α_cr where it is known
         span = spread_through_frame(frame, b["axial"], res.combination, tol, lambda: (
-            critical_load_factor(frame, res)["alpha"] if stable else np.inf))
+            critical_load_factor(frame, res)["alpha"] if stable else np.inf),
+            built=b.get("along"))
     if span and res.ok:
         res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
@@ -142,15 +151,17 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     return res
 
 
-def built_on(frame, N):
+def built_on(frame, N, along=None):
     """The frame's assembly on K(N).  Its first-order one stands (built
     first), so a basic system K(N) leaves singular is no mechanism: N puts
     the frame at its elastic critical load to rounding (a cantilever within
-    1e-12 of π²EI/(4L²)).  That loss of stiffness is named, not the
+    1e-12 of π²EI/(4L²)).  ``along``: the combination whose member loads
+    make N vary along the members (None: N constant along each).  That loss
+    of stiffness is named, not the
     assembly's "node B is free: no member holds it", which sent the
     engineer to look for a missing member."""
     try:
-        return frame.build(axial=N)
+        return frame.build(axial=N, along=along)
     except InvalidProblemError:
         EI, L = bending(frame)
         t = -np.asarray(N, float) * L ** 2 / EI
@@ -180,111 +191,47 @@ def critical_load_factor(frame, result) -> dict:
     N = axial_forces(b, result)[0]
     EI, L = bending(frame)
     t1 = -N * L ** 2 / EI                      # compression positive, at α = 1
-    if not np.any(t1 > 0):
+    # a member's largest compression where its loads make N vary along it
+    # (what bounds its own buckling with its nodes held: the search's pole)
+    worst = least_axial(frame, N, result.combination)
+    if not np.any(worst < 0):
         return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
-    ratio = np.divide(own_buckling(frame), -N, out=np.full(N.size, np.inf), where=N < 0)
+    ratio = own_buckling_factors(frame, N, result.combination, np.divide(
+        own_buckling(frame), -worst, out=np.full(N.size, np.inf), where=worst < 0))
     pole = float(ratio.min())
     held = restraint(b, held_links(frame, b, result))
 
+    def along(alpha):       # the member loads' axial parts grow with α too
+        return {c: alpha * f for c, f in result.combination.items()}
+
+    @lru_cache(maxsize=4)      # the bracket's ends are counted, then interpolated on
+    def tangent(alpha):
+        return reduced_tangent(frame.stiffness(axial=alpha * N, along=along(alpha)), b, held)
+
     def negatives(alpha):
-        return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=alpha * N), b, held))
+        return negative_eigenvalues(tangent(alpha))
 
     if negatives(0.0):
         raise InvalidOptionError("critical_load_factor: the frame with its contact states held "
                                  "is not stable at zero load (a mechanism); no α_cr")
-    hi = first_negative(negatives, min(1.0, 0.5 * pole), pole)
+    hi = first_negative(negatives, min(1.0, 0.5 * pole), pole,
+                        lambda alpha: least_eigenvalue(tangent(alpha)))
     if hi is None:
         worst = list(frame.members)[int(np.argmin(ratio))]
         return {"alpha": pole, "mode": None, "limited_by": worst,
                 "members": dict(zip(frame.members, t1))}
-    return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held),
+    return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held, along(hi)),
             "members": dict(zip(frame.members, t1)), "limited_by": None}
 
 
-def first_negative(negatives, start, pole):
-    """The least x in (0, pole) at which the count ``negatives(x)`` of a
-    tangent stiffness's negative eigenvalues leaves zero, to ALPHA_RTOL:
-    bracketed by doubling from ``start``, then bisected (Sylvester's law
-    of inertia: the count grows with the load).  None where it stays zero
-    up to just below ``pole`` (a member's own clamped–clamped buckling,
-    where the stability functions have their pole)."""
-    lo, hi = 0.0, start
-    while negatives(hi) == 0:
-        if hi >= pole * (1 - 1e-9):
-            return None
-        lo, hi = hi, min(2.0 * hi, pole * (1 - 1e-9))
-    return first_holding(lambda x: negatives(x) != 0, lo, hi, ALPHA_RTOL)
-
-
-def first_holding(holds, lo, hi, rtol):
-    """Bisection of (lo, hi], ``holds`` false at lo and true at hi (and
-    monotone between): the least x found to hold, to ``rtol`` of it."""
-    while hi - lo > rtol * hi:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if holds(mid) else (mid, hi)
-    return hi
-
-
-def negative_eigenvalues(K) -> int:
-    """The number of K's negative eigenvalues (symmetric, dense), counted
-    on D K D with D = diag(K_ii)^-1/2 — the same count (Sylvester's law of
-    inertia) on a matrix whose entries are O(1): unscaled, a base 1e4
-    times stiffer than the column on it put the threshold of rounding
-    (1e-13 of the largest eigenvalue) at 3 % of the column's own, and α_cr
-    1 % high."""
-    d = np.abs(np.diag(K))
-    d = np.where(d > 0, 1.0 / np.sqrt(np.where(d > 0, d, 1.0)), 1.0)
-    lam = la.eigvalsh(K * d[:, None] * d[None, :])
-    # below zero beyond the eigensolver's rounding (a few n ε of the
-    # largest): a sway mode held by a stiff beam's axial stiffness has a
-    # scaled eigenvalue of 1e-7, and a threshold of 1e-12 put α_cr 1e-5 high
-    floor = 16 * lam.size * np.finfo(float).eps * max(float(np.abs(lam).max(initial=0.0)), 1e-300)
-    return int(np.sum(lam < -floor))
-
-
-def held_links(frame, b, result) -> np.ndarray:
-    """The links held in α_cr: a contact's normal unless it lifted off,
-    its tangent too (stick and slip alike)."""
-    keys = list(result.supports)
-    return np.array([result.supports[keys[ci]].state != "separated" for ci, _ in b["info"]],
-                    bool)       # a frame without contacts: no links, an empty mask
-
-
-def restraint(b, held) -> tuple[np.ndarray, np.ndarray]:
-    """(Z, S) of the links ``held`` (a mask over b's links) on the free
-    dofs: Z an orthonormal basis of the motions the rigid ones allow, S the
-    elastic ones' springs (H diag(1/flex) H'), both dense — what the
-    tangent stiffness of any K is reduced with (:func:`reduced_tangent`)."""
-    free = b["free"]
-    if free.size > DENSE_DOFS:
-        raise InvalidOptionError(f"critical_load_factor: {free.size} free dofs; written for "
-                                 f"frames of up to {DENSE_DOFS} (a dense eigendecomposition)")
-    H = b["H"][free].toarray()[:, held]
-    flex = b["flex"][held]
-    soft = flex > 0
-    rigid = H[:, ~soft]
-    Z = la.null_space(rigid.T) if rigid.shape[1] else np.eye(free.size)
-    return Z, (H[:, soft] / flex[soft]) @ H[:, soft].T
-
-
-def reduced_tangent(K, b, held) -> np.ndarray:
-    """The stiffness K (all dofs) on b's free dofs with the links ``held``
-    (a :func:`restraint`): elastic ones as springs, rigid ones as
-    constraints (projected out: Z'(K_ff + S)Z), dense and symmetric."""
-    Z, S = held
-    free = b["free"]
-    Kr = Z.T @ (K[free][:, free].toarray() + S) @ Z
-    return 0.5 * (Kr + Kr.T)
-
-
-def buckling_mode(frame, b, N, held) -> dict:
+def buckling_mode(frame, b, N, held, along=None) -> dict:
     """The eigenvector of the smallest eigenvalue of K(N) with the held
     links (``held``: a :func:`restraint`; at α_cr: the buckling shape),
     per node, scaled to largest 1."""
     Z = held[0]
-    _, V = la.eigh(reduced_tangent(frame.stiffness(axial=N), b, held))
+    _, V = la.eigh(reduced_tangent(frame.stiffness(axial=N, along=along), b, held))
     v = np.zeros(b["K"].shape[0])
-    v[b["free"]] = Z @ V[:, 0]
+    v[b["free"]] = V[:, 0] if Z is None else Z @ V[:, 0]
     v /= np.abs(v).max() or 1.0
     return dict(zip(b["names"], map(tuple, v.reshape(-1, len(frame.DOFS)).tolist())))
 
@@ -315,7 +262,9 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     Before its end the path is written with the end's axial forces;
     ``second_order["path_axial_change"]`` says how far the axial forces
     along it (at each piece's middle) are from them, as a share of each
-    member's Euler load π²EI/L²: zero where the variable loads do not
+    member's Euler load π²EI/L² (N(x) along a plane member whose
+    variable loads have axial parts, at most: :func:`.second_order.axial_change`;
+    result_at(p) solves at p on its own): zero where the variable loads do not
     change the axial forces (a push on a column under its weight), small
     where they redistribute them (wind on a tower: the windward columns'
     compression drops, the leeward's grows, the storey's total stays)."""
@@ -332,7 +281,9 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     N_start = N.copy()
     error, ft, unstable, p_from, inside = np.inf, None, None, 0.0, None
     for rounds in range(1, ROUNDS + 1):
-        b = built_on(frame, N)
+        # N(x) of the load the axial forces were read at: the constant
+        # loads' first, then the path's last stable equilibrium's
+        b = built_on(frame, N, combination_at(const, var, 0.0 if inside is None else inside))
         p_from = 0.0
         try:
             ft = frame.trace(p_max, accuracy, constant=const, variable=var, _built=b, **options)
@@ -367,12 +318,16 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     # member's Euler load π²EI/L² (what they change in its stiffness)
     EI, L = bending(frame)
     euler = np.pi ** 2 * EI / L ** 2
+    # (N(x)'s where the stiffness took it and the variable loads have axial
+    # parts: its mean's change and, at most, the rest's, axial_change)
     change = 0.0
     for lo, hi in ft.intervals:
         if lo >= p_last:
             break
-        N_mid, _ = axial_forces(b, ft.result_at(0.5 * (lo + min(hi, p_last))))
-        change = max(change, float(np.max(np.abs(N_mid - N) / euler, initial=0.0)))
+        mid = ft.result_at(0.5 * (lo + min(hi, p_last)))
+        N_mid, _ = axial_forces(b, mid)
+        rest = axial_change(frame, mid.combination, b.get("along"))
+        change = max(change, float(np.max((np.abs(N_mid - N) + rest) / euler, initial=0.0)))
     fold = None
     if unstable is None and ft.limit is None and p_last > 0 and b["free"].size <= DENSE_DOFS:
         fold = fold_at_end(frame, b, ft, inside, p_last,
@@ -427,8 +382,8 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     words = (f"second order (P-Δ and P-δ): the stiffness is built from the axial forces of the "
              f"path's last stable equilibrium (p = {p_last:.10g}), which they agree with to "
              f"{error:.1e} after {rounds} round(s); along the path the axial forces differ "
-             f"from these by up to {change:.1e} of the members' Euler loads (result_at(p) "
-             "solves at p on its own)")
+             f"from these by up to {change:.1e} of the members' Euler loads (N(x) along a "
+             "member whose loads' axial parts vary it; result_at(p) solves at p on its own)")
     if p_from:
         words += (f"; on that stiffness the path starts at p = {p_from:.10g}, its first "
                   "certified equilibrium (below it the end's compression without its loads "
@@ -438,7 +393,7 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if error > tol:
         ft.ok = False
         words += f" — NOT CONVERGED (asked {tol:.0e})"
-    span = first_order_parts_along(frame, b["axial"], ft, inside, tol)
+    span = first_order_parts_along(frame, b["axial"], ft, inside, tol, b.get("along"))
     if span and ft.ok:
         ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"
@@ -485,8 +440,8 @@ def buckling_along_path(frame, b, ft, N_start):
     held = restraint(b, held_links(frame, b, res))
 
     def negatives(p):
-        return negative_eigenvalues(reduced_tangent(frame.stiffness(axial=N_start + p * dN),
-                                                    b, held))
+        return negative_eigenvalues(reduced_tangent(frame.stiffness(
+            axial=N_start + p * dN, along=ft.combination_at(p)), b, held))
 
     growing = dN < -rounding
     own = (own_buckling(frame)[growing] + N_start[growing]) / -dN[growing]
@@ -509,7 +464,7 @@ def first_unstable_piece(frame, b, ft):
     None (also where the frame is too large to check)."""
     if b["free"].size > DENSE_DOFS:
         return None
-    if past_own_buckling(frame, b["axial"]):      # one stiffness for the whole round
+    if past_own_buckling(frame, b["axial"], b.get("along")):   # one stiffness for the round
         return 0 if ft.intervals else None
     for k, (lo, hi) in enumerate(ft.intervals):
         top = hi if np.isfinite(hi) else lo + max(1.0, lo)
@@ -582,7 +537,8 @@ def fold_at_end(frame, b, ft, inside, p_last, held):
     free = b["free"]
     dF = load_vector(b, ft.variable)[0][free]
     Z = kept[0]
-    du = Z @ la.solve(Kr, Z.T @ dF, assume_a="sym")
+    du = (la.solve(Kr, dF, assume_a="sym") if Z is None
+          else Z @ la.solve(Kr, Z.T @ dF, assume_a="sym"))
     opening = b["H"][free][:, lifting].T @ du
     if not np.all(opening < 0):
         return None

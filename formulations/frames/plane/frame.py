@@ -347,17 +347,18 @@ class Frame:
         return any(c.friction > 0 for c in self.contacts)
 
     # -- assembly -----------------------------------------------------------
-    def build(self, axial=None):
+    def build(self, axial=None, along=None):
         """The assembly (K, links, R and R_F per case): see :mod:`.plane_assembly`;
-        ``axial``: the members' axial forces of a second-order stiffness."""
-        return plane_assembly.build(self, axial)
+        ``axial``: the members' axial forces of a second-order stiffness,
+        ``along``: the combination whose member loads make them vary."""
+        return plane_assembly.build(self, axial, along)
 
-    def stiffness(self, axial=None):
+    def stiffness(self, axial=None, along=None):
         """The frame's stiffness K (all dofs, CSR, in the nodes' axes) alone,
         first order or (``axial``: the members' axial forces, tension
         positive) second order: what α_cr's eigenvalue count reads, where
         K may be singular and ``build`` would refuse it."""
-        return plane_assembly.assemble(self, axial)[2]
+        return plane_assembly.assemble(self, axial, along)[2]
 
     def lcp(self, b=None):
         """The contact LCP of the split constant + p x variable as (M,

@@ -56,15 +56,16 @@ def sections(frame, res, m, x, deformed: bool = True):
     N, V, M = -f[0] - fx, f[1] + fy, -f[2] + f[1] * x + mo
     bent = beam_column_axis(frame, res, m, x) if deformed else None
     if bent is not None:
-        # on the deformed axis: the section moment adds N (v(x) − v(0)),
-        # V = dM/dx adds N v' (mechanics.beam_column)
-        axial, v0, v, dv = bent
-        V, M = V + axial * dv, M + axial * (v - v0)
+        # on the deformed axis: the section moment adds ∫₀ˣ N v' (N (v(x) −
+        # v(0)) for N constant), V = dM/dx adds N v' (mechanics.beam_column,
+        # mechanics.varying_axial)
+        axial, added, v, dv = bent
+        V, M = V + axial * dv, M + added
     return N, V, M
 
 
 def beam_column_axis(frame, res, m, x):
-    """(N, v(0), v(x), v'(x)) of a member of a second-order answer whose
+    """(N(x), ∫₀ˣ N v', v(x), v'(x)) of a member of a second-order answer whose
     element is the beam-column (Euler–Bernoulli, N ≠ 0: the stiffness's
     axial force), member axes, node to node (a rigid zone moves with its
     node); None for first order and for a shear-flexible member with span
@@ -73,11 +74,14 @@ def beam_column_axis(frame, res, m, x):
     part's by :func:`..mechanics.beam_column.deflection` from its ends'
     displacements through the rigid arms and their own rotations — a
     released end's from the element's moment row (hinge: the moment 0;
-    spring k: k (θ_node − θ_end)), its consistent loads the beam-column's."""
+    spring k: k (θ_node − θ_end)), its consistent loads the beam-column's.
+    Where its loads' axial parts make N vary (``res.stiffness_along``) the
+    member is :class:`..mechanics.varying_axial.Member`, as its element."""
     if res.stiffness_axial is None:
         return None
     axial = float(res.stiffness_axial[list(frame.members).index(m.name)])
-    if axial == 0.0:
+    varying = varying_member(frame, res, m)
+    if axial == 0.0 and varying is None:
         return None
     L, c, s = geometry(frame, m)
     oi, oj = m.offset_i, m.offset_j
@@ -91,7 +95,17 @@ def beam_column_axis(frame, res, m, x):
              for ld in loads_of(res, m)
              for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
     xf = np.clip(x, oi, L - oj) - oi
-    if m.GAs is None:
+    if varying is not None:
+        v, dv, added = varying.axis(parts, ends, m.end_springs, xf)
+        # N along the zones too (their own loads change it), and their own
+        # ∫ N v' = θ ∫ N dx (each moves with its node)
+        Nx = varying.N(np.asarray(x, float) - oi)
+        arm_i = varying.arms()[0]
+        beyond = np.maximum(np.asarray(x, float) - oi, Lf)
+        added = added + arm_i * di[2] + dj[2] * varying.integral(Lf, beyond)
+        added = np.where(x < oi, di[2] * varying.integral(-oi, np.minimum(x - oi, 0.0)),
+                         added)
+    elif m.GAs is None:
         v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
     elif parts:       # first order, judged by second_order.first_order_parts
         return None
@@ -102,7 +116,20 @@ def beam_column_axis(frame, res, m, x):
                                           ends[1::2], m.end_springs)
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
-    return axial, di[1], v, dv
+    if varying is not None:
+        return Nx, added, v, dv
+    return axial, axial * (v - di[1]), v, dv
+
+
+def varying_member(frame, res, m):
+    """The member's :class:`..mechanics.varying_axial.Member` where its
+    answer's stiffness took N(x) (its loads' axial parts in
+    ``res.stiffness_along``; Euler–Bernoulli), else None."""
+    from ..mechanics.varying_axial import of_member
+
+    return of_member(m, *geometry(frame, m),
+                     float(res.stiffness_axial[list(frame.members).index(m.name)]),
+                     getattr(res, "stiffness_along", None))
 
 
 def deflection(frame, res, member: str, points: int):
@@ -170,3 +197,60 @@ def axial_displacement(frame, res, m, x):
     di = rotation(c, s)[:3, :3] @ res._u[idx[m.i]:idx[m.i] + 3]
     before = gs[None, :] < np.clip(x, a, e)[:, None]
     return di[0] + (before * (gw * N / (m.E * m.A))) @ np.ones_like(gs)
+
+
+def varying_couples(frame, b, u, couples) -> np.ndarray:
+    """``couples`` (:func:`..mechanics.second_order.pdelta_couples`, N̄
+    (v_j − v_i) per member) with those of the members whose stiffness took
+    N(x) (``b["along"]``) replaced by their own, ∫ N v' node to node: the
+    moment of their end forces in the undeformed frame (N (v_j − v_i) at j
+    and the axial loads' ∫ p (v − v_i) on the deflected axis) — no longer
+    one of the nodes' displacements alone; ``u`` the global displacements.
+    The statics check sums the nodes' loads, the members' consistent ones
+    among them, whose moment is not their span loads' where N varies (a
+    rigid turn of the member is not one of its solutions: (N v')' = N'),
+    so each such couple also carries the difference, ρ·f_e less the span
+    loads' moment about node i (f_e the member's nodal loads as assembled,
+    its releases condensed; ρ the turn about node i, (0, 1, L, 1) on v, θ;
+    by virtual work the end forces' moment is ∫ N v' less the loads')."""
+    along = b.get("along")
+    if not along:
+        return couples
+    from ..mechanics.varying_axial import of_member
+
+    from ..mechanics.contact_lcp import factors
+
+    couples = np.array(couples, float)
+    fe_all = b["local"][3] @ factors(b, along)
+    for k, m in enumerate(frame.members.values()):
+        L, c, s = geometry(frame, m)
+        member = (of_member(m, L, c, s, float(b["axial"][k]), along) if m.loads else None)
+        if member is None:
+            continue
+        oi, oj = m.offset_i, m.offset_j
+        T = rotation(c, s)[:3, :3]
+        di = T @ u[b["idx"][m.i]:b["idx"][m.i] + 3]
+        dj = T @ u[b["idx"][m.j]:b["idx"][m.j] + 3]
+        parts = [part[:-2] + tuple(along[ld.case] * np.array(part[-2:]))
+                 for ld in m.loads if along.get(ld.case)
+                 for part in [beam_column.flexible_part(ld, L, c, s, oi, oj)] if part]
+        ends = [di[1] + oi * di[2], di[2], dj[1] - oj * dj[2], dj[2]]
+        added = member.axis(parts, ends, m.end_springs, np.array([member.L]))[2][0]
+        turn = np.array([1.0, L, 1.0]) @ fe_all[k, [2, 4, 5]] - sum(
+            along[ld.case] * load_moment(beam_column.across(ld, c, s))
+            for ld in m.loads if along.get(ld.case))
+        arm_i, arm_j = member.arms()
+        couples[k] = added + arm_i * di[2] + arm_j * dj[2] + turn
+    return couples
+
+
+def load_moment(part) -> float:
+    """The moment about x = 0 of a load part across the axis
+    (:func:`..mechanics.beam_column.across`): a force's p a plus its
+    couple, a trapezoid's ∫ q x dx."""
+    if part[0] == "point":
+        _, a, py, mz = part
+        return py * a + mz
+    _, a, b, w1, w2 = part
+    # ∫ (w1 + (w2 − w1) t) (a + (b − a) t) (b − a) dt over [0, 1]
+    return (b - a) * (w1 * a + (w1 * (b - a) + (w2 - w1) * a) / 2 + (w2 - w1) * (b - a) / 3)

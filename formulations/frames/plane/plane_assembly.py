@@ -34,7 +34,7 @@ def cases(frame) -> list:
     return sorted(names)
 
 
-def assemble(frame, axial=None):
+def assemble(frame, axial=None, along=None):
     """K (CSR), loads F and settlements U (one column per case), the fixed
     dofs, the members' local data for the results (k, T, dofs, Fe) and the
     nodes' coordinates: all members at once (K and the members' loads F
@@ -49,7 +49,7 @@ def assemble(frame, axial=None):
     col = {c: k for k, c in enumerate(case_list)}
     nc = len(case_list)
     if frame.members:
-        local = member_locals(frame, xy, idx, col, axial)
+        local = member_locals(frame, xy, idx, col, axial, along)
     else:
         local = (np.zeros((0, 6, 6)), np.zeros((0, 6, 6)), np.zeros((0, 6), np.int64),
                  np.zeros((0, 6, nc)))
@@ -184,14 +184,17 @@ def check_conflicts(frame):
                     "remove one of them")
 
 
-def build(frame, axial=None):
+def build(frame, axial=None, along=None):
     """Assemble K, the links, and the LU of the basic system (every link
     fixed).  Returns a :class:`Built` with everything the routes and the
     results need; R and R_F come on first use.  ``axial``: the members'
     axial forces (tension positive, in the order of ``frame.members``) of
-    a second-order stiffness, kept as ``b["axial"]``; None: first order."""
+    a second-order stiffness, kept as ``b["axial"]``; None: first order;
+    ``along``: the combination whose member loads' axial parts make N vary
+    along the members (:func:`..mechanics.plane_element.member_locals`),
+    kept as ``b["along"]``."""
     check_conflicts(frame)
-    names, idx, K, F, U, case_list, fixed, local, Tn, coords = assemble(frame, axial)
+    names, idx, K, F, U, case_list, fixed, local, Tn, coords = assemble(frame, axial, along)
     N = K.shape[0]
     table = contact_table(frame, idx)
     H, info, arrays, maps = links(frame, idx, N, table)
@@ -220,6 +223,7 @@ def build(frame, axial=None):
               coords=coords,
               fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,
               axial=None if axial is None else np.asarray(axial, float), **basic)
+    b["along"] = None if axial is None or not along else dict(along)
     b["contact_arrays"] = arrays
     b["maps"] = maps         # which the shared LCP reads
     return b

@@ -21,6 +21,7 @@ from ..mechanics.member_forces import refined_actions
 from ..mechanics.no_equilibrium import motion_words
 from ..mechanics.plane_element import DOFS
 from . import plane_assembly
+from .member_diagrams import varying_couples
 from .plane_results import FrameResult, SupportResult
 
 
@@ -174,7 +175,7 @@ def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> FrameRe
                        route=route, ok=ok, message=msg, frame=frame, _u=u,
                        combination=dict(combo), displacement_ratio=ratio,
                        max_rotation=rot, displacement_words=words,
-                       stiffness_axial=b.get("axial"))
+                       stiffness_axial=b.get("axial"), stiffness_along=b.get("along"))
 
 
 def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
@@ -219,7 +220,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms, HX=None, abs_hx=None):
     if b.get("axial") is not None:
         # second order: the members' end forces are in equilibrium on the
         # deformed frame, so the undeformed moments sum to their P-Δ couples
-        couples = second_order.pdelta_couples(frame, b, u)
+        couples = varying_couples(frame, b, u, second_order.pdelta_couples(frame, b, u))
         res[2] = abs((mz + xy[:, 0] * fy - xy[:, 1] * fx).sum() - couples.sum())
         scale[2] += np.abs(couples).sum()
     big_m = (am + lx * ay + ly * ax).max(initial=0.0)

@@ -524,17 +524,17 @@ class SpaceFrame:
     def has_friction(self) -> bool:
         return any(c.friction > 0 for c in self.contacts)
 
-    def build(self, axial=None):
+    def build(self, axial=None, along=None):
         """The assembly the solving routes share with the plane frame (an
         :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic
         system's LU, the faceted cones' maps; R and R_F on first use
-        (:func:`.space_assembly.build`); ``axial``: the members' axial
-        forces of a second-order stiffness."""
+        (:func:`.space_assembly.build`); ``axial``: the members' axial forces
+        of a second-order stiffness (``along`` unread: constant along a member)."""
         return space_assembly.build(self, axial)
 
-    def stiffness(self, axial=None):
+    def stiffness(self, axial=None, along=None):
         """The frame's stiffness K (all dofs, CSR) alone, first order or
-        (``axial``) second order: what α_cr's eigenvalue count reads."""
+        (``axial``; ``along`` unread) second order: what α_cr's count reads."""
         return space_assembly.assemble(self, axial)[0]
 
     # -- analysis: the shared functions called on this model ---------------

@@ -103,40 +103,73 @@ def test_a_second_order_trace_on_the_circular_cone():
                                atol=1e-15)
 
 
+def _weighted_portal(n, share, shear=False, lumped=False):
+    """The hinged-base portal at ``share`` of its α_cr (without weight),
+    its columns under a self-weight of 3e-5 of their Euler load, cut into
+    ``n`` pieces (shear-flexible ones where ``shear``; their weight lumped
+    at the cuts where ``lumped``)."""
+    q = 3e-5 * np.pi ** 2 * E * I / h ** 3
+    fr = Frame()
+    for name, x, y in (("A", 0, 0), ("B", 4, 0), ("C", 0, h), ("D", 4, h)):
+        fr.add_node(name, x, y)
+    for col, (i, j, x) in {"c1": ("A", "C", 0.0), "c2": ("B", "D", 4.0)}.items():
+        pts = [i] + [f"{col}_{k}" for k in range(1, n)] + [j]
+        for k in range(1, n):
+            fr.add_node(pts[k], x, h * k / n)
+        for k in range(n):
+            name = fr.add_member(pts[k], pts[k + 1], E, A, I, name=f"{col}#{k}",
+                                 **({"G": 8e7, "shear_area": A * 5 / 6} if shear else {}))
+            if lumped:
+                for node in pts[k:k + 2]:
+                    fr.add_load(node, fy=-0.5 * q * h / n)
+            else:
+                fr.add_distributed_load(name, 0.0, -q)
+    fr.add_member("C", "D", E, A, 0.1 * I, name="beam")
+    fr.add_support("A", ("ux", "uy"))
+    fr.add_support("B", ("ux", "uy"))
+    fr.add_load("C", fx=1e-4 * np.pi ** 2 * E * I / h ** 2, fy=-share)
+    fr.add_load("D", fy=-share)
+    return fr
+
+
 def test_a_column_that_the_frame_sways_more_than_its_own_load_says_is_refused():
     """spread_through_frame (no test reached it: the cantilever's is
     refused by the member's own bound): the hinged-base portal at 0.9 of
-    its α_cr, its columns under a self-weight of 3e-5 of their Euler load.
-    The member bound alone passes it at "low"; the uncut answer's column
-    moment is 2.4e-4 off the columns cut into 64 pieces (32 and 64 agree
-    to 2e-7), so the frame's α_cr refuses it."""
+    its α_cr, its shear-flexible columns under a self-weight of 3e-5 of
+    their Euler load.  The member bound alone passes it at "low"; the
+    uncut answer's column moment is 2.4e-4 off the columns cut into 64
+    pieces (32 and 64 agree to 2e-7), so the frame's α_cr refuses it."""
     P1 = critical_load_factor(pinned_portal(1.0), pinned_portal(1.0).solve(
         second_order=True))["alpha"]
-    q = 3e-5 * np.pi ** 2 * E * I / h ** 3
-
-    def portal(n):
-        fr = Frame()
-        for name, x, y in (("A", 0, 0), ("B", 4, 0), ("C", 0, h), ("D", 4, h)):
-            fr.add_node(name, x, y)
-        for col, (i, j, x) in {"c1": ("A", "C", 0.0), "c2": ("B", "D", 4.0)}.items():
-            pts = [i] + [f"{col}_{k}" for k in range(1, n)] + [j]
-            for k in range(1, n):
-                fr.add_node(pts[k], x, h * k / n)
-            for k in range(n):
-                fr.add_distributed_load(fr.add_member(pts[k], pts[k + 1], E, A, I,
-                                                      name=f"{col}#{k}"), 0.0, -q)
-        fr.add_member("C", "D", E, A, 0.1 * I, name="beam")
-        fr.add_support("A", ("ux", "uy"))
-        fr.add_support("B", ("ux", "uy"))
-        fr.add_load("C", fx=1e-4 * np.pi ** 2 * E * I / h ** 2, fy=-0.9 * P1)
-        fr.add_load("D", fy=-0.9 * P1)
-        return fr
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        low = portal(1).solve(second_order=True, accuracy="low", raise_on_failure=False)
-        one = portal(1).solve(second_order=True, raise_on_failure=False)
-        ref = portal(64).solve(second_order=True)
+        low = _weighted_portal(1, 0.9 * P1, shear=True).solve(
+            second_order=True, accuracy="low", raise_on_failure=False)
+        one = _weighted_portal(1, 0.9 * P1, shear=True).solve(
+            second_order=True, raise_on_failure=False)
+        ref = _weighted_portal(64, 0.9 * P1, shear=True).solve(second_order=True)
     assert not low.ok and "judged with the frame's α_cr" in low.message, low.message
     top = ref.member_forces["c1#63"][5]
     assert abs(one.member_forces["c1#0"][5] / top - 1) > 1e-4
+
+
+def test_the_same_portal_with_euler_bernoulli_columns_takes_their_n_as_it_varies():
+    """The same portal with Euler–Bernoulli columns: their element takes
+    N(x) (mechanics.varying_axial), so uncut it is ok and its column's top
+    moment is the cut columns' limit — 32 and 64 constant-N pieces, their
+    weight lumped at the cuts, extrapolated as 1/n² (it was refused, its
+    moment 2.4e-4 off)."""
+    P1 = critical_load_factor(pinned_portal(1.0), pinned_portal(1.0).solve(
+        second_order=True))["alpha"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        low = _weighted_portal(1, 0.9 * P1).solve(second_order=True, accuracy="low",
+                                                  raise_on_failure=False)
+        one = _weighted_portal(1, 0.9 * P1).solve(second_order=True, raise_on_failure=False)
+        cut = [_weighted_portal(n, 0.9 * P1, lumped=True).solve(second_order=True)
+               for n in (32, 64)]
+    assert low.ok and one.ok, (low.message, one.message)
+    top = [r.member_forces[f"c1#{n - 1}"][5] for r, n in zip(cut, (32, 64))]
+    limit = (4 * top[1] - top[0]) / 3
+    assert one.member_forces["c1#0"][5] == pytest.approx(limit, rel=1e-8)
+    assert low.member_forces["c1#0"][5] == pytest.approx(limit, rel=1e-4)

@@ -130,15 +130,17 @@ def test_a_trace_whose_variable_loads_bend_a_compressed_member_is_the_beam_colum
 
 
 def test_axial_parts_of_member_loads_under_compression_are_not_ok_where_they_matter():
-    # a column's own weight makes N vary along it about the mean the
-    # element takes: bounded, not ok beyond the accuracy asked; cut into
-    # pieces, each piece's spread is small
+    # a shear-flexible column's own weight makes N vary along it about the
+    # mean its element takes: bounded, not ok beyond the accuracy asked;
+    # cut into pieces, each piece's spread is small (an Euler–Bernoulli
+    # member takes N(x) as it is: test_second_order_varying_axial.py)
     def column(pieces):
         fr = Frame()
         for k in range(pieces + 1):
             fr.add_node(f"N{k}", 0.0, L * k / pieces)
         for k in range(pieces):
-            fr.add_member(f"N{k}", f"N{k + 1}", E, 0.01, I, name=f"C{k}")
+            fr.add_member(f"N{k}", f"N{k + 1}", E, 0.01, I, name=f"C{k}", G=8e7,
+                          shear_area=0.01 * 5 / 6)
             fr.add_distributed_load(f"C{k}", wy=-0.2 * P_E / L, case="D")
         fr.add_support("N0", fix=("ux", "uy"))
         fr.add_support(f"N{pieces}", fix=("ux",))
@@ -190,12 +192,14 @@ def test_a_member_with_shear_deformation_and_no_axial_force_is_left_alone():
 
 def test_a_swaying_column_under_its_own_weight_is_judged_on_its_sway_load():
     """A cantilever column at 0.24 of π²EI/L² (0.96 of its sway buckling
-    load, α_cr ≈ 1.04) under a self-weight of 1e-4 of it: the element takes
-    N as the mean along the member, and its base moment and tip sway are
-    2.0e-3 off (the column cut into 32 and 64 pieces, which agree to
-    1.2e-6).  The member's own bound on its pinned load said 1e-5: ok at
-    "low".  On its sway load P_p/4 (and the frame's α_cr) it is not ok;
-    without the self-weight the same column is ok."""
+    load, α_cr ≈ 1.04) under a self-weight of 1e-4 of it: a shear-flexible
+    element takes N as the mean along the member (an Euler–Bernoulli one
+    as the mean, its base moment and tip sway were 2.0e-3 off: the column
+    cut into 32 and 64 pieces, which agree to 1.2e-6).  The member's own
+    bound on its pinned load said 1e-5: ok at "low".  On its sway load
+    P_p/4 (and the frame's α_cr) it is not ok; without the self-weight the
+    same column is ok.  (The Euler–Bernoulli column now takes N(x):
+    test_second_order_varying_axial.py.)"""
     E_, A_, I_, L_ = 2e8, 1e-2, 1e-5, 5.0
     P_p = np.pi ** 2 * E_ * I_ / L_ ** 2
 
@@ -203,7 +207,7 @@ def test_a_swaying_column_under_its_own_weight_is_judged_on_its_sway_load():
         fr = Frame()
         fr.add_node("A", 0.0, 0.0)
         fr.add_node("B", 0.0, L_)
-        fr.add_member("A", "B", E_, A_, I_, name="col")
+        fr.add_member("A", "B", E_, A_, I_, name="col", G=8e7, shear_area=A_ * 5 / 6)
         if weight:
             fr.add_distributed_load("col", 0.0, -weight / L_)      # along the axis
         fr.add_support("A")

@@ -1,0 +1,159 @@
+"""Second order with N varying along the members: the steel sway portal
+under its own weight (HEB 300 columns 6 m high fixed at A and D, an IPE
+400 beam 12 m across under 30 kN/m, 20 kN sideways at B, self-weight at
+78.5 kN/m³), uncut and with each column cut into k members.
+
+Table 1: per k, whether the answer is ok at "low" and "high", its base
+moment M_A and sway of B at "high", the solve's and α_cr's wall and CPU
+time.  The reference (last row): the columns cut into 32 and 64
+constant-N elements with their weight lumped at the cuts (no member load
+with an axial part: the stability functions' route) extrapolated as 1/k²
+(Richardson); the uncut answer must be ok and within 1e-9 of it.
+
+Table 2 (``--kernels``): the two parts of α_cr's bisection step that
+grew with k, on the portal's reduced tangent at 42 × its loads — the
+projection Zᵀ(K + S)Z with Z = I (now skipped where no link is rigid) and
+the count of negative eigenvalues by eigvalsh against an LDLᵀ's inertia.
+
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/frames_varying_axial.py [--k 1 16 32 64] [--kernels]
+
+Pin BLAS to one thread on a shared machine: unpinned, OpenBLAS's threads
+made one eigvalsh of the 384-dof tangent 1.5 s (5 ms pinned) on two busy
+cores.  Exits non-zero when the uncut answer is not ok at "high" or off
+the reference by more than 1e-9.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+import warnings
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+import scipy.linalg as la  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from formulations.frames import Frame  # noqa: E402
+from formulations.frames.mechanics import tangent_stiffness  # noqa: E402
+from formulations.frames.mechanics.second_order_analysis import critical_load_factor  # noqa: E402
+
+E, GAMMA, H, SPAN = 210e9, 78.5e3, 6.0, 12.0
+A_C, I_C, A_B, I_B = 149e-4, 25170e-8, 84.5e-4, 23130e-8
+
+
+def portal(k=1, lumped=False):
+    """The portal, its columns cut into k members (their weight lumped at
+    the cuts where ``lumped``), all loads in case "D"."""
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("D", SPAN, 0.0)
+    fr.add_node("B", 0.0, H)
+    fr.add_node("C", SPAN, H)
+    for side, x, base, top in (("L", 0.0, "A", "B"), ("R", SPAN, "D", "C")):
+        nodes = [base] + [f"{side}{j}" for j in range(1, k)] + [top]
+        for j in range(1, k):
+            fr.add_node(nodes[j], x, H * j / k)
+        for j in range(k):
+            fr.add_member(nodes[j], nodes[j + 1], E, A_C, I_C, name=f"c{side}{j + 1}")
+            if lumped:
+                for node in nodes[j:j + 2]:
+                    fr.add_load(node, fy=-0.5 * GAMMA * A_C * H / k, case="D")
+    fr.add_member("B", "C", E, A_B, I_B, name="b")
+    if not lumped:
+        fr.add_self_weight("D", unit_weight=GAMMA)
+        fr.add_distributed_load("b", wy=-30e3, case="D")
+    else:
+        fr.add_distributed_load("b", wy=-30e3 - GAMMA * A_B, case="D")
+    fr.add_support("A")
+    fr.add_support("D")
+    fr.add_load("B", fx=20e3, case="D")
+    return fr
+
+
+def timed(f):
+    w, c = time.perf_counter(), time.process_time()
+    out = f()
+    return out, time.perf_counter() - w, time.process_time() - c
+
+
+def solve(fr, accuracy="high"):
+    return fr.solve(combination={"D": 1.0}, second_order=True, accuracy=accuracy,
+                    raise_on_failure=False)
+
+
+def reference():
+    """(M_A, ux_B): the lumped cut portal at 32 and 64, extrapolated."""
+    vals = []
+    for k in (32, 64):
+        res = solve(portal(k, lumped=True))
+        assert res.ok, res.message
+        vals.append(np.array([res.diagram("cL1", 2)[3][0], res.displacements["B"][0]]))
+    return (4 * vals[1] - vals[0]) / 3
+
+
+def kernels(ks):
+    print("\nα_cr's step on the portal's reduced tangent at 42 × its loads (best of 5), ms")
+    print(f"{'k':>4} {'dofs':>5} {'Z=I proj':>9} {'no proj':>8} {'eigvalsh':>9} {'LDL':>7}  counts")
+
+    def best(f):
+        return min(timed(f)[1] for _ in range(5)) * 1e3
+
+    for k in ks:
+        fr = portal(k)
+        b = fr.build()
+        res = solve(fr)
+        N = np.array([res.second_order["axial"][m] for m in fr.members])
+        K = fr.stiffness(axial=42.0 * N, along={"D": 42.0})
+        n = b["free"].size
+        S = np.zeros((n, n))
+        Kr = tangent_stiffness.reduced_tangent(K, b, (None, S))
+
+        def by_eigenvalues():
+            d = 1.0 / np.sqrt(np.abs(np.diag(Kr)))
+            lam = la.eigvalsh(Kr * d[:, None] * d[None, :])
+            return int(np.sum(lam < -16 * n * np.finfo(float).eps * np.abs(lam).max()))
+
+        print(f"{k:>4} {n:>5} {best(lambda: tangent_stiffness.reduced_tangent(K, b, (np.eye(n), S))):>9.2f}"
+              f" {best(lambda: tangent_stiffness.reduced_tangent(K, b, (None, S))):>8.2f}"
+              f" {best(by_eigenvalues):>9.2f} {best(lambda: tangent_stiffness.negative_eigenvalues(Kr)):>7.2f}"
+              f"  {by_eigenvalues()} {tangent_stiffness.negative_eigenvalues(Kr)}")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--k", type=int, nargs="+", default=[1, 16, 32, 64])
+    ap.add_argument("--kernels", action="store_true")
+    args = ap.parse_args(argv)
+    warnings.simplefilter("ignore")
+    print(f"load average {' '.join(open('/proc/loadavg').read().split()[:3])}")
+    print(f"{'k':>4} {'ok low':>6} {'ok high':>7} {'M_A [N m]':>18} {'ux_B [m]':>18}"
+          f" {'solve s':>8} {'cpu':>6} {'α_cr':>12} {'α s':>6} {'cpu':>6}")
+    rows = {}
+    for k in args.k:
+        low = solve(portal(k), "low")
+        fr = portal(k)
+        res, w, c = timed(lambda: solve(fr))
+        alpha, wa, ca = timed(lambda: critical_load_factor(fr, res))
+        rows[k] = (res.ok, res.diagram("cL1", 2)[3][0], res.displacements["B"][0])
+        print(f"{k:>4} {str(low.ok):>6} {str(res.ok):>7} {rows[k][1]:>18.10f} {rows[k][2]:>18.12e}"
+              f" {w:>8.2f} {c:>6.2f} {alpha['alpha']:>12.9f} {wa:>6.2f} {ca:>6.2f}")
+    ref = reference()
+    print(f"{'ref':>4} {'':>6} {'':>7} {ref[0]:>18.10f} {ref[1]:>18.12e}"
+          "   (32 and 64 constant-N pieces, weight lumped, Richardson)")
+    failed = 0
+    if 1 in rows:
+        off = abs(rows[1][1] / ref[0] - 1), abs(rows[1][2] / ref[1] - 1)
+        print(f"uncut against the reference: M_A {off[0]:.1e}, ux_B {off[1]:.1e}")
+        failed = int(not rows[1][0] or max(off) > 1e-9)
+    if args.kernels:
+        kernels(args.k)
+    print(f"load average {' '.join(open('/proc/loadavg').read().split()[:3])}")
+    return failed
+
+
+if __name__ == "__main__":
+    sys.exit(main())
