@@ -32,8 +32,11 @@ solution of the VI — with no convergence proof (F is not monotone where μ‖u
 bends it, and W is only semidefinite); the certificate decides.  No linear
 solve anywhere, so W's singularity (a hyperstatic pile) does not enter.
 
-Its cost is the products W r, two or more an iteration, with W as the problem
-stores it (sparse).  The natural-map error of r comes free with F(r) and is
+Its cost is the products W r, two or more an iteration, with W in CSR; the
+iterations run compiled (:mod:`qpcontact.solvers.friction._vi_eg_kernels`):
+in numpy the projections and norms cost twice the products on the dense
+piles (docs/dev-notes.md, "A projected-gradient friction method").
+The natural-map error of r comes free with F(r) and is
 checked every ``check_every`` iterations; the iterate with the smallest one
 is returned, and the method stops where a checked iterate is certified
 (:func:`qpcontact.judge.friction_certificate.certified_error`).
@@ -65,14 +68,6 @@ VI_EG_OPTIONS = (
 )
 
 
-def _modified_velocity(W, q, mu, d, r):
-    """F(r) = û = u + μ‖u_T‖ e_N with u = W r + q."""
-    u = W @ r + q
-    U = u.reshape(-1, d)
-    U[:, 0] += mu * np.linalg.norm(U[:, 1:], axis=1)
-    return u
-
-
 def solve_vi_eg(problem, tol, options):
     """Projected gradient with Khobotov's step (Siconos's VI_EG; module
     docstring), from r = 0 or ``r0``.  Stops when a checked iterate is
@@ -87,15 +82,21 @@ def solve_vi_eg(problem, tol, options):
     time_limit = opts["time_limit"]
     deadline = Deadline(time_limit)
     d, mu, q = problem.dim, problem.mu, problem.q
-    W = sp.csr_matrix(problem.W) if sp.issparse(problem.W) else np.asarray(problem.W, float)
+    from ._vi_eg_kernels import iterations, modified_velocity   # numba: imported where it runs
+
+    W = sp.csr_matrix(problem.W, dtype=float)
+    W.sum_duplicates()
+    csr = (W.indptr.astype(np.int64), W.indices.astype(np.int64), W.data)
+    q, mu = np.ascontiguousarray(q, float), np.ascontiguousarray(mu, float)
     r0 = starting_point("vi-eg", problem, opts["r0"])
     r = project_cone(np.zeros(q.size) if r0 is None else r0, mu, d)
     scale = 1.0 + np.linalg.norm(q)
     rho = opts["rho"]
     best, best_r, certified = np.inf, r.copy(), np.inf
     why, it = None, 0
+    f = np.empty(q.size)
+    modified_velocity(*csr, q, mu, d, r, f)
     while True:
-        f = _modified_velocity(W, q, mu, d, r)
         if it % every == 0 or it >= max_iter:
             nat = np.linalg.norm(r - project_cone(r - f, mu, d)) / scale
             if nat < best:
@@ -114,18 +115,9 @@ def solve_vi_eg(problem, tol, options):
             why = f"stopped at {max_iter} iterations"
         if why is not None:
             break
-        it += 1
-        rho /= _SHRINK
-        for _ in range(_TRIES):
-            rho *= _SHRINK
-            bar = project_cone(r - rho * f, mu, d)
-            fbar = _modified_velocity(W, q, mu, d, bar)
-            moved, changed = np.linalg.norm(bar - r), np.linalg.norm(fbar - f)
-            if rho * changed < _RATIO * moved:
-                break
-        r = project_cone(bar - rho * fbar, mu, d)
-        if rho * changed < _RATIO_LOW * moved:
-            rho *= _GROW
+        n = min(every - it % every, max_iter - it)
+        rho = iterations(*csr, q, mu, d, r, f, rho, n, _SHRINK, _GROW, _RATIO, _RATIO_LOW, _TRIES)
+        it += n
     ok = certified <= tol
     return best_r, "solved" if ok else "stopped", \
         f"VI_EG {why} after {it} iterations (natural-map error {best:.2e})", \
