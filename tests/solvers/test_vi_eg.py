@@ -99,7 +99,7 @@ def test_max_iter_stops_it_and_says_so():
     p = _pile()
     s = qpcontact.solve(p, "vi-eg", accuracy=1e-6, max_iter=7, check_every=3)
     assert not s.ok and s.iterations == 7
-    assert "stopped at 7 iterations" in s.message, s.message
+    assert "stopped at max_iter = 7 after 7 iterations" in s.message, s.message
 
 
 def test_time_limit_stops_it_and_says_so():

@@ -112,7 +112,7 @@ def solve_vi_eg(problem, tol, options):
             elif deadline.expired():
                 why = f"stopped at its time limit of {time_limit:.3g} s"
         if why is None and it >= max_iter:
-            why = f"stopped at {max_iter} iterations"
+            why = f"stopped at max_iter = {max_iter}"
         if why is not None:
             break
         n = min(every - it % every, max_iter - it)
