@@ -7,6 +7,7 @@ whatever a method says, and the componentwise error of
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/friction.py
     .venv/bin/python benchmarks/friction.py --skip-large     # the two big granular files out
+    .venv/bin/python benchmarks/friction.py --methods vi-eg --piles "" --piles-3d ""  # one method
 
 Each method runs once per problem with tol = 1e-8 (a method's stopping test
 is its own: the fixed points stop at the tolerance or when they stall) in its
@@ -71,6 +72,7 @@ METHODS = [
     ("newton", "newton", {}),
     ("nsgs", "nsgs", {}),
     ("nsgs-newton", "nsgs-newton", {}),
+    ("vi-eg", "vi-eg", {}),
     ("auto", "auto", {}),
 ]
 LEVELS = (1e-4, 1e-6, 1e-8)
@@ -425,6 +427,8 @@ def main(argv=None) -> int:
     ap.add_argument("--piles-3d", default="500,1000,2000", help="3-D pile sizes in contacts")
     ap.add_argument("--seeds", default="0", help="pile seeds, comma-separated")
     ap.add_argument("--only-piles", action="store_true", help="leave the shared collection out")
+    ap.add_argument("--methods", default="",
+                    help="the shared collection's methods by label, comma-separated (default all)")
     ap.add_argument("--dense", action="store_true",
                     help="only the dense rows (3-D compact seeds 0-9, 2-D compact to 10 000)")
     args = ap.parse_args(argv)
@@ -456,6 +460,10 @@ def main(argv=None) -> int:
         print(f"no friction data at {DATA}: nothing to measure")
         return 0
     files = sorted(p for p in DATA.glob("*") if p.suffix in (".dat", ".hdf5"))
+    wanted = [w for w in args.methods.split(",") if w]
+    chosen = [m for m in METHODS if not wanted or m[0] in wanted]
+    if wanted and len(chosen) != len(wanted):
+        ap.error(f"--methods: choose from {', '.join(m[0] for m in METHODS)}")
     rows = []
     for path in files:
         if args.skip_large and path.name in LARGE:
@@ -464,7 +472,7 @@ def main(argv=None) -> int:
         if p.n_contacts == 0:
             continue   # the global granular file holds no contact
         print(f"{path.name} (dim {p.dim}, {p.n_contacts} contacts)", flush=True)
-        for label, method, options in METHODS:
+        for label, method, options in chosen:
             if method == "lemke" and options.get("facets") and p.dim == 2:
                 continue   # a 2-D cone has two facets: the first row
             if options.get("backend") not in (None, "clarabel", "scs") and p.dim != 2:
@@ -474,7 +482,7 @@ def main(argv=None) -> int:
             rows.append(r)
             print(f"    {label:34s} {r['time']:8.3f} s  error {r['error']:.1e}  {r['status']}"
                   f"{'  (' + r['by'] + ')' if method == 'auto' else ''}", flush=True)
-    labels = [m[0] for m in METHODS]
+    labels = [m[0] for m in chosen]
     print("\n| method | problems | solved at 1e-4 | 1e-6 | 1e-8 | median time s (solved at 1e-8) "
           "| total time s | median iterations |")
     print("|---|---|---|---|---|---|---|---|")

@@ -29,7 +29,7 @@ IN_HOUSE = {
     "pivoting": ("energy", "bpp", "ip-bpp", "mg-bpp", "lemke", "enumeration"),
     "trace": ("trace",),
     "friction": ("nsgs", "nsgs-newton", "nsgs-restarts", "anitescu", "desaxce-fp", "tresca-fp",
-                 "newton", "ip-lcp", "desaxce-global"),
+                 "newton", "vi-eg", "ip-lcp", "desaxce-global"),
 }
 _loaded: set = set()
 

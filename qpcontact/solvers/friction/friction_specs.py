@@ -19,6 +19,7 @@ from .newton import solve_natural_newton
 from .hybrid import solve_nsgs_newton
 from .interior_lcp import solve_ip_lcp
 from .nsgs import solve_nsgs
+from .projected_gradient import solve_vi_eg
 from .restarts import solve_nsgs_restarts
 
 __all__ = ["specs"]
@@ -65,6 +66,8 @@ def specs() -> list[Method]:
                algorithm="fixed point of Tresca SOCPs", **common),
         Method("newton", _run(solve_natural_newton), takes="friction",
                algorithm="semismooth Newton on the natural map", **common),
+        Method("vi-eg", _run(solve_vi_eg), takes="friction",
+               algorithm="projected gradient with Khobotov's step (Siconos VI_EG)", **common),
         Method("ip-lcp", _run(solve_ip_lcp), takes="friction", problems=("friction-2d",),
                algorithm="interior point on the 2-D LCP, its path followed past folds; "
                          "Newton's polish", **common),
