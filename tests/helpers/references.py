@@ -1,4 +1,4 @@
-"""Independent references for the pivoting tests: textbook algorithms in exact
+"""Independent references for the pivoting and friction tests: textbook algorithms in exact
 rational arithmetic and brute-force enumeration.  Deliberately slow and
 simple; they share no code with qpcontact."""
 
@@ -147,3 +147,31 @@ def exact_basic_solution(M, q, active) -> tuple[np.ndarray, np.ndarray]:
     z, w = _exact_basic(Mf, qf, [int(i) for i in np.flatnonzero(active)])
     assert all(v >= 0 for v in z) and all(v >= 0 for v in w), "not a solution on this basis"
     return np.array([float(v) for v in z]), np.array([float(v) for v in w])
+
+
+def natural_map_error_by_hand(W, q, mu, r) -> float:
+    """Siconos's natural-map error ‖r − P_K(r − û)‖ / (1 + ‖q‖), written out
+    contact by contact (û = u + μ‖u_T‖ e_N, u = W r + q; P_K the projection
+    onto the Coulomb cone in closed form): the friction tests' reference,
+    independent of the package's own measure."""
+    if len(mu) == 0:
+        return 0.0
+    u = W @ r + q
+    d = len(r) // len(mu)
+    total = 0.0
+    for i, m in enumerate(mu):
+        ri, ui = r[d * i:d * i + d], u[d * i:d * i + d]
+        uh = ui.copy()
+        uh[0] += m * np.linalg.norm(ui[1:])
+        x = ri - uh
+        xn, xt = x[0], x[1:]
+        nt = np.linalg.norm(xt)
+        if nt <= m * xn:
+            p = x
+        elif m * nt <= -xn:
+            p = np.zeros(d)
+        else:
+            a = (xn + m * nt) / (1 + m * m)
+            p = np.r_[a, m * a * xt / nt]
+        total += np.sum((ri - p) ** 2)
+    return np.sqrt(total) / (1 + np.linalg.norm(q))

@@ -15,6 +15,7 @@ from qpcontact.core.friction_problem import FrictionProblem, project_cone
 from qpcontact.judge.friction_certificate import natural_map_error
 from qpcontact.io import read_fclib, read_siconos_fc, write_fclib
 from tests.helpers.paths import SHARED_DATA
+from tests.helpers.references import natural_map_error_by_hand
 
 DATA = SHARED_DATA / "siconos-fc"
 FILES = sorted(p.name for p in DATA.glob("*") if p.suffix in (".dat", ".hdf5")) if DATA.is_dir() \
@@ -35,31 +36,6 @@ def _read(name):
     return read_fclib(path) if path.suffix == ".hdf5" else read_siconos_fc(path)
 
 
-def _error_here(W, q, mu, r):
-    """Siconos's natural-map error, written out contact by contact."""
-    if len(mu) == 0:
-        return 0.0
-    u = W @ r + q
-    d = len(r) // len(mu)
-    total = 0.0
-    for i, m in enumerate(mu):
-        ri, ui = r[d * i:d * i + d], u[d * i:d * i + d]
-        uh = ui.copy()
-        uh[0] += m * np.linalg.norm(ui[1:])
-        x = ri - uh
-        xn, xt = x[0], x[1:]
-        nt = np.linalg.norm(xt)
-        if nt <= m * xn:
-            p = x
-        elif m * nt <= -xn:
-            p = np.zeros(d)
-        else:
-            a = (xn + m * nt) / (1 + m * m)
-            p = np.r_[a, m * a * xt / nt]
-        total += np.sum((ri - p) ** 2)
-    return np.sqrt(total) / (1 + np.linalg.norm(q))
-
-
 @needs_data
 @pytest.mark.parametrize("name", FILES)
 def test_every_shared_file_reads_into_a_consistent_problem(name):
@@ -76,7 +52,8 @@ def test_every_shared_file_reads_into_a_consistent_problem(name):
 def test_2d_problems_are_solved_exactly_by_lemke(name):
     p, s, W = _solved_by_auto(name)
     assert s.method == "lemke"
-    assert natural_map_error(p, s.r) == pytest.approx(_error_here(W, p.q, p.mu, s.r), abs=1e-14)
+    assert natural_map_error(p, s.r) == pytest.approx(
+        natural_map_error_by_hand(W, p.q, p.mu, s.r), abs=1e-14)
 
 
 def _solved_by_auto(name):
@@ -89,7 +66,7 @@ def _solved_by_auto(name):
     s = qpcontact.solve(p, "auto", accuracy=1e-8, time_limit=None)
     assert s.ok, s.message
     W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
-    assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+    assert natural_map_error_by_hand(W, p.q, p.mu, s.r) <= 1e-8
     return p, s, W
 
 
@@ -158,7 +135,7 @@ def test_one_contact_sticking_and_sliding_by_hand(dim, a):
         s = qpcontact.solve(p, method, accuracy=1e-9)
         assert s.ok, (method, s.message)
         np.testing.assert_allclose(s.r, r_hand, atol=1e-7, err_msg=method)
-        assert _error_here(np.eye(dim), p.q, p.mu, s.r) <= 1e-9
+        assert natural_map_error_by_hand(np.eye(dim), p.q, p.mu, s.r) <= 1e-9
 
 
 @pytest.mark.parametrize("backend", ["osqp", "proxqp", "daqp", "highs", "cvxpy:OSQP"])
@@ -172,7 +149,7 @@ def test_2d_fixed_points_on_any_qp_backend_by_hand(backend, a):
         s = qpcontact.solve(p, method, accuracy=1e-8, backend=backend)
         assert s.ok, (method, s.message)
         np.testing.assert_allclose(s.r, r_hand, atol=1e-7, err_msg=method)
-        assert _error_here(np.eye(2), p.q, p.mu, s.r) <= 1e-8
+        assert natural_map_error_by_hand(np.eye(2), p.q, p.mu, s.r) <= 1e-8
 
 
 @needs_data
@@ -188,7 +165,7 @@ def test_2d_shared_problem_by_fixed_points_on_qp_backends(backend):
     for method in ("desaxce-fp", "tresca-fp"):
         s = qpcontact.solve(p, method, accuracy=1e-8, backend=backend)
         assert s.ok, (method, s.message)
-        assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+        assert natural_map_error_by_hand(W, p.q, p.mu, s.r) <= 1e-8
         assert np.linalg.norm(s.r - exact.r) <= 1e-5 * np.linalg.norm(exact.r)
 
 
@@ -231,7 +208,7 @@ def test_faceted_cone_error_shrinks_as_facets_grow():
     errors = []
     for k in (4, 8, 16, 32):
         s = qpcontact.solve(p, "lemke", accuracy=1e-8, facets=k)
-        errors.append(_error_here(np.eye(3), p.q, p.mu, s.r))
+        errors.append(natural_map_error_by_hand(np.eye(3), p.q, p.mu, s.r))
         assert np.linalg.norm(s.r[1:]) <= mu * s.r[0] + 1e-12          # inside the true cone
         assert 1e-4 < errors[-1] <= 1 - np.cos(np.pi / k)
         assert s.status == "inaccurate"
@@ -262,10 +239,10 @@ def test_2d_cone_methods_agree_with_the_exact_lcp(name):
     fp = qpcontact.solve(p, "desaxce-fp", accuracy=1e-8)
     # the fixed point stalls above 1e-8 here and says so
     assert fp.ok or fp.status == "inaccurate"
-    assert fp.natural_map_error == pytest.approx(_error_here(W, p.q, p.mu, fp.r), rel=1e-9)
+    assert fp.natural_map_error == pytest.approx(natural_map_error_by_hand(W, p.q, p.mu, fp.r), rel=1e-9)
     polished = qpcontact.solve(p, "newton", accuracy=1e-8, r0=fp.r)
     assert polished.ok, polished.message
-    assert _error_here(W, p.q, p.mu, polished.r) <= 1e-8
+    assert natural_map_error_by_hand(W, p.q, p.mu, polished.r) <= 1e-8
     assert np.linalg.norm(polished.r - exact.r) <= 1e-5 * np.linalg.norm(exact.r)
 
 
@@ -353,7 +330,7 @@ def test_componentwise_error_sees_what_the_siconos_measure_hides():
     p = FrictionProblem(1e-5 * np.eye(3), [-1e-5, 0.0, 0.0], [0.3], 3)
     wrong = np.array([1.01, 0.0, 0.0])
     assert natural_map_error(p, wrong) == pytest.approx(1e-7 / (1 + 1e-5), rel=1e-6)
-    assert _error_here(np.asarray(p.W), p.q, p.mu, wrong) < 1e-6
+    assert natural_map_error_by_hand(np.asarray(p.W), p.q, p.mu, wrong) < 1e-6
     assert componentwise_error(p, wrong) == pytest.approx(0.01 / 3.02, rel=1e-6)
     assert componentwise_error(p, np.array([1.0, 0.0, 0.0])) == 0.0
     s = qpcontact.solve(p, "auto", accuracy=1e-8)
@@ -381,7 +358,7 @@ def test_sparse_newton_on_many_independent_contacts():
     expected[0::2] = scale
     expected[1::2] = np.where(np.abs(a) <= 0.5, -a, -0.5 * np.sign(a)) * scale
     np.testing.assert_allclose(s.r, expected, rtol=1e-8, atol=0)
-    assert _error_here(W.toarray(), q, p.mu, s.r) <= 1e-10
+    assert natural_map_error_by_hand(W.toarray(), q, p.mu, s.r) <= 1e-10
 
 
 @needs_data
@@ -504,7 +481,7 @@ def test_nsgs_solves_shared_problems_to_siconos_tolerance(name):
     s = qpcontact.solve(p, "nsgs", accuracy=1e-8)
     assert s.ok and s.method == "nsgs", s.message
     W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
-    assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+    assert natural_map_error_by_hand(W, p.q, p.mu, s.r) <= 1e-8
 
 
 def test_drum_and_mechanism_steps_export_as_frictionless_fclib_problems(tmp_path):
@@ -569,7 +546,7 @@ def test_every_2d_shared_problem_is_solved_by_lemke(name):
     assert s.ok and s.method == "lemke", s.message
     assert s.componentwise_error <= 1e-8
     W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
-    assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+    assert natural_map_error_by_hand(W, p.q, p.mu, s.r) <= 1e-8
 
 
 @needs_data

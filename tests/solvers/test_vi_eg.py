@@ -13,28 +13,9 @@ import qpcontact
 from qpcontact.core.friction_problem import FrictionProblem
 from qpcontact.core.deadline import grace
 from tests.helpers.paths import SHARED_DATA
+from tests.helpers.references import natural_map_error_by_hand
 
 DATA = SHARED_DATA / "siconos-fc"
-
-
-def _error_here(W, q, mu, r):
-    """Siconos's natural-map error, contact by contact, written out here."""
-    u = W @ r + q
-    d = len(r) // len(mu)
-    total = 0.0
-    for i, m in enumerate(mu):
-        ri, ui = r[d * i:d * i + d], u[d * i:d * i + d]
-        x = ri - ui - m * np.linalg.norm(ui[1:]) * np.eye(d)[0]
-        xn, nt = x[0], np.linalg.norm(x[1:])
-        if nt <= m * xn:
-            p = x
-        elif m * nt <= -xn:
-            p = np.zeros(d)
-        else:
-            a = (xn + m * nt) / (1 + m * m)
-            p = np.r_[a, m * a * x[1:] / nt]
-        total += np.sum((ri - p) ** 2)
-    return np.sqrt(total) / (1 + np.linalg.norm(q))
 
 
 # W = diag(kn, kt, kt) is stiffer than the first step ρ = 1 allows (ρ kn = 40 > 2):
@@ -63,7 +44,7 @@ def test_one_3d_contact_sticks_slides_and_opens_as_by_hand(qn, qt, state):
     s = qpcontact.solve(p, "vi-eg", accuracy=1e-10)
     assert s.ok and s.method == "vi-eg", s.message
     np.testing.assert_allclose(s.r, r_hand, atol=1e-9 * np.abs(r_hand).max(initial=1.0))
-    assert _error_here(p.W, p.q, p.mu, s.r) <= 1e-10
+    assert natural_map_error_by_hand(p.W, p.q, p.mu, s.r) <= 1e-10
 
 
 def _random_2d(seed, nc=8):
@@ -86,7 +67,7 @@ def test_2d_problems_agree_with_the_exact_lcp(seed):
     assert exact.ok, exact.message
     s = qpcontact.solve(p, "vi-eg", accuracy=1e-10)
     assert s.ok and s.method == "vi-eg", s.message
-    assert _error_here(p.W, p.q, p.mu, s.r) <= 1e-10
+    assert natural_map_error_by_hand(p.W, p.q, p.mu, s.r) <= 1e-10
     np.testing.assert_allclose(s.r, exact.r, atol=1e-8 * np.abs(exact.r).max())
 
 
@@ -151,4 +132,4 @@ def test_shared_problems_it_solves(name):
     s = qpcontact.solve(p, "vi-eg", accuracy=1e-8)
     assert s.ok and s.method == "vi-eg", s.message
     W = p.W.toarray() if hasattr(p.W, "toarray") else np.asarray(p.W)
-    assert _error_here(W, p.q, p.mu, s.r) <= 1e-8
+    assert natural_map_error_by_hand(W, p.q, p.mu, s.r) <= 1e-8

@@ -61,6 +61,7 @@ import math
 
 import numpy as np
 
+from .end_releases import released_ends
 from .second_order import stability_functions
 
 #: −t beyond which (tension) the solution is written in each end's
@@ -348,19 +349,8 @@ def axis(parts, EI, N, L, ends, springs, x) -> tuple[np.ndarray, np.ndarray]:
     θ_r) on it: (k_rr + k) θ_r + Σ k_rc u_c = f_r + k θ_node, f the
     consistent loads — singular only where the member buckles with its
     nodes held (second_order.own_buckling)."""
-    ends = np.array(ends, float)
-    own = [r for r, k in zip((1, 3), springs) if k is not None]
-    if own:
-        kb = end_block(EI, N, L)
-        fe = nodal_loads(parts, EI, N, L)
-        rest = [r for r in range(4) if r not in own]
-        rhs = fe[own] - kb[np.ix_(own, rest)] @ ends[rest]
-        A = kb[np.ix_(own, own)].copy()
-        for n, r in enumerate(own):
-            k = springs[(r - 1) // 2]
-            A[n, n] += k
-            rhs[n] += k * ends[r]
-        ends[own] = np.linalg.solve(A, rhs)
+    ends = released_ends(lambda: (end_block(EI, N, L), nodal_loads(parts, EI, N, L)),
+                         ends, springs)
     return deflection(parts, EI, N, L, ends, x)
 
 

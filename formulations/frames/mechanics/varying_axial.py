@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .end_releases import released_ends
 from .loads import clipped
 
 #: Taylor terms per piece at most (|β| ≤ 1: 22 make the tail 1e-19 of the
@@ -451,18 +452,7 @@ class Member:
         :func:`.beam_column.axis` does."""
         K, f = self._joints(parts)
         n = K.shape[0]
-        ends = np.array(ends, float)
-        own = [r for r, k in zip((1, 3), springs) if k is not None]
-        if own:
-            kb, fe = _condensed(K, f)
-            rest = [r for r in range(4) if r not in own]
-            rhs = fe[own] - kb[np.ix_(own, rest)] @ ends[rest]
-            A = kb[np.ix_(own, own)].copy()
-            for m, r in enumerate(own):
-                k = springs[(r - 1) // 2]
-                A[m, m] += k
-                rhs[m] += k * ends[r]
-            ends[own] = np.linalg.solve(A, rhs)
+        ends = released_ends(lambda: _condensed(K, f), ends, springs)
         e = [0, 1, n - 2, n - 1]
         i = list(range(2, n - 2))
         u = np.zeros(n)
