@@ -4,6 +4,7 @@ and the shared data sets (the Siconos collections), found from anywhere."""
 from __future__ import annotations
 
 import csv
+import io
 import os
 from pathlib import Path
 
@@ -75,18 +76,15 @@ def file_target(path, option: str = "--out") -> Path:
 
 
 def write_csv_atomic(path: Path, rows: list[dict], fields) -> None:
-    """A temporary file, flushed to disk, then renamed over ``path`` (its
-    folder made: :func:`file_target`)."""
+    """The rows as CSV, written by :func:`write_text_atomic` (its folder
+    made: :func:`file_target`)."""
     path = file_target(path, "the CSV file")
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    with open(tmp, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(fields))
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: row.get(k, "") for k in fields})
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    text = io.StringIO(newline="")
+    writer = csv.DictWriter(text, fieldnames=list(fields))
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: row.get(k, "") for k in fields})
+    write_text_atomic(path, text.getvalue())
 
 
 def write_text_atomic(path: Path, text: str) -> Path:
@@ -96,7 +94,7 @@ def write_text_atomic(path: Path, text: str) -> Path:
     path = Path(path)
     tmp = path.with_name(path.name + ".tmp")
     try:
-        with open(tmp, "w") as fh:
+        with open(tmp, "w", newline="") as fh:     # the text as given, line ends too
             fh.write(text)
             fh.flush()
             os.fsync(fh.fileno())
