@@ -69,9 +69,9 @@ NARROW = 12
 #: own order is wider than NARROW: SuperLU costs little there, and a
 #: 60-dof space table on soft pads, reordered (band 29), had its collapse
 #: bracket widen from 1e-7 to 2.5e-4 of the load — the Farkas proofs just
-#: above the last equilibrium read R's rounding (tests'
-#: test_a_corner_push_collapse_is_bracketed_within_1e_6).  The 20-storey
-#: tower (291 free dofs) is reordered
+#: above the last equilibrium read R's rounding (the tests'
+#: test_a_corner_push_collapse_is_bracketed_as_narrowly_as_certified).  The
+#: 20-storey tower (291 free dofs) is reordered
 REORDER_MIN = 200
 #: the same singularity test as the saddle matrix's LU
 SINGULAR_PIVOTS = 1e-13
