@@ -57,7 +57,7 @@ from .second_order import (axial_change, bending, first_order_parts, first_order
 from .tracing import BRACKET
 from .tangent_stiffness import (DENSE_DOFS, first_holding, first_negative,
                                 held_links, least_eigenvalue, negative_eigenvalues,
-                                reduced_tangent, restraint)
+                                reduced_tangent, restraint, rounding_bracket)
 from .varying_axial import least_axial, own_buckling_factors
 
 #: rounds of the axial forces' fixed point at most
@@ -112,9 +112,15 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
         N, u = N_new, res._u
     buckled = past_own_buckling(frame, b["axial"], b.get("along"))
     stable = False if buckled else None     # a member past its own buckling: no count needed
+    undecided = False
     if stable is None and b["free"].size <= DENSE_DOFS:
-        stable = negative_eigenvalues(
-            reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))) == 0
+        Kr = reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))
+        stable = negative_eigenvalues(Kr) == 0
+        # stable only where no eigenvalue is within rounding of zero either:
+        # a member 1e8 times stiffer than the column it tops left a heavy
+        # cantilever at 1.015 of its critical load "stable" by the count
+        undecided = stable and negative_eigenvalues(Kr, within=True) > 0
+        stable = None if undecided else stable
     res.second_order = {"rounds": rounds, "axial_error": error,
                         "axial": dict(zip(frame.members, N)), "stable": stable}
     words = (f"second order (P-Δ and P-δ): the axial forces that built the stiffness agree "
@@ -130,6 +136,11 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                   "has a negative eigenvalue, so it cannot rest in this equilibrium (past a "
                   "tipping or buckling load of the deformed frame)" if not buckled else
                   f" — UNSTABLE: {buckled}")
+    elif undecided:
+        res.ok = False
+        words += (" — STABILITY UNDECIDED: with its contact states held the frame's tangent "
+                  "stiffness has an eigenvalue within rounding of zero (at its elastic critical "
+                  "load to the digits the stiffness carries: critical_load_factor's bracket)")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
     span = first_order_parts(frame, b["axial"], res.combination, tol)
@@ -173,17 +184,25 @@ def built_on(frame, N, along=None):
             f"{words or 'of this load'}: with every contact closed the frame is at its elastic "
             "critical load to rounding "
             "(α_cr = 1, it buckles there; P-Δ theory has no equilibrium at that load for one "
-            "that sways it).  Below it, critical_load_factor of a second-order solve says how "
-            "far; above it the answer is UNSTABLE") from None
+            "that sways it) — or its stiffness carries too few digits to tell (a member many "
+            "orders of magnitude stiffer than those it joins: model a rigid zone as "
+            "offset_i/offset_j).  Below it, critical_load_factor of a second-order solve says "
+            "how far; above it the answer is UNSTABLE") from None
 
 
 def critical_load_factor(frame, result) -> dict:
     """α_cr of ``result``'s combination (see the module's docstring): a dict
-    with ``alpha`` (inf where no member is in compression), ``mode`` (the
-    buckling shape, global displacements per node, largest 1), ``members``
-    (the compressed members' N L²/EI at α = 1) and ``limited_by`` (None, or
-    the member whose own buckling load, its nodes held, bounds the search
-    and is then α_cr: :func:`.second_order.own_buckling`)."""
+    with ``alpha`` (inf where no member is in compression), ``bracket``
+    ((lo, hi): from lo the tangent's least eigenvalue is within its rounding
+    floor of zero, from hi it is negative beyond it; ``alpha`` is lo, the
+    conservative end — the two agree to ALPHA_RTOL unless a member many
+    orders stiffer than its neighbours leaves the sway mode's eigenvalue
+    near rounding, :func:`.tangent_stiffness.rounding_bracket`), ``mode``
+    (the buckling shape, global displacements per node, largest 1),
+    ``members`` (the compressed members' N L²/EI at α = 1) and
+    ``limited_by`` (None, or the member whose own buckling load, its nodes
+    held, bounds the search and is then α_cr:
+    :func:`.second_order.own_buckling`)."""
     b = frame.build()
     # the answer's own axial forces, not second_order["axial"] (those that built
     # its stiffness, a round behind and converged only to the accuracy asked on
@@ -218,9 +237,16 @@ def critical_load_factor(frame, result) -> dict:
                         lambda alpha: least_eigenvalue(tangent(alpha)))
     if hi is None:
         worst = list(frame.members)[int(np.argmin(ratio))]
-        return {"alpha": pole, "mode": None, "limited_by": worst,
+        return {"alpha": pole, "bracket": (pole, pole), "mode": None, "limited_by": worst,
                 "members": dict(zip(frame.members, t1))}
-    return {"alpha": float(hi), "mode": buckling_mode(frame, b, hi * N, held, along(hi)),
+    # the lower end of the loads at which the least eigenvalue is within
+    # rounding of zero: conservative where a stiff member makes that band
+    # wide (tangent_stiffness.rounding_bracket), the same α to ALPHA_RTOL
+    # where it is not
+    lo = rounding_bracket(lambda alpha: negative_eigenvalues(tangent(alpha), within=True), hi,
+                          lambda alpha: least_eigenvalue(tangent(alpha), within=True))
+    return {"alpha": float(lo), "bracket": (float(lo), float(hi)),
+            "mode": buckling_mode(frame, b, hi * N, held, along(hi)),
             "members": dict(zip(frame.members, t1)), "limited_by": None}
 
 
@@ -449,6 +475,9 @@ def buckling_along_path(frame, b, ft, N_start):
     if negatives(0.0):
         return 0.0, "the frame is unstable under the constant loads alone"
     c = first_negative(negatives, min(p_read, 0.5 * pole), pole)
+    if c is not None:       # the conservative end (critical_load_factor's)
+        c = rounding_bracket(lambda p: negative_eigenvalues(reduced_tangent(frame.stiffness(
+            axial=N_start + p * dN, along=ft.combination_at(p)), b, held), within=True), c)
     if c is None:
         worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
         return pole, (f"no sway buckles it before member {worst} buckles on its own "

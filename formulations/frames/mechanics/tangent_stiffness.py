@@ -25,8 +25,11 @@ DENSE_DOFS = 3000
 ALPHA_RTOL = 1e-10
 
 
-def negative_eigenvalues(K) -> int:
-    """The number of K's negative eigenvalues (symmetric, dense), counted
+def negative_eigenvalues(K, within: bool = False) -> int:
+    """The number of K's negative eigenvalues (symmetric, dense) beyond
+    rounding — with ``within``, those below +floor instead: negative or
+    within rounding of zero, the count a conservative answer needs (see
+    :func:`rounding_bracket`).  Counted
     on D K D with D = diag(K_ii)^-1/2 — the same count (Sylvester's law of
     inertia) on a matrix whose entries are O(1): unscaled, a base 1e4
     times stiffer than the column on it put the threshold of rounding
@@ -48,7 +51,8 @@ def negative_eigenvalues(K) -> int:
     # singular).  The largest |eigenvalue| by POWER steps of the power
     # method: the largest row sum, its bound, was up to twice it, and the
     # floor with it put a 64-piece portal's α_cr 1.3e-5 higher still
-    lu, piv, info = sytrf(Ks + _floor(Ks) * np.eye(Ks.shape[0]), lower=1)
+    shift = -_floor(Ks) if within else _floor(Ks)
+    lu, piv, info = sytrf(Ks + shift * np.eye(Ks.shape[0]), lower=1)
     if info < 0:
         raise SolverFailedError(f"negative_eigenvalues: LAPACK sytrf argument {-info}")
     # D's 1 × 1 pivots, and its 2 × 2 blocks where ipiv is negative on
@@ -67,14 +71,17 @@ def negative_eigenvalues(K) -> int:
     return count
 
 
-def least_eigenvalue(K) -> float:
+def least_eigenvalue(K, within: bool = False) -> float:
     """The least eigenvalue of D K D + floor I (:func:`negative_eigenvalues`'
-    scaling and rounding floor): below zero where that count is not zero,
-    and continuous in K — what α_cr's search interpolates on."""
+    scaling and rounding floor; − floor I with ``within``): below zero where
+    that count is not zero, and continuous in K — what α_cr's search
+    interpolates on."""
     Ks = _scaled(K)
     if not Ks.size:
         return np.inf
-    return float(la.eigh(Ks, eigvals_only=True, subset_by_index=[0, 0])[0]) + _floor(Ks)
+    floor = _floor(Ks)
+    return float(la.eigh(Ks, eigvals_only=True, subset_by_index=[0, 0])[0]) + (
+        -floor if within else floor)
 
 
 def _scaled(K) -> np.ndarray:
@@ -168,12 +175,48 @@ def first_negative(negatives, start, pole, least=None):
         if hi >= pole * (1 - 1e-9):
             return None
         lo, hi = hi, min(2.0 * hi, pole * (1 - 1e-9))
+    return first_in(negatives, lo, hi, least)
+
+
+def first_in(negatives, lo, hi, least=None):
+    """:func:`first_negative` within a bracket: ``negatives`` zero at lo,
+    not at hi."""
     if least is not None:
         a, b = _illinois(least, lo, hi, NEAR)
         a, b = max(lo, a * (1 - NEAR)), min(hi, b * (1 + NEAR))
         if (a == lo or negatives(a) == 0) and (b == hi or negatives(b) != 0):
             lo, hi = a, b
     return first_holding(lambda x: negatives(x) != 0, lo, hi, ALPHA_RTOL)
+
+
+def rounding_bracket(possible, hi, least=None):
+    """The least x ≤ ``hi`` at which ``possible(x)`` — the count of the
+    tangent's eigenvalues below +floor (``negative_eigenvalues(...,
+    within=True)``) — leaves zero, to ALPHA_RTOL; ``hi`` is where the count
+    beyond rounding does (:func:`first_negative`).  Between the two the
+    tangent's least eigenvalue is within its rounding floor of zero, so the
+    count cannot say whether the frame still stands: what is reported below
+    ``hi`` must be this lower end (conservative).  Why it matters: the
+    floor is 16 n ε of the scaled tangent's largest eigenvalue, and a
+    member 1e6–1e8 times stiffer than its neighbours (a rigid zone modelled
+    as a member) shrinks the scaled sway eigenvalue by that contrast — a
+    heavy cantilever with its top eighth 1e8 times stiffer had the count
+    change at α = 0.9323 where the zero lies at 0.9091 (its zone as an
+    offset: 0.90914452).  0.0 where the count is not zero even at x = 0.
+    Where the band is narrower than ALPHA_RTOL (most frames) one count
+    says so and hi (1 − ALPHA_RTOL) is the end: a ninth more tangents for
+    α_cr, not a half."""
+    lo = hi * (1.0 - ALPHA_RTOL)
+    if possible(lo) == 0:
+        return lo
+    gap = 1e-8
+    while True:
+        lo = hi * (1.0 - gap) if gap < 1.0 else 0.0
+        if possible(lo) == 0:
+            return first_in(possible, lo, hi, least)
+        if lo == 0.0:
+            return 0.0
+        gap *= 16.0
 
 
 #: the relative margin by which the least eigenvalue's bracket is widened

@@ -390,7 +390,7 @@ class Frame:
     def critical_load_factor(self, result) -> dict:
         """The elastic critical load factor α_cr of ``result``'s combination,
         its contact states held (:func:`..mechanics.second_order_analysis.critical_load_factor`):
-        {"alpha", "mode", "members", "limited_by"}."""
+        {"alpha", "bracket", "mode", "members", "limited_by"}."""
         return second_order_analysis.critical_load_factor(self, result)
 
     def solve_combinations(self, combinations: dict, **kw):
