@@ -1,7 +1,8 @@
 """Second-order answers of a frame (plane or space) on its contacts: the fixed point of the
-axial forces (:func:`solve_second_order`) and the elastic critical load
-factor α_cr (:func:`critical_load_factor`).  The members' second-order
-stiffness is :mod:`.second_order`'s.
+axial forces (:func:`solve_second_order`) and the second-order load path
+(:func:`trace_second_order`); the elastic critical load factor α_cr is
+:mod:`.critical_load`'s.  The members' second-order stiffness is
+:mod:`.second_order`'s.
 
 The fixed point.  The stiffness depends on the members' axial forces N,
 which depend on the answer: N⁰ from the first-order answer, then for
@@ -16,30 +17,9 @@ built from N^k: ``second_order["axial_error"]`` says how far its own axial
 forces are from those.  Axial forces move little with the sway (the
 iteration contracts by about the sway's share of them), so a few rounds
 do; where they do not converge the answer is not called ok.
-
-α_cr.  The smallest factor α on the combination's axial forces at which
-the frame's tangent stiffness K(α N), with its contact states held (open
-contacts free, closed ones fixed along their normals, sticking and slipping
-ones also along their tangents: a slip's tangent stiffness is zero, and the
-sway it allows is the sliding limit, which the load path finds), has a
-zero eigenvalue.  With the stability functions K(α N) is exact (Livesley's
-members, Engesser's with shear; a plane member whose loads make N vary
-along it under α N(x), :mod:`.varying_axial`), so α_cr is found on the
-count of K's negative eigenvalues (Sylvester's inertia, an LDLᵀ's:
-:func:`.tangent_stiffness.first_negative`; the Wittrick–Williams
-count without its member term, which is zero below the first member's own
-buckling load with its nodes held, where the search stops: 4π²EI/L² for a
-member rigidly joined at both ends (less with shear), less where hinged or
-semi-rigid, :func:`.second_order.own_buckling`, on its largest compression
-where N varies along it: Rayleigh's quotient bounds its own buckling by
-that constant N's).  A member compressed past
-its own buckling load makes an answer UNSTABLE whatever the count says.
-Eurocode 3 (5.2.1) asks for second-order analysis where α_cr < 10.
 """
 
 from __future__ import annotations
-
-from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as la
@@ -55,10 +35,10 @@ from .second_order_path import (SecondOrderTrace, answer_change, axial_forces, m
 from .second_order import (axial_change, bending, first_order_parts, first_order_parts_along,
                            own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
+from .critical_load import critical_load_factor, stable_by_band
 from .tangent_stiffness import (DENSE_DOFS, first_holding, first_negative,
-                                held_links, least_eigenvalue, negative_eigenvalues,
-                                reduced_tangent, restraint, rounding_bracket)
-from .varying_axial import least_axial, own_buckling_factors
+                                held_links, negative_eigenvalues, reduced_tangent, restraint,
+                                rounding_bracket)
 
 #: rounds of the axial forces' fixed point at most
 ROUNDS = 30
@@ -73,7 +53,9 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     has a negative eigenvalue is one the frame cannot rest in: a table
     beyond its second-order tipping load balanced on one leg).  The result
     carries ``second_order``: {"rounds", "axial_error", "axial" (N per
-    member), "stable" (None where the frame is too large to check)}."""
+    member), "stable" (None where the frame is too large to check, or where
+    its tangent has an eigenvalue within rounding of zero inside α_cr's
+    band: "STABILITY UNDECIDED", not ok)}."""
     import warnings
 
     from qpcontact.core.accuracy import resolve_accuracy
@@ -116,11 +98,14 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     if stable is None and b["free"].size <= DENSE_DOFS:
         Kr = reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))
         stable = negative_eigenvalues(Kr) == 0
-        # stable only where no eigenvalue is within rounding of zero either:
-        # a member 1e8 times stiffer than the column it tops left a heavy
-        # cantilever at 1.015 of its critical load "stable" by the count
-        undecided = stable and negative_eigenvalues(Kr, within=True) > 0
-        stable = None if undecided else stable
+        if stable and negative_eigenvalues(Kr, within=True) > 0:
+            # an eigenvalue within rounding of zero: a member 1e8 times
+            # stiffer than the column it tops left a heavy cantilever at
+            # 1.015 of its critical load "stable" by the count beyond
+            # rounding.  Stable only where α_cr's band lies above this load
+            # (a beam 1e10 times stiffer than its columns in tension sits in
+            # the band at zero load, its α_cr 4.6e6)
+            stable, undecided = stable_by_band(frame, res)
     res.second_order = {"rounds": rounds, "axial_error": error,
                         "axial": dict(zip(frame.members, N)), "stable": stable}
     words = (f"second order (P-Δ and P-δ): the axial forces that built the stiffness agree "
@@ -188,78 +173,6 @@ def built_on(frame, N, along=None):
             "orders of magnitude stiffer than those it joins: model a rigid zone as "
             "offset_i/offset_j).  Below it, critical_load_factor of a second-order solve says "
             "how far; above it the answer is UNSTABLE") from None
-
-
-def critical_load_factor(frame, result) -> dict:
-    """α_cr of ``result``'s combination (see the module's docstring): a dict
-    with ``alpha`` (inf where no member is in compression), ``bracket``
-    ((lo, hi): from lo the tangent's least eigenvalue is within its rounding
-    floor of zero, from hi it is negative beyond it; ``alpha`` is lo, the
-    conservative end — the two agree to ALPHA_RTOL unless a member many
-    orders stiffer than its neighbours leaves the sway mode's eigenvalue
-    near rounding, :func:`.tangent_stiffness.rounding_bracket`), ``mode``
-    (the buckling shape, global displacements per node, largest 1),
-    ``members`` (the compressed members' N L²/EI at α = 1) and
-    ``limited_by`` (None, or the member whose own buckling load, its nodes
-    held, bounds the search and is then α_cr:
-    :func:`.second_order.own_buckling`)."""
-    b = frame.build()
-    # the answer's own axial forces, not second_order["axial"] (those that built
-    # its stiffness, a round behind and converged only to the accuracy asked on
-    # a scale of EA/L |u|: a lightly compressed beam's N 1e-3 off at "low")
-    N = axial_forces(b, result)[0]
-    EI, L = bending(frame)
-    t1 = -N * L ** 2 / EI                      # compression positive, at α = 1
-    # a member's largest compression where its loads make N vary along it
-    # (what bounds its own buckling with its nodes held: the search's pole)
-    worst = least_axial(frame, N, result.combination)
-    if not np.any(worst < 0):
-        return {"alpha": np.inf, "mode": None, "members": {}, "limited_by": None}
-    ratio = own_buckling_factors(frame, N, result.combination, np.divide(
-        own_buckling(frame), -worst, out=np.full(N.size, np.inf), where=worst < 0))
-    pole = float(ratio.min())
-    held = restraint(b, held_links(frame, b, result))
-
-    def along(alpha):       # the member loads' axial parts grow with α too
-        return {c: alpha * f for c, f in result.combination.items()}
-
-    @lru_cache(maxsize=4)      # the bracket's ends are counted, then interpolated on
-    def tangent(alpha):
-        return reduced_tangent(frame.stiffness(axial=alpha * N, along=along(alpha)), b, held)
-
-    def negatives(alpha):
-        return negative_eigenvalues(tangent(alpha))
-
-    if negatives(0.0):
-        raise InvalidOptionError("critical_load_factor: the frame with its contact states held "
-                                 "is not stable at zero load (a mechanism); no α_cr")
-    hi = first_negative(negatives, min(1.0, 0.5 * pole), pole,
-                        lambda alpha: least_eigenvalue(tangent(alpha)))
-    if hi is None:
-        worst = list(frame.members)[int(np.argmin(ratio))]
-        return {"alpha": pole, "bracket": (pole, pole), "mode": None, "limited_by": worst,
-                "members": dict(zip(frame.members, t1))}
-    # the lower end of the loads at which the least eigenvalue is within
-    # rounding of zero: conservative where a stiff member makes that band
-    # wide (tangent_stiffness.rounding_bracket), the same α to ALPHA_RTOL
-    # where it is not
-    lo = rounding_bracket(lambda alpha: negative_eigenvalues(tangent(alpha), within=True), hi,
-                          lambda alpha: least_eigenvalue(tangent(alpha), within=True))
-    return {"alpha": float(lo), "bracket": (float(lo), float(hi)),
-            "mode": buckling_mode(frame, b, hi * N, held, along(hi)),
-            "members": dict(zip(frame.members, t1)), "limited_by": None}
-
-
-def buckling_mode(frame, b, N, held, along=None) -> dict:
-    """The eigenvector of the smallest eigenvalue of K(N) with the held
-    links (``held``: a :func:`restraint`; at α_cr: the buckling shape),
-    per node, scaled to largest 1."""
-    Z = held[0]
-    _, V = la.eigh(reduced_tangent(frame.stiffness(axial=N, along=along), b, held))
-    v = np.zeros(b["K"].shape[0])
-    v[b["free"]] = V[:, 0] if Z is None else Z @ V[:, 0]
-    v /= np.abs(v).max() or 1.0
-    return dict(zip(b["names"], map(tuple, v.reshape(-1, len(frame.DOFS)).tolist())))
 
 
 def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, variable=None,
@@ -476,14 +389,21 @@ def buckling_along_path(frame, b, ft, N_start):
         return 0.0, "the frame is unstable under the constant loads alone"
     c = first_negative(negatives, min(p_read, 0.5 * pole), pole)
     if c is not None:       # the conservative end (critical_load_factor's)
+        top = c
         c = rounding_bracket(lambda p: negative_eigenvalues(reduced_tangent(frame.stiffness(
             axial=N_start + p * dN, along=ft.combination_at(p)), b, held), within=True), c)
+        if c == 0.0:
+            return 0.0, ("the frame's tangent stiffness (contact states held) has an eigenvalue "
+                         f"within rounding of zero at every load up to p = {top:.10g}, where it "
+                         "turns singular: its buckling load cannot be bounded from below (a "
+                         "member many orders of magnitude stiffer than those it joins)")
+        return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact "
+                   "states held, is within rounding of singular from there and singular at "
+                   f"p = {top:.10g})")
     if c is None:
         worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
         return pole, (f"no sway buckles it before member {worst} buckles on its own "
                       f"(its nodes held) at p = {pole:.10g}")
-    return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact states "
-               "held, turns singular there)")
 
 
 def first_unstable_piece(frame, b, ft):

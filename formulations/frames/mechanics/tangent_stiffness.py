@@ -182,10 +182,15 @@ def first_in(negatives, lo, hi, least=None):
     """:func:`first_negative` within a bracket: ``negatives`` zero at lo,
     not at hi."""
     if least is not None:
-        a, b = _illinois(least, lo, hi, NEAR)
-        a, b = max(lo, a * (1 - NEAR)), min(hi, b * (1 + NEAR))
-        if (a == lo or negatives(a) == 0) and (b == hi or negatives(b) != 0):
-            lo, hi = a, b
+        # to a quarter of ALPHA_RTOL, widened by as much: where the counts at
+        # its ends agree no bisection is left (the least eigenvalue's zero and
+        # the count's change differ by ~1e-11); else widened by NEAR
+        a, b = _illinois(least, lo, hi, TIGHT)
+        for margin in (TIGHT, NEAR):
+            a2, b2 = max(lo, a * (1 - margin)), min(hi, b * (1 + margin))
+            if (a2 == lo or negatives(a2) == 0) and (b2 == hi or negatives(b2) != 0):
+                lo, hi = a2, b2
+                break
     return first_holding(lambda x: negatives(x) != 0, lo, hi, ALPHA_RTOL)
 
 
@@ -202,10 +207,12 @@ def rounding_bracket(possible, hi, least=None):
     as a member) shrinks the scaled sway eigenvalue by that contrast — a
     heavy cantilever with its top eighth 1e8 times stiffer had the count
     change at α = 0.9323 where the zero lies at 0.9091 (its zone as an
-    offset: 0.90914452).  0.0 where the count is not zero even at x = 0.
-    Where the band is narrower than ALPHA_RTOL (most frames) one count
-    says so and hi (1 − ALPHA_RTOL) is the end: a ninth more tangents for
-    α_cr, not a half."""
+    offset: 0.90914452).  The band is the stretch just below hi where the
+    count is not zero: with members in tension the count need not grow
+    with x (a beam 1e10 times stiffer than its columns in tension: not zero
+    at x = 0, zero from 100, not zero again near α_cr = 4.6e6).  0.0 where
+    it reaches x = 0.  Where the band is narrower than ALPHA_RTOL one count
+    says so and hi (1 − ALPHA_RTOL) is the end."""
     lo = hi * (1.0 - ALPHA_RTOL)
     if possible(lo) == 0:
         return lo
@@ -219,8 +226,10 @@ def rounding_bracket(possible, hi, least=None):
         gap *= 16.0
 
 
-#: the relative margin by which the least eigenvalue's bracket is widened
-#: before the counts check it (a hundred times their rounding difference)
+#: the relative margins by which the least eigenvalue's bracket is widened
+#: before the counts check it: a quarter of ALPHA_RTOL first, else a
+#: hundred times the two's rounding difference
+TIGHT = 0.25 * ALPHA_RTOL
 NEAR = 1e-9
 
 

@@ -16,7 +16,8 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics import contact_lcp, friction_export, second_order_analysis, solving, tracing
+from ..mechanics import (contact_lcp, critical_load, friction_export, second_order_analysis,
+                         solving, tracing)
 from ..mechanics.analysis_results import keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, SPRING_MAX, VARIABLE, MemberLoad, add_settlements,
@@ -389,9 +390,9 @@ class Frame:
 
     def critical_load_factor(self, result) -> dict:
         """The elastic critical load factor α_cr of ``result``'s combination,
-        its contact states held (:func:`..mechanics.second_order_analysis.critical_load_factor`):
+        its contact states held (:func:`..mechanics.critical_load.critical_load_factor`):
         {"alpha", "bracket", "mode", "members", "limited_by"}."""
-        return second_order_analysis.critical_load_factor(self, result)
+        return critical_load.critical_load_factor(self, result)
 
     def solve_combinations(self, combinations: dict, **kw):
         """Each named combination solved on its own, as a CombinationResults

@@ -52,7 +52,8 @@ import numpy as np
 
 from qpcontact.core.errors import InvalidProblemError
 
-from ..mechanics import friction_export, second_order_analysis, solving, tracing
+from ..mechanics import (critical_load, friction_export, second_order_analysis, solving,
+                         tracing)
 from ..mechanics.analysis_results import hand_over, keeps_its_answers
 from ..mechanics.frame_kind import FrameKind
 from ..mechanics.loads import (CONSTANT, SPRING_MAX, VARIABLE, add_settlements, case_name,
@@ -555,8 +556,8 @@ class SpaceFrame:
     def critical_load_factor(self, result) -> dict:
         """The elastic critical load factor α_cr of ``result``'s combination,
         its contact states held
-        (:func:`..mechanics.second_order_analysis.critical_load_factor`)."""
-        return second_order_analysis.critical_load_factor(self, result)
+        (:func:`..mechanics.critical_load.critical_load_factor`)."""
+        return critical_load.critical_load_factor(self, result)
 
     def solve_combinations(self, combinations: dict, **kw):
         """Each named combination solved on its own, as a CombinationResults

@@ -18,6 +18,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from formulations.frames import Frame
+from tests.formulations.frames.frame_cases import frictional_beam
 
 E, I, A, L, ZONE = 210e9, 1e-5, 1e-2, 5.0, 0.625
 EI = E * I
@@ -99,3 +100,86 @@ def test_an_answer_inside_the_band_is_not_called_stable():
         res = fr.solve(combination={"D": 1.0}, second_order=True, raise_on_failure=False)
     assert not res.ok
     assert "STABILITY UNDECIDED" in res.message or "UNSTABLE" in res.message, res.message
+
+
+def _pinned_portal(beam_contrast: float, P: float, leaning: float = 0.0) -> Frame:
+    """Pinned feet A, D, columns 4 m (EI = 4 000 kN m²), a beam E × contrast,
+    P down on each column top (negative P: pulled up), and optionally a
+    leaning column (hinged, its own Euler load at 2.2 × ``leaning``) tied to
+    C carrying ``leaning``; a 1 kN push at B."""
+    E, A, I, h, Lb = 2e8, 1e-2, 2e-5, 4.0, 6.0
+    fr = Frame()
+    for n, (x, y) in {"A": (0, 0), "B": (0, h), "C": (Lb, h), "D": (Lb, 0)}.items():
+        fr.add_node(n, x, y)
+    for i, j, e, name in (("A", "B", E, "C1"), ("D", "C", E, "C2"),
+                          ("B", "C", E * beam_contrast, "B1")):
+        fr.add_member(i, j, e, A, I, name=name)
+    for n in ("A", "D"):
+        fr.add_support(n, fix=("ux", "uy"))
+    fr.add_load("B", fx=1.0, fy=-P)
+    fr.add_load("C", fy=-P)
+    if leaning:
+        fr.add_node("L0", Lb + 4, 0)
+        fr.add_node("L1", Lb + 4, h)
+        fr.add_member("L0", "L1", E, A, 2.2 * leaning * h ** 2 / (np.pi ** 2 * E), name="LC",
+                      hinge_i=True, hinge_j=True)
+        fr.add_member("C", "L1", E, A, 1e-4, name="LB", hinge_i=True, hinge_j=True)
+        fr.add_support("L0", fix=("ux", "uy"))
+        fr.add_load("L1", fy=-leaning)
+    return fr
+
+
+def test_a_band_below_a_members_own_buckling_is_not_cut_off_by_it():
+    """A leaning column whose own Euler load is at α = 2.2 beside a pinned
+    portal with a beam 1e9 times stiffer than its columns: the count beyond
+    rounding reaches the leaning column's load first, and α_cr was 2.2
+    (limited_by the leaning column) while the sway's band starts lower.  By
+    hand (rigid beam, inextensible columns): each pinned column held against
+    turning at its top buckles at π²EI/(2h)² = 616.85 kN, so the sway's
+    α = 2 × 616.85 / (2 × 300 + 3) = 2.0459 — α_cr must not be above it."""
+    ref = 2 * np.pi ** 2 * 4000.0 / (2 * 4.0) ** 2 / (2 * 300.0 + 3.0)
+    fr = _pinned_portal(1e9, 300.0, leaning=3.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(second_order=True, raise_on_failure=False)
+        crit = fr.critical_load_factor(res)
+    lo, hi = crit["bracket"]
+    assert crit["alpha"] == lo <= ref * (1 + 1e-3) and ref <= hi
+    assert crit["limited_by"] is None
+
+
+def test_a_stiff_beam_over_columns_in_tension_stays_stable():
+    """Columns pulled up (tension lifts the sway's eigenvalue out of the
+    rounding band that a beam 1e10 times stiffer puts it in at zero load):
+    the answer is stable and ok, α_cr far above 1 — the band at the answer's
+    load is not the one α_cr's search ends in."""
+    fr = _pinned_portal(1e10, -300.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(second_order=True, raise_on_failure=False)
+        crit = fr.critical_load_factor(res)
+    assert res.ok and res.second_order["stable"] is True, res.message
+    assert crit["alpha"] > 1e3
+
+
+def test_critical_load_factor_of_no_equilibrium_says_so():
+    """A beam on frictional pads that tips over has no equilibrium to take
+    α_cr of: a clear SolverFailedError (before: IndexError from its empty
+    displacements)."""
+    from qpcontact.core.errors import SolverFailedError
+
+    fr = frictional_beam(2, 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(second_order=True, raise_on_failure=False)
+    assert not res.ok and "no equilibrium" in res.message
+    with pytest.raises(SolverFailedError, match="holds no equilibrium"):
+        fr.critical_load_factor(res)
+
+
+def test_no_compression_still_states_a_band():
+    fr = _pinned_portal(1.0, -300.0)
+    res = fr.solve(second_order=True)
+    crit = fr.critical_load_factor(res)
+    if crit["alpha"] == np.inf:
+        assert crit["bracket"] == (np.inf, np.inf)

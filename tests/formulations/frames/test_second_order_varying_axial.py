@@ -201,7 +201,7 @@ def test_alpha_cr_narrows_on_the_least_eigenvalue_to_the_bisections_alpha(monkey
     sway portal's α_cr is the counts' bisection's to ALPHA_RTOL, from 22
     tangents (the bisection built 42, each rebuilding the members under
     N(x))."""
-    from formulations.frames.mechanics import second_order_analysis as so
+    from formulations.frames.mechanics import critical_load as so
     from formulations.frames.mechanics.tangent_stiffness import ALPHA_RTOL
 
     fr = _portal()
