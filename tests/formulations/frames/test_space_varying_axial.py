@@ -281,3 +281,27 @@ def test_an_inclined_space_strut_under_loads_along_and_across_it_is_its_plane_tw
     a_plane = critical_load_factor(_inclined(False), plane)["alpha"]
     a_space = critical_load_factor(_inclined(True), space)["alpha"]
     assert a_space == pytest.approx(a_plane, rel=1e-8)
+
+
+def test_a_space_trace_under_a_variable_weight_is_ok_and_its_answer_the_solves():
+    """The heavy space column's weight (0.5 of Greenhill's) the variable
+    load, bent both ways by a constant tip force: the trace is ok (it was
+    NOT OK, "up to inf of its moments … add nodes") and its answer at p = 1
+    the solve's; the plane twin's sway in the stiffer plane the same."""
+    q = 0.5 * GREENHILL * E * 1e-5 / L ** 3
+    sf = _space_column(1, q, Iy=1e-5, Iz=2e-5, tip=(10.0, 5.0))
+    sf.span_loads[:] = [ld.__class__(ld.member, ld.kind, "W", ld.axes, ld.a, ld.b, ld.values)
+                        for ld in sf.span_loads]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = sf.trace(1.0, "high", constant={"D": 1.0}, variable={"W": 1.0}, second_order=True)
+    assert ft.ok, ft.message
+    at, solved = ft.result_at(1.0), sf.solve(combination={"D": 1.0, "W": 1.0}, second_order=True)
+    assert solved.ok, solved.message
+    assert at.displacements["B"][:2] == pytest.approx(solved.displacements["B"][:2], rel=1e-9)
+    # fx bends it about local y (Iy), fy about local z (Iz = 2e-5): the
+    # plane twins' sways
+    for force, I_, got in ((10.0, 1e-5, at.displacements["B"][0]),
+                           (5.0, 2e-5, at.displacements["B"][1])):
+        twin = _solve(_plane_column(q, I_, force))
+        assert got == pytest.approx(twin.displacements["B"][0], rel=1e-9)
