@@ -305,3 +305,35 @@ def test_a_space_trace_under_a_variable_weight_is_ok_and_its_answer_the_solves()
                            (5.0, 2e-5, at.displacements["B"][1])):
         twin = _solve(_plane_column(q, I_, force))
         assert got == pytest.approx(twin.displacements["B"][0], rel=1e-9)
+
+
+def _hinged_space_column(share, Iy=1e-5, Iz=2e-5):
+    """A 5 m space column hinged at both ends in both bending planes
+    (releases; its nodes' rotations fixed, which the hinges leave the
+    member free of), its ends held across it, under its weight ``share`` ×
+    E Iy/L³ (Iy the weaker)."""
+    sf = SpaceFrame()
+    sf.add_node("A", 0.0, 0.0, 0.0)
+    sf.add_node("B", 0.0, 0.0, L)
+    sf.add_member("A", "B", E, A, Iy, Iz, G=G, J=2e-5, name="c", hinge_i=True, hinge_j=True)
+    sf.add_support("A")
+    sf.add_support("B", ("ux", "uy", "rx", "ry", "rz"))
+    sf.add_distributed_load("c", wz=-share * E * Iy / L ** 3, case="D")
+    return sf
+
+
+def test_a_hinged_heavy_space_column_buckles_on_its_own_in_its_weaker_plane():
+    """Its chains' own buckling (both planes, each on its releases) limits
+    α_cr at q L³/(E I_weak) = 18.5687 (the plane test's ODE shot), and a
+    solve at 19 is UNSTABLE (the mean N, 9.5 E I/L², is below π² E I/L²:
+    it was not judged so)."""
+    from .test_second_order_varying_axial import _pinned_heavy_column_root
+
+    ref = _pinned_heavy_column_root()
+    sf = _hinged_space_column(1.0)
+    alpha = critical_load_factor(sf, _solve(sf))
+    assert alpha["limited_by"] == "c"
+    assert alpha["alpha"] == pytest.approx(ref, rel=1e-9)
+    assert _solve(_hinged_space_column(0.98 * ref)).ok
+    res = _solve(_hinged_space_column(19.0))
+    assert not res.ok and "UNSTABLE" in res.message, res.message
