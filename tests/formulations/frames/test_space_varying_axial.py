@@ -337,3 +337,71 @@ def test_a_hinged_heavy_space_column_buckles_on_its_own_in_its_weaker_plane():
     assert _solve(_hinged_space_column(0.98 * ref)).ok
     res = _solve(_hinged_space_column(19.0))
     assert not res.ok and "UNSTABLE" in res.message, res.message
+
+
+def _rolled(pieces=None):
+    """A clamped member rising along (3, 4, 12) (13 m), rolled 0.3 rad, under
+    its weight 4 kN/m (global: parts along it and across both its planes),
+    300 N/m across its local y on [3.25, 9.75] and 2 kN along its axis at
+    6.5 m (member axes), (60, −40, 0) N at its top.  With ``pieces``: cut
+    into that many members (a multiple of 4: the loads' ends are nodes),
+    the weight's part along the axis and the point load lumped at the
+    nodes, the parts across as the pieces' member loads (constant N in
+    each piece: the stability functions' route)."""
+    xi, xj, w = np.zeros(3), np.array([3.0, 4.0, 12.0]), np.array([0.0, 0.0, -4e3])
+    sf = SpaceFrame()
+    if pieces is None:
+        sf.add_node("A", *xi)
+        sf.add_node("B", *xj)
+        sf.add_member("A", "B", E, A, 1e-5, 2e-5, G=G, J=2e-5, name="s", roll=0.3)
+        sf.add_distributed_load("s", *w, case="D")
+        sf.add_distributed_load("s", wy=300.0, axes="member", start=3.25, end=9.75, case="D")
+        sf.add_point_load("s", 6.5, fx=-2e3, axes="member", case="D")
+    else:
+        from formulations.frames.mechanics.space_element import axes
+
+        R = axes(xi, xj, None, 0.3)[0]
+        along, across = (R @ w)[0], R @ w
+        names = ["A"] + [f"n{j}" for j in range(1, pieces)] + ["B"]
+        for j, name in enumerate(names):
+            sf.add_node(name, *(xi + (xj - xi) * j / pieces))
+        for j in range(pieces):
+            sf.add_member(names[j], names[j + 1], E, A, 1e-5, 2e-5, G=G, J=2e-5, name=f"s{j}",
+                          roll=0.3)
+            sf.add_distributed_load(f"s{j}", wy=across[1], wz=across[2], axes="member",
+                                    case="D")
+            if pieces // 4 <= j < 3 * pieces // 4:
+                sf.add_distributed_load(f"s{j}", wy=300.0, axes="member", case="D")
+            for name in names[j:j + 2]:
+                sf.add_load(name, *(0.5 * along * 13.0 / pieces * R[0]), case="D")
+        sf.add_load(names[pieces // 2], *(-2e3 * R[0]), case="D")
+    sf.add_support("A")
+    sf.add_load("B", 60.0, -40.0, 0.0, case="D")
+    return sf
+
+
+def test_a_rolled_member_loaded_across_both_planes_against_its_cuts_extrapolated():
+    """The top's displacement and both bending moments at the base and at
+    the quarter points (My, Mz) against the member cut into 32 and 64
+    pieces, Richardson (the uncut answer within 8e-8; 64 pieces alone
+    1e-4 off)."""
+    res = _solve(_rolled())
+    assert res.ok, res.message
+    cuts = [_solve(_rolled(n)) for n in (32, 64)]
+    assert all(c.ok for c in cuts)
+
+    def read(r, n):
+        out = list(r.displacements["B"][:3])
+        for x in (0.0, 3.25, 6.5, 9.75):
+            if n is None:
+                xs, _, _, _, _, My, Mz = r.diagram("s", 5)
+                at = int(np.argmin(np.abs(xs - x)))
+                out += [My[at], Mz[at]]
+            else:            # the piece starting at x: its end actions at i
+                f = r.member_forces[f"s{int(round(x / 13.0 * n))}"]
+                out += [f[4], -f[5]]
+        return np.array(out)
+    ref = (4 * read(cuts[1], 64) - read(cuts[0], 32)) / 3
+    got = read(res, None)
+    assert np.abs(got[:3] - ref[:3]).max() <= 1e-6 * np.abs(ref[:3]).max()
+    assert np.all(np.abs(got[3:] - ref[3:]) <= 1e-6 * np.abs(ref[3:]))
