@@ -50,6 +50,8 @@ stability functions' member (tests: to ~1e-12), a different route.
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from .end_releases import released_ends
@@ -334,6 +336,17 @@ class Member:
         self.beta = self.h[:, None] ** 2 * self.nu / self.EI
         if series:        # else by :func:`in_one_pass` with other members'
             self.solutions(_series(self.beta, np.zeros((lo.size, 2)))[:, :4])
+
+    def bent(self, EI, series=True) -> "Member":
+        """The same chain (pieces, N(x)) with the bending stiffness EI ≥
+        this one's (its pieces still |N| h² ≤ EI): a space member's stiffer
+        bending plane, cut once for both."""
+        other = copy.copy(self)
+        other.EI = float(EI)
+        other.beta = self.h[:, None] ** 2 * self.nu / other.EI
+        if series:
+            other.solutions(_series(other.beta, np.zeros((self.h.size, 2)))[:, :4])
+        return other
 
     def solutions(self, H):
         """The pieces' homogeneous solutions H (P, 4, TERMS) taken: the
