@@ -529,9 +529,8 @@ class SpaceFrame:
         """The assembly the solving routes share with the plane frame (an
         :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic
         system's LU, the faceted cones' maps; R and R_F on first use
-        (:func:`.space_assembly.build`); ``axial``: the members' axial forces
-        of a second-order stiffness, ``along`` the combination whose member
-        loads' axial parts make N vary along the members (:mod:`.space_varying`)."""
+        (:func:`.space_assembly.build`); ``axial``, ``along``: a second-order
+        stiffness's axial forces and the loads making N vary (:mod:`.space_varying`)."""
         return space_assembly.build(self, axial, along)
 
     def stiffness(self, axial=None, along=None):

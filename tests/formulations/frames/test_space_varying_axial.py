@@ -20,7 +20,7 @@ from scipy.optimize import brentq
 from scipy.special import jv
 
 from formulations.frames import Frame
-from formulations.frames.mechanics.second_order_analysis import critical_load_factor
+from formulations.frames.mechanics.critical_load import critical_load_factor
 from formulations.frames.space.space_frame import SpaceFrame
 
 E, A, L, G = 210e9, 1e-2, 5.0, 81e9
