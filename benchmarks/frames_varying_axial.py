@@ -16,6 +16,16 @@ projection Zᵀ(K + S)Z with Z = I (now skipped where no link is rigid) and
 the count of negative eigenvalues by eigvalsh against an LDLᵀ's inertia.
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/frames_varying_axial.py [--k 1 16 32 64] [--kernels]
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/frames_varying_axial.py --space 1 3 10
+
+Table 3 (``--space S …``): a space building under its own weight, 3 × 3
+columns (HEB 300) 6 m apart and 4 m storeys, S storeys, IPE 400 beams
+both ways under 20 kN/m, 10 kN sideways (x) at each floor's corner, all
+members' self-weight: ok at "low" and "high", the top corner's sway, the
+solve's and α_cr's wall and CPU time.  Its columns carry their weight as
+member loads, so both bending planes of each take N(x)
+(formulations/frames/space/space_varying.py); on the mean N the answer
+was refused ("… have axial parts … add nodes").
 
 Pin BLAS to one thread on a shared machine: unpinned, OpenBLAS's threads
 made one eigvalsh of the 384-dof tangent 1.5 s (5 ms pinned) on two busy
@@ -74,6 +84,47 @@ def portal(k=1, lumped=False):
     return fr
 
 
+def building(storeys):
+    """Table 3's space building (module docstring), all loads in case "D"."""
+    from formulations.frames.space.space_frame import SpaceFrame
+
+    sf = SpaceFrame()
+    grid = [(6.0 * a, 6.0 * c) for a in range(3) for c in range(3)]
+    for level in range(storeys + 1):
+        for n, (x, y) in enumerate(grid):
+            sf.add_node(f"n{level}_{n}", x, y, 4.0 * level)
+    for level in range(1, storeys + 1):
+        for n in range(len(grid)):
+            sf.add_member(f"n{level - 1}_{n}", f"n{level}_{n}", E, A_C, I_C, 8563e-8,
+                          G=81e9, J=185e-8, name=f"c{level}_{n}")
+        for n, (x, y) in enumerate(grid):
+            for m, (x2, y2) in enumerate(grid):
+                if m > n and abs(x2 - x) + abs(y2 - y) == 6.0:
+                    name = f"b{level}_{n}_{m}"
+                    sf.add_member(f"n{level}_{n}", f"n{level}_{m}", E, A_B, I_B, 1318e-8,
+                                  G=81e9, J=51e-8, name=name)
+                    sf.add_distributed_load(name, wz=-20e3, case="D")
+        sf.add_load(f"n{level}_0", fx=10e3, case="D")
+    sf.add_self_weight("D", unit_weight=GAMMA)
+    for n in range(len(grid)):
+        sf.add_support(f"n0_{n}")
+    return sf
+
+
+def space_rows(storeys):
+    print("\nspace building (3 × 3 columns, S storeys, self-weight): wall / CPU s")
+    print(f"{'S':>3} {'members':>7} {'ok low':>6} {'ok high':>7} {'ux top [m]':>18}"
+          f" {'solve s':>8} {'cpu':>6} {'α_cr':>14} {'α s':>6} {'cpu':>6}")
+    for S in storeys:
+        sf = building(S)
+        low = solve(sf, "low")
+        res, w, c = timed(lambda: solve(sf))
+        alpha, wa, ca = timed(lambda: critical_load_factor(sf, res))
+        print(f"{S:>3} {len(sf.members):>7} {str(low.ok):>6} {str(res.ok):>7}"
+              f" {res.displacements[f'n{S}_0'][0]:>18.12e} {w:>8.2f} {c:>6.2f}"
+              f" {alpha['alpha']:>14.10f} {wa:>6.2f} {ca:>6.2f}")
+
+
 def timed(f):
     w, c = time.perf_counter(), time.process_time()
     out = f()
@@ -127,7 +178,15 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--k", type=int, nargs="+", default=[1, 16, 32, 64])
     ap.add_argument("--kernels", action="store_true")
+    ap.add_argument("--space", type=int, nargs="+", default=[], metavar="S",
+                    help="Table 3 alone, for these storey counts")
     args = ap.parse_args(argv)
+    if args.space:
+        warnings.simplefilter("ignore")
+        print(f"load average {' '.join(open('/proc/loadavg').read().split()[:3])}")
+        space_rows(args.space)
+        print(f"load average {' '.join(open('/proc/loadavg').read().split()[:3])}")
+        return 0
     warnings.simplefilter("ignore")
     print(f"load average {' '.join(open('/proc/loadavg').read().split()[:3])}")
     print(f"{'k':>4} {'ok low':>6} {'ok high':>7} {'M_A [N m]':>18} {'ux_B [m]':>18}"

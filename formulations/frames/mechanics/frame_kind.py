@@ -35,7 +35,11 @@ class FrameKind:
     - ``support_keys(frame)``: each contact's key in ``result.supports``;
     - ``collapse_words(frame, proof, fric, carrying)``: how the frame fails,
       read off a Farkas vector;
-    - ``slide_words(frame, ci, t)``: which way contact ci slides.
+    - ``slide_words(frame, ci, t)``: which way contact ci slides;
+    - ``member_under(frame, name, N̄, along)``: the member's chain(s)
+      under N(x) where its loads in the combination ``along`` make N vary
+      along it (:mod:`.varying_axial`; a space member's two bending
+      planes), else None.
     """
 
     name: str
@@ -48,3 +52,4 @@ class FrameKind:
     collapse_words: Callable
     slide_words: Callable
     active_set: Callable | None = None
+    member_under: Callable | None = None

@@ -50,6 +50,8 @@ stability functions' member (tests: to ~1e-12), a different route.
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from .end_releases import released_ends
@@ -107,11 +109,11 @@ def of_member(m, L, c, s, Nbar, along, series=True):
 
 def least_axial(frame, N, along) -> np.ndarray:
     """Per member its least N along it (its largest compression): N where
-    it is constant (a space member, a shear-flexible one, no axial loads
-    in the combination ``along``), the least of N(x) on its pieces
-    elsewhere — what bounds its own buckling with its nodes held from
-    below (Rayleigh: a member nowhere more compressed than a constant N
-    buckles no earlier than under it)."""
+    it is constant (a shear-flexible member, no axial loads in the
+    combination ``along``), the least of N(x) on its pieces elsewhere —
+    what bounds its own buckling with its nodes held from below (Rayleigh:
+    a member nowhere more compressed than a constant N buckles no earlier
+    than under it)."""
     out = np.array(N, float)
     for k, member in members_under(frame, N, along).items():
         out[k] = member.least()
@@ -119,24 +121,41 @@ def least_axial(frame, N, along) -> np.ndarray:
 
 
 def members_under(frame, N, along):
-    """{index: :class:`Member`} of a plane frame's members whose loads in
-    ``along`` make N vary along them, each under its N̄ = N[index]."""
+    """{index: the member's chain(s) under N(x)} of a frame's members whose
+    loads in ``along`` make N vary along them, each under its N̄ = N[index]
+    (:func:`member_under`)."""
     out = {}
-    for k, m in enumerate(frame.members.values()):
-        member = member_under(frame, m, float(N[k]), along)
+    for k, name in enumerate(frame.members):
+        member = member_under(frame, name, float(N[k]), along)
         if member is not None:
             out[k] = member
     return out
 
 
-def member_under(frame, m, Nbar, along):
+def member_under(frame, name, Nbar, along):
+    """The chain(s) under N(x) of the frame's member ``name`` under N̄ where
+    its loads in ``along`` make N vary along it, else None: a plane
+    member's :class:`Member` (:func:`plane_member`), a space member's two
+    bending planes (the frame's kind's ``member_under``), each with
+    ``least()`` and ``own_negatives(springs)``."""
+    return frame.kind.member_under(frame, name, Nbar, along) if along else None
+
+
+def plane_member(frame, name, Nbar, along):
     """:func:`of_member` of one of a plane frame's members, from its nodes
-    (None for a space member)."""
-    if isinstance(m, dict) or not m.loads or not along:
+    (the plane frame's kind's ``member_under``)."""
+    m = frame.members[name]
+    if not m.loads or not along:
         return None
     d = np.subtract(frame.nodes[m.j], frame.nodes[m.i]).astype(float)
     L = float(np.hypot(*d))
     return of_member(m, L, d[0] / L, d[1] / L, Nbar, along)
+
+
+def end_springs(m):
+    """A plane member's end springs (i, j) for :meth:`Member.own_negatives`;
+    None for a space member, whose two planes keep their own."""
+    return None if isinstance(m, dict) else m.end_springs
 
 
 def own_buckling_factors(frame, N, along, bound, rtol=1e-10) -> np.ndarray:
@@ -150,6 +169,7 @@ def own_buckling_factors(frame, N, along, bound, rtol=1e-10) -> np.ndarray:
     the least factor found so far are searched (the frame's search stops
     at the least)."""
     out = np.array(bound, float)
+    names = list(frame.members)
     ms = list(frame.members.values())
     varying = sorted(members_under(frame, N, along), key=lambda k: out[k])
     best = np.inf
@@ -158,9 +178,9 @@ def own_buckling_factors(frame, N, along, bound, rtol=1e-10) -> np.ndarray:
             break
 
         def buckled(alpha):
-            member = member_under(frame, ms[k], alpha * float(N[k]),
+            member = member_under(frame, names[k], alpha * float(N[k]),
                                   {c: alpha * f for c, f in along.items()})
-            return member is not None and member.own_negatives(ms[k].end_springs) > 0
+            return member is not None and member.own_negatives(end_springs(ms[k])) > 0
         lo = out[k] if np.isfinite(out[k]) else 1.0
         hi = 2.0 * lo
         while not buckled(hi):
@@ -316,6 +336,17 @@ class Member:
         self.beta = self.h[:, None] ** 2 * self.nu / self.EI
         if series:        # else by :func:`in_one_pass` with other members'
             self.solutions(_series(self.beta, np.zeros((lo.size, 2)))[:, :4])
+
+    def bent(self, EI, series=True) -> "Member":
+        """The same chain (pieces, N(x)) with the bending stiffness EI ≥
+        this one's (its pieces still |N| h² ≤ EI): a space member's stiffer
+        bending plane, cut once for both."""
+        other = copy.copy(self)
+        other.EI = float(EI)
+        other.beta = self.h[:, None] ** 2 * self.nu / other.EI
+        if series:
+            other.solutions(_series(other.beta, np.zeros((self.h.size, 2)))[:, :4])
+        return other
 
     def solutions(self, H):
         """The pieces' homogeneous solutions H (P, 4, TERMS) taken: the

@@ -25,6 +25,7 @@ from ..mechanics.loads import (CONSTANT, SPRING_MAX, VARIABLE, MemberLoad, add_s
                                no_member_between, no_same_contact, number, pair_node,
                                support_keys)
 from ..mechanics.plane_element import DOFS, geometry
+from ..mechanics.varying_axial import plane_member
 from . import plane_assembly, plane_recovery
 from .plane_results import FrameResult
 from .sparse_active_set import solve_active_set
@@ -35,7 +36,8 @@ PLANE = FrameKind(
     solve_one=solving.unless_linear(solving.solve_lcp), result_from_z=plane_recovery.result_from_z,
     release_directions=plane_assembly.release_directions,
     support_keys=support_keys, collapse_words=plane_recovery.collapse_words,
-    slide_words=plane_recovery.slide_words, active_set=solve_active_set)
+    slide_words=plane_recovery.slide_words, active_set=solve_active_set,
+    member_under=plane_member)
 
 
 @dataclass

@@ -15,15 +15,18 @@ from ..mechanics import contact_lcp
 from ..mechanics.member_forces import strain_free_motions
 from ..mechanics.space_element import axes, condense, rotation, stiffness
 from ..reporting.free_motion import refuse_singular
-from . import space_member_loads
+from . import space_member_loads, space_varying
 from .space_results import DOFS
 
 
-def assemble(frame, axial=None):
+def assemble(frame, axial=None, along=None):
     """(K (CSR), F (dofs x cases), fixed mask, cases, idx, local): local =
     the members' (k (m, 12, 12), T, dofs (m, 12), Fe (m, 12, cases):
     their fixed-end forces in member axes), as the plane frame's;
-    ``axial``: the members' axial forces of a second-order stiffness."""
+    ``axial``: the members' axial forces of a second-order stiffness;
+    ``along``: the combination whose member loads' axial parts make N
+    vary along the Euler–Bernoulli members that carry them, which then
+    take N(x) in both bending planes (:mod:`.space_varying`, N̄ = ``axial``)."""
     names = list(frame.nodes)
     idx = {nm: 6 * k for k, nm in enumerate(names)}
     N = 6 * len(names)
@@ -63,8 +66,12 @@ def assemble(frame, axial=None):
             else:      # a point load or a part of the member (its own module)
                 Fe[k, :, col[load.case]] += space_member_loads.fixed_end(load, L[k], R[k],
                                                                          phi[k])
+        varying = {}
         if axial is not None:
             beam_column_loads(frame, ms, axial, col, L, R, offsets, phi, Fe)
+            if along:
+                varying = space_varying.varying_members(frame, ms, L, R, np.asarray(axial, float),
+                                                        along, col, k_local, Fe)
         # end releases: the member's own end rotations condensed out, its
         # loads with them (the released end moments are zero)
         for k, m_ in enumerate(ms):
@@ -77,8 +84,10 @@ def assemble(frame, axial=None):
             k_local[k] = A_.T @ k_local[k] @ A_
             Fe[k] = A_.T @ Fe[k] + rigid[k]
             if axial is not None:    # each rigid arm's own P-Δ, N o (θy² + θz²)/2
-                for at, o in ((4, offsets[k, 0]), (10, offsets[k, 1])):
-                    k_local[k][[at, at + 1], [at, at + 1]] += axial[k] * o
+                # (θ²/2 ∫ N dx over the zone where N varies along the member)
+                arms = varying.get(k, (axial[k] * offsets[k, 0], axial[k] * offsets[k, 1]))
+                for at, arm in ((4, arms[0]), (10, arms[1])):
+                    k_local[k][[at, at + 1], [at, at + 1]] += arm
     K, F = contact_lcp.global_stiffness((k_local, T, dofs, Fe), frame.springs, idx, DOFS, N)
     for node, v, case in frame.nodal_loads:
         F[idx[node]:idx[node] + 6, col[case]] += v
@@ -110,13 +119,15 @@ def node_axes(frame, idx, N):
                           (np.r_[rows, rest], np.r_[cols, rest])), shape=(N, N))
 
 
-def build(frame, axial=None):
+def build(frame, axial=None, along=None):
     """The assembly the solving routes share with the plane frame (an
     :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic system's LU,
     the faceted cones' maps; R and R_F on first use.  ``axial``: the
-    members' axial forces of a second-order stiffness (``b["axial"]``)."""
+    members' axial forces of a second-order stiffness (``b["axial"]``);
+    ``along``: the combination whose N(x) it took (:func:`assemble`),
+    kept as ``b["along"]``."""
     check_conflicts(frame)
-    K, F, fixed, cases, idx, local, Tn = assemble(frame, axial)
+    K, F, fixed, cases, idx, local, Tn = assemble(frame, axial, along)
     N = K.shape[0]
     H, info = links(frame, idx, N)
     if Tn is not None:
@@ -140,6 +151,7 @@ def build(frame, axial=None):
                           fixed=fixed, H=H, info=info, flex=flex, local=local, Tn=Tn,
                           axial=None if axial is None else np.asarray(axial, float), **basic)
     b["maps"] = lcp_maps(frame, info)
+    b["along"] = None if axial is None or not along else dict(along)
     return b
 
 

@@ -48,6 +48,7 @@ from ..mechanics.loads import check_diagram, stationary_points, turning_points, 
 from ..mechanics.space_element import EXTREMES, QUANTITIES
 from ..mechanics.space_element import axes as member_axes
 from ..mechanics import beam_column
+from . import space_varying
 from .space_member_loads import load_points, plane_parts, section_terms, split
 
 
@@ -91,12 +92,13 @@ class Along:
         My, Mz = f[4] + f[2] * x + mo_xz, -f[5] + f[1] * x + mo_xy
         # a second-order answer's: N times the member's own deflection in
         # each bending plane (the plane frame's member_diagrams.sections)
-        for plane, (axial, d0, solution) in self.planes.items():
-            d, dd = solution(x)
+        # (∫₀ˣ N v' where N varies along it, N (v − v(0)) where it does not)
+        for plane, solution in self.planes.items():
+            _, _, shear, moment = solution(x)
             if plane == 1:
-                Vy, Mz = Vy + axial * dd, Mz + axial * (d - d0)
+                Vy, Mz = Vy + shear, Mz + moment
             else:
-                Vz, My = Vz + axial * dd, My + axial * (d - d0)
+                Vz, My = Vz + shear, My + moment
         return N, Vy, Vz, T, My, Mz
 
     def sample_points(self, points: int):
@@ -108,17 +110,26 @@ class Along:
 
 
 def bent_planes(frame, res, member, L, R, loads) -> dict:
-    """{1 (across y) | 2 (across z): (N, d(0), x ↦ (d(x), d'(x)))}: the
-    beam-column's deflection of each bending plane (with shear
+    """{1 (across y) | 2 (across z): x ↦ (d(x), d'(x), N d'(x), ∫₀ˣ N d')}:
+    the beam-column's deflection of each bending plane (with shear
     deformation: Engesser's, where no span load bends it, else left out)
     of a second-order answer's member under N ≠ 0, member axes,
-    node to node (a rigid zone moves with its node): the x-y plane with EIz
-    on (v, θz), the x-z plane with EIy on (w, θ' = −θy), each as the plane
-    frame's (:func:`..mechanics.beam_column.axis`); {} for first order."""
+    node to node (a rigid zone moves with its node), and what N times it
+    adds to the plane's shear and moment: the x-y plane with EIz on (v,
+    θz), the x-z plane with EIy on (w, θ' = −θy), each as the plane
+    frame's (:func:`..mechanics.beam_column.axis`; where the member's
+    loads make N vary along it, its chain under N(x),
+    :mod:`.space_varying`, as the stiffness took it); {} for first order."""
     if res.stiffness_axial is None:
         return {}
     axial = float(res.stiffness_axial[list(frame.members).index(member)])
     m = frame.members[member]
+    # (its pieces cut at every load of the member, as its stiffness's)
+    varying = space_varying.of_member(m, space_varying.loads_on(frame, member), L, R, axial,
+                                      res.stiffness_along) if loads else None
+    if varying is not None:
+        return {plane: varying_solution(varying, plane, m, res, L, R, loads)
+                for plane in (1, 2)}
     if axial == 0.0:
         return {}
     oi, oj = m["offsets"]
@@ -156,9 +167,38 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
                                                   (ti, tj), springs)
             d = np.where(x < oi, di[plane] + x * ti,
                          np.where(x > L - oj, dj[plane] - (L - x) * tj, d))
-            return d, np.where(x < oi, ti, np.where(x > L - oj, tj, dd))
-        out[plane] = (axial, di[plane], solution)
+            dd = np.where(x < oi, ti, np.where(x > L - oj, tj, dd))
+            return d, dd, axial * dd, axial * (d - di[plane])
+        out[plane] = solution
     return out
+
+
+def varying_solution(varying, plane, m, res, L, R, loads):
+    """x ↦ (d, d', N(x) d', ∫₀ˣ N d') of one bending plane of a member whose
+    stiffness took N(x) (:func:`bent_planes`), node to node: the plane's
+    chain between the zones' faces (:meth:`..mechanics.varying_axial.
+    Member.axis`), each rigid zone moving with its node and adding its own
+    θ ∫ N dx (the plane frame's :func:`..plane.member_diagrams.
+    beam_column_axis`)."""
+    member, springs = varying.planes[plane - 1], varying.springs[plane - 1]
+    oi, oj = m["offsets"]
+    di, dj = (np.r_[R @ np.asarray(res.displacements[n][:3], float),
+                    R @ np.asarray(res.displacements[n][3:], float)] for n in (m["i"], m["j"]))
+    ends, (ti, tj) = space_varying.plane_ends(di, dj, plane, m["offsets"])
+    parts = space_varying.plane_loads([ld for ld, _ in loads], R, plane - 1, L, m["offsets"],
+                                      res.combination)
+    arm_i = varying.arms()[0]
+
+    def solution(x):
+        x = np.asarray(x, float)
+        xf = np.clip(x, oi, L - oj) - oi
+        d, dd, added = member.axis(parts, ends, springs, xf)
+        added = added + arm_i * ti + tj * member.integral(member.L, np.maximum(x - oi, member.L))
+        added = np.where(x < oi, ti * member.integral(-oi, np.minimum(x - oi, 0.0)), added)
+        d = np.where(x < oi, di[plane] + x * ti, np.where(x > L - oj, dj[plane] - (L - x) * tj, d))
+        dd = np.where(x < oi, ti, np.where(x > L - oj, tj, dd))
+        return d, dd, member.N(x - oi) * dd, added
+    return solution
 
 
 def checked_member(frame, res, member, points) -> str:
@@ -187,11 +227,11 @@ def end_forces(frame, res, member: str) -> dict:
     # a second-order answer's V = dM/dx adds N times the axis' slope there,
     # as its diagrams do (the end actions are across the undeformed axis)
     L, R = geometry(frame, member)
-    for plane, (axial, _, solution) in bent_planes(frame, res, member, L, R,
-                                                   loads_of(frame, res, member)).items():
-        slope = solution(np.array([0.0, L]))[1]
-        ends["i"][plane] += axial * slope[0]
-        ends["j"][plane] += axial * slope[1]
+    for plane, solution in bent_planes(frame, res, member, L, R,
+                                       loads_of(frame, res, member)).items():
+        shear = solution(np.array([0.0, L]))[2]
+        ends["i"][plane] += shear[0]
+        ends["j"][plane] += shear[1]
     return {end: {q: float(v) + 0.0 for q, v in zip(QUANTITIES, vals)}
             for end, vals in ends.items()}
 
@@ -287,7 +327,7 @@ def deflection(frame, res, member: str, points: int = 21, axes: str = "member", 
         curve = start + bend + (end - start - bend[-1]) * (xf - a) / (e - a)
         d.append(np.where(x < a, di[k] + sign * x * di[turn],
                           np.where(x > e, dj[k] - sign * (L - x) * dj[turn], curve)))
-    for plane, (_, _, solution) in along.planes.items():     # second order: the beam-column's
+    for plane, solution in along.planes.items():     # second order: the beam-column's
         d[plane] = solution(x)[0]
     d = np.stack(d, axis=1)
     return x, (d if axes == "member" else d @ R)

@@ -61,7 +61,7 @@ from ..mechanics.loads import (CONSTANT, SPRING_MAX, VARIABLE, add_settlements, 
                                no_member_between, no_same_contact, number, pair_node,
                                support_keys)
 from ..mechanics.space_element import END_ROTATIONS, axes
-from . import circular_cone, circular_trace, space_assembly, space_recovery
+from . import circular_cone, circular_trace, space_assembly, space_recovery, space_varying
 from .space_member_loads import SpanLoad, position
 from .space_results import DOFS, SpaceFrameResult
 
@@ -73,7 +73,7 @@ SPACE = FrameKind(
     result_from_z=space_recovery.result_from_z,
     release_directions=space_assembly.release_directions,
     support_keys=support_keys, collapse_words=space_recovery.collapse_words,
-    slide_words=space_recovery.slide_words)
+    slide_words=space_recovery.slide_words, member_under=space_varying.member_under)
 
 
 #: the frame's friction models: Coulomb's circle itself, or a polygon of
@@ -529,14 +529,14 @@ class SpaceFrame:
         """The assembly the solving routes share with the plane frame (an
         :class:`~..mechanics.contact_lcp.Built`): K, loads, links, the basic
         system's LU, the faceted cones' maps; R and R_F on first use
-        (:func:`.space_assembly.build`); ``axial``: the members' axial forces
-        of a second-order stiffness (``along`` unread: constant along a member)."""
-        return space_assembly.build(self, axial)
+        (:func:`.space_assembly.build`); ``axial``, ``along``: a second-order
+        stiffness's axial forces and the loads making N vary (:mod:`.space_varying`)."""
+        return space_assembly.build(self, axial, along)
 
     def stiffness(self, axial=None, along=None):
         """The frame's stiffness K (all dofs, CSR) alone, first order or
-        (``axial``; ``along`` unread) second order: what α_cr's count reads."""
-        return space_assembly.assemble(self, axial)[0]
+        (``axial``, ``along``: :meth:`build`) second order: what α_cr's count reads."""
+        return space_assembly.assemble(self, axial, along)[0]
 
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",

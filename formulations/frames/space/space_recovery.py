@@ -23,6 +23,7 @@ from ..mechanics.member_forces import refined_actions
 from ..mechanics.no_equilibrium import motion_words
 from .space_assembly import facet_angles, reach
 from .space_results import SpaceFrameResult, SpaceSupportResult
+from .space_varying import varying_couples
 
 
 def result_from_z(frame, z, combo, route, b=None, lcp=None, tol=1e-9) -> SpaceFrameResult:
@@ -169,7 +170,8 @@ def space_result(frame, b, combo, u, ends, reactions, supports, eq, error, check
         member_forces=dict(zip(frame.members, ends)), reactions=reactions,
         equilibrium_residual=eq, lcp_error=float(error), route=route, ok=ok, message=msg,
         frame=frame, _u=u, combination=dict(combo), displacement_ratio=ratio,
-        max_rotation=rot, displacement_words=words, stiffness_axial=b.get("axial"))
+        max_rotation=rot, displacement_words=words, stiffness_axial=b.get("axial"),
+        stiffness_along=b.get("along"))
 
 
 def contact_states(frame, b, z, X, u, delta, zeta, sigma) -> dict:
@@ -240,7 +242,7 @@ def resultant(frame, b, F, X, r_all, u, force_terms):
     if b.get("axial") is not None:
         # second order: the members' end forces are in equilibrium on the
         # deformed frame, so the undeformed moments sum to their P-Δ couples
-        couples = second_order.pdelta_couples(frame, b, u)
+        couples = varying_couples(frame, b, u, second_order.pdelta_couples(frame, b, u))
         moment = moment - couples.sum(axis=0)
     lever = np.abs(xyz)
     f_size = size[:, :3]
