@@ -405,3 +405,49 @@ def test_a_rolled_member_loaded_across_both_planes_against_its_cuts_extrapolated
     got = read(res, None)
     assert np.abs(got[:3] - ref[:3]).max() <= 1e-6 * np.abs(ref[:3]).max()
     assert np.all(np.abs(got[3:] - ref[3:]) <= 1e-6 * np.abs(ref[3:]))
+
+
+#: an inclined member's top whose length the norm along an array's axis
+#: gives 1 ulp longer than the norm of the member's own vector (found by a
+#: review among random tripods: ~6 % of inclined members)
+TOP = (0.6346985056304467, 1.0092400284617629, 7.849627066080663)
+
+
+def test_an_inclined_cantilever_under_its_weight_is_its_plane_twin():
+    """The assembly's length and the loads' (one member's vector norm) must
+    be the same number: 1 ulp apart they cut a 1e-16 m piece (stiffness
+    1e25) into the member's N(x) chain, and this cantilever raised
+    SolverFailedError with raise_on_failure=False and gave α_cr 0.98 where
+    its plane twin about the weak axis (the same member in its vertical
+    plane, I = Iz) gives 3.328."""
+    top = np.array(TOP)
+    assert np.linalg.norm(top[None, :], axis=1)[0] != float(np.linalg.norm(top))
+    h = float(np.hypot(top[0], top[1]))
+    sf = SpaceFrame()
+    sf.add_node("A", 0.0, 0.0, 0.0)
+    sf.add_node("B", *top)
+    sf.add_member("A", "B", 210e9, 1e-2, 2e-4, 1e-4, G=81e9, J=2e-5, name="c")
+    sf.add_distributed_load("c", wz=-100e3, case="D")
+    sf.add_support("A")
+    twins = {}
+    for inertia in (2e-4, 1e-4):          # bent in its vertical plane; buckling sideways
+        fr = Frame()
+        fr.add_node("A", 0.0, 0.0)
+        fr.add_node("B", h, top[2])
+        fr.add_member("A", "B", 210e9, 1e-2, inertia, name="c")
+        fr.add_distributed_load("c", wy=-100e3, case="D")
+        fr.add_support("A")
+        twins[inertia] = fr
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rs = sf.solve(combination={"D": 1.0}, second_order=True, raise_on_failure=False)
+        rp = twins[2e-4].solve(combination={"D": 1.0}, second_order=True, raise_on_failure=False)
+        assert rs.ok and rp.ok, rs.message
+        weak = twins[1e-4]
+        a_space = sf.critical_load_factor(rs)["alpha"]
+        a_plane = weak.critical_load_factor(weak.solve(combination={"D": 1.0}))["alpha"]
+    assert a_space == pytest.approx(a_plane, rel=1e-9)
+    # the top's displacement along the member's horizontal direction and up
+    us, up = np.asarray(rs.displacements["B"]), np.asarray(rp.displacements["B"])
+    assert np.hypot(us[0], us[1]) == pytest.approx(abs(up[0]), rel=1e-9)
+    assert us[2] == pytest.approx(up[1], rel=1e-9)
