@@ -14,6 +14,11 @@ from ...judge.friction_certificate import certified_error
 
 __all__ = ["solve_nsgs", "NSGS", "NSGS_OPTIONS", "R0", "starting_point"]
 
+#: a 3-D block is taken as diag(a, c, c) where its other entries, and the
+#: difference of its two tangential ones, are within this of its largest
+#: (a sphere's contact block: to 1e-16)
+_DIAGONAL_RTOL = 1e-12
+
 #: the starting reactions of the iterative friction methods
 R0 = Option("r0", None, "vector", doc="starting reactions, dim entries per contact")
 
@@ -26,6 +31,8 @@ NSGS_OPTIONS = (
     Option("local_rtol", 1e-14, "float", low=0.0, low_open=True,
            doc="relative tolerance of the 3-D local problems"),
     Option("max_local", 200, "int", low=1, doc="iterations of a 3-D local problem at most"),
+    Option("stall_checks", 100, "int", low=0,
+           doc="checks without a better iterate before stopping (0: no such stop)"),
     TIME_LIMIT,
 )
 
@@ -44,7 +51,8 @@ class NSGS:
     diagonal blocks, the iterate ``r`` and the sweeps ``done``; ``omega``
     over-relaxes each local solution (then projected back onto the cone)."""
 
-    def __init__(self, problem, r0=None, *, omega=1.0, local_rtol=1e-14, max_local=200):
+    def __init__(self, problem, r0=None, *, omega=1.0, local_rtol=1e-14, max_local=200,
+                 closed_form=False):
         d, nc = problem.dim, problem.n_contacts
         if not 0.0 < omega < 2.0:
             raise InvalidOptionError(f"'nsgs': omega must be in (0, 2); got {omega}")
@@ -67,6 +75,16 @@ class NSGS:
             self.blocks = np.zeros((nc, d, d))
             self.blocks[rows[own] // d, rows[own] % d, W.indices[own] % d] = W.data[own]
             self.bsr = None
+        # 3-D contacts whose block is diag(a, c, c) (spheres) solved in
+        # closed form where asked: exact, and a sweep 3-4 times cheaper than
+        # the fixed point at a tight local tolerance; nsgs-newton keeps the
+        # fixed point, whose path "auto"'s restarts were measured on
+        # (docs/dev-notes.md, "Cheaper 3-D sweeps")
+        self.closed = np.zeros(nc, bool)
+        if closed_form and d == 3:
+            from ._nsgs_kernels import diagonal_blocks_3d
+
+            self.closed = diagonal_blocks_3d(self.blocks, _DIAGONAL_RTOL)
         self.omega = float(omega)
         self.local_rtol, self.max_local = float(local_rtol), int(max_local)
         self.done = 0
@@ -81,8 +99,11 @@ class NSGS:
         return W
 
     @functools.cached_property
-    def indices(self):
-        return self.W.indices.astype(np.int64)
+    def bsr_3d(self):
+        """W by 3 x 3 blocks (indptr, indices, data): the closed-form sweep's."""
+        B = sp.bsr_matrix(self.W, blocksize=(3, 3))
+        B.sort_indices()
+        return B.indptr.astype(np.int64), B.indices.astype(np.int64), B.data
 
     def restart(self, r):
         r = np.array(r, float).ravel()
@@ -95,16 +116,15 @@ class NSGS:
             self.moved = np.zeros(1)
 
     def sweep(self, n: int) -> np.ndarray:
-        from ._nsgs_kernels import sweeps   # numba: imported when a sweep runs, not with the registry
-
         p = self.problem
-        if self.bsr is not None:
+        if self.bsr is not None:     # numba: the kernels imported when a sweep runs
             from ._nsgs_kernels import sweeps_2d
             sweeps_2d(*self.bsr, p.q, p.mu, self.r, self.blocks, int(n), self.local_rtol,
                       self.max_local, self.omega, self.held, self.moved)
         else:
-            sweeps(self.W.indptr, self.indices, self.W.data, p.q, p.mu, p.dim, self.r,
-                   self.blocks, int(n), self.local_rtol, self.max_local, self.omega)
+            from ._nsgs_kernels import sweeps_3d
+            sweeps_3d(*self.bsr_3d, p.q, p.mu, self.r, self.blocks, self.closed, int(n),
+                      self.local_rtol, self.max_local, self.omega)
         self.done += int(n)
         return self.r
 
@@ -123,9 +143,10 @@ def solve_nsgs(problem, tol, options):
     opts = read_options("nsgs", options, NSGS_OPTIONS)
     max_sweeps, every, time_limit = opts["max_sweeps"], opts["check_every"], opts["time_limit"]
     local = {key: opts[key] for key in ("local_rtol", "max_local", "omega")}
+    stall = opts["stall_checks"]
     r0 = starting_point("nsgs", problem, opts["r0"])
     deadline = Deadline(time_limit)
-    gs = NSGS(problem, r0, **local)
+    gs = NSGS(problem, r0, closed_form=True, **local)
     best, best_r, since = np.inf, gs.r.copy(), 0
     why = f"stopped at {max_sweeps} sweeps"
     while gs.done < max_sweeps:
@@ -137,8 +158,8 @@ def solve_nsgs(problem, tol, options):
             since += 1
         if best <= tol:
             why = "reached the tolerance"
-        elif since >= 100:
-            why = "stalled (no better iterate in 100 checks)"
+        elif stall and since >= stall:
+            why = f"stalled (no better iterate in {stall} checks)"
         elif not np.all(np.isfinite(r)):
             why = "stopped: the iterate is no longer finite"
         elif deadline.expired():
