@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 __all__ = ["AUTO_ORDER", "AUTO_DENSE_LIMIT", "AUTO_CHAIN", "GLOBAL_CHAIN",
            "LEMKE_FIRST_MAX_CONTACTS", "NSGS_FIRST_3D", "PROGRESS_LINKS", "auto_progress",
            "link_options", "link_share", "SHARES_2D", "SWEEPS_LARGE_2D",
-           "SHARE_SWEEPS_LARGE_2D", "SHARE_RESTARTS_3D", "DENSE_CHAIN_3D", "SHARE_VI_EG_3D",
+           "SHARE_SWEEPS_LARGE_2D", "SHARE_RESTARTS_3D",
            "auto_order", "auto_chain", "kind_of",
            "lower_bounds_only", "jacobi_scaled", "check_applicable", "applicable", "data_range"]
 
@@ -112,7 +112,7 @@ NSGS_FIRST_3D = 500
 
 #: the methods of "auto"'s chains that report each iteration to ``progress``
 #: ("auto" hands it to these only: the others refuse the option)
-PROGRESS_LINKS = ("nsgs-newton", "nsgs-restarts", "vi-eg", "newton", "desaxce-fp", "tresca-fp",
+PROGRESS_LINKS = ("nsgs-newton", "nsgs-restarts", "newton", "desaxce-fp", "tresca-fp",
                   "desaxce-global", "mg-bpp", "ip-bpp")
 
 
@@ -152,11 +152,8 @@ def auto_chain(problem) -> tuple:
         # Newton from the best point; De Saxcé's SOCPs stall on piles (9.5e-4
         # at 540 contacts).  In 2-D the interior point on the exact LCP next
         # (link_share): it certifies dense piles where the sweeps stall
-        if problem.dim == 2:
-            head = ("nsgs-newton", "ip-lcp")
-            chain = head + tuple(m for m in chain if m not in head)
-        else:
-            chain = DENSE_CHAIN_3D
+        head = ("nsgs-newton", "ip-lcp") if problem.dim == 2 else ("nsgs-restarts", "newton")
+        chain = head + tuple(m for m in chain if m not in head)
     return chain
 
 
@@ -184,20 +181,7 @@ SHARE_SWEEPS_LARGE_2D = 0.5
 #: from the best point gets half of the rest, and De Saxcé's and Tresca's
 #: SOCPs, which certified none of those piles, what is left (docs/dev-notes.md,
 #: "Dense piles: where every iterative route stops")
-SHARE_RESTARTS_3D = 0.5
-
-#: "auto"'s chain in 3-D from NSGS_FIRST_3D contacts: the restarts (half of
-#: the budget), then "vi-eg" (SHARE_VI_EG_3D of what is left), a projected
-#: gradient whose trajectory certifies piles the sweeps miss (the 982-contact
-#: compact pile of seed 6: 19.6 s), then Newton from the best point so far
-#: with the rest.  De Saxcé's and Tresca's SOCPs, which followed Newton
-#: before, certified none of the dense piles and are not run there; one long
-#: NSGS trajectory at ω = 1 (Siconos's route to the 540-contact seed 2)
-#: certified only rows the restarts certify (540 seeds 5, 6, 8; 982 seeds 5,
-#: 7, in 12 s each) and is not run either (docs/dev-notes.md, "Cheaper 3-D
-#: sweeps and vi-eg in "auto"")
-DENSE_CHAIN_3D = ("nsgs-restarts", "vi-eg", "newton")
-SHARE_VI_EG_3D = 0.8
+SHARE_RESTARTS_3D = 0.8
 
 
 def link_share(problem, name: str, last: bool) -> float:
@@ -210,8 +194,6 @@ def link_share(problem, name: str, last: bool) -> float:
         return SHARES_2D.get(name, 0.5)
     if name == "nsgs-restarts":
         return SHARE_RESTARTS_3D
-    if name == "vi-eg" and _sweeps_first(problem):
-        return SHARE_VI_EG_3D
     return 0.5
 
 
