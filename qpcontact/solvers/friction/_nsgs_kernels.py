@@ -4,8 +4,11 @@ One sweep visits the contacts in order; contact i's local problem is
 u_i = W_ii r_i + b_i with b_i = q_i + Σ_{j≠i} W_ij r_j (the latest r_j), and
 r_i is replaced by its local solution.  In 2-D the local problem is a 2 x 2
 LCP solved exactly by enumeration (open, sticking, sliding either way); in
-3-D by the projected fixed point r ← proj_K(r − ρ(u + μ‖u_T‖e_N)),
-ρ = 1/‖W_ii‖_F, iterated to the local tolerance.  A sweep is O(nnz(W)).
+3-D in closed form where W_ii = diag(a, c, c) and asked for
+(:func:`_local_3d_closed_form`), else by the projected fixed point
+r ← proj_K(r − ρ(u + μ‖u_T‖e_N)), ρ = 1/‖W_ii‖_F, iterated to the local
+tolerance.  Both sweeps read W by blocks (2 x 2, 3 x 3).  A sweep is
+O(nnz(W)).
 """
 
 from __future__ import annotations
@@ -77,9 +80,8 @@ def _frobenius_step(A, d):
 @njit
 def _local_fixed_point(A, b, mu, r, d, rtol, max_local, rho, u, x):
     """The local problem by the projected fixed point from r (in place), ρ
-    its step (:func:`_frobenius_step`), ``u`` and ``x`` work arrays of d
-    entries (passed in: two allocations per contact visit were a sixth of a
-    3-D sweep's time)."""
+    its step (:func:`_frobenius_step`, once per contact and sweep call),
+    ``u`` and ``x`` the sweep's work arrays of d entries."""
     for _ in range(max_local):
         for a in range(d):
             acc = b[a]
