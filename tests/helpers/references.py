@@ -175,3 +175,43 @@ def natural_map_error_by_hand(W, q, mu, r) -> float:
             p = np.r_[a, m * a * xt / nt]
         total += np.sum((ri - p) ** 2)
     return np.sqrt(total) / (1 + np.linalg.norm(q))
+
+
+def coulomb_local_by_hand(A, b, mu) -> np.ndarray:
+    """One contact's Coulomb problem u = A r + b (A = W_ii, 2 x 2, or 3 x 3
+    diagonal with equal tangential entries: a sphere's), solved by its three
+    cases written out here: open where b_N >= 0; sticking where A r = −b
+    lies in the cone; else sliding with r_T = −μ r_N (the direction of u_T)
+    and u_N = 0 — in 2-D each sign tried, in 3-D the direction of b_T
+    (with A diagonal u_T = b_T + c r_T is parallel to b_T)."""
+    d = len(b)
+    if b[0] >= 0:
+        return np.zeros(d)
+    r = np.linalg.solve(A, -b)
+    if r[0] >= 0 and np.linalg.norm(r[1:]) <= mu * r[0]:
+        return r
+    if d == 2:
+        for s in (1.0, -1.0):         # u_T of sign s, r_T = −s μ r_N
+            rn = -b[0] / (A[0, 0] - s * mu * A[0, 1])
+            ut = (A[1, 0] - s * mu * A[1, 1]) * rn + b[1]
+            if rn >= 0 and s * ut >= 0:
+                return np.array([rn, -s * mu * rn])
+        raise ValueError("no case fits this 2-D block")
+    assert np.allclose(A, np.diag(np.diag(A)), rtol=0, atol=1e-12 * abs(A).max())
+    rn = -b[0] / A[0, 0]
+    return np.r_[rn, -mu * rn * b[1:] / np.linalg.norm(b[1:])]
+
+
+def nsgs_sweeps_by_hand(W, q, mu, r, n_sweeps) -> np.ndarray:
+    """``n_sweeps`` Gauss–Seidel sweeps over the contacts in order, each
+    contact's problem solved with the others' latest r frozen
+    (:func:`coulomb_local_by_hand`), W dense: the friction tests' NSGS."""
+    W = np.asarray(W.toarray() if hasattr(W, "toarray") else W, float)
+    d = len(r) // len(mu)
+    r = np.array(r, float)
+    for _ in range(n_sweeps):
+        for i, m in enumerate(mu):
+            own = slice(d * i, d * i + d)
+            b = q[own] + W[own] @ r - W[own, own] @ r[own]
+            r[own] = coulomb_local_by_hand(W[own, own], b, m)
+    return r

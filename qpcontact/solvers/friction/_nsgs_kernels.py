@@ -4,8 +4,11 @@ One sweep visits the contacts in order; contact i's local problem is
 u_i = W_ii r_i + b_i with b_i = q_i + Σ_{j≠i} W_ij r_j (the latest r_j), and
 r_i is replaced by its local solution.  In 2-D the local problem is a 2 x 2
 LCP solved exactly by enumeration (open, sticking, sliding either way); in
-3-D by the projected fixed point r ← proj_K(r − ρ(u + μ‖u_T‖e_N)),
-ρ = 1/‖W_ii‖_F, iterated to the local tolerance.  A sweep is O(nnz(W)).
+3-D in closed form where W_ii = diag(a, c, c) and asked for
+(:func:`_local_3d_closed_form`), else by the projected fixed point
+r ← proj_K(r − ρ(u + μ‖u_T‖e_N)), ρ = 1/‖W_ii‖_F, iterated to the local
+tolerance.  Both sweeps read W by blocks (2 x 2, 3 x 3).  A sweep is
+O(nnz(W)).
 """
 
 from __future__ import annotations
@@ -65,14 +68,20 @@ def _local_2d(A, b, mu, r):
 
 
 @njit
-def _local_fixed_point(A, b, mu, r, d, rtol, max_local):
+def _frobenius_step(A, d):
+    """The local fixed point's step ρ = 1/‖W_ii‖_F (1 for a zero block)."""
     rho = 0.0
     for a in range(d):
         for c in range(d):
             rho += A[a, c] * A[a, c]
-    rho = 1.0 / np.sqrt(rho) if rho > 0.0 else 1.0
-    u = np.empty(d)
-    x = np.empty(d)
+    return 1.0 / np.sqrt(rho) if rho > 0.0 else 1.0
+
+
+@njit
+def _local_fixed_point(A, b, mu, r, d, rtol, max_local, rho, u, x):
+    """The local problem by the projected fixed point from r (in place), ρ
+    its step (:func:`_frobenius_step`, once per contact and sweep call),
+    ``u`` and ``x`` the sweep's work arrays of d entries."""
     for _ in range(max_local):
         for a in range(d):
             acc = b[a]
@@ -97,44 +106,46 @@ def _local_fixed_point(A, b, mu, r, d, rtol, max_local):
 
 
 @njit
-def sweeps(indptr, indices, data, q, mu, d, r, blocks, n_sweeps, local_rtol, max_local, omega):
-    """``n_sweeps`` Gauss–Seidel sweeps on W (CSR: indptr, indices, data),
-    updating r in place; ``blocks`` the diagonal blocks W_ii (nc x d x d);
-    ``omega`` over-relaxes each local solution (1: plain Gauss–Seidel).
-    Returns the largest change of a contact's r in the last sweep."""
-    nc = mu.shape[0]
-    b = np.empty(d)
-    ri = np.empty(d)
-    change = 0.0
-    for _ in range(n_sweeps):
-        change = 0.0
-        for i in range(nc):
-            lo = d * i
-            for k in range(d):
-                row = lo + k
-                acc = q[row]
-                for p in range(indptr[row], indptr[row + 1]):
-                    j = indices[p]
-                    if j < lo or j >= lo + d:
-                        acc += data[p] * r[j]
-                b[k] = acc
-                ri[k] = r[lo + k]
-            A = blocks[i]
-            if d == 2 and _local_2d(A, b, mu[i], ri):
-                pass
-            else:
-                _local_fixed_point(A, b, mu[i], ri, d, local_rtol, max_local)
-            if omega != 1.0:         # over-relaxed, then back into the cone
-                for k in range(d):
-                    ri[k] = r[lo + k] + omega * (ri[k] - r[lo + k])
-                _project(ri, mu[i], d)
-            delta = 0.0
-            for k in range(d):
-                delta += (ri[k] - r[lo + k]) ** 2
-                r[lo + k] = ri[k]
-            if delta > change:
-                change = delta
-    return np.sqrt(change)
+def _local_3d_closed_form(a, c, b, mu, r):
+    """The 3-D local problem u = diag(a, c, c) r + b (a sphere's contact
+    block: the normal through both centres), exactly: open where b_N >= 0
+    (r = 0, û = b ∈ K*); else the contact closes, u_N = 0, r_N = −b_N/a, and
+    it sticks, r_T = −b_T/c, where that lies in the cone (‖b_T‖ <= μ c r_N,
+    u_T = 0), else slides: u_T = b_T + c r_T parallel to b_T and opposite
+    to r_T = −μ r_N b_T/‖b_T‖, so ‖u_T‖ = ‖b_T‖ − μ c r_N > 0."""
+    if b[0] >= 0.0:
+        r[0] = 0.0
+        r[1] = 0.0
+        r[2] = 0.0
+        return
+    rn = -b[0] / a
+    bt = np.sqrt(b[1] * b[1] + b[2] * b[2])
+    r[0] = rn
+    if bt <= mu * c * rn:
+        r[1] = -b[1] / c
+        r[2] = -b[2] / c
+    else:
+        s = mu * rn / bt
+        r[1] = -s * b[1]
+        r[2] = -s * b[2]
+
+
+@njit
+def diagonal_blocks_3d(blocks, rtol):
+    """Per contact whether its 3 x 3 block is diag(a, c, c) to ``rtol`` of
+    its largest entry (a > 0, c > 0): where the closed form applies."""
+    nc = blocks.shape[0]
+    out = np.zeros(nc, np.bool_)
+    for i in range(nc):
+        A = blocks[i]
+        big = 0.0
+        for k in range(3):
+            for m in range(3):
+                big = max(big, abs(A[k, m]))
+        off = max(abs(A[0, 1]), abs(A[0, 2]), abs(A[1, 0]), abs(A[2, 0]), abs(A[1, 2]),
+                  abs(A[2, 1]), abs(A[1, 1] - A[2, 2]))
+        out[i] = A[0, 0] > 0.0 and A[1, 1] > 0.0 and off <= rtol * big
+    return out
 
 
 @njit
@@ -196,6 +207,8 @@ def sweeps_2d(bptr, bcols, bdata, q, mu, r, blocks, n_sweeps, local_rtol, max_lo
     nc = mu.shape[0]
     b = np.empty(2)
     ri = np.empty(2)
+    u = np.empty(2)
+    x = np.empty(2)
     change = 0.0
     big = 0.0
     for c in range(r.shape[0]):
@@ -226,7 +239,8 @@ def sweeps_2d(bptr, bcols, bdata, q, mu, r, blocks, n_sweeps, local_rtol, max_lo
                 b[1] = b1
                 ri[0] = old0
                 ri[1] = old1
-                _local_fixed_point(blocks[i], b, mu[i], ri, 2, local_rtol, max_local)
+                _local_fixed_point(blocks[i], b, mu[i], ri, 2, local_rtol, max_local,
+                                   _frobenius_step(blocks[i], 2), u, x)
                 n0, n1 = ri[0], ri[1]
             if omega != 1.0:
                 n0, n1 = _project_2d(old0 + omega * (n0 - old0), old1 + omega * (n1 - old1),
@@ -256,3 +270,61 @@ def row_sums_2d(bptr, bdata):
         for p in range(bptr[i], bptr[i + 1]):
             out[i] += abs(bdata[p, 0, 0]) + abs(bdata[p, 0, 1])
     return out
+
+
+@njit
+def sweeps_3d(bptr, bcols, bdata, q, mu, r, blocks, closed, n_sweeps, local_rtol, max_local,
+              omega):
+    """``sweeps`` for 3-D contacts on W's 3 x 3 blocks (BSR, the diagonal
+    ones skipped by their column: ``bptr``, ``bcols``, ``bdata`` (nb, 3, 3)):
+    each neighbour's impulse read once for the three rows, no test per
+    entry; the same sums in the same order as the CSR sweep where W's
+    blocks are stored whole."""
+    nc = mu.shape[0]
+    b = np.empty(3)
+    ri = np.empty(3)
+    u = np.empty(3)
+    x = np.empty(3)
+    rho = np.empty(nc)
+    for i in range(nc):
+        rho[i] = _frobenius_step(blocks[i], 3)
+    change = 0.0
+    for _ in range(n_sweeps):
+        change = 0.0
+        for i in range(nc):
+            lo = 3 * i
+            b0 = q[lo]
+            b1 = q[lo + 1]
+            b2 = q[lo + 2]
+            for p in range(bptr[i], bptr[i + 1]):
+                j = bcols[p]
+                if j == i:
+                    continue
+                x0 = r[3 * j]
+                x1 = r[3 * j + 1]
+                x2 = r[3 * j + 2]
+                B = bdata[p]
+                b0 = b0 + B[0, 0] * x0 + B[0, 1] * x1 + B[0, 2] * x2
+                b1 = b1 + B[1, 0] * x0 + B[1, 1] * x1 + B[1, 2] * x2
+                b2 = b2 + B[2, 0] * x0 + B[2, 1] * x1 + B[2, 2] * x2
+            b[0] = b0
+            b[1] = b1
+            b[2] = b2
+            for k in range(3):
+                ri[k] = r[lo + k]
+            A = blocks[i]
+            if closed[i]:
+                _local_3d_closed_form(A[0, 0], 0.5 * (A[1, 1] + A[2, 2]), b, mu[i], ri)
+            else:
+                _local_fixed_point(A, b, mu[i], ri, 3, local_rtol, max_local, rho[i], u, x)
+            if omega != 1.0:
+                for k in range(3):
+                    ri[k] = r[lo + k] + omega * (ri[k] - r[lo + k])
+                _project(ri, mu[i], 3)
+            delta = 0.0
+            for k in range(3):
+                delta += (ri[k] - r[lo + k]) ** 2
+                r[lo + k] = ri[k]
+            if delta > change:
+                change = delta
+    return np.sqrt(change)
