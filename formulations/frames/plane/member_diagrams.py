@@ -107,7 +107,10 @@ def beam_column_axis(frame, res, m, x):
                          added)
     elif m.GAs is None:
         v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
-    elif parts:       # first order, judged by second_order.first_order_parts
+    elif any(np.any(np.asarray(part[-2:], float) != 0.0) for part in parts):
+        # loads across it: first order, judged by second_order.first_order_parts
+        # (loads only along it bend nothing: Engesser's below, or a hinged
+        # column's moment lost N̄ (v − v(0)) — 707 N m at its hinge, ok)
         return None
     else:             # Engesser's, from its end forces' statics
         f = res.member_forces[m.name]

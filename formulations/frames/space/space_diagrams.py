@@ -149,8 +149,9 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
             part = beam_column.flexible_part(plane_parts(load, R)[plane - 1], L, 1.0, 0.0, oi, oj)
             if part is not None:
                 parts.append(part[:-2] + tuple(factor * np.array(part[-2:])))
-        if GAs is not None and parts:     # first order, judged by first_order_parts
-            continue
+        if GAs is not None and any(np.any(np.asarray(part[-2:], float) != 0.0)
+                                   for part in parts):
+            continue        # loads across it: first order, judged by first_order_parts
         springs = (rel.get(turn), rel.get(turn + 6))
         # the plane's first-order statics M₁ = M₁(0) + V₁ x (Along.sections)
         M0, V1 = (-f[5], f[1]) if plane == 1 else (f[4], f[2])
