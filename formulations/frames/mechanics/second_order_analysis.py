@@ -36,7 +36,7 @@ from .second_order import (axial_change, bending, first_order_parts, first_order
                            own_buckling, past_own_buckling, spread_through_frame)
 from .tracing import BRACKET
 from .critical_load import critical_load_factor, stable_by_band
-from .tangent_stiffness import (DENSE_DOFS, first_holding, first_negative,
+from .tangent_stiffness import (DENSE_DOFS, band_counts, first_holding, first_negative,
                                 held_links, negative_eigenvalues, reduced_tangent, restraint,
                                 rounding_bracket)
 
@@ -96,9 +96,10 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
     stable = False if buckled else None     # a member past its own buckling: no count needed
     undecided = False
     if stable is None and b["free"].size <= DENSE_DOFS:
-        Kr = reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res)))
-        stable = negative_eigenvalues(Kr) == 0
-        if stable and negative_eigenvalues(Kr, within=True) > 0:
+        beyond, within = band_counts(
+            reduced_tangent(b["K"], b, restraint(b, held_links(frame, b, res))))
+        stable = beyond == 0
+        if stable and within > 0:
             # an eigenvalue within rounding of zero: a member 1e8 times
             # stiffer than the column it tops left a heavy cantilever at
             # 1.015 of its critical load "stable" by the count beyond
@@ -366,8 +367,9 @@ def buckling_along_path(frame, b, ft, N_start):
     ``b``): N(p) = N_start + p dN, N_start the constant loads' axial forces
     and dN their growth per unit p read at a point of the last piece; p_cr
     the smallest p at which the tangent stiffness K(N(p)), that piece's
-    contact states held, has a negative eigenvalue (bisection on the
-    count, as α_cr's).  None where no member's compression grows."""
+    contact states held, has an eigenvalue within rounding of zero (the
+    count's search and its rounding band's lower end, as α_cr's).  None
+    where no member's compression grows."""
     lo, hi = ft.intervals[-1] if ft.intervals else (0.0, np.inf)
     p_read = hi if np.isfinite(hi) and hi > 0 else lo + max(1.0, lo)
     res = ft.result_at(p_read)
@@ -378,32 +380,29 @@ def buckling_along_path(frame, b, ft, N_start):
         return None
     held = restraint(b, held_links(frame, b, res))
 
-    def negatives(p):
+    def negatives(p, within=False):
         return negative_eigenvalues(reduced_tangent(frame.stiffness(
-            axial=N_start + p * dN, along=ft.combination_at(p)), b, held))
+            axial=N_start + p * dN, along=ft.combination_at(p)), b, held), within)
 
     growing = dN < -rounding
     own = (own_buckling(frame)[growing] + N_start[growing]) / -dN[growing]
     pole = float(own.min())
     if negatives(0.0):
         return 0.0, "the frame is unstable under the constant loads alone"
-    c = first_negative(negatives, min(p_read, 0.5 * pole), pole)
-    if c is not None:       # the conservative end (critical_load_factor's)
-        top = c
-        c = rounding_bracket(lambda p: negative_eigenvalues(reduced_tangent(frame.stiffness(
-            axial=N_start + p * dN, along=ft.combination_at(p)), b, held), within=True), c)
-        if c == 0.0:
-            return 0.0, ("the frame's tangent stiffness (contact states held) has an eigenvalue "
-                         f"within rounding of zero at every load up to p = {top:.10g}, where it "
-                         "turns singular: its buckling load cannot be bounded from below (a "
-                         "member many orders of magnitude stiffer than those it joins)")
-        return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact "
-                   "states held, is within rounding of singular from there and singular at "
-                   f"p = {top:.10g})")
-    if c is None:
+    top = first_negative(negatives, min(p_read, 0.5 * pole), pole)
+    if top is None:
         worst = list(frame.members)[int(np.flatnonzero(growing)[np.argmin(own)])]
         return pole, (f"no sway buckles it before member {worst} buckles on its own "
                       f"(its nodes held) at p = {pole:.10g}")
+    c = rounding_bracket(lambda p: negatives(p, within=True), top)   # critical_load_factor's end
+    if c == 0.0:
+        return 0.0, ("the frame's tangent stiffness (contact states held) has an eigenvalue "
+                     f"within rounding of zero at every load up to p = {top:.10g}, where it "
+                     "turns singular: its buckling load cannot be bounded from below (a "
+                     "member many orders of magnitude stiffer than those it joins)")
+    return c, (f"the frame buckles at p = {c:.10g} (its tangent stiffness, the contact "
+               "states held, is within rounding of singular from there and singular at "
+               f"p = {top:.10g})")
 
 
 def first_unstable_piece(frame, b, ft):

@@ -51,7 +51,23 @@ def negative_eigenvalues(K, within: bool = False) -> int:
     # singular).  The largest |eigenvalue| by POWER steps of the power
     # method: the largest row sum, its bound, was up to twice it, and the
     # floor with it put a 64-piece portal's α_cr 1.3e-5 higher still
-    shift = -_floor(Ks) if within else _floor(Ks)
+    return _inertia(Ks, -_floor(Ks) if within else _floor(Ks))
+
+
+def band_counts(K) -> tuple[int, int]:
+    """(:func:`negative_eigenvalues` of K, the same ``within``) on one
+    scaling and one rounding floor — a second-order answer's stability
+    asks both of the same tangent."""
+    Ks = _scaled(K)
+    if not Ks.size:
+        return 0, 0
+    floor = _floor(Ks)
+    return _inertia(Ks, floor), _inertia(Ks, -floor)
+
+
+def _inertia(Ks, shift) -> int:
+    """The number of negative eigenvalues of Ks + shift I: the inertia of
+    its Bunch–Kaufman LDLᵀ."""
     lu, piv, info = sytrf(Ks + shift * np.eye(Ks.shape[0]), lower=1)
     if info < 0:
         raise SolverFailedError(f"negative_eigenvalues: LAPACK sytrf argument {-info}")
@@ -165,9 +181,9 @@ def first_negative(negatives, start, pole, least=None):
     tangent's least eigenvalue above its floor (:func:`least_eigenvalue`),
     whose zero the bracket is narrowed to first by the Illinois rule (a
     tangent under N(x) rebuilds its members at each step: 39 steps of
-    bisection took 0.9 s on a 70-member frame), then widened by NEAR and
-    kept where the counts at its ends say so, and bisected on the counts
-    as before: the same α.  The least eigenvalue's zero and the count's
+    bisection took 0.9 s on a 70-member frame), then widened by TIGHT (else
+    NEAR) and kept where the counts at its ends say so, and bisected on the
+    counts as before: the same α.  The least eigenvalue's zero and the count's
     change differ by rounding (1.1e-11 on a 30-storey frame), so the
     narrowed bracket alone was not the counts' in one frame of two."""
     lo, hi = 0.0, start

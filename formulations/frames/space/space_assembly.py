@@ -42,12 +42,7 @@ def assemble(frame, axial=None, along=None):
         ref = np.array([np.full(3, np.nan) if m_["ref"] is None else m_["ref"] for m_ in ms])
         R = axes(xi, xj, ref, np.array([m_["roll"] for m_ in ms]))
         T = rotation(R)
-        # each member's length as the frame computes it for its loads'
-        # positions and the members under N(x) (space_frame's member length,
-        # one vector norm a member): the norm along axis 1 sums in another
-        # order and was 1 ulp longer for ~6 % of inclined members, which cut a
-        # 1e-16 m piece (stiffness ~1e25) into their N(x) chains
-        L = np.array([float(np.linalg.norm(d)) for d in xj - xi])
+        L = np.array([space_varying.member_length(a, b) for a, b in zip(xi, xj)])
         offsets = np.array([m_["offsets"] for m_ in ms], float).reshape(m, 2)
         Lf = L - offsets.sum(axis=1)                     # the flexible lengths
         phi = shear_parameters(ms, Lf)

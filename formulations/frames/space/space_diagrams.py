@@ -46,7 +46,6 @@ from qpcontact.core.errors import InvalidOptionError, InvalidProblemError, Solve
 
 from ..mechanics.loads import check_diagram, stationary_points, turning_points, turning_sections
 from ..mechanics.space_element import EXTREMES, QUANTITIES
-from ..mechanics.space_element import axes as member_axes
 from ..mechanics import beam_column
 from . import space_varying
 from .space_member_loads import load_points, plane_parts, section_terms, split
@@ -54,9 +53,7 @@ from .space_member_loads import load_points, plane_parts, section_terms, split
 
 def geometry(frame, member: str):
     """(L, R) of a member: its length and the rows of its local x, y, z."""
-    m = frame.members[member]
-    xi, xj = frame.nodes[m["i"]], frame.nodes[m["j"]]
-    return float(np.linalg.norm(xj - xi)), member_axes(xi, xj, m["ref"], m["roll"])[0]
+    return space_varying.geometry(frame, frame.members[member])
 
 
 def loads_of(frame, res, member: str) -> list:

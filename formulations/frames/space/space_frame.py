@@ -307,7 +307,7 @@ class SpaceFrame:
                 f"{what}: its reference vector {tuple(map(float, ref))} is parallel to the "
                 "member; give one in the plane of the member's local x-z axes") from exc
         GAs = shear_areas(shear_area, props["G"], what)
-        L = float(np.linalg.norm(self.nodes[j] - self.nodes[i]))
+        L = space_varying.member_length(self.nodes[i], self.nodes[j])
         offs = [number(offset_i, f"{what}: offset_i"), number(offset_j, f"{what}: offset_j")]
         if min(offs) < 0 or not sum(offs) < L:
             raise InvalidProblemError(
@@ -402,7 +402,7 @@ class SpaceFrame:
 
     def _member_length(self, member: str) -> float:
         m = known_member(self, member)
-        return float(np.linalg.norm(self.nodes[m["j"]] - self.nodes[m["i"]]))
+        return space_varying.member_length(self.nodes[m["i"]], self.nodes[m["j"]])
 
     def add_point_load(self, member: str, a: float, fx=0.0, fy=0.0, fz=0.0, mx=0.0, my=0.0,
                        mz=0.0, *, axes: str = "global", case: str = CONSTANT,

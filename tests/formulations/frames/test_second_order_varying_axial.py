@@ -391,13 +391,21 @@ def test_a_hinged_heavy_column_buckles_on_its_own_where_its_chain_does():
     weight at q L³/EI = 18.5687: α_cr is limited by it to 1e-9 (the largest
     compression's bound alone said π² = 9.87), and a solve at 19 is
     UNSTABLE (the mean N, 9.5 EI/L², is below π²: it was ok)."""
+    buckles_on_its_own(_hinged_column)
+
+
+def buckles_on_its_own(build):
+    """The checks of a heavy column hinged at both ends, ``build(share)``
+    under ``share`` × its weight (member "c"), plane or space: α_cr limited
+    by its own buckling at the ODE shot's root to 1e-9, ok at 0.98 of it,
+    UNSTABLE at 19."""
     ref = _pinned_heavy_column_root()
-    fr = _hinged_column(1.0)
+    fr = build(1.0)
     alpha = critical_load_factor(fr, _solve(fr))
     assert alpha["limited_by"] == "c"
     assert alpha["alpha"] == pytest.approx(ref, rel=1e-9)
-    assert _solve(_hinged_column(0.98 * ref)).ok
-    res = _solve(_hinged_column(19.0))
+    assert _solve(build(0.98 * ref)).ok
+    res = _solve(build(19.0))
     assert not res.ok and "UNSTABLE" in res.message, res.message
 
 
