@@ -113,7 +113,7 @@ def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> dict:
 
     rows = [1, 2, 4, 5]
     members = {k: member for k, m in enumerate(ms)
-               if along and phi[k] == 0 and m.loads
+               if along and m.loads
                for member in [of_member(m, L[k], c[k], s[k], axial[k], along, False)]
                if member is not None}
     Member.in_one_pass(list(members.values()))

@@ -54,19 +54,15 @@ import copy
 
 import numpy as np
 
+from . import varying_pieces as pieces
 from .end_releases import released_ends
 from .loads import clipped
 
-#: Taylor terms per piece at most (|β| ≤ 1: 22 make the tail 1e-19 of the
-#: first; the series stops once four terms in a row are below TAIL of the
-#: largest, each solution's own: a short piece under little N needs ten)
-TERMS = 32
-
-#: the share of a solution's largest coefficient below which its tail is dropped
-TAIL = 1e-19
-
-#: the largest |N| h² / EI of a piece
+#: the largest |N| h² / (EI D) of a piece (D = 1 + N/(G A_s), Engesser's)
 PIECE = 1.0
+
+#: a run of pieces (:func:`_runs`) at least this share of its pieces' reach
+SHORT = 0.25
 
 
 def along_axis(load, L, c, s, oi, oj):
@@ -92,19 +88,21 @@ def of_member(m, L, c, s, Nbar, along, series=True):
     """The :class:`Member` of a plane member ``m`` (node-to-node length L,
     direction (c, s)) under N̄ where its loads in the combination ``along``
     have axial parts (on its rigid end zones too: its flexible length's N
-    is then not N̄); None where none do (or it is shear-flexible: its
-    element keeps the mean N)."""
-    if not along or m.GAs is not None:
+    is then not N̄); None where none do."""
+    if not along:
         return None
     oi, oj = m.offset_i, m.offset_j
     parts = [part[:-2] + tuple(along[ld.case] * np.array(part[-2:]))
              if part[0] == "distributed" else part[:2] + (along[ld.case] * part[2],)
              for ld in m.loads if along.get(ld.case)
              for part in [along_axis(ld, L, c, s, oi, oj)] if part]
-    if not parts:
+    # a shear-flexible member takes its loads across it here too (N̄
+    # constant where none is along it): Engesser's element keeps their
+    # first-order fixed-end forces
+    if not parts and (m.GAs is None or not any(along.get(ld.case) for ld in m.loads)):
         return None
     return Member(m.E * m.I, L - oi - oj, Nbar, parts,
-                  [x - oi for ld in m.loads for x in (ld.a, ld.b)], series, (oi, oj))
+                  [x - oi for ld in m.loads for x in (ld.a, ld.b)], series, (oi, oj), m.GAs)
 
 
 def least_axial(frame, N, along) -> np.ndarray:
@@ -245,19 +243,112 @@ def _statics_integral(axial_parts, at) -> np.ndarray:
     return out
 
 
-def _cuts(EI, L, Nbar, axial_parts, points, centre):
-    """The pieces' edges: the load positions ``points`` and cuts that keep
-    |N| h² ≤ PIECE EI (module docstring)."""
+def _cuts(planes, L, Nbar, axial_parts, points, centre):
+    """(edges, reach, sheared): the pieces' edges — the load positions
+    ``points`` and cuts that keep |N| h² ≤ PIECE EI D (D = 1 + N/(G A_s),
+    Engesser's; 1 without shear) and N's change along a piece below SHEAR
+    of G A_s D, on each of the bending ``planes`` [(EI, 1/(G A_s) or 0)] —
+    each piece's reach (the longest that the first rule allows on its
+    stretch, at most L: what makes a piece short, :func:`_runs`), and
+    whether D ≤ 0 somewhere (N past G A_s in compression: there v' =
+    (θ − S/(G A_s))/D has no bound, the member is past its own buckling).
+    A stretch where D is small (N near −G A_s) is cut in pieces that
+    shorten with D (:func:`_graded`): even cuts there would number 1/D."""
     edges = np.unique(np.r_[0.0, [p for p in points if 0.0 < p < L], L])
-    # |N| on each stretch from 9 points (both sides of its ends)
+    # N on each stretch from 9 points (both sides of its ends)
     xs = edges[:-1, None] + np.diff(edges)[:, None] * np.linspace(0.0, 1.0, 9)
-    big = np.maximum(np.abs(Nbar + variation(axial_parts, centre, xs)),
-                     np.abs(Nbar + variation(axial_parts, centre, xs, False))).max(axis=1)
-    n = np.maximum(1, np.ceil(np.diff(edges) * np.sqrt(big / (PIECE * EI)) * 1.05)).astype(int)
+    both = np.stack([Nbar + variation(axial_parts, centre, xs),
+                     Nbar + variation(axial_parts, centre, xs, False)])
+    big = np.abs(both).max(axis=(0, 2))
+    swing = both.max(axis=(0, 2)) - both.min(axis=(0, 2))
+    n = np.ones(edges.size - 1)
+    reach = np.full(edges.size - 1, float(L))
+    graded = np.zeros(edges.size - 1, bool)
+    for EI, c in planes:
+        D = (1.0 + c * both).min(axis=(0, 2))
+        if np.any(D <= 0.0):
+            return edges, reach, True
+        with np.errstate(divide="ignore"):
+            reach = np.minimum(reach, np.sqrt(PIECE * EI * D / big))
+        n = np.maximum(n, np.diff(edges) / reach * 1.05)
+        if c:
+            n = np.maximum(n, swing * c / (pieces.SHEAR * D))
+            graded |= D < 0.5
+    n = np.ceil(n).astype(int)
     if not np.any(n > 1):
-        return edges
-    return np.concatenate([edges[:1]] + [np.linspace(a, b, k + 1)[1:]
-                                         for a, b, k in zip(edges[:-1], edges[1:], n)])
+        return edges, reach, False
+    parts, reaches = [edges[:1]], []
+    for a, b, k, r, grade in zip(edges[:-1], edges[1:], n, reach, graded):
+        if grade and k > 1:
+            cut, each = _graded(a, b, planes, lambda x: Nbar + np.stack(
+                [variation(axial_parts, centre, x), variation(axial_parts, centre, x, False)]))
+            if cut is None:
+                return edges, reach, True
+            parts.append(cut)
+            reaches.append(each)
+        else:
+            parts.append(np.linspace(a, b, k + 1)[1:])
+            reaches.append(np.full(k, r))
+    return np.concatenate(parts), np.concatenate(reaches), False
+
+
+#: the most pieces a stretch is cut in where D = 1 + N/(G A_s) is small
+#: (:func:`_graded`: about 8 ln(1/D) pieces; beyond it D is 1e-30 or less)
+GRADED = 1000
+
+
+def _graded(a, b, planes, N):
+    """(the ends of pieces on [a, b] that meet :func:`_cuts`' rules each on
+    its own N — short where D is small, long where it is not —, their
+    reaches), or None where D ≤ 0 somewhere or GRADED pieces do not cover
+    it (the member is past its own buckling: :func:`_cuts`)."""
+    out, reaches, x = [], [], a
+    h = b - a
+    while x < b and len(out) < GRADED:
+        h = min(2.0 * h, b - x)
+        for _ in range(60):
+            Nx = N(x + h * np.linspace(0.0, 1.0, 5))
+            big, swing = np.abs(Nx).max(), Nx.max() - Nx.min()
+            limit = h
+            for EI, c in planes:
+                D = (1.0 + c * Nx).min()
+                if D <= 0.0:
+                    return None, None
+                reach = np.sqrt(PIECE * EI * D / big) if big else np.inf
+                limit = min(limit, reach / 1.05, pieces.SHEAR * D / (c * swing) * h
+                            if c and swing else np.inf)
+            if limit >= h:
+                break
+            h = 0.9 * limit
+        x = b if b - (x + h) <= 1e-12 * (b - a) else x + h
+        out.append(x)
+        reaches.append(h)
+    if x < b:
+        return None, None
+    return np.array(out), np.array(reaches)
+
+
+def _runs(h, reach) -> np.ndarray:
+    """The runs' bounds (piece indices, 0 … P): consecutive pieces joined
+    until a run is SHORT of its least reach long (a last short run joins
+    the one before): a piece much shorter than its neighbours, as a
+    stiffness (∝ 1/h³), costs the chain 3 log₁₀ of the ratio in digits
+    (1e-16 m: singular), as a transfer matrix nothing."""
+    P = h.size
+    if P == 1 or np.all(h >= SHORT * reach):
+        return np.arange(P + 1)
+    bounds, length, least = [0], 0.0, np.inf
+    for p in range(P):
+        length, least = length + h[p], min(least, reach[p])
+        if length >= SHORT * least:
+            bounds.append(p + 1)
+            length, least = 0.0, np.inf
+    if bounds[-1] != P:
+        if len(bounds) > 1:
+            bounds[-1] = P
+        else:
+            bounds.append(P)
+    return np.array(bounds)
 
 
 def _load_on(parts, lo, hi):
@@ -274,56 +365,29 @@ def _load_on(parts, lo, hi):
     return q0, q1
 
 
-def _series(beta, qt) -> np.ndarray:
-    """(P, 5, TERMS): each piece's four homogeneous solutions and its
-    particular one (zero initial data) as Taylor coefficients in σ;
-    ``beta`` (P, 3), ``qt`` (P, 2) h⁴ (q₀, q₁ h)/EI."""
-    P = beta.shape[0]
-    A = np.zeros((P, 5, TERMS))
-    for k in range(4):
-        A[:, k, k] = 1.0
-    b0, b1, b2 = (beta[:, i:i + 1] for i in range(3))
-    for m in range(TERMS - 4):
-        rhs = (b1 * (m + 1) * A[..., m + 1] + 2 * b2 * m * A[..., m]
-               + b0 * (m + 2) * (m + 1) * A[..., m + 2] + b1 * (m + 1) * m * A[..., m + 1]
-               + b2 * m * (m - 1) * A[..., m])
-        if m < 2:
-            rhs[:, 4] += qt[:, m]
-        A[..., m + 4] = rhs / ((m + 1) * (m + 2) * (m + 3) * (m + 4))
-        if m % 4 == 3 and np.all(np.abs(A[..., m + 1:m + 5]).max(axis=-1)
-                                 <= TAIL * np.abs(A[..., :m + 1]).max(axis=-1)):
-            break
-    return A
-
-
-_N = np.arange(TERMS, dtype=float)
-
-
-def _ends(A, h):
-    """(w, w', w'', w''') at σ = 0 and 1 of coefficients A (…, TERMS), x-derivatives."""
-    at0 = np.stack([A[..., 0], A[..., 1] / h, 2 * A[..., 2] / h ** 2, 6 * A[..., 3] / h ** 3])
-    d1 = _N
-    d2 = _N * (_N - 1)
-    d3 = d2 * (_N - 2)
-    at1 = np.stack([A.sum(-1), (A * d1).sum(-1) / h, (A * d2).sum(-1) / h ** 2,
-                    (A * d3).sum(-1) / h ** 3])
-    return at0, at1
-
-
 class Member:
     """One member's chain of pieces under N(x) (module docstring): EI, its
     flexible length L, N̄, the axial parts (times their factors), the
-    positions where its loads start, end or act and its rigid end zones'
-    lengths ``zones`` (o_i, o_j)."""
+    positions where its loads start, end or act, its rigid end zones'
+    lengths ``zones`` (o_i, o_j), its shear stiffness ``GAs`` (None:
+    Euler–Bernoulli) and ``also``: another bending plane's (EI, G A_s) that
+    the same cut must serve (:meth:`bent`)."""
 
-    def __init__(self, EI, L, Nbar, axial_parts, points, series=True, zones=(0.0, 0.0)):
+    def __init__(self, EI, L, Nbar, axial_parts, points, series=True, zones=(0.0, 0.0),
+                 GAs=None, also=None):
         self.EI, self.L, self.axial_parts = float(EI), float(L), list(axial_parts)
+        self.c = 0.0 if GAs is None else 1.0 / float(GAs)
         self.zones = (float(zones[0]), float(zones[1]))
         self.ends = (-self.zones[0], self.L + self.zones[1])
         self.centre = _centre(self.axial_parts, self.ends)
-        self.x = _cuts(EI, L, Nbar, self.axial_parts, points, self.centre)
+        planes = [(self.EI, self.c)] + ([] if also is None else
+                                        [(float(also[0]), 0.0 if also[1] is None
+                                          else 1.0 / float(also[1]))])
+        self.x, reach, self.sheared = _cuts(planes, L, Nbar, self.axial_parts, points,
+                                            self.centre)
         lo, hi = self.x[:-1], self.x[1:]
         self.h = hi - lo
+        self.bounds = _runs(self.h, reach)
         self.Nbar = float(Nbar)
         # N on each piece through σ = 0 (its right limit), ½ and 1 (its left):
         # a polynomial of degree ≤ 2 there
@@ -333,31 +397,55 @@ class Member:
         # ν₀ + ν₁ σ + ν₂ σ² through σ = 0, ½, 1
         self.nu = np.stack([Nv[:, 0], -3 * Nv[:, 0] + 4 * Nv[:, 1] - Nv[:, 2],
                             2 * Nv[:, 0] - 4 * Nv[:, 1] + 2 * Nv[:, 2]], axis=1)
-        self.beta = self.h[:, None] ** 2 * self.nu / self.EI
+        self._scaled()
         if series:        # else by :func:`in_one_pass` with other members'
-            self.solutions(_series(self.beta, np.zeros((lo.size, 2)))[:, :4])
+            self.solutions(pieces.series(self.beta, self.g, self.unit))
 
-    def bent(self, EI, series=True) -> "Member":
-        """The same chain (pieces, N(x)) with the bending stiffness EI ≥
-        this one's (its pieces still |N| h² ≤ EI): a space member's stiffer
-        bending plane, cut once for both."""
+    def _scaled(self):
+        """β = h² ν/EI, g = EI c/h² and the unit states' first coefficients."""
+        self.beta = self.h[:, None] ** 2 * self.nu / self.EI
+        with np.errstate(divide="ignore", invalid="ignore"):
+            self.g = np.where(self.h > 0, self.EI * self.c / self.h ** 2, 0.0)
+        self.unit = pieces.starts(self.nu, self.h, self.EI, self.c)[0]
+
+    def bent(self, EI, GAs=None, series=True) -> "Member":
+        """The same chain (pieces, N(x)) with another plane's bending
+        stiffness EI and shear stiffness ``GAs`` (cut for both: ``also``):
+        a space member's other bending plane."""
         other = copy.copy(self)
         other.EI = float(EI)
-        other.beta = self.h[:, None] ** 2 * self.nu / other.EI
+        other.c = 0.0 if GAs is None else 1.0 / float(GAs)
+        other._scaled()
         if series:
-            other.solutions(_series(other.beta, np.zeros((self.h.size, 2)))[:, :4])
+            other.solutions(pieces.series(other.beta, other.g, other.unit))
         return other
 
     def solutions(self, H):
-        """The pieces' homogeneous solutions H (P, 4, TERMS) taken: the
-        shape functions' coefficients C and the pieces' stiffness k."""
-        self.H = H                                           # (P, 4, T)
-        at0, at1 = _ends(H, self.h[:, None])                 # (4 quantities, P, 4 solutions)
-        B = np.stack([at0[0], at0[1], at1[0], at1[1]], axis=1)      # (P, 4 ends, 4 sols)
-        self.C = np.linalg.solve(B, np.broadcast_to(np.eye(4), B.shape))
-        forces = self._forces(at0, at1)                     # (P, 4 forces, 4 sols)
-        k = forces @ self.C
-        self.k = 0.5 * (k + np.swapaxes(k, 1, 2))
+        """The pieces' solutions from the unit states H (P, 4, TERMS) taken:
+        their transfer matrices T and the runs' stiffness k."""
+        self.H = H
+        self.T = pieces.end_states(H, self.nu, self.h, self.EI, self.c)     # (P, 4, 4)
+        b = self.bounds
+        self.length = self.x[b[1:]] - self.x[b[:-1]]
+        self.Tr = self._through(self.T, np.zeros((self.h.size, 4)), None)[0]
+        if self.sheared:            # past its own buckling (_cuts): no finite stiffness
+            self.k = np.full((b.size - 1, 4, 4), np.nan)
+            return
+        self.k = pieces.run_stiffness(self.Tr, np.zeros((b.size - 1, 4)), self.length,
+                                      self.EI)[0]
+
+    def _through(self, T, t, jumps):
+        """(T, t) of each run: its pieces' transfer matrices and load terms
+        multiplied through, the state's ``jumps`` (P + 1, 4) at its inner
+        joints (point loads) added."""
+        b = self.bounds
+        Tr, tr = T[b[:-1]].copy(), t[b[:-1]].copy()
+        for r in np.flatnonzero(np.diff(b) > 1).tolist():
+            for p in range(b[r] + 1, b[r + 1]):
+                jump = 0.0 if jumps is None else jumps[p]
+                Tr[r] = T[p] @ Tr[r]
+                tr[r] = T[p] @ (tr[r] + jump) + t[p]
+        return Tr, tr
 
     @staticmethod
     def in_one_pass(members) -> None:
@@ -367,56 +455,69 @@ class Member:
         α_cr's bisection."""
         if not members:
             return
-        H = _series(np.concatenate([m.beta for m in members]),
-                    np.zeros((sum(m.h.size for m in members), 2)))[:, :4]
+        H = pieces.series(np.concatenate([m.beta for m in members]),
+                          np.concatenate([m.g for m in members]),
+                          np.concatenate([m.unit for m in members]))
         for m, Hm in zip(members, np.split(H, np.cumsum([m.h.size for m in members])[:-1])):
             m.solutions(Hm)
 
-    def _forces(self, at0, at1):
-        """The end forces (v_a, θ_a, v_b, θ_b) of solutions whose end
-        values ``at0``, ``at1`` are (w, w', w'', w''') × (P, …)."""
-        EI = self.EI
-        n0 = self.nu[:, 0].reshape((-1,) + (1,) * (at0.ndim - 2))
-        n1 = self.nu.sum(axis=1).reshape(n0.shape)
-        return np.stack([EI * at0[3] - n0 * at0[1], -EI * at0[2],
-                         -(EI * at1[3] - n1 * at1[1]), EI * at1[2]], axis=1)
-
     def _particular(self, parts):
-        """(A (P, T), clamped consistent loads per piece (P, 4)) of the
-        transverse parts' distributed loads."""
+        """(A (P, T), each piece's load term t (P, 4)) of the transverse
+        parts' distributed loads: the series from the zero state."""
         P = self.h.size
         q = np.array([_load_on(parts, a, b) for a, b in zip(self.x[:-1], self.x[1:])]
                      ).reshape(P, 2)
-        qt = self.h[:, None] ** 4 * q * np.c_[np.ones(P), self.h] / self.EI
-        if not np.any(qt):
-            return np.zeros((P, TERMS)), np.zeros((P, 4))
-        A = _series(self.beta, qt)[:, 4]
-        at0, at1 = _ends(A, self.h)
-        d = np.stack([at0[0], at0[1], at1[0], at1[1]], axis=1)          # (P, 4)
-        R = self._forces(at0, at1) - np.einsum("pij,pj->pi", self.k, d)
-        return A, -R
+        if not np.any(q):
+            return np.zeros((P, pieces.TERMS)), np.zeros((P, 4))
+        qt = (self.h[:, None] ** 4 * q * np.c_[np.ones(P), self.h] / self.EI)[:, None, :]
+        start = pieces.starts(self.nu, self.h, self.EI, self.c, q)[1][:, None, :]
+        A = pieces.series(self.beta, self.g, start, qt)
+        return A[:, 0], pieces.end_states(A, self.nu, self.h, self.EI, self.c, q)[:, :, 0]
 
-    def _joints(self, parts):
-        """(K, f): the chain's stiffness and loads on every joint's (v, θ)."""
-        P = self.h.size
-        n = 2 * (P + 1)
-        K = np.zeros((n, n))
-        f = np.zeros(n)
-        fe = self._particular(parts)[1] if parts else np.zeros((P, 4))
-        for p in range(P):
-            K[2 * p:2 * p + 4, 2 * p:2 * p + 4] += self.k[p]
-            f[2 * p:2 * p + 4] += fe[p]
+    def _points(self, parts):
+        """(the joints' loads (runs + 1, 2), the state's jumps at the pieces'
+        edges (P + 1, 4)): a point force py and couple mz at an edge inside
+        a run jump S by py and M by −mz there."""
+        joints = np.zeros((self.bounds.size, 2))
+        jumps = np.zeros((self.h.size + 1, 4))
+        at = {int(e): r for r, e in enumerate(self.bounds)}
         for part in parts:
             if part[0] == "point":
                 _, a, py, mz = part
-                j = int(np.argmin(np.abs(self.x - a)))
-                f[2 * j] += py
-                f[2 * j + 1] += mz
+                e = int(np.argmin(np.abs(self.x - a)))
+                if e in at:
+                    joints[at[e]] += (py, mz)
+                else:
+                    jumps[e, 3] += py
+                    jumps[e, 2] -= mz
+        return joints, jumps
+
+    def _loads(self, parts):
+        """(A, t per piece, jumps, t per run, the joints' loads) of ``parts``."""
+        Ap, t = self._particular(parts)
+        joints, jumps = self._points(parts)
+        return Ap, t, jumps, self._through(self.T, t, jumps)[1], joints
+
+    def _joints(self, parts):
+        """(K, f): the chain's stiffness and loads on every joint's (v, θ)."""
+        R = self.bounds.size - 1
+        n = 2 * (R + 1)
+        K = np.zeros((n, n))
+        f = np.zeros(n)
+        fe = np.zeros((R, 4))
+        if parts:
+            _, _, _, tr, joints = self._loads(parts)
+            if np.any(tr):
+                fe = -pieces.run_stiffness(self.Tr, tr, self.length, self.EI)[1]
+            f += joints.ravel()
+        for r in range(R):
+            K[2 * r:2 * r + 4, 2 * r:2 * r + 4] += self.k[r]
+            f[2 * r:2 * r + 4] += fe[r]
         return K, f
 
     def stiffness(self) -> np.ndarray:
         """The member's 4 × 4 bending stiffness on (v_i, θ_i, v_j, θ_j)."""
-        if self.h.size == 1:
+        if self.k.shape[0] == 1:
             return self.k[0]
         K, _ = self._joints([])
         return _condensed(K, np.zeros(K.shape[0]))[0]
@@ -439,8 +540,12 @@ class Member:
         transverse displacements, and their rotations where rigidly joined
         (``springs`` (i, j): None), a released end's rotation on its spring
         (0: a hinge): the member's own buckling with its nodes held
-        (Wittrick–Williams' member term).  No piece buckles on its own
-        (|N| h² ≤ EI < π² EI), so the chain's modes are the member's."""
+        (Wittrick–Williams' member term).  No run buckles on its own
+        (|N| h² ≤ (1 + 2 SHORT)² EI D < 4π² EI D, Engesser's clamped load),
+        so the chain's modes are the member's; a member compressed past
+        G A_s somewhere is past its own buckling (at least one)."""
+        if self.sheared:
+            return 1
         K, _ = self._joints([])
         n = K.shape[0]
         keep = list(range(2, n - 2))
@@ -476,11 +581,12 @@ class Member:
 
     def axis(self, parts, ends, springs, x):
         """(v, v', ∫₀ˣ N v' dx) at x under ``parts`` (each times its
-        factor): its flexible ends' displacements and their nodes'
-        rotations ``ends`` (v_i, θ_i, v_j, θ_j), ``springs`` (i, j) each
-        None for a rigid joint, 0 for a hinge, else a rotational spring —
-        a released end's own rotation from the element's moment row, as
-        :func:`.beam_column.axis` does."""
+        factor), v' the axis' slope (a shear-flexible member's section
+        turns by θ = v' + M'/(G A_s)): its flexible ends' displacements and
+        their nodes' rotations ``ends`` (v_i, θ_i, v_j, θ_j), ``springs``
+        (i, j) each None for a rigid joint, 0 for a hinge, else a rotational
+        spring — a released end's own rotation from the element's moment
+        row, as :func:`.beam_column.axis` does."""
         K, f = self._joints(parts)
         n = K.shape[0]
         ends = released_ends(lambda: _condensed(K, f), ends, springs)
@@ -490,16 +596,22 @@ class Member:
         u[e] = ends
         if i:
             u[i] = np.linalg.solve(K[np.ix_(i, i)], f[i] - K[np.ix_(i, e)] @ np.asarray(ends))
-        Ap, _ = self._particular(parts)
+        Ap, t, jumps, tr, _ = self._loads(parts)
         P = self.h.size
-        A = np.empty((P, TERMS))
-        for p in range(P):
-            up = u[2 * p:2 * p + 4]
-            at0, at1 = _ends(Ap[p], self.h[p])
-            d = np.array([at0[0], at0[1], at1[0], at1[1]])
-            A[p] = (self.C[p] @ (up - d)) @ self.H[p] + Ap[p]
+        A = np.empty((P, pieces.TERMS))
+        b = self.bounds
+        for r in range(b.size - 1):
+            da, db = u[2 * r:2 * r + 2], u[2 * r + 2:2 * r + 4]
+            y = np.r_[da, pieces.start_forces(self.Tr[r], tr[r], self.length[r], self.EI,
+                                              da, db)]
+            for p in range(b[r], b[r + 1]):
+                if p > b[r]:
+                    y = y + jumps[p]
+                A[p] = y @ self.H[p] + Ap[p]
+                y = self.T[p] @ y + t[p]
         # ∫ N w_σ dσ on each piece, as a series in σ, and its totals
-        dA = A[:, 1:] * _N[1:]                                    # w_σ's coefficients
+        TERMS = pieces.TERMS
+        dA = A[:, 1:] * np.arange(1, TERMS)                       # w_σ's coefficients
         prod = np.zeros((P, TERMS + 2))
         for r in range(3):
             prod[:, r:r + TERMS - 1] += self.nu[:, r:r + 1] * dA
@@ -507,7 +619,8 @@ class Member:
         start = np.r_[0.0, np.cumsum(integ.sum(axis=1))[:-1]]
         x = np.asarray(x, float)
         p = np.clip(np.searchsorted(self.x, x, side="right") - 1, 0, P - 1)
-        s = np.clip((x - self.x[p]) / self.h[p], 0.0, 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = np.where(self.h[p] > 0, np.clip((x - self.x[p]) / self.h[p], 0.0, 1.0), 0.0)
         powers = s[:, None] ** np.arange(TERMS + 3)
         v = (A[p] * powers[:, :TERMS]).sum(1)
         dv = (dA[p] * powers[:, :TERMS - 1]).sum(1) / self.h[p]

@@ -83,7 +83,7 @@ def of_member(m, loads, L, R, Nbar, along, series=True):
     node-to-node length L, axes R) under N̄ where its loads in the
     combination ``along`` have parts along its axis; None where none do,
     or where it has a shear area."""
-    if not along or any(g is not None for g in m["GAs"]):
+    if not along:
         return None
     oi, oj = m["offsets"]
     parts = []
@@ -93,16 +93,22 @@ def of_member(m, loads, L, R, Nbar, along, series=True):
         if part:
             parts.append(part[:-2] + tuple(factor * np.array(part[-2:]))
                          if part[0] == "distributed" else part[:2] + (factor * part[2],))
-    if not parts:
+    # a shear-flexible member takes its loads across it here too (N̄
+    # constant where none is along it)
+    if not parts and (all(g is None for g in m["GAs"])
+                      or not any(along.get(ld.case) for ld in loads)):
         return None
     points = [x - oi for ld in loads for x in (ld.a, ld.b)]
     rel = dict(m["releases"])
-    # one cut for both planes, on the weaker's EI (a chain per plane cost
-    # its cuts and N(x) table twice: a fifth of α_cr's time on a building)
+    # one cut for both planes (a chain per plane cost its cuts and N(x)
+    # table twice: a fifth of α_cr's time on a building), on the weaker's EI
+    # and serving the other's
     EI = [m["E"] * m[I_] for I_, _, _ in PLANES]
     weak = int(EI[1] < EI[0])
-    first = Member(EI[weak], L - oi - oj, Nbar, parts, points, series, (oi, oj))
-    planes = [first, first.bent(EI[1 - weak], series)]
+    GAs = m["GAs"]
+    first = Member(EI[weak], L - oi - oj, Nbar, parts, points, series, (oi, oj), GAs[weak],
+                   (EI[1 - weak], GAs[1 - weak]))
+    planes = [first, first.bent(EI[1 - weak], GAs[1 - weak], series)]
     return BothPlanes(planes[::-1] if weak else planes,
                       [(rel.get(rows[1]), rel.get(rows[1] + 6)) for _, rows, _ in PLANES])
 
