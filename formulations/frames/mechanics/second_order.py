@@ -88,15 +88,16 @@ clamped, P and H at its free tip) sways H L/P (tan μ/(β μ) − 1), which is
 H L³/(3EI) + H L/(G A_s) as P → 0, and buckles at μ = π/2:
 P_c/(1 + P_c/(G A_s)), P_c = π²EI/(4L²).
 
-A Timoshenko member's loads keep their first-order fixed-end forces and
-diagrams; an Euler–Bernoulli member's are the beam-column's
-(:mod:`.beam_column`), with N constant along it — or, where its loads'
-axial parts make N vary along a plane member, the beam-column under N(x)
-(:mod:`.varying_axial`: its stiffness too).  Where what stays first
-order (a Timoshenko member's span loads; the axial parts of a
-Timoshenko or space member's loads, where the element takes the mean N)
-is off by more than the accuracy asked the answer is not ok
-(:func:`first_order_parts`, :func:`spread_through_frame`).  Along a
+A member's loads are the beam-column's: an Euler–Bernoulli member's
+(:mod:`.beam_column`) with N constant along it — or, where its loads'
+axial parts make N vary along it, the beam-column under N(x)
+(:mod:`.varying_axial`: its stiffness too), which a Timoshenko member with
+span loads always takes (Engesser's under N(x); its stability functions
+above where it carries none).  What stays first order — a span load that
+the stiffness was not built with (a trace's variable load on a
+shear-flexible member the constant loads leave unloaded) — is judged
+(:func:`first_order_parts`): beyond the accuracy asked the answer is not
+ok.  Along a
 trace's one stiffness the change of N(x) from the load it was built at
 is, as N̄'s, the path's change of its axial forces, which it reports
 (:func:`axial_change`): result_at(p) solves at p on its own.

@@ -1,15 +1,19 @@
-"""The Euler–Bernoulli beam-column whose axial force varies along it: a
-member whose own loads have parts along its axis (a column's self-weight,
-a point load along it) carries N(x), not the constant N of
-:mod:`.beam_column`'s stability functions.
+"""The beam-column whose axial force varies along it — Euler–Bernoulli or
+shear-flexible (Engesser's, :mod:`.second_order`): a member whose own
+loads have parts along its axis (a column's self-weight, a point load
+along it) carries N(x), not the constant N of :mod:`.beam_column`'s and
+:mod:`.second_order`'s stability functions.
 
 The mechanics.  On the flexible length [0, L] (member axes, as
 :mod:`.beam_column`'s) the deflection v(x) [L] under the transverse load
 q(x) [F/L] obeys, equilibrium on the deformed axis,
 
-    EI v'''' − (N(x) v')' = q(x),
+    EI v'''' + (EI/(G A_s)) (N(x) v')''' − (N(x) v')' = q(x)
 
-with N(x) [F] (tension positive) = N̄ + n(x) − (n(−o_i) + n(L + o_j))/2:
+(q linear between load positions; G A_s [F] the shear stiffness, the
+middle term absent without shear deformation:
+:mod:`.varying_pieces` derives it), with N(x) [F] (tension positive)
+= N̄ + n(x) − (n(−o_i) + n(L + o_j))/2:
 N̄ the mean of its nodes' end forces that the frame's fixed point
 iterates (:func:`.second_order_path.axial_forces`), n(x) = −∫ p − Σ P the
 statics of the axial loads p (distributed, along +x) and P (points) from
@@ -19,33 +23,38 @@ the flexible length's mean is not N̄ (taken on its own ends, a 5 m
 cantilever with a 0.625 m top zone under 0.7 of Greenhill's load had α_cr
 1.68 for 1.43 and its base moment 25 % low).  A zone's own P-Δ is
 θ ∫_zone N dx (:meth:`Member.arms`).  The
-transverse force across the undeformed axis, T = EI v''' − N v', jumps by
-a transverse point force and is continuous where only N jumps (an axial
-point load); EI v'' jumps by minus a point couple.
+transverse force across the undeformed axis, T = M' − N v' (EI v''' − N v'
+without shear), jumps by a transverse point force and is continuous where
+only N jumps (an axial point load); the moment M jumps by minus a point
+couple.
 
 The solution.  Between load positions N is a polynomial of degree ≤ 2 and
 q of degree ≤ 1, so on each piece [x₀, x₀ + h] the solution is an entire
-function, written as its Taylor series in σ = (x − x₀)/h: with
-w = Σ A_n σⁿ and N = ν₀ + ν₁ σ + ν₂ σ², β_i = h² ν_i / EI,
-
-    (m+1)(m+2)(m+3)(m+4) A_{m+4} = β₁ B_m + 2 β₂ B_{m−1} + β₀ C_m
-                                   + β₁ C_{m−1} + β₂ C_{m−2} + h⁴ q_m / EI,
-
-B_j = (j+1) A_{j+1}, C_j = (j+1)(j+2) A_{j+2} (the coefficients of w' and
-w'').  Pieces are cut so that |N| h² ≤ EI everywhere on them (|β| ≤ 1):
-then |A_n| falls like 1/n!, and TERMS terms are exact to rounding (the
-last one 1e-30 of the first).  Four homogeneous solutions (unit initial
-w, w', w'', w''') and the particular one (zero initial data) give each
-piece's exact stiffness on its ends' (v, θ) and its clamped end forces;
-the pieces are joined as a chain (continuity of v, θ; the forces at the
-joints balanced, a point load there a nodal load of the joint) and the
-joints condensed out: the member's 4 × 4 stiffness on (v_i, θ_i, v_j,
-θ_j), its consistent nodal loads, and, from its end displacements, each
-piece's series — v, v' and the second-order moment ∫₀ˣ N v' dx (the
-section moment on the deformed axis is the first-order statics' plus it;
-N (v(x) − v(0)) for constant N) between the ends.  Nothing is
-interpolated: the series are the solution.  With N constant it is the
-stability functions' member (tests: to ~1e-12), a different route.
+function (with shear, analytic while 1 + N/(G A_s) > 0), written as its
+Taylor series in σ = (x − x₀)/h (:mod:`.varying_pieces`: the recurrence,
+with units).  Pieces are cut so that |N| h² ≤ EI (1 + N/(G A_s))
+everywhere on them: then |A_n| falls like 1/n!, and the series are exact
+to rounding; where N comes near −G A_s (shear), shorter as it comes
+nearer (:func:`.varying_pieces.cuts`), and where it passes it the member is past its
+own buckling.  Four series from the unit states (v, θ, M, S) at x₀ give
+each piece's transfer matrix, the particular one (zero state) its load
+term; consecutive pieces are multiplied into runs no shorter than a share of
+what the rule allows (:func:`.varying_pieces.runs`: two load positions 1 ulp to 1 cm
+apart made a piece whose stiffness, ∝ 1/h³, cost the chain 3 log₁₀ of the
+ratio in digits — LinAlgError at 1e-9 m), each run's stiffness on its
+ends' (v, θ) and clamped end forces follow, and the runs are joined as a
+chain (continuity of v, θ; the forces at the joints balanced, a point
+load there a nodal load of the joint, inside a run a jump of its state)
+with the joints condensed out: the member's 4 × 4 stiffness on (v_i, θ_i,
+v_j, θ_j), its consistent nodal loads, and, from its end displacements,
+each piece's series — v, v' (the axis' slope; the section turns by θ = v'
++ M'/(G A_s)) and the second-order moment ∫₀ˣ N v' dx (the section moment
+on the deformed axis is the first-order statics' plus it; N (v(x) − v(0))
+for constant N) between the ends.  A chain of stiffnesses rather than one
+transfer matrix end to end: in strong tension that would grow as e^(kL).
+Nothing is interpolated: the series are the solution.  With N constant
+it is the stability functions' member, Livesley's or Engesser's (tests:
+to ~1e-12), a different route.
 """
 
 from __future__ import annotations
@@ -57,13 +66,6 @@ import numpy as np
 from . import varying_pieces as pieces
 from .end_releases import released_ends
 from .loads import clipped
-
-#: the largest |N| h² / (EI D) of a piece (D = 1 + N/(G A_s), Engesser's)
-PIECE = 1.0
-
-#: a run of pieces (:func:`_runs`) at least this share of its pieces' reach
-SHORT = 0.25
-
 
 def along_axis(load, L, c, s, oi, oj):
     """A member load's part along the axis node to node (positions from
@@ -243,114 +245,6 @@ def _statics_integral(axial_parts, at) -> np.ndarray:
     return out
 
 
-def _cuts(planes, L, Nbar, axial_parts, points, centre):
-    """(edges, reach, sheared): the pieces' edges — the load positions
-    ``points`` and cuts that keep |N| h² ≤ PIECE EI D (D = 1 + N/(G A_s),
-    Engesser's; 1 without shear) and N's change along a piece below SHEAR
-    of G A_s D, on each of the bending ``planes`` [(EI, 1/(G A_s) or 0)] —
-    each piece's reach (the longest that the first rule allows on its
-    stretch, at most L: what makes a piece short, :func:`_runs`), and
-    whether D ≤ 0 somewhere (N past G A_s in compression: there v' =
-    (θ − S/(G A_s))/D has no bound, the member is past its own buckling).
-    A stretch where D is small (N near −G A_s) is cut in pieces that
-    shorten with D (:func:`_graded`): even cuts there would number 1/D."""
-    edges = np.unique(np.r_[0.0, [p for p in points if 0.0 < p < L], L])
-    # N on each stretch from 9 points (both sides of its ends)
-    xs = edges[:-1, None] + np.diff(edges)[:, None] * np.linspace(0.0, 1.0, 9)
-    both = np.stack([Nbar + variation(axial_parts, centre, xs),
-                     Nbar + variation(axial_parts, centre, xs, False)])
-    big = np.abs(both).max(axis=(0, 2))
-    swing = both.max(axis=(0, 2)) - both.min(axis=(0, 2))
-    n = np.ones(edges.size - 1)
-    reach = np.full(edges.size - 1, float(L))
-    graded = np.zeros(edges.size - 1, bool)
-    for EI, c in planes:
-        D = (1.0 + c * both).min(axis=(0, 2))
-        if np.any(D <= 0.0):
-            return edges, reach, True
-        with np.errstate(divide="ignore"):
-            reach = np.minimum(reach, np.sqrt(PIECE * EI * D / big))
-        n = np.maximum(n, np.diff(edges) / reach * 1.05)
-        if c:
-            n = np.maximum(n, swing * c / (pieces.SHEAR * D))
-            graded |= D < 0.5
-    n = np.ceil(n).astype(int)
-    if not np.any(n > 1):
-        return edges, reach, False
-    parts, reaches = [edges[:1]], []
-    for a, b, k, r, grade in zip(edges[:-1], edges[1:], n, reach, graded):
-        if grade and k > 1:
-            cut, each = _graded(a, b, planes, lambda x: Nbar + np.stack(
-                [variation(axial_parts, centre, x), variation(axial_parts, centre, x, False)]))
-            if cut is None:
-                return edges, reach, True
-            parts.append(cut)
-            reaches.append(each)
-        else:
-            parts.append(np.linspace(a, b, k + 1)[1:])
-            reaches.append(np.full(k, r))
-    return np.concatenate(parts), np.concatenate(reaches), False
-
-
-#: the most pieces a stretch is cut in where D = 1 + N/(G A_s) is small
-#: (:func:`_graded`: about 8 ln(1/D) pieces; beyond it D is 1e-30 or less)
-GRADED = 1000
-
-
-def _graded(a, b, planes, N):
-    """(the ends of pieces on [a, b] that meet :func:`_cuts`' rules each on
-    its own N — short where D is small, long where it is not —, their
-    reaches), or None where D ≤ 0 somewhere or GRADED pieces do not cover
-    it (the member is past its own buckling: :func:`_cuts`)."""
-    out, reaches, x = [], [], a
-    h = b - a
-    while x < b and len(out) < GRADED:
-        h = min(2.0 * h, b - x)
-        for _ in range(60):
-            Nx = N(x + h * np.linspace(0.0, 1.0, 5))
-            big, swing = np.abs(Nx).max(), Nx.max() - Nx.min()
-            limit = h
-            for EI, c in planes:
-                D = (1.0 + c * Nx).min()
-                if D <= 0.0:
-                    return None, None
-                reach = np.sqrt(PIECE * EI * D / big) if big else np.inf
-                limit = min(limit, reach / 1.05, pieces.SHEAR * D / (c * swing) * h
-                            if c and swing else np.inf)
-            if limit >= h:
-                break
-            h = 0.9 * limit
-        x = b if b - (x + h) <= 1e-12 * (b - a) else x + h
-        out.append(x)
-        reaches.append(h)
-    if x < b:
-        return None, None
-    return np.array(out), np.array(reaches)
-
-
-def _runs(h, reach) -> np.ndarray:
-    """The runs' bounds (piece indices, 0 … P): consecutive pieces joined
-    until a run is SHORT of its least reach long (a last short run joins
-    the one before): a piece much shorter than its neighbours, as a
-    stiffness (∝ 1/h³), costs the chain 3 log₁₀ of the ratio in digits
-    (1e-16 m: singular), as a transfer matrix nothing."""
-    P = h.size
-    if P == 1 or np.all(h >= SHORT * reach):
-        return np.arange(P + 1)
-    bounds, length, least = [0], 0.0, np.inf
-    for p in range(P):
-        length, least = length + h[p], min(least, reach[p])
-        if length >= SHORT * least:
-            bounds.append(p + 1)
-            length, least = 0.0, np.inf
-    if bounds[-1] != P:
-        if len(bounds) > 1:
-            bounds[-1] = P
-        else:
-            bounds.append(P)
-    return np.array(bounds)
-
-
 def _load_on(parts, lo, hi):
     """(q₀, q₁): the transverse distributed load on [lo, hi] as q₀ + q₁ (x − lo)."""
     q0 = q1 = 0.0
@@ -383,11 +277,12 @@ class Member:
         planes = [(self.EI, self.c)] + ([] if also is None else
                                         [(float(also[0]), 0.0 if also[1] is None
                                           else 1.0 / float(also[1]))])
-        self.x, reach, self.sheared = _cuts(planes, L, Nbar, self.axial_parts, points,
-                                            self.centre)
+        self.x, reach, self.sheared = pieces.cuts(planes, L, points, lambda x: Nbar + np.stack(
+            [variation(self.axial_parts, self.centre, x),
+             variation(self.axial_parts, self.centre, x, False)]))
         lo, hi = self.x[:-1], self.x[1:]
         self.h = hi - lo
-        self.bounds = _runs(self.h, reach)
+        self.bounds = pieces.runs(self.h, reach)
         self.Nbar = float(Nbar)
         # N on each piece through σ = 0 (its right limit), ½ and 1 (its left):
         # a polynomial of degree ≤ 2 there
@@ -428,7 +323,7 @@ class Member:
         b = self.bounds
         self.length = self.x[b[1:]] - self.x[b[:-1]]
         self.Tr = self._through(self.T, np.zeros((self.h.size, 4)), None)[0]
-        if self.sheared:            # past its own buckling (_cuts): no finite stiffness
+        if self.sheared:            # past its own buckling (pieces.cuts): no finite stiffness
             self.k = np.full((b.size - 1, 4, 4), np.nan)
             return
         self.k = pieces.run_stiffness(self.Tr, np.zeros((b.size - 1, 4)), self.length,

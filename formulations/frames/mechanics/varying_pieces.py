@@ -73,6 +73,120 @@ TAIL = 1e-19
 #: series' shear terms fall by it a term: 8⁻²⁸ at TERMS)
 SHEAR = 0.125
 
+#: the largest |N| h² / (EI D) of a piece (D = 1 + N/(G A_s), Engesser's)
+PIECE = 1.0
+
+#: a run of pieces (:func:`runs`) at least this share of its pieces' reach
+SHORT = 0.25
+
+
+def cuts(planes, L, points, N):
+    """(edges, reach, sheared): the pieces' edges — the load positions
+    ``points`` and cuts that keep |N| h² ≤ PIECE EI D (D = 1 + N/(G A_s),
+    Engesser's; 1 without shear) and N's change along a piece below SHEAR
+    of G A_s D, on each of the bending ``planes`` [(EI, 1/(G A_s) or 0)] —
+    each piece's reach (the longest that the first rule allows on its
+    stretch, at most L: what makes a piece short, :func:`runs`), and
+    whether D ≤ 0 somewhere (N past G A_s in compression: there v' =
+    (θ − S/(G A_s))/D has no bound, the member is past its own buckling).
+    A stretch where D is small (N near −G A_s) is cut in pieces that
+    shorten with D (:func:`_graded`): even cuts there would number 1/D.
+    ``N(x)``: N at the sections x (2, …): their right and left sides."""
+    edges = np.unique(np.r_[0.0, [p for p in points if 0.0 < p < L], L])
+    # N on each stretch from 9 points (both sides of its ends)
+    xs = edges[:-1, None] + np.diff(edges)[:, None] * np.linspace(0.0, 1.0, 9)
+    both = N(xs)
+    big = np.abs(both).max(axis=(0, 2))
+    swing = both.max(axis=(0, 2)) - both.min(axis=(0, 2))
+    n = np.ones(edges.size - 1)
+    reach = np.full(edges.size - 1, float(L))
+    graded = np.zeros(edges.size - 1, bool)
+    for EI, c in planes:
+        D = (1.0 + c * both).min(axis=(0, 2))
+        if np.any(D <= 0.0):
+            return edges, reach, True
+        with np.errstate(divide="ignore"):
+            reach = np.minimum(reach, np.sqrt(PIECE * EI * D / big))
+        n = np.maximum(n, np.diff(edges) / reach * 1.05)
+        if c:
+            n = np.maximum(n, swing * c / (SHEAR * D))
+            graded |= D < 0.5
+    n = np.ceil(n).astype(int)
+    if not np.any(n > 1):
+        return edges, reach, False
+    parts, reaches = [edges[:1]], []
+    for a, b, k, r, grade in zip(edges[:-1], edges[1:], n, reach, graded):
+        if grade and k > 1:
+            cut, each = _graded(a, b, planes, N)
+            if cut is None:
+                return edges, reach, True
+            parts.append(cut)
+            reaches.append(each)
+        else:
+            parts.append(np.linspace(a, b, k + 1)[1:])
+            reaches.append(np.full(k, r))
+    return np.concatenate(parts), np.concatenate(reaches), False
+
+
+#: the most pieces a stretch is cut in where D = 1 + N/(G A_s) is small
+#: (:func:`_graded`: about 8 ln(1/D) pieces; beyond it D is 1e-30 or less)
+GRADED = 1000
+
+
+def _graded(a, b, planes, N):
+    """(the ends of pieces on [a, b] that meet :func:`_cuts`' rules each on
+    its own N — short where D is small, long where it is not —, their
+    reaches), or None where D ≤ 0 somewhere or GRADED pieces do not cover
+    it (the member is past its own buckling: :func:`_cuts`)."""
+    out, reaches, x = [], [], a
+    h = b - a
+    while x < b and len(out) < GRADED:
+        h = min(2.0 * h, b - x)
+        for _ in range(60):
+            Nx = N(x + h * np.linspace(0.0, 1.0, 5))
+            big, swing = np.abs(Nx).max(), Nx.max() - Nx.min()
+            limit = h
+            for EI, c in planes:
+                D = (1.0 + c * Nx).min()
+                if D <= 0.0:
+                    return None, None
+                reach = np.sqrt(PIECE * EI * D / big) if big else np.inf
+                limit = min(limit, reach / 1.05, SHEAR * D / (c * swing) * h
+                            if c and swing else np.inf)
+            if limit >= h:
+                break
+            h = 0.9 * limit
+        x = b if b - (x + h) <= 1e-12 * (b - a) else x + h
+        out.append(x)
+        reaches.append(h)
+    if x < b:
+        return None, None
+    return np.array(out), np.array(reaches)
+
+
+def runs(h, reach) -> np.ndarray:
+    """The runs' bounds (piece indices, 0 … P): consecutive pieces joined
+    until a run is SHORT of its least reach long (a last short run joins
+    the one before): a piece much shorter than its neighbours, as a
+    stiffness (∝ 1/h³), costs the chain 3 log₁₀ of the ratio in digits
+    (1e-16 m: singular), as a transfer matrix nothing."""
+    P = h.size
+    if P == 1 or np.all(h >= SHORT * reach):
+        return np.arange(P + 1)
+    bounds, length, least = [0], 0.0, np.inf
+    for p in range(P):
+        length, least = length + h[p], min(least, reach[p])
+        if length >= SHORT * least:
+            bounds.append(p + 1)
+            length, least = 0.0, np.inf
+    if bounds[-1] != P:
+        if len(bounds) > 1:
+            bounds[-1] = P
+        else:
+            bounds.append(P)
+    return np.array(bounds)
+
+
 _N = np.arange(TERMS, dtype=float)
 _D1, _D2 = _N, _N * (_N - 1)
 _D3 = _D2 * (_N - 2)

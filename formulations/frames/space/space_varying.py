@@ -12,9 +12,9 @@ x-y plane's part of each load (:func:`.space_member_loads.plane_parts`: its
 x component), the same in both planes; so is each rigid end zone's P-Δ,
 θ ∫_zone N dx.  Each plane is then :class:`..mechanics.varying_axial.Member`
 with its own EI, its end releases the member's about that plane's axis.
-Used only where N varies and the member has no shear area (a
-Timoshenko member keeps Engesser's element on the mean N and is judged,
-:func:`..mechanics.second_order.spread_through_frame`), as the plane path.
+Used where N varies, and on a member with a shear area wherever it is
+loaded (each plane Engesser's beam-column under N(x), its own G A_s), as
+the plane path.
 """
 
 from __future__ import annotations
