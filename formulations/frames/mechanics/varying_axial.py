@@ -277,31 +277,44 @@ class Member:
         planes = [(self.EI, self.c)] + ([] if also is None else
                                         [(float(also[0]), 0.0 if also[1] is None
                                           else 1.0 / float(also[1]))])
+        self.Nbar = float(Nbar)
         self.x, reach, self.sheared = pieces.cuts(planes, L, points, lambda x: Nbar + np.stack(
             [variation(self.axial_parts, self.centre, x),
              variation(self.axial_parts, self.centre, x, False)]))
+        self._pieces(reach, self.axial_parts)
+        self.lowest = _least(self.nu)
+        if self.sheared:
+            # past its own buckling (own_negatives counts it), its element
+            # takes the mean N — at most half G A_s in compression — so that
+            # the answer is there to call UNSTABLE
+            self.Nbar = max(self.Nbar, -0.5 / max(c for _, c in planes))
+            self.x, reach, _ = pieces.cuts(planes, L, points,
+                                           lambda x: np.full((2,) + np.shape(x), self.Nbar))
+            self._pieces(reach, [])
+            self.Nbar = float(Nbar)
+        self._scaled()
+        if series:        # else by :func:`in_one_pass` with other members'
+            Member.in_one_pass([self])
+
+    def _pieces(self, reach, axial_parts):
+        """The pieces' lengths, runs and N's coefficients under ``axial_parts``."""
         lo, hi = self.x[:-1], self.x[1:]
         self.h = hi - lo
         self.bounds = pieces.runs(self.h, reach)
-        self.Nbar = float(Nbar)
         # N on each piece through σ = 0 (its right limit), ½ and 1 (its left):
         # a polynomial of degree ≤ 2 there
         pts = lo[:, None] + self.h[:, None] * np.array([0.0, 0.5, 1.0])
-        Nv = Nbar + np.c_[variation(self.axial_parts, self.centre, pts[:, 0], True),
-                          variation(self.axial_parts, self.centre, pts[:, 1:], False)]
+        Nv = self.Nbar + np.c_[variation(axial_parts, self.centre, pts[:, 0], True),
+                               variation(axial_parts, self.centre, pts[:, 1:], False)]
         # ν₀ + ν₁ σ + ν₂ σ² through σ = 0, ½, 1
         self.nu = np.stack([Nv[:, 0], -3 * Nv[:, 0] + 4 * Nv[:, 1] - Nv[:, 2],
                             2 * Nv[:, 0] - 4 * Nv[:, 1] + 2 * Nv[:, 2]], axis=1)
-        self._scaled()
-        if series:        # else by :func:`in_one_pass` with other members'
-            self.solutions(pieces.series(self.beta, self.g, self.unit))
 
     def _scaled(self):
-        """β = h² ν/EI, g = EI c/h² and the unit states' first coefficients."""
+        """β = h² ν/EI and g = EI c/h² of the pieces."""
         self.beta = self.h[:, None] ** 2 * self.nu / self.EI
         with np.errstate(divide="ignore", invalid="ignore"):
             self.g = np.where(self.h > 0, self.EI * self.c / self.h ** 2, 0.0)
-        self.unit = pieces.starts(self.nu, self.h, self.EI, self.c)[0]
 
     def bent(self, EI, GAs=None, series=True) -> "Member":
         """The same chain (pieces, N(x)) with another plane's bending
@@ -312,28 +325,16 @@ class Member:
         other.c = 0.0 if GAs is None else 1.0 / float(GAs)
         other._scaled()
         if series:
-            other.solutions(pieces.series(other.beta, other.g, other.unit))
+            Member.in_one_pass([other])
         return other
-
-    def solutions(self, H):
-        """The pieces' solutions from the unit states H (P, 4, TERMS) taken:
-        their transfer matrices T and the runs' stiffness k."""
-        self.H = H
-        self.T = pieces.end_states(H, self.nu, self.h, self.EI, self.c)     # (P, 4, 4)
-        b = self.bounds
-        self.length = self.x[b[1:]] - self.x[b[:-1]]
-        self.Tr = self._through(self.T, np.zeros((self.h.size, 4)), None)[0]
-        if self.sheared:            # past its own buckling (pieces.cuts): no finite stiffness
-            self.k = np.full((b.size - 1, 4, 4), np.nan)
-            return
-        self.k = pieces.run_stiffness(self.Tr, np.zeros((b.size - 1, 4)), self.length,
-                                      self.EI)[0]
 
     def _through(self, T, t, jumps):
         """(T, t) of each run: its pieces' transfer matrices and load terms
         multiplied through, the state's ``jumps`` (P + 1, 4) at its inner
         joints (point loads) added."""
         b = self.bounds
+        if b.size == self.h.size + 1:
+            return T, t
         Tr, tr = T[b[:-1]].copy(), t[b[:-1]].copy()
         for r in np.flatnonzero(np.diff(b) > 1).tolist():
             for p in range(b[r] + 1, b[r + 1]):
@@ -344,17 +345,36 @@ class Member:
 
     @staticmethod
     def in_one_pass(members) -> None:
-        """The homogeneous solutions of many members (built with ``series``
-        false) in one pass of the recurrence: one member's (a column piece
-        under its weight) cost a quarter of a millisecond, 40 times over in
-        α_cr's bisection."""
+        """The pieces' solutions from their unit states, their transfer
+        matrices and the runs' stiffness k, of many members (built with
+        ``series`` false) at once: the series, the end states and the runs'
+        stiffness each one pass over all their pieces (per member, in
+        NumPy's small calls, a column's cost 0.4 ms, 40 times over in
+        α_cr's bisection)."""
         if not members:
             return
+        sizes = [m.h.size for m in members]
+        cut = np.cumsum(sizes)[:-1]
+        nu, h = (np.concatenate([getattr(m, a) for m in members]) for a in ("nu", "h"))
+        EI = np.repeat([m.EI for m in members], sizes)
+        c = np.repeat([m.c for m in members], sizes)
         H = pieces.series(np.concatenate([m.beta for m in members]),
                           np.concatenate([m.g for m in members]),
-                          np.concatenate([m.unit for m in members]))
-        for m, Hm in zip(members, np.split(H, np.cumsum([m.h.size for m in members])[:-1])):
-            m.solutions(Hm)
+                          pieces.starts(nu, h, EI, c)[0])
+        T = pieces.end_states(H, nu, h, EI, c)                  # (P, 4, 4)
+        runs = []
+        for m, Hm, Tm in zip(members, np.split(H, cut), np.split(T, cut)):
+            m.H, m.T = Hm, Tm
+            b = m.bounds
+            m.length = m.x[b[1:]] - m.x[b[:-1]]
+            m.Tr = m._through(Tm, np.zeros((m.h.size, 4)), None)[0]
+            runs.append(m.Tr)
+        count = [m.length.size for m in members]
+        k = pieces.run_stiffness(np.concatenate(runs), np.zeros((sum(count), 4)),
+                                 np.concatenate([m.length for m in members]),
+                                 np.repeat([m.EI for m in members], count))[0]
+        for m, km in zip(members, np.split(k, np.cumsum(count)[:-1])):
+            m.k = km
 
     def _particular(self, parts):
         """(A (P, T), each piece's load term t (P, 4)) of the transverse
@@ -424,11 +444,9 @@ class Member:
         return _condensed(K, f)[1]
 
     def least(self) -> float:
-        """The least N(x) on the member: at a piece's ends or its vertex."""
-        n0, n1, n2 = self.nu.T
-        with np.errstate(divide="ignore", invalid="ignore"):
-            top = np.where(n2 != 0, np.clip(-n1 / (2 * n2), 0.0, 1.0), 0.0)
-        return float(min(n0.min(), (n0 + n1 + n2).min(), (n0 + n1 * top + n2 * top ** 2).min()))
+        """The least N(x) on the member (its own where the element takes
+        the mean N: past its own buckling)."""
+        return self.lowest
 
     def own_negatives(self, springs) -> int:
         """The negative eigenvalues of the chain with its ends held — their
@@ -521,6 +539,14 @@ class Member:
         dv = (dA[p] * powers[:, :TERMS - 1]).sum(1) / self.h[p]
         dM = start[p] + (integ[p] * powers).sum(1)
         return v, dv, dM
+
+
+def _least(nu) -> float:
+    """The least of N on pieces of coefficients ``nu``: at their ends or vertices."""
+    n0, n1, n2 = nu.T
+    with np.errstate(divide="ignore", invalid="ignore"):
+        top = np.where(n2 != 0, np.clip(-n1 / (2 * n2), 0.0, 1.0), 0.0)
+    return float(min(n0.min(), (n0 + n1 + n2).min(), (n0 + n1 * top + n2 * top ** 2).min()))
 
 
 def _condensed(K, f):

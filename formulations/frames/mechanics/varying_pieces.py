@@ -106,8 +106,9 @@ def cuts(planes, L, points, N):
         if np.any(D <= 0.0):
             return edges, reach, True
         with np.errstate(divide="ignore"):
-            reach = np.minimum(reach, np.sqrt(PIECE * EI * D / big))
-        n = np.maximum(n, np.diff(edges) / reach * 1.05)
+            allowed = np.sqrt(PIECE * EI * D / big)
+        n = np.maximum(n, np.diff(edges) / allowed * 1.05)
+        reach = np.minimum(reach, allowed)
         if c:
             n = np.maximum(n, swing * c / (SHEAR * D))
             graded |= D < 0.5
@@ -237,10 +238,10 @@ def starts(nu, h, EI, c, q=None) -> tuple[np.ndarray, np.ndarray]:
     eye = np.broadcast_to(np.eye(4), (P, 4, 4))
     v, th, M, S = (eye[:, k, :] for k in range(4))         # (P, 4 solutions)
     col = (lambda a: np.asarray(a, float).reshape(-1, 1))
-    D_, c_, N_, dN_, ddN_ = (col(a) for a in np.broadcast_arrays(D, c, N, dN, ddN))
+    D_, c_, N_, dN_, ddN_, EI_ = (col(a) for a in np.broadcast_arrays(D, c, N, dN, ddN, EI))
     d1 = (th - c_ * S) / D_
-    d2 = (M / EI - c_ * dN_ * d1) / D_
-    d3 = ((S + N_ * d1) / EI - c_ * (ddN_ * d1 + 2 * dN_ * d2)) / D_
+    d2 = (M / EI_ - c_ * dN_ * d1) / D_
+    d3 = ((S + N_ * d1) / EI_ - c_ * (ddN_ * d1 + 2 * dN_ * d2)) / D_
     hh = h[:, None]
     unit = np.stack([v, hh * d1, hh ** 2 * d2 / 2, hh ** 3 * d3 / 6], axis=-1)
     part = np.zeros((P, 4))
@@ -268,6 +269,7 @@ def end_states(A, nu, h, EI, c, q=None) -> np.ndarray:
     cc = np.asarray(c, float).reshape(-1, 1) * np.ones_like(N)
     qe = np.zeros_like(N) if q is None else (q[:, 0] + q[:, 1] * h)[:, None]
     dq = np.zeros_like(N) if q is None else q[:, 1:2]
+    EI = np.asarray(EI, float).reshape(-1, 1)
     M = EI * ((1.0 + cc * N) * d2 + cc * dN * d1 + cc * qe)
     dM = EI * (d3 + cc * (ddN * d1 + 2 * dN * d2 + N * d3) + cc * dq)
     return np.stack([v, d1 + cc * dM, M, dM - N * d1], axis=1)
@@ -284,13 +286,15 @@ def slopes(A, nu, h, sigma) -> tuple[np.ndarray, np.ndarray]:
 def _scales(length, EI):
     """(4,) or (G, 4): the states' scales (1, ℓ, ℓ²/EI, ℓ³/EI): all lengths."""
     ell = np.asarray(length, float)[..., None]
+    EI = np.asarray(EI, float)[..., None] if np.ndim(EI) else EI
     return np.concatenate([np.ones_like(ell), ell, ell ** 2 / EI, ell ** 3 / EI], axis=-1)
 
 
 def run_stiffness(T, t, length, EI) -> tuple[np.ndarray, np.ndarray]:
     """(k (G, 4, 4), F₀ (G, 4)): the stiffness on (v_a, θ_a, v_b, θ_b) and
     the clamped end forces (S_a, −M_a, −S_b, M_b) of runs of transfer
-    matrices T (G, 4, 4) and load terms t (G, 4) (module docstring)."""
+    matrices T (G, 4, 4) and load terms t (G, 4) (module docstring); EI a
+    number or one a run."""
     s = _scales(length, EI)
     Ts = s[:, :, None] * T / s[:, None, :]
     ts = s * t

@@ -203,3 +203,22 @@ def test_a_hanging_shear_flexible_column_in_tension_is_its_shot(GAs):
     assert res.ok, res.message
     assert res.displacements["B"][0] == pytest.approx(end(M0)[0], rel=1e-9)
     assert res.end_forces("c")["i"]["M"] == pytest.approx(M0, rel=1e-9)
+
+
+@pytest.mark.parametrize("q", [3e5, 1e6])
+def test_a_column_compressed_past_its_shear_stiffness_is_unstable(q):
+    """A 5 m shear-flexible cantilever (G A_s = 1e6 N) under its weight q,
+    its base compressed to 1.5 and 5 G A_s (its mean to 0.75 and 2.5):
+    there Engesser's v' = (θ − S/G A_s)/(1 + N/G A_s) has no bound, the
+    member is past its own buckling — UNSTABLE, an answer, not an error
+    (its chain would have had no finite stiffness: it takes the mean N,
+    at most half G A_s, to reach the verdict)."""
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, 5.0)
+    fr.add_member("A", "B", E, 1e-2, 1e-5, G=G, shear_area=1e6 / G, name="c")
+    fr.add_distributed_load("c", wy=-q, case="D")
+    fr.add_support("A")
+    fr.add_load("B", fx=10.0, case="D")
+    res = _solve(fr)
+    assert not res.ok and "UNSTABLE: member(s) c" in res.message, res.message
