@@ -370,11 +370,12 @@ class Member:
             m.Tr = m._through(Tm, np.zeros((m.h.size, 4)), None)[0]
             runs.append(m.Tr)
         count = [m.length.size for m in members]
-        k = pieces.run_stiffness(np.concatenate(runs), np.zeros((sum(count), 4)),
-                                 np.concatenate([m.length for m in members]),
-                                 np.repeat([m.EI for m in members], count))[0]
-        for m, km in zip(members, np.split(k, np.cumsum(count)[:-1])):
-            m.k = km
+        k, F = pieces.run_stiffness(np.concatenate(runs),
+                                    np.concatenate([m.length for m in members]),
+                                    np.repeat([m.EI for m in members], count))
+        at = np.cumsum(count)[:-1]
+        for m, km, Fm in zip(members, np.split(k, at), np.split(F, at)):
+            m.k, m.F = km, Fm
 
     def _particular(self, parts):
         """(A (P, T), each piece's load term t (P, 4)) of the transverse
@@ -423,7 +424,7 @@ class Member:
         if parts:
             _, _, _, tr, joints = self._loads(parts)
             if np.any(tr):
-                fe = -pieces.run_stiffness(self.Tr, tr, self.length, self.EI)[1]
+                fe = -np.einsum("rij,rj->ri", self.F, tr)
             f += joints.ravel()
         for r in range(R):
             K[2 * r:2 * r + 4, 2 * r:2 * r + 4] += self.k[r]

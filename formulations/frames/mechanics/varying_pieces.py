@@ -290,28 +290,28 @@ def _scales(length, EI):
     return np.concatenate([np.ones_like(ell), ell, ell ** 2 / EI, ell ** 3 / EI], axis=-1)
 
 
-def run_stiffness(T, t, length, EI) -> tuple[np.ndarray, np.ndarray]:
-    """(k (G, 4, 4), F₀ (G, 4)): the stiffness on (v_a, θ_a, v_b, θ_b) and
-    the clamped end forces (S_a, −M_a, −S_b, M_b) of runs of transfer
-    matrices T (G, 4, 4) and load terms t (G, 4) (module docstring); EI a
-    number or one a run."""
+def run_stiffness(T, length, EI) -> tuple[np.ndarray, np.ndarray]:
+    """(k (G, 4, 4), F (G, 4, 4)): the stiffness on (v_a, θ_a, v_b, θ_b) of
+    runs of transfer matrices T (G, 4, 4), and the map F from a run's load
+    term t (4) to its clamped end forces (S_a, −M_a, −S_b, M_b), F t
+    (module docstring); EI a number or one a run."""
     s = _scales(length, EI)
     Ts = s[:, :, None] * T / s[:, None, :]
-    ts = s * t
     Tdd, Tdf, Tfd, Tff = Ts[:, :2, :2], Ts[:, :2, 2:], Ts[:, 2:, :2], Ts[:, 2:, 2:]
     X = np.linalg.inv(Tdf)
-    # f_a = X d_b − X Tdd d_a − X t_d ; f_b = Tfd d_a + Tff f_a + t_f
+    # f_a = X d_b − X Tdd d_a − X t_d ; f_b = Tfd d_a + Tff f_a + t_f: on the
+    # ends' displacements, then on t (scaled: s t)
     fa = np.concatenate([-X @ Tdd, X], axis=2)                       # (G, 2, 4)
     fb = np.concatenate([Tfd, np.zeros_like(Tfd)], axis=2) + Tff @ fa
-    fa0 = -np.einsum("gij,gj->gi", X, ts[:, :2])
-    fb0 = np.einsum("gij,gj->gi", Tff, fa0) + ts[:, 2:]
+    ta = np.concatenate([-X, np.zeros_like(X)], axis=2) * s[:, None, :]
+    tb = Tff @ ta + np.concatenate([np.zeros_like(X), np.eye(2) * s[:, None, 2:]], axis=2)
     # scaled displacements (v, ℓθ) back to (v, θ), scaled forces to (M, S)
     dsc = np.concatenate([s[:, :2], s[:, :2]], axis=1)
     fa, fb = fa * dsc[:, None, :], fb * dsc[:, None, :]
-    fa, fb, fa0, fb0 = fa / s[:, 2:, None], fb / s[:, 2:, None], fa0 / s[:, 2:], fb0 / s[:, 2:]
+    fa, fb, ta, tb = (f / s[:, 2:, None] for f in (fa, fb, ta, tb))
     k = np.stack([fa[:, 1], -fa[:, 0], -fb[:, 1], fb[:, 0]], axis=1)
-    F0 = np.stack([fa0[:, 1], -fa0[:, 0], -fb0[:, 1], fb0[:, 0]], axis=1)
-    return 0.5 * (k + np.swapaxes(k, 1, 2)), F0
+    F = np.stack([ta[:, 1], -ta[:, 0], -tb[:, 1], tb[:, 0]], axis=1)
+    return 0.5 * (k + np.swapaxes(k, 1, 2)), F
 
 
 def start_forces(T, t, length, EI, da, db) -> np.ndarray:
