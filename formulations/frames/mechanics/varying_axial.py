@@ -414,15 +414,16 @@ class Member:
         joints, jumps = self._points(parts)
         return Ap, t, jumps, self._through(self.T, t, jumps)[1], joints
 
-    def _joints(self, parts):
-        """(K, f): the chain's stiffness and loads on every joint's (v, θ)."""
+    def _joints(self, parts, loads=None):
+        """(K, f): the chain's stiffness and loads on every joint's (v, θ)
+        (``loads``: :meth:`_loads` of ``parts`` where known)."""
         R = self.bounds.size - 1
         n = 2 * (R + 1)
         K = np.zeros((n, n))
         f = np.zeros(n)
         fe = np.zeros((R, 4))
         if parts:
-            _, _, _, tr, joints = self._loads(parts)
+            _, _, _, tr, joints = loads or self._loads(parts)
             if np.any(tr):
                 fe = -np.einsum("rij,rj->ri", self.F, tr)
             f += joints.ravel()
@@ -501,7 +502,8 @@ class Member:
         (i, j) each None for a rigid joint, 0 for a hinge, else a rotational
         spring — a released end's own rotation from the element's moment
         row, as :func:`.beam_column.axis` does."""
-        K, f = self._joints(parts)
+        loads = self._loads(parts)
+        K, f = self._joints(parts, loads)
         n = K.shape[0]
         ends = released_ends(lambda: _condensed(K, f), ends, springs)
         e = [0, 1, n - 2, n - 1]
@@ -510,7 +512,7 @@ class Member:
         u[e] = ends
         if i:
             u[i] = np.linalg.solve(K[np.ix_(i, i)], f[i] - K[np.ix_(i, e)] @ np.asarray(ends))
-        Ap, t, jumps, tr, _ = self._loads(parts)
+        Ap, t, jumps, tr, _ = loads
         P = self.h.size
         A = np.empty((P, pieces.TERMS))
         b = self.bounds

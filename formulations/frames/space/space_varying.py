@@ -198,12 +198,16 @@ def varying_couples(frame, b, u, couples) -> np.ndarray:
 
     couples = np.array(couples, float)
     fe_all = b["local"][3] @ factors(b, along)
-    for k, (name, m) in enumerate(frame.members.items()):
+    items = list(frame.members.items())
+    members = {k: both for k, (name, m) in enumerate(items)
+               for loads in [loads_on(frame, name)] if loads
+               for both in [of_member(m, loads, *geometry(frame, m), float(b["axial"][k]),
+                                      along, False)] if both is not None}
+    Member.in_one_pass([p for both in members.values() for p in both.planes])
+    for k, both in members.items():
+        name, m = items[k]
         loads = loads_on(frame, name)
         L, R = geometry(frame, m)
-        both = of_member(m, loads, L, R, float(b["axial"][k]), along) if loads else None
-        if both is None:
-            continue
         di, dj = (np.r_[R @ u[b["idx"][n]:b["idx"][n] + 3], R @ u[b["idx"][n] + 3:b["idx"][n] + 6]]
                   for n in (m["i"], m["j"]))
         arm_i, arm_j = both.arms()
