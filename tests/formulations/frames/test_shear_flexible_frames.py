@@ -222,3 +222,58 @@ def test_a_column_compressed_past_its_shear_stiffness_is_unstable(q):
     fr.add_load("B", fx=10.0, case="D")
     res = _solve(fr)
     assert not res.ok and "UNSTABLE: member(s) c" in res.message, res.message
+
+
+def test_a_heavy_shear_flexible_cantilevers_diagrams_are_the_shots():
+    """A 5 m cantilever (G A_s = 1e6 N) at 0.9 of its critical weight (the
+    shot's, 0.751 of Greenhill's) with 10 N across its top: its moment and
+    deflection at 11 sections along it are those of Engesser's equations
+    shot under N(x) = −q (L − x) (member axes, y = −x global: S = −10 N)."""
+    L, EI, GAs, H = 5.0, 2.1e6, 1e6, 10.0
+    q = 0.9 * 0.75065906 * 7.837347439 * EI / L ** 3
+
+    def rhs(x, y):
+        N = -q * (L - x)
+        dv = (y[1] + H / GAs) / (1 + N / GAs)
+        return [dv, y[2] / EI, N * dv - H]
+
+    def shot(M0):
+        return solve_ivp(rhs, (0, L), [0.0, 0.0, M0], method="DOP853", rtol=1e-13,
+                         atol=1e-22, dense_output=True)
+    e0, e1 = shot(0.0).y[2, -1], shot(1.0).y[2, -1]
+    ref = shot(-e0 / (e1 - e0)).sol
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, L)
+    fr.add_member("A", "B", E, 1e-2, 1e-5, G=G, shear_area=GAs / G, name="c")
+    fr.add_distributed_load("c", wy=-q, case="D")
+    fr.add_support("A")
+    fr.add_load("B", fx=-H, case="D")
+    res = _solve(fr)
+    assert res.ok, res.message
+    x, _, _, M = res.diagram("c", 11)
+    np.testing.assert_allclose(M, ref(x)[2], rtol=1e-9, atol=1e-9 * abs(M[0]))
+    xd, _, v = res.deflection("c", 11)
+    np.testing.assert_allclose(v, ref(xd)[0], rtol=1e-9, atol=1e-12)
+
+
+def test_a_trace_whose_variable_load_is_a_shear_flexible_columns_weight():
+    """A shear-flexible cantilever (G A_s = 1e6 N) under 50 kN on top, its
+    weight 30 kN/m the variable load, traced to p = 1: ok (it was NOT OK,
+    "up to inf of its moments … add nodes"), and result_at(p) the solve's."""
+    fr = Frame()
+    fr.add_node("A", 0.0, 0.0)
+    fr.add_node("B", 0.0, 5.0)
+    fr.add_member("A", "B", E, 1e-2, 1e-5, G=G, shear_area=1e6 / G, name="c")
+    fr.add_distributed_load("c", wy=-3e4, case="W")
+    fr.add_support("A")
+    fr.add_load("B", fx=10.0, fy=-5e4, case="D")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = fr.trace(1.0, "high", constant={"D": 1.0}, variable={"W": 1.0}, second_order=True)
+    assert ft.ok, ft.message
+    for p in (0.5, 1.0):
+        alone = _solve(fr, combination={"D": 1.0, "W": p})
+        assert alone.ok, alone.message
+        np.testing.assert_allclose(ft.result_at(p).displacements["B"], alone.displacements["B"],
+                                   rtol=1e-9, atol=1e-15)
