@@ -31,16 +31,35 @@ def _solve(fr, accuracy="high", combination=None):
                         accuracy=accuracy, raise_on_failure=False)
 
 
-def _storeys(pieces, lumped=False):
+def _storeys(pieces, lumped=False, space=False):
     """5 storeys of 3.5 m, 3 bays of 6 m: HEB 300 columns with their shear
     area (G A_s = 3.8e8 N) under their weight 1.17 kN/m, IPE 400 beams
     (Euler–Bernoulli) under 30.66 kN/m, 10 kN of wind a floor; the columns
     cut into ``pieces``, their weight as member loads or ``lumped`` at the
-    cuts."""
-    fr, H, B = Frame(), 3.5, 6.0
+    cuts; in the plane, or built in ``space`` in the x-z plane with its
+    out-of-plane motion held (in-plane bending about the members' local
+    y, each plane its own shear area)."""
+    fr, H, B = (SpaceFrame() if space else Frame()), 3.5, 6.0
+    down = "fz" if space else "fy"
+
+    def node(name, x, y):
+        out = fr.add_node(name, x, 0.0, y) if space else fr.add_node(name, x, y)
+        if space and y > 0:
+            fr.add_support(name, ("uy", "rx", "rz"))
+        return name if out is None else out
+
+    def member(i, j, A_, I_, name, **shear):
+        if space:
+            return fr.add_member(i, j, E, A_, I_, 0.3 * I_, G=G, J=1e-6, name=name,
+                                 **({"shear_area": (4.74e-3, 4.74e-3)} if shear else {}))
+        return fr.add_member(i, j, E, A_, I_, name=name,
+                             **({"G": G, "shear_area": 4.74e-3} if shear else {}))
+
+    def weigh(m, w):
+        fr.add_distributed_load(m, **({"wz": w} if space else {"wy": w}), case="D")
     for s in range(6):
         for c in range(4):
-            fr.add_node(f"n{s}{c}", c * B, s * H)
+            node(f"n{s}{c}", c * B, s * H)
     for c in range(4):
         fr.add_support(f"n0{c}")
     for s in range(5):
@@ -48,19 +67,17 @@ def _storeys(pieces, lumped=False):
             prev = f"n{s}{c}"
             for p in range(pieces):
                 nxt = (f"n{s + 1}{c}" if p == pieces - 1 else
-                       fr.add_node(f"m{s}{c}_{p}", c * B, s * H + H * (p + 1) / pieces))
-                m = fr.add_member(prev, nxt, E, 1.49e-2, 2.517e-4, G=G, shear_area=4.74e-3,
-                                  name=f"c{s}{c}_{p}")
+                       node(f"m{s}{c}_{p}", c * B, s * H + H * (p + 1) / pieces))
+                m = member(prev, nxt, 1.49e-2, 2.517e-4, f"c{s}{c}_{p}", shear=True)
                 if lumped:
-                    for node in (prev, nxt):
-                        fr.add_load(node, fy=-0.5 * 1.17e3 * H / pieces, case="D")
+                    for end in (prev, nxt):
+                        fr.add_load(end, **{down: -0.5 * 1.17e3 * H / pieces}, case="D")
                 else:
-                    fr.add_distributed_load(m, wy=-1.17e3, case="D")
+                    weigh(m, -1.17e3)
                 prev = nxt
         for c in range(3):
-            m = fr.add_member(f"n{s + 1}{c}", f"n{s + 1}{c + 1}", E, 8.45e-3, 2.313e-4,
-                              name=f"b{s}{c}")
-            fr.add_distributed_load(m, wy=-30e3 - 0.66e3, case="D")
+            m = member(f"n{s + 1}{c}", f"n{s + 1}{c + 1}", 8.45e-3, 2.313e-4, f"b{s}{c}")
+            weigh(m, -30e3 - 0.66e3)
         fr.add_load(f"n{s + 1}0", fx=10e3, case="W")
     return fr
 
@@ -89,6 +106,19 @@ def test_a_five_storey_frame_with_shear_flexible_columns_is_ok_uncut():
     base = _richardson([r.end_forces("c00_0")["i"]["M"] for r in cut])
     assert uncut.displacements["n50"][0] == pytest.approx(sway, rel=1e-9)
     assert uncut.end_forces("c00_0")["i"]["M"] == pytest.approx(base, rel=2e-9)
+
+
+def test_the_five_storey_frame_in_space_is_its_plane_twin():
+    """Built in space (x-z plane, out-of-plane held): ok at "low" and
+    "high" uncut, the plane frame's top sway and α_cr."""
+    plane = _solve(_storeys(1), "high", STOREYS)
+    low, space = (_solve(_storeys(1, space=True), acc, STOREYS) for acc in ("low", "high"))
+    assert low.ok and space.ok, space.message
+    assert space.displacements["n50"][0] == pytest.approx(plane.displacements["n50"][0],
+                                                          rel=1e-9)
+    a_plane = critical_load_factor(_storeys(1), plane)["alpha"]
+    a_space = critical_load_factor(_storeys(1, space=True), space)["alpha"]
+    assert a_space == pytest.approx(a_plane, rel=1e-8)
 
 
 def _portal(share, pieces=1, lumped=False, space=False, GAs=2e6):
