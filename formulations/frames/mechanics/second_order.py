@@ -255,13 +255,12 @@ def own_buckling(frame) -> np.ndarray:
         for EI, ki, kj, GAs in planes) for L, planes in bending_planes(frame)], float)
 
 
-def pinned_buckling(frame, shear=True) -> np.ndarray:
+def pinned_buckling(frame) -> np.ndarray:
     """Each member's buckling load [F] hinged at both ends, the least over
     its bending planes: π²EI/L² (L its flexible length), Engesser's
-    P_E/(1 + P_E/(G A_s)) with shear deformation (``shear`` false: P_E,
-    its bending's alone)."""
+    P_E/(1 + P_E/(G A_s)) with shear deformation."""
     return np.array([min(np.pi ** 2 * EI / L ** 2 / (1.0 + (np.pi ** 2 * EI / (L ** 2 * GAs)
-                                                            if GAs and shear else 0.0))
+                                                            if GAs else 0.0))
                          for EI, _, _, GAs in planes) for L, planes in bending_planes(frame)],
                     float)
 

@@ -90,7 +90,7 @@ def of_member(m, L, c, s, Nbar, along, series=True):
     """The :class:`Member` of a plane member ``m`` (node-to-node length L,
     direction (c, s)) under N̄ where its loads in the combination ``along``
     have axial parts (on its rigid end zones too: its flexible length's N
-    is then not N̄); None where none do."""
+    is then not N̄), or, shear-flexible, any load; None where none do."""
     if not along:
         return None
     oi, oj = m.offset_i, m.offset_j
@@ -109,7 +109,7 @@ def of_member(m, L, c, s, Nbar, along, series=True):
 
 def least_axial(frame, N, along) -> np.ndarray:
     """Per member its least N along it (its largest compression): N where
-    it is constant (a shear-flexible member, no axial loads in the
+    it is constant (no axial loads in the
     combination ``along``), the least of N(x) on its pieces elsewhere —
     what bounds its own buckling with its nodes held from below (Rayleigh:
     a member nowhere more compressed than a constant N buckles no earlier

@@ -252,13 +252,12 @@ def starts(nu, h, EI, c, q=None) -> tuple[np.ndarray, np.ndarray]:
     return unit, part
 
 
-def derivatives(A, h, sigma=1.0) -> np.ndarray:
-    """(4, P, S): v, v', v'', v''' (x-derivatives) at σ of coefficients A (P, S, TERMS)."""
+def derivatives(A, h) -> np.ndarray:
+    """(4, P, S): v and its first three x-derivatives at σ = 1 of the
+    coefficients A (P, S, TERMS)."""
     hh = np.asarray(h, float).reshape((-1,) + (1,) * (A.ndim - 2))
-    if sigma == 1.0:
-        return np.stack([A.sum(-1), (A * _D1).sum(-1) / hh, (A * _D2).sum(-1) / hh ** 2,
-                         (A * _D3).sum(-1) / hh ** 3])
-    return np.stack([A[..., 0], A[..., 1] / hh, 2 * A[..., 2] / hh ** 2, 6 * A[..., 3] / hh ** 3])
+    return np.stack([A.sum(-1), (A * _D1).sum(-1) / hh, (A * _D2).sum(-1) / hh ** 2,
+                     (A * _D3).sum(-1) / hh ** 3])
 
 
 def end_states(A, nu, h, EI, c, q=None) -> np.ndarray:
@@ -273,14 +272,6 @@ def end_states(A, nu, h, EI, c, q=None) -> np.ndarray:
     M = EI * ((1.0 + cc * N) * d2 + cc * dN * d1 + cc * qe)
     dM = EI * (d3 + cc * (ddN * d1 + 2 * dN * d2 + N * d3) + cc * dq)
     return np.stack([v, d1 + cc * dM, M, dM - N * d1], axis=1)
-
-
-def slopes(A, nu, h, sigma) -> tuple[np.ndarray, np.ndarray]:
-    """(v, v') at σ (…,) of one piece's coefficients rows A (…, TERMS)."""
-    s = np.asarray(sigma, float)
-    powers = s[..., None] ** _N
-    dA = A[..., 1:] * _N[1:]
-    return (A * powers).sum(-1), (dA * powers[..., :-1]).sum(-1) / h
 
 
 def _scales(length, EI):
