@@ -17,6 +17,7 @@ the count of negative eigenvalues by eigvalsh against an LDLᵀ's inertia.
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/frames_varying_axial.py [--k 1 16 32 64] [--kernels]
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/frames_varying_axial.py --space 1 3 10
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/frames_varying_axial.py --tower 10 [--shear]
 
 Table 3 (``--space S …``): a space building under its own weight, 3 × 3
 columns (HEB 300) 6 m apart and 4 m storeys, S storeys, IPE 400 beams
@@ -26,6 +27,13 @@ solve's and α_cr's wall and CPU time.  Its columns carry their weight as
 member loads, so both bending planes of each take N(x)
 (formulations/frames/space/space_varying.py); on the mean N the answer
 was refused ("… have axial parts … add nodes").
+
+Table 4 (``--tower S …``): a plane tower, 3 bays of 6 m and S storeys of
+3.5 m, HEB 300 columns, IPE 400 beams under 30 kN/m, 10 kN sideways a
+floor, every member's self-weight: the same columns.  ``--shear``: the
+columns (plane and space) with their shear area, 47.4 cm² (G A_s = 3.8e8
+N), so Engesser's beam-column under N(x)
+(formulations/frames/mechanics/varying_pieces.py).
 
 Pin BLAS to one thread on a shared machine: unpinned, OpenBLAS's threads
 made one eigvalsh of the 384-dof tangent 1.5 s (5 ms pinned) on two busy
@@ -53,6 +61,7 @@ from formulations.frames.mechanics.second_order_analysis import critical_load_fa
 
 E, GAMMA, H, SPAN = 210e9, 78.5e3, 6.0, 12.0
 A_C, I_C, A_B, I_B = 149e-4, 25170e-8, 84.5e-4, 23130e-8
+AS_C = 47.4e-4          # HEB 300's shear area across its web
 
 
 def portal(k=1, lumped=False):
@@ -84,8 +93,9 @@ def portal(k=1, lumped=False):
     return fr
 
 
-def building(storeys):
-    """Table 3's space building (module docstring), all loads in case "D"."""
+def building(storeys, shear=False):
+    """Table 3's space building (module docstring), all loads in case "D";
+    its columns shear-flexible where ``shear``."""
     from formulations.frames.space.space_frame import SpaceFrame
 
     sf = SpaceFrame()
@@ -96,7 +106,8 @@ def building(storeys):
     for level in range(1, storeys + 1):
         for n in range(len(grid)):
             sf.add_member(f"n{level - 1}_{n}", f"n{level}_{n}", E, A_C, I_C, 8563e-8,
-                          G=81e9, J=185e-8, name=f"c{level}_{n}")
+                          G=81e9, J=185e-8, name=f"c{level}_{n}",
+                          **({"shear_area": (AS_C, AS_C)} if shear else {}))
         for n, (x, y) in enumerate(grid):
             for m, (x2, y2) in enumerate(grid):
                 if m > n and abs(x2 - x) + abs(y2 - y) == 6.0:
@@ -111,12 +122,33 @@ def building(storeys):
     return sf
 
 
-def space_rows(storeys):
-    print("\nspace building (3 × 3 columns, S storeys, self-weight): wall / CPU s")
+def tower(storeys, shear=False):
+    """Table 4's plane tower (module docstring), all loads in case "D"."""
+    fr = Frame()
+    for s in range(storeys + 1):
+        for b in range(4):
+            fr.add_node(f"n{s}_{b}", 6.0 * b, 3.5 * s)
+    for s in range(storeys):
+        for b in range(4):
+            fr.add_member(f"n{s}_{b}", f"n{s + 1}_{b}", E, A_C, I_C, name=f"c{s}_{b}",
+                          **({"G": 81e9, "shear_area": AS_C} if shear else {}))
+        for b in range(3):
+            fr.add_member(f"n{s + 1}_{b}", f"n{s + 1}_{b + 1}", E, A_B, I_B, name=f"b{s}_{b}")
+            fr.add_distributed_load(f"b{s}_{b}", wy=-30e3, case="D")
+        fr.add_load(f"n{s + 1}_0", fx=10e3, case="D")
+    for b in range(4):
+        fr.add_support(f"n0_{b}")
+    fr.add_self_weight("D", unit_weight=GAMMA)
+    return fr
+
+
+def building_rows(storeys, shear=False, make=building, name="space building (3 × 3 columns"):
+    print(f"\n{name}, S storeys, self-weight{', shear-flexible columns' if shear else ''}):"
+          " wall / CPU s")
     print(f"{'S':>3} {'members':>7} {'ok low':>6} {'ok high':>7} {'ux top [m]':>18}"
           f" {'solve s':>8} {'cpu':>6} {'α_cr':>14} {'α s':>6} {'cpu':>6}")
     for S in storeys:
-        sf = building(S)
+        sf = make(S, shear)
         low = solve(sf, "low")
         res, w, c = timed(lambda: solve(sf))
         alpha, wa, ca = timed(lambda: critical_load_factor(sf, res))
@@ -180,11 +212,17 @@ def main(argv=None) -> int:
     ap.add_argument("--kernels", action="store_true")
     ap.add_argument("--space", type=int, nargs="+", default=[], metavar="S",
                     help="Table 3 alone, for these storey counts")
+    ap.add_argument("--tower", type=int, nargs="+", default=[], metavar="S",
+                    help="Table 4 alone, for these storey counts")
+    ap.add_argument("--shear", action="store_true", help="shear-flexible columns (3, 4)")
     args = ap.parse_args(argv)
-    if args.space:
+    if args.space or args.tower:
         warnings.simplefilter("ignore")
         print(f"load average {' '.join(open('/proc/loadavg').read().split()[:3])}")
-        space_rows(args.space)
+        if args.space:
+            building_rows(args.space, args.shear)
+        if args.tower:
+            building_rows(args.tower, args.shear, tower, "plane tower (3 bays")
         print(f"load average {' '.join(open('/proc/loadavg').read().split()[:3])}")
         return 0
     warnings.simplefilter("ignore")

@@ -102,10 +102,10 @@ def _release(k, fe, r, spring):
     return kc[np.ix_(keep, keep)], fc[keep]
 
 
-def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> dict:
-    """The Euler–Bernoulli members whose loads in ``along`` (a
-    combination) have axial parts: their bending block of ``k_all`` and
-    rows of ``Fe`` (each case's loads) set to the beam-column's under N(x)
+def varying_members(ms, L, c, s, axial, along, col, k_all, Fe) -> dict:
+    """The members whose loads in ``along`` (a combination) have axial
+    parts, and the shear-flexible ones it loads: their bending block of
+    ``k_all`` and rows of ``Fe`` (each case's loads) set to the beam-column's under N(x)
     (:class:`.varying_axial.Member`, N̄ = ``axial``); {index: (zone i's
     ∫ N dx, zone j's)}, their rigid arms' P-Δ per unit rotation."""
     from .beam_column import flexible_part
@@ -113,7 +113,7 @@ def varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe) -> dict:
 
     rows = [1, 2, 4, 5]
     members = {k: member for k, m in enumerate(ms)
-               if along and phi[k] == 0 and m.loads
+               if along and m.loads
                for member in [of_member(m, L[k], c[k], s[k], axial[k], along, False)]
                if member is not None}
     Member.in_one_pass(list(members.values()))
@@ -186,10 +186,12 @@ def member_locals(frame, xy, idx, col, axial=None, along=None):
             rigid[k][:, col[ld.case]] += at_nodes
     if axial is not None:
         # Euler–Bernoulli members' loads under N: the beam-column's fixed-end
-        # forces (:mod:`.beam_column`) across the axis; a Timoshenko member's
-        # stay its first-order element's (second_order.first_order_parts)
+        # forces (:mod:`.beam_column`) across the axis (a loaded Timoshenko
+        # member's are its chain's, varying_members; along a trace, loads the
+        # stiffness was not built with stay its first-order element's:
+        # second_order.first_order_parts)
         from .beam_column import flexible_part, into_loads
-        varying = varying_members(ms, L, c, s, phi, axial, along, col, k_all, Fe)
+        varying = varying_members(ms, L, c, s, axial, along, col, k_all, Fe)
         items = [(k, col[ld.case], part)
                  for k in np.flatnonzero((n_loads > 0) & (phi == 0) & (axial != 0)).tolist()
                  if k not in varying

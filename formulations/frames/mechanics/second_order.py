@@ -88,15 +88,16 @@ clamped, P and H at its free tip) sways H L/P (tan μ/(β μ) − 1), which is
 H L³/(3EI) + H L/(G A_s) as P → 0, and buckles at μ = π/2:
 P_c/(1 + P_c/(G A_s)), P_c = π²EI/(4L²).
 
-A Timoshenko member's loads keep their first-order fixed-end forces and
-diagrams; an Euler–Bernoulli member's are the beam-column's
-(:mod:`.beam_column`), with N constant along it — or, where its loads'
-axial parts make N vary along a plane member, the beam-column under N(x)
-(:mod:`.varying_axial`: its stiffness too).  Where what stays first
-order (a Timoshenko member's span loads; the axial parts of a
-Timoshenko or space member's loads, where the element takes the mean N)
-is off by more than the accuracy asked the answer is not ok
-(:func:`first_order_parts`, :func:`spread_through_frame`).  Along a
+A member's loads are the beam-column's: an Euler–Bernoulli member's
+(:mod:`.beam_column`) with N constant along it — or, where its loads'
+axial parts make N vary along it, the beam-column under N(x)
+(:mod:`.varying_axial`: its stiffness too), which a Timoshenko member with
+span loads always takes (Engesser's under N(x); its stability functions
+above where it carries none).  What stays first order — a span load that
+the stiffness was not built with (a trace's variable load on a
+shear-flexible member the constant loads leave unloaded) — is judged
+(:func:`first_order_parts`): beyond the accuracy asked the answer is not
+ok.  Along a
 trace's one stiffness the change of N(x) from the load it was built at
 is, as N̄'s, the path's change of its axial forces, which it reports
 (:func:`axial_change`): result_at(p) solves at p on its own.
@@ -254,13 +255,12 @@ def own_buckling(frame) -> np.ndarray:
         for EI, ki, kj, GAs in planes) for L, planes in bending_planes(frame)], float)
 
 
-def pinned_buckling(frame, shear=True) -> np.ndarray:
+def pinned_buckling(frame) -> np.ndarray:
     """Each member's buckling load [F] hinged at both ends, the least over
     its bending planes: π²EI/L² (L its flexible length), Engesser's
-    P_E/(1 + P_E/(G A_s)) with shear deformation (``shear`` false: P_E,
-    its bending's alone)."""
+    P_E/(1 + P_E/(G A_s)) with shear deformation."""
     return np.array([min(np.pi ** 2 * EI / L ** 2 / (1.0 + (np.pi ** 2 * EI / (L ** 2 * GAs)
-                                                            if GAs and shear else 0.0))
+                                                            if GAs else 0.0))
                          for EI, _, _, GAs in planes) for L, planes in bending_planes(frame)],
                     float)
 
@@ -384,131 +384,29 @@ def _active_loads(frame, combination):
                    m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j))
 
 
-def axial_spreads(frame, combination, built=None) -> np.ndarray:
-    """ΔN per member [F]: the sum of its member loads' axial parts in
-    ``combination`` (:func:`_axial_load`), by which N varies along it
-    about the mean N its element takes.  ``built``: the combination whose
-    N(x) the stiffness took (:mod:`.varying_axial`), None where it took the
-    mean N: its Euler–Bernoulli members (plane or space) then carry none (their
-    element's N(x) is their own; along a trace, its change from the load
-    the stiffness was built at is the path's change of the axial forces,
-    :func:`axial_change`, as N̄'s is)."""
-    spread = np.zeros(len(frame.members))
-    for k, m, ld, factor, d, offsets in _active_loads(frame, combination):
-        if built is None or not takes_varying_axial(m):
-            spread[k] += factor * _axial_load(ld, d, *offsets)
-    return spread
-
-
-def takes_varying_axial(m) -> bool:
-    """Whether a member's element takes N(x) where its loads make N vary
-    (:mod:`.varying_axial`): an Euler–Bernoulli one, plane or space (no
-    shear area in either plane)."""
-    if isinstance(m, dict):
-        return all(g is None for g in m["GAs"])
-    return m.GAs is None
-
-
 def axial_change(frame, combination, built) -> np.ndarray:
-    """Per member, how far N(x) − N̄ of an Euler–Bernoulli member whose
-    stiffness took N(x) of ``built`` (:mod:`.varying_axial`) is from that
-    of ``combination``, at most [F]: half the sum of the axial parts of the
-    loads' change, node to node (N − N̄ of loads ΔN in all is within ±ΔN/2);
-    0 for the others (their element takes the mean)."""
+    """Per member, how far N(x) − N̄ of a member whose stiffness took N(x)
+    of ``built`` (:mod:`.varying_axial`) is from that of ``combination``,
+    at most [F]: half the sum of the axial parts of the loads' change, node
+    to node (N − N̄ of loads ΔN in all is within ±ΔN/2)."""
     out = np.zeros(len(frame.members))
     cases = {c: 1.0 for c in set(combination) | set(built or {})}
     for k, m, ld, _, d, _ in _active_loads(frame, cases):
-        if takes_varying_axial(m):
-            factor = combination.get(ld.case, 0.0) - (built or {}).get(ld.case, 0.0)
-            out[k] += 0.5 * abs(factor) * _axial_load(ld, d, 0.0, 0.0)
+        factor = combination.get(ld.case, 0.0) - (built or {}).get(ld.case, 0.0)
+        out[k] += 0.5 * abs(factor) * _axial_load(ld, d, 0.0, 0.0)
     return out
 
 
-def spread_bound(N, spread, pinned, alpha=np.inf, bent=None) -> np.ndarray:
-    """Per member, how far N varying along it (by ΔN ``spread`` about the
-    mean N its element takes) moves the answer, on the member's moments.
-    N − N̄ (|·| ≤ ΔN/2), an axial force of its own on the member's
-    deflection, changes it by up to its amplification ρ_Δ/(1 − ρ), ρ_Δ =
-    (ΔN/2)/P_s and ρ the largest compression's (|N̄| + ΔN/2)/P_s, on the
-    member's sway load P_s = P_p/4 (``pinned`` P_p: a cantilever's,
-    effective length 2L), and ρ at least 1/α_cr (``alpha``, where the
-    frame's is known: a frame whose beams or leaning columns sway a member
-    more than its own P_s says).  On the pinned load alone a cantilever at
-    0.24 P_p (α_cr 1.04) under a self-weight of 1e-4 P_p was ok at "low"
-    with its base moment 2.0e-3 off (bound 1e-5; now 5e-3; the column cut
-    into 64 pieces the reference).  Not sharper: on the member's load at
-    the frame's buckling, α_cr |N̄|, alone it does not shrink as the
-    member is cut (a pinned column in 64 pieces under its weight refused),
-    and the smaller of the two passed a hinged-base portal at 0.9 of α_cr
-    2.4e-4 off at "low" (review 5c).  A braced column above P_p/4 is
-    refused at any accuracy (ρ ≥ 1) until it is cut: each piece's P_s
-    grows as 1/h², its ΔN shrinks as h.  ``bent``: the pinned load of the
-    members' bending alone (P_E, no shear), on which ρ_Δ is taken where
-    given: N − N̄ has zero mean, so it acts on the change of the axis'
-    slope along the member (:func:`spread_through_frame`), which is its
-    bending's — a shear strain's change along it is ΔN's own times the
-    slope's, second order; on Engesser's P_p, which tends to G A_s as a
-    piece shortens, ρ_Δ fell only as h and summed over the pieces never
-    cleared (a cantilever with G A_s = 1e7 N in 256 pieces: 1.1 against
-    an error of 5.6e-5).  The amplification 1/(1 − ρ) keeps P_p."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rho_spread = 2.0 * spread / (pinned if bent is None else bent)
-        worst = np.maximum(4.0 * np.maximum(-N, 0.0) / pinned + 2.0 * spread / pinned,
-                           1.0 / alpha)
-        return np.where(spread > 0, rho_spread / np.maximum(1.0 - worst, 0.0), 0.0)
-
-
-def spread_through_frame(frame, N, combination, tol, alpha, built=None) -> str:
-    """Words naming the members whose loads' axial parts (N varying along
-    the member about the mean its element takes: a shear-flexible one's)
-    move the answer by more than ``tol`` together, or "": the sum of their
-    :func:`spread_bound` s, not the largest.  ``alpha``: the frame's α_cr,
-    called only where some member has ΔN > 0 (inf where it is not known:
-    a trace's pieces, a frame too large for its stability check);
-    ``built``: the combination whose N(x) the stiffness took where it could
-    (:func:`axial_spreads`).
-
-    Why the sum.  The mean N's error in one member is first order in n =
-    N − N̄ on its own bending: the stiffness misses ∫ n v'² dx, and with v'
-    = θ (the chord's turn, whose ∫ n θ² vanishes: n has zero mean, so the
-    P-Δ of the mean is exact) plus κ (x − x̄) over a member of length h,
-    that is 2 θ κ ∫ n (x − x̄) dx ~ ΔN h² θ κ — on its own moments EI κ a
-    share ~ ΔN h²/EI ~ ρ_Δ, what :func:`spread_bound` gives.  A member cut
-    into k pieces of h = L/k under its weight q has ΔN = q h on each, so
-    each piece's share falls as q h³/EI, h³, but the answer takes all k of
-    them, first order and of one sign along a buckling mode: their sum, q L
-    h²/EI, falls as h², as the answer's error does; the largest alone
-    (the old judgement) does not dominate it once cut fine — a space
-    cantilever at 0.9 of Greenhill's load, its weight in 64 pieces: largest
-    5.5e-5, the tip's error 9.2e-4, ok at "low".  Summed over the whole
-    frame, not along each member's line (no chain of pieces is known to
-    the frame): never less than the line's own, so conservative."""
-    spread = axial_spreads(frame, combination, built)
-    if not (spread > 0).any():
-        return ""
-    N = np.asarray(N, float)
-    a = float(alpha())
-    off = spread_bound(N, spread, pinned_buckling(frame), a, pinned_buckling(frame, False))
-    total = float(off.sum())
-    if not total > tol:
-        return ""
-    hit = [k for k in np.argsort(-off, kind="stable") if off[k] > 0]
-    return (f"the member loads of member(s) {_worst(frame, N, off, hit, 'its moments')} have "
-            "axial parts, which make N vary along the member about the mean its element takes, "
-            f"up to {total:.1e} of the moments together (their errors add along a member cut "
-            "into pieces)"
-            + (f" (judged with the frame's α_cr = {a:.6g})" if np.isfinite(a) else "")
-            + " — add nodes along those members (docs/frames.md, 'What stays first order')")
-
-
-def first_order_parts(frame, N, combination, tol) -> str:
+def first_order_parts(frame, N, combination, tol, built=None) -> str:
     """Words naming the members whose second-order answer stays first
     order in part (module docstring) by more than ``tol``, or "": a
-    Timoshenko member's span loads' fixed-end forces and, with them, its
-    diagram between the ends; an Euler–Bernoulli member's loads and
-    diagrams are the beam-column's (:mod:`.beam_column`), a Timoshenko
-    member's diagram without span loads Engesser's (the loads' axial parts
-    are judged by :func:`spread_through_frame`).  A shear-flexible
+    shear-flexible member's loads in ``combination`` that its stiffness,
+    built for the combination ``built``, did not take (a trace's variable
+    loads on a member the constant ones leave unloaded): their fixed-end
+    forces and, with them, its diagram between the ends.  A member loaded
+    in ``built`` is the beam-column of :mod:`.varying_axial` under its
+    N(x), loads and all, an Euler–Bernoulli one without axial parts
+    :mod:`.beam_column`'s.  A shear-flexible
     member that span loads bend (M₀ > 0 on a simple span) under
     an axial force N is judged by sec(π√ρ/2) − 1 in compression (π²ρ/8 in
     tension), ρ = |N|/P_p — P_p the pinned member's buckling load over its
@@ -526,6 +424,8 @@ def first_order_parts(frame, N, combination, tol) -> str:
     # (mechanics.beam_column; a space member in both bending planes)
     beam_column = np.array([all(g is None for g in m["GAs"]) if isinstance(m, dict)
                             else m.GAs is None for m in frame.members.values()])
+    # (and a shear-flexible member loaded in the combination its stiffness took)
+    beam_column[[k for k, *_ in _active_loads(frame, built or {})]] = True
     for k, m, ld, factor, d, (oi, oj) in _active_loads(frame, combination):
         if beam_column[k]:
             continue
@@ -590,8 +490,7 @@ def first_order_parts_along(frame, N, ft, inside, tol, built=None) -> str:
         points |= {float(lo), min(float(hi), inside) if np.isfinite(hi) else lo + max(1.0, lo)}
     for p in sorted(points):
         at = ft.result_at(p)
-        words = (first_order_parts(frame, N, at.combination, tol)
-                 or spread_through_frame(frame, N, at.combination, tol, lambda: np.inf, built))
+        words = first_order_parts(frame, N, at.combination, tol, built)
         if words:
             return f"at p = {p:.10g} on the path, {words}"
     return ""

@@ -33,9 +33,9 @@ from .loads import CONSTANT, VARIABLE
 from .second_order_path import (SecondOrderTrace, answer_change, axial_forces, member_scale,
                                 relative_change)
 from .second_order import (axial_change, bending, first_order_parts, first_order_parts_along,
-                           own_buckling, past_own_buckling, spread_through_frame)
+                           own_buckling, past_own_buckling)
 from .tracing import BRACKET
-from .critical_load import critical_load_factor, stable_by_band
+from .critical_load import critical_load_factor, stable_by_band  # noqa: F401 (imported from here)
 from .tangent_stiffness import (DENSE_DOFS, band_counts, first_holding, first_negative,
                                 held_links, negative_eigenvalues, reduced_tangent, restraint,
                                 rounding_bracket)
@@ -129,11 +129,7 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                   "load to the digits the stiffness carries: critical_load_factor's bracket)")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
-    span = first_order_parts(frame, b["axial"], res.combination, tol)
-    if not span and res.ok:     # member loads' axial parts, on α_cr where it is known
-        span = spread_through_frame(frame, b["axial"], res.combination, tol, lambda: (
-            critical_load_factor(frame, res)["alpha"] if stable else np.inf),
-            built=b.get("along"))
+    span = first_order_parts(frame, b["axial"], res.combination, tol, b.get("along"))
     if span and res.ok:
         res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"

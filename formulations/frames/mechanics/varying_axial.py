@@ -1,15 +1,19 @@
-"""The Euler–Bernoulli beam-column whose axial force varies along it: a
-member whose own loads have parts along its axis (a column's self-weight,
-a point load along it) carries N(x), not the constant N of
-:mod:`.beam_column`'s stability functions.
+"""The beam-column whose axial force varies along it — Euler–Bernoulli or
+shear-flexible (Engesser's, :mod:`.second_order`): a member whose own
+loads have parts along its axis (a column's self-weight, a point load
+along it) carries N(x), not the constant N of :mod:`.beam_column`'s and
+:mod:`.second_order`'s stability functions.
 
 The mechanics.  On the flexible length [0, L] (member axes, as
 :mod:`.beam_column`'s) the deflection v(x) [L] under the transverse load
 q(x) [F/L] obeys, equilibrium on the deformed axis,
 
-    EI v'''' − (N(x) v')' = q(x),
+    EI v'''' + (EI/(G A_s)) (N(x) v')''' − (N(x) v')' = q(x)
 
-with N(x) [F] (tension positive) = N̄ + n(x) − (n(−o_i) + n(L + o_j))/2:
+(q linear between load positions; G A_s [F] the shear stiffness, the
+middle term absent without shear deformation:
+:mod:`.varying_pieces` derives it), with N(x) [F] (tension positive)
+= N̄ + n(x) − (n(−o_i) + n(L + o_j))/2:
 N̄ the mean of its nodes' end forces that the frame's fixed point
 iterates (:func:`.second_order_path.axial_forces`), n(x) = −∫ p − Σ P the
 statics of the axial loads p (distributed, along +x) and P (points) from
@@ -19,33 +23,38 @@ the flexible length's mean is not N̄ (taken on its own ends, a 5 m
 cantilever with a 0.625 m top zone under 0.7 of Greenhill's load had α_cr
 1.68 for 1.43 and its base moment 25 % low).  A zone's own P-Δ is
 θ ∫_zone N dx (:meth:`Member.arms`).  The
-transverse force across the undeformed axis, T = EI v''' − N v', jumps by
-a transverse point force and is continuous where only N jumps (an axial
-point load); EI v'' jumps by minus a point couple.
+transverse force across the undeformed axis, T = M' − N v' (EI v''' − N v'
+without shear), jumps by a transverse point force and is continuous where
+only N jumps (an axial point load); the moment M jumps by minus a point
+couple.
 
 The solution.  Between load positions N is a polynomial of degree ≤ 2 and
 q of degree ≤ 1, so on each piece [x₀, x₀ + h] the solution is an entire
-function, written as its Taylor series in σ = (x − x₀)/h: with
-w = Σ A_n σⁿ and N = ν₀ + ν₁ σ + ν₂ σ², β_i = h² ν_i / EI,
-
-    (m+1)(m+2)(m+3)(m+4) A_{m+4} = β₁ B_m + 2 β₂ B_{m−1} + β₀ C_m
-                                   + β₁ C_{m−1} + β₂ C_{m−2} + h⁴ q_m / EI,
-
-B_j = (j+1) A_{j+1}, C_j = (j+1)(j+2) A_{j+2} (the coefficients of w' and
-w'').  Pieces are cut so that |N| h² ≤ EI everywhere on them (|β| ≤ 1):
-then |A_n| falls like 1/n!, and TERMS terms are exact to rounding (the
-last one 1e-30 of the first).  Four homogeneous solutions (unit initial
-w, w', w'', w''') and the particular one (zero initial data) give each
-piece's exact stiffness on its ends' (v, θ) and its clamped end forces;
-the pieces are joined as a chain (continuity of v, θ; the forces at the
-joints balanced, a point load there a nodal load of the joint) and the
-joints condensed out: the member's 4 × 4 stiffness on (v_i, θ_i, v_j,
-θ_j), its consistent nodal loads, and, from its end displacements, each
-piece's series — v, v' and the second-order moment ∫₀ˣ N v' dx (the
-section moment on the deformed axis is the first-order statics' plus it;
-N (v(x) − v(0)) for constant N) between the ends.  Nothing is
-interpolated: the series are the solution.  With N constant it is the
-stability functions' member (tests: to ~1e-12), a different route.
+function (with shear, analytic while 1 + N/(G A_s) > 0), written as its
+Taylor series in σ = (x − x₀)/h (:mod:`.varying_pieces`: the recurrence,
+with units).  Pieces are cut so that |N| h² ≤ EI (1 + N/(G A_s))
+everywhere on them: then |A_n| falls like 1/n!, and the series are exact
+to rounding; where N comes near −G A_s (shear), shorter as it comes
+nearer (:func:`.varying_pieces.cuts`), and where it passes it the member is past its
+own buckling.  Four series from the unit states (v, θ, M, S) at x₀ give
+each piece's transfer matrix, the particular one (zero state) its load
+term; consecutive pieces are multiplied into runs no shorter than a share of
+what the rule allows (:func:`.varying_pieces.runs`: two load positions 1 ulp to 1 cm
+apart made a piece whose stiffness, ∝ 1/h³, cost the chain 3 log₁₀ of the
+ratio in digits — LinAlgError at 1e-9 m), each run's stiffness on its
+ends' (v, θ) and clamped end forces follow, and the runs are joined as a
+chain (continuity of v, θ; the forces at the joints balanced, a point
+load there a nodal load of the joint, inside a run a jump of its state)
+with the joints condensed out: the member's 4 × 4 stiffness on (v_i, θ_i,
+v_j, θ_j), its consistent nodal loads, and, from its end displacements,
+each piece's series — v, v' (the axis' slope; the section turns by θ = v'
++ M'/(G A_s)) and the second-order moment ∫₀ˣ N v' dx (the section moment
+on the deformed axis is the first-order statics' plus it; N (v(x) − v(0))
+for constant N) between the ends.  A chain of stiffnesses rather than one
+transfer matrix end to end: in strong tension that would grow as e^(kL).
+Nothing is interpolated: the series are the solution.  With N constant
+it is the stability functions' member, Livesley's or Engesser's (tests:
+to ~1e-12), a different route.
 """
 
 from __future__ import annotations
@@ -54,20 +63,9 @@ import copy
 
 import numpy as np
 
+from . import varying_pieces as pieces
 from .end_releases import released_ends
 from .loads import clipped
-
-#: Taylor terms per piece at most (|β| ≤ 1: 22 make the tail 1e-19 of the
-#: first; the series stops once four terms in a row are below TAIL of the
-#: largest, each solution's own: a short piece under little N needs ten)
-TERMS = 32
-
-#: the share of a solution's largest coefficient below which its tail is dropped
-TAIL = 1e-19
-
-#: the largest |N| h² / EI of a piece
-PIECE = 1.0
-
 
 def along_axis(load, L, c, s, oi, oj):
     """A member load's part along the axis node to node (positions from
@@ -92,24 +90,26 @@ def of_member(m, L, c, s, Nbar, along, series=True):
     """The :class:`Member` of a plane member ``m`` (node-to-node length L,
     direction (c, s)) under N̄ where its loads in the combination ``along``
     have axial parts (on its rigid end zones too: its flexible length's N
-    is then not N̄); None where none do (or it is shear-flexible: its
-    element keeps the mean N)."""
-    if not along or m.GAs is not None:
+    is then not N̄), or, shear-flexible, any load; None where none do."""
+    if not along:
         return None
     oi, oj = m.offset_i, m.offset_j
     parts = [part[:-2] + tuple(along[ld.case] * np.array(part[-2:]))
              if part[0] == "distributed" else part[:2] + (along[ld.case] * part[2],)
              for ld in m.loads if along.get(ld.case)
              for part in [along_axis(ld, L, c, s, oi, oj)] if part]
-    if not parts:
+    # a shear-flexible member takes its loads across it here too (N̄
+    # constant where none is along it): Engesser's element keeps their
+    # first-order fixed-end forces
+    if not parts and (m.GAs is None or not any(along.get(ld.case) for ld in m.loads)):
         return None
     return Member(m.E * m.I, L - oi - oj, Nbar, parts,
-                  [x - oi for ld in m.loads for x in (ld.a, ld.b)], series, (oi, oj))
+                  [x - oi for ld in m.loads for x in (ld.a, ld.b)], series, (oi, oj), m.GAs)
 
 
 def least_axial(frame, N, along) -> np.ndarray:
     """Per member its least N along it (its largest compression): N where
-    it is constant (a shear-flexible member, no axial loads in the
+    it is constant (no axial loads in the
     combination ``along``), the least of N(x) on its pieces elsewhere —
     what bounds its own buckling with its nodes held from below (Rayleigh:
     a member nowhere more compressed than a constant N buckles no earlier
@@ -245,21 +245,6 @@ def _statics_integral(axial_parts, at) -> np.ndarray:
     return out
 
 
-def _cuts(EI, L, Nbar, axial_parts, points, centre):
-    """The pieces' edges: the load positions ``points`` and cuts that keep
-    |N| h² ≤ PIECE EI (module docstring)."""
-    edges = np.unique(np.r_[0.0, [p for p in points if 0.0 < p < L], L])
-    # |N| on each stretch from 9 points (both sides of its ends)
-    xs = edges[:-1, None] + np.diff(edges)[:, None] * np.linspace(0.0, 1.0, 9)
-    big = np.maximum(np.abs(Nbar + variation(axial_parts, centre, xs)),
-                     np.abs(Nbar + variation(axial_parts, centre, xs, False))).max(axis=1)
-    n = np.maximum(1, np.ceil(np.diff(edges) * np.sqrt(big / (PIECE * EI)) * 1.05)).astype(int)
-    if not np.any(n > 1):
-        return edges
-    return np.concatenate([edges[:1]] + [np.linspace(a, b, k + 1)[1:]
-                                         for a, b, k in zip(edges[:-1], edges[1:], n)])
-
-
 def _load_on(parts, lo, hi):
     """(q₀, q₁): the transverse distributed load on [lo, hi] as q₀ + q₁ (x − lo)."""
     q0 = q1 = 0.0
@@ -274,149 +259,182 @@ def _load_on(parts, lo, hi):
     return q0, q1
 
 
-def _series(beta, qt) -> np.ndarray:
-    """(P, 5, TERMS): each piece's four homogeneous solutions and its
-    particular one (zero initial data) as Taylor coefficients in σ;
-    ``beta`` (P, 3), ``qt`` (P, 2) h⁴ (q₀, q₁ h)/EI."""
-    P = beta.shape[0]
-    A = np.zeros((P, 5, TERMS))
-    for k in range(4):
-        A[:, k, k] = 1.0
-    b0, b1, b2 = (beta[:, i:i + 1] for i in range(3))
-    for m in range(TERMS - 4):
-        rhs = (b1 * (m + 1) * A[..., m + 1] + 2 * b2 * m * A[..., m]
-               + b0 * (m + 2) * (m + 1) * A[..., m + 2] + b1 * (m + 1) * m * A[..., m + 1]
-               + b2 * m * (m - 1) * A[..., m])
-        if m < 2:
-            rhs[:, 4] += qt[:, m]
-        A[..., m + 4] = rhs / ((m + 1) * (m + 2) * (m + 3) * (m + 4))
-        if m % 4 == 3 and np.all(np.abs(A[..., m + 1:m + 5]).max(axis=-1)
-                                 <= TAIL * np.abs(A[..., :m + 1]).max(axis=-1)):
-            break
-    return A
-
-
-_N = np.arange(TERMS, dtype=float)
-
-
-def _ends(A, h):
-    """(w, w', w'', w''') at σ = 0 and 1 of coefficients A (…, TERMS), x-derivatives."""
-    at0 = np.stack([A[..., 0], A[..., 1] / h, 2 * A[..., 2] / h ** 2, 6 * A[..., 3] / h ** 3])
-    d1 = _N
-    d2 = _N * (_N - 1)
-    d3 = d2 * (_N - 2)
-    at1 = np.stack([A.sum(-1), (A * d1).sum(-1) / h, (A * d2).sum(-1) / h ** 2,
-                    (A * d3).sum(-1) / h ** 3])
-    return at0, at1
-
-
 class Member:
     """One member's chain of pieces under N(x) (module docstring): EI, its
     flexible length L, N̄, the axial parts (times their factors), the
-    positions where its loads start, end or act and its rigid end zones'
-    lengths ``zones`` (o_i, o_j)."""
+    positions where its loads start, end or act, its rigid end zones'
+    lengths ``zones`` (o_i, o_j), its shear stiffness ``GAs`` (None:
+    Euler–Bernoulli) and ``also``: another bending plane's (EI, G A_s) that
+    the same cut must serve (:meth:`bent`)."""
 
-    def __init__(self, EI, L, Nbar, axial_parts, points, series=True, zones=(0.0, 0.0)):
+    def __init__(self, EI, L, Nbar, axial_parts, points, series=True, zones=(0.0, 0.0),
+                 GAs=None, also=None):
         self.EI, self.L, self.axial_parts = float(EI), float(L), list(axial_parts)
+        self.c = 0.0 if GAs is None else 1.0 / float(GAs)
         self.zones = (float(zones[0]), float(zones[1]))
         self.ends = (-self.zones[0], self.L + self.zones[1])
         self.centre = _centre(self.axial_parts, self.ends)
-        self.x = _cuts(EI, L, Nbar, self.axial_parts, points, self.centre)
+        planes = [(self.EI, self.c)] + ([] if also is None else
+                                        [(float(also[0]), 0.0 if also[1] is None
+                                          else 1.0 / float(also[1]))])
+        self.Nbar = float(Nbar)
+        self.x, reach, self.sheared = pieces.cuts(planes, L, points, lambda x: Nbar + np.stack(
+            [variation(self.axial_parts, self.centre, x),
+             variation(self.axial_parts, self.centre, x, False)]))
+        self._pieces(reach, self.axial_parts)
+        self.lowest = _least(self.nu)
+        if self.sheared:
+            # past its own buckling (own_negatives counts it), its element
+            # takes the mean N — at most half G A_s in compression — so that
+            # the answer is there to call UNSTABLE
+            self.Nbar = max(self.Nbar, -0.5 / max(c for _, c in planes))
+            self.x, reach, _ = pieces.cuts(planes, L, points,
+                                           lambda x: np.full((2,) + np.shape(x), self.Nbar))
+            self._pieces(reach, [])
+            self.Nbar = float(Nbar)
+        self._scaled()
+        if series:        # else by :func:`in_one_pass` with other members'
+            Member.in_one_pass([self])
+
+    def _pieces(self, reach, axial_parts):
+        """The pieces' lengths, runs and N's coefficients under ``axial_parts``."""
         lo, hi = self.x[:-1], self.x[1:]
         self.h = hi - lo
-        self.Nbar = float(Nbar)
+        self.bounds = pieces.runs(self.h, reach)
         # N on each piece through σ = 0 (its right limit), ½ and 1 (its left):
         # a polynomial of degree ≤ 2 there
         pts = lo[:, None] + self.h[:, None] * np.array([0.0, 0.5, 1.0])
-        Nv = Nbar + np.c_[variation(self.axial_parts, self.centre, pts[:, 0], True),
-                          variation(self.axial_parts, self.centre, pts[:, 1:], False)]
+        Nv = self.Nbar + np.c_[variation(axial_parts, self.centre, pts[:, 0], True),
+                               variation(axial_parts, self.centre, pts[:, 1:], False)]
         # ν₀ + ν₁ σ + ν₂ σ² through σ = 0, ½, 1
         self.nu = np.stack([Nv[:, 0], -3 * Nv[:, 0] + 4 * Nv[:, 1] - Nv[:, 2],
                             2 * Nv[:, 0] - 4 * Nv[:, 1] + 2 * Nv[:, 2]], axis=1)
-        self.beta = self.h[:, None] ** 2 * self.nu / self.EI
-        if series:        # else by :func:`in_one_pass` with other members'
-            self.solutions(_series(self.beta, np.zeros((lo.size, 2)))[:, :4])
 
-    def bent(self, EI, series=True) -> "Member":
-        """The same chain (pieces, N(x)) with the bending stiffness EI ≥
-        this one's (its pieces still |N| h² ≤ EI): a space member's stiffer
-        bending plane, cut once for both."""
+    def _scaled(self):
+        """β = h² ν/EI and g = EI c/h² of the pieces."""
+        self.beta = self.h[:, None] ** 2 * self.nu / self.EI
+        with np.errstate(divide="ignore", invalid="ignore"):
+            self.g = np.where(self.h > 0, self.EI * self.c / self.h ** 2, 0.0)
+
+    def bent(self, EI, GAs=None, series=True) -> "Member":
+        """The same chain (pieces, N(x)) with another plane's bending
+        stiffness EI and shear stiffness ``GAs`` (cut for both: ``also``):
+        a space member's other bending plane."""
         other = copy.copy(self)
         other.EI = float(EI)
-        other.beta = self.h[:, None] ** 2 * self.nu / other.EI
+        other.c = 0.0 if GAs is None else 1.0 / float(GAs)
+        other._scaled()
         if series:
-            other.solutions(_series(other.beta, np.zeros((self.h.size, 2)))[:, :4])
+            Member.in_one_pass([other])
         return other
 
-    def solutions(self, H):
-        """The pieces' homogeneous solutions H (P, 4, TERMS) taken: the
-        shape functions' coefficients C and the pieces' stiffness k."""
-        self.H = H                                           # (P, 4, T)
-        at0, at1 = _ends(H, self.h[:, None])                 # (4 quantities, P, 4 solutions)
-        B = np.stack([at0[0], at0[1], at1[0], at1[1]], axis=1)      # (P, 4 ends, 4 sols)
-        self.C = np.linalg.solve(B, np.broadcast_to(np.eye(4), B.shape))
-        forces = self._forces(at0, at1)                     # (P, 4 forces, 4 sols)
-        k = forces @ self.C
-        self.k = 0.5 * (k + np.swapaxes(k, 1, 2))
+    def _through(self, T, t, jumps):
+        """(T, t) of each run: its pieces' transfer matrices and load terms
+        multiplied through, the state's ``jumps`` (P + 1, 4) at its inner
+        joints (point loads) added."""
+        b = self.bounds
+        if b.size == self.h.size + 1:
+            return T, t
+        Tr, tr = T[b[:-1]].copy(), t[b[:-1]].copy()
+        for r in np.flatnonzero(np.diff(b) > 1).tolist():
+            for p in range(b[r] + 1, b[r + 1]):
+                jump = 0.0 if jumps is None else jumps[p]
+                Tr[r] = T[p] @ Tr[r]
+                tr[r] = T[p] @ (tr[r] + jump) + t[p]
+        return Tr, tr
 
     @staticmethod
     def in_one_pass(members) -> None:
-        """The homogeneous solutions of many members (built with ``series``
-        false) in one pass of the recurrence: one member's (a column piece
-        under its weight) cost a quarter of a millisecond, 40 times over in
-        α_cr's bisection."""
+        """The pieces' solutions from their unit states, their transfer
+        matrices and the runs' stiffness k, of many members (built with
+        ``series`` false) at once: the series, the end states and the runs'
+        stiffness each one pass over all their pieces (per member, in
+        NumPy's small calls, a column's cost 0.4 ms, 40 times over in
+        α_cr's bisection)."""
         if not members:
             return
-        H = _series(np.concatenate([m.beta for m in members]),
-                    np.zeros((sum(m.h.size for m in members), 2)))[:, :4]
-        for m, Hm in zip(members, np.split(H, np.cumsum([m.h.size for m in members])[:-1])):
-            m.solutions(Hm)
-
-    def _forces(self, at0, at1):
-        """The end forces (v_a, θ_a, v_b, θ_b) of solutions whose end
-        values ``at0``, ``at1`` are (w, w', w'', w''') × (P, …)."""
-        EI = self.EI
-        n0 = self.nu[:, 0].reshape((-1,) + (1,) * (at0.ndim - 2))
-        n1 = self.nu.sum(axis=1).reshape(n0.shape)
-        return np.stack([EI * at0[3] - n0 * at0[1], -EI * at0[2],
-                         -(EI * at1[3] - n1 * at1[1]), EI * at1[2]], axis=1)
+        sizes = [m.h.size for m in members]
+        cut = np.cumsum(sizes)[:-1]
+        nu, h = (np.concatenate([getattr(m, a) for m in members]) for a in ("nu", "h"))
+        EI = np.repeat([m.EI for m in members], sizes)
+        c = np.repeat([m.c for m in members], sizes)
+        H = pieces.series(np.concatenate([m.beta for m in members]),
+                          np.concatenate([m.g for m in members]),
+                          pieces.starts(nu, h, EI, c)[0])
+        T = pieces.end_states(H, nu, h, EI, c)                  # (P, 4, 4)
+        runs = []
+        for m, Hm, Tm in zip(members, np.split(H, cut), np.split(T, cut)):
+            m.H, m.T = Hm, Tm
+            b = m.bounds
+            m.length = m.x[b[1:]] - m.x[b[:-1]]
+            m.Tr = m._through(Tm, np.zeros((m.h.size, 4)), None)[0]
+            runs.append(m.Tr)
+        count = [m.length.size for m in members]
+        k, F = pieces.run_stiffness(np.concatenate(runs),
+                                    np.concatenate([m.length for m in members]),
+                                    np.repeat([m.EI for m in members], count))
+        at = np.cumsum(count)[:-1]
+        for m, km, Fm in zip(members, np.split(k, at), np.split(F, at)):
+            m.k, m.F = km, Fm
 
     def _particular(self, parts):
-        """(A (P, T), clamped consistent loads per piece (P, 4)) of the
-        transverse parts' distributed loads."""
+        """(A (P, T), each piece's load term t (P, 4)) of the transverse
+        parts' distributed loads: the series from the zero state."""
         P = self.h.size
         q = np.array([_load_on(parts, a, b) for a, b in zip(self.x[:-1], self.x[1:])]
                      ).reshape(P, 2)
-        qt = self.h[:, None] ** 4 * q * np.c_[np.ones(P), self.h] / self.EI
-        if not np.any(qt):
-            return np.zeros((P, TERMS)), np.zeros((P, 4))
-        A = _series(self.beta, qt)[:, 4]
-        at0, at1 = _ends(A, self.h)
-        d = np.stack([at0[0], at0[1], at1[0], at1[1]], axis=1)          # (P, 4)
-        R = self._forces(at0, at1) - np.einsum("pij,pj->pi", self.k, d)
-        return A, -R
+        if not np.any(q):
+            return np.zeros((P, pieces.TERMS)), np.zeros((P, 4))
+        qt = (self.h[:, None] ** 4 * q * np.c_[np.ones(P), self.h] / self.EI)[:, None, :]
+        start = pieces.starts(self.nu, self.h, self.EI, self.c, q)[1][:, None, :]
+        A = pieces.series(self.beta, self.g, start, qt)
+        return A[:, 0], pieces.end_states(A, self.nu, self.h, self.EI, self.c, q)[:, :, 0]
 
-    def _joints(self, parts):
-        """(K, f): the chain's stiffness and loads on every joint's (v, θ)."""
-        P = self.h.size
-        n = 2 * (P + 1)
-        K = np.zeros((n, n))
-        f = np.zeros(n)
-        fe = self._particular(parts)[1] if parts else np.zeros((P, 4))
-        for p in range(P):
-            K[2 * p:2 * p + 4, 2 * p:2 * p + 4] += self.k[p]
-            f[2 * p:2 * p + 4] += fe[p]
+    def _points(self, parts):
+        """(the joints' loads (runs + 1, 2), the state's jumps at the pieces'
+        edges (P + 1, 4)): a point force py and couple mz at an edge inside
+        a run jump S by py and M by −mz there."""
+        joints = np.zeros((self.bounds.size, 2))
+        jumps = np.zeros((self.h.size + 1, 4))
+        at = {int(e): r for r, e in enumerate(self.bounds)}
         for part in parts:
             if part[0] == "point":
                 _, a, py, mz = part
-                j = int(np.argmin(np.abs(self.x - a)))
-                f[2 * j] += py
-                f[2 * j + 1] += mz
+                e = int(np.argmin(np.abs(self.x - a)))
+                if e in at:
+                    joints[at[e]] += (py, mz)
+                else:
+                    jumps[e, 3] += py
+                    jumps[e, 2] -= mz
+        return joints, jumps
+
+    def _loads(self, parts):
+        """(A, t per piece, jumps, t per run, the joints' loads) of ``parts``."""
+        Ap, t = self._particular(parts)
+        joints, jumps = self._points(parts)
+        return Ap, t, jumps, self._through(self.T, t, jumps)[1], joints
+
+    def _joints(self, parts, loads=None):
+        """(K, f): the chain's stiffness and loads on every joint's (v, θ)
+        (``loads``: :meth:`_loads` of ``parts`` where known)."""
+        R = self.bounds.size - 1
+        n = 2 * (R + 1)
+        K = np.zeros((n, n))
+        f = np.zeros(n)
+        fe = np.zeros((R, 4))
+        if parts:
+            _, _, _, tr, joints = loads or self._loads(parts)
+            if np.any(tr):
+                fe = -np.einsum("rij,rj->ri", self.F, tr)
+            f += joints.ravel()
+        for r in range(R):
+            K[2 * r:2 * r + 4, 2 * r:2 * r + 4] += self.k[r]
+            f[2 * r:2 * r + 4] += fe[r]
         return K, f
 
     def stiffness(self) -> np.ndarray:
         """The member's 4 × 4 bending stiffness on (v_i, θ_i, v_j, θ_j)."""
-        if self.h.size == 1:
+        if self.k.shape[0] == 1:
             return self.k[0]
         K, _ = self._joints([])
         return _condensed(K, np.zeros(K.shape[0]))[0]
@@ -428,19 +446,21 @@ class Member:
         return _condensed(K, f)[1]
 
     def least(self) -> float:
-        """The least N(x) on the member: at a piece's ends or its vertex."""
-        n0, n1, n2 = self.nu.T
-        with np.errstate(divide="ignore", invalid="ignore"):
-            top = np.where(n2 != 0, np.clip(-n1 / (2 * n2), 0.0, 1.0), 0.0)
-        return float(min(n0.min(), (n0 + n1 + n2).min(), (n0 + n1 * top + n2 * top ** 2).min()))
+        """The least N(x) on the member (its own where the element takes
+        the mean N: past its own buckling)."""
+        return self.lowest
 
     def own_negatives(self, springs) -> int:
         """The negative eigenvalues of the chain with its ends held — their
         transverse displacements, and their rotations where rigidly joined
         (``springs`` (i, j): None), a released end's rotation on its spring
         (0: a hinge): the member's own buckling with its nodes held
-        (Wittrick–Williams' member term).  No piece buckles on its own
-        (|N| h² ≤ EI < π² EI), so the chain's modes are the member's."""
+        (Wittrick–Williams' member term).  No run buckles on its own
+        (|N| h² ≤ (1 + 2 SHORT)² EI D < 4π² EI D, Engesser's clamped load),
+        so the chain's modes are the member's; a member compressed past
+        G A_s somewhere is past its own buckling (at least one)."""
+        if self.sheared:
+            return 1
         K, _ = self._joints([])
         n = K.shape[0]
         keep = list(range(2, n - 2))
@@ -476,12 +496,14 @@ class Member:
 
     def axis(self, parts, ends, springs, x):
         """(v, v', ∫₀ˣ N v' dx) at x under ``parts`` (each times its
-        factor): its flexible ends' displacements and their nodes'
-        rotations ``ends`` (v_i, θ_i, v_j, θ_j), ``springs`` (i, j) each
-        None for a rigid joint, 0 for a hinge, else a rotational spring —
-        a released end's own rotation from the element's moment row, as
-        :func:`.beam_column.axis` does."""
-        K, f = self._joints(parts)
+        factor), v' the axis' slope (a shear-flexible member's section
+        turns by θ = v' + M'/(G A_s)): its flexible ends' displacements and
+        their nodes' rotations ``ends`` (v_i, θ_i, v_j, θ_j), ``springs``
+        (i, j) each None for a rigid joint, 0 for a hinge, else a rotational
+        spring — a released end's own rotation from the element's moment
+        row, as :func:`.beam_column.axis` does."""
+        loads = self._loads(parts)
+        K, f = self._joints(parts, loads)
         n = K.shape[0]
         ends = released_ends(lambda: _condensed(K, f), ends, springs)
         e = [0, 1, n - 2, n - 1]
@@ -490,16 +512,22 @@ class Member:
         u[e] = ends
         if i:
             u[i] = np.linalg.solve(K[np.ix_(i, i)], f[i] - K[np.ix_(i, e)] @ np.asarray(ends))
-        Ap, _ = self._particular(parts)
+        Ap, t, jumps, tr, _ = loads
         P = self.h.size
-        A = np.empty((P, TERMS))
-        for p in range(P):
-            up = u[2 * p:2 * p + 4]
-            at0, at1 = _ends(Ap[p], self.h[p])
-            d = np.array([at0[0], at0[1], at1[0], at1[1]])
-            A[p] = (self.C[p] @ (up - d)) @ self.H[p] + Ap[p]
+        A = np.empty((P, pieces.TERMS))
+        b = self.bounds
+        for r in range(b.size - 1):
+            da, db = u[2 * r:2 * r + 2], u[2 * r + 2:2 * r + 4]
+            y = np.r_[da, pieces.start_forces(self.Tr[r], tr[r], self.length[r], self.EI,
+                                              da, db)]
+            for p in range(b[r], b[r + 1]):
+                if p > b[r]:
+                    y = y + jumps[p]
+                A[p] = y @ self.H[p] + Ap[p]
+                y = self.T[p] @ y + t[p]
         # ∫ N w_σ dσ on each piece, as a series in σ, and its totals
-        dA = A[:, 1:] * _N[1:]                                    # w_σ's coefficients
+        TERMS = pieces.TERMS
+        dA = A[:, 1:] * np.arange(1, TERMS)                       # w_σ's coefficients
         prod = np.zeros((P, TERMS + 2))
         for r in range(3):
             prod[:, r:r + TERMS - 1] += self.nu[:, r:r + 1] * dA
@@ -507,12 +535,21 @@ class Member:
         start = np.r_[0.0, np.cumsum(integ.sum(axis=1))[:-1]]
         x = np.asarray(x, float)
         p = np.clip(np.searchsorted(self.x, x, side="right") - 1, 0, P - 1)
-        s = np.clip((x - self.x[p]) / self.h[p], 0.0, 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = np.where(self.h[p] > 0, np.clip((x - self.x[p]) / self.h[p], 0.0, 1.0), 0.0)
         powers = s[:, None] ** np.arange(TERMS + 3)
         v = (A[p] * powers[:, :TERMS]).sum(1)
         dv = (dA[p] * powers[:, :TERMS - 1]).sum(1) / self.h[p]
         dM = start[p] + (integ[p] * powers).sum(1)
         return v, dv, dM
+
+
+def _least(nu) -> float:
+    """The least of N on pieces of coefficients ``nu``: at their ends or vertices."""
+    n0, n1, n2 = nu.T
+    with np.errstate(divide="ignore", invalid="ignore"):
+        top = np.where(n2 != 0, np.clip(-n1 / (2 * n2), 0.0, 1.0), 0.0)
+    return float(min(n0.min(), (n0 + n1 + n2).min(), (n0 + n1 * top + n2 * top ** 2).min()))
 
 
 def _condensed(K, f):

@@ -219,17 +219,20 @@ def varying_couples(frame, b, u, couples) -> np.ndarray:
     along = b.get("along")
     if not along:
         return couples
-    from ..mechanics.varying_axial import of_member
+    from ..mechanics.varying_axial import Member, of_member
 
     from ..mechanics.contact_lcp import factors
 
     couples = np.array(couples, float)
     fe_all = b["local"][3] @ factors(b, along)
-    for k, m in enumerate(frame.members.values()):
+    ms = list(frame.members.values())
+    members = {k: member for k, m in enumerate(ms) if m.loads
+               for member in [of_member(m, *geometry(frame, m), float(b["axial"][k]), along,
+                                        False)] if member is not None}
+    Member.in_one_pass(list(members.values()))      # their series in one pass
+    for k, member in members.items():
+        m = ms[k]
         L, c, s = geometry(frame, m)
-        member = (of_member(m, L, c, s, float(b["axial"][k]), along) if m.loads else None)
-        if member is None:
-            continue
         oi, oj = m.offset_i, m.offset_j
         T = rotation(c, s)[:3, :3]
         di = T @ u[b["idx"][m.i]:b["idx"][m.i] + 3]

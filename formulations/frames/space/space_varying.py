@@ -12,9 +12,9 @@ x-y plane's part of each load (:func:`.space_member_loads.plane_parts`: its
 x component), the same in both planes; so is each rigid end zone's P-Δ,
 θ ∫_zone N dx.  Each plane is then :class:`..mechanics.varying_axial.Member`
 with its own EI, its end releases the member's about that plane's axis.
-Used only where N varies and the member has no shear area (a
-Timoshenko member keeps Engesser's element on the mean N and is judged,
-:func:`..mechanics.second_order.spread_through_frame`), as the plane path.
+Used where N varies, and on a member with a shear area wherever it is
+loaded (each plane Engesser's beam-column under N(x), its own G A_s), as
+the plane path.
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ def of_member(m, loads, L, R, Nbar, along, series=True):
     node-to-node length L, axes R) under N̄ where its loads in the
     combination ``along`` have parts along its axis; None where none do,
     or where it has a shear area."""
-    if not along or any(g is not None for g in m["GAs"]):
+    if not along:
         return None
     oi, oj = m["offsets"]
     parts = []
@@ -93,16 +93,22 @@ def of_member(m, loads, L, R, Nbar, along, series=True):
         if part:
             parts.append(part[:-2] + tuple(factor * np.array(part[-2:]))
                          if part[0] == "distributed" else part[:2] + (factor * part[2],))
-    if not parts:
+    # a shear-flexible member takes its loads across it here too (N̄
+    # constant where none is along it)
+    if not parts and (all(g is None for g in m["GAs"])
+                      or not any(along.get(ld.case) for ld in loads)):
         return None
     points = [x - oi for ld in loads for x in (ld.a, ld.b)]
     rel = dict(m["releases"])
-    # one cut for both planes, on the weaker's EI (a chain per plane cost
-    # its cuts and N(x) table twice: a fifth of α_cr's time on a building)
+    # one cut for both planes (a chain per plane cost its cuts and N(x)
+    # table twice: a fifth of α_cr's time on a building), on the weaker's EI
+    # and serving the other's
     EI = [m["E"] * m[I_] for I_, _, _ in PLANES]
     weak = int(EI[1] < EI[0])
-    first = Member(EI[weak], L - oi - oj, Nbar, parts, points, series, (oi, oj))
-    planes = [first, first.bent(EI[1 - weak], series)]
+    GAs = m["GAs"]
+    first = Member(EI[weak], L - oi - oj, Nbar, parts, points, series, (oi, oj), GAs[weak],
+                   (EI[1 - weak], GAs[1 - weak]))
+    planes = [first, first.bent(EI[1 - weak], GAs[1 - weak], series)]
     return BothPlanes(planes[::-1] if weak else planes,
                       [(rel.get(rows[1]), rel.get(rows[1] + 6)) for _, rows, _ in PLANES])
 
@@ -192,12 +198,16 @@ def varying_couples(frame, b, u, couples) -> np.ndarray:
 
     couples = np.array(couples, float)
     fe_all = b["local"][3] @ factors(b, along)
-    for k, (name, m) in enumerate(frame.members.items()):
+    items = list(frame.members.items())
+    members = {k: both for k, (name, m) in enumerate(items)
+               for loads in [loads_on(frame, name)] if loads
+               for both in [of_member(m, loads, *geometry(frame, m), float(b["axial"][k]),
+                                      along, False)] if both is not None}
+    Member.in_one_pass([p for both in members.values() for p in both.planes])
+    for k, both in members.items():
+        name, m = items[k]
         loads = loads_on(frame, name)
         L, R = geometry(frame, m)
-        both = of_member(m, loads, L, R, float(b["axial"][k]), along) if loads else None
-        if both is None:
-            continue
         di, dj = (np.r_[R @ u[b["idx"][n]:b["idx"][n] + 3], R @ u[b["idx"][n] + 3:b["idx"][n] + 6]]
                   for n in (m["i"], m["j"]))
         arm_i, arm_j = both.arms()

@@ -79,27 +79,34 @@ def test_cut_or_not_it_is_ok_and_right(share, pieces, space):
 
 
 @pytest.mark.parametrize("space", [False, True])
-def test_a_loaded_member_with_shear_deformation_under_compression_is_not_ok(space):
-    # a Timoshenko member's loads stay its first-order element's: refused
-    # by the amplification bound, and named
+def test_a_loaded_member_with_shear_deformation_under_compression_is_engessers(space):
+    # a pinned span with shear deformation (G A_s = 3 P) under w and P: its
+    # loads are the beam-column's under N (mechanics.varying_axial), the
+    # midspan moment Engesser's (w EI/P)(sec(kL/2) − 1), k² = P/(β EI), β =
+    # 1 − P/(G A_s) (M'' + k² M = w/β from M' = N v' − V, V' = −w and β v''
+    # = M/EI − w/(G A_s)); it was refused ("span loads of member(s) S")
+    P, G_ = 0.3 * P_E, 8e4
+    As = 3.0 * P / G_
+    k = np.sqrt(P / ((1 - P / (G_ * As)) * E * I))
+    exact = W * E * I / P * (1 / np.cos(k * L / 2) - 1)
     fr = SpaceFrame() if space else Frame()
     fr.add_node("A", 0.0, 0.0, *([0.0] if space else []))
     fr.add_node("B", L, 0.0, *([0.0] if space else []))
     if space:
-        fr.add_member("A", "B", E, 0.01, I, I, G=8e10, J=1e-5, name="S",
-                      shear_area=0.01 * 5 / 6)
+        fr.add_member("A", "B", E, 0.01, I, I, G=G_, J=1e-5, name="S", shear_area=As)
         fr.add_distributed_load("S", wz=-W, case="D")
         fr.add_support("A", fix=("ux", "uy", "uz", "rx"))
         fr.add_support("B", fix=("uy", "uz"))
     else:
-        fr.add_member("A", "B", E, 0.01, I, name="S", G=8e10, shear_area=0.01 * 5 / 6)
+        fr.add_member("A", "B", E, 0.01, I, name="S", G=G_, shear_area=As)
         fr.add_distributed_load("S", wy=-W, case="D")
         fr.add_support("A", fix=("ux", "uy"))
         fr.add_support("B", fix=("uy",))
-    fr.add_load("B", fx=-0.3 * P_E, case="D")
-    res = _solve(fr, "low")
-    assert not res.ok
-    assert "span loads of member(s) S" in res.message
+    fr.add_load("B", fx=-P, case="D")
+    low, high = _solve(fr, "low"), _solve(fr, "high")
+    assert low.ok and high.ok, (low.message, high.message)
+    assert _midspan(fr, high) == pytest.approx(exact, rel=1e-9)
+    assert exact / (W * L ** 2 / 8) - 1 > 0.5         # far from the first-order moment
 
 
 def test_span_loads_without_axial_force_are_left_alone():
@@ -129,14 +136,13 @@ def test_a_trace_whose_variable_loads_bend_a_compressed_member_is_the_beam_colum
     assert _midspan(fr, ft.result_at(1.0)) == pytest.approx(_closed_form(0.5), rel=1e-9)
 
 
-def test_axial_parts_of_member_loads_under_compression_are_not_ok_where_they_matter():
-    # a shear-flexible column's own weight makes N vary along it about the
-    # mean its element takes: bounded, not ok beyond the accuracy asked;
-    # cut into pieces, each piece's spread is small and their sum (the
-    # answer takes them all: second_order.spread_through_frame) falls as
-    # 1/pieces² — 1.6e-4 at 64 pieces (whose mid sway is 6.7e-7 off a
-    # 256/512-piece lumped cut), a quarter of it at 128 (an Euler–Bernoulli member
-    # takes N(x) as it is: test_second_order_varying_axial.py)
+def test_a_shear_flexible_column_under_its_weight_is_its_shot():
+    # a shear-flexible column hinged at both ends, its weight 0.2 P_E, 0.3
+    # P_E on top, 1 N across it at mid-height: its element takes N(x)
+    # (mechanics.varying_axial), so uncut it is ok and its mid sway the
+    # ODE shot's; it was refused at 1 and 64 pieces ("axial parts")
+    GAs = 8e7 * 0.01 * 5 / 6
+
     def column(pieces):
         fr = Frame()
         for k in range(pieces + 1):
@@ -150,11 +156,39 @@ def test_axial_parts_of_member_loads_under_compression_are_not_ok_where_they_mat
         fr.add_load(f"N{pieces}", fy=-0.3 * P_E, fx=0.0, case="D")
         fr.add_load(f"N{pieces // 2}", fx=1.0, case="D")
         return fr
-    res = _solve(column(1), "low")
-    assert not res.ok
-    assert "axial parts" in res.message and "C0" in res.message
-    assert not _solve(column(64), "low").ok
-    assert _solve(column(128), "low").ok
+    ref = _hinged_shot(lambda x: -0.3 * P_E - 0.2 * P_E * (L - x) / L, GAs, 1.0)
+    for pieces in (2, 64):
+        fr = column(pieces)
+        low, high = _solve(fr, "low"), _solve(fr, "high")
+        assert low.ok and high.ok, (low.message, high.message)
+        assert high.displacements[f"N{pieces // 2}"][0] == pytest.approx(ref, rel=1e-9)
+        assert low.displacements[f"N{pieces // 2}"][0] == pytest.approx(ref, rel=1e-4)
+
+
+def _hinged_shot(N, GAs, H):
+    """The mid-height sway [m] of a column hinged at both ends under N(x)
+    with H across it at L/2 (global +x): Engesser's equations in member
+    axes (y = −x global), v' = (θ − S/GAs)/(1 + N/GAs), EI θ' = M, M' = S
+    + N v', S' = 0 but for −H at L/2; v = M = 0 at both ends, by shots
+    from (θ(0), S(0)) — linear, so three of them."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(x, y):
+        dv = (y[1] - y[3] / GAs) / (1 + N(x) / GAs)
+        return [dv, y[2] / (E * I), y[3] + N(x) * dv, 0.0]
+
+    def shot(theta, S):
+        y = solve_ivp(rhs, (0, L / 2), [0.0, theta, 0.0, S], method="DOP853", rtol=1e-13,
+                      atol=1e-22).y[:, -1]
+        mid = y[0]
+        y = solve_ivp(rhs, (L / 2, L), y + [0.0, 0.0, 0.0, -H], method="DOP853", rtol=1e-13,
+                      atol=1e-22).y[:, -1]
+        return np.array([y[0], y[2]]), mid
+    e0, m0 = shot(0.0, 0.0)
+    e1, m1 = shot(1e-6, 0.0)
+    e2, m2 = shot(0.0, 1.0)
+    a = np.linalg.solve(np.c_[e1 - e0, e2 - e0], -e0)
+    return -(m0 + a[0] * (m1 - m0) + a[1] * (m2 - m0))      # member y is −x
 
 
 @pytest.mark.parametrize("a", [0.0, L])
@@ -194,32 +228,43 @@ def test_a_member_with_shear_deformation_and_no_axial_force_is_left_alone():
     assert res.displacements["B"][1] == pytest.approx(-tip, rel=1e-9)
 
 
-def test_a_swaying_column_under_its_own_weight_is_judged_on_its_sway_load():
-    """A cantilever column at 0.24 of π²EI/L² (0.96 of its sway buckling
-    load, α_cr ≈ 1.04) under a self-weight of 1e-4 of it: a shear-flexible
-    element takes N as the mean along the member (an Euler–Bernoulli one
-    as the mean, its base moment and tip sway were 2.0e-3 off: the column
-    cut into 32 and 64 pieces, which agree to 1.2e-6).  The member's own
-    bound on its pinned load said 1e-5: ok at "low".  On its sway load
-    P_p/4 (and the frame's α_cr) it is not ok; without the self-weight the
-    same column is ok.  (The Euler–Bernoulli column now takes N(x):
-    test_second_order_varying_axial.py.)"""
+def test_a_swaying_column_under_its_own_weight_is_its_shot():
+    """A shear-flexible cantilever column at 0.24 of π²EI/L² (0.96 of its
+    sway buckling load, α_cr ≈ 1.04) under a self-weight of 1e-4 of it:
+    its element takes N(x) (mechanics.varying_axial), so uncut it is ok
+    and its tip sway the ODE shot's.  It was refused on its sway load's
+    bound (and before that bound, taking the mean N, ok at "low" with its
+    base moment 2.0e-3 off)."""
+    from scipy.integrate import solve_ivp
+
     E_, A_, I_, L_ = 2e8, 1e-2, 1e-5, 5.0
     P_p = np.pi ** 2 * E_ * I_ / L_ ** 2
+    GAs, H, weight = 8e7 * A_ * 5 / 6, 0.01, 1e-4 * P_p
 
-    def column(weight):
+    def column():
         fr = Frame()
         fr.add_node("A", 0.0, 0.0)
         fr.add_node("B", 0.0, L_)
         fr.add_member("A", "B", E_, A_, I_, name="col", G=8e7, shear_area=A_ * 5 / 6)
-        if weight:
-            fr.add_distributed_load("col", 0.0, -weight / L_)      # along the axis
+        fr.add_distributed_load("col", 0.0, -weight / L_)      # along the axis
         fr.add_support("A")
-        fr.add_load("B", fx=0.01, fy=-0.24 * P_p)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return fr.solve(second_order=True, accuracy="low", raise_on_failure=False)
+        fr.add_load("B", fx=H, fy=-0.24 * P_p)
+        return fr
 
-    res = column(1e-4 * P_p)
-    assert not res.ok and "col (N = " in res.message and "axial parts" in res.message, res.message
-    assert column(0.0).ok
+    def rhs(x, y):     # member axes (y = −x global): S = H, M' = S + N v'
+        N = -0.24 * P_p - weight * (L_ - x) / L_
+        dv = (y[1] - H / GAs) / (1 + N / GAs)
+        return [dv, y[2] / (E_ * I_), H + N * dv]
+
+    def tip(M0):
+        return solve_ivp(rhs, (0, L_), [0.0, 0.0, M0], method="DOP853", rtol=1e-13,
+                         atol=1e-22).y[:, -1]
+    e0, e1 = tip(0.0), tip(1.0)
+    ref = -tip(-e0[2] / (e1[2] - e0[2]))[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        low, high = (column().solve(second_order=True, accuracy=acc, raise_on_failure=False)
+                     for acc in ("low", "high"))
+    assert low.ok and high.ok, (low.message, high.message)
+    assert high.displacements["B"][0] == pytest.approx(ref, rel=1e-9)
+    assert low.displacements["B"][0] == pytest.approx(ref, rel=1e-4)
