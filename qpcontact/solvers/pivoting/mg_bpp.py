@@ -43,6 +43,14 @@ The answer is the exact basic solution of the final basis, certified from M
 and q by :func:`qpcontact.solve` like every answer; the multigrid iterate is
 never returned.
 
+What the search builds of M and its hierarchy alone (the untruncated
+Galerkin products, the packed levels, the coarsest problem:
+:class:`.multigrid.MultilevelSetup`) is kept on M's structure, and the next
+LCP on it — ``LCP.with_structure(lcp.structure, q)``, a raft's or a
+membrane's next load combination — starts from it where it still fits M
+entry for entry (a 10⁴ membrane's ripple: 9.0 → 5.8 ms a load after the
+first; docs/dev-notes.md, "the setup a matrix carries").
+
 Options: ``max_cycles`` (finest-level cycles, default 500: a cycle is O(n),
 an exchange a factorization, so the search runs until the contact set has
 settled — plate n = 4e4: 40 cycles left 280 exchanges, 20 s; 400 cycles
@@ -54,7 +62,8 @@ operators moved), ``hierarchy`` ("given" or "aggregation"), ``shifted``,
 ``gap_steps`` and ``gap_residual`` (a plate's z_u: conjugate-gradient steps and
 the residual over ‖q‖∞ they reached), ``w_cycles`` (a plate's corrections
 are W-cycles), ``initial_active``,
-``restarts`` (the search resumed), ``factorizations``, ``bordered_solves``,
+``restarts`` (the search resumed), ``setup_kept`` (the multilevel setup
+came with M's structure), ``factorizations``, ``bordered_solves``,
 ``block_exchanges``, ...
 """
 
