@@ -122,6 +122,13 @@ def _setup(problem, rows, prolongations, visits, stats) -> MultilevelSetup:
             return kept
         kept.lock.release()
     stats["setup_kept"] = False
+    # a kept setup fits an M whose diagonal was checked here when it was built
+    M = problem.M
+    diag = np.asarray(M.diagonal() if sp.issparse(M) else np.diag(M), dtype=float)
+    if not np.all(diag > 0):
+        i = int(np.flatnonzero(~(diag > 0))[0])
+        raise InvalidProblemError(f"'mg-bpp' needs M symmetric positive definite; M[{i},{i}] = "
+                                  f"{diag[i]:g} is not positive — use 'lemke'")
     setup = MultilevelSetup(rows, prolongations, visits)
     setup.lock.acquire()
     structure.multilevel_setup = setup
@@ -136,11 +143,6 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     n = problem.n
     opts = read_options("mg-bpp", options, MG_BPP_OPTIONS, size=n)
     M = problem.M
-    diag = np.asarray(M.diagonal() if sp.issparse(M) else np.diag(M), dtype=float)
-    if not np.all(diag > 0):
-        i = int(np.flatnonzero(~(diag > 0))[0])
-        raise InvalidProblemError(f"'mg-bpp' needs M symmetric positive definite; M[{i},{i}] = "
-                                  f"{diag[i]:g} is not positive — use 'lemke'")
     stats: dict = {}
     t = time.perf_counter()
     # a plate (not a Z-matrix) starts from the shifted coarse answers, and
