@@ -293,9 +293,6 @@ class MultilevelSetup:
         self.As = As
         L = len(prolongations)
         self.levels = _Levels(As, prolongations, self.Rs, visits) if L else None
-        # the values the solves rewrite: the coarse levels' (level 0's are M's)
-        self._coarse_values = (self.levels.H[2][self.levels.H[4][1]:].copy()
-                               if L else None)
         self._used = False
         C = As[L].toarray() if As[L].shape[0] <= DENSE_COARSEST else As[L].tocsc()
         coarse = LCP(C, np.zeros(C.shape[0]))
@@ -335,8 +332,9 @@ class MultilevelSetup:
         no reset: every first cycle, and z_u's, writes all of it first."""
         levels = self.levels
         if levels is not None and self._used:
-            H = levels.H
-            H[2][H[4][1]:] = self._coarse_values
+            values, nofs = levels.H[2], levels.H[4]
+            for k in range(1, len(self.As)):     # the products as built (level 0 is M)
+                values[nofs[k]:nofs[k + 1]] = self.As[k].data
         self._used = True
         return levels
 
