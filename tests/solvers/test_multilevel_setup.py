@@ -95,6 +95,18 @@ def test_a_setup_fits_only_its_own_matrix_hierarchy_and_cycles():
     assert not setup.fits(meshes.membrane(31).M.T.tocsr(), meshes.membrane(31).structure.hierarchy, 1)
 
 
+def test_a_setup_without_coarse_levels_sees_its_matrix_changed_in_place():
+    """With no coarse level (a small problem that aggregation leaves
+    whole) the setup keeps its own copy of M: the values rewritten in the
+    very arrays it was built from do not fit."""
+    lcp = meshes.membrane(15)
+    rows = lcp.M.T.tocsr()
+    setup = MultilevelSetup(rows, (), 1)
+    assert setup.fits(rows, (), 1)
+    rows.data *= 2.0
+    assert not setup.fits(rows, (), 1)
+
+
 def test_a_setup_that_does_not_fit_the_matrix_is_rebuilt():
     """A structure carrying another matrix's setup (built for a membrane
     of twice the tension: the same pattern and hierarchy, other values)

@@ -293,6 +293,8 @@ class MultilevelSetup:
         self.As = As
         L = len(prolongations)
         self.levels = _Levels(As, prolongations, self.Rs, visits) if L else None
+        if not L:   # no packed copy of M to check it against: the setup's own
+            As[0] = As[0].copy()
         self._used = False
         C = As[L].toarray() if As[L].shape[0] <= DENSE_COARSEST else As[L].tocsc()
         coarse = LCP(C, np.zeros(C.shape[0]))
