@@ -48,7 +48,7 @@ Galerkin products, the packed levels, the coarsest problem:
 :class:`.multigrid.MultilevelSetup`) is kept on M's structure, and the next
 LCP on it — ``LCP.with_structure(lcp.structure, q)``, a raft's or a
 membrane's next load combination — starts from it where it still fits M
-entry for entry (a 10⁴ membrane's ripple: 9.0 → 5.8 ms a load after the
+entry for entry (a 10⁴ membrane's ripple: 9.5 → 5.4 ms a load after the
 first; docs/dev-notes.md, "the setup a matrix carries").
 
 Options: ``max_cycles`` (finest-level cycles, default 500: a cycle is O(n),
