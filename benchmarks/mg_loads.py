@@ -4,7 +4,7 @@ obstacle rows of issue-51-type problems (membranes, plates) solved whole —
 a matrix: mg-bpp builds its Galerkin products and packed levels) and on an
 LCP sharing that LCP's structure with another load (a load combination:
 what mg-bpp keeps of M alone is not built again), each the minimum CPU time
-(``process_time``) of ``--repeat`` solves, against one QDLDL LDLᵀ (its AMD
+(``process_time``; the wall time's minimum printed beside) of ``--repeat`` solves, against one QDLDL LDLᵀ (its AMD
 included) of the answer's own final free block measured in the same
 process.  One BLAS thread.
 
@@ -90,23 +90,26 @@ def row(kind, shape, N, method, repeat) -> dict:
     small = _build(kind, shape, 31)      # imports, compiled kernels: paid once, untimed
     solve(small, method=method)
     solve(LCP.with_structure(small.structure, small.q, small.q_terms), method=method)
-    first = []
+    first, first_wall = [], []
     for _ in range(repeat):
         lcp = _build(kind, shape, N)
-        t = time.process_time()
+        w, t = time.perf_counter(), time.process_time()
         sol = solve(lcp, method=method, accuracy="high", time_limit=None)
         first.append(time.process_time() - t)
+        first_wall.append(time.perf_counter() - w)
         assert sol.ok, sol.message
     other = _build(kind, shape, N, NEXT_LOAD)
-    nexts = []
+    nexts, next_wall = [], []
     for _ in range(repeat):
         again = LCP.with_structure(lcp.structure, other.q, other.q_terms)
-        t = time.process_time()
+        w, t = time.perf_counter(), time.process_time()
         nxt = solve(again, method=method, accuracy="high", time_limit=None)
         nexts.append(time.process_time() - t)
+        next_wall.append(time.perf_counter() - w)
         assert nxt.ok, nxt.message
     digest = (lambda z: hashlib.sha1(z.tobytes()).hexdigest()[:12])
     return dict(kind=kind, shape=shape, N=N, method=method, first=min(first), next=min(nexts),
+                first_wall=min(first_wall), next_wall=min(next_wall),
                 floor=_floor(lcp, sol.z), next_floor=_floor(again, nxt.z),
                 free=float((sol.z > 0).mean()), next_free=float((nxt.z > 0).mean()),
                 cycles=sol.stats.get("mg_cycles"), next_cycles=nxt.stats.get("mg_cycles"),
@@ -155,8 +158,8 @@ def main(argv=None) -> int:
                             str(repo), []).append(res)
                         print(json.dumps(res), file=sys.stderr, flush=True)
     print(f"\n| row | method | side | first ms | × floor | next ms | × its floor | floor / next "
-          f"floor ms | free | cycles first / next | z same | load |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          f"floor ms | free | cycles first / next | z same | load | wall first / next ms |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for (kind, shape, N, method), sides in results.items():
         floor = min(r["floor"] for runs in sides.values() for r in runs)
         next_floor = min(r["next_floor"] for runs in sides.values() for r in runs)
@@ -171,7 +174,9 @@ def main(argv=None) -> int:
                   f"{runs[0]['free']:.0%} / {runs[0]['next_free']:.0%} | "
                   f"{runs[0]['cycles']} / {runs[0]['next_cycles']} | "
                   f"{'yes' if len(digests) == 1 else 'NO'} | "
-                  f"{min(r['load'] for r in runs):.1f}–{max(r['load'] for r in runs):.1f} |")
+                  f"{min(r['load'] for r in runs):.1f}–{max(r['load'] for r in runs):.1f} | "
+                  f"{1e3 * min(r['first_wall'] for r in runs):.2f} / "
+                  f"{1e3 * min(r['next_wall'] for r in runs):.2f} |")
     return 0
 
 
