@@ -22,7 +22,13 @@ supernodal LDLᵀ with MMD, ordering included — the cheapest exact solve of
 the answer's own linear system) for the whole solve() and for the method's
 own call (``wall_time``: without solve()'s convexity check and certificate,
 which every route pays), the ratio to the fastest QP backend that
-certified its answer at "high", and the process's peak memory.  Prints a
+certified its answer at "high", and the process's peak memory; for the
+obstacle rows also the **next load case** (the load × NEXT_LOAD on the same
+M: an LCP sharing the first one's structure, as a raft's or a membrane's
+load combinations do) — its time and its ratio to its own final block's
+LDLᵀ: what a method keeps of M alone (mg-bpp's Galerkin products and packed
+levels, |M|) is not built again there, so the first solve and the next are
+both printed.  Prints a
 Markdown table and each method's fitted slope (time ∝ n^slope per family),
 and saves a log-log plot of time against n with the LDLᵀ floor drawn
 (out/scale/scale.png) and the rows (out/scale/scale.csv).  The QP backends
@@ -60,17 +66,24 @@ BACKENDS = ("piqp", "clarabel", "proxqp", "osqp")
 RAFT_METHODS = ("qpcontact", "pynite", "opensees")
 
 
-def build(family: str, size: int, rigidity: float = 1.0):
+#: The second load case of an obstacle row: its load times this (the
+#: "next load" columns: the same M, another q, the contact set moved).
+NEXT_LOAD = 1.25
+
+
+def build(family: str, size: int, rigidity: float = 1.0, load_factor: float = 1.0):
     """``family`` is "membrane", "plate" (optionally "-<shape>", a key of
     meshes.OBSTACLES) or "signorini"; ``rigidity`` scales the membrane's
-    tension or the plate's D."""
+    tension or the plate's D, ``load_factor`` the obstacle rows' load."""
     from formulations import meshes
 
     kind, _, shape = family.partition("-")
     if kind == "membrane":
-        return meshes.membrane(size, obstacle=shape or "dome", tension=rigidity)
+        return meshes.membrane(size, obstacle=shape or "dome", tension=rigidity,
+                               load=-8.0 * load_factor)
     if kind == "plate":
-        return meshes.plate(size, obstacle=shape or "dome", rigidity=rigidity)
+        return meshes.plate(size, obstacle=shape or "dome", rigidity=rigidity,
+                            load=-1000.0 * load_factor)
     return meshes.signorini(size)[0]
 
 
@@ -213,9 +226,15 @@ def job(family, size, method, progress, queue, rigidity=1.0):
 
     if family == "raft":
         return raft_job(size, method, queue)
-    # warm-up on a tiny instance: imports, compiled kernels, the registry —
-    # costs paid once per process, not per problem
-    solve(build(family, 9 if family != "signorini" else 2), method=method)
+    # warm-up on a small instance: imports, compiled kernels, the registry —
+    # costs paid once per process, not per problem; a mesh of a few levels
+    # and a second load on it, so that neither timed solve pays them
+    from qpcontact import LCP
+
+    small = build(family, 31 if family != "signorini" else 2)
+    solve(small, method=method)
+    if hasattr(small, "n"):
+        solve(LCP.with_structure(small.structure, small.q, small.q_terms), method=method)
     problem = build(family, size, rigidity)
     opts = {"progress": lambda line: print(f"    {line}", flush=True)} \
         if progress and method in ("ip-bpp", "mg-bpp") else {}
@@ -230,12 +249,23 @@ def job(family, size, method, progress, queue, rigidity=1.0):
     block = (_final_block_ldlt(problem, x) if sol.ok and method in ("bpp", "ip-bpp", "mg-bpp", "auto")
              else None)
     n = problem.n if is_lcp else problem.P.shape[0]
-    queue.put(dict(family=family, n=n, method=method, time=wall, method_time=sol.wall_time,
-                   ok=sol.ok, status=sol.status,
-                   iterations=sol.iterations,
-                   error=None if sol.certificate is None else sol.certificate.error,
-                   ldlt=block,
-                   peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024))
+    row = dict(family=family, n=n, method=method, time=wall, method_time=sol.wall_time,
+               ok=sol.ok, status=sol.status,
+               iterations=sol.iterations,
+               error=None if sol.certificate is None else sol.certificate.error,
+               ldlt=block)
+    if is_lcp and method in ("bpp", "ip-bpp", "mg-bpp", "auto"):
+        # the next load case on the same M: an LCP sharing the first one's
+        # structure (what a method kept of M alone — mg-bpp's multilevel
+        # setup, |M| — is not built again), its own floor
+        other = build(family, size, rigidity, NEXT_LOAD)
+        again = LCP.with_structure(problem.structure, other.q, other.q_terms)
+        t = time.perf_counter()
+        sol = solve(again, method=method, accuracy="high", time_limit=None, **opts)
+        row.update(next_time=time.perf_counter() - t, next_ok=sol.ok,
+                   next_ldlt=_final_block_ldlt(again, sol.z) if sol.ok else None)
+    row["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    queue.put(row)
 
 
 def run_one(family, size, method, limit, progress, rigidity=1.0):
@@ -350,6 +380,8 @@ def main(argv=None) -> int:
                 r["n"] = n
                 r["vs_ldlt"] = r["time"] / r["ldlt"] if r.get("ldlt") else None
                 r["method_vs_ldlt"] = r["method_time"] / r["ldlt"] if r.get("ldlt") else None
+                r["next_vs_ldlt"] = (r["next_time"] / r["next_ldlt"]
+                                     if r.get("next_ldlt") and r.get("next_ok") else None)
                 r["vs_backend"] = (r["time"] / best_backend if best_backend and r["ok"]
                                    and r["method"] not in BACKENDS else None)
                 if family == "raft" and r["method"] != "qpcontact":   # theirs against ours
@@ -366,12 +398,15 @@ def main(argv=None) -> int:
         print(f"\n(membrane tension / plate rigidity {args.rigidity:g})")
     print("\n| family | n | method | time s | status | iterations | certificate | "
           "time / one LDLᵀ of final block | method's own time / LDLᵀ | "
-          "time / fastest certified backend (rafts: ours / theirs) | peak MB |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "time / fastest certified backend (rafts: ours / theirs) | "
+          f"next load (× {NEXT_LOAD:g}, same M) s | next load / its LDLᵀ | peak MB |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['family']} | {r['n'] or ''} | {r['method']} | {r['time']:.3f} | {r['status']} | "
               f"{fmt(r['iterations'], 'd')} | {fmt(r['error'], '.1e')} | {fmt(r['vs_ldlt'], '.1f')} | "
-              f"{fmt(r['method_vs_ldlt'], '.1f')} | {fmt(r['vs_backend'], '.2f')} | {fmt(r['peak_mb'], '.0f')} |")
+              f"{fmt(r['method_vs_ldlt'], '.1f')} | {fmt(r['vs_backend'], '.2f')} | "
+              f"{fmt(r.get('next_time'), '.3f')} | {fmt(r.get('next_vs_ldlt'), '.1f')} | "
+              f"{fmt(r['peak_mb'], '.0f')} |")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     from qpcontact.core.files import write_csv_atomic
@@ -379,7 +414,7 @@ def main(argv=None) -> int:
     write_csv_atomic(out / "scale.csv", rows,
                      ["family", "size", "n", "method", "time", "ok", "status", "iterations",
                       "error", "ldlt", "vs_ldlt", "method_time", "method_vs_ldlt", "vs_backend",
-                      "peak_mb"])
+                      "next_time", "next_ldlt", "next_vs_ldlt", "peak_mb"])
     _plot(rows, out / "scale.png")
     print("\nFitted slopes (time ∝ n^slope, least squares on the certified rows):")
     for (family, method), slope in _slopes(rows).items():

@@ -362,6 +362,10 @@ class MatrixStructure:
     #: The hierarchy "mg-bpp" built by aggregation when none was given, kept
     #: for the next LCP on this M (a time stepper's).
     aggregated_hierarchy = None
+    #: What "mg-bpp" built of M and its hierarchy alone (Galerkin products,
+    #: packed levels), kept for the next LCP on this M; used only where it
+    #: still fits M entry for entry (solvers.pivoting.multigrid.MultilevelSetup).
+    multilevel_setup = None
 
     def declare_hierarchy(self, prolongations) -> None:
         """Record the coarse levels of the mesh M comes from (validated by

@@ -267,6 +267,22 @@ def aggregate(indptr, indices, data, diag, theta):
     return joined, count
 
 
+@njit
+def same_csr(ptr, idx, val, ptr2, idx2, val2):
+    """Whether two CSR matrices' arrays hold the same entries, index widths
+    aside (a kept setup's check of the operator it was built on: one pass,
+    no copy, ended at the first difference)."""
+    if ptr.size != ptr2.size or idx.size != idx2.size:
+        return False
+    for i in range(ptr.size):
+        if ptr[i] != ptr2[i]:
+            return False
+    for p in range(idx.size):
+        if idx[p] != idx2[p] or val[p] != val2[p]:
+            return False
+    return True
+
+
 # --- one TNNMG cycle, whole (multigrid._Levels packs its arguments) ---------
 #
 # A level's hierarchy is packed into flat arrays, one segment per level k

@@ -43,6 +43,14 @@ The answer is the exact basic solution of the final basis, certified from M
 and q by :func:`qpcontact.solve` like every answer; the multigrid iterate is
 never returned.
 
+What the search builds of M and its hierarchy alone (the untruncated
+Galerkin products, the packed levels, the coarsest problem:
+:class:`.multigrid.MultilevelSetup`) is kept on M's structure, and the next
+LCP on it — ``LCP.with_structure(lcp.structure, q)``, a raft's or a
+membrane's next load combination — starts from it where it still fits M
+entry for entry (a 10⁴ membrane's ripple: 9.5 → 5.4 ms a load after the
+first; docs/dev-notes.md, "the setup a matrix carries").
+
 Options: ``max_cycles`` (finest-level cycles, default 500: a cycle is O(n),
 an exchange a factorization, so the search runs until the contact set has
 settled — plate n = 4e4: 40 cycles left 280 exchanges, 20 s; 400 cycles
@@ -54,7 +62,8 @@ operators moved), ``hierarchy`` ("given" or "aggregation"), ``shifted``,
 ``gap_steps`` and ``gap_residual`` (a plate's z_u: conjugate-gradient steps and
 the residual over ‖q‖∞ they reached), ``w_cycles`` (a plate's corrections
 are W-cycles), ``initial_active``,
-``restarts`` (the search resumed), ``factorizations``, ``bordered_solves``,
+``restarts`` (the search resumed), ``setup_kept`` (the multilevel setup
+came with M's structure), ``factorizations``, ``bordered_solves``,
 ``block_exchanges``, ...
 """
 
@@ -73,7 +82,7 @@ from ...core.results import MethodResult
 from .active_set import not_positive_definite, overflow_result, time_limit_result
 from .bpp import block_pivoting
 from .finish import REUSE_MAX, REUSE_SHARE
-from .multigrid import SETTLED, aggregation_hierarchy, multilevel_guess
+from .multigrid import SETTLED, MultilevelSetup, aggregation_hierarchy, multilevel_guess
 
 __all__ = ["run_mg_bpp", "MG_BPP_OPTIONS"]
 
@@ -99,6 +108,33 @@ def _hierarchy(problem, stats) -> tuple:
     return structure.aggregated_hierarchy
 
 
+def _setup(problem, rows, prolongations, visits, stats) -> MultilevelSetup:
+    """The multilevel setup of M and its hierarchy, held (its lock taken)
+    for this solve: the one kept on M's structure for the next LCP on it
+    (``LCP.with_structure``, ``ParametricLCP.at``: load cases share M)
+    where it :meth:`~MultilevelSetup.fits` M as it is now and no other
+    solve holds it; else a new one, kept in its place."""
+    structure = problem.structure
+    kept = structure.multilevel_setup
+    if kept is not None and kept.lock.acquire(blocking=False):
+        if kept.fits(rows, prolongations, visits):
+            stats["setup_kept"] = True
+            return kept
+        kept.lock.release()
+    stats["setup_kept"] = False
+    # a kept setup fits an M whose diagonal was checked here when it was built
+    M = problem.M
+    diag = np.asarray(M.diagonal() if sp.issparse(M) else np.diag(M), dtype=float)
+    if not np.all(diag > 0):
+        i = int(np.flatnonzero(~(diag > 0))[0])
+        raise InvalidProblemError(f"'mg-bpp' needs M symmetric positive definite; M[{i},{i}] = "
+                                  f"{diag[i]:g} is not positive — use 'lemke'")
+    setup = MultilevelSetup(rows, prolongations, visits)
+    setup.lock.acquire()
+    structure.multilevel_setup = setup
+    return setup
+
+
 def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     """The "mg-bpp" method (module docstring; options :data:`MG_BPP_OPTIONS`).
     ``time_limit`` (s): the deadline, read before every multigrid cycle
@@ -106,29 +142,35 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
     deadline = Deadline(time_limit)
     n = problem.n
     opts = read_options("mg-bpp", options, MG_BPP_OPTIONS, size=n)
-    cycles, max_iter = opts["max_cycles"], opts["max_iter"]
-    patience, progress = opts["patience"], opts["progress"]
     M = problem.M
-    diag = np.asarray(M.diagonal() if sp.issparse(M) else np.diag(M), dtype=float)
-    if not np.all(diag > 0):
-        i = int(np.flatnonzero(~(diag > 0))[0])
-        raise InvalidProblemError(f"'mg-bpp' needs M symmetric positive definite; M[{i},{i}] = "
-                                  f"{diag[i]:g} is not positive — use 'lemke'")
     stats: dict = {}
     t = time.perf_counter()
     # a plate (not a Z-matrix) starts from the shifted coarse answers, and
     # its linear corrections are W-cycles (multigrid's docstring says why)
     plate = not problem.structure.is_z_matrix
-    settled = None if plate else SETTLED
     # a symmetric M stored by columns is, read by rows, itself: the cycles
     # take it as it is instead of a converted copy (1.0-1.3 ms of a 10⁵
     # membrane's 80-100); within SYMMETRY_RTOL of symmetric, they search on
     # Mᵀ, a guess for data that close — the finish solves M's own LCP
     rows = (M.T if sp.issparse(M) and M.format == "csc" and M.has_canonical_format
             and problem.is_symmetric else M)
-    z = multilevel_guess(rows, problem.q, _hierarchy(problem, stats), cycles=cycles, stats=stats,
+    hierarchy = _hierarchy(problem, stats)
+    setup = _setup(problem, rows, hierarchy, 2 if plate else 1, stats)
+    try:
+        return _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t)
+    finally:
+        setup.lock.release()
+
+
+def _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t) -> MethodResult:
+    """The search and the finish on a held setup (:func:`run_mg_bpp`)."""
+    n = problem.n
+    cycles, max_iter = opts["max_cycles"], opts["max_iter"]
+    patience, progress = opts["patience"], opts["progress"]
+    settled = None if plate else SETTLED
+    z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles, stats=stats,
                          shifted=plate, w_cycles=plate, settled=settled, progress=progress,
-                         deadline=deadline)
+                         deadline=deadline, setup=setup)
     stats["multigrid_time"] = time.perf_counter() - t
     if deadline.expired():
         return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)
@@ -143,10 +185,10 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
             # block pivoting would wander (a plate's exchanges move
             # components all over the block)
             stats["restarts"] += 1
-            z = multilevel_guess(rows, problem.q, _hierarchy(problem, stats), cycles=cycles,
+            z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles,
                                  stats=stats, w_cycles=plate, settled=settled,
                                  progress=progress, deadline=deadline,
-                                 start=np.maximum(z, 0.0))
+                                 start=np.maximum(z, 0.0), setup=setup)
             if deadline.expired():
                 return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)
             z, F, stats, status = block_pivoting(problem, z > 0.0, max_iter, patience, stats,

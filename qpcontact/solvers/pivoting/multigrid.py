@@ -61,6 +61,7 @@ smoothed aggregation, Computing 56, 179–196.
 from __future__ import annotations
 
 import functools
+import threading
 
 import numpy as np
 import scipy.sparse as sp
@@ -68,7 +69,7 @@ import scipy.sparse as sp
 from ...core.problems import LCP
 from .bpp import block_pivoting
 
-__all__ = ["aggregation_hierarchy", "multilevel_guess", "COARSEST_MAX"]
+__all__ = ["aggregation_hierarchy", "multilevel_guess", "MultilevelSetup", "COARSEST_MAX"]
 
 
 @functools.cache
@@ -201,6 +202,9 @@ class _Levels:
 
     def __init__(self, operators, prolongations, restrictions, visits=1):
         self.As = operators
+        # the untruncated inverse diagonals, each level's cycles' first (a
+        # 10⁵ membrane's diagonal read off its CSR: 0.5 ms a solve)
+        self.inv_diag = [1.0 / A.diagonal() for A in operators]
         self.visits = visits
         self.sizes = [A.shape[0] for A in operators]
         # where each coarse row's diagonal entry is stored (the finest
@@ -224,7 +228,7 @@ class _Levels:
         cycles on the level above, if any ran, left its truncated one)."""
         H = self.H
         rofs = H[17]
-        self.S[1][rofs[l]:rofs[l + 1]] = 1.0 / self.As[l].diagonal()
+        self.S[1][rofs[l]:rofs[l + 1]] = self.inv_diag[l]
         # the segment starts from level l on (they stay absolute): level l is
         # the view's level 0; the diagonal positions start at its first
         # coarse level, l + 1
@@ -257,6 +261,84 @@ def _pack(matrices) -> tuple:
             np.concatenate([M.data for M in matrices], dtype=float),
             np.cumsum([0] + [M.shape[0] + 1 for M in matrices]),
             np.cumsum([0] + [M.nnz for M in matrices]))
+
+
+class MultilevelSetup:
+    """What the cycles need of M and its hierarchy alone — the untruncated
+    Galerkin products, the restrictions, the packed :class:`_Levels`, the
+    coarsest level's problem — built once and kept for the next LCP on the
+    same M (a raft's load combinations, a membrane under another load: only
+    q changes).  On a 10⁴ membrane this is 2.5–3 floors of the ripple's
+    whole solve (docs/dev-notes.md, "small free blocks": Galerkin products
+    1.3 ms, packing 1.2, of a 0.77 ms floor), paid once instead of per load.
+
+    :meth:`fits` says whether it is the setup of a given finest operator
+    and hierarchy: the operator's CSR arrays equal, entry for entry, the
+    packed copy of it (a changed M — another matrix, or this one's values
+    rewritten in place — never reuses a stale setup), the prolongations
+    the very same objects and the cycles the same kind.  :meth:`fresh`
+    restores what a solve rewrites (the coarse operators' truncated values)
+    before each use.  One solve at a time holds it
+    (:attr:`lock`): a solve that finds it held, in another thread, builds
+    its own."""
+
+    def __init__(self, M, prolongations, visits):
+        self.lock = threading.Lock()
+        self.prolongations = prolongations
+        self.visits = visits
+        As = [_csr(M)]
+        self.Rs = [P.T.tocsr() for P in prolongations]
+        for P, R in zip(prolongations, self.Rs):
+            As.append(_product(R, As[-1], P, None))
+        self.As = As
+        L = len(prolongations)
+        self.levels = _Levels(As, prolongations, self.Rs, visits) if L else None
+        if not L:   # no packed copy of M to check it against: the setup's own
+            As[0] = As[0].copy()
+        self._used = False
+        C = As[L].toarray() if As[L].shape[0] <= DENSE_COARSEST else As[L].tocsc()
+        coarse = LCP(C, np.zeros(C.shape[0]))
+        coarse.structure.declare_spd()
+        # the coarsest LCP's structure, shared by every q (its |M| and scales)
+        self.coarse = coarse.structure
+
+    def __getstate__(self):
+        return {k: v for k, v in self.__dict__.items() if k != "lock"}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state, lock=threading.Lock())
+
+    def fits(self, M, prolongations, visits) -> bool:
+        """Whether this is the setup of the operator M (CSR, rows), the
+        hierarchy ``prolongations`` and cycles visiting each level
+        ``visits`` times."""
+        if prolongations is not self.prolongations or visits != self.visits:
+            return False
+        if not (sp.issparse(M) and M.format == "csr"):
+            M = _csr(M)
+        A = self.As[0]
+        if A.shape != M.shape or A.nnz != M.nnz:
+            return False
+        if self.levels is None:
+            return _kernels().same_csr(M.indptr, M.indices, M.data,
+                                       A.indptr, A.indices, A.data)
+        ptr, idx, val, pofs, nofs = self.levels.H[:5]
+        return _kernels().same_csr(M.indptr, M.indices, M.data, ptr[pofs[0]:pofs[1]],
+                                   idx[nofs[0]:nofs[1]], val[nofs[0]:nofs[1]])
+
+    def fresh(self) -> "_Levels | None":
+        """The packed levels with the coarse operators' values as built (a
+        previous solve left them truncated to its own free set; a level's
+        first cycle truncates the levels below it from its own values, so
+        these must be the untruncated products).  The cycles' state needs
+        no reset: every first cycle, and z_u's, writes all of it first."""
+        levels = self.levels
+        if levels is not None and self._used:
+            values, nofs = levels.H[2], levels.H[4]
+            for k in range(1, len(self.As)):     # the products as built (level 0 is M)
+                values[nofs[k]:nofs[k + 1]] = self.As[k].data
+        self._used = True
+        return levels
 
 
 def _tnnmg(levels, l, q, z, cycles, tol, stats, progress, label, deadline=None,
@@ -312,7 +394,8 @@ def _coincident(R) -> np.ndarray:
 
 def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, stats: dict,
                      progress=None, shifted: bool = False, w_cycles: bool = False,
-                     settled: int | None = None, deadline=None, start=None) -> np.ndarray:
+                     settled: int | None = None, deadline=None, start=None,
+                     setup: MultilevelSetup | None = None) -> np.ndarray:
     """The nested TNNMG iterate for LCP(M, q) on the hierarchy
     ``prolongations`` (finest first; may be empty): coarsest level solved
     exactly by block pivoting, then on each finer level up to ``cycles``
@@ -344,19 +427,24 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
 
     ``start``: cycle the finest level only, from ``start`` (no coarse
     levels' answers, no z_u): the search resumed from a point it did not
-    reach by itself."""
+    reach by itself.
+
+    ``setup``: a :class:`MultilevelSetup` of M and ``prolongations`` with
+    these cycles (the caller checked :meth:`MultilevelSetup.fits`), used
+    instead of building one."""
     stats.setdefault("mg_cycles", 0)
     stats.setdefault("mg_rebuilds", 0)
-    As, qs = [_csr(M)], [np.asarray(q, dtype=float)]
-    Rs = [P.T.tocsr() for P in prolongations]
-    for P, R in zip(prolongations, Rs):
-        As.append(_product(R, As[-1], P, None))
+    if setup is None:
+        setup = MultilevelSetup(M, prolongations, 2 if w_cycles else 1)
+    As, Rs = setup.As, setup.Rs
+    qs = [np.asarray(q, dtype=float)]
+    for R in Rs:
         qs.append(R @ qs[-1])
     L = len(prolongations)
     stats["mg_levels"] = L + 1
     if deadline is not None and deadline.expired():
         return np.zeros(qs[0].size)     # no guess: the caller reads the deadline too
-    levels = _Levels(As, prolongations, Rs, 2 if w_cycles else 1) if L else None
+    levels = setup.fresh()
     held_stop = 1 if settled is not None or qs[0].size <= FIRST_HOLD_MAX else HELD_STOP
     settled = settled or 0
     if start is not None:
@@ -380,8 +468,7 @@ def multilevel_guess(M, q, prolongations, *, cycles: int, tol: float = 1e-8, sta
         for l, R in enumerate(Rs, start=1):
             shifts[l] = shifts[l - 1][_coincident(R)]
             qs[l] = -(As[l] @ shifts[l])
-    coarse = LCP(As[L].toarray() if qs[L].size <= DENSE_COARSEST else As[L].tocsc(), qs[L])
-    coarse.structure.declare_spd()
+    coarse = LCP.with_structure(setup.coarse, qs[L])
     try:
         z, _, _, _ = block_pivoting(coarse, np.zeros(qs[L].size, bool), 10 * qs[L].size + 100, 3)
     except np.linalg.LinAlgError:   # dependent coarse functions: start from nothing
