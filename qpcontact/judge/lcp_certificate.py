@@ -29,6 +29,7 @@ max_i |min(z_i/‖·‖, w_i/max(‖Mz‖∞, ‖q‖∞))|), ``comp_abs = ‖mi
 from __future__ import annotations
 
 import warnings
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -363,9 +364,14 @@ def certify_lcp(lcp: LCP, z) -> LCPCertificate:
     level = row_rounding(lcp.M)
     error = float(e[worst])
 
-    def forward_pair(M=lcp.M, structure=lcp.structure):
+    # a kept answer must not keep the problem's caches alive (a multilevel
+    # setup is several times M): the structure only speeds the factorization
+    # up, and without it the condition estimate factors by LU
+    structure_ref = weakref.ref(lcp.structure)
+
+    def forward_pair(M=lcp.M):
         condition, kappa_z, kappa_w, scaled = _lcp_condition(M, z, w, zeta, sigma, level,
-                                                             structure, error)
+                                                             structure_ref(), error)
         eps = max(error, level)
         forward, by_scale = eps * max(kappa_z, kappa_w), eps * scaled
         return (float(condition), (float(forward) if np.isfinite(forward) else np.inf),

@@ -95,6 +95,38 @@ def test_a_setup_fits_only_its_own_matrix_hierarchy_and_cycles():
     assert not setup.fits(meshes.membrane(31).M.T.tocsr(), meshes.membrane(31).structure.hierarchy, 1)
 
 
+def test_a_setup_sees_its_prolongations_changed_in_place():
+    """A prolongation shares the arrays its user passed: values rewritten
+    there (the same hierarchy object) make the setup not fit, as M's do."""
+    lcp = meshes.membrane(30)
+    rows = lcp.M.T.tocsr()
+    P = lcp.structure.hierarchy
+    setup = MultilevelSetup(rows, P, 1)
+    assert setup.fits(rows, P, 1)
+    P[0].data[::3] *= 0.25
+    assert not setup.fits(rows, P, 1)
+
+
+def test_a_kept_answer_does_not_keep_its_problems_setup():
+    """An answer outlives its problem without holding the structure (and
+    the multilevel setup on it, several times M): the certificate's lazy
+    forward error refers to the structure weakly, and once it is gone
+    estimates by LU, with the same figure."""
+    import gc
+    import weakref
+
+    lcp = meshes.membrane(40, obstacle="crate")   # > 400 active rows: the lazy estimate
+    sol = qpcontact.solve(lcp, method="mg-bpp", accuracy="high")
+    twin = qpcontact.solve(LCP(lcp.M, lcp.q, q_terms=lcp.q_terms), method="mg-bpp",
+                           accuracy="high")
+    assert sol.ok and lcp.structure.multilevel_setup is not None
+    setup = weakref.ref(lcp.structure.multilevel_setup)
+    del lcp
+    gc.collect()
+    assert setup() is None
+    assert sol.forward_error == pytest.approx(twin.forward_error, rel=1e-6)
+
+
 def test_a_setup_without_coarse_levels_sees_its_matrix_changed_in_place():
     """With no coarse level (a small problem that aggregation leaves
     whole) the setup keeps its own copy of M: the values rewritten in the

@@ -285,6 +285,9 @@ class MultilevelSetup:
     def __init__(self, M, prolongations, visits):
         self.lock = threading.Lock()
         self.prolongations = prolongations
+        # the hierarchy is checked by its values too: a prolongation shares
+        # the arrays its user gave (as_hierarchy), which may be rewritten
+        self._P = [(P.indptr.copy(), P.indices.copy(), P.data.copy()) for P in prolongations]
         self.visits = visits
         As = [_csr(M)]
         self.Rs = [P.T.tocsr() for P in prolongations]
@@ -314,6 +317,10 @@ class MultilevelSetup:
         ``visits`` times."""
         if prolongations is not self.prolongations or visits != self.visits:
             return False
+        same = _kernels().same_csr
+        for P, (ptr, idx, val) in zip(prolongations, self._P):
+            if P.nnz != val.size or not same(P.indptr, P.indices, P.data, ptr, idx, val):
+                return False
         if not (sp.issparse(M) and M.format == "csr"):
             M = _csr(M)
         A = self.As[0]
