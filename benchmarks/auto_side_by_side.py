@@ -10,7 +10,11 @@ A row is {c: compact (agitation 0.1, polydispersity 0.005), s: the
 generator's defaults (benchmarks/friction.py's DENSE "3-D spheres"), l: the
 same (the loose piles of benchmarks/friction.py)}{n}:{seeds}, at 1e-6 with
 "auto"'s 60 s.  With --collection DIR the 3-D files of the shared collection
-at 1e-8 instead.
+at 1e-8 instead.  With --starts, each row's "nsgs-restarts" starts (error,
+sweeps, the first start's Newton polish; seconds left out) follow it, base
+then this: where the route decides its work by counts, two runs of a row at
+different loads list the same starts up to where the shorter one stopped
+(docs/dev-notes.md, "The dense 3-D route by counts").
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ COMPACT = {"agitation": 0.1, "polydispersity": 0.005}
 
 def child(root: str, spec: str, tol: float) -> dict:
     """One "auto" in this process on checkout ``root``."""
+    import re
     import time
 
     sys.path.insert(0, root)
@@ -48,8 +53,10 @@ def child(root: str, spec: str, tol: float) -> dict:
     wall, cpu = time.perf_counter(), time.process_time()
     s = qpcontact.solve(p, "auto", accuracy=tol)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    starts = [re.sub(r", [0-9.e+-]+ s\)", ")", x) for x in re.findall(
+        r"start \d+: [^;)]*\([^)]*\)(?:, then Newton [^;)]*(?:\([^)]*\))?)?", s.message)]
     return dict(file=qpcontact.__file__, dim=p.dim, contacts=p.n_contacts, ok=bool(s.ok),
-                error=float(s.error), by=s.method, wall=wall, cpu=cpu,
+                error=float(s.error), by=s.method, wall=wall, cpu=cpu, starts=starts,
                 links=[(m, round(t, 2)) for m, t in s.stats.get("auto_link_times", [])])
 
 
@@ -86,6 +93,7 @@ def main(argv=None) -> int:
     ap.add_argument("--base", help="the base checkout (a git worktree of main)")
     ap.add_argument("--rows", default="c500:0-9,c1000:0-9")
     ap.add_argument("--collection", help="a folder of .hdf5/.dat files: its 3-D files at 1e-8")
+    ap.add_argument("--starts", action="store_true", help="each row's restarts, start by start")
     ap.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
@@ -107,6 +115,9 @@ def main(argv=None) -> int:
             continue
         print(f"| {Path(spec).name if spec.startswith('file:') else spec} | "
               f"{this['contacts']} | {cell(base)} | {cell(this)} |", flush=True)
+        if args.starts:
+            for side, r in (("base", base), ("this", this)):
+                print(f"|   {side} | | {' · '.join(r.get('starts', []))} |", flush=True)
     return 0
 
 

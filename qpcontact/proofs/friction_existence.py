@@ -48,11 +48,21 @@ M is first scaled by powers of two (exact, and definiteness is kept by the
 congruence) to a diagonal near one.  A diagonal M needs no factorization:
 its entries are its eigenvalues.
 
-**The search.**  An LP on the inscribed square (3-D) or the segment (2-D):
-u_N − μ (|u_T1| + |u_T2|) >= t at every contact, t maximised, each velocity
-component bounded by a hundred times the data's velocity scale over its
-column's size.  ‖u_T‖₂ <= |u_T1| + |u_T2|, so the LP is conservative: t > 0
-is enough, t <= 0 decides nothing (the round cone may still hold a point).
+**The search.**  An LP on the inscribed regular octagon (3-D) or the
+segment (2-D): u_N − μ ⟨u_T, d_k⟩ / cos(π/8) >= t at every contact for the
+eight unit directions d_k at angles (2k + 1)π/8 in the contact's tangent
+plane, t maximised, each velocity component bounded by a hundred times the
+data's velocity scale over its column's size.  max_k ⟨u_T, d_k⟩ >=
+cos(π/8) ‖u_T‖₂, so the LP is conservative: t > 0 is enough, t <= 0 decides
+nothing (the round cone may still hold a point).  Not the inscribed square
+(|u_T1| + |u_T2|, √2 ‖u_T‖ along a diagonal): a sphere in a corner of its
+box, touching the floor and two walls (gap 0), opens all three contacts
+only by moving away diagonally, which slips it at each by √2 times its
+normal speed in the tangents' axes — margin 1 − μ√2 > 0 in the round cone
+at μ = 0.5, and exactly 0 in the square, so the square's LP left every
+pile with such a sphere undecided (the 2 118-contact sphere and compact
+piles, the compact 540 seed 4 and 982 seeds 1 and 3: docs/dev-notes.md,
+"The dense 3-D route by counts").
 
 **The check.**  u = Hᵀ v + q computed in floating point is within
 γ (|Hᵀ| |v| + |q|) of the exact product (γ = (k + 2) ε for rows of k
@@ -187,13 +197,19 @@ def _definite(M: sp.csr_matrix) -> bool:
 
 def _opening_velocity(A, w, mu, dim, time_limit):
     """The LP of the module docstring: x maximising the smallest contact's
-    u_N − μ(|u_T1| + |u_T2|) (each contact's rows for every sign pattern);
-    x, or None where the optimum is not positive or not reached."""
+    u_N − μ max_k ⟨u_T, d_k⟩ / cos(π/8) (each contact's rows for every
+    direction d_k; in 2-D u_N − μ|u_T|); x, or None where the optimum is not
+    positive or not reached."""
     m = mu.size
     N = np.arange(m) * dim
-    patterns = [(1.0,), (-1.0,)] if dim == 2 else [(1, 1), (1, -1), (-1, 1), (-1, -1)]
+    if dim == 2:
+        patterns = [(1.0,), (-1.0,)]
+    else:
+        angles = (2 * np.arange(8) + 1) * np.pi / 8
+        patterns = [(np.cos(a) / np.cos(np.pi / 8), np.sin(a) / np.cos(np.pi / 8))
+                    for a in angles]
     # each contact's normal row and its tangential rows scaled by μ, sliced
-    # once for every sign pattern
+    # once for every direction
     normal = A[N]
     tangents = [(sp.diags(mu) @ A[N + 1 + j], mu * w[N + 1 + j]) for j in range(dim - 1)]
     rows, rhs = [], []

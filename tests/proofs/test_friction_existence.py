@@ -144,3 +144,57 @@ def test_a_definite_mass_matrix_over_eight_decades_is_still_shown_definite():
                                        reduce=False)
     proof = solution_exists(p)
     assert proof is not None and "M shown positive definite" in proof[0]
+
+
+def _sphere_in_a_corner(mu=0.5):
+    """One sphere (m = 1 kg, r = 0.1 m, I = 2 m r²/5) resting in a corner
+    of its box, touching the floor (normal +z), the wall x = x_max (normal
+    −x) and the wall y = y_max (normal −y), every gap 0; each contact's rows
+    of Hᵀ written out: the normal n·v, the tangents t·(v + ω × (−r n)), the
+    tangents along the box's axes.  Gravity's step h g = 0.0981 m/s presses
+    it into the floor."""
+    import scipy.sparse as sp
+
+    m, r = 1.0, 0.1
+    I = 0.4 * m * r * r
+    ex, ey, ez = np.eye(3)
+    rows = []
+    for n, t1, t2 in ((ez, ex, ey), (-ex, ey, ez), (-ey, ex, ez)):
+        arm = -r * n                          # the contact point from the centre
+        rows.append(np.concatenate([n, np.zeros(3)]))
+        for t in (t1, t2):                    # t·(ω × arm) = ω·(arm × t)
+            rows.append(np.concatenate([t, np.cross(arm, t)]))
+    HT = np.array(rows)
+    minv = np.array([1 / m] * 3 + [1 / I] * 3)
+    W = HT @ np.diag(minv) @ HT.T
+    q = HT @ np.array([0.0, 0.0, -0.0981, 0.0, 0.0, 0.0])
+    p = FrictionProblem(W, q, [mu] * 3, 3)
+    p.delassus_factors = (sp.csr_matrix(HT), minv)
+    return p, HT
+
+
+def test_a_sphere_in_a_corner_has_a_solution():
+    """Moving away from the floor and both walls at once slips the sphere at
+    each contact by √2 times its normal speed: inside the round cone at
+    μ = 0.5 (1 − 0.5·√2 > 0), on the edge of the inscribed square the search
+    used before (1 − 0.5·2 = 0), which left every generated pile with a
+    sphere in a corner undecided.  The velocity returned opens all three
+    contacts, checked here by hand."""
+    p, HT = _sphere_in_a_corner()
+    proof = solution_exists(p)
+    assert proof is not None and proof[0].startswith("a solution exists")
+    U = (HT @ proof[1] + p.q).reshape(3, 3)
+    assert np.all(U[:, 0] > 0.5 * np.linalg.norm(U[:, 1:], axis=1))
+
+
+def test_a_compact_pile_with_a_sphere_in_a_corner_has_a_solution():
+    """The 540-contact compact pile of seed 4: its largest sphere in a
+    floor corner touches three faces of the box at gap 0; existence is now
+    proved, the velocity checked by hand."""
+    pile = sphere_pile(500, seed=4, agitation=0.1, polydispersity=0.005)
+    p = pile.problem
+    proof = solution_exists(p)
+    assert proof is not None
+    HT, _ = p.delassus_factors
+    U = (HT @ proof[1] + p.q).reshape(-1, 3)
+    assert np.all(U[:, 0] > p.mu * np.linalg.norm(U[:, 1:], axis=1))

@@ -50,7 +50,7 @@ def solve_natural_newton(problem, tol, options):
     deadline = Deadline(time_limit)
     p, d = problem, problem.dim
     nc, mu = p.n_contacts, p.mu
-    stats = {"inner_iterations": 0}
+    stats = {"inner_iterations": 0, "timed_out": False}
     if r0 is None:
         r0, status, _, st = solve_anitescu(p, tol, {})
         stats["inner_iterations"] = st["inner_iterations"]
@@ -107,6 +107,7 @@ def solve_natural_newton(problem, tol, options):
         if not pace.fits():
             why = (f"stopped at its time limit of {time_limit:.3g} s (another iteration, "
                    f"{pace.longest:.2g} s the longest so far, would not fit)")
+            stats["timed_out"] = True
             break
         # Jacobian of û: (I + Σ_slip μ_i e_N,i g_i') W, g_i = u_T,i/‖u_T,i‖ placed
         # in contact i's tangent columns (zero where u_T = 0)
