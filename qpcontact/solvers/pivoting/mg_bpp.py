@@ -116,7 +116,8 @@ def _setup(problem, rows, prolongations, visits, stats) -> MultilevelSetup:
     solve holds it; else a new one, kept in its place."""
     structure = problem.structure
     kept = structure.multilevel_setup
-    if kept is not None and kept.lock.acquire(blocking=False):
+    held_elsewhere = kept is not None and not kept.lock.acquire(blocking=False)
+    if kept is not None and not held_elsewhere:
         if kept.fits(rows, prolongations, visits):
             stats["setup_kept"] = True
             return kept
@@ -131,7 +132,11 @@ def _setup(problem, rows, prolongations, visits, stats) -> MultilevelSetup:
                                   f"{diag[i]:g} is not positive — use 'lemke'")
     setup = MultilevelSetup(rows, prolongations, visits)
     setup.lock.acquire()
-    structure.multilevel_setup = setup
+    if not held_elsewhere:
+        # a setup another solve holds stays kept: it is free again in a few
+        # cycles' time, and the next load on M finds it (replacing it made
+        # every solve beside another build its own)
+        structure.multilevel_setup = setup
     return setup
 
 
@@ -156,21 +161,23 @@ def run_mg_bpp(problem, tol, options, time_limit=None) -> MethodResult:
             and problem.is_symmetric else M)
     hierarchy = _hierarchy(problem, stats)
     setup = _setup(problem, rows, hierarchy, 2 if plate else 1, stats)
-    try:
-        return _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t)
-    finally:
-        setup.lock.release()
+    return _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t)
 
 
 def _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t) -> MethodResult:
-    """The search and the finish on a held setup (:func:`run_mg_bpp`)."""
+    """The search and the finish on a held setup (:func:`run_mg_bpp`).  The
+    setup is held for the cycles only: the exact finish reads M alone, and
+    another load on M may cycle meanwhile."""
     n = problem.n
     cycles, max_iter = opts["max_cycles"], opts["max_iter"]
     patience, progress = opts["patience"], opts["progress"]
     settled = None if plate else SETTLED
-    z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles, stats=stats,
-                         shifted=plate, w_cycles=plate, settled=settled, progress=progress,
-                         deadline=deadline, setup=setup)
+    try:
+        z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles, stats=stats,
+                             shifted=plate, w_cycles=plate, settled=settled, progress=progress,
+                             deadline=deadline, setup=setup)
+    finally:
+        setup.lock.release()
     stats["multigrid_time"] = time.perf_counter() - t
     if deadline.expired():
         return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)
@@ -185,10 +192,11 @@ def _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t) -> 
             # block pivoting would wander (a plate's exchanges move
             # components all over the block)
             stats["restarts"] += 1
-            z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles,
-                                 stats=stats, w_cycles=plate, settled=settled,
-                                 progress=progress, deadline=deadline,
-                                 start=np.maximum(z, 0.0), setup=setup)
+            with setup.lock:
+                z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles,
+                                     stats=stats, w_cycles=plate, settled=settled,
+                                     progress=progress, deadline=deadline,
+                                     start=np.maximum(z, 0.0), setup=setup)
             if deadline.expired():
                 return time_limit_result("mg-bpp", stats["mg_cycles"], "multigrid cycles", stats)
             z, F, stats, status = block_pivoting(problem, z > 0.0, max_iter, patience, stats,

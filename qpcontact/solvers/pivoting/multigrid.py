@@ -276,11 +276,12 @@ class MultilevelSetup:
     and hierarchy: the operator's CSR arrays equal, entry for entry, the
     packed copy of it (a changed M — another matrix, or this one's values
     rewritten in place — never reuses a stale setup), the prolongations
-    the very same objects and the cycles the same kind.  :meth:`fresh`
+    the very same objects (their values compared too) and the cycles the
+    same kind.  :meth:`fresh`
     restores what a solve rewrites (the coarse operators' truncated values)
-    before each use.  One solve at a time holds it
-    (:attr:`lock`): a solve that finds it held, in another thread, builds
-    its own."""
+    before each use.  One solve at a time holds it (:attr:`lock`), for its
+    cycles: a solve that finds it held, in another thread, builds its own
+    and leaves this one kept."""
 
     def __init__(self, M, prolongations, visits):
         self.lock = threading.Lock()
