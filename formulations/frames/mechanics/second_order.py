@@ -482,7 +482,7 @@ def first_order_parts_along(frame, N, ft, inside, tol, built=None) -> str:
     strut under a constant half Euler load traced to "unbounded" (one piece
     from p = 0, where none acts yet) was ok, its moment at p = 1 half the
     beam-column's.  ``built``: the combination whose N(x) the trace's
-    stiffness took (:func:`axial_spreads`)."""
+    stiffness took."""
     points = {float(inside)}
     for lo, hi in ft.intervals:
         if lo > inside:

@@ -187,10 +187,15 @@ def first_negative(negatives, start, pole, least=None):
     change differ by rounding (1.1e-11 on a 30-storey frame), so the
     narrowed bracket alone was not the counts' in one frame of two."""
     lo, hi = 0.0, start
+    # toward the pole by decades of its distance, not in one step to 1e-9 of
+    # it: there the count is rounding's (a shear-flexible member at N within
+    # 1e-9 of −G A_s counted none where the frame's sway had buckled at 0.56
+    # of that load, and α_cr was reported at the pole, 78 % high)
+    ladder = [pole * (1 - 10.0 ** -k) for k in range(1, 10)]
     while negatives(hi) == 0:
-        if hi >= pole * (1 - 1e-9):
+        if hi >= ladder[-1]:
             return None
-        lo, hi = hi, min(2.0 * hi, pole * (1 - 1e-9))
+        lo, hi = hi, min([2.0 * hi] + [x for x in ladder if x > hi])
     return first_in(negatives, lo, hi, least)
 
 

@@ -135,10 +135,10 @@ GRADED = 1000
 
 
 def _graded(a, b, planes, N):
-    """(the ends of pieces on [a, b] that meet :func:`_cuts`' rules each on
+    """(the ends of pieces on [a, b] that meet :func:`cuts`' rules each on
     its own N — short where D is small, long where it is not —, their
     reaches), or None where D ≤ 0 somewhere or GRADED pieces do not cover
-    it (the member is past its own buckling: :func:`_cuts`)."""
+    it (the member is past its own buckling: :func:`cuts`)."""
     out, reaches, x = [], [], a
     h = b - a
     while x < b and len(out) < GRADED:

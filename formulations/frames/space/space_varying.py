@@ -81,8 +81,8 @@ def loads_on(frame, name):
 def of_member(m, loads, L, R, Nbar, along, series=True):
     """:class:`BothPlanes` of a space member ``m`` (its span loads ``loads``,
     node-to-node length L, axes R) under N̄ where its loads in the
-    combination ``along`` have parts along its axis; None where none do,
-    or where it has a shear area."""
+    combination ``along`` have parts along its axis, or — a shear-flexible
+    member — any part in the combination; None otherwise."""
     if not along:
         return None
     oi, oj = m["offsets"]

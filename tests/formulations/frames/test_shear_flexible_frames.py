@@ -307,3 +307,72 @@ def test_a_trace_whose_variable_load_is_a_shear_flexible_columns_weight():
         assert alone.ok, alone.message
         np.testing.assert_allclose(ft.result_at(p).displacements["B"], alone.displacements["B"],
                                    rtol=1e-9, atol=1e-15)
+
+
+def _sprung_cantilever_critical_weight(EI, L, GAs, k):
+    """The weight per length at which a shear-flexible cantilever on a
+    rotational base spring k buckles, by shooting Engesser's equations under
+    N(x) = −q (L − x) (v' = (ψ − V/G A_s)/(1 + N/G A_s), ψ' = M/EI,
+    M' = V + N v', V' = 0) from the base to a free tip, scipy's DOP853."""
+    from scipy.optimize import brentq
+
+    c = 1.0 / GAs
+
+    def det(q):
+        def f(x, y):
+            n = -q * (L - x)
+            dv = (y[1] - c * y[3]) / (1 + c * n)
+            return [dv, y[2] / EI, y[3] + n * dv, 0.0]
+        cols = [solve_ivp(f, (0, L), y0, method="DOP853", rtol=1e-12, atol=1e-24).y[2:, -1]
+                for y0 in ([0.0, 1.0, k, 0.0], [0.0, 0.0, 0.0, 1.0])]
+        return np.linalg.det(np.array(cols).T)
+
+    top = min(7.837347439 * EI / L ** 3 * 1.001, 0.99999 * GAs / L)
+    grid = np.linspace(0.02 * top, top, 40)
+    v = [det(q) for q in grid]
+    i = next(i for i in range(len(grid) - 1) if v[i] * v[i + 1] < 0)
+    return brentq(det, grid[i], grid[i + 1], xtol=1e-12)
+
+
+@pytest.mark.parametrize("f", [0.97, 1.18])
+def test_the_critical_load_below_the_shear_limit_is_the_sways(f):
+    """A shear-flexible cantilever (G A_s = 3e5 N) on a base spring, under
+    f times its critical weight: the sway buckles at 1/f of the load, well
+    below where the base's N reaches −G A_s (1.83 and 1.51 of it).  With
+    other last bits of the weight α_cr was that shear limit (1.835 and
+    1.508, 78 % high, the unsafe side): the count 1e-9 below the limit is
+    rounding's (the search's guard: the test below)."""
+    EI, L, GAs, k = 2.1e6, 5.0, 3e5, 1e6
+    qcr = _sprung_cantilever_critical_weight(EI, L, GAs, k)
+    fr = Frame()
+    fr.add_node("A", 0, 0)
+    fr.add_node("B", 0, L)
+    fr.add_member("A", "B", 210e9, 1.0, EI / 210e9, name="c", spring_i=k, G=81e9,
+                  shear_area=GAs / 81e9)
+    fr.add_distributed_load("c", wy=-f * qcr, case="D")
+    fr.add_support("A")
+    fr.add_load("B", fx=10.0, case="D")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(combination={"D": 1.0}, second_order=True, accuracy="high",
+                       raise_on_failure=False)
+    alpha = critical_load_factor(fr, res)["alpha"]
+    assert alpha == pytest.approx(1.0 / f, rel=1e-8)
+    assert alpha <= 1.0 / f * (1 + 1e-10)          # the conservative side
+
+
+def test_the_search_approaches_a_pole_by_decades():
+    """The count of negative eigenvalues within 1e-8 of a member's pole is
+    rounding's (the cantilever above: none at 1e-9 below its shear limit,
+    one from its sway's 1.031 to 1e-7 below, the bits of the load deciding);
+    the search finds the sway's change on the way, not only at the pole's
+    doorstep — it stepped from 0.92 straight to 1e-9 below a pole at 1.835."""
+    from formulations.frames.mechanics.tangent_stiffness import first_negative
+
+    pole, sway = 1.8347986425608063, 1.0309278350
+
+    def negatives(alpha):
+        return int(sway <= alpha < pole * (1 - 1e-8))
+
+    found = first_negative(negatives, 0.5 * pole, pole)
+    assert found == pytest.approx(sway, rel=1e-8)
