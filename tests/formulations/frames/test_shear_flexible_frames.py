@@ -20,6 +20,7 @@ from scipy.integrate import solve_ivp
 from formulations.frames import Frame
 from formulations.frames.mechanics.critical_load import critical_load_factor
 from formulations.frames.space.space_frame import SpaceFrame
+from tests.helpers.engesser import heavy_cantilever_shot
 
 E, G = 210e9, 81e9
 
@@ -261,17 +262,7 @@ def test_a_heavy_shear_flexible_cantilevers_diagrams_are_the_shots():
     shot under N(x) = −q (L − x) (member axes, y = −x global: S = −10 N)."""
     L, EI, GAs, H = 5.0, 2.1e6, 1e6, 10.0
     q = 0.9 * 0.75065906 * 7.837347439 * EI / L ** 3
-
-    def rhs(x, y):
-        N = -q * (L - x)
-        dv = (y[1] + H / GAs) / (1 + N / GAs)
-        return [dv, y[2] / EI, N * dv - H]
-
-    def shot(M0):
-        return solve_ivp(rhs, (0, L), [0.0, 0.0, M0], method="DOP853", rtol=1e-13,
-                         atol=1e-22, dense_output=True)
-    e0, e1 = shot(0.0).y[2, -1], shot(1.0).y[2, -1]
-    ref = shot(-e0 / (e1 - e0)).sol
+    ref, _ = heavy_cantilever_shot(q, L, EI, GAs, H)
     fr = Frame()
     fr.add_node("A", 0.0, 0.0)
     fr.add_node("B", 0.0, L)

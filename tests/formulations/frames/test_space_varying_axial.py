@@ -21,6 +21,7 @@ from scipy.special import jv
 from formulations.frames import Frame
 from formulations.frames.mechanics.critical_load import critical_load_factor
 from formulations.frames.space.space_frame import SpaceFrame
+from tests.helpers.engesser import heavy_cantilever_shot
 
 E, A, L, G = 210e9, 1e-2, 5.0, 81e9
 GREENHILL = 2.25 * brentq(lambda z: jv(-1.0 / 3.0, z), 1.0, 2.5) ** 2      # 7.837347439
@@ -168,23 +169,9 @@ def test_a_space_portal_under_its_weight_is_its_plane_twins_answer():
 
 def _engesser_shot(q, GAs, H=10.0):
     """(tip sway, base moment) of a cantilever under its weight q and a
-    tip force H across it, Engesser's beam-column under N(x) = −q (L − x):
-    v' = (θ + H/GAs)/(1 + N/GAs) (the shear across the deformed axis, Q =
-    H − N v' = GAs (v' − θ)), EI θ' = M, M' = N v' − H; v(0) = θ(0) = 0,
-    M(L) = 0 by two shots (linear in M(0))."""
-    EI = E * 1e-5
-
-    def rhs(x, y):
-        N = -q * (L - x)
-        dv = (y[1] + H / GAs) / (1 + N / GAs)
-        return [dv, y[2] / EI, N * dv - H]
-
-    def end(M0):
-        return solve_ivp(rhs, (0, L), [0.0, 0.0, M0], method="DOP853", rtol=1e-13,
-                         atol=1e-20).y[:, -1]
-    e0, e1 = end(0.0), end(1.0)
-    M0 = -e0[2] / (e1[2] - e0[2])
-    return end(M0)[0], M0
+    tip force H across it (:func:`tests.helpers.engesser.heavy_cantilever_shot`)."""
+    sol, M0 = heavy_cantilever_shot(q, L, E * 1e-5, GAs, H)
+    return sol(L)[0], M0
 
 
 def _shear_column(k, q, GAs, H=10.0):
