@@ -109,8 +109,8 @@ class Along:
 def bent_planes(frame, res, member, L, R, loads) -> dict:
     """{1 (across y) | 2 (across z): x ↦ (d(x), d'(x), N d'(x), ∫₀ˣ N d')}:
     the beam-column's deflection of each bending plane (with shear
-    deformation: Engesser's, where no span load bends it, else left out)
-    of a second-order answer's member under N ≠ 0, member axes,
+    deformation Engesser's: from its end forces' statics where no span
+    load bends it) of a second-order answer's member under N ≠ 0, member axes,
     node to node (a rigid zone moves with its node), and what N times it
     adds to the plane's shear and moment: the x-y plane with EIz on (v,
     θz), the x-z plane with EIy on (w, θ' = −θy), each as the plane
@@ -146,19 +146,19 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
             part = beam_column.flexible_part(plane_parts(load, R)[plane - 1], L, 1.0, 0.0, oi, oj)
             if part is not None:
                 parts.append(part[:-2] + tuple(factor * np.array(part[-2:])))
-        if GAs is not None and any(np.any(np.asarray(part[-2:], float) != 0.0)
-                                   for part in parts):
-            continue        # loads across it: first order, judged by first_order_parts
+        statics = GAs is not None and not any(np.any(np.asarray(part[-2:], float) != 0.0)
+                                              for part in parts)
         springs = (rel.get(turn), rel.get(turn + 6))
         # the plane's first-order statics M₁ = M₁(0) + V₁ x (Along.sections)
         M0, V1 = (-f[5], f[1]) if plane == 1 else (f[4], f[2])
 
         def solution(x, ends=ends, parts=parts, springs=springs, EI=m["E"] * I_, plane=plane,
-                     ti=ti, tj=tj, GAs=GAs, M0=M0, V1=V1):
+                     ti=ti, tj=tj, GAs=GAs, M0=M0, V1=V1, statics=statics):
             x = np.asarray(x, float)
             xf = np.clip(x, oi, L - oj) - oi
-            if GAs is None:
-                d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs, xf)
+            if not statics:
+                d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs, xf,
+                                         0.0 if GAs is None else 1.0 / GAs)
             else:       # Engesser's, from the end forces' statics
                 d, dd = beam_column.engesser_axis(EI, GAs, axial, Lf, ends[0], ends[2],
                                                   M0 + V1 * oi + axial * oi * ti, V1, xf,
