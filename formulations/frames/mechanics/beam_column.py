@@ -95,11 +95,6 @@ T_EXP = 4.0
 #: |μ x²| up to which φ₀ … φ₃ come from their series
 SERIES = 1.0
 
-#: |sin kL| below which Engesser's diagram starts from a joined end's
-#: rotation instead of both end moments (the two-point form loses up to
-#: 1/|sin kL| of its digits: at most 4× here)
-NEAR_NODE = 0.25
-
 #: terms of the series (at |μ x²| ≤ SERIES the last one is 1e-19 of the first)
 TERMS = 10
 
@@ -408,76 +403,3 @@ def axis(parts, EI, N, L, ends, springs, x, c=0.0) -> tuple[np.ndarray, np.ndarr
     ends = released_ends(lambda: (end_block(EI, N, L, c), nodal_loads(parts, EI, N, L, c)),
                          ends, springs)
     return deflection(parts, EI, N, L, ends, x, c)
-
-
-def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x, slopes=(None, None),
-                  springs=(None, None)) -> tuple[np.ndarray, np.ndarray]:
-    """(v, v') at x on the flexible length L of a shear-flexible member
-    (G A_s [F]) under N without span loads, from its flexible ends'
-    transverse displacements v_a, v_e, its moment at the flexible end a,
-    M_a (the diagrams' convention, with the rigid arm's N (v_a − v(0)))
-    and its statics' shear V_1: M₁(x) = M_a + V_1 x, the moment less
-    N (v(x) − v_a).
-
-    Engesser's beam-column (:mod:`.second_order`): the section moment on
-    the deformed axis is M = M₁ + N (v − v(0)) and the shear across the
-    deformed axis, V = dM/dx (minus the force on the face at x along +y),
-    shears the member by −V/(G A_s), so v'' = M/EI − M''/(G A_s); with no
-    span load M₁'' = 0, so M'' = N v'' and M'' = μ M,
-    μ = N / (EI (1 + N/(G A_s))) [1/L²] (in compression k² = −μ, and kL = π
-    at Engesser's P_E/(1 + P_E/(G A_s))) — the Euler–Bernoulli equation's
-    with that μ, and v'' = M''/N.  So
-    M = A φ₀ + B φ₁ (φ of μ) with A = M_a and B from M(L); written as
-    v − v_a = D x + c (A φ₂ + B φ₃), c = μ/N =
-    1/(EI (1 + N/(G A_s))) and D = (B − V_1)/N = [(v_e − v_a) −
-    c (A φ₂(L) + V_1 φ₃(L))]/(L + μ φ₃(L)): no term cancels as N → 0
-    (φ₂ → x²/2, φ₃ → x³/6: the first-order member with its shear
-    strain).  Where |μ| L² > SERIES the two-point form is used instead,
-    M = (A sin k(L − x) + M_L sin kx)/sin kL (sinh in tension, written in
-    e^(−kx), e^(−k(L−x)): no growth), and v = v_a + (M − M₁)/N.
-
-    Near kL = nπ in compression (a restrained member there is not at its
-    critical load) the end moments no longer fix the sin kx part: the
-    two-point form divides by sin kL → 0 (2.1 M off within 1e-12 of π).
-    There the form starts from an end whose section rotation θ is given
-    (``slopes``: the rotations of the flexible ends' nodes (their rigid
-    arms), None where unknown; ``springs``: each end's rotational spring,
-    None where rigidly joined — θ the node's there; a spring k carries the
-    end's moment, M_a = k (θ − θ_node) at a and M_L = k (θ_node − θ) at the
-    other end, so θ = θ_node + M_a/k, θ_node − M_L/k; a hinge (k = 0) gives
-    none): v' = θ − V/(G A_s), V = M' = V_1 + N v', so
-    v' = (θ − V_1/(G A_s))/(1 + N/(G A_s)) and M = M_end cos ks + (V/k)
-    sin ks, s measured from that end into the member."""
-    x = np.asarray(x, float)
-    c = 1.0 / (EI * (1.0 + N / GAs))
-    mu = N * c
-    A = M_a
-    if abs(mu) * L * L <= SERIES:
-        pL, px = phis(mu, L), phis(mu, x)
-        D = ((v_e - v_a) - c * (A * pL[2] + V_1 * pL[3])) / (L + mu * pL[3])
-        B = V_1 + N * D
-        return v_a + D * x + c * (A * px[2] + B * px[3]), D + c * (A * px[1] + B * px[2])
-    k = math.sqrt(abs(mu))
-    M_L = M_a + V_1 * L + N * (v_e - v_a)
-    if mu < 0:
-        sL = math.sin(k * L)
-        theta = [None if th is None or (k_ is not None and not k_ > 0)
-                 else th if k_ is None else th + (A if end == 0 else -M_L) / k_
-                 for end, (th, k_) in enumerate(zip(slopes, springs))]
-        joined = [end for end, th in enumerate(theta) if th is not None]
-        if abs(sL) < NEAR_NODE and joined:
-            end = joined[0]
-            V = V_1 + N * (theta[end] - V_1 / GAs) / (1.0 + N / GAs)
-            s, Me, sign = (x, A, 1.0) if end == 0 else (L - x, M_L, -1.0)
-            M = Me * np.cos(k * s) + sign * V / k * np.sin(k * s)
-            dM = -sign * k * Me * np.sin(k * s) + V * np.cos(k * s)
-        else:
-            M = (A * np.sin(k * (L - x)) + M_L * np.sin(k * x)) / sL
-            dM = k * (-A * np.cos(k * (L - x)) + M_L * np.cos(k * x)) / sL
-    else:
-        d = -math.expm1(-2.0 * k * L)
-        ea, eb = np.exp(-k * x), np.exp(-k * (L - x))
-        M = (A * ea * -np.expm1(-2.0 * k * (L - x)) + M_L * eb * -np.expm1(-2.0 * k * x)) / d
-        dM = k * (-A * ea * (1.0 + np.exp(-2.0 * k * (L - x)))
-                  + M_L * eb * (1.0 + np.exp(-2.0 * k * x))) / d
-    return v_a + (M - (M_a + V_1 * x)) / N, (dM - V_1) / N

@@ -72,9 +72,7 @@ def beam_column_axis(frame, res, m, x):
     part's by :func:`..mechanics.beam_column.deflection` from its ends'
     displacements through the rigid arms and their own rotations — a
     released end's from the element's moment row (hinge: the moment 0;
-    spring k: k (θ_node − θ_end)), its consistent loads the beam-column's;
-    a shear-flexible member's without loads across it from its end forces'
-    statics (:func:`..mechanics.beam_column.engesser_axis`).
+    spring k: k (θ_node − θ_end)), its consistent loads the beam-column's.
     Where its loads' axial parts make N vary (``res.stiffness_along``) the
     member is :class:`..mechanics.varying_axial.Member`, as its element."""
     if res.stiffness_axial is None:
@@ -105,14 +103,9 @@ def beam_column_axis(frame, res, m, x):
         added = added + arm_i * di[2] + dj[2] * varying.integral(Lf, beyond)
         added = np.where(x < oi, di[2] * varying.integral(-oi, np.minimum(x - oi, 0.0)),
                          added)
-    elif m.GAs is None or any(np.any(np.asarray(part[-2:], float) != 0.0) for part in parts):
+    else:
         v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf,
                                  0.0 if m.GAs is None else 1.0 / m.GAs)
-    else:             # Engesser's, from its end forces' statics
-        f = res.member_forces[m.name]
-        v, dv = beam_column.engesser_axis(EI, m.GAs, axial, Lf, ends[0], ends[2],
-                                          -f[2] + f[1] * oi + axial * oi * di[2], f[1], xf,
-                                          ends[1::2], m.end_springs)
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
     if varying is not None:
