@@ -326,11 +326,11 @@ def past_own_buckling(frame, N, along=None) -> str:
             "their nodes") if names else ""
 
 
-def _axial_load(load, d, oi, oj) -> float:
-    """|ΔN| of one member load on a member (node i to j along d, rigid end
-    zones oi, oj; plane or space) over its flexible length: its force along
-    the axis (a distributed one's largest |w| times its stretch there, at
-    most; a point force at a zone's face or on it none)."""
+def _axial_load(load, d) -> float:
+    """|ΔN| of one member load on a member (node i to j along d; plane or
+    space) between its nodes: its force along the axis (a distributed
+    one's largest |w| times its stretch, at most; a point force at a node
+    none)."""
     length = float(np.linalg.norm(d))
     axis = d / length
     n = axis.size
@@ -338,14 +338,13 @@ def _axial_load(load, d, oi, oj) -> float:
     along = [v[0:n]] if load.kind == "point" else [v[0:n], v[n:2 * n]]
     size = max(abs(f[0]) if load.axes == "member" else abs(float(f @ axis)) for f in along)
     if load.kind == "point":
-        return size if oi < load.a < length - oj else 0.0
-    return size * max(0.0, min(load.b, length - oj) - max(load.a, oi))
+        return size if 0.0 < load.a < length else 0.0
+    return size * max(0.0, min(load.b, length) - max(load.a, 0.0))
 
 
 def _active_loads(frame, combination):
-    """(k, member, load, |factor|, d, (o_i, o_j)) for each member load of
-    ``combination``: the member's index, the load, its factor's size, the
-    member's vector node i → j and its rigid end zones (plane or space)."""
+    """(k, load, d) for each member load of ``combination``: the member's
+    index, the load and the member's vector node i → j (plane or space)."""
     index = {name: k for k, name in enumerate(frame.members)}
     if hasattr(frame, "span_loads"):                   # a space frame's loads
         pairs = [(ld.member, ld) for ld in frame.span_loads]
@@ -355,9 +354,7 @@ def _active_loads(frame, combination):
         if combination.get(ld.case):
             m = frame.members[name]
             i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
-            yield (index[name], m, ld, abs(combination[ld.case]),
-                   np.subtract(frame.nodes[j], frame.nodes[i]).astype(float),
-                   m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j))
+            yield index[name], ld, np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
 
 
 def axial_change(frame, combination, built) -> np.ndarray:
@@ -367,7 +364,7 @@ def axial_change(frame, combination, built) -> np.ndarray:
     to node (N − N̄ of loads ΔN in all is within ±ΔN/2)."""
     out = np.zeros(len(frame.members))
     cases = {c: 1.0 for c in set(combination) | set(built or {})}
-    for k, m, ld, _, d, _ in _active_loads(frame, cases):
+    for k, ld, d in _active_loads(frame, cases):
         factor = combination.get(ld.case, 0.0) - (built or {}).get(ld.case, 0.0)
-        out[k] += 0.5 * abs(factor) * _axial_load(ld, d, 0.0, 0.0)
+        out[k] += 0.5 * abs(factor) * _axial_load(ld, d)
     return out
