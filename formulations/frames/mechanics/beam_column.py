@@ -1,6 +1,7 @@
-"""The Euler–Bernoulli beam-column between a member's ends: its member
-loads' fixed-end forces and the solution along it, under the constant
-axial force N that built its second-order stiffness (:mod:`.second_order`).
+"""The beam-column between a member's ends — Euler–Bernoulli, or
+shear-flexible (Engesser's, below) —: its member loads' fixed-end forces
+and the solution along it, under the constant axial force N that built
+its second-order stiffness (:mod:`.second_order`).
 
 The mechanics.  A straight member of flexible length L [L], bending
 stiffness EI [F·L²] and axial force N [F] (tension positive), loaded across
@@ -53,6 +54,28 @@ carried by the ψ_k); the section moment M(x) = M₁(x) + N (v(x) − v(0))
 sagging positive), and the diagrams' V = dM/dx = V₁(x) + N v'(x): the
 shear across the deformed axis, which at end i differs from the end
 action across the undeformed one by N θ_i.
+
+Shear deformation (Engesser's, :mod:`.second_order`; c = 1/(G A_s)
+[1/F], D = 1 + c N [-], Engesser's β).  The section turns by θ, the axis
+slopes by v' = (θ − c S)/D, S = M' − N v' [F] the force across the
+undeformed axis (S' = q) and M = EI θ' (:mod:`.varying_pieces`, N'
+= 0); in v, EI D v'''' − N v'' = q − EI c q''.  So the homogeneous
+solutions are the Euler–Bernoulli ones at μ = N/(EI D) (k² = −μ: kL = π
+at Engesser's P_E/(1 + P_E/(G A_s))), each with its own θ = D v' + c S:
+1 and x turn by 0 and 1 (a rigid turn, S = −N on x), φ₂ by D φ₁ (S = 0),
+φ₃ by D (φ₂ + c EI) (S = EI D); e^(−kx), e^(−k(L−x)) by D v' (S = 0).
+The operator stays self-adjoint (the energy ∫ EI θ'² + G A_s (v' − θ)² +
+N v'²), so Betti's theorem gives the fixed-end forces as before, a
+couple's on the sections' rotations ψ_θ (the slopes' without shear).  A
+unit force at a jumps S by 1 and so v' by −c/D: its particular solution
+is (g(r)/EI − c g''(r))/D, g the Euler–Bernoulli one at μ (φ₃(r) for
+r > 0, or the free beam's in strong tension); a couple C jumps M by −C:
+−C g'(r)/(EI D).  The particular solution's end rotations are D v' +
+c S, S its loads' sum from zero (in strong tension ±1/2 of each: the
+free beam's).  At c = 0 it is the Euler–Bernoulli member bit for bit
+(D = 1, the shear terms zero).  The chain of :mod:`.varying_axial` under
+a constant N gives the same to ~1e-12, at ~15 × the cost in a frame's
+solve and α_cr (docs/dev-notes.md).
 """
 
 from __future__ import annotations
@@ -71,11 +94,6 @@ T_EXP = 4.0
 
 #: |μ x²| up to which φ₀ … φ₃ come from their series
 SERIES = 1.0
-
-#: |sin kL| below which Engesser's diagram starts from a joined end's
-#: rotation instead of both end moments (the two-point form loses up to
-#: 1/|sin kL| of its digits: at most 4× here)
-NEAR_NODE = 0.25
 
 #: terms of the series (at |μ x²| ≤ SERIES the last one is 1e-19 of the first)
 TERMS = 10
@@ -115,52 +133,71 @@ def phis(mu, x) -> np.ndarray:
     return out
 
 
-def _regime(EI, N, L):
-    """(μ, k or 0): k = √μ where the member is in strong tension."""
-    mu = N / EI
-    return mu, (math.sqrt(mu) if -mu * L * L < -T_EXP else 0.0)
+def _regime(EI, N, L, c=0.0):
+    """(μ, k or 0, D): D = 1 + c N (Engesser's β; 1 without shear, c = 0),
+    μ = N/(EI D), k = √μ where the member is in strong tension."""
+    D = 1.0 + c * N
+    with np.errstate(divide="ignore", invalid="ignore"):     # D = 0: past its own buckling
+        mu = np.float64(N) / (EI * D)
+    return mu, (math.sqrt(mu) if -mu * L * L < -T_EXP else 0.0), D
 
 
-def _basis(mu, k, L, x):
-    """(b, b'): the homogeneous solutions at x, each scaled to O(1) on
-    [0, L] (1, x/L, φ₂/L², φ₃/L³; or 1, x/L, e^(−kx), e^(−k(L−x))), and
-    their x-derivatives times L; (4, *x.shape) each."""
+def _basis(mu, k, L, x, D=1.0, cEI=0.0):
+    """(b, b', b_θ): the homogeneous solutions at x, each scaled to O(1) on
+    [0, L] (1, x/L, φ₂/L², φ₃/L³; or 1, x/L, e^(−kx), e^(−k(L−x))), their
+    x-derivatives times L, and their sections' rotations times L, θ =
+    D v' + c S (module docstring; v' without shear, ``cEI`` = c EI = 0);
+    (4, *x.shape) each."""
     x = np.asarray(x, float)
     one, zero = np.ones_like(x), np.zeros_like(x)
     if k:
         e0, e1 = np.exp(-k * x), np.exp(-k * (L - x))
-        return (np.array([one, x / L, e0, e1]),
-                np.array([zero, one, -k * L * e0, k * L * e1]))
+        db = np.array([zero, one, -k * L * e0, k * L * e1])
+        return (np.array([one, x / L, e0, e1]), db,
+                db if not cEI else np.array([zero, one, D * db[2], D * db[3]]))
     p = phis(mu, x)
-    return (np.array([one, x / L, p[2] / L ** 2, p[3] / L ** 3]),
-            np.array([zero, one, p[1] / L, p[2] / L ** 2]))
+    db = np.array([zero, one, p[1] / L, p[2] / L ** 2])
+    return (np.array([one, x / L, p[2] / L ** 2, p[3] / L ** 3]), db,
+            db if not cEI else np.array([zero, one, D * db[2], D * (p[2] + cEI) / L ** 2]))
 
 
-def shape_functions(EI, N, L, x) -> tuple[np.ndarray, np.ndarray]:
-    """(ψ, ψ'): the exact shape functions at x (…, 4) for the end dofs
-    (v_i, θ_i, v_j, θ_j), and their slopes."""
-    mu, k = _regime(EI, N, L)
+def shape_functions(EI, N, L, x, c=0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(ψ, ψ', ψ_θ): the exact shape functions at x (…, 4) for the end dofs
+    (v_i, θ_i, v_j, θ_j), their slopes and their sections' rotations (the
+    slopes without shear, c = 1/(G A_s) = 0)."""
+    mu, k, D = _regime(EI, N, L, c)
     ends = np.array([0.0, L])
-    b, db = _basis(mu, k, L, ends)
-    B = np.array([b[:, 0], db[:, 0], b[:, 1], db[:, 1]])   # rows: v, L θ at i then j
+    b, _, tb = _basis(mu, k, L, ends, D, c * EI)
+    B = np.array([b[:, 0], tb[:, 0], b[:, 1], tb[:, 1]])   # rows: v, L θ at i then j
     C = np.linalg.solve(B, np.eye(4))
-    bx, dbx = _basis(mu, k, L, x)
+    bx, dbx, tbx = _basis(mu, k, L, x, D, c * EI)
     scale = np.array([1.0, L, 1.0, L])                      # L θ → θ
     psi = np.moveaxis(np.tensordot(C.T, bx, axes=1), 0, -1) * scale
     dpsi = np.moveaxis(np.tensordot(C.T, dbx, axes=1), 0, -1) * scale / L
-    return psi, dpsi
+    tpsi = dpsi if not c else np.moveaxis(np.tensordot(C.T, tbx, axes=1), 0, -1) * scale / L
+    return psi, dpsi, tpsi
 
 
 def _green(mu, k, r, order):
-    """g (order 0) or g' (order 1) of the module docstring at r [per unit
-    force and EI]."""
+    """g (order 0) or its order-th derivative (1 to 3) of the module
+    docstring at r [per unit force and EI]; the third jumps at r = 0, where
+    it is its right side's (as a diagram's section at a point load is)."""
     r = np.asarray(r, float)
     if k:
         e = np.exp(-k * np.abs(r))
         return (-(e + k * np.abs(r)) / (2 * k ** 3) if order == 0
-                else -np.sign(r) * -np.expm1(-k * np.abs(r)) / (2 * k * k))
+                else -np.sign(r) * -np.expm1(-k * np.abs(r)) / (2 * k * k) if order == 1
+                else -e / (2 * k) if order == 2 else _jump(k, r) * e)
     rp = np.maximum(r, 0.0)
-    return np.where(r > 0, phis(mu, rp)[3 - order], 0.0)
+    return np.where(r >= 0 if order == 3 else r > 0, phis(mu, rp)[3 - order], 0.0)
+
+
+def _jump(k, r):
+    """The force across the axis, S, of g at r per unit force: the unit
+    step from zero (±1/2 for the free beam's g in strong tension), its
+    right side's at r = 0."""
+    r = np.asarray(r, float)
+    return np.where(r >= 0, 0.5, -0.5) if k else (r >= 0).astype(float)
 
 
 def _pieces(a, b, k):
@@ -183,41 +220,48 @@ def across(load, c, s):
     return ("distributed", load.a, load.b, turn(v[0], v[1]), turn(v[2], v[3]))
 
 
-def nodal_loads(parts, EI, N, L) -> np.ndarray:
+def nodal_loads(parts, EI, N, L, c=0.0) -> np.ndarray:
     """The consistent nodal loads (4: v_i, θ_i, v_j, θ_j, member axes) of
     the loads ``parts`` (:func:`across`, positions on the flexible length
-    L) on the beam-column under N: minus its clamped ends' forces."""
-    _, k = _regime(EI, N, L)
+    L) on the beam-column under N (Engesser's with c = 1/(G A_s) > 0):
+    minus its clamped ends' forces."""
+    _, k, _ = _regime(EI, N, L, c)
     out = np.zeros(4)
     for part in parts:
         if part[0] == "point":
             _, a, py, mz = part
-            psi, dpsi = shape_functions(EI, N, L, np.array([a]))
-            out += py * psi[0] + mz * dpsi[0]
+            psi, _, tpsi = shape_functions(EI, N, L, np.array([a]), c)
+            out += py * psi[0] + mz * tpsi[0]
             continue
         _, a, b, w1, w2 = part
         if b <= a:
             continue
         xs, ws = _pieces(a, b, k)
         q = w1 + (w2 - w1) * (xs - a) / (b - a)
-        psi, _ = shape_functions(EI, N, L, xs)
+        psi = shape_functions(EI, N, L, xs, c)[0]
         out += (q * ws) @ psi
     return out
 
 
-def deflection(parts, EI, N, L, ends, x) -> tuple[np.ndarray, np.ndarray]:
+def deflection(parts, EI, N, L, ends, x, c=0.0) -> tuple[np.ndarray, np.ndarray]:
     """(v, v') at x on the flexible length L: the beam-column's deflection
-    with end displacements ``ends`` (v_i, θ_i, v_j, θ_j, member axes) under
-    the loads ``parts`` (:func:`across`)."""
-    mu, k = _regime(EI, N, L)
+    (Engesser's with c = 1/(G A_s) > 0: v' the axis' slope) with end
+    displacements ``ends`` (v_i, θ_i, v_j, θ_j, member axes; θ the
+    sections' rotations) under the loads ``parts`` (:func:`across`)."""
+    mu, k, D = _regime(EI, N, L, c)
+    cEI = c * EI
     x = np.asarray(x, float)
     at = np.r_[x, 0.0, L]            # the particular solution's end values too
-    vp, dvp = np.zeros_like(at), np.zeros_like(at)
+    vp, dvp, sp = np.zeros_like(at), np.zeros_like(at), np.zeros_like(at)
     for part in parts:
         if part[0] == "point":
             _, a, py, mz = part
             vp += py * _green(mu, k, at - a, 0) - mz * _green(mu, k, at - a, 1)
-            dvp += py * _green(mu, k, at - a, 1) - mz * _second(mu, k, at - a)
+            dvp += py * _green(mu, k, at - a, 1) - mz * _green(mu, k, at - a, 2)
+            if cEI:
+                vp -= py * cEI * _green(mu, k, at - a, 2)
+                dvp -= py * cEI * _green(mu, k, at - a, 3)
+                sp += py * _jump(k, at - a)
             continue
         _, a, b, w1, w2 = part
         if b <= a:
@@ -235,36 +279,37 @@ def deflection(parts, EI, N, L, ends, x) -> tuple[np.ndarray, np.ndarray]:
             r = at[:, None] - xs
             vp += (_green(mu, k, r, 0) * q).sum(axis=1)
             dvp += (_green(mu, k, r, 1) * q).sum(axis=1)
-    vp, dvp = vp / EI, dvp / EI
-    d = np.array([vp[-2], dvp[-2], vp[-1], dvp[-1]])
-    psi, dpsi = shape_functions(EI, N, L, x)
+            if cEI:
+                vp -= cEI * (_green(mu, k, r, 2) * q).sum(axis=1)
+                dvp -= cEI * (_green(mu, k, r, 3) * q).sum(axis=1)
+                sp += (_jump(k, r) * q).sum(axis=1)
+    vp, dvp = vp / (EI * D), dvp / (EI * D)
+    # the particular solution's end rotations: θ = D v' + c S
+    d = np.array([vp[-2], D * dvp[-2] + c * sp[-2], vp[-1], D * dvp[-1] + c * sp[-1]])
+    psi, dpsi, _ = shape_functions(EI, N, L, x, c)
     u = np.asarray(ends, float) - d
     return psi @ u + vp[:-2], dpsi @ u + dvp[:-2]
 
 
-def _second(mu, k, r):
-    """g'' at r."""
-    r = np.asarray(r, float)
-    if k:
-        return -np.exp(-k * np.abs(r)) / (2 * k)
-    return np.where(r > 0, phis(mu, np.maximum(r, 0.0))[1], 0.0)
-
-
-def nodal_loads_many(parts, EI, N, L) -> np.ndarray:
+def nodal_loads_many(parts, EI, N, L, c=0.0) -> np.ndarray:
     """:func:`nodal_loads` of many loads at once, (n, 4): ``parts[r]``
-    (:func:`across`) on a member of EI[r], N[r], L[r].  Where the member is
-    not in strong tension (kL ≤ 2π: one Gauss piece a load) all in one
-    pass, its basis and shape functions as arrays; the others one by one."""
+    (:func:`across`) on a member of EI[r], N[r], L[r], c[r] (1/(G A_s), 0
+    without shear).  Where the member is not in strong tension (kL ≤ 2π:
+    one Gauss piece a load) all in one pass, its basis and shape functions
+    as arrays; the others one by one."""
     EI, N, L = (np.asarray(v, float) for v in (EI, N, L))
+    c = np.broadcast_to(np.asarray(c, float), N.shape)
     out = np.zeros((len(parts), 4))
-    mu = N / EI
+    D = 1.0 + c * N
+    with np.errstate(divide="ignore", invalid="ignore"):     # D = 0: past its own buckling
+        mu = N / (EI * D)
     strong = -mu * L * L < -T_EXP
     for r in np.flatnonzero(strong).tolist():
-        out[r] = nodal_loads([parts[r]], EI[r], N[r], L[r])
+        out[r] = nodal_loads([parts[r]], EI[r], N[r], L[r], c[r])
     rows = np.flatnonzero(~strong)
     if not rows.size:
         return out
-    mu, L = mu[rows], L[rows]
+    mu, L, D, cEI = mu[rows], L[rows], D[rows], (c * EI)[rows]
     # each load's points and weights: a point force at a (weight py, a
     # couple mz on the slope there), a trapezoid's GAUSS points
     x = np.zeros((rows.size, GAUSS))
@@ -283,31 +328,34 @@ def nodal_loads_many(parts, EI, N, L) -> np.ndarray:
     one, zero = np.ones_like(L), np.zeros_like(L)
     pe = phis(mu, L)
     # rows v, L θ at i then j; columns 1, x/L, φ₂/L², φ₃/L³
+    # (L θ = L (D v' + c S): D times the slope's, and c EI D/L² on φ₃/L³)
     B = np.zeros((rows.size, 4, 4))
     B[:, 0, 0] = 1.0
     B[:, 1, 1] = 1.0
+    B[:, 1, 3] = D * cEI / L ** 2
     B[:, 2] = np.stack([one, one, pe[2] / L ** 2, pe[3] / L ** 3], axis=1)
-    B[:, 3] = np.stack([zero, one, pe[1] / L, pe[2] / L ** 2], axis=1)
+    B[:, 3] = np.stack([zero, one, D * pe[1] / L, D * (pe[2] + cEI) / L ** 2], axis=1)
     C = np.linalg.solve(B, np.broadcast_to(np.eye(4), B.shape))
     scale = np.stack([one, L, one, L], axis=1)                        # L θ → θ
     Lc = L[:, None]
     px = phis(mu[:, None], x)
     basis = np.stack([np.ones_like(x), x / Lc, px[2] / Lc ** 2, px[3] / Lc ** 3], axis=1)
-    slope = np.stack([np.zeros_like(x), np.ones_like(x) / Lc, px[1] / Lc ** 2,
-                      px[2] / Lc ** 3], axis=1)
+    Dc, cc = D[:, None], cEI[:, None]
+    turn = np.stack([np.zeros_like(x), np.ones_like(x) / Lc, Dc * px[1] / Lc ** 2,
+                     Dc * (px[2] + cc) / Lc ** 3], axis=1)          # θ: a couple's work
     # ψ_k(x_p) = Σ_j C_jk b_j(x_p)
     psi = np.einsum("njk,njp->nkp", C, basis)
     out[rows] = (np.einsum("nkp,np->nk", psi, wq)
-                 + mz[:, None] * np.einsum("njk,nj->nk", C, slope[:, :, 0])) * scale
+                 + mz[:, None] * np.einsum("njk,nj->nk", C, turn[:, :, 0])) * scale
     return out
 
 
-def into_loads(Fe, items, EI, N, Lf, rows, signs=(1.0, 1.0, 1.0, 1.0)) -> None:
+def into_loads(Fe, items, EI, N, Lf, rows, signs=(1.0, 1.0, 1.0, 1.0), c=None) -> None:
     """Fe's ``rows`` (the v_i, θ_i, v_j, θ_j of a bending plane, each times
     its sign) of every member k named in ``items`` — (k, case column, the
     load's part on the flexible length: :func:`flexible_part`) — replaced by
-    the beam-column's consistent loads of its parts under N[k]
-    (:func:`nodal_loads_many`, one pass)."""
+    the beam-column's consistent loads of its parts under N[k], Engesser's
+    where c[k] = 1/(G A_s) > 0 (:func:`nodal_loads_many`, one pass)."""
     members = sorted({k for k, _, _ in items})
     for k in members:
         Fe[k, list(rows)] = 0.0
@@ -315,7 +363,8 @@ def into_loads(Fe, items, EI, N, Lf, rows, signs=(1.0, 1.0, 1.0, 1.0)) -> None:
         return
     at = np.array([k for k, _, _ in items])
     cases = np.array([c for _, c, _ in items])
-    f = nodal_loads_many([p for _, _, p in items], EI[at], N[at], Lf[at]) * np.asarray(signs)
+    f = nodal_loads_many([p for _, _, p in items], EI[at], N[at], Lf[at],
+                         0.0 if c is None else np.asarray(c, float)[at]) * np.asarray(signs)
     np.add.at(Fe, (at[:, None], np.asarray(rows)[None, :], cases[:, None]), f)
 
 
@@ -328,20 +377,22 @@ def flexible_part(load, L, c, s, oi, oj):
     return None if flex is None else across(flex, c, s)
 
 
-def end_block(EI, N, L) -> np.ndarray:
+def end_block(EI, N, L, c=0.0) -> np.ndarray:
     """The transverse end stiffness (4 × 4 on v_i, θ_i, v_j, θ_j) of the
-    beam-column: the stability functions' (:mod:`.second_order`)."""
+    beam-column: the stability functions' (:mod:`.second_order`; Engesser's
+    with c = 1/(G A_s) > 0, φ = 12 EI c/L²)."""
     t = -N * L * L / EI
-    s, sc = (float(v[0]) for v in stability_functions(np.array([t])))
+    s, sc = (float(v[0]) for v in stability_functions(np.array([t]), 12.0 * EI * c / L ** 2))
     f = EI / L
     vv, vt = (2.0 * (s + sc) - t) * f / L ** 2, (s + sc) * f / L
     return np.array([[vv, vt, -vv, vt], [vt, s * f, -vt, sc * f],
                      [-vv, -vt, vv, -vt], [vt, sc * f, -vt, s * f]])
 
 
-def axis(parts, EI, N, L, ends, springs, x) -> tuple[np.ndarray, np.ndarray]:
+def axis(parts, EI, N, L, ends, springs, x, c=0.0) -> tuple[np.ndarray, np.ndarray]:
     """(v, v') at x on the flexible length L of a member under N with the
-    loads ``parts`` (:func:`across`, each times its factor): its flexible
+    loads ``parts`` (:func:`across`, each times its factor), Engesser's
+    with c = 1/(G A_s) > 0: its flexible
     ends' displacements and their nodes' rotations ``ends`` (v_i, θ_i,
     v_j, θ_j), ``springs`` (i, j) each None for a rigid joint, 0 for a
     hinge, else a rotational spring.  A released end's own rotation θ_r
@@ -349,79 +400,6 @@ def axis(parts, EI, N, L, ends, springs, x) -> tuple[np.ndarray, np.ndarray]:
     θ_r) on it: (k_rr + k) θ_r + Σ k_rc u_c = f_r + k θ_node, f the
     consistent loads — singular only where the member buckles with its
     nodes held (second_order.own_buckling)."""
-    ends = released_ends(lambda: (end_block(EI, N, L), nodal_loads(parts, EI, N, L)),
+    ends = released_ends(lambda: (end_block(EI, N, L, c), nodal_loads(parts, EI, N, L, c)),
                          ends, springs)
-    return deflection(parts, EI, N, L, ends, x)
-
-
-def engesser_axis(EI, GAs, N, L, v_a, v_e, M_a, V_1, x, slopes=(None, None),
-                  springs=(None, None)) -> tuple[np.ndarray, np.ndarray]:
-    """(v, v') at x on the flexible length L of a shear-flexible member
-    (G A_s [F]) under N without span loads, from its flexible ends'
-    transverse displacements v_a, v_e, its moment at the flexible end a,
-    M_a (the diagrams' convention, with the rigid arm's N (v_a − v(0)))
-    and its statics' shear V_1: M₁(x) = M_a + V_1 x, the moment less
-    N (v(x) − v_a).
-
-    Engesser's beam-column (:mod:`.second_order`): the section moment on
-    the deformed axis is M = M₁ + N (v − v(0)) and the shear across the
-    deformed axis, V = dM/dx (minus the force on the face at x along +y),
-    shears the member by −V/(G A_s), so v'' = M/EI − M''/(G A_s); with no
-    span load M₁'' = 0, so M'' = N v'' and M'' = μ M,
-    μ = N / (EI (1 + N/(G A_s))) [1/L²] (in compression k² = −μ, and kL = π
-    at Engesser's P_E/(1 + P_E/(G A_s))) — the Euler–Bernoulli equation's
-    with that μ, and v'' = M''/N.  So
-    M = A φ₀ + B φ₁ (φ of μ) with A = M_a and B from M(L); written as
-    v − v_a = D x + c (A φ₂ + B φ₃), c = μ/N =
-    1/(EI (1 + N/(G A_s))) and D = (B − V_1)/N = [(v_e − v_a) −
-    c (A φ₂(L) + V_1 φ₃(L))]/(L + μ φ₃(L)): no term cancels as N → 0
-    (φ₂ → x²/2, φ₃ → x³/6: the first-order member with its shear
-    strain).  Where |μ| L² > SERIES the two-point form is used instead,
-    M = (A sin k(L − x) + M_L sin kx)/sin kL (sinh in tension, written in
-    e^(−kx), e^(−k(L−x)): no growth), and v = v_a + (M − M₁)/N.
-
-    Near kL = nπ in compression (a restrained member there is not at its
-    critical load) the end moments no longer fix the sin kx part: the
-    two-point form divides by sin kL → 0 (2.1 M off within 1e-12 of π).
-    There the form starts from an end whose section rotation θ is given
-    (``slopes``: the rotations of the flexible ends' nodes (their rigid
-    arms), None where unknown; ``springs``: each end's rotational spring,
-    None where rigidly joined — θ the node's there; a spring k carries the
-    end's moment, M_a = k (θ − θ_node) at a and M_L = k (θ_node − θ) at the
-    other end, so θ = θ_node + M_a/k, θ_node − M_L/k; a hinge (k = 0) gives
-    none): v' = θ − V/(G A_s), V = M' = V_1 + N v', so
-    v' = (θ − V_1/(G A_s))/(1 + N/(G A_s)) and M = M_end cos ks + (V/k)
-    sin ks, s measured from that end into the member."""
-    x = np.asarray(x, float)
-    c = 1.0 / (EI * (1.0 + N / GAs))
-    mu = N * c
-    A = M_a
-    if abs(mu) * L * L <= SERIES:
-        pL, px = phis(mu, L), phis(mu, x)
-        D = ((v_e - v_a) - c * (A * pL[2] + V_1 * pL[3])) / (L + mu * pL[3])
-        B = V_1 + N * D
-        return v_a + D * x + c * (A * px[2] + B * px[3]), D + c * (A * px[1] + B * px[2])
-    k = math.sqrt(abs(mu))
-    M_L = M_a + V_1 * L + N * (v_e - v_a)
-    if mu < 0:
-        sL = math.sin(k * L)
-        theta = [None if th is None or (k_ is not None and not k_ > 0)
-                 else th if k_ is None else th + (A if end == 0 else -M_L) / k_
-                 for end, (th, k_) in enumerate(zip(slopes, springs))]
-        joined = [end for end, th in enumerate(theta) if th is not None]
-        if abs(sL) < NEAR_NODE and joined:
-            end = joined[0]
-            V = V_1 + N * (theta[end] - V_1 / GAs) / (1.0 + N / GAs)
-            s, Me, sign = (x, A, 1.0) if end == 0 else (L - x, M_L, -1.0)
-            M = Me * np.cos(k * s) + sign * V / k * np.sin(k * s)
-            dM = -sign * k * Me * np.sin(k * s) + V * np.cos(k * s)
-        else:
-            M = (A * np.sin(k * (L - x)) + M_L * np.sin(k * x)) / sL
-            dM = k * (-A * np.cos(k * (L - x)) + M_L * np.cos(k * x)) / sL
-    else:
-        d = -math.expm1(-2.0 * k * L)
-        ea, eb = np.exp(-k * x), np.exp(-k * (L - x))
-        M = (A * ea * -np.expm1(-2.0 * k * (L - x)) + M_L * eb * -np.expm1(-2.0 * k * x)) / d
-        dM = k * (-A * ea * (1.0 + np.exp(-2.0 * k * (L - x)))
-                  + M_L * eb * (1.0 + np.exp(-2.0 * k * x))) / d
-    return v_a + (M - (M_a + V_1 * x)) / N, (dM - V_1) / N
+    return deflection(parts, EI, N, L, ends, x, c)

@@ -104,7 +104,7 @@ def _release(k, fe, r, spring):
 
 def varying_members(ms, L, c, s, axial, along, col, k_all, Fe) -> dict:
     """The members whose loads in ``along`` (a combination) have axial
-    parts, and the shear-flexible ones it loads: their bending block of
+    parts: their bending block of
     ``k_all`` and rows of ``Fe`` (each case's loads) set to the beam-column's under N(x)
     (:class:`.varying_axial.Member`, N̄ = ``axial``); {index: (zone i's
     ∫ N dx, zone j's)}, their rigid arms' P-Δ per unit rotation."""
@@ -185,20 +185,18 @@ def member_locals(frame, xy, idx, col, axial=None, along=None):
             Fe[k, :, col[ld.case]] += fe
             rigid[k][:, col[ld.case]] += at_nodes
     if axial is not None:
-        # Euler–Bernoulli members' loads under N: the beam-column's fixed-end
-        # forces (:mod:`.beam_column`) across the axis (a loaded Timoshenko
-        # member's are its chain's, varying_members; along a trace, loads the
-        # stiffness was not built with stay its first-order element's:
-        # second_order.first_order_parts)
+        # members' loads under a constant N: the beam-column's fixed-end
+        # forces (:mod:`.beam_column`, Engesser's with shear) across the axis
         from .beam_column import flexible_part, into_loads
         varying = varying_members(ms, L, c, s, axial, along, col, k_all, Fe)
         items = [(k, col[ld.case], part)
-                 for k in np.flatnonzero((n_loads > 0) & (phi == 0) & (axial != 0)).tolist()
+                 for k in np.flatnonzero((n_loads > 0) & (axial != 0)).tolist()
                  if k not in varying
                  for ld in ms[k].loads
                  for part in [flexible_part(ld, L[k], c[k], s[k], ms[k].offset_i,
                                             ms[k].offset_j)] if part is not None]
-        into_loads(Fe, items, E * I, axial, Lf, (1, 2, 4, 5))
+        shear = np.divide(1.0, GAs, out=np.zeros(nm), where=GAs > 0)      # 1/(G A_s)
+        into_loads(Fe, items, E * I, axial, Lf, (1, 2, 4, 5), c=shear)
     # releases act at the flexible ends (the face of the rigid zone), so
     # they come before the rigid arms carry the end to the node
     for k in np.flatnonzero(released).tolist():

@@ -88,16 +88,11 @@ clamped, P and H at its free tip) sways H L/P (tan μ/(β μ) − 1), which is
 H L³/(3EI) + H L/(G A_s) as P → 0, and buckles at μ = π/2:
 P_c/(1 + P_c/(G A_s)), P_c = π²EI/(4L²).
 
-A member's loads are the beam-column's: an Euler–Bernoulli member's
-(:mod:`.beam_column`) with N constant along it — or, where its loads'
-axial parts make N vary along it, the beam-column under N(x)
-(:mod:`.varying_axial`: its stiffness too), which a Timoshenko member with
-span loads always takes (Engesser's under N(x); its stability functions
-above where it carries none).  What stays first order — a span load that
-the stiffness was not built with (a trace's variable load on a
-shear-flexible member the constant loads leave unloaded) — is judged
-(:func:`first_order_parts`): beyond the accuracy asked the answer is not
-ok.  Along a
+A member's loads are the beam-column's: with N constant along it
+(:mod:`.beam_column`, Engesser's with shear deformation: the fixed-end
+forces of the stability functions above) — or, where its loads' axial
+parts make N vary along it, the beam-column under N(x)
+(:mod:`.varying_axial`: its stiffness too).  Along a
 trace's one stiffness the change of N(x) from the load it was built at
 is, as N̄'s, the path's change of its axial forces, which it reports
 (:func:`axial_change`): result_at(p) solves at p on its own.
@@ -331,30 +326,11 @@ def past_own_buckling(frame, N, along=None) -> str:
             "their nodes") if names else ""
 
 
-def _bending_load(values, axis, local: bool, point: bool) -> tuple[float, float]:
-    """(F/4, |M|) of one member load: F the force across the axis (a
-    distributed load's per unit length, times L² for |W| L/4: any
-    distribution on a simple span; a point force's times 4a(L − a)/L for
-    P a (L − a)/L), |M| a point moment about a bending axis (not the
-    twist), which makes at most |M| on a simple span."""
-    v = np.asarray(values, float)
-    n = axis.size                                    # 2: a plane member, 3: a space one
-    if point:
-        forces, moments = [v[:n]], (v[2:3] if n == 2 else v[3:6])
-    else:                              # its ends' intensities: |W| ≤ L max |w|
-        forces, moments = [v[:n], v[n:2 * n]], np.zeros(0)
-    across = max(float(np.linalg.norm(f[1:] if local else f - (f @ axis) * axis))
-                 for f in forces)
-    if n == 3 and moments.size:
-        moments = moments[1:] if local else moments - (moments @ axis) * axis
-    return across / 4.0, float(np.linalg.norm(moments))
-
-
-def _axial_load(load, d, oi, oj) -> float:
-    """|ΔN| of one member load on a member (node i to j along d, rigid end
-    zones oi, oj; plane or space) over its flexible length: its force along
-    the axis (a distributed one's largest |w| times its stretch there, at
-    most; a point force at a zone's face or on it none)."""
+def _axial_load(load, d) -> float:
+    """|ΔN| of one member load on a member (node i to j along d; plane or
+    space) between its nodes: its force along the axis (a distributed
+    one's largest |w| times its stretch, at most; a point force at a node
+    none)."""
     length = float(np.linalg.norm(d))
     axis = d / length
     n = axis.size
@@ -362,14 +338,13 @@ def _axial_load(load, d, oi, oj) -> float:
     along = [v[0:n]] if load.kind == "point" else [v[0:n], v[n:2 * n]]
     size = max(abs(f[0]) if load.axes == "member" else abs(float(f @ axis)) for f in along)
     if load.kind == "point":
-        return size if oi < load.a < length - oj else 0.0
-    return size * max(0.0, min(load.b, length - oj) - max(load.a, oi))
+        return size if 0.0 < load.a < length else 0.0
+    return size * max(0.0, min(load.b, length) - max(load.a, 0.0))
 
 
 def _active_loads(frame, combination):
-    """(k, member, load, |factor|, d, (o_i, o_j)) for each member load of
-    ``combination``: the member's index, the load, its factor's size, the
-    member's vector node i → j and its rigid end zones (plane or space)."""
+    """(k, load, d) for each member load of ``combination``: the member's
+    index, the load and the member's vector node i → j (plane or space)."""
     index = {name: k for k, name in enumerate(frame.members)}
     if hasattr(frame, "span_loads"):                   # a space frame's loads
         pairs = [(ld.member, ld) for ld in frame.span_loads]
@@ -379,9 +354,7 @@ def _active_loads(frame, combination):
         if combination.get(ld.case):
             m = frame.members[name]
             i, j = (m["i"], m["j"]) if isinstance(m, dict) else (m.i, m.j)
-            yield (index[name], m, ld, abs(combination[ld.case]),
-                   np.subtract(frame.nodes[j], frame.nodes[i]).astype(float),
-                   m["offsets"] if isinstance(m, dict) else (m.offset_i, m.offset_j))
+            yield index[name], ld, np.subtract(frame.nodes[j], frame.nodes[i]).astype(float)
 
 
 def axial_change(frame, combination, built) -> np.ndarray:
@@ -391,106 +364,7 @@ def axial_change(frame, combination, built) -> np.ndarray:
     to node (N − N̄ of loads ΔN in all is within ±ΔN/2)."""
     out = np.zeros(len(frame.members))
     cases = {c: 1.0 for c in set(combination) | set(built or {})}
-    for k, m, ld, _, d, _ in _active_loads(frame, cases):
+    for k, ld, d in _active_loads(frame, cases):
         factor = combination.get(ld.case, 0.0) - (built or {}).get(ld.case, 0.0)
-        out[k] += 0.5 * abs(factor) * _axial_load(ld, d, 0.0, 0.0)
+        out[k] += 0.5 * abs(factor) * _axial_load(ld, d)
     return out
-
-
-def first_order_parts(frame, N, combination, tol, built=None) -> str:
-    """Words naming the members whose second-order answer stays first
-    order in part (module docstring) by more than ``tol``, or "": a
-    shear-flexible member's loads in ``combination`` that its stiffness,
-    built for the combination ``built``, did not take (a trace's variable
-    loads on a member the constant ones leave unloaded): their fixed-end
-    forces and, with them, its diagram between the ends.  A member loaded
-    in ``built`` is the beam-column of :mod:`.varying_axial` under its
-    N(x), loads and all, an Euler–Bernoulli one without axial parts
-    :mod:`.beam_column`'s.  A shear-flexible
-    member that span loads bend (M₀ > 0 on a simple span) under
-    an axial force N is judged by sec(π√ρ/2) − 1 in compression (π²ρ/8 in
-    tension), ρ = |N|/P_p — P_p the pinned member's buckling load over its
-    bending planes, Engesser's P_E/(1 + P_E/(G A_s)) with shear deformation
-    (:func:`pinned_buckling`): the exact excess of the largest moment over
-    the ends' for equal end moments in single curvature, the worst for
-    given end moments, and above the span loads' beam-column amplification
-    (a pinned span under a uniform load at ρ = 0.5: 63.44 kN·m against
-    wL²/8 = 31.25, excess 1.03 against sec's 1.25).  Cut into pieces,
-    each piece's ρ shrinks, so the cut that the words advise clears it."""
-    _, L = bending(frame)
-    N = np.asarray(N, float)
-    m0 = np.zeros(len(frame.members))
-    # an Euler–Bernoulli member carries its loads as the beam-column
-    # (mechanics.beam_column; a space member in both bending planes)
-    beam_column = np.array([all(g is None for g in m["GAs"]) if isinstance(m, dict)
-                            else m.GAs is None for m in frame.members.values()])
-    # (and a shear-flexible member loaded in the combination its stiffness took)
-    beam_column[[k for k, *_ in _active_loads(frame, built or {})]] = True
-    for k, m, ld, factor, d, (oi, oj) in _active_loads(frame, combination):
-        if beam_column[k]:
-            continue
-        force, moment = _bending_load(ld.values, d / np.linalg.norm(d), ld.axes == "member",
-                                      ld.kind == "point")
-        span = L[k] * L[k]
-        if ld.kind == "point":     # a force at a on the flexible part: P a (L − a)/L ≤ P L/4,
-            # none at its ends, where it goes to the node whatever N (a load at
-            # a node's end of a member was not ok, and cutting it never cleared it)
-            flexible = float(np.linalg.norm(d)) - oi - oj
-            a = min(max(ld.a - oi, 0.0), flexible)
-            span = 4.0 * a * (flexible - a) / flexible
-        m0[k] += factor * (force * span + moment)
-    pinned = pinned_buckling(frame)
-    rho = np.abs(N) / pinned
-    # a shear-flexible member whose span loads bend it keeps their
-    # first-order fixed-end forces and its whole diagram between the ends
-    # (without them its diagram is Engesser's: beam_column.engesser_axis).
-    # Its end moments alone, equal and in single curvature (the worst for
-    # given end moments), make M cos(k(x − L/2))/cos(kL/2) in Engesser's
-    # model too (M'' = N/(EI (1 + N/(G A_s))) M): sec(π√ρ/2) − 1 of the
-    # ends', which also covers the span loads' amplification (a pinned span
-    # under a uniform load at ρ = 0.5: 1.03 of wL²/8, where ρ/(1 − ρ) said
-    # 1.0; sec's 1.25); in tension 1 − sech ≤ π²ρ/8
-    with np.errstate(invalid="ignore", over="ignore"):
-        secant = np.where(rho < 1.0, 1.0 / np.cos(0.5 * np.pi * np.sqrt(np.minimum(rho, 1.0)))
-                          - 1.0, np.inf)
-    off = np.where(beam_column | (m0 == 0), 0.0, np.where(N < 0, secant, np.pi ** 2 / 8 * rho))
-    words = []
-    hit = [k for k in np.argsort(-off, kind="stable") if off[k] > tol]
-    if hit:
-        words.append(f"the span loads of member(s) {_worst(frame, N, off, hit, 'its moments')} "
-                     "bend a member with shear deformation: their fixed-end forces and its "
-                     "diagram between the ends are first order (N times its own deflection is "
-                     "not in them)")
-    return "; ".join(words) + (" — add nodes along those members, whose pieces then carry the "
-                               "P-δ closer (docs/frames.md, 'What stays first order')"
-                               if words else "")
-
-
-def _worst(frame, N, off, hit, what) -> str:
-    """The first five of ``hit`` (the members' indices, worst first) with
-    their axial force and bound, and how many more."""
-    members = list(frame.members)
-    return ", ".join(f"{members[k]} (N = {N[k]:.4g}, up to {off[k]:.1e} of {what})"
-                     for k in hit[:5]) + (f" and {len(hit) - 5} more" if len(hit) > 5 else "")
-
-
-def first_order_parts_along(frame, N, ft, inside, tol, built=None) -> str:
-    """:func:`first_order_parts` of a second-order trace ``ft`` built
-    on the axial forces ``N``, judged at each stable piece's ends up to
-    ``inside`` (its last stable state), and on an unbounded last piece one
-    point past its start: the span loads may be the variable ones, and a
-    strut under a constant half Euler load traced to "unbounded" (one piece
-    from p = 0, where none acts yet) was ok, its moment at p = 1 half the
-    beam-column's.  ``built``: the combination whose N(x) the trace's
-    stiffness took."""
-    points = {float(inside)}
-    for lo, hi in ft.intervals:
-        if lo > inside:
-            break
-        points |= {float(lo), min(float(hi), inside) if np.isfinite(hi) else lo + max(1.0, lo)}
-    for p in sorted(points):
-        at = ft.result_at(p)
-        words = first_order_parts(frame, N, at.combination, tol, built)
-        if words:
-            return f"at p = {p:.10g} on the path, {words}"
-    return ""

@@ -32,8 +32,7 @@ from .load_combinations import combination_at
 from .loads import CONSTANT, VARIABLE
 from .second_order_path import (SecondOrderTrace, answer_change, axial_forces, member_scale,
                                 relative_change)
-from .second_order import (axial_change, bending, first_order_parts, first_order_parts_along,
-                           own_buckling, past_own_buckling)
+from .second_order import axial_change, bending, own_buckling, past_own_buckling
 from .tracing import BRACKET
 from .critical_load import critical_load_factor, stable_by_band  # noqa: F401 (imported from here)
 from .tangent_stiffness import (DENSE_DOFS, band_counts, first_holding, first_negative,
@@ -129,9 +128,6 @@ def solve_second_order(frame, p, method, accuracy, raise_on_failure, combination
                   "load to the digits the stiffness carries: critical_load_factor's bracket)")
     elif stable is None:
         words += f"; its stability was not checked (over {DENSE_DOFS} free dofs)"
-    span = first_order_parts(frame, b["axial"], res.combination, tol, b.get("along"))
-    if span and res.ok:
-        res.ok, words = False, f"{words} — NOT OK: {span}"
     res.message = f"{res.message}; {words}"
     if raise_on_failure and not res.ok:
         from qpcontact.core.errors import SolverFailedError
@@ -329,9 +325,6 @@ def trace_second_order(frame, p_max=None, accuracy="high", *, constant=None, var
     if error > tol:
         ft.ok = False
         words += f" — NOT CONVERGED (asked {tol:.0e})"
-    span = first_order_parts_along(frame, b["axial"], ft, inside, tol, b.get("along"))
-    if span and ft.ok:
-        ft.ok, words = False, f"{words} — NOT OK: {span}"
     ft.message = f"{ft.message}; {words}"
     return SecondOrderTrace.of(ft, accuracy)
 

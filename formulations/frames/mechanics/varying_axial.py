@@ -90,7 +90,8 @@ def of_member(m, L, c, s, Nbar, along, series=True):
     """The :class:`Member` of a plane member ``m`` (node-to-node length L,
     direction (c, s)) under N̄ where its loads in the combination ``along``
     have axial parts (on its rigid end zones too: its flexible length's N
-    is then not N̄), or, shear-flexible, any load; None where none do."""
+    is then not N̄); None where none do (a constant N: the beam-column's,
+    :mod:`.beam_column`, Engesser's with shear)."""
     if not along:
         return None
     oi, oj = m.offset_i, m.offset_j
@@ -98,10 +99,7 @@ def of_member(m, L, c, s, Nbar, along, series=True):
              if part[0] == "distributed" else part[:2] + (along[ld.case] * part[2],)
              for ld in m.loads if along.get(ld.case)
              for part in [along_axis(ld, L, c, s, oi, oj)] if part]
-    # a shear-flexible member takes its loads across it here too (N̄
-    # constant where none is along it): Engesser's element keeps their
-    # first-order fixed-end forces
-    if not parts and (m.GAs is None or not any(along.get(ld.case) for ld in m.loads)):
+    if not parts:
         return None
     return Member(m.E * m.I, L - oi - oj, Nbar, parts,
                   [x - oi for ld in m.loads for x in (ld.a, ld.b)], series, (oi, oj), m.GAs)

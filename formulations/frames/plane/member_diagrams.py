@@ -66,11 +66,9 @@ def sections(frame, res, m, x, deformed: bool = True):
 
 def beam_column_axis(frame, res, m, x):
     """(N(x), ∫₀ˣ N v', v(x), v'(x)) of a member of a second-order answer whose
-    element is the beam-column (Euler–Bernoulli, N ≠ 0: the stiffness's
-    axial force), member axes, node to node (a rigid zone moves with its
-    node); None for first order and for a shear-flexible member with span
-    loads (a shear-flexible member's without: Engesser's,
-    :func:`..mechanics.beam_column.engesser_axis`).  The flexible
+    element is the beam-column (N ≠ 0: the stiffness's axial force;
+    Engesser's with shear), member axes, node to node (a rigid zone moves
+    with its node); None for first order.  The flexible
     part's by :func:`..mechanics.beam_column.deflection` from its ends'
     displacements through the rigid arms and their own rotations — a
     released end's from the element's moment row (hinge: the moment 0;
@@ -105,18 +103,9 @@ def beam_column_axis(frame, res, m, x):
         added = added + arm_i * di[2] + dj[2] * varying.integral(Lf, beyond)
         added = np.where(x < oi, di[2] * varying.integral(-oi, np.minimum(x - oi, 0.0)),
                          added)
-    elif m.GAs is None:
-        v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf)
-    elif any(np.any(np.asarray(part[-2:], float) != 0.0) for part in parts):
-        # loads across it: first order, judged by second_order.first_order_parts
-        # (loads only along it bend nothing: Engesser's below, or a hinged
-        # column's moment lost N̄ (v − v(0)) — 707 N m at its hinge, ok)
-        return None
-    else:             # Engesser's, from its end forces' statics
-        f = res.member_forces[m.name]
-        v, dv = beam_column.engesser_axis(EI, m.GAs, axial, Lf, ends[0], ends[2],
-                                          -f[2] + f[1] * oi + axial * oi * di[2], f[1], xf,
-                                          ends[1::2], m.end_springs)
+    else:
+        v, dv = beam_column.axis(parts, EI, axial, Lf, ends, m.end_springs, xf,
+                                 0.0 if m.GAs is None else 1.0 / m.GAs)
     v = np.where(x < oi, di[1] + x * di[2], np.where(x > L - oj, dj[1] - (L - x) * dj[2], v))
     dv = np.where(x < oi, di[2], np.where(x > L - oj, dj[2], dv))
     if varying is not None:

@@ -68,7 +68,7 @@ def assemble(frame, axial=None, along=None):
                                                                          phi[k])
         varying = {}
         if axial is not None:
-            beam_column_loads(frame, ms, axial, col, L, R, offsets, phi, Fe)
+            beam_column_loads(frame, ms, axial, col, L, R, offsets, Fe)
             if along:
                 varying = space_varying.varying_members(frame, ms, L, R, np.asarray(axial, float),
                                                         along, col, k_local, Fe)
@@ -317,12 +317,13 @@ def release_directions(frame, b):
     return cols[0], cols[1:], np.array([c.friction for c in frame.contacts])
 
 
-def beam_column_loads(frame, ms, axial, col, L, R, offsets, phi, Fe) -> None:
+def beam_column_loads(frame, ms, axial, col, L, R, offsets, Fe) -> None:
     """Fe's bending rows of the members under axial force, in each bending
-    plane without shear deformation: the beam-column's consistent loads of
-    the flexible length (:func:`..mechanics.beam_column.into_loads`, the
-    plane element's) — x-y with EIz on (v, θz), x-z with EIy on (w, θ'
-    = −θy) — in place of the first-order element's."""
+    plane: the beam-column's consistent loads of the flexible length
+    (:func:`..mechanics.beam_column.into_loads`, the plane element's;
+    Engesser's in a plane with shear deformation) — x-y with EIz on (v,
+    θz), x-z with EIy on (w, θ' = −θy) — in place of the first-order
+    element's."""
     from ..mechanics.beam_column import flexible_part, into_loads
 
     where = {nm: k for k, nm in enumerate(frame.members)}
@@ -332,14 +333,16 @@ def beam_column_loads(frame, ms, axial, col, L, R, offsets, phi, Fe) -> None:
         items = []
         for load in frame.span_loads:
             k = where[load.member]
-            if axial[k] == 0.0 or phi[k, plane] > 0:    # a Timoshenko plane keeps its own
+            if axial[k] == 0.0:
                 continue
             part = flexible_part(space_member_loads.plane_parts(load, R[k])[plane], L[k], 1.0,
                                  0.0, *offsets[k])
             if part is not None:
                 items.append((k, col[load.case], part))
         EI = np.array([m_["E"] * m_[I_] for m_ in ms])
-        into_loads(Fe, items, EI, np.asarray(axial, float), Lf, rows, signs)
+        shear = np.array([0.0 if m_["GAs"][plane] is None else 1.0 / m_["GAs"][plane]
+                          for m_ in ms])
+        into_loads(Fe, items, EI, np.asarray(axial, float), Lf, rows, signs, shear)
 
 
 def fixed_end(q, L) -> np.ndarray:

@@ -108,9 +108,8 @@ class Along:
 
 def bent_planes(frame, res, member, L, R, loads) -> dict:
     """{1 (across y) | 2 (across z): x ↦ (d(x), d'(x), N d'(x), ∫₀ˣ N d')}:
-    the beam-column's deflection of each bending plane (with shear
-    deformation: Engesser's, where no span load bends it, else left out)
-    of a second-order answer's member under N ≠ 0, member axes,
+    the beam-column's deflection of each bending plane (Engesser's with
+    shear deformation) of a second-order answer's member under N ≠ 0, member axes,
     node to node (a rigid zone moves with its node), and what N times it
     adds to the plane's shear and moment: the x-y plane with EIz on (v,
     θz), the x-z plane with EIy on (w, θ' = −θy), each as the plane
@@ -134,7 +133,6 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
     di, dj = (np.r_[R @ np.asarray(res.displacements[n][:3], float),
                     R @ np.asarray(res.displacements[n][3:], float)] for n in (m["i"], m["j"]))
     rel = dict(m["releases"])
-    f = np.asarray(res.member_forces[member], float)
     out = {}
     for plane, (I_, GAs, turn, sign) in ((1, (m["Iz"], m["GAs"][0], 5, 1.0)),
                                          (2, (m["Iy"], m["GAs"][1], 4, -1.0))):
@@ -146,23 +144,13 @@ def bent_planes(frame, res, member, L, R, loads) -> dict:
             part = beam_column.flexible_part(plane_parts(load, R)[plane - 1], L, 1.0, 0.0, oi, oj)
             if part is not None:
                 parts.append(part[:-2] + tuple(factor * np.array(part[-2:])))
-        if GAs is not None and any(np.any(np.asarray(part[-2:], float) != 0.0)
-                                   for part in parts):
-            continue        # loads across it: first order, judged by first_order_parts
         springs = (rel.get(turn), rel.get(turn + 6))
-        # the plane's first-order statics M₁ = M₁(0) + V₁ x (Along.sections)
-        M0, V1 = (-f[5], f[1]) if plane == 1 else (f[4], f[2])
 
         def solution(x, ends=ends, parts=parts, springs=springs, EI=m["E"] * I_, plane=plane,
-                     ti=ti, tj=tj, GAs=GAs, M0=M0, V1=V1):
+                     ti=ti, tj=tj, c=0.0 if GAs is None else 1.0 / GAs):
             x = np.asarray(x, float)
             xf = np.clip(x, oi, L - oj) - oi
-            if GAs is None:
-                d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs, xf)
-            else:       # Engesser's, from the end forces' statics
-                d, dd = beam_column.engesser_axis(EI, GAs, axial, Lf, ends[0], ends[2],
-                                                  M0 + V1 * oi + axial * oi * ti, V1, xf,
-                                                  (ti, tj), springs)
+            d, dd = beam_column.axis(parts, EI, axial, Lf, ends, springs, xf, c)
             d = np.where(x < oi, di[plane] + x * ti,
                          np.where(x > L - oj, dj[plane] - (L - x) * tj, d))
             dd = np.where(x < oi, ti, np.where(x > L - oj, tj, dd))

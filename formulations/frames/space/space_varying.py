@@ -11,10 +11,9 @@ forces) plus the statics of the loads' parts along the axis, which are the
 x-y plane's part of each load (:func:`.space_member_loads.plane_parts`: its
 x component), the same in both planes; so is each rigid end zone's P-Δ,
 θ ∫_zone N dx.  Each plane is then :class:`..mechanics.varying_axial.Member`
-with its own EI, its end releases the member's about that plane's axis.
-Used where N varies, and on a member with a shear area wherever it is
-loaded (each plane Engesser's beam-column under N(x), its own G A_s), as
-the plane path.
+with its own EI, its end releases the member's about that plane's axis
+(with a shear area, Engesser's beam-column under N(x), its own G A_s).
+Used where N varies, as the plane path.
 """
 
 from __future__ import annotations
@@ -81,8 +80,7 @@ def loads_on(frame, name):
 def of_member(m, loads, L, R, Nbar, along, series=True):
     """:class:`BothPlanes` of a space member ``m`` (its span loads ``loads``,
     node-to-node length L, axes R) under N̄ where its loads in the
-    combination ``along`` have parts along its axis, or — a shear-flexible
-    member — any part in the combination; None otherwise."""
+    combination ``along`` have parts along its axis; None otherwise."""
     if not along:
         return None
     oi, oj = m["offsets"]
@@ -93,10 +91,7 @@ def of_member(m, loads, L, R, Nbar, along, series=True):
         if part:
             parts.append(part[:-2] + tuple(factor * np.array(part[-2:]))
                          if part[0] == "distributed" else part[:2] + (factor * part[2],))
-    # a shear-flexible member takes its loads across it here too (N̄
-    # constant where none is along it)
-    if not parts and (all(g is None for g in m["GAs"])
-                      or not any(along.get(ld.case) for ld in loads)):
+    if not parts:
         return None
     points = [x - oi for ld in loads for x in (ld.a, ld.b)]
     rel = dict(m["releases"])

@@ -1,12 +1,10 @@
 """Span loads on members under axial force in a second-order answer: a
-plane Euler–Bernoulli member carries them as the beam-column (fixed-end
-forces and diagrams with its own P-δ), so one element is ok and right;
-what stays first order — a space member's loads, a Timoshenko member's, the
-axial parts of member loads that make N vary along a member — is bounded,
-and an answer where it is off by more than the accuracy asked is not ok
-and names the members.  Reference: the beam-column's closed form for a
-pinned span under a uniform load w and a compression P, M(L/2) = (w/k²)
-(sec(kL/2) − 1), k = √(P/EI)."""
+member carries them as the beam-column (fixed-end forces and diagrams with
+its own P-δ; plane or space, Engesser's with shear deformation, under N(x)
+where their axial parts make N vary), so one element is ok and right.
+Reference: the beam-column's closed form for a pinned span under a uniform
+load w and a compression P, M(L/2) = (w/k²) (sec(kL/2) − 1), k = √(P/EI)
+(k² = P/(β EI) with shear), and shots of the columns under their weight."""
 
 from __future__ import annotations
 
@@ -81,7 +79,7 @@ def test_cut_or_not_it_is_ok_and_right(share, pieces, space):
 @pytest.mark.parametrize("space", [False, True])
 def test_a_loaded_member_with_shear_deformation_under_compression_is_engessers(space):
     # a pinned span with shear deformation (G A_s = 3 P) under w and P: its
-    # loads are the beam-column's under N (mechanics.varying_axial), the
+    # loads are the beam-column's under N (mechanics.beam_column), the
     # midspan moment Engesser's (w EI/P)(sec(kL/2) − 1), k² = P/(β EI), β =
     # 1 − P/(G A_s) (M'' + k² M = w/β from M' = N v' − V, V' = −w and β v''
     # = M/EI − w/(G A_s)); it was refused ("span loads of member(s) S")

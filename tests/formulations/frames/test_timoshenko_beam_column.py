@@ -431,7 +431,7 @@ def test_the_cantilevers_sway_is_opensees_cut_fine():
 def test_a_shear_flexible_span_with_loads_is_engessers_beam_column(share):
     """A pinned span (φ = 3) under a uniform load w and a compression at
     ``share`` of its Engesser load P_p = P_E/(1 + P_E/(G A_s)): its loads
-    are the beam-column's under N (mechanics.varying_axial), so its
+    are the beam-column's under N (mechanics.beam_column), so its
     midspan moment is (w EI/P)(sec(kL/2) − 1), k² = P/(β EI) (M'' + k² M
     = w/β from M' = N v' − V, V' = −w and β v'' = M/EI − w/(G A_s)).  Its
     fixed-end forces and diagram were first order (wL²/8), refused at

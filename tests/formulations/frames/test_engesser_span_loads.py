@@ -1,0 +1,184 @@
+"""Span loads on shear-flexible members under a constant axial force:
+Engesser's beam-column in closed form (mechanics/beam_column.py with
+c = 1/(G A_s)), as an Euler–Bernoulli member's are Livesley's.  The
+references are not the code under test: the clamped member's fixed-end
+moment under a uniform load by hand (M'' − μ M = −q/D, μ = N/(EI D),
+D = 1 + N/(G A_s), ∫ M dx = 0 between clamped ends), Engesser's three
+equations shot with scipy (tests/helpers/engesser.py, span_shot) for point
+forces, couples and partial trapezoids, the pinned span's midspan moment
+(w EI/P)(sec(kL/2) − 1) and its buckling load P_E/(1 + P_E/(G A_s)) —
+in compression near buckling, at N = 0, in tension, and with G A_s from
+1e3 to 1e-1 times EI/L²."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from formulations.frames import Frame, SpaceFrame
+from formulations.frames.mechanics import beam_column
+from formulations.frames.mechanics.critical_load import critical_load_factor
+from tests.helpers.engesser import span_shot
+
+EI, L = 2.1e6, 5.0
+SCALE = EI / L ** 2                      # the bending stiffness's force scale
+GAS = [1e3, 1e1, 1e-1]                   # G A_s / (EI/L²)
+
+
+def clamped_buckling(GAs):
+    """Engesser's clamped–clamped buckling load, P_c/(1 + P_c/(G A_s))."""
+    Pc = 4 * np.pi ** 2 * EI / L ** 2
+    return Pc / (1 + Pc / GAs)
+
+
+def uniform_fixed_end_moment(q, N, GAs):
+    """The clamped member's end moment (θ-row of the nodal loads) under q:
+    M = A cos k(x − L/2) − q/(D k²) in compression with ∫ M = 0 gives
+    (q/(D k²)) (1 − u cot u), u = kL/2 (cosh, u coth u − 1, in tension);
+    qL²/(12 D) (1 + u²/15 + …) below u = 1e-3 (the closed form cancels)."""
+    D = 1 + N / GAs
+    if N == 0:
+        return q * L ** 2 / 12
+    k = np.sqrt(abs(N) / (EI * D))
+    u = k * L / 2
+    if u < 1e-3:
+        return q * L ** 2 / (12 * D) * (1 + np.sign(-N) * u * u / 15)
+    return q / (D * k * k) * ((1 - u / np.tan(u)) if N < 0 else (u / np.tanh(u) - 1))
+
+
+@pytest.mark.parametrize("g", GAS)
+@pytest.mark.parametrize("share", [0.999, 0.5, 1e-9, 0.0, -1.0, -3000.0])
+def test_a_uniform_loads_fixed_end_forces_are_the_closed_forms(g, share):
+    GAs = g * SCALE
+    N = -share * clamped_buckling(GAs)
+    q = -3.0
+    m = uniform_fixed_end_moment(q, N, GAs)
+    ref = np.array([q * L / 2, m, q * L / 2, -m])
+    part = ("distributed", 0.0, L, q, q)
+    one = beam_column.nodal_loads([part], EI, N, L, 1 / GAs)
+    many = beam_column.nodal_loads_many([part], [EI], [N], [L], [1 / GAs])[0]
+    for got in (one, many):
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    if share == 0.999 and g == 1e-1:
+        # near buckling and G A_s: D ≈ 0.004, far from the Euler–Bernoulli member's
+        assert abs(m / beam_column.nodal_loads([part], EI, N, L)[1] - 1) > 0.5
+
+
+LOADS = [("point", 1.3, -7.0, 2.5), ("distributed", 0.8, 4.1, -3.0, 5.0),
+         ("point", 3.7, 4.0, -1.5)]
+
+
+@pytest.mark.parametrize("g", GAS)
+@pytest.mark.parametrize("share", [0.999, 0.5, 0.0, -1.0])
+def test_point_forces_couples_and_trapezoids_fixed_end_forces_are_the_shot(g, share):
+    GAs = g * SCALE
+    N = -share * clamped_buckling(GAs)
+    _, at0, atL = span_shot(EI, GAs, N, L, LOADS)
+    ref = np.array([-at0[3], at0[2], atL[3], -atL[2]])     # minus the end forces
+    one = beam_column.nodal_loads(LOADS, EI, N, L, 1 / GAs)
+    many = beam_column.nodal_loads_many(LOADS, [EI] * 3, [N] * 3, [L] * 3, [1 / GAs] * 3)
+    for got in (one, many.sum(axis=0)):
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-10 * np.abs(ref).max())
+
+
+def _span(P, GAs, loads, space=False, case="D"):
+    """A pinned span A–B along x under P at B (compression positive) and
+    ``loads`` across it, in y (a space span's x-y plane, its x-z held)."""
+    fr = SpaceFrame() if space else Frame()
+    fr.add_node("A", 0.0, 0.0, *([0.0] if space else []))
+    fr.add_node("B", L, 0.0, *([0.0] if space else []))
+    if space:
+        fr.add_member("A", "B", 2e11, 1e-2, EI / 2e11, EI / 2e11, G=8e10, J=1e-5, name="S",
+                      shear_area=(GAs / 8e10, GAs / 8e10))
+        fr.add_support("A", fix=("ux", "uy", "uz", "rx", "ry"))
+        fr.add_support("B", fix=("uy", "uz", "ry"))
+    else:
+        fr.add_member("A", "B", 2e11, 1e-2, EI / 2e11, name="S", G=8e10, shear_area=GAs / 8e10)
+        fr.add_support("A", fix=("ux", "uy"))
+        fr.add_support("B", fix=("uy",))
+    for ld in loads:
+        if ld[0] == "point":
+            fr.add_point_load("S", ld[1], fy=ld[2], mz=ld[3], case=case, axes="member")
+        else:
+            fr.add_distributed_load("S", wy=ld[3], wy2=ld[4], start=ld[1], end=ld[2], case=case,
+                                    axes="member")
+    fr.add_load("B", fx=-P, case="D")
+    return fr
+
+
+def _pinned(GAs):
+    P_E = np.pi ** 2 * EI / L ** 2
+    return P_E / (1 + P_E / GAs)
+
+
+@pytest.mark.parametrize("g", GAS)
+@pytest.mark.parametrize("share", [0.95, 0.3, -2.0])
+def test_a_pinned_spans_diagram_and_deflection_are_the_shot(g, share):
+    """M, V = dM/dx and v along a pinned shear-flexible span under a point
+    force, a couple and a trapezoid, in compression at 0.95 and 0.3 of
+    Engesser's pinned load and in tension, against the shot (pinned: v = M
+    = 0 at both ends); its space twin's Mz, Vy the plane's."""
+    GAs = g * SCALE
+    P = share * _pinned(GAs)
+    state = span_shot(EI, GAs, -P, L, LOADS, start=(0, 2), end=(0, 2))[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plane = _span(P, GAs, LOADS).solve(combination={"D": 1.0}, second_order=True,
+                                            accuracy="high")
+        space = _span(P, GAs, LOADS, space=True).solve(combination={"D": 1.0},
+                                                       second_order=True, accuracy="high")
+    assert plane.ok and space.ok, (plane.message, space.message)
+    x, _, V, M = plane.diagram("S", 21)
+    y = state(x)
+    D = 1 - P / GAs
+    dv = (y[:, 1] - y[:, 3] / GAs) / D                   # the axis' slope
+    np.testing.assert_allclose(M, y[:, 2], rtol=0, atol=1e-9 * np.abs(y[:, 2]).max())
+    np.testing.assert_allclose(V, y[:, 3] - P * dv, rtol=0, atol=1e-9 * np.abs(V).max())
+    xd, _, v = plane.deflection("S", 21)
+    np.testing.assert_allclose(v, state(xd)[:, 0], rtol=0,
+                               atol=1e-9 * np.abs(state(xd)[:, 0]).max())
+    sx, _, Vy, _, _, _, Mz = space.diagram("S", 21)
+    np.testing.assert_allclose(sx, x)
+    np.testing.assert_allclose(Mz, M, rtol=0, atol=1e-9 * np.abs(M).max())
+    np.testing.assert_allclose(Vy, V, rtol=0, atol=1e-9 * np.abs(V).max())
+
+
+@pytest.mark.parametrize("space", [False, True])
+def test_a_trace_whose_variable_load_bends_a_shear_flexible_member_is_engessers(space):
+    """A constant compression at half Engesser's pinned load, the span load
+    the variable one (G A_s = 3 P): at p = 1 the midspan moment is (w EI/P)
+    (sec(kL/2) − 1), k² = P/(EI (1 − P/(G A_s))).  Before, the loads the
+    trace's stiffness was not built with stayed first order on a
+    shear-flexible member, and the trace was NOT OK."""
+    w = 10.0
+    P_E = np.pi ** 2 * EI / L ** 2
+    GAs = 0.5 * P_E                               # then P = P_E/6 and G A_s = 3 P
+    P = 0.5 * _pinned(GAs)
+    assert GAs == pytest.approx(3 * P, rel=1e-12)
+    k = np.sqrt(P / (EI * (1 - P / GAs)))
+    exact = w * EI / P * (1 / np.cos(k * L / 2) - 1)
+    fr = _span(P, GAs, [("distributed", 0.0, L, -w, -w)], space=space, case="V")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ft = fr.trace(1.0, "high", constant={"D": 1.0}, variable={"V": 1.0}, second_order=True)
+    assert ft.ok, ft.message
+    at = ft.result_at(1.0)
+    key = "Mz" if space else "M"
+    mid = max(abs(at.extremes("S")[key][e][0]) for e in ("max", "min"))
+    assert mid == pytest.approx(exact, rel=1e-9)
+    assert exact / (w * L ** 2 / 8) - 1 > 0.5
+
+
+@pytest.mark.parametrize("g", GAS)
+def test_a_loaded_shear_flexible_spans_critical_load_is_engessers(g):
+    """α_cr of a pinned shear-flexible span under a span load and 0.4 of
+    P_E/(1 + P_E/(G A_s)): 2.5 (the span load does not change N)."""
+    GAs = g * SCALE
+    fr = _span(0.4 * _pinned(GAs), GAs, LOADS)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fr.solve(combination={"D": 1.0}, second_order=True, accuracy="high")
+    assert res.ok, res.message
+    assert critical_load_factor(fr, res)["alpha"] == pytest.approx(2.5, rel=1e-9)
