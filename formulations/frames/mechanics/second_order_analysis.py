@@ -152,6 +152,16 @@ def built_on(frame, N, along=None):
     try:
         return frame.build(axial=N, along=along)
     except InvalidProblemError:
+        # a member at or past its own buckling load (a shear-flexible one at
+        # N = −G A_s exactly has no shear stiffness left: its stiffness is
+        # not finite) is what makes K(N) singular there, not the frame's α_cr
+        past = past_own_buckling(frame, N, along)
+        if past:
+            raise SolverFailedError(
+                f"frame: the second-order stiffness is singular with the axial forces of this "
+                f"load — UNSTABLE: {past} (a hair either side the answer says the "
+                "same; critical_load_factor of a lighter combination says how far below "
+                "it the frame buckles)") from None
         EI, L = bending(frame)
         t = -np.asarray(N, float) * L ** 2 / EI
         names = list(frame.members)

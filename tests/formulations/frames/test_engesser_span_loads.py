@@ -182,3 +182,39 @@ def test_a_loaded_shear_flexible_spans_critical_load_is_engessers(g):
         res = fr.solve(combination={"D": 1.0}, second_order=True, accuracy="high")
     assert res.ok, res.message
     assert critical_load_factor(fr, res)["alpha"] == pytest.approx(2.5, rel=1e-9)
+
+
+@pytest.mark.parametrize("loaded", [True, False])
+def test_a_shear_flexible_strut_at_its_shear_limit_is_named_unstable(loaded):
+    """At N = −G A_s exactly (G A_s = 1e5 N, a power of ten in binary) a
+    shear-flexible member has no shear stiffness left and its stiffness is
+    not finite, so K(N) cannot be formed.  The strut is then past its own
+    (clamped–clamped) buckling load between its nodes, P_c/(1 + P_c/(G A_s))
+    = 96 930.9 N with P_c = 4π²EI/L² by hand, as it is a hair either side:
+    the refusal must say UNSTABLE and name the member, not call the load
+    the frame's α_cr = 1."""
+    from qpcontact.core.errors import SolverFailedError
+
+    E, I, Ls, GAs = 2e11, 1e-5, 5.0, 1e5
+    Pc = 4 * np.pi ** 2 * E * I / Ls ** 2
+    for share in (1 - 1e-3, 1.0, 1.2):
+        fr = Frame()
+        fr.add_node("A", 0.0, 0.0)
+        fr.add_node("B", Ls, 0.0)
+        fr.add_member("A", "B", E, 1e-2, I, name="S", G=GAs, shear_area=1.0)
+        fr.add_support("A", fix=("ux", "uy"))
+        fr.add_support("B", fix=("uy",))
+        if loaded:
+            fr.add_distributed_load("S", wy=-10.0, case="D")
+        fr.add_load("B", fx=-share * GAs, fy=0.0, case="D")
+        words = f"its own buckling at N = {-Pc / (1 + Pc / GAs):.6g}"
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if share == 1.0:
+                with pytest.raises(SolverFailedError, match="UNSTABLE") as err:
+                    fr.solve(combination={"D": 1.0}, second_order=True, raise_on_failure=False)
+                assert words in str(err.value) and "α_cr = 1" not in str(err.value)
+            else:
+                res = fr.solve(combination={"D": 1.0}, second_order=True,
+                               raise_on_failure=False)
+                assert not res.ok and "UNSTABLE" in res.message and words in res.message
