@@ -87,7 +87,8 @@ def portal():
     return fr
 
 
-def rack(levels=6, bays=4):
+def space_grid(levels, bays):
+    """Two rows of bays + 1 columns' nodes, levels + 1 high, fixed at the base."""
     fr = SpaceFrame()
     for s in range(levels + 1):
         for c in range(bays + 1):
@@ -96,6 +97,11 @@ def rack(levels=6, bays=4):
     for c in range(bays + 1):
         for r in range(2):
             fr.add_support(f"n0_{c}_{r}")
+    return fr
+
+
+def rack(levels=6, bays=4):
+    fr = space_grid(levels, bays)
     for s in range(levels):
         for c in range(bays + 1):
             for r in range(2):
@@ -113,14 +119,7 @@ def rack(levels=6, bays=4):
 
 
 def space_shear(levels=4, bays=3, shear=True):
-    fr = SpaceFrame()
-    for s in range(levels + 1):
-        for c in range(bays + 1):
-            for r in range(2):
-                fr.add_node(f"n{s}_{c}_{r}", 6.0 * c, 4.0 * r, 3.5 * s)
-    for c in range(bays + 1):
-        for r in range(2):
-            fr.add_support(f"n0_{c}_{r}")
+    fr = space_grid(levels, bays)
     for s in range(levels):
         for c in range(bays + 1):
             for r in range(2):
