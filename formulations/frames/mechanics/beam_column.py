@@ -256,12 +256,18 @@ def deflection(parts, EI, N, L, ends, x, c=0.0) -> tuple[np.ndarray, np.ndarray]
     for part in parts:
         if part[0] == "point":
             _, a, py, mz = part
-            vp += py * _green(mu, k, at - a, 0) - mz * _green(mu, k, at - a, 1)
-            dvp += py * _green(mu, k, at - a, 1) - mz * _green(mu, k, at - a, 2)
+            r = at - a
+            if a >= L:
+                # a force at the far end: no material beyond it, so the
+                # sections at x = L are its left side (the right side's kink
+                # −c py/D in v' put N c py/D into V_j)
+                r = np.minimum(r, -np.finfo(float).tiny)
+            vp += py * _green(mu, k, r, 0) - mz * _green(mu, k, r, 1)
+            dvp += py * _green(mu, k, r, 1) - mz * _green(mu, k, r, 2)
             if cEI:
-                vp -= py * cEI * _green(mu, k, at - a, 2)
-                dvp -= py * cEI * _green(mu, k, at - a, 3)
-                sp += py * _jump(k, at - a)
+                vp -= py * cEI * _green(mu, k, r, 2)
+                dvp -= py * cEI * _green(mu, k, r, 3)
+                sp += py * _jump(k, r)
             continue
         _, a, b, w1, w2 = part
         if b <= a:

@@ -218,3 +218,57 @@ def test_a_shear_flexible_strut_at_its_shear_limit_is_named_unstable(loaded):
                 res = fr.solve(combination={"D": 1.0}, second_order=True,
                                raise_on_failure=False)
                 assert not res.ok and "UNSTABLE" in res.message and words in res.message
+
+
+@pytest.mark.parametrize("space", [False, True])
+def test_a_point_force_at_the_far_end_does_not_bend_the_member(space):
+    """A point force at a = L on a shear-flexible member lies on its end
+    node (its fixed-end forces are all at j), so with node j held across
+    the axis the member bends as it does without it: its moments and every
+    section before L are the bare member's, and its end force at j carries
+    exactly the force.  Taken on the section's right side at L, the force's
+    shear kink −c py/D put N c py/D more into V_j (2 222 N, 5.6 % of V_j, on
+    this 7 m member under N = −2 MN with G A_s = 20 MN)."""
+    E, G, I, A, Lm = 210e9, 81e9, 2.313e-4, 8.45e-3, 7.0
+    forces = {"Vy": -20e3, "Vz": -10e3} if space else {"V": -20e3}
+
+    def member(at_end):
+        fr = SpaceFrame() if space else Frame()
+        if space:
+            fr.add_node("A", 0.0, 0.0, 0.0)
+            fr.add_node("B", Lm, 0.0, 0.0)
+            fr.add_member("A", "B", E, A, I, I, G=G, J=1e-5, name="b",
+                          shear_area=(2e7 / G, 2e7 / G))
+            fr.add_support("A")
+            fr.add_support("B", fix=("uy", "uz", "rx", "ry", "rz"))
+            fr.add_distributed_load("b", wy=-5e3, wz=-3e3, case="D")
+            if at_end:
+                fr.add_point_load("b", Lm, fy=-20e3, fz=-10e3, case="D")
+        else:
+            fr.add_node("A", 0.0, 0.0)
+            fr.add_node("B", Lm, 0.0)
+            fr.add_member("A", "B", E, A, I, name="b", G=G, shear_area=2e7 / G)
+            fr.add_support("A")
+            fr.add_support("B", fix=("uy", "rz"))
+            fr.add_distributed_load("b", wy=-5e3, case="D")
+            if at_end:
+                fr.add_point_load("b", Lm, fy=-20e3, case="D")
+        fr.add_load("B", fx=-2e6, case="D")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = fr.solve(combination={"D": 1.0}, second_order=True)
+        assert res.ok, res.message
+        return res
+
+    loaded, bare = member(True), member(False)
+    ends, ends0 = loaded.end_forces("b"), bare.end_forces("b")
+    for key in list(forces) + (["My", "Mz"] if space else ["M"]):
+        scale = max(abs(ends0["i"][key]), abs(ends0["j"][key]))
+        assert ends["i"][key] == pytest.approx(ends0["i"][key], abs=1e-10 * scale), key
+        step = abs(ends["j"][key] - ends0["j"][key])
+        assert step == pytest.approx(abs(forces.get(key, 0.0)), abs=1e-10 * scale), key
+    if not space:
+        _, _, V, M = loaded.diagram("b", 9)
+        _, _, V0, M0 = bare.diagram("b", 9)
+        assert np.allclose(V[:-1], V0[:-1], rtol=0, atol=1e-10 * np.abs(V0).max())
+        assert np.allclose(M, M0, rtol=0, atol=1e-10 * np.abs(M0).max())
