@@ -82,7 +82,7 @@ from ...core.results import MethodResult
 from .active_set import not_positive_definite, overflow_result, time_limit_result
 from .bpp import block_pivoting
 from .finish import REUSE_MAX, REUSE_SHARE
-from .multigrid import SETTLED, MultilevelSetup, aggregation_hierarchy, multilevel_guess
+from .multigrid import MultilevelSetup, aggregation_hierarchy, multilevel_guess, settled_flips
 
 __all__ = ["run_mg_bpp", "MG_BPP_OPTIONS"]
 
@@ -171,7 +171,7 @@ def _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t) -> 
     n = problem.n
     cycles, max_iter = opts["max_cycles"], opts["max_iter"]
     patience, progress = opts["patience"], opts["progress"]
-    settled = None if plate else SETTLED
+    settled = None if plate else settled_flips(n)
     try:
         z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles, stats=stats,
                              shifted=plate, w_cycles=plate, settled=settled, progress=progress,
