@@ -17,8 +17,9 @@ tolerance, and nobody certifies their iterates.  So:
    level of at most 2·10⁴ unknowns the first cycle that leaves the set as
    it was ends the search (:data:`.multigrid.FIRST_HOLD_MAX`), on a
    Z-matrix's (a membrane) at every size, or where at most a third of its
-   nodes are free the first cycle that flips at most four components
-   (:data:`.multigrid.SETTLED`: the finish borders them on its factor of a
+   nodes are free the first cycle that flips at most four components, or
+   n / 50 000 above 2.5·10⁵ unknowns (:func:`.multigrid.settled_flips`:
+   the finish borders them on its factor of a
    small block for less than a cycle over every node).  The coarse levels are the
    problem's own (``LCP(..., hierarchy=[P_0, P_1, ...])``: a mesh knows its
    coarser grids; :mod:`formulations.meshes` passes them) or, when it
