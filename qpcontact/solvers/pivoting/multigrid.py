@@ -138,7 +138,7 @@ SETTLED_SHARE = 3
 #: flips at most n / SETTLED_SCALE (:func:`settled_flips`): a cycle costs
 #: O(n) and the components such a cycle leaves off stay few (10⁶ ripple and
 #: wedge: 5-14 flips left 0-1 off, then a cycle of ~85 ms that flipped
-#: none; docs/dev-notes.md, "cycle counts at scale").
+#: 0-1; docs/dev-notes.md, "cycle counts at scale").
 SETTLED_SCALE = 50_000
 
 
