@@ -574,6 +574,31 @@ def test_a_membranes_finest_level_ends_where_its_cycles_have_settled(monkeypatch
         np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * np.abs(ref.z).max())
 
 
+def test_a_large_membranes_cycles_may_flip_more_before_the_finish_borders_them(monkeypatch):
+    """Above SETTLED × SETTLED_SCALE unknowns a membrane's finest level
+    ends at its first cycle that flips at most n / SETTLED_SCALE components
+    (at most a third free).  The scale brought down to a 120² wedge under a
+    heavier load (14 % free): its level ends at its second cycle, which
+    flips 6 (more than SETTLED: the rule at 10⁴ would run a third), and the
+    answer is still plain block pivoting's from nothing."""
+    from qpcontact.solvers.pivoting import multigrid
+
+    monkeypatch.setattr(multigrid, "SETTLED_SCALE", 1000)
+    monkeypatch.setitem(meshes.OBSTACLES, "wedge", HELD_OUT["wedge"])
+    lcp = meshes.membrane(120, obstacle="wedge", load=-30.0)
+    allowed = multigrid.settled_flips(lcp.n)
+    assert allowed == 14
+    lines = []
+    sol = qpcontact.solve(lcp, method="mg-bpp", progress=lines.append)
+    assert sol.ok, sol.message
+    flips = [changed for _, changed in _finest_cycles(lines)]
+    assert multigrid.SETTLED < flips[-1] <= allowed and all(f > allowed for f in flips[:-1]), flips
+    ref = qpcontact.solve(lcp, method="bpp")
+    assert ref.ok, ref.message
+    np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * np.abs(ref.z).max())
+
+
 def test_progress_reports_cycles_and_the_finish():
     lines = []
     qpcontact.solve(meshes.membrane(31), method="mg-bpp", progress=lines.append)

@@ -17,8 +17,9 @@ tolerance, and nobody certifies their iterates.  So:
    level of at most 2·10⁴ unknowns the first cycle that leaves the set as
    it was ends the search (:data:`.multigrid.FIRST_HOLD_MAX`), on a
    Z-matrix's (a membrane) at every size, or where at most a third of its
-   nodes are free the first cycle that flips at most four components
-   (:data:`.multigrid.SETTLED`: the finish borders them on its factor of a
+   nodes are free the first cycle that flips at most four components, or
+   n / 50 000 above 2.5·10⁵ unknowns (:func:`.multigrid.settled_flips`:
+   the finish borders them on its factor of a
    small block for less than a cycle over every node).  The coarse levels are the
    problem's own (``LCP(..., hierarchy=[P_0, P_1, ...])``: a mesh knows its
    coarser grids; :mod:`formulations.meshes` passes them) or, when it
@@ -82,7 +83,7 @@ from ...core.results import MethodResult
 from .active_set import not_positive_definite, overflow_result, time_limit_result
 from .bpp import block_pivoting
 from .finish import REUSE_MAX, REUSE_SHARE
-from .multigrid import SETTLED, MultilevelSetup, aggregation_hierarchy, multilevel_guess
+from .multigrid import MultilevelSetup, aggregation_hierarchy, multilevel_guess, settled_flips
 
 __all__ = ["run_mg_bpp", "MG_BPP_OPTIONS"]
 
@@ -171,7 +172,7 @@ def _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t) -> 
     n = problem.n
     cycles, max_iter = opts["max_cycles"], opts["max_iter"]
     patience, progress = opts["patience"], opts["progress"]
-    settled = None if plate else SETTLED
+    settled = None if plate else settled_flips(n)
     try:
         z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles, stats=stats,
                              shifted=plate, w_cycles=plate, settled=settled, progress=progress,

@@ -69,7 +69,8 @@ import scipy.sparse as sp
 from ...core.problems import LCP
 from .bpp import block_pivoting
 
-__all__ = ["aggregation_hierarchy", "multilevel_guess", "MultilevelSetup", "COARSEST_MAX"]
+__all__ = ["aggregation_hierarchy", "multilevel_guess", "MultilevelSetup", "COARSEST_MAX",
+           "settled_flips"]
 
 
 @functools.cache
@@ -132,6 +133,19 @@ FIRST_HOLD_MAX = 20_000
 #: FIRST_HOLD_MAX and HELD_STOP.
 SETTLED = 4
 SETTLED_SHARE = 3
+
+#: ... and above SETTLED × SETTLED_SCALE unknowns, at its first cycle that
+#: flips at most n / SETTLED_SCALE (:func:`settled_flips`): a cycle costs
+#: O(n) and the components such a cycle leaves off stay few (10⁶ ripple and
+#: wedge: 5-14 flips left 0-1 off, then a cycle of ~85 ms that flipped
+#: 0-1; docs/dev-notes.md, "cycle counts at scale").
+SETTLED_SCALE = 50_000
+
+
+def settled_flips(n: int) -> int:
+    """The flips a Z-matrix's finest cycle may make and still end its level
+    where at most 1/SETTLED_SHARE of its n unknowns are free."""
+    return max(SETTLED, n // SETTLED_SCALE)
 
 #: The shifted start's z_u = −M⁻¹q (:func:`multilevel_guess`) is solved by
 #: conjugate gradients preconditioned with the hierarchy's cycle (a plate's
