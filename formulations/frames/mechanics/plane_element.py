@@ -130,7 +130,7 @@ def varying_members(ms, L, c, s, axial, along, col, k_all, Fe) -> dict:
     return {k: member.arms() for k, member in members.items()}
 
 
-def member_locals(frame, xy, idx, col, axial=None, along=None):
+def member_locals(frame, xy, idx, col, axial=None, along=None, loads=True):
     """Every member's local stiffness (node dofs, member axes), rotation,
     dofs and equivalent nodal loads per case, computed for all members at
     once: (k (m,6,6), T (m,6,6), dofs (m,6), Fe (m,6,cases)); ``xy`` the
@@ -140,7 +140,10 @@ def member_locals(frame, xy, idx, col, axial=None, along=None):
     (:mod:`.second_order`), None for first order; ``along``: the
     combination ({case: factor}) whose member loads' axial parts make N
     vary along the Euler–Bernoulli members that carry them, which then
-    take N(x) as it is (:mod:`.varying_axial`, N̄ = ``axial``)."""
+    take N(x) as it is (:mod:`.varying_axial`, N̄ = ``axial``); ``loads``
+    False: the stiffness alone (Fe left without the members' span loads but
+    where N varies along a member) — α_cr's count reads K only, and the
+    loads were half a space frame's tangent."""
     ms = list(frame.members.values())
     nm = len(ms)
     # one pass over the members for their numbers, their nodes' first dofs
@@ -169,16 +172,16 @@ def member_locals(frame, xy, idx, col, axial=None, along=None):
     if offset:
         plain = [ld for k, ld in zip(rows.tolist(), plain) if not has_offset[k]]
         rows = rows[~has_offset[rows]]
-    if plain:
-        loads = equivalent_nodal_many(plain, L[rows], c[rows], s[rows], phi[rows])
+    if plain and loads:
+        nodal = equivalent_nodal_many(plain, L[rows], c[rows], s[rows], phi[rows])
         # summed into Fe entry by entry in the loads' order, as np.add.at
         # (bincount: a third of add.at's time with three index arrays)
         nc = len(col)
         case = np.fromiter(map(col.__getitem__, map(attrgetter("case"), plain)), int, len(plain))
         at = ((rows * 6)[:, None] + np.arange(6)) * nc + case[:, None]
-        Fe = np.bincount(at.ravel(), loads.ravel(), nm * 6 * nc).reshape(nm, 6, nc)
+        Fe = np.bincount(at.ravel(), nodal.ravel(), nm * 6 * nc).reshape(nm, 6, nc)
     rigid = {k: np.zeros((6, len(col))) for k in offset}
-    for k in offset:
+    for k in offset if loads else ():
         for ld in ms[k].loads:
             fe, at_nodes = offset_parts(ld, L[k], c[k], s[k], phi[k],
                                         (ms[k].offset_i, ms[k].offset_j))
@@ -189,7 +192,7 @@ def member_locals(frame, xy, idx, col, axial=None, along=None):
         # forces (:mod:`.beam_column`, Engesser's with shear) across the axis
         from .beam_column import flexible_part, into_loads
         varying = varying_members(ms, L, c, s, axial, along, col, k_all, Fe)
-        items = [(k, col[ld.case], part)
+        items = [] if not loads else [(k, col[ld.case], part)
                  for k in np.flatnonzero((n_loads > 0) & (axial != 0)).tolist()
                  if k not in varying
                  for ld in ms[k].loads

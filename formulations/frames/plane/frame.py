@@ -361,7 +361,7 @@ class Frame:
         first order or (``axial``: the members' axial forces, tension
         positive) second order: what α_cr's eigenvalue count reads, where
         K may be singular and ``build`` would refuse it."""
-        return plane_assembly.assemble(self, axial, along)[2]
+        return plane_assembly.assemble(self, axial, along, loads=False)[2]
 
     def lcp(self, b=None):
         """The contact LCP of the split constant + p x variable as (M,

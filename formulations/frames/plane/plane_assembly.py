@@ -34,11 +34,13 @@ def cases(frame) -> list:
     return sorted(names)
 
 
-def assemble(frame, axial=None, along=None):
+def assemble(frame, axial=None, along=None, loads=True):
     """K (CSR), loads F and settlements U (one column per case), the fixed
     dofs, the members' local data for the results (k, T, dofs, Fe) and the
     nodes' coordinates: all members at once (K and the members' loads F
-    in one compiled pass: :func:`..mechanics.contact_lcp.global_stiffness`)."""
+    in one compiled pass: :func:`..mechanics.contact_lcp.global_stiffness`);
+    ``loads`` False: K alone is meant (the members' span loads left out of F,
+    :func:`..mechanics.plane_element.member_locals`)."""
     names = list(frame.nodes)
     idx = dict(zip(names, range(0, 3 * len(names), 3)))
     N = 3 * len(names)
@@ -49,7 +51,7 @@ def assemble(frame, axial=None, along=None):
     col = {c: k for k, c in enumerate(case_list)}
     nc = len(case_list)
     if frame.members:
-        local = member_locals(frame, xy, idx, col, axial, along)
+        local = member_locals(frame, xy, idx, col, axial, along, loads)
     else:
         local = (np.zeros((0, 6, 6)), np.zeros((0, 6, 6)), np.zeros((0, 6), np.int64),
                  np.zeros((0, 6, nc)))

@@ -19,14 +19,16 @@ from . import space_member_loads, space_varying
 from .space_results import DOFS
 
 
-def assemble(frame, axial=None, along=None):
+def assemble(frame, axial=None, along=None, loads=True):
     """(K (CSR), F (dofs x cases), fixed mask, cases, idx, local): local =
     the members' (k (m, 12, 12), T, dofs (m, 12), Fe (m, 12, cases):
     their fixed-end forces in member axes), as the plane frame's;
     ``axial``: the members' axial forces of a second-order stiffness;
     ``along``: the combination whose member loads' axial parts make N
     vary along the Euler–Bernoulli members that carry them, which then
-    take N(x) in both bending planes (:mod:`.space_varying`, N̄ = ``axial``)."""
+    take N(x) in both bending planes (:mod:`.space_varying`, N̄ = ``axial``);
+    ``loads`` False: K alone is meant (α_cr's count), the members' span
+    loads left out of Fe and F."""
     names = list(frame.nodes)
     idx = {nm: 6 * k for k, nm in enumerate(names)}
     N = 6 * len(names)
@@ -52,7 +54,7 @@ def assemble(frame, axial=None, along=None):
         dofs = np.array([np.r_[idx[m_["i"]] + np.arange(6), idx[m_["j"]] + np.arange(6)]
                          for m_ in ms])
         where = {nm: k for k, nm in enumerate(frame.members)}
-        for load in frame.span_loads:
+        for load in frame.span_loads if loads else ():
             k = where[load.member]
             if offsets[k].any():
                 fe, at_nodes = space_member_loads.offset_fixed_end(load, L[k], R[k], phi[k],
@@ -68,7 +70,8 @@ def assemble(frame, axial=None, along=None):
                                                                          phi[k])
         varying = {}
         if axial is not None:
-            beam_column_loads(frame, ms, axial, col, L, R, offsets, Fe)
+            if loads:
+                beam_column_loads(frame, ms, axial, col, L, R, offsets, Fe)
             if along:
                 varying = space_varying.varying_members(frame, ms, L, R, np.asarray(axial, float),
                                                         along, col, k_local, Fe)

@@ -536,7 +536,7 @@ class SpaceFrame:
     def stiffness(self, axial=None, along=None):
         """The frame's stiffness K (all dofs, CSR) alone, first order or
         (``axial``, ``along``: :meth:`build`) second order: what α_cr's count reads."""
-        return space_assembly.assemble(self, axial, along)[0]
+        return space_assembly.assemble(self, axial, along, loads=False)[0]
 
     # -- analysis: the shared functions called on this model ---------------
     def solve(self, p: float = 1.0, method: str = "auto", accuracy="high",

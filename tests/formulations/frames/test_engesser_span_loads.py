@@ -272,3 +272,55 @@ def test_a_point_force_at_the_far_end_does_not_bend_the_member(space):
         _, _, V0, M0 = bare.diagram("b", 9)
         assert np.allclose(V[:-1], V0[:-1], rtol=0, atol=1e-10 * np.abs(V0).max())
         assert np.allclose(M, M0, rtol=0, atol=1e-10 * np.abs(M0).max())
+
+
+def test_the_tangent_alpha_cr_counts_is_the_built_stiffness():
+    """α_cr's count reads K(N) from ``stiffness(axial, along)``, which
+    leaves the members' span loads out (they were half a space frame's
+    tangent); K must be the one ``build`` makes with them, entry for entry,
+    on members with rigid zones, released ends, springs, shear flexibility,
+    point loads and couples under a constant N, and N varying along a
+    member (a load with an axial part)."""
+    import scipy.sparse as sp
+
+    from formulations.frames.plane import plane_assembly
+    from formulations.frames.space import space_assembly
+
+    comb = {"D": 1.0}
+    fr = Frame()
+    for n, x, y in (("A", 0, 0), ("B", 0, 4), ("C", 6, 4), ("D", 6, 0), ("E", 10, 4)):
+        fr.add_node(n, x, y)
+    fr.add_member("A", "B", 2.1e11, 1.49e-2, 2.517e-4, name="c1", G=8.1e10, shear_area=4.7e-3)
+    fr.add_member("B", "C", 2.1e11, 8.45e-3, 2.313e-4, name="beam", offset_i=0.2,
+                  offset_j=0.3, G=8.1e10, shear_area=4e-3)
+    fr.add_member("D", "C", 2.1e11, 1.49e-2, 2.517e-4, name="c2", spring_i=5e7)
+    fr.add_member("C", "E", 2.1e11, 8.45e-3, 2.313e-4, name="cant", hinge_i=False)
+    fr.add_support("A")
+    fr.add_support("D")
+    fr.add_distributed_load("beam", wy=-30e3, case="D")
+    fr.add_point_load("beam", 2.0, fy=-40e3, mz=5e3, case="D")
+    fr.add_point_load("c1", 1.5, fx=20e3, fy=-50e3, case="D")      # an axial part: N(x)
+    fr.add_distributed_load("cant", wy=-10e3, case="D")
+    fr.add_load("B", fx=30e3, case="D")
+    N = np.array([-4e5, -3e4, -5e5, 1e4])
+    K_alone = fr.stiffness(axial=N, along=comb)
+    K_built = plane_assembly.assemble(fr, N, comb)[2]
+    assert (sp.csr_matrix(K_alone) != sp.csr_matrix(K_built)).nnz == 0
+
+    sf = SpaceFrame()
+    for n, xyz in (("A", (0, 0, 0)), ("B", (0, 0, 4)), ("C", (6, 0, 4)), ("D", (6, 0, 0))):
+        sf.add_node(n, *xyz)
+    sf.add_member("A", "B", 2.1e11, 1.49e-2, 2.517e-4, 8.56e-5, G=8.1e10, J=1.85e-6,
+                  name="c1", shear_area=(4.7e-3, 1.2e-3))
+    sf.add_member("B", "C", 2.1e11, 8.45e-3, 2.313e-4, 1.3e-5, G=8.1e10, J=5e-7, name="beam",
+                  offset_i=0.2, offset_j=0.3, shear_area=(4e-3, 3e-3))
+    sf.add_member("D", "C", 2.1e11, 1.49e-2, 2.517e-4, 8.56e-5, G=8.1e10, J=1.85e-6, name="c2")
+    sf.add_support("A")
+    sf.add_support("D")
+    sf.add_distributed_load("beam", wz=-20e3, case="D")
+    sf.add_point_load("beam", 2.0, fy=-10e3, fz=-40e3, case="D")
+    sf.add_point_load("c1", 1.5, fx=10e3, fz=-50e3, case="D")
+    Ns = np.array([-4e5, -3e4, -5e5])
+    K_alone = sf.stiffness(axial=Ns, along=comb)
+    K_built = space_assembly.assemble(sf, Ns, comb)[0]
+    assert (sp.csr_matrix(K_alone) != sp.csr_matrix(K_built)).nnz == 0
