@@ -20,7 +20,12 @@ bit.
         --rows membrane:100,membrane:316,plate0.05:100,plate1:100 --methods mg-bpp,auto
 
 Shapes: formulations.meshes.OBSTACLES and two held out of its choices
-("ripple", "wedge": docs/dev-notes.md, round four), defined here.
+("ripple", "wedge": docs/dev-notes.md, round four), defined here; and,
+held out from the stepped-obstacle rule (:func:`qpcontact.solvers.
+pivoting.multigrid.layer_share`; docs/dev-notes.md, "a one-step shifted
+start for stepped obstacles"), a single step, an oblique staircase, a
+rectangular pit and tanh ramps 2, 5 and 20 fine cells wide — not in the
+default ``--shapes``.
 """
 
 from __future__ import annotations
@@ -51,6 +56,13 @@ def _held_out():
                                 * np.exp(-2.0 * np.hypot(x - 0.3, y - 0.7)) + 0.04 * x),
         "wedge": lambda x, y: np.minimum(0.18 - 0.5 * np.abs(y - 0.3 - 0.4 * x),
                                          0.12 + 0.1 * np.sin(5.0 * x)),
+        "step": lambda x, y: np.where(0.7 * x + 0.3 * y < 0.5, 0.12, 0.02),
+        "stairs": lambda x, y: 0.05 * np.floor(6.0 * (0.9 * x - 0.44 * y + 0.44)) - 0.1,
+        "pit": lambda x, y: (0.15 - 1.2 * ((x - 0.5) ** 2 + (y - 0.5) ** 2)
+                             - 0.3 * ((0.3 < x) & (x < 0.6) & (0.4 < y) & (y < 0.8))),
+        # the grid's first node is at h: the ramps are k fine cells wide at every N
+        **{f"ramp{k}h": (lambda k: lambda x, y: 0.05 + 0.06 * np.tanh(
+            (0.8 * x + 0.6 * y - 0.7) / (k * x.min())))(k) for k in (2, 5, 20)},
     }
 
 

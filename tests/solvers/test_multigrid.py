@@ -599,6 +599,73 @@ def test_a_large_membranes_cycles_may_flip_more_before_the_finish_borders_them(m
     np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * np.abs(ref.z).max())
 
 
+def test_the_first_restriction_cancels_a_stepped_obstacles_layer_not_a_smooth_q():
+    """layer_share: the share of q's mass the first restriction cancels.
+    By hand: a constant q loses none of it; a dipole ±1 on the two fine
+    nodes either side of a coarse node loses half: that node takes ½ − ½,
+    its neighbours either side ½ and −½, of a mass (P1)'|q| of 2.  On the membranes a
+    stepped obstacle's dipoles (terraces) keep about half of q's mass at
+    every size, above LAYER_SHARE, while the continuous obstacles' and a
+    load with a jump cancel only O(h²): under LAYER_SHARE, and about 4 ×
+    less at twice the grid (their kinks make it 3 × on the bumps)."""
+    from qpcontact.solvers.pivoting.multigrid import LAYER_SHARE, layer_share
+
+    P = meshes.grid_hierarchy(15)[0]
+    R = P.T.tocsr()
+    assert layer_share(np.ones(225), R, P) == 0.0
+    dipole = np.zeros((15, 15))
+    dipole[7, 6], dipole[7, 8] = 1.0, -1.0          # either side of coarse node (3, 3)
+    assert layer_share(dipole.ravel(), R, P) == pytest.approx(0.5, abs=1e-15)
+
+    def share(lcp):
+        P = lcp.structure.hierarchy[0]
+        return layer_share(lcp.q, P.T.tocsr(), P)
+
+    for N in (127, 255):
+        assert share(meshes.membrane(N, obstacle="terraces")) > 0.4
+    for shape in ("dome", "ridge", "bumps", "crate"):    # 0.0136-0.0238 at 127², 3.1-3.9 × less at 255²
+        coarse, fine = (share(meshes.membrane(N, obstacle=shape)) for N in (127, 255))
+        assert fine < coarse / 2.5 and coarse < LAYER_SHARE / 3, (shape, coarse, fine)
+    dome = meshes.membrane(127)
+    _, x, y = meshes._grid(127)
+    jump = LCP(dome.M, dome.M @ meshes.OBSTACLES["dome"](x, y) - np.where(x < 0.5, -8.0, -20.0),
+               hierarchy=dome.structure.hierarchy)
+    assert share(jump) < LAYER_SHARE / 3       # 0.018: an O(1) jump in q is no layer
+
+
+def test_a_large_membrane_over_steps_starts_from_one_step_of_the_shift():
+    """Above LAYER_MIN unknowns, where q's layer share is above
+    LAYER_SHARE, a membrane's coarse levels approximate z − s, s one
+    conjugate-gradient step of z_u on the V-cycle, each carrying its finer
+    level's restricted residual: on the 150² terraces the finest level then
+    starts nearer its set (fewer cycles in all than the plain nested
+    start), and the answer is plain block pivoting's from nothing.  A
+    smooth obstacle at the same size starts as before."""
+    from qpcontact.solvers.pivoting import multigrid
+
+    lcp = meshes.membrane(150, obstacle="terraces")
+    assert lcp.n >= multigrid.LAYER_MIN
+    cycles = {}
+    for shifted in (False, True):
+        stats = {}
+        multigrid.multilevel_guess(lcp.M, lcp.q, lcp.structure.hierarchy, cycles=500, stats=stats,
+                                   settled=multigrid.settled_flips(lcp.n), shifted=shifted,
+                                   gap_steps=1)
+        assert stats["shifted"] is shifted
+        assert stats.get("gap_steps", 1) == 1
+        cycles[shifted] = stats["mg_cycles"]
+    assert cycles[True] <= cycles[False] - 4, cycles
+    sol = qpcontact.solve(lcp, method="mg-bpp")
+    assert sol.ok and sol.stats["shifted"] and sol.stats["gap_steps"] == 1
+    assert sol.stats["mg_cycles"] == cycles[True]
+    ref = qpcontact.solve(lcp, method="bpp")
+    assert ref.ok, ref.message
+    np.testing.assert_array_equal(sol.z > 0, ref.z > 0)
+    np.testing.assert_allclose(sol.z, ref.z, rtol=0, atol=1e-12 * np.abs(ref.z).max())
+    smooth = qpcontact.solve(meshes.membrane(150, obstacle="crate"), method="mg-bpp")
+    assert smooth.ok and not smooth.stats["shifted"]
+
+
 def test_progress_reports_cycles_and_the_finish():
     lines = []
     qpcontact.solve(meshes.membrane(31), method="mg-bpp", progress=lines.append)

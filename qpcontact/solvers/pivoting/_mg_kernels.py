@@ -542,7 +542,7 @@ def unconstrained_gap(H, S, q, steps, rtol, visits):
             r[i] -= alpha * Ap[i]
             res = max(res, abs(r[i]))
         res /= scale
-        if res <= rtol:
+        if res <= rtol or taken == steps:     # no preconditioning for a step not taken
             break
         z[:] = cycle(H, S, r, visits)
         rz_new = 0.0

@@ -20,7 +20,11 @@ tolerance, and nobody certifies their iterates.  So:
    nodes are free the first cycle that flips at most four components, or
    n / 50 000 above 2.5·10⁵ unknowns (:func:`.multigrid.settled_flips`:
    the finish borders them on its factor of a
-   small block for less than a cycle over every node).  The coarse levels are the
+   small block for less than a cycle over every node).  A membrane of at
+   least 2·10⁴ unknowns whose q carries a layer the coarse grids cannot
+   hold (an obstacle with steps: :func:`.multigrid.layer_share`) starts
+   from one conjugate-gradient step of the plate's shift (terraces at 10⁶:
+   60 → 46 cycles).  The coarse levels are the
    problem's own (``LCP(..., hierarchy=[P_0, P_1, ...])``: a mesh knows its
    coarser grids; :mod:`formulations.meshes` passes them) or, when it
    carries none, built by smoothed aggregation and kept on M's structure for
@@ -60,8 +64,8 @@ none, 6.3 s), ``max_iter``
 taking one line per cycle and exchange).  ``stats``: ``mg_levels``,
 ``mg_cycles`` (all levels), ``mg_rebuilds`` (cycles whose truncated coarse
 operators moved), ``hierarchy`` ("given" or "aggregation"), ``shifted``,
-``gap_steps`` and ``gap_residual`` (a plate's z_u: conjugate-gradient steps and
-the residual over ‖q‖∞ they reached), ``w_cycles`` (a plate's corrections
+``gap_steps`` and ``gap_residual`` (a plate's z_u, or a stepped membrane's
+one step: conjugate-gradient steps and the residual over ‖q‖∞ they reached), ``w_cycles`` (a plate's corrections
 are W-cycles), ``initial_active``,
 ``restarts`` (the search resumed), ``setup_kept`` (the multilevel setup
 came with M's structure), ``factorizations``, ``bordered_solves``,
@@ -83,7 +87,8 @@ from ...core.results import MethodResult
 from .active_set import not_positive_definite, overflow_result, time_limit_result
 from .bpp import block_pivoting
 from .finish import REUSE_MAX, REUSE_SHARE
-from .multigrid import MultilevelSetup, aggregation_hierarchy, multilevel_guess, settled_flips
+from .multigrid import (LAYER_MIN, LAYER_SHARE, MultilevelSetup, aggregation_hierarchy,
+                        layer_share, multilevel_guess, settled_flips)
 
 __all__ = ["run_mg_bpp", "MG_BPP_OPTIONS"]
 
@@ -173,10 +178,15 @@ def _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t) -> 
     cycles, max_iter = opts["max_cycles"], opts["max_iter"]
     patience, progress = opts["patience"], opts["progress"]
     settled = None if plate else settled_flips(n)
+    # a large membrane whose obstacle has steps starts from one step of the
+    # plate's shift (multigrid.layer_share says how the steps show in q)
+    layered = (not plate and n >= LAYER_MIN and len(hierarchy) > 0
+               and layer_share(problem.q, setup.Rs[0], hierarchy[0]) > LAYER_SHARE)
     try:
         z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles, stats=stats,
-                             shifted=plate, w_cycles=plate, settled=settled, progress=progress,
-                             deadline=deadline, setup=setup)
+                             shifted=plate or layered, w_cycles=plate, settled=settled,
+                             progress=progress, deadline=deadline, setup=setup,
+                             gap_steps=1 if layered else None)
     finally:
         setup.lock.release()
     stats["multigrid_time"] = time.perf_counter() - t
