@@ -86,8 +86,8 @@ for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[var] = "1"
 
 import numpy as np  # noqa: E402
-
-COMPACT = {"agitation": 0.1, "polydispersity": 0.005}
+# the rows and the compact piles as the "auto" side-by-side reads them (this folder)
+from auto_side_by_side import COMPACT, specs  # noqa: E402
 TOL = 1e-6
 TOL_IPOPT = float(os.environ.get("NLP_TOL", "1e-8"))
 
@@ -256,14 +256,6 @@ def child(spec: str, form: str, start: str, max_iter: int, newton_iters: int,
                                         - problem.mu * Rr[:, 0], 0).max() / R)
     row.update(judge(problem, r, newton_iters))
     return row
-
-
-def specs(rows: str):
-    for part in rows.split(","):
-        head, seeds = part.split(":")
-        lo, _, hi = seeds.partition("-")
-        for s in range(int(lo), int(hi or lo) + 1):
-            yield f"{head}:{s}"
 
 
 def main(argv=None):
