@@ -29,8 +29,8 @@ def main(argv=None) -> int:
             lcp = mg_loads._build("membrane", shape, N)
             P0, P1 = lcp.structure.hierarchy[:2]
             q1 = P0.T @ lcp.q
-            print(f"| {shape} | {N} | {layer_share(lcp.q, P0.T.tocsr(), P0):.4f} | "
-                  f"{layer_share(q1, P1.T.tocsr(), P1):.4f} |", flush=True)
+            print(f"| {shape} | {N} | {layer_share(lcp.q, P0.T.tocsr()):.4f} | "
+                  f"{layer_share(q1, P1.T.tocsr()):.4f} |", flush=True)
     return 0
 
 

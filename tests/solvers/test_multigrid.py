@@ -603,7 +603,7 @@ def test_the_first_restriction_cancels_a_stepped_obstacles_layer_not_a_smooth_q(
     """layer_share: the share of q's mass the first restriction cancels.
     By hand: a constant q loses none of it; a dipole ±1 on the two fine
     nodes either side of a coarse node loses half: that node takes ½ − ½,
-    its neighbours either side ½ and −½, of a mass (P1)'|q| of 2.  On the membranes a
+    its neighbours either side ½ and −½, of a mass ‖R|q|‖₁ of 2.  On the membranes a
     stepped obstacle's dipoles (terraces) keep about half of q's mass at
     every size, above LAYER_SHARE, while the continuous obstacles' and a
     load with a jump cancel only O(h²): under LAYER_SHARE, and about 4 ×
@@ -612,14 +612,14 @@ def test_the_first_restriction_cancels_a_stepped_obstacles_layer_not_a_smooth_q(
 
     P = meshes.grid_hierarchy(15)[0]
     R = P.T.tocsr()
-    assert layer_share(np.ones(225), R, P) == 0.0
+    assert layer_share(np.ones(225), R) == 0.0
     dipole = np.zeros((15, 15))
     dipole[7, 6], dipole[7, 8] = 1.0, -1.0          # either side of coarse node (3, 3)
-    assert layer_share(dipole.ravel(), R, P) == pytest.approx(0.5, abs=1e-15)
+    assert layer_share(dipole.ravel(), R) == pytest.approx(0.5, abs=1e-15)
 
     def share(lcp):
         P = lcp.structure.hierarchy[0]
-        return layer_share(lcp.q, P.T.tocsr(), P)
+        return layer_share(lcp.q, P.T.tocsr())
 
     for N in (127, 255):
         assert share(meshes.membrane(N, obstacle="terraces")) > 0.4

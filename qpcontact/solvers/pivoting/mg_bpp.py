@@ -181,7 +181,7 @@ def _solve(problem, rows, hierarchy, setup, plate, opts, stats, deadline, t) -> 
     # a large membrane whose obstacle has steps starts from one step of the
     # plate's shift (multigrid.layer_share says how the steps show in q)
     layered = (not plate and n >= LAYER_MIN and len(hierarchy) > 0
-               and layer_share(problem.q, setup.Rs[0], hierarchy[0]) > LAYER_SHARE)
+               and layer_share(problem.q, setup.Rs[0]) > LAYER_SHARE)
     try:
         z = multilevel_guess(rows, problem.q, hierarchy, cycles=cycles, stats=stats,
                              shifted=plate or layered, w_cycles=plate, settled=settled,

@@ -174,9 +174,9 @@ LAYER_SHARE = 0.1
 LAYER_MIN = 20_000
 
 
-def layer_share(q, R, P) -> float:
+def layer_share(q, R) -> float:
     """The share of q's mass that the restriction R = P' (P >= 0, the first
-    prolongation) cancels: 1 − ‖Rq‖₁ / ‖R|q|‖₁ (‖R|q|‖₁ = (P1)'|q|).
+    prolongation) cancels: 1 − ‖Rq‖₁ / ‖R|q|‖₁.
 
     Why it tells a stepped obstacle: on a membrane q = Kψ − f, and an
     obstacle that jumps by Δψ between two neighbouring nodes puts a dipole
@@ -200,7 +200,7 @@ def layer_share(q, R, P) -> float:
     them ever more widely as n grows.  A continuous ramp of width w counts
     as smooth once w spans a few fine cells ((h/w)² of its own mass)."""
     q = np.asarray(q, dtype=float)
-    mass = float(np.abs(q) @ (P @ np.ones(P.shape[1])))
+    mass = float((R @ np.abs(q)).sum())
     if not mass > 0.0:
         return 0.0
     return 1.0 - float(np.abs(R @ q).sum()) / mass
