@@ -18,7 +18,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--sizes", default="100,316")
     ap.add_argument("--shapes", default=",".join(mg_loads.SHAPES + tuple(
-        k for k in mg_loads._held_out() if k not in mg_loads.SHAPES)))
+        k for k in mg_loads.held_out() if k not in mg_loads.SHAPES)))
     args = ap.parse_args(argv)
     from qpcontact.solvers.pivoting.multigrid import LAYER_MIN, LAYER_SHARE, layer_share
 
@@ -26,7 +26,7 @@ def main(argv=None) -> int:
     print("| shape | N | share | one level coarser |\n|---|---|---|---|")
     for N in (int(v) for v in args.sizes.split(",")):
         for shape in args.shapes.split(","):
-            lcp = mg_loads._build("membrane", shape, N)
+            lcp = mg_loads.build("membrane", shape, N)
             P0, P1 = lcp.structure.hierarchy[:2]
             q1 = P0.T @ lcp.q
             print(f"| {shape} | {N} | {layer_share(lcp.q, P0.T.tocsr()):.4f} | "

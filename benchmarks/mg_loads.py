@@ -48,7 +48,7 @@ SHAPES = ("dome", "ridge", "bumps", "terraces", "crate", "ripple", "wedge")
 NEXT_LOAD = 1.25
 
 
-def _held_out():
+def held_out():
     import numpy as np
 
     return {
@@ -66,10 +66,10 @@ def _held_out():
     }
 
 
-def _build(kind, shape, N, factor=1.0):
+def build(kind, shape, N, factor=1.0):
     from formulations import meshes
 
-    for name, f in _held_out().items():
+    for name, f in held_out().items():
         meshes.OBSTACLES.setdefault(name, f)
     if kind == "membrane":
         return meshes.membrane(N, obstacle=shape, load=-8.0 * factor)
@@ -99,18 +99,18 @@ def row(kind, shape, N, method, repeat) -> dict:
     import qpcontact
     from qpcontact import LCP, solve
 
-    small = _build(kind, shape, 31)      # imports, compiled kernels: paid once, untimed
+    small = build(kind, shape, 31)      # imports, compiled kernels: paid once, untimed
     solve(small, method=method)
     solve(LCP.with_structure(small.structure, small.q, small.q_terms), method=method)
     first, first_wall = [], []
     for _ in range(repeat):
-        lcp = _build(kind, shape, N)
+        lcp = build(kind, shape, N)
         w, t = time.perf_counter(), time.process_time()
         sol = solve(lcp, method=method, accuracy="high", time_limit=None)
         first.append(time.process_time() - t)
         first_wall.append(time.perf_counter() - w)
         assert sol.ok, sol.message
-    other = _build(kind, shape, N, NEXT_LOAD)
+    other = build(kind, shape, N, NEXT_LOAD)
     nexts, next_wall = [], []
     for _ in range(repeat):
         again = LCP.with_structure(lcp.structure, other.q, other.q_terms)
